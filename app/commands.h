@@ -1,0 +1,15 @@
+// brushtrace's subcommands. Each lives in its own cmd_*.cpp and registers itself on the
+// CLI11 app; the callback stores the exit code in `exitCode` (0 success, 1 the job failed).
+#pragma once
+
+#include "importers/import.h"
+
+#include <CLI/CLI.hpp>
+
+namespace bt::app {
+
+// --dialect, --wad, --textures, --palette, --no-textures: every command that imports a level.
+void addImportOptions(CLI::App& command, ImportOptions& options);
+
+
+} // namespace bt::app

@@ -1,0 +1,26 @@
+// brushtrace: open Quake-family levels and preview their lighting.
+#include "app/commands.h"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <exception>
+
+int main(int argc, char** argv) {
+  CLI::App app{"brushtrace: import Quake-family levels (.map, .bsp) and preview their lighting"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "brushtrace 0.1.0");
+
+  int exitCode = 0;
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    // Importers report bad input as ImportError with file:line:col already in the text.
+    fmt::print(stderr, "brushtrace: {}\n", e.what());
+    return 1;
+  }
+  return exitCode;
+}

@@ -1,0 +1,43 @@
+#include "importers/import.h"
+
+#include <algorithm>
+#include <array>
+#include <filesystem>
+
+namespace bt {
+
+namespace {
+struct DialectName {
+  MapDialect dialect;
+  const char* name;
+};
+constexpr std::array<DialectName, 8> kDialectNames{{
+    {MapDialect::Standard, "standard"},
+    {MapDialect::Valve220, "valve220"},
+    {MapDialect::Quake2, "quake2"},
+    {MapDialect::Quake2Valve, "quake2-valve"},
+    {MapDialect::Quake3, "quake3"},
+    {MapDialect::Quake3Valve, "quake3-valve"},
+    {MapDialect::Hexen2, "hexen2"},
+    {MapDialect::Daikatana, "daikatana"},
+}};
+} // namespace
+
+const char* toString(MapDialect dialect) {
+  for (const auto& d : kDialectNames)
+    if (d.dialect == dialect) return d.name;
+  return "unknown";
+}
+
+std::optional<MapDialect> parseDialect(std::string_view name) {
+  for (const auto& d : kDialectNames)
+    if (name == d.name) return d.dialect;
+  return std::nullopt;
+}
+
+Scene importScene(const std::string& path, const ImportOptions& options) {
+  (void)options;
+  throw ImportError(Diagnostic{Severity::Error, path, 0, 0, "no importer for this file type"});
+}
+
+} // namespace bt

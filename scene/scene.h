@@ -1,0 +1,118 @@
+// The scene model: what every importer produces and every renderer consumes.
+//
+// A Scene is format-neutral. A .map file and the .bsp compiled from it import to the same
+// kind of Scene: entities with their keys, brushes as convex sets of planes, and for every
+// brush side a Face with its plane, its polygon (winding) and its texture frame.
+//
+// Units and conventions are Quake's: one unit is one texel at scale 1, +Z is up, a plane's
+// normal points out of its brush, and a point p lies on the plane when dot(normal, p) == dist.
+#pragma once
+
+#include "scene/diagnostics.h"
+#include "scene/material.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace bt {
+
+using dvec3 = glm::dvec3;
+
+struct Plane {
+  dvec3 normal{0.0, 0.0, 1.0};
+  double dist = 0.0;
+
+  double distanceTo(const dvec3& p) const { return normal.x * p.x + normal.y * p.y + normal.z * p.z - dist; }
+  Plane flipped() const { return {-normal, -dist}; }
+};
+
+struct Bounds {
+  dvec3 min{std::numeric_limits<double>::infinity()};
+  dvec3 max{-std::numeric_limits<double>::infinity()};
+
+  bool empty() const { return min.x > max.x || min.y > max.y || min.z > max.z; }
+  void grow(const dvec3& p);
+  void grow(const Bounds& b);
+  dvec3 center() const { return (min + max) * 0.5; }
+  dvec3 extent() const { return max - min; }
+  double surfaceArea() const;
+};
+
+// The texture frame of a face, in texels:
+//   s = dot(p - origin, tangent),  t = dot(p - origin, bitangent)
+// equals the texture coordinates that qbsp writes into texinfo for that face:
+//   texinfo.vecs[0] = (tangent, -dot(origin, tangent)), vecs[1] = (bitangent, -dot(origin, bitangent)).
+// tangent and bitangent are not unit vectors: their length is 1 / texture scale.
+// origin is chosen on the face plane so that the frame is unique.
+struct TextureFrame {
+  dvec3 origin{0.0};
+  dvec3 tangent{1.0, 0.0, 0.0};
+  dvec3 bitangent{0.0, 1.0, 0.0};
+
+  double s(const dvec3& p) const;
+  double t(const dvec3& p) const;
+};
+
+// Quake 2 / Quake 3 per-face surface attributes (contents, surface flags and value).
+struct SurfaceAttributes {
+  int32_t contents = 0;
+  int32_t flags = 0;
+  double value = 0.0;
+  bool operator==(const SurfaceAttributes&) const = default;
+};
+
+struct Face {
+  int line = 0;          // 1-based source line of the face, 0 when the source has no lines (BSP)
+  uint32_t brush = 0;    // index into Scene::brushes
+  uint32_t material = 0; // index into Scene::materials
+  std::string texture;
+  Plane plane;
+  TextureFrame frame;
+  std::optional<SurfaceAttributes> surface;
+  std::vector<dvec3> winding; // convex polygon on the plane, counter-clockwise seen from outside
+};
+
+struct Brush {
+  int line = 0;
+  uint32_t entity = 0;
+  uint32_t firstFace = 0; // faces [firstFace, firstFace + faceCount) of Scene::faces
+  uint32_t faceCount = 0;
+  Bounds bounds;          // from the windings
+};
+
+struct Entity {
+  int line = 0;
+  std::vector<std::pair<std::string, std::string>> keys; // file order, duplicates kept
+  uint32_t firstBrush = 0; // brushes [firstBrush, firstBrush + brushCount) of Scene::brushes
+  uint32_t brushCount = 0;
+
+  std::string_view classname() const;
+  // The first value for key, or nullptr. Quake's engine takes the last duplicate while
+  // qbsp takes the first; the first is what every tool that reads .map sources agrees on.
+  const std::string* find(std::string_view key) const;
+  std::string_view value(std::string_view key, std::string_view fallback = {}) const;
+};
+
+struct Scene {
+  std::string sourcePath;
+  std::string format; // map dialect ("standard", "valve220", ...) or BSP version ("bsp29", ...)
+  std::vector<Entity> entities;
+  std::vector<Brush> brushes;
+  std::vector<Face> faces;
+  std::vector<Material> materials; // one per distinct texture name, see material.h
+  Bounds bounds;                   // of all brushes
+  Diagnostics diagnostics;         // everything the importer skipped or could not resolve
+
+  const Entity* worldspawn() const;
+  // Index of the material called name, or std::nullopt. Case-insensitive like Quake.
+  std::optional<uint32_t> findMaterial(std::string_view name) const;
+};
+
+} // namespace bt

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 (bookworm) packages brushtrace builds, tests and renders with.
+# Safe to run repeatedly: it asks apt only for what dpkg says is missing.
+# Usage: scripts/install-deps.sh [--with-test-data]
+#   --with-test-data  also installs openarena-085-data (Quake 3 levels the BSP tests read)
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config ninja-build
+  libglm-dev libopenimageio-dev openimageio-tools
+  libglfw3-dev libegl-dev libgl-dev libegl1 libgl1-mesa-dri libegl-mesa0 libepoxy-dev
+  glslang-dev glslang-tools
+  libcli11-dev libfmt-dev nlohmann-json3-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  libimgui-dev libzip-dev
+  xvfb xauth
+)
+if [[ "${1:-}" == "--with-test-data" ]]; then
+  packages+=(openarena-085-data openarena-data)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if ((${#missing[@]} == 0)); then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+sudo_cmd=()
+if [[ $(id -u) -ne 0 ]]; then sudo_cmd=(sudo); fi
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -q
+"${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
