@@ -141,7 +141,7 @@ public:
       for (const std::string& dir : splitList(world->value("_tb_textures")))
         if (isDirectory(mapDir_ / dir)) addFolder(mapDir_ / dir);
     // Loose textures beside the map, and in the game dir when the map is in <game>/maps/.
-    for (const fs::path& dir : {mapDir_ / "textures", mapDir_ / ".." / "textures"})
+    for (const fs::path& dir : {mapDir_ / "textures", (mapDir_ / ".." / "textures").lexically_normal()})
       if (isDirectory(dir)) addFolder(dir);
   }
 
@@ -239,11 +239,14 @@ private:
       candidates.push_back(mapDir_ / given.filename());
       candidates.push_back(mapDir_ / ".." / given.filename());
     }
+    // Normalised so that "maps/../x.wad" resolves even when the map's own folder is virtual
+    // (a path inside a .pk3) or gone.
+    for (fs::path& c : candidates) c = c.lexically_normal();
     for (const fs::path& candidate : candidates) {
       if (!isFile(candidate)) continue;
       std::error_code ec;
       const fs::path canonical = fs::weakly_canonical(candidate, ec);
-      if (seenWads_.insert(ec ? candidate : canonical).second) wads_.push_back(Wad{candidate.lexically_normal(), {}, false});
+      if (seenWads_.insert(ec ? candidate : canonical).second) wads_.push_back(Wad{candidate, {}, false});
       return;
     }
     // LibreQuake (and other projects) keep each WAD as a folder of images, named like the WAD,
@@ -257,7 +260,7 @@ private:
       }
     }
     std::string tried;
-    for (const fs::path& c : candidates) tried += (tried.empty() ? "" : ", ") + c.lexically_normal().string();
+    for (const fs::path& c : candidates) tried += (tried.empty() ? "" : ", ") + c.string();
     warn(fmt::format("WAD '{}' ({}) not found (tried {})", entry, origin, tried));
   }
 
@@ -350,6 +353,7 @@ private:
         material.width = material.baseColor.width;
         material.height = material.baseColor.height;
         material.source = TextureSource::LooseImage;
+        applyQuakePaletteConventions(material, name, file);
       }
       material.name = name;
       material.sourcePath = file.string();
@@ -358,6 +362,55 @@ private:
       diagnostics_.push_back(
           Diagnostic{Severity::Warning, e.diagnostic().file, 0, 0, "texture skipped: " + e.diagnostic().message});
       return std::nullopt;
+    }
+  }
+
+  // Loose images of Quake textures are usually the palette images saved as PNG, which loses
+  // the palette indices that carry two conventions; recover them from the colours:
+  //  - '{' textures whose image has no alpha: texels of palette colour 255 are transparent.
+  //  - LibreQuake marks textures that use fullbright colours with a "_fbr" file-name suffix;
+  //    texels of a fullbright colour (224..254) become emissive. A colour that also appears
+  //    among indices 0..223 is ambiguous and left lit normally.
+  void applyQuakePaletteConventions(Material& material, const std::string& name, const fs::path& file) {
+    const bool fence = !name.empty() && name.front() == '{';
+    const bool fullbrights = lowercase(file.stem().string()).ends_with("_fbr");
+    if (!fence && !fullbrights) return;
+    const Palette* palette = quakePalette();
+    if (!palette) return;
+    const auto colourOf = [&](int index) {
+      return std::array<uint8_t, 3>{palette->rgb[index * 3], palette->rgb[index * 3 + 1], palette->rgb[index * 3 + 2]};
+    };
+    Image& base = material.baseColor;
+    const size_t texels = base.rgba.size() / 4;
+
+    if (fence) {
+      bool opaque = true;
+      for (size_t i = 0; i < texels && opaque; ++i) opaque = base.rgba[i * 4 + 3] == 255;
+      const auto key = colourOf(255);
+      if (opaque)
+        for (size_t i = 0; i < texels; ++i)
+          if (std::equal(key.begin(), key.end(), &base.rgba[i * 4])) std::fill_n(&base.rgba[i * 4], 4, uint8_t{0});
+    }
+
+    if (fullbrights) {
+      std::set<std::array<uint8_t, 3>> normalColours, brightColours;
+      for (int i = 0; i < 224; ++i) normalColours.insert(colourOf(i));
+      for (int i = 224; i < 255; ++i)
+        if (!normalColours.contains(colourOf(i))) brightColours.insert(colourOf(i));
+      Image emissive;
+      emissive.width = base.width;
+      emissive.height = base.height;
+      emissive.rgba.assign(base.rgba.size(), 0);
+      bool any = false;
+      for (size_t i = 0; i < texels; ++i) {
+        uint8_t* dst = &emissive.rgba[i * 4];
+        dst[3] = 255;
+        const uint8_t* src = &base.rgba[i * 4];
+        if (src[3] == 0 || !brightColours.contains({src[0], src[1], src[2]})) continue;
+        std::copy_n(src, 3, dst);
+        any = true;
+      }
+      if (any) material.emissive = std::move(emissive);
     }
   }
 
@@ -415,6 +468,9 @@ std::vector<std::string> textureFileStems(std::string_view name) {
   replaceLeadingSpelling(stems, name, "plus_", {"+"});
   // Quake 3 shader names include "textures/"; the folders we index are often textures/ itself.
   replaceLeadingSpelling(stems, name, "textures/", {""});
+  // LibreQuake names the images of textures with fullbright texels "<name>_fbr".
+  const size_t spellings = stems.size();
+  for (size_t i = 0; i < spellings; ++i) stems.push_back(stems[i] + "_fbr");
   return stems;
 }
 
