@@ -11,5 +11,8 @@ namespace bt::app {
 // --dialect, --wad, --textures, --palette, --no-textures: every command that imports a level.
 void addImportOptions(CLI::App& command, ImportOptions& options);
 
+// brushtrace render: path-trace a level (app/cmd_render.cpp).
+void addRenderCommand(CLI::App& app, int& exitCode);
+
 
 } // namespace bt::app
