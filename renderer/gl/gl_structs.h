@@ -1,0 +1,97 @@
+// C++ mirrors of the std430/std140 structs in shaders/structs.glsl and shaders/camera.glsl.
+// Every size and offset is asserted: a mismatch with the GLSL side is a compile error here.
+//
+// The BVH node and brush layouts are the GL tracer's own until the shared bvh/trace_scene.h
+// lands; they are the layout issue 3 describes (bounds + first/count, 32 bytes).
+#pragma once
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include <cstddef>
+#include <cstdint>
+
+namespace bt::gl {
+
+// Binding points of the storage buffers (shaders/scene_buffers.glsl).
+enum Binding : uint32_t {
+  kBindingNodes = 0,
+  kBindingBrushes = 1,
+  kBindingFaces = 2,
+  kBindingMaterials = 3,
+  kBindingLights = 4,
+};
+
+struct GpuBvhNode {
+  glm::vec3 boundsMin;
+  uint32_t leftOrFirst; // leaf: first brush; interior: left child (right = left + 1)
+  glm::vec3 boundsMax;
+  uint32_t count;       // brushes in a leaf, 0 for an interior node
+};
+static_assert(sizeof(GpuBvhNode) == 32);
+static_assert(offsetof(GpuBvhNode, leftOrFirst) == 12 && offsetof(GpuBvhNode, boundsMax) == 16 &&
+              offsetof(GpuBvhNode, count) == 28);
+
+struct GpuBrush {
+  glm::vec3 boundsMin;
+  uint32_t firstFace; // into the face buffer
+  glm::vec3 boundsMax;
+  uint32_t faceCount;
+};
+static_assert(sizeof(GpuBrush) == 32);
+static_assert(offsetof(GpuBrush, firstFace) == 12 && offsetof(GpuBrush, boundsMax) == 16 &&
+              offsetof(GpuBrush, faceCount) == 28);
+
+struct GpuFace {
+  glm::vec3 normal; // out of the brush
+  float dist;
+  glm::vec3 origin; // texture frame, see scene.h TextureFrame
+  uint32_t material;
+  glm::vec3 tangent;
+  uint32_t sceneFace; // index into Scene::faces
+  glm::vec3 bitangent;
+  uint32_t flags;
+};
+static_assert(sizeof(GpuFace) == 64);
+static_assert(offsetof(GpuFace, dist) == 12 && offsetof(GpuFace, origin) == 16 && offsetof(GpuFace, material) == 28 &&
+              offsetof(GpuFace, tangent) == 32 && offsetof(GpuFace, sceneFace) == 44 &&
+              offsetof(GpuFace, bitangent) == 48 && offsetof(GpuFace, flags) == 60);
+
+enum MaterialFlags : uint32_t { kMaterialHasBase = 1, kMaterialHasNormal = 2 };
+
+struct GpuMaterial {
+  uint64_t baseHandle;   // bindless texture handle, 0 on the arrays path
+  uint64_t normalHandle;
+  uint32_t baseArray;    // arrays path: which sampler2DArray, and the layer in it
+  uint32_t baseLayer;
+  uint32_t normalArray;
+  uint32_t normalLayer;
+  glm::vec2 size;        // Material::width, height
+  uint32_t flags;        // MaterialFlags
+  float roughness;
+};
+static_assert(sizeof(GpuMaterial) == 48);
+static_assert(offsetof(GpuMaterial, normalHandle) == 8 && offsetof(GpuMaterial, baseArray) == 16 &&
+              offsetof(GpuMaterial, normalLayer) == 28 && offsetof(GpuMaterial, size) == 32 &&
+              offsetof(GpuMaterial, flags) == 40 && offsetof(GpuMaterial, roughness) == 44);
+
+// std140 uniform block `Camera` (shaders/camera.glsl), binding 0.
+struct GpuCamera {
+  glm::vec3 origin;
+  float pad0;
+  glm::vec3 forward;
+  float pad1;
+  glm::vec3 right;
+  float pad2;
+  glm::vec3 up;
+  float pad3;
+  glm::ivec2 imageSize;
+  uint32_t frameIndex;
+  uint32_t seed;
+};
+static_assert(sizeof(GpuCamera) == 80);
+static_assert(offsetof(GpuCamera, forward) == 16 && offsetof(GpuCamera, right) == 32 && offsetof(GpuCamera, up) == 48 &&
+              offsetof(GpuCamera, imageSize) == 64 && offsetof(GpuCamera, frameIndex) == 72);
+
+} // namespace bt::gl

@@ -1,0 +1,118 @@
+#include "renderer/gl/gl_tracer.h"
+
+#include "renderer/gl/gl_error.h"
+#include "renderer/gl/gl_program.h"
+#include "renderer/gl/gl_scene.h"
+
+#include <epoxy/gl.h>
+#include <fmt/format.h>
+
+#include <string>
+
+namespace bt::gl {
+
+namespace {
+
+std::vector<std::string> textureDefines(TextureMode mode) {
+  return {mode == TextureMode::Bindless ? "BT_TEXTURES_BINDLESS" : "BT_TEXTURES_ARRAYS"};
+}
+
+// An RGBA32F or R32UI image the shaders write, deleted with its owner.
+class StorageImage {
+public:
+  StorageImage(GLenum format, int width, int height) : format_(format) {
+    BT_GL(glCreateTextures(GL_TEXTURE_2D, 1, &texture_));
+    BT_GL(glTextureStorage2D(texture_, 1, format, width, height));
+  }
+  ~StorageImage() { glDeleteTextures(1, &texture_); }
+  StorageImage(const StorageImage&) = delete;
+  StorageImage& operator=(const StorageImage&) = delete;
+
+  void bindImage(GLuint unit, GLenum access) const { BT_GL(glBindImageTexture(unit, texture_, 0, GL_FALSE, 0, access, format_)); }
+
+  template <typename T>
+  std::vector<T> read(int width, int height, GLenum pixelFormat, GLenum type, int components) const {
+    std::vector<T> pixels(static_cast<size_t>(width) * height * components);
+    BT_GL(glGetTextureImage(texture_, 0, pixelFormat, type, static_cast<GLsizei>(pixels.size() * sizeof(T)), pixels.data()));
+    return pixels;
+  }
+
+private:
+  GLenum format_;
+  GLuint texture_ = 0;
+};
+
+} // namespace
+
+struct GlTracer::Impl {
+  GlContext& context;
+  GlTextures textures;
+  GlSceneBuffers buffers;
+  ComputeProgram aovProgram;
+  GLuint cameraBuffer = 0;
+
+  Impl(GlContext& c, const Scene& scene, TextureMode mode)
+      : context(c),
+        textures(scene, mode, c.info()),
+        buffers(buildGpuSceneArrays(scene), textures.materials()),
+        aovProgram("aov.comp", textureDefines(textures.mode())) {
+    BT_GL(glCreateBuffers(1, &cameraBuffer));
+    BT_GL(glNamedBufferStorage(cameraBuffer, sizeof(GpuCamera), nullptr, GL_DYNAMIC_STORAGE_BIT));
+  }
+  ~Impl() { glDeleteBuffers(1, &cameraBuffer); }
+
+  void setCamera(const CameraBasis& basis, int width, int height, uint32_t frameIndex, uint32_t seed) {
+    GpuCamera camera{};
+    camera.origin = basis.origin;
+    camera.forward = basis.forward;
+    camera.right = basis.right;
+    camera.up = basis.up;
+    camera.imageSize = {width, height};
+    camera.frameIndex = frameIndex;
+    camera.seed = seed;
+    BT_GL(glNamedBufferSubData(cameraBuffer, 0, sizeof camera, &camera));
+    BT_GL(glBindBufferBase(GL_UNIFORM_BUFFER, 0, cameraBuffer));
+    buffers.bind();
+    textures.bind();
+  }
+};
+
+GlTracer::GlTracer(GlContext& context, const Scene& scene, TextureMode textures)
+    : impl_(std::make_unique<Impl>(context, scene, textures)) {}
+
+GlTracer::~GlTracer() = default;
+
+TextureMode GlTracer::textureMode() const { return impl_->textures.mode(); }
+
+AovImages GlTracer::renderAovs(const CameraBasis& camera, int width, int height) {
+  if (width <= 0 || height <= 0) throw GlError(fmt::format("image size {}x{} is empty", width, height));
+  StorageImage albedo(GL_RGBA32F, width, height);
+  StorageImage normalDepth(GL_RGBA32F, width, height);
+  StorageImage face(GL_R32UI, width, height);
+  impl_->setCamera(camera, width, height, 0, 0);
+  albedo.bindImage(0, GL_WRITE_ONLY);
+  normalDepth.bindImage(1, GL_WRITE_ONLY);
+  face.bindImage(2, GL_WRITE_ONLY);
+  impl_->aovProgram.dispatch2d(width, height);
+  BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
+
+  AovImages out;
+  out.width = width;
+  out.height = height;
+  // GL's image rows go up from row 0; the shaders put the top row at y = 0 already.
+  const auto rgba = albedo.read<float>(width, height, GL_RGBA, GL_FLOAT, 4);
+  const auto nd = normalDepth.read<float>(width, height, GL_RGBA, GL_FLOAT, 4);
+  out.face = face.read<uint32_t>(width, height, GL_RED_INTEGER, GL_UNSIGNED_INT, 1);
+  const size_t n = static_cast<size_t>(width) * height;
+  out.albedo.resize(n);
+  out.normal.resize(n);
+  out.depth.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    out.albedo[i] = {rgba[4 * i], rgba[4 * i + 1], rgba[4 * i + 2], rgba[4 * i + 3]};
+    out.normal[i] = {nd[4 * i], nd[4 * i + 1], nd[4 * i + 2]};
+    out.depth[i] = nd[4 * i + 3];
+  }
+  return out;
+}
+
+} // namespace bt::gl
