@@ -13,8 +13,8 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(rgba32f, binding = 0) uniform writeonly image2D albedoImage; // rgb linear albedo, a = coverage
-layout(rgba32f, binding = 1) uniform writeonly image2D normalImage; // xyz world normal, w = depth
-layout(r32ui, binding = 2) uniform writeonly uimage2D faceImage;   // Scene::faces index, ~0u = miss
+layout(rgba32f, binding = 1) uniform writeonly image2D normalImage; // xyz world normal, w = distance along the ray
+layout(r32ui, binding = 2) uniform writeonly uimage2D faceImage;   // Scene::faces index + 1, 0 = miss
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -24,14 +24,14 @@ void main() {
   if (hit.face == NO_FACE) {
     imageStore(albedoImage, pixel, vec4(0.0));
     imageStore(normalImage, pixel, vec4(0.0, 0.0, 0.0, 1.0 / 0.0));
-    imageStore(faceImage, pixel, uvec4(NO_FACE));
+    imageStore(faceImage, pixel, uvec4(0u));
     return;
   }
   GpuFace f = faces[hit.face];
   GpuMaterial m = materials[f.material];
   vec3 p = camera.origin + dir * hit.t;
   vec4 albedo = materialBaseColor(m, faceUv(f, m, p));
-  imageStore(albedoImage, pixel, vec4(albedo.rgb, 1.0));
-  imageStore(normalImage, pixel, vec4(f.normal, hit.t * dot(dir, camera.forward)));
-  imageStore(faceImage, pixel, uvec4(f.sceneFace));
+  imageStore(albedoImage, pixel, vec4(srgbToLinear(albedo.rgb), 1.0));
+  imageStore(normalImage, pixel, vec4(f.normal, hit.t));
+  imageStore(faceImage, pixel, uvec4(f.sceneFace + 1u));
 }

@@ -15,9 +15,11 @@ namespace bt::gl {
 
 namespace {
 
-// Base colour and emissive maps are sRGB-encoded (material.h): GL_SRGB8_ALPHA8 makes the
-// sampler decode each texel before filtering, so filtering happens on linear values.
-GLenum internalFormat(bool srgb) { return srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8; }
+// Plain GL_RGBA8 for every map, sRGB-encoded ones included: the CPU reference filters the
+// stored 8-bit values and decodes afterwards (renderer/cpu/color.h bilinearRepeat, and Quake's
+// engine multiplies texture by light in that encoded space), so the shaders decode after
+// sampling too. `srgb` only keeps base colour and normal maps in separate size classes.
+GLenum internalFormat(bool /*srgb*/) { return GL_RGBA8; }
 
 GLsizei mipLevels(int width, int height) {
   return static_cast<GLsizei>(std::bit_width(static_cast<unsigned>(std::max(width, height))));

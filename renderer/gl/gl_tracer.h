@@ -24,16 +24,16 @@ struct CameraBasis {
   glm::vec3 up{0.0f, 0.0f, 1.0f};
 };
 
-// Per pixel, rows top to bottom. A pixel that sees nothing has albedo 0, normal 0,
-// depth +infinity and face kNoFace.
+// Per pixel, rows top to bottom, with the CPU reference's meanings (renderer/cpu RenderImage).
+// A pixel that sees nothing has albedo 0, normal 0, depth +infinity and face kNoFace.
 struct AovImages {
-  static constexpr uint32_t kNoFace = 0xffffffffu;
+  static constexpr uint32_t kNoFace = 0;
   int width = 0;
   int height = 0;
   std::vector<glm::vec4> albedo; // linear rgb, a = 1 where something was hit
   std::vector<glm::vec3> normal; // world-space geometric normal (the face plane's)
-  std::vector<float> depth;      // distance along the camera's forward axis
-  std::vector<uint32_t> face;    // index into Scene::faces
+  std::vector<float> depth;      // distance along the ray
+  std::vector<uint32_t> face;    // index into Scene::faces + 1
 };
 
 class GlTracer {

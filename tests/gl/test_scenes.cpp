@@ -28,8 +28,8 @@ void axialFrame(const dvec3& n, dvec3& tangent, dvec3& bitangent) {
 
 double srgbToLinear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
 
-// Bilinear filtering with repeat on linear values, texel centres at (i + 0.5): GL_LINEAR at
-// level 0 of an sRGB texture.
+// Bilinear filtering with repeat on the stored 8-bit values, texel centres at (i + 0.5), then
+// sRGB decoding: what the CPU reference computes.
 glm::dvec3 sampleBilinearRepeat(const Image& image, double u, double v) {
   const double x = u * image.width - 0.5, y = v * image.height - 0.5;
   const double fx = std::floor(x), fy = std::floor(y);
@@ -38,9 +38,10 @@ glm::dvec3 sampleBilinearRepeat(const Image& image, double u, double v) {
     const int ix = static_cast<int>(((static_cast<long long>(tx) % image.width) + image.width) % image.width);
     const int iy = static_cast<int>(((static_cast<long long>(ty) % image.height) + image.height) % image.height);
     const uint8_t* t = image.texel(ix, iy);
-    return glm::dvec3(srgbToLinear(t[0] / 255.0), srgbToLinear(t[1] / 255.0), srgbToLinear(t[2] / 255.0));
+    return glm::dvec3(t[0], t[1], t[2]) / 255.0;
   };
-  return glm::mix(glm::mix(texel(fx, fy), texel(fx + 1, fy), wx), glm::mix(texel(fx, fy + 1), texel(fx + 1, fy + 1), wx), wy);
+  const glm::dvec3 c = glm::mix(glm::mix(texel(fx, fy), texel(fx + 1, fy), wx), glm::mix(texel(fx, fy + 1), texel(fx + 1, fy + 1), wx), wy);
+  return {srgbToLinear(c.x), srgbToLinear(c.y), srgbToLinear(c.z)};
 }
 
 Image makeImage(int w, int h, const std::vector<std::array<uint8_t, 3>>& colours) {
@@ -142,10 +143,11 @@ gl::AovImages referenceAovs(const Scene& scene, const gl::CameraBasis& camera, i
       const double nx = (x + 0.5) / width * 2 - 1, ny = (y + 0.5) / height * 2 - 1;
       const dvec3 dir = glm::normalize(forward + nx * right - ny * up);
       double best = std::numeric_limits<double>::infinity();
-      uint32_t bestFace = gl::AovImages::kNoFace;
+      constexpr uint32_t kNone = 0xffffffffu;
+      uint32_t bestFace = kNone;
       for (const Brush& b : scene.brushes) {
         double enter = -std::numeric_limits<double>::infinity(), leave = best;
-        uint32_t face = gl::AovImages::kNoFace;
+        uint32_t face = kNone;
         bool miss = false;
         for (uint32_t i = b.firstFace; i < b.firstFace + b.faceCount && !miss; ++i) {
           const Plane& p = scene.faces[i].plane;
@@ -159,19 +161,19 @@ gl::AovImages referenceAovs(const Scene& scene, const gl::CameraBasis& camera, i
           }
           miss = miss || enter > leave;
         }
-        if (!miss && face != gl::AovImages::kNoFace && enter >= 0 && enter < best) best = enter, bestFace = face;
+        if (!miss && face != kNone && enter >= 0 && enter < best) best = enter, bestFace = face;
       }
-      if (bestFace == gl::AovImages::kNoFace) continue;
+      if (bestFace == kNone) continue;
       const size_t i = static_cast<size_t>(y) * width + x;
       const Face& f = scene.faces[bestFace];
       const Material& m = scene.materials[f.material];
       const dvec3 p = origin + dir * best;
-      glm::dvec3 albedo(0.5);
+      glm::dvec3 albedo(srgbToLinear(0.5)); // the untextured placeholder: grey 0.5, sRGB-encoded
       if (!m.baseColor.empty()) albedo = sampleBilinearRepeat(m.baseColor, f.frame.s(p) / m.width, f.frame.t(p) / m.height);
       out.albedo[i] = glm::vec4(glm::vec3(albedo), 1.0f);
       out.normal[i] = glm::vec3(f.plane.normal);
-      out.depth[i] = static_cast<float>(best * glm::dot(dir, forward));
-      out.face[i] = bestFace;
+      out.depth[i] = static_cast<float>(best);
+      out.face[i] = bestFace + 1;
     }
   return out;
 }
