@@ -8,6 +8,7 @@
 #include "scene_buffers.glsl"
 #include "textures.glsl"
 #include "trace.glsl"
+#include "visible.glsl"
 #include "camera.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -20,8 +21,8 @@ void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(pixel, camera.imageSize))) return;
   vec3 dir = cameraRayDirection(vec2(pixel) + 0.5);
-  Hit hit = traceClosest(camera.origin, dir, 3.0e38);
-  if (hit.face == NO_FACE) {
+  SurfaceHit hit = traceVisible(camera.origin, dir);
+  if (!hit.found) {
     imageStore(albedoImage, pixel, vec4(0.0));
     imageStore(normalImage, pixel, vec4(0.0, 0.0, 0.0, 1.0 / 0.0));
     imageStore(faceImage, pixel, uvec4(0u));
@@ -29,8 +30,7 @@ void main() {
   }
   GpuFace f = faces[hit.face];
   GpuMaterial m = materials[f.material];
-  vec3 p = camera.origin + dir * hit.t;
-  vec4 albedo = materialBaseColor(m, faceUv(f, m, p));
+  vec4 albedo = materialBaseColor(m, faceUv(f, m, hit.position));
   imageStore(albedoImage, pixel, vec4(srgbToLinear(albedo.rgb), 1.0));
   imageStore(normalImage, pixel, vec4(f.normal, hit.t));
   imageStore(faceImage, pixel, uvec4(f.sceneFace + 1u));

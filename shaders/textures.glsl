@@ -15,6 +15,7 @@ vec4 fetchTexel(uvec2 handle, uint layer, ivec2 texel) { return texelFetch(sampl
 #define MAP_REF uvec2
 #define BASE_REF(m) (m).baseHandle, 0u
 #define NORMAL_REF(m) (m).normalHandle, 0u
+#define EMISSIVE_REF(m) (m).emissiveHandle, 0u
 
 #elif defined(BT_TEXTURES_ARRAYS)
 
@@ -49,6 +50,7 @@ vec4 fetchTexel(uint array, uint layer, ivec2 texel) {
 #define MAP_REF uint
 #define BASE_REF(m) (m).baseArray, (m).baseLayer
 #define NORMAL_REF(m) (m).normalArray, (m).normalLayer
+#define EMISSIVE_REF(m) (m).emissiveArray, (m).emissiveLayer
 
 #else
 #error "define BT_TEXTURES_BINDLESS or BT_TEXTURES_ARRAYS"
@@ -74,6 +76,7 @@ vec4 sampleBilinearRepeat(MAP_REF map, uint layer, vec2 uv) {
 
 vec4 sampleBase(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(BASE_REF(m), uv); }
 vec4 sampleNormalMap(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(NORMAL_REF(m), uv); }
+vec4 sampleEmissive(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(EMISSIVE_REF(m), uv); }
 
 // Texture coordinates of p on face f, in texture repeats: Quake's s/t in texels over the size.
 vec2 faceUv(GpuFace f, GpuMaterial m, vec3 p) {

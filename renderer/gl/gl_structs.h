@@ -58,23 +58,36 @@ static_assert(offsetof(GpuFace, dist) == 12 && offsetof(GpuFace, origin) == 16 &
               offsetof(GpuFace, tangent) == 32 && offsetof(GpuFace, sceneFace) == 44 &&
               offsetof(GpuFace, bitangent) == 48 && offsetof(GpuFace, flags) == 60);
 
-enum MaterialFlags : uint32_t { kMaterialHasBase = 1, kMaterialHasNormal = 2 };
+// GpuFace::flags: renderer/cpu's face classes (kFaceHidden, kFaceSky, ... in gpu_lights.h).
+
+enum MaterialFlags : uint32_t {
+  kMaterialHasBase = 1,
+  kMaterialHasNormal = 2,
+  kMaterialHasEmissive = 4, // renderer/cpu kMaterialEmissive
+  kMaterialGgx = 8,         // renderer/cpu kMaterialSpecular
+};
 
 struct GpuMaterial {
-  uint64_t baseHandle;   // bindless texture handle, 0 on the arrays path
+  uint64_t baseHandle;   // bindless texture handles, 0 on the arrays path
   uint64_t normalHandle;
+  uint64_t emissiveHandle;
   uint32_t baseArray;    // arrays path: which sampler2DArray, and the layer in it
   uint32_t baseLayer;
   uint32_t normalArray;
   uint32_t normalLayer;
+  uint32_t emissiveArray;
+  uint32_t emissiveLayer;
   glm::vec2 size;        // Material::width, height
   uint32_t flags;        // MaterialFlags
   float roughness;
+  float metallic;
+  uint32_t pad0;
 };
-static_assert(sizeof(GpuMaterial) == 48);
-static_assert(offsetof(GpuMaterial, normalHandle) == 8 && offsetof(GpuMaterial, baseArray) == 16 &&
-              offsetof(GpuMaterial, normalLayer) == 28 && offsetof(GpuMaterial, size) == 32 &&
-              offsetof(GpuMaterial, flags) == 40 && offsetof(GpuMaterial, roughness) == 44);
+static_assert(sizeof(GpuMaterial) == 72);
+static_assert(offsetof(GpuMaterial, normalHandle) == 8 && offsetof(GpuMaterial, emissiveHandle) == 16 &&
+              offsetof(GpuMaterial, baseArray) == 24 && offsetof(GpuMaterial, emissiveLayer) == 44 &&
+              offsetof(GpuMaterial, size) == 48 && offsetof(GpuMaterial, flags) == 56 &&
+              offsetof(GpuMaterial, roughness) == 60 && offsetof(GpuMaterial, metallic) == 64);
 
 // std140 uniform block `Camera` (shaders/camera.glsl), binding 0.
 struct GpuCamera {

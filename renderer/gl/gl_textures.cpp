@@ -70,8 +70,10 @@ GlTextures::GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo
     GpuMaterial& g = materials_[i];
     g.size = {static_cast<float>(std::max(m.width, 1)), static_cast<float>(std::max(m.height, 1))};
     g.roughness = m.roughnessValue;
+    g.metallic = m.metallicValue;
     if (!m.baseColor.empty()) g.flags |= kMaterialHasBase;
     if (!m.normal.empty()) g.flags |= kMaterialHasNormal;
+    if (!m.emissive.empty()) g.flags |= kMaterialHasEmissive;
   }
 
   if (mode_ == TextureMode::Bindless) {
@@ -87,6 +89,7 @@ GlTextures::GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo
       };
       if (!m.baseColor.empty()) materials_[i].baseHandle = makeResident(m.baseColor, true);
       if (!m.normal.empty()) materials_[i].normalHandle = makeResident(m.normal, false);
+      if (!m.emissive.empty()) materials_[i].emissiveHandle = makeResident(m.emissive, true);
     }
     return;
   }
@@ -105,6 +108,8 @@ GlTextures::GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo
       classes[{m.baseColor.width, m.baseColor.height, true}].push_back({&m.baseColor, &g.baseArray, &g.baseLayer});
     if (!m.normal.empty())
       classes[{m.normal.width, m.normal.height, false}].push_back({&m.normal, &g.normalArray, &g.normalLayer});
+    if (!m.emissive.empty())
+      classes[{m.emissive.width, m.emissive.height, true}].push_back({&m.emissive, &g.emissiveArray, &g.emissiveLayer});
   }
   if (classes.size() > static_cast<size_t>(kMaxTextureArrays))
     throw GlError(fmt::format("the textures come in {} sizes; the texture-array path holds {} (use bindless)",
