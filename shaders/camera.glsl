@@ -11,8 +11,9 @@ layout(std140, binding = 0) uniform Camera {
   vec3 up;      // tan(fovY / 2) long
   float pad3;
   ivec2 imageSize;
-  uint frameIndex;   // progressive accumulation: samples taken before this dispatch
+  uint frameIndex;   // the sample index this dispatch takes (pixelRng's sample number)
   uint seed;
+  uint firstFrame;   // frameIndex of the first sample of this accumulation: it clears the sum
 } camera;
 
 vec3 cameraRayDirection(vec2 pixelPosition) {

@@ -1,6 +1,7 @@
 #include "renderer/gl/gl_scene.h"
 
 #include "renderer/gl/gl_error.h"
+#include "renderer/gl/gl_tracer.h"
 
 #include <epoxy/gl.h>
 
@@ -54,7 +55,7 @@ struct Builder {
 
 } // namespace
 
-GpuSceneArrays buildGpuSceneArrays(const Scene& scene, int leafSize) {
+GpuSceneArrays buildGpuSceneArrays(const Scene& scene, const std::vector<uint32_t>& faceFlags, int leafSize) {
   GpuSceneArrays out;
   out.faces.reserve(scene.faces.size());
   for (size_t i = 0; i < scene.faces.size(); ++i) {
@@ -67,6 +68,7 @@ GpuSceneArrays buildGpuSceneArrays(const Scene& scene, int leafSize) {
     g.bitangent = toFloat(f.frame.bitangent);
     g.material = f.material;
     g.sceneFace = static_cast<uint32_t>(i);
+    g.flags = i < faceFlags.size() ? faceFlags[i] : 0u;
     out.faces.push_back(g);
   }
 
@@ -84,8 +86,9 @@ GpuSceneArrays buildGpuSceneArrays(const Scene& scene, int leafSize) {
   return out;
 }
 
-GlSceneBuffers::GlSceneBuffers(const GpuSceneArrays& arrays, const std::vector<GpuMaterial>& materials) {
-  BT_GL(glCreateBuffers(4, buffers_));
+GlSceneBuffers::GlSceneBuffers(const GpuSceneArrays& arrays, const std::vector<GpuMaterial>& materials,
+                               const GlLighting& lighting, size_t materialCount) {
+  BT_GL(glCreateBuffers(kBufferCount, buffers_));
   auto upload = [](GLuint buffer, const auto& v) {
     // A zero-sized buffer cannot be bound as an SSBO; an empty array uploads one dummy element.
     const size_t bytes = std::max<size_t>(v.size(), 1) * sizeof(v[0]);
@@ -101,12 +104,18 @@ GlSceneBuffers::GlSceneBuffers(const GpuSceneArrays& arrays, const std::vector<G
   upload(buffers_[kBindingBrushes], arrays.brushes);
   upload(buffers_[kBindingFaces], arrays.faces);
   upload(buffers_[kBindingMaterials], materials);
+  upload(buffers_[kBindingLights], lighting.lights);
+  // One template per material, so the shader indexes it by a face's material; value 0 = none.
+  std::vector<GlLight> surfaceLights = lighting.surfaceLights;
+  surfaceLights.resize(std::max(surfaceLights.size(), materialCount), GlLight{.value = 0.0f});
+  upload(buffers_[kBindingSurfaceLights], surfaceLights);
+  upload(buffers_[kBindingEmitters], lighting.emitters);
 }
 
-GlSceneBuffers::~GlSceneBuffers() { glDeleteBuffers(4, buffers_); }
+GlSceneBuffers::~GlSceneBuffers() { glDeleteBuffers(kBufferCount, buffers_); }
 
 void GlSceneBuffers::bind() const {
-  for (GLuint i = 0; i < 4; ++i) BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, buffers_[i]));
+  for (GLuint i = 0; i < kBufferCount; ++i) BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, buffers_[i]));
 }
 
 } // namespace bt::gl

@@ -20,11 +20,15 @@ struct GpuSceneArrays {
 // Median-split BVH over brush bounds, at most `leafSize` brushes a leaf. A stand-in with the
 // shared node layout until the SAH builder of bvh/ lands; traversal does not depend on how the
 // tree was split. Brushes without faces or bounds are left out.
-GpuSceneArrays buildGpuSceneArrays(const Scene& scene, int leafSize = 4);
+// faceFlags: per Scene face, renderer/cpu's kFace* classes (empty: all 0).
+GpuSceneArrays buildGpuSceneArrays(const Scene& scene, const std::vector<uint32_t>& faceFlags = {}, int leafSize = 4);
+
+struct GlLighting;
 
 class GlSceneBuffers {
 public:
-  GlSceneBuffers(const GpuSceneArrays& arrays, const std::vector<GpuMaterial>& materials);
+  GlSceneBuffers(const GpuSceneArrays& arrays, const std::vector<GpuMaterial>& materials, const GlLighting& lighting,
+                 size_t materialCount);
   ~GlSceneBuffers();
   GlSceneBuffers(const GlSceneBuffers&) = delete;
   GlSceneBuffers& operator=(const GlSceneBuffers&) = delete;
@@ -32,7 +36,8 @@ public:
   void bind() const; // to the Binding points of gl_structs.h
 
 private:
-  unsigned buffers_[4] = {};
+  static constexpr int kBufferCount = 7; // Binding 0..6
+  unsigned buffers_[kBufferCount] = {};
 };
 
 } // namespace bt::gl

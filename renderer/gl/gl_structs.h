@@ -21,6 +21,8 @@ enum Binding : uint32_t {
   kBindingFaces = 2,
   kBindingMaterials = 3,
   kBindingLights = 4,
+  kBindingSurfaceLights = 5,
+  kBindingEmitters = 6,
 };
 
 struct GpuBvhNode {
@@ -100,11 +102,66 @@ struct GpuCamera {
   glm::vec3 up;
   float pad3;
   glm::ivec2 imageSize;
-  uint32_t frameIndex;
+  uint32_t frameIndex; // the sample index a dispatch takes
   uint32_t seed;
+  uint32_t firstFrame; // the first sample index of the accumulation (it clears the sum)
+  uint32_t pad4[3];
 };
-static_assert(sizeof(GpuCamera) == 80);
+static_assert(sizeof(GpuCamera) == 96);
 static_assert(offsetof(GpuCamera, forward) == 16 && offsetof(GpuCamera, right) == 32 && offsetof(GpuCamera, up) == 48 &&
               offsetof(GpuCamera, imageSize) == 64 && offsetof(GpuCamera, frameIndex) == 72);
+
+// renderer/cpu/gpu_lights.h GpuLight, byte for byte: the GL tracer uploads the CPU
+// reference's light list unchanged (shaders/structs.glsl GpuLight).
+struct GlLight {
+  glm::vec3 origin{0.0f};
+  uint32_t type = 0; // 0 point, 1 sun, 2 dome
+  glm::vec3 color{1.0f};
+  float value = 300.0f;
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};
+  float cosOuter = -2.0f;
+  uint32_t formula = 0; // ericw-tools `delay`
+  float atten = 1.0f;
+  float falloff = 0.0f;
+  float anglescale = 0.5f;
+  float cosInner = -2.0f;
+  float deviance = 0.0f;
+  uint32_t flags = 0;
+  uint32_t surfaceMaterial = 0xffffffffu;
+};
+static_assert(sizeof(GlLight) == 80);
+static_assert(offsetof(GlLight, color) == 16 && offsetof(GlLight, direction) == 32 && offsetof(GlLight, formula) == 48 &&
+              offsetof(GlLight, cosInner) == 64 && offsetof(GlLight, surfaceMaterial) == 76);
+
+// renderer/cpu/gpu_lights.h GpuEmitter: one triangle of an emitting face.
+struct GlEmitter {
+  glm::vec3 v0{0.0f};
+  uint32_t face = 0;
+  glm::vec3 v1{0.0f};
+  float area = 0.0f;
+  glm::vec3 v2{0.0f};
+  float cdf = 0.0f;
+};
+static_assert(sizeof(GlEmitter) == 48);
+static_assert(offsetof(GlEmitter, v1) == 16 && offsetof(GlEmitter, v2) == 32 && offsetof(GlEmitter, cdf) == 44);
+
+// std140 uniform block `World` (shaders/scene_buffers.glsl), binding 1.
+struct GpuWorld {
+  glm::vec3 minlight;
+  float range;
+  float scaledist;
+  float bouncescale;
+  int32_t faithfulBounces;
+  uint32_t litwater;
+  uint32_t lightCount;
+  uint32_t emitterCount;
+  float emitterArea;
+  uint32_t physical;
+  int32_t bounces;
+  uint32_t pad[3];
+};
+static_assert(sizeof(GpuWorld) == 64);
+static_assert(offsetof(GpuWorld, range) == 12 && offsetof(GpuWorld, faithfulBounces) == 24 &&
+              offsetof(GpuWorld, emitterArea) == 40 && offsetof(GpuWorld, bounces) == 48);
 
 } // namespace bt::gl

@@ -42,6 +42,29 @@ private:
   GLuint texture_ = 0;
 };
 
+std::vector<GpuMaterial> withShadingFlags(std::vector<GpuMaterial> materials, const GlLighting& lighting) {
+  if (lighting.materialFlags.empty()) return materials;
+  for (size_t i = 0; i < materials.size() && i < lighting.materialFlags.size(); ++i) {
+    materials[i].flags &= ~(kMaterialGgx | kMaterialHasEmissive);
+    materials[i].flags |= lighting.materialFlags[i] & (kMaterialGgx | kMaterialHasEmissive);
+  }
+  return materials;
+}
+
+GpuWorld worldBlock(const GlLighting& lighting) {
+  GpuWorld w{};
+  w.minlight = lighting.minlight;
+  w.range = lighting.range;
+  w.scaledist = lighting.scaledist;
+  w.bouncescale = lighting.bouncescale;
+  w.faithfulBounces = lighting.faithfulBounces;
+  w.litwater = lighting.litwater ? 1u : 0u;
+  w.lightCount = static_cast<uint32_t>(lighting.lights.size());
+  w.emitterCount = static_cast<uint32_t>(lighting.emitters.size());
+  w.emitterArea = lighting.emitterArea;
+  return w;
+}
+
 } // namespace
 
 struct GlTracer::Impl {
@@ -49,19 +72,38 @@ struct GlTracer::Impl {
   GlTextures textures;
   GlSceneBuffers buffers;
   ComputeProgram aovProgram;
+  ComputeProgram pathProgram;
+  GpuWorld world;
   GLuint cameraBuffer = 0;
+  GLuint worldBuffer = 0;
 
-  Impl(GlContext& c, const Scene& scene, TextureMode mode)
+  Impl(GlContext& c, const Scene& scene, TextureMode mode, const GlLighting& lighting)
       : context(c),
         textures(scene, mode, c.info()),
-        buffers(buildGpuSceneArrays(scene), textures.materials()),
-        aovProgram("aov.comp", textureDefines(textures.mode())) {
+        buffers(buildGpuSceneArrays(scene, lighting.faceFlags), withShadingFlags(textures.materials(), lighting),
+                lighting, scene.materials.size()),
+        aovProgram("aov.comp", textureDefines(textures.mode())),
+        pathProgram("pathtrace.comp", textureDefines(textures.mode())),
+        world(worldBlock(lighting)) {
     BT_GL(glCreateBuffers(1, &cameraBuffer));
     BT_GL(glNamedBufferStorage(cameraBuffer, sizeof(GpuCamera), nullptr, GL_DYNAMIC_STORAGE_BIT));
+    BT_GL(glCreateBuffers(1, &worldBuffer));
+    BT_GL(glNamedBufferStorage(worldBuffer, sizeof(GpuWorld), nullptr, GL_DYNAMIC_STORAGE_BIT));
   }
-  ~Impl() { glDeleteBuffers(1, &cameraBuffer); }
+  ~Impl() {
+    glDeleteBuffers(1, &cameraBuffer);
+    glDeleteBuffers(1, &worldBuffer);
+  }
 
-  void setCamera(const CameraBasis& basis, int width, int height, uint32_t frameIndex, uint32_t seed) {
+  void setWorld(bool physical, int bounces) {
+    world.physical = physical ? 1u : 0u;
+    world.bounces = bounces;
+    BT_GL(glNamedBufferSubData(worldBuffer, 0, sizeof world, &world));
+    BT_GL(glBindBufferBase(GL_UNIFORM_BUFFER, 1, worldBuffer));
+  }
+
+  void setCamera(const CameraBasis& basis, int width, int height, uint32_t frameIndex, uint32_t seed,
+                 uint32_t firstFrame = 0) {
     GpuCamera camera{};
     camera.origin = basis.origin;
     camera.forward = basis.forward;
@@ -70,6 +112,7 @@ struct GlTracer::Impl {
     camera.imageSize = {width, height};
     camera.frameIndex = frameIndex;
     camera.seed = seed;
+    camera.firstFrame = firstFrame;
     BT_GL(glNamedBufferSubData(cameraBuffer, 0, sizeof camera, &camera));
     BT_GL(glBindBufferBase(GL_UNIFORM_BUFFER, 0, cameraBuffer));
     buffers.bind();
@@ -77,8 +120,8 @@ struct GlTracer::Impl {
   }
 };
 
-GlTracer::GlTracer(GlContext& context, const Scene& scene, TextureMode textures)
-    : impl_(std::make_unique<Impl>(context, scene, textures)) {}
+GlTracer::GlTracer(GlContext& context, const Scene& scene, TextureMode textures, const GlLighting& lighting)
+    : impl_(std::make_unique<Impl>(context, scene, textures, lighting)) {}
 
 GlTracer::~GlTracer() = default;
 
@@ -112,6 +155,36 @@ AovImages GlTracer::renderAovs(const CameraBasis& camera, int width, int height)
     out.normal[i] = {nd[4 * i], nd[4 * i + 1], nd[4 * i + 2]};
     out.depth[i] = nd[4 * i + 3];
   }
+  return out;
+}
+
+BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettings& settings,
+                                   const std::function<bool(int)>& progress) {
+  if (settings.width <= 0 || settings.height <= 0)
+    throw GlError(fmt::format("image size {}x{} is empty", settings.width, settings.height));
+  StorageImage accumulation(GL_RGBA32F, settings.width, settings.height);
+  accumulation.bindImage(0, GL_READ_WRITE);
+  impl_->setWorld(settings.physical, settings.bounces);
+  BeautyImage out;
+  out.width = settings.width;
+  out.height = settings.height;
+  for (int sample = 0; sample < settings.spp; ++sample) {
+    impl_->setCamera(camera, settings.width, settings.height, static_cast<uint32_t>(sample), settings.seed, 0);
+    impl_->pathProgram.dispatch2d(settings.width, settings.height);
+    // Each sample reads the sum the previous one wrote.
+    BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT));
+    out.samples = sample + 1;
+    if (progress) {
+      BT_GL(glFinish()); // so the callback sees real progress and timing
+      if (!progress(out.samples)) break;
+    }
+  }
+  BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
+  const auto sum = accumulation.read<float>(settings.width, settings.height, GL_RGBA, GL_FLOAT, 4);
+  out.beauty.resize(static_cast<size_t>(settings.width) * settings.height);
+  const float scale = 1.0f / static_cast<float>(std::max(out.samples, 1));
+  for (size_t i = 0; i < out.beauty.size(); ++i)
+    out.beauty[i] = glm::vec3(sum[4 * i], sum[4 * i + 1], sum[4 * i + 2]) * scale;
   return out;
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "renderer/gl/gl_context.h"
+#include "renderer/gl/gl_structs.h"
 #include "renderer/gl/gl_textures.h"
 #include "scene/scene.h"
 
@@ -9,6 +10,7 @@
 #include <glm/vec4.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -36,10 +38,45 @@ struct AovImages {
   std::vector<uint32_t> face;    // index into Scene::faces + 1
 };
 
+// What the integrator needs beyond geometry and textures: renderer/cpu's classification of
+// faces and materials, its light list and emitters, and the worldspawn lighting keys. The
+// render command fills it from renderer/cpu's RenderScene, so both tracers light alike.
+struct GlLighting {
+  std::vector<uint32_t> faceFlags;     // per Scene face: renderer/cpu kFace*; empty = none
+  std::vector<uint32_t> materialFlags; // per material: kMaterialGgx / kMaterialHasEmissive overrides; empty = from the images
+  std::vector<GlLight> lights;         // point lights, suns, domes
+  std::vector<GlLight> surfaceLights;  // per material: its _surface template (value 0 = none); empty = none
+  std::vector<GlEmitter> emitters;     // triangles of emitting faces, cdf by area
+  float emitterArea = 0.0f;
+  glm::vec3 minlight{0.0f};
+  float range = 0.5f;      // _range
+  float scaledist = 1.0f;  // _dist
+  float bouncescale = 1.0f;
+  int faithfulBounces = 0; // _bounce
+  bool litwater = false;
+};
+
+struct BeautySettings {
+  int width = 640;
+  int height = 360;
+  int spp = 16;
+  uint32_t seed = 0;
+  bool physical = false; // --lighting physical
+  int bounces = 3;       // physical mode
+};
+
+// Mean linear radiance per pixel, rows top to bottom.
+struct BeautyImage {
+  int width = 0;
+  int height = 0;
+  int samples = 0;
+  std::vector<glm::vec3> beauty;
+};
+
 class GlTracer {
 public:
   // Uploads the scene. The context must stay current on this thread for the tracer's life.
-  GlTracer(GlContext& context, const Scene& scene, TextureMode textures);
+  GlTracer(GlContext& context, const Scene& scene, TextureMode textures, const GlLighting& lighting = {});
   ~GlTracer();
   GlTracer(const GlTracer&) = delete;
   GlTracer& operator=(const GlTracer&) = delete;
@@ -47,6 +84,11 @@ public:
   TextureMode textureMode() const; // the path in use: Bindless or Arrays
 
   AovImages renderAovs(const CameraBasis& camera, int width, int height);
+
+  // settings.spp samples per pixel, one dispatch each, summed in an RGBA32F image. progress(n)
+  // is called after every sample with the samples done; returning false stops early (--time).
+  BeautyImage renderBeauty(const CameraBasis& camera, const BeautySettings& settings,
+                           const std::function<bool(int)>& progress = {});
 
 private:
   struct Impl;

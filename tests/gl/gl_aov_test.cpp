@@ -97,7 +97,7 @@ TEST(GlAov, EmptySceneSeesNothing) {
 TEST(GpuSceneArrays, BvhHoldsEveryBrushOnceAndBoundsContainChildren) {
   Scene scene = test::makeTestRoom();
   for (int i = 0; i < 40; ++i) test::addBox(scene, {i * 10.0, 0, 0}, {i * 10.0 + 8, 8, 8 + i}, 0);
-  const GpuSceneArrays arrays = buildGpuSceneArrays(scene, 2);
+  const GpuSceneArrays arrays = buildGpuSceneArrays(scene, {}, 2);
   std::vector<int> seen(scene.brushes.size());
   for (const GpuBrush& b : arrays.brushes) {
     ++seen[scene.faces[b.firstFace].brush];
