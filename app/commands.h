@@ -11,5 +11,8 @@ namespace bt::app {
 // --dialect, --wad, --textures, --palette, --no-textures: every command that imports a level.
 void addImportOptions(CLI::App& command, ImportOptions& options);
 
+// brushtrace bench [MAP] (cmd_bench.cpp): GL tracer throughput.
+void addBenchCommand(CLI::App& app, int& exitCode);
+
 
 } // namespace bt::app

@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "brushtrace 0.1.0");
 
   int exitCode = 0;
+  bt::app::addBenchCommand(app, exitCode);
 
   try {
     app.parse(argc, argv);

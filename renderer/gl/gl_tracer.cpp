@@ -7,6 +7,11 @@
 #include <epoxy/gl.h>
 #include <fmt/format.h>
 
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include <chrono>
+#include <cmath>
 #include <string>
 
 namespace bt::gl {
@@ -71,8 +76,8 @@ struct GlTracer::Impl {
   GlContext& context;
   GlTextures textures;
   GlSceneBuffers buffers;
-  ComputeProgram aovProgram;
-  ComputeProgram pathProgram;
+  // Compiled on first use: llvmpipe takes seconds for the path tracer, which AOVs do not need.
+  std::unique_ptr<ComputeProgram> aovProgram, pathProgram, rayBenchProgram;
   GpuWorld world;
   GLuint cameraBuffer = 0;
   GLuint worldBuffer = 0;
@@ -82,14 +87,17 @@ struct GlTracer::Impl {
         textures(scene, mode, c.info()),
         buffers(buildGpuSceneArrays(scene, lighting.faceFlags), withShadingFlags(textures.materials(), lighting),
                 lighting, scene.materials.size()),
-        aovProgram("aov.comp", textureDefines(textures.mode())),
-        pathProgram("pathtrace.comp", textureDefines(textures.mode())),
         world(worldBlock(lighting)) {
     BT_GL(glCreateBuffers(1, &cameraBuffer));
     BT_GL(glNamedBufferStorage(cameraBuffer, sizeof(GpuCamera), nullptr, GL_DYNAMIC_STORAGE_BIT));
     BT_GL(glCreateBuffers(1, &worldBuffer));
     BT_GL(glNamedBufferStorage(worldBuffer, sizeof(GpuWorld), nullptr, GL_DYNAMIC_STORAGE_BIT));
   }
+  ComputeProgram& program(std::unique_ptr<ComputeProgram>& slot, const char* name) {
+    if (!slot) slot = std::make_unique<ComputeProgram>(name, textureDefines(textures.mode()));
+    return *slot;
+  }
+
   ~Impl() {
     glDeleteBuffers(1, &cameraBuffer);
     glDeleteBuffers(1, &worldBuffer);
@@ -136,7 +144,7 @@ AovImages GlTracer::renderAovs(const CameraBasis& camera, int width, int height)
   albedo.bindImage(0, GL_WRITE_ONLY);
   normalDepth.bindImage(1, GL_WRITE_ONLY);
   face.bindImage(2, GL_WRITE_ONLY);
-  impl_->aovProgram.dispatch2d(width, height);
+  impl_->program(impl_->aovProgram, "aov.comp").dispatch2d(width, height);
   BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
 
   AovImages out;
@@ -170,7 +178,7 @@ BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettin
   out.height = settings.height;
   for (int sample = 0; sample < settings.spp; ++sample) {
     impl_->setCamera(camera, settings.width, settings.height, static_cast<uint32_t>(sample), settings.seed, 0);
-    impl_->pathProgram.dispatch2d(settings.width, settings.height);
+    impl_->program(impl_->pathProgram, "pathtrace.comp").dispatch2d(settings.width, settings.height);
     // Each sample reads the sum the previous one wrote.
     BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT));
     out.samples = sample + 1;
@@ -186,6 +194,54 @@ BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettin
   for (size_t i = 0; i < out.beauty.size(); ++i)
     out.beauty[i] = glm::vec3(sum[4 * i], sum[4 * i + 1], sum[4 * i + 2]) * scale;
   return out;
+}
+
+
+CameraBasis CameraBasis::fromQuakeAngles(const glm::vec3& origin, float pitch, float yaw, float roll, int width, int height,
+                                         float horizontalFovDegrees) {
+  const float p = glm::radians(pitch), y = glm::radians(yaw), r = glm::radians(roll);
+  const float sp = std::sin(p), cp = std::cos(p), sy = std::sin(y), cy = std::cos(y), sr = std::sin(r), cr = std::cos(r);
+  const float tanHalfX = std::tan(glm::radians(horizontalFovDegrees) * 0.5f);
+  const float tanHalfY = tanHalfX * static_cast<float>(height) / static_cast<float>(std::max(width, 1));
+  CameraBasis c;
+  c.origin = origin;
+  // Quake's AngleVectors (mathlib.c): at zero angles forward = +X, right = -Y, up = +Z.
+  c.forward = {cp * cy, cp * sy, -sp};
+  c.right = glm::vec3(-sr * sp * cy + cr * sy, -sr * sp * sy - cr * cy, -sr * cp) * tanHalfX;
+  c.up = glm::vec3(cr * sp * cy + sr * sy, cr * sp * sy - sr * cy, cr * cp) * tanHalfY;
+  return c;
+}
+
+RayBenchmark GlTracer::benchmarkRays(const CameraBasis& camera, int width, int height, int passes) {
+  using Clock = std::chrono::steady_clock;
+  StorageImage hits(GL_RGBA32F, width, height);
+  StorageImage bounceT(GL_R32F, width, height);
+  hits.bindImage(0, GL_READ_WRITE);
+  bounceT.bindImage(1, GL_WRITE_ONLY);
+  ComputeProgram& bench = impl_->program(impl_->rayBenchProgram, "raybench.comp");
+  const GLuint program = bench.id();
+  RayBenchmark result;
+  result.passes = passes;
+  result.primaryRays = static_cast<size_t>(width) * height;
+
+  auto run = [&](GLuint mode) {
+    BT_GL(glProgramUniform1ui(program, 0, mode));
+    BT_GL(glFinish());
+    const auto start = Clock::now();
+    for (int pass = 0; pass < passes; ++pass) {
+      impl_->setCamera(camera, width, height, static_cast<uint32_t>(pass), 0);
+      bench.dispatch2d(width, height);
+      BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT));
+    }
+    BT_GL(glFinish());
+    return std::chrono::duration<double>(Clock::now() - start).count();
+  };
+  result.primarySeconds = run(0);
+  BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
+  const auto primary = hits.read<float>(width, height, GL_RGBA, GL_FLOAT, 4);
+  for (size_t i = 0; i < result.primaryRays; ++i) result.bounceRays += primary[4 * i + 3] != 0.0f;
+  result.bounceSeconds = run(1);
+  return result;
 }
 
 } // namespace bt::gl

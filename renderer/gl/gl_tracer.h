@@ -24,6 +24,12 @@ struct CameraBasis {
   glm::vec3 forward{1.0f, 0.0f, 0.0f};
   glm::vec3 right{0.0f, -1.0f, 0.0f};
   glm::vec3 up{0.0f, 0.0f, 1.0f};
+
+  // Quake's view angles in degrees (pitch positive looks down, yaw counter-clockwise from +X,
+  // roll), axes as Quake's AngleVectors like renderer/cpu's Camera, and a horizontal field of
+  // view (Quake's default 90) for a width by height image.
+  static CameraBasis fromQuakeAngles(const glm::vec3& origin, float pitch, float yaw, float roll, int width, int height,
+                                     float horizontalFovDegrees = 90.0f);
 };
 
 // Per pixel, rows top to bottom, with the CPU reference's meanings (renderer/cpu RenderImage).
@@ -73,6 +79,14 @@ struct BeautyImage {
   std::vector<glm::vec3> beauty;
 };
 
+struct RayBenchmark {
+  size_t primaryRays = 0; // per pass
+  size_t bounceRays = 0;  // per pass: one for each primary ray that hit something
+  int passes = 0;
+  double primarySeconds = 0.0; // all passes
+  double bounceSeconds = 0.0;
+};
+
 class GlTracer {
 public:
   // Uploads the scene. The context must stay current on this thread for the tracer's life.
@@ -89,6 +103,10 @@ public:
   // is called after every sample with the samples done; returning false stops early (--time).
   BeautyImage renderBeauty(const CameraBasis& camera, const BeautySettings& settings,
                            const std::function<bool(int)>& progress = {});
+
+  // Times closest-hit queries alone (shaders/raybench.comp): `passes` frames of primary rays,
+  // then `passes` frames of one cosine bounce ray from each primary hit.
+  RayBenchmark benchmarkRays(const CameraBasis& camera, int width, int height, int passes);
 
 private:
   struct Impl;
