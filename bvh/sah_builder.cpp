@@ -52,8 +52,15 @@ struct BinMapping {
   }
 };
 
+// Nodes this small are split by an exact sweep over their sorted centroids instead of bins:
+// sorting a handful of boxes costs no more than clearing 3 x binCount bins, and the deep
+// levels, where bins are coarsest relative to the boxes, are where binning loses most.
+constexpr uint32_t kExactSweepMax = 32;
+
 struct Split {
   int axis = -1; // -1: no split found (all centroids coincide)
+  bool exact = false;      // exact: left = doubled centroid <= position; else bins <= lastLeftBin
+  float position = 0.0f;
   int lastLeftBin = 0;
   double childCost = 0.0; // area(left) * count(left) + area(right) * count(right), half-areas
   BinMapping mapping;
@@ -158,6 +165,7 @@ private:
   }
 
   Split findSplit(uint32_t begin, uint32_t end, const Aabb& centroids) const {
+    if (end - begin <= kExactSweepMax) return findExactSplit(begin, end);
     const int binCount = settings_.binCount;
     std::array<std::array<Bin, kMaxBins>, 3> bins;
     std::array<BinMapping, 3> mappings;
@@ -212,13 +220,47 @@ private:
     return best;
   }
 
+  Split findExactSplit(uint32_t begin, uint32_t end) const {
+    const uint32_t n = end - begin;
+    std::array<uint32_t, kExactSweepMax> order;
+    std::array<double, kExactSweepMax> rightCost; // cost of order[i .. n) on the right
+    Split best;
+    best.childCost = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a) {
+      for (uint32_t i = 0; i < n; ++i) order[i] = begin + i;
+      auto centroid = [&](uint32_t i) { return refs_[order[i]].centroid2()[a]; };
+      std::sort(order.begin(), order.begin() + n,
+                [&](uint32_t x, uint32_t y) { return refs_[x].centroid2()[a] < refs_[y].centroid2()[a]; });
+      Aabb box;
+      for (uint32_t i = n; i-- > 1;) {
+        box.grow(Aabb{refs_[order[i]].min, refs_[order[i]].max});
+        rightCost[i] = static_cast<double>(box.halfArea()) * (n - i);
+      }
+      box = Aabb{};
+      for (uint32_t i = 1; i < n; ++i) { // left = order[0 .. i)
+        box.grow(Aabb{refs_[order[i - 1]].min, refs_[order[i - 1]].max});
+        if (centroid(i - 1) == centroid(i)) continue; // not separable by a plane
+        const double cost = static_cast<double>(box.halfArea()) * i + rightCost[i];
+        if (cost < best.childCost) {
+          best.axis = a;
+          best.exact = true;
+          best.position = centroid(i - 1);
+          best.childCost = cost;
+        }
+      }
+    }
+    best.childCost *= kSahBrushCost;
+    return best;
+  }
+
   uint32_t partition(uint32_t begin, uint32_t end, const Split& split, Aabb& leftBounds, Aabb& rightBounds,
                      Aabb& leftCentroids, Aabb& rightCentroids) {
     uint32_t i = begin, j = end;
     while (i < j) {
       const BoxRef& r = refs_[i];
       const glm::vec3 c = r.centroid2();
-      if (split.mapping.bin(c[split.axis]) <= split.lastLeftBin) {
+      const bool left = split.exact ? c[split.axis] <= split.position : split.mapping.bin(c[split.axis]) <= split.lastLeftBin;
+      if (left) {
         leftBounds.grow(Aabb{r.min, r.max});
         leftCentroids.grow(c);
         ++i;

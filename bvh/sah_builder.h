@@ -45,7 +45,7 @@ inline constexpr double kSahBrushCost = 1.0;
 
 struct SahBuildSettings {
   int leafSize = 4;  // see BvhBuildOptions
-  int binCount = 16;
+  int binCount = 32;
   int threads = 0;   // 0 = all cores
 };
 

@@ -71,7 +71,8 @@ struct Hit {
 struct BvhBuildOptions {
   int leafSize = 4;   // a node with more brushes than this is always split; smaller ones
                       // are split only where the SAH says it pays
-  int binCount = 16;  // SAH bins per axis
+  int binCount = 32;  // SAH bins per axis; on the shared maps 16 bins cost 3-3.4 % more than
+                      // the exact full sweep, 32 bins 1-2 %, for the same build time
   int threads = 0;    // 0 = all cores
   bool optimize = false; // reserved for a reinsertion pass; see bvh.cpp for why it is off
   std::vector<bool> includeBrush; // per Scene brush; empty = all. Excluded brushes are never hit.

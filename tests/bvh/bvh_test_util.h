@@ -7,6 +7,7 @@
 
 #include <optional>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace bt::test {
@@ -20,6 +21,14 @@ inline std::optional<Hit> bruteForceClosestHit(const TraceScene& ts, const Ray& 
   }
   return best;
 }
+
+// Walks the tree from the root and checks everything a traversal relies on: every node and
+// brush reached exactly once, bounds nested, depth within kBvhMaxDepth.
+void expectWellFormed(const TraceScene& ts);
+// Every scene brush with a winding is in brushes() exactly once, its sides from its own faces.
+void expectAllBrushesPresent(const Scene& scene, const TraceScene& ts);
+// The binned SAH cost is within 3 % of the full-sweep reference on the same brush boxes.
+void expectSahNearFullSweep(const TraceScene& ts, int leafSize, const std::string& what);
 
 inline glm::vec3 randomUnitVector(std::mt19937& rng) {
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
