@@ -123,10 +123,12 @@ struct Slab {
   int nearAxis, farAxis; // the axis that set near/far, -1 if none did
 };
 
-inline Slab intersectBox(const RayContext& r, const float* boxMin, const float* boxMax) {
+// ZeroSafe = false is the fast path for rays without zero direction components.
+template <bool ZeroSafe>
+[[gnu::always_inline]] inline Slab intersectBox(const RayContext& r, const float* boxMin, const float* boxMax) {
   Slab s{-kInfinity, kInfinity, -1, -1};
   for (int a = 0; a < 3; ++a) {
-    if (r.direction[a] == 0.0f) {
+    if (ZeroSafe && r.direction[a] == 0.0f) {
       if (r.origin[a] < boxMin[a] || r.origin[a] > boxMax[a]) return {kInfinity, -kInfinity, -1, -1};
       continue;
     }
@@ -142,10 +144,22 @@ inline Slab intersectBox(const RayContext& r, const float* boxMin, const float* 
 
 // Whether a node can hold a hit with t in (tMin, tLimit]. Inclusive at tLimit so that a brush
 // hit at exactly the best t so far is still found and the face-index tie-break applies.
-inline bool nodeOverlaps(const RayContext& r, const GpuBvhNode& node, float tLimit, float& near) {
-  const Slab s = intersectBox(r, node.boundsMin, node.boundsMax);
-  near = s.near;
-  return std::max(s.near, r.tMin) <= std::min(s.far, tLimit) && s.near <= s.far;
+template <bool ZeroSafe>
+[[gnu::always_inline]] inline bool nodeOverlaps(const RayContext& r, const GpuBvhNode& node, float tLimit, float& near) {
+  float far;
+  if constexpr (ZeroSafe) {
+    const Slab s = intersectBox<true>(r, node.boundsMin, node.boundsMax);
+    near = s.near, far = s.far;
+  } else {
+    // The same per-axis values as intersectBox (min/max of the two slab planes picks the one
+    // intersectBox picks by the direction's sign), without the bookkeeping of which axis won.
+    const float x0 = (node.boundsMin[0] - r.origin.x) * r.invDirection.x, x1 = (node.boundsMax[0] - r.origin.x) * r.invDirection.x;
+    const float y0 = (node.boundsMin[1] - r.origin.y) * r.invDirection.y, y1 = (node.boundsMax[1] - r.origin.y) * r.invDirection.y;
+    const float z0 = (node.boundsMin[2] - r.origin.z) * r.invDirection.z, z1 = (node.boundsMax[2] - r.origin.z) * r.invDirection.z;
+    near = std::max({std::min(x0, x1), std::min(y0, y1), std::min(z0, z1)});
+    far = std::min({std::max(x0, x1), std::max(y0, y1), std::max(z0, z1)});
+  }
+  return std::max(near, r.tMin) <= std::min(far, tLimit) && near <= far;
 }
 
 inline bool closer(float t, uint32_t face, const Hit& best) {
@@ -198,10 +212,11 @@ namespace {
 // When two axes give the same t (the ray meets an edge exactly), the one the ray meets more
 // head-on (larger |d|) takes it: the hidden face between two neighbouring brushes is always
 // the one met at a glancing angle by rays that reach their shared edge from the open side.
-inline Slab brushBox(const RayContext& r, const GpuBrush& brush) {
+template <bool ZeroSafe>
+[[gnu::always_inline]] inline Slab brushBox(const RayContext& r, const GpuBrush& brush) {
   Slab s{-kInfinity, kInfinity, -1, -1};
   for (int a = 0; a < 3; ++a) {
-    if (r.direction[a] == 0.0f) {
+    if (ZeroSafe && r.direction[a] == 0.0f) {
       if (r.origin[a] < brush.boundsMin[a] || r.origin[a] > brush.boundsMax[a]) return {kInfinity, -kInfinity, -1, -1};
       continue;
     }
@@ -225,11 +240,14 @@ struct Crossing {
   float facing = 0.0f;
 };
 
-// Haines' clip against one brush; the contract is spelled out in trace_scene.h.
+// Haines' clip against one brush; the contract is spelled out in trace_scene.h. A brush whose
+// box starts beyond tLimit (the closest hit so far) is rejected before its planes are read:
+// its hit could only be farther (a hit at exactly tLimit still competes on face index).
+template <bool ZeroSafe>
 inline bool hitBrush(const RayContext& r, const GpuBrush& brush, std::span<const uint32_t> sides,
-                     std::span<const GpuFace> faces, Hit& hit) {
-  const Slab box = brushBox(r, brush);
-  if (box.near > box.far || box.far <= r.tMin || box.near >= r.tMax) return false;
+                     std::span<const GpuFace> faces, float tLimit, Hit& hit) {
+  const Slab box = brushBox<ZeroSafe>(r, brush);
+  if (box.near > box.far || box.far <= r.tMin || box.near >= r.tMax || box.near > tLimit) return false;
 
   Crossing enter{-kInfinity}, exit{kInfinity};
   const float near0 = std::max(box.near, r.tMin);
@@ -287,13 +305,17 @@ inline bool hitBrush(const RayContext& r, const GpuBrush& brush, std::span<const
 
 std::optional<Hit> TraceScene::intersectBrush(const Ray& ray, uint32_t brushIndex) const {
   Hit hit;
-  if (hitBrush(RayContext(ray), brushes_.at(brushIndex), sides_, faces_, hit)) return hit;
+  const RayContext r(ray);
+  const GpuBrush& brush = brushes_.at(brushIndex);
+  const bool found = r.hasZeroComponent ? hitBrush<true>(r, brush, sides_, faces_, r.tMax, hit)
+                                        : hitBrush<false>(r, brush, sides_, faces_, r.tMax, hit);
+  if (found) return hit;
   return std::nullopt;
 }
 
 // Depth-first traversal, nearer child first, with a stack of kBvhMaxDepth entries, which the
 // builder guarantees is enough (tinybvh's scheme).
-template <bool AnyHit>
+template <bool AnyHit, bool ZeroSafe>
 static bool traverse(const RayContext& r, std::span<const GpuBvhNode> nodes, std::span<const GpuBrush> brushes,
                      std::span<const uint32_t> sides, std::span<const GpuFace> faces, Hit& best) {
   if (nodes.empty()) return false;
@@ -301,7 +323,7 @@ static bool traverse(const RayContext& r, std::span<const GpuBvhNode> nodes, std
   best.face = kNoFace;
   bool found = false;
   float near = 0.0f;
-  if (!nodeOverlaps(r, nodes[0], best.t, near)) return false;
+  if (!nodeOverlaps<ZeroSafe>(r, nodes[0], best.t, near)) return false;
 
   uint32_t stack[kBvhMaxDepth];
   int top = 0;
@@ -311,7 +333,7 @@ static bool traverse(const RayContext& r, std::span<const GpuBvhNode> nodes, std
     if (node.count > 0) {
       for (uint32_t i = node.leftFirst; i < node.leftFirst + node.count; ++i) {
         Hit hit;
-        if (hitBrush(r, brushes[i], sides, faces, hit) && closer(hit.t, hit.face, best)) {
+        if (hitBrush<ZeroSafe>(r, brushes[i], sides, faces, best.t, hit) && closer(hit.t, hit.face, best)) {
           best = hit;
           found = true;
           if constexpr (AnyHit) return true;
@@ -320,8 +342,8 @@ static bool traverse(const RayContext& r, std::span<const GpuBvhNode> nodes, std
     } else {
       uint32_t a = node.leftFirst, b = node.leftFirst + 1;
       float nearA = 0.0f, nearB = 0.0f;
-      const bool hitA = nodeOverlaps(r, nodes[a], best.t, nearA);
-      const bool hitB = nodeOverlaps(r, nodes[b], best.t, nearB);
+      const bool hitA = nodeOverlaps<ZeroSafe>(r, nodes[a], best.t, nearA);
+      const bool hitB = nodeOverlaps<ZeroSafe>(r, nodes[b], best.t, nearB);
       if (hitA && hitB) {
         if (nearB < nearA) std::swap(a, b);
         stack[top++] = b;
@@ -337,20 +359,25 @@ static bool traverse(const RayContext& r, std::span<const GpuBvhNode> nodes, std
     for (;;) {
       if (top == 0) return found;
       current = stack[--top];
-      if (nodeOverlaps(r, nodes[current], best.t, near)) break;
+      if (nodeOverlaps<ZeroSafe>(r, nodes[current], best.t, near)) break;
     }
   }
 }
 
 std::optional<Hit> TraceScene::closestHit(const Ray& ray) const {
   Hit best;
-  if (traverse<false>(RayContext(ray), nodes_, brushes_, sides_, faces_, best)) return best;
+  const RayContext r(ray);
+  const bool found = r.hasZeroComponent ? traverse<false, true>(r, nodes_, brushes_, sides_, faces_, best)
+                                        : traverse<false, false>(r, nodes_, brushes_, sides_, faces_, best);
+  if (found) return best;
   return std::nullopt;
 }
 
 bool TraceScene::occluded(const Ray& ray) const {
   Hit any;
-  return traverse<true>(RayContext(ray), nodes_, brushes_, sides_, faces_, any);
+  const RayContext r(ray);
+  return r.hasZeroComponent ? traverse<true, true>(r, nodes_, brushes_, sides_, faces_, any)
+                            : traverse<true, false>(r, nodes_, brushes_, sides_, faces_, any);
 }
 
 glm::vec3 offsetRayOrigin(const glm::vec3& p, const glm::vec3& n) {
