@@ -36,22 +36,6 @@ struct RenderOptions {
   ImportOptions import;
 };
 
-// The default map: maps/start.map in the current directory, then beside the executable's
-// build folder (build/brushtrace -> ../maps), then in the source tree it was built from.
-std::string findDefaultMap(const char* argv0) {
-  namespace fs = std::filesystem;
-  std::vector<fs::path> candidates{fs::current_path() / "maps" / "start.map"};
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) candidates.push_back(exe.parent_path().parent_path() / "maps" / "start.map");
-  (void)argv0;
-  candidates.push_back(fs::path(BRUSHTRACE_SOURCE_DIR) / "maps" / "start.map");
-  for (const fs::path& p : candidates)
-    if (fs::is_regular_file(p, ec)) return p.string();
-  throw std::runtime_error("no MAP given and maps/start.map not found (looked in the current directory, beside the "
-                           "executable and in " BRUSHTRACE_SOURCE_DIR ")");
-}
-
 std::string formatDuration(double seconds) {
   const long s = std::max(0L, long(seconds + 0.5));
   return fmt::format("{:02}:{:02}:{:02}", s / 3600, (s / 60) % 60, s % 60);
@@ -74,7 +58,7 @@ int runRender(const RenderOptions& o) {
                        "rendering on the CPU instead\n");
   }
 
-  const std::string mapPath = o.map.empty() ? findDefaultMap(nullptr) : o.map;
+  const std::string mapPath = o.map.empty() ? defaultMapPath() : o.map;
   const Scene scene = importScene(mapPath, o.import);
   for (const Diagnostic& d : scene.diagnostics)
     if (!o.quiet && d.severity != Severity::Note) fmt::print(stderr, "{}\n", format(d));

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   bt::app::addDumpCommand(app, exitCode);
   bt::app::addRenderCommand(app, exitCode);
   bt::app::addBenchCommand(app, exitCode);
+  bt::app::addViewCommand(app, exitCode);
 
   try {
     app.parse(argc, argv);
