@@ -188,3 +188,70 @@ Winding clipBehind(const Winding& w, const Plane& plane, double epsilon) {
 }
 
 } // namespace bt::map
+
+namespace bt::map {
+
+namespace {
+// Values within a hair of a round number are written round: a converted map stays readable.
+double tidy(double v, double step) {
+  const double r = std::round(v / step) * step;
+  return std::fabs(r - v) < 1e-9 * std::max(1.0, std::fabs(v)) ? r : v;
+}
+} // namespace
+
+std::optional<StandardParams> fitStandard(const TexVecs& vecs, const Plane& plane) {
+  const ParaxialAxes base = paraxialAxes(plane.normal);
+  const int sv = base.s.x != 0.0 ? 0 : base.s.y != 0.0 ? 1 : 2;
+  const int tv = base.t.x != 0.0 ? 0 : base.t.y != 0.0 ? 1 : 2;
+  const int c = 3 - sv - tv; // the axis the table projects along
+  const double a = base.s[sv];
+  const double b = base.t[tv];
+  const dvec3& n = plane.normal;
+  if (n[c] == 0.0) return std::nullopt;
+
+  // On the plane p[c] is a function of p[sv], p[tv]: write s and t as A*p[sv] + B*p[tv] + C.
+  double A[2], B[2], C[2];
+  for (int i = 0; i < 2; ++i) {
+    const dvec3& v = vecs.axis[i];
+    A[i] = v[sv] - v[c] * n[sv] / n[c];
+    B[i] = v[tv] - v[c] * n[tv] / n[c];
+    C[i] = vecs.offset[i] + v[c] * plane.dist / n[c];
+  }
+  // QuakeEd's s row is (cos, sin) * a / scale0 and its t row (-sin, cos) * b / scale1.
+  const double r0 = std::hypot(A[0], B[0]);
+  if (!(r0 > 0.0) || !std::isfinite(r0)) return std::nullopt;
+  const double theta = std::atan2(a * B[0], a * A[0]);
+  const double k = -A[1] * std::sin(theta) + B[1] * std::cos(theta);
+  if (k == 0.0 || !std::isfinite(k)) return std::nullopt;
+  StandardParams out;
+  out.rotation = tidy(theta * 180.0 / std::numbers::pi, 1.0);
+  out.scale = {tidy(1.0 / r0, 1.0 / 1024.0), tidy(b / k, 1.0 / 1024.0)};
+  out.offset = {tidy(C[0], 1.0 / 1024.0), tidy(C[1], 1.0 / 1024.0)};
+  return out;
+}
+
+TextureParams valveFromVecs(const TexVecs& vecs, double rotation) {
+  TextureParams p;
+  p.kind = TextureKind::Valve220;
+  p.rotation = rotation;
+  for (int i = 0; i < 2; ++i) {
+    const double len = glm::length(vecs.axis[i]);
+    p.axis[i] = len > 0.0 ? vecs.axis[i] / len : vecs.axis[i];
+    p.scale[i] = len > 0.0 ? 1.0 / len : 1.0;
+    p.offset[i] = vecs.offset[i];
+  }
+  return p;
+}
+
+std::vector<Winding> brushWindings(const std::vector<Plane>& planes) {
+  std::vector<Winding> out(planes.size());
+  for (size_t i = 0; i < planes.size(); ++i) {
+    Winding w = baseWinding(planes[i]);
+    for (size_t j = 0; j < planes.size() && !w.empty(); ++j)
+      if (j != i) w = clipBehind(w, planes[j]);
+    out[i] = std::move(w);
+  }
+  return out;
+}
+
+} // namespace bt::map

@@ -63,3 +63,23 @@ Winding baseWinding(const Plane& plane);
 Winding clipBehind(const Winding& w, const Plane& plane, double epsilon = kOnEpsilon);
 
 } // namespace bt::map
+
+namespace bt::map {
+
+// The Standard (QuakeEd) parameters whose projection is closest to `vecs` on `plane`: exact
+// when vecs has no shear and its axes are those of the plane's paraxial table entry rotated;
+// otherwise the s axis is kept and t is fitted. std::nullopt when vecs is unusable.
+struct StandardParams {
+  std::array<double, 2> offset{0.0, 0.0};
+  double rotation = 0.0;
+  std::array<double, 2> scale{1.0, 1.0};
+};
+std::optional<StandardParams> fitStandard(const TexVecs& vecs, const Plane& plane);
+
+// Valve 220 parameters that reproduce `vecs` exactly: unit axes, scale = 1 / |axis|.
+TextureParams valveFromVecs(const TexVecs& vecs, double rotation);
+
+// The windings of a convex brush's faces, one per plane (empty where a plane does not touch it).
+std::vector<Winding> brushWindings(const std::vector<Plane>& planes);
+
+} // namespace bt::map
