@@ -15,6 +15,8 @@ int main(int argc, char** argv) {
   bt::app::addInfoCommand(app, exitCode);
   bt::app::addDumpCommand(app, exitCode);
   bt::app::addConvertCommand(app, exitCode);
+  bt::app::addRenderCommand(app, exitCode);
+  bt::app::addBenchCommand(app, exitCode);
 
   try {
     app.parse(argc, argv);
