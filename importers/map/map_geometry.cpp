@@ -96,6 +96,14 @@ TexVecs brushPrimitiveVecs(const TextureParams& tex, const Plane& plane, int wid
   return out;
 }
 
+// qbsp's ZERO_EPSILON.
+constexpr double kZeroEpsilon = 0.0001;
+
+double roundNearInteger(double v) {
+  const double r = std::rint(v);
+  return std::fabs(v - r) < kZeroEpsilon ? r : v;
+}
+
 } // namespace
 
 bool isValidProjection(const TexVecs& vecs, const dvec3& normal) {
@@ -104,7 +112,7 @@ bool isValidProjection(const TexVecs& vecs, const dvec3& normal) {
   const double len = glm::length(c);
   if (!std::isfinite(len) || len == 0.0 || !std::isfinite(vecs.offset[0]) || !std::isfinite(vecs.offset[1])) return false;
   const double cosAngle = glm::dot(c / len, normal);
-  return std::isfinite(cosAngle) && std::fabs(cosAngle) >= 0.0001;
+  return std::isfinite(cosAngle) && std::fabs(cosAngle) >= kZeroEpsilon;
 }
 
 TexVecs textureVecs(const TextureParams& tex, const Plane& plane, int textureWidth, int textureHeight) {
@@ -113,6 +121,12 @@ TexVecs textureVecs(const TextureParams& tex, const Plane& plane, int textureWid
   case TextureKind::Standard: v = standardVecs(plane, tex.offset, tex.rotation, tex.scale); break;
   case TextureKind::Valve220: v = valveVecs(tex); break;
   case TextureKind::BrushPrimitive: v = brushPrimitiveVecs(tex, plane, textureWidth, textureHeight); break;
+  }
+  // qbsp rounds every vector component within ZERO_EPSILON of an integer (a DarkPlaces lightmap
+  // size workaround), so 1/0.8574787-style scales written by editors land on round numbers.
+  for (int i = 0; i < 2; ++i) {
+    for (int j = 0; j < 3; ++j) v.axis[i][j] = roundNearInteger(v.axis[i][j]);
+    v.offset[i] = roundNearInteger(v.offset[i]);
   }
   // qbsp repairs an unusable projection with default Standard texturing rather than failing.
   if (!isValidProjection(v, plane.normal)) v = standardVecs(plane, {0.0, 0.0}, 0.0, {1.0, 1.0});
