@@ -115,13 +115,29 @@ bool isValidProjection(const TexVecs& vecs, const dvec3& normal) {
   return std::isfinite(cosAngle) && std::fabs(cosAngle) >= kZeroEpsilon;
 }
 
-TexVecs textureVecs(const TextureParams& tex, const Plane& plane, int textureWidth, int textureHeight) {
+namespace {
+
+// QuArK's "etp" modes (a "//TX1" or "//TX2" comment after a Standard face line): the texture
+// axes are the plane points' edges, p2 - p0 and p1 - p0 (swapped for TX2), each 128 texels
+// long, and p0 sits at texel (0, 0). The vectors are the dual basis of those edges in the plane.
+TexVecs quarkVecs(const std::array<dvec3, 3>& points, bool tx2) {
+  std::array<dvec3, 2> edge{(points[2] - points[0]) / 128.0, (points[1] - points[0]) / 128.0};
+  if (tx2) std::swap(edge[0], edge[1]);
+  const double a = glm::dot(edge[0], edge[0]);
+  const double b = glm::dot(edge[0], edge[1]);
+  const double d = glm::dot(edge[1], edge[1]);
+  const double det = a * d - b * b;
   TexVecs v;
-  switch (tex.kind) {
-  case TextureKind::Standard: v = standardVecs(plane, tex.offset, tex.rotation, tex.scale); break;
-  case TextureKind::Valve220: v = valveVecs(tex); break;
-  case TextureKind::BrushPrimitive: v = brushPrimitiveVecs(tex, plane, textureWidth, textureHeight); break;
-  }
+  if (std::fabs(det) >= kZeroEpsilon) {
+    v.axis[0] = (d * edge[0] - b * edge[1]) / det;
+    v.axis[1] = -(a * edge[1] - b * edge[0]) / det;
+  } // else: zero vectors, which the validity check below replaces with defaults, as qbsp ends up doing
+  for (int i = 0; i < 2; ++i) v.offset[i] = -glm::dot(v.axis[i], points[0]);
+  return v;
+}
+
+// What qbsp does to every face's vectors after computing them.
+TexVecs finishVecs(TexVecs v, const Plane& plane) {
   // qbsp rounds every vector component within ZERO_EPSILON of an integer (a DarkPlaces lightmap
   // size workaround), so 1/0.8574787-style scales written by editors land on round numbers.
   for (int i = 0; i < 2; ++i) {
@@ -131,6 +147,30 @@ TexVecs textureVecs(const TextureParams& tex, const Plane& plane, int textureWid
   // qbsp repairs an unusable projection with default Standard texturing rather than failing.
   if (!isValidProjection(v, plane.normal)) v = standardVecs(plane, {0.0, 0.0}, 0.0, {1.0, 1.0});
   return v;
+}
+
+} // namespace
+
+TexVecs textureVecs(const TextureParams& tex, const Plane& plane, int textureWidth, int textureHeight) {
+  TexVecs v;
+  switch (tex.kind) {
+  case TextureKind::Standard: v = standardVecs(plane, tex.offset, tex.rotation, tex.scale); break;
+  case TextureKind::Valve220: v = valveVecs(tex); break;
+  case TextureKind::BrushPrimitive: v = brushPrimitiveVecs(tex, plane, textureWidth, textureHeight); break;
+  }
+  return finishVecs(v, plane);
+}
+
+std::optional<bool> quarkMode(const MapFace& face) {
+  if (face.tex.kind != TextureKind::Standard) return std::nullopt;
+  const std::string_view c = face.trailingComment;
+  if (c.size() >= 5 && c.substr(0, 4) == "//TX" && (c[4] == '1' || c[4] == '2')) return c[4] == '2';
+  return std::nullopt;
+}
+
+TexVecs faceTextureVecs(const MapFace& face, const Plane& plane) {
+  if (const auto tx2 = quarkMode(face)) return finishVecs(quarkVecs(face.points, *tx2), plane);
+  return textureVecs(face.tex, plane);
 }
 
 TextureFrame frameFromVecs(const TexVecs& vecs, const Plane& plane) {

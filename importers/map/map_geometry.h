@@ -45,6 +45,12 @@ TexVecs textureVecs(const TextureParams& tex, const Plane& plane, int textureWid
 TexVecs standardVecs(const Plane& plane, const std::array<double, 2>& offset, double rotation, const std::array<double, 2>& scale);
 bool isValidProjection(const TexVecs& vecs, const dvec3& normal);
 
+// The vectors of a face line: textureVecs of its parameters, or QuArK's "etp" projection when
+// the line ends in a "//TX1" or "//TX2" comment (the texture axes follow the plane points).
+TexVecs faceTextureVecs(const MapFace& face, const Plane& plane);
+// std::nullopt for ordinary faces; false for QuArK's TX1, true for TX2.
+std::optional<bool> quarkMode(const MapFace& face);
+
 // The frame of scene.h from qbsp's vectors: tangent = vecs[0].xyz, bitangent = vecs[1].xyz,
 // origin on the plane such that s(origin) = t(origin) = 0.
 TextureFrame frameFromVecs(const TexVecs& vecs, const Plane& plane);

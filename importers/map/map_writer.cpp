@@ -72,13 +72,15 @@ public:
 private:
   void convertFace(MapFace& f, const Plane& plane, const Winding& points, bool keepBrushDef) {
     if (keepBrushDef) return;
-    const TexVecs vecs = textureVecs(f.tex, plane);
+    const TexVecs vecs = faceTextureVecs(f, plane);
+    const bool quark = quarkMode(f).has_value();
+    if (quark) f.trailingComment.clear(); // the projection is converted into the face's own parameters
     if (usesValveAxes(target_)) {
       if (f.tex.kind == TextureKind::Valve220) return;
-      f.tex = valveFromVecs(vecs, f.tex.kind == TextureKind::Standard ? f.tex.rotation : 0.0);
+      f.tex = valveFromVecs(vecs, f.tex.kind == TextureKind::Standard && !quark ? f.tex.rotation : 0.0);
       return;
     }
-    if (f.tex.kind == TextureKind::Standard) return;
+    if (f.tex.kind == TextureKind::Standard && !quark) return;
     const std::optional<StandardParams> fit = fitStandard(vecs, plane);
     TextureParams standard;
     standard.kind = TextureKind::Standard;

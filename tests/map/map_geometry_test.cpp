@@ -130,3 +130,28 @@ TEST(MapGeometry, MaterialsAreOnePerTextureNameIgnoringCase) {
 
 } // namespace
 } // namespace bt::map
+
+namespace bt::map {
+namespace {
+
+TEST(MapGeometry, QuarkTx1ProjectionFollowsThePlanePoints) {
+  // QuArK "etp": p0 is texel (0,0), p2 - p0 spans 128 texels of s, p1 - p0 128 texels of t
+  // (negated by the dual basis, as qbsp computes it).
+  const std::string top = "( 0 0 64 ) ( 0 32 64 ) ( 64 0 64 ) a 0 0 0 1 1 //TX1\n";
+  std::string text = "{\n{\n" + boxBrush();
+  const std::string plainTop = "( 64 64 64 ) ( 64 0 64 ) ( 0 64 64 ) a 0 0 0 1 1\n";
+  text.replace(text.find(plainTop), plainTop.size(), top);
+  const Scene scene = buildScene(parseMap(text + "}\n}\n", "q.map"));
+  ASSERT_EQ(scene.faces.size(), 6u);
+  const Face& f = scene.faces[3];
+  ASSERT_EQ(f.plane.normal, dvec3(0, 0, 1));
+  EXPECT_NEAR(f.frame.s({0, 0, 64}), 0.0, 1e-9);
+  EXPECT_NEAR(f.frame.t({0, 0, 64}), 0.0, 1e-9);
+  EXPECT_NEAR(f.frame.s({64, 0, 64}), 128.0, 1e-9);
+  EXPECT_NEAR(f.frame.t({64, 0, 64}), 0.0, 1e-9);
+  EXPECT_NEAR(f.frame.s({0, 32, 64}), 0.0, 1e-9);
+  EXPECT_NEAR(f.frame.t({0, 32, 64}), -128.0, 1e-9);
+}
+
+} // namespace
+} // namespace bt::map

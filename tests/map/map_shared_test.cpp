@@ -87,7 +87,9 @@ TEST(SharedMaps, StandardToValveIsTexelExactAndValveToStandardReportsWhatItCanno
         for (const dvec3& p : before.faces[i].winding)
           err = std::max({err, std::fabs(before.faces[i].frame.s(p) - after.faces[i].frame.s(p)),
                           std::fabs(before.faces[i].frame.t(p) - after.faces[i].frame.t(p))});
-        if (err > 0.01) EXPECT_TRUE(reportedLines.count(before.faces[i].line)) << "face on line " << before.faces[i].line << " off by " << err;
+        if (err > 0.01) {
+          EXPECT_TRUE(reportedLines.count(before.faces[i].line)) << "face on line " << before.faces[i].line << " off by " << err;
+        }
       }
     }
   }
