@@ -1,6 +1,7 @@
 #include "importers/import.h"
 
 #include "importers/map/map_scene.h"
+#include "importers/textures/textures.h"
 
 #include <algorithm>
 #include <array>
@@ -47,7 +48,11 @@ bool hasExtension(const std::string& path, std::string_view ext) {
 } // namespace
 
 Scene importScene(const std::string& path, const ImportOptions& options) {
-  if (hasExtension(path, ".map")) return map::importMap(path, options);
+  if (hasExtension(path, ".map")) {
+    Scene scene = map::importMap(path, options);
+    loadMaterials(scene, options.textures);
+    return scene;
+  }
   throw ImportError(Diagnostic{Severity::Error, path, 0, 0, "no importer for this file type"});
 }
 
