@@ -487,6 +487,13 @@ void loadMaterials(Scene& scene, const TextureSearch& search) {
   for (Material& material : scene.materials) {
     if (material.missing()) {
       if (std::optional<Material> found = library.find(material.name)) {
+        // Texture coordinates are in texels of the size the compiler saw. When the importer knows
+        // it (a .bsp miptex header), a loose image is a replacement drawn over that same size.
+        const bool sizeKnown = material.width != Material{}.width || material.height != Material{}.height;
+        if (sizeKnown && found->source == TextureSource::LooseImage) {
+          found->width = material.width;
+          found->height = material.height;
+        }
         material = std::move(*found);
       } else {
         std::optional<std::pair<int, int>> wadSize;

@@ -260,6 +260,23 @@ TEST(LoadMaterials, LooseImagesByEngineSpellingFolderAndCase) {
   EXPECT_EQ(grey.baseColor.texel(1, 1)[3], 255);
 }
 
+TEST(LoadMaterials, ALooseImageReplacesATextureOfKnownSizeWithoutChangingIt) {
+  test::TempDir dir;
+  test::writeImage(dir / "textures/hires.png", 128, 128, 3, solid(128, 128, 3, {1, 2, 3}));
+  test::writeImage(dir / "textures/plain.png", 32, 16, 3, solid(32, 16, 3, {1, 2, 3}));
+  Scene scene = makeScene(dir / "level.bsp", {}, {"hires", "plain"});
+  scene.materials[0].width = 32; // as a .bsp importer sets it from an external miptex's header
+  scene.materials[0].height = 32;
+  loadMaterials(scene, TextureSearch{});
+  const Material& hires = material(scene, "hires");
+  EXPECT_EQ(hires.source, TextureSource::LooseImage);
+  EXPECT_EQ(hires.width, 32);
+  EXPECT_EQ(hires.height, 32);
+  EXPECT_EQ(hires.baseColor.width, 128) << "the image keeps its resolution";
+  EXPECT_EQ(material(scene, "plain").width, 32) << "unknown size: the image's";
+  EXPECT_EQ(material(scene, "plain").height, 16);
+}
+
 TEST(LoadMaterials, CompanionMapsFillNormalRoughnessMetallicAndEmissive) {
   test::TempDir dir;
   const fs::path t = dir / "textures";
