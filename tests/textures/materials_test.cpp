@@ -5,6 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <set>
+#include <sstream>
+
 namespace bt {
 namespace {
 
@@ -207,6 +211,41 @@ TEST(LoadMaterials, LibreQuakeMapsFindTheirTexturesInTheUnpackedWadFolders) {
   EXPECT_TRUE(material(scene, "*tele3").emissive.empty());
 }
 
+// Every texture of these LibreQuake maps is in the PNG folders that shared/ carries (the maps
+// whose WAD folders were not copied, lqdm5, e4m3 and old-start, are left out). The names come
+// from the face lines: "( p ) ( p ) ( p ) NAME [ u ] [ v ] ..." (Valve 220).
+TEST(LoadMaterials, EveryTextureOfLibreQuakeMapsIsFound) {
+  BT_REQUIRE_SHARED(shared);
+  const fs::path src = shared / "maps/librequake/lq1/maps/src";
+  for (const char* map : {"dm/lqdm8.map", "dm/lqdm11.map", "dm/lqdm12.map", "dm/lqdm13.map", "e3/lq_e3m1.map",
+                          "misc/dev.map", "misc/slope.map", "brushmodels/b_bh100.map"}) {
+    SCOPED_TRACE(map);
+    std::ifstream in(src / map);
+    ASSERT_TRUE(in);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::set<std::string> names;
+    std::string wadKey;
+    std::istringstream lines(text);
+    for (std::string line; std::getline(lines, line);) {
+      if (line.starts_with("\"wad\" \"")) wadKey = line.substr(7, line.rfind('"') - 7);
+      const size_t axes = line.find(" [");
+      const size_t points = line.rfind(") ", axes);
+      if (line.starts_with("(") && axes != std::string::npos && points != std::string::npos)
+        names.insert(line.substr(points + 2, axes - points - 2));
+    }
+    ASSERT_FALSE(wadKey.empty());
+    ASSERT_GE(names.size(), 5u);
+
+    Scene scene = makeScene(src / map, {{"wad", wadKey}}, std::vector<std::string>(names.begin(), names.end()));
+    loadMaterials(scene, TextureSearch{});
+    EXPECT_TRUE(scene.diagnostics.empty()) << test::describe(scene.diagnostics);
+    for (const Material& m : scene.materials) {
+      EXPECT_FALSE(m.missing()) << m.name;
+      EXPECT_EQ(m.baseColor.width, m.width) << m.name;
+    }
+  }
+}
+
 // LibreQuake's {char_0_fbr.png is an RGB image (no alpha) of 16x16 palette colours, 72 of them
 // palette entry 255, the '{' see-through colour: exactly those turn transparent.
 TEST(LoadMaterials, LooseFenceImagesWithoutAlphaKeyOutPaletteColour255) {
@@ -230,6 +269,28 @@ TEST(LoadMaterials, LooseFenceImagesWithoutAlphaKeyOutPaletteColour255) {
   }
   EXPECT_EQ(transparent, 72);
   EXPECT_TRUE(fence.emissive.empty()) << "colour 255 of a '{' texture is see-through, not fullbright";
+}
+
+// ericw-tools' own loose-texture test maps. qbsp's test compiles q1_loose_textures.map with
+// "-path q1_loose_textures" (a game dir whose textures/ holds the images): our --textures. An
+// image lying beside the map itself is not a texture folder for qbsp, nor for us.
+TEST(LoadMaterials, EricwToolsLooseTextureMaps) {
+  BT_REQUIRE_SHARED(shared);
+  const fs::path testmaps = shared / "maps/ericw-tools/testmaps";
+  Scene found = makeScene(testmaps / "q1_loose_textures.map", {{"_tb_textures", "textures"}},
+                          {"floor_purple_c", "wall_tan_a"});
+  TextureSearch search;
+  search.textureDirs = {(testmaps / "q1_loose_textures/textures").string()};
+  loadMaterials(found, search);
+  EXPECT_TRUE(found.diagnostics.empty()) << test::describe(found.diagnostics);
+  EXPECT_EQ(material(found, "wall_tan_a").source, TextureSource::LooseImage);
+  EXPECT_TRUE(endsWith(material(found, "floor_purple_c").sourcePath, "q1_loose_textures/textures/floor_purple_c.png"));
+
+  Scene ignored = makeScene(testmaps / "q1_loose_textures_ignored/q1_loose_textures_ignored.map",
+                            {{"wad", "../deprecated/fence.wad;../deprecated/origin.wad"}}, {"orangestuff8"});
+  loadMaterials(ignored, TextureSearch{});
+  EXPECT_TRUE(material(ignored, "orangestuff8").missing());
+  EXPECT_EQ(warningsMentioning(ignored, "orangestuff8"), 1) << test::describe(ignored.diagnostics);
 }
 
 TEST(LoadMaterials, LooseImagesByEngineSpellingFolderAndCase) {
