@@ -64,6 +64,8 @@ int extensionRank(const fs::path& file) {
   return -1;
 }
 
+bool isWal(const fs::path& file) { return lowercase(file.extension().string()) == ".wal"; }
+
 // One folder of loose textures, indexed once by lower-case relative stem ("e1u1/floor1_3"),
 // which makes lookups case-insensitive like the engines' file systems.
 class LooseFolder {
@@ -177,7 +179,7 @@ public:
           continue;
         for (const LooseFolder& folder : folders_) {
           const fs::path* file = folder.find(stem + std::string(c.suffix));
-          if (!file || extensionRank(*file) == static_cast<int>(kImageExtensions.size()) - 1) continue;
+          if (!file || isWal(*file)) continue; // companions are images
           try {
             applyCompanion(material, c.kind, loadImage(*file));
             found.insert(c.kind);
@@ -339,7 +341,7 @@ private:
   std::optional<Material> loadLoose(const fs::path& file, const std::string& name) {
     try {
       Material material;
-      if (extensionRank(file) == static_cast<int>(kImageExtensions.size()) - 1) {
+      if (isWal(file)) {
         if (!quake2Palette_) quake2Palette_ = findQuake2Palette(search_.palette, {file.parent_path(), mapDir_});
         if (!*quake2Palette_) {
           warn(fmt::format("'{}' is a Quake 2 .wal but no Quake 2 palette was found (give --palette, or "
@@ -445,7 +447,7 @@ private:
   bool paletteResolved_ = false;
   std::optional<Palette> palette_;
   std::vector<uint32_t> fullbrightColours_; // sorted, from palette_
-  std::optional<std::optional<Palette>> quake2Palette_;
+  std::optional<std::optional<Palette>> quake2Palette_; // outer: looked for yet; inner: found
   std::map<std::string, std::optional<std::pair<int, int>>> undecodedSizes_;
   std::vector<std::string> palettelessNames_;
 };

@@ -427,6 +427,29 @@ TEST(LoadMaterials, MalformedWadsAreWarningsNotErrors) {
   }
 }
 
+// Unreadable images (garbage, a PNG cut in half) are warnings naming the file; the texture is
+// then missing like any other.
+TEST(LoadMaterials, BrokenImagesAreWarningsNamingTheFile) {
+  test::TempDir dir;
+  test::writeFile(dir / "textures/garbage.png", std::vector<uint8_t>(300, 0xAB));
+  test::writeImage(dir / "whole.png", 64, 64, 3, std::vector<uint8_t>(64 * 64 * 3, 90));
+  std::vector<uint8_t> png = test::readFile(dir / "whole.png");
+  png.resize(png.size() / 2);
+  test::writeFile(dir / "textures/halfpng.png", png);
+  Scene scene = makeScene(dir / "level.map", {}, {"garbage", "halfpng"});
+  ASSERT_NO_THROW(loadMaterials(scene, TextureSearch{}));
+  EXPECT_TRUE(material(scene, "garbage").missing());
+  EXPECT_TRUE(material(scene, "halfpng").missing());
+  EXPECT_EQ(test::countWarnings(scene), 3) << test::describe(scene.diagnostics);
+  EXPECT_EQ(warningsMentioning(scene, "garbage, halfpng"), 1) << test::describe(scene.diagnostics);
+  const auto namesFile = [&](std::string_view file) {
+    return std::count_if(scene.diagnostics.begin(), scene.diagnostics.end(),
+                         [&](const Diagnostic& d) { return d.file.ends_with(file); });
+  };
+  EXPECT_EQ(namesFile("garbage.png"), 1);
+  EXPECT_EQ(namesFile("halfpng.png"), 1);
+}
+
 TEST(LoadMaterials, BadPaletteOptionIsAWarning) {
   BT_REQUIRE_SHARED(shared);
   test::TempDir dir;
