@@ -1,7 +1,11 @@
 #include "importers/import.h"
 
+#include "importers/bsp/bsp_import.h"
+#include "importers/bsp/pk3.h"
+
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <filesystem>
 
 namespace bt {
@@ -35,8 +39,17 @@ std::optional<MapDialect> parseDialect(std::string_view name) {
   return std::nullopt;
 }
 
+namespace {
+std::string lowercaseExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+} // namespace
+
 Scene importScene(const std::string& path, const ImportOptions& options) {
-  (void)options;
+  // Compiled levels: "x.bsp" or "archive.pk3:maps/x.bsp".
+  if (bsp::splitArchivePath(path) || lowercaseExtension(path) == ".bsp") return bsp::importBsp(path, options);
   throw ImportError(Diagnostic{Severity::Error, path, 0, 0, "no importer for this file type"});
 }
 
