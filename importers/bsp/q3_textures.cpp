@@ -17,6 +17,8 @@ std::string lowercase(std::string_view s) {
   return out;
 }
 
+bool isLineEnd(char c) { return c == '\n' || c == '\r'; }
+
 // Tokens of a shader script: words, quoted strings, braces; `//` and `/* */` comments skipped.
 class ShaderLexer {
 public:
@@ -26,7 +28,7 @@ public:
   std::string_view next(bool sameLine = false) {
     while (pos_ < text_.size()) {
       const char c = text_[pos_];
-      if (c == '\n' && sameLine) return {};
+      if (isLineEnd(c) && sameLine) return {};
       if (c == '/' && pos_ + 1 < text_.size() && text_[pos_ + 1] == '/') {
         while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
       } else if (c == '/' && pos_ + 1 < text_.size() && text_[pos_ + 1] == '*') {
@@ -56,8 +58,13 @@ public:
     return text_.substr(begin, pos_ - begin);
   }
 
-  void skipLine() {
-    while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
+  // Skips a keyword's remaining arguments, up to the line's end or a brace: some scripts put a
+  // stage's closing brace on the same line, after a lone carriage return.
+  void skipArguments() {
+    while (pos_ < text_.size() && !isLineEnd(text_[pos_]) && text_[pos_] != '{' && text_[pos_] != '}') {
+      if (text_[pos_] == '/' && pos_ + 1 < text_.size() && text_[pos_ + 1] == '/') return;
+      ++pos_;
+    }
   }
 
 private:
@@ -105,7 +112,7 @@ std::map<std::string, std::string> parseShaderImages(std::string_view scriptText
           const std::string_view path = lex.next(true);
           if (isImage(path)) stageImage = std::string(path);
         }
-        lex.skipLine();
+        lex.skipArguments();
       }
     }
     const std::string& image = !stageImage.empty() ? stageImage : editorImage;
