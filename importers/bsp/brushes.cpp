@@ -191,7 +191,9 @@ std::optional<Plane> textureSplitPlane(const BspFile& bsp, const CoplanarIndex& 
   // wholly in front and a face of another wholly behind; the best cuts the fewest faces in two.
   std::optional<Plane> best;
   size_t bestScore = SIZE_MAX;
-  for (const auto& candidateFace : on) {
+  constexpr size_t kMaxCandidateFaces = 64; // bounds the work a corrupt file can ask for
+  for (size_t c = 0; c < on.size() && c < kMaxCandidateFaces; ++c) {
+    const auto& candidateFace = on[c];
     const Winding& polygon = *candidateFace.polygon;
     for (size_t i = 0; i < polygon.size(); ++i) {
       const dvec3 edge = polygon[(i + 1) % polygon.size()] - polygon[i];
@@ -471,6 +473,7 @@ std::optional<std::vector<CompiledBrush>> brushListBrushes(const BspFile& bsp, s
       for (int k = 0; k < 3; ++k) hi[k] = f32();
       const int32_t contents = static_cast<int16_t>(u16());
       const uint16_t planeCount = u16();
+      if (planeCount > 1024) fail(fmt::format("brush {} of model {} has {} planes", b, model, planeCount));
       std::vector<Plane> planes;
       for (int axis = 0; axis < 3; ++axis) {
         dvec3 n{0.0};

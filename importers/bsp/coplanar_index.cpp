@@ -21,7 +21,11 @@ int dominantAxis(const dvec3& n) {
   return i * 2 + (n[i] < 0.0 ? 1 : 0);
 }
 
-int64_t distCell(double dist) { return static_cast<int64_t>(std::floor(dist / kCellSize)); }
+int64_t distCell(double dist) {
+  // Clamped so that corrupt files (huge or NaN distances) stay defined behaviour.
+  const double cell = std::floor(dist / kCellSize);
+  return std::isfinite(cell) ? static_cast<int64_t>(std::clamp(cell, -1e15, 1e15)) : 0;
+}
 } // namespace
 
 uint64_t CoplanarIndex::key(int axis, int64_t cell) {
