@@ -15,6 +15,10 @@ void addImportOptions(CLI::App& command, ImportOptions& options);
 void addInfoCommand(CLI::App& app, int& exitCode);
 void addDumpCommand(CLI::App& app, int& exitCode);
 void addConvertCommand(CLI::App& app, int& exitCode);
+// brushtrace render: path-trace a level (app/cmd_render.cpp).
+void addRenderCommand(CLI::App& app, int& exitCode);
+// brushtrace bench [MAP] (cmd_bench.cpp): GL tracer throughput.
+void addBenchCommand(CLI::App& app, int& exitCode);
 
 
 } // namespace bt::app

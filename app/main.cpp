@@ -14,6 +14,8 @@ int main(int argc, char** argv) {
   int exitCode = 0;
   bt::app::addInfoCommand(app, exitCode);
   bt::app::addDumpCommand(app, exitCode);
+  bt::app::addRenderCommand(app, exitCode);
+  bt::app::addBenchCommand(app, exitCode);
 
   try {
     app.parse(argc, argv);
