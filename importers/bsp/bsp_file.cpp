@@ -265,8 +265,8 @@ void readQuake1(const Reader& reader, BspFile& bsp) {
   const auto& L = lumps;
 
   bsp.entities = entitiesText(L[q1::Entities]);
-  bsp.planes = reader.records<Plane>(L[q1::Planes], 20, [](FieldReader& r) {
-    Plane p;
+  bsp.planes = reader.records<BspPlane>(L[q1::Planes], 20, [](FieldReader& r) {
+    BspPlane p;
     p.normal = r.vec3();
     p.dist = r.f32();
     p.type = r.i32();
@@ -430,8 +430,8 @@ void readQuake2(const Reader& reader, BspFile& bsp) {
   const auto L = reader.lumpTable(8, q2::kNames, q2::Count);
 
   bsp.entities = entitiesText(L[q2::Entities]);
-  bsp.planes = reader.records<Plane>(L[q2::Planes], 20, [](FieldReader& r) {
-    Plane p;
+  bsp.planes = reader.records<BspPlane>(L[q2::Planes], 20, [](FieldReader& r) {
+    BspPlane p;
     p.normal = r.vec3();
     p.dist = r.f32();
     p.type = r.i32();
@@ -562,8 +562,8 @@ void readQuake3(const Reader& reader, BspFile& bsp) {
     s.contentFlags = r.i32();
     return s;
   });
-  bsp.planes = reader.records<Plane>(L[q3::Planes], 16, [](FieldReader& r) {
-    Plane p;
+  bsp.planes = reader.records<BspPlane>(L[q3::Planes], 16, [](FieldReader& r) {
+    BspPlane p;
     p.normal = r.vec3();
     p.dist = r.f32();
     return p;

@@ -38,7 +38,7 @@ const char* toString(Version version);
 
 // Plane as stored: Q1/Q2 store a type (axial or not), Q3 stores planes in pairs (i ^ 1 is the
 // flipped one) without a type.
-struct Plane {
+struct BspPlane {
   glm::vec3 normal{0.0f};
   float dist = 0.0f;
   int32_t type = 0;
@@ -173,7 +173,7 @@ struct BspFile {
   std::string path;
 
   std::string entities; // the entities lump text, NUL cut off
-  std::vector<Plane> planes;
+  std::vector<BspPlane> planes;
   std::vector<glm::vec3> vertices;
   std::vector<std::array<uint32_t, 2>> edges;
   std::vector<int32_t> surfedges; // >= 0: edge in order, < 0: edge -i reversed
