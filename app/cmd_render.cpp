@@ -2,10 +2,12 @@
 #include "app/commands.h"
 
 #include "renderer/cpu/cpu_renderer.h"
+#include "importers/textures/textures.h"
 #include "renderer/cpu/render_scene.h"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -75,7 +77,12 @@ int runRender(const RenderOptions& o) {
   }
 
   const std::string mapPath = o.map.empty() ? findDefaultMap(nullptr) : o.map;
-  const Scene scene = importScene(mapPath, o.import);
+  Scene scene = importScene(mapPath, o.import);
+  // Bridge: until importScene resolves materials itself, do it here. loadMaterials only touches
+  // materials that are still missing, so this is a no-op once the importer has done it.
+  const bool noneResolved = std::all_of(scene.materials.begin(), scene.materials.end(),
+                                        [](const Material& m) { return m.missing(); });
+  if (o.import.textures.load && noneResolved && !scene.materials.empty()) loadMaterials(scene, o.import.textures);
   for (const Diagnostic& d : scene.diagnostics)
     if (!o.quiet && d.severity != Severity::Note) fmt::print(stderr, "{}\n", format(d));
 
