@@ -17,6 +17,8 @@ void addDumpCommand(CLI::App& app, int& exitCode);
 void addConvertCommand(CLI::App& app, int& exitCode);
 // brushtrace render: path-trace a level (app/cmd_render.cpp).
 void addRenderCommand(CLI::App& app, int& exitCode);
+// brushtrace bench [MAP] (cmd_bench.cpp): GL tracer throughput.
+void addBenchCommand(CLI::App& app, int& exitCode);
 
 
 } // namespace bt::app

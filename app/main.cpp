@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   bt::app::addInfoCommand(app, exitCode);
   bt::app::addDumpCommand(app, exitCode);
   bt::app::addRenderCommand(app, exitCode);
+  bt::app::addBenchCommand(app, exitCode);
 
   try {
     app.parse(argc, argv);
