@@ -73,7 +73,7 @@ bool isSoftwareRenderer(std::string_view renderer) {
 // are the same bytes (renderer/gl/gl_structs.h asserts the layout).
 gl::GlLighting glLighting(const RenderScene& rs) {
   gl::GlLighting l;
-  for (const GpuShadeFace& f : rs.faces) l.faceFlags.push_back(f.flags);
+  l.faceFlags = rs.faceFlags;
   for (const GpuLight& light : rs.lights) l.lights.push_back(std::bit_cast<gl::GlLight>(light));
   for (const GpuLight& light : rs.surfaceLights) l.surfaceLights.push_back(std::bit_cast<gl::GlLight>(light));
   for (const GpuEmitter& e : rs.emitters) l.emitters.push_back(std::bit_cast<gl::GlEmitter>(e));
