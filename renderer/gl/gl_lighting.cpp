@@ -1,34 +1,21 @@
 #include "renderer/gl/gl_lighting.h"
 
-#include <cstring>
-#include <type_traits>
+#include <bit>
 
 namespace bt::gl {
 
-namespace {
-
-// GlLight and GlEmitter are the CPU structs byte for byte (see gl_structs.h).
-template <typename To, typename From>
-std::vector<To> sameLayoutCopy(const std::vector<From>& from) {
-  static_assert(sizeof(To) == sizeof(From) && std::is_trivially_copyable_v<To> && std::is_trivially_copyable_v<From>);
-  std::vector<To> to(from.size());
-  if (!from.empty()) std::memcpy(to.data(), from.data(), from.size() * sizeof(From));
-  return to;
-}
-
-} // namespace
-
 GlLighting lightingFor(const RenderScene& rs) {
   GlLighting out;
-  out.faceFlags.reserve(rs.faces.size());
-  for (const GpuShadeFace& f : rs.faces) out.faceFlags.push_back(f.flags);
+  out.faceFlags = rs.faceFlags;
+  // The CPU reference decides which materials are glossy or emissive; the GL tracer follows.
   out.materialFlags.reserve(rs.materials.size());
   for (const bt::GpuMaterial& m : rs.materials)
     out.materialFlags.push_back(((m.flags & bt::kMaterialSpecular) ? kMaterialGgx : 0u) |
                                 ((m.flags & bt::kMaterialEmissive) ? kMaterialHasEmissive : 0u));
-  out.lights = sameLayoutCopy<GlLight>(rs.lights);
-  out.surfaceLights = sameLayoutCopy<GlLight>(rs.surfaceLights);
-  out.emitters = sameLayoutCopy<GlEmitter>(rs.emitters);
+  // GlLight and GlEmitter are the CPU structs byte for byte (gl_structs.h asserts the layout).
+  for (const GpuLight& light : rs.lights) out.lights.push_back(std::bit_cast<GlLight>(light));
+  for (const GpuLight& light : rs.surfaceLights) out.surfaceLights.push_back(std::bit_cast<GlLight>(light));
+  for (const GpuEmitter& e : rs.emitters) out.emitters.push_back(std::bit_cast<GlEmitter>(e));
   out.emitterArea = rs.emitterArea;
   out.minlight = rs.world.minlight;
   out.range = rs.world.range;
