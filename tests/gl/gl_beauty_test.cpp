@@ -62,7 +62,7 @@ TEST(GlBeauty, FaithfulInfiniteLightGivesTheOverbrightFormula) {
   light.formula = 3;
   light.anglescale = 0.0f;
   lighting.lights = {light};
-  GlTracer tracer(*context, scene, TextureMode::Arrays, lighting);
+  GlTracer tracer(*context, scene, test::textureModeUnderTest(), lighting);
   const CameraBasis camera = test::testCamera(kWidth, kHeight);
   const AovImages aov = tracer.renderAovs(camera, kWidth, kHeight);
   const BeautyImage image = tracer.renderBeauty(camera, {.width = kWidth, .height = kHeight, .spp = 4});
@@ -91,7 +91,7 @@ TEST(GlBeauty, PhysicalPointLightGivesInverseSquareLambert) {
   light.origin = {-100, 0, 200};
   light.value = 300.0f;
   lighting.lights = {light};
-  GlTracer tracer(*context, scene, TextureMode::Arrays, lighting);
+  GlTracer tracer(*context, scene, test::textureModeUnderTest(), lighting);
   const CameraBasis camera = test::testCamera(kWidth, kHeight);
   const AovImages aov = tracer.renderAovs(camera, kWidth, kHeight);
   constexpr int kSpp = 8;
@@ -130,7 +130,7 @@ TEST(GlBeauty, SameSeedAndSampleCountGiveTheSameImage) {
   const Scene scene = test::makeTestRoom();
   GlLighting lighting;
   lighting.lights = {GlLight{.origin = {0, 0, 200}}};
-  GlTracer tracer(*context, scene, TextureMode::Arrays, lighting);
+  GlTracer tracer(*context, scene, test::textureModeUnderTest(), lighting);
   const CameraBasis camera = test::testCamera(32, 24);
   const BeautySettings settings{.width = 32, .height = 24, .spp = 3, .seed = 7, .physical = true, .bounces = 2};
   const BeautyImage a = tracer.renderBeauty(camera, settings);
