@@ -25,9 +25,10 @@ rm -rf "$tmp"
 mkdir -p "$tmp/lib" "$tmp/shared/maps"
 cp "$build/brushtrace" "$build/tests/gl/gl_tests" "$tmp/"
 
-# Every library ldd resolves except glibc's (the GPU machine's own is newer, hence compatible)
-# and the GL/EGL/Vulkan loaders, which must be the ones that find the NVIDIA driver there.
-system_libs='^(linux-vdso|ld-linux|libc|libm|libdl|libpthread|librt|libresolv|libEGL|libGL|libGLX|libGLdispatch|libOpenGL|libGLES|libvulkan)[.-]'
+# Every library ldd resolves except glibc's and GCC's runtime (the GPU machine's are newer,
+# hence compatible, and the NVIDIA driver loads them too) and the GL/EGL/Vulkan loaders, which
+# must be the ones that find the NVIDIA driver there.
+system_libs='^(linux-vdso|ld-linux|libc|libm|libdl|libpthread|librt|libresolv|libstdc\+\+|libgcc_s|libEGL|libGL|libGLX|libGLdispatch|libOpenGL|libGLES|libvulkan)[.-]'
 for binary in "$tmp/brushtrace" "$tmp/gl_tests"; do
   ldd "$binary" | awk '$3 ~ /^\// {print $1, $3}' | while read -r name path; do
     if [[ ! $name =~ $system_libs ]]; then cp -Ln "$path" "$tmp/lib/"; fi
@@ -54,13 +55,17 @@ out=\${OUT:-/tmp/out}
 mkdir -p "\$out"
 nvidia-smi -L
 cd .device-bundle
-echo "== GL tests, bindless forced"
-BT_GL_TEXTURES=bindless ./gl_tests --gtest_output=xml:\$out/gl_tests_bindless.xml 2>&1 | tail -40
+# Full logs go to \$out (they come back as files); the summaries to the output.
+echo "== GL tests, bindless forced (GL debug output on)"
+BT_GL_DEBUG=1 BT_GL_TEXTURES=bindless ./gl_tests >\$out/gl_tests_bindless.log 2>&1
+echo "exit \$?"; grep -E '^GL context|^\[  (FAILED|PASSED|SKIPPED) |GL debug' \$out/gl_tests_bindless.log | head -30
 echo "== GL tests, texture arrays forced"
-BT_GL_TEXTURES=arrays ./gl_tests 2>&1 | tail -8
+BT_GL_TEXTURES=arrays ./gl_tests >\$out/gl_tests_arrays.log 2>&1
+echo "exit \$?"; grep -E '^\[  (FAILED|PASSED|SKIPPED) ' \$out/gl_tests_arrays.log | head -20
 for textures in bindless arrays; do
   echo "== bench, \$textures"
-  ./brushtrace bench shared/maps/$map_rel --gl-textures \$textures --seconds 6
+  ./brushtrace bench shared/maps/$map_rel --gl-textures \$textures --seconds 6 \\
+    \$(for d in shared/maps/librequake/texture-wads/*/; do echo --textures \$d; done)
 done
 SCRIPT
 chmod +x "$tmp/run-on-device.sh"

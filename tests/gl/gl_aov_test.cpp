@@ -40,7 +40,7 @@ void expectAovsMatch(const AovImages& gpu, const AovImages& ref) {
 }
 
 TEST(GlAov, TestRoomEqualsBruteForceReference) {
-  auto context = GlContext::createHeadless();
+  GlContext* context = &test::sharedGlContext();
   const Scene scene = test::makeTestRoom();
   GlTracer tracer(*context, scene, test::textureModeUnderTest());
   const CameraBasis camera = test::testCamera(kWidth, kHeight);
@@ -51,7 +51,7 @@ TEST(GlAov, TestRoomEqualsBruteForceReference) {
 
 TEST(GlAov, EveryBrushAndMaterialIsSeen) {
   // Guards the test above against a camera that misses what it is meant to check.
-  auto context = GlContext::createHeadless();
+  GlContext* context = &test::sharedGlContext();
   const Scene scene = test::makeTestRoom();
   GlTracer tracer(*context, scene, TextureMode::Arrays);
   const AovImages gpu = tracer.renderAovs(test::testCamera(kWidth, kHeight), kWidth, kHeight);
@@ -68,7 +68,7 @@ TEST(GlAov, EveryBrushAndMaterialIsSeen) {
 }
 
 TEST(GlAov, ArraysAndBindlessGiveTheSameImage) {
-  auto context = GlContext::createHeadless();
+  GlContext* context = &test::sharedGlContext();
   const Scene scene = test::makeTestRoom();
   if (!context->info().bindlessTextures) {
     ASSERT_NE(test::textureModeUnderTest(), TextureMode::Bindless) << "BT_GL_TEXTURES=bindless on a context without it";
@@ -98,7 +98,7 @@ TEST(GlAov, ArraysAndBindlessGiveTheSameImage) {
 }
 
 TEST(GlAov, EmptySceneSeesNothing) {
-  auto context = GlContext::createHeadless();
+  GlContext* context = &test::sharedGlContext();
   Scene scene;
   GlTracer tracer(*context, scene, TextureMode::Arrays);
   const AovImages gpu = tracer.renderAovs(test::testCamera(16, 8), 16, 8);

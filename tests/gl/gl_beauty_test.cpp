@@ -53,7 +53,7 @@ std::vector<size_t> plainInteriorPixels(const Scene& scene, const AovImages& aov
 TEST(GlBeauty, FaithfulInfiniteLightGivesTheOverbrightFormula) {
   // delay 3 (no falloff) and _anglescale 0: every lit point of the grey wall receives exactly
   // `light`, the compiler stores light * _range, and the engine shows texture * stored / 128.
-  auto context = GlContext::createHeadless();
+  GlContext* context = &test::sharedGlContext();
   const Scene scene = test::makeTestRoom();
   GlLighting lighting;
   GlLight light;
@@ -84,7 +84,7 @@ TEST(GlBeauty, FaithfulInfiniteLightGivesTheOverbrightFormula) {
 TEST(GlBeauty, PhysicalPointLightGivesInverseSquareLambert) {
   // Direct light only (bounces 0) from a point light on a diffuse grey wall:
   // L = albedo / pi * I * cos(theta) / d^2, with I = light * _range * pi * 128.
-  auto context = GlContext::createHeadless();
+  GlContext* context = &test::sharedGlContext();
   const Scene scene = test::makeTestRoom();
   GlLighting lighting;
   GlLight light;
@@ -126,7 +126,7 @@ TEST(GlBeauty, PhysicalPointLightGivesInverseSquareLambert) {
 }
 
 TEST(GlBeauty, SameSeedAndSampleCountGiveTheSameImage) {
-  auto context = GlContext::createHeadless();
+  GlContext* context = &test::sharedGlContext();
   const Scene scene = test::makeTestRoom();
   GlLighting lighting;
   lighting.lights = {GlLight{.origin = {0, 0, 200}}};

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <memory>
 
 namespace bt::test {
 
@@ -138,6 +139,12 @@ gl::TextureMode textureModeUnderTest() {
   const auto mode = gl::parseTextureMode(env);
   if (!mode) throw std::invalid_argument(std::string("BT_GL_TEXTURES=") + env + " is not bindless, arrays or auto");
   return *mode;
+}
+
+gl::GlContext& sharedGlContext() {
+  static const std::unique_ptr<gl::GlContext> context = gl::GlContext::createHeadless();
+  context->makeCurrent();
+  return *context;
 }
 
 gl::AovImages referenceAovs(const Scene& scene, const gl::CameraBasis& camera, int width, int height) {

@@ -23,6 +23,10 @@ gl::CameraBasis testCamera(int width, int height);
 // auto when unset. scripts/gpu-check.sh forces bindless on the GPU and arrays after it.
 gl::TextureMode textureModeUnderTest();
 
+// One headless context for the whole test program, made on first use: a context per test
+// would spend the GPU driver's start-up (seconds on NVIDIA) again and again.
+gl::GlContext& sharedGlContext();
+
 // The reference: each pixel's ray (the CameraBasis formula in double) against every brush.
 gl::AovImages referenceAovs(const Scene& scene, const gl::CameraBasis& camera, int width, int height);
 
