@@ -1,7 +1,10 @@
 #include "importers/import.h"
 
+#include "importers/map/map_scene.h"
+
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <filesystem>
 
 namespace bt {
@@ -35,8 +38,16 @@ std::optional<MapDialect> parseDialect(std::string_view name) {
   return std::nullopt;
 }
 
+namespace {
+bool hasExtension(const std::string& path, std::string_view ext) {
+  std::string e = std::filesystem::path(path).extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return e == ext;
+}
+} // namespace
+
 Scene importScene(const std::string& path, const ImportOptions& options) {
-  (void)options;
+  if (hasExtension(path, ".map")) return map::importMap(path, options);
   throw ImportError(Diagnostic{Severity::Error, path, 0, 0, "no importer for this file type"});
 }
 
