@@ -35,8 +35,10 @@ public:
   GlContext& operator=(const GlContext&) = delete;
 
   const GlContextInfo& info() const { return info_; }
-  // Debug builds turn on KHR_debug output; messages of type error are counted here (and
-  // printed) so tests can assert that a render raised none.
+  // createHeadless leaves the new context current; with several, switch back with this.
+  void makeCurrent() const;
+  // Debug builds (or BT_GL_DEBUG=1) turn on KHR_debug output; messages of type error are
+  // counted here (and printed) so tests can assert that a render raised none.
   int debugErrorCount() const { return debugErrors_; }
 
 private:
