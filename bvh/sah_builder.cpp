@@ -77,6 +77,18 @@ struct BinMapping {
     _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(centroid2, origin), scale)));
     for (int a = 0; a < 3; ++a) out[a] = std::clamp(out[a], 0, binCount - 1);
   }
+  // Lane `axis` of bins() for one centroid, with the same single-precision operations.
+  struct Axis {
+    float origin, scale;
+    int binCount;
+    int bin(float centroid2) const { return std::clamp(static_cast<int>((centroid2 - origin) * scale), 0, binCount - 1); }
+  };
+  Axis axis(int a) const {
+    alignas(16) float o[4], s[4];
+    _mm_store_ps(o, origin);
+    _mm_store_ps(s, scale);
+    return {o[a], s[a], binCount};
+  }
 };
 
 // Nodes this small are split by an exact sweep over their sorted centroids instead of bins:
@@ -288,16 +300,11 @@ private:
   uint32_t partition(uint32_t begin, uint32_t end, const Split& split, Box4& leftBounds, Box4& rightBounds,
                      Box4& leftCentroids, Box4& rightCentroids) {
     uint32_t i = begin, j = end;
-    alignas(16) int32_t bin[4];
+    const BinMapping::Axis binning = split.exact ? BinMapping::Axis{} : split.mapping->axis(split.axis);
     while (i < j) {
       const __m128 lo = refs_[i].lo(), hi = refs_[i].hi(), c = _mm_add_ps(lo, hi);
-      bool left;
-      if (split.exact) {
-        left = refs_[i].centroid2(split.axis) <= split.position;
-      } else {
-        split.mapping->bins(c, bin);
-        left = bin[split.axis] <= split.lastLeftBin;
-      }
+      const float centroid = refs_[i].centroid2(split.axis);
+      const bool left = split.exact ? centroid <= split.position : binning.bin(centroid) <= split.lastLeftBin;
       if (left) {
         leftBounds.grow(lo, hi);
         leftCentroids.grow(c, c);

@@ -172,6 +172,10 @@ TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options)
   if (!options.includeBrush.empty() && options.includeBrush.size() != scene.brushes.size())
     throw std::invalid_argument("BvhBuildOptions::includeBrush must be empty or have one entry per brush");
 
+  for (const Brush& b : scene.brushes)
+    if (b.firstFace > scene.faces.size() || b.faceCount > scene.faces.size() - b.firstFace)
+      throw std::invalid_argument("TraceScene::build: a brush's faces lie outside Scene::faces");
+
   TraceScene ts;
   ts.faces_.reserve(scene.faces.size());
   for (const Face& f : scene.faces) ts.faces_.push_back(toGpuFace(f));

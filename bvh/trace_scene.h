@@ -30,7 +30,13 @@
 // box coordinate; slanted: exactly negated), so both brushes compute the same t for it and the
 // hidden faces between them are never the closest hit, except for a ray that lands exactly on
 // the edge of the shared face at a shallower angle to the visible faces than to the hidden one
-// (it is a tie within one brush, resolved head-on). Such a ray is one sample in billions.
+// (it is a tie within one brush, resolved head-on; tests/bvh/ray_brush_test.cpp pins it).
+//
+// Traversal, for ports: direction components below 2^-100 count as zero, and a zero component
+// means "inside that slab or miss" (never 0 * inf); slab t = (bound - origin) * (1 / d) for
+// nodes and brush boxes alike; a node is visited when max(near, tMin) <= min(far, best t),
+// inclusive so that equal-t hits reach the face-index rule; a brush whose box starts beyond the
+// best t is skipped; children nearer first; the stack needs kBvhMaxDepth entries.
 //
 // Epsilons: the test itself has none; everything is exact IEEE float with the rules above, so
 // the BVH and a brute-force loop agree bit for bit. Self-intersection is avoided by the caller:

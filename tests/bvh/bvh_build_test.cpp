@@ -108,6 +108,13 @@ TEST(BvhBuild, BrushWithoutWindingsIsSkipped) {
   EXPECT_EQ(ts.faces().size(), scene.faces.size()); // faces stay indexable by scene index
 }
 
+TEST(BvhBuild, InconsistentSceneIsRejected) {
+  Scene scene;
+  test::addBox(scene, {0, 0, 0}, {16, 16, 16});
+  scene.brushes[0].faceCount = 7; // one more face than the scene has
+  EXPECT_THROW(TraceScene::build(scene), std::invalid_argument);
+}
+
 TEST(BvhBuild, NeighbourBoxesShareTheirFloatBoundary) {
   // 0.1 is not a float: both sides of the shared face must round to the same float, so the
   // two brushes neither overlap nor leave a gap.
