@@ -31,6 +31,7 @@ struct Palette {
 // Reads a 768-byte palette.lmp (or the palette at the end of a 256-colour PCX file, which is
 // where Quake 2 keeps it: pics/colormap.pcx). Throws ImportError naming the file on any other size.
 Palette loadPalette(const std::filesystem::path& lmp);
+// The same for bytes already in memory (a WAD's palette lump, a file inside a .pk3).
 Palette paletteFromBytes(std::span<const uint8_t> bytes, std::string_view what);
 
 // Decodes one miptex (Quake WAD2 / BSP29 texture lump entry, or Half-Life WAD3/BSP30 with its
