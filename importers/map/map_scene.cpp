@@ -2,6 +2,7 @@
 
 #include "importers/map/map_geometry.h"
 #include "importers/map/map_parser.h"
+#include "importers/textures/textures.h"
 
 #include <fmt/format.h>
 
@@ -31,7 +32,7 @@ std::string lowercase(std::string_view s) {
 
 class SceneBuilder {
 public:
-  explicit SceneBuilder(const MapDocument& doc) : doc_(doc) {
+  SceneBuilder(const MapDocument& doc, const std::vector<Material>* loaded) : doc_(doc), loaded_(loaded) {
     scene_.sourcePath = doc.path;
     scene_.format = toString(doc.dialect);
   }
@@ -135,7 +136,12 @@ private:
       face.texture = mf.texture;
       face.material = materialFor(mf.texture);
       face.plane = sides[i].plane;
-      face.frame = frameFromVecs(faceTextureVecs(mf, face.plane), face.plane);
+      int width = 64, height = 64;
+      if (loaded_ && face.material < loaded_->size()) {
+        width = (*loaded_)[face.material].width;
+        height = (*loaded_)[face.material].height;
+      }
+      face.frame = frameFromVecs(faceTextureVecs(mf, face.plane, width, height), face.plane);
       face.surface = mf.surface;
       face.winding = std::move(windings[i]);
       for (const dvec3& p : face.winding) brush.bounds.grow(p);
@@ -157,17 +163,29 @@ private:
   }
 
   const MapDocument& doc_;
+  const std::vector<Material>* loaded_;
   Scene scene_;
   std::unordered_map<std::string, uint32_t> materialIndex_;
 };
 
 } // namespace
 
-Scene buildScene(const MapDocument& doc) { return SceneBuilder(doc).build(); }
+Scene buildScene(const MapDocument& doc, const std::vector<Material>* loaded) { return SceneBuilder(doc, loaded).build(); }
 
 Scene importMap(const std::string& path, const ImportOptions& options) {
   const MapDocument doc = readMapFile(path, options.dialect);
-  return buildScene(doc);
+  Scene scene = buildScene(doc);
+  loadMaterials(scene, options.textures);
+  const bool brushPrimitives = std::any_of(doc.entities.begin(), doc.entities.end(), [](const MapEntity& e) {
+    return std::any_of(e.brushes.begin(), e.brushes.end(), [](const MapBrush& b) { return b.kind == MapBrush::Kind::BrushDef; });
+  });
+  if (!brushPrimitives) return scene;
+  // brushDef matrices are in texture widths: now that the sizes are known, build the frames again.
+  // Materials come out in the same order, since the document is the same.
+  Scene sized = buildScene(doc, &scene.materials);
+  sized.materials = std::move(scene.materials);
+  sized.diagnostics = std::move(scene.diagnostics);
+  return sized;
 }
 
 } // namespace bt::map

@@ -165,7 +165,9 @@ TEST(QbspOracle, EveryCompiledFaceHasOurTexelCoordinates) {
                                 transformed ? " (qbsp moves brush entities there)" : notUnderstood ? " (not understood yet)" : "",
                                 r.firstProblem);
       // Elsewhere at most one compiled face in 50 may disagree with us.
-      if (!transformed && !notUnderstood) EXPECT_LE((r.wrong + r.unmatched) * 50, r.faces) << r.firstProblem;
+      if (!transformed && !notUnderstood) {
+        EXPECT_LE((r.wrong + r.unmatched) * 50, r.faces) << r.firstProblem;
+      }
     }
     mapsPassed += r.wrong == 0 && r.unmatched == 0;
     allFaces += r.faces;
