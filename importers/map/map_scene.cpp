@@ -19,6 +19,16 @@ namespace {
 constexpr double kNormalEpsilon = 0.000001;
 constexpr double kDistEpsilon = 0.01;
 
+// Quake 2's SURF_NODRAW. qbsp writes such faces (when they also emit light) with default
+// QuakeEd texturing whatever the face line says: seen in its output for ericw-tools' test maps
+// q2_nodraw_light and q2_nodraw_detail_light.
+// qbsp drops NODRAW from faces that are also SKY ("fixes a bug in some old maps"), so those keep theirs.
+constexpr int32_t kSurfSky = 0x4;
+constexpr int32_t kSurfNoDraw = 0x80;
+bool drawsNothing(const MapFace& f) {
+  return f.surface && (f.surface->flags & kSurfNoDraw) != 0 && (f.surface->flags & kSurfSky) == 0;
+}
+
 bool samePlane(const Plane& a, const Plane& b) {
   return std::fabs(a.normal.x - b.normal.x) < kNormalEpsilon && std::fabs(a.normal.y - b.normal.y) < kNormalEpsilon &&
          std::fabs(a.normal.z - b.normal.z) < kNormalEpsilon && std::fabs(a.dist - b.dist) < kDistEpsilon;
@@ -141,7 +151,9 @@ private:
         width = (*loaded_)[face.material].width;
         height = (*loaded_)[face.material].height;
       }
-      face.frame = frameFromVecs(faceTextureVecs(mf, face.plane, width, height), face.plane);
+      face.frame = frameFromVecs(drawsNothing(mf) ? standardVecs(face.plane, {0.0, 0.0}, 0.0, {1.0, 1.0})
+                                                  : faceTextureVecs(mf, face.plane, width, height),
+                                 face.plane);
       face.surface = mf.surface;
       face.winding = std::move(windings[i]);
       for (const dvec3& p : face.winding) brush.bounds.grow(p);

@@ -33,12 +33,6 @@ const std::set<std::string> kTransformedEntities = {
     "maps/ericw-tools/testmaps/q1_external_map_base.map",
 };
 
-// Maps where qbsp's texinfo differs from ours on Quake 2 NODRAW|LIGHT faces (5 of 38 faces each).
-// Not understood yet; listed by name so that every other map stays held to matching every face.
-const std::set<std::string> kNotUnderstood = {
-    "maps/ericw-tools/testmaps/q2_nodraw_detail_light.map",
-    "maps/ericw-tools/testmaps/q2_nodraw_light.map",
-};
 
 std::string lowercase(std::string_view s) {
   std::string out(s);
@@ -172,12 +166,11 @@ TEST(QbspOracle, EveryCompiledFaceHasOurTexelCoordinates) {
     if (r.wrong + r.unmatched > 0) {
       const std::string name = entry.at("map").get<std::string>();
       const bool transformed = kTransformedEntities.count(name) > 0;
-      const bool notUnderstood = kNotUnderstood.count(name) > 0;
       deviations += fmt::format("  {}: {} of {} faces off{}; first: {}\n", name, r.wrong + r.unmatched, r.faces,
-                                transformed ? " (qbsp moves brush entities there)" : notUnderstood ? " (not understood yet)" : "",
+                                transformed ? " (qbsp moves brush entities there)" : "",
                                 r.firstProblem);
       // Everywhere else every compiled face must agree with us.
-      EXPECT_TRUE(transformed || notUnderstood) << r.wrong + r.unmatched << " of " << r.faces << " faces differ; first: " << r.firstProblem;
+      EXPECT_TRUE(transformed) << r.wrong + r.unmatched << " of " << r.faces << " faces differ; first: " << r.firstProblem;
     }
     mapsPassed += r.wrong == 0 && r.unmatched == 0;
     allFaces += r.faces;
