@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <regex>
 #include <unistd.h>
 
@@ -29,6 +30,7 @@ struct RenderOptions {
   std::string size = "960x540";
   std::string camera;
   std::string backend = "auto";
+  std::string glTextures = "auto";
   std::string aov = "beauty";
   float exposure = 0.0f;
   std::string tonemap; // empty: faithful for --lighting faithful, aces for physical
@@ -52,9 +54,9 @@ bool isSoftwareRenderer(std::string_view renderer) {
   return false;
 }
 
-RenderImage renderGl(gl::GlContext& context, const Scene& scene, const RenderScene& rs, const CameraPose& pose,
+RenderImage renderGl(gl::GlContext& context, gl::TextureMode textures, const Scene& scene, const RenderScene& rs, const CameraPose& pose,
                      const RenderSettings& settings, const std::function<void(const RenderProgress&)>& progress) {
-  gl::GlTracer tracer(context, scene, gl::TextureMode::Auto, gl::lightingFor(rs));
+  gl::GlTracer tracer(context, scene, textures, gl::lightingFor(rs));
   const gl::CameraBasis camera =
       gl::CameraBasis::fromQuakeAngles(pose.origin, pose.pitch, pose.yaw, pose.roll, settings.width, settings.height);
   const gl::AovImages aovs = tracer.renderAovs(camera, settings.width, settings.height);
@@ -119,6 +121,9 @@ int runRender(const RenderOptions& o) {
     }
   }
 
+  const std::optional<gl::TextureMode> glTextures = gl::parseTextureMode(o.glTextures);
+  if (!glTextures) throw std::runtime_error("--gl-textures: expected auto, bindless or arrays");
+
   const std::string mapPath = o.map.empty() ? defaultMapPath() : o.map;
   const Scene scene = importScene(mapPath, o.import);
   for (const Diagnostic& d : scene.diagnostics)
@@ -178,7 +183,7 @@ int runRender(const RenderOptions& o) {
     }
   };
 
-  const RenderImage image = glContext ? renderGl(*glContext, scene, renderScene, pose, settings, progress)
+  const RenderImage image = glContext ? renderGl(*glContext, *glTextures, scene, renderScene, pose, settings, progress)
                                       : renderCpu(renderScene, Camera(pose, width, height), settings, progress);
   if (tty && !o.quiet && image.samples != settings.spp) fmt::print("\n");
   writeImage(o.output, image, output);
@@ -203,6 +208,9 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--camera", options->camera, "Camera \"(x y z) pitch yaw roll\"; default from the level's entities");
   cmd->add_option("--backend", options->backend, "auto|gl|cpu")
       ->check(CLI::IsMember({"auto", "gl", "cpu"}))
+      ->capture_default_str();
+  cmd->add_option("--gl-textures", options->glTextures, "GL texture path: auto|bindless|arrays")
+      ->check(CLI::IsMember({"auto", "bindless", "arrays"}))
       ->capture_default_str();
   cmd->add_option("--aov", options->aov, "beauty|albedo|normal|depth|face")
       ->check(CLI::IsMember({"beauty", "albedo", "normal", "depth", "face"}))
