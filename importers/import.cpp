@@ -52,11 +52,7 @@ std::string lowercaseExtension(const std::string& path) {
 Scene importScene(const std::string& path, const ImportOptions& options) {
   // Compiled levels: "x.bsp" or "archive.pk3:maps/x.bsp".
   if (bsp::splitArchivePath(path) || lowercaseExtension(path) == ".bsp") return bsp::importBsp(path, options);
-  if (lowercaseExtension(path) == ".map") {
-    Scene scene = map::importMap(path, options);
-    loadMaterials(scene, options.textures);
-    return scene;
-  }
+  if (lowercaseExtension(path) == ".map") return map::importMap(path, options); // materials included
   throw ImportError(Diagnostic{Severity::Error, path, 0, 0, "not a level brushtrace reads (expected .map, .bsp or archive.pk3:maps/name.bsp)"});
 }
 

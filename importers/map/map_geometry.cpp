@@ -168,9 +168,9 @@ std::optional<bool> quarkMode(const MapFace& face) {
   return std::nullopt;
 }
 
-TexVecs faceTextureVecs(const MapFace& face, const Plane& plane) {
+TexVecs faceTextureVecs(const MapFace& face, const Plane& plane, int textureWidth, int textureHeight) {
   if (const auto tx2 = quarkMode(face)) return finishVecs(quarkVecs(face.points, *tx2), plane);
-  return textureVecs(face.tex, plane);
+  return textureVecs(face.tex, plane, textureWidth, textureHeight);
 }
 
 TextureFrame frameFromVecs(const TexVecs& vecs, const Plane& plane) {

@@ -47,7 +47,7 @@ bool isValidProjection(const TexVecs& vecs, const dvec3& normal);
 
 // The vectors of a face line: textureVecs of its parameters, or QuArK's "etp" projection when
 // the line ends in a "//TX1" or "//TX2" comment (the texture axes follow the plane points).
-TexVecs faceTextureVecs(const MapFace& face, const Plane& plane);
+TexVecs faceTextureVecs(const MapFace& face, const Plane& plane, int textureWidth = 64, int textureHeight = 64);
 // std::nullopt for ordinary faces; false for QuArK's TX1, true for TX2.
 std::optional<bool> quarkMode(const MapFace& face);
 

@@ -2,6 +2,7 @@
 
 #include "importers/map/map_geometry.h"
 #include "importers/map/map_parser.h"
+#include "importers/textures/textures.h"
 
 #include <fmt/format.h>
 
@@ -18,6 +19,16 @@ namespace {
 constexpr double kNormalEpsilon = 0.000001;
 constexpr double kDistEpsilon = 0.01;
 
+// Quake 2's SURF_NODRAW. qbsp writes such faces (when they also emit light) with default
+// QuakeEd texturing whatever the face line says: seen in its output for ericw-tools' test maps
+// q2_nodraw_light and q2_nodraw_detail_light.
+// qbsp drops NODRAW from faces that are also SKY ("fixes a bug in some old maps"), so those keep theirs.
+constexpr int32_t kSurfSky = 0x4;
+constexpr int32_t kSurfNoDraw = 0x80;
+bool drawsNothing(const MapFace& f) {
+  return f.surface && (f.surface->flags & kSurfNoDraw) != 0 && (f.surface->flags & kSurfSky) == 0;
+}
+
 bool samePlane(const Plane& a, const Plane& b) {
   return std::fabs(a.normal.x - b.normal.x) < kNormalEpsilon && std::fabs(a.normal.y - b.normal.y) < kNormalEpsilon &&
          std::fabs(a.normal.z - b.normal.z) < kNormalEpsilon && std::fabs(a.dist - b.dist) < kDistEpsilon;
@@ -31,7 +42,7 @@ std::string lowercase(std::string_view s) {
 
 class SceneBuilder {
 public:
-  explicit SceneBuilder(const MapDocument& doc) : doc_(doc) {
+  SceneBuilder(const MapDocument& doc, const std::vector<Material>* loaded) : doc_(doc), loaded_(loaded) {
     scene_.sourcePath = doc.path;
     scene_.format = toString(doc.dialect);
   }
@@ -135,7 +146,14 @@ private:
       face.texture = mf.texture;
       face.material = materialFor(mf.texture);
       face.plane = sides[i].plane;
-      face.frame = frameFromVecs(faceTextureVecs(mf, face.plane), face.plane);
+      int width = 64, height = 64;
+      if (loaded_ && face.material < loaded_->size()) {
+        width = (*loaded_)[face.material].width;
+        height = (*loaded_)[face.material].height;
+      }
+      face.frame = frameFromVecs(drawsNothing(mf) ? standardVecs(face.plane, {0.0, 0.0}, 0.0, {1.0, 1.0})
+                                                  : faceTextureVecs(mf, face.plane, width, height),
+                                 face.plane);
       face.surface = mf.surface;
       face.winding = std::move(windings[i]);
       for (const dvec3& p : face.winding) brush.bounds.grow(p);
@@ -157,17 +175,29 @@ private:
   }
 
   const MapDocument& doc_;
+  const std::vector<Material>* loaded_;
   Scene scene_;
   std::unordered_map<std::string, uint32_t> materialIndex_;
 };
 
 } // namespace
 
-Scene buildScene(const MapDocument& doc) { return SceneBuilder(doc).build(); }
+Scene buildScene(const MapDocument& doc, const std::vector<Material>* loaded) { return SceneBuilder(doc, loaded).build(); }
 
 Scene importMap(const std::string& path, const ImportOptions& options) {
   const MapDocument doc = readMapFile(path, options.dialect);
-  return buildScene(doc);
+  Scene scene = buildScene(doc);
+  loadMaterials(scene, options.textures);
+  const bool brushPrimitives = std::any_of(doc.entities.begin(), doc.entities.end(), [](const MapEntity& e) {
+    return std::any_of(e.brushes.begin(), e.brushes.end(), [](const MapBrush& b) { return b.kind == MapBrush::Kind::BrushDef; });
+  });
+  if (!brushPrimitives) return scene;
+  // brushDef matrices are in texture widths: now that the sizes are known, build the frames again.
+  // Materials come out in the same order, since the document is the same.
+  Scene sized = buildScene(doc, &scene.materials);
+  sized.materials = std::move(scene.materials);
+  sized.diagnostics = std::move(scene.diagnostics);
+  return sized;
 }
 
 } // namespace bt::map

@@ -10,9 +10,12 @@ namespace bt::map {
 // are dropped, brushes with no volume or unbounded are skipped, each with a diagnostic naming
 // its line. Materials are created by name only (one per distinct name, case-insensitive as in
 // Quake); loading their pixels is importers/textures' job.
-Scene buildScene(const MapDocument& doc);
+// `loaded`: the materials of an earlier build of the same document after their pixels were
+// loaded; brushDef texture matrices are then sized by them (qbsp uses the texture's real size,
+// 64x64 when it is missing), otherwise by 64x64.
+Scene buildScene(const MapDocument& doc, const std::vector<Material>* loaded = nullptr);
 
-// Imports a .map file: parse, build, and (when the textures part is present) load materials.
+// Imports a .map file: parse, build, load the materials' pixels (importers/textures).
 Scene importMap(const std::string& path, const ImportOptions& options);
 
 } // namespace bt::map

@@ -155,3 +155,41 @@ TEST(MapGeometry, QuarkTx1ProjectionFollowsThePlanePoints) {
 
 } // namespace
 } // namespace bt::map
+
+#include "importers/import.h"
+
+#include <filesystem>
+#include <fstream>
+
+namespace bt::map {
+namespace {
+
+TEST(MapImport, BrushDefMatricesAreSizedByTheLoadedTexture) {
+  // qbsp sizes a brushDef matrix by the real texture (64x64 only when it is missing).
+  const auto dir = std::filesystem::temp_directory_path() / "bt_map_brushdef_size";
+  std::filesystem::create_directories(dir);
+  {
+    // A 128x32 uncompressed true-colour TGA.
+    std::ofstream tga(dir / "bp.tga", std::ios::binary);
+    const unsigned char header[18] = {0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 128, 0, 32, 0, 24, 0};
+    tga.write(reinterpret_cast<const char*>(header), sizeof header);
+    const std::string pixels(128 * 32 * 3, '\x80');
+    tga.write(pixels.data(), static_cast<std::streamsize>(pixels.size()));
+  }
+  std::ofstream(dir / "bp.map") << "{\n\"classname\" \"worldspawn\"\n{\nbrushDef\n{\n"
+                                << boxBrush("( ( 0.5 0 0.25 ) ( 0 0.25 0 ) ) bp 0 0 0") << "}\n}\n}\n";
+  ImportOptions options;
+  options.textures.textureDirs = {dir.string()};
+  const Scene scene = importScene((dir / "bp.map").string(), options);
+  ASSERT_EQ(scene.materials.size(), 1u);
+  ASSERT_EQ(scene.materials[0].width, 128) << toString(scene.materials[0].source);
+  ASSERT_EQ(scene.materials[0].height, 32);
+  const Face& top = scene.faces.at(3);
+  const dvec3 p{10, 20, 64};
+  EXPECT_NEAR(top.frame.s(p), 128 * (0.5 * 20 + 0.25), 1e-9);
+  EXPECT_NEAR(top.frame.t(p), 32 * 0.25 * 10, 1e-9);
+  std::filesystem::remove_all(dir);
+}
+
+} // namespace
+} // namespace bt::map
