@@ -2,15 +2,14 @@
 #include "app/commands.h"
 
 #include "renderer/cpu/cpu_renderer.h"
-#include "importers/textures/textures.h"
 #include "renderer/cpu/render_scene.h"
 #include "renderer/gl/gl_context.h"
+#include "renderer/gl/gl_lighting.h"
 #include "renderer/gl/gl_tracer.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <bit>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -42,22 +41,6 @@ struct RenderOptions {
   ImportOptions import;
 };
 
-// The default map: maps/start.map in the current directory, then beside the executable's
-// build folder (build/brushtrace -> ../maps), then in the source tree it was built from.
-std::string findDefaultMap(const char* argv0) {
-  namespace fs = std::filesystem;
-  std::vector<fs::path> candidates{fs::current_path() / "maps" / "start.map"};
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) candidates.push_back(exe.parent_path().parent_path() / "maps" / "start.map");
-  (void)argv0;
-  candidates.push_back(fs::path(BRUSHTRACE_SOURCE_DIR) / "maps" / "start.map");
-  for (const fs::path& p : candidates)
-    if (fs::is_regular_file(p, ec)) return p.string();
-  throw std::runtime_error("no MAP given and maps/start.map not found (looked in the current directory, beside the "
-                           "executable and in " BRUSHTRACE_SOURCE_DIR ")");
-}
-
 std::string formatDuration(double seconds) {
   const long s = std::max(0L, long(seconds + 0.5));
   return fmt::format("{:02}:{:02}:{:02}", s / 3600, (s / 60) % 60, s % 60);
@@ -69,27 +52,9 @@ bool isSoftwareRenderer(std::string_view renderer) {
   return false;
 }
 
-// The GL tracer lights with the CPU reference's classification and light list: the structs
-// are the same bytes (renderer/gl/gl_structs.h asserts the layout).
-gl::GlLighting glLighting(const RenderScene& rs) {
-  gl::GlLighting l;
-  l.faceFlags = rs.faceFlags;
-  for (const GpuLight& light : rs.lights) l.lights.push_back(std::bit_cast<gl::GlLight>(light));
-  for (const GpuLight& light : rs.surfaceLights) l.surfaceLights.push_back(std::bit_cast<gl::GlLight>(light));
-  for (const GpuEmitter& e : rs.emitters) l.emitters.push_back(std::bit_cast<gl::GlEmitter>(e));
-  l.emitterArea = rs.emitterArea;
-  l.minlight = rs.world.minlight;
-  l.range = rs.world.range;
-  l.scaledist = rs.world.scaledist;
-  l.bouncescale = rs.world.bouncescale;
-  l.faithfulBounces = rs.world.bounces;
-  l.litwater = rs.world.litwater;
-  return l;
-}
-
 RenderImage renderGl(gl::GlContext& context, const Scene& scene, const RenderScene& rs, const CameraPose& pose,
                      const RenderSettings& settings, const std::function<void(const RenderProgress&)>& progress) {
-  gl::GlTracer tracer(context, scene, gl::TextureMode::Auto, glLighting(rs));
+  gl::GlTracer tracer(context, scene, gl::TextureMode::Auto, gl::lightingFor(rs));
   const gl::CameraBasis camera =
       gl::CameraBasis::fromQuakeAngles(pose.origin, pose.pitch, pose.yaw, pose.roll, settings.width, settings.height);
   const gl::AovImages aovs = tracer.renderAovs(camera, settings.width, settings.height);
@@ -154,13 +119,8 @@ int runRender(const RenderOptions& o) {
     }
   }
 
-  const std::string mapPath = o.map.empty() ? findDefaultMap(nullptr) : o.map;
-  Scene scene = importScene(mapPath, o.import);
-  // Bridge: until importScene resolves materials itself, do it here. loadMaterials only touches
-  // materials that are still missing, so this is a no-op once the importer has done it.
-  const bool noneResolved = std::all_of(scene.materials.begin(), scene.materials.end(),
-                                        [](const Material& m) { return m.missing(); });
-  if (o.import.textures.load && noneResolved && !scene.materials.empty()) loadMaterials(scene, o.import.textures);
+  const std::string mapPath = o.map.empty() ? defaultMapPath() : o.map;
+  const Scene scene = importScene(mapPath, o.import);
   for (const Diagnostic& d : scene.diagnostics)
     if (!o.quiet && d.severity != Severity::Note) fmt::print(stderr, "{}\n", format(d));
 
