@@ -3,7 +3,6 @@
 // speed in both lighting modes. Maps come from ../shared (skipped when absent) and maps/.
 //   build/bench/bench_render [--benchmark_filter=...]
 #include "importers/import.h"
-#include "importers/textures/textures.h"
 #include "renderer/cpu/cpu_renderer.h"
 
 #include <benchmark/benchmark.h>
@@ -32,8 +31,6 @@ const LoadedMap* loadMap(const std::string& path) {
   auto m = std::make_unique<LoadedMap>();
   ImportOptions options;
   m->scene = importScene(path, options);
-  if (std::all_of(m->scene.materials.begin(), m->scene.materials.end(), [](const Material& x) { return x.missing(); }))
-    loadMaterials(m->scene, options.textures);
   Diagnostics diags;
   m->rs = buildRenderScene(m->scene, {}, diags);
   m->pose = defaultCameraPose(m->scene);

@@ -1,7 +1,6 @@
 // The default level maps/start.map: it imports cleanly, every texture it names is one we ship,
 // it has every light type, and its AOVs are exact and deterministic.
 #include "importers/import.h"
-#include "importers/textures/textures.h"
 #include "renderer/cpu/cpu_renderer.h"
 #include "tests/test_data.h"
 
@@ -12,13 +11,7 @@
 namespace bt {
 namespace {
 
-Scene importStart() {
-  Scene scene = importScene((test::mapsDir() / "start.map").string(), ImportOptions{});
-  // As `brushtrace render` does until importScene resolves materials itself.
-  if (std::all_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.missing(); }))
-    loadMaterials(scene, TextureSearch{});
-  return scene;
-}
+Scene importStart() { return importScene((test::mapsDir() / "start.map").string(), ImportOptions{}); }
 
 TEST(StartMap, ImportsWithEveryTextureAndLightType) {
   const Scene scene = importStart();
