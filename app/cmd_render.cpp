@@ -101,6 +101,12 @@ int runRender(const RenderOptions& o) {
     if (!std::regex_match(o.size, m, size) || (width = std::stoi(m[1])) <= 0 || (height = std::stoi(m[2])) <= 0)
       throw std::runtime_error(fmt::format("--size: expected WIDTHxHEIGHT, got \"{}\"", o.size));
   }
+  {
+    // Say so before rendering, not after.
+    std::string ext = std::filesystem::path(o.output).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".png" && ext != ".exr") throw std::runtime_error(fmt::format("{}: output must be .png or .exr", o.output));
+  }
   if (o.spp <= 0 && o.timeLimit <= 0.0) throw std::runtime_error("--spp must be positive (or give --time)");
 
   // gl and auto render on the GL tracer when a GL 4.5 context can be made; otherwise one line

@@ -4,7 +4,7 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
-#include <charconv>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -15,6 +15,10 @@ namespace {
 constexpr float kDefaultLightValue = 300.0f;   // Quake's `light` default
 constexpr float kDefaultSpotAngle = 40.0f;     // ericw-tools' cone when `angle` is absent
 constexpr int kMaxFormula = 5;
+
+// Integer keys (style, spawnflags, _bounce) arrive as floats; clamp before converting so that
+// garbage like 1e30 cannot overflow the cast.
+int toInt(float v) { return static_cast<int>(std::clamp(v, -1e6f, 1e6f)); }
 
 std::vector<float> parseNumbers(std::string_view text) {
   std::vector<float> numbers;
@@ -84,7 +88,7 @@ WorldLighting readWorld(const Scene& scene, Diagnostics& diagnostics) {
   const float minlight = keys.number("_minlight", keys.number("light", 0.0f));
   const glm::vec3 minColor = keys.color("_minlight_color", keys.color("_mincolor"));
   world.minlight = minlight * minColor;
-  world.bounces = static_cast<int>(keys.number("_bounce", 0.0f));
+  world.bounces = std::clamp(toInt(keys.number("_bounce", 0.0f)), 0, 8);
   world.bouncescale = keys.number("_bouncescale", world.bouncescale);
   world.litwater = keys.number("_litwater", 0.0f) != 0.0f;
   return world;
@@ -228,9 +232,9 @@ SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagn
       light.cosInner = std::cos(glm::radians(soft) * 0.5f);
     }
 
-    const int style = static_cast<int>(keys.number("style", 0.0f));
+    const int style = std::clamp(toInt(keys.number("style", 0.0f)), 0, 255);
     const bool switchable = !entity.value("targetname").empty();
-    const bool startOff = switchable && (static_cast<int>(keys.number("spawnflags", 0.0f)) & 1);
+    const bool startOff = switchable && (toInt(keys.number("spawnflags", 0.0f)) & 1);
     if (startOff) light.flags |= kLightFlagStartOff;
     // Switchable lights get their own style in the compiled map; give them a non-zero one here.
     const uint32_t effectiveStyle = style > 0 ? uint32_t(style) : (switchable ? 32u : 0u);

@@ -1,0 +1,137 @@
+// CPU tracer throughput: Mrays/s for primary and bounce rays (closest hit through TraceScene,
+// what the integrator spends its time in), on one thread and on all, plus whole-frame render
+// speed in both lighting modes. Maps come from ../shared (skipped when absent) and maps/.
+//   build/bench/bench_render [--benchmark_filter=...]
+#include "importers/import.h"
+#include "renderer/cpu/cpu_renderer.h"
+
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <thread>
+
+namespace {
+
+using namespace bt;
+
+struct LoadedMap {
+  Scene scene;
+  RenderScene rs;
+  CameraPose pose;
+};
+
+// Imported once per process; a benchmark on a missing map reports an error instead.
+const LoadedMap* loadMap(const std::string& path) {
+  static std::map<std::string, std::unique_ptr<LoadedMap>> cache;
+  auto it = cache.find(path);
+  if (it != cache.end()) return it->second.get();
+  if (!std::filesystem::exists(path)) return cache.emplace(path, nullptr).first->second.get();
+  auto m = std::make_unique<LoadedMap>();
+  ImportOptions options;
+  m->scene = importScene(path, options);
+  Diagnostics diags;
+  m->rs = buildRenderScene(m->scene, {}, diags);
+  m->pose = defaultCameraPose(m->scene);
+  return cache.emplace(path, std::move(m)).first->second.get();
+}
+
+const std::string kShared = BRUSHTRACE_SHARED_DIR;
+const std::map<std::string, std::string> kMaps = {
+    {"e1m1", kShared + "/maps/quake_map_source/e1m1.map"},
+    {"lqdm5", kShared + "/maps/librequake/lq1/maps/src/dm/lqdm5.map"},
+    {"start", std::string(BRUSHTRACE_SOURCE_DIR) + "/maps/start.map"},
+};
+
+constexpr int kWidth = 320, kHeight = 180;
+
+// Runs fn(i) for i in [0, n) on `threads` threads in contiguous chunks.
+template <class Fn>
+void parallelFor(size_t n, int threads, const Fn& fn) {
+  std::vector<std::thread> pool;
+  const size_t chunk = (n + size_t(threads) - 1) / size_t(threads);
+  for (int t = 1; t < threads; ++t)
+    pool.emplace_back([&, t] {
+      for (size_t i = size_t(t) * chunk; i < std::min(n, size_t(t + 1) * chunk); ++i) fn(i);
+    });
+  for (size_t i = 0; i < std::min(n, chunk); ++i) fn(i);
+  for (std::thread& th : pool) th.join();
+}
+
+// Primary rays of a kWidth x kHeight frame, and one cosine bounce ray from each primary hit.
+struct RaySet {
+  std::vector<Ray> primary;
+  std::vector<Ray> bounce;
+};
+
+RaySet makeRays(const LoadedMap& m) {
+  RaySet set;
+  const Camera camera(m.pose, kWidth, kHeight);
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) set.primary.push_back(camera.ray(x + 0.5f, y + 0.5f));
+  for (size_t i = 0; i < set.primary.size(); ++i) {
+    const SurfaceHit hit = traceVisible(m.rs, set.primary[i]);
+    if (!hit.found) continue;
+    Rng rng = pixelRng(uint32_t(i), 0, 0, 0);
+    const glm::vec3 dir = sampleCosineHemisphere(hit.normal, rng.next2());
+    set.bounce.push_back(Ray{hit.position + hit.normal * 0.03f, 0.0f, dir, std::numeric_limits<float>::infinity()});
+  }
+  return set;
+}
+
+void BM_Rays(benchmark::State& state, const std::string& mapName, bool bounce) {
+  const LoadedMap* m = loadMap(kMaps.at(mapName));
+  if (!m) {
+    state.SkipWithError("map not found (../shared missing?)");
+    return;
+  }
+  const RaySet rays = makeRays(*m);
+  const std::vector<Ray>& batch = bounce ? rays.bounce : rays.primary;
+  const int threads = state.range(0) > 0 ? int(state.range(0)) : int(std::thread::hardware_concurrency());
+  std::vector<uint32_t> hits(batch.size());
+  for (auto _ : state) {
+    parallelFor(batch.size(), threads, [&](size_t i) {
+      const auto hit = m->rs.tracer.closestHit(batch[i]);
+      hits[i] = hit ? hit->face : kNoFace;
+    });
+    benchmark::DoNotOptimize(hits.data());
+  }
+  state.counters["Mrays/s"] = benchmark::Counter(double(batch.size()) * double(state.iterations()) / 1e6,
+                                                 benchmark::Counter::kIsRate);
+  state.counters["Mrays/s/thread"] = benchmark::Counter(double(batch.size()) * double(state.iterations()) / 1e6 / threads,
+                                                        benchmark::Counter::kIsRate);
+  state.counters["brushes"] = double(m->scene.brushes.size());
+  state.counters["threads"] = threads;
+}
+
+void BM_Render(benchmark::State& state, const std::string& mapName, LightingMode mode) {
+  const LoadedMap* m = loadMap(kMaps.at(mapName));
+  if (!m) {
+    state.SkipWithError("map not found");
+    return;
+  }
+  RenderSettings s;
+  s.width = kWidth;
+  s.height = kHeight;
+  s.spp = 1;
+  s.integrator.mode = mode;
+  s.threads = state.range(0) > 0 ? int(state.range(0)) : 0;
+  for (auto _ : state) benchmark::DoNotOptimize(renderCpu(m->rs, Camera(m->pose, kWidth, kHeight), s).beauty.data());
+  state.counters["Msamples/s"] = benchmark::Counter(double(kWidth) * kHeight * double(state.iterations()) / 1e6,
+                                                    benchmark::Counter::kIsRate);
+}
+
+} // namespace
+
+// range(0): threads, 0 = all cores.
+BENCHMARK_CAPTURE(BM_Rays, e1m1_primary, std::string("e1m1"), false)->Arg(1)->Arg(0)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Rays, e1m1_bounce, std::string("e1m1"), true)->Arg(1)->Arg(0)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Rays, lqdm5_primary, std::string("lqdm5"), false)->Arg(1)->Arg(0)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Rays, lqdm5_bounce, std::string("lqdm5"), true)->Arg(1)->Arg(0)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Render, start_faithful, std::string("start"), LightingMode::Faithful)->Arg(1)->Arg(0)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Render, start_physical, std::string("start"), LightingMode::Physical)->Arg(1)->Arg(0)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Render, e1m1_faithful, std::string("e1m1"), LightingMode::Faithful)->Arg(0)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Render, e1m1_physical, std::string("e1m1"), LightingMode::Physical)->Arg(0)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+BENCHMARK_MAIN();
