@@ -3,8 +3,11 @@
 // full path-traced samples per second at the chosen size and bounce count, and the time from
 // a loaded scene to the first image on screen-equivalent (context, upload, shader build, 1 spp).
 #include "app/commands.h"
+#include "renderer/cpu/camera.h"
+#include "renderer/cpu/render_scene.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_error.h"
+#include "renderer/gl/gl_render.h"
 #include "renderer/gl/gl_tracer.h"
 
 #include <fmt/format.h>
@@ -32,17 +35,6 @@ struct BenchOptions {
   std::string textures = "auto";
 };
 
-// A view of the whole level from above one corner, looking at its centre: every benchmark
-// run sees the same thing without relying on the map's entities.
-gl::CameraBasis overviewCamera(const Scene& scene, int width, int height) {
-  const glm::vec3 center(scene.bounds.center());
-  const float radius = 0.5f * glm::length(glm::vec3(scene.bounds.extent()));
-  const glm::vec3 dir = glm::normalize(glm::vec3(1.0f, 1.0f, -0.8f));
-  const float yaw = glm::degrees(std::atan2(dir.y, dir.x));
-  const float pitch = glm::degrees(std::asin(-dir.z));
-  return gl::CameraBasis::fromQuakeAngles(center - dir * radius * 1.6f, pitch, yaw, 0.0f, width, height);
-}
-
 int runBench(const BenchOptions& options) {
   int width = 0, height = 0;
   if (std::sscanf(options.size.c_str(), "%dx%d", &width, &height) != 2 || width <= 0 || height <= 0) {
@@ -60,10 +52,18 @@ int runBench(const BenchOptions& options) {
   fmt::print("map: {} ({} brushes, {} faces, {} materials), imported in {:.2f} s\n", options.map, scene.brushes.size(),
              scene.faces.size(), scene.materials.size(), secondsSince(start));
 
+  Diagnostics diagnostics;
+  const RenderScene renderScene = buildRenderScene(scene, {}, diagnostics);
+  // The render command's default view (info_intermission, info_player_start, else the whole
+  // level), so the rays see what a user first sees.
+  const CameraPose pose = defaultCameraPose(scene);
+  fmt::print("camera: {} ({}), {} lights, {} emitter triangles\n", formatCameraPose(pose), pose.source,
+             renderScene.lights.size(), renderScene.emitters.size());
+
   start = Clock::now();
   auto context = gl::GlContext::createHeadless();
-  gl::GlTracer tracer(*context, scene, *textureMode);
-  const gl::CameraBasis camera = overviewCamera(scene, width, height);
+  gl::GlTracer tracer(*context, scene, *textureMode, gl::lightingFrom(renderScene));
+  const gl::CameraBasis camera = gl::cameraFrom(pose, width, height);
   const gl::BeautySettings oneSample{.width = width, .height = height, .spp = 1, .physical = true, .bounces = options.bounces};
   tracer.renderBeauty(camera, oneSample);
   const double firstImage = secondsSince(start);
@@ -82,12 +82,15 @@ int runBench(const BenchOptions& options) {
   fmt::print("bounce rays:  {:.1f} Mrays/s ({} passes of {})\n",
              rays.bounceRays * double(rays.passes) / rays.bounceSeconds * 1e-6, rays.passes, rays.bounceRays);
 
-  // Full samples: physical mode, `bounces` bounces, as many samples as fit the remaining third.
+  // Full samples: physical mode, `bounces` bounces. One timed sample sizes a batch that fills
+  // the remaining third; the batch runs without a sync per sample (as the viewer would).
   start = Clock::now();
+  tracer.renderBeauty(camera, oneSample);
+  const double perSample = std::max(secondsSince(start), 1e-4);
   gl::BeautySettings settings = oneSample;
-  settings.spp = 1 << 20;
-  const double budget = options.seconds / 3.0;
-  const gl::BeautyImage image = tracer.renderBeauty(camera, settings, [&](int) { return secondsSince(start) < budget; });
+  settings.spp = std::max(1, static_cast<int>(options.seconds / 3.0 / perSample));
+  start = Clock::now();
+  const gl::BeautyImage image = tracer.renderBeauty(camera, settings);
   const double seconds = secondsSince(start);
   fmt::print("samples: {:.2f} full samples/s at {}x{}, {} bounces, physical ({} spp in {:.2f} s, {:.1f} Msamples/s)\n",
              image.samples / seconds, width, height, options.bounces, image.samples, seconds,

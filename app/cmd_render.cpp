@@ -3,6 +3,7 @@
 
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/cpu/render_scene.h"
+#include "renderer/gl/gl_render.h"
 
 #include <fmt/format.h>
 
@@ -24,6 +25,7 @@ struct RenderOptions {
   std::string size = "960x540";
   std::string camera;
   std::string backend = "auto";
+  std::string glTextures = "auto"; // --gl-textures: the GL backend's texture path
   std::string aov = "beauty";
   float exposure = 0.0f;
   std::string tonemap; // empty: faithful for --lighting faithful, aces for physical
@@ -66,13 +68,6 @@ int runRender(const RenderOptions& o) {
       throw std::runtime_error(fmt::format("--size: expected WIDTHxHEIGHT, got \"{}\"", o.size));
   }
   if (o.spp <= 0 && o.timeLimit <= 0.0) throw std::runtime_error("--spp must be positive (or give --time)");
-
-  if (o.backend == "gl") {
-    // The GL compute tracer is a separate part (renderer/gl); until it is linked in, say so and
-    // render with the CPU reference instead, as the fallback rule asks.
-    fmt::print(stderr, "brushtrace: GL backend unavailable: this build has no GL compute tracer linked in; "
-                       "rendering on the CPU instead\n");
-  }
 
   const std::string mapPath = o.map.empty() ? findDefaultMap(nullptr) : o.map;
   const Scene scene = importScene(mapPath, o.import);
@@ -133,11 +128,25 @@ int runRender(const RenderOptions& o) {
     }
   };
 
-  const Camera camera(pose, width, height);
-  const RenderImage image = renderCpu(renderScene, camera, settings, progress);
+  // GL first for `gl` and `auto`; the CPU when no GL 4.5 context can be made (one line why).
+  std::optional<RenderImage> rendered;
+  std::string backendUsed = "cpu";
+  if (o.backend != "cpu") {
+    std::string whyNot;
+    auto gl = gl::renderWithGl(renderScene, pose, settings, *gl::parseTextureMode(o.glTextures), progress, whyNot);
+    if (gl) {
+      rendered = std::move(gl->image);
+      backendUsed = fmt::format("gl: {}, {} textures", gl->device, gl::toString(gl->textures));
+    } else {
+      fmt::print(stderr, "brushtrace: GL backend unavailable ({}); rendering on the CPU\n", whyNot);
+    }
+  }
+  if (!rendered) rendered = renderCpu(renderScene, Camera(pose, width, height), settings, progress);
+  const RenderImage& image = *rendered;
   if (tty && !o.quiet && image.samples != settings.spp) fmt::print("\n");
   writeImage(o.output, image, output);
-  if (!o.quiet) fmt::print("wrote {} ({}x{}, {} spp, {} lighting, cpu)\n", o.output, width, height, image.samples, o.lighting);
+  if (!o.quiet)
+    fmt::print("wrote {} ({}x{}, {} spp, {} lighting, {})\n", o.output, width, height, image.samples, o.lighting, backendUsed);
   return 0;
 }
 
@@ -157,6 +166,9 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--camera", options->camera, "Camera \"(x y z) pitch yaw roll\"; default from the level's entities");
   cmd->add_option("--backend", options->backend, "auto|gl|cpu")
       ->check(CLI::IsMember({"auto", "gl", "cpu"}))
+      ->capture_default_str();
+  cmd->add_option("--gl-textures", options->glTextures, "GL backend texture path: auto|bindless|arrays")
+      ->check(CLI::IsMember({"auto", "bindless", "arrays"}))
       ->capture_default_str();
   cmd->add_option("--aov", options->aov, "beauty|albedo|normal|depth|face")
       ->check(CLI::IsMember({"beauty", "albedo", "normal", "depth", "face"}))
