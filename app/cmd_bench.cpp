@@ -33,6 +33,7 @@ struct BenchOptions {
   int bounces = 4;
   double seconds = 5.0;
   std::string textures = "auto";
+  std::string lighting = "physical";
 };
 
 int runBench(const BenchOptions& options) {
@@ -64,7 +65,8 @@ int runBench(const BenchOptions& options) {
   auto context = gl::GlContext::createHeadless();
   gl::GlTracer tracer(*context, scene, *textureMode, gl::lightingFrom(renderScene));
   const gl::CameraBasis camera = gl::cameraFrom(pose, width, height);
-  const gl::BeautySettings oneSample{.width = width, .height = height, .spp = 1, .physical = true, .bounces = options.bounces};
+  const gl::BeautySettings oneSample{
+      .width = width, .height = height, .spp = 1, .physical = options.lighting == "physical", .bounces = options.bounces};
   tracer.renderBeauty(camera, oneSample);
   const double firstImage = secondsSince(start);
   const auto& info = context->info();
@@ -72,7 +74,9 @@ int runBench(const BenchOptions& options) {
              gl::toString(tracer.textureMode()));
   fmt::print("time to first image: {:.3f} s (context, upload, shader build, 1 spp at {}x{})\n", firstImage, width, height);
 
-  // Ray rates: enough passes to fill about a third of the time budget each.
+  // Ray rates: enough passes to fill about a third of the time budget each. The first probe
+  // also builds the program, so the second one sizes the run.
+  tracer.benchmarkRays(camera, width, height, 1);
   gl::RayBenchmark probe = tracer.benchmarkRays(camera, width, height, 1);
   const double perPass = std::max(probe.primarySeconds + probe.bounceSeconds, 1e-4);
   const int passes = std::max(1, static_cast<int>(options.seconds / 3.0 / perPass));
@@ -92,8 +96,8 @@ int runBench(const BenchOptions& options) {
   start = Clock::now();
   const gl::BeautyImage image = tracer.renderBeauty(camera, settings);
   const double seconds = secondsSince(start);
-  fmt::print("samples: {:.2f} full samples/s at {}x{}, {} bounces, physical ({} spp in {:.2f} s, {:.1f} Msamples/s)\n",
-             image.samples / seconds, width, height, options.bounces, image.samples, seconds,
+  fmt::print("samples: {:.2f} full samples/s at {}x{}, {} bounces, {} ({} spp in {:.2f} s, {:.1f} Msamples/s)\n",
+             image.samples / seconds, width, height, options.bounces, options.lighting, image.samples, seconds,
              image.samples * double(width) * height / seconds * 1e-6);
   return context->debugErrorCount() == 0 ? 0 : 1;
 }
@@ -109,6 +113,9 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
   bench->add_option("--bounces", options->bounces, "Bounces of the full samples (physical mode)")->capture_default_str();
   bench->add_option("--seconds", options->seconds, "Time budget of the measurements")->capture_default_str();
   bench->add_option("--gl-textures", options->textures, "Texture path: auto|bindless|arrays")->capture_default_str();
+  bench->add_option("--lighting", options->lighting, "Lighting of the full samples: physical|faithful")
+      ->check(CLI::IsMember({"physical", "faithful"}))
+      ->capture_default_str();
   bench->callback([options, &exitCode] {
     try {
       exitCode = runBench(*options);

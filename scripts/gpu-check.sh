@@ -65,8 +65,11 @@ echo "exit \$?"; grep -E '^\[  (FAILED|PASSED|SKIPPED) ' \$out/gl_tests_arrays.l
 for textures in bindless arrays; do
   echo "== bench, \$textures"
   ./brushtrace bench shared/maps/$map_rel --gl-textures \$textures --seconds 6 \\
-    \$(for d in shared/maps/librequake/texture-wads/*/; do echo --textures \$d; done)
+    \$(for d in shared/maps/librequake/texture-wads/*/; do echo --textures \$d; done) 2>&1 | tee \$out/bench_\$textures.log
 done
+echo "== bench, bindless, faithful lighting"
+./brushtrace bench shared/maps/$map_rel --lighting faithful --seconds 6 \\
+  \$(for d in shared/maps/librequake/texture-wads/*/; do echo --textures \$d; done) 2>&1 | tail -2
 SCRIPT
 chmod +x "$tmp/run-on-device.sh"
 
