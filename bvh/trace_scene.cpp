@@ -176,16 +176,21 @@ TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options)
   ts.faces_.reserve(scene.faces.size());
   for (const Face& f : scene.faces) ts.faces_.push_back(toGpuFace(f));
 
+  // Brushes in scene order first, their slanted sides in one flat list (firstSide/sideCount
+  // index it until the brushes are put in leaf order below).
   std::vector<GpuBrush> candidates;
-  std::vector<std::vector<uint32_t>> slantedOf;
+  std::vector<uint32_t> slantedAll, slanted;
   std::vector<Aabb> boxes;
-  std::vector<uint32_t> slanted;
+  candidates.reserve(scene.brushes.size());
+  boxes.reserve(scene.brushes.size());
   for (uint32_t b = 0; b < scene.brushes.size(); ++b) {
     if (!options.includeBrush.empty() && !options.includeBrush[b]) continue;
     std::optional<GpuBrush> g = makeGpuBrush(scene, b, slanted);
     if (!g) continue;
+    g->firstSide = static_cast<uint32_t>(slantedAll.size());
+    g->sideCount = static_cast<uint32_t>(slanted.size());
+    slantedAll.insert(slantedAll.end(), slanted.begin(), slanted.end());
     candidates.push_back(*g);
-    slantedOf.push_back(slanted);
     boxes.push_back({{g->boundsMin[0], g->boundsMin[1], g->boundsMin[2]}, {g->boundsMax[0], g->boundsMax[1], g->boundsMax[2]}});
     ts.bounds_.grow(dvec3(boxes.back().min));
     ts.bounds_.grow(dvec3(boxes.back().max));
@@ -195,11 +200,12 @@ TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options)
   ts.nodes_ = std::move(bvh.nodes);
   // Brushes and their side lists in leaf order, so a leaf's brushes and planes are adjacent.
   ts.brushes_.reserve(candidates.size());
+  ts.sides_.reserve(slantedAll.size());
   for (uint32_t i : bvh.order) {
     GpuBrush g = candidates[i];
+    const auto first = slantedAll.begin() + g.firstSide;
     g.firstSide = static_cast<uint32_t>(ts.sides_.size());
-    g.sideCount = static_cast<uint32_t>(slantedOf[i].size());
-    ts.sides_.insert(ts.sides_.end(), slantedOf[i].begin(), slantedOf[i].end());
+    ts.sides_.insert(ts.sides_.end(), first, first + g.sideCount);
     ts.brushes_.push_back(g);
   }
   ts.sahCost_ = bt::sahCost(ts.nodes_);

@@ -224,7 +224,9 @@ std::vector<Miptex> readMiptexLump(const Reader& reader, const Lump& lump) {
       reader.fail(lump, fmt::format("texture {} at offset {} lies outside the lump ({} bytes)", i,
                                     offset, lump.bytes.size()));
     auto next = std::upper_bound(starts.begin(), starts.end(), offset);
-    const int64_t end = next == starts.end() ? static_cast<int64_t>(lump.bytes.size()) : *next;
+    // Clamped: a later entry's offset may itself be bad (it is reported when its turn comes).
+    const int64_t lumpSize = static_cast<int64_t>(lump.bytes.size());
+    const int64_t end = next == starts.end() ? lumpSize : std::min(*next, lumpSize);
     FieldReader r(lump.bytes.data() + offset);
     mip.present = true;
     mip.name = r.name(16);
@@ -423,6 +425,15 @@ void readBspx(const Reader& reader, BspFile& bsp, std::span<const Lump> lumps) {
   }
 }
 
+// Building a brush clips each side by every other one; compilers stay far below this (qbsp3's
+// MAX_BUILD_SIDES is 128), and a corrupt count must not turn into hours of clipping.
+void checkBrushSideCount(const Reader& reader, const Lump& lump, size_t record, int32_t sideCount) {
+  constexpr int32_t kMaxBrushSides = 1024;
+  if (sideCount > kMaxBrushSides)
+    reader.fail(lump, fmt::format("record {} has {} sides, more than the {} a brush may have", record, sideCount,
+                                  kMaxBrushSides));
+}
+
 // ---------------------------------------------------------------------------------------------
 // Quake 2: IBSP 38
 
@@ -538,9 +549,11 @@ void readQuake2(const Reader& reader, BspFile& bsp) {
     if (!bsp.nodes.empty()) reader.checkIndex(L[q2::Models], i, "node", m.headNode[0], bsp.nodes.size());
     reader.checkRange(L[q2::Models], i, "faces", m.firstFace, m.faceCount, bsp.faces.size());
   }
-  for (size_t i = 0; i < bsp.brushes.size(); ++i)
+  for (size_t i = 0; i < bsp.brushes.size(); ++i) {
     reader.checkRange(L[q2::Brushes], i, "brushsides", bsp.brushes[i].firstSide, bsp.brushes[i].sideCount,
                       bsp.brushSides.size());
+    checkBrushSideCount(reader, L[q2::Brushes], i, bsp.brushes[i].sideCount);
+  }
   for (size_t i = 0; i < bsp.brushSides.size(); ++i) {
     reader.checkIndex(L[q2::BrushSides], i, "plane", bsp.brushSides[i].plane, bsp.planes.size());
     if (bsp.brushSides[i].texinfo != -1)
@@ -667,6 +680,7 @@ void readQuake3(const Reader& reader, BspFile& bsp) {
   for (size_t i = 0; i < bsp.brushes.size(); ++i) {
     const Brush& b = bsp.brushes[i];
     reader.checkRange(L[q3::Brushes], i, "brushsides", b.firstSide, b.sideCount, bsp.brushSides.size());
+    checkBrushSideCount(reader, L[q3::Brushes], i, b.sideCount);
     reader.checkIndex(L[q3::Brushes], i, "shader", b.shader, bsp.shaders.size());
   }
   for (size_t i = 0; i < bsp.brushSides.size(); ++i) {

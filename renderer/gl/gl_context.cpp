@@ -18,7 +18,6 @@ namespace bt::gl {
 struct GlContext::Egl {
   EGLDisplay display = EGL_NO_DISPLAY;
   EGLContext context = EGL_NO_CONTEXT;
-  std::string platform;
 
   // The display is left initialised: eglGetPlatformDisplay hands every caller the same
   // display for a device, so eglTerminate here would pull it from under any other context on
@@ -94,7 +93,6 @@ std::unique_ptr<GlContext> GlContext::createHeadless() {
   auto tryDisplay = [&](EGLDisplay display, const std::string& platform) -> std::unique_ptr<GlContext> {
     auto egl = std::make_unique<Egl>();
     egl->display = display;
-    egl->platform = platform;
     if (display == EGL_NO_DISPLAY) {
       reasons.push_back(platform + ": no display (" + eglErrorText() + ")");
       return nullptr;
@@ -103,7 +101,7 @@ std::unique_ptr<GlContext> GlContext::createHeadless() {
       reasons.push_back(platform + ": " + *why);
       return nullptr;
     }
-    return std::unique_ptr<GlContext>(new GlContext(std::move(egl)));
+    return std::unique_ptr<GlContext>(new GlContext(std::move(egl), platform));
   };
 
   if (hasExtension(clientExtensions, "EGL_EXT_platform_device") &&
@@ -133,9 +131,14 @@ std::unique_ptr<GlContext> GlContext::createHeadless() {
   throw GlError(text + ")");
 }
 
-GlContext::GlContext(std::unique_ptr<Egl> egl) : egl_(std::move(egl)) {
+GlContext::GlContext(std::unique_ptr<Egl> egl, std::string platform) : egl_(std::move(egl)) {
+  info_.platform = std::move(platform);
   queryInfo();
   if (debugOutputWanted()) enableDebugOutput();
+}
+
+std::unique_ptr<GlContext> GlContext::adoptCurrent(std::string platform) {
+  return std::unique_ptr<GlContext>(new GlContext(nullptr, std::move(platform)));
 }
 
 GlContext::~GlContext() = default;
@@ -151,7 +154,6 @@ void GlContext::queryInfo() {
     const auto* s = reinterpret_cast<const char*>(glGetString(name));
     return std::string(s ? s : "");
   };
-  info_.platform = egl_->platform;
   info_.vendor = str(GL_VENDOR);
   info_.renderer = str(GL_RENDERER);
   info_.version = str(GL_VERSION);

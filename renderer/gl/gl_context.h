@@ -27,6 +27,9 @@ public:
   // Makes a context current on the calling thread. Throws GlError with one line that says why,
   // per platform tried, when none works.
   static std::unique_ptr<GlContext> createHeadless();
+  // Wraps a GL 4.5 core context that something else made current (a GLFW window, see
+  // gl_window.h) and owns; `platform` names it in info().
+  static std::unique_ptr<GlContext> adoptCurrent(std::string platform);
   ~GlContext();
   GlContext(const GlContext&) = delete;
   GlContext& operator=(const GlContext&) = delete;
@@ -40,7 +43,7 @@ public:
 
 private:
   struct Egl;
-  explicit GlContext(std::unique_ptr<Egl> egl);
+  GlContext(std::unique_ptr<Egl> egl, std::string platform);
   void queryInfo();
   void enableDebugOutput();
   static void debugCallback(unsigned source, unsigned type, unsigned id, unsigned severity, int length,

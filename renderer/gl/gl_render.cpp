@@ -2,48 +2,12 @@
 
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_error.h"
+#include "renderer/gl/gl_lighting.h"
 
 #include <chrono>
-#include <cstring>
 #include <limits>
 
 namespace bt::gl {
-
-static_assert(sizeof(GlLight) == sizeof(GpuLight) && sizeof(GlEmitter) == sizeof(GpuEmitter),
-              "the GL tracer uploads renderer/cpu's lights and emitters byte for byte");
-
-namespace {
-
-template <typename To, typename From>
-std::vector<To> sameBytes(const std::vector<From>& from) {
-  static_assert(sizeof(To) == sizeof(From));
-  std::vector<To> to(from.size());
-  if (!from.empty()) std::memcpy(to.data(), from.data(), from.size() * sizeof(From));
-  return to;
-}
-
-} // namespace
-
-GlLighting lightingFrom(const RenderScene& scene) {
-  GlLighting l;
-  l.faceFlags.reserve(scene.faces.size());
-  for (const GpuShadeFace& f : scene.faces) l.faceFlags.push_back(f.flags);
-  l.materialFlags.reserve(scene.materials.size());
-  for (const bt::GpuMaterial& m : scene.materials)
-    l.materialFlags.push_back(((m.flags & kMaterialSpecular) ? kMaterialGgx : 0u) |
-                              ((m.flags & kMaterialEmissive) ? kMaterialHasEmissive : 0u));
-  l.lights = sameBytes<GlLight>(scene.lights);
-  l.surfaceLights = sameBytes<GlLight>(scene.surfaceLights);
-  l.emitters = sameBytes<GlEmitter>(scene.emitters);
-  l.emitterArea = scene.emitterArea;
-  l.minlight = scene.world.minlight;
-  l.range = scene.world.range;
-  l.scaledist = scene.world.scaledist;
-  l.bouncescale = scene.world.bouncescale;
-  l.faithfulBounces = scene.world.bounces;
-  l.litwater = scene.world.litwater;
-  return l;
-}
 
 CameraBasis cameraFrom(const CameraPose& pose, int width, int height) {
   return CameraBasis::fromQuakeAngles(pose.origin, pose.pitch, pose.yaw, pose.roll, width, height);
@@ -59,7 +23,7 @@ std::optional<GlRenderResult> renderWithGl(const RenderScene& scene, const Camer
     whyNot = e.what();
     return std::nullopt;
   }
-  GlTracer tracer(*context, *scene.scene, textures, lightingFrom(scene));
+  GlTracer tracer(*context, *scene.scene, textures, lightingFor(scene));
   const CameraBasis camera = cameraFrom(pose, settings.width, settings.height);
 
   GlRenderResult result;

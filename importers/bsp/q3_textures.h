@@ -1,0 +1,27 @@
+// Quake 3 materials: shader names → images (TGA/JPEG/PNG via OpenImageIO) in the game files.
+#pragma once
+
+#include "importers/bsp/pk3.h"
+#include "scene/diagnostics.h"
+#include "scene/material.h"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace bt::bsp {
+
+// For each shader defined in scripts/*.shader, the image that shows it best: the first stage's
+// `map` (not $lightmap) or else its qer_editorimage. Keys are lowercase shader names.
+std::map<std::string, std::string> parseShaderImages(std::string_view scriptText);
+
+// Loads the base colour of each material named by a Quake 3 shader: the image the shader
+// scripts name for it, else an image file with the shader's own name (.tga, .jpg, .png). The
+// material's size becomes the image's. Materials found nowhere stay missing.
+void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& files, Diagnostics& diagnostics);
+
+// Decodes a TGA/JPEG/PNG file held in memory into 8-bit RGBA; `name` picks the format by its
+// extension. Returns an empty image when the bytes cannot be decoded.
+Image decodeImage(const std::vector<uint8_t>& bytes, const std::string& name);
+
+} // namespace bt::bsp
