@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # GPU proof of the GL tracer (issue 4), repeatable by anyone with the `device` tool:
-#   1. builds build/brushtrace and the GL test binary here;
-#   2. bundles them with their non-system shared libraries (from ldd), the largest shared map
-#      and its WADs into <repo the device tool sends>/.device-bundle/ (git-ignored);
+#   1. builds the GL test binary (gl_tests) and the GL benchmark (bench/gl_bench) here; both
+#      link only GL, epoxy and fmt (the importers' OpenImageIO brings over 300 MB of libraries,
+#      far over what travels), so the benchmark map is imported here and carried as a
+#      `brushtrace dump --json` file (geometry, entities and lights; textures stay behind);
+#   2. bundles them with their non-system shared libraries (from ldd) and the dump into
+#      <repo the device tool sends>/.device-bundle/ (git-ignored);
 #   3. prints the `run` call that executes .device-bundle/run-on-device.sh on the GPU machine:
 #      the GL tests with bindless textures forced and again with texture arrays, then
-#      `brushtrace bench` on the map with each texture path.
+#      gl_bench on the map with each texture path.
 # The GL loader packages (libEGL, libGL, libglvnd, ...) travel in .gl/, fetched once as
 # /work/.library/device/README.md describes; the NVIDIA driver supplies the rest there.
 #
@@ -18,29 +21,23 @@ shared=${BRUSHTRACE_SHARED_DIR:-$repo/../shared}
 bundle=$device_repo/.device-bundle
 map_rel=librequake/lq1/maps/src/e4/lq_e4m3.map # the largest shared map (3.9 MB, Quake standard)
 
-cmake --build "$build" -j2 --target brushtrace gl_tests
+cmake --build "$build" -j2 --target brushtrace gl_tests gl_bench
 
 tmp=$bundle.tmp
 rm -rf "$tmp"
-mkdir -p "$tmp/lib" "$tmp/shared/maps"
-cp "$build/brushtrace" "$build/tests/gl/gl_tests" "$tmp/"
+mkdir -p "$tmp/lib"
+cp "$build/tests/gl/gl_tests" "$build/bench/gl_bench" "$tmp/"
+"$build/brushtrace" dump "$shared/maps/$map_rel" --json >"$tmp/map.json"
 
 # Every library ldd resolves except glibc's and GCC's runtime (the GPU machine's are newer,
 # hence compatible, and the NVIDIA driver loads them too) and the GL/EGL/Vulkan loaders, which
 # must be the ones that find the NVIDIA driver there.
 system_libs='^(linux-vdso|ld-linux|libc|libm|libdl|libpthread|librt|libresolv|libstdc\+\+|libgcc_s|libEGL|libGL|libGLX|libGLdispatch|libOpenGL|libGLES|libvulkan)[.-]'
-for binary in "$tmp/brushtrace" "$tmp/gl_tests"; do
+for binary in "$tmp/gl_bench" "$tmp/gl_tests"; do
   ldd "$binary" | awk '$3 ~ /^\// {print $1, $3}' | while read -r name path; do
     if [[ ! $name =~ $system_libs ]]; then cp -Ln "$path" "$tmp/lib/"; fi
   done
 done
-
-# The benchmark map and the WADs beside it (maps name theirs relative to the map).
-mkdir -p "$tmp/shared/maps/$(dirname "$map_rel")"
-cp "$shared/maps/$map_rel" "$tmp/shared/maps/$map_rel"
-if [[ -d $shared/maps/librequake/texture-wads ]]; then
-  cp -r "$shared/maps/librequake/texture-wads" "$tmp/shared/maps/librequake/"
-fi
 
 cat >"$tmp/run-on-device.sh" <<SCRIPT
 #!/usr/bin/env bash
@@ -50,7 +47,6 @@ for f in .gl/*.deb; do dpkg -x "\$f" /; done
 ldconfig
 export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
 export LD_LIBRARY_PATH=\$PWD/.device-bundle/lib
-export BRUSHTRACE_SHARED_DIR=\$PWD/.device-bundle/shared
 out=\${OUT:-/tmp/out}
 mkdir -p "\$out"
 nvidia-smi -L
@@ -63,10 +59,11 @@ echo "== GL tests, texture arrays forced"
 BT_GL_TEXTURES=arrays ./gl_tests >\$out/gl_tests_arrays.log 2>&1
 echo "exit \$?"; grep -E '^\[  (FAILED|PASSED|SKIPPED) ' \$out/gl_tests_arrays.log | head -20
 for textures in bindless arrays; do
-  echo "== bench, \$textures"
-  ./brushtrace bench shared/maps/$map_rel --gl-textures \$textures --seconds 6 \\
-    \$(for d in shared/maps/librequake/texture-wads/*/; do echo --textures \$d; done)
+  echo "== gl_bench $map_rel, \$textures, physical"
+  ./gl_bench map.json 1280x720 \$textures physical 6 2>&1 | tee \$out/bench_\$textures.log
 done
+echo "== gl_bench $map_rel, bindless, faithful"
+./gl_bench map.json 1280x720 bindless faithful 6 2>&1 | tail -2
 SCRIPT
 chmod +x "$tmp/run-on-device.sh"
 

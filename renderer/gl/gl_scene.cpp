@@ -6,6 +6,7 @@
 #include <epoxy/gl.h>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 namespace bt::gl {
@@ -13,6 +14,21 @@ namespace bt::gl {
 namespace {
 
 glm::vec3 toFloat(const dvec3& v) { return glm::vec3(v); }
+
+// Bounds in float, rounded outward so that they still contain what the double bounds held:
+// a box rounded inward would cull rays that hit the brush's faces exactly at its edges.
+glm::vec3 roundDown(const dvec3& v) {
+  glm::vec3 f(v);
+  for (int i = 0; i < 3; ++i)
+    if (double(f[i]) > v[i]) f[i] = std::nextafter(f[i], -INFINITY);
+  return f;
+}
+glm::vec3 roundUp(const dvec3& v) {
+  glm::vec3 f(v);
+  for (int i = 0; i < 3; ++i)
+    if (double(f[i]) < v[i]) f[i] = std::nextafter(f[i], INFINITY);
+  return f;
+}
 
 struct Builder {
   const Scene& scene;
@@ -28,8 +44,8 @@ struct Builder {
 
   void build(uint32_t nodeIndex, uint32_t first, uint32_t count) {
     const Bounds bounds = boundsOf(first, count);
-    out.nodes[nodeIndex].boundsMin = toFloat(bounds.min);
-    out.nodes[nodeIndex].boundsMax = toFloat(bounds.max);
+    out.nodes[nodeIndex].boundsMin = roundDown(bounds.min);
+    out.nodes[nodeIndex].boundsMax = roundUp(bounds.max);
     if (count <= static_cast<uint32_t>(leafSize)) {
       out.nodes[nodeIndex].leftOrFirst = first;
       out.nodes[nodeIndex].count = count;
@@ -89,7 +105,7 @@ GpuSceneArrays buildGpuSceneArrays(const Scene& scene, const std::vector<uint32_
   out.brushes.reserve(builder.order.size());
   for (uint32_t index : builder.order) {
     const Brush& b = scene.brushes[index];
-    out.brushes.push_back({toFloat(b.bounds.min), b.firstFace, toFloat(b.bounds.max), b.faceCount});
+    out.brushes.push_back({roundDown(b.bounds.min), b.firstFace, roundUp(b.bounds.max), b.faceCount});
   }
   return out;
 }

@@ -1,0 +1,22 @@
+// The GL tracer's benchmark (`brushtrace bench`, and bench/gl_bench for machines that cannot
+// carry the importers' image libraries): ray rates, full samples per second, time to first image.
+#pragma once
+
+#include "renderer/gl/gl_textures.h"
+#include "scene/scene.h"
+
+namespace bt::gl {
+
+struct GlBenchSettings {
+  int width = 1280;
+  int height = 720;
+  int bounces = 4;
+  double seconds = 5.0; // time budget of the measurements
+  TextureMode textures = TextureMode::Auto;
+  bool physical = true; // lighting of the full samples
+};
+
+// Prints the measurements to stdout; returns the exit status (1 if GL reported errors).
+int runGlBench(const Scene& scene, const GlBenchSettings& settings);
+
+} // namespace bt::gl

@@ -1,0 +1,33 @@
+// The GL backend of `brushtrace render`: the same inputs and output as renderCpu
+// (renderer/cpu/cpu_renderer.h), rendered by the GL compute tracer.
+#pragma once
+
+#include "renderer/cpu/cpu_renderer.h"
+#include "renderer/cpu/render_scene.h"
+#include "renderer/gl/gl_textures.h"
+#include "renderer/gl/gl_tracer.h"
+
+#include <functional>
+#include <optional>
+#include <string>
+
+namespace bt::gl {
+
+// The pinhole camera of renderer/cpu's Camera for a pose and image size.
+CameraBasis cameraFrom(const CameraPose& pose, int width, int height);
+
+struct GlRenderResult {
+  RenderImage image;
+  std::string device;   // GL_RENDERER
+  TextureMode textures; // the path used
+};
+
+// Renders like renderCpu: AOVs from one ray through each pixel centre, beauty as the mean of
+// settings.spp samples (or as many as settings.timeLimit allows). Returns std::nullopt with
+// `whyNot` set to one line when no GL 4.5 context can be made, so the caller can fall back to
+// the CPU; other GL failures throw GlError.
+std::optional<GlRenderResult> renderWithGl(const RenderScene& scene, const CameraPose& pose, const RenderSettings& settings,
+                                           TextureMode textures, const std::function<void(const RenderProgress&)>& progress,
+                                           std::string& whyNot);
+
+} // namespace bt::gl
