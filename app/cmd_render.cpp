@@ -4,13 +4,12 @@
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/cpu/render_scene.h"
 #include "renderer/gl/gl_context.h"
-#include "renderer/gl/gl_lighting.h"
+#include "renderer/gl/gl_render.h"
 #include "renderer/gl/gl_tracer.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -52,45 +51,6 @@ bool isSoftwareRenderer(std::string_view renderer) {
   for (std::string_view name : {"llvmpipe", "softpipe", "swrast", "lavapipe"})
     if (renderer.find(name) != std::string_view::npos) return true;
   return false;
-}
-
-RenderImage renderGl(gl::GlContext& context, gl::TextureMode textures, const Scene& scene, const RenderScene& rs, const CameraPose& pose,
-                     const RenderSettings& settings, const std::function<void(const RenderProgress&)>& progress) {
-  gl::GlTracer tracer(context, scene, textures, gl::lightingFor(rs));
-  const gl::CameraBasis camera =
-      gl::CameraBasis::fromQuakeAngles(pose.origin, pose.pitch, pose.yaw, pose.roll, settings.width, settings.height);
-  const gl::AovImages aovs = tracer.renderAovs(camera, settings.width, settings.height);
-  gl::BeautySettings beauty;
-  beauty.width = settings.width;
-  beauty.height = settings.height;
-  beauty.spp = settings.spp > 0 ? settings.spp : 1 << 20;
-  beauty.seed = settings.seed;
-  beauty.physical = settings.integrator.mode == LightingMode::Physical;
-  beauty.bounces = settings.integrator.bounces;
-  const auto start = std::chrono::steady_clock::now();
-  const gl::BeautyImage frame = tracer.renderBeauty(camera, beauty, [&](int done) {
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (progress) {
-      RenderProgress p;
-      p.samplesDone = done;
-      p.samplesTotal = settings.spp;
-      p.elapsed = elapsed;
-      p.estimatedRemaining = elapsed / done * (beauty.spp - done);
-      if (settings.timeLimit > 0.0) p.estimatedRemaining = std::min(p.estimatedRemaining, std::max(0.0, settings.timeLimit - elapsed));
-      progress(p);
-    }
-    return settings.timeLimit <= 0.0 || elapsed < settings.timeLimit;
-  });
-  RenderImage image;
-  image.width = frame.width;
-  image.height = frame.height;
-  image.samples = frame.samples;
-  image.beauty = frame.beauty;
-  for (const glm::vec4& a : aovs.albedo) image.albedo.emplace_back(a);
-  image.normal = aovs.normal;
-  image.depth = aovs.depth;
-  image.face = aovs.face;
-  return image;
 }
 
 int runRender(const RenderOptions& o) {
@@ -189,7 +149,7 @@ int runRender(const RenderOptions& o) {
     }
   };
 
-  const RenderImage image = glContext ? renderGl(*glContext, *glTextures, scene, renderScene, pose, settings, progress)
+  const RenderImage image = glContext ? gl::renderWithGl(*glContext, renderScene, pose, settings, *glTextures, progress).image
                                       : renderCpu(renderScene, Camera(pose, width, height), settings, progress);
   if (tty && !o.quiet && image.samples != settings.spp) fmt::print("\n");
   writeImage(o.output, image, output);

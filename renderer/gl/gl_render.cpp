@@ -23,11 +23,16 @@ std::optional<GlRenderResult> renderWithGl(const RenderScene& scene, const Camer
     whyNot = e.what();
     return std::nullopt;
   }
-  GlTracer tracer(*context, *scene.scene, textures, lightingFor(scene));
+  return renderWithGl(*context, scene, pose, settings, textures, progress);
+}
+
+GlRenderResult renderWithGl(GlContext& context, const RenderScene& scene, const CameraPose& pose, const RenderSettings& settings,
+                            TextureMode textures, const std::function<void(const RenderProgress&)>& progress) {
+  GlTracer tracer(context, *scene.scene, textures, lightingFor(scene));
   const CameraBasis camera = cameraFrom(pose, settings.width, settings.height);
 
   GlRenderResult result;
-  result.device = context->info().renderer;
+  result.device = context.info().renderer;
   result.textures = tracer.textureMode();
   RenderImage& image = result.image;
   image.width = settings.width;

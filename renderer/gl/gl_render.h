@@ -4,6 +4,7 @@
 
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/cpu/render_scene.h"
+#include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_textures.h"
 #include "renderer/gl/gl_tracer.h"
 
@@ -29,5 +30,9 @@ struct GlRenderResult {
 std::optional<GlRenderResult> renderWithGl(const RenderScene& scene, const CameraPose& pose, const RenderSettings& settings,
                                            TextureMode textures, const std::function<void(const RenderProgress&)>& progress,
                                            std::string& whyNot);
+
+// The same on a context the caller made (`render` makes one first to choose its backend).
+GlRenderResult renderWithGl(GlContext& context, const RenderScene& scene, const CameraPose& pose, const RenderSettings& settings,
+                            TextureMode textures, const std::function<void(const RenderProgress&)>& progress);
 
 } // namespace bt::gl
