@@ -11,5 +11,14 @@ namespace bt::app {
 // --dialect, --wad, --textures, --palette, --no-textures: every command that imports a level.
 void addImportOptions(CLI::App& command, ImportOptions& options);
 
+// info MAP [--json], dump MAP --json, convert IN -o OUT [--dialect D] [--in-place]
+void addInfoCommand(CLI::App& app, int& exitCode);
+void addDumpCommand(CLI::App& app, int& exitCode);
+void addConvertCommand(CLI::App& app, int& exitCode);
+// brushtrace render: path-trace a level (app/cmd_render.cpp).
+void addRenderCommand(CLI::App& app, int& exitCode);
+// brushtrace bench [MAP] (cmd_bench.cpp): GL tracer throughput.
+void addBenchCommand(CLI::App& app, int& exitCode);
+
 
 } // namespace bt::app

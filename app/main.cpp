@@ -12,6 +12,10 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "brushtrace 0.1.0");
 
   int exitCode = 0;
+  bt::app::addInfoCommand(app, exitCode);
+  bt::app::addDumpCommand(app, exitCode);
+  bt::app::addRenderCommand(app, exitCode);
+  bt::app::addBenchCommand(app, exitCode);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,179 @@
+// `brushtrace render`: import a level and path-trace it to a PNG or EXR.
+#include "app/commands.h"
+
+#include "renderer/cpu/cpu_renderer.h"
+#include "renderer/cpu/render_scene.h"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <regex>
+#include <unistd.h>
+
+namespace bt::app {
+
+namespace {
+
+struct RenderOptions {
+  std::string map;
+  std::string output;
+  int spp = 64;
+  double timeLimit = 0.0;
+  std::string size = "960x540";
+  std::string camera;
+  std::string backend = "auto";
+  std::string aov = "beauty";
+  float exposure = 0.0f;
+  std::string tonemap; // empty: faithful for --lighting faithful, aces for physical
+  std::string lighting = "faithful";
+  int bounces = 3;
+  int threads = 0;
+  uint32_t seed = 0;
+  bool quiet = false;
+  bool showHidden = false;
+  ImportOptions import;
+};
+
+// The default map: maps/start.map in the current directory, then beside the executable's
+// build folder (build/brushtrace -> ../maps), then in the source tree it was built from.
+std::string findDefaultMap(const char* argv0) {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> candidates{fs::current_path() / "maps" / "start.map"};
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) candidates.push_back(exe.parent_path().parent_path() / "maps" / "start.map");
+  (void)argv0;
+  candidates.push_back(fs::path(BRUSHTRACE_SOURCE_DIR) / "maps" / "start.map");
+  for (const fs::path& p : candidates)
+    if (fs::is_regular_file(p, ec)) return p.string();
+  throw std::runtime_error("no MAP given and maps/start.map not found (looked in the current directory, beside the "
+                           "executable and in " BRUSHTRACE_SOURCE_DIR ")");
+}
+
+std::string formatDuration(double seconds) {
+  const long s = std::max(0L, long(seconds + 0.5));
+  return fmt::format("{:02}:{:02}:{:02}", s / 3600, (s / 60) % 60, s % 60);
+}
+
+int runRender(const RenderOptions& o) {
+  int width = 0, height = 0;
+  {
+    static const std::regex size(R"((\d{1,5})x(\d{1,5}))");
+    std::smatch m;
+    if (!std::regex_match(o.size, m, size) || (width = std::stoi(m[1])) <= 0 || (height = std::stoi(m[2])) <= 0)
+      throw std::runtime_error(fmt::format("--size: expected WIDTHxHEIGHT, got \"{}\"", o.size));
+  }
+  if (o.spp <= 0 && o.timeLimit <= 0.0) throw std::runtime_error("--spp must be positive (or give --time)");
+
+  if (o.backend == "gl") {
+    // The GL compute tracer is a separate part (renderer/gl); until it is linked in, say so and
+    // render with the CPU reference instead, as the fallback rule asks.
+    fmt::print(stderr, "brushtrace: GL backend unavailable: this build has no GL compute tracer linked in; "
+                       "rendering on the CPU instead\n");
+  }
+
+  const std::string mapPath = o.map.empty() ? findDefaultMap(nullptr) : o.map;
+  const Scene scene = importScene(mapPath, o.import);
+  for (const Diagnostic& d : scene.diagnostics)
+    if (!o.quiet && d.severity != Severity::Note) fmt::print(stderr, "{}\n", format(d));
+
+  RenderSceneOptions sceneOptions;
+  sceneOptions.showHidden = o.showHidden;
+  Diagnostics lightDiagnostics;
+  const RenderScene renderScene = buildRenderScene(scene, sceneOptions, lightDiagnostics);
+  for (const Diagnostic& d : lightDiagnostics)
+    if (!o.quiet) fmt::print(stderr, "{}\n", format(d));
+
+  CameraPose pose = defaultCameraPose(scene);
+  if (!o.camera.empty()) {
+    auto parsed = parseCameraPose(o.camera);
+    if (!parsed) throw std::runtime_error(fmt::format("--camera: expected \"(x y z) pitch yaw roll\", got \"{}\"", o.camera));
+    pose = *parsed;
+  }
+  if (!o.quiet) fmt::print("camera {} ({})\n", formatCameraPose(pose), pose.source);
+
+  RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.spp = o.spp;
+  settings.timeLimit = o.timeLimit;
+  settings.threads = o.threads;
+  settings.seed = o.seed;
+  settings.integrator.mode = o.lighting == "physical" ? LightingMode::Physical : LightingMode::Faithful;
+  settings.integrator.bounces = o.bounces;
+
+  OutputSettings output;
+  output.exposureEv = o.exposure;
+  const std::string tonemap = o.tonemap.empty() ? (o.lighting == "physical" ? "aces" : "faithful") : o.tonemap;
+  output.tonemap = tonemap == "aces" ? Tonemap::Aces : tonemap == "agx" ? Tonemap::Agx
+                 : tonemap == "linear" ? Tonemap::Linear : Tonemap::Faithful;
+  output.aov = o.aov == "albedo" ? Aov::Albedo : o.aov == "normal" ? Aov::Normal : o.aov == "depth" ? Aov::Depth
+             : o.aov == "face" ? Aov::Face : Aov::Beauty;
+  // AOVs other than beauty need no samples beyond the one through each pixel centre.
+  if (output.aov != Aov::Beauty) settings.spp = 1, settings.timeLimit = 0.0;
+
+  const bool tty = isatty(fileno(stdout));
+  double lastPrinted = -1.0;
+  auto progress = [&](const RenderProgress& p) {
+    if (o.quiet) return;
+    const double fraction = p.samplesTotal > 0 ? double(p.samplesDone) / p.samplesTotal
+                                               : std::min(1.0, p.elapsed / std::max(o.timeLimit, 1e-9));
+    const std::string total = p.samplesTotal > 0 ? std::to_string(p.samplesTotal) : "?";
+    const std::string line = fmt::format("[{:3.0f}%] spp {}/{} est {}", fraction * 100.0, p.samplesDone, total,
+                                         formatDuration(p.estimatedRemaining));
+    const bool last = p.samplesTotal > 0 && p.samplesDone == p.samplesTotal;
+    if (tty) {
+      fmt::print("\r{}{}", line, last ? "\n" : "");
+      std::fflush(stdout);
+    } else if (last || p.elapsed - lastPrinted >= 5.0) { // plain lines, not one per pass
+      fmt::print("{}\n", line);
+      lastPrinted = p.elapsed;
+    }
+  };
+
+  const Camera camera(pose, width, height);
+  const RenderImage image = renderCpu(renderScene, camera, settings, progress);
+  if (tty && !o.quiet && image.samples != settings.spp) fmt::print("\n");
+  writeImage(o.output, image, output);
+  if (!o.quiet) fmt::print("wrote {} ({}x{}, {} spp, {} lighting, cpu)\n", o.output, width, height, image.samples, o.lighting);
+  return 0;
+}
+
+} // namespace
+
+void addRenderCommand(CLI::App& app, int& exitCode) {
+  auto options = std::make_shared<RenderOptions>();
+  CLI::App* cmd = app.add_subcommand("render", "Path-trace a level's lighting to an image (PNG or EXR)");
+  cmd->add_option("map", options->map, "Level to render (.map or .bsp); default maps/start.map")->type_name("MAP");
+  cmd->add_option("-o,--output", options->output, "Output image, .png (tonemapped sRGB) or .exr (linear + AOV layers)")
+      ->required()
+      ->type_name("OUT");
+  cmd->add_option("--spp", options->spp, "Samples per pixel")->capture_default_str();
+  cmd->add_option("--time", options->timeLimit, "Stop after this many seconds (with --spp: whichever comes first)")
+      ->type_name("S");
+  cmd->add_option("--size", options->size, "Image size WIDTHxHEIGHT")->capture_default_str();
+  cmd->add_option("--camera", options->camera, "Camera \"(x y z) pitch yaw roll\"; default from the level's entities");
+  cmd->add_option("--backend", options->backend, "auto|gl|cpu")
+      ->check(CLI::IsMember({"auto", "gl", "cpu"}))
+      ->capture_default_str();
+  cmd->add_option("--aov", options->aov, "beauty|albedo|normal|depth|face")
+      ->check(CLI::IsMember({"beauty", "albedo", "normal", "depth", "face"}))
+      ->capture_default_str();
+  cmd->add_option("--exposure", options->exposure, "Exposure in EV (stops)")->capture_default_str();
+  cmd->add_option("--tonemap", options->tonemap, "faithful|aces|agx|linear (default faithful, aces for physical lighting)")
+      ->check(CLI::IsMember({"faithful", "aces", "agx", "linear"}));
+  cmd->add_option("--lighting", options->lighting, "faithful (ericw-tools light formulas) | physical (radiometric path tracing)")
+      ->check(CLI::IsMember({"faithful", "physical"}))
+      ->capture_default_str();
+  cmd->add_option("--bounces", options->bounces, "Physical lighting: indirect bounces")->check(CLI::Range(0, 64))->capture_default_str();
+  cmd->add_option("--threads", options->threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber)->capture_default_str();
+  cmd->add_option("--seed", options->seed, "Random seed: same seed and spp give the same image")->capture_default_str();
+  cmd->add_flag("--quiet", options->quiet, "No progress or camera lines");
+  cmd->add_flag("--show-hidden", options->showHidden, "Draw clip/trigger/skip/hint/origin faces");
+  addImportOptions(*cmd, options->import);
+  cmd->callback([options, &exitCode] { exitCode = runRender(*options); });
+}
+
+} // namespace bt::app

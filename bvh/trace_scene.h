@@ -1,0 +1,121 @@
+// TraceScene: the brushes of a Scene in a binned-SAH BVH, and the ray queries on it.
+//
+// The CPU reference tracer calls closestHit()/occluded(); the GL tracer uploads nodes(),
+// brushes(), sides() and faces() (scene/gpu_structs.h) as shader storage buffers and runs the
+// same traversal and brush test in GLSL. The rules below are the contract both follow, so that
+// both return the same hit for the same ray.
+//
+// Ray vs brush (Haines, "Fast Ray-Convex Polyhedron Intersection", Graphics Gems II):
+//   the ray's parameter interval is clipped by every plane of the brush: a plane the ray
+//   crosses from front to back (dot(n, d) < 0) raises the entry t, one it crosses from back to
+//   front lowers the exit t, and a plane parallel to the ray with the origin in front of it
+//   rejects the brush. A ray lying exactly in a plane counts as behind it (inside). The six
+//   axial planes come from the bounding-box slab test (see GpuBrush); the box slabs also clip
+//   the interval on sides without an axial face, where they are merely redundant.
+//   - hit from outside: the entry t lies in (tMin, tMax); face = the plane that set the entry
+//     (a box side's axial face if that side has one and its t is not below the slanted planes',
+//     else the slanted plane with the largest entry t); inside = false.
+//   - ray starting inside (entry t <= tMin): the hit is where it leaves, the exit t, if that
+//     lies in (tMin, tMax); face = the plane that set the exit (same rule); inside = true.
+//     A segment that lies wholly inside one brush hits nothing in that brush.
+//   - entry t > exit t: miss. Entry == exit (grazing an edge) is a hit.
+// Closest hit over brushes: smallest t; equal t broken by the smaller face index, so that the
+// answer does not depend on traversal order (two brushes sharing a face, a ray along the shared
+// plane: both top faces are hit at the same t, and the lower face index wins on CPU and GPU).
+//
+// Epsilons: the test itself has none; everything is exact IEEE float with the rules above, so
+// the BVH and a brute-force loop agree bit for bit. Self-intersection is avoided by the caller:
+// start secondary rays at offsetRayOrigin(hit point, geometric normal) with tMin = 0. The
+// offset covers the float error of p = origin + t * direction at Quake map coordinates.
+#pragma once
+
+#include "scene/gpu_structs.h"
+#include "scene/scene.h"
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace bt {
+
+struct Ray {
+  glm::vec3 origin{0.0f};
+  float tMin = 0.0f;
+  glm::vec3 direction{0.0f, 0.0f, 1.0f}; // need not be unit length; t is in its units
+  float tMax = std::numeric_limits<float>::infinity();
+};
+
+struct Hit {
+  float t = 0.0f;
+  uint32_t face = kNoFace;  // index into Scene::faces AND TraceScene::faces()
+  uint32_t brush = kNoFace; // index into Scene::brushes
+  bool inside = false;      // the ray started inside the brush; face is where it leaves
+};
+
+struct BvhBuildOptions {
+  int leafSize = 4;   // a node with more brushes than this is always split; smaller ones
+                      // are split only where the SAH says it pays
+  int binCount = 16;  // SAH bins per axis
+  int threads = 0;    // 0 = all cores
+  bool optimize = false; // reserved for a reinsertion pass; see bvh.cpp for why it is off
+  std::vector<bool> includeBrush; // per Scene brush; empty = all. Excluded brushes are never hit.
+};
+
+// SAH cost model: cost = sum over interior nodes of area(node) / area(root) * kSahTraversalCost
+//                      + sum over leaves of area(leaf) / area(root) * count * kSahBrushCost.
+inline constexpr double kSahTraversalCost = 1.0;
+inline constexpr double kSahBrushCost = 1.0;
+
+class TraceScene {
+public:
+  static TraceScene build(const Scene& scene, const BvhBuildOptions& options = {});
+
+  // The closest hit with t in (ray.tMin, ray.tMax), by the rules above.
+  std::optional<Hit> closestHit(const Ray& ray) const;
+  // Whether closestHit(ray) would find anything, without looking for the closest.
+  bool occluded(const Ray& ray) const;
+
+  // The hit of one brush (index into brushes()), by the rules above; what the BVH calls per leaf.
+  std::optional<Hit> intersectBrush(const Ray& ray, uint32_t brushIndex) const;
+
+  std::span<const GpuBvhNode> nodes() const { return nodes_; }
+  std::span<const GpuBrush> brushes() const { return brushes_; }
+  std::span<const uint32_t> sides() const { return sides_; } // see GpuBrush
+  std::span<const GpuFace> faces() const { return faces_; }
+
+  double sahCost() const { return sahCost_; } // of nodes(), by the cost model above
+  Bounds bounds() const { return bounds_; }   // of the traceable brushes
+
+private:
+  std::vector<GpuBvhNode> nodes_;
+  std::vector<GpuBrush> brushes_;
+  std::vector<uint32_t> sides_;
+  std::vector<GpuFace> faces_;
+  double sahCost_ = 0.0;
+  Bounds bounds_;
+};
+
+// The SAH cost of a flattened BVH (nodes as in GpuBvhNode), by the cost model above.
+double sahCost(std::span<const GpuBvhNode> nodes);
+
+// Where a ray leaving a surface should start: p pushed along the geometric normal n (unit,
+// on the side the ray leaves to) by a distance that covers the rounding error of a hit point
+// at p's magnitude: 1/1024 unit plus 2^-18 of the largest coordinate (about 32 float ulps).
+glm::vec3 offsetRayOrigin(const glm::vec3& p, const glm::vec3& n);
+
+// Texture coordinates in texels at a point on a face: (s, t) from the face's frame.
+glm::vec2 textureCoordinates(const GpuFace& face, const glm::vec3& p);
+
+// Bilinear filtering with repeat wrap and texel centres at +0.5, as a GL sampler with
+// GL_LINEAR + GL_REPEAT and no mipmaps computes it; (u, v) in texture space (s / width,
+// t / height), v = 0 at the image's first row (rows uploaded in stored order, no flip).
+// Returns the texel values / 255 (no sRGB decode). An empty image gives (0, 0, 0, 0).
+glm::vec4 sampleBilinearRepeat(const Image& image, float u, float v);
+
+} // namespace bt

@@ -1,0 +1,190 @@
+#include "importers/map/map_geometry.h"
+
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <numbers>
+
+namespace bt::map {
+
+std::optional<Plane> planeFromPoints(const std::array<dvec3, 3>& points) {
+  const dvec3 n = glm::cross(points[0] - points[1], points[2] - points[1]);
+  const double length = glm::length(n);
+  // qbsp rejects a plane whose normal cannot be normalised; the same threshold in area terms
+  // keeps tiny but valid faces (1/8-unit detail) and drops collinear points.
+  if (!(length > 1e-9) || !std::isfinite(length)) return std::nullopt;
+  Plane plane;
+  plane.normal = n / length;
+  plane.dist = glm::dot(points[1], plane.normal);
+  return plane;
+}
+
+ParaxialAxes paraxialAxes(const dvec3& normal) {
+  // QuakeEd's table: {normal, s axis, t axis} for floor, ceiling, west, east, south, north.
+  static constexpr double kBase[6][3][3] = {
+      {{0, 0, 1}, {1, 0, 0}, {0, -1, 0}},  {{0, 0, -1}, {1, 0, 0}, {0, -1, 0}},
+      {{1, 0, 0}, {0, 1, 0}, {0, 0, -1}},  {{-1, 0, 0}, {0, 1, 0}, {0, 0, -1}},
+      {{0, 1, 0}, {1, 0, 0}, {0, 0, -1}},  {{0, -1, 0}, {1, 0, 0}, {0, 0, -1}},
+  };
+  auto vec = [](const double (&v)[3]) { return dvec3{v[0], v[1], v[2]}; };
+  double best = 0.0;
+  int bestAxis = 0;
+  for (int i = 0; i < 6; ++i) {
+    const double d = glm::dot(normal, vec(kBase[i][0]));
+    if (d > best) { // strict: ties keep the earlier axis (qbsp's default "oldaxis" behaviour)
+      best = d;
+      bestAxis = i;
+    }
+  }
+  return {vec(kBase[bestAxis][1]), vec(kBase[bestAxis][2]), vec(kBase[bestAxis][0])};
+}
+
+TexVecs standardVecs(const Plane& plane, const std::array<double, 2>& offset, double rotation, const std::array<double, 2>& scale) {
+  const ParaxialAxes base = paraxialAxes(plane.normal);
+  std::array<dvec3, 2> v{base.s, base.t};
+
+  // QuakeEd rotates within the plane of the two axes that the table's s and t vectors use.
+  const double angle = rotation / 180.0 * std::numbers::pi;
+  const double sinv = std::sin(angle);
+  const double cosv = std::cos(angle);
+  const int sv = v[0].x != 0.0 ? 0 : v[0].y != 0.0 ? 1 : 2;
+  const int tv = v[1].x != 0.0 ? 0 : v[1].y != 0.0 ? 1 : 2;
+  for (dvec3& a : v) {
+    const double ns = cosv * a[sv] - sinv * a[tv];
+    const double nt = sinv * a[sv] + cosv * a[tv];
+    a[sv] = ns;
+    a[tv] = nt;
+  }
+  TexVecs out;
+  for (int i = 0; i < 2; ++i) {
+    const double s = scale[i] != 0.0 ? scale[i] : 1.0; // a zero scale means "unscaled" to qbsp
+    out.axis[i] = v[i] / s;
+    out.offset[i] = offset[i];
+  }
+  return out;
+}
+
+namespace {
+
+TexVecs valveVecs(const TextureParams& tex) {
+  TexVecs out;
+  for (int i = 0; i < 2; ++i) {
+    out.axis[i] = tex.axis[i] / tex.scale[i];
+    out.offset[i] = tex.offset[i];
+  }
+  return out;
+}
+
+// q3map2's ComputeAxisBase: the texture-space axes that brush primitive matrices act on.
+std::array<dvec3, 2> brushPrimitiveAxisBase(dvec3 normal) {
+  for (int i = 0; i < 3; ++i)
+    if (std::fabs(normal[i]) < 1e-6) normal[i] = 0.0;
+  const double rotY = -std::atan2(normal.z, std::sqrt(normal.y * normal.y + normal.x * normal.x));
+  const double rotZ = std::atan2(normal.y, normal.x);
+  return {dvec3{-std::sin(rotZ), std::cos(rotZ), 0.0},
+          dvec3{-std::sin(rotY) * std::cos(rotZ), -std::sin(rotY) * std::sin(rotZ), -std::cos(rotY)}};
+}
+
+TexVecs brushPrimitiveVecs(const TextureParams& tex, const Plane& plane, int width, int height) {
+  const auto [texX, texY] = brushPrimitiveAxisBase(plane.normal);
+  const std::array<double, 2> size{static_cast<double>(width), static_cast<double>(height)};
+  TexVecs out;
+  for (int i = 0; i < 2; ++i) {
+    out.axis[i] = size[i] * (texX * tex.matrix[i][0] + texY * tex.matrix[i][1]);
+    out.offset[i] = size[i] * tex.matrix[i][2];
+  }
+  return out;
+}
+
+} // namespace
+
+bool isValidProjection(const TexVecs& vecs, const dvec3& normal) {
+  // qbsp's test: the texture plane's normal must not lie in the face plane.
+  const dvec3 c = glm::cross(vecs.axis[0], vecs.axis[1]);
+  const double len = glm::length(c);
+  if (!std::isfinite(len) || len == 0.0 || !std::isfinite(vecs.offset[0]) || !std::isfinite(vecs.offset[1])) return false;
+  const double cosAngle = glm::dot(c / len, normal);
+  return std::isfinite(cosAngle) && std::fabs(cosAngle) >= 0.0001;
+}
+
+TexVecs textureVecs(const TextureParams& tex, const Plane& plane, int textureWidth, int textureHeight) {
+  TexVecs v;
+  switch (tex.kind) {
+  case TextureKind::Standard: v = standardVecs(plane, tex.offset, tex.rotation, tex.scale); break;
+  case TextureKind::Valve220: v = valveVecs(tex); break;
+  case TextureKind::BrushPrimitive: v = brushPrimitiveVecs(tex, plane, textureWidth, textureHeight); break;
+  }
+  // qbsp repairs an unusable projection with default Standard texturing rather than failing.
+  if (!isValidProjection(v, plane.normal)) v = standardVecs(plane, {0.0, 0.0}, 0.0, {1.0, 1.0});
+  return v;
+}
+
+TextureFrame frameFromVecs(const TexVecs& vecs, const Plane& plane) {
+  // Solve [tangent; bitangent; normal] * origin = (-offset0, -offset1, dist) by Cramer's rule.
+  const dvec3& r0 = vecs.axis[0];
+  const dvec3& r1 = vecs.axis[1];
+  const dvec3& r2 = plane.normal;
+  const dvec3 c12 = glm::cross(r1, r2);
+  const double det = glm::dot(r0, c12);
+  TextureFrame frame;
+  frame.tangent = r0;
+  frame.bitangent = r1;
+  frame.origin = (-vecs.offset[0] * c12 - vecs.offset[1] * glm::cross(r2, r0) + plane.dist * glm::cross(r0, r1)) / det;
+  return frame;
+}
+
+Winding baseWinding(const Plane& plane) {
+  // Build two in-plane axes u, v with cross(u, v) == normal so the square runs counter-clockwise
+  // seen from the front. The up hint avoids the axis closest to the normal, as qbsp does.
+  const dvec3& n = plane.normal;
+  const dvec3 ax = glm::abs(n);
+  const dvec3 hint = (ax.z >= ax.x && ax.z >= ax.y) ? dvec3{1, 0, 0} : dvec3{0, 0, 1};
+  dvec3 v = glm::normalize(hint - n * glm::dot(hint, n));
+  dvec3 u = glm::cross(v, n);
+  const dvec3 origin = n * plane.dist;
+  u *= kWorldExtent;
+  v *= kWorldExtent;
+  return {origin - u - v, origin + u - v, origin + u + v, origin - u + v};
+}
+
+Winding clipBehind(const Winding& w, const Plane& plane, double epsilon) {
+  enum Side { Front, Back, On };
+  const size_t n = w.size();
+  std::vector<double> dists(n);
+  std::vector<Side> sides(n);
+  size_t front = 0, back = 0;
+  for (size_t i = 0; i < n; ++i) {
+    dists[i] = plane.distanceTo(w[i]);
+    sides[i] = dists[i] > epsilon ? Front : dists[i] < -epsilon ? Back : On;
+    front += sides[i] == Front;
+    back += sides[i] == Back;
+  }
+  if (front == 0) return w;
+  if (back == 0) return {};
+
+  Winding out;
+  out.reserve(n + 4);
+  for (size_t i = 0; i < n; ++i) {
+    const dvec3& p = w[i];
+    if (sides[i] == On) {
+      out.push_back(p);
+      continue;
+    }
+    if (sides[i] == Back) out.push_back(p);
+    const size_t j = (i + 1) % n;
+    if (sides[j] == On || sides[j] == sides[i]) continue;
+    // The edge crosses the plane: add the crossing point, exact on axial planes as in qbsp.
+    const dvec3& q = w[j];
+    const double t = dists[i] / (dists[i] - dists[j]);
+    dvec3 mid;
+    for (int k = 0; k < 3; ++k) {
+      if (plane.normal[k] == 1.0) mid[k] = plane.dist;
+      else if (plane.normal[k] == -1.0) mid[k] = -plane.dist;
+      else mid[k] = p[k] + t * (q[k] - p[k]);
+    }
+    out.push_back(mid);
+  }
+  return out;
+}
+
+} // namespace bt::map

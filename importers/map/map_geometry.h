@@ -1,0 +1,65 @@
+// Geometry of .map brushes as qbsp (ericw-tools) builds it: planes from three points, windings by
+// clipping, and the texture projection each face line describes.
+#pragma once
+
+#include "importers/map/map_document.h"
+#include "scene/scene.h"
+
+#include <glm/geometric.hpp>
+
+#include <array>
+#include <optional>
+#include <vector>
+
+namespace bt::map {
+
+// qbsp's texinfo vectors: s = dot(p, vecs[0].xyz) + vecs[0].w, t likewise with vecs[1].
+struct TexVecs {
+  std::array<dvec3, 2> axis{};
+  std::array<double, 2> offset{0.0, 0.0};
+
+  double s(const dvec3& p) const { return glm::dot(p, axis[0]) + offset[0]; }
+  double t(const dvec3& p) const { return glm::dot(p, axis[1]) + offset[1]; }
+};
+
+// The plane through the three points, normal = normalize(cross(p0 - p1, p2 - p1)),
+// dist = dot(p1, normal), as qbsp computes it (the points run clockwise seen from outside the
+// brush, so the normal points out). std::nullopt when the points are (nearly) collinear.
+std::optional<Plane> planeFromPoints(const std::array<dvec3, 3>& points);
+
+// The paraxial texture axes of Quake's QuakeEd table for a plane normal: the first of floor,
+// ceiling, west, east, south, north walls whose axis has the largest dot product with the
+// normal (ties keep the earlier entry: qbsp's default, not its -newaxis option).
+struct ParaxialAxes {
+  dvec3 s;
+  dvec3 t;
+  dvec3 snappedNormal;
+};
+ParaxialAxes paraxialAxes(const dvec3& normal);
+
+// qbsp's texinfo vectors for a face: Standard (paraxial axes rotated, divided by scale, zero
+// scale meaning 1), Valve 220 (axis / scale), brush primitives (matrix over q3map2's axis base,
+// in units of a `textureWidth` x `textureHeight` texture; qbsp assumes 64x64). A projection
+// that is parallel to the plane or not finite is replaced by Standard defaults as qbsp does.
+TexVecs textureVecs(const TextureParams& tex, const Plane& plane, int textureWidth = 64, int textureHeight = 64);
+TexVecs standardVecs(const Plane& plane, const std::array<double, 2>& offset, double rotation, const std::array<double, 2>& scale);
+bool isValidProjection(const TexVecs& vecs, const dvec3& normal);
+
+// The frame of scene.h from qbsp's vectors: tangent = vecs[0].xyz, bitangent = vecs[1].xyz,
+// origin on the plane such that s(origin) = t(origin) = 0.
+TextureFrame frameFromVecs(const TexVecs& vecs, const Plane& plane);
+
+// Windings.
+using Winding = std::vector<dvec3>;
+
+// How far the base winding reaches: beyond any coordinate a level may use (qbsp's world
+// extent is +-65536 in 2.0), so that a corner reaching it means the brush is unbounded.
+inline constexpr double kWorldExtent = 262144.0;
+// qbsp's ON_EPSILON for classifying points against a plane while clipping brush windings.
+inline constexpr double kOnEpsilon = 0.0001;
+
+Winding baseWinding(const Plane& plane);
+// Keeps the part of `w` behind `plane` (dot(n, p) - dist <= epsilon).
+Winding clipBehind(const Winding& w, const Plane& plane, double epsilon = kOnEpsilon);
+
+} // namespace bt::map

@@ -1,0 +1,513 @@
+// loadMaterials: resolve every texture name of a scene to images, the way Quake-family tools do.
+//
+// Order of search for a name: the WADs (--wad, then worldspawn "wad"), then loose image folders
+// (--textures, the unpacked folder of a WAD that is not there, TrenchBroom's "_tb_textures",
+// <mapdir>/textures, <mapdir>/../textures). Companion maps come from the loose folders.
+#include "importers/textures/textures.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <map>
+#include <memory>
+#include <set>
+#include <system_error>
+#include <tuple>
+#include <unordered_map>
+
+namespace bt {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string lowercase(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+std::vector<std::string> splitList(std::string_view list) {
+  std::vector<std::string> items;
+  size_t start = 0;
+  while (start <= list.size()) {
+    size_t end = list.find(';', start);
+    if (end == std::string_view::npos) end = list.size();
+    std::string_view item = list.substr(start, end - start);
+    while (!item.empty() && std::isspace(static_cast<unsigned char>(item.front()))) item.remove_prefix(1);
+    while (!item.empty() && std::isspace(static_cast<unsigned char>(item.back()))) item.remove_suffix(1);
+    if (!item.empty()) items.emplace_back(item);
+    start = end + 1;
+  }
+  return items;
+}
+
+bool isDirectory(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_directory(p, ec);
+}
+bool isFile(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_regular_file(p, ec);
+}
+
+// Extensions of loose textures, most preferred first. .wal (Quake 2) last: a PNG beside a .wal
+// is a replacement made on purpose.
+constexpr std::array<std::string_view, 5> kImageExtensions{".png", ".tga", ".jpg", ".jpeg", ".wal"};
+
+int extensionRank(const fs::path& file) {
+  const std::string ext = lowercase(file.extension().string());
+  for (size_t i = 0; i < kImageExtensions.size(); ++i)
+    if (ext == kImageExtensions[i]) return static_cast<int>(i);
+  return -1;
+}
+
+// One folder of loose textures, indexed once by lower-case relative stem ("e1u1/floor1_3"),
+// which makes lookups case-insensitive like the engines' file systems.
+class LooseFolder {
+public:
+  explicit LooseFolder(fs::path root) : root_(std::move(root)) {
+    // Bounded so that pointing --textures at a whole disk does not hang the import.
+    constexpr int kMaxDepth = 6;
+    constexpr size_t kMaxFiles = 200000;
+    std::error_code ec;
+    fs::recursive_directory_iterator it(root_, fs::directory_options::skip_permission_denied, ec), end;
+    size_t files = 0;
+    for (; !ec && it != end && files < kMaxFiles; it.increment(ec)) {
+      if (it.depth() >= kMaxDepth) it.disable_recursion_pending();
+      std::error_code fileEc;
+      if (!it->is_regular_file(fileEc)) continue;
+      const fs::path& file = it->path();
+      const int rank = extensionRank(file);
+      if (rank < 0) continue;
+      ++files;
+      fs::path relative = file.lexically_relative(root_);
+      relative.replace_extension();
+      auto [slot, inserted] = byStem_.try_emplace(lowercase(relative.generic_string()), file);
+      if (!inserted && rank < extensionRank(slot->second)) slot->second = file;
+    }
+  }
+
+  const fs::path& root() const { return root_; }
+  const fs::path* find(std::string_view stem) const {
+    auto it = byStem_.find(lowercase(stem));
+    return it == byStem_.end() ? nullptr : &it->second;
+  }
+
+private:
+  fs::path root_;
+  std::unordered_map<std::string, fs::path> byStem_;
+};
+
+// The companion maps a base texture may have, by file-name suffix.
+enum class Companion { Normal, Gloss, Roughness, Metallic, Emissive };
+struct CompanionSuffix {
+  std::string_view suffix;
+  Companion kind;
+};
+constexpr std::array<CompanionSuffix, 7> kCompanionSuffixes{{
+    {"_norm", Companion::Normal},
+    {"_normal", Companion::Normal},
+    {"_rough", Companion::Roughness},
+    {"_gloss", Companion::Gloss},
+    {"_metal", Companion::Metallic},
+    {"_glow", Companion::Emissive},
+    {"_luma", Companion::Emissive},
+}};
+
+// Everything a scene's textures may come from, opened on first use.
+class TextureLibrary {
+public:
+  TextureLibrary(const Scene& scene, const TextureSearch& search, Diagnostics& diagnostics)
+      : search_(search), diagnostics_(diagnostics), sceneFile_(scene.sourcePath) {
+    mapDir_ = scene.sourcePath.empty() ? fs::path(".") : fs::path(scene.sourcePath).parent_path();
+    if (mapDir_.empty()) mapDir_ = ".";
+    const Entity* world = scene.worldspawn();
+    for (const std::string& wad : search.wads) addWad(wad, "--wad", /*relativeToMap=*/false);
+    if (world)
+      for (const std::string& wad : splitList(world->value("wad")))
+        addWad(wad, "worldspawn \"wad\"", /*relativeToMap=*/true);
+
+    for (const std::string& dir : search.textureDirs) {
+      if (isDirectory(dir)) addFolder(dir);
+      else warn(fmt::format("texture folder '{}' (--textures) does not exist", dir));
+    }
+    for (const fs::path& dir : unpackedWadFolders_) addFolder(dir);
+    // TrenchBroom keeps the texture folders of a map in this key, relative to the game dir; for
+    // maps that live beside their textures that is also the map's folder.
+    if (world)
+      for (const std::string& dir : splitList(world->value("_tb_textures")))
+        if (isDirectory(mapDir_ / dir)) addFolder(mapDir_ / dir);
+    // Loose textures beside the map, and in the game dir when the map is in <game>/maps/.
+    for (const fs::path& dir : {mapDir_ / "textures", (mapDir_ / ".." / "textures").lexically_normal()})
+      if (isDirectory(dir)) addFolder(dir);
+  }
+
+  // The texture called `name` from the first place that has it, or std::nullopt. Texture files
+  // that exist but cannot be decoded are reported and skipped.
+  std::optional<Material> find(const std::string& name) {
+    const std::vector<std::string> spellings = textureFileStems(name);
+    for (Wad& wad : wads_) {
+      if (auto material = loadFromWad(wad, name, spellings)) return material;
+    }
+    for (const LooseFolder& folder : folders_)
+      for (const std::string& stem : spellings)
+        if (const fs::path* file = folder.find(stem))
+          if (auto material = loadLoose(*file, name)) return material;
+    return std::nullopt;
+  }
+
+  // True when `name` was found in a Quake WAD but could not be decoded for want of a palette;
+  // then `size` is its size from the miptex header, when that header is sane.
+  bool foundWithoutPalette(const std::string& name, std::optional<std::pair<int, int>>& size) const {
+    auto it = undecodedSizes_.find(lowercase(name));
+    if (it == undecodedSizes_.end()) return false;
+    size = it->second;
+    return true;
+  }
+
+  void addCompanions(Material& material) {
+    std::set<Companion> found;
+    for (const std::string& stem : textureFileStems(material.name))
+      for (const CompanionSuffix& c : kCompanionSuffixes) {
+        if (found.contains(c.kind) || (c.kind == Companion::Gloss && found.contains(Companion::Roughness)) ||
+            (c.kind == Companion::Roughness && found.contains(Companion::Gloss)))
+          continue;
+        for (const LooseFolder& folder : folders_) {
+          const fs::path* file = folder.find(stem + std::string(c.suffix));
+          if (!file || extensionRank(*file) == static_cast<int>(kImageExtensions.size()) - 1) continue;
+          try {
+            applyCompanion(material, c.kind, loadImage(*file));
+            found.insert(c.kind);
+          } catch (const ImportError& e) {
+            warn(e.what());
+          }
+          break;
+        }
+      }
+  }
+
+  void reportPaletteless(const Scene& scene) {
+    if (palettelessNames_.empty()) return;
+    std::string names;
+    for (const std::string& n : palettelessNames_) names += (names.empty() ? "" : ", ") + n;
+    diagnostics_.push_back(Diagnostic{
+        Severity::Warning, scene.sourcePath, 0, 0,
+        fmt::format("{} texture(s) found in Quake WADs but drawn as placeholders because no Quake palette was "
+                    "found (give --palette, or put gfx/palette.lmp in the game dir): {}",
+                    palettelessNames_.size(), names)});
+  }
+
+  std::string describeSearch() const {
+    std::string text;
+    for (const Wad& wad : wads_) text += (text.empty() ? "" : ", ") + wad.path.string();
+    for (const LooseFolder& folder : folders_) text += (text.empty() ? "" : ", ") + folder.root().string() + "/";
+    return text.empty() ? "no WADs or texture folders" : text;
+  }
+
+private:
+  struct Wad {
+    fs::path path;
+    std::unique_ptr<WadFile> file; // opened on first lookup
+    bool failed = false;
+  };
+
+  void warn(std::string message, std::string file = {}) {
+    diagnostics_.push_back(Diagnostic{Severity::Warning, file.empty() ? sceneFile_ : file, 0, 0, std::move(message)});
+  }
+
+  void addFolder(const fs::path& dir) {
+    std::error_code ec;
+    const fs::path canonical = fs::weakly_canonical(dir, ec);
+    if (!seenFolders_.insert(ec ? dir : canonical).second) return;
+    folders_.emplace_back(dir.lexically_normal());
+  }
+
+  // A WAD named by --wad (relative to the working dir) or by the "wad" key (relative to the map;
+  // qbsp also tries the bare file name beside the map, which is how Half-Life's absolute
+  // Windows paths "\half-life\valve\halflife.wad" still resolve).
+  void addWad(const std::string& entry, std::string_view origin, bool relativeToMap) {
+    std::string spelled = entry;
+    std::replace(spelled.begin(), spelled.end(), '\\', '/');
+    const fs::path given(spelled);
+    std::vector<fs::path> candidates;
+    if (given.is_absolute() || !relativeToMap) candidates.push_back(given);
+    if (relativeToMap && given.is_relative()) candidates.push_back(mapDir_ / given);
+    if (given.has_filename()) {
+      candidates.push_back(mapDir_ / given.filename());
+      candidates.push_back(mapDir_ / ".." / given.filename());
+    }
+    // Normalised so that "maps/../x.wad" resolves even when the map's own folder is virtual
+    // (a path inside a .pk3) or gone.
+    for (fs::path& c : candidates) c = c.lexically_normal();
+    for (const fs::path& candidate : candidates) {
+      if (!isFile(candidate)) continue;
+      std::error_code ec;
+      const fs::path canonical = fs::weakly_canonical(candidate, ec);
+      if (seenWads_.insert(ec ? candidate : canonical).second) wads_.push_back(Wad{candidate, {}, false});
+      return;
+    }
+    // LibreQuake (and other projects) keep each WAD as a folder of images, named like the WAD,
+    // and build the .wad from it; use the folder when the WAD itself is not there.
+    for (const fs::path& candidate : candidates) {
+      fs::path folder = candidate;
+      folder.replace_extension();
+      if (isDirectory(folder)) {
+        unpackedWadFolders_.push_back(folder);
+        return;
+      }
+    }
+    std::string tried;
+    for (const fs::path& c : candidates) tried += (tried.empty() ? "" : ", ") + c.string();
+    warn(fmt::format("WAD '{}' ({}) not found (tried {})", entry, origin, tried));
+  }
+
+  const WadFile* openWad(Wad& wad) {
+    if (wad.failed) return nullptr;
+    if (!wad.file) {
+      try {
+        wad.file = std::make_unique<WadFile>(WadFile::open(wad.path));
+      } catch (const ImportError& e) {
+        wad.failed = true;
+        diagnostics_.push_back(Diagnostic{Severity::Warning, e.diagnostic().file, 0, 0,
+                                          "WAD skipped: " + e.diagnostic().message});
+        return nullptr;
+      }
+    }
+    return wad.file.get();
+  }
+
+  // Never invented: --palette, else gfx/palette.lmp up the tree from the map and the WADs,
+  // else a palette lump inside one of the WADs.
+  const Palette* quakePalette() {
+    if (paletteResolved_) return palette_ ? &*palette_ : nullptr;
+    paletteResolved_ = true;
+    std::vector<fs::path> startDirs{mapDir_};
+    for (const Wad& wad : wads_) startDirs.push_back(wad.path.parent_path().empty() ? "." : wad.path.parent_path());
+    try {
+      palette_ = findPalette(search_.palette, startDirs);
+    } catch (const ImportError& e) {
+      warn("palette not usable: " + e.diagnostic().message, e.diagnostic().file);
+    }
+    for (size_t i = 0; !palette_ && i < wads_.size(); ++i)
+      if (const WadFile* file = openWad(wads_[i])) palette_ = file->palette();
+    return palette_ ? &*palette_ : nullptr;
+  }
+
+  std::optional<Material> loadFromWad(Wad& wad, const std::string& name, const std::vector<std::string>& spellings) {
+    const WadFile* file = openWad(wad);
+    if (!file) return std::nullopt;
+    for (const std::string& spelling : spellings) {
+      const WadFile::Entry* entry = file->findTexture(spelling);
+      if (!entry) continue;
+      const Palette* palette = file->halfLife() ? nullptr : quakePalette();
+      if (!file->halfLife() && !palette) {
+        notePaletteless(name, file->data(*entry));
+        return std::nullopt;
+      }
+      try {
+        std::optional<Material> material = file->loadTexture(spelling, palette);
+        material->name = name;
+        return material;
+      } catch (const ImportError& e) {
+        diagnostics_.push_back(Diagnostic{Severity::Warning, e.diagnostic().file, 0, 0,
+                                          "texture skipped: " + e.diagnostic().message});
+        return std::nullopt;
+      }
+    }
+    return std::nullopt;
+  }
+
+  // Remembers a WAD2 texture that could not be decoded for want of a palette, with the size from
+  // its miptex header: the placeholder must keep that size, since texture coordinates divide by it.
+  void notePaletteless(const std::string& name, std::span<const uint8_t> miptex) {
+    auto [slot, inserted] = undecodedSizes_.try_emplace(lowercase(name));
+    if (inserted) palettelessNames_.push_back(name);
+    constexpr size_t kSizeEnd = 24; // name[16], uint32 width, uint32 height
+    if (miptex.size() < kSizeEnd) return;
+    const auto u32 = [&](size_t at) {
+      return uint32_t{miptex[at]} | uint32_t{miptex[at + 1]} << 8 | uint32_t{miptex[at + 2]} << 16 |
+             uint32_t{miptex[at + 3]} << 24;
+    };
+    const uint32_t width = u32(16), height = u32(20);
+    if (width > 0 && height > 0 && width <= 16384 && height <= 16384)
+      slot->second = std::pair{static_cast<int>(width), static_cast<int>(height)};
+  }
+
+  std::optional<Material> loadLoose(const fs::path& file, const std::string& name) {
+    try {
+      Material material;
+      if (extensionRank(file) == static_cast<int>(kImageExtensions.size()) - 1) {
+        if (!quake2Palette_) quake2Palette_ = findQuake2Palette(search_.palette, {file.parent_path(), mapDir_});
+        if (!*quake2Palette_) {
+          warn(fmt::format("'{}' is a Quake 2 .wal but no Quake 2 palette was found (give --palette, or "
+                           "put pics/colormap.pcx in the game dir)",
+                           file.string()));
+          return std::nullopt;
+        }
+        material = decodeWal(readTextureFile(file), **quake2Palette_, file.string());
+      } else {
+        material.baseColor = loadImage(file);
+        material.width = material.baseColor.width;
+        material.height = material.baseColor.height;
+        material.source = TextureSource::LooseImage;
+        applyQuakePaletteConventions(material, name, file);
+      }
+      material.name = name;
+      material.sourcePath = file.string();
+      return material;
+    } catch (const ImportError& e) {
+      diagnostics_.push_back(
+          Diagnostic{Severity::Warning, e.diagnostic().file, 0, 0, "texture skipped: " + e.diagnostic().message});
+      return std::nullopt;
+    }
+  }
+
+  // Loose images of Quake textures are usually the palette images saved as PNG, which loses
+  // the palette indices that carry two conventions; recover them from the colours:
+  //  - '{' textures whose image has no alpha: texels of palette colour 255 are transparent.
+  //  - LibreQuake marks textures that use fullbright colours with a "_fbr" file-name suffix;
+  //    texels of a fullbright colour (224..254) become emissive. A colour that also appears
+  //    among indices 0..223 is ambiguous and left lit normally.
+  void applyQuakePaletteConventions(Material& material, const std::string& name, const fs::path& file) {
+    const bool fence = !name.empty() && name.front() == '{';
+    const bool fullbrights = lowercase(file.stem().string()).ends_with("_fbr");
+    if (!fence && !fullbrights) return;
+    const Palette* palette = quakePalette();
+    if (!palette) return;
+    const auto colourOf = [&](int index) {
+      return std::array<uint8_t, 3>{palette->rgb[index * 3], palette->rgb[index * 3 + 1], palette->rgb[index * 3 + 2]};
+    };
+    Image& base = material.baseColor;
+    const size_t texels = base.rgba.size() / 4;
+
+    if (fence) {
+      bool opaque = true;
+      for (size_t i = 0; i < texels && opaque; ++i) opaque = base.rgba[i * 4 + 3] == 255;
+      const auto key = colourOf(255);
+      if (opaque)
+        for (size_t i = 0; i < texels; ++i)
+          if (std::equal(key.begin(), key.end(), &base.rgba[i * 4])) std::fill_n(&base.rgba[i * 4], 4, uint8_t{0});
+    }
+
+    if (fullbrights) {
+      std::set<std::array<uint8_t, 3>> normalColours, brightColours;
+      for (int i = 0; i < 224; ++i) normalColours.insert(colourOf(i));
+      for (int i = 224; i < 255; ++i)
+        if (!normalColours.contains(colourOf(i))) brightColours.insert(colourOf(i));
+      Image emissive;
+      emissive.width = base.width;
+      emissive.height = base.height;
+      emissive.rgba.assign(base.rgba.size(), 0);
+      bool any = false;
+      for (size_t i = 0; i < texels; ++i) {
+        uint8_t* dst = &emissive.rgba[i * 4];
+        dst[3] = 255;
+        const uint8_t* src = &base.rgba[i * 4];
+        if (src[3] == 0 || !brightColours.contains({src[0], src[1], src[2]})) continue;
+        std::copy_n(src, 3, dst);
+        any = true;
+      }
+      if (any) material.emissive = std::move(emissive);
+    }
+  }
+
+  static void applyCompanion(Material& material, Companion kind, Image image) {
+    switch (kind) {
+    case Companion::Normal: material.normal = std::move(image); break;
+    case Companion::Roughness: material.roughness = std::move(image); break;
+    case Companion::Gloss:
+      // Gloss maps store smoothness; the material model wants roughness = 1 - gloss.
+      for (size_t i = 0; i < image.rgba.size(); i += 4) {
+        image.rgba[i] = static_cast<uint8_t>(255 - image.rgba[i]);
+        image.rgba[i + 1] = image.rgba[i + 2] = image.rgba[i];
+      }
+      material.roughness = std::move(image);
+      break;
+    case Companion::Metallic: material.metallic = std::move(image); break;
+    case Companion::Emissive: material.emissive = std::move(image); break;
+    }
+  }
+
+  const TextureSearch& search_;
+  Diagnostics& diagnostics_;
+  std::string sceneFile_;
+  fs::path mapDir_;
+  std::vector<Wad> wads_;
+  std::set<fs::path> seenWads_;
+  std::vector<fs::path> unpackedWadFolders_;
+  std::vector<LooseFolder> folders_;
+  std::set<fs::path> seenFolders_;
+  bool paletteResolved_ = false;
+  std::optional<Palette> palette_;
+  std::optional<std::optional<Palette>> quake2Palette_;
+  std::map<std::string, std::optional<std::pair<int, int>>> undecodedSizes_;
+  std::vector<std::string> palettelessNames_;
+};
+
+void replaceLeadingSpelling(std::vector<std::string>& out, std::string_view name, std::string_view prefix,
+                            std::initializer_list<std::string_view> alternatives) {
+  if (!name.starts_with(prefix)) return;
+  const std::string_view rest = name.substr(prefix.size());
+  for (std::string_view alt : alternatives) out.push_back(std::string(alt) + std::string(rest));
+}
+
+} // namespace
+
+std::vector<std::string> textureFileStems(std::string_view name) {
+  std::vector<std::string> stems{std::string(name)};
+  // Quake's liquids start with '*', which engines and PNG texture packs cannot put in file names
+  // the same way: Quake 2-era engines spell it '#', LibreQuake's folders "star_". Animated
+  // textures start with '+' ("+0button"), spelled "plus_" there. Accept every spelling.
+  replaceLeadingSpelling(stems, name, "*", {"#", "star_"});
+  replaceLeadingSpelling(stems, name, "#", {"*", "star_"});
+  replaceLeadingSpelling(stems, name, "star_", {"*", "#"});
+  replaceLeadingSpelling(stems, name, "+", {"plus_"});
+  replaceLeadingSpelling(stems, name, "plus_", {"+"});
+  // Quake 3 shader names include "textures/"; the folders we index are often textures/ itself.
+  replaceLeadingSpelling(stems, name, "textures/", {""});
+  // LibreQuake names the images of textures with fullbright texels "<name>_fbr".
+  const size_t spellings = stems.size();
+  for (size_t i = 0; i < spellings; ++i) stems.push_back(stems[i] + "_fbr");
+  return stems;
+}
+
+void loadMaterials(Scene& scene, const TextureSearch& search) {
+  if (!search.load) {
+    for (Material& material : scene.materials)
+      if (material.missing() && material.baseColor.empty())
+        material.baseColor = checkerPlaceholder(material.width, material.height);
+    return;
+  }
+
+  TextureLibrary library(scene, search, scene.diagnostics);
+  std::vector<std::string> missing;
+  for (Material& material : scene.materials) {
+    if (material.missing()) {
+      if (std::optional<Material> found = library.find(material.name)) {
+        material = std::move(*found);
+      } else {
+        std::optional<std::pair<int, int>> wadSize;
+        if (!library.foundWithoutPalette(material.name, wadSize)) missing.push_back(material.name);
+        if (wadSize) std::tie(material.width, material.height) = *wadSize;
+        material.baseColor = checkerPlaceholder(material.width, material.height);
+        continue;
+      }
+    }
+    library.addCompanions(material);
+  }
+  library.reportPaletteless(scene);
+
+  if (!missing.empty()) {
+    std::string names;
+    for (const std::string& n : missing) names += (names.empty() ? "" : ", ") + n;
+    scene.diagnostics.push_back(Diagnostic{
+        Severity::Warning, scene.sourcePath, 0, 0,
+        fmt::format("{} texture(s) not found, drawn as a checker: {} (searched {})", missing.size(), names,
+                    library.describeSearch())});
+  }
+}
+
+} // namespace bt

@@ -1,0 +1,148 @@
+// Texture and material loading shared by the .map and .bsp importers.
+//
+// Quake-family textures come from three places:
+//   - WAD files: Quake's WAD2 (8-bit miptex that index the game's palette.lmp) and Half-Life's
+//     WAD3 (miptex that carry their own 256-colour palette after the smallest mip);
+//   - the miptex lump inside a Quake 1 / Half-Life .bsp (same miptex layout as in the WADs);
+//   - loose images (PNG/TGA/JPG through OpenImageIO), the way modern source ports and
+//     LibreQuake's texture folders ship them, plus companion maps (_norm, _gloss, _glow, ...).
+// Quake 2 .wal files index the Quake 2 palette.
+#pragma once
+
+#include "importers/import.h"
+#include "scene/scene.h"
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace bt {
+
+// 256 RGB triples, the layout of Quake's gfx/palette.lmp.
+struct Palette {
+  std::array<uint8_t, 768> rgb{};
+};
+
+// Reads a 768-byte palette.lmp (or the palette at the end of a 256-colour PCX file, which is
+// where Quake 2 keeps it: pics/colormap.pcx). Throws ImportError naming the file on any other size.
+Palette loadPalette(const std::filesystem::path& lmp);
+Palette paletteFromBytes(std::span<const uint8_t> bytes, std::string_view what);
+
+// Decodes one miptex (Quake WAD2 / BSP29 texture lump entry, or Half-Life WAD3/BSP30 with its
+// own palette after the mips) into a Material named after the miptex header. Only the full-size
+// mip is decoded. Quake (halfLife == false): quakePalette is required; indices 224..255 are
+// fullbright: `emissive` then holds their colour (other texels black); it stays empty when the
+// texture has no fullbright texel. Index 255 in '{' textures is transparent (alpha 0, black).
+// Half-Life: the embedded palette is used, no fullbrights, and in '{' textures index 255 is
+// transparent. source is Miptex; WadFile::loadTexture changes it to Wad2/Wad3.
+// Throws ImportError naming `what` on truncation or bad sizes (or a null Quake palette).
+// A miptex whose pixel offsets are all zero (texture stored outside the .bsp) also throws:
+// the caller then looks it up by name like any other missing texture.
+Material decodeMiptex(std::span<const uint8_t> bytes, const Palette* quakePalette, bool halfLife,
+                      std::string_view what);
+
+// Decodes a Quake 2 .wal (name[32], width, height, 4 mip offsets, ...) with the Quake 2 palette.
+// Index 255 is transparent, as in Quake 2's GL renderer. Throws ImportError naming `what` on truncation or bad sizes.
+Material decodeWal(std::span<const uint8_t> bytes, const Palette& quake2Palette, std::string_view what);
+
+// For every material in scene.materials that is still missing: find and load it (WADs from
+// search.wads then the worldspawn "wad" key — semicolon list, paths relative to the map file dir
+// scene.sourcePath, also tried by file name beside the map — loose images from search.textureDirs
+// and <mapdir>/textures), plus companion maps; otherwise a checker placeholder. Adds ONE warning
+// diagnostic listing all missing names. Never throws for a missing/corrupt WAD: a warning instead.
+// Details:
+//  - Name spellings: see textureFileStems(); WAD and file lookups ignore case.
+//  - A WAD named in "wad" that is not there but has a folder of the same name beside it
+//    (LibreQuake's texture-wads/lq_dev/ for lq_dev.wad) is searched as a loose folder.
+//  - TrenchBroom's worldspawn "_tb_textures" folders (relative to the map) are loose folders too,
+//    and so is <mapdir>/../textures (a Quake 2 game dir with the map in maps/).
+//  - Loose .wal files are decoded with the Quake 2 palette: search.palette, else
+//    pics/colormap.pcx up the tree.
+//  - A WAD2 texture found while no Quake palette exists keeps its WAD size, gets the placeholder
+//    and is named in a separate warning that says why.
+//  - Companion maps are also looked up for materials that are already loaded (BSP miptex).
+//  - search.load == false: every missing material just gets its placeholder, no warnings.
+// A missing material keeps the size it has (64x64 by default, or what the .bsp importer set from
+// the miptex header) for its placeholder; a material found as a loose image takes the image size.
+void loadMaterials(Scene& scene, const TextureSearch& search);
+
+// A checker of two greys in 8x8-texel cells, opaque. Used for every texture that is not found.
+Image checkerPlaceholder(int width, int height);
+
+// ---------------------------------------------------------------------------------------------
+// Lower-level pieces, public so that the .bsp importer and tools can reuse them.
+
+// One WAD2 ("WAD2") or WAD3 ("WAD3") file held in memory, directory bounds-checked on open.
+class WadFile {
+public:
+  // Quake's lump types; only miptex are textures.
+  static constexpr uint8_t kTypePalette = 0x40; // '@'
+  static constexpr uint8_t kTypeQpic = 0x42;    // 'B', status-bar pictures: not textures
+  static constexpr uint8_t kTypeMiptexWad2 = 0x44; // 'D'
+  static constexpr uint8_t kTypeMiptexWad3 = 0x43; // 'C'
+
+  struct Entry {
+    std::string name; // as stored (up to 16 chars), lookups ignore case
+    uint8_t type = 0;
+    uint8_t compression = 0;
+    uint32_t offset = 0;
+    uint32_t size = 0; // on disk
+  };
+
+  // Reads and validates the header and directory. Throws ImportError naming the file on a bad
+  // magic, a directory past the end, or an entry whose data lies outside the file.
+  static WadFile open(const std::filesystem::path& path);
+  static WadFile fromBytes(std::vector<uint8_t> bytes, std::string displayName);
+
+  bool halfLife() const { return halfLife_; } // WAD3
+  const std::string& displayName() const { return displayName_; }
+  const std::vector<Entry>& entries() const { return entries_; }
+
+  // The miptex entry called name (case-insensitive), or nullptr. Non-texture lumps are skipped.
+  const Entry* findTexture(std::string_view name) const;
+  std::span<const uint8_t> data(const Entry& entry) const;
+
+  // Decodes the named texture; std::nullopt when the WAD has no such texture. Throws ImportError
+  // when the entry exists but is corrupt or compressed. quakePalette is needed for WAD2 only.
+  std::optional<Material> loadTexture(std::string_view name, const Palette* quakePalette) const;
+
+  // The game palette stored as a lump of type '@' (Quake's gfx.wad has one), if any.
+  std::optional<Palette> palette() const;
+
+private:
+  std::vector<uint8_t> bytes_;
+  std::vector<Entry> entries_;
+  std::string displayName_;
+  bool halfLife_ = false;
+};
+
+// Case-insensitive comparison the way Quake compares texture names.
+bool textureNamesEqual(std::string_view a, std::string_view b);
+
+// The file names a texture may have on disk, in the order they are tried: the name as written,
+// then the other spellings of Quake's special prefixes ('*', '#' and "star_"; '+' and "plus_"),
+// and a Quake 3 name without its "textures/" prefix. Folders in names ("e1u1/floor1_3") are kept.
+std::vector<std::string> textureFileStems(std::string_view name);
+
+// Loads a loose image (any format OpenImageIO reads) as 8-bit RGBA. Throws ImportError naming the
+// file when it cannot be read.
+Image loadImage(const std::filesystem::path& path);
+
+// Quake's palette for a level: `explicitPalette` when given (throws ImportError if unreadable),
+// otherwise the first gfx/palette.lmp (or palette.lmp) found walking up from each of
+// `startDirs`. Never invents one: std::nullopt when nothing is found.
+std::optional<Palette> findPalette(const std::string& explicitPalette,
+                                   const std::vector<std::filesystem::path>& startDirs);
+// Quake 2's palette: `explicitPalette`, else pics/colormap.pcx walking up from `startDirs`.
+std::optional<Palette> findQuake2Palette(const std::string& explicitPalette,
+                                         const std::vector<std::filesystem::path>& startDirs);
+
+// Reads a whole texture/WAD/palette file; throws ImportError naming it when it cannot be read.
+std::vector<uint8_t> readTextureFile(const std::filesystem::path& path);
+
+} // namespace bt

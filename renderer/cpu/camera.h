@@ -1,0 +1,45 @@
+// The pinhole camera, in Quake's view-angle convention: pitch positive looks down, yaw turns
+// counter-clockwise from +X seen from above, roll tilts right; 90 degrees horizontal field of
+// view like Quake's default `fov`.
+#pragma once
+
+#include "renderer/cpu/brush_tracer.h"
+#include "scene/scene.h"
+
+#include <glm/vec3.hpp>
+
+#include <optional>
+#include <string>
+
+namespace bt {
+
+struct CameraPose {
+  glm::vec3 origin{0.0f};
+  float pitch = 0.0f; // degrees
+  float yaw = 0.0f;
+  float roll = 0.0f;
+  std::string source; // where it came from: "info_intermission", "--camera", ...
+};
+
+// "(x y z) pitch yaw roll"; nullopt when malformed.
+std::optional<CameraPose> parseCameraPose(std::string_view text);
+std::string formatCameraPose(const CameraPose& pose);
+
+// First info_intermission (origin, mangle), else info_player_start (22 units eye height,
+// `angle` as yaw), else a view of the whole map from above one corner.
+CameraPose defaultCameraPose(const Scene& scene);
+
+class Camera {
+public:
+  Camera(const CameraPose& pose, int width, int height, float horizontalFovDegrees = 90.0f);
+  // Ray through image point (x, y) in pixels, (0, 0) the top-left corner.
+  Ray ray(float x, float y) const;
+  glm::vec3 forward() const { return forward_; }
+
+private:
+  glm::vec3 origin_, forward_, right_, up_;
+  float tanHalfX_, tanHalfY_;
+  int width_, height_;
+};
+
+} // namespace bt

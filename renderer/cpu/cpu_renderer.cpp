@@ -1,0 +1,197 @@
+#include "renderer/cpu/cpu_renderer.h"
+
+#include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <stdexcept>
+#include <thread>
+#include <unistd.h>
+
+namespace bt {
+
+namespace {
+
+int threadCount(int requested) {
+  if (requested > 0) return requested;
+  return std::max(1, int(std::thread::hardware_concurrency()));
+}
+
+// Runs rowFn(y) for every row on `threads` workers; rows are handed out one at a time.
+template <class RowFn>
+void forEachRow(int height, int threads, const RowFn& rowFn) {
+  std::atomic<int> next{0};
+  auto worker = [&] {
+    for (int y = next++; y < height; y = next++) rowFn(y);
+  };
+  std::vector<std::thread> pool;
+  for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+}
+
+void renderAovs(const RenderScene& scene, const Camera& camera, RenderImage& image, int threads) {
+  forEachRow(image.height, threads, [&](int y) {
+    for (int x = 0; x < image.width; ++x) {
+      const size_t i = size_t(y) * image.width + x;
+      const Ray ray = camera.ray(float(x) + 0.5f, float(y) + 0.5f);
+      const SurfaceHit hit = traceVisible(scene, ray);
+      if (!hit.found) continue;
+      image.albedo[i] = srgbToLinear(glm::vec3(baseColorAt(scene, hit.face, hit.position)));
+      image.normal[i] = hit.normal;
+      image.depth[i] = hit.t;
+      image.face[i] = hit.face + 1;
+    }
+  });
+}
+
+} // namespace
+
+RenderImage renderCpu(const RenderScene& scene, const Camera& camera, const RenderSettings& settings,
+                      const std::function<void(const RenderProgress&)>& progress) {
+  RenderImage image;
+  image.width = settings.width;
+  image.height = settings.height;
+  const size_t n = size_t(image.width) * size_t(image.height);
+  image.beauty.assign(n, glm::vec3(0.0f));
+  image.albedo.assign(n, glm::vec3(0.0f));
+  image.normal.assign(n, glm::vec3(0.0f));
+  image.depth.assign(n, std::numeric_limits<float>::infinity());
+  image.face.assign(n, 0u);
+  const int threads = threadCount(settings.threads);
+  renderAovs(scene, camera, image, threads);
+
+  // Sums in double: many samples of bright lights would lose the dim ones in float.
+  std::vector<glm::dvec3> sum(n, glm::dvec3(0.0));
+  const auto start = std::chrono::steady_clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  const int maxSamples = settings.spp > 0 ? settings.spp : std::numeric_limits<int>::max();
+  int pass = 0;
+  // Each pass adds one sample to every pixel, so a pixel's samples are summed in index order
+  // whatever the thread count: the image depends only on seed and sample count.
+  while (pass < maxSamples) {
+    forEachRow(image.height, threads, [&](int y) {
+      for (int x = 0; x < image.width; ++x) {
+        Rng rng = pixelRng(uint32_t(x), uint32_t(y), uint32_t(pass), settings.seed);
+        const glm::vec2 jitter = rng.next2();
+        const Ray ray = camera.ray(float(x) + jitter.x, float(y) + jitter.y);
+        const glm::vec3 l = radiance(scene, settings.integrator, ray, rng);
+        // A NaN or infinite sample would poison the pixel for good; drop it.
+        if (std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z)) sum[size_t(y) * image.width + x] += glm::dvec3(l);
+      }
+    });
+    ++pass;
+    const double t = elapsed();
+    if (progress) {
+      RenderProgress p;
+      p.samplesDone = pass;
+      p.samplesTotal = settings.spp;
+      p.elapsed = t;
+      const double perPass = t / pass;
+      p.estimatedRemaining = settings.timeLimit > 0.0 && settings.spp <= 0
+                                 ? std::max(0.0, settings.timeLimit - t)
+                                 : perPass * (maxSamples - pass);
+      if (settings.timeLimit > 0.0) p.estimatedRemaining = std::min(p.estimatedRemaining, std::max(0.0, settings.timeLimit - t));
+      progress(p);
+    }
+    if (settings.timeLimit > 0.0 && t >= settings.timeLimit) break;
+  }
+  image.samples = pass;
+  for (size_t i = 0; i < n; ++i) image.beauty[i] = glm::vec3(sum[i] / double(std::max(pass, 1)));
+  return image;
+}
+
+namespace {
+
+glm::vec3 faceColor(uint32_t face) {
+  if (face == 0) return glm::vec3(0.0f);
+  const uint32_t h = pcgHash(face);
+  return glm::vec3(float(h & 0xff), float((h >> 8) & 0xff), float((h >> 16) & 0xff)) / 255.0f;
+}
+
+uint8_t toByte(float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
+
+} // namespace
+
+std::vector<uint8_t> displayPixels(const RenderImage& image, const OutputSettings& output) {
+  const size_t n = size_t(image.width) * size_t(image.height);
+  std::vector<uint8_t> pixels(n * 3);
+  float maxDepth = 0.0f;
+  for (float d : image.depth)
+    if (std::isfinite(d)) maxDepth = std::max(maxDepth, d);
+  const float exposure = std::exp2(output.exposureEv);
+  for (size_t i = 0; i < n; ++i) {
+    glm::vec3 c;
+    switch (output.aov) {
+    case Aov::Beauty: c = linearToSrgb(applyTonemap(output.tonemap, image.beauty[i] * exposure)); break;
+    case Aov::Albedo: c = linearToSrgb(glm::clamp(image.albedo[i], 0.0f, 1.0f)); break;
+    case Aov::Normal: c = image.face[i] ? image.normal[i] * 0.5f + 0.5f : glm::vec3(0.0f); break;
+    case Aov::Depth:
+      // Near is bright; nothing hit is black.
+      c = glm::vec3(std::isfinite(image.depth[i]) && maxDepth > 0.0f ? 1.0f - image.depth[i] / maxDepth : 0.0f);
+      break;
+    case Aov::Face: c = faceColor(image.face[i]); break;
+    }
+    pixels[i * 3 + 0] = toByte(c.x);
+    pixels[i * 3 + 1] = toByte(c.y);
+    pixels[i * 3 + 2] = toByte(c.z);
+  }
+  return pixels;
+}
+
+void writeImage(const std::string& path, const RenderImage& image, const OutputSettings& output) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  std::string ext = target.extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".png" && ext != ".exr") throw std::runtime_error(fmt::format("{}: output must be .png or .exr", path));
+  // Same extension so that OpenImageIO picks the same format; renamed over the target at the end.
+  const fs::path temp = target.parent_path() / fmt::format(".{}.tmp{}{}", target.stem().string(), getpid(), ext);
+
+  auto out = OIIO::ImageOutput::create(temp.string());
+  if (!out) throw std::runtime_error(fmt::format("{}: {}", path, OIIO::geterror()));
+  bool ok = false;
+  if (ext == ".png") {
+    const std::vector<uint8_t> pixels = displayPixels(image, output);
+    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+    ok = out->open(temp.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, pixels.data());
+  } else {
+    const size_t n = size_t(image.width) * size_t(image.height);
+    constexpr int kChannels = 10;
+    std::vector<float> pixels(n * kChannels);
+    const float exposure = std::exp2(output.exposureEv);
+    for (size_t i = 0; i < n; ++i) {
+      float* p = &pixels[i * kChannels];
+      const glm::vec3 b = image.beauty[i] * exposure;
+      p[0] = b.x, p[1] = b.y, p[2] = b.z;
+      p[3] = image.albedo[i].x, p[4] = image.albedo[i].y, p[5] = image.albedo[i].z;
+      p[6] = image.normal[i].x, p[7] = image.normal[i].y, p[8] = image.normal[i].z;
+      p[9] = image.depth[i];
+    }
+    OIIO::ImageSpec spec(image.width, image.height, kChannels, OIIO::TypeDesc::FLOAT);
+    spec.channelnames = {"R", "G", "B", "albedo.R", "albedo.G", "albedo.B", "normal.X", "normal.Y", "normal.Z", "depth.Z"};
+    spec.attribute("compression", "zip");
+    ok = out->open(temp.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels.data());
+  }
+  const std::string error = out->geterror();
+  ok = out->close() && ok;
+  if (!ok) {
+    std::error_code ec;
+    fs::remove(temp, ec);
+    throw std::runtime_error(fmt::format("{}: cannot write image: {}", path, error.empty() ? "unknown error" : error));
+  }
+  std::error_code ec;
+  fs::rename(temp, target, ec);
+  if (ec) {
+    fs::remove(temp, ec);
+    throw std::runtime_error(fmt::format("{}: cannot rename the finished image into place: {}", path, ec.message()));
+  }
+}
+
+} // namespace bt

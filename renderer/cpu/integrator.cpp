@@ -1,0 +1,391 @@
+#include "renderer/cpu/integrator.h"
+
+#include "renderer/cpu/color.h"
+#include "renderer/cpu/faithful.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace bt {
+
+namespace {
+
+// Rays leave surfaces this far along the normal: a few float ulps at Quake's 32k extents,
+// well under a texel.
+constexpr float kSurfaceOffset = 0.03f;
+constexpr int kMaxSkips = 64; // hidden faces/back faces skipped along one ray before giving up
+
+glm::vec3 offsetPoint(const glm::vec3& p, const glm::vec3& n) { return p + n * kSurfaceOffset; }
+
+glm::vec2 textureUV(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
+  const GpuShadeFace& f = rs.faces[face];
+  const float s = glm::dot(glm::vec3(f.sAxis), p) + f.sAxis.w;
+  const float t = glm::dot(glm::vec3(f.tAxis), p) + f.tAxis.w;
+  const glm::vec2 size = f.material < rs.materials.size() ? rs.materials[f.material].size : glm::vec2(64.0f);
+  return {s / size.x, t / size.y};
+}
+
+bool blocksLight(uint32_t faceFlags, LightingMode mode) {
+  if (faceFlags & (kFaceHidden | kFaceLiquid)) return false;
+  if (mode == LightingMode::Faithful && (faceFlags & kFaceNoShadow)) return false;
+  return true;
+}
+
+// The emitter triangle whose cdf interval holds u (binary search, GLSL-friendly loop).
+uint32_t pickEmitter(const RenderScene& rs, float u) {
+  uint32_t lo = 0, hi = uint32_t(rs.emitters.size()) - 1;
+  while (lo < hi) {
+    const uint32_t mid = (lo + hi) / 2;
+    if (rs.emitters[mid].cdf < u) lo = mid + 1;
+    else hi = mid;
+  }
+  return lo;
+}
+
+glm::vec3 skyDomeRadiance(const RenderScene& rs, const glm::vec3& dir) {
+  glm::vec3 l(0.0f);
+  for (const GpuLight& light : rs.lights)
+    if (light.type == uint32_t(LightType::Dome) && dir.z * light.direction.z > 0.0f)
+      l += light.color * light.value * rs.world.range * kPhysicalSunScale / kPi;
+  return l;
+}
+
+} // namespace
+
+SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray) {
+  Ray r = ray;
+  for (int i = 0; i < kMaxSkips; ++i) {
+    const std::optional<Hit> hit = rs.tracer->closestHit(r);
+    if (!hit) return {};
+    const GpuShadeFace& f = rs.faces[hit->face];
+    if (!hit->inside && !(f.flags & kFaceHidden)) {
+      SurfaceHit s;
+      s.found = true;
+      s.t = hit->t;
+      s.face = hit->face;
+      s.position = ray.origin + ray.direction * hit->t;
+      s.normal = glm::vec3(f.plane);
+      return s;
+    }
+    r.tMin = hit->t + 1e-3f;
+  }
+  return {};
+}
+
+bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode) {
+  Ray r = ray;
+  for (int i = 0; i < kMaxSkips; ++i) {
+    const std::optional<Hit> hit = rs.tracer->closestHit(r);
+    if (!hit) return false;
+    if (!hit->inside && blocksLight(rs.faces[hit->face].flags, mode)) return true;
+    r.tMin = hit->t + 1e-3f;
+  }
+  return true;
+}
+
+bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode) {
+  Ray r = ray;
+  for (int i = 0; i < kMaxSkips; ++i) {
+    const std::optional<Hit> hit = rs.tracer->closestHit(r);
+    if (!hit) return true; // left the level: nothing to stop the sun
+    const uint32_t flags = rs.faces[hit->face].flags;
+    if (!hit->inside && (flags & kFaceSky)) return true;
+    if (!hit->inside && blocksLight(flags, mode)) return false;
+    r.tMin = hit->t + 1e-3f;
+  }
+  return false;
+}
+
+glm::vec4 baseColorAt(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
+  const uint32_t m = rs.faces[face].material;
+  if (m >= rs.scene->materials.size() || rs.scene->materials[m].baseColor.empty()) return glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
+  const glm::vec2 uv = textureUV(rs, face, p);
+  return bilinearRepeat(rs.scene->materials[m].baseColor, uv.x, uv.y);
+}
+
+glm::vec3 emissiveAt(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
+  const uint32_t m = rs.faces[face].material;
+  if (m >= rs.scene->materials.size() || !(rs.materials[m].flags & kMaterialEmissive)) return glm::vec3(0.0f);
+  const glm::vec2 uv = textureUV(rs, face, p);
+  return glm::vec3(bilinearRepeat(rs.scene->materials[m].emissive, uv.x, uv.y));
+}
+
+glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng) {
+  const glm::vec3 origin = offsetPoint(p, n);
+  glm::vec3 sum(0.0f);
+  glm::vec3 localMin(0.0f);
+  const float scaledist = rs.world.scaledist;
+
+  for (const GpuLight& light : rs.lights) {
+    if (light.type == uint32_t(LightType::Point)) {
+      glm::vec3 pos = light.origin;
+      if (light.deviance > 0.0f) pos += light.deviance * sampleBall({rng.next(), rng.next(), rng.next()});
+      const glm::vec3 d = pos - p;
+      const float dist = glm::length(d);
+      if (dist <= 0.0f) continue;
+      const glm::vec3 toLight = d / dist;
+      const float value = faithful::pointLightValue(light, n, toLight, dist, scaledist);
+      if (value == 0.0f) continue;
+      const glm::vec3 toLightFromOrigin = pos - origin;
+      const float len = glm::length(toLightFromOrigin);
+      if (occluded(rs, Ray{origin, 0.0f, toLightFromOrigin / len, len}, LightingMode::Faithful)) continue;
+      if (light.formula == uint32_t(LightFormula::LocalMin)) localMin = glm::max(localMin, value * light.color);
+      else sum += value * light.color;
+    } else if (light.type == uint32_t(LightType::Sun)) {
+      glm::vec3 toSun = -light.direction;
+      if (light.deviance > 0.0f) toSun = sampleCone(toSun, light.deviance, rng.next2());
+      GpuLight jittered = light;
+      jittered.direction = -toSun;
+      const float value = faithful::sunValue(jittered, n);
+      if (value == 0.0f) continue;
+      if (!reachesSky(rs, Ray{origin, 0.0f, toSun, std::numeric_limits<float>::infinity()}, LightingMode::Faithful)) continue;
+      sum += value * light.color;
+    } else if (light.type == uint32_t(LightType::Dome)) {
+      // One direction of the dome per sample, uniform over its hemisphere: the mean over the
+      // dome's directions of value * angle term, for those that reach the sky.
+      const glm::vec3 dir = sampleUniformHemisphere(light.direction, rng.next2());
+      const float cosIncidence = glm::dot(dir, n);
+      if (cosIncidence <= 0.0f) continue;
+      if (!reachesSky(rs, Ray{origin, 0.0f, dir, std::numeric_limits<float>::infinity()}, LightingMode::Faithful)) continue;
+      sum += light.value * faithful::angleTerm(cosIncidence, light.anglescale) * light.color;
+    }
+  }
+
+  // Surface lights: ericw-tools spreads point lights over template faces, one per 128x128
+  // units; one area sample stands for all of them.
+  if (!rs.emitters.empty()) {
+    const GpuEmitter& e = rs.emitters[pickEmitter(rs, rng.next())];
+    const GpuShadeFace& f = rs.faces[e.face];
+    const GpuLight& tmpl = rs.surfaceLights[f.material];
+    if (tmpl.value != 0.0f) {
+      constexpr float kSurfaceLightSpacing = 128.0f;
+      constexpr float kSurfaceLightLift = 2.0f; // ericw-tools puts them this far off the face
+      const glm::vec3 q = sampleTriangle(e.v0, e.v1, e.v2, rng.next2()) + glm::vec3(f.plane) * kSurfaceLightLift;
+      const glm::vec3 d = q - p;
+      const float dist = glm::length(d);
+      const glm::vec3 toLight = d / dist;
+      if (dist > 0.0f && glm::dot(-toLight, glm::vec3(f.plane)) > 0.0f) {
+        const float value = faithful::pointLightValue(tmpl, n, toLight, dist, scaledist);
+        const glm::vec3 toQ = q - origin;
+        const float len = glm::length(toQ);
+        if (value != 0.0f && !occluded(rs, Ray{origin, 0.0f, toQ / len, len}, LightingMode::Faithful))
+          sum += value * tmpl.color * (rs.emitterArea / (kSurfaceLightSpacing * kSurfaceLightSpacing));
+      }
+    }
+  }
+
+  sum = glm::max(sum, localMin);
+  return glm::max(sum, rs.world.minlight);
+}
+
+namespace {
+
+// Faithful bounce (_bounce N): light reflected off other surfaces, in light units, the surface
+// colour as ericw-tools' bounce uses it (texture colour x _bouncescale).
+glm::vec3 faithfulBounce(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, int depth, Rng& rng) {
+  if (depth <= 0) return glm::vec3(0.0f);
+  const glm::vec3 dir = sampleCosineHemisphere(n, rng.next2());
+  const SurfaceHit hit = traceVisible(rs, Ray{offsetPoint(p, n), 0.0f, dir, std::numeric_limits<float>::infinity()});
+  if (!hit.found || (rs.faces[hit.face].flags & kFaceSky)) return glm::vec3(0.0f);
+  const glm::vec3 color = glm::vec3(baseColorAt(rs, hit.face, hit.position));
+  const glm::vec3 light = faithfulLightAt(rs, hit.position, hit.normal, rng) + faithfulBounce(rs, hit.position, hit.normal, depth - 1, rng);
+  return color * light * rs.world.bouncescale;
+}
+
+glm::vec3 radianceFaithful(const RenderScene& rs, const Ray& ray, Rng& rng) {
+  const SurfaceHit hit = traceVisible(rs, ray);
+  if (!hit.found) return glm::vec3(0.0f);
+  const GpuShadeFace& f = rs.faces[hit.face];
+  const glm::vec3 texture = glm::vec3(baseColorAt(rs, hit.face, hit.position));
+  // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
+  if ((f.flags & kFaceSky) || ((f.flags & kFaceLiquid) && !rs.world.litwater)) return srgbToLinear(texture);
+
+  glm::vec3 light = faithfulLightAt(rs, hit.position, hit.normal, rng);
+  if (rs.world.bounces > 0) light += faithfulBounce(rs, hit.position, hit.normal, rs.world.bounces, rng);
+  // The compiler scales a coloured sum so its brightest channel fits in 255, keeping the hue.
+  glm::vec3 stored = light * rs.world.range;
+  const float peak = std::max({stored.x, stored.y, stored.z});
+  if (peak > 255.0f) stored *= 255.0f / peak;
+  stored = glm::max(stored, glm::vec3(0.0f));
+  // Engine: texture x lightmap / 128, in the texture's (gamma) space; fullbright texels unlit.
+  const glm::vec3 display = glm::max(texture * stored / faithful::kOverbrightOne, emissiveAt(rs, hit.face, hit.position));
+  return srgbToLinear(display);
+}
+
+// --- physical mode ------------------------------------------------------------------------
+
+struct Bsdf {
+  glm::vec3 albedo;
+  float roughness;
+  float metallic;
+  bool specular; // GGX lobe present (materials with a PBR set)
+};
+
+float ggxD(float noh, float alpha) {
+  const float a2 = alpha * alpha;
+  const float d = noh * noh * (a2 - 1.0f) + 1.0f;
+  return a2 / (kPi * d * d);
+}
+float smithG1(float nov, float alpha) {
+  const float a2 = alpha * alpha;
+  return 2.0f * nov / (nov + std::sqrt(a2 + (1.0f - a2) * nov * nov));
+}
+constexpr float kSpecularLobeProbability = 0.5f;
+
+glm::vec3 bsdfEval(const Bsdf& b, const glm::vec3& n, const glm::vec3& wo, const glm::vec3& wi, float& pdf) {
+  const float nol = glm::dot(n, wi);
+  const float nov = glm::dot(n, wo);
+  pdf = 0.0f;
+  if (nol <= 0.0f || nov <= 0.0f) return glm::vec3(0.0f);
+  if (!b.specular) {
+    pdf = nol / kPi;
+    return b.albedo / kPi;
+  }
+  const float alpha = std::max(b.roughness * b.roughness, 1e-3f);
+  const glm::vec3 h = glm::normalize(wo + wi);
+  const float noh = std::max(glm::dot(n, h), 0.0f), voh = std::max(glm::dot(wo, h), 1e-6f);
+  const glm::vec3 f0 = glm::mix(glm::vec3(0.04f), b.albedo, b.metallic);
+  const glm::vec3 fresnel = f0 + (1.0f - f0) * std::pow(1.0f - voh, 5.0f);
+  const float d = ggxD(noh, alpha);
+  const glm::vec3 spec = fresnel * d * smithG1(nol, alpha) * smithG1(nov, alpha) / (4.0f * nol * nov);
+  const glm::vec3 diffuse = (1.0f - b.metallic) * b.albedo / kPi;
+  pdf = (1.0f - kSpecularLobeProbability) * nol / kPi + kSpecularLobeProbability * d * noh / (4.0f * voh);
+  return diffuse + spec;
+}
+
+glm::vec3 bsdfSample(const Bsdf& b, const glm::vec3& n, const glm::vec3& wo, Rng& rng) {
+  if (!b.specular || rng.next() >= kSpecularLobeProbability) return sampleCosineHemisphere(n, rng.next2());
+  // GGX normal distribution sampling, then reflect.
+  const float alpha = std::max(b.roughness * b.roughness, 1e-3f);
+  const glm::vec2 u = rng.next2();
+  const float cosTheta = std::sqrt((1.0f - u.x) / (1.0f + (alpha * alpha - 1.0f) * u.x));
+  const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+  const float phi = 2.0f * kPi * u.y;
+  const glm::vec3 h = toWorld({sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta}, n);
+  return glm::reflect(-wo, h);
+}
+
+// Radiance leaving an emitting face at p (physical units): emissive texels plus _surface.
+glm::vec3 emittedRadiance(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
+  const GpuShadeFace& f = rs.faces[face];
+  glm::vec3 le = srgbToLinear(emissiveAt(rs, face, p));
+  const GpuLight& tmpl = rs.surfaceLights[f.material];
+  if (tmpl.value > 0.0f) le += tmpl.color * tmpl.value * rs.world.range * kPhysicalSunScale;
+  return le;
+}
+
+// Direct light at a surface by next-event estimation: every point light and sun, one emitter
+// triangle (MIS-weighted against BSDF sampling).
+glm::vec3 directLight(const RenderScene& rs, const Bsdf& bsdf, const glm::vec3& p, const glm::vec3& n, const glm::vec3& wo, Rng& rng) {
+  const glm::vec3 origin = offsetPoint(p, n);
+  glm::vec3 l(0.0f);
+  for (const GpuLight& light : rs.lights) {
+    if (light.value <= 0.0f) continue; // negative lights have no physical meaning
+    if (light.type == uint32_t(LightType::Point)) {
+      if (light.formula == uint32_t(LightFormula::LocalMin)) continue;
+      glm::vec3 pos = light.origin;
+      if (light.deviance > 0.0f) pos += light.deviance * sampleBall({rng.next(), rng.next(), rng.next()});
+      const glm::vec3 d = pos - origin;
+      const float dist2 = glm::dot(d, d);
+      const float dist = std::sqrt(dist2);
+      const glm::vec3 wi = d / dist;
+      float pdf;
+      const glm::vec3 f = bsdfEval(bsdf, n, wo, wi, pdf);
+      const float cone = faithful::spotTerm(light, wi);
+      if (pdf == 0.0f || cone == 0.0f) continue;
+      if (occluded(rs, Ray{origin, 0.0f, wi, dist}, LightingMode::Physical)) continue;
+      const glm::vec3 intensity = light.color * light.value * rs.world.range * kPhysicalPointScale * cone;
+      l += f * intensity * glm::dot(n, wi) / dist2;
+    } else if (light.type == uint32_t(LightType::Sun)) {
+      glm::vec3 wi = -light.direction;
+      if (light.deviance > 0.0f) wi = sampleCone(wi, light.deviance, rng.next2());
+      float pdf;
+      const glm::vec3 f = bsdfEval(bsdf, n, wo, wi, pdf);
+      if (pdf == 0.0f) continue;
+      if (!reachesSky(rs, Ray{origin, 0.0f, wi, std::numeric_limits<float>::infinity()}, LightingMode::Physical)) continue;
+      l += f * light.color * light.value * rs.world.range * kPhysicalSunScale * glm::dot(n, wi);
+    }
+  }
+
+  if (!rs.emitters.empty()) {
+    const GpuEmitter& e = rs.emitters[pickEmitter(rs, rng.next())];
+    const glm::vec3 q = sampleTriangle(e.v0, e.v1, e.v2, rng.next2());
+    const glm::vec3 d = q - origin;
+    const float dist2 = glm::dot(d, d);
+    const float dist = std::sqrt(dist2);
+    const glm::vec3 wi = d / dist;
+    const glm::vec3 ln = glm::vec3(rs.faces[e.face].plane);
+    const float cosLight = -glm::dot(ln, wi);
+    float bsdfPdf;
+    const glm::vec3 f = bsdfEval(bsdf, n, wo, wi, bsdfPdf);
+    if (cosLight > 0.0f && bsdfPdf > 0.0f) {
+      const float lightPdf = dist2 / (cosLight * rs.emitterArea); // solid angle
+      // Stop just short of the emitter so that its own face does not count as a blocker.
+      if (!occluded(rs, Ray{origin, 0.0f, wi, dist - 2.0f * kSurfaceOffset}, LightingMode::Physical)) {
+        const glm::vec3 le = emittedRadiance(rs, e.face, q);
+        l += f * le * glm::dot(n, wi) * powerHeuristic(lightPdf, bsdfPdf) / lightPdf;
+      }
+    }
+  }
+  return l;
+}
+
+glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& settings, Ray ray, Rng& rng) {
+  glm::vec3 l(0.0f), throughput(1.0f);
+  float prevBsdfPdf = 0.0f; // 0: camera ray (no MIS weight on what it sees)
+  for (int depth = 0;; ++depth) {
+    const SurfaceHit hit = traceVisible(rs, ray);
+    if (!hit.found) break; // the void outside a level is black
+    const GpuShadeFace& face = rs.faces[hit.face];
+    if (face.flags & kFaceSky) {
+      l += throughput * (srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position))) + skyDomeRadiance(rs, ray.direction));
+      break;
+    }
+    const glm::vec3 n = hit.normal;
+    const glm::vec3 wo = -ray.direction;
+    if (face.flags & kFaceEmissive) {
+      const glm::vec3 le = emittedRadiance(rs, hit.face, hit.position);
+      float weight = 1.0f;
+      if (prevBsdfPdf > 0.0f) {
+        const float cosLight = std::max(glm::dot(n, wo), 1e-6f);
+        const float lightPdf = hit.t * hit.t / (cosLight * rs.emitterArea);
+        weight = powerHeuristic(prevBsdfPdf, lightPdf);
+      }
+      l += throughput * le * weight;
+    }
+    if (depth >= settings.bounces + 1) break;
+
+    const GpuMaterial& m = rs.materials[face.material];
+    Bsdf bsdf{srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position))), m.roughness, m.metallic,
+              (m.flags & kMaterialSpecular) != 0};
+    l += throughput * directLight(rs, bsdf, hit.position, n, wo, rng);
+
+    const glm::vec3 wi = bsdfSample(bsdf, n, wo, rng);
+    float pdf;
+    const glm::vec3 f = bsdfEval(bsdf, n, wo, wi, pdf);
+    if (pdf <= 0.0f) break;
+    throughput *= f * glm::dot(n, wi) / pdf;
+    prevBsdfPdf = pdf;
+
+    // Russian roulette after three bounces, survival by throughput.
+    if (depth >= 3) {
+      const float survive = std::min(0.95f, std::max({throughput.x, throughput.y, throughput.z}));
+      if (rng.next() >= survive) break;
+      throughput /= survive;
+    }
+    ray = Ray{offsetPoint(hit.position, n), 0.0f, wi, std::numeric_limits<float>::infinity()};
+  }
+  return l;
+}
+
+} // namespace
+
+glm::vec3 radiance(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, Rng& rng) {
+  if (settings.mode == LightingMode::Faithful) return radianceFaithful(rs, ray, rng);
+  return radiancePhysical(rs, settings, ray, rng);
+}
+
+} // namespace bt

@@ -1,0 +1,55 @@
+// The integrator: radiance along one camera ray, in two lighting modes. This file and
+// faithful.h are the contract the GL tracer follows (see README.md for formulas and units).
+#pragma once
+
+#include "renderer/cpu/render_scene.h"
+#include "renderer/cpu/sampling.h"
+
+#include <glm/vec3.hpp>
+
+namespace bt {
+
+enum class LightingMode { Faithful, Physical };
+
+struct IntegratorSettings {
+  LightingMode mode = LightingMode::Faithful;
+  int bounces = 3;        // physical: indirect bounces after the first hit; faithful: uses _bounce
+};
+
+// A hit after skipping faces that are never drawn (hidden textures, back faces).
+struct SurfaceHit {
+  bool found = false;
+  float t = 0.0f;
+  uint32_t face = 0;
+  glm::vec3 position{0.0f};
+  glm::vec3 normal{0.0f, 0.0f, 1.0f}; // the face plane's normal (faces the ray)
+};
+
+SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray);
+
+// True when something that casts shadows in `mode` lies between the ray's tmin and tmax.
+bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode);
+
+// True when the ray reaches a sky face (or leaves the level) before anything else: sunlight.
+bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode);
+
+// Base colour at a face point: rgb as stored (sRGB-encoded, 0..1), a = coverage.
+glm::vec4 baseColorAt(const RenderScene& rs, uint32_t face, const glm::vec3& p);
+glm::vec3 emissiveAt(const RenderScene& rs, uint32_t face, const glm::vec3& p); // sRGB-encoded
+
+// Faithful mode: the light sum ericw-tools `light` would compute at surface point p with
+// normal n (light units, per colour channel; before _range). Stochastic only for soft
+// lights (deviance, penumbra, domes, surface lights), exact otherwise.
+glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng);
+
+// Linear radiance along the ray.
+glm::vec3 radiance(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, Rng& rng);
+
+// Physical-mode scale from Quake light units: a point light of value V has radiant intensity
+// V * kPhysicalPointScale * _range, a sun of value V gives irradiance V * kPhysicalSunScale *
+// _range. Chosen so that a white surface head-on to a delay-2 light (or a sun, anglescale 0)
+// shows the same brightness in both modes.
+inline constexpr float kPhysicalPointScale = kPi * 128.0f;
+inline constexpr float kPhysicalSunScale = kPi / 128.0f;
+
+} // namespace bt

@@ -1,0 +1,250 @@
+#include "renderer/cpu/lights.h"
+
+#include <fmt/format.h>
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include <charconv>
+#include <cmath>
+#include <sstream>
+
+namespace bt {
+
+namespace {
+
+constexpr float kDefaultLightValue = 300.0f;   // Quake's `light` default
+constexpr float kDefaultSpotAngle = 40.0f;     // ericw-tools' cone when `angle` is absent
+constexpr int kMaxFormula = 5;
+
+std::vector<float> parseNumbers(std::string_view text) {
+  std::vector<float> numbers;
+  std::istringstream in{std::string(text)};
+  float v = 0.0f;
+  while (in >> v) numbers.push_back(v);
+  if (!in.eof()) numbers.clear(); // trailing garbage: not a list of numbers
+  return numbers;
+}
+
+class KeyReader {
+public:
+  KeyReader(const Scene& scene, const Entity& entity, Diagnostics& diagnostics)
+      : scene_(scene), entity_(entity), diagnostics_(diagnostics) {}
+
+  bool has(std::string_view key) const { return entity_.find(key) != nullptr; }
+
+  float number(std::string_view key, float fallback) const {
+    const std::string* text = entity_.find(key);
+    if (!text) return fallback;
+    if (auto v = parseFloat(*text)) return *v;
+    warn(fmt::format("key \"{}\" has value \"{}\", expected a number; using {}", key, *text, fallback));
+    return fallback;
+  }
+
+  std::optional<glm::vec3> vec3(std::string_view key) const {
+    const std::string* text = entity_.find(key);
+    if (!text) return std::nullopt;
+    if (auto v = parseVec3(*text)) return v;
+    warn(fmt::format("key \"{}\" has value \"{}\", expected three numbers; ignored", key, *text));
+    return std::nullopt;
+  }
+
+  // `_color` and friends: 0..255 (Quake) or 0..1 (some editors); returned as 0..1.
+  glm::vec3 color(std::string_view key, glm::vec3 fallback = glm::vec3(1.0f)) const {
+    auto c = vec3(key);
+    if (!c) return fallback;
+    if (c->x > 1.0f || c->y > 1.0f || c->z > 1.0f) *c /= 255.0f;
+    return glm::max(*c, glm::vec3(0.0f));
+  }
+
+  void warn(std::string message) const {
+    diagnostics_.push_back({Severity::Warning, scene_.sourcePath, entity_.line, 0,
+                            fmt::format("{}: {}", entity_.classname(), std::move(message))});
+  }
+
+private:
+  const Scene& scene_;
+  const Entity& entity_;
+  Diagnostics& diagnostics_;
+};
+
+const Entity* findTarget(const Scene& scene, std::string_view targetname) {
+  for (const Entity& e : scene.entities)
+    if (e.value("targetname") == targetname) return &e;
+  return nullptr;
+}
+
+WorldLighting readWorld(const Scene& scene, Diagnostics& diagnostics) {
+  WorldLighting world;
+  const Entity* ws = scene.worldspawn();
+  if (!ws) return world;
+  KeyReader keys(scene, *ws, diagnostics);
+  world.range = keys.number("_range", world.range);
+  world.scaledist = keys.number("_dist", world.scaledist);
+  world.anglescale = keys.number("_anglescale", keys.number("_anglesense", world.anglescale));
+  const float minlight = keys.number("_minlight", keys.number("light", 0.0f));
+  const glm::vec3 minColor = keys.color("_minlight_color", keys.color("_mincolor"));
+  world.minlight = minlight * minColor;
+  world.bounces = static_cast<int>(keys.number("_bounce", 0.0f));
+  world.bouncescale = keys.number("_bouncescale", world.bouncescale);
+  world.litwater = keys.number("_litwater", 0.0f) != 0.0f;
+  return world;
+}
+
+void addWorldSuns(const Scene& scene, const WorldLighting& world, SceneLights& out, Diagnostics& diagnostics) {
+  const Entity* ws = scene.worldspawn();
+  if (!ws) return;
+  KeyReader keys(scene, *ws, diagnostics);
+
+  const float sunlight = keys.number("_sunlight", 0.0f);
+  if (sunlight != 0.0f) {
+    GpuLight sun;
+    sun.type = uint32_t(LightType::Sun);
+    sun.value = sunlight;
+    sun.color = keys.color("_sunlight_color", keys.color("_sun_color"));
+    glm::vec3 mangle{0.0f, -90.0f, 0.0f}; // straight down, ericw-tools' default
+    if (auto m = keys.vec3("_sun_mangle")) mangle = *m;
+    else if (auto m2 = keys.vec3("_sunlight_mangle")) mangle = *m2;
+    sun.direction = directionFromMangle(mangle.x, mangle.y);
+    sun.anglescale = world.anglescale;
+    sun.deviance = glm::radians(keys.number("_sunlight_penumbra", 0.0f));
+    out.lights.push_back(sun);
+  }
+
+  // Sky domes: light from every direction of the upper (_sunlight2) or lower (_sunlight3)
+  // hemisphere that reaches a sky face.
+  const struct { const char* value; const char* color; const char* colorAlt; float z; } domes[] = {
+      {"_sunlight2", "_sunlight2_color", "_sunlight_color2", 1.0f},
+      {"_sunlight3", "_sunlight3_color", "_sunlight_color3", -1.0f},
+  };
+  for (const auto& d : domes) {
+    const float value = keys.number(d.value, 0.0f);
+    if (value == 0.0f) continue;
+    GpuLight dome;
+    dome.type = uint32_t(LightType::Dome);
+    dome.value = value;
+    dome.color = keys.color(d.color, keys.color(d.colorAlt));
+    dome.direction = {0.0f, 0.0f, d.z};
+    dome.anglescale = world.anglescale;
+    out.lights.push_back(dome);
+  }
+}
+
+} // namespace
+
+std::optional<float> parseFloat(std::string_view text) {
+  const std::vector<float> n = parseNumbers(text);
+  if (n.size() != 1 || !std::isfinite(n[0])) return std::nullopt;
+  return n[0];
+}
+
+std::optional<glm::vec3> parseVec3(std::string_view text) {
+  const std::vector<float> n = parseNumbers(text);
+  if (n.size() != 3 || !std::isfinite(n[0]) || !std::isfinite(n[1]) || !std::isfinite(n[2])) return std::nullopt;
+  return glm::vec3(n[0], n[1], n[2]);
+}
+
+glm::vec3 directionFromMangle(float yawDegrees, float pitchDegrees) {
+  const float yaw = glm::radians(yawDegrees);
+  const float pitch = glm::radians(pitchDegrees);
+  return {std::cos(yaw) * std::cos(pitch), std::sin(yaw) * std::cos(pitch), std::sin(pitch)};
+}
+
+SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagnostics& diagnostics) {
+  SceneLights out;
+  out.world = readWorld(scene, diagnostics);
+  addWorldSuns(scene, out.world, out, diagnostics);
+
+  for (const Entity& entity : scene.entities) {
+    if (!entity.classname().starts_with("light")) continue;
+    KeyReader keys(scene, entity, diagnostics);
+
+    GpuLight light;
+    light.type = uint32_t(LightType::Point);
+    light.value = keys.number("light", kDefaultLightValue);
+    light.color = keys.color("_color");
+    // Half-Life's `_light "r g b brightness"` form.
+    if (const std::string* hl = entity.find("_light")) {
+      const std::vector<float> n = parseNumbers(*hl);
+      if (n.size() == 4) {
+        light.color = glm::vec3(n[0], n[1], n[2]) / 255.0f;
+        light.value = n[3];
+      } else if (n.size() == 1) {
+        light.value = n[0];
+      } else {
+        keys.warn(fmt::format("key \"_light\" has value \"{}\", expected \"r g b brightness\"", *hl));
+      }
+    }
+
+    const float delay = keys.number("delay", 0.0f);
+    if (delay < 0.0f || delay > kMaxFormula || delay != std::floor(delay)) {
+      keys.warn(fmt::format("invalid delay {}, using 0 (linear)", delay));
+      light.formula = uint32_t(LightFormula::Linear);
+    } else {
+      light.formula = static_cast<uint32_t>(delay);
+    }
+    light.atten = keys.number("wait", 1.0f);
+    if (light.atten <= 0.0f) light.atten = 1.0f; // ericw-tools: a non-positive wait means 1
+    light.falloff = keys.number("_falloff", 0.0f);
+    light.anglescale = keys.number("_anglescale", keys.number("_anglesense", out.world.anglescale));
+    light.deviance = keys.number("_deviance", 0.0f);
+    if (keys.number("_bleed", 0.0f) != 0.0f) light.flags |= kLightFlagBleed;
+
+    if (auto origin = keys.vec3("origin")) {
+      light.origin = *origin;
+    } else {
+      keys.warn("light without a valid origin; ignored");
+      continue;
+    }
+
+    // Spotlights: a target entity or a mangle gives the axis; `angle` is the cone, in degrees.
+    std::optional<glm::vec3> spotAxis;
+    if (const std::string* target = entity.find("target"); target && !target->empty()) {
+      const Entity* t = findTarget(scene, *target);
+      std::optional<glm::vec3> targetOrigin = t ? parseVec3(t->value("origin")) : std::nullopt;
+      if (targetOrigin && glm::length(*targetOrigin - light.origin) > 0.0f)
+        spotAxis = glm::normalize(*targetOrigin - light.origin);
+      else if (!t)
+        keys.warn(fmt::format("target \"{}\" not found; light is not a spotlight", *target));
+    }
+    if (!spotAxis) {
+      if (auto mangle = keys.vec3("mangle")) spotAxis = directionFromMangle(mangle->x, mangle->y);
+    }
+
+    // A light with `_sun 1` is a sun shining along its spot axis.
+    if (keys.number("_sun", 0.0f) != 0.0f) {
+      light.type = uint32_t(LightType::Sun);
+      light.direction = spotAxis.value_or(glm::vec3(0.0f, 0.0f, -1.0f));
+      light.deviance = glm::radians(keys.number("_sunlight_penumbra", 0.0f));
+      out.lights.push_back(light);
+      continue;
+    }
+
+    if (spotAxis) {
+      const float angle = keys.number("angle", kDefaultSpotAngle);
+      float soft = keys.number("_softangle", 0.0f);
+      if (soft <= 0.0f || soft > angle) soft = angle;
+      light.direction = *spotAxis;
+      light.cosOuter = std::cos(glm::radians(angle) * 0.5f);
+      light.cosInner = std::cos(glm::radians(soft) * 0.5f);
+    }
+
+    const int style = static_cast<int>(keys.number("style", 0.0f));
+    const bool switchable = !entity.value("targetname").empty();
+    const bool startOff = switchable && (static_cast<int>(keys.number("spawnflags", 0.0f)) & 1);
+    if (startOff) light.flags |= kLightFlagStartOff;
+    // Switchable lights get their own style in the compiled map; give them a non-zero one here.
+    const uint32_t effectiveStyle = style > 0 ? uint32_t(style) : (switchable ? 32u : 0u);
+    light.flags |= effectiveStyle << 8;
+
+    if (const std::string* surface = entity.find("_surface"); surface && !surface->empty()) {
+      out.surfaceTemplates.push_back({*surface, light});
+      continue;
+    }
+    if (startOff && !options.includeStartOff) continue;
+    if (options.styleZeroOnly && effectiveStyle != 0) continue;
+    out.lights.push_back(light);
+  }
+  return out;
+}
+
+} // namespace bt

@@ -1,0 +1,62 @@
+// Light entities and worldspawn lighting keys -> the flat light list both tracers read.
+// Key names and defaults are ericw-tools `light`'s (see renderer/cpu/README.md for the table).
+#pragma once
+
+#include "renderer/cpu/gpu_lights.h"
+#include "scene/scene.h"
+
+#include <glm/vec3.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace bt {
+
+// Worldspawn keys that set up the whole level's lighting.
+struct WorldLighting {
+  float range = 0.5f;         // `_range`: lightmap = light sum * range
+  float scaledist = 1.0f;     // `_dist`: scales distance in every falloff formula
+  float anglescale = 0.5f;    // `_anglescale` (or `_anglesense`): default for every light and the sun
+  glm::vec3 minlight{0.0f};   // `light` / `_minlight` * `_minlight_color`, in light units
+  int bounces = 0;            // `_bounce`
+  float bouncescale = 1.0f;   // `_bouncescale`
+  bool litwater = false;      // `_litwater`: liquids receive light instead of drawing fullbright
+};
+
+// An area-light template: a light entity with `_surface "texture"` makes every face with that
+// texture emit (ericw-tools spreads point lights over them; we treat the faces as emitters).
+struct SurfaceTemplate {
+  std::string texture;
+  GpuLight light;          // value, colour, formula and anglescale of the template
+};
+
+struct SceneLights {
+  std::vector<GpuLight> lights;             // point and spot lights, suns, domes
+  std::vector<SurfaceTemplate> surfaceTemplates;
+  WorldLighting world;
+};
+
+struct LightOptions {
+  // Lights that start off (spawnflags & 1 with a targetname) stay dark unless this is set.
+  bool includeStartOff = false;
+  // Only lights on lightstyle 0 (what the compiler bakes into the first lightmap), for tests
+  // that compare with compiled lightmaps.
+  bool styleZeroOnly = false;
+};
+
+// Reads every `light*` entity and the worldspawn keys. Unknown or malformed values are reported
+// in `diagnostics` (file and line of the entity) and replaced by the default.
+SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagnostics& diagnostics);
+
+// "yaw pitch roll" in degrees as ericw-tools' mangle: the direction (+pitch looks up).
+glm::vec3 directionFromMangle(float yawDegrees, float pitchDegrees);
+
+// Parses "x y z" / "r g b" style keys; nullopt when there are not exactly three numbers.
+std::optional<glm::vec3> parseVec3(std::string_view text);
+std::optional<float> parseFloat(std::string_view text);
+
+// Light style of a packed GpuLight::flags value.
+inline uint32_t lightStyle(const GpuLight& light) { return light.flags >> 8; }
+
+} // namespace bt

@@ -1,0 +1,164 @@
+#include "renderer/gl/gl_context.h"
+
+#include "renderer/gl/gl_error.h"
+
+#include <epoxy/egl.h>
+#include <epoxy/gl.h>
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <cstring>
+#include <optional>
+#include <vector>
+
+namespace bt::gl {
+
+struct GlContext::Egl {
+  EGLDisplay display = EGL_NO_DISPLAY;
+  EGLContext context = EGL_NO_CONTEXT;
+  std::string platform;
+
+  ~Egl() {
+    if (display == EGL_NO_DISPLAY) return;
+    eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
+    eglTerminate(display);
+  }
+};
+
+namespace {
+
+bool hasExtension(const char* list, const char* name) {
+  if (!list) return false;
+  const size_t n = std::strlen(name);
+  for (const char* p = list; (p = std::strstr(p, name)); p += n)
+    if ((p == list || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0')) return true;
+  return false;
+}
+
+std::string eglErrorText() { return fmt::format("EGL error 0x{:04x}", eglGetError()); }
+
+// Initialises `display` and makes a GL 4.5 core context current on it; on failure returns why.
+std::optional<std::string> makeCurrentContext(EGLDisplay display, EGLContext& context) {
+  EGLint major = 0, minor = 0;
+  if (!eglInitialize(display, &major, &minor)) return "eglInitialize: " + eglErrorText();
+  if (!hasExtension(eglQueryString(display, EGL_EXTENSIONS), "EGL_KHR_surfaceless_context"))
+    return std::string("no EGL_KHR_surfaceless_context");
+  if (!eglBindAPI(EGL_OPENGL_API)) return "eglBindAPI(EGL_OPENGL_API): " + eglErrorText();
+
+  const EGLint configAttribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
+  EGLConfig config = nullptr;
+  EGLint configCount = 0;
+  if (!eglChooseConfig(display, configAttribs, &config, 1, &configCount) || configCount == 0) {
+    // EGL_KHR_no_config_context lets a surfaceless context skip configs entirely.
+    config = EGL_NO_CONFIG_KHR;
+    if (!hasExtension(eglQueryString(display, EGL_EXTENSIONS), "EGL_KHR_no_config_context"))
+      return std::string("no EGL config with EGL_OPENGL_BIT");
+  }
+
+#ifdef NDEBUG
+  const EGLint flags = 0;
+#else
+  const EGLint flags = EGL_CONTEXT_OPENGL_DEBUG_BIT_KHR;
+#endif
+  const EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4,
+                                   EGL_CONTEXT_MINOR_VERSION, 5,
+                                   EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                   EGL_CONTEXT_FLAGS_KHR, flags,
+                                   EGL_NONE};
+  context = eglCreateContext(display, config, EGL_NO_CONTEXT, contextAttribs);
+  if (context == EGL_NO_CONTEXT) return "no GL 4.5 core context: " + eglErrorText();
+  if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context))
+    return "eglMakeCurrent: " + eglErrorText();
+  if (epoxy_gl_version() < 45) return fmt::format("GL version {} < 4.5", epoxy_gl_version() / 10.0);
+  return std::nullopt;
+}
+
+} // namespace
+
+std::unique_ptr<GlContext> GlContext::createHeadless() {
+  const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+  std::vector<std::string> reasons;
+
+  auto tryDisplay = [&](EGLDisplay display, const std::string& platform) -> std::unique_ptr<GlContext> {
+    auto egl = std::make_unique<Egl>();
+    egl->display = display;
+    egl->platform = platform;
+    if (display == EGL_NO_DISPLAY) {
+      reasons.push_back(platform + ": no display (" + eglErrorText() + ")");
+      return nullptr;
+    }
+    if (auto why = makeCurrentContext(display, egl->context)) {
+      reasons.push_back(platform + ": " + *why);
+      return nullptr;
+    }
+    return std::unique_ptr<GlContext>(new GlContext(std::move(egl)));
+  };
+
+  if (hasExtension(clientExtensions, "EGL_EXT_platform_device") &&
+      hasExtension(clientExtensions, "EGL_EXT_device_enumeration")) {
+    EGLint count = 0;
+    eglQueryDevicesEXT(0, nullptr, &count);
+    std::vector<EGLDeviceEXT> devices(static_cast<size_t>(std::max(count, 0)));
+    if (count > 0) eglQueryDevicesEXT(count, devices.data(), &count);
+    for (EGLint i = 0; i < count; ++i) {
+      EGLDisplay display = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[static_cast<size_t>(i)], nullptr);
+      if (auto context = tryDisplay(display, fmt::format("device {}", i))) return context;
+    }
+    if (count <= 0) reasons.push_back("device: no EGL devices");
+  } else {
+    reasons.push_back("device: no EGL_EXT_platform_device");
+  }
+
+  if (hasExtension(clientExtensions, "EGL_MESA_platform_surfaceless")) {
+    EGLDisplay display = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+    if (auto context = tryDisplay(display, "surfaceless")) return context;
+  } else {
+    reasons.push_back("surfaceless: no EGL_MESA_platform_surfaceless");
+  }
+
+  std::string text = "no headless GL 4.5 context (";
+  for (size_t i = 0; i < reasons.size(); ++i) text += (i ? "; " : "") + reasons[i];
+  throw GlError(text + ")");
+}
+
+GlContext::GlContext(std::unique_ptr<Egl> egl) : egl_(std::move(egl)) {
+  queryInfo();
+#ifndef NDEBUG
+  enableDebugOutput();
+#endif
+}
+
+GlContext::~GlContext() = default;
+
+void GlContext::queryInfo() {
+  auto str = [](GLenum name) {
+    const auto* s = reinterpret_cast<const char*>(glGetString(name));
+    return std::string(s ? s : "");
+  };
+  info_.platform = egl_->platform;
+  info_.vendor = str(GL_VENDOR);
+  info_.renderer = str(GL_RENDERER);
+  info_.version = str(GL_VERSION);
+  info_.bindlessTextures = epoxy_has_gl_extension("GL_ARB_bindless_texture");
+  info_.anisotropicFiltering =
+      epoxy_has_gl_extension("GL_ARB_texture_filter_anisotropic") || epoxy_has_gl_extension("GL_EXT_texture_filter_anisotropic");
+  BT_GL(glGetIntegerv(GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS, &info_.maxTextureUnits));
+}
+
+void GlContext::enableDebugOutput() {
+  if (!epoxy_has_gl_extension("GL_KHR_debug") && epoxy_gl_version() < 43) return;
+  glEnable(GL_DEBUG_OUTPUT);
+  glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS); // so a message's stack is the call's stack
+  glDebugMessageCallback(reinterpret_cast<GLDEBUGPROC>(&GlContext::debugCallback), this);
+  checkGlError("glDebugMessageCallback", __FILE__, __LINE__);
+}
+
+void GlContext::debugCallback(unsigned /*source*/, unsigned type, unsigned id, unsigned severity, int /*length*/,
+                              const char* message, const void* self) {
+  if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return;
+  if (type == GL_DEBUG_TYPE_ERROR) ++const_cast<GlContext*>(static_cast<const GlContext*>(self))->debugErrors_;
+  std::fprintf(stderr, "brushtrace: GL debug (id %u): %s\n", id, message);
+}
+
+} // namespace bt::gl

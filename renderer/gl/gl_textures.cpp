@@ -1,0 +1,163 @@
+#include "renderer/gl/gl_textures.h"
+
+#include "renderer/gl/gl_context.h"
+#include "renderer/gl/gl_error.h"
+
+#include <epoxy/gl.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <map>
+#include <tuple>
+
+namespace bt::gl {
+
+namespace {
+
+// Plain GL_RGBA8 for every map, sRGB-encoded ones included: the CPU reference filters the
+// stored 8-bit values and decodes afterwards (renderer/cpu/color.h bilinearRepeat, and Quake's
+// engine multiplies texture by light in that encoded space), so the shaders decode after
+// sampling too. `srgb` only keeps base colour and normal maps in separate size classes.
+GLenum internalFormat(bool /*srgb*/) { return GL_RGBA8; }
+
+GLsizei mipLevels(int width, int height) {
+  return static_cast<GLsizei>(std::bit_width(static_cast<unsigned>(std::max(width, height))));
+}
+
+// No anisotropic filtering: the tracer samples at an explicit level 0 (no ray differentials
+// yet), where the GL spec gives anisotropy no effect, but llvmpipe (Mesa 22) applies it anyway
+// and blurs the image away from the CPU reference. Mipmaps are built for ray-cone sampling.
+void setSampling(GLuint texture) {
+  BT_GL(glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR));
+  BT_GL(glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR));
+  BT_GL(glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_REPEAT));
+  BT_GL(glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_REPEAT));
+}
+
+struct SizeClass {
+  int width, height;
+  bool srgb;
+  auto operator<=>(const SizeClass&) const = default;
+};
+
+} // namespace
+
+const char* toString(TextureMode mode) {
+  switch (mode) {
+  case TextureMode::Auto: return "auto";
+  case TextureMode::Bindless: return "bindless";
+  case TextureMode::Arrays: return "arrays";
+  }
+  return "?";
+}
+
+std::optional<TextureMode> parseTextureMode(std::string_view name) {
+  if (name == "auto") return TextureMode::Auto;
+  if (name == "bindless") return TextureMode::Bindless;
+  if (name == "arrays") return TextureMode::Arrays;
+  return std::nullopt;
+}
+
+GlTextures::GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo& context) {
+  if (mode == TextureMode::Bindless && !context.bindlessTextures)
+    throw GlError(fmt::format("--textures bindless: {} has no GL_ARB_bindless_texture", context.renderer));
+  mode_ = mode == TextureMode::Auto ? (context.bindlessTextures ? TextureMode::Bindless : TextureMode::Arrays) : mode;
+
+  materials_.resize(scene.materials.size());
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    const Material& m = scene.materials[i];
+    GpuMaterial& g = materials_[i];
+    g.size = {static_cast<float>(std::max(m.width, 1)), static_cast<float>(std::max(m.height, 1))};
+    g.roughness = m.roughnessValue;
+    g.metallic = m.metallicValue;
+    if (!m.baseColor.empty()) g.flags |= kMaterialHasBase;
+    if (!m.normal.empty()) g.flags |= kMaterialHasNormal;
+    if (!m.emissive.empty()) g.flags |= kMaterialHasEmissive;
+  }
+
+  if (mode_ == TextureMode::Bindless) {
+    for (size_t i = 0; i < scene.materials.size(); ++i) {
+      const Material& m = scene.materials[i];
+      auto makeResident = [&](const Image& image, bool srgb) -> uint64_t {
+        const GLuint texture = createTexture(image, srgb);
+        const GLuint64 handle = glGetTextureHandleARB(texture);
+        checkGlError("glGetTextureHandleARB", __FILE__, __LINE__);
+        BT_GL(glMakeTextureHandleResidentARB(handle));
+        residentHandles_.push_back(handle);
+        return handle;
+      };
+      if (!m.baseColor.empty()) materials_[i].baseHandle = makeResident(m.baseColor, true);
+      if (!m.normal.empty()) materials_[i].normalHandle = makeResident(m.normal, false);
+      if (!m.emissive.empty()) materials_[i].emissiveHandle = makeResident(m.emissive, true);
+    }
+    return;
+  }
+
+  // Arrays: gather the layers of each size class, then upload each class as one array.
+  struct Layer {
+    const Image* image;
+    uint32_t* array;
+    uint32_t* layer;
+  };
+  std::map<SizeClass, std::vector<Layer>> classes;
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    const Material& m = scene.materials[i];
+    GpuMaterial& g = materials_[i];
+    if (!m.baseColor.empty())
+      classes[{m.baseColor.width, m.baseColor.height, true}].push_back({&m.baseColor, &g.baseArray, &g.baseLayer});
+    if (!m.normal.empty())
+      classes[{m.normal.width, m.normal.height, false}].push_back({&m.normal, &g.normalArray, &g.normalLayer});
+    if (!m.emissive.empty())
+      classes[{m.emissive.width, m.emissive.height, true}].push_back({&m.emissive, &g.emissiveArray, &g.emissiveLayer});
+  }
+  if (classes.size() > static_cast<size_t>(kMaxTextureArrays))
+    throw GlError(fmt::format("the textures come in {} sizes; the texture-array path holds {} (use bindless)",
+                              classes.size(), kMaxTextureArrays));
+  GLint maxLayers = 0;
+  BT_GL(glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers));
+
+  for (const auto& [size, layers] : classes) {
+    if (static_cast<GLint>(layers.size()) > maxLayers)
+      throw GlError(fmt::format("{} textures of {}x{}: more than GL_MAX_ARRAY_TEXTURE_LAYERS ({})", layers.size(),
+                                size.width, size.height, maxLayers));
+    GLuint array = 0;
+    BT_GL(glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &array));
+    textures_.push_back(array);
+    BT_GL(glTextureStorage3D(array, mipLevels(size.width, size.height), internalFormat(size.srgb), size.width,
+                             size.height, static_cast<GLsizei>(layers.size())));
+    for (size_t l = 0; l < layers.size(); ++l) {
+      BT_GL(glTextureSubImage3D(array, 0, 0, 0, static_cast<GLint>(l), size.width, size.height, 1, GL_RGBA,
+                                GL_UNSIGNED_BYTE, layers[l].image->rgba.data()));
+      *layers[l].array = static_cast<uint32_t>(arrays_.size());
+      *layers[l].layer = static_cast<uint32_t>(l);
+    }
+    BT_GL(glGenerateTextureMipmap(array));
+    setSampling(array);
+    arrays_.push_back(array);
+  }
+}
+
+GLuint GlTextures::createTexture(const Image& image, bool srgb) {
+  GLuint texture = 0;
+  BT_GL(glCreateTextures(GL_TEXTURE_2D, 1, &texture));
+  textures_.push_back(texture);
+  BT_GL(glTextureStorage2D(texture, mipLevels(image.width, image.height), internalFormat(srgb), image.width, image.height));
+  // Rows go up in the order Quake stores them (top row first at t = 0), so texture coordinate
+  // t / height addresses row floor(t) with no flip, in both paths.
+  BT_GL(glTextureSubImage2D(texture, 0, 0, 0, image.width, image.height, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data()));
+  BT_GL(glGenerateTextureMipmap(texture));
+  setSampling(texture);
+  return texture;
+}
+
+void GlTextures::bind() const {
+  for (size_t i = 0; i < arrays_.size(); ++i) BT_GL(glBindTextureUnit(static_cast<GLuint>(i), arrays_[i]));
+}
+
+GlTextures::~GlTextures() {
+  for (uint64_t handle : residentHandles_) glMakeTextureHandleNonResidentARB(handle);
+  if (!textures_.empty()) glDeleteTextures(static_cast<GLsizei>(textures_.size()), textures_.data());
+}
+
+} // namespace bt::gl

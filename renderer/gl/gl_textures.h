@@ -1,0 +1,54 @@
+// Material textures on the GPU, in one of two layouts chosen at run time:
+//   bindless (GL_ARB_bindless_texture): one GL_TEXTURE_2D per material map, made resident once,
+//     its 64-bit handle written into GpuMaterial;
+//   arrays (llvmpipe and any context without bindless): one GL_TEXTURE_2D_ARRAY per size class
+//     (same width, height and colour encoding), GpuMaterial naming (array, layer).
+// Both use the same internal formats, mipmaps, filters and GL_REPEAT, so both give one image.
+// Anisotropic filtering is not enabled; see setSampling in gl_textures.cpp for why.
+#pragma once
+
+#include "renderer/gl/gl_structs.h"
+#include "scene/scene.h"
+
+#include <optional>
+#include <string_view>
+#include <vector>
+
+namespace bt::gl {
+
+struct GlContextInfo;
+
+enum class TextureMode { Auto, Bindless, Arrays };
+const char* toString(TextureMode mode);
+std::optional<TextureMode> parseTextureMode(std::string_view name); // "auto", "bindless", "arrays"
+
+// Must equal BT_MAX_TEXTURE_ARRAYS in shaders/textures.glsl.
+inline constexpr int kMaxTextureArrays = 16;
+
+class GlTextures {
+public:
+  // Uploads every material's base colour and normal map. `Auto` picks bindless when the context
+  // has it. Throws GlError when `Bindless` is asked of a context without it, or when the arrays
+  // path would need more than kMaxTextureArrays size classes.
+  GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo& context);
+  ~GlTextures();
+  GlTextures(const GlTextures&) = delete;
+  GlTextures& operator=(const GlTextures&) = delete;
+
+  TextureMode mode() const { return mode_; } // Bindless or Arrays, never Auto
+  // One per Scene::materials entry, texture references filled in.
+  const std::vector<GpuMaterial>& materials() const { return materials_; }
+  // Binds the texture arrays to units 0.. (the arrays path); nothing to do for bindless.
+  void bind() const;
+
+private:
+  unsigned createTexture(const Image& image, bool srgb);
+
+  TextureMode mode_ = TextureMode::Arrays;
+  std::vector<GpuMaterial> materials_;
+  std::vector<unsigned> textures_;     // everything created, deleted in the destructor
+  std::vector<unsigned> arrays_;       // arrays path: unit i holds arrays_[i]
+  std::vector<uint64_t> residentHandles_;
+};
+
+} // namespace bt::gl

@@ -1,0 +1,247 @@
+#include "renderer/gl/gl_tracer.h"
+
+#include "renderer/gl/gl_error.h"
+#include "renderer/gl/gl_program.h"
+#include "renderer/gl/gl_scene.h"
+
+#include <epoxy/gl.h>
+#include <fmt/format.h>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+namespace bt::gl {
+
+namespace {
+
+std::vector<std::string> textureDefines(TextureMode mode) {
+  return {mode == TextureMode::Bindless ? "BT_TEXTURES_BINDLESS" : "BT_TEXTURES_ARRAYS"};
+}
+
+// An RGBA32F or R32UI image the shaders write, deleted with its owner.
+class StorageImage {
+public:
+  StorageImage(GLenum format, int width, int height) : format_(format) {
+    BT_GL(glCreateTextures(GL_TEXTURE_2D, 1, &texture_));
+    BT_GL(glTextureStorage2D(texture_, 1, format, width, height));
+  }
+  ~StorageImage() { glDeleteTextures(1, &texture_); }
+  StorageImage(const StorageImage&) = delete;
+  StorageImage& operator=(const StorageImage&) = delete;
+
+  void bindImage(GLuint unit, GLenum access) const { BT_GL(glBindImageTexture(unit, texture_, 0, GL_FALSE, 0, access, format_)); }
+
+  template <typename T>
+  std::vector<T> read(int width, int height, GLenum pixelFormat, GLenum type, int components) const {
+    std::vector<T> pixels(static_cast<size_t>(width) * height * components);
+    BT_GL(glGetTextureImage(texture_, 0, pixelFormat, type, static_cast<GLsizei>(pixels.size() * sizeof(T)), pixels.data()));
+    return pixels;
+  }
+
+private:
+  GLenum format_;
+  GLuint texture_ = 0;
+};
+
+std::vector<GpuMaterial> withShadingFlags(std::vector<GpuMaterial> materials, const GlLighting& lighting) {
+  if (lighting.materialFlags.empty()) return materials;
+  for (size_t i = 0; i < materials.size() && i < lighting.materialFlags.size(); ++i) {
+    materials[i].flags &= ~(kMaterialGgx | kMaterialHasEmissive);
+    materials[i].flags |= lighting.materialFlags[i] & (kMaterialGgx | kMaterialHasEmissive);
+  }
+  return materials;
+}
+
+GpuWorld worldBlock(const GlLighting& lighting) {
+  GpuWorld w{};
+  w.minlight = lighting.minlight;
+  w.range = lighting.range;
+  w.scaledist = lighting.scaledist;
+  w.bouncescale = lighting.bouncescale;
+  w.faithfulBounces = lighting.faithfulBounces;
+  w.litwater = lighting.litwater ? 1u : 0u;
+  w.lightCount = static_cast<uint32_t>(lighting.lights.size());
+  w.emitterCount = static_cast<uint32_t>(lighting.emitters.size());
+  w.emitterArea = lighting.emitterArea;
+  return w;
+}
+
+} // namespace
+
+struct GlTracer::Impl {
+  GlContext& context;
+  GlTextures textures;
+  GlSceneBuffers buffers;
+  // Compiled on first use: llvmpipe takes seconds for the path tracer, which AOVs do not need.
+  std::unique_ptr<ComputeProgram> aovProgram, pathProgram, rayBenchProgram;
+  GpuWorld world;
+  GLuint cameraBuffer = 0;
+  GLuint worldBuffer = 0;
+
+  Impl(GlContext& c, const Scene& scene, TextureMode mode, const GlLighting& lighting)
+      : context(c),
+        textures(scene, mode, c.info()),
+        buffers(buildGpuSceneArrays(scene, lighting.faceFlags), withShadingFlags(textures.materials(), lighting),
+                lighting, scene.materials.size()),
+        world(worldBlock(lighting)) {
+    BT_GL(glCreateBuffers(1, &cameraBuffer));
+    BT_GL(glNamedBufferStorage(cameraBuffer, sizeof(GpuCamera), nullptr, GL_DYNAMIC_STORAGE_BIT));
+    BT_GL(glCreateBuffers(1, &worldBuffer));
+    BT_GL(glNamedBufferStorage(worldBuffer, sizeof(GpuWorld), nullptr, GL_DYNAMIC_STORAGE_BIT));
+  }
+  ComputeProgram& program(std::unique_ptr<ComputeProgram>& slot, const char* name) {
+    if (!slot) slot = std::make_unique<ComputeProgram>(name, textureDefines(textures.mode()));
+    return *slot;
+  }
+
+  ~Impl() {
+    glDeleteBuffers(1, &cameraBuffer);
+    glDeleteBuffers(1, &worldBuffer);
+  }
+
+  void setWorld(bool physical, int bounces) {
+    world.physical = physical ? 1u : 0u;
+    world.bounces = bounces;
+    BT_GL(glNamedBufferSubData(worldBuffer, 0, sizeof world, &world));
+    BT_GL(glBindBufferBase(GL_UNIFORM_BUFFER, 1, worldBuffer));
+  }
+
+  void setCamera(const CameraBasis& basis, int width, int height, uint32_t frameIndex, uint32_t seed,
+                 uint32_t firstFrame = 0) {
+    GpuCamera camera{};
+    camera.origin = basis.origin;
+    camera.forward = basis.forward;
+    camera.right = basis.right;
+    camera.up = basis.up;
+    camera.imageSize = {width, height};
+    camera.frameIndex = frameIndex;
+    camera.seed = seed;
+    camera.firstFrame = firstFrame;
+    BT_GL(glNamedBufferSubData(cameraBuffer, 0, sizeof camera, &camera));
+    BT_GL(glBindBufferBase(GL_UNIFORM_BUFFER, 0, cameraBuffer));
+    buffers.bind();
+    textures.bind();
+  }
+};
+
+GlTracer::GlTracer(GlContext& context, const Scene& scene, TextureMode textures, const GlLighting& lighting)
+    : impl_(std::make_unique<Impl>(context, scene, textures, lighting)) {}
+
+GlTracer::~GlTracer() = default;
+
+TextureMode GlTracer::textureMode() const { return impl_->textures.mode(); }
+
+AovImages GlTracer::renderAovs(const CameraBasis& camera, int width, int height) {
+  if (width <= 0 || height <= 0) throw GlError(fmt::format("image size {}x{} is empty", width, height));
+  StorageImage albedo(GL_RGBA32F, width, height);
+  StorageImage normalDepth(GL_RGBA32F, width, height);
+  StorageImage face(GL_R32UI, width, height);
+  impl_->setCamera(camera, width, height, 0, 0);
+  albedo.bindImage(0, GL_WRITE_ONLY);
+  normalDepth.bindImage(1, GL_WRITE_ONLY);
+  face.bindImage(2, GL_WRITE_ONLY);
+  impl_->program(impl_->aovProgram, "aov.comp").dispatch2d(width, height);
+  BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
+
+  AovImages out;
+  out.width = width;
+  out.height = height;
+  // GL's image rows go up from row 0; the shaders put the top row at y = 0 already.
+  const auto rgba = albedo.read<float>(width, height, GL_RGBA, GL_FLOAT, 4);
+  const auto nd = normalDepth.read<float>(width, height, GL_RGBA, GL_FLOAT, 4);
+  out.face = face.read<uint32_t>(width, height, GL_RED_INTEGER, GL_UNSIGNED_INT, 1);
+  const size_t n = static_cast<size_t>(width) * height;
+  out.albedo.resize(n);
+  out.normal.resize(n);
+  out.depth.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    out.albedo[i] = {rgba[4 * i], rgba[4 * i + 1], rgba[4 * i + 2], rgba[4 * i + 3]};
+    out.normal[i] = {nd[4 * i], nd[4 * i + 1], nd[4 * i + 2]};
+    out.depth[i] = nd[4 * i + 3];
+  }
+  return out;
+}
+
+BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettings& settings,
+                                   const std::function<bool(int)>& progress) {
+  if (settings.width <= 0 || settings.height <= 0)
+    throw GlError(fmt::format("image size {}x{} is empty", settings.width, settings.height));
+  StorageImage accumulation(GL_RGBA32F, settings.width, settings.height);
+  accumulation.bindImage(0, GL_READ_WRITE);
+  impl_->setWorld(settings.physical, settings.bounces);
+  BeautyImage out;
+  out.width = settings.width;
+  out.height = settings.height;
+  for (int sample = 0; sample < settings.spp; ++sample) {
+    impl_->setCamera(camera, settings.width, settings.height, static_cast<uint32_t>(sample), settings.seed, 0);
+    impl_->program(impl_->pathProgram, "pathtrace.comp").dispatch2d(settings.width, settings.height);
+    // Each sample reads the sum the previous one wrote.
+    BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT));
+    out.samples = sample + 1;
+    if (progress) {
+      BT_GL(glFinish()); // so the callback sees real progress and timing
+      if (!progress(out.samples)) break;
+    }
+  }
+  BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
+  const auto sum = accumulation.read<float>(settings.width, settings.height, GL_RGBA, GL_FLOAT, 4);
+  out.beauty.resize(static_cast<size_t>(settings.width) * settings.height);
+  const float scale = 1.0f / static_cast<float>(std::max(out.samples, 1));
+  for (size_t i = 0; i < out.beauty.size(); ++i)
+    out.beauty[i] = glm::vec3(sum[4 * i], sum[4 * i + 1], sum[4 * i + 2]) * scale;
+  return out;
+}
+
+
+CameraBasis CameraBasis::fromQuakeAngles(const glm::vec3& origin, float pitch, float yaw, float roll, int width, int height,
+                                         float horizontalFovDegrees) {
+  const float p = glm::radians(pitch), y = glm::radians(yaw), r = glm::radians(roll);
+  const float sp = std::sin(p), cp = std::cos(p), sy = std::sin(y), cy = std::cos(y), sr = std::sin(r), cr = std::cos(r);
+  const float tanHalfX = std::tan(glm::radians(horizontalFovDegrees) * 0.5f);
+  const float tanHalfY = tanHalfX * static_cast<float>(height) / static_cast<float>(std::max(width, 1));
+  CameraBasis c;
+  c.origin = origin;
+  // Quake's AngleVectors (mathlib.c): at zero angles forward = +X, right = -Y, up = +Z.
+  c.forward = {cp * cy, cp * sy, -sp};
+  c.right = glm::vec3(-sr * sp * cy + cr * sy, -sr * sp * sy - cr * cy, -sr * cp) * tanHalfX;
+  c.up = glm::vec3(cr * sp * cy + sr * sy, cr * sp * sy - sr * cy, cr * cp) * tanHalfY;
+  return c;
+}
+
+RayBenchmark GlTracer::benchmarkRays(const CameraBasis& camera, int width, int height, int passes) {
+  using Clock = std::chrono::steady_clock;
+  StorageImage hits(GL_RGBA32F, width, height);
+  StorageImage bounceT(GL_R32F, width, height);
+  hits.bindImage(0, GL_READ_WRITE);
+  bounceT.bindImage(1, GL_WRITE_ONLY);
+  ComputeProgram& bench = impl_->program(impl_->rayBenchProgram, "raybench.comp");
+  const GLuint program = bench.id();
+  RayBenchmark result;
+  result.passes = passes;
+  result.primaryRays = static_cast<size_t>(width) * height;
+
+  auto run = [&](GLuint mode) {
+    BT_GL(glProgramUniform1ui(program, 0, mode));
+    BT_GL(glFinish());
+    const auto start = Clock::now();
+    for (int pass = 0; pass < passes; ++pass) {
+      impl_->setCamera(camera, width, height, static_cast<uint32_t>(pass), 0);
+      bench.dispatch2d(width, height);
+      BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT));
+    }
+    BT_GL(glFinish());
+    return std::chrono::duration<double>(Clock::now() - start).count();
+  };
+  result.primarySeconds = run(0);
+  BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
+  const auto primary = hits.read<float>(width, height, GL_RGBA, GL_FLOAT, 4);
+  for (size_t i = 0; i < result.primaryRays; ++i) result.bounceRays += primary[4 * i + 3] != 0.0f;
+  result.bounceSeconds = run(1);
+  return result;
+}
+
+} // namespace bt::gl

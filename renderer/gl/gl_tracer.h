@@ -1,0 +1,116 @@
+// The GL compute tracer: a Scene uploaded once, images rendered from a camera.
+#pragma once
+
+#include "renderer/gl/gl_context.h"
+#include "renderer/gl/gl_structs.h"
+#include "renderer/gl/gl_textures.h"
+#include "scene/scene.h"
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace bt::gl {
+
+// A pinhole camera as the shaders take it. right and up are scaled by tan(fov / 2) along
+// their axis: the ray through pixel centre (x, y) of a w by h image, y counted from the top,
+// is forward + (2 (x + 0.5) / w - 1) right + (1 - 2 (y + 0.5) / h) up, normalised.
+struct CameraBasis {
+  glm::vec3 origin{0.0f};
+  glm::vec3 forward{1.0f, 0.0f, 0.0f};
+  glm::vec3 right{0.0f, -1.0f, 0.0f};
+  glm::vec3 up{0.0f, 0.0f, 1.0f};
+
+  // Quake's view angles in degrees (pitch positive looks down, yaw counter-clockwise from +X,
+  // roll), axes as Quake's AngleVectors like renderer/cpu's Camera, and a horizontal field of
+  // view (Quake's default 90) for a width by height image.
+  static CameraBasis fromQuakeAngles(const glm::vec3& origin, float pitch, float yaw, float roll, int width, int height,
+                                     float horizontalFovDegrees = 90.0f);
+};
+
+// Per pixel, rows top to bottom, with the CPU reference's meanings (renderer/cpu RenderImage).
+// A pixel that sees nothing has albedo 0, normal 0, depth +infinity and face kNoFace.
+struct AovImages {
+  static constexpr uint32_t kNoFace = 0;
+  int width = 0;
+  int height = 0;
+  std::vector<glm::vec4> albedo; // linear rgb, a = 1 where something was hit
+  std::vector<glm::vec3> normal; // world-space geometric normal (the face plane's)
+  std::vector<float> depth;      // distance along the ray
+  std::vector<uint32_t> face;    // index into Scene::faces + 1
+};
+
+// What the integrator needs beyond geometry and textures: renderer/cpu's classification of
+// faces and materials, its light list and emitters, and the worldspawn lighting keys. The
+// render command fills it from renderer/cpu's RenderScene, so both tracers light alike.
+struct GlLighting {
+  std::vector<uint32_t> faceFlags;     // per Scene face: renderer/cpu kFace*; empty = none
+  std::vector<uint32_t> materialFlags; // per material: kMaterialGgx / kMaterialHasEmissive overrides; empty = from the images
+  std::vector<GlLight> lights;         // point lights, suns, domes
+  std::vector<GlLight> surfaceLights;  // per material: its _surface template (value 0 = none); empty = none
+  std::vector<GlEmitter> emitters;     // triangles of emitting faces, cdf by area
+  float emitterArea = 0.0f;
+  glm::vec3 minlight{0.0f};
+  float range = 0.5f;      // _range
+  float scaledist = 1.0f;  // _dist
+  float bouncescale = 1.0f;
+  int faithfulBounces = 0; // _bounce
+  bool litwater = false;
+};
+
+struct BeautySettings {
+  int width = 640;
+  int height = 360;
+  int spp = 16;
+  uint32_t seed = 0;
+  bool physical = false; // --lighting physical
+  int bounces = 3;       // physical mode
+};
+
+// Mean linear radiance per pixel, rows top to bottom.
+struct BeautyImage {
+  int width = 0;
+  int height = 0;
+  int samples = 0;
+  std::vector<glm::vec3> beauty;
+};
+
+struct RayBenchmark {
+  size_t primaryRays = 0; // per pass
+  size_t bounceRays = 0;  // per pass: one for each primary ray that hit something
+  int passes = 0;
+  double primarySeconds = 0.0; // all passes
+  double bounceSeconds = 0.0;
+};
+
+class GlTracer {
+public:
+  // Uploads the scene. The context must stay current on this thread for the tracer's life.
+  GlTracer(GlContext& context, const Scene& scene, TextureMode textures, const GlLighting& lighting = {});
+  ~GlTracer();
+  GlTracer(const GlTracer&) = delete;
+  GlTracer& operator=(const GlTracer&) = delete;
+
+  TextureMode textureMode() const; // the path in use: Bindless or Arrays
+
+  AovImages renderAovs(const CameraBasis& camera, int width, int height);
+
+  // settings.spp samples per pixel, one dispatch each, summed in an RGBA32F image. progress(n)
+  // is called after every sample with the samples done; returning false stops early (--time).
+  BeautyImage renderBeauty(const CameraBasis& camera, const BeautySettings& settings,
+                           const std::function<bool(int)>& progress = {});
+
+  // Times closest-hit queries alone (shaders/raybench.comp): `passes` frames of primary rays,
+  // then `passes` frames of one cosine bounce ray from each primary hit.
+  RayBenchmark benchmarkRays(const CameraBasis& camera, int width, int height, int passes);
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+} // namespace bt::gl

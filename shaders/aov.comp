@@ -1,0 +1,37 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#ifdef BT_TEXTURES_BINDLESS
+#extension GL_ARB_bindless_texture : require
+#endif
+// Primary-ray AOVs: albedo, world normal, depth and face index per pixel, one ray through each
+// pixel centre (deterministic, so the CPU reference gives the same image).
+#include "scene_buffers.glsl"
+#include "textures.glsl"
+#include "trace.glsl"
+#include "visible.glsl"
+#include "camera.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(rgba32f, binding = 0) uniform writeonly image2D albedoImage; // rgb linear albedo, a = coverage
+layout(rgba32f, binding = 1) uniform writeonly image2D normalImage; // xyz world normal, w = distance along the ray
+layout(r32ui, binding = 2) uniform writeonly uimage2D faceImage;   // Scene::faces index + 1, 0 = miss
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(pixel, camera.imageSize))) return;
+  vec3 dir = cameraRayDirection(vec2(pixel) + 0.5);
+  SurfaceHit hit = traceVisible(camera.origin, dir);
+  if (!hit.found) {
+    imageStore(albedoImage, pixel, vec4(0.0));
+    imageStore(normalImage, pixel, vec4(0.0, 0.0, 0.0, 1.0 / 0.0));
+    imageStore(faceImage, pixel, uvec4(0u));
+    return;
+  }
+  GpuFace f = faces[hit.face];
+  GpuMaterial m = materials[f.material];
+  vec4 albedo = materialBaseColor(m, faceUv(f, m, hit.position));
+  imageStore(albedoImage, pixel, vec4(srgbToLinear(albedo.rgb), 1.0));
+  imageStore(normalImage, pixel, vec4(f.normal, hit.t));
+  imageStore(faceImage, pixel, uvec4(f.sceneFace + 1u));
+}

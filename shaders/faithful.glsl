@@ -1,0 +1,50 @@
+// renderer/cpu/faithful.h in GLSL: what ericw-tools `light` computes for one light at one
+// point (ltface.cc GetLightValue / GetLightValueWithAngle). Light units, Quake units.
+
+const float FORMULA_SCALE = 128.0;  // ericw-tools LF_SCALE
+const float OVERBRIGHT_ONE = 128.0; // the engine maps lightmap 128 to the texture's colour
+
+float distanceValue(GpuLight light, float dist, float scaledist) {
+  float value = light.value;
+  if (light.falloff > 0.0 && light.formula == FORMULA_LINEAR)
+    return dist < light.falloff ? value * (1.0 - dist / light.falloff) : 0.0;
+  if (light.formula == FORMULA_INFINITE || light.formula == FORMULA_LOCAL_MIN) return value;
+
+  float scaled = scaledist * light.atten * dist;
+  if (light.formula == FORMULA_INVERSE) return value / (max(scaled, 1e-3) / FORMULA_SCALE);
+  if (light.formula == FORMULA_INVERSE2A) {
+    scaled += FORMULA_SCALE;
+    return value / ((scaled * scaled) / (FORMULA_SCALE * FORMULA_SCALE));
+  }
+  if (light.formula == FORMULA_INVERSE2) {
+    scaled = max(scaled, 1e-3);
+    return value / ((scaled * scaled) / (FORMULA_SCALE * FORMULA_SCALE));
+  }
+  // Linear; negative lights ("darklights") fall off towards zero from below.
+  if (value > 0.0) return max(value - scaled, 0.0);
+  return min(value + scaled, 0.0);
+}
+
+// Half-Lambert: anglescale 0.5 lights a grazing surface at half strength.
+float angleTerm(float cosIncidence, float anglescale) { return (1.0 - anglescale) + anglescale * cosIncidence; }
+
+float spotTerm(GpuLight light, vec3 toLight) {
+  if (light.cosOuter < -1.0) return 1.0;
+  float cosAxis = -dot(light.direction, toLight);
+  if (cosAxis < light.cosOuter) return 0.0;
+  if (cosAxis >= light.cosInner) return 1.0;
+  return (cosAxis - light.cosOuter) / (light.cosInner - light.cosOuter);
+}
+
+float pointLightValue(GpuLight light, vec3 normal, vec3 toLight, float dist, float scaledist) {
+  float cosIncidence = dot(toLight, normal);
+  if ((light.flags & LIGHT_FLAG_BLEED) != 0u) cosIncidence = abs(cosIncidence);
+  if (cosIncidence < 0.0) return 0.0;
+  return distanceValue(light, dist, scaledist) * angleTerm(cosIncidence, light.anglescale) * spotTerm(light, toLight);
+}
+
+float sunValue(GpuLight sun, vec3 direction, vec3 normal) {
+  float cosIncidence = dot(-direction, normal);
+  if (cosIncidence < 0.0) return 0.0;
+  return sun.value * angleTerm(cosIncidence, sun.anglescale);
+}

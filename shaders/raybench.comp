@@ -1,0 +1,39 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#ifdef BT_TEXTURES_BINDLESS
+#extension GL_ARB_bindless_texture : require
+#endif
+// Ray throughput for `brushtrace bench`: closest hits only, no shading.
+//   mode 0: one primary ray through each pixel (coherent);
+//   mode 1: from each pixel's primary hit, one cosine-distributed bounce ray (incoherent),
+//           the kind the integrator spends most of its time on. Only the bounce rays are timed
+//           apart: the primary hit is read from the image mode 0 wrote.
+#include "scene_buffers.glsl"
+#include "trace.glsl"
+#include "camera.glsl"
+#include "sampling.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(rgba32f, binding = 0) uniform image2D hits; // xyz: primary hit point, w: face + 1 (0 = miss)
+layout(r32f, binding = 1) uniform writeonly image2D bounceT;
+
+layout(location = 0) uniform uint mode;
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(pixel, camera.imageSize))) return;
+  if (mode == 0u) {
+    vec3 dir = cameraRayDirection(vec2(pixel) + 0.5);
+    Hit hit = traceClosest(camera.origin, dir, 0.0, 3.0e38);
+    vec3 p = camera.origin + dir * hit.t;
+    imageStore(hits, pixel, vec4(p, hit.face == NO_FACE ? 0.0 : float(hit.face + 1u)));
+    return;
+  }
+  vec4 primary = imageLoad(hits, pixel);
+  if (primary.w == 0.0) return;
+  vec3 n = faces[uint(primary.w) - 1u].normal;
+  Rng rng = pixelRng(uint(pixel.x), uint(pixel.y), camera.frameIndex, camera.seed);
+  vec3 dir = sampleCosineHemisphere(n, rngNext2(rng));
+  Hit hit = traceClosest(primary.xyz + n * 0.03, dir, 0.0, 3.0e38);
+  imageStore(bounceT, pixel, vec4(hit.t));
+}

@@ -1,0 +1,96 @@
+// Material texture sampling, in two variants chosen at run time from the context:
+//   BT_TEXTURES_BINDLESS: GL_ARB_bindless_texture, one sampler2D handle per material map;
+//   BT_TEXTURES_ARRAYS:   one sampler2DArray per size class, the material naming (array, layer).
+// Both filter the same way as the CPU reference (bvh sampleBilinearRepeat, renderer/cpu
+// bilinearRepeat): bilinear with repeat, texel centres at (i + 0.5) / size, on the stored 8-bit
+// values (GL_RGBA8; sRGB decoded after filtering). The four texels are fetched and weighted
+// here in fp32 rather than by the sampler, whose filter weights have 8 fractional bits on
+// NVIDIA and llvmpipe alike: that would put the GPU image up to ~1 % away from the CPU's.
+
+#if defined(BT_TEXTURES_BINDLESS)
+// The program enables GL_ARB_bindless_texture right after #version (extensions come first).
+
+ivec2 mapSize(uvec2 handle, uint layer) { return textureSize(sampler2D(handle), 0); }
+vec4 fetchTexel(uvec2 handle, uint layer, ivec2 texel) { return texelFetch(sampler2D(handle), texel, 0); }
+#define MAP_REF uvec2
+#define BASE_REF(m) (m).baseHandle, 0u
+#define NORMAL_REF(m) (m).normalHandle, 0u
+#define EMISSIVE_REF(m) (m).emissiveHandle, 0u
+
+#elif defined(BT_TEXTURES_ARRAYS)
+
+// Must equal kMaxTextureArrays in renderer/gl/gl_textures.h.
+#define BT_MAX_TEXTURE_ARRAYS 16
+layout(binding = 0) uniform sampler2DArray textureArrays[BT_MAX_TEXTURE_ARRAYS];
+
+// GLSL 4.50 allows indexing a sampler array only with a dynamically uniform index; neighbouring
+// pixels see different materials, so each array is named by a constant in a switch instead.
+#define BT_EACH_ARRAY(EXPR) \
+  switch (array) { \
+  case 0u: return EXPR(textureArrays[0]); case 1u: return EXPR(textureArrays[1]); \
+  case 2u: return EXPR(textureArrays[2]); case 3u: return EXPR(textureArrays[3]); \
+  case 4u: return EXPR(textureArrays[4]); case 5u: return EXPR(textureArrays[5]); \
+  case 6u: return EXPR(textureArrays[6]); case 7u: return EXPR(textureArrays[7]); \
+  case 8u: return EXPR(textureArrays[8]); case 9u: return EXPR(textureArrays[9]); \
+  case 10u: return EXPR(textureArrays[10]); case 11u: return EXPR(textureArrays[11]); \
+  case 12u: return EXPR(textureArrays[12]); case 13u: return EXPR(textureArrays[13]); \
+  case 14u: return EXPR(textureArrays[14]); case 15u: return EXPR(textureArrays[15]); \
+  }
+
+#define SIZE_OF(s) textureSize(s, 0).xy
+ivec2 mapSize(uint array, uint layer) {
+  BT_EACH_ARRAY(SIZE_OF)
+  return ivec2(1);
+}
+#define FETCH_FROM(s) texelFetch(s, ivec3(texel, int(layer)), 0)
+vec4 fetchTexel(uint array, uint layer, ivec2 texel) {
+  BT_EACH_ARRAY(FETCH_FROM)
+  return vec4(1.0, 0.0, 1.0, 1.0);
+}
+#define MAP_REF uint
+#define BASE_REF(m) (m).baseArray, (m).baseLayer
+#define NORMAL_REF(m) (m).normalArray, (m).normalLayer
+#define EMISSIVE_REF(m) (m).emissiveArray, (m).emissiveLayer
+
+#else
+#error "define BT_TEXTURES_BINDLESS or BT_TEXTURES_ARRAYS"
+#endif
+
+// Bilinear with repeat; uv in texture repeats (s / width, t / height), v = 0 at the first row.
+vec4 sampleBilinearRepeat(MAP_REF map, uint layer, vec2 uv) {
+  ivec2 size = mapSize(map, layer);
+  vec2 x = uv * vec2(size) - 0.5;
+  vec2 f = floor(x);
+  vec2 a = x - f;
+  // Wrap the integer texel index (GLSL's % is undefined for negative operands); the two
+  // corrections catch the float division's rounding at exact multiples of the size.
+  ivec2 i0 = ivec2(f - vec2(size) * floor(f / vec2(size)));
+  i0 -= size * ivec2(greaterThanEqual(i0, size));
+  i0 += size * ivec2(lessThan(i0, ivec2(0)));
+  ivec2 i1 = i0 + 1;
+  i1 -= size * ivec2(greaterThanEqual(i1, size));
+  vec4 top = fetchTexel(map, layer, i0) * (1.0 - a.x) + fetchTexel(map, layer, ivec2(i1.x, i0.y)) * a.x;
+  vec4 bottom = fetchTexel(map, layer, ivec2(i0.x, i1.y)) * (1.0 - a.x) + fetchTexel(map, layer, i1) * a.x;
+  return top * (1.0 - a.y) + bottom * a.y;
+}
+
+vec4 sampleBase(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(BASE_REF(m), uv); }
+vec4 sampleNormalMap(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(NORMAL_REF(m), uv); }
+vec4 sampleEmissive(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(EMISSIVE_REF(m), uv); }
+
+// Texture coordinates of p on face f, in texture repeats: Quake's s/t in texels over the size.
+vec2 faceUv(GpuFace f, GpuMaterial m, vec3 p) {
+  vec3 d = p - f.origin;
+  return vec2(dot(d, f.tangent), dot(d, f.bitangent)) / m.size;
+}
+
+// The base colour as stored (sRGB-encoded, 0..1; filtered in that encoding like the CPU
+// reference), a = coverage; a material without a texture is mid grey.
+vec4 materialBaseColor(GpuMaterial m, vec2 uv) {
+  if ((m.flags & MATERIAL_HAS_BASE) == 0u) return vec4(0.5, 0.5, 0.5, 1.0);
+  return sampleBase(m, uv);
+}
+
+vec3 srgbToLinear(vec3 c) {
+  return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), greaterThan(c, vec3(0.04045)));
+}

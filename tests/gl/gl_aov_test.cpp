@@ -1,0 +1,124 @@
+// AOV images of the GL tracer against a double-precision brute-force reference.
+#include "renderer/gl/gl_context.h"
+#include "renderer/gl/gl_error.h"
+#include "renderer/gl/gl_scene.h"
+#include "renderer/gl/gl_tracer.h"
+#include "tests/gl/test_scenes.h"
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace bt::gl {
+namespace {
+
+constexpr int kWidth = 96;
+constexpr int kHeight = 64;
+
+// Pixels whose ray grazes an edge between two faces may pick either in float; allow 0.5 %.
+constexpr double kMaxFaceMismatch = 0.005;
+
+void expectAovsMatch(const AovImages& gpu, const AovImages& ref) {
+  ASSERT_EQ(gpu.width, ref.width);
+  ASSERT_EQ(gpu.height, ref.height);
+  size_t mismatched = 0, hits = 0;
+  for (size_t i = 0; i < ref.face.size(); ++i) {
+    if (gpu.face[i] != ref.face[i]) {
+      ++mismatched;
+      continue;
+    }
+    if (ref.face[i] == AovImages::kNoFace) continue;
+    ++hits;
+    EXPECT_NEAR(gpu.depth[i], ref.depth[i], 1e-4 * ref.depth[i] + 1e-3) << "pixel " << i;
+    EXPECT_LT(glm::length(gpu.normal[i] - ref.normal[i]), 1e-5f) << "pixel " << i;
+    for (int c = 0; c < 4; ++c)
+      EXPECT_NEAR(gpu.albedo[i][c], ref.albedo[i][c], 1e-5) << "pixel " << i << " channel " << c;
+  }
+  EXPECT_LE(mismatched, kMaxFaceMismatch * ref.face.size()) << mismatched << " pixels see another face";
+  EXPECT_GT(hits, ref.face.size() / 2);
+}
+
+TEST(GlAov, TestRoomEqualsBruteForceReference) {
+  auto context = GlContext::createHeadless();
+  const Scene scene = test::makeTestRoom();
+  GlTracer tracer(*context, scene, TextureMode::Auto);
+  const CameraBasis camera = test::testCamera(kWidth, kHeight);
+  const AovImages gpu = tracer.renderAovs(camera, kWidth, kHeight);
+  expectAovsMatch(gpu, test::referenceAovs(scene, camera, kWidth, kHeight));
+  EXPECT_EQ(context->debugErrorCount(), 0);
+}
+
+TEST(GlAov, EveryBrushAndMaterialIsSeen) {
+  // Guards the test above against a camera that misses what it is meant to check.
+  auto context = GlContext::createHeadless();
+  const Scene scene = test::makeTestRoom();
+  GlTracer tracer(*context, scene, TextureMode::Arrays);
+  const AovImages gpu = tracer.renderAovs(test::testCamera(kWidth, kHeight), kWidth, kHeight);
+  std::vector<bool> materialSeen(scene.materials.size());
+  bool slopedSeen = false;
+  for (uint32_t f : gpu.face) {
+    if (f == AovImages::kNoFace) continue;
+    materialSeen[scene.faces[f - 1].material] = true;
+    const dvec3 n = scene.faces[f - 1].plane.normal;
+    slopedSeen |= std::abs(n.x) > 0.1 && std::abs(n.z) > 0.1;
+  }
+  for (size_t m = 0; m < materialSeen.size(); ++m) EXPECT_TRUE(materialSeen[m]) << scene.materials[m].name;
+  EXPECT_TRUE(slopedSeen) << "the wedge's sloped face is out of view";
+}
+
+TEST(GlAov, ArraysAndBindlessGiveTheSameImage) {
+  auto context = GlContext::createHeadless();
+  const Scene scene = test::makeTestRoom();
+  if (!context->info().bindlessTextures) {
+    EXPECT_THROW(GlTracer(*context, scene, TextureMode::Bindless), GlError);
+    GTEST_SKIP() << context->info().renderer << " has no GL_ARB_bindless_texture; compared on the GPU (scripts/gpu-check.sh)";
+  }
+  const CameraBasis camera = test::testCamera(kWidth, kHeight);
+  GlTracer arrays(*context, scene, TextureMode::Arrays);
+  const AovImages a = arrays.renderAovs(camera, kWidth, kHeight);
+  GlTracer bindless(*context, scene, TextureMode::Bindless);
+  ASSERT_EQ(bindless.textureMode(), TextureMode::Bindless);
+  const AovImages b = bindless.renderAovs(camera, kWidth, kHeight);
+  EXPECT_EQ(a.face, b.face);
+  EXPECT_EQ(a.depth, b.depth);
+  for (size_t i = 0; i < a.albedo.size(); ++i) EXPECT_EQ(a.albedo[i], b.albedo[i]) << "pixel " << i;
+}
+
+TEST(GlAov, EmptySceneSeesNothing) {
+  auto context = GlContext::createHeadless();
+  Scene scene;
+  GlTracer tracer(*context, scene, TextureMode::Arrays);
+  const AovImages gpu = tracer.renderAovs(test::testCamera(16, 8), 16, 8);
+  for (uint32_t f : gpu.face) EXPECT_EQ(f, AovImages::kNoFace);
+  for (float d : gpu.depth) EXPECT_TRUE(std::isinf(d));
+}
+
+TEST(GpuSceneArrays, BvhHoldsEveryBrushOnceAndBoundsContainChildren) {
+  Scene scene = test::makeTestRoom();
+  for (int i = 0; i < 40; ++i) test::addBox(scene, {i * 10.0, 0, 0}, {i * 10.0 + 8, 8, 8 + i}, 0);
+  const GpuSceneArrays arrays = buildGpuSceneArrays(scene, {}, 2);
+  std::vector<int> seen(scene.brushes.size());
+  for (const GpuBrush& b : arrays.brushes) {
+    ++seen[scene.faces[b.firstFace].brush];
+  }
+  for (int count : seen) EXPECT_EQ(count, 1);
+  for (const GpuBvhNode& n : arrays.nodes) {
+    if (n.count > 0) {
+      EXPECT_LE(n.count, 2u);
+      for (uint32_t i = n.leftOrFirst; i < n.leftOrFirst + n.count; ++i) {
+        EXPECT_TRUE(glm::all(glm::lessThanEqual(n.boundsMin, arrays.brushes[i].boundsMin)));
+        EXPECT_TRUE(glm::all(glm::greaterThanEqual(n.boundsMax, arrays.brushes[i].boundsMax)));
+      }
+      continue;
+    }
+    for (uint32_t c = n.leftOrFirst; c < n.leftOrFirst + 2; ++c) {
+      ASSERT_LT(c, arrays.nodes.size());
+      EXPECT_TRUE(glm::all(glm::lessThanEqual(n.boundsMin, arrays.nodes[c].boundsMin)));
+      EXPECT_TRUE(glm::all(glm::greaterThanEqual(n.boundsMax, arrays.nodes[c].boundsMax)));
+    }
+  }
+}
+
+} // namespace
+} // namespace bt::gl

@@ -1,0 +1,67 @@
+// The headless context, GL error reporting and shader assembly.
+#include "renderer/gl/gl_context.h"
+#include "renderer/gl/gl_error.h"
+#include "renderer/gl/gl_program.h"
+
+#include <epoxy/gl.h>
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+namespace bt::gl {
+namespace {
+
+TEST(GlContext, HeadlessContextIsGl45WithCompute) {
+  auto context = GlContext::createHeadless();
+  ASSERT_TRUE(context);
+  const GlContextInfo& info = context->info();
+  EXPECT_TRUE(info.platform.starts_with("device") || info.platform == "surfaceless") << info.platform;
+  EXPECT_GE(epoxy_gl_version(), 45) << info.version;
+  EXPECT_GE(info.maxTextureUnits, 16) << "the arrays path binds 16 sampler2DArrays";
+  std::printf("GL context: %s, %s, %s, bindless %s\n", info.platform.c_str(), info.renderer.c_str(),
+              info.version.c_str(), info.bindlessTextures ? "yes" : "no");
+}
+
+TEST(GlContext, ErrorNamesTheCallThatCausedIt) {
+  auto context = GlContext::createHeadless();
+  try {
+    BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1u << 20, 0));
+    FAIL() << "an out-of-range binding point must raise a GL error";
+  } catch (const GlError& e) {
+    const std::string text = e.what();
+    EXPECT_NE(text.find("glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1u << 20, 0)"), std::string::npos) << text;
+    EXPECT_NE(text.find("GL_INVALID_VALUE"), std::string::npos) << text;
+    EXPECT_NE(text.find("gl_context_test.cpp"), std::string::npos) << text;
+  }
+  // The error queue was drained: the next call reports only itself.
+  EXPECT_NO_THROW(BT_GL(glFinish()));
+}
+
+TEST(ShaderAssembly, IncludesAreInlinedWithLineDirectives) {
+  const std::vector<std::string> defines{"BT_TEXTURES_ARRAYS"};
+  const std::string source = assembleShader("aov.comp", defines);
+  EXPECT_TRUE(source.starts_with("#version 450\n#define BT_TEXTURES_ARRAYS\n")) << source.substr(0, 80);
+  EXPECT_EQ(source.find("#include"), std::string::npos);
+  EXPECT_EQ(source.find("GL_GOOGLE_include_directive"), std::string::npos);
+  EXPECT_NE(source.find("struct GpuBvhNode"), std::string::npos);
+  // structs.glsl comes in through scene_buffers.glsl only once.
+  EXPECT_EQ(source.find("struct GpuBvhNode"), source.rfind("struct GpuBvhNode"));
+}
+
+TEST(ShaderAssembly, CompileErrorNamesTheSourceFiles) {
+  auto context = GlContext::createHeadless();
+  // Neither texture variant defined: textures.glsl's #error fires inside an included file.
+  try {
+    ComputeProgram program("aov.comp", {});
+    FAIL() << "aov.comp without a texture variant must not compile";
+  } catch (const GlError& e) {
+    const std::string text = e.what();
+    EXPECT_NE(text.find("aov.comp does not compile"), std::string::npos) << text;
+    EXPECT_NE(text.find("textures.glsl"), std::string::npos) << text;
+  }
+  EXPECT_NO_THROW(ComputeProgram("aov.comp", std::vector<std::string>{"BT_TEXTURES_ARRAYS"}));
+}
+
+} // namespace
+} // namespace bt::gl

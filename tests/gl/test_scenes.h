@@ -1,0 +1,25 @@
+// Hand-built scenes for the GL tests: boxes and a wedge with known planes and textures, plus a
+// double-precision brute-force ray caster as the reference the GPU images are compared with.
+#pragma once
+
+#include "renderer/gl/gl_tracer.h"
+#include "scene/scene.h"
+
+namespace bt::test {
+
+// Appends a brush made of the given outward planes to the scene (windings left empty: the
+// tracer needs planes and bounds only). Each face gets Quake's axial texture frame for its
+// plane (the baseaxis qbsp picks for an unrotated, unscaled texture).
+void addBrush(Scene& scene, const std::vector<Plane>& planes, const Bounds& bounds, uint32_t material);
+void addBox(Scene& scene, dvec3 min, dvec3 max, uint32_t material);
+
+// A room (floor, ceiling, four walls) 512 x 512 x 256 around the origin, a pillar, a wedge
+// with sloped faces, and three materials: a 4x4 texel checker of distinct colours (size 64),
+// a 2x1 two-colour texture (size 32x16) and one without texture.
+Scene makeTestRoom();
+gl::CameraBasis testCamera(int width, int height);
+
+// The reference: each pixel's ray (the CameraBasis formula in double) against every brush.
+gl::AovImages referenceAovs(const Scene& scene, const gl::CameraBasis& camera, int width, int height);
+
+} // namespace bt::test

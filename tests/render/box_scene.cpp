@@ -1,0 +1,94 @@
+#include "tests/render/box_scene.h"
+
+#include <glm/geometric.hpp>
+
+namespace bt::test {
+
+BoxSceneBuilder::BoxSceneBuilder() {
+  scene_.sourcePath = "<box scene>";
+  scene_.format = "valve220";
+  Entity world;
+  world.keys = {{"classname", "worldspawn"}};
+  scene_.entities.push_back(world);
+}
+
+std::string BoxSceneBuilder::material(const std::string& name, uint8_t r, uint8_t g, uint8_t b) {
+  Material m;
+  m.name = name;
+  m.width = m.height = 16;
+  m.source = TextureSource::LooseImage;
+  m.baseColor.width = m.baseColor.height = 16;
+  for (int i = 0; i < 16 * 16; ++i) m.baseColor.rgba.insert(m.baseColor.rgba.end(), {r, g, b, 255});
+  scene_.materials.push_back(std::move(m));
+  return name;
+}
+
+uint32_t BoxSceneBuilder::entity(std::vector<std::pair<std::string, std::string>> keys) {
+  Entity e;
+  e.keys = std::move(keys);
+  e.firstBrush = uint32_t(scene_.brushes.size());
+  scene_.entities.push_back(std::move(e));
+  return uint32_t(scene_.entities.size() - 1);
+}
+
+void BoxSceneBuilder::worldKey(const std::string& key, const std::string& value) {
+  scene_.entities[0].keys.emplace_back(key, value);
+}
+
+void BoxSceneBuilder::box(glm::dvec3 lo, glm::dvec3 hi, const std::string& texture, uint32_t entity) {
+  Brush brush;
+  brush.entity = entity;
+  brush.firstFace = uint32_t(scene_.faces.size());
+  brush.bounds.grow(lo);
+  brush.bounds.grow(hi);
+  const uint32_t brushIndex = uint32_t(scene_.brushes.size());
+  const uint32_t material = scene_.findMaterial(texture).value_or(0);
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int side = 0; side < 2; ++side) {
+      Face f;
+      f.brush = brushIndex;
+      f.material = material;
+      f.texture = texture;
+      glm::dvec3 n(0.0);
+      n[axis] = side ? 1.0 : -1.0;
+      f.plane.normal = n;
+      f.plane.dist = side ? hi[axis] : -lo[axis];
+      // Quake's axial texture projection: drop the normal's axis.
+      const int u = axis == 0 ? 1 : 0, v = axis == 2 ? 1 : 2;
+      f.frame.origin = glm::dvec3(0.0);
+      f.frame.origin[axis] = side ? hi[axis] : lo[axis];
+      f.frame.tangent = glm::dvec3(0.0);
+      f.frame.tangent[u] = 1.0;
+      f.frame.bitangent = glm::dvec3(0.0);
+      f.frame.bitangent[v] = -1.0;
+      // Rectangle on the plane, counter-clockwise seen from outside.
+      const double w = f.frame.origin[axis];
+      glm::dvec3 c[4];
+      const double us[4] = {lo[u], hi[u], hi[u], lo[u]}, vs[4] = {lo[v], lo[v], hi[v], hi[v]};
+      for (int k = 0; k < 4; ++k) {
+        c[k][axis] = w;
+        c[k][u] = us[k];
+        c[k][v] = vs[k];
+      }
+      const glm::dvec3 e1 = c[1] - c[0], e2 = c[2] - c[0];
+      const bool ccw = glm::dot(glm::cross(e1, e2), n) > 0.0;
+      for (int k = 0; k < 4; ++k) f.winding.push_back(c[ccw ? k : 3 - k]);
+      scene_.faces.push_back(std::move(f));
+    }
+  }
+  brush.faceCount = 6;
+  scene_.brushes.push_back(brush);
+  scene_.entities[entity].brushCount++;
+  scene_.bounds.grow(brush.bounds);
+}
+
+void BoxSceneBuilder::room(glm::dvec3 lo, glm::dvec3 hi, const std::string& texture, double t) {
+  box({lo.x - t, lo.y - t, lo.z - t}, {hi.x + t, hi.y + t, lo.z}, texture); // floor
+  box({lo.x - t, lo.y - t, hi.z}, {hi.x + t, hi.y + t, hi.z + t}, texture); // ceiling
+  box({lo.x - t, lo.y - t, lo.z}, {lo.x, hi.y + t, hi.z}, texture);         // -x wall
+  box({hi.x, lo.y - t, lo.z}, {hi.x + t, hi.y + t, hi.z}, texture);         // +x wall
+  box({lo.x, lo.y - t, lo.z}, {hi.x, lo.y, hi.z}, texture);                 // -y wall
+  box({lo.x, hi.y, lo.z}, {hi.x, hi.y + t, hi.z}, texture);                 // +y wall
+}
+
+} // namespace bt::test

@@ -1,0 +1,34 @@
+// Builds small scenes of axis-aligned box brushes in code, for analytic lighting tests.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <glm/vec3.hpp>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace bt::test {
+
+class BoxSceneBuilder {
+public:
+  BoxSceneBuilder();
+
+  // A material with a solid base colour (sRGB bytes); returns its name.
+  std::string material(const std::string& name, uint8_t r, uint8_t g, uint8_t b);
+  uint32_t entity(std::vector<std::pair<std::string, std::string>> keys);
+  void worldKey(const std::string& key, const std::string& value);
+  // An axial box brush with the same texture on all six sides, owned by `entity` (0 = world).
+  void box(glm::dvec3 min, glm::dvec3 max, const std::string& texture, uint32_t entity = 0);
+  // Six boxes of `thickness` enclosing the inside [min, max].
+  void room(glm::dvec3 min, glm::dvec3 max, const std::string& texture, double thickness = 16.0);
+
+  Scene build() const { return scene_; }
+  Scene& scene() { return scene_; }
+
+private:
+  Scene scene_;
+};
+
+} // namespace bt::test

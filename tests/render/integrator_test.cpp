@@ -1,0 +1,246 @@
+// Analytic scenes: a lit floor per light type and formula, against the value worked out by
+// hand (faithful mode) or the radiometric integral (physical mode), and a furnace.
+#include "renderer/cpu/color.h"
+#include "renderer/cpu/integrator.h"
+#include "tests/render/box_scene.h"
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
+#include <cmath>
+
+namespace bt {
+namespace {
+
+// A white floor whose top is z = 0, large enough to be the only thing in view.
+test::BoxSceneBuilder floorScene() {
+  test::BoxSceneBuilder b;
+  b.material("white", 255, 255, 255);
+  b.box({-2048, -2048, -16}, {2048, 2048, 0}, "white");
+  return b;
+}
+
+// A ray straight down onto the floor at (x, y).
+Ray downAt(float x, float y) { return Ray{{x, y, 64.0f}, 0.0f, {0.0f, 0.0f, -1.0f}, 1e9f}; }
+
+// The light sum a faithful render implies, recovered from the displayed radiance of a white
+// texel: display = lightmap / 128, lightmap = sum * range.
+float faithfulSumFromRadiance(const glm::vec3& radiance, float range = 0.5f) {
+  return linearToSrgb(radiance.x) * 128.0f / range;
+}
+
+struct DelayCase {
+  const char* delay;
+  float expected; // light 300 at (0 0 80) seen from (60 0 0): dist 100, cos 0.8
+};
+
+TEST(FaithfulRender, LitFloorPerDelayMode) {
+  const float angle = 0.5f + 0.5f * 0.8f; // half-Lambert at the default anglescale
+  const DelayCase cases[] = {
+      {"0", (300.0f - 100.0f) * angle},
+      {"1", 300.0f * 128.0f / 100.0f * angle},
+      {"2", 300.0f * 128.0f * 128.0f / (100.0f * 100.0f) * angle},
+      {"3", 300.0f * angle},
+      {"4", 300.0f * angle}, // local minlight alone: its own value
+      {"5", 300.0f * 128.0f * 128.0f / (228.0f * 228.0f) * angle},
+  };
+  for (const DelayCase& c : cases) {
+    test::BoxSceneBuilder b = floorScene();
+    b.entity({{"classname", "light"}, {"origin", "0 0 80"}, {"delay", c.delay}});
+    const Scene scene = b.build();
+    Diagnostics diags;
+    const RenderScene rs = buildRenderScene(scene, {}, diags);
+    Rng rng = pixelRng(0, 0, 0, 0);
+    const glm::vec3 l = radiance(rs, {LightingMode::Faithful, 0}, downAt(60.0f, 0.0f), rng);
+    const float expectedLightmap = std::min(c.expected * 0.5f, 255.0f);
+    EXPECT_NEAR(faithfulSumFromRadiance(l), expectedLightmap / 0.5f, 0.01f * expectedLightmap) << "delay " << c.delay;
+  }
+}
+
+TEST(FaithfulRender, ShadowsSunAndMinlight) {
+  test::BoxSceneBuilder b = floorScene();
+  b.worldKey("_sunlight", "100");
+  b.worldKey("light", "20");
+  b.entity({{"classname", "light"}, {"origin", "0 0 80"}, {"delay", "3"}});
+  b.box({100, -10, 2}, {140, 10, 4}, "white"); // a low shelf: the floor under it sees neither light
+  const Scene scene = b.build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  Rng rng = pixelRng(0, 0, 0, 0);
+  // In the open: point light (300, angle (0.5 + 0.5 cos)) + sun from straight above (100).
+  const float cosAtX60 = 80.0f / 100.0f;
+  const float open = faithfulSumFromRadiance(radiance(rs, {LightingMode::Faithful, 0}, downAt(60.0f, 0.0f), rng));
+  EXPECT_NEAR(open, 300.0f * (0.5f + 0.5f * cosAtX60) + 100.0f, 1.0f);
+  // Under the shelf: sun and point light are blocked, worldspawn minlight remains.
+  const float shadowed = faithfulSumFromRadiance(radiance(rs, {LightingMode::Faithful, 0}, Ray{{120, 0, 1}, 0, {0, 0, -1}, 1e9f}, rng));
+  EXPECT_NEAR(shadowed, 20.0f, 0.5f);
+}
+
+TEST(FaithfulRender, SpotlightConeOnTheFloor) {
+  test::BoxSceneBuilder b = floorScene();
+  b.entity({{"classname", "light"}, {"origin", "0 0 100"}, {"mangle", "0 -90 0"}, {"delay", "3"}, {"angle", "40"}});
+  const Scene scene = b.build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  Rng rng = pixelRng(0, 0, 0, 0);
+  EXPECT_NEAR(faithfulSumFromRadiance(radiance(rs, {LightingMode::Faithful, 0}, downAt(0, 0), rng)), 300.0f, 1.0f);
+  // 20 units off axis at 100 below is 11.3 degrees: inside the 20 degree half-angle.
+  const float cos20 = 100.0f / std::sqrt(100.0f * 100.0f + 400.0f);
+  EXPECT_NEAR(faithfulSumFromRadiance(radiance(rs, {LightingMode::Faithful, 0}, downAt(20, 0), rng)),
+              300.0f * (0.5f + 0.5f * cos20), 1.0f);
+  // 50 units off axis is 26.6 degrees: outside.
+  EXPECT_NEAR(faithfulSumFromRadiance(radiance(rs, {LightingMode::Faithful, 0}, downAt(50, 0), rng)), 0.0f, 0.01f);
+}
+
+TEST(FaithfulRender, SkyDomeMeanOverTheHemisphere) {
+  test::BoxSceneBuilder b = floorScene();
+  b.worldKey("_sunlight2", "100");
+  const Scene scene = b.build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  // Uniform directions over the upper hemisphere: E[0.5 + 0.5 cos] = 0.75.
+  double sum = 0.0;
+  const int n = 4000;
+  for (int i = 0; i < n; ++i) {
+    Rng rng = pixelRng(0, 0, uint32_t(i), 7);
+    sum += faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng).x;
+  }
+  EXPECT_NEAR(sum / n, 75.0, 1.0); // standard error ~0.2
+}
+
+TEST(FaithfulRender, LiquidsAreFullbrightUnlessLitwater) {
+  for (bool litwater : {false, true}) {
+    test::BoxSceneBuilder b;
+    b.material("*water", 100, 100, 100);
+    b.box({-512, -512, -16}, {512, 512, 0}, "*water");
+    if (litwater) b.worldKey("_litwater", "1");
+    b.entity({{"classname", "light"}, {"origin", "0 0 50"}, {"light", "50"}, {"delay", "3"}});
+    const Scene scene = b.build();
+    Diagnostics diags;
+    const RenderScene rs = buildRenderScene(scene, {}, diags);
+    Rng rng = pixelRng(0, 0, 0, 0);
+    const float display = linearToSrgb(radiance(rs, {LightingMode::Faithful, 0}, downAt(0, 0), rng).x);
+    const float texel = 100.0f / 255.0f;
+    EXPECT_NEAR(display, litwater ? texel * 50.0f * 0.5f / 128.0f : texel, 1e-3f);
+  }
+}
+
+TEST(PhysicalRender, PointLightInverseSquare) {
+  test::BoxSceneBuilder b = floorScene();
+  b.entity({{"classname", "light"}, {"origin", "0 0 80"}});
+  const Scene scene = b.build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  Rng rng = pixelRng(0, 0, 0, 0);
+  const glm::vec3 l = radiance(rs, {LightingMode::Physical, 0}, downAt(60.0f, 0.0f), rng);
+  // White Lambertian: L = (1 / pi) * I * cos / d^2 with I = 300 * range * pi * 128.
+  const float expected = 300.0f * 0.5f * 128.0f * 0.8f / (100.0f * 100.0f);
+  EXPECT_NEAR(l.x, expected, 1e-3f * expected);
+  // The same light in faithful delay-2 mode head-on at anglescale 0 shows the same display value.
+}
+
+// Form factor from a point to a parallel rectangle [0, a] x [0, b] at height c, the point
+// below a corner (Howell's catalogue, C-11).
+double cornerFormFactor(double a, double b, double c) {
+  const double x = a / c, y = b / c;
+  const double sx = std::sqrt(1 + x * x), sy = std::sqrt(1 + y * y);
+  return (x / sx * std::atan(y / sx) + y / sy * std::atan(x / sy)) / (2.0 * 3.14159265358979);
+}
+
+TEST(PhysicalRender, AreaLightMatchesFormFactorWithinMonteCarloError) {
+  test::BoxSceneBuilder b = floorScene();
+  b.material("black", 0, 0, 0);
+  b.material("lamp", 0, 0, 0); // emits, reflects nothing
+  const uint32_t firstLampFace = uint32_t(b.scene().faces.size());
+  b.box({-32, -32, 100}, {32, 32, 104}, "lamp");
+  // Only the downward face emits: the sides and top get the black, non-emitting material.
+  const uint32_t black = *b.scene().findMaterial("black");
+  for (uint32_t f = firstLampFace; f < firstLampFace + 6; ++f)
+    if (b.scene().faces[f].plane.normal.z > -0.5) {
+      b.scene().faces[f].material = black;
+      b.scene().faces[f].texture = "black";
+    }
+  b.entity({{"classname", "light"}, {"origin", "0 0 -500"}, {"_surface", "lamp"}, {"light", "200"}});
+  const Scene scene = b.build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  ASSERT_EQ(rs.emitters.size(), 2u);
+
+  const double le = 200.0 * 0.5 * 3.14159265358979 / 128.0;
+  const double formFactor = 4.0 * cornerFormFactor(32, 32, 100);
+  const double expected = le * formFactor; // white floor: L = albedo * Le * F
+  const int n = 20000;
+  double sum = 0.0, sum2 = 0.0;
+  for (int i = 0; i < n; ++i) {
+    Rng rng = pixelRng(3, 4, uint32_t(i), 11);
+    const double v = radiance(rs, {LightingMode::Physical, 2}, downAt(0, 0), rng).x;
+    sum += v;
+    sum2 += v * v;
+  }
+  const double mean = sum / n;
+  const double stderr_ = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
+  EXPECT_NEAR(mean, expected, std::max(4.0 * stderr_, 1e-4 * expected)) << "standard error " << stderr_;
+  EXPECT_LT(stderr_, 0.02 * expected); // and the estimate is actually tight
+}
+
+TEST(PhysicalRender, FurnaceConvergesToEmissionOverOneMinusAlbedo) {
+  test::BoxSceneBuilder b;
+  b.material("grey", 188, 188, 188);
+  b.room({-64, -64, -64}, {64, 64, 64}, "grey");
+  b.entity({{"classname", "light"}, {"origin", "0 0 0"}, {"_surface", "grey"}, {"light", "100"}});
+  const Scene scene = b.build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  const double albedo = srgbToLinear(188.0f / 255.0f);
+  const double le = 100.0 * 0.5 * 3.14159265358979 / 128.0;
+  const double expected = le / (1.0 - albedo);
+  const int n = 6000;
+  double sum = 0.0, sum2 = 0.0;
+  for (int i = 0; i < n; ++i) {
+    Rng rng = pixelRng(1, 2, uint32_t(i), 5);
+    const glm::vec3 dir = glm::normalize(glm::vec3(0.3f, -0.5f, 0.8f));
+    const double v = radiance(rs, {LightingMode::Physical, 64}, Ray{{0, 0, 0}, 0, dir, 1e9f}, rng).y;
+    sum += v;
+    sum2 += v * v;
+  }
+  const double mean = sum / n;
+  const double stderr_ = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
+  EXPECT_NEAR(mean, expected, 4.0 * stderr_) << "standard error " << stderr_;
+  EXPECT_LT(stderr_, 0.02 * expected);
+}
+
+TEST(Tracing, HiddenFacesAreSkippedAndBlockNothing) {
+  test::BoxSceneBuilder b = floorScene();
+  b.material("clip", 255, 0, 0);
+  b.box({-100, -100, 20}, {100, 100, 30}, "clip");
+  b.entity({{"classname", "light"}, {"origin", "0 0 80"}, {"delay", "3"}});
+  const Scene scene = b.build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  const SurfaceHit hit = traceVisible(rs, downAt(0, 0));
+  ASSERT_TRUE(hit.found);
+  EXPECT_FLOAT_EQ(hit.position.z, 0.0f);
+  Rng rng = pixelRng(0, 0, 0, 0);
+  EXPECT_NEAR(faithfulSumFromRadiance(radiance(rs, {LightingMode::Faithful, 0}, downAt(0, 0), rng)), 300.0f, 1.0f);
+
+  RenderSceneOptions show;
+  show.showHidden = true;
+  const RenderScene shown = buildRenderScene(scene, show, diags);
+  EXPECT_FLOAT_EQ(traceVisible(shown, downAt(0, 0)).position.z, 30.0f);
+}
+
+TEST(Tracing, TextureNamesClassify) {
+  EXPECT_EQ(classifyTexture("CLIP", std::nullopt), kFaceHidden);
+  EXPECT_EQ(classifyTexture("trigger", std::nullopt), kFaceHidden);
+  EXPECT_EQ(classifyTexture("e1u1/skip", std::nullopt), kFaceHidden);
+  EXPECT_EQ(classifyTexture("common/caulk", std::nullopt), kFaceHidden);
+  EXPECT_EQ(classifyTexture("sky4", std::nullopt), kFaceSky);
+  EXPECT_EQ(classifyTexture("*lava1", std::nullopt), kFaceLiquid);
+  EXPECT_EQ(classifyTexture("!water", std::nullopt), kFaceLiquid);
+  EXPECT_EQ(classifyTexture("wbrick1_5", std::nullopt), 0u);
+  EXPECT_EQ(classifyTexture("e1u1/floor", SurfaceAttributes{32, 0, 0.0}), kFaceLiquid); // Q2 water contents
+  EXPECT_EQ(classifyTexture("e1u1/sky1", SurfaceAttributes{0, 4, 0.0}), kFaceSky);
+}
+
+} // namespace
+} // namespace bt
