@@ -49,15 +49,18 @@ LightData chooseLightData(const BspFile& bsp, const std::optional<std::vector<ui
 LightmapExtents lightmapExtents(const BspFile& bsp, size_t face) {
   const Face& f = bsp.faces[face];
   const TexInfo& texinfo = bsp.texinfo[static_cast<size_t>(f.texinfo)];
-  // In single precision, as Quake and the light tool compute it: at scale 3, -144 * (1/3.f) is
-  // exactly -48 in float but -48.0000001 in double, which would move the grid by a luxel.
+  // As the light tool computes them (ericw-tools faceextents_t): texel coordinates in extended
+  // precision, then stored as float. At scale 3, -144 * (1/3.f) is -48.0000001 in double, -48 in
+  // float; computing in float throughout instead loses a luxel elsewhere (45-degree faces).
   float lo[2] = {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity()};
   float hi[2] = {-lo[0], -lo[1]};
-  for (const glm::dvec3& d : bsp.faceVertices(face)) {
-    const glm::vec3 p(d);
+  for (const glm::dvec3& p : bsp.faceVertices(face)) {
     for (int i = 0; i < 2; ++i) {
       const auto& v = texinfo.vecs[static_cast<size_t>(i)];
-      const float st = p.x * v[0] + p.y * v[1] + p.z * v[2] + v[3];
+      const long double exact = static_cast<long double>(p.x) * v[0] + static_cast<long double>(p.y) * v[1] +
+                                static_cast<long double>(p.z) * v[2] + v[3];
+      if (!(std::fabs(exact) < 1e9L)) return {}; // corrupt texinfo or vertices (also NaN)
+      const float st = static_cast<float>(exact);
       lo[i] = std::min(lo[i], st);
       hi[i] = std::max(hi[i], st);
     }
@@ -65,8 +68,8 @@ LightmapExtents lightmapExtents(const BspFile& bsp, size_t face) {
   LightmapExtents e;
   int size[2] = {0, 0};
   for (int i = 0; i < 2; ++i) {
-    const double mins = std::floor(lo[i] / static_cast<float>(kLuxel));
-    const double maxs = std::ceil(hi[i] / static_cast<float>(kLuxel));
+    const double mins = std::floor(static_cast<double>(lo[i]) / kLuxel);
+    const double maxs = std::ceil(static_cast<double>(hi[i]) / kLuxel);
     if (!std::isfinite(mins) || !std::isfinite(maxs) || maxs - mins >= kMaxLightmapSide) return {};
     e.mins[static_cast<size_t>(i)] = static_cast<int>(mins);
     size[i] = static_cast<int>(maxs - mins) + 1;
