@@ -367,3 +367,102 @@ TEST(BspTextures, TexturesMissingFromTheBspAreSearchedInWads) {
 }
 
 } // namespace
+
+namespace {
+
+// --- BSP2 and 2PSB ---------------------------------------------------------------------------
+
+// Rewrites a BSP29 file in the 32-bit layouts: BSP2 (float node/leaf bounds) or RMQ's 2PSB
+// (int16 bounds). No compiler output in ../shared uses them, so the test makes its own.
+Bytes widenBsp29(const Bytes& in, bool floatBounds) {
+  auto i16 = [&](size_t at) { return static_cast<int16_t>(in[at] | (in[at + 1] << 8)); };
+  auto u16 = [&](size_t at) { return static_cast<uint16_t>(in[at] | (in[at + 1] << 8)); };
+  auto bounds = [&](Bytes& out, size_t at) {
+    for (int k = 0; k < 6; ++k) {
+      if (floatBounds) appendF32(out, static_cast<float>(i16(at + 2 * k)));
+      else appendU16(out, static_cast<uint16_t>(i16(at + 2 * k)));
+    }
+  };
+  std::vector<Bytes> lumps(15);
+  for (int l = 0; l < 15; ++l) {
+    const size_t offset = u32At(in, 4 + l * 8), length = u32At(in, 8 + l * 8);
+    Bytes& out = lumps[static_cast<size_t>(l)];
+    switch (l) {
+    case 5: // nodes
+      for (size_t at = offset; at < offset + length; at += 24) {
+        appendU32(out, u32At(in, at));
+        appendU32(out, static_cast<uint32_t>(int32_t{i16(at + 4)}));
+        appendU32(out, static_cast<uint32_t>(int32_t{i16(at + 6)}));
+        bounds(out, at + 8);
+        appendU32(out, u16(at + 20));
+        appendU32(out, u16(at + 22));
+      }
+      break;
+    case 7: // faces
+      for (size_t at = offset; at < offset + length; at += 20) {
+        appendU32(out, u16(at));
+        appendU32(out, static_cast<uint32_t>(int32_t{i16(at + 2)}));
+        appendU32(out, u32At(in, at + 4));
+        appendU32(out, u16(at + 8));
+        appendU32(out, u16(at + 10));
+        out.insert(out.end(), in.begin() + static_cast<long>(at + 12), in.begin() + static_cast<long>(at + 20));
+      }
+      break;
+    case 9: // clipnodes
+      for (size_t at = offset; at < offset + length; at += 8) {
+        appendU32(out, u32At(in, at));
+        appendU32(out, static_cast<uint32_t>(int32_t{i16(at + 4)}));
+        appendU32(out, static_cast<uint32_t>(int32_t{i16(at + 6)}));
+      }
+      break;
+    case 10: // leafs
+      for (size_t at = offset; at < offset + length; at += 28) {
+        appendU32(out, u32At(in, at));
+        appendU32(out, u32At(in, at + 4));
+        bounds(out, at + 8);
+        appendU32(out, u16(at + 20));
+        appendU32(out, u16(at + 22));
+        out.insert(out.end(), in.begin() + static_cast<long>(at + 24), in.begin() + static_cast<long>(at + 28));
+      }
+      break;
+    case 11: // marksurfaces
+      for (size_t at = offset; at < offset + length; at += 2) appendU32(out, u16(at));
+      break;
+    case 12: // edges
+      for (size_t at = offset; at < offset + length; at += 2) appendU32(out, u16(at));
+      break;
+    default:
+      out.assign(in.begin() + static_cast<long>(offset), in.begin() + static_cast<long>(offset + length));
+    }
+  }
+  Bytes out(4 + 15 * 8, 0);
+  std::memcpy(out.data(), floatBounds ? "BSP2" : "2PSB", 4);
+  for (size_t l = 0; l < 15; ++l) {
+    putU32(out, 4 + l * 8, static_cast<uint32_t>(out.size()));
+    putU32(out, 8 + l * 8, static_cast<uint32_t>(lumps[l].size()));
+    out.insert(out.end(), lumps[l].begin(), lumps[l].end());
+    out.resize((out.size() + 3) & ~size_t{3}, 0);
+  }
+  return out;
+}
+
+TEST(BspVersions, Bsp2And2psbImportLikeTheBsp29TheyWereWidenedFrom) {
+  BT_REQUIRE_SHARED(shared);
+  const auto bytes29 = readBytes(shared / "oracle" / "maps_quake_map_source_e1m1.bsp");
+  const bt::Scene reference = bt::bsp::sceneFromBsp(bt::bsp::readBspFile(bytes29, "e1m1.bsp"));
+  for (const bool floatBounds : {true, false}) {
+    const auto bsp = bt::bsp::readBspFile(widenBsp29(bytes29, floatBounds), "e1m1-wide.bsp");
+    EXPECT_EQ(bsp.version, floatBounds ? bt::bsp::Version::Bsp2 : bt::bsp::Version::Bsp2rmq);
+    const bt::Scene wide = bt::bsp::sceneFromBsp(bsp);
+    EXPECT_EQ(wide.format, floatBounds ? "bsp2" : "2psb");
+    ASSERT_EQ(wide.faces.size(), reference.faces.size());
+    ASSERT_EQ(wide.brushes.size(), reference.brushes.size());
+    for (size_t f = 0; f < wide.faces.size(); ++f) {
+      ASSERT_EQ(wide.faces[f].texture, reference.faces[f].texture);
+      ASSERT_EQ(wide.faces[f].plane.normal, reference.faces[f].plane.normal);
+      ASSERT_EQ(wide.faces[f].winding, reference.faces[f].winding);
+    }
+  }
+}
+
+} // namespace
