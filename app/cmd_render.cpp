@@ -3,12 +3,18 @@
 
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/cpu/render_scene.h"
+#include "renderer/gl/gl_context.h"
+#include "renderer/gl/gl_lighting.h"
+#include "renderer/gl/gl_tracer.h"
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <regex>
 #include <unistd.h>
 
@@ -24,6 +30,7 @@ struct RenderOptions {
   std::string size = "960x540";
   std::string camera;
   std::string backend = "auto";
+  std::string glTextures = "auto";
   std::string aov = "beauty";
   float exposure = 0.0f;
   std::string tonemap; // empty: faithful for --lighting faithful, aces for physical
@@ -36,25 +43,54 @@ struct RenderOptions {
   ImportOptions import;
 };
 
-// The default map: maps/start.map in the current directory, then beside the executable's
-// build folder (build/brushtrace -> ../maps), then in the source tree it was built from.
-std::string findDefaultMap(const char* argv0) {
-  namespace fs = std::filesystem;
-  std::vector<fs::path> candidates{fs::current_path() / "maps" / "start.map"};
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) candidates.push_back(exe.parent_path().parent_path() / "maps" / "start.map");
-  (void)argv0;
-  candidates.push_back(fs::path(BRUSHTRACE_SOURCE_DIR) / "maps" / "start.map");
-  for (const fs::path& p : candidates)
-    if (fs::is_regular_file(p, ec)) return p.string();
-  throw std::runtime_error("no MAP given and maps/start.map not found (looked in the current directory, beside the "
-                           "executable and in " BRUSHTRACE_SOURCE_DIR ")");
-}
-
 std::string formatDuration(double seconds) {
   const long s = std::max(0L, long(seconds + 0.5));
   return fmt::format("{:02}:{:02}:{:02}", s / 3600, (s / 60) % 60, s % 60);
+}
+
+bool isSoftwareRenderer(std::string_view renderer) {
+  for (std::string_view name : {"llvmpipe", "softpipe", "swrast", "lavapipe"})
+    if (renderer.find(name) != std::string_view::npos) return true;
+  return false;
+}
+
+RenderImage renderGl(gl::GlContext& context, gl::TextureMode textures, const Scene& scene, const RenderScene& rs, const CameraPose& pose,
+                     const RenderSettings& settings, const std::function<void(const RenderProgress&)>& progress) {
+  gl::GlTracer tracer(context, scene, textures, gl::lightingFor(rs));
+  const gl::CameraBasis camera =
+      gl::CameraBasis::fromQuakeAngles(pose.origin, pose.pitch, pose.yaw, pose.roll, settings.width, settings.height);
+  const gl::AovImages aovs = tracer.renderAovs(camera, settings.width, settings.height);
+  gl::BeautySettings beauty;
+  beauty.width = settings.width;
+  beauty.height = settings.height;
+  beauty.spp = settings.spp > 0 ? settings.spp : 1 << 20;
+  beauty.seed = settings.seed;
+  beauty.physical = settings.integrator.mode == LightingMode::Physical;
+  beauty.bounces = settings.integrator.bounces;
+  const auto start = std::chrono::steady_clock::now();
+  const gl::BeautyImage frame = tracer.renderBeauty(camera, beauty, [&](int done) {
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (progress) {
+      RenderProgress p;
+      p.samplesDone = done;
+      p.samplesTotal = settings.spp;
+      p.elapsed = elapsed;
+      p.estimatedRemaining = elapsed / done * (beauty.spp - done);
+      if (settings.timeLimit > 0.0) p.estimatedRemaining = std::min(p.estimatedRemaining, std::max(0.0, settings.timeLimit - elapsed));
+      progress(p);
+    }
+    return settings.timeLimit <= 0.0 || elapsed < settings.timeLimit;
+  });
+  RenderImage image;
+  image.width = frame.width;
+  image.height = frame.height;
+  image.samples = frame.samples;
+  image.beauty = frame.beauty;
+  for (const glm::vec4& a : aovs.albedo) image.albedo.emplace_back(a);
+  image.normal = aovs.normal;
+  image.depth = aovs.depth;
+  image.face = aovs.face;
+  return image;
 }
 
 int runRender(const RenderOptions& o) {
@@ -67,14 +103,28 @@ int runRender(const RenderOptions& o) {
   }
   if (o.spp <= 0 && o.timeLimit <= 0.0) throw std::runtime_error("--spp must be positive (or give --time)");
 
-  if (o.backend == "gl") {
-    // The GL compute tracer is a separate part (renderer/gl); until it is linked in, say so and
-    // render with the CPU reference instead, as the fallback rule asks.
-    fmt::print(stderr, "brushtrace: GL backend unavailable: this build has no GL compute tracer linked in; "
-                       "rendering on the CPU instead\n");
+  // gl and auto render on the GL tracer when a GL 4.5 context can be made; otherwise one line
+  // says why and the CPU reference renders instead. auto also passes over a software GL
+  // (Mesa's llvmpipe): the CPU tracer is many times faster than compute shaders emulated on it.
+  std::unique_ptr<gl::GlContext> glContext;
+  if (o.backend != "cpu") {
+    try {
+      glContext = gl::GlContext::createHeadless();
+    } catch (const std::exception& e) {
+      fmt::print(stderr, "brushtrace: no GL 4.5 context ({}); rendering on the CPU\n", e.what());
+    }
+    if (glContext && o.backend == "auto" && isSoftwareRenderer(glContext->info().renderer)) {
+      if (!o.quiet)
+        fmt::print(stderr, "brushtrace: GL context is software ({}); rendering on the CPU (--backend gl forces it)\n",
+                   glContext->info().renderer);
+      glContext.reset();
+    }
   }
 
-  const std::string mapPath = o.map.empty() ? findDefaultMap(nullptr) : o.map;
+  const std::optional<gl::TextureMode> glTextures = gl::parseTextureMode(o.glTextures);
+  if (!glTextures) throw std::runtime_error("--gl-textures: expected auto, bindless or arrays");
+
+  const std::string mapPath = o.map.empty() ? defaultMapPath() : o.map;
   const Scene scene = importScene(mapPath, o.import);
   for (const Diagnostic& d : scene.diagnostics)
     if (!o.quiet && d.severity != Severity::Note) fmt::print(stderr, "{}\n", format(d));
@@ -133,11 +183,12 @@ int runRender(const RenderOptions& o) {
     }
   };
 
-  const Camera camera(pose, width, height);
-  const RenderImage image = renderCpu(renderScene, camera, settings, progress);
+  const RenderImage image = glContext ? renderGl(*glContext, *glTextures, scene, renderScene, pose, settings, progress)
+                                      : renderCpu(renderScene, Camera(pose, width, height), settings, progress);
   if (tty && !o.quiet && image.samples != settings.spp) fmt::print("\n");
   writeImage(o.output, image, output);
-  if (!o.quiet) fmt::print("wrote {} ({}x{}, {} spp, {} lighting, cpu)\n", o.output, width, height, image.samples, o.lighting);
+  if (!o.quiet) fmt::print("wrote {} ({}x{}, {} spp, {} lighting, {})\n", o.output, width, height, image.samples, o.lighting,
+                           glContext ? "gl " + glContext->info().renderer : std::string("cpu"));
   return 0;
 }
 
@@ -157,6 +208,9 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--camera", options->camera, "Camera \"(x y z) pitch yaw roll\"; default from the level's entities");
   cmd->add_option("--backend", options->backend, "auto|gl|cpu")
       ->check(CLI::IsMember({"auto", "gl", "cpu"}))
+      ->capture_default_str();
+  cmd->add_option("--gl-textures", options->glTextures, "GL texture path: auto|bindless|arrays")
+      ->check(CLI::IsMember({"auto", "bindless", "arrays"}))
       ->capture_default_str();
   cmd->add_option("--aov", options->aov, "beauty|albedo|normal|depth|face")
       ->check(CLI::IsMember({"beauty", "albedo", "normal", "depth", "face"}))

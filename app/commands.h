@@ -11,6 +11,9 @@ namespace bt::app {
 // --dialect, --wad, --textures, --palette, --no-textures: every command that imports a level.
 void addImportOptions(CLI::App& command, ImportOptions& options);
 
+// The level `render` and `view` open when given none: maps/start.map.
+std::string defaultMapPath();
+
 // info MAP [--json], dump MAP --json, convert IN -o OUT [--dialect D] [--in-place]
 void addInfoCommand(CLI::App& app, int& exitCode);
 void addDumpCommand(CLI::App& app, int& exitCode);
@@ -19,6 +22,8 @@ void addConvertCommand(CLI::App& app, int& exitCode);
 void addRenderCommand(CLI::App& app, int& exitCode);
 // brushtrace bench [MAP] (cmd_bench.cpp): GL tracer throughput.
 void addBenchCommand(CLI::App& app, int& exitCode);
+// brushtrace view [MAP] (cmd_view.cpp): the live viewer.
+void addViewCommand(CLI::App& app, int& exitCode);
 
 
 } // namespace bt::app

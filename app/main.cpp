@@ -14,13 +14,17 @@ int main(int argc, char** argv) {
   int exitCode = 0;
   bt::app::addInfoCommand(app, exitCode);
   bt::app::addDumpCommand(app, exitCode);
+  bt::app::addConvertCommand(app, exitCode);
   bt::app::addRenderCommand(app, exitCode);
   bt::app::addBenchCommand(app, exitCode);
+  bt::app::addViewCommand(app, exitCode);
 
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // CLI11 prints the message (or --help); the README's contract says usage errors exit 2.
+    const int cliCode = app.exit(e);
+    return cliCode == 0 ? 0 : 2;
   } catch (const std::exception& e) {
     // Importers report bad input as ImportError with file:line:col already in the text.
     fmt::print(stderr, "brushtrace: {}\n", e.what());

@@ -3,6 +3,7 @@
 #include "importers/bsp/bsp_import.h"
 #include "importers/bsp/pk3.h"
 #include "importers/map/map_scene.h"
+#include "importers/textures/textures.h"
 
 #include <algorithm>
 #include <array>
@@ -41,18 +42,22 @@ std::optional<MapDialect> parseDialect(std::string_view name) {
 }
 
 namespace {
-bool hasExtension(const std::string& path, std::string_view ext) {
-  std::string e = std::filesystem::path(path).extension().string();
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return e == ext;
+std::string lowercaseExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
 }
 } // namespace
 
 Scene importScene(const std::string& path, const ImportOptions& options) {
-  if (hasExtension(path, ".map")) return map::importMap(path, options);
   // Compiled levels: "x.bsp" or "archive.pk3:maps/x.bsp".
-  if (bsp::splitArchivePath(path) || hasExtension(path, ".bsp")) return bsp::importBsp(path, options);
-  throw ImportError(Diagnostic{Severity::Error, path, 0, 0, "no importer for this file type"});
+  if (bsp::splitArchivePath(path) || lowercaseExtension(path) == ".bsp") return bsp::importBsp(path, options);
+  if (lowercaseExtension(path) == ".map") {
+    Scene scene = map::importMap(path, options);
+    loadMaterials(scene, options.textures);
+    return scene;
+  }
+  throw ImportError(Diagnostic{Severity::Error, path, 0, 0, "not a level brushtrace reads (expected .map, .bsp or archive.pk3:maps/name.bsp)"});
 }
 
 } // namespace bt

@@ -19,6 +19,10 @@ inline constexpr uint32_t kNoFace = 0xffffffffu;
 // BVH (bvh/trace_scene.h builds these)
 // ---------------------------------------------------------------------------------------------
 
+// No leaf of a TraceScene BVH is deeper than this (root = depth 0), so a traversal stack of
+// kBvhMaxDepth entries never overflows.
+inline constexpr uint32_t kBvhMaxDepth = 64;
+
 // One node of the flattened brush BVH, 32 bytes. nodes[0] is the root.
 //   count == 0: interior node; its children are nodes[leftFirst] and nodes[leftFirst + 1].
 //   count >  0: leaf; it holds brushes[leftFirst .. leftFirst + count) of TraceScene::brushes().

@@ -24,7 +24,7 @@ void main() {
   SurfaceHit hit = traceVisible(camera.origin, dir);
   if (!hit.found) {
     imageStore(albedoImage, pixel, vec4(0.0));
-    imageStore(normalImage, pixel, vec4(0.0, 0.0, 0.0, 1.0 / 0.0));
+    imageStore(normalImage, pixel, vec4(0.0, 0.0, 0.0, uintBitsToFloat(0x7f800000u))); // +inf: GLSL leaves 1/0 undefined
     imageStore(faceImage, pixel, uvec4(0u));
     return;
   }

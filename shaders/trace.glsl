@@ -10,7 +10,9 @@ struct Hit {
   bool inside; // the ray started inside the brush; face is where it leaves
 };
 
-// Slab test; returns the entry distance, or a value > tMax on a miss.
+const float MISS = 3.4e38; // the slab test's miss: beyond every tMax the tracer passes (at most 3e38)
+
+// Slab test; returns the entry distance, or MISS.
 float intersectBounds(vec3 origin, vec3 invDir, vec3 bmin, vec3 bmax, float tMin, float tMax) {
   vec3 t0 = (bmin - origin) * invDir;
   vec3 t1 = (bmax - origin) * invDir;
@@ -18,7 +20,7 @@ float intersectBounds(vec3 origin, vec3 invDir, vec3 bmin, vec3 bmax, float tMin
   vec3 tFar = max(t0, t1);
   float enter = max(max(tNear.x, tNear.y), max(tNear.z, tMin));
   float leave = min(min(tFar.x, tFar.y), min(tFar.z, tMax));
-  return enter <= leave ? enter : 3.0e38;
+  return enter <= leave ? enter : MISS;
 }
 
 // Ray vs convex brush, the rules of bvh/trace_scene.h: the interval (tMin, tMax) is clipped by
@@ -63,13 +65,13 @@ Hit traceClosest(vec3 origin, vec3 dir, float tMin, float tMax) {
   uint stack[32];
   uint depth = 0u;
   uint node = 0u;
-  if (intersectBounds(origin, invDir, nodes[0].boundsMin, nodes[0].boundsMax, tMin, tMax) > tMax) return best;
+  if (intersectBounds(origin, invDir, nodes[0].boundsMin, nodes[0].boundsMax, tMin, tMax) == MISS) return best;
   while (true) {
     GpuBvhNode n = nodes[node];
     if (n.count > 0u) {
       for (uint i = n.leftOrFirst; i < n.leftOrFirst + n.count; ++i) {
         GpuBrush b = brushes[i];
-        if (intersectBounds(origin, invDir, b.boundsMin, b.boundsMax, tMin, best.t) > best.t) continue;
+        if (intersectBounds(origin, invDir, b.boundsMin, b.boundsMax, tMin, best.t) == MISS) continue;
         Hit h;
         if (intersectBrush(b, origin, dir, tMin, best.t, h) &&
             (h.t < best.t || (h.t == best.t && best.face != NO_FACE && h.face < best.face)))
@@ -84,8 +86,8 @@ Hit traceClosest(vec3 origin, vec3 dir, float tMin, float tMax) {
         uint s = near; near = far; far = s;
         float ts = tNear; tNear = tFar; tFar = ts;
       }
-      if (tNear <= best.t) {
-        if (tFar <= best.t && depth < 32u) stack[depth++] = far;
+      if (tNear != MISS) {
+        if (tFar != MISS && depth < 32u) stack[depth++] = far;
         node = near;
         continue;
       }

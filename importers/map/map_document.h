@@ -50,7 +50,12 @@ struct MapFace {
   std::optional<std::array<int, 3>> daikatanaColor; // Daikatana's surface colour after Q2 fields
   std::string trailingComment;                     // e.g. QuArK's "//TX1" at the end of the line
 
-  bool operator==(const MapFace&) const = default;
+  // Equality is of content: where a face sits in the file (line, column) is not part of it,
+  // so a rewritten file compares equal to its source.
+  bool operator==(const MapFace& o) const {
+    return points == o.points && texture == o.texture && quotedTexture == o.quotedTexture && tex == o.tex && surface == o.surface &&
+           hexen2Value == o.hexen2Value && daikatanaColor == o.daikatanaColor && trailingComment == o.trailingComment;
+  }
 };
 
 // A brush, a brushDef (Quake 3 brush primitives), or a block kept verbatim.
@@ -62,7 +67,7 @@ struct MapBrush {
   std::vector<MapFace> faces;
   std::string verbatim; // Kind::Verbatim: the text between the brush's braces, exactly as read
 
-  bool operator==(const MapBrush&) const = default;
+  bool operator==(const MapBrush& o) const { return kind == o.kind && faces == o.faces && verbatim == o.verbatim; }
 };
 
 struct MapEntity {
@@ -74,7 +79,7 @@ struct MapEntity {
   // imported into an implicit worldspawn that the writer does not write back.
   bool implicit = false;
 
-  bool operator==(const MapEntity&) const = default;
+  bool operator==(const MapEntity& o) const { return keys == o.keys && brushes == o.brushes && implicit == o.implicit; }
 };
 
 struct MapDocument {

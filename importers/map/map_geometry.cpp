@@ -96,6 +96,14 @@ TexVecs brushPrimitiveVecs(const TextureParams& tex, const Plane& plane, int wid
   return out;
 }
 
+// qbsp's ZERO_EPSILON.
+constexpr double kZeroEpsilon = 0.0001;
+
+double roundNearInteger(double v) {
+  const double r = std::rint(v);
+  return std::fabs(v - r) < kZeroEpsilon ? r : v;
+}
+
 } // namespace
 
 bool isValidProjection(const TexVecs& vecs, const dvec3& normal) {
@@ -104,8 +112,44 @@ bool isValidProjection(const TexVecs& vecs, const dvec3& normal) {
   const double len = glm::length(c);
   if (!std::isfinite(len) || len == 0.0 || !std::isfinite(vecs.offset[0]) || !std::isfinite(vecs.offset[1])) return false;
   const double cosAngle = glm::dot(c / len, normal);
-  return std::isfinite(cosAngle) && std::fabs(cosAngle) >= 0.0001;
+  return std::isfinite(cosAngle) && std::fabs(cosAngle) >= kZeroEpsilon;
 }
+
+namespace {
+
+// QuArK's "etp" modes (a "//TX1" or "//TX2" comment after a Standard face line): the texture
+// axes are the plane points' edges, p2 - p0 and p1 - p0 (swapped for TX2), each 128 texels
+// long, and p0 sits at texel (0, 0). The vectors are the dual basis of those edges in the plane.
+TexVecs quarkVecs(const std::array<dvec3, 3>& points, bool tx2) {
+  std::array<dvec3, 2> edge{(points[2] - points[0]) / 128.0, (points[1] - points[0]) / 128.0};
+  if (tx2) std::swap(edge[0], edge[1]);
+  const double a = glm::dot(edge[0], edge[0]);
+  const double b = glm::dot(edge[0], edge[1]);
+  const double d = glm::dot(edge[1], edge[1]);
+  const double det = a * d - b * b;
+  TexVecs v;
+  if (std::fabs(det) >= kZeroEpsilon) {
+    v.axis[0] = (d * edge[0] - b * edge[1]) / det;
+    v.axis[1] = -(a * edge[1] - b * edge[0]) / det;
+  } // else: zero vectors, which the validity check below replaces with defaults, as qbsp ends up doing
+  for (int i = 0; i < 2; ++i) v.offset[i] = -glm::dot(v.axis[i], points[0]);
+  return v;
+}
+
+// What qbsp does to every face's vectors after computing them.
+TexVecs finishVecs(TexVecs v, const Plane& plane) {
+  // qbsp rounds every vector component within ZERO_EPSILON of an integer (a DarkPlaces lightmap
+  // size workaround), so 1/0.8574787-style scales written by editors land on round numbers.
+  for (int i = 0; i < 2; ++i) {
+    for (int j = 0; j < 3; ++j) v.axis[i][j] = roundNearInteger(v.axis[i][j]);
+    v.offset[i] = roundNearInteger(v.offset[i]);
+  }
+  // qbsp repairs an unusable projection with default Standard texturing rather than failing.
+  if (!isValidProjection(v, plane.normal)) v = standardVecs(plane, {0.0, 0.0}, 0.0, {1.0, 1.0});
+  return v;
+}
+
+} // namespace
 
 TexVecs textureVecs(const TextureParams& tex, const Plane& plane, int textureWidth, int textureHeight) {
   TexVecs v;
@@ -114,9 +158,19 @@ TexVecs textureVecs(const TextureParams& tex, const Plane& plane, int textureWid
   case TextureKind::Valve220: v = valveVecs(tex); break;
   case TextureKind::BrushPrimitive: v = brushPrimitiveVecs(tex, plane, textureWidth, textureHeight); break;
   }
-  // qbsp repairs an unusable projection with default Standard texturing rather than failing.
-  if (!isValidProjection(v, plane.normal)) v = standardVecs(plane, {0.0, 0.0}, 0.0, {1.0, 1.0});
-  return v;
+  return finishVecs(v, plane);
+}
+
+std::optional<bool> quarkMode(const MapFace& face) {
+  if (face.tex.kind != TextureKind::Standard) return std::nullopt;
+  const std::string_view c = face.trailingComment;
+  if (c.size() >= 5 && c.substr(0, 4) == "//TX" && (c[4] == '1' || c[4] == '2')) return c[4] == '2';
+  return std::nullopt;
+}
+
+TexVecs faceTextureVecs(const MapFace& face, const Plane& plane) {
+  if (const auto tx2 = quarkMode(face)) return finishVecs(quarkVecs(face.points, *tx2), plane);
+  return textureVecs(face.tex, plane);
 }
 
 TextureFrame frameFromVecs(const TexVecs& vecs, const Plane& plane) {
@@ -183,6 +237,73 @@ Winding clipBehind(const Winding& w, const Plane& plane, double epsilon) {
       else mid[k] = p[k] + t * (q[k] - p[k]);
     }
     out.push_back(mid);
+  }
+  return out;
+}
+
+} // namespace bt::map
+
+namespace bt::map {
+
+namespace {
+// Values within a hair of a round number are written round: a converted map stays readable.
+double tidy(double v, double step) {
+  const double r = std::round(v / step) * step;
+  return std::fabs(r - v) < 1e-9 * std::max(1.0, std::fabs(v)) ? r : v;
+}
+} // namespace
+
+std::optional<StandardParams> fitStandard(const TexVecs& vecs, const Plane& plane) {
+  const ParaxialAxes base = paraxialAxes(plane.normal);
+  const int sv = base.s.x != 0.0 ? 0 : base.s.y != 0.0 ? 1 : 2;
+  const int tv = base.t.x != 0.0 ? 0 : base.t.y != 0.0 ? 1 : 2;
+  const int c = 3 - sv - tv; // the axis the table projects along
+  const double a = base.s[sv];
+  const double b = base.t[tv];
+  const dvec3& n = plane.normal;
+  if (n[c] == 0.0) return std::nullopt;
+
+  // On the plane p[c] is a function of p[sv], p[tv]: write s and t as A*p[sv] + B*p[tv] + C.
+  double A[2], B[2], C[2];
+  for (int i = 0; i < 2; ++i) {
+    const dvec3& v = vecs.axis[i];
+    A[i] = v[sv] - v[c] * n[sv] / n[c];
+    B[i] = v[tv] - v[c] * n[tv] / n[c];
+    C[i] = vecs.offset[i] + v[c] * plane.dist / n[c];
+  }
+  // QuakeEd's s row is (cos, sin) * a / scale0 and its t row (-sin, cos) * b / scale1.
+  const double r0 = std::hypot(A[0], B[0]);
+  if (!(r0 > 0.0) || !std::isfinite(r0)) return std::nullopt;
+  const double theta = std::atan2(a * B[0], a * A[0]);
+  const double k = -A[1] * std::sin(theta) + B[1] * std::cos(theta);
+  if (k == 0.0 || !std::isfinite(k)) return std::nullopt;
+  StandardParams out;
+  out.rotation = tidy(theta * 180.0 / std::numbers::pi, 1.0);
+  out.scale = {tidy(1.0 / r0, 1.0 / 1024.0), tidy(b / k, 1.0 / 1024.0)};
+  out.offset = {tidy(C[0], 1.0 / 1024.0), tidy(C[1], 1.0 / 1024.0)};
+  return out;
+}
+
+TextureParams valveFromVecs(const TexVecs& vecs, double rotation) {
+  TextureParams p;
+  p.kind = TextureKind::Valve220;
+  p.rotation = rotation;
+  for (int i = 0; i < 2; ++i) {
+    const double len = glm::length(vecs.axis[i]);
+    p.axis[i] = len > 0.0 ? vecs.axis[i] / len : vecs.axis[i];
+    p.scale[i] = len > 0.0 ? 1.0 / len : 1.0;
+    p.offset[i] = vecs.offset[i];
+  }
+  return p;
+}
+
+std::vector<Winding> brushWindings(const std::vector<Plane>& planes) {
+  std::vector<Winding> out(planes.size());
+  for (size_t i = 0; i < planes.size(); ++i) {
+    Winding w = baseWinding(planes[i]);
+    for (size_t j = 0; j < planes.size() && !w.empty(); ++j)
+      if (j != i) w = clipBehind(w, planes[j]);
+    out[i] = std::move(w);
   }
   return out;
 }

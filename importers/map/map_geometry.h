@@ -45,6 +45,12 @@ TexVecs textureVecs(const TextureParams& tex, const Plane& plane, int textureWid
 TexVecs standardVecs(const Plane& plane, const std::array<double, 2>& offset, double rotation, const std::array<double, 2>& scale);
 bool isValidProjection(const TexVecs& vecs, const dvec3& normal);
 
+// The vectors of a face line: textureVecs of its parameters, or QuArK's "etp" projection when
+// the line ends in a "//TX1" or "//TX2" comment (the texture axes follow the plane points).
+TexVecs faceTextureVecs(const MapFace& face, const Plane& plane);
+// std::nullopt for ordinary faces; false for QuArK's TX1, true for TX2.
+std::optional<bool> quarkMode(const MapFace& face);
+
 // The frame of scene.h from qbsp's vectors: tangent = vecs[0].xyz, bitangent = vecs[1].xyz,
 // origin on the plane such that s(origin) = t(origin) = 0.
 TextureFrame frameFromVecs(const TexVecs& vecs, const Plane& plane);
@@ -61,5 +67,25 @@ inline constexpr double kOnEpsilon = 0.0001;
 Winding baseWinding(const Plane& plane);
 // Keeps the part of `w` behind `plane` (dot(n, p) - dist <= epsilon).
 Winding clipBehind(const Winding& w, const Plane& plane, double epsilon = kOnEpsilon);
+
+} // namespace bt::map
+
+namespace bt::map {
+
+// The Standard (QuakeEd) parameters whose projection is closest to `vecs` on `plane`: exact
+// when vecs has no shear and its axes are those of the plane's paraxial table entry rotated;
+// otherwise the s axis is kept and t is fitted. std::nullopt when vecs is unusable.
+struct StandardParams {
+  std::array<double, 2> offset{0.0, 0.0};
+  double rotation = 0.0;
+  std::array<double, 2> scale{1.0, 1.0};
+};
+std::optional<StandardParams> fitStandard(const TexVecs& vecs, const Plane& plane);
+
+// Valve 220 parameters that reproduce `vecs` exactly: unit axes, scale = 1 / |axis|.
+TextureParams valveFromVecs(const TexVecs& vecs, double rotation);
+
+// The windings of a convex brush's faces, one per plane (empty where a plane does not touch it).
+std::vector<Winding> brushWindings(const std::vector<Plane>& planes);
 
 } // namespace bt::map

@@ -135,7 +135,7 @@ private:
       face.texture = mf.texture;
       face.material = materialFor(mf.texture);
       face.plane = sides[i].plane;
-      face.frame = frameFromVecs(textureVecs(mf.tex, face.plane), face.plane);
+      face.frame = frameFromVecs(faceTextureVecs(mf, face.plane), face.plane);
       face.surface = mf.surface;
       face.winding = std::move(windings[i]);
       for (const dvec3& p : face.winding) brush.bounds.grow(p);

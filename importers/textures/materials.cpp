@@ -64,6 +64,8 @@ int extensionRank(const fs::path& file) {
   return -1;
 }
 
+bool isWal(const fs::path& file) { return lowercase(file.extension().string()) == ".wal"; }
+
 // One folder of loose textures, indexed once by lower-case relative stem ("e1u1/floor1_3"),
 // which makes lookups case-insensitive like the engines' file systems.
 class LooseFolder {
@@ -177,7 +179,7 @@ public:
           continue;
         for (const LooseFolder& folder : folders_) {
           const fs::path* file = folder.find(stem + std::string(c.suffix));
-          if (!file || extensionRank(*file) == static_cast<int>(kImageExtensions.size()) - 1) continue;
+          if (!file || isWal(*file)) continue; // companions are images
           try {
             applyCompanion(material, c.kind, loadImage(*file));
             found.insert(c.kind);
@@ -339,7 +341,7 @@ private:
   std::optional<Material> loadLoose(const fs::path& file, const std::string& name) {
     try {
       Material material;
-      if (extensionRank(file) == static_cast<int>(kImageExtensions.size()) - 1) {
+      if (isWal(file)) {
         if (!quake2Palette_) quake2Palette_ = findQuake2Palette(search_.palette, {file.parent_path(), mapDir_});
         if (!*quake2Palette_) {
           warn(fmt::format("'{}' is a Quake 2 .wal but no Quake 2 palette was found (give --palette, or "
@@ -366,52 +368,54 @@ private:
   }
 
   // Loose images of Quake textures are usually the palette images saved as PNG, which loses
-  // the palette indices that carry two conventions; recover them from the colours:
-  //  - '{' textures whose image has no alpha: texels of palette colour 255 are transparent.
-  //  - LibreQuake marks textures that use fullbright colours with a "_fbr" file-name suffix;
-  //    texels of a fullbright colour (224..254) become emissive. A colour that also appears
-  //    among indices 0..223 is ambiguous and left lit normally.
+  // the palette indices that carry two conventions; recover them from the colours.
   void applyQuakePaletteConventions(Material& material, const std::string& name, const fs::path& file) {
     const bool fence = !name.empty() && name.front() == '{';
     const bool fullbrights = lowercase(file.stem().string()).ends_with("_fbr");
     if (!fence && !fullbrights) return;
     const Palette* palette = quakePalette();
     if (!palette) return;
-    const auto colourOf = [&](int index) {
-      return std::array<uint8_t, 3>{palette->rgb[index * 3], palette->rgb[index * 3 + 1], palette->rgb[index * 3 + 2]};
-    };
-    Image& base = material.baseColor;
-    const size_t texels = base.rgba.size() / 4;
+    if (fence) keyOutTransparentColour(material.baseColor, *palette);
+    if (fullbrights) recoverFullbrights(material, *palette);
+  }
 
-    if (fence) {
-      bool opaque = true;
-      for (size_t i = 0; i < texels && opaque; ++i) opaque = base.rgba[i * 4 + 3] == 255;
-      const auto key = colourOf(255);
-      if (opaque)
-        for (size_t i = 0; i < texels; ++i)
-          if (std::equal(key.begin(), key.end(), &base.rgba[i * 4])) std::fill_n(&base.rgba[i * 4], 4, uint8_t{0});
-    }
+  static uint32_t packRgb(const uint8_t* rgb) { return uint32_t{rgb[0]} << 16 | uint32_t{rgb[1]} << 8 | rgb[2]; }
 
-    if (fullbrights) {
-      std::set<std::array<uint8_t, 3>> normalColours, brightColours;
-      for (int i = 0; i < 224; ++i) normalColours.insert(colourOf(i));
-      for (int i = 224; i < 255; ++i)
-        if (!normalColours.contains(colourOf(i))) brightColours.insert(colourOf(i));
-      Image emissive;
-      emissive.width = base.width;
-      emissive.height = base.height;
-      emissive.rgba.assign(base.rgba.size(), 0);
-      bool any = false;
-      for (size_t i = 0; i < texels; ++i) {
-        uint8_t* dst = &emissive.rgba[i * 4];
-        dst[3] = 255;
-        const uint8_t* src = &base.rgba[i * 4];
-        if (src[3] == 0 || !brightColours.contains({src[0], src[1], src[2]})) continue;
-        std::copy_n(src, 3, dst);
-        any = true;
+  // '{' textures whose image has no alpha: texels of palette colour 255 are see-through.
+  static void keyOutTransparentColour(Image& image, const Palette& palette) {
+    const size_t texels = image.rgba.size() / 4;
+    for (size_t i = 0; i < texels; ++i)
+      if (image.rgba[i * 4 + 3] != 255) return; // the image has its own alpha: keep it
+    const uint32_t key = packRgb(&palette.rgb[255 * 3]);
+    for (size_t i = 0; i < texels; ++i)
+      if (packRgb(&image.rgba[i * 4]) == key) std::fill_n(&image.rgba[i * 4], 4, uint8_t{0});
+  }
+
+  // LibreQuake marks textures that use fullbright colours with a "_fbr" file-name suffix: texels
+  // of a fullbright colour (indices 224..254) become emissive. A colour that also appears among
+  // indices 0..223 is ambiguous and stays lit normally.
+  void recoverFullbrights(Material& material, const Palette& palette) {
+    if (fullbrightColours_.empty()) {
+      std::vector<uint32_t> normal;
+      for (int i = 0; i < 224; ++i) normal.push_back(packRgb(&palette.rgb[i * 3]));
+      for (int i = 224; i < 255; ++i) {
+        const uint32_t colour = packRgb(&palette.rgb[i * 3]);
+        if (std::find(normal.begin(), normal.end(), colour) == normal.end()) fullbrightColours_.push_back(colour);
       }
-      if (any) material.emissive = std::move(emissive);
+      std::sort(fullbrightColours_.begin(), fullbrightColours_.end());
     }
+    const Image& base = material.baseColor;
+    Image emissive{base.width, base.height, std::vector<uint8_t>(base.rgba.size(), 0)};
+    bool any = false;
+    for (size_t i = 0; i < base.rgba.size(); i += 4) {
+      emissive.rgba[i + 3] = 255;
+      const uint8_t* texel = &base.rgba[i];
+      if (texel[3] == 0 || !std::binary_search(fullbrightColours_.begin(), fullbrightColours_.end(), packRgb(texel)))
+        continue;
+      std::copy_n(texel, 3, &emissive.rgba[i]);
+      any = true;
+    }
+    if (any) material.emissive = std::move(emissive);
   }
 
   static void applyCompanion(Material& material, Companion kind, Image image) {
@@ -442,7 +446,8 @@ private:
   std::set<fs::path> seenFolders_;
   bool paletteResolved_ = false;
   std::optional<Palette> palette_;
-  std::optional<std::optional<Palette>> quake2Palette_;
+  std::vector<uint32_t> fullbrightColours_; // sorted, from palette_
+  std::optional<std::optional<Palette>> quake2Palette_; // outer: looked for yet; inner: found
   std::map<std::string, std::optional<std::pair<int, int>>> undecodedSizes_;
   std::vector<std::string> palettelessNames_;
 };
@@ -487,6 +492,13 @@ void loadMaterials(Scene& scene, const TextureSearch& search) {
   for (Material& material : scene.materials) {
     if (material.missing()) {
       if (std::optional<Material> found = library.find(material.name)) {
+        // Texture coordinates are in texels of the size the compiler saw. When the importer knows
+        // it (a .bsp miptex header), a loose image is a replacement drawn over that same size.
+        const bool sizeKnown = material.width != Material{}.width || material.height != Material{}.height;
+        if (sizeKnown && found->source == TextureSource::LooseImage) {
+          found->width = material.width;
+          found->height = material.height;
+        }
         material = std::move(*found);
       } else {
         std::optional<std::pair<int, int>> wadSize;

@@ -47,7 +47,8 @@ Material decodeMiptex(std::span<const uint8_t> bytes, const Palette* quakePalett
                       std::string_view what);
 
 // Decodes a Quake 2 .wal (name[32], width, height, 4 mip offsets, ...) with the Quake 2 palette.
-// Index 255 is transparent, as in Quake 2's GL renderer. Throws ImportError naming `what` on truncation or bad sizes.
+// Index 255 is transparent, as in Quake 2's GL renderer. Throws ImportError naming `what` on
+// truncation or bad sizes.
 Material decodeWal(std::span<const uint8_t> bytes, const Palette& quake2Palette, std::string_view what);
 
 // For every material in scene.materials that is still missing: find and load it (WADs from
@@ -67,8 +68,11 @@ Material decodeWal(std::span<const uint8_t> bytes, const Palette& quake2Palette,
 //    and is named in a separate warning that says why.
 //  - Companion maps are also looked up for materials that are already loaded (BSP miptex).
 //  - search.load == false: every missing material just gets its placeholder, no warnings.
-// A missing material keeps the size it has (64x64 by default, or what the .bsp importer set from
-// the miptex header) for its placeholder; a material found as a loose image takes the image size.
+// Sizes (texture coordinates are divided by them): a missing material keeps the size it has
+// (64x64 by default, or what the .bsp importer set from the miptex header) for its placeholder.
+// A texture found in a WAD takes the WAD's size. A loose image takes the image's size, unless
+// the material's size was already set to something other than the 64x64 default: then that
+// size stays and the image is a (possibly higher-resolution) replacement drawn over it.
 void loadMaterials(Scene& scene, const TextureSearch& search);
 
 // A checker of two greys in 8x8-texel cells, opaque. Used for every texture that is not found.

@@ -3,7 +3,7 @@
 // view like Quake's default `fov`.
 #pragma once
 
-#include "renderer/cpu/brush_tracer.h"
+#include "bvh/trace_scene.h" // Ray
 #include "scene/scene.h"
 
 #include <glm/vec3.hpp>

@@ -1,4 +1,4 @@
-// Colour transfer functions, tonemaps and texture filtering shared by the tracers.
+// Colour transfer functions and tonemaps shared by the tracers.
 #pragma once
 
 #include "scene/material.h"
@@ -21,29 +21,6 @@ inline float linearToSrgb(float c) {
 }
 inline glm::vec3 srgbToLinear(const glm::vec3& c) { return {srgbToLinear(c.x), srgbToLinear(c.y), srgbToLinear(c.z)}; }
 inline glm::vec3 linearToSrgb(const glm::vec3& c) { return {linearToSrgb(c.x), linearToSrgb(c.y), linearToSrgb(c.z)}; }
-
-// Bilinear filter with repeat wrapping; u, v in texture widths (1.0 = one repeat). Texel
-// centres sit at (i + 0.5) / width, like a GL sampler with GL_LINEAR and GL_REPEAT.
-// Returns the stored 8-bit values scaled to 0..1 (no transfer function applied).
-inline glm::vec4 bilinearRepeat(const Image& image, float u, float v) {
-  if (image.empty()) return glm::vec4(1.0f);
-  const float x = u * float(image.width) - 0.5f;
-  const float y = v * float(image.height) - 0.5f;
-  const float fx = std::floor(x), fy = std::floor(y);
-  const float ax = x - fx, ay = y - fy;
-  auto wrap = [](long i, int n) { long m = i % n; return int(m < 0 ? m + n : m); };
-  // Coordinates far outside [0, 1) lose precision in float anyway; wrap in integers.
-  const long ix = long(fx), iy = long(fy);
-  const int x0 = wrap(ix, image.width), x1 = wrap(ix + 1, image.width);
-  const int y0 = wrap(iy, image.height), y1 = wrap(iy + 1, image.height);
-  auto texel = [&](int tx, int ty) {
-    const uint8_t* p = image.texel(tx, ty);
-    return glm::vec4(p[0], p[1], p[2], p[3]) * (1.0f / 255.0f);
-  };
-  const glm::vec4 top = texel(x0, y0) * (1.0f - ax) + texel(x1, y0) * ax;
-  const glm::vec4 bottom = texel(x0, y1) * (1.0f - ax) + texel(x1, y1) * ax;
-  return top * (1.0f - ay) + bottom * ay;
-}
 
 enum class Tonemap { Faithful, Aces, Agx, Linear };
 

@@ -55,19 +55,8 @@ static_assert(offsetof(GpuLight, formula) == 48);
 constexpr uint32_t kLightFlagStartOff = 1u;  // spawnflags & 1 on a styled light: dark by default
 constexpr uint32_t kLightFlagBleed = 2u;     // `_bleed`: lights surfaces behind it too
 
-// Per-face shading data, parallel to the scene's faces.
-struct GpuShadeFace {
-  glm::vec4 plane{0.0f, 0.0f, 1.0f, 0.0f};   // xyz normal (out of the brush), w = dist
-  glm::vec4 sAxis{1.0f, 0.0f, 0.0f, 0.0f};   // s = dot(p, sAxis.xyz) + sAxis.w (texels)
-  glm::vec4 tAxis{0.0f, 1.0f, 0.0f, 0.0f};   // t = dot(p, tAxis.xyz) + tAxis.w
-  uint32_t material = 0;
-  uint32_t flags = 0;           // kFace*
-  uint32_t brush = 0;
-  uint32_t pad = 0;
-};
-static_assert(sizeof(GpuShadeFace) == 64);
-static_assert(offsetof(GpuShadeFace, material) == 48);
-
+// Face classes, one uint32 per scene face (RenderScene::faceFlags); the geometry and texture
+// frame of a face are the bvh part's GpuFace (scene/gpu_structs.h).
 constexpr uint32_t kFaceHidden = 1u;     // clip, trigger, skip, hint, origin, common/*: never seen
 constexpr uint32_t kFaceSky = 2u;        // sky*: the environment, and where sunlight comes from
 constexpr uint32_t kFaceLiquid = 4u;     // '*' textures / Q2 liquid contents: unlit unless _litwater

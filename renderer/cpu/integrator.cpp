@@ -21,11 +21,10 @@ constexpr int kMaxSkips = 64; // hidden faces/back faces skipped along one ray b
 glm::vec3 offsetPoint(const glm::vec3& p, const glm::vec3& n) { return p + n * kSurfaceOffset; }
 
 glm::vec2 textureUV(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
-  const GpuShadeFace& f = rs.faces[face];
-  const float s = glm::dot(glm::vec3(f.sAxis), p) + f.sAxis.w;
-  const float t = glm::dot(glm::vec3(f.tAxis), p) + f.tAxis.w;
+  const GpuFace& f = gpuFace(rs, face);
+  const glm::vec2 st = textureCoordinates(f, p);
   const glm::vec2 size = f.material < rs.materials.size() ? rs.materials[f.material].size : glm::vec2(64.0f);
-  return {s / size.x, t / size.y};
+  return st / size;
 }
 
 bool blocksLight(uint32_t faceFlags, LightingMode mode) {
@@ -58,16 +57,15 @@ glm::vec3 skyDomeRadiance(const RenderScene& rs, const glm::vec3& dir) {
 SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray) {
   Ray r = ray;
   for (int i = 0; i < kMaxSkips; ++i) {
-    const std::optional<Hit> hit = rs.tracer->closestHit(r);
+    const std::optional<Hit> hit = rs.tracer.closestHit(r);
     if (!hit) return {};
-    const GpuShadeFace& f = rs.faces[hit->face];
-    if (!hit->inside && !(f.flags & kFaceHidden)) {
+    if (!hit->inside && !(rs.faceFlags[hit->face] & kFaceHidden)) {
       SurfaceHit s;
       s.found = true;
       s.t = hit->t;
       s.face = hit->face;
       s.position = ray.origin + ray.direction * hit->t;
-      s.normal = glm::vec3(f.plane);
+      s.normal = faceNormal(rs, hit->face);
       return s;
     }
     r.tMin = hit->t + 1e-3f;
@@ -78,9 +76,9 @@ SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray) {
 bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode) {
   Ray r = ray;
   for (int i = 0; i < kMaxSkips; ++i) {
-    const std::optional<Hit> hit = rs.tracer->closestHit(r);
+    const std::optional<Hit> hit = rs.tracer.closestHit(r);
     if (!hit) return false;
-    if (!hit->inside && blocksLight(rs.faces[hit->face].flags, mode)) return true;
+    if (!hit->inside && blocksLight(rs.faceFlags[hit->face], mode)) return true;
     r.tMin = hit->t + 1e-3f;
   }
   return true;
@@ -89,9 +87,9 @@ bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode) {
 bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode) {
   Ray r = ray;
   for (int i = 0; i < kMaxSkips; ++i) {
-    const std::optional<Hit> hit = rs.tracer->closestHit(r);
+    const std::optional<Hit> hit = rs.tracer.closestHit(r);
     if (!hit) return true; // left the level: nothing to stop the sun
-    const uint32_t flags = rs.faces[hit->face].flags;
+    const uint32_t flags = rs.faceFlags[hit->face];
     if (!hit->inside && (flags & kFaceSky)) return true;
     if (!hit->inside && blocksLight(flags, mode)) return false;
     r.tMin = hit->t + 1e-3f;
@@ -100,17 +98,17 @@ bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode) {
 }
 
 glm::vec4 baseColorAt(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
-  const uint32_t m = rs.faces[face].material;
+  const uint32_t m = gpuFace(rs, face).material;
   if (m >= rs.scene->materials.size() || rs.scene->materials[m].baseColor.empty()) return glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
   const glm::vec2 uv = textureUV(rs, face, p);
-  return bilinearRepeat(rs.scene->materials[m].baseColor, uv.x, uv.y);
+  return sampleBilinearRepeat(rs.scene->materials[m].baseColor, uv.x, uv.y);
 }
 
 glm::vec3 emissiveAt(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
-  const uint32_t m = rs.faces[face].material;
+  const uint32_t m = gpuFace(rs, face).material;
   if (m >= rs.scene->materials.size() || !(rs.materials[m].flags & kMaterialEmissive)) return glm::vec3(0.0f);
   const glm::vec2 uv = textureUV(rs, face, p);
-  return glm::vec3(bilinearRepeat(rs.scene->materials[m].emissive, uv.x, uv.y));
+  return glm::vec3(sampleBilinearRepeat(rs.scene->materials[m].emissive, uv.x, uv.y));
 }
 
 glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng) {
@@ -158,16 +156,16 @@ glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::
   // units; one area sample stands for all of them.
   if (!rs.emitters.empty()) {
     const GpuEmitter& e = rs.emitters[pickEmitter(rs, rng.next())];
-    const GpuShadeFace& f = rs.faces[e.face];
-    const GpuLight& tmpl = rs.surfaceLights[f.material];
+    const glm::vec3 emitterNormal = faceNormal(rs, e.face);
+    const GpuLight& tmpl = rs.surfaceLights[gpuFace(rs, e.face).material];
     if (tmpl.value != 0.0f) {
       constexpr float kSurfaceLightSpacing = 128.0f;
       constexpr float kSurfaceLightLift = 2.0f; // ericw-tools puts them this far off the face
-      const glm::vec3 q = sampleTriangle(e.v0, e.v1, e.v2, rng.next2()) + glm::vec3(f.plane) * kSurfaceLightLift;
+      const glm::vec3 q = sampleTriangle(e.v0, e.v1, e.v2, rng.next2()) + emitterNormal * kSurfaceLightLift;
       const glm::vec3 d = q - p;
       const float dist = glm::length(d);
       const glm::vec3 toLight = d / dist;
-      if (dist > 0.0f && glm::dot(-toLight, glm::vec3(f.plane)) > 0.0f) {
+      if (dist > 0.0f && glm::dot(-toLight, emitterNormal) > 0.0f) {
         const float value = faithful::pointLightValue(tmpl, n, toLight, dist, scaledist);
         const glm::vec3 toQ = q - origin;
         const float len = glm::length(toQ);
@@ -189,7 +187,7 @@ glm::vec3 faithfulBounce(const RenderScene& rs, const glm::vec3& p, const glm::v
   if (depth <= 0) return glm::vec3(0.0f);
   const glm::vec3 dir = sampleCosineHemisphere(n, rng.next2());
   const SurfaceHit hit = traceVisible(rs, Ray{offsetPoint(p, n), 0.0f, dir, std::numeric_limits<float>::infinity()});
-  if (!hit.found || (rs.faces[hit.face].flags & kFaceSky)) return glm::vec3(0.0f);
+  if (!hit.found || (rs.faceFlags[hit.face] & kFaceSky)) return glm::vec3(0.0f);
   const glm::vec3 color = glm::vec3(baseColorAt(rs, hit.face, hit.position));
   const glm::vec3 light = faithfulLightAt(rs, hit.position, hit.normal, rng) + faithfulBounce(rs, hit.position, hit.normal, depth - 1, rng);
   return color * light * rs.world.bouncescale;
@@ -198,10 +196,10 @@ glm::vec3 faithfulBounce(const RenderScene& rs, const glm::vec3& p, const glm::v
 glm::vec3 radianceFaithful(const RenderScene& rs, const Ray& ray, Rng& rng) {
   const SurfaceHit hit = traceVisible(rs, ray);
   if (!hit.found) return glm::vec3(0.0f);
-  const GpuShadeFace& f = rs.faces[hit.face];
+  const uint32_t flags = rs.faceFlags[hit.face];
   const glm::vec3 texture = glm::vec3(baseColorAt(rs, hit.face, hit.position));
   // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
-  if ((f.flags & kFaceSky) || ((f.flags & kFaceLiquid) && !rs.world.litwater)) return srgbToLinear(texture);
+  if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater)) return srgbToLinear(texture);
 
   glm::vec3 light = faithfulLightAt(rs, hit.position, hit.normal, rng);
   if (rs.world.bounces > 0) light += faithfulBounce(rs, hit.position, hit.normal, rs.world.bounces, rng);
@@ -270,9 +268,8 @@ glm::vec3 bsdfSample(const Bsdf& b, const glm::vec3& n, const glm::vec3& wo, Rng
 
 // Radiance leaving an emitting face at p (physical units): emissive texels plus _surface.
 glm::vec3 emittedRadiance(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
-  const GpuShadeFace& f = rs.faces[face];
   glm::vec3 le = srgbToLinear(emissiveAt(rs, face, p));
-  const GpuLight& tmpl = rs.surfaceLights[f.material];
+  const GpuLight& tmpl = rs.surfaceLights[gpuFace(rs, face).material];
   if (tmpl.value > 0.0f) le += tmpl.color * tmpl.value * rs.world.range * kPhysicalSunScale;
   return le;
 }
@@ -317,7 +314,7 @@ glm::vec3 directLight(const RenderScene& rs, const Bsdf& bsdf, const glm::vec3& 
     const float dist2 = glm::dot(d, d);
     const float dist = std::sqrt(dist2);
     const glm::vec3 wi = d / dist;
-    const glm::vec3 ln = glm::vec3(rs.faces[e.face].plane);
+    const glm::vec3 ln = faceNormal(rs, e.face);
     const float cosLight = -glm::dot(ln, wi);
     float bsdfPdf;
     const glm::vec3 f = bsdfEval(bsdf, n, wo, wi, bsdfPdf);
@@ -339,14 +336,14 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
   for (int depth = 0;; ++depth) {
     const SurfaceHit hit = traceVisible(rs, ray);
     if (!hit.found) break; // the void outside a level is black
-    const GpuShadeFace& face = rs.faces[hit.face];
-    if (face.flags & kFaceSky) {
+    const uint32_t flags = rs.faceFlags[hit.face];
+    if (flags & kFaceSky) {
       l += throughput * (srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position))) + skyDomeRadiance(rs, ray.direction));
       break;
     }
     const glm::vec3 n = hit.normal;
     const glm::vec3 wo = -ray.direction;
-    if (face.flags & kFaceEmissive) {
+    if (flags & kFaceEmissive) {
       const glm::vec3 le = emittedRadiance(rs, hit.face, hit.position);
       float weight = 1.0f;
       if (prevBsdfPdf > 0.0f) {
@@ -358,7 +355,7 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
     }
     if (depth >= settings.bounces + 1) break;
 
-    const GpuMaterial& m = rs.materials[face.material];
+    const GpuMaterial& m = rs.materials[gpuFace(rs, hit.face).material];
     Bsdf bsdf{srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position))), m.roughness, m.metallic,
               (m.flags & kMaterialSpecular) != 0};
     l += throughput * directLight(rs, bsdf, hit.position, n, wo, rng);

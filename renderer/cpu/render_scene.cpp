@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <stdexcept>
 
 namespace bt {
 
@@ -84,6 +85,10 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   rs.lights = std::move(lights.lights);
   rs.world = lights.world;
 
+  // Every lookup below indexes materials by face; a scene that breaks that is a bug upstream.
+  for (const Face& f : scene.faces)
+    if (f.material >= scene.materials.size())
+      throw std::invalid_argument("buildRenderScene: face material index out of range");
   rs.materials.reserve(scene.materials.size());
   for (const Material& m : scene.materials) rs.materials.push_back(materialParams(m));
 
@@ -96,35 +101,29 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
       rs.surfaceLights[*m].surfaceMaterial = *m;
     }
 
-  rs.faces.resize(scene.faces.size());
+  rs.faceFlags.resize(scene.faces.size());
   for (size_t i = 0; i < scene.faces.size(); ++i) {
     const Face& f = scene.faces[i];
-    GpuShadeFace& g = rs.faces[i];
-    g.plane = glm::vec4(glm::vec3(f.plane.normal), float(f.plane.dist));
-    // s = dot(p - origin, tangent) = dot(p, tangent) - dot(origin, tangent)
-    g.sAxis = glm::vec4(glm::vec3(f.frame.tangent), float(-glm::dot(f.frame.origin, f.frame.tangent)));
-    g.tAxis = glm::vec4(glm::vec3(f.frame.bitangent), float(-glm::dot(f.frame.origin, f.frame.bitangent)));
-    g.material = f.material < scene.materials.size() ? f.material : 0;
-    g.brush = f.brush;
-    g.flags = classifyTexture(f.texture, f.surface);
-    if (options.showHidden) g.flags &= ~kFaceHidden;
+    uint32_t& flags = rs.faceFlags[i];
+    flags = classifyTexture(f.texture, f.surface);
+    if (options.showHidden) flags &= ~kFaceHidden;
     if (f.brush < scene.brushes.size()) {
       const uint32_t e = scene.brushes[f.brush].entity;
       if (e < scene.entities.size()) {
         const Entity& ent = scene.entities[e];
         const bool shadowKey = std::atof(std::string(ent.value("_shadow", "0")).c_str()) != 0.0;
-        if (!mergedIntoWorld(ent.classname()) && !shadowKey) g.flags |= kFaceNoShadow;
+        if (!mergedIntoWorld(ent.classname()) && !shadowKey) flags |= kFaceNoShadow;
       }
     }
-    const bool hasMaterial = g.material < rs.materials.size();
-    if (hasMaterial && ((rs.materials[g.material].flags & kMaterialEmissive) || rs.surfaceLights[g.material].value != 0.0f) &&
-        !(g.flags & (kFaceHidden | kFaceSky)))
-      g.flags |= kFaceEmissive;
+    const uint32_t m = f.material;
+    if (m < rs.materials.size() && ((rs.materials[m].flags & kMaterialEmissive) || rs.surfaceLights[m].value != 0.0f) &&
+        !(flags & (kFaceHidden | kFaceSky)))
+      flags |= kFaceEmissive;
   }
 
   // Emitter triangles: a fan over each emitting face's winding.
   for (size_t i = 0; i < scene.faces.size(); ++i) {
-    if (!(rs.faces[i].flags & kFaceEmissive)) continue;
+    if (!(rs.faceFlags[i] & kFaceEmissive)) continue;
     const std::vector<dvec3>& w = scene.faces[i].winding;
     for (size_t k = 1; k + 1 < w.size(); ++k) {
       GpuEmitter e;
@@ -142,13 +141,16 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   for (GpuEmitter& e : rs.emitters) e.cdf /= rs.emitterArea;
   if (!rs.emitters.empty()) rs.emitters.back().cdf = 1.0f;
 
-  // Brushes whose every face is hidden (clip, trigger, ...) are left out of the tracer.
-  rs.tracer = std::make_unique<BrushTracer>(scene, [&](uint32_t b) {
+  // Brushes whose every face is hidden (clip, trigger, ...) are left out of the BVH.
+  BvhBuildOptions bvh;
+  bvh.includeBrush.resize(scene.brushes.size());
+  for (size_t b = 0; b < scene.brushes.size(); ++b) {
     const Brush& brush = scene.brushes[b];
-    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
-      if (!(rs.faces[f].flags & kFaceHidden)) return true;
-    return false;
-  });
+    bool visible = false;
+    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f) visible |= !(rs.faceFlags[f] & kFaceHidden);
+    bvh.includeBrush[b] = visible;
+  }
+  rs.tracer = TraceScene::build(scene, bvh);
   return rs;
 }
 

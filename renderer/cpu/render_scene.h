@@ -2,12 +2,13 @@
 // shading data, per-material parameters, lights and emitter triangles, plus the ray tracer.
 #pragma once
 
-#include "renderer/cpu/brush_tracer.h"
+#include "bvh/trace_scene.h"
 #include "renderer/cpu/gpu_lights.h"
 #include "renderer/cpu/lights.h"
 #include "scene/scene.h"
 
-#include <memory>
+#include <glm/vec3.hpp>
+
 #include <vector>
 
 namespace bt {
@@ -19,15 +20,21 @@ struct RenderSceneOptions {
 
 struct RenderScene {
   const Scene* scene = nullptr;           // images are read from scene->materials
-  std::vector<GpuShadeFace> faces;        // parallel to scene->faces
+  std::vector<uint32_t> faceFlags;        // kFace* per scene face
   std::vector<GpuMaterial> materials;     // parallel to scene->materials
   std::vector<GpuLight> lights;
   std::vector<GpuLight> surfaceLights;    // per material: the _surface template (value 0 = none)
   std::vector<GpuEmitter> emitters;       // triangles of emitting faces, cdf by area
   float emitterArea = 0.0f;
   WorldLighting world;
-  std::unique_ptr<BrushTracer> tracer;
+  TraceScene tracer;                      // the brushes that are ever visible, in a BVH
 };
+
+inline const GpuFace& gpuFace(const RenderScene& rs, uint32_t face) { return rs.tracer.faces()[face]; }
+inline glm::vec3 faceNormal(const RenderScene& rs, uint32_t face) {
+  const float* p = gpuFace(rs, face).plane;
+  return {p[0], p[1], p[2]};
+}
 
 // Classifies faces by texture name (Quake conventions, see README), reads the lights, and
 // builds the tracer. `scene` must outlive the result.

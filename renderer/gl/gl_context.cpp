@@ -7,7 +7,9 @@
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <string_view>
 #include <optional>
 #include <vector>
 
@@ -16,13 +18,14 @@ namespace bt::gl {
 struct GlContext::Egl {
   EGLDisplay display = EGL_NO_DISPLAY;
   EGLContext context = EGL_NO_CONTEXT;
-  std::string platform;
 
+  // The display is left initialised: eglGetPlatformDisplay hands every caller the same
+  // display for a device, so eglTerminate here would pull it from under any other context on
+  // it. (On NVIDIA, a context made after such a terminate also took 20 s and drew nothing.)
   ~Egl() {
-    if (display == EGL_NO_DISPLAY) return;
-    eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-    if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
-    eglTerminate(display);
+    if (display == EGL_NO_DISPLAY || context == EGL_NO_CONTEXT) return;
+    if (eglGetCurrentContext() == context) eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    eglDestroyContext(display, context);
   }
 };
 
@@ -34,6 +37,17 @@ bool hasExtension(const char* list, const char* name) {
   for (const char* p = list; (p = std::strstr(p, name)); p += n)
     if ((p == list || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0')) return true;
   return false;
+}
+
+// Debug builds, or any build with BT_GL_DEBUG=1 in the environment (for a carried release
+// binary on another machine), get a debug context with KHR_debug output.
+bool debugOutputWanted() {
+#ifndef NDEBUG
+  return true;
+#else
+  const char* env = std::getenv("BT_GL_DEBUG");
+  return env && *env && std::string_view(env) != "0";
+#endif
 }
 
 std::string eglErrorText() { return fmt::format("EGL error 0x{:04x}", eglGetError()); }
@@ -56,11 +70,7 @@ std::optional<std::string> makeCurrentContext(EGLDisplay display, EGLContext& co
       return std::string("no EGL config with EGL_OPENGL_BIT");
   }
 
-#ifdef NDEBUG
-  const EGLint flags = 0;
-#else
-  const EGLint flags = EGL_CONTEXT_OPENGL_DEBUG_BIT_KHR;
-#endif
+  const EGLint flags = debugOutputWanted() ? EGL_CONTEXT_OPENGL_DEBUG_BIT_KHR : 0;
   const EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4,
                                    EGL_CONTEXT_MINOR_VERSION, 5,
                                    EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
@@ -83,7 +93,6 @@ std::unique_ptr<GlContext> GlContext::createHeadless() {
   auto tryDisplay = [&](EGLDisplay display, const std::string& platform) -> std::unique_ptr<GlContext> {
     auto egl = std::make_unique<Egl>();
     egl->display = display;
-    egl->platform = platform;
     if (display == EGL_NO_DISPLAY) {
       reasons.push_back(platform + ": no display (" + eglErrorText() + ")");
       return nullptr;
@@ -92,7 +101,7 @@ std::unique_ptr<GlContext> GlContext::createHeadless() {
       reasons.push_back(platform + ": " + *why);
       return nullptr;
     }
-    return std::unique_ptr<GlContext>(new GlContext(std::move(egl)));
+    return std::unique_ptr<GlContext>(new GlContext(std::move(egl), platform));
   };
 
   if (hasExtension(clientExtensions, "EGL_EXT_platform_device") &&
@@ -122,21 +131,29 @@ std::unique_ptr<GlContext> GlContext::createHeadless() {
   throw GlError(text + ")");
 }
 
-GlContext::GlContext(std::unique_ptr<Egl> egl) : egl_(std::move(egl)) {
+GlContext::GlContext(std::unique_ptr<Egl> egl, std::string platform) : egl_(std::move(egl)) {
+  info_.platform = std::move(platform);
   queryInfo();
-#ifndef NDEBUG
-  enableDebugOutput();
-#endif
+  if (debugOutputWanted()) enableDebugOutput();
+}
+
+std::unique_ptr<GlContext> GlContext::adoptCurrent(std::string platform) {
+  return std::unique_ptr<GlContext>(new GlContext(nullptr, std::move(platform)));
 }
 
 GlContext::~GlContext() = default;
+
+void GlContext::makeCurrent() const {
+  if (eglGetCurrentContext() == egl_->context) return;
+  if (!eglMakeCurrent(egl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, egl_->context))
+    throw GlError("eglMakeCurrent: " + eglErrorText());
+}
 
 void GlContext::queryInfo() {
   auto str = [](GLenum name) {
     const auto* s = reinterpret_cast<const char*>(glGetString(name));
     return std::string(s ? s : "");
   };
-  info_.platform = egl_->platform;
   info_.vendor = str(GL_VENDOR);
   info_.renderer = str(GL_RENDERER);
   info_.version = str(GL_VERSION);

@@ -27,18 +27,23 @@ public:
   // Makes a context current on the calling thread. Throws GlError with one line that says why,
   // per platform tried, when none works.
   static std::unique_ptr<GlContext> createHeadless();
+  // Wraps a GL 4.5 core context that something else made current (a GLFW window, see
+  // gl_window.h) and owns; `platform` names it in info().
+  static std::unique_ptr<GlContext> adoptCurrent(std::string platform);
   ~GlContext();
   GlContext(const GlContext&) = delete;
   GlContext& operator=(const GlContext&) = delete;
 
   const GlContextInfo& info() const { return info_; }
-  // Debug builds turn on KHR_debug output; messages of type error are counted here (and
-  // printed) so tests can assert that a render raised none.
+  // createHeadless leaves the new context current; with several, switch back with this.
+  void makeCurrent() const;
+  // Debug builds (or BT_GL_DEBUG=1) turn on KHR_debug output; messages of type error are
+  // counted here (and printed) so tests can assert that a render raised none.
   int debugErrorCount() const { return debugErrors_; }
 
 private:
   struct Egl;
-  explicit GlContext(std::unique_ptr<Egl> egl);
+  GlContext(std::unique_ptr<Egl> egl, std::string platform);
   void queryInfo();
   void enableDebugOutput();
   static void debugCallback(unsigned source, unsigned type, unsigned id, unsigned severity, int length,

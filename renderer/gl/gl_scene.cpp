@@ -56,6 +56,7 @@ struct Builder {
 } // namespace
 
 GpuSceneArrays buildGpuSceneArrays(const Scene& scene, const std::vector<uint32_t>& faceFlags, int leafSize) {
+  // nodes[0] is the root, so a scene of one brush must still fit a leaf: leafSize >= 1.
   GpuSceneArrays out;
   out.faces.reserve(scene.faces.size());
   for (size_t i = 0; i < scene.faces.size(); ++i) {
@@ -76,6 +77,13 @@ GpuSceneArrays buildGpuSceneArrays(const Scene& scene, const std::vector<uint32_
   for (uint32_t i = 0; i < scene.brushes.size(); ++i)
     if (scene.brushes[i].faceCount > 0 && !scene.brushes[i].bounds.empty()) builder.order.push_back(i);
   out.nodes.resize(1);
+  if (builder.order.empty()) {
+    // Nothing to trace. The root must still be a leaf (count 0 would make it an interior node
+    // with children past the end): one brush without planes, which no ray can hit.
+    out.nodes[0] = {glm::vec3(0.0f), 0, glm::vec3(0.0f), 1};
+    out.brushes.push_back({glm::vec3(0.0f), 0, glm::vec3(0.0f), 0});
+    return out;
+  }
   builder.build(0, 0, static_cast<uint32_t>(builder.order.size()));
 
   out.brushes.reserve(builder.order.size());

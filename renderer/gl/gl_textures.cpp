@@ -117,6 +117,12 @@ GlTextures::GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo
   GLint maxLayers = 0;
   BT_GL(glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers));
 
+  const uint8_t white[4] = {255, 255, 255, 255};
+  BT_GL(glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &placeholder_));
+  textures_.push_back(placeholder_);
+  BT_GL(glTextureStorage3D(placeholder_, 1, GL_RGBA8, 1, 1, 1));
+  BT_GL(glTextureSubImage3D(placeholder_, 0, 0, 0, 0, 1, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, white));
+
   for (const auto& [size, layers] : classes) {
     if (static_cast<GLint>(layers.size()) > maxLayers)
       throw GlError(fmt::format("{} textures of {}x{}: more than GL_MAX_ARRAY_TEXTURE_LAYERS ({})", layers.size(),
@@ -152,7 +158,11 @@ GLuint GlTextures::createTexture(const Image& image, bool srgb) {
 }
 
 void GlTextures::bind() const {
-  for (size_t i = 0; i < arrays_.size(); ++i) BT_GL(glBindTextureUnit(static_cast<GLuint>(i), arrays_[i]));
+  if (mode_ != TextureMode::Arrays) return;
+  // Every unit the shader declares gets a complete texture, the unused ones a 1x1 placeholder:
+  // what an unbound sampler returns is the driver's choice.
+  for (int i = 0; i < kMaxTextureArrays; ++i)
+    BT_GL(glBindTextureUnit(static_cast<GLuint>(i), i < static_cast<int>(arrays_.size()) ? arrays_[static_cast<size_t>(i)] : placeholder_));
 }
 
 GlTextures::~GlTextures() {

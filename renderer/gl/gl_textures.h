@@ -48,6 +48,7 @@ private:
   std::vector<GpuMaterial> materials_;
   std::vector<unsigned> textures_;     // everything created, deleted in the destructor
   std::vector<unsigned> arrays_;       // arrays path: unit i holds arrays_[i]
+  unsigned placeholder_ = 0;           // arrays path: 1x1 array on the units no size class uses
   std::vector<uint64_t> residentHandles_;
 };
 

@@ -91,7 +91,7 @@ struct GlTracer::Impl {
     BT_GL(glCreateBuffers(1, &cameraBuffer));
     BT_GL(glNamedBufferStorage(cameraBuffer, sizeof(GpuCamera), nullptr, GL_DYNAMIC_STORAGE_BIT));
     BT_GL(glCreateBuffers(1, &worldBuffer));
-    BT_GL(glNamedBufferStorage(worldBuffer, sizeof(GpuWorld), nullptr, GL_DYNAMIC_STORAGE_BIT));
+    BT_GL(glNamedBufferStorage(worldBuffer, sizeof(GpuWorld), &world, GL_DYNAMIC_STORAGE_BIT));
   }
   ComputeProgram& program(std::unique_ptr<ComputeProgram>& slot, const char* name) {
     if (!slot) slot = std::make_unique<ComputeProgram>(name, textureDefines(textures.mode()));
@@ -123,6 +123,7 @@ struct GlTracer::Impl {
     camera.firstFrame = firstFrame;
     BT_GL(glNamedBufferSubData(cameraBuffer, 0, sizeof camera, &camera));
     BT_GL(glBindBufferBase(GL_UNIFORM_BUFFER, 0, cameraBuffer));
+    BT_GL(glBindBufferBase(GL_UNIFORM_BUFFER, 1, worldBuffer));
     buffers.bind();
     textures.bind();
   }

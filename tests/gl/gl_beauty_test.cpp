@@ -53,7 +53,7 @@ std::vector<size_t> plainInteriorPixels(const Scene& scene, const AovImages& aov
 TEST(GlBeauty, FaithfulInfiniteLightGivesTheOverbrightFormula) {
   // delay 3 (no falloff) and _anglescale 0: every lit point of the grey wall receives exactly
   // `light`, the compiler stores light * _range, and the engine shows texture * stored / 128.
-  auto context = GlContext::createHeadless();
+  GlContext* context = &test::sharedGlContext();
   const Scene scene = test::makeTestRoom();
   GlLighting lighting;
   GlLight light;
@@ -62,7 +62,7 @@ TEST(GlBeauty, FaithfulInfiniteLightGivesTheOverbrightFormula) {
   light.formula = 3;
   light.anglescale = 0.0f;
   lighting.lights = {light};
-  GlTracer tracer(*context, scene, TextureMode::Arrays, lighting);
+  GlTracer tracer(*context, scene, test::textureModeUnderTest(), lighting);
   const CameraBasis camera = test::testCamera(kWidth, kHeight);
   const AovImages aov = tracer.renderAovs(camera, kWidth, kHeight);
   const BeautyImage image = tracer.renderBeauty(camera, {.width = kWidth, .height = kHeight, .spp = 4});
@@ -84,14 +84,14 @@ TEST(GlBeauty, FaithfulInfiniteLightGivesTheOverbrightFormula) {
 TEST(GlBeauty, PhysicalPointLightGivesInverseSquareLambert) {
   // Direct light only (bounces 0) from a point light on a diffuse grey wall:
   // L = albedo / pi * I * cos(theta) / d^2, with I = light * _range * pi * 128.
-  auto context = GlContext::createHeadless();
+  GlContext* context = &test::sharedGlContext();
   const Scene scene = test::makeTestRoom();
   GlLighting lighting;
   GlLight light;
   light.origin = {-100, 0, 200};
   light.value = 300.0f;
   lighting.lights = {light};
-  GlTracer tracer(*context, scene, TextureMode::Arrays, lighting);
+  GlTracer tracer(*context, scene, test::textureModeUnderTest(), lighting);
   const CameraBasis camera = test::testCamera(kWidth, kHeight);
   const AovImages aov = tracer.renderAovs(camera, kWidth, kHeight);
   constexpr int kSpp = 8;
@@ -126,11 +126,11 @@ TEST(GlBeauty, PhysicalPointLightGivesInverseSquareLambert) {
 }
 
 TEST(GlBeauty, SameSeedAndSampleCountGiveTheSameImage) {
-  auto context = GlContext::createHeadless();
+  GlContext* context = &test::sharedGlContext();
   const Scene scene = test::makeTestRoom();
   GlLighting lighting;
   lighting.lights = {GlLight{.origin = {0, 0, 200}}};
-  GlTracer tracer(*context, scene, TextureMode::Arrays, lighting);
+  GlTracer tracer(*context, scene, test::textureModeUnderTest(), lighting);
   const CameraBasis camera = test::testCamera(32, 24);
   const BeautySettings settings{.width = 32, .height = 24, .spp = 3, .seed = 7, .physical = true, .bounces = 2};
   const BeautyImage a = tracer.renderBeauty(camera, settings);

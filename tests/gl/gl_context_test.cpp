@@ -2,6 +2,7 @@
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_error.h"
 #include "renderer/gl/gl_program.h"
+#include "tests/gl/test_scenes.h"
 
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
@@ -13,6 +14,8 @@ namespace bt::gl {
 namespace {
 
 TEST(GlContext, HeadlessContextIsGl45WithCompute) {
+  // A second context beside the shared one: both must stay usable.
+  GlContext& shared = test::sharedGlContext();
   auto context = GlContext::createHeadless();
   ASSERT_TRUE(context);
   const GlContextInfo& info = context->info();
@@ -21,10 +24,17 @@ TEST(GlContext, HeadlessContextIsGl45WithCompute) {
   EXPECT_GE(info.maxTextureUnits, 16) << "the arrays path binds 16 sampler2DArrays";
   std::printf("GL context: %s, %s, %s, bindless %s\n", info.platform.c_str(), info.renderer.c_str(),
               info.version.c_str(), info.bindlessTextures ? "yes" : "no");
+  const std::string renderer = info.renderer;
+  context.reset();
+  EXPECT_EQ(shared.info().renderer, renderer);
+  EXPECT_EQ(glGetString(GL_RENDERER), nullptr) << "destroying the current context leaves none current";
+  shared.makeCurrent();
+  ASSERT_NE(glGetString(GL_RENDERER), nullptr);
+  EXPECT_EQ(reinterpret_cast<const char*>(glGetString(GL_RENDERER)), renderer);
 }
 
 TEST(GlContext, ErrorNamesTheCallThatCausedIt) {
-  auto context = GlContext::createHeadless();
+  test::sharedGlContext();
   try {
     BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1u << 20, 0));
     FAIL() << "an out-of-range binding point must raise a GL error";
@@ -50,7 +60,7 @@ TEST(ShaderAssembly, IncludesAreInlinedWithLineDirectives) {
 }
 
 TEST(ShaderAssembly, CompileErrorNamesTheSourceFiles) {
-  auto context = GlContext::createHeadless();
+  test::sharedGlContext();
   // Neither texture variant defined: textures.glsl's #error fires inside an included file.
   try {
     ComputeProgram program("aov.comp", {});

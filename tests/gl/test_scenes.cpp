@@ -1,10 +1,15 @@
 #include "tests/gl/test_scenes.h"
 
+#include <stdexcept>
+#include <string>
+
 #include <glm/geometric.hpp>
 
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
+#include <memory>
 
 namespace bt::test {
 
@@ -126,6 +131,20 @@ gl::CameraBasis testCamera(int width, int height) {
   c.right = right * tanHalfX;
   c.up = up * (tanHalfX * static_cast<float>(height) / static_cast<float>(width));
   return c;
+}
+
+gl::TextureMode textureModeUnderTest() {
+  const char* env = std::getenv("BT_GL_TEXTURES");
+  if (!env || !*env) return gl::TextureMode::Auto;
+  const auto mode = gl::parseTextureMode(env);
+  if (!mode) throw std::invalid_argument(std::string("BT_GL_TEXTURES=") + env + " is not bindless, arrays or auto");
+  return *mode;
+}
+
+gl::GlContext& sharedGlContext() {
+  static const std::unique_ptr<gl::GlContext> context = gl::GlContext::createHeadless();
+  context->makeCurrent();
+  return *context;
 }
 
 gl::AovImages referenceAovs(const Scene& scene, const gl::CameraBasis& camera, int width, int height) {

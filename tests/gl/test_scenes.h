@@ -19,6 +19,14 @@ void addBox(Scene& scene, dvec3 min, dvec3 max, uint32_t material);
 Scene makeTestRoom();
 gl::CameraBasis testCamera(int width, int height);
 
+// The texture path the GL tests render with: $BT_GL_TEXTURES (bindless, arrays or auto),
+// auto when unset. scripts/gpu-check.sh forces bindless on the GPU and arrays after it.
+gl::TextureMode textureModeUnderTest();
+
+// One headless context for the whole test program, made on first use: a context per test
+// would spend the GPU driver's start-up (seconds on NVIDIA) again and again.
+gl::GlContext& sharedGlContext();
+
 // The reference: each pixel's ray (the CameraBasis formula in double) against every brush.
 gl::AovImages referenceAovs(const Scene& scene, const gl::CameraBasis& camera, int width, int height);
 

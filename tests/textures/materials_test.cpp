@@ -5,6 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <set>
+#include <sstream>
+
 namespace bt {
 namespace {
 
@@ -207,6 +211,41 @@ TEST(LoadMaterials, LibreQuakeMapsFindTheirTexturesInTheUnpackedWadFolders) {
   EXPECT_TRUE(material(scene, "*tele3").emissive.empty());
 }
 
+// Every texture of these LibreQuake maps is in the PNG folders that shared/ carries (the maps
+// whose WAD folders were not copied, lqdm5, e4m3 and old-start, are left out). The names come
+// from the face lines: "( p ) ( p ) ( p ) NAME [ u ] [ v ] ..." (Valve 220).
+TEST(LoadMaterials, EveryTextureOfLibreQuakeMapsIsFound) {
+  BT_REQUIRE_SHARED(shared);
+  const fs::path src = shared / "maps/librequake/lq1/maps/src";
+  for (const char* map : {"dm/lqdm8.map", "dm/lqdm11.map", "dm/lqdm12.map", "dm/lqdm13.map", "e3/lq_e3m1.map",
+                          "misc/dev.map", "misc/slope.map", "brushmodels/b_bh100.map"}) {
+    SCOPED_TRACE(map);
+    std::ifstream in(src / map);
+    ASSERT_TRUE(in);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::set<std::string> names;
+    std::string wadKey;
+    std::istringstream lines(text);
+    for (std::string line; std::getline(lines, line);) {
+      if (line.starts_with("\"wad\" \"")) wadKey = line.substr(7, line.rfind('"') - 7);
+      const size_t axes = line.find(" [");
+      const size_t points = line.rfind(") ", axes);
+      if (line.starts_with("(") && axes != std::string::npos && points != std::string::npos)
+        names.insert(line.substr(points + 2, axes - points - 2));
+    }
+    ASSERT_FALSE(wadKey.empty());
+    ASSERT_GE(names.size(), 5u);
+
+    Scene scene = makeScene(src / map, {{"wad", wadKey}}, std::vector<std::string>(names.begin(), names.end()));
+    loadMaterials(scene, TextureSearch{});
+    EXPECT_TRUE(scene.diagnostics.empty()) << test::describe(scene.diagnostics);
+    for (const Material& m : scene.materials) {
+      EXPECT_FALSE(m.missing()) << m.name;
+      EXPECT_EQ(m.baseColor.width, m.width) << m.name;
+    }
+  }
+}
+
 // LibreQuake's {char_0_fbr.png is an RGB image (no alpha) of 16x16 palette colours, 72 of them
 // palette entry 255, the '{' see-through colour: exactly those turn transparent.
 TEST(LoadMaterials, LooseFenceImagesWithoutAlphaKeyOutPaletteColour255) {
@@ -230,6 +269,28 @@ TEST(LoadMaterials, LooseFenceImagesWithoutAlphaKeyOutPaletteColour255) {
   }
   EXPECT_EQ(transparent, 72);
   EXPECT_TRUE(fence.emissive.empty()) << "colour 255 of a '{' texture is see-through, not fullbright";
+}
+
+// ericw-tools' own loose-texture test maps. qbsp's test compiles q1_loose_textures.map with
+// "-path q1_loose_textures" (a game dir whose textures/ holds the images): our --textures. An
+// image lying beside the map itself is not a texture folder for qbsp, nor for us.
+TEST(LoadMaterials, EricwToolsLooseTextureMaps) {
+  BT_REQUIRE_SHARED(shared);
+  const fs::path testmaps = shared / "maps/ericw-tools/testmaps";
+  Scene found = makeScene(testmaps / "q1_loose_textures.map", {{"_tb_textures", "textures"}},
+                          {"floor_purple_c", "wall_tan_a"});
+  TextureSearch search;
+  search.textureDirs = {(testmaps / "q1_loose_textures/textures").string()};
+  loadMaterials(found, search);
+  EXPECT_TRUE(found.diagnostics.empty()) << test::describe(found.diagnostics);
+  EXPECT_EQ(material(found, "wall_tan_a").source, TextureSource::LooseImage);
+  EXPECT_TRUE(endsWith(material(found, "floor_purple_c").sourcePath, "q1_loose_textures/textures/floor_purple_c.png"));
+
+  Scene ignored = makeScene(testmaps / "q1_loose_textures_ignored/q1_loose_textures_ignored.map",
+                            {{"wad", "../deprecated/fence.wad;../deprecated/origin.wad"}}, {"orangestuff8"});
+  loadMaterials(ignored, TextureSearch{});
+  EXPECT_TRUE(material(ignored, "orangestuff8").missing());
+  EXPECT_EQ(warningsMentioning(ignored, "orangestuff8"), 1) << test::describe(ignored.diagnostics);
 }
 
 TEST(LoadMaterials, LooseImagesByEngineSpellingFolderAndCase) {
@@ -258,6 +319,23 @@ TEST(LoadMaterials, LooseImagesByEngineSpellingFolderAndCase) {
   EXPECT_EQ(grey.baseColor.texel(1, 1)[0], 77);
   EXPECT_EQ(grey.baseColor.texel(1, 1)[2], 77);
   EXPECT_EQ(grey.baseColor.texel(1, 1)[3], 255);
+}
+
+TEST(LoadMaterials, ALooseImageReplacesATextureOfKnownSizeWithoutChangingIt) {
+  test::TempDir dir;
+  test::writeImage(dir / "textures/hires.png", 128, 128, 3, solid(128, 128, 3, {1, 2, 3}));
+  test::writeImage(dir / "textures/plain.png", 32, 16, 3, solid(32, 16, 3, {1, 2, 3}));
+  Scene scene = makeScene(dir / "level.bsp", {}, {"hires", "plain"});
+  scene.materials[0].width = 32; // as a .bsp importer sets it from an external miptex's header
+  scene.materials[0].height = 32;
+  loadMaterials(scene, TextureSearch{});
+  const Material& hires = material(scene, "hires");
+  EXPECT_EQ(hires.source, TextureSource::LooseImage);
+  EXPECT_EQ(hires.width, 32);
+  EXPECT_EQ(hires.height, 32);
+  EXPECT_EQ(hires.baseColor.width, 128) << "the image keeps its resolution";
+  EXPECT_EQ(material(scene, "plain").width, 32) << "unknown size: the image's";
+  EXPECT_EQ(material(scene, "plain").height, 16);
 }
 
 TEST(LoadMaterials, CompanionMapsFillNormalRoughnessMetallicAndEmissive) {
@@ -347,6 +425,29 @@ TEST(LoadMaterials, MalformedWadsAreWarningsNotErrors) {
       EXPECT_NE(scene.diagnostics[0].file.find(file), std::string::npos) << test::describe(scene.diagnostics);
     }
   }
+}
+
+// Unreadable images (garbage, a PNG cut in half) are warnings naming the file; the texture is
+// then missing like any other.
+TEST(LoadMaterials, BrokenImagesAreWarningsNamingTheFile) {
+  test::TempDir dir;
+  test::writeFile(dir / "textures/garbage.png", std::vector<uint8_t>(300, 0xAB));
+  test::writeImage(dir / "whole.png", 64, 64, 3, std::vector<uint8_t>(64 * 64 * 3, 90));
+  std::vector<uint8_t> png = test::readFile(dir / "whole.png");
+  png.resize(png.size() / 2);
+  test::writeFile(dir / "textures/halfpng.png", png);
+  Scene scene = makeScene(dir / "level.map", {}, {"garbage", "halfpng"});
+  ASSERT_NO_THROW(loadMaterials(scene, TextureSearch{}));
+  EXPECT_TRUE(material(scene, "garbage").missing());
+  EXPECT_TRUE(material(scene, "halfpng").missing());
+  EXPECT_EQ(test::countWarnings(scene), 3) << test::describe(scene.diagnostics);
+  EXPECT_EQ(warningsMentioning(scene, "garbage, halfpng"), 1) << test::describe(scene.diagnostics);
+  const auto namesFile = [&](std::string_view file) {
+    return std::count_if(scene.diagnostics.begin(), scene.diagnostics.end(),
+                         [&](const Diagnostic& d) { return d.file.ends_with(file); });
+  };
+  EXPECT_EQ(namesFile("garbage.png"), 1);
+  EXPECT_EQ(namesFile("halfpng.png"), 1);
 }
 
 TEST(LoadMaterials, BadPaletteOptionIsAWarning) {

@@ -1,0 +1,65 @@
+// brushtrace view [MAP]: the live viewer (viewer/viewer.h).
+#include "app/commands.h"
+#include "viewer/viewer.h"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+
+namespace bt::app {
+
+namespace {
+
+struct ViewCommand {
+  ViewerOptions viewer;
+  std::string camera;
+  std::string size = "1280x720";
+  std::string textures = "auto";
+  std::string lighting = "faithful";
+};
+
+int runView(ViewCommand& cmd) {
+  ViewerOptions& o = cmd.viewer;
+  if (o.map.empty()) o.map = defaultMapPath();
+  if (std::sscanf(cmd.size.c_str(), "%dx%d", &o.width, &o.height) != 2 || o.width <= 0 || o.height <= 0) {
+    fmt::print(stderr, "brushtrace: --size '{}' is not WIDTHxHEIGHT\n", cmd.size);
+    return 1;
+  }
+  if (!cmd.camera.empty()) {
+    o.camera = parseCameraPose(cmd.camera);
+    if (!o.camera) {
+      fmt::print(stderr, "brushtrace: --camera '{}' is not \"(x y z) pitch yaw roll\"\n", cmd.camera);
+      return 1;
+    }
+  }
+  const auto textures = gl::parseTextureMode(cmd.textures);
+  if (!textures) {
+    fmt::print(stderr, "brushtrace: --textures-mode '{}' is not bindless, arrays or auto\n", cmd.textures);
+    return 1;
+  }
+  o.textures = *textures;
+  o.lighting = cmd.lighting == "physical" ? LightingMode::Physical : LightingMode::Faithful;
+
+  Viewer viewer(o);
+  while (viewer.frame()) {
+  }
+  return 0;
+}
+
+} // namespace
+
+void addViewCommand(CLI::App& app, int& exitCode) {
+  auto cmd = std::make_shared<ViewCommand>();
+  CLI::App* view = app.add_subcommand("view", "Open a level in a window, path-traced progressively; reloads on save");
+  view->add_option("map", cmd->viewer.map, "Level file (.map or .bsp); default maps/start.map");
+  addImportOptions(*view, cmd->viewer.import);
+  view->add_option("--size", cmd->size, "Window size WIDTHxHEIGHT")->capture_default_str();
+  view->add_option("--camera", cmd->camera, "Start camera \"(x y z) pitch yaw roll\" (roll is ignored: the viewer has none)");
+  view->add_option("--lighting", cmd->lighting, "faithful|physical")->check(CLI::IsMember({"faithful", "physical"}))->capture_default_str();
+  view->add_option("--bounces", cmd->viewer.bounces, "Bounces in physical mode")->capture_default_str();
+  view->add_option("--gl-textures", cmd->textures, "bindless|arrays|auto")->capture_default_str();
+  view->add_option("--screenshots", cmd->viewer.screenshotDir, "Folder F12 writes screenshots into")->capture_default_str();
+  view->callback([cmd, &exitCode] { exitCode = runView(*cmd); });
+}
+
+} // namespace bt::app

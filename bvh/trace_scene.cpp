@@ -1,0 +1,400 @@
+#include "bvh/trace_scene.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+
+namespace bt {
+namespace {
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+// ---------------------------------------------------------------------------------------------
+// Building
+// ---------------------------------------------------------------------------------------------
+
+// A plane normal counts as axial when its other two components are below this: importers
+// compute normals in double from integer points, so box sides come out exact or within a few
+// ulps; anything tilted more than this is traced as a slanted plane, which is always correct.
+constexpr double kAxialTolerance = 1e-9;
+
+// The axis (0..2) and box side (0 = min, 1 = max) a plane normal faces, or -1.
+int axialSide(const dvec3& n) {
+  for (int a = 0; a < 3; ++a) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    if (std::abs(n[b]) < kAxialTolerance && std::abs(n[c]) < kAxialTolerance && std::abs(n[a]) > 0.5)
+      return 2 * a + (n[a] > 0.0 ? 1 : 0);
+  }
+  return -1;
+}
+
+float roundDown(double x) {
+  float f = static_cast<float>(x);
+  return static_cast<double>(f) > x ? std::nextafter(f, -kInfinity) : f;
+}
+
+float roundUp(double x) {
+  float f = static_cast<float>(x);
+  return static_cast<double>(f) < x ? std::nextafter(f, kInfinity) : f;
+}
+
+GpuFace toGpuFace(const Face& f) {
+  GpuFace g{};
+  for (int a = 0; a < 3; ++a) {
+    g.plane[a] = static_cast<float>(f.plane.normal[a]);
+    g.origin[a] = static_cast<float>(f.frame.origin[a]);
+    g.tangent[a] = static_cast<float>(f.frame.tangent[a]);
+    g.bitangent[a] = static_cast<float>(f.frame.bitangent[a]);
+  }
+  g.plane[3] = static_cast<float>(f.plane.dist);
+  g.material = f.material;
+  g.brush = f.brush;
+  return g;
+}
+
+// The GpuBrush of a scene brush (sides not yet placed), or nothing when no face of it has a
+// winding (a brush the importer could not build: nothing of it can be hit).
+std::optional<GpuBrush> makeGpuBrush(const Scene& scene, uint32_t brushIndex, std::vector<uint32_t>& slanted) {
+  const Brush& brush = scene.brushes[brushIndex];
+  GpuBrush g{};
+  std::fill(std::begin(g.axialFace), std::end(g.axialFace), kNoFace);
+  std::array<double, 6> axialPosition{};
+  Bounds windingBounds;
+  slanted.clear();
+  for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f) {
+    const Face& face = scene.faces[f];
+    if (face.winding.empty()) continue; // a redundant plane: it never bounds the brush
+    for (const dvec3& p : face.winding) windingBounds.grow(p);
+    const int side = axialSide(face.plane.normal);
+    if (side < 0) {
+      slanted.push_back(f);
+    } else if (g.axialFace[side] == kNoFace) {
+      // A convex brush's axial face with a winding lies on its bounding box. A second one on
+      // the same side is a duplicate plane, and the first already covers it.
+      g.axialFace[side] = f;
+      axialPosition[side] = face.plane.dist / face.plane.normal[side / 2];
+    }
+  }
+  if (windingBounds.empty()) return std::nullopt;
+  for (int a = 0; a < 3; ++a) {
+    // Sides with an axial face sit exactly at that face's float plane, so that two brushes
+    // sharing a face meet with neither a gap nor an overlap; the others are rounded outward.
+    g.boundsMin[a] = g.axialFace[2 * a] != kNoFace ? static_cast<float>(axialPosition[2 * a]) : roundDown(windingBounds.min[a]);
+    g.boundsMax[a] = g.axialFace[2 * a + 1] != kNoFace ? static_cast<float>(axialPosition[2 * a + 1]) : roundUp(windingBounds.max[a]);
+  }
+  g.sceneBrush = brushIndex;
+  return g;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Ray queries
+// ---------------------------------------------------------------------------------------------
+
+// A ray prepared for traversal. Direction components below 2^-100 are flushed to zero, so that
+// 1 / d stays finite for the rest; zero components are handled by their own branch (the ray
+// lies in the slab or misses it), never through 0 * inf.
+struct RayContext {
+  glm::vec3 origin;
+  glm::vec3 direction;
+  glm::vec3 invDirection;
+  std::array<int, 3> negative; // 1 where the direction component is < 0
+  bool hasZeroComponent = false;
+  float tMin, tMax;
+
+  explicit RayContext(const Ray& ray) : origin(ray.origin), direction(ray.direction), tMin(ray.tMin), tMax(ray.tMax) {
+    for (int a = 0; a < 3; ++a) {
+      if (std::abs(direction[a]) < 0x1p-100f) direction[a] = 0.0f;
+      hasZeroComponent |= direction[a] == 0.0f;
+      invDirection[a] = direction[a] != 0.0f ? 1.0f / direction[a] : 0.0f;
+      negative[a] = direction[a] < 0.0f ? 1 : 0;
+    }
+  }
+};
+
+// The ray's parameter interval inside a box, [near, far]; near > far when it misses. The same
+// float expressions serve nodes and brush boxes, so a node's interval always contains those
+// of the brush boxes below it (rounding is monotonic), which is what lets the BVH agree with
+// a brute-force loop exactly.
+struct Slab {
+  float near, far;
+  int nearAxis, farAxis; // the axis that set near/far, -1 if none did
+};
+
+// ZeroSafe = false is the fast path for rays without zero direction components.
+template <bool ZeroSafe>
+[[gnu::always_inline]] inline Slab intersectBox(const RayContext& r, const float* boxMin, const float* boxMax) {
+  Slab s{-kInfinity, kInfinity, -1, -1};
+  for (int a = 0; a < 3; ++a) {
+    if (ZeroSafe && r.direction[a] == 0.0f) {
+      if (r.origin[a] < boxMin[a] || r.origin[a] > boxMax[a]) return {kInfinity, -kInfinity, -1, -1};
+      continue;
+    }
+    const float* nearSide = r.negative[a] ? boxMax : boxMin;
+    const float* farSide = r.negative[a] ? boxMin : boxMax;
+    const float tNear = (nearSide[a] - r.origin[a]) * r.invDirection[a];
+    const float tFar = (farSide[a] - r.origin[a]) * r.invDirection[a];
+    if (tNear > s.near) s.near = tNear, s.nearAxis = a;
+    if (tFar < s.far) s.far = tFar, s.farAxis = a;
+  }
+  return s;
+}
+
+// Whether a node can hold a hit with t in (tMin, tLimit]. Inclusive at tLimit so that a brush
+// hit at exactly the best t so far is still found and the face-index tie-break applies.
+template <bool ZeroSafe>
+[[gnu::always_inline]] inline bool nodeOverlaps(const RayContext& r, const GpuBvhNode& node, float tLimit, float& near) {
+  float far;
+  if constexpr (ZeroSafe) {
+    const Slab s = intersectBox<true>(r, node.boundsMin, node.boundsMax);
+    near = s.near, far = s.far;
+  } else {
+    // The same per-axis values as intersectBox (min/max of the two slab planes picks the one
+    // intersectBox picks by the direction's sign), without the bookkeeping of which axis won.
+    const float x0 = (node.boundsMin[0] - r.origin.x) * r.invDirection.x, x1 = (node.boundsMax[0] - r.origin.x) * r.invDirection.x;
+    const float y0 = (node.boundsMin[1] - r.origin.y) * r.invDirection.y, y1 = (node.boundsMax[1] - r.origin.y) * r.invDirection.y;
+    const float z0 = (node.boundsMin[2] - r.origin.z) * r.invDirection.z, z1 = (node.boundsMax[2] - r.origin.z) * r.invDirection.z;
+    near = std::max({std::min(x0, x1), std::min(y0, y1), std::min(z0, z1)});
+    far = std::min({std::max(x0, x1), std::max(y0, y1), std::max(z0, z1)});
+  }
+  return std::max(near, r.tMin) <= std::min(far, tLimit) && near <= far;
+}
+
+inline bool closer(float t, uint32_t face, const Hit& best) {
+  return t < best.t || (t == best.t && face < best.face);
+}
+
+} // namespace
+
+TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options) {
+  if (!options.includeBrush.empty() && options.includeBrush.size() != scene.brushes.size())
+    throw std::invalid_argument("BvhBuildOptions::includeBrush must be empty or have one entry per brush");
+
+  TraceScene ts;
+  ts.faces_.reserve(scene.faces.size());
+  for (const Face& f : scene.faces) ts.faces_.push_back(toGpuFace(f));
+
+  // Brushes in scene order first, their slanted sides in one flat list (firstSide/sideCount
+  // index it until the brushes are put in leaf order below).
+  std::vector<GpuBrush> candidates;
+  std::vector<uint32_t> slantedAll, slanted;
+  std::vector<Aabb> boxes;
+  candidates.reserve(scene.brushes.size());
+  boxes.reserve(scene.brushes.size());
+  for (uint32_t b = 0; b < scene.brushes.size(); ++b) {
+    if (!options.includeBrush.empty() && !options.includeBrush[b]) continue;
+    std::optional<GpuBrush> g = makeGpuBrush(scene, b, slanted);
+    if (!g) continue;
+    g->firstSide = static_cast<uint32_t>(slantedAll.size());
+    g->sideCount = static_cast<uint32_t>(slanted.size());
+    slantedAll.insert(slantedAll.end(), slanted.begin(), slanted.end());
+    candidates.push_back(*g);
+    boxes.push_back({{g->boundsMin[0], g->boundsMin[1], g->boundsMin[2]}, {g->boundsMax[0], g->boundsMax[1], g->boundsMax[2]}});
+    ts.bounds_.grow(dvec3(boxes.back().min));
+    ts.bounds_.grow(dvec3(boxes.back().max));
+  }
+
+  FlatBvh bvh = buildBinnedSah(boxes, {options.leafSize, options.binCount, options.threads});
+  ts.nodes_ = std::move(bvh.nodes);
+  // Brushes and their side lists in leaf order, so a leaf's brushes and planes are adjacent.
+  ts.brushes_.reserve(candidates.size());
+  ts.sides_.reserve(slantedAll.size());
+  for (uint32_t i : bvh.order) {
+    GpuBrush g = candidates[i];
+    const auto first = slantedAll.begin() + g.firstSide;
+    g.firstSide = static_cast<uint32_t>(ts.sides_.size());
+    ts.sides_.insert(ts.sides_.end(), first, first + g.sideCount);
+    ts.brushes_.push_back(g);
+  }
+  ts.sahCost_ = bt::sahCost(ts.nodes_);
+  return ts;
+}
+
+namespace {
+
+// The box slabs of a brush, as intersectBox() computes them, plus which axis set near/far.
+// When two axes give the same t (the ray meets an edge exactly), the one the ray meets more
+// head-on (larger |d|) takes it: the hidden face between two neighbouring brushes is always
+// the one met at a glancing angle by rays that reach their shared edge from the open side.
+template <bool ZeroSafe>
+[[gnu::always_inline]] inline Slab brushBox(const RayContext& r, const GpuBrush& brush) {
+  Slab s{-kInfinity, kInfinity, -1, -1};
+  for (int a = 0; a < 3; ++a) {
+    if (ZeroSafe && r.direction[a] == 0.0f) {
+      if (r.origin[a] < brush.boundsMin[a] || r.origin[a] > brush.boundsMax[a]) return {kInfinity, -kInfinity, -1, -1};
+      continue;
+    }
+    const float* nearSide = r.negative[a] ? brush.boundsMax : brush.boundsMin;
+    const float* farSide = r.negative[a] ? brush.boundsMin : brush.boundsMax;
+    const float tNear = (nearSide[a] - r.origin[a]) * r.invDirection[a];
+    const float tFar = (farSide[a] - r.origin[a]) * r.invDirection[a];
+    const float facing = std::abs(r.direction[a]);
+    if (tNear > s.near || (tNear == s.near && s.nearAxis >= 0 && facing > std::abs(r.direction[s.nearAxis])))
+      s.near = tNear, s.nearAxis = a;
+    if (tFar < s.far || (tFar == s.far && s.farAxis >= 0 && facing > std::abs(r.direction[s.farAxis])))
+      s.far = tFar, s.farAxis = a;
+  }
+  return s;
+}
+
+// A plane crossing candidate: t, the face, and how head-on the ray meets it (|dot(n, d)|).
+struct Crossing {
+  float t;
+  uint32_t face = kNoFace;
+  float facing = 0.0f;
+};
+
+// Haines' clip against one brush; the contract is spelled out in trace_scene.h. A brush whose
+// box starts beyond tLimit (the closest hit so far) is rejected before its planes are read:
+// its hit could only be farther (a hit at exactly tLimit still competes on face index).
+template <bool ZeroSafe>
+inline bool hitBrush(const RayContext& r, const GpuBrush& brush, std::span<const uint32_t> sides,
+                     std::span<const GpuFace> faces, float tLimit, Hit& hit) {
+  const Slab box = brushBox<ZeroSafe>(r, brush);
+  if (box.near > box.far || box.far <= r.tMin || box.near >= r.tMax || box.near > tLimit) return false;
+
+  Crossing enter{-kInfinity}, exit{kInfinity};
+  const float near0 = std::max(box.near, r.tMin);
+  for (uint32_t i = brush.firstSide; i < brush.firstSide + brush.sideCount; ++i) {
+    const GpuFace& f = faces[sides[i]];
+    const float denom = f.plane[0] * r.direction.x + f.plane[1] * r.direction.y + f.plane[2] * r.direction.z;
+    const float dist = f.plane[0] * r.origin.x + f.plane[1] * r.origin.y + f.plane[2] * r.origin.z - f.plane[3];
+    if (denom < 0.0f) { // crossing from front to back: entering
+      const float t = -dist / denom;
+      if (t > enter.t || (t == enter.t && -denom > enter.facing)) enter = {t, sides[i], -denom};
+    } else if (denom > 0.0f) { // leaving
+      const float t = -dist / denom;
+      if (t < exit.t || (t == exit.t && denom > exit.facing)) exit = {t, sides[i], denom};
+    } else if (dist > 0.0f) {
+      return false; // parallel and in front: never inside
+    }
+    if (std::max(near0, enter.t) > std::min(box.far, exit.t)) return false;
+  }
+
+  // Merge the box sides (those with an axial face) into the slanted candidates, same rule.
+  if (box.nearAxis >= 0) {
+    const Crossing side{box.near, brush.axialFace[2 * box.nearAxis + r.negative[box.nearAxis]],
+                        std::abs(r.direction[box.nearAxis])};
+    if (side.t > enter.t || (side.t == enter.t && side.face != kNoFace && side.facing >= enter.facing)) {
+      // A box side without an axial face only touches the brush in an edge: the slanted plane
+      // the ray crosses there keeps the face, the box keeps the (larger, conservative) t.
+      enter = {side.t, side.face != kNoFace ? side.face : enter.face, side.facing};
+    }
+  }
+  if (box.farAxis >= 0) {
+    const Crossing side{box.far, brush.axialFace[2 * box.farAxis + 1 - r.negative[box.farAxis]],
+                        std::abs(r.direction[box.farAxis])};
+    if (side.t < exit.t || (side.t == exit.t && side.face != kNoFace && side.facing >= exit.facing))
+      exit = {side.t, side.face != kNoFace ? side.face : exit.face, side.facing};
+  }
+  if (enter.t > exit.t) return false;
+  if (enter.t > r.tMin) {
+    if (!(enter.t < r.tMax)) return false;
+    hit.t = enter.t;
+    hit.face = enter.face;
+    hit.inside = false;
+  } else {
+    if (!(exit.t > r.tMin && exit.t < r.tMax)) return false;
+    hit.t = exit.t;
+    hit.face = exit.face;
+    hit.inside = true;
+  }
+  // Only a brush whose planes and box disagree (a broken winding) can leave no face here.
+  if (hit.face == kNoFace) return false;
+  hit.brush = brush.sceneBrush;
+  return true;
+}
+
+} // namespace
+
+std::optional<Hit> TraceScene::intersectBrush(const Ray& ray, uint32_t brushIndex) const {
+  Hit hit;
+  const RayContext r(ray);
+  const GpuBrush& brush = brushes_.at(brushIndex);
+  const bool found = r.hasZeroComponent ? hitBrush<true>(r, brush, sides_, faces_, r.tMax, hit)
+                                        : hitBrush<false>(r, brush, sides_, faces_, r.tMax, hit);
+  if (found) return hit;
+  return std::nullopt;
+}
+
+// Depth-first traversal, nearer child first, with a stack of kBvhMaxDepth entries, which the
+// builder guarantees is enough (tinybvh's scheme).
+template <bool AnyHit, bool ZeroSafe>
+static bool traverse(const RayContext& r, std::span<const GpuBvhNode> nodes, std::span<const GpuBrush> brushes,
+                     std::span<const uint32_t> sides, std::span<const GpuFace> faces, Hit& best) {
+  if (nodes.empty()) return false;
+  best.t = r.tMax;
+  best.face = kNoFace;
+  bool found = false;
+  float near = 0.0f;
+  if (!nodeOverlaps<ZeroSafe>(r, nodes[0], best.t, near)) return false;
+
+  uint32_t stack[kBvhMaxDepth];
+  int top = 0;
+  uint32_t current = 0;
+  for (;;) {
+    const GpuBvhNode& node = nodes[current];
+    if (node.count > 0) {
+      for (uint32_t i = node.leftFirst; i < node.leftFirst + node.count; ++i) {
+        Hit hit;
+        if (hitBrush<ZeroSafe>(r, brushes[i], sides, faces, best.t, hit) && closer(hit.t, hit.face, best)) {
+          best = hit;
+          found = true;
+          if constexpr (AnyHit) return true;
+        }
+      }
+    } else {
+      uint32_t a = node.leftFirst, b = node.leftFirst + 1;
+      float nearA = 0.0f, nearB = 0.0f;
+      const bool hitA = nodeOverlaps<ZeroSafe>(r, nodes[a], best.t, nearA);
+      const bool hitB = nodeOverlaps<ZeroSafe>(r, nodes[b], best.t, nearB);
+      if (hitA && hitB) {
+        if (nearB < nearA) std::swap(a, b);
+        stack[top++] = b;
+        current = a;
+        continue;
+      }
+      if (hitA || hitB) {
+        current = hitA ? a : b;
+        continue;
+      }
+    }
+    // Pop, skipping nodes that a closer hit found since has made irrelevant.
+    for (;;) {
+      if (top == 0) return found;
+      current = stack[--top];
+      if (nodeOverlaps<ZeroSafe>(r, nodes[current], best.t, near)) break;
+    }
+  }
+}
+
+std::optional<Hit> TraceScene::closestHit(const Ray& ray) const {
+  Hit best;
+  const RayContext r(ray);
+  const bool found = r.hasZeroComponent ? traverse<false, true>(r, nodes_, brushes_, sides_, faces_, best)
+                                        : traverse<false, false>(r, nodes_, brushes_, sides_, faces_, best);
+  if (found) return best;
+  return std::nullopt;
+}
+
+bool TraceScene::occluded(const Ray& ray) const {
+  Hit any;
+  const RayContext r(ray);
+  return r.hasZeroComponent ? traverse<true, true>(r, nodes_, brushes_, sides_, faces_, any)
+                            : traverse<true, false>(r, nodes_, brushes_, sides_, faces_, any);
+}
+
+glm::vec3 offsetRayOrigin(const glm::vec3& p, const glm::vec3& n) {
+  const float magnitude = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  return p + n * (1.0f / 1024.0f + magnitude * 0x1p-18f);
+}
+
+glm::vec2 textureCoordinates(const GpuFace& face, const glm::vec3& p) {
+  const glm::vec3 d = p - glm::vec3(face.origin[0], face.origin[1], face.origin[2]);
+  return {glm::dot(d, glm::vec3(face.tangent[0], face.tangent[1], face.tangent[2])),
+          glm::dot(d, glm::vec3(face.bitangent[0], face.bitangent[1], face.bitangent[2]))};
+}
+
+} // namespace bt

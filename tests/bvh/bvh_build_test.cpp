@@ -1,0 +1,139 @@
+// The BVH builder: structure (every brush once, bounds nest, depth), SAH quality against the
+// full-sweep reference, determinism across thread counts, and brush exclusion.
+#include "bvh/trace_scene.h"
+#include "tests/bvh/bvh_test_util.h"
+#include "tests/bvh/full_sweep_sah.h"
+#include "tests/bvh/generated_scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+using bt::test::expectAllBrushesPresent;
+using bt::test::expectSahNearFullSweep;
+using bt::test::expectWellFormed;
+
+namespace bt {
+namespace {
+
+TEST(BvhBuild, EmptySceneHasNoNodesAndNoHits) {
+  const TraceScene ts = TraceScene::build(Scene{});
+  EXPECT_TRUE(ts.nodes().empty());
+  EXPECT_TRUE(ts.brushes().empty());
+  EXPECT_EQ(ts.sahCost(), 0.0);
+  EXPECT_FALSE(ts.closestHit({{0, 0, 0}, 0.0f, {1, 0, 0}}).has_value());
+  EXPECT_FALSE(ts.occluded({{0, 0, 0}, 0.0f, {1, 0, 0}}));
+}
+
+TEST(BvhBuild, SingleBrushIsOneLeaf) {
+  Scene scene;
+  test::addBox(scene, {0, 0, 0}, {64, 32, 16});
+  const TraceScene ts = TraceScene::build(scene);
+  ASSERT_EQ(ts.nodes().size(), 1u);
+  EXPECT_EQ(ts.nodes()[0].count, 1u);
+  EXPECT_EQ(ts.sahCost(), 1.0); // one leaf with one brush, area ratio 1
+  EXPECT_EQ(ts.brushes()[0].sideCount, 0u); // a box is all axial
+}
+
+TEST(BvhBuild, SahCostFollowsTheCostModel) {
+  // Root [0,2]^3 (half-area 12) over two leaves [0,1]^3 (3) with 1 box and [1,2]^3 with 2:
+  // 1 * 12/12 + 1 * 3/12 + 2 * 3/12 = 1.75.
+  const GpuBvhNode nodes[] = {{{0, 0, 0}, 1, {2, 2, 2}, 0}, {{0, 0, 0}, 0, {1, 1, 1}, 1}, {{1, 1, 1}, 1, {2, 2, 2}, 2}};
+  EXPECT_DOUBLE_EQ(sahCost(nodes), 1.75);
+}
+
+TEST(BvhBuild, EveryBrushReachableExactlyOnce) {
+  for (const auto& [name, scene] : {std::pair{"level", test::generateLevel(3000, 1).scene},
+                                    std::pair{"random", test::generateRandomBrushes(3000, 2)}}) {
+    SCOPED_TRACE(name);
+    for (int leafSize : {1, 4, 16}) {
+      const TraceScene ts = TraceScene::build(scene, {.leafSize = leafSize});
+      expectWellFormed(ts);
+      expectAllBrushesPresent(scene, ts);
+    }
+  }
+}
+
+TEST(BvhBuild, BinnedSahWithin3PercentOfFullSweep) {
+  const Scene level = test::generateLevel(3000, 3).scene;
+  const Scene random = test::generateRandomBrushes(3000, 4);
+  expectSahNearFullSweep(TraceScene::build(level), 4, "level 3k");
+  expectSahNearFullSweep(TraceScene::build(random), 4, "random 3k");
+  expectSahNearFullSweep(TraceScene::build(level, {.leafSize = 1}), 1, "level 3k leaf 1");
+  expectSahNearFullSweep(TraceScene::build(random, {.leafSize = 8}), 8, "random 3k leaf 8");
+}
+
+TEST(BvhBuild, LayoutDoesNotDependOnThreadCount) {
+  // Big enough that subtrees are built on other threads.
+  const Scene scene = test::generateRandomBrushes(20000, 5);
+  const TraceScene one = TraceScene::build(scene, {.threads = 1});
+  const TraceScene four = TraceScene::build(scene, {.threads = 4});
+  ASSERT_EQ(one.nodes().size(), four.nodes().size());
+  ASSERT_EQ(one.brushes().size(), four.brushes().size());
+  EXPECT_EQ(std::memcmp(one.nodes().data(), four.nodes().data(), one.nodes().size_bytes()), 0);
+  EXPECT_EQ(std::memcmp(one.brushes().data(), four.brushes().data(), one.brushes().size_bytes()), 0);
+  EXPECT_EQ(one.sahCost(), four.sahCost());
+  expectWellFormed(four);
+}
+
+TEST(BvhBuild, ExcludedBrushesAreNeitherStoredNorHit) {
+  Scene scene;
+  test::addBox(scene, {0, -16, -16}, {16, 16, 16});  // 0: nearer along +X
+  test::addBox(scene, {32, -16, -16}, {48, 16, 16}); // 1
+  const Ray ray{{-100, 0, 0}, 0.0f, {1, 0, 0}};
+
+  const TraceScene all = TraceScene::build(scene);
+  ASSERT_TRUE(all.closestHit(ray));
+  EXPECT_EQ(all.closestHit(ray)->brush, 0u);
+
+  const TraceScene without0 = TraceScene::build(scene, {.includeBrush = {false, true}});
+  ASSERT_EQ(without0.brushes().size(), 1u);
+  EXPECT_EQ(without0.brushes()[0].sceneBrush, 1u);
+  ASSERT_TRUE(without0.closestHit(ray));
+  EXPECT_EQ(without0.closestHit(ray)->brush, 1u);
+  EXPECT_FLOAT_EQ(without0.closestHit(ray)->t, 132.0f);
+
+  EXPECT_THROW(TraceScene::build(scene, {.includeBrush = {true}}), std::invalid_argument);
+}
+
+TEST(BvhBuild, BrushWithoutWindingsIsSkipped) {
+  Scene scene;
+  test::addBox(scene, {0, 0, 0}, {16, 16, 16});
+  test::addBox(scene, {32, 0, 0}, {48, 16, 16});
+  for (uint32_t f = scene.brushes[1].firstFace; f < scene.brushes[1].firstFace + scene.brushes[1].faceCount; ++f)
+    scene.faces[f].winding.clear();
+  const TraceScene ts = TraceScene::build(scene);
+  ASSERT_EQ(ts.brushes().size(), 1u);
+  EXPECT_EQ(ts.brushes()[0].sceneBrush, 0u);
+  EXPECT_EQ(ts.faces().size(), scene.faces.size()); // faces stay indexable by scene index
+}
+
+TEST(BvhBuild, NeighbourBoxesShareTheirFloatBoundary) {
+  // 0.1 is not a float: both sides of the shared face must round to the same float, so the
+  // two brushes neither overlap nor leave a gap.
+  Scene scene;
+  test::addBox(scene, {-1.0, 0, 0}, {0.1, 1, 1});
+  test::addBox(scene, {0.1, 0, 0}, {1.0, 1, 1});
+  const TraceScene ts = TraceScene::build(scene);
+  const GpuBrush* a = nullptr;
+  const GpuBrush* b = nullptr;
+  for (const GpuBrush& g : ts.brushes()) (g.sceneBrush == 0 ? a : b) = &g;
+  ASSERT_TRUE(a && b);
+  EXPECT_EQ(a->boundsMax[0], b->boundsMin[0]);
+  EXPECT_EQ(a->boundsMax[0], 0.1f);
+}
+
+TEST(BvhBuild, DegenerateInputStaysShallow) {
+  // Boxes whose sizes form a geometric series around one corner: the SAH peels one box per
+  // level, the chain the median fallback exists for.
+  Scene scene;
+  for (int i = 0; i < 200; ++i) {
+    const double s = std::pow(1.15, i);
+    test::addBox(scene, {s, 0, 0}, {s * 1.01 + 0.01, 1, 1});
+  }
+  const TraceScene ts = TraceScene::build(scene, {.leafSize = 1});
+  expectWellFormed(ts);
+}
+
+} // namespace
+} // namespace bt

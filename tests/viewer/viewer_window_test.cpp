@@ -1,0 +1,136 @@
+// The viewer in a real window. CTest runs this binary under xvfb-run (tests/viewer/CMakeLists.txt);
+// without a display it skips, saying so.
+#include "viewer/viewer.h"
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+namespace bt {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A closed 256-unit room (six brushes) with one light in the middle, Valve 220.
+std::string roomMap(int lightValue) {
+  auto brush = [](int x0, int y0, int z0, int x1, int y1, int z1) {
+    auto face = [](int ax, int ay, int az, int bx, int by, int bz, int cx, int cy, int cz, const char* axes) {
+      char line[256];
+      std::snprintf(line, sizeof line, "( %d %d %d ) ( %d %d %d ) ( %d %d %d ) wall %s 0 1 1\n", ax, ay, az, bx, by, bz, cx, cy, cz, axes);
+      return std::string(line);
+    };
+    std::string b = "{\n";
+    b += face(x0, y0, z0, x0, y0 + 1, z0, x0, y0, z0 + 1, "[ 0 1 0 0 ] [ 0 0 -1 0 ]");   // -X
+    b += face(x1, y1, z1, x1, y1, z1 + 1, x1, y1 + 1, z1, "[ 0 1 0 0 ] [ 0 0 -1 0 ]");   // +X
+    b += face(x0, y0, z0, x0, y0, z0 + 1, x0 + 1, y0, z0, "[ 1 0 0 0 ] [ 0 0 -1 0 ]");   // -Y
+    b += face(x1, y1, z1, x1 + 1, y1, z1, x1, y1, z1 + 1, "[ 1 0 0 0 ] [ 0 0 -1 0 ]");   // +Y
+    b += face(x0, y0, z0, x0 + 1, y0, z0, x0, y0 + 1, z0, "[ 1 0 0 0 ] [ 0 -1 0 0 ]");   // -Z
+    b += face(x1, y1, z1, x1, y1 + 1, z1, x1 + 1, y1, z1, "[ 1 0 0 0 ] [ 0 -1 0 0 ]");   // +Z
+    return b + "}\n";
+  };
+  std::string map = "// Game: Quake\n// Format: Valve\n{\n\"classname\" \"worldspawn\"\n\"mapversion\" \"220\"\n";
+  map += brush(-144, -144, -144, -128, 144, 144) + brush(128, -144, -144, 144, 144, 144);
+  map += brush(-128, -144, -144, 128, -128, 144) + brush(-128, 128, -144, 128, 144, 144);
+  map += brush(-128, -128, -144, 128, 128, -128) + brush(-128, -128, 128, 128, 128, 144);
+  map += "}\n{\n\"classname\" \"light\"\n\"origin\" \"0 0 64\"\n\"light\" \"" + std::to_string(lightValue) + "\"\n}\n";
+  map += "{\n\"classname\" \"info_player_start\"\n\"origin\" \"-96 0 -64\"\n\"angle\" \"0\"\n}\n";
+  return map;
+}
+
+class ViewerWindowTest : public ::testing::Test {
+protected:
+  void SetUp() override {
+    if (!std::getenv("DISPLAY")) GTEST_SKIP() << "no X display (run under xvfb-run, as ctest does)";
+    dir_ = fs::temp_directory_path() / ("bt_view_" + std::to_string(std::random_device{}()));
+    fs::create_directories(dir_);
+    map_ = dir_ / "room.map";
+    std::ofstream(map_) << roomMap(300);
+  }
+  void TearDown() override {
+    if (!dir_.empty()) fs::remove_all(dir_);
+  }
+
+  // An editor's save: a temporary file renamed over the map.
+  void save(const std::string& text) {
+    std::ofstream(dir_ / "room.map.tmp") << text;
+    fs::rename(dir_ / "room.map.tmp", map_);
+  }
+
+  ViewerOptions options() const {
+    ViewerOptions o;
+    o.map = map_.string();
+    o.width = 96;
+    o.height = 64;
+    o.screenshotDir = dir_;
+    return o;
+  }
+
+  // Runs frames until `done` or a time limit: reloads wait for the watcher's debounce.
+  template <typename Pred>
+  static bool frameUntil(Viewer& viewer, Pred done, double seconds = 120.0) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    while (std::chrono::steady_clock::now() < end) {
+      if (!viewer.frame()) return false;
+      if (done()) return true;
+    }
+    return false;
+  }
+
+  fs::path dir_, map_;
+};
+
+double meanPixel(const fs::path& png) {
+  auto in = OIIO::ImageInput::open(png.string());
+  if (!in) return -1.0;
+  const auto& spec = in->spec();
+  std::vector<uint8_t> pixels(size_t(spec.width) * spec.height * spec.nchannels);
+  in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, pixels.data());
+  double sum = 0.0;
+  for (uint8_t p : pixels) sum += p;
+  return sum / pixels.size();
+}
+
+TEST_F(ViewerWindowTest, OpensRefinesReloadsOnSaveAndTakesScreenshots) {
+  Viewer viewer(options());
+  EXPECT_EQ(viewer.camera().origin, glm::vec3(-96, 0, -42)) << "starts at the render camera (player start + 22)";
+
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 3; })) << "no progressive refinement";
+
+  const fs::path first = viewer.screenshot();
+  ASSERT_TRUE(fs::exists(first));
+  EXPECT_TRUE(fs::exists(fs::path(first).replace_extension(".exr")));
+  const double lit = meanPixel(first);
+  EXPECT_GT(lit, 5.0) << "the lit room rendered black";
+
+  // A save that brightens the light reloads the level, keeps the camera and restarts refinement.
+  save(roomMap(900));
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.reloads() == 1; })) << "the save was not noticed";
+  EXPECT_TRUE(viewer.error().empty());
+  EXPECT_EQ(viewer.camera().origin, glm::vec3(-96, 0, -42));
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 3; }));
+  const fs::path brighter = viewer.screenshot();
+  EXPECT_NE(brighter, first) << "a screenshot overwrote the previous one";
+  EXPECT_GT(meanPixel(brighter), lit) << "the reloaded light is not brighter";
+
+  // A broken save keeps the last good level on screen and reports the error.
+  save("{\n\"classname\" \"worldspawn\"\n{\n( 0 0 0 ) ( 1 0");
+  ASSERT_TRUE(frameUntil(viewer, [&] { return !viewer.error().empty(); })) << "the broken save was not reported";
+  EXPECT_NE(viewer.error().find("room.map"), std::string::npos) << viewer.error();
+  EXPECT_EQ(viewer.reloads(), 1);
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 1; }));
+
+  // The other views render too.
+  viewer.setMode(ViewMode::Albedo);
+  EXPECT_TRUE(viewer.frame());
+  viewer.setMode(ViewMode::Normal);
+  EXPECT_TRUE(viewer.frame());
+  EXPECT_GT(meanPixel(viewer.screenshot()), 5.0);
+}
+
+} // namespace
+} // namespace bt

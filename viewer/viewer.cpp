@@ -1,0 +1,372 @@
+#include "viewer/viewer.h"
+
+#include "renderer/cpu/cpu_renderer.h"
+#include "renderer/cpu/render_scene.h"
+#include "renderer/gl/gl_lighting.h"
+#include "renderer/gl/gl_tracer.h"
+#include "renderer/gl/gl_window.h"
+#include "viewer/file_watcher.h"
+#include "viewer/fly_camera.h"
+
+#include <epoxy/gl.h>
+// epoxy before GLFW, so that GLFW does not include the system GL header.
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <fmt/format.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <set>
+
+namespace bt {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// The level as the tracers see it. Rebuilt whole on every reload, so a failed reload leaves
+// the previous one untouched.
+struct Level {
+  Scene scene;
+  RenderScene render;
+  std::unique_ptr<gl::GlTracer> tracer;
+  std::vector<fs::path> files; // what the level was read from: the map, its WADs and images
+};
+
+std::vector<fs::path> filesOf(const Scene& scene) {
+  std::set<fs::path> files{fs::path(scene.sourcePath)};
+  for (const Material& m : scene.materials)
+    if (!m.sourcePath.empty()) files.insert(fs::path(m.sourcePath));
+  return {files.begin(), files.end()};
+}
+
+std::unique_ptr<Level> loadLevel(const ViewerOptions& options, gl::GlContext& context) {
+  auto level = std::make_unique<Level>();
+  level->scene = importScene(options.map, options.import);
+  level->render = buildRenderScene(level->scene, {}, level->scene.diagnostics);
+  level->tracer = std::make_unique<gl::GlTracer>(context, level->scene, options.textures, gl::lightingFor(level->render));
+  level->files = filesOf(level->scene);
+  return level;
+}
+
+uint8_t toByte(float v) { return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
+
+} // namespace
+
+struct Viewer::Impl {
+  ViewerOptions options;
+  gl::GlWindow window;
+  FileWatcher watcher;
+  std::unique_ptr<Level> level;
+  FlyCamera camera;
+  ViewMode mode = ViewMode::Beauty;
+  LightingMode lighting;
+
+  // Progressive accumulation at full size; reset whenever the view changes.
+  std::vector<glm::vec3> sum;
+  int accumulated = 0;
+  bool moving = false;
+  gl::AovImages aovs;          // of the current view, for the albedo/normal modes and screenshots
+  bool aovsCurrent = false;
+  std::vector<uint8_t> display; // RGBA8 of what is on screen
+  int displayWidth = 0, displayHeight = 0;
+  GLuint displayTexture = 0;
+
+  std::string error;
+  int reloads = 0;
+  double wheel = 0.0; // scroll notches since the last frame
+  double lastX = 0.0, lastY = 0.0;
+  Clock::time_point lastFrame = Clock::now();
+  double samplesPerSecond = 0.0;
+  std::set<int> keysDown; // for edge-triggered keys
+
+  explicit Impl(ViewerOptions o)
+      : options(std::move(o)), window(options.width, options.height, "brushtrace — " + options.map), lighting(options.lighting) {
+    level = loadLevel(options, window.context());
+    watcher.watch(level->files);
+    const CameraPose pose = options.camera ? *options.camera : defaultCameraPose(level->scene);
+    camera = FlyCamera(glm::dvec3(pose.origin), pose.pitch, pose.yaw);
+
+    glfwSetWindowUserPointer(window.handle(), this);
+    glfwSetScrollCallback(window.handle(), [](GLFWwindow* w, double, double dy) {
+      static_cast<Impl*>(glfwGetWindowUserPointer(w))->wheel += dy;
+    });
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr; // no imgui.ini littering the user's folder
+    ImGui_ImplGlfw_InitForOpenGL(window.handle(), true); // chains to the scroll callback above
+    ImGui_ImplOpenGL3_Init("#version 450");
+    glCreateTextures(GL_TEXTURE_2D, 1, &displayTexture);
+    glTextureParameteri(displayTexture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(displayTexture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  }
+
+  ~Impl() {
+    glDeleteTextures(1, &displayTexture);
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+    level.reset(); // GL objects before the window's context
+  }
+
+  CameraPose pose() const {
+    return CameraPose{glm::vec3(camera.position), static_cast<float>(camera.pitch), static_cast<float>(camera.yaw), 0.0f, "view"};
+  }
+
+  void restart() {
+    accumulated = 0;
+    aovsCurrent = false;
+  }
+
+  bool pressedOnce(int key) {
+    const bool down = glfwGetKey(window.handle(), key) == GLFW_PRESS;
+    const bool was = keysDown.count(key) > 0;
+    if (down) keysDown.insert(key);
+    else keysDown.erase(key);
+    return down && !was;
+  }
+
+  FlyInput readInput() {
+    GLFWwindow* w = window.handle();
+    auto held = [w](int key) { return glfwGetKey(w, key) == GLFW_PRESS; };
+    FlyInput in;
+    const bool typing = ImGui::GetIO().WantCaptureKeyboard;
+    if (!typing) {
+      in.forward = held(GLFW_KEY_W);
+      in.back = held(GLFW_KEY_S);
+      in.left = held(GLFW_KEY_A);
+      in.right = held(GLFW_KEY_D);
+      in.down = held(GLFW_KEY_Q) || held(GLFW_KEY_C);
+      in.up = held(GLFW_KEY_E) || held(GLFW_KEY_SPACE);
+      in.fast = held(GLFW_KEY_LEFT_SHIFT) || held(GLFW_KEY_RIGHT_SHIFT);
+    }
+    double x = 0.0, y = 0.0;
+    glfwGetCursorPos(w, &x, &y);
+    in.looking = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+    if (in.looking) {
+      in.mouseDx = x - lastX;
+      in.mouseDy = y - lastY;
+    }
+    lastX = x;
+    lastY = y;
+    if (!ImGui::GetIO().WantCaptureMouse) in.wheel = wheel;
+    wheel = 0.0;
+    return in;
+  }
+
+  void handleKeys() {
+    if (ImGui::GetIO().WantCaptureKeyboard) return;
+    if (pressedOnce(GLFW_KEY_1)) setMode(ViewMode::Beauty);
+    if (pressedOnce(GLFW_KEY_2)) setMode(ViewMode::Albedo);
+    if (pressedOnce(GLFW_KEY_3)) setMode(ViewMode::Normal);
+    if (pressedOnce(GLFW_KEY_4)) setLighting(LightingMode::Faithful);
+    if (pressedOnce(GLFW_KEY_5)) setLighting(LightingMode::Physical);
+    if (pressedOnce(GLFW_KEY_F12)) takeScreenshot();
+    if (pressedOnce(GLFW_KEY_ESCAPE)) glfwSetWindowShouldClose(window.handle(), GLFW_TRUE);
+  }
+
+  void setMode(ViewMode m) {
+    if (mode != m) mode = m;
+  }
+
+  void setLighting(LightingMode m) {
+    if (lighting == m) return;
+    lighting = m;
+    restart();
+  }
+
+  void reloadIfSaved() {
+    if (watcher.poll().empty()) return;
+    try {
+      level = loadLevel(options, window.context());
+      error.clear();
+      ++reloads;
+      restart();
+    } catch (const std::exception& e) {
+      // Keep showing the last good level; the error stays on screen until a save fixes it.
+      error = e.what();
+    }
+    watcher.watch(level->files);
+  }
+
+  gl::CameraBasis basis(int width, int height) const {
+    return gl::CameraBasis::fromQuakeAngles(glm::vec3(camera.position), static_cast<float>(camera.pitch),
+                                            static_cast<float>(camera.yaw), 0.0f, width, height);
+  }
+
+  void renderAovsIfNeeded() {
+    if (aovsCurrent) return;
+    aovs = level->tracer->renderAovs(basis(options.width, options.height), options.width, options.height);
+    aovsCurrent = true;
+  }
+
+  gl::BeautySettings beautySettings(int width, int height, uint32_t sampleIndex) const {
+    return gl::BeautySettings{.width = width, .height = height, .spp = 1, .seed = sampleIndex,
+                              .physical = lighting == LightingMode::Physical, .bounces = options.bounces};
+  }
+
+  // One sample: a quarter-size preview while the camera moves, else one more full-size sample.
+  void renderSample() {
+    if (mode != ViewMode::Beauty) {
+      renderAovsIfNeeded();
+      showAov();
+      return;
+    }
+    const auto start = Clock::now();
+    if (moving) {
+      const int w = std::max(1, options.width / 2), h = std::max(1, options.height / 2);
+      const gl::BeautyImage preview = level->tracer->renderBeauty(basis(w, h), beautySettings(w, h, 0));
+      showRadiance(preview.beauty, 1, w, h);
+    } else if (accumulated < options.maxSamples) {
+      const int w = options.width, h = options.height;
+      const gl::BeautyImage next = level->tracer->renderBeauty(basis(w, h), beautySettings(w, h, static_cast<uint32_t>(accumulated)));
+      if (accumulated == 0) sum.assign(next.beauty.size(), glm::vec3(0.0f));
+      for (size_t i = 0; i < sum.size(); ++i) sum[i] += next.beauty[i];
+      ++accumulated;
+      showRadiance(sum, accumulated, w, h);
+    } else {
+      return;
+    }
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    const double pixels = moving ? 0.25 * options.width * options.height : double(options.width) * options.height;
+    samplesPerSecond = seconds > 0.0 ? pixels / seconds : 0.0;
+  }
+
+  void showRadiance(const std::vector<glm::vec3>& radiance, int samples, int width, int height) {
+    display.resize(static_cast<size_t>(width) * height * 4);
+    const Tonemap tonemap = lighting == LightingMode::Faithful ? Tonemap::Faithful : Tonemap::Aces;
+    for (size_t i = 0; i < radiance.size(); ++i) {
+      const glm::vec3 c = linearToSrgb(applyTonemap(tonemap, radiance[i] / float(samples)));
+      display[i * 4 + 0] = toByte(c.r);
+      display[i * 4 + 1] = toByte(c.g);
+      display[i * 4 + 2] = toByte(c.b);
+      display[i * 4 + 3] = 255;
+    }
+    upload(width, height);
+  }
+
+  void showAov() {
+    const int width = aovs.width, height = aovs.height;
+    display.resize(static_cast<size_t>(width) * height * 4);
+    for (size_t i = 0; i < aovs.albedo.size(); ++i) {
+      glm::vec3 c = mode == ViewMode::Albedo ? linearToSrgb(glm::vec3(aovs.albedo[i])) : aovs.normal[i] * 0.5f + 0.5f;
+      if (mode == ViewMode::Normal && aovs.face[i] == gl::AovImages::kNoFace) c = glm::vec3(0.0f);
+      display[i * 4 + 0] = toByte(c.r);
+      display[i * 4 + 1] = toByte(c.g);
+      display[i * 4 + 2] = toByte(c.b);
+      display[i * 4 + 3] = 255;
+    }
+    upload(width, height);
+  }
+
+  void upload(int width, int height) {
+    if (width != displayWidth || height != displayHeight) {
+      glDeleteTextures(1, &displayTexture);
+      glCreateTextures(GL_TEXTURE_2D, 1, &displayTexture);
+      glTextureStorage2D(displayTexture, 1, GL_RGBA8, width, height);
+      glTextureParameteri(displayTexture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTextureParameteri(displayTexture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      displayWidth = width;
+      displayHeight = height;
+    }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(displayTexture, 0, 0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, display.data());
+  }
+
+  void drawOverlay() {
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    int fbWidth = 0, fbHeight = 0;
+    glfwGetFramebufferSize(window.handle(), &fbWidth, &fbHeight);
+    ImGui::GetBackgroundDrawList()->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(displayTexture)),
+                                             ImVec2(0, 0), ImVec2(float(fbWidth), float(fbHeight)));
+
+    ImGui::SetNextWindowPos(ImVec2(8, 8));
+    ImGui::SetNextWindowBgAlpha(0.6f);
+    ImGui::Begin("brushtrace", nullptr,
+                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing |
+                     ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoMove);
+    const char* modeName = mode == ViewMode::Beauty ? "beauty" : mode == ViewMode::Albedo ? "albedo" : "normal";
+    ImGui::Text("%s | %s lighting | %s", modeName, lighting == LightingMode::Faithful ? "faithful" : "physical",
+                gl::toString(level->tracer->textureMode()));
+    ImGui::Text("spp %d | %.2f Msamples/s", accumulated, samplesPerSecond * 1e-6);
+    ImGui::Text("camera %s", formatCameraPose(pose()).c_str());
+    ImGui::TextDisabled("RMB look, WASD move, Q/E down/up, wheel fwd, RMB+wheel speed (%.0f)", camera.speed);
+    ImGui::TextDisabled("1 beauty 2 albedo 3 normal | 4 faithful 5 physical | F12 screenshot");
+    if (!error.empty()) ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "reload failed: %s", error.c_str());
+    ImGui::End();
+
+    ImGui::Render();
+    glViewport(0, 0, fbWidth, fbHeight);
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  }
+
+  bool frame() {
+    glfwPollEvents();
+    if (glfwWindowShouldClose(window.handle())) return false;
+    const auto now = Clock::now();
+    const double dt = std::min(0.25, std::chrono::duration<double>(now - lastFrame).count());
+    lastFrame = now;
+
+    handleKeys();
+    moving = camera.update(readInput(), dt);
+    if (moving) restart();
+    reloadIfSaved();
+    renderSample();
+    drawOverlay();
+    glfwSwapBuffers(window.handle());
+    return true;
+  }
+
+  fs::path takeScreenshot() {
+    renderAovsIfNeeded();
+    RenderImage image;
+    image.width = aovs.width;
+    image.height = aovs.height;
+    image.samples = std::max(accumulated, 1);
+    const size_t n = static_cast<size_t>(image.width) * image.height;
+    image.beauty.resize(n, glm::vec3(0.0f));
+    if (accumulated > 0 && sum.size() == n)
+      for (size_t i = 0; i < n; ++i) image.beauty[i] = sum[i] / float(accumulated);
+    image.albedo.resize(n);
+    for (size_t i = 0; i < n; ++i) image.albedo[i] = glm::vec3(aovs.albedo[i]);
+    image.normal = aovs.normal;
+    image.depth = aovs.depth;
+    image.face = aovs.face;
+
+    const std::string stem = fs::path(options.map).stem().string();
+    fs::path png;
+    for (int i = 0;; ++i) {
+      png = options.screenshotDir / fmt::format("{}-{:03}.png", stem, i);
+      if (!fs::exists(png)) break;
+    }
+    OutputSettings output;
+    output.aov = mode == ViewMode::Beauty ? Aov::Beauty : mode == ViewMode::Albedo ? Aov::Albedo : Aov::Normal;
+    output.tonemap = lighting == LightingMode::Faithful ? Tonemap::Faithful : Tonemap::Aces;
+    writeImage(png.string(), image, output);
+    fs::path exr = png;
+    exr.replace_extension(".exr");
+    writeImage(exr.string(), image, output);
+    return png;
+  }
+};
+
+Viewer::Viewer(ViewerOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
+Viewer::~Viewer() = default;
+bool Viewer::frame() { return impl_->frame(); }
+void Viewer::setMode(ViewMode mode) { impl_->setMode(mode); }
+void Viewer::setLighting(LightingMode mode) { impl_->setLighting(mode); }
+fs::path Viewer::screenshot() { return impl_->takeScreenshot(); }
+int Viewer::samples() const { return impl_->accumulated; }
+int Viewer::reloads() const { return impl_->reloads; }
+const std::string& Viewer::error() const { return impl_->error; }
+CameraPose Viewer::camera() const { return impl_->pose(); }
+
+} // namespace bt
