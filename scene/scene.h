@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -100,6 +101,8 @@ struct Entity {
   std::string_view value(std::string_view key, std::string_view fallback = {}) const;
 };
 
+struct CompiledLighting; // scene/compiled_lighting.h
+
 struct Scene {
   std::string sourcePath;
   std::string format; // map dialect ("standard", "valve220", ...) or BSP version ("bsp29", ...)
@@ -109,6 +112,9 @@ struct Scene {
   std::vector<Material> materials; // one per distinct texture name, see material.h
   Bounds bounds;                   // of all brushes
   Diagnostics diagnostics;         // everything the importer skipped or could not resolve
+  // The lightmaps a compiler baked into a .bsp (null for .map sources), for a view mode that
+  // shows them beside the path-traced preview. See scene/compiled_lighting.h.
+  std::shared_ptr<const CompiledLighting> compiledLighting;
 
   const Entity* worldspawn() const;
   // Index of the material called name, or std::nullopt. Case-insensitive like Quake.

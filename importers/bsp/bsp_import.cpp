@@ -2,8 +2,10 @@
 
 #include "importers/bsp/brushes.h"
 #include "importers/bsp/entities.h"
+#include "importers/bsp/lightmaps.h"
 #include "importers/bsp/pk3.h"
 #include "importers/bsp/q3_textures.h"
+#include "importers/textures/textures.h"
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
@@ -91,7 +93,8 @@ std::map<std::string, std::pair<int, int>> miptexSizes(const BspFile& bsp) {
 
 } // namespace
 
-Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve) {
+Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve,
+                   const std::optional<std::vector<uint8_t>>& litFile) {
   Scene scene;
   scene.sourcePath = bsp.path;
   scene.format = toString(bsp.version);
@@ -102,6 +105,7 @@ Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve) {
   std::vector<bool> frameInTextureUnits; // per face, Quake 3 only
   size_t q3SidesWithoutSurface = 0;
   bool worldClaimed = false;
+  std::vector<ModelPlacement> placements;
 
   for (size_t e = 0; e < scene.entities.size(); ++e) {
     Entity& entity = scene.entities[e];
@@ -111,6 +115,7 @@ Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve) {
     worldClaimed |= *model == 0;
     std::vector<CompiledBrush> brushes = modelBrushes(bsp, *model);
     const dvec3 offset = *model == 0 ? dvec3(0.0) : entityOrigin(entity);
+    placements.push_back({*model, static_cast<uint32_t>(e), offset});
     for (CompiledBrush& compiled : brushes) {
       if (offset != dvec3(0.0)) translate(compiled, offset);
       bt::Brush brush;
@@ -154,7 +159,10 @@ Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve) {
                      "paraxial texture frame",
                      q3SidesWithoutSurface)});
 
-  if (resolve) resolve(scene.materials, scene.diagnostics);
+  scene.compiledLighting =
+      std::make_shared<const CompiledLighting>(readCompiledLighting(bsp, placements, litFile, scene.diagnostics));
+
+  if (resolve) resolve(scene);
   for (size_t f = 0; f < scene.faces.size(); ++f) {
     if (!frameInTextureUnits[f]) continue;
     bt::Face& face = scene.faces[f];
@@ -182,17 +190,49 @@ std::vector<uint8_t> readWholeFile(const std::string& path) {
   return bytes;
 }
 
-// One warning listing every texture left as a placeholder, as the .map importer does.
-void reportMissing(const std::vector<Material>& materials, const std::string& path, Diagnostics& diagnostics) {
-  std::string names;
-  size_t count = 0;
-  for (const Material& m : materials)
-    if (m.missing()) {
-      names += (count++ ? ", " : "") + m.name;
+// Q1/HL levels usually carry their textures: decode every miptex with pixels (Quake's with the
+// game palette, Half-Life's with their own). What is left is looked up like .map textures.
+void decodeEmbeddedMiptex(const BspFile& bsp, Scene& scene, const TextureSearch& search) {
+  const bool halfLife = bsp.version == Version::HalfLife30;
+  bool anyPixels = false;
+  for (const Miptex& m : bsp.miptex) anyPixels |= m.present && m.hasPixels;
+  if (!anyPixels) return;
+
+  std::optional<Palette> palette;
+  if (!halfLife) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::path(bsp.path).parent_path();
+    try {
+      // A level in <game>/maps/ finds <game>/gfx/palette.lmp walking up.
+      palette = findPalette(search.palette, {dir.empty() ? fs::path(".") : dir});
+    } catch (const ImportError& e) {
+      scene.diagnostics.push_back({Severity::Warning, e.diagnostic().file, 0, 0,
+                                   "palette not usable: " + e.diagnostic().message});
     }
-  if (count)
-    diagnostics.push_back({Severity::Warning, path, 0, 0,
-                           fmt::format("{} textures not found, drawn as placeholders: {}", count, names)});
+    if (!palette) {
+      scene.diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
+                                   "the level's own textures need Quake's palette (gfx/palette.lmp beside the game, "
+                                   "or --palette); they are looked up elsewhere instead"});
+      return;
+    }
+  }
+  for (Material& material : scene.materials) {
+    if (!material.missing()) continue;
+    for (const Miptex& m : bsp.miptex) {
+      if (!m.present || !m.hasPixels || !textureNamesEqual(m.name, material.name)) continue;
+      try {
+        Material decoded = decodeMiptex(m.bytes, palette ? &*palette : nullptr, halfLife,
+                                        bsp.path + " (miptex " + m.name + ")");
+        decoded.name = material.name;
+        decoded.sourcePath = bsp.path;
+        material = std::move(decoded);
+      } catch (const ImportError& e) {
+        scene.diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
+                                     "embedded texture skipped: " + e.diagnostic().message});
+      }
+      break;
+    }
+  }
 }
 
 // Quake 3 looks for textures in the game directory: the folder holding the .pk3 the level came
@@ -226,16 +266,27 @@ Scene importBsp(const std::string& path, const ImportOptions& options) {
   }
   const BspFile bsp = readBspFile(bytes, path);
 
-  MaterialResolver resolve = [&](std::vector<Material>& materials, Diagnostics& diagnostics) {
-    if (!options.textures.load) return;
-    if (bsp.version == Version::Quake3_46) {
-      const GameFiles files = quake3GameFiles(path, archive, options);
-      resolveQuake3Materials(materials, files, diagnostics);
+  // Coloured light lives in a .lit file beside the level (inside the same archive for a .pk3).
+  std::optional<std::vector<uint8_t>> litFile;
+  if (bsp.isQuake1Family()) {
+    if (archive) {
+      litFile = Pk3Archive(archive->archive).read(std::filesystem::path(archive->entry).replace_extension(".lit").generic_string());
+    } else if (const auto lit = std::filesystem::path(path).replace_extension(".lit"); std::filesystem::is_regular_file(lit)) {
+      litFile = readWholeFile(lit.string());
     }
-    // TODO(textures): Q1/HL miptex, WADs and Q2 .wal through the textures part once it lands.
-    reportMissing(materials, path, diagnostics);
+  }
+
+  MaterialResolver resolve = [&](Scene& scene) {
+    if (options.textures.load) {
+      if (bsp.isQuake1Family()) decodeEmbeddedMiptex(bsp, scene, options.textures);
+      if (bsp.version == Version::Quake3_46)
+        resolveQuake3Materials(scene.materials, quake3GameFiles(path, archive, options), scene.diagnostics);
+    }
+    // WADs, loose images and Quake 2 .wal files, companion maps, placeholders and the one
+    // warning naming what is missing: the same search as for .map files.
+    loadMaterials(scene, options.textures);
   };
-  return sceneFromBsp(bsp, resolve);
+  return sceneFromBsp(bsp, resolve, litFile);
 }
 
 } // namespace bt::bsp

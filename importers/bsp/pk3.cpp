@@ -113,6 +113,11 @@ void GameFiles::addArchive(const std::filesystem::path& archive) {
 }
 
 std::optional<std::vector<uint8_t>> GameFiles::read(std::string_view name) const {
+  // Names come from the level and its shader scripts: never let them climb out of the game.
+  const std::filesystem::path relative{std::string(name)};
+  if (relative.is_absolute()) return std::nullopt;
+  for (const auto& part : relative)
+    if (part == "..") return std::nullopt;
   for (const auto& dir : dirs_) {
     const std::filesystem::path p = dir / std::filesystem::path(std::string(name));
     std::error_code ec;

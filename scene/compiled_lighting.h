@@ -1,0 +1,49 @@
+// The lighting a compiler baked into a .bsp, kept beside the Scene so that a view mode can show
+// it next to the path-traced preview. Only .bsp imports have it (Scene::compiledLighting).
+#pragma once
+
+#include "scene/material.h"
+
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace bt {
+
+// One compiled (drawn) face of a Q1/HL/Q2 level with its lightmaps.
+struct LightmappedFace {
+  uint32_t entity = 0;            // Scene::entities index of the entity whose model holds it
+  std::vector<glm::dvec3> polygon; // world space (entity origin applied), counter-clockwise seen from the front
+  glm::dvec3 normal{0.0, 0.0, 1.0};
+  std::string texture;
+  // The face's texture projection (texinfo, origin applied): texel s = dot(p, sAxis) + sOffset.
+  glm::dvec3 sAxis{1.0, 0.0, 0.0}, tAxis{0.0, 1.0, 0.0};
+  double sOffset = 0.0, tOffset = 0.0;
+  // Quake's luxel grid: luxel (x, y) is centred on texel (16 * (lightmapMins[0] + x),
+  // 16 * (lightmapMins[1] + y)); width/height 0 when the face has no lightmap (sky, liquids,
+  // unlit faces).
+  std::array<int, 2> lightmapMins{0, 0};
+  int width = 0;
+  int height = 0;
+  std::array<uint8_t, 4> styles{255, 255, 255, 255}; // light styles in order, 255 = unused
+  // For each used style in order, width * height RGB triples, rows top (t min) to bottom.
+  // Values as stored: the light sum x 0.5 (_range), clamped to 255; grey levels are repeated
+  // into R, G and B when the file has no colour.
+  std::vector<uint8_t> rgb;
+};
+
+struct CompiledLighting {
+  // Where the colours came from: "lighting lump" (Quake's 8-bit grey), ".lit file",
+  // "BSPX RGBLIGHTING", "RGB lighting lump" (Half-Life, Quake 2), "lightmap pages" (Quake 3).
+  std::string source;
+  int luxelSize = 16; // texels per luxel
+  std::vector<LightmappedFace> faces;
+  // Quake 3 keeps its lightmaps as 128x128 RGB pages that draw vertices index; the pages are kept
+  // here (alpha 255) although draw surfaces are not part of the Scene.
+  std::vector<Image> pages;
+};
+
+} // namespace bt
