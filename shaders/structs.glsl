@@ -32,7 +32,7 @@ struct GpuFace {
   uint flags;       // offset 60
 };                  // 64 bytes
 
-// GpuFace.flags: renderer/cpu's face classes (gpu_lights.h kFace*), from the texture name.
+// GpuFace.flags: renderer/cpu's face classes (scene/gpu_structs.h kFace*), from the texture name.
 const uint FACE_HIDDEN = 1u;    // clip, trigger, skip, hint, origin, common/*: never seen
 const uint FACE_SKY = 2u;       // sky*: the environment, and where sunlight comes from
 const uint FACE_LIQUID = 4u;    // '*' textures: unlit unless _litwater
@@ -63,7 +63,7 @@ struct GpuMaterial {
   uint pad0;            // offset 68
 };                      // 72 bytes
 
-// renderer/cpu/gpu_lights.h GpuLight, byte for byte (Quake light units, colours 0..1).
+// scene/gpu_structs.h GpuLight, byte for byte (Quake light units, colours 0..1).
 const uint LIGHT_POINT = 0u;
 const uint LIGHT_SUN = 1u;
 const uint LIGHT_DOME = 2u;
@@ -92,7 +92,7 @@ struct GpuLight {
   uint surfaceMaterial; // offset 76
 };                 // 80 bytes
 
-// renderer/cpu/gpu_lights.h GpuEmitter: one triangle of an emitting face, cdf by area.
+// scene/gpu_structs.h GpuEmitter: one triangle of an emitting face, cdf by area.
 struct GpuEmitter {
   vec3 v0;      // offset 0
   uint face;    // offset 12

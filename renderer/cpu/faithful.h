@@ -7,7 +7,7 @@
 // lightmap, and the engine draws texture * lightmap / 128 ("overbright": 255 is almost 2x).
 #pragma once
 
-#include "renderer/cpu/gpu_lights.h"
+#include "scene/gpu_structs.h"
 
 #include <glm/geometric.hpp>
 

@@ -2,7 +2,7 @@
 // Key names and defaults are ericw-tools `light`'s (see renderer/cpu/README.md for the table).
 #pragma once
 
-#include "renderer/cpu/gpu_lights.h"
+#include "scene/gpu_structs.h"
 #include "scene/scene.h"
 
 #include <glm/vec3.hpp>

@@ -1,9 +1,9 @@
-// Everything the integrator reads, as flat arrays of the structs in gpu_lights.h: per-face
+// Everything the integrator reads, as flat arrays of the structs in scene/gpu_structs.h: per-face
 // shading data, per-material parameters, lights and emitter triangles, plus the ray tracer.
 #pragma once
 
 #include "bvh/trace_scene.h"
-#include "renderer/cpu/gpu_lights.h"
+#include "scene/gpu_structs.h"
 #include "renderer/cpu/lights.h"
 #include "scene/scene.h"
 

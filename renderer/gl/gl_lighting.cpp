@@ -1,7 +1,5 @@
 #include "renderer/gl/gl_lighting.h"
 
-#include <bit>
-
 namespace bt::gl {
 
 GlLighting lightingFor(const RenderScene& rs) {
@@ -12,10 +10,10 @@ GlLighting lightingFor(const RenderScene& rs) {
   for (const bt::GpuMaterial& m : rs.materials)
     out.materialFlags.push_back(((m.flags & bt::kMaterialSpecular) ? kMaterialGgx : 0u) |
                                 ((m.flags & bt::kMaterialEmissive) ? kMaterialHasEmissive : 0u));
-  // GlLight and GlEmitter are the CPU structs byte for byte (gl_structs.h asserts the layout).
-  for (const GpuLight& light : rs.lights) out.lights.push_back(std::bit_cast<GlLight>(light));
-  for (const GpuLight& light : rs.surfaceLights) out.surfaceLights.push_back(std::bit_cast<GlLight>(light));
-  for (const GpuEmitter& e : rs.emitters) out.emitters.push_back(std::bit_cast<GlEmitter>(e));
+  // Lights and emitters are uploaded as the CPU reference built them (scene/gpu_structs.h).
+  out.lights = rs.lights;
+  out.surfaceLights = rs.surfaceLights;
+  out.emitters = rs.emitters;
   out.emitterArea = rs.emitterArea;
   out.minlight = rs.world.minlight;
   out.range = rs.world.range;

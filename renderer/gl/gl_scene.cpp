@@ -130,8 +130,8 @@ GlSceneBuffers::GlSceneBuffers(const GpuSceneArrays& arrays, const std::vector<G
   upload(buffers_[kBindingMaterials], materials);
   upload(buffers_[kBindingLights], lighting.lights);
   // One template per material, so the shader indexes it by a face's material; value 0 = none.
-  std::vector<GlLight> surfaceLights = lighting.surfaceLights;
-  surfaceLights.resize(std::max(surfaceLights.size(), materialCount), GlLight{.value = 0.0f});
+  std::vector<GpuLight> surfaceLights = lighting.surfaceLights;
+  surfaceLights.resize(std::max(surfaceLights.size(), materialCount), GpuLight{.value = 0.0f});
   upload(buffers_[kBindingSurfaceLights], surfaceLights);
   upload(buffers_[kBindingEmitters], lighting.emitters);
 }

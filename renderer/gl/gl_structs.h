@@ -5,6 +5,8 @@
 // lands; they are the layout issue 3 describes (bounds + first/count, 32 bytes).
 #pragma once
 
+#include "scene/gpu_structs.h"
+
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -60,7 +62,7 @@ static_assert(offsetof(GpuFace, dist) == 12 && offsetof(GpuFace, origin) == 16 &
               offsetof(GpuFace, tangent) == 32 && offsetof(GpuFace, sceneFace) == 44 &&
               offsetof(GpuFace, bitangent) == 48 && offsetof(GpuFace, flags) == 60);
 
-// GpuFace::flags: renderer/cpu's face classes (kFaceHidden, kFaceSky, ... in gpu_lights.h).
+// GpuFace::flags: renderer/cpu's face classes (kFaceHidden, kFaceSky, ... in scene/gpu_structs.h).
 
 enum MaterialFlags : uint32_t {
   kMaterialHasBase = 1,
@@ -111,39 +113,8 @@ static_assert(sizeof(GpuCamera) == 96);
 static_assert(offsetof(GpuCamera, forward) == 16 && offsetof(GpuCamera, right) == 32 && offsetof(GpuCamera, up) == 48 &&
               offsetof(GpuCamera, imageSize) == 64 && offsetof(GpuCamera, frameIndex) == 72);
 
-// renderer/cpu/gpu_lights.h GpuLight, byte for byte: the GL tracer uploads the CPU
-// reference's light list unchanged (shaders/structs.glsl GpuLight).
-struct GlLight {
-  glm::vec3 origin{0.0f};
-  uint32_t type = 0; // 0 point, 1 sun, 2 dome
-  glm::vec3 color{1.0f};
-  float value = 300.0f;
-  glm::vec3 direction{0.0f, 0.0f, -1.0f};
-  float cosOuter = -2.0f;
-  uint32_t formula = 0; // ericw-tools `delay`
-  float atten = 1.0f;
-  float falloff = 0.0f;
-  float anglescale = 0.5f;
-  float cosInner = -2.0f;
-  float deviance = 0.0f;
-  uint32_t flags = 0;
-  uint32_t surfaceMaterial = 0xffffffffu;
-};
-static_assert(sizeof(GlLight) == 80);
-static_assert(offsetof(GlLight, color) == 16 && offsetof(GlLight, direction) == 32 && offsetof(GlLight, formula) == 48 &&
-              offsetof(GlLight, cosInner) == 64 && offsetof(GlLight, surfaceMaterial) == 76);
-
-// renderer/cpu/gpu_lights.h GpuEmitter: one triangle of an emitting face.
-struct GlEmitter {
-  glm::vec3 v0{0.0f};
-  uint32_t face = 0;
-  glm::vec3 v1{0.0f};
-  float area = 0.0f;
-  glm::vec3 v2{0.0f};
-  float cdf = 0.0f;
-};
-static_assert(sizeof(GlEmitter) == 48);
-static_assert(offsetof(GlEmitter, v1) == 16 && offsetof(GlEmitter, v2) == 32 && offsetof(GlEmitter, cdf) == 44);
+// Lights and emitters are scene/gpu_structs.h's GpuLight and GpuEmitter, uploaded unchanged
+// (shaders/structs.glsl mirrors them).
 
 // std140 uniform block `World` (shaders/scene_buffers.glsl), binding 1.
 struct GpuWorld {

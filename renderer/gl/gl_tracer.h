@@ -50,9 +50,9 @@ struct AovImages {
 struct GlLighting {
   std::vector<uint32_t> faceFlags;     // per Scene face: renderer/cpu kFace*; empty = none
   std::vector<uint32_t> materialFlags; // per material: kMaterialGgx / kMaterialHasEmissive overrides; empty = from the images
-  std::vector<GlLight> lights;         // point lights, suns, domes
-  std::vector<GlLight> surfaceLights;  // per material: its _surface template (value 0 = none); empty = none
-  std::vector<GlEmitter> emitters;     // triangles of emitting faces, cdf by area
+  std::vector<GpuLight> lights;         // point lights, suns, domes
+  std::vector<GpuLight> surfaceLights;  // per material: its _surface template (value 0 = none); empty = none
+  std::vector<GpuEmitter> emitters;     // triangles of emitting faces, cdf by area
   float emitterArea = 0.0f;
   glm::vec3 minlight{0.0f};
   float range = 0.5f;      // _range

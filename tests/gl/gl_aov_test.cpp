@@ -89,7 +89,7 @@ TEST(GlAov, ArraysAndBindlessGiveTheSameImage) {
   // Path-traced beauty: the same texels through either path, so the same samples; the two
   // shader variants may still be compiled into differently ordered float arithmetic.
   GlLighting lighting;
-  lighting.lights = {GlLight{.origin = {0, 0, 200}}};
+  lighting.lights = {GpuLight{.origin = {0, 0, 200}}};
   const BeautySettings settings{.width = kWidth, .height = kHeight, .spp = 4, .physical = true, .bounces = 3};
   const BeautyImage beautyArrays = GlTracer(*context, scene, TextureMode::Arrays, lighting).renderBeauty(camera, settings);
   const BeautyImage beautyBindless = GlTracer(*context, scene, TextureMode::Bindless, lighting).renderBeauty(camera, settings);

@@ -56,7 +56,7 @@ TEST(GlBeauty, FaithfulInfiniteLightGivesTheOverbrightFormula) {
   GlContext* context = &test::sharedGlContext();
   const Scene scene = test::makeTestRoom();
   GlLighting lighting;
-  GlLight light;
+  GpuLight light;
   light.origin = {-100, 0, 200};
   light.value = 200.0f;
   light.formula = 3;
@@ -87,7 +87,7 @@ TEST(GlBeauty, PhysicalPointLightGivesInverseSquareLambert) {
   GlContext* context = &test::sharedGlContext();
   const Scene scene = test::makeTestRoom();
   GlLighting lighting;
-  GlLight light;
+  GpuLight light;
   light.origin = {-100, 0, 200};
   light.value = 300.0f;
   lighting.lights = {light};
@@ -129,7 +129,7 @@ TEST(GlBeauty, SameSeedAndSampleCountGiveTheSameImage) {
   GlContext* context = &test::sharedGlContext();
   const Scene scene = test::makeTestRoom();
   GlLighting lighting;
-  lighting.lights = {GlLight{.origin = {0, 0, 200}}};
+  lighting.lights = {GpuLight{.origin = {0, 0, 200}}};
   GlTracer tracer(*context, scene, test::textureModeUnderTest(), lighting);
   const CameraBasis camera = test::testCamera(32, 24);
   const BeautySettings settings{.width = 32, .height = 24, .spp = 3, .seed = 7, .physical = true, .bounces = 2};
