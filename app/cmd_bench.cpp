@@ -22,7 +22,7 @@ namespace {
 struct BenchOptions {
   std::string map;
   ImportOptions import;
-  std::string size = "1280x720";
+  ImageSize size{1280, 720};
   int bounces = 4;
   double seconds = 5.0;
   std::string textures = "auto";
@@ -30,11 +30,7 @@ struct BenchOptions {
 };
 
 int runBench(const BenchOptions& options) {
-  int width = 0, height = 0;
-  if (std::sscanf(options.size.c_str(), "%dx%d", &width, &height) != 2 || width <= 0 || height <= 0) {
-    fmt::print(stderr, "brushtrace: --size '{}' is not WIDTHxHEIGHT\n", options.size);
-    return 1;
-  }
+  const int width = options.size.width, height = options.size.height;
   const auto textureMode = gl::parseTextureMode(options.textures);
   if (!textureMode) {
     fmt::print(stderr, "brushtrace: --gl-textures '{}' is not bindless, arrays or auto\n", options.textures);
@@ -56,7 +52,7 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
   CLI::App* bench = app.add_subcommand("bench", "Measure the GL tracer: ray rates, samples/s, time to first image");
   bench->add_option("map", options->map, "Level to load (.map or .bsp)")->required();
   addImportOptions(*bench, options->import);
-  bench->add_option("--size", options->size, "Image size WxH")->capture_default_str();
+  addSizeOption(*bench, options->size, "Image size");
   bench->add_option("--bounces", options->bounces, "Bounces of the full samples (physical mode)")->capture_default_str();
   bench->add_option("--seconds", options->seconds, "Time budget of the measurements")->capture_default_str();
   bench->add_option("--gl-textures", options->textures, "Texture path: auto|bindless|arrays")->capture_default_str();

@@ -14,7 +14,6 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <regex>
 #include <unistd.h>
 
 namespace bt::app {
@@ -26,7 +25,7 @@ struct RenderOptions {
   std::string output;
   int spp = 64;
   double timeLimit = 0.0;
-  std::string size = "960x540";
+  ImageSize size{960, 540};
   std::string camera;
   std::string backend = "auto";
   std::string glTextures = "auto";
@@ -54,13 +53,7 @@ bool isSoftwareRenderer(std::string_view renderer) {
 }
 
 int runRender(const RenderOptions& o) {
-  int width = 0, height = 0;
-  {
-    static const std::regex size(R"((\d{1,5})x(\d{1,5}))");
-    std::smatch m;
-    if (!std::regex_match(o.size, m, size) || (width = std::stoi(m[1])) <= 0 || (height = std::stoi(m[2])) <= 0)
-      throw std::runtime_error(fmt::format("--size: expected WIDTHxHEIGHT, got \"{}\"", o.size));
-  }
+  const int width = o.size.width, height = o.size.height;
   {
     // Say so before rendering, not after.
     std::string ext = std::filesystem::path(o.output).extension().string();
@@ -170,7 +163,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--spp", options->spp, "Samples per pixel")->capture_default_str();
   cmd->add_option("--time", options->timeLimit, "Stop after this many seconds (with --spp: whichever comes first)")
       ->type_name("S");
-  cmd->add_option("--size", options->size, "Image size WIDTHxHEIGHT")->capture_default_str();
+  addSizeOption(*cmd, options->size, "Image size");
   cmd->add_option("--camera", options->camera, "Camera \"(x y z) pitch yaw roll\"; default from the level's entities");
   cmd->add_option("--backend", options->backend, "auto|gl|cpu")
       ->check(CLI::IsMember({"auto", "gl", "cpu"}))

@@ -13,7 +13,7 @@ namespace {
 struct ViewCommand {
   ViewerOptions viewer;
   std::string camera;
-  std::string size = "1280x720";
+  ImageSize size{1280, 720};
   std::string textures = "auto";
   std::string lighting = "faithful";
 };
@@ -21,10 +21,8 @@ struct ViewCommand {
 int runView(ViewCommand& cmd) {
   ViewerOptions& o = cmd.viewer;
   if (o.map.empty()) o.map = defaultMapPath();
-  if (std::sscanf(cmd.size.c_str(), "%dx%d", &o.width, &o.height) != 2 || o.width <= 0 || o.height <= 0) {
-    fmt::print(stderr, "brushtrace: --size '{}' is not WIDTHxHEIGHT\n", cmd.size);
-    return 1;
-  }
+  o.width = cmd.size.width;
+  o.height = cmd.size.height;
   if (!cmd.camera.empty()) {
     o.camera = parseCameraPose(cmd.camera);
     if (!o.camera) {
@@ -53,7 +51,7 @@ void addViewCommand(CLI::App& app, int& exitCode) {
   CLI::App* view = app.add_subcommand("view", "Open a level in a window, path-traced progressively; reloads on save");
   view->add_option("map", cmd->viewer.map, "Level file (.map or .bsp); default maps/start.map");
   addImportOptions(*view, cmd->viewer.import);
-  view->add_option("--size", cmd->size, "Window size WIDTHxHEIGHT")->capture_default_str();
+  addSizeOption(*view, cmd->size, "Window size");
   view->add_option("--camera", cmd->camera, "Start camera \"(x y z) pitch yaw roll\" (roll is ignored: the viewer has none)");
   view->add_option("--lighting", cmd->lighting, "faithful|physical")->check(CLI::IsMember({"faithful", "physical"}))->capture_default_str();
   view->add_option("--bounces", cmd->viewer.bounces, "Bounces in physical mode")->capture_default_str();

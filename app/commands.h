@@ -11,6 +11,14 @@ namespace bt::app {
 // --dialect, --wad, --textures, --palette, --no-textures: every command that imports a level.
 void addImportOptions(CLI::App& command, ImportOptions& options);
 
+// --size WIDTHxHEIGHT into `size`, checked while the command line is parsed, so a malformed
+// size is a usage error (exit 2) like any other bad option.
+struct ImageSize {
+  int width = 0;
+  int height = 0;
+};
+void addSizeOption(CLI::App& command, ImageSize& size, const std::string& help);
+
 // The level `render` and `view` open when given none: maps/start.map.
 std::string defaultMapPath();
 

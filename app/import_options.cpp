@@ -1,5 +1,6 @@
 #include "app/commands.h"
 
+#include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 
@@ -21,6 +22,23 @@ void addImportOptions(CLI::App& command, ImportOptions& options) {
       ->type_name("DIR");
   command.add_option("--palette", options.textures.palette, "Quake palette.lmp (768 bytes) for WAD2 textures")->type_name("FILE");
   command.add_flag_callback("--no-textures", [&options] { options.textures.load = false; }, "Import geometry only: every texture is a placeholder");
+}
+
+void addSizeOption(CLI::App& command, ImageSize& size, const std::string& help) {
+  command
+      .add_option_function<std::string>(
+          "--size",
+          [&size](const std::string& text) {
+            int width = 0, height = 0;
+            char x = 0, rest = 0;
+            if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || x != 'x' || width <= 0 ||
+                height <= 0 || width > 16384 || height > 16384)
+              throw CLI::ValidationError("--size", "expected WIDTHxHEIGHT (1..16384 each), got '" + text + "'");
+            size = {width, height};
+          },
+          help)
+      ->type_name("WxH")
+      ->default_str(std::to_string(size.width) + "x" + std::to_string(size.height));
 }
 
 // maps/start.map in the current directory, then beside the executable's build folder

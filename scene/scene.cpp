@@ -1,5 +1,7 @@
 #include "scene/scene.h"
 
+#include "scene/names.h"
+
 #include <glm/common.hpp>
 
 #include <algorithm>
@@ -51,12 +53,6 @@ const Entity* Scene::worldspawn() const {
   for (const Entity& e : entities)
     if (e.classname() == "worldspawn") return &e;
   return nullptr;
-}
-
-static bool equalsIgnoreCase(std::string_view a, std::string_view b) {
-  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
-           return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y));
-         });
 }
 
 std::optional<uint32_t> Scene::findMaterial(std::string_view name) const {

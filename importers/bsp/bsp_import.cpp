@@ -1,4 +1,5 @@
 #include "importers/bsp/bsp_import.h"
+#include "scene/names.h"
 
 #include "importers/bsp/brushes.h"
 #include "importers/bsp/entities.h"
@@ -21,12 +22,6 @@
 namespace bt::bsp {
 
 namespace {
-
-std::string lowercase(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
 
 // The model a brush entity uses: worldspawn is model 0; the others name theirs "*N".
 std::optional<size_t> entityModel(const Entity& entity, const BspFile& bsp, Diagnostics& diagnostics) {

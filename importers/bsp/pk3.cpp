@@ -1,4 +1,5 @@
 #include "importers/bsp/pk3.h"
+#include "scene/names.h"
 
 #include "scene/diagnostics.h"
 
@@ -13,11 +14,6 @@
 namespace bt::bsp {
 
 namespace {
-std::string lowercase(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
 bool endsWith(std::string_view s, std::string_view suffix) {
   return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
 }

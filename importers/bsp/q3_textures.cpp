@@ -1,4 +1,5 @@
 #include "importers/bsp/q3_textures.h"
+#include "scene/names.h"
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
@@ -10,12 +11,6 @@
 namespace bt::bsp {
 
 namespace {
-
-std::string lowercase(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
 
 bool isLineEnd(char c) { return c == '\n' || c == '\r'; }
 

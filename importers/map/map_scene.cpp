@@ -1,4 +1,5 @@
 #include "importers/map/map_scene.h"
+#include "scene/names.h"
 
 #include "importers/map/map_geometry.h"
 #include "importers/map/map_parser.h"
@@ -32,12 +33,6 @@ bool drawsNothing(const MapFace& f) {
 bool samePlane(const Plane& a, const Plane& b) {
   return std::fabs(a.normal.x - b.normal.x) < kNormalEpsilon && std::fabs(a.normal.y - b.normal.y) < kNormalEpsilon &&
          std::fabs(a.normal.z - b.normal.z) < kNormalEpsilon && std::fabs(a.dist - b.dist) < kDistEpsilon;
-}
-
-std::string lowercase(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
 }
 
 class SceneBuilder {

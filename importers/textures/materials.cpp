@@ -4,6 +4,7 @@
 // (--textures, the unpacked folder of a WAD that is not there, TrenchBroom's "_tb_textures",
 // <mapdir>/textures, <mapdir>/../textures). Companion maps come from the loose folders.
 #include "importers/textures/textures.h"
+#include "scene/names.h"
 
 #include <fmt/format.h>
 
@@ -22,12 +23,6 @@ namespace bt {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string lowercase(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
 
 std::vector<std::string> splitList(std::string_view list) {
   std::vector<std::string> items;

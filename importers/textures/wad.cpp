@@ -4,6 +4,7 @@
 //   { int32 filepos, disksize, size; int8 type, compression; int16 pad; char name[16]; }.
 // Every offset and size comes from the file, so each one is checked before it is used.
 #include "importers/textures/binary.h"
+#include "scene/names.h"
 #include "importers/textures/textures.h"
 
 #include <fmt/format.h>
@@ -42,11 +43,7 @@ bool isMiptexType(uint8_t type) { return type == WadFile::kTypeMiptexWad2 || typ
 
 } // namespace
 
-bool textureNamesEqual(std::string_view a, std::string_view b) {
-  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
-           return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y));
-         });
-}
+bool textureNamesEqual(std::string_view a, std::string_view b) { return equalsIgnoreCase(a, b); }
 
 WadFile WadFile::open(const std::filesystem::path& path) {
   return fromBytes(readTextureFile(path), path.string());

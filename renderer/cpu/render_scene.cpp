@@ -1,4 +1,5 @@
 #include "renderer/cpu/render_scene.h"
+#include "scene/names.h"
 
 #include "renderer/cpu/color.h"
 
@@ -11,12 +12,6 @@
 namespace bt {
 
 namespace {
-
-std::string lower(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
 
 // Quake 2 surface flags and contents that decide how a face is drawn.
 constexpr int32_t kQ2SurfSky = 0x4, kQ2SurfWarp = 0x8, kQ2SurfHint = 0x100, kQ2SurfSkip = 0x200, kQ2SurfNodraw = 0x80;
@@ -57,7 +52,7 @@ GpuMaterial materialParams(const Material& m) {
 } // namespace
 
 uint32_t classifyTexture(std::string_view texture, const std::optional<SurfaceAttributes>& surface) {
-  const std::string name = lower(texture);
+  const std::string name = lowercase(texture);
   // The last path component: Quake 2/3 names carry folders ("e1u1/clip", "common/caulk").
   const std::string_view base = std::string_view(name).substr(name.find_last_of('/') + 1);
   uint32_t flags = 0;
