@@ -29,6 +29,9 @@ constexpr int32_t kContentsSky = -6;
 constexpr double kHugeRadius = 1 << 20;
 // Sides smaller than this (units^2) are bevels or clipping noise, not surfaces.
 constexpr double kMinSideArea = 1e-3;
+// Distances below this count as "on the plane" while clipping. qbsp uses 0.1 for its
+// ON_EPSILON; compiled vertices are snapped, so a smaller value keeps thin slivers apart.
+constexpr double kOnEpsilon = 0.01;
 
 Plane toPlane(const BspPlane& p) { return {dvec3(p.normal), static_cast<double>(p.dist)}; }
 
@@ -69,7 +72,7 @@ std::vector<CompiledSide> sidesFromPlanes(const std::vector<Plane>& planes, std:
         w.clear();
         break;
       }
-      w = clipBehind(w, planes[j]);
+      w = clipBehind(w, planes[j], kOnEpsilon);
     }
     removeDuplicatePoints(w);
     if (w.empty() || area(w) < kMinSideArea) continue;
@@ -130,7 +133,7 @@ CellSplit splitCell(const Cell& cell, const Plane& plane) {
   // The cell's cross-section on the plane: that plane's polygon clipped by every side.
   Winding section = baseWinding(plane, kHugeRadius);
   for (const CellSide& side : cell) {
-    section = clipBehind(section, side.plane);
+    section = clipBehind(section, side.plane, kOnEpsilon);
     if (section.empty()) break;
   }
   removeDuplicatePoints(section);
@@ -148,7 +151,7 @@ CellSplit splitCell(const Cell& cell, const Plane& plane) {
     return out;
   }
   for (const CellSide& side : cell) {
-    SplitWinding parts = splitWinding(side.winding, plane);
+    SplitWinding parts = splitWinding(side.winding, plane, kOnEpsilon);
     if (parts.front.size() >= 3 && area(parts.front) >= kMinSideArea)
       out.front.push_back({side.plane, std::move(parts.front)});
     if (parts.back.size() >= 3 && area(parts.back) >= kMinSideArea)

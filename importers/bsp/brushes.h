@@ -13,7 +13,7 @@
 #pragma once
 
 #include "importers/bsp/bsp_file.h"
-#include "importers/bsp/winding.h"
+#include "scene/winding.h"
 
 #include <optional>
 #include <string>

@@ -6,7 +6,7 @@
 // matches, the one covering most of the side's winding wins.
 #pragma once
 
-#include "importers/bsp/winding.h"
+#include "scene/winding.h"
 
 #include <cstdint>
 #include <optional>

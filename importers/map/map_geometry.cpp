@@ -187,60 +187,6 @@ TextureFrame frameFromVecs(const TexVecs& vecs, const Plane& plane) {
   return frame;
 }
 
-Winding baseWinding(const Plane& plane) {
-  // Build two in-plane axes u, v with cross(u, v) == normal so the square runs counter-clockwise
-  // seen from the front. The up hint avoids the axis closest to the normal, as qbsp does.
-  const dvec3& n = plane.normal;
-  const dvec3 ax = glm::abs(n);
-  const dvec3 hint = (ax.z >= ax.x && ax.z >= ax.y) ? dvec3{1, 0, 0} : dvec3{0, 0, 1};
-  dvec3 v = glm::normalize(hint - n * glm::dot(hint, n));
-  dvec3 u = glm::cross(v, n);
-  const dvec3 origin = n * plane.dist;
-  u *= kWorldExtent;
-  v *= kWorldExtent;
-  return {origin - u - v, origin + u - v, origin + u + v, origin - u + v};
-}
-
-Winding clipBehind(const Winding& w, const Plane& plane, double epsilon) {
-  enum Side { Front, Back, On };
-  const size_t n = w.size();
-  std::vector<double> dists(n);
-  std::vector<Side> sides(n);
-  size_t front = 0, back = 0;
-  for (size_t i = 0; i < n; ++i) {
-    dists[i] = plane.distanceTo(w[i]);
-    sides[i] = dists[i] > epsilon ? Front : dists[i] < -epsilon ? Back : On;
-    front += sides[i] == Front;
-    back += sides[i] == Back;
-  }
-  if (front == 0) return w;
-  if (back == 0) return {};
-
-  Winding out;
-  out.reserve(n + 4);
-  for (size_t i = 0; i < n; ++i) {
-    const dvec3& p = w[i];
-    if (sides[i] == On) {
-      out.push_back(p);
-      continue;
-    }
-    if (sides[i] == Back) out.push_back(p);
-    const size_t j = (i + 1) % n;
-    if (sides[j] == On || sides[j] == sides[i]) continue;
-    // The edge crosses the plane: add the crossing point, exact on axial planes as in qbsp.
-    const dvec3& q = w[j];
-    const double t = dists[i] / (dists[i] - dists[j]);
-    dvec3 mid;
-    for (int k = 0; k < 3; ++k) {
-      if (plane.normal[k] == 1.0) mid[k] = plane.dist;
-      else if (plane.normal[k] == -1.0) mid[k] = -plane.dist;
-      else mid[k] = p[k] + t * (q[k] - p[k]);
-    }
-    out.push_back(mid);
-  }
-  return out;
-}
-
 } // namespace bt::map
 
 namespace bt::map {
@@ -300,9 +246,9 @@ TextureParams valveFromVecs(const TexVecs& vecs, double rotation) {
 std::vector<Winding> brushWindings(const std::vector<Plane>& planes) {
   std::vector<Winding> out(planes.size());
   for (size_t i = 0; i < planes.size(); ++i) {
-    Winding w = baseWinding(planes[i]);
+    Winding w = baseWinding(planes[i], kWorldExtent);
     for (size_t j = 0; j < planes.size() && !w.empty(); ++j)
-      if (j != i) w = clipBehind(w, planes[j]);
+      if (j != i) w = clipBehind(w, planes[j], kOnEpsilon);
     out[i] = std::move(w);
   }
   return out;

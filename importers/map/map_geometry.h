@@ -4,6 +4,7 @@
 
 #include "importers/map/map_document.h"
 #include "scene/scene.h"
+#include "scene/winding.h"
 
 #include <glm/geometric.hpp>
 
@@ -55,8 +56,7 @@ std::optional<bool> quarkMode(const MapFace& face);
 // origin on the plane such that s(origin) = t(origin) = 0.
 TextureFrame frameFromVecs(const TexVecs& vecs, const Plane& plane);
 
-// Windings.
-using Winding = std::vector<dvec3>;
+// Windings (scene/winding.h), with the reach and epsilon qbsp clips .map brushes with.
 
 // How far the base winding reaches: beyond any coordinate a level may use (qbsp's world
 // extent is +-65536 in 2.0), so that a corner reaching it means the brush is unbounded.
@@ -64,9 +64,6 @@ inline constexpr double kWorldExtent = 262144.0;
 // qbsp's ON_EPSILON for classifying points against a plane while clipping brush windings.
 inline constexpr double kOnEpsilon = 0.0001;
 
-Winding baseWinding(const Plane& plane);
-// Keeps the part of `w` behind `plane` (dot(n, p) - dist <= epsilon).
-Winding clipBehind(const Winding& w, const Plane& plane, double epsilon = kOnEpsilon);
 
 } // namespace bt::map
 

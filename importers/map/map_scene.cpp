@@ -101,22 +101,20 @@ private:
       if (keep) sides.push_back({&f, *plane});
     }
 
-    std::vector<Winding> windings(sides.size());
+    std::vector<Plane> planes;
+    for (const auto& side : sides) planes.push_back(side.plane);
+    std::vector<Winding> windings = brushWindings(planes);
     size_t withArea = 0;
-    for (size_t i = 0; i < sides.size(); ++i) {
-      Winding w = baseWinding(sides[i].plane);
-      for (size_t j = 0; j < sides.size() && !w.empty(); ++j)
-        if (j != i) w = clipBehind(w, sides[j].plane);
-      if (w.size() >= 3) {
-        for (const dvec3& p : w) {
-          if (std::fabs(p.x) > kWorldExtent * 0.5 || std::fabs(p.y) > kWorldExtent * 0.5 || std::fabs(p.z) > kWorldExtent * 0.5) {
-            report(Severity::Warning, mb.line, mb.column, "brush skipped: it is unbounded (its faces do not enclose a volume)");
-            return;
-          }
+    for (const Winding& w : windings) {
+      if (w.size() < 3) continue;
+      for (const dvec3& p : w) {
+        // A corner out at the base square's reach: nothing clipped this side on that way.
+        if (std::fabs(p.x) > kWorldExtent * 0.5 || std::fabs(p.y) > kWorldExtent * 0.5 || std::fabs(p.z) > kWorldExtent * 0.5) {
+          report(Severity::Warning, mb.line, mb.column, "brush skipped: it is unbounded (its faces do not enclose a volume)");
+          return;
         }
-        ++withArea;
       }
-      windings[i] = std::move(w);
+      ++withArea;
     }
     if (withArea < 4) {
       report(Severity::Warning, mb.line, mb.column, "brush skipped: it has no volume");

@@ -1,4 +1,5 @@
 #include "tests/bvh/generated_scenes.h"
+#include "scene/winding.h"
 
 #include <glm/geometric.hpp>
 
@@ -14,30 +15,6 @@ namespace {
 // Half the side of the square a winding starts from before clipping: bigger than any scene here.
 constexpr double kBaseWindingSize = 1 << 20;
 constexpr double kClipEpsilon = 1e-7;
-
-std::vector<dvec3> baseWinding(const Plane& plane) {
-  const dvec3 n = plane.normal;
-  const dvec3 up = std::abs(n.z) < 0.9 ? dvec3(0, 0, 1) : dvec3(1, 0, 0);
-  const dvec3 right = glm::normalize(glm::cross(up, n)) * kBaseWindingSize;
-  const dvec3 forward = glm::normalize(glm::cross(n, right)) * kBaseWindingSize;
-  const dvec3 centre = n * plane.dist;
-  // Counter-clockwise seen from the front (along -n).
-  return {centre - right - forward, centre + right - forward, centre + right + forward, centre - right + forward};
-}
-
-// Keeps the part of the polygon behind the plane (Sutherland-Hodgman).
-std::vector<dvec3> clipBehind(const std::vector<dvec3>& polygon, const Plane& plane) {
-  std::vector<dvec3> out;
-  for (size_t i = 0; i < polygon.size(); ++i) {
-    const dvec3& a = polygon[i];
-    const dvec3& b = polygon[(i + 1) % polygon.size()];
-    const double da = plane.distanceTo(a), db = plane.distanceTo(b);
-    if (da <= kClipEpsilon) out.push_back(a);
-    if ((da < -kClipEpsilon && db > kClipEpsilon) || (da > kClipEpsilon && db < -kClipEpsilon))
-      out.push_back(a + (b - a) * (da / (da - db)));
-  }
-  return out.size() >= 3 ? out : std::vector<dvec3>{};
-}
 
 // Quake's texture axes (qbsp's baseaxis table): the frame projects along the world axis
 // closest to the face normal.
@@ -103,9 +80,9 @@ uint32_t addBrush(Scene& scene, std::span<const Plane> planes, const char* textu
     face.texture = texture;
     face.plane = planes[i];
     face.frame = quakeFrame(planes[i]);
-    face.winding = baseWinding(planes[i]);
+    face.winding = baseWinding(planes[i], kBaseWindingSize);
     for (size_t j = 0; j < planes.size() && !face.winding.empty(); ++j)
-      if (j != i) face.winding = clipBehind(face.winding, planes[j]);
+      if (j != i) face.winding = clipBehind(face.winding, planes[j], kClipEpsilon);
     for (const dvec3& p : face.winding) brush.bounds.grow(p);
     scene.faces.push_back(std::move(face));
   }

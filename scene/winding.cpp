@@ -1,10 +1,10 @@
-#include "importers/bsp/winding.h"
+#include "scene/winding.h"
 
 #include <glm/geometric.hpp>
 
 #include <cmath>
 
-namespace bt::bsp {
+namespace bt {
 
 Winding baseWinding(const Plane& plane, double radius) {
   // Pick the world axis least aligned with the normal as "up", then make it perpendicular.
@@ -105,4 +105,4 @@ void removeDuplicatePoints(Winding& w, double epsilon) {
   w = std::move(out);
 }
 
-} // namespace bt::bsp
+} // namespace bt

@@ -1,35 +1,31 @@
 // Convex polygons on a plane ("windings", as Quake's tools call them), in double precision.
 //
-// The BSP importer builds every brush side's polygon by clipping a huge square on the side's
-// plane by the brush's other planes, the way qbsp does it for .map brushes.
-// TODO(unify): the map importer has the same need; one of the two copies goes when both land.
+// Both importers build every brush side's polygon the way qbsp does: a huge square on the
+// side's plane, clipped by the brush's other planes. Each passes the epsilon it needs (qbsp's
+// ON_EPSILON for .map sources; a larger one for compiled, snapped BSP vertices).
 #pragma once
 
 #include "scene/scene.h"
 
 #include <vector>
 
-namespace bt::bsp {
+namespace bt {
 
 using Winding = std::vector<dvec3>;
-
-// Distances below this count as "on the plane" while clipping. qbsp uses 0.1 for its
-// ON_EPSILON; compiled vertices are snapped, so a smaller value keeps thin slivers apart.
-inline constexpr double kOnEpsilon = 0.01;
 
 // A square of half-size `radius` on the plane, counter-clockwise seen from the front (the side
 // the normal points to).
 Winding baseWinding(const Plane& plane, double radius);
 
 // The part of `w` behind `plane` (distance <= epsilon). Empty when nothing is left.
-Winding clipBehind(const Winding& w, const Plane& plane, double epsilon = kOnEpsilon);
+Winding clipBehind(const Winding& w, const Plane& plane, double epsilon);
 
 struct SplitWinding {
   Winding front, back;
 };
 // Both parts of `w` split by `plane`; a part is empty when `w` lies entirely on the other side.
 // Points within epsilon of the plane go to both parts.
-SplitWinding splitWinding(const Winding& w, const Plane& plane, double epsilon = kOnEpsilon);
+SplitWinding splitWinding(const Winding& w, const Plane& plane, double epsilon);
 
 // Area vector (Newell): direction = the side from which the winding is counter-clockwise,
 // length = area.
@@ -44,4 +40,4 @@ Winding intersectConvex(const Winding& w, const Winding& clip, const dvec3& norm
 // points becomes empty.
 void removeDuplicatePoints(Winding& w, double epsilon = 1e-6);
 
-} // namespace bt::bsp
+} // namespace bt
