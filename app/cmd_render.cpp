@@ -2,6 +2,7 @@
 #include "app/commands.h"
 
 #include "renderer/cpu/cpu_renderer.h"
+#include "renderer/cpu/image_output.h"
 #include "renderer/cpu/render_scene.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_render.h"

@@ -1,6 +1,7 @@
 #include "viewer/viewer.h"
 
 #include "renderer/cpu/cpu_renderer.h"
+#include "renderer/cpu/image_output.h"
 #include "renderer/cpu/render_scene.h"
 #include "renderer/gl/gl_lighting.h"
 #include "renderer/gl/gl_tracer.h"

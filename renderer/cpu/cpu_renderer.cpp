@@ -1,6 +1,5 @@
 #include "renderer/cpu/cpu_renderer.h"
 
-#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
@@ -143,55 +142,6 @@ std::vector<uint8_t> displayPixels(const RenderImage& image, const OutputSetting
     pixels[i * 3 + 2] = toByte(c.z);
   }
   return pixels;
-}
-
-void writeImage(const std::string& path, const RenderImage& image, const OutputSettings& output) {
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  std::string ext = target.extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  if (ext != ".png" && ext != ".exr") throw std::runtime_error(fmt::format("{}: output must be .png or .exr", path));
-  // Same extension so that OpenImageIO picks the same format; renamed over the target at the end.
-  const fs::path temp = target.parent_path() / fmt::format(".{}.tmp{}{}", target.stem().string(), getpid(), ext);
-
-  auto out = OIIO::ImageOutput::create(temp.string());
-  if (!out) throw std::runtime_error(fmt::format("{}: {}", path, OIIO::geterror()));
-  bool ok = false;
-  if (ext == ".png") {
-    const std::vector<uint8_t> pixels = displayPixels(image, output);
-    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
-    ok = out->open(temp.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, pixels.data());
-  } else {
-    const size_t n = size_t(image.width) * size_t(image.height);
-    constexpr int kChannels = 10;
-    std::vector<float> pixels(n * kChannels);
-    const float exposure = std::exp2(output.exposureEv);
-    for (size_t i = 0; i < n; ++i) {
-      float* p = &pixels[i * kChannels];
-      const glm::vec3 b = image.beauty[i] * exposure;
-      p[0] = b.x, p[1] = b.y, p[2] = b.z;
-      p[3] = image.albedo[i].x, p[4] = image.albedo[i].y, p[5] = image.albedo[i].z;
-      p[6] = image.normal[i].x, p[7] = image.normal[i].y, p[8] = image.normal[i].z;
-      p[9] = image.depth[i];
-    }
-    OIIO::ImageSpec spec(image.width, image.height, kChannels, OIIO::TypeDesc::FLOAT);
-    spec.channelnames = {"R", "G", "B", "albedo.R", "albedo.G", "albedo.B", "normal.X", "normal.Y", "normal.Z", "depth.Z"};
-    spec.attribute("compression", "zip");
-    ok = out->open(temp.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels.data());
-  }
-  const std::string error = out->geterror();
-  ok = out->close() && ok;
-  if (!ok) {
-    std::error_code ec;
-    fs::remove(temp, ec);
-    throw std::runtime_error(fmt::format("{}: cannot write image: {}", path, error.empty() ? "unknown error" : error));
-  }
-  std::error_code ec;
-  fs::rename(temp, target, ec);
-  if (ec) {
-    fs::remove(temp, ec);
-    throw std::runtime_error(fmt::format("{}: cannot rename the finished image into place: {}", path, ec.message()));
-  }
 }
 
 } // namespace bt

@@ -59,9 +59,4 @@ struct OutputSettings {
 // The 8-bit sRGB pixels a PNG of `image` holds (RGB, rows top to bottom).
 std::vector<uint8_t> displayPixels(const RenderImage& image, const OutputSettings& output);
 
-// .png: tonemapped sRGB of the chosen AOV. .exr: linear beauty (exposure applied) with
-// albedo.*, normal.* and depth.Z layers. Written to a temporary name and renamed.
-// Throws std::runtime_error with the reason when the file cannot be written.
-void writeImage(const std::string& path, const RenderImage& image, const OutputSettings& output);
-
 } // namespace bt

@@ -1,6 +1,7 @@
 // Whole-frame rendering: camera conventions, determinism across threads and runs, exact AOVs,
 // and the image files.
 #include "renderer/cpu/cpu_renderer.h"
+#include "renderer/cpu/image_output.h"
 #include "tests/render/box_scene.h"
 
 #include <OpenImageIO/imageio.h>

@@ -1,0 +1,17 @@
+// Writing rendered images (OpenImageIO). Kept apart from the tracer so that what links the
+// tracer alone (the GL tests and benchmark carried to a GPU machine) does not drag in
+// OpenImageIO and its hundreds of megabytes of dependencies.
+#pragma once
+
+#include "renderer/cpu/cpu_renderer.h"
+
+#include <string>
+
+namespace bt {
+
+// .png: tonemapped sRGB of the chosen AOV. .exr: linear beauty (exposure applied) with
+// albedo.*, normal.* and depth.Z layers. Written to a temporary name and renamed.
+// Throws std::runtime_error with the reason when the file cannot be written.
+void writeImage(const std::string& path, const RenderImage& image, const OutputSettings& output);
+
+} // namespace bt
