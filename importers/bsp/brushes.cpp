@@ -85,6 +85,23 @@ std::vector<CompiledSide> sidesFromPlanes(const std::vector<Plane>& planes, std:
   return sides;
 }
 
+// Quake 2 and Quake 3 store a brush alike: a range of brush sides, each naming a plane. Returns
+// the sides sidesFromPlanes rebuilds from them and, in `from`, the stored side each came from.
+std::vector<CompiledSide> sidesOfStoredBrush(const BspFile& bsp, const Brush& source, std::vector<const BrushSide*>& from) {
+  std::vector<Plane> planes;
+  std::vector<const BrushSide*> stored;
+  for (int32_t s = 0; s < source.sideCount; ++s) {
+    const BrushSide& side = bsp.brushSides[static_cast<size_t>(source.firstSide + s)];
+    planes.push_back(toPlane(bsp.planes[static_cast<size_t>(side.plane)]));
+    stored.push_back(&side);
+  }
+  std::vector<size_t> kept;
+  std::vector<CompiledSide> sides = sidesFromPlanes(planes, &kept);
+  from.clear();
+  for (size_t k : kept) from.push_back(stored[k]);
+  return sides;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Quake 1: texture frames from the BSP faces lying on each side
 
@@ -535,21 +552,14 @@ std::vector<CompiledBrush> quake2Brushes(const BspFile& bsp, size_t modelIndex) 
 
   for (int32_t b : brushIndices) {
     const Brush& source = bsp.brushes[static_cast<size_t>(b)];
-    std::vector<Plane> planes;
-    std::vector<int32_t> texinfos;
-    for (int32_t s = 0; s < source.sideCount; ++s) {
-      const BrushSide& side = bsp.brushSides[static_cast<size_t>(source.firstSide + s)];
-      planes.push_back(toPlane(bsp.planes[static_cast<size_t>(side.plane)]));
-      texinfos.push_back(side.texinfo);
-    }
     CompiledBrush brush;
     brush.contents = source.contents;
-    std::vector<size_t> kept;
-    brush.sides = sidesFromPlanes(planes, &kept);
+    std::vector<const BrushSide*> from;
+    brush.sides = sidesOfStoredBrush(bsp, source, from);
     if (brush.sides.size() < 4) continue;
     for (size_t k = 0; k < brush.sides.size(); ++k) {
       CompiledSide& side = brush.sides[k];
-      const int32_t t = texinfos[kept[k]];
+      const int32_t t = from[k]->texinfo;
       if (t >= 0) {
         const TexInfo& texinfo = bsp.texinfo[static_cast<size_t>(t)];
         side.texture = texinfo.texture;
@@ -630,21 +640,14 @@ std::vector<CompiledBrush> quake3Brushes(const BspFile& bsp, size_t modelIndex) 
   std::vector<CompiledBrush> brushes;
   for (int32_t i = 0; i < model.brushCount; ++i) {
     const Brush& source = bsp.brushes[static_cast<size_t>(model.firstBrush + i)];
-    std::vector<Plane> planes;
-    std::vector<int32_t> shaders;
-    for (int32_t s = 0; s < source.sideCount; ++s) {
-      const BrushSide& side = bsp.brushSides[static_cast<size_t>(source.firstSide + s)];
-      planes.push_back(toPlane(bsp.planes[static_cast<size_t>(side.plane)]));
-      shaders.push_back(side.shader);
-    }
     CompiledBrush brush;
     brush.contents = bsp.shaders[static_cast<size_t>(source.shader)].contentFlags;
-    std::vector<size_t> kept;
-    brush.sides = sidesFromPlanes(planes, &kept);
+    std::vector<const BrushSide*> from;
+    brush.sides = sidesOfStoredBrush(bsp, source, from);
     if (brush.sides.size() < 4) continue;
     for (size_t k = 0; k < brush.sides.size(); ++k) {
       CompiledSide& side = brush.sides[k];
-      const Shader& shader = bsp.shaders[static_cast<size_t>(shaders[kept[k]])];
+      const Shader& shader = bsp.shaders[static_cast<size_t>(from[k]->shader)];
       side.texture = shader.name;
       side.surface = SurfaceAttributes{shader.contentFlags, shader.surfaceFlags, 0.0};
       std::optional<TextureFrame> frame;
