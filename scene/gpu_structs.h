@@ -192,4 +192,46 @@ struct GpuEmitter {
 };
 static_assert(sizeof(GpuEmitter) == 48);
 
+// ---------------------------------------------------------------------------------------------
+// Light selection (renderer/cpu/light_grid.h builds these; renderer/gl uploads them unchanged)
+// A uniform grid over the level; each cell lists the point lights whose faithful-mode reach
+// touches it. All lists are ranges of one uint array of indices into the light list:
+//   [0, fixedCount)                          suns, domes and local-minlight lights: every point
+//                                            evaluates all of them, one by one;
+//   [globalFirst, globalFirst + globalCount) faithful point lights with infinite reach
+//                                            (inverse, inverse-square, infinite formulas);
+//   [physicalFirst, ... + physicalCount)     physical mode's candidates (every positive point
+//                                            light: 1/d^2 reaches everywhere);
+//   cells[i].first .. + count                faithful point lights of finite reach near cell i.
+// Cell (x, y, z) is cells[x + dims.x * (y + dims.y * z)]; a point outside the grid uses the
+// nearest cell, whose list covers everything beyond the grid's side (see light_grid.cpp).
+//
+//   struct LightGrid { vec3 origin; float cellSize; uvec3 dims; uint fixedCount;
+//                      uint globalFirst; uint globalCount; uint physicalFirst; uint physicalCount; };
+//   struct LightCell { uint first; uint count; };
+// ---------------------------------------------------------------------------------------------
+struct GpuLightGrid {
+  glm::vec3 origin{0.0f};   // min corner of cell (0, 0, 0)
+  float cellSize = 1.0f;    // cubic cells, Quake units
+  uint32_t dims[3] = {1, 1, 1};
+  uint32_t fixedCount = 0;
+  uint32_t globalFirst = 0;
+  uint32_t globalCount = 0;
+  uint32_t physicalFirst = 0;
+  uint32_t physicalCount = 0;
+};
+static_assert(sizeof(GpuLightGrid) == 48);
+static_assert(offsetof(GpuLightGrid, cellSize) == 12);
+static_assert(offsetof(GpuLightGrid, dims) == 16);
+static_assert(offsetof(GpuLightGrid, fixedCount) == 28);
+static_assert(offsetof(GpuLightGrid, globalFirst) == 32);
+static_assert(offsetof(GpuLightGrid, physicalCount) == 44);
+
+struct GpuLightCell {
+  uint32_t first = 0; // into the index array
+  uint32_t count = 0;
+};
+static_assert(sizeof(GpuLightCell) == 8);
+static_assert(offsetof(GpuLightCell, count) == 4);
+
 } // namespace bt

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 
 namespace bt {
 
@@ -111,89 +112,125 @@ glm::vec3 emissiveAt(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
   return glm::vec3(sampleBilinearRepeat(rs.scene->materials[m].emissive, uv.x, uv.y));
 }
 
+namespace {
+
+// A point light's position for this sample: _deviance spreads it over a ball (soft shadows).
+glm::vec3 jitteredPosition(const GpuLight& light, Rng& rng) {
+  if (light.deviance <= 0.0f) return light.origin;
+  return light.origin + light.deviance * sampleBall({rng.next(), rng.next(), rng.next()});
+}
+
+// Faithful mode: one light's share of the light sum at p (surface normal n, shadow rays leave
+// from `origin`). Local-minlight lights raise `localMin` instead: they are a floor, not a sum.
+void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const glm::vec3& p, const glm::vec3& n,
+                      const glm::vec3& origin, Rng& rng, glm::vec3& sum, glm::vec3& localMin) {
+  if (light.type == uint32_t(LightType::Point)) {
+    const glm::vec3 pos = jitteredPosition(light, rng);
+    const glm::vec3 d = pos - p;
+    const float dist = glm::length(d);
+    if (dist <= 0.0f) return;
+    const glm::vec3 toLight = d / dist;
+    const float value = faithful::pointLightValue(light, n, toLight, dist, rs.world.scaledist);
+    if (value == 0.0f) return;
+    const glm::vec3 toLightFromOrigin = pos - origin;
+    const float len = glm::length(toLightFromOrigin);
+    if (occluded(rs, Ray{origin, 0.0f, toLightFromOrigin / len, len}, LightingMode::Faithful)) return;
+    if (light.formula == uint32_t(LightFormula::LocalMin)) localMin = glm::max(localMin, value * light.color);
+    else sum += value * light.color;
+  } else if (light.type == uint32_t(LightType::Sun)) {
+    glm::vec3 toSun = -light.direction;
+    if (light.deviance > 0.0f) toSun = sampleCone(toSun, light.deviance, rng.next2());
+    GpuLight jittered = light;
+    jittered.direction = -toSun;
+    const float value = faithful::sunValue(jittered, n);
+    if (value == 0.0f) return;
+    if (!reachesSky(rs, Ray{origin, 0.0f, toSun, std::numeric_limits<float>::infinity()}, LightingMode::Faithful)) return;
+    sum += value * light.color;
+  } else if (light.type == uint32_t(LightType::Dome)) {
+    // One direction of the dome per sample, uniform over its hemisphere: the mean over the
+    // dome's directions of value * angle term, for those that reach the sky.
+    const glm::vec3 dir = sampleUniformHemisphere(light.direction, rng.next2());
+    const float cosIncidence = glm::dot(dir, n);
+    if (cosIncidence <= 0.0f) return;
+    if (!reachesSky(rs, Ray{origin, 0.0f, dir, std::numeric_limits<float>::infinity()}, LightingMode::Faithful)) return;
+    sum += light.value * faithful::angleTerm(cosIncidence, light.anglescale) * light.color;
+  }
+}
+
+// Surface lights: ericw-tools spreads point lights over template faces, one per 128x128
+// units; one area sample stands for all of them.
+void addFaithfulSurfaceSample(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, const glm::vec3& origin,
+                              Rng& rng, glm::vec3& sum) {
+  if (rs.emitters.empty()) return;
+  const GpuEmitter& e = rs.emitters[pickEmitter(rs, rng.next())];
+  const glm::vec3 emitterNormal = faceNormal(rs, e.face);
+  const GpuLight& tmpl = rs.surfaceLights[gpuFace(rs, e.face).material];
+  if (tmpl.value == 0.0f) return;
+  constexpr float kSurfaceLightSpacing = 128.0f;
+  constexpr float kSurfaceLightLift = 2.0f; // ericw-tools puts them this far off the face
+  const glm::vec3 q = sampleTriangle(e.v0, e.v1, e.v2, rng.next2()) + emitterNormal * kSurfaceLightLift;
+  const glm::vec3 d = q - p;
+  const float dist = glm::length(d);
+  const glm::vec3 toLight = d / dist;
+  if (dist > 0.0f && glm::dot(-toLight, emitterNormal) > 0.0f) {
+    const float value = faithful::pointLightValue(tmpl, n, toLight, dist, rs.world.scaledist);
+    const glm::vec3 toQ = q - origin;
+    const float len = glm::length(toQ);
+    if (value != 0.0f && !occluded(rs, Ray{origin, 0.0f, toQ / len, len}, LightingMode::Faithful))
+      sum += value * tmpl.color * (rs.emitterArea / (kSurfaceLightSpacing * kSurfaceLightSpacing));
+  }
+}
+
+// worldspawn minlight and delay-4 lights are floors under the sum, not terms of it.
+glm::vec3 applyFloors(const RenderScene& rs, const glm::vec3& sum, const glm::vec3& localMin) {
+  return glm::max(glm::max(sum, localMin), rs.world.minlight);
+}
+
+} // namespace
+
 glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng) {
   const glm::vec3 origin = offsetPoint(p, n);
-  glm::vec3 sum(0.0f);
-  glm::vec3 localMin(0.0f);
-  const float scaledist = rs.world.scaledist;
+  glm::vec3 sum(0.0f), localMin(0.0f);
+  for (const GpuLight& light : rs.lights) addFaithfulLight(rs, light, p, n, origin, rng, sum, localMin);
+  addFaithfulSurfaceSample(rs, p, n, origin, rng, sum);
+  return applyFloors(rs, sum, localMin);
+}
 
-  for (const GpuLight& light : rs.lights) {
-    if (light.type == uint32_t(LightType::Point)) {
-      glm::vec3 pos = light.origin;
-      if (light.deviance > 0.0f) pos += light.deviance * sampleBall({rng.next(), rng.next(), rng.next()});
-      const glm::vec3 d = pos - p;
-      const float dist = glm::length(d);
-      if (dist <= 0.0f) continue;
-      const glm::vec3 toLight = d / dist;
-      const float value = faithful::pointLightValue(light, n, toLight, dist, scaledist);
-      if (value == 0.0f) continue;
-      const glm::vec3 toLightFromOrigin = pos - origin;
-      const float len = glm::length(toLightFromOrigin);
-      if (occluded(rs, Ray{origin, 0.0f, toLightFromOrigin / len, len}, LightingMode::Faithful)) continue;
-      if (light.formula == uint32_t(LightFormula::LocalMin)) localMin = glm::max(localMin, value * light.color);
-      else sum += value * light.color;
-    } else if (light.type == uint32_t(LightType::Sun)) {
-      glm::vec3 toSun = -light.direction;
-      if (light.deviance > 0.0f) toSun = sampleCone(toSun, light.deviance, rng.next2());
-      GpuLight jittered = light;
-      jittered.direction = -toSun;
-      const float value = faithful::sunValue(jittered, n);
-      if (value == 0.0f) continue;
-      if (!reachesSky(rs, Ray{origin, 0.0f, toSun, std::numeric_limits<float>::infinity()}, LightingMode::Faithful)) continue;
-      sum += value * light.color;
-    } else if (light.type == uint32_t(LightType::Dome)) {
-      // One direction of the dome per sample, uniform over its hemisphere: the mean over the
-      // dome's directions of value * angle term, for those that reach the sky.
-      const glm::vec3 dir = sampleUniformHemisphere(light.direction, rng.next2());
-      const float cosIncidence = glm::dot(dir, n);
-      if (cosIncidence <= 0.0f) continue;
-      if (!reachesSky(rs, Ray{origin, 0.0f, dir, std::numeric_limits<float>::infinity()}, LightingMode::Faithful)) continue;
-      sum += light.value * faithful::angleTerm(cosIncidence, light.anglescale) * light.color;
-    }
-  }
-
-  // Surface lights: ericw-tools spreads point lights over template faces, one per 128x128
-  // units; one area sample stands for all of them.
-  if (!rs.emitters.empty()) {
-    const GpuEmitter& e = rs.emitters[pickEmitter(rs, rng.next())];
-    const glm::vec3 emitterNormal = faceNormal(rs, e.face);
-    const GpuLight& tmpl = rs.surfaceLights[gpuFace(rs, e.face).material];
-    if (tmpl.value != 0.0f) {
-      constexpr float kSurfaceLightSpacing = 128.0f;
-      constexpr float kSurfaceLightLift = 2.0f; // ericw-tools puts them this far off the face
-      const glm::vec3 q = sampleTriangle(e.v0, e.v1, e.v2, rng.next2()) + emitterNormal * kSurfaceLightLift;
-      const glm::vec3 d = q - p;
-      const float dist = glm::length(d);
-      const glm::vec3 toLight = d / dist;
-      if (dist > 0.0f && glm::dot(-toLight, emitterNormal) > 0.0f) {
-        const float value = faithful::pointLightValue(tmpl, n, toLight, dist, scaledist);
-        const glm::vec3 toQ = q - origin;
-        const float len = glm::length(toQ);
-        if (value != 0.0f && !occluded(rs, Ray{origin, 0.0f, toQ / len, len}, LightingMode::Faithful))
-          sum += value * tmpl.color * (rs.emitterArea / (kSurfaceLightSpacing * kSurfaceLightSpacing));
-      }
-    }
-  }
-
-  sum = glm::max(sum, localMin);
-  return glm::max(sum, rs.world.minlight);
+glm::vec3 faithfulLightFromGrid(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng) {
+  const glm::vec3 origin = offsetPoint(p, n);
+  glm::vec3 sum(0.0f), localMin(0.0f);
+  const LightGrid& grid = rs.lightGrid;
+  for (uint32_t i : grid.fixedLights()) addFaithfulLight(rs, rs.lights[i], p, n, origin, rng, sum, localMin);
+  for (uint32_t i : grid.globalLights()) addFaithfulLight(rs, rs.lights[i], p, n, origin, rng, sum, localMin);
+  for (uint32_t i : grid.cellLights(p)) addFaithfulLight(rs, rs.lights[i], p, n, origin, rng, sum, localMin);
+  addFaithfulSurfaceSample(rs, p, n, origin, rng, sum);
+  return applyFloors(rs, sum, localMin);
 }
 
 namespace {
 
 // Faithful bounce (_bounce N): light reflected off other surfaces, in light units, the surface
 // colour as ericw-tools' bounce uses it (texture colour x _bouncescale).
-glm::vec3 faithfulBounce(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, int depth, Rng& rng) {
+// The light sum at a faithful hit: from the grid's lists when rendering, or by the exhaustive
+// loop (the reference the grid must reproduce, and what the oracle test uses).
+glm::vec3 faithfulLight(const RenderScene& rs, const IntegratorSettings& settings, const glm::vec3& p,
+                        const glm::vec3& n, Rng& rng) {
+  return settings.lightSelection ? faithfulLightFromGrid(rs, p, n, rng) : faithfulLightAt(rs, p, n, rng);
+}
+
+glm::vec3 faithfulBounce(const RenderScene& rs, const IntegratorSettings& settings, const glm::vec3& p, const glm::vec3& n,
+                         int depth, Rng& rng) {
   if (depth <= 0) return glm::vec3(0.0f);
   const glm::vec3 dir = sampleCosineHemisphere(n, rng.next2());
   const SurfaceHit hit = traceVisible(rs, Ray{offsetPoint(p, n), 0.0f, dir, std::numeric_limits<float>::infinity()});
   if (!hit.found || (rs.faceFlags[hit.face] & kFaceSky)) return glm::vec3(0.0f);
   const glm::vec3 color = glm::vec3(baseColorAt(rs, hit.face, hit.position));
-  const glm::vec3 light = faithfulLightAt(rs, hit.position, hit.normal, rng) + faithfulBounce(rs, hit.position, hit.normal, depth - 1, rng);
+  const glm::vec3 light = faithfulLight(rs, settings, hit.position, hit.normal, rng) +
+                          faithfulBounce(rs, settings, hit.position, hit.normal, depth - 1, rng);
   return color * light * rs.world.bouncescale;
 }
 
-glm::vec3 radianceFaithful(const RenderScene& rs, const Ray& ray, Rng& rng) {
+glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, Rng& rng) {
   const SurfaceHit hit = traceVisible(rs, ray);
   if (!hit.found) return glm::vec3(0.0f);
   const uint32_t flags = rs.faceFlags[hit.face];
@@ -201,8 +238,8 @@ glm::vec3 radianceFaithful(const RenderScene& rs, const Ray& ray, Rng& rng) {
   // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
   if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater)) return srgbToLinear(texture);
 
-  glm::vec3 light = faithfulLightAt(rs, hit.position, hit.normal, rng);
-  if (rs.world.bounces > 0) light += faithfulBounce(rs, hit.position, hit.normal, rs.world.bounces, rng);
+  glm::vec3 light = faithfulLight(rs, settings, hit.position, hit.normal, rng);
+  if (rs.world.bounces > 0) light += faithfulBounce(rs, settings, hit.position, hit.normal, rs.world.bounces, rng);
   // The compiler scales a coloured sum so its brightest channel fits in 255, keeping the hue.
   glm::vec3 stored = light * rs.world.range;
   const float peak = std::max({stored.x, stored.y, stored.z});
@@ -274,38 +311,123 @@ glm::vec3 emittedRadiance(const RenderScene& rs, uint32_t face, const glm::vec3&
   return le;
 }
 
-// Direct light at a surface by next-event estimation: every point light and sun, one emitter
-// triangle (MIS-weighted against BSDF sampling).
-glm::vec3 directLight(const RenderScene& rs, const Bsdf& bsdf, const glm::vec3& p, const glm::vec3& n, const glm::vec3& wo, Rng& rng) {
-  const glm::vec3 origin = offsetPoint(p, n);
+// A point light's unshadowed contribution to the light leaving towards wo (physical units),
+// with wi and the distance of the shadow ray.
+glm::vec3 pointLightUnshadowed(const RenderScene& rs, const Bsdf& bsdf, const GpuLight& light, const glm::vec3& pos,
+                               const glm::vec3& origin, const glm::vec3& n, const glm::vec3& wo, glm::vec3& wi,
+                               float& dist) {
+  const glm::vec3 d = pos - origin;
+  const float dist2 = glm::dot(d, d);
+  dist = std::sqrt(dist2);
+  wi = d / dist;
+  float pdf;
+  const glm::vec3 f = bsdfEval(bsdf, n, wo, wi, pdf);
+  const float cone = faithful::spotTerm(light, wi);
+  if (pdf == 0.0f || cone == 0.0f) return glm::vec3(0.0f);
+  const glm::vec3 intensity = light.color * light.value * rs.world.range * kPhysicalPointScale * cone;
+  return f * intensity * glm::dot(n, wi) / dist2;
+}
+
+// How likely light selection picks a point light: its unshadowed irradiance on the surface
+// plane, summed over colour channels. Zero only where pointLightUnshadowed() is zero too (behind
+// the surface or outside the cone), which is what keeps the selected estimate unbiased.
+float selectionWeight(const GpuLight& light, const glm::vec3& pos, const glm::vec3& origin, const glm::vec3& n) {
+  const glm::vec3 d = pos - origin;
+  const float dist2 = glm::dot(d, d);
+  if (!(dist2 > 0.0f)) return 0.0f;
+  const glm::vec3 wi = d / std::sqrt(dist2);
+  const float cosSurface = glm::dot(n, wi);
+  if (cosSurface <= 0.0f) return 0.0f;
+  return (light.color.x + light.color.y + light.color.z) * light.value * faithful::spotTerm(light, wi) * cosSurface / dist2;
+}
+
+glm::vec3 sunContribution(const RenderScene& rs, const Bsdf& bsdf, const GpuLight& light, const glm::vec3& origin,
+                          const glm::vec3& n, const glm::vec3& wo, Rng& rng) {
+  glm::vec3 wi = -light.direction;
+  if (light.deviance > 0.0f) wi = sampleCone(wi, light.deviance, rng.next2());
+  float pdf;
+  const glm::vec3 f = bsdfEval(bsdf, n, wo, wi, pdf);
+  if (pdf == 0.0f) return glm::vec3(0.0f);
+  if (!reachesSky(rs, Ray{origin, 0.0f, wi, std::numeric_limits<float>::infinity()}, LightingMode::Physical)) return glm::vec3(0.0f);
+  return f * light.color * light.value * rs.world.range * kPhysicalSunScale * glm::dot(n, wi);
+}
+
+// Every point light and sun, each with its own shadow ray: the reference for selection.
+glm::vec3 allLightsExhaustive(const RenderScene& rs, const Bsdf& bsdf, const glm::vec3& origin, const glm::vec3& n,
+                              const glm::vec3& wo, Rng& rng) {
   glm::vec3 l(0.0f);
   for (const GpuLight& light : rs.lights) {
     if (light.value <= 0.0f) continue; // negative lights have no physical meaning
     if (light.type == uint32_t(LightType::Point)) {
       if (light.formula == uint32_t(LightFormula::LocalMin)) continue;
-      glm::vec3 pos = light.origin;
-      if (light.deviance > 0.0f) pos += light.deviance * sampleBall({rng.next(), rng.next(), rng.next()});
-      const glm::vec3 d = pos - origin;
-      const float dist2 = glm::dot(d, d);
-      const float dist = std::sqrt(dist2);
-      const glm::vec3 wi = d / dist;
-      float pdf;
-      const glm::vec3 f = bsdfEval(bsdf, n, wo, wi, pdf);
-      const float cone = faithful::spotTerm(light, wi);
-      if (pdf == 0.0f || cone == 0.0f) continue;
-      if (occluded(rs, Ray{origin, 0.0f, wi, dist}, LightingMode::Physical)) continue;
-      const glm::vec3 intensity = light.color * light.value * rs.world.range * kPhysicalPointScale * cone;
-      l += f * intensity * glm::dot(n, wi) / dist2;
+      const glm::vec3 pos = jitteredPosition(light, rng);
+      glm::vec3 wi;
+      float dist;
+      const glm::vec3 c = pointLightUnshadowed(rs, bsdf, light, pos, origin, n, wo, wi, dist);
+      if (c == glm::vec3(0.0f) || occluded(rs, Ray{origin, 0.0f, wi, dist}, LightingMode::Physical)) continue;
+      l += c;
     } else if (light.type == uint32_t(LightType::Sun)) {
-      glm::vec3 wi = -light.direction;
-      if (light.deviance > 0.0f) wi = sampleCone(wi, light.deviance, rng.next2());
-      float pdf;
-      const glm::vec3 f = bsdfEval(bsdf, n, wo, wi, pdf);
-      if (pdf == 0.0f) continue;
-      if (!reachesSky(rs, Ray{origin, 0.0f, wi, std::numeric_limits<float>::infinity()}, LightingMode::Physical)) continue;
-      l += f * light.color * light.value * rs.world.range * kPhysicalSunScale * glm::dot(n, wi);
+      l += sunContribution(rs, bsdf, light, origin, n, wo, rng);
     }
   }
+  return l;
+}
+
+// Suns one by one (there are at most a few), then ONE point light of the physical list, picked
+// with probability weight / total and divided by that probability: an unbiased estimate of the
+// sum over all of them with one shadow ray instead of hundreds. Random numbers, in order: the
+// suns' as in the exhaustive loop, each candidate's _deviance jitter (3) in list order, one
+// for the pick; shaders/light_select.glsl draws the same ones.
+glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::vec3& origin, const glm::vec3& n,
+                            const glm::vec3& wo, Rng& rng) {
+  glm::vec3 l(0.0f);
+  for (uint32_t i : rs.lightGrid.fixedLights()) {
+    const GpuLight& light = rs.lights[i];
+    if (light.type == uint32_t(LightType::Sun) && light.value > 0.0f) l += sunContribution(rs, bsdf, light, origin, n, wo, rng);
+  }
+
+  // Pass 1: the total weight. The jittered positions are not stored: pass 2 replays the same
+  // random numbers from a copy of the stream (the GLSL side has no dynamic arrays either).
+  const std::span<const uint32_t> candidates = rs.lightGrid.physicalLights();
+  const Rng replay = rng;
+  float total = 0.0f;
+  for (uint32_t i : candidates) {
+    const GpuLight& light = rs.lights[i];
+    total += selectionWeight(light, jitteredPosition(light, rng), origin, n);
+  }
+  const float target = rng.next() * total;
+  if (!(total > 0.0f)) return l;
+
+  // Pass 2: the candidate whose cumulative interval holds target (the last one with weight
+  // when rounding leaves target past the end).
+  Rng again = replay;
+  float cumulative = 0.0f, chosenWeight = 0.0f;
+  uint32_t chosen = 0;
+  glm::vec3 chosenPos(0.0f);
+  for (uint32_t i : candidates) {
+    const glm::vec3 pos = jitteredPosition(rs.lights[i], again);
+    const float w = selectionWeight(rs.lights[i], pos, origin, n);
+    if (w <= 0.0f) continue;
+    chosen = i, chosenPos = pos, chosenWeight = w;
+    cumulative += w;
+    if (cumulative > target) break;
+  }
+  if (chosenWeight <= 0.0f) return l;
+  glm::vec3 wi;
+  float dist;
+  const glm::vec3 c = pointLightUnshadowed(rs, bsdf, rs.lights[chosen], chosenPos, origin, n, wo, wi, dist);
+  if (c != glm::vec3(0.0f) && !occluded(rs, Ray{origin, 0.0f, wi, dist}, LightingMode::Physical))
+    l += c * (total / chosenWeight);
+  return l;
+}
+
+// Direct light at a surface by next-event estimation: point lights and suns, then one emitter
+// triangle (MIS-weighted against BSDF sampling).
+glm::vec3 directLight(const RenderScene& rs, const IntegratorSettings& settings, const Bsdf& bsdf, const glm::vec3& p,
+                      const glm::vec3& n, const glm::vec3& wo, Rng& rng) {
+  const glm::vec3 origin = offsetPoint(p, n);
+  glm::vec3 l = settings.lightSelection ? allLightsSelected(rs, bsdf, origin, n, wo, rng)
+                                        : allLightsExhaustive(rs, bsdf, origin, n, wo, rng);
 
   if (!rs.emitters.empty()) {
     const GpuEmitter& e = rs.emitters[pickEmitter(rs, rng.next())];
@@ -358,7 +480,7 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
     const GpuMaterial& m = rs.materials[gpuFace(rs, hit.face).material];
     Bsdf bsdf{srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position))), m.roughness, m.metallic,
               (m.flags & kMaterialSpecular) != 0};
-    l += throughput * directLight(rs, bsdf, hit.position, n, wo, rng);
+    l += throughput * directLight(rs, settings, bsdf, hit.position, n, wo, rng);
 
     const glm::vec3 wi = bsdfSample(bsdf, n, wo, rng);
     float pdf;
@@ -381,7 +503,7 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
 } // namespace
 
 glm::vec3 radiance(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, Rng& rng) {
-  if (settings.mode == LightingMode::Faithful) return radianceFaithful(rs, ray, rng);
+  if (settings.mode == LightingMode::Faithful) return radianceFaithful(rs, settings, ray, rng);
   return radiancePhysical(rs, settings, ray, rng);
 }
 

@@ -14,6 +14,9 @@ enum class LightingMode { Faithful, Physical };
 struct IntegratorSettings {
   LightingMode mode = LightingMode::Faithful;
   int bounces = 3;        // physical: indirect bounces after the first hit; faithful: uses _bounce
+  // true: the light grid's lists (faithful) and one selected point light per hit (physical);
+  // false: every light at every hit, the reference both converge to (tests, benchmarks).
+  bool lightSelection = true;
 };
 
 // A hit after skipping faces that are never drawn (hidden textures, back faces).
@@ -40,7 +43,22 @@ glm::vec3 emissiveAt(const RenderScene& rs, uint32_t face, const glm::vec3& p); 
 // Faithful mode: the light sum ericw-tools `light` would compute at surface point p with
 // normal n (light units, per colour channel; before _range). Stochastic only for soft
 // lights (deviance, penumbra, domes, surface lights), exact otherwise.
+// Every light of the level is looked at: the reference (tests/render/oracle_test.cpp).
 glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng);
+
+// The same sum over the light grid's lists only (light_grid.h): suns, domes, local minlights
+// and infinite-reach lights, then the finite-reach lights of p's cell. Lights left out give
+// exactly 0 at p, so for lights without soft shadows the result equals faithfulLightAt's (up
+// to float summation order); soft lights draw their random numbers in list order instead.
+//
+// Why every candidate is shadow-tested here instead of one picked at random, as physical mode
+// does: the faithful pixel is a non-linear function of this sum (minlight and local-minlight
+// floors, the 255 overbright clamp, the max with fullbright texels, and above all the sRGB
+// decode of texture x lightmap / 128). A random but unbiased estimate S of the sum converges to
+// the mean of f(S), which differs from f(sum) wherever f bends (Jensen), so the image would
+// not converge to the exhaustive one. The grid keeps the result exact and drops the per-light
+// loop from O(lights) to the few lights that can reach the point.
+glm::vec3 faithfulLightFromGrid(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng);
 
 // Linear radiance along the ray.
 glm::vec3 radiance(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, Rng& rng);

@@ -146,6 +146,7 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
     bvh.includeBrush[b] = visible;
   }
   rs.tracer = TraceScene::build(scene, bvh);
+  rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
   return rs;
 }
 

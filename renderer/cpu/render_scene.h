@@ -4,6 +4,7 @@
 
 #include "bvh/trace_scene.h"
 #include "scene/gpu_structs.h"
+#include "renderer/cpu/light_grid.h"
 #include "renderer/cpu/lights.h"
 #include "scene/scene.h"
 
@@ -23,6 +24,7 @@ struct RenderScene {
   std::vector<uint32_t> faceFlags;        // kFace* per scene face
   std::vector<GpuMaterial> materials;     // parallel to scene->materials
   std::vector<GpuLight> lights;
+  LightGrid lightGrid;                    // which lights a point looks at (light_grid.h)
   std::vector<GpuLight> surfaceLights;    // per material: the _surface template (value 0 = none)
   std::vector<GpuEmitter> emitters;       // triangles of emitting faces, cdf by area
   float emitterArea = 0.0f;

@@ -1,0 +1,139 @@
+#include "renderer/cpu/light_grid.h"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace bt {
+
+namespace {
+
+// Grid resolution: at most this many cells along the longest axis, and cells no smaller than
+// kMinCellSize (a typical light reaches 200-300 units, so finer cells only repeat the lists).
+constexpr uint32_t kMaxCellsPerAxis = 32;
+constexpr float kMinCellSize = 64.0f;
+
+// Reach padding: distanceValue() is computed in float, so a point a hair beyond the exact reach
+// may still round to a tiny non-zero value; the lists must never miss it.
+constexpr float kReachRelativeSlack = 1e-3f;
+constexpr float kReachSlack = 1.0f;
+
+bool isFaithfulCandidate(const GpuLight& l) {
+  return l.type == uint32_t(LightType::Point) && l.formula != uint32_t(LightFormula::LocalMin) && l.value != 0.0f;
+}
+
+// Squared distance from c to the box, where a side at the grid's border extends to infinity:
+// a point outside the grid is looked up in the border cell, so that cell lists the lights that
+// reach anything beyond it.
+float distanceToCell2(const GpuLightGrid& g, const uint32_t cell[3], const glm::vec3& c) {
+  float d2 = 0.0f;
+  for (int a = 0; a < 3; ++a) {
+    const float lo = cell[a] == 0 ? -std::numeric_limits<float>::infinity() : g.origin[a] + float(cell[a]) * g.cellSize;
+    const float hi = cell[a] + 1 == g.dims[a] ? std::numeric_limits<float>::infinity()
+                                              : g.origin[a] + float(cell[a] + 1) * g.cellSize;
+    const float d = c[a] < lo ? lo - c[a] : (c[a] > hi ? c[a] - hi : 0.0f);
+    d2 += d * d;
+  }
+  return d2;
+}
+
+uint32_t clampedCell(const GpuLightGrid& g, int axis, float coordinate) {
+  const float f = (coordinate - g.origin[axis]) / g.cellSize;
+  if (!(f >= 0.0f)) return 0; // also NaN
+  if (f >= float(g.dims[axis])) return g.dims[axis] - 1;
+  return std::min(uint32_t(f), g.dims[axis] - 1);
+}
+
+GpuLightGrid gridOver(const Bounds& bounds) {
+  GpuLightGrid g;
+  if (bounds.empty()) return g; // one cell, extended to infinity on every side
+  const glm::vec3 lo(bounds.min), hi(bounds.max);
+  const glm::vec3 extent = hi - lo;
+  const float longest = std::max({extent.x, extent.y, extent.z});
+  g.origin = lo;
+  g.cellSize = std::max(longest / float(kMaxCellsPerAxis), kMinCellSize);
+  for (int a = 0; a < 3; ++a)
+    g.dims[a] = std::clamp(uint32_t(std::ceil(extent[a] / g.cellSize)), 1u, kMaxCellsPerAxis);
+  return g;
+}
+
+} // namespace
+
+float faithfulReach(const GpuLight& light, float scaledist) {
+  float reach = std::numeric_limits<float>::infinity();
+  if (light.formula == uint32_t(LightFormula::Linear)) {
+    // faithful::distanceValue: _falloff wins; otherwise value - dist * wait * _dist hits 0.
+    if (light.falloff > 0.0f) reach = light.falloff;
+    else if (scaledist * light.atten > 0.0f) reach = std::abs(light.value) / (scaledist * light.atten);
+  }
+  if (!std::isfinite(reach)) return reach;
+  // The jittered position is at most `deviance` from the origin.
+  return (reach + std::max(light.deviance, 0.0f)) * (1.0f + kReachRelativeSlack) + kReachSlack;
+}
+
+std::span<const uint32_t> LightGrid::cellLights(const glm::vec3& p) const {
+  const GpuLightCell& c = cells[lightGridCell(header, p)];
+  return {indices.data() + c.first, c.count};
+}
+
+uint32_t lightGridCell(const GpuLightGrid& g, const glm::vec3& p) {
+  return clampedCell(g, 0, p.x) + g.dims[0] * (clampedCell(g, 1, p.y) + g.dims[1] * clampedCell(g, 2, p.z));
+}
+
+LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& bounds, float scaledist) {
+  LightGrid grid;
+  grid.header = gridOver(bounds);
+  const GpuLightGrid& g = grid.header;
+
+  for (uint32_t i = 0; i < lights.size(); ++i)
+    if (lights[i].type != uint32_t(LightType::Point) || lights[i].formula == uint32_t(LightFormula::LocalMin))
+      grid.indices.push_back(i);
+  grid.header.fixedCount = uint32_t(grid.indices.size());
+
+  grid.header.globalFirst = uint32_t(grid.indices.size());
+  for (uint32_t i = 0; i < lights.size(); ++i)
+    if (isFaithfulCandidate(lights[i]) && !std::isfinite(faithfulReach(lights[i], scaledist))) grid.indices.push_back(i);
+  grid.header.globalCount = uint32_t(grid.indices.size()) - grid.header.globalFirst;
+
+  // Physical mode: negative lights have no physical meaning and local minlight is a faithful
+  // floor; both are skipped there (integrator.cpp).
+  grid.header.physicalFirst = uint32_t(grid.indices.size());
+  for (uint32_t i = 0; i < lights.size(); ++i) {
+    const GpuLight& l = lights[i];
+    if (l.type == uint32_t(LightType::Point) && l.formula != uint32_t(LightFormula::LocalMin) && l.value > 0.0f)
+      grid.indices.push_back(i);
+  }
+  grid.header.physicalCount = uint32_t(grid.indices.size()) - grid.header.physicalFirst;
+
+  // Finite-reach lights into every cell their reach sphere touches.
+  const size_t cellCount = size_t(g.dims[0]) * g.dims[1] * g.dims[2];
+  std::vector<std::vector<uint32_t>> lists(cellCount);
+  for (uint32_t i = 0; i < lights.size(); ++i) {
+    if (!isFaithfulCandidate(lights[i])) continue;
+    const float reach = faithfulReach(lights[i], scaledist);
+    if (!std::isfinite(reach)) continue;
+    const glm::vec3 c = lights[i].origin;
+    uint32_t lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = clampedCell(g, a, c[a] - reach);
+      hi[a] = clampedCell(g, a, c[a] + reach);
+    }
+    uint32_t cell[3];
+    for (cell[2] = lo[2]; cell[2] <= hi[2]; ++cell[2])
+      for (cell[1] = lo[1]; cell[1] <= hi[1]; ++cell[1])
+        for (cell[0] = lo[0]; cell[0] <= hi[0]; ++cell[0])
+          if (distanceToCell2(g, cell, c) <= reach * reach)
+            lists[cell[0] + g.dims[0] * (cell[1] + g.dims[1] * cell[2])].push_back(i);
+  }
+  grid.cells.resize(cellCount);
+  for (size_t k = 0; k < cellCount; ++k) {
+    grid.cells[k] = {uint32_t(grid.indices.size()), uint32_t(lists[k].size())};
+    grid.indices.insert(grid.indices.end(), lists[k].begin(), lists[k].end());
+  }
+  return grid;
+}
+
+} // namespace bt

@@ -1,0 +1,45 @@
+// Light selection data: which lights a point has to look at, so that a hit does not loop over
+// every light of the level (lq_e4m3 has over a thousand). The flat layout is scene/gpu_structs.h's
+// GpuLightGrid/GpuLightCell plus one index array; the GL tracer uploads the three unchanged and
+// shaders/light_select.glsl reads them the way lightGridCell() below does.
+//
+// Quake's linear lights (delay 0, and _falloff) reach a finite distance, so a uniform grid can
+// list, per cell, the lights that can light anything in it. The other formulas and the suns
+// reach everywhere and sit in lists of their own (see gpu_structs.h for the ranges).
+#pragma once
+
+#include "scene/gpu_structs.h"
+#include "scene/scene.h"
+
+#include <span>
+#include <vector>
+
+namespace bt {
+
+struct LightGrid {
+  GpuLightGrid header;
+  std::vector<GpuLightCell> cells;
+  std::vector<uint32_t> indices; // into RenderScene::lights
+
+  // Suns, domes and local-minlight lights: evaluated one by one everywhere.
+  std::span<const uint32_t> fixedLights() const { return {indices.data(), header.fixedCount}; }
+  // Faithful point lights of infinite reach: candidates everywhere.
+  std::span<const uint32_t> globalLights() const { return {indices.data() + header.globalFirst, header.globalCount}; }
+  // Physical mode's point-light candidates.
+  std::span<const uint32_t> physicalLights() const { return {indices.data() + header.physicalFirst, header.physicalCount}; }
+  // Faithful point lights of finite reach that can light p.
+  std::span<const uint32_t> cellLights(const glm::vec3& p) const;
+};
+
+// Beyond this distance from its origin a faithful point light gives exactly 0 (for any _deviance
+// jitter of its position), or +infinity when its formula never reaches 0.
+float faithfulReach(const GpuLight& light, float scaledist);
+
+// The grid over `bounds` (the level's traceable brushes; points outside it still get a correct
+// list). Point lights of value 0 light nothing in either mode and are in no list.
+LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& bounds, float scaledist);
+
+// The cell holding p, clamped to the grid (NaN goes to cell 0).
+uint32_t lightGridCell(const GpuLightGrid& grid, const glm::vec3& p);
+
+} // namespace bt
