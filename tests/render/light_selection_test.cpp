@@ -1,0 +1,230 @@
+// Light selection (renderer/cpu/light_grid.h and the integrator's selected paths) against the
+// exhaustive loop over every light: the grid's lists never drop a light that lights a point,
+// faithful mode gives the exhaustive value, physical mode converges to the exhaustive mean.
+#include "renderer/cpu/faithful.h"
+#include "renderer/cpu/integrator.h"
+#include "renderer/cpu/light_grid.h"
+#include "tests/render/box_scene.h"
+
+#include <gtest/gtest.h>
+#include <fmt/format.h>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace bt {
+namespace {
+
+// A 1024 x 1024 x 256 room split by pillars and a half wall, lit by `count` point lights of
+// every kind the grid sorts differently: linear (with and without wait and _falloff),
+// inverse formulas, spotlights, coloured, soft (_deviance when `soft`), one darklight, one
+// local minlight, plus a sun through a skylight. Lights sit on a jittered lattice so that
+// most of them are shadowed from most points.
+Scene manyLightsRoom(int count, bool soft, uint32_t seed) {
+  test::BoxSceneBuilder b;
+  b.material("white", 200, 200, 200);
+  b.material("sky1", 40, 60, 200);
+  b.room({-512, -512, 0}, {512, 512, 256}, "white");
+  b.box({-16, -512, 0}, {16, 200, 160}, "white"); // half wall
+  for (int i = 0; i < 4; ++i) b.box({-400.0 + 200 * i, 250, 0}, {-370.0 + 200 * i, 280, 256}, "white"); // pillars
+  b.box({200, -200, 256}, {328, -72, 272}, "sky1"); // a skylight patch in the ceiling slab's place
+  b.worldKey("_sunlight", "80");
+  b.worldKey("_sun_mangle", "0 -70 0");
+  std::mt19937 gen(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int i = 0; i < count; ++i) {
+    const glm::vec3 o(-480.0f + 960.0f * u(gen), -480.0f + 960.0f * u(gen), 20.0f + 220.0f * u(gen));
+    std::vector<std::pair<std::string, std::string>> keys = {
+        {"classname", "light"}, {"origin", fmt::format("{} {} {}", o.x, o.y, o.z)},
+        {"light", fmt::format("{}", 100.0f + 300.0f * u(gen))}};
+    switch (i % 8) {
+    case 0: break;                                                 // linear
+    case 1: keys.push_back({"wait", "2"}); break;                  // linear, half reach
+    case 2: keys.push_back({"_falloff", "180"}); break;            // linear to 0 at 180
+    case 3: keys.push_back({"delay", "1"}); break;                 // inverse: reaches everywhere
+    case 4: keys.push_back({"delay", "5"}); break;                 // inverse square "a"
+    case 5: keys.push_back({"mangle", "30 -60 0"}); keys.push_back({"angle", "70"}); break; // spot
+    case 6: keys.push_back({"_color", "255 128 64"}); break;
+    case 7: keys.push_back({"delay", "2"}); keys.push_back({"wait", "4"}); break;
+    }
+    if (soft && i % 3 == 0) keys.push_back({"_deviance", "12"});
+    b.entity(keys);
+  }
+  b.entity({{"classname", "light"}, {"origin", "-300 -300 100"}, {"light", "-150"}});               // darklight
+  b.entity({{"classname", "light"}, {"origin", "300 300 100"}, {"light", "40"}, {"delay", "4"}});   // local minlight
+  return b.build();
+}
+
+RenderScene buildRs(const Scene& scene) {
+  Diagnostics diags;
+  return buildRenderScene(scene, {}, diags);
+}
+
+// A surface point and its normal: the first visible hit of a random ray from inside the room.
+struct SurfacePoint {
+  glm::vec3 p, n;
+};
+std::vector<SurfacePoint> randomSurfacePoints(const RenderScene& rs, int count, uint32_t seed) {
+  std::vector<SurfacePoint> points;
+  for (uint32_t i = 0; points.size() < size_t(count); ++i) {
+    Rng rng = pixelRng(i, 0, 0, seed);
+    const glm::vec3 from(-500.0f + 1000.0f * rng.next(), -500.0f + 1000.0f * rng.next(), 5.0f + 245.0f * rng.next());
+    const glm::vec3 dir = sampleUniformHemisphere(glm::vec3(0, 0, rng.next() < 0.7f ? -1.0f : 1.0f), rng.next2());
+    const SurfaceHit hit = traceVisible(rs, Ray{from, 0.0f, dir, 1e9f});
+    if (hit.found) points.push_back({hit.position, hit.normal});
+  }
+  return points;
+}
+
+// Quake's lights reach a finite distance; a light missing from a cell's list must give exactly
+// 0 anywhere in that cell, for any jitter of its position, for any surface orientation.
+TEST(LightGrid, CellListsNeverDropALightThatReachesThePoint) {
+  const Scene scene = manyLightsRoom(160, true, 11);
+  const RenderScene rs = buildRs(scene);
+  const LightGrid& grid = rs.lightGrid;
+  ASSERT_GT(grid.cells.size(), 8u);
+
+  std::mt19937 gen(5);
+  // Points in the room and well outside the grid (clamped to border cells).
+  std::uniform_real_distribution<float> coord(-900.0f, 900.0f), height(-200.0f, 500.0f);
+  int checkedPairs = 0, culledPairs = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const glm::vec3 p(coord(gen), coord(gen), height(gen));
+    std::vector<bool> listed(rs.lights.size(), false);
+    for (uint32_t i : grid.fixedLights()) listed[i] = true;
+    for (uint32_t i : grid.globalLights()) listed[i] = true;
+    for (uint32_t i : grid.cellLights(p)) listed[i] = true;
+    for (uint32_t i = 0; i < rs.lights.size(); ++i) {
+      ++checkedPairs;
+      if (listed[i]) continue;
+      ++culledPairs;
+      const GpuLight& light = rs.lights[i];
+      ASSERT_EQ(light.type, uint32_t(LightType::Point));
+      // The closest any jittered position gets, and a few actual jitters, head-on.
+      const float closest = std::max(glm::length(light.origin - p) - light.deviance, 0.0f);
+      ASSERT_EQ(faithful::distanceValue(light, closest, rs.world.scaledist), 0.0f) << "light " << i;
+      Rng rng = pixelRng(uint32_t(k), i, 0, 1);
+      for (int j = 0; j < 4; ++j) {
+        const glm::vec3 pos = light.origin + light.deviance * sampleBall({rng.next(), rng.next(), rng.next()});
+        const glm::vec3 d = pos - p;
+        const float dist = glm::length(d);
+        ASSERT_EQ(faithful::pointLightValue(light, d / dist, d / dist, dist, rs.world.scaledist), 0.0f) << "light " << i;
+      }
+    }
+  }
+  // The grid must actually cull: most (point, light) pairs are out of reach in this room.
+  EXPECT_GT(culledPairs, checkedPairs / 3);
+}
+
+TEST(LightGrid, EveryLightIsInTheListsOfItsKind) {
+  const Scene scene = manyLightsRoom(64, true, 3);
+  const RenderScene rs = buildRs(scene);
+  const LightGrid& grid = rs.lightGrid;
+  std::vector<int> seen(rs.lights.size(), 0);
+  for (uint32_t i : grid.fixedLights()) ++seen[i];
+  for (uint32_t i : grid.globalLights()) ++seen[i];
+  for (const GpuLightCell& c : grid.cells)
+    for (uint32_t k = c.first; k < c.first + c.count; ++k) seen[grid.indices[k]] = std::max(seen[grid.indices[k]], 1);
+  for (uint32_t i = 0; i < rs.lights.size(); ++i) EXPECT_EQ(seen[i], 1) << "light " << i;
+  int physical = 0;
+  for (const GpuLight& l : rs.lights)
+    physical += l.type == uint32_t(LightType::Point) && l.formula != uint32_t(LightFormula::LocalMin) && l.value > 0.0f;
+  EXPECT_EQ(int(grid.physicalLights().size()), physical);
+  EXPECT_EQ(grid.fixedLights().size(), 2u); // the sun and the local minlight
+}
+
+TEST(LightGrid, EmptyLevelHasOneCellWithEveryFiniteLight) {
+  std::vector<GpuLight> lights(3);
+  lights[0].origin = {1e5f, 0, 0};
+  lights[1].formula = uint32_t(LightFormula::Inverse);
+  lights[2].value = 0.0f; // lights nothing: in no list
+  const LightGrid grid = buildLightGrid(lights, Bounds{}, 1.0f);
+  ASSERT_EQ(grid.cells.size(), 1u);
+  EXPECT_EQ(grid.cellLights({0, 0, 0}).size(), 1u);
+  EXPECT_EQ(grid.globalLights().size(), 1u);
+  EXPECT_EQ(grid.cellLights({NAN, 0, 0}).size(), 1u);
+}
+
+// Hard lights: the grid's sum is the exhaustive sum, point by point (float summation order
+// aside), and so is every faithful pixel.
+TEST(LightSelection, FaithfulGridEqualsExhaustiveForHardLights) {
+  const Scene scene = manyLightsRoom(120, false, 7);
+  const RenderScene rs = buildRs(scene);
+  int lit = 0;
+  for (const SurfacePoint& s : randomSurfacePoints(rs, 400, 2)) {
+    Rng a = pixelRng(1, 2, 3, 4), b = a;
+    const glm::vec3 exhaustive = faithfulLightAt(rs, s.p, s.n, a);
+    const glm::vec3 grid = faithfulLightFromGrid(rs, s.p, s.n, b);
+    for (int c = 0; c < 3; ++c) ASSERT_NEAR(grid[c], exhaustive[c], 1e-4f * std::max(1.0f, std::abs(exhaustive[c])));
+    lit += exhaustive.x > 50.0f;
+  }
+  EXPECT_GT(lit, 100); // the comparison is about lit points, not darkness
+  for (int i = 0; i < 200; ++i) {
+    Rng pick = pixelRng(uint32_t(i), 9, 0, 0);
+    const Ray ray{{-450.0f + 900.0f * pick.next(), -450.0f + 900.0f * pick.next(), 200.0f}, 0.0f,
+                  glm::normalize(glm::vec3(pick.next() - 0.5f, pick.next() - 0.5f, -1.0f)), 1e9f};
+    Rng a = pixelRng(uint32_t(i), 0, 0, 0), b = a;
+    const glm::vec3 exhaustive = radiance(rs, {LightingMode::Faithful, 0, false}, ray, a);
+    const glm::vec3 selected = radiance(rs, {LightingMode::Faithful, 0, true}, ray, b);
+    for (int c = 0; c < 3; ++c) ASSERT_NEAR(selected[c], exhaustive[c], 1e-4f * std::max(1.0f, exhaustive[c]));
+  }
+}
+
+struct MeanAndError {
+  double mean = 0.0, error = 0.0; // standard error of the mean
+};
+template <class Fn>
+MeanAndError sampleMean(int n, const Fn& sample) {
+  double sum = 0.0, sum2 = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double v = sample(uint32_t(i));
+    sum += v;
+    sum2 += v * v;
+  }
+  const double mean = sum / n;
+  return {mean, std::sqrt(std::max(sum2 / n - mean * mean, 0.0) / n)};
+}
+
+// Soft lights (_deviance): both are random, with the same mean.
+TEST(LightSelection, FaithfulGridConvergesToExhaustiveForSoftLights) {
+  const Scene scene = manyLightsRoom(48, true, 8);
+  const RenderScene rs = buildRs(scene);
+  for (const SurfacePoint& s : randomSurfacePoints(rs, 6, 21)) {
+    const int n = 3000;
+    const MeanAndError e = sampleMean(n, [&](uint32_t i) { Rng r = pixelRng(i, 0, 0, 1); return faithfulLightAt(rs, s.p, s.n, r).y; });
+    const MeanAndError g = sampleMean(n, [&](uint32_t i) { Rng r = pixelRng(i, 0, 0, 2); return faithfulLightFromGrid(rs, s.p, s.n, r).y; });
+    EXPECT_NEAR(g.mean, e.mean, 4.5 * std::hypot(e.error, g.error) + 1e-3 * e.mean) << "at " << s.p.x << " " << s.p.y << " " << s.p.z;
+  }
+}
+
+// Physical mode: one selected point light per hit against every light per hit, whole paths
+// (two bounces, so selection also runs at secondary hits), mean radiance of the same rays.
+TEST(LightSelection, PhysicalSelectedConvergesToExhaustiveMean) {
+  const Scene scene = manyLightsRoom(96, true, 13);
+  const RenderScene rs = buildRs(scene);
+  int compared = 0;
+  for (int k = 0; k < 8; ++k) {
+    Rng pick = pixelRng(uint32_t(k), 77, 0, 0);
+    const Ray ray{{-450.0f + 900.0f * pick.next(), -450.0f + 900.0f * pick.next(), 200.0f}, 0.0f,
+                  glm::normalize(glm::vec3(pick.next() - 0.5f, pick.next() - 0.5f, -1.0f)), 1e9f};
+    // One weighted sum of red and blue instead of two runs: a wrong colour still moves it.
+    auto channels = [](const glm::vec3& l) { return double(l.x) + 2.0 * double(l.z); };
+    const int n = 1000;
+    const MeanAndError e = sampleMean(n, [&](uint32_t i) {
+      Rng r = pixelRng(i, uint32_t(k), 0, 3);
+      return channels(radiance(rs, {LightingMode::Physical, 2, false}, ray, r));
+    });
+    const MeanAndError s = sampleMean(n * 4, [&](uint32_t i) {
+      Rng r = pixelRng(i, uint32_t(k), 0, 4);
+      return channels(radiance(rs, {LightingMode::Physical, 2, true}, ray, r));
+    });
+    EXPECT_NEAR(s.mean, e.mean, 4.5 * std::hypot(e.error, s.error)) << "ray " << k;
+    compared += e.mean > 0.0;
+  }
+  EXPECT_GE(compared, 6);
+}
+
+} // namespace
+} // namespace bt
