@@ -13,6 +13,7 @@
 #include "camera.glsl"
 #include "sampling.glsl"
 #include "faithful.glsl"
+#include "light_select.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(rgba32f, binding = 0) uniform image2D accumulation; // rgb: sum of samples
@@ -47,39 +48,10 @@ vec3 faithfulLightAt(vec3 p, vec3 n, inout Rng rng) {
   vec3 origin = offsetPoint(p, n);
   vec3 sum = vec3(0.0);
   vec3 localMin = vec3(0.0);
-  for (uint i = 0u; i < world.lightCount; ++i) {
-    GpuLight light = lights[i];
-    if (light.type == LIGHT_POINT) {
-      vec3 pos = light.origin;
-      if (light.deviance > 0.0) {
-        vec3 u = vec3(rngNext(rng), rngNext(rng), rngNext(rng));
-        pos += light.deviance * sampleBall(u);
-      }
-      vec3 d = pos - p;
-      float dist = length(d);
-      if (dist <= 0.0) continue;
-      float value = pointLightValue(light, n, d / dist, dist, world.scaledist);
-      if (value == 0.0) continue;
-      vec3 toLight = pos - origin;
-      float len = length(toLight);
-      if (occluded(origin, toLight / len, len, false)) continue;
-      if (light.formula == FORMULA_LOCAL_MIN) localMin = max(localMin, value * light.color);
-      else sum += value * light.color;
-    } else if (light.type == LIGHT_SUN) {
-      vec3 toSun = -light.direction;
-      if (light.deviance > 0.0) toSun = sampleCone(toSun, light.deviance, rngNext2(rng));
-      float value = sunValue(light, -toSun, n);
-      if (value == 0.0) continue;
-      if (!reachesSky(origin, toSun, false)) continue;
-      sum += value * light.color;
-    } else if (light.type == LIGHT_DOME) {
-      vec3 dir = sampleUniformHemisphere(light.direction, rngNext2(rng));
-      float cosIncidence = dot(dir, n);
-      if (cosIncidence <= 0.0) continue;
-      if (!reachesSky(origin, dir, false)) continue;
-      sum += light.value * angleTerm(cosIncidence, light.anglescale) * light.color;
-    }
-  }
+  // The light grid's lists (light_select.glsl), as renderer/cpu faithfulLightFromGrid.
+  uint cell = lightGridCell(p);
+  uint count = faithfulLightCount(cell);
+  for (uint k = 0u; k < count; ++k) addFaithfulLight(lights[faithfulLight(cell, k)], p, n, origin, rng, sum, localMin);
 
   if (world.emitterCount > 0u) {
     GpuEmitter e = emitters[pickEmitter(rngNext(rng))];
@@ -214,35 +186,32 @@ vec3 skyDomeRadiance(vec3 dir) {
 vec3 directLight(Bsdf bsdf, vec3 p, vec3 n, vec3 wo, inout Rng rng) {
   vec3 origin = offsetPoint(p, n);
   vec3 l = vec3(0.0);
-  for (uint i = 0u; i < world.lightCount; ++i) {
-    GpuLight light = lights[i];
-    if (light.value <= 0.0) continue; // negative lights have no physical meaning
-    if (light.type == LIGHT_POINT) {
-      if (light.formula == FORMULA_LOCAL_MIN) continue;
-      vec3 pos = light.origin;
-      if (light.deviance > 0.0) {
-        vec3 u = vec3(rngNext(rng), rngNext(rng), rngNext(rng));
-        pos += light.deviance * sampleBall(u);
-      }
-      vec3 d = pos - origin;
-      float dist2 = dot(d, d);
-      float dist = sqrt(dist2);
-      vec3 wi = d / dist;
-      float pdf;
-      vec3 f = bsdfEval(bsdf, n, wo, wi, pdf);
-      float cone = spotTerm(light, wi);
-      if (pdf == 0.0 || cone == 0.0) continue;
-      if (occluded(origin, wi, dist, true)) continue;
+  // Suns one by one, then one point light picked by light_select.glsl (renderer/cpu
+  // allLightsSelected): the same random numbers in the same order.
+  for (uint k = 0u; k < lightGrid.fixedCount; ++k) {
+    GpuLight light = lights[lightIndices[k]];
+    if (light.type != LIGHT_SUN || light.value <= 0.0) continue;
+    vec3 wi = -light.direction;
+    if (light.deviance > 0.0) wi = sampleCone(wi, light.deviance, rngNext2(rng));
+    float pdf;
+    vec3 f = bsdfEval(bsdf, n, wo, wi, pdf);
+    if (pdf == 0.0) continue;
+    if (!reachesSky(origin, wi, true)) continue;
+    l += f * light.color * light.value * world.range * PHYSICAL_SUN_SCALE * dot(n, wi);
+  }
+  SelectedLight chosen = selectPhysicalLight(origin, n, rng);
+  if (chosen.found) {
+    GpuLight light = lights[chosen.light];
+    vec3 d = chosen.position - origin;
+    float dist2 = dot(d, d);
+    float dist = sqrt(dist2);
+    vec3 wi = d / dist;
+    float pdf;
+    vec3 f = bsdfEval(bsdf, n, wo, wi, pdf);
+    float cone = spotTerm(light, wi);
+    if (pdf != 0.0 && cone != 0.0 && !occluded(origin, wi, dist, true)) {
       vec3 intensity = light.color * light.value * world.range * PHYSICAL_POINT_SCALE * cone;
-      l += f * intensity * dot(n, wi) / dist2;
-    } else if (light.type == LIGHT_SUN) {
-      vec3 wi = -light.direction;
-      if (light.deviance > 0.0) wi = sampleCone(wi, light.deviance, rngNext2(rng));
-      float pdf;
-      vec3 f = bsdfEval(bsdf, n, wo, wi, pdf);
-      if (pdf == 0.0) continue;
-      if (!reachesSky(origin, wi, true)) continue;
-      l += f * light.color * light.value * world.range * PHYSICAL_SUN_SCALE * dot(n, wi);
+      l += f * intensity * dot(n, wi) / dist2 * chosen.inverseProbability;
     }
   }
 

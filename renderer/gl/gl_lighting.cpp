@@ -12,6 +12,7 @@ GlLighting lightingFor(const RenderScene& rs) {
                                 ((m.flags & bt::kMaterialEmissive) ? kMaterialHasEmissive : 0u));
   // Lights and emitters are uploaded as the CPU reference built them (scene/gpu_structs.h).
   out.lights = rs.lights;
+  out.lightGrid = rs.lightGrid;
   out.surfaceLights = rs.surfaceLights;
   out.emitters = rs.emitters;
   out.emitterArea = rs.emitterArea;

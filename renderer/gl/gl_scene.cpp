@@ -134,6 +134,18 @@ GlSceneBuffers::GlSceneBuffers(const GpuSceneArrays& arrays, const std::vector<G
   surfaceLights.resize(std::max(surfaceLights.size(), materialCount), GpuLight{.value = 0.0f});
   upload(buffers_[kBindingSurfaceLights], surfaceLights);
   upload(buffers_[kBindingEmitters], lighting.emitters);
+
+  // Light selection: the grid header and its cells in one buffer, as light_select.glsl reads
+  // them. A lighting without a grid (tests that list lights by hand) gets one cell over
+  // everything, which selects exactly like a grid, only without culling.
+  const LightGrid grid =
+      lighting.lightGrid.cells.empty() ? buildLightGrid(lighting.lights, Bounds{}, lighting.scaledist) : lighting.lightGrid;
+  const auto* header = reinterpret_cast<const uint8_t*>(&grid.header);
+  const auto* cells = reinterpret_cast<const uint8_t*>(grid.cells.data());
+  std::vector<uint8_t> gridBytes(header, header + sizeof(GpuLightGrid));
+  gridBytes.insert(gridBytes.end(), cells, cells + grid.cells.size() * sizeof(GpuLightCell));
+  upload(buffers_[kBindingLightGrid], gridBytes);
+  upload(buffers_[kBindingLightIndices], grid.indices);
 }
 
 GlSceneBuffers::~GlSceneBuffers() { glDeleteBuffers(kBufferCount, buffers_); }

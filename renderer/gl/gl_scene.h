@@ -36,7 +36,7 @@ public:
   void bind() const; // to the Binding points of gl_structs.h
 
 private:
-  static constexpr int kBufferCount = 7; // Binding 0..6
+  static constexpr int kBufferCount = 9; // Binding 0..8
   unsigned buffers_[kBufferCount] = {};
 };
 

@@ -25,6 +25,8 @@ enum Binding : uint32_t {
   kBindingLights = 4,
   kBindingSurfaceLights = 5,
   kBindingEmitters = 6,
+  kBindingLightGrid = 7,    // GpuLightGrid, then its GpuLightCell array (shaders/light_select.glsl)
+  kBindingLightIndices = 8, // the grid's uint index array into the light buffer
 };
 
 struct GpuBvhNode {

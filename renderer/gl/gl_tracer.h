@@ -1,6 +1,7 @@
 // The GL compute tracer: a Scene uploaded once, images rendered from a camera.
 #pragma once
 
+#include "renderer/cpu/light_grid.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_structs.h"
 #include "renderer/gl/gl_textures.h"
@@ -51,6 +52,7 @@ struct GlLighting {
   std::vector<uint32_t> faceFlags;     // per Scene face: renderer/cpu kFace*; empty = none
   std::vector<uint32_t> materialFlags; // per material: kMaterialGgx / kMaterialHasEmissive overrides; empty = from the images
   std::vector<GpuLight> lights;         // point lights, suns, domes
+  LightGrid lightGrid;                  // renderer/cpu's lists over `lights`; no cells = one cell holding all
   std::vector<GpuLight> surfaceLights;  // per material: its _surface template (value 0 = none); empty = none
   std::vector<GpuEmitter> emitters;     // triangles of emitting faces, cdf by area
   float emitterArea = 0.0f;

@@ -31,4 +31,9 @@ private:
   Scene scene_;
 };
 
+// A 1024 x 1024 x 256 room around (0 0 128) with pillars, a half wall and a skylight, lit by
+// `count` point lights of every kind (formulas, wait, _falloff, spots, colours, _deviance when
+// `softLights`), a darklight, a local minlight and a sun: for light selection tests.
+Scene manyLightsRoom(int count, bool softLights, uint32_t seed);
+
 } // namespace bt::test

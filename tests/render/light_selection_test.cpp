@@ -17,46 +17,6 @@
 namespace bt {
 namespace {
 
-// A 1024 x 1024 x 256 room split by pillars and a half wall, lit by `count` point lights of
-// every kind the grid sorts differently: linear (with and without wait and _falloff),
-// inverse formulas, spotlights, coloured, soft (_deviance when `soft`), one darklight, one
-// local minlight, plus a sun through a skylight. Lights sit on a jittered lattice so that
-// most of them are shadowed from most points.
-Scene manyLightsRoom(int count, bool soft, uint32_t seed) {
-  test::BoxSceneBuilder b;
-  b.material("white", 200, 200, 200);
-  b.material("sky1", 40, 60, 200);
-  b.room({-512, -512, 0}, {512, 512, 256}, "white");
-  b.box({-16, -512, 0}, {16, 200, 160}, "white"); // half wall
-  for (int i = 0; i < 4; ++i) b.box({-400.0 + 200 * i, 250, 0}, {-370.0 + 200 * i, 280, 256}, "white"); // pillars
-  b.box({200, -200, 256}, {328, -72, 272}, "sky1"); // a skylight patch in the ceiling slab's place
-  b.worldKey("_sunlight", "80");
-  b.worldKey("_sun_mangle", "0 -70 0");
-  std::mt19937 gen(seed);
-  std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  for (int i = 0; i < count; ++i) {
-    const glm::vec3 o(-480.0f + 960.0f * u(gen), -480.0f + 960.0f * u(gen), 20.0f + 220.0f * u(gen));
-    std::vector<std::pair<std::string, std::string>> keys = {
-        {"classname", "light"}, {"origin", fmt::format("{} {} {}", o.x, o.y, o.z)},
-        {"light", fmt::format("{}", 100.0f + 300.0f * u(gen))}};
-    switch (i % 8) {
-    case 0: break;                                                 // linear
-    case 1: keys.push_back({"wait", "2"}); break;                  // linear, half reach
-    case 2: keys.push_back({"_falloff", "180"}); break;            // linear to 0 at 180
-    case 3: keys.push_back({"delay", "1"}); break;                 // inverse: reaches everywhere
-    case 4: keys.push_back({"delay", "5"}); break;                 // inverse square "a"
-    case 5: keys.push_back({"mangle", "30 -60 0"}); keys.push_back({"angle", "70"}); break; // spot
-    case 6: keys.push_back({"_color", "255 128 64"}); break;
-    case 7: keys.push_back({"delay", "2"}); keys.push_back({"wait", "4"}); break;
-    }
-    if (soft && i % 3 == 0) keys.push_back({"_deviance", "12"});
-    b.entity(keys);
-  }
-  b.entity({{"classname", "light"}, {"origin", "-300 -300 100"}, {"light", "-150"}});               // darklight
-  b.entity({{"classname", "light"}, {"origin", "300 300 100"}, {"light", "40"}, {"delay", "4"}});   // local minlight
-  return b.build();
-}
-
 RenderScene buildRs(const Scene& scene) {
   Diagnostics diags;
   return buildRenderScene(scene, {}, diags);
@@ -81,7 +41,7 @@ std::vector<SurfacePoint> randomSurfacePoints(const RenderScene& rs, int count, 
 // Quake's lights reach a finite distance; a light missing from a cell's list must give exactly
 // 0 anywhere in that cell, for any jitter of its position, for any surface orientation.
 TEST(LightGrid, CellListsNeverDropALightThatReachesThePoint) {
-  const Scene scene = manyLightsRoom(160, true, 11);
+  const Scene scene = test::manyLightsRoom(160, true, 11);
   const RenderScene rs = buildRs(scene);
   const LightGrid& grid = rs.lightGrid;
   ASSERT_GT(grid.cells.size(), 8u);
@@ -119,7 +79,7 @@ TEST(LightGrid, CellListsNeverDropALightThatReachesThePoint) {
 }
 
 TEST(LightGrid, EveryLightIsInTheListsOfItsKind) {
-  const Scene scene = manyLightsRoom(64, true, 3);
+  const Scene scene = test::manyLightsRoom(64, true, 3);
   const RenderScene rs = buildRs(scene);
   const LightGrid& grid = rs.lightGrid;
   std::vector<int> seen(rs.lights.size(), 0);
@@ -150,7 +110,7 @@ TEST(LightGrid, EmptyLevelHasOneCellWithEveryFiniteLight) {
 // Hard lights: the grid's sum is the exhaustive sum, point by point (float summation order
 // aside), and so is every faithful pixel.
 TEST(LightSelection, FaithfulGridEqualsExhaustiveForHardLights) {
-  const Scene scene = manyLightsRoom(120, false, 7);
+  const Scene scene = test::manyLightsRoom(120, false, 7);
   const RenderScene rs = buildRs(scene);
   int lit = 0;
   for (const SurfacePoint& s : randomSurfacePoints(rs, 400, 2)) {
@@ -189,7 +149,7 @@ MeanAndError sampleMean(int n, const Fn& sample) {
 
 // Soft lights (_deviance): both are random, with the same mean.
 TEST(LightSelection, FaithfulGridConvergesToExhaustiveForSoftLights) {
-  const Scene scene = manyLightsRoom(48, true, 8);
+  const Scene scene = test::manyLightsRoom(48, true, 8);
   const RenderScene rs = buildRs(scene);
   for (const SurfacePoint& s : randomSurfacePoints(rs, 6, 21)) {
     const int n = 3000;
@@ -202,7 +162,7 @@ TEST(LightSelection, FaithfulGridConvergesToExhaustiveForSoftLights) {
 // Physical mode: one selected point light per hit against every light per hit, whole paths
 // (two bounces, so selection also runs at secondary hits), mean radiance of the same rays.
 TEST(LightSelection, PhysicalSelectedConvergesToExhaustiveMean) {
-  const Scene scene = manyLightsRoom(96, true, 13);
+  const Scene scene = test::manyLightsRoom(96, true, 13);
   const RenderScene rs = buildRs(scene);
   int compared = 0;
   for (int k = 0; k < 8; ++k) {

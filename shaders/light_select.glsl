@@ -1,0 +1,137 @@
+// Light selection: renderer/cpu/light_grid.h's lists and integrator.cpp's selected paths in
+// GLSL, reading the same bytes (scene/gpu_structs.h GpuLightGrid, GpuLightCell, and the index
+// array) and drawing the same random numbers in the same order, so that a pixel's sample n
+// picks the same light on both tracers.
+// Needs scene_buffers.glsl, sampling.glsl, visible.glsl and faithful.glsl.
+
+// scene/gpu_structs.h GpuLightGrid, byte for byte.
+struct GpuLightGrid {
+  vec3 origin;        // offset 0: min corner of cell (0, 0, 0)
+  float cellSize;     // offset 12
+  uvec3 dims;         // offset 16
+  uint fixedCount;    // offset 28: suns, domes, local minlights at lightIndices[0, fixedCount)
+  uint globalFirst;   // offset 32: faithful point lights of infinite reach
+  uint globalCount;   // offset 36
+  uint physicalFirst; // offset 40: physical mode's candidates
+  uint physicalCount; // offset 44
+};                    // 48 bytes
+
+struct GpuLightCell {
+  uint first; // into lightIndices
+  uint count;
+};
+
+layout(std430, binding = 7) readonly buffer LightGridBuffer {
+  GpuLightGrid lightGrid;
+  GpuLightCell lightCells[];
+};
+layout(std430, binding = 8) readonly buffer LightIndices { uint lightIndices[]; }; // into lights[]
+
+// renderer/cpu lightGridCell: the cell holding p, clamped to the grid (NaN to cell 0).
+uint lightGridAxis(float coordinate, float origin, uint dim) {
+  float f = (coordinate - origin) / lightGrid.cellSize;
+  if (!(f >= 0.0)) return 0u;
+  if (f >= float(dim)) return dim - 1u;
+  return min(uint(f), dim - 1u);
+}
+
+uint lightGridCell(vec3 p) {
+  uvec3 d = lightGrid.dims;
+  return lightGridAxis(p.x, lightGrid.origin.x, d.x) +
+         d.x * (lightGridAxis(p.y, lightGrid.origin.y, d.y) + d.y * lightGridAxis(p.z, lightGrid.origin.z, d.z));
+}
+
+// Faithful mode's lights at a point of `cell`, in the CPU's order (faithfulLightFromGrid): the
+// fixed lights, the infinite-reach lights, then the cell's own list.
+uint faithfulLightCount(uint cell) { return lightGrid.fixedCount + lightGrid.globalCount + lightCells[cell].count; }
+
+uint faithfulLight(uint cell, uint k) {
+  if (k < lightGrid.fixedCount) return lightIndices[k];
+  k -= lightGrid.fixedCount;
+  if (k < lightGrid.globalCount) return lightIndices[lightGrid.globalFirst + k];
+  return lightIndices[lightCells[cell].first + k - lightGrid.globalCount];
+}
+
+vec3 jitteredPosition(GpuLight light, inout Rng rng) {
+  if (light.deviance <= 0.0) return light.origin;
+  vec3 u = vec3(rngNext(rng), rngNext(rng), rngNext(rng));
+  return light.origin + light.deviance * sampleBall(u);
+}
+
+// integrator.cpp addFaithfulLight: one light's share of the faithful light sum at p.
+void addFaithfulLight(GpuLight light, vec3 p, vec3 n, vec3 origin, inout Rng rng, inout vec3 sum, inout vec3 localMin) {
+  if (light.type == LIGHT_POINT) {
+    vec3 pos = jitteredPosition(light, rng);
+    vec3 d = pos - p;
+    float dist = length(d);
+    if (dist <= 0.0) return;
+    float value = pointLightValue(light, n, d / dist, dist, world.scaledist);
+    if (value == 0.0) return;
+    vec3 toLight = pos - origin;
+    float len = length(toLight);
+    if (occluded(origin, toLight / len, len, false)) return;
+    if (light.formula == FORMULA_LOCAL_MIN) localMin = max(localMin, value * light.color);
+    else sum += value * light.color;
+  } else if (light.type == LIGHT_SUN) {
+    vec3 toSun = -light.direction;
+    if (light.deviance > 0.0) toSun = sampleCone(toSun, light.deviance, rngNext2(rng));
+    float value = sunValue(light, -toSun, n);
+    if (value == 0.0) return;
+    if (!reachesSky(origin, toSun, false)) return;
+    sum += value * light.color;
+  } else if (light.type == LIGHT_DOME) {
+    vec3 dir = sampleUniformHemisphere(light.direction, rngNext2(rng));
+    float cosIncidence = dot(dir, n);
+    if (cosIncidence <= 0.0) return;
+    if (!reachesSky(origin, dir, false)) return;
+    sum += light.value * angleTerm(cosIncidence, light.anglescale) * light.color;
+  }
+}
+
+// integrator.cpp selectionWeight: unshadowed irradiance on the surface plane, channels summed.
+float selectionWeight(GpuLight light, vec3 pos, vec3 origin, vec3 n) {
+  vec3 d = pos - origin;
+  float dist2 = dot(d, d);
+  if (!(dist2 > 0.0)) return 0.0;
+  vec3 wi = d / sqrt(dist2);
+  float cosSurface = dot(n, wi);
+  if (cosSurface <= 0.0) return 0.0;
+  return (light.color.x + light.color.y + light.color.z) * light.value * spotTerm(light, wi) * cosSurface / dist2;
+}
+
+// Physical mode: one point light of the candidate list picked with probability weight / total.
+struct SelectedLight {
+  bool found;
+  uint light;        // index into lights[]
+  vec3 position;     // jittered
+  float inverseProbability; // total / weight
+};
+
+SelectedLight selectPhysicalLight(vec3 origin, vec3 n, inout Rng rng) {
+  SelectedLight s = SelectedLight(false, 0u, vec3(0.0), 0.0);
+  // Pass 1: the total; pass 2 replays the same jitters from a copy of the stream.
+  Rng replay = rng;
+  float total = 0.0;
+  for (uint k = 0u; k < lightGrid.physicalCount; ++k) {
+    GpuLight light = lights[lightIndices[lightGrid.physicalFirst + k]];
+    total += selectionWeight(light, jitteredPosition(light, rng), origin, n);
+  }
+  float target = rngNext(rng) * total;
+  if (!(total > 0.0)) return s;
+  float cumulative = 0.0, chosenWeight = 0.0;
+  for (uint k = 0u; k < lightGrid.physicalCount; ++k) {
+    uint index = lightIndices[lightGrid.physicalFirst + k];
+    GpuLight light = lights[index];
+    vec3 pos = jitteredPosition(light, replay);
+    float w = selectionWeight(light, pos, origin, n);
+    if (w <= 0.0) continue;
+    s.light = index;
+    s.position = pos;
+    chosenWeight = w;
+    cumulative += w;
+    if (cumulative > target) break;
+  }
+  s.found = chosenWeight > 0.0;
+  s.inverseProbability = s.found ? total / chosenWeight : 0.0;
+  return s;
+}
