@@ -1,0 +1,88 @@
+// Light selection against the exhaustive light loop (IntegratorSettings::lightSelection), CPU
+// tracer, on the two shared maps with the most lights: id's e1m1 (198 light entities) and
+// LibreQuake's lq_e4m3 (1213). One sample per pixel of a small frame from the map's default
+// camera, both lighting modes, one thread and two.
+//   build/bench/bench_light_selection [--benchmark_filter=...]
+// Samples/s is per sample, not per unit of noise: physical selection trades a little variance
+// per sample for far fewer shadow rays (the tests show it converges to the same mean).
+#include "importers/import.h"
+#include "renderer/cpu/cpu_renderer.h"
+
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <map>
+#include <memory>
+
+namespace {
+
+using namespace bt;
+
+struct LoadedMap {
+  Scene scene;
+  RenderScene rs;
+  CameraPose pose;
+};
+
+// Imported once per process (without textures: lighting cost does not depend on them);
+// nullptr when the map is absent.
+const LoadedMap* loadMap(const std::string& name) {
+  static const std::map<std::string, std::string> kPaths = {
+      {"e1m1", "/maps/quake_map_source/e1m1.map"},
+      {"lq_e4m3", "/maps/librequake/lq1/maps/src/e4/lq_e4m3.map"},
+  };
+  static std::map<std::string, std::unique_ptr<LoadedMap>> cache;
+  if (auto it = cache.find(name); it != cache.end()) return it->second.get();
+  const std::string path = std::string(BRUSHTRACE_SHARED_DIR) + kPaths.at(name);
+  std::unique_ptr<LoadedMap> m;
+  if (std::filesystem::exists(path)) {
+    m = std::make_unique<LoadedMap>();
+    m->scene = importScene(path, ImportOptions{});
+    Diagnostics diags;
+    m->rs = buildRenderScene(m->scene, {}, diags);
+    m->pose = defaultCameraPose(m->scene);
+  }
+  return cache.emplace(name, std::move(m)).first->second.get();
+}
+
+constexpr int kWidth = 96, kHeight = 54;
+
+// range(0): threads; range(1): 1 = light selection, 0 = every light at every hit.
+void BM_LightSelection(benchmark::State& state, const std::string& mapName, LightingMode mode) {
+  const LoadedMap* m = loadMap(mapName);
+  if (!m) {
+    state.SkipWithError("map not found (../shared missing?)");
+    return;
+  }
+  RenderSettings s;
+  s.width = kWidth;
+  s.height = kHeight;
+  s.spp = 1;
+  s.threads = int(state.range(0));
+  s.integrator.mode = mode;
+  s.integrator.lightSelection = state.range(1) != 0;
+  for (auto _ : state) benchmark::DoNotOptimize(renderCpu(m->rs, Camera(m->pose, kWidth, kHeight), s).beauty.data());
+  const double samples = double(kWidth) * kHeight * double(state.iterations());
+  state.counters["samples/s"] = benchmark::Counter(samples, benchmark::Counter::kIsRate);
+  // Seconds per sample per pixel of a 320x180 frame, the size the numbers are quoted at.
+  state.counters["s/spp@320x180"] = benchmark::Counter(samples / (320.0 * 180.0),
+                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["lights"] = double(m->rs.lights.size());
+  state.counters["cells"] = double(m->rs.lightGrid.cells.size());
+}
+
+void threadsAndSelection(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"threads", "selection"});
+  for (int threads : {1, 2})
+    for (int selection : {0, 1}) b->Args({threads, selection});
+  b->UseRealTime()->Unit(benchmark::kMillisecond)->MinTime(0.5);
+}
+
+} // namespace
+
+BENCHMARK_CAPTURE(BM_LightSelection, e1m1_faithful, std::string("e1m1"), LightingMode::Faithful)->Apply(threadsAndSelection);
+BENCHMARK_CAPTURE(BM_LightSelection, e1m1_physical, std::string("e1m1"), LightingMode::Physical)->Apply(threadsAndSelection);
+BENCHMARK_CAPTURE(BM_LightSelection, lq_e4m3_faithful, std::string("lq_e4m3"), LightingMode::Faithful)->Apply(threadsAndSelection);
+BENCHMARK_CAPTURE(BM_LightSelection, lq_e4m3_physical, std::string("lq_e4m3"), LightingMode::Physical)->Apply(threadsAndSelection);
+
+BENCHMARK_MAIN();
