@@ -202,8 +202,11 @@ static_assert(sizeof(GpuEmitter) == 48);
 //                                            (inverse, inverse-square, infinite formulas);
 //   [physicalFirst, ... + physicalCount)     physical mode's candidates (every positive point
 //                                            light: 1/d^2 reaches everywhere);
-//   cells[i].first .. + count                faithful point lights of finite reach near cell i.
-// Cell (x, y, z) is cells[x + dims.x * (y + dims.y * z)]; a point outside the grid uses the
+//   cells[i].first .. + count                faithful point lights of finite reach near cell i;
+//   cells[cellCount + i].first .. + count    physical mode's most important lights for cell i
+//                                            (at most kPhysicalNearLights, a subset of the
+//                                            physical list), cellCount = dims.x * dims.y * dims.z.
+// Cell (x, y, z) is i = x + dims.x * (y + dims.y * z); a point outside the grid uses the
 // nearest cell, whose list covers everything beyond the grid's side (see light_grid.cpp).
 //
 //   struct LightGrid { vec3 origin; float cellSize; uvec3 dims; uint fixedCount;

@@ -99,39 +99,55 @@ float selectionWeight(GpuLight light, vec3 pos, vec3 origin, vec3 n) {
   return (light.color.x + light.color.y + light.color.z) * light.value * spotTerm(light, wi) * cosSurface / dist2;
 }
 
-// Physical mode: one point light of the candidate list picked with probability weight / total.
+const float NEAR_LIST_PROBABILITY = 0.9; // integrator.cpp kNearListProbability
+
+// Physical mode (integrator.cpp allLightsSelected): one point light, from the cell's near list
+// by weight with probability NEAR_LIST_PROBABILITY, else uniformly from the physical list.
 struct SelectedLight {
   bool found;
-  uint light;        // index into lights[]
-  vec3 position;     // jittered
-  float inverseProbability; // total / weight
+  uint light;     // index into lights[]
+  vec3 position;  // jittered
+  float pdf;      // probability of having picked it
 };
 
 SelectedLight selectPhysicalLight(vec3 origin, vec3 n, inout Rng rng) {
   SelectedLight s = SelectedLight(false, 0u, vec3(0.0), 0.0);
-  // Pass 1: the total; pass 2 replays the same jitters from a copy of the stream.
-  Rng replay = rng;
-  float total = 0.0;
-  for (uint k = 0u; k < lightGrid.physicalCount; ++k) {
-    GpuLight light = lights[lightIndices[lightGrid.physicalFirst + k]];
-    total += selectionWeight(light, jitteredPosition(light, rng), origin, n);
+  uvec3 d = lightGrid.dims;
+  GpuLightCell near = lightCells[d.x * d.y * d.z + lightGridCell(origin)];
+  float nearTotal = 0.0;
+  for (uint k = 0u; k < near.count; ++k) {
+    GpuLight light = lights[lightIndices[near.first + k]];
+    nearTotal += selectionWeight(light, light.origin, origin, n);
   }
-  float target = rngNext(rng) * total;
-  if (!(total > 0.0)) return s;
-  float cumulative = 0.0, chosenWeight = 0.0;
-  for (uint k = 0u; k < lightGrid.physicalCount; ++k) {
-    uint index = lightIndices[lightGrid.physicalFirst + k];
-    GpuLight light = lights[index];
-    vec3 pos = jitteredPosition(light, replay);
-    float w = selectionWeight(light, pos, origin, n);
-    if (w <= 0.0) continue;
-    s.light = index;
-    s.position = pos;
-    chosenWeight = w;
-    cumulative += w;
-    if (cumulative > target) break;
+  float uStrategy = rngNext(rng);
+  float uPick = rngNext(rng);
+  uint count = lightGrid.physicalCount;
+  if (count == 0u) return s;
+  float nearProbability = nearTotal > 0.0 ? NEAR_LIST_PROBABILITY : 0.0;
+
+  uint chosen = 0u;
+  float chosenWeight = 0.0; // its near-list weight, 0 when not listed
+  if (uStrategy < nearProbability) {
+    float target = uPick * nearTotal;
+    float cumulative = 0.0;
+    for (uint k = 0u; k < near.count; ++k) {
+      uint index = lightIndices[near.first + k];
+      GpuLight light = lights[index];
+      float w = selectionWeight(light, light.origin, origin, n);
+      if (w <= 0.0) continue;
+      chosen = index;
+      chosenWeight = w;
+      cumulative += w;
+      if (cumulative > target) break;
+    }
+  } else {
+    chosen = lightIndices[lightGrid.physicalFirst + min(uint(uPick * float(count)), count - 1u)];
+    for (uint k = 0u; k < near.count; ++k)
+      if (lightIndices[near.first + k] == chosen) chosenWeight = selectionWeight(lights[chosen], lights[chosen].origin, origin, n);
   }
-  s.found = chosenWeight > 0.0;
-  s.inverseProbability = s.found ? total / chosenWeight : 0.0;
+  s.pdf = (nearProbability > 0.0 ? nearProbability * chosenWeight / nearTotal : 0.0) + (1.0 - nearProbability) / float(count);
+  s.light = chosen;
+  s.position = jitteredPosition(lights[chosen], rng);
+  s.found = s.pdf > 0.0;
   return s;
 }

@@ -211,7 +211,7 @@ vec3 directLight(Bsdf bsdf, vec3 p, vec3 n, vec3 wo, inout Rng rng) {
     float cone = spotTerm(light, wi);
     if (pdf != 0.0 && cone != 0.0 && !occluded(origin, wi, dist, true)) {
       vec3 intensity = light.color * light.value * world.range * PHYSICAL_POINT_SCALE * cone;
-      l += f * intensity * dot(n, wi) / dist2 * chosen.inverseProbability;
+      l += f * intensity * dot(n, wi) / dist2 / chosen.pdf;
     }
   }
 

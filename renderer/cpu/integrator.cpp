@@ -328,9 +328,8 @@ glm::vec3 pointLightUnshadowed(const RenderScene& rs, const Bsdf& bsdf, const Gp
   return f * intensity * glm::dot(n, wi) / dist2;
 }
 
-// How likely light selection picks a point light: its unshadowed irradiance on the surface
-// plane, summed over colour channels. Zero only where pointLightUnshadowed() is zero too (behind
-// the surface or outside the cone), which is what keeps the selected estimate unbiased.
+// How likely light selection picks a point light from the near list: its unshadowed
+// irradiance on the surface plane, summed over colour channels.
 float selectionWeight(const GpuLight& light, const glm::vec3& pos, const glm::vec3& origin, const glm::vec3& n) {
   const glm::vec3 d = pos - origin;
   const float dist2 = glm::dot(d, d);
@@ -373,11 +372,19 @@ glm::vec3 allLightsExhaustive(const RenderScene& rs, const Bsdf& bsdf, const glm
   return l;
 }
 
-// Suns one by one (there are at most a few), then ONE point light of the physical list, picked
-// with probability weight / total and divided by that probability: an unbiased estimate of the
-// sum over all of them with one shadow ray instead of hundreds. Random numbers, in order: the
-// suns' as in the exhaustive loop, each candidate's _deviance jitter (3) in list order, one
-// for the pick; shaders/light_select.glsl draws the same ones.
+// Light selection's probability of the near list (the rest goes to a uniform pick over every
+// physical light, so that a light missing from the near list can still be picked: unbiased).
+constexpr float kNearListProbability = 0.9f;
+
+// Suns one by one (there are at most a few), then ONE point light, divided by the probability
+// of picking it: an unbiased estimate of the sum over all of them with one shadow ray instead
+// of hundreds. The pick mixes two strategies (one-sample mixture, Veach's "balance" pdf):
+//   near:    the cell's near list (light_grid.h), by selectionWeight at the hit's origin;
+//   uniform: any light of the physical list, 1 / count.
+// pdf(light) = P(near) * weight / nearTotal [if listed] + (1 - P(near)) / count.
+// Weights use the light's own origin, so the pick does not depend on its _deviance jitter,
+// which is drawn for the chosen light only. Random numbers per hit, in order: the suns', the
+// strategy, the pick, the chosen light's jitter (3, when soft); light_select.glsl draws the same.
 glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::vec3& origin, const glm::vec3& n,
                             const glm::vec3& wo, Rng& rng) {
   glm::vec3 l(0.0f);
@@ -386,38 +393,43 @@ glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::
     if (light.type == uint32_t(LightType::Sun) && light.value > 0.0f) l += sunContribution(rs, bsdf, light, origin, n, wo, rng);
   }
 
-  // Pass 1: the total weight. The jittered positions are not stored: pass 2 replays the same
-  // random numbers from a copy of the stream (the GLSL side has no dynamic arrays either).
-  const std::span<const uint32_t> candidates = rs.lightGrid.physicalLights();
-  const Rng replay = rng;
-  float total = 0.0f;
-  for (uint32_t i : candidates) {
-    const GpuLight& light = rs.lights[i];
-    total += selectionWeight(light, jitteredPosition(light, rng), origin, n);
-  }
-  const float target = rng.next() * total;
-  if (!(total > 0.0f)) return l;
+  const std::span<const uint32_t> all = rs.lightGrid.physicalLights();
+  const std::span<const uint32_t> near = rs.lightGrid.physicalNearLights(origin);
+  float nearTotal = 0.0f;
+  for (uint32_t i : near) nearTotal += selectionWeight(rs.lights[i], rs.lights[i].origin, origin, n);
+  const float uStrategy = rng.next(), uPick = rng.next();
+  if (all.empty()) return l;
+  const float nearProbability = nearTotal > 0.0f ? kNearListProbability : 0.0f;
 
-  // Pass 2: the candidate whose cumulative interval holds target (the last one with weight
-  // when rounding leaves target past the end).
-  Rng again = replay;
-  float cumulative = 0.0f, chosenWeight = 0.0f;
   uint32_t chosen = 0;
-  glm::vec3 chosenPos(0.0f);
-  for (uint32_t i : candidates) {
-    const glm::vec3 pos = jitteredPosition(rs.lights[i], again);
-    const float w = selectionWeight(rs.lights[i], pos, origin, n);
-    if (w <= 0.0f) continue;
-    chosen = i, chosenPos = pos, chosenWeight = w;
-    cumulative += w;
-    if (cumulative > target) break;
+  float chosenWeight = 0.0f; // its near-list weight, 0 when not listed
+  if (uStrategy < nearProbability) {
+    // The entry whose cumulative interval holds the target (the last one with weight when
+    // rounding leaves the target past the end).
+    const float target = uPick * nearTotal;
+    float cumulative = 0.0f;
+    for (uint32_t i : near) {
+      const float w = selectionWeight(rs.lights[i], rs.lights[i].origin, origin, n);
+      if (w <= 0.0f) continue;
+      chosen = i, chosenWeight = w;
+      cumulative += w;
+      if (cumulative > target) break;
+    }
+  } else {
+    chosen = all[std::min(uint32_t(uPick * float(all.size())), uint32_t(all.size()) - 1)];
+    for (uint32_t i : near)
+      if (i == chosen) chosenWeight = selectionWeight(rs.lights[i], rs.lights[i].origin, origin, n);
   }
-  if (chosenWeight <= 0.0f) return l;
+  const float pdf = (nearProbability > 0.0f ? nearProbability * chosenWeight / nearTotal : 0.0f) +
+                    (1.0f - nearProbability) / float(all.size());
+
+  const GpuLight& light = rs.lights[chosen];
+  const glm::vec3 pos = jitteredPosition(light, rng);
   glm::vec3 wi;
   float dist;
-  const glm::vec3 c = pointLightUnshadowed(rs, bsdf, rs.lights[chosen], chosenPos, origin, n, wo, wi, dist);
-  if (c != glm::vec3(0.0f) && !occluded(rs, Ray{origin, 0.0f, wi, dist}, LightingMode::Physical))
-    l += c * (total / chosenWeight);
+  const glm::vec3 c = pointLightUnshadowed(rs, bsdf, light, pos, origin, n, wo, wi, dist);
+  if (pdf > 0.0f && c != glm::vec3(0.0f) && !occluded(rs, Ray{origin, 0.0f, wi, dist}, LightingMode::Physical))
+    l += c / pdf;
   return l;
 }
 

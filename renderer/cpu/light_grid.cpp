@@ -74,6 +74,12 @@ float faithfulReach(const GpuLight& light, float scaledist) {
   return (reach + std::max(light.deviance, 0.0f)) * (1.0f + kReachRelativeSlack) + kReachSlack;
 }
 
+std::span<const uint32_t> LightGrid::physicalNearLights(const glm::vec3& p) const {
+  const size_t cellCount = size_t(header.dims[0]) * header.dims[1] * header.dims[2];
+  const GpuLightCell& c = cells[cellCount + lightGridCell(header, p)];
+  return {indices.data() + c.first, c.count};
+}
+
 std::span<const uint32_t> LightGrid::cellLights(const glm::vec3& p) const {
   const GpuLightCell& c = cells[lightGridCell(header, p)];
   return {indices.data() + c.first, c.count};
@@ -128,11 +134,37 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
           if (distanceToCell2(g, cell, c) <= reach * reach)
             lists[cell[0] + g.dims[0] * (cell[1] + g.dims[1] * cell[2])].push_back(i);
   }
-  grid.cells.resize(cellCount);
+  grid.cells.resize(2 * cellCount);
   for (size_t k = 0; k < cellCount; ++k) {
     grid.cells[k] = {uint32_t(grid.indices.size()), uint32_t(lists[k].size())};
     grid.indices.insert(grid.indices.end(), lists[k].begin(), lists[k].end());
   }
+
+  // Physical near lists: the kPhysicalNearLights lights of largest bound power / d^2, d the
+  // distance from the (jittered) light to the cell, at least half a cell so that lights inside
+  // the cell do not all tie at infinity.
+  const std::vector<uint32_t> physical(grid.physicalLights().begin(), grid.physicalLights().end());
+  const float nearest2 = 0.25f * g.cellSize * g.cellSize;
+  std::vector<std::pair<float, uint32_t>> ranked;
+  uint32_t cell[3];
+  for (cell[2] = 0; cell[2] < g.dims[2]; ++cell[2])
+    for (cell[1] = 0; cell[1] < g.dims[1]; ++cell[1])
+      for (cell[0] = 0; cell[0] < g.dims[0]; ++cell[0]) {
+        ranked.clear();
+        for (uint32_t i : physical) {
+          const GpuLight& l = lights[i];
+          const float d = std::max(std::sqrt(distanceToCell2(g, cell, l.origin)) - l.deviance, 0.0f);
+          const float power = (l.color.x + l.color.y + l.color.z) * l.value;
+          if (power > 0.0f) ranked.push_back({power / std::max(d * d, nearest2), i});
+        }
+        const size_t keep = std::min<size_t>(ranked.size(), kPhysicalNearLights);
+        // Largest bound first, ties by light index: the same lists on every run.
+        std::partial_sort(ranked.begin(), ranked.begin() + keep, ranked.end(),
+                          [](const auto& a, const auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); });
+        const size_t k = cell[0] + g.dims[0] * (cell[1] + g.dims[1] * size_t(cell[2]));
+        grid.cells[cellCount + k] = {uint32_t(grid.indices.size()), uint32_t(keep)};
+        for (size_t r = 0; r < keep; ++r) grid.indices.push_back(ranked[r].second);
+      }
   return grid;
 }
 

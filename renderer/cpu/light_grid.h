@@ -29,7 +29,16 @@ struct LightGrid {
   std::span<const uint32_t> physicalLights() const { return {indices.data() + header.physicalFirst, header.physicalCount}; }
   // Faithful point lights of finite reach that can light p.
   std::span<const uint32_t> cellLights(const glm::vec3& p) const;
+  // Physical mode: the lights of the physical list likely to matter most at p (see
+  // kPhysicalNearLights); the rest stay reachable through the whole physical list.
+  std::span<const uint32_t> physicalNearLights(const glm::vec3& p) const;
 };
+
+// Physical point lights reach everywhere (1/d^2), so a cell cannot list all that light it.
+// Each cell lists at most this many, ranked by an upper bound of their irradiance in the cell
+// (power / squared distance to the cell); selection samples them by their actual unshadowed
+// irradiance at the hit and, with a small probability, any light of the level uniformly.
+inline constexpr uint32_t kPhysicalNearLights = 32;
 
 // Beyond this distance from its origin a faithful point light gives exactly 0 (for any _deviance
 // jitter of its position), or +infinity when its formula never reaches 0.

@@ -85,14 +85,32 @@ TEST(LightGrid, EveryLightIsInTheListsOfItsKind) {
   std::vector<int> seen(rs.lights.size(), 0);
   for (uint32_t i : grid.fixedLights()) ++seen[i];
   for (uint32_t i : grid.globalLights()) ++seen[i];
-  for (const GpuLightCell& c : grid.cells)
-    for (uint32_t k = c.first; k < c.first + c.count; ++k) seen[grid.indices[k]] = std::max(seen[grid.indices[k]], 1);
+  const size_t cellCount = grid.cells.size() / 2; // faithful cells, then physical near lists
+  for (size_t cell = 0; cell < cellCount; ++cell)
+    for (uint32_t k = grid.cells[cell].first; k < grid.cells[cell].first + grid.cells[cell].count; ++k)
+      seen[grid.indices[k]] = std::max(seen[grid.indices[k]], 1);
   for (uint32_t i = 0; i < rs.lights.size(); ++i) EXPECT_EQ(seen[i], 1) << "light " << i;
   int physical = 0;
   for (const GpuLight& l : rs.lights)
     physical += l.type == uint32_t(LightType::Point) && l.formula != uint32_t(LightFormula::LocalMin) && l.value > 0.0f;
   EXPECT_EQ(int(grid.physicalLights().size()), physical);
   EXPECT_EQ(grid.fixedLights().size(), 2u); // the sun and the local minlight
+
+  // Near lists: kPhysicalNearLights distinct lights of the physical list, the strongest bound
+  // first; a light right next to a point is in that point's list.
+  const std::vector<uint32_t> physicalList(grid.physicalLights().begin(), grid.physicalLights().end());
+  for (size_t cell = cellCount; cell < grid.cells.size(); ++cell) {
+    const GpuLightCell& c = grid.cells[cell];
+    ASSERT_EQ(c.count, std::min<uint32_t>(kPhysicalNearLights, uint32_t(physicalList.size())));
+    std::vector<uint32_t> listed(grid.indices.begin() + c.first, grid.indices.begin() + c.first + c.count);
+    for (uint32_t i : listed) EXPECT_NE(std::find(physicalList.begin(), physicalList.end(), i), physicalList.end());
+    std::sort(listed.begin(), listed.end());
+    EXPECT_EQ(std::unique(listed.begin(), listed.end()), listed.end());
+  }
+  for (uint32_t i : grid.physicalLights()) {
+    const std::span<const uint32_t> near = grid.physicalNearLights(rs.lights[i].origin + glm::vec3(1.0f));
+    EXPECT_NE(std::find(near.begin(), near.end(), i), near.end()) << "light " << i;
+  }
 }
 
 TEST(LightGrid, EmptyLevelHasOneCellWithEveryFiniteLight) {
@@ -101,10 +119,11 @@ TEST(LightGrid, EmptyLevelHasOneCellWithEveryFiniteLight) {
   lights[1].formula = uint32_t(LightFormula::Inverse);
   lights[2].value = 0.0f; // lights nothing: in no list
   const LightGrid grid = buildLightGrid(lights, Bounds{}, 1.0f);
-  ASSERT_EQ(grid.cells.size(), 1u);
+  ASSERT_EQ(grid.cells.size(), 2u); // one faithful cell, one physical near list
   EXPECT_EQ(grid.cellLights({0, 0, 0}).size(), 1u);
   EXPECT_EQ(grid.globalLights().size(), 1u);
   EXPECT_EQ(grid.cellLights({NAN, 0, 0}).size(), 1u);
+  EXPECT_EQ(grid.physicalNearLights({0, 0, 0}).size(), 2u);
 }
 
 // Hard lights: the grid's sum is the exhaustive sum, point by point (float summation order
