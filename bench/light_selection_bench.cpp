@@ -3,8 +3,10 @@
 // LibreQuake's lq_e4m3 (1213). One sample per pixel of a small frame from the map's default
 // camera, both lighting modes, one thread and two.
 //   build/bench/bench_light_selection [--benchmark_filter=...]
-// Samples/s is per sample, not per unit of noise: physical selection trades a little variance
-// per sample for far fewer shadow rays (the tests show it converges to the same mean).
+// Samples/s is per sample, not per unit of noise: physical selection trades variance per sample
+// for far fewer shadow rays (the tests show it converges to the same mean), so the benchmark
+// also reports the per-sample variance of pixel luminance relative to the squared image mean;
+// time x rel.variance is what it costs to reach a given noise level.
 #include "importers/import.h"
 #include "renderer/cpu/cpu_renderer.h"
 
@@ -61,14 +63,37 @@ void BM_LightSelection(benchmark::State& state, const std::string& mapName, Ligh
   s.threads = int(state.range(0));
   s.integrator.mode = mode;
   s.integrator.lightSelection = state.range(1) != 0;
-  for (auto _ : state) benchmark::DoNotOptimize(renderCpu(m->rs, Camera(m->pose, kWidth, kHeight), s).beauty.data());
+  const Camera camera(m->pose, kWidth, kHeight);
+  RenderImage image;
+  for (auto _ : state) {
+    image = renderCpu(m->rs, camera, s);
+    benchmark::DoNotOptimize(image.beauty.data());
+  }
+  // Noise per sample: two 1-spp images of other seeds differ by 2x the per-sample variance.
+  // Selection is worth it when variance x time drops, not just time.
+  s.seed = 1;
+  const RenderImage other = renderCpu(m->rs, camera, s);
+  double variance = 0.0, mean = 0.0;
+  for (size_t i = 0; i < image.beauty.size(); ++i) {
+    const float a = (image.beauty[i].x + image.beauty[i].y + image.beauty[i].z) / 3.0f;
+    const float b = (other.beauty[i].x + other.beauty[i].y + other.beauty[i].z) / 3.0f;
+    variance += 0.5 * double(a - b) * double(a - b);
+    mean += 0.5 * double(a + b);
+  }
+  state.counters["rel.variance"] = mean > 0.0 ? variance * double(image.beauty.size()) / (mean * mean) : 0.0;
   const double samples = double(kWidth) * kHeight * double(state.iterations());
   state.counters["samples/s"] = benchmark::Counter(samples, benchmark::Counter::kIsRate);
   // Seconds per sample per pixel of a 320x180 frame, the size the numbers are quoted at.
   state.counters["s/spp@320x180"] = benchmark::Counter(samples / (320.0 * 180.0),
                                                        benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["lights"] = double(m->rs.lights.size());
-  state.counters["cells"] = double(m->rs.lightGrid.cells.size());
+  const LightGrid& grid = m->rs.lightGrid;
+  const size_t cellCount = grid.cells.size() / 2;
+  double listed = 0.0;
+  for (size_t c = 0; c < cellCount; ++c) listed += grid.cells[c].count;
+  state.counters["cells"] = double(cellCount);
+  // Lights a faithful hit looks at, on average over cells (every light without the grid).
+  state.counters["faithful/cell"] = double(grid.header.fixedCount + grid.header.globalCount) + listed / double(cellCount);
 }
 
 void threadsAndSelection(benchmark::internal::Benchmark* b) {
