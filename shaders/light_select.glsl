@@ -2,7 +2,8 @@
 // GLSL, reading the same bytes (scene/gpu_structs.h GpuLightGrid, GpuLightCell, and the index
 // array) and drawing the same random numbers in the same order, so that a pixel's sample n
 // picks the same light on both tracers.
-// Needs scene_buffers.glsl, sampling.glsl, visible.glsl and faithful.glsl.
+// Needs scene_buffers.glsl, sampling.glsl and faithful.glsl (spotTerm); no ray queries, so it
+// does not care how the caller traces its shadow rays.
 
 // scene/gpu_structs.h GpuLightGrid, byte for byte.
 struct GpuLightGrid {
@@ -52,40 +53,11 @@ uint faithfulLight(uint cell, uint k) {
   return lightIndices[lightCells[cell].first + k - lightGrid.globalCount];
 }
 
+// A point light's position for this sample: _deviance spreads it over a ball.
 vec3 jitteredPosition(GpuLight light, inout Rng rng) {
   if (light.deviance <= 0.0) return light.origin;
   vec3 u = vec3(rngNext(rng), rngNext(rng), rngNext(rng));
   return light.origin + light.deviance * sampleBall(u);
-}
-
-// integrator.cpp addFaithfulLight: one light's share of the faithful light sum at p.
-void addFaithfulLight(GpuLight light, vec3 p, vec3 n, vec3 origin, inout Rng rng, inout vec3 sum, inout vec3 localMin) {
-  if (light.type == LIGHT_POINT) {
-    vec3 pos = jitteredPosition(light, rng);
-    vec3 d = pos - p;
-    float dist = length(d);
-    if (dist <= 0.0) return;
-    float value = pointLightValue(light, n, d / dist, dist, world.scaledist);
-    if (value == 0.0) return;
-    vec3 toLight = pos - origin;
-    float len = length(toLight);
-    if (occluded(origin, toLight / len, len, false)) return;
-    if (light.formula == FORMULA_LOCAL_MIN) localMin = max(localMin, value * light.color);
-    else sum += value * light.color;
-  } else if (light.type == LIGHT_SUN) {
-    vec3 toSun = -light.direction;
-    if (light.deviance > 0.0) toSun = sampleCone(toSun, light.deviance, rngNext2(rng));
-    float value = sunValue(light, -toSun, n);
-    if (value == 0.0) return;
-    if (!reachesSky(origin, toSun, false)) return;
-    sum += value * light.color;
-  } else if (light.type == LIGHT_DOME) {
-    vec3 dir = sampleUniformHemisphere(light.direction, rngNext2(rng));
-    float cosIncidence = dot(dir, n);
-    if (cosIncidence <= 0.0) return;
-    if (!reachesSky(origin, dir, false)) return;
-    sum += light.value * angleTerm(cosIncidence, light.anglescale) * light.color;
-  }
 }
 
 // integrator.cpp selectionWeight: unshadowed irradiance on the surface plane, channels summed.

@@ -48,10 +48,43 @@ vec3 faithfulLightAt(vec3 p, vec3 n, inout Rng rng) {
   vec3 origin = offsetPoint(p, n);
   vec3 sum = vec3(0.0);
   vec3 localMin = vec3(0.0);
-  // The light grid's lists (light_select.glsl), as renderer/cpu faithfulLightFromGrid.
+  // The light grid's lists (light_select.glsl), as renderer/cpu faithfulLightFromGrid: the
+  // lights left out give exactly 0 here.
   uint cell = lightGridCell(p);
   uint count = faithfulLightCount(cell);
-  for (uint k = 0u; k < count; ++k) addFaithfulLight(lights[faithfulLight(cell, k)], p, n, origin, rng, sum, localMin);
+  for (uint k = 0u; k < count; ++k) {
+    GpuLight light = lights[faithfulLight(cell, k)];
+    if (light.type == LIGHT_POINT) {
+      vec3 pos = light.origin;
+      if (light.deviance > 0.0) {
+        vec3 u = vec3(rngNext(rng), rngNext(rng), rngNext(rng));
+        pos += light.deviance * sampleBall(u);
+      }
+      vec3 d = pos - p;
+      float dist = length(d);
+      if (dist <= 0.0) continue;
+      float value = pointLightValue(light, n, d / dist, dist, world.scaledist);
+      if (value == 0.0) continue;
+      vec3 toLight = pos - origin;
+      float len = length(toLight);
+      if (occluded(origin, toLight / len, len, false)) continue;
+      if (light.formula == FORMULA_LOCAL_MIN) localMin = max(localMin, value * light.color);
+      else sum += value * light.color;
+    } else if (light.type == LIGHT_SUN) {
+      vec3 toSun = -light.direction;
+      if (light.deviance > 0.0) toSun = sampleCone(toSun, light.deviance, rngNext2(rng));
+      float value = sunValue(light, -toSun, n);
+      if (value == 0.0) continue;
+      if (!reachesSky(origin, toSun, false)) continue;
+      sum += value * light.color;
+    } else if (light.type == LIGHT_DOME) {
+      vec3 dir = sampleUniformHemisphere(light.direction, rngNext2(rng));
+      float cosIncidence = dot(dir, n);
+      if (cosIncidence <= 0.0) continue;
+      if (!reachesSky(origin, dir, false)) continue;
+      sum += light.value * angleTerm(cosIncidence, light.anglescale) * light.color;
+    }
+  }
 
   if (world.emitterCount > 0u) {
     GpuEmitter e = emitters[pickEmitter(rngNext(rng))];
