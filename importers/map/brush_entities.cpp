@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <utility>
 
 namespace bt::map {
 
@@ -22,21 +23,35 @@ const std::string* findKey(const std::vector<std::pair<std::string, std::string>
   return nullptr;
 }
 
-// Right-handed rotations about the world axes (angles in radians), glm's column-major order.
-glm::dmat3 rotationAboutX(double a) {
-  const double c = std::cos(a), s = std::sin(a);
-  return glm::dmat3(1, 0, 0, 0, c, s, 0, -s, c);
-}
-glm::dmat3 rotationAboutY(double a) {
-  const double c = std::cos(a), s = std::sin(a);
-  return glm::dmat3(c, 0, -s, 0, 1, 0, s, 0, c);
-}
-glm::dmat3 rotationAboutZ(double a) {
-  const double c = std::cos(a), s = std::sin(a);
-  return glm::dmat3(c, s, 0, -s, c, 0, 0, 0, 1);
+// cos and sin of an angle in degrees, exact at multiples of 90: prefabs are mostly turned by
+// right angles, and sin(pi) = 1.2e-16 would put integer corners a hair off the grid.
+std::pair<double, double> cosSinDegrees(double degrees) {
+  const double quarterTurns = degrees / 90.0;
+  if (quarterTurns == std::round(quarterTurns)) {
+    switch ((static_cast<int>(std::fmod(quarterTurns, 4.0)) + 4) % 4) {
+    case 0: return {1.0, 0.0};
+    case 1: return {0.0, 1.0};
+    case 2: return {-1.0, 0.0};
+    default: return {0.0, -1.0};
+    }
+  }
+  const double radians = degrees * std::numbers::pi / 180.0;
+  return {std::cos(radians), std::sin(radians)};
 }
 
-double radians(double degrees) { return degrees * std::numbers::pi / 180.0; }
+// Right-handed rotations about the world axes (qbsp's RotateAboutX/Y/Z), glm's column-major order.
+glm::dmat3 rotationAboutX(double degrees) {
+  const auto [c, s] = cosSinDegrees(degrees);
+  return glm::dmat3(1, 0, 0, 0, c, s, 0, -s, c);
+}
+glm::dmat3 rotationAboutY(double degrees) {
+  const auto [c, s] = cosSinDegrees(degrees);
+  return glm::dmat3(c, 0, -s, 0, 1, 0, s, 0, c);
+}
+glm::dmat3 rotationAboutZ(double degrees) {
+  const auto [c, s] = cosSinDegrees(degrees);
+  return glm::dmat3(c, s, 0, -s, c, 0, 0, 0, 1);
+}
 
 } // namespace
 
@@ -97,7 +112,7 @@ Placement externalMapPlacement(const std::vector<std::pair<std::string, std::str
     }
   }
 
-  const glm::dmat3 rotation = rotationAboutZ(radians(angles.y)) * rotationAboutY(radians(angles.x)) * rotationAboutX(radians(angles.z));
+  const glm::dmat3 rotation = rotationAboutZ(angles.y) * rotationAboutY(angles.x) * rotationAboutX(angles.z);
   Placement placement;
   placement.linear = rotation * glm::dmat3(scale.x, 0, 0, 0, scale.y, 0, 0, 0, scale.z);
   placement.translation = origin;

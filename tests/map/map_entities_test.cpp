@@ -62,6 +62,8 @@ TEST(BrushEntities, ExternalMapPlacementScalesThenRotatesThenMovesLikeQbsp) {
   auto near = [](const dvec3& a, const dvec3& b) { return glm::length(a - b) < 1e-12; };
   // Right-handed rotations, as qbsp's RotateAboutZ/Y/X: yaw turns +X to +Y, pitch +X to -Z, roll +Y to +Z.
   EXPECT_TRUE(near(place({{"_external_map_angles", "0 90 0"}}).apply(dvec3(1, 0, 0)), dvec3(0, 1, 0)));
+  EXPECT_TRUE(near(place({{"_external_map_angles", "0 -270 0"}}).apply(dvec3(1, 0, 0)), dvec3(0, 1, 0)));
+  EXPECT_TRUE(near(place({{"_external_map_angles", "0 45 0"}}).apply(dvec3(2, 0, 0)), dvec3(std::sqrt(2.0), std::sqrt(2.0), 0)));
   EXPECT_TRUE(near(place({{"_external_map_angle", "90"}}).apply(dvec3(1, 0, 0)), dvec3(0, 1, 0)));
   EXPECT_TRUE(near(place({{"_external_map_angles", "90 0 0"}}).apply(dvec3(1, 0, 0)), dvec3(0, 0, -1)));
   EXPECT_TRUE(near(place({{"_external_map_angles", "0 0 90"}}).apply(dvec3(0, 1, 0)), dvec3(0, 0, 1)));
@@ -99,8 +101,9 @@ TEST(BrushEntities, ExternalMapBrushesArePlacedRetypedAndKeepTheirTextures) {
   ASSERT_EQ(wall.brushCount, 2u);
   ASSERT_EQ(scene.faces.size(), source.faces.size());
   // Box x 0..64 scaled to 0..128, turned 90 degrees (x -> y, y -> -x), moved to (100, 0, 8).
-  EXPECT_LT(glm::length(scene.brushes[wall.firstBrush].bounds.min - dvec3(36, 0, 8)), 1e-9);
-  EXPECT_LT(glm::length(scene.brushes[wall.firstBrush].bounds.max - dvec3(100, 128, 72)), 1e-9);
+  // Right angles are exact, so integer corners stay integers.
+  EXPECT_EQ(scene.brushes[wall.firstBrush].bounds.min, dvec3(36, 0, 8));
+  EXPECT_EQ(scene.brushes[wall.firstBrush].bounds.max, dvec3(100, 128, 72));
 
   // Texture lock: every placed corner has the texel coordinates its source corner had.
   const Placement placement = [&] {
