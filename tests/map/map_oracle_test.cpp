@@ -63,6 +63,15 @@ struct MapResult {
   size_t matched = 0;   // of those, found among our faces and within tolerance
   size_t wrong = 0;     // found, but the texel coordinates differ
   size_t unmatched = 0; // no face of ours on that plane with that texture
+  // Matched, but some vertex lies outside every one of our polygons on that plane: qbsp's face
+  // polygons come out of its BSP, not from exact brush windings, and reach past ours in places.
+  // Seen: brushes with near-coplanar sides (librequake dev.map line 34, three planes 0.001 apart
+  // in normal: the compiled face is wider than the exact side), thin slivers along terrain edges
+  // (q1_mountain.map face 929 runs 476 units past its source triangle where no source face lies),
+  // Quake 2 water faces 144 units tall on a 16-unit water brush (q2_skip.map). Plane, texture and
+  // texel coordinates still agree, so these pass; they are counted, with the largest distance.
+  size_t uncontained = 0;
+  double maxOutside = 0.0;
   std::vector<std::string> problems; // one line per face that is wrong or unmatched
 };
 
@@ -200,6 +209,8 @@ MapResult compareWithOracle(const Scene& scene, const bsp::BspFile& bsp) {
                                             bsp.faceTexture(i), best->error, best->outside));
     } else {
       ++result.matched;
+      result.maxOutside = std::max(result.maxOutside, best->outside);
+      result.uncontained += best->outside >= 0.1;
     }
   }
   return result;
@@ -231,6 +242,8 @@ TEST(QbspOracle, EveryCompiledFaceHasOurTexelCoordinates) {
     total.matched += r.matched;
     total.wrong += r.wrong;
     total.unmatched += r.unmatched;
+    total.uncontained += r.uncontained;
+    total.maxOutside = std::max(total.maxOutside, r.maxOutside);
     // Every compiled face is paired with a source face and agrees with it; any that is not is
     // listed (all of them, so that a regression shows what moved).
     EXPECT_EQ(r.wrong + r.unmatched, 0u) << r.wrong + r.unmatched << " of " << r.faces << " faces differ; first: " << r.problems.front();
@@ -248,7 +261,8 @@ TEST(QbspOracle, EveryCompiledFaceHasOurTexelCoordinates) {
                                     "known by texture name only, which the oracle's qbsp had no .wal for)\n",
                                     mapsPassed, manifest.size(), allModels, modelsByNameOnly);
   for (const auto& [dialect, r] : byDialect)
-    summary += fmt::format("  {:<14} faces {:>6}  matched {:>6}  wrong {:>4}  unmatched {:>4}\n", dialect, r.faces, r.matched, r.wrong, r.unmatched);
+    summary += fmt::format("  {:<14} faces {:>6}  matched {:>6}  wrong {:>4}  unmatched {:>4}  polygon past ours {:>3} (by up to {:.3g} units)\n", dialect,
+                           r.faces, r.matched, r.wrong, r.unmatched, r.uncontained, r.maxOutside);
   std::cout << summary << (deviations.empty() ? "every compiled face paired and within tolerance\n" : "faces that differ:\n" + deviations);
   RecordProperty("summary", summary);
 }
