@@ -591,6 +591,67 @@ TEST(BspTextures, HalfLifeMiptexInsideTheBspAreDecodedWithTheirPalette) {
   EXPECT_EQ(m.baseColor.rgba, fromWad->baseColor.rgba);
 }
 
+// A Quake level compiled with its textures (qbsp without -notex): the BSP29 miptex lump holds
+// 8-bit indices into Quake's palette, which the importer finds through --palette (or
+// gfx/palette.lmp up the tree). Each texel must be the palette colour of its index, as the
+// raw lump says; indices 224..255 also shine (fullbright).
+TEST(BspTextures, QuakeMiptexInsideTheBspAreDecodedWithTheQuakePalette) {
+  BT_REQUIRE_SHARED(shared);
+  const bt::WadFile wad = bt::WadFile::open(shared / "maps/librequake/texture-wads/lq_dev_legacy/lq_dev_legacy.wad");
+  const auto path = scratchDir() / "q1_embedded.bsp";
+  const Bytes file = withEmbeddedTextures(readBytes(shared / "oracle" / "maps_librequake_lq1_maps_src_misc_slope.bsp"), wad);
+  writeBytes(path, file);
+  const auto bsp = bt::bsp::readBspFile(file, "q1_embedded.bsp");
+  const bt::Palette palette = bt::loadPalette(shared / "maps/palettes/quake.lmp");
+
+  bt::ImportOptions options;
+  options.textures.palette = (shared / "maps/palettes/quake.lmp").string();
+  const bt::Scene scene = importPath(path, options);
+  size_t decoded = 0, fullbrightTexels = 0;
+  for (const bt::bsp::Miptex& miptex : bsp.miptex) {
+    if (!miptex.present || !miptex.hasPixels) continue;
+    SCOPED_TRACE(miptex.name);
+    const auto index = scene.findMaterial(miptex.name);
+    ASSERT_TRUE(index);
+    const bt::Material& m = scene.materials[*index];
+    EXPECT_EQ(m.source, bt::TextureSource::Miptex);
+    EXPECT_EQ(m.sourcePath, path.string());
+    ASSERT_EQ(m.width, static_cast<int>(miptex.width));
+    ASSERT_EQ(m.height, static_cast<int>(miptex.height));
+    // Mip level 0 as stored: header {name[16], width, height, offsets[4]}, then indices.
+    const size_t pixels = u32At(miptex.bytes, 24);
+    for (int y = 0; y < m.height; ++y)
+      for (int x = 0; x < m.width; ++x) {
+        const uint8_t i = miptex.bytes[pixels + static_cast<size_t>(y) * m.width + x];
+        const uint8_t* texel = m.baseColor.texel(x, y);
+        const bool transparent = miptex.name[0] == '{' && i == 255;
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(texel[c], transparent ? 0 : palette.rgb[i * 3 + c]) << x << "," << y;
+        ASSERT_EQ(texel[3], transparent ? 0 : 255);
+        if (i >= 224 && !transparent) {
+          ASSERT_FALSE(m.emissive.empty());
+          for (int c = 0; c < 3; ++c) ASSERT_EQ(m.emissive.texel(x, y)[c], palette.rgb[i * 3 + c]);
+          ++fullbrightTexels;
+        }
+      }
+    // The same texture from the WAD it came from decodes to the same pixels.
+    const auto fromWad = wad.loadTexture(miptex.name, &palette);
+    ASSERT_TRUE(fromWad);
+    EXPECT_EQ(m.baseColor.rgba, fromWad->baseColor.rgba);
+    ++decoded;
+  }
+  EXPECT_EQ(decoded, 20u);
+  EXPECT_GT(fullbrightTexels, 0u);
+
+  // Without a palette the level's own pixels cannot be read: one warning says so, and the names
+  // are looked up like a .map's instead (not found here: placeholders).
+  const bt::Scene withoutPalette = importPath(path);
+  size_t warnings = 0;
+  for (const bt::Diagnostic& d : withoutPalette.diagnostics)
+    warnings += d.message.find("the level's own textures need Quake's palette") != std::string::npos;
+  EXPECT_EQ(warnings, 1u);
+  for (const bt::Material& m : withoutPalette.materials) EXPECT_NE(m.source, bt::TextureSource::Miptex) << m.name;
+}
+
 TEST(BspTextures, TexturesMissingFromTheBspAreSearchedInWads) {
   BT_REQUIRE_SHARED(shared);
   bt::ImportOptions options;
