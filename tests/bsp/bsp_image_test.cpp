@@ -55,9 +55,6 @@ struct KnownDifference {
   std::string_view bsp;
   std::string_view reason;
 };
-constexpr std::string_view kVisblocker =
-    "func_illusionary_visblocker: qbsp writes its volume as empty leaves, so a hull-0 rebuild has no "
-    "cell to carry its faces (no BRUSHLIST lump)";
 constexpr std::string_view kOverlap =
     "coplanar faces of overlapping brushes: qbsp keeps one (the later brush's); the .map preview "
     "keeps both and the tracer's equal-t rule (bvh/trace_scene.h: lower face index) picks by file order";
@@ -65,8 +62,6 @@ constexpr std::string_view kLeaving =
     "a ray leaves a liquid brush at the same t where it enters a wall; the tracer's equal-t rule "
     "(lower face index) may pick the leaving face and the ray passes the wall, depending on brush order";
 constexpr KnownDifference kKnownDifferences[] = {
-    {"maps_ericw-tools_testmaps_q1_func_illusionary_visblocker.bsp", kVisblocker},
-    {"maps_ericw-tools_testmaps_q1_func_illusionary_visblocker_interactions.bsp", kVisblocker},
     {"maps_ericw-tools_testmaps_q1_water_slime_zfighting.bsp", kOverlap},
     {"maps_ericw-tools_testmaps_q2_chop_order_0.bsp", kOverlap},
     {"maps_ericw-tools_testmaps_q2_chop_order_1.bsp", kOverlap},
