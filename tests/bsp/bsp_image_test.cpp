@@ -56,8 +56,9 @@ struct KnownDifference {
   std::string_view reason;
 };
 constexpr std::string_view kOverlap =
-    "coplanar faces of overlapping brushes: qbsp keeps one (the later brush's); the .map preview "
-    "keeps both and the tracer's equal-t rule (bvh/trace_scene.h: lower face index) picks by file order";
+    "coplanar faces of overlapping brushes: qbsp keeps one (the later brush's, unless _chop_order "
+    "says otherwise); the .map preview keeps both and the tracer's equal-t rule (bvh/trace_scene.h: "
+    "lower face index) picks the earlier";
 constexpr std::string_view kLeaving =
     "a ray leaves a liquid brush at the same t where it enters a wall; the tracer's equal-t rule "
     "(lower face index) may pick the leaving face and the ray passes the wall, depending on brush order";
