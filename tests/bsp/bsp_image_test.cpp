@@ -174,14 +174,17 @@ TEST(BspImage, MapAndBspRenderTheSameAlbedoAndNormals) {
     agreeing += r.agreement.agreeing;
     nothingToCompare += r.agreement.compared == 0;
   }
-  std::printf("%zu levels, %zu pixels compared, %.3f %% agree; %zu levels show nothing comparable from their "
-              "camera\nworst levels:\n",
-              results.size(), compared, 100.0 * double(agreeing) / double(compared), nothingToCompare);
-  for (size_t i = 0; i < results.size() && i < 15; ++i) {
-    const Agreement& a = results[i].agreement;
-    std::printf("  %6.2f %% of %5zu  %s%s\n", 100.0 * a.fraction(), a.compared, results[i].name.c_str(),
-                knownDifference(results[i].name) ? " (known difference)" : "");
+  // Every level, worst first: agreeing share of the compared pixels, how many were compared and
+  // excluded, and what differed.
+  for (const Result& r : results) {
+    const Agreement& a = r.agreement;
+    std::printf("  %6.2f %% of %5zu (excluded %5zu; albedo %4zu, normal %4zu, face or none %4zu)  %s%s\n",
+                100.0 * a.fraction(), a.compared, a.excluded, a.albedoOnly, a.normalOnly, a.coverage, r.name.c_str(),
+                knownDifference(r.name) ? " (known difference)" : "");
   }
+  std::printf("%zu levels, %zu pixels compared, %.3f %% agree; %zu levels show nothing comparable from their "
+              "camera\n",
+              results.size(), compared, 100.0 * double(agreeing) / double(compared), nothingToCompare);
 }
 
 } // namespace
