@@ -1,4 +1,5 @@
 #include "renderer/cpu/render_scene.h"
+#include "renderer/cpu/surface_lights.h"
 #include "scene/names.h"
 
 #include "renderer/cpu/color.h"
@@ -92,8 +93,11 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   for (GpuLight& l : rs.surfaceLights) l.value = 0.0f;
   for (const SurfaceTemplate& t : lights.surfaceTemplates)
     if (auto m = scene.findMaterial(t.texture)) {
-      rs.surfaceLights[*m] = t.light;
-      rs.surfaceLights[*m].surfaceMaterial = *m;
+      GpuLight& tmpl = rs.surfaceLights[*m];
+      tmpl = t.light;
+      // ericw-tools lights the faces of a radiosity surface light at least at its own value.
+      tmpl.faithfulScale = t.radiosity ? std::max(t.minlightScale, 0.0f) : 0.0f;
+      if (tmpl.faithfulScale > 0.0f) tmpl.flags |= kLightFlagFaceMinlight;
     }
 
   rs.faceFlags.resize(scene.faces.size());
@@ -115,6 +119,18 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
         !(flags & (kFaceHidden | kFaceSky)))
       flags |= kFaceEmissive;
   }
+
+  // Faithful mode's _surface lights: point lights spread over the template faces.
+  std::vector<bool> solidBrush(scene.brushes.size());
+  for (size_t b = 0; b < scene.brushes.size(); ++b) {
+    const Brush& brush = scene.brushes[b];
+    bool solid = brush.entity < scene.entities.size() && mergedIntoWorld(scene.entities[brush.entity].classname());
+    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
+      solid = solid && !(classifyTexture(scene.faces[f].texture, scene.faces[f].surface) & (kFaceHidden | kFaceLiquid));
+    solidBrush[b] = solid;
+  }
+  for (const GpuLight& l : spreadSurfaceLights(scene, lights.surfaceTemplates, solidBrush, rs.materials, rs.world))
+    rs.lights.push_back(l);
 
   // Emitter triangles: a fan over each emitting face's winding.
   for (size_t i = 0; i < scene.faces.size(); ++i) {

@@ -8,6 +8,7 @@
 // byte is (light sum x _range) clamped to 255, the brightest of r, g, b for coloured light.
 #include "importers/bsp/bsp_file.h"
 #include "importers/import.h"
+#include "renderer/cpu/faithful.h"
 #include "renderer/cpu/integrator.h"
 #include "tests/test_data.h"
 
@@ -84,6 +85,10 @@ OracleResult compareWithCompiler(const std::filesystem::path& bspPath, const std
     const glm::dmat3 m = glm::transpose(glm::dmat3(glm::dvec3(tex.vecs[0][0], tex.vecs[0][1], tex.vecs[0][2]),
                                                    glm::dvec3(tex.vecs[1][0], tex.vecs[1][1], tex.vecs[1][2]), normal));
     const glm::dmat3 inv = glm::inverse(m);
+    // A face whose texture carries a radiosity _surface template is lit at least at its value.
+    glm::vec3 faceMinlight(0.0f);
+    if (auto material = scene.findMaterial(tex.texture); material && *material < rs.surfaceLights.size())
+      faceMinlight = faithful::surfaceFaceMinlight(rs.surfaceLights[*material]);
     ++result.faces;
     for (int t = 0; t < size[1]; ++t)
       for (int s = 0; s < size[0]; ++s) {
@@ -94,7 +99,7 @@ OracleResult compareWithCompiler(const std::filesystem::path& bspPath, const std
           Rng rng = pixelRng(uint32_t(fi), uint32_t(t * size[0] + s), uint32_t(k), 1);
           sum += faithfulLightAt(rs, p, glm::vec3(normal), rng);
         }
-        glm::vec3 stored = sum / float(kSamplesPerLuxel) * rs.world.range;
+        glm::vec3 stored = glm::max(sum / float(kSamplesPerLuxel), faceMinlight) * rs.world.range;
         const float peak = std::max({stored.x, stored.y, stored.z});
         if (peak > 255.0f) stored *= 255.0f / peak;
         // The mono lightmap holds the brightest channel of the coloured one (.lit files agree).
@@ -146,11 +151,15 @@ TEST_P(OracleLightmaps, FaithfulDirectLightMatchesCompiler) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
-                         // Not here: deprecated_nobounce sets worldspawn _bounce 1 (the compiler bounced,
-                         // this compares direct light), q1_light_invalid_delay compiled with no lit
-                         // face, dirttest* need dirt (ambient occlusion, not modelled), hl_* store RGB,
-                         // testsurfacelight and surflight_minlight: our _surface lights are far too
-                         // dark against the compiler's (open defect), lqdm5: too slow for the suite.
+                         // Not here: deprecated_nobounce, bouncecolorscaletest, q1_light_bounce_litwater and
+                         // q1_light_bounce_noshadow set worldspawn _bounce (the compiler bounced, this
+                         // compares direct light); q1_light_invalid_delay compiled with no lit face;
+                         // dirttest/dirttest2 need dirt (ambient occlusion, not modelled); q1_light_hlform
+                         // is a Half-Life style map (RGB lightmap); q1_light_skip_shadow,
+                         // q1_light_suntexture, q1_light_surflight_group, switchableshadow_selfshadows and
+                         // q1_litwater_opt_in exercise keys not modelled (skip shadows, _suntexture,
+                         // _surflight_group, _switchableshadow self-shadowing, per-entity _litwater);
+                         // lqdm5: too slow for the suite; the two _surface maps: OracleSurfaceLights below.
                          ::testing::Values("ericw-tools_testmaps_deprecated_falloff",
                                            "ericw-tools_testmaps_deprecated_light_near_wall",
                                            "ericw-tools_testmaps_deprecated_suntest",
@@ -165,6 +174,43 @@ INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
                                            "quake_map_source_e1m1"),
                          [](const auto& info) {
                            std::string n = info.param;
+                           std::replace(n.begin(), n.end(), '-', '_');
+                           return n;
+                         });
+
+// _surface lights against the compiler: an open gap, held to the figures reached so that it can
+// only narrow. The compiler spreads its point lights over the faces of the compiled BSP, which
+// qbsp has split along every BSP plane; we spread them over the source brush sides (qbsp's
+// 240-texel subdivision and GLQuake's 128-unit grid reproduced, the BSP splits not), so
+// testsurfacelight gets 72 point lights where the compiler made 111 and comes out darker.
+// surflight_minlight: the water's flipped underwater faces emit in the BSP but have no brush side.
+struct SurfaceCase {
+  const char* name;
+  double maxMedianError;
+};
+class OracleSurfaceLights : public ::testing::TestWithParam<SurfaceCase> {};
+
+TEST_P(OracleSurfaceLights, FaithfulSurfaceLightsTrackCompiler) {
+  BT_REQUIRE_SHARED(shared);
+  const SurfaceCase c = GetParam();
+  const std::string bspName = std::string("maps_") + c.name + ".bsp";
+  const std::filesystem::path bspPath = shared / "oracle" / "lit" / bspName;
+  ASSERT_TRUE(std::filesystem::exists(bspPath)) << bspPath;
+  const std::filesystem::path map = sourceMap(shared, bspName);
+  ASSERT_FALSE(map.empty()) << "no manifest entry for " << bspName;
+  const OracleResult r = compareWithCompiler(bspPath, map);
+  std::printf("%s", fmt::format("oracle {}: {} faces, {} luxels, median error {:.2f} %, within 5 %: {:.1f} %, mean |diff| {:.2f}/255, mean diff {:+.2f}\n",
+                                c.name, r.faces, r.luxels, 100.0 * r.medianError, 100.0 * double(r.within5) / double(std::max<size_t>(r.luxels, 1)),
+                                r.meanAbsError, r.meanSignedError).c_str());
+  ASSERT_GT(r.luxels, 0u);
+  EXPECT_LE(r.medianError, c.maxMedianError) << "the issue's bar is 5 %";
+}
+
+INSTANTIATE_TEST_SUITE_P(Lit, OracleSurfaceLights,
+                         ::testing::Values(SurfaceCase{"ericw-tools_testmaps_deprecated_testsurfacelight", 0.28},
+                                           SurfaceCase{"ericw-tools_testmaps_q1_surflight_minlight", 0.07}),
+                         [](const auto& info) {
+                           std::string n = info.param.name;
                            std::replace(n.begin(), n.end(), '-', '_');
                            return n;
                          });
