@@ -6,8 +6,8 @@ const float OVERBRIGHT_ONE = 128.0; // the engine maps lightmap 128 to the textu
 
 const float SURFACE_HOTSPOT_CLAMP = 16.0; // radiosity surface lights: ltface.cc's hotspot clamp
 
-float distanceValue(GpuLight light, float dist, float scaledist) {
-  float value = light.value * light.faithfulScale;
+float copyDistanceValue(GpuLight light, float dist, float scaledist) {
+  float value = light.value;
   if (light.formula == FORMULA_SURFACE_RADIOSITY) {
     float d = max(dist, SURFACE_HOTSPOT_CLAMP);
     return value / (d * d);
@@ -29,6 +29,11 @@ float distanceValue(GpuLight light, float dist, float scaledist) {
   // Linear; negative lights ("darklights") fall off towards zero from below.
   if (value > 0.0) return max(value - scaled, 0.0);
   return min(value + scaled, 0.0);
+}
+
+// ... summed over the light's copies (faithfulScale: ericw-tools' unsplit jittered copies).
+float distanceValue(GpuLight light, float dist, float scaledist) {
+  return light.faithfulScale * copyDistanceValue(light, dist, scaledist);
 }
 
 // Half-Lambert: anglescale 0.5 lights a grazing surface at half strength.

@@ -27,10 +27,10 @@ inline constexpr float kOverbrightOne = 128.0f;
 // luxel right next to an emitting face does not blow up.
 inline constexpr float kSurfaceHotspotClamp = 16.0f;
 
-// Light value at `dist` from a point light, before the angle terms (GetLightValue).
+// Light value at `dist` from one copy of a point light, before the angle terms (GetLightValue).
 // `atten` is the light's `wait`; ericw-tools multiplies it with the global `_dist` (scaledist).
-inline float distanceValue(const GpuLight& light, float dist, float scaledist = 1.0f) {
-  const float value = light.value * light.faithfulScale;
+inline float copyDistanceValue(const GpuLight& light, float dist, float scaledist) {
+  const float value = light.value;
   if (light.formula == uint32_t(LightFormula::SurfaceRadiosity)) {
     const float d = std::max(dist, kSurfaceHotspotClamp);
     return value / (d * d);
@@ -57,6 +57,11 @@ inline float distanceValue(const GpuLight& light, float dist, float scaledist = 
     if (value > 0.0f) return std::max(value - scaled, 0.0f);
     return std::min(value + scaled, 0.0f);
   }
+}
+
+// ... and summed over the light's copies (faithfulScale: ericw-tools' unsplit jittered copies).
+inline float distanceValue(const GpuLight& light, float dist, float scaledist = 1.0f) {
+  return light.faithfulScale * copyDistanceValue(light, dist, scaledist);
 }
 
 // Half-Lambert: anglescale 0.5 lights a grazing surface at half strength instead of zero,
