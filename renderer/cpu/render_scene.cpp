@@ -121,16 +121,17 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   }
 
   // Faithful mode's _surface lights: point lights spread over the template faces.
-  std::vector<bool> solidBrush(scene.brushes.size());
+  std::vector<BrushContents> contents(scene.brushes.size(), BrushContents::Empty);
   for (size_t b = 0; b < scene.brushes.size(); ++b) {
     const Brush& brush = scene.brushes[b];
-    bool solid = brush.entity < scene.entities.size() && mergedIntoWorld(scene.entities[brush.entity].classname());
+    if (brush.entity >= scene.entities.size() || !mergedIntoWorld(scene.entities[brush.entity].classname())) continue;
+    uint32_t classes = 0;
     for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
-      solid = solid && !(classifyTexture(scene.faces[f].texture, scene.faces[f].surface) & (kFaceHidden | kFaceLiquid));
-    solidBrush[b] = solid;
+      classes |= classifyTexture(scene.faces[f].texture, scene.faces[f].surface);
+    if (classes & kFaceHidden) continue;
+    contents[b] = (classes & kFaceLiquid) ? BrushContents::Liquid : BrushContents::Solid;
   }
-  for (const GpuLight& l : spreadSurfaceLights(scene, lights.surfaceTemplates, solidBrush, rs.materials, rs.world))
-    rs.lights.push_back(l);
+  for (const GpuLight& l : spreadSurfaceLights(scene, lights.surfaceTemplates, contents, rs.world)) rs.lights.push_back(l);
 
   // Emitter triangles: a fan over each emitting face's winding.
   for (size_t i = 0; i < scene.faces.size(); ++i) {

@@ -1,6 +1,5 @@
 #include "renderer/cpu/surface_lights.h"
 
-#include "renderer/cpu/color.h"
 #include "scene/names.h"
 #include "scene/winding.h"
 
@@ -8,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace bt {
 
@@ -17,7 +17,8 @@ constexpr double kQ1SurfaceGrid = 128.0; // `light -surflight_subdivide` default
 constexpr double kMinPieceWidth = 8.0;   // GLQuake does not cut off slivers thinner than this
 constexpr double kRadiosityLift = 1.0;   // surflight.cc lifts a radiosity point 1 unit off the face
 constexpr double kMinEmitterArea = 1.0;  // surflight.cc skips smaller faces
-constexpr double kInsideEpsilon = 0.01;  // a point this far behind every plane is inside the brush
+constexpr double kOnPlaneEpsilon = 0.01; // qbsp's ON_EPSILON-like tolerance for touching planes
+constexpr double kContinuousEpsilon = 0.005; // qbsp: edges turning less than this go straight on
 
 void subdivide(const Winding& w, double size, std::vector<Winding>& pieces) {
   if (w.size() < 3) return;
@@ -66,6 +67,17 @@ void subdivideForQbsp(const Winding& w, const TextureFrame& frame, std::vector<W
   for (Winding& piece : todo) pieces.push_back(std::move(piece));
 }
 
+// The texture's mean colour in its own (sRGB) space, 0..1, as ericw-tools averages it.
+glm::vec3 averageColor(const Image& image) {
+  glm::dvec3 sum(0.0);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const uint8_t* p = image.texel(x, y);
+      sum += glm::dvec3(p[0], p[1], p[2]);
+    }
+  return glm::vec3(sum / (255.0 * double(image.width) * double(image.height)));
+}
+
 dvec3 vertexMean(const Winding& w) {
   dvec3 sum(0.0);
   for (const dvec3& p : w) sum += p;
@@ -84,48 +96,106 @@ dvec3 centroid(const Winding& w) {
   return totalArea > 0.0 ? sum / totalArea : vertexMean(w);
 }
 
-bool insideSolid(const Scene& scene, const std::vector<bool>& solidBrush, const dvec3& p) {
-  for (size_t b = 0; b < scene.brushes.size(); ++b) {
-    const Brush& brush = scene.brushes[b];
-    if (!solidBrush[b] || brush.faceCount == 0) continue;
-    bool inside = true;
-    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount && inside; ++f)
-      inside = scene.faces[f].plane.distanceTo(p) < -kInsideEpsilon;
-    if (inside) return true;
+// Carves brush `b` out of `fragments` (qbsp's CSG): the parts in front of any of its planes
+// stay, the part behind all of them goes. A fragment lying on one of its planes stays when it
+// faces the same way (it is that brush's neighbour, not buried in it).
+void carve(const Scene& scene, const Brush& brush, const dvec3& faceNormal, std::vector<Winding>& fragments) {
+  std::vector<Winding> kept;
+  for (Winding inside : fragments) {
+    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount && !inside.empty(); ++f) {
+      const Plane& plane = scene.faces[f].plane;
+      SplitWinding split = splitWinding(inside, plane, kOnPlaneEpsilon);
+      const bool onPlane = !split.front.empty() && split.front.size() == split.back.size() && split.front == split.back;
+      if (onPlane) {
+        if (glm::dot(plane.normal, faceNormal) > 0.0) kept.push_back(std::move(inside));
+        if (glm::dot(plane.normal, faceNormal) > 0.0) inside.clear();
+        continue;
+      }
+      if (split.front.size() >= 3) kept.push_back(std::move(split.front));
+      inside = split.back.size() >= 3 ? std::move(split.back) : Winding{};
+    }
   }
-  return false;
+  fragments = std::move(kept);
+}
+
+// Drops vertices where the polygon goes straight on; false when it turns the wrong way
+// anywhere (not convex, seen from the side `normal` points to, counter-clockwise).
+bool makeConvex(Winding& w, const dvec3& normal) {
+  for (size_t i = 0; i < w.size() && w.size() >= 3;) {
+    const dvec3& prev = w[(i + w.size() - 1) % w.size()];
+    const dvec3& next = w[(i + 1) % w.size()];
+    const dvec3 in = glm::normalize(w[i] - prev), out = glm::normalize(next - w[i]);
+    const double turn = glm::dot(glm::cross(in, out), normal);
+    if (turn < -kContinuousEpsilon) return false;
+    if (turn <= kContinuousEpsilon) w.erase(w.begin() + std::ptrdiff_t(i));
+    else ++i;
+  }
+  return w.size() >= 3;
+}
+
+// qbsp's TryMerge: two coplanar polygons sharing an edge become one when the result is convex.
+std::optional<Winding> tryMerge(const Winding& a, const Winding& b, const dvec3& normal) {
+  auto same = [](const dvec3& p, const dvec3& q) { return glm::length(p - q) < kOnPlaneEpsilon; };
+  for (size_t i = 0; i < a.size(); ++i)
+    for (size_t j = 0; j < b.size(); ++j) {
+      const size_t i1 = (i + 1) % a.size(), j1 = (j + 1) % b.size();
+      if (!same(a[i], b[j1]) || !same(a[i1], b[j])) continue;
+      // a from a[i1] round to a[i], then b past the shared edge.
+      Winding merged;
+      for (size_t k = 0; k < a.size(); ++k) merged.push_back(a[(i1 + k) % a.size()]);
+      for (size_t k = 2; k < b.size(); ++k) merged.push_back(b[(j + k) % b.size()]);
+      if (makeConvex(merged, normal)) return merged;
+      return std::nullopt;
+    }
+  return std::nullopt;
+}
+
+// qbsp's MergeAll over one plane and texture: merge until no pair merges any more.
+void mergeCoplanar(std::vector<Winding>& polygons, const dvec3& normal) {
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (size_t i = 0; i < polygons.size() && !merged; ++i)
+      for (size_t j = i + 1; j < polygons.size() && !merged; ++j)
+        if (std::optional<Winding> m = tryMerge(polygons[i], polygons[j], normal)) {
+          polygons[i] = std::move(*m);
+          polygons.erase(polygons.begin() + std::ptrdiff_t(j));
+          merged = true;
+        }
+  }
+}
+
+bool overlaps(const Bounds& a, const Bounds& b) {
+  for (int i = 0; i < 3; ++i)
+    if (a.min[i] > b.max[i] + kOnPlaneEpsilon || b.min[i] > a.max[i] + kOnPlaneEpsilon) return false;
+  return true;
 }
 
 // The Q1 kind: a full copy of the template on every grid piece of the face.
-void addGridLights(const Face& face, const SurfaceTemplate& t, const Scene& scene, const std::vector<bool>& solidBrush,
-                   std::vector<GpuLight>& out) {
+void addGridLights(const Face& face, const Winding& fragment, const SurfaceTemplate& t, std::vector<GpuLight>& out) {
   std::vector<Winding> qbspPieces;
-  subdivideForQbsp(face.winding, face.frame, qbspPieces);
+  subdivideForQbsp(fragment, face.frame, qbspPieces);
   for (const Winding& qbspPiece : qbspPieces)
-  for (const Winding& piece : subdivideOnGrid(qbspPiece, kQ1SurfaceGrid)) {
-    const dvec3 origin = centroid(piece) + face.plane.normal * double(t.offset);
-    if (insideSolid(scene, solidBrush, origin)) continue;
-    GpuLight light = t.light;
-    light.origin = glm::vec3(origin);
-    light.flags |= kLightFlagFromSurface;
-    if (t.spotlight) light.direction = glm::vec3(face.plane.normal);
-    out.push_back(light);
-  }
+    for (const Winding& piece : subdivideOnGrid(qbspPiece, kQ1SurfaceGrid)) {
+      GpuLight light = t.light;
+      light.origin = glm::vec3(centroid(piece) + face.plane.normal * double(t.offset));
+      light.flags |= kLightFlagFromSurface;
+      if (t.spotlight) light.direction = glm::vec3(face.plane.normal);
+      out.push_back(light);
+    }
 }
 
 // The radiosity kind: one point for the whole face, value x area, falling off as 1/d^2.
-void addRadiosityLight(const Face& face, const SurfaceTemplate& t, const Scene& scene, const std::vector<bool>& solidBrush,
-                       const std::vector<GpuMaterial>& materials, const WorldLighting& world, std::vector<GpuLight>& out) {
-  const double faceArea = area(face.winding);
+void addRadiosityLight(const Scene& scene, const Face& face, const Winding& fragment, const SurfaceTemplate& t,
+                       const WorldLighting& world, std::vector<GpuLight>& out) {
+  const double faceArea = area(fragment);
   if (faceArea < kMinEmitterArea) return;
-  const dvec3 origin = vertexMean(face.winding) + face.plane.normal * kRadiosityLift;
-  if (insideSolid(scene, solidBrush, origin)) return;
+  const dvec3 origin = vertexMean(fragment) + face.plane.normal * kRadiosityLift;
 
   // surflight.cc: colour (0..1) x light value; its brightest channel is the intensity, and the
   // colour is normalised by it only when that is above 1.
   glm::vec3 color = t.light.color;
-  if (!t.hasColor && face.material < materials.size() && !scene.materials[face.material].baseColor.empty())
-    color = linearToSrgb(glm::vec3(materials[face.material].averageAlbedo));
+  if (!t.hasColor && face.material < scene.materials.size() && !scene.materials[face.material].baseColor.empty())
+    color = averageColor(scene.materials[face.material].baseColor);
   color *= t.light.value;
   const float intensity = std::max({color.x, color.y, color.z});
   if (intensity <= 0.0f) return; // ericw-tools has no negative surface lights
@@ -151,16 +221,68 @@ std::vector<Winding> subdivideOnGrid(const Winding& winding, double size) {
   return pieces;
 }
 
+std::vector<Winding> visibleFragments(const Scene& scene, uint32_t faceIndex, const std::vector<BrushContents>& contents) {
+  const Face& face = scene.faces[faceIndex];
+  if (face.winding.size() < 3) return {};
+  const bool liquid = face.brush < contents.size() && contents[face.brush] == BrushContents::Liquid;
+  Bounds bounds;
+  for (const dvec3& p : face.winding) bounds.grow(p);
+  std::vector<Winding> fragments{face.winding};
+  for (size_t b = 0; b < scene.brushes.size() && !fragments.empty(); ++b) {
+    const bool carves = contents[b] == BrushContents::Solid || (liquid && contents[b] == BrushContents::Liquid);
+    if (b == face.brush || !carves || !overlaps(bounds, scene.brushes[b].bounds)) continue;
+    carve(scene, scene.brushes[b], face.plane.normal, fragments);
+  }
+  return fragments;
+}
+
 std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
-                                          const std::vector<bool>& solidBrush, const std::vector<GpuMaterial>& materials,
-                                          const WorldLighting& world) {
+                                          const std::vector<BrushContents>& contents, const WorldLighting& world) {
+  // qbsp merges what CSG leaves of coplanar sides with the same texture and projection into
+  // one face again; the compiler spreads its lights over those faces.
+  struct Surface {
+    uint32_t face; // the first side of the group: plane, frame, material
+    std::vector<Winding> polygons;
+  };
+  auto sameSurface = [&](const Face& a, const Face& b) {
+    auto near = [](const dvec3& p, const dvec3& q) { return glm::length(p - q) < 1e-4; };
+    return near(a.plane.normal, b.plane.normal) && std::abs(a.plane.dist - b.plane.dist) < kOnPlaneEpsilon &&
+           near(a.frame.tangent, b.frame.tangent) && near(a.frame.bitangent, b.frame.bitangent) &&
+           std::abs(a.frame.s(a.frame.origin) - a.frame.s(b.frame.origin)) < 1e-3 &&
+           std::abs(a.frame.t(a.frame.origin) - a.frame.t(b.frame.origin)) < 1e-3;
+  };
   std::vector<GpuLight> lights;
-  for (const SurfaceTemplate& t : templates)
-    for (const Face& face : scene.faces) {
-      if (face.winding.size() < 3 || !equalsIgnoreCase(face.texture, t.texture)) continue;
-      if (t.radiosity) addRadiosityLight(face, t, scene, solidBrush, materials, world, lights);
-      else addGridLights(face, t, scene, solidBrush, lights);
+  for (const SurfaceTemplate& t : templates) {
+    std::vector<Surface> surfaces;
+    for (uint32_t f = 0; f < scene.faces.size(); ++f) {
+      if (!equalsIgnoreCase(scene.faces[f].texture, t.texture)) continue;
+      std::vector<Winding> fragments = visibleFragments(scene, f, contents);
+      if (fragments.empty()) continue;
+      auto it = std::find_if(surfaces.begin(), surfaces.end(),
+                             [&](const Surface& s) { return sameSurface(scene.faces[s.face], scene.faces[f]); });
+      if (it == surfaces.end()) it = surfaces.insert(surfaces.end(), Surface{f, {}});
+      for (Winding& w : fragments) it->polygons.push_back(std::move(w));
     }
+    for (Surface& surface : surfaces) {
+      const Face& face = scene.faces[surface.face];
+      mergeCoplanar(surface.polygons, face.plane.normal);
+      const bool liquid = face.brush < contents.size() && contents[face.brush] == BrushContents::Liquid;
+      for (const Winding& polygon : surface.polygons) {
+        if (!t.radiosity) {
+          addGridLights(face, polygon, t, lights);
+          continue;
+        }
+        addRadiosityLight(scene, face, polygon, t, world, lights);
+        // qbsp gives a liquid surface a second face looking into the liquid; the Q1 kind skips
+        // it ("underwater side"), the radiosity kind emits from it too.
+        if (liquid) {
+          Face underwater = face;
+          underwater.plane = face.plane.flipped();
+          addRadiosityLight(scene, underwater, Winding(polygon.rbegin(), polygon.rend()), t, world, lights);
+        }
+      }
+    }
+  }
   return lights;
 }
 

@@ -11,9 +11,9 @@
 //   - radiosity kind: one point per face (`-emissivequality low`, the default) at the mean of
 //     its vertices lifted 1 unit, carrying value x face area (LightFormula::SurfaceRadiosity).
 //
-// The compiler works on the faces of the compiled BSP, which qbsp has already clipped against
-// the world; we work on the source brush sides, so a point that lands inside a solid brush
-// (a side pressed against a wall) is dropped instead.
+// The compiler works on the faces of the compiled BSP. We rebuild what qbsp's CSG leaves of each
+// source brush side (visibleFragments) and its 240-texel subdivision, but not the further splits
+// along the BSP tree's planes, so we get fewer, larger pieces than the compiler did.
 #pragma once
 
 #include "renderer/cpu/lights.h"
@@ -24,12 +24,18 @@
 
 namespace bt {
 
-// `solidBrush[b]`: brush b stops light and takes up space in the compiled map (world, opaque).
-// `materials`: the per-material parameters (averageAlbedo gives a radiosity template without
-// `_color` the texture's colour).
+// What a brush is to qbsp's CSG: world brushes are solid or liquid; brush entities and
+// clip/trigger/skip brushes carve nothing out of the world's faces.
+enum class BrushContents : uint8_t { Empty, Solid, Liquid };
+
+// `contents[b]` for every brush of `scene`. A radiosity template without `_color` takes the
+// texture's colour (scene materials).
 std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
-                                          const std::vector<bool>& solidBrush, const std::vector<GpuMaterial>& materials,
-                                          const WorldLighting& world);
+                                          const std::vector<BrushContents>& contents, const WorldLighting& world);
+
+// The parts of brush side `face` that qbsp's CSG keeps: outside every other solid brush (and,
+// for a liquid's side, outside the other liquid brushes), as convex fragments.
+std::vector<std::vector<dvec3>> visibleFragments(const Scene& scene, uint32_t face, const std::vector<BrushContents>& contents);
 
 // GLQuake's SubdividePolygon: cut `winding` at multiples of `size` on each axis, the cut
 // nearest the middle first, unless it would leave a piece thinner than 8 units.

@@ -103,7 +103,8 @@ OracleResult compareWithCompiler(const std::filesystem::path& bspPath, const std
         const float peak = std::max({stored.x, stored.y, stored.z});
         if (peak > 255.0f) stored *= 255.0f / peak;
         // The mono lightmap holds the brightest channel of the coloured one (.lit files agree).
-        const double ours = std::clamp(double(std::max({stored.x, stored.y, stored.z})), 0.0, 255.0);
+        // ... written to a byte by C's float-to-integer conversion, which truncates (WriteSingleLightmap).
+        const double ours = std::floor(std::clamp(double(std::max({stored.x, stored.y, stored.z})), 0.0, 255.0));
         const double compiler = bsp.lighting[size_t(face.lightOffset) + size_t(t) * size[0] + size_t(s)];
         const double error = std::abs(ours - compiler) / std::max(compiler, kErrorFloor);
         errors.push_back(error);
@@ -151,20 +152,27 @@ TEST_P(OracleLightmaps, FaithfulDirectLightMatchesCompiler) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
-                         // Not here: deprecated_nobounce, bouncecolorscaletest, q1_light_bounce_litwater and
-                         // q1_light_bounce_noshadow set worldspawn _bounce (the compiler bounced, this
-                         // compares direct light); q1_light_invalid_delay compiled with no lit face;
-                         // dirttest/dirttest2 need dirt (ambient occlusion, not modelled); q1_light_hlform
-                         // is a Half-Life style map (RGB lightmap); q1_light_skip_shadow,
-                         // q1_light_suntexture, q1_light_surflight_group, switchableshadow_selfshadows and
-                         // q1_litwater_opt_in exercise keys not modelled (skip shadows, _suntexture,
-                         // _surflight_group, _switchableshadow self-shadowing, per-entity _litwater);
-                         // lqdm5: too slow for the suite; the two _surface maps: OracleSurfaceLights below.
+                         // Not here: deprecated_nobounce and deprecated_bouncecolorscaletest set worldspawn
+                         // _bounce 1 (the compiler bounced, this compares direct light; the latter's lightmap
+                         // offsets also do not fit the lump as this test sizes faces, so no face is compared);
+                         // q1_light_invalid_delay compiled with no lit face; deprecated_dirttest2 needs dirt
+                         // (ambient occlusion, not modelled: median 5.5 %); lqdm5: too slow for the suite;
+                         // testsurfacelight: OracleSurfaceLights below.
                          ::testing::Values("ericw-tools_testmaps_deprecated_falloff",
                                            "ericw-tools_testmaps_deprecated_light_near_wall",
                                            "ericw-tools_testmaps_deprecated_suntest",
                                            "ericw-tools_testmaps_deprecated_testminlight",
                                            "ericw-tools_testmaps_deprecated_testlightonface",
+                                           "ericw-tools_testmaps_q1_surflight_minlight",
+                                           "ericw-tools_testmaps_q1_light_bounce_litwater",
+                                           "ericw-tools_testmaps_q1_light_bounce_noshadow",
+                                           "ericw-tools_testmaps_deprecated_dirttest",
+                                           "ericw-tools_testmaps_q1_light_hlform",
+                                           "ericw-tools_testmaps_q1_light_skip_shadow",
+                                           "ericw-tools_testmaps_q1_light_suntexture",
+                                           "ericw-tools_testmaps_q1_light_surflight_group",
+                                           "ericw-tools_testmaps_q1_light_switchableshadow_selfshadows",
+                                           "ericw-tools_testmaps_q1_litwater_opt_in",
                                            "ericw-tools_testmaps_q1_light_black",
                                            "ericw-tools_testmaps_q1_lightignore",
                                            "ericw-tools_testmaps_q1_light_switchableshadow_target",
@@ -178,12 +186,11 @@ INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
                            return n;
                          });
 
-// _surface lights against the compiler: an open gap, held to the figures reached so that it can
-// only narrow. The compiler spreads its point lights over the faces of the compiled BSP, which
-// qbsp has split along every BSP plane; we spread them over the source brush sides (qbsp's
-// 240-texel subdivision and GLQuake's 128-unit grid reproduced, the BSP splits not), so
-// testsurfacelight gets 72 point lights where the compiler made 111 and comes out darker.
-// surflight_minlight: the water's flipped underwater faces emit in the BSP but have no brush side.
+// testsurfacelight against the compiler: an open gap, held to the figure reached so that it can
+// only narrow. The compiler spreads its point lights over the faces of the compiled BSP; we
+// rebuild qbsp's CSG, face merging and 240-texel subdivision from the source brushes, but not
+// the splits along the BSP tree's planes nor the removal of faces that look into the void, so
+// the lava gets 151 point lights in other places than the compiler's 111.
 struct SurfaceCase {
   const char* name;
   double maxMedianError;
@@ -207,8 +214,7 @@ TEST_P(OracleSurfaceLights, FaithfulSurfaceLightsTrackCompiler) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Lit, OracleSurfaceLights,
-                         ::testing::Values(SurfaceCase{"ericw-tools_testmaps_deprecated_testsurfacelight", 0.28},
-                                           SurfaceCase{"ericw-tools_testmaps_q1_surflight_minlight", 0.07}),
+                         ::testing::Values(SurfaceCase{"ericw-tools_testmaps_deprecated_testsurfacelight", 0.12}),
                          [](const auto& info) {
                            std::string n = info.param.name;
                            std::replace(n.begin(), n.end(), '-', '_');
