@@ -131,7 +131,7 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
     if (classes & kFaceHidden) continue;
     contents[b] = (classes & kFaceLiquid) ? BrushContents::Liquid : BrushContents::Solid;
   }
-  for (const GpuLight& l : spreadSurfaceLights(scene, lights.surfaceTemplates, contents, rs.world)) rs.lights.push_back(l);
+  for (const GpuLight& l : spreadSurfaceLights(scene, lights.surfaceTemplates, contents, rs.world, diagnostics)) rs.lights.push_back(l);
 
   // Emitter triangles: a fan over each emitting face's winding.
   for (size_t i = 0; i < scene.faces.size(); ++i) {

@@ -3,6 +3,8 @@
 #include "scene/names.h"
 #include "scene/winding.h"
 
+#include <fmt/format.h>
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -121,6 +123,7 @@ void carve(const Scene& scene, const Brush& brush, const dvec3& faceNormal, std:
 // Drops vertices where the polygon goes straight on; false when it turns the wrong way
 // anywhere (not convex, seen from the side `normal` points to, counter-clockwise).
 bool makeConvex(Winding& w, const dvec3& normal) {
+  removeDuplicatePoints(w, 1e-6); // an edge without length has no direction
   for (size_t i = 0; i < w.size() && w.size() >= 3;) {
     const dvec3& prev = w[(i + w.size() - 1) % w.size()];
     const dvec3& next = w[(i + 1) % w.size()];
@@ -237,7 +240,8 @@ std::vector<Winding> visibleFragments(const Scene& scene, uint32_t faceIndex, co
 }
 
 std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
-                                          const std::vector<BrushContents>& contents, const WorldLighting& world) {
+                                          const std::vector<BrushContents>& contents, const WorldLighting& world,
+                                          Diagnostics& diagnostics) {
   // qbsp merges what CSG leaves of coplanar sides with the same texture and projection into
   // one face again; the compiler spreads its lights over those faces.
   struct Surface {
@@ -270,15 +274,22 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
       for (const Winding& polygon : surface.polygons) {
         if (!t.radiosity) {
           addGridLights(face, polygon, t, lights);
-          continue;
+        } else {
+          addRadiosityLight(scene, face, polygon, t, world, lights);
+          // qbsp gives a liquid surface a second face looking into the liquid; the Q1 kind skips
+          // it ("underwater side"), the radiosity kind emits from it too.
+          if (liquid) {
+            Face underwater = face;
+            underwater.plane = face.plane.flipped();
+            addRadiosityLight(scene, underwater, Winding(polygon.rbegin(), polygon.rend()), t, world, lights);
+          }
         }
-        addRadiosityLight(scene, face, polygon, t, world, lights);
-        // qbsp gives a liquid surface a second face looking into the liquid; the Q1 kind skips
-        // it ("underwater side"), the radiosity kind emits from it too.
-        if (liquid) {
-          Face underwater = face;
-          underwater.plane = face.plane.flipped();
-          addRadiosityLight(scene, underwater, Winding(polygon.rbegin(), polygon.rend()), t, world, lights);
+        if (lights.size() > kMaxSurfaceLights) {
+          lights.resize(kMaxSurfaceLights);
+          diagnostics.push_back({Severity::Warning, scene.sourcePath, face.line, 0,
+                                 fmt::format("_surface \"{}\": more than {} surface light points; the rest are left out",
+                                             t.texture, kMaxSurfaceLights)});
+          return lights;
         }
       }
     }

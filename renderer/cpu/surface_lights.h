@@ -29,9 +29,12 @@ namespace bt {
 enum class BrushContents : uint8_t { Empty, Solid, Liquid };
 
 // `contents[b]` for every brush of `scene`. A radiosity template without `_color` takes the
-// texture's colour (scene materials).
+// texture's colour (scene materials). A template that would make more than kMaxSurfaceLights
+// points (a huge face) stops there, with a warning in `diagnostics`.
+inline constexpr size_t kMaxSurfaceLights = 65536;
 std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
-                                          const std::vector<BrushContents>& contents, const WorldLighting& world);
+                                          const std::vector<BrushContents>& contents, const WorldLighting& world,
+                                          Diagnostics& diagnostics);
 
 // The parts of brush side `face` that qbsp's CSG keeps: outside every other solid brush (and,
 // for a liquid's side, outside the other liquid brushes), as convex fragments.

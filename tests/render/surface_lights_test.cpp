@@ -143,6 +143,20 @@ TEST(SurfaceLightQ1, PhysicalModeLightsTheFacesAsAreaEmittersOnly) {
   EXPECT_GT(total.x, 0.0f); // and the lava does light the floor, as an area light
 }
 
+TEST(SurfaceLightQ1, AHugeTemplateFaceStopsAtTheCapWithAWarning) {
+  // 40000 units square on the 128 grid would be ~100k point lights.
+  test::BoxSceneBuilder b;
+  b.material("lava", 255, 64, 0);
+  b.box({-20000, -20000, -16}, {20000, 20000, 0}, "lava");
+  b.entity({{"classname", "light"}, {"origin", "0 0 500"}, {"_surface", "lava"}});
+  const Scene scene = b.build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  EXPECT_EQ(rs.lights.size(), kMaxSurfaceLights);
+  ASSERT_FALSE(diags.empty());
+  EXPECT_NE(diags.back().message.find("surface light points"), std::string::npos) << diags.back().message;
+}
+
 struct JitterCase {
   const char* delay;
   const char* samples;
