@@ -53,13 +53,6 @@ uint faithfulLight(uint cell, uint k) {
   return lightIndices[lightCells[cell].first + k - lightGrid.globalCount];
 }
 
-// A point light's position for this sample: _deviance spreads it over a ball.
-vec3 jitteredPosition(GpuLight light, inout Rng rng) {
-  if (light.deviance <= 0.0) return light.origin;
-  vec3 u = vec3(rngNext(rng), rngNext(rng), rngNext(rng));
-  return light.origin + light.deviance * sampleBall(u);
-}
-
 // integrator.cpp selectionWeight: unshadowed irradiance on the surface plane, channels summed.
 float selectionWeight(GpuLight light, vec3 pos, vec3 origin, vec3 n) {
   vec3 d = pos - origin;
@@ -75,15 +68,15 @@ const float NEAR_LIST_PROBABILITY = 0.9; // integrator.cpp kNearListProbability
 
 // Physical mode (integrator.cpp allLightsSelected): one point light, from the cell's near list
 // by weight with probability NEAR_LIST_PROBABILITY, else uniformly from the physical list.
+// The caller then draws the light's _deviance jitter (jitteredOrigin), as the CPU does.
 struct SelectedLight {
   bool found;
   uint light;     // index into lights[]
-  vec3 position;  // jittered
   float pdf;      // probability of having picked it
 };
 
 SelectedLight selectPhysicalLight(vec3 origin, vec3 n, inout Rng rng) {
-  SelectedLight s = SelectedLight(false, 0u, vec3(0.0), 0.0);
+  SelectedLight s = SelectedLight(false, 0u, 0.0);
   uvec3 d = lightGrid.dims;
   GpuLightCell near = lightCells[d.x * d.y * d.z + lightGridCell(origin)];
   float nearTotal = 0.0;
@@ -119,7 +112,6 @@ SelectedLight selectPhysicalLight(vec3 origin, vec3 n, inout Rng rng) {
   }
   s.pdf = (nearProbability > 0.0 ? nearProbability * chosenWeight / nearTotal : 0.0) + (1.0 - nearProbability) / float(count);
   s.light = chosen;
-  s.position = jitteredPosition(lights[chosen], rng);
   s.found = s.pdf > 0.0;
   return s;
 }

@@ -45,6 +45,14 @@ uint32_t pickEmitter(const RenderScene& rs, float u) {
   return lo;
 }
 
+// A point light's position for one sample: one of ericw-tools' `_samples` jittered copies,
+// uniform in the cube of half-size `_deviance` around the light.
+glm::vec3 jitteredOrigin(const GpuLight& light, Rng& rng) {
+  if (light.deviance <= 0.0f) return light.origin;
+  const glm::vec3 u{rng.next(), rng.next(), rng.next()}; // braces: drawn left to right, as in GLSL
+  return light.origin + light.deviance * (2.0f * u - 1.0f);
+}
+
 glm::vec3 skyDomeRadiance(const RenderScene& rs, const glm::vec3& dir) {
   glm::vec3 l(0.0f);
   for (const GpuLight& light : rs.lights)
@@ -114,18 +122,12 @@ glm::vec3 emissiveAt(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
 
 namespace {
 
-// A point light's position for this sample: _deviance spreads it over a ball (soft shadows).
-glm::vec3 jitteredPosition(const GpuLight& light, Rng& rng) {
-  if (light.deviance <= 0.0f) return light.origin;
-  return light.origin + light.deviance * sampleBall({rng.next(), rng.next(), rng.next()});
-}
-
 // Faithful mode: one light's share of the light sum at p (surface normal n, shadow rays leave
 // from `origin`). Local-minlight lights raise `localMin` instead: they are a floor, not a sum.
 void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const glm::vec3& p, const glm::vec3& n,
                       const glm::vec3& origin, Rng& rng, glm::vec3& sum, glm::vec3& localMin) {
   if (light.type == uint32_t(LightType::Point)) {
-    const glm::vec3 pos = jitteredPosition(light, rng);
+    const glm::vec3 pos = jitteredOrigin(light, rng);
     const glm::vec3 d = pos - p;
     const float dist = glm::length(d);
     if (dist <= 0.0f) return;
@@ -157,30 +159,6 @@ void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const glm::v
   }
 }
 
-// Surface lights: ericw-tools spreads point lights over template faces, one per 128x128
-// units; one area sample stands for all of them.
-void addFaithfulSurfaceSample(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, const glm::vec3& origin,
-                              Rng& rng, glm::vec3& sum) {
-  if (rs.emitters.empty()) return;
-  const GpuEmitter& e = rs.emitters[pickEmitter(rs, rng.next())];
-  const glm::vec3 emitterNormal = faceNormal(rs, e.face);
-  const GpuLight& tmpl = rs.surfaceLights[gpuFace(rs, e.face).material];
-  if (tmpl.value == 0.0f) return;
-  constexpr float kSurfaceLightSpacing = 128.0f;
-  constexpr float kSurfaceLightLift = 2.0f; // ericw-tools puts them this far off the face
-  const glm::vec3 q = sampleTriangle(e.v0, e.v1, e.v2, rng.next2()) + emitterNormal * kSurfaceLightLift;
-  const glm::vec3 d = q - p;
-  const float dist = glm::length(d);
-  const glm::vec3 toLight = d / dist;
-  if (dist > 0.0f && glm::dot(-toLight, emitterNormal) > 0.0f) {
-    const float value = faithful::pointLightValue(tmpl, n, toLight, dist, rs.world.scaledist);
-    const glm::vec3 toQ = q - origin;
-    const float len = glm::length(toQ);
-    if (value != 0.0f && !occluded(rs, Ray{origin, 0.0f, toQ / len, len}, LightingMode::Faithful))
-      sum += value * tmpl.color * (rs.emitterArea / (kSurfaceLightSpacing * kSurfaceLightSpacing));
-  }
-}
-
 // worldspawn minlight and delay-4 lights are floors under the sum, not terms of it.
 glm::vec3 applyFloors(const RenderScene& rs, const glm::vec3& sum, const glm::vec3& localMin) {
   return glm::max(glm::max(sum, localMin), rs.world.minlight);
@@ -192,7 +170,6 @@ glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::
   const glm::vec3 origin = offsetPoint(p, n);
   glm::vec3 sum(0.0f), localMin(0.0f);
   for (const GpuLight& light : rs.lights) addFaithfulLight(rs, light, p, n, origin, rng, sum, localMin);
-  addFaithfulSurfaceSample(rs, p, n, origin, rng, sum);
   return applyFloors(rs, sum, localMin);
 }
 
@@ -203,8 +180,12 @@ glm::vec3 faithfulLightFromGrid(const RenderScene& rs, const glm::vec3& p, const
   for (uint32_t i : grid.fixedLights()) addFaithfulLight(rs, rs.lights[i], p, n, origin, rng, sum, localMin);
   for (uint32_t i : grid.globalLights()) addFaithfulLight(rs, rs.lights[i], p, n, origin, rng, sum, localMin);
   for (uint32_t i : grid.cellLights(p)) addFaithfulLight(rs, rs.lights[i], p, n, origin, rng, sum, localMin);
-  addFaithfulSurfaceSample(rs, p, n, origin, rng, sum);
   return applyFloors(rs, sum, localMin);
+}
+
+glm::vec3 faithfulFaceMinlight(const RenderScene& rs, uint32_t face) {
+  const uint32_t m = gpuFace(rs, face).material;
+  return m < rs.surfaceLights.size() ? faithful::surfaceFaceMinlight(rs.surfaceLights[m]) : glm::vec3(0.0f);
 }
 
 namespace {
@@ -238,7 +219,7 @@ glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& sett
   // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
   if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater)) return srgbToLinear(texture);
 
-  glm::vec3 light = faithfulLight(rs, settings, hit.position, hit.normal, rng);
+  glm::vec3 light = glm::max(faithfulLight(rs, settings, hit.position, hit.normal, rng), faithfulFaceMinlight(rs, hit.face));
   if (rs.world.bounces > 0) light += faithfulBounce(rs, settings, hit.position, hit.normal, rs.world.bounces, rng);
   // The compiler scales a coloured sum so its brightest channel fits in 255, keeping the hue.
   glm::vec3 stored = light * rs.world.range;
@@ -359,7 +340,8 @@ glm::vec3 allLightsExhaustive(const RenderScene& rs, const Bsdf& bsdf, const glm
     if (light.value <= 0.0f) continue; // negative lights have no physical meaning
     if (light.type == uint32_t(LightType::Point)) {
       if (light.formula == uint32_t(LightFormula::LocalMin)) continue;
-      const glm::vec3 pos = jitteredPosition(light, rng);
+      if (light.flags & kLightFlagFromSurface) continue; // its faces are area emitters here
+      const glm::vec3 pos = jitteredOrigin(light, rng);
       glm::vec3 wi;
       float dist;
       const glm::vec3 c = pointLightUnshadowed(rs, bsdf, light, pos, origin, n, wo, wi, dist);
@@ -424,7 +406,7 @@ glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::
                     (1.0f - nearProbability) / float(all.size());
 
   const GpuLight& light = rs.lights[chosen];
-  const glm::vec3 pos = jitteredPosition(light, rng);
+  const glm::vec3 pos = jitteredOrigin(light, rng);
   glm::vec3 wi;
   float dist;
   const glm::vec3 c = pointLightUnshadowed(rs, bsdf, light, pos, origin, n, wo, wi, dist);

@@ -21,6 +21,17 @@ constexpr float kMinCellSize = 64.0f;
 constexpr float kReachRelativeSlack = 1e-3f;
 constexpr float kReachSlack = 1.0f;
 
+// How far a _deviance jitter moves a light: its copies fill the cube of half-size deviance
+// (integrator.cpp jitteredOrigin), whose corners are sqrt(3) deviance away.
+float maxJitter(const GpuLight& light) { return std::sqrt(3.0f) * std::max(light.deviance, 0.0f); }
+
+// Physical mode's point lights: negative lights have no physical meaning, local minlight is a
+// faithful floor, and points spread over _surface faces are area emitters there instead.
+bool isPhysicalCandidate(const GpuLight& l) {
+  return l.type == uint32_t(LightType::Point) && l.formula != uint32_t(LightFormula::LocalMin) && l.value > 0.0f &&
+         !(l.flags & kLightFlagFromSurface);
+}
+
 bool isFaithfulCandidate(const GpuLight& l) {
   return l.type == uint32_t(LightType::Point) && l.formula != uint32_t(LightFormula::LocalMin) && l.value != 0.0f;
 }
@@ -70,8 +81,7 @@ float faithfulReach(const GpuLight& light, float scaledist) {
     else if (scaledist * light.atten > 0.0f) reach = std::abs(light.value) / (scaledist * light.atten);
   }
   if (!std::isfinite(reach)) return reach;
-  // The jittered position is at most `deviance` from the origin.
-  return (reach + std::max(light.deviance, 0.0f)) * (1.0f + kReachRelativeSlack) + kReachSlack;
+  return (reach + maxJitter(light)) * (1.0f + kReachRelativeSlack) + kReachSlack;
 }
 
 std::span<const uint32_t> LightGrid::physicalNearLights(const glm::vec3& p) const {
@@ -104,14 +114,9 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
     if (isFaithfulCandidate(lights[i]) && !std::isfinite(faithfulReach(lights[i], scaledist))) grid.indices.push_back(i);
   grid.header.globalCount = uint32_t(grid.indices.size()) - grid.header.globalFirst;
 
-  // Physical mode: negative lights have no physical meaning and local minlight is a faithful
-  // floor; both are skipped there (integrator.cpp).
   grid.header.physicalFirst = uint32_t(grid.indices.size());
-  for (uint32_t i = 0; i < lights.size(); ++i) {
-    const GpuLight& l = lights[i];
-    if (l.type == uint32_t(LightType::Point) && l.formula != uint32_t(LightFormula::LocalMin) && l.value > 0.0f)
-      grid.indices.push_back(i);
-  }
+  for (uint32_t i = 0; i < lights.size(); ++i)
+    if (isPhysicalCandidate(lights[i])) grid.indices.push_back(i);
   grid.header.physicalCount = uint32_t(grid.indices.size()) - grid.header.physicalFirst;
 
   // Finite-reach lights into every cell their reach sphere touches.
@@ -153,7 +158,7 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
         ranked.clear();
         for (uint32_t i : physical) {
           const GpuLight& l = lights[i];
-          const float d = std::max(std::sqrt(distanceToCell2(g, cell, l.origin)) - l.deviance, 0.0f);
+          const float d = std::max(std::sqrt(distanceToCell2(g, cell, l.origin)) - maxJitter(l), 0.0f);
           const float power = (l.color.x + l.color.y + l.color.z) * l.value;
           if (power > 0.0f) ranked.push_back({power / std::max(d * d, nearest2), i});
         }

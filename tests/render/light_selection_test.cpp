@@ -63,11 +63,13 @@ TEST(LightGrid, CellListsNeverDropALightThatReachesThePoint) {
       const GpuLight& light = rs.lights[i];
       ASSERT_EQ(light.type, uint32_t(LightType::Point));
       // The closest any jittered position gets, and a few actual jitters, head-on.
-      const float closest = std::max(glm::length(light.origin - p) - light.deviance, 0.0f);
+      const float closest = std::max(glm::length(light.origin - p) - std::sqrt(3.0f) * light.deviance, 0.0f);
       ASSERT_EQ(faithful::distanceValue(light, closest, rs.world.scaledist), 0.0f) << "light " << i;
       Rng rng = pixelRng(uint32_t(k), i, 0, 1);
       for (int j = 0; j < 4; ++j) {
-        const glm::vec3 pos = light.origin + light.deviance * sampleBall({rng.next(), rng.next(), rng.next()});
+        // A corner of the jitter cube (integrator.cpp jitteredOrigin), towards p or not.
+        const glm::vec3 corner(rng.next() < 0.5f ? -1.0f : 1.0f, rng.next() < 0.5f ? -1.0f : 1.0f, rng.next() < 0.5f ? -1.0f : 1.0f);
+        const glm::vec3 pos = light.origin + light.deviance * corner;
         const glm::vec3 d = pos - p;
         const float dist = glm::length(d);
         ASSERT_EQ(faithful::pointLightValue(light, d / dist, d / dist, dist, rs.world.scaledist), 0.0f) << "light " << i;
@@ -92,7 +94,8 @@ TEST(LightGrid, EveryLightIsInTheListsOfItsKind) {
   for (uint32_t i = 0; i < rs.lights.size(); ++i) EXPECT_EQ(seen[i], 1) << "light " << i;
   int physical = 0;
   for (const GpuLight& l : rs.lights)
-    physical += l.type == uint32_t(LightType::Point) && l.formula != uint32_t(LightFormula::LocalMin) && l.value > 0.0f;
+    physical += l.type == uint32_t(LightType::Point) && l.formula != uint32_t(LightFormula::LocalMin) && l.value > 0.0f &&
+                !(l.flags & kLightFlagFromSurface);
   EXPECT_EQ(int(grid.physicalLights().size()), physical);
   EXPECT_EQ(grid.fixedLights().size(), 2u); // the sun and the local minlight
 
