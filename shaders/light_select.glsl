@@ -54,8 +54,8 @@ uint faithfulLight(uint cell, uint k) {
 }
 
 // integrator.cpp selectionWeight: unshadowed irradiance on the surface plane, channels summed.
-float selectionWeight(GpuLight light, vec3 pos, vec3 origin, vec3 n) {
-  vec3 d = pos - origin;
+float selectionWeight(GpuLight light, vec3 origin, vec3 n) {
+  vec3 d = light.origin - origin;
   float dist2 = dot(d, d);
   if (!(dist2 > 0.0)) return 0.0;
   vec3 wi = d / sqrt(dist2);
@@ -82,7 +82,7 @@ SelectedLight selectPhysicalLight(vec3 origin, vec3 n, inout Rng rng) {
   float nearTotal = 0.0;
   for (uint k = 0u; k < near.count; ++k) {
     GpuLight light = lights[lightIndices[near.first + k]];
-    nearTotal += selectionWeight(light, light.origin, origin, n);
+    nearTotal += selectionWeight(light, origin, n);
   }
   float uStrategy = rngNext(rng);
   float uPick = rngNext(rng);
@@ -98,7 +98,7 @@ SelectedLight selectPhysicalLight(vec3 origin, vec3 n, inout Rng rng) {
     for (uint k = 0u; k < near.count; ++k) {
       uint index = lightIndices[near.first + k];
       GpuLight light = lights[index];
-      float w = selectionWeight(light, light.origin, origin, n);
+      float w = selectionWeight(light, origin, n);
       if (w <= 0.0) continue;
       chosen = index;
       chosenWeight = w;
@@ -108,7 +108,7 @@ SelectedLight selectPhysicalLight(vec3 origin, vec3 n, inout Rng rng) {
   } else {
     chosen = lightIndices[lightGrid.physicalFirst + min(uint(uPick * float(count)), count - 1u)];
     for (uint k = 0u; k < near.count; ++k)
-      if (lightIndices[near.first + k] == chosen) chosenWeight = selectionWeight(lights[chosen], lights[chosen].origin, origin, n);
+      if (lightIndices[near.first + k] == chosen) chosenWeight = selectionWeight(lights[chosen], origin, n);
   }
   s.pdf = (nearProbability > 0.0 ? nearProbability * chosenWeight / nearTotal : 0.0) + (1.0 - nearProbability) / float(count);
   s.light = chosen;

@@ -310,9 +310,10 @@ glm::vec3 pointLightUnshadowed(const RenderScene& rs, const Bsdf& bsdf, const Gp
 }
 
 // How likely light selection picks a point light from the near list: its unshadowed
-// irradiance on the surface plane, summed over colour channels.
-float selectionWeight(const GpuLight& light, const glm::vec3& pos, const glm::vec3& origin, const glm::vec3& n) {
-  const glm::vec3 d = pos - origin;
+// irradiance on the surface plane at `origin`, summed over colour channels (at the light's own
+// origin: the pick does not depend on the _deviance jitter).
+float selectionWeight(const GpuLight& light, const glm::vec3& origin, const glm::vec3& n) {
+  const glm::vec3 d = light.origin - origin;
   const float dist2 = glm::dot(d, d);
   if (!(dist2 > 0.0f)) return 0.0f;
   const glm::vec3 wi = d / std::sqrt(dist2);
@@ -378,7 +379,7 @@ glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::
   const std::span<const uint32_t> all = rs.lightGrid.physicalLights();
   const std::span<const uint32_t> near = rs.lightGrid.physicalNearLights(origin);
   float nearTotal = 0.0f;
-  for (uint32_t i : near) nearTotal += selectionWeight(rs.lights[i], rs.lights[i].origin, origin, n);
+  for (uint32_t i : near) nearTotal += selectionWeight(rs.lights[i], origin, n);
   const float uStrategy = rng.next(), uPick = rng.next();
   if (all.empty()) return l;
   const float nearProbability = nearTotal > 0.0f ? kNearListProbability : 0.0f;
@@ -391,7 +392,7 @@ glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::
     const float target = uPick * nearTotal;
     float cumulative = 0.0f;
     for (uint32_t i : near) {
-      const float w = selectionWeight(rs.lights[i], rs.lights[i].origin, origin, n);
+      const float w = selectionWeight(rs.lights[i], origin, n);
       if (w <= 0.0f) continue;
       chosen = i, chosenWeight = w;
       cumulative += w;
@@ -400,7 +401,7 @@ glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::
   } else {
     chosen = all[std::min(uint32_t(uPick * float(all.size())), uint32_t(all.size()) - 1)];
     for (uint32_t i : near)
-      if (i == chosen) chosenWeight = selectionWeight(rs.lights[i], rs.lights[i].origin, origin, n);
+      if (i == chosen) chosenWeight = selectionWeight(rs.lights[i], origin, n);
   }
   const float pdf = (nearProbability > 0.0f ? nearProbability * chosenWeight / nearTotal : 0.0f) +
                     (1.0f - nearProbability) / float(all.size());
