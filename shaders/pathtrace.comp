@@ -86,11 +86,11 @@ vec3 faithfulLightAt(vec3 p, vec3 n, inout Rng rng) {
     GpuFace f = faces[e.face];
     GpuLight tmpl = surfaceLights[f.material];
     if (tmpl.value != 0.0) {
-      vec3 q = sampleTriangle(e.v0, e.v1, e.v2, rngNext2(rng)) + f.normal * SURFACE_LIGHT_LIFT;
+      vec3 q = sampleTriangle(e.v0, e.v1, e.v2, rngNext2(rng)) + f.plane.xyz * SURFACE_LIGHT_LIFT;
       vec3 d = q - p;
       float dist = length(d);
       vec3 toLight = d / dist;
-      if (dist > 0.0 && dot(-toLight, f.normal) > 0.0) {
+      if (dist > 0.0 && dot(-toLight, f.plane.xyz) > 0.0) {
         float value = pointLightValue(tmpl, n, toLight, dist, world.scaledist);
         vec3 toQ = q - origin;
         float len = length(toQ);
@@ -111,7 +111,7 @@ vec3 faithfulBounce(vec3 p, vec3 n, inout Rng rng) {
   for (int depth = world.faithfulBounces; depth > 0; --depth) {
     vec3 dir = sampleCosineHemisphere(n, rngNext2(rng));
     SurfaceHit hit = traceVisible(offsetPoint(p, n), dir);
-    if (!hit.found || (faces[hit.face].flags & FACE_SKY) != 0u) break;
+    if (!hit.found || (faceFlags[hit.face] & FACE_SKY) != 0u) break;
     vec3 color = baseColorAt(hit.face, hit.position).rgb;
     weight *= color;
     total += weight * faithfulLightAt(hit.position, hit.normal, rng);
@@ -125,7 +125,7 @@ vec3 faithfulBounce(vec3 p, vec3 n, inout Rng rng) {
 vec3 radianceFaithful(vec3 origin, vec3 dir, inout Rng rng) {
   SurfaceHit hit = traceVisible(origin, dir);
   if (!hit.found) return vec3(0.0);
-  uint flags = faces[hit.face].flags;
+  uint flags = faceFlags[hit.face];
   vec3 texture = baseColorAt(hit.face, hit.position).rgb;
   // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
   if ((flags & FACE_SKY) != 0u || ((flags & FACE_LIQUID) != 0u && world.litwater == 0u)) return srgbToLinear(texture);
@@ -253,7 +253,7 @@ vec3 directLight(Bsdf bsdf, vec3 p, vec3 n, vec3 wo, inout Rng rng) {
     float dist2 = dot(d, d);
     float dist = sqrt(dist2);
     vec3 wi = d / dist;
-    float cosLight = -dot(faces[e.face].normal, wi);
+    float cosLight = -dot(faces[e.face].plane.xyz, wi);
     float bsdfPdf;
     vec3 f = bsdfEval(bsdf, n, wo, wi, bsdfPdf);
     if (cosLight > 0.0 && bsdfPdf > 0.0) {
@@ -275,13 +275,14 @@ vec3 radiancePhysical(vec3 origin, vec3 dir, inout Rng rng) {
     SurfaceHit hit = traceVisible(origin, dir);
     if (!hit.found) break; // the void outside a level is black
     GpuFace face = faces[hit.face];
-    if ((face.flags & FACE_SKY) != 0u) {
+    uint flags = faceFlags[hit.face];
+    if ((flags & FACE_SKY) != 0u) {
       l += throughput * (srgbToLinear(baseColorAt(hit.face, hit.position).rgb) + skyDomeRadiance(dir));
       break;
     }
     vec3 n = hit.normal;
     vec3 wo = -dir;
-    if ((face.flags & FACE_EMISSIVE) != 0u) {
+    if ((flags & FACE_EMISSIVE) != 0u) {
       vec3 le = emittedRadiance(hit.face, hit.position);
       float weight = 1.0;
       if (prevBsdfPdf > 0.0) {

@@ -30,7 +30,7 @@ int runGlBench(const Scene& scene, const GlBenchSettings& s) {
 
   auto start = Clock::now();
   auto context = gl::GlContext::createHeadless();
-  gl::GlTracer tracer(*context, scene, s.textures, gl::lightingFor(renderScene));
+  gl::GlTracer tracer(*context, scene, renderScene.tracer, s.textures, gl::lightingFor(renderScene));
   const gl::CameraBasis camera = gl::cameraFrom(pose, s.width, s.height);
   const gl::BeautySettings oneSample{
       .width = s.width, .height = s.height, .spp = 1, .physical = s.physical, .bounces = s.bounces};

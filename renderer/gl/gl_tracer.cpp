@@ -18,9 +18,6 @@ namespace bt::gl {
 
 namespace {
 
-std::vector<std::string> textureDefines(TextureMode mode) {
-  return {mode == TextureMode::Bindless ? "BT_TEXTURES_BINDLESS" : "BT_TEXTURES_ARRAYS"};
-}
 
 // An RGBA32F or R32UI image the shaders write, deleted with its owner.
 class StorageImage {
@@ -72,6 +69,11 @@ GpuWorld worldBlock(const GlLighting& lighting) {
 
 } // namespace
 
+std::vector<std::string> shaderDefines(TextureMode mode) {
+  return {mode == TextureMode::Bindless ? "BT_TEXTURES_BINDLESS" : "BT_TEXTURES_ARRAYS",
+          fmt::format("BT_BVH_MAX_DEPTH {}", kBvhMaxDepth)};
+}
+
 struct GlTracer::Impl {
   GlContext& context;
   GlTextures textures;
@@ -82,11 +84,10 @@ struct GlTracer::Impl {
   GLuint cameraBuffer = 0;
   GLuint worldBuffer = 0;
 
-  Impl(GlContext& c, const Scene& scene, TextureMode mode, const GlLighting& lighting)
+  Impl(GlContext& c, const Scene& scene, const TraceScene& tracer, TextureMode mode, const GlLighting& lighting)
       : context(c),
         textures(scene, mode, c.info()),
-        buffers(buildGpuSceneArrays(scene, lighting.faceFlags), withShadingFlags(textures.materials(), lighting),
-                lighting, scene.materials.size()),
+        buffers(tracer, withShadingFlags(textures.materials(), lighting), lighting, scene.materials.size()),
         world(worldBlock(lighting)) {
     BT_GL(glCreateBuffers(1, &cameraBuffer));
     BT_GL(glNamedBufferStorage(cameraBuffer, sizeof(GpuCamera), nullptr, GL_DYNAMIC_STORAGE_BIT));
@@ -94,7 +95,7 @@ struct GlTracer::Impl {
     BT_GL(glNamedBufferStorage(worldBuffer, sizeof(GpuWorld), &world, GL_DYNAMIC_STORAGE_BIT));
   }
   ComputeProgram& program(std::unique_ptr<ComputeProgram>& slot, const char* name) {
-    if (!slot) slot = std::make_unique<ComputeProgram>(name, textureDefines(textures.mode()));
+    if (!slot) slot = std::make_unique<ComputeProgram>(name, shaderDefines(textures.mode()));
     return *slot;
   }
 
@@ -129,8 +130,12 @@ struct GlTracer::Impl {
   }
 };
 
+GlTracer::GlTracer(GlContext& context, const Scene& scene, const TraceScene& tracer, TextureMode textures,
+                   const GlLighting& lighting)
+    : impl_(std::make_unique<Impl>(context, scene, tracer, textures, lighting)) {}
+
 GlTracer::GlTracer(GlContext& context, const Scene& scene, TextureMode textures, const GlLighting& lighting)
-    : impl_(std::make_unique<Impl>(context, scene, textures, lighting)) {}
+    : GlTracer(context, scene, TraceScene::build(scene), textures, lighting) {}
 
 GlTracer::~GlTracer() = default;
 

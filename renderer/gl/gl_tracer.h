@@ -1,6 +1,7 @@
 // The GL compute tracer: a Scene uploaded once, images rendered from a camera.
 #pragma once
 
+#include "bvh/trace_scene.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_structs.h"
 #include "renderer/gl/gl_textures.h"
@@ -12,6 +13,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace bt::gl {
@@ -87,9 +89,18 @@ struct RayBenchmark {
   double bounceSeconds = 0.0;
 };
 
+// The #defines every program of the tracer is built with: the texture path (Bindless or
+// Arrays) and BT_BVH_MAX_DEPTH, the traversal stack size (scene/gpu_structs.h kBvhMaxDepth).
+std::vector<std::string> shaderDefines(TextureMode mode);
+
 class GlTracer {
 public:
-  // Uploads the scene. The context must stay current on this thread for the tracer's life.
+  // Uploads the scene: `tracer`'s BVH, brushes, sides and faces as they are (the CPU
+  // reference's RenderScene::tracer, so both trace the same tree), the scene's textures and the
+  // lighting. The context must stay current on this thread for the tracer's life.
+  GlTracer(GlContext& context, const Scene& scene, const TraceScene& tracer, TextureMode textures,
+           const GlLighting& lighting = {});
+  // The same with a TraceScene built here with default options (every brush traceable).
   GlTracer(GlContext& context, const Scene& scene, TextureMode textures, const GlLighting& lighting = {});
   ~GlTracer();
   GlTracer(const GlTracer&) = delete;
