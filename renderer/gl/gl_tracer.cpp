@@ -80,6 +80,7 @@ struct GlTracer::Impl {
   GlSceneBuffers buffers;
   // Compiled on first use: llvmpipe takes seconds for the path tracer, which AOVs do not need.
   std::unique_ptr<ComputeProgram> aovProgram, pathProgram, rayBenchProgram;
+  ProgramCache programCache = ProgramCache::fromEnvironment();
   GpuWorld world;
   GLuint cameraBuffer = 0;
   GLuint worldBuffer = 0;
@@ -95,7 +96,7 @@ struct GlTracer::Impl {
     BT_GL(glNamedBufferStorage(worldBuffer, sizeof(GpuWorld), &world, GL_DYNAMIC_STORAGE_BIT));
   }
   ComputeProgram& program(std::unique_ptr<ComputeProgram>& slot, const char* name) {
-    if (!slot) slot = std::make_unique<ComputeProgram>(name, shaderDefines(textures.mode()));
+    if (!slot) slot = std::make_unique<ComputeProgram>(name, shaderDefines(textures.mode()), programCache);
     return *slot;
   }
 
@@ -140,6 +141,24 @@ GlTracer::GlTracer(GlContext& context, const Scene& scene, TextureMode textures,
 GlTracer::~GlTracer() = default;
 
 TextureMode GlTracer::textureMode() const { return impl_->textures.mode(); }
+
+void GlTracer::setProgramCache(ProgramCache cache) { impl_->programCache = std::move(cache); }
+
+ProgramBuild GlTracer::buildPathTracer(int width, int height) {
+  const auto start = std::chrono::steady_clock::now();
+  const ComputeProgram& program = impl_->program(impl_->pathProgram, "pathtrace.comp");
+  // Drivers may leave the real compile to the first dispatch (llvmpipe does). One dispatch whose
+  // invocations all return at once (image size 0 in the camera block) makes them finish it
+  // here. llvmpipe compiles a variant per bound image shape (power-of-two sizes or not), so
+  // the image is the size the renders will use.
+  StorageImage target(GL_RGBA32F, std::max(width, 1), std::max(height, 1));
+  target.bindImage(0, GL_READ_WRITE);
+  impl_->setWorld(false, 0);
+  impl_->setCamera(CameraBasis{}, 0, 0, 0, 0);
+  program.dispatch2d(1, 1);
+  BT_GL(glFinish());
+  return {std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(), program.loadedFromCache()};
+}
 
 AovImages GlTracer::renderAovs(const CameraBasis& camera, int width, int height) {
   if (width <= 0 || height <= 0) throw GlError(fmt::format("image size {}x{} is empty", width, height));

@@ -3,6 +3,7 @@
 
 #include "bvh/trace_scene.h"
 #include "renderer/gl/gl_context.h"
+#include "renderer/gl/gl_program_cache.h"
 #include "renderer/gl/gl_structs.h"
 #include "renderer/gl/gl_textures.h"
 #include "scene/scene.h"
@@ -93,6 +94,11 @@ struct RayBenchmark {
 // Arrays) and BT_BVH_MAX_DEPTH, the traversal stack size (scene/gpu_structs.h kBvhMaxDepth).
 std::vector<std::string> shaderDefines(TextureMode mode);
 
+struct ProgramBuild {
+  double milliseconds = 0.0; // compile and link (or load), and the driver's work at the first dispatch
+  bool fromCache = false;
+};
+
 class GlTracer {
 public:
   // Uploads the scene: `tracer`'s BVH, brushes, sides and faces as they are (the CPU
@@ -107,6 +113,12 @@ public:
   GlTracer& operator=(const GlTracer&) = delete;
 
   TextureMode textureMode() const; // the path in use: Bindless or Arrays
+
+  // Where programs are cached; ProgramCache::fromEnvironment() unless set before they are built.
+  void setProgramCache(ProgramCache cache);
+  // Builds the path tracer's program now for images of width x height (renderBeauty otherwise
+  // builds it on first use).
+  ProgramBuild buildPathTracer(int width, int height);
 
   AovImages renderAovs(const CameraBasis& camera, int width, int height);
 
