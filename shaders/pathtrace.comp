@@ -440,7 +440,8 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
   } else {
     // Surface and sky rays pass hidden faces (and, for the sky, what does not block light) and
     // the far side of a brush they start in, stepping on past each like the CPU's loops.
-    uint flags = hit.face == NO_FACE ? 0u : faceFlags[hit.face];
+    uint flags = 0u;
+    if (hit.face != NO_FACE) flags = faceFlags[hit.face]; // a branch: never a read at NO_FACE
     bool passThrough = hit.face != NO_FACE &&
                        (hit.inside || (path.kind == RAY_SURFACE ? (flags & FACE_HIDDEN) != 0u
                                                                 : (flags & FACE_SKY) == 0u && !blocksLight(flags, physical)));
@@ -458,7 +459,8 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     } else {
       bool found = !gaveUp && hit.face != NO_FACE;
       vec3 position = path.origin + path.dir * hit.t;
-      SurfaceHit surface = SurfaceHit(found, hit.t, hit.face, position, found ? faceNormal(hit.face) : vec3(0.0));
+      SurfaceHit surface = SurfaceHit(found, hit.t, hit.face, position, vec3(0.0));
+      if (found) surface.normal = faceNormal(hit.face);
       ended = !(physical ? physicalSurface(path, surface) : faithfulSurface(path, surface));
       path.lightIndex = 0u;
     }

@@ -2,7 +2,7 @@
 // faces). This is a port of bvh/trace_scene.cpp, rule for rule, so that the GL tracer and the
 // CPU reference return the same hit for the same ray; trace_scene.h states the contract:
 //   - direction components below 2^-100 count as zero; a zero component means "inside that slab
-//     or miss", never 0 * inf;
+//     or miss", never 0 * inf; the CPU's infinities are FLT_MAX here;
 //   - a brush's box slabs stand in for its axial faces (GpuBrush::axialFace), its slanted sides
 //     clip the interval one by one (Haines); ties between planes at the same t go to the one
 //     met more head-on, then to the box side, then to the earlier side;
@@ -16,7 +16,10 @@
 #endif
 
 const uint NO_FACE = 0xffffffffu;
-#define INFINITY uintBitsToFloat(0x7f800000u) // GLSL has no infinity literal, and 1.0 / 0.0 is undefined
+// FLT_MAX stands in for the CPU's infinity: every t of a real ray is far below it (directions
+// are flushed below 2^-100, coordinates are Quake's), and GPU compilers may assume that no
+// value is infinite (NVIDIA's does).
+#define INFINITY 3.4028235e38
 
 struct Hit {
   float t;     // distance along the ray (in units of dir's length)
@@ -28,53 +31,77 @@ struct Hit {
 struct TraceRay {
   vec3 origin;
   vec3 dir;
-  vec3 invDir; // 0 on zero components
+  vec3 invDir;  // 0 on zero components
+  bool hasZero; // some component is 0: slab tests take the careful path
   float tMin, tMax;
 };
 
 TraceRay makeTraceRay(vec3 origin, vec3 dir, float tMin, float tMax) {
   vec3 d = mix(dir, vec3(0.0), lessThan(abs(dir), vec3(uintBitsToFloat(0x0d800000u)))); // below 2^-100
   vec3 inv = vec3(d.x != 0.0 ? 1.0 / d.x : 0.0, d.y != 0.0 ? 1.0 / d.y : 0.0, d.z != 0.0 ? 1.0 / d.z : 0.0);
-  return TraceRay(origin, d, inv, tMin, tMax);
+  return TraceRay(origin, d, inv, any(equal(d, vec3(0.0))), tMin, tMax);
 }
 
-// The ray's interval in a box, near > far on a miss, and the axis that set each end (-1 if
-// none did). On equal t the axis the ray meets more head-on (larger |d|) takes the end: the
-// tie rule of trace_scene.cpp brushBox. Nodes use the same values and ignore the axes.
+// The ray's interval in a box, near > far on a miss, and which box side set each end: its
+// slot in GpuBrush::axialFace (2 * axis + 1 for the +side), -1 if none did, with |d| along
+// that axis. On equal t the axis the ray meets more head-on (larger |d|) takes the end: the
+// tie rule of trace_scene.cpp brushBox.
+// Written per axis with no vector indexed by a run-time value: GPU compilers put such vectors
+// in local memory, and may read them before the guard that keeps the index in range.
 struct Slab {
   float near, far;
-  int nearAxis, farAxis;
+  int nearSlot, farSlot;
+  float nearFacing, farFacing;
 };
 
-Slab intersectBox(TraceRay r, vec3 boxMin, vec3 boxMax) {
-  Slab s = Slab(-INFINITY, INFINITY, -1, -1);
-  for (int a = 0; a < 3; ++a) {
-    if (r.dir[a] == 0.0) {
-      if (r.origin[a] < boxMin[a] || r.origin[a] > boxMax[a]) return Slab(INFINITY, -INFINITY, -1, -1);
-      continue;
-    }
-    bool negative = r.dir[a] < 0.0;
-    float tNear = ((negative ? boxMax[a] : boxMin[a]) - r.origin[a]) * r.invDir[a];
-    float tFar = ((negative ? boxMin[a] : boxMax[a]) - r.origin[a]) * r.invDir[a];
-    float facing = abs(r.dir[a]);
-    if (tNear > s.near || (tNear == s.near && s.nearAxis >= 0 && facing > abs(r.dir[s.nearAxis]))) {
-      s.near = tNear;
-      s.nearAxis = a;
-    }
-    if (tFar < s.far || (tFar == s.far && s.farAxis >= 0 && facing > abs(r.dir[s.farAxis]))) {
-      s.far = tFar;
-      s.farAxis = a;
-    }
+void clipSlab(inout Slab s, inout bool miss, float origin, float dir, float invDir, float lo, float hi, int axis) {
+  if (dir == 0.0) {
+    miss = miss || origin < lo || origin > hi;
+    return;
   }
+  bool negative = dir < 0.0;
+  float tNear = ((negative ? hi : lo) - origin) * invDir;
+  float tFar = ((negative ? lo : hi) - origin) * invDir;
+  float facing = abs(dir);
+  if (tNear > s.near || (tNear == s.near && s.nearSlot >= 0 && facing > s.nearFacing)) {
+    s.near = tNear;
+    s.nearSlot = 2 * axis + (negative ? 1 : 0); // entering through the +side when going down
+    s.nearFacing = facing;
+  }
+  if (tFar < s.far || (tFar == s.far && s.farSlot >= 0 && facing > s.farFacing)) {
+    s.far = tFar;
+    s.farSlot = 2 * axis + (negative ? 0 : 1);
+    s.farFacing = facing;
+  }
+}
+
+Slab intersectBox(TraceRay r, vec3 boxMin, vec3 boxMax) {
+  Slab s = Slab(-INFINITY, INFINITY, -1, -1, 0.0, 0.0);
+  bool miss = false;
+  clipSlab(s, miss, r.origin.x, r.dir.x, r.invDir.x, boxMin.x, boxMax.x, 0);
+  clipSlab(s, miss, r.origin.y, r.dir.y, r.invDir.y, boxMin.y, boxMax.y, 1);
+  clipSlab(s, miss, r.origin.z, r.dir.z, r.invDir.z, boxMin.z, boxMax.z, 2);
+  if (miss) s = Slab(INFINITY, -INFINITY, -1, -1, 0.0, 0.0);
   return s;
 }
 
 // Whether node n can hold a hit with t in (tMin, tLimit]; inclusive at tLimit so that a hit at
-// exactly the best t still reaches the face-index rule.
+// exactly the best t still reaches the face-index rule. Without zero direction components the
+// min/max form gives intersectBox's values (as trace_scene.cpp nodeOverlaps<false>).
 bool nodeOverlaps(TraceRay r, uint n, float tLimit, out float near) {
-  Slab s = intersectBox(r, nodes[n].boundsMin, nodes[n].boundsMax);
-  near = s.near;
-  return max(s.near, r.tMin) <= min(s.far, tLimit) && s.near <= s.far;
+  vec3 boundsMin = nodes[n].boundsMin, boundsMax = nodes[n].boundsMax;
+  float far;
+  if (r.hasZero) {
+    Slab s = intersectBox(r, boundsMin, boundsMax);
+    near = s.near;
+    far = s.far;
+  } else {
+    vec3 t0 = (boundsMin - r.origin) * r.invDir, t1 = (boundsMax - r.origin) * r.invDir;
+    vec3 tNear = min(t0, t1), tFar = max(t0, t1);
+    near = max(max(tNear.x, tNear.y), tNear.z);
+    far = min(min(tFar.x, tFar.y), tFar.z);
+  }
+  return max(near, r.tMin) <= min(far, tLimit) && near <= far;
 }
 
 // A plane crossing candidate: t, the face, and how head-on the ray meets it (|dot(n, d)|).
@@ -88,13 +115,13 @@ struct Crossing {
 // tLimit is rejected before its planes are read.
 bool hitBrush(TraceRay r, uint b, float tLimit, out Hit hit) {
   hit = Hit(0.0, NO_FACE, false);
-  GpuBrush brush = brushes[b];
-  Slab box = intersectBox(r, brush.boundsMin, brush.boundsMax);
+  Slab box = intersectBox(r, brushes[b].boundsMin, brushes[b].boundsMax);
   if (box.near > box.far || box.far <= r.tMin || box.near >= r.tMax || box.near > tLimit) return false;
 
   Crossing enter = Crossing(-INFINITY, NO_FACE, 0.0), exit = Crossing(INFINITY, NO_FACE, 0.0);
   float near0 = max(box.near, r.tMin);
-  for (uint i = brush.firstSide; i < brush.firstSide + brush.sideCount; ++i) {
+  uint firstSide = brushes[b].firstSide, endSide = firstSide + brushes[b].sideCount;
+  for (uint i = firstSide; i < endSide; ++i) {
     uint f = sides[i];
     vec4 plane = faces[f].plane;
     float denom = plane.x * r.dir.x + plane.y * r.dir.y + plane.z * r.dir.z;
@@ -113,17 +140,15 @@ bool hitBrush(TraceRay r, uint b, float tLimit, out Hit hit) {
 
   // The box sides (those with an axial face) merge into the slanted candidates, same rule; a
   // box side without an axial face keeps the slanted plane's face and the box's t.
-  if (box.nearAxis >= 0) {
-    int a = box.nearAxis;
-    Crossing side = Crossing(box.near, brush.axialFace[2 * a + (r.dir[a] < 0.0 ? 1 : 0)], abs(r.dir[a]));
-    if (side.t > enter.t || (side.t == enter.t && side.face != NO_FACE && side.facing >= enter.facing))
-      enter = Crossing(side.t, side.face != NO_FACE ? side.face : enter.face, side.facing);
+  if (box.nearSlot >= 0) {
+    uint face = brushes[b].axialFace[box.nearSlot];
+    if (box.near > enter.t || (box.near == enter.t && face != NO_FACE && box.nearFacing >= enter.facing))
+      enter = Crossing(box.near, face != NO_FACE ? face : enter.face, box.nearFacing);
   }
-  if (box.farAxis >= 0) {
-    int a = box.farAxis;
-    Crossing side = Crossing(box.far, brush.axialFace[2 * a + (r.dir[a] < 0.0 ? 0 : 1)], abs(r.dir[a]));
-    if (side.t < exit.t || (side.t == exit.t && side.face != NO_FACE && side.facing >= exit.facing))
-      exit = Crossing(side.t, side.face != NO_FACE ? side.face : exit.face, side.facing);
+  if (box.farSlot >= 0) {
+    uint face = brushes[b].axialFace[box.farSlot];
+    if (box.far < exit.t || (box.far == exit.t && face != NO_FACE && box.farFacing >= exit.facing))
+      exit = Crossing(box.far, face != NO_FACE ? face : exit.face, box.farFacing);
   }
   if (enter.t > exit.t) return false;
   if (enter.t > r.tMin) {

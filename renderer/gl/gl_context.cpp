@@ -124,8 +124,12 @@ std::unique_ptr<GlContext> GlContext::createHeadless() {
     return context;
   };
 
-  if (hasExtension(clientExtensions, "EGL_EXT_platform_device") &&
-      hasExtension(clientExtensions, "EGL_EXT_device_enumeration")) {
+  // NVIDIA's EGL lists device enumeration as part of EGL_EXT_device_base, Mesa's as
+  // EGL_EXT_device_enumeration; either provides eglQueryDevicesEXT.
+  const bool platformDevice = hasExtension(clientExtensions, "EGL_EXT_platform_device");
+  const bool enumeration = hasExtension(clientExtensions, "EGL_EXT_device_enumeration") ||
+                           hasExtension(clientExtensions, "EGL_EXT_device_base");
+  if (platformDevice && enumeration) {
     EGLint count = 0;
     eglQueryDevicesEXT(0, nullptr, &count);
     std::vector<EGLDeviceEXT> devices(static_cast<size_t>(std::max(count, 0)));
@@ -135,9 +139,11 @@ std::unique_ptr<GlContext> GlContext::createHeadless() {
       EGLDisplay display = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, device, nullptr);
       if (auto context = tryDisplay(display, fmt::format("device {}", i), describeDevice(device))) return context;
     }
-    if (count <= 0) reasons.push_back("device: no EGL devices");
+    if (count <= 0) reasons.push_back("device: no EGL devices (" + eglErrorText() + ")");
   } else {
-    reasons.push_back("device: no EGL_EXT_platform_device");
+    reasons.push_back(fmt::format("device: the client extensions lack {} (they are: {})",
+                                  platformDevice ? "EGL_EXT_device_enumeration / EGL_EXT_device_base" : "EGL_EXT_platform_device",
+                                  clientExtensions ? clientExtensions : "none"));
   }
 
   if (hasExtension(clientExtensions, "EGL_MESA_platform_surfaceless")) {
