@@ -4,6 +4,7 @@
 #include "renderer/gl/gl_tracer.h"
 #include "tests/gl/test_scenes.h"
 
+#include <epoxy/gl.h>
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
@@ -97,6 +98,27 @@ TEST(GlAov, ArraysAndBindlessGiveTheSameImage) {
   for (size_t i = 0; i < beautyArrays.beauty.size(); ++i)
     EXPECT_LE(glm::length(beautyArrays.beauty[i] - beautyBindless.beauty[i]), 1e-5f * (1.0f + glm::length(beautyArrays.beauty[i])))
         << "pixel " << i;
+}
+
+// Both texture paths filter with the driver's anisotropy (llvmpipe offers 16x); the AOVs above
+// stay equal to the CPU reference with it set, as the tracer fetches texels itself.
+TEST(GlTextures, AnisotropicFilteringAtTheDriversMaximumUpTo16) {
+  GlContext& context = test::sharedGlContext();
+  if (!context.info().anisotropicFiltering) GTEST_SKIP() << context.info().renderer << " has no anisotropic filtering";
+  GLfloat driverMax = 0.0f;
+  glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY, &driverMax);
+  const Scene scene = test::makeTestRoom();
+  GlTextures textures(scene, TextureMode::Arrays, context.info());
+  EXPECT_EQ(textures.anisotropy(), std::min(driverMax, 16.0f));
+  EXPECT_GT(textures.anisotropy(), 1.0f);
+  textures.bind();
+  GLint array = 0;
+  glActiveTexture(GL_TEXTURE0);
+  glGetIntegerv(GL_TEXTURE_BINDING_2D_ARRAY, &array);
+  ASSERT_NE(array, 0);
+  GLfloat set = 0.0f;
+  glGetTextureParameterfv(static_cast<GLuint>(array), GL_TEXTURE_MAX_ANISOTROPY, &set);
+  EXPECT_EQ(set, textures.anisotropy());
 }
 
 TEST(GlAov, EmptySceneSeesNothing) {
