@@ -12,9 +12,10 @@ namespace bt::gl {
 
 namespace {
 
-// File layout: magic, format version, the GL binary format, the key's length and text, the
-// binary's length and bytes (little-endian host order: the file never leaves this machine).
-constexpr char kMagic[8] = {'B', 'T', 'P', 'R', 'O', 'G', '0', '1'};
+// File layout: magic with the format version, the GL binary format, the key's length and text,
+// the binding points' count and values, the binary's length and bytes (host byte order: the
+// file never leaves this machine).
+constexpr char kMagic[8] = {'B', 'T', 'P', 'R', 'O', 'G', '0', '2'};
 
 uint64_t fnv1a64(std::string_view text) {
   uint64_t h = 14695981039346656037ull;
@@ -44,9 +45,12 @@ std::string programCacheKey(std::string_view source, std::string_view vendor, st
   return fmt::format("{}\n{}\n{}\n{}", vendor, renderer, version, source);
 }
 
-ProgramCache ProgramCache::fromEnvironment() {
-  if (const char* off = std::getenv("BT_SHADER_CACHE"); off && (std::string_view(off) == "0" || std::string_view(off) == "off"))
-    return {};
+ProgramCache ProgramCache::fromEnvironment(std::string_view glVendor) {
+  const char* env = std::getenv("BT_SHADER_CACHE");
+  const std::string_view setting = env ? env : "";
+  if (setting == "0" || setting == "off") return {};
+  const bool forced = setting == "1" || setting == "on";
+  if (!forced && glVendor.find("NVIDIA") != std::string_view::npos) return {};
   if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return ProgramCache(std::filesystem::path(xdg) / "brushtrace");
   if (const char* home = std::getenv("HOME"); home && *home)
     return ProgramCache(std::filesystem::path(home) / ".cache" / "brushtrace");
@@ -70,6 +74,11 @@ std::optional<ProgramBinary> ProgramCache::load(std::string_view name, std::stri
   if (!get(rest, binary.format) || !get(rest, keyLength) || keyLength > rest.size()) return std::nullopt;
   if (rest.substr(0, keyLength) != key) return std::nullopt;
   rest.remove_prefix(keyLength);
+  uint64_t bindingCount = 0;
+  if (!get(rest, bindingCount) || bindingCount > rest.size() / sizeof(ProgramBindingPoint)) return std::nullopt;
+  binary.bindings.resize(bindingCount);
+  for (ProgramBindingPoint& b : binary.bindings)
+    if (!get(rest, b.kind) || !get(rest, b.index) || !get(rest, b.binding)) return std::nullopt;
   if (!get(rest, dataLength) || dataLength != rest.size() || dataLength == 0) return std::nullopt;
   binary.data.assign(rest.begin(), rest.end());
   return binary;
@@ -84,6 +93,12 @@ void ProgramCache::store(std::string_view name, std::string_view key, const Prog
   put(out, binary.format);
   put(out, static_cast<uint64_t>(key.size()));
   out.append(key);
+  put(out, static_cast<uint64_t>(binary.bindings.size()));
+  for (const ProgramBindingPoint& b : binary.bindings) {
+    put(out, b.kind);
+    put(out, b.index);
+    put(out, b.binding);
+  }
   put(out, static_cast<uint64_t>(binary.data.size()));
   out.append(reinterpret_cast<const char*>(binary.data.data()), binary.data.size());
 

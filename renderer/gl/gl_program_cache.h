@@ -19,17 +19,32 @@
 
 namespace bt::gl {
 
+// A binding point of a linked program, as the source's layout(binding = N) set it. Stored
+// with the binary and applied again after glProgramBinary: the GL spec says the binary keeps
+// them, but on NVIDIA (580 driver, H100) programs loaded from a binary read and wrote through
+// the wrong units and faulted, which is what lost bindings look like.
+struct ProgramBindingPoint {
+  enum Kind : int32_t { Uniform = 0, StorageBlock = 1, UniformBlock = 2 };
+  int32_t kind = Uniform;
+  int32_t index = 0;   // uniform location, or block index
+  int32_t binding = 0; // texture/image unit, or buffer binding point
+  bool operator==(const ProgramBindingPoint&) const = default;
+};
+
 struct ProgramBinary {
   uint32_t format = 0; // one of GL_PROGRAM_BINARY_FORMATS
   std::vector<uint8_t> data;
+  std::vector<ProgramBindingPoint> bindings;
 };
 
 class ProgramCache {
 public:
   ProgramCache() = default; // disabled
   explicit ProgramCache(std::filesystem::path directory) : directory_(std::move(directory)) {}
-  // The user's cache directory, or disabled by BT_SHADER_CACHE=0/off or without a home.
-  static ProgramCache fromEnvironment();
+  // The user's cache directory, or disabled by BT_SHADER_CACHE=0/off or without a home. Off by
+  // default on NVIDIA (`glVendor`), whose driver keeps its own shader cache (so warm starts are
+  // fast already) and where loaded binaries were seen to fault; BT_SHADER_CACHE=1/on forces it.
+  static ProgramCache fromEnvironment(std::string_view glVendor = {});
 
   bool enabled() const { return !directory_.empty(); }
   const std::filesystem::path& directory() const { return directory_; }

@@ -80,7 +80,7 @@ struct GlTracer::Impl {
   GlSceneBuffers buffers;
   // Compiled on first use: llvmpipe takes seconds for the path tracer, which AOVs do not need.
   std::unique_ptr<ComputeProgram> aovProgram, pathProgram, rayBenchProgram;
-  ProgramCache programCache = ProgramCache::fromEnvironment();
+  ProgramCache programCache = ProgramCache::fromEnvironment(context.info().vendor);
   GpuWorld world;
   GLuint cameraBuffer = 0;
   GLuint worldBuffer = 0;

@@ -114,7 +114,8 @@ public:
 
   TextureMode textureMode() const; // the path in use: Bindless or Arrays
 
-  // Where programs are cached; ProgramCache::fromEnvironment() unless set before they are built.
+  // Where programs are cached; ProgramCache::fromEnvironment(GL_VENDOR) unless set before they
+  // are built.
   void setProgramCache(ProgramCache cache);
   // Builds the path tracer's program now for images of width x height (renderBeauty otherwise
   // builds it on first use).

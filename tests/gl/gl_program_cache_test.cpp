@@ -42,12 +42,13 @@ TEST(ProgramCache, StoresAndLoadsOnlyForTheSameKey) {
   TempDir dir;
   const ProgramCache cache(dir.path);
   const std::string key = programCacheKey("void main() {}", "vendor", "renderer", "4.5");
-  const ProgramBinary binary{42, {1, 2, 3, 4, 5}};
+  const ProgramBinary binary{42, {1, 2, 3, 4, 5}, {{ProgramBindingPoint::Uniform, 3, 2}, {ProgramBindingPoint::StorageBlock, 0, 7}}};
   cache.store("a.comp", key, binary);
   const auto loaded = cache.load("a.comp", key);
   ASSERT_TRUE(loaded);
   EXPECT_EQ(loaded->format, 42u);
   EXPECT_EQ(loaded->data, binary.data);
+  EXPECT_EQ(loaded->bindings, binary.bindings);
   // Another driver version: another key, so never this binary.
   EXPECT_FALSE(cache.load("a.comp", programCacheKey("void main() {}", "vendor", "renderer", "4.6")));
   // Nothing but the entry itself is left in the directory (the temporary file was renamed).
@@ -77,6 +78,10 @@ TEST(ProgramCache, EnvironmentPicksTheDirectoryOrDisablesIt) {
   setenv("XDG_CACHE_HOME", "/tmp/bt-xdg", 1);
   unsetenv("BT_SHADER_CACHE");
   EXPECT_EQ(ProgramCache::fromEnvironment().directory(), fs::path("/tmp/bt-xdg/brushtrace"));
+  // NVIDIA: off unless forced (its driver caches shaders itself).
+  EXPECT_FALSE(ProgramCache::fromEnvironment("NVIDIA Corporation").enabled());
+  setenv("BT_SHADER_CACHE", "1", 1);
+  EXPECT_TRUE(ProgramCache::fromEnvironment("NVIDIA Corporation").enabled());
   setenv("BT_SHADER_CACHE", "0", 1);
   EXPECT_FALSE(ProgramCache::fromEnvironment().enabled());
   setenv("BT_SHADER_CACHE", "off", 1);
@@ -124,6 +129,28 @@ TEST(ProgramCache, CorruptBinaryFallsBackToCompiling) {
   ComputeProgram fourth("aov.comp", defines, cache);
   EXPECT_TRUE(fourth.loadedFromCache());
   EXPECT_EQ(context.debugErrorCount(), errorsBefore);
+}
+
+// A program loaded from the cache (its binding points applied again) renders what the compiled
+// one rendered.
+TEST(ProgramCache, CachedProgramRendersTheSameAovs) {
+  GlContext& context = test::sharedGlContext();
+  GLint formats = 0;
+  glGetIntegerv(GL_NUM_PROGRAM_BINARY_FORMATS, &formats);
+  if (formats == 0) GTEST_SKIP() << context.info().renderer << " offers no program binary formats (Mesa: shader cache disabled)";
+  TempDir dir;
+  const Scene scene = test::makeTestRoom();
+  const CameraBasis camera = test::testCamera(48, 32);
+  GlTracer compiled(context, scene, TextureMode::Arrays);
+  compiled.setProgramCache(ProgramCache(dir.path));
+  const AovImages a = compiled.renderAovs(camera, 48, 32);
+  GlTracer loaded(context, scene, TextureMode::Arrays);
+  loaded.setProgramCache(ProgramCache(dir.path));
+  const AovImages b = loaded.renderAovs(camera, 48, 32);
+  EXPECT_EQ(a.face, b.face);
+  EXPECT_EQ(a.depth, b.depth);
+  EXPECT_EQ(a.albedo, b.albedo);
+  EXPECT_NE(std::count(a.face.begin(), a.face.end(), AovImages::kNoFace), static_cast<long>(a.face.size()));
 }
 
 } // namespace
