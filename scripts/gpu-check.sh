@@ -8,7 +8,8 @@
 #      <repo the device tool sends>/.device-bundle/ (git-ignored);
 #   3. prints the `run` call that executes .device-bundle/run-on-device.sh on the GPU machine:
 #      the GL tests with bindless textures forced and again with texture arrays, then
-#      gl_bench on the map with each texture path.
+#      gl_bench on the map with each texture path (NVIDIA's own shader cache off, so its
+#      cold first image is a real compile).
 # The GL loader packages (libEGL, libGL, libglvnd, ...) travel in .gl/, fetched once as
 # /work/.library/device/README.md describes; the NVIDIA driver supplies the rest there.
 #
@@ -54,16 +55,16 @@ cd .device-bundle
 # Full logs go to \$out (they come back as files); the summaries to the output.
 echo "== GL tests, bindless forced (GL debug output on)"
 BT_GL_DEBUG=1 BT_GL_TEXTURES=bindless ./gl_tests >\$out/gl_tests_bindless.log 2>&1
-echo "exit \$?"; grep -E '^GL context|^\[  (FAILED|PASSED|SKIPPED) |GL debug' \$out/gl_tests_bindless.log | head -30
+echo "exit \$?"; grep -E '^GL context|GL context on|passed over|^\[  (FAILED|PASSED|SKIPPED) |GL debug' \$out/gl_tests_bindless.log | sort -u | head -30
 echo "== GL tests, texture arrays forced"
 BT_GL_TEXTURES=arrays ./gl_tests >\$out/gl_tests_arrays.log 2>&1
 echo "exit \$?"; grep -E '^\[  (FAILED|PASSED|SKIPPED) ' \$out/gl_tests_arrays.log | head -20
+# The driver's own shader cache is off for the benchmark, so that "cold" is a real compile
+# and "warm" is brushtrace's program binary cache alone (the tests above filled the driver's).
 for textures in bindless arrays; do
-  echo "== gl_bench $map_rel, \$textures, physical"
-  ./gl_bench map.json 1280x720 \$textures physical 6 2>&1 | tee \$out/bench_\$textures.log
+  echo "== gl_bench $map_rel, \$textures (full samples in both lighting modes)"
+  __GL_SHADER_DISK_CACHE=0 ./gl_bench map.json 1280x720 \$textures physical 6 2>&1 | tee \$out/bench_\$textures.log
 done
-echo "== gl_bench $map_rel, bindless, faithful"
-./gl_bench map.json 1280x720 bindless faithful 6 2>&1 | tail -2
 SCRIPT
 chmod +x "$tmp/run-on-device.sh"
 

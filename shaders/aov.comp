@@ -32,6 +32,6 @@ void main() {
   GpuMaterial m = materials[f.material];
   vec4 albedo = materialBaseColor(m, faceUv(f, m, hit.position));
   imageStore(albedoImage, pixel, vec4(srgbToLinear(albedo.rgb), 1.0));
-  imageStore(normalImage, pixel, vec4(f.normal, hit.t));
-  imageStore(faceImage, pixel, uvec4(f.sceneFace + 1u));
+  imageStore(normalImage, pixel, vec4(f.plane.xyz, hit.t));
+  imageStore(faceImage, pixel, uvec4(hit.face + 1u));
 }

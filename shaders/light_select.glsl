@@ -22,11 +22,11 @@ struct GpuLightCell {
   uint count;
 };
 
-layout(std430, binding = 7) readonly buffer LightGridBuffer {
+layout(std430, binding = 9) readonly buffer LightGridBuffer {
   GpuLightGrid lightGrid;
   GpuLightCell lightCells[];
 };
-layout(std430, binding = 8) readonly buffer LightIndices { uint lightIndices[]; }; // into lights[]
+layout(std430, binding = 10) readonly buffer LightIndices { uint lightIndices[]; }; // into lights[]
 
 // renderer/cpu lightGridCell: the cell holding p, clamped to the grid (NaN to cell 0).
 uint lightGridAxis(float coordinate, float origin, uint dim) {

@@ -5,7 +5,17 @@
 #endif
 // One sample per pixel of the integrator in renderer/cpu/integrator.cpp (faithful and
 // physical modes), added to a running sum: progressive accumulation, the mean read back as
-// sum / samples. Sample n of pixel (x, y) draws from pixelRng(x, y, n, seed) like the CPU's.
+// sum / samples. Sample n of pixel (x, y) draws from pixelRng(x, y, n, seed) like the CPU's,
+// in the same order.
+//
+// Shape: one ray per loop iteration. GPU compilers (NVIDIA's above all) inline every call, so
+// each place that calls the BVH traversal gets its own full copy of it; written as nested
+// functions (camera ray -> surface -> each light's shadow ray -> bounce ray -> ...) the
+// integrator held a dozen copies and took tens of seconds to compile. Here a Path carries what
+// the CPU's recursion keeps on its stack, main() traces whatever ray the path waits for, at one
+// call site, and advance() takes the result and sets up the next ray:
+//   RAY_SURFACE (camera or bounce ray) -> the surface's lights, one RAY_SHADOW or RAY_SKY ray
+//   each -> the next RAY_SURFACE, until the path ends.
 #include "scene_buffers.glsl"
 #include "textures.glsl"
 #include "trace.glsl"
@@ -30,6 +40,14 @@ vec3 emissiveAt(uint face, vec3 p) {
   return sampleEmissive(m, textureUv(face, p)).rgb;
 }
 
+// One of ericw-tools' `_samples` jittered copies of a point light: uniform in the cube of
+// half-size `_deviance` (renderer/cpu/integrator.cpp jitteredOrigin).
+vec3 jitteredOrigin(GpuLight light, inout Rng rng) {
+  if (light.deviance <= 0.0) return light.origin;
+  vec3 u = vec3(rngNext(rng), rngNext(rng), rngNext(rng));
+  return light.origin + light.deviance * (2.0 * u - 1.0);
+}
+
 uint pickEmitter(float u) {
   uint lo = 0u, hi = world.emitterCount - 1u;
   while (lo < hi) {
@@ -40,98 +58,7 @@ uint pickEmitter(float u) {
   return lo;
 }
 
-// One of ericw-tools' `_samples` jittered copies of a point light: uniform in the cube of
-// half-size `_deviance` (renderer/cpu/integrator.cpp jitteredOrigin).
-vec3 jitteredOrigin(GpuLight light, inout Rng rng) {
-  if (light.deviance <= 0.0) return light.origin;
-  vec3 u = vec3(rngNext(rng), rngNext(rng), rngNext(rng));
-  return light.origin + light.deviance * (2.0 * u - 1.0);
-}
-
-// ---- faithful mode ---------------------------------------------------------------------
-
-vec3 faithfulLightAt(vec3 p, vec3 n, inout Rng rng) {
-  vec3 origin = offsetPoint(p, n);
-  vec3 sum = vec3(0.0);
-  vec3 localMin = vec3(0.0);
-  // The light grid's lists (light_select.glsl), as renderer/cpu faithfulLightFromGrid: the
-  // lights left out give exactly 0 here.
-  uint cell = lightGridCell(p);
-  uint count = faithfulLightCount(cell);
-  for (uint k = 0u; k < count; ++k) {
-    GpuLight light = lights[faithfulLight(cell, k)];
-    if (light.type == LIGHT_POINT) {
-      vec3 pos = jitteredOrigin(light, rng);
-      vec3 d = pos - p;
-      float dist = length(d);
-      if (dist <= 0.0) continue;
-      float value = pointLightValue(light, n, d / dist, dist, world.scaledist);
-      if (value == 0.0) continue;
-      vec3 toLight = pos - origin;
-      float len = length(toLight);
-      if (occluded(origin, toLight / len, len, false)) continue;
-      if (light.formula == FORMULA_LOCAL_MIN) localMin = max(localMin, value * light.color);
-      else sum += value * light.color;
-    } else if (light.type == LIGHT_SUN) {
-      vec3 toSun = -light.direction;
-      if (light.deviance > 0.0) toSun = sampleCone(toSun, light.deviance, rngNext2(rng));
-      float value = sunValue(light, -toSun, n);
-      if (value == 0.0) continue;
-      if (!reachesSky(origin, toSun, false)) continue;
-      sum += value * light.color;
-    } else if (light.type == LIGHT_DOME) {
-      vec3 dir = sampleUniformHemisphere(light.direction, rngNext2(rng));
-      float cosIncidence = dot(dir, n);
-      if (cosIncidence <= 0.0) continue;
-      if (!reachesSky(origin, dir, false)) continue;
-      sum += light.value * angleTerm(cosIncidence, light.anglescale) * light.color;
-    }
-  }
-
-  sum = max(sum, localMin);
-  return max(sum, world.minlight);
-}
-
-// _bounce N: light reflected off other surfaces (light units), iterative form of the CPU's
-// recursion: each level multiplies the colour seen so far.
-vec3 faithfulBounce(vec3 p, vec3 n, inout Rng rng) {
-  vec3 total = vec3(0.0);
-  vec3 weight = vec3(world.bouncescale);
-  for (int depth = world.faithfulBounces; depth > 0; --depth) {
-    vec3 dir = sampleCosineHemisphere(n, rngNext2(rng));
-    SurfaceHit hit = traceVisible(offsetPoint(p, n), dir);
-    if (!hit.found || (faces[hit.face].flags & FACE_SKY) != 0u) break;
-    vec3 color = baseColorAt(hit.face, hit.position).rgb;
-    weight *= color;
-    total += weight * faithfulLightAt(hit.position, hit.normal, rng);
-    weight *= world.bouncescale;
-    p = hit.position;
-    n = hit.normal;
-  }
-  return total;
-}
-
-vec3 radianceFaithful(vec3 origin, vec3 dir, inout Rng rng) {
-  SurfaceHit hit = traceVisible(origin, dir);
-  if (!hit.found) return vec3(0.0);
-  uint flags = faces[hit.face].flags;
-  vec3 texture = baseColorAt(hit.face, hit.position).rgb;
-  // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
-  if ((flags & FACE_SKY) != 0u || ((flags & FACE_LIQUID) != 0u && world.litwater == 0u)) return srgbToLinear(texture);
-
-  vec3 light = max(faithfulLightAt(hit.position, hit.normal, rng), surfaceFaceMinlight(surfaceLights[faces[hit.face].material]));
-  if (world.faithfulBounces > 0) light += faithfulBounce(hit.position, hit.normal, rng);
-  // The compiler scales a coloured sum so its brightest channel fits in 255, keeping the hue.
-  vec3 stored = light * world.range;
-  float peak = max(stored.x, max(stored.y, stored.z));
-  if (peak > 255.0) stored *= 255.0 / peak;
-  stored = max(stored, vec3(0.0));
-  // Engine: texture x lightmap / 128 in the texture's (gamma) space; fullbright texels unlit.
-  vec3 display = max(texture * stored / OVERBRIGHT_ONE, emissiveAt(hit.face, hit.position));
-  return srgbToLinear(display);
-}
-
-// ---- physical mode ---------------------------------------------------------------------
+// ---- physical mode: materials -----------------------------------------------------------
 
 struct Bsdf {
   vec3 albedo;
@@ -200,107 +127,340 @@ vec3 skyDomeRadiance(vec3 dir) {
   return l;
 }
 
-vec3 directLight(Bsdf bsdf, vec3 p, vec3 n, vec3 wo, inout Rng rng) {
-  vec3 origin = offsetPoint(p, n);
-  vec3 l = vec3(0.0);
-  // Suns one by one, then one point light picked by light_select.glsl (renderer/cpu
-  // allLightsSelected): the same random numbers in the same order.
-  for (uint k = 0u; k < lightGrid.fixedCount; ++k) {
-    GpuLight light = lights[lightIndices[k]];
-    if (light.type != LIGHT_SUN || light.value <= 0.0) continue;
-    vec3 wi = -light.direction;
-    if (light.deviance > 0.0) wi = sampleCone(wi, light.deviance, rngNext2(rng));
-    float pdf;
-    vec3 f = bsdfEval(bsdf, n, wo, wi, pdf);
-    if (pdf == 0.0) continue;
-    if (!reachesSky(origin, wi, true)) continue;
-    l += f * light.color * light.value * world.range * PHYSICAL_SUN_SCALE * dot(n, wi);
-  }
-  SelectedLight chosen = selectPhysicalLight(origin, n, rng);
-  if (chosen.found) {
-    GpuLight light = lights[chosen.light];
-    vec3 d = jitteredOrigin(light, rng) - origin;
-    float dist2 = dot(d, d);
-    float dist = sqrt(dist2);
-    vec3 wi = d / dist;
-    float pdf;
-    vec3 f = bsdfEval(bsdf, n, wo, wi, pdf);
-    float cone = spotTerm(light, wi);
-    if (pdf != 0.0 && cone != 0.0 && !occluded(origin, wi, dist, true)) {
-      vec3 intensity = light.color * light.value * world.range * PHYSICAL_POINT_SCALE * cone;
-      l += f * intensity * dot(n, wi) / dist2 / chosen.pdf;
-    }
-  }
+// ---- the path ----------------------------------------------------------------------------
 
-  if (world.emitterCount > 0u) {
-    GpuEmitter e = emitters[pickEmitter(rngNext(rng))];
-    vec3 q = sampleTriangle(e.v0, e.v1, e.v2, rngNext2(rng));
-    vec3 d = q - origin;
-    float dist2 = dot(d, d);
-    float dist = sqrt(dist2);
-    vec3 wi = d / dist;
-    float cosLight = -dot(faces[e.face].normal, wi);
-    float bsdfPdf;
-    vec3 f = bsdfEval(bsdf, n, wo, wi, bsdfPdf);
-    if (cosLight > 0.0 && bsdfPdf > 0.0) {
-      float lightPdf = dist2 / (cosLight * world.emitterArea);
-      // Stop just short of the emitter so that its own face does not count as a blocker.
-      if (!occluded(origin, wi, dist - 2.0 * SURFACE_OFFSET, true)) {
-        vec3 le = emittedRadiance(e.face, q);
-        l += f * le * dot(n, wi) * powerHeuristic(lightPdf, bsdfPdf) / lightPdf;
-      }
-    }
-  }
-  return l;
+const uint RAY_SURFACE = 0u; // camera or bounce ray: the next surface drawn (renderer/cpu traceVisible)
+const uint RAY_SHADOW = 1u;  // to a light: is the segment blocked (occluded), any hit
+const uint RAY_SKY = 2u;     // to the sun or the sky dome: does it reach a sky face (reachesSky)
+
+struct Path {
+  // The ray in flight.
+  uint kind;
+  vec3 origin;
+  vec3 dir;
+  float tMin;
+  float tMax;
+  int skips;        // hidden faces and inside hits passed along it (MAX_SKIPS, like the CPU's loops)
+  // The surface being lit: which light's ray is in flight (nextLightRay's position in the light
+  // grid's lists, the last = the emitters), and what that light adds if the ray gets through.
+  int depth;        // surfaces before this one; 0 = the camera ray's
+  uint face;
+  vec3 position;
+  vec3 normal;
+  vec3 wo;          // physical: towards the previous vertex
+  uint lightIndex;
+  vec3 pending;
+  bool pendingIsFloor; // faithful: a delay 4 light, which raises a floor instead of adding
+  // Faithful mode: the lights at this surface, and over the path (renderer/cpu faithfulLightAt,
+  // faithfulBounce, radianceFaithful).
+  vec3 lightSum;
+  vec3 lightFloor;
+  vec3 lit;         // at the first surface, plus what _bounce brings
+  vec3 weight;      // _bounce: bouncescale and the colours seen so far
+  vec3 texture;     // the first surface's texture colour (sRGB-encoded) ...
+  vec3 fullbright;  // ... and its emissive texels
+  // Physical mode (renderer/cpu radiancePhysical).
+  Bsdf bsdf;
+  vec3 throughput;
+  float prevBsdfPdf; // 0: camera ray (no MIS weight on what it sees)
+  // The sample, once the path has ended (0 until then in faithful mode).
+  vec3 radiance;
+};
+
+void setRay(inout Path path, uint kind, vec3 origin, vec3 dir, float tMax) {
+  path.kind = kind;
+  path.origin = origin;
+  path.dir = dir;
+  path.tMin = 0.0;
+  path.tMax = tMax;
+  path.skips = 0;
 }
 
-vec3 radiancePhysical(vec3 origin, vec3 dir, inout Rng rng) {
-  vec3 l = vec3(0.0), throughput = vec3(1.0);
-  float prevBsdfPdf = 0.0; // 0: camera ray (no MIS weight on what it sees)
-  for (int depth = 0;; ++depth) {
-    SurfaceHit hit = traceVisible(origin, dir);
-    if (!hit.found) break; // the void outside a level is black
-    GpuFace face = faces[hit.face];
-    if ((face.flags & FACE_SKY) != 0u) {
-      l += throughput * (srgbToLinear(baseColorAt(hit.face, hit.position).rgb) + skyDomeRadiance(dir));
-      break;
-    }
-    vec3 n = hit.normal;
-    vec3 wo = -dir;
-    if ((face.flags & FACE_EMISSIVE) != 0u) {
-      vec3 le = emittedRadiance(hit.face, hit.position);
-      float weight = 1.0;
-      if (prevBsdfPdf > 0.0) {
-        float cosLight = max(dot(n, wo), 1e-6);
-        float lightPdf = hit.t * hit.t / (cosLight * world.emitterArea);
-        weight = powerHeuristic(prevBsdfPdf, lightPdf);
-      }
-      l += throughput * le * weight;
-    }
-    if (depth >= world.bounces + 1) break;
+// ---- faithful mode ---------------------------------------------------------------------
 
-    GpuMaterial m = materials[face.material];
-    Bsdf bsdf = Bsdf(srgbToLinear(baseColorAt(hit.face, hit.position).rgb), m.roughness, m.metallic,
-                     (m.flags & MATERIAL_SPECULAR) != 0u);
-    l += throughput * directLight(bsdf, hit.position, n, wo, rng);
-
-    vec3 wi = bsdfSample(bsdf, n, wo, rng);
-    float pdf;
-    vec3 f = bsdfEval(bsdf, n, wo, wi, pdf);
-    if (pdf <= 0.0) break;
-    throughput *= f * dot(n, wi) / pdf;
-    prevBsdfPdf = pdf;
-
-    // Russian roulette after three bounces, survival by throughput.
-    if (depth >= 3) {
-      float survive = min(0.95, max(throughput.x, max(throughput.y, throughput.z)));
-      if (rngNext(rng) >= survive) break;
-      throughput /= survive;
-    }
-    origin = offsetPoint(hit.position, n);
-    dir = wi;
+// One light of renderer/cpu faithfulLightFromGrid at the current surface: false if it adds nothing
+// here, else the ray that decides whether it does.
+bool faithfulLightRay(inout Path path, GpuLight light, inout Rng rng) {
+  vec3 p = path.position, n = path.normal;
+  vec3 origin = offsetPoint(p, n);
+  path.pendingIsFloor = false;
+  if (light.type == LIGHT_POINT) {
+    vec3 pos = jitteredOrigin(light, rng);
+    vec3 d = pos - p;
+    float dist = length(d);
+    if (dist <= 0.0) return false;
+    float value = pointLightValue(light, n, d / dist, dist, world.scaledist);
+    if (value == 0.0) return false;
+    vec3 toLight = pos - origin;
+    float len = length(toLight);
+    setRay(path, RAY_SHADOW, origin, toLight / len, len);
+    path.pending = value * light.color;
+    path.pendingIsFloor = light.formula == FORMULA_LOCAL_MIN;
+    return true;
   }
-  return l;
+  if (light.type == LIGHT_SUN) {
+    vec3 toSun = -light.direction;
+    if (light.deviance > 0.0) toSun = sampleCone(toSun, light.deviance, rngNext2(rng));
+    float value = sunValue(light, -toSun, n);
+    if (value == 0.0) return false;
+    setRay(path, RAY_SKY, origin, toSun, INFINITY);
+    path.pending = value * light.color;
+    return true;
+  }
+  if (light.type == LIGHT_DOME) {
+    vec3 dir = sampleUniformHemisphere(light.direction, rngNext2(rng));
+    float cosIncidence = dot(dir, n);
+    if (cosIncidence <= 0.0) return false;
+    setRay(path, RAY_SKY, origin, dir, INFINITY);
+    path.pending = light.value * angleTerm(cosIncidence, light.anglescale) * light.color;
+    return true;
+  }
+  return false;
+}
+
+// The pixel's value once a faithful path has ended: what the game would draw.
+vec3 faithfulDisplay(Path path) {
+  // The compiler scales a coloured sum so its brightest channel fits in 255, keeping the hue.
+  vec3 stored = path.lit * world.range;
+  float peak = max(stored.x, max(stored.y, stored.z));
+  if (peak > 255.0) stored *= 255.0 / peak;
+  stored = max(stored, vec3(0.0));
+  // Engine: texture x lightmap / 128 in the texture's (gamma) space; fullbright texels unlit.
+  vec3 display = max(path.texture * stored / OVERBRIGHT_ONE, path.fullbright);
+  return srgbToLinear(display);
+}
+
+// A surface ray's result. False when the path ends here.
+bool faithfulSurface(inout Path path, SurfaceHit hit) {
+  if (path.depth == 0) {
+    if (!hit.found) return false;
+    uint flags = faceFlags[hit.face];
+    path.texture = baseColorAt(hit.face, hit.position).rgb;
+    // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
+    if ((flags & FACE_SKY) != 0u || ((flags & FACE_LIQUID) != 0u && world.litwater == 0u)) {
+      path.radiance = srgbToLinear(path.texture);
+      return false;
+    }
+    path.fullbright = emissiveAt(hit.face, hit.position);
+    path.weight = vec3(world.bouncescale);
+  } else {
+    // A _bounce ray: ends at the void or the sky, else the surface's colour tints what follows.
+    if (!hit.found || (faceFlags[hit.face] & FACE_SKY) != 0u) {
+      path.radiance = faithfulDisplay(path);
+      return false;
+    }
+    path.weight *= baseColorAt(hit.face, hit.position).rgb;
+  }
+  path.face = hit.face;
+  path.position = hit.position;
+  path.normal = hit.normal;
+  path.lightSum = vec3(0.0);
+  path.lightFloor = vec3(0.0);
+  return true;
+}
+
+// The surface's lights are all done: the next _bounce ray, or false at the path's end.
+bool faithfulBounce(inout Path path, inout Rng rng) {
+  vec3 light = max(max(path.lightSum, path.lightFloor), world.minlight);
+  if (path.depth == 0) {
+    // The _surface template's own faces: ericw-tools' face minlight (renderer/cpu faithfulFaceMinlight).
+    path.lit = max(light, surfaceFaceMinlight(surfaceLights[faces[path.face].material]));
+  } else {
+    path.lit += path.weight * light;
+    path.weight *= world.bouncescale;
+  }
+  if (path.depth >= world.faithfulBounces) {
+    path.radiance = faithfulDisplay(path);
+    return false;
+  }
+  vec3 dir = sampleCosineHemisphere(path.normal, rngNext2(rng));
+  setRay(path, RAY_SURFACE, offsetPoint(path.position, path.normal), dir, INFINITY);
+  path.depth++;
+  return true;
+}
+
+// ---- physical mode ---------------------------------------------------------------------
+
+// A light of the fixed list (light_select.glsl) at the current surface: suns get a ray, the
+// rest (domes, local minlights) light nothing here (renderer/cpu allLightsSelected).
+bool physicalSunRay(inout Path path, GpuLight light, inout Rng rng) {
+  if (light.type != LIGHT_SUN || light.value <= 0.0) return false;
+  vec3 n = path.normal;
+  vec3 origin = offsetPoint(path.position, n);
+  vec3 wi = -light.direction;
+  if (light.deviance > 0.0) wi = sampleCone(wi, light.deviance, rngNext2(rng));
+  float pdf;
+  vec3 f = bsdfEval(path.bsdf, n, path.wo, wi, pdf);
+  if (pdf == 0.0) return false;
+  setRay(path, RAY_SKY, origin, wi, INFINITY);
+  path.pending = f * light.color * light.value * world.range * PHYSICAL_SUN_SCALE * dot(n, wi);
+  return true;
+}
+
+// One point light picked by light selection (light_select.glsl), divided by the probability
+// of the pick; its _deviance jitter is drawn after the pick, as on the CPU.
+bool physicalSelectedLightRay(inout Path path, inout Rng rng) {
+  vec3 n = path.normal;
+  vec3 origin = offsetPoint(path.position, n);
+  SelectedLight chosen = selectPhysicalLight(origin, n, rng);
+  if (!chosen.found) return false;
+  GpuLight light = lights[chosen.light];
+  vec3 d = jitteredOrigin(light, rng) - origin;
+  float dist2 = dot(d, d);
+  float dist = sqrt(dist2);
+  vec3 wi = d / dist;
+  float pdf;
+  vec3 f = bsdfEval(path.bsdf, n, path.wo, wi, pdf);
+  float cone = spotTerm(light, wi);
+  if (pdf == 0.0 || cone == 0.0) return false;
+  vec3 intensity = light.color * light.value * world.range * PHYSICAL_POINT_SCALE * cone;
+  setRay(path, RAY_SHADOW, origin, wi, dist);
+  path.pending = f * intensity * dot(n, wi) / dist2 / chosen.pdf;
+  return true;
+}
+
+// One point on a random emitter triangle, MIS-weighted against BSDF sampling.
+bool physicalEmitterRay(inout Path path, inout Rng rng) {
+  vec3 n = path.normal;
+  vec3 origin = offsetPoint(path.position, n);
+  GpuEmitter e = emitters[pickEmitter(rngNext(rng))];
+  vec3 q = sampleTriangle(e.v0, e.v1, e.v2, rngNext2(rng));
+  vec3 d = q - origin;
+  float dist2 = dot(d, d);
+  float dist = sqrt(dist2);
+  vec3 wi = d / dist;
+  float cosLight = -dot(faces[e.face].plane.xyz, wi);
+  float bsdfPdf;
+  vec3 f = bsdfEval(path.bsdf, n, path.wo, wi, bsdfPdf);
+  if (!(cosLight > 0.0 && bsdfPdf > 0.0)) return false;
+  float lightPdf = dist2 / (cosLight * world.emitterArea);
+  // Stop just short of the emitter so that its own face does not count as a blocker.
+  setRay(path, RAY_SHADOW, origin, wi, dist - 2.0 * SURFACE_OFFSET);
+  path.pending = f * emittedRadiance(e.face, q) * dot(n, wi) * powerHeuristic(lightPdf, bsdfPdf) / lightPdf;
+  return true;
+}
+
+bool physicalSurface(inout Path path, SurfaceHit hit) {
+  if (!hit.found) return false; // the void outside a level is black
+  uint flags = faceFlags[hit.face];
+  if ((flags & FACE_SKY) != 0u) {
+    path.radiance += path.throughput * (srgbToLinear(baseColorAt(hit.face, hit.position).rgb) + skyDomeRadiance(path.dir));
+    return false;
+  }
+  vec3 n = hit.normal;
+  vec3 wo = -path.dir;
+  if ((flags & FACE_EMISSIVE) != 0u) {
+    vec3 le = emittedRadiance(hit.face, hit.position);
+    float weight = 1.0;
+    if (path.prevBsdfPdf > 0.0) {
+      float cosLight = max(dot(n, wo), 1e-6);
+      float lightPdf = hit.t * hit.t / (cosLight * world.emitterArea);
+      weight = powerHeuristic(path.prevBsdfPdf, lightPdf);
+    }
+    path.radiance += path.throughput * le * weight;
+  }
+  if (path.depth >= world.bounces + 1) return false;
+
+  GpuMaterial m = materials[faces[hit.face].material];
+  path.bsdf = Bsdf(srgbToLinear(baseColorAt(hit.face, hit.position).rgb), m.roughness, m.metallic,
+                   (m.flags & MATERIAL_SPECULAR) != 0u);
+  path.position = hit.position;
+  path.normal = n;
+  path.wo = wo;
+  return true;
+}
+
+// Direct light is done: sample the BSDF for the next bounce, or false at the path's end.
+bool physicalBounce(inout Path path, inout Rng rng) {
+  vec3 n = path.normal;
+  vec3 wi = bsdfSample(path.bsdf, n, path.wo, rng);
+  float pdf;
+  vec3 f = bsdfEval(path.bsdf, n, path.wo, wi, pdf);
+  if (pdf <= 0.0) return false;
+  path.throughput *= f * dot(n, wi) / pdf;
+  path.prevBsdfPdf = pdf;
+  // Russian roulette after three bounces, survival by throughput.
+  if (path.depth >= 3) {
+    float survive = min(0.95, max(path.throughput.x, max(path.throughput.y, path.throughput.z)));
+    if (rngNext(rng) >= survive) return false;
+    path.throughput /= survive;
+  }
+  setRay(path, RAY_SURFACE, offsetPoint(path.position, n), wi, INFINITY);
+  path.depth++;
+  return true;
+}
+
+// ---- the loop ----------------------------------------------------------------------------
+
+// The next light of the current surface that needs a ray, set up in `path`; false when none is
+// left. The lights come from the light grid (light_select.glsl), in renderer/cpu's order:
+//   faithful: the fixed, global and cell lists (faithfulLightFromGrid; _surface lights are
+//             point lights in them);
+//   physical: the fixed list's suns, one selected point light (allLightsSelected), then one
+//             emitter sample.
+bool nextLightRay(inout Path path, inout Rng rng) {
+  bool physical = world.physical != 0u;
+  uint cell = lightGridCell(path.position);
+  uint count = physical ? lightGrid.fixedCount + 1u : faithfulLightCount(cell);
+  while (path.lightIndex <= count) {
+    uint i = path.lightIndex++;
+    bool needsRay;
+    if (i == count)
+      needsRay = physical && world.emitterCount > 0u && physicalEmitterRay(path, rng);
+    else if (!physical)
+      needsRay = faithfulLightRay(path, lights[faithfulLight(cell, i)], rng);
+    else if (i < lightGrid.fixedCount)
+      needsRay = physicalSunRay(path, lights[lightIndices[i]], rng);
+    else
+      needsRay = physicalSelectedLightRay(path, rng);
+    if (needsRay) return true;
+  }
+  return false;
+}
+
+// Takes the hit of the ray the path waited for and sets up the next one; false when the path
+// has ended (path.radiance is then the sample).
+bool advance(inout Path path, Hit hit, inout Rng rng) {
+  bool physical = world.physical != 0u;
+  bool ended = false;
+  if (path.kind == RAY_SHADOW) {
+    // The any-hit traversal passed everything that does not block light already.
+    if (hit.face == NO_FACE) {
+      if (physical) path.radiance += path.throughput * path.pending;
+      else if (path.pendingIsFloor) path.lightFloor = max(path.lightFloor, path.pending);
+      else path.lightSum += path.pending;
+    }
+  } else {
+    // Surface and sky rays pass hidden faces (and, for the sky, what does not block light) and
+    // the far side of a brush they start in, stepping on past each like the CPU's loops.
+    uint flags = 0u;
+    if (hit.face != NO_FACE) flags = faceFlags[hit.face]; // a branch: never a read at NO_FACE
+    bool passThrough = hit.face != NO_FACE &&
+                       (hit.inside || (path.kind == RAY_SURFACE ? (flags & FACE_HIDDEN) != 0u
+                                                                : (flags & FACE_SKY) == 0u && !blocksLight(flags, physical)));
+    if (passThrough && ++path.skips < MAX_SKIPS) {
+      path.tMin = hit.t + SKIP_STEP;
+      return true;
+    }
+    bool gaveUp = passThrough; // too many skips: a miss for surface rays, blocked for sky rays
+    if (path.kind == RAY_SKY) {
+      bool reached = !gaveUp && (hit.face == NO_FACE || (flags & FACE_SKY) != 0u);
+      if (reached) {
+        if (physical) path.radiance += path.throughput * path.pending;
+        else path.lightSum += path.pending;
+      }
+    } else {
+      bool found = !gaveUp && hit.face != NO_FACE;
+      vec3 position = path.origin + path.dir * hit.t;
+      SurfaceHit surface = SurfaceHit(found, hit.t, hit.face, position, vec3(0.0));
+      if (found) surface.normal = faceNormal(hit.face);
+      ended = !(physical ? physicalSurface(path, surface) : faithfulSurface(path, surface));
+      path.lightIndex = 0u;
+    }
+  }
+  if (ended) return false;
+  if (nextLightRay(path, rng)) return true;
+  return physical ? physicalBounce(path, rng) : faithfulBounce(path, rng);
 }
 
 void main() {
@@ -308,8 +468,24 @@ void main() {
   if (any(greaterThanEqual(pixel, camera.imageSize))) return;
   Rng rng = pixelRng(uint(pixel.x), uint(pixel.y), camera.frameIndex, camera.seed);
   vec2 jitter = rngNext2(rng);
-  vec3 dir = cameraRayDirection(vec2(pixel) + jitter);
-  vec3 l = world.physical != 0u ? radiancePhysical(camera.origin, dir, rng) : radianceFaithful(camera.origin, dir, rng);
+
+  Path path;
+  setRay(path, RAY_SURFACE, camera.origin, cameraRayDirection(vec2(pixel) + jitter), INFINITY);
+  path.depth = 0;
+  path.lit = vec3(0.0);
+  path.texture = vec3(0.0);
+  path.fullbright = vec3(0.0);
+  path.throughput = vec3(1.0);
+  path.prevBsdfPdf = 0.0;
+  path.radiance = vec3(0.0);
+  uint passFlags = lightPassFlags(world.physical != 0u);
+  while (true) {
+    // The one call of the traversal in this program.
+    Hit hit = traceRay(makeTraceRay(path.origin, path.dir, path.tMin, path.tMax), path.kind == RAY_SHADOW, passFlags);
+    if (!advance(path, hit, rng)) break;
+  }
+  vec3 l = path.radiance;
+
   vec4 sum = camera.frameIndex == camera.firstFrame ? vec4(0.0) : imageLoad(accumulation, pixel);
   // A NaN or infinite sample would poison the pixel for good; drop it, as the CPU does.
   if (!any(isnan(l)) && !any(isinf(l))) sum.rgb += l;

@@ -22,18 +22,18 @@ layout(location = 0) uniform uint mode;
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(pixel, camera.imageSize))) return;
-  if (mode == 0u) {
-    vec3 dir = cameraRayDirection(vec2(pixel) + 0.5);
-    Hit hit = traceClosest(camera.origin, dir, 0.0, 3.0e38);
-    vec3 p = camera.origin + dir * hit.t;
-    imageStore(hits, pixel, vec4(p, hit.face == NO_FACE ? 0.0 : float(hit.face + 1u)));
-    return;
+  vec3 origin = camera.origin;
+  vec3 dir = cameraRayDirection(vec2(pixel) + 0.5);
+  if (mode == 1u) {
+    vec4 primary = imageLoad(hits, pixel);
+    if (primary.w == 0.0) return;
+    vec3 n = faces[uint(primary.w) - 1u].plane.xyz;
+    Rng rng = pixelRng(uint(pixel.x), uint(pixel.y), camera.frameIndex, camera.seed);
+    origin = primary.xyz + n * 0.03;
+    dir = sampleCosineHemisphere(n, rngNext2(rng));
   }
-  vec4 primary = imageLoad(hits, pixel);
-  if (primary.w == 0.0) return;
-  vec3 n = faces[uint(primary.w) - 1u].normal;
-  Rng rng = pixelRng(uint(pixel.x), uint(pixel.y), camera.frameIndex, camera.seed);
-  vec3 dir = sampleCosineHemisphere(n, rngNext2(rng));
-  Hit hit = traceClosest(primary.xyz + n * 0.03, dir, 0.0, 3.0e38);
-  imageStore(bounceT, pixel, vec4(hit.t));
+  // One call site of the traversal for both modes (trace.glsl says why).
+  Hit hit = traceRay(makeTraceRay(origin, dir, 0.0, INFINITY), false, 0u);
+  if (mode == 0u) imageStore(hits, pixel, vec4(origin + dir * hit.t, hit.face == NO_FACE ? 0.0 : float(hit.face + 1u)));
+  else imageStore(bounceT, pixel, vec4(hit.t));
 }

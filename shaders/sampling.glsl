@@ -56,13 +56,6 @@ vec3 sampleCone(vec3 axis, float halfAngle, vec2 u) {
   return toWorld(vec3(r * cos(phi), r * sin(phi), z), axis);
 }
 
-vec3 sampleBall(vec3 u) {
-  float z = 1.0 - 2.0 * u.x;
-  float r = sqrt(max(0.0, 1.0 - z * z));
-  float phi = 2.0 * PI * u.y;
-  return pow(u.z, 1.0 / 3.0) * vec3(r * cos(phi), r * sin(phi), z);
-}
-
 vec3 sampleTriangle(vec3 a, vec3 b, vec3 c, vec2 u) {
   float su = sqrt(u.x);
   return a * (1.0 - su) + b * (su * (1.0 - u.y)) + c * (su * u.y);

@@ -1,38 +1,39 @@
-// std430 mirrors of renderer/gl/gl_structs.h. Keep both sides in step: the C++ header has
-// static_asserts on every size and offset below.
+// std430 mirrors of scene/gpu_structs.h and renderer/gl/gl_structs.h. Keep both sides in step:
+// the C++ headers have static_asserts on every size and offset below.
 
-// A BVH node over brushes. count > 0: a leaf holding brushes [leftOrFirst, leftOrFirst + count)
-// of the brush buffer; count == 0: an interior node whose children are leftOrFirst and
-// leftOrFirst + 1.
+// scene/gpu_structs.h's BVH structs, byte for byte: bvh/trace_scene.h's TraceScene arrays are
+// uploaded unchanged. See that header for what each field means.
 struct GpuBvhNode {
   vec3 boundsMin;   // offset 0
-  uint leftOrFirst; // offset 12
+  uint leftFirst;   // offset 12: interior (count 0): left child, right = left + 1; leaf: first brush
   vec3 boundsMax;   // offset 16
-  uint count;       // offset 28
+  uint count;       // offset 28: brushes in a leaf, 0 for an interior node
 };                  // 32 bytes
 
-// A convex brush: the intersection of the half-spaces behind faces [firstFace, firstFace + faceCount).
 struct GpuBrush {
-  vec3 boundsMin;   // offset 0
-  uint firstFace;   // offset 12
-  vec3 boundsMax;   // offset 16
-  uint faceCount;   // offset 28
-};                  // 32 bytes
+  vec3 boundsMin;     // offset 0
+  uint firstSide;     // offset 12: sides[firstSide .. firstSide + sideCount) are the slanted faces
+  vec3 boundsMax;     // offset 16
+  uint sideCount;     // offset 28
+  uint axialFace[6];  // offset 32: the face on each box side -X, +X, -Y, +Y, -Z, +Z, or NO_FACE
+  uint sceneBrush;    // offset 56
+  uint pad;           // offset 60
+};                    // 64 bytes
 
-// One brush side: its plane (normal points out of the brush, dot(normal, p) == dist on it) and
-// its texture frame, s = dot(p - origin, tangent), t = dot(p - origin, bitangent), in texels.
+// One brush side, faces[i] = Scene::faces[i]: plane.xyz the outward normal, plane.w the
+// distance (dot(normal, p) == dist on it); texture frame s = dot(p - origin, tangent),
+// t = dot(p - origin, bitangent), in texels.
 struct GpuFace {
-  vec3 normal;      // offset 0
-  float dist;       // offset 12
+  vec4 plane;       // offset 0
   vec3 origin;      // offset 16
   uint material;    // offset 28
   vec3 tangent;     // offset 32
-  uint sceneFace;   // offset 44: index into Scene::faces (the face AOV)
+  uint brush;       // offset 44
   vec3 bitangent;   // offset 48
-  uint flags;       // offset 60
+  uint pad;         // offset 60
 };                  // 64 bytes
 
-// GpuFace.flags: renderer/cpu's face classes (scene/gpu_structs.h kFace*), from the texture name.
+// faceFlags[] (RenderScene::faceFlags): the face classes of scene/gpu_structs.h kFace*.
 const uint FACE_HIDDEN = 1u;    // clip, trigger, skip, hint, origin, common/*: never seen
 const uint FACE_SKY = 2u;       // sky*: the environment, and where sunlight comes from
 const uint FACE_LIQUID = 4u;    // '*' textures: unlit unless _litwater

@@ -1,100 +1,226 @@
-// Closest hit of a ray against the brushes: BVH traversal with a short stack, ray vs brush by
-// clipping the ray against every plane of the brush (Haines, Graphics Gems II).
-// Needs scene_buffers.glsl.
+// Ray queries on bvh/trace_scene.h's TraceScene, uploaded unchanged (nodes, brushes, sides,
+// faces). This is a port of bvh/trace_scene.cpp, rule for rule, so that the GL tracer and the
+// CPU reference return the same hit for the same ray; trace_scene.h states the contract:
+//   - direction components below 2^-100 count as zero; a zero component means "inside that slab
+//     or miss", never 0 * inf; the CPU's infinities are FLT_MAX here;
+//   - a brush's box slabs stand in for its axial faces (GpuBrush::axialFace), its slanted sides
+//     clip the interval one by one (Haines); ties between planes at the same t go to the one
+//     met more head-on, then to the box side, then to the earlier side;
+//   - a ray starting inside a brush hits where it leaves, with `inside` set;
+//   - among brushes, the smallest t wins, equal t the smaller face index.
+// Needs scene_buffers.glsl. BT_BVH_MAX_DEPTH is scene/gpu_structs.h's kBvhMaxDepth, defined by
+// the program (renderer/gl) and by the build's glslangValidator run alike.
+
+#ifndef BT_BVH_MAX_DEPTH
+#error "BT_BVH_MAX_DEPTH (scene/gpu_structs.h kBvhMaxDepth) must be defined"
+#endif
 
 const uint NO_FACE = 0xffffffffu;
+// FLT_MAX stands in for the CPU's infinity: every t of a real ray is far below it (directions
+// are flushed below 2^-100, coordinates are Quake's), and GPU compilers may assume that no
+// value is infinite (NVIDIA's does).
+#define INFINITY 3.4028235e38
 
 struct Hit {
   float t;     // distance along the ray (in units of dir's length)
-  uint face;   // index into faces[], NO_FACE for a miss
+  uint face;   // index into faces[] (= Scene::faces), NO_FACE for a miss
   bool inside; // the ray started inside the brush; face is where it leaves
 };
 
-const float MISS = 3.4e38; // the slab test's miss: beyond every tMax the tracer passes (at most 3e38)
+// A ray prepared for traversal (trace_scene.cpp RayContext).
+struct TraceRay {
+  vec3 origin;
+  vec3 dir;
+  vec3 invDir;  // 0 on zero components
+  bool hasZero; // some component is 0: slab tests take the careful path
+  float tMin, tMax;
+};
 
-// Slab test; returns the entry distance, or MISS.
-float intersectBounds(vec3 origin, vec3 invDir, vec3 bmin, vec3 bmax, float tMin, float tMax) {
-  vec3 t0 = (bmin - origin) * invDir;
-  vec3 t1 = (bmax - origin) * invDir;
-  vec3 tNear = min(t0, t1);
-  vec3 tFar = max(t0, t1);
-  float enter = max(max(tNear.x, tNear.y), max(tNear.z, tMin));
-  float leave = min(min(tFar.x, tFar.y), min(tFar.z, tMax));
-  return enter <= leave ? enter : MISS;
+TraceRay makeTraceRay(vec3 origin, vec3 dir, float tMin, float tMax) {
+  vec3 d = mix(dir, vec3(0.0), lessThan(abs(dir), vec3(uintBitsToFloat(0x0d800000u)))); // below 2^-100
+  vec3 inv = vec3(d.x != 0.0 ? 1.0 / d.x : 0.0, d.y != 0.0 ? 1.0 / d.y : 0.0, d.z != 0.0 ? 1.0 / d.z : 0.0);
+  return TraceRay(origin, d, inv, any(equal(d, vec3(0.0))), tMin, tMax);
 }
 
-// Ray vs convex brush, the rules of bvh/trace_scene.h: the interval (tMin, tMax) is clipped by
-// every plane; a plane crossed from front to back raises the entry, one crossed from back to
-// front lowers the exit, a parallel plane with the origin in front rejects the brush.
-// From outside: the hit is the entry and its plane. Starting inside (entry <= tMin): the hit is
-// the exit and its plane, with inside set. Entry > exit: miss. tMax is inclusive here so that
-// traceClosest can see a second hit at the same t and break the tie.
-bool intersectBrush(GpuBrush b, vec3 origin, vec3 dir, float tMin, float tMax, out Hit hit) {
-  float tEnter = -3.0e38, tLeave = 3.0e38;
-  uint enterFace = NO_FACE, leaveFace = NO_FACE;
-  for (uint i = b.firstFace; i < b.firstFace + b.faceCount; ++i) {
-    float distance = dot(faces[i].normal, origin) - faces[i].dist; // > 0: in front (outside)
-    float denom = dot(faces[i].normal, dir);
-    if (denom < 0.0) {
-      float t = -distance / denom;
-      if (t > tEnter) { tEnter = t; enterFace = i; }
-    } else if (denom > 0.0) {
-      float t = -distance / denom;
-      if (t < tLeave) { tLeave = t; leaveFace = i; }
-    } else if (distance > 0.0) {
-      return false; // parallel to the plane and outside it
+// The ray's interval in a box, near > far on a miss, and which box side set each end: its
+// slot in GpuBrush::axialFace (2 * axis + 1 for the +side), -1 if none did, with |d| along
+// that axis. On equal t the axis the ray meets more head-on (larger |d|) takes the end: the
+// tie rule of trace_scene.cpp brushBox.
+// Written per axis with no vector indexed by a run-time value: GPU compilers put such vectors
+// in local memory, and may read them before the guard that keeps the index in range.
+struct Slab {
+  float near, far;
+  int nearSlot, farSlot;
+  float nearFacing, farFacing;
+};
+
+void clipSlab(inout Slab s, inout bool miss, float origin, float dir, float invDir, float lo, float hi, int axis) {
+  if (dir == 0.0) {
+    miss = miss || origin < lo || origin > hi;
+    return;
+  }
+  bool negative = dir < 0.0;
+  float tNear = ((negative ? hi : lo) - origin) * invDir;
+  float tFar = ((negative ? lo : hi) - origin) * invDir;
+  float facing = abs(dir);
+  if (tNear > s.near || (tNear == s.near && s.nearSlot >= 0 && facing > s.nearFacing)) {
+    s.near = tNear;
+    s.nearSlot = 2 * axis + (negative ? 1 : 0); // entering through the +side when going down
+    s.nearFacing = facing;
+  }
+  if (tFar < s.far || (tFar == s.far && s.farSlot >= 0 && facing > s.farFacing)) {
+    s.far = tFar;
+    s.farSlot = 2 * axis + (negative ? 0 : 1);
+    s.farFacing = facing;
+  }
+}
+
+Slab intersectBox(TraceRay r, vec3 boxMin, vec3 boxMax) {
+  Slab s = Slab(-INFINITY, INFINITY, -1, -1, 0.0, 0.0);
+  bool miss = false;
+  clipSlab(s, miss, r.origin.x, r.dir.x, r.invDir.x, boxMin.x, boxMax.x, 0);
+  clipSlab(s, miss, r.origin.y, r.dir.y, r.invDir.y, boxMin.y, boxMax.y, 1);
+  clipSlab(s, miss, r.origin.z, r.dir.z, r.invDir.z, boxMin.z, boxMax.z, 2);
+  if (miss) s = Slab(INFINITY, -INFINITY, -1, -1, 0.0, 0.0);
+  return s;
+}
+
+// Whether node n can hold a hit with t in (tMin, tLimit]; inclusive at tLimit so that a hit at
+// exactly the best t still reaches the face-index rule. Without zero direction components the
+// min/max form gives intersectBox's values (as trace_scene.cpp nodeOverlaps<false>).
+bool nodeOverlaps(TraceRay r, uint n, float tLimit, out float near) {
+  vec3 boundsMin = nodes[n].boundsMin, boundsMax = nodes[n].boundsMax;
+  float far;
+  if (r.hasZero) {
+    Slab s = intersectBox(r, boundsMin, boundsMax);
+    near = s.near;
+    far = s.far;
+  } else {
+    vec3 t0 = (boundsMin - r.origin) * r.invDir, t1 = (boundsMax - r.origin) * r.invDir;
+    vec3 tNear = min(t0, t1), tFar = max(t0, t1);
+    near = max(max(tNear.x, tNear.y), tNear.z);
+    far = min(min(tFar.x, tFar.y), tFar.z);
+  }
+  return max(near, r.tMin) <= min(far, tLimit) && near <= far;
+}
+
+// A plane crossing candidate: t, the face, and how head-on the ray meets it (|dot(n, d)|).
+struct Crossing {
+  float t;
+  uint face;
+  float facing;
+};
+
+// Haines' clip against brush b (trace_scene.cpp hitBrush). A brush whose box starts beyond
+// tLimit is rejected before its planes are read.
+bool hitBrush(TraceRay r, uint b, float tLimit, out Hit hit) {
+  hit = Hit(0.0, NO_FACE, false);
+  Slab box = intersectBox(r, brushes[b].boundsMin, brushes[b].boundsMax);
+  if (box.near > box.far || box.far <= r.tMin || box.near >= r.tMax || box.near > tLimit) return false;
+
+  Crossing enter = Crossing(-INFINITY, NO_FACE, 0.0), exit = Crossing(INFINITY, NO_FACE, 0.0);
+  float near0 = max(box.near, r.tMin);
+  uint firstSide = brushes[b].firstSide, endSide = firstSide + brushes[b].sideCount;
+  for (uint i = firstSide; i < endSide; ++i) {
+    uint f = sides[i];
+    vec4 plane = faces[f].plane;
+    float denom = plane.x * r.dir.x + plane.y * r.dir.y + plane.z * r.dir.z;
+    float dist = plane.x * r.origin.x + plane.y * r.origin.y + plane.z * r.origin.z - plane.w;
+    if (denom < 0.0) { // crossing from front to back: entering
+      float t = -dist / denom;
+      if (t > enter.t || (t == enter.t && -denom > enter.facing)) enter = Crossing(t, f, -denom);
+    } else if (denom > 0.0) { // leaving
+      float t = -dist / denom;
+      if (t < exit.t || (t == exit.t && denom > exit.facing)) exit = Crossing(t, f, denom);
+    } else if (dist > 0.0) {
+      return false; // parallel and in front: never inside
     }
+    if (max(near0, enter.t) > min(box.far, exit.t)) return false;
   }
-  if (tEnter > tLeave) return false;
-  if (tEnter > tMin) {
-    if (tEnter > tMax || enterFace == NO_FACE) return false;
-    hit = Hit(tEnter, enterFace, false);
-    return true;
+
+  // The box sides (those with an axial face) merge into the slanted candidates, same rule; a
+  // box side without an axial face keeps the slanted plane's face and the box's t.
+  if (box.nearSlot >= 0) {
+    uint face = brushes[b].axialFace[box.nearSlot];
+    if (box.near > enter.t || (box.near == enter.t && face != NO_FACE && box.nearFacing >= enter.facing))
+      enter = Crossing(box.near, face != NO_FACE ? face : enter.face, box.nearFacing);
   }
-  if (tLeave <= tMin || tLeave > tMax || leaveFace == NO_FACE) return false;
-  hit = Hit(tLeave, leaveFace, true);
-  return true;
+  if (box.farSlot >= 0) {
+    uint face = brushes[b].axialFace[box.farSlot];
+    if (box.far < exit.t || (box.far == exit.t && face != NO_FACE && box.farFacing >= exit.facing))
+      exit = Crossing(box.far, face != NO_FACE ? face : exit.face, box.farFacing);
+  }
+  if (enter.t > exit.t) return false;
+  if (enter.t > r.tMin) {
+    if (!(enter.t < r.tMax)) return false;
+    hit = Hit(enter.t, enter.face, false);
+  } else {
+    if (!(exit.t > r.tMin && exit.t < r.tMax)) return false;
+    hit = Hit(exit.t, exit.face, true);
+  }
+  return hit.face != NO_FACE; // only a broken winding leaves no face
 }
 
-// The closest hit in (tMin, tMax); a hit at exactly tMax is not one. Equal t goes to the smaller face index, so the answer does
-// not depend on the traversal order.
-Hit traceClosest(vec3 origin, vec3 dir, float tMin, float tMax) {
-  Hit best = Hit(tMax, NO_FACE, false);
-  vec3 invDir = 1.0 / dir; // IEEE infinities for axis-parallel rays are what the slab test wants
-  // A balanced BVH over a million brushes is 20 levels deep; 32 leaves room for SAH's skew.
-  uint stack[32];
-  uint depth = 0u;
-  uint node = 0u;
-  if (intersectBounds(origin, invDir, nodes[0].boundsMin, nodes[0].boundsMax, tMin, tMax) == MISS) return best;
+// Depth-first traversal, nearer child first, kBvhMaxDepth stack entries (the builder's bound).
+//   anyHit = false: the closest hit in (tMin, tMax).
+//   anyHit = true: a shadow ray. The first brush entered from outside through a face with none
+//     of `passFlags` (faceFlags) ends the search; hits on faces with them, and exits from a
+//     brush the ray starts in, are passed through. This is what the CPU integrator's occluded()
+//     finds by skipping from one closest hit to the next.
+// Every query of a shader goes through one call of this function: NVIDIA inlines each call
+// site, so each extra one would compile the whole traversal again (see pathtrace.comp).
+Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
+  Hit best = Hit(r.tMax, NO_FACE, false);
+  float near;
+  // An empty scene uploads one node that no ray overlaps (renderer/gl/gl_scene.cpp).
+  if (!nodeOverlaps(r, 0u, best.t, near)) return best;
+
+  uint stack[BT_BVH_MAX_DEPTH];
+  int top = 0;
+  uint current = 0u;
   while (true) {
-    GpuBvhNode n = nodes[node];
-    if (n.count > 0u) {
-      for (uint i = n.leftOrFirst; i < n.leftOrFirst + n.count; ++i) {
-        GpuBrush b = brushes[i];
-        if (intersectBounds(origin, invDir, b.boundsMin, b.boundsMax, tMin, best.t) == MISS) continue;
-        Hit h;
-        if (intersectBrush(b, origin, dir, tMin, best.t, h) &&
-            (h.t < best.t || (h.t == best.t && best.face != NO_FACE && h.face < best.face)))
-          best = h;
+    GpuBvhNode node = nodes[current];
+    bool descended = false;
+    if (node.count > 0u) {
+      for (uint i = node.leftFirst; i < node.leftFirst + node.count; ++i) {
+        Hit hit;
+        if (!hitBrush(r, i, best.t, hit)) continue;
+        if (anyHit) {
+          if (!hit.inside && (faceFlags[hit.face] & passFlags) == 0u) return hit;
+        } else if (hit.t < best.t || (hit.t == best.t && hit.face < best.face)) {
+          best = hit;
+        }
       }
     } else {
-      uint near = n.leftOrFirst;
-      uint far = n.leftOrFirst + 1u;
-      float tNear = intersectBounds(origin, invDir, nodes[near].boundsMin, nodes[near].boundsMax, tMin, best.t);
-      float tFar = intersectBounds(origin, invDir, nodes[far].boundsMin, nodes[far].boundsMax, tMin, best.t);
-      if (tFar < tNear) {
-        uint s = near; near = far; far = s;
-        float ts = tNear; tNear = tFar; tFar = ts;
-      }
-      if (tNear != MISS) {
-        if (tFar != MISS && depth < 32u) stack[depth++] = far;
-        node = near;
-        continue;
+      uint a = node.leftFirst, b = node.leftFirst + 1u;
+      float nearA, nearB;
+      bool hitA = nodeOverlaps(r, a, best.t, nearA);
+      bool hitB = nodeOverlaps(r, b, best.t, nearB);
+      if (hitA && hitB) {
+        if (nearB < nearA) {
+          uint swap = a;
+          a = b;
+          b = swap;
+        }
+        stack[top++] = b;
+        current = a;
+        descended = true;
+      } else if (hitA || hitB) {
+        current = hitA ? a : b;
+        descended = true;
       }
     }
-    // Pop the next subtree; one farther than the closest hit is rejected on its next visit.
-    if (depth == 0u) break;
-    node = stack[--depth];
+    if (descended) continue;
+    // Pop, skipping nodes that a closer hit found since has made irrelevant.
+    bool popped = false;
+    while (top > 0) {
+      current = stack[--top];
+      if (nodeOverlaps(r, current, best.t, near)) {
+        popped = true;
+        break;
+      }
+    }
+    if (!popped) break;
   }
   return best;
 }

@@ -15,42 +15,36 @@ struct SurfaceHit {
 };
 
 vec3 offsetPoint(vec3 p, vec3 n) { return p + n * SURFACE_OFFSET; }
+vec3 faceNormal(uint face) { return faces[face].plane.xyz; }
 
 SurfaceHit traceVisible(vec3 origin, vec3 dir) {
   float tMin = 0.0;
   for (int i = 0; i < MAX_SKIPS; ++i) {
-    Hit hit = traceClosest(origin, dir, tMin, 3.0e38);
+    Hit hit = traceRay(makeTraceRay(origin, dir, tMin, INFINITY), false, 0u);
     if (hit.face == NO_FACE) break;
-    if (!hit.inside && (faces[hit.face].flags & FACE_HIDDEN) == 0u)
-      return SurfaceHit(true, hit.t, hit.face, origin + dir * hit.t, faces[hit.face].normal);
+    if (!hit.inside && (faceFlags[hit.face] & FACE_HIDDEN) == 0u)
+      return SurfaceHit(true, hit.t, hit.face, origin + dir * hit.t, faceNormal(hit.face));
     tMin = hit.t + SKIP_STEP;
   }
   return SurfaceHit(false, 0.0, NO_FACE, vec3(0.0), vec3(0.0));
 }
 
-bool blocksLight(uint faceFlags, bool physical) {
-  if ((faceFlags & (FACE_HIDDEN | FACE_LIQUID)) != 0u) return false;
-  if (!physical && (faceFlags & FACE_NO_SHADOW) != 0u) return false;
-  return true;
-}
+// The face classes light passes through (renderer/cpu blocksLight): hidden faces and liquids,
+// and in faithful mode brush entities without _shadow.
+uint lightPassFlags(bool physical) { return FACE_HIDDEN | FACE_LIQUID | (physical ? 0u : FACE_NO_SHADOW); }
+bool blocksLight(uint flags, bool physical) { return (flags & lightPassFlags(physical)) == 0u; }
 
+// Any blocker on the segment: one any-hit traversal, stopping at the first.
 bool occluded(vec3 origin, vec3 dir, float tMax, bool physical) {
-  float tMin = 0.0;
-  for (int i = 0; i < MAX_SKIPS; ++i) {
-    Hit hit = traceClosest(origin, dir, tMin, tMax);
-    if (hit.face == NO_FACE) return false;
-    if (!hit.inside && blocksLight(faces[hit.face].flags, physical)) return true;
-    tMin = hit.t + SKIP_STEP;
-  }
-  return true;
+  return traceRay(makeTraceRay(origin, dir, 0.0, tMax), true, lightPassFlags(physical)).face != NO_FACE;
 }
 
 bool reachesSky(vec3 origin, vec3 dir, bool physical) {
   float tMin = 0.0;
   for (int i = 0; i < MAX_SKIPS; ++i) {
-    Hit hit = traceClosest(origin, dir, tMin, 3.0e38);
+    Hit hit = traceRay(makeTraceRay(origin, dir, tMin, INFINITY), false, 0u);
     if (hit.face == NO_FACE) return true; // left the level: nothing stops the sun
-    uint flags = faces[hit.face].flags;
+    uint flags = faceFlags[hit.face];
     if (!hit.inside && (flags & FACE_SKY) != 0u) return true;
     if (!hit.inside && blocksLight(flags, physical)) return false;
     tMin = hit.t + SKIP_STEP;

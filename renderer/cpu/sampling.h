@@ -79,14 +79,6 @@ inline glm::vec3 sampleCone(const glm::vec3& axis, float halfAngle, glm::vec2 u)
   return toWorld({r * std::cos(phi), r * std::sin(phi), z}, axis);
 }
 
-// Uniform inside the unit ball.
-inline glm::vec3 sampleBall(glm::vec3 u) {
-  const float z = 1.0f - 2.0f * u.x;
-  const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-  const float phi = 2.0f * kPi * u.y;
-  return std::cbrt(u.z) * glm::vec3(r * std::cos(phi), r * std::sin(phi), z);
-}
-
 // Uniform on a triangle (barycentric square-root warp).
 inline glm::vec3 sampleTriangle(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, glm::vec2 u) {
   const float su = std::sqrt(u.x);

@@ -60,14 +60,16 @@ std::optional<std::string> makeCurrentContext(EGLDisplay display, EGLContext& co
     return std::string("no EGL_KHR_surfaceless_context");
   if (!eglBindAPI(EGL_OPENGL_API)) return "eglBindAPI(EGL_OPENGL_API): " + eglErrorText();
 
-  const EGLint configAttribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
-  EGLConfig config = nullptr;
-  EGLint configCount = 0;
-  if (!eglChooseConfig(display, configAttribs, &config, 1, &configCount) || configCount == 0) {
-    // EGL_KHR_no_config_context lets a surfaceless context skip configs entirely.
-    config = EGL_NO_CONFIG_KHR;
-    if (!hasExtension(eglQueryString(display, EGL_EXTENSIONS), "EGL_KHR_no_config_context"))
-      return std::string("no EGL config with EGL_OPENGL_BIT");
+  // The context never gets a surface, so it needs no config where EGL_KHR_no_config_context
+  // allows that. Otherwise any GL config will do; EGL_SURFACE_TYPE must be said to not matter,
+  // as its default (EGL_WINDOW_BIT) matches nothing on NVIDIA's device platform, which has no
+  // window system.
+  EGLConfig config = EGL_NO_CONFIG_KHR;
+  if (!hasExtension(eglQueryString(display, EGL_EXTENSIONS), "EGL_KHR_no_config_context")) {
+    const EGLint configAttribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, EGL_DONT_CARE, EGL_NONE};
+    EGLint configCount = 0;
+    if (!eglChooseConfig(display, configAttribs, &config, 1, &configCount) || configCount == 0)
+      return "no EGL config with EGL_OPENGL_BIT, and no EGL_KHR_no_config_context";
   }
 
   const EGLint flags = debugOutputWanted() ? EGL_CONTEXT_OPENGL_DEBUG_BIT_KHR : 0;
@@ -84,44 +86,69 @@ std::optional<std::string> makeCurrentContext(EGLDisplay display, EGLContext& co
   return std::nullopt;
 }
 
+// What an EGL device is, for messages: its DRM node if it has one, and the extensions that
+// tell NVIDIA (EGL_NV_device_cuda) from Mesa's software device (EGL_MESA_device_software).
+std::string describeDevice(EGLDeviceEXT device) {
+  const char* extensions = eglQueryDeviceStringEXT(device, EGL_EXTENSIONS);
+  std::string text;
+  if (hasExtension(extensions, "EGL_EXT_device_drm"))
+    if (const char* node = eglQueryDeviceStringEXT(device, EGL_DRM_DEVICE_FILE_EXT)) text = node;
+  if (extensions && *extensions) text += (text.empty() ? "" : ", ") + std::string(extensions);
+  return text.empty() ? "no device strings" : text;
+}
+
 } // namespace
 
 std::unique_ptr<GlContext> GlContext::createHeadless() {
   const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   std::vector<std::string> reasons;
 
-  auto tryDisplay = [&](EGLDisplay display, const std::string& platform) -> std::unique_ptr<GlContext> {
+  // `platform` names it in info(); `detail` adds what the messages should say about it.
+  auto tryDisplay = [&](EGLDisplay display, const std::string& platform, const std::string& detail) -> std::unique_ptr<GlContext> {
+    const std::string name = detail.empty() ? platform : platform + " (" + detail + ")";
     auto egl = std::make_unique<Egl>();
     egl->display = display;
     if (display == EGL_NO_DISPLAY) {
-      reasons.push_back(platform + ": no display (" + eglErrorText() + ")");
+      reasons.push_back(name + ": no display (" + eglErrorText() + ")");
       return nullptr;
     }
     if (auto why = makeCurrentContext(display, egl->context)) {
-      reasons.push_back(platform + ": " + *why);
+      reasons.push_back(name + ": " + *why);
       return nullptr;
     }
-    return std::unique_ptr<GlContext>(new GlContext(std::move(egl), platform));
+    auto context = std::unique_ptr<GlContext>(new GlContext(std::move(egl), platform));
+    if (debugOutputWanted()) {
+      std::fprintf(stderr, "brushtrace: GL context on EGL %s: %s\n", name.c_str(), context->info().renderer.c_str());
+      for (const std::string& reason : reasons) std::fprintf(stderr, "brushtrace:   passed over %s\n", reason.c_str());
+    }
+    return context;
   };
 
-  if (hasExtension(clientExtensions, "EGL_EXT_platform_device") &&
-      hasExtension(clientExtensions, "EGL_EXT_device_enumeration")) {
+  // NVIDIA's EGL lists device enumeration as part of EGL_EXT_device_base, Mesa's as
+  // EGL_EXT_device_enumeration; either provides eglQueryDevicesEXT.
+  const bool platformDevice = hasExtension(clientExtensions, "EGL_EXT_platform_device");
+  const bool enumeration = hasExtension(clientExtensions, "EGL_EXT_device_enumeration") ||
+                           hasExtension(clientExtensions, "EGL_EXT_device_base");
+  if (platformDevice && enumeration) {
     EGLint count = 0;
     eglQueryDevicesEXT(0, nullptr, &count);
     std::vector<EGLDeviceEXT> devices(static_cast<size_t>(std::max(count, 0)));
     if (count > 0) eglQueryDevicesEXT(count, devices.data(), &count);
     for (EGLint i = 0; i < count; ++i) {
-      EGLDisplay display = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[static_cast<size_t>(i)], nullptr);
-      if (auto context = tryDisplay(display, fmt::format("device {}", i))) return context;
+      const EGLDeviceEXT device = devices[static_cast<size_t>(i)];
+      EGLDisplay display = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, device, nullptr);
+      if (auto context = tryDisplay(display, fmt::format("device {}", i), describeDevice(device))) return context;
     }
-    if (count <= 0) reasons.push_back("device: no EGL devices");
+    if (count <= 0) reasons.push_back("device: no EGL devices (" + eglErrorText() + ")");
   } else {
-    reasons.push_back("device: no EGL_EXT_platform_device");
+    reasons.push_back(fmt::format("device: the client extensions lack {} (they are: {})",
+                                  platformDevice ? "EGL_EXT_device_enumeration / EGL_EXT_device_base" : "EGL_EXT_platform_device",
+                                  clientExtensions ? clientExtensions : "none"));
   }
 
   if (hasExtension(clientExtensions, "EGL_MESA_platform_surfaceless")) {
     EGLDisplay display = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-    if (auto context = tryDisplay(display, "surfaceless")) return context;
+    if (auto context = tryDisplay(display, "surfaceless", "")) return context;
   } else {
     reasons.push_back("surfaceless: no EGL_MESA_platform_surfaceless");
   }

@@ -5,6 +5,9 @@
 #include <epoxy/gl.h>
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cstring>
 #include <set>
 #include <sstream>
 
@@ -72,8 +75,129 @@ std::string assembleShader(std::string_view name, std::span<const std::string> d
   return out;
 }
 
-ComputeProgram::ComputeProgram(std::string_view name, std::span<const std::string> defines) {
+namespace {
+
+std::string glString(GLenum name) {
+  const auto* text = reinterpret_cast<const char*>(glGetString(name));
+  return text ? text : "";
+}
+
+// The binary formats the driver can load; none means the cache has nothing to offer.
+std::vector<GLint> programBinaryFormats() {
+  GLint count = 0;
+  glGetIntegerv(GL_NUM_PROGRAM_BINARY_FORMATS, &count);
+  std::vector<GLint> formats(static_cast<size_t>(std::max(count, 0)));
+  if (count > 0) glGetIntegerv(GL_PROGRAM_BINARY_FORMATS, formats.data());
+  return formats;
+}
+
+bool isOpaqueType(GLint type) {
+  switch (type) {
+  case GL_SAMPLER_2D: case GL_SAMPLER_2D_ARRAY: case GL_INT_SAMPLER_2D: case GL_UNSIGNED_INT_SAMPLER_2D:
+  case GL_IMAGE_2D: case GL_INT_IMAGE_2D: case GL_UNSIGNED_INT_IMAGE_2D:
+  case GL_IMAGE_2D_ARRAY: case GL_UNSIGNED_INT_IMAGE_2D_ARRAY:
+    return true;
+  default:
+    return false;
+  }
+}
+
+// Every binding point the linked program has: sampler and image units (each array element),
+// and the buffer binding of each storage and uniform block.
+std::vector<ProgramBindingPoint> readBindings(GLuint program) {
+  std::vector<ProgramBindingPoint> out;
+  GLint count = 0;
+  glGetProgramInterfaceiv(program, GL_UNIFORM, GL_ACTIVE_RESOURCES, &count);
+  for (GLint i = 0; i < count; ++i) {
+    const GLenum props[] = {GL_TYPE, GL_ARRAY_SIZE, GL_BLOCK_INDEX, GL_NAME_LENGTH};
+    GLint values[4] = {};
+    glGetProgramResourceiv(program, GL_UNIFORM, static_cast<GLuint>(i), 4, props, 4, nullptr, values);
+    if (values[2] != -1 || !isOpaqueType(values[0])) continue;
+    std::string name(static_cast<size_t>(std::max(values[3], 1)), '\0');
+    glGetProgramResourceName(program, GL_UNIFORM, static_cast<GLuint>(i), values[3], nullptr, name.data());
+    name.resize(std::strlen(name.c_str()));
+    if (name.ends_with("[0]")) name.resize(name.size() - 3);
+    for (GLint element = 0; element < std::max(values[1], 1); ++element) {
+      const std::string elementName = values[1] > 1 ? fmt::format("{}[{}]", name, element) : name;
+      const GLint location = glGetProgramResourceLocation(program, GL_UNIFORM, elementName.c_str());
+      if (location < 0) continue;
+      GLint unit = 0;
+      glGetUniformiv(program, location, &unit);
+      out.push_back({ProgramBindingPoint::Uniform, location, unit});
+    }
+  }
+  for (const auto [interface, kind] : {std::pair{GL_SHADER_STORAGE_BLOCK, ProgramBindingPoint::StorageBlock},
+                                       std::pair{GL_UNIFORM_BLOCK, ProgramBindingPoint::UniformBlock}}) {
+    glGetProgramInterfaceiv(program, interface, GL_ACTIVE_RESOURCES, &count);
+    for (GLint i = 0; i < count; ++i) {
+      const GLenum prop = GL_BUFFER_BINDING;
+      GLint binding = 0;
+      glGetProgramResourceiv(program, interface, static_cast<GLuint>(i), 1, &prop, 1, nullptr, &binding);
+      out.push_back({kind, i, binding});
+    }
+  }
+  checkGlError("reading a program's binding points", __FILE__, __LINE__);
+  return out;
+}
+
+void applyBindings(GLuint program, const std::vector<ProgramBindingPoint>& bindings) {
+  for (const ProgramBindingPoint& b : bindings) {
+    switch (b.kind) {
+    case ProgramBindingPoint::Uniform: glProgramUniform1i(program, b.index, b.binding); break;
+    case ProgramBindingPoint::StorageBlock: glShaderStorageBlockBinding(program, static_cast<GLuint>(b.index), static_cast<GLuint>(b.binding)); break;
+    case ProgramBindingPoint::UniformBlock: glUniformBlockBinding(program, static_cast<GLuint>(b.index), static_cast<GLuint>(b.binding)); break;
+    }
+  }
+  checkGlError("restoring a cached program's binding points", __FILE__, __LINE__);
+}
+
+} // namespace
+
+ComputeProgram::ComputeProgram(std::string_view name, std::span<const std::string> defines, const ProgramCache& cache) {
   const std::string source = assembleShader(name, defines);
+  const bool useCache = cache.enabled() && !programBinaryFormats().empty();
+  const std::string key = useCache ? programCacheKey(source, glString(GL_VENDOR), glString(GL_RENDERER), glString(GL_VERSION)) : "";
+  const auto start = std::chrono::steady_clock::now();
+  if (useCache) {
+    if (const std::optional<ProgramBinary> binary = cache.load(name, key)) loadedFromCache_ = loadFrom(*binary);
+  }
+  if (!loadedFromCache_) compile(name, source, useCache);
+  buildMilliseconds_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  if (useCache && !loadedFromCache_) {
+    GLint length = 0;
+    BT_GL(glGetProgramiv(program_, GL_PROGRAM_BINARY_LENGTH, &length));
+    ProgramBinary binary;
+    binary.data.resize(static_cast<size_t>(std::max(length, 0)));
+    GLenum format = 0;
+    GLsizei written = 0;
+    if (length > 0) BT_GL(glGetProgramBinary(program_, length, &written, &format, binary.data.data()));
+    binary.data.resize(static_cast<size_t>(std::max(written, 0)));
+    binary.format = format;
+    binary.bindings = readBindings(program_);
+    cache.store(name, key, binary);
+  }
+  BT_GL(glGetProgramiv(program_, GL_COMPUTE_WORK_GROUP_SIZE, localSize_));
+}
+
+// A binary the driver rejects (another driver build, a corrupt file) leaves the link status
+// false without a GL error; the caller then compiles from source.
+bool ComputeProgram::loadFrom(const ProgramBinary& binary) {
+  const std::vector<GLint> formats = programBinaryFormats();
+  if (std::find(formats.begin(), formats.end(), static_cast<GLint>(binary.format)) == formats.end()) return false;
+  program_ = glCreateProgram();
+  glProgramBinary(program_, binary.format, binary.data.data(), static_cast<GLsizei>(binary.data.size()));
+  GLint ok = 0;
+  glGetProgramiv(program_, GL_LINK_STATUS, &ok);
+  if (ok) {
+    applyBindings(program_, binary.bindings);
+    return true;
+  }
+  glDeleteProgram(program_);
+  program_ = 0;
+  return false;
+}
+
+void ComputeProgram::compile(std::string_view name, const std::string& source, bool retrievable) {
   const GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
   const char* text = source.c_str();
   glShaderSource(shader, 1, &text, nullptr);
@@ -89,6 +213,7 @@ ComputeProgram::ComputeProgram(std::string_view name, std::span<const std::strin
     throw GlError(fmt::format("{} does not compile ({}):\n{}", name, sourceLegend(), log.c_str()));
   }
   program_ = glCreateProgram();
+  if (retrievable) glProgramParameteri(program_, GL_PROGRAM_BINARY_RETRIEVABLE_HINT, GL_TRUE);
   glAttachShader(program_, shader);
   glLinkProgram(program_);
   glDeleteShader(shader);
@@ -99,9 +224,9 @@ ComputeProgram::ComputeProgram(std::string_view name, std::span<const std::strin
     std::string log(static_cast<size_t>(std::max(length, 1)), '\0');
     glGetProgramInfoLog(program_, length, nullptr, log.data());
     glDeleteProgram(program_);
+    program_ = 0;
     throw GlError(fmt::format("{} does not link:\n{}", name, log.c_str()));
   }
-  BT_GL(glGetProgramiv(program_, GL_COMPUTE_WORK_GROUP_SIZE, localSize_));
 }
 
 ComputeProgram::~ComputeProgram() {

@@ -28,7 +28,7 @@ std::optional<GlRenderResult> renderWithGl(const RenderScene& scene, const Camer
 
 GlRenderResult renderWithGl(GlContext& context, const RenderScene& scene, const CameraPose& pose, const RenderSettings& settings,
                             TextureMode textures, const std::function<void(const RenderProgress&)>& progress) {
-  GlTracer tracer(context, *scene.scene, textures, lightingFor(scene));
+  GlTracer tracer(context, *scene.scene, scene.tracer, textures, lightingFor(scene));
   const CameraBasis camera = cameraFrom(pose, settings.width, settings.height);
 
   GlRenderResult result;

@@ -1,33 +1,20 @@
-// A Scene's geometry and materials in GPU buffers: BVH nodes, brushes, faces, materials.
+// A scene's geometry, materials and lights in GPU storage buffers: bvh/trace_scene.h's
+// TraceScene arrays as they are, plus the per-face classes, materials, lights and emitters.
 #pragma once
 
+#include "bvh/trace_scene.h"
 #include "renderer/gl/gl_structs.h"
-#include "renderer/gl/gl_textures.h"
-#include "scene/scene.h"
 
-#include <memory>
 #include <vector>
 
 namespace bt::gl {
-
-// The flat arrays the shaders read, built on the CPU.
-struct GpuSceneArrays {
-  std::vector<GpuBvhNode> nodes; // nodes[0] is the root; empty scene: one empty leaf
-  std::vector<GpuBrush> brushes; // in BVH leaf order
-  std::vector<GpuFace> faces;    // in Scene::faces order
-};
-
-// Median-split BVH over brush bounds, at most `leafSize` brushes a leaf. A stand-in with the
-// shared node layout until the SAH builder of bvh/ lands; traversal does not depend on how the
-// tree was split. Brushes without faces or bounds are left out.
-// faceFlags: per Scene face, renderer/cpu's kFace* classes (empty: all 0).
-GpuSceneArrays buildGpuSceneArrays(const Scene& scene, const std::vector<uint32_t>& faceFlags = {}, int leafSize = 4);
 
 struct GlLighting;
 
 class GlSceneBuffers {
 public:
-  GlSceneBuffers(const GpuSceneArrays& arrays, const std::vector<GpuMaterial>& materials, const GlLighting& lighting,
+  // faceFlags in GlLighting: one per TraceScene face (= Scene face), or empty for none.
+  GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMaterial>& materials, const GlLighting& lighting,
                  size_t materialCount);
   ~GlSceneBuffers();
   GlSceneBuffers(const GlSceneBuffers&) = delete;
@@ -36,7 +23,7 @@ public:
   void bind() const; // to the Binding points of gl_structs.h
 
 private:
-  static constexpr int kBufferCount = 9; // Binding 0..8
+  static constexpr int kBufferCount = 11; // Binding 0..10
   unsigned buffers_[kBufferCount] = {};
 };
 

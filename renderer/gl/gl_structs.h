@@ -1,8 +1,6 @@
-// C++ mirrors of the std430/std140 structs in shaders/structs.glsl and shaders/camera.glsl.
-// Every size and offset is asserted: a mismatch with the GLSL side is a compile error here.
-//
-// The BVH node and brush layouts are the GL tracer's own until the shared bvh/trace_scene.h
-// lands; they are the layout issue 3 describes (bounds + first/count, 32 bytes).
+// C++ mirrors of the GL tracer's own std430/std140 structs in shaders/structs.glsl and
+// shaders/camera.glsl (the shared ones are in scene/gpu_structs.h). Every size and offset is
+// asserted: a mismatch with the GLSL side is a compile error here.
 #pragma once
 
 #include "scene/gpu_structs.h"
@@ -25,46 +23,15 @@ enum Binding : uint32_t {
   kBindingLights = 4,
   kBindingSurfaceLights = 5,
   kBindingEmitters = 6,
-  kBindingLightGrid = 7,    // GpuLightGrid, then its GpuLightCell array (shaders/light_select.glsl)
-  kBindingLightIndices = 8, // the grid's uint index array into the light buffer
+  kBindingSides = 7,
+  kBindingFaceFlags = 8,
+  kBindingLightGrid = 9,    // GpuLightGrid, then its GpuLightCell array (shaders/light_select.glsl)
+  kBindingLightIndices = 10, // the grid's uint index array into the light buffer
 };
 
-struct GpuBvhNode {
-  glm::vec3 boundsMin;
-  uint32_t leftOrFirst; // leaf: first brush; interior: left child (right = left + 1)
-  glm::vec3 boundsMax;
-  uint32_t count;       // brushes in a leaf, 0 for an interior node
-};
-static_assert(sizeof(GpuBvhNode) == 32);
-static_assert(offsetof(GpuBvhNode, leftOrFirst) == 12 && offsetof(GpuBvhNode, boundsMax) == 16 &&
-              offsetof(GpuBvhNode, count) == 28);
-
-struct GpuBrush {
-  glm::vec3 boundsMin;
-  uint32_t firstFace; // into the face buffer
-  glm::vec3 boundsMax;
-  uint32_t faceCount;
-};
-static_assert(sizeof(GpuBrush) == 32);
-static_assert(offsetof(GpuBrush, firstFace) == 12 && offsetof(GpuBrush, boundsMax) == 16 &&
-              offsetof(GpuBrush, faceCount) == 28);
-
-struct GpuFace {
-  glm::vec3 normal; // out of the brush
-  float dist;
-  glm::vec3 origin; // texture frame, see scene.h TextureFrame
-  uint32_t material;
-  glm::vec3 tangent;
-  uint32_t sceneFace; // index into Scene::faces
-  glm::vec3 bitangent;
-  uint32_t flags;
-};
-static_assert(sizeof(GpuFace) == 64);
-static_assert(offsetof(GpuFace, dist) == 12 && offsetof(GpuFace, origin) == 16 && offsetof(GpuFace, material) == 28 &&
-              offsetof(GpuFace, tangent) == 32 && offsetof(GpuFace, sceneFace) == 44 &&
-              offsetof(GpuFace, bitangent) == 48 && offsetof(GpuFace, flags) == 60);
-
-// GpuFace::flags: renderer/cpu's face classes (kFaceHidden, kFaceSky, ... in scene/gpu_structs.h).
+// The BVH nodes, brushes, slanted-side lists and faces are bvh/trace_scene.h's TraceScene
+// arrays (scene/gpu_structs.h GpuBvhNode, GpuBrush, GpuFace), uploaded unchanged; the shaders
+// read the face classes (kFace*) from a separate per-face buffer, RenderScene::faceFlags.
 
 enum MaterialFlags : uint32_t {
   kMaterialHasBase = 1,

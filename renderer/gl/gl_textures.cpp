@@ -25,14 +25,16 @@ GLsizei mipLevels(int width, int height) {
   return static_cast<GLsizei>(std::bit_width(static_cast<unsigned>(std::max(width, height))));
 }
 
-// No anisotropic filtering: the tracer samples at an explicit level 0 (no ray differentials
-// yet), where the GL spec gives anisotropy no effect, but llvmpipe (Mesa 22) applies it anyway
-// and blurs the image away from the CPU reference. Mipmaps are built for ray-cone sampling.
-void setSampling(GLuint texture) {
+// Trilinear with the driver's anisotropy (up to 16x) on both paths, so that a sampler lookup
+// with a footprint (textureGrad) filters alike through either. The tracer's own lookups do not
+// go through the sampler: textures.glsl fetches texels and weights them in fp32, exactly as the
+// CPU reference (whose AOVs the GL images must equal), so this state does not change them.
+void setSampling(GLuint texture, float anisotropy) {
   BT_GL(glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR));
   BT_GL(glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR));
   BT_GL(glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_REPEAT));
   BT_GL(glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_REPEAT));
+  if (anisotropy > 1.0f) BT_GL(glTextureParameterf(texture, GL_TEXTURE_MAX_ANISOTROPY, anisotropy));
 }
 
 struct SizeClass {
@@ -63,6 +65,13 @@ GlTextures::GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo
   if (mode == TextureMode::Bindless && !context.bindlessTextures)
     throw GlError(fmt::format("--textures bindless: {} has no GL_ARB_bindless_texture", context.renderer));
   mode_ = mode == TextureMode::Auto ? (context.bindlessTextures ? TextureMode::Bindless : TextureMode::Arrays) : mode;
+  // GL 4.6 core, GL_ARB_texture_filter_anisotropic and GL_EXT_texture_filter_anisotropic share
+  // the enums; 16x is where the hardware stops anyway.
+  if (context.anisotropicFiltering) {
+    GLfloat maxAnisotropy = 1.0f;
+    BT_GL(glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY, &maxAnisotropy));
+    anisotropy_ = std::clamp(maxAnisotropy, 1.0f, 16.0f);
+  }
 
   materials_.resize(scene.materials.size());
   for (size_t i = 0; i < scene.materials.size(); ++i) {
@@ -139,7 +148,7 @@ GlTextures::GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo
       *layers[l].layer = static_cast<uint32_t>(l);
     }
     BT_GL(glGenerateTextureMipmap(array));
-    setSampling(array);
+    setSampling(array, anisotropy_);
     arrays_.push_back(array);
   }
 }
@@ -153,7 +162,7 @@ GLuint GlTextures::createTexture(const Image& image, bool srgb) {
   // t / height addresses row floor(t) with no flip, in both paths.
   BT_GL(glTextureSubImage2D(texture, 0, 0, 0, image.width, image.height, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data()));
   BT_GL(glGenerateTextureMipmap(texture));
-  setSampling(texture);
+  setSampling(texture, anisotropy_);
   return texture;
 }
 

@@ -4,7 +4,8 @@
 //   arrays (llvmpipe and any context without bindless): one GL_TEXTURE_2D_ARRAY per size class
 //     (same width, height and colour encoding), GpuMaterial naming (array, layer).
 // Both use the same internal formats, mipmaps, filters and GL_REPEAT, so both give one image.
-// Anisotropic filtering is not enabled; see setSampling in gl_textures.cpp for why.
+// Both filter trilinearly with the driver's anisotropy up to 16x (see setSampling in
+// gl_textures.cpp for what reads through that filter and what does not).
 #pragma once
 
 #include "renderer/gl/gl_structs.h"
@@ -38,6 +39,9 @@ public:
   TextureMode mode() const { return mode_; } // Bindless or Arrays, never Auto
   // One per Scene::materials entry, texture references filled in.
   const std::vector<GpuMaterial>& materials() const { return materials_; }
+  // The anisotropy every texture is sampled with: the driver's maximum up to 16, 1 without
+  // anisotropic filtering.
+  float anisotropy() const { return anisotropy_; }
   // Binds the texture arrays to units 0.. (the arrays path); nothing to do for bindless.
   void bind() const;
 
@@ -45,6 +49,7 @@ private:
   unsigned createTexture(const Image& image, bool srgb);
 
   TextureMode mode_ = TextureMode::Arrays;
+  float anisotropy_ = 1.0f;
   std::vector<GpuMaterial> materials_;
   std::vector<unsigned> textures_;     // everything created, deleted in the destructor
   std::vector<unsigned> arrays_;       // arrays path: unit i holds arrays_[i]

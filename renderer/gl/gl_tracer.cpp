@@ -18,9 +18,6 @@ namespace bt::gl {
 
 namespace {
 
-std::vector<std::string> textureDefines(TextureMode mode) {
-  return {mode == TextureMode::Bindless ? "BT_TEXTURES_BINDLESS" : "BT_TEXTURES_ARRAYS"};
-}
 
 // An RGBA32F or R32UI image the shaders write, deleted with its owner.
 class StorageImage {
@@ -72,21 +69,26 @@ GpuWorld worldBlock(const GlLighting& lighting) {
 
 } // namespace
 
+std::vector<std::string> shaderDefines(TextureMode mode) {
+  return {mode == TextureMode::Bindless ? "BT_TEXTURES_BINDLESS" : "BT_TEXTURES_ARRAYS",
+          fmt::format("BT_BVH_MAX_DEPTH {}", kBvhMaxDepth)};
+}
+
 struct GlTracer::Impl {
   GlContext& context;
   GlTextures textures;
   GlSceneBuffers buffers;
   // Compiled on first use: llvmpipe takes seconds for the path tracer, which AOVs do not need.
   std::unique_ptr<ComputeProgram> aovProgram, pathProgram, rayBenchProgram;
+  ProgramCache programCache = ProgramCache::fromEnvironment(context.info().vendor);
   GpuWorld world;
   GLuint cameraBuffer = 0;
   GLuint worldBuffer = 0;
 
-  Impl(GlContext& c, const Scene& scene, TextureMode mode, const GlLighting& lighting)
+  Impl(GlContext& c, const Scene& scene, const TraceScene& tracer, TextureMode mode, const GlLighting& lighting)
       : context(c),
         textures(scene, mode, c.info()),
-        buffers(buildGpuSceneArrays(scene, lighting.faceFlags), withShadingFlags(textures.materials(), lighting),
-                lighting, scene.materials.size()),
+        buffers(tracer, withShadingFlags(textures.materials(), lighting), lighting, scene.materials.size()),
         world(worldBlock(lighting)) {
     BT_GL(glCreateBuffers(1, &cameraBuffer));
     BT_GL(glNamedBufferStorage(cameraBuffer, sizeof(GpuCamera), nullptr, GL_DYNAMIC_STORAGE_BIT));
@@ -94,7 +96,7 @@ struct GlTracer::Impl {
     BT_GL(glNamedBufferStorage(worldBuffer, sizeof(GpuWorld), &world, GL_DYNAMIC_STORAGE_BIT));
   }
   ComputeProgram& program(std::unique_ptr<ComputeProgram>& slot, const char* name) {
-    if (!slot) slot = std::make_unique<ComputeProgram>(name, textureDefines(textures.mode()));
+    if (!slot) slot = std::make_unique<ComputeProgram>(name, shaderDefines(textures.mode()), programCache);
     return *slot;
   }
 
@@ -129,12 +131,34 @@ struct GlTracer::Impl {
   }
 };
 
+GlTracer::GlTracer(GlContext& context, const Scene& scene, const TraceScene& tracer, TextureMode textures,
+                   const GlLighting& lighting)
+    : impl_(std::make_unique<Impl>(context, scene, tracer, textures, lighting)) {}
+
 GlTracer::GlTracer(GlContext& context, const Scene& scene, TextureMode textures, const GlLighting& lighting)
-    : impl_(std::make_unique<Impl>(context, scene, textures, lighting)) {}
+    : GlTracer(context, scene, TraceScene::build(scene), textures, lighting) {}
 
 GlTracer::~GlTracer() = default;
 
 TextureMode GlTracer::textureMode() const { return impl_->textures.mode(); }
+
+void GlTracer::setProgramCache(ProgramCache cache) { impl_->programCache = std::move(cache); }
+
+ProgramBuild GlTracer::buildPathTracer(int width, int height) {
+  const auto start = std::chrono::steady_clock::now();
+  const ComputeProgram& program = impl_->program(impl_->pathProgram, "pathtrace.comp");
+  // Drivers may leave the real compile to the first dispatch (llvmpipe does). One dispatch whose
+  // invocations all return at once (image size 0 in the camera block) makes them finish it
+  // here. llvmpipe compiles a variant per bound image shape (power-of-two sizes or not), so
+  // the image is the size the renders will use.
+  StorageImage target(GL_RGBA32F, std::max(width, 1), std::max(height, 1));
+  target.bindImage(0, GL_READ_WRITE);
+  impl_->setWorld(false, 0);
+  impl_->setCamera(CameraBasis{}, 0, 0, 0, 0);
+  program.dispatch2d(1, 1);
+  BT_GL(glFinish());
+  return {std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(), program.loadedFromCache()};
+}
 
 AovImages GlTracer::renderAovs(const CameraBasis& camera, int width, int height) {
   if (width <= 0 || height <= 0) throw GlError(fmt::format("image size {}x{} is empty", width, height));

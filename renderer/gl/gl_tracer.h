@@ -1,8 +1,10 @@
 // The GL compute tracer: a Scene uploaded once, images rendered from a camera.
 #pragma once
 
+#include "bvh/trace_scene.h"
 #include "renderer/cpu/light_grid.h"
 #include "renderer/gl/gl_context.h"
+#include "renderer/gl/gl_program_cache.h"
 #include "renderer/gl/gl_structs.h"
 #include "renderer/gl/gl_textures.h"
 #include "scene/scene.h"
@@ -13,6 +15,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace bt::gl {
@@ -52,7 +55,7 @@ struct GlLighting {
   std::vector<uint32_t> faceFlags;     // per Scene face: renderer/cpu kFace*; empty = none
   std::vector<uint32_t> materialFlags; // per material: kMaterialGgx / kMaterialHasEmissive overrides; empty = from the images
   std::vector<GpuLight> lights;         // point lights, suns, domes
-  LightGrid lightGrid;                  // renderer/cpu's lists over `lights`; no cells = one cell holding all
+  LightGrid lightGrid;                  // renderer/cpu's lists over `lights`; no cells = built on upload
   std::vector<GpuLight> surfaceLights;  // per material: its _surface template (value 0 = none); empty = none
   std::vector<GpuEmitter> emitters;     // triangles of emitting faces, cdf by area
   float emitterArea = 0.0f;
@@ -89,15 +92,36 @@ struct RayBenchmark {
   double bounceSeconds = 0.0;
 };
 
+// The #defines every program of the tracer is built with: the texture path (Bindless or
+// Arrays) and BT_BVH_MAX_DEPTH, the traversal stack size (scene/gpu_structs.h kBvhMaxDepth).
+std::vector<std::string> shaderDefines(TextureMode mode);
+
+struct ProgramBuild {
+  double milliseconds = 0.0; // compile and link (or load), and the driver's work at the first dispatch
+  bool fromCache = false;
+};
+
 class GlTracer {
 public:
-  // Uploads the scene. The context must stay current on this thread for the tracer's life.
+  // Uploads the scene: `tracer`'s BVH, brushes, sides and faces as they are (the CPU
+  // reference's RenderScene::tracer, so both trace the same tree), the scene's textures and the
+  // lighting. The context must stay current on this thread for the tracer's life.
+  GlTracer(GlContext& context, const Scene& scene, const TraceScene& tracer, TextureMode textures,
+           const GlLighting& lighting = {});
+  // The same with a TraceScene built here with default options (every brush traceable).
   GlTracer(GlContext& context, const Scene& scene, TextureMode textures, const GlLighting& lighting = {});
   ~GlTracer();
   GlTracer(const GlTracer&) = delete;
   GlTracer& operator=(const GlTracer&) = delete;
 
   TextureMode textureMode() const; // the path in use: Bindless or Arrays
+
+  // Where programs are cached; ProgramCache::fromEnvironment(GL_VENDOR) unless set before they
+  // are built.
+  void setProgramCache(ProgramCache cache);
+  // Builds the path tracer's program now for images of width x height (renderBeauty otherwise
+  // builds it on first use).
+  ProgramBuild buildPathTracer(int width, int height);
 
   AovImages renderAovs(const CameraBasis& camera, int width, int height);
 

@@ -1,10 +1,10 @@
 // AOV images of the GL tracer against a double-precision brute-force reference.
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_error.h"
-#include "renderer/gl/gl_scene.h"
 #include "renderer/gl/gl_tracer.h"
 #include "tests/gl/test_scenes.h"
 
+#include <epoxy/gl.h>
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
@@ -32,8 +32,10 @@ void expectAovsMatch(const AovImages& gpu, const AovImages& ref) {
     ++hits;
     EXPECT_NEAR(gpu.depth[i], ref.depth[i], 1e-4 * ref.depth[i] + 1e-3) << "pixel " << i;
     EXPECT_LT(glm::length(gpu.normal[i] - ref.normal[i]), 1e-5f) << "pixel " << i;
+    // The float hit point is a few ulps off the double one; on the checker's steepest texel
+    // gradient that moves the filtered colour by up to ~1e-5.
     for (int c = 0; c < 4; ++c)
-      EXPECT_NEAR(gpu.albedo[i][c], ref.albedo[i][c], 1e-5) << "pixel " << i << " channel " << c;
+      EXPECT_NEAR(gpu.albedo[i][c], ref.albedo[i][c], 3e-5) << "pixel " << i << " channel " << c;
   }
   EXPECT_LE(mismatched, kMaxFaceMismatch * ref.face.size()) << mismatched << " pixels see another face";
   EXPECT_GT(hits, ref.face.size() / 2);
@@ -98,6 +100,27 @@ TEST(GlAov, ArraysAndBindlessGiveTheSameImage) {
         << "pixel " << i;
 }
 
+// Both texture paths filter with the driver's anisotropy (llvmpipe offers 16x); the AOVs above
+// stay equal to the CPU reference with it set, as the tracer fetches texels itself.
+TEST(GlTextures, AnisotropicFilteringAtTheDriversMaximumUpTo16) {
+  GlContext& context = test::sharedGlContext();
+  if (!context.info().anisotropicFiltering) GTEST_SKIP() << context.info().renderer << " has no anisotropic filtering";
+  GLfloat driverMax = 0.0f;
+  glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY, &driverMax);
+  const Scene scene = test::makeTestRoom();
+  GlTextures textures(scene, TextureMode::Arrays, context.info());
+  EXPECT_EQ(textures.anisotropy(), std::min(driverMax, 16.0f));
+  EXPECT_GT(textures.anisotropy(), 1.0f);
+  textures.bind();
+  GLint array = 0;
+  glActiveTexture(GL_TEXTURE0);
+  glGetIntegerv(GL_TEXTURE_BINDING_2D_ARRAY, &array);
+  ASSERT_NE(array, 0);
+  GLfloat set = 0.0f;
+  glGetTextureParameterfv(static_cast<GLuint>(array), GL_TEXTURE_MAX_ANISOTROPY, &set);
+  EXPECT_EQ(set, textures.anisotropy());
+}
+
 TEST(GlAov, EmptySceneSeesNothing) {
   GlContext* context = &test::sharedGlContext();
   Scene scene;
@@ -107,30 +130,37 @@ TEST(GlAov, EmptySceneSeesNothing) {
   for (float d : gpu.depth) EXPECT_TRUE(std::isinf(d));
 }
 
-TEST(GpuSceneArrays, BvhHoldsEveryBrushOnceAndBoundsContainChildren) {
+// The shaders traverse TraceScene's own arrays by trace_scene.cpp's rules, so every pixel's
+// face is the one TraceScene::closestHit finds for the same ray, ties between neighbouring
+// brushes included; a row of 40 boxes makes the tree deep enough to exercise the stack.
+TEST(GlAov, FacesEqualTraceSceneClosestHit) {
+  GlContext* context = &test::sharedGlContext();
   Scene scene = test::makeTestRoom();
-  for (int i = 0; i < 40; ++i) test::addBox(scene, {i * 10.0, 0, 0}, {i * 10.0 + 8, 8, 8 + i}, 0);
-  const GpuSceneArrays arrays = buildGpuSceneArrays(scene, {}, 2);
-  std::vector<int> seen(scene.brushes.size());
-  for (const GpuBrush& b : arrays.brushes) {
-    ++seen[scene.faces[b.firstFace].brush];
-  }
-  for (int count : seen) EXPECT_EQ(count, 1);
-  for (const GpuBvhNode& n : arrays.nodes) {
-    if (n.count > 0) {
-      EXPECT_LE(n.count, 2u);
-      for (uint32_t i = n.leftOrFirst; i < n.leftOrFirst + n.count; ++i) {
-        EXPECT_TRUE(glm::all(glm::lessThanEqual(n.boundsMin, arrays.brushes[i].boundsMin)));
-        EXPECT_TRUE(glm::all(glm::greaterThanEqual(n.boundsMax, arrays.brushes[i].boundsMax)));
+  for (int i = 0; i < 40; ++i) test::addBox(scene, {-250.0 + i * 12.0, 100, 0}, {-242.0 + i * 12.0, 108, 8.0 + i}, i % 3);
+  const TraceScene traceScene = TraceScene::build(scene, {.leafSize = 1});
+  GlTracer tracer(*context, scene, traceScene, TextureMode::Arrays);
+  const CameraBasis camera = test::testCamera(kWidth, kHeight);
+  const AovImages gpu = tracer.renderAovs(camera, kWidth, kHeight);
+  size_t mismatched = 0, hits = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      // camera.glsl's ray, in float like the shader.
+      const glm::vec2 ndc = (glm::vec2(x, y) + 0.5f) / glm::vec2(kWidth, kHeight) * 2.0f - 1.0f;
+      const glm::vec3 dir = glm::normalize(camera.forward + ndc.x * camera.right - ndc.y * camera.up);
+      const std::optional<Hit> hit = traceScene.closestHit(Ray{camera.origin, 0.0f, dir});
+      const size_t i = static_cast<size_t>(y) * kWidth + x;
+      const uint32_t expected = hit ? hit->face + 1 : AovImages::kNoFace;
+      if (gpu.face[i] != expected) {
+        ++mismatched;
+        continue;
       }
-      continue;
+      if (!hit) continue;
+      ++hits;
+      EXPECT_NEAR(gpu.depth[i], hit->t, 1e-5f * hit->t) << "pixel " << i;
     }
-    for (uint32_t c = n.leftOrFirst; c < n.leftOrFirst + 2; ++c) {
-      ASSERT_LT(c, arrays.nodes.size());
-      EXPECT_TRUE(glm::all(glm::lessThanEqual(n.boundsMin, arrays.nodes[c].boundsMin)));
-      EXPECT_TRUE(glm::all(glm::greaterThanEqual(n.boundsMax, arrays.nodes[c].boundsMax)));
-    }
-  }
+  // The GPU's normalize and division may round differently in the last bit: allow a pixel or two.
+  EXPECT_LE(mismatched, 2u);
+  EXPECT_GT(hits, gpu.face.size() / 2);
 }
 
 } // namespace

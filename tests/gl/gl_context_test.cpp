@@ -70,7 +70,7 @@ TEST(ShaderAssembly, CompileErrorNamesTheSourceFiles) {
     EXPECT_NE(text.find("aov.comp does not compile"), std::string::npos) << text;
     EXPECT_NE(text.find("textures.glsl"), std::string::npos) << text;
   }
-  EXPECT_NO_THROW(ComputeProgram("aov.comp", std::vector<std::string>{"BT_TEXTURES_ARRAYS"}));
+  EXPECT_NO_THROW(ComputeProgram("aov.comp", shaderDefines(TextureMode::Arrays)));
 }
 
 } // namespace

@@ -1,5 +1,7 @@
 #include "tests/gl/test_scenes.h"
 
+#include "scene/winding.h"
+
 #include <stdexcept>
 #include <string>
 
@@ -75,6 +77,11 @@ void addBrush(Scene& scene, const std::vector<Plane>& planes, const Bounds& boun
     f.plane = p;
     axialFrame(p.normal, f.frame.tangent, f.frame.bitangent);
     f.frame.origin = p.normal * p.dist; // on the plane
+    // The winding as qbsp makes it: a huge square on the plane clipped by the other planes
+    // (the BVH takes a brush's bounds and its axial faces from the windings).
+    f.winding = baseWinding(p, 65536.0);
+    for (const Plane& other : planes)
+      if (&other != &p) f.winding = clipBehind(f.winding, other, 1e-6);
     scene.faces.push_back(f);
   }
   scene.brushes.push_back(brush);

@@ -7,9 +7,8 @@
 
 namespace bt::test {
 
-// Appends a brush made of the given outward planes to the scene (windings left empty: the
-// tracer needs planes and bounds only). Each face gets Quake's axial texture frame for its
-// plane (the baseaxis qbsp picks for an unrotated, unscaled texture).
+// Appends a brush made of the given outward planes to the scene, each face with its winding.
+// Each face gets Quake's axial texture frame for its plane (the baseaxis qbsp picks for an unrotated, unscaled texture).
 void addBrush(Scene& scene, const std::vector<Plane>& planes, const Bounds& bounds, uint32_t material);
 void addBox(Scene& scene, dvec3 min, dvec3 max, uint32_t material);
 
