@@ -172,7 +172,10 @@ bool hitBrush(TraceRay r, uint b, float tLimit, out Hit hit) {
 Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   Hit best = Hit(r.tMax, NO_FACE, false);
   float near;
-  // An empty scene uploads one node that no ray overlaps (renderer/gl/gl_scene.cpp).
+  // An empty scene uploads one sentinel node, an interior node whose child would be itself
+  // (renderer/gl/gl_scene.cpp), which no built tree has: its root's children start at 1. Its
+  // bounds cannot be trusted to miss: the min/max slab form reorders an inverted box's planes.
+  if (nodes[0].count == 0u && nodes[0].leftFirst == 0u) return best;
   if (!nodeOverlaps(r, 0u, best.t, near)) return best;
 
   uint stack[BT_BVH_MAX_DEPTH];

@@ -22,8 +22,9 @@ void upload(GLuint buffer, std::span<const T> v) {
   BT_GL(glNamedBufferStorage(buffer, static_cast<GLsizeiptr>(bytes), data, 0));
 }
 
-// The root the shaders start from when the scene has nothing to trace: inverted bounds, so that
-// the slab test misses it for every ray and the traversal never reads a child.
+// The root the shaders start from when the scene has nothing to trace: an interior node whose
+// children would start at itself, which no built tree has (shaders/trace.glsl returns a miss
+// on seeing it, before any slab test).
 constexpr GpuBvhNode kEmptyRoot{{FLT_MAX, FLT_MAX, FLT_MAX}, 0, {-FLT_MAX, -FLT_MAX, -FLT_MAX}, 0};
 
 } // namespace
