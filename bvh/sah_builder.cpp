@@ -28,7 +28,8 @@ constexpr uint32_t kTaskMinBoxes = 1024;
 // Nodes this small are split by an exact sweep over their sorted centroids instead of bins:
 // sorting a handful of boxes costs less than clearing and sweeping 3 x binCount bins, and the
 // deep levels, where bins are coarsest relative to the boxes, are where binning loses most.
-constexpr uint32_t kExactSweepMax = 16;
+constexpr uint32_t kExactSweepMax = 8;
+constexpr uint32_t kMinBins = 8; // see binCountFor()
 
 // The builder's inner loops work on SSE registers (x86-64 baseline): a box is two __m128
 // with x, y, z in lanes 0-2; lane 3 is masked to zero before any arithmetic.
@@ -105,6 +106,8 @@ struct Split {
   uint32_t leftCount = 0;
   double childCost = 0.0; // area(left) * count(left) + area(right) * count(right), half-areas
   BinMapping mapping{};
+  bool boundsKnown = false; // a binned split knows its children's bounds from the bins
+  Box4 leftBounds, rightBounds;
 };
 
 // The lowest-cost lane of the per-axis sweep results, first axis on equal cost.
@@ -122,8 +125,18 @@ int cheapestAxis(__m128 cost, __m128i valid) {
 // Bins of one node, the three axes side by side: box[b][a] and count[b][a] are bin b of axis a.
 // Raw storage, so that only the bins in use are cleared.
 struct Bins {
-  __m128 min[kMaxBins][3], max[kMaxBins][3];
+  struct Bounds {
+    __m128 min, max;
+  };
+  Bounds box[kMaxBins][3];
   alignas(16) int32_t count[kMaxBins][4];
+
+  void add(int bin, int axis, __m128 lo, __m128 hi) {
+    Bounds& b = box[bin][axis];
+    b.min = _mm_min_ps(b.min, lo);
+    b.max = _mm_max_ps(b.max, hi);
+    ++count[bin][axis];
+  }
 };
 
 // Binned SAH split of boxes[0, n) (Wald 2007). For each candidate plane, the cost of the
@@ -136,18 +149,14 @@ struct Bins {
   best.mapping = {centroids.min, _mm_load_ps(scale), _mm_set1_ps(static_cast<float>(binCount - 1))};
 
   Bins bins;
-  std::fill_n(&bins.min[0][0], 3 * binCount, _mm_set1_ps(kFloatMax));
-  std::fill_n(&bins.max[0][0], 3 * binCount, _mm_set1_ps(-kFloatMax));
+  std::fill_n(&bins.box[0][0], 3 * binCount, Bins::Bounds{_mm_set1_ps(kFloatMax), _mm_set1_ps(-kFloatMax)});
   std::fill_n(&bins.count[0][0], 4 * binCount, 0);
-  alignas(16) int32_t bin[4];
   for (uint32_t i = 0; i < n; ++i) {
     const __m128 lo = boxes[i].lo(), hi = boxes[i].hi();
-    _mm_store_si128(reinterpret_cast<__m128i*>(bin), best.mapping.bins(_mm_add_ps(lo, hi)));
-    for (int a = 0; a < 3; ++a) {
-      bins.min[bin[a]][a] = _mm_min_ps(bins.min[bin[a]][a], lo);
-      bins.max[bin[a]][a] = _mm_max_ps(bins.max[bin[a]][a], hi);
-      ++bins.count[bin[a]][a];
-    }
+    const __m128i bin = best.mapping.bins(_mm_add_ps(lo, hi));
+    bins.add(_mm_cvtsi128_si32(bin), 0, lo, hi);
+    bins.add(_mm_cvtsi128_si32(_mm_shuffle_epi32(bin, 0x55)), 1, lo, hi);
+    bins.add(_mm_cvtsi128_si32(_mm_shuffle_epi32(bin, 0xaa)), 2, lo, hi);
   }
 
   // Left of plane b: bins [0, b]; right: bins (b, binCount).
@@ -155,7 +164,7 @@ struct Bins {
   Box4 box[3];
   __m128i count = _mm_setzero_si128();
   for (int b = 0; b < binCount - 1; ++b) {
-    for (int a = 0; a < 3; ++a) box[a].grow(bins.min[b][a], bins.max[b][a]);
+    for (int a = 0; a < 3; ++a) box[a].grow(bins.box[b][a].min, bins.box[b][a].max);
     count = _mm_add_epi32(count, _mm_load_si128(reinterpret_cast<const __m128i*>(bins.count[b])));
     leftCost[b] = _mm_mul_ps(halfAreas(box[0], box[1], box[2]), _mm_cvtepi32_ps(count));
   }
@@ -165,7 +174,7 @@ struct Bins {
   box[0] = box[1] = box[2] = Box4{};
   count = _mm_setzero_si128();
   for (int b = binCount - 1; b > 0; --b) {
-    for (int a = 0; a < 3; ++a) box[a].grow(bins.min[b][a], bins.max[b][a]);
+    for (int a = 0; a < 3; ++a) box[a].grow(bins.box[b][a].min, bins.box[b][a].max);
     count = _mm_add_epi32(count, _mm_load_si128(reinterpret_cast<const __m128i*>(bins.count[b])));
     const __m128 cost = _mm_add_ps(leftCost[b - 1], _mm_mul_ps(halfAreas(box[0], box[1], box[2]), _mm_cvtepi32_ps(count)));
     // Both sides must hold boxes; lane 3 never does (its counts stay 0).
@@ -182,14 +191,42 @@ struct Bins {
   _mm_store_ps(costs, bestCost);
   _mm_store_si128(reinterpret_cast<__m128i*>(lastLeft), bestBin);
   best.lastLeftBin = lastLeft[best.axis];
-  for (int b = 0; b <= best.lastLeftBin; ++b) best.leftCount += bins.count[b][best.axis];
+  for (int b = 0; b < binCount; ++b) {
+    const Bins::Bounds& box = bins.box[b][best.axis];
+    if (b <= best.lastLeftBin) {
+      best.leftCount += bins.count[b][best.axis];
+      best.leftBounds.grow(box.min, box.max);
+    } else {
+      best.rightBounds.grow(box.min, box.max);
+    }
+  }
+  best.boundsKnown = true;
   best.childCost = kSahBrushCost * costs[best.axis];
   return best;
+}
+
+// Two boxes: the one split puts one box on each side and costs the same on every axis, so the
+// first axis on which the centroids differ takes it, as the sweep below would choose.
+Split splitPair(const BoxRef* boxes) {
+  const __m128 c0 = boxes[0].centroid2(), c1 = boxes[1].centroid2();
+  const int differ = _mm_movemask_ps(_mm_cmpneq_ps(c0, c1)) & 7;
+  Split split;
+  split.exact = true;
+  if (differ == 0) return split;
+  split.axis = differ & 1 ? 0 : (differ & 2 ? 1 : 2);
+  split.position = std::min(boxes[0].centroid2(split.axis), boxes[1].centroid2(split.axis));
+  split.leftCount = 1;
+  Box4 a, b;
+  a.grow(boxes[0].lo(), boxes[0].hi());
+  b.grow(boxes[1].lo(), boxes[1].hi());
+  split.childCost = kSahBrushCost * (static_cast<double>(a.halfArea()) + b.halfArea());
+  return split;
 }
 
 // Exact SAH split of a small node: every plane between consecutive distinct centroids, the
 // three axes side by side as in findBinnedSplit.
 Split findExactSplit(const BoxRef* boxes, uint32_t n) {
+  if (n == 2) return splitPair(boxes);
   struct Key {
     float centroid2;
     uint32_t box;
@@ -240,21 +277,33 @@ Split findExactSplit(const BoxRef* boxes, uint32_t n) {
 }
 
 // Stable partition of src[0, n) into dst: the boxes left of the split first, then the others,
-// each in their input order, so that the result does not depend on how the work is divided.
-// Grows the children's bounds and centroid bounds on the way.
+// each in their input order. Grows the children's centroid bounds on the way, and their
+// bounds where the split does not know them already. Index [1] is the left child, [0] the right.
+template <bool Exact, bool GrowBounds>
 void partition(const BoxRef* src, BoxRef* dst, uint32_t n, const Split& split, Box4 bounds[2], Box4 centroids[2]) {
-  uint32_t next[2] = {split.leftCount, 0}; // [0]: right side, [1]: left side
+  uint32_t left = 0, right = split.leftCount;
   const __m128 position = _mm_set1_ps(split.position);
-  const __m128i lastLeftBin = _mm_set1_epi32(split.lastLeftBin);
+  const __m128i firstRightBin = _mm_set1_epi32(split.lastLeftBin + 1);
   for (uint32_t i = 0; i < n; ++i) {
     const __m128 lo = src[i].lo(), hi = src[i].hi(), c = _mm_add_ps(lo, hi);
-    const __m128 leftLanes = split.exact ? _mm_cmple_ps(c, position)
-                                         : _mm_castsi128_ps(_mm_cmpgt_epi32(_mm_add_epi32(lastLeftBin, _mm_set1_epi32(1)), split.mapping.bins(c)));
-    const int left = (_mm_movemask_ps(leftLanes) >> split.axis) & 1;
-    dst[next[left]++] = src[i];
-    bounds[left].grow(lo, hi);
-    centroids[left].grow(c, c);
+    const __m128 leftLanes = Exact ? _mm_cmple_ps(c, position) : _mm_castsi128_ps(_mm_cmpgt_epi32(firstRightBin, split.mapping.bins(c)));
+    const uint32_t isLeft = (_mm_movemask_ps(leftLanes) >> split.axis) & 1;
+    dst[isLeft ? left : right] = src[i];
+    left += isLeft;
+    right += 1 - isLeft;
+    if constexpr (GrowBounds) bounds[isLeft].grow(lo, hi);
+    centroids[isLeft].grow(c, c);
   }
+}
+
+void partition(const BoxRef* src, BoxRef* dst, uint32_t n, const Split& split, Box4 bounds[2], Box4 centroids[2]) {
+  if (split.boundsKnown) {
+    bounds[1] = split.leftBounds, bounds[0] = split.rightBounds;
+    return split.exact ? partition<true, false>(src, dst, n, split, bounds, centroids)
+                       : partition<false, false>(src, dst, n, split, bounds, centroids);
+  }
+  return split.exact ? partition<true, true>(src, dst, n, split, bounds, centroids)
+                     : partition<false, true>(src, dst, n, split, bounds, centroids);
 }
 
 void boundsOf(const BoxRef* boxes, uint32_t n, Box4& bounds, Box4& centroids) {
@@ -361,7 +410,7 @@ private:
     BoxRef* boxes = refs_[t.buffer].get() + t.begin;
     Split split;
     if (t.depth < kMedianSplitDepth)
-      split = count <= kExactSweepMax ? findExactSplit(boxes, count) : findBinnedSplit(boxes, count, t.centroids, settings_.binCount);
+      split = count <= kExactSweepMax ? findExactSplit(boxes, count) : findBinnedSplit(boxes, count, t.centroids, binCountFor(count));
     NodeTask left{}, right{};
     uint32_t leftCount = 0;
     if (split.axis >= 0) {
@@ -395,6 +444,12 @@ private:
       buildNode(left);
     }
     buildNode(right);
+  }
+
+  // A node with few boxes gets fewer bins: sweeping bins costs more than binning its boxes
+  // there, and with about two boxes per bin the binned split is already close to the exact one.
+  int binCountFor(uint32_t count) const {
+    return std::min(settings_.binCount, static_cast<int>(std::max(count / 2, kMinBins)));
   }
 
   static uint32_t medianSplit(BoxRef* boxes, uint32_t count, const Box4& centroids) {
