@@ -56,42 +56,54 @@ GpuFace toGpuFace(const Face& f) {
   return g;
 }
 
+// What TraceScene needs of a face to place it in its brush, worked out once per face while the
+// face is converted, so that the brush pass reads two small arrays instead of the faces again.
+struct FaceRole {
+  static constexpr uint8_t kSlanted = 6, kNoWinding = 7; // else the box side 0..5 (axialSide)
+  uint8_t kind;
+  float axialPosition; // for a box side: the float plane, dist / normal[axis]
+};
+
+FaceRole faceRole(const Face& face) {
+  if (face.winding.empty()) return {FaceRole::kNoWinding, 0.0f}; // a redundant plane: it never bounds the brush
+  const int side = axialSide(face.plane.normal);
+  if (side < 0) return {FaceRole::kSlanted, 0.0f};
+  return {static_cast<uint8_t>(side), static_cast<float>(face.plane.dist / face.plane.normal[side / 2])};
+}
+
 // The GpuBrush of a scene brush (sideCount counted, firstSide not yet placed), or nothing when
 // no face of it has a winding (a brush the importer could not build: nothing of it can be hit).
-// Marks the brush's slanted faces in `slanted` (indexed by face).
-std::optional<GpuBrush> makeGpuBrush(const Scene& scene, uint32_t brushIndex, std::span<uint8_t> slanted) {
+std::optional<GpuBrush> makeGpuBrush(const Scene& scene, uint32_t brushIndex, std::span<const FaceRole> roles) {
   const Brush& brush = scene.brushes[brushIndex];
   GpuBrush g{};
   std::fill(std::begin(g.axialFace), std::end(g.axialFace), kNoFace);
-  std::array<double, 6> axialPosition{};
+  std::array<float, 6> axialPosition{};
   bool anyWinding = false;
   for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f) {
-    const Face& face = scene.faces[f];
-    if (face.winding.empty()) continue; // a redundant plane: it never bounds the brush
+    const FaceRole role = roles[f];
+    if (role.kind == FaceRole::kNoWinding) continue;
     anyWinding = true;
-    const int side = axialSide(face.plane.normal);
-    if (side < 0) {
-      slanted[f] = 1;
+    if (role.kind == FaceRole::kSlanted) {
       ++g.sideCount;
-    } else if (g.axialFace[side] == kNoFace) {
+    } else if (g.axialFace[role.kind] == kNoFace) {
       // A convex brush's axial face with a winding lies on its bounding box. A second one on
       // the same side is a duplicate plane, and the first already covers it.
-      g.axialFace[side] = f;
-      axialPosition[side] = face.plane.dist / face.plane.normal[side / 2];
+      g.axialFace[role.kind] = f;
+      axialPosition[role.kind] = role.axialPosition;
     }
   }
   if (!anyWinding) return std::nullopt;
   // The windings are only read for box sides without an axial face: a box brush, the common
   // case, never touches its winding points.
-  Bounds windingBounds;
+  dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
   if (std::find(std::begin(g.axialFace), std::end(g.axialFace), kNoFace) != std::end(g.axialFace))
     for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
-      for (const dvec3& p : scene.faces[f].winding) windingBounds.grow(p);
+      for (const dvec3& p : scene.faces[f].winding) lo = glm::min(lo, p), hi = glm::max(hi, p);
   for (int a = 0; a < 3; ++a) {
     // Sides with an axial face sit exactly at that face's float plane, so that two brushes
     // sharing a face meet with neither a gap nor an overlap; the others are rounded outward.
-    g.boundsMin[a] = g.axialFace[2 * a] != kNoFace ? static_cast<float>(axialPosition[2 * a]) : roundDown(windingBounds.min[a]);
-    g.boundsMax[a] = g.axialFace[2 * a + 1] != kNoFace ? static_cast<float>(axialPosition[2 * a + 1]) : roundUp(windingBounds.max[a]);
+    g.boundsMin[a] = g.axialFace[2 * a] != kNoFace ? axialPosition[2 * a] : roundDown(lo[a]);
+    g.boundsMax[a] = g.axialFace[2 * a + 1] != kNoFace ? axialPosition[2 * a + 1] : roundUp(hi[a]);
   }
   g.sceneBrush = brushIndex;
   return g;
@@ -199,19 +211,22 @@ TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options)
   TraceScene ts;
   const int threads = options.threads;
   ts.faces_.resize(scene.faces.size());
+  std::vector<FaceRole> roles(scene.faces.size());
   parallelChunks(scene.faces.size(), threads, [&](size_t begin, size_t end) {
-    for (size_t f = begin; f < end; ++f) ts.faces_[f] = toGpuFace(scene.faces[f]);
+    for (size_t f = begin; f < end; ++f) {
+      ts.faces_[f] = toGpuFace(scene.faces[f]);
+      roles[f] = faceRole(scene.faces[f]);
+    }
   });
 
-  // Every brush in scene order first (sceneBrush == kNoFace: not traced), their slanted faces
-  // marked per face; they are put in leaf order once the BVH has fixed it.
+  // Every brush in scene order first (sceneBrush == kNoFace: not traced); they are put in leaf
+  // order once the BVH has fixed it.
   std::vector<GpuBrush> candidates(scene.brushes.size());
-  std::vector<uint8_t> slanted(scene.faces.size(), 0);
   parallelChunks(scene.brushes.size(), threads, [&](size_t begin, size_t end) {
     for (size_t b = begin; b < end; ++b) {
       candidates[b].sceneBrush = kNoFace;
       if (!options.includeBrush.empty() && !options.includeBrush[b]) continue;
-      if (std::optional<GpuBrush> g = makeGpuBrush(scene, static_cast<uint32_t>(b), slanted)) candidates[b] = *g;
+      if (std::optional<GpuBrush> g = makeGpuBrush(scene, static_cast<uint32_t>(b), roles)) candidates[b] = *g;
     }
   });
   std::vector<Aabb> boxes;
@@ -243,7 +258,7 @@ TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options)
       const Brush& brush = scene.brushes[ts.brushes_[i].sceneBrush];
       uint32_t side = ts.brushes_[i].firstSide;
       for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
-        if (slanted[f]) ts.sides_[side++] = f;
+        if (roles[f].kind == FaceRole::kSlanted) ts.sides_[side++] = f;
     }
   });
   ts.sahCost_ = bt::sahCost(ts.nodes_);
