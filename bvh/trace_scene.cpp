@@ -93,12 +93,13 @@ std::optional<GpuBrush> makeGpuBrush(const Scene& scene, uint32_t brushIndex, st
     }
   }
   if (!anyWinding) return std::nullopt;
-  // The windings are only read for box sides without an axial face: a box brush, the common
-  // case, never touches its winding points.
-  dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-  if (std::find(std::begin(g.axialFace), std::end(g.axialFace), kNoFace) != std::end(g.axialFace))
+  // Box sides without an axial face come from the winding bounds, which Brush::bounds holds
+  // (scene.h); only a scene that left it empty has its winding points read here.
+  Bounds windingBounds = brush.bounds;
+  if (windingBounds.empty())
     for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
-      for (const dvec3& p : scene.faces[f].winding) lo = glm::min(lo, p), hi = glm::max(hi, p);
+      for (const dvec3& p : scene.faces[f].winding) windingBounds.grow(p);
+  const dvec3 lo = windingBounds.min, hi = windingBounds.max;
   for (int a = 0; a < 3; ++a) {
     // Sides with an axial face sit exactly at that face's float plane, so that two brushes
     // sharing a face meet with neither a gap nor an overlap; the others are rounded outward.
