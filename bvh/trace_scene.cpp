@@ -246,16 +246,18 @@ TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options)
   ts.nodes_ = std::move(bvh.nodes);
   // Brushes and their side lists in leaf order, so a leaf's brushes and planes are adjacent.
   ts.brushes_.resize(bvh.order.size());
+  parallelChunks(ts.brushes_.size(), threads, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) ts.brushes_[i] = candidates[boxBrush[bvh.order[i]]];
+  });
   uint32_t sideCount = 0;
-  for (size_t i = 0; i < bvh.order.size(); ++i) {
-    GpuBrush& g = ts.brushes_[i];
-    g = candidates[boxBrush[bvh.order[i]]];
+  for (GpuBrush& g : ts.brushes_) {
     g.firstSide = sideCount;
     sideCount += g.sideCount;
   }
   ts.sides_.resize(sideCount);
   parallelChunks(ts.brushes_.size(), threads, [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
+      if (ts.brushes_[i].sideCount == 0) continue; // a box: all its sides are axial
       const Brush& brush = scene.brushes[ts.brushes_[i].sceneBrush];
       uint32_t side = ts.brushes_[i].firstSide;
       for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
