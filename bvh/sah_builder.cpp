@@ -331,7 +331,8 @@ public:
     settings_.binCount = std::clamp(settings_.binCount, 2, kMaxBins);
     settings_.leafSize = std::max(settings_.leafSize, 1);
     const int threads = settings.threads > 0 ? settings.threads : static_cast<int>(std::thread::hardware_concurrency());
-    threads_ = std::max(threads, 1);
+    // A build too small to hand out a few tasks is not worth starting a thread for.
+    threads_ = count_ < 4 * kTaskMinBoxes ? 1 : std::max(threads, 1);
     // Uninitialised on purpose: every slot and entry is written before it is read.
     refs_[0].reset(new BoxRef[count_]);
     refs_[1].reset(new BoxRef[count_]);
