@@ -106,8 +106,7 @@ struct Split {
   uint32_t leftCount = 0;
   double childCost = 0.0; // area(left) * count(left) + area(right) * count(right), half-areas
   BinMapping mapping{};
-  bool boundsKnown = false; // a binned split knows its children's bounds from the bins
-  Box4 leftBounds, rightBounds;
+  Box4 leftBounds, rightBounds; // binned splits only: the children's bounds, from the bins
 };
 
 // The lowest-cost lane of the per-axis sweep results, first axis on equal cost.
@@ -200,7 +199,6 @@ struct Bins {
       best.rightBounds.grow(box.min, box.max);
     }
   }
-  best.boundsKnown = true;
   best.childCost = kSahBrushCost * costs[best.axis];
   return best;
 }
@@ -277,9 +275,10 @@ Split findExactSplit(const BoxRef* boxes, uint32_t n) {
 }
 
 // Stable partition of src[0, n) into dst: the boxes left of the split first, then the others,
-// each in their input order. Grows the children's centroid bounds on the way, and their
-// bounds where the split does not know them already. Index [1] is the left child, [0] the right.
-template <bool Exact, bool GrowBounds>
+// each in their input order. Grows the children's centroid bounds on the way; a binned split
+// has its children's bounds from the bins, an exact one (a node of a few boxes) grows them here.
+// Index [1] is the left child, [0] the right.
+template <bool Exact>
 void partition(const BoxRef* src, BoxRef* dst, uint32_t n, const Split& split, Box4 bounds[2], Box4 centroids[2]) {
   uint32_t left = 0, right = split.leftCount;
   const __m128 position = _mm_set1_ps(split.position);
@@ -291,19 +290,15 @@ void partition(const BoxRef* src, BoxRef* dst, uint32_t n, const Split& split, B
     dst[isLeft ? left : right] = src[i];
     left += isLeft;
     right += 1 - isLeft;
-    if constexpr (GrowBounds) bounds[isLeft].grow(lo, hi);
+    if constexpr (Exact) bounds[isLeft].grow(lo, hi);
     centroids[isLeft].grow(c, c);
   }
 }
 
 void partition(const BoxRef* src, BoxRef* dst, uint32_t n, const Split& split, Box4 bounds[2], Box4 centroids[2]) {
-  if (split.boundsKnown) {
-    bounds[1] = split.leftBounds, bounds[0] = split.rightBounds;
-    return split.exact ? partition<true, false>(src, dst, n, split, bounds, centroids)
-                       : partition<false, false>(src, dst, n, split, bounds, centroids);
-  }
-  return split.exact ? partition<true, true>(src, dst, n, split, bounds, centroids)
-                     : partition<false, true>(src, dst, n, split, bounds, centroids);
+  if (split.exact) return partition<true>(src, dst, n, split, bounds, centroids);
+  bounds[1] = split.leftBounds, bounds[0] = split.rightBounds;
+  partition<false>(src, dst, n, split, bounds, centroids);
 }
 
 void boundsOf(const BoxRef* boxes, uint32_t n, Box4& bounds, Box4& centroids) {
@@ -324,6 +319,11 @@ struct NodeTask {
   Box4 bounds, centroids;
 };
 
+// Top-down binned SAH build. Each node: find the split (binned over the three axes at once,
+// an exact sweep for a few boxes), decide by shouldSplit(), move the boxes to the other BoxRef
+// buffer partitioned, recurse. Subtrees of kTaskMinBoxes or more go to a queue that all the
+// build's threads take from; every choice depends on the boxes alone, never on which thread
+// builds what, so the tree is the same for any thread count.
 class BinnedSahBuilder {
 public:
   BinnedSahBuilder(std::span<const Aabb> boxes, const SahBuildSettings& settings)
