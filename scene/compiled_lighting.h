@@ -22,12 +22,20 @@ struct LightmappedFace {
   // The face's texture projection (texinfo, origin applied): texel s = dot(p, sAxis) + sOffset.
   glm::dvec3 sAxis{1.0, 0.0, 0.0}, tAxis{0.0, 1.0, 0.0};
   double sOffset = 0.0, tOffset = 0.0;
-  // Quake's luxel grid: luxel (x, y) is centred on texel (16 * (lightmapMins[0] + x),
-  // 16 * (lightmapMins[1] + y)); width/height 0 when the face has no lightmap (sky, liquids,
-  // unlit faces).
+  // Quake's luxel grid: luxel (x, y) is centred on texel (luxelSize * (lightmapMins[0] + x),
+  // luxelSize * (lightmapMins[1] + y)); width/height 0 when the face has no lightmap (sky,
+  // liquids, unlit faces).
   std::array<int, 2> lightmapMins{0, 0};
   int width = 0;
   int height = 0;
+  // Texels per luxel: 16, or 1 << shift with the BSPX LMSHIFT lump; 0 when the BSPX
+  // DECOUPLED_LM lump places the luxels independently of the texture (lightmapMins unused).
+  int luxelSize = 16;
+  // Where luxels lie, whatever the layout: luxel (x, y) is centred on the point p of the face
+  // where dot(p, luxelS) + luxelSOffset == x and dot(p, luxelT) + luxelTOffset == y (origin
+  // applied). For Quake's grid that is sAxis / luxelSize and sOffset / luxelSize - lightmapMins[0].
+  glm::dvec3 luxelS{1.0 / 16.0, 0.0, 0.0}, luxelT{0.0, 1.0 / 16.0, 0.0};
+  double luxelSOffset = 0.0, luxelTOffset = 0.0;
   std::array<uint8_t, 4> styles{255, 255, 255, 255}; // light styles in order, 255 = unused
   // For each used style in order, width * height RGB triples, rows top (t min) to bottom.
   // Values as stored: the light sum x 0.5 (_range), clamped to 255; grey levels are repeated
@@ -39,7 +47,9 @@ struct CompiledLighting {
   // Where the colours came from: "lighting lump" (Quake's 8-bit grey), ".lit file",
   // "BSPX RGBLIGHTING", "RGB lighting lump" (Half-Life, Quake 2), "lightmap pages" (Quake 3).
   std::string source;
-  int luxelSize = 16; // texels per luxel
+  // "16 texels per luxel", "per-face luxel size (BSPX LMSHIFT)" or "decoupled (BSPX DECOUPLED_LM)".
+  std::string layout = "16 texels per luxel";
+  int luxelSize = 16; // texels per luxel of faces that do not say otherwise
   std::vector<LightmappedFace> faces;
   // Quake 3 keeps its lightmaps as 128x128 RGB pages that draw vertices index; the pages are kept
   // here (alpha 255) although draw surfaces are not part of the Scene.

@@ -124,6 +124,10 @@ enum class LightFormula : uint32_t {
   Infinite = 3,     // value, at any distance
   LocalMin = 4,     // value, at any distance, but as a floor (like worldspawn minlight)
   Inverse2A = 5,    // value * 128^2 / (dist * wait + 128)^2: inverse square without the pole
+  // Not a `delay` value: one point of an ericw-tools radiosity surface light (_surface with
+  // _surface_radiosity 1): value / max(dist, 16)^2, times a half-Lambert term on both the
+  // emitting face (`direction` is its normal) and the receiving one.
+  SurfaceRadiosity = 6,
 };
 
 enum class LightType : uint32_t {
@@ -147,16 +151,23 @@ struct GpuLight {
   float cosInner = -2.0f;      // spotlights: cos(_softangle / 2), full brightness inside
   float deviance = 0.0f;       // `_deviance` (point) or _sunlight_penumbra in radians (sun): soft shadow radius
   uint32_t flags = 0;          // kLightFlag*
-  uint32_t surfaceMaterial = 0xffffffffu; // _surface template: the emitting material, else ~0
+  float faithfulScale = 1.0f;  // faithful mode uses value * this: ericw-tools' count of jittered copies of a
+                               // linear light (each keeps the full value); on a per-material _surface
+                               // template with kLightFlagFaceMinlight, the face minlight scale
 };
 static_assert(sizeof(GpuLight) == 80);
 static_assert(offsetof(GpuLight, cosInner) == 64);
 static_assert(offsetof(GpuLight, color) == 16);
 static_assert(offsetof(GpuLight, direction) == 32);
 static_assert(offsetof(GpuLight, formula) == 48);
+static_assert(offsetof(GpuLight, faithfulScale) == 76);
 
 constexpr uint32_t kLightFlagStartOff = 1u;  // spawnflags & 1 on a styled light: dark by default
 constexpr uint32_t kLightFlagBleed = 2u;     // `_bleed`: lights surfaces behind it too
+constexpr uint32_t kLightFlagFromSurface = 4u; // faithful-only point spread over a _surface template's faces
+                                               // (physical mode lights those faces as area emitters instead)
+constexpr uint32_t kLightFlagFaceMinlight = 8u; // per-material _surface template (radiosity kind): in faithful
+                                                // mode its faces get value * faithfulScale * colour as minlight
 
 // Face classes, one uint32 per scene face (RenderScene::faceFlags); the geometry and texture
 // frame of a face are the bvh part's GpuFace (scene/gpu_structs.h).

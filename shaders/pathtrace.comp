@@ -20,8 +20,6 @@ layout(rgba32f, binding = 0) uniform image2D accumulation; // rgb: sum of sample
 // Physical-mode scale from Quake light units (renderer/cpu/integrator.h).
 const float PHYSICAL_POINT_SCALE = PI * 128.0;
 const float PHYSICAL_SUN_SCALE = PI / 128.0;
-const float SURFACE_LIGHT_SPACING = 128.0; // ericw-tools: one point light per 128x128 units
-const float SURFACE_LIGHT_LIFT = 2.0;      // ... this far off the face
 
 vec2 textureUv(uint face, vec3 p) { return faceUv(faces[face], materials[faces[face].material], p); }
 vec4 baseColorAt(uint face, vec3 p) { return materialBaseColor(materials[faces[face].material], textureUv(face, p)); }
@@ -41,6 +39,14 @@ uint pickEmitter(float u) {
   return lo;
 }
 
+// One of ericw-tools' `_samples` jittered copies of a point light: uniform in the cube of
+// half-size `_deviance` (renderer/cpu/integrator.cpp jitteredOrigin).
+vec3 jitteredOrigin(GpuLight light, inout Rng rng) {
+  if (light.deviance <= 0.0) return light.origin;
+  vec3 u = vec3(rngNext(rng), rngNext(rng), rngNext(rng));
+  return light.origin + light.deviance * (2.0 * u - 1.0);
+}
+
 // ---- faithful mode ---------------------------------------------------------------------
 
 vec3 faithfulLightAt(vec3 p, vec3 n, inout Rng rng) {
@@ -50,11 +56,7 @@ vec3 faithfulLightAt(vec3 p, vec3 n, inout Rng rng) {
   for (uint i = 0u; i < world.lightCount; ++i) {
     GpuLight light = lights[i];
     if (light.type == LIGHT_POINT) {
-      vec3 pos = light.origin;
-      if (light.deviance > 0.0) {
-        vec3 u = vec3(rngNext(rng), rngNext(rng), rngNext(rng));
-        pos += light.deviance * sampleBall(u);
-      }
+      vec3 pos = jitteredOrigin(light, rng);
       vec3 d = pos - p;
       float dist = length(d);
       if (dist <= 0.0) continue;
@@ -81,24 +83,6 @@ vec3 faithfulLightAt(vec3 p, vec3 n, inout Rng rng) {
     }
   }
 
-  if (world.emitterCount > 0u) {
-    GpuEmitter e = emitters[pickEmitter(rngNext(rng))];
-    GpuFace f = faces[e.face];
-    GpuLight tmpl = surfaceLights[f.material];
-    if (tmpl.value != 0.0) {
-      vec3 q = sampleTriangle(e.v0, e.v1, e.v2, rngNext2(rng)) + f.normal * SURFACE_LIGHT_LIFT;
-      vec3 d = q - p;
-      float dist = length(d);
-      vec3 toLight = d / dist;
-      if (dist > 0.0 && dot(-toLight, f.normal) > 0.0) {
-        float value = pointLightValue(tmpl, n, toLight, dist, world.scaledist);
-        vec3 toQ = q - origin;
-        float len = length(toQ);
-        if (value != 0.0 && !occluded(origin, toQ / len, len, false))
-          sum += value * tmpl.color * (world.emitterArea / (SURFACE_LIGHT_SPACING * SURFACE_LIGHT_SPACING));
-      }
-    }
-  }
   sum = max(sum, localMin);
   return max(sum, world.minlight);
 }
@@ -130,7 +114,7 @@ vec3 radianceFaithful(vec3 origin, vec3 dir, inout Rng rng) {
   // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
   if ((flags & FACE_SKY) != 0u || ((flags & FACE_LIQUID) != 0u && world.litwater == 0u)) return srgbToLinear(texture);
 
-  vec3 light = faithfulLightAt(hit.position, hit.normal, rng);
+  vec3 light = max(faithfulLightAt(hit.position, hit.normal, rng), surfaceFaceMinlight(surfaceLights[faces[hit.face].material]));
   if (world.faithfulBounces > 0) light += faithfulBounce(hit.position, hit.normal, rng);
   // The compiler scales a coloured sum so its brightest channel fits in 255, keeping the hue.
   vec3 stored = light * world.range;
@@ -219,11 +203,8 @@ vec3 directLight(Bsdf bsdf, vec3 p, vec3 n, vec3 wo, inout Rng rng) {
     if (light.value <= 0.0) continue; // negative lights have no physical meaning
     if (light.type == LIGHT_POINT) {
       if (light.formula == FORMULA_LOCAL_MIN) continue;
-      vec3 pos = light.origin;
-      if (light.deviance > 0.0) {
-        vec3 u = vec3(rngNext(rng), rngNext(rng), rngNext(rng));
-        pos += light.deviance * sampleBall(u);
-      }
+      if ((light.flags & LIGHT_FLAG_FROM_SURFACE) != 0u) continue; // its faces are area emitters here
+      vec3 pos = jitteredOrigin(light, rng);
       vec3 d = pos - origin;
       float dist2 = dot(d, d);
       float dist = sqrt(dist2);

@@ -73,7 +73,10 @@ const uint FORMULA_INVERSE2 = 2u;
 const uint FORMULA_INFINITE = 3u;
 const uint FORMULA_LOCAL_MIN = 4u;
 const uint FORMULA_INVERSE2A = 5u;
+const uint FORMULA_SURFACE_RADIOSITY = 6u;
 const uint LIGHT_FLAG_BLEED = 2u;
+const uint LIGHT_FLAG_FROM_SURFACE = 4u;
+const uint LIGHT_FLAG_FACE_MINLIGHT = 8u;
 
 struct GpuLight {
   vec3 origin;     // offset 0
@@ -89,7 +92,7 @@ struct GpuLight {
   float cosInner;  // offset 64
   float deviance;  // offset 68
   uint flags;      // offset 72
-  uint surfaceMaterial; // offset 76
+  float faithfulScale; // offset 76
 };                 // 80 bytes
 
 // scene/gpu_structs.h GpuEmitter: one triangle of an emitting face, cdf by area.

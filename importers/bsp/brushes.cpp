@@ -274,7 +274,10 @@ void splitByTexture(Cell cell, const BspFile& bsp, const CoplanarIndex& faces, i
 // Faces no solid cell carries: func_detail_illusionary and other see-through detail compile to
 // faces in empty leafs. So that they still show, each becomes a thin slab brush behind the face;
 // a face compiled both ways (qbsp's mirrored insides) shares one slab, its twin on the back.
-// Liquids are left out: their brush carries the surface for both sides.
+// A liquid surface is compiled facing both ways too, but its brush carries it: the face seen from
+// inside the liquid has the liquid cell's side at its back, and is left out. Liquid-textured faces
+// with no liquid behind them are func_illusionary_visblocker (qbsp writes its volume as empty
+// leafs) and get their slab like any other.
 std::vector<CompiledBrush> slabsForUncoveredFaces(const BspFile& bsp, const Model& model,
                                                    const std::vector<CompiledBrush>& cells) {
   constexpr double kSlabThickness = 1.0 / 16.0; // within qbsp's 0.1 epsilon: the twin still lies "on" the back
@@ -292,7 +295,7 @@ std::vector<CompiledBrush> slabsForUncoveredFaces(const BspFile& bsp, const Mode
   for (int32_t i = 0; i < model.faceCount; ++i) {
     const size_t f = static_cast<size_t>(model.firstFace + i);
     const std::string_view texture = bsp.faceTexture(f);
-    if (!texture.empty() && texture[0] == '*') continue;
+    const bool liquid = !texture.empty() && texture[0] == '*';
     const Face& face = bsp.faces[f];
     Plane plane = toPlane(bsp.planes[static_cast<size_t>(face.plane)]);
     if (face.side) plane = plane.flipped();
@@ -303,6 +306,10 @@ std::vector<CompiledBrush> slabsForUncoveredFaces(const BspFile& bsp, const Mode
     if (faceArea < kMinSideArea) continue;
     double covered = 0.0;
     for (const auto& o : sides.overlaps(plane, polygon)) covered += o.area;
+    if (liquid) {
+      const Winding back(polygon.rbegin(), polygon.rend());
+      for (const auto& o : sides.overlaps(plane.flipped(), back)) covered += o.area;
+    }
     if (covered >= 0.5 * faceArea) continue;
     uncoveredIndex.add(plane, polygon, static_cast<uint32_t>(uncovered.size()));
     uncovered.push_back({f, plane, std::move(polygon)});

@@ -769,6 +769,7 @@ BspFile readBspFile(std::span<const uint8_t> bytes, const std::string& pathForEr
     bsp.version = Version::Quake2_38;
     readQuake2(reader, bsp);
     checkFaceChain(reader, bsp);
+    readBspx(reader, bsp, reader.lumpTable(8, q2::kNames, q2::Count)); // the Quake 2 remaster's DECOUPLED_LM
   } else if (magic == fourCC("IBSP") && ibspVersion == 46) {
     bsp.version = Version::Quake3_46;
     readQuake3(reader, bsp);

@@ -160,8 +160,8 @@ struct Surface {
   std::array<int32_t, 2> patchSize{};
 };
 
-// An extension lump from the BSPX directory that ericw-tools appends after the Q1 lumps
-// (BRUSHLIST, RGBLIGHTING, LIGHTINGDIR, ...).
+// An extension lump from the BSPX directory that ericw-tools appends after the Q1 or Q2 lumps
+// (BRUSHLIST, RGBLIGHTING, LMSHIFT, DECOUPLED_LM, ...).
 struct BspxLump {
   std::string name;
   std::vector<uint8_t> bytes;

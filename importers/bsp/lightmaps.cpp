@@ -12,8 +12,10 @@ namespace bt::bsp {
 
 namespace {
 
-constexpr int kLuxel = 16;            // texels per luxel in Quake 1/2 (no BSPX LMSHIFT support)
+constexpr int kLuxel = 16;            // texels per luxel in Quake 1/2 without BSPX LMSHIFT
 constexpr int kMaxLightmapSide = 1024; // far beyond any compiler; guards corrupt texinfo
+constexpr int kMaxLmShift = 15;        // LMSHIFT values above this are corrupt (ericw-tools writes 0..8)
+constexpr size_t kDecoupledRecord = 40; // uint16 width, height; int32 offset; float world_to_lm[2][4]
 constexpr int kQuake3Page = 128;
 
 // The colour data the faces index, and how many bytes one luxel takes at an offset.
@@ -44,9 +46,113 @@ LightData chooseLightData(const BspFile& bsp, const std::optional<std::vector<ui
   return {"lighting lump", bsp.lighting, 1, 1};
 }
 
+// Where one face's luxels lie and where its samples start.
+struct LuxelGrid {
+  int width = 0, height = 0; // 0: no lightmap
+  std::array<int, 2> mins{0, 0};
+  int luxelSize = kLuxel; // 0 for DECOUPLED_LM
+  glm::dvec3 s{0.0}, t{0.0}; // model space -> luxel coordinates
+  double sOffset = 0.0, tOffset = 0.0;
+  bool badRecord = false;    // the BSPX record itself is unusable (counted in a warning)
+};
+
+uint16_t u16At(const std::vector<uint8_t>& b, size_t at) { return static_cast<uint16_t>(b[at] | b[at + 1] << 8); }
+uint32_t u32At(const std::vector<uint8_t>& b, size_t at) {
+  return uint32_t{b[at]} | uint32_t{b[at + 1]} << 8 | uint32_t{b[at + 2]} << 16 | uint32_t{b[at + 3]} << 24;
+}
+float f32At(const std::vector<uint8_t>& b, size_t at) {
+  const uint32_t bits = u32At(b, at);
+  float f;
+  std::memcpy(&f, &bits, 4);
+  return f;
+}
+
+// The luxel layout of a level: Quake's fixed grid, or what the BSPX LMSHIFT / DECOUPLED_LM lumps
+// say per face. A lump whose size does not match the face count is ignored with a warning.
+class LuxelLayout {
+public:
+  LuxelLayout(const BspFile& bsp, Diagnostics& diagnostics) : bsp_(bsp) {
+    const size_t faces = bsp.faces.size();
+    if (const BspxLump* lump = bsp.findBspx("DECOUPLED_LM")) {
+      if (lump->bytes.size() == faces * kDecoupledRecord) decoupled_ = &lump->bytes;
+      else ignored(*lump, faces * kDecoupledRecord, bsp.path, diagnostics);
+    }
+    if (const BspxLump* lump = bsp.findBspx("LMSHIFT")) {
+      if (lump->bytes.size() == faces) shifts_ = &lump->bytes;
+      else ignored(*lump, faces, bsp.path, diagnostics);
+    }
+  }
+
+  // The BSPX lump the per-face records come from ("" for Quake's fixed grid).
+  std::string_view lumpName() const { return decoupled_ ? "DECOUPLED_LM" : shifts_ ? "LMSHIFT" : ""; }
+  std::string name() const {
+    return decoupled_ ? "decoupled (BSPX DECOUPLED_LM)" : shifts_ ? "per-face luxel size (BSPX LMSHIFT)" : "16 texels per luxel";
+  }
+
+  // The grid of `face` and the offset of its samples, in the units of Face::lightOffset (-1: none).
+  LuxelGrid grid(size_t face, int64_t& offset) const {
+    offset = bsp_.faces[face].lightOffset;
+    if (decoupled_) return decoupledGrid(face, offset);
+    LuxelGrid g;
+    if (shifts_) {
+      const int shift = (*shifts_)[face];
+      if (shift > kMaxLmShift) {
+        g.badRecord = true;
+        return g;
+      }
+      g.luxelSize = 1 << shift;
+    }
+    const LightmapExtents e = lightmapExtents(bsp_, face, g.luxelSize);
+    g.width = e.width;
+    g.height = e.height;
+    g.mins = e.mins;
+    const TexInfo& texinfo = bsp_.texinfo[static_cast<size_t>(bsp_.faces[face].texinfo)];
+    const double scale = 1.0 / g.luxelSize;
+    g.s = glm::dvec3(texinfo.vecs[0][0], texinfo.vecs[0][1], texinfo.vecs[0][2]) * scale;
+    g.t = glm::dvec3(texinfo.vecs[1][0], texinfo.vecs[1][1], texinfo.vecs[1][2]) * scale;
+    g.sOffset = texinfo.vecs[0][3] * scale - e.mins[0];
+    g.tOffset = texinfo.vecs[1][3] * scale - e.mins[1];
+    return g;
+  }
+
+private:
+  // ericw-tools' bspx_decoupled_lm_perface: the lightmap's size in luxels, its offset in the
+  // lighting data, and two rows of a world -> luxel matrix (luxel (x, y) centred at (x, y)).
+  LuxelGrid decoupledGrid(size_t face, int64_t& offset) const {
+    const std::vector<uint8_t>& b = *decoupled_;
+    const size_t at = face * kDecoupledRecord;
+    LuxelGrid g;
+    g.luxelSize = 0;
+    offset = static_cast<int32_t>(u32At(b, at + 4));
+    float m[8];
+    for (size_t k = 0; k < 8; ++k) m[k] = f32At(b, at + 8 + 4 * k);
+    if (!std::all_of(std::begin(m), std::end(m), [](float v) { return std::isfinite(v); })) {
+      g.badRecord = true;
+      return g;
+    }
+    g.width = u16At(b, at);
+    g.height = u16At(b, at + 2);
+    g.s = {m[0], m[1], m[2]};
+    g.sOffset = m[3];
+    g.t = {m[4], m[5], m[6]};
+    g.tOffset = m[7];
+    return g;
+  }
+
+  static void ignored(const BspxLump& lump, size_t expected, const std::string& path, Diagnostics& diagnostics) {
+    diagnostics.push_back({Severity::Warning, path, 0, 0,
+                           fmt::format("lump 'BSPX {}' ignored: {} bytes where the faces need {}", lump.name,
+                                       lump.bytes.size(), expected)});
+  }
+
+  const BspFile& bsp_;
+  const std::vector<uint8_t>* decoupled_ = nullptr;
+  const std::vector<uint8_t>* shifts_ = nullptr;
+};
+
 } // namespace
 
-LightmapExtents lightmapExtents(const BspFile& bsp, size_t face) {
+LightmapExtents lightmapExtents(const BspFile& bsp, size_t face, int luxelSize) {
   const Face& f = bsp.faces[face];
   const TexInfo& texinfo = bsp.texinfo[static_cast<size_t>(f.texinfo)];
   // As the light tool computes them (ericw-tools faceextents_t): texel coordinates in extended
@@ -68,8 +174,8 @@ LightmapExtents lightmapExtents(const BspFile& bsp, size_t face) {
   LightmapExtents e;
   int size[2] = {0, 0};
   for (int i = 0; i < 2; ++i) {
-    const double mins = std::floor(static_cast<double>(lo[i]) / kLuxel);
-    const double maxs = std::ceil(static_cast<double>(hi[i]) / kLuxel);
+    const double mins = std::floor(static_cast<double>(lo[i]) / luxelSize);
+    const double maxs = std::ceil(static_cast<double>(hi[i]) / luxelSize);
     if (!std::isfinite(mins) || !std::isfinite(maxs) || maxs - mins >= kMaxLightmapSide) return {};
     e.mins[static_cast<size_t>(i)] = static_cast<int>(mins);
     size[i] = static_cast<int>(maxs - mins) + 1;
@@ -99,9 +205,11 @@ CompiledLighting readCompiledLighting(const BspFile& bsp, const std::vector<Mode
   }
 
   const LightData data = chooseLightData(bsp, litFile, diagnostics);
+  const LuxelLayout layout(bsp, diagnostics);
   out.source = data.source;
+  out.layout = layout.name();
   out.luxelSize = kLuxel;
-  size_t outOfBounds = 0;
+  size_t outOfBounds = 0, badRecords = 0;
   for (const ModelPlacement& placement : placements) {
     const Model& model = bsp.models[placement.model];
     for (int32_t i = 0; i < model.faceCount; ++i) {
@@ -117,23 +225,32 @@ CompiledLighting readCompiledLighting(const BspFile& bsp, const std::vector<Mode
       lf.texture = texinfo.texture;
       lf.sAxis = {texinfo.vecs[0][0], texinfo.vecs[0][1], texinfo.vecs[0][2]};
       lf.tAxis = {texinfo.vecs[1][0], texinfo.vecs[1][1], texinfo.vecs[1][2]};
-      // Moving the face by the origin moves its texture with it.
+      // Moving the face by the origin moves its texture and its luxels with it.
       lf.sOffset = texinfo.vecs[0][3] - glm::dot(lf.sAxis, placement.origin);
       lf.tOffset = texinfo.vecs[1][3] - glm::dot(lf.tAxis, placement.origin);
 
+      int64_t offset = -1;
+      const LuxelGrid grid = layout.grid(f, offset);
+      badRecords += grid.badRecord;
+      lf.luxelSize = grid.luxelSize;
+      lf.luxelS = grid.s;
+      lf.luxelT = grid.t;
+      lf.luxelSOffset = grid.sOffset - glm::dot(grid.s, placement.origin);
+      lf.luxelTOffset = grid.tOffset - glm::dot(grid.t, placement.origin);
+
       const int styleCount = static_cast<int>(std::count_if(face.styles.begin(), face.styles.end(),
                                                             [](uint8_t s) { return s != 255; }));
-      const LightmapExtents extents = lightmapExtents(bsp, f);
-      if (face.lightOffset >= 0 && styleCount > 0 && extents.width > 0) {
-        const size_t luxels = static_cast<size_t>(extents.width) * static_cast<size_t>(extents.height);
-        const size_t begin = static_cast<size_t>(face.lightOffset) * static_cast<size_t>(data.offsetScale);
+      if (offset >= 0 && styleCount > 0 && grid.width > 0 && grid.height > 0) {
+        // 64-bit sizes: a corrupt DECOUPLED_LM record may claim 65535 x 65535 luxels.
+        const size_t luxels = static_cast<size_t>(grid.width) * static_cast<size_t>(grid.height);
+        const size_t begin = static_cast<size_t>(offset) * static_cast<size_t>(data.offsetScale);
         const size_t length = luxels * static_cast<size_t>(styleCount) * static_cast<size_t>(data.bytesPerLuxel);
         if (begin > data.bytes.size() || data.bytes.size() - begin < length) {
           ++outOfBounds;
         } else {
-          lf.lightmapMins = extents.mins;
-          lf.width = extents.width;
-          lf.height = extents.height;
+          lf.lightmapMins = grid.mins;
+          lf.width = grid.width;
+          lf.height = grid.height;
           lf.styles = face.styles;
           const uint8_t* src = data.bytes.data() + begin;
           lf.rgb.resize(luxels * static_cast<size_t>(styleCount) * 3);
@@ -149,6 +266,12 @@ CompiledLighting readCompiledLighting(const BspFile& bsp, const std::vector<Mode
                            fmt::format("lump 'lighting': {} faces point past the end of the {} ({} bytes); they are "
                                        "kept without a lightmap",
                                        outOfBounds, data.source, data.bytes.size())});
+  if (badRecords > 0)
+    diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
+                           fmt::format("lump 'BSPX {}': {} faces have an unusable record (a luxel size beyond "
+                                       "1 << {}, or a projection that is not finite); they are kept without a lightmap",
+                                       layout.lumpName(),
+                                       badRecords, kMaxLmShift)});
   return out;
 }
 

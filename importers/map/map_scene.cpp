@@ -1,6 +1,7 @@
 #include "importers/map/map_scene.h"
 #include "scene/names.h"
 
+#include "importers/map/brush_entities.h"
 #include "importers/map/map_geometry.h"
 #include "importers/map/map_parser.h"
 #include "importers/textures/textures.h"
@@ -10,6 +11,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <unordered_map>
 
 namespace bt::map {
@@ -35,6 +37,19 @@ bool samePlane(const Plane& a, const Plane& b) {
          std::fabs(a.normal.z - b.normal.z) < kNormalEpsilon && std::fabs(a.dist - b.dist) < kDistEpsilon;
 }
 
+// Sets the first `key` (Quake compares keys without case) to value, or adds it.
+void setKey(std::vector<std::pair<std::string, std::string>>& keys, std::string_view key, std::string value) {
+  for (auto& [k, v] : keys)
+    if (equalsIgnoreCase(k, key)) {
+      k = key; // Entity::find spells keys as the engines do
+      v = std::move(value);
+      return;
+    }
+  keys.emplace_back(std::string(key), std::move(value));
+}
+
+std::string formatVector(const dvec3& v) { return fmt::format("{} {} {}", v.x, v.y, v.z); }
+
 class SceneBuilder {
 public:
   SceneBuilder(const MapDocument& doc, const std::vector<Material>* loaded) : doc_(doc), loaded_(loaded) {
@@ -43,62 +58,167 @@ public:
   }
 
   Scene build() {
-    size_t verbatim = 0;
+    // The Scene shows the level as the game does: brush entities where the engine draws them,
+    // with the keys qbsp writes for them (brush_entities.h).
+    std::vector<bool> hasOriginBrush;
     for (const MapEntity& me : doc_.entities) {
       Entity e;
       e.line = me.line;
       e.keys = me.keys;
       e.firstBrush = static_cast<uint32_t>(scene_.brushes.size());
       const auto entityIndex = static_cast<uint32_t>(scene_.entities.size());
-      for (const MapBrush& mb : me.brushes) {
-        if (mb.kind == MapBrush::Kind::Verbatim) {
-          ++verbatim;
-          continue;
-        }
-        buildBrush(mb, entityIndex);
-      }
+      const std::optional<dvec3> originBrush = equalsIgnoreCase(e.classname(), "misc_external_map")
+                                                   ? includeExternalMap(me, e, entityIndex)
+                                                   : buildBrushes(me.brushes, entityIndex, doc_.path, nullptr);
       e.brushCount = static_cast<uint32_t>(scene_.brushes.size()) - e.firstBrush;
+      if (originBrush && mergedIntoWorld(e.classname())) {
+        report(Severity::Note, doc_.path, me.line, me.column,
+               fmt::format("origin brush of '{}' ignored: its brushes join the world, which has no origin (as in qbsp)", e.classname()));
+      } else if (originBrush) {
+        // qbsp compiles the model around this point and the engine draws it there: the brushes
+        // stay where the source has them, the entity gets the origin qbsp writes.
+        setKey(e.keys, "origin", formatVector(*originBrush));
+      }
+      hasOriginBrush.push_back(originBrush.has_value());
       scene_.entities.push_back(std::move(e));
     }
-    if (verbatim > 0)
-      report(Severity::Note, 0, 0,
-             fmt::format("{} patch or unknown block(s) kept verbatim for writing but not built into geometry", verbatim));
+    // Hipnotic rotators turn around their target: a second pass, since it may come later in the file.
+    for (size_t i = 0; i < scene_.entities.size(); ++i) {
+      Entity& e = scene_.entities[i];
+      if (hasOriginBrush[i] || e.brushCount == 0 || !isHipnoticRotator(e.classname())) continue;
+      setKey(e.keys, "origin", formatVector(rotatorOrigin(e)));
+    }
+    if (verbatim_ > 0)
+      report(Severity::Note, doc_.path, 0, 0,
+             fmt::format("{} patch or unknown block(s) kept verbatim for writing but not built into geometry", verbatim_));
     return std::move(scene_);
   }
 
 private:
   struct Side {
     const MapFace* face;
-    Plane plane;
+    Plane plane;   // where the face lies in the level
+    Plane written; // the plane of its points as written: its texture projection is made there
   };
 
-  void report(Severity severity, int line, int column, std::string message) {
-    scene_.diagnostics.push_back(Diagnostic{severity, doc_.path, line, column, std::move(message)});
+  void report(Severity severity, const std::string& file, int line, int column, std::string message) {
+    scene_.diagnostics.push_back(Diagnostic{severity, file, line, column, std::move(message)});
   }
 
-  void buildBrush(const MapBrush& mb, uint32_t entityIndex) {
+  // Builds brushes (of `file`, moved by `placement` when given) into the entity. Returns the
+  // centre of the last origin brush among them: qbsp's model origin (the last one wins there too).
+  std::optional<dvec3> buildBrushes(const std::vector<MapBrush>& brushes, uint32_t entityIndex, const std::string& file,
+                                    const Placement* placement) {
+    std::optional<dvec3> originBrush;
+    for (const MapBrush& mb : brushes) {
+      if (mb.kind == MapBrush::Kind::Verbatim) {
+        ++verbatim_;
+        continue;
+      }
+      const std::optional<uint32_t> built = buildBrush(mb, entityIndex, file, placement);
+      if (built && isOriginBrush(mb)) originBrush = scene_.brushes[*built].bounds.center();
+    }
+    return originBrush;
+  }
+
+  // misc_external_map: the brushes of every entity of the named file, placed by the entity's
+  // keys, and the keys qbsp gives the entity. Unreadable or malformed prefabs stop the import,
+  // as they stop qbsp.
+  std::optional<dvec3> includeExternalMap(const MapEntity& me, Entity& e, uint32_t entityIndex) {
+    const std::string* name = e.find("_external_map");
+    if (!name || name->empty())
+      throw ImportError(Diagnostic{Severity::Error, doc_.path, me.line, me.column,
+                                   "misc_external_map without an \"_external_map\" key naming the .map to include"});
+    const std::string path = resolveExternalMap(doc_.path, *name);
+    if (!std::filesystem::is_regular_file(path))
+      throw ImportError(Diagnostic{Severity::Error, doc_.path, me.line, me.column,
+                                   fmt::format("misc_external_map: \"_external_map\" \"{}\" not found (looked for {})", *name, path)});
+    MapDocument external;
+    try {
+      external = readMapFile(path);
+    } catch (const ImportError& error) {
+      Diagnostic d = error.diagnostic();
+      d.message += fmt::format(" (in the external map of the misc_external_map at {}:{})", doc_.path, me.line);
+      throw ImportError(d);
+    }
+    if (!me.brushes.empty())
+      report(Severity::Warning, doc_.path, me.line, me.column,
+             fmt::format("misc_external_map has {} brush(es) of its own; ignored, as qbsp replaces them by the external map's", me.brushes.size()));
+
+    std::vector<std::string> warnings;
+    const Placement placement = externalMapPlacement(e.keys, warnings);
+    for (std::string& w : warnings) report(Severity::Warning, doc_.path, me.line, me.column, std::move(w));
+
+    std::optional<dvec3> originBrush;
+    size_t brushes = 0;
+    for (const MapEntity& inner : external.entities) {
+      // qbsp takes every brush of the prefab and no entity: nested prefabs are not followed,
+      // which also keeps a prefab that includes itself (or its includer) from recursing.
+      const std::string* innerClass = nullptr;
+      for (const auto& [k, v] : inner.keys)
+        if (equalsIgnoreCase(k, "classname")) {
+          innerClass = &v;
+          break;
+        }
+      if (innerClass && equalsIgnoreCase(*innerClass, "misc_external_map"))
+        report(Severity::Note, external.path, inner.line, inner.column,
+               "misc_external_map inside an external map is not followed (qbsp does not nest prefabs)");
+      brushes += inner.brushes.size();
+      if (auto centre = buildBrushes(inner.brushes, entityIndex, external.path, &placement)) originBrush = centre;
+    }
+    if (brushes == 0)
+      report(Severity::Warning, doc_.path, me.line, me.column, fmt::format("misc_external_map: \"{}\" has no brushes", *name));
+
+    // qbsp: the entity becomes the class the mapper asked for, its brushes already in place.
+    if (const std::string* classname = e.find("_external_map_classname"); classname && !classname->empty())
+      setKey(e.keys, "classname", *classname);
+    else
+      report(Severity::Warning, doc_.path, me.line, me.column,
+             "misc_external_map without \"_external_map_classname\" (qbsp requires it); kept as misc_external_map");
+    setKey(e.keys, "origin", "0 0 0");
+    return originBrush;
+  }
+
+  // Hipnotic rotation: the origin of the entity named by "target" (qbsp's FixRotateOrigin).
+  dvec3 rotatorOrigin(const Entity& rotator) {
+    const std::string_view target = rotator.value("target");
+    for (const Entity& other : scene_.entities) {
+      if (target.empty() || !equalsIgnoreCase(other.value("targetname"), target)) continue;
+      dvec3 origin;
+      readVector(other.value("origin"), origin);
+      return origin;
+    }
+    report(Severity::Warning, doc_.path, rotator.line, 0,
+           fmt::format("'{}' has no origin brush and no target to rotate around; its origin is 0 0 0 (as in qbsp)", rotator.classname()));
+    return dvec3(0.0);
+  }
+
+  std::optional<uint32_t> buildBrush(const MapBrush& mb, uint32_t entityIndex, const std::string& file, const Placement* placement) {
     std::vector<Side> sides;
     sides.reserve(mb.faces.size());
     for (const MapFace& f : mb.faces) {
-      const std::optional<Plane> plane = planeFromPoints(f.points);
-      if (!plane) {
-        report(Severity::Warning, f.line, f.column, "face skipped: its three points are collinear (degenerate plane)");
+      const std::optional<Plane> written = planeFromPoints(f.points);
+      // qbsp moves the three points and builds the plane again from them.
+      const std::optional<Plane> plane =
+          placement ? planeFromPoints({placement->apply(f.points[0]), placement->apply(f.points[1]), placement->apply(f.points[2])}) : written;
+      if (!written || !plane) {
+        report(Severity::Warning, file, f.line, f.column, "face skipped: its three points are collinear (degenerate plane)");
         continue;
       }
       bool keep = true;
       for (const Side& s : sides) {
         if (samePlane(s.plane, *plane)) {
-          report(Severity::Warning, f.line, f.column, fmt::format("face skipped: same plane as the face on line {}", s.face->line));
+          report(Severity::Warning, file, f.line, f.column, fmt::format("face skipped: same plane as the face on line {}", s.face->line));
           keep = false;
           break;
         }
         if (samePlane(s.plane, plane->flipped())) {
-          report(Severity::Warning, mb.line, mb.column,
+          report(Severity::Warning, file, mb.line, mb.column,
                  fmt::format("brush skipped: faces on lines {} and {} are opposite on one plane (no volume)", s.face->line, f.line));
-          return;
+          return std::nullopt;
         }
       }
-      if (keep) sides.push_back({&f, *plane});
+      if (keep) sides.push_back({&f, *plane, *written});
     }
 
     std::vector<Plane> planes;
@@ -110,15 +230,15 @@ private:
       for (const dvec3& p : w) {
         // A corner out at the base square's reach: nothing clipped this side on that way.
         if (std::fabs(p.x) > kWorldExtent * 0.5 || std::fabs(p.y) > kWorldExtent * 0.5 || std::fabs(p.z) > kWorldExtent * 0.5) {
-          report(Severity::Warning, mb.line, mb.column, "brush skipped: it is unbounded (its faces do not enclose a volume)");
-          return;
+          report(Severity::Warning, file, mb.line, mb.column, "brush skipped: it is unbounded (its faces do not enclose a volume)");
+          return std::nullopt;
         }
       }
       ++withArea;
     }
     if (withArea < 4) {
-      report(Severity::Warning, mb.line, mb.column, "brush skipped: it has no volume");
-      return;
+      report(Severity::Warning, file, mb.line, mb.column, "brush skipped: it has no volume");
+      return std::nullopt;
     }
 
     Brush brush;
@@ -129,7 +249,7 @@ private:
     for (size_t i = 0; i < sides.size(); ++i) {
       if (windings[i].size() < 3) {
         // A plane that touches the brush in an edge or not at all: qbsp drops it too.
-        report(Severity::Note, sides[i].face->line, sides[i].face->column, "face dropped: its plane does not touch the brush in an area");
+        report(Severity::Note, file, sides[i].face->line, sides[i].face->column, "face dropped: its plane does not touch the brush in an area");
         continue;
       }
       const MapFace& mf = *sides[i].face;
@@ -144,9 +264,15 @@ private:
         width = (*loaded_)[face.material].width;
         height = (*loaded_)[face.material].height;
       }
-      face.frame = frameFromVecs(drawsNothing(mf) ? standardVecs(face.plane, {0.0, 0.0}, 0.0, {1.0, 1.0})
-                                                  : faceTextureVecs(mf, face.plane, width, height),
-                                 face.plane);
+      TexVecs vecs;
+      if (drawsNothing(mf)) {
+        vecs = standardVecs(face.plane, {0.0, 0.0}, 0.0, {1.0, 1.0});
+      } else {
+        // The projection is made where the face was written, then moved with it (texture lock).
+        vecs = faceTextureVecs(mf, sides[i].written, width, height);
+        if (placement) vecs = placement->apply(vecs);
+      }
+      face.frame = frameFromVecs(vecs, face.plane);
       face.surface = mf.surface;
       face.winding = std::move(windings[i]);
       for (const dvec3& p : face.winding) brush.bounds.grow(p);
@@ -155,6 +281,7 @@ private:
     brush.faceCount = static_cast<uint32_t>(scene_.faces.size()) - brush.firstFace;
     scene_.bounds.grow(brush.bounds);
     scene_.brushes.push_back(brush);
+    return brushIndex;
   }
 
   uint32_t materialFor(const std::string& name) {
@@ -170,6 +297,7 @@ private:
   const MapDocument& doc_;
   const std::vector<Material>* loaded_;
   Scene scene_;
+  size_t verbatim_ = 0;
   std::unordered_map<std::string, uint32_t> materialIndex_;
 };
 

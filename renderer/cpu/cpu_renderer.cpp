@@ -106,6 +106,20 @@ RenderImage renderCpu(const RenderScene& scene, const Camera& camera, const Rend
   return image;
 }
 
+RenderImage renderAovsCpu(const RenderScene& scene, const Camera& camera, int width, int height, int threads) {
+  RenderImage image;
+  image.width = width;
+  image.height = height;
+  const size_t n = size_t(width) * size_t(height);
+  image.beauty.assign(n, glm::vec3(0.0f));
+  image.albedo.assign(n, glm::vec3(0.0f));
+  image.normal.assign(n, glm::vec3(0.0f));
+  image.depth.assign(n, std::numeric_limits<float>::infinity());
+  image.face.assign(n, 0u);
+  renderAovs(scene, camera, image, threadCount(threads));
+  return image;
+}
+
 namespace {
 
 glm::vec3 faceColor(uint32_t face) {

@@ -47,6 +47,10 @@ struct RenderProgress {
 RenderImage renderCpu(const RenderScene& scene, const Camera& camera, const RenderSettings& settings,
                       const std::function<void(const RenderProgress&)>& progress = {});
 
+// The AOVs alone (beauty left black, samples 0): what an albedo, normal, depth or face output
+// needs, without the cost of lighting every pixel.
+RenderImage renderAovsCpu(const RenderScene& scene, const Camera& camera, int width, int height, int threads = 0);
+
 // Image outputs.
 enum class Aov { Beauty, Albedo, Normal, Depth, Face };
 

@@ -23,10 +23,18 @@ inline constexpr float kDefaultRange = 0.5f;
 // Overbright: the engine maps lightmap 128 to the texture's own colour.
 inline constexpr float kOverbrightOne = 128.0f;
 
-// Light value at `dist` from a point light, before the angle terms (GetLightValue).
+// Radiosity surface lights clamp the distance here (ltface.cc's "hotspot clamp"), so that a
+// luxel right next to an emitting face does not blow up.
+inline constexpr float kSurfaceHotspotClamp = 16.0f;
+
+// Light value at `dist` from one copy of a point light, before the angle terms (GetLightValue).
 // `atten` is the light's `wait`; ericw-tools multiplies it with the global `_dist` (scaledist).
-inline float distanceValue(const GpuLight& light, float dist, float scaledist = 1.0f) {
+inline float copyDistanceValue(const GpuLight& light, float dist, float scaledist) {
   const float value = light.value;
+  if (light.formula == uint32_t(LightFormula::SurfaceRadiosity)) {
+    const float d = std::max(dist, kSurfaceHotspotClamp);
+    return value / (d * d);
+  }
   if (light.falloff > 0.0f && light.formula == uint32_t(LightFormula::Linear))
     return dist < light.falloff ? value * (1.0f - dist / light.falloff) : 0.0f;
 
@@ -51,6 +59,11 @@ inline float distanceValue(const GpuLight& light, float dist, float scaledist = 
   }
 }
 
+// ... and summed over the light's copies (faithfulScale: ericw-tools' unsplit jittered copies).
+inline float distanceValue(const GpuLight& light, float dist, float scaledist = 1.0f) {
+  return light.faithfulScale * copyDistanceValue(light, dist, scaledist);
+}
+
 // Half-Lambert: anglescale 0.5 lights a grazing surface at half strength instead of zero,
 // which is why Quake's lighting looks soft.
 inline float angleTerm(float cosIncidence, float anglescale) {
@@ -67,6 +80,15 @@ inline float spotTerm(const GpuLight& light, const glm::vec3& toLight) {
   return (cosAxis - light.cosOuter) / (light.cosInner - light.cosOuter);
 }
 
+// A radiosity surface light point shines into the half-space in front of its face, with the
+// same half-Lambert (0.5 + 0.5 cos) on its side as on the receiver's (ltface.cc
+// GetSurfaceLighting, "rescale"); 1 for every other light.
+inline float emitterTerm(const GpuLight& light, const glm::vec3& toLight) {
+  if (light.formula != uint32_t(LightFormula::SurfaceRadiosity)) return 1.0f;
+  const float cosEmit = -glm::dot(light.direction, toLight);
+  return cosEmit < 0.0f ? 0.0f : angleTerm(cosEmit, 0.5f);
+}
+
 // One point light's contribution at a surface point with unit normal `normal`
 // (GetLightValueWithAngle). `toLight` is unit, from the surface to the light.
 inline float pointLightValue(const GpuLight& light, const glm::vec3& normal, const glm::vec3& toLight,
@@ -74,7 +96,16 @@ inline float pointLightValue(const GpuLight& light, const glm::vec3& normal, con
   float cosIncidence = glm::dot(toLight, normal);
   if (light.flags & kLightFlagBleed) cosIncidence = std::abs(cosIncidence);
   if (cosIncidence < 0.0f) return 0.0f; // behind the surface: nothing, whatever the anglescale
-  return distanceValue(light, dist, scaledist) * angleTerm(cosIncidence, light.anglescale) * spotTerm(light, toLight);
+  return distanceValue(light, dist, scaledist) * angleTerm(cosIncidence, light.anglescale) * spotTerm(light, toLight) *
+         emitterTerm(light, toLight);
+}
+
+// The minlight a face gets from its material's _surface template (value 0 = no template):
+// ericw-tools lights the faces of a radiosity surface light at least at the template's value x
+// `_surflight_minlight_scale`, in its colour.
+inline glm::vec3 surfaceFaceMinlight(const GpuLight& surfaceTemplate) {
+  if (!(surfaceTemplate.flags & kLightFlagFaceMinlight)) return glm::vec3(0.0f);
+  return surfaceTemplate.value * surfaceTemplate.faithfulScale * surfaceTemplate.color;
 }
 
 // A sun's contribution: no distance falloff, the angle term only (sky visibility is the

@@ -44,6 +44,14 @@ uint32_t pickEmitter(const RenderScene& rs, float u) {
   return lo;
 }
 
+// A point light's position for one sample: one of ericw-tools' `_samples` jittered copies,
+// uniform in the cube of half-size `_deviance` around the light.
+glm::vec3 jitteredOrigin(const GpuLight& light, Rng& rng) {
+  if (light.deviance <= 0.0f) return light.origin;
+  const glm::vec3 u{rng.next(), rng.next(), rng.next()}; // braces: drawn left to right, as in GLSL
+  return light.origin + light.deviance * (2.0f * u - 1.0f);
+}
+
 glm::vec3 skyDomeRadiance(const RenderScene& rs, const glm::vec3& dir) {
   glm::vec3 l(0.0f);
   for (const GpuLight& light : rs.lights)
@@ -119,8 +127,7 @@ glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::
 
   for (const GpuLight& light : rs.lights) {
     if (light.type == uint32_t(LightType::Point)) {
-      glm::vec3 pos = light.origin;
-      if (light.deviance > 0.0f) pos += light.deviance * sampleBall({rng.next(), rng.next(), rng.next()});
+      const glm::vec3 pos = jitteredOrigin(light, rng);
       const glm::vec3 d = pos - p;
       const float dist = glm::length(d);
       if (dist <= 0.0f) continue;
@@ -152,31 +159,13 @@ glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::
     }
   }
 
-  // Surface lights: ericw-tools spreads point lights over template faces, one per 128x128
-  // units; one area sample stands for all of them.
-  if (!rs.emitters.empty()) {
-    const GpuEmitter& e = rs.emitters[pickEmitter(rs, rng.next())];
-    const glm::vec3 emitterNormal = faceNormal(rs, e.face);
-    const GpuLight& tmpl = rs.surfaceLights[gpuFace(rs, e.face).material];
-    if (tmpl.value != 0.0f) {
-      constexpr float kSurfaceLightSpacing = 128.0f;
-      constexpr float kSurfaceLightLift = 2.0f; // ericw-tools puts them this far off the face
-      const glm::vec3 q = sampleTriangle(e.v0, e.v1, e.v2, rng.next2()) + emitterNormal * kSurfaceLightLift;
-      const glm::vec3 d = q - p;
-      const float dist = glm::length(d);
-      const glm::vec3 toLight = d / dist;
-      if (dist > 0.0f && glm::dot(-toLight, emitterNormal) > 0.0f) {
-        const float value = faithful::pointLightValue(tmpl, n, toLight, dist, scaledist);
-        const glm::vec3 toQ = q - origin;
-        const float len = glm::length(toQ);
-        if (value != 0.0f && !occluded(rs, Ray{origin, 0.0f, toQ / len, len}, LightingMode::Faithful))
-          sum += value * tmpl.color * (rs.emitterArea / (kSurfaceLightSpacing * kSurfaceLightSpacing));
-      }
-    }
-  }
-
   sum = glm::max(sum, localMin);
   return glm::max(sum, rs.world.minlight);
+}
+
+glm::vec3 faithfulFaceMinlight(const RenderScene& rs, uint32_t face) {
+  const uint32_t m = gpuFace(rs, face).material;
+  return m < rs.surfaceLights.size() ? faithful::surfaceFaceMinlight(rs.surfaceLights[m]) : glm::vec3(0.0f);
 }
 
 namespace {
@@ -201,7 +190,7 @@ glm::vec3 radianceFaithful(const RenderScene& rs, const Ray& ray, Rng& rng) {
   // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
   if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater)) return srgbToLinear(texture);
 
-  glm::vec3 light = faithfulLightAt(rs, hit.position, hit.normal, rng);
+  glm::vec3 light = glm::max(faithfulLightAt(rs, hit.position, hit.normal, rng), faithfulFaceMinlight(rs, hit.face));
   if (rs.world.bounces > 0) light += faithfulBounce(rs, hit.position, hit.normal, rs.world.bounces, rng);
   // The compiler scales a coloured sum so its brightest channel fits in 255, keeping the hue.
   glm::vec3 stored = light * rs.world.range;
@@ -283,8 +272,8 @@ glm::vec3 directLight(const RenderScene& rs, const Bsdf& bsdf, const glm::vec3& 
     if (light.value <= 0.0f) continue; // negative lights have no physical meaning
     if (light.type == uint32_t(LightType::Point)) {
       if (light.formula == uint32_t(LightFormula::LocalMin)) continue;
-      glm::vec3 pos = light.origin;
-      if (light.deviance > 0.0f) pos += light.deviance * sampleBall({rng.next(), rng.next(), rng.next()});
+      if (light.flags & kLightFlagFromSurface) continue; // its faces are area emitters here
+      const glm::vec3 pos = jitteredOrigin(light, rng);
       const glm::vec3 d = pos - origin;
       const float dist2 = glm::dot(d, d);
       const float dist = std::sqrt(dist2);

@@ -39,8 +39,12 @@ glm::vec3 emissiveAt(const RenderScene& rs, uint32_t face, const glm::vec3& p); 
 
 // Faithful mode: the light sum ericw-tools `light` would compute at surface point p with
 // normal n (light units, per colour channel; before _range). Stochastic only for soft
-// lights (deviance, penumbra, domes, surface lights), exact otherwise.
+// lights (deviance, penumbra, domes), exact otherwise; `_surface` lights are point lights here.
 glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng);
+
+// Faithful mode: the floor a face's own radiosity `_surface` template puts under its light
+// (zero for every other face); the caller takes max(faithfulLightAt, this).
+glm::vec3 faithfulFaceMinlight(const RenderScene& rs, uint32_t face);
 
 // Linear radiance along the ray.
 glm::vec3 radiance(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, Rng& rng);

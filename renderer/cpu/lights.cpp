@@ -34,10 +34,22 @@ public:
   KeyReader(const Scene& scene, const Entity& entity, Diagnostics& diagnostics)
       : scene_(scene), entity_(entity), diagnostics_(diagnostics) {}
 
-  bool has(std::string_view key) const { return entity_.find(key) != nullptr; }
+  bool has(std::string_view key) const { return find(key) != nullptr; }
+
+  // ericw-tools' entity parser drops spaces around keys, and maps rely on it
+  // (q1_surflight_minlight spells "_surface_radiosity " with a trailing space).
+  const std::string* find(std::string_view key) const {
+    if (const std::string* exact = entity_.find(key)) return exact;
+    for (const auto& [k, v] : entity_.keys) {
+      const size_t first = k.find_first_not_of(" \t");
+      const size_t last = k.find_last_not_of(" \t");
+      if (first != std::string::npos && std::string_view(k).substr(first, last - first + 1) == key) return &v;
+    }
+    return nullptr;
+  }
 
   float number(std::string_view key, float fallback) const {
-    const std::string* text = entity_.find(key);
+    const std::string* text = find(key);
     if (!text) return fallback;
     if (auto v = parseFloat(*text)) return *v;
     warn(fmt::format("key \"{}\" has value \"{}\", expected a number; using {}", key, *text, fallback));
@@ -45,7 +57,7 @@ public:
   }
 
   std::optional<glm::vec3> vec3(std::string_view key) const {
-    const std::string* text = entity_.find(key);
+    const std::string* text = find(key);
     if (!text) return std::nullopt;
     if (auto v = parseVec3(*text)) return v;
     warn(fmt::format("key \"{}\" has value \"{}\", expected three numbers; ignored", key, *text));
@@ -71,6 +83,44 @@ private:
   Diagnostics& diagnostics_;
 };
 
+// `_deviance` / `_samples` (ericw-tools CheckEntityFields + JitterEntity, from q3map2): the
+// compiler replaces the light by `_samples` copies (16 when only `_deviance` is given), each
+// moved by a uniform offset in [-deviance, deviance] on every axis. The inverse, infinite and
+// inverse-square formulas split the value among the copies, so they add up to the light;
+// linear lights are not split, so a jittered linear light is `_samples` times as bright.
+// Both tracers draw one copy per sample (deviance = the cube's half-size) and faithful mode
+// multiplies by faithfulScale.
+void applyJitter(const KeyReader& keys, GpuLight& light) {
+  const float deviance = keys.number("_deviance", 0.0f);
+  int samples = toInt(keys.number("_samples", 0.0f));
+  if (deviance > 0.0f && samples == 0) samples = 16;
+  if (deviance <= 0.0f || samples <= 1) return;
+  light.deviance = deviance;
+  if (light.formula == uint32_t(LightFormula::Linear)) light.faithfulScale = float(samples);
+}
+
+SurfaceTemplate readSurfaceTemplate(const KeyReader& keys, const std::string& texture, const GpuLight& light,
+                                    const WorldLighting& world) {
+  SurfaceTemplate t;
+  t.texture = texture;
+  t.light = light;
+  t.hasColor = keys.has("_color");
+  const float offset = keys.number("_surface_offset", 0.0f);
+  t.offset = offset != 0.0f ? offset : 2.0f; // ericw-tools: 0 (unset) means 2 units
+  t.spotlight = keys.number("_surface_spotlight", 0.0f) != 0.0f;
+  t.radiosity = keys.has("_surface_radiosity") ? keys.number("_surface_radiosity", 0.0f) != 0.0f : world.surflightRadiosity;
+  t.minlightScale = keys.number("_surflight_minlight_scale", world.surflightMinlightScale);
+  if (t.spotlight && t.light.cosOuter < -1.0f) {
+    // The axis is each face's normal; the cone is the template's `angle` / `_softangle`.
+    const float angle = keys.number("angle", kDefaultSpotAngle);
+    float soft = keys.number("_softangle", 0.0f);
+    if (soft <= 0.0f || soft > angle) soft = angle;
+    t.light.cosOuter = std::cos(glm::radians(angle) * 0.5f);
+    t.light.cosInner = std::cos(glm::radians(soft) * 0.5f);
+  }
+  return t;
+}
+
 const Entity* findTarget(const Scene& scene, std::string_view targetname) {
   for (const Entity& e : scene.entities)
     if (e.value("targetname") == targetname) return &e;
@@ -91,6 +141,9 @@ WorldLighting readWorld(const Scene& scene, Diagnostics& diagnostics) {
   world.bounces = std::clamp(toInt(keys.number("_bounce", 0.0f)), 0, 8);
   world.bouncescale = keys.number("_bouncescale", world.bouncescale);
   world.litwater = keys.number("_litwater", 0.0f) != 0.0f;
+  world.surflightRadiosity = keys.number("_surflight_radiosity", 0.0f) != 0.0f;
+  world.surflightScale = keys.number("_surflightscale", world.surflightScale);
+  world.surflightMinlightScale = keys.number("_surflight_minlight_scale", world.surflightMinlightScale);
   return world;
 }
 
@@ -190,7 +243,7 @@ SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagn
     if (light.atten <= 0.0f) light.atten = 1.0f; // ericw-tools: a non-positive wait means 1
     light.falloff = keys.number("_falloff", 0.0f);
     light.anglescale = keys.number("_anglescale", keys.number("_anglesense", out.world.anglescale));
-    light.deviance = keys.number("_deviance", 0.0f);
+    applyJitter(keys, light);
     if (keys.number("_bleed", 0.0f) != 0.0f) light.flags |= kLightFlagBleed;
 
     if (auto origin = keys.vec3("origin")) {
@@ -218,7 +271,9 @@ SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagn
     if (keys.number("_sun", 0.0f) != 0.0f) {
       light.type = uint32_t(LightType::Sun);
       light.direction = spotAxis.value_or(glm::vec3(0.0f, 0.0f, -1.0f));
-      light.deviance = glm::radians(keys.number("_sunlight_penumbra", 0.0f));
+      // ericw-tools spreads a light-entity sun over its `_deviance` (degrees), not `_samples` copies.
+      light.deviance = glm::radians(keys.number("_deviance", keys.number("_sunlight_penumbra", 0.0f)));
+      light.faithfulScale = 1.0f;
       out.lights.push_back(light);
       continue;
     }
@@ -240,12 +295,12 @@ SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagn
     const uint32_t effectiveStyle = style > 0 ? uint32_t(style) : (switchable ? 32u : 0u);
     light.flags |= effectiveStyle << 8;
 
-    if (const std::string* surface = entity.find("_surface"); surface && !surface->empty()) {
-      out.surfaceTemplates.push_back({*surface, light});
-      continue;
-    }
     if (startOff && !options.includeStartOff) continue;
     if (options.styleZeroOnly && effectiveStyle != 0) continue;
+    if (const std::string* surface = keys.find("_surface"); surface && !surface->empty()) {
+      out.surfaceTemplates.push_back(readSurfaceTemplate(keys, *surface, light, out.world));
+      continue;
+    }
     out.lights.push_back(light);
   }
   return out;

@@ -22,13 +22,22 @@ struct WorldLighting {
   int bounces = 0;            // `_bounce`
   float bouncescale = 1.0f;   // `_bouncescale`
   bool litwater = false;      // `_litwater`: liquids receive light instead of drawing fullbright
+  bool surflightRadiosity = false;  // `_surflight_radiosity`: default kind of every _surface template
+  float surflightScale = 1.0f;      // `_surflightscale`: scales radiosity surface lights
+  float surflightMinlightScale = 1.0f; // `_surflight_minlight_scale`: default face minlight of radiosity templates
 };
 
 // An area-light template: a light entity with `_surface "texture"` makes every face with that
-// texture emit (ericw-tools spreads point lights over them; we treat the faces as emitters).
+// texture emit. Physical mode lights those faces as area emitters; faithful mode spreads point
+// lights over them the way ericw-tools `light` does (renderer/cpu/surface_lights.h).
 struct SurfaceTemplate {
   std::string texture;
-  GpuLight light;          // value, colour, formula and anglescale of the template
+  GpuLight light;             // value, colour, formula, anglescale, style of the template
+  bool hasColor = false;      // `_color` given (a radiosity template otherwise takes the texture's colour)
+  float offset = 2.0f;        // `_surface_offset`: how far off the face the point lights sit (0 means 2)
+  bool spotlight = false;     // `_surface_spotlight`: each point light is a spotlight along the face normal
+  bool radiosity = false;     // `_surface_radiosity` 1: ericw-tools' "Q2-style" radiosity surface light
+  float minlightScale = 1.0f; // `_surflight_minlight_scale`: radiosity kind: face minlight = value x this
 };
 
 struct SceneLights {

@@ -1,4 +1,5 @@
 #include "renderer/cpu/render_scene.h"
+#include "renderer/cpu/surface_lights.h"
 #include "scene/names.h"
 
 #include "renderer/cpu/color.h"
@@ -92,8 +93,11 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   for (GpuLight& l : rs.surfaceLights) l.value = 0.0f;
   for (const SurfaceTemplate& t : lights.surfaceTemplates)
     if (auto m = scene.findMaterial(t.texture)) {
-      rs.surfaceLights[*m] = t.light;
-      rs.surfaceLights[*m].surfaceMaterial = *m;
+      GpuLight& tmpl = rs.surfaceLights[*m];
+      tmpl = t.light;
+      // ericw-tools lights the faces of a radiosity surface light at least at its own value.
+      tmpl.faithfulScale = t.radiosity ? std::max(t.minlightScale, 0.0f) : 0.0f;
+      if (tmpl.faithfulScale > 0.0f) tmpl.flags |= kLightFlagFaceMinlight;
     }
 
   rs.faceFlags.resize(scene.faces.size());
@@ -115,6 +119,19 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
         !(flags & (kFaceHidden | kFaceSky)))
       flags |= kFaceEmissive;
   }
+
+  // Faithful mode's _surface lights: point lights spread over the template faces.
+  std::vector<BrushContents> contents(scene.brushes.size(), BrushContents::Empty);
+  for (size_t b = 0; b < scene.brushes.size(); ++b) {
+    const Brush& brush = scene.brushes[b];
+    if (brush.entity >= scene.entities.size() || !mergedIntoWorld(scene.entities[brush.entity].classname())) continue;
+    uint32_t classes = 0;
+    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
+      classes |= classifyTexture(scene.faces[f].texture, scene.faces[f].surface);
+    if (classes & kFaceHidden) continue;
+    contents[b] = (classes & kFaceLiquid) ? BrushContents::Liquid : BrushContents::Solid;
+  }
+  for (const GpuLight& l : spreadSurfaceLights(scene, lights.surfaceTemplates, contents, rs.world, diagnostics)) rs.lights.push_back(l);
 
   // Emitter triangles: a fan over each emitting face's winding.
   for (size_t i = 0; i < scene.faces.size(); ++i) {

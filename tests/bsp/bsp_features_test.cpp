@@ -1,5 +1,5 @@
 // BSP features beyond geometry: entities, brush entity origins, lightmaps (.lit, BSPX
-// RGBLIGHTING), BSPX BRUSHLIST, embedded miptex. Where ../shared has no file with a feature, the
+// RGBLIGHTING, LMSHIFT, DECOUPLED_LM), BSPX BRUSHLIST, embedded miptex (Half-Life and Quake). Where ../shared has no file with a feature, the
 // test writes one by appending BSPX lumps or a miptex lump to a compiled level.
 #include "importers/bsp/bsp_file.h"
 #include "importers/bsp/bsp_import.h"
@@ -15,7 +15,10 @@
 #include <algorithm>
 #include <cstring>
 #include <fstream>
+#include <cmath>
+#include <limits>
 #include <map>
+#include <random>
 
 namespace {
 
@@ -51,11 +54,15 @@ void appendU16(Bytes& b, uint16_t v) {
   b.push_back(static_cast<uint8_t>(v >> 8));
 }
 
-// Appends a BSPX directory with the given lumps after a Quake 1 file's last lump, as ericw-tools
-// writes it: 4-byte aligned, "BSPX", count, {name[24], offset, length}, then the data.
+// Appends a BSPX directory with the given lumps after a Quake 1 or 2 file's last lump, as
+// ericw-tools writes it: 4-byte aligned, "BSPX", count, {name[24], offset, length}, then the data.
 Bytes withBspx(Bytes bsp, const std::vector<std::pair<std::string, Bytes>>& lumps) {
+  const bool quake2 = std::memcmp(bsp.data(), "IBSP", 4) == 0;
+  const size_t table = quake2 ? 8 : 4;
+  const int lumpCount = quake2 ? 19 : 15;
   size_t end = 0;
-  for (int i = 0; i < 15; ++i) end = std::max<size_t>(end, size_t(u32At(bsp, 4 + i * 8)) + u32At(bsp, 8 + i * 8));
+  for (int i = 0; i < lumpCount; ++i)
+    end = std::max<size_t>(end, size_t(u32At(bsp, table + i * 8)) + u32At(bsp, table + 4 + i * 8));
   bsp.resize((end + 3) & ~size_t{3}, 0);
   const size_t directory = bsp.size();
   bsp.resize(directory + 8 + lumps.size() * 32, 0);
@@ -239,6 +246,232 @@ TEST(BspLightmaps, HalfLifeAndQuake2LightingIsRgb) {
   }
 }
 
+// --- BSPX LMSHIFT and DECOUPLED_LM ------------------------------------------------------------
+// No compiler output in ../shared has them (qbsp -lmscale / -world_units_per_luxel were not
+// used), so the tests append lumps to a lit level, written the way ericw-tools writes them.
+
+const char* const kLitLevel = "oracle/lit/maps_ericw-tools_testmaps_deprecated_suntest.bsp";
+
+// The world's compiled lighting of a file (grey lump: no .lit is given).
+bt::CompiledLighting worldLighting(const Bytes& file, bt::Diagnostics& diagnostics) {
+  const auto bsp = bt::bsp::readBspFile(file, "lit.bsp");
+  return bt::bsp::readCompiledLighting(bsp, {{0, 0, glm::dvec3(0.0)}}, std::nullopt, diagnostics);
+}
+
+size_t styleCount(const bt::bsp::Face& face) {
+  return static_cast<size_t>(std::count_if(face.styles.begin(), face.styles.end(), [](uint8_t s) { return s != 255; }));
+}
+
+// The luxel coordinates a face's projection gives a point.
+glm::dvec2 luxelAt(const bt::LightmappedFace& face, const glm::dvec3& p) {
+  return {glm::dot(p, face.luxelS) + face.luxelSOffset, glm::dot(p, face.luxelT) + face.luxelTOffset};
+}
+
+TEST(BspLightmaps, QuakeGridProjectionPutsLuxelsEverySixteenTexels) {
+  BT_REQUIRE_SHARED(shared);
+  bt::Diagnostics diagnostics;
+  const auto lighting = worldLighting(readBytes(shared / kLitLevel), diagnostics);
+  EXPECT_EQ(lighting.layout, "16 texels per luxel");
+  size_t checked = 0;
+  for (const bt::LightmappedFace& face : lighting.faces) {
+    if (face.width == 0) continue;
+    EXPECT_EQ(face.luxelSize, 16);
+    for (const glm::dvec3& p : face.polygon) {
+      const double s = glm::dot(p, face.sAxis) + face.sOffset, t = glm::dot(p, face.tAxis) + face.tOffset;
+      const glm::dvec2 luxel = luxelAt(face, p);
+      EXPECT_NEAR(luxel.x, s / 16.0 - face.lightmapMins[0], 1e-6);
+      EXPECT_NEAR(luxel.y, t / 16.0 - face.lightmapMins[1], 1e-6);
+      // Every vertex lies within the grid (luxel centres span the face's extents).
+      EXPECT_GE(luxel.x, -1e-6);
+      EXPECT_LE(luxel.x, face.width - 1 + 1e-6);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 100u);
+}
+
+TEST(BspLightmaps, LmshiftGivesEachFaceItsLuxelSize) {
+  BT_REQUIRE_SHARED(shared);
+  const Bytes original = readBytes(shared / kLitLevel);
+  const auto bsp = bt::bsp::readBspFile(original, "lit.bsp");
+  bt::Diagnostics plainDiagnostics;
+  const auto plain = worldLighting(original, plainDiagnostics);
+
+  // Shift 4 everywhere is Quake's grid: the same lightmaps.
+  {
+    bt::Diagnostics diagnostics;
+    const auto four = worldLighting(withBspx(original, {{"LMSHIFT", Bytes(bsp.faces.size(), 4)}}), diagnostics);
+    EXPECT_TRUE(diagnostics.empty());
+    EXPECT_EQ(four.layout, "per-face luxel size (BSPX LMSHIFT)");
+    ASSERT_EQ(four.faces.size(), plain.faces.size());
+    for (size_t f = 0; f < plain.faces.size(); ++f) {
+      EXPECT_EQ(four.faces[f].rgb, plain.faces[f].rgb);
+      EXPECT_EQ(four.faces[f].lightmapMins, plain.faces[f].lightmapMins);
+      EXPECT_EQ(four.faces[f].luxelSize, 16);
+    }
+  }
+  // Shift 5 (32 texels per luxel): each face's grid shrinks to its extents in 32-texel luxels,
+  // counted here from the face's vertices, and its samples start at the same offset.
+  Bytes shifts(bsp.faces.size(), 5);
+  shifts[0] = 16; // no luxel is 65536 texels: a corrupt record
+  bt::Diagnostics diagnostics;
+  const auto five = worldLighting(withBspx(original, {{"LMSHIFT", shifts}}), diagnostics);
+  ASSERT_EQ(diagnostics.size(), 1u);
+  EXPECT_NE(diagnostics[0].message.find("lump 'BSPX LMSHIFT': 1 faces have an unusable record"), std::string::npos)
+      << diagnostics[0].message;
+  EXPECT_EQ(five.faces[0].width, 0);
+  size_t checked = 0;
+  for (size_t f = 1; f < five.faces.size(); ++f) {
+    const bt::LightmappedFace& face = five.faces[f];
+    if (plain.faces[f].width == 0) {
+      EXPECT_EQ(face.width, 0);
+      continue;
+    }
+    const auto& texinfo = bsp.texinfo[static_cast<size_t>(bsp.faces[f].texinfo)];
+    int size[2];
+    for (int a = 0; a < 2; ++a) {
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (const glm::dvec3& p : bsp.faceVertices(f)) {
+        const double st = p.x * texinfo.vecs[a][0] + p.y * texinfo.vecs[a][1] + p.z * texinfo.vecs[a][2] + texinfo.vecs[a][3];
+        lo = std::min(lo, st), hi = std::max(hi, st);
+      }
+      EXPECT_EQ(face.lightmapMins[static_cast<size_t>(a)], static_cast<int>(std::floor(lo / 32.0))) << "face " << f;
+      size[a] = static_cast<int>(std::ceil(hi / 32.0) - std::floor(lo / 32.0)) + 1;
+    }
+    ASSERT_EQ(face.width, size[0]) << "face " << f;
+    ASSERT_EQ(face.height, size[1]) << "face " << f;
+    EXPECT_EQ(face.luxelSize, 32);
+    const size_t offset = static_cast<size_t>(bsp.faces[f].lightOffset);
+    ASSERT_EQ(face.rgb.size(), static_cast<size_t>(size[0] * size[1]) * styleCount(bsp.faces[f]) * 3);
+    for (size_t k = 0; k < face.rgb.size(); k += 3) ASSERT_EQ(face.rgb[k], bsp.lighting[offset + k / 3]);
+    const glm::dvec3 p = face.polygon[0];
+    EXPECT_NEAR(luxelAt(face, p).x, (glm::dot(p, face.sAxis) + face.sOffset) / 32.0 - face.lightmapMins[0], 1e-6);
+    ++checked;
+  }
+  EXPECT_GT(checked, 20u);
+}
+
+// DECOUPLED_LM records as ericw-tools writes them (bspx_decoupled_lm_perface): uint16 width,
+// height; int32 offset; float world_to_lm_space[2][4], row major. These place each face's
+// luxels exactly where Quake's grid does, so the lightmaps must come out the same.
+Bytes decoupledLikeQuakeGrid(const bt::bsp::BspFile& bsp) {
+  Bytes lump;
+  for (size_t f = 0; f < bsp.faces.size(); ++f) {
+    const auto e = bt::bsp::lightmapExtents(bsp, f);
+    const auto& texinfo = bsp.texinfo[static_cast<size_t>(bsp.faces[f].texinfo)];
+    appendU16(lump, static_cast<uint16_t>(e.width));
+    appendU16(lump, static_cast<uint16_t>(e.height));
+    appendU32(lump, static_cast<uint32_t>(bsp.faces[f].lightOffset));
+    for (int a = 0; a < 2; ++a) {
+      for (int k = 0; k < 3; ++k) appendF32(lump, texinfo.vecs[a][k] / 16.0f);
+      appendF32(lump, texinfo.vecs[a][3] / 16.0f - static_cast<float>(e.mins[static_cast<size_t>(a)]));
+    }
+  }
+  return lump;
+}
+
+TEST(BspLightmaps, DecoupledLmPlacesEachFacesLuxels) {
+  BT_REQUIRE_SHARED(shared);
+  const Bytes original = readBytes(shared / kLitLevel);
+  const auto bsp = bt::bsp::readBspFile(original, "lit.bsp");
+  bt::Diagnostics plainDiagnostics;
+  const auto plain = worldLighting(original, plainDiagnostics);
+  Bytes lump = decoupledLikeQuakeGrid(bsp);
+  {
+    bt::Diagnostics diagnostics;
+    // LMSHIFT beside it is ignored: DECOUPLED_LM says everything.
+    const auto decoupled =
+        worldLighting(withBspx(original, {{"LMSHIFT", Bytes(bsp.faces.size(), 7)}, {"DECOUPLED_LM", lump}}), diagnostics);
+    EXPECT_TRUE(diagnostics.empty());
+    EXPECT_EQ(decoupled.layout, "decoupled (BSPX DECOUPLED_LM)");
+    ASSERT_EQ(decoupled.faces.size(), plain.faces.size());
+    size_t lit = 0;
+    for (size_t f = 0; f < plain.faces.size(); ++f) {
+      const bt::LightmappedFace& face = decoupled.faces[f];
+      ASSERT_EQ(face.width, plain.faces[f].width) << "face " << f;
+      ASSERT_EQ(face.rgb, plain.faces[f].rgb) << "face " << f;
+      EXPECT_EQ(face.luxelSize, 0);
+      for (const glm::dvec3& p : face.polygon) {
+        EXPECT_NEAR(luxelAt(face, p).x, luxelAt(plain.faces[f], p).x, 1e-3);
+        EXPECT_NEAR(luxelAt(face, p).y, luxelAt(plain.faces[f], p).y, 1e-3);
+      }
+      lit += face.width > 0;
+    }
+    EXPECT_GT(lit, 20u);
+  }
+  // Bad records: no lightmap (offset -1), a size far past the lighting data, a NaN projection.
+  const size_t a = 1, b = 2, c = 3;
+  putU32(lump, a * 40 + 4, 0xffffffffu);
+  lump[b * 40] = lump[b * 40 + 1] = lump[b * 40 + 2] = lump[b * 40 + 3] = 0xff; // 65535 x 65535
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(&lump[c * 40 + 8], &nan, 4);
+  bt::Diagnostics diagnostics;
+  const auto broken = worldLighting(withBspx(original, {{"DECOUPLED_LM", lump}}), diagnostics);
+  for (size_t f : {a, b, c}) EXPECT_EQ(broken.faces[f].width, 0) << "face " << f;
+  ASSERT_EQ(diagnostics.size(), 2u);
+  EXPECT_NE(diagnostics[0].message.find("faces point past the end"), std::string::npos) << diagnostics[0].message;
+  EXPECT_NE(diagnostics[1].message.find("lump 'BSPX DECOUPLED_LM': 1 faces have an unusable record"), std::string::npos)
+      << diagnostics[1].message;
+  EXPECT_EQ(broken.faces[4].rgb, plain.faces[4].rgb);
+}
+
+TEST(BspLightmaps, BspxLightmapLumpsOfTheWrongSizeAreIgnored) {
+  BT_REQUIRE_SHARED(shared);
+  const Bytes original = readBytes(shared / kLitLevel);
+  const auto bsp = bt::bsp::readBspFile(original, "lit.bsp");
+  Bytes decoupled = decoupledLikeQuakeGrid(bsp);
+  decoupled.pop_back();
+  bt::Diagnostics diagnostics;
+  const auto lighting = worldLighting(
+      withBspx(original, {{"LMSHIFT", Bytes(bsp.faces.size() + 1, 5)}, {"DECOUPLED_LM", decoupled}}), diagnostics);
+  EXPECT_EQ(lighting.layout, "16 texels per luxel");
+  ASSERT_EQ(diagnostics.size(), 2u);
+  EXPECT_NE(diagnostics[0].message.find("lump 'BSPX DECOUPLED_LM' ignored"), std::string::npos) << diagnostics[0].message;
+  EXPECT_NE(diagnostics[1].message.find("lump 'BSPX LMSHIFT' ignored"), std::string::npos) << diagnostics[1].message;
+  EXPECT_EQ(diagnostics[1].file, "lit.bsp");
+}
+
+TEST(BspLightmaps, Quake2FilesCarryBspxLumpsToo) {
+  BT_REQUIRE_SHARED(shared);
+  const Bytes original = readBytes(shared / "oracle" / "maps_ericw-tools_testmaps_q2_areaportal.bsp");
+  const auto plain = bt::bsp::readBspFile(original, "q2.bsp");
+  const Bytes lump = decoupledLikeQuakeGrid(plain);
+  const auto bsp = bt::bsp::readBspFile(withBspx(original, {{"DECOUPLED_LM", lump}}), "q2.bsp");
+  const bt::bsp::BspxLump* read = bsp.findBspx("DECOUPLED_LM");
+  ASSERT_NE(read, nullptr);
+  EXPECT_EQ(read->bytes, lump);
+  bt::Diagnostics diagnostics;
+  const auto lighting = bt::bsp::readCompiledLighting(bsp, {{0, 0, glm::dvec3(0.0)}}, std::nullopt, diagnostics);
+  EXPECT_EQ(lighting.layout, "decoupled (BSPX DECOUPLED_LM)");
+  EXPECT_TRUE(diagnostics.empty());
+}
+
+// Garbage in the per-face records (any size, offset, shift or projection) gives lightmaps that
+// fit their own grids, or none; never a read outside the data (the sanitizer build runs this).
+TEST(BspLightmaps, CorruptBspxLightmapRecordsAreBoundsChecked) {
+  BT_REQUIRE_SHARED(shared);
+  const Bytes original = readBytes(shared / kLitLevel);
+  const auto bsp = bt::bsp::readBspFile(original, "lit.bsp");
+  const Bytes decoupled = decoupledLikeQuakeGrid(bsp);
+  std::mt19937 rng(5);
+  for (int round = 0; round < 60; ++round) {
+    Bytes shifts(bsp.faces.size(), 4), records = decoupled;
+    for (int k = 0; k < 40; ++k) {
+      shifts[rng() % shifts.size()] = static_cast<uint8_t>(rng());
+      records[rng() % records.size()] = static_cast<uint8_t>(rng());
+    }
+    std::vector<std::pair<std::string, Bytes>> lumps{{"LMSHIFT", shifts}};
+    if (round % 2) lumps.push_back({"DECOUPLED_LM", records});
+    bt::Diagnostics diagnostics;
+    const auto lighting = worldLighting(withBspx(original, lumps), diagnostics);
+    for (size_t f = 0; f < lighting.faces.size(); ++f) {
+      const bt::LightmappedFace& face = lighting.faces[f];
+      const size_t styles = face.width > 0 ? styleCount(bsp.faces[f]) : 0;
+      ASSERT_EQ(face.rgb.size(), static_cast<size_t>(face.width) * static_cast<size_t>(face.height) * styles * 3);
+    }
+  }
+}
+
 // --- BSPX BRUSHLIST ------------------------------------------------------------------------
 
 // Writes the world's brushes as ericw-tools' BRUSHLIST (qbsp -wrbrushes) would: bounds, contents
@@ -356,6 +589,67 @@ TEST(BspTextures, HalfLifeMiptexInsideTheBspAreDecodedWithTheirPalette) {
   ASSERT_TRUE(fromWad);
   EXPECT_EQ(m.width, fromWad->width);
   EXPECT_EQ(m.baseColor.rgba, fromWad->baseColor.rgba);
+}
+
+// A Quake level compiled with its textures (qbsp without -notex): the BSP29 miptex lump holds
+// 8-bit indices into Quake's palette, which the importer finds through --palette (or
+// gfx/palette.lmp up the tree). Each texel must be the palette colour of its index, as the
+// raw lump says; indices 224..255 also shine (fullbright).
+TEST(BspTextures, QuakeMiptexInsideTheBspAreDecodedWithTheQuakePalette) {
+  BT_REQUIRE_SHARED(shared);
+  const bt::WadFile wad = bt::WadFile::open(shared / "maps/librequake/texture-wads/lq_dev_legacy/lq_dev_legacy.wad");
+  const auto path = scratchDir() / "q1_embedded.bsp";
+  const Bytes file = withEmbeddedTextures(readBytes(shared / "oracle" / "maps_librequake_lq1_maps_src_misc_slope.bsp"), wad);
+  writeBytes(path, file);
+  const auto bsp = bt::bsp::readBspFile(file, "q1_embedded.bsp");
+  const bt::Palette palette = bt::loadPalette(shared / "maps/palettes/quake.lmp");
+
+  bt::ImportOptions options;
+  options.textures.palette = (shared / "maps/palettes/quake.lmp").string();
+  const bt::Scene scene = importPath(path, options);
+  size_t decoded = 0, fullbrightTexels = 0;
+  for (const bt::bsp::Miptex& miptex : bsp.miptex) {
+    if (!miptex.present || !miptex.hasPixels) continue;
+    SCOPED_TRACE(miptex.name);
+    const auto index = scene.findMaterial(miptex.name);
+    ASSERT_TRUE(index);
+    const bt::Material& m = scene.materials[*index];
+    EXPECT_EQ(m.source, bt::TextureSource::Miptex);
+    EXPECT_EQ(m.sourcePath, path.string());
+    ASSERT_EQ(m.width, static_cast<int>(miptex.width));
+    ASSERT_EQ(m.height, static_cast<int>(miptex.height));
+    // Mip level 0 as stored: header {name[16], width, height, offsets[4]}, then indices.
+    const size_t pixels = u32At(miptex.bytes, 24);
+    for (int y = 0; y < m.height; ++y)
+      for (int x = 0; x < m.width; ++x) {
+        const uint8_t i = miptex.bytes[pixels + static_cast<size_t>(y) * m.width + x];
+        const uint8_t* texel = m.baseColor.texel(x, y);
+        const bool transparent = miptex.name[0] == '{' && i == 255;
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(texel[c], transparent ? 0 : palette.rgb[i * 3 + c]) << x << "," << y;
+        ASSERT_EQ(texel[3], transparent ? 0 : 255);
+        if (i >= 224 && !transparent) {
+          ASSERT_FALSE(m.emissive.empty());
+          for (int c = 0; c < 3; ++c) ASSERT_EQ(m.emissive.texel(x, y)[c], palette.rgb[i * 3 + c]);
+          ++fullbrightTexels;
+        }
+      }
+    // The same texture from the WAD it came from decodes to the same pixels.
+    const auto fromWad = wad.loadTexture(miptex.name, &palette);
+    ASSERT_TRUE(fromWad);
+    EXPECT_EQ(m.baseColor.rgba, fromWad->baseColor.rgba);
+    ++decoded;
+  }
+  EXPECT_EQ(decoded, 20u);
+  EXPECT_GT(fullbrightTexels, 0u);
+
+  // Without a palette the level's own pixels cannot be read: one warning says so, and the names
+  // are looked up like a .map's instead (not found here: placeholders).
+  const bt::Scene withoutPalette = importPath(path);
+  size_t warnings = 0;
+  for (const bt::Diagnostic& d : withoutPalette.diagnostics)
+    warnings += d.message.find("the level's own textures need Quake's palette") != std::string::npos;
+  EXPECT_EQ(warnings, 1u);
+  for (const bt::Material& m : withoutPalette.materials) EXPECT_NE(m.source, bt::TextureSource::Miptex) << m.name;
 }
 
 TEST(BspTextures, TexturesMissingFromTheBspAreSearchedInWads) {

@@ -64,7 +64,7 @@ TEST(SharedMaps, StandardToValveIsTexelExactAndValveToStandardReportsWhatItCanno
     if (doc.dialect == MapDialect::Standard) {
       ++standardMaps;
       Diagnostics report;
-      const MapDocument valve = parseMap(writeMap(convertDocument(doc, MapDialect::Valve220, report)), "valve.map");
+      const MapDocument valve = parseMap(writeMap(convertDocument(doc, MapDialect::Valve220, report)), path.string()); // the same folder: prefabs resolve alike
       const Scene before = buildScene(doc);
       const Scene after = buildScene(valve);
       ASSERT_EQ(before.faces.size(), after.faces.size());
@@ -72,7 +72,7 @@ TEST(SharedMaps, StandardToValveIsTexelExactAndValveToStandardReportsWhatItCanno
     } else if (doc.dialect == MapDialect::Valve220) {
       ++valveMaps;
       Diagnostics report;
-      const MapDocument standard = parseMap(writeMap(convertDocument(doc, MapDialect::Standard, report)), "standard.map");
+      const MapDocument standard = parseMap(writeMap(convertDocument(doc, MapDialect::Standard, report)), path.string());
       const Scene before = buildScene(doc);
       const Scene after = buildScene(standard);
       ASSERT_EQ(before.faces.size(), after.faces.size());

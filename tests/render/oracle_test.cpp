@@ -8,6 +8,7 @@
 // byte is (light sum x _range) clamped to 255, the brightest of r, g, b for coloured light.
 #include "importers/bsp/bsp_file.h"
 #include "importers/import.h"
+#include "renderer/cpu/faithful.h"
 #include "renderer/cpu/integrator.h"
 #include "tests/test_data.h"
 
@@ -84,6 +85,10 @@ OracleResult compareWithCompiler(const std::filesystem::path& bspPath, const std
     const glm::dmat3 m = glm::transpose(glm::dmat3(glm::dvec3(tex.vecs[0][0], tex.vecs[0][1], tex.vecs[0][2]),
                                                    glm::dvec3(tex.vecs[1][0], tex.vecs[1][1], tex.vecs[1][2]), normal));
     const glm::dmat3 inv = glm::inverse(m);
+    // A face whose texture carries a radiosity _surface template is lit at least at its value.
+    glm::vec3 faceMinlight(0.0f);
+    if (auto material = scene.findMaterial(tex.texture); material && *material < rs.surfaceLights.size())
+      faceMinlight = faithful::surfaceFaceMinlight(rs.surfaceLights[*material]);
     ++result.faces;
     for (int t = 0; t < size[1]; ++t)
       for (int s = 0; s < size[0]; ++s) {
@@ -94,11 +99,12 @@ OracleResult compareWithCompiler(const std::filesystem::path& bspPath, const std
           Rng rng = pixelRng(uint32_t(fi), uint32_t(t * size[0] + s), uint32_t(k), 1);
           sum += faithfulLightAt(rs, p, glm::vec3(normal), rng);
         }
-        glm::vec3 stored = sum / float(kSamplesPerLuxel) * rs.world.range;
+        glm::vec3 stored = glm::max(sum / float(kSamplesPerLuxel), faceMinlight) * rs.world.range;
         const float peak = std::max({stored.x, stored.y, stored.z});
         if (peak > 255.0f) stored *= 255.0f / peak;
         // The mono lightmap holds the brightest channel of the coloured one (.lit files agree).
-        const double ours = std::clamp(double(std::max({stored.x, stored.y, stored.z})), 0.0, 255.0);
+        // ... written to a byte by C's float-to-integer conversion, which truncates (WriteSingleLightmap).
+        const double ours = std::floor(std::clamp(double(std::max({stored.x, stored.y, stored.z})), 0.0, 255.0));
         const double compiler = bsp.lighting[size_t(face.lightOffset) + size_t(t) * size[0] + size_t(s)];
         const double error = std::abs(ours - compiler) / std::max(compiler, kErrorFloor);
         errors.push_back(error);
@@ -146,16 +152,27 @@ TEST_P(OracleLightmaps, FaithfulDirectLightMatchesCompiler) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
-                         // Not here: deprecated_nobounce sets worldspawn _bounce 1 (the compiler bounced,
-                         // this compares direct light), q1_light_invalid_delay compiled with no lit
-                         // face, dirttest* need dirt (ambient occlusion, not modelled), hl_* store RGB,
-                         // testsurfacelight and surflight_minlight: our _surface lights are far too
-                         // dark against the compiler's (open defect), lqdm5: too slow for the suite.
+                         // Not here: deprecated_nobounce and deprecated_bouncecolorscaletest set worldspawn
+                         // _bounce 1 (the compiler bounced, this compares direct light; the latter's lightmap
+                         // offsets also do not fit the lump as this test sizes faces, so no face is compared);
+                         // q1_light_invalid_delay compiled with no lit face; deprecated_dirttest2 needs dirt
+                         // (ambient occlusion, not modelled: median 5.5 %); lqdm5: too slow for the suite;
+                         // testsurfacelight: OracleSurfaceLights below.
                          ::testing::Values("ericw-tools_testmaps_deprecated_falloff",
                                            "ericw-tools_testmaps_deprecated_light_near_wall",
                                            "ericw-tools_testmaps_deprecated_suntest",
                                            "ericw-tools_testmaps_deprecated_testminlight",
                                            "ericw-tools_testmaps_deprecated_testlightonface",
+                                           "ericw-tools_testmaps_q1_surflight_minlight",
+                                           "ericw-tools_testmaps_q1_light_bounce_litwater",
+                                           "ericw-tools_testmaps_q1_light_bounce_noshadow",
+                                           "ericw-tools_testmaps_deprecated_dirttest",
+                                           "ericw-tools_testmaps_q1_light_hlform",
+                                           "ericw-tools_testmaps_q1_light_skip_shadow",
+                                           "ericw-tools_testmaps_q1_light_suntexture",
+                                           "ericw-tools_testmaps_q1_light_surflight_group",
+                                           "ericw-tools_testmaps_q1_light_switchableshadow_selfshadows",
+                                           "ericw-tools_testmaps_q1_litwater_opt_in",
                                            "ericw-tools_testmaps_q1_light_black",
                                            "ericw-tools_testmaps_q1_lightignore",
                                            "ericw-tools_testmaps_q1_light_switchableshadow_target",
@@ -165,6 +182,41 @@ INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
                                            "quake_map_source_e1m1"),
                          [](const auto& info) {
                            std::string n = info.param;
+                           std::replace(n.begin(), n.end(), '-', '_');
+                           return n;
+                         });
+
+// testsurfacelight against the compiler: an open gap, held to the figure reached so that it can
+// only narrow. The compiler spreads its point lights over the faces of the compiled BSP; we
+// rebuild qbsp's CSG, face merging and 240-texel subdivision from the source brushes, but not
+// the splits along the BSP tree's planes nor the removal of faces that look into the void, so
+// the lava gets 151 point lights in other places than the compiler's 111.
+struct SurfaceCase {
+  const char* name;
+  double maxMedianError;
+};
+class OracleSurfaceLights : public ::testing::TestWithParam<SurfaceCase> {};
+
+TEST_P(OracleSurfaceLights, FaithfulSurfaceLightsTrackCompiler) {
+  BT_REQUIRE_SHARED(shared);
+  const SurfaceCase c = GetParam();
+  const std::string bspName = std::string("maps_") + c.name + ".bsp";
+  const std::filesystem::path bspPath = shared / "oracle" / "lit" / bspName;
+  ASSERT_TRUE(std::filesystem::exists(bspPath)) << bspPath;
+  const std::filesystem::path map = sourceMap(shared, bspName);
+  ASSERT_FALSE(map.empty()) << "no manifest entry for " << bspName;
+  const OracleResult r = compareWithCompiler(bspPath, map);
+  std::printf("%s", fmt::format("oracle {}: {} faces, {} luxels, median error {:.2f} %, within 5 %: {:.1f} %, mean |diff| {:.2f}/255, mean diff {:+.2f}\n",
+                                c.name, r.faces, r.luxels, 100.0 * r.medianError, 100.0 * double(r.within5) / double(std::max<size_t>(r.luxels, 1)),
+                                r.meanAbsError, r.meanSignedError).c_str());
+  ASSERT_GT(r.luxels, 0u);
+  EXPECT_LE(r.medianError, c.maxMedianError) << "the issue's bar is 5 %";
+}
+
+INSTANTIATE_TEST_SUITE_P(Lit, OracleSurfaceLights,
+                         ::testing::Values(SurfaceCase{"ericw-tools_testmaps_deprecated_testsurfacelight", 0.12}),
+                         [](const auto& info) {
+                           std::string n = info.param.name;
                            std::replace(n.begin(), n.end(), '-', '_');
                            return n;
                          });

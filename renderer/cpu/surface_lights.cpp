@@ -1,0 +1,300 @@
+#include "renderer/cpu/surface_lights.h"
+
+#include "scene/names.h"
+#include "scene/winding.h"
+
+#include <fmt/format.h>
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+namespace bt {
+
+namespace {
+
+constexpr double kQ1SurfaceGrid = 128.0; // `light -surflight_subdivide` default
+constexpr double kMinPieceWidth = 8.0;   // GLQuake does not cut off slivers thinner than this
+constexpr double kRadiosityLift = 1.0;   // surflight.cc lifts a radiosity point 1 unit off the face
+constexpr double kMinEmitterArea = 1.0;  // surflight.cc skips smaller faces
+constexpr double kOnPlaneEpsilon = 0.01; // qbsp's ON_EPSILON-like tolerance for touching planes
+constexpr double kContinuousEpsilon = 0.005; // qbsp: edges turning less than this go straight on
+
+void subdivide(const Winding& w, double size, std::vector<Winding>& pieces) {
+  if (w.size() < 3) return;
+  dvec3 lo = w[0], hi = w[0];
+  for (const dvec3& p : w) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  for (int axis = 0; axis < 3; ++axis) {
+    const double cut = size * std::floor((lo[axis] + hi[axis]) * 0.5 / size + 0.5);
+    if (hi[axis] - cut < kMinPieceWidth || cut - lo[axis] < kMinPieceWidth) continue;
+    Plane plane;
+    plane.normal = dvec3(0.0);
+    plane.normal[axis] = 1.0;
+    plane.dist = cut;
+    const SplitWinding split = splitWinding(w, plane, 0.0);
+    subdivide(split.front, size, pieces);
+    subdivide(split.back, size, pieces);
+    return;
+  }
+  pieces.push_back(w);
+}
+
+// qbsp's SubdivideFace: Quake 1 faces wider than 240 texels are cut every 224 texels (the
+// subdivide size less 16) along each texture axis, from the smallest texel coordinate up, so
+// that each one fits the engine's surface cache. ericw-tools `light` sees these pieces.
+void subdivideForQbsp(const Winding& w, const TextureFrame& frame, std::vector<Winding>& pieces) {
+  constexpr double kSubdivideTexels = 240.0, kCutMargin = 16.0;
+  std::vector<Winding> todo{w}, next;
+  for (const dvec3& axis : {frame.tangent, frame.bitangent}) {
+    const double scale = glm::length(axis);
+    if (scale <= 0.0) continue;
+    for (Winding rest : todo) {
+      while (rest.size() >= 3) {
+        double lo = 1e300, hi = -1e300;
+        for (const dvec3& p : rest) lo = std::min(lo, glm::dot(p, axis)), hi = std::max(hi, glm::dot(p, axis));
+        if (std::ceil(hi) - std::floor(lo) <= kSubdivideTexels) break;
+        const Plane cut{axis / scale, (lo + kSubdivideTexels - kCutMargin) / scale};
+        SplitWinding split = splitWinding(rest, cut, 0.0);
+        if (split.front.size() < 3 || split.back.size() < 3) break; // nothing cut off: keep it whole
+        next.push_back(std::move(split.back));
+        rest = std::move(split.front);
+      }
+      if (rest.size() >= 3) next.push_back(std::move(rest));
+    }
+    todo.swap(next);
+    next.clear();
+  }
+  for (Winding& piece : todo) pieces.push_back(std::move(piece));
+}
+
+// The texture's mean colour in its own (sRGB) space, 0..1, as ericw-tools averages it.
+glm::vec3 averageColor(const Image& image) {
+  glm::dvec3 sum(0.0);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const uint8_t* p = image.texel(x, y);
+      sum += glm::dvec3(p[0], p[1], p[2]);
+    }
+  return glm::vec3(sum / (255.0 * double(image.width) * double(image.height)));
+}
+
+dvec3 vertexMean(const Winding& w) {
+  dvec3 sum(0.0);
+  for (const dvec3& p : w) sum += p;
+  return sum / double(w.size());
+}
+
+// Area-weighted centroid (ericw-tools' PolyCentroid); the vertex mean for a degenerate polygon.
+dvec3 centroid(const Winding& w) {
+  dvec3 sum(0.0);
+  double totalArea = 0.0;
+  for (size_t i = 1; i + 1 < w.size(); ++i) {
+    const double a = glm::length(glm::cross(w[i] - w[0], w[i + 1] - w[0])) * 0.5;
+    sum += a * (w[0] + w[i] + w[i + 1]) / 3.0;
+    totalArea += a;
+  }
+  return totalArea > 0.0 ? sum / totalArea : vertexMean(w);
+}
+
+// Carves brush `b` out of `fragments` (qbsp's CSG): the parts in front of any of its planes
+// stay, the part behind all of them goes. A fragment lying on one of its planes stays when it
+// faces the same way (it is that brush's neighbour, not buried in it).
+void carve(const Scene& scene, const Brush& brush, const dvec3& faceNormal, std::vector<Winding>& fragments) {
+  std::vector<Winding> kept;
+  for (Winding inside : fragments) {
+    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount && !inside.empty(); ++f) {
+      const Plane& plane = scene.faces[f].plane;
+      SplitWinding split = splitWinding(inside, plane, kOnPlaneEpsilon);
+      const bool onPlane = !split.front.empty() && split.front.size() == split.back.size() && split.front == split.back;
+      if (onPlane) {
+        if (glm::dot(plane.normal, faceNormal) > 0.0) kept.push_back(std::move(inside));
+        if (glm::dot(plane.normal, faceNormal) > 0.0) inside.clear();
+        continue;
+      }
+      if (split.front.size() >= 3) kept.push_back(std::move(split.front));
+      inside = split.back.size() >= 3 ? std::move(split.back) : Winding{};
+    }
+  }
+  fragments = std::move(kept);
+}
+
+// Drops vertices where the polygon goes straight on; false when it turns the wrong way
+// anywhere (not convex, seen from the side `normal` points to, counter-clockwise).
+bool makeConvex(Winding& w, const dvec3& normal) {
+  removeDuplicatePoints(w, 1e-6); // an edge without length has no direction
+  for (size_t i = 0; i < w.size() && w.size() >= 3;) {
+    const dvec3& prev = w[(i + w.size() - 1) % w.size()];
+    const dvec3& next = w[(i + 1) % w.size()];
+    const dvec3 in = glm::normalize(w[i] - prev), out = glm::normalize(next - w[i]);
+    const double turn = glm::dot(glm::cross(in, out), normal);
+    if (turn < -kContinuousEpsilon) return false;
+    if (turn <= kContinuousEpsilon) w.erase(w.begin() + std::ptrdiff_t(i));
+    else ++i;
+  }
+  return w.size() >= 3;
+}
+
+// qbsp's TryMerge: two coplanar polygons sharing an edge become one when the result is convex.
+std::optional<Winding> tryMerge(const Winding& a, const Winding& b, const dvec3& normal) {
+  auto same = [](const dvec3& p, const dvec3& q) { return glm::length(p - q) < kOnPlaneEpsilon; };
+  for (size_t i = 0; i < a.size(); ++i)
+    for (size_t j = 0; j < b.size(); ++j) {
+      const size_t i1 = (i + 1) % a.size(), j1 = (j + 1) % b.size();
+      if (!same(a[i], b[j1]) || !same(a[i1], b[j])) continue;
+      // a from a[i1] round to a[i], then b past the shared edge.
+      Winding merged;
+      for (size_t k = 0; k < a.size(); ++k) merged.push_back(a[(i1 + k) % a.size()]);
+      for (size_t k = 2; k < b.size(); ++k) merged.push_back(b[(j + k) % b.size()]);
+      if (makeConvex(merged, normal)) return merged;
+      return std::nullopt;
+    }
+  return std::nullopt;
+}
+
+// qbsp's MergeAll over one plane and texture: merge until no pair merges any more.
+void mergeCoplanar(std::vector<Winding>& polygons, const dvec3& normal) {
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (size_t i = 0; i < polygons.size() && !merged; ++i)
+      for (size_t j = i + 1; j < polygons.size() && !merged; ++j)
+        if (std::optional<Winding> m = tryMerge(polygons[i], polygons[j], normal)) {
+          polygons[i] = std::move(*m);
+          polygons.erase(polygons.begin() + std::ptrdiff_t(j));
+          merged = true;
+        }
+  }
+}
+
+bool overlaps(const Bounds& a, const Bounds& b) {
+  for (int i = 0; i < 3; ++i)
+    if (a.min[i] > b.max[i] + kOnPlaneEpsilon || b.min[i] > a.max[i] + kOnPlaneEpsilon) return false;
+  return true;
+}
+
+// The Q1 kind: a full copy of the template on every grid piece of the face.
+void addGridLights(const Face& face, const Winding& fragment, const SurfaceTemplate& t, std::vector<GpuLight>& out) {
+  std::vector<Winding> qbspPieces;
+  subdivideForQbsp(fragment, face.frame, qbspPieces);
+  for (const Winding& qbspPiece : qbspPieces)
+    for (const Winding& piece : subdivideOnGrid(qbspPiece, kQ1SurfaceGrid)) {
+      GpuLight light = t.light;
+      light.origin = glm::vec3(centroid(piece) + face.plane.normal * double(t.offset));
+      light.flags |= kLightFlagFromSurface;
+      if (t.spotlight) light.direction = glm::vec3(face.plane.normal);
+      out.push_back(light);
+    }
+}
+
+// The radiosity kind: one point for the whole face, value x area, falling off as 1/d^2.
+void addRadiosityLight(const Scene& scene, const Face& face, const Winding& fragment, const SurfaceTemplate& t,
+                       const WorldLighting& world, std::vector<GpuLight>& out) {
+  const double faceArea = area(fragment);
+  if (faceArea < kMinEmitterArea) return;
+  const dvec3 origin = vertexMean(fragment) + face.plane.normal * kRadiosityLift;
+
+  // surflight.cc: colour (0..1) x light value; its brightest channel is the intensity, and the
+  // colour is normalised by it only when that is above 1.
+  glm::vec3 color = t.light.color;
+  if (!t.hasColor && face.material < scene.materials.size() && !scene.materials[face.material].baseColor.empty())
+    color = averageColor(scene.materials[face.material].baseColor);
+  color *= t.light.value;
+  const float intensity = std::max({color.x, color.y, color.z});
+  if (intensity <= 0.0f) return; // ericw-tools has no negative surface lights
+  if (intensity > 1.0f) color /= intensity;
+
+  GpuLight light;
+  light.type = uint32_t(LightType::Point);
+  light.formula = uint32_t(LightFormula::SurfaceRadiosity);
+  light.origin = glm::vec3(origin);
+  light.direction = glm::vec3(face.plane.normal);
+  light.color = color;
+  light.value = intensity * float(faceArea) * world.surflightScale;
+  light.anglescale = 0.5f; // the receiver's (0.5 + 0.5 cos): ericw-tools' "rescale"
+  light.flags = (t.light.flags & ~kLightFlagBleed) | kLightFlagFromSurface;
+  out.push_back(light);
+}
+
+} // namespace
+
+std::vector<Winding> subdivideOnGrid(const Winding& winding, double size) {
+  std::vector<Winding> pieces;
+  subdivide(winding, size, pieces);
+  return pieces;
+}
+
+std::vector<Winding> visibleFragments(const Scene& scene, uint32_t faceIndex, const std::vector<BrushContents>& contents) {
+  const Face& face = scene.faces[faceIndex];
+  if (face.winding.size() < 3) return {};
+  const bool liquid = face.brush < contents.size() && contents[face.brush] == BrushContents::Liquid;
+  Bounds bounds;
+  for (const dvec3& p : face.winding) bounds.grow(p);
+  std::vector<Winding> fragments{face.winding};
+  for (size_t b = 0; b < scene.brushes.size() && !fragments.empty(); ++b) {
+    const bool carves = contents[b] == BrushContents::Solid || (liquid && contents[b] == BrushContents::Liquid);
+    if (b == face.brush || !carves || !overlaps(bounds, scene.brushes[b].bounds)) continue;
+    carve(scene, scene.brushes[b], face.plane.normal, fragments);
+  }
+  return fragments;
+}
+
+std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
+                                          const std::vector<BrushContents>& contents, const WorldLighting& world,
+                                          Diagnostics& diagnostics) {
+  // qbsp merges what CSG leaves of coplanar sides with the same texture and projection into
+  // one face again; the compiler spreads its lights over those faces.
+  struct Surface {
+    uint32_t face; // the first side of the group: plane, frame, material
+    std::vector<Winding> polygons;
+  };
+  auto sameSurface = [&](const Face& a, const Face& b) {
+    auto near = [](const dvec3& p, const dvec3& q) { return glm::length(p - q) < 1e-4; };
+    return near(a.plane.normal, b.plane.normal) && std::abs(a.plane.dist - b.plane.dist) < kOnPlaneEpsilon &&
+           near(a.frame.tangent, b.frame.tangent) && near(a.frame.bitangent, b.frame.bitangent) &&
+           std::abs(a.frame.s(a.frame.origin) - a.frame.s(b.frame.origin)) < 1e-3 &&
+           std::abs(a.frame.t(a.frame.origin) - a.frame.t(b.frame.origin)) < 1e-3;
+  };
+  std::vector<GpuLight> lights;
+  for (const SurfaceTemplate& t : templates) {
+    std::vector<Surface> surfaces;
+    for (uint32_t f = 0; f < scene.faces.size(); ++f) {
+      if (!equalsIgnoreCase(scene.faces[f].texture, t.texture)) continue;
+      std::vector<Winding> fragments = visibleFragments(scene, f, contents);
+      if (fragments.empty()) continue;
+      auto it = std::find_if(surfaces.begin(), surfaces.end(),
+                             [&](const Surface& s) { return sameSurface(scene.faces[s.face], scene.faces[f]); });
+      if (it == surfaces.end()) it = surfaces.insert(surfaces.end(), Surface{f, {}});
+      for (Winding& w : fragments) it->polygons.push_back(std::move(w));
+    }
+    for (Surface& surface : surfaces) {
+      const Face& face = scene.faces[surface.face];
+      mergeCoplanar(surface.polygons, face.plane.normal);
+      const bool liquid = face.brush < contents.size() && contents[face.brush] == BrushContents::Liquid;
+      for (const Winding& polygon : surface.polygons) {
+        if (!t.radiosity) {
+          addGridLights(face, polygon, t, lights);
+        } else {
+          addRadiosityLight(scene, face, polygon, t, world, lights);
+          // qbsp gives a liquid surface a second face looking into the liquid; the Q1 kind skips
+          // it ("underwater side"), the radiosity kind emits from it too.
+          if (liquid) {
+            Face underwater = face;
+            underwater.plane = face.plane.flipped();
+            addRadiosityLight(scene, underwater, Winding(polygon.rbegin(), polygon.rend()), t, world, lights);
+          }
+        }
+        if (lights.size() > kMaxSurfaceLights) {
+          lights.resize(kMaxSurfaceLights);
+          diagnostics.push_back({Severity::Warning, scene.sourcePath, face.line, 0,
+                                 fmt::format("_surface \"{}\": more than {} surface light points; the rest are left out",
+                                             t.texture, kMaxSurfaceLights)});
+          return lights;
+        }
+      }
+    }
+  }
+  return lights;
+}
+
+} // namespace bt

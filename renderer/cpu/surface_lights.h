@@ -1,0 +1,47 @@
+// Faithful-mode `_surface` lights: the point lights ericw-tools `light` creates from a template
+// (entities.cc MakeSurfaceLights, surflight.cc MakeSurfaceLight), as ordinary GpuLights so that
+// both tracers treat them like any other light.
+//
+// Two kinds, chosen per template by `_surface_radiosity` (worldspawn `_surflight_radiosity`):
+//   - Q1 kind (the default): every face with the template's texture is cut on a 128-unit world
+//     grid (GLQuake's SubdividePolygon, `light -surflight_subdivide` 128); each piece gets a copy
+//     of the template, with its full value, at the piece's centroid lifted `_surface_offset`
+//     (2) units along the face normal; `_surface_spotlight` turns the copies into spotlights
+//     along the normal.
+//   - radiosity kind: one point per face (`-emissivequality low`, the default) at the mean of
+//     its vertices lifted 1 unit, carrying value x face area (LightFormula::SurfaceRadiosity).
+//
+// The compiler works on the faces of the compiled BSP. We rebuild what qbsp's CSG leaves of each
+// source brush side (visibleFragments) and its 240-texel subdivision, but not the further splits
+// along the BSP tree's planes, so we get fewer, larger pieces than the compiler did.
+#pragma once
+
+#include "renderer/cpu/lights.h"
+#include "scene/gpu_structs.h"
+#include "scene/scene.h"
+
+#include <vector>
+
+namespace bt {
+
+// What a brush is to qbsp's CSG: world brushes are solid or liquid; brush entities and
+// clip/trigger/skip brushes carve nothing out of the world's faces.
+enum class BrushContents : uint8_t { Empty, Solid, Liquid };
+
+// `contents[b]` for every brush of `scene`. A radiosity template without `_color` takes the
+// texture's colour (scene materials). A template that would make more than kMaxSurfaceLights
+// points (a huge face) stops there, with a warning in `diagnostics`.
+inline constexpr size_t kMaxSurfaceLights = 65536;
+std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
+                                          const std::vector<BrushContents>& contents, const WorldLighting& world,
+                                          Diagnostics& diagnostics);
+
+// The parts of brush side `face` that qbsp's CSG keeps: outside every other solid brush (and,
+// for a liquid's side, outside the other liquid brushes), as convex fragments.
+std::vector<std::vector<dvec3>> visibleFragments(const Scene& scene, uint32_t face, const std::vector<BrushContents>& contents);
+
+// GLQuake's SubdividePolygon: cut `winding` at multiples of `size` on each axis, the cut
+// nearest the middle first, unless it would leave a piece thinner than 8 units.
+std::vector<std::vector<dvec3>> subdivideOnGrid(const std::vector<dvec3>& winding, double size);
+
+} // namespace bt
