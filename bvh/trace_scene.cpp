@@ -115,8 +115,9 @@ std::optional<GpuBrush> makeGpuBrush(const Scene& scene, uint32_t brushIndex, st
 template <typename Work>
 void parallelChunks(size_t count, int threads, const Work& work) {
   if (threads <= 0) threads = static_cast<int>(std::thread::hardware_concurrency());
-  // Below a few thousand items a thread costs more than it saves.
-  const size_t chunks = std::clamp<size_t>(count / 4096, 1, static_cast<size_t>(std::max(threads, 1)));
+  // A chunk is a fraction of a millisecond of work below some 16k items (faces or brushes),
+  // less than starting a thread and waiting for it can cost on a busy machine.
+  const size_t chunks = std::clamp<size_t>(count / 16384, 1, static_cast<size_t>(std::max(threads, 1)));
   std::vector<std::jthread> helpers;
   for (size_t c = 1; c < chunks; ++c) helpers.emplace_back([&, c] { work(count * c / chunks, count * (c + 1) / chunks); });
   work(0, count / chunks);
