@@ -355,6 +355,9 @@ public:
     if (threads_ == 1) {
       buildNode(root);
     } else {
+      // At most 2 n / kTaskMinBoxes subtrees of kTaskMinBoxes boxes or more exist, so the queue
+      // never reallocates: a task is never lost to a failed allocation with helpers waiting.
+      queue_.reserve(2 * count_ / kTaskMinBoxes + 1);
       queue_.push_back(root);
       unfinished_ = 1;
       std::vector<std::jthread> helpers;
