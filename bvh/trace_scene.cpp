@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <stdexcept>
+#include <thread>
 
 namespace bt {
 namespace {
@@ -55,38 +56,71 @@ GpuFace toGpuFace(const Face& f) {
   return g;
 }
 
-// The GpuBrush of a scene brush (sides not yet placed), or nothing when no face of it has a
-// winding (a brush the importer could not build: nothing of it can be hit).
-std::optional<GpuBrush> makeGpuBrush(const Scene& scene, uint32_t brushIndex, std::vector<uint32_t>& slanted) {
+// What TraceScene needs of a face to place it in its brush, worked out once per face while the
+// face is converted, so that the brush pass reads two small arrays instead of the faces again.
+struct FaceRole {
+  static constexpr uint8_t kSlanted = 6, kNoWinding = 7; // else the box side 0..5 (axialSide)
+  uint8_t kind;
+  float axialPosition; // for a box side: the float plane, dist / normal[axis]
+};
+
+FaceRole faceRole(const Face& face) {
+  if (face.winding.empty()) return {FaceRole::kNoWinding, 0.0f}; // a redundant plane: it never bounds the brush
+  const int side = axialSide(face.plane.normal);
+  if (side < 0) return {FaceRole::kSlanted, 0.0f};
+  return {static_cast<uint8_t>(side), static_cast<float>(face.plane.dist / face.plane.normal[side / 2])};
+}
+
+// The GpuBrush of a scene brush (sideCount counted, firstSide not yet placed), or nothing when
+// no face of it has a winding (a brush the importer could not build: nothing of it can be hit).
+std::optional<GpuBrush> makeGpuBrush(const Scene& scene, uint32_t brushIndex, std::span<const FaceRole> roles) {
   const Brush& brush = scene.brushes[brushIndex];
   GpuBrush g{};
   std::fill(std::begin(g.axialFace), std::end(g.axialFace), kNoFace);
-  std::array<double, 6> axialPosition{};
-  Bounds windingBounds;
-  slanted.clear();
+  std::array<float, 6> axialPosition{};
+  bool anyWinding = false;
   for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f) {
-    const Face& face = scene.faces[f];
-    if (face.winding.empty()) continue; // a redundant plane: it never bounds the brush
-    for (const dvec3& p : face.winding) windingBounds.grow(p);
-    const int side = axialSide(face.plane.normal);
-    if (side < 0) {
-      slanted.push_back(f);
-    } else if (g.axialFace[side] == kNoFace) {
+    const FaceRole role = roles[f];
+    if (role.kind == FaceRole::kNoWinding) continue;
+    anyWinding = true;
+    if (role.kind == FaceRole::kSlanted) {
+      ++g.sideCount;
+    } else if (g.axialFace[role.kind] == kNoFace) {
       // A convex brush's axial face with a winding lies on its bounding box. A second one on
       // the same side is a duplicate plane, and the first already covers it.
-      g.axialFace[side] = f;
-      axialPosition[side] = face.plane.dist / face.plane.normal[side / 2];
+      g.axialFace[role.kind] = f;
+      axialPosition[role.kind] = role.axialPosition;
     }
   }
-  if (windingBounds.empty()) return std::nullopt;
+  if (!anyWinding) return std::nullopt;
+  // Box sides without an axial face come from the winding bounds, which Brush::bounds holds
+  // (scene.h); only a scene that left it empty has its winding points read here.
+  Bounds windingBounds = brush.bounds;
+  if (windingBounds.empty())
+    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
+      for (const dvec3& p : scene.faces[f].winding) windingBounds.grow(p);
+  const dvec3 lo = windingBounds.min, hi = windingBounds.max;
   for (int a = 0; a < 3; ++a) {
     // Sides with an axial face sit exactly at that face's float plane, so that two brushes
     // sharing a face meet with neither a gap nor an overlap; the others are rounded outward.
-    g.boundsMin[a] = g.axialFace[2 * a] != kNoFace ? static_cast<float>(axialPosition[2 * a]) : roundDown(windingBounds.min[a]);
-    g.boundsMax[a] = g.axialFace[2 * a + 1] != kNoFace ? static_cast<float>(axialPosition[2 * a + 1]) : roundUp(windingBounds.max[a]);
+    g.boundsMin[a] = g.axialFace[2 * a] != kNoFace ? axialPosition[2 * a] : roundDown(lo[a]);
+    g.boundsMax[a] = g.axialFace[2 * a + 1] != kNoFace ? axialPosition[2 * a + 1] : roundUp(hi[a]);
   }
   g.sceneBrush = brushIndex;
   return g;
+}
+
+// Runs work(begin, end) over [0, count) in `threads` contiguous chunks at once (0 = all cores).
+// Every chunk writes only its own part of the output, so the result is the same for any count.
+template <typename Work>
+void parallelChunks(size_t count, int threads, const Work& work) {
+  if (threads <= 0) threads = static_cast<int>(std::thread::hardware_concurrency());
+  // A chunk is a fraction of a millisecond of work below some 16k items (faces or brushes),
+  // less than starting a thread and waiting for it can cost on a busy machine.
+  const size_t chunks = std::clamp<size_t>(count / 16384, 1, static_cast<size_t>(std::max(threads, 1)));
+  std::vector<std::jthread> helpers;
+  for (size_t c = 1; c < chunks; ++c) helpers.emplace_back([&, c] { work(count * c / chunks, count * (c + 1) / chunks); });
+  work(0, count / chunks);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -177,25 +211,34 @@ TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options)
       throw std::invalid_argument("TraceScene::build: a brush's faces lie outside Scene::faces");
 
   TraceScene ts;
-  ts.faces_.reserve(scene.faces.size());
-  for (const Face& f : scene.faces) ts.faces_.push_back(toGpuFace(f));
+  const int threads = options.threads;
+  ts.faces_.resize(scene.faces.size());
+  std::vector<FaceRole> roles(scene.faces.size());
+  parallelChunks(scene.faces.size(), threads, [&](size_t begin, size_t end) {
+    for (size_t f = begin; f < end; ++f) {
+      ts.faces_[f] = toGpuFace(scene.faces[f]);
+      roles[f] = faceRole(scene.faces[f]);
+    }
+  });
 
-  // Brushes in scene order first, their slanted sides in one flat list (firstSide/sideCount
-  // index it until the brushes are put in leaf order below).
-  std::vector<GpuBrush> candidates;
-  std::vector<uint32_t> slantedAll, slanted;
+  // Every brush in scene order first (sceneBrush == kNoFace: not traced); they are put in leaf
+  // order once the BVH has fixed it.
+  std::vector<GpuBrush> candidates(scene.brushes.size());
+  parallelChunks(scene.brushes.size(), threads, [&](size_t begin, size_t end) {
+    for (size_t b = begin; b < end; ++b) {
+      candidates[b].sceneBrush = kNoFace;
+      if (!options.includeBrush.empty() && !options.includeBrush[b]) continue;
+      if (std::optional<GpuBrush> g = makeGpuBrush(scene, static_cast<uint32_t>(b), roles)) candidates[b] = *g;
+    }
+  });
   std::vector<Aabb> boxes;
-  candidates.reserve(scene.brushes.size());
+  std::vector<uint32_t> boxBrush; // boxes[i] is the box of scene brush boxBrush[i]
   boxes.reserve(scene.brushes.size());
-  for (uint32_t b = 0; b < scene.brushes.size(); ++b) {
-    if (!options.includeBrush.empty() && !options.includeBrush[b]) continue;
-    std::optional<GpuBrush> g = makeGpuBrush(scene, b, slanted);
-    if (!g) continue;
-    g->firstSide = static_cast<uint32_t>(slantedAll.size());
-    g->sideCount = static_cast<uint32_t>(slanted.size());
-    slantedAll.insert(slantedAll.end(), slanted.begin(), slanted.end());
-    candidates.push_back(*g);
-    boxes.push_back({{g->boundsMin[0], g->boundsMin[1], g->boundsMin[2]}, {g->boundsMax[0], g->boundsMax[1], g->boundsMax[2]}});
+  boxBrush.reserve(scene.brushes.size());
+  for (const GpuBrush& g : candidates) {
+    if (g.sceneBrush == kNoFace) continue;
+    boxes.push_back({{g.boundsMin[0], g.boundsMin[1], g.boundsMin[2]}, {g.boundsMax[0], g.boundsMax[1], g.boundsMax[2]}});
+    boxBrush.push_back(g.sceneBrush);
     ts.bounds_.grow(dvec3(boxes.back().min));
     ts.bounds_.grow(dvec3(boxes.back().max));
   }
@@ -203,15 +246,25 @@ TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options)
   FlatBvh bvh = buildBinnedSah(boxes, {options.leafSize, options.binCount, options.threads});
   ts.nodes_ = std::move(bvh.nodes);
   // Brushes and their side lists in leaf order, so a leaf's brushes and planes are adjacent.
-  ts.brushes_.reserve(candidates.size());
-  ts.sides_.reserve(slantedAll.size());
-  for (uint32_t i : bvh.order) {
-    GpuBrush g = candidates[i];
-    const auto first = slantedAll.begin() + g.firstSide;
-    g.firstSide = static_cast<uint32_t>(ts.sides_.size());
-    ts.sides_.insert(ts.sides_.end(), first, first + g.sideCount);
-    ts.brushes_.push_back(g);
+  ts.brushes_.resize(bvh.order.size());
+  parallelChunks(ts.brushes_.size(), threads, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) ts.brushes_[i] = candidates[boxBrush[bvh.order[i]]];
+  });
+  uint32_t sideCount = 0;
+  for (GpuBrush& g : ts.brushes_) {
+    g.firstSide = sideCount;
+    sideCount += g.sideCount;
   }
+  ts.sides_.resize(sideCount);
+  parallelChunks(ts.brushes_.size(), threads, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      if (ts.brushes_[i].sideCount == 0) continue; // a box: all its sides are axial
+      const Brush& brush = scene.brushes[ts.brushes_[i].sceneBrush];
+      uint32_t side = ts.brushes_[i].firstSide;
+      for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
+        if (roles[f].kind == FaceRole::kSlanted) ts.sides_[side++] = f;
+    }
+  });
   ts.sahCost_ = bt::sahCost(ts.nodes_);
   return ts;
 }

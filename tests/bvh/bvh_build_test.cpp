@@ -130,6 +130,24 @@ TEST(BvhBuild, NeighbourBoxesShareTheirFloatBoundary) {
   EXPECT_EQ(a->boundsMax[0], 0.1f);
 }
 
+TEST(BvhBuild, CoincidentAndDenormalCentroidsBuildValidTrees) {
+  // All centroids in one point (no SAH split exists: median fallback), and centroids spread
+  // over denormal distances along X, where the bin scale binCount / extent overflows to inf.
+  Scene same, tiny;
+  for (int i = 0; i < 40; ++i) test::addBox(same, {0, 0, 0}, {16, 16, 16});
+  for (int i = 1; i <= 40; ++i) test::addBox(tiny, {0, i * 16.0, 0}, {i * 1e-40, i * 16.0 + 8.0, 8});
+  for (int i = 1; i <= 40; ++i) test::addBox(tiny, {0, 0, 0}, {i * 1e-40, 8, 8});
+  for (const auto& [name, scene] : {std::pair{"coincident", &same}, std::pair{"denormal", &tiny}}) {
+    SCOPED_TRACE(name);
+    for (int leafSize : {1, 4}) {
+      const TraceScene ts = TraceScene::build(*scene, {.leafSize = leafSize});
+      EXPECT_EQ(ts.brushes().size(), scene->brushes.size()); // none lost its windings
+      expectWellFormed(ts);
+      expectAllBrushesPresent(*scene, ts);
+    }
+  }
+}
+
 TEST(BvhBuild, DegenerateInputStaysShallow) {
   // Boxes whose sizes form a geometric series around one corner: the SAH peels one box per
   // level, the chain the median fallback exists for.
