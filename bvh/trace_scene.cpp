@@ -177,7 +177,7 @@ template <bool ZeroSafe>
 }
 
 // Whether a node can hold a hit with t in (tMin, tLimit]. Inclusive at tLimit so that a brush
-// hit at exactly the best t so far is still found and the face-index tie-break applies.
+// hit at exactly the best t so far is still found and the tie-break (closer) applies.
 template <bool ZeroSafe>
 [[gnu::always_inline]] inline bool nodeOverlaps(const RayContext& r, const GpuBvhNode& node, float tLimit, float& near) {
   float far;
@@ -196,8 +196,14 @@ template <bool ZeroSafe>
   return std::max(near, r.tMin) <= std::min(far, tLimit) && near <= far;
 }
 
-inline bool closer(float t, uint32_t face, const Hit& best) {
-  return t < best.t || (t == best.t && face < best.face);
+// The closest-hit order (trace_scene.h): smaller t; at equal t a hit entering its brush before
+// one leaving its brush (a ray that leaves a liquid where it meets a wall stops at the wall),
+// then the later brush, as qbsp's CSG keeps the later of two overlapping brushes' coplanar faces.
+inline bool closer(const Hit& hit, const Hit& best) {
+  if (hit.t != best.t) return hit.t < best.t;
+  if (best.face == kNoFace) return true;
+  if (hit.inside != best.inside) return !hit.inside;
+  return hit.face > best.face;
 }
 
 } // namespace
@@ -305,7 +311,7 @@ struct Crossing {
 
 // Haines' clip against one brush; the contract is spelled out in trace_scene.h. A brush whose
 // box starts beyond tLimit (the closest hit so far) is rejected before its planes are read:
-// its hit could only be farther (a hit at exactly tLimit still competes on face index).
+// its hit could only be farther (a hit at exactly tLimit still competes in the tie-break).
 template <bool ZeroSafe>
 inline bool hitBrush(const RayContext& r, const GpuBrush& brush, std::span<const uint32_t> sides,
                      std::span<const GpuFace> faces, float tLimit, Hit& hit) {
@@ -396,7 +402,7 @@ static bool traverse(const RayContext& r, std::span<const GpuBvhNode> nodes, std
     if (node.count > 0) {
       for (uint32_t i = node.leftFirst; i < node.leftFirst + node.count; ++i) {
         Hit hit;
-        if (hitBrush<ZeroSafe>(r, brushes[i], sides, faces, best.t, hit) && closer(hit.t, hit.face, best)) {
+        if (hitBrush<ZeroSafe>(r, brushes[i], sides, faces, best.t, hit) && closer(hit, best)) {
           best = hit;
           found = true;
           if constexpr (AnyHit) return true;

@@ -22,9 +22,12 @@
 //   - two planes of the brush at exactly the same t (the ray meets an edge): the one the ray
 //     meets more head-on (larger |dot(n, d)|) gives the face; on equal terms the box side, then
 //     the earlier side in sides().
-// Closest hit over brushes: smallest t; equal t broken by the smaller face index, so that the
-// answer does not depend on traversal order (two brushes sharing a face, a ray along the shared
-// plane: both top faces are hit at the same t, and the lower face index wins on CPU and GPU).
+// Closest hit over brushes: smallest t; at equal t a hit entering its brush beats one leaving
+// the brush the ray started in (a ray leaving a liquid exactly where a wall starts stops at the
+// wall), then the higher face index, i.e. the later brush in the file: qbsp's CSG keeps the
+// later of two overlapping brushes' coplanar faces, so a .map preview shows what the compiled
+// level shows. The answer never depends on traversal order (two brushes sharing a face, a ray
+// along the shared plane: both top faces are hit at the same t, the later one wins on CPU and GPU).
 //
 // Neighbouring brushes: a shared face has the same float plane on both sides (axial: the same
 // box coordinate; slanted: exactly negated), so both brushes compute the same t for it and the
@@ -35,7 +38,7 @@
 // Traversal, for ports: direction components below 2^-100 count as zero, and a zero component
 // means "inside that slab or miss" (never 0 * inf); slab t = (bound - origin) * (1 / d) for
 // nodes and brush boxes alike; a node is visited when max(near, tMin) <= min(far, best t),
-// inclusive so that equal-t hits reach the face-index rule; a brush whose box starts beyond the
+// inclusive so that equal-t hits reach the tie-break; a brush whose box starts beyond the
 // best t is skipped; children nearer first; the stack needs kBvhMaxDepth entries.
 //
 // Epsilons: the test itself has none; everything is exact IEEE float with the rules above, so

@@ -7,7 +7,8 @@
 //     clip the interval one by one (Haines); ties between planes at the same t go to the one
 //     met more head-on, then to the box side, then to the earlier side;
 //   - a ray starting inside a brush hits where it leaves, with `inside` set;
-//   - among brushes, the smallest t wins, equal t the smaller face index.
+//   - among brushes, the smallest t wins; at equal t entering beats leaving, then the higher
+//     face index (the later brush, as qbsp keeps it) wins (trace_scene.cpp closer).
 // Needs scene_buffers.glsl. BT_BVH_MAX_DEPTH is scene/gpu_structs.h's kBvhMaxDepth, defined by
 // the program (renderer/gl) and by the build's glslangValidator run alike.
 
@@ -86,7 +87,7 @@ Slab intersectBox(TraceRay r, vec3 boxMin, vec3 boxMax) {
 }
 
 // Whether node n can hold a hit with t in (tMin, tLimit]; inclusive at tLimit so that a hit at
-// exactly the best t still reaches the face-index rule. Without zero direction components the
+// exactly the best t still reaches the tie-break (closer). Without zero direction components the
 // min/max form gives intersectBox's values (as trace_scene.cpp nodeOverlaps<false>).
 bool nodeOverlaps(TraceRay r, uint n, float tLimit, out float near) {
   vec3 boundsMin = nodes[n].boundsMin, boundsMax = nodes[n].boundsMax;
@@ -161,6 +162,15 @@ bool hitBrush(TraceRay r, uint b, float tLimit, out Hit hit) {
   return hit.face != NO_FACE; // only a broken winding leaves no face
 }
 
+// The closest-hit order of trace_scene.cpp closer(): smaller t; at equal t entering before
+// leaving, then the later brush (higher face index), as qbsp's CSG keeps it.
+bool closer(Hit hit, Hit best) {
+  if (hit.t != best.t) return hit.t < best.t;
+  if (best.face == NO_FACE) return true;
+  if (hit.inside != best.inside) return !hit.inside;
+  return hit.face > best.face;
+}
+
 // Depth-first traversal, nearer child first, kBvhMaxDepth stack entries (the builder's bound).
 //   anyHit = false: the closest hit in (tMin, tMax).
 //   anyHit = true: a shadow ray. The first brush entered from outside through a face with none
@@ -190,7 +200,7 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
         if (!hitBrush(r, i, best.t, hit)) continue;
         if (anyHit) {
           if (!hit.inside && (faceFlags[hit.face] & passFlags) == 0u) return hit;
-        } else if (hit.t < best.t || (hit.t == best.t && hit.face < best.face)) {
+        } else if (closer(hit, best)) {
           best = hit;
         }
       }

@@ -55,23 +55,13 @@ struct KnownDifference {
   std::string_view bsp;
   std::string_view reason;
 };
-constexpr std::string_view kOverlap =
-    "coplanar faces of overlapping brushes: qbsp keeps one (the later brush's, unless _chop_order "
-    "says otherwise); the .map preview keeps both and the tracer's equal-t rule (bvh/trace_scene.h: "
-    "lower face index) picks the earlier";
-constexpr std::string_view kLeaving =
-    "a ray leaves a liquid brush at the same t where it enters a wall; the tracer's equal-t rule "
-    "(lower face index) may pick the leaving face and the ray passes the wall, depending on brush order";
 constexpr KnownDifference kKnownDifferences[] = {
-    {"maps_ericw-tools_testmaps_q1_water_slime_zfighting.bsp", kOverlap},
-    {"maps_ericw-tools_testmaps_q2_chop_order_0.bsp", kOverlap},
-    {"maps_ericw-tools_testmaps_q2_chop_order_1.bsp", kOverlap},
-    {"maps_ericw-tools_testmaps_deprecated_testsurfacelight.bsp", kOverlap},
+    {"maps_ericw-tools_testmaps_q2_chop_order_1.bsp",
+     "coplanar faces of overlapping brushes, where _chop_order makes qbsp keep the earlier brush's "
+     "face; the tracer's equal-t rule (bvh/trace_scene.h) keeps the later brush's, qbsp's default"},
     {"maps_ericw-tools_testmaps_q2_csg_water_water_current90.bsp",
      "two water brushes share a side; rays landing on the shared edge hit both at the same t and the "
      "tracer's equal-t rule picks by brush order"},
-    {"maps_ericw-tools_testmaps_q2_light_visapprox2.bsp", kLeaving},
-    {"maps_ericw-tools_testmaps_q1_liquid_is_detail.bsp", kLeaving},
 };
 
 const KnownDifference* knownDifference(std::string_view bsp) {

@@ -12,12 +12,16 @@
 
 namespace bt::test {
 
-// The closest hit by testing every brush, with the same tie-break as the BVH.
+// The closest hit by testing every brush, with the tie-break that trace_scene.h states: at
+// equal t an entering hit beats a leaving one, then the higher face index (the later brush).
 inline std::optional<Hit> bruteForceClosestHit(const TraceScene& ts, const Ray& ray) {
   std::optional<Hit> best;
   for (uint32_t b = 0; b < ts.brushes().size(); ++b) {
     const std::optional<Hit> h = ts.intersectBrush(ray, b);
-    if (h && (!best || h->t < best->t || (h->t == best->t && h->face < best->face))) best = h;
+    if (!h) continue;
+    const bool better = !best || h->t < best->t ||
+                        (h->t == best->t && (h->inside != best->inside ? !h->inside : h->face > best->face));
+    if (better) best = h;
   }
   return best;
 }

@@ -213,31 +213,32 @@ TEST_F(CoplanarNeighbours, RaysFromAboveHitTheTopFaceOfTheBrushBelowThem) {
       const auto hit = ts.closestHit({land - d * 100.0f, 0.0f, d});
       ASSERT_TRUE(hit) << x;
       // Known limit (trace_scene.h): a ray that lands exactly on the shared edge, coming from
-      // B's side at a shallower angle to the tops than to the hidden faces, meets A's top and
-      // A's hidden +X face at the same t and takes the more head-on one, the hidden face.
-      if (x == 0.0f && dx < -1.0f) {
-        EXPECT_EQ(hit->face, 1u);
+      // A's side at a shallower angle to the tops than to the hidden faces, meets B's top and
+      // B's hidden -X face at the same t and takes the more head-on one, the hidden face; B,
+      // the later brush, wins the tie with A's top.
+      if (x == 0.0f && dx > 1.0f) {
+        EXPECT_EQ(hit->face, 6u);
         continue;
       }
-      // On the edge itself both tops are hit at the same t; the lower face index (A) wins.
-      EXPECT_EQ(hit->face, x <= 0.0f ? kTopA : kTopB) << "x = " << x << " dx = " << dx;
+      // On the edge itself both tops are hit at the same t; the later brush (B) wins.
+      EXPECT_EQ(hit->face, x < 0.0f ? kTopA : kTopB) << "x = " << x << " dx = " << dx;
       EXPECT_EQ(hit->t, 100.0f);
       EXPECT_FALSE(hit->inside);
     }
   }
 }
 
-TEST_F(CoplanarNeighbours, RaysInTheSharedPlaneHitTheLowerFaceIndexConsistently) {
-  // Straight down the shared plane: both tops at the same t, A's (lower index) wins.
+TEST_F(CoplanarNeighbours, RaysInTheSharedPlaneHitTheLaterBrushConsistently) {
+  // Straight down the shared plane: both tops at the same t, B's (the later brush) wins.
   const auto down = ts.closestHit({{0, 3, 100}, 0.0f, {0, 0, -1}});
   ASSERT_TRUE(down);
-  EXPECT_EQ(down->face, kTopA);
+  EXPECT_EQ(down->face, kTopB);
   EXPECT_FLOAT_EQ(down->t, 100.0f);
   // Along the shared plane horizontally: both -Y faces at t = 36.
   for (float z : {-32.0f, -1.0f, -63.0f}) {
     const auto along = ts.closestHit({{0, -100, z}, 0.0f, {0, 1, 0}});
     ASSERT_TRUE(along);
-    EXPECT_EQ(along->face, kMinusYA);
+    EXPECT_EQ(along->face, kMinusYB);
     EXPECT_FLOAT_EQ(along->t, 36.0f);
   }
   // Never the hidden faces between them (A's +X = 1, B's -X = 6), from any direction in the plane.
@@ -263,7 +264,7 @@ TEST_F(CoplanarNeighbours, BounceRaysFromTheTopsNeverHitThemAgain) {
     const glm::vec3 p(u(rng) * (i % 2 ? 0.5f : 1e-3f), u(rng) * 60.0f, 0.0f);
     const auto seen = ts.closestHit({p + glm::vec3(0, 0, 10), 0.0f, {0, 0, -1}});
     ASSERT_TRUE(seen);
-    ASSERT_EQ(seen->face, p.x < 0 ? kTopA : (p.x > 0 ? kTopB : kTopA));
+    ASSERT_EQ(seen->face, p.x < 0 ? kTopA : kTopB);
     glm::vec3 d = test::randomUnitVector(rng);
     d.z = std::abs(d.z) * (i % 3 ? 1e-3f : 1.0f);
     const auto again = ts.closestHit({offsetRayOrigin(p, {0, 0, 1}), 0.0f, d});
