@@ -119,11 +119,15 @@ vec3 emittedRadiance(uint face, vec3 p) {
   return le;
 }
 
+// Domes sit in the light grid's fixed list (renderer/cpu skyDomeRadiance): a ray that reaches
+// the sky looks at a handful of lights, not at every light of the level.
 vec3 skyDomeRadiance(vec3 dir) {
   vec3 l = vec3(0.0);
-  for (uint i = 0u; i < world.lightCount; ++i)
-    if (lights[i].type == LIGHT_DOME && dir.z * lights[i].direction.z > 0.0)
-      l += lights[i].color * lights[i].value * world.range * PHYSICAL_SUN_SCALE / PI;
+  for (uint k = 0u; k < lightGrid.fixedCount; ++k) {
+    GpuLight light = lights[lightIndices[k]];
+    if (light.type == LIGHT_DOME && dir.z * light.direction.z > 0.0)
+      l += light.color * light.value * world.range * PHYSICAL_SUN_SCALE / PI;
+  }
   return l;
 }
 

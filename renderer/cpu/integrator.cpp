@@ -53,11 +53,15 @@ glm::vec3 jitteredOrigin(const GpuLight& light, Rng& rng) {
   return light.origin + light.deviance * (2.0f * u - 1.0f);
 }
 
+// Domes sit in the light grid's fixed list (suns, domes, local minlights): a bounce ray that
+// reaches the sky looks at a handful of lights, not at every light of the level.
 glm::vec3 skyDomeRadiance(const RenderScene& rs, const glm::vec3& dir) {
   glm::vec3 l(0.0f);
-  for (const GpuLight& light : rs.lights)
+  for (uint32_t index : rs.lightGrid.fixedLights()) {
+    const GpuLight& light = rs.lights[index];
     if (light.type == uint32_t(LightType::Dome) && dir.z * light.direction.z > 0.0f)
       l += light.color * light.value * rs.world.range * kPhysicalSunScale / kPi;
+  }
   return l;
 }
 
