@@ -65,6 +65,12 @@ for textures in bindless arrays; do
   echo "== gl_bench $map_rel, \$textures (full samples in both lighting modes)"
   __GL_SHADER_DISK_CACHE=0 ./gl_bench map.json 1280x720 \$textures physical 6 2>&1 | tee \$out/bench_\$textures.log
 done
+# As a user starts it: the driver's own shader cache on (its default), the first image in
+# faithful mode; the second run finds both caches filled.
+for run in first second; do
+  echo "== gl_bench, bindless, faithful, driver cache on (\$run run)"
+  ./gl_bench map.json 1280x720 bindless faithful 2 2>&1 | grep -E 'time to first image' | tee -a \$out/bench_driver_cache.log
+done
 SCRIPT
 chmod +x "$tmp/run-on-device.sh"
 
