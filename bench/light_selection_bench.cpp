@@ -7,6 +7,7 @@
 // for far fewer shadow rays (the tests show it converges to the same mean), so the benchmark
 // also reports the per-sample variance of pixel luminance relative to the squared image mean;
 // time x rel.variance is what it costs to reach a given noise level.
+#include "bench/loaded_level.h"
 #include "importers/import.h"
 #include "renderer/cpu/cpu_renderer.h"
 
@@ -20,38 +21,18 @@ namespace {
 
 using namespace bt;
 
-struct LoadedMap {
-  Scene scene;
-  RenderScene rs;
-  CameraPose pose;
+// The levels measured: e1m1 (194 lights), lq_e4m3 (the largest shared map, 2590 with its
+// _surface points).
+const std::map<std::string, std::string> kMaps = {
+    {"e1m1", std::string(BRUSHTRACE_SHARED_DIR) + "/maps/quake_map_source/e1m1.map"},
+    {"lq_e4m3", std::string(BRUSHTRACE_SHARED_DIR) + "/maps/librequake/lq1/maps/src/e4/lq_e4m3.map"},
 };
-
-// Imported once per process (without textures: lighting cost does not depend on them);
-// nullptr when the map is absent.
-const LoadedMap* loadMap(const std::string& name) {
-  static const std::map<std::string, std::string> kPaths = {
-      {"e1m1", "/maps/quake_map_source/e1m1.map"},
-      {"lq_e4m3", "/maps/librequake/lq1/maps/src/e4/lq_e4m3.map"},
-  };
-  static std::map<std::string, std::unique_ptr<LoadedMap>> cache;
-  if (auto it = cache.find(name); it != cache.end()) return it->second.get();
-  const std::string path = std::string(BRUSHTRACE_SHARED_DIR) + kPaths.at(name);
-  std::unique_ptr<LoadedMap> m;
-  if (std::filesystem::exists(path)) {
-    m = std::make_unique<LoadedMap>();
-    m->scene = importScene(path, ImportOptions{});
-    Diagnostics diags;
-    m->rs = buildRenderScene(m->scene, {}, diags);
-    m->pose = defaultCameraPose(m->scene);
-  }
-  return cache.emplace(name, std::move(m)).first->second.get();
-}
 
 constexpr int kWidth = 96, kHeight = 54;
 
 // range(0): threads; range(1): 1 = light selection, 0 = every light at every hit.
 void BM_LightSelection(benchmark::State& state, const std::string& mapName, LightingMode mode) {
-  const LoadedMap* m = loadMap(mapName);
+  const bench::LoadedLevel* m = bench::loadLevel(kMaps.at(mapName));
   if (!m) {
     state.SkipWithError("map not found (../shared missing?)");
     return;

@@ -2,6 +2,7 @@
 // what the integrator spends its time in), on one thread and on all, plus whole-frame render
 // speed in both lighting modes. Maps come from ../shared (skipped when absent) and maps/.
 //   build/bench/bench_render [--benchmark_filter=...]
+#include "bench/loaded_level.h"
 #include "importers/import.h"
 #include "renderer/cpu/cpu_renderer.h"
 
@@ -16,26 +17,7 @@ namespace {
 
 using namespace bt;
 
-struct LoadedMap {
-  Scene scene;
-  RenderScene rs;
-  CameraPose pose;
-};
-
-// Imported once per process; a benchmark on a missing map reports an error instead.
-const LoadedMap* loadMap(const std::string& path) {
-  static std::map<std::string, std::unique_ptr<LoadedMap>> cache;
-  auto it = cache.find(path);
-  if (it != cache.end()) return it->second.get();
-  if (!std::filesystem::exists(path)) return cache.emplace(path, nullptr).first->second.get();
-  auto m = std::make_unique<LoadedMap>();
-  ImportOptions options;
-  m->scene = importScene(path, options);
-  Diagnostics diags;
-  m->rs = buildRenderScene(m->scene, {}, diags);
-  m->pose = defaultCameraPose(m->scene);
-  return cache.emplace(path, std::move(m)).first->second.get();
-}
+using bench::LoadedLevel;
 
 const std::string kShared = BRUSHTRACE_SHARED_DIR;
 const std::map<std::string, std::string> kMaps = {
@@ -65,7 +47,7 @@ struct RaySet {
   std::vector<Ray> bounce;
 };
 
-RaySet makeRays(const LoadedMap& m) {
+RaySet makeRays(const LoadedLevel& m) {
   RaySet set;
   const Camera camera(m.pose, kWidth, kHeight);
   for (int y = 0; y < kHeight; ++y)
@@ -81,7 +63,7 @@ RaySet makeRays(const LoadedMap& m) {
 }
 
 void BM_Rays(benchmark::State& state, const std::string& mapName, bool bounce) {
-  const LoadedMap* m = loadMap(kMaps.at(mapName));
+  const LoadedLevel* m = bench::loadLevel(kMaps.at(mapName));
   if (!m) {
     state.SkipWithError("map not found (../shared missing?)");
     return;
@@ -106,7 +88,7 @@ void BM_Rays(benchmark::State& state, const std::string& mapName, bool bounce) {
 }
 
 void BM_Render(benchmark::State& state, const std::string& mapName, LightingMode mode) {
-  const LoadedMap* m = loadMap(kMaps.at(mapName));
+  const LoadedLevel* m = bench::loadLevel(kMaps.at(mapName));
   if (!m) {
     state.SkipWithError("map not found");
     return;
