@@ -278,11 +278,17 @@ Split findExactSplit(const BoxRef* boxes, uint32_t n) {
 // each in their input order. Grows the children's centroid bounds on the way; a binned split
 // has its children's bounds from the bins, an exact one (a node of a few boxes) grows them here.
 // Index [1] is the left child, [0] the right.
+//
+// The bounds are grown in registers for both sides at once: a box counts for one side by adding
+// 0 to it, for the other by adding infinity (so that min and max ignore it). Growing
+// bounds[isLeft] in memory instead makes each box wait for the previous one's store.
 template <bool Exact>
 void partition(const BoxRef* src, BoxRef* dst, uint32_t n, const Split& split, Box4 bounds[2], Box4 centroids[2]) {
   uint32_t left = 0, right = split.leftCount;
   const __m128 position = _mm_set1_ps(split.position);
   const __m128i firstRightBin = _mm_set1_epi32(split.lastLeftBin + 1);
+  const __m128 ignoreUnless[2] = {_mm_set1_ps(kFloatInf), _mm_setzero_ps()}; // [isLeft]: + for left
+  Box4 leftBox = bounds[1], rightBox = bounds[0], leftCentroids, rightCentroids;
   for (uint32_t i = 0; i < n; ++i) {
     const __m128 lo = src[i].lo(), hi = src[i].hi(), c = _mm_add_ps(lo, hi);
     const __m128 leftLanes = Exact ? _mm_cmple_ps(c, position) : _mm_castsi128_ps(_mm_cmpgt_epi32(firstRightBin, split.mapping.bins(c)));
@@ -290,9 +296,16 @@ void partition(const BoxRef* src, BoxRef* dst, uint32_t n, const Split& split, B
     dst[isLeft ? left : right] = src[i];
     left += isLeft;
     right += 1 - isLeft;
-    if constexpr (Exact) bounds[isLeft].grow(lo, hi);
-    centroids[isLeft].grow(c, c);
+    const __m128 toLeft = ignoreUnless[isLeft], toRight = ignoreUnless[1 - isLeft];
+    if constexpr (Exact) {
+      leftBox.grow(_mm_add_ps(lo, toLeft), _mm_sub_ps(hi, toLeft));
+      rightBox.grow(_mm_add_ps(lo, toRight), _mm_sub_ps(hi, toRight));
+    }
+    leftCentroids.grow(_mm_add_ps(c, toLeft), _mm_sub_ps(c, toLeft));
+    rightCentroids.grow(_mm_add_ps(c, toRight), _mm_sub_ps(c, toRight));
   }
+  bounds[1] = leftBox, bounds[0] = rightBox;
+  centroids[1] = leftCentroids, centroids[0] = rightCentroids;
 }
 
 void partition(const BoxRef* src, BoxRef* dst, uint32_t n, const Split& split, Box4 bounds[2], Box4 centroids[2]) {
