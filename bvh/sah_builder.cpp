@@ -30,6 +30,7 @@ constexpr uint32_t kTaskMinBoxes = 1024;
 // deep levels, where bins are coarsest relative to the boxes, are where binning loses most.
 constexpr uint32_t kExactSweepMax = 8;
 constexpr uint32_t kMinBins = 8; // see binCountFor()
+constexpr uint32_t kTwoBinSetsMin = 64; // see findBinnedSplit()
 
 // The builder's inner loops work on SSE registers (x86-64 baseline): a box is two __m128
 // with x, y, z in lanes 0-2; lane 3 is masked to zero before any arithmetic.
@@ -130,11 +131,31 @@ struct Bins {
   Bounds box[kMaxBins][3];
   alignas(16) int32_t count[kMaxBins][4];
 
+  void clear(int binCount) {
+    std::fill_n(&box[0][0], 3 * binCount, Bounds{_mm_set1_ps(kFloatMax), _mm_set1_ps(-kFloatMax)});
+    std::fill_n(&count[0][0], 4 * binCount, 0);
+  }
   void add(int bin, int axis, __m128 lo, __m128 hi) {
     Bounds& b = box[bin][axis];
     b.min = _mm_min_ps(b.min, lo);
     b.max = _mm_max_ps(b.max, hi);
     ++count[bin][axis];
+  }
+  void add(const BoxRef& ref, const BinMapping& mapping) {
+    const __m128 lo = ref.lo(), hi = ref.hi();
+    const __m128i bin = mapping.bins(_mm_add_ps(lo, hi));
+    add(_mm_cvtsi128_si32(bin), 0, lo, hi);
+    add(_mm_cvtsi128_si32(_mm_shuffle_epi32(bin, 0x55)), 1, lo, hi);
+    add(_mm_cvtsi128_si32(_mm_shuffle_epi32(bin, 0xaa)), 2, lo, hi);
+  }
+  void merge(const Bins& other, int binCount) {
+    for (int b = 0; b < binCount; ++b) {
+      for (int a = 0; a < 3; ++a) {
+        box[b][a].min = _mm_min_ps(box[b][a].min, other.box[b][a].min);
+        box[b][a].max = _mm_max_ps(box[b][a].max, other.box[b][a].max);
+      }
+      _mm_store_si128(reinterpret_cast<__m128i*>(count[b]), _mm_add_epi32(_mm_load_si128(reinterpret_cast<const __m128i*>(count[b])), _mm_load_si128(reinterpret_cast<const __m128i*>(other.count[b]))));
+    }
   }
 };
 
@@ -147,16 +168,21 @@ struct Bins {
   Split best;
   best.mapping = {centroids.min, _mm_load_ps(scale), _mm_set1_ps(static_cast<float>(binCount - 1))};
 
-  Bins bins;
-  std::fill_n(&bins.box[0][0], 3 * binCount, Bins::Bounds{_mm_set1_ps(kFloatMax), _mm_set1_ps(-kFloatMax)});
-  std::fill_n(&bins.count[0][0], 4 * binCount, 0);
-  for (uint32_t i = 0; i < n; ++i) {
-    const __m128 lo = boxes[i].lo(), hi = boxes[i].hi();
-    const __m128i bin = best.mapping.bins(_mm_add_ps(lo, hi));
-    bins.add(_mm_cvtsi128_si32(bin), 0, lo, hi);
-    bins.add(_mm_cvtsi128_si32(_mm_shuffle_epi32(bin, 0x55)), 1, lo, hi);
-    bins.add(_mm_cvtsi128_si32(_mm_shuffle_epi32(bin, 0xaa)), 2, lo, hi);
+  // Neighbouring boxes tend to fall in the same bins, and each add waits for the previous one's
+  // store to that bin; two sets of bins, for even and odd boxes, halve those chains where a
+  // node has enough boxes to pay for merging them.
+  Bins bins, oddBins;
+  bins.clear(binCount);
+  uint32_t i = 0;
+  if (n >= kTwoBinSetsMin) {
+    oddBins.clear(binCount);
+    for (; i + 1 < n; i += 2) {
+      bins.add(boxes[i], best.mapping);
+      oddBins.add(boxes[i + 1], best.mapping);
+    }
   }
+  for (; i < n; ++i) bins.add(boxes[i], best.mapping);
+  if (n >= kTwoBinSetsMin) bins.merge(oddBins, binCount);
 
   // Left of plane b: bins [0, b]; right: bins (b, binCount).
   __m128 leftCost[kMaxBins];
