@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <barrier>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
@@ -159,31 +160,39 @@ struct Bins {
   }
 };
 
-// Binned SAH split of boxes[0, n) (Wald 2007). For each candidate plane, the cost of the
-// three axes is computed in the lanes of one register; `leftCost` keeps the prefix costs.
-[[gnu::noinline]] Split findBinnedSplit(const BoxRef* boxes, uint32_t n, const Box4& centroids, int binCount) {
+// The bin mapping of a node whose doubled centroids span `centroids`.
+BinMapping binMappingFor(const Box4& centroids, int binCount) {
   alignas(16) float extent[4], scale[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   _mm_store_ps(extent, _mm_sub_ps(centroids.max, centroids.min));
   for (int a = 0; a < 3; ++a) scale[a] = extent[a] > 0.0f ? binCount / extent[a] : 0.0f;
-  Split best;
-  best.mapping = {centroids.min, _mm_load_ps(scale), _mm_set1_ps(static_cast<float>(binCount - 1))};
+  return {centroids.min, _mm_load_ps(scale), _mm_set1_ps(static_cast<float>(binCount - 1))};
+}
 
+// Bins boxes[0, n) into `bins` (cleared here).
+void binBoxes(const BoxRef* boxes, uint32_t n, const BinMapping& mapping, int binCount, Bins& bins) {
   // Neighbouring boxes tend to fall in the same bins, and each add waits for the previous one's
   // store to that bin; two sets of bins, for even and odd boxes, halve those chains where a
   // node has enough boxes to pay for merging them.
-  Bins bins, oddBins;
   bins.clear(binCount);
   uint32_t i = 0;
   if (n >= kTwoBinSetsMin) {
+    Bins oddBins;
     oddBins.clear(binCount);
     for (; i + 1 < n; i += 2) {
-      bins.add(boxes[i], best.mapping);
-      oddBins.add(boxes[i + 1], best.mapping);
+      bins.add(boxes[i], mapping);
+      oddBins.add(boxes[i + 1], mapping);
     }
+    bins.merge(oddBins, binCount);
   }
-  for (; i < n; ++i) bins.add(boxes[i], best.mapping);
-  if (n >= kTwoBinSetsMin) bins.merge(oddBins, binCount);
+  for (; i < n; ++i) bins.add(boxes[i], mapping);
+}
 
+// Binned SAH split of a node of n boxes from its bins (Wald 2007). For each candidate plane,
+// the cost of the three axes is computed in the lanes of one register; `leftCost` keeps the
+// prefix costs.
+Split bestBinnedSplit(const Bins& bins, uint32_t n, const BinMapping& mapping, int binCount) {
+  Split best;
+  best.mapping = mapping;
   // Left of plane b: bins [0, b]; right: bins (b, binCount).
   __m128 leftCost[kMaxBins];
   Box4 box[3];
@@ -227,6 +236,13 @@ struct Bins {
   }
   best.childCost = kSahBrushCost * costs[best.axis];
   return best;
+}
+
+[[gnu::noinline]] Split findBinnedSplit(const BoxRef* boxes, uint32_t n, const Box4& centroids, int binCount) {
+  const BinMapping mapping = binMappingFor(centroids, binCount);
+  Bins bins;
+  binBoxes(boxes, n, mapping, binCount, bins);
+  return bestBinnedSplit(bins, n, mapping, binCount);
 }
 
 // Two boxes: the one split puts one box on each side and costs the same on every axis, so the
@@ -315,8 +331,8 @@ Split findExactSplit(const BoxRef* boxes, uint32_t n) {
 // 0 to it, for the other by adding infinity (so that min and max ignore it). Growing
 // bounds[isLeft] in memory instead makes each box wait for the previous one's store.
 template <bool Exact>
-void partition(const BoxRef* src, BoxRef* dst, uint32_t n, const Split& split, Box4 bounds[2], Box4 centroids[2]) {
-  uint32_t left = 0, right = split.leftCount;
+void partition(const BoxRef* src, BoxRef* leftDst, BoxRef* rightDst, uint32_t n, const Split& split, Box4 bounds[2], Box4 centroids[2]) {
+  uint32_t left = 0, right = 0;
   const __m128 position = _mm_set1_ps(split.position);
   const __m128i firstRightBin = _mm_set1_epi32(split.lastLeftBin + 1);
   const __m128 ignoreUnless[2] = {_mm_set1_ps(kFloatInf), _mm_setzero_ps()}; // [isLeft]: + for left
@@ -325,7 +341,7 @@ void partition(const BoxRef* src, BoxRef* dst, uint32_t n, const Split& split, B
     const __m128 lo = src[i].lo(), hi = src[i].hi(), c = _mm_add_ps(lo, hi);
     const __m128 leftLanes = Exact ? _mm_cmple_ps(c, position) : _mm_castsi128_ps(_mm_cmpgt_epi32(firstRightBin, split.mapping.bins(c)));
     const uint32_t isLeft = (_mm_movemask_ps(leftLanes) >> split.axis) & 1;
-    dst[isLeft ? left : right] = src[i];
+    (isLeft ? leftDst[left] : rightDst[right]) = src[i];
     left += isLeft;
     right += 1 - isLeft;
     const __m128 toLeft = ignoreUnless[isLeft], toRight = ignoreUnless[1 - isLeft];
@@ -341,9 +357,9 @@ void partition(const BoxRef* src, BoxRef* dst, uint32_t n, const Split& split, B
 }
 
 void partition(const BoxRef* src, BoxRef* dst, uint32_t n, const Split& split, Box4 bounds[2], Box4 centroids[2]) {
-  if (split.exact) return partition<true>(src, dst, n, split, bounds, centroids);
+  if (split.exact) return partition<true>(src, dst, dst + split.leftCount, n, split, bounds, centroids);
   bounds[1] = split.leftBounds, bounds[0] = split.rightBounds;
-  partition<false>(src, dst, n, split, bounds, centroids);
+  partition<false>(src, dst, dst + split.leftCount, n, split, bounds, centroids);
 }
 
 void boundsOf(const BoxRef* boxes, uint32_t n, Box4& bounds, Box4& centroids) {
@@ -400,14 +416,7 @@ public:
     if (threads_ == 1) {
       buildNode(root);
     } else {
-      // At most 2 n / kTaskMinBoxes subtrees of kTaskMinBoxes boxes or more exist, so the queue
-      // never reallocates: a task is never lost to a failed allocation with helpers waiting.
-      queue_.reserve(2 * count_ / kTaskMinBoxes + 1);
-      queue_.push_back(root);
-      unfinished_ = 1;
-      std::vector<std::jthread> helpers;
-      for (int t = 1; t < threads_; ++t) helpers.emplace_back([this] { work(); });
-      work();
+      buildWithThreads(root);
     }
     result.nodes = compactDepthFirst({slots_.get(), 2 * size_t{count_} - 1});
     result.order = std::move(order_);
@@ -415,6 +424,70 @@ public:
   }
 
 private:
+  // The root split by all threads together, then its subtrees through the task queue. Alone, the
+  // root's split (binning and partitioning every box) keeps the other threads idle for a sixth
+  // of a two-thread build. Here each thread bins one chunk of the boxes, one thread merges the
+  // bins and chooses the split, each partitions its chunk. The merged bins are exactly those of
+  // one pass over all boxes and the chunks' boxes keep their order, so the tree is the same as
+  // a one-thread build's.
+  void buildWithThreads(const NodeTask& root) {
+    // At most 2 n / kTaskMinBoxes subtrees of kTaskMinBoxes boxes or more exist, so the queue
+    // never reallocates: a task is never lost to a failed allocation with helpers waiting.
+    queue_.reserve(2 * count_ / kTaskMinBoxes + 1);
+    const int chunks = threads_;
+    const auto chunkBegin = [&](int c) { return static_cast<uint32_t>(uint64_t{count_} * c / chunks); };
+    const int binCount = binCountFor(count_);
+    const BinMapping mapping = binMappingFor(root.centroids, binCount);
+    std::vector<Bins> bins(chunks);
+    std::vector<uint32_t> leftBegin(chunks), rightBegin(chunks); // where each chunk's boxes go
+    std::vector<std::array<Box4, 2>> centroids(chunks);          // of each chunk's [right, left] boxes
+    Split split;
+    bool together = false; // whether the threads split the root, or leave it to the task queue
+    std::barrier binned(chunks, [&]() noexcept {
+      Bins all = bins[0];
+      for (int c = 1; c < chunks; ++c) all.merge(bins[c], binCount);
+      split = bestBinnedSplit(all, count_, mapping, binCount);
+      together = split.axis >= 0 && shouldSplit(count_, settings_.leafSize, root.bounds.halfArea(), split.childCost);
+      if (!together) return addTask(root);
+      // Each chunk's boxes go after those of the chunks before it, on either side.
+      uint32_t left = 0, right = split.leftCount;
+      for (int c = 0; c < chunks; ++c) {
+        leftBegin[c] = left, rightBegin[c] = right;
+        uint32_t chunkLeft = 0;
+        for (int b = 0; b <= split.lastLeftBin; ++b) chunkLeft += static_cast<uint32_t>(bins[c].count[b][split.axis]);
+        left += chunkLeft;
+        right += chunkBegin(c + 1) - chunkBegin(c) - chunkLeft;
+      }
+    });
+    std::barrier partitioned(chunks, [&]() noexcept {
+      if (!together) return;
+      writeBounds(slots_[root.slot], root);
+      NodeTask left{}, right{};
+      setChildren(root, split.leftCount, left, right);
+      left.buffer = right.buffer = 1 - root.buffer;
+      left.bounds = split.leftBounds, right.bounds = split.rightBounds;
+      for (const auto& c : centroids) left.centroids.grow(c[1]), right.centroids.grow(c[0]);
+      addTask(right);
+      addTask(left);
+    });
+    const auto run = [&](int c) {
+      const uint32_t begin = chunkBegin(c), end = chunkBegin(c + 1);
+      const BoxRef* src = refs_[root.buffer].get();
+      BoxRef* dst = refs_[1 - root.buffer].get();
+      binBoxes(src + begin, end - begin, mapping, binCount, bins[c]);
+      binned.arrive_and_wait();
+      if (together) {
+        Box4 unused[2];
+        partition<false>(src + begin, dst + leftBegin[c], dst + rightBegin[c], end - begin, split, unused, centroids[c].data());
+      }
+      partitioned.arrive_and_wait();
+      work();
+    };
+    std::vector<std::jthread> helpers;
+    for (int c = 1; c < chunks; ++c) helpers.emplace_back(run, c);
+    run(0);
+  }
+
   // Takes tasks until every task, including those that running tasks will still add, is done.
   void work() {
     std::unique_lock lock(mutex_);
@@ -446,13 +519,30 @@ private:
     for (uint32_t i = t.begin; i < t.end; ++i) order_[i] = boxes[i].index;
   }
 
-  void buildNode(const NodeTask& t) {
-    GpuBvhNode& node = slots_[t.slot];
+  static void writeBounds(GpuBvhNode& node, const NodeTask& t) {
     const Aabb box = t.bounds.aabb();
     for (int a = 0; a < 3; ++a) {
       node.boundsMin[a] = box.min[a];
       node.boundsMax[a] = box.max[a];
     }
+  }
+
+  // Makes t's node the parent of `left` (t's first leftCount boxes) and `right` (the others):
+  // their slots and boxes; their bounds and buffer are the caller's.
+  void setChildren(const NodeTask& t, uint32_t leftCount, NodeTask& left, NodeTask& right) {
+    GpuBvhNode& node = slots_[t.slot];
+    node.leftFirst = t.descendants;
+    node.count = 0;
+    left.slot = t.descendants, right.slot = t.descendants + 1;
+    left.descendants = t.descendants + 2;
+    right.descendants = left.descendants + 2 * leftCount - 2;
+    left.begin = t.begin, left.end = right.begin = t.begin + leftCount, right.end = t.end;
+    left.depth = right.depth = t.depth + 1;
+  }
+
+  void buildNode(const NodeTask& t) {
+    GpuBvhNode& node = slots_[t.slot];
+    writeBounds(node, t);
     const uint32_t count = t.end - t.begin;
     if (count == 1) return makeLeaf(node, t);
 
@@ -480,13 +570,7 @@ private:
       boundsOf(boxes + leftCount, count - leftCount, right.bounds, right.centroids);
     }
 
-    node.leftFirst = t.descendants;
-    node.count = 0;
-    left.slot = t.descendants, right.slot = t.descendants + 1;
-    left.descendants = t.descendants + 2;
-    right.descendants = left.descendants + 2 * leftCount - 2;
-    left.begin = t.begin, left.end = right.begin = t.begin + leftCount, right.end = t.end;
-    left.depth = right.depth = t.depth + 1;
+    setChildren(t, leftCount, left, right);
     if (threads_ > 1 && leftCount >= kTaskMinBoxes) {
       addTask(left);
     } else {
