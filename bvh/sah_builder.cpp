@@ -540,11 +540,35 @@ private:
     left.depth = right.depth = t.depth + 1;
   }
 
+  // A node of two boxes, the most common interior node (SAH splits to about one box per leaf),
+  // with what buildNode() would make of it but no partition and no child tasks: a leaf, or two
+  // one-box leaves with the lower centroid first. False, having written nothing, when the
+  // centroids coincide and buildNode()'s fallback decides.
+  bool buildPair(GpuBvhNode& node, const NodeTask& t) {
+    const BoxRef* boxes = refs_[t.buffer].get() + t.begin;
+    const Split split = splitPair(boxes);
+    if (split.axis < 0) return false;
+    if (!shouldSplit(2, settings_.leafSize, t.bounds.halfArea(), split.childCost)) {
+      makeLeaf(node, t);
+      return true;
+    }
+    const uint32_t first = boxes[0].centroid2(split.axis) <= split.position ? 0 : 1;
+    node.leftFirst = t.descendants;
+    node.count = 0;
+    for (uint32_t child = 0; child < 2; ++child) {
+      const BoxRef& box = boxes[child == 0 ? first : 1 - first];
+      slots_[t.descendants + child] = {{box.min.x, box.min.y, box.min.z}, t.begin + child, {box.max.x, box.max.y, box.max.z}, 1};
+      order_[t.begin + child] = box.index;
+    }
+    return true;
+  }
+
   void buildNode(const NodeTask& t) {
     GpuBvhNode& node = slots_[t.slot];
     writeBounds(node, t);
     const uint32_t count = t.end - t.begin;
     if (count == 1) return makeLeaf(node, t);
+    if (count == 2 && t.depth < kMedianSplitDepth && buildPair(node, t)) return;
 
     BoxRef* boxes = refs_[t.buffer].get() + t.begin;
     Split split;
