@@ -651,23 +651,31 @@ FlatBvh buildBinnedSah(std::span<const Aabb> boxes, const SahBuildSettings& sett
 std::vector<GpuBvhNode> compactDepthFirst(std::span<const GpuBvhNode> nodes) {
   std::vector<GpuBvhNode> out;
   if (nodes.empty()) return out;
-  out.reserve(nodes.size());
-  out.push_back(nodes[0]);
+  // Sized for every node, then cut to those reachable: appending through push_back, a call per
+  // node, cost as much as the copying.
+  out.resize(nodes.size());
+  GpuBvhNode* placed = out.data();
+  size_t used = 1;
+  placed[0] = nodes[0];
   // (index in `nodes`, index in `out`) of interior nodes whose children are still to be placed.
   std::vector<std::pair<uint32_t, uint32_t>> stack;
+  stack.reserve(2 * kBvhMaxDepth);
   if (nodes[0].count == 0) stack.push_back({0, 0});
   while (!stack.empty()) {
     const auto [from, to] = stack.back();
     stack.pop_back();
     const uint32_t left = nodes[from].leftFirst;
-    const uint32_t placed = static_cast<uint32_t>(out.size());
-    out[to].leftFirst = placed;
-    out.push_back(nodes[left]);
-    out.push_back(nodes[left + 1]);
+    if (used + 2 > out.size()) throw std::logic_error("compactDepthFirst: nodes do not form a tree");
+    const uint32_t first = static_cast<uint32_t>(used);
+    placed[to].leftFirst = first;
+    placed[first] = nodes[left];
+    placed[first + 1] = nodes[left + 1];
+    used += 2;
     // Right first on the stack so the left subtree is laid out next: depth-first order.
-    if (nodes[left + 1].count == 0) stack.push_back({left + 1, placed + 1});
-    if (nodes[left].count == 0) stack.push_back({left, placed});
+    if (nodes[left + 1].count == 0) stack.push_back({left + 1, first + 1});
+    if (nodes[left].count == 0) stack.push_back({left, first});
   }
+  out.resize(used);
   return out;
 }
 
