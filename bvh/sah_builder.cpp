@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <barrier>
+#include <cmath>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
@@ -31,7 +32,7 @@ constexpr uint32_t kTaskMinBoxes = 1024;
 // deep levels, where bins are coarsest relative to the boxes, are where binning loses most.
 constexpr uint32_t kExactSweepMax = 8;
 constexpr uint32_t kMinBins = 8; // see binCountFor()
-constexpr uint32_t kTwoBinSetsMin = 64; // see findBinnedSplit()
+constexpr uint32_t kTwoBinSetsMin = 64; // see binBoxes()
 
 // The builder's inner loops work on SSE registers (x86-64 baseline): a box is two __m128
 // with x, y, z in lanes 0-2; lane 3 is masked to zero before any arithmetic.
@@ -643,8 +644,14 @@ float halfArea(const GpuBvhNode& n) {
 
 FlatBvh buildBinnedSah(std::span<const Aabb> boxes, const SahBuildSettings& settings) {
   if (boxes.size() > kMaxBoxes) throw std::invalid_argument("buildBinnedSah: more than 2^24 boxes");
-  for (const Aabb& b : boxes)
+  for (const Aabb& b : boxes) {
     if (b.empty()) throw std::invalid_argument("buildBinnedSah: empty box");
+    // Finite bounds keep every doubled centroid ordered (at worst +-inf, never NaN), which the
+    // exact sweep's ranking and the partitions rely on.
+    const auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+    if (!finite(b.min) || !finite(b.max))
+      throw std::invalid_argument("buildBinnedSah: box with an infinite or NaN bound");
+  }
   return BinnedSahBuilder(boxes, settings).build();
 }
 

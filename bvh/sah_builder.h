@@ -54,7 +54,8 @@ struct FlatBvh {
   std::vector<uint32_t> order;   // order[i]: the input box that leaf slot i holds
 };
 
-// Builds the BVH of `boxes` (none may be empty). The result does not depend on `threads`.
+// Builds the BVH of `boxes` (none may be empty or have a non-finite bound; std::invalid_argument
+// otherwise). The result does not depend on `threads`.
 FlatBvh buildBinnedSah(std::span<const Aabb> boxes, const SahBuildSettings& settings);
 
 // The SAH decision that every builder here shares (the test suite's full-sweep reference

@@ -7,7 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <limits>
 
 using bt::test::expectAllBrushesPresent;
 using bt::test::expectSahNearFullSweep;
@@ -131,6 +133,15 @@ TEST(BvhBuild, InconsistentSceneIsRejected) {
   test::addBox(scene, {0, 0, 0}, {16, 16, 16});
   scene.brushes[0].faceCount = 7; // one more face than the scene has
   EXPECT_THROW(TraceScene::build(scene), std::invalid_argument);
+}
+
+TEST(BvhBuild, NonFiniteBoxIsRejected) {
+  // A NaN or infinite bound would give unordered centroids, which no split can place.
+  const float inf = std::numeric_limits<float>::infinity();
+  for (const Aabb& bad : {Aabb{{-inf, 0, 0}, {inf, 1, 1}}, Aabb{{0, 0, 0}, {1, std::nanf(""), 1}}}) {
+    const std::vector<Aabb> boxes = {{{0, 0, 0}, {1, 1, 1}}, bad, {{2, 0, 0}, {3, 1, 1}}};
+    EXPECT_THROW(buildBinnedSah(boxes, {}), std::invalid_argument);
+  }
 }
 
 TEST(BvhBuild, NeighbourBoxesShareTheirFloatBoundary) {
