@@ -28,6 +28,15 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(rgba32f, binding = 0) uniform image2D accumulation; // rgb: sum of samples
 
+// The lighting mode is fixed when the program is built (renderer/gl/gl_tracer.cpp builds one
+// program per mode): each program then compiles only its own integrator, and the driver's
+// compile time, seconds on llvmpipe, is not spent on code the render never runs.
+#ifdef BT_LIGHTING_PHYSICAL
+const bool PHYSICAL = true;
+#else
+const bool PHYSICAL = false;
+#endif
+
 // Physical-mode scale from Quake light units (renderer/cpu/integrator.h).
 const float PHYSICAL_POINT_SCALE = PI * 128.0;
 const float PHYSICAL_SUN_SCALE = PI / 128.0;
@@ -403,15 +412,14 @@ bool physicalBounce(inout Path path, inout Rng rng) {
 //   physical: the fixed list's suns, one selected point light (allLightsSelected), then one
 //             emitter sample.
 bool nextLightRay(inout Path path, inout Rng rng) {
-  bool physical = world.physical != 0u;
   uint cell = lightGridCell(path.position);
-  uint count = physical ? lightGrid.fixedCount + 1u : faithfulLightCount(cell);
+  uint count = PHYSICAL ? lightGrid.fixedCount + 1u : faithfulLightCount(cell);
   while (path.lightIndex <= count) {
     uint i = path.lightIndex++;
     bool needsRay;
     if (i == count)
-      needsRay = physical && world.emitterCount > 0u && physicalEmitterRay(path, rng);
-    else if (!physical)
+      needsRay = PHYSICAL && world.emitterCount > 0u && physicalEmitterRay(path, rng);
+    else if (!PHYSICAL)
       needsRay = faithfulLightRay(path, lights[faithfulLight(cell, i)], rng);
     else if (i < lightGrid.fixedCount)
       needsRay = physicalSunRay(path, lights[lightIndices[i]], rng);
@@ -425,12 +433,11 @@ bool nextLightRay(inout Path path, inout Rng rng) {
 // Takes the hit of the ray the path waited for and sets up the next one; false when the path
 // has ended (path.radiance is then the sample).
 bool advance(inout Path path, Hit hit, inout Rng rng) {
-  bool physical = world.physical != 0u;
   bool ended = false;
   if (path.kind == RAY_SHADOW) {
     // The any-hit traversal passed everything that does not block light already.
     if (hit.face == NO_FACE) {
-      if (physical) path.radiance += path.throughput * path.pending;
+      if (PHYSICAL) path.radiance += path.throughput * path.pending;
       else if (path.pendingIsFloor) path.lightFloor = max(path.lightFloor, path.pending);
       else path.lightSum += path.pending;
     }
@@ -441,7 +448,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     if (hit.face != NO_FACE) flags = faceFlags[hit.face]; // a branch: never a read at NO_FACE
     bool passThrough = hit.face != NO_FACE &&
                        (hit.inside || (path.kind == RAY_SURFACE ? (flags & FACE_HIDDEN) != 0u
-                                                                : (flags & FACE_SKY) == 0u && !blocksLight(flags, physical)));
+                                                                : (flags & FACE_SKY) == 0u && !blocksLight(flags, PHYSICAL)));
     if (passThrough && ++path.skips < MAX_SKIPS) {
       path.tMin = hit.t + SKIP_STEP;
       return true;
@@ -450,7 +457,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     if (path.kind == RAY_SKY) {
       bool reached = !gaveUp && (hit.face == NO_FACE || (flags & FACE_SKY) != 0u);
       if (reached) {
-        if (physical) path.radiance += path.throughput * path.pending;
+        if (PHYSICAL) path.radiance += path.throughput * path.pending;
         else path.lightSum += path.pending;
       }
     } else {
@@ -458,13 +465,13 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
       vec3 position = path.origin + path.dir * hit.t;
       SurfaceHit surface = SurfaceHit(found, hit.t, hit.face, position, vec3(0.0));
       if (found) surface.normal = faceNormal(hit.face);
-      ended = !(physical ? physicalSurface(path, surface) : faithfulSurface(path, surface));
+      ended = !(PHYSICAL ? physicalSurface(path, surface) : faithfulSurface(path, surface));
       path.lightIndex = 0u;
     }
   }
   if (ended) return false;
   if (nextLightRay(path, rng)) return true;
-  return physical ? physicalBounce(path, rng) : faithfulBounce(path, rng);
+  return PHYSICAL ? physicalBounce(path, rng) : faithfulBounce(path, rng);
 }
 
 void main() {
@@ -482,7 +489,7 @@ void main() {
   path.throughput = vec3(1.0);
   path.prevBsdfPdf = 0.0;
   path.radiance = vec3(0.0);
-  uint passFlags = lightPassFlags(world.physical != 0u);
+  uint passFlags = lightPassFlags(PHYSICAL);
   while (true) {
     // The one call of the traversal in this program.
     Hit hit = traceRay(makeTraceRay(path.origin, path.dir, path.tMin, path.tMax), path.kind == RAY_SHADOW, passFlags);

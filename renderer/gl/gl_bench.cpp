@@ -48,7 +48,7 @@ int runGlBench(const Scene& scene, const GlBenchSettings& s) {
     tracer = std::make_unique<gl::GlTracer>(*context, scene, renderScene.tracer, s.textures, gl::lightingFor(renderScene));
     tracer->setProgramCache(gl::ProgramCache(cacheDir));
     const double setup = secondsSince(start);
-    const gl::ProgramBuild build = tracer->buildPathTracer(s.width, s.height);
+    const gl::ProgramBuild build = tracer->buildPathTracer(s.width, s.height, s.physical);
     const auto sampleStart = Clock::now();
     tracer->renderBeauty(camera, oneSample);
     const double sample = secondsSince(sampleStart);
