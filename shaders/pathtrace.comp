@@ -245,10 +245,21 @@ vec3 faithfulDisplay(Path path) {
 
 // A surface ray's result. False when the path ends here.
 bool faithfulSurface(inout Path path, SurfaceHit hit) {
+  if (!hit.found) {
+    if (path.depth > 0) path.radiance = faithfulDisplay(path); // a _bounce ray into the void
+    return false;
+  }
+  uint flags = faceFlags[hit.face];
+  // A _bounce ray ends at the sky.
+  if (path.depth > 0 && (flags & FACE_SKY) != 0u) {
+    path.radiance = faithfulDisplay(path);
+    return false;
+  }
+  // One read of the base colour for the camera and the bounce rays: every place that reads a
+  // texture is a copy of the sampling code, which the driver compiles once per copy.
+  vec3 color = baseColorAt(hit.face, hit.position).rgb;
   if (path.depth == 0) {
-    if (!hit.found) return false;
-    uint flags = faceFlags[hit.face];
-    path.texture = baseColorAt(hit.face, hit.position).rgb;
+    path.texture = color;
     // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
     if ((flags & FACE_SKY) != 0u || ((flags & FACE_LIQUID) != 0u && world.litwater == 0u)) {
       path.radiance = srgbToLinear(path.texture);
@@ -257,12 +268,7 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
     path.fullbright = emissiveAt(hit.face, hit.position);
     path.weight = vec3(world.bouncescale);
   } else {
-    // A _bounce ray: ends at the void or the sky, else the surface's colour tints what follows.
-    if (!hit.found || (faceFlags[hit.face] & FACE_SKY) != 0u) {
-      path.radiance = faithfulDisplay(path);
-      return false;
-    }
-    path.weight *= baseColorAt(hit.face, hit.position).rgb;
+    path.weight *= color; // the surface's colour tints what the _bounce brings
   }
   path.face = hit.face;
   path.position = hit.position;
@@ -356,8 +362,10 @@ bool physicalEmitterRay(inout Path path, inout Rng rng) {
 bool physicalSurface(inout Path path, SurfaceHit hit) {
   if (!hit.found) return false; // the void outside a level is black
   uint flags = faceFlags[hit.face];
+  // One read of the base colour for the sky and the BSDF (faithfulSurface says why).
+  vec3 baseColor = srgbToLinear(baseColorAt(hit.face, hit.position).rgb);
   if ((flags & FACE_SKY) != 0u) {
-    path.radiance += path.throughput * (srgbToLinear(baseColorAt(hit.face, hit.position).rgb) + skyDomeRadiance(path.dir));
+    path.radiance += path.throughput * (baseColor + skyDomeRadiance(path.dir));
     return false;
   }
   vec3 n = hit.normal;
@@ -375,7 +383,7 @@ bool physicalSurface(inout Path path, SurfaceHit hit) {
   if (path.depth >= world.bounces + 1) return false;
 
   GpuMaterial m = materials[faces[hit.face].material];
-  path.bsdf = Bsdf(srgbToLinear(baseColorAt(hit.face, hit.position).rgb), m.roughness, m.metallic,
+  path.bsdf = Bsdf(baseColor, m.roughness, m.metallic,
                    (m.flags & MATERIAL_SPECULAR) != 0u);
   path.position = hit.position;
   path.normal = n;
