@@ -153,6 +153,10 @@ struct Path {
   vec3 dir;
   float tMin;
   float tMax;
+  // Physical: the emitter point a shadow ray aims at (NO_FACE for other lights). Its emission
+  // is read once the ray gets through, in advance(), at the one place that reads emission.
+  uint emitterFace;
+  vec3 emitterPoint;
   int skips;        // hidden faces and inside hits passed along it (MAX_SKIPS, like the CPU's loops)
   // The surface being lit: which light's ray is in flight (nextLightRay's position in the light
   // grid's lists, the last = the emitters), and what that light adds if the ray gets through.
@@ -186,6 +190,7 @@ void setRay(inout Path path, uint kind, vec3 origin, vec3 dir, float tMax) {
   path.dir = dir;
   path.tMin = 0.0;
   path.tMax = tMax;
+  path.emitterFace = NO_FACE;
   path.skips = 0;
 }
 
@@ -355,11 +360,14 @@ bool physicalEmitterRay(inout Path path, inout Rng rng) {
   float lightPdf = dist2 / (cosLight * world.emitterArea);
   // Stop just short of the emitter so that its own face does not count as a blocker.
   setRay(path, RAY_SHADOW, origin, wi, dist - 2.0 * SURFACE_OFFSET);
-  path.pending = f * emittedRadiance(e.face, q) * dot(n, wi) * powerHeuristic(lightPdf, bsdfPdf) / lightPdf;
+  path.emitterFace = e.face;
+  path.emitterPoint = q;
+  path.pending = f * dot(n, wi) * powerHeuristic(lightPdf, bsdfPdf) / lightPdf; // times the emission
   return true;
 }
 
-bool physicalSurface(inout Path path, SurfaceHit hit) {
+// `le`: the surface's emission (emittedRadiance) where it is an emitter.
+bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
   if (!hit.found) return false; // the void outside a level is black
   uint flags = faceFlags[hit.face];
   // One read of the base colour for the sky and the BSDF (faithfulSurface says why).
@@ -371,7 +379,6 @@ bool physicalSurface(inout Path path, SurfaceHit hit) {
   vec3 n = hit.normal;
   vec3 wo = -path.dir;
   if ((flags & FACE_EMISSIVE) != 0u) {
-    vec3 le = emittedRadiance(hit.face, hit.position);
     float weight = 1.0;
     if (path.prevBsdfPdf > 0.0) {
       float cosLight = max(dot(n, wo), 1e-6);
@@ -442,12 +449,23 @@ bool nextLightRay(inout Path path, inout Rng rng) {
 // has ended (path.radiance is then the sample).
 bool advance(inout Path path, Hit hit, inout Rng rng) {
   bool ended = false;
+  // Physical mode reads emission (an emissive texture) at one place below, for an emitter
+  // sample's shadow ray that got through and for a surface ray that hit an emitter: each place
+  // that reads a texture is a copy of the sampling code for the driver to compile.
+  uint emissionFace = NO_FACE;
+  vec3 emissionPoint = vec3(0.0);
+  bool surfaceReached = false;
+  SurfaceHit surface;
+  bool shadowPassed = path.kind == RAY_SHADOW && hit.face == NO_FACE;
   if (path.kind == RAY_SHADOW) {
     // The any-hit traversal passed everything that does not block light already.
-    if (hit.face == NO_FACE) {
-      if (PHYSICAL) path.radiance += path.throughput * path.pending;
-      else if (path.pendingIsFloor) path.lightFloor = max(path.lightFloor, path.pending);
+    if (shadowPassed && !PHYSICAL) {
+      if (path.pendingIsFloor) path.lightFloor = max(path.lightFloor, path.pending);
       else path.lightSum += path.pending;
+    }
+    if (shadowPassed && PHYSICAL) {
+      emissionFace = path.emitterFace;
+      emissionPoint = path.emitterPoint;
     }
   } else {
     // Surface and sky rays pass hidden faces (and, for the sky, what does not block light) and
@@ -471,11 +489,22 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     } else {
       bool found = !gaveUp && hit.face != NO_FACE;
       vec3 position = path.origin + path.dir * hit.t;
-      SurfaceHit surface = SurfaceHit(found, hit.t, hit.face, position, vec3(0.0));
+      surface = SurfaceHit(found, hit.t, hit.face, position, vec3(0.0));
       if (found) surface.normal = faceNormal(hit.face);
-      ended = !(PHYSICAL ? physicalSurface(path, surface) : faithfulSurface(path, surface));
-      path.lightIndex = 0u;
+      surfaceReached = true;
+      if (PHYSICAL && found && (flags & FACE_EMISSIVE) != 0u) {
+        emissionFace = hit.face;
+        emissionPoint = position;
+      }
     }
+  }
+  vec3 le = vec3(0.0);
+  if (PHYSICAL && emissionFace != NO_FACE) le = emittedRadiance(emissionFace, emissionPoint);
+  if (PHYSICAL && shadowPassed)
+    path.radiance += path.throughput * path.pending * (path.emitterFace != NO_FACE ? le : vec3(1.0));
+  if (surfaceReached) {
+    ended = !(PHYSICAL ? physicalSurface(path, surface, le) : faithfulSurface(path, surface));
+    path.lightIndex = 0u;
   }
   if (ended) return false;
   if (nextLightRay(path, rng)) return true;
