@@ -28,6 +28,15 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(rgba32f, binding = 0) uniform image2D accumulation; // rgb: sum of samples
 
+// The lighting mode is fixed when the program is built (renderer/gl/gl_tracer.cpp builds one
+// program per mode): each program then compiles only its own integrator, and the driver's
+// compile time, seconds on llvmpipe, is not spent on code the render never runs.
+#ifdef BT_LIGHTING_PHYSICAL
+const bool PHYSICAL = true;
+#else
+const bool PHYSICAL = false;
+#endif
+
 // Physical-mode scale from Quake light units (renderer/cpu/integrator.h).
 const float PHYSICAL_POINT_SCALE = PI * 128.0;
 const float PHYSICAL_SUN_SCALE = PI / 128.0;
@@ -144,6 +153,10 @@ struct Path {
   vec3 dir;
   float tMin;
   float tMax;
+  // Physical: the emitter point a shadow ray aims at (NO_FACE for other lights). Its emission
+  // is read once the ray gets through, in advance(), at the one place that reads emission.
+  uint emitterFace;
+  vec3 emitterPoint;
   int skips;        // hidden faces and inside hits passed along it (MAX_SKIPS, like the CPU's loops)
   // The surface being lit: which light's ray is in flight (nextLightRay's position in the light
   // grid's lists, the last = the emitters), and what that light adds if the ray gets through.
@@ -177,6 +190,7 @@ void setRay(inout Path path, uint kind, vec3 origin, vec3 dir, float tMax) {
   path.dir = dir;
   path.tMin = 0.0;
   path.tMax = tMax;
+  path.emitterFace = NO_FACE;
   path.skips = 0;
 }
 
@@ -236,10 +250,21 @@ vec3 faithfulDisplay(Path path) {
 
 // A surface ray's result. False when the path ends here.
 bool faithfulSurface(inout Path path, SurfaceHit hit) {
+  if (!hit.found) {
+    if (path.depth > 0) path.radiance = faithfulDisplay(path); // a _bounce ray into the void
+    return false;
+  }
+  uint flags = faceFlags[hit.face];
+  // A _bounce ray ends at the sky.
+  if (path.depth > 0 && (flags & FACE_SKY) != 0u) {
+    path.radiance = faithfulDisplay(path);
+    return false;
+  }
+  // One read of the base colour for the camera and the bounce rays: every place that reads a
+  // texture is a copy of the sampling code, which the driver compiles once per copy.
+  vec3 color = baseColorAt(hit.face, hit.position).rgb;
   if (path.depth == 0) {
-    if (!hit.found) return false;
-    uint flags = faceFlags[hit.face];
-    path.texture = baseColorAt(hit.face, hit.position).rgb;
+    path.texture = color;
     // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
     if ((flags & FACE_SKY) != 0u || ((flags & FACE_LIQUID) != 0u && world.litwater == 0u)) {
       path.radiance = srgbToLinear(path.texture);
@@ -248,12 +273,7 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
     path.fullbright = emissiveAt(hit.face, hit.position);
     path.weight = vec3(world.bouncescale);
   } else {
-    // A _bounce ray: ends at the void or the sky, else the surface's colour tints what follows.
-    if (!hit.found || (faceFlags[hit.face] & FACE_SKY) != 0u) {
-      path.radiance = faithfulDisplay(path);
-      return false;
-    }
-    path.weight *= baseColorAt(hit.face, hit.position).rgb;
+    path.weight *= color; // the surface's colour tints what the _bounce brings
   }
   path.face = hit.face;
   path.position = hit.position;
@@ -340,21 +360,25 @@ bool physicalEmitterRay(inout Path path, inout Rng rng) {
   float lightPdf = dist2 / (cosLight * world.emitterArea);
   // Stop just short of the emitter so that its own face does not count as a blocker.
   setRay(path, RAY_SHADOW, origin, wi, dist - 2.0 * SURFACE_OFFSET);
-  path.pending = f * emittedRadiance(e.face, q) * dot(n, wi) * powerHeuristic(lightPdf, bsdfPdf) / lightPdf;
+  path.emitterFace = e.face;
+  path.emitterPoint = q;
+  path.pending = f * dot(n, wi) * powerHeuristic(lightPdf, bsdfPdf) / lightPdf; // times the emission
   return true;
 }
 
-bool physicalSurface(inout Path path, SurfaceHit hit) {
+// `le`: the surface's emission (emittedRadiance) where it is an emitter.
+bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
   if (!hit.found) return false; // the void outside a level is black
   uint flags = faceFlags[hit.face];
+  // One read of the base colour for the sky and the BSDF (faithfulSurface says why).
+  vec3 baseColor = srgbToLinear(baseColorAt(hit.face, hit.position).rgb);
   if ((flags & FACE_SKY) != 0u) {
-    path.radiance += path.throughput * (srgbToLinear(baseColorAt(hit.face, hit.position).rgb) + skyDomeRadiance(path.dir));
+    path.radiance += path.throughput * (baseColor + skyDomeRadiance(path.dir));
     return false;
   }
   vec3 n = hit.normal;
   vec3 wo = -path.dir;
   if ((flags & FACE_EMISSIVE) != 0u) {
-    vec3 le = emittedRadiance(hit.face, hit.position);
     float weight = 1.0;
     if (path.prevBsdfPdf > 0.0) {
       float cosLight = max(dot(n, wo), 1e-6);
@@ -366,7 +390,7 @@ bool physicalSurface(inout Path path, SurfaceHit hit) {
   if (path.depth >= world.bounces + 1) return false;
 
   GpuMaterial m = materials[faces[hit.face].material];
-  path.bsdf = Bsdf(srgbToLinear(baseColorAt(hit.face, hit.position).rgb), m.roughness, m.metallic,
+  path.bsdf = Bsdf(baseColor, m.roughness, m.metallic,
                    (m.flags & MATERIAL_SPECULAR) != 0u);
   path.position = hit.position;
   path.normal = n;
@@ -403,15 +427,14 @@ bool physicalBounce(inout Path path, inout Rng rng) {
 //   physical: the fixed list's suns, one selected point light (allLightsSelected), then one
 //             emitter sample.
 bool nextLightRay(inout Path path, inout Rng rng) {
-  bool physical = world.physical != 0u;
   uint cell = lightGridCell(path.position);
-  uint count = physical ? lightGrid.fixedCount + 1u : faithfulLightCount(cell);
+  uint count = PHYSICAL ? lightGrid.fixedCount + 1u : faithfulLightCount(cell);
   while (path.lightIndex <= count) {
     uint i = path.lightIndex++;
     bool needsRay;
     if (i == count)
-      needsRay = physical && world.emitterCount > 0u && physicalEmitterRay(path, rng);
-    else if (!physical)
+      needsRay = PHYSICAL && world.emitterCount > 0u && physicalEmitterRay(path, rng);
+    else if (!PHYSICAL)
       needsRay = faithfulLightRay(path, lights[faithfulLight(cell, i)], rng);
     else if (i < lightGrid.fixedCount)
       needsRay = physicalSunRay(path, lights[lightIndices[i]], rng);
@@ -425,14 +448,24 @@ bool nextLightRay(inout Path path, inout Rng rng) {
 // Takes the hit of the ray the path waited for and sets up the next one; false when the path
 // has ended (path.radiance is then the sample).
 bool advance(inout Path path, Hit hit, inout Rng rng) {
-  bool physical = world.physical != 0u;
   bool ended = false;
+  // Physical mode reads emission (an emissive texture) at one place below, for an emitter
+  // sample's shadow ray that got through and for a surface ray that hit an emitter: each place
+  // that reads a texture is a copy of the sampling code for the driver to compile.
+  uint emissionFace = NO_FACE;
+  vec3 emissionPoint = vec3(0.0);
+  bool surfaceReached = false;
+  SurfaceHit surface;
+  bool shadowPassed = path.kind == RAY_SHADOW && hit.face == NO_FACE;
   if (path.kind == RAY_SHADOW) {
     // The any-hit traversal passed everything that does not block light already.
-    if (hit.face == NO_FACE) {
-      if (physical) path.radiance += path.throughput * path.pending;
-      else if (path.pendingIsFloor) path.lightFloor = max(path.lightFloor, path.pending);
+    if (shadowPassed && !PHYSICAL) {
+      if (path.pendingIsFloor) path.lightFloor = max(path.lightFloor, path.pending);
       else path.lightSum += path.pending;
+    }
+    if (shadowPassed && PHYSICAL) {
+      emissionFace = path.emitterFace;
+      emissionPoint = path.emitterPoint;
     }
   } else {
     // Surface and sky rays pass hidden faces (and, for the sky, what does not block light) and
@@ -441,7 +474,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     if (hit.face != NO_FACE) flags = faceFlags[hit.face]; // a branch: never a read at NO_FACE
     bool passThrough = hit.face != NO_FACE &&
                        (hit.inside || (path.kind == RAY_SURFACE ? (flags & FACE_HIDDEN) != 0u
-                                                                : (flags & FACE_SKY) == 0u && !blocksLight(flags, physical)));
+                                                                : (flags & FACE_SKY) == 0u && !blocksLight(flags, PHYSICAL)));
     if (passThrough && ++path.skips < MAX_SKIPS) {
       path.tMin = hit.t + SKIP_STEP;
       return true;
@@ -450,21 +483,32 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     if (path.kind == RAY_SKY) {
       bool reached = !gaveUp && (hit.face == NO_FACE || (flags & FACE_SKY) != 0u);
       if (reached) {
-        if (physical) path.radiance += path.throughput * path.pending;
+        if (PHYSICAL) path.radiance += path.throughput * path.pending;
         else path.lightSum += path.pending;
       }
     } else {
       bool found = !gaveUp && hit.face != NO_FACE;
       vec3 position = path.origin + path.dir * hit.t;
-      SurfaceHit surface = SurfaceHit(found, hit.t, hit.face, position, vec3(0.0));
+      surface = SurfaceHit(found, hit.t, hit.face, position, vec3(0.0));
       if (found) surface.normal = faceNormal(hit.face);
-      ended = !(physical ? physicalSurface(path, surface) : faithfulSurface(path, surface));
-      path.lightIndex = 0u;
+      surfaceReached = true;
+      if (PHYSICAL && found && (flags & FACE_EMISSIVE) != 0u) {
+        emissionFace = hit.face;
+        emissionPoint = position;
+      }
     }
+  }
+  vec3 le = vec3(0.0);
+  if (PHYSICAL && emissionFace != NO_FACE) le = emittedRadiance(emissionFace, emissionPoint);
+  if (PHYSICAL && shadowPassed)
+    path.radiance += path.throughput * path.pending * (path.emitterFace != NO_FACE ? le : vec3(1.0));
+  if (surfaceReached) {
+    ended = !(PHYSICAL ? physicalSurface(path, surface, le) : faithfulSurface(path, surface));
+    path.lightIndex = 0u;
   }
   if (ended) return false;
   if (nextLightRay(path, rng)) return true;
-  return physical ? physicalBounce(path, rng) : faithfulBounce(path, rng);
+  return PHYSICAL ? physicalBounce(path, rng) : faithfulBounce(path, rng);
 }
 
 void main() {
@@ -482,7 +526,7 @@ void main() {
   path.throughput = vec3(1.0);
   path.prevBsdfPdf = 0.0;
   path.radiance = vec3(0.0);
-  uint passFlags = lightPassFlags(world.physical != 0u);
+  uint passFlags = lightPassFlags(PHYSICAL);
   while (true) {
     // The one call of the traversal in this program.
     Hit hit = traceRay(makeTraceRay(path.origin, path.dir, path.tMin, path.tMax), path.kind == RAY_SHADOW, passFlags);

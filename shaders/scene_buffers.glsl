@@ -23,6 +23,6 @@ layout(std140, binding = 1) uniform World {
   uint lightCount;
   uint emitterCount;
   float emitterArea;
-  uint physical;      // 0 faithful, 1 physical
+  uint physical;      // 0 faithful, 1 physical (pathtrace.comp: BT_LIGHTING_PHYSICAL decides)
   int bounces;        // physical: --bounces
 } world;

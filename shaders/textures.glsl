@@ -69,8 +69,14 @@ vec4 sampleBilinearRepeat(MAP_REF map, uint layer, vec2 uv) {
   i0 += size * ivec2(lessThan(i0, ivec2(0)));
   ivec2 i1 = i0 + 1;
   i1 -= size * ivec2(greaterThanEqual(i1, size));
-  vec4 top = fetchTexel(map, layer, i0) * (1.0 - a.x) + fetchTexel(map, layer, ivec2(i1.x, i0.y)) * a.x;
-  vec4 bottom = fetchTexel(map, layer, ivec2(i0.x, i1.y)) * (1.0 - a.x) + fetchTexel(map, layer, i1) * a.x;
+  // The four texels in a loop, at one call of fetchTexel: on the arrays path each call is a
+  // switch over the sampler array, and four calls made the driver compile four of them (per
+  // place a texture is read), most of the path tracer's build time on llvmpipe.
+  vec4 texels[4]; // (i0.x, i0.y), (i1.x, i0.y), (i0.x, i1.y), (i1.x, i1.y)
+  for (int k = 0; k < 4; ++k)
+    texels[k] = fetchTexel(map, layer, ivec2((k & 1) == 0 ? i0.x : i1.x, (k & 2) == 0 ? i0.y : i1.y));
+  vec4 top = texels[0] * (1.0 - a.x) + texels[1] * a.x;
+  vec4 bottom = texels[2] * (1.0 - a.x) + texels[3] * a.x;
   return top * (1.0 - a.y) + bottom * a.y;
 }
 

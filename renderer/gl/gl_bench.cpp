@@ -48,7 +48,7 @@ int runGlBench(const Scene& scene, const GlBenchSettings& s) {
     tracer = std::make_unique<gl::GlTracer>(*context, scene, renderScene.tracer, s.textures, gl::lightingFor(renderScene));
     tracer->setProgramCache(gl::ProgramCache(cacheDir));
     const double setup = secondsSince(start);
-    const gl::ProgramBuild build = tracer->buildPathTracer(s.width, s.height);
+    const gl::ProgramBuild build = tracer->buildPathTracer(s.width, s.height, s.physical);
     const auto sampleStart = Clock::now();
     tracer->renderBeauty(camera, oneSample);
     const double sample = secondsSince(sampleStart);
@@ -61,6 +61,9 @@ int runGlBench(const Scene& scene, const GlBenchSettings& s) {
   fmt::print("device: {} ({}, {}), textures: {}\n", info.renderer, info.platform, info.version,
              gl::toString(tracer->textureMode()));
   firstImage("warm");
+  // The programs built from here on (ray bench, the other lighting mode) are not stored: the
+  // private directory would otherwise be created again and left behind.
+  tracer->setProgramCache(gl::ProgramCache{});
   std::error_code ignored;
   std::filesystem::remove_all(cacheDir, ignored);
 
@@ -71,9 +74,9 @@ int runGlBench(const Scene& scene, const GlBenchSettings& s) {
   const double perPass = std::max(probe.primarySeconds + probe.bounceSeconds, 1e-4);
   const int passes = std::max(1, static_cast<int>(s.seconds / 3.0 / perPass));
   const gl::RayBenchmark rays = tracer->benchmarkRays(camera, s.width, s.height, passes);
-  fmt::print("primary rays: {:.1f} Mrays/s ({} passes of {})\n",
+  fmt::print("primary rays: {:.2f} Mrays/s ({} passes of {})\n",
              rays.primaryRays * double(rays.passes) / rays.primarySeconds * 1e-6, rays.passes, rays.primaryRays);
-  fmt::print("bounce rays:  {:.1f} Mrays/s ({} passes of {})\n",
+  fmt::print("bounce rays:  {:.2f} Mrays/s ({} passes of {})\n",
              rays.bounceRays * double(rays.passes) / rays.bounceSeconds * 1e-6, rays.passes, rays.bounceRays);
 
   // Full samples in both lighting modes. A sample's cost varies with the dispatch queue's state,

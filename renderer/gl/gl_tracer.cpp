@@ -79,7 +79,9 @@ struct GlTracer::Impl {
   GlTextures textures;
   GlSceneBuffers buffers;
   // Compiled on first use: llvmpipe takes seconds for the path tracer, which AOVs do not need.
-  std::unique_ptr<ComputeProgram> aovProgram, pathProgram, rayBenchProgram;
+  // The path tracer: one program per lighting mode (faithful, physical), BT_LIGHTING_PHYSICAL
+  // chosen at build, so each compiles only its own integrator.
+  std::unique_ptr<ComputeProgram> aovProgram, pathPrograms[2], rayBenchProgram;
   ProgramCache programCache = ProgramCache::fromEnvironment(context.info().vendor);
   GpuWorld world;
   GLuint cameraBuffer = 0;
@@ -97,6 +99,15 @@ struct GlTracer::Impl {
   }
   ComputeProgram& program(std::unique_ptr<ComputeProgram>& slot, const char* name) {
     if (!slot) slot = std::make_unique<ComputeProgram>(name, shaderDefines(textures.mode()), programCache);
+    return *slot;
+  }
+  ComputeProgram& pathTracer(bool physical) {
+    std::unique_ptr<ComputeProgram>& slot = pathPrograms[physical ? 1 : 0];
+    if (!slot) {
+      std::vector<std::string> defines = shaderDefines(textures.mode());
+      if (physical) defines.emplace_back("BT_LIGHTING_PHYSICAL");
+      slot = std::make_unique<ComputeProgram>("pathtrace.comp", defines, programCache);
+    }
     return *slot;
   }
 
@@ -144,16 +155,16 @@ TextureMode GlTracer::textureMode() const { return impl_->textures.mode(); }
 
 void GlTracer::setProgramCache(ProgramCache cache) { impl_->programCache = std::move(cache); }
 
-ProgramBuild GlTracer::buildPathTracer(int width, int height) {
+ProgramBuild GlTracer::buildPathTracer(int width, int height, bool physical) {
   const auto start = std::chrono::steady_clock::now();
-  const ComputeProgram& program = impl_->program(impl_->pathProgram, "pathtrace.comp");
+  const ComputeProgram& program = impl_->pathTracer(physical);
   // Drivers may leave the real compile to the first dispatch (llvmpipe does). One dispatch whose
   // invocations all return at once (image size 0 in the camera block) makes them finish it
   // here. llvmpipe compiles a variant per bound image shape (power-of-two sizes or not), so
   // the image is the size the renders will use.
   StorageImage target(GL_RGBA32F, std::max(width, 1), std::max(height, 1));
   target.bindImage(0, GL_READ_WRITE);
-  impl_->setWorld(false, 0);
+  impl_->setWorld(physical, 0);
   impl_->setCamera(CameraBasis{}, 0, 0, 0, 0);
   program.dispatch2d(1, 1);
   BT_GL(glFinish());
@@ -203,7 +214,7 @@ BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettin
   out.height = settings.height;
   for (int sample = 0; sample < settings.spp; ++sample) {
     impl_->setCamera(camera, settings.width, settings.height, static_cast<uint32_t>(sample), settings.seed, 0);
-    impl_->program(impl_->pathProgram, "pathtrace.comp").dispatch2d(settings.width, settings.height);
+    impl_->pathTracer(settings.physical).dispatch2d(settings.width, settings.height);
     // Each sample reads the sum the previous one wrote.
     BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT));
     out.samples = sample + 1;

@@ -119,9 +119,9 @@ public:
   // Where programs are cached; ProgramCache::fromEnvironment(GL_VENDOR) unless set before they
   // are built.
   void setProgramCache(ProgramCache cache);
-  // Builds the path tracer's program now for images of width x height (renderBeauty otherwise
-  // builds it on first use).
-  ProgramBuild buildPathTracer(int width, int height);
+  // Builds the path tracer's program for one lighting mode (BeautySettings::physical) now, for
+  // images of width x height (renderBeauty otherwise builds it on first use).
+  ProgramBuild buildPathTracer(int width, int height, bool physical);
 
   AovImages renderAovs(const CameraBasis& camera, int width, int height);
 
