@@ -46,11 +46,11 @@ void subdivide(const Winding& w, double size, std::vector<Winding>& pieces) {
 // that each one fits the engine's surface cache. ericw-tools `light` sees these pieces.
 void subdivideForQbsp(const Winding& w, const TextureFrame& frame, std::vector<Winding>& pieces) {
   constexpr double kSubdivideTexels = 240.0, kCutMargin = 16.0;
-  std::vector<Winding> todo{w}, next;
+  std::vector<Winding> current{w}, next;
   for (const dvec3& axis : {frame.tangent, frame.bitangent}) {
     const double scale = glm::length(axis);
     if (scale <= 0.0) continue;
-    for (Winding rest : todo) {
+    for (Winding rest : current) {
       while (rest.size() >= 3) {
         double lo = 1e300, hi = -1e300;
         for (const dvec3& p : rest) lo = std::min(lo, glm::dot(p, axis)), hi = std::max(hi, glm::dot(p, axis));
@@ -63,10 +63,10 @@ void subdivideForQbsp(const Winding& w, const TextureFrame& frame, std::vector<W
       }
       if (rest.size() >= 3) next.push_back(std::move(rest));
     }
-    todo.swap(next);
+    current.swap(next);
     next.clear();
   }
-  for (Winding& piece : todo) pieces.push_back(std::move(piece));
+  for (Winding& piece : current) pieces.push_back(std::move(piece));
 }
 
 // The texture's mean colour in its own (sRGB) space, 0..1, as ericw-tools averages it.
