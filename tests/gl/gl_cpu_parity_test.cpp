@@ -103,14 +103,22 @@ void expectBeautyAgrees(const RenderImage& gpu, const RenderImage& cpu, double m
   EXPECT_GT(cpuSum.x + cpuSum.y + cpuSum.z, 0.0) << "a black image proves nothing";
 }
 
-TEST(GlCpuParity, FaithfulBeautyAgreesWithTheCpuReference) {
-  BT_REQUIRE_SHARED(shared);
-  const auto level = loadLibreQuake(shared, "misc/slope.map");
+// kWidth x kHeight at 4 spp; physical mode with 2 bounces.
+RenderSettings beautySettings(LightingMode mode, uint32_t seed) {
   RenderSettings settings;
   settings.width = kWidth;
   settings.height = kHeight;
   settings.spp = 4;
-  settings.seed = 3;
+  settings.seed = seed;
+  settings.integrator.mode = mode;
+  if (mode == LightingMode::Physical) settings.integrator.bounces = 2;
+  return settings;
+}
+
+TEST(GlCpuParity, FaithfulBeautyAgreesWithTheCpuReference) {
+  BT_REQUIRE_SHARED(shared);
+  const auto level = loadLibreQuake(shared, "misc/slope.map");
+  const RenderSettings settings = beautySettings(LightingMode::Faithful, 3);
   RenderImage cpu;
   const RenderImage gpu = renderBoth(level->render, level->pose, settings, cpu);
   expectBeautyAgrees(gpu, cpu, 0.01);
@@ -119,13 +127,7 @@ TEST(GlCpuParity, FaithfulBeautyAgreesWithTheCpuReference) {
 TEST(GlCpuParity, PhysicalBeautyAgreesWithTheCpuReference) {
   BT_REQUIRE_SHARED(shared);
   const auto level = loadLibreQuake(shared, "misc/slope.map");
-  RenderSettings settings;
-  settings.width = kWidth;
-  settings.height = kHeight;
-  settings.spp = 4;
-  settings.seed = 5;
-  settings.integrator.mode = LightingMode::Physical;
-  settings.integrator.bounces = 2;
+  const RenderSettings settings = beautySettings(LightingMode::Physical, 5);
   RenderImage cpu;
   const RenderImage gpu = renderBoth(level->render, level->pose, settings, cpu);
   expectBeautyAgrees(gpu, cpu, 0.03);
@@ -140,13 +142,7 @@ TEST(GlCpuParity, PhysicalBeautyWithEmittersAgreesWithTheCpuReference) {
   level.render = buildRenderScene(level.scene, {}, diagnostics);
   level.pose = defaultCameraPose(level.scene);
   ASSERT_FALSE(level.render.emitters.empty()) << "start.map must keep an emitting face for this test";
-  RenderSettings settings;
-  settings.width = kWidth;
-  settings.height = kHeight;
-  settings.spp = 4;
-  settings.seed = 9;
-  settings.integrator.mode = LightingMode::Physical;
-  settings.integrator.bounces = 2;
+  const RenderSettings settings = beautySettings(LightingMode::Physical, 9);
   RenderImage cpu;
   const RenderImage gpu = renderBoth(level.render, level.pose, settings, cpu);
   expectBeautyAgrees(gpu, cpu, 0.03);

@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <optional>
 
 namespace bt {
 namespace {
@@ -132,21 +133,35 @@ std::filesystem::path sourceMap(const std::filesystem::path& shared, const std::
   return {};
 }
 
+// The lit oracle level maps_<name>.bsp against faithful mode on its source .map, with the figures
+// printed to the test log (they are what the closing note reports); nullopt, with the failure
+// recorded, when the level or its manifest entry is missing.
+std::optional<OracleResult> compareLitLevel(const std::filesystem::path& shared, const std::string& name) {
+  const std::string bspName = "maps_" + name + ".bsp";
+  const std::filesystem::path bspPath = shared / "oracle" / "lit" / bspName;
+  if (!std::filesystem::exists(bspPath)) {
+    ADD_FAILURE() << bspPath << " does not exist";
+    return std::nullopt;
+  }
+  const std::filesystem::path map = sourceMap(shared, bspName);
+  if (map.empty()) {
+    ADD_FAILURE() << "no manifest entry for " << bspName;
+    return std::nullopt;
+  }
+  const OracleResult r = compareWithCompiler(bspPath, map);
+  std::printf("%s", fmt::format("oracle {}: {} faces, {} luxels, median error {:.2f} %, within 5 %: {:.1f} %, mean |diff| {:.2f}/255, mean diff {:+.2f}\n",
+                                name, r.faces, r.luxels, 100.0 * r.medianError, 100.0 * double(r.within5) / double(std::max<size_t>(r.luxels, 1)),
+                                r.meanAbsError, r.meanSignedError).c_str());
+  return r;
+}
+
 class OracleLightmaps : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(OracleLightmaps, FaithfulDirectLightMatchesCompiler) {
   BT_REQUIRE_SHARED(shared);
-  const std::string name = GetParam();
-  const std::string bspName = "maps_" + name + ".bsp";
-  const std::filesystem::path bspPath = shared / "oracle" / "lit" / bspName;
-  ASSERT_TRUE(std::filesystem::exists(bspPath)) << bspPath;
-  const std::filesystem::path map = sourceMap(shared, bspName);
-  ASSERT_FALSE(map.empty()) << "no manifest entry for " << bspName;
-  const OracleResult r = compareWithCompiler(bspPath, map);
-  // The figures go to the test log: they are what the closing note reports.
-  std::printf("%s", fmt::format("oracle {}: {} faces, {} luxels, median error {:.2f} %, within 5 %: {:.1f} %, mean |diff| {:.2f}/255, mean diff {:+.2f}\n",
-                                name, r.faces, r.luxels, 100.0 * r.medianError, 100.0 * double(r.within5) / double(std::max<size_t>(r.luxels, 1)),
-                                r.meanAbsError, r.meanSignedError).c_str());
+  const std::optional<OracleResult> result = compareLitLevel(shared, GetParam());
+  ASSERT_TRUE(result);
+  const OracleResult& r = *result;
   ASSERT_GT(r.luxels, 0u);
   EXPECT_LE(r.medianError, 0.05);
 }
@@ -200,15 +215,9 @@ class OracleSurfaceLights : public ::testing::TestWithParam<SurfaceCase> {};
 TEST_P(OracleSurfaceLights, FaithfulSurfaceLightsTrackCompiler) {
   BT_REQUIRE_SHARED(shared);
   const SurfaceCase c = GetParam();
-  const std::string bspName = std::string("maps_") + c.name + ".bsp";
-  const std::filesystem::path bspPath = shared / "oracle" / "lit" / bspName;
-  ASSERT_TRUE(std::filesystem::exists(bspPath)) << bspPath;
-  const std::filesystem::path map = sourceMap(shared, bspName);
-  ASSERT_FALSE(map.empty()) << "no manifest entry for " << bspName;
-  const OracleResult r = compareWithCompiler(bspPath, map);
-  std::printf("%s", fmt::format("oracle {}: {} faces, {} luxels, median error {:.2f} %, within 5 %: {:.1f} %, mean |diff| {:.2f}/255, mean diff {:+.2f}\n",
-                                c.name, r.faces, r.luxels, 100.0 * r.medianError, 100.0 * double(r.within5) / double(std::max<size_t>(r.luxels, 1)),
-                                r.meanAbsError, r.meanSignedError).c_str());
+  const std::optional<OracleResult> result = compareLitLevel(shared, c.name);
+  ASSERT_TRUE(result);
+  const OracleResult& r = *result;
   ASSERT_GT(r.luxels, 0u);
   EXPECT_LE(r.medianError, c.maxMedianError) << "the issue's bar is 5 %";
 }
