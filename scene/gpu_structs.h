@@ -154,8 +154,16 @@ struct GpuLight {
   float faithfulScale = 1.0f;  // faithful mode uses value * this: ericw-tools' count of jittered copies of a
                                // linear light (each keeps the full value); on a per-material _surface
                                // template with kLightFlagFaceMinlight, the face minlight scale
+  // Faithful dirt (ambient occlusion), read only with kLightFlagDirt: the light's own
+  // `_dirtscale` / `_dirtgain` (or the worldspawn's), and with kLightFlagDirtRadius the distances
+  // `_dirt_off_radius` / `_dirt_on_radius` between which dirt ramps in (renderer/cpu/faithful.h).
+  float dirtScale = 1.0f;
+  float dirtGain = 1.0f;
+  float dirtOffRadius = 0.0f;
+  float dirtOnRadius = 0.0f;
 };
-static_assert(sizeof(GpuLight) == 80);
+static_assert(sizeof(GpuLight) == 96);
+static_assert(offsetof(GpuLight, dirtScale) == 80);
 static_assert(offsetof(GpuLight, cosInner) == 64);
 static_assert(offsetof(GpuLight, color) == 16);
 static_assert(offsetof(GpuLight, direction) == 32);
@@ -168,6 +176,8 @@ constexpr uint32_t kLightFlagFromSurface = 4u; // faithful-only point spread ove
                                                // (physical mode lights those faces as area emitters instead)
 constexpr uint32_t kLightFlagFaceMinlight = 8u; // per-material _surface template (radiosity kind): in faithful
                                                 // mode its faces get value * faithfulScale * colour as minlight
+constexpr uint32_t kLightFlagDirt = 16u;        // faithful: dimmed by dirt (worldspawn _dirt, or the light's _dirt 1)
+constexpr uint32_t kLightFlagDirtRadius = 32u;  // ... only beyond _dirt_off_radius, fully beyond _dirt_on_radius
 
 // Face classes, one uint32 per scene face (RenderScene::faceFlags); the geometry and texture
 // frame of a face are the bvh part's GpuFace (scene/gpu_structs.h).

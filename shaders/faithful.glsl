@@ -73,3 +73,60 @@ float sunValue(GpuLight sun, vec3 direction, vec3 normal) {
   if (cosIncidence < 0.0) return 0.0;
   return sun.value * angleTerm(cosIncidence, sun.anglescale);
 }
+
+#ifdef BT_FAITHFUL_DIRT
+// Dirt (renderer/cpu/faithful.h): ericw-tools' ambient occlusion, in programs built for a level
+// that uses it.
+const int DIRT_AZIMUTH_STEPS = 16;
+const int DIRT_ELEVATION_STEPS = 3;
+const int DIRT_RAYS = DIRT_AZIMUTH_STEPS * DIRT_ELEVATION_STEPS;
+const float DIRT_SAMPLE_LIFT = 1.0; // the compiler's sample points sit 1 unit off the face
+
+vec3 dirtPatternVector(int index, float coneRadians) {
+  float azimuth = float(index / DIRT_ELEVATION_STEPS) * (2.0 * 3.14159265358979 / float(DIRT_AZIMUTH_STEPS));
+  float elevation = (float(index % DIRT_ELEVATION_STEPS) + 0.5) * (coneRadians / float(DIRT_ELEVATION_STEPS));
+  return vec3(sin(elevation) * cos(azimuth), sin(elevation) * sin(azimuth), cos(elevation));
+}
+
+vec3 dirtRandomVector(float u0, float u1, float coneRadians) {
+  float azimuth = u0 * 2.0 * 3.14159265358979;
+  float elevation = u1 * coneRadians;
+  return vec3(cos(azimuth) * sin(elevation), sin(azimuth) * sin(elevation), cos(elevation));
+}
+
+// The compiler's tangent frame: unit axes after the normal's largest component.
+vec3 dirtRayDirection(vec3 n, vec3 v) {
+  int axis = 0;
+  float largest = 0.0;
+  for (int i = 0; i < 3; ++i)
+    if (abs(n[i]) > largest) {
+      largest = abs(n[i]);
+      axis = i;
+    }
+  vec3 a = vec3(0.0), b = vec3(0.0);
+  a[(axis + 1) % 3] = 1.0;
+  b[(axis + 2) % 3] = 1.0;
+  vec3 tangent = cross(n, a), bitangent = cross(n, b);
+  if (dot(cross(tangent, bitangent), n) < 0.0) {
+    vec3 t = tangent;
+    tangent = bitangent;
+    bitangent = t;
+  }
+  return normalize(bitangent) * v.x + normalize(tangent) * v.y + n * v.z;
+}
+
+float dirtAmount(float occlusion, float gain, float scale) {
+  if (occlusion <= 0.0) return 0.0;
+  return min(min(pow(occlusion, gain), 1.0) * scale, 1.0);
+}
+
+float lightDirtFactor(GpuLight light, float occlusion, float dist) {
+  if ((light.flags & LIGHT_FLAG_DIRT) == 0u) return 1.0;
+  float dirt = dirtAmount(occlusion, light.dirtGain, light.dirtScale);
+  if ((light.flags & LIGHT_FLAG_DIRT_RADIUS) != 0u) {
+    if (dist < light.dirtOffRadius) dirt = 0.0;
+    else if (dist < light.dirtOnRadius) dirt *= (dist - light.dirtOffRadius) / (light.dirtOnRadius - light.dirtOffRadius);
+  }
+  return 1.0 - dirt;
+}
+#endif

@@ -145,6 +145,7 @@ vec3 skyDomeRadiance(vec3 dir) {
 const uint RAY_SURFACE = 0u; // camera or bounce ray: the next surface drawn (renderer/cpu traceVisible)
 const uint RAY_SHADOW = 1u;  // to a light: is the segment blocked (occluded), any hit
 const uint RAY_SKY = 2u;     // to the sun or the sky dome: does it reach a sky face (reachesSky)
+const uint RAY_DIRT = 3u;    // faithful dirt: how far it gets before a face that blocks light (dirtRayDistance)
 
 struct Path {
   // The ray in flight.
@@ -168,6 +169,10 @@ struct Path {
   uint lightIndex;
   vec3 pending;
   bool pendingIsFloor; // faithful: a delay 4 light, which raises a floor instead of adding
+  // Faithful dirt (BT_FAITHFUL_DIRT): the surface's occlusion rays, traced before its lights.
+  int dirtRay;      // rays set up so far
+  float dirtSum;    // their distances, each at most _dirtdepth
+  float occlusion;  // 0 open .. 1 enclosed, once all are back (renderer/cpu faithfulDirtOcclusion)
   // Faithful mode: the lights at this surface, and over the path (renderer/cpu faithfulLightAt,
   // faithfulBounce, radianceFaithful).
   vec3 lightSum;
@@ -196,6 +201,40 @@ void setRay(inout Path path, uint kind, vec3 origin, vec3 dir, float tMax) {
 
 // ---- faithful mode ---------------------------------------------------------------------
 
+// What dirt leaves of a light `dist` away at the current surface (1 without dirt).
+float dirtFactor(Path path, GpuLight light, float dist) {
+#ifdef BT_FAITHFUL_DIRT
+  return lightDirtFactor(light, path.occlusion, dist);
+#else
+  return 1.0;
+#endif
+}
+
+// ... and of the worldspawn minlight (_minlight_dirt).
+float minlightDirtFactor(Path path) {
+#ifdef BT_FAITHFUL_DIRT
+  if (world.minlightDirt != 0u) return 1.0 - dirtAmount(path.occlusion, world.dirtGain, world.dirtScale);
+#endif
+  return 1.0;
+}
+
+#ifdef BT_FAITHFUL_DIRT
+// The surface's next occlusion ray (renderer/cpu faithfulOcclusion): the fixed pattern, or for
+// _dirtmode 1 a random direction of the cone, from 1 unit off the face.
+void faithfulDirtRay(inout Path path, inout Rng rng) {
+  vec3 v;
+  if (world.dirtMode == 1u) {
+    float u0 = rngNext(rng);
+    float u1 = rngNext(rng);
+    v = dirtRandomVector(u0, u1, world.dirtAngle);
+  } else {
+    v = dirtPatternVector(path.dirtRay, world.dirtAngle);
+  }
+  setRay(path, RAY_DIRT, path.position + path.normal * DIRT_SAMPLE_LIFT, dirtRayDirection(path.normal, v), world.dirtDepth);
+  path.dirtRay++;
+}
+#endif
+
 // One light of renderer/cpu faithfulLightFromGrid at the current surface: false if it adds nothing
 // here, else the ray that decides whether it does.
 bool faithfulLightRay(inout Path path, GpuLight light, inout Rng rng) {
@@ -207,7 +246,7 @@ bool faithfulLightRay(inout Path path, GpuLight light, inout Rng rng) {
     vec3 d = pos - p;
     float dist = length(d);
     if (dist <= 0.0) return false;
-    float value = pointLightValue(light, n, d / dist, dist, world.scaledist);
+    float value = pointLightValue(light, n, d / dist, dist, world.scaledist) * dirtFactor(path, light, dist);
     if (value == 0.0) return false;
     vec3 toLight = pos - origin;
     float len = length(toLight);
@@ -219,7 +258,7 @@ bool faithfulLightRay(inout Path path, GpuLight light, inout Rng rng) {
   if (light.type == LIGHT_SUN) {
     vec3 toSun = -light.direction;
     if (light.deviance > 0.0) toSun = sampleCone(toSun, light.deviance, rngNext2(rng));
-    float value = sunValue(light, -toSun, n);
+    float value = sunValue(light, -toSun, n) * dirtFactor(path, light, 0.0);
     if (value == 0.0) return false;
     setRay(path, RAY_SKY, origin, toSun, INFINITY);
     path.pending = value * light.color;
@@ -230,7 +269,7 @@ bool faithfulLightRay(inout Path path, GpuLight light, inout Rng rng) {
     float cosIncidence = dot(dir, n);
     if (cosIncidence <= 0.0) return false;
     setRay(path, RAY_SKY, origin, dir, INFINITY);
-    path.pending = light.value * angleTerm(cosIncidence, light.anglescale) * light.color;
+    path.pending = light.value * angleTerm(cosIncidence, light.anglescale) * dirtFactor(path, light, 0.0) * light.color;
     return true;
   }
   return false;
@@ -280,12 +319,15 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
   path.normal = hit.normal;
   path.lightSum = vec3(0.0);
   path.lightFloor = vec3(0.0);
+  path.dirtRay = 0;
+  path.dirtSum = 0.0;
+  path.occlusion = 0.0;
   return true;
 }
 
 // The surface's lights are all done: the next _bounce ray, or false at the path's end.
 bool faithfulBounce(inout Path path, inout Rng rng) {
-  vec3 light = max(max(path.lightSum, path.lightFloor), world.minlight);
+  vec3 light = max(max(path.lightSum, path.lightFloor), world.minlight * minlightDirtFactor(path));
   if (path.depth == 0) {
     // The _surface template's own faces: ericw-tools' face minlight (renderer/cpu faithfulFaceMinlight).
     path.lit = max(light, surfaceFaceMinlight(surfaceLights[faces[path.face].material]));
@@ -427,6 +469,13 @@ bool physicalBounce(inout Path path, inout Rng rng) {
 //   physical: the fixed list's suns, one selected point light (allLightsSelected), then one
 //             emitter sample.
 bool nextLightRay(inout Path path, inout Rng rng) {
+#ifdef BT_FAITHFUL_DIRT
+  // Faithful dirt: the occlusion rays come first, as every light needs the occlusion.
+  if (!PHYSICAL && path.dirtRay < DIRT_RAYS) {
+    faithfulDirtRay(path, rng);
+    return true;
+  }
+#endif
   uint cell = lightGridCell(path.position);
   uint count = PHYSICAL ? lightGrid.fixedCount + 1u : faithfulLightCount(cell);
   while (path.lightIndex <= count) {
@@ -479,8 +528,15 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
       path.tMin = hit.t + SKIP_STEP;
       return true;
     }
-    bool gaveUp = passThrough; // too many skips: a miss for surface rays, blocked for sky rays
-    if (path.kind == RAY_SKY) {
+    bool gaveUp = passThrough; // too many skips: a miss for surface rays, blocked for sky and dirt rays
+    if (path.kind == RAY_DIRT) {
+#ifdef BT_FAITHFUL_DIRT
+      // A face that blocks light ends the ray where it is; the sky or nothing counts as _dirtdepth.
+      bool solid = hit.face != NO_FACE && (gaveUp || (flags & FACE_SKY) == 0u);
+      path.dirtSum += solid ? min(hit.t, world.dirtDepth) : world.dirtDepth;
+      if (path.dirtRay == DIRT_RAYS) path.occlusion = 1.0 - path.dirtSum / (float(DIRT_RAYS) * world.dirtDepth);
+#endif
+    } else if (path.kind == RAY_SKY) {
       bool reached = !gaveUp && (hit.face == NO_FACE || (flags & FACE_SKY) != 0u);
       if (reached) {
         if (PHYSICAL) path.radiance += path.throughput * path.pending;

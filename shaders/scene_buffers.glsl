@@ -25,4 +25,11 @@ layout(std140, binding = 1) uniform World {
   float emitterArea;
   uint physical;      // 0 faithful, 1 physical (pathtrace.comp: BT_LIGHTING_PHYSICAL decides)
   int bounces;        // physical: --bounces
+  // Faithful dirt (renderer/cpu DirtSettings), read with BT_FAITHFUL_DIRT only.
+  uint dirtMode;      // 0: the fixed 48-ray pattern, 1: random rays in the cone
+  float dirtDepth;    // _dirtdepth
+  float dirtAngle;    // _dirtangle, radians
+  float dirtScale;    // worldspawn _dirtscale / _dirtgain (minlight's dirt)
+  float dirtGain;
+  uint minlightDirt;  // _minlight_dirt
 } world;

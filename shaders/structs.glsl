@@ -78,6 +78,8 @@ const uint FORMULA_SURFACE_RADIOSITY = 6u;
 const uint LIGHT_FLAG_BLEED = 2u;
 const uint LIGHT_FLAG_FROM_SURFACE = 4u;
 const uint LIGHT_FLAG_FACE_MINLIGHT = 8u;
+const uint LIGHT_FLAG_DIRT = 16u;
+const uint LIGHT_FLAG_DIRT_RADIUS = 32u;
 
 struct GpuLight {
   vec3 origin;     // offset 0
@@ -94,7 +96,11 @@ struct GpuLight {
   float deviance;  // offset 68
   uint flags;      // offset 72
   float faithfulScale; // offset 76
-};                 // 80 bytes
+  float dirtScale;     // offset 80: faithful dirt (LIGHT_FLAG_DIRT), renderer/cpu/faithful.h
+  float dirtGain;      // offset 84
+  float dirtOffRadius; // offset 88: with LIGHT_FLAG_DIRT_RADIUS
+  float dirtOnRadius;  // offset 92
+};                 // 96 bytes
 
 // scene/gpu_structs.h GpuEmitter: one triangle of an emitting face, cdf by area.
 struct GpuEmitter {

@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <cmath>
 
 namespace bt::faithful {
 
@@ -114,6 +115,75 @@ inline float sunValue(const GpuLight& sun, const glm::vec3& normal) {
   const float cosIncidence = glm::dot(-sun.direction, normal);
   if (cosIncidence < 0.0f) return 0.0f;
   return sun.value * angleTerm(cosIncidence, sun.anglescale);
+}
+
+// --- Dirt (ericw-tools' dirtmapping, from q3map2: a fake ambient occlusion) ---------------
+// At each sample point the compiler casts rays into a cone around the normal and averages how
+// far they get (a hit beyond `_dirtdepth` counts as `_dirtdepth`): occlusion = 1 - mean / depth,
+// 0 in the open, 1 with a wall right on the point. Each light dimmed by dirt is multiplied by
+// 1 - dirt, dirt = min(1, min(1, occlusion ^ gain) x scale).
+
+// `_dirtmode 0`: the fixed pattern, 16 azimuths x 3 elevations (at 1/6, 3/6 and 5/6 of the
+// cone's half-angle).
+inline constexpr int kDirtAzimuthSteps = 16;
+inline constexpr int kDirtElevationSteps = 3;
+inline constexpr int kDirtRays = kDirtAzimuthSteps * kDirtElevationSteps;
+// The compiler's sample points sit this far off the face (ltface.cc sampleOffPlaneDist); the
+// occlusion rays leave from there.
+inline constexpr float kDirtSampleLift = 1.0f;
+
+// Ray `index` of the fixed pattern in the sample's tangent space (z along the normal), for a
+// cone of half-angle `coneRadians`; azimuth-major, as SetupDirt orders them.
+inline glm::vec3 dirtPatternVector(int index, float coneRadians) {
+  const float azimuth = float(index / kDirtElevationSteps) * (2.0f * 3.14159265358979f / float(kDirtAzimuthSteps));
+  const float elevation = (float(index % kDirtElevationSteps) + 0.5f) * (coneRadians / float(kDirtElevationSteps));
+  return {std::sin(elevation) * std::cos(azimuth), std::sin(elevation) * std::sin(azimuth), std::cos(elevation)};
+}
+
+// `_dirtmode 1`: a random direction of the cone from two uniform numbers (azimuth, elevation;
+// uniform in angle, not in solid angle, as the compiler draws them).
+inline glm::vec3 dirtRandomVector(float u0, float u1, float coneRadians) {
+  const float azimuth = u0 * 2.0f * 3.14159265358979f;
+  const float elevation = u1 * coneRadians;
+  return {std::cos(azimuth) * std::sin(elevation), std::sin(azimuth) * std::sin(elevation), std::cos(elevation)};
+}
+
+// The tangent frame the compiler turns the pattern into (qvec MakeTangentAndBitangentUnnormalized):
+// built from the unit axes after the normal's largest component, so the pattern's azimuth
+// depends on the face's orientation. Returns the direction of tangent-space vector `v`.
+inline glm::vec3 dirtRayDirection(const glm::vec3& n, const glm::vec3& v) {
+  int axis = 0;
+  float largest = 0.0f;
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(n[i]) > largest) largest = std::abs(n[i]), axis = i;
+  glm::vec3 a(0.0f), b(0.0f);
+  a[(axis + 1) % 3] = 1.0f;
+  b[(axis + 2) % 3] = 1.0f;
+  glm::vec3 tangent = glm::cross(n, a), bitangent = glm::cross(n, b);
+  if (glm::dot(glm::cross(tangent, bitangent), n) < 0.0f) std::swap(tangent, bitangent);
+  return glm::normalize(bitangent) * v.x + glm::normalize(tangent) * v.y + n * v.z;
+}
+
+// Occlusion from the summed ray distances (each already clamped to `depth`) of `rays` rays.
+inline float dirtOcclusion(float distanceSum, int rays, float depth) {
+  return 1.0f - distanceSum / (float(rays) * depth);
+}
+
+// How much dirt takes away at this occlusion, 0..1 (Dirt_GetScaleFactor before the radius ramp).
+inline float dirtAmount(float occlusion, float gain, float scale) {
+  if (occlusion <= 0.0f) return 0.0f;
+  return std::min(std::min(std::pow(occlusion, gain), 1.0f) * scale, 1.0f);
+}
+
+// The factor dirt leaves of one light at a point `dist` from it (1 for lights without dirt).
+inline float lightDirtFactor(const GpuLight& light, float occlusion, float dist) {
+  if (!(light.flags & kLightFlagDirt)) return 1.0f;
+  float dirt = dirtAmount(occlusion, light.dirtGain, light.dirtScale);
+  if (light.flags & kLightFlagDirtRadius) {
+    if (dist < light.dirtOffRadius) dirt = 0.0f;
+    else if (dist < light.dirtOnRadius) dirt *= (dist - light.dirtOffRadius) / (light.dirtOnRadius - light.dirtOffRadius);
+  }
+  return 1.0f - dirt;
 }
 
 // The value the compiler stores in the lightmap for a light sum.

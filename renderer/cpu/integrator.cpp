@@ -4,6 +4,7 @@
 #include "renderer/cpu/faithful.h"
 
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -126,17 +127,56 @@ glm::vec3 emissiveAt(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
 
 namespace {
 
-// Faithful mode: one light's share of the light sum at p (surface normal n, shadow rays leave
-// from `origin`). Local-minlight lights raise `localMin` instead: they are a floor, not a sum.
+// How far a dirt ray gets: the first face that blocks light, or `depth` when it meets none (or
+// the sky: ericw-tools counts only solid hits) within it.
+float dirtRayDistance(const RenderScene& rs, const glm::vec3& origin, const glm::vec3& dir, float depth) {
+  Ray r{origin, 0.0f, dir, depth};
+  float lastT = depth;
+  for (int i = 0; i < kMaxSkips; ++i) {
+    const std::optional<Hit> hit = rs.tracer.closestHit(r);
+    if (!hit) return depth;
+    const uint32_t flags = rs.faceFlags[hit->face];
+    if (!hit->inside && (flags & kFaceSky)) return depth;
+    if (!hit->inside && blocksLight(flags, LightingMode::Faithful)) return std::min(hit->t, depth);
+    lastT = hit->t;
+    r.tMin = hit->t + 1e-3f;
+  }
+  return lastT; // too many faces to pass: blocked where the search stopped
+}
+
+// Faithful dirt occlusion at p (0 open .. 1 enclosed), or 0 when the level uses no dirt.
+float faithfulOcclusion(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng) {
+  const DirtSettings& dirt = rs.world.dirtSettings;
+  if (!dirt.enabled) return 0.0f;
+  const glm::vec3 origin = p + n * faithful::kDirtSampleLift;
+  const float cone = glm::radians(dirt.angle);
+  float sum = 0.0f;
+  for (int i = 0; i < faithful::kDirtRays; ++i) {
+    glm::vec3 v;
+    if (dirt.mode == 1) {
+      const float u0 = rng.next(), u1 = rng.next(); // in this order, as the GL tracer draws them
+      v = faithful::dirtRandomVector(u0, u1, cone);
+    } else {
+      v = faithful::dirtPatternVector(i, cone);
+    }
+    sum += dirtRayDistance(rs, origin, faithful::dirtRayDirection(n, v), dirt.depth);
+  }
+  return faithful::dirtOcclusion(sum, faithful::kDirtRays, dirt.depth);
+}
+
+// Faithful mode: one light's share of the light sum at p (surface normal n, dirt occlusion
+// `occlusion`, shadow rays leave from `origin`). Local-minlight lights raise `localMin`
+// instead: they are a floor, not a sum.
 void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const glm::vec3& p, const glm::vec3& n,
-                      const glm::vec3& origin, Rng& rng, glm::vec3& sum, glm::vec3& localMin) {
+                      const glm::vec3& origin, float occlusion, Rng& rng, glm::vec3& sum, glm::vec3& localMin) {
   if (light.type == uint32_t(LightType::Point)) {
     const glm::vec3 pos = jitteredOrigin(light, rng);
     const glm::vec3 d = pos - p;
     const float dist = glm::length(d);
     if (dist <= 0.0f) return;
     const glm::vec3 toLight = d / dist;
-    const float value = faithful::pointLightValue(light, n, toLight, dist, rs.world.scaledist);
+    const float value = faithful::pointLightValue(light, n, toLight, dist, rs.world.scaledist) *
+                        faithful::lightDirtFactor(light, occlusion, dist);
     if (value == 0.0f) return;
     const glm::vec3 toLightFromOrigin = pos - origin;
     const float len = glm::length(toLightFromOrigin);
@@ -148,7 +188,7 @@ void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const glm::v
     if (light.deviance > 0.0f) toSun = sampleCone(toSun, light.deviance, rng.next2());
     GpuLight jittered = light;
     jittered.direction = -toSun;
-    const float value = faithful::sunValue(jittered, n);
+    const float value = faithful::sunValue(jittered, n) * faithful::lightDirtFactor(light, occlusion, 0.0f);
     if (value == 0.0f) return;
     if (!reachesSky(rs, Ray{origin, 0.0f, toSun, std::numeric_limits<float>::infinity()}, LightingMode::Faithful)) return;
     sum += value * light.color;
@@ -159,32 +199,42 @@ void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const glm::v
     const float cosIncidence = glm::dot(dir, n);
     if (cosIncidence <= 0.0f) return;
     if (!reachesSky(rs, Ray{origin, 0.0f, dir, std::numeric_limits<float>::infinity()}, LightingMode::Faithful)) return;
-    sum += light.value * faithful::angleTerm(cosIncidence, light.anglescale) * light.color;
+    sum += light.value * faithful::angleTerm(cosIncidence, light.anglescale) *
+           faithful::lightDirtFactor(light, occlusion, 0.0f) * light.color;
   }
 }
 
-// worldspawn minlight and delay-4 lights are floors under the sum, not terms of it.
-glm::vec3 applyFloors(const RenderScene& rs, const glm::vec3& sum, const glm::vec3& localMin) {
-  return glm::max(glm::max(sum, localMin), rs.world.minlight);
+// worldspawn minlight and delay-4 lights are floors under the sum, not terms of it; with
+// `_minlight_dirt`, dirt dims the minlight too.
+glm::vec3 applyFloors(const RenderScene& rs, const glm::vec3& sum, const glm::vec3& localMin, float occlusion) {
+  const DirtSettings& dirt = rs.world.dirtSettings;
+  const float minlightDirt = dirt.minlight ? 1.0f - faithful::dirtAmount(occlusion, dirt.gain, dirt.scale) : 1.0f;
+  return glm::max(glm::max(sum, localMin), rs.world.minlight * minlightDirt);
 }
 
 } // namespace
 
+float faithfulDirtOcclusion(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng) {
+  return faithfulOcclusion(rs, p, n, rng);
+}
+
 glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng) {
+  const float occlusion = faithfulOcclusion(rs, p, n, rng);
   const glm::vec3 origin = offsetPoint(p, n);
   glm::vec3 sum(0.0f), localMin(0.0f);
-  for (const GpuLight& light : rs.lights) addFaithfulLight(rs, light, p, n, origin, rng, sum, localMin);
-  return applyFloors(rs, sum, localMin);
+  for (const GpuLight& light : rs.lights) addFaithfulLight(rs, light, p, n, origin, occlusion, rng, sum, localMin);
+  return applyFloors(rs, sum, localMin, occlusion);
 }
 
 glm::vec3 faithfulLightFromGrid(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng) {
+  const float occlusion = faithfulOcclusion(rs, p, n, rng);
   const glm::vec3 origin = offsetPoint(p, n);
   glm::vec3 sum(0.0f), localMin(0.0f);
   const LightGrid& grid = rs.lightGrid;
-  for (uint32_t i : grid.fixedLights()) addFaithfulLight(rs, rs.lights[i], p, n, origin, rng, sum, localMin);
-  for (uint32_t i : grid.globalLights()) addFaithfulLight(rs, rs.lights[i], p, n, origin, rng, sum, localMin);
-  for (uint32_t i : grid.cellLights(p)) addFaithfulLight(rs, rs.lights[i], p, n, origin, rng, sum, localMin);
-  return applyFloors(rs, sum, localMin);
+  for (uint32_t i : grid.fixedLights()) addFaithfulLight(rs, rs.lights[i], p, n, origin, occlusion, rng, sum, localMin);
+  for (uint32_t i : grid.globalLights()) addFaithfulLight(rs, rs.lights[i], p, n, origin, occlusion, rng, sum, localMin);
+  for (uint32_t i : grid.cellLights(p)) addFaithfulLight(rs, rs.lights[i], p, n, origin, occlusion, rng, sum, localMin);
+  return applyFloors(rs, sum, localMin, occlusion);
 }
 
 glm::vec3 faithfulFaceMinlight(const RenderScene& rs, uint32_t face) {

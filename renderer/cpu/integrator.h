@@ -46,6 +46,12 @@ glm::vec3 emissiveAt(const RenderScene& rs, uint32_t face, const glm::vec3& p); 
 // Every light of the level is looked at: the reference (tests/render/oracle_test.cpp).
 glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng);
 
+// Faithful dirt (worldspawn `_dirt`, ericw-tools' ambient occlusion) at surface point p with
+// normal n: 0 in the open .. 1 enclosed, 0 when the level uses no dirt. faithfulLightAt and
+// faithfulLightFromGrid compute it first (drawing `_dirtmode 1`'s random numbers before any
+// light's) and dim each light that has kLightFlagDirt by faithful::lightDirtFactor.
+float faithfulDirtOcclusion(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng);
+
 // The same sum over the light grid's lists only (light_grid.h): suns, domes, local minlights
 // and infinite-reach lights, then the finite-reach lights of p's cell. Lights left out give
 // exactly 0 at p, so for lights without soft shadows the result equals faithfulLightAt's (up

@@ -144,7 +144,53 @@ WorldLighting readWorld(const Scene& scene, Diagnostics& diagnostics) {
   world.surflightRadiosity = keys.number("_surflight_radiosity", 0.0f) != 0.0f;
   world.surflightScale = keys.number("_surflightscale", world.surflightScale);
   world.surflightMinlightScale = keys.number("_surflight_minlight_scale", world.surflightMinlightScale);
+
+  world.dirt = toInt(keys.number("_dirt", 0.0f)) == 1;
+  DirtSettings& dirt = world.dirtSettings;
+  dirt.mode = toInt(keys.number("_dirtmode", 0.0f)) == 1 ? 1 : 0;
+  dirt.depth = keys.number("_dirtdepth", dirt.depth);
+  if (dirt.depth <= 0.0f) {
+    keys.warn(fmt::format("_dirtdepth {} is not positive; using 128", dirt.depth));
+    dirt.depth = 128.0f;
+  }
+  dirt.scale = keys.number("_dirtscale", dirt.scale);
+  dirt.gain = keys.number("_dirtgain", dirt.gain);
+  dirt.angle = std::clamp(keys.number("_dirtangle", dirt.angle), 0.0f, 90.0f);
+  // ericw-tools (FixupGlobalSettings): `_dirt 1` also dims minlight and sunlight, unless the
+  // level sets those keys itself.
+  dirt.minlight = keys.number("_minlight_dirt", world.dirt ? 1.0f : 0.0f) != 0.0f;
   return world;
+}
+
+// Whether the worldspawn sun key `key` (`_sunlight_dirt`, `_sunlight2_dirt`) puts dirt on
+// its suns: 1 on, anything else off; unset follows `_dirt`.
+bool sunDirt(const KeyReader& keys, const WorldLighting& world, std::string_view key) {
+  return toInt(keys.number(key, world.dirt ? 1.0f : 0.0f)) == 1;
+}
+
+// The worldspawn's dirt scale and gain for a light that is dimmed by dirt (suns, domes).
+void applyWorldDirt(const WorldLighting& world, bool useDirt, GpuLight& light) {
+  if (!useDirt) return;
+  light.flags |= kLightFlagDirt;
+  light.dirtScale = world.dirtSettings.scale;
+  light.dirtGain = world.dirtSettings.gain;
+}
+
+// A light entity's dirt (ericw-tools Dirt_GetScaleFactor): `_dirt` -1 never, 1 always, else as
+// the worldspawn's `_dirt`; its own `_dirtscale` / `_dirtgain` where non-zero; and with both
+// `_dirt_off_radius` and `_dirt_on_radius`, no dirt nearer than the first, full dirt beyond the
+// second.
+void applyLightDirt(const KeyReader& keys, const WorldLighting& world, GpuLight& light) {
+  const int own = toInt(keys.number("_dirt", 0.0f));
+  applyWorldDirt(world, own == 1 || (own != -1 && world.dirt), light);
+  if (!(light.flags & kLightFlagDirt)) return;
+  if (const float scale = keys.number("_dirtscale", 0.0f); scale != 0.0f) light.dirtScale = scale;
+  if (const float gain = keys.number("_dirtgain", 0.0f); gain != 0.0f) light.dirtGain = gain;
+  if (keys.has("_dirt_off_radius") && keys.has("_dirt_on_radius")) {
+    light.flags |= kLightFlagDirtRadius;
+    light.dirtOffRadius = keys.number("_dirt_off_radius", 0.0f);
+    light.dirtOnRadius = keys.number("_dirt_on_radius", 0.0f);
+  }
 }
 
 void addWorldSuns(const Scene& scene, const WorldLighting& world, SceneLights& out, Diagnostics& diagnostics) {
@@ -164,6 +210,7 @@ void addWorldSuns(const Scene& scene, const WorldLighting& world, SceneLights& o
     sun.direction = directionFromMangle(mangle.x, mangle.y);
     sun.anglescale = world.anglescale;
     sun.deviance = glm::radians(keys.number("_sunlight_penumbra", 0.0f));
+    applyWorldDirt(world, sunDirt(keys, world, "_sunlight_dirt"), sun);
     out.lights.push_back(sun);
   }
 
@@ -182,6 +229,7 @@ void addWorldSuns(const Scene& scene, const WorldLighting& world, SceneLights& o
     dome.color = keys.color(d.color, keys.color(d.colorAlt));
     dome.direction = {0.0f, 0.0f, d.z};
     dome.anglescale = world.anglescale;
+    applyWorldDirt(world, sunDirt(keys, world, "_sunlight2_dirt"), dome);
     out.lights.push_back(dome);
   }
 }
@@ -232,18 +280,20 @@ SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagn
       }
     }
 
+    // ericw-tools warns about a `delay` it does not know and then lights nothing with that light
+    // (its q1_light_invalid_delay test map compiles to an empty lightmap lump): so do we.
     const float delay = keys.number("delay", 0.0f);
     if (delay < 0.0f || delay > kMaxFormula || delay != std::floor(delay)) {
-      keys.warn(fmt::format("invalid delay {}, using 0 (linear)", delay));
-      light.formula = uint32_t(LightFormula::Linear);
-    } else {
-      light.formula = static_cast<uint32_t>(delay);
+      keys.warn(fmt::format("invalid delay {}: the compiler lights nothing with this light; ignored", delay));
+      continue;
     }
+    light.formula = static_cast<uint32_t>(delay);
     light.atten = keys.number("wait", 1.0f);
     if (light.atten <= 0.0f) light.atten = 1.0f; // ericw-tools: a non-positive wait means 1
     light.falloff = keys.number("_falloff", 0.0f);
     light.anglescale = keys.number("_anglescale", keys.number("_anglesense", out.world.anglescale));
     applyJitter(keys, light);
+    applyLightDirt(keys, out.world, light);
     if (keys.number("_bleed", 0.0f) != 0.0f) light.flags |= kLightFlagBleed;
 
     if (auto origin = keys.vec3("origin")) {
@@ -303,6 +353,12 @@ SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagn
     }
     out.lights.push_back(light);
   }
+
+  // ericw-tools traces the occlusion rays only where something uses dirt (SetupDirt).
+  DirtSettings& dirt = out.world.dirtSettings;
+  dirt.enabled = out.world.dirt || dirt.minlight;
+  for (const GpuLight& light : out.lights) dirt.enabled = dirt.enabled || (light.flags & kLightFlagDirt);
+  for (const SurfaceTemplate& t : out.surfaceTemplates) dirt.enabled = dirt.enabled || (t.light.flags & kLightFlagDirt);
   return out;
 }
 

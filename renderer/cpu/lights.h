@@ -13,6 +13,19 @@
 
 namespace bt {
 
+// Worldspawn dirt keys (ericw-tools' dirtmapping, q3map2's fake ambient occlusion): how a
+// surface point's occlusion is measured. Which lights it dims is on each GpuLight
+// (kLightFlagDirt); minlight is dimmed when `minlight` is set.
+struct DirtSettings {
+  bool enabled = false;       // anything uses dirt: the occlusion rays are traced at all
+  int mode = 0;               // `_dirtmode`: 0 the fixed 48-ray cone, 1 random rays in it
+  float depth = 128.0f;       // `_dirtdepth`: rays look this far; a hit at 0 is full occlusion
+  float scale = 1.0f;         // `_dirtscale`
+  float gain = 1.0f;          // `_dirtgain`: occlusion ^ gain
+  float angle = 88.0f;        // `_dirtangle`: the cone's half-angle from the normal, degrees
+  bool minlight = false;      // `_minlight_dirt` (on by default when `_dirt` is 1)
+};
+
 // Worldspawn keys that set up the whole level's lighting.
 struct WorldLighting {
   float range = 0.5f;         // `_range`: lightmap = light sum * range
@@ -25,6 +38,8 @@ struct WorldLighting {
   bool surflightRadiosity = false;  // `_surflight_radiosity`: default kind of every _surface template
   float surflightScale = 1.0f;      // `_surflightscale`: scales radiosity surface lights
   float surflightMinlightScale = 1.0f; // `_surflight_minlight_scale`: default face minlight of radiosity templates
+  bool dirt = false;          // `_dirt 1`: every light is dimmed by dirt unless its own `_dirt` is -1
+  DirtSettings dirtSettings;
 };
 
 // An area-light template: a light entity with `_surface "texture"` makes every face with that

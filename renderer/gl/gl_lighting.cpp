@@ -22,6 +22,7 @@ GlLighting lightingFor(const RenderScene& rs) {
   out.bouncescale = rs.world.bouncescale;
   out.faithfulBounces = rs.world.bounces;
   out.litwater = rs.world.litwater;
+  out.dirt = rs.world.dirtSettings;
   return out;
 }
 

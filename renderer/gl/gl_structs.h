@@ -98,10 +98,19 @@ struct GpuWorld {
   float emitterArea;
   uint32_t physical;
   int32_t bounces;
-  uint32_t pad[3];
+  // Faithful dirt (renderer/cpu DirtSettings); read only by a program built with BT_FAITHFUL_DIRT.
+  uint32_t dirtMode;
+  float dirtDepth;
+  float dirtAngle;     // the cone's half-angle, radians
+  float dirtScale;     // worldspawn _dirtscale / _dirtgain, for minlight
+  float dirtGain;
+  uint32_t minlightDirt;
+  uint32_t pad;
 };
-static_assert(sizeof(GpuWorld) == 64);
+static_assert(sizeof(GpuWorld) == 80);
 static_assert(offsetof(GpuWorld, range) == 12 && offsetof(GpuWorld, faithfulBounces) == 24 &&
-              offsetof(GpuWorld, emitterArea) == 40 && offsetof(GpuWorld, bounces) == 48);
+              offsetof(GpuWorld, emitterArea) == 40 && offsetof(GpuWorld, bounces) == 48 &&
+              offsetof(GpuWorld, dirtMode) == 52 && offsetof(GpuWorld, dirtScale) == 64 &&
+              offsetof(GpuWorld, minlightDirt) == 72);
 
 } // namespace bt::gl

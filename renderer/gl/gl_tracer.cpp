@@ -64,6 +64,12 @@ GpuWorld worldBlock(const GlLighting& lighting) {
   w.lightCount = static_cast<uint32_t>(lighting.lights.size());
   w.emitterCount = static_cast<uint32_t>(lighting.emitters.size());
   w.emitterArea = lighting.emitterArea;
+  w.dirtMode = uint32_t(lighting.dirt.mode);
+  w.dirtDepth = lighting.dirt.depth;
+  w.dirtAngle = glm::radians(lighting.dirt.angle);
+  w.dirtScale = lighting.dirt.scale;
+  w.dirtGain = lighting.dirt.gain;
+  w.minlightDirt = lighting.dirt.minlight ? 1u : 0u;
   return w;
 }
 
@@ -84,6 +90,7 @@ struct GlTracer::Impl {
   std::unique_ptr<ComputeProgram> aovProgram, pathPrograms[2], rayBenchProgram;
   ProgramCache programCache = ProgramCache::fromEnvironment(context.info().vendor);
   GpuWorld world;
+  bool dirt = false; // the level uses faithful dirt: BT_FAITHFUL_DIRT in the faithful program
   GLuint cameraBuffer = 0;
   GLuint worldBuffer = 0;
 
@@ -91,7 +98,8 @@ struct GlTracer::Impl {
       : context(c),
         textures(scene, mode, c.info()),
         buffers(tracer, withShadingFlags(textures.materials(), lighting), lighting, scene.materials.size()),
-        world(worldBlock(lighting)) {
+        world(worldBlock(lighting)),
+        dirt(lighting.dirt.enabled) {
     BT_GL(glCreateBuffers(1, &cameraBuffer));
     BT_GL(glNamedBufferStorage(cameraBuffer, sizeof(GpuCamera), nullptr, GL_DYNAMIC_STORAGE_BIT));
     BT_GL(glCreateBuffers(1, &worldBuffer));
@@ -106,6 +114,9 @@ struct GlTracer::Impl {
     if (!slot) {
       std::vector<std::string> defines = shaderDefines(textures.mode());
       if (physical) defines.emplace_back("BT_LIGHTING_PHYSICAL");
+      // Dirt's occlusion rays only in the faithful program of a level that uses dirt: the
+      // default program does not grow (nor its compile time).
+      if (!physical && dirt) defines.emplace_back("BT_FAITHFUL_DIRT");
       slot = std::make_unique<ComputeProgram>("pathtrace.comp", defines, programCache);
     }
     return *slot;

@@ -3,6 +3,7 @@
 
 #include "bvh/trace_scene.h"
 #include "renderer/cpu/light_grid.h"
+#include "renderer/cpu/lights.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_program_cache.h"
 #include "renderer/gl/gl_structs.h"
@@ -65,6 +66,7 @@ struct GlLighting {
   float bouncescale = 1.0f;
   int faithfulBounces = 0; // _bounce
   bool litwater = false;
+  DirtSettings dirt;       // worldspawn dirt; enabled builds the faithful program with BT_FAITHFUL_DIRT
 };
 
 struct BeautySettings {

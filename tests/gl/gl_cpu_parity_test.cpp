@@ -174,5 +174,28 @@ TEST(GlCpuParity, ManyLightsPickTheSameLightsAsTheCpu) {
   }
 }
 
+// Faithful dirt on both tracers: ericw-tools' dirttest2 (worldspawn _dirt 1, a light with
+// _dirt_off_radius / _dirt_on_radius), with the fixed ray pattern and with _dirtmode 1's random
+// rays (drawn in the same order from the same stream on both), from the player start.
+TEST(GlCpuParity, FaithfulDirtAgreesWithTheCpuReference) {
+  BT_REQUIRE_SHARED(shared);
+  for (const char* mode : {"0", "1"}) {
+    SCOPED_TRACE(std::string("_dirtmode ") + mode);
+    Level level;
+    level.scene = importScene((shared / "maps/ericw-tools/testmaps/deprecated/dirttest2.map").string(), ImportOptions{});
+    ASSERT_FALSE(level.scene.entities.empty());
+    level.scene.entities[0].keys.emplace_back("_dirtmode", mode);
+    Diagnostics diagnostics;
+    level.render = buildRenderScene(level.scene, {}, diagnostics);
+    ASSERT_TRUE(level.render.world.dirtSettings.enabled);
+    ASSERT_EQ(level.render.world.dirtSettings.mode, mode[0] - '0');
+    level.pose = defaultCameraPose(level.scene);
+    const RenderSettings settings = beautySettings(LightingMode::Faithful, 11);
+    RenderImage cpu;
+    const RenderImage gpu = renderBoth(level.render, level.pose, settings, cpu);
+    expectBeautyAgrees(gpu, cpu, 0.01);
+  }
+}
+
 } // namespace
 } // namespace bt::gl

@@ -108,6 +108,101 @@ TEST(FaithfulRender, SkyDomeMeanOverTheHemisphere) {
   EXPECT_NEAR(sum / n, 75.0, 1.0); // standard error ~0.2
 }
 
+// Dirt under a slab: the floor point's occlusion rays leave 1 unit above it (the compiler's
+// sample lift) and every one meets the slab's underside 16 units up, at 16 / cos(elevation)
+// for the pattern's three elevations (1/6, 3/6, 5/6 of 88 degrees), all within _dirtdepth 128.
+float slabOcclusion() {
+  double mean = 0.0;
+  for (int j = 0; j < 3; ++j) mean += 16.0 / std::cos((j + 0.5) * (88.0 / 3.0) * 3.14159265358979 / 180.0) / 3.0;
+  return float(1.0 - mean / 128.0);
+}
+
+RenderScene dirtSlabScene(test::BoxSceneBuilder& b, std::vector<std::pair<std::string, std::string>> lightKeys) {
+  b.worldKey("_dirt", "1");
+  b.box({-512, -512, 17}, {512, 512, 33}, "white"); // underside at z = 17
+  lightKeys.insert(lightKeys.end(), {{"classname", "light"}, {"origin", "0 0 9"}, {"delay", "3"}});
+  b.entity(lightKeys);
+  Diagnostics diags;
+  return buildRenderScene(b.scene(), {}, diags);
+}
+
+TEST(FaithfulDirt, OcclusionUnderASlabIsTheConeMean) {
+  test::BoxSceneBuilder b = floorScene();
+  b.box({1600, -64, 0}, {1616, 64, 256}, "white"); // a wall facing -x at x = 1600
+  const RenderScene rs = dirtSlabScene(b, {});
+  ASSERT_TRUE(rs.world.dirtSettings.enabled);
+  Rng rng = pixelRng(0, 0, 0, 0);
+  const float occlusion = faithfulDirtOcclusion(rs, {0, 0, 0}, {0, 0, 1}, rng);
+  EXPECT_NEAR(occlusion, slabOcclusion(), 1e-4f);
+  EXPECT_NEAR(occlusion, 0.7537f, 0.001f); // by hand: 1 - (16.54 + 22.24 + 55.79) / 3 / 128
+  // In the open, beyond the slab's reach: nothing within _dirtdepth.
+  EXPECT_NEAR(faithfulDirtOcclusion(rs, {1000, 0, 0}, {0, 0, 1}, rng), 0.0f, 1e-6f);
+  // 8 units from the wall: the rays of the half of the cone facing it meet it, the rest go free.
+  const float nearWall = faithfulDirtOcclusion(rs, {1592, 0, 0}, {0, 0, 1}, rng);
+  EXPECT_GT(nearWall, 0.2f);
+  EXPECT_LT(nearWall, 0.5f);
+}
+
+TEST(FaithfulDirt, LightIsDimmedByOneMinusDirt) {
+  // An infinite light (delay 3, 300) straight above: 300 without dirt.
+  {
+    test::BoxSceneBuilder b = floorScene();
+    const RenderScene rs = dirtSlabScene(b, {});
+    Rng rng = pixelRng(0, 0, 0, 0);
+    EXPECT_NEAR(faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng).x, 300.0f * (1.0f - slabOcclusion()), 0.05f);
+  }
+  { // The light's own _dirt -1: no dirt.
+    test::BoxSceneBuilder b = floorScene();
+    const RenderScene rs = dirtSlabScene(b, {{"_dirt", "-1"}});
+    Rng rng = pixelRng(0, 0, 0, 0);
+    EXPECT_NEAR(faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng).x, 300.0f, 0.05f);
+  }
+  { // _dirtscale 2 and _dirtgain 0.5: min(1, sqrt(occlusion) x 2) = 1: all dirt.
+    test::BoxSceneBuilder b = floorScene();
+    const RenderScene rs = dirtSlabScene(b, {{"_dirtscale", "2"}, {"_dirtgain", "0.5"}});
+    Rng rng = pixelRng(0, 0, 0, 0);
+    EXPECT_NEAR(faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng).x, 0.0f, 0.05f);
+  }
+  { // The light is 9 units away: between _dirt_off_radius 5 and _dirt_on_radius 13, half the dirt.
+    test::BoxSceneBuilder b = floorScene();
+    const RenderScene rs = dirtSlabScene(b, {{"_dirt_off_radius", "5"}, {"_dirt_on_radius", "13"}});
+    Rng rng = pixelRng(0, 0, 0, 0);
+    EXPECT_NEAR(faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng).x, 300.0f * (1.0f - 0.5f * slabOcclusion()), 0.05f);
+  }
+  { // Nearer than _dirt_off_radius: no dirt.
+    test::BoxSceneBuilder b = floorScene();
+    const RenderScene rs = dirtSlabScene(b, {{"_dirt_off_radius", "10"}, {"_dirt_on_radius", "20"}});
+    Rng rng = pixelRng(0, 0, 0, 0);
+    EXPECT_NEAR(faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng).x, 300.0f, 0.05f);
+  }
+}
+
+TEST(FaithfulDirt, MinlightIsDimmedByDefaultUnderDirt) {
+  test::BoxSceneBuilder b = floorScene();
+  b.worldKey("light", "40");
+  const RenderScene rs = dirtSlabScene(b, {{"light", "0"}});
+  Rng rng = pixelRng(0, 0, 0, 0);
+  EXPECT_NEAR(faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng).x, 40.0f * (1.0f - slabOcclusion()), 0.01f);
+
+  test::BoxSceneBuilder off = floorScene();
+  off.worldKey("light", "40");
+  off.worldKey("_minlight_dirt", "0");
+  const RenderScene rsOff = dirtSlabScene(off, {{"light", "0"}});
+  EXPECT_NEAR(faithfulLightAt(rsOff, {0, 0, 0}, {0, 0, 1}, rng).x, 40.0f, 0.01f);
+}
+
+TEST(FaithfulDirt, LevelsWithoutDirtTraceNoOcclusion) {
+  test::BoxSceneBuilder b = floorScene();
+  b.box({-512, -512, 17}, {512, 512, 33}, "white");
+  b.entity({{"classname", "light"}, {"origin", "0 0 9"}, {"delay", "3"}});
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(b.scene(), {}, diags);
+  EXPECT_FALSE(rs.world.dirtSettings.enabled);
+  Rng rng = pixelRng(0, 0, 0, 0);
+  EXPECT_EQ(faithfulDirtOcclusion(rs, {0, 0, 0}, {0, 0, 1}, rng), 0.0f);
+  EXPECT_NEAR(faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng).x, 300.0f, 0.05f);
+}
+
 TEST(FaithfulRender, LiquidsAreFullbrightUnlessLitwater) {
   for (bool litwater : {false, true}) {
     test::BoxSceneBuilder b;

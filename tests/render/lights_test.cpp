@@ -111,15 +111,17 @@ TEST(LightEntities, KeysAndDefaults) {
 
 TEST(LightEntities, BadValuesAreReportedWithTheEntityLine) {
   test::BoxSceneBuilder b;
-  b.entity({{"classname", "light"}, {"origin", "0 0 0"}, {"delay", "9"}, {"light", "bright"}});
+  b.entity({{"classname", "light"}, {"origin", "0 0 0"}, {"delay", "9"}});
   b.scene().entities.back().line = 17;
+  b.entity({{"classname", "light"}, {"origin", "0 0 0"}, {"light", "bright"}});
   b.entity({{"classname", "light"}, {"origin", "0 0"}});
   Diagnostics diags;
   const SceneLights lights = collectLights(b.build(), {}, diags);
+  // The invalid delay drops its light (ericw-tools lights nothing with it); the bad value falls back to 300.
   ASSERT_EQ(lights.lights.size(), 1u);
   EXPECT_EQ(lights.lights[0].formula, uint32_t(LightFormula::Linear));
   EXPECT_FLOAT_EQ(lights.lights[0].value, 300.0f);
-  ASSERT_EQ(diags.size(), 4u); // bad light, bad delay, bad origin, origin missing -> ignored
+  ASSERT_EQ(diags.size(), 4u); // bad delay, bad light, bad origin, origin missing -> ignored
   EXPECT_EQ(diags[0].line, 17);
   bool sawDelay = false;
   for (const Diagnostic& d : diags) sawDelay |= d.message.find("invalid delay 9") != std::string::npos;

@@ -41,6 +41,52 @@ constexpr double kErrorFloor = 8.0;
 // Soft lights (penumbra, domes, deviance) are averaged over this many samples per luxel.
 constexpr int kSamplesPerLuxel = 4;
 
+// The luxels of one compiled face: where they lie, and where the face's samples start in the lump.
+struct FaceLuxels {
+  int lo[2] = {0, 0};     // texture-space luxel origin / 16
+  int size[2] = {0, 0};   // luxels per axis
+  glm::dmat3 toWorld{1.0};
+  glm::dvec3 normal{0.0};
+  double dist = 0.0;
+  glm::dvec2 shift{0.0};  // texinfo vecs[a][3]
+
+  size_t count() const { return size_t(size[0]) * size_t(size[1]); }
+  // Luxel (s, t) -> the point on the face plane with those texture coordinates.
+  glm::vec3 point(int s, int t) const {
+    return glm::vec3(toWorld * glm::dvec3((lo[0] + s) * 16.0 - shift[0], (lo[1] + t) * 16.0 - shift[1], dist));
+  }
+};
+
+FaceLuxels faceLuxels(const bsp::BspFile& bsp, int32_t fi) {
+  const bsp::Face& face = bsp.faces[size_t(fi)];
+  const bsp::TexInfo& tex = bsp.texinfo[size_t(face.texinfo)];
+  // In float, as the engine and the compiler compute extents: a texture scaled by 3 puts a vertex
+  // at s = -144 x 0.33333334 = -48.0000014 in double but exactly -48 in float, and the compiler's
+  // lightmap is one luxel narrower than a double computation says.
+  float mins[2] = {1e30f, 1e30f}, maxs[2] = {-1e30f, -1e30f};
+  for (const glm::dvec3& dv : bsp.faceVertices(size_t(fi)))
+    for (int a = 0; a < 2; ++a) {
+      const glm::vec3 v(dv);
+      const float st = v.x * tex.vecs[a][0] + v.y * tex.vecs[a][1] + v.z * tex.vecs[a][2] + tex.vecs[a][3];
+      mins[a] = std::min(mins[a], st);
+      maxs[a] = std::max(maxs[a], st);
+    }
+  FaceLuxels l;
+  for (int a = 0; a < 2; ++a) {
+    l.lo[a] = int(std::floor(mins[a] / 16.0f));
+    l.size[a] = int(std::ceil(maxs[a] / 16.0f)) - l.lo[a] + 1;
+    l.shift[a] = tex.vecs[a][3];
+  }
+  const bsp::BspPlane& plane = bsp.planes[size_t(face.plane)];
+  l.normal = glm::dvec3(plane.normal);
+  l.dist = plane.dist;
+  if (face.side) l.normal = -l.normal, l.dist = -l.dist;
+  const glm::dmat3 m = glm::transpose(glm::dmat3(glm::dvec3(tex.vecs[0][0], tex.vecs[0][1], tex.vecs[0][2]),
+                                                 glm::dvec3(tex.vecs[1][0], tex.vecs[1][1], tex.vecs[1][2]), l.normal));
+  l.toWorld = glm::inverse(m);
+  return l;
+}
+
 OracleResult compareWithCompiler(const std::filesystem::path& bspPath, const std::filesystem::path& mapPath) {
   const bsp::BspFile bsp = bsp::readBspFile(bspPath);
   ImportOptions options;
@@ -60,32 +106,12 @@ OracleResult compareWithCompiler(const std::filesystem::path& bspPath, const std
     const bsp::Face& face = bsp.faces[size_t(fi)];
     if (face.lightOffset < 0 || face.styles[0] != 0) continue; // unlit (sky, liquids) or styled only
     const bsp::TexInfo& tex = bsp.texinfo[size_t(face.texinfo)];
-    const std::vector<glm::dvec3> verts = bsp.faceVertices(size_t(fi));
-    double mins[2] = {1e30, 1e30}, maxs[2] = {-1e30, -1e30};
-    for (const glm::dvec3& v : verts)
-      for (int a = 0; a < 2; ++a) {
-        const double st = v.x * tex.vecs[a][0] + v.y * tex.vecs[a][1] + v.z * tex.vecs[a][2] + tex.vecs[a][3];
-        mins[a] = std::min(mins[a], st);
-        maxs[a] = std::max(maxs[a], st);
-      }
-    int lo[2], size[2];
-    for (int a = 0; a < 2; ++a) {
-      lo[a] = int(std::floor(mins[a] / 16.0));
-      size[a] = int(std::ceil(maxs[a] / 16.0)) - lo[a] + 1;
-    }
-    const size_t count = size_t(size[0]) * size_t(size[1]);
+    const FaceLuxels luxels = faceLuxels(bsp, fi);
+    const int* size = luxels.size;
     // Every lit face's luxels must lie in the lighting lump; none is skipped silently.
-    EXPECT_LE(size_t(face.lightOffset) + count, bsp.lighting.size()) << bspPath << " face " << fi;
-    if (size_t(face.lightOffset) + count > bsp.lighting.size()) continue;
-
-    const bsp::BspPlane& plane = bsp.planes[size_t(face.plane)];
-    glm::dvec3 normal = glm::dvec3(plane.normal);
-    double dist = plane.dist;
-    if (face.side) normal = -normal, dist = -dist;
-    // Luxel (s, t) -> the point on the face plane with those texture coordinates.
-    const glm::dmat3 m = glm::transpose(glm::dmat3(glm::dvec3(tex.vecs[0][0], tex.vecs[0][1], tex.vecs[0][2]),
-                                                   glm::dvec3(tex.vecs[1][0], tex.vecs[1][1], tex.vecs[1][2]), normal));
-    const glm::dmat3 inv = glm::inverse(m);
+    EXPECT_LE(size_t(face.lightOffset) + luxels.count(), bsp.lighting.size()) << bspPath << " face " << fi;
+    if (size_t(face.lightOffset) + luxels.count() > bsp.lighting.size()) continue;
+    const glm::vec3 normal(luxels.normal);
     // A face whose texture carries a radiosity _surface template is lit at least at its value.
     glm::vec3 faceMinlight(0.0f);
     if (auto material = scene.findMaterial(tex.texture); material && *material < rs.surfaceLights.size())
@@ -93,12 +119,11 @@ OracleResult compareWithCompiler(const std::filesystem::path& bspPath, const std
     ++result.faces;
     for (int t = 0; t < size[1]; ++t)
       for (int s = 0; s < size[0]; ++s) {
-        const glm::dvec3 rhs((lo[0] + s) * 16.0 - tex.vecs[0][3], (lo[1] + t) * 16.0 - tex.vecs[1][3], dist);
-        const glm::vec3 p = glm::vec3(inv * rhs);
+        const glm::vec3 p = luxels.point(s, t);
         glm::vec3 sum(0.0f);
         for (int k = 0; k < kSamplesPerLuxel; ++k) {
           Rng rng = pixelRng(uint32_t(fi), uint32_t(t * size[0] + s), uint32_t(k), 1);
-          sum += faithfulLightAt(rs, p, glm::vec3(normal), rng);
+          sum += faithfulLightAt(rs, p, normal, rng);
         }
         glm::vec3 stored = glm::max(sum / float(kSamplesPerLuxel), faceMinlight) * rs.world.range;
         const float peak = std::max({stored.x, stored.y, stored.z});
@@ -174,6 +199,7 @@ INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
                          // (ambient occlusion, not modelled: median 5.5 %); lqdm5: too slow for the suite;
                          // testsurfacelight: OracleSurfaceLights below.
                          ::testing::Values("ericw-tools_testmaps_deprecated_falloff",
+                                           "ericw-tools_testmaps_deprecated_dirttest2",
                                            "ericw-tools_testmaps_deprecated_light_near_wall",
                                            "ericw-tools_testmaps_deprecated_suntest",
                                            "ericw-tools_testmaps_deprecated_testminlight",
@@ -200,6 +226,56 @@ INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
                            std::replace(n.begin(), n.end(), '-', '_');
                            return n;
                          });
+
+// q1_light_invalid_delay: its one light has `delay 15`. The compiler warns ("unknown delay 15")
+// and lights nothing with it: the compiled level has no lit face and an empty lighting lump. Our
+// importer reports the delay at the light entity's line, and faithful mode, like the compiler,
+// ignores the light: every luxel of every world face (sized as if lit) gets 0.
+TEST(OracleInvalidDelay, CompilerAndFaithfulModeLightNothing) {
+  BT_REQUIRE_SHARED(shared);
+  const std::string bspName = "maps_ericw-tools_testmaps_q1_light_invalid_delay.bsp";
+  const bsp::BspFile bsp = bsp::readBspFile(shared / "oracle" / "lit" / bspName);
+  ASSERT_FALSE(bsp.models.empty());
+  EXPECT_TRUE(bsp.lighting.empty());
+  const bsp::Model& world = bsp.models[0];
+  ASSERT_GT(world.faceCount, 0);
+  for (int32_t fi = world.firstFace; fi < world.firstFace + world.faceCount; ++fi)
+    EXPECT_LT(bsp.faces[size_t(fi)].lightOffset, 0) << "face " << fi << " is lit";
+
+  const std::filesystem::path map = sourceMap(shared, bspName);
+  ASSERT_FALSE(map.empty());
+  ImportOptions options;
+  options.textures.load = false;
+  const Scene scene = importScene(map.string(), options);
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  const Entity* light = nullptr;
+  for (const Entity& e : scene.entities)
+    if (e.classname() == "light") light = &e;
+  ASSERT_NE(light, nullptr);
+  ASSERT_GT(light->line, 0);
+  const auto delay = std::find_if(diags.begin(), diags.end(),
+                                  [](const Diagnostic& d) { return d.message.find("invalid delay 15") != std::string::npos; });
+  ASSERT_NE(delay, diags.end()) << "no diagnostic for delay 15";
+  EXPECT_EQ(delay->severity, Severity::Warning);
+  EXPECT_EQ(delay->file, scene.sourcePath);
+  EXPECT_EQ(delay->line, light->line);
+  EXPECT_EQ(rs.lights.size(), 0u);
+
+  size_t luxels = 0, lit = 0;
+  for (int32_t fi = world.firstFace; fi < world.firstFace + world.faceCount; ++fi) {
+    const FaceLuxels face = faceLuxels(bsp, fi);
+    for (int t = 0; t < face.size[1]; ++t)
+      for (int s = 0; s < face.size[0]; ++s) {
+        Rng rng = pixelRng(uint32_t(fi), uint32_t(t * face.size[0] + s), 0, 1);
+        const glm::vec3 l = faithfulLightAt(rs, face.point(s, t), glm::vec3(face.normal), rng);
+        ++luxels;
+        lit += l != glm::vec3(0.0f);
+      }
+  }
+  EXPECT_GT(luxels, 0u);
+  EXPECT_EQ(lit, 0u) << "of " << luxels << " luxels";
+}
 
 // testsurfacelight against the compiler: an open gap, held to the figure reached so that it can
 // only narrow. The compiler spreads its point lights over the faces of the compiled BSP; we
