@@ -169,10 +169,12 @@ struct Path {
   uint lightIndex;
   vec3 pending;
   bool pendingIsFloor; // faithful: a delay 4 light, which raises a floor instead of adding
-  // Faithful dirt (BT_FAITHFUL_DIRT): the surface's occlusion rays, traced before its lights.
+#ifdef BT_FAITHFUL_DIRT
+  // Faithful dirt: the surface's occlusion rays, traced before its lights.
   int dirtRay;      // rays set up so far
   float dirtSum;    // their distances, each at most _dirtdepth
   float occlusion;  // 0 open .. 1 enclosed, once all are back (renderer/cpu faithfulDirtOcclusion)
+#endif
   // Faithful mode: the lights at this surface, and over the path (renderer/cpu faithfulLightAt,
   // faithfulBounce, radianceFaithful).
   vec3 lightSum;
@@ -319,9 +321,11 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
   path.normal = hit.normal;
   path.lightSum = vec3(0.0);
   path.lightFloor = vec3(0.0);
+#ifdef BT_FAITHFUL_DIRT
   path.dirtRay = 0;
   path.dirtSum = 0.0;
   path.occlusion = 0.0;
+#endif
   return true;
 }
 
