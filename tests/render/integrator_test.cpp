@@ -191,6 +191,26 @@ TEST(FaithfulDirt, MinlightIsDimmedByDefaultUnderDirt) {
   EXPECT_NEAR(faithfulLightAt(rsOff, {0, 0, 0}, {0, 0, 1}, rng).x, 40.0f, 0.01f);
 }
 
+TEST(FaithfulDirt, SunlightIsDimmedUnlessSunlightDirtIsOff) {
+  // A sun straight down on a floor point 8 units from a wall: in the open above, dimmed by the
+  // wall's occlusion (`_dirt 1` turns `_sunlight_dirt` on); `_sunlight_dirt -1` turns it off.
+  for (const char* sunDirt : {"", "-1"}) {
+    SCOPED_TRACE(std::string("_sunlight_dirt ") + sunDirt);
+    test::BoxSceneBuilder b = floorScene();
+    b.box({1600, -64, 0}, {1616, 64, 256}, "white");
+    b.worldKey("_dirt", "1");
+    b.worldKey("_sunlight", "100");
+    if (*sunDirt) b.worldKey("_sunlight_dirt", sunDirt);
+    Diagnostics diags;
+    const RenderScene rs = buildRenderScene(b.scene(), {}, diags);
+    Rng rng = pixelRng(0, 0, 0, 0);
+    const float occlusion = faithfulDirtOcclusion(rs, {1592, 0, 0}, {0, 0, 1}, rng);
+    ASSERT_GT(occlusion, 0.2f);
+    const float expected = *sunDirt ? 100.0f : 100.0f * (1.0f - occlusion);
+    EXPECT_NEAR(faithfulLightAt(rs, {1592, 0, 0}, {0, 0, 1}, rng).x, expected, 0.05f);
+  }
+}
+
 TEST(FaithfulDirt, LevelsWithoutDirtTraceNoOcclusion) {
   test::BoxSceneBuilder b = floorScene();
   b.box({-512, -512, 17}, {512, 512, 33}, "white");
