@@ -334,7 +334,7 @@ bool faithfulBounce(inout Path path, inout Rng rng) {
   vec3 light = max(max(path.lightSum, path.lightFloor), world.minlight * minlightDirtFactor(path));
   if (path.depth == 0) {
     // The _surface template's own faces: ericw-tools' face minlight (renderer/cpu faithfulFaceMinlight).
-    path.lit = max(light, surfaceFaceMinlight(surfaceLights[faces[path.face].material]));
+    path.lit = max(light, surfaceFaceMinlight(surfaceLights[faces[path.face].material]) * minlightDirtFactor(path));
   } else {
     path.lit += path.weight * light;
     path.weight *= world.bouncescale;

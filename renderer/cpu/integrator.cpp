@@ -204,12 +204,31 @@ void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const glm::v
   }
 }
 
-// worldspawn minlight and delay-4 lights are floors under the sum, not terms of it; with
-// `_minlight_dirt`, dirt dims the minlight too.
-glm::vec3 applyFloors(const RenderScene& rs, const glm::vec3& sum, const glm::vec3& localMin, float occlusion) {
+// worldspawn minlight, a radiosity template's face minlight and delay-4 lights are floors under
+// the sum, not terms of it; with `_minlight_dirt`, dirt dims both minlights (LightFace_Min).
+glm::vec3 applyFloors(const RenderScene& rs, const glm::vec3& sum, const glm::vec3& localMin, const glm::vec3& faceMinlight,
+                      float occlusion) {
   const DirtSettings& dirt = rs.world.dirtSettings;
   const float minlightDirt = dirt.minlight ? 1.0f - faithful::dirtAmount(occlusion, dirt.gain, dirt.scale) : 1.0f;
-  return glm::max(glm::max(sum, localMin), rs.world.minlight * minlightDirt);
+  return glm::max(glm::max(sum, localMin), glm::max(rs.world.minlight, faceMinlight) * minlightDirt);
+}
+
+// The faithful light sum at p: the dirt occlusion first, then every light of the level (the
+// reference) or the grid's lists for p, then the floors.
+glm::vec3 faithfulSum(const RenderScene& rs, bool fromGrid, const glm::vec3& p, const glm::vec3& n,
+                      const glm::vec3& faceMinlight, Rng& rng) {
+  const float occlusion = faithfulOcclusion(rs, p, n, rng);
+  const glm::vec3 origin = offsetPoint(p, n);
+  glm::vec3 sum(0.0f), localMin(0.0f);
+  if (!fromGrid) {
+    for (const GpuLight& light : rs.lights) addFaithfulLight(rs, light, p, n, origin, occlusion, rng, sum, localMin);
+  } else {
+    const LightGrid& grid = rs.lightGrid;
+    for (uint32_t i : grid.fixedLights()) addFaithfulLight(rs, rs.lights[i], p, n, origin, occlusion, rng, sum, localMin);
+    for (uint32_t i : grid.globalLights()) addFaithfulLight(rs, rs.lights[i], p, n, origin, occlusion, rng, sum, localMin);
+    for (uint32_t i : grid.cellLights(p)) addFaithfulLight(rs, rs.lights[i], p, n, origin, occlusion, rng, sum, localMin);
+  }
+  return applyFloors(rs, sum, localMin, faceMinlight, occlusion);
 }
 
 } // namespace
@@ -219,22 +238,11 @@ float faithfulDirtOcclusion(const RenderScene& rs, const glm::vec3& p, const glm
 }
 
 glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng) {
-  const float occlusion = faithfulOcclusion(rs, p, n, rng);
-  const glm::vec3 origin = offsetPoint(p, n);
-  glm::vec3 sum(0.0f), localMin(0.0f);
-  for (const GpuLight& light : rs.lights) addFaithfulLight(rs, light, p, n, origin, occlusion, rng, sum, localMin);
-  return applyFloors(rs, sum, localMin, occlusion);
+  return faithfulSum(rs, false, p, n, glm::vec3(0.0f), rng);
 }
 
 glm::vec3 faithfulLightFromGrid(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng) {
-  const float occlusion = faithfulOcclusion(rs, p, n, rng);
-  const glm::vec3 origin = offsetPoint(p, n);
-  glm::vec3 sum(0.0f), localMin(0.0f);
-  const LightGrid& grid = rs.lightGrid;
-  for (uint32_t i : grid.fixedLights()) addFaithfulLight(rs, rs.lights[i], p, n, origin, occlusion, rng, sum, localMin);
-  for (uint32_t i : grid.globalLights()) addFaithfulLight(rs, rs.lights[i], p, n, origin, occlusion, rng, sum, localMin);
-  for (uint32_t i : grid.cellLights(p)) addFaithfulLight(rs, rs.lights[i], p, n, origin, occlusion, rng, sum, localMin);
-  return applyFloors(rs, sum, localMin, occlusion);
+  return faithfulSum(rs, true, p, n, glm::vec3(0.0f), rng);
 }
 
 glm::vec3 faithfulFaceMinlight(const RenderScene& rs, uint32_t face) {
@@ -247,10 +255,10 @@ namespace {
 // Faithful bounce (_bounce N): light reflected off other surfaces, in light units, the surface
 // colour as ericw-tools' bounce uses it (texture colour x _bouncescale).
 // The light sum at a faithful hit: from the grid's lists when rendering, or by the exhaustive
-// loop (the reference the grid must reproduce, and what the oracle test uses).
+// loop (the reference the grid must reproduce).
 glm::vec3 faithfulLight(const RenderScene& rs, const IntegratorSettings& settings, const glm::vec3& p,
-                        const glm::vec3& n, Rng& rng) {
-  return settings.lightSelection ? faithfulLightFromGrid(rs, p, n, rng) : faithfulLightAt(rs, p, n, rng);
+                        const glm::vec3& n, const glm::vec3& faceMinlight, Rng& rng) {
+  return faithfulSum(rs, settings.lightSelection, p, n, faceMinlight, rng);
 }
 
 glm::vec3 faithfulBounce(const RenderScene& rs, const IntegratorSettings& settings, const glm::vec3& p, const glm::vec3& n,
@@ -260,7 +268,7 @@ glm::vec3 faithfulBounce(const RenderScene& rs, const IntegratorSettings& settin
   const SurfaceHit hit = traceVisible(rs, Ray{offsetPoint(p, n), 0.0f, dir, std::numeric_limits<float>::infinity()});
   if (!hit.found || (rs.faceFlags[hit.face] & kFaceSky)) return glm::vec3(0.0f);
   const glm::vec3 color = glm::vec3(baseColorAt(rs, hit.face, hit.position));
-  const glm::vec3 light = faithfulLight(rs, settings, hit.position, hit.normal, rng) +
+  const glm::vec3 light = faithfulLight(rs, settings, hit.position, hit.normal, glm::vec3(0.0f), rng) +
                           faithfulBounce(rs, settings, hit.position, hit.normal, depth - 1, rng);
   return color * light * rs.world.bouncescale;
 }
@@ -273,7 +281,7 @@ glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& sett
   // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
   if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater)) return srgbToLinear(texture);
 
-  glm::vec3 light = glm::max(faithfulLight(rs, settings, hit.position, hit.normal, rng), faithfulFaceMinlight(rs, hit.face));
+  glm::vec3 light = faithfulLight(rs, settings, hit.position, hit.normal, faithfulFaceMinlight(rs, hit.face), rng);
   if (rs.world.bounces > 0) light += faithfulBounce(rs, settings, hit.position, hit.normal, rs.world.bounces, rng);
   // The compiler scales a coloured sum so its brightest channel fits in 255, keeping the hue.
   glm::vec3 stored = light * rs.world.range;

@@ -67,7 +67,8 @@ float faithfulDirtOcclusion(const RenderScene& rs, const glm::vec3& p, const glm
 glm::vec3 faithfulLightFromGrid(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng);
 
 // Faithful mode: the floor a face's own radiosity `_surface` template puts under its light
-// (zero for every other face); the caller takes max(faithfulLightAt, this).
+// (zero for every other face); the caller takes max(faithfulLightAt, this), with the minlight
+// dirt of `_minlight_dirt` where the level has it (radiance() does).
 glm::vec3 faithfulFaceMinlight(const RenderScene& rs, uint32_t face);
 
 // Linear radiance along the ray.
