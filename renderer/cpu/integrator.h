@@ -43,7 +43,8 @@ glm::vec3 emissiveAt(const RenderScene& rs, uint32_t face, const glm::vec3& p); 
 // Faithful mode: the light sum ericw-tools `light` would compute at surface point p with
 // normal n (light units, per colour channel; before _range). Stochastic only for soft
 // lights (deviance, penumbra, domes), exact otherwise; `_surface` lights are point lights here.
-// Every light of the level is looked at: the reference (tests/render/oracle_test.cpp).
+// Every light of the level is looked at: the reference that faithfulLightFromGrid must reproduce
+// (tests/render/light_selection_test.cpp), which the lit-oracle test then holds to the compiler.
 glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng);
 
 // Faithful dirt (worldspawn `_dirt`, ericw-tools' ambient occlusion) at surface point p with

@@ -211,6 +211,26 @@ TEST(FaithfulDirt, SunlightIsDimmedUnlessSunlightDirtIsOff) {
   }
 }
 
+TEST(FaithfulDirt, MinlightDirtDimsARadiosityTemplatesFaceMinlight) {
+  // The floor is a radiosity _surface template (light 100): its faces get 100 as minlight, and
+  // its own point lights sit on its plane, so they add nothing to it. Under the slab, dirt takes
+  // its share of that minlight unless _minlight_dirt is 0 (ericw-tools LightFace_Min).
+  for (const char* minlightDirt : {"", "0"}) {
+    SCOPED_TRACE(std::string("_minlight_dirt ") + minlightDirt);
+    test::BoxSceneBuilder b;
+    b.material("lamp", 255, 255, 255);
+    b.material("white", 255, 255, 255);
+    b.box({-2048, -2048, -16}, {2048, 2048, 0}, "lamp");
+    b.entity({{"classname", "light"}, {"origin", "0 0 -1000"}, {"light", "100"}, {"_surface", "lamp"},
+              {"_surface_radiosity", "1"}});
+    if (*minlightDirt) b.worldKey("_minlight_dirt", minlightDirt);
+    const RenderScene rs = dirtSlabScene(b, {{"light", "0"}});
+    Rng rng = pixelRng(0, 0, 0, 0);
+    const float sum = faithfulSumFromRadiance(radiance(rs, {LightingMode::Faithful, 0}, Ray{{0, 0, 10}, 0, {0, 0, -1}, 1e9f}, rng));
+    EXPECT_NEAR(sum, *minlightDirt ? 100.0f : 100.0f * (1.0f - slabOcclusion()), 0.5f);
+  }
+}
+
 TEST(FaithfulDirt, LevelsWithoutDirtTraceNoOcclusion) {
   test::BoxSceneBuilder b = floorScene();
   b.box({-512, -512, 17}, {512, 512, 33}, "white");
