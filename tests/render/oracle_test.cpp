@@ -249,9 +249,11 @@ INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
                          // Not here: deprecated_nobounce sets worldspawn _bounce 1 and the compiler bounced
                          // (its .bsp has no texture pixels, so ericw-tools bounced off its default colour):
                          // direct light alone is 62.5 % off at the median (mean -9.5/255), and adding our
-                         // faithful _bounce (64 samples a luxel, grey 0.5 surfaces) still 50 % (mean -2.7/255):
-                         // ericw-tools bounces through per-face radiosity lights (bounce.cc), which we do not
-                         // model. deprecated_bouncecolorscaletest also sets _bounce 1, but its spotlight lights
+                         // faithful _bounce (64 samples a luxel, grey 0.5 surfaces) still 50 % (mean -2.7/255).
+                         // ericw-tools bounces through one radiosity light per face (bounce.cc: the face's mean
+                         // direct light x its texture colour x its area, spread over points diced on the face,
+                         // falling off as 1 / max(d, 128)^2, x _bouncescale x 0.5); our path-traced bounce is
+                         // another model. deprecated_bouncecolorscaletest also sets _bounce 1, but its spotlight lights
                          // two luxels of one face and the bounce adds nothing measurable, so it is here.
                          // q1_light_invalid_delay compiled with no lit face: OracleInvalidDelay below; lqdm5:
                          // OracleLargeLevel below; testsurfacelight: OracleSurfaceLights below.
