@@ -4,6 +4,7 @@
 #include <array>
 #include <atomic>
 #include <barrier>
+#include <bit>
 #include <cmath>
 #include <condition_variable>
 #include <memory>
@@ -26,8 +27,13 @@ constexpr float kFloatInf = std::numeric_limits<float>::infinity();
 constexpr uint32_t kMedianSplitDepth = kBvhMaxDepth - 24;
 constexpr size_t kMaxBoxes = size_t{1} << 24;
 // Subtrees of at least this many boxes go to the build's task queue, where an idle thread can
-// take them; smaller ones are built by the thread that reached them, as a task costs a lock.
-constexpr uint32_t kTaskMinBoxes = 1024;
+// take them; smaller ones are built by the thread that reached them. A task costs a lock, but
+// the last subtrees, built while other threads have nothing left to take, are at most a few
+// times this size: with 1024, two threads at 50k boxes waited for each other's last subtree.
+constexpr uint32_t kTaskMinBoxes = 256;
+// A build too small to hand out a few tasks of a few thousand boxes is not worth starting a
+// thread for.
+constexpr uint32_t kThreadsMinBoxes = 4096;
 // Nodes this small are split by an exact sweep over their sorted centroids instead of bins:
 // sorting a handful of boxes costs less than clearing and sweeping 3 x binCount bins, and the
 // deep levels, where bins are coarsest relative to the boxes, are where binning loses most.
@@ -113,16 +119,17 @@ struct Split {
   Box4 leftBounds, rightBounds; // binned splits only: the children's bounds, from the bins
 };
 
-// The lowest-cost lane of the per-axis sweep results, first axis on equal cost.
+// The lowest-cost lane of the per-axis sweep results, first axis on equal cost; -1 when no lane
+// is valid. Valid lanes hold finite or infinite costs, never NaN (the sweeps only keep a cost
+// that compares less than the best so far). Without branches: which axis wins is a coin toss
+// that a branch predictor loses half the time.
 int cheapestAxis(__m128 cost, __m128i valid) {
-  alignas(16) float c[4];
-  alignas(16) int32_t v[4];
-  _mm_store_ps(c, cost);
-  _mm_store_si128(reinterpret_cast<__m128i*>(v), valid);
-  int axis = -1;
-  for (int a = 0; a < 3; ++a)
-    if (v[a] && (axis < 0 || c[a] < c[axis])) axis = a;
-  return axis;
+  const __m128 validCost = _mm_or_ps(_mm_and_ps(_mm_castsi128_ps(valid), cost), _mm_andnot_ps(_mm_castsi128_ps(valid), _mm_set1_ps(kFloatInf)));
+  __m128 lowest = _mm_min_ps(validCost, _mm_shuffle_ps(validCost, validCost, _MM_SHUFFLE(3, 0, 2, 1)));
+  lowest = _mm_min_ps(lowest, _mm_shuffle_ps(validCost, validCost, _MM_SHUFFLE(3, 1, 0, 2)));
+  // lowest holds the minimum of the three lanes in each of lanes 0-2.
+  const int cheapest = _mm_movemask_ps(_mm_and_ps(_mm_cmpeq_ps(validCost, lowest), _mm_castsi128_ps(valid))) & 7;
+  return cheapest == 0 ? -1 : std::countr_zero(static_cast<unsigned>(cheapest));
 }
 
 // Bins of one node, the three axes side by side: box[b][a] and count[b][a] are bin b of axis a.
@@ -266,23 +273,39 @@ Split splitPair(const BoxRef* boxes) {
 }
 
 // Exact SAH split of a small node: every plane between consecutive distinct centroids, the
-// three axes side by side as in findBinnedSplit.
-Split findExactSplit(const BoxRef* boxes, uint32_t n) {
-  if (n == 2) return splitPair(boxes);
+// three axes side by side as in findBinnedSplit. The node's n boxes fill the first n of Slots
+// slots; the others hold empty boxes with centroids at +inf, which sort after the node's boxes,
+// grow no bounds and are masked out as split candidates. So every loop runs Slots times, fully
+// unrolled: in nodes this small, the mispredicted exits of loops that run n times cost more
+// than the padding's compares.
+template <uint32_t Slots>
+Split findExactSplitInSlots(const BoxRef* boxes, uint32_t n) {
   struct Key {
     float centroid2;
-    uint32_t box;
+    uint32_t slot;
   };
-  // Sorted by rank, all three axes at once: box i goes to the number of boxes before it in
-  // (centroid, input index) order. n^2 compares of a handful of boxes cost less than the
-  // mispredicted branches of an insertion sort.
-  __m128 centroid[kExactSweepMax];
-  for (uint32_t i = 0; i < n; ++i) centroid[i] = boxes[i].centroid2();
-  Key sorted[3][kExactSweepMax];
-  for (uint32_t i = 0; i < n; ++i) {
+  const __m128 emptyLo = _mm_and_ps(_mm_set1_ps(kFloatMax), kXyzMask), emptyHi = _mm_and_ps(_mm_set1_ps(-kFloatMax), kXyzMask);
+  const __m128 lastCentroid = _mm_and_ps(_mm_set1_ps(kFloatInf), kXyzMask);
+  __m128 lo[Slots], hi[Slots], centroid[Slots];
+#pragma GCC unroll 8
+  for (uint32_t i = 0; i < Slots; ++i) {
+    const __m128 inNode = _mm_castsi128_ps(_mm_set1_epi32(i < n ? -1 : 0));
+    const BoxRef& box = boxes[i < n ? i : 0];
+    lo[i] = _mm_or_ps(_mm_and_ps(inNode, box.lo()), _mm_andnot_ps(inNode, emptyLo));
+    hi[i] = _mm_or_ps(_mm_and_ps(inNode, box.hi()), _mm_andnot_ps(inNode, emptyHi));
+    centroid[i] = _mm_or_ps(_mm_and_ps(inNode, _mm_add_ps(lo[i], hi[i])), _mm_andnot_ps(inNode, lastCentroid));
+  }
+  // Sorted by rank, all three axes at once: slot i goes to the number of slots before it in
+  // (centroid, slot) order. Slots^2 compares cost less than the mispredicted branches of an
+  // insertion sort.
+  Key sorted[3][Slots];
+#pragma GCC unroll 8
+  for (uint32_t i = 0; i < Slots; ++i) {
     __m128i rank = _mm_setzero_si128(); // minus the count, as a true compare is -1
+#pragma GCC unroll 8
     for (uint32_t j = 0; j < i; ++j) rank = _mm_add_epi32(rank, _mm_castps_si128(_mm_cmple_ps(centroid[j], centroid[i])));
-    for (uint32_t j = i + 1; j < n; ++j) rank = _mm_add_epi32(rank, _mm_castps_si128(_mm_cmplt_ps(centroid[j], centroid[i])));
+#pragma GCC unroll 8
+    for (uint32_t j = i + 1; j < Slots; ++j) rank = _mm_add_epi32(rank, _mm_castps_si128(_mm_cmplt_ps(centroid[j], centroid[i])));
     alignas(16) int32_t r[4];
     alignas(16) float c[4];
     _mm_store_si128(reinterpret_cast<__m128i*>(r), rank);
@@ -290,22 +313,26 @@ Split findExactSplit(const BoxRef* boxes, uint32_t n) {
     for (int a = 0; a < 3; ++a) sorted[a][-r[a]] = {c[a], i};
   }
   // rightCost[i]: sorted[a][i, n) on the right.
-  __m128 rightCost[kExactSweepMax];
+  __m128 rightCost[Slots];
   Box4 box[3];
-  for (uint32_t i = n; i-- > 1;) {
-    for (int a = 0; a < 3; ++a) box[a].grow(boxes[sorted[a][i].box].lo(), boxes[sorted[a][i].box].hi());
+#pragma GCC unroll 8
+  for (uint32_t i = Slots - 1; i >= 1; --i) {
+    for (int a = 0; a < 3; ++a) box[a].grow(lo[sorted[a][i].slot], hi[sorted[a][i].slot]);
     rightCost[i] = _mm_mul_ps(halfAreas(box[0], box[1], box[2]), _mm_set1_ps(static_cast<float>(n - i)));
   }
   __m128 bestCost = _mm_set1_ps(kFloatInf);
   __m128i bestIndex = _mm_setzero_si128(), found = _mm_setzero_si128();
   box[0] = box[1] = box[2] = Box4{};
-  for (uint32_t i = 1; i < n; ++i) { // left = sorted[a][0, i)
-    for (int a = 0; a < 3; ++a) box[a].grow(boxes[sorted[a][i - 1].box].lo(), boxes[sorted[a][i - 1].box].hi());
+#pragma GCC unroll 8
+  for (uint32_t i = 1; i < Slots; ++i) { // left = sorted[a][0, i)
+    for (int a = 0; a < 3; ++a) box[a].grow(lo[sorted[a][i - 1].slot], hi[sorted[a][i - 1].slot]);
     const __m128 cost = _mm_add_ps(_mm_mul_ps(halfAreas(box[0], box[1], box[2]), _mm_set1_ps(static_cast<float>(i))), rightCost[i]);
-    // Equal centroids cannot be separated by a plane; lane 3 compares 0 with 0.
+    // Equal centroids cannot be separated by a plane; lane 3 compares 0 with 0. Planes past the
+    // node's last box (i >= n) are padding.
     const __m128 previous = _mm_setr_ps(sorted[0][i - 1].centroid2, sorted[1][i - 1].centroid2, sorted[2][i - 1].centroid2, 0.0f);
     const __m128 next = _mm_setr_ps(sorted[0][i].centroid2, sorted[1][i].centroid2, sorted[2][i].centroid2, 0.0f);
-    const __m128i better = _mm_castps_si128(_mm_and_ps(_mm_cmpneq_ps(previous, next), _mm_cmplt_ps(cost, bestCost)));
+    const __m128 inNode = _mm_castsi128_ps(_mm_set1_epi32(i < n ? -1 : 0));
+    const __m128i better = _mm_castps_si128(_mm_and_ps(_mm_and_ps(inNode, _mm_cmpneq_ps(previous, next)), _mm_cmplt_ps(cost, bestCost)));
     bestCost = _mm_or_ps(_mm_and_ps(_mm_castsi128_ps(better), cost), _mm_andnot_ps(_mm_castsi128_ps(better), bestCost));
     bestIndex = _mm_or_si128(_mm_and_si128(better, _mm_set1_epi32(static_cast<int32_t>(i))), _mm_andnot_si128(better, bestIndex));
     found = _mm_or_si128(found, better);
@@ -322,6 +349,12 @@ Split findExactSplit(const BoxRef* boxes, uint32_t n) {
   best.position = sorted[best.axis][best.leftCount - 1].centroid2;
   best.childCost = kSahBrushCost * costs[best.axis];
   return best;
+}
+
+Split findExactSplit(const BoxRef* boxes, uint32_t n) {
+  if (n == 2) return splitPair(boxes);
+  static_assert(kExactSweepMax == 8);
+  return n <= 4 ? findExactSplitInSlots<4>(boxes, n) : findExactSplitInSlots<8>(boxes, n);
 }
 
 // Stable partition of src[0, n) into dst: the boxes left of the split first, then the others,
@@ -398,8 +431,7 @@ public:
     settings_.binCount = std::clamp(settings_.binCount, 2, kMaxBins);
     settings_.leafSize = std::max(settings_.leafSize, 1);
     const int threads = settings.threads > 0 ? settings.threads : static_cast<int>(std::thread::hardware_concurrency());
-    // A build too small to hand out a few tasks is not worth starting a thread for.
-    threads_ = count_ < 4 * kTaskMinBoxes ? 1 : std::max(threads, 1);
+    threads_ = count_ < kThreadsMinBoxes ? 1 : std::max(threads, 1);
     // Uninitialised on purpose: every slot and entry is written before it is read.
     refs_[0].reset(new BoxRef[count_]);
     refs_[1].reset(new BoxRef[count_]);
@@ -448,6 +480,7 @@ private:
   // the rest out while planning.
   static constexpr size_t kCompactJobsPerThread = 8;
   static constexpr size_t kMaxCompactJobsPerThread = 64;
+  static constexpr size_t kCompactJobMinNodes = 1024;
 
   // Copies input boxes [begin, end) into refs_[0] and grows their bounds and centroid bounds.
   // Stops at the first box that is empty or has a non-finite bound and returns its index
@@ -658,9 +691,10 @@ private:
       if (const uint32_t nodes = buildPair(node, t)) return nodes;
 
     BoxRef* boxes = refs_[t.buffer].get() + t.begin;
-    Split split;
-    if (t.depth < kMedianSplitDepth)
-      split = count <= kExactSweepMax ? findExactSplit(boxes, count) : findBinnedSplit(boxes, count, t.centroids, binCountFor(count));
+    // Initialised from the call, not assigned: a Split is over a hundred bytes.
+    const Split split = t.depth >= kMedianSplitDepth ? Split{}
+                        : count <= kExactSweepMax    ? findExactSplit(boxes, count)
+                                                     : findBinnedSplit(boxes, count, t.centroids, binCountFor(count));
     NodeTask left{}, right{};
     uint32_t leftCount = 0;
     if (split.axis >= 0) {
@@ -731,7 +765,7 @@ private:
   void planCompaction() {
     const uint32_t total = nodeCount(0);
     nodes_.resize(total); // within the reserved capacity: no allocation
-    const size_t jobNodes = std::max<size_t>(total / (kCompactJobsPerThread * threads_), kTaskMinBoxes);
+    const size_t jobNodes = std::max<size_t>(total / (kCompactJobsPerThread * threads_), kCompactJobMinNodes);
     placeTop(0, 0, 1, jobNodes);
   }
 
