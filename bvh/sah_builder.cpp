@@ -234,15 +234,11 @@ Split bestBinnedSplit(const Bins& bins, uint32_t n, const BinMapping& mapping, i
   _mm_store_ps(costs, bestCost);
   _mm_store_si128(reinterpret_cast<__m128i*>(lastLeft), bestBin);
   best.lastLeftBin = lastLeft[best.axis];
-  for (int b = 0; b < binCount; ++b) {
-    const Bins::Bounds& box = bins.box[b][best.axis];
-    if (b <= best.lastLeftBin) {
-      best.leftCount += bins.count[b][best.axis];
-      best.leftBounds.grow(box.min, box.max);
-    } else {
-      best.rightBounds.grow(box.min, box.max);
-    }
+  for (int b = 0; b <= best.lastLeftBin; ++b) {
+    best.leftCount += bins.count[b][best.axis];
+    best.leftBounds.grow(bins.box[b][best.axis].min, bins.box[b][best.axis].max);
   }
+  for (int b = best.lastLeftBin + 1; b < binCount; ++b) best.rightBounds.grow(bins.box[b][best.axis].min, bins.box[b][best.axis].max);
   best.childCost = kSahBrushCost * costs[best.axis];
   return best;
 }
@@ -262,7 +258,7 @@ Split splitPair(const BoxRef* boxes) {
   Split split;
   split.exact = true;
   if (differ == 0) return split;
-  split.axis = differ & 1 ? 0 : (differ & 2 ? 1 : 2);
+  split.axis = std::countr_zero(static_cast<unsigned>(differ));
   split.position = std::min(boxes[0].centroid2(split.axis), boxes[1].centroid2(split.axis));
   split.leftCount = 1;
   Box4 a, b;
@@ -289,7 +285,7 @@ Split findExactSplitInSlots(const BoxRef* boxes, uint32_t n) {
   __m128 lo[Slots], hi[Slots], centroid[Slots];
 #pragma GCC unroll 8
   for (uint32_t i = 0; i < Slots; ++i) {
-    const __m128 inNode = _mm_castsi128_ps(_mm_set1_epi32(i < n ? -1 : 0));
+    const __m128 inNode = _mm_castsi128_ps(_mm_cmplt_epi32(_mm_set1_epi32(static_cast<int32_t>(i)), _mm_set1_epi32(static_cast<int32_t>(n))));
     const BoxRef& box = boxes[i < n ? i : 0];
     lo[i] = _mm_or_ps(_mm_and_ps(inNode, box.lo()), _mm_andnot_ps(inNode, emptyLo));
     hi[i] = _mm_or_ps(_mm_and_ps(inNode, box.hi()), _mm_andnot_ps(inNode, emptyHi));
@@ -331,7 +327,7 @@ Split findExactSplitInSlots(const BoxRef* boxes, uint32_t n) {
     // node's last box (i >= n) are padding.
     const __m128 previous = _mm_setr_ps(sorted[0][i - 1].centroid2, sorted[1][i - 1].centroid2, sorted[2][i - 1].centroid2, 0.0f);
     const __m128 next = _mm_setr_ps(sorted[0][i].centroid2, sorted[1][i].centroid2, sorted[2][i].centroid2, 0.0f);
-    const __m128 inNode = _mm_castsi128_ps(_mm_set1_epi32(i < n ? -1 : 0));
+    const __m128 inNode = _mm_castsi128_ps(_mm_cmplt_epi32(_mm_set1_epi32(static_cast<int32_t>(i)), _mm_set1_epi32(static_cast<int32_t>(n))));
     const __m128i better = _mm_castps_si128(_mm_and_ps(_mm_and_ps(inNode, _mm_cmpneq_ps(previous, next)), _mm_cmplt_ps(cost, bestCost)));
     bestCost = _mm_or_ps(_mm_and_ps(_mm_castsi128_ps(better), cost), _mm_andnot_ps(_mm_castsi128_ps(better), bestCost));
     bestIndex = _mm_or_si128(_mm_and_si128(better, _mm_set1_epi32(static_cast<int32_t>(i))), _mm_andnot_si128(better, bestIndex));
