@@ -739,10 +739,10 @@ private:
     return middle;
   }
 
-  // The depth-first layout of compactDepthFirst(), built from subtree node counts instead of
-  // a stack: a node placed at nodes_[to] has its children at descendantsAt and descendantsAt + 1,
-  // the left child's descendants after them, then the right child's. Every place is known
-  // from the counts, so threads can lay out separate subtrees at once.
+  // The depth-first layout of compactDepthFirst(), cut into subtrees that threads lay out at
+  // once: a node placed at nodes_[to] has its children at descendantsAt and descendantsAt + 1,
+  // the left child's descendants after them, then the right child's, so the subtree node
+  // counts give every subtree's place.
   struct CompactJob {
     uint32_t slot, to, descendantsAt;
   };
@@ -777,16 +777,27 @@ private:
     placeTop(left + 1, descendantsAt + 1, descendantsAt + 2 + nodeCounts_[left] - 1, jobNodes);
   }
 
-  void runCompactJob(const CompactJob& job) { place(job.slot, job.to, job.descendantsAt); }
-
-  void place(uint32_t slot, uint32_t to, uint32_t descendantsAt) {
-    GpuBvhNode& node = nodes_[to];
-    node = slots_[slot];
-    if (node.count != 0) return;
-    const uint32_t left = node.leftFirst;
-    node.leftFirst = descendantsAt;
-    place(left, descendantsAt, descendantsAt + 2);
-    place(left + 1, descendantsAt + 1, descendantsAt + 2 + nodeCounts_[left] - 1);
+  // Lays out job.slot's subtree: its root at job.to, its descendants from job.descendantsAt on,
+  // by compactDepthFirst()'s loop. The stack holds (slot, place) of placed interior nodes whose
+  // children are still to be placed: at most one per level, and the build's depth is bounded.
+  void runCompactJob(const CompactJob& job) {
+    GpuBvhNode* out = nodes_.data();
+    std::array<std::pair<uint32_t, uint32_t>, kBvhMaxDepth + 1> stack;
+    size_t stackSize = 0;
+    out[job.to] = slots_[job.slot];
+    if (out[job.to].count == 0) stack[stackSize++] = {job.slot, job.to};
+    uint32_t used = job.descendantsAt;
+    while (stackSize > 0) {
+      const auto [slot, to] = stack[--stackSize];
+      const uint32_t left = slots_[slot].leftFirst;
+      out[to].leftFirst = used;
+      out[used] = slots_[left];
+      out[used + 1] = slots_[left + 1];
+      // Right first on the stack so the left subtree is laid out next: depth-first order.
+      if (slots_[left + 1].count == 0) stack[stackSize++] = {left + 1, used + 1};
+      if (slots_[left].count == 0) stack[stackSize++] = {left, used};
+      used += 2;
+    }
   }
 
   SahBuildSettings settings_;
