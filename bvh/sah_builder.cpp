@@ -454,7 +454,6 @@ public:
       const uint32_t invalid = readBoxes(0, count_, root.bounds, root.centroids);
       if (invalid != kNoBox) throwInvalidBox(invalid);
       buildNode(root);
-      nodes_.resize(2 * size_t{count_} - 1);
       planCompaction();
       for (const CompactJob& job : compactJobs_) runCompactJob(job);
     } else {
@@ -524,7 +523,7 @@ private:
     const auto chunkBegin = [&](int c) { return static_cast<uint32_t>(uint64_t{count_} * c / chunks); };
     const int binCount = binCountFor(count_);
     std::vector<Bins> bins(chunks);
-    std::vector<std::array<Box4, 2>> read(chunks);               // each chunk's [bounds, centroids]
+    std::vector<std::array<Box4, 2>> chunkBounds(chunks);        // each chunk's [bounds, centroids]
     std::vector<uint32_t> invalid(chunks);                        // each chunk's first invalid box
     std::vector<uint32_t> leftBegin(chunks), rightBegin(chunks); // where each chunk's boxes go
     std::vector<std::array<Box4, 2>> centroids(chunks);          // of each chunk's [right, left] boxes
@@ -536,8 +535,8 @@ private:
     std::barrier readDone(chunks, [&]() noexcept {
       for (int c = 0; c < chunks; ++c) {
         firstInvalid = std::min(firstInvalid, invalid[c]);
-        root.bounds.grow(read[c][0]);
-        root.centroids.grow(read[c][1]);
+        root.bounds.grow(chunkBounds[c][0]);
+        root.centroids.grow(chunkBounds[c][1]);
       }
       mapping = binMappingFor(root.centroids, binCount);
     });
@@ -573,7 +572,7 @@ private:
     std::barrier built(chunks, [&]() noexcept { planCompaction(); });
     const auto run = [&](int c) {
       const uint32_t begin = chunkBegin(c), end = chunkBegin(c + 1);
-      invalid[c] = readBoxes(begin, end, read[c][0], read[c][1]);
+      invalid[c] = readBoxes(begin, end, chunkBounds[c][0], chunkBounds[c][1]);
       readDone.arrive_and_wait();
       if (firstInvalid != kNoBox) return;
       const BoxRef* src = refs_[root.buffer].get();
@@ -782,7 +781,7 @@ private:
   // children are still to be placed: at most one per level, and the build's depth is bounded.
   void runCompactJob(const CompactJob& job) {
     GpuBvhNode* out = nodes_.data();
-    std::array<std::pair<uint32_t, uint32_t>, kBvhMaxDepth + 1> stack;
+    std::array<std::pair<uint32_t, uint32_t>, 2 * kBvhMaxDepth> stack;
     size_t stackSize = 0;
     out[job.to] = slots_[job.slot];
     if (out[job.to].count == 0) stack[stackSize++] = {job.slot, job.to};
