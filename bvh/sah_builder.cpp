@@ -6,6 +6,7 @@
 #include <barrier>
 #include <bit>
 #include <cmath>
+#include <cstddef>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
@@ -171,10 +172,11 @@ struct Bins {
 
 // The bin mapping of a node whose doubled centroids span `centroids`.
 BinMapping binMappingFor(const Box4& centroids, int binCount) {
-  alignas(16) float extent[4], scale[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-  _mm_store_ps(extent, _mm_sub_ps(centroids.max, centroids.min));
-  for (int a = 0; a < 3; ++a) scale[a] = extent[a] > 0.0f ? binCount / extent[a] : 0.0f;
-  return {centroids.min, _mm_load_ps(scale), _mm_set1_ps(static_cast<float>(binCount - 1))};
+  const __m128 extent = _mm_sub_ps(centroids.max, centroids.min);
+  // One division for the three axes; 0 where the extent is not positive (lane 3 among them).
+  const __m128 positive = _mm_cmpgt_ps(extent, _mm_setzero_ps());
+  const __m128 scale = _mm_and_ps(positive, _mm_div_ps(_mm_set1_ps(static_cast<float>(binCount)), extent));
+  return {centroids.min, scale, _mm_set1_ps(static_cast<float>(binCount - 1))};
 }
 
 // Bins boxes[0, n) into `bins` (cleared here).
@@ -633,12 +635,12 @@ private:
     return nodeCounts_[t.slot] = 1;
   }
 
+  // Writes the node's bounds with two stores, whose lane 3 lands in leftFirst and count: every
+  // caller writes those afterwards.
   static void writeBounds(GpuBvhNode& node, const NodeTask& t) {
-    const Aabb box = t.bounds.aabb();
-    for (int a = 0; a < 3; ++a) {
-      node.boundsMin[a] = box.min[a];
-      node.boundsMax[a] = box.max[a];
-    }
+    static_assert(offsetof(GpuBvhNode, leftFirst) == 12 && offsetof(GpuBvhNode, count) == 28);
+    _mm_storeu_ps(node.boundsMin, t.bounds.min);
+    _mm_storeu_ps(node.boundsMax, t.bounds.max);
   }
 
   // Makes t's node the parent of `left` (t's first leftCount boxes) and `right` (the others):
