@@ -83,6 +83,14 @@ int runRender(const RenderOptions& o) {
 
   const std::optional<gl::TextureMode> glTextures = gl::parseTextureMode(o.glTextures);
   if (!glTextures) throw std::runtime_error("--gl-textures: expected auto, bindless or arrays");
+  // The GL programs this render needs start compiling now, on the driver's threads where it
+  // has them, and are ready, or nearly, once the level is imported.
+  std::shared_ptr<gl::TracerPrograms> glPrograms;
+  if (glContext) {
+    glPrograms = std::make_shared<gl::TracerPrograms>(*glContext, *glTextures);
+    glPrograms->startAovs();
+    if (o.aov == "beauty") glPrograms->startPathTracer(o.lighting == "physical");
+  }
 
   const std::string mapPath = o.map.empty() ? defaultMapPath() : o.map;
   const Scene scene = importScene(mapPath, o.import);
@@ -143,7 +151,7 @@ int runRender(const RenderOptions& o) {
     }
   };
 
-  const RenderImage image = glContext ? gl::renderWithGl(*glContext, renderScene, pose, settings, *glTextures, progress).image
+  const RenderImage image = glContext ? gl::renderWithGl(*glContext, renderScene, pose, settings, glPrograms, progress).image
                                       : renderCpu(renderScene, Camera(pose, width, height), settings, progress);
   if (tty && !o.quiet && image.samples != settings.spp) fmt::print("\n");
   writeImage(o.output, image, output);

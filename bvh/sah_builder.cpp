@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <barrier>
+#include <bit>
 #include <cmath>
+#include <cstddef>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
@@ -25,8 +28,13 @@ constexpr float kFloatInf = std::numeric_limits<float>::infinity();
 constexpr uint32_t kMedianSplitDepth = kBvhMaxDepth - 24;
 constexpr size_t kMaxBoxes = size_t{1} << 24;
 // Subtrees of at least this many boxes go to the build's task queue, where an idle thread can
-// take them; smaller ones are built by the thread that reached them, as a task costs a lock.
-constexpr uint32_t kTaskMinBoxes = 1024;
+// take them; smaller ones are built by the thread that reached them. A task costs a lock, but
+// the last subtrees, built while other threads have nothing left to take, are at most a few
+// times this size: with 1024, two threads at 50k boxes waited for each other's last subtree.
+constexpr uint32_t kTaskMinBoxes = 256;
+// A build too small to hand out a few tasks of a few thousand boxes is not worth starting a
+// thread for.
+constexpr uint32_t kThreadsMinBoxes = 4096;
 // Nodes this small are split by an exact sweep over their sorted centroids instead of bins:
 // sorting a handful of boxes costs less than clearing and sweeping 3 x binCount bins, and the
 // deep levels, where bins are coarsest relative to the boxes, are where binning loses most.
@@ -112,16 +120,17 @@ struct Split {
   Box4 leftBounds, rightBounds; // binned splits only: the children's bounds, from the bins
 };
 
-// The lowest-cost lane of the per-axis sweep results, first axis on equal cost.
+// The lowest-cost lane of the per-axis sweep results, first axis on equal cost; -1 when no lane
+// is valid. Valid lanes hold finite or infinite costs, never NaN (the sweeps only keep a cost
+// that compares less than the best so far). Without branches: which axis wins is a coin toss
+// that a branch predictor loses half the time.
 int cheapestAxis(__m128 cost, __m128i valid) {
-  alignas(16) float c[4];
-  alignas(16) int32_t v[4];
-  _mm_store_ps(c, cost);
-  _mm_store_si128(reinterpret_cast<__m128i*>(v), valid);
-  int axis = -1;
-  for (int a = 0; a < 3; ++a)
-    if (v[a] && (axis < 0 || c[a] < c[axis])) axis = a;
-  return axis;
+  const __m128 validCost = _mm_or_ps(_mm_and_ps(_mm_castsi128_ps(valid), cost), _mm_andnot_ps(_mm_castsi128_ps(valid), _mm_set1_ps(kFloatInf)));
+  __m128 lowest = _mm_min_ps(validCost, _mm_shuffle_ps(validCost, validCost, _MM_SHUFFLE(3, 0, 2, 1)));
+  lowest = _mm_min_ps(lowest, _mm_shuffle_ps(validCost, validCost, _MM_SHUFFLE(3, 1, 0, 2)));
+  // lowest holds the minimum of the three lanes in each of lanes 0-2.
+  const int cheapest = _mm_movemask_ps(_mm_and_ps(_mm_cmpeq_ps(validCost, lowest), _mm_castsi128_ps(valid))) & 7;
+  return cheapest == 0 ? -1 : std::countr_zero(static_cast<unsigned>(cheapest));
 }
 
 // Bins of one node, the three axes side by side: box[b][a] and count[b][a] are bin b of axis a.
@@ -163,10 +172,11 @@ struct Bins {
 
 // The bin mapping of a node whose doubled centroids span `centroids`.
 BinMapping binMappingFor(const Box4& centroids, int binCount) {
-  alignas(16) float extent[4], scale[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-  _mm_store_ps(extent, _mm_sub_ps(centroids.max, centroids.min));
-  for (int a = 0; a < 3; ++a) scale[a] = extent[a] > 0.0f ? binCount / extent[a] : 0.0f;
-  return {centroids.min, _mm_load_ps(scale), _mm_set1_ps(static_cast<float>(binCount - 1))};
+  const __m128 extent = _mm_sub_ps(centroids.max, centroids.min);
+  // One division for the three axes; 0 where the extent is not positive (lane 3 among them).
+  const __m128 positive = _mm_cmpgt_ps(extent, _mm_setzero_ps());
+  const __m128 scale = _mm_and_ps(positive, _mm_div_ps(_mm_set1_ps(static_cast<float>(binCount)), extent));
+  return {centroids.min, scale, _mm_set1_ps(static_cast<float>(binCount - 1))};
 }
 
 // Bins boxes[0, n) into `bins` (cleared here).
@@ -226,15 +236,11 @@ Split bestBinnedSplit(const Bins& bins, uint32_t n, const BinMapping& mapping, i
   _mm_store_ps(costs, bestCost);
   _mm_store_si128(reinterpret_cast<__m128i*>(lastLeft), bestBin);
   best.lastLeftBin = lastLeft[best.axis];
-  for (int b = 0; b < binCount; ++b) {
-    const Bins::Bounds& box = bins.box[b][best.axis];
-    if (b <= best.lastLeftBin) {
-      best.leftCount += bins.count[b][best.axis];
-      best.leftBounds.grow(box.min, box.max);
-    } else {
-      best.rightBounds.grow(box.min, box.max);
-    }
+  for (int b = 0; b <= best.lastLeftBin; ++b) {
+    best.leftCount += bins.count[b][best.axis];
+    best.leftBounds.grow(bins.box[b][best.axis].min, bins.box[b][best.axis].max);
   }
+  for (int b = best.lastLeftBin + 1; b < binCount; ++b) best.rightBounds.grow(bins.box[b][best.axis].min, bins.box[b][best.axis].max);
   best.childCost = kSahBrushCost * costs[best.axis];
   return best;
 }
@@ -254,7 +260,7 @@ Split splitPair(const BoxRef* boxes) {
   Split split;
   split.exact = true;
   if (differ == 0) return split;
-  split.axis = differ & 1 ? 0 : (differ & 2 ? 1 : 2);
+  split.axis = std::countr_zero(static_cast<unsigned>(differ));
   split.position = std::min(boxes[0].centroid2(split.axis), boxes[1].centroid2(split.axis));
   split.leftCount = 1;
   Box4 a, b;
@@ -265,23 +271,39 @@ Split splitPair(const BoxRef* boxes) {
 }
 
 // Exact SAH split of a small node: every plane between consecutive distinct centroids, the
-// three axes side by side as in findBinnedSplit.
-Split findExactSplit(const BoxRef* boxes, uint32_t n) {
-  if (n == 2) return splitPair(boxes);
+// three axes side by side as in findBinnedSplit. The node's n boxes fill the first n of Slots
+// slots; the others hold empty boxes with centroids at +inf, which sort after the node's boxes,
+// grow no bounds and are masked out as split candidates. So every loop runs Slots times, fully
+// unrolled: in nodes this small, the mispredicted exits of loops that run n times cost more
+// than the padding's compares.
+template <uint32_t Slots>
+Split findExactSplitInSlots(const BoxRef* boxes, uint32_t n) {
   struct Key {
     float centroid2;
-    uint32_t box;
+    uint32_t slot;
   };
-  // Sorted by rank, all three axes at once: box i goes to the number of boxes before it in
-  // (centroid, input index) order. n^2 compares of a handful of boxes cost less than the
-  // mispredicted branches of an insertion sort.
-  __m128 centroid[kExactSweepMax];
-  for (uint32_t i = 0; i < n; ++i) centroid[i] = boxes[i].centroid2();
-  Key sorted[3][kExactSweepMax];
-  for (uint32_t i = 0; i < n; ++i) {
+  const __m128 emptyLo = _mm_and_ps(_mm_set1_ps(kFloatMax), kXyzMask), emptyHi = _mm_and_ps(_mm_set1_ps(-kFloatMax), kXyzMask);
+  const __m128 lastCentroid = _mm_and_ps(_mm_set1_ps(kFloatInf), kXyzMask);
+  __m128 lo[Slots], hi[Slots], centroid[Slots];
+#pragma GCC unroll 8
+  for (uint32_t i = 0; i < Slots; ++i) {
+    const __m128 inNode = _mm_castsi128_ps(_mm_cmplt_epi32(_mm_set1_epi32(static_cast<int32_t>(i)), _mm_set1_epi32(static_cast<int32_t>(n))));
+    const BoxRef& box = boxes[i < n ? i : 0];
+    lo[i] = _mm_or_ps(_mm_and_ps(inNode, box.lo()), _mm_andnot_ps(inNode, emptyLo));
+    hi[i] = _mm_or_ps(_mm_and_ps(inNode, box.hi()), _mm_andnot_ps(inNode, emptyHi));
+    centroid[i] = _mm_or_ps(_mm_and_ps(inNode, _mm_add_ps(lo[i], hi[i])), _mm_andnot_ps(inNode, lastCentroid));
+  }
+  // Sorted by rank, all three axes at once: slot i goes to the number of slots before it in
+  // (centroid, slot) order. Slots^2 compares cost less than the mispredicted branches of an
+  // insertion sort.
+  Key sorted[3][Slots];
+#pragma GCC unroll 8
+  for (uint32_t i = 0; i < Slots; ++i) {
     __m128i rank = _mm_setzero_si128(); // minus the count, as a true compare is -1
+#pragma GCC unroll 8
     for (uint32_t j = 0; j < i; ++j) rank = _mm_add_epi32(rank, _mm_castps_si128(_mm_cmple_ps(centroid[j], centroid[i])));
-    for (uint32_t j = i + 1; j < n; ++j) rank = _mm_add_epi32(rank, _mm_castps_si128(_mm_cmplt_ps(centroid[j], centroid[i])));
+#pragma GCC unroll 8
+    for (uint32_t j = i + 1; j < Slots; ++j) rank = _mm_add_epi32(rank, _mm_castps_si128(_mm_cmplt_ps(centroid[j], centroid[i])));
     alignas(16) int32_t r[4];
     alignas(16) float c[4];
     _mm_store_si128(reinterpret_cast<__m128i*>(r), rank);
@@ -289,22 +311,26 @@ Split findExactSplit(const BoxRef* boxes, uint32_t n) {
     for (int a = 0; a < 3; ++a) sorted[a][-r[a]] = {c[a], i};
   }
   // rightCost[i]: sorted[a][i, n) on the right.
-  __m128 rightCost[kExactSweepMax];
+  __m128 rightCost[Slots];
   Box4 box[3];
-  for (uint32_t i = n; i-- > 1;) {
-    for (int a = 0; a < 3; ++a) box[a].grow(boxes[sorted[a][i].box].lo(), boxes[sorted[a][i].box].hi());
+#pragma GCC unroll 8
+  for (uint32_t i = Slots - 1; i >= 1; --i) {
+    for (int a = 0; a < 3; ++a) box[a].grow(lo[sorted[a][i].slot], hi[sorted[a][i].slot]);
     rightCost[i] = _mm_mul_ps(halfAreas(box[0], box[1], box[2]), _mm_set1_ps(static_cast<float>(n - i)));
   }
   __m128 bestCost = _mm_set1_ps(kFloatInf);
   __m128i bestIndex = _mm_setzero_si128(), found = _mm_setzero_si128();
   box[0] = box[1] = box[2] = Box4{};
-  for (uint32_t i = 1; i < n; ++i) { // left = sorted[a][0, i)
-    for (int a = 0; a < 3; ++a) box[a].grow(boxes[sorted[a][i - 1].box].lo(), boxes[sorted[a][i - 1].box].hi());
+#pragma GCC unroll 8
+  for (uint32_t i = 1; i < Slots; ++i) { // left = sorted[a][0, i)
+    for (int a = 0; a < 3; ++a) box[a].grow(lo[sorted[a][i - 1].slot], hi[sorted[a][i - 1].slot]);
     const __m128 cost = _mm_add_ps(_mm_mul_ps(halfAreas(box[0], box[1], box[2]), _mm_set1_ps(static_cast<float>(i))), rightCost[i]);
-    // Equal centroids cannot be separated by a plane; lane 3 compares 0 with 0.
+    // Equal centroids cannot be separated by a plane; lane 3 compares 0 with 0. Planes past the
+    // node's last box (i >= n) are padding.
     const __m128 previous = _mm_setr_ps(sorted[0][i - 1].centroid2, sorted[1][i - 1].centroid2, sorted[2][i - 1].centroid2, 0.0f);
     const __m128 next = _mm_setr_ps(sorted[0][i].centroid2, sorted[1][i].centroid2, sorted[2][i].centroid2, 0.0f);
-    const __m128i better = _mm_castps_si128(_mm_and_ps(_mm_cmpneq_ps(previous, next), _mm_cmplt_ps(cost, bestCost)));
+    const __m128 inNode = _mm_castsi128_ps(_mm_cmplt_epi32(_mm_set1_epi32(static_cast<int32_t>(i)), _mm_set1_epi32(static_cast<int32_t>(n))));
+    const __m128i better = _mm_castps_si128(_mm_and_ps(_mm_and_ps(inNode, _mm_cmpneq_ps(previous, next)), _mm_cmplt_ps(cost, bestCost)));
     bestCost = _mm_or_ps(_mm_and_ps(_mm_castsi128_ps(better), cost), _mm_andnot_ps(_mm_castsi128_ps(better), bestCost));
     bestIndex = _mm_or_si128(_mm_and_si128(better, _mm_set1_epi32(static_cast<int32_t>(i))), _mm_andnot_si128(better, bestIndex));
     found = _mm_or_si128(found, better);
@@ -321,6 +347,12 @@ Split findExactSplit(const BoxRef* boxes, uint32_t n) {
   best.position = sorted[best.axis][best.leftCount - 1].centroid2;
   best.childCost = kSahBrushCost * costs[best.axis];
   return best;
+}
+
+Split findExactSplit(const BoxRef* boxes, uint32_t n) {
+  if (n == 2) return splitPair(boxes);
+  static_assert(kExactSweepMax == 8);
+  return n <= 4 ? findExactSplitInSlots<4>(boxes, n) : findExactSplitInSlots<8>(boxes, n);
 }
 
 // Stable partition of src[0, n) into dst: the boxes left of the split first, then the others,
@@ -386,64 +418,130 @@ struct NodeTask {
 // buffer partitioned, recurse. Subtrees of kTaskMinBoxes or more go to a queue that all the
 // build's threads take from; every choice depends on the boxes alone, never on which thread
 // builds what, so the tree is the same for any thread count.
+//
+// Around the build, the same threads read the input boxes (each thread a chunk) and lay the
+// finished tree out depth first (each thread whole subtrees): done by one thread, these two
+// passes over every box and node held the others idle for a tenth of a two-thread build.
 class BinnedSahBuilder {
 public:
   BinnedSahBuilder(std::span<const Aabb> boxes, const SahBuildSettings& settings)
-      : settings_(settings), count_(static_cast<uint32_t>(boxes.size())) {
+      : settings_(settings), input_(boxes), count_(static_cast<uint32_t>(boxes.size())) {
     settings_.binCount = std::clamp(settings_.binCount, 2, kMaxBins);
     settings_.leafSize = std::max(settings_.leafSize, 1);
     const int threads = settings.threads > 0 ? settings.threads : static_cast<int>(std::thread::hardware_concurrency());
-    // A build too small to hand out a few tasks is not worth starting a thread for.
-    threads_ = count_ < 4 * kTaskMinBoxes ? 1 : std::max(threads, 1);
+    threads_ = count_ < kThreadsMinBoxes ? 1 : std::max(threads, 1);
     // Uninitialised on purpose: every slot and entry is written before it is read.
     refs_[0].reset(new BoxRef[count_]);
     refs_[1].reset(new BoxRef[count_]);
-    slots_.reset(new GpuBvhNode[count_ == 0 ? 0 : 2 * count_ - 1]);
+    const size_t slotCount = count_ == 0 ? 0 : 2 * size_t{count_} - 1;
+    slots_.reset(new GpuBvhNode[slotCount]);
+    nodeCounts_.reset(new uint32_t[slotCount]);
     order_.resize(count_);
-    for (uint32_t i = 0; i < count_; ++i) refs_[0][i] = {boxes[i].min, i, boxes[i].max, 0};
+    // Everything the threads use is allocated here, before they start: nothing they do can
+    // throw and leave the others waiting at a barrier.
+    nodes_.reserve(slotCount);
+    compactJobs_.reserve(kMaxCompactJobsPerThread * threads_);
   }
 
   FlatBvh build() {
-    FlatBvh result;
-    if (count_ == 0) return result;
-    NodeTask root{0, 1, 0, count_, 0, 0, {}, {}};
-    boundsOf(refs_[0].get(), count_, root.bounds, root.centroids);
+    if (count_ == 0) return {};
     // Slot layout while building: a node in slot s with n boxes owns the 2n - 2 slots from
     // `descendants` on for its subtree: its two children first, then the left child's
     // subtree (2 nL - 2 slots), then the right child's. That makes every slot known before
     // the subtrees are built, so threads never share a counter and the layout is the same
-    // for any thread count. Leaves leave their reserved slots unused; compactDepthFirst()
-    // squeezes the holes out.
+    // for any thread count. Leaves leave their reserved slots unused; the depth-first layout
+    // at the end squeezes the holes out.
     if (threads_ == 1) {
+      NodeTask root{0, 1, 0, count_, 0, 0, {}, {}};
+      const uint32_t invalid = readBoxes(0, count_, root.bounds, root.centroids);
+      if (invalid != kNoBox) throwInvalidBox(invalid);
       buildNode(root);
+      planCompaction();
+      for (const CompactJob& job : compactJobs_) runCompactJob(job);
     } else {
-      buildWithThreads(root);
+      const uint32_t invalid = buildWithThreads();
+      if (invalid != kNoBox) throwInvalidBox(invalid);
     }
-    result.nodes = compactDepthFirst({slots_.get(), 2 * size_t{count_} - 1});
+    FlatBvh result;
+    result.nodes = std::move(nodes_);
     result.order = std::move(order_);
     return result;
   }
 
 private:
+  static constexpr uint32_t kNoBox = std::numeric_limits<uint32_t>::max();
+  // nodeCounts_ of a node with a part of its subtree on the task queue (see buildNode()).
+  static constexpr uint32_t kCountUnknown = 0;
+  // The depth-first layout is cut into about this many subtrees per thread, enough for the
+  // threads to finish together; a tree that would need more (long chains of big nodes) lays
+  // the rest out while planning.
+  static constexpr size_t kCompactJobsPerThread = 8;
+  static constexpr size_t kMaxCompactJobsPerThread = 64;
+  static constexpr size_t kCompactJobMinNodes = 1024;
+
+  // Copies input boxes [begin, end) into refs_[0] and grows their bounds and centroid bounds.
+  // Stops at the first box that is empty or has a non-finite bound and returns its index
+  // (kNoBox when all are valid).
+  uint32_t readBoxes(uint32_t begin, uint32_t end, Box4& bounds, Box4& centroids) {
+    static_assert(sizeof(Aabb) == 24);
+    const __m128 zero = _mm_setzero_ps();
+    BoxRef* refs = refs_[0].get();
+    for (uint32_t i = begin; i < end; ++i) {
+      // An Aabb is six packed floats: min.xyz at 0, max.xyz at 12. Loading max from 8 on, as
+      // (min.z, max.x, max.y, max.z), stays inside the box, also for the last one.
+      const float* box = &input_[i].min.x;
+      const __m128 lo = _mm_and_ps(_mm_loadu_ps(box), kXyzMask);
+      const __m128 hi = _mm_and_ps(_mm_shuffle_ps(_mm_loadu_ps(box + 2), _mm_loadu_ps(box + 2), _MM_SHUFFLE(3, 3, 2, 1)), kXyzMask);
+      // x - x is 0 for a finite x, NaN for an infinite or NaN one. Lane 3 is 0 in both.
+      const __m128 finite = _mm_and_ps(_mm_cmpeq_ps(_mm_sub_ps(lo, lo), zero), _mm_cmpeq_ps(_mm_sub_ps(hi, hi), zero));
+      if (_mm_movemask_ps(_mm_and_ps(finite, _mm_cmple_ps(lo, hi))) != 0xf) return i;
+      _mm_storeu_ps(&refs[i].min.x, lo);
+      _mm_storeu_ps(&refs[i].max.x, hi); // pad = lane 3 = 0
+      refs[i].index = i;
+      bounds.grow(lo, hi);
+      const __m128 c = _mm_add_ps(lo, hi);
+      centroids.grow(c, c);
+    }
+    return kNoBox;
+  }
+
+  [[noreturn]] void throwInvalidBox(uint32_t i) const {
+    // Finite bounds keep every doubled centroid ordered (at worst +-inf, never NaN), which the
+    // exact sweep's ranking and the partitions rely on.
+    throw std::invalid_argument(input_[i].empty() ? "buildBinnedSah: empty box" : "buildBinnedSah: box with an infinite or NaN bound");
+  }
+
   // The root split by all threads together, then its subtrees through the task queue. Alone, the
   // root's split (binning and partitioning every box) keeps the other threads idle for a sixth
-  // of a two-thread build. Here each thread bins one chunk of the boxes, one thread merges the
-  // bins and chooses the split, each partitions its chunk. The merged bins are exactly those of
-  // one pass over all boxes and the chunks' boxes keep their order, so the tree is the same as
-  // a one-thread build's.
-  void buildWithThreads(const NodeTask& root) {
+  // of a two-thread build. Here each thread reads and bins one chunk of the boxes, one thread
+  // merges the bins and chooses the split, each partitions its chunk. The merged bins are
+  // exactly those of one pass over all boxes and the chunks' boxes keep their order, so the
+  // tree is the same as a one-thread build's. Returns the first invalid box, kNoBox if none.
+  uint32_t buildWithThreads() {
     // At most 2 n / kTaskMinBoxes subtrees of kTaskMinBoxes boxes or more exist, so the queue
     // never reallocates: a task is never lost to a failed allocation with helpers waiting.
     queue_.reserve(2 * count_ / kTaskMinBoxes + 1);
     const int chunks = threads_;
     const auto chunkBegin = [&](int c) { return static_cast<uint32_t>(uint64_t{count_} * c / chunks); };
     const int binCount = binCountFor(count_);
-    const BinMapping mapping = binMappingFor(root.centroids, binCount);
     std::vector<Bins> bins(chunks);
+    std::vector<std::array<Box4, 2>> chunkBounds(chunks);        // each chunk's [bounds, centroids]
+    std::vector<uint32_t> invalid(chunks);                        // each chunk's first invalid box
     std::vector<uint32_t> leftBegin(chunks), rightBegin(chunks); // where each chunk's boxes go
     std::vector<std::array<Box4, 2>> centroids(chunks);          // of each chunk's [right, left] boxes
+    NodeTask root{0, 1, 0, count_, 0, 0, {}, {}};
+    uint32_t firstInvalid = kNoBox;
+    BinMapping mapping{};
     Split split;
     bool together = false; // whether the threads split the root, or leave it to the task queue
+    std::barrier readDone(chunks, [&]() noexcept {
+      for (int c = 0; c < chunks; ++c) {
+        firstInvalid = std::min(firstInvalid, invalid[c]);
+        root.bounds.grow(chunkBounds[c][0]);
+        root.centroids.grow(chunkBounds[c][1]);
+      }
+      mapping = binMappingFor(root.centroids, binCount);
+    });
     std::barrier binned(chunks, [&]() noexcept {
       Bins all = bins[0];
       for (int c = 1; c < chunks; ++c) all.merge(bins[c], binCount);
@@ -463,6 +561,7 @@ private:
     std::barrier partitioned(chunks, [&]() noexcept {
       if (!together) return;
       writeBounds(slots_[root.slot], root);
+      nodeCounts_[root.slot] = kCountUnknown;
       NodeTask left{}, right{};
       setChildren(root, split.leftCount, left, right);
       left.buffer = right.buffer = 1 - root.buffer;
@@ -471,8 +570,13 @@ private:
       addTask(right);
       addTask(left);
     });
+    std::atomic<size_t> nextCompactJob{0};
+    std::barrier built(chunks, [&]() noexcept { planCompaction(); });
     const auto run = [&](int c) {
       const uint32_t begin = chunkBegin(c), end = chunkBegin(c + 1);
+      invalid[c] = readBoxes(begin, end, chunkBounds[c][0], chunkBounds[c][1]);
+      readDone.arrive_and_wait();
+      if (firstInvalid != kNoBox) return;
       const BoxRef* src = refs_[root.buffer].get();
       BoxRef* dst = refs_[1 - root.buffer].get();
       binBoxes(src + begin, end - begin, mapping, binCount, bins[c]);
@@ -482,11 +586,20 @@ private:
         partition<false>(src + begin, dst + leftBegin[c], dst + rightBegin[c], end - begin, split, unused, centroids[c].data());
       }
       partitioned.arrive_and_wait();
+      // The result's zero fill (std::vector has no other way to size) here, where the task
+      // queue lets the other threads go on building, rather than in a phase where they wait.
+      // Within the capacity reserved in the constructor, so it does not allocate.
+      if (c == 0) nodes_.resize(2 * size_t{count_} - 1);
       work();
+      built.arrive_and_wait();
+      for (size_t job; (job = nextCompactJob.fetch_add(1)) < compactJobs_.size();) runCompactJob(compactJobs_[job]);
     };
-    std::vector<std::jthread> helpers;
-    for (int c = 1; c < chunks; ++c) helpers.emplace_back(run, c);
-    run(0);
+    {
+      std::vector<std::jthread> helpers;
+      for (int c = 1; c < chunks; ++c) helpers.emplace_back(run, c);
+      run(0);
+    }
+    return firstInvalid;
   }
 
   // Takes tasks until every task, including those that running tasks will still add, is done.
@@ -513,19 +626,21 @@ private:
     wake_.notify_one();
   }
 
-  void makeLeaf(GpuBvhNode& node, const NodeTask& t) {
+  // Returns the leaf's node count, 1.
+  uint32_t makeLeaf(GpuBvhNode& node, const NodeTask& t) {
     node.leftFirst = t.begin;
     node.count = t.end - t.begin;
     const BoxRef* boxes = refs_[t.buffer].get();
     for (uint32_t i = t.begin; i < t.end; ++i) order_[i] = boxes[i].index;
+    return nodeCounts_[t.slot] = 1;
   }
 
+  // Writes the node's bounds with two stores, whose lane 3 lands in leftFirst and count: every
+  // caller writes those afterwards.
   static void writeBounds(GpuBvhNode& node, const NodeTask& t) {
-    const Aabb box = t.bounds.aabb();
-    for (int a = 0; a < 3; ++a) {
-      node.boundsMin[a] = box.min[a];
-      node.boundsMax[a] = box.max[a];
-    }
+    static_assert(offsetof(GpuBvhNode, leftFirst) == 12 && offsetof(GpuBvhNode, count) == 28);
+    _mm_storeu_ps(node.boundsMin, t.bounds.min);
+    _mm_storeu_ps(node.boundsMax, t.bounds.max);
   }
 
   // Makes t's node the parent of `left` (t's first leftCount boxes) and `right` (the others):
@@ -543,38 +658,40 @@ private:
 
   // A node of two boxes, the most common interior node (SAH splits to about one box per leaf),
   // with what buildNode() would make of it but no partition and no child tasks: a leaf, or two
-  // one-box leaves with the lower centroid first. False, having written nothing, when the
-  // centroids coincide and buildNode()'s fallback decides.
-  bool buildPair(GpuBvhNode& node, const NodeTask& t) {
+  // one-box leaves with the lower centroid first. Returns its node count, or 0, having written
+  // nothing, when the centroids coincide and buildNode()'s fallback decides.
+  uint32_t buildPair(GpuBvhNode& node, const NodeTask& t) {
     const BoxRef* boxes = refs_[t.buffer].get() + t.begin;
     const Split split = splitPair(boxes);
-    if (split.axis < 0) return false;
-    if (!shouldSplit(2, settings_.leafSize, t.bounds.halfArea(), split.childCost)) {
-      makeLeaf(node, t);
-      return true;
-    }
+    if (split.axis < 0) return 0;
+    if (!shouldSplit(2, settings_.leafSize, t.bounds.halfArea(), split.childCost)) return makeLeaf(node, t);
     const uint32_t first = boxes[0].centroid2(split.axis) <= split.position ? 0 : 1;
     node.leftFirst = t.descendants;
     node.count = 0;
     for (uint32_t child = 0; child < 2; ++child) {
       const BoxRef& box = boxes[child == 0 ? first : 1 - first];
       slots_[t.descendants + child] = {{box.min.x, box.min.y, box.min.z}, t.begin + child, {box.max.x, box.max.y, box.max.z}, 1};
+      nodeCounts_[t.descendants + child] = 1;
       order_[t.begin + child] = box.index;
     }
-    return true;
+    return nodeCounts_[t.slot] = 3;
   }
 
-  void buildNode(const NodeTask& t) {
+  // Builds t's subtree and returns its node count (also kept in nodeCounts_ for the depth-first
+  // layout), or kCountUnknown when a part of it went to the task queue.
+  uint32_t buildNode(const NodeTask& t) {
     GpuBvhNode& node = slots_[t.slot];
     writeBounds(node, t);
     const uint32_t count = t.end - t.begin;
     if (count == 1) return makeLeaf(node, t);
-    if (count == 2 && t.depth < kMedianSplitDepth && buildPair(node, t)) return;
+    if (count == 2 && t.depth < kMedianSplitDepth)
+      if (const uint32_t nodes = buildPair(node, t)) return nodes;
 
     BoxRef* boxes = refs_[t.buffer].get() + t.begin;
-    Split split;
-    if (t.depth < kMedianSplitDepth)
-      split = count <= kExactSweepMax ? findExactSplit(boxes, count) : findBinnedSplit(boxes, count, t.centroids, binCountFor(count));
+    // Initialised from the call, not assigned: a Split is over a hundred bytes.
+    const Split split = t.depth >= kMedianSplitDepth ? Split{}
+                        : count <= kExactSweepMax    ? findExactSplit(boxes, count)
+                                                     : findBinnedSplit(boxes, count, t.centroids, binCountFor(count));
     NodeTask left{}, right{};
     uint32_t leftCount = 0;
     if (split.axis >= 0) {
@@ -596,12 +713,15 @@ private:
     }
 
     setChildren(t, leftCount, left, right);
+    uint32_t leftNodes = kCountUnknown;
     if (threads_ > 1 && leftCount >= kTaskMinBoxes) {
       addTask(left);
     } else {
-      buildNode(left);
+      leftNodes = buildNode(left);
     }
-    buildNode(right);
+    const uint32_t rightNodes = buildNode(right);
+    const bool known = leftNodes != kCountUnknown && rightNodes != kCountUnknown;
+    return nodeCounts_[t.slot] = known ? 1 + leftNodes + rightNodes : kCountUnknown;
   }
 
   // A node with few boxes gets fewer bins: sweeping bins costs more than binning its boxes
@@ -620,12 +740,77 @@ private:
     return middle;
   }
 
+  // The depth-first layout of compactDepthFirst(), cut into subtrees that threads lay out at
+  // once: a node placed at nodes_[to] has its children at descendantsAt and descendantsAt + 1,
+  // the left child's descendants after them, then the right child's, so the subtree node
+  // counts give every subtree's place.
+  struct CompactJob {
+    uint32_t slot, to, descendantsAt;
+  };
+
+  // The subtree node count of slots_[slot], summed here for the nodes that buildNode() left
+  // unknown (those above task-queue subtrees).
+  uint32_t nodeCount(uint32_t slot) {
+    if (nodeCounts_[slot] == kCountUnknown) {
+      const uint32_t left = slots_[slot].leftFirst;
+      nodeCounts_[slot] = 1 + nodeCount(left) + nodeCount(left + 1);
+    }
+    return nodeCounts_[slot];
+  }
+
+  // Sizes nodes_, places the top of the tree and cuts the rest into compactJobs_.
+  void planCompaction() {
+    const uint32_t total = nodeCount(0);
+    nodes_.resize(total); // within the reserved capacity: no allocation
+    const size_t jobNodes = std::max<size_t>(total / (kCompactJobsPerThread * threads_), kCompactJobMinNodes);
+    placeTop(0, 0, 1, jobNodes);
+  }
+
+  void placeTop(uint32_t slot, uint32_t to, uint32_t descendantsAt, size_t jobNodes) {
+    if (nodeCounts_[slot] <= jobNodes && compactJobs_.size() < compactJobs_.capacity())
+      return compactJobs_.push_back({slot, to, descendantsAt});
+    GpuBvhNode& node = nodes_[to];
+    node = slots_[slot];
+    if (node.count != 0) return;
+    const uint32_t left = node.leftFirst;
+    node.leftFirst = descendantsAt;
+    placeTop(left, descendantsAt, descendantsAt + 2, jobNodes);
+    placeTop(left + 1, descendantsAt + 1, descendantsAt + 2 + nodeCounts_[left] - 1, jobNodes);
+  }
+
+  // Lays out job.slot's subtree: its root at job.to, its descendants from job.descendantsAt on,
+  // by compactDepthFirst()'s loop. The stack holds (slot, place) of placed interior nodes whose
+  // children are still to be placed: at most one per level, and the build's depth is bounded.
+  void runCompactJob(const CompactJob& job) {
+    GpuBvhNode* out = nodes_.data();
+    std::array<std::pair<uint32_t, uint32_t>, 2 * kBvhMaxDepth> stack;
+    size_t stackSize = 0;
+    out[job.to] = slots_[job.slot];
+    if (out[job.to].count == 0) stack[stackSize++] = {job.slot, job.to};
+    uint32_t used = job.descendantsAt;
+    while (stackSize > 0) {
+      const auto [slot, to] = stack[--stackSize];
+      const uint32_t left = slots_[slot].leftFirst;
+      out[to].leftFirst = used;
+      out[used] = slots_[left];
+      out[used + 1] = slots_[left + 1];
+      // Right first on the stack so the left subtree is laid out next: depth-first order.
+      if (slots_[left + 1].count == 0) stack[stackSize++] = {left + 1, used + 1};
+      if (slots_[left].count == 0) stack[stackSize++] = {left, used};
+      used += 2;
+    }
+  }
+
   SahBuildSettings settings_;
+  std::span<const Aabb> input_;
   int threads_ = 1;
   uint32_t count_ = 0;
   std::unique_ptr<BoxRef[]> refs_[2]; // a node's boxes are in one; partitioning moves them to the other
   std::unique_ptr<GpuBvhNode[]> slots_;
+  std::unique_ptr<uint32_t[]> nodeCounts_; // per slot: the node count of its subtree, see buildNode()
   std::vector<uint32_t> order_;
+  std::vector<GpuBvhNode> nodes_; // the result: slots_ laid out depth first
+  std::vector<CompactJob> compactJobs_;
 
   std::mutex mutex_; // guards queue_ and unfinished_
   std::condition_variable wake_;
@@ -644,15 +829,7 @@ float halfArea(const GpuBvhNode& n) {
 
 FlatBvh buildBinnedSah(std::span<const Aabb> boxes, const SahBuildSettings& settings) {
   if (boxes.size() > kMaxBoxes) throw std::invalid_argument("buildBinnedSah: more than 2^24 boxes");
-  for (const Aabb& b : boxes) {
-    if (b.empty()) throw std::invalid_argument("buildBinnedSah: empty box");
-    // Finite bounds keep every doubled centroid ordered (at worst +-inf, never NaN), which the
-    // exact sweep's ranking and the partitions rely on.
-    const auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
-    if (!finite(b.min) || !finite(b.max))
-      throw std::invalid_argument("buildBinnedSah: box with an infinite or NaN bound");
-  }
-  return BinnedSahBuilder(boxes, settings).build();
+  return BinnedSahBuilder(boxes, settings).build(); // checks the boxes as it reads them
 }
 
 std::vector<GpuBvhNode> compactDepthFirst(std::span<const GpuBvhNode> nodes) {

@@ -45,11 +45,14 @@ std::vector<fs::path> filesOf(const Scene& scene) {
   return {files.begin(), files.end()};
 }
 
-std::unique_ptr<Level> loadLevel(const ViewerOptions& options, gl::GlContext& context) {
+// `programs` outlive the level: a reload uploads the new level and keeps the compiled programs.
+std::unique_ptr<Level> loadLevel(const ViewerOptions& options, gl::GlContext& context,
+                                 const std::shared_ptr<gl::TracerPrograms>& programs) {
   auto level = std::make_unique<Level>();
   level->scene = importScene(options.map, options.import);
   level->render = buildRenderScene(level->scene, {}, level->scene.diagnostics);
-  level->tracer = std::make_unique<gl::GlTracer>(context, level->scene, options.textures, gl::lightingFor(level->render));
+  level->tracer = std::make_unique<gl::GlTracer>(context, level->scene, level->render.tracer, programs,
+                                                 gl::lightingFor(level->render));
   level->files = filesOf(level->scene);
   return level;
 }
@@ -61,6 +64,7 @@ uint8_t toByte(float v) { return static_cast<uint8_t>(std::lround(std::clamp(v, 
 struct Viewer::Impl {
   ViewerOptions options;
   gl::GlWindow window;
+  std::shared_ptr<gl::TracerPrograms> programs;
   FileWatcher watcher;
   std::unique_ptr<Level> level;
   FlyCamera camera;
@@ -87,7 +91,10 @@ struct Viewer::Impl {
 
   explicit Impl(ViewerOptions o)
       : options(std::move(o)), window(options.width, options.height, "brushtrace — " + options.map), lighting(options.lighting) {
-    level = loadLevel(options, window.context());
+    // The path tracer compiles (on the driver's threads, where it has them) while the level loads.
+    programs = std::make_shared<gl::TracerPrograms>(window.context(), options.textures);
+    programs->startPathTracer(lighting == LightingMode::Physical);
+    level = loadLevel(options, window.context(), programs);
     watcher.watch(level->files);
     const CameraPose pose = options.camera ? *options.camera : defaultCameraPose(level->scene);
     camera = FlyCamera(glm::dvec3(pose.origin), pose.pitch, pose.yaw);
@@ -183,7 +190,7 @@ struct Viewer::Impl {
   void reloadIfSaved() {
     if (watcher.poll().empty()) return;
     try {
-      level = loadLevel(options, window.context());
+      level = loadLevel(options, window.context(), programs);
       error.clear();
       ++reloads;
       restart();
@@ -229,6 +236,9 @@ struct Viewer::Impl {
       for (size_t i = 0; i < sum.size(); ++i) sum[i] += next.beauty[i];
       ++accumulated;
       showRadiance(sum, accumulated, w, h);
+      // The first image is up: the other lighting mode compiles in the background, so that
+      // switching to it (keys 4/5) does not stall.
+      if (accumulated == 1) programs->startPathTracer(lighting != LightingMode::Physical);
     } else {
       return;
     }

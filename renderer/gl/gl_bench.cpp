@@ -21,51 +21,67 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 } // namespace
 
-int runGlBench(const Scene& scene, const GlBenchSettings& s) {
-  Diagnostics diagnostics;
-  const RenderScene renderScene = buildRenderScene(scene, {}, diagnostics);
-  // The render command's default view (info_intermission, info_player_start, else the whole
-  // level), so the rays see what a user first sees.
-  const CameraPose pose = defaultCameraPose(scene);
-  fmt::print("camera: {} ({}), {} lights, {} emitter triangles\n", formatCameraPose(pose), pose.source,
-             renderScene.lights.size(), renderScene.emitters.size());
-
-  // Time to first image, as a user sees it: context, upload, shader build, one sample. Cold
-  // with an empty program cache (every shader compiled, as on a first start), then warm from
-  // the binaries that run stored. A private cache directory keeps the user's cache out of it.
+int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& s) {
+  // Time to first image, as `brushtrace render` gets there: the context, the path tracer's
+  // compile started (it runs on the driver's threads where the driver has them), the level
+  // imported and prepared meanwhile, uploaded, then the wait for the compile and one sample.
+  // Cold with an empty program cache (every shader compiled, as on a first start), then warm
+  // from the binaries that run stored. A private cache directory keeps the user's cache out of it.
   const std::filesystem::path cacheDir =
       std::filesystem::temp_directory_path() / fmt::format("brushtrace-bench-{:08x}", std::random_device{}());
   const gl::BeautySettings oneSample{
       .width = s.width, .height = s.height, .spp = 1, .physical = s.physical, .bounces = s.bounces};
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<RenderScene> renderScene;
   std::unique_ptr<gl::GlContext> context;
   std::unique_ptr<gl::GlTracer> tracer;
-  const gl::CameraBasis camera = gl::cameraFrom(pose, s.width, s.height);
+  CameraPose pose;
   auto firstImage = [&](const char* label) {
     tracer.reset();
     context.reset();
+    renderScene.reset();
+    scene.reset();
     const auto start = Clock::now();
     context = gl::GlContext::createHeadless();
-    tracer = std::make_unique<gl::GlTracer>(*context, scene, renderScene.tracer, s.textures, gl::lightingFor(renderScene));
-    tracer->setProgramCache(gl::ProgramCache(cacheDir));
-    const double setup = secondsSince(start);
+    const double contextSeconds = secondsSince(start);
+    auto programs = std::make_shared<gl::TracerPrograms>(*context, s.textures);
+    programs->setCache(gl::ProgramCache(cacheDir));
+    programs->startPathTracer(s.physical);
+    const auto importStart = Clock::now();
+    scene = std::make_unique<Scene>(loadScene());
+    Diagnostics diagnostics;
+    renderScene = std::make_unique<RenderScene>(buildRenderScene(*scene, {}, diagnostics));
+    const double importSeconds = secondsSince(importStart);
+    const auto uploadStart = Clock::now();
+    tracer = std::make_unique<gl::GlTracer>(*context, *scene, renderScene->tracer, programs, gl::lightingFor(*renderScene));
+    const double uploadSeconds = secondsSince(uploadStart);
+    const auto waitStart = Clock::now();
+    // The default view (info_intermission, info_player_start, else the whole level), so the
+    // rays see what a user first sees.
+    pose = defaultCameraPose(*scene);
     const gl::ProgramBuild build = tracer->buildPathTracer(s.width, s.height, s.physical);
+    const double waitSeconds = secondsSince(waitStart);
     const auto sampleStart = Clock::now();
-    tracer->renderBeauty(camera, oneSample);
+    tracer->renderBeauty(gl::cameraFrom(pose, s.width, s.height), oneSample);
     const double sample = secondsSince(sampleStart);
-    fmt::print("time to first image ({}): {:.3f} s at {}x{}: context and upload {:.3f} s, shader build ms {:.0f}{}, 1 spp {:.3f} s\n",
-               label, secondsSince(start), s.width, s.height, setup, build.milliseconds,
-               build.fromCache ? " (program binary from the cache)" : "", sample);
+    fmt::print("time to first image ({}): {:.3f} s at {}x{}: context {:.3f} s, import and lights {:.3f} s, upload {:.3f} s, "
+               "compile {:.0f} ms of which {:.0f} ms after the upload{}, 1 spp {:.3f} s\n",
+               label, secondsSince(start), s.width, s.height, contextSeconds, importSeconds, uploadSeconds, build.milliseconds,
+               waitSeconds * 1000.0, build.fromCache ? " (program binary from the cache)" : "", sample);
   };
   firstImage("cold, empty program cache");
   const auto& info = context->info();
-  fmt::print("device: {} ({}, {}), textures: {}\n", info.renderer, info.platform, info.version,
-             gl::toString(tracer->textureMode()));
+  fmt::print("device: {} ({}, {}), textures: {}, parallel shader compile: {}\n", info.renderer, info.platform, info.version,
+             gl::toString(tracer->textureMode()), info.parallelShaderCompile ? "yes" : "no");
+  fmt::print("camera: {} ({}), {} lights, {} emitter triangles\n", formatCameraPose(pose), pose.source,
+             renderScene->lights.size(), renderScene->emitters.size());
   firstImage("warm");
   // The programs built from here on (ray bench, the other lighting mode) are not stored: the
   // private directory would otherwise be created again and left behind.
   tracer->setProgramCache(gl::ProgramCache{});
   std::error_code ignored;
   std::filesystem::remove_all(cacheDir, ignored);
+  const gl::CameraBasis camera = gl::cameraFrom(pose, s.width, s.height);
 
   // Ray rates: enough passes to fill about a third of the time budget each. The first probe
   // also builds the program, so the second one sizes the run.

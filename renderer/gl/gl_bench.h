@@ -5,6 +5,8 @@
 #include "renderer/gl/gl_textures.h"
 #include "scene/scene.h"
 
+#include <functional>
+
 namespace bt::gl {
 
 struct GlBenchSettings {
@@ -17,6 +19,9 @@ struct GlBenchSettings {
 };
 
 // Prints the measurements to stdout; returns the exit status (1 if GL reported errors).
-int runGlBench(const Scene& scene, const GlBenchSettings& settings);
+// `loadScene` imports the level: it is timed as part of the first image, which is measured the
+// way `brushtrace render` gets there (context, the path tracer's compile started, import,
+// upload, the compile's end, one sample).
+int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& settings);
 
 } // namespace bt::gl

@@ -188,6 +188,15 @@ void GlContext::queryInfo() {
   info_.anisotropicFiltering =
       epoxy_has_gl_extension("GL_ARB_texture_filter_anisotropic") || epoxy_has_gl_extension("GL_EXT_texture_filter_anisotropic");
   BT_GL(glGetIntegerv(GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS, &info_.maxTextureUnits));
+  // As many compiler threads as the driver likes (0xFFFFFFFF): programs started early
+  // (ComputeProgram::Deferred) then compile beside the import instead of after it.
+  if (epoxy_has_gl_extension("GL_KHR_parallel_shader_compile")) {
+    info_.parallelShaderCompile = true;
+    BT_GL(glMaxShaderCompilerThreadsKHR(0xFFFFFFFFu));
+  } else if (epoxy_has_gl_extension("GL_ARB_parallel_shader_compile")) {
+    info_.parallelShaderCompile = true;
+    BT_GL(glMaxShaderCompilerThreadsARB(0xFFFFFFFFu));
+  }
 }
 
 void GlContext::enableDebugOutput() {

@@ -153,17 +153,47 @@ void applyBindings(GLuint program, const std::vector<ProgramBindingPoint>& bindi
 
 } // namespace
 
-ComputeProgram::ComputeProgram(std::string_view name, std::span<const std::string> defines, const ProgramCache& cache) {
+ComputeProgram::ComputeProgram(std::string_view name, std::span<const std::string> defines, const ProgramCache& cache)
+    : ComputeProgram(Deferred{}, name, defines, cache) {
+  finish();
+}
+
+ComputeProgram::ComputeProgram(Deferred, std::string_view name, std::span<const std::string> defines, const ProgramCache& cache)
+    : name_(name) {
   const std::string source = assembleShader(name, defines);
   const bool useCache = cache.enabled() && !programBinaryFormats().empty();
-  const std::string key = useCache ? programCacheKey(source, glString(GL_VENDOR), glString(GL_RENDERER), glString(GL_VERSION)) : "";
-  const auto start = std::chrono::steady_clock::now();
   if (useCache) {
-    if (const std::optional<ProgramBinary> binary = cache.load(name, key)) loadedFromCache_ = loadFrom(*binary);
+    cache_ = cache;
+    cacheKey_ = programCacheKey(source, glString(GL_VENDOR), glString(GL_RENDERER), glString(GL_VERSION));
   }
-  if (!loadedFromCache_) compile(name, source, useCache);
-  buildMilliseconds_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  if (useCache && !loadedFromCache_) {
+  start_ = std::chrono::steady_clock::now();
+  if (useCache) {
+    if (const std::optional<ProgramBinary> binary = cache.load(name, cacheKey_)) loadedFromCache_ = loadFrom(*binary);
+  }
+  if (!loadedFromCache_) startCompile(source, useCache);
+}
+
+bool ComputeProgram::pending() const {
+  if (finished_ || !shader_) return false;
+  if (!epoxy_has_gl_extension("GL_KHR_parallel_shader_compile") && !epoxy_has_gl_extension("GL_ARB_parallel_shader_compile"))
+    return false; // the status query below would block instead
+  GLint done = GL_TRUE;
+  glGetProgramiv(program_, GL_COMPLETION_STATUS_KHR, &done);
+  return done == GL_FALSE;
+}
+
+void ComputeProgram::finish() {
+  if (!error_.empty()) throw GlError(error_); // a failed build stays failed
+  if (finished_) return;
+  finished_ = true;
+  try {
+    if (!loadedFromCache_) finishCompile();
+  } catch (const GlError& e) {
+    error_ = e.what();
+    throw;
+  }
+  buildMilliseconds_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+  if (!cacheKey_.empty() && !loadedFromCache_) {
     GLint length = 0;
     BT_GL(glGetProgramiv(program_, GL_PROGRAM_BINARY_LENGTH, &length));
     ProgramBinary binary;
@@ -174,7 +204,7 @@ ComputeProgram::ComputeProgram(std::string_view name, std::span<const std::strin
     binary.data.resize(static_cast<size_t>(std::max(written, 0)));
     binary.format = format;
     binary.bindings = readBindings(program_);
-    cache.store(name, key, binary);
+    cache_.store(name_, cacheKey_, binary);
   }
   BT_GL(glGetProgramiv(program_, GL_COMPUTE_WORK_GROUP_SIZE, localSize_));
 }
@@ -197,11 +227,23 @@ bool ComputeProgram::loadFrom(const ProgramBinary& binary) {
   return false;
 }
 
-void ComputeProgram::compile(std::string_view name, const std::string& source, bool retrievable) {
-  const GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
+// Under GL_KHR_parallel_shader_compile both calls only queue the work; finishCompile's status
+// queries are where the caller waits.
+void ComputeProgram::startCompile(const std::string& source, bool retrievable) {
+  shader_ = glCreateShader(GL_COMPUTE_SHADER);
   const char* text = source.c_str();
-  glShaderSource(shader, 1, &text, nullptr);
-  glCompileShader(shader);
+  glShaderSource(shader_, 1, &text, nullptr);
+  glCompileShader(shader_);
+  program_ = glCreateProgram();
+  if (retrievable) glProgramParameteri(program_, GL_PROGRAM_BINARY_RETRIEVABLE_HINT, GL_TRUE);
+  glAttachShader(program_, shader_);
+  glLinkProgram(program_);
+  checkGlError("starting a program's compile", __FILE__, __LINE__);
+}
+
+void ComputeProgram::finishCompile() {
+  const GLuint shader = shader_;
+  shader_ = 0;
   GLint ok = 0;
   glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
   if (!ok) {
@@ -210,12 +252,11 @@ void ComputeProgram::compile(std::string_view name, const std::string& source, b
     std::string log(static_cast<size_t>(std::max(length, 1)), '\0');
     glGetShaderInfoLog(shader, length, nullptr, log.data());
     glDeleteShader(shader);
-    throw GlError(fmt::format("{} does not compile ({}):\n{}", name, sourceLegend(), log.c_str()));
+    glDeleteProgram(program_);
+    program_ = 0;
+    throw GlError(fmt::format("{} does not compile ({}):\n{}", name_, sourceLegend(), log.c_str()));
   }
-  program_ = glCreateProgram();
-  if (retrievable) glProgramParameteri(program_, GL_PROGRAM_BINARY_RETRIEVABLE_HINT, GL_TRUE);
-  glAttachShader(program_, shader);
-  glLinkProgram(program_);
+  glDetachShader(program_, shader);
   glDeleteShader(shader);
   glGetProgramiv(program_, GL_LINK_STATUS, &ok);
   if (!ok) {
@@ -225,15 +266,17 @@ void ComputeProgram::compile(std::string_view name, const std::string& source, b
     glGetProgramInfoLog(program_, length, nullptr, log.data());
     glDeleteProgram(program_);
     program_ = 0;
-    throw GlError(fmt::format("{} does not link:\n{}", name, log.c_str()));
+    throw GlError(fmt::format("{} does not link:\n{}", name_, log.c_str()));
   }
 }
 
 ComputeProgram::~ComputeProgram() {
+  if (shader_) glDeleteShader(shader_);
   if (program_) glDeleteProgram(program_);
 }
 
-void ComputeProgram::dispatch2d(int width, int height) const {
+void ComputeProgram::dispatch2d(int width, int height) {
+  finish();
   BT_GL(glUseProgram(program_));
   const auto groups = [](int n, int size) { return static_cast<GLuint>((n + size - 1) / size); };
   BT_GL(glDispatchCompute(groups(width, localSize_[0]), groups(height, localSize_[1]), 1));

@@ -5,6 +5,7 @@
 
 #include "renderer/gl/gl_program_cache.h"
 
+#include <chrono>
 #include <span>
 #include <string>
 #include <string_view>
@@ -28,27 +29,53 @@ std::string assembleShader(std::string_view name, std::span<const std::string> d
 // A linked compute program, loaded from `cache` when it holds a binary the driver accepts, else
 // compiled (and stored there). Throws GlError with the driver's log, the source numbers
 // translated to file names, when it does not compile or link.
+//
+// Building can be started and finished apart: with GL_KHR_parallel_shader_compile
+// (GlContextInfo::parallelShaderCompile) glCompileShader and glLinkProgram return at once and
+// the driver compiles on its own threads, so a program started before a level is imported is
+// compiled while it loads. finish() waits for it, reports errors and fills the cache; every
+// accessor below but pending() finishes first.
 class ComputeProgram {
 public:
+  struct Deferred {};
+  // Builds the program now.
   ComputeProgram(std::string_view name, std::span<const std::string> defines, const ProgramCache& cache = {});
+  // Starts building it; finish() (or the first use) completes it.
+  ComputeProgram(Deferred, std::string_view name, std::span<const std::string> defines, const ProgramCache& cache = {});
   ~ComputeProgram();
   ComputeProgram(const ComputeProgram&) = delete;
   ComputeProgram& operator=(const ComputeProgram&) = delete;
 
-  unsigned id() const { return program_; }
-  // Wall time of glCompileShader + glLinkProgram, or of glProgramBinary when loaded from the
-  // cache. Drivers may defer part of the work to the first dispatch (Mesa's llvmpipe does).
-  double buildMilliseconds() const { return buildMilliseconds_; }
+  // Waits for the driver and checks the result; throws GlError as the constructor does.
+  void finish();
+  // Whether the driver is still compiling (never blocks; false once finished, or when the
+  // driver compiles synchronously).
+  bool pending() const;
+
+  unsigned id() { finish(); return program_; }
+  // Wall time from the start of the build to finish(): glCompileShader + glLinkProgram (or
+  // glProgramBinary when loaded from the cache), less whatever overlapped other work when the
+  // build was started early. Drivers may defer part of the work to the first dispatch (Mesa's
+  // llvmpipe does).
+  double buildMilliseconds() { finish(); return buildMilliseconds_; }
   bool loadedFromCache() const { return loadedFromCache_; }
   // Dispatches enough local_size_x by local_size_y groups to cover width by height invocations.
-  void dispatch2d(int width, int height) const;
+  void dispatch2d(int width, int height);
 
 private:
   bool loadFrom(const ProgramBinary& binary);
-  void compile(std::string_view name, const std::string& source, bool retrievable);
+  void startCompile(const std::string& source, bool retrievable);
+  void finishCompile();
 
-  unsigned program_ = 0;
+  std::string name_;
+  ProgramCache cache_;
+  std::string cacheKey_;          // empty: not stored
+  unsigned shader_ = 0;           // while a compile is in flight
+  bool finished_ = false;
+  std::string error_;             // why the build failed, rethrown by every later finish()
   int localSize_[3] = {1, 1, 1};
+  std::chrono::steady_clock::time_point start_;
+  unsigned program_ = 0;
   double buildMilliseconds_ = 0.0;
   bool loadedFromCache_ = false;
 };

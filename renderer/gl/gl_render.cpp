@@ -28,7 +28,12 @@ std::optional<GlRenderResult> renderWithGl(const RenderScene& scene, const Camer
 
 GlRenderResult renderWithGl(GlContext& context, const RenderScene& scene, const CameraPose& pose, const RenderSettings& settings,
                             TextureMode textures, const std::function<void(const RenderProgress&)>& progress) {
-  GlTracer tracer(context, *scene.scene, scene.tracer, textures, lightingFor(scene));
+  return renderWithGl(context, scene, pose, settings, std::make_shared<TracerPrograms>(context, textures), progress);
+}
+
+GlRenderResult renderWithGl(GlContext& context, const RenderScene& scene, const CameraPose& pose, const RenderSettings& settings,
+                            std::shared_ptr<TracerPrograms> programs, const std::function<void(const RenderProgress&)>& progress) {
+  GlTracer tracer(context, *scene.scene, scene.tracer, std::move(programs), lightingFor(scene));
   const CameraBasis camera = cameraFrom(pose, settings.width, settings.height);
 
   GlRenderResult result;

@@ -31,8 +31,11 @@ std::optional<GlRenderResult> renderWithGl(const RenderScene& scene, const Camer
                                            TextureMode textures, const std::function<void(const RenderProgress&)>& progress,
                                            std::string& whyNot);
 
-// The same on a context the caller made (`render` makes one first to choose its backend).
+// The same on a context the caller made (`render` makes one first to choose its backend) ...
 GlRenderResult renderWithGl(GlContext& context, const RenderScene& scene, const CameraPose& pose, const RenderSettings& settings,
                             TextureMode textures, const std::function<void(const RenderProgress&)>& progress);
+// ... and with programs it started building before it imported the level.
+GlRenderResult renderWithGl(GlContext& context, const RenderScene& scene, const CameraPose& pose, const RenderSettings& settings,
+                            std::shared_ptr<TracerPrograms> programs, const std::function<void(const RenderProgress&)>& progress);
 
 } // namespace bt::gl

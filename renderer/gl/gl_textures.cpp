@@ -61,10 +61,14 @@ std::optional<TextureMode> parseTextureMode(std::string_view name) {
   return std::nullopt;
 }
 
-GlTextures::GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo& context) {
+TextureMode resolveTextureMode(TextureMode mode, const GlContextInfo& context) {
   if (mode == TextureMode::Bindless && !context.bindlessTextures)
     throw GlError(fmt::format("--textures bindless: {} has no GL_ARB_bindless_texture", context.renderer));
-  mode_ = mode == TextureMode::Auto ? (context.bindlessTextures ? TextureMode::Bindless : TextureMode::Arrays) : mode;
+  return mode == TextureMode::Auto ? (context.bindlessTextures ? TextureMode::Bindless : TextureMode::Arrays) : mode;
+}
+
+GlTextures::GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo& context) {
+  mode_ = resolveTextureMode(mode, context);
   // GL 4.6 core, GL_ARB_texture_filter_anisotropic and GL_EXT_texture_filter_anisotropic share
   // the enums; 16x is where the hardware stops anyway.
   if (context.anisotropicFiltering) {

@@ -22,6 +22,9 @@ struct GlContextInfo;
 enum class TextureMode { Auto, Bindless, Arrays };
 const char* toString(TextureMode mode);
 std::optional<TextureMode> parseTextureMode(std::string_view name); // "auto", "bindless", "arrays"
+// The path `mode` means on `context`: Auto is bindless where the context has it, else arrays.
+// Throws GlError for Bindless on a context without GL_ARB_bindless_texture.
+TextureMode resolveTextureMode(TextureMode mode, const GlContextInfo& context);
 
 // Must equal BT_MAX_TEXTURE_ARRAYS in shaders/textures.glsl.
 inline constexpr int kMaxTextureArrays = 16;

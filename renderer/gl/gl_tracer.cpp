@@ -80,23 +80,69 @@ std::vector<std::string> shaderDefines(TextureMode mode) {
           fmt::format("BT_BVH_MAX_DEPTH {}", kBvhMaxDepth)};
 }
 
+TracerPrograms::TracerPrograms(GlContext& context, TextureMode textures)
+    : mode_(resolveTextureMode(textures, context.info())), cache_(ProgramCache::fromEnvironment(context.info().vendor)) {}
+
+TracerPrograms::~TracerPrograms() = default;
+
+void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* shader, bool physical, bool dirt) {
+  if (slot) return;
+  std::vector<std::string> defines = shaderDefines(mode_);
+  if (physical) defines.emplace_back("BT_LIGHTING_PHYSICAL");
+  if (dirt) defines.emplace_back("BT_FAITHFUL_DIRT");
+  slot = std::make_unique<ComputeProgram>(ComputeProgram::Deferred{}, shader, defines, cache_);
+}
+
+ComputeProgram& TracerPrograms::finished(std::unique_ptr<ComputeProgram>& slot) {
+  try {
+    slot->finish();
+  } catch (const GlError&) {
+    slot.reset(); // the next use tries again, and reports again
+    throw;
+  }
+  return *slot;
+}
+
+std::unique_ptr<ComputeProgram>& TracerPrograms::pathSlot(bool physical, bool dirt) {
+  return path_[physical ? 1 : (dirt ? 2 : 0)];
+}
+
+void TracerPrograms::startPathTracer(bool physical, bool dirt) {
+  // Dirt's occlusion rays exist only in the faithful program of a level that uses dirt: the
+  // default program does not grow (nor its compile time).
+  dirt = dirt && !physical;
+  start(pathSlot(physical, dirt), "pathtrace.comp", physical, dirt);
+}
+void TracerPrograms::startAovs() { start(aov_, "aov.comp", false, false); }
+
+ComputeProgram& TracerPrograms::pathTracer(bool physical, bool dirt) {
+  startPathTracer(physical, dirt);
+  return finished(pathSlot(physical, dirt && !physical));
+}
+ComputeProgram& TracerPrograms::aovs() {
+  startAovs();
+  return finished(aov_);
+}
+ComputeProgram& TracerPrograms::rayBench() {
+  start(rayBench_, "raybench.comp", false, false);
+  return finished(rayBench_);
+}
+
 struct GlTracer::Impl {
   GlContext& context;
+  std::shared_ptr<TracerPrograms> programs;
   GlTextures textures;
   GlSceneBuffers buffers;
-  // Compiled on first use: llvmpipe takes seconds for the path tracer, which AOVs do not need.
-  // The path tracer: one program per lighting mode (faithful, physical), BT_LIGHTING_PHYSICAL
-  // chosen at build, so each compiles only its own integrator.
-  std::unique_ptr<ComputeProgram> aovProgram, pathPrograms[2], rayBenchProgram;
-  ProgramCache programCache = ProgramCache::fromEnvironment(context.info().vendor);
   GpuWorld world;
   bool dirt = false; // the level uses faithful dirt: BT_FAITHFUL_DIRT in the faithful program
   GLuint cameraBuffer = 0;
   GLuint worldBuffer = 0;
 
-  Impl(GlContext& c, const Scene& scene, const TraceScene& tracer, TextureMode mode, const GlLighting& lighting)
+  Impl(GlContext& c, const Scene& scene, const TraceScene& tracer, std::shared_ptr<TracerPrograms> p,
+       const GlLighting& lighting)
       : context(c),
-        textures(scene, mode, c.info()),
+        programs(std::move(p)),
+        textures(scene, programs->textureMode(), c.info()),
         buffers(tracer, withShadingFlags(textures.materials(), lighting), lighting, scene.materials.size()),
         world(worldBlock(lighting)),
         dirt(lighting.dirt.enabled) {
@@ -104,22 +150,6 @@ struct GlTracer::Impl {
     BT_GL(glNamedBufferStorage(cameraBuffer, sizeof(GpuCamera), nullptr, GL_DYNAMIC_STORAGE_BIT));
     BT_GL(glCreateBuffers(1, &worldBuffer));
     BT_GL(glNamedBufferStorage(worldBuffer, sizeof(GpuWorld), &world, GL_DYNAMIC_STORAGE_BIT));
-  }
-  ComputeProgram& program(std::unique_ptr<ComputeProgram>& slot, const char* name) {
-    if (!slot) slot = std::make_unique<ComputeProgram>(name, shaderDefines(textures.mode()), programCache);
-    return *slot;
-  }
-  ComputeProgram& pathTracer(bool physical) {
-    std::unique_ptr<ComputeProgram>& slot = pathPrograms[physical ? 1 : 0];
-    if (!slot) {
-      std::vector<std::string> defines = shaderDefines(textures.mode());
-      if (physical) defines.emplace_back("BT_LIGHTING_PHYSICAL");
-      // Dirt's occlusion rays only in the faithful program of a level that uses dirt: the
-      // default program does not grow (nor its compile time).
-      if (!physical && dirt) defines.emplace_back("BT_FAITHFUL_DIRT");
-      slot = std::make_unique<ComputeProgram>("pathtrace.comp", defines, programCache);
-    }
-    return *slot;
   }
 
   ~Impl() {
@@ -155,7 +185,11 @@ struct GlTracer::Impl {
 
 GlTracer::GlTracer(GlContext& context, const Scene& scene, const TraceScene& tracer, TextureMode textures,
                    const GlLighting& lighting)
-    : impl_(std::make_unique<Impl>(context, scene, tracer, textures, lighting)) {}
+    : GlTracer(context, scene, tracer, std::make_shared<TracerPrograms>(context, textures), lighting) {}
+
+GlTracer::GlTracer(GlContext& context, const Scene& scene, const TraceScene& tracer,
+                   std::shared_ptr<TracerPrograms> programs, const GlLighting& lighting)
+    : impl_(std::make_unique<Impl>(context, scene, tracer, std::move(programs), lighting)) {}
 
 GlTracer::GlTracer(GlContext& context, const Scene& scene, TextureMode textures, const GlLighting& lighting)
     : GlTracer(context, scene, TraceScene::build(scene), textures, lighting) {}
@@ -164,22 +198,25 @@ GlTracer::~GlTracer() = default;
 
 TextureMode GlTracer::textureMode() const { return impl_->textures.mode(); }
 
-void GlTracer::setProgramCache(ProgramCache cache) { impl_->programCache = std::move(cache); }
+void GlTracer::setProgramCache(ProgramCache cache) { impl_->programs->setCache(std::move(cache)); }
+
+TracerPrograms& GlTracer::programs() { return *impl_->programs; }
 
 ProgramBuild GlTracer::buildPathTracer(int width, int height, bool physical) {
-  const auto start = std::chrono::steady_clock::now();
-  const ComputeProgram& program = impl_->pathTracer(physical);
+  ComputeProgram& program = impl_->programs->pathTracer(physical, impl_->dirt);
   // Drivers may leave the real compile to the first dispatch (llvmpipe does). One dispatch whose
   // invocations all return at once (image size 0 in the camera block) makes them finish it
   // here. llvmpipe compiles a variant per bound image shape (power-of-two sizes or not), so
   // the image is the size the renders will use.
+  const auto dispatchStart = std::chrono::steady_clock::now();
   StorageImage target(GL_RGBA32F, std::max(width, 1), std::max(height, 1));
   target.bindImage(0, GL_READ_WRITE);
   impl_->setWorld(physical, 0);
   impl_->setCamera(CameraBasis{}, 0, 0, 0, 0);
   program.dispatch2d(1, 1);
   BT_GL(glFinish());
-  return {std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(), program.loadedFromCache()};
+  const double dispatchMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - dispatchStart).count();
+  return {program.buildMilliseconds() + dispatchMs, program.loadedFromCache()};
 }
 
 AovImages GlTracer::renderAovs(const CameraBasis& camera, int width, int height) {
@@ -191,7 +228,7 @@ AovImages GlTracer::renderAovs(const CameraBasis& camera, int width, int height)
   albedo.bindImage(0, GL_WRITE_ONLY);
   normalDepth.bindImage(1, GL_WRITE_ONLY);
   face.bindImage(2, GL_WRITE_ONLY);
-  impl_->program(impl_->aovProgram, "aov.comp").dispatch2d(width, height);
+  impl_->programs->aovs().dispatch2d(width, height);
   BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
 
   AovImages out;
@@ -225,7 +262,7 @@ BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettin
   out.height = settings.height;
   for (int sample = 0; sample < settings.spp; ++sample) {
     impl_->setCamera(camera, settings.width, settings.height, static_cast<uint32_t>(sample), settings.seed, 0);
-    impl_->pathTracer(settings.physical).dispatch2d(settings.width, settings.height);
+    impl_->programs->pathTracer(settings.physical, impl_->dirt).dispatch2d(settings.width, settings.height);
     // Each sample reads the sum the previous one wrote.
     BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT));
     out.samples = sample + 1;
@@ -265,7 +302,7 @@ RayBenchmark GlTracer::benchmarkRays(const CameraBasis& camera, int width, int h
   StorageImage bounceT(GL_R32F, width, height);
   hits.bindImage(0, GL_READ_WRITE);
   bounceT.bindImage(1, GL_WRITE_ONLY);
-  ComputeProgram& bench = impl_->program(impl_->rayBenchProgram, "raybench.comp");
+  ComputeProgram& bench = impl_->programs->rayBench();
   const GLuint program = bench.id();
   RayBenchmark result;
   result.passes = passes;

@@ -5,6 +5,7 @@
 #include "renderer/cpu/light_grid.h"
 #include "renderer/cpu/lights.h"
 #include "renderer/gl/gl_context.h"
+#include "renderer/gl/gl_program.h"
 #include "renderer/gl/gl_program_cache.h"
 #include "renderer/gl/gl_structs.h"
 #include "renderer/gl/gl_textures.h"
@@ -98,8 +99,45 @@ struct RayBenchmark {
 // Arrays) and BT_BVH_MAX_DEPTH, the traversal stack size (scene/gpu_structs.h kBvhMaxDepth).
 std::vector<std::string> shaderDefines(TextureMode mode);
 
+// The tracer's compute programs for one context and texture path. Each is built on first use,
+// or started early: `brushtrace render` starts the path tracer before it imports the level, so
+// the driver compiles (on its own threads, GL_KHR_parallel_shader_compile) while the level
+// loads, and the viewer keeps one set across reloads of the map. The context must be current.
+class TracerPrograms {
+public:
+  // Throws GlError for TextureMode::Bindless on a context without bindless textures.
+  TracerPrograms(GlContext& context, TextureMode textures);
+  ~TracerPrograms();
+  TracerPrograms(const TracerPrograms&) = delete;
+  TracerPrograms& operator=(const TracerPrograms&) = delete;
+
+  TextureMode textureMode() const { return mode_; } // Bindless or Arrays
+  // Where programs built from now on are cached; ProgramCache::fromEnvironment(GL_VENDOR) by default.
+  void setCache(ProgramCache cache) { cache_ = std::move(cache); }
+
+  // Start building, without waiting (a no-op when started already). `dirt`: the faithful
+  // program with faithful dirt's occlusion rays (BT_FAITHFUL_DIRT), for a level that uses dirt.
+  void startPathTracer(bool physical, bool dirt = false);
+  void startAovs();
+  // The finished program, built now if it was not started.
+  ComputeProgram& pathTracer(bool physical, bool dirt = false);
+  ComputeProgram& aovs();
+  ComputeProgram& rayBench();
+
+private:
+  ComputeProgram& finished(std::unique_ptr<ComputeProgram>& slot);
+  void start(std::unique_ptr<ComputeProgram>& slot, const char* shader, bool physical, bool dirt);
+  std::unique_ptr<ComputeProgram>& pathSlot(bool physical, bool dirt);
+
+  TextureMode mode_;
+  ProgramCache cache_;
+  // One program per lighting mode (BT_LIGHTING_PHYSICAL chosen at build), so each compiles
+  // only its own integrator, and the faithful one with dirt: faithful, physical, faithful + dirt.
+  std::unique_ptr<ComputeProgram> path_[3], aov_, rayBench_;
+};
+
 struct ProgramBuild {
-  double milliseconds = 0.0; // compile and link (or load), and the driver's work at the first dispatch
+  double milliseconds = 0.0; // compile and link (or load) from the start of the build, and the driver's work at the first dispatch
   bool fromCache = false;
 };
 
@@ -109,6 +147,9 @@ public:
   // reference's RenderScene::tracer, so both trace the same tree), the scene's textures and the
   // lighting. The context must stay current on this thread for the tracer's life.
   GlTracer(GlContext& context, const Scene& scene, const TraceScene& tracer, TextureMode textures,
+           const GlLighting& lighting = {});
+  // The same with programs built (or being built) already: their texture path is the tracer's.
+  GlTracer(GlContext& context, const Scene& scene, const TraceScene& tracer, std::shared_ptr<TracerPrograms> programs,
            const GlLighting& lighting = {});
   // The same with a TraceScene built here with default options (every brush traceable).
   GlTracer(GlContext& context, const Scene& scene, TextureMode textures, const GlLighting& lighting = {});
@@ -121,6 +162,7 @@ public:
   // Where programs are cached; ProgramCache::fromEnvironment(GL_VENDOR) unless set before they
   // are built.
   void setProgramCache(ProgramCache cache);
+  TracerPrograms& programs();
   // Builds the path tracer's program for one lighting mode (BeautySettings::physical) now, for
   // images of width x height (renderBeauty otherwise builds it on first use).
   ProgramBuild buildPathTracer(int width, int height, bool physical);

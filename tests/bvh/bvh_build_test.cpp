@@ -10,6 +10,8 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <random>
+#include <string>
 
 using bt::test::expectAllBrushesPresent;
 using bt::test::expectSahNearFullSweep;
@@ -17,6 +19,18 @@ using bt::test::expectWellFormed;
 
 namespace bt {
 namespace {
+
+// Boxes of many sizes scattered over a cube, for the tests that call the builder directly.
+std::vector<Aabb> scatteredBoxes(int count, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> position(0.0f, 4096.0f), size(1.0f, 96.0f);
+  std::vector<Aabb> boxes;
+  for (int i = 0; i < count; ++i) {
+    const glm::vec3 min(position(rng), position(rng), position(rng));
+    boxes.push_back({min, min + glm::vec3(size(rng), size(rng), size(rng))});
+  }
+  return boxes;
+}
 
 TEST(BvhBuild, EmptySceneHasNoNodesAndNoHits) {
   const TraceScene ts = TraceScene::build(Scene{});
@@ -83,6 +97,20 @@ TEST(BvhBuild, LayoutDoesNotDependOnThreadCount) {
   }
 }
 
+TEST(BvhBuild, BuilderLaysTheTreeOutDepthFirst) {
+  // The builder lays the finished tree out subtree by subtree (several threads at once) from
+  // subtree node counts; compactDepthFirst() lays a tree out with one stack. A tree already in
+  // depth-first order is its own compaction.
+  const std::vector<Aabb> boxes = scatteredBoxes(8000, 6); // threads from 4096 boxes
+  for (int threads : {1, 2, 3}) {
+    SCOPED_TRACE(threads);
+    const FlatBvh bvh = buildBinnedSah(boxes, {.threads = threads});
+    const std::vector<GpuBvhNode> compacted = compactDepthFirst(bvh.nodes);
+    ASSERT_EQ(compacted.size(), bvh.nodes.size());
+    EXPECT_EQ(std::memcmp(compacted.data(), bvh.nodes.data(), compacted.size() * sizeof(GpuBvhNode)), 0);
+  }
+}
+
 TEST(BvhBuild, CoincidentCentroidsWithThreads) {
   // No SAH split exists at the root, so the threads that would split it together hand it to
   // the median fallback instead.
@@ -141,6 +169,31 @@ TEST(BvhBuild, NonFiniteBoxIsRejected) {
   for (const Aabb& bad : {Aabb{{-inf, 0, 0}, {inf, 1, 1}}, Aabb{{0, 0, 0}, {1, std::nanf(""), 1}}}) {
     const std::vector<Aabb> boxes = {{{0, 0, 0}, {1, 1, 1}}, bad, {{2, 0, 0}, {3, 1, 1}}};
     EXPECT_THROW(buildBinnedSah(boxes, {}), std::invalid_argument);
+  }
+}
+
+TEST(BvhBuild, FirstInvalidBoxIsReportedWhicheverThreadReadsIt) {
+  // With threads, each reads and checks one chunk of the boxes; the error is about the first
+  // invalid box of all, as with one thread.
+  std::vector<Aabb> boxes = scatteredBoxes(20000, 7);
+  boxes[15000] = {{1, 1, 1}, {0, 0, 0}}; // empty, in the last chunk for 2 and 3 threads
+  boxes[5000].max.y = std::nanf("");     // in the first chunk
+  const auto errorOf = [&](int threads) -> std::string {
+    try {
+      buildBinnedSah(boxes, {.threads = threads});
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  for (int threads : {1, 2, 3}) {
+    SCOPED_TRACE(threads);
+    EXPECT_EQ(errorOf(threads), "buildBinnedSah: box with an infinite or NaN bound");
+  }
+  boxes[5000] = boxes[0];
+  for (int threads : {1, 2, 3}) {
+    SCOPED_TRACE(threads);
+    EXPECT_EQ(errorOf(threads), "buildBinnedSah: empty box");
   }
 }
 
