@@ -101,6 +101,9 @@ int runRender(const RenderOptions& o) {
   sceneOptions.showHidden = o.showHidden;
   Diagnostics lightDiagnostics;
   const RenderScene renderScene = buildRenderScene(scene, sceneOptions, lightDiagnostics);
+  // A level with faithful dirt renders with the faithful program that traces its occlusion rays.
+  if (glPrograms && o.aov == "beauty" && renderScene.world.dirtSettings.enabled)
+    glPrograms->startPathTracer(o.lighting == "physical", true);
   for (const Diagnostic& d : lightDiagnostics)
     if (!o.quiet) fmt::print(stderr, "{}\n", format(d));
 
