@@ -533,14 +533,15 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
       return true;
     }
     bool gaveUp = passThrough; // too many skips: a miss for surface rays, blocked for sky and dirt rays
-    if (path.kind == RAY_DIRT) {
 #ifdef BT_FAITHFUL_DIRT
+    if (path.kind == RAY_DIRT) {
       // A face that blocks light ends the ray where it is; the sky or nothing counts as _dirtdepth.
       bool solid = hit.face != NO_FACE && (gaveUp || (flags & FACE_SKY) == 0u);
       path.dirtSum += solid ? min(hit.t, world.dirtDepth) : world.dirtDepth;
       if (path.dirtRay == DIRT_RAYS) path.occlusion = 1.0 - path.dirtSum / (float(DIRT_RAYS) * world.dirtDepth);
+    } else
 #endif
-    } else if (path.kind == RAY_SKY) {
+    if (path.kind == RAY_SKY) {
       bool reached = !gaveUp && (hit.face == NO_FACE || (flags & FACE_SKY) != 0u);
       if (reached) {
         if (PHYSICAL) path.radiance += path.throughput * path.pending;
