@@ -1,5 +1,5 @@
 // Ray queries on bvh/trace_scene.h's TraceScene, uploaded unchanged (nodes, brushes, sides,
-// faces). This is a port of bvh/trace_scene.cpp, rule for rule, so that the GL tracer and the
+// faces) and read as texels (scene_buffers.glsl says why). This is a port of bvh/trace_scene.cpp, rule for rule, so that the GL tracer and the
 // CPU reference return the same hit for the same ray; trace_scene.h states the contract:
 //   - direction components below 2^-100 count as zero; a zero component means "inside that slab
 //     or miss", never 0 * inf; the CPU's infinities are FLT_MAX here;
@@ -86,11 +86,14 @@ Slab intersectBox(TraceRay r, vec3 boxMin, vec3 boxMax) {
   return s;
 }
 
+// GpuBvhNode n's two rows: (boundsMin, leftFirst) and (boundsMax, count).
+uvec4 nodeRow(uint n, uint row) { return texelFetch(nodeTexels, int(2u * n + row)); }
+
 // Whether node n can hold a hit with t in (tMin, tLimit]; inclusive at tLimit so that a hit at
 // exactly the best t still reaches the tie-break (closer). Without zero direction components the
 // min/max form gives intersectBox's values (as trace_scene.cpp nodeOverlaps<false>).
 bool nodeOverlaps(TraceRay r, uint n, float tLimit, out float near) {
-  vec3 boundsMin = nodes[n].boundsMin, boundsMax = nodes[n].boundsMax;
+  vec3 boundsMin = uintBitsToFloat(nodeRow(n, 0u).xyz), boundsMax = uintBitsToFloat(nodeRow(n, 1u).xyz);
   float far;
   if (r.hasZero) {
     Slab s = intersectBox(r, boundsMin, boundsMax);
@@ -112,19 +115,32 @@ struct Crossing {
   float facing;
 };
 
+// GpuBrush b's rows: (boundsMin, firstSide), (boundsMax, sideCount), axialFace[0..3],
+// (axialFace[4..5], sceneBrush, pad).
+uvec4 brushRow(uint b, uint row) { return texelFetch(brushTexels, int(4u * b + row)); }
+
+// GpuBrush::axialFace[slot], slot 0..5; the component is chosen by comparisons rather than by a
+// run-time vector index (see Slab).
+uint axialFace(uint b, int slot) {
+  uvec4 row = brushRow(b, 2u + uint(slot >> 2));
+  int c = slot & 3;
+  return c == 0 ? row.x : c == 1 ? row.y : c == 2 ? row.z : row.w;
+}
+
 // Haines' clip against brush b (trace_scene.cpp hitBrush). A brush whose box starts beyond
 // tLimit is rejected before its planes are read.
 bool hitBrush(TraceRay r, uint b, float tLimit, out Hit hit) {
   hit = Hit(0.0, NO_FACE, false);
-  Slab box = intersectBox(r, brushes[b].boundsMin, brushes[b].boundsMax);
+  uvec4 row0 = brushRow(b, 0u), row1 = brushRow(b, 1u);
+  Slab box = intersectBox(r, uintBitsToFloat(row0.xyz), uintBitsToFloat(row1.xyz));
   if (box.near > box.far || box.far <= r.tMin || box.near >= r.tMax || box.near > tLimit) return false;
 
   Crossing enter = Crossing(-INFINITY, NO_FACE, 0.0), exit = Crossing(INFINITY, NO_FACE, 0.0);
   float near0 = max(box.near, r.tMin);
-  uint firstSide = brushes[b].firstSide, endSide = firstSide + brushes[b].sideCount;
+  uint firstSide = row0.w, endSide = firstSide + row1.w;
   for (uint i = firstSide; i < endSide; ++i) {
-    uint f = sides[i];
-    vec4 plane = faces[f].plane;
+    uint f = texelFetch(sideTexels, int(i)).x;
+    vec4 plane = texelFetch(faceTexels, int(4u * f));
     float denom = plane.x * r.dir.x + plane.y * r.dir.y + plane.z * r.dir.z;
     float dist = plane.x * r.origin.x + plane.y * r.origin.y + plane.z * r.origin.z - plane.w;
     if (denom < 0.0) { // crossing from front to back: entering
@@ -142,12 +158,12 @@ bool hitBrush(TraceRay r, uint b, float tLimit, out Hit hit) {
   // The box sides (those with an axial face) merge into the slanted candidates, same rule; a
   // box side without an axial face keeps the slanted plane's face and the box's t.
   if (box.nearSlot >= 0) {
-    uint face = brushes[b].axialFace[box.nearSlot];
+    uint face = axialFace(b, box.nearSlot);
     if (box.near > enter.t || (box.near == enter.t && face != NO_FACE && box.nearFacing >= enter.facing))
       enter = Crossing(box.near, face != NO_FACE ? face : enter.face, box.nearFacing);
   }
   if (box.farSlot >= 0) {
-    uint face = brushes[b].axialFace[box.farSlot];
+    uint face = axialFace(b, box.farSlot);
     if (box.far < exit.t || (box.far == exit.t && face != NO_FACE && box.farFacing >= exit.facing))
       exit = Crossing(box.far, face != NO_FACE ? face : exit.face, box.farFacing);
   }
@@ -185,17 +201,17 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   // An empty scene uploads one sentinel node, an interior node whose child would be itself
   // (renderer/gl/gl_scene.cpp), which no built tree has: its root's children start at 1. Its
   // bounds cannot be trusted to miss: the min/max slab form reorders an inverted box's planes.
-  if (nodes[0].count == 0u && nodes[0].leftFirst == 0u) return best;
+  if (nodeRow(0u, 1u).w == 0u && nodeRow(0u, 0u).w == 0u) return best;
   if (!nodeOverlaps(r, 0u, best.t, near)) return best;
 
   uint stack[BT_BVH_MAX_DEPTH];
   int top = 0;
   uint current = 0u;
   while (true) {
-    GpuBvhNode node = nodes[current];
+    uint leftFirst = nodeRow(current, 0u).w, count = nodeRow(current, 1u).w;
     bool descended = false;
-    if (node.count > 0u) {
-      for (uint i = node.leftFirst; i < node.leftFirst + node.count; ++i) {
+    if (count > 0u) {
+      for (uint i = leftFirst; i < leftFirst + count; ++i) {
         Hit hit;
         if (!hitBrush(r, i, best.t, hit)) continue;
         if (anyHit) {
@@ -205,7 +221,7 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
         }
       }
     } else {
-      uint a = node.leftFirst, b = node.leftFirst + 1u;
+      uint a = leftFirst, b = leftFirst + 1u;
       float nearA, nearB;
       bool hitA = nodeOverlaps(r, a, best.t, nearA);
       bool hitB = nodeOverlaps(r, b, best.t, nearB);

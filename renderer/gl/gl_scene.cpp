@@ -4,6 +4,7 @@
 #include "renderer/gl/gl_tracer.h"
 
 #include <epoxy/gl.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cfloat>
@@ -27,6 +28,20 @@ void upload(GLuint buffer, std::span<const T> v) {
 // on seeing it, before any slab test).
 constexpr GpuBvhNode kEmptyRoot{{FLT_MAX, FLT_MAX, FLT_MAX}, 0, {-FLT_MAX, -FLT_MAX, -FLT_MAX}, 0};
 
+// A buffer texture over `buffer` (of `bytes` bytes) with texels of `format` (`texelBytes` each),
+// on unit `unit`'s slot in `views`. The texel count must fit the context's buffer-texture limit
+// (at least 65536 texels by the GL spec, 2^27 on NVIDIA and llvmpipe).
+void makeTexelView(GLuint& view, GLuint buffer, GLenum format, size_t bytes, size_t texelBytes, const char* what) {
+  GLint maxTexels = 0;
+  BT_GL(glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels));
+  const size_t texels = std::max<size_t>(bytes, texelBytes) / texelBytes;
+  if (texels > static_cast<size_t>(maxTexels))
+    throw GlError(fmt::format("scene too large for this GL context: {} needs {} buffer-texture texels, the limit is {}",
+                              what, texels, maxTexels));
+  BT_GL(glCreateTextures(GL_TEXTURE_BUFFER, 1, &view));
+  BT_GL(glTextureBuffer(view, format, buffer));
+}
+
 } // namespace
 
 GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMaterial>& materials,
@@ -36,6 +51,19 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMa
   upload(buffers_[kBindingBrushes], tracer.brushes());
   upload(buffers_[kBindingSides], tracer.sides());
   upload(buffers_[kBindingFaces], tracer.faces());
+  GLint units = 0;
+  BT_GL(glGetIntegerv(GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS, &units));
+  if (units < static_cast<GLint>(kTexelUnitEnd))
+    throw GlError(fmt::format("the GL context offers {} compute texture units; the tracer needs {}", units, int(kTexelUnitEnd)));
+  const size_t nodeCount = std::max<size_t>(tracer.nodes().size(), 1);
+  makeTexelView(texelViews_[kTexelNodes - kTexelNodes], buffers_[kBindingNodes], GL_RGBA32UI,
+                nodeCount * sizeof(GpuBvhNode), 16, "the BVH nodes");
+  makeTexelView(texelViews_[kTexelBrushes - kTexelNodes], buffers_[kBindingBrushes], GL_RGBA32UI,
+                tracer.brushes().size_bytes(), 16, "the brushes");
+  makeTexelView(texelViews_[kTexelSides - kTexelNodes], buffers_[kBindingSides], GL_R32UI, tracer.sides().size_bytes(), 4,
+                "the slanted sides");
+  makeTexelView(texelViews_[kTexelFaces - kTexelNodes], buffers_[kBindingFaces], GL_RGBA32F, tracer.faces().size_bytes(), 16,
+                "the faces");
   std::vector<uint32_t> faceFlags = lighting.faceFlags;
   faceFlags.resize(tracer.faces().size(), 0u);
   upload(buffers_[kBindingFaceFlags], std::span<const uint32_t>(faceFlags));
@@ -60,10 +88,14 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMa
   upload(buffers_[kBindingLightIndices], std::span<const uint32_t>(grid.indices));
 }
 
-GlSceneBuffers::~GlSceneBuffers() { glDeleteBuffers(kBufferCount, buffers_); }
+GlSceneBuffers::~GlSceneBuffers() {
+  glDeleteTextures(kTexelViewCount, texelViews_);
+  glDeleteBuffers(kBufferCount, buffers_);
+}
 
 void GlSceneBuffers::bind() const {
   for (GLuint i = 0; i < kBufferCount; ++i) BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, buffers_[i]));
+  for (GLuint i = 0; i < kTexelViewCount; ++i) BT_GL(glBindTextureUnit(kTexelNodes + i, texelViews_[i]));
 }
 
 } // namespace bt::gl

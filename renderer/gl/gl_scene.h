@@ -20,11 +20,13 @@ public:
   GlSceneBuffers(const GlSceneBuffers&) = delete;
   GlSceneBuffers& operator=(const GlSceneBuffers&) = delete;
 
-  void bind() const; // to the Binding points of gl_structs.h
+  void bind() const; // to the Binding points and TexelUnits of gl_structs.h
 
 private:
   static constexpr int kBufferCount = 11; // Binding 0..10
+  static constexpr int kTexelViewCount = kTexelUnitEnd - kTexelNodes;
   unsigned buffers_[kBufferCount] = {};
+  unsigned texelViews_[kTexelViewCount] = {}; // buffer textures, by TexelUnit - kTexelNodes
 };
 
 } // namespace bt::gl

@@ -33,6 +33,21 @@ enum Binding : uint32_t {
 // arrays (scene/gpu_structs.h GpuBvhNode, GpuBrush, GpuFace), uploaded unchanged; the shaders
 // read the face classes (kFace*) from a separate per-face buffer, RenderScene::faceFlags.
 
+// Texture units of the buffer textures through which the traversal reads those arrays
+// (shaders/scene_buffers.glsl says why), after the material texture arrays' units
+// 0 .. kMaxTextureArrays - 1 (gl_textures.h). Each is a view of the storage buffer above, one
+// 16-byte texel per row of the struct: a GpuBvhNode is 2 texels, a GpuBrush 4, a GpuFace 4 (its
+// plane first), a side index 1 (R32UI).
+enum TexelUnit : uint32_t {
+  kTexelNodes = 16,
+  kTexelBrushes = 17,
+  kTexelSides = 18,
+  kTexelFaces = 19,
+  kTexelUnitEnd = 20, // one past the last: the context must offer this many compute texture units
+};
+static_assert(sizeof(GpuBvhNode) == 2 * 16 && sizeof(GpuBrush) == 4 * 16 && sizeof(GpuFace) == 4 * 16);
+static_assert(offsetof(GpuFace, plane) == 0);
+
 enum MaterialFlags : uint32_t {
   kMaterialHasBase = 1,
   kMaterialHasNormal = 2,
