@@ -187,7 +187,8 @@ bool closer(Hit hit, Hit best) {
   return hit.face > best.face;
 }
 
-// Depth-first traversal, nearer child first, kBvhMaxDepth stack entries (the builder's bound).
+// Depth-first traversal, nearer child first, kBvhMaxDepth stack entries (the builder's bound;
+// 16 KiB of shared memory per workgroup).
 //   anyHit = false: the closest hit in (tMin, tMax).
 //   anyHit = true: a shadow ray. The first brush entered from outside through a face with none
 //     of `passFlags` (faceFlags) ends the search; hits on faces with them, and exits from a
@@ -195,6 +196,20 @@ bool closer(Hit hit, Hit best) {
 //     finds by skipping from one closest hit to the next.
 // Every query of a shader goes through one call of this function: NVIDIA inlines each call
 // site, so each extra one would compile the whole traversal again (see pathtrace.comp).
+//
+// The stack lives in shared memory, one column per invocation (entry d of invocation i at
+// d * 64 + i). llvmpipe stores into a private array at a per-invocation index by reading,
+// blending and writing every lane's slot, which took a sixth of the traversal's time; a shared
+// store writes the active lanes only. On GPUs a column layout keeps neighbouring invocations
+// in different banks. Every program that traces therefore runs 8 x 8 invocations per workgroup,
+// declared here so that a program with another size fails to compile.
+layout(local_size_x = 8, local_size_y = 8) in;
+const uint TRACE_INVOCATIONS = 64u;
+shared uint traversalStack[BT_BVH_MAX_DEPTH * TRACE_INVOCATIONS];
+
+void pushNode(inout int top, uint node) { traversalStack[uint(top++) * TRACE_INVOCATIONS + gl_LocalInvocationIndex] = node; }
+uint popNode(inout int top) { return traversalStack[uint(--top) * TRACE_INVOCATIONS + gl_LocalInvocationIndex]; }
+
 Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   Hit best = Hit(r.tMax, NO_FACE, false);
   float near;
@@ -204,7 +219,6 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   if (nodeRow(0u, 1u).w == 0u && nodeRow(0u, 0u).w == 0u) return best;
   if (!nodeOverlaps(r, 0u, best.t, near)) return best;
 
-  uint stack[BT_BVH_MAX_DEPTH];
   int top = 0;
   uint current = 0u;
   while (true) {
@@ -231,7 +245,7 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
           a = b;
           b = swap;
         }
-        stack[top++] = b;
+        pushNode(top, b);
         current = a;
         descended = true;
       } else if (hitA || hitB) {
@@ -243,7 +257,7 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
     // Pop, skipping nodes that a closer hit found since has made irrelevant.
     bool popped = false;
     while (top > 0) {
-      current = stack[--top];
+      current = popNode(top);
       if (nodeOverlaps(r, current, best.t, near)) {
         popped = true;
         break;
