@@ -86,15 +86,26 @@ Slab intersectBox(TraceRay r, vec3 boxMin, vec3 boxMax) {
   return s;
 }
 
-// GpuBvhNode n's two rows: (boundsMin, leftFirst) and (boundsMax, count).
-uvec4 nodeRow(uint n, uint row) { return texelFetch(nodeTexels, int(2u * n + row)); }
+// renderer/gl/gl_structs.h GlBvhNode: an interior node of TraceScene's tree with both
+// children's boxes, 4 texels: (leftMin, left), (leftMax, -), (rightMin, right), (rightMax, -).
+// A child reference is a GlBvhNode index, or a leaf (LEAF_REF set: brushes first .. first +
+// count), or NO_CHILD (0: node 0 is the root, nobody's child) on the root of a scene with fewer
+// than two leaves.
+const uint NO_CHILD = 0u;
+const uint LEAF_REF = 0x80000000u;
+uint leafFirst(uint ref) { return ref & 0x00ffffffu; }
+uint leafCount(uint ref) { return (ref >> 24) & 0x7fu; }
 
-// Whether node n can hold a hit with t in (tMin, tLimit]; inclusive at tLimit so that a hit at
-// exactly the best t still reaches the tie-break (closer). Without zero direction components the
-// min/max form gives intersectBox's values (as trace_scene.cpp nodeOverlaps<false>).
-bool nodeOverlaps(TraceRay r, uint n, float tLimit, out float near) {
-  vec3 boundsMin = uintBitsToFloat(nodeRow(n, 0u).xyz), boundsMax = uintBitsToFloat(nodeRow(n, 1u).xyz);
-  float far;
+uvec4 nodeRow(uint n, uint row) { return texelFetch(nodeTexels, int(4u * n + row)); }
+
+// Whether a child box can hold a hit with t in (tMin, tLimit]; inclusive at tLimit so that a
+// hit at exactly the best t still reaches the tie-break (closer). `entry` is where the ray's
+// interval in it starts, max(near, tMin): the box stays worth visiting while entry <= best t.
+// Without zero direction components the min/max form gives intersectBox's values (as
+// trace_scene.cpp nodeOverlaps<false>).
+bool boxOverlaps(TraceRay r, uvec4 minRow, uvec4 maxRow, float tLimit, out float entry) {
+  vec3 boundsMin = uintBitsToFloat(minRow.xyz), boundsMax = uintBitsToFloat(maxRow.xyz);
+  float near, far;
   if (r.hasZero) {
     Slab s = intersectBox(r, boundsMin, boundsMax);
     near = s.near;
@@ -105,7 +116,8 @@ bool nodeOverlaps(TraceRay r, uint n, float tLimit, out float near) {
     near = max(max(tNear.x, tNear.y), tNear.z);
     far = min(min(tFar.x, tFar.y), tFar.z);
   }
-  return max(near, r.tMin) <= min(far, tLimit) && near <= far;
+  entry = max(near, r.tMin);
+  return entry <= min(far, tLimit) && near <= far;
 }
 
 // A plane crossing candidate: t, the face, and how head-on the ray meets it (|dot(n, d)|).
@@ -212,20 +224,13 @@ uint popNode(inout int top) { return traversalStack[uint(--top) * TRACE_INVOCATI
 
 Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   Hit best = Hit(r.tMax, NO_FACE, false);
-  float near;
-  // An empty scene uploads one sentinel node, an interior node whose child would be itself
-  // (renderer/gl/gl_scene.cpp), which no built tree has: its root's children start at 1. Its
-  // bounds cannot be trusted to miss: the min/max slab form reorders an inverted box's planes.
-  if (nodeRow(0u, 1u).w == 0u && nodeRow(0u, 0u).w == 0u) return best;
-  if (!nodeOverlaps(r, 0u, best.t, near)) return best;
-
   int top = 0;
-  uint current = 0u;
+  uint current = 0u; // a child reference; the root is GlBvhNode 0
   while (true) {
-    uint leftFirst = nodeRow(current, 0u).w, count = nodeRow(current, 1u).w;
     bool descended = false;
-    if (count > 0u) {
-      for (uint i = leftFirst; i < leftFirst + count; ++i) {
+    if ((current & LEAF_REF) != 0u) {
+      uint first = leafFirst(current), end = first + leafCount(current);
+      for (uint i = first; i < end; ++i) {
         Hit hit;
         if (!hitBrush(r, i, best.t, hit)) continue;
         if (anyHit) {
@@ -235,12 +240,14 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
         }
       }
     } else {
-      uint a = leftFirst, b = leftFirst + 1u;
-      float nearA, nearB;
-      bool hitA = nodeOverlaps(r, a, best.t, nearA);
-      bool hitB = nodeOverlaps(r, b, best.t, nearB);
+      uvec4 leftMin = nodeRow(current, 0u), leftMax = nodeRow(current, 1u);
+      uvec4 rightMin = nodeRow(current, 2u), rightMax = nodeRow(current, 3u);
+      uint a = leftMin.w, b = rightMin.w;
+      float entryA, entryB;
+      bool hitA = a != NO_CHILD && boxOverlaps(r, leftMin, leftMax, best.t, entryA);
+      bool hitB = b != NO_CHILD && boxOverlaps(r, rightMin, rightMax, best.t, entryB);
       if (hitA && hitB) {
-        if (nearB < nearA) {
+        if (entryB < entryA) {
           uint swap = a;
           a = b;
           b = swap;
@@ -254,16 +261,8 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
       }
     }
     if (descended) continue;
-    // Pop, skipping nodes that a closer hit found since has made irrelevant.
-    bool popped = false;
-    while (top > 0) {
-      current = popNode(top);
-      if (nodeOverlaps(r, current, best.t, near)) {
-        popped = true;
-        break;
-      }
-    }
-    if (!popped) break;
+    if (top == 0) break;
+    current = popNode(top);
   }
   return best;
 }

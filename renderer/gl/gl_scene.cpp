@@ -23,10 +23,51 @@ void upload(GLuint buffer, std::span<const T> v) {
   BT_GL(glNamedBufferStorage(buffer, static_cast<GLsizeiptr>(bytes), data, 0));
 }
 
-// The root the shaders start from when the scene has nothing to trace: an interior node whose
-// children would start at itself, which no built tree has (shaders/trace.glsl returns a miss
-// on seeing it, before any slab test).
-constexpr GpuBvhNode kEmptyRoot{{FLT_MAX, FLT_MAX, FLT_MAX}, 0, {-FLT_MAX, -FLT_MAX, -FLT_MAX}, 0};
+// A GlBvhNode child reference to TraceScene node n: a leaf's brush range, or the GlBvhNode that
+// interior node n became (glIndex).
+uint32_t childRef(const GpuBvhNode& n, uint32_t glIndex) {
+  if (n.count == 0) return glIndex;
+  if (n.count > kGlLeafMaxCount || n.leftFirst > kGlLeafMaxFirst)
+    throw GlError(fmt::format("scene too large for the GL tracer: a BVH leaf of {} brushes from brush {} (at most {} from {})",
+                              n.count, n.leftFirst, kGlLeafMaxCount, kGlLeafMaxFirst));
+  return kGlLeafRef | n.count << 24 | n.leftFirst;
+}
+
+void setChild(float (&min)[3], float (&max)[3], uint32_t& ref, const GpuBvhNode& n, uint32_t glIndex) {
+  std::copy(std::begin(n.boundsMin), std::end(n.boundsMin), min);
+  std::copy(std::begin(n.boundsMax), std::end(n.boundsMax), max);
+  ref = childRef(n, glIndex);
+}
+
+} // namespace
+
+// Two linear passes: number the interior nodes in tree order (so the root stays 0), then give
+// each its children's boxes and references.
+std::vector<GlBvhNode> bvhForGl(std::span<const GpuBvhNode> nodes) {
+  constexpr GlBvhNode kNoChildren{{0, 0, 0}, kGlNoChild, {0, 0, 0}, 0, {0, 0, 0}, kGlNoChild, {0, 0, 0}, 0};
+  std::vector<GlBvhNode> gl;
+  if (nodes.empty()) return {kNoChildren};
+  if (nodes[0].count > 0) { // the whole scene is one leaf: the root's left child
+    gl.push_back(kNoChildren);
+    setChild(gl[0].leftMin, gl[0].leftMax, gl[0].left, nodes[0], 0);
+    return gl;
+  }
+  std::vector<uint32_t> glIndex(nodes.size(), 0);
+  uint32_t interior = 0;
+  for (size_t i = 0; i < nodes.size(); ++i)
+    if (nodes[i].count == 0) glIndex[i] = interior++;
+  gl.resize(interior);
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    if (nodes[i].count != 0) continue;
+    GlBvhNode& g = gl[glIndex[i]];
+    const uint32_t l = nodes[i].leftFirst, r = l + 1;
+    setChild(g.leftMin, g.leftMax, g.left, nodes[l], glIndex[l]);
+    setChild(g.rightMin, g.rightMax, g.right, nodes[r], glIndex[r]);
+  }
+  return gl;
+}
+
+namespace {
 
 // A buffer texture over `buffer` (of `bytes` bytes) with texels of `format` (`texelBytes` each),
 // on unit `unit`'s slot in `views`. The texel count must fit the context's buffer-texture limit
@@ -47,7 +88,8 @@ void makeTexelView(GLuint& view, GLuint buffer, GLenum format, size_t bytes, siz
 GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMaterial>& materials,
                                const GlLighting& lighting, size_t materialCount) {
   BT_GL(glCreateBuffers(kBufferCount, buffers_));
-  upload(buffers_[kBindingNodes], tracer.nodes().empty() ? std::span<const GpuBvhNode>(&kEmptyRoot, 1) : tracer.nodes());
+  const std::vector<GlBvhNode> bvh = bvhForGl(tracer.nodes());
+  upload(buffers_[kBindingNodes], std::span<const GlBvhNode>(bvh));
   upload(buffers_[kBindingBrushes], tracer.brushes());
   upload(buffers_[kBindingSides], tracer.sides());
   upload(buffers_[kBindingFaces], tracer.faces());
@@ -55,9 +97,8 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMa
   BT_GL(glGetIntegerv(GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS, &units));
   if (units < static_cast<GLint>(kTexelUnitEnd))
     throw GlError(fmt::format("the GL context offers {} compute texture units; the tracer needs {}", units, int(kTexelUnitEnd)));
-  const size_t nodeCount = std::max<size_t>(tracer.nodes().size(), 1);
   makeTexelView(texelViews_[kTexelNodes - kTexelNodes], buffers_[kBindingNodes], GL_RGBA32UI,
-                nodeCount * sizeof(GpuBvhNode), 16, "the BVH nodes");
+                bvh.size() * sizeof(GlBvhNode), 16, "the BVH nodes");
   makeTexelView(texelViews_[kTexelBrushes - kTexelNodes], buffers_[kBindingBrushes], GL_RGBA32UI,
                 tracer.brushes().size_bytes(), 16, "the brushes");
   makeTexelView(texelViews_[kTexelSides - kTexelNodes], buffers_[kBindingSides], GL_R32UI, tracer.sides().size_bytes(), 4,

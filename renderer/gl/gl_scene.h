@@ -5,11 +5,16 @@
 #include "bvh/trace_scene.h"
 #include "renderer/gl/gl_structs.h"
 
+#include <span>
 #include <vector>
 
 namespace bt::gl {
 
 struct GlLighting;
+
+// gl_structs.h GlBvhNode from TraceScene's tree (TraceScene::nodes()), in linear time. Throws
+// GlError for a leaf beyond GlBvhNode's reference limits (kGlLeafMaxCount, kGlLeafMaxFirst).
+std::vector<GlBvhNode> bvhForGl(std::span<const GpuBvhNode> nodes);
 
 class GlSceneBuffers {
 public:
