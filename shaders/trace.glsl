@@ -214,22 +214,45 @@ bool closer(Hit hit, Hit best) {
 // Every query of a shader goes through one call of this function: NVIDIA inlines each call
 // site, so each extra one would compile the whole traversal again (see pathtrace.comp).
 //
-// The stack lives in shared memory, one column per invocation (entry d of invocation i at
-// d * 64 + i). llvmpipe stores into a private array at a per-invocation index by reading,
-// blending and writing every lane's slot, which took a sixth of the traversal's time; a shared
-// store writes the active lanes only. On GPUs a column layout keeps neighbouring invocations
-// in different banks. Every program that traces therefore runs 8 x 8 invocations per workgroup,
-// declared here so that a program with another size fails to compile.
+// The stack's top 8 entries live in registers (NodeStack), shifted one place per push or pop:
+// on llvmpipe any memory access at a per-invocation index is a loop over the SIMD lanes, which
+// took a fifth of the traversal's time, and most walks stay within 8 entries. The entries below
+// live in shared memory, one column per invocation (entry d of invocation i at d * 64 + i):
+// llvmpipe stores into a private array at a per-invocation index by reading, blending and
+// writing every lane's slot, a shared store writes the active lanes only; on GPUs the column
+// layout keeps neighbouring invocations in different banks. Every program that traces
+// therefore runs 8 x 8 invocations per workgroup, declared here so that a program with another
+// size fails to compile.
 layout(local_size_x = 8, local_size_y = 8) in;
 const uint TRACE_INVOCATIONS = 64u;
 shared uint traversalStack[BT_BVH_MAX_DEPTH * TRACE_INVOCATIONS];
 
-void pushNode(inout int top, uint node) { traversalStack[uint(top++) * TRACE_INVOCATIONS + gl_LocalInvocationIndex] = node; }
-uint popNode(inout int top) { return traversalStack[uint(--top) * TRACE_INVOCATIONS + gl_LocalInvocationIndex]; }
+// Entries size - 1 (the top, lo.x) down to size - 8 (hi.w) in registers, the older ones at
+// traversalStack[entry * TRACE_INVOCATIONS + invocation].
+struct NodeStack {
+  uvec4 lo, hi;
+  int size;
+};
+
+void pushNode(inout NodeStack s, uint node) {
+  if (s.size >= 8) traversalStack[uint(s.size - 8) * TRACE_INVOCATIONS + gl_LocalInvocationIndex] = s.hi.w;
+  s.hi = uvec4(s.lo.w, s.hi.xyz);
+  s.lo = uvec4(node, s.lo.xyz);
+  ++s.size;
+}
+
+uint popNode(inout NodeStack s) {
+  uint node = s.lo.x;
+  s.lo = uvec4(s.lo.yzw, s.hi.x);
+  s.hi = uvec4(s.hi.yzw, 0u);
+  --s.size;
+  if (s.size >= 8) s.hi.w = traversalStack[uint(s.size - 8) * TRACE_INVOCATIONS + gl_LocalInvocationIndex];
+  return node;
+}
 
 Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   Hit best = Hit(r.tMax, NO_FACE, false);
-  int top = 0;
+  NodeStack stack = NodeStack(uvec4(0u), uvec4(0u), 0);
   uint current = 0u; // a child reference; the root is GlBvhNode 0
   while (true) {
     // Down through interior nodes to the next leaf; with nothing left to visit, an empty leaf.
@@ -246,12 +269,12 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
           a = b;
           b = swap;
         }
-        pushNode(top, b);
+        pushNode(stack, b);
         current = a;
       } else if (hitA || hitB) {
         current = hitA ? a : b;
       } else {
-        current = top > 0 ? popNode(top) : LEAF_REF;
+        current = stack.size > 0 ? popNode(stack) : LEAF_REF;
       }
     }
     uint first = leafFirst(current), end = first + leafCount(current);
@@ -264,8 +287,8 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
         best = hit;
       }
     }
-    if (top == 0) break;
-    current = popNode(top);
+    if (stack.size == 0) break;
+    current = popNode(stack);
   }
   return best;
 }
