@@ -200,7 +200,7 @@ bool closer(Hit hit, Hit best) {
 }
 
 // Depth-first traversal, nearer child first, kBvhMaxDepth stack entries (the builder's bound;
-// 16 KiB of shared memory per workgroup). Written as Aila and Laine's "while-while": an inner
+// 14 KiB of shared memory per workgroup). Written as Aila and Laine's "while-while": an inner
 // loop runs down interior nodes until the ray reaches a leaf, then the leaf's brushes are
 // tested. Invocations that run in lockstep (8 to a SIMD group on llvmpipe, a warp on GPUs)
 // then test their brushes together, where a loop that takes either step per iteration runs
@@ -225,17 +225,19 @@ bool closer(Hit hit, Hit best) {
 // size fails to compile.
 layout(local_size_x = 8, local_size_y = 8) in;
 const uint TRACE_INVOCATIONS = 64u;
-shared uint traversalStack[BT_BVH_MAX_DEPTH * TRACE_INVOCATIONS];
+const int STACK_REGISTERS = 8;
+shared uint traversalStack[(BT_BVH_MAX_DEPTH - STACK_REGISTERS) * TRACE_INVOCATIONS];
 
 // Entries size - 1 (the top, lo.x) down to size - 8 (hi.w) in registers, the older ones at
-// traversalStack[entry * TRACE_INVOCATIONS + invocation].
+// traversalStack[entry * TRACE_INVOCATIONS + invocation]. At most kBvhMaxDepth entries (a walk
+// holds one per level above its node), so the shared part needs kBvhMaxDepth - 8.
 struct NodeStack {
   uvec4 lo, hi;
   int size;
 };
 
 void pushNode(inout NodeStack s, uint node) {
-  if (s.size >= 8) traversalStack[uint(s.size - 8) * TRACE_INVOCATIONS + gl_LocalInvocationIndex] = s.hi.w;
+  if (s.size >= STACK_REGISTERS) traversalStack[uint(s.size - STACK_REGISTERS) * TRACE_INVOCATIONS + gl_LocalInvocationIndex] = s.hi.w;
   s.hi = uvec4(s.lo.w, s.hi.xyz);
   s.lo = uvec4(node, s.lo.xyz);
   ++s.size;
@@ -246,7 +248,7 @@ uint popNode(inout NodeStack s) {
   s.lo = uvec4(s.lo.yzw, s.hi.x);
   s.hi = uvec4(s.hi.yzw, 0u);
   --s.size;
-  if (s.size >= 8) s.hi.w = traversalStack[uint(s.size - 8) * TRACE_INVOCATIONS + gl_LocalInvocationIndex];
+  if (s.size >= STACK_REGISTERS) s.hi.w = traversalStack[uint(s.size - STACK_REGISTERS) * TRACE_INVOCATIONS + gl_LocalInvocationIndex];
   return node;
 }
 

@@ -1,5 +1,6 @@
 // A scene's geometry, materials and lights in GPU storage buffers: bvh/trace_scene.h's
-// TraceScene arrays as they are, plus the per-face classes, materials, lights and emitters.
+// TraceScene arrays (its tree as gl_structs.h GlBvhNodes), plus the per-face classes,
+// materials, lights and emitters, and the buffer-texture views the traversal reads.
 #pragma once
 
 #include "bvh/trace_scene.h"

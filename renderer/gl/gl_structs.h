@@ -29,12 +29,13 @@ enum Binding : uint32_t {
   kBindingLightIndices = 10, // the grid's uint index array into the light buffer
 };
 
-// The BVH nodes, brushes, slanted-side lists and faces are bvh/trace_scene.h's TraceScene
-// arrays (scene/gpu_structs.h GpuBvhNode, GpuBrush, GpuFace), uploaded unchanged; the shaders
-// read the face classes (kFace*) from a separate per-face buffer, RenderScene::faceFlags.
+// The brushes, slanted-side lists and faces are bvh/trace_scene.h's TraceScene arrays
+// (scene/gpu_structs.h GpuBrush, GpuFace), uploaded unchanged; the BVH nodes are GlBvhNodes made
+// from TraceScene's tree (below). The shaders read the face classes (kFace*) from a separate
+// per-face buffer, RenderScene::faceFlags.
 
-// The BVH as the GL traversal reads it, made from TraceScene::nodes() at upload (gl_scene.cpp
-// bvhForGl, one pass): one node per interior node of that tree, holding both children's boxes,
+// The BVH as the GL traversal reads it, made from TraceScene::nodes() at upload (gl_scene.h
+// bvhForGl, linear time): one node per interior node of that tree, holding both children's boxes,
 // so that one visit reads 4 texels and tests both children (the Aila-Laine / tinybvh BVH_GPU
 // layout) where TraceScene's nodes take 2 texels per child plus 2 for the node itself. Leaves
 // get no node: a parent's child reference names the leaf's brush range itself.
