@@ -101,23 +101,19 @@ uvec4 nodeRow(uint n, uint row) { return texelFetch(nodeTexels, int(4u * n + row
 // Whether a child box can hold a hit with t in (tMin, tLimit]; inclusive at tLimit so that a
 // hit at exactly the best t still reaches the tie-break (closer). `entry` is where the ray's
 // interval in it starts, max(near, tMin): the box stays worth visiting while entry <= best t.
-// Without zero direction components the min/max form gives intersectBox's values (as
-// trace_scene.cpp nodeOverlaps<false>).
+// intersectBox's near and far without its branches (trace_scene.cpp nodeOverlaps): a zero
+// direction component (invDir 0) sets no bound on the interval, and misses the box when the
+// origin is outside that slab. One formula for all rays: llvmpipe runs both sides of a branch
+// whenever its SIMD lanes disagree.
 bool boxOverlaps(TraceRay r, uvec4 minRow, uvec4 maxRow, float tLimit, out float entry) {
   vec3 boundsMin = uintBitsToFloat(minRow.xyz), boundsMax = uintBitsToFloat(maxRow.xyz);
-  float near, far;
-  if (r.hasZero) {
-    Slab s = intersectBox(r, boundsMin, boundsMax);
-    near = s.near;
-    far = s.far;
-  } else {
-    vec3 t0 = (boundsMin - r.origin) * r.invDir, t1 = (boundsMax - r.origin) * r.invDir;
-    vec3 tNear = min(t0, t1), tFar = max(t0, t1);
-    near = max(max(tNear.x, tNear.y), tNear.z);
-    far = min(min(tFar.x, tFar.y), tFar.z);
-  }
+  vec3 t0 = (boundsMin - r.origin) * r.invDir, t1 = (boundsMax - r.origin) * r.invDir;
+  bvec3 zero = equal(r.invDir, vec3(0.0));
+  vec3 tNear = mix(min(t0, t1), vec3(-INFINITY), zero), tFar = mix(max(t0, t1), vec3(INFINITY), zero);
+  float near = max(max(tNear.x, tNear.y), tNear.z), far = min(min(tFar.x, tFar.y), tFar.z);
+  bool outsideSlab = any(bvec3(uvec3(zero) & (uvec3(lessThan(r.origin, boundsMin)) | uvec3(greaterThan(r.origin, boundsMax)))));
   entry = max(near, r.tMin);
-  return entry <= min(far, tLimit) && near <= far;
+  return !outsideSlab && entry <= min(far, tLimit) && near <= far;
 }
 
 // A plane crossing candidate: t, the face, and how head-on the ray meets it (|dot(n, d)|).

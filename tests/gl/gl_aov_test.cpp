@@ -137,18 +137,19 @@ TEST(GlAov, EmptySceneSeesNothing) {
 // Every pixel's face is the one TraceScene::closestHit finds for the same ray, ties between
 // neighbouring brushes included: the shaders traverse a layout made from TraceScene's tree
 // (renderer/gl/gl_structs.h GlBvhNode) by trace_scene.cpp's rules.
-void expectFacesEqualClosestHit(const Scene& scene, const TraceScene& traceScene) {
+void expectFacesEqualClosestHit(const Scene& scene, const TraceScene& traceScene,
+                                const CameraBasis& camera = test::testCamera(kWidth, kHeight), int width = kWidth,
+                                int height = kHeight) {
   GlTracer tracer(test::sharedGlContext(), scene, traceScene, TextureMode::Arrays);
-  const CameraBasis camera = test::testCamera(kWidth, kHeight);
-  const AovImages gpu = tracer.renderAovs(camera, kWidth, kHeight);
+  const AovImages gpu = tracer.renderAovs(camera, width, height);
   size_t mismatched = 0, hits = 0;
-  for (int y = 0; y < kHeight; ++y)
-    for (int x = 0; x < kWidth; ++x) {
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
       // camera.glsl's ray, in float like the shader.
-      const glm::vec2 ndc = (glm::vec2(x, y) + 0.5f) / glm::vec2(kWidth, kHeight) * 2.0f - 1.0f;
+      const glm::vec2 ndc = (glm::vec2(x, y) + 0.5f) / glm::vec2(width, height) * 2.0f - 1.0f;
       const glm::vec3 dir = glm::normalize(camera.forward + ndc.x * camera.right - ndc.y * camera.up);
       const std::optional<Hit> hit = traceScene.closestHit(Ray{camera.origin, 0.0f, dir});
-      const size_t i = static_cast<size_t>(y) * kWidth + x;
+      const size_t i = static_cast<size_t>(y) * width + x;
       const uint32_t expected = hit ? hit->face + 1 : AovImages::kNoFace;
       if (gpu.face[i] != expected) {
         ++mismatched;
@@ -242,6 +243,26 @@ TEST(GlAov, DeepStackEqualsTraceSceneClosestHit) {
     }
   ASSERT_GT(deepest, 10u);
   expectFacesEqualClosestHit(scene, traceScene);
+}
+
+// A camera looking down +X with an odd image size: the middle row's and column's rays have
+// zero direction components, which the box tests handle apart ("inside that slab or miss").
+// From z = 40 the middle row runs exactly along the top of the box of height 40 (boundaries
+// count as inside) and into the taller ones behind it.
+TEST(GlAov, AxisAlignedRaysEqualTraceSceneClosestHit) {
+  Scene scene = test::makeTestRoom();
+  for (int i = 0; i < 40; ++i) test::addBox(scene, {-250.0 + i * 12.0, 100, 0}, {-242.0 + i * 12.0, 108, 8.0 + i}, i % 3);
+  CameraBasis camera;
+  camera.origin = {-252, 104, 40};
+  camera.forward = {1, 0, 0};
+  camera.right = {0, -1, 0};
+  camera.up = {0, 0, 0.5f};
+  const int width = 63, height = 31;
+  ASSERT_EQ((glm::vec2(31, 15) + 0.5f) / glm::vec2(width, height) * 2.0f - 1.0f, glm::vec2(0.0f));
+  expectFacesEqualClosestHit(scene, TraceScene::build(scene, {.leafSize = 1}), camera, width, height);
+  expectFacesEqualClosestHit(scene, TraceScene::build(scene), camera, width, height);
+  camera.origin = {-200, 50, 20};
+  expectFacesEqualClosestHit(scene, TraceScene::build(scene), camera, width, height);
 }
 
 // A tree that is a single leaf has no interior node: the GL root holds it as its only child.
