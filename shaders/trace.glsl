@@ -103,8 +103,9 @@ uvec4 nodeRow(uint n, uint row) { return texelFetch(nodeTexels, int(4u * n + row
 // interval in it starts, max(near, tMin): the box stays worth visiting while entry <= best t.
 // intersectBox's near and far without its branches (trace_scene.cpp nodeOverlaps): a zero
 // direction component (invDir 0) sets no bound on the interval, and misses the box when the
-// origin is outside that slab. One formula for all rays: llvmpipe runs both sides of a branch
-// whenever its SIMD lanes disagree.
+// origin is outside that slab. One formula for all rays: llvmpipe runs the code on both sides
+// of a branch, masked, even when all its SIMD lanes take the same side (a branch on hasZero here
+// cost a fifth of the bounce rays' time, which almost never have a zero component).
 bool boxOverlaps(TraceRay r, uvec4 minRow, uvec4 maxRow, float tLimit, out float entry) {
   vec3 boundsMin = uintBitsToFloat(minRow.xyz), boundsMax = uintBitsToFloat(maxRow.xyz);
   vec3 t0 = (boundsMin - r.origin) * r.invDir, t1 = (boundsMax - r.origin) * r.invDir;
