@@ -1,24 +1,26 @@
 // std430 mirrors of scene/gpu_structs.h and renderer/gl/gl_structs.h. Keep both sides in step:
 // the C++ headers have static_asserts on every size and offset below.
 
-// scene/gpu_structs.h's BVH structs, byte for byte: bvh/trace_scene.h's TraceScene arrays are
-// uploaded unchanged. See that header for what each field means.
-struct GpuBvhNode {
-  vec3 boundsMin;   // offset 0
-  uint leftFirst;   // offset 12: interior (count 0): left child, right = left + 1; leaf: first brush
-  vec3 boundsMax;   // offset 16
-  uint count;       // offset 28: brushes in a leaf, 0 for an interior node
-};                  // 32 bytes
-
-struct GpuBrush {
-  vec3 boundsMin;     // offset 0
-  uint firstSide;     // offset 12: sides[firstSide .. firstSide + sideCount) are the slanted faces
-  vec3 boundsMax;     // offset 16
-  uint sideCount;     // offset 28
-  uint axialFace[6];  // offset 32: the face on each box side -X, +X, -Y, +Y, -Z, +Z, or NO_FACE
-  uint sceneBrush;    // offset 56
-  uint pad;           // offset 60
-};                    // 64 bytes
+// The BVH as trace.glsl reads it, through buffer textures (scene_buffers.glsl), 16 bytes per
+// texel. The nodes are renderer/gl/gl_structs.h GlBvhNode, made from TraceScene's tree at
+// upload; 4 texels each (trace.glsl nodeRow):
+//   struct GlBvhNode {
+//     vec3 leftMin;  uint left;   // offset 0, 12: a child reference (trace.glsl LEAF_REF)
+//     vec3 leftMax;  uint pad0;   // offset 16, 28
+//     vec3 rightMin; uint right;  // offset 32, 44
+//     vec3 rightMax; uint pad1;   // offset 48, 60
+//   };                            // 64 bytes
+// The brushes are bvh/trace_scene.h's TraceScene::brushes() unchanged, scene/gpu_structs.h
+// GpuBrush, 4 texels each (trace.glsl brushRow):
+//   struct GpuBrush {
+//     vec3 boundsMin;     // offset 0
+//     uint firstSide;     // offset 12: sides[firstSide .. firstSide + sideCount) are the slanted faces
+//     vec3 boundsMax;     // offset 16
+//     uint sideCount;     // offset 28
+//     uint axialFace[6];  // offset 32: the face on each box side -X, +X, -Y, +Y, -Z, +Z, or NO_FACE
+//     uint sceneBrush;    // offset 56
+//     uint pad;           // offset 60
+//   };                    // 64 bytes
 
 // One brush side, faces[i] = Scene::faces[i]: plane.xyz the outward normal, plane.w the
 // distance (dot(normal, p) == dist on it); texture frame s = dot(p - origin, tangent),

@@ -4,6 +4,7 @@
 #include "renderer/gl/gl_tracer.h"
 
 #include <epoxy/gl.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cfloat>
@@ -22,20 +23,88 @@ void upload(GLuint buffer, std::span<const T> v) {
   BT_GL(glNamedBufferStorage(buffer, static_cast<GLsizeiptr>(bytes), data, 0));
 }
 
-// The root the shaders start from when the scene has nothing to trace: an interior node whose
-// children would start at itself, which no built tree has (shaders/trace.glsl returns a miss
-// on seeing it, before any slab test).
-constexpr GpuBvhNode kEmptyRoot{{FLT_MAX, FLT_MAX, FLT_MAX}, 0, {-FLT_MAX, -FLT_MAX, -FLT_MAX}, 0};
+// A GlBvhNode child reference to TraceScene node n: a leaf's brush range, or the GlBvhNode that
+// interior node n became (glIndex).
+uint32_t childRef(const GpuBvhNode& n, uint32_t glIndex) {
+  if (n.count == 0) return glIndex;
+  if (n.count > kGlLeafMaxCount || n.leftFirst > kGlLeafMaxFirst)
+    throw GlError(fmt::format("scene too large for the GL tracer: a BVH leaf of {} brushes from brush {} (at most {} from {})",
+                              n.count, n.leftFirst, kGlLeafMaxCount, kGlLeafMaxFirst));
+  return kGlLeafRef | n.count << 24 | n.leftFirst;
+}
+
+void setChild(float (&min)[3], float (&max)[3], uint32_t& ref, const GpuBvhNode& n, uint32_t glIndex) {
+  std::copy(std::begin(n.boundsMin), std::end(n.boundsMin), min);
+  std::copy(std::begin(n.boundsMax), std::end(n.boundsMax), max);
+  ref = childRef(n, glIndex);
+}
+
+} // namespace
+
+// Two linear passes: number the interior nodes in tree order (so the root stays 0), then give
+// each its children's boxes and references.
+std::vector<GlBvhNode> bvhForGl(std::span<const GpuBvhNode> nodes) {
+  constexpr GlBvhNode kNoChildren{{0, 0, 0}, kGlNoChild, {0, 0, 0}, 0, {0, 0, 0}, kGlNoChild, {0, 0, 0}, 0};
+  std::vector<GlBvhNode> gl;
+  if (nodes.empty()) return {kNoChildren};
+  if (nodes[0].count > 0) { // the whole scene is one leaf: the root's left child
+    gl.push_back(kNoChildren);
+    setChild(gl[0].leftMin, gl[0].leftMax, gl[0].left, nodes[0], 0);
+    return gl;
+  }
+  std::vector<uint32_t> glIndex(nodes.size(), 0);
+  uint32_t interior = 0;
+  for (size_t i = 0; i < nodes.size(); ++i)
+    if (nodes[i].count == 0) glIndex[i] = interior++;
+  gl.resize(interior);
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    if (nodes[i].count != 0) continue;
+    GlBvhNode& g = gl[glIndex[i]];
+    const uint32_t l = nodes[i].leftFirst, r = l + 1;
+    setChild(g.leftMin, g.leftMax, g.left, nodes[l], glIndex[l]);
+    setChild(g.rightMin, g.rightMax, g.right, nodes[r], glIndex[r]);
+  }
+  return gl;
+}
+
+namespace {
+
+// A buffer texture over `buffer` (of `bytes` bytes) with texels of `format` (`texelBytes` each),
+// on unit `unit`'s slot in `views`. The texel count must fit the context's buffer-texture limit
+// (at least 65536 texels by the GL spec, 2^27 on NVIDIA and llvmpipe).
+void makeTexelView(GLuint& view, GLuint buffer, GLenum format, size_t bytes, size_t texelBytes, const char* what) {
+  GLint maxTexels = 0;
+  BT_GL(glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels));
+  const size_t texels = std::max<size_t>(bytes, texelBytes) / texelBytes;
+  if (texels > static_cast<size_t>(maxTexels))
+    throw GlError(fmt::format("scene too large for this GL context: {} needs {} buffer-texture texels, the limit is {}",
+                              what, texels, maxTexels));
+  BT_GL(glCreateTextures(GL_TEXTURE_BUFFER, 1, &view));
+  BT_GL(glTextureBuffer(view, format, buffer));
+}
 
 } // namespace
 
 GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMaterial>& materials,
                                const GlLighting& lighting, size_t materialCount) {
   BT_GL(glCreateBuffers(kBufferCount, buffers_));
-  upload(buffers_[kBindingNodes], tracer.nodes().empty() ? std::span<const GpuBvhNode>(&kEmptyRoot, 1) : tracer.nodes());
+  const std::vector<GlBvhNode> bvh = bvhForGl(tracer.nodes());
+  upload(buffers_[kBindingNodes], std::span<const GlBvhNode>(bvh));
   upload(buffers_[kBindingBrushes], tracer.brushes());
   upload(buffers_[kBindingSides], tracer.sides());
   upload(buffers_[kBindingFaces], tracer.faces());
+  GLint units = 0;
+  BT_GL(glGetIntegerv(GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS, &units));
+  if (units < static_cast<GLint>(kTexelUnitEnd))
+    throw GlError(fmt::format("the GL context offers {} compute texture units; the tracer needs {}", units, int(kTexelUnitEnd)));
+  makeTexelView(texelViews_[kTexelNodes - kTexelNodes], buffers_[kBindingNodes], GL_RGBA32UI,
+                bvh.size() * sizeof(GlBvhNode), 16, "the BVH nodes");
+  makeTexelView(texelViews_[kTexelBrushes - kTexelNodes], buffers_[kBindingBrushes], GL_RGBA32UI,
+                tracer.brushes().size_bytes(), 16, "the brushes");
+  makeTexelView(texelViews_[kTexelSides - kTexelNodes], buffers_[kBindingSides], GL_R32UI, tracer.sides().size_bytes(), 4,
+                "the slanted sides");
+  makeTexelView(texelViews_[kTexelFaces - kTexelNodes], buffers_[kBindingFaces], GL_RGBA32F, tracer.faces().size_bytes(), 16,
+                "the faces");
   std::vector<uint32_t> faceFlags = lighting.faceFlags;
   faceFlags.resize(tracer.faces().size(), 0u);
   upload(buffers_[kBindingFaceFlags], std::span<const uint32_t>(faceFlags));
@@ -60,10 +129,14 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMa
   upload(buffers_[kBindingLightIndices], std::span<const uint32_t>(grid.indices));
 }
 
-GlSceneBuffers::~GlSceneBuffers() { glDeleteBuffers(kBufferCount, buffers_); }
+GlSceneBuffers::~GlSceneBuffers() {
+  glDeleteTextures(kTexelViewCount, texelViews_);
+  glDeleteBuffers(kBufferCount, buffers_);
+}
 
 void GlSceneBuffers::bind() const {
   for (GLuint i = 0; i < kBufferCount; ++i) BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, buffers_[i]));
+  for (GLuint i = 0; i < kTexelViewCount; ++i) BT_GL(glBindTextureUnit(kTexelNodes + i, texelViews_[i]));
 }
 
 } // namespace bt::gl

@@ -1,15 +1,21 @@
 // A scene's geometry, materials and lights in GPU storage buffers: bvh/trace_scene.h's
-// TraceScene arrays as they are, plus the per-face classes, materials, lights and emitters.
+// TraceScene arrays (its tree as gl_structs.h GlBvhNodes), plus the per-face classes,
+// materials, lights and emitters, and the buffer-texture views the traversal reads.
 #pragma once
 
 #include "bvh/trace_scene.h"
 #include "renderer/gl/gl_structs.h"
 
+#include <span>
 #include <vector>
 
 namespace bt::gl {
 
 struct GlLighting;
+
+// gl_structs.h GlBvhNode from TraceScene's tree (TraceScene::nodes()), in linear time. Throws
+// GlError for a leaf beyond GlBvhNode's reference limits (kGlLeafMaxCount, kGlLeafMaxFirst).
+std::vector<GlBvhNode> bvhForGl(std::span<const GpuBvhNode> nodes);
 
 class GlSceneBuffers {
 public:
@@ -20,11 +26,13 @@ public:
   GlSceneBuffers(const GlSceneBuffers&) = delete;
   GlSceneBuffers& operator=(const GlSceneBuffers&) = delete;
 
-  void bind() const; // to the Binding points of gl_structs.h
+  void bind() const; // to the Binding points and TexelUnits of gl_structs.h
 
 private:
   static constexpr int kBufferCount = 11; // Binding 0..10
+  static constexpr int kTexelViewCount = kTexelUnitEnd - kTexelNodes;
   unsigned buffers_[kBufferCount] = {};
+  unsigned texelViews_[kTexelViewCount] = {}; // buffer textures, by TexelUnit - kTexelNodes
 };
 
 } // namespace bt::gl

@@ -29,9 +29,56 @@ enum Binding : uint32_t {
   kBindingLightIndices = 10, // the grid's uint index array into the light buffer
 };
 
-// The BVH nodes, brushes, slanted-side lists and faces are bvh/trace_scene.h's TraceScene
-// arrays (scene/gpu_structs.h GpuBvhNode, GpuBrush, GpuFace), uploaded unchanged; the shaders
-// read the face classes (kFace*) from a separate per-face buffer, RenderScene::faceFlags.
+// The brushes, slanted-side lists and faces are bvh/trace_scene.h's TraceScene arrays
+// (scene/gpu_structs.h GpuBrush, GpuFace), uploaded unchanged; the BVH nodes are GlBvhNodes made
+// from TraceScene's tree (below). The shaders read the face classes (kFace*) from a separate
+// per-face buffer, RenderScene::faceFlags.
+
+// The BVH as the GL traversal reads it, made from TraceScene::nodes() at upload (gl_scene.h
+// bvhForGl, linear time): one node per interior node of that tree, holding both children's boxes,
+// so that one visit reads 4 texels and tests both children (the Aila-Laine / tinybvh BVH_GPU
+// layout) where TraceScene's nodes take 2 texels per child plus 2 for the node itself. Leaves
+// get no node: a parent's child reference names the leaf's brush range itself.
+//   left, right: a child reference, kGlNoChild, or kGlLeafRef | count << 24 | first brush for a
+//   leaf of `count` brushes (1 .. 127) from `first` (< 2^24), or an interior child's GlBvhNode
+//   index. Node 0 is the root; kGlNoChild (0) marks the missing children of a root that has
+//   fewer than two (a scene of one leaf, or of none).
+//
+//   4 texels (shaders/trace.glsl nodeRow): (leftMin, left), (leftMax, pad), (rightMin, right),
+//   (rightMax, pad).
+inline constexpr uint32_t kGlNoChild = 0;
+inline constexpr uint32_t kGlLeafRef = 0x80000000u;
+inline constexpr uint32_t kGlLeafMaxCount = 127;
+inline constexpr uint32_t kGlLeafMaxFirst = (1u << 24) - 1;
+struct GlBvhNode {
+  float leftMin[3];
+  uint32_t left;
+  float leftMax[3];
+  uint32_t pad0;
+  float rightMin[3];
+  uint32_t right;
+  float rightMax[3];
+  uint32_t pad1;
+};
+static_assert(sizeof(GlBvhNode) == 64);
+static_assert(offsetof(GlBvhNode, left) == 12 && offsetof(GlBvhNode, leftMax) == 16);
+static_assert(offsetof(GlBvhNode, rightMin) == 32 && offsetof(GlBvhNode, right) == 44);
+static_assert(offsetof(GlBvhNode, rightMax) == 48 && offsetof(GlBvhNode, pad1) == 60);
+
+// Texture units of the buffer textures through which the traversal reads those arrays
+// (shaders/scene_buffers.glsl says why), after the material texture arrays' units
+// 0 .. kMaxTextureArrays - 1 (gl_textures.h). Each is a view of the storage buffer above, one
+// 16-byte texel per row of the struct: a GpuBvhNode is 2 texels, a GpuBrush 4, a GpuFace 4 (its
+// plane first), a side index 1 (R32UI); the nodes are GlBvhNodes, 4 texels each.
+enum TexelUnit : uint32_t {
+  kTexelNodes = 16,
+  kTexelBrushes = 17,
+  kTexelSides = 18,
+  kTexelFaces = 19,
+  kTexelUnitEnd = 20, // one past the last: the context must offer this many compute texture units
+};
+static_assert(sizeof(GlBvhNode) == 4 * 16 && sizeof(GpuBrush) == 4 * 16 && sizeof(GpuFace) == 4 * 16);
+static_assert(offsetof(GpuFace, plane) == 0);
 
 enum MaterialFlags : uint32_t {
   kMaterialHasBase = 1,

@@ -1,6 +1,7 @@
 // AOV images of the GL tracer against a double-precision brute-force reference.
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_error.h"
+#include "renderer/gl/gl_scene.h"
 #include "renderer/gl/gl_tracer.h"
 #include "tests/gl/test_scenes.h"
 
@@ -8,7 +9,10 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 namespace bt::gl {
 namespace {
@@ -130,25 +134,22 @@ TEST(GlAov, EmptySceneSeesNothing) {
   for (float d : gpu.depth) EXPECT_TRUE(std::isinf(d));
 }
 
-// The shaders traverse TraceScene's own arrays by trace_scene.cpp's rules, so every pixel's
-// face is the one TraceScene::closestHit finds for the same ray, ties between neighbouring
-// brushes included; a row of 40 boxes makes the tree deep enough to exercise the stack.
-TEST(GlAov, FacesEqualTraceSceneClosestHit) {
-  GlContext* context = &test::sharedGlContext();
-  Scene scene = test::makeTestRoom();
-  for (int i = 0; i < 40; ++i) test::addBox(scene, {-250.0 + i * 12.0, 100, 0}, {-242.0 + i * 12.0, 108, 8.0 + i}, i % 3);
-  const TraceScene traceScene = TraceScene::build(scene, {.leafSize = 1});
-  GlTracer tracer(*context, scene, traceScene, TextureMode::Arrays);
-  const CameraBasis camera = test::testCamera(kWidth, kHeight);
-  const AovImages gpu = tracer.renderAovs(camera, kWidth, kHeight);
+// Every pixel's face is the one TraceScene::closestHit finds for the same ray, ties between
+// neighbouring brushes included: the shaders traverse a layout made from TraceScene's tree
+// (renderer/gl/gl_structs.h GlBvhNode) by trace_scene.cpp's rules.
+void expectFacesEqualClosestHit(const Scene& scene, const TraceScene& traceScene,
+                                const CameraBasis& camera = test::testCamera(kWidth, kHeight), int width = kWidth,
+                                int height = kHeight) {
+  GlTracer tracer(test::sharedGlContext(), scene, traceScene, TextureMode::Arrays);
+  const AovImages gpu = tracer.renderAovs(camera, width, height);
   size_t mismatched = 0, hits = 0;
-  for (int y = 0; y < kHeight; ++y)
-    for (int x = 0; x < kWidth; ++x) {
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
       // camera.glsl's ray, in float like the shader.
-      const glm::vec2 ndc = (glm::vec2(x, y) + 0.5f) / glm::vec2(kWidth, kHeight) * 2.0f - 1.0f;
+      const glm::vec2 ndc = (glm::vec2(x, y) + 0.5f) / glm::vec2(width, height) * 2.0f - 1.0f;
       const glm::vec3 dir = glm::normalize(camera.forward + ndc.x * camera.right - ndc.y * camera.up);
       const std::optional<Hit> hit = traceScene.closestHit(Ray{camera.origin, 0.0f, dir});
-      const size_t i = static_cast<size_t>(y) * kWidth + x;
+      const size_t i = static_cast<size_t>(y) * width + x;
       const uint32_t expected = hit ? hit->face + 1 : AovImages::kNoFace;
       if (gpu.face[i] != expected) {
         ++mismatched;
@@ -160,7 +161,118 @@ TEST(GlAov, FacesEqualTraceSceneClosestHit) {
     }
   // The GPU's normalize and division may round differently in the last bit: allow a pixel or two.
   EXPECT_LE(mismatched, 2u);
-  EXPECT_GT(hits, gpu.face.size() / 2);
+  EXPECT_GT(hits, 0u);
+}
+
+// A row of 40 boxes makes the tree deep enough to exercise the stack; one brush per leaf.
+TEST(GlAov, FacesEqualTraceSceneClosestHit) {
+  Scene scene = test::makeTestRoom();
+  for (int i = 0; i < 40; ++i) test::addBox(scene, {-250.0 + i * 12.0, 100, 0}, {-242.0 + i * 12.0, 108, 8.0 + i}, i % 3);
+  expectFacesEqualClosestHit(scene, TraceScene::build(scene, {.leafSize = 1}));
+  expectFacesEqualClosestHit(scene, TraceScene::build(scene, {.leafSize = 8}));
+}
+
+// How deep trace.glsl's stack gets for `ray`: its walk over the GlBvhNodes (nearer child first,
+// the farther one pushed), in float, with TraceScene's brush hits cutting it short as the best
+// t shrinks.
+size_t deepestStack(const TraceScene& scene, const std::vector<GlBvhNode>& nodes, const Ray& ray) {
+  float best = std::numeric_limits<float>::infinity();
+  auto overlaps = [&](const float (&min)[3], const float (&max)[3], float& entry) {
+    float near = 0.0f, far = best;
+    for (int a = 0; a < 3; ++a) {
+      const float t0 = (min[a] - ray.origin[a]) / ray.direction[a], t1 = (max[a] - ray.origin[a]) / ray.direction[a];
+      near = std::max(near, std::min(t0, t1));
+      far = std::min(far, std::max(t0, t1));
+    }
+    entry = near;
+    return near <= far;
+  };
+  std::vector<uint32_t> stack;
+  size_t deepest = 0;
+  uint32_t current = 0;
+  auto pop = [&] {
+    if (stack.empty()) return kGlLeafRef; // an empty leaf: done
+    const uint32_t top = stack.back();
+    stack.pop_back();
+    return top;
+  };
+  while (true) {
+    while ((current & kGlLeafRef) == 0) {
+      const GlBvhNode& n = nodes[current];
+      float entryA = 0, entryB = 0;
+      uint32_t a = n.left, b = n.right;
+      const bool hitA = a != kGlNoChild && overlaps(n.leftMin, n.leftMax, entryA);
+      const bool hitB = b != kGlNoChild && overlaps(n.rightMin, n.rightMax, entryB);
+      if (hitA && hitB) {
+        if (entryB < entryA) std::swap(a, b);
+        stack.push_back(b);
+        deepest = std::max(deepest, stack.size());
+        current = a;
+      } else {
+        current = hitA ? a : hitB ? b : pop();
+      }
+    }
+    const uint32_t first = current & 0xffffffu, count = (current >> 24) & 0x7fu;
+    for (uint32_t i = first; i < first + count; ++i)
+      if (const std::optional<Hit> hit = scene.intersectBrush(ray, i)) best = std::min(best, hit->t);
+    if (stack.empty()) return deepest;
+    current = pop();
+  }
+}
+
+// 4096 small boxes along the camera's central ray, alternately just above and just below it, one
+// brush per leaf: that ray and its neighbours miss them all but pass through every node box on
+// the way, so the traversal keeps more nodes on its stack than trace.glsl holds in registers
+// (8) and the entries below go to shared memory and back.
+TEST(GlAov, DeepStackEqualsTraceSceneClosestHit) {
+  Scene scene = test::makeTestRoom();
+  const CameraBasis camera = test::testCamera(kWidth, kHeight);
+  for (int i = 0; i < 4096; ++i) {
+    const dvec3 onRay = dvec3(camera.origin) + dvec3(camera.forward) * (60.0 + 0.05 * i);
+    const dvec3 offset{0, 0, i % 2 == 0 ? 2.0 : -2.0};
+    test::addBox(scene, onRay + offset - dvec3(0.5), onRay + offset + dvec3(0.5), i % 3);
+  }
+  const TraceScene traceScene = TraceScene::build(scene, {.leafSize = 1});
+  const std::vector<GlBvhNode> nodes = bvhForGl(traceScene.nodes());
+  size_t deepest = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const glm::vec2 ndc = (glm::vec2(x, y) + 0.5f) / glm::vec2(kWidth, kHeight) * 2.0f - 1.0f;
+      const glm::vec3 dir = glm::normalize(camera.forward + ndc.x * camera.right - ndc.y * camera.up);
+      deepest = std::max(deepest, deepestStack(traceScene, nodes, Ray{camera.origin, 0.0f, dir}));
+    }
+  ASSERT_GT(deepest, 10u);
+  expectFacesEqualClosestHit(scene, traceScene);
+}
+
+// A camera looking down +X with an odd image size: the middle row's and column's rays have
+// zero direction components, which the box tests handle apart ("inside that slab or miss").
+// From z = 40 the middle row runs exactly along the top of the box of height 40 (boundaries
+// count as inside) and into the taller ones behind it.
+TEST(GlAov, AxisAlignedRaysEqualTraceSceneClosestHit) {
+  Scene scene = test::makeTestRoom();
+  for (int i = 0; i < 40; ++i) test::addBox(scene, {-250.0 + i * 12.0, 100, 0}, {-242.0 + i * 12.0, 108, 8.0 + i}, i % 3);
+  CameraBasis camera;
+  camera.origin = {-252, 104, 40};
+  camera.forward = {1, 0, 0};
+  camera.right = {0, -1, 0};
+  camera.up = {0, 0, 0.5f};
+  const int width = 63, height = 31;
+  ASSERT_EQ((glm::vec2(31, 15) + 0.5f) / glm::vec2(width, height) * 2.0f - 1.0f, glm::vec2(0.0f));
+  expectFacesEqualClosestHit(scene, TraceScene::build(scene, {.leafSize = 1}), camera, width, height);
+  expectFacesEqualClosestHit(scene, TraceScene::build(scene), camera, width, height);
+  camera.origin = {-200, 50, 20};
+  expectFacesEqualClosestHit(scene, TraceScene::build(scene), camera, width, height);
+}
+
+// A tree that is a single leaf has no interior node: the GL root holds it as its only child.
+TEST(GlAov, OneBrushSceneEqualsTraceSceneClosestHit) {
+  Scene scene;
+  scene.materials = test::makeTestRoom().materials;
+  test::addBox(scene, {-40, -60, 0}, {104, 4, 200}, 1);
+  const TraceScene traceScene = TraceScene::build(scene);
+  ASSERT_EQ(traceScene.nodes().size(), 1u);
+  expectFacesEqualClosestHit(scene, traceScene);
 }
 
 } // namespace

@@ -3,6 +3,7 @@
 // where GlSceneBuffers binds them. A clash compiles and runs; it just reads the wrong data.
 #include "renderer/gl/gl_program.h"
 #include "renderer/gl/gl_structs.h"
+#include "renderer/gl/gl_textures.h"
 
 #include <gtest/gtest.h>
 
@@ -25,9 +26,21 @@ std::map<std::string, int> storageBufferBindings() {
   return bindings;
 }
 
+// Every `layout(binding = N) uniform [u]samplerBuffer name` (the traversal's texel views): name -> N.
+std::map<std::string, int> texelViewUnits() {
+  std::map<std::string, int> units;
+  const std::regex declaration(R"(layout\s*\(\s*binding\s*=\s*(\d+)\s*\)\s*uniform\s+u?samplerBuffer\s+(\w+))");
+  for (const ShaderFile& file : embeddedShaders()) {
+    const std::string source(file.source);
+    for (auto it = std::sregex_iterator(source.begin(), source.end(), declaration); it != std::sregex_iterator(); ++it)
+      units[(*it)[2].str()] = std::stoi((*it)[1].str());
+  }
+  return units;
+}
+
 TEST(ShaderBindings, EveryStorageBufferHasItsOwnBindingPoint) {
   const std::map<std::string, int> bindings = storageBufferBindings();
-  ASSERT_GE(bindings.size(), 9u);
+  ASSERT_GE(bindings.size(), 8u); // nodes, brushes and sides are read as texels only
   std::map<int, std::string> owner;
   for (const auto& [name, point] : bindings) {
     const auto [it, inserted] = owner.emplace(point, name);
@@ -42,6 +55,19 @@ TEST(ShaderBindings, LightGridBuffersMatchTheEnum) {
   EXPECT_EQ(bindings.at("LightGridBuffer"), int(kBindingLightGrid));
   EXPECT_EQ(bindings.at("LightIndices"), int(kBindingLightIndices));
   EXPECT_EQ(bindings.at("Lights"), int(kBindingLights));
+}
+
+// GlSceneBuffers binds the views on the TexelUnit units; the material texture arrays take units
+// 0 .. kMaxTextureArrays - 1, so a view there would be overwritten by GlTextures::bind.
+TEST(ShaderBindings, TexelViewsSitOnTheirUnitsAfterTheTextureArrays) {
+  const std::map<std::string, int> units = texelViewUnits();
+  const std::map<std::string, int> expected = {
+      {"nodeTexels", kTexelNodes}, {"brushTexels", kTexelBrushes}, {"sideTexels", kTexelSides}, {"faceTexels", kTexelFaces}};
+  EXPECT_EQ(units, expected);
+  for (const auto& [name, unit] : units) {
+    EXPECT_GE(unit, kMaxTextureArrays) << name;
+    EXPECT_LT(unit, int(kTexelUnitEnd)) << name;
+  }
 }
 
 } // namespace

@@ -54,9 +54,9 @@ TEST(ShaderAssembly, IncludesAreInlinedWithLineDirectives) {
   EXPECT_TRUE(source.starts_with("#version 450\n#define BT_TEXTURES_ARRAYS\n")) << source.substr(0, 80);
   EXPECT_EQ(source.find("#include"), std::string::npos);
   EXPECT_EQ(source.find("GL_GOOGLE_include_directive"), std::string::npos);
-  EXPECT_NE(source.find("struct GpuBvhNode"), std::string::npos);
+  EXPECT_NE(source.find("struct GpuFace"), std::string::npos);
   // structs.glsl comes in through scene_buffers.glsl only once.
-  EXPECT_EQ(source.find("struct GpuBvhNode"), source.rfind("struct GpuBvhNode"));
+  EXPECT_EQ(source.find("struct GpuFace"), source.rfind("struct GpuFace"));
 }
 
 TEST(ShaderAssembly, CompileErrorNamesTheSourceFiles) {
