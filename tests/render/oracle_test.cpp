@@ -90,6 +90,8 @@ OracleResult compareWithCompiler(const std::filesystem::path& bspPath, const std
     glm::vec3 faceMinlight(0.0f);
     if (auto material = scene.findMaterial(tex.texture); material && *material < rs.surfaceLights.size())
       faceMinlight = faithful::surfaceFaceMinlight(rs.surfaceLights[*material]);
+    // A lit liquid face takes light from both sides, as the renderer lights kFaceLiquid faces.
+    const bool twoSided = classifyTexture(tex.texture, std::nullopt) & kFaceLiquid;
     ++result.faces;
     for (int t = 0; t < size[1]; ++t)
       for (int s = 0; s < size[0]; ++s) {
@@ -98,7 +100,7 @@ OracleResult compareWithCompiler(const std::filesystem::path& bspPath, const std
         glm::vec3 sum(0.0f);
         for (int k = 0; k < kSamplesPerLuxel; ++k) {
           Rng rng = pixelRng(uint32_t(fi), uint32_t(t * size[0] + s), uint32_t(k), 1);
-          sum += faithfulLightAt(rs, p, glm::vec3(normal), rng);
+          sum += faithfulLightAt(rs, p, glm::vec3(normal), rng, twoSided);
         }
         glm::vec3 stored = glm::max(sum / float(kSamplesPerLuxel), faceMinlight) * rs.world.range;
         const float peak = std::max({stored.x, stored.y, stored.z});
@@ -205,7 +207,8 @@ INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
 // only narrow. The compiler spreads its point lights over the faces of the compiled BSP; we
 // rebuild qbsp's CSG, face merging and 240-texel subdivision from the source brushes, but not
 // the splits along the BSP tree's planes nor the removal of faces that look into the void, so
-// the lava gets 151 point lights in other places than the compiler's 111.
+// the lava gets 151 point lights in other places than the compiler's 111. (With the compiler's
+// own 111 points, reconstructed from its faces, this level's median error is 0.00 %.)
 struct SurfaceCase {
   const char* name;
   double maxMedianError;
@@ -223,7 +226,7 @@ TEST_P(OracleSurfaceLights, FaithfulSurfaceLightsTrackCompiler) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Lit, OracleSurfaceLights,
-                         ::testing::Values(SurfaceCase{"ericw-tools_testmaps_deprecated_testsurfacelight", 0.12}),
+                         ::testing::Values(SurfaceCase{"ericw-tools_testmaps_deprecated_testsurfacelight", 0.10}),
                          [](const auto& info) {
                            std::string n = info.param.name;
                            std::replace(n.begin(), n.end(), '-', '_');
