@@ -12,8 +12,11 @@
 //     its vertices lifted 1 unit, carrying value x face area (LightFormula::SurfaceRadiosity).
 //
 // The compiler works on the faces of the compiled BSP. We rebuild what qbsp's CSG leaves of each
-// source brush side (visibleFragments) and its 240-texel subdivision, but not the further splits
-// along the BSP tree's planes, so we get fewer, larger pieces than the compiler did.
+// source brush side (visibleFragments), split it as a BSP tree grown on that surface alone
+// would (qbsp3's choice of split planes among the edges of the brushes that reach the surface),
+// merge what is left in each cell and apply the 240-texel subdivision. The compiler's tree is
+// grown over the whole level, so its planes also cut a surface where nothing near it does: our
+// faces are close to, not the same as, the compiler's (surface_lights.cpp, compilerFaces).
 #pragma once
 
 #include "renderer/cpu/lights.h"

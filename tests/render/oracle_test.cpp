@@ -205,10 +205,11 @@ INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
 
 // testsurfacelight against the compiler: an open gap, held to the figure reached so that it can
 // only narrow. The compiler spreads its point lights over the faces of the compiled BSP; we
-// rebuild qbsp's CSG, face merging and 240-texel subdivision from the source brushes, but not
-// the splits along the BSP tree's planes nor the removal of faces that look into the void, so
-// the lava gets 151 point lights in other places than the compiler's 111. (With the compiler's
-// own 111 points, reconstructed from its faces, this level's median error is 0.00 %.)
+// rebuild qbsp's CSG, split each template surface as a BSP tree grown on that surface alone
+// would, merge and subdivide, but the compiler's tree is grown over the whole level and qbsp
+// also removes faces that look into the void, so the lava gets 133 point lights where the
+// compiler made 111, not all in the same places. (With the compiler's own 111 points,
+// reconstructed from its faces, this level's median error is 0.00 %.)
 struct SurfaceCase {
   const char* name;
   double maxMedianError;
@@ -226,7 +227,7 @@ TEST_P(OracleSurfaceLights, FaithfulSurfaceLightsTrackCompiler) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Lit, OracleSurfaceLights,
-                         ::testing::Values(SurfaceCase{"ericw-tools_testmaps_deprecated_testsurfacelight", 0.10}),
+                         ::testing::Values(SurfaceCase{"ericw-tools_testmaps_deprecated_testsurfacelight", 0.055}),
                          [](const auto& info) {
                            std::string n = info.param.name;
                            std::replace(n.begin(), n.end(), '-', '_');

@@ -78,6 +78,35 @@ TEST(SurfaceLightQ1, FullCopiesOnEveryPieceTwoUnitsOffTheFace) {
   EXPECT_EQ(rs.lights.size(), 9u + 12u);
 }
 
+// Two bars cross a lava surface and end halfway along it. qbsp's faces come from its BSP
+// tree, which splits first along the bars' ends (the plane that two brushes face and that cuts
+// only the lava: SelectSplitSide's best), so the lava beyond the bars is one face and only the
+// part between the bars is cut into strips, one face each.
+TEST(SurfaceLightQ1, BarsAcrossTheSurfaceSplitItAlongTheirEndsFirst) {
+  test::BoxSceneBuilder b;
+  b.material("lava", 255, 64, 0);
+  b.material("bar", 128, 128, 128);
+  b.box({0, 0, 0}, {192, 192, 64}, "lava"); // narrower than 240 texels: no qbsp subdivision
+  b.box({48, -16, 48}, {64, 96, 96}, "bar");
+  b.box({128, -16, 48}, {144, 96, 96}, "bar");
+  b.entity({{"classname", "light"}, {"origin", "0 0 500"}, {"_surface", "lava"}});
+  const Scene scene = b.build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  std::vector<glm::vec2> top;
+  for (const GpuLight& l : lightsAtHeight(rs, 66.0f)) top.push_back({l.origin.x, l.origin.y});
+  std::sort(top.begin(), top.end(), [](glm::vec2 a, glm::vec2 c) { return a.y != c.y ? a.y < c.y : a.x < c.x; });
+  // Beyond the bars: 0..192 x 96..192 cut by the 128 grid at x = 128 and y = 128. Between them:
+  // the strips 0..48, 64..128 and 144..192, each too small for the grid to cut.
+  const std::vector<glm::vec2> expected = {{24, 48},   {96, 48},   {168, 48},  {64, 112},
+                                           {160, 112}, {64, 160}, {160, 160}};
+  ASSERT_EQ(top.size(), expected.size());
+  for (size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_NEAR(top[i].x, expected[i].x, 1e-3f) << i;
+    EXPECT_NEAR(top[i].y, expected[i].y, 1e-3f) << i;
+  }
+}
+
 TEST(SurfaceLightQ1, SpotlightAlongTheFaceNormalAndOffset) {
   const Scene scene = lavaScene({{"_surface_spotlight", "1"}, {"_surface_offset", "8"}, {"angle", "60"}}).build();
   Diagnostics diags;
