@@ -22,6 +22,7 @@ constexpr double kRadiosityLift = 1.0;   // surflight.cc lifts a radiosity point
 constexpr double kMinEmitterArea = 1.0;  // surflight.cc skips smaller faces
 constexpr double kOnPlaneEpsilon = 0.01; // qbsp's ON_EPSILON-like tolerance for touching planes
 constexpr double kContinuousEpsilon = 0.005; // qbsp: edges turning less than this go straight on
+constexpr double kVoidProbeDistance = 1.0;   // a face looks into the space this far in front of it
 
 void subdivide(const Winding& w, double size, std::vector<Winding>& pieces) {
   if (w.size() < 3) return;
@@ -359,6 +360,32 @@ void addRadiosityLight(const Scene& scene, const Face& face, const Winding& frag
 
 } // namespace
 
+VoidTest::VoidTest(const Scene& scene, const TraceScene& tracer) : tracer_(tracer) {
+  // qbsp floods the inside from the point entities; one that the void reaches is a leak.
+  bool anyEntity = false;
+  for (const Entity& e : scene.entities) {
+    if (e.brushCount > 0) continue;
+    const std::optional<glm::vec3> origin = parseVec3(e.value("origin"));
+    if (!origin) continue;
+    anyEntity = true;
+    if (escapes(dvec3(*origin))) sealed_ = false;
+  }
+  sealed_ = sealed_ && anyEntity;
+}
+
+bool VoidTest::inVoid(const dvec3& p) const { return sealed_ && escapes(p); }
+
+bool VoidTest::escapes(const dvec3& p) const {
+  for (int x = -1; x <= 1; ++x)
+    for (int y = -1; y <= 1; ++y)
+      for (int z = -1; z <= 1; ++z) {
+        if (x == 0 && y == 0 && z == 0) continue;
+        const Ray ray{glm::vec3(p), 0.0f, glm::normalize(glm::vec3(x, y, z)), std::numeric_limits<float>::infinity()};
+        if (!tracer_.occluded(ray)) return true;
+      }
+  return false;
+}
+
 std::vector<Winding> subdivideOnGrid(const Winding& winding, double size) {
   std::vector<Winding> pieces;
   subdivide(winding, size, pieces);
@@ -382,7 +409,8 @@ std::vector<Winding> visibleFragments(const Scene& scene, uint32_t faceIndex, co
 
 std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
                                           const std::vector<BrushContents>& contents, const WorldLighting& world,
-                                          Diagnostics& diagnostics) {
+                                          const TraceScene& tracer, Diagnostics& diagnostics) {
+  const VoidTest voidTest(scene, tracer);
   // qbsp merges what CSG leaves of coplanar sides with the same texture and projection into
   // one face again; the compiler spreads its lights over those faces.
   struct Surface {
@@ -414,6 +442,7 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
       surface.polygons = compilerFaces(scene, surface.sides, surface.polygons, contents);
       const bool liquid = face.brush < contents.size() && contents[face.brush] == BrushContents::Liquid;
       for (const Winding& polygon : surface.polygons) {
+        if (voidTest.inVoid(centroid(polygon) + face.plane.normal * kVoidProbeDistance)) continue;
         if (!t.radiosity) {
           addGridLights(face, polygon, t, lights);
         } else {

@@ -203,13 +203,13 @@ INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
                            return n;
                          });
 
-// testsurfacelight against the compiler: an open gap, held to the figure reached so that it can
-// only narrow. The compiler spreads its point lights over the faces of the compiled BSP; we
-// rebuild qbsp's CSG, split each template surface as a BSP tree grown on that surface alone
-// would, merge and subdivide, but the compiler's tree is grown over the whole level and qbsp
-// also removes faces that look into the void, so the lava gets 133 point lights where the
-// compiler made 111, not all in the same places. (With the compiler's own 111 points,
-// reconstructed from its faces, this level's median error is 0.00 %.)
+// testsurfacelight against the compiler, held to the figure reached so that it can only narrow.
+// The compiler spreads its point lights over the faces of the compiled BSP; we rebuild qbsp's
+// CSG, split each template surface as a BSP tree grown on that surface alone would, drop the
+// faces that look into the void, merge and subdivide; the compiler's tree is grown over the
+// whole level, so the lava gets 106 point lights where the compiler made 111, not all in the
+// same places. (With the compiler's own 111 points, reconstructed from its faces, this level's
+// median error is 0.00 %.)
 struct SurfaceCase {
   const char* name;
   double maxMedianError;
@@ -227,7 +227,7 @@ TEST_P(OracleSurfaceLights, FaithfulSurfaceLightsTrackCompiler) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Lit, OracleSurfaceLights,
-                         ::testing::Values(SurfaceCase{"ericw-tools_testmaps_deprecated_testsurfacelight", 0.055}),
+                         ::testing::Values(SurfaceCase{"ericw-tools_testmaps_deprecated_testsurfacelight", 0.05}),
                          [](const auto& info) {
                            std::string n = info.param.name;
                            std::replace(n.begin(), n.end(), '-', '_');

@@ -107,6 +107,32 @@ TEST(SurfaceLightQ1, BarsAcrossTheSurfaceSplitItAlongTheirEndsFirst) {
   }
 }
 
+// A lava pool that runs out through the wall of a sealed room: qbsp fills the void outside and
+// makes no face that looks into it, so only the part inside gets lights. A level that leaks
+// (an entity in the void) is not filled, and then every part keeps its lights.
+TEST(SurfaceLightQ1, NoLightsOnFacesThatLookIntoTheVoid) {
+  for (bool leak : {false, true}) {
+    test::BoxSceneBuilder b;
+    b.material("wall", 128, 128, 128);
+    b.material("lava", 255, 64, 0);
+    b.room({-256, -256, 0}, {256, 256, 256}, "wall");
+    b.box({0, 0, 0}, {400, 64, 32}, "lava"); // through the wall at x = 256..272
+    b.entity({{"classname", "info_player_start"}, {"origin", "-128 0 64"}});
+    b.entity({{"classname", "light"}, {"origin", leak ? "1000 0 100" : "0 0 200"}, {"_surface", "lava"}});
+    const Scene scene = b.build();
+    Diagnostics diags;
+    const RenderScene rs = buildRenderScene(scene, {}, diags);
+    std::vector<float> topX;
+    for (const GpuLight& l : lightsAtHeight(rs, 34.0f)) topX.push_back(l.origin.x);
+    std::sort(topX.begin(), topX.end());
+    // Inside, 0..256: qbsp cuts at 224 (240 texels), the grid at 128. Outside, 272..400: the grid
+    // cuts at 384.
+    const std::vector<float> expected = leak ? std::vector<float>{64, 176, 240, 328, 392} : std::vector<float>{64, 176, 240};
+    ASSERT_EQ(topX.size(), expected.size()) << (leak ? "leaking" : "sealed");
+    for (size_t i = 0; i < expected.size(); ++i) EXPECT_NEAR(topX[i], expected[i], 1e-3f);
+  }
+}
+
 TEST(SurfaceLightQ1, SpotlightAlongTheFaceNormalAndOffset) {
   const Scene scene = lavaScene({{"_surface_spotlight", "1"}, {"_surface_offset", "8"}, {"angle", "60"}}).build();
   Diagnostics diags;
