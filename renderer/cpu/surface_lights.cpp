@@ -186,6 +186,9 @@ bool overlaps(const Bounds& a, const Bounds& b) {
 // SelectSplitSide's rule, until what is left of the surface in a cell is one convex polygon.
 
 constexpr double kPlaneSideEpsilon = 0.1; // qbsp3 counts a point this close to a plane as on it
+// qbsp3 counts the brush sides a plane cuts; a plane standing on the surface that cuts a brush's
+// footprint cuts four of its sides: the two the line crosses, and the brush's top and bottom.
+constexpr int kSidesCutPerBrush = 4;
 constexpr double kWorldHalfSize = 65536.0;
 
 // The part of `brush` that lies on `plane`; empty when the brush does not reach the plane.
@@ -244,9 +247,10 @@ std::vector<Plane> edgePlanes(const std::vector<Winding>& footprints, const dvec
   return planes;
 }
 
-// qbsp3's SelectSplitSide over the footprints in a cell: brushes with a side on the plane
-// count for it, brushes it cuts against it, and so does an unbalanced split; axial planes win
-// ties. Only planes that cut the surface's fragments in the cell are candidates.
+// qbsp3's SelectSplitSide over the footprints in a cell (ericw-tools' SelectSplitPlane:
+// 5 facing - 5 sides cut - |front - back|, +5 when axial): brushes with a side on the plane count
+// for it, the sides it cuts against it, and so does an unbalanced split. Only planes that cut the
+// surface's fragments in the cell are candidates; the first of equal value wins.
 const Plane* chooseSplit(const std::vector<Winding>& fragments, const std::vector<Winding>& footprints,
                          const std::vector<Plane>& candidates) {
   const Plane* best = nullptr;
@@ -263,7 +267,7 @@ const Plane* chooseSplit(const std::vector<Winding>& fragments, const std::vecto
       front += side == kFront;
       back += side == kBack;
     }
-    const int value = 5 * facing - 5 * splits - std::abs(front - back) + (isAxial(plane) ? 5 : 0);
+    const int value = 5 * facing - 5 * kSidesCutPerBrush * splits - std::abs(front - back) + (isAxial(plane) ? 5 : 0);
     if (value > bestValue) bestValue = value, best = &plane;
   }
   return best;

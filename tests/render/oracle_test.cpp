@@ -173,8 +173,10 @@ INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
                          // _bounce 1 (the compiler bounced, this compares direct light; the latter's lightmap
                          // offsets also do not fit the lump as this test sizes faces, so no face is compared);
                          // q1_light_invalid_delay compiled with no lit face; deprecated_dirttest2 needs dirt
-                         // (ambient occlusion, not modelled: median 5.5 %); lqdm5: too slow for the suite;
-                         // testsurfacelight: OracleSurfaceLights below.
+                         // (ambient occlusion, not modelled: median 5.5 %); lqdm5: too slow for the suite.
+                         // testsurfacelight (last) has the thinnest margin: 4.8 % (its _surface lights
+                         // stand on faces split as qbsp's tree would split them, not on the compiler's
+                         // own faces; with those its median is 0.00 %).
                          ::testing::Values("ericw-tools_testmaps_deprecated_falloff",
                                            "ericw-tools_testmaps_deprecated_light_near_wall",
                                            "ericw-tools_testmaps_deprecated_suntest",
@@ -196,40 +198,10 @@ INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
                                            "ericw-tools_testmaps_q1_sunlight",
                                            "ericw-tools_testmaps_q1_litwater",
                                            "ericw-tools_testmaps_q1_minlight_nobounce",
-                                           "quake_map_source_e1m1"),
+                                           "quake_map_source_e1m1",
+                                           "ericw-tools_testmaps_deprecated_testsurfacelight"),
                          [](const auto& info) {
                            std::string n = info.param;
-                           std::replace(n.begin(), n.end(), '-', '_');
-                           return n;
-                         });
-
-// testsurfacelight against the compiler, held to the figure reached so that it can only narrow.
-// The compiler spreads its point lights over the faces of the compiled BSP; we rebuild qbsp's
-// CSG, split each template surface as a BSP tree grown on that surface alone would, drop the
-// faces that look into the void, merge and subdivide; the compiler's tree is grown over the
-// whole level, so the lava gets 106 point lights where the compiler made 111, not all in the
-// same places. (With the compiler's own 111 points, reconstructed from its faces, this level's
-// median error is 0.00 %.)
-struct SurfaceCase {
-  const char* name;
-  double maxMedianError;
-};
-class OracleSurfaceLights : public ::testing::TestWithParam<SurfaceCase> {};
-
-TEST_P(OracleSurfaceLights, FaithfulSurfaceLightsTrackCompiler) {
-  BT_REQUIRE_SHARED(shared);
-  const SurfaceCase c = GetParam();
-  const std::optional<OracleResult> result = compareLitLevel(shared, c.name);
-  ASSERT_TRUE(result);
-  const OracleResult& r = *result;
-  ASSERT_GT(r.luxels, 0u);
-  EXPECT_LE(r.medianError, c.maxMedianError) << "the issue's bar is 5 %";
-}
-
-INSTANTIATE_TEST_SUITE_P(Lit, OracleSurfaceLights,
-                         ::testing::Values(SurfaceCase{"ericw-tools_testmaps_deprecated_testsurfacelight", 0.05}),
-                         [](const auto& info) {
-                           std::string n = info.param.name;
                            std::replace(n.begin(), n.end(), '-', '_');
                            return n;
                          });
