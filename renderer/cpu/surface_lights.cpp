@@ -414,9 +414,10 @@ std::vector<Winding> visibleFragments(const Scene& scene, uint32_t faceIndex, co
 std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
                                           const std::vector<BrushContents>& contents, const WorldLighting& world,
                                           const TraceScene& tracer, Diagnostics& diagnostics) {
+  if (templates.empty()) return {};
   const VoidTest voidTest(scene, tracer);
-  // qbsp merges what CSG leaves of coplanar sides with the same texture and projection into
-  // one face again; the compiler spreads its lights over those faces.
+  // qbsp makes its faces of what CSG leaves of the coplanar sides with one texture and
+  // projection (compilerFaces); the compiler spreads its lights over those faces.
   struct Surface {
     std::vector<uint32_t> sides; // the first gives plane, frame, material
     std::vector<Winding> polygons;
