@@ -237,19 +237,25 @@ void faithfulDirtRay(inout Path path, inout Rng rng) {
 }
 #endif
 
+// The normal the surface turns to light from `toLight`: a lit liquid is lit from both sides
+// (renderer/cpu facingNormal).
+vec3 facingNormal(vec3 n, vec3 toLight, bool twoSided) { return twoSided && dot(n, toLight) < 0.0 ? -n : n; }
+
 // One light of renderer/cpu faithfulLightFromGrid at the current surface: false if it adds nothing
 // here, else the ray that decides whether it does.
 bool faithfulLightRay(inout Path path, GpuLight light, inout Rng rng) {
-  vec3 p = path.position, n = path.normal;
-  vec3 origin = offsetPoint(p, n);
+  vec3 p = path.position;
+  bool twoSided = (faceFlags[path.face] & FACE_LIQUID) != 0u;
   path.pendingIsFloor = false;
   if (light.type == LIGHT_POINT) {
     vec3 pos = jitteredOrigin(light, rng);
     vec3 d = pos - p;
     float dist = length(d);
     if (dist <= 0.0) return false;
+    vec3 n = facingNormal(path.normal, d / dist, twoSided);
     float value = pointLightValue(light, n, d / dist, dist, world.scaledist) * dirtFactor(path, light, dist);
     if (value == 0.0) return false;
+    vec3 origin = offsetPoint(p, n);
     vec3 toLight = pos - origin;
     float len = length(toLight);
     setRay(path, RAY_SHADOW, origin, toLight / len, len);
@@ -260,17 +266,19 @@ bool faithfulLightRay(inout Path path, GpuLight light, inout Rng rng) {
   if (light.type == LIGHT_SUN) {
     vec3 toSun = -light.direction;
     if (light.deviance > 0.0) toSun = sampleCone(toSun, light.deviance, rngNext2(rng));
+    vec3 n = facingNormal(path.normal, toSun, twoSided);
     float value = sunValue(light, -toSun, n) * dirtFactor(path, light, 0.0);
     if (value == 0.0) return false;
-    setRay(path, RAY_SKY, origin, toSun, INFINITY);
+    setRay(path, RAY_SKY, offsetPoint(p, n), toSun, INFINITY);
     path.pending = value * light.color;
     return true;
   }
   if (light.type == LIGHT_DOME) {
     vec3 dir = sampleUniformHemisphere(light.direction, rngNext2(rng));
+    vec3 n = facingNormal(path.normal, dir, twoSided);
     float cosIncidence = dot(dir, n);
     if (cosIncidence <= 0.0) return false;
-    setRay(path, RAY_SKY, origin, dir, INFINITY);
+    setRay(path, RAY_SKY, offsetPoint(p, n), dir, INFINITY);
     path.pending = light.value * angleTerm(cosIncidence, light.anglescale) * dirtFactor(path, light, 0.0) * light.color;
     return true;
   }

@@ -164,20 +164,34 @@ float faithfulOcclusion(const RenderScene& rs, const glm::vec3& p, const glm::ve
   return faithful::dirtOcclusion(sum, faithful::kDirtRays, dirt.depth);
 }
 
-// Faithful mode: one light's share of the light sum at p (surface normal n, dirt occlusion
-// `occlusion`, shadow rays leave from `origin`). Local-minlight lights raise `localMin`
-// instead: they are a floor, not a sum.
-void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const glm::vec3& p, const glm::vec3& n,
-                      const glm::vec3& origin, float occlusion, Rng& rng, glm::vec3& sum, glm::vec3& localMin) {
+// A faithful receiver: a surface point, its face's normal, and whether light from behind counts.
+struct Receiver {
+  glm::vec3 p;
+  glm::vec3 n;
+  bool twoSided; // a lit liquid: ericw-tools lights it from above and below (ltface.cc "twosided")
+};
+
+// The normal the receiver turns to light arriving from `toLight`: a two-sided receiver faces
+// every light, so the angle term takes |cos| and the shadow ray leaves from the light's side.
+glm::vec3 facingNormal(const Receiver& r, const glm::vec3& toLight) {
+  return r.twoSided && glm::dot(r.n, toLight) < 0.0f ? -r.n : r.n;
+}
+
+// Faithful mode: one light's share of the light sum at the receiver, dimmed by the dirt
+// `occlusion` there. Local-minlight lights raise `localMin` instead: they are a floor, not a sum.
+void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiver& r, float occlusion, Rng& rng,
+                      glm::vec3& sum, glm::vec3& localMin) {
   if (light.type == uint32_t(LightType::Point)) {
     const glm::vec3 pos = jitteredOrigin(light, rng);
-    const glm::vec3 d = pos - p;
+    const glm::vec3 d = pos - r.p;
     const float dist = glm::length(d);
     if (dist <= 0.0f) return;
     const glm::vec3 toLight = d / dist;
+    const glm::vec3 n = facingNormal(r, toLight);
     const float value = faithful::pointLightValue(light, n, toLight, dist, rs.world.scaledist) *
                         faithful::lightDirtFactor(light, occlusion, dist);
     if (value == 0.0f) return;
+    const glm::vec3 origin = offsetPoint(r.p, n);
     const glm::vec3 toLightFromOrigin = pos - origin;
     const float len = glm::length(toLightFromOrigin);
     if (occluded(rs, Ray{origin, 0.0f, toLightFromOrigin / len, len}, LightingMode::Faithful)) return;
@@ -188,17 +202,19 @@ void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const glm::v
     if (light.deviance > 0.0f) toSun = sampleCone(toSun, light.deviance, rng.next2());
     GpuLight jittered = light;
     jittered.direction = -toSun;
+    const glm::vec3 n = facingNormal(r, toSun);
     const float value = faithful::sunValue(jittered, n) * faithful::lightDirtFactor(light, occlusion, 0.0f);
     if (value == 0.0f) return;
-    if (!reachesSky(rs, Ray{origin, 0.0f, toSun, std::numeric_limits<float>::infinity()}, LightingMode::Faithful)) return;
+    if (!reachesSky(rs, Ray{offsetPoint(r.p, n), 0.0f, toSun, std::numeric_limits<float>::infinity()}, LightingMode::Faithful)) return;
     sum += value * light.color;
   } else if (light.type == uint32_t(LightType::Dome)) {
     // One direction of the dome per sample, uniform over its hemisphere: the mean over the
     // dome's directions of value * angle term, for those that reach the sky.
     const glm::vec3 dir = sampleUniformHemisphere(light.direction, rng.next2());
+    const glm::vec3 n = facingNormal(r, dir);
     const float cosIncidence = glm::dot(dir, n);
     if (cosIncidence <= 0.0f) return;
-    if (!reachesSky(rs, Ray{origin, 0.0f, dir, std::numeric_limits<float>::infinity()}, LightingMode::Faithful)) return;
+    if (!reachesSky(rs, Ray{offsetPoint(r.p, n), 0.0f, dir, std::numeric_limits<float>::infinity()}, LightingMode::Faithful)) return;
     sum += light.value * faithful::angleTerm(cosIncidence, light.anglescale) *
            faithful::lightDirtFactor(light, occlusion, 0.0f) * light.color;
   }
@@ -215,18 +231,16 @@ glm::vec3 applyFloors(const RenderScene& rs, const glm::vec3& sum, const glm::ve
 
 // The faithful light sum at p: the dirt occlusion first, then every light of the level (the
 // reference) or the grid's lists for p, then the floors.
-glm::vec3 faithfulSum(const RenderScene& rs, bool fromGrid, const glm::vec3& p, const glm::vec3& n,
-                      const glm::vec3& faceMinlight, Rng& rng) {
-  const float occlusion = faithfulOcclusion(rs, p, n, rng);
-  const glm::vec3 origin = offsetPoint(p, n);
+glm::vec3 faithfulSum(const RenderScene& rs, bool fromGrid, const Receiver& r, const glm::vec3& faceMinlight, Rng& rng) {
+  const float occlusion = faithfulOcclusion(rs, r.p, r.n, rng);
   glm::vec3 sum(0.0f), localMin(0.0f);
   if (!fromGrid) {
-    for (const GpuLight& light : rs.lights) addFaithfulLight(rs, light, p, n, origin, occlusion, rng, sum, localMin);
+    for (const GpuLight& light : rs.lights) addFaithfulLight(rs, light, r, occlusion, rng, sum, localMin);
   } else {
     const LightGrid& grid = rs.lightGrid;
-    for (uint32_t i : grid.fixedLights()) addFaithfulLight(rs, rs.lights[i], p, n, origin, occlusion, rng, sum, localMin);
-    for (uint32_t i : grid.globalLights()) addFaithfulLight(rs, rs.lights[i], p, n, origin, occlusion, rng, sum, localMin);
-    for (uint32_t i : grid.cellLights(p)) addFaithfulLight(rs, rs.lights[i], p, n, origin, occlusion, rng, sum, localMin);
+    for (uint32_t i : grid.fixedLights()) addFaithfulLight(rs, rs.lights[i], r, occlusion, rng, sum, localMin);
+    for (uint32_t i : grid.globalLights()) addFaithfulLight(rs, rs.lights[i], r, occlusion, rng, sum, localMin);
+    for (uint32_t i : grid.cellLights(r.p)) addFaithfulLight(rs, rs.lights[i], r, occlusion, rng, sum, localMin);
   }
   return applyFloors(rs, sum, localMin, faceMinlight, occlusion);
 }
@@ -237,12 +251,12 @@ float faithfulDirtOcclusion(const RenderScene& rs, const glm::vec3& p, const glm
   return faithfulOcclusion(rs, p, n, rng);
 }
 
-glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng) {
-  return faithfulSum(rs, false, p, n, glm::vec3(0.0f), rng);
+glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided) {
+  return faithfulSum(rs, false, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng);
 }
 
-glm::vec3 faithfulLightFromGrid(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng) {
-  return faithfulSum(rs, true, p, n, glm::vec3(0.0f), rng);
+glm::vec3 faithfulLightFromGrid(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided) {
+  return faithfulSum(rs, true, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng);
 }
 
 glm::vec3 faithfulFaceMinlight(const RenderScene& rs, uint32_t face) {
@@ -255,10 +269,11 @@ namespace {
 // Faithful bounce (_bounce N): light reflected off other surfaces, in light units, the surface
 // colour as ericw-tools' bounce uses it (texture colour x _bouncescale).
 // The light sum at a faithful hit: from the grid's lists when rendering, or by the exhaustive
-// loop (the reference the grid must reproduce).
-glm::vec3 faithfulLight(const RenderScene& rs, const IntegratorSettings& settings, const glm::vec3& p,
-                        const glm::vec3& n, const glm::vec3& faceMinlight, Rng& rng) {
-  return faithfulSum(rs, settings.lightSelection, p, n, faceMinlight, rng);
+// loop (the reference the grid must reproduce). Lit liquids take light from both sides.
+glm::vec3 faithfulLight(const RenderScene& rs, const IntegratorSettings& settings, const SurfaceHit& hit,
+                        const glm::vec3& faceMinlight, Rng& rng) {
+  const bool twoSided = rs.faceFlags[hit.face] & kFaceLiquid;
+  return faithfulSum(rs, settings.lightSelection, Receiver{hit.position, hit.normal, twoSided}, faceMinlight, rng);
 }
 
 glm::vec3 faithfulBounce(const RenderScene& rs, const IntegratorSettings& settings, const glm::vec3& p, const glm::vec3& n,
@@ -268,7 +283,7 @@ glm::vec3 faithfulBounce(const RenderScene& rs, const IntegratorSettings& settin
   const SurfaceHit hit = traceVisible(rs, Ray{offsetPoint(p, n), 0.0f, dir, std::numeric_limits<float>::infinity()});
   if (!hit.found || (rs.faceFlags[hit.face] & kFaceSky)) return glm::vec3(0.0f);
   const glm::vec3 color = glm::vec3(baseColorAt(rs, hit.face, hit.position));
-  const glm::vec3 light = faithfulLight(rs, settings, hit.position, hit.normal, glm::vec3(0.0f), rng) +
+  const glm::vec3 light = faithfulLight(rs, settings, hit, glm::vec3(0.0f), rng) +
                           faithfulBounce(rs, settings, hit.position, hit.normal, depth - 1, rng);
   return color * light * rs.world.bouncescale;
 }
@@ -281,7 +296,7 @@ glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& sett
   // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
   if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater)) return srgbToLinear(texture);
 
-  glm::vec3 light = faithfulLight(rs, settings, hit.position, hit.normal, faithfulFaceMinlight(rs, hit.face), rng);
+  glm::vec3 light = faithfulLight(rs, settings, hit, faithfulFaceMinlight(rs, hit.face), rng);
   if (rs.world.bounces > 0) light += faithfulBounce(rs, settings, hit.position, hit.normal, rs.world.bounces, rng);
   // The compiler scales a coloured sum so its brightest channel fits in 255, keeping the hue.
   glm::vec3 stored = light * rs.world.range;

@@ -45,7 +45,9 @@ glm::vec3 emissiveAt(const RenderScene& rs, uint32_t face, const glm::vec3& p); 
 // lights (deviance, penumbra, domes), exact otherwise; `_surface` lights are point lights here.
 // Every light of the level is looked at: the reference that faithfulLightFromGrid must reproduce
 // (tests/render/light_selection_test.cpp), which the lit-oracle test then holds to the compiler.
-glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng);
+// `twoSided`: the surface is a lit liquid, which ericw-tools lights from both sides (a light
+// below it counts with |cos|, ltface.cc "twosided"); the renderer sets it on kFaceLiquid faces.
+glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided = false);
 
 // Faithful dirt (worldspawn `_dirt`, ericw-tools' ambient occlusion) at surface point p with
 // normal n: 0 in the open .. 1 enclosed, 0 when the level uses no dirt. faithfulLightAt and
@@ -65,7 +67,8 @@ float faithfulDirtOcclusion(const RenderScene& rs, const glm::vec3& p, const glm
 // the mean of f(S), which differs from f(sum) wherever f bends (Jensen), so the image would
 // not converge to the exhaustive one. The grid keeps the result exact and drops the per-light
 // loop from O(lights) to the few lights that can reach the point.
-glm::vec3 faithfulLightFromGrid(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng);
+glm::vec3 faithfulLightFromGrid(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng,
+                                bool twoSided = false);
 
 // Faithful mode: the floor a face's own radiosity `_surface` template puts under its light
 // (zero for every other face); the caller takes max(faithfulLightAt, this), with the minlight

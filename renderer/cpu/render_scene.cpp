@@ -131,7 +131,6 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
     if (classes & kFaceHidden) continue;
     contents[b] = (classes & kFaceLiquid) ? BrushContents::Liquid : BrushContents::Solid;
   }
-  for (const GpuLight& l : spreadSurfaceLights(scene, lights.surfaceTemplates, contents, rs.world, diagnostics)) rs.lights.push_back(l);
 
   // Emitter triangles: a fan over each emitting face's winding.
   for (size_t i = 0; i < scene.faces.size(); ++i) {
@@ -163,6 +162,9 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
     bvh.includeBrush[b] = visible;
   }
   rs.tracer = TraceScene::build(scene, bvh);
+  // After the tracer: the compiler drops template faces that look into the void.
+  for (const GpuLight& l : spreadSurfaceLights(scene, lights.surfaceTemplates, contents, rs.world, rs.tracer, diagnostics))
+    rs.lights.push_back(l);
   rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
   return rs;
 }

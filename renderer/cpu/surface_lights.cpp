@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 namespace bt {
@@ -21,6 +22,7 @@ constexpr double kRadiosityLift = 1.0;   // surflight.cc lifts a radiosity point
 constexpr double kMinEmitterArea = 1.0;  // surflight.cc skips smaller faces
 constexpr double kOnPlaneEpsilon = 0.01; // qbsp's ON_EPSILON-like tolerance for touching planes
 constexpr double kContinuousEpsilon = 0.005; // qbsp: edges turning less than this go straight on
+constexpr double kVoidProbeDistance = 1.0;   // a face looks into the space this far in front of it
 
 void subdivide(const Winding& w, double size, std::vector<Winding>& pieces) {
   if (w.size() < 3) return;
@@ -173,6 +175,150 @@ bool overlaps(const Bounds& a, const Bounds& b) {
   return true;
 }
 
+// --- the compiler's faces on a template surface ---------------------------------------------
+//
+// qbsp builds its faces from the portals of a BSP tree and merges, on each node, the pieces
+// that make a convex polygon again, so where the tree's split planes fall decides the faces'
+// shapes (and with them where the surface lights go). We do not rebuild the compiler's tree of
+// the whole level; we grow a small one on each template surface alone, the way qbsp3 grows its
+// tree: the brushes that reach the surface's plane leave their cross-sections ("footprints")
+// on it, and the surface is split by the planes of the footprints' edges, the best first by
+// SelectSplitSide's rule, until what is left of the surface in a cell is one convex polygon.
+
+constexpr double kPlaneSideEpsilon = 0.1; // qbsp3 counts a point this close to a plane as on it
+// qbsp3 counts the brush sides a plane cuts; a plane standing on the surface that cuts a brush's
+// footprint cuts four of its sides: the two the line crosses, and the brush's top and bottom.
+constexpr int kSidesCutPerBrush = 4;
+constexpr double kWorldHalfSize = 65536.0;
+
+// The part of `brush` that lies on `plane`; empty when the brush does not reach the plane.
+Winding crossSection(const Scene& scene, const Brush& brush, const Plane& plane) {
+  Winding w = baseWinding(plane, kWorldHalfSize);
+  for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount && !w.empty(); ++f)
+    w = clipBehind(w, scene.faces[f].plane, kOnPlaneEpsilon);
+  return w.size() >= 3 && area(w) > 1.0 ? w : Winding{};
+}
+
+enum PlaneSide { kFront = 1, kBack = 2, kBoth = 3 }; // qbsp3's PSIDE_*
+
+int sideOf(const Winding& w, const Plane& plane) {
+  int side = 0;
+  for (const dvec3& p : w) {
+    const double d = plane.distanceTo(p);
+    if (d > kPlaneSideEpsilon) side |= kFront;
+    if (d < -kPlaneSideEpsilon) side |= kBack;
+  }
+  return side;
+}
+
+bool hasEdgeOn(const Winding& w, const Plane& plane) {
+  for (size_t i = 0; i < w.size(); ++i)
+    if (std::abs(plane.distanceTo(w[i])) < kPlaneSideEpsilon && std::abs(plane.distanceTo(w[(i + 1) % w.size()])) < kPlaneSideEpsilon)
+      return true;
+  return false;
+}
+
+bool isAxial(const Plane& plane) {
+  return std::abs(plane.normal.x) == 1.0 || std::abs(plane.normal.y) == 1.0 || std::abs(plane.normal.z) == 1.0;
+}
+
+// The planes standing on the surface through the footprints' edges, each once, its largest
+// normal component positive.
+std::vector<Plane> edgePlanes(const std::vector<Winding>& footprints, const dvec3& surfaceNormal) {
+  std::vector<Plane> planes;
+  for (const Winding& w : footprints)
+    for (size_t i = 0; i < w.size(); ++i) {
+      const dvec3 along = glm::cross(w[(i + 1) % w.size()] - w[i], surfaceNormal);
+      if (glm::length(along) < 1e-6) continue;
+      Plane plane;
+      plane.normal = glm::normalize(along);
+      int major = 0;
+      for (int k = 0; k < 3; ++k) {
+        if (std::abs(plane.normal[k]) < 1e-9) plane.normal[k] = 0.0; // axial edges give axial planes
+        if (std::abs(plane.normal[k]) > std::abs(plane.normal[major])) major = k;
+      }
+      if (plane.normal[major] < 0.0) plane.normal = -plane.normal;
+      plane.dist = glm::dot(plane.normal, w[i]);
+      const bool known = std::any_of(planes.begin(), planes.end(), [&](const Plane& q) {
+        return glm::length(q.normal - plane.normal) < 1e-6 && std::abs(q.dist - plane.dist) < kOnPlaneEpsilon;
+      });
+      if (!known) planes.push_back(plane);
+    }
+  return planes;
+}
+
+// qbsp3's SelectSplitSide over the footprints in a cell (ericw-tools' SelectSplitPlane:
+// 5 facing - 5 sides cut - |front - back|, +5 when axial): brushes with a side on the plane count
+// for it, the sides it cuts against it, and so does an unbalanced split. Only planes that cut the
+// surface's fragments in the cell are candidates; the first of equal value wins.
+const Plane* chooseSplit(const std::vector<Winding>& fragments, const std::vector<Winding>& footprints,
+                         const std::vector<Plane>& candidates) {
+  const Plane* best = nullptr;
+  int bestValue = std::numeric_limits<int>::min();
+  for (const Plane& plane : candidates) {
+    int fragmentSides = 0;
+    for (const Winding& w : fragments) fragmentSides |= sideOf(w, plane);
+    if (fragmentSides != kBoth) continue;
+    int facing = 0, splits = 0, front = 0, back = 0;
+    for (const Winding& w : footprints) {
+      facing += hasEdgeOn(w, plane);
+      const int side = sideOf(w, plane);
+      splits += side == kBoth;
+      front += side == kFront;
+      back += side == kBack;
+    }
+    const int value = 5 * facing - 5 * kSidesCutPerBrush * splits - std::abs(front - back) + (isAxial(plane) ? 5 : 0);
+    if (value > bestValue) bestValue = value, best = &plane;
+  }
+  return best;
+}
+
+void splitAll(const std::vector<Winding>& polygons, const Plane& plane, std::vector<Winding>& front, std::vector<Winding>& back) {
+  for (const Winding& w : polygons) {
+    SplitWinding split = splitWinding(w, plane, 0.0);
+    if (split.front.size() >= 3 && area(split.front) > 1e-3) front.push_back(std::move(split.front));
+    if (split.back.size() >= 3 && area(split.back) > 1e-3) back.push_back(std::move(split.back));
+  }
+}
+
+void splitIntoFaces(const std::vector<Winding>& fragments, const std::vector<Winding>& footprints,
+                    const std::vector<Plane>& candidates, const dvec3& normal, std::vector<Winding>& faces) {
+  if (fragments.empty()) return;
+  std::vector<Winding> merged = fragments;
+  mergeCoplanar(merged, normal);
+  const Plane* split = merged.size() > 1 ? chooseSplit(fragments, footprints, candidates) : nullptr;
+  if (!split) {
+    for (Winding& w : merged) faces.push_back(std::move(w));
+    return;
+  }
+  // Each candidate cuts the fragments at most once on a path down the tree: depth is bounded.
+  std::vector<Winding> frontFragments, backFragments, frontFootprints, backFootprints;
+  splitAll(fragments, *split, frontFragments, backFragments);
+  splitAll(footprints, *split, frontFootprints, backFootprints);
+  splitIntoFaces(frontFragments, frontFootprints, candidates, normal, faces);
+  splitIntoFaces(backFragments, backFootprints, candidates, normal, faces);
+}
+
+// What qbsp makes of one template surface (coplanar sides `sides` with one texture projection,
+// of which `fragments` survived its CSG): the faces `light` spreads the lights over.
+std::vector<Winding> compilerFaces(const Scene& scene, const std::vector<uint32_t>& sides, const std::vector<Winding>& fragments,
+                                   const std::vector<BrushContents>& contents) {
+  const Face& surface = scene.faces[sides.front()];
+  Bounds bounds;
+  for (const Winding& w : fragments)
+    for (const dvec3& p : w) bounds.grow(p);
+  std::vector<Winding> footprints;
+  for (uint32_t side : sides) footprints.push_back(scene.faces[side].winding);
+  for (size_t b = 0; b < scene.brushes.size(); ++b) {
+    if (contents[b] == BrushContents::Empty || !overlaps(bounds, scene.brushes[b].bounds)) continue;
+    if (std::any_of(sides.begin(), sides.end(), [&](uint32_t side) { return scene.faces[side].brush == b; })) continue;
+    if (Winding w = crossSection(scene, scene.brushes[b], surface.plane); !w.empty()) footprints.push_back(std::move(w));
+  }
+  std::vector<Winding> faces;
+  splitIntoFaces(fragments, footprints, edgePlanes(footprints, surface.plane.normal), surface.plane.normal, faces);
+  return faces;
+}
+
 // The Q1 kind: a full copy of the template on every grid piece of the face.
 void addGridLights(const Face& face, const Winding& fragment, const SurfaceTemplate& t, std::vector<GpuLight>& out) {
   std::vector<Winding> qbspPieces;
@@ -218,6 +364,32 @@ void addRadiosityLight(const Scene& scene, const Face& face, const Winding& frag
 
 } // namespace
 
+VoidTest::VoidTest(const Scene& scene, const TraceScene& tracer) : tracer_(tracer) {
+  // qbsp floods the inside from the point entities; one that the void reaches is a leak.
+  bool anyEntity = false;
+  for (const Entity& e : scene.entities) {
+    if (e.brushCount > 0) continue;
+    const std::optional<glm::vec3> origin = parseVec3(e.value("origin"));
+    if (!origin) continue;
+    anyEntity = true;
+    if (escapes(dvec3(*origin))) sealed_ = false;
+  }
+  sealed_ = sealed_ && anyEntity;
+}
+
+bool VoidTest::inVoid(const dvec3& p) const { return sealed_ && escapes(p); }
+
+bool VoidTest::escapes(const dvec3& p) const {
+  for (int x = -1; x <= 1; ++x)
+    for (int y = -1; y <= 1; ++y)
+      for (int z = -1; z <= 1; ++z) {
+        if (x == 0 && y == 0 && z == 0) continue;
+        const Ray ray{glm::vec3(p), 0.0f, glm::normalize(glm::vec3(x, y, z)), std::numeric_limits<float>::infinity()};
+        if (!tracer_.occluded(ray)) return true;
+      }
+  return false;
+}
+
 std::vector<Winding> subdivideOnGrid(const Winding& winding, double size) {
   std::vector<Winding> pieces;
   subdivide(winding, size, pieces);
@@ -241,11 +413,13 @@ std::vector<Winding> visibleFragments(const Scene& scene, uint32_t faceIndex, co
 
 std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
                                           const std::vector<BrushContents>& contents, const WorldLighting& world,
-                                          Diagnostics& diagnostics) {
-  // qbsp merges what CSG leaves of coplanar sides with the same texture and projection into
-  // one face again; the compiler spreads its lights over those faces.
+                                          const TraceScene& tracer, Diagnostics& diagnostics) {
+  if (templates.empty()) return {};
+  const VoidTest voidTest(scene, tracer);
+  // qbsp makes its faces of what CSG leaves of the coplanar sides with one texture and
+  // projection (compilerFaces); the compiler spreads its lights over those faces.
   struct Surface {
-    uint32_t face; // the first side of the group: plane, frame, material
+    std::vector<uint32_t> sides; // the first gives plane, frame, material
     std::vector<Winding> polygons;
   };
   auto sameSurface = [&](const Face& a, const Face& b) {
@@ -263,15 +437,17 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
       std::vector<Winding> fragments = visibleFragments(scene, f, contents);
       if (fragments.empty()) continue;
       auto it = std::find_if(surfaces.begin(), surfaces.end(),
-                             [&](const Surface& s) { return sameSurface(scene.faces[s.face], scene.faces[f]); });
-      if (it == surfaces.end()) it = surfaces.insert(surfaces.end(), Surface{f, {}});
+                             [&](const Surface& s) { return sameSurface(scene.faces[s.sides.front()], scene.faces[f]); });
+      if (it == surfaces.end()) it = surfaces.insert(surfaces.end(), Surface{});
+      it->sides.push_back(f);
       for (Winding& w : fragments) it->polygons.push_back(std::move(w));
     }
     for (Surface& surface : surfaces) {
-      const Face& face = scene.faces[surface.face];
-      mergeCoplanar(surface.polygons, face.plane.normal);
+      const Face& face = scene.faces[surface.sides.front()];
+      surface.polygons = compilerFaces(scene, surface.sides, surface.polygons, contents);
       const bool liquid = face.brush < contents.size() && contents[face.brush] == BrushContents::Liquid;
       for (const Winding& polygon : surface.polygons) {
+        if (voidTest.inVoid(centroid(polygon) + face.plane.normal * kVoidProbeDistance)) continue;
         if (!t.radiosity) {
           addGridLights(face, polygon, t, lights);
         } else {

@@ -12,10 +12,15 @@
 //     its vertices lifted 1 unit, carrying value x face area (LightFormula::SurfaceRadiosity).
 //
 // The compiler works on the faces of the compiled BSP. We rebuild what qbsp's CSG leaves of each
-// source brush side (visibleFragments) and its 240-texel subdivision, but not the further splits
-// along the BSP tree's planes, so we get fewer, larger pieces than the compiler did.
+// source brush side (visibleFragments), split it as a BSP tree grown on that surface alone
+// would (qbsp3's choice of split planes among the edges of the brushes that reach the surface),
+// merge what is left in each cell and apply the 240-texel subdivision. The compiler's tree is
+// grown over the whole level, so its planes also cut a surface where nothing near it does: our
+// faces are close to, not the same as, the compiler's (surface_lights.cpp, compilerFaces).
+// Faces that look into the void outside a sealed level are dropped, as qbsp drops them.
 #pragma once
 
+#include "bvh/trace_scene.h"
 #include "renderer/cpu/lights.h"
 #include "scene/gpu_structs.h"
 #include "scene/scene.h"
@@ -30,11 +35,27 @@ enum class BrushContents : uint8_t { Empty, Solid, Liquid };
 
 // `contents[b]` for every brush of `scene`. A radiosity template without `_color` takes the
 // texture's colour (scene materials). A template that would make more than kMaxSurfaceLights
-// points (a huge face) stops there, with a warning in `diagnostics`.
+// points (a huge face) stops there, with a warning in `diagnostics`. `tracer` (the level's
+// brushes) tells which faces look into the void, which qbsp removes (looksIntoVoid).
 inline constexpr size_t kMaxSurfaceLights = 65536;
 std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
                                           const std::vector<BrushContents>& contents, const WorldLighting& world,
-                                          Diagnostics& diagnostics);
+                                          const TraceScene& tracer, Diagnostics& diagnostics);
+
+// qbsp fills the void around a sealed level ("outside filling") and makes no face that looks
+// into it. A point is in the void when some ray from it leaves the level (inside a sealed
+// level every ray meets a brush); a level with a point entity in the void leaks, and qbsp then
+// fills nothing: so does this.
+class VoidTest {
+public:
+  VoidTest(const Scene& scene, const TraceScene& tracer);
+  bool inVoid(const dvec3& p) const;
+
+private:
+  bool escapes(const dvec3& p) const;
+  const TraceScene& tracer_;
+  bool sealed_ = true;
+};
 
 // The parts of brush side `face` that qbsp's CSG keeps: outside every other solid brush (and,
 // for a liquid's side, outside the other liquid brushes), as convex fragments.

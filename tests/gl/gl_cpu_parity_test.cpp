@@ -148,6 +148,31 @@ TEST(GlCpuParity, PhysicalBeautyWithEmittersAgreesWithTheCpuReference) {
   expectBeautyAgrees(gpu, cpu, 0.03);
 }
 
+// A lit liquid takes light from both sides on both tracers: a pool under _litwater whose only
+// light is under its surface. A tracer that lit the water one-sided would draw it black.
+TEST(GlCpuParity, LitWaterLitFromBelowAgreesWithTheCpu) {
+  test::BoxSceneBuilder b;
+  b.material("wall", 160, 160, 160);
+  b.material("*water", 60, 120, 200);
+  b.room({-256, -256, 0}, {256, 256, 256}, "wall");
+  b.box({-256, -256, 0}, {256, 256, 64}, "*water");
+  b.worldKey("_litwater", "1");
+  b.entity({{"classname", "light"}, {"origin", "0 0 32"}, {"light", "300"}});
+  const Scene scene = b.build();
+  Diagnostics diagnostics;
+  const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+  const CameraPose pose{{-200.0f, -200.0f, 200.0f}, 35.0f, 45.0f, 0.0f, "test"};
+  RenderSettings settings;
+  settings.width = 64;
+  settings.height = 40;
+  settings.spp = 4;
+  settings.seed = 11;
+  settings.integrator.mode = LightingMode::Faithful;
+  RenderImage cpu;
+  const RenderImage gpu = renderBoth(rs, pose, settings, cpu);
+  expectBeautyAgrees(gpu, cpu, 0.01);
+}
+
 // Light selection on both tracers, in a room with 120 lights of every kind: faithful mode
 // reads the light grid's lists, physical mode shadow-tests one point light picked per hit.
 // Both draw the same random numbers, so they pick the same lights and most pixels agree to

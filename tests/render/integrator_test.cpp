@@ -260,6 +260,31 @@ TEST(FaithfulRender, LiquidsAreFullbrightUnlessLitwater) {
   }
 }
 
+// ericw-tools lights a lit liquid from both sides (ltface.cc "twosided"): a light under the
+// surface counts at |cos|, where any other face ignores a light behind it.
+TEST(FaithfulRender, LitLiquidsTakeLightFromBelowToo) {
+  for (const char* texture : {"*water", "floor"}) {
+    test::BoxSceneBuilder b;
+    b.material(texture, 100, 100, 100);
+    b.box({-512, -512, -64}, {512, 512, 0}, texture);
+    b.worldKey("_litwater", "1");
+    b.entity({{"classname", "light"}, {"origin", "0 0 -32"}, {"light", "50"}, {"delay", "3"}});
+    const Scene scene = b.build();
+    Diagnostics diags;
+    const RenderScene rs = buildRenderScene(scene, {}, diags);
+    const bool liquid = texture[0] == '*';
+    Rng rng = pixelRng(0, 0, 0, 0);
+    // Straight below: |cos| = 1; 32 units aside: |cos| = 1/sqrt(2), half-Lambert.
+    EXPECT_NEAR(faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng, true).x, 50.0f, 1e-3f);
+    EXPECT_NEAR(faithfulLightAt(rs, {32, 0, 0}, {0, 0, 1}, rng, true).x, 50.0f * (0.5f + 0.5f / std::sqrt(2.0f)), 1e-3f);
+    EXPECT_EQ(faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng, false).x, 0.0f);
+    // The renderer lights liquid faces two-sided, and only those.
+    const float display = linearToSrgb(radiance(rs, {LightingMode::Faithful, 0}, downAt(0, 0), rng).x);
+    const float texel = 100.0f / 255.0f;
+    EXPECT_NEAR(display, liquid ? texel * 50.0f * 0.5f / 128.0f : 0.0f, 1e-3f) << texture;
+  }
+}
+
 TEST(PhysicalRender, PointLightInverseSquare) {
   test::BoxSceneBuilder b = floorScene();
   b.entity({{"classname", "light"}, {"origin", "0 0 80"}});

@@ -95,6 +95,7 @@ struct LitFace {
   FaceLuxels luxels;
   size_t lightOffset = 0;
   glm::vec3 faceMinlight{0.0f};
+  bool twoSided = false; // a lit liquid (faithfulLightAt)
 };
 
 // Which luxels of each lit face are compared: all of them, or (for a level too large to evaluate
@@ -122,7 +123,7 @@ std::vector<int> faithfulLuxels(const RenderScene& rs, const LitFace& face, Luxe
       glm::vec3 sum(0.0f);
       for (int k = 0; k < kSamplesPerLuxel; ++k) {
         Rng rng = pixelRng(uint32_t(face.index), uint32_t(t * l.size[0] + s), uint32_t(k), 1);
-        sum += faithfulLightFromGrid(rs, p, normal, rng);
+        sum += faithfulLightFromGrid(rs, p, normal, rng, face.twoSided);
       }
       glm::vec3 stored = glm::max(sum / float(kSamplesPerLuxel), face.faceMinlight) * rs.world.range;
       const float peak = std::max({stored.x, stored.y, stored.z});
@@ -164,6 +165,8 @@ OracleResult compareWithCompiler(const std::filesystem::path& bspPath, const std
     const std::string& texture = bsp.texinfo[size_t(face.texinfo)].texture;
     if (auto material = scene.findMaterial(texture); material && *material < rs.surfaceLights.size())
       lit.faceMinlight = faithful::surfaceFaceMinlight(rs.surfaceLights[*material]);
+    // A lit liquid face takes light from both sides, as the renderer lights kFaceLiquid faces.
+    lit.twoSided = classifyTexture(texture, std::nullopt) & kFaceLiquid;
     faces.push_back(lit);
   }
 
@@ -256,7 +259,9 @@ INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
                          // another model. deprecated_bouncecolorscaletest also sets _bounce 1, but its spotlight lights
                          // two luxels of one face and the bounce adds nothing measurable, so it is here.
                          // q1_light_invalid_delay compiled with no lit face: OracleInvalidDelay below; lqdm5:
-                         // OracleLargeLevel below; testsurfacelight: OracleSurfaceLights below.
+                         // OracleLargeLevel below. testsurfacelight (last) has the thinnest margin: 4.8 % (its
+                         // _surface lights stand on faces split as qbsp's tree would split them, not on the
+                         // compiler's own faces; with those its median is 0.00 %).
                          ::testing::Values("ericw-tools_testmaps_deprecated_falloff",
                                            "ericw-tools_testmaps_deprecated_dirttest2",
                                            "ericw-tools_testmaps_deprecated_bouncecolorscaletest",
@@ -280,7 +285,8 @@ INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
                                            "ericw-tools_testmaps_q1_sunlight",
                                            "ericw-tools_testmaps_q1_litwater",
                                            "ericw-tools_testmaps_q1_minlight_nobounce",
-                                           "quake_map_source_e1m1"),
+                                           "quake_map_source_e1m1",
+                                           "ericw-tools_testmaps_deprecated_testsurfacelight"),
                          [](const auto& info) {
                            std::string n = info.param;
                            std::replace(n.begin(), n.end(), '-', '_');
@@ -290,17 +296,16 @@ INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
 // LibreQuake's lqdm5, a full deathmatch level: 2598 lights, a sun with a penumbra and a sky dome
 // over 939 584 luxels. All of them take over 8 minutes here (most of it in shadow rays), so the
 // suite compares the middle luxel of each of its 8292 lit faces (28 s on the shared 2-core
-// machine, 4 samples a luxel). Median 5.00 %, right at the bar, held at 6 % so that float
-// noise cannot flip it; the compiler is brighter on average (mean -4.7/255). Its 129 suns are the
-// dome and the penumbra as fixed directions, where we integrate both (4 random directions a
-// luxel: noise on every partly open luxel).
+// machine, 4 samples a luxel). Median 4.48 % (5.00 % before lit liquids took light from both
+// sides). The compiler's 129 suns are the dome and the penumbra as fixed directions, where we
+// integrate both (4 random directions a luxel: noise on every partly open luxel).
 TEST(OracleLargeLevel, LibreQuakeLqdm5MiddleLuxelOfEveryFace) {
   BT_REQUIRE_SHARED(shared);
   const std::optional<OracleResult> result = compareLitLevel(shared, "librequake_lq1_maps_src_dm_lqdm5", Luxels::FaceMiddle);
   ASSERT_TRUE(result);
   ASSERT_GT(result->faces, 8000u);
   EXPECT_EQ(result->luxels, result->faces); // one each: none skipped
-  EXPECT_LE(result->medianError, 0.06) << "the issue's bar is 5 %";
+  EXPECT_LE(result->medianError, 0.05);
 }
 
 // q1_light_invalid_delay: its one light has `delay 15`. The compiler warns ("unknown delay 15")
@@ -352,35 +357,6 @@ TEST(OracleInvalidDelay, CompilerAndFaithfulModeLightNothing) {
   EXPECT_GT(luxels, 0u);
   EXPECT_EQ(lit, 0u) << "of " << luxels << " luxels";
 }
-
-// testsurfacelight against the compiler: an open gap, held to the figure reached so that it can
-// only narrow. The compiler spreads its point lights over the faces of the compiled BSP; we
-// rebuild qbsp's CSG, face merging and 240-texel subdivision from the source brushes, but not
-// the splits along the BSP tree's planes nor the removal of faces that look into the void, so
-// the lava gets 151 point lights in other places than the compiler's 111.
-struct SurfaceCase {
-  const char* name;
-  double maxMedianError;
-};
-class OracleSurfaceLights : public ::testing::TestWithParam<SurfaceCase> {};
-
-TEST_P(OracleSurfaceLights, FaithfulSurfaceLightsTrackCompiler) {
-  BT_REQUIRE_SHARED(shared);
-  const SurfaceCase c = GetParam();
-  const std::optional<OracleResult> result = compareLitLevel(shared, c.name);
-  ASSERT_TRUE(result);
-  const OracleResult& r = *result;
-  ASSERT_GT(r.luxels, 0u);
-  EXPECT_LE(r.medianError, c.maxMedianError) << "the issue's bar is 5 %";
-}
-
-INSTANTIATE_TEST_SUITE_P(Lit, OracleSurfaceLights,
-                         ::testing::Values(SurfaceCase{"ericw-tools_testmaps_deprecated_testsurfacelight", 0.12}),
-                         [](const auto& info) {
-                           std::string n = info.param.name;
-                           std::replace(n.begin(), n.end(), '-', '_');
-                           return n;
-                         });
 
 } // namespace
 } // namespace bt

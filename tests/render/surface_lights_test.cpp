@@ -78,6 +78,61 @@ TEST(SurfaceLightQ1, FullCopiesOnEveryPieceTwoUnitsOffTheFace) {
   EXPECT_EQ(rs.lights.size(), 9u + 12u);
 }
 
+// Two bars cross a lava surface and end halfway along it. qbsp's faces come from its BSP
+// tree, which splits first along the bars' ends (the plane that two brushes face and that cuts
+// only the lava: SelectSplitSide's best), so the lava beyond the bars is one face and only the
+// part between the bars is cut into strips, one face each.
+TEST(SurfaceLightQ1, BarsAcrossTheSurfaceSplitItAlongTheirEndsFirst) {
+  test::BoxSceneBuilder b;
+  b.material("lava", 255, 64, 0);
+  b.material("bar", 128, 128, 128);
+  b.box({0, 0, 0}, {192, 192, 64}, "lava"); // narrower than 240 texels: no qbsp subdivision
+  b.box({48, -16, 48}, {64, 96, 96}, "bar");
+  b.box({128, -16, 48}, {144, 96, 96}, "bar");
+  b.entity({{"classname", "light"}, {"origin", "0 0 500"}, {"_surface", "lava"}});
+  const Scene scene = b.build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  std::vector<glm::vec2> top;
+  for (const GpuLight& l : lightsAtHeight(rs, 66.0f)) top.push_back({l.origin.x, l.origin.y});
+  std::sort(top.begin(), top.end(), [](glm::vec2 a, glm::vec2 c) { return a.y != c.y ? a.y < c.y : a.x < c.x; });
+  // Beyond the bars: 0..192 x 96..192 cut by the 128 grid at x = 128 and y = 128. Between them:
+  // the strips 0..48, 64..128 and 144..192, each too small for the grid to cut.
+  const std::vector<glm::vec2> expected = {{24, 48},   {96, 48},   {168, 48},  {64, 112},
+                                           {160, 112}, {64, 160}, {160, 160}};
+  ASSERT_EQ(top.size(), expected.size());
+  for (size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_NEAR(top[i].x, expected[i].x, 1e-3f) << i;
+    EXPECT_NEAR(top[i].y, expected[i].y, 1e-3f) << i;
+  }
+}
+
+// A lava pool that runs out through the wall of a sealed room: qbsp fills the void outside and
+// makes no face that looks into it, so only the part inside gets lights. A level that leaks
+// (an entity in the void) is not filled, and then every part keeps its lights.
+TEST(SurfaceLightQ1, NoLightsOnFacesThatLookIntoTheVoid) {
+  for (bool leak : {false, true}) {
+    test::BoxSceneBuilder b;
+    b.material("wall", 128, 128, 128);
+    b.material("lava", 255, 64, 0);
+    b.room({-256, -256, 0}, {256, 256, 256}, "wall");
+    b.box({0, 0, 0}, {400, 64, 32}, "lava"); // through the wall at x = 256..272
+    b.entity({{"classname", "info_player_start"}, {"origin", "-128 0 64"}});
+    b.entity({{"classname", "light"}, {"origin", leak ? "1000 0 100" : "0 0 200"}, {"_surface", "lava"}});
+    const Scene scene = b.build();
+    Diagnostics diags;
+    const RenderScene rs = buildRenderScene(scene, {}, diags);
+    std::vector<float> topX;
+    for (const GpuLight& l : lightsAtHeight(rs, 34.0f)) topX.push_back(l.origin.x);
+    std::sort(topX.begin(), topX.end());
+    // Inside, 0..256: qbsp cuts at 224 (240 texels), the grid at 128. Outside, 272..400: the grid
+    // cuts at 384.
+    const std::vector<float> expected = leak ? std::vector<float>{64, 176, 240, 328, 392} : std::vector<float>{64, 176, 240};
+    ASSERT_EQ(topX.size(), expected.size()) << (leak ? "leaking" : "sealed");
+    for (size_t i = 0; i < expected.size(); ++i) EXPECT_NEAR(topX[i], expected[i], 1e-3f);
+  }
+}
+
 TEST(SurfaceLightQ1, SpotlightAlongTheFaceNormalAndOffset) {
   const Scene scene = lavaScene({{"_surface_spotlight", "1"}, {"_surface_offset", "8"}, {"angle", "60"}}).build();
   Diagnostics diags;
