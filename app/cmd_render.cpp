@@ -47,12 +47,6 @@ std::string formatDuration(double seconds) {
   return fmt::format("{:02}:{:02}:{:02}", s / 3600, (s / 60) % 60, s % 60);
 }
 
-bool isSoftwareRenderer(std::string_view renderer) {
-  for (std::string_view name : {"llvmpipe", "softpipe", "swrast", "lavapipe"})
-    if (renderer.find(name) != std::string_view::npos) return true;
-  return false;
-}
-
 int runRender(const RenderOptions& o) {
   const int width = o.size.width, height = o.size.height;
   {
@@ -73,7 +67,7 @@ int runRender(const RenderOptions& o) {
     } catch (const std::exception& e) {
       fmt::print(stderr, "brushtrace: no GL 4.5 context ({}); rendering on the CPU\n", e.what());
     }
-    if (glContext && o.backend == "auto" && isSoftwareRenderer(glContext->info().renderer)) {
+    if (glContext && o.backend == "auto" && glContext->info().softwareRenderer) {
       if (!o.quiet)
         fmt::print(stderr, "brushtrace: GL context is software ({}); rendering on the CPU (--backend gl forces it)\n",
                    glContext->info().renderer);

@@ -3,7 +3,8 @@
 
 // TraceScene's faces (bvh/trace_scene.h), unchanged.
 layout(std430, binding = 2) readonly buffer Faces { GpuFace faces[]; };
-// The traversal (trace.glsl) reads the BVH nodes (GlBvhNode, made from TraceScene's tree at
+#ifdef BT_TRACE_SOFTWARE
+// With BT_TRACE_SOFTWARE (llvmpipe; trace.glsl) the traversal reads the BVH nodes (GlBvhNode, made from TraceScene's tree at
 // upload), TraceScene's brushes and slanted-side lists, and the face planes through buffer
 // textures, one 16-byte texel (a row of the struct) per fetch; units as renderer/gl/gl_structs.h
 // TexelUnit. On llvmpipe a storage-buffer load at addresses that differ between invocations
@@ -13,6 +14,7 @@ layout(binding = 16) uniform usamplerBuffer nodeTexels;  // GlBvhNode (gl_struct
 layout(binding = 17) uniform usamplerBuffer brushTexels; // GpuBrush: 4 texels (RGBA32UI)
 layout(binding = 18) uniform usamplerBuffer sideTexels;  // TraceScene::sides(): 1 texel each (R32UI)
 layout(binding = 19) uniform samplerBuffer faceTexels;   // GpuFace: 4 texels (RGBA32F), the plane first
+#endif
 layout(std430, binding = 3) readonly buffer Materials { GpuMaterial materials[]; };
 layout(std430, binding = 4) readonly buffer Lights { GpuLight lights[]; };
 layout(std430, binding = 5) readonly buffer SurfaceLights { GpuLight surfaceLights[]; }; // per material

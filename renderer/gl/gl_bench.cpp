@@ -71,8 +71,10 @@ int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& s
   };
   firstImage("cold, empty program cache");
   const auto& info = context->info();
-  fmt::print("device: {} ({}, {}), textures: {}, parallel shader compile: {}\n", info.renderer, info.platform, info.version,
-             gl::toString(tracer->textureMode()), info.parallelShaderCompile ? "yes" : "no");
+  fmt::print("device: {} ({}, {}), textures: {}, trace layout: {}, parallel shader compile: {}\n", info.renderer,
+             info.platform, info.version, gl::toString(tracer->textureMode()),
+             tracer->programs().traceLayout() == gl::TraceLayout::Software ? "software" : "hardware",
+             info.parallelShaderCompile ? "yes" : "no");
   fmt::print("camera: {} ({}), {} lights, {} emitter triangles\n", formatCameraPose(pose), pose.source,
              renderScene->lights.size(), renderScene->emitters.size());
   firstImage("warm");

@@ -184,6 +184,8 @@ void GlContext::queryInfo() {
   info_.vendor = str(GL_VENDOR);
   info_.renderer = str(GL_RENDERER);
   info_.version = str(GL_VERSION);
+  for (std::string_view name : {"llvmpipe", "softpipe", "swrast"})
+    info_.softwareRenderer = info_.softwareRenderer || info_.renderer.find(name) != std::string::npos;
   info_.bindlessTextures = epoxy_has_gl_extension("GL_ARB_bindless_texture");
   info_.anisotropicFiltering =
       epoxy_has_gl_extension("GL_ARB_texture_filter_anisotropic") || epoxy_has_gl_extension("GL_EXT_texture_filter_anisotropic");

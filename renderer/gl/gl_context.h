@@ -20,6 +20,7 @@ struct GlContextInfo {
   bool bindlessTextures = false; // GL_ARB_bindless_texture
   bool anisotropicFiltering = false; // GL_ARB_texture_filter_anisotropic / EXT
   int maxTextureUnits = 0;           // GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS
+  bool softwareRenderer = false; // GL emulated on the CPU: Mesa's llvmpipe, softpipe, swrast
   bool parallelShaderCompile = false; // GL_KHR/ARB_parallel_shader_compile: compiles run on driver threads
 };
 

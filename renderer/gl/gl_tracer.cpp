@@ -7,6 +7,9 @@
 #include <epoxy/gl.h>
 #include <fmt/format.h>
 
+#include <cstdlib>
+#include <string_view>
+
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
@@ -75,19 +78,36 @@ GpuWorld worldBlock(const GlLighting& lighting) {
 
 } // namespace
 
-std::vector<std::string> shaderDefines(TextureMode mode) {
-  return {mode == TextureMode::Bindless ? "BT_TEXTURES_BINDLESS" : "BT_TEXTURES_ARRAYS",
-          fmt::format("BT_BVH_MAX_DEPTH {}", kBvhMaxDepth)};
+std::vector<std::string> shaderDefines(TextureMode mode, TraceLayout layout) {
+  std::vector<std::string> defines{mode == TextureMode::Bindless ? "BT_TEXTURES_BINDLESS" : "BT_TEXTURES_ARRAYS",
+                                   fmt::format("BT_BVH_MAX_DEPTH {}", kBvhMaxDepth)};
+  if (layout == TraceLayout::Software) defines.emplace_back("BT_TRACE_SOFTWARE");
+  return defines;
 }
 
-TracerPrograms::TracerPrograms(GlContext& context, TextureMode textures)
-    : mode_(resolveTextureMode(textures, context.info())), cache_(ProgramCache::fromEnvironment(context.info().vendor)) {}
+namespace {
+
+TraceLayout resolveTraceLayout(TraceLayout layout, const GlContextInfo& context) {
+  if (layout != TraceLayout::Auto) return layout;
+  if (const char* env = std::getenv("BT_GL_TRACE_LAYOUT")) {
+    if (std::string_view(env) == "software") return TraceLayout::Software;
+    if (std::string_view(env) == "hardware") return TraceLayout::Hardware;
+  }
+  return context.softwareRenderer ? TraceLayout::Software : TraceLayout::Hardware;
+}
+
+} // namespace
+
+TracerPrograms::TracerPrograms(GlContext& context, TextureMode textures, TraceLayout layout)
+    : mode_(resolveTextureMode(textures, context.info())),
+      layout_(resolveTraceLayout(layout, context.info())),
+      cache_(ProgramCache::fromEnvironment(context.info().vendor)) {}
 
 TracerPrograms::~TracerPrograms() = default;
 
 void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* shader, bool physical, bool dirt) {
   if (slot) return;
-  std::vector<std::string> defines = shaderDefines(mode_);
+  std::vector<std::string> defines = shaderDefines(mode_, layout_);
   if (physical) defines.emplace_back("BT_LIGHTING_PHYSICAL");
   if (dirt) defines.emplace_back("BT_FAITHFUL_DIRT");
   slot = std::make_unique<ComputeProgram>(ComputeProgram::Deferred{}, shader, defines, cache_);

@@ -95,9 +95,15 @@ struct RayBenchmark {
   double bounceSeconds = 0.0;
 };
 
+// Where the traversal reads the scene and keeps its stack (shaders/trace.glsl): Software for GL
+// emulated on the CPU (Mesa's llvmpipe), Hardware for GPUs; Auto picks from GL_RENDERER, and
+// BT_GL_TRACE_LAYOUT=software|hardware in the environment overrides Auto (to compare them).
+enum class TraceLayout { Auto, Software, Hardware };
+
 // The #defines every program of the tracer is built with: the texture path (Bindless or
-// Arrays) and BT_BVH_MAX_DEPTH, the traversal stack size (scene/gpu_structs.h kBvhMaxDepth).
-std::vector<std::string> shaderDefines(TextureMode mode);
+// Arrays), the trace layout (BT_TRACE_SOFTWARE) and BT_BVH_MAX_DEPTH, the traversal stack size
+// (scene/gpu_structs.h kBvhMaxDepth).
+std::vector<std::string> shaderDefines(TextureMode mode, TraceLayout layout = TraceLayout::Hardware);
 
 // The tracer's compute programs for one context and texture path. Each is built on first use,
 // or started early: `brushtrace render` starts the path tracer before it imports the level, so
@@ -106,12 +112,13 @@ std::vector<std::string> shaderDefines(TextureMode mode);
 class TracerPrograms {
 public:
   // Throws GlError for TextureMode::Bindless on a context without bindless textures.
-  TracerPrograms(GlContext& context, TextureMode textures);
+  TracerPrograms(GlContext& context, TextureMode textures, TraceLayout layout = TraceLayout::Auto);
   ~TracerPrograms();
   TracerPrograms(const TracerPrograms&) = delete;
   TracerPrograms& operator=(const TracerPrograms&) = delete;
 
   TextureMode textureMode() const { return mode_; } // Bindless or Arrays
+  TraceLayout traceLayout() const { return layout_; } // Software or Hardware
   // Where programs built from now on are cached; ProgramCache::fromEnvironment(GL_VENDOR) by default.
   void setCache(ProgramCache cache) { cache_ = std::move(cache); }
 
@@ -130,6 +137,7 @@ private:
   std::unique_ptr<ComputeProgram>& pathSlot(bool physical, bool dirt);
 
   TextureMode mode_;
+  TraceLayout layout_;
   ProgramCache cache_;
   // One program per lighting mode (BT_LIGHTING_PHYSICAL chosen at build), so each compiles
   // only its own integrator, and the faithful one with dirt: faithful, physical, faithful + dirt.

@@ -134,13 +134,10 @@ TEST(GlAov, EmptySceneSeesNothing) {
   for (float d : gpu.depth) EXPECT_TRUE(std::isinf(d));
 }
 
-// Every pixel's face is the one TraceScene::closestHit finds for the same ray, ties between
-// neighbouring brushes included: the shaders traverse a layout made from TraceScene's tree
-// (renderer/gl/gl_structs.h GlBvhNode) by trace_scene.cpp's rules.
-void expectFacesEqualClosestHit(const Scene& scene, const TraceScene& traceScene,
-                                const CameraBasis& camera = test::testCamera(kWidth, kHeight), int width = kWidth,
-                                int height = kHeight) {
-  GlTracer tracer(test::sharedGlContext(), scene, traceScene, TextureMode::Arrays);
+void expectLayoutFacesEqualClosestHit(const Scene& scene, const TraceScene& traceScene, const CameraBasis& camera, int width,
+                                      int height, TraceLayout layout) {
+  GlContext& context = test::sharedGlContext();
+  GlTracer tracer(context, scene, traceScene, std::make_shared<TracerPrograms>(context, TextureMode::Arrays, layout));
   const AovImages gpu = tracer.renderAovs(camera, width, height);
   size_t mismatched = 0, hits = 0;
   for (int y = 0; y < height; ++y)
@@ -162,6 +159,19 @@ void expectFacesEqualClosestHit(const Scene& scene, const TraceScene& traceScene
   // The GPU's normalize and division may round differently in the last bit: allow a pixel or two.
   EXPECT_LE(mismatched, 2u);
   EXPECT_GT(hits, 0u);
+}
+
+// Every pixel's face is the one TraceScene::closestHit finds for the same ray, ties between
+// neighbouring brushes included: the shaders traverse a layout made from TraceScene's tree
+// (renderer/gl/gl_structs.h GlBvhNode) by trace_scene.cpp's rules. Both trace layouts are held
+// to it on whatever runs the tests: llvmpipe's (BT_TRACE_SOFTWARE) and the GPUs'.
+void expectFacesEqualClosestHit(const Scene& scene, const TraceScene& traceScene,
+                                const CameraBasis& camera = test::testCamera(kWidth, kHeight), int width = kWidth,
+                                int height = kHeight) {
+  for (const TraceLayout layout : {TraceLayout::Software, TraceLayout::Hardware}) {
+    SCOPED_TRACE(layout == TraceLayout::Software ? "software trace layout" : "hardware trace layout");
+    expectLayoutFacesEqualClosestHit(scene, traceScene, camera, width, height, layout);
+  }
 }
 
 // A row of 40 boxes makes the tree deep enough to exercise the stack; one brush per leaf.
