@@ -4,8 +4,10 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <thread>
 
 namespace bt {
 
@@ -119,26 +121,50 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
     if (isPhysicalCandidate(lights[i])) grid.indices.push_back(i);
   grid.header.physicalCount = uint32_t(grid.indices.size()) - grid.header.physicalFirst;
 
-  // Finite-reach lights into every cell their reach sphere touches.
+  // Finite-reach lights into every cell their reach sphere touches: a large level's thousands of
+  // lights reach thousands of cells each, so the z-slices of cells are shared among threads
+  // (each slice takes the lights in index order, so the lists do not depend on the threads).
   const size_t cellCount = size_t(g.dims[0]) * g.dims[1] * g.dims[2];
-  std::vector<std::vector<uint32_t>> lists(cellCount);
+  struct Reach {
+    uint32_t light;
+    uint32_t lo[3], hi[3]; // the cells of its reach box
+  };
+  std::vector<Reach> reaches;
   for (uint32_t i = 0; i < lights.size(); ++i) {
     if (!isFaithfulCandidate(lights[i])) continue;
     const float reach = faithfulReach(lights[i], scaledist);
     if (!std::isfinite(reach)) continue;
-    const glm::vec3 c = lights[i].origin;
-    uint32_t lo[3], hi[3];
+    Reach r{i, {}, {}};
     for (int a = 0; a < 3; ++a) {
-      lo[a] = clampedCell(g, a, c[a] - reach);
-      hi[a] = clampedCell(g, a, c[a] + reach);
+      r.lo[a] = clampedCell(g, a, lights[i].origin[a] - reach);
+      r.hi[a] = clampedCell(g, a, lights[i].origin[a] + reach);
     }
-    uint32_t cell[3];
-    for (cell[2] = lo[2]; cell[2] <= hi[2]; ++cell[2])
-      for (cell[1] = lo[1]; cell[1] <= hi[1]; ++cell[1])
-        for (cell[0] = lo[0]; cell[0] <= hi[0]; ++cell[0])
-          if (distanceToCell2(g, cell, c) <= reach * reach)
-            lists[cell[0] + g.dims[0] * (cell[1] + g.dims[1] * cell[2])].push_back(i);
+    reaches.push_back(r);
   }
+  std::vector<std::vector<uint32_t>> lists(cellCount);
+  const unsigned threads = reaches.size() * cellCount < 100000 ? 1u : std::max(1u, std::min(std::thread::hardware_concurrency(), g.dims[2]));
+  auto forSlices = [&](const auto& perSlice) {
+    std::atomic<uint32_t> next{0};
+    auto work = [&] {
+      for (uint32_t z = next++; z < g.dims[2]; z = next++) perSlice(z);
+    };
+    std::vector<std::thread> helpers;
+    for (unsigned t = 1; t < threads; ++t) helpers.emplace_back(work);
+    work();
+    for (std::thread& t : helpers) t.join();
+  };
+  forSlices([&](uint32_t z) {
+    for (const Reach& r : reaches) {
+      if (z < r.lo[2] || z > r.hi[2]) continue;
+      const GpuLight& l = lights[r.light];
+      const float reach = faithfulReach(l, scaledist);
+      uint32_t cell[3] = {0, 0, z};
+      for (cell[1] = r.lo[1]; cell[1] <= r.hi[1]; ++cell[1])
+        for (cell[0] = r.lo[0]; cell[0] <= r.hi[0]; ++cell[0])
+          if (distanceToCell2(g, cell, l.origin) <= reach * reach)
+            lists[cell[0] + g.dims[0] * (cell[1] + g.dims[1] * size_t(z))].push_back(r.light);
+    }
+  });
   grid.cells.resize(2 * cellCount);
   for (size_t k = 0; k < cellCount; ++k) {
     grid.cells[k] = {uint32_t(grid.indices.size()), uint32_t(lists[k].size())};
@@ -147,29 +173,49 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
 
   // Physical near lists: the kPhysicalNearLights lights of largest bound power / d^2, d the
   // distance from the (jittered) light to the cell, at least half a cell so that lights inside
-  // the cell do not all tie at infinity.
+  // the cell do not all tie at infinity. Every cell ranks every physical light, slice by slice
+  // on the same threads; each cell's list depends on nothing else.
   const std::vector<uint32_t> physical(grid.physicalLights().begin(), grid.physicalLights().end());
   const float nearest2 = 0.25f * g.cellSize * g.cellSize;
-  std::vector<std::pair<float, uint32_t>> ranked;
-  uint32_t cell[3];
-  for (cell[2] = 0; cell[2] < g.dims[2]; ++cell[2])
+  std::vector<uint32_t> nearLists(cellCount * kPhysicalNearLights);
+  std::vector<uint32_t> nearCounts(cellCount);
+  // The lights' ranking inputs side by side (a GpuLight is 96 bytes, of which this reads 5 floats).
+  struct Candidate {
+    glm::vec3 origin;
+    float jitter;
+    float power;
+    uint32_t light;
+  };
+  std::vector<Candidate> candidates;
+  for (uint32_t i : physical) {
+    const GpuLight& l = lights[i];
+    const float power = (l.color.x + l.color.y + l.color.z) * l.value;
+    if (power > 0.0f) candidates.push_back({l.origin, maxJitter(l), power, i});
+  }
+  forSlices([&](uint32_t z) {
+    std::vector<std::pair<float, uint32_t>> ranked(candidates.size());
+    uint32_t cell[3] = {0, 0, z};
     for (cell[1] = 0; cell[1] < g.dims[1]; ++cell[1])
       for (cell[0] = 0; cell[0] < g.dims[0]; ++cell[0]) {
-        ranked.clear();
-        for (uint32_t i : physical) {
-          const GpuLight& l = lights[i];
-          const float d = std::max(std::sqrt(distanceToCell2(g, cell, l.origin)) - maxJitter(l), 0.0f);
-          const float power = (l.color.x + l.color.y + l.color.z) * l.value;
-          if (power > 0.0f) ranked.push_back({power / std::max(d * d, nearest2), i});
+        for (size_t j = 0; j < candidates.size(); ++j) {
+          const Candidate& c = candidates[j];
+          const float d = std::max(std::sqrt(distanceToCell2(g, cell, c.origin)) - c.jitter, 0.0f);
+          ranked[j] = {c.power / std::max(d * d, nearest2), c.light};
         }
         const size_t keep = std::min<size_t>(ranked.size(), kPhysicalNearLights);
         // Largest bound first, ties by light index: the same lists on every run.
         std::partial_sort(ranked.begin(), ranked.begin() + keep, ranked.end(),
                           [](const auto& a, const auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); });
         const size_t k = cell[0] + g.dims[0] * (cell[1] + g.dims[1] * size_t(cell[2]));
-        grid.cells[cellCount + k] = {uint32_t(grid.indices.size()), uint32_t(keep)};
-        for (size_t r = 0; r < keep; ++r) grid.indices.push_back(ranked[r].second);
+        nearCounts[k] = uint32_t(keep);
+        for (size_t r = 0; r < keep; ++r) nearLists[k * kPhysicalNearLights + r] = ranked[r].second;
       }
+  });
+  for (size_t k = 0; k < cellCount; ++k) {
+    grid.cells[cellCount + k] = {uint32_t(grid.indices.size()), nearCounts[k]};
+    grid.indices.insert(grid.indices.end(), nearLists.begin() + k * kPhysicalNearLights,
+                        nearLists.begin() + k * kPhysicalNearLights + nearCounts[k]);
+  }
   return grid;
 }
 
