@@ -14,28 +14,26 @@
 namespace bt::gl {
 namespace {
 
-// Every `layout(std430, binding = N) ... buffer Name` of the embedded shader files: Name -> N.
-std::map<std::string, int> storageBufferBindings() {
-  std::map<std::string, int> bindings;
-  const std::regex declaration(R"(layout\s*\(\s*std430\s*,\s*binding\s*=\s*(\d+)\s*\)\s*(?:readonly\s+|writeonly\s+)*buffer\s+(\w+))");
+// Name -> N for every match of `declaration` (group 1: the number, group 2: the name) in the
+// embedded shader files.
+std::map<std::string, int> declaredNumbers(const std::regex& declaration) {
+  std::map<std::string, int> numbers;
   for (const ShaderFile& file : embeddedShaders()) {
     const std::string source(file.source);
     for (auto it = std::sregex_iterator(source.begin(), source.end(), declaration); it != std::sregex_iterator(); ++it)
-      bindings[(*it)[2].str()] = std::stoi((*it)[1].str());
+      numbers[(*it)[2].str()] = std::stoi((*it)[1].str());
   }
-  return bindings;
+  return numbers;
+}
+
+// Every `layout(std430, binding = N) ... buffer Name`: Name -> N.
+std::map<std::string, int> storageBufferBindings() {
+  return declaredNumbers(std::regex(R"(layout\s*\(\s*std430\s*,\s*binding\s*=\s*(\d+)\s*\)\s*(?:readonly\s+|writeonly\s+)*buffer\s+(\w+))"));
 }
 
 // Every `layout(binding = N) uniform [u]samplerBuffer name` (the traversal's texel views): name -> N.
 std::map<std::string, int> texelViewUnits() {
-  std::map<std::string, int> units;
-  const std::regex declaration(R"(layout\s*\(\s*binding\s*=\s*(\d+)\s*\)\s*uniform\s+u?samplerBuffer\s+(\w+))");
-  for (const ShaderFile& file : embeddedShaders()) {
-    const std::string source(file.source);
-    for (auto it = std::sregex_iterator(source.begin(), source.end(), declaration); it != std::sregex_iterator(); ++it)
-      units[(*it)[2].str()] = std::stoi((*it)[1].str());
-  }
-  return units;
+  return declaredNumbers(std::regex(R"(layout\s*\(\s*binding\s*=\s*(\d+)\s*\)\s*uniform\s+u?samplerBuffer\s+(\w+))"));
 }
 
 TEST(ShaderBindings, EveryStorageBufferHasItsOwnBindingPoint) {
