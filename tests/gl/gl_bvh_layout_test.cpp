@@ -25,10 +25,10 @@ void expectSameTree(const TraceScene& scene) {
   std::vector<int> glReached(gl.size(), 0);
   ++reached[0];
   struct Pair { uint32_t node, glNode; };
-  std::vector<Pair> todo{{0, 0}};
-  while (!todo.empty()) {
-    const auto [n, g] = todo.back();
-    todo.pop_back();
+  std::vector<Pair> unvisited{{0, 0}};
+  while (!unvisited.empty()) {
+    const auto [n, g] = unvisited.back();
+    unvisited.pop_back();
     ASSERT_LT(g, gl.size());
     ++glReached[g];
     const GlBvhNode& node = gl[g];
@@ -42,7 +42,7 @@ void expectSameTree(const TraceScene& scene) {
       } else {
         EXPECT_EQ(ref & kGlLeafRef, 0u);
         EXPECT_NE(ref, kGlNoChild);
-        todo.push_back({child, ref});
+        unvisited.push_back({child, ref});
       }
     }
   }
