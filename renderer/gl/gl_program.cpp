@@ -173,15 +173,6 @@ ComputeProgram::ComputeProgram(Deferred, std::string_view name, std::span<const 
   if (!loadedFromCache_) startCompile(source, useCache);
 }
 
-bool ComputeProgram::pending() const {
-  if (finished_ || !shader_) return false;
-  if (!epoxy_has_gl_extension("GL_KHR_parallel_shader_compile") && !epoxy_has_gl_extension("GL_ARB_parallel_shader_compile"))
-    return false; // the status query below would block instead
-  GLint done = GL_TRUE;
-  glGetProgramiv(program_, GL_COMPLETION_STATUS_KHR, &done);
-  return done == GL_FALSE;
-}
-
 void ComputeProgram::finish() {
   if (!error_.empty()) throw GlError(error_); // a failed build stays failed
   if (finished_) return;

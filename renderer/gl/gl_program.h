@@ -34,7 +34,7 @@ std::string assembleShader(std::string_view name, std::span<const std::string> d
 // (GlContextInfo::parallelShaderCompile) glCompileShader and glLinkProgram return at once and
 // the driver compiles on its own threads, so a program started before a level is imported is
 // compiled while it loads. finish() waits for it, reports errors and fills the cache; every
-// accessor below but pending() finishes first.
+// accessor below finishes first.
 class ComputeProgram {
 public:
   struct Deferred {};
@@ -48,9 +48,6 @@ public:
 
   // Waits for the driver and checks the result; throws GlError as the constructor does.
   void finish();
-  // Whether the driver is still compiling (never blocks; false once finished, or when the
-  // driver compiles synchronously).
-  bool pending() const;
 
   unsigned id() { finish(); return program_; }
   // Wall time from the start of the build to finish(): glCompileShader + glLinkProgram (or
