@@ -120,6 +120,18 @@ struct Split {
   Box4 leftBounds, rightBounds; // binned splits only: the children's bounds, from the bins
 };
 
+// Lane `axis` (0..3) of a per-axis SSE result.
+float laneOf(__m128 v, int axis) {
+  alignas(16) float lanes[4];
+  _mm_store_ps(lanes, v);
+  return lanes[axis];
+}
+int32_t laneOf(__m128i v, int axis) {
+  alignas(16) int32_t lanes[4];
+  _mm_store_si128(reinterpret_cast<__m128i*>(lanes), v);
+  return lanes[axis];
+}
+
 // The lowest-cost lane of the per-axis sweep results, first axis on equal cost; -1 when no lane
 // is valid. Valid lanes hold finite or infinite costs, never NaN (the sweeps only keep a cost
 // that compares less than the best so far). Without branches: which axis wins is a coin toss
@@ -231,17 +243,13 @@ Split bestBinnedSplit(const Bins& bins, uint32_t n, const BinMapping& mapping, i
   }
   best.axis = cheapestAxis(bestCost, found);
   if (best.axis < 0) return best;
-  alignas(16) float costs[4];
-  alignas(16) int32_t lastLeft[4];
-  _mm_store_ps(costs, bestCost);
-  _mm_store_si128(reinterpret_cast<__m128i*>(lastLeft), bestBin);
-  best.lastLeftBin = lastLeft[best.axis];
+  best.lastLeftBin = laneOf(bestBin, best.axis);
   for (int b = 0; b <= best.lastLeftBin; ++b) {
     best.leftCount += bins.count[b][best.axis];
     best.leftBounds.grow(bins.box[b][best.axis].min, bins.box[b][best.axis].max);
   }
   for (int b = best.lastLeftBin + 1; b < binCount; ++b) best.rightBounds.grow(bins.box[b][best.axis].min, bins.box[b][best.axis].max);
-  best.childCost = kSahBrushCost * costs[best.axis];
+  best.childCost = kSahBrushCost * laneOf(bestCost, best.axis);
   return best;
 }
 
@@ -339,13 +347,9 @@ Split findExactSplitInSlots(const BoxRef* boxes, uint32_t n) {
   best.exact = true;
   best.axis = cheapestAxis(bestCost, found);
   if (best.axis < 0) return best;
-  alignas(16) float costs[4];
-  alignas(16) int32_t index[4];
-  _mm_store_ps(costs, bestCost);
-  _mm_store_si128(reinterpret_cast<__m128i*>(index), bestIndex);
-  best.leftCount = static_cast<uint32_t>(index[best.axis]);
+  best.leftCount = static_cast<uint32_t>(laneOf(bestIndex, best.axis));
   best.position = sorted[best.axis][best.leftCount - 1].centroid2;
-  best.childCost = kSahBrushCost * costs[best.axis];
+  best.childCost = kSahBrushCost * laneOf(bestCost, best.axis);
   return best;
 }
 
