@@ -580,12 +580,12 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
   return PHYSICAL ? physicalBounce(path, rng) : faithfulBounce(path, rng);
 }
 
-void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(pixel, camera.imageSize))) return;
-  Rng rng = pixelRng(uint(pixel.x), uint(pixel.y), camera.frameIndex, camera.seed);
-  vec2 jitter = rngNext2(rng);
+// ---- the two forms of the loop ------------------------------------------------------------
 
+// Sample camera.frameIndex of `pixel`: its random stream, and the path waiting for its camera ray.
+Path cameraPath(ivec2 pixel, out Rng rng) {
+  rng = pixelRng(uint(pixel.x), uint(pixel.y), camera.frameIndex, camera.seed);
+  vec2 jitter = rngNext2(rng);
   Path path;
   setRay(path, RAY_SURFACE, camera.origin, cameraRayDirection(vec2(pixel) + jitter), INFINITY);
   path.depth = 0;
@@ -595,16 +595,67 @@ void main() {
   path.throughput = vec3(1.0);
   path.prevBsdfPdf = 0.0;
   path.radiance = vec3(0.0);
+  return path;
+}
+
+// Adds an ended path's sample to the pixel's running sum.
+void accumulate(ivec2 pixel, vec3 l) {
+  vec4 sum = camera.frameIndex == camera.firstFrame ? vec4(0.0) : imageLoad(accumulation, pixel);
+  // A NaN or infinite sample would poison the pixel for good; drop it, as the CPU does.
+  if (!any(isnan(l)) && !any(isinf(l))) sum.rgb += l;
+  imageStore(accumulation, pixel, sum);
+}
+
+#ifdef BT_WAVEFRONT_SHADE
+// The wavefront form's shade kernel (wavefront.glsl): the loop below with the traversal taken
+// out. Each dispatch moves every live path one ray on: advance() with the hit the trace kernel
+// found, then the next ray out to WavefrontRays, or the sample into the image at the path's end.
+#include "wavefront.glsl"
+
+// A pixel's path between dispatches.
+struct WavefrontPath {
+  Rng rng;
+  Path path;
+};
+layout(std430, binding = 13) buffer WavefrontPaths { WavefrontPath wavefrontPaths[]; };
+
+layout(location = 0) uniform uint wavefrontStart; // 1: start the paths at the camera
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  int slot = wavefrontSlot(pixel);
+  if (slot < 0) return;
+  Rng rng;
+  Path path;
+  if (wavefrontStart != 0u) {
+    path = cameraPath(pixel, rng);
+  } else {
+    if (wavefrontRays[slot].live == 0u) return;
+    rng = wavefrontPaths[slot].rng;
+    path = wavefrontPaths[slot].path;
+    if (!advance(path, wavefrontHits[slot], rng)) {
+      wavefrontRays[slot].live = 0u;
+      accumulate(pixel, path.radiance);
+      return;
+    }
+  }
+  wavefrontPaths[slot] = WavefrontPath(rng, path);
+  wavefrontRays[slot] = WavefrontRay(path.origin, path.tMin, path.dir, path.tMax, path.kind == RAY_SHADOW ? 1u : 0u,
+                                     lightPassFlags(PHYSICAL), 1u);
+  atomicAdd(wavefrontLive, 1u);
+}
+#else
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(pixel, camera.imageSize))) return;
+  Rng rng;
+  Path path = cameraPath(pixel, rng);
   uint passFlags = lightPassFlags(PHYSICAL);
   while (true) {
     // The one call of the traversal in this program.
     Hit hit = traceRay(makeTraceRay(path.origin, path.dir, path.tMin, path.tMax), path.kind == RAY_SHADOW, passFlags);
     if (!advance(path, hit, rng)) break;
   }
-  vec3 l = path.radiance;
-
-  vec4 sum = camera.frameIndex == camera.firstFrame ? vec4(0.0) : imageLoad(accumulation, pixel);
-  // A NaN or infinite sample would poison the pixel for good; drop it, as the CPU does.
-  if (!any(isnan(l)) && !any(isinf(l))) sum.rgb += l;
-  imageStore(accumulation, pixel, sum);
+  accumulate(pixel, path.radiance);
 }
+#endif

@@ -166,6 +166,8 @@ ComputeProgram::ComputeProgram(Deferred, std::string_view name, std::span<const 
     cache_ = cache;
     cacheKey_ = programCacheKey(source, glString(GL_VENDOR), glString(GL_RENDERER), glString(GL_VERSION));
   }
+  parallelCompile_ = epoxy_has_gl_extension("GL_KHR_parallel_shader_compile") ||
+                     epoxy_has_gl_extension("GL_ARB_parallel_shader_compile");
   start_ = std::chrono::steady_clock::now();
   if (useCache) {
     if (const std::optional<ProgramBinary> binary = cache.load(name, cacheKey_)) loadedFromCache_ = loadFrom(*binary);
@@ -198,6 +200,13 @@ void ComputeProgram::finish() {
     cache_.store(name_, cacheKey_, binary);
   }
   BT_GL(glGetProgramiv(program_, GL_COMPUTE_WORK_GROUP_SIZE, localSize_));
+}
+
+bool ComputeProgram::ready() {
+  if (finished_ || loadedFromCache_ || !error_.empty() || !parallelCompile_) return true;
+  GLint done = GL_TRUE;
+  glGetProgramiv(program_, GL_COMPLETION_STATUS_KHR, &done); // GL_COMPLETION_STATUS_ARB is the same enum
+  return done == GL_TRUE;
 }
 
 // A binary the driver rejects (another driver build, a corrupt file) leaves the link status

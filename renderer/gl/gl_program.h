@@ -48,6 +48,10 @@ public:
 
   // Waits for the driver and checks the result; throws GlError as the constructor does.
   void finish();
+  // Whether finish() would return without waiting for the driver's compile: asks the driver
+  // (GL_COMPLETION_STATUS_KHR) under GL_KHR_parallel_shader_compile, and is true without it
+  // (glCompileShader and glLinkProgram did the work in the constructor then).
+  bool ready();
 
   unsigned id() { finish(); return program_; }
   // Wall time from the start of the build to finish(): glCompileShader + glLinkProgram (or
@@ -68,6 +72,7 @@ private:
   ProgramCache cache_;
   std::string cacheKey_;          // empty: not stored
   unsigned shader_ = 0;           // while a compile is in flight
+  bool parallelCompile_ = false;  // the driver compiles on its own threads (completion status)
   bool finished_ = false;
   std::string error_;             // why the build failed, rethrown by every later finish()
   int localSize_[3] = {1, 1, 1};

@@ -27,6 +27,11 @@ enum Binding : uint32_t {
   kBindingFaceFlags = 8,
   kBindingLightGrid = 9,    // GpuLightGrid, then its GpuLightCell array (shaders/light_select.glsl)
   kBindingLightIndices = 10, // the grid's uint index array into the light buffer
+  // The wavefront path tracer's per-pixel state (shaders/wavefront.glsl, pathtrace.comp's shade kernel).
+  kBindingWavefrontRays = 11,
+  kBindingWavefrontHits = 12,
+  kBindingWavefrontPaths = 13,
+  kBindingWavefrontLiveCount = 14,
 };
 
 // The brushes, slanted-side lists and faces are bvh/trace_scene.h's TraceScene arrays

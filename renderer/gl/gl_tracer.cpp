@@ -47,6 +47,82 @@ private:
   GLuint texture_ = 0;
 };
 
+// The per-pixel state of the wavefront form (shaders/wavefront.glsl): the ray each path waits
+// for, its hit, the path itself, and the count of paths still live. Sized for the largest image
+// drawn so far; the struct strides are the shade kernel's (std430, read from the program).
+class WavefrontBuffers {
+public:
+  WavefrontBuffers() = default;
+  ~WavefrontBuffers() {
+    for (Buffer& b : buffers_) glDeleteBuffers(1, &b.id);
+  }
+  WavefrontBuffers(const WavefrontBuffers&) = delete;
+  WavefrontBuffers& operator=(const WavefrontBuffers&) = delete;
+
+  void prepare(ComputeProgram& shade, int width, int height) {
+    const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
+    const GLuint program = shade.id();
+    reserve(buffers_[0], pixels * arrayStride(program, "wavefrontRays[0].origin"));
+    reserve(buffers_[1], pixels * arrayStride(program, "wavefrontHits[0].t"));
+    reserve(buffers_[2], pixels * arrayStride(program, "wavefrontPaths[0].rng.state"));
+    reserve(buffers_[3], sizeof(uint32_t));
+  }
+
+  void bind() const {
+    const Binding points[] = {kBindingWavefrontRays, kBindingWavefrontHits, kBindingWavefrontPaths, kBindingWavefrontLiveCount};
+    for (int i = 0; i < 4; ++i) BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, points[i], buffers_[i].id));
+  }
+
+  void clearLiveCount() const {
+    const uint32_t zero = 0;
+    BT_GL(glClearNamedBufferData(buffers_[3].id, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero));
+  }
+  uint32_t liveCount() const {
+    uint32_t live = 0;
+    BT_GL(glGetNamedBufferSubData(buffers_[3].id, 0, sizeof live, &live));
+    return live;
+  }
+
+private:
+  struct Buffer {
+    GLuint id = 0;
+    size_t bytes = 0;
+  };
+
+  static size_t arrayStride(GLuint program, const char* member) {
+    const GLuint index = glGetProgramResourceIndex(program, GL_BUFFER_VARIABLE, member);
+    if (index == GL_INVALID_INDEX) throw GlError(fmt::format("the wavefront shade kernel has no buffer variable {}", member));
+    const GLenum prop = GL_TOP_LEVEL_ARRAY_STRIDE;
+    GLint stride = 0;
+    BT_GL(glGetProgramResourceiv(program, GL_BUFFER_VARIABLE, index, 1, &prop, 1, nullptr, &stride));
+    if (stride <= 0) throw GlError(fmt::format("the wavefront shade kernel's {} has no array stride", member));
+    return static_cast<size_t>(stride);
+  }
+
+  static void reserve(Buffer& b, size_t bytes) {
+    if (b.id != 0 && b.bytes >= bytes) return;
+    glDeleteBuffers(1, &b.id);
+    BT_GL(glCreateBuffers(1, &b.id));
+    BT_GL(glNamedBufferStorage(b.id, static_cast<GLsizeiptr>(bytes), nullptr, 0));
+    b.bytes = bytes;
+  }
+
+  Buffer buffers_[4]; // rays, hits, paths, live count
+};
+
+// Shader writes (storage buffers, the image) visible to the next dispatch, and to the live
+// count's clear and read-back.
+void wavefrontBarrier() {
+  BT_GL(glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT));
+}
+
+// Each round of trace and shade moves every live path one ray on (a hidden face skipped is a
+// ray too): a path ends within (bounces + 1) surfaces x (lights + dirt rays + 1) rays x
+// MAX_SKIPS; far beyond that, something is wrong. The live count is read back every few rounds
+// only, as each read waits for the GPU.
+constexpr int kWavefrontMaxRounds = 100000;
+constexpr int kRoundsPerLiveCheck = 4;
+
 std::vector<GpuMaterial> withShadingFlags(std::vector<GpuMaterial> materials, const GlLighting& lighting) {
   if (lighting.materialFlags.empty()) return materials;
   for (size_t i = 0; i < materials.size() && i < lighting.materialFlags.size(); ++i) {
@@ -101,16 +177,21 @@ TraceLayout resolveTraceLayout(TraceLayout layout, const GlContextInfo& context)
 TracerPrograms::TracerPrograms(GlContext& context, TextureMode textures, TraceLayout layout)
     : mode_(resolveTextureMode(textures, context.info())),
       layout_(resolveTraceLayout(layout, context.info())),
-      cache_(ProgramCache::fromEnvironment(context.info().vendor)) {}
+      cache_(ProgramCache::fromEnvironment(context.info().vendor)),
+      wavefrontFirst_(context.info().parallelShaderCompile && !context.info().softwareRenderer) {}
 
 TracerPrograms::~TracerPrograms() = default;
 
-void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* shader, bool physical, bool dirt) {
+void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines) {
   if (slot) return;
+  slot = std::make_unique<ComputeProgram>(ComputeProgram::Deferred{}, shader, defines, cache_);
+}
+
+std::vector<std::string> TracerPrograms::pathDefines(bool physical, bool dirt) const {
   std::vector<std::string> defines = shaderDefines(mode_, layout_);
   if (physical) defines.emplace_back("BT_LIGHTING_PHYSICAL");
   if (dirt) defines.emplace_back("BT_FAITHFUL_DIRT");
-  slot = std::make_unique<ComputeProgram>(ComputeProgram::Deferred{}, shader, defines, cache_);
+  return defines;
 }
 
 ComputeProgram& TracerPrograms::finished(std::unique_ptr<ComputeProgram>& slot) {
@@ -123,29 +204,58 @@ ComputeProgram& TracerPrograms::finished(std::unique_ptr<ComputeProgram>& slot) 
   return *slot;
 }
 
+// Dirt's occlusion rays exist only in the faithful program of a level that uses dirt: the
+// default program does not grow (nor its compile time).
 std::unique_ptr<ComputeProgram>& TracerPrograms::pathSlot(bool physical, bool dirt) {
   return path_[physical ? 1 : (dirt ? 2 : 0)];
 }
+std::unique_ptr<ComputeProgram>& TracerPrograms::shadeSlot(bool physical, bool dirt) {
+  return shade_[physical ? 1 : (dirt ? 2 : 0)];
+}
 
 void TracerPrograms::startPathTracer(bool physical, bool dirt) {
-  // Dirt's occlusion rays exist only in the faithful program of a level that uses dirt: the
-  // default program does not grow (nor its compile time).
   dirt = dirt && !physical;
-  start(pathSlot(physical, dirt), "pathtrace.comp", physical, dirt);
+  std::unique_ptr<ComputeProgram>& slot = pathSlot(physical, dirt);
+  if (slot) return;
+  start(slot, "pathtrace.comp", pathDefines(physical, dirt));
+  if (wavefrontFirst_ && !slot->loadedFromCache()) startWavefront(physical, dirt);
 }
-void TracerPrograms::startAovs() { start(aov_, "aov.comp", false, false); }
+
+void TracerPrograms::startWavefront(bool physical, bool dirt) {
+  dirt = dirt && !physical;
+  std::vector<std::string> defines = pathDefines(physical, dirt);
+  defines.emplace_back("BT_WAVEFRONT_SHADE");
+  start(shadeSlot(physical, dirt), "pathtrace.comp", std::move(defines));
+  start(trace_, "wavefront_trace.comp", shaderDefines(mode_, layout_));
+}
+
+void TracerPrograms::startAovs() { start(aov_, "aov.comp", shaderDefines(mode_, layout_)); }
 
 ComputeProgram& TracerPrograms::pathTracer(bool physical, bool dirt) {
   startPathTracer(physical, dirt);
   return finished(pathSlot(physical, dirt && !physical));
+}
+ComputeProgram& TracerPrograms::wavefrontShade(bool physical, bool dirt) {
+  startWavefront(physical, dirt);
+  return finished(shadeSlot(physical, dirt && !physical));
+}
+ComputeProgram& TracerPrograms::wavefrontTrace() {
+  start(trace_, "wavefront_trace.comp", shaderDefines(mode_, layout_));
+  return finished(trace_);
 }
 ComputeProgram& TracerPrograms::aovs() {
   startAovs();
   return finished(aov_);
 }
 ComputeProgram& TracerPrograms::rayBench() {
-  start(rayBench_, "raybench.comp", false, false);
+  start(rayBench_, "raybench.comp", shaderDefines(mode_, layout_));
   return finished(rayBench_);
+}
+
+bool TracerPrograms::wavefrontWhileCompiling(bool physical, bool dirt) {
+  dirt = dirt && !physical;
+  const std::unique_ptr<ComputeProgram>& mega = pathSlot(physical, dirt);
+  return shadeSlot(physical, dirt) && mega && !mega->ready();
 }
 
 struct GlTracer::Impl {
@@ -157,6 +267,7 @@ struct GlTracer::Impl {
   bool dirt = false; // the level uses faithful dirt: BT_FAITHFUL_DIRT in the faithful program
   GLuint cameraBuffer = 0;
   GLuint worldBuffer = 0;
+  WavefrontBuffers wavefront;
 
   Impl(GlContext& c, const Scene& scene, const TraceScene& tracer, std::shared_ptr<TracerPrograms> p,
        const GlLighting& lighting)
@@ -201,6 +312,32 @@ struct GlTracer::Impl {
     buffers.bind();
     textures.bind();
   }
+
+  // One sample with the wavefront kernels (camera set): the shade kernel starts every pixel's
+  // path at the camera, then trace and shade by turns until no path is live; each path adds its
+  // sample to the image as it ends.
+  void wavefrontSample(ComputeProgram& shade, ComputeProgram& trace, int width, int height) {
+    wavefront.prepare(shade, width, height);
+    wavefront.bind();
+    const GLuint shadeProgram = shade.id();
+    BT_GL(glProgramUniform1ui(shadeProgram, 0, 1u)); // wavefrontStart
+    shade.dispatch2d(width, height);
+    wavefrontBarrier();
+    BT_GL(glProgramUniform1ui(shadeProgram, 0, 0u));
+    for (int round = 1;; ++round) {
+      trace.dispatch2d(width, height);
+      wavefrontBarrier();
+      wavefront.clearLiveCount();
+      shade.dispatch2d(width, height);
+      wavefrontBarrier();
+      if (round % kRoundsPerLiveCheck != 0) continue;
+      const uint32_t live = wavefront.liveCount();
+      if (live == 0) return;
+      if (round >= kWavefrontMaxRounds)
+        throw GlError(fmt::format("the wavefront path tracer still has {} of {} paths live after {} rounds", live,
+                                  static_cast<size_t>(width) * height, round));
+    }
+  }
 };
 
 GlTracer::GlTracer(GlContext& context, const Scene& scene, const TraceScene& tracer, TextureMode textures,
@@ -237,6 +374,24 @@ ProgramBuild GlTracer::buildPathTracer(int width, int height, bool physical) {
   BT_GL(glFinish());
   const double dispatchMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - dispatchStart).count();
   return {program.buildMilliseconds() + dispatchMs, program.loadedFromCache()};
+}
+
+ProgramBuild GlTracer::buildWavefront(int width, int height, bool physical) {
+  const auto start = std::chrono::steady_clock::now();
+  ComputeProgram& shade = impl_->programs->wavefrontShade(physical, impl_->dirt);
+  ComputeProgram& trace = impl_->programs->wavefrontTrace();
+  // As buildPathTracer: one dispatch of each with nothing to do finishes the driver's work.
+  StorageImage target(GL_RGBA32F, std::max(width, 1), std::max(height, 1));
+  target.bindImage(0, GL_READ_WRITE);
+  impl_->setWorld(physical, 0);
+  impl_->setCamera(CameraBasis{}, 0, 0, 0, 0);
+  impl_->wavefront.prepare(shade, width, height);
+  impl_->wavefront.bind();
+  shade.dispatch2d(1, 1);
+  trace.dispatch2d(1, 1);
+  BT_GL(glFinish());
+  return {std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(),
+          shade.loadedFromCache() && trace.loadedFromCache()};
 }
 
 AovImages GlTracer::renderAovs(const CameraBasis& camera, int width, int height) {
@@ -280,11 +435,21 @@ BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettin
   BeautyImage out;
   out.width = settings.width;
   out.height = settings.height;
+  TracerPrograms& programs = *impl_->programs;
+  if (settings.form == PathTracerForm::Auto) programs.startPathTracer(settings.physical, impl_->dirt);
   for (int sample = 0; sample < settings.spp; ++sample) {
     impl_->setCamera(camera, settings.width, settings.height, static_cast<uint32_t>(sample), settings.seed, 0);
-    impl_->programs->pathTracer(settings.physical, impl_->dirt).dispatch2d(settings.width, settings.height);
-    // Each sample reads the sum the previous one wrote.
-    BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT));
+    const bool wavefront = settings.form == PathTracerForm::Wavefront ||
+                           (settings.form == PathTracerForm::Auto && programs.wavefrontWhileCompiling(settings.physical, impl_->dirt));
+    if (wavefront) {
+      impl_->wavefrontSample(programs.wavefrontShade(settings.physical, impl_->dirt), programs.wavefrontTrace(),
+                             settings.width, settings.height);
+      ++out.wavefrontSamples;
+    } else {
+      programs.pathTracer(settings.physical, impl_->dirt).dispatch2d(settings.width, settings.height);
+      // Each sample reads the sum the previous one wrote.
+      BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT));
+    }
     out.samples = sample + 1;
     if (progress) {
       BT_GL(glFinish()); // so the callback sees real progress and timing

@@ -70,6 +70,17 @@ struct GlLighting {
   DirtSettings dirt;       // worldspawn dirt; enabled builds the faithful program with BT_FAITHFUL_DIRT
 };
 
+// The two forms of the path tracer; both draw the same image for the same settings.
+//   Megakernel: shaders/pathtrace.comp, one program that runs each path to its end, the
+//               fastest, but the slowest to compile (NVIDIA: 1.2-1.8 s without its cache).
+//   Wavefront:  pathtrace.comp's shade kernel and shaders/wavefront_trace.comp, two smaller
+//               programs the driver compiles in parallel (shaders/wavefront.glsl), dispatched
+//               by turns, one ray per path each turn: for the first images while the
+//               megakernel compiles.
+//   Auto:       each sample with the megakernel once the driver has it, else with the wavefront
+//               kernels where TracerPrograms started them for this (never waits for the megakernel).
+enum class PathTracerForm { Auto, Megakernel, Wavefront };
+
 struct BeautySettings {
   int width = 640;
   int height = 360;
@@ -77,6 +88,7 @@ struct BeautySettings {
   uint32_t seed = 0;
   bool physical = false; // --lighting physical
   int bounces = 3;       // physical mode
+  PathTracerForm form = PathTracerForm::Auto;
 };
 
 // Mean linear radiance per pixel, rows top to bottom.
@@ -84,6 +96,7 @@ struct BeautyImage {
   int width = 0;
   int height = 0;
   int samples = 0;
+  int wavefrontSamples = 0; // of `samples`, those the wavefront kernels drew
   std::vector<glm::vec3> beauty;
 };
 
@@ -124,24 +137,37 @@ public:
 
   // Start building, without waiting (a no-op when started already). `dirt`: the faithful
   // program with faithful dirt's occlusion rays (BT_FAITHFUL_DIRT), for a level that uses dirt.
+  // The path tracer's wavefront kernels start with the megakernel where they can draw sooner:
+  // when the driver compiles on its own threads (a GPU; llvmpipe compiles at the first dispatch
+  // whatever the form) and the megakernel did not come from the program cache.
   void startPathTracer(bool physical, bool dirt = false);
+  void startWavefront(bool physical, bool dirt = false);
   void startAovs();
   // The finished program, built now if it was not started.
   ComputeProgram& pathTracer(bool physical, bool dirt = false);
+  ComputeProgram& wavefrontShade(bool physical, bool dirt = false);
+  ComputeProgram& wavefrontTrace();
   ComputeProgram& aovs();
   ComputeProgram& rayBench();
+  // PathTracerForm::Auto's choice for the next sample: the wavefront kernels were started and
+  // the megakernel is still compiling.
+  bool wavefrontWhileCompiling(bool physical, bool dirt = false);
 
 private:
   ComputeProgram& finished(std::unique_ptr<ComputeProgram>& slot);
-  void start(std::unique_ptr<ComputeProgram>& slot, const char* shader, bool physical, bool dirt);
+  void start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines);
+  std::vector<std::string> pathDefines(bool physical, bool dirt) const;
   std::unique_ptr<ComputeProgram>& pathSlot(bool physical, bool dirt);
+  std::unique_ptr<ComputeProgram>& shadeSlot(bool physical, bool dirt);
 
   TextureMode mode_;
   TraceLayout layout_;
   ProgramCache cache_;
+  bool wavefrontFirst_; // startPathTracer starts the wavefront kernels too (driver compiles in parallel, a GPU)
   // One program per lighting mode (BT_LIGHTING_PHYSICAL chosen at build), so each compiles
-  // only its own integrator, and the faithful one with dirt: faithful, physical, faithful + dirt.
-  std::unique_ptr<ComputeProgram> path_[3], aov_, rayBench_;
+  // only its own integrator, and the faithful one with dirt: faithful, physical, faithful + dirt;
+  // the same for the wavefront form's shade kernels. Its trace kernel serves every mode.
+  std::unique_ptr<ComputeProgram> path_[3], shade_[3], trace_, aov_, rayBench_;
 };
 
 struct ProgramBuild {
@@ -174,11 +200,16 @@ public:
   // Builds the path tracer's program for one lighting mode (BeautySettings::physical) now, for
   // images of width x height (renderBeauty otherwise builds it on first use).
   ProgramBuild buildPathTracer(int width, int height, bool physical);
+  // The same for the wavefront form's two kernels.
+  ProgramBuild buildWavefront(int width, int height, bool physical);
 
   AovImages renderAovs(const CameraBasis& camera, int width, int height);
 
-  // settings.spp samples per pixel, one dispatch each, summed in an RGBA32F image. progress(n)
-  // is called after every sample with the samples done; returning false stops early (--time).
+  // settings.spp samples per pixel, summed in an RGBA32F image: one dispatch each with the
+  // megakernel, or rounds of trace and shade dispatches with the wavefront kernels (settings.form
+  // picks; Auto switches to the megakernel at the first sample after its compile ends).
+  // progress(n) is called after every sample with the samples done; returning false stops
+  // early (--time).
   BeautyImage renderBeauty(const CameraBasis& camera, const BeautySettings& settings,
                            const std::function<bool(int)>& progress = {});
 

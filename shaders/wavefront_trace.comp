@@ -1,0 +1,22 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#ifdef BT_TEXTURES_BINDLESS
+#extension GL_ARB_bindless_texture : require
+#endif
+// The wavefront path tracer's trace kernel (wavefront.glsl): each live pixel's ray to its hit,
+// the one call of the traversal in this program. No lighting mode: the ray carries its
+// pass flags, so one program serves faithful and physical shade kernels.
+#include "scene_buffers.glsl"
+#include "trace.glsl"
+#include "camera.glsl"
+#include "wavefront.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+void main() {
+  int slot = wavefrontSlot(ivec2(gl_GlobalInvocationID.xy));
+  if (slot < 0) return;
+  WavefrontRay ray = wavefrontRays[slot];
+  if (ray.live == 0u) return;
+  wavefrontHits[slot] = traceRay(makeTraceRay(ray.origin, ray.dir, ray.tMin, ray.tMax), ray.anyHit != 0u, ray.passFlags);
+}
