@@ -9,7 +9,7 @@
 #   3. prints the `run` call that executes .device-bundle/run-on-device.sh on the GPU machine:
 #      the GL tests with bindless textures forced and again with texture arrays, then
 #      gl_bench on the map with each texture path (NVIDIA's own shader cache off, so its
-#      cold first image is a real compile).
+#      cold first image is a real compile). `run-on-device.sh quick` runs the benchmark alone.
 # The GL loader packages (libEGL, libGL, libglvnd, ...) travel in .gl/, fetched once as
 # /work/.library/device/README.md describes; the NVIDIA driver supplies the rest there.
 #
@@ -52,6 +52,15 @@ out=\${OUT:-/tmp/out}
 mkdir -p "\$out"
 nvidia-smi -L
 cd .device-bundle
+# "run-on-device.sh quick": the benchmark alone, cold (NVIDIA's shader cache off), in both
+# lighting modes, for quick comparisons of the first image.
+if [ "\${1:-}" = quick ]; then
+  for lighting in faithful physical; do
+    echo "== gl_bench $map_rel, bindless, \$lighting, cold"
+    __GL_SHADER_DISK_CACHE=0 ./gl_bench map.json 1280x720 bindless \$lighting 1 2>&1 | tee -a \$out/bench_quick.log
+  done
+  exit 0
+fi
 # Full logs go to \$out (they come back as files); the summaries to the output.
 echo "== GL tests, bindless forced (GL debug output on)"
 BT_GL_DEBUG=1 BT_GL_TEXTURES=bindless ./gl_tests >\$out/gl_tests_bindless.log 2>&1

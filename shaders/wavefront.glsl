@@ -20,8 +20,9 @@ struct WavefrontRay {
 
 layout(std430, binding = 11) buffer WavefrontRays { WavefrontRay wavefrontRays[]; };
 layout(std430, binding = 12) buffer WavefrontHits { Hit wavefrontHits[]; };
-// Paths still live after a shade dispatch: the host clears it before each and stops at 0.
-layout(std430, binding = 14) buffer WavefrontLiveCount { uint wavefrontLive; };
+// Paths ended in this sample: the host clears it at the start and stops when all have ended.
+// (One atomic per path, not one per live path and round.)
+layout(std430, binding = 14) buffer WavefrontEndedCount { uint wavefrontEnded; };
 
 // The pixel's slot, or -1 outside the image (the dispatch covers whole 8 x 8 groups).
 int wavefrontSlot(ivec2 pixel) {

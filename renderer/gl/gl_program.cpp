@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <filesystem>
 #include <set>
 #include <sstream>
 
@@ -152,6 +153,13 @@ void applyBindings(GLuint program, const std::vector<ProgramBindingPoint>& bindi
 }
 
 } // namespace
+
+bool programCached(std::string_view name, std::span<const std::string> defines, const ProgramCache& cache) {
+  if (!cache.enabled() || programBinaryFormats().empty()) return false;
+  const std::string key = programCacheKey(assembleShader(name, defines), glString(GL_VENDOR), glString(GL_RENDERER), glString(GL_VERSION));
+  std::error_code ignored;
+  return std::filesystem::exists(cache.fileFor(name, key), ignored);
+}
 
 ComputeProgram::ComputeProgram(std::string_view name, std::span<const std::string> defines, const ProgramCache& cache)
     : ComputeProgram(Deferred{}, name, defines, cache) {

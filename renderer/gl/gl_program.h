@@ -26,6 +26,11 @@ const std::vector<ShaderFile>& embeddedShaders();
 // number is x's index in embeddedShaders(), so a driver's "N:line" message names the file.
 std::string assembleShader(std::string_view name, std::span<const std::string> defines);
 
+// Whether `cache` has an entry for shaders/<name> built with `defines` on the current context's
+// driver, which ComputeProgram would load rather than compile (a file the driver then rejects
+// is compiled after all). Reads no binary.
+bool programCached(std::string_view name, std::span<const std::string> defines, const ProgramCache& cache);
+
 // A linked compute program, loaded from `cache` when it holds a binary the driver accepts, else
 // compiled (and stored there). Throws GlError with the driver's log, the source numbers
 // translated to file names, when it does not compile or link.

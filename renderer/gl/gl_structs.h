@@ -31,7 +31,7 @@ enum Binding : uint32_t {
   kBindingWavefrontRays = 11,
   kBindingWavefrontHits = 12,
   kBindingWavefrontPaths = 13,
-  kBindingWavefrontLiveCount = 14,
+  kBindingWavefrontEndedCount = 14,
 };
 
 // The brushes, slanted-side lists and faces are bvh/trace_scene.h's TraceScene arrays

@@ -48,13 +48,14 @@ private:
 };
 
 // The per-pixel state of the wavefront form (shaders/wavefront.glsl): the ray each path waits
-// for, its hit, the path itself, and the count of paths still live. Sized for the largest image
+// for, its hit, the path itself, and the count of paths ended. Sized for the largest image
 // drawn so far; the struct strides are the shade kernel's (std430, read from the program).
 class WavefrontBuffers {
 public:
   WavefrontBuffers() = default;
   ~WavefrontBuffers() {
     for (Buffer& b : buffers_) glDeleteBuffers(1, &b.id);
+    glDeleteBuffers(1, &readBack_);
   }
   WavefrontBuffers(const WavefrontBuffers&) = delete;
   WavefrontBuffers& operator=(const WavefrontBuffers&) = delete;
@@ -66,21 +67,28 @@ public:
     reserve(buffers_[1], pixels * arrayStride(program, "wavefrontHits[0].t"));
     reserve(buffers_[2], pixels * arrayStride(program, "wavefrontPaths[0].rng.state"));
     reserve(buffers_[3], sizeof(uint32_t));
+    // The count is read through a copy: a buffer read back directly is moved to host memory
+    // by NVIDIA's driver, where every shader atomic on it would cross the bus.
+    if (readBack_ == 0) {
+      BT_GL(glCreateBuffers(1, &readBack_));
+      BT_GL(glNamedBufferStorage(readBack_, sizeof(uint32_t), nullptr, GL_CLIENT_STORAGE_BIT));
+    }
   }
 
   void bind() const {
-    const Binding points[] = {kBindingWavefrontRays, kBindingWavefrontHits, kBindingWavefrontPaths, kBindingWavefrontLiveCount};
+    const Binding points[] = {kBindingWavefrontRays, kBindingWavefrontHits, kBindingWavefrontPaths, kBindingWavefrontEndedCount};
     for (int i = 0; i < 4; ++i) BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, points[i], buffers_[i].id));
   }
 
-  void clearLiveCount() const {
+  void clearEndedCount() const {
     const uint32_t zero = 0;
     BT_GL(glClearNamedBufferData(buffers_[3].id, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero));
   }
-  uint32_t liveCount() const {
-    uint32_t live = 0;
-    BT_GL(glGetNamedBufferSubData(buffers_[3].id, 0, sizeof live, &live));
-    return live;
+  uint32_t endedCount() const {
+    BT_GL(glCopyNamedBufferSubData(buffers_[3].id, readBack_, 0, 0, sizeof(uint32_t)));
+    uint32_t ended = 0;
+    BT_GL(glGetNamedBufferSubData(readBack_, 0, sizeof ended, &ended));
+    return ended;
   }
 
 private:
@@ -107,21 +115,22 @@ private:
     b.bytes = bytes;
   }
 
-  Buffer buffers_[4]; // rays, hits, paths, live count
+  Buffer buffers_[4]; // rays, hits, paths, ended count
+  GLuint readBack_ = 0;
 };
 
-// Shader writes (storage buffers, the image) visible to the next dispatch, and to the live
-// count's clear and read-back.
+// Shader writes (storage buffers, the image) visible to the next dispatch, and to the ended
+// count's copy.
 void wavefrontBarrier() {
   BT_GL(glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT));
 }
 
 // Each round of trace and shade moves every live path one ray on (a hidden face skipped is a
 // ray too): a path ends within (bounces + 1) surfaces x (lights + dirt rays + 1) rays x
-// MAX_SKIPS; far beyond that, something is wrong. The live count is read back every few rounds
-// only, as each read waits for the GPU.
+// MAX_SKIPS; far beyond that, something is wrong. The count of ended paths is read back every
+// few rounds only, as each read waits for the GPU.
 constexpr int kWavefrontMaxRounds = 100000;
-constexpr int kRoundsPerLiveCheck = 4;
+constexpr int kRoundsPerCheck = 4;
 
 std::vector<GpuMaterial> withShadingFlags(std::vector<GpuMaterial> materials, const GlLighting& lighting) {
   if (lighting.materialFlags.empty()) return materials;
@@ -217,8 +226,12 @@ void TracerPrograms::startPathTracer(bool physical, bool dirt) {
   dirt = dirt && !physical;
   std::unique_ptr<ComputeProgram>& slot = pathSlot(physical, dirt);
   if (slot) return;
-  start(slot, "pathtrace.comp", pathDefines(physical, dirt));
-  if (wavefrontFirst_ && !slot->loadedFromCache()) startWavefront(physical, dirt);
+  // The wavefront kernels are queued first, so that the driver's threads take them first; a
+  // megakernel from the program cache needs none.
+  const std::vector<std::string> defines = pathDefines(physical, dirt);
+  if (wavefrontFirst_ && !programCached("pathtrace.comp", defines, cache_)) startWavefront(physical, dirt);
+  start(slot, "pathtrace.comp", defines);
+  if (wavefrontFirst_ && !slot->loadedFromCache()) startWavefront(physical, dirt); // the driver refused the cached binary
 }
 
 void TracerPrograms::startWavefront(bool physical, bool dirt) {
@@ -250,6 +263,12 @@ ComputeProgram& TracerPrograms::aovs() {
 ComputeProgram& TracerPrograms::rayBench() {
   start(rayBench_, "raybench.comp", shaderDefines(mode_, layout_));
   return finished(rayBench_);
+}
+
+TracerPrograms::WavefrontState TracerPrograms::wavefrontState(bool physical, bool dirt) {
+  std::unique_ptr<ComputeProgram>& shade = shadeSlot(physical, dirt && !physical);
+  if (!shade || !trace_) return {};
+  return {true, shade->ready(), trace_->ready()};
 }
 
 bool TracerPrograms::wavefrontWhileCompiling(bool physical, bool dirt) {
@@ -314,11 +333,13 @@ struct GlTracer::Impl {
   }
 
   // One sample with the wavefront kernels (camera set): the shade kernel starts every pixel's
-  // path at the camera, then trace and shade by turns until no path is live; each path adds its
+  // path at the camera, then trace and shade by turns until every path has ended; each adds its
   // sample to the image as it ends.
   void wavefrontSample(ComputeProgram& shade, ComputeProgram& trace, int width, int height) {
+    const size_t paths = static_cast<size_t>(width) * static_cast<size_t>(height);
     wavefront.prepare(shade, width, height);
     wavefront.bind();
+    wavefront.clearEndedCount();
     const GLuint shadeProgram = shade.id();
     BT_GL(glProgramUniform1ui(shadeProgram, 0, 1u)); // wavefrontStart
     shade.dispatch2d(width, height);
@@ -327,15 +348,14 @@ struct GlTracer::Impl {
     for (int round = 1;; ++round) {
       trace.dispatch2d(width, height);
       wavefrontBarrier();
-      wavefront.clearLiveCount();
       shade.dispatch2d(width, height);
       wavefrontBarrier();
-      if (round % kRoundsPerLiveCheck != 0) continue;
-      const uint32_t live = wavefront.liveCount();
-      if (live == 0) return;
+      if (round % kRoundsPerCheck != 0) continue;
+      const uint32_t ended = wavefront.endedCount();
+      if (ended >= paths) return;
       if (round >= kWavefrontMaxRounds)
-        throw GlError(fmt::format("the wavefront path tracer still has {} of {} paths live after {} rounds", live,
-                                  static_cast<size_t>(width) * height, round));
+        throw GlError(fmt::format("the wavefront path tracer still has {} of {} paths live after {} rounds", paths - ended,
+                                  paths, round));
     }
   }
 };
@@ -377,10 +397,11 @@ ProgramBuild GlTracer::buildPathTracer(int width, int height, bool physical) {
 }
 
 ProgramBuild GlTracer::buildWavefront(int width, int height, bool physical) {
-  const auto start = std::chrono::steady_clock::now();
   ComputeProgram& shade = impl_->programs->wavefrontShade(physical, impl_->dirt);
   ComputeProgram& trace = impl_->programs->wavefrontTrace();
-  // As buildPathTracer: one dispatch of each with nothing to do finishes the driver's work.
+  // As buildPathTracer: one dispatch of each with nothing to do finishes the driver's work; the
+  // per-pixel buffers are made here too.
+  const auto dispatchStart = std::chrono::steady_clock::now();
   StorageImage target(GL_RGBA32F, std::max(width, 1), std::max(height, 1));
   target.bindImage(0, GL_READ_WRITE);
   impl_->setWorld(physical, 0);
@@ -390,7 +411,8 @@ ProgramBuild GlTracer::buildWavefront(int width, int height, bool physical) {
   shade.dispatch2d(1, 1);
   trace.dispatch2d(1, 1);
   BT_GL(glFinish());
-  return {std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(),
+  const double dispatchMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - dispatchStart).count();
+  return {std::max(shade.buildMilliseconds(), trace.buildMilliseconds()) + dispatchMs,
           shade.loadedFromCache() && trace.loadedFromCache()};
 }
 

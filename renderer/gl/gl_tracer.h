@@ -152,6 +152,13 @@ public:
   // PathTracerForm::Auto's choice for the next sample: the wavefront kernels were started and
   // the megakernel is still compiling.
   bool wavefrontWhileCompiling(bool physical, bool dirt = false);
+  // Where the wavefront kernels' compile stands, without waiting (for `brushtrace bench`).
+  struct WavefrontState {
+    bool started = false;
+    bool shadeReady = false;
+    bool traceReady = false;
+  };
+  WavefrontState wavefrontState(bool physical, bool dirt = false);
 
 private:
   ComputeProgram& finished(std::unique_ptr<ComputeProgram>& slot);
