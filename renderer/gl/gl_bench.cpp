@@ -50,8 +50,9 @@ int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& s
     programs->setCache(gl::ProgramCache(cacheDir));
     programs->startPathTracer(s.physical);
     // The level is imported on a worker thread while this one waits for the wavefront kernels:
-    // NVIDIA's driver does part of a compile on the thread that waits for it (H100: the faithful
-    // first image 0.49 s this way, 0.86-1.2 s with the import here and the wait after it).
+    // NVIDIA's driver does part of a compile on the thread that waits for it, even after it
+    // reports the compile complete (H100, faithful, cold: the first image 0.49-0.83 s this way,
+    // 0.86-1.2 s with the import here and the wait after it).
     const bool wavefront = programs->wavefrontState(s.physical).started;
     double importSeconds = 0.0;
     auto imported = std::async(std::launch::async, [&] {
