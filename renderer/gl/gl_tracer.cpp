@@ -191,9 +191,10 @@ TracerPrograms::TracerPrograms(GlContext& context, TextureMode textures, TraceLa
 
 TracerPrograms::~TracerPrograms() = default;
 
-void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines) {
+void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines,
+                           bool cached) {
   if (slot) return;
-  slot = std::make_unique<ComputeProgram>(ComputeProgram::Deferred{}, shader, defines, cache_);
+  slot = std::make_unique<ComputeProgram>(ComputeProgram::Deferred{}, shader, defines, cached ? cache_ : ProgramCache{});
 }
 
 std::vector<std::string> TracerPrograms::pathDefines(bool physical, bool dirt) const {
@@ -238,8 +239,11 @@ void TracerPrograms::startWavefront(bool physical, bool dirt) {
   dirt = dirt && !physical;
   std::vector<std::string> defines = pathDefines(physical, dirt);
   defines.emplace_back("BT_WAVEFRONT_SHADE");
-  start(shadeSlot(physical, dirt), "pathtrace.comp", std::move(defines));
-  start(trace_, "wavefront_trace.comp", shaderDefines(mode_, layout_));
+  // Not cached: a start that finds the megakernel in the cache needs no wavefront kernels, and
+  // storing them would put their binaries' retrieval (NVIDIA: tenths of a second) before the
+  // first image they are for.
+  start(shadeSlot(physical, dirt), "pathtrace.comp", std::move(defines), false);
+  start(trace_, "wavefront_trace.comp", shaderDefines(mode_, layout_), false);
 }
 
 void TracerPrograms::startAovs() { start(aov_, "aov.comp", shaderDefines(mode_, layout_)); }
@@ -253,7 +257,7 @@ ComputeProgram& TracerPrograms::wavefrontShade(bool physical, bool dirt) {
   return finished(shadeSlot(physical, dirt && !physical));
 }
 ComputeProgram& TracerPrograms::wavefrontTrace() {
-  start(trace_, "wavefront_trace.comp", shaderDefines(mode_, layout_));
+  start(trace_, "wavefront_trace.comp", shaderDefines(mode_, layout_), false);
   return finished(trace_);
 }
 ComputeProgram& TracerPrograms::aovs() {

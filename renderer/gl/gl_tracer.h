@@ -162,7 +162,7 @@ public:
 
 private:
   ComputeProgram& finished(std::unique_ptr<ComputeProgram>& slot);
-  void start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines);
+  void start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines, bool cached = true);
   std::vector<std::string> pathDefines(bool physical, bool dirt) const;
   std::unique_ptr<ComputeProgram>& pathSlot(bool physical, bool dirt);
   std::unique_ptr<ComputeProgram>& shadeSlot(bool physical, bool dirt);
