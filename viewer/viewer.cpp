@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <future>
 #include <set>
 
 namespace bt {
@@ -46,11 +47,22 @@ std::vector<fs::path> filesOf(const Scene& scene) {
 }
 
 // `programs` outlive the level: a reload uploads the new level and keeps the compiled programs.
+// The level is imported on a worker thread while this one waits for the wavefront kernels,
+// where they were started for the first images (`physical`: the lighting they are for): NVIDIA's
+// driver does part of a compile on the thread that waits for it (`brushtrace bench` measures
+// this). The upload needs this thread's GL context.
 std::unique_ptr<Level> loadLevel(const ViewerOptions& options, gl::GlContext& context,
-                                 const std::shared_ptr<gl::TracerPrograms>& programs) {
+                                 const std::shared_ptr<gl::TracerPrograms>& programs, bool physical) {
   auto level = std::make_unique<Level>();
-  level->scene = importScene(options.map, options.import);
-  level->render = buildRenderScene(level->scene, {}, level->scene.diagnostics);
+  auto imported = std::async(std::launch::async, [&] {
+    level->scene = importScene(options.map, options.import);
+    level->render = buildRenderScene(level->scene, {}, level->scene.diagnostics);
+  });
+  if (programs->wavefrontState(physical).started) {
+    programs->wavefrontShade(physical);
+    programs->wavefrontTrace();
+  }
+  imported.get();
   level->tracer = std::make_unique<gl::GlTracer>(context, level->scene, level->render.tracer, programs,
                                                  gl::lightingFor(level->render));
   level->files = filesOf(level->scene);
@@ -94,7 +106,7 @@ struct Viewer::Impl {
     // The path tracer compiles (on the driver's threads, where it has them) while the level loads.
     programs = std::make_shared<gl::TracerPrograms>(window.context(), options.textures);
     programs->startPathTracer(lighting == LightingMode::Physical);
-    level = loadLevel(options, window.context(), programs);
+    level = loadLevel(options, window.context(), programs, lighting == LightingMode::Physical);
     watcher.watch(level->files);
     const CameraPose pose = options.camera ? *options.camera : defaultCameraPose(level->scene);
     camera = FlyCamera(glm::dvec3(pose.origin), pose.pitch, pose.yaw);
@@ -190,7 +202,7 @@ struct Viewer::Impl {
   void reloadIfSaved() {
     if (watcher.poll().empty()) return;
     try {
-      level = loadLevel(options, window.context(), programs);
+      level = loadLevel(options, window.context(), programs, lighting == LightingMode::Physical);
       error.clear();
       ++reloads;
       restart();
