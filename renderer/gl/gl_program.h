@@ -53,9 +53,10 @@ public:
 
   // Waits for the driver and checks the result; throws GlError as the constructor does.
   void finish();
-  // Whether finish() would return without waiting for the driver's compile: asks the driver
-  // (GL_COMPLETION_STATUS_KHR) under GL_KHR_parallel_shader_compile, and is true without it
-  // (glCompileShader and glLinkProgram did the work in the constructor then).
+  // Whether the driver's compile is done: asks the driver (GL_COMPLETION_STATUS_KHR) under
+  // GL_KHR_parallel_shader_compile, and is true without it (glCompileShader and glLinkProgram
+  // did the work in the constructor then). NVIDIA's finish() may still take a few tenths of a
+  // second on the calling thread after this says done.
   bool ready();
 
   unsigned id() { finish(); return program_; }

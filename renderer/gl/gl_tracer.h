@@ -137,9 +137,9 @@ public:
 
   // Start building, without waiting (a no-op when started already). `dirt`: the faithful
   // program with faithful dirt's occlusion rays (BT_FAITHFUL_DIRT), for a level that uses dirt.
-  // The path tracer's wavefront kernels start with the megakernel where they can draw sooner:
-  // when the driver compiles on its own threads (a GPU; llvmpipe compiles at the first dispatch
-  // whatever the form) and the megakernel did not come from the program cache.
+  // The path tracer's wavefront kernels start with the megakernel (queued before it) where they
+  // can draw sooner: when the driver compiles on its own threads (a GPU; llvmpipe compiles at
+  // the first dispatch whatever the form) and the megakernel is not in the program cache.
   void startPathTracer(bool physical, bool dirt = false);
   void startWavefront(bool physical, bool dirt = false);
   void startAovs();
@@ -152,7 +152,10 @@ public:
   // PathTracerForm::Auto's choice for the next sample: the wavefront kernels were started and
   // the megakernel is still compiling.
   bool wavefrontWhileCompiling(bool physical, bool dirt = false);
-  // Where the wavefront kernels' compile stands, without waiting (for `brushtrace bench`).
+  // Where the wavefront kernels' compile stands, without waiting. Callers with other work
+  // before the first image (the import) do it on another thread and wait for these kernels
+  // meanwhile with wavefrontShade() and wavefrontTrace(): NVIDIA's driver does part of a
+  // compile on the thread that waits for it (`brushtrace bench`, the viewer).
   struct WavefrontState {
     bool started = false;
     bool shadeReady = false;
