@@ -55,6 +55,17 @@ TEST(ShaderBindings, LightGridBuffersMatchTheEnum) {
   EXPECT_EQ(bindings.at("Lights"), int(kBindingLights));
 }
 
+// GlTracer binds the wavefront form's per-pixel buffers (shaders/wavefront.glsl, pathtrace.comp).
+TEST(ShaderBindings, WavefrontBuffersMatchTheEnum) {
+  const std::map<std::string, int> bindings = storageBufferBindings();
+  for (const auto& [name, point] : {std::pair{"WavefrontRays", kBindingWavefrontRays}, std::pair{"WavefrontHits", kBindingWavefrontHits},
+                                    std::pair{"WavefrontPaths", kBindingWavefrontPaths},
+                                    std::pair{"WavefrontEndedCount", kBindingWavefrontEndedCount}}) {
+    ASSERT_TRUE(bindings.contains(name)) << name;
+    EXPECT_EQ(bindings.at(name), int(point)) << name;
+  }
+}
+
 // GlSceneBuffers binds the views on the TexelUnit units; the material texture arrays take units
 // 0 .. kMaxTextureArrays - 1, so a view there would be overwritten by GlTextures::bind.
 TEST(ShaderBindings, TexelViewsSitOnTheirUnitsAfterTheTextureArrays) {
