@@ -42,6 +42,10 @@ inline glm::vec3 faceNormal(const RenderScene& rs, uint32_t face) {
 // builds the tracer. `scene` must outlive the result.
 RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& options, Diagnostics& diagnostics);
 
+// Brush entities that qbsp merges into the world (worldspawn, func_group, func_detail*): they
+// cast shadows in `light`; the others are models of their own.
+bool mergedIntoWorld(std::string_view classname);
+
 // Face classification from a texture name and its Q2/Q3 surface attributes.
 uint32_t classifyTexture(std::string_view texture, const std::optional<SurfaceAttributes>& surface);
 
