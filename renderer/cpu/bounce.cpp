@@ -98,6 +98,8 @@ std::vector<glm::vec3> luxelPoints(const Face& face, const std::vector<dvec3>& p
   if (!(std::abs(det) > 1e-12)) return {glm::vec3(vertexMean(polygon))};
   const glm::dmat3 toWorld = glm::inverse(toTexture);
   const double height = face.plane.dist - glm::dot(n, frame.origin);
+  // Every luxel: a subset misses a spotlight's bright patch (deprecated/nobounce's pillars), and
+  // qbsp's subdivision keeps a face within 17 x 17 luxels.
   std::vector<glm::vec3> points;
   points.reserve(size_t(count[0]) * size_t(count[1]));
   for (int t = 0; t < count[1]; ++t)
@@ -186,6 +188,7 @@ std::vector<GpuLight> makeBounceLights(const RenderScene& rs, const std::vector<
   if (rs.world.bounces <= 0) return {};
   const std::vector<BounceFace> faces = bounceFaces(rs, contents);
   std::vector<GpuLight> all, previous;
+  LightGrid previousGrid; // which of the previous pass's lights reach a point (finite: the gate)
   for (int pass = 0; pass < rs.world.bounces; ++pass) {
     std::vector<std::optional<GpuLight>> made(faces.size());
     parallelFor(faces.size(), [&](size_t i) {
@@ -194,10 +197,17 @@ std::vector<GpuLight> makeBounceLights(const RenderScene& rs, const std::vector<
       const bool twoSided = rs.faceFlags[face.face] & kFaceLiquid;
       const std::vector<glm::vec3> points = luxelPoints(rs.scene->faces[face.face], face.polygon);
       glm::vec3 sum(0.0f);
+      std::vector<GpuLight> reaching;
       for (size_t k = 0; k < points.size(); ++k) {
         Rng rng = pixelRng(uint32_t(i), uint32_t(k), uint32_t(pass), kBounceSeed);
-        sum += pass == 0 ? faithfulBounceSourceLight(rs, points[k], n, rng, twoSided)
-                         : faithfulLightFrom(rs, previous, points[k], n, rng, twoSided);
+        if (pass == 0) {
+          sum += faithfulBounceSourceLight(rs, points[k], n, rng, twoSided);
+          continue;
+        }
+        reaching.clear();
+        for (uint32_t l : previousGrid.globalLights()) reaching.push_back(previous[l]);
+        for (uint32_t l : previousGrid.cellLights(points[k])) reaching.push_back(previous[l]);
+        sum += faithfulLightFrom(rs, reaching, points[k], n, rng, twoSided);
       }
       made[i] = bounceLight(rs, face, sum / float(points.size()));
     });
@@ -206,6 +216,7 @@ std::vector<GpuLight> makeBounceLights(const RenderScene& rs, const std::vector<
       if (l) previous.push_back(*l);
     if (previous.empty()) break; // "No bounces; indirect lighting halted"
     all.insert(all.end(), previous.begin(), previous.end());
+    if (pass + 1 < rs.world.bounces) previousGrid = buildLightGrid(previous, rs.tracer.bounds(), rs.world.scaledist);
   }
   return all;
 }

@@ -167,7 +167,7 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
     rs.lights.push_back(l);
   rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
   // `_bounce`: the compiler's bounce lights, made from the direct light the grid above gives.
-  if (rs.world.bounces > 0) {
+  if (rs.world.bounces > 0 && options.bounceLights) {
     const std::vector<GpuLight> bounced = makeBounceLights(rs, contents);
     rs.lights.insert(rs.lights.end(), bounced.begin(), bounced.end());
     rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);

@@ -17,6 +17,10 @@ namespace bt {
 struct RenderSceneOptions {
   LightOptions lights;
   bool showHidden = false; // draw clip/trigger/skip/hint/origin faces instead of skipping them
+  // Faithful mode's `_bounce` lights (bounce.h), made when the level asks for them: the direct
+  // light at every luxel of the level first (minutes on a large level with `_bounce 3`). A render
+  // that never lights faithfully (physical mode, AOVs only) leaves them out.
+  bool bounceLights = true;
 };
 
 struct RenderScene {
