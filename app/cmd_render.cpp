@@ -93,6 +93,7 @@ int runRender(const RenderOptions& o) {
 
   RenderSceneOptions sceneOptions;
   sceneOptions.showHidden = o.showHidden;
+  sceneOptions.bounceLights = o.lighting != "physical" && o.aov == "beauty"; // faithful _bounce only
   Diagnostics lightDiagnostics;
   const RenderScene renderScene = buildRenderScene(scene, sceneOptions, lightDiagnostics);
   // A level with faithful dirt renders with the faithful program that traces its occlusion rays.

@@ -128,6 +128,10 @@ enum class LightFormula : uint32_t {
   // _surface_radiosity 1): value / max(dist, 16)^2, times a half-Lambert term on both the
   // emitting face (`direction` is its normal) and the receiving one.
   SurfaceRadiosity = 6,
+  // Not a `delay` value either: one ericw-tools bounce light (renderer/cpu/bounce.h), a lit face
+  // re-emitting its mean direct light: value / max(dist, 128)^2, times the cosine on the emitting
+  // face (`direction` is its normal) and on the receiving one (anglescale 1).
+  Bounce = 7,
 };
 
 enum class LightType : uint32_t {
@@ -172,7 +176,7 @@ static_assert(offsetof(GpuLight, faithfulScale) == 76);
 
 constexpr uint32_t kLightFlagStartOff = 1u;  // spawnflags & 1 on a styled light: dark by default
 constexpr uint32_t kLightFlagBleed = 2u;     // `_bleed`: lights surfaces behind it too
-constexpr uint32_t kLightFlagFromSurface = 4u; // faithful-only point spread over a _surface template's faces
+constexpr uint32_t kLightFlagFromSurface = 4u; // faithful-only point light: a _surface template's point, or a bounce light
                                                // (physical mode lights those faces as area emitters instead)
 constexpr uint32_t kLightFlagFaceMinlight = 8u; // per-material _surface template (radiosity kind): in faithful
                                                 // mode its faces get value * faithfulScale * colour as minlight

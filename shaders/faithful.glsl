@@ -5,11 +5,17 @@ const float FORMULA_SCALE = 128.0;  // ericw-tools LF_SCALE
 const float OVERBRIGHT_ONE = 128.0; // the engine maps lightmap 128 to the texture's colour
 
 const float SURFACE_HOTSPOT_CLAMP = 16.0; // radiosity surface lights: ltface.cc's hotspot clamp
+const float BOUNCE_HOTSPOT_CLAMP = 128.0; // bounce lights: IndirectLightFace's hotspot clamp
+const float BOUNCE_GATE = 0.01;           // a bounce light's share below this in every channel is dropped
 
 float copyDistanceValue(GpuLight light, float dist, float scaledist) {
   float value = light.value;
   if (light.formula == FORMULA_SURFACE_RADIOSITY) {
     float d = max(dist, SURFACE_HOTSPOT_CLAMP);
+    return value / (d * d);
+  }
+  if (light.formula == FORMULA_BOUNCE) {
+    float d = max(dist, BOUNCE_HOTSPOT_CLAMP);
     return value / (d * d);
   }
   if (light.falloff > 0.0 && light.formula == FORMULA_LINEAR)
@@ -47,19 +53,25 @@ float spotTerm(GpuLight light, vec3 toLight) {
   return (cosAxis - light.cosOuter) / (light.cosInner - light.cosOuter);
 }
 
-// A radiosity surface light point: half-Lambert on the emitting face's side too.
+// A radiosity surface light point: half-Lambert on the emitting face's side too; a bounce light:
+// the plain cosine there.
 float emitterTerm(GpuLight light, vec3 toLight) {
-  if (light.formula != FORMULA_SURFACE_RADIOSITY) return 1.0;
+  bool radiosity = light.formula == FORMULA_SURFACE_RADIOSITY;
+  if (!radiosity && light.formula != FORMULA_BOUNCE) return 1.0;
   float cosEmit = -dot(light.direction, toLight);
-  return cosEmit < 0.0 ? 0.0 : angleTerm(cosEmit, 0.5);
+  if (cosEmit < 0.0) return 0.0;
+  return radiosity ? angleTerm(cosEmit, 0.5) : cosEmit;
 }
 
 float pointLightValue(GpuLight light, vec3 normal, vec3 toLight, float dist, float scaledist) {
   float cosIncidence = dot(toLight, normal);
   if ((light.flags & LIGHT_FLAG_BLEED) != 0u) cosIncidence = abs(cosIncidence);
   if (cosIncidence < 0.0) return 0.0;
-  return distanceValue(light, dist, scaledist) * angleTerm(cosIncidence, light.anglescale) * spotTerm(light, toLight) *
-         emitterTerm(light, toLight);
+  float value = distanceValue(light, dist, scaledist) * angleTerm(cosIncidence, light.anglescale) *
+                spotTerm(light, toLight) * emitterTerm(light, toLight);
+  vec3 c = light.color;
+  if (light.formula == FORMULA_BOUNCE && value * max(c.x, max(c.y, c.z)) <= BOUNCE_GATE) return 0.0;
+  return value;
 }
 
 // The floor a face's own radiosity _surface template puts under its light.

@@ -185,8 +185,7 @@ struct Path {
   // faithfulBounce, radianceFaithful).
   vec3 lightSum;
   vec3 lightFloor;
-  vec3 lit;         // at the first surface, plus what _bounce brings
-  vec3 weight;      // _bounce: bouncescale and the colours seen so far
+  vec3 lit;         // the light sum with its floors
   vec3 texture;     // the first surface's texture colour (sRGB-encoded) ...
   vec3 fullbright;  // ... and its emissive texels
   // Physical mode (renderer/cpu radiancePhysical).
@@ -303,33 +302,18 @@ vec3 faithfulDisplay(Path path) {
   return srgbToLinear(display);
 }
 
-// A surface ray's result. False when the path ends here.
+// A surface ray's result. False when the path ends here. A faithful path is the camera ray's
+// surface only: the level's _bounce arrives there through its bounce lights (renderer/cpu/bounce.h).
 bool faithfulSurface(inout Path path, SurfaceHit hit) {
-  if (!hit.found) {
-    if (path.depth > 0) path.radiance = faithfulDisplay(path); // a _bounce ray into the void
-    return false;
-  }
+  if (!hit.found) return false;
   uint flags = faceFlags[hit.face];
-  // A _bounce ray ends at the sky.
-  if (path.depth > 0 && (flags & FACE_SKY) != 0u) {
-    path.radiance = faithfulDisplay(path);
+  path.texture = baseColorAt(hit.face, hit.position).rgb;
+  // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
+  if ((flags & FACE_SKY) != 0u || ((flags & FACE_LIQUID) != 0u && world.litwater == 0u)) {
+    path.radiance = srgbToLinear(path.texture);
     return false;
   }
-  // One read of the base colour for the camera and the bounce rays: every place that reads a
-  // texture is a copy of the sampling code, which the driver compiles once per copy.
-  vec3 color = baseColorAt(hit.face, hit.position).rgb;
-  if (path.depth == 0) {
-    path.texture = color;
-    // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
-    if ((flags & FACE_SKY) != 0u || ((flags & FACE_LIQUID) != 0u && world.litwater == 0u)) {
-      path.radiance = srgbToLinear(path.texture);
-      return false;
-    }
-    path.fullbright = emissiveAt(hit.face, hit.position);
-    path.weight = vec3(world.bouncescale);
-  } else {
-    path.weight *= color; // the surface's colour tints what the _bounce brings
-  }
+  path.fullbright = emissiveAt(hit.face, hit.position);
   path.face = hit.face;
   path.position = hit.position;
   path.normal = hit.normal;
@@ -343,24 +327,14 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
   return true;
 }
 
-// The surface's lights are all done: the next _bounce ray, or false at the path's end.
+// The surface's lights are all done: the floors, then what the game would draw. The path ends
+// (main() calls this where physical mode samples its next bounce).
 bool faithfulBounce(inout Path path, inout Rng rng) {
   vec3 light = max(max(path.lightSum, path.lightFloor), world.minlight * minlightDirtFactor(path));
-  if (path.depth == 0) {
-    // The _surface template's own faces: ericw-tools' face minlight (renderer/cpu faithfulFaceMinlight).
-    path.lit = max(light, surfaceFaceMinlight(surfaceLights[faces[path.face].material]) * minlightDirtFactor(path));
-  } else {
-    path.lit += path.weight * light;
-    path.weight *= world.bouncescale;
-  }
-  if (path.depth >= world.faithfulBounces) {
-    path.radiance = faithfulDisplay(path);
-    return false;
-  }
-  vec3 dir = sampleCosineHemisphere(path.normal, rngNext2(rng));
-  setRay(path, RAY_SURFACE, offsetPoint(path.position, path.normal), dir, INFINITY);
-  path.depth++;
-  return true;
+  // The _surface template's own faces: ericw-tools' face minlight (renderer/cpu faithfulFaceMinlight).
+  path.lit = max(light, surfaceFaceMinlight(surfaceLights[faces[path.face].material]) * minlightDirtFactor(path));
+  path.radiance = faithfulDisplay(path);
+  return false;
 }
 
 // ---- physical mode ---------------------------------------------------------------------

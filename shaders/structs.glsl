@@ -77,6 +77,7 @@ const uint FORMULA_INFINITE = 3u;
 const uint FORMULA_LOCAL_MIN = 4u;
 const uint FORMULA_INVERSE2A = 5u;
 const uint FORMULA_SURFACE_RADIOSITY = 6u;
+const uint FORMULA_BOUNCE = 7u; // an ericw-tools bounce light (renderer/cpu/bounce.h)
 const uint LIGHT_FLAG_BLEED = 2u;
 const uint LIGHT_FLAG_FROM_SURFACE = 4u;
 const uint LIGHT_FLAG_FACE_MINLIGHT = 8u;

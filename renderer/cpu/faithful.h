@@ -27,6 +27,12 @@ inline constexpr float kOverbrightOne = 128.0f;
 // Radiosity surface lights clamp the distance here (ltface.cc's "hotspot clamp"), so that a
 // luxel right next to an emitting face does not blow up.
 inline constexpr float kSurfaceHotspotClamp = 16.0f;
+// Bounce lights clamp the distance at 128 (IndirectLightFace's hotspot clamp) ...
+inline constexpr float kBounceHotspotClamp = 128.0f;
+// ... and the compiler drops a bounce light's share at a sample point when no channel of it is
+// above this (LightFace_SurfaceLight's gate at the default -emissivequality): so a bounce light
+// reaches a finite distance (light_grid.h faithfulReach).
+inline constexpr float kBounceGate = 0.01f;
 
 // Light value at `dist` from one copy of a point light, before the angle terms (GetLightValue).
 // `atten` is the light's `wait`; ericw-tools multiplies it with the global `_dist` (scaledist).
@@ -34,6 +40,10 @@ inline float copyDistanceValue(const GpuLight& light, float dist, float scaledis
   const float value = light.value;
   if (light.formula == uint32_t(LightFormula::SurfaceRadiosity)) {
     const float d = std::max(dist, kSurfaceHotspotClamp);
+    return value / (d * d);
+  }
+  if (light.formula == uint32_t(LightFormula::Bounce)) {
+    const float d = std::max(dist, kBounceHotspotClamp);
     return value / (d * d);
   }
   if (light.falloff > 0.0f && light.formula == uint32_t(LightFormula::Linear))
@@ -83,12 +93,18 @@ inline float spotTerm(const GpuLight& light, const glm::vec3& toLight) {
 
 // A radiosity surface light point shines into the half-space in front of its face, with the
 // same half-Lambert (0.5 + 0.5 cos) on its side as on the receiver's (ltface.cc
-// GetSurfaceLighting, "rescale"); 1 for every other light.
+// GetSurfaceLighting, "rescale"); a bounce light with the plain cosine (no rescale); 1 for every
+// other light.
 inline float emitterTerm(const GpuLight& light, const glm::vec3& toLight) {
-  if (light.formula != uint32_t(LightFormula::SurfaceRadiosity)) return 1.0f;
+  const bool radiosity = light.formula == uint32_t(LightFormula::SurfaceRadiosity);
+  if (!radiosity && light.formula != uint32_t(LightFormula::Bounce)) return 1.0f;
   const float cosEmit = -glm::dot(light.direction, toLight);
-  return cosEmit < 0.0f ? 0.0f : angleTerm(cosEmit, 0.5f);
+  if (cosEmit < 0.0f) return 0.0f;
+  return radiosity ? angleTerm(cosEmit, 0.5f) : cosEmit;
 }
+
+// The brightest channel a light's value is spread over: what the bounce gate compares.
+inline float maxChannel(const glm::vec3& c) { return std::max({c.x, c.y, c.z}); }
 
 // One point light's contribution at a surface point with unit normal `normal`
 // (GetLightValueWithAngle). `toLight` is unit, from the surface to the light.
@@ -97,8 +113,10 @@ inline float pointLightValue(const GpuLight& light, const glm::vec3& normal, con
   float cosIncidence = glm::dot(toLight, normal);
   if (light.flags & kLightFlagBleed) cosIncidence = std::abs(cosIncidence);
   if (cosIncidence < 0.0f) return 0.0f; // behind the surface: nothing, whatever the anglescale
-  return distanceValue(light, dist, scaledist) * angleTerm(cosIncidence, light.anglescale) * spotTerm(light, toLight) *
-         emitterTerm(light, toLight);
+  const float value = distanceValue(light, dist, scaledist) * angleTerm(cosIncidence, light.anglescale) *
+                      spotTerm(light, toLight) * emitterTerm(light, toLight);
+  if (light.formula == uint32_t(LightFormula::Bounce) && value * maxChannel(light.color) <= kBounceGate) return 0.0f;
+  return value;
 }
 
 // The minlight a face gets from its material's _surface template (value 0 = no template):

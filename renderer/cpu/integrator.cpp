@@ -229,19 +229,36 @@ glm::vec3 applyFloors(const RenderScene& rs, const glm::vec3& sum, const glm::ve
   return glm::max(glm::max(sum, localMin), glm::max(rs.world.minlight, faceMinlight) * minlightDirt);
 }
 
+// Which lights a faithful sum takes: all of them with the floors (what a surface shows), or what
+// ericw-tools' bounce re-emits (ltface.cc: the lights that add to a lightmap's bounce_color in the
+// direct pass): positive lights, no local minlight, style 0 unless `_bouncestyled`, no floors.
+enum class FaithfulLights { Shown, BounceSources };
+
+bool feedsBounce(const GpuLight& light, const WorldLighting& world) {
+  if (light.value <= 0.0f || light.formula == uint32_t(LightFormula::Bounce)) return false;
+  if (light.type == uint32_t(LightType::Point) && light.formula == uint32_t(LightFormula::LocalMin)) return false;
+  return world.bouncestyled || lightStyle(light) == 0;
+}
+
 // The faithful light sum at p: the dirt occlusion first, then every light of the level (the
 // reference) or the grid's lists for p, then the floors.
-glm::vec3 faithfulSum(const RenderScene& rs, bool fromGrid, const Receiver& r, const glm::vec3& faceMinlight, Rng& rng) {
+glm::vec3 faithfulSum(const RenderScene& rs, bool fromGrid, const Receiver& r, const glm::vec3& faceMinlight, Rng& rng,
+                      FaithfulLights which = FaithfulLights::Shown) {
   const float occlusion = faithfulOcclusion(rs, r.p, r.n, rng);
   glm::vec3 sum(0.0f), localMin(0.0f);
+  auto add = [&](const GpuLight& light) {
+    if (which == FaithfulLights::BounceSources && !feedsBounce(light, rs.world)) return;
+    addFaithfulLight(rs, light, r, occlusion, rng, sum, localMin);
+  };
   if (!fromGrid) {
-    for (const GpuLight& light : rs.lights) addFaithfulLight(rs, light, r, occlusion, rng, sum, localMin);
+    for (const GpuLight& light : rs.lights) add(light);
   } else {
     const LightGrid& grid = rs.lightGrid;
-    for (uint32_t i : grid.fixedLights()) addFaithfulLight(rs, rs.lights[i], r, occlusion, rng, sum, localMin);
-    for (uint32_t i : grid.globalLights()) addFaithfulLight(rs, rs.lights[i], r, occlusion, rng, sum, localMin);
-    for (uint32_t i : grid.cellLights(r.p)) addFaithfulLight(rs, rs.lights[i], r, occlusion, rng, sum, localMin);
+    for (uint32_t i : grid.fixedLights()) add(rs.lights[i]);
+    for (uint32_t i : grid.globalLights()) add(rs.lights[i]);
+    for (uint32_t i : grid.cellLights(r.p)) add(rs.lights[i]);
   }
+  if (which == FaithfulLights::BounceSources) return sum;
   return applyFloors(rs, sum, localMin, faceMinlight, occlusion);
 }
 
@@ -259,6 +276,19 @@ glm::vec3 faithfulLightFromGrid(const RenderScene& rs, const glm::vec3& p, const
   return faithfulSum(rs, true, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng);
 }
 
+glm::vec3 faithfulBounceSourceLight(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided) {
+  return faithfulSum(rs, true, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng, FaithfulLights::BounceSources);
+}
+
+glm::vec3 faithfulLightFrom(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p, const glm::vec3& n,
+                            Rng& rng, bool twoSided) {
+  const Receiver r{p, n, twoSided};
+  const float occlusion = faithfulOcclusion(rs, p, n, rng);
+  glm::vec3 sum(0.0f), localMin(0.0f);
+  for (const GpuLight& light : lights) addFaithfulLight(rs, light, r, occlusion, rng, sum, localMin);
+  return sum;
+}
+
 glm::vec3 faithfulFaceMinlight(const RenderScene& rs, uint32_t face) {
   const uint32_t m = gpuFace(rs, face).material;
   return m < rs.surfaceLights.size() ? faithful::surfaceFaceMinlight(rs.surfaceLights[m]) : glm::vec3(0.0f);
@@ -266,26 +296,13 @@ glm::vec3 faithfulFaceMinlight(const RenderScene& rs, uint32_t face) {
 
 namespace {
 
-// Faithful bounce (_bounce N): light reflected off other surfaces, in light units, the surface
-// colour as ericw-tools' bounce uses it (texture colour x _bouncescale).
 // The light sum at a faithful hit: from the grid's lists when rendering, or by the exhaustive
-// loop (the reference the grid must reproduce). Lit liquids take light from both sides.
+// loop (the reference the grid must reproduce). Lit liquids take light from both sides. A level
+// with `_bounce` has its bounce lights among rs.lights (bounce.h), summed like the others.
 glm::vec3 faithfulLight(const RenderScene& rs, const IntegratorSettings& settings, const SurfaceHit& hit,
                         const glm::vec3& faceMinlight, Rng& rng) {
   const bool twoSided = rs.faceFlags[hit.face] & kFaceLiquid;
   return faithfulSum(rs, settings.lightSelection, Receiver{hit.position, hit.normal, twoSided}, faceMinlight, rng);
-}
-
-glm::vec3 faithfulBounce(const RenderScene& rs, const IntegratorSettings& settings, const glm::vec3& p, const glm::vec3& n,
-                         int depth, Rng& rng) {
-  if (depth <= 0) return glm::vec3(0.0f);
-  const glm::vec3 dir = sampleCosineHemisphere(n, rng.next2());
-  const SurfaceHit hit = traceVisible(rs, Ray{offsetPoint(p, n), 0.0f, dir, std::numeric_limits<float>::infinity()});
-  if (!hit.found || (rs.faceFlags[hit.face] & kFaceSky)) return glm::vec3(0.0f);
-  const glm::vec3 color = glm::vec3(baseColorAt(rs, hit.face, hit.position));
-  const glm::vec3 light = faithfulLight(rs, settings, hit, glm::vec3(0.0f), rng) +
-                          faithfulBounce(rs, settings, hit.position, hit.normal, depth - 1, rng);
-  return color * light * rs.world.bouncescale;
 }
 
 glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, Rng& rng) {
@@ -296,8 +313,7 @@ glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& sett
   // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
   if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater)) return srgbToLinear(texture);
 
-  glm::vec3 light = faithfulLight(rs, settings, hit, faithfulFaceMinlight(rs, hit.face), rng);
-  if (rs.world.bounces > 0) light += faithfulBounce(rs, settings, hit.position, hit.normal, rs.world.bounces, rng);
+  const glm::vec3 light = faithfulLight(rs, settings, hit, faithfulFaceMinlight(rs, hit.face), rng);
   // The compiler scales a coloured sum so its brightest channel fits in 255, keeping the hue.
   glm::vec3 stored = light * rs.world.range;
   const float peak = std::max({stored.x, stored.y, stored.z});

@@ -7,13 +7,16 @@
 
 #include <glm/vec3.hpp>
 
+#include <span>
+
 namespace bt {
 
 enum class LightingMode { Faithful, Physical };
 
 struct IntegratorSettings {
   LightingMode mode = LightingMode::Faithful;
-  int bounces = 3;        // physical: indirect bounces after the first hit; faithful: uses _bounce
+  int bounces = 3;        // physical: indirect bounces after the first hit (faithful mode bounces as the
+                          // level's `_bounce` asks, through bounce lights: bounce.h)
   // true: the light grid's lists (faithful) and one selected point light per hit (physical);
   // false: every light at every hit, the reference both converge to (tests, benchmarks).
   bool lightSelection = true;
@@ -69,6 +72,17 @@ float faithfulDirtOcclusion(const RenderScene& rs, const glm::vec3& p, const glm
 // loop from O(lights) to the few lights that can reach the point.
 glm::vec3 faithfulLightFromGrid(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng,
                                 bool twoSided = false);
+
+// What ericw-tools' bounce re-emits of the light at p (ltface.cc's bounce_color, from the grid's
+// lists): the positive lights of style 0 (any style with `_bouncestyled`), no local minlight, no
+// floors, no bounce lights. bounce.h averages it over each face.
+glm::vec3 faithfulBounceSourceLight(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng,
+                                    bool twoSided = false);
+
+// The sum of `lights` alone at p (each with its shadow ray and dirt), no floors: a later bounce
+// pass takes what the previous pass's bounce lights brought.
+glm::vec3 faithfulLightFrom(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p, const glm::vec3& n,
+                            Rng& rng, bool twoSided = false);
 
 // Faithful mode: the floor a face's own radiosity `_surface` template puts under its light
 // (zero for every other face); the caller takes max(faithfulLightAt, this), with the minlight

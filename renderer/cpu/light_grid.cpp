@@ -1,4 +1,5 @@
 #include "renderer/cpu/light_grid.h"
+#include "renderer/cpu/faithful.h"
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -81,6 +82,9 @@ float faithfulReach(const GpuLight& light, float scaledist) {
     // faithful::distanceValue: _falloff wins; otherwise value - dist * wait * _dist hits 0.
     if (light.falloff > 0.0f) reach = light.falloff;
     else if (scaledist * light.atten > 0.0f) reach = std::abs(light.value) / (scaledist * light.atten);
+  } else if (light.formula == uint32_t(LightFormula::Bounce)) {
+    // faithful::pointLightValue: value / d^2 (both cosines at most 1) under the gate gives 0.
+    reach = std::sqrt(std::max(light.value * light.faithfulScale * faithful::maxChannel(light.color), 0.0f) / faithful::kBounceGate);
   }
   if (!std::isfinite(reach)) return reach;
   return (reach + maxJitter(light)) * (1.0f + kReachRelativeSlack) + kReachSlack;

@@ -139,7 +139,10 @@ WorldLighting readWorld(const Scene& scene, Diagnostics& diagnostics) {
   const glm::vec3 minColor = keys.color("_minlight_color", keys.color("_mincolor"));
   world.minlight = minlight * minColor;
   world.bounces = std::clamp(toInt(keys.number("_bounce", 0.0f)), 0, 8);
-  world.bouncescale = keys.number("_bouncescale", world.bouncescale);
+  // ericw-tools' ranges: _bouncescale 0..100, _bouncecolorscale 0..1.
+  world.bouncescale = std::clamp(keys.number("_bouncescale", world.bouncescale), 0.0f, 100.0f);
+  world.bouncecolorscale = std::clamp(keys.number("_bouncecolorscale", world.bouncecolorscale), 0.0f, 1.0f);
+  world.bouncestyled = keys.number("_bouncestyled", 0.0f) != 0.0f;
   world.litwater = keys.number("_litwater", 0.0f) != 0.0f;
   world.surflightRadiosity = keys.number("_surflight_radiosity", 0.0f) != 0.0f;
   world.surflightScale = keys.number("_surflightscale", world.surflightScale);

@@ -32,8 +32,10 @@ struct WorldLighting {
   float scaledist = 1.0f;     // `_dist`: scales distance in every falloff formula
   float anglescale = 0.5f;    // `_anglescale` (or `_anglesense`): default for every light and the sun
   glm::vec3 minlight{0.0f};   // `light` / `_minlight` * `_minlight_color`, in light units
-  int bounces = 0;            // `_bounce`
+  int bounces = 0;            // `_bounce`: passes of ericw-tools bounce lights (renderer/cpu/bounce.h)
   float bouncescale = 1.0f;   // `_bouncescale`
+  float bouncecolorscale = 0.0f; // `_bouncecolorscale`: 0 bounces grey (127), 1 the texture's mean colour
+  bool bouncestyled = false;  // `_bouncestyled`: styled lights bounce too
   bool litwater = false;      // `_litwater`: liquids receive light instead of drawing fullbright
   bool surflightRadiosity = false;  // `_surflight_radiosity`: default kind of every _surface template
   float surflightScale = 1.0f;      // `_surflightscale`: scales radiosity surface lights

@@ -1,4 +1,5 @@
 #include "renderer/cpu/render_scene.h"
+#include "renderer/cpu/bounce.h"
 #include "renderer/cpu/surface_lights.h"
 #include "scene/names.h"
 
@@ -18,11 +19,6 @@ namespace {
 constexpr int32_t kQ2SurfSky = 0x4, kQ2SurfWarp = 0x8, kQ2SurfHint = 0x100, kQ2SurfSkip = 0x200, kQ2SurfNodraw = 0x80;
 constexpr int32_t kQ2ContentsLiquid = 8 | 16 | 32; // lava, slime, water
 constexpr int32_t kQ2ContentsClip = 0x10000 | 0x20000; // player clip, monster clip
-
-// Brush entities that qbsp merges into the world and that therefore cast shadows in `light`.
-bool mergedIntoWorld(std::string_view classname) {
-  return classname == "worldspawn" || classname == "func_group" || classname.starts_with("func_detail");
-}
 
 GpuMaterial materialParams(const Material& m) {
   GpuMaterial g;
@@ -51,6 +47,10 @@ GpuMaterial materialParams(const Material& m) {
 }
 
 } // namespace
+
+bool mergedIntoWorld(std::string_view classname) {
+  return classname == "worldspawn" || classname == "func_group" || classname.starts_with("func_detail");
+}
 
 uint32_t classifyTexture(std::string_view texture, const std::optional<SurfaceAttributes>& surface) {
   const std::string name = lowercase(texture);
@@ -166,6 +166,12 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   for (const GpuLight& l : spreadSurfaceLights(scene, lights.surfaceTemplates, contents, rs.world, rs.tracer, diagnostics))
     rs.lights.push_back(l);
   rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
+  // `_bounce`: the compiler's bounce lights, made from the direct light the grid above gives.
+  if (rs.world.bounces > 0 && options.bounceLights) {
+    const std::vector<GpuLight> bounced = makeBounceLights(rs, contents);
+    rs.lights.insert(rs.lights.end(), bounced.begin(), bounced.end());
+    rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
+  }
   return rs;
 }
 

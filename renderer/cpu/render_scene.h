@@ -17,6 +17,10 @@ namespace bt {
 struct RenderSceneOptions {
   LightOptions lights;
   bool showHidden = false; // draw clip/trigger/skip/hint/origin faces instead of skipping them
+  // Faithful mode's `_bounce` lights (bounce.h), made when the level asks for them: the direct
+  // light at every luxel of the level first (minutes on a large level with `_bounce 3`). A render
+  // that never lights faithfully (physical mode, AOVs only) leaves them out.
+  bool bounceLights = true;
 };
 
 struct RenderScene {
@@ -41,6 +45,10 @@ inline glm::vec3 faceNormal(const RenderScene& rs, uint32_t face) {
 // Classifies faces by texture name (Quake conventions, see README), reads the lights, and
 // builds the tracer. `scene` must outlive the result.
 RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& options, Diagnostics& diagnostics);
+
+// Brush entities that qbsp merges into the world (worldspawn, func_group, func_detail*): they
+// cast shadows in `light`; the others are models of their own.
+bool mergedIntoWorld(std::string_view classname);
 
 // Face classification from a texture name and its Q2/Q3 surface attributes.
 uint32_t classifyTexture(std::string_view texture, const std::optional<SurfaceAttributes>& surface);

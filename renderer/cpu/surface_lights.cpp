@@ -411,6 +411,15 @@ std::vector<Winding> visibleFragments(const Scene& scene, uint32_t faceIndex, co
   return fragments;
 }
 
+std::vector<Winding> compiledFacePolygons(const Scene& scene, uint32_t faceIndex, const std::vector<BrushContents>& contents) {
+  const std::vector<Winding> fragments = visibleFragments(scene, faceIndex, contents);
+  if (fragments.empty()) return {};
+  std::vector<Winding> pieces;
+  for (const Winding& w : compilerFaces(scene, {faceIndex}, fragments, contents))
+    subdivideForQbsp(w, scene.faces[faceIndex].frame, pieces);
+  return pieces;
+}
+
 std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
                                           const std::vector<BrushContents>& contents, const WorldLighting& world,
                                           const TraceScene& tracer, Diagnostics& diagnostics) {

@@ -61,6 +61,11 @@ private:
 // for a liquid's side, outside the other liquid brushes), as convex fragments.
 std::vector<std::vector<dvec3>> visibleFragments(const Scene& scene, uint32_t face, const std::vector<BrushContents>& contents);
 
+// The faces qbsp makes of brush side `face` (a Quake 1 level): what its CSG keeps, split as a
+// tree grown on that side alone would split it, then cut every 224 texels once wider than 240
+// (qbsp's SubdivideFace). The faces ericw-tools `light` bounces light from (bounce.h).
+std::vector<std::vector<dvec3>> compiledFacePolygons(const Scene& scene, uint32_t face, const std::vector<BrushContents>& contents);
+
 // GLQuake's SubdividePolygon: cut `winding` at multiples of `size` on each axis, the cut
 // nearest the middle first, unless it would leave a piece thinner than 8 units.
 std::vector<std::vector<dvec3>> subdivideOnGrid(const std::vector<dvec3>& winding, double size);

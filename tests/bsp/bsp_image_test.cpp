@@ -258,6 +258,7 @@ Agreement compareImages(const RenderImage& fromMap, const RenderImage& fromBsp, 
 RenderImage renderAovs(const Scene& scene, const Camera& camera, bool showHidden) {
   RenderSceneOptions options;
   options.showHidden = showHidden;
+  options.bounceLights = false; // AOVs only: lq_e3m1's _bounce 3 would cost minutes of lighting
   Diagnostics diagnostics;
   const RenderScene rs = buildRenderScene(scene, options, diagnostics);
   return renderAovsCpu(rs, camera, kWidth, kHeight);

@@ -17,6 +17,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 
 namespace bt::gl {
@@ -222,6 +223,26 @@ TEST(GlCpuParity, FaithfulDirtAgreesWithTheCpuReference) {
     const RenderImage gpu = renderBoth(level.render, level.pose, settings, cpu);
     expectBeautyAgrees(gpu, cpu, 0.01);
   }
+}
+
+// Faithful _bounce on both tracers: ericw-tools' deprecated/nobounce.map (worldspawn _bounce 1),
+// whose rooms are lit by a spotlight on a pillar and, everywhere else, by the bounce lights the
+// CPU made (renderer/cpu/bounce.h) and the GL tracer sums like its other lights.
+TEST(GlCpuParity, FaithfulBounceAgreesWithTheCpuReference) {
+  BT_REQUIRE_SHARED(shared);
+  Level level;
+  level.scene = importScene((shared / "maps/ericw-tools/testmaps/deprecated/nobounce.map").string(), ImportOptions{});
+  Diagnostics diagnostics;
+  level.render = buildRenderScene(level.scene, {}, diagnostics);
+  const auto bounceLights = std::count_if(level.render.lights.begin(), level.render.lights.end(), [](const GpuLight& l) {
+    return l.formula == uint32_t(LightFormula::Bounce);
+  });
+  ASSERT_EQ(bounceLights, 2) << "one for each pillar face a spotlight lights";
+  level.pose = defaultCameraPose(level.scene);
+  const RenderSettings settings = beautySettings(LightingMode::Faithful, 13);
+  RenderImage cpu;
+  const RenderImage gpu = renderBoth(level.render, level.pose, settings, cpu);
+  expectBeautyAgrees(gpu, cpu, 0.01);
 }
 
 } // namespace

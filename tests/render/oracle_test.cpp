@@ -1,5 +1,6 @@
 // Faithful mode against the reference compiler: ../shared/oracle/lit/*.bsp were lit by
-// ericw-tools `light` (default settings, no bounce) from the .map sources in ../shared/maps.
+// ericw-tools `light` (default settings; levels whose worldspawn sets `_bounce` bounced) from the
+// .map sources in ../shared/maps.
 // We import the source .map, evaluate faithful direct light at every luxel centre of every
 // lit world face of the compiled .bsp, and compare with the stored style-0 lightmap.
 //
@@ -249,20 +250,16 @@ TEST_P(OracleLightmaps, FaithfulDirectLightMatchesCompiler) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
-                         // Not here: deprecated_nobounce sets worldspawn _bounce 1 and the compiler bounced
-                         // (its .bsp has no texture pixels, so ericw-tools bounced off its default colour):
-                         // direct light alone is 62.5 % off at the median (mean -9.5/255), and adding our
-                         // faithful _bounce (64 samples a luxel, grey 0.5 surfaces) still 50 % (mean -2.7/255).
-                         // ericw-tools bounces through one radiosity light per face (bounce.cc: the face's mean
-                         // direct light x its texture colour x its area, spread over points diced on the face,
-                         // falling off as 1 / max(d, 128)^2, x _bouncescale x 0.5); our path-traced bounce is
-                         // another model. deprecated_bouncecolorscaletest also sets _bounce 1, but its spotlight lights
-                         // two luxels of one face and the bounce adds nothing measurable, so it is here.
+                         // deprecated_nobounce (second) sets worldspawn _bounce 1: its rooms are lit by one spotlight
+                         // each, aimed at a pillar, and the rest is bounced light (bounce.h; direct light alone was 62.5 %
+                         // off at the median). Its pillar is a func_detail with _bounce -1, which the compiler ignored.
+                         // deprecated_bouncecolorscaletest, q1_minlight_nobounce also set _bounce 1.
                          // q1_light_invalid_delay compiled with no lit face: OracleInvalidDelay below; lqdm5:
                          // OracleLargeLevel below. testsurfacelight (last) has the thinnest margin: 4.8 % (its
                          // _surface lights stand on faces split as qbsp's tree would split them, not on the
                          // compiler's own faces; with those its median is 0.00 %).
                          ::testing::Values("ericw-tools_testmaps_deprecated_falloff",
+                                           "ericw-tools_testmaps_deprecated_nobounce",
                                            "ericw-tools_testmaps_deprecated_dirttest2",
                                            "ericw-tools_testmaps_deprecated_bouncecolorscaletest",
                                            "ericw-tools_testmaps_deprecated_light_near_wall",

@@ -1,0 +1,224 @@
+#include "renderer/cpu/bounce.h"
+
+#include "renderer/cpu/integrator.h"
+#include "scene/winding.h"
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <string>
+#include <thread>
+
+namespace bt {
+
+namespace {
+
+constexpr float kLuxelTexels = 16.0f;   // Quake 1 lightmaps: one luxel every 16 texels
+constexpr double kBounceLift = 1.0;     // bounce.cc lifts the light 1 unit off its face
+constexpr double kSampleLift = 1.0;     // ltface.cc sampleOffPlaneDist: luxels are sampled 1 unit off the face
+constexpr double kMinBounceArea = 1.0;  // bounce.cc skips smaller faces
+constexpr uint32_t kBounceSeed = 0x626f756eu; // the sampling's own random stream
+
+// Runs fn(i) for i in [0, count) on all cores.
+template <typename Fn>
+void parallelFor(size_t count, const Fn& fn) {
+  std::atomic<size_t> next{0};
+  auto work = [&] {
+    for (size_t i = next++; i < count; i = next++) fn(i);
+  };
+  const size_t threads = std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), std::max<size_t>(count, 1));
+  std::vector<std::thread> pool(threads - 1);
+  for (std::thread& t : pool) t = std::thread(work);
+  work();
+  for (std::thread& t : pool) t.join();
+}
+
+dvec3 vertexMean(const std::vector<dvec3>& w) {
+  dvec3 sum(0.0);
+  for (const dvec3& p : w) sum += p;
+  return sum / double(w.size());
+}
+
+// The point of convex polygon `w` (normal `n`) nearest to p, a point of its plane: the
+// compiler moves a luxel centre that falls off its face onto the face's edge.
+dvec3 nearestOnPolygon(const std::vector<dvec3>& w, const dvec3& n, const dvec3& p) {
+  bool inside = true;
+  dvec3 best = p;
+  double bestDist2 = 1e300;
+  for (size_t i = 0; i < w.size(); ++i) {
+    const dvec3& a = w[i];
+    const dvec3& b = w[(i + 1) % w.size()];
+    if (glm::dot(glm::cross(b - a, p - a), n) >= 0.0) continue;
+    inside = false;
+    const dvec3 ab = b - a;
+    const double len2 = glm::dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    const dvec3 q = a + t * ab;
+    const double d2 = glm::dot(p - q, p - q);
+    if (d2 < bestDist2) bestDist2 = d2, best = q;
+  }
+  if (inside) return p;
+  // Outside several edges at once (beyond a corner): the nearest point of every edge decides.
+  for (size_t i = 0; i < w.size(); ++i) {
+    const dvec3& a = w[i];
+    const dvec3 ab = w[(i + 1) % w.size()] - a;
+    const double len2 = glm::dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    const dvec3 q = a + t * ab;
+    const double d2 = glm::dot(p - q, p - q);
+    if (d2 < bestDist2) bestDist2 = d2, best = q;
+  }
+  return best;
+}
+
+// The compiler's luxel centres of one face, pulled onto it and lifted 1 unit off it (where the
+// compiler samples: a spotlight's cone edge falls on other luxels there): its texture-space extents (in float,
+// as the compiler computes them) floored/ceiled to 16 texels, one luxel every 16 texels.
+std::vector<glm::vec3> luxelPoints(const Face& face, const std::vector<dvec3>& polygon) {
+  const TextureFrame& frame = face.frame;
+  float lo[2] = {1e30f, 1e30f}, hi[2] = {-1e30f, -1e30f};
+  for (const dvec3& v : polygon) {
+    const float st[2] = {float(frame.s(v)), float(frame.t(v))};
+    for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], st[a]), hi[a] = std::max(hi[a], st[a]);
+  }
+  int first[2], count[2];
+  for (int a = 0; a < 2; ++a) {
+    first[a] = int(std::floor(lo[a] / kLuxelTexels));
+    count[a] = int(std::ceil(hi[a] / kLuxelTexels)) - first[a] + 1;
+  }
+  // Texture space -> world: rows tangent, bitangent, normal map (p - origin) to (s, t, height).
+  const dvec3 n = face.plane.normal;
+  const glm::dmat3 toTexture = glm::transpose(glm::dmat3(frame.tangent, frame.bitangent, n));
+  const double det = glm::determinant(toTexture);
+  if (!(std::abs(det) > 1e-12)) return {glm::vec3(vertexMean(polygon))};
+  const glm::dmat3 toWorld = glm::inverse(toTexture);
+  const double height = face.plane.dist - glm::dot(n, frame.origin);
+  // Every luxel: a subset misses a spotlight's bright patch (deprecated/nobounce's pillars), and
+  // qbsp's subdivision keeps a face within 17 x 17 luxels.
+  std::vector<glm::vec3> points;
+  points.reserve(size_t(count[0]) * size_t(count[1]));
+  for (int t = 0; t < count[1]; ++t)
+    for (int s = 0; s < count[0]; ++s) {
+      const dvec3 st((first[0] + s) * double(kLuxelTexels), (first[1] + t) * double(kLuxelTexels), height);
+      points.push_back(glm::vec3(nearestOnPolygon(polygon, n, frame.origin + toWorld * st) + n * kSampleLift));
+    }
+  return points;
+}
+
+// The texture's mean colour in its own (sRGB) bytes, 0..1, or ericw-tools' grey when it has no
+// pixels (a level compiled with -notex, or a texture we could not load).
+glm::vec3 textureMean(const Material& m) {
+  if (m.baseColor.empty()) return glm::vec3(kBounceGrey);
+  glm::dvec3 sum(0.0);
+  for (int y = 0; y < m.baseColor.height; ++y)
+    for (int x = 0; x < m.baseColor.width; ++x) {
+      const uint8_t* p = m.baseColor.texel(x, y);
+      sum += glm::dvec3(p[0], p[1], p[2]);
+    }
+  return glm::vec3(sum / (255.0 * double(m.baseColor.width) * double(m.baseColor.height)));
+}
+
+// Face_ShouldBounce, for one brush side.
+bool sideBounces(const RenderScene& rs, uint32_t faceIndex) {
+  const uint32_t flags = rs.faceFlags[faceIndex];
+  if (flags & (kFaceHidden | kFaceSky | kFaceNoShadow)) return false;
+  if ((flags & kFaceLiquid) && !rs.world.litwater) return false; // no lightmap, nothing to bounce
+  const Scene& scene = *rs.scene;
+  const Face& face = scene.faces[faceIndex];
+  if (face.material < rs.surfaceLights.size() && rs.surfaceLights[face.material].value != 0.0f) return false;
+  // A brush model's `_bounce -1` keeps its faces from bouncing (qbsp's no_bounce texinfo flag).
+  // Not on the brush entities qbsp merges into the world: the compiler bounced light off
+  // deprecated/nobounce.map's func_detail with `_bounce -1` (its oracle lightmaps), so neither do we.
+  if (face.brush < scene.brushes.size()) {
+    const uint32_t e = scene.brushes[face.brush].entity;
+    if (e < scene.entities.size() && !mergedIntoWorld(scene.entities[e].classname()) &&
+        std::atof(std::string(scene.entities[e].value("_bounce", "0")).c_str()) == -1.0)
+      return false;
+  }
+  return true;
+}
+
+} // namespace
+
+std::vector<BounceFace> bounceFaces(const RenderScene& rs, const std::vector<BrushContents>& contents) {
+  const Scene& scene = *rs.scene;
+  std::vector<BounceFace> faces;
+  for (uint32_t f = 0; f < scene.faces.size(); ++f) {
+    if (!sideBounces(rs, f)) continue;
+    for (std::vector<dvec3>& polygon : compiledFacePolygons(scene, f, contents))
+      if (area(polygon) >= kMinBounceArea) faces.push_back({f, std::move(polygon)});
+  }
+  return faces;
+}
+
+std::optional<GpuLight> bounceLight(const RenderScene& rs, const BounceFace& face, const glm::vec3& meanLight) {
+  const Scene& scene = *rs.scene;
+  const Face& side = scene.faces[face.face];
+  const glm::vec3 texture = side.material < scene.materials.size() ? textureMean(scene.materials[side.material])
+                                                                   : glm::vec3(kBounceGrey);
+  glm::vec3 color = meanLight * glm::mix(glm::vec3(kBounceGrey), texture, rs.world.bouncecolorscale);
+  const float intensity = std::max({color.x, color.y, color.z});
+  if (!(intensity > 0.0f)) return std::nullopt;
+  if (intensity > 1.0f) color /= intensity;
+
+  GpuLight light;
+  light.type = uint32_t(LightType::Point);
+  light.formula = uint32_t(LightFormula::Bounce);
+  light.origin = glm::vec3(vertexMean(face.polygon) + side.plane.normal * kBounceLift);
+  light.direction = glm::vec3(side.plane.normal);
+  light.color = color;
+  light.value = intensity * float(area(face.polygon)) * rs.world.bouncescale * kBounceScale;
+  light.anglescale = 1.0f; // the receiver's plain cosine
+  light.flags = kLightFlagFromSurface;
+  // Dirt dims bounced light wherever the level uses dirt (Dirt_GetScaleFactor without a light).
+  if (rs.world.dirtSettings.enabled) {
+    light.flags |= kLightFlagDirt;
+    light.dirtScale = rs.world.dirtSettings.scale;
+    light.dirtGain = rs.world.dirtSettings.gain;
+  }
+  return light;
+}
+
+std::vector<GpuLight> makeBounceLights(const RenderScene& rs, const std::vector<BrushContents>& contents) {
+  if (rs.world.bounces <= 0) return {};
+  const std::vector<BounceFace> faces = bounceFaces(rs, contents);
+  std::vector<GpuLight> all, previous;
+  LightGrid previousGrid; // which of the previous pass's lights reach a point (finite: the gate)
+  for (int pass = 0; pass < rs.world.bounces; ++pass) {
+    std::vector<std::optional<GpuLight>> made(faces.size());
+    parallelFor(faces.size(), [&](size_t i) {
+      const BounceFace& face = faces[i];
+      const glm::vec3 n(rs.scene->faces[face.face].plane.normal);
+      const bool twoSided = rs.faceFlags[face.face] & kFaceLiquid;
+      const std::vector<glm::vec3> points = luxelPoints(rs.scene->faces[face.face], face.polygon);
+      glm::vec3 sum(0.0f);
+      std::vector<GpuLight> reaching;
+      for (size_t k = 0; k < points.size(); ++k) {
+        Rng rng = pixelRng(uint32_t(i), uint32_t(k), uint32_t(pass), kBounceSeed);
+        if (pass == 0) {
+          sum += faithfulBounceSourceLight(rs, points[k], n, rng, twoSided);
+          continue;
+        }
+        reaching.clear();
+        for (uint32_t l : previousGrid.globalLights()) reaching.push_back(previous[l]);
+        for (uint32_t l : previousGrid.cellLights(points[k])) reaching.push_back(previous[l]);
+        sum += faithfulLightFrom(rs, reaching, points[k], n, rng, twoSided);
+      }
+      made[i] = bounceLight(rs, face, sum / float(points.size()));
+    });
+    previous.clear();
+    for (const std::optional<GpuLight>& l : made)
+      if (l) previous.push_back(*l);
+    if (previous.empty()) break; // "No bounces; indirect lighting halted"
+    all.insert(all.end(), previous.begin(), previous.end());
+    if (pass + 1 < rs.world.bounces) previousGrid = buildLightGrid(previous, rs.tracer.bounds(), rs.world.scaledist);
+  }
+  return all;
+}
+
+} // namespace bt

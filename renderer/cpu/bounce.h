@@ -1,0 +1,54 @@
+// Faithful `_bounce`: ericw-tools `light`'s bounced light (light/bounce.cc, ltface.cc
+// IndirectLightFace, at 2.0.0-alpha11), as point lights that both tracers sum like any other.
+//
+// After the direct pass the compiler turns every face that bounces into one light:
+//   - the face's mean direct light L over its luxels (only the positive lights of style 0 and
+//     the suns add to it, not minlight: ltface.cc's bounce_color over the sample count);
+//   - emit = L x mix(127, the texture's mean colour, `_bouncecolorscale`) / 255;
+//   - intensity = the brightest channel of emit; the colour is emit / intensity when that is
+//     above 1, emit itself otherwise (so a dim face's colour is not normalised);
+//   - one point (`-emissivequality low`, the default) at the face's vertex mean, 1 unit off it,
+//     carrying intensity x area x `_bouncescale` x 0.5 (IndirectLightFace's "close-ish to the old
+//     code" scale).
+// A receiver gets colour x value x cos(emitting side) x cos(receiving side) / max(d, 128)^2,
+// shadowed, dropped where no channel is above 0.01 (LightFormula::Bounce, faithful.h).
+// `_bounce N` repeats this N times, each pass re-emitting only what the previous pass brought.
+//
+// Which faces bounce (Face_ShouldBounce): lit ones (not sky, not hidden, liquids only with
+// `_litwater`) of models that cast shadows (the world, func_detail/func_group, `_shadow 1`),
+// except `_surface` template faces and the brush entities with `_bounce -1`. The faces are the
+// compiler's (surface_lights.h compiledFacePolygons); the mean direct light is sampled on their
+// luxel grid (16 texels), each luxel pulled onto the face as the compiler pulls its edge luxels.
+#pragma once
+
+#include "renderer/cpu/render_scene.h"
+#include "renderer/cpu/surface_lights.h"
+
+#include <vector>
+
+namespace bt {
+
+// ericw-tools' grey for `_bouncecolorscale 0` and for a texture without pixels (127 of 255).
+inline constexpr float kBounceGrey = 127.0f / 255.0f;
+// IndirectLightFace scales bounce lights by `_bouncescale` x this.
+inline constexpr float kBounceScale = 0.5f;
+
+// One face that bounces light: a compiled face of scene face `face`.
+struct BounceFace {
+  uint32_t face = 0;
+  std::vector<dvec3> polygon;
+};
+
+// The compiled faces of `scene` that bounce light (see above). `contents` as render_scene.cpp
+// classifies the brushes for qbsp's CSG.
+std::vector<BounceFace> bounceFaces(const RenderScene& rs, const std::vector<BrushContents>& contents);
+
+// The bounce light of one face whose mean source light is `meanLight` (light units, rgb), or
+// nullopt when it emits nothing.
+std::optional<GpuLight> bounceLight(const RenderScene& rs, const BounceFace& face, const glm::vec3& meanLight);
+
+// Every pass of the level's `_bounce` (none when it is 0): `rs` holds the direct lights and
+// their grid. The faces are sampled on all cores.
+std::vector<GpuLight> makeBounceLights(const RenderScene& rs, const std::vector<BrushContents>& contents);
+
+} // namespace bt

@@ -1,0 +1,180 @@
+// Faithful `_bounce` (renderer/cpu/bounce.h): ericw-tools' bounce lights, against values worked
+// out by hand from bounce.cc / IndirectLightFace.
+#include "renderer/cpu/bounce.h"
+#include "renderer/cpu/faithful.h"
+#include "renderer/cpu/integrator.h"
+#include "renderer/cpu/render_scene.h"
+#include "tests/render/box_scene.h"
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace bt {
+namespace {
+
+// A 128 x 128 x 16 slab (its top at z = 16) under a light 184 units above the top's middle. The
+// light is delay 3 (no falloff) with _anglescale 0, so every luxel of the top face gets exactly
+// its value, 200; the sides and the bottom face away from it and get nothing.
+test::BoxSceneBuilder litSlab(std::vector<std::pair<std::string, std::string>> slabEntity = {}) {
+  test::BoxSceneBuilder b;
+  b.material("grey", 128, 128, 128);
+  b.worldKey("_bounce", "1");
+  const uint32_t owner = slabEntity.empty() ? 0 : b.entity(std::move(slabEntity));
+  b.box({0, 0, 0}, {128, 128, 16}, "grey", owner);
+  b.entity({{"classname", "light"}, {"origin", "64 64 200"}, {"light", "200"}, {"delay", "3"}, {"_anglescale", "0"}});
+  return b;
+}
+
+std::vector<GpuLight> bounceLightsOf(const RenderScene& rs) {
+  std::vector<GpuLight> out;
+  std::copy_if(rs.lights.begin(), rs.lights.end(), std::back_inserter(out),
+               [](const GpuLight& l) { return l.formula == uint32_t(LightFormula::Bounce); });
+  return out;
+}
+
+// The hand-worked case: one emitting face (the slab's top), one receiver.
+//   mean direct light on the top face          L = 200 (every luxel)
+//   emit = L x 127/255 (_bouncecolorscale 0)      = 99.6078
+//   intensity = its brightest channel, > 1: colour (1, 1, 1)
+//   value = intensity x area x _bouncescale x 0.5 = 99.6078 x 16384 x 0.5 = 815 987.5
+//   at (64 64 17), the top's vertex mean 1 unit up, facing +z.
+// A receiver facing down 300 units straight above it: 815 987.5 / 300^2 = 9.0665.
+// One 300 across and 400 up (d = 500): both cosines 0.8, 815 987.5 x 0.64 / 500^2 = 2.0889.
+TEST(FaithfulBounce, OneFaceLightsAReceiverAsWorkedOutByHand) {
+  const Scene scene = litSlab().build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  const std::vector<GpuLight> bounced = bounceLightsOf(rs);
+  ASSERT_EQ(bounced.size(), 1u) << "only the slab's top face is lit";
+  const GpuLight& l = bounced[0];
+  EXPECT_NEAR(l.value, 815987.5f, 1.0f);
+  EXPECT_EQ(l.color, glm::vec3(1.0f));
+  EXPECT_EQ(l.origin, glm::vec3(64.0f, 64.0f, 17.0f));
+  EXPECT_EQ(l.direction, glm::vec3(0.0f, 0.0f, 1.0f));
+
+  const glm::vec3 down(0.0f, 0.0f, -1.0f);
+  Rng rng = pixelRng(0, 0, 0, 1);
+  EXPECT_NEAR(faithfulLightFrom(rs, bounced, {64.0f, 64.0f, 317.0f}, down, rng).x, 9.0665f, 1e-3f);
+  EXPECT_NEAR(faithfulLightFrom(rs, bounced, {364.0f, 64.0f, 417.0f}, down, rng).x, 2.0889f, 1e-3f);
+  // Behind the emitting face, or a receiver turned away: nothing.
+  EXPECT_EQ(faithfulLightFrom(rs, bounced, {64.0f, 64.0f, 317.0f}, -down, rng), glm::vec3(0.0f));
+  // Nearer than 128 units the distance is clamped: 815 987.5 / 128^2 = 49.80.
+  EXPECT_NEAR(faithful::pointLightValue(l, down, down, 50.0f), 815987.5f / (128.0f * 128.0f), 1e-2f);
+}
+
+TEST(FaithfulBounce, ScaleAndTextureColourKeys) {
+  test::BoxSceneBuilder scaled = litSlab();
+  scaled.worldKey("_bouncescale", "2");
+  Diagnostics diags;
+  const Scene scaledScene = scaled.build();
+  const std::vector<GpuLight> twice = bounceLightsOf(buildRenderScene(scaledScene, {}, diags));
+  ASSERT_EQ(twice.size(), 1u);
+  EXPECT_NEAR(twice[0].value, 2.0f * 815987.5f, 2.0f);
+
+  // _bouncecolorscale 1 takes the texture's mean colour: a red (200 0 0) slab emits
+  // 200 x 200/255 = 156.86 in red, normalised to colour (1 0 0).
+  test::BoxSceneBuilder red;
+  red.material("red", 200, 0, 0);
+  red.worldKey("_bounce", "1");
+  red.worldKey("_bouncecolorscale", "1");
+  red.box({0, 0, 0}, {128, 128, 16}, "red");
+  red.entity({{"classname", "light"}, {"origin", "64 64 200"}, {"light", "200"}, {"delay", "3"}, {"_anglescale", "0"}});
+  const Scene redScene = red.build();
+  const std::vector<GpuLight> tinted = bounceLightsOf(buildRenderScene(redScene, {}, diags));
+  ASSERT_EQ(tinted.size(), 1u);
+  EXPECT_EQ(tinted[0].color, glm::vec3(1.0f, 0.0f, 0.0f));
+  EXPECT_NEAR(tinted[0].value, 200.0f * 200.0f / 255.0f * 16384.0f * 0.5f, 1.0f);
+}
+
+// Which faces bounce: models that cast shadows, except brush models with `_bounce -1`; the
+// compiler ignored `_bounce -1` on a func_detail (deprecated/nobounce.map's oracle lightmaps).
+TEST(FaithfulBounce, BrushEntityBounceKey) {
+  auto bounceCount = [](std::vector<std::pair<std::string, std::string>> entity) {
+    const Scene scene = litSlab(std::move(entity)).build();
+    Diagnostics diags;
+    return bounceLightsOf(buildRenderScene(scene, {}, diags)).size();
+  };
+  EXPECT_EQ(bounceCount({{"classname", "func_wall"}, {"_shadow", "1"}}), 1u);
+  EXPECT_EQ(bounceCount({{"classname", "func_wall"}, {"_shadow", "1"}, {"_bounce", "-1"}}), 0u);
+  EXPECT_EQ(bounceCount({{"classname", "func_wall"}}), 0u) << "casts no shadow, so bounces nothing";
+  EXPECT_EQ(bounceCount({{"classname", "func_detail"}, {"_bounce", "-1"}}), 1u);
+}
+
+// Styled lights do not feed the bounce unless `_bouncestyled`; local minlight never does.
+TEST(FaithfulBounce, StyledAndLocalMinlightSources) {
+  auto bounceCount = [](std::vector<std::pair<std::string, std::string>> light, bool styled) {
+    test::BoxSceneBuilder b;
+    b.material("grey", 128, 128, 128);
+    b.worldKey("_bounce", "1");
+    if (styled) b.worldKey("_bouncestyled", "1");
+    b.box({0, 0, 0}, {128, 128, 16}, "grey");
+    b.entity(std::move(light));
+    const Scene scene = b.build();
+    Diagnostics diags;
+    return bounceLightsOf(buildRenderScene(scene, {}, diags)).size();
+  };
+  const std::vector<std::pair<std::string, std::string>> styledLight = {
+      {"classname", "light"}, {"origin", "64 64 200"}, {"light", "200"}, {"delay", "3"}, {"style", "5"}};
+  EXPECT_EQ(bounceCount(styledLight, false), 0u);
+  EXPECT_EQ(bounceCount(styledLight, true), 1u);
+  EXPECT_EQ(bounceCount({{"classname", "light"}, {"origin", "64 64 200"}, {"light", "200"}, {"delay", "4"}}, false), 0u);
+}
+
+// `_bounce 2`: the second pass re-emits only what the first pass's lights brought. A floor and a
+// ceiling slab, a light between them: each lights the other in pass 1, so pass 2 makes two more
+// (dimmer) lights; `_bounce 1` stops after the first two.
+TEST(FaithfulBounce, SecondPassReEmitsTheFirstPassLight) {
+  auto make = [](const char* passes) {
+    test::BoxSceneBuilder b;
+    b.material("grey", 128, 128, 128);
+    b.worldKey("_bounce", passes);
+    b.box({0, 0, 0}, {128, 128, 16}, "grey");
+    b.box({0, 0, 400}, {128, 128, 416}, "grey");
+    b.entity({{"classname", "light"}, {"origin", "64 64 208"}, {"light", "200"}, {"delay", "3"}, {"_anglescale", "0"}});
+    return b.build();
+  };
+  Diagnostics diags;
+  const Scene one = make("1"), two = make("2");
+  const std::vector<GpuLight> first = bounceLightsOf(buildRenderScene(one, {}, diags));
+  const std::vector<GpuLight> both = bounceLightsOf(buildRenderScene(two, {}, diags));
+  ASSERT_EQ(first.size(), 2u);
+  ASSERT_EQ(both.size(), 4u);
+  for (int i = 0; i < 2; ++i) EXPECT_NEAR(both[size_t(i)].value, first[size_t(i)].value, 1e-3f * first[size_t(i)].value);
+  for (int i = 2; i < 4; ++i) {
+    EXPECT_GT(both[size_t(i)].value, 0.0f);
+    EXPECT_LT(both[size_t(i)].value, 0.1f * both[0].value);
+  }
+}
+
+// The compiler drops a bounce light's share below 0.01 in every channel: so it has a finite
+// reach, and the light grid lists it only in the cells it can light.
+TEST(FaithfulBounce, GateGivesAFiniteReach) {
+  GpuLight l;
+  l.formula = uint32_t(LightFormula::Bounce);
+  l.value = 1.0e6f;
+  l.anglescale = 1.0f;
+  l.direction = glm::vec3(0.0f, 0.0f, 1.0f);
+  const float reach = faithfulReach(l, 1.0f);
+  ASSERT_TRUE(std::isfinite(reach));
+  EXPECT_GE(reach, 10000.0f); // sqrt(1e6 / 0.01)
+  const glm::vec3 up(0.0f, 0.0f, 1.0f), down(0.0f, 0.0f, -1.0f);
+  // Head-on (both cosines 1) 1e6 / d^2 is the gate at d = 10 000.
+  EXPECT_GT(faithful::pointLightValue(l, down, -up, 9900.0f), 0.0f);
+  EXPECT_EQ(faithful::pointLightValue(l, down, -up, 10100.0f), 0.0f);
+  EXPECT_EQ(faithful::pointLightValue(l, down, -up, reach), 0.0f);
+}
+
+// Physical mode has its own bounces (--bounces): the bounce lights are not its point lights.
+TEST(FaithfulBounce, PhysicalModeLeavesBounceLightsOut) {
+  const Scene scene = litSlab().build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  ASSERT_EQ(bounceLightsOf(rs).size(), 1u);
+  for (uint32_t i : rs.lightGrid.physicalLights()) EXPECT_NE(rs.lights[i].formula, uint32_t(LightFormula::Bounce));
+}
+
+} // namespace
+} // namespace bt
