@@ -143,7 +143,7 @@ std::optional<Winding> tryMerge(const Winding& a, const Winding& b, const dvec3&
   auto same = [](const dvec3& p, const dvec3& q) { return glm::length(p - q) < kOnPlaneEpsilon; };
   for (size_t i = 0; i < a.size(); ++i)
     for (size_t j = 0; j < b.size(); ++j) {
-      const size_t i1 = (i + 1) % a.size(), j1 = (j + 1) % b.size();
+      const size_t i1 = i + 1 == a.size() ? 0 : i + 1, j1 = j + 1 == b.size() ? 0 : j + 1;
       if (!same(a[i], b[j1]) || !same(a[i1], b[j])) continue;
       // a from a[i1] round to a[i], then b past the shared edge.
       Winding merged;
@@ -155,17 +155,37 @@ std::optional<Winding> tryMerge(const Winding& a, const Winding& b, const dvec3&
   return std::nullopt;
 }
 
+Bounds boundsOf(const Winding& w) {
+  Bounds b;
+  for (const dvec3& p : w) b.grow(p);
+  return b;
+}
+
+// Polygons whose boxes are this far apart on some axis have no two vertices that tryMerge
+// takes for the same (twice its tolerance: no rounding in the distance can bridge that).
+bool apartForMerge(const Bounds& a, const Bounds& b) {
+  for (int i = 0; i < 3; ++i)
+    if (a.min[i] > b.max[i] + 2.0 * kOnPlaneEpsilon || b.min[i] > a.max[i] + 2.0 * kOnPlaneEpsilon) return true;
+  return false;
+}
+
 // qbsp's MergeAll over one plane and texture: merge until no pair merges any more.
 void mergeCoplanar(std::vector<Winding>& polygons, const dvec3& normal) {
+  std::vector<Bounds> bounds;
+  for (const Winding& w : polygons) bounds.push_back(boundsOf(w));
   for (bool merged = true; merged;) {
     merged = false;
     for (size_t i = 0; i < polygons.size() && !merged; ++i)
-      for (size_t j = i + 1; j < polygons.size() && !merged; ++j)
+      for (size_t j = i + 1; j < polygons.size() && !merged; ++j) {
+        if (apartForMerge(bounds[i], bounds[j])) continue;
         if (std::optional<Winding> m = tryMerge(polygons[i], polygons[j], normal)) {
           polygons[i] = std::move(*m);
+          bounds[i] = boundsOf(polygons[i]);
           polygons.erase(polygons.begin() + std::ptrdiff_t(j));
+          bounds.erase(bounds.begin() + std::ptrdiff_t(j));
           merged = true;
         }
+      }
   }
 }
 
