@@ -209,22 +209,28 @@ public:
       if (list.admits(key, light.light)) list.insert({key, light.light, c});
     };
     for (uint32_t i = 0; i < hint.size(); ++i) consider(hint[i].candidate);
-    // The tree, the nearer child first. A member ties with the last entry at best when a bound
-    // equals its key; it may still win on its index then, so only a smaller bound rules a node out.
-    std::array<uint32_t, 64> stack;
+    // The tree, the child of larger bound first. A member ties with the last entry at best when
+    // a bound equals its key; it may still win on its index then, so only a smaller bound rules
+    // a node out.
+    struct Pending {
+      uint32_t node;
+      float bound;
+    };
+    std::array<Pending, 64> stack; // depth-first: at most one pending node per level, plus one
     uint32_t depth = 0;
-    if (!nodes_.empty()) stack[depth++] = 0;
+    if (!nodes_.empty()) stack[depth++] = {0, bound(box, nodes_[0])};
     while (depth > 0) {
-      const CandidateNode& node = nodes_[stack[--depth]];
-      if (list.full() && bound(box, node) < list.lastKey()) continue;
+      const Pending pending = stack[--depth];
+      if (list.full() && pending.bound < list.lastKey()) continue;
+      const CandidateNode& node = nodes_[pending.node];
       if (node.second == 0) {
         for (uint32_t c = node.first; c < node.end; ++c) consider(c);
         continue;
       }
-      const uint32_t near = uint32_t(&node - nodes_.data()) + 1, far = node.second;
-      const bool nearFirst = bound(box, nodes_[near]) >= bound(box, nodes_[far]);
-      stack[depth++] = nearFirst ? far : near;
-      stack[depth++] = nearFirst ? near : far;
+      const Pending first{pending.node + 1, bound(box, nodes_[pending.node + 1])};
+      const Pending second{node.second, bound(box, nodes_[node.second])};
+      stack[depth++] = first.bound >= second.bound ? second : first;
+      stack[depth++] = first.bound >= second.bound ? first : second;
     }
     return list;
   }
