@@ -205,39 +205,48 @@ public:
       if (rankedFor[c] == stamp) return;
       rankedFor[c] = stamp;
       const NearCandidate& light = candidates_[c];
-      const float key = nearKey(distanceToCell2(box, light.origin), light.jitter, light.power, nearest2_);
+      const float distance2 = distanceToCell2(box, light.origin);
+      if (list.full() && ranksBelow(distance2, light.jitter, light.power, list.lastKey())) return;
+      const float key = nearKey(distance2, light.jitter, light.power, nearest2_);
       if (list.admits(key, light.light)) list.insert({key, light.light, c});
     };
     for (uint32_t i = 0; i < hint.size(); ++i) consider(hint[i].candidate);
-    // The tree, the child of larger bound first. A member ties with the last entry at best when
-    // a bound equals its key; it may still win on its index then, so only a smaller bound rules
-    // a node out.
+    // The tree, the nearer child first. A member ties with the last entry at best when a bound
+    // equals its key; it may still win on its index then, so only a smaller bound rules a node out.
     struct Pending {
       uint32_t node;
-      float bound;
+      float distance2; // from the node's box to the cell
     };
     std::array<Pending, 64> stack; // depth-first: at most one pending node per level, plus one
     uint32_t depth = 0;
-    if (!nodes_.empty()) stack[depth++] = {0, bound(box, nodes_[0])};
+    if (!nodes_.empty()) stack[depth++] = {0, distanceToCell2(box, nodes_[0].lo, nodes_[0].hi)};
     while (depth > 0) {
       const Pending pending = stack[--depth];
-      if (list.full() && pending.bound < list.lastKey()) continue;
       const CandidateNode& node = nodes_[pending.node];
+      if (list.full() && ranksBelow(pending.distance2, node.jitter, node.power, list.lastKey())) continue;
       if (node.second == 0) {
         for (uint32_t c = node.first; c < node.end; ++c) consider(c);
         continue;
       }
-      const Pending first{pending.node + 1, bound(box, nodes_[pending.node + 1])};
-      const Pending second{node.second, bound(box, nodes_[node.second])};
-      stack[depth++] = first.bound >= second.bound ? second : first;
-      stack[depth++] = first.bound >= second.bound ? first : second;
+      const CandidateNode &first = nodes_[pending.node + 1], &second = nodes_[node.second];
+      const Pending a{pending.node + 1, distanceToCell2(box, first.lo, first.hi)};
+      const Pending b{node.second, distanceToCell2(box, second.lo, second.hi)};
+      stack[depth++] = a.distance2 <= b.distance2 ? b : a;
+      stack[depth++] = a.distance2 <= b.distance2 ? a : b;
     }
     return list;
   }
 
 private:
-  float bound(const CellBox& box, const CandidateNode& node) const {
-    return nearKey(distanceToCell2(box, node.lo, node.hi), node.jitter, node.power, nearest2_);
+  // Whether every light of at most this power and jitter, at a squared distance from the cell of
+  // at least distance2, ranks below `key`. nearKey is monotonic in each input (see
+  // CandidateNode); without jitter the test skips its square root and division, with a margin
+  // far above their few roundings, so it never rules out a light that nearKey would rank at
+  // `key` or above.
+  bool ranksBelow(float distance2, float jitter, float power, float key) const {
+    constexpr float kRoundingMargin = 1.0f + 1e-5f;
+    if (jitter > 0.0f) return nearKey(distance2, jitter, power, nearest2_) < key;
+    return power * kRoundingMargin < key * std::max(distance2, nearest2_);
   }
 
   GpuLightGrid grid_;
