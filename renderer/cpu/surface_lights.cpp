@@ -8,9 +8,12 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <future>
 #include <optional>
+#include <thread>
 
 namespace bt {
 
@@ -435,10 +438,13 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
                                           const std::vector<BrushContents>& contents, const WorldLighting& world,
                                           const TraceScene& tracer, Diagnostics& diagnostics) {
   if (templates.empty()) return {};
-  const VoidTest voidTest(scene, tracer);
+  // The void test traces rays from every point entity (thousands on a large level); the
+  // surfaces' CSG below does not need it, so it runs beside them.
+  std::future<VoidTest> voidTest = std::async(std::launch::async, [&] { return VoidTest(scene, tracer); });
   // qbsp makes its faces of what CSG leaves of the coplanar sides with one texture and
   // projection (compilerFaces); the compiler spreads its lights over those faces.
   struct Surface {
+    const SurfaceTemplate* light;
     std::vector<uint32_t> sides; // the first gives plane, frame, material
     std::vector<Winding> polygons;
   };
@@ -449,44 +455,58 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
            std::abs(a.frame.s(a.frame.origin) - a.frame.s(b.frame.origin)) < 1e-3 &&
            std::abs(a.frame.t(a.frame.origin) - a.frame.t(b.frame.origin)) < 1e-3;
   };
-  std::vector<GpuLight> lights;
+  std::vector<Surface> surfaces; // template by template
   for (const SurfaceTemplate& t : templates) {
-    std::vector<Surface> surfaces;
+    const size_t first = surfaces.size();
     for (uint32_t f = 0; f < scene.faces.size(); ++f) {
       if (!equalsIgnoreCase(scene.faces[f].texture, t.texture)) continue;
       std::vector<Winding> fragments = visibleFragments(scene, f, contents);
       if (fragments.empty()) continue;
-      auto it = std::find_if(surfaces.begin(), surfaces.end(),
+      auto it = std::find_if(surfaces.begin() + std::ptrdiff_t(first), surfaces.end(),
                              [&](const Surface& s) { return sameSurface(scene.faces[s.sides.front()], scene.faces[f]); });
-      if (it == surfaces.end()) it = surfaces.insert(surfaces.end(), Surface{});
+      if (it == surfaces.end()) it = surfaces.insert(surfaces.end(), Surface{&t, {}, {}});
       it->sides.push_back(f);
       for (Winding& w : fragments) it->polygons.push_back(std::move(w));
     }
-    for (Surface& surface : surfaces) {
-      const Face& face = scene.faces[surface.sides.front()];
-      surface.polygons = compilerFaces(scene, surface.sides, surface.polygons, contents);
-      const bool liquid = face.brush < contents.size() && contents[face.brush] == BrushContents::Liquid;
-      for (const Winding& polygon : surface.polygons) {
-        if (voidTest.inVoid(centroid(polygon) + face.plane.normal * kVoidProbeDistance)) continue;
-        if (!t.radiosity) {
-          addGridLights(face, polygon, t, lights);
-        } else {
-          addRadiosityLight(scene, face, polygon, t, world, lights);
-          // qbsp gives a liquid surface a second face looking into the liquid; the Q1 kind skips
-          // it ("underwater side"), the radiosity kind emits from it too.
-          if (liquid) {
-            Face underwater = face;
-            underwater.plane = face.plane.flipped();
-            addRadiosityLight(scene, underwater, Winding(polygon.rbegin(), polygon.rend()), t, world, lights);
-          }
+  }
+  // Each surface's faces depend on nothing else: the surfaces are shared among threads.
+  std::atomic<size_t> next{0};
+  auto buildFaces = [&] {
+    for (size_t i = next++; i < surfaces.size(); i = next++)
+      surfaces[i].polygons = compilerFaces(scene, surfaces[i].sides, surfaces[i].polygons, contents);
+  };
+  std::vector<std::thread> helpers;
+  const size_t threads = std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), surfaces.size());
+  for (size_t i = 1; i < threads; ++i) helpers.emplace_back(buildFaces);
+  buildFaces();
+  for (std::thread& h : helpers) h.join();
+  const VoidTest inVoid = voidTest.get();
+
+  std::vector<GpuLight> lights;
+  for (const Surface& surface : surfaces) {
+    const SurfaceTemplate& t = *surface.light;
+    const Face& face = scene.faces[surface.sides.front()];
+    const bool liquid = face.brush < contents.size() && contents[face.brush] == BrushContents::Liquid;
+    for (const Winding& polygon : surface.polygons) {
+      if (inVoid.inVoid(centroid(polygon) + face.plane.normal * kVoidProbeDistance)) continue;
+      if (!t.radiosity) {
+        addGridLights(face, polygon, t, lights);
+      } else {
+        addRadiosityLight(scene, face, polygon, t, world, lights);
+        // qbsp gives a liquid surface a second face looking into the liquid; the Q1 kind skips
+        // it ("underwater side"), the radiosity kind emits from it too.
+        if (liquid) {
+          Face underwater = face;
+          underwater.plane = face.plane.flipped();
+          addRadiosityLight(scene, underwater, Winding(polygon.rbegin(), polygon.rend()), t, world, lights);
         }
-        if (lights.size() > kMaxSurfaceLights) {
-          lights.resize(kMaxSurfaceLights);
-          diagnostics.push_back({Severity::Warning, scene.sourcePath, face.line, 0,
-                                 fmt::format("_surface \"{}\": more than {} surface light points; the rest are left out",
-                                             t.texture, kMaxSurfaceLights)});
-          return lights;
-        }
+      }
+      if (lights.size() > kMaxSurfaceLights) {
+        lights.resize(kMaxSurfaceLights);
+        diagnostics.push_back({Severity::Warning, scene.sourcePath, face.line, 0,
+                               fmt::format("_surface \"{}\": more than {} surface light points; the rest are left out",
+                                           t.texture, kMaxSurfaceLights)});
+        return lights;
       }
     }
   }
