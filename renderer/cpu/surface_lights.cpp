@@ -172,23 +172,35 @@ bool apartForMerge(const Bounds& a, const Bounds& b) {
   return false;
 }
 
-// qbsp's MergeAll over one plane and texture: merge until no pair merges any more.
+// qbsp's MergeAll over one plane and texture: merge until no pair merges any more, each time the
+// first pair in order (i, then j > i) that merges.
 void mergeCoplanar(std::vector<Winding>& polygons, const dvec3& normal) {
   std::vector<Bounds> bounds;
   for (const Winding& w : polygons) bounds.push_back(boundsOf(w));
+  auto merge = [&](size_t i, size_t j) {
+    if (apartForMerge(bounds[i], bounds[j])) return false;
+    std::optional<Winding> m = tryMerge(polygons[i], polygons[j], normal);
+    if (!m) return false;
+    polygons[i] = std::move(*m);
+    bounds[i] = boundsOf(polygons[i]);
+    polygons.erase(polygons.begin() + std::ptrdiff_t(j));
+    bounds.erase(bounds.begin() + std::ptrdiff_t(j));
+    return true;
+  };
+  // After a merge into polygon `changed`, the pairs of the rows before it that do not include it
+  // failed before and fail again (tryMerge reads only the two polygons): those rows are tried
+  // against `changed` alone.
+  size_t changed = 0;
   for (bool merged = true; merged;) {
     merged = false;
-    for (size_t i = 0; i < polygons.size() && !merged; ++i)
-      for (size_t j = i + 1; j < polygons.size() && !merged; ++j) {
-        if (apartForMerge(bounds[i], bounds[j])) continue;
-        if (std::optional<Winding> m = tryMerge(polygons[i], polygons[j], normal)) {
-          polygons[i] = std::move(*m);
-          bounds[i] = boundsOf(polygons[i]);
-          polygons.erase(polygons.begin() + std::ptrdiff_t(j));
-          bounds.erase(bounds.begin() + std::ptrdiff_t(j));
-          merged = true;
-        }
+    for (size_t i = 0; i < polygons.size() && !merged; ++i) {
+      if (i < changed) {
+        if ((merged = merge(i, changed))) changed = i;
+        continue;
       }
+      for (size_t j = i + 1; j < polygons.size() && !merged; ++j)
+        if ((merged = merge(i, j))) changed = i;
+    }
   }
 }
 
