@@ -407,7 +407,10 @@ VoidTest::VoidTest(const Scene& scene, const TraceScene& tracer) : tracer_(trace
     const std::optional<glm::vec3> origin = parseVec3(e.value("origin"));
     if (!origin) continue;
     anyEntity = true;
-    if (escapes(dvec3(*origin))) sealed_ = false;
+    if (escapes(dvec3(*origin))) {
+      sealed_ = false; // one leak is enough
+      break;
+    }
   }
   sealed_ = sealed_ && anyEntity;
 }
