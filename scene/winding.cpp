@@ -2,6 +2,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <array>
 #include <cmath>
 
 namespace bt {
@@ -19,14 +20,51 @@ Winding baseWinding(const Plane& plane, double radius) {
   return {center - r - up, center + r - up, center + r + up, center - r + up};
 }
 
+namespace {
+
+// Signed distances of a winding's points to a plane; windings are small (a brush side has a
+// handful of points), so they fit in place and clipping allocates nothing for them.
+class PointDistances {
+public:
+  PointDistances(const Winding& w, const Plane& plane) : heap_(w.size() > kInPlace ? w.size() : 0) {
+    data_ = heap_.empty() ? inPlace_.data() : heap_.data();
+    for (size_t i = 0; i < w.size(); ++i) data_[i] = plane.distanceTo(w[i]);
+  }
+  PointDistances(const PointDistances&) = delete;
+  PointDistances& operator=(const PointDistances&) = delete;
+  double operator[](size_t i) const { return data_[i]; }
+
+private:
+  static constexpr size_t kInPlace = 32;
+  std::array<double, kInPlace> inPlace_;
+  std::vector<double> heap_;
+  double* data_;
+};
+
+// Where the edge p -> q (distances dp, dq of opposite signs) crosses the plane.
+dvec3 crossing(const dvec3& p, const dvec3& q, double dp, double dq, const Plane& plane) {
+  const double t = dp / (dp - dq);
+  dvec3 mid = p + (q - p) * t;
+  // Axial planes: put the coordinate exactly on the plane, as qbsp does, so that
+  // neighbouring brushes share vertices bit for bit.
+  for (int k = 0; k < 3; ++k) {
+    if (plane.normal[k] == 1.0) mid[k] = plane.dist;
+    else if (plane.normal[k] == -1.0) mid[k] = -plane.dist;
+  }
+  return mid;
+}
+
+bool crosses(double dp, double dq, double epsilon) { return (dp > epsilon && dq < -epsilon) || (dp < -epsilon && dq > epsilon); }
+
+} // namespace
+
 SplitWinding splitWinding(const Winding& w, const Plane& plane, double epsilon) {
   SplitWinding out;
   const size_t n = w.size();
   if (n == 0) return out;
-  std::vector<double> dist(n);
+  const PointDistances dist(w, plane);
   bool anyFront = false, anyBack = false;
   for (size_t i = 0; i < n; ++i) {
-    dist[i] = plane.distanceTo(w[i]);
     anyFront |= dist[i] > epsilon;
     anyBack |= dist[i] < -epsilon;
   }
@@ -43,22 +81,15 @@ SplitWinding splitWinding(const Winding& w, const Plane& plane, double epsilon) 
     out.front = w;
     return out;
   }
+  out.front.reserve(n + 1); // a convex polygon gains at most one point on each side
+  out.back.reserve(n + 1);
   for (size_t i = 0; i < n; ++i) {
-    const dvec3& p = w[i];
-    const dvec3& q = w[(i + 1) % n];
-    const double dp = dist[i], dq = dist[(i + 1) % n];
-    if (dp >= -epsilon) out.front.push_back(p);
-    if (dp <= epsilon) out.back.push_back(p);
-    const bool crosses = (dp > epsilon && dq < -epsilon) || (dp < -epsilon && dq > epsilon);
-    if (crosses) {
-      const double t = dp / (dp - dq);
-      dvec3 mid = p + (q - p) * t;
-      // Axial planes: put the coordinate exactly on the plane, as qbsp does, so that
-      // neighbouring brushes share vertices bit for bit.
-      for (int k = 0; k < 3; ++k) {
-        if (plane.normal[k] == 1.0) mid[k] = plane.dist;
-        else if (plane.normal[k] == -1.0) mid[k] = -plane.dist;
-      }
+    const size_t next = i + 1 == n ? 0 : i + 1;
+    const double dp = dist[i], dq = dist[next];
+    if (dp >= -epsilon) out.front.push_back(w[i]);
+    if (dp <= epsilon) out.back.push_back(w[i]);
+    if (crosses(dp, dq, epsilon)) {
+      const dvec3 mid = crossing(w[i], w[next], dp, dq, plane);
       out.front.push_back(mid);
       out.back.push_back(mid);
     }
@@ -68,9 +99,28 @@ SplitWinding splitWinding(const Winding& w, const Plane& plane, double epsilon) 
   return out;
 }
 
+// splitWinding's back part, without building the front one: the importers clip every brush side
+// by every other plane of its brush.
 Winding clipBehind(const Winding& w, const Plane& plane, double epsilon) {
-  SplitWinding s = splitWinding(w, plane, epsilon);
-  return std::move(s.back);
+  const size_t n = w.size();
+  if (n == 0) return {};
+  const PointDistances dist(w, plane);
+  bool anyFront = false;
+  for (size_t i = 0; i < n; ++i) anyFront |= dist[i] > epsilon;
+  if (!anyFront) return w; // behind or on the plane: all of it
+  bool anyBack = false;
+  for (size_t i = 0; i < n; ++i) anyBack |= dist[i] < -epsilon;
+  if (!anyBack) return {};
+  Winding back;
+  back.reserve(n + 1);
+  for (size_t i = 0; i < n; ++i) {
+    const size_t next = i + 1 == n ? 0 : i + 1;
+    const double dp = dist[i], dq = dist[next];
+    if (dp <= epsilon) back.push_back(w[i]);
+    if (crosses(dp, dq, epsilon)) back.push_back(crossing(w[i], w[next], dp, dq, plane));
+  }
+  if (back.size() < 3) back.clear();
+  return back;
 }
 
 dvec3 areaVector(const Winding& w) {

@@ -10,11 +10,14 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cctype>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <system_error>
+#include <thread>
 #include <tuple>
 #include <unordered_map>
 
@@ -165,6 +168,36 @@ public:
     return true;
   }
 
+  // Decodes, on all cores, the loose image that find() reads first for each material still
+  // missing. find() itself stays in order, with its diagnostics, and takes the decoded images
+  // (errors included) from here; a name that a WAD supplies, or that find() skips, has had its
+  // image decoded for nothing.
+  void decodeAhead(const std::vector<Material>& materials) {
+    std::vector<fs::path> files;
+    std::set<fs::path> listed;
+    for (const Material& m : materials)
+      if (m.missing())
+        if (const fs::path* file = firstLooseFile(m.name); file && !isWal(*file) && listed.insert(*file).second)
+          files.push_back(*file);
+    std::vector<Decoded> decoded(files.size());
+    std::atomic<size_t> next{0};
+    auto work = [&] {
+      for (size_t i = next++; i < files.size(); i = next++) {
+        try {
+          decoded[i].image = loadImage(files[i]);
+        } catch (const ImportError& e) {
+          decoded[i].error = e.diagnostic();
+        }
+      }
+    };
+    std::vector<std::thread> helpers;
+    const size_t threads = std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), files.size());
+    for (size_t t = 1; t < threads; ++t) helpers.emplace_back(work);
+    work();
+    for (std::thread& h : helpers) h.join();
+    for (size_t i = 0; i < files.size(); ++i) decoded_.emplace(files[i], std::move(decoded[i]));
+  }
+
   void addCompanions(Material& material) {
     std::set<Companion> found;
     for (const std::string& stem : textureFileStems(material.name))
@@ -205,6 +238,30 @@ public:
   }
 
 private:
+  struct Decoded {
+    Image image;
+    std::optional<Diagnostic> error;
+  };
+
+  // loadImage(file), decoded ahead where decodeAhead() did.
+  Image decodedImage(const fs::path& file) {
+    auto it = decoded_.find(file);
+    if (it == decoded_.end()) return loadImage(file);
+    Decoded d = std::move(it->second);
+    decoded_.erase(it);
+    if (d.error) throw ImportError(*d.error);
+    return std::move(d.image);
+  }
+
+  // The first file find() tries among the loose folders.
+  const fs::path* firstLooseFile(const std::string& name) const {
+    const std::vector<std::string> spellings = textureFileStems(name);
+    for (const LooseFolder& folder : folders_)
+      for (const std::string& stem : spellings)
+        if (const fs::path* file = folder.find(stem)) return file;
+    return nullptr;
+  }
+
   struct Wad {
     fs::path path;
     std::unique_ptr<WadFile> file; // opened on first lookup
@@ -346,7 +403,7 @@ private:
         }
         material = decodeWal(readTextureFile(file), **quake2Palette_, file.string());
       } else {
-        material.baseColor = loadImage(file);
+        material.baseColor = decodedImage(file);
         material.width = material.baseColor.width;
         material.height = material.baseColor.height;
         material.source = TextureSource::LooseImage;
@@ -445,6 +502,7 @@ private:
   std::optional<std::optional<Palette>> quake2Palette_; // outer: looked for yet; inner: found
   std::map<std::string, std::optional<std::pair<int, int>>> undecodedSizes_;
   std::vector<std::string> palettelessNames_;
+  std::map<fs::path, Decoded> decoded_; // by decodeAhead(), until find() takes them
 };
 
 void replaceLeadingSpelling(std::vector<std::string>& out, std::string_view name, std::string_view prefix,
@@ -483,6 +541,7 @@ void loadMaterials(Scene& scene, const TextureSearch& search) {
   }
 
   TextureLibrary library(scene, search, scene.diagnostics);
+  library.decodeAhead(scene.materials);
   std::vector<std::string> missing;
   for (Material& material : scene.materials) {
     if (material.missing()) {

@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -39,20 +40,32 @@ bool isFaithfulCandidate(const GpuLight& l) {
   return l.type == uint32_t(LightType::Point) && l.formula != uint32_t(LightFormula::LocalMin) && l.value != 0.0f;
 }
 
-// Squared distance from c to the box, where a side at the grid's border extends to infinity:
-// a point outside the grid is looked up in the border cell, so that cell lists the lights that
-// reach anything beyond it.
-float distanceToCell2(const GpuLightGrid& g, const uint32_t cell[3], const glm::vec3& c) {
+// A cell's box, where a side at the grid's border extends to infinity: a point outside the grid
+// is looked up in the border cell, so that cell lists the lights that reach anything beyond it.
+struct CellBox {
+  glm::vec3 lo, hi;
+};
+
+CellBox cellBox(const GpuLightGrid& g, const uint32_t cell[3]) {
+  CellBox box;
+  for (int a = 0; a < 3; ++a) {
+    box.lo[a] = cell[a] == 0 ? -std::numeric_limits<float>::infinity() : g.origin[a] + float(cell[a]) * g.cellSize;
+    box.hi[a] = cell[a] + 1 == g.dims[a] ? std::numeric_limits<float>::infinity() : g.origin[a] + float(cell[a] + 1) * g.cellSize;
+  }
+  return box;
+}
+
+// Squared distance from the box [pointsLo, pointsHi] to the cell.
+float distanceToCell2(const CellBox& cell, const glm::vec3& pointsLo, const glm::vec3& pointsHi) {
   float d2 = 0.0f;
   for (int a = 0; a < 3; ++a) {
-    const float lo = cell[a] == 0 ? -std::numeric_limits<float>::infinity() : g.origin[a] + float(cell[a]) * g.cellSize;
-    const float hi = cell[a] + 1 == g.dims[a] ? std::numeric_limits<float>::infinity()
-                                              : g.origin[a] + float(cell[a] + 1) * g.cellSize;
-    const float d = c[a] < lo ? lo - c[a] : (c[a] > hi ? c[a] - hi : 0.0f);
+    const float d = pointsHi[a] < cell.lo[a] ? cell.lo[a] - pointsHi[a] : (pointsLo[a] > cell.hi[a] ? pointsLo[a] - cell.hi[a] : 0.0f);
     d2 += d * d;
   }
   return d2;
 }
+
+float distanceToCell2(const CellBox& cell, const glm::vec3& p) { return distanceToCell2(cell, p, p); }
 
 uint32_t clampedCell(const GpuLightGrid& g, int axis, float coordinate) {
   const float f = (coordinate - g.origin[axis]) / g.cellSize;
@@ -73,6 +86,175 @@ GpuLightGrid gridOver(const Bounds& bounds) {
     g.dims[a] = std::clamp(uint32_t(std::ceil(extent[a] / g.cellSize)), 1u, kMaxCellsPerAxis);
   return g;
 }
+
+// --- Physical near lists -----------------------------------------------------------------------
+//
+// A cell lists the kPhysicalNearLights lights of largest rank key (nearKey), the largest first,
+// ties to the lower light index. Ranking each of a large level's ~2,700 lights in each of its
+// ~20,000 cells took most of the level's preparation; instead the lights sit in a tree of
+// spatial groups, each with a bound of its members' keys (a light BVH), and a cell opens a group
+// only when that bound can beat the last light of its list so far. Starting from a neighbour's
+// list, a cell ranks about a hundred lights instead of all. The lists are exactly those of
+// ranking every light (tests/render/light_selection_test.cpp compares them).
+
+// Rank key: an upper bound of a light's irradiance in the cell, power / d^2, d the distance from
+// the (jittered) light to the cell, at least half a cell (nearest2 = that squared) so that
+// lights inside the cell do not all tie at infinity.
+float nearKey(float distance2, float jitter, float power, float nearest2) {
+  const float d = std::max(std::sqrt(distance2) - jitter, 0.0f);
+  return power / std::max(d * d, nearest2);
+}
+
+// A light's ranking inputs side by side (a GpuLight is 96 bytes, of which this reads 5 floats).
+struct NearCandidate {
+  glm::vec3 origin;
+  float jitter;
+  float power;
+  uint32_t light;
+};
+
+// Candidates [first, end) and what bounds their keys: every float operation in nearKey rounds
+// monotonically, so with the box's distance (no larger than any member's), the largest jitter
+// and the largest power it gives a key no smaller than any member's, exactly, not only up to
+// rounding. A node of a binary tree over the candidates, in depth-first order: an inner node's
+// first child follows it, its second child is at `second`.
+struct CandidateNode {
+  glm::vec3 lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
+  float jitter = 0.0f, power = 0.0f;
+  uint32_t first = 0, end = 0;
+  uint32_t second = 0; // 0 for a leaf
+};
+
+// Leaves of at most this many lights: few enough that a cell does not rank many lights it does
+// not keep, enough that the tree stays shallow.
+constexpr uint32_t kNearLeafSize = 8;
+
+// Splits candidates [first, end) at the median of their box's longest axis until a part is
+// small enough for a leaf.
+void buildCandidateTree(std::vector<NearCandidate>& candidates, uint32_t first, uint32_t end, std::vector<CandidateNode>& nodes) {
+  const size_t self = nodes.size();
+  CandidateNode node;
+  node.first = first;
+  node.end = end;
+  for (uint32_t i = first; i < end; ++i) {
+    const NearCandidate& c = candidates[i];
+    node.lo = glm::min(node.lo, c.origin);
+    node.hi = glm::max(node.hi, c.origin);
+    node.jitter = std::max(node.jitter, c.jitter);
+    node.power = std::max(node.power, c.power);
+  }
+  nodes.push_back(node);
+  if (end - first <= kNearLeafSize) return;
+  const glm::vec3 extent = node.hi - node.lo;
+  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+  const uint32_t middle = first + (end - first) / 2;
+  std::nth_element(candidates.begin() + first, candidates.begin() + middle, candidates.begin() + end,
+                   [axis](const NearCandidate& a, const NearCandidate& b) { return a.origin[axis] < b.origin[axis]; });
+  buildCandidateTree(candidates, first, middle, nodes);
+  nodes[self].second = uint32_t(nodes.size());
+  buildCandidateTree(candidates, middle, end, nodes);
+}
+
+// The best lights found so far for one cell, best first: the largest key, then the lower light
+// index, the order of a sort over every light, whatever order they are found in.
+class NearList {
+public:
+  struct Entry {
+    float key;
+    uint32_t light;
+    uint32_t candidate; // its place in NearRanking's candidates
+  };
+  uint32_t size() const { return size_; }
+  const Entry& operator[](uint32_t i) const { return entries_[i]; }
+  bool full() const { return size_ == kPhysicalNearLights; }
+  float lastKey() const { return entries_[size_ - 1].key; }
+  bool admits(float key, uint32_t light) const { return !full() || before(key, light, entries_[size_ - 1]); }
+  // Only what admits(): the last entry of a full list drops out.
+  void insert(const Entry& e) {
+    uint32_t at = full() ? size_ - 1 : size_++;
+    for (; at > 0 && before(e.key, e.light, entries_[at - 1]); --at) entries_[at] = entries_[at - 1];
+    entries_[at] = e;
+  }
+
+private:
+  static bool before(float key, uint32_t light, const Entry& e) { return key > e.key || (key == e.key && light < e.light); }
+  std::array<Entry, kPhysicalNearLights> entries_{};
+  uint32_t size_ = 0;
+};
+
+class NearRanking {
+public:
+  NearRanking(const GpuLightGrid& g, const std::vector<GpuLight>& lights, std::span<const uint32_t> physical)
+      : grid_(g), nearest2_(0.25f * g.cellSize * g.cellSize) {
+    for (uint32_t i : physical) {
+      const GpuLight& l = lights[i];
+      const float power = (l.color.x + l.color.y + l.color.z) * l.value;
+      if (power > 0.0f) candidates_.push_back({l.origin, maxJitter(l), power, i});
+    }
+    if (!candidates_.empty()) buildCandidateTree(candidates_, 0, uint32_t(candidates_.size()), nodes_);
+  }
+
+  size_t candidateCount() const { return candidates_.size(); }
+
+  // The list of `cell`, starting from the lights of `hint`: a neighbour's list, most of which
+  // ranks high here too, so that few groups can beat its last key. rankedFor[c] == stamp marks
+  // the candidates this cell has ranked already; stamp must differ from cell to cell.
+  NearList rank(const uint32_t cell[3], const NearList& hint, std::vector<uint32_t>& rankedFor, uint32_t stamp) const {
+    const CellBox box = cellBox(grid_, cell);
+    NearList list;
+    auto consider = [&](uint32_t c) {
+      if (rankedFor[c] == stamp) return;
+      rankedFor[c] = stamp;
+      const NearCandidate& light = candidates_[c];
+      const float distance2 = distanceToCell2(box, light.origin);
+      if (list.full() && ranksBelow(distance2, light.jitter, light.power, list.lastKey())) return;
+      const float key = nearKey(distance2, light.jitter, light.power, nearest2_);
+      if (list.admits(key, light.light)) list.insert({key, light.light, c});
+    };
+    for (uint32_t i = 0; i < hint.size(); ++i) consider(hint[i].candidate);
+    // The tree, the nearer child first. A member ties with the last entry at best when a bound
+    // equals its key; it may still win on its index then, so only a smaller bound rules a node out.
+    struct Pending {
+      uint32_t node;
+      float distance2; // from the node's box to the cell
+    };
+    std::array<Pending, 64> stack; // depth-first: at most one pending node per level, plus one
+    uint32_t depth = 0;
+    if (!nodes_.empty()) stack[depth++] = {0, distanceToCell2(box, nodes_[0].lo, nodes_[0].hi)};
+    while (depth > 0) {
+      const Pending pending = stack[--depth];
+      const CandidateNode& node = nodes_[pending.node];
+      if (list.full() && ranksBelow(pending.distance2, node.jitter, node.power, list.lastKey())) continue;
+      if (node.second == 0) {
+        for (uint32_t c = node.first; c < node.end; ++c) consider(c);
+        continue;
+      }
+      const CandidateNode &first = nodes_[pending.node + 1], &second = nodes_[node.second];
+      const Pending a{pending.node + 1, distanceToCell2(box, first.lo, first.hi)};
+      const Pending b{node.second, distanceToCell2(box, second.lo, second.hi)};
+      stack[depth++] = a.distance2 <= b.distance2 ? b : a;
+      stack[depth++] = a.distance2 <= b.distance2 ? a : b;
+    }
+    return list;
+  }
+
+private:
+  // Whether every light of at most this power and jitter, at a squared distance from the cell of
+  // at least distance2, ranks below `key`. nearKey is monotonic in each input (see
+  // CandidateNode); without jitter the test skips its square root and division, with a margin
+  // far above their few roundings, so it never rules out a light that nearKey would rank at
+  // `key` or above.
+  bool ranksBelow(float distance2, float jitter, float power, float key) const {
+    constexpr float kRoundingMargin = 1.0f + 1e-5f;
+    if (jitter > 0.0f) return nearKey(distance2, jitter, power, nearest2_) < key;
+    return power * kRoundingMargin < key * std::max(distance2, nearest2_);
+  }
+
+  GpuLightGrid grid_;
+  float nearest2_;
+  std::vector<NearCandidate> candidates_; // in the tree's order: a node holds a range of it
+  std::vector<CandidateNode> nodes_;
+};
 
 } // namespace
 
@@ -165,7 +347,7 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
       uint32_t cell[3] = {0, 0, z};
       for (cell[1] = r.lo[1]; cell[1] <= r.hi[1]; ++cell[1])
         for (cell[0] = r.lo[0]; cell[0] <= r.hi[0]; ++cell[0])
-          if (distanceToCell2(g, cell, l.origin) <= reach * reach)
+          if (distanceToCell2(cellBox(g, cell), l.origin) <= reach * reach)
             lists[cell[0] + g.dims[0] * (cell[1] + g.dims[1] * size_t(z))].push_back(r.light);
     }
   });
@@ -175,44 +357,24 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
     grid.indices.insert(grid.indices.end(), lists[k].begin(), lists[k].end());
   }
 
-  // Physical near lists: the kPhysicalNearLights lights of largest bound power / d^2, d the
-  // distance from the (jittered) light to the cell, at least half a cell so that lights inside
-  // the cell do not all tie at infinity. Every cell ranks every physical light, slice by slice
-  // on the same threads; each cell's list depends on nothing else.
-  const std::vector<uint32_t> physical(grid.physicalLights().begin(), grid.physicalLights().end());
-  const float nearest2 = 0.25f * g.cellSize * g.cellSize;
+  // Physical near lists: every cell on the same threads; each cell's list depends on nothing else.
+  const NearRanking ranking(g, lights, grid.physicalLights());
   std::vector<uint32_t> nearLists(cellCount * kPhysicalNearLights);
   std::vector<uint32_t> nearCounts(cellCount);
-  // The lights' ranking inputs side by side (a GpuLight is 96 bytes, of which this reads 5 floats).
-  struct Candidate {
-    glm::vec3 origin;
-    float jitter;
-    float power;
-    uint32_t light;
-  };
-  std::vector<Candidate> candidates;
-  for (uint32_t i : physical) {
-    const GpuLight& l = lights[i];
-    const float power = (l.color.x + l.color.y + l.color.z) * l.value;
-    if (power > 0.0f) candidates.push_back({l.origin, maxJitter(l), power, i});
-  }
   forSlices([&](uint32_t z) {
-    std::vector<std::pair<float, uint32_t>> ranked(candidates.size());
+    std::vector<uint32_t> rankedFor(ranking.candidateCount(), 0);
+    // Each cell starts from its neighbour's list: the cell before it in the row, or for a row's
+    // first cell the first cell of the row before.
+    NearList previous, rowStart;
     uint32_t cell[3] = {0, 0, z};
     for (cell[1] = 0; cell[1] < g.dims[1]; ++cell[1])
       for (cell[0] = 0; cell[0] < g.dims[0]; ++cell[0]) {
-        for (size_t j = 0; j < candidates.size(); ++j) {
-          const Candidate& c = candidates[j];
-          const float d = std::max(std::sqrt(distanceToCell2(g, cell, c.origin)) - c.jitter, 0.0f);
-          ranked[j] = {c.power / std::max(d * d, nearest2), c.light};
-        }
-        const size_t keep = std::min<size_t>(ranked.size(), kPhysicalNearLights);
-        // Largest bound first, ties by light index: the same lists on every run.
-        std::partial_sort(ranked.begin(), ranked.begin() + keep, ranked.end(),
-                          [](const auto& a, const auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); });
         const size_t k = cell[0] + g.dims[0] * (cell[1] + g.dims[1] * size_t(cell[2]));
-        nearCounts[k] = uint32_t(keep);
-        for (size_t r = 0; r < keep; ++r) nearLists[k * kPhysicalNearLights + r] = ranked[r].second;
+        const NearList list = ranking.rank(cell, cell[0] == 0 ? rowStart : previous, rankedFor, uint32_t(k) + 1);
+        nearCounts[k] = list.size();
+        for (uint32_t r = 0; r < list.size(); ++r) nearLists[k * kPhysicalNearLights + r] = list[r].light;
+        if (cell[0] == 0) rowStart = list;
+        previous = list;
       }
   });
   for (size_t k = 0; k < cellCount; ++k) {

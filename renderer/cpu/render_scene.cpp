@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <stdexcept>
 
@@ -20,7 +21,14 @@ constexpr int32_t kQ2SurfSky = 0x4, kQ2SurfWarp = 0x8, kQ2SurfHint = 0x100, kQ2S
 constexpr int32_t kQ2ContentsLiquid = 8 | 16 | 32; // lava, slime, water
 constexpr int32_t kQ2ContentsClip = 0x10000 | 0x20000; // player clip, monster clip
 
-GpuMaterial materialParams(const Material& m) {
+// srgbToLinear(byte / 255) for every byte: a level's textures hold millions of texels.
+std::array<float, 256> srgbByteToLinear() {
+  std::array<float, 256> table;
+  for (int i = 0; i < 256; ++i) table[size_t(i)] = srgbToLinear(float(i) / 255.0f);
+  return table;
+}
+
+GpuMaterial materialParams(const Material& m, const std::array<float, 256>& toLinear) {
   GpuMaterial g;
   g.size = {float(std::max(m.width, 1)), float(std::max(m.height, 1))};
   g.roughness = m.roughnessValue;
@@ -32,7 +40,7 @@ GpuMaterial materialParams(const Material& m) {
     for (int y = 0; y < base.height; ++y)
       for (int x = 0; x < base.width; ++x) {
         const uint8_t* p = base.texel(x, y);
-        sum += glm::dvec4(srgbToLinear(p[0] / 255.0f), srgbToLinear(p[1] / 255.0f), srgbToLinear(p[2] / 255.0f), p[3] / 255.0);
+        sum += glm::dvec4(toLinear[p[0]], toLinear[p[1]], toLinear[p[2]], p[3] / 255.0);
       }
     g.averageAlbedo = glm::vec4(sum / double(base.width * base.height));
   }
@@ -86,7 +94,8 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
     if (f.material >= scene.materials.size())
       throw std::invalid_argument("buildRenderScene: face material index out of range");
   rs.materials.reserve(scene.materials.size());
-  for (const Material& m : scene.materials) rs.materials.push_back(materialParams(m));
+  const std::array<float, 256> toLinear = srgbByteToLinear();
+  for (const Material& m : scene.materials) rs.materials.push_back(materialParams(m, toLinear));
 
   // _surface templates: every material with the template's texture name emits.
   rs.surfaceLights.assign(scene.materials.size(), GpuLight{});

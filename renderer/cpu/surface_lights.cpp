@@ -8,9 +8,12 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <future>
 #include <optional>
+#include <thread>
 
 namespace bt {
 
@@ -143,7 +146,7 @@ std::optional<Winding> tryMerge(const Winding& a, const Winding& b, const dvec3&
   auto same = [](const dvec3& p, const dvec3& q) { return glm::length(p - q) < kOnPlaneEpsilon; };
   for (size_t i = 0; i < a.size(); ++i)
     for (size_t j = 0; j < b.size(); ++j) {
-      const size_t i1 = (i + 1) % a.size(), j1 = (j + 1) % b.size();
+      const size_t i1 = i + 1 == a.size() ? 0 : i + 1, j1 = j + 1 == b.size() ? 0 : j + 1;
       if (!same(a[i], b[j1]) || !same(a[i1], b[j])) continue;
       // a from a[i1] round to a[i], then b past the shared edge.
       Winding merged;
@@ -155,17 +158,49 @@ std::optional<Winding> tryMerge(const Winding& a, const Winding& b, const dvec3&
   return std::nullopt;
 }
 
-// qbsp's MergeAll over one plane and texture: merge until no pair merges any more.
+Bounds boundsOf(const Winding& w) {
+  Bounds b;
+  for (const dvec3& p : w) b.grow(p);
+  return b;
+}
+
+// Polygons whose boxes are this far apart on some axis have no two vertices that tryMerge
+// takes for the same (twice its tolerance: no rounding in the distance can bridge that).
+bool apartForMerge(const Bounds& a, const Bounds& b) {
+  for (int i = 0; i < 3; ++i)
+    if (a.min[i] > b.max[i] + 2.0 * kOnPlaneEpsilon || b.min[i] > a.max[i] + 2.0 * kOnPlaneEpsilon) return true;
+  return false;
+}
+
+// qbsp's MergeAll over one plane and texture: merge until no pair merges any more, each time the
+// first pair in order (i, then j > i) that merges.
 void mergeCoplanar(std::vector<Winding>& polygons, const dvec3& normal) {
+  std::vector<Bounds> bounds;
+  for (const Winding& w : polygons) bounds.push_back(boundsOf(w));
+  auto merge = [&](size_t i, size_t j) {
+    if (apartForMerge(bounds[i], bounds[j])) return false;
+    std::optional<Winding> m = tryMerge(polygons[i], polygons[j], normal);
+    if (!m) return false;
+    polygons[i] = std::move(*m);
+    bounds[i] = boundsOf(polygons[i]);
+    polygons.erase(polygons.begin() + std::ptrdiff_t(j));
+    bounds.erase(bounds.begin() + std::ptrdiff_t(j));
+    return true;
+  };
+  // After a merge into polygon `changed`, the pairs of the rows before it that do not include it
+  // failed before and fail again (tryMerge reads only the two polygons): those rows are tried
+  // against `changed` alone.
+  size_t changed = 0;
   for (bool merged = true; merged;) {
     merged = false;
-    for (size_t i = 0; i < polygons.size() && !merged; ++i)
+    for (size_t i = 0; i < polygons.size() && !merged; ++i) {
+      if (i < changed) {
+        if ((merged = merge(i, changed))) changed = i;
+        continue;
+      }
       for (size_t j = i + 1; j < polygons.size() && !merged; ++j)
-        if (std::optional<Winding> m = tryMerge(polygons[i], polygons[j], normal)) {
-          polygons[i] = std::move(*m);
-          polygons.erase(polygons.begin() + std::ptrdiff_t(j));
-          merged = true;
-        }
+        if ((merged = merge(i, j))) changed = i;
+    }
   }
 }
 
@@ -372,7 +407,10 @@ VoidTest::VoidTest(const Scene& scene, const TraceScene& tracer) : tracer_(trace
     const std::optional<glm::vec3> origin = parseVec3(e.value("origin"));
     if (!origin) continue;
     anyEntity = true;
-    if (escapes(dvec3(*origin))) sealed_ = false;
+    if (escapes(dvec3(*origin))) {
+      sealed_ = false; // one leak is enough
+      break;
+    }
   }
   sealed_ = sealed_ && anyEntity;
 }
@@ -424,10 +462,13 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
                                           const std::vector<BrushContents>& contents, const WorldLighting& world,
                                           const TraceScene& tracer, Diagnostics& diagnostics) {
   if (templates.empty()) return {};
-  const VoidTest voidTest(scene, tracer);
+  // The void test traces rays from every point entity (thousands on a large level); the
+  // surfaces' CSG below does not need it, so it runs beside them.
+  std::future<VoidTest> voidTest = std::async(std::launch::async, [&] { return VoidTest(scene, tracer); });
   // qbsp makes its faces of what CSG leaves of the coplanar sides with one texture and
   // projection (compilerFaces); the compiler spreads its lights over those faces.
   struct Surface {
+    const SurfaceTemplate* light;
     std::vector<uint32_t> sides; // the first gives plane, frame, material
     std::vector<Winding> polygons;
   };
@@ -438,44 +479,58 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
            std::abs(a.frame.s(a.frame.origin) - a.frame.s(b.frame.origin)) < 1e-3 &&
            std::abs(a.frame.t(a.frame.origin) - a.frame.t(b.frame.origin)) < 1e-3;
   };
-  std::vector<GpuLight> lights;
+  std::vector<Surface> surfaces; // template by template
   for (const SurfaceTemplate& t : templates) {
-    std::vector<Surface> surfaces;
+    const size_t first = surfaces.size();
     for (uint32_t f = 0; f < scene.faces.size(); ++f) {
       if (!equalsIgnoreCase(scene.faces[f].texture, t.texture)) continue;
       std::vector<Winding> fragments = visibleFragments(scene, f, contents);
       if (fragments.empty()) continue;
-      auto it = std::find_if(surfaces.begin(), surfaces.end(),
+      auto it = std::find_if(surfaces.begin() + std::ptrdiff_t(first), surfaces.end(),
                              [&](const Surface& s) { return sameSurface(scene.faces[s.sides.front()], scene.faces[f]); });
-      if (it == surfaces.end()) it = surfaces.insert(surfaces.end(), Surface{});
+      if (it == surfaces.end()) it = surfaces.insert(surfaces.end(), Surface{&t, {}, {}});
       it->sides.push_back(f);
       for (Winding& w : fragments) it->polygons.push_back(std::move(w));
     }
-    for (Surface& surface : surfaces) {
-      const Face& face = scene.faces[surface.sides.front()];
-      surface.polygons = compilerFaces(scene, surface.sides, surface.polygons, contents);
-      const bool liquid = face.brush < contents.size() && contents[face.brush] == BrushContents::Liquid;
-      for (const Winding& polygon : surface.polygons) {
-        if (voidTest.inVoid(centroid(polygon) + face.plane.normal * kVoidProbeDistance)) continue;
-        if (!t.radiosity) {
-          addGridLights(face, polygon, t, lights);
-        } else {
-          addRadiosityLight(scene, face, polygon, t, world, lights);
-          // qbsp gives a liquid surface a second face looking into the liquid; the Q1 kind skips
-          // it ("underwater side"), the radiosity kind emits from it too.
-          if (liquid) {
-            Face underwater = face;
-            underwater.plane = face.plane.flipped();
-            addRadiosityLight(scene, underwater, Winding(polygon.rbegin(), polygon.rend()), t, world, lights);
-          }
+  }
+  // Each surface's faces depend on nothing else: the surfaces are shared among threads.
+  std::atomic<size_t> next{0};
+  auto buildFaces = [&] {
+    for (size_t i = next++; i < surfaces.size(); i = next++)
+      surfaces[i].polygons = compilerFaces(scene, surfaces[i].sides, surfaces[i].polygons, contents);
+  };
+  std::vector<std::thread> helpers;
+  const size_t threads = std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), surfaces.size());
+  for (size_t i = 1; i < threads; ++i) helpers.emplace_back(buildFaces);
+  buildFaces();
+  for (std::thread& h : helpers) h.join();
+  const VoidTest inVoid = voidTest.get();
+
+  std::vector<GpuLight> lights;
+  for (const Surface& surface : surfaces) {
+    const SurfaceTemplate& t = *surface.light;
+    const Face& face = scene.faces[surface.sides.front()];
+    const bool liquid = face.brush < contents.size() && contents[face.brush] == BrushContents::Liquid;
+    for (const Winding& polygon : surface.polygons) {
+      if (inVoid.inVoid(centroid(polygon) + face.plane.normal * kVoidProbeDistance)) continue;
+      if (!t.radiosity) {
+        addGridLights(face, polygon, t, lights);
+      } else {
+        addRadiosityLight(scene, face, polygon, t, world, lights);
+        // qbsp gives a liquid surface a second face looking into the liquid; the Q1 kind skips
+        // it ("underwater side"), the radiosity kind emits from it too.
+        if (liquid) {
+          Face underwater = face;
+          underwater.plane = face.plane.flipped();
+          addRadiosityLight(scene, underwater, Winding(polygon.rbegin(), polygon.rend()), t, world, lights);
         }
-        if (lights.size() > kMaxSurfaceLights) {
-          lights.resize(kMaxSurfaceLights);
-          diagnostics.push_back({Severity::Warning, scene.sourcePath, face.line, 0,
-                                 fmt::format("_surface \"{}\": more than {} surface light points; the rest are left out",
-                                             t.texture, kMaxSurfaceLights)});
-          return lights;
-        }
+      }
+      if (lights.size() > kMaxSurfaceLights) {
+        lights.resize(kMaxSurfaceLights);
+        diagnostics.push_back({Severity::Warning, scene.sourcePath, face.line, 0,
+                               fmt::format("_surface \"{}\": more than {} surface light points; the rest are left out",
+                                           t.texture, kMaxSurfaceLights)});
+        return lights;
       }
     }
   }

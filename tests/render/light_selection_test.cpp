@@ -129,6 +129,86 @@ TEST(LightGrid, EmptyLevelHasOneCellWithEveryFiniteLight) {
   EXPECT_EQ(grid.physicalNearLights({0, 0, 0}).size(), 2u);
 }
 
+// The near lists against the plain ranking they stand for: every physical light of positive
+// power ranked in every cell by power / d^2 (d from the jittered light to the cell, whose border
+// sides reach to infinity, at least half a cell), largest first, ties to the lower index.
+// Lights in clusters and in exact duplicates (ties), far outside the grid, jittered, and of kinds
+// that physical mode leaves out.
+std::vector<uint32_t> referenceNearList(const std::vector<GpuLight>& lights, const LightGrid& grid, const uint32_t cell[3]) {
+  const GpuLightGrid& g = grid.header;
+  std::vector<std::pair<float, uint32_t>> ranked;
+  for (uint32_t i : grid.physicalLights()) {
+    const GpuLight& l = lights[i];
+    const float power = (l.color.x + l.color.y + l.color.z) * l.value;
+    if (!(power > 0.0f)) continue;
+    float d2 = 0.0f;
+    for (int a = 0; a < 3; ++a) {
+      const float lo = cell[a] == 0 ? -INFINITY : g.origin[a] + float(cell[a]) * g.cellSize;
+      const float hi = cell[a] + 1 == g.dims[a] ? INFINITY : g.origin[a] + float(cell[a] + 1) * g.cellSize;
+      const float d = l.origin[a] < lo ? lo - l.origin[a] : (l.origin[a] > hi ? l.origin[a] - hi : 0.0f);
+      d2 += d * d;
+    }
+    const float d = std::max(std::sqrt(d2) - std::sqrt(3.0f) * l.deviance, 0.0f);
+    ranked.push_back({power / std::max(d * d, 0.25f * g.cellSize * g.cellSize), i});
+  }
+  const size_t keep = std::min<size_t>(ranked.size(), kPhysicalNearLights);
+  std::partial_sort(ranked.begin(), ranked.begin() + std::ptrdiff_t(keep), ranked.end(),
+                    [](const auto& a, const auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); });
+  std::vector<uint32_t> list;
+  for (size_t r = 0; r < keep; ++r) list.push_back(ranked[r].second);
+  return list;
+}
+
+TEST(LightGrid, PhysicalNearListsAreTheStrongestLightsOfAPlainRanking) {
+  std::mt19937 gen(17);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<GpuLight> lights;
+  for (int i = 0; i < 500; ++i) {
+    GpuLight l;
+    const bool clustered = i % 4 == 0; // a dense cluster: many lights in one cell
+    l.origin = clustered ? glm::vec3(300.0f + 40.0f * u(gen), -200.0f + 40.0f * u(gen), 100.0f + 40.0f * u(gen))
+                         : glm::vec3(-1200.0f + 2400.0f * u(gen), -1200.0f + 2400.0f * u(gen), -300.0f + 900.0f * u(gen));
+    l.value = 50.0f + 400.0f * u(gen);
+    l.color = i % 5 == 0 ? glm::vec3(1.0f, 0.5f, 0.25f) : glm::vec3(1.0f);
+    if (i % 7 == 0) l.deviance = 30.0f * u(gen);
+    if (i % 11 == 0) l.formula = uint32_t(LightFormula::Inverse2);
+    if (i % 13 == 0) l.value = -l.value;          // negative: not physical
+    if (i % 17 == 0) l.flags |= kLightFlagFromSurface; // a _surface point: not physical
+    if (i % 19 == 0) l.formula = uint32_t(LightFormula::LocalMin);
+    lights.push_back(l);
+    if (i % 9 == 0) lights.push_back(l); // an exact tie everywhere, decided by the index
+  }
+  Bounds bounds;
+  bounds.grow(dvec3(-1024.0, -1024.0, 0.0));
+  bounds.grow(dvec3(1024.0, 1024.0, 256.0));
+  const LightGrid grid = buildLightGrid(lights, bounds, 1.0f);
+  const GpuLightGrid& g = grid.header;
+  ASSERT_EQ(g.dims[0], 32u);
+  ASSERT_EQ(g.dims[2], 4u);
+  const size_t cellCount = size_t(g.dims[0]) * g.dims[1] * g.dims[2];
+  uint32_t cell[3];
+  for (cell[2] = 0; cell[2] < g.dims[2]; ++cell[2])
+    for (cell[1] = 0; cell[1] < g.dims[1]; ++cell[1])
+      for (cell[0] = 0; cell[0] < g.dims[0]; ++cell[0]) {
+        const size_t k = cell[0] + g.dims[0] * (cell[1] + g.dims[1] * size_t(cell[2]));
+        const GpuLightCell& c = grid.cells[cellCount + k];
+        const std::vector<uint32_t> listed(grid.indices.begin() + c.first, grid.indices.begin() + c.first + c.count);
+        ASSERT_EQ(listed, referenceNearList(lights, grid, cell)) << "cell " << cell[0] << " " << cell[1] << " " << cell[2];
+      }
+}
+
+TEST(LightGrid, PhysicalNearListsOfFewLightsHoldThemAll) {
+  std::vector<GpuLight> lights(5);
+  for (int i = 0; i < 5; ++i) lights[size_t(i)].origin = {100.0f * float(i), 0.0f, 0.0f};
+  lights[2].value = 0.0f; // lights nothing
+  Bounds bounds;
+  bounds.grow(dvec3(0.0));
+  bounds.grow(dvec3(1000.0, 300.0, 300.0));
+  const LightGrid grid = buildLightGrid(lights, bounds, 1.0f);
+  const std::span<const uint32_t> near = grid.physicalNearLights({950.0f, 10.0f, 10.0f});
+  EXPECT_EQ(std::vector<uint32_t>(near.begin(), near.end()), (std::vector<uint32_t>{4, 3, 1, 0})); // nearest first
+}
+
 // Hard lights: the grid's sum is the exhaustive sum, point by point (float summation order
 // aside), and so is every faithful pixel.
 TEST(LightSelection, FaithfulGridEqualsExhaustiveForHardLights) {

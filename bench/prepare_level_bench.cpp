@@ -1,0 +1,73 @@
+// What `brushtrace render` and `bench` do between reading a level and uploading it: the import
+// and buildRenderScene (lights, surface light points, emitters, BVH, light grid), on the largest
+// shared map (LibreQuake lq_e4m3: 3399 brushes, 2685 lights), a mid-sized one (lqdm5) and the
+// largest oracle .bsp; plus the light grid alone, the largest single step.
+//   build/bench/bench_prepare_level [--benchmark_filter=...]
+#include "importers/import.h"
+#include "renderer/cpu/render_scene.h"
+
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <map>
+#include <string>
+
+namespace {
+
+using namespace bt;
+
+const std::string kShared = BRUSHTRACE_SHARED_DIR;
+const std::map<std::string, std::string> kLevels = {
+    {"lq_e4m3", kShared + "/maps/librequake/lq1/maps/src/e4/lq_e4m3.map"},
+    {"lqdm5", kShared + "/maps/librequake/lq1/maps/src/dm/lqdm5.map"},
+    {"lq_e4m3_bsp", kShared + "/oracle/maps_librequake_lq1_maps_src_e4_lq_e4m3.bsp"},
+};
+
+bool present(benchmark::State& state, const std::string& path) {
+  if (std::filesystem::exists(path)) return true;
+  state.SkipWithError(("not found (../shared missing?): " + path).c_str());
+  return false;
+}
+
+void BM_Import(benchmark::State& state, const std::string& level) {
+  const std::string& path = kLevels.at(level);
+  if (!present(state, path)) return;
+  for (auto _ : state) benchmark::DoNotOptimize(importScene(path, ImportOptions{}).faces.data());
+}
+
+void BM_BuildRenderScene(benchmark::State& state, const std::string& level) {
+  const std::string& path = kLevels.at(level);
+  if (!present(state, path)) return;
+  const Scene scene = importScene(path, ImportOptions{});
+  size_t lights = 0;
+  for (auto _ : state) {
+    Diagnostics diagnostics;
+    const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+    lights = rs.lights.size();
+    benchmark::DoNotOptimize(rs.lightGrid.indices.data());
+  }
+  state.counters["lights"] = double(lights);
+}
+
+void BM_BuildLightGrid(benchmark::State& state, const std::string& level) {
+  const std::string& path = kLevels.at(level);
+  if (!present(state, path)) return;
+  const Scene scene = importScene(path, ImportOptions{});
+  Diagnostics diagnostics;
+  const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist).indices.data());
+  state.counters["cells"] = double(rs.lightGrid.cells.size() / 2);
+}
+
+} // namespace
+
+BENCHMARK_CAPTURE(BM_Import, lq_e4m3, std::string("lq_e4m3"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_BuildRenderScene, lq_e4m3, std::string("lq_e4m3"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_BuildLightGrid, lq_e4m3, std::string("lq_e4m3"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Import, lqdm5, std::string("lqdm5"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_BuildRenderScene, lqdm5, std::string("lqdm5"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Import, lq_e4m3_bsp, std::string("lq_e4m3_bsp"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_BuildRenderScene, lq_e4m3_bsp, std::string("lq_e4m3_bsp"))->Unit(benchmark::kMillisecond)->UseRealTime();
+
+BENCHMARK_MAIN();
