@@ -283,7 +283,7 @@ Split splitPair(const BoxRef* boxes) {
 // slots; the others hold empty boxes with centroids at +inf, which sort after the node's boxes,
 // grow no bounds and are masked out as split candidates. So every loop runs Slots times, fully
 // unrolled: in nodes this small, the mispredicted exits of loops that run n times cost more
-// than the padding's compares.
+// than the padding's compares. The rank sort costs Slots^2, hence three sizes of slots.
 template <uint32_t Slots>
 Split findExactSplitInSlots(const BoxRef* boxes, uint32_t n) {
   struct Key {
@@ -356,7 +356,7 @@ Split findExactSplitInSlots(const BoxRef* boxes, uint32_t n) {
 Split findExactSplit(const BoxRef* boxes, uint32_t n) {
   if (n == 2) return splitPair(boxes);
   static_assert(kExactSweepMax == 8);
-  return n <= 4 ? findExactSplitInSlots<4>(boxes, n) : findExactSplitInSlots<8>(boxes, n);
+  return n <= 4 ? findExactSplitInSlots<4>(boxes, n) : n <= 6 ? findExactSplitInSlots<6>(boxes, n) : findExactSplitInSlots<8>(boxes, n);
 }
 
 // Stable partition of src[0, n) into dst: the boxes left of the split first, then the others,
