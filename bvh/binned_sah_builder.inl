@@ -444,12 +444,20 @@ public:
     refs_[0].reset(new BoxRef[count_]);
     refs_[1].reset(new BoxRef[count_]);
     const size_t slotCount = count_ == 0 ? 0 : 2 * size_t{count_} - 1;
-    slots_.reset(new GpuBvhNode[slotCount]);
     nodeCounts_.reset(new uint32_t[slotCount]);
     order_.resize(count_);
-    // Everything the threads use is allocated here, before they start: nothing they do can
-    // throw and leave the others waiting at a barrier.
-    nodes_.reserve(slotCount);
+    if (threads_ == 1) {
+      // One thread lays the tree out depth first as it goes (see build()): the slots are the
+      // result, cut to the tree's size at the end.
+      nodes_.resize(slotCount);
+      slots_ = nodes_.data();
+    } else {
+      slotStorage_.reset(new GpuBvhNode[slotCount]);
+      slots_ = slotStorage_.get();
+      // Everything the threads use is allocated here, before they start: nothing they do can
+      // throw and leave the others waiting at a barrier.
+      nodes_.reserve(slotCount);
+    }
     compactJobs_.reserve(kMaxCompactJobsPerThread * threads_);
   }
 
@@ -461,13 +469,15 @@ public:
     // the subtrees are built, so threads never share a counter and the layout is the same
     // for any thread count. Leaves leave their reserved slots unused; the depth-first layout
     // at the end squeezes the holes out.
+    //
+    // One thread builds the left subtree before the right one, so it knows where the left
+    // subtree ends before it places the right child's descendants: it puts them right there
+    // (see buildNode()), which is the depth-first layout itself, without holes.
     if (threads_ == 1) {
       NodeTask root{0, 1, 0, count_, 0, 0, {}, {}};
       const uint32_t invalid = readBoxes(0, count_, root.bounds, root.centroids);
       if (invalid != kNoBox) throwInvalidBox(invalid);
-      buildNode(root);
-      planCompaction();
-      for (const CompactJob& job : compactJobs_) runCompactJob(job);
+      nodes_.resize(buildNode(root)); // shrinks: no allocation
     } else {
       const uint32_t invalid = buildWithThreads();
       if (invalid != kNoBox) throwInvalidBox(invalid);
@@ -728,6 +738,8 @@ private:
     } else {
       leftNodes = buildNode(left);
     }
+    // One thread: the right child's descendants go right after the left subtree's (see build()).
+    if (threads_ == 1) right.descendants = left.descendants + leftNodes - 1;
     const uint32_t rightNodes = buildNode(right);
     const bool known = leftNodes != kCountUnknown && rightNodes != kCountUnknown;
     return nodeCounts_[t.slot] = known ? 1 + leftNodes + rightNodes : kCountUnknown;
@@ -831,7 +843,8 @@ private:
   int threads_ = 1;
   uint32_t count_ = 0;
   std::unique_ptr<BoxRef[]> refs_[2]; // a node's boxes are in one; partitioning moves them to the other
-  std::unique_ptr<GpuBvhNode[]> slots_;
+  std::unique_ptr<GpuBvhNode[]> slotStorage_; // with threads; one thread builds in nodes_
+  GpuBvhNode* slots_ = nullptr;
   std::unique_ptr<uint32_t[]> nodeCounts_; // per slot: the node count of its subtree, see buildNode()
   std::vector<uint32_t> order_;
   std::vector<GpuBvhNode> nodes_; // the result: slots_ laid out depth first
