@@ -57,6 +57,9 @@ struct FlatBvh {
 // Builds the BVH of `boxes` (none may be empty or have a non-finite bound; std::invalid_argument
 // otherwise). The result does not depend on `threads`.
 FlatBvh buildBinnedSah(std::span<const Aabb> boxes, const SahBuildSettings& settings);
+// The same build compiled for the x86-64 baseline only; buildBinnedSah() runs an AVX2
+// compilation of it where the CPU has AVX2. Both give the same tree; the tests compare them.
+FlatBvh buildBinnedSahBaseline(std::span<const Aabb> boxes, const SahBuildSettings& settings);
 
 // The SAH decision that every builder here shares (the test suite's full-sweep reference
 // included), in units of half-areas: a node is split when it holds more than leafSize

@@ -97,6 +97,30 @@ TEST(BvhBuild, LayoutDoesNotDependOnThreadCount) {
   }
 }
 
+TEST(BvhBuild, BaselineAndAvx2BuildsAreTheSame) {
+  // buildBinnedSah() runs an AVX2 compilation of the builder where the CPU has AVX2 (else the
+  // baseline one, and this compares the baseline with itself). Same roundings, same tree:
+  // generated levels, scattered boxes, sampled binning (nodes of 2048 boxes or more), threads.
+  const std::vector<Aabb> scattered = scatteredBoxes(20000, 8);
+  const TraceScene level = TraceScene::build(test::generateLevel(12000, 9).scene, {.threads = 1});
+  const std::vector<Aabb> levelBoxes = [&] {
+    std::vector<Aabb> boxes;
+    for (const GpuBrush& g : level.brushes())
+      boxes.push_back({{g.boundsMin[0], g.boundsMin[1], g.boundsMin[2]}, {g.boundsMax[0], g.boundsMax[1], g.boundsMax[2]}});
+    return boxes;
+  }();
+  for (const std::vector<Aabb>* boxes : {&scattered, &levelBoxes}) {
+    for (int threads : {1, 2}) {
+      SCOPED_TRACE(threads);
+      const FlatBvh fast = buildBinnedSah(*boxes, {.threads = threads});
+      const FlatBvh baseline = buildBinnedSahBaseline(*boxes, {.threads = threads});
+      ASSERT_EQ(fast.nodes.size(), baseline.nodes.size());
+      EXPECT_EQ(std::memcmp(fast.nodes.data(), baseline.nodes.data(), fast.nodes.size() * sizeof(GpuBvhNode)), 0);
+      EXPECT_EQ(fast.order, baseline.order);
+    }
+  }
+}
+
 TEST(BvhBuild, BuilderLaysTheTreeOutDepthFirst) {
   // The builder lays the finished tree out subtree by subtree (several threads at once) from
   // subtree node counts; compactDepthFirst() lays a tree out with one stack. A tree already in

@@ -1,0 +1,859 @@
+// The binned SAH builder proper, included by sah_builder.cpp once per instruction set it is
+// compiled for (inside namespace bt::sse2 and bt::avx2); see there. Not a header of its own.
+
+namespace {
+
+constexpr int kMaxBins = 256;
+constexpr float kFloatMax = std::numeric_limits<float>::max();
+constexpr float kFloatInf = std::numeric_limits<float>::infinity();
+// Below this depth, nodes are split at the median along the widest centroid axis instead of by
+// SAH, which bounds the depth at kMedianSplitDepth + log2(n) <= kBvhMaxDepth for n <= 2^24
+// boxes. SAH trees of real levels stay well above it; only pathological inputs (geometric
+// series of box sizes) reach it.
+constexpr uint32_t kMedianSplitDepth = kBvhMaxDepth - 24;
+// Subtrees of at least this many boxes go to the build's task queue, where an idle thread can
+// take them; smaller ones are built by the thread that reached them. A task costs a lock, but
+// the last subtrees, built while other threads have nothing left to take, are at most a few
+// times this size: with 1024, two threads at 50k boxes waited for each other's last subtree.
+constexpr uint32_t kTaskMinBoxes = 256;
+// A build too small to hand out a few tasks of a few thousand boxes is not worth starting a
+// thread for.
+constexpr uint32_t kThreadsMinBoxes = 4096;
+// Nodes this small are split by an exact sweep over their sorted centroids instead of bins:
+// sorting a handful of boxes costs less than clearing and sweeping 3 x binCount bins, and the
+// deep levels, where bins are coarsest relative to the boxes, are where binning loses most.
+constexpr uint32_t kExactSweepMax = 8;
+constexpr uint32_t kMinBins = 8; // see binCountFor()
+constexpr uint32_t kTwoBinSetsMin = 64; // see binBoxes()
+constexpr uint32_t kSampledBinningMin = 2048, kBinSamples = 512; // see sampleStrideFor()
+
+// The builder's inner loops work on SSE registers (x86-64 baseline): a box is two __m128
+// with x, y, z in lanes 0-2; lane 3 is masked to zero before any arithmetic.
+// A function, not a constant: a namespace-scope __m128 may be initialised at start-up, which in
+// the AVX2 compilation (see sah_builder.cpp) would run AVX2 code on any CPU.
+inline __m128 xyzMask() { return _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0)); }
+
+struct Box4 {
+  __m128 min = _mm_set1_ps(kFloatMax);
+  __m128 max = _mm_set1_ps(-kFloatMax);
+
+  void grow(__m128 lo, __m128 hi) {
+    min = _mm_min_ps(min, lo);
+    max = _mm_max_ps(max, hi);
+  }
+  void grow(const Box4& b) { grow(b.min, b.max); }
+  float halfArea() const {
+    alignas(16) float e[4];
+    _mm_store_ps(e, _mm_sub_ps(max, min));
+    if (e[0] < 0.0f || e[1] < 0.0f || e[2] < 0.0f) return 0.0f; // empty
+    return e[0] * e[1] + e[1] * e[2] + e[2] * e[0];
+  }
+  Aabb aabb() const {
+    alignas(16) float lo[4], hi[4];
+    _mm_store_ps(lo, min);
+    _mm_store_ps(hi, max);
+    return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
+  }
+};
+
+// The half-areas of three boxes, one per lane (lane 3 is zero): the split sweeps evaluate the
+// candidate planes of the three axes side by side. Meaningless (inf or NaN) for an empty box;
+// the sweeps mask those lanes out.
+inline __m128 halfAreas(const Box4& a, const Box4& b, const Box4& c) {
+  __m128 x = _mm_sub_ps(a.max, a.min), y = _mm_sub_ps(b.max, b.min), z = _mm_sub_ps(c.max, c.min);
+  __m128 w = _mm_setzero_ps();
+  _MM_TRANSPOSE4_PS(x, y, z, w); // x now holds the three boxes' extents along X, and so on
+  return _mm_add_ps(_mm_add_ps(_mm_mul_ps(x, y), _mm_mul_ps(y, z)), _mm_mul_ps(z, x));
+}
+
+// One input box as the builder moves it around: bounds plus the input index, 32 bytes, so that
+// partitioning copies whole records instead of chasing an index.
+struct BoxRef {
+  glm::vec3 min;
+  uint32_t index;
+  glm::vec3 max;
+  uint32_t pad;
+
+  __m128 lo() const { return _mm_and_ps(_mm_loadu_ps(&min.x), xyzMask()); }
+  __m128 hi() const { return _mm_and_ps(_mm_loadu_ps(&max.x), xyzMask()); }
+  // Twice the centroid: binning only needs positions relative to each other.
+  __m128 centroid2() const { return _mm_add_ps(lo(), hi()); }
+  float centroid2(int axis) const { return min[axis] + max[axis]; } // == lane `axis` of the above
+};
+
+// Maps doubled centroids to bins, all three axes at once. The partition step calls the same
+// function, so a box always lands on the side its bin was counted on.
+struct BinMapping {
+  __m128 origin;
+  __m128 scale;   // 0 on an axis whose centroids all coincide
+  __m128 lastBin; // binCount - 1
+
+  // (c - origin) * scale clamped to [0, binCount - 1], truncated. A NaN (0 * inf, for an
+  // extent so small that its scale overflows) comes out of _mm_max_ps as 0.
+  __m128i bins(__m128 centroid2) const {
+    const __m128 f = _mm_mul_ps(_mm_sub_ps(centroid2, origin), scale);
+    return _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(f, _mm_setzero_ps()), lastBin));
+  }
+};
+
+enum class SplitKind {
+  kExact,   // left = doubled centroid <= position
+  kBinned,  // left = bin <= lastLeftBin, every box binned
+  kSampled, // left = bin <= lastLeftBin, a sample of the boxes binned (see sampleStrideFor())
+};
+
+struct Split {
+  int axis = -1; // -1: no split found (all centroids coincide)
+  SplitKind kind = SplitKind::kExact;
+  float position = 0.0f;
+  int lastLeftBin = 0;
+  uint32_t leftCount = 0; // of a sampled split, the sample's; the partition counts the boxes
+  double childCost = 0.0; // area(left) * count(left) + area(right) * count(right), half-areas
+  BinMapping mapping{};
+  Box4 leftBounds, rightBounds; // kBinned only: the children's bounds, from the bins
+};
+
+// Lane `axis` (0..3) of a per-axis SSE result.
+float laneOf(__m128 v, int axis) {
+  alignas(16) float lanes[4];
+  _mm_store_ps(lanes, v);
+  return lanes[axis];
+}
+int32_t laneOf(__m128i v, int axis) {
+  alignas(16) int32_t lanes[4];
+  _mm_store_si128(reinterpret_cast<__m128i*>(lanes), v);
+  return lanes[axis];
+}
+
+// The lowest-cost lane of the per-axis sweep results, first axis on equal cost; -1 when no lane
+// is valid. Valid lanes hold finite or infinite costs, never NaN (the sweeps only keep a cost
+// that compares less than the best so far). Without branches: which axis wins is a coin toss
+// that a branch predictor loses half the time.
+int cheapestAxis(__m128 cost, __m128i valid) {
+  const __m128 validCost = _mm_or_ps(_mm_and_ps(_mm_castsi128_ps(valid), cost), _mm_andnot_ps(_mm_castsi128_ps(valid), _mm_set1_ps(kFloatInf)));
+  __m128 lowest = _mm_min_ps(validCost, _mm_shuffle_ps(validCost, validCost, _MM_SHUFFLE(3, 0, 2, 1)));
+  lowest = _mm_min_ps(lowest, _mm_shuffle_ps(validCost, validCost, _MM_SHUFFLE(3, 1, 0, 2)));
+  // lowest holds the minimum of the three lanes in each of lanes 0-2.
+  const int cheapest = _mm_movemask_ps(_mm_and_ps(_mm_cmpeq_ps(validCost, lowest), _mm_castsi128_ps(valid))) & 7;
+  return cheapest == 0 ? -1 : std::countr_zero(static_cast<unsigned>(cheapest));
+}
+
+// Bins of one node, the three axes side by side: box[b][a] and count[b][a] are bin b of axis a.
+// Raw storage, so that only the bins in use are cleared.
+struct Bins {
+  struct Bounds {
+    __m128 min, max;
+  };
+  Bounds box[kMaxBins][3];
+  alignas(16) int32_t count[kMaxBins][4];
+
+  void clear(int binCount) {
+    std::fill_n(&box[0][0], 3 * binCount, Bounds{_mm_set1_ps(kFloatMax), _mm_set1_ps(-kFloatMax)});
+    std::fill_n(&count[0][0], 4 * binCount, 0);
+  }
+  void add(int bin, int axis, __m128 lo, __m128 hi) {
+    Bounds& b = box[bin][axis];
+    b.min = _mm_min_ps(b.min, lo);
+    b.max = _mm_max_ps(b.max, hi);
+    ++count[bin][axis];
+  }
+  void add(const BoxRef& ref, const BinMapping& mapping) {
+    const __m128 lo = ref.lo(), hi = ref.hi();
+    const __m128i bin = mapping.bins(_mm_add_ps(lo, hi));
+    add(_mm_cvtsi128_si32(bin), 0, lo, hi);
+    add(_mm_cvtsi128_si32(_mm_shuffle_epi32(bin, 0x55)), 1, lo, hi);
+    add(_mm_cvtsi128_si32(_mm_shuffle_epi32(bin, 0xaa)), 2, lo, hi);
+  }
+  void merge(const Bins& other, int binCount) {
+    for (int b = 0; b < binCount; ++b) {
+      for (int a = 0; a < 3; ++a) {
+        box[b][a].min = _mm_min_ps(box[b][a].min, other.box[b][a].min);
+        box[b][a].max = _mm_max_ps(box[b][a].max, other.box[b][a].max);
+      }
+      _mm_store_si128(reinterpret_cast<__m128i*>(count[b]), _mm_add_epi32(_mm_load_si128(reinterpret_cast<const __m128i*>(count[b])), _mm_load_si128(reinterpret_cast<const __m128i*>(other.count[b]))));
+    }
+  }
+};
+
+// The bin mapping of a node whose doubled centroids span `centroids`.
+BinMapping binMappingFor(const Box4& centroids, int binCount) {
+  const __m128 extent = _mm_sub_ps(centroids.max, centroids.min);
+  // One division for the three axes; 0 where the extent is not positive (lane 3 among them).
+  const __m128 positive = _mm_cmpgt_ps(extent, _mm_setzero_ps());
+  const __m128 scale = _mm_and_ps(positive, _mm_div_ps(_mm_set1_ps(static_cast<float>(binCount)), extent));
+  return {centroids.min, scale, _mm_set1_ps(static_cast<float>(binCount - 1))};
+}
+
+// Bins n boxes, boxes[0], boxes[stride], ..., boxes[(n - 1) * stride], into `bins` (cleared here).
+void binBoxes(const BoxRef* boxes, uint32_t n, ptrdiff_t stride, const BinMapping& mapping, int binCount, Bins& bins) {
+  // Neighbouring boxes tend to fall in the same bins, and each add waits for the previous one's
+  // store to that bin; two sets of bins, for even and odd boxes, halve those chains where a
+  // node has enough boxes to pay for merging them.
+  bins.clear(binCount);
+  uint32_t i = 0;
+  if (n >= kTwoBinSetsMin) {
+    Bins oddBins;
+    oddBins.clear(binCount);
+    for (; i + 1 < n; i += 2, boxes += 2 * stride) {
+      bins.add(boxes[0], mapping);
+      oddBins.add(boxes[stride], mapping);
+    }
+    bins.merge(oddBins, binCount);
+  }
+  for (; i < n; ++i, boxes += stride) bins.add(boxes[0], mapping);
+}
+
+// Binned SAH split of a node of n boxes from its bins (Wald 2007). For each candidate plane,
+// the cost of the three axes is computed in the lanes of one register; `leftCost` keeps the
+// prefix costs.
+Split bestBinnedSplit(const Bins& bins, uint32_t n, const BinMapping& mapping, int binCount) {
+  Split best;
+  best.kind = SplitKind::kBinned;
+  best.mapping = mapping;
+  // Left of plane b: bins [0, b]; right: bins (b, binCount).
+  __m128 leftCost[kMaxBins];
+  Box4 box[3];
+  __m128i count = _mm_setzero_si128();
+  for (int b = 0; b < binCount - 1; ++b) {
+    for (int a = 0; a < 3; ++a) box[a].grow(bins.box[b][a].min, bins.box[b][a].max);
+    count = _mm_add_epi32(count, _mm_load_si128(reinterpret_cast<const __m128i*>(bins.count[b])));
+    leftCost[b] = _mm_mul_ps(halfAreas(box[0], box[1], box[2]), _mm_cvtepi32_ps(count));
+  }
+  const __m128i total = _mm_set1_epi32(static_cast<int32_t>(n));
+  __m128 bestCost = _mm_set1_ps(kFloatInf);
+  __m128i bestBin = _mm_setzero_si128(), found = _mm_setzero_si128();
+  box[0] = box[1] = box[2] = Box4{};
+  count = _mm_setzero_si128();
+  for (int b = binCount - 1; b > 0; --b) {
+    for (int a = 0; a < 3; ++a) box[a].grow(bins.box[b][a].min, bins.box[b][a].max);
+    count = _mm_add_epi32(count, _mm_load_si128(reinterpret_cast<const __m128i*>(bins.count[b])));
+    const __m128 cost = _mm_add_ps(leftCost[b - 1], _mm_mul_ps(halfAreas(box[0], box[1], box[2]), _mm_cvtepi32_ps(count)));
+    // Both sides must hold boxes; lane 3 never does (its counts stay 0).
+    const __m128i valid = _mm_and_si128(_mm_cmpgt_epi32(count, _mm_setzero_si128()), _mm_cmplt_epi32(count, total));
+    const __m128i better = _mm_and_si128(valid, _mm_castps_si128(_mm_cmplt_ps(cost, bestCost)));
+    bestCost = _mm_or_ps(_mm_and_ps(_mm_castsi128_ps(better), cost), _mm_andnot_ps(_mm_castsi128_ps(better), bestCost));
+    bestBin = _mm_or_si128(_mm_and_si128(better, _mm_set1_epi32(b - 1)), _mm_andnot_si128(better, bestBin));
+    found = _mm_or_si128(found, better);
+  }
+  best.axis = cheapestAxis(bestCost, found);
+  if (best.axis < 0) return best;
+  best.lastLeftBin = laneOf(bestBin, best.axis);
+  for (int b = 0; b <= best.lastLeftBin; ++b) {
+    best.leftCount += bins.count[b][best.axis];
+    best.leftBounds.grow(bins.box[b][best.axis].min, bins.box[b][best.axis].max);
+  }
+  for (int b = best.lastLeftBin + 1; b < binCount; ++b) best.rightBounds.grow(bins.box[b][best.axis].min, bins.box[b][best.axis].max);
+  best.childCost = kSahBrushCost * laneOf(bestCost, best.axis);
+  return best;
+}
+
+// The binned split of boxes[0, n), from every stride-th box (see sampleStrideFor()).
+[[gnu::noinline]] Split findBinnedSplit(const BoxRef* boxes, uint32_t n, uint32_t stride, const Box4& centroids, int binCount) {
+  const BinMapping mapping = binMappingFor(centroids, binCount);
+  const uint32_t samples = (n + stride - 1) / stride;
+  Bins bins;
+  binBoxes(boxes, samples, stride, mapping, binCount, bins);
+  Split split = bestBinnedSplit(bins, samples, mapping, binCount);
+  split.kind = stride > 1 ? SplitKind::kSampled : SplitKind::kBinned;
+  return split;
+}
+
+// Two boxes: the one split puts one box on each side and costs the same on every axis, so the
+// first axis on which the centroids differ takes it, as the sweep below would choose.
+Split splitPair(const BoxRef* boxes) {
+  const __m128 c0 = boxes[0].centroid2(), c1 = boxes[1].centroid2();
+  const int differ = _mm_movemask_ps(_mm_cmpneq_ps(c0, c1)) & 7;
+  Split split;
+  if (differ == 0) return split;
+  split.axis = std::countr_zero(static_cast<unsigned>(differ));
+  split.position = std::min(boxes[0].centroid2(split.axis), boxes[1].centroid2(split.axis));
+  split.leftCount = 1;
+  Box4 a, b;
+  a.grow(boxes[0].lo(), boxes[0].hi());
+  b.grow(boxes[1].lo(), boxes[1].hi());
+  split.childCost = kSahBrushCost * (static_cast<double>(a.halfArea()) + b.halfArea());
+  return split;
+}
+
+// Exact SAH split of a small node: every plane between consecutive distinct centroids, the
+// three axes side by side as in findBinnedSplit. The node's n boxes fill the first n of Slots
+// slots; the others hold empty boxes with centroids at +inf, which sort after the node's boxes,
+// grow no bounds and are masked out as split candidates. So every loop runs Slots times, fully
+// unrolled: in nodes this small, the mispredicted exits of loops that run n times cost more
+// than the padding's compares. The rank sort costs Slots^2, hence three sizes of slots.
+template <uint32_t Slots>
+Split findExactSplitInSlots(const BoxRef* boxes, uint32_t n) {
+  struct Key {
+    float centroid2;
+    uint32_t slot;
+  };
+  const __m128 emptyLo = _mm_and_ps(_mm_set1_ps(kFloatMax), xyzMask()), emptyHi = _mm_and_ps(_mm_set1_ps(-kFloatMax), xyzMask());
+  const __m128 lastCentroid = _mm_and_ps(_mm_set1_ps(kFloatInf), xyzMask());
+  __m128 lo[Slots], hi[Slots], centroid[Slots];
+#pragma GCC unroll 8
+  for (uint32_t i = 0; i < Slots; ++i) {
+    const __m128 inNode = _mm_castsi128_ps(_mm_cmplt_epi32(_mm_set1_epi32(static_cast<int32_t>(i)), _mm_set1_epi32(static_cast<int32_t>(n))));
+    const BoxRef& box = boxes[i < n ? i : 0];
+    lo[i] = _mm_or_ps(_mm_and_ps(inNode, box.lo()), _mm_andnot_ps(inNode, emptyLo));
+    hi[i] = _mm_or_ps(_mm_and_ps(inNode, box.hi()), _mm_andnot_ps(inNode, emptyHi));
+    centroid[i] = _mm_or_ps(_mm_and_ps(inNode, _mm_add_ps(lo[i], hi[i])), _mm_andnot_ps(inNode, lastCentroid));
+  }
+  // Sorted by rank, all three axes at once: slot i goes to the number of slots before it in
+  // (centroid, slot) order. Slots^2 compares cost less than the mispredicted branches of an
+  // insertion sort.
+  Key sorted[3][Slots];
+#pragma GCC unroll 8
+  for (uint32_t i = 0; i < Slots; ++i) {
+    __m128i rank = _mm_setzero_si128(); // minus the count, as a true compare is -1
+#pragma GCC unroll 8
+    for (uint32_t j = 0; j < i; ++j) rank = _mm_add_epi32(rank, _mm_castps_si128(_mm_cmple_ps(centroid[j], centroid[i])));
+#pragma GCC unroll 8
+    for (uint32_t j = i + 1; j < Slots; ++j) rank = _mm_add_epi32(rank, _mm_castps_si128(_mm_cmplt_ps(centroid[j], centroid[i])));
+    alignas(16) int32_t r[4];
+    alignas(16) float c[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(r), rank);
+    _mm_store_ps(c, centroid[i]);
+    for (int a = 0; a < 3; ++a) sorted[a][-r[a]] = {c[a], i};
+  }
+  // rightCost[i]: sorted[a][i, n) on the right.
+  __m128 rightCost[Slots];
+  Box4 box[3];
+#pragma GCC unroll 8
+  for (uint32_t i = Slots - 1; i >= 1; --i) {
+    for (int a = 0; a < 3; ++a) box[a].grow(lo[sorted[a][i].slot], hi[sorted[a][i].slot]);
+    rightCost[i] = _mm_mul_ps(halfAreas(box[0], box[1], box[2]), _mm_set1_ps(static_cast<float>(n - i)));
+  }
+  __m128 bestCost = _mm_set1_ps(kFloatInf);
+  __m128i bestIndex = _mm_setzero_si128(), found = _mm_setzero_si128();
+  box[0] = box[1] = box[2] = Box4{};
+#pragma GCC unroll 8
+  for (uint32_t i = 1; i < Slots; ++i) { // left = sorted[a][0, i)
+    for (int a = 0; a < 3; ++a) box[a].grow(lo[sorted[a][i - 1].slot], hi[sorted[a][i - 1].slot]);
+    const __m128 cost = _mm_add_ps(_mm_mul_ps(halfAreas(box[0], box[1], box[2]), _mm_set1_ps(static_cast<float>(i))), rightCost[i]);
+    // Equal centroids cannot be separated by a plane; lane 3 compares 0 with 0. Planes past the
+    // node's last box (i >= n) are padding.
+    const __m128 previous = _mm_setr_ps(sorted[0][i - 1].centroid2, sorted[1][i - 1].centroid2, sorted[2][i - 1].centroid2, 0.0f);
+    const __m128 next = _mm_setr_ps(sorted[0][i].centroid2, sorted[1][i].centroid2, sorted[2][i].centroid2, 0.0f);
+    const __m128 inNode = _mm_castsi128_ps(_mm_cmplt_epi32(_mm_set1_epi32(static_cast<int32_t>(i)), _mm_set1_epi32(static_cast<int32_t>(n))));
+    const __m128i better = _mm_castps_si128(_mm_and_ps(_mm_and_ps(inNode, _mm_cmpneq_ps(previous, next)), _mm_cmplt_ps(cost, bestCost)));
+    bestCost = _mm_or_ps(_mm_and_ps(_mm_castsi128_ps(better), cost), _mm_andnot_ps(_mm_castsi128_ps(better), bestCost));
+    bestIndex = _mm_or_si128(_mm_and_si128(better, _mm_set1_epi32(static_cast<int32_t>(i))), _mm_andnot_si128(better, bestIndex));
+    found = _mm_or_si128(found, better);
+  }
+  Split best;
+  best.axis = cheapestAxis(bestCost, found);
+  if (best.axis < 0) return best;
+  best.leftCount = static_cast<uint32_t>(laneOf(bestIndex, best.axis));
+  best.position = sorted[best.axis][best.leftCount - 1].centroid2;
+  best.childCost = kSahBrushCost * laneOf(bestCost, best.axis);
+  return best;
+}
+
+Split findExactSplit(const BoxRef* boxes, uint32_t n) {
+  if (n == 2) return splitPair(boxes);
+  static_assert(kExactSweepMax == 8);
+  return n <= 4 ? findExactSplitInSlots<4>(boxes, n) : n <= 6 ? findExactSplitInSlots<6>(boxes, n) : findExactSplitInSlots<8>(boxes, n);
+}
+
+// Partition of src[0, n): the boxes left of the split go to leftDst on, in their input order,
+// the others to rightDst on, in input order too, or, for a sampled split, from rightDst
+// backwards (where the bins did not count every box, the left side's size is known only at
+// the end; the order still depends on the boxes alone). Returns the left side's count.
+// Grows the children's centroid bounds on the way; a binned split has its children's bounds
+// from the bins, the others grow them here. Index [1] is the left child, [0] the right.
+//
+// The bounds are grown in registers for both sides at once: a box counts for one side by adding
+// 0 to it, for the other by adding infinity (so that min and max ignore it). Growing
+// bounds[isLeft] in memory instead makes each box wait for the previous one's store.
+template <SplitKind Kind>
+uint32_t partition(const BoxRef* src, BoxRef* leftDst, BoxRef* rightDst, uint32_t n, const Split& split, Box4 bounds[2], Box4 centroids[2]) {
+  constexpr bool Exact = Kind == SplitKind::kExact;
+  constexpr ptrdiff_t rightStep = Kind == SplitKind::kSampled ? -1 : 1;
+  uint32_t left = 0, right = 0;
+  const __m128 position = _mm_set1_ps(split.position);
+  const __m128i firstRightBin = _mm_set1_epi32(split.lastLeftBin + 1);
+  const __m128 ignoreUnless[2] = {_mm_set1_ps(kFloatInf), _mm_setzero_ps()}; // [isLeft]: + for left
+  Box4 leftBox = bounds[1], rightBox = bounds[0], leftCentroids, rightCentroids;
+  for (uint32_t i = 0; i < n; ++i) {
+    const __m128 lo = src[i].lo(), hi = src[i].hi(), c = _mm_add_ps(lo, hi);
+    const __m128 leftLanes = Exact ? _mm_cmple_ps(c, position) : _mm_castsi128_ps(_mm_cmpgt_epi32(firstRightBin, split.mapping.bins(c)));
+    const uint32_t isLeft = (_mm_movemask_ps(leftLanes) >> split.axis) & 1;
+    (isLeft ? leftDst[left] : rightDst[rightStep * right]) = src[i];
+    left += isLeft;
+    right += 1 - isLeft;
+    const __m128 toLeft = ignoreUnless[isLeft], toRight = ignoreUnless[1 - isLeft];
+    if constexpr (Kind != SplitKind::kBinned) {
+      leftBox.grow(_mm_add_ps(lo, toLeft), _mm_sub_ps(hi, toLeft));
+      rightBox.grow(_mm_add_ps(lo, toRight), _mm_sub_ps(hi, toRight));
+    }
+    leftCentroids.grow(_mm_add_ps(c, toLeft), _mm_sub_ps(c, toLeft));
+    rightCentroids.grow(_mm_add_ps(c, toRight), _mm_sub_ps(c, toRight));
+  }
+  bounds[1] = leftBox, bounds[0] = rightBox;
+  centroids[1] = leftCentroids, centroids[0] = rightCentroids;
+  return left;
+}
+
+// Partitions src[0, n) into dst[0, n) (see above); returns the left child's box count.
+uint32_t partition(const BoxRef* src, BoxRef* dst, uint32_t n, const Split& split, Box4 bounds[2], Box4 centroids[2]) {
+  switch (split.kind) {
+  case SplitKind::kExact: return partition<SplitKind::kExact>(src, dst, dst + split.leftCount, n, split, bounds, centroids);
+  case SplitKind::kSampled: return partition<SplitKind::kSampled>(src, dst, dst + n - 1, n, split, bounds, centroids);
+  case SplitKind::kBinned: break;
+  }
+  bounds[1] = split.leftBounds, bounds[0] = split.rightBounds;
+  return partition<SplitKind::kBinned>(src, dst, dst + split.leftCount, n, split, bounds, centroids);
+}
+
+void boundsOf(const BoxRef* boxes, uint32_t n, Box4& bounds, Box4& centroids) {
+  for (uint32_t i = 0; i < n; ++i) {
+    const __m128 lo = boxes[i].lo(), hi = boxes[i].hi(), c = _mm_add_ps(lo, hi);
+    bounds.grow(lo, hi);
+    centroids.grow(c, c);
+  }
+}
+
+// A node to build with its subtree: where it goes (see the slot layout in build()), which of the
+// two BoxRef buffers holds its boxes, and their bounds.
+struct NodeTask {
+  uint32_t slot, descendants;
+  uint32_t begin, end;
+  uint32_t depth;
+  int buffer;
+  Box4 bounds, centroids;
+};
+
+// Top-down binned SAH build. Each node: find the split (binned over the three axes at once,
+// from a sample of the boxes in big nodes, an exact sweep for a few boxes), decide by shouldSplit(), move the boxes to the other BoxRef
+// buffer partitioned, recurse. Subtrees of kTaskMinBoxes or more go to a queue that all the
+// build's threads take from; every choice depends on the boxes alone, never on which thread
+// builds what, so the tree is the same for any thread count.
+//
+// Around the build, the same threads read the input boxes (each thread a chunk) and lay the
+// finished tree out depth first (each thread whole subtrees): done by one thread, these two
+// passes over every box and node held the others idle for a tenth of a two-thread build.
+class BinnedSahBuilder {
+public:
+  BinnedSahBuilder(std::span<const Aabb> boxes, const SahBuildSettings& settings)
+      : settings_(settings), input_(boxes), count_(static_cast<uint32_t>(boxes.size())) {
+    settings_.binCount = std::clamp(settings_.binCount, 2, kMaxBins);
+    settings_.leafSize = std::max(settings_.leafSize, 1);
+    const int threads = settings.threads > 0 ? settings.threads : static_cast<int>(std::thread::hardware_concurrency());
+    threads_ = count_ < kThreadsMinBoxes ? 1 : std::max(threads, 1);
+    // Uninitialised on purpose: every slot and entry is written before it is read.
+    refs_[0].reset(new BoxRef[count_]);
+    refs_[1].reset(new BoxRef[count_]);
+    const size_t slotCount = count_ == 0 ? 0 : 2 * size_t{count_} - 1;
+    nodeCounts_.reset(new uint32_t[slotCount]);
+    order_.resize(count_);
+    if (threads_ == 1) {
+      // One thread lays the tree out depth first as it goes (see build()): the slots are the
+      // result, cut to the tree's size at the end.
+      nodes_.resize(slotCount);
+      slots_ = nodes_.data();
+    } else {
+      slotStorage_.reset(new GpuBvhNode[slotCount]);
+      slots_ = slotStorage_.get();
+      // Everything the threads use is allocated here, before they start: nothing they do can
+      // throw and leave the others waiting at a barrier.
+      nodes_.reserve(slotCount);
+    }
+    compactJobs_.reserve(kMaxCompactJobsPerThread * threads_);
+  }
+
+  FlatBvh build() {
+    if (count_ == 0) return {};
+    // Slot layout while building: a node in slot s with n boxes owns the 2n - 2 slots from
+    // `descendants` on for its subtree: its two children first, then the left child's
+    // subtree (2 nL - 2 slots), then the right child's. That makes every slot known before
+    // the subtrees are built, so threads never share a counter and the layout is the same
+    // for any thread count. Leaves leave their reserved slots unused; the depth-first layout
+    // at the end squeezes the holes out.
+    //
+    // One thread builds the left subtree before the right one, so it knows where the left
+    // subtree ends before it places the right child's descendants: it puts them right there
+    // (see buildNode()), which is the depth-first layout itself, without holes.
+    if (threads_ == 1) {
+      NodeTask root{0, 1, 0, count_, 0, 0, {}, {}};
+      const uint32_t invalid = readBoxes(0, count_, root.bounds, root.centroids);
+      if (invalid != kNoBox) throwInvalidBox(invalid);
+      nodes_.resize(buildNode(root)); // shrinks: no allocation
+    } else {
+      const uint32_t invalid = buildWithThreads();
+      if (invalid != kNoBox) throwInvalidBox(invalid);
+    }
+    FlatBvh result;
+    result.nodes = std::move(nodes_);
+    result.order = std::move(order_);
+    return result;
+  }
+
+private:
+  static constexpr uint32_t kNoBox = std::numeric_limits<uint32_t>::max();
+  // nodeCounts_ of a node with a part of its subtree on the task queue (see buildNode()).
+  static constexpr uint32_t kCountUnknown = 0;
+  // The depth-first layout is cut into about this many subtrees per thread, enough for the
+  // threads to finish together; a tree that would need more (long chains of big nodes) lays
+  // the rest out while planning.
+  static constexpr size_t kCompactJobsPerThread = 8;
+  static constexpr size_t kMaxCompactJobsPerThread = 64;
+  static constexpr size_t kCompactJobMinNodes = 1024;
+
+  // Copies input boxes [begin, end) into refs_[0] and grows their bounds and centroid bounds.
+  // Stops at the first box that is empty or has a non-finite bound and returns its index
+  // (kNoBox when all are valid).
+  uint32_t readBoxes(uint32_t begin, uint32_t end, Box4& bounds, Box4& centroids) {
+    static_assert(sizeof(Aabb) == 24);
+    const __m128 zero = _mm_setzero_ps();
+    BoxRef* refs = refs_[0].get();
+    for (uint32_t i = begin; i < end; ++i) {
+      // An Aabb is six packed floats: min.xyz at 0, max.xyz at 12. Loading max from 8 on, as
+      // (min.z, max.x, max.y, max.z), stays inside the box, also for the last one.
+      const float* box = &input_[i].min.x;
+      const __m128 lo = _mm_and_ps(_mm_loadu_ps(box), xyzMask());
+      const __m128 hi = _mm_and_ps(_mm_shuffle_ps(_mm_loadu_ps(box + 2), _mm_loadu_ps(box + 2), _MM_SHUFFLE(3, 3, 2, 1)), xyzMask());
+      // x - x is 0 for a finite x, NaN for an infinite or NaN one. Lane 3 is 0 in both.
+      const __m128 finite = _mm_and_ps(_mm_cmpeq_ps(_mm_sub_ps(lo, lo), zero), _mm_cmpeq_ps(_mm_sub_ps(hi, hi), zero));
+      if (_mm_movemask_ps(_mm_and_ps(finite, _mm_cmple_ps(lo, hi))) != 0xf) return i;
+      _mm_storeu_ps(&refs[i].min.x, lo);
+      _mm_storeu_ps(&refs[i].max.x, hi); // pad = lane 3 = 0
+      refs[i].index = i;
+      bounds.grow(lo, hi);
+      const __m128 c = _mm_add_ps(lo, hi);
+      centroids.grow(c, c);
+    }
+    return kNoBox;
+  }
+
+  [[noreturn]] void throwInvalidBox(uint32_t i) const {
+    // Finite bounds keep every doubled centroid ordered (at worst +-inf, never NaN), which the
+    // exact sweep's ranking and the partitions rely on.
+    throw std::invalid_argument(input_[i].empty() ? "buildBinnedSah: empty box" : "buildBinnedSah: box with an infinite or NaN bound");
+  }
+
+  // The root split by all threads together, then its subtrees through the task queue. Alone, the
+  // root's split (binning and partitioning every box) keeps the other threads idle for a sixth
+  // of a two-thread build. Here each thread reads and bins one chunk of the boxes, one thread
+  // merges the bins and chooses the split, each partitions its chunk. The merged bins are
+  // exactly those of one pass over all boxes and the chunks' boxes keep their order, so the
+  // tree is the same as a one-thread build's. Returns the first invalid box, kNoBox if none.
+  uint32_t buildWithThreads() {
+    // At most 2 n / kTaskMinBoxes subtrees of kTaskMinBoxes boxes or more exist, so the queue
+    // never reallocates: a task is never lost to a failed allocation with helpers waiting.
+    queue_.reserve(2 * count_ / kTaskMinBoxes + 1);
+    const int chunks = threads_;
+    const auto chunkBegin = [&](int c) { return static_cast<uint32_t>(uint64_t{count_} * c / chunks); };
+    const int binCount = binCountFor(count_);
+    std::vector<Bins> bins(chunks);
+    std::vector<std::array<Box4, 2>> chunkBounds(chunks);        // each chunk's [bounds, centroids]
+    std::vector<uint32_t> invalid(chunks);                        // each chunk's first invalid box
+    std::vector<uint32_t> leftBegin(chunks), rightBegin(chunks); // where each chunk's boxes go
+    std::vector<std::array<Box4, 2>> centroids(chunks);          // of each chunk's [right, left] boxes
+    NodeTask root{0, 1, 0, count_, 0, 0, {}, {}};
+    uint32_t firstInvalid = kNoBox;
+    BinMapping mapping{};
+    Split split;
+    bool together = false; // whether the threads split the root, or leave it to the task queue
+    std::barrier readDone(chunks, [&]() noexcept {
+      for (int c = 0; c < chunks; ++c) {
+        firstInvalid = std::min(firstInvalid, invalid[c]);
+        root.bounds.grow(chunkBounds[c][0]);
+        root.centroids.grow(chunkBounds[c][1]);
+      }
+      mapping = binMappingFor(root.centroids, binCount);
+    });
+    std::barrier binned(chunks, [&]() noexcept {
+      Bins all = bins[0];
+      for (int c = 1; c < chunks; ++c) all.merge(bins[c], binCount);
+      split = bestBinnedSplit(all, count_, mapping, binCount);
+      together = split.axis >= 0 && shouldSplit(count_, settings_.leafSize, root.bounds.halfArea(), split.childCost);
+      if (!together) return addTask(root);
+      // Each chunk's boxes go after those of the chunks before it, on either side.
+      uint32_t left = 0, right = split.leftCount;
+      for (int c = 0; c < chunks; ++c) {
+        leftBegin[c] = left, rightBegin[c] = right;
+        uint32_t chunkLeft = 0;
+        for (int b = 0; b <= split.lastLeftBin; ++b) chunkLeft += static_cast<uint32_t>(bins[c].count[b][split.axis]);
+        left += chunkLeft;
+        right += chunkBegin(c + 1) - chunkBegin(c) - chunkLeft;
+      }
+    });
+    std::barrier partitioned(chunks, [&]() noexcept {
+      if (!together) return;
+      writeBounds(slots_[root.slot], root);
+      nodeCounts_[root.slot] = kCountUnknown;
+      NodeTask left{}, right{};
+      setChildren(root, split.leftCount, left, right);
+      left.buffer = right.buffer = 1 - root.buffer;
+      left.bounds = split.leftBounds, right.bounds = split.rightBounds;
+      for (const auto& c : centroids) left.centroids.grow(c[1]), right.centroids.grow(c[0]);
+      addTask(right);
+      addTask(left);
+    });
+    std::atomic<size_t> nextCompactJob{0};
+    std::barrier built(chunks, [&]() noexcept { planCompaction(); });
+    const auto run = [&](int c) {
+      const uint32_t begin = chunkBegin(c), end = chunkBegin(c + 1);
+      invalid[c] = readBoxes(begin, end, chunkBounds[c][0], chunkBounds[c][1]);
+      readDone.arrive_and_wait();
+      if (firstInvalid != kNoBox) return;
+      const BoxRef* src = refs_[root.buffer].get();
+      BoxRef* dst = refs_[1 - root.buffer].get();
+      binBoxes(src + begin, end - begin, 1, mapping, binCount, bins[c]);
+      binned.arrive_and_wait();
+      if (together) {
+        Box4 unused[2];
+        partition<SplitKind::kBinned>(src + begin, dst + leftBegin[c], dst + rightBegin[c], end - begin, split, unused, centroids[c].data());
+      }
+      partitioned.arrive_and_wait();
+      // The result's zero fill (std::vector has no other way to size) here, where the task
+      // queue lets the other threads go on building, rather than in a phase where they wait.
+      // Within the capacity reserved in the constructor, so it does not allocate.
+      if (c == 0) nodes_.resize(2 * size_t{count_} - 1);
+      work();
+      built.arrive_and_wait();
+      for (size_t job; (job = nextCompactJob.fetch_add(1)) < compactJobs_.size();) runCompactJob(compactJobs_[job]);
+    };
+    {
+      std::vector<std::jthread> helpers;
+      for (int c = 1; c < chunks; ++c) helpers.emplace_back(run, c);
+      run(0);
+    }
+    return firstInvalid;
+  }
+
+  // Takes tasks until every task, including those that running tasks will still add, is done.
+  void work() {
+    std::unique_lock lock(mutex_);
+    for (;;) {
+      wake_.wait(lock, [this] { return !queue_.empty() || unfinished_ == 0; });
+      if (queue_.empty()) return;
+      const NodeTask task = queue_.back();
+      queue_.pop_back();
+      lock.unlock();
+      buildNode(task);
+      lock.lock();
+      if (--unfinished_ == 0) wake_.notify_all();
+    }
+  }
+
+  void addTask(const NodeTask& task) {
+    {
+      std::lock_guard lock(mutex_);
+      queue_.push_back(task);
+      ++unfinished_;
+    }
+    wake_.notify_one();
+  }
+
+  // Returns the leaf's node count, 1.
+  uint32_t makeLeaf(GpuBvhNode& node, const NodeTask& t) {
+    node.leftFirst = t.begin;
+    node.count = t.end - t.begin;
+    const BoxRef* boxes = refs_[t.buffer].get();
+    for (uint32_t i = t.begin; i < t.end; ++i) order_[i] = boxes[i].index;
+    return nodeCounts_[t.slot] = 1;
+  }
+
+  // Writes the node's bounds with two stores, whose lane 3 lands in leftFirst and count: every
+  // caller writes those afterwards.
+  static void writeBounds(GpuBvhNode& node, const NodeTask& t) {
+    static_assert(offsetof(GpuBvhNode, leftFirst) == 12 && offsetof(GpuBvhNode, count) == 28);
+    _mm_storeu_ps(node.boundsMin, t.bounds.min);
+    _mm_storeu_ps(node.boundsMax, t.bounds.max);
+  }
+
+  // Makes t's node the parent of `left` (t's first leftCount boxes) and `right` (the others):
+  // their slots and boxes; their bounds and buffer are the caller's.
+  void setChildren(const NodeTask& t, uint32_t leftCount, NodeTask& left, NodeTask& right) {
+    GpuBvhNode& node = slots_[t.slot];
+    node.leftFirst = t.descendants;
+    node.count = 0;
+    left.slot = t.descendants, right.slot = t.descendants + 1;
+    left.descendants = t.descendants + 2;
+    right.descendants = left.descendants + 2 * leftCount - 2;
+    left.begin = t.begin, left.end = right.begin = t.begin + leftCount, right.end = t.end;
+    left.depth = right.depth = t.depth + 1;
+  }
+
+  // A node of two boxes, the most common interior node (SAH splits to about one box per leaf),
+  // with what buildNode() would make of it but no partition and no child tasks: a leaf, or two
+  // one-box leaves with the lower centroid first. Returns its node count, or 0, having written
+  // nothing, when the centroids coincide and buildNode()'s fallback decides.
+  uint32_t buildPair(GpuBvhNode& node, const NodeTask& t) {
+    const BoxRef* boxes = refs_[t.buffer].get() + t.begin;
+    const Split split = splitPair(boxes);
+    if (split.axis < 0) return 0;
+    if (!shouldSplit(2, settings_.leafSize, t.bounds.halfArea(), split.childCost)) return makeLeaf(node, t);
+    const uint32_t first = boxes[0].centroid2(split.axis) <= split.position ? 0 : 1;
+    node.leftFirst = t.descendants;
+    node.count = 0;
+    for (uint32_t child = 0; child < 2; ++child) {
+      const BoxRef& box = boxes[child == 0 ? first : 1 - first];
+      slots_[t.descendants + child] = {{box.min.x, box.min.y, box.min.z}, t.begin + child, {box.max.x, box.max.y, box.max.z}, 1};
+      nodeCounts_[t.descendants + child] = 1;
+      order_[t.begin + child] = box.index;
+    }
+    return nodeCounts_[t.slot] = 3;
+  }
+
+  // Builds t's subtree and returns its node count (also kept in nodeCounts_ for the depth-first
+  // layout), or kCountUnknown when a part of it went to the task queue.
+  uint32_t buildNode(const NodeTask& t) {
+    GpuBvhNode& node = slots_[t.slot];
+    writeBounds(node, t);
+    const uint32_t count = t.end - t.begin;
+    if (count == 1) return makeLeaf(node, t);
+    if (count == 2 && t.depth < kMedianSplitDepth)
+      if (const uint32_t nodes = buildPair(node, t)) return nodes;
+
+    BoxRef* boxes = refs_[t.buffer].get() + t.begin;
+    // Initialised from the call, not assigned: a Split is over a hundred bytes.
+    const Split split = t.depth >= kMedianSplitDepth ? Split{}
+                        : count <= kExactSweepMax    ? findExactSplit(boxes, count)
+                                                     : findBinnedSplit(boxes, count, sampleStrideFor(t), t.centroids, binCountFor(count));
+    NodeTask left{}, right{};
+    uint32_t leftCount = 0;
+    if (split.axis >= 0) {
+      if (!shouldSplit(count, settings_.leafSize, t.bounds.halfArea(), split.childCost)) return makeLeaf(node, t);
+      Box4 bounds[2], centroids[2];
+      leftCount = partition(boxes, refs_[1 - t.buffer].get() + t.begin, count, split, bounds, centroids);
+      left.buffer = right.buffer = 1 - t.buffer;
+      left.bounds = bounds[1], left.centroids = centroids[1];
+      right.bounds = bounds[0], right.centroids = centroids[0];
+    } else {
+      // Too deep for SAH (see kMedianSplitDepth), or every centroid in one point so that no
+      // SAH split exists: split at the median when the node is too big for a leaf.
+      if (count <= static_cast<uint32_t>(settings_.leafSize)) return makeLeaf(node, t);
+      leftCount = medianSplit(boxes, count, t.centroids);
+      left.buffer = right.buffer = t.buffer;
+      boundsOf(boxes, leftCount, left.bounds, left.centroids);
+      boundsOf(boxes + leftCount, count - leftCount, right.bounds, right.centroids);
+    }
+
+    setChildren(t, leftCount, left, right);
+    uint32_t leftNodes = kCountUnknown;
+    if (threads_ > 1 && leftCount >= kTaskMinBoxes) {
+      addTask(left);
+    } else {
+      leftNodes = buildNode(left);
+    }
+    // One thread: the right child's descendants go right after the left subtree's (see build()).
+    if (threads_ == 1) right.descendants = left.descendants + leftNodes - 1;
+    const uint32_t rightNodes = buildNode(right);
+    const bool known = leftNodes != kCountUnknown && rightNodes != kCountUnknown;
+    return nodeCounts_[t.slot] = known ? 1 + leftNodes + rightNodes : kCountUnknown;
+  }
+
+  // Nodes of kSampledBinningMin boxes or more choose their split from every stride-th box, 512
+  // to 1023 of them: that places the SAH's planes about as well as all of their boxes, for the
+  // cost of binning a few. Smaller nodes bin every box: with 256 samples in nodes of 512 and
+  // more, chasm's SAH went from 0.99 to 1.065 of the full sweep. Never the root, which the
+  // build's threads bin together (see buildWithThreads()).
+  static uint32_t sampleStrideFor(const NodeTask& t) {
+    const uint32_t count = t.end - t.begin;
+    return t.depth == 0 || count < kSampledBinningMin ? 1 : count / kBinSamples;
+  }
+
+  // A node with few boxes gets fewer bins, as sweeping bins costs more than binning its boxes
+  // there: 5/8 bin per box, at most 24 below 256 boxes. Against 3/4 bin per box and 32 bins
+  // from 43 boxes on, that saves 4 % of the build's instructions and keeps or lowers the SAH
+  // on the shared maps (dm3 1.019 -> 1.017 of the full sweep, e1m1 1.017 -> 1.012, chasm
+  // 0.991 -> 0.990, lq_e4m3 0.993 -> 0.996) and the generated levels (50k 0.982 -> 0.979).
+  // The SAH moves by a percent or two either way with the bin count on these levels (their
+  // brushes sit on grids that bins of some widths fit better), so changes here need measuring.
+  int binCountFor(uint32_t count) const {
+    const int perBoxes = static_cast<int>(std::max(count * 5 / 8, kMinBins));
+    const int cap = count < 256 ? std::min(settings_.binCount, 24) : settings_.binCount;
+    return std::min(cap, perBoxes);
+  }
+
+  static uint32_t medianSplit(BoxRef* boxes, uint32_t count, const Box4& centroids) {
+    const glm::vec3 extent = centroids.aabb().max - centroids.aabb().min;
+    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+    const uint32_t middle = count / 2;
+    std::nth_element(boxes, boxes + middle, boxes + count,
+                     [axis](const BoxRef& a, const BoxRef& b) { return a.centroid2(axis) < b.centroid2(axis); });
+    return middle;
+  }
+
+  // The depth-first layout of compactDepthFirst(), cut into subtrees that threads lay out at
+  // once: a node placed at nodes_[to] has its children at descendantsAt and descendantsAt + 1,
+  // the left child's descendants after them, then the right child's, so the subtree node
+  // counts give every subtree's place.
+  struct CompactJob {
+    uint32_t slot, to, descendantsAt;
+  };
+
+  // The subtree node count of slots_[slot], summed here for the nodes that buildNode() left
+  // unknown (those above task-queue subtrees).
+  uint32_t nodeCount(uint32_t slot) {
+    if (nodeCounts_[slot] == kCountUnknown) {
+      const uint32_t left = slots_[slot].leftFirst;
+      nodeCounts_[slot] = 1 + nodeCount(left) + nodeCount(left + 1);
+    }
+    return nodeCounts_[slot];
+  }
+
+  // Sizes nodes_, places the top of the tree and cuts the rest into compactJobs_.
+  void planCompaction() {
+    const uint32_t total = nodeCount(0);
+    nodes_.resize(total); // within the reserved capacity: no allocation
+    const size_t jobNodes = std::max<size_t>(total / (kCompactJobsPerThread * threads_), kCompactJobMinNodes);
+    placeTop(0, 0, 1, jobNodes);
+  }
+
+  void placeTop(uint32_t slot, uint32_t to, uint32_t descendantsAt, size_t jobNodes) {
+    if (nodeCounts_[slot] <= jobNodes && compactJobs_.size() < compactJobs_.capacity())
+      return compactJobs_.push_back({slot, to, descendantsAt});
+    GpuBvhNode& node = nodes_[to];
+    node = slots_[slot];
+    if (node.count != 0) return;
+    const uint32_t left = node.leftFirst;
+    node.leftFirst = descendantsAt;
+    placeTop(left, descendantsAt, descendantsAt + 2, jobNodes);
+    placeTop(left + 1, descendantsAt + 1, descendantsAt + 2 + nodeCounts_[left] - 1, jobNodes);
+  }
+
+  // Lays out job.slot's subtree: its root at job.to, its descendants from job.descendantsAt on,
+  // by compactDepthFirst()'s loop. The stack holds (slot, place) of placed interior nodes whose
+  // children are still to be placed: at most one per level, and the build's depth is bounded.
+  void runCompactJob(const CompactJob& job) {
+    GpuBvhNode* out = nodes_.data();
+    std::array<std::pair<uint32_t, uint32_t>, 2 * kBvhMaxDepth> stack;
+    size_t stackSize = 0;
+    out[job.to] = slots_[job.slot];
+    if (out[job.to].count == 0) stack[stackSize++] = {job.slot, job.to};
+    uint32_t used = job.descendantsAt;
+    while (stackSize > 0) {
+      const auto [slot, to] = stack[--stackSize];
+      const uint32_t left = slots_[slot].leftFirst;
+      out[to].leftFirst = used;
+      out[used] = slots_[left];
+      out[used + 1] = slots_[left + 1];
+      // Right first on the stack so the left subtree is laid out next: depth-first order.
+      if (slots_[left + 1].count == 0) stack[stackSize++] = {left + 1, used + 1};
+      if (slots_[left].count == 0) stack[stackSize++] = {left, used};
+      used += 2;
+    }
+  }
+
+  SahBuildSettings settings_;
+  std::span<const Aabb> input_;
+  int threads_ = 1;
+  uint32_t count_ = 0;
+  std::unique_ptr<BoxRef[]> refs_[2]; // a node's boxes are in one; partitioning moves them to the other
+  std::unique_ptr<GpuBvhNode[]> slotStorage_; // with threads; one thread builds in nodes_
+  GpuBvhNode* slots_ = nullptr;
+  std::unique_ptr<uint32_t[]> nodeCounts_; // per slot: the node count of its subtree, see buildNode()
+  std::vector<uint32_t> order_;
+  std::vector<GpuBvhNode> nodes_; // the result: slots_ laid out depth first
+  std::vector<CompactJob> compactJobs_;
+
+  std::mutex mutex_; // guards queue_ and unfinished_
+  std::condition_variable wake_;
+  std::vector<NodeTask> queue_;
+  uint32_t unfinished_ = 0; // tasks queued or running
+};
+
+} // namespace
