@@ -46,26 +46,22 @@ std::vector<fs::path> filesOf(const Scene& scene) {
   return {files.begin(), files.end()};
 }
 
-// The level read and prepared on a worker thread; it needs no GL, so the first one is started
-// before the window exists (the window and its context take tenths of a second).
-std::future<std::unique_ptr<Level>> startImport(const ViewerOptions& options) {
-  return std::async(std::launch::async, [map = options.map, import = options.import] {
-    auto level = std::make_unique<Level>();
-    level->scene = importScene(map, import);
-    level->render = buildRenderScene(level->scene, {}, level->scene.diagnostics);
-    return level;
-  });
-}
-
 // `programs` outlive the level: a reload uploads the new level and keeps the compiled programs.
-// This thread waits for the wavefront kernels while the import runs, where they were started
-// for the first images (`physical`: the lighting they are for): NVIDIA's driver does part of a
-// compile on the thread that waits for it (`brushtrace bench` measures this). The upload needs
-// this thread's GL context.
-std::unique_ptr<Level> finishLevel(std::future<std::unique_ptr<Level>> imported, gl::GlContext& context,
-                                   const std::shared_ptr<gl::TracerPrograms>& programs, bool physical) {
-  if (programs->wavefrontState(physical).started) programs->wavefront(physical);
-  std::unique_ptr<Level> level = imported.get();
+// The level is imported on a worker thread while this one waits for the wavefront kernels,
+// where they were started for the first images (`physical`: the lighting they are for): NVIDIA's
+// driver does part of a compile on the thread that waits for it (`brushtrace bench` measures
+// this). The upload needs this thread's GL context.
+std::unique_ptr<Level> loadLevel(const ViewerOptions& options, gl::GlContext& context,
+                                 const std::shared_ptr<gl::TracerPrograms>& programs, bool physical) {
+  auto level = std::make_unique<Level>();
+  auto imported = std::async(std::launch::async, [&] {
+    level->scene = importScene(options.map, options.import);
+    level->render = buildRenderScene(level->scene, {}, level->scene.diagnostics);
+  });
+  if (programs->wavefrontState(physical).started) {
+    programs->wavefront(physical);
+  }
+  imported.get();
   level->tracer = std::make_unique<gl::GlTracer>(context, level->scene, level->render.tracer, programs,
                                                  gl::lightingFor(level->render));
   level->files = filesOf(level->scene);
@@ -78,7 +74,6 @@ uint8_t toByte(float v) { return static_cast<uint8_t>(std::lround(std::clamp(v, 
 
 struct Viewer::Impl {
   ViewerOptions options;
-  std::future<std::unique_ptr<Level>> firstImport; // started before the window (members start in this order)
   gl::GlWindow window;
   std::shared_ptr<gl::TracerPrograms> programs;
   FileWatcher watcher;
@@ -106,12 +101,11 @@ struct Viewer::Impl {
   std::set<int> keysDown; // for edge-triggered keys
 
   explicit Impl(ViewerOptions o)
-      : options(std::move(o)), firstImport(startImport(options)),
-        window(options.width, options.height, "brushtrace — " + options.map), lighting(options.lighting) {
+      : options(std::move(o)), window(options.width, options.height, "brushtrace — " + options.map), lighting(options.lighting) {
     // The path tracer compiles (on the driver's threads, where it has them) while the level loads.
     programs = std::make_shared<gl::TracerPrograms>(window.context(), options.textures);
     programs->startPathTracer(lighting == LightingMode::Physical);
-    level = finishLevel(std::move(firstImport), window.context(), programs, lighting == LightingMode::Physical);
+    level = loadLevel(options, window.context(), programs, lighting == LightingMode::Physical);
     watcher.watch(level->files);
     const CameraPose pose = options.camera ? *options.camera : defaultCameraPose(level->scene);
     camera = FlyCamera(glm::dvec3(pose.origin), pose.pitch, pose.yaw);
@@ -207,7 +201,7 @@ struct Viewer::Impl {
   void reloadIfSaved() {
     if (watcher.poll().empty()) return;
     try {
-      level = finishLevel(startImport(options), window.context(), programs, lighting == LightingMode::Physical);
+      level = loadLevel(options, window.context(), programs, lighting == LightingMode::Physical);
       error.clear();
       ++reloads;
       restart();

@@ -23,9 +23,9 @@ double secondsSince(Clock::time_point start) { return std::chrono::duration<doub
 } // namespace
 
 int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& s) {
-  // Time to first image: the level's import started on a worker thread, the context made and
-  // the path tracer's compile started meanwhile (it runs on the driver's threads where the
-  // driver has them), the level uploaded, then the wait for the compile and one sample: with the wavefront kernels where
+  // Time to first image: the context, the path tracer's compile started (it runs on the
+  // driver's threads where the driver has them), the level imported and prepared meanwhile,
+  // uploaded, then the wait for the compile and one sample: with the wavefront kernels where
   // they were started (TracerPrograms::startPathTracer says where), and with the megakernel.
   // Cold with an empty program cache (every shader compiled, as on a first start), then warm
   // from the binaries that run stored. A private cache directory keeps the user's cache out of it.
@@ -44,12 +44,16 @@ int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& s
     renderScene.reset();
     scene.reset();
     const auto start = Clock::now();
-    // The level is imported on a worker thread from the start, beside the context's creation
-    // (it needs no GL), while this thread makes the context and waits for the wavefront
-    // kernels: NVIDIA's driver does part of a compile on the thread that waits for it, even
-    // after it reports the compile complete (H100, faithful, cold: the first image 0.50-0.52 s
-    // this way, 0.52-0.63 s with the import started after the context, 0.86-1.2 s with the
-    // import on this thread and the wait after it).
+    context = gl::GlContext::createHeadless();
+    const double contextSeconds = secondsSince(start);
+    auto programs = std::make_shared<gl::TracerPrograms>(*context, s.textures);
+    programs->setCache(gl::ProgramCache(cacheDir));
+    programs->startPathTracer(s.physical);
+    // The level is imported on a worker thread while this one waits for the wavefront kernels:
+    // NVIDIA's driver does part of a compile on the thread that waits for it, even after it
+    // reports the compile complete (H100, faithful, cold: the first image 0.49-0.83 s this way,
+    // 0.86-1.2 s with the import here and the wait after it).
+    const bool wavefront = programs->wavefrontState(s.physical).started;
     double importSeconds = 0.0;
     auto imported = std::async(std::launch::async, [&] {
       const auto importStart = Clock::now();
@@ -58,12 +62,6 @@ int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& s
       renderScene = std::make_unique<RenderScene>(buildRenderScene(*scene, {}, diagnostics));
       importSeconds = secondsSince(importStart);
     });
-    context = gl::GlContext::createHeadless();
-    const double contextSeconds = secondsSince(start);
-    auto programs = std::make_shared<gl::TracerPrograms>(*context, s.textures);
-    programs->setCache(gl::ProgramCache(cacheDir));
-    programs->startPathTracer(s.physical);
-    const bool wavefront = programs->wavefrontState(s.physical).started;
     if (wavefront) programs->wavefront(s.physical);
     imported.get();
     const auto uploadStart = Clock::now();

@@ -20,8 +20,8 @@ struct GlBenchSettings {
 
 // Prints the measurements to stdout; returns the exit status (1 if GL reported errors).
 // `loadScene` imports the level: it is timed as part of the first image, which is measured the
-// way `brushtrace view` gets there (the import on a worker thread beside the context and the
-// path tracer's compile, the upload, the compile's end, one sample).
+// way `brushtrace render` gets there (context, the path tracer's compile started, import,
+// upload, the compile's end, one sample).
 int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& settings);
 
 } // namespace bt::gl
