@@ -59,8 +59,7 @@ std::unique_ptr<Level> loadLevel(const ViewerOptions& options, gl::GlContext& co
     level->render = buildRenderScene(level->scene, {}, level->scene.diagnostics);
   });
   if (programs->wavefrontState(physical).started) {
-    programs->wavefrontShade(physical);
-    programs->wavefrontTrace();
+    programs->wavefront(physical);
   }
   imported.get();
   level->tracer = std::make_unique<gl::GlTracer>(context, level->scene, level->render.tracer, programs,

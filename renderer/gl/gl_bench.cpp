@@ -62,10 +62,7 @@ int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& s
       renderScene = std::make_unique<RenderScene>(buildRenderScene(*scene, {}, diagnostics));
       importSeconds = secondsSince(importStart);
     });
-    if (wavefront) {
-      programs->wavefrontShade(s.physical);
-      programs->wavefrontTrace();
-    }
+    if (wavefront) programs->wavefront(s.physical);
     imported.get();
     const auto uploadStart = Clock::now();
     tracer = std::make_unique<gl::GlTracer>(*context, *scene, renderScene->tracer, programs, gl::lightingFor(*renderScene));

@@ -268,6 +268,11 @@ ComputeProgram& TracerPrograms::wavefrontTrace() {
   start(trace_, "wavefront_trace.comp", shaderDefines(mode_, layout_), false);
   return finished(trace_);
 }
+TracerPrograms::WavefrontKernels TracerPrograms::wavefront(bool physical, bool dirt) {
+  startWavefront(physical, dirt);
+  ComputeProgram& trace = wavefrontTrace();
+  return {wavefrontShade(physical, dirt), trace};
+}
 ComputeProgram& TracerPrograms::aovs() {
   startAovs();
   return finished(aov_);
@@ -409,8 +414,7 @@ ProgramBuild GlTracer::buildPathTracer(int width, int height, bool physical) {
 }
 
 ProgramBuild GlTracer::buildWavefront(int width, int height, bool physical) {
-  ComputeProgram& shade = impl_->programs->wavefrontShade(physical, impl_->dirt);
-  ComputeProgram& trace = impl_->programs->wavefrontTrace();
+  auto [shade, trace] = impl_->programs->wavefront(physical, impl_->dirt);
   // As buildPathTracer: one dispatch of each with nothing to do finishes the driver's work; the
   // per-pixel buffers are made here too.
   const auto dispatchStart = std::chrono::steady_clock::now();
@@ -476,8 +480,8 @@ BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettin
     const bool wavefront = settings.form == PathTracerForm::Wavefront ||
                            (settings.form == PathTracerForm::Auto && programs.wavefrontWhileCompiling(settings.physical, impl_->dirt));
     if (wavefront) {
-      impl_->wavefrontSample(programs.wavefrontShade(settings.physical, impl_->dirt), programs.wavefrontTrace(),
-                             settings.width, settings.height);
+      auto [shade, trace] = programs.wavefront(settings.physical, impl_->dirt);
+      impl_->wavefrontSample(shade, trace, settings.width, settings.height);
       ++out.wavefrontSamples;
     } else {
       if (settings.form == PathTracerForm::Auto) impl_->wavefront.release(); // the switch is for good

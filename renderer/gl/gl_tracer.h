@@ -147,6 +147,16 @@ public:
   ComputeProgram& pathTracer(bool physical, bool dirt = false);
   ComputeProgram& wavefrontShade(bool physical, bool dirt = false);
   ComputeProgram& wavefrontTrace();
+  // Both wavefront kernels finished, the trace kernel first. NVIDIA finishes each program on
+  // the thread that waits for it, after its own threads report the compile complete (H100,
+  // cold: ~60 ms for the trace kernel, ~190 ms for the shade kernel, one program at a time).
+  // The trace kernel's compile ends first (~150 ms, the shade kernel's ~280 ms), so waiting
+  // for it first does its part while the shade kernel still compiles instead of after it.
+  struct WavefrontKernels {
+    ComputeProgram& shade;
+    ComputeProgram& trace;
+  };
+  WavefrontKernels wavefront(bool physical, bool dirt = false);
   ComputeProgram& aovs();
   ComputeProgram& rayBench();
   // PathTracerForm::Auto's choice for the next sample: the wavefront kernels were started and
@@ -154,8 +164,8 @@ public:
   bool wavefrontWhileCompiling(bool physical, bool dirt = false);
   // Where the wavefront kernels' compile stands, without waiting. Callers with other work
   // before the first image (the import) do it on another thread and wait for these kernels
-  // meanwhile with wavefrontShade() and wavefrontTrace(): NVIDIA's driver does part of a
-  // compile on the thread that waits for it (`brushtrace bench`, the viewer).
+  // meanwhile with wavefront(): NVIDIA's driver does part of a compile on the thread that
+  // waits for it (`brushtrace bench`, the viewer).
   struct WavefrontState {
     bool started = false;
     bool shadeReady = false;
