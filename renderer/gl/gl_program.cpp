@@ -127,7 +127,7 @@ std::vector<ProgramBindingPoint> readBindings(GLuint program) {
       out.push_back({ProgramBindingPoint::Uniform, location, unit});
     }
   }
-  for (const auto [interface, kind] : {std::pair{GL_SHADER_STORAGE_BLOCK, ProgramBindingPoint::StorageBlock},
+  for (const auto& [interface, kind] : {std::pair{GL_SHADER_STORAGE_BLOCK, ProgramBindingPoint::StorageBlock},
                                        std::pair{GL_UNIFORM_BLOCK, ProgramBindingPoint::UniformBlock}}) {
     glGetProgramInterfaceiv(program, interface, GL_ACTIVE_RESOURCES, &count);
     for (GLint i = 0; i < count; ++i) {
