@@ -24,14 +24,15 @@ constexpr double kSampleLift = 1.0;     // ltface.cc sampleOffPlaneDist: luxels 
 constexpr double kMinBounceArea = 1.0;  // bounce.cc skips smaller faces
 constexpr uint32_t kBounceSeed = 0x626f756eu; // the sampling's own random stream
 
-// Runs fn(i) for i in [0, count) on all cores.
+// Runs fn(i) for i in [0, count) on `threads` threads (0: all cores).
 template <typename Fn>
-void parallelFor(size_t count, const Fn& fn) {
+void parallelFor(size_t count, unsigned threadCount, const Fn& fn) {
   std::atomic<size_t> next{0};
   auto work = [&] {
     for (size_t i = next++; i < count; i = next++) fn(i);
   };
-  const size_t threads = std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), std::max<size_t>(count, 1));
+  const unsigned wanted = threadCount > 0 ? threadCount : std::max(1u, std::thread::hardware_concurrency());
+  const size_t threads = std::min<size_t>(wanted, std::max<size_t>(count, 1));
   std::vector<std::thread> pool(threads - 1);
   for (std::thread& t : pool) t = std::thread(work);
   work();
@@ -156,11 +157,9 @@ std::vector<BounceFace> bounceFaces(const RenderScene& rs, const std::vector<Bru
   return faces;
 }
 
-std::optional<GpuLight> bounceLight(const RenderScene& rs, const BounceFace& face, const glm::vec3& meanLight) {
-  const Scene& scene = *rs.scene;
-  const Face& side = scene.faces[face.face];
-  const glm::vec3 texture = side.material < scene.materials.size() ? textureMean(scene.materials[side.material])
-                                                                   : glm::vec3(kBounceGrey);
+std::optional<GpuLight> bounceLight(const RenderScene& rs, const BounceFace& face, const glm::vec3& meanLight,
+                                    const glm::vec3& texture) {
+  const Face& side = rs.scene->faces[face.face];
   glm::vec3 color = meanLight * glm::mix(glm::vec3(kBounceGrey), texture, rs.world.bouncecolorscale);
   const float intensity = std::max({color.x, color.y, color.z});
   if (!(intensity > 0.0f)) return std::nullopt;
@@ -184,41 +183,68 @@ std::optional<GpuLight> bounceLight(const RenderScene& rs, const BounceFace& fac
   return light;
 }
 
-std::vector<GpuLight> makeBounceLights(const RenderScene& rs, const std::vector<BrushContents>& contents) {
-  if (rs.world.bounces <= 0) return {};
+size_t bounceSampleCount(size_t count, size_t total, size_t budget) {
+  if (total <= budget || count == 0) return count;
+  const double share = double(count) * double(budget) / double(total);
+  return std::clamp<size_t>(size_t(std::llround(share)), 1, count);
+}
+
+BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushContents>& contents,
+                              const BounceBudget& budget) {
+  BounceLights out;
+  if (rs.world.bounces <= 0) return out;
   const std::vector<BounceFace> faces = bounceFaces(rs, contents);
-  std::vector<GpuLight> all, previous;
-  LightGrid previousGrid; // which of the previous pass's lights reach a point (finite: the gate)
+  std::vector<std::vector<glm::vec3>> luxels(faces.size());
+  parallelFor(faces.size(), budget.threads, [&](size_t i) { luxels[i] = luxelPoints(rs.scene->faces[faces[i].face], faces[i].polygon); });
+  for (const std::vector<glm::vec3>& points : luxels) out.luxels += points.size();
+  out.sampledLuxels = out.luxels;
+  // Each material's mean colour once, not once per face and pass.
+  const Scene& scene = *rs.scene;
+  std::vector<glm::vec3> textureMeans(scene.materials.size());
+  parallelFor(scene.materials.size(), budget.threads, [&](size_t m) { textureMeans[m] = textureMean(scene.materials[m]); });
+  auto textureOf = [&](const BounceFace& face) {
+    const uint32_t m = scene.faces[face.face].material;
+    return m < textureMeans.size() ? textureMeans[m] : glm::vec3(kBounceGrey);
+  };
+
+  // A later pass looks at every light of the previous one: a bounce light's reach (its gate,
+  // light_grid.h) spans most of a level, so a grid of them would list nearly all in every cell.
+  std::vector<GpuLight> previous;
   for (int pass = 0; pass < rs.world.bounces; ++pass) {
+    const size_t passBudget = pass == 0 ? budget.directLuxels : budget.gatherLuxels;
+    std::atomic<size_t> sampled{0};
+    std::atomic<bool> drewLights{false};
     std::vector<std::optional<GpuLight>> made(faces.size());
-    parallelFor(faces.size(), [&](size_t i) {
+    parallelFor(faces.size(), budget.threads, [&](size_t i) {
       const BounceFace& face = faces[i];
       const glm::vec3 n(rs.scene->faces[face.face].plane.normal);
       const bool twoSided = rs.faceFlags[face.face] & kFaceLiquid;
-      const std::vector<glm::vec3> points = luxelPoints(rs.scene->faces[face.face], face.polygon);
+      const std::vector<glm::vec3>& points = luxels[i];
+      // An evenly spread, fixed subset: the middle luxel of each of `count` equal runs.
+      const size_t count = bounceSampleCount(points.size(), out.luxels, passBudget);
+      sampled += count;
       glm::vec3 sum(0.0f);
-      std::vector<GpuLight> reaching;
-      for (size_t k = 0; k < points.size(); ++k) {
+      for (size_t j = 0; j < count; ++j) {
+        const size_t k = (2 * j + 1) * points.size() / (2 * count);
         Rng rng = pixelRng(uint32_t(i), uint32_t(k), uint32_t(pass), kBounceSeed);
         if (pass == 0) {
           sum += faithfulBounceSourceLight(rs, points[k], n, rng, twoSided);
           continue;
         }
-        reaching.clear();
-        for (uint32_t l : previousGrid.globalLights()) reaching.push_back(previous[l]);
-        for (uint32_t l : previousGrid.cellLights(points[k])) reaching.push_back(previous[l]);
-        sum += faithfulLightFrom(rs, reaching, points[k], n, rng, twoSided);
+        if (previous.size() > budget.gatherShadowRays) drewLights = true;
+        sum += faithfulLightFromSampled(rs, previous, points[k], n, rng, twoSided, budget.gatherShadowRays);
       }
-      made[i] = bounceLight(rs, face, sum / float(points.size()));
+      made[i] = bounceLight(rs, face, sum / float(std::max<size_t>(count, 1)), textureOf(face));
     });
+    out.sampledLuxels = std::min(out.sampledLuxels, sampled.load());
+    out.sampledLights |= drewLights.load();
     previous.clear();
     for (const std::optional<GpuLight>& l : made)
       if (l) previous.push_back(*l);
     if (previous.empty()) break; // "No bounces; indirect lighting halted"
-    all.insert(all.end(), previous.begin(), previous.end());
-    if (pass + 1 < rs.world.bounces) previousGrid = buildLightGrid(previous, rs.tracer.bounds(), rs.world.scaledist);
+    out.lights.insert(out.lights.end(), previous.begin(), previous.end());
   }
-  return all;
+  return out;
 }
 
 } // namespace bt
