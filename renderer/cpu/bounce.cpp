@@ -189,6 +189,64 @@ size_t bounceSampleCount(size_t count, size_t total, size_t budget) {
   return std::clamp<size_t>(size_t(std::llround(share)), 1, count);
 }
 
+std::vector<GpuLight> clusterBounceLights(const std::vector<GpuLight>& lights, const Bounds& bounds, size_t maxLights) {
+  if (lights.size() <= maxLights || maxLights == 0 || bounds.empty()) return lights;
+  // The key of a light in an n^3 grid: its cell and the axis direction its normal is nearest to.
+  auto keyOf = [&](const GpuLight& l, int n) {
+    uint64_t key = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double extent = std::max(bounds.max[a] - bounds.min[a], 1.0);
+      const int cell = std::clamp(int((double(l.origin[a]) - bounds.min[a]) / extent * n), 0, n - 1);
+      key = key * uint64_t(n) + uint64_t(cell);
+    }
+    const glm::vec3 d = glm::abs(l.direction);
+    const int axis = d.x >= d.y && d.x >= d.z ? 0 : (d.y >= d.z ? 1 : 2);
+    return key * 6 + uint64_t(axis * 2 + (l.direction[axis] < 0.0f ? 1 : 0));
+  };
+  // The finest grid whose occupied (cell, direction) pairs fit.
+  std::vector<uint64_t> keys(lights.size());
+  for (int n = 64;; n = n * 3 / 4) {
+    for (size_t i = 0; i < lights.size(); ++i) keys[i] = keyOf(lights[i], n);
+    std::vector<uint64_t> distinct = keys;
+    std::sort(distinct.begin(), distinct.end());
+    const size_t count = size_t(std::unique(distinct.begin(), distinct.end()) - distinct.begin());
+    if (count <= maxLights || n == 1) break;
+  }
+  struct Cluster {
+    glm::dvec3 emit{0.0}, origin{0.0}, normal{0.0};
+    double weight = 0.0;
+    const GpuLight* first = nullptr;
+  };
+  std::vector<uint64_t> order = keys;
+  std::sort(order.begin(), order.end());
+  order.erase(std::unique(order.begin(), order.end()), order.end());
+  std::vector<Cluster> clusters(order.size());
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const GpuLight& l = lights[i];
+    Cluster& c = clusters[size_t(std::lower_bound(order.begin(), order.end(), keys[i]) - order.begin())];
+    const glm::dvec3 emit = double(l.value) * glm::dvec3(l.color);
+    const double w = std::max({emit.x, emit.y, emit.z});
+    c.emit += emit;
+    c.origin += w * glm::dvec3(l.origin);
+    c.normal += w * glm::dvec3(l.direction);
+    c.weight += w;
+    if (!c.first) c.first = &l;
+  }
+  std::vector<GpuLight> out;
+  for (const Cluster& c : clusters) {
+    if (!(c.weight > 0.0)) continue;
+    GpuLight l = *c.first; // type, formula, flags and dirt are those of every bounce light
+    const double value = std::max({c.emit.x, c.emit.y, c.emit.z});
+    l.value = float(value);
+    l.color = glm::vec3(c.emit / value);
+    l.origin = glm::vec3(c.origin / c.weight);
+    const double len = glm::length(c.normal);
+    if (len > 0.0) l.direction = glm::vec3(c.normal / len);
+    out.push_back(l);
+  }
+  return out;
+}
+
 BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushContents>& contents,
                               const BounceBudget& budget) {
   BounceLights out;
@@ -244,6 +302,8 @@ BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushCont
     if (previous.empty()) break; // "No bounces; indirect lighting halted"
     out.lights.insert(out.lights.end(), previous.begin(), previous.end());
   }
+  out.madeLights = out.lights.size();
+  out.lights = clusterBounceLights(out.lights, rs.tracer.bounds(), budget.renderLights);
   return out;
 }
 

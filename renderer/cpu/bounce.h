@@ -59,6 +59,10 @@ struct BounceBudget {
   size_t gatherLuxels = 4096;  // per later pass: about one luxel per face on a large level
   size_t gatherShadowRays = 32;
   unsigned threads = 0; // 0: all cores (the result is the same for any number)
+  // A bounce light reaches most of a level (its 0.01 gate at value / d^2), so every shaded point
+  // shadow-tests nearly all of them: above this many, nearby faces' lights of one orientation
+  // are merged (clusterBounceLights).
+  size_t renderLights = 512; // the lit-oracle levels (up to 356 faces) keep theirs
 };
 
 struct BounceLights {
@@ -66,8 +70,15 @@ struct BounceLights {
   size_t luxels = 0;         // the compiled faces' luxels (one pass)
   size_t sampledLuxels = 0;  // the fewest any pass sampled: == luxels when the bounce is exact
   bool sampledLights = false; // a later pass drew among the previous pass's lights
-  bool exact() const { return sampledLuxels == luxels && !sampledLights; }
+  size_t madeLights = 0;      // the bounce lights before clustering (== lights.size() when none)
+  bool exact() const { return sampledLuxels == luxels && !sampledLights && madeLights == lights.size(); }
 };
+
+// At most `maxLights` lights standing for `lights` (bounce lights): those of one cell of a grid
+// over `bounds` facing the same axis direction become one, at their power-weighted mean origin
+// and normal, carrying their summed value x colour. The grid is the finest that fits. The result
+// is `lights` itself when it fits.
+std::vector<GpuLight> clusterBounceLights(const std::vector<GpuLight>& lights, const Bounds& bounds, size_t maxLights);
 
 // Every pass of the level's `_bounce` (none when it is 0): `rs` holds the direct lights and
 // their grid. The faces are sampled on all cores; the result does not depend on their number.

@@ -175,7 +175,8 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
                              "_bounce estimated from " + std::to_string(bounced.sampledLuxels) + " of " +
                                  std::to_string(bounced.luxels) + " luxels per pass" +
                                  (bounced.sampledLights ? " (later passes draw among the bounce lights)" : "") +
-                                 " to keep the preview fast"});
+                                 ", " + std::to_string(bounced.madeLights) + " bounce lights merged into " +
+                                 std::to_string(bounced.lights.size()) + " to keep the preview fast"});
     rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
   }
   return rs;

@@ -215,12 +215,13 @@ glm::vec3 powerOf(std::span<const GpuLight> lights) {
 TEST(FaithfulBounceBudget, SubsetEstimateIsCloseToTheExactBounce) {
   const BudgetRoom room;
   ASSERT_EQ(room.rs.world.bounces, 2);
-  const BounceLights exact = makeBounceLights(room.rs, room.contents, {1u << 30, 1u << 30, 1u << 30});
+  const BounceLights exact = makeBounceLights(room.rs, room.contents, {1u << 30, 1u << 30, 1u << 30, 0, 1u << 30});
   ASSERT_TRUE(exact.exact());
   ASSERT_GT(exact.luxels, 800u);
   BounceBudget budget;
   budget.directLuxels = budget.gatherLuxels = exact.luxels / 8;
   budget.gatherShadowRays = 4;
+  budget.renderLights = 1u << 30;
   const BounceLights estimate = makeBounceLights(room.rs, room.contents, budget);
   EXPECT_FALSE(estimate.exact());
   EXPECT_TRUE(estimate.sampledLights);
@@ -256,6 +257,34 @@ TEST(FaithfulBounceBudget, EstimateIsTheSameForAnyThreadCount) {
     EXPECT_EQ(one.lights[i].value, three.lights[i].value);
     EXPECT_EQ(one.lights[i].color, three.lights[i].color);
   }
+}
+
+// Clustering keeps the bounce lights' power and, seen from afar, their light; it leaves a
+// level with few lights as it is.
+TEST(FaithfulBounceBudget, ClusteredLightsKeepPowerAndLightFarAway) {
+  const BudgetRoom room;
+  const BounceLights exact = makeBounceLights(room.rs, room.contents, {1u << 30, 1u << 30, 1u << 30, 0, 1u << 30});
+  ASSERT_GT(exact.lights.size(), 64u);
+  EXPECT_EQ(clusterBounceLights(exact.lights, room.rs.tracer.bounds(), exact.lights.size()).size(), exact.lights.size());
+  const std::vector<GpuLight> merged = clusterBounceLights(exact.lights, room.rs.tracer.bounds(), 32);
+  ASSERT_LE(merged.size(), 32u);
+  ASSERT_GE(merged.size(), 6u);
+  const glm::vec3 pe = powerOf(exact.lights), pm = powerOf(merged);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(pm[c], pe[c], 1e-4f * pe[c]);
+  // Unshadowed, 3000 units above the room looking down: within 5 %.
+  auto unshadowed = [](std::span<const GpuLight> lights, const glm::vec3& p, const glm::vec3& n) {
+    float sum = 0.0f;
+    for (const GpuLight& l : lights) {
+      const glm::vec3 d = l.origin - p;
+      const float dist = glm::length(d);
+      sum += faithful::pointLightValue(l, n, d / dist, dist) * faithful::maxChannel(l.color);
+    }
+    return sum;
+  };
+  const glm::vec3 above(0.0f, 0.0f, 3128.0f), down(0.0f, 0.0f, -1.0f);
+  const float e = unshadowed(exact.lights, above, down);
+  ASSERT_GT(e, 0.0f);
+  EXPECT_NEAR(unshadowed(merged, above, down), e, 0.05f * e);
 }
 
 // A render says when its bounce was estimated; a level within the budget is exact and says nothing.
