@@ -203,9 +203,9 @@ std::vector<GpuLight> clusterBounceLights(const std::vector<GpuLight>& lights, c
     const int axis = d.x >= d.y && d.x >= d.z ? 0 : (d.y >= d.z ? 1 : 2);
     return key * 6 + uint64_t(axis * 2 + (l.direction[axis] < 0.0f ? 1 : 0));
   };
-  // The finest grid whose occupied (cell, direction) pairs fit.
+  // The finest grid whose occupied (cell, direction) pairs fit (coarser cells merge across walls).
   std::vector<uint64_t> keys(lights.size());
-  for (int n = 64;; n = n * 3 / 4) {
+  for (int n = 64;; --n) {
     for (size_t i = 0; i < lights.size(); ++i) keys[i] = keyOf(lights[i], n);
     std::vector<uint64_t> distinct = keys;
     std::sort(distinct.begin(), distinct.end());
