@@ -22,6 +22,7 @@ constexpr float kLuxelTexels = 16.0f;   // Quake 1 lightmaps: one luxel every 16
 constexpr double kBounceLift = 1.0;     // bounce.cc lifts the light 1 unit off its face
 constexpr double kSampleLift = 1.0;     // ltface.cc sampleOffPlaneDist: luxels are sampled 1 unit off the face
 constexpr double kMinBounceArea = 1.0;  // bounce.cc skips smaller faces
+constexpr size_t kMaxFragmentsToSplit = 256; // see bounceFaces
 constexpr uint32_t kBounceSeed = 0x626f756eu; // the sampling's own random stream
 
 // Runs fn(i) for i in [0, count) on `threads` threads (0: all cores).
@@ -151,7 +152,14 @@ std::vector<BounceFace> bounceFaces(const RenderScene& rs, const std::vector<Bru
   std::vector<BounceFace> faces;
   for (uint32_t f = 0; f < scene.faces.size(); ++f) {
     if (!sideBounces(rs, f)) continue;
-    for (std::vector<dvec3>& polygon : compiledFacePolygons(scene, f, contents))
+    // A side cut by thousands of brushes (lq_e4m3's floors: 2 208 fragments) would take a minute
+    // to split as qbsp's tree splits it; its CSG fragments stand in for its compiled faces there
+    // (the same area and luxels, more and smaller bounce lights).
+    std::vector<std::vector<dvec3>> fragments = visibleFragments(scene, f, contents);
+    std::vector<std::vector<dvec3>> polygons = fragments.size() > kMaxFragmentsToSplit
+                                                   ? std::move(fragments)
+                                                   : compiledFacePolygons(scene, f, contents);
+    for (std::vector<dvec3>& polygon : polygons)
       if (area(polygon) >= kMinBounceArea) faces.push_back({f, std::move(polygon)});
   }
   return faces;

@@ -17,8 +17,10 @@
 // Which faces bounce (Face_ShouldBounce): lit ones (not sky, not hidden, liquids only with
 // `_litwater`) of models that cast shadows (the world, func_detail/func_group, `_shadow 1`),
 // except `_surface` template faces and the brush entities with `_bounce -1`. The faces are the
-// compiler's (surface_lights.h compiledFacePolygons); the mean direct light is sampled on their
-// luxel grid (16 texels), each luxel pulled onto the face as the compiler pulls its edge luxels.
+// compiler's (surface_lights.h compiledFacePolygons; a side cut into more than 256 fragments keeps
+// its fragments, see bounceFaces); the mean direct light is sampled on their luxel grid (16
+// texels), each luxel pulled onto the face as the compiler pulls its edge luxels. A large level
+// samples a subset of the luxels and merges the lights it makes (BounceBudget).
 #pragma once
 
 #include "renderer/cpu/render_scene.h"
