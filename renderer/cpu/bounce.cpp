@@ -22,16 +22,18 @@ constexpr float kLuxelTexels = 16.0f;   // Quake 1 lightmaps: one luxel every 16
 constexpr double kBounceLift = 1.0;     // bounce.cc lifts the light 1 unit off its face
 constexpr double kSampleLift = 1.0;     // ltface.cc sampleOffPlaneDist: luxels are sampled 1 unit off the face
 constexpr double kMinBounceArea = 1.0;  // bounce.cc skips smaller faces
+constexpr size_t kMaxFragmentsToSplit = 256; // see bounceFaces
 constexpr uint32_t kBounceSeed = 0x626f756eu; // the sampling's own random stream
 
-// Runs fn(i) for i in [0, count) on all cores.
+// Runs fn(i) for i in [0, count) on `threads` threads (0: all cores).
 template <typename Fn>
-void parallelFor(size_t count, const Fn& fn) {
+void parallelFor(size_t count, unsigned threadCount, const Fn& fn) {
   std::atomic<size_t> next{0};
   auto work = [&] {
     for (size_t i = next++; i < count; i = next++) fn(i);
   };
-  const size_t threads = std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), std::max<size_t>(count, 1));
+  const unsigned wanted = threadCount > 0 ? threadCount : std::max(1u, std::thread::hardware_concurrency());
+  const size_t threads = std::min<size_t>(wanted, std::max<size_t>(count, 1));
   std::vector<std::thread> pool(threads - 1);
   for (std::thread& t : pool) t = std::thread(work);
   work();
@@ -150,17 +152,22 @@ std::vector<BounceFace> bounceFaces(const RenderScene& rs, const std::vector<Bru
   std::vector<BounceFace> faces;
   for (uint32_t f = 0; f < scene.faces.size(); ++f) {
     if (!sideBounces(rs, f)) continue;
-    for (std::vector<dvec3>& polygon : compiledFacePolygons(scene, f, contents))
+    // A side cut by thousands of brushes (lq_e4m3's floors: 2 208 fragments) would take a minute
+    // to split as qbsp's tree splits it; its CSG fragments stand in for its compiled faces there
+    // (the same area and luxels, more and smaller bounce lights).
+    std::vector<std::vector<dvec3>> fragments = visibleFragments(scene, f, contents);
+    std::vector<std::vector<dvec3>> polygons = fragments.size() > kMaxFragmentsToSplit
+                                                   ? std::move(fragments)
+                                                   : compiledFacePolygons(scene, f, contents);
+    for (std::vector<dvec3>& polygon : polygons)
       if (area(polygon) >= kMinBounceArea) faces.push_back({f, std::move(polygon)});
   }
   return faces;
 }
 
-std::optional<GpuLight> bounceLight(const RenderScene& rs, const BounceFace& face, const glm::vec3& meanLight) {
-  const Scene& scene = *rs.scene;
-  const Face& side = scene.faces[face.face];
-  const glm::vec3 texture = side.material < scene.materials.size() ? textureMean(scene.materials[side.material])
-                                                                   : glm::vec3(kBounceGrey);
+std::optional<GpuLight> bounceLight(const RenderScene& rs, const BounceFace& face, const glm::vec3& meanLight,
+                                    const glm::vec3& texture) {
+  const Face& side = rs.scene->faces[face.face];
   glm::vec3 color = meanLight * glm::mix(glm::vec3(kBounceGrey), texture, rs.world.bouncecolorscale);
   const float intensity = std::max({color.x, color.y, color.z});
   if (!(intensity > 0.0f)) return std::nullopt;
@@ -184,41 +191,128 @@ std::optional<GpuLight> bounceLight(const RenderScene& rs, const BounceFace& fac
   return light;
 }
 
-std::vector<GpuLight> makeBounceLights(const RenderScene& rs, const std::vector<BrushContents>& contents) {
-  if (rs.world.bounces <= 0) return {};
+size_t bounceSampleCount(size_t count, size_t total, size_t budget) {
+  if (total <= budget || count == 0) return count;
+  const double share = double(count) * double(budget) / double(total);
+  return std::clamp<size_t>(size_t(std::llround(share)), 1, count);
+}
+
+std::vector<GpuLight> clusterBounceLights(const std::vector<GpuLight>& lights, const Bounds& bounds, size_t maxLights) {
+  if (lights.size() <= maxLights || maxLights == 0 || bounds.empty()) return lights;
+  // The key of a light in an n^3 grid: its cell and the axis direction its normal is nearest to.
+  auto keyOf = [&](const GpuLight& l, int n) {
+    uint64_t key = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double extent = std::max(bounds.max[a] - bounds.min[a], 1.0);
+      const int cell = std::clamp(int((double(l.origin[a]) - bounds.min[a]) / extent * n), 0, n - 1);
+      key = key * uint64_t(n) + uint64_t(cell);
+    }
+    const glm::vec3 d = glm::abs(l.direction);
+    const int axis = d.x >= d.y && d.x >= d.z ? 0 : (d.y >= d.z ? 1 : 2);
+    return key * 6 + uint64_t(axis * 2 + (l.direction[axis] < 0.0f ? 1 : 0));
+  };
+  // The finest grid whose occupied (cell, direction) pairs fit (coarser cells merge across walls).
+  std::vector<uint64_t> keys(lights.size());
+  for (int n = 64;; --n) {
+    for (size_t i = 0; i < lights.size(); ++i) keys[i] = keyOf(lights[i], n);
+    std::vector<uint64_t> distinct = keys;
+    std::sort(distinct.begin(), distinct.end());
+    const size_t count = size_t(std::unique(distinct.begin(), distinct.end()) - distinct.begin());
+    if (count <= maxLights || n == 1) break;
+  }
+  struct Cluster {
+    glm::dvec3 emit{0.0}, origin{0.0}, normal{0.0};
+    double weight = 0.0;
+    const GpuLight* first = nullptr;
+  };
+  std::vector<uint64_t> order = keys;
+  std::sort(order.begin(), order.end());
+  order.erase(std::unique(order.begin(), order.end()), order.end());
+  std::vector<Cluster> clusters(order.size());
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const GpuLight& l = lights[i];
+    Cluster& c = clusters[size_t(std::lower_bound(order.begin(), order.end(), keys[i]) - order.begin())];
+    const glm::dvec3 emit = double(l.value) * glm::dvec3(l.color);
+    const double w = std::max({emit.x, emit.y, emit.z});
+    c.emit += emit;
+    c.origin += w * glm::dvec3(l.origin);
+    c.normal += w * glm::dvec3(l.direction);
+    c.weight += w;
+    if (!c.first) c.first = &l;
+  }
+  std::vector<GpuLight> out;
+  for (const Cluster& c : clusters) {
+    if (!(c.weight > 0.0)) continue;
+    GpuLight l = *c.first; // type, formula, flags and dirt are those of every bounce light
+    const double value = std::max({c.emit.x, c.emit.y, c.emit.z});
+    l.value = float(value);
+    l.color = glm::vec3(c.emit / value);
+    l.origin = glm::vec3(c.origin / c.weight);
+    const double len = glm::length(c.normal);
+    if (len > 0.0) l.direction = glm::vec3(c.normal / len);
+    out.push_back(l);
+  }
+  return out;
+}
+
+BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushContents>& contents,
+                              const BounceBudget& budget) {
+  BounceLights out;
+  if (rs.world.bounces <= 0) return out;
   const std::vector<BounceFace> faces = bounceFaces(rs, contents);
-  std::vector<GpuLight> all, previous;
-  LightGrid previousGrid; // which of the previous pass's lights reach a point (finite: the gate)
+  std::vector<std::vector<glm::vec3>> luxels(faces.size());
+  parallelFor(faces.size(), budget.threads, [&](size_t i) { luxels[i] = luxelPoints(rs.scene->faces[faces[i].face], faces[i].polygon); });
+  for (const std::vector<glm::vec3>& points : luxels) out.luxels += points.size();
+  out.sampledLuxels = out.luxels;
+  // Each material's mean colour once, not once per face and pass.
+  const Scene& scene = *rs.scene;
+  std::vector<glm::vec3> textureMeans(scene.materials.size());
+  parallelFor(scene.materials.size(), budget.threads, [&](size_t m) { textureMeans[m] = textureMean(scene.materials[m]); });
+  auto textureOf = [&](const BounceFace& face) {
+    const uint32_t m = scene.faces[face.face].material;
+    return m < textureMeans.size() ? textureMeans[m] : glm::vec3(kBounceGrey);
+  };
+
+  // A later pass looks at every light of the previous one: a bounce light's reach (its gate,
+  // light_grid.h) spans most of a level, so a grid of them would list nearly all in every cell.
+  std::vector<GpuLight> previous;
   for (int pass = 0; pass < rs.world.bounces; ++pass) {
+    const size_t passBudget = pass == 0 ? budget.directLuxels : budget.gatherLuxels;
+    std::atomic<size_t> sampled{0};
+    std::atomic<bool> drewLights{false};
     std::vector<std::optional<GpuLight>> made(faces.size());
-    parallelFor(faces.size(), [&](size_t i) {
+    parallelFor(faces.size(), budget.threads, [&](size_t i) {
       const BounceFace& face = faces[i];
       const glm::vec3 n(rs.scene->faces[face.face].plane.normal);
       const bool twoSided = rs.faceFlags[face.face] & kFaceLiquid;
-      const std::vector<glm::vec3> points = luxelPoints(rs.scene->faces[face.face], face.polygon);
+      const std::vector<glm::vec3>& points = luxels[i];
+      // An evenly spread, fixed subset: the middle luxel of each of `count` equal runs.
+      const size_t count = bounceSampleCount(points.size(), out.luxels, passBudget);
+      sampled += count;
       glm::vec3 sum(0.0f);
-      std::vector<GpuLight> reaching;
-      for (size_t k = 0; k < points.size(); ++k) {
+      for (size_t j = 0; j < count; ++j) {
+        const size_t k = (2 * j + 1) * points.size() / (2 * count);
         Rng rng = pixelRng(uint32_t(i), uint32_t(k), uint32_t(pass), kBounceSeed);
         if (pass == 0) {
           sum += faithfulBounceSourceLight(rs, points[k], n, rng, twoSided);
           continue;
         }
-        reaching.clear();
-        for (uint32_t l : previousGrid.globalLights()) reaching.push_back(previous[l]);
-        for (uint32_t l : previousGrid.cellLights(points[k])) reaching.push_back(previous[l]);
-        sum += faithfulLightFrom(rs, reaching, points[k], n, rng, twoSided);
+        if (previous.size() > budget.gatherShadowRays) drewLights = true;
+        sum += faithfulLightFromSampled(rs, previous, points[k], n, rng, twoSided, budget.gatherShadowRays);
       }
-      made[i] = bounceLight(rs, face, sum / float(points.size()));
+      made[i] = bounceLight(rs, face, sum / float(std::max<size_t>(count, 1)), textureOf(face));
     });
+    out.sampledLuxels = std::min(out.sampledLuxels, sampled.load());
+    out.sampledLights |= drewLights.load();
     previous.clear();
     for (const std::optional<GpuLight>& l : made)
       if (l) previous.push_back(*l);
     if (previous.empty()) break; // "No bounces; indirect lighting halted"
-    all.insert(all.end(), previous.begin(), previous.end());
-    if (pass + 1 < rs.world.bounces) previousGrid = buildLightGrid(previous, rs.tracer.bounds(), rs.world.scaledist);
+    out.lights.insert(out.lights.end(), previous.begin(), previous.end());
   }
-  return all;
+  out.madeLights = out.lights.size();
+  out.lights = clusterBounceLights(out.lights, rs.tracer.bounds(), budget.renderLights);
+  return out;
 }
 
 } // namespace bt

@@ -17,8 +17,10 @@
 // Which faces bounce (Face_ShouldBounce): lit ones (not sky, not hidden, liquids only with
 // `_litwater`) of models that cast shadows (the world, func_detail/func_group, `_shadow 1`),
 // except `_surface` template faces and the brush entities with `_bounce -1`. The faces are the
-// compiler's (surface_lights.h compiledFacePolygons); the mean direct light is sampled on their
-// luxel grid (16 texels), each luxel pulled onto the face as the compiler pulls its edge luxels.
+// compiler's (surface_lights.h compiledFacePolygons; a side cut into more than 256 fragments keeps
+// its fragments, see bounceFaces); the mean direct light is sampled on their luxel grid (16
+// texels), each luxel pulled onto the face as the compiler pulls its edge luxels. A large level
+// samples a subset of the luxels and merges the lights it makes (BounceBudget).
 #pragma once
 
 #include "renderer/cpu/render_scene.h"
@@ -43,12 +45,51 @@ struct BounceFace {
 // classifies the brushes for qbsp's CSG.
 std::vector<BounceFace> bounceFaces(const RenderScene& rs, const std::vector<BrushContents>& contents);
 
-// The bounce light of one face whose mean source light is `meanLight` (light units, rgb), or
-// nullopt when it emits nothing.
-std::optional<GpuLight> bounceLight(const RenderScene& rs, const BounceFace& face, const glm::vec3& meanLight);
+// The bounce light of one face whose mean source light is `meanLight` (light units, rgb) and
+// whose texture's mean colour is `texture` (0..1, its own sRGB bytes), or nullopt when it emits
+// nothing.
+std::optional<GpuLight> bounceLight(const RenderScene& rs, const BounceFace& face, const glm::vec3& meanLight,
+                                    const glm::vec3& texture);
+
+// What the preparation may spend, so that a large level with `_bounce 3` prepares in seconds
+// (a preview) while a small one stays exact. Each pass samples every luxel of every face while
+// the level's luxels fit its budget, otherwise an evenly spread subset of each face's luxels (at
+// least one) in proportion: the face's mean light is then an estimate. A later pass also casts at
+// most `gatherShadowRays` per luxel, drawn among the previous pass's lights by their share there.
+struct BounceBudget {
+  size_t directLuxels = 65536; // per direct pass: the lit-oracle levels (up to 44 000) stay exact
+  size_t gatherLuxels = 4096;  // per later pass: about one luxel per face on a large level
+  size_t gatherShadowRays = 32;
+  unsigned threads = 0; // 0: all cores (the result is the same for any number)
+  // A bounce light reaches most of a level (its 0.01 gate at value / d^2), so every shaded point
+  // shadow-tests nearly all of them: above this many, nearby faces' lights of one orientation
+  // are merged (clusterBounceLights).
+  size_t renderLights = 1024; // lq_e3m1: 24 590 -> 989; the lit-oracle levels (up to 356) keep theirs
+};
+
+struct BounceLights {
+  std::vector<GpuLight> lights;
+  size_t luxels = 0;         // the compiled faces' luxels (one pass)
+  size_t sampledLuxels = 0;  // the fewest any pass sampled: == luxels when the bounce is exact
+  bool sampledLights = false; // a later pass drew among the previous pass's lights
+  size_t madeLights = 0;      // the bounce lights before clustering (== lights.size() when none)
+  bool exact() const { return sampledLuxels == luxels && !sampledLights && madeLights == lights.size(); }
+};
+
+// At most `maxLights` lights standing for `lights` (bounce lights): those of one cell of a grid
+// over `bounds` facing the same axis direction become one, at their power-weighted mean origin
+// and normal, carrying their summed value x colour. The grid is the finest that fits. The result
+// is `lights` itself when it fits.
+std::vector<GpuLight> clusterBounceLights(const std::vector<GpuLight>& lights, const Bounds& bounds, size_t maxLights);
 
 // Every pass of the level's `_bounce` (none when it is 0): `rs` holds the direct lights and
-// their grid. The faces are sampled on all cores.
-std::vector<GpuLight> makeBounceLights(const RenderScene& rs, const std::vector<BrushContents>& contents);
+// their grid. The faces are sampled on all cores; the result does not depend on their number.
+BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushContents>& contents,
+                              const BounceBudget& budget = {});
+
+// The luxels a pass samples of a face that has `count`, when the level has `total` and the pass
+// may sample `budget`: all of them while the total fits, else count x budget / total rounded, at
+// least one.
+size_t bounceSampleCount(size_t count, size_t total, size_t budget);
 
 } // namespace bt

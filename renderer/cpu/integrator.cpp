@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <span>
+#include <vector>
 
 namespace bt {
 
@@ -287,6 +288,55 @@ glm::vec3 faithfulLightFrom(const RenderScene& rs, std::span<const GpuLight> lig
   glm::vec3 sum(0.0f), localMin(0.0f);
   for (const GpuLight& light : lights) addFaithfulLight(rs, light, r, occlusion, rng, sum, localMin);
   return sum;
+}
+
+glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p,
+                                   const glm::vec3& n, Rng& rng, bool twoSided, size_t maxShadowRays) {
+  if (lights.size() <= maxShadowRays) return faithfulLightFrom(rs, lights, p, n, rng, twoSided);
+  const Receiver r{p, n, twoSided};
+  const float occlusion = faithfulOcclusion(rs, p, n, rng);
+  // Each light's unshadowed share at p (its brightest channel weighs the draw).
+  struct Share {
+    const GpuLight* light;
+    glm::vec3 rgb;
+    float weight;
+    glm::vec3 toLight;
+    float dist;
+    glm::vec3 n;
+  };
+  std::vector<Share> shares;
+  std::vector<float> cdf;
+  float total = 0.0f;
+  for (const GpuLight& light : lights) {
+    const glm::vec3 d = light.origin - p;
+    const float dist = glm::length(d);
+    if (!(dist > 0.0f)) continue;
+    const glm::vec3 toLight = d / dist;
+    const glm::vec3 facing = facingNormal(r, toLight);
+    // Dirt dims the drawn light below (the same factor for every bounce light, so the draw needs
+    // it not), after the gate as in addFaithfulLight.
+    const float value = faithful::pointLightValue(light, facing, toLight, dist, rs.world.scaledist);
+    if (!(value > 0.0f)) continue;
+    const glm::vec3 rgb = value * light.color;
+    const float weight = faithful::maxChannel(rgb);
+    if (!(weight > 0.0f)) continue;
+    shares.push_back({&light, rgb, weight, toLight, dist, facing});
+    total += weight;
+    cdf.push_back(total);
+  }
+  if (shares.empty()) return glm::vec3(0.0f);
+  glm::vec3 sum(0.0f);
+  for (size_t s = 0; s < maxShadowRays; ++s) {
+    const float u = rng.next() * total;
+    const size_t i = std::min(size_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()), shares.size() - 1);
+    const Share& share = shares[i];
+    const glm::vec3 origin = offsetPoint(p, share.n);
+    const glm::vec3 toLight = p + share.toLight * share.dist - origin;
+    const float len = glm::length(toLight);
+    if (occluded(rs, Ray{origin, 0.0f, toLight / len, len}, LightingMode::Faithful)) continue;
+    sum += share.rgb * faithful::lightDirtFactor(*share.light, occlusion, share.dist) * (total / share.weight);
+  }
+  return sum / float(maxShadowRays);
 }
 
 glm::vec3 faithfulFaceMinlight(const RenderScene& rs, uint32_t face) {

@@ -84,6 +84,15 @@ glm::vec3 faithfulBounceSourceLight(const RenderScene& rs, const glm::vec3& p, c
 glm::vec3 faithfulLightFrom(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p, const glm::vec3& n,
                             Rng& rng, bool twoSided = false);
 
+// An unbiased estimate of faithfulLightFrom for point lights without jitter (bounce lights) that
+// casts at most `maxShadowRays` shadow rays: when more lights reach p, that many are drawn with
+// probability proportional to their unshadowed share at p (the compiler's 0.01 gate applied to each
+// light's own share), and each drawn one counts its share / (rays x probability) where it is
+// visible. Exact where every candidate is visible; the bounce pass averages it over a face, a
+// linear mean, so the estimate stays unbiased there (unlike a shown pixel, see above).
+glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p,
+                                   const glm::vec3& n, Rng& rng, bool twoSided, size_t maxShadowRays);
+
 // Faithful mode: the floor a face's own radiosity `_surface` template puts under its light
 // (zero for every other face); the caller takes max(faithfulLightAt, this), with the minlight
 // dirt of `_minlight_dirt` where the level has it (radiance() does).

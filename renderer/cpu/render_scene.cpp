@@ -177,8 +177,15 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
   // `_bounce`: the compiler's bounce lights, made from the direct light the grid above gives.
   if (rs.world.bounces > 0 && options.bounceLights) {
-    const std::vector<GpuLight> bounced = makeBounceLights(rs, contents);
-    rs.lights.insert(rs.lights.end(), bounced.begin(), bounced.end());
+    const BounceLights bounced = makeBounceLights(rs, contents);
+    rs.lights.insert(rs.lights.end(), bounced.lights.begin(), bounced.lights.end());
+    if (!bounced.exact())
+      diagnostics.push_back({Severity::Note, scene.sourcePath, 0, 0,
+                             "_bounce estimated from " + std::to_string(bounced.sampledLuxels) + " of " +
+                                 std::to_string(bounced.luxels) + " luxels per pass" +
+                                 (bounced.sampledLights ? " (later passes draw among the bounce lights)" : "") +
+                                 ", " + std::to_string(bounced.madeLights) + " bounce lights merged into " +
+                                 std::to_string(bounced.lights.size()) + " to keep the preview fast"});
     rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
   }
   return rs;

@@ -18,7 +18,7 @@ struct RenderSceneOptions {
   LightOptions lights;
   bool showHidden = false; // draw clip/trigger/skip/hint/origin faces instead of skipping them
   // Faithful mode's `_bounce` lights (bounce.h), made when the level asks for them: the direct
-  // light at every luxel of the level first (minutes on a large level with `_bounce 3`). A render
+  // light at the level's luxels first (bounded by BounceBudget: ~2 s on lq_e3m1's `_bounce 3`). A render
   // that never lights faithfully (physical mode, AOVs only) leaves them out.
   bool bounceLights = true;
 };

@@ -176,5 +176,137 @@ TEST(FaithfulBounce, PhysicalModeLeavesBounceLightsOut) {
   for (uint32_t i : rs.lightGrid.physicalLights()) EXPECT_NE(rs.lights[i].formula, uint32_t(LightFormula::Bounce));
 }
 
+// The budget: all luxels while the level's total fits, else each face's share, at least one.
+TEST(FaithfulBounceBudget, SampleCountPerFace) {
+  EXPECT_EQ(bounceSampleCount(289, 10000, 20000), 289u) << "the level fits: every luxel";
+  EXPECT_EQ(bounceSampleCount(289, 20000, 20000), 289u);
+  EXPECT_EQ(bounceSampleCount(289, 40000, 20000), 145u) << "half the budget: half of each face (rounded)";
+  EXPECT_EQ(bounceSampleCount(1, 40000, 20000), 1u) << "at least one";
+  EXPECT_EQ(bounceSampleCount(3, 400000, 20000), 1u);
+  EXPECT_EQ(bounceSampleCount(0, 40000, 20000), 0u);
+}
+
+// A room of many lights with `_bounce 2`, prepared exactly and within a budget an eighth of its
+// luxels with 4 shadow rays per gathered luxel (the path a large level takes).
+struct BudgetRoom {
+  Scene scene;
+  RenderScene rs;
+  std::vector<BrushContents> contents;
+  BudgetRoom() : scene(bouncingRoom()), rs(prepared(scene)), contents(scene.brushes.size(), BrushContents::Solid) {}
+  static Scene bouncingRoom() {
+    Scene s = test::manyLightsRoom(24, false, 7);
+    s.entities[0].keys.emplace_back("_bounce", "2");
+    return s;
+  }
+  static RenderScene prepared(const Scene& s) {
+    Diagnostics diags;
+    RenderSceneOptions options;
+    options.bounceLights = false; // made below, with the budget under test
+    return buildRenderScene(s, options, diags);
+  }
+};
+
+glm::vec3 powerOf(std::span<const GpuLight> lights) {
+  glm::vec3 sum(0.0f);
+  for (const GpuLight& l : lights) sum += l.value * l.color;
+  return sum;
+}
+
+TEST(FaithfulBounceBudget, SubsetEstimateIsCloseToTheExactBounce) {
+  const BudgetRoom room;
+  ASSERT_EQ(room.rs.world.bounces, 2);
+  const BounceLights exact = makeBounceLights(room.rs, room.contents, {1u << 30, 1u << 30, 1u << 30, 0, 1u << 30});
+  ASSERT_TRUE(exact.exact());
+  ASSERT_GT(exact.luxels, 800u);
+  BounceBudget budget;
+  budget.directLuxels = budget.gatherLuxels = exact.luxels / 8;
+  budget.gatherShadowRays = 4;
+  budget.renderLights = 1u << 30;
+  const BounceLights estimate = makeBounceLights(room.rs, room.contents, budget);
+  EXPECT_FALSE(estimate.exact());
+  EXPECT_TRUE(estimate.sampledLights);
+  EXPECT_EQ(estimate.luxels, exact.luxels);
+  EXPECT_LT(estimate.sampledLuxels, exact.luxels / 4) << "an eighth, plus one per small face";
+  EXPECT_GE(estimate.sampledLuxels, exact.luxels / 8 - 10);
+
+  // The same faces bounce (each face with light in it under both); per pass, the total power
+  // is within 3 % (measured: 0.2 % for the direct pass, 0.7 % for the second) and each light's origin is its face's.
+  ASSERT_EQ(estimate.lights.size(), exact.lights.size());
+  const size_t perPass = exact.lights.size() / 2;
+  for (size_t pass = 0; pass < 2; ++pass) {
+    const std::span<const GpuLight> e(exact.lights.data() + pass * perPass, perPass);
+    const std::span<const GpuLight> s(estimate.lights.data() + pass * perPass, perPass);
+    for (size_t i = 0; i < perPass; ++i) ASSERT_EQ(s[i].origin, e[i].origin);
+    const glm::vec3 pe = powerOf(e), ps = powerOf(s);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(ps[c], pe[c], 0.03f * pe[c]) << "pass " << pass << " channel " << c;
+  }
+}
+
+TEST(FaithfulBounceBudget, EstimateIsTheSameForAnyThreadCount) {
+  const BudgetRoom room;
+  BounceBudget budget;
+  budget.directLuxels = budget.gatherLuxels = 200;
+  budget.gatherShadowRays = 4;
+  budget.threads = 1;
+  const BounceLights one = makeBounceLights(room.rs, room.contents, budget);
+  budget.threads = 3;
+  const BounceLights three = makeBounceLights(room.rs, room.contents, budget);
+  ASSERT_FALSE(one.exact());
+  ASSERT_EQ(one.lights.size(), three.lights.size());
+  for (size_t i = 0; i < one.lights.size(); ++i) {
+    EXPECT_EQ(one.lights[i].value, three.lights[i].value);
+    EXPECT_EQ(one.lights[i].color, three.lights[i].color);
+  }
+}
+
+// Clustering keeps the bounce lights' power and, seen from afar, their light; it leaves a
+// level with few lights as it is.
+TEST(FaithfulBounceBudget, ClusteredLightsKeepPowerAndLightFarAway) {
+  const BudgetRoom room;
+  const BounceLights exact = makeBounceLights(room.rs, room.contents, {1u << 30, 1u << 30, 1u << 30, 0, 1u << 30});
+  ASSERT_GT(exact.lights.size(), 64u);
+  EXPECT_EQ(clusterBounceLights(exact.lights, room.rs.tracer.bounds(), exact.lights.size()).size(), exact.lights.size());
+  const std::vector<GpuLight> merged = clusterBounceLights(exact.lights, room.rs.tracer.bounds(), 32);
+  ASSERT_LE(merged.size(), 32u);
+  ASSERT_GE(merged.size(), 6u);
+  const glm::vec3 pe = powerOf(exact.lights), pm = powerOf(merged);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(pm[c], pe[c], 1e-4f * pe[c]);
+  // Unshadowed, 3000 units above the room looking down: within 5 %.
+  auto unshadowed = [](std::span<const GpuLight> lights, const glm::vec3& p, const glm::vec3& n) {
+    float sum = 0.0f;
+    for (const GpuLight& l : lights) {
+      const glm::vec3 d = l.origin - p;
+      const float dist = glm::length(d);
+      sum += faithful::pointLightValue(l, n, d / dist, dist) * faithful::maxChannel(l.color);
+    }
+    return sum;
+  };
+  const glm::vec3 above(0.0f, 0.0f, 3128.0f), down(0.0f, 0.0f, -1.0f);
+  const float e = unshadowed(exact.lights, above, down);
+  ASSERT_GT(e, 0.0f);
+  EXPECT_NEAR(unshadowed(merged, above, down), e, 0.05f * e);
+}
+
+// A render says when its bounce was estimated; a level within the budget is exact and says nothing.
+TEST(FaithfulBounceBudget, DiagnosticsNoteOnlyWhenEstimated) {
+  Diagnostics small;
+  (void)buildRenderScene(litSlab().build(), {}, small);
+  for (const Diagnostic& d : small) EXPECT_EQ(d.message.find("_bounce estimated"), std::string::npos) << d.message;
+
+  // A 4096 x 4096 slab: some 130 000 luxels, over the default budget's 20 000.
+  test::BoxSceneBuilder b;
+  b.material("grey", 128, 128, 128);
+  b.worldKey("_bounce", "1");
+  b.box({0, 0, 0}, {4096, 4096, 16}, "grey");
+  b.entity({{"classname", "light"}, {"origin", "2048 2048 400"}, {"light", "300"}, {"delay", "3"}});
+  Diagnostics large;
+  (void)buildRenderScene(b.build(), {}, large);
+  const auto note = std::find_if(large.begin(), large.end(),
+                                 [](const Diagnostic& d) { return d.message.starts_with("_bounce estimated from "); });
+  ASSERT_NE(note, large.end());
+  EXPECT_EQ(note->severity, Severity::Note);
+  EXPECT_NE(note->message.find(" luxels per pass"), std::string::npos) << note->message;
+}
+
 } // namespace
 } // namespace bt
