@@ -5,19 +5,18 @@
 // <mapdir>/textures, <mapdir>/../textures). Companion maps come from the loose folders.
 #include "importers/textures/textures.h"
 #include "scene/names.h"
+#include "scene/parallel_for.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cctype>
 #include <map>
 #include <memory>
 #include <optional>
 #include <set>
 #include <system_error>
-#include <thread>
 #include <tuple>
 #include <unordered_map>
 
@@ -180,21 +179,13 @@ public:
         if (const fs::path* file = firstLooseFile(m.name); file && !isWal(*file) && listed.insert(*file).second)
           files.push_back(*file);
     std::vector<Decoded> decoded(files.size());
-    std::atomic<size_t> next{0};
-    auto work = [&] {
-      for (size_t i = next++; i < files.size(); i = next++) {
-        try {
-          decoded[i].image = loadImage(files[i]);
-        } catch (const ImportError& e) {
-          decoded[i].error = e.diagnostic();
-        }
+    parallelFor(files.size(), 0, [&](size_t i) {
+      try {
+        decoded[i].image = loadImage(files[i]);
+      } catch (const ImportError& e) {
+        decoded[i].error = e.diagnostic();
       }
-    };
-    std::vector<std::thread> helpers;
-    const size_t threads = std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), files.size());
-    for (size_t t = 1; t < threads; ++t) helpers.emplace_back(work);
-    work();
-    for (std::thread& h : helpers) h.join();
+    });
     for (size_t i = 0; i < files.size(); ++i) decoded_.emplace(files[i], std::move(decoded[i]));
   }
 

@@ -1,6 +1,7 @@
 #include "renderer/cpu/bounce.h"
 
 #include "renderer/cpu/integrator.h"
+#include "scene/parallel_for.h"
 #include "scene/winding.h"
 
 #include <glm/geometric.hpp>
@@ -12,7 +13,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <string>
-#include <thread>
 
 namespace bt {
 
@@ -24,21 +24,6 @@ constexpr double kSampleLift = 1.0;     // ltface.cc sampleOffPlaneDist: luxels 
 constexpr double kMinBounceArea = 1.0;  // bounce.cc skips smaller faces
 constexpr size_t kMaxFragmentsToSplit = 256; // see bounceFaces
 constexpr uint32_t kBounceSeed = 0x626f756eu; // the sampling's own random stream
-
-// Runs fn(i) for i in [0, count) on `threads` threads (0: all cores).
-template <typename Fn>
-void parallelFor(size_t count, unsigned threadCount, const Fn& fn) {
-  std::atomic<size_t> next{0};
-  auto work = [&] {
-    for (size_t i = next++; i < count; i = next++) fn(i);
-  };
-  const unsigned wanted = threadCount > 0 ? threadCount : std::max(1u, std::thread::hardware_concurrency());
-  const size_t threads = std::min<size_t>(wanted, std::max<size_t>(count, 1));
-  std::vector<std::thread> pool(threads - 1);
-  for (std::thread& t : pool) t = std::thread(work);
-  work();
-  for (std::thread& t : pool) t.join();
-}
 
 dvec3 vertexMean(const std::vector<dvec3>& w) {
   dvec3 sum(0.0);

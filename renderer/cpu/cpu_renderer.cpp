@@ -1,10 +1,10 @@
 #include "renderer/cpu/cpu_renderer.h"
+#include "scene/parallel_for.h"
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -25,14 +25,7 @@ int threadCount(int requested) {
 // Runs rowFn(y) for every row on `threads` workers; rows are handed out one at a time.
 template <class RowFn>
 void forEachRow(int height, int threads, const RowFn& rowFn) {
-  std::atomic<int> next{0};
-  auto worker = [&] {
-    for (int y = next++; y < height; y = next++) rowFn(y);
-  };
-  std::vector<std::thread> pool;
-  for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
+  parallelFor(size_t(std::max(height, 0)), unsigned(std::max(threads, 1)), [&](size_t y) { rowFn(int(y)); });
 }
 
 void renderAovs(const RenderScene& scene, const Camera& camera, RenderImage& image, int threads) {

@@ -1,15 +1,14 @@
 #include "renderer/cpu/light_grid.h"
 #include "renderer/cpu/faithful.h"
+#include "scene/parallel_for.h"
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <limits>
-#include <thread>
 
 namespace bt {
 
@@ -328,17 +327,8 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
     reaches.push_back(r);
   }
   std::vector<std::vector<uint32_t>> lists(cellCount);
-  const unsigned threads = reaches.size() * cellCount < 100000 ? 1u : std::max(1u, std::min(std::thread::hardware_concurrency(), g.dims[2]));
-  auto forSlices = [&](const auto& perSlice) {
-    std::atomic<uint32_t> next{0};
-    auto work = [&] {
-      for (uint32_t z = next++; z < g.dims[2]; z = next++) perSlice(z);
-    };
-    std::vector<std::thread> helpers;
-    for (unsigned t = 1; t < threads; ++t) helpers.emplace_back(work);
-    work();
-    for (std::thread& t : helpers) t.join();
-  };
+  const unsigned threads = reaches.size() * cellCount < 100000 ? 1u : 0u; // 0: every core, at most one per slice
+  auto forSlices = [&](const auto& perSlice) { parallelFor(g.dims[2], threads, [&](size_t z) { perSlice(uint32_t(z)); }); };
   forSlices([&](uint32_t z) {
     for (const Reach& r : reaches) {
       if (z < r.lo[2] || z > r.hi[2]) continue;

@@ -1,6 +1,7 @@
 #include "renderer/cpu/surface_lights.h"
 
 #include "scene/names.h"
+#include "scene/parallel_for.h"
 #include "scene/winding.h"
 
 #include <fmt/format.h>
@@ -8,12 +9,10 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <future>
 #include <optional>
-#include <thread>
 
 namespace bt {
 
@@ -494,16 +493,9 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
     }
   }
   // Each surface's faces depend on nothing else: the surfaces are shared among threads.
-  std::atomic<size_t> next{0};
-  auto buildFaces = [&] {
-    for (size_t i = next++; i < surfaces.size(); i = next++)
-      surfaces[i].polygons = compilerFaces(scene, surfaces[i].sides, surfaces[i].polygons, contents);
-  };
-  std::vector<std::thread> helpers;
-  const size_t threads = std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), surfaces.size());
-  for (size_t i = 1; i < threads; ++i) helpers.emplace_back(buildFaces);
-  buildFaces();
-  for (std::thread& h : helpers) h.join();
+  parallelFor(surfaces.size(), 0, [&](size_t i) {
+    surfaces[i].polygons = compilerFaces(scene, surfaces[i].sides, surfaces[i].polygons, contents);
+  });
   const VoidTest inVoid = voidTest.get();
 
   std::vector<GpuLight> lights;

@@ -11,6 +11,7 @@
 #include "importers/import.h"
 #include "renderer/cpu/faithful.h"
 #include "renderer/cpu/integrator.h"
+#include "scene/parallel_for.h"
 #include "tests/test_data.h"
 
 #include <fmt/format.h>
@@ -21,11 +22,9 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <fstream>
 #include <optional>
-#include <thread>
 
 namespace bt {
 namespace {
@@ -172,14 +171,7 @@ OracleResult compareWithCompiler(const std::filesystem::path& bspPath, const std
   }
 
   std::vector<std::vector<int>> ours(faces.size());
-  std::atomic<size_t> next{0};
-  auto work = [&] {
-    for (size_t i = next++; i < faces.size(); i = next++) ours[i] = faithfulLuxels(rs, faces[i], which);
-  };
-  std::vector<std::thread> threads(std::max(1u, std::thread::hardware_concurrency()) - 1);
-  for (std::thread& t : threads) t = std::thread(work);
-  work();
-  for (std::thread& t : threads) t.join();
+  parallelFor(faces.size(), 0, [&](size_t i) { ours[i] = faithfulLuxels(rs, faces[i], which); });
 
   std::vector<double> errors;
   double absSum = 0.0, signedSum = 0.0;
