@@ -72,17 +72,21 @@ int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& s
     // rays see what a user first sees.
     pose = defaultCameraPose(*scene);
     const gl::CameraBasis camera = gl::cameraFrom(pose, s.width, s.height);
+    // One sample with the given form; its seconds.
+    auto timeOneSample = [&](gl::PathTracerForm form) {
+      gl::BeautySettings settings = oneSample;
+      settings.form = form;
+      const auto sampleStart = Clock::now();
+      tracer->renderBeauty(camera, settings);
+      return secondsSince(sampleStart);
+    };
     // `render` and the viewer draw their first images with the wavefront kernels while the
     // megakernel compiles (gl::PathTracerForm::Auto), where they were started for it.
     if (wavefront) {
       const gl::ProgramBuild build = tracer->buildWavefront(s.width, s.height, s.physical);
       const double waitSeconds = secondsSince(uploadEnd);
       const double readySeconds = secondsSince(start);
-      const auto sampleStart = Clock::now();
-      gl::BeautySettings settings = oneSample;
-      settings.form = gl::PathTracerForm::Wavefront;
-      tracer->renderBeauty(camera, settings);
-      const double sample = secondsSince(sampleStart);
+      const double sample = timeOneSample(gl::PathTracerForm::Wavefront);
       const double total = secondsSince(start);
       const bool megakernelReady = !tracer->programs().wavefrontWhileCompiling(s.physical);
       fmt::print("time to first image, wavefront kernels ({}): {:.3f} s at {}x{}: their compile {:.0f} ms of which {:.0f} ms "
@@ -94,11 +98,7 @@ int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& s
     const gl::ProgramBuild build = tracer->buildPathTracer(s.width, s.height, s.physical);
     const double readySeconds = secondsSince(start);
     const double waitSeconds = secondsSince(uploadEnd);
-    const auto sampleStart = Clock::now();
-    gl::BeautySettings settings = oneSample;
-    settings.form = gl::PathTracerForm::Megakernel;
-    tracer->renderBeauty(camera, settings);
-    const double sample = secondsSince(sampleStart);
+    const double sample = timeOneSample(gl::PathTracerForm::Megakernel);
     fmt::print("time to first image ({}): {:.3f} s at {}x{}: context {:.3f} s, import and lights {:.3f} s, upload {:.3f} s, "
                "compile {:.0f} ms of which {:.0f} ms after the upload{}, 1 spp {:.3f} s (megakernel ready at {:.3f} s)\n",
                label, secondsSince(start), s.width, s.height, contextSeconds, importSeconds, uploadSeconds, build.milliseconds,
