@@ -208,7 +208,7 @@ void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* sh
 std::vector<std::string> TracerPrograms::pathDefines(bool physical, bool dirt) const {
   std::vector<std::string> defines = shaderDefines(mode_, layout_);
   if (physical) defines.emplace_back("BT_LIGHTING_PHYSICAL");
-  if (dirt) defines.emplace_back("BT_FAITHFUL_DIRT");
+  if (dirt && !physical) defines.emplace_back("BT_FAITHFUL_DIRT"); // physical mode has no dirt
   return defines;
 }
 
@@ -223,7 +223,8 @@ ComputeProgram& TracerPrograms::finished(std::unique_ptr<ComputeProgram>& slot) 
 }
 
 // Dirt's occlusion rays exist only in the faithful program of a level that uses dirt: the
-// default program does not grow (nor its compile time).
+// default program does not grow (nor its compile time). Physical mode ignores `dirt`, here and
+// in pathDefines().
 std::unique_ptr<ComputeProgram>& TracerPrograms::pathSlot(bool physical, bool dirt) {
   return path_[physical ? 1 : (dirt ? 2 : 0)];
 }
@@ -232,7 +233,6 @@ std::unique_ptr<ComputeProgram>& TracerPrograms::shadeSlot(bool physical, bool d
 }
 
 void TracerPrograms::startPathTracer(bool physical, bool dirt) {
-  dirt = dirt && !physical;
   std::unique_ptr<ComputeProgram>& slot = pathSlot(physical, dirt);
   if (slot) return;
   // The wavefront kernels are queued first, so that the driver's threads take them first; a
@@ -244,7 +244,6 @@ void TracerPrograms::startPathTracer(bool physical, bool dirt) {
 }
 
 void TracerPrograms::startWavefront(bool physical, bool dirt) {
-  dirt = dirt && !physical;
   std::vector<std::string> defines = pathDefines(physical, dirt);
   defines.emplace_back("BT_WAVEFRONT_SHADE");
   // Not cached: a start that finds the megakernel in the cache needs no wavefront kernels, and
@@ -258,11 +257,11 @@ void TracerPrograms::startAovs() { start(aov_, "aov.comp", shaderDefines(mode_, 
 
 ComputeProgram& TracerPrograms::pathTracer(bool physical, bool dirt) {
   startPathTracer(physical, dirt);
-  return finished(pathSlot(physical, dirt && !physical));
+  return finished(pathSlot(physical, dirt));
 }
 ComputeProgram& TracerPrograms::wavefrontShade(bool physical, bool dirt) {
   startWavefront(physical, dirt);
-  return finished(shadeSlot(physical, dirt && !physical));
+  return finished(shadeSlot(physical, dirt));
 }
 ComputeProgram& TracerPrograms::wavefrontTrace() {
   start(trace_, "wavefront_trace.comp", shaderDefines(mode_, layout_), false);
@@ -283,13 +282,12 @@ ComputeProgram& TracerPrograms::rayBench() {
 }
 
 TracerPrograms::WavefrontState TracerPrograms::wavefrontState(bool physical, bool dirt) {
-  std::unique_ptr<ComputeProgram>& shade = shadeSlot(physical, dirt && !physical);
+  std::unique_ptr<ComputeProgram>& shade = shadeSlot(physical, dirt);
   if (!shade || !trace_) return {};
   return {true, shade->ready(), trace_->ready()};
 }
 
 bool TracerPrograms::wavefrontWhileCompiling(bool physical, bool dirt) {
-  dirt = dirt && !physical;
   const std::unique_ptr<ComputeProgram>& mega = pathSlot(physical, dirt);
   return shadeSlot(physical, dirt) && mega && !mega->ready();
 }
