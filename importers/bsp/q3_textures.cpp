@@ -1,8 +1,7 @@
 #include "importers/bsp/q3_textures.h"
+#include "importers/textures/textures.h"
 #include "scene/names.h"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
 #include <cctype>
@@ -116,36 +115,6 @@ std::map<std::string, std::string> parseShaderImages(std::string_view scriptText
   return images;
 }
 
-Image decodeImage(const std::vector<uint8_t>& bytes, const std::string& name) {
-  Image image;
-  OIIO::Filesystem::IOMemReader proxy(const_cast<uint8_t*>(bytes.data()), bytes.size());
-  auto in = OIIO::ImageInput::open(name, nullptr, &proxy);
-  if (!in) {
-    (void)OIIO::geterror(); // clear OIIO's per-thread error so it does not pile up
-    return image;
-  }
-  const OIIO::ImageSpec& spec = in->spec();
-  const int channels = spec.nchannels;
-  if (spec.width <= 0 || spec.height <= 0 || spec.width > 16384 || spec.height > 16384 || channels <= 0) return image;
-  std::vector<uint8_t> pixels(static_cast<size_t>(spec.width) * spec.height * channels);
-  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, pixels.data())) {
-    (void)in->geterror();
-    return image;
-  }
-  image.width = spec.width;
-  image.height = spec.height;
-  image.rgba.resize(static_cast<size_t>(spec.width) * spec.height * 4);
-  for (size_t i = 0; i < static_cast<size_t>(spec.width) * spec.height; ++i) {
-    const uint8_t* src = &pixels[i * channels];
-    uint8_t* dst = &image.rgba[i * 4];
-    dst[0] = src[0];
-    dst[1] = channels >= 3 ? src[1] : src[0];
-    dst[2] = channels >= 3 ? src[2] : src[0];
-    dst[3] = channels == 4 ? src[3] : (channels == 2 ? src[1] : 255);
-  }
-  return image;
-}
-
 void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& files, Diagnostics& diagnostics) {
   std::map<std::string, std::string> shaderImages;
   for (const std::string& script : files.list("scripts", ".shader")) {
@@ -164,9 +133,12 @@ void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& f
         const std::string file = base + ext;
         const auto bytes = files.read(file);
         if (!bytes) continue;
-        Image image = decodeImage(*bytes, file);
-        if (image.empty()) {
-          diagnostics.push_back({Severity::Warning, file, 0, 0, "cannot decode image for shader " + m.name});
+        Image image;
+        try {
+          image = decodeImage(*bytes, file);
+        } catch (const ImportError& e) {
+          diagnostics.push_back({Severity::Warning, file, 0, 0,
+                                 "cannot decode image for shader " + m.name + ": " + e.diagnostic().message});
           continue;
         }
         m.width = image.width;

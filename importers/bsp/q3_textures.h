@@ -20,8 +20,4 @@ std::map<std::string, std::string> parseShaderImages(std::string_view scriptText
 // material's size becomes the image's. Materials found nowhere stay missing.
 void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& files, Diagnostics& diagnostics);
 
-// Decodes a TGA/JPEG/PNG file held in memory into 8-bit RGBA; `name` picks the format by its
-// extension. Returns an empty image when the bytes cannot be decoded.
-Image decodeImage(const std::vector<uint8_t>& bytes, const std::string& name);
-
 } // namespace bt::bsp

@@ -1,36 +1,48 @@
 // Loose images (PNG, TGA, JPG, ...) through OpenImageIO, converted to 8-bit RGBA.
 #include "importers/textures/textures.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
+
+#include <memory>
+#include <mutex>
 
 namespace bt {
 
 namespace {
-[[noreturn]] void fail(const std::filesystem::path& path, const std::string& message) {
-  throw ImportError(Diagnostic{Severity::Error, path.string(), 0, 0, message});
+[[noreturn]] void fail(const std::string& file, const std::string& message) {
+  throw ImportError(Diagnostic{Severity::Error, file, 0, 0, message});
 }
 
 // Texture replacements of 8k are common; anything past this is not a texture.
 constexpr int kMaxImageSide = 16384;
-} // namespace
 
-Image loadImage(const std::filesystem::path& path) {
-  auto input = OIIO::ImageInput::open(path.string());
-  if (!input) fail(path, fmt::format("cannot read image: {}", OIIO::geterror()));
-  const OIIO::ImageSpec& spec = input->spec();
+// OpenImageIO 2.4 (Debian bookworm's) reads a file's ICC profile and Exif block while opening
+// it, through tables that are not safe to build from two threads at once (OpenImageIO issue
+// 3756): concurrent opens of LibreQuake's PNGs hung or corrupted the heap. Opening only reads
+// headers, so it is serialised; decoding the pixels, the costly part, still runs in parallel.
+std::unique_ptr<OIIO::ImageInput> openImage(const std::string& name, OIIO::Filesystem::IOProxy* proxy) {
+  static std::mutex openMutex;
+  const std::lock_guard lock(openMutex);
+  return OIIO::ImageInput::open(name, nullptr, proxy);
+}
+
+// Reads the whole first subimage of an opened file as 8-bit RGBA: grey, grey+alpha, RGB or RGBA
+// (extra channels ignored).
+Image readRgba(OIIO::ImageInput& input, const std::string& file) {
+  const OIIO::ImageSpec& spec = input.spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.width > kMaxImageSide || spec.height > kMaxImageSide ||
       spec.nchannels <= 0 || spec.depth != 1)
-    fail(path, fmt::format("unsupported image size {}x{}x{} with {} channels", spec.width, spec.height, spec.depth,
+    fail(file, fmt::format("unsupported image size {}x{}x{} with {} channels", spec.width, spec.height, spec.depth,
                            spec.nchannels));
 
   const int channels = spec.nchannels;
   std::vector<uint8_t> pixels(static_cast<size_t>(spec.width) * spec.height * channels);
-  if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, pixels.data()))
-    fail(path, fmt::format("cannot decode image: {}", input->geterror()));
-  input->close();
+  if (!input.read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, pixels.data()))
+    fail(file, fmt::format("cannot decode image: {}", input.geterror()));
+  input.close();
 
-  // Grey, grey+alpha, RGB or RGBA (extra channels ignored) to RGBA.
   Image image;
   image.width = spec.width;
   image.height = spec.height;
@@ -49,6 +61,21 @@ Image loadImage(const std::filesystem::path& path) {
     dst[3] = alphaChannel >= 0 && alphaChannel < channels ? src[alphaChannel] : 255;
   }
   return image;
+}
+} // namespace
+
+Image loadImage(const std::filesystem::path& path) {
+  auto input = openImage(path.string(), nullptr);
+  if (!input) fail(path.string(), fmt::format("cannot read image: {}", OIIO::geterror()));
+  return readRgba(*input, path.string());
+}
+
+Image decodeImage(std::span<const uint8_t> bytes, const std::string& name) {
+  // IOMemReader only reads, but 2.4 takes a non-const pointer.
+  OIIO::Filesystem::IOMemReader proxy(const_cast<uint8_t*>(bytes.data()), bytes.size());
+  auto input = openImage(name, &proxy);
+  if (!input) fail(name, fmt::format("cannot read image: {}", OIIO::geterror()));
+  return readRgba(*input, name);
 }
 
 } // namespace bt

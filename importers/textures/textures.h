@@ -138,6 +138,10 @@ std::vector<std::string> textureFileStems(std::string_view name);
 // file when it cannot be read.
 Image loadImage(const std::filesystem::path& path);
 
+// The same for an image file held in memory (one read from a pak or pk3); `name` is the file's
+// name, whose extension picks the format, and names it in the ImportError.
+Image decodeImage(std::span<const uint8_t> bytes, const std::string& name);
+
 // Quake's palette for a level: `explicitPalette` when given (throws ImportError if unreadable),
 // otherwise the first gfx/palette.lmp (or palette.lmp) found walking up from each of
 // `startDirs`. Never invents one: std::nullopt when nothing is found.

@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
+#include <thread>
 
 namespace bt {
 namespace {
@@ -242,6 +244,38 @@ TEST(WadFile, WadTexturesMatchLibreQuakesPngsOfTheSameName) {
     ASSERT_EQ(png.height, fromWad->height);
     EXPECT_EQ(png.rgba, fromWad->baseColor.rgba);
   }
+}
+
+// The importer decodes loose images on all cores. OpenImageIO 2.4 parses a PNG's ICC profile
+// (LibreQuake's PNGs carry one) with state that is not safe to share between threads
+// (OpenImageIO issue 3756): concurrent opens hung or corrupted the heap. Many threads open the
+// same files at once here, first thing in the process, and each must read exactly what one
+// thread alone reads afterwards.
+TEST(LooseImage, ManyThreadsDecodeTheSameImagesAsOne) {
+  BT_REQUIRE_SHARED(shared);
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(shared / "maps/librequake/texture-wads/lq_dev"))
+    if (entry.path().extension() == ".png") files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  files.resize(std::min<size_t>(files.size(), 48));
+  ASSERT_GE(files.size(), 16u);
+  // The threads go first: the state OpenImageIO shared is made on first use.
+  constexpr int kThreads = 8;
+  std::vector<std::vector<Image>> together(kThreads);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t)
+    threads.emplace_back([&, t] {
+      for (size_t i = 0; i < files.size(); ++i) together[t].push_back(loadImage(files[(i + size_t(t) * 5) % files.size()]));
+    });
+  for (std::thread& t : threads) t.join();
+  std::vector<Image> alone;
+  for (const fs::path& f : files) alone.push_back(loadImage(f));
+  for (int t = 0; t < kThreads; ++t)
+    for (size_t i = 0; i < files.size(); ++i) {
+      const Image& expected = alone[(i + size_t(t) * 5) % files.size()];
+      EXPECT_EQ(together[t][i].width, expected.width);
+      EXPECT_EQ(together[t][i].rgba, expected.rgba) << files[(i + size_t(t) * 5) % files.size()];
+    }
 }
 
 TEST(WadFile, ReadsHalfLifeWad3WithPerTexturePalettes) {
