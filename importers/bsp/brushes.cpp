@@ -45,6 +45,18 @@ dvec3 frameOrigin(const Plane& plane, const dvec3& tangent, const dvec3& bitange
   return glm::inverse(m) * dvec3(plane.dist, -sOffset, -tOffset);
 }
 
+// The six outward planes of the box [lo, hi], +x, -x, +y, -y, +z, -z.
+std::vector<Plane> axialBoxPlanes(const dvec3& lo, const dvec3& hi) {
+  std::vector<Plane> planes;
+  for (int axis = 0; axis < 3; ++axis) {
+    dvec3 n{0.0};
+    n[axis] = 1.0;
+    planes.push_back({n, hi[axis]});
+    planes.push_back({-n, -lo[axis]});
+  }
+  return planes;
+}
+
 // Name the reference decompiler gives hidden sides, by the contents of their brush.
 const char* quake1SkipTexture(int32_t contents) {
   switch (contents) {
@@ -185,14 +197,7 @@ CellSplit splitCell(const Cell& cell, const Plane& plane) {
 // A box around the model, a bit larger, that bounds the cells of leafs reaching the void.
 Cell boundingCell(const Model& model) {
   constexpr double kMargin = 32.0;
-  const dvec3 lo = dvec3(model.mins) - kMargin, hi = dvec3(model.maxs) + kMargin;
-  std::vector<Plane> planes;
-  for (int axis = 0; axis < 3; ++axis) {
-    dvec3 n{0.0};
-    n[axis] = 1.0;
-    planes.push_back({n, hi[axis]});
-    planes.push_back({-n, -lo[axis]});
-  }
+  const std::vector<Plane> planes = axialBoxPlanes(dvec3(model.mins) - kMargin, dvec3(model.maxs) + kMargin);
   Cell cell;
   for (CompiledSide& side : sidesFromPlanes(planes)) cell.push_back({side.plane, std::move(side.winding)});
   return cell;
@@ -501,13 +506,7 @@ std::optional<std::vector<CompiledBrush>> brushListBrushes(const BspFile& bsp, s
       const int32_t contents = static_cast<int16_t>(u16());
       const uint16_t planeCount = u16();
       if (planeCount > 1024) fail(fmt::format("brush {} of model {} has {} planes", b, model, planeCount));
-      std::vector<Plane> planes;
-      for (int axis = 0; axis < 3; ++axis) {
-        dvec3 n{0.0};
-        n[axis] = 1.0;
-        planes.push_back({n, hi[axis]});
-        planes.push_back({-n, -lo[axis]});
-      }
+      std::vector<Plane> planes = axialBoxPlanes(lo, hi);
       for (uint16_t p = 0; p < planeCount; ++p) {
         dvec3 n;
         for (int k = 0; k < 3; ++k) n[k] = f32();
