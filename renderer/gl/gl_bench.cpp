@@ -49,20 +49,30 @@ int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& s
     auto programs = std::make_shared<gl::TracerPrograms>(*context, s.textures);
     programs->setCache(gl::ProgramCache(cacheDir));
     programs->startPathTracer(s.physical);
+    const double startedSeconds = secondsSince(start);
     // The level is imported on a worker thread while this one waits for the wavefront kernels:
     // NVIDIA's driver does part of a compile on the thread that waits for it, even after it
     // reports the compile complete (H100, faithful, cold: the first image 0.49-0.83 s this way,
     // 0.86-1.2 s with the import here and the wait after it).
     const bool wavefront = programs->wavefrontState(s.physical).started;
-    double importSeconds = 0.0;
+    double importSeconds = 0.0, importedAt = 0.0;
     auto imported = std::async(std::launch::async, [&] {
       const auto importStart = Clock::now();
       scene = std::make_unique<Scene>(loadScene());
       Diagnostics diagnostics;
       renderScene = std::make_unique<RenderScene>(buildRenderScene(*scene, {}, diagnostics));
       importSeconds = secondsSince(importStart);
+      importedAt = secondsSince(start);
     });
-    if (wavefront) programs->wavefront(s.physical);
+    // wavefront() waits for the trace kernel, then the shade kernel; the first wait is made
+    // apart here only to time each link's end.
+    double traceLinkedAt = 0.0, shadeLinkedAt = 0.0;
+    if (wavefront) {
+      programs->wavefrontTrace();
+      traceLinkedAt = secondsSince(start);
+      programs->wavefront(s.physical);
+      shadeLinkedAt = secondsSince(start);
+    }
     imported.get();
     const auto uploadStart = Clock::now();
     tracer = std::make_unique<gl::GlTracer>(*context, *scene, renderScene->tracer, programs, gl::lightingFor(*renderScene));
@@ -93,6 +103,12 @@ int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& s
                  "after the upload (ready at {:.3f} s), 1 spp {:.3f} s; the megakernel {}\n",
                  label, total, s.width, s.height, build.milliseconds, waitSeconds * 1000.0, readySeconds, sample,
                  megakernelReady ? "was ready before" : "still compiling");
+      // Each step's end, in seconds from the start, to see which one the first image waits for.
+      fmt::print("  timeline: context {:.3f}, compiles started {:.3f} (the main thread's share of starting them), "
+                 "trace kernel linked {:.3f}, import and lights done {:.3f} (worker thread), shade kernel linked {:.3f}, "
+                 "uploaded {:.3f}, first dispatches done {:.3f}, first sample read back {:.3f}\n",
+                 contextSeconds, startedSeconds, traceLinkedAt, importedAt, shadeLinkedAt,
+                 std::chrono::duration<double>(uploadEnd - start).count(), readySeconds, total);
     }
     // The megakernel's first image: the wait for its compile, then one sample.
     const gl::ProgramBuild build = tracer->buildPathTracer(s.width, s.height, s.physical);
