@@ -175,6 +175,13 @@ struct Path {
   uint lightIndex;
   vec3 pending;
   bool pendingIsFloor; // faithful: a delay 4 light, which raises a floor instead of adding
+  // Faithful: the draw among the cell's bounce lights (faithfulBounceRay), where it stands.
+  uint bounceFirst;        // list position of the first light drawn among; NO_BOUNCE_DRAW: none
+  uint bounceLast;         // ... of the last with a share (NO_BOUNCE_DRAW: none has one)
+  uint bounceDrawn;        // targets placed so far
+  float bounceTotal;       // the shares laid end to end
+  float bounceCumulative;  // ... up to the light the draw has reached
+  float bounceTarget;      // the next target
 #ifdef BT_FAITHFUL_DIRT
   // Faithful dirt: the surface's occlusion rays, traced before its lights.
   int dirtRay;      // rays set up so far
@@ -290,6 +297,91 @@ bool faithfulLightRay(inout Path path, GpuLight light, inout Rng rng) {
   return false;
 }
 
+const uint NO_BOUNCE_DRAW = 0xffffffffu;
+
+// A bounce light's unshadowed share at the current surface (renderer/cpu bounceShare): the gate
+// applied, dirt not (it comes after the draw); weight, its brightest channel, 0 where it adds
+// nothing; n, the side of the surface it lights.
+struct BounceShare {
+  vec3 rgb;
+  float weight;
+  float dist;
+  vec3 n;
+};
+
+BounceShare bounceShare(Path path, GpuLight light) {
+  BounceShare s = BounceShare(vec3(0.0), 0.0, 0.0, vec3(0.0));
+  vec3 d = light.origin - path.position;
+  s.dist = length(d);
+  if (!(s.dist > 0.0)) return s;
+  vec3 toLight = d / s.dist;
+  s.n = facingNormal(path.normal, toLight, (faceFlags[path.face] & FACE_LIQUID) != 0u);
+  float value = pointLightValue(light, s.n, toLight, s.dist, world.scaledist);
+  if (!(value > 0.0)) return s;
+  s.rgb = value * light.color;
+  s.weight = max(max(max(s.rgb.x, s.rgb.y), s.rgb.z), 0.0);
+  return s;
+}
+
+// The draw begins at list position `first`, the first of the cell's bounce lights: the first
+// sweep (their total share and the last with one) and the first target.
+void startBounceDraw(inout Path path, uint cell, uint first, uint count, inout Rng rng) {
+  path.bounceFirst = first;
+  path.bounceLast = NO_BOUNCE_DRAW;
+  path.bounceDrawn = 0u;
+  path.bounceTotal = 0.0;
+  path.bounceCumulative = 0.0;
+  for (uint k = first; k < count; ++k) {
+    float w = bounceShare(path, lights[faithfulLight(cell, k)]).weight;
+    if (w > 0.0) {
+      path.bounceTotal += w;
+      path.bounceLast = k;
+    }
+  }
+  if (path.bounceLast != NO_BOUNCE_DRAW) path.bounceTarget = rngNext(rng) / float(BOUNCE_SHADOW_RAYS) * path.bounceTotal;
+}
+
+// The second sweep at bounce light `light`, list position i (renderer/cpu sampledBounceSum): the
+// targets that fall on its share, one drawn per stratum, and one shadow ray for them all.
+bool faithfulBounceRay(inout Path path, GpuLight light, uint i, inout Rng rng) {
+  BounceShare s = bounceShare(path, light);
+  if (!(s.weight > 0.0)) return false;
+  path.bounceCumulative += s.weight;
+  uint picks = 0u;
+  while (path.bounceDrawn < BOUNCE_SHADOW_RAYS && (path.bounceTarget < path.bounceCumulative || i == path.bounceLast)) {
+    picks++;
+    path.bounceDrawn++;
+    if (path.bounceDrawn < BOUNCE_SHADOW_RAYS)
+      path.bounceTarget = (float(path.bounceDrawn) + rngNext(rng)) / float(BOUNCE_SHADOW_RAYS) * path.bounceTotal;
+  }
+  if (picks == 0u) return false;
+  vec3 origin = offsetPoint(path.position, s.n);
+  vec3 toLight = light.origin - origin;
+  float len = length(toLight);
+  setRay(path, RAY_SHADOW, origin, toLight / len, len);
+  path.pending = s.rgb * dirtFactor(path, light, s.dist) *
+                 (float(picks) * path.bounceTotal / (s.weight * float(BOUNCE_SHADOW_RAYS)));
+  path.pendingIsFloor = false;
+  return true;
+}
+
+// Light i of the faithful lists (light_select.glsl faithfulLight) at the current surface, in
+// renderer/cpu faithfulLightSampled's way: its own ray, except the cell's bounce lights (last in
+// its list) where there are more than BOUNCE_SHADOW_RAYS: those are drawn among. Once the draw
+// has placed its targets, the rest of the list is skipped.
+bool faithfulListedLightRay(inout Path path, uint cell, uint i, uint count, inout Rng rng) {
+  GpuLight light = lights[faithfulLight(cell, i)];
+  bool inCell = i >= lightGrid.fixedCount + lightGrid.globalCount;
+  if (path.bounceFirst == NO_BOUNCE_DRAW && inCell && light.formula == FORMULA_BOUNCE && count - i > BOUNCE_SHADOW_RAYS)
+    startBounceDraw(path, cell, i, count, rng);
+  if (i < path.bounceFirst) return faithfulLightRay(path, light, rng);
+  if (path.bounceLast == NO_BOUNCE_DRAW || i > path.bounceLast || path.bounceDrawn >= BOUNCE_SHADOW_RAYS) {
+    path.lightIndex = count; // every target placed: the rest of the list adds nothing
+    return false;
+  }
+  return faithfulBounceRay(path, light, i, rng);
+}
+
 // The pixel's value once a faithful path has ended: what the game would draw.
 vec3 faithfulDisplay(Path path) {
   // The compiler scales a coloured sum so its brightest channel fits in 255, keeping the hue.
@@ -319,6 +411,7 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
   path.normal = hit.normal;
   path.lightSum = vec3(0.0);
   path.lightFloor = vec3(0.0);
+  path.bounceFirst = NO_BOUNCE_DRAW;
 #ifdef BT_FAITHFUL_DIRT
   path.dirtRay = 0;
   path.dirtSum = 0.0;
@@ -476,7 +569,7 @@ bool nextLightRay(inout Path path, inout Rng rng) {
     if (i == count)
       needsRay = PHYSICAL && world.emitterCount > 0u && physicalEmitterRay(path, rng);
     else if (!PHYSICAL)
-      needsRay = faithfulLightRay(path, lights[faithfulLight(cell, i)], rng);
+      needsRay = faithfulListedLightRay(path, cell, i, count, rng);
     else if (i < lightGrid.fixedCount)
       needsRay = physicalSunRay(path, lights[lightIndices[i]], rng);
     else

@@ -271,6 +271,12 @@ float faithfulReach(const GpuLight& light, float scaledist) {
   return (reach + maxJitter(light)) * (1.0f + kReachRelativeSlack) + kReachSlack;
 }
 
+size_t trailingBounceLights(const std::vector<GpuLight>& lights, std::span<const uint32_t> list) {
+  size_t count = 0;
+  while (count < list.size() && lights[list[list.size() - 1 - count]].formula == uint32_t(LightFormula::Bounce)) ++count;
+  return count;
+}
+
 std::span<const uint32_t> LightGrid::physicalNearLights(const glm::vec3& p) const {
   const size_t cellCount = size_t(header.dims[0]) * header.dims[1] * header.dims[2];
   const GpuLightCell& c = cells[cellCount + lightGridCell(header, p)];
@@ -308,14 +314,20 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
 
   // Finite-reach lights into every cell their reach sphere touches: a large level's thousands of
   // lights reach thousands of cells each, so the z-slices of cells are shared among threads
-  // (each slice takes the lights in index order, so the lists do not depend on the threads).
+  // (each slice takes the lights in the order above, so the lists do not depend on the threads).
   const size_t cellCount = size_t(g.dims[0]) * g.dims[1] * g.dims[2];
   struct Reach {
     uint32_t light;
     uint32_t lo[3], hi[3]; // the cells of its reach box
   };
+  // Bounce lights last, so that they end every cell's list (trailingBounceLights); the others,
+  // then the bounce lights, in index order.
+  std::vector<uint32_t> order(lights.size());
+  for (uint32_t i = 0; i < lights.size(); ++i) order[i] = i;
+  std::stable_partition(order.begin(), order.end(),
+                        [&](uint32_t i) { return lights[i].formula != uint32_t(LightFormula::Bounce); });
   std::vector<Reach> reaches;
-  for (uint32_t i = 0; i < lights.size(); ++i) {
+  for (uint32_t i : order) {
     if (!isFaithfulCandidate(lights[i])) continue;
     const float reach = faithfulReach(lights[i], scaledist);
     if (!std::isfinite(reach)) continue;
