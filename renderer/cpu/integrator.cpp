@@ -253,15 +253,18 @@ BounceShare bounceShare(const RenderScene& rs, const GpuLight& light, const Rece
 // visible. A light that several targets fall on is traced once. Two sweeps over the lights (the
 // total, then the picks in order) and no list, so the GL tracer does the same in fixed space
 // (pathtrace.comp faithfulBounceRay), drawing the same numbers: one per stratum, in order, after
-// those of the lights before. `shadowRaysCast`, when given, counts the rays (tests).
+// those of the lights before. Here the second sweep reads the weights the first one kept (the
+// sweep over a cell's hundreds of lights is most of the cost). `shadowRaysCast`, when given,
+// counts the rays (tests).
 template <class LightAt>
 glm::vec3 sampledBounceSum(const RenderScene& rs, size_t count, const LightAt& lightAt, const Receiver& r, float occlusion,
                            Rng& rng, size_t shadowRays, int* shadowRaysCast = nullptr) {
+  std::vector<float> weights(count);
   float total = 0.0f;
   size_t last = count; // the last light with a share: rounding may leave targets past the others
   for (size_t i = 0; i < count; ++i) {
-    const float w = bounceShare(rs, lightAt(i), r).weight;
-    if (w > 0.0f) total += w, last = i;
+    weights[i] = bounceShare(rs, lightAt(i), r).weight;
+    if (weights[i] > 0.0f) total += weights[i], last = i;
   }
   if (last == count || shadowRays == 0) return glm::vec3(0.0f);
   const float strata = float(shadowRays);
@@ -270,10 +273,8 @@ glm::vec3 sampledBounceSum(const RenderScene& rs, size_t count, const LightAt& l
   size_t drawn = 0;
   float target = rng.next() / strata * total;
   for (size_t i = 0; i <= last && drawn < shadowRays; ++i) {
-    const GpuLight& light = lightAt(i);
-    const BounceShare s = bounceShare(rs, light, r);
-    if (!(s.weight > 0.0f)) continue;
-    cumulative += s.weight;
+    if (!(weights[i] > 0.0f)) continue;
+    cumulative += weights[i];
     int picks = 0;
     while (drawn < shadowRays && (target < cumulative || i == last)) {
       ++picks, ++drawn;
@@ -281,6 +282,8 @@ glm::vec3 sampledBounceSum(const RenderScene& rs, size_t count, const LightAt& l
     }
     if (picks == 0) continue;
     if (shadowRaysCast) ++*shadowRaysCast;
+    const GpuLight& light = lightAt(i);
+    const BounceShare s = bounceShare(rs, light, r); // its weight is weights[i]: the same computation
     const glm::vec3 origin = offsetPoint(r.p, s.n);
     const glm::vec3 toLight = light.origin - origin;
     const float len = glm::length(toLight);
