@@ -5,6 +5,7 @@
 #include "bench/loaded_level.h"
 #include "importers/import.h"
 #include "renderer/cpu/cpu_renderer.h"
+#include "renderer/cpu/light_grid.h"
 
 #include <benchmark/benchmark.h>
 
@@ -142,6 +143,13 @@ void BM_RenderBounce(benchmark::State& state) {
   state.counters["Msamples/s"] = benchmark::Counter(double(kWidth) * kHeight * s.spp * double(state.iterations()) / 1e6,
                                                     benchmark::Counter::kIsRate);
   state.counters["lights"] = double(m->rs.lights.size());
+  // What a hit looks at: the bounce lights its cell lists, on average over the cells.
+  const LightGrid& grid = m->rs.lightGrid;
+  const size_t cells = size_t(grid.header.dims[0]) * grid.header.dims[1] * grid.header.dims[2];
+  double listed = 0.0;
+  for (size_t c = 0; c < cells; ++c)
+    listed += double(trailingBounceLights(m->rs.lights, {grid.indices.data() + grid.cells[c].first, grid.cells[c].count}));
+  state.counters["bounce_lights_per_cell"] = listed / double(cells);
 }
 
 } // namespace

@@ -309,13 +309,26 @@ struct BounceShare {
   vec3 n;
 };
 
+// renderer/cpu clearlyUnlit: behind the light's face, or the light behind a one-sided surface, at
+// a cosine above 1e-4 (pointLightValue gives 0 there too), without a square root.
+bool clearlyUnlit(GpuLight light, vec3 n, bool twoSided, vec3 d) {
+  const float COS2 = 1e-8;
+  float d2 = dot(d, d);
+  float away = dot(light.direction, d);
+  if (away > 0.0 && away * away > COS2 * d2) return true;
+  float facing = dot(n, d);
+  return !twoSided && facing < 0.0 && facing * facing > COS2 * d2;
+}
+
 BounceShare bounceShare(Path path, GpuLight light) {
   BounceShare s = BounceShare(vec3(0.0), 0.0, 0.0, vec3(0.0));
   vec3 d = light.origin - path.position;
+  bool twoSided = (faceFlags[path.face] & FACE_LIQUID) != 0u;
+  if (clearlyUnlit(light, path.normal, twoSided, d)) return s;
   s.dist = length(d);
   if (!(s.dist > 0.0)) return s;
   vec3 toLight = d / s.dist;
-  s.n = facingNormal(path.normal, toLight, (faceFlags[path.face] & FACE_LIQUID) != 0u);
+  s.n = facingNormal(path.normal, toLight, twoSided);
   float value = pointLightValue(light, s.n, toLight, s.dist, world.scaledist);
   if (!(value > 0.0)) return s;
   s.rgb = value * light.color;

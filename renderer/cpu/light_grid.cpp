@@ -66,6 +66,20 @@ float distanceToCell2(const CellBox& cell, const glm::vec3& pointsLo, const glm:
 
 float distanceToCell2(const CellBox& cell, const glm::vec3& p) { return distanceToCell2(cell, p, p); }
 
+// A bounce light lights only what lies in front of its face (faithful::emitterTerm: 0 behind its
+// plane), so a cell wholly behind it, by more than float rounding at Quake's extents, never sees
+// it. About half of a level's cells lie behind any one face.
+bool cellBehindBounceLight(const GpuLight& light, const CellBox& cell) {
+  if (light.formula != uint32_t(LightFormula::Bounce)) return false;
+  constexpr float kMargin = 1.0f;
+  float farthest = 0.0f; // along the light's normal, of the cell's corners (infinite at a border)
+  for (int a = 0; a < 3; ++a) {
+    const float d = light.direction[a];
+    if (d != 0.0f) farthest += d * ((d > 0.0f ? cell.hi[a] : cell.lo[a]) - light.origin[a]);
+  }
+  return farthest < -kMargin;
+}
+
 uint32_t clampedCell(const GpuLightGrid& g, int axis, float coordinate) {
   const float f = (coordinate - g.origin[axis]) / g.cellSize;
   if (!(f >= 0.0f)) return 0; // also NaN
@@ -348,9 +362,11 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
       const float reach = faithfulReach(l, scaledist);
       uint32_t cell[3] = {0, 0, z};
       for (cell[1] = r.lo[1]; cell[1] <= r.hi[1]; ++cell[1])
-        for (cell[0] = r.lo[0]; cell[0] <= r.hi[0]; ++cell[0])
-          if (distanceToCell2(cellBox(g, cell), l.origin) <= reach * reach)
+        for (cell[0] = r.lo[0]; cell[0] <= r.hi[0]; ++cell[0]) {
+          const CellBox box = cellBox(g, cell);
+          if (distanceToCell2(box, l.origin) <= reach * reach && !cellBehindBounceLight(l, box))
             lists[cell[0] + g.dims[0] * (cell[1] + g.dims[1] * size_t(z))].push_back(r.light);
+        }
     }
   });
   grid.cells.resize(2 * cellCount);
