@@ -562,8 +562,8 @@ bool physicalBounce(inout Path path, inout Rng rng) {
 
 // The next light of the current surface that needs a ray, set up in `path`; false when none is
 // left. The lights come from the light grid (light_select.glsl), in renderer/cpu's order:
-//   faithful: the fixed, global and cell lists (faithfulLightFromGrid; _surface lights are
-//             point lights in them);
+//   faithful: the fixed, global and cell lists (faithfulLightSampled; _surface lights are
+//             point lights in them), a cell's many bounce lights drawn among (faithfulListedLightRay);
 //   physical: the fixed list's suns, one selected point light (allLightsSelected), then one
 //             emitter sample.
 bool nextLightRay(inout Path path, inout Rng rng) {
