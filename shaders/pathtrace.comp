@@ -354,45 +354,49 @@ void startBounceDraw(inout Path path, uint cell, uint first, uint count, inout R
   if (path.bounceLast != NO_BOUNCE_DRAW) path.bounceTarget = rngNext(rng) / float(BOUNCE_SHADOW_RAYS) * path.bounceTotal;
 }
 
-// The second sweep at bounce light `light`, list position i (renderer/cpu sampledBounceSum): the
-// targets that fall on its share, one drawn per stratum, and one shadow ray for them all.
-bool faithfulBounceRay(inout Path path, GpuLight light, uint i, inout Rng rng) {
-  BounceShare s = bounceShare(path, light);
-  if (!(s.weight > 0.0)) return false;
-  path.bounceCumulative += s.weight;
-  uint picks = 0u;
-  while (path.bounceDrawn < BOUNCE_SHADOW_RAYS && (path.bounceTarget < path.bounceCumulative || i == path.bounceLast)) {
-    picks++;
-    path.bounceDrawn++;
-    if (path.bounceDrawn < BOUNCE_SHADOW_RAYS)
-      path.bounceTarget = (float(path.bounceDrawn) + rngNext(rng)) / float(BOUNCE_SHADOW_RAYS) * path.bounceTotal;
+// The second sweep (renderer/cpu sampledBounceSum), from list position i on, to the next bounce
+// light a target falls on: the targets on its share, one drawn per stratum, and one shadow ray
+// for them all; false (the list done) when every target is placed.
+bool faithfulBounceRay(inout Path path, uint cell, uint i, uint count, inout Rng rng) {
+  uint end = path.bounceLast == NO_BOUNCE_DRAW ? i : path.bounceLast + 1u; // none with a share: nothing to draw
+  for (; i < end && path.bounceDrawn < BOUNCE_SHADOW_RAYS; ++i) {
+    GpuLight light = lights[faithfulLight(cell, i)];
+    BounceShare s = bounceShare(path, light);
+    if (!(s.weight > 0.0)) continue;
+    path.bounceCumulative += s.weight;
+    uint picks = 0u;
+    while (path.bounceDrawn < BOUNCE_SHADOW_RAYS && (path.bounceTarget < path.bounceCumulative || i == path.bounceLast)) {
+      picks++;
+      path.bounceDrawn++;
+      if (path.bounceDrawn < BOUNCE_SHADOW_RAYS)
+        path.bounceTarget = (float(path.bounceDrawn) + rngNext(rng)) / float(BOUNCE_SHADOW_RAYS) * path.bounceTotal;
+    }
+    if (picks == 0u) continue;
+    vec3 origin = offsetPoint(path.position, s.n);
+    vec3 toLight = light.origin - origin;
+    float len = length(toLight);
+    setRay(path, RAY_SHADOW, origin, toLight / len, len);
+    path.pending = s.rgb * dirtFactor(path, light, s.dist) *
+                   (float(picks) * path.bounceTotal / (s.weight * float(BOUNCE_SHADOW_RAYS)));
+    path.pendingIsFloor = false;
+    path.lightIndex = i + 1u;
+    return true;
   }
-  if (picks == 0u) return false;
-  vec3 origin = offsetPoint(path.position, s.n);
-  vec3 toLight = light.origin - origin;
-  float len = length(toLight);
-  setRay(path, RAY_SHADOW, origin, toLight / len, len);
-  path.pending = s.rgb * dirtFactor(path, light, s.dist) *
-                 (float(picks) * path.bounceTotal / (s.weight * float(BOUNCE_SHADOW_RAYS)));
-  path.pendingIsFloor = false;
-  return true;
+  path.lightIndex = count; // every target placed: the rest of the list adds nothing
+  return false;
 }
 
 // Light i of the faithful lists (light_select.glsl faithfulLight) at the current surface, in
 // renderer/cpu faithfulLightSampled's way: its own ray, except the cell's bounce lights (last in
-// its list) where there are more than BOUNCE_SHADOW_RAYS: those are drawn among. Once the draw
-// has placed its targets, the rest of the list is skipped.
+// its list) where there are more than BOUNCE_SHADOW_RAYS: those are drawn among.
 bool faithfulListedLightRay(inout Path path, uint cell, uint i, uint count, inout Rng rng) {
-  GpuLight light = lights[faithfulLight(cell, i)];
-  bool inCell = i >= lightGrid.fixedCount + lightGrid.globalCount;
-  if (path.bounceFirst == NO_BOUNCE_DRAW && inCell && light.formula == FORMULA_BOUNCE && count - i > BOUNCE_SHADOW_RAYS)
+  if (i < path.bounceFirst) {
+    GpuLight light = lights[faithfulLight(cell, i)];
+    bool inCell = i >= lightGrid.fixedCount + lightGrid.globalCount;
+    if (!(inCell && light.formula == FORMULA_BOUNCE && count - i > BOUNCE_SHADOW_RAYS)) return faithfulLightRay(path, light, rng);
     startBounceDraw(path, cell, i, count, rng);
-  if (i < path.bounceFirst) return faithfulLightRay(path, light, rng);
-  if (path.bounceLast == NO_BOUNCE_DRAW || i > path.bounceLast || path.bounceDrawn >= BOUNCE_SHADOW_RAYS) {
-    path.lightIndex = count; // every target placed: the rest of the list adds nothing
-    return false;
   }
-  return faithfulBounceRay(path, light, i, rng);
+  return faithfulBounceRay(path, cell, i, count, rng);
 }
 
 // The pixel's value once a faithful path has ended: what the game would draw.
