@@ -5,6 +5,7 @@
 #include "bench/loaded_level.h"
 #include "importers/import.h"
 #include "renderer/cpu/cpu_renderer.h"
+#include "renderer/cpu/light_grid.h"
 
 #include <benchmark/benchmark.h>
 
@@ -106,6 +107,53 @@ void BM_Render(benchmark::State& state, const std::string& mapName, LightingMode
                                                     benchmark::Counter::kIsRate);
 }
 
+// Faithful `_bounce`: LibreQuake's lq_e3m1 (worldspawn `_bounce 3`: about a thousand bounce
+// lights after merging, a few hundred in a cell) with its textures, 4 spp, with its bounce lights
+// (range(0) = 1: kBounceShadowRays shadow rays per hit among them) and without (0).
+const LoadedLevel* loadBounceLevel(bool bounceLights) {
+  static std::map<bool, std::unique_ptr<LoadedLevel>> cache;
+  if (auto it = cache.find(bounceLights); it != cache.end()) return it->second.get();
+  const std::filesystem::path lq = kShared + "/maps/librequake";
+  std::unique_ptr<LoadedLevel> level;
+  if (std::filesystem::exists(lq / "lq1/maps/src/e3/lq_e3m1.map")) {
+    ImportOptions options;
+    for (const auto& dir : std::filesystem::directory_iterator(lq / "texture-wads"))
+      if (dir.is_directory()) options.textures.textureDirs.push_back(dir.path().string());
+    level = std::make_unique<LoadedLevel>();
+    level->scene = importScene((lq / "lq1/maps/src/e3/lq_e3m1.map").string(), options);
+    RenderSceneOptions renderOptions;
+    renderOptions.bounceLights = bounceLights;
+    Diagnostics diagnostics;
+    level->rs = buildRenderScene(level->scene, renderOptions, diagnostics);
+    level->pose = defaultCameraPose(level->scene);
+  }
+  return cache.emplace(bounceLights, std::move(level)).first->second.get();
+}
+
+void BM_RenderBounce(benchmark::State& state) {
+  const LoadedLevel* m = loadBounceLevel(state.range(0) != 0);
+  if (!m) {
+    state.SkipWithError("lq_e3m1 not found (../shared missing?)");
+    return;
+  }
+  RenderSettings s;
+  s.width = kWidth;
+  s.height = kHeight;
+  s.spp = 4;
+  s.integrator.mode = LightingMode::Faithful;
+  for (auto _ : state) benchmark::DoNotOptimize(renderCpu(m->rs, Camera(m->pose, kWidth, kHeight), s).beauty.data());
+  state.counters["Msamples/s"] = benchmark::Counter(double(kWidth) * kHeight * s.spp * double(state.iterations()) / 1e6,
+                                                    benchmark::Counter::kIsRate);
+  state.counters["lights"] = double(m->rs.lights.size());
+  // What a hit looks at: the bounce lights its cell lists, on average over the cells.
+  const LightGrid& grid = m->rs.lightGrid;
+  const size_t cells = size_t(grid.header.dims[0]) * grid.header.dims[1] * grid.header.dims[2];
+  double listed = 0.0;
+  for (size_t c = 0; c < cells; ++c)
+    listed += double(trailingBounceLights(m->rs.lights, {grid.indices.data() + grid.cells[c].first, grid.cells[c].count}));
+  state.counters["bounce_lights_per_cell"] = listed / double(cells);
+}
+
 } // namespace
 
 // range(0): threads, 0 = all cores.
@@ -117,5 +165,8 @@ BENCHMARK_CAPTURE(BM_Render, start_faithful, std::string("start"), LightingMode:
 BENCHMARK_CAPTURE(BM_Render, start_physical, std::string("start"), LightingMode::Physical)->Arg(1)->Arg(0)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Render, e1m1_faithful, std::string("e1m1"), LightingMode::Faithful)->Arg(0)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Render, e1m1_physical, std::string("e1m1"), LightingMode::Physical)->Arg(0)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+// range(0): 1 with lq_e3m1's bounce lights, 0 without.
+BENCHMARK(BM_RenderBounce)->ArgName("bounce_lights")->Arg(0)->Arg(1)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -7,6 +7,7 @@ const float OVERBRIGHT_ONE = 128.0; // the engine maps lightmap 128 to the textu
 const float SURFACE_HOTSPOT_CLAMP = 16.0; // radiosity surface lights: ltface.cc's hotspot clamp
 const float BOUNCE_HOTSPOT_CLAMP = 128.0; // bounce lights: IndirectLightFace's hotspot clamp
 const float BOUNCE_GATE = 0.01;           // a bounce light's share below this in every channel is dropped
+const uint BOUNCE_SHADOW_RAYS = 16u;      // renderer/cpu/integrator.h kBounceShadowRays
 
 float copyDistanceValue(GpuLight light, float dist, float scaledist) {
   float value = light.value;

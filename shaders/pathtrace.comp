@@ -175,6 +175,13 @@ struct Path {
   uint lightIndex;
   vec3 pending;
   bool pendingIsFloor; // faithful: a delay 4 light, which raises a floor instead of adding
+  // Faithful: the draw among the cell's bounce lights (faithfulBounceRay), where it stands.
+  uint bounceFirst;        // list position of the first light drawn among; NO_BOUNCE_DRAW: none
+  uint bounceLast;         // ... of the last with a share (NO_BOUNCE_DRAW: none has one)
+  uint bounceDrawn;        // targets placed so far
+  float bounceTotal;       // the shares laid end to end
+  float bounceCumulative;  // ... up to the light the draw has reached
+  float bounceTarget;      // the next target
 #ifdef BT_FAITHFUL_DIRT
   // Faithful dirt: the surface's occlusion rays, traced before its lights.
   int dirtRay;      // rays set up so far
@@ -290,6 +297,108 @@ bool faithfulLightRay(inout Path path, GpuLight light, inout Rng rng) {
   return false;
 }
 
+const uint NO_BOUNCE_DRAW = 0xffffffffu;
+
+// A bounce light's unshadowed share at the current surface (renderer/cpu bounceShare): the gate
+// applied, dirt not (it comes after the draw); weight, its brightest channel, 0 where it adds
+// nothing; n, the side of the surface it lights.
+struct BounceShare {
+  vec3 rgb;
+  float weight;
+  float dist;
+  vec3 n;
+};
+
+// renderer/cpu clearlyUnlit: behind the light's face, or the light behind a one-sided surface, at
+// a cosine above 1e-4 (pointLightValue gives 0 there too), without a square root.
+bool clearlyUnlit(GpuLight light, vec3 n, bool twoSided, vec3 d) {
+  const float COS2 = 1e-8;
+  float d2 = dot(d, d);
+  float away = dot(light.direction, d);
+  if (away > 0.0 && away * away > COS2 * d2) return true;
+  float facing = dot(n, d);
+  return !twoSided && facing < 0.0 && facing * facing > COS2 * d2;
+}
+
+BounceShare bounceShare(Path path, GpuLight light) {
+  BounceShare s = BounceShare(vec3(0.0), 0.0, 0.0, vec3(0.0));
+  vec3 d = light.origin - path.position;
+  bool twoSided = (faceFlags[path.face] & FACE_LIQUID) != 0u;
+  if (clearlyUnlit(light, path.normal, twoSided, d)) return s;
+  s.dist = length(d);
+  if (!(s.dist > 0.0)) return s;
+  vec3 toLight = d / s.dist;
+  s.n = facingNormal(path.normal, toLight, twoSided);
+  float value = pointLightValue(light, s.n, toLight, s.dist, world.scaledist);
+  if (!(value > 0.0)) return s;
+  s.rgb = value * light.color;
+  s.weight = max(max(max(s.rgb.x, s.rgb.y), s.rgb.z), 0.0);
+  return s;
+}
+
+// The draw begins at list position `first`, the first of the cell's bounce lights: the first
+// sweep (their total share and the last with one) and the first target.
+void startBounceDraw(inout Path path, uint cell, uint first, uint count, inout Rng rng) {
+  path.bounceFirst = first;
+  path.bounceLast = NO_BOUNCE_DRAW;
+  path.bounceDrawn = 0u;
+  path.bounceTotal = 0.0;
+  path.bounceCumulative = 0.0;
+  for (uint k = first; k < count; ++k) {
+    float w = bounceShare(path, lights[faithfulLight(cell, k)]).weight;
+    if (w > 0.0) {
+      path.bounceTotal += w;
+      path.bounceLast = k;
+    }
+  }
+  if (path.bounceLast != NO_BOUNCE_DRAW) path.bounceTarget = rngNext(rng) / float(BOUNCE_SHADOW_RAYS) * path.bounceTotal;
+}
+
+// The second sweep (renderer/cpu sampledBounceSum), from list position i on, to the next bounce
+// light a target falls on: the targets on its share, one drawn per stratum, and one shadow ray
+// for them all; false (the list done) when every target is placed.
+bool faithfulBounceRay(inout Path path, uint cell, uint i, uint count, inout Rng rng) {
+  uint end = path.bounceLast == NO_BOUNCE_DRAW ? i : path.bounceLast + 1u; // none with a share: nothing to draw
+  for (; i < end && path.bounceDrawn < BOUNCE_SHADOW_RAYS; ++i) {
+    GpuLight light = lights[faithfulLight(cell, i)];
+    BounceShare s = bounceShare(path, light);
+    if (!(s.weight > 0.0)) continue;
+    path.bounceCumulative += s.weight;
+    uint picks = 0u;
+    while (path.bounceDrawn < BOUNCE_SHADOW_RAYS && (path.bounceTarget < path.bounceCumulative || i == path.bounceLast)) {
+      picks++;
+      path.bounceDrawn++;
+      if (path.bounceDrawn < BOUNCE_SHADOW_RAYS)
+        path.bounceTarget = (float(path.bounceDrawn) + rngNext(rng)) / float(BOUNCE_SHADOW_RAYS) * path.bounceTotal;
+    }
+    if (picks == 0u) continue;
+    vec3 origin = offsetPoint(path.position, s.n);
+    vec3 toLight = light.origin - origin;
+    float len = length(toLight);
+    setRay(path, RAY_SHADOW, origin, toLight / len, len);
+    path.pending = s.rgb * dirtFactor(path, light, s.dist) *
+                   (float(picks) * path.bounceTotal / (s.weight * float(BOUNCE_SHADOW_RAYS)));
+    path.pendingIsFloor = false;
+    path.lightIndex = i + 1u;
+    return true;
+  }
+  path.lightIndex = count; // every target placed: the rest of the list adds nothing
+  return false;
+}
+
+// Light i of the faithful lists (light_select.glsl faithfulLight) at the current surface, in
+// renderer/cpu faithfulLightSampled's way: its own ray, except the cell's bounce lights (last in
+// its list) where there are more than BOUNCE_SHADOW_RAYS: those are drawn among.
+bool faithfulListedLightRay(inout Path path, uint cell, uint i, uint count, inout Rng rng) {
+  if (i < path.bounceFirst) {
+    GpuLight light = lights[faithfulLight(cell, i)];
+    bool inCell = i >= lightGrid.fixedCount + lightGrid.globalCount;
+    if (!(inCell && light.formula == FORMULA_BOUNCE && count - i > BOUNCE_SHADOW_RAYS)) return faithfulLightRay(path, light, rng);
+    startBounceDraw(path, cell, i, count, rng);
+  }
+  return faithfulBounceRay(path, cell, i, count, rng);
+}
+
 // The pixel's value once a faithful path has ended: what the game would draw.
 vec3 faithfulDisplay(Path path) {
   // The compiler scales a coloured sum so its brightest channel fits in 255, keeping the hue.
@@ -319,6 +428,7 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
   path.normal = hit.normal;
   path.lightSum = vec3(0.0);
   path.lightFloor = vec3(0.0);
+  path.bounceFirst = NO_BOUNCE_DRAW;
 #ifdef BT_FAITHFUL_DIRT
   path.dirtRay = 0;
   path.dirtSum = 0.0;
@@ -456,8 +566,8 @@ bool physicalBounce(inout Path path, inout Rng rng) {
 
 // The next light of the current surface that needs a ray, set up in `path`; false when none is
 // left. The lights come from the light grid (light_select.glsl), in renderer/cpu's order:
-//   faithful: the fixed, global and cell lists (faithfulLightFromGrid; _surface lights are
-//             point lights in them);
+//   faithful: the fixed, global and cell lists (faithfulLightSampled; _surface lights are
+//             point lights in them), a cell's many bounce lights drawn among (faithfulListedLightRay);
 //   physical: the fixed list's suns, one selected point light (allLightsSelected), then one
 //             emitter sample.
 bool nextLightRay(inout Path path, inout Rng rng) {
@@ -476,7 +586,7 @@ bool nextLightRay(inout Path path, inout Rng rng) {
     if (i == count)
       needsRay = PHYSICAL && world.emitterCount > 0u && physicalEmitterRay(path, rng);
     else if (!PHYSICAL)
-      needsRay = faithfulLightRay(path, lights[faithfulLight(cell, i)], rng);
+      needsRay = faithfulListedLightRay(path, cell, i, count, rng);
     else if (i < lightGrid.fixedCount)
       needsRay = physicalSunRay(path, lights[lightIndices[i]], rng);
     else

@@ -221,6 +221,92 @@ void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiv
   }
 }
 
+// A bounce light's unshadowed share at the receiver (its 0.01 gate applied; dirt comes after
+// the draw, the same factor for every bounce light), and the side of the receiver it lights.
+// weight, its brightest channel, is what the draw goes by: 0 where it adds nothing.
+struct BounceShare {
+  glm::vec3 rgb{0.0f};
+  float weight = 0.0f;
+  float dist = 0.0f;
+  glm::vec3 n{0.0f};
+};
+
+// Whether the receiver clearly gets nothing of a bounce light `d` away (d from the receiver to
+// it): it lies behind the light's face, or the light behind a one-sided receiver, at an angle
+// whose cosine is above 1e-4, far beyond float rounding, so pointLightValue would say 0 too. No
+// square root: the draw's sweep tests a cell's hundreds of bounce lights at every hit.
+bool clearlyUnlit(const GpuLight& light, const Receiver& r, const glm::vec3& d) {
+  constexpr float kCos2 = 1e-8f; // (1e-4)^2
+  const float d2 = glm::dot(d, d);
+  const float away = glm::dot(light.direction, d); // > 0: the receiver is behind the light's face
+  if (away > 0.0f && away * away > kCos2 * d2) return true;
+  const float facing = glm::dot(r.n, d);
+  return !r.twoSided && facing < 0.0f && facing * facing > kCos2 * d2;
+}
+
+BounceShare bounceShare(const RenderScene& rs, const GpuLight& light, const Receiver& r) {
+  BounceShare s;
+  const glm::vec3 d = light.origin - r.p;
+  if (clearlyUnlit(light, r, d)) return s;
+  s.dist = glm::length(d);
+  if (!(s.dist > 0.0f)) return s;
+  const glm::vec3 toLight = d / s.dist;
+  s.n = facingNormal(r, toLight);
+  const float value = faithful::pointLightValue(light, s.n, toLight, s.dist, rs.world.scaledist);
+  if (!(value > 0.0f)) return s;
+  s.rgb = value * light.color;
+  s.weight = std::max(faithful::maxChannel(s.rgb), 0.0f);
+  return s;
+}
+
+// An unbiased estimate of the sum of `count` bounce lights (point lights without jitter;
+// lightAt(i) is the i-th) at the receiver, with at most `shadowRays` shadow rays: the lights'
+// shares laid end to end on [0, total), one target drawn in each of `shadowRays` equal strata of
+// it (stratified: where every light is visible and of one hue the estimate is exact), and each
+// light a target falls on counts share x total / (weight x shadowRays) per target where it is
+// visible. A light that several targets fall on is traced once. Two sweeps over the lights (the
+// total, then the picks in order) and no list, so the GL tracer does the same in fixed space
+// (pathtrace.comp faithfulBounceRay), drawing the same numbers: one per stratum, in order, after
+// those of the lights before. Here the second sweep reads the weights the first one kept (the
+// sweep over a cell's hundreds of lights is most of the cost). `shadowRaysCast`, when given,
+// counts the rays (tests).
+template <class LightAt>
+glm::vec3 sampledBounceSum(const RenderScene& rs, size_t count, const LightAt& lightAt, const Receiver& r, float occlusion,
+                           Rng& rng, size_t shadowRays, int* shadowRaysCast = nullptr) {
+  std::vector<float> weights(count);
+  float total = 0.0f;
+  size_t last = count; // the last light with a share: rounding may leave targets past the others
+  for (size_t i = 0; i < count; ++i) {
+    weights[i] = bounceShare(rs, lightAt(i), r).weight;
+    if (weights[i] > 0.0f) total += weights[i], last = i;
+  }
+  if (last == count || shadowRays == 0) return glm::vec3(0.0f);
+  const float strata = float(shadowRays);
+  glm::vec3 sum(0.0f);
+  float cumulative = 0.0f;
+  size_t drawn = 0;
+  float target = rng.next() / strata * total;
+  for (size_t i = 0; i <= last && drawn < shadowRays; ++i) {
+    if (!(weights[i] > 0.0f)) continue;
+    cumulative += weights[i];
+    int picks = 0;
+    while (drawn < shadowRays && (target < cumulative || i == last)) {
+      ++picks, ++drawn;
+      if (drawn < shadowRays) target = (float(drawn) + rng.next()) / strata * total;
+    }
+    if (picks == 0) continue;
+    if (shadowRaysCast) ++*shadowRaysCast;
+    const GpuLight& light = lightAt(i);
+    const BounceShare s = bounceShare(rs, light, r); // its weight is weights[i]: the same computation
+    const glm::vec3 origin = offsetPoint(r.p, s.n);
+    const glm::vec3 toLight = light.origin - origin;
+    const float len = glm::length(toLight);
+    if (occluded(rs, Ray{origin, 0.0f, toLight / len, len}, LightingMode::Faithful)) continue;
+    sum += s.rgb * faithful::lightDirtFactor(light, occlusion, s.dist) * (float(picks) * total / (s.weight * strata));
+  }
+  return sum;
+}
+
 // worldspawn minlight, a radiosity template's face minlight and delay-4 lights are floors under
 // the sum, not terms of it; with `_minlight_dirt`, dirt dims both minlights (LightFace_Min).
 glm::vec3 applyFloors(const RenderScene& rs, const glm::vec3& sum, const glm::vec3& localMin, const glm::vec3& faceMinlight,
@@ -241,23 +327,36 @@ bool feedsBounce(const GpuLight& light, const WorldLighting& world) {
   return world.bouncestyled || lightStyle(light) == 0;
 }
 
-// The faithful light sum at p: the dirt occlusion first, then every light of the level (the
-// reference) or the grid's lists for p, then the floors.
-glm::vec3 faithfulSum(const RenderScene& rs, bool fromGrid, const Receiver& r, const glm::vec3& faceMinlight, Rng& rng,
-                      FaithfulLights which = FaithfulLights::Shown) {
+// Where the light sum comes from: every light of the level (the reference), the grid's lists
+// for p, or those lists with the cell's bounce lights drawn (sampledBounceSum) when there are
+// more than kBounceShadowRays of them.
+enum class LightSource { All, Grid, GridSampledBounce };
+
+// The faithful light sum at p: the dirt occlusion first, then the lights, then the floors.
+glm::vec3 faithfulSum(const RenderScene& rs, LightSource source, const Receiver& r, const glm::vec3& faceMinlight, Rng& rng,
+                      FaithfulLights which = FaithfulLights::Shown, int* bounceShadowRays = nullptr) {
   const float occlusion = faithfulOcclusion(rs, r.p, r.n, rng);
   glm::vec3 sum(0.0f), localMin(0.0f);
   auto add = [&](const GpuLight& light) {
     if (which == FaithfulLights::BounceSources && !feedsBounce(light, rs.world)) return;
+    if (bounceShadowRays && light.formula == uint32_t(LightFormula::Bounce)) ++*bounceShadowRays; // at most
     addFaithfulLight(rs, light, r, occlusion, rng, sum, localMin);
   };
-  if (!fromGrid) {
+  if (source == LightSource::All) {
     for (const GpuLight& light : rs.lights) add(light);
   } else {
     const LightGrid& grid = rs.lightGrid;
     for (uint32_t i : grid.fixedLights()) add(rs.lights[i]);
     for (uint32_t i : grid.globalLights()) add(rs.lights[i]);
-    for (uint32_t i : grid.cellLights(r.p)) add(rs.lights[i]);
+    const std::span<const uint32_t> cell = grid.cellLights(r.p);
+    const size_t bounceCount = trailingBounceLights(rs.lights, cell); // they come last in a cell
+    const bool drawBounce = source == LightSource::GridSampledBounce && bounceCount > kBounceShadowRays;
+    for (uint32_t i : drawBounce ? cell.first(cell.size() - bounceCount) : cell) add(rs.lights[i]);
+    if (drawBounce) {
+      const std::span<const uint32_t> bounce = cell.last(bounceCount);
+      sum += sampledBounceSum(rs, bounce.size(), [&](size_t k) -> const GpuLight& { return rs.lights[bounce[k]]; }, r,
+                              occlusion, rng, kBounceShadowRays, bounceShadowRays);
+    }
   }
   if (which == FaithfulLights::BounceSources) return sum;
   return applyFloors(rs, sum, localMin, faceMinlight, occlusion);
@@ -270,15 +369,21 @@ float faithfulDirtOcclusion(const RenderScene& rs, const glm::vec3& p, const glm
 }
 
 glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided) {
-  return faithfulSum(rs, false, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng);
+  return faithfulSum(rs, LightSource::All, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng);
 }
 
 glm::vec3 faithfulLightFromGrid(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided) {
-  return faithfulSum(rs, true, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng);
+  return faithfulSum(rs, LightSource::Grid, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng);
+}
+
+glm::vec3 faithfulLightSampled(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided,
+                               int* bounceShadowRays) {
+  return faithfulSum(rs, LightSource::GridSampledBounce, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng,
+                     FaithfulLights::Shown, bounceShadowRays);
 }
 
 glm::vec3 faithfulBounceSourceLight(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided) {
-  return faithfulSum(rs, true, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng, FaithfulLights::BounceSources);
+  return faithfulSum(rs, LightSource::Grid, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng, FaithfulLights::BounceSources);
 }
 
 glm::vec3 faithfulLightFrom(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p, const glm::vec3& n,
@@ -295,48 +400,8 @@ glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLig
   if (lights.size() <= maxShadowRays) return faithfulLightFrom(rs, lights, p, n, rng, twoSided);
   const Receiver r{p, n, twoSided};
   const float occlusion = faithfulOcclusion(rs, p, n, rng);
-  // Each light's unshadowed share at p (its brightest channel weighs the draw).
-  struct Share {
-    const GpuLight* light;
-    glm::vec3 rgb;
-    float weight;
-    glm::vec3 toLight;
-    float dist;
-    glm::vec3 n;
-  };
-  std::vector<Share> shares;
-  std::vector<float> cdf;
-  float total = 0.0f;
-  for (const GpuLight& light : lights) {
-    const glm::vec3 d = light.origin - p;
-    const float dist = glm::length(d);
-    if (!(dist > 0.0f)) continue;
-    const glm::vec3 toLight = d / dist;
-    const glm::vec3 facing = facingNormal(r, toLight);
-    // Dirt dims the drawn light below (the same factor for every bounce light, so the draw needs
-    // it not), after the gate as in addFaithfulLight.
-    const float value = faithful::pointLightValue(light, facing, toLight, dist, rs.world.scaledist);
-    if (!(value > 0.0f)) continue;
-    const glm::vec3 rgb = value * light.color;
-    const float weight = faithful::maxChannel(rgb);
-    if (!(weight > 0.0f)) continue;
-    shares.push_back({&light, rgb, weight, toLight, dist, facing});
-    total += weight;
-    cdf.push_back(total);
-  }
-  if (shares.empty()) return glm::vec3(0.0f);
-  glm::vec3 sum(0.0f);
-  for (size_t s = 0; s < maxShadowRays; ++s) {
-    const float u = rng.next() * total;
-    const size_t i = std::min(size_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()), shares.size() - 1);
-    const Share& share = shares[i];
-    const glm::vec3 origin = offsetPoint(p, share.n);
-    const glm::vec3 toLight = p + share.toLight * share.dist - origin;
-    const float len = glm::length(toLight);
-    if (occluded(rs, Ray{origin, 0.0f, toLight / len, len}, LightingMode::Faithful)) continue;
-    sum += share.rgb * faithful::lightDirtFactor(*share.light, occlusion, share.dist) * (total / share.weight);
-  }
-  return sum / float(maxShadowRays);
+  return sampledBounceSum(rs, lights.size(), [&](size_t i) -> const GpuLight& { return lights[i]; }, r, occlusion, rng,
+                          maxShadowRays);
 }
 
 glm::vec3 faithfulFaceMinlight(const RenderScene& rs, uint32_t face) {
@@ -352,7 +417,8 @@ namespace {
 glm::vec3 faithfulLight(const RenderScene& rs, const IntegratorSettings& settings, const SurfaceHit& hit,
                         const glm::vec3& faceMinlight, Rng& rng) {
   const bool twoSided = rs.faceFlags[hit.face] & kFaceLiquid;
-  return faithfulSum(rs, settings.lightSelection, Receiver{hit.position, hit.normal, twoSided}, faceMinlight, rng);
+  return faithfulSum(rs, settings.lightSelection ? LightSource::GridSampledBounce : LightSource::All,
+                     Receiver{hit.position, hit.normal, twoSided}, faceMinlight, rng);
 }
 
 glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, Rng& rng) {

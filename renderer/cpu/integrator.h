@@ -73,6 +73,27 @@ float faithfulDirtOcclusion(const RenderScene& rs, const glm::vec3& p, const glm
 glm::vec3 faithfulLightFromGrid(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng,
                                 bool twoSided = false);
 
+// The shadow rays a shown point spends on its cell's bounce lights (bounce.h) when the cell lists
+// more than this many; with fewer each gets its own, as any light. A level's bounce lights reach
+// most of it (their gate at value / d^2), so a cell of a large level lists hundreds of them.
+// 16, not fewer: the shown pixel bends the estimate (faithfulLightSampled), and with 8 lq_e3m1's
+// image mean came out 0.8 % low in blue (16: 0.2 %, 32: 0.03 %, at 7 % and 18 % more render
+// time than 8). shaders/faithful.glsl BOUNCE_SHADOW_RAYS is the same.
+inline constexpr size_t kBounceShadowRays = 16;
+
+// What the renderer shows at p (radiance(), lightSelection on): faithfulLightFromGrid with the
+// cell's bounce lights, when it lists more than kBounceShadowRays, drawn among by their unshadowed
+// share (faithfulLightFromSampled's estimate, kBounceShadowRays rays) instead of each
+// shadow-tested. An unbiased estimate of the bounce lights' sum, exact where all of them are
+// visible and of one hue; the pixel, a bent function of the sum (see above), converges to the
+// mean of that function over the estimate, which differs from faithfulLightFromGrid's pixel
+// where the estimate spreads (a cell's bounce lights partly shadowed) and the pixel bends there,
+// above all at the 255 clamp: a rarely drawn visible light counts total / kBounceShadowRays
+// (measured on lq_e3m1's image mean: -0.06 % green, -0.23 % blue; renderer/cpu/README.md).
+// `bounceShadowRays`, when given, is raised by the shadow rays it may cast to bounce lights (tests).
+glm::vec3 faithfulLightSampled(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided = false,
+                               int* bounceShadowRays = nullptr);
+
 // What ericw-tools' bounce re-emits of the light at p (ltface.cc's bounce_color, from the grid's
 // lists): the positive lights of style 0 (any style with `_bouncestyled`), no local minlight, no
 // floors, no bounce lights. bounce.h averages it over each face.
@@ -85,11 +106,12 @@ glm::vec3 faithfulLightFrom(const RenderScene& rs, std::span<const GpuLight> lig
                             Rng& rng, bool twoSided = false);
 
 // An unbiased estimate of faithfulLightFrom for point lights without jitter (bounce lights) that
-// casts at most `maxShadowRays` shadow rays: when more lights reach p, that many are drawn with
-// probability proportional to their unshadowed share at p (the compiler's 0.01 gate applied to each
-// light's own share), and each drawn one counts its share / (rays x probability) where it is
-// visible. Exact where every candidate is visible; the bounce pass averages it over a face, a
-// linear mean, so the estimate stays unbiased there (unlike a shown pixel, see above).
+// casts at most `maxShadowRays` shadow rays: when more lights are given, that many targets are
+// drawn, one in each equal stratum of their unshadowed shares at p laid end to end (the
+// compiler's 0.01 gate applied to each light's own share), and each light a target falls on
+// counts its share / (rays x probability) per target where it is visible. Exact where every
+// candidate is visible and of one hue. The bounce pass averages it over a face, a linear mean, so
+// the estimate stays unbiased there; faithfulLightSampled draws the same way at a shown point.
 glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p,
                                    const glm::vec3& n, Rng& rng, bool twoSided, size_t maxShadowRays);
 

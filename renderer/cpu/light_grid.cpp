@@ -66,6 +66,20 @@ float distanceToCell2(const CellBox& cell, const glm::vec3& pointsLo, const glm:
 
 float distanceToCell2(const CellBox& cell, const glm::vec3& p) { return distanceToCell2(cell, p, p); }
 
+// A bounce light lights only what lies in front of its face (faithful::emitterTerm: 0 behind its
+// plane), so a cell wholly behind it, by more than float rounding at Quake's extents, never sees
+// it. About half of a level's cells lie behind any one face.
+bool cellBehindBounceLight(const GpuLight& light, const CellBox& cell) {
+  if (light.formula != uint32_t(LightFormula::Bounce)) return false;
+  constexpr float kMargin = 1.0f;
+  float farthest = 0.0f; // along the light's normal, of the cell's corners (infinite at a border)
+  for (int a = 0; a < 3; ++a) {
+    const float d = light.direction[a];
+    if (d != 0.0f) farthest += d * ((d > 0.0f ? cell.hi[a] : cell.lo[a]) - light.origin[a]);
+  }
+  return farthest < -kMargin;
+}
+
 uint32_t clampedCell(const GpuLightGrid& g, int axis, float coordinate) {
   const float f = (coordinate - g.origin[axis]) / g.cellSize;
   if (!(f >= 0.0f)) return 0; // also NaN
@@ -271,6 +285,12 @@ float faithfulReach(const GpuLight& light, float scaledist) {
   return (reach + maxJitter(light)) * (1.0f + kReachRelativeSlack) + kReachSlack;
 }
 
+size_t trailingBounceLights(const std::vector<GpuLight>& lights, std::span<const uint32_t> list) {
+  size_t count = 0;
+  while (count < list.size() && lights[list[list.size() - 1 - count]].formula == uint32_t(LightFormula::Bounce)) ++count;
+  return count;
+}
+
 std::span<const uint32_t> LightGrid::physicalNearLights(const glm::vec3& p) const {
   const size_t cellCount = size_t(header.dims[0]) * header.dims[1] * header.dims[2];
   const GpuLightCell& c = cells[cellCount + lightGridCell(header, p)];
@@ -308,14 +328,20 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
 
   // Finite-reach lights into every cell their reach sphere touches: a large level's thousands of
   // lights reach thousands of cells each, so the z-slices of cells are shared among threads
-  // (each slice takes the lights in index order, so the lists do not depend on the threads).
+  // (each slice takes the lights in the order above, so the lists do not depend on the threads).
   const size_t cellCount = size_t(g.dims[0]) * g.dims[1] * g.dims[2];
   struct Reach {
     uint32_t light;
     uint32_t lo[3], hi[3]; // the cells of its reach box
   };
+  // Bounce lights last, so that they end every cell's list (trailingBounceLights); the others,
+  // then the bounce lights, in index order.
+  std::vector<uint32_t> order(lights.size());
+  for (uint32_t i = 0; i < lights.size(); ++i) order[i] = i;
+  std::stable_partition(order.begin(), order.end(),
+                        [&](uint32_t i) { return lights[i].formula != uint32_t(LightFormula::Bounce); });
   std::vector<Reach> reaches;
-  for (uint32_t i = 0; i < lights.size(); ++i) {
+  for (uint32_t i : order) {
     if (!isFaithfulCandidate(lights[i])) continue;
     const float reach = faithfulReach(lights[i], scaledist);
     if (!std::isfinite(reach)) continue;
@@ -336,9 +362,11 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
       const float reach = faithfulReach(l, scaledist);
       uint32_t cell[3] = {0, 0, z};
       for (cell[1] = r.lo[1]; cell[1] <= r.hi[1]; ++cell[1])
-        for (cell[0] = r.lo[0]; cell[0] <= r.hi[0]; ++cell[0])
-          if (distanceToCell2(cellBox(g, cell), l.origin) <= reach * reach)
+        for (cell[0] = r.lo[0]; cell[0] <= r.hi[0]; ++cell[0]) {
+          const CellBox box = cellBox(g, cell);
+          if (distanceToCell2(box, l.origin) <= reach * reach && !cellBehindBounceLight(l, box))
             lists[cell[0] + g.dims[0] * (cell[1] + g.dims[1] * size_t(z))].push_back(r.light);
+        }
     }
   });
   grid.cells.resize(2 * cellCount);

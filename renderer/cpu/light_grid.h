@@ -44,6 +44,12 @@ inline constexpr uint32_t kPhysicalNearLights = 32;
 // jitter of its position), or +infinity when its formula never reaches 0.
 float faithfulReach(const GpuLight& light, float scaledist);
 
+// How many lights at the end of `list` (indices into `lights`) are bounce lights
+// (LightFormula::Bounce). buildLightGrid lists a cell's bounce lights after its others, so these
+// are all of the cell's: a level's hundreds of them that the renderer draws among instead of
+// shadow-testing each (integrator.h kBounceShadowRays).
+size_t trailingBounceLights(const std::vector<GpuLight>& lights, std::span<const uint32_t> list);
+
 // The grid over `bounds` (the level's traceable brushes; points outside it still get a correct
 // list). Point lights of value 0 light nothing in either mode and are in no list.
 LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& bounds, float scaledist);

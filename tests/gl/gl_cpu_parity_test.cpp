@@ -7,6 +7,8 @@
 //   the image means within 1 % (faithful) / 3 % (physical), and at least 97 % of pixels
 //   within 1 % (+ 1e-3 absolute) of the CPU's value.
 #include "renderer/cpu/cpu_renderer.h"
+#include "renderer/cpu/integrator.h"
+#include "renderer/cpu/light_grid.h"
 #include "renderer/cpu/render_scene.h"
 #include "renderer/gl/gl_render.h"
 #include "importers/import.h"
@@ -243,6 +245,42 @@ TEST(GlCpuParity, FaithfulBounceAgreesWithTheCpuReference) {
   RenderImage cpu;
   const RenderImage gpu = renderBoth(level.render, level.pose, settings, cpu);
   expectBeautyAgrees(gpu, cpu, 0.01);
+}
+
+// More bounce lights than kBounceShadowRays in a cell: both tracers draw among them by their
+// share at the hit (renderer/cpu faithfulLightSampled, pathtrace.comp faithfulBounceRay) with the
+// same numbers, so they draw the same lights. The many-lights room with `_bounce 1` (about 250
+// bounce lights a cell), plain and with dirt (which dims each drawn light). The draw's noise moves
+// most pixels of the CPU's own image by more than the agreement asked here, checked first: a GL
+// tracer that shadow-tested every bounce light, or drew others, would not agree.
+TEST(GlCpuParity, ManyBounceLightsDrawTheSameAsTheCpu) {
+  for (const bool dirt : {false, true}) {
+    SCOPED_TRACE(dirt ? "_dirt 1" : "no dirt");
+    Scene scene = test::manyLightsRoom(24, false, 7);
+    scene.entities[0].keys.emplace_back("_bounce", "1");
+    if (dirt) scene.entities[0].keys.emplace_back("_dirt", "1");
+    Diagnostics diagnostics;
+    const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+    const CameraPose pose{{400.0f, -400.0f, 200.0f}, 20.0f, 135.0f, 0.0f, "test"};
+    ASSERT_GT(trailingBounceLights(rs.lights, rs.lightGrid.cellLights(pose.origin)), kBounceShadowRays);
+    RenderSettings settings;
+    settings.width = 64;
+    settings.height = 40;
+    settings.spp = dirt ? 1 : 4;
+    settings.seed = 21;
+    settings.integrator.mode = LightingMode::Faithful;
+    RenderImage cpu;
+    const RenderImage gpu = renderBoth(rs, pose, settings, cpu);
+    expectBeautyAgrees(gpu, cpu, 0.01);
+
+    RenderSettings exhaustive = settings;
+    exhaustive.integrator.lightSelection = false;
+    const RenderImage everyLight = renderCpu(rs, Camera(pose, settings.width, settings.height), exhaustive);
+    size_t moved = 0;
+    for (size_t i = 0; i < cpu.beauty.size(); ++i)
+      moved += glm::length(cpu.beauty[i] - everyLight.beauty[i]) > 0.01f * glm::length(everyLight.beauty[i]) + 1e-3f;
+    EXPECT_GT(moved, cpu.beauty.size() / 10) << "the draw must change the image beyond the agreement";
+  }
 }
 
 } // namespace

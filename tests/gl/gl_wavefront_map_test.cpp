@@ -6,6 +6,7 @@
 #include "renderer/gl/gl_lighting.h"
 #include "renderer/gl/gl_render.h"
 #include "tests/gl/test_scenes.h"
+#include "tests/render/box_scene.h"
 #include "tests/test_data.h"
 
 #include <gtest/gtest.h>
@@ -60,6 +61,17 @@ TEST(GlWavefrontMap, TexturedLibreQuakeMapFaithful) {
 TEST(GlWavefrontMap, StartMapPhysicalWithEmitters) {
   const Scene scene = importScene((test::mapsDir() / "start.map").string(), ImportOptions{});
   expectFormsAgree(scene, true);
+}
+
+// Faithful `_bounce` with more bounce lights in a cell than kBounceShadowRays: the draw among
+// them keeps its place in the path between the wavefront's dispatches (Path's bounce fields).
+TEST(GlWavefrontMap, ManyBounceLightsFaithful) {
+  Scene scene = test::manyLightsRoom(24, false, 7);
+  scene.entities[0].keys.emplace_back("_bounce", "1");
+  Entity start; // the camera: in the room, looking across it
+  start.keys = {{"classname", "info_player_start"}, {"origin", "400 -400 150"}, {"angle", "135"}};
+  scene.entities.push_back(start);
+  expectFormsAgree(scene, false);
 }
 
 } // namespace
