@@ -498,6 +498,10 @@ private:
   static constexpr size_t kCompactJobsPerThread = 8;
   static constexpr size_t kMaxCompactJobsPerThread = 64;
   static constexpr size_t kCompactJobMinNodes = 1024;
+  // The threads split the root chunk by chunk (see buildWithThreads()): chunks of at least this
+  // many boxes, and enough of them per thread that one thread can take over from a late one.
+  static constexpr uint32_t kRootChunkMinBoxes = 2048;
+  static constexpr uint32_t kRootChunksPerThread = 8;
 
   // Copies input boxes [begin, end) into refs_[0] and grows their bounds and centroid bounds.
   // Stops at the first box that is empty or has a non-finite bound and returns its index
@@ -533,53 +537,109 @@ private:
 
   // The root split by all threads together, then its subtrees through the task queue. Alone, the
   // root's split (binning and partitioning every box) keeps the other threads idle for a sixth
-  // of a two-thread build. Here each thread reads and bins one chunk of the boxes, one thread
-  // merges the bins and chooses the split, each partitions its chunk. The merged bins are
-  // exactly those of one pass over all boxes and the chunks' boxes keep their order, so the
-  // tree is the same as a one-thread build's. Returns the first invalid box, kNoBox if none.
+  // of a two-thread build. Here the boxes are cut into chunks that the threads take one at a
+  // time, in three stages: read (and check) them, bin them, partition them. The thread that
+  // finishes a stage's last chunk does what joins the chunks (the root's bounds, the split from
+  // the merged bins, the root's child tasks) and opens the next stage. No thread waits for
+  // another to arrive: a helper that starts late (starting a thread takes a tenth of a
+  // millisecond, more on a busy machine) finds chunks left or none, and one that is descheduled
+  // holds up no more than its chunk. The merged bins are exactly those of one pass over all
+  // boxes and each chunk's boxes keep their order, so the tree is the same as a one-thread
+  // build's. Returns the first invalid box, kNoBox if none.
   uint32_t buildWithThreads() {
     // At most 2 n / kTaskMinBoxes subtrees of kTaskMinBoxes boxes or more exist, so the queue
     // never reallocates: a task is never lost to a failed allocation with helpers waiting.
     queue_.reserve(2 * count_ / kTaskMinBoxes + 1);
-    const int chunks = threads_;
-    const auto chunkBegin = [&](int c) { return static_cast<uint32_t>(uint64_t{count_} * c / chunks); };
+    const uint32_t chunks = std::clamp<uint32_t>(count_ / kRootChunkMinBoxes, 1, kRootChunksPerThread * threads_);
+    const auto chunkBegin = [&](uint32_t c) { return static_cast<uint32_t>(uint64_t{count_} * c / chunks); };
     const int binCount = binCountFor(count_);
-    std::vector<Bins> bins(chunks);
-    std::vector<std::array<Box4, 2>> chunkBounds(chunks);        // each chunk's [bounds, centroids]
-    std::vector<uint32_t> invalid(chunks);                        // each chunk's first invalid box
-    std::vector<uint32_t> leftBegin(chunks), rightBegin(chunks); // where each chunk's boxes go
-    std::vector<std::array<Box4, 2>> centroids(chunks);          // of each chunk's [right, left] boxes
+    // Each thread's bins, cleared here as a thread may start too late to bin any chunk; and
+    // each chunk's bin counts (binCount per chunk), which place its boxes in the partition.
+    std::vector<Bins> bins(threads_);
+    for (Bins& b : bins) b.clear(binCount);
+    std::vector<std::array<int32_t, 4>> chunkCounts(size_t{chunks} * binCount);
+    std::vector<std::array<Box4, 2>> chunkBounds(chunks);        // [bounds, centroids]
+    std::vector<std::array<Box4, 2>> centroids(chunks);          // of [right, left] boxes
+    std::vector<uint32_t> invalid(chunks);                        // first invalid box
+    std::vector<uint32_t> leftBegin(chunks), rightBegin(chunks); // where the boxes go
     NodeTask root{0, 1, 0, count_, 0, 0, {}, {}};
     uint32_t firstInvalid = kNoBox;
     BinMapping mapping{};
     Split split;
     bool together = false; // whether the threads split the root, or leave it to the task queue
-    std::barrier readDone(chunks, [&]() noexcept {
-      for (int c = 0; c < chunks; ++c) {
+    // The root's split counts as an unfinished task, so that work() waits for its children.
+    unfinished_ = 1;
+
+    enum Stage : int { kRead, kBin, kPartition, kBuilt };
+    std::atomic<int> stage{kRead};
+    std::array<std::atomic<uint32_t>, kBuilt> nextJob{}, jobsDone{};
+    // Runs `job` on the jobs of stage s until none is left. The thread that finishes the last
+    // one runs `join` and opens the next stage; the others wait for that (when `wait`).
+    const auto runStage = [&](int thread, Stage s, uint32_t jobs, auto&& job, auto&& join, bool wait) {
+      for (uint32_t j; (j = nextJob[s].fetch_add(1)) < jobs;) {
+        job(thread, j);
+        if (jobsDone[s].fetch_add(1) + 1 == jobs) {
+          join();
+          stage.store(s + 1);
+          stage.notify_all();
+        }
+      }
+      if (!wait) return;
+      for (int now; (now = stage.load()) <= s;) stage.wait(now);
+    };
+    // Job 0 of the read stage is the result's zero fill (std::vector has no other way to size):
+    // the first thread takes it while the helpers start. Within the capacity reserved in the
+    // constructor, so it does not allocate.
+    const auto readChunk = [&](int, uint32_t job) {
+      if (job == 0) return nodes_.resize(2 * size_t{count_} - 1);
+      const uint32_t c = job - 1;
+      invalid[c] = readBoxes(chunkBegin(c), chunkBegin(c + 1), chunkBounds[c][0], chunkBounds[c][1]);
+    };
+    const auto joinRead = [&] {
+      for (uint32_t c = 0; c < chunks; ++c) {
         firstInvalid = std::min(firstInvalid, invalid[c]);
         root.bounds.grow(chunkBounds[c][0]);
         root.centroids.grow(chunkBounds[c][1]);
       }
       mapping = binMappingFor(root.centroids, binCount);
-    });
-    std::barrier binned(chunks, [&]() noexcept {
+    };
+    const BoxRef* src = refs_[root.buffer].get();
+    BoxRef* dst = refs_[1 - root.buffer].get();
+    const auto binChunk = [&](int thread, uint32_t c) {
+      const uint32_t begin = chunkBegin(c), end = chunkBegin(c + 1);
+      Bins chunkBins;
+      binBoxes(src + begin, end - begin, 1, mapping, binCount, chunkBins);
+      bins[thread].merge(chunkBins, binCount);
+      std::memcpy(&chunkCounts[size_t{c} * binCount], chunkBins.count, sizeof(chunkCounts[0]) * binCount);
+    };
+    const auto joinSplit = [&] {
       Bins all = bins[0];
-      for (int c = 1; c < chunks; ++c) all.merge(bins[c], binCount);
+      for (int t = 1; t < threads_; ++t) all.merge(bins[t], binCount);
       split = bestBinnedSplit(all, count_, mapping, binCount);
       together = split.axis >= 0 && shouldSplit(count_, settings_.leafSize, root.bounds.halfArea(), split.childCost);
-      if (!together) return addTask(root);
+      if (!together) {
+        // The root goes to the queue as an ordinary task, which takes over the unfinished count.
+        std::lock_guard lock(mutex_);
+        queue_.push_back(root);
+        wake_.notify_one();
+        return;
+      }
       // Each chunk's boxes go after those of the chunks before it, on either side.
       uint32_t left = 0, right = split.leftCount;
-      for (int c = 0; c < chunks; ++c) {
+      for (uint32_t c = 0; c < chunks; ++c) {
         leftBegin[c] = left, rightBegin[c] = right;
-        uint32_t chunkLeft = 0;
-        for (int b = 0; b <= split.lastLeftBin; ++b) chunkLeft += static_cast<uint32_t>(bins[c].count[b][split.axis]);
-        left += chunkLeft;
-        right += chunkBegin(c + 1) - chunkBegin(c) - chunkLeft;
+        uint32_t leftInChunk = 0;
+        for (int b = 0; b <= split.lastLeftBin; ++b) leftInChunk += static_cast<uint32_t>(chunkCounts[size_t{c} * binCount + b][split.axis]);
+        left += leftInChunk;
+        right += chunkBegin(c + 1) - chunkBegin(c) - leftInChunk;
       }
-    });
-    std::barrier partitioned(chunks, [&]() noexcept {
-      if (!together) return;
+    };
+    const auto partitionChunk = [&](int, uint32_t c) {
+      const uint32_t begin = chunkBegin(c), end = chunkBegin(c + 1);
+      Box4 unused[2];
+      partition<SplitKind::kBinned>(src + begin, dst + leftBegin[c], dst + rightBegin[c], end - begin, split, unused, centroids[c].data());
+    };
+    const auto joinPartition = [&] {
       writeBounds(slots_[root.slot], root);
       nodeCounts_[root.slot] = kCountUnknown;
       NodeTask left{}, right{};
@@ -587,42 +647,34 @@ private:
       left.buffer = right.buffer = 1 - root.buffer;
       left.bounds = split.leftBounds, right.bounds = split.rightBounds;
       for (const auto& c : centroids) left.centroids.grow(c[1]), right.centroids.grow(c[0]);
-      addTask(right);
-      addTask(left);
-    });
-    std::atomic<size_t> nextCompactJob{0};
-    std::barrier built(chunks, [&]() noexcept { planCompaction(); });
-    const auto run = [&](int c) {
-      const uint32_t begin = chunkBegin(c), end = chunkBegin(c + 1);
-      invalid[c] = readBoxes(begin, end, chunkBounds[c][0], chunkBounds[c][1]);
-      readDone.arrive_and_wait();
-      if (firstInvalid != kNoBox) return;
-      const BoxRef* src = refs_[root.buffer].get();
-      BoxRef* dst = refs_[1 - root.buffer].get();
-      binBoxes(src + begin, end - begin, 1, mapping, binCount, bins[c]);
-      binned.arrive_and_wait();
-      if (together) {
-        Box4 unused[2];
-        partition<SplitKind::kBinned>(src + begin, dst + leftBegin[c], dst + rightBegin[c], end - begin, split, unused, centroids[c].data());
+      {
+        std::lock_guard lock(mutex_);
+        queue_.push_back(right);
+        queue_.push_back(left);
+        ++unfinished_; // two tasks in, the root's split out
       }
-      partitioned.arrive_and_wait();
-      // The result's zero fill (std::vector has no other way to size) here, where the task
-      // queue lets the other threads go on building, rather than in a phase where they wait.
-      // Within the capacity reserved in the constructor, so it does not allocate.
-      if (c == 0) nodes_.resize(2 * size_t{count_} - 1);
-      work();
-      built.arrive_and_wait();
+      wake_.notify_all();
+    };
+    std::atomic<size_t> nextCompactJob{0};
+    const auto run = [&](int thread) {
+      runStage(thread, kRead, chunks + 1, readChunk, joinRead, true);
+      if (firstInvalid != kNoBox) return;
+      runStage(thread, kBin, chunks, binChunk, joinSplit, true);
+      if (together) runStage(thread, kPartition, chunks, partitionChunk, joinPartition, false);
+      work(); // returns once the last task is done and the layout is planned
       for (size_t job; (job = nextCompactJob.fetch_add(1)) < compactJobs_.size();) runCompactJob(compactJobs_[job]);
     };
     {
       std::vector<std::jthread> helpers;
-      for (int c = 1; c < chunks; ++c) helpers.emplace_back(run, c);
+      for (int t = 1; t < threads_; ++t) helpers.emplace_back(run, t);
       run(0);
     }
     return firstInvalid;
   }
 
   // Takes tasks until every task, including those that running tasks will still add, is done.
+  // The thread that finishes the last one plans the depth-first layout before letting the
+  // others go on to lay it out.
   void work() {
     std::unique_lock lock(mutex_);
     for (;;) {
@@ -633,7 +685,13 @@ private:
       lock.unlock();
       buildNode(task);
       lock.lock();
-      if (--unfinished_ == 0) wake_.notify_all();
+      if (unfinished_ == 1) {
+        planCompaction();
+        unfinished_ = 0;
+        wake_.notify_all();
+      } else {
+        --unfinished_;
+      }
     }
   }
 
