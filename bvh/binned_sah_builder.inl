@@ -429,8 +429,8 @@ struct NodeTask {
 // build's threads take from; every choice depends on the boxes alone, never on which thread
 // builds what, so the tree is the same for any thread count.
 //
-// Around the build, the same threads read the input boxes (each thread a chunk) and lay the
-// finished tree out depth first (each thread whole subtrees): done by one thread, these two
+// Around the build, the same threads read the input boxes (chunk by chunk) and copy the
+// finished tree to its depth-first layout (stretch by stretch): done by one thread, these two
 // passes over every box and node held the others idle for a tenth of a two-thread build.
 class BinnedSahBuilder {
 public:
@@ -444,7 +444,6 @@ public:
     refs_[0].reset(new BoxRef[count_]);
     refs_[1].reset(new BoxRef[count_]);
     const size_t slotCount = count_ == 0 ? 0 : 2 * size_t{count_} - 1;
-    nodeCounts_.reset(new uint32_t[slotCount]);
     order_.resize(count_);
     if (threads_ == 1) {
       // One thread lays the tree out depth first as it goes (see build()): the slots are the
@@ -458,26 +457,33 @@ public:
       // throw and leave the others waiting at a barrier.
       nodes_.reserve(slotCount);
     }
-    compactJobs_.reserve(kMaxCompactJobsPerThread * threads_);
+    // At most 2 n / kTaskMinBoxes tasks, so as many holes (see build()); a layout job per
+    // stretch between holes, and at most kLayoutJobsPerThread per thread more where stretches
+    // are cut.
+    const size_t maxTasks = 2 * size_t{count_} / kTaskMinBoxes + 1;
+    holes_.reserve(maxTasks);
+    holeEnds_.reserve(maxTasks);
+    holeShifts_.reserve(maxTasks);
+    layoutJobs_.reserve(maxTasks + 1 + kLayoutJobsPerThread * threads_);
   }
 
   FlatBvh build() {
     if (count_ == 0) return {};
     // Slot layout while building: a node in slot s with n boxes owns the 2n - 2 slots from
     // `descendants` on for its subtree: its two children first, then the left child's
-    // subtree (2 nL - 2 slots), then the right child's. That makes every slot known before
-    // the subtrees are built, so threads never share a counter and the layout is the same
-    // for any thread count. Leaves leave their reserved slots unused; the depth-first layout
-    // at the end squeezes the holes out.
-    //
-    // One thread builds the left subtree before the right one, so it knows where the left
-    // subtree ends before it places the right child's descendants: it puts them right there
-    // (see buildNode()), which is the depth-first layout itself, without holes.
+    // descendants, then the right child's. A subtree built by the thread that reached it is
+    // built left before right, so the right child's descendants go right after the left
+    // child's, wherever they end: that is the depth-first layout, without holes, and all of
+    // it with one thread. A left child handed to the task queue gets all its 2 nL - 2 slots,
+    // as its size is not known yet, and the right child's descendants go after them; a task
+    // that uses fewer leaves a hole at the end of its slots. So every slot is known before
+    // the subtrees are built, threads never share a counter, and the tree is the same for any
+    // thread count. The final layout squeezes the holes out (see planLayout()).
     if (threads_ == 1) {
       NodeTask root{0, 1, 0, count_, 0, 0, {}, {}};
       const uint32_t invalid = readBoxes(0, count_, root.bounds, root.centroids);
       if (invalid != kNoBox) throwInvalidBox(invalid);
-      nodes_.resize(buildNode(root)); // shrinks: no allocation
+      nodes_.resize(1 + buildNode(root)); // shrinks: no allocation
     } else {
       const uint32_t invalid = buildWithThreads();
       if (invalid != kNoBox) throwInvalidBox(invalid);
@@ -490,14 +496,10 @@ public:
 
 private:
   static constexpr uint32_t kNoBox = std::numeric_limits<uint32_t>::max();
-  // nodeCounts_ of a node with a part of its subtree on the task queue (see buildNode()).
-  static constexpr uint32_t kCountUnknown = 0;
-  // The depth-first layout is cut into about this many subtrees per thread, enough for the
-  // threads to finish together; a tree that would need more (long chains of big nodes) lays
-  // the rest out while planning.
-  static constexpr size_t kCompactJobsPerThread = 8;
-  static constexpr size_t kMaxCompactJobsPerThread = 64;
-  static constexpr size_t kCompactJobMinNodes = 1024;
+  // The final layout is cut into about this many jobs per thread, enough for the threads to
+  // finish together.
+  static constexpr size_t kLayoutJobsPerThread = 8;
+  static constexpr size_t kLayoutJobMinNodes = 1024;
   // The threads split the root chunk by chunk (see buildWithThreads()): chunks of at least this
   // many boxes, and enough of them per thread that one thread can take over from a late one.
   static constexpr uint32_t kRootChunkMinBoxes = 2048;
@@ -641,9 +643,9 @@ private:
     };
     const auto joinPartition = [&] {
       writeBounds(slots_[root.slot], root);
-      nodeCounts_[root.slot] = kCountUnknown;
       NodeTask left{}, right{};
       setChildren(root, split.leftCount, left, right);
+      right.descendants = left.descendants + 2 * split.leftCount - 2; // the left child is a task
       left.buffer = right.buffer = 1 - root.buffer;
       left.bounds = split.leftBounds, right.bounds = split.rightBounds;
       for (const auto& c : centroids) left.centroids.grow(c[1]), right.centroids.grow(c[0]);
@@ -655,14 +657,14 @@ private:
       }
       wake_.notify_all();
     };
-    std::atomic<size_t> nextCompactJob{0};
+    std::atomic<size_t> nextLayoutJob{0};
     const auto run = [&](int thread) {
       runStage(thread, kRead, chunks + 1, readChunk, joinRead, true);
       if (firstInvalid != kNoBox) return;
       runStage(thread, kBin, chunks, binChunk, joinSplit, true);
       if (together) runStage(thread, kPartition, chunks, partitionChunk, joinPartition, false);
       work(); // returns once the last task is done and the layout is planned
-      for (size_t job; (job = nextCompactJob.fetch_add(1)) < compactJobs_.size();) runCompactJob(compactJobs_[job]);
+      for (size_t job; (job = nextLayoutJob.fetch_add(1)) < layoutJobs_.size();) runLayoutJob(layoutJobs_[job]);
     };
     {
       std::vector<std::jthread> helpers;
@@ -683,10 +685,11 @@ private:
       const NodeTask task = queue_.back();
       queue_.pop_back();
       lock.unlock();
-      buildNode(task);
+      const uint32_t used = buildNode(task);
       lock.lock();
+      if (const uint32_t reserved = 2 * (task.end - task.begin) - 2; used < reserved) holes_.push_back({task.descendants + used, reserved - used});
       if (unfinished_ == 1) {
-        planCompaction();
+        planLayout();
         unfinished_ = 0;
         wake_.notify_all();
       } else {
@@ -704,13 +707,13 @@ private:
     wake_.notify_one();
   }
 
-  // Returns the leaf's node count, 1.
+  // Returns the slots that the leaf's descendants use: none.
   uint32_t makeLeaf(GpuBvhNode& node, const NodeTask& t) {
     node.leftFirst = t.begin;
     node.count = t.end - t.begin;
     const BoxRef* boxes = refs_[t.buffer].get();
     for (uint32_t i = t.begin; i < t.end; ++i) order_[i] = boxes[i].index;
-    return nodeCounts_[t.slot] = 1;
+    return 0;
   }
 
   // Writes the node's bounds with two stores, whose lane 3 lands in leftFirst and count: every
@@ -722,48 +725,47 @@ private:
   }
 
   // Makes t's node the parent of `left` (t's first leftCount boxes) and `right` (the others):
-  // their slots and boxes; their bounds and buffer are the caller's.
+  // their slots and boxes; their bounds and buffer are the caller's, and so is where the right
+  // child's descendants go (see build()).
   void setChildren(const NodeTask& t, uint32_t leftCount, NodeTask& left, NodeTask& right) {
     GpuBvhNode& node = slots_[t.slot];
     node.leftFirst = t.descendants;
     node.count = 0;
     left.slot = t.descendants, right.slot = t.descendants + 1;
     left.descendants = t.descendants + 2;
-    right.descendants = left.descendants + 2 * leftCount - 2;
     left.begin = t.begin, left.end = right.begin = t.begin + leftCount, right.end = t.end;
     left.depth = right.depth = t.depth + 1;
   }
 
   // A node of two boxes, the most common interior node (SAH splits to about one box per leaf),
   // with what buildNode() would make of it but no partition and no child tasks: a leaf, or two
-  // one-box leaves with the lower centroid first. Returns its node count, or 0, having written
-  // nothing, when the centroids coincide and buildNode()'s fallback decides.
+  // one-box leaves with the lower centroid first. Returns its node count (1 or 3), or 0, having
+  // written nothing, when the centroids coincide and buildNode()'s fallback decides.
   uint32_t buildPair(GpuBvhNode& node, const NodeTask& t) {
     const BoxRef* boxes = refs_[t.buffer].get() + t.begin;
     const Split split = splitPair(boxes);
     if (split.axis < 0) return 0;
-    if (!shouldSplit(2, settings_.leafSize, t.bounds.halfArea(), split.childCost)) return makeLeaf(node, t);
+    if (!shouldSplit(2, settings_.leafSize, t.bounds.halfArea(), split.childCost)) return 1 + makeLeaf(node, t);
     const uint32_t first = boxes[0].centroid2(split.axis) <= split.position ? 0 : 1;
     node.leftFirst = t.descendants;
     node.count = 0;
     for (uint32_t child = 0; child < 2; ++child) {
       const BoxRef& box = boxes[child == 0 ? first : 1 - first];
       slots_[t.descendants + child] = {{box.min.x, box.min.y, box.min.z}, t.begin + child, {box.max.x, box.max.y, box.max.z}, 1};
-      nodeCounts_[t.descendants + child] = 1;
       order_[t.begin + child] = box.index;
     }
-    return nodeCounts_[t.slot] = 3;
+    return 3;
   }
 
-  // Builds t's subtree and returns its node count (also kept in nodeCounts_ for the depth-first
-  // layout), or kCountUnknown when a part of it went to the task queue.
+  // Builds t's subtree and returns how many slots from t.descendants on it uses: its node count
+  // less one, plus the holes that its tasks may leave (see build()).
   uint32_t buildNode(const NodeTask& t) {
     GpuBvhNode& node = slots_[t.slot];
     writeBounds(node, t);
     const uint32_t count = t.end - t.begin;
     if (count == 1) return makeLeaf(node, t);
     if (count == 2 && t.depth < kMedianSplitDepth)
-      if (const uint32_t nodes = buildPair(node, t)) return nodes;
+      if (const uint32_t nodes = buildPair(node, t)) return nodes - 1;
 
     BoxRef* boxes = refs_[t.buffer].get() + t.begin;
     // Initialised from the call, not assigned: a Split is over a hundred bytes.
@@ -790,17 +792,14 @@ private:
     }
 
     setChildren(t, leftCount, left, right);
-    uint32_t leftNodes = kCountUnknown;
+    uint32_t leftUsed = 2 * leftCount - 2; // all of its slots, for a task
     if (threads_ > 1 && leftCount >= kTaskMinBoxes) {
       addTask(left);
     } else {
-      leftNodes = buildNode(left);
+      leftUsed = buildNode(left);
     }
-    // One thread: the right child's descendants go right after the left subtree's (see build()).
-    if (threads_ == 1) right.descendants = left.descendants + leftNodes - 1;
-    const uint32_t rightNodes = buildNode(right);
-    const bool known = leftNodes != kCountUnknown && rightNodes != kCountUnknown;
-    return nodeCounts_[t.slot] = known ? 1 + leftNodes + rightNodes : kCountUnknown;
+    right.descendants = left.descendants + leftUsed;
+    return 2 + leftUsed + buildNode(right);
   }
 
   // Nodes of kSampledBinningMin boxes or more choose their split from every stride-th box, 512
@@ -835,64 +834,55 @@ private:
     return middle;
   }
 
-  // The depth-first layout of compactDepthFirst(), cut into subtrees that threads lay out at
-  // once: a node placed at nodes_[to] has its children at descendantsAt and descendantsAt + 1,
-  // the left child's descendants after them, then the right child's, so the subtree node
-  // counts give every subtree's place.
-  struct CompactJob {
-    uint32_t slot, to, descendantsAt;
+  // Slots that a task reserved but did not use (see build()).
+  struct Hole {
+    uint32_t begin, size;
+  };
+  // Slots [from, to) of the stretch between two holes that ends at stretchEnd; they move down
+  // by `shift`, the size of the holes before them.
+  struct LayoutJob {
+    uint32_t from, to, stretchEnd, shift;
   };
 
-  // The subtree node count of slots_[slot], summed here for the nodes that buildNode() left
-  // unknown (those above task-queue subtrees).
-  uint32_t nodeCount(uint32_t slot) {
-    if (nodeCounts_[slot] == kCountUnknown) {
-      const uint32_t left = slots_[slot].leftFirst;
-      nodeCounts_[slot] = 1 + nodeCount(left) + nodeCount(left + 1);
+  // The final layout is the slots in their order with the holes squeezed out, which is the
+  // depth-first layout (see build()). Sizes nodes_ and cuts the stretches between the holes
+  // into layoutJobs_ for the threads.
+  void planLayout() {
+    std::sort(holes_.begin(), holes_.end(), [](const Hole& a, const Hole& b) { return a.begin < b.begin; });
+    const uint32_t slotCount = 2 * count_ - 1;
+    uint32_t shift = 0;
+    for (const Hole& hole : holes_) {
+      shift += hole.size;
+      holeEnds_.push_back(hole.begin + hole.size);
+      holeShifts_.push_back(shift);
     }
-    return nodeCounts_[slot];
+    const uint32_t total = slotCount - shift;
+    nodes_.resize(total); // shrinks: no allocation
+    const uint32_t jobNodes = std::max<uint32_t>(total / (kLayoutJobsPerThread * threads_), kLayoutJobMinNodes);
+    uint32_t from = 0;
+    shift = 0;
+    for (size_t h = 0; h <= holes_.size(); ++h) {
+      const uint32_t end = h < holes_.size() ? holes_[h].begin : slotCount;
+      for (uint32_t begin = from; begin < end; begin += jobNodes) layoutJobs_.push_back({begin, std::min(end, begin + jobNodes), end, shift});
+      if (h < holes_.size()) from = holeEnds_[h], shift = holeShifts_[h];
+    }
   }
 
-  // Sizes nodes_, places the top of the tree and cuts the rest into compactJobs_.
-  void planCompaction() {
-    const uint32_t total = nodeCount(0);
-    nodes_.resize(total); // within the reserved capacity: no allocation
-    const size_t jobNodes = std::max<size_t>(total / (kCompactJobsPerThread * threads_), kCompactJobMinNodes);
-    placeTop(0, 0, 1, jobNodes);
+  // How far slot i moves down: the size of the holes before it.
+  uint32_t shiftOf(uint32_t i) const {
+    const size_t before = std::upper_bound(holeEnds_.begin(), holeEnds_.end(), i) - holeEnds_.begin();
+    return before == 0 ? 0 : holeShifts_[before - 1];
   }
 
-  void placeTop(uint32_t slot, uint32_t to, uint32_t descendantsAt, size_t jobNodes) {
-    if (nodeCounts_[slot] <= jobNodes && compactJobs_.size() < compactJobs_.capacity())
-      return compactJobs_.push_back({slot, to, descendantsAt});
-    GpuBvhNode& node = nodes_[to];
-    node = slots_[slot];
-    if (node.count != 0) return;
-    const uint32_t left = node.leftFirst;
-    node.leftFirst = descendantsAt;
-    placeTop(left, descendantsAt, descendantsAt + 2, jobNodes);
-    placeTop(left + 1, descendantsAt + 1, descendantsAt + 2 + nodeCounts_[left] - 1, jobNodes);
-  }
-
-  // Lays out job.slot's subtree: its root at job.to, its descendants from job.descendantsAt on,
-  // by compactDepthFirst()'s loop. The stack holds (slot, place) of placed interior nodes whose
-  // children are still to be placed: at most one per level, and the build's depth is bounded.
-  void runCompactJob(const CompactJob& job) {
+  // Copies the job's nodes to their place in nodes_, and their child indices with them. A
+  // node's children lie after it, mostly in the same stretch; a child past the stretch's end
+  // (the right child of a node whose left child was a task) looks its shift up.
+  void runLayoutJob(const LayoutJob& job) {
     GpuBvhNode* out = nodes_.data();
-    std::array<std::pair<uint32_t, uint32_t>, 2 * kBvhMaxDepth> stack;
-    size_t stackSize = 0;
-    out[job.to] = slots_[job.slot];
-    if (out[job.to].count == 0) stack[stackSize++] = {job.slot, job.to};
-    uint32_t used = job.descendantsAt;
-    while (stackSize > 0) {
-      const auto [slot, to] = stack[--stackSize];
-      const uint32_t left = slots_[slot].leftFirst;
-      out[to].leftFirst = used;
-      out[used] = slots_[left];
-      out[used + 1] = slots_[left + 1];
-      // Right first on the stack so the left subtree is laid out next: depth-first order.
-      if (slots_[left + 1].count == 0) stack[stackSize++] = {left + 1, used + 1};
-      if (slots_[left].count == 0) stack[stackSize++] = {left, used};
-      used += 2;
+    for (uint32_t i = job.from; i < job.to; ++i) {
+      GpuBvhNode node = slots_[i];
+      if (node.count == 0) node.leftFirst -= node.leftFirst < job.stretchEnd ? job.shift : shiftOf(node.leftFirst);
+      out[i - job.shift] = node;
     }
   }
 
@@ -903,12 +893,15 @@ private:
   std::unique_ptr<BoxRef[]> refs_[2]; // a node's boxes are in one; partitioning moves them to the other
   std::unique_ptr<GpuBvhNode[]> slotStorage_; // with threads; one thread builds in nodes_
   GpuBvhNode* slots_ = nullptr;
-  std::unique_ptr<uint32_t[]> nodeCounts_; // per slot: the node count of its subtree, see buildNode()
   std::vector<uint32_t> order_;
   std::vector<GpuBvhNode> nodes_; // the result: slots_ laid out depth first
-  std::vector<CompactJob> compactJobs_;
+  // With threads: the holes between the tasks' slots, sorted by planLayout(), which adds the end
+  // of each and the size of all up to it; and the layout's jobs.
+  std::vector<Hole> holes_;
+  std::vector<uint32_t> holeEnds_, holeShifts_;
+  std::vector<LayoutJob> layoutJobs_;
 
-  std::mutex mutex_; // guards queue_ and unfinished_
+  std::mutex mutex_; // guards queue_, unfinished_ and holes_
   std::condition_variable wake_;
   std::vector<NodeTask> queue_;
   uint32_t unfinished_ = 0; // tasks queued or running
