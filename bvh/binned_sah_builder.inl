@@ -420,13 +420,31 @@ struct NodeTask {
   uint32_t begin, end;
   uint32_t depth;
   int buffer;
+  int owner; // the thread whose task queue its child tasks go to
   Box4 bounds, centroids;
+};
+
+// One thread's task queue. The thread takes its newest task, the deepest, whose boxes it has
+// just partitioned and still has in cache; an idle thread steals the oldest, the biggest, so
+// that steals are few and each thread mostly builds subtrees of its own.
+struct TaskQueue {
+  std::vector<NodeTask> tasks;
+  size_t oldest = 0; // tasks[oldest, size) are queued
+
+  bool empty() const { return oldest == tasks.size(); }
+  NodeTask take(bool newest) {
+    const NodeTask task = newest ? tasks.back() : tasks[oldest];
+    if (newest) tasks.pop_back(); else ++oldest;
+    if (empty()) tasks.clear(), oldest = 0; // within the reserved capacity from empty to empty
+    return task;
+  }
 };
 
 // Top-down binned SAH build. Each node: find the split (binned over the three axes at once,
 // from a sample of the boxes in big nodes, an exact sweep for a few boxes), decide by shouldSplit(), move the boxes to the other BoxRef
-// buffer partitioned, recurse. Subtrees of kTaskMinBoxes or more go to a queue that all the
-// build's threads take from; every choice depends on the boxes alone, never on which thread
+// buffer partitioned, recurse. Subtrees of kTaskMinBoxes or more go to the task queue of the
+// thread that reached them, which the other threads steal from when theirs is empty (see
+// TaskQueue); every choice depends on the boxes alone, never on which thread
 // builds what, so the tree is the same for any thread count.
 //
 // Around the build, the same threads read the input boxes (chunk by chunk) and copy the
@@ -480,7 +498,7 @@ public:
     // the subtrees are built, threads never share a counter, and the tree is the same for any
     // thread count. The final layout squeezes the holes out (see planLayout()).
     if (threads_ == 1) {
-      NodeTask root{0, 1, 0, count_, 0, 0, {}, {}};
+      NodeTask root{0, 1, 0, count_, 0, 0, 0, {}, {}};
       const uint32_t invalid = readBoxes(0, count_, root.bounds, root.centroids);
       if (invalid != kNoBox) throwInvalidBox(invalid);
       nodes_.resize(1 + buildNode(root)); // shrinks: no allocation
@@ -551,7 +569,8 @@ private:
   uint32_t buildWithThreads() {
     // At most 2 n / kTaskMinBoxes subtrees of kTaskMinBoxes boxes or more exist, so the queue
     // never reallocates: a task is never lost to a failed allocation with helpers waiting.
-    queue_.reserve(2 * count_ / kTaskMinBoxes + 1);
+    queues_.resize(threads_);
+    for (TaskQueue& q : queues_) q.tasks.reserve(2 * count_ / kTaskMinBoxes + 1);
     const uint32_t chunks = std::clamp<uint32_t>(count_ / kRootChunkMinBoxes, 1, kRootChunksPerThread * threads_);
     const auto chunkBegin = [&](uint32_t c) { return static_cast<uint32_t>(uint64_t{count_} * c / chunks); };
     const int binCount = binCountFor(count_);
@@ -564,7 +583,7 @@ private:
     std::vector<std::array<Box4, 2>> centroids(chunks);          // of [right, left] boxes
     std::vector<uint32_t> invalid(chunks);                        // first invalid box
     std::vector<uint32_t> leftBegin(chunks), rightBegin(chunks); // where the boxes go
-    NodeTask root{0, 1, 0, count_, 0, 0, {}, {}};
+    NodeTask root{0, 1, 0, count_, 0, 0, 0, {}, {}};
     uint32_t firstInvalid = kNoBox;
     BinMapping mapping{};
     Split split;
@@ -622,7 +641,8 @@ private:
       if (!together) {
         // The root goes to the queue as an ordinary task, which takes over the unfinished count.
         std::lock_guard lock(mutex_);
-        queue_.push_back(root);
+        queues_[0].tasks.push_back(root);
+        ++queuedTasks_;
         wake_.notify_one();
         return;
       }
@@ -651,8 +671,9 @@ private:
       for (const auto& c : centroids) left.centroids.grow(c[1]), right.centroids.grow(c[0]);
       {
         std::lock_guard lock(mutex_);
-        queue_.push_back(right);
-        queue_.push_back(left);
+        queues_[0].tasks.push_back(right);
+        queues_[0].tasks.push_back(left);
+        queuedTasks_ += 2;
         ++unfinished_; // two tasks in, the root's split out
       }
       wake_.notify_all();
@@ -663,7 +684,7 @@ private:
       if (firstInvalid != kNoBox) return;
       runStage(thread, kBin, chunks, binChunk, joinSplit, true);
       if (together) runStage(thread, kPartition, chunks, partitionChunk, joinPartition, false);
-      work(); // returns once the last task is done and the layout is planned
+      work(thread); // returns once the last task is done and the layout is planned
       for (size_t job; (job = nextLayoutJob.fetch_add(1)) < layoutJobs_.size();) runLayoutJob(layoutJobs_[job]);
     };
     {
@@ -677,13 +698,13 @@ private:
   // Takes tasks until every task, including those that running tasks will still add, is done.
   // The thread that finishes the last one plans the depth-first layout before letting the
   // others go on to lay it out.
-  void work() {
+  void work(int thread) {
     std::unique_lock lock(mutex_);
     for (;;) {
-      wake_.wait(lock, [this] { return !queue_.empty() || unfinished_ == 0; });
-      if (queue_.empty()) return;
-      const NodeTask task = queue_.back();
-      queue_.pop_back();
+      wake_.wait(lock, [this] { return queuedTasks_ > 0 || unfinished_ == 0; });
+      if (queuedTasks_ == 0) return;
+      NodeTask task = takeTask(thread);
+      task.owner = thread;
       lock.unlock();
       const uint32_t used = buildNode(task);
       lock.lock();
@@ -698,10 +719,21 @@ private:
     }
   }
 
+  // The thread's own newest task, or else the oldest of the first other thread that has one.
+  // Called with mutex_ held and a task queued.
+  NodeTask takeTask(int thread) {
+    --queuedTasks_;
+    for (int i = 0;; ++i) {
+      TaskQueue& queue = queues_[(thread + i) % threads_];
+      if (!queue.empty()) return queue.take(i == 0);
+    }
+  }
+
   void addTask(const NodeTask& task) {
     {
       std::lock_guard lock(mutex_);
-      queue_.push_back(task);
+      queues_[task.owner].tasks.push_back(task);
+      ++queuedTasks_;
       ++unfinished_;
     }
     wake_.notify_one();
@@ -735,6 +767,7 @@ private:
     left.descendants = t.descendants + 2;
     left.begin = t.begin, left.end = right.begin = t.begin + leftCount, right.end = t.end;
     left.depth = right.depth = t.depth + 1;
+    left.owner = right.owner = t.owner;
   }
 
   // A node of two boxes, the most common interior node (SAH splits to about one box per leaf),
@@ -901,9 +934,10 @@ private:
   std::vector<uint32_t> holeEnds_, holeShifts_;
   std::vector<LayoutJob> layoutJobs_;
 
-  std::mutex mutex_; // guards queue_, unfinished_ and holes_
+  std::mutex mutex_; // guards queues_, queuedTasks_, unfinished_ and holes_
   std::condition_variable wake_;
-  std::vector<NodeTask> queue_;
+  std::vector<TaskQueue> queues_; // one per thread
+  uint32_t queuedTasks_ = 0;
   uint32_t unfinished_ = 0; // tasks queued or running
 };
 
