@@ -427,17 +427,24 @@ struct NodeTask {
 // One thread's task queue. The thread takes its newest task, the deepest, whose boxes it has
 // just partitioned and still has in cache; an idle thread steals the oldest, the biggest, so
 // that steals are few and each thread mostly builds subtrees of its own.
-struct TaskQueue {
-  std::vector<NodeTask> tasks;
-  size_t oldest = 0; // tasks[oldest, size) are queued
-
-  bool empty() const { return oldest == tasks.size(); }
+// A ring buffer: queued tasks are subtrees that no thread has started, so they hold disjoint
+// boxes, and at most n / kTaskMinBoxes are queued at once.
+class TaskQueue {
+public:
+  explicit TaskQueue(size_t capacity) : tasks_(capacity) {}
+  bool empty() const { return size_ == 0; }
+  void push(const NodeTask& task) { tasks_[(oldest_ + size_++) % tasks_.size()] = task; }
   NodeTask take(bool newest) {
-    const NodeTask task = newest ? tasks.back() : tasks[oldest];
-    if (newest) tasks.pop_back(); else ++oldest;
-    if (empty()) tasks.clear(), oldest = 0; // within the reserved capacity from empty to empty
+    --size_;
+    if (newest) return tasks_[(oldest_ + size_) % tasks_.size()];
+    const NodeTask& task = tasks_[oldest_];
+    oldest_ = (oldest_ + 1) % tasks_.size();
     return task;
   }
+
+private:
+  std::vector<NodeTask> tasks_;
+  size_t oldest_ = 0, size_ = 0;
 };
 
 // Top-down binned SAH build. Each node: find the split (binned over the three axes at once,
@@ -475,9 +482,10 @@ public:
       // throw and leave the others waiting at a barrier.
       nodes_.reserve(slotCount);
     }
-    // At most 2 n / kTaskMinBoxes tasks, so as many holes (see build()); a layout job per
-    // stretch between holes, and at most kLayoutJobsPerThread per thread more where stretches
-    // are cut.
+    // A hole per task at most (see build()); a layout job per stretch between holes, and at
+    // most kLayoutJobsPerThread per thread more where stretches are cut. SAH trees of levels
+    // have about 2 n / kTaskMinBoxes tasks (a node splits its boxes roughly in two); only
+    // pathological ones, splitting a few boxes off at a time, have more, and these grow.
     const size_t maxTasks = 2 * size_t{count_} / kTaskMinBoxes + 1;
     holes_.reserve(maxTasks);
     holeEnds_.reserve(maxTasks);
@@ -567,10 +575,9 @@ private:
   // boxes and each chunk's boxes keep their order, so the tree is the same as a one-thread
   // build's. Returns the first invalid box, kNoBox if none.
   uint32_t buildWithThreads() {
-    // At most 2 n / kTaskMinBoxes subtrees of kTaskMinBoxes boxes or more exist, so the queue
-    // never reallocates: a task is never lost to a failed allocation with helpers waiting.
-    queues_.resize(threads_);
-    for (TaskQueue& q : queues_) q.tasks.reserve(2 * count_ / kTaskMinBoxes + 1);
+    // Queued tasks hold disjoint boxes, kTaskMinBoxes or more (the root's children may have
+    // fewer), so a queue of n / kTaskMinBoxes + 2 never overflows.
+    queues_.assign(threads_, TaskQueue(count_ / kTaskMinBoxes + 2));
     const uint32_t chunks = std::clamp<uint32_t>(count_ / kRootChunkMinBoxes, 1, kRootChunksPerThread * threads_);
     const auto chunkBegin = [&](uint32_t c) { return static_cast<uint32_t>(uint64_t{count_} * c / chunks); };
     const int binCount = binCountFor(count_);
@@ -641,7 +648,7 @@ private:
       if (!together) {
         // The root goes to the queue as an ordinary task, which takes over the unfinished count.
         std::lock_guard lock(mutex_);
-        queues_[0].tasks.push_back(root);
+        queues_[0].push(root);
         ++queuedTasks_;
         wake_.notify_one();
         return;
@@ -671,8 +678,8 @@ private:
       for (const auto& c : centroids) left.centroids.grow(c[1]), right.centroids.grow(c[0]);
       {
         std::lock_guard lock(mutex_);
-        queues_[0].tasks.push_back(right);
-        queues_[0].tasks.push_back(left);
+        queues_[0].push(right);
+        queues_[0].push(left);
         queuedTasks_ += 2;
         ++unfinished_; // two tasks in, the root's split out
       }
@@ -732,7 +739,7 @@ private:
   void addTask(const NodeTask& task) {
     {
       std::lock_guard lock(mutex_);
-      queues_[task.owner].tasks.push_back(task);
+      queues_[task.owner].push(task);
       ++queuedTasks_;
       ++unfinished_;
     }
