@@ -359,21 +359,22 @@ Split findExactSplit(const BoxRef* boxes, uint32_t n) {
 // the others to rightDst on, in input order too, or, for a sampled split, from rightDst
 // backwards (where the bins did not count every box, the left side's size is known only at
 // the end; the order still depends on the boxes alone). Returns the left side's count.
-// Grows the children's centroid bounds on the way; a binned split has its children's bounds
-// from the bins, the others grow them here. Index [1] is the left child, [0] the right.
+// A binned split has its children's bounds from the bins; the others grow them here, index [1]
+// the left child's, [0] the right's. The children's centroid bounds are left to the children
+// that bin (see centroidBoundsOf()): most children are leaves or swept exactly, which need none.
 //
 // The bounds are grown in registers for both sides at once: a box counts for one side by adding
 // 0 to it, for the other by adding infinity (so that min and max ignore it). Growing
 // bounds[isLeft] in memory instead makes each box wait for the previous one's store.
 template <SplitKind Kind>
-uint32_t partition(const BoxRef* src, BoxRef* leftDst, BoxRef* rightDst, uint32_t n, const Split& split, Box4 bounds[2], Box4 centroids[2]) {
+uint32_t partition(const BoxRef* src, BoxRef* leftDst, BoxRef* rightDst, uint32_t n, const Split& split, Box4 bounds[2]) {
   constexpr bool Exact = Kind == SplitKind::kExact;
   constexpr ptrdiff_t rightStep = Kind == SplitKind::kSampled ? -1 : 1;
   uint32_t left = 0, right = 0;
   const __m128 position = _mm_set1_ps(split.position);
   const __m128i firstRightBin = _mm_set1_epi32(split.lastLeftBin + 1);
   const __m128 ignoreUnless[2] = {_mm_set1_ps(kFloatInf), _mm_setzero_ps()}; // [isLeft]: + for left
-  Box4 leftBox = bounds[1], rightBox = bounds[0], leftCentroids, rightCentroids;
+  Box4 leftBox = bounds[1], rightBox = bounds[0];
   for (uint32_t i = 0; i < n; ++i) {
     const __m128 lo = src[i].lo(), hi = src[i].hi(), c = _mm_add_ps(lo, hi);
     const __m128 leftLanes = Exact ? _mm_cmple_ps(c, position) : _mm_castsi128_ps(_mm_cmpgt_epi32(firstRightBin, split.mapping.bins(c)));
@@ -381,36 +382,46 @@ uint32_t partition(const BoxRef* src, BoxRef* leftDst, BoxRef* rightDst, uint32_
     (isLeft ? leftDst[left] : rightDst[rightStep * right]) = src[i];
     left += isLeft;
     right += 1 - isLeft;
-    const __m128 toLeft = ignoreUnless[isLeft], toRight = ignoreUnless[1 - isLeft];
     if constexpr (Kind != SplitKind::kBinned) {
+      const __m128 toLeft = ignoreUnless[isLeft], toRight = ignoreUnless[1 - isLeft];
       leftBox.grow(_mm_add_ps(lo, toLeft), _mm_sub_ps(hi, toLeft));
       rightBox.grow(_mm_add_ps(lo, toRight), _mm_sub_ps(hi, toRight));
     }
-    leftCentroids.grow(_mm_add_ps(c, toLeft), _mm_sub_ps(c, toLeft));
-    rightCentroids.grow(_mm_add_ps(c, toRight), _mm_sub_ps(c, toRight));
   }
   bounds[1] = leftBox, bounds[0] = rightBox;
-  centroids[1] = leftCentroids, centroids[0] = rightCentroids;
   return left;
 }
 
 // Partitions src[0, n) into dst[0, n) (see above); returns the left child's box count.
-uint32_t partition(const BoxRef* src, BoxRef* dst, uint32_t n, const Split& split, Box4 bounds[2], Box4 centroids[2]) {
+uint32_t partition(const BoxRef* src, BoxRef* dst, uint32_t n, const Split& split, Box4 bounds[2]) {
   switch (split.kind) {
-  case SplitKind::kExact: return partition<SplitKind::kExact>(src, dst, dst + split.leftCount, n, split, bounds, centroids);
-  case SplitKind::kSampled: return partition<SplitKind::kSampled>(src, dst, dst + n - 1, n, split, bounds, centroids);
+  case SplitKind::kExact: return partition<SplitKind::kExact>(src, dst, dst + split.leftCount, n, split, bounds);
+  case SplitKind::kSampled: return partition<SplitKind::kSampled>(src, dst, dst + n - 1, n, split, bounds);
   case SplitKind::kBinned: break;
   }
   bounds[1] = split.leftBounds, bounds[0] = split.rightBounds;
-  return partition<SplitKind::kBinned>(src, dst, dst + split.leftCount, n, split, bounds, centroids);
+  return partition<SplitKind::kBinned>(src, dst, dst + split.leftCount, n, split, bounds);
 }
 
-void boundsOf(const BoxRef* boxes, uint32_t n, Box4& bounds, Box4& centroids) {
-  for (uint32_t i = 0; i < n; ++i) {
-    const __m128 lo = boxes[i].lo(), hi = boxes[i].hi(), c = _mm_add_ps(lo, hi);
-    bounds.grow(lo, hi);
-    centroids.grow(c, c);
+Box4 boundsOf(const BoxRef* boxes, uint32_t n) {
+  Box4 bounds;
+  for (uint32_t i = 0; i < n; ++i) bounds.grow(boxes[i].lo(), boxes[i].hi());
+  return bounds;
+}
+
+// The bounds of the boxes' doubled centroids, which map them to bins. Two sets of bounds, for
+// even and odd boxes, halve the chains of min and max that each box waits for.
+Box4 centroidBoundsOf(const BoxRef* boxes, uint32_t n) {
+  Box4 even, odd;
+  uint32_t i = 0;
+  for (; i + 1 < n; i += 2) {
+    const __m128 c0 = boxes[i].centroid2(), c1 = boxes[i + 1].centroid2();
+    even.grow(c0, c0);
+    odd.grow(c1, c1);
   }
+  if (i < n) even.grow(boxes[i].centroid2(), boxes[i].centroid2());
+  even.grow(odd);
+  return even;
 }
 
 // A node to build with its subtree: where it goes (see the slot layout in build()), which of the
@@ -421,7 +432,7 @@ struct NodeTask {
   uint32_t depth;
   int buffer;
   int owner; // the thread whose task queue its child tasks go to
-  Box4 bounds, centroids;
+  Box4 bounds;
 };
 
 // One thread's task queue. The thread takes its newest task, the deepest, whose boxes it has
@@ -506,8 +517,9 @@ public:
     // the subtrees are built, threads never share a counter, and the tree is the same for any
     // thread count. The final layout squeezes the holes out (see planLayout()).
     if (threads_ == 1) {
-      NodeTask root{0, 1, 0, count_, 0, 0, 0, {}, {}};
-      const uint32_t invalid = readBoxes(0, count_, root.bounds, root.centroids);
+      NodeTask root{0, 1, 0, count_, 0, 0, 0, {}};
+      Box4 centroids; // left to the root, which bins (see partition())
+      const uint32_t invalid = readBoxes(0, count_, root.bounds, centroids);
       if (invalid != kNoBox) throwInvalidBox(invalid);
       nodes_.resize(1 + buildNode(root)); // shrinks: no allocation
     } else {
@@ -587,10 +599,10 @@ private:
     for (Bins& b : bins) b.clear(binCount);
     std::vector<std::array<int32_t, 4>> chunkCounts(size_t{chunks} * binCount);
     std::vector<std::array<Box4, 2>> chunkBounds(chunks);        // [bounds, centroids]
-    std::vector<std::array<Box4, 2>> centroids(chunks);          // of [right, left] boxes
     std::vector<uint32_t> invalid(chunks);                        // first invalid box
     std::vector<uint32_t> leftBegin(chunks), rightBegin(chunks); // where the boxes go
-    NodeTask root{0, 1, 0, count_, 0, 0, 0, {}, {}};
+    NodeTask root{0, 1, 0, count_, 0, 0, 0, {}};
+    Box4 rootCentroids;
     uint32_t firstInvalid = kNoBox;
     BinMapping mapping{};
     Split split;
@@ -627,9 +639,9 @@ private:
       for (uint32_t c = 0; c < chunks; ++c) {
         firstInvalid = std::min(firstInvalid, invalid[c]);
         root.bounds.grow(chunkBounds[c][0]);
-        root.centroids.grow(chunkBounds[c][1]);
+        rootCentroids.grow(chunkBounds[c][1]);
       }
-      mapping = binMappingFor(root.centroids, binCount);
+      mapping = binMappingFor(rootCentroids, binCount);
     };
     const BoxRef* src = refs_[root.buffer].get();
     BoxRef* dst = refs_[1 - root.buffer].get();
@@ -666,7 +678,7 @@ private:
     const auto partitionChunk = [&](int, uint32_t c) {
       const uint32_t begin = chunkBegin(c), end = chunkBegin(c + 1);
       Box4 unused[2];
-      partition<SplitKind::kBinned>(src + begin, dst + leftBegin[c], dst + rightBegin[c], end - begin, split, unused, centroids[c].data());
+      partition<SplitKind::kBinned>(src + begin, dst + leftBegin[c], dst + rightBegin[c], end - begin, split, unused);
     };
     const auto joinPartition = [&] {
       writeBounds(slots_[root.slot], root);
@@ -675,7 +687,6 @@ private:
       right.descendants = left.descendants + 2 * split.leftCount - 2; // the left child is a task
       left.buffer = right.buffer = 1 - root.buffer;
       left.bounds = split.leftBounds, right.bounds = split.rightBounds;
-      for (const auto& c : centroids) left.centroids.grow(c[1]), right.centroids.grow(c[0]);
       {
         std::lock_guard lock(mutex_);
         queues_[0].push(right);
@@ -811,24 +822,23 @@ private:
     // Initialised from the call, not assigned: a Split is over a hundred bytes.
     const Split split = t.depth >= kMedianSplitDepth ? Split{}
                         : count <= kExactSweepMax    ? findExactSplit(boxes, count)
-                                                     : findBinnedSplit(boxes, count, sampleStrideFor(t), t.centroids, binCountFor(count));
+                                                     : findBinnedSplit(boxes, count, sampleStrideFor(t), centroidBoundsOf(boxes, count), binCountFor(count));
     NodeTask left{}, right{};
     uint32_t leftCount = 0;
     if (split.axis >= 0) {
       if (!shouldSplit(count, settings_.leafSize, t.bounds.halfArea(), split.childCost)) return makeLeaf(node, t);
-      Box4 bounds[2], centroids[2];
-      leftCount = partition(boxes, refs_[1 - t.buffer].get() + t.begin, count, split, bounds, centroids);
+      Box4 bounds[2];
+      leftCount = partition(boxes, refs_[1 - t.buffer].get() + t.begin, count, split, bounds);
       left.buffer = right.buffer = 1 - t.buffer;
-      left.bounds = bounds[1], left.centroids = centroids[1];
-      right.bounds = bounds[0], right.centroids = centroids[0];
+      left.bounds = bounds[1], right.bounds = bounds[0];
     } else {
       // Too deep for SAH (see kMedianSplitDepth), or every centroid in one point so that no
       // SAH split exists: split at the median when the node is too big for a leaf.
       if (count <= static_cast<uint32_t>(settings_.leafSize)) return makeLeaf(node, t);
-      leftCount = medianSplit(boxes, count, t.centroids);
+      leftCount = medianSplit(boxes, count, centroidBoundsOf(boxes, count));
       left.buffer = right.buffer = t.buffer;
-      boundsOf(boxes, leftCount, left.bounds, left.centroids);
-      boundsOf(boxes + leftCount, count - leftCount, right.bounds, right.centroids);
+      left.bounds = boundsOf(boxes, leftCount);
+      right.bounds = boundsOf(boxes + leftCount, count - leftCount);
     }
 
     setChildren(t, leftCount, left, right);
