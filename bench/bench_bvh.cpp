@@ -11,6 +11,9 @@
 //                                     SAH/fullsweep = that over the exact full-sweep reference.
 //   TraceSceneBuild/<scene>/threads:N all of TraceScene::build: GPU faces, brushes with
 //                                     axial-first sides and their bounds, the BVH, leaf order.
+// BvhBuild also reports cpu_ms/build: the CPU time of all the process's threads per build
+// (Google Benchmark's CPU column counts the timing thread alone), which shows how much more
+// work a build with more threads does than one with a single thread.
 // For traces items_per_second is rays/s (all threads together).
 #include "bvh/trace_scene.h"
 #include "importers/import.h"
