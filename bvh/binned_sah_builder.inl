@@ -247,28 +247,10 @@ Split bestBinnedSplit(const Bins& bins, uint32_t n, const BinMapping& mapping, i
   return best;
 }
 
-// The bounds of the doubled centroids of n boxes, boxes[0], boxes[stride], ..., which map them
-// to bins. Two sets of bounds, for even and odd boxes, halve the chains of min and max that
-// each box waits for.
-Box4 centroidBoundsOf(const BoxRef* boxes, uint32_t n, ptrdiff_t stride = 1) {
-  Box4 even, odd;
-  uint32_t i = 0;
-  for (; i + 1 < n; i += 2) {
-    const __m128 c0 = boxes[i * stride].centroid2(), c1 = boxes[(i + 1) * stride].centroid2();
-    even.grow(c0, c0);
-    odd.grow(c1, c1);
-  }
-  if (i < n) even.grow(boxes[i * stride].centroid2(), boxes[i * stride].centroid2());
-  even.grow(odd);
-  return even;
-}
-
-// The binned split of boxes[0, n), from every stride-th box (see sampleStrideFor()). The bins
-// span the sample's centroids: a box outside goes to the first or last bin, in the partition
-// too (BinMapping::bins() clamps), so every box lands on the side its bin says.
-[[gnu::noinline]] Split findBinnedSplit(const BoxRef* boxes, uint32_t n, uint32_t stride, int binCount) {
+// The binned split of boxes[0, n), from every stride-th box (see sampleStrideFor()).
+[[gnu::noinline]] Split findBinnedSplit(const BoxRef* boxes, uint32_t n, uint32_t stride, const Box4& centroids, int binCount) {
+  const BinMapping mapping = binMappingFor(centroids, binCount);
   const uint32_t samples = (n + stride - 1) / stride;
-  const BinMapping mapping = binMappingFor(centroidBoundsOf(boxes, samples, stride), binCount);
   Bins bins;
   binBoxes(boxes, samples, stride, mapping, binCount, bins);
   Split split = bestBinnedSplit(bins, samples, mapping, binCount);
@@ -427,6 +409,20 @@ Box4 boundsOf(const BoxRef* boxes, uint32_t n) {
   return bounds;
 }
 
+// The bounds of the boxes' doubled centroids, which map them to bins. Two sets of bounds, for
+// even and odd boxes, halve the chains of min and max that each box waits for.
+Box4 centroidBoundsOf(const BoxRef* boxes, uint32_t n) {
+  Box4 even, odd;
+  uint32_t i = 0;
+  for (; i + 1 < n; i += 2) {
+    const __m128 c0 = boxes[i].centroid2(), c1 = boxes[i + 1].centroid2();
+    even.grow(c0, c0);
+    odd.grow(c1, c1);
+  }
+  if (i < n) even.grow(boxes[i].centroid2(), boxes[i].centroid2());
+  even.grow(odd);
+  return even;
+}
 
 // A node to build with its subtree: where it goes (see the slot layout in build()), which of the
 // two BoxRef buffers holds its boxes, and their bounds.
@@ -826,7 +822,7 @@ private:
     // Initialised from the call, not assigned: a Split is over a hundred bytes.
     const Split split = t.depth >= kMedianSplitDepth ? Split{}
                         : count <= kExactSweepMax    ? findExactSplit(boxes, count)
-                                                     : findBinnedSplit(boxes, count, sampleStrideFor(t), binCountFor(count));
+                                                     : findBinnedSplit(boxes, count, sampleStrideFor(t), centroidBoundsOf(boxes, count), binCountFor(count));
     NodeTask left{}, right{};
     uint32_t leftCount = 0;
     if (split.axis >= 0) {
