@@ -122,9 +122,9 @@ TEST(BvhBuild, BaselineAndAvx2BuildsAreTheSame) {
 }
 
 TEST(BvhBuild, BuilderLaysTheTreeOutDepthFirst) {
-  // The builder lays the finished tree out subtree by subtree (several threads at once) from
-  // subtree node counts; compactDepthFirst() lays a tree out with one stack. A tree already in
-  // depth-first order is its own compaction.
+  // With threads, the builder squeezes the holes that tasks leave out of its slots (several
+  // threads at once, child indices shifted by the holes before them); compactDepthFirst() lays
+  // a tree out with one stack. A tree already in depth-first order is its own compaction.
   const std::vector<Aabb> boxes = scatteredBoxes(8000, 6); // threads from 4096 boxes
   for (int threads : {1, 2, 3}) {
     SCOPED_TRACE(threads);
