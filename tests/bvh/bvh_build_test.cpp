@@ -266,5 +266,28 @@ TEST(BvhBuild, DegenerateInputStaysShallow) {
   expectWellFormed(ts);
 }
 
+TEST(BvhBuild, ChainOfTasksWithThreads) {
+  // Boxes growing geometrically to one side of a cluster of small ones: the SAH peels big
+  // boxes off level by level, and the rest, the left child, goes to the task queue each time:
+  // a chain of tasks nested in each other's slots, each leaving a hole at its end, that the
+  // layout squeezes out. The threads still build the one-thread tree, depth first.
+  std::vector<Aabb> boxes = scatteredBoxes(5800, 12);
+  for (int i = 0; i < 200; ++i) {
+    const float s = 4096.0f * std::pow(1.15f, static_cast<float>(i));
+    boxes.push_back({{s, 0, 0}, {s * 1.01f + 1.0f, 1, 1}});
+  }
+  const FlatBvh one = buildBinnedSah(boxes, {.threads = 1});
+  for (int threads : {2, 3}) {
+    SCOPED_TRACE(threads);
+    const FlatBvh many = buildBinnedSah(boxes, {.threads = threads});
+    ASSERT_EQ(one.nodes.size(), many.nodes.size());
+    EXPECT_EQ(std::memcmp(one.nodes.data(), many.nodes.data(), one.nodes.size() * sizeof(GpuBvhNode)), 0);
+    EXPECT_EQ(one.order, many.order);
+  }
+  const std::vector<GpuBvhNode> compacted = compactDepthFirst(one.nodes);
+  ASSERT_EQ(compacted.size(), one.nodes.size());
+  EXPECT_EQ(std::memcmp(compacted.data(), one.nodes.data(), compacted.size() * sizeof(GpuBvhNode)), 0);
+}
+
 } // namespace
 } // namespace bt
