@@ -359,21 +359,22 @@ Split findExactSplit(const BoxRef* boxes, uint32_t n) {
 // the others to rightDst on, in input order too, or, for a sampled split, from rightDst
 // backwards (where the bins did not count every box, the left side's size is known only at
 // the end; the order still depends on the boxes alone). Returns the left side's count.
-// Grows the children's centroid bounds on the way; a binned split has its children's bounds
-// from the bins, the others grow them here. Index [1] is the left child, [0] the right.
+// A binned split has its children's bounds from the bins; the others grow them here, index [1]
+// the left child's, [0] the right's. The children's centroid bounds are left to the children
+// that bin (see centroidBoundsOf()): most children are leaves or swept exactly, which need none.
 //
 // The bounds are grown in registers for both sides at once: a box counts for one side by adding
 // 0 to it, for the other by adding infinity (so that min and max ignore it). Growing
 // bounds[isLeft] in memory instead makes each box wait for the previous one's store.
 template <SplitKind Kind>
-uint32_t partition(const BoxRef* src, BoxRef* leftDst, BoxRef* rightDst, uint32_t n, const Split& split, Box4 bounds[2], Box4 centroids[2]) {
+uint32_t partition(const BoxRef* src, BoxRef* leftDst, BoxRef* rightDst, uint32_t n, const Split& split, Box4 bounds[2]) {
   constexpr bool Exact = Kind == SplitKind::kExact;
   constexpr ptrdiff_t rightStep = Kind == SplitKind::kSampled ? -1 : 1;
   uint32_t left = 0, right = 0;
   const __m128 position = _mm_set1_ps(split.position);
   const __m128i firstRightBin = _mm_set1_epi32(split.lastLeftBin + 1);
   const __m128 ignoreUnless[2] = {_mm_set1_ps(kFloatInf), _mm_setzero_ps()}; // [isLeft]: + for left
-  Box4 leftBox = bounds[1], rightBox = bounds[0], leftCentroids, rightCentroids;
+  Box4 leftBox = bounds[1], rightBox = bounds[0];
   for (uint32_t i = 0; i < n; ++i) {
     const __m128 lo = src[i].lo(), hi = src[i].hi(), c = _mm_add_ps(lo, hi);
     const __m128 leftLanes = Exact ? _mm_cmple_ps(c, position) : _mm_castsi128_ps(_mm_cmpgt_epi32(firstRightBin, split.mapping.bins(c)));
@@ -381,36 +382,46 @@ uint32_t partition(const BoxRef* src, BoxRef* leftDst, BoxRef* rightDst, uint32_
     (isLeft ? leftDst[left] : rightDst[rightStep * right]) = src[i];
     left += isLeft;
     right += 1 - isLeft;
-    const __m128 toLeft = ignoreUnless[isLeft], toRight = ignoreUnless[1 - isLeft];
     if constexpr (Kind != SplitKind::kBinned) {
+      const __m128 toLeft = ignoreUnless[isLeft], toRight = ignoreUnless[1 - isLeft];
       leftBox.grow(_mm_add_ps(lo, toLeft), _mm_sub_ps(hi, toLeft));
       rightBox.grow(_mm_add_ps(lo, toRight), _mm_sub_ps(hi, toRight));
     }
-    leftCentroids.grow(_mm_add_ps(c, toLeft), _mm_sub_ps(c, toLeft));
-    rightCentroids.grow(_mm_add_ps(c, toRight), _mm_sub_ps(c, toRight));
   }
   bounds[1] = leftBox, bounds[0] = rightBox;
-  centroids[1] = leftCentroids, centroids[0] = rightCentroids;
   return left;
 }
 
 // Partitions src[0, n) into dst[0, n) (see above); returns the left child's box count.
-uint32_t partition(const BoxRef* src, BoxRef* dst, uint32_t n, const Split& split, Box4 bounds[2], Box4 centroids[2]) {
+uint32_t partition(const BoxRef* src, BoxRef* dst, uint32_t n, const Split& split, Box4 bounds[2]) {
   switch (split.kind) {
-  case SplitKind::kExact: return partition<SplitKind::kExact>(src, dst, dst + split.leftCount, n, split, bounds, centroids);
-  case SplitKind::kSampled: return partition<SplitKind::kSampled>(src, dst, dst + n - 1, n, split, bounds, centroids);
+  case SplitKind::kExact: return partition<SplitKind::kExact>(src, dst, dst + split.leftCount, n, split, bounds);
+  case SplitKind::kSampled: return partition<SplitKind::kSampled>(src, dst, dst + n - 1, n, split, bounds);
   case SplitKind::kBinned: break;
   }
   bounds[1] = split.leftBounds, bounds[0] = split.rightBounds;
-  return partition<SplitKind::kBinned>(src, dst, dst + split.leftCount, n, split, bounds, centroids);
+  return partition<SplitKind::kBinned>(src, dst, dst + split.leftCount, n, split, bounds);
 }
 
-void boundsOf(const BoxRef* boxes, uint32_t n, Box4& bounds, Box4& centroids) {
-  for (uint32_t i = 0; i < n; ++i) {
-    const __m128 lo = boxes[i].lo(), hi = boxes[i].hi(), c = _mm_add_ps(lo, hi);
-    bounds.grow(lo, hi);
-    centroids.grow(c, c);
+Box4 boundsOf(const BoxRef* boxes, uint32_t n) {
+  Box4 bounds;
+  for (uint32_t i = 0; i < n; ++i) bounds.grow(boxes[i].lo(), boxes[i].hi());
+  return bounds;
+}
+
+// The bounds of the boxes' doubled centroids, which map them to bins. Two sets of bounds, for
+// even and odd boxes, halve the chains of min and max that each box waits for.
+Box4 centroidBoundsOf(const BoxRef* boxes, uint32_t n) {
+  Box4 even, odd;
+  uint32_t i = 0;
+  for (; i + 1 < n; i += 2) {
+    const __m128 c0 = boxes[i].centroid2(), c1 = boxes[i + 1].centroid2();
+    even.grow(c0, c0);
+    odd.grow(c1, c1);
   }
+  if (i < n) even.grow(boxes[i].centroid2(), boxes[i].centroid2());
+  even.grow(odd);
+  return even;
 }
 
 // A node to build with its subtree: where it goes (see the slot layout in build()), which of the
@@ -420,17 +431,42 @@ struct NodeTask {
   uint32_t begin, end;
   uint32_t depth;
   int buffer;
-  Box4 bounds, centroids;
+  int owner; // the thread whose task queue its child tasks go to
+  Box4 bounds;
+};
+
+// One thread's task queue. The thread takes its newest task, the deepest, whose boxes it has
+// just partitioned and still has in cache; an idle thread steals the oldest, the biggest, so
+// that steals are few and each thread mostly builds subtrees of its own.
+// A ring buffer: queued tasks are subtrees that no thread has started, so they hold disjoint
+// boxes, and at most n / kTaskMinBoxes are queued at once.
+class TaskQueue {
+public:
+  explicit TaskQueue(size_t capacity) : tasks_(capacity) {}
+  bool empty() const { return size_ == 0; }
+  void push(const NodeTask& task) { tasks_[(oldest_ + size_++) % tasks_.size()] = task; }
+  NodeTask take(bool newest) {
+    --size_;
+    if (newest) return tasks_[(oldest_ + size_) % tasks_.size()];
+    const NodeTask& task = tasks_[oldest_];
+    oldest_ = (oldest_ + 1) % tasks_.size();
+    return task;
+  }
+
+private:
+  std::vector<NodeTask> tasks_;
+  size_t oldest_ = 0, size_ = 0;
 };
 
 // Top-down binned SAH build. Each node: find the split (binned over the three axes at once,
 // from a sample of the boxes in big nodes, an exact sweep for a few boxes), decide by shouldSplit(), move the boxes to the other BoxRef
-// buffer partitioned, recurse. Subtrees of kTaskMinBoxes or more go to a queue that all the
-// build's threads take from; every choice depends on the boxes alone, never on which thread
+// buffer partitioned, recurse. Subtrees of kTaskMinBoxes or more go to the task queue of the
+// thread that reached them, which the other threads steal from when theirs is empty (see
+// TaskQueue); every choice depends on the boxes alone, never on which thread
 // builds what, so the tree is the same for any thread count.
 //
-// Around the build, the same threads read the input boxes (each thread a chunk) and lay the
-// finished tree out depth first (each thread whole subtrees): done by one thread, these two
+// Around the build, the same threads read the input boxes (chunk by chunk) and copy the
+// finished tree to its depth-first layout (stretch by stretch): done by one thread, these two
 // passes over every box and node held the others idle for a tenth of a two-thread build.
 class BinnedSahBuilder {
 public:
@@ -444,7 +480,6 @@ public:
     refs_[0].reset(new BoxRef[count_]);
     refs_[1].reset(new BoxRef[count_]);
     const size_t slotCount = count_ == 0 ? 0 : 2 * size_t{count_} - 1;
-    nodeCounts_.reset(new uint32_t[slotCount]);
     order_.resize(count_);
     if (threads_ == 1) {
       // One thread lays the tree out depth first as it goes (see build()): the slots are the
@@ -458,26 +493,35 @@ public:
       // throw and leave the others waiting at a barrier.
       nodes_.reserve(slotCount);
     }
-    compactJobs_.reserve(kMaxCompactJobsPerThread * threads_);
+    // A hole per task at most (see build()); a layout job per stretch between holes, and at
+    // most kLayoutJobsPerThread per thread more where stretches are cut. SAH trees of levels
+    // have about 2 n / kTaskMinBoxes tasks (a node splits its boxes roughly in two); only
+    // pathological ones, splitting a few boxes off at a time, have more, and these grow.
+    const size_t maxTasks = 2 * size_t{count_} / kTaskMinBoxes + 1;
+    holes_.reserve(maxTasks);
+    holeEnds_.reserve(maxTasks);
+    holeShifts_.reserve(maxTasks);
+    layoutJobs_.reserve(maxTasks + 1 + kLayoutJobsPerThread * threads_);
   }
 
   FlatBvh build() {
     if (count_ == 0) return {};
     // Slot layout while building: a node in slot s with n boxes owns the 2n - 2 slots from
     // `descendants` on for its subtree: its two children first, then the left child's
-    // subtree (2 nL - 2 slots), then the right child's. That makes every slot known before
-    // the subtrees are built, so threads never share a counter and the layout is the same
-    // for any thread count. Leaves leave their reserved slots unused; the depth-first layout
-    // at the end squeezes the holes out.
-    //
-    // One thread builds the left subtree before the right one, so it knows where the left
-    // subtree ends before it places the right child's descendants: it puts them right there
-    // (see buildNode()), which is the depth-first layout itself, without holes.
+    // descendants, then the right child's. A subtree built by the thread that reached it is
+    // built left before right, so the right child's descendants go right after the left
+    // child's, wherever they end: that is the depth-first layout, without holes, and all of
+    // it with one thread. A left child handed to the task queue gets all its 2 nL - 2 slots,
+    // as its size is not known yet, and the right child's descendants go after them; a task
+    // that uses fewer leaves a hole at the end of its slots. So every slot is known before
+    // the subtrees are built, threads never share a counter, and the tree is the same for any
+    // thread count. The final layout squeezes the holes out (see planLayout()).
     if (threads_ == 1) {
-      NodeTask root{0, 1, 0, count_, 0, 0, {}, {}};
-      const uint32_t invalid = readBoxes(0, count_, root.bounds, root.centroids);
+      NodeTask root{0, 1, 0, count_, 0, 0, 0, {}};
+      Box4 centroids; // left to the root, which bins (see partition())
+      const uint32_t invalid = readBoxes(0, count_, root.bounds, centroids);
       if (invalid != kNoBox) throwInvalidBox(invalid);
-      nodes_.resize(buildNode(root)); // shrinks: no allocation
+      nodes_.resize(1 + buildNode(root)); // shrinks: no allocation
     } else {
       const uint32_t invalid = buildWithThreads();
       if (invalid != kNoBox) throwInvalidBox(invalid);
@@ -490,14 +534,14 @@ public:
 
 private:
   static constexpr uint32_t kNoBox = std::numeric_limits<uint32_t>::max();
-  // nodeCounts_ of a node with a part of its subtree on the task queue (see buildNode()).
-  static constexpr uint32_t kCountUnknown = 0;
-  // The depth-first layout is cut into about this many subtrees per thread, enough for the
-  // threads to finish together; a tree that would need more (long chains of big nodes) lays
-  // the rest out while planning.
-  static constexpr size_t kCompactJobsPerThread = 8;
-  static constexpr size_t kMaxCompactJobsPerThread = 64;
-  static constexpr size_t kCompactJobMinNodes = 1024;
+  // The final layout is cut into about this many jobs per thread, enough for the threads to
+  // finish together.
+  static constexpr size_t kLayoutJobsPerThread = 8;
+  static constexpr size_t kLayoutJobMinNodes = 1024;
+  // The threads split the root chunk by chunk (see buildWithThreads()): chunks of at least this
+  // many boxes, and enough of them per thread that one thread can take over from a late one.
+  static constexpr uint32_t kRootChunkMinBoxes = 2048;
+  static constexpr uint32_t kRootChunksPerThread = 8;
 
   // Copies input boxes [begin, end) into refs_[0] and grows their bounds and centroid bounds.
   // Stops at the first box that is empty or has a non-finite bound and returns its index
@@ -533,126 +577,193 @@ private:
 
   // The root split by all threads together, then its subtrees through the task queue. Alone, the
   // root's split (binning and partitioning every box) keeps the other threads idle for a sixth
-  // of a two-thread build. Here each thread reads and bins one chunk of the boxes, one thread
-  // merges the bins and chooses the split, each partitions its chunk. The merged bins are
-  // exactly those of one pass over all boxes and the chunks' boxes keep their order, so the
-  // tree is the same as a one-thread build's. Returns the first invalid box, kNoBox if none.
+  // of a two-thread build. Here the boxes are cut into chunks that the threads take one at a
+  // time, in three stages: read (and check) them, bin them, partition them. The thread that
+  // finishes a stage's last chunk does what joins the chunks (the root's bounds, the split from
+  // the merged bins, the root's child tasks) and opens the next stage. No thread waits for
+  // another to arrive: a helper that starts late (starting a thread takes a tenth of a
+  // millisecond, more on a busy machine) finds chunks left or none, and one that is descheduled
+  // holds up no more than its chunk. The merged bins are exactly those of one pass over all
+  // boxes and each chunk's boxes keep their order, so the tree is the same as a one-thread
+  // build's. Returns the first invalid box, kNoBox if none.
   uint32_t buildWithThreads() {
-    // At most 2 n / kTaskMinBoxes subtrees of kTaskMinBoxes boxes or more exist, so the queue
-    // never reallocates: a task is never lost to a failed allocation with helpers waiting.
-    queue_.reserve(2 * count_ / kTaskMinBoxes + 1);
-    const int chunks = threads_;
-    const auto chunkBegin = [&](int c) { return static_cast<uint32_t>(uint64_t{count_} * c / chunks); };
+    // Queued tasks hold disjoint boxes, kTaskMinBoxes or more (the root's children may have
+    // fewer), so a queue of n / kTaskMinBoxes + 2 never overflows.
+    queues_.assign(threads_, TaskQueue(count_ / kTaskMinBoxes + 2));
+    const uint32_t chunks = std::clamp<uint32_t>(count_ / kRootChunkMinBoxes, 1, kRootChunksPerThread * threads_);
+    const auto chunkBegin = [&](uint32_t c) { return static_cast<uint32_t>(uint64_t{count_} * c / chunks); };
     const int binCount = binCountFor(count_);
-    std::vector<Bins> bins(chunks);
-    std::vector<std::array<Box4, 2>> chunkBounds(chunks);        // each chunk's [bounds, centroids]
-    std::vector<uint32_t> invalid(chunks);                        // each chunk's first invalid box
-    std::vector<uint32_t> leftBegin(chunks), rightBegin(chunks); // where each chunk's boxes go
-    std::vector<std::array<Box4, 2>> centroids(chunks);          // of each chunk's [right, left] boxes
-    NodeTask root{0, 1, 0, count_, 0, 0, {}, {}};
+    // Each thread's bins, cleared here as a thread may start too late to bin any chunk; and
+    // each chunk's bin counts (binCount per chunk), which place its boxes in the partition.
+    std::vector<Bins> bins(threads_);
+    for (Bins& b : bins) b.clear(binCount);
+    std::vector<std::array<int32_t, 4>> chunkCounts(size_t{chunks} * binCount);
+    std::vector<std::array<Box4, 2>> chunkBounds(chunks);        // [bounds, centroids]
+    std::vector<uint32_t> invalid(chunks);                        // first invalid box
+    std::vector<uint32_t> leftBegin(chunks), rightBegin(chunks); // where the boxes go
+    NodeTask root{0, 1, 0, count_, 0, 0, 0, {}};
+    Box4 rootCentroids;
     uint32_t firstInvalid = kNoBox;
     BinMapping mapping{};
     Split split;
     bool together = false; // whether the threads split the root, or leave it to the task queue
-    std::barrier readDone(chunks, [&]() noexcept {
-      for (int c = 0; c < chunks; ++c) {
+    // The root's split counts as an unfinished task, so that work() waits for its children.
+    unfinished_ = 1;
+
+    enum Stage : int { kRead, kBin, kPartition, kBuilt };
+    std::atomic<int> stage{kRead};
+    std::array<std::atomic<uint32_t>, kBuilt> nextJob{}, jobsDone{};
+    // Runs `job` on the jobs of stage s until none is left. The thread that finishes the last
+    // one runs `join` and opens the next stage; the others wait for that (when `wait`).
+    const auto runStage = [&](int thread, Stage s, uint32_t jobs, auto&& job, auto&& join, bool wait) {
+      for (uint32_t j; (j = nextJob[s].fetch_add(1)) < jobs;) {
+        job(thread, j);
+        if (jobsDone[s].fetch_add(1) + 1 == jobs) {
+          join();
+          stage.store(s + 1);
+          stage.notify_all();
+        }
+      }
+      if (!wait) return;
+      for (int now; (now = stage.load()) <= s;) stage.wait(now);
+    };
+    // Job 0 of the read stage is the result's zero fill (std::vector has no other way to size):
+    // the first thread takes it while the helpers start. Within the capacity reserved in the
+    // constructor, so it does not allocate.
+    const auto readChunk = [&](int, uint32_t job) {
+      if (job == 0) return nodes_.resize(2 * size_t{count_} - 1);
+      const uint32_t c = job - 1;
+      invalid[c] = readBoxes(chunkBegin(c), chunkBegin(c + 1), chunkBounds[c][0], chunkBounds[c][1]);
+    };
+    const auto joinRead = [&] {
+      for (uint32_t c = 0; c < chunks; ++c) {
         firstInvalid = std::min(firstInvalid, invalid[c]);
         root.bounds.grow(chunkBounds[c][0]);
-        root.centroids.grow(chunkBounds[c][1]);
+        rootCentroids.grow(chunkBounds[c][1]);
       }
-      mapping = binMappingFor(root.centroids, binCount);
-    });
-    std::barrier binned(chunks, [&]() noexcept {
+      mapping = binMappingFor(rootCentroids, binCount);
+    };
+    const BoxRef* src = refs_[root.buffer].get();
+    BoxRef* dst = refs_[1 - root.buffer].get();
+    const auto binChunk = [&](int thread, uint32_t c) {
+      const uint32_t begin = chunkBegin(c), end = chunkBegin(c + 1);
+      Bins chunkBins;
+      binBoxes(src + begin, end - begin, 1, mapping, binCount, chunkBins);
+      bins[thread].merge(chunkBins, binCount);
+      std::memcpy(&chunkCounts[size_t{c} * binCount], chunkBins.count, sizeof(chunkCounts[0]) * binCount);
+    };
+    const auto joinSplit = [&] {
       Bins all = bins[0];
-      for (int c = 1; c < chunks; ++c) all.merge(bins[c], binCount);
+      for (int t = 1; t < threads_; ++t) all.merge(bins[t], binCount);
       split = bestBinnedSplit(all, count_, mapping, binCount);
       together = split.axis >= 0 && shouldSplit(count_, settings_.leafSize, root.bounds.halfArea(), split.childCost);
-      if (!together) return addTask(root);
+      if (!together) {
+        // The root goes to the queue as an ordinary task, which takes over the unfinished count.
+        std::lock_guard lock(mutex_);
+        queues_[0].push(root);
+        ++queuedTasks_;
+        wake_.notify_one();
+        return;
+      }
       // Each chunk's boxes go after those of the chunks before it, on either side.
       uint32_t left = 0, right = split.leftCount;
-      for (int c = 0; c < chunks; ++c) {
+      for (uint32_t c = 0; c < chunks; ++c) {
         leftBegin[c] = left, rightBegin[c] = right;
-        uint32_t chunkLeft = 0;
-        for (int b = 0; b <= split.lastLeftBin; ++b) chunkLeft += static_cast<uint32_t>(bins[c].count[b][split.axis]);
-        left += chunkLeft;
-        right += chunkBegin(c + 1) - chunkBegin(c) - chunkLeft;
+        uint32_t leftInChunk = 0;
+        for (int b = 0; b <= split.lastLeftBin; ++b) leftInChunk += static_cast<uint32_t>(chunkCounts[size_t{c} * binCount + b][split.axis]);
+        left += leftInChunk;
+        right += chunkBegin(c + 1) - chunkBegin(c) - leftInChunk;
       }
-    });
-    std::barrier partitioned(chunks, [&]() noexcept {
-      if (!together) return;
+    };
+    const auto partitionChunk = [&](int, uint32_t c) {
+      const uint32_t begin = chunkBegin(c), end = chunkBegin(c + 1);
+      Box4 unused[2];
+      partition<SplitKind::kBinned>(src + begin, dst + leftBegin[c], dst + rightBegin[c], end - begin, split, unused);
+    };
+    const auto joinPartition = [&] {
       writeBounds(slots_[root.slot], root);
-      nodeCounts_[root.slot] = kCountUnknown;
       NodeTask left{}, right{};
       setChildren(root, split.leftCount, left, right);
+      right.descendants = left.descendants + 2 * split.leftCount - 2; // the left child is a task
       left.buffer = right.buffer = 1 - root.buffer;
       left.bounds = split.leftBounds, right.bounds = split.rightBounds;
-      for (const auto& c : centroids) left.centroids.grow(c[1]), right.centroids.grow(c[0]);
-      addTask(right);
-      addTask(left);
-    });
-    std::atomic<size_t> nextCompactJob{0};
-    std::barrier built(chunks, [&]() noexcept { planCompaction(); });
-    const auto run = [&](int c) {
-      const uint32_t begin = chunkBegin(c), end = chunkBegin(c + 1);
-      invalid[c] = readBoxes(begin, end, chunkBounds[c][0], chunkBounds[c][1]);
-      readDone.arrive_and_wait();
-      if (firstInvalid != kNoBox) return;
-      const BoxRef* src = refs_[root.buffer].get();
-      BoxRef* dst = refs_[1 - root.buffer].get();
-      binBoxes(src + begin, end - begin, 1, mapping, binCount, bins[c]);
-      binned.arrive_and_wait();
-      if (together) {
-        Box4 unused[2];
-        partition<SplitKind::kBinned>(src + begin, dst + leftBegin[c], dst + rightBegin[c], end - begin, split, unused, centroids[c].data());
+      {
+        std::lock_guard lock(mutex_);
+        queues_[0].push(right);
+        queues_[0].push(left);
+        queuedTasks_ += 2;
+        ++unfinished_; // two tasks in, the root's split out
       }
-      partitioned.arrive_and_wait();
-      // The result's zero fill (std::vector has no other way to size) here, where the task
-      // queue lets the other threads go on building, rather than in a phase where they wait.
-      // Within the capacity reserved in the constructor, so it does not allocate.
-      if (c == 0) nodes_.resize(2 * size_t{count_} - 1);
-      work();
-      built.arrive_and_wait();
-      for (size_t job; (job = nextCompactJob.fetch_add(1)) < compactJobs_.size();) runCompactJob(compactJobs_[job]);
+      wake_.notify_all();
+    };
+    std::atomic<size_t> nextLayoutJob{0};
+    const auto run = [&](int thread) {
+      runStage(thread, kRead, chunks + 1, readChunk, joinRead, true);
+      if (firstInvalid != kNoBox) return;
+      runStage(thread, kBin, chunks, binChunk, joinSplit, true);
+      if (together) runStage(thread, kPartition, chunks, partitionChunk, joinPartition, false);
+      work(thread); // returns once the last task is done and the layout is planned
+      for (size_t job; (job = nextLayoutJob.fetch_add(1)) < layoutJobs_.size();) runLayoutJob(layoutJobs_[job]);
     };
     {
       std::vector<std::jthread> helpers;
-      for (int c = 1; c < chunks; ++c) helpers.emplace_back(run, c);
+      for (int t = 1; t < threads_; ++t) helpers.emplace_back(run, t);
       run(0);
     }
     return firstInvalid;
   }
 
   // Takes tasks until every task, including those that running tasks will still add, is done.
-  void work() {
+  // The thread that finishes the last one plans the depth-first layout before letting the
+  // others go on to lay it out.
+  void work(int thread) {
     std::unique_lock lock(mutex_);
     for (;;) {
-      wake_.wait(lock, [this] { return !queue_.empty() || unfinished_ == 0; });
-      if (queue_.empty()) return;
-      const NodeTask task = queue_.back();
-      queue_.pop_back();
+      wake_.wait(lock, [this] { return queuedTasks_ > 0 || unfinished_ == 0; });
+      if (queuedTasks_ == 0) return;
+      NodeTask task = takeTask(thread);
+      task.owner = thread;
       lock.unlock();
-      buildNode(task);
+      const uint32_t used = buildNode(task);
       lock.lock();
-      if (--unfinished_ == 0) wake_.notify_all();
+      if (const uint32_t reserved = 2 * (task.end - task.begin) - 2; used < reserved) holes_.push_back({task.descendants + used, reserved - used});
+      if (unfinished_ == 1) {
+        planLayout();
+        unfinished_ = 0;
+        wake_.notify_all();
+      } else {
+        --unfinished_;
+      }
+    }
+  }
+
+  // The thread's own newest task, or else the oldest of the first other thread that has one.
+  // Called with mutex_ held and a task queued.
+  NodeTask takeTask(int thread) {
+    --queuedTasks_;
+    for (int i = 0;; ++i) {
+      TaskQueue& queue = queues_[(thread + i) % threads_];
+      if (!queue.empty()) return queue.take(i == 0);
     }
   }
 
   void addTask(const NodeTask& task) {
     {
       std::lock_guard lock(mutex_);
-      queue_.push_back(task);
+      queues_[task.owner].push(task);
+      ++queuedTasks_;
       ++unfinished_;
     }
     wake_.notify_one();
   }
 
-  // Returns the leaf's node count, 1.
+  // Returns the slots that the leaf's descendants use: none.
   uint32_t makeLeaf(GpuBvhNode& node, const NodeTask& t) {
     node.leftFirst = t.begin;
     node.count = t.end - t.begin;
     const BoxRef* boxes = refs_[t.buffer].get();
     for (uint32_t i = t.begin; i < t.end; ++i) order_[i] = boxes[i].index;
-    return nodeCounts_[t.slot] = 1;
+    return 0;
   }
 
   // Writes the node's bounds with two stores, whose lane 3 lands in leftFirst and count: every
@@ -664,85 +775,81 @@ private:
   }
 
   // Makes t's node the parent of `left` (t's first leftCount boxes) and `right` (the others):
-  // their slots and boxes; their bounds and buffer are the caller's.
+  // their slots and boxes; their bounds and buffer are the caller's, and so is where the right
+  // child's descendants go (see build()).
   void setChildren(const NodeTask& t, uint32_t leftCount, NodeTask& left, NodeTask& right) {
     GpuBvhNode& node = slots_[t.slot];
     node.leftFirst = t.descendants;
     node.count = 0;
     left.slot = t.descendants, right.slot = t.descendants + 1;
     left.descendants = t.descendants + 2;
-    right.descendants = left.descendants + 2 * leftCount - 2;
     left.begin = t.begin, left.end = right.begin = t.begin + leftCount, right.end = t.end;
     left.depth = right.depth = t.depth + 1;
+    left.owner = right.owner = t.owner;
   }
 
   // A node of two boxes, the most common interior node (SAH splits to about one box per leaf),
   // with what buildNode() would make of it but no partition and no child tasks: a leaf, or two
-  // one-box leaves with the lower centroid first. Returns its node count, or 0, having written
-  // nothing, when the centroids coincide and buildNode()'s fallback decides.
+  // one-box leaves with the lower centroid first. Returns its node count (1 or 3), or 0, having
+  // written nothing, when the centroids coincide and buildNode()'s fallback decides.
   uint32_t buildPair(GpuBvhNode& node, const NodeTask& t) {
     const BoxRef* boxes = refs_[t.buffer].get() + t.begin;
     const Split split = splitPair(boxes);
     if (split.axis < 0) return 0;
-    if (!shouldSplit(2, settings_.leafSize, t.bounds.halfArea(), split.childCost)) return makeLeaf(node, t);
+    if (!shouldSplit(2, settings_.leafSize, t.bounds.halfArea(), split.childCost)) return 1 + makeLeaf(node, t);
     const uint32_t first = boxes[0].centroid2(split.axis) <= split.position ? 0 : 1;
     node.leftFirst = t.descendants;
     node.count = 0;
     for (uint32_t child = 0; child < 2; ++child) {
       const BoxRef& box = boxes[child == 0 ? first : 1 - first];
       slots_[t.descendants + child] = {{box.min.x, box.min.y, box.min.z}, t.begin + child, {box.max.x, box.max.y, box.max.z}, 1};
-      nodeCounts_[t.descendants + child] = 1;
       order_[t.begin + child] = box.index;
     }
-    return nodeCounts_[t.slot] = 3;
+    return 3;
   }
 
-  // Builds t's subtree and returns its node count (also kept in nodeCounts_ for the depth-first
-  // layout), or kCountUnknown when a part of it went to the task queue.
+  // Builds t's subtree and returns how many slots from t.descendants on it uses: its node count
+  // less one, plus the holes that its tasks may leave (see build()).
   uint32_t buildNode(const NodeTask& t) {
     GpuBvhNode& node = slots_[t.slot];
     writeBounds(node, t);
     const uint32_t count = t.end - t.begin;
     if (count == 1) return makeLeaf(node, t);
     if (count == 2 && t.depth < kMedianSplitDepth)
-      if (const uint32_t nodes = buildPair(node, t)) return nodes;
+      if (const uint32_t nodes = buildPair(node, t)) return nodes - 1;
 
     BoxRef* boxes = refs_[t.buffer].get() + t.begin;
     // Initialised from the call, not assigned: a Split is over a hundred bytes.
     const Split split = t.depth >= kMedianSplitDepth ? Split{}
                         : count <= kExactSweepMax    ? findExactSplit(boxes, count)
-                                                     : findBinnedSplit(boxes, count, sampleStrideFor(t), t.centroids, binCountFor(count));
+                                                     : findBinnedSplit(boxes, count, sampleStrideFor(t), centroidBoundsOf(boxes, count), binCountFor(count));
     NodeTask left{}, right{};
     uint32_t leftCount = 0;
     if (split.axis >= 0) {
       if (!shouldSplit(count, settings_.leafSize, t.bounds.halfArea(), split.childCost)) return makeLeaf(node, t);
-      Box4 bounds[2], centroids[2];
-      leftCount = partition(boxes, refs_[1 - t.buffer].get() + t.begin, count, split, bounds, centroids);
+      Box4 bounds[2];
+      leftCount = partition(boxes, refs_[1 - t.buffer].get() + t.begin, count, split, bounds);
       left.buffer = right.buffer = 1 - t.buffer;
-      left.bounds = bounds[1], left.centroids = centroids[1];
-      right.bounds = bounds[0], right.centroids = centroids[0];
+      left.bounds = bounds[1], right.bounds = bounds[0];
     } else {
       // Too deep for SAH (see kMedianSplitDepth), or every centroid in one point so that no
       // SAH split exists: split at the median when the node is too big for a leaf.
       if (count <= static_cast<uint32_t>(settings_.leafSize)) return makeLeaf(node, t);
-      leftCount = medianSplit(boxes, count, t.centroids);
+      leftCount = medianSplit(boxes, count, centroidBoundsOf(boxes, count));
       left.buffer = right.buffer = t.buffer;
-      boundsOf(boxes, leftCount, left.bounds, left.centroids);
-      boundsOf(boxes + leftCount, count - leftCount, right.bounds, right.centroids);
+      left.bounds = boundsOf(boxes, leftCount);
+      right.bounds = boundsOf(boxes + leftCount, count - leftCount);
     }
 
     setChildren(t, leftCount, left, right);
-    uint32_t leftNodes = kCountUnknown;
+    uint32_t leftUsed = 2 * leftCount - 2; // all of its slots, for a task
     if (threads_ > 1 && leftCount >= kTaskMinBoxes) {
       addTask(left);
     } else {
-      leftNodes = buildNode(left);
+      leftUsed = buildNode(left);
     }
-    // One thread: the right child's descendants go right after the left subtree's (see build()).
-    if (threads_ == 1) right.descendants = left.descendants + leftNodes - 1;
-    const uint32_t rightNodes = buildNode(right);
-    const bool known = leftNodes != kCountUnknown && rightNodes != kCountUnknown;
-    return nodeCounts_[t.slot] = known ? 1 + leftNodes + rightNodes : kCountUnknown;
+    right.descendants = left.descendants + leftUsed;
+    return 2 + leftUsed + buildNode(right);
   }
 
   // Nodes of kSampledBinningMin boxes or more choose their split from every stride-th box, 512
@@ -777,64 +884,55 @@ private:
     return middle;
   }
 
-  // The depth-first layout of compactDepthFirst(), cut into subtrees that threads lay out at
-  // once: a node placed at nodes_[to] has its children at descendantsAt and descendantsAt + 1,
-  // the left child's descendants after them, then the right child's, so the subtree node
-  // counts give every subtree's place.
-  struct CompactJob {
-    uint32_t slot, to, descendantsAt;
+  // Slots that a task reserved but did not use (see build()).
+  struct Hole {
+    uint32_t begin, size;
+  };
+  // Slots [from, to) of the stretch between two holes that ends at stretchEnd; they move down
+  // by `shift`, the size of the holes before them.
+  struct LayoutJob {
+    uint32_t from, to, stretchEnd, shift;
   };
 
-  // The subtree node count of slots_[slot], summed here for the nodes that buildNode() left
-  // unknown (those above task-queue subtrees).
-  uint32_t nodeCount(uint32_t slot) {
-    if (nodeCounts_[slot] == kCountUnknown) {
-      const uint32_t left = slots_[slot].leftFirst;
-      nodeCounts_[slot] = 1 + nodeCount(left) + nodeCount(left + 1);
+  // The final layout is the slots in their order with the holes squeezed out, which is the
+  // depth-first layout (see build()). Sizes nodes_ and cuts the stretches between the holes
+  // into layoutJobs_ for the threads.
+  void planLayout() {
+    std::sort(holes_.begin(), holes_.end(), [](const Hole& a, const Hole& b) { return a.begin < b.begin; });
+    const uint32_t slotCount = 2 * count_ - 1;
+    uint32_t shift = 0;
+    for (const Hole& hole : holes_) {
+      shift += hole.size;
+      holeEnds_.push_back(hole.begin + hole.size);
+      holeShifts_.push_back(shift);
     }
-    return nodeCounts_[slot];
+    const uint32_t total = slotCount - shift;
+    nodes_.resize(total); // shrinks: no allocation
+    const uint32_t jobNodes = std::max<uint32_t>(total / (kLayoutJobsPerThread * threads_), kLayoutJobMinNodes);
+    uint32_t from = 0;
+    shift = 0;
+    for (size_t h = 0; h <= holes_.size(); ++h) {
+      const uint32_t end = h < holes_.size() ? holes_[h].begin : slotCount;
+      for (uint32_t begin = from; begin < end; begin += jobNodes) layoutJobs_.push_back({begin, std::min(end, begin + jobNodes), end, shift});
+      if (h < holes_.size()) from = holeEnds_[h], shift = holeShifts_[h];
+    }
   }
 
-  // Sizes nodes_, places the top of the tree and cuts the rest into compactJobs_.
-  void planCompaction() {
-    const uint32_t total = nodeCount(0);
-    nodes_.resize(total); // within the reserved capacity: no allocation
-    const size_t jobNodes = std::max<size_t>(total / (kCompactJobsPerThread * threads_), kCompactJobMinNodes);
-    placeTop(0, 0, 1, jobNodes);
+  // How far slot i moves down: the size of the holes before it.
+  uint32_t shiftOf(uint32_t i) const {
+    const size_t before = std::upper_bound(holeEnds_.begin(), holeEnds_.end(), i) - holeEnds_.begin();
+    return before == 0 ? 0 : holeShifts_[before - 1];
   }
 
-  void placeTop(uint32_t slot, uint32_t to, uint32_t descendantsAt, size_t jobNodes) {
-    if (nodeCounts_[slot] <= jobNodes && compactJobs_.size() < compactJobs_.capacity())
-      return compactJobs_.push_back({slot, to, descendantsAt});
-    GpuBvhNode& node = nodes_[to];
-    node = slots_[slot];
-    if (node.count != 0) return;
-    const uint32_t left = node.leftFirst;
-    node.leftFirst = descendantsAt;
-    placeTop(left, descendantsAt, descendantsAt + 2, jobNodes);
-    placeTop(left + 1, descendantsAt + 1, descendantsAt + 2 + nodeCounts_[left] - 1, jobNodes);
-  }
-
-  // Lays out job.slot's subtree: its root at job.to, its descendants from job.descendantsAt on,
-  // by compactDepthFirst()'s loop. The stack holds (slot, place) of placed interior nodes whose
-  // children are still to be placed: at most one per level, and the build's depth is bounded.
-  void runCompactJob(const CompactJob& job) {
+  // Copies the job's nodes to their place in nodes_, and their child indices with them. A
+  // node's children lie after it, mostly in the same stretch; a child past the stretch's end
+  // (the right child of a node whose left child was a task) looks its shift up.
+  void runLayoutJob(const LayoutJob& job) {
     GpuBvhNode* out = nodes_.data();
-    std::array<std::pair<uint32_t, uint32_t>, 2 * kBvhMaxDepth> stack;
-    size_t stackSize = 0;
-    out[job.to] = slots_[job.slot];
-    if (out[job.to].count == 0) stack[stackSize++] = {job.slot, job.to};
-    uint32_t used = job.descendantsAt;
-    while (stackSize > 0) {
-      const auto [slot, to] = stack[--stackSize];
-      const uint32_t left = slots_[slot].leftFirst;
-      out[to].leftFirst = used;
-      out[used] = slots_[left];
-      out[used + 1] = slots_[left + 1];
-      // Right first on the stack so the left subtree is laid out next: depth-first order.
-      if (slots_[left + 1].count == 0) stack[stackSize++] = {left + 1, used + 1};
-      if (slots_[left].count == 0) stack[stackSize++] = {left, used};
-      used += 2;
+    for (uint32_t i = job.from; i < job.to; ++i) {
+      GpuBvhNode node = slots_[i];
+      if (node.count == 0) node.leftFirst -= node.leftFirst < job.stretchEnd ? job.shift : shiftOf(node.leftFirst);
+      out[i - job.shift] = node;
     }
   }
 
@@ -845,14 +943,18 @@ private:
   std::unique_ptr<BoxRef[]> refs_[2]; // a node's boxes are in one; partitioning moves them to the other
   std::unique_ptr<GpuBvhNode[]> slotStorage_; // with threads; one thread builds in nodes_
   GpuBvhNode* slots_ = nullptr;
-  std::unique_ptr<uint32_t[]> nodeCounts_; // per slot: the node count of its subtree, see buildNode()
   std::vector<uint32_t> order_;
   std::vector<GpuBvhNode> nodes_; // the result: slots_ laid out depth first
-  std::vector<CompactJob> compactJobs_;
+  // With threads: the holes between the tasks' slots, sorted by planLayout(), which adds the end
+  // of each and the size of all up to it; and the layout's jobs.
+  std::vector<Hole> holes_;
+  std::vector<uint32_t> holeEnds_, holeShifts_;
+  std::vector<LayoutJob> layoutJobs_;
 
-  std::mutex mutex_; // guards queue_ and unfinished_
+  std::mutex mutex_; // guards queues_, queuedTasks_, unfinished_ and holes_
   std::condition_variable wake_;
-  std::vector<NodeTask> queue_;
+  std::vector<TaskQueue> queues_; // one per thread
+  uint32_t queuedTasks_ = 0;
   uint32_t unfinished_ = 0; // tasks queued or running
 };
 

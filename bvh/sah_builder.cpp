@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <barrier>
 #include <bit>
 #include <cmath>
 #include <cstddef>
+#include <cstring>
 #include <condition_variable>
 #include <memory>
 #include <mutex>

@@ -122,9 +122,9 @@ TEST(BvhBuild, BaselineAndAvx2BuildsAreTheSame) {
 }
 
 TEST(BvhBuild, BuilderLaysTheTreeOutDepthFirst) {
-  // The builder lays the finished tree out subtree by subtree (several threads at once) from
-  // subtree node counts; compactDepthFirst() lays a tree out with one stack. A tree already in
-  // depth-first order is its own compaction.
+  // With threads, the builder squeezes the holes that tasks leave out of its slots (several
+  // threads at once, child indices shifted by the holes before them); compactDepthFirst() lays
+  // a tree out with one stack. A tree already in depth-first order is its own compaction.
   const std::vector<Aabb> boxes = scatteredBoxes(8000, 6); // threads from 4096 boxes
   for (int threads : {1, 2, 3}) {
     SCOPED_TRACE(threads);
@@ -264,6 +264,29 @@ TEST(BvhBuild, DegenerateInputStaysShallow) {
   }
   const TraceScene ts = TraceScene::build(scene, {.leafSize = 1});
   expectWellFormed(ts);
+}
+
+TEST(BvhBuild, ChainOfTasksWithThreads) {
+  // Boxes growing geometrically to one side of a cluster of small ones: the SAH peels big
+  // boxes off level by level, and the rest, the left child, goes to the task queue each time:
+  // a chain of tasks nested in each other's slots, each leaving a hole at its end, that the
+  // layout squeezes out. The threads still build the one-thread tree, depth first.
+  std::vector<Aabb> boxes = scatteredBoxes(5800, 12);
+  for (int i = 0; i < 200; ++i) {
+    const float s = 4096.0f * std::pow(1.15f, static_cast<float>(i));
+    boxes.push_back({{s, 0, 0}, {s * 1.01f + 1.0f, 1, 1}});
+  }
+  const FlatBvh one = buildBinnedSah(boxes, {.threads = 1});
+  for (int threads : {2, 3}) {
+    SCOPED_TRACE(threads);
+    const FlatBvh many = buildBinnedSah(boxes, {.threads = threads});
+    ASSERT_EQ(one.nodes.size(), many.nodes.size());
+    EXPECT_EQ(std::memcmp(one.nodes.data(), many.nodes.data(), one.nodes.size() * sizeof(GpuBvhNode)), 0);
+    EXPECT_EQ(one.order, many.order);
+  }
+  const std::vector<GpuBvhNode> compacted = compactDepthFirst(one.nodes);
+  ASSERT_EQ(compacted.size(), one.nodes.size());
+  EXPECT_EQ(std::memcmp(compacted.data(), one.nodes.data(), compacted.size() * sizeof(GpuBvhNode)), 0);
 }
 
 } // namespace
