@@ -4,6 +4,10 @@
 //
 //   build/bench/bench_bvh                                  everything
 //   build/bench/bench_bvh --benchmark_filter=Build        builds only
+//   build/bench/bench_bvh_generated                        the generated levels alone: linked
+//                                     without the importers (and OpenImageIO's hundreds of MB of
+//                                     libraries), so it travels to another machine
+//                                     (scripts/gpu-check.sh measures it on 2 cores there)
 //
 // Two build figures, items_per_second = brushes/s:
 //   BvhBuild/<scene>/threads:N        the "build M brushes/s": the binned SAH builder
@@ -16,7 +20,9 @@
 // work a build with more threads does than one with a single thread.
 // For traces items_per_second is rays/s (all threads together).
 #include "bvh/trace_scene.h"
+#ifdef BT_BENCH_SHARED_MAPS
 #include "importers/import.h"
+#endif
 #include "tests/bvh/full_sweep_sah.h"
 #include "tests/bvh/generated_scenes.h"
 
@@ -57,6 +63,7 @@ BenchScene& benchScene(const std::string& name) {
   slot = std::make_unique<BenchScene>();
   BenchScene& s = *slot;
   s.name = name;
+#ifdef BT_BENCH_SHARED_MAPS
   if (name.ends_with(".map")) {
     s.scene = importScene((std::filesystem::path(BRUSHTRACE_SHARED_DIR) / "maps" / name).string(), {.textures = {.load = false}});
     // Start rays at points in the void between brushes: random points no brush contains.
@@ -70,7 +77,9 @@ BenchScene& benchScene(const std::string& name) {
       const auto down = probe.closestHit({glm::vec3(p), 0.0f, {0, 0, -1}});
       if (up && down && !up->inside && !down->inside) s.openPoints.push_back(p); // under a roof, over a floor
     }
-  } else {
+  } else
+#endif
+  {
     test::GeneratedLevel level = test::generateLevel(std::stoi(name), 1);
     s.scene = std::move(level.scene);
     s.openPoints = std::move(level.openPoints);
@@ -110,8 +119,10 @@ BenchScene& benchScene(const std::string& name) {
   return s;
 }
 
+#ifdef BT_BENCH_SHARED_MAPS
 const char* kLargestSharedMap = "unvanquished-chasm/maps/chasm.map"; // 3724 brushes
 const char* kSecondSharedMap = "librequake/lq1/maps/src/e4/lq_e4m3.map"; // 3399 brushes
+#endif
 
 // User + system CPU time of every thread of the process, in seconds.
 double processCpuSeconds() {
@@ -166,8 +177,10 @@ void BM_ClosestHit(benchmark::State& state, const std::string& scene, bool bounc
 void registerAll() {
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::vector<std::string> scenes = {"5000", "50000", "500000"};
+#ifdef BT_BENCH_SHARED_MAPS
   const bool shared = std::filesystem::exists(std::filesystem::path(BRUSHTRACE_SHARED_DIR) / "maps" / kLargestSharedMap);
   if (shared) scenes.insert(scenes.end(), {kLargestSharedMap, kSecondSharedMap});
+#endif
   for (const std::string& scene : scenes) {
     const std::string label = scene.ends_with(".map") ? std::filesystem::path(scene).stem().string() : scene;
     for (auto* bench : {benchmark::RegisterBenchmark(("BvhBuild/" + label).c_str(), BM_BvhBuild, scene),

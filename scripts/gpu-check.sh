@@ -22,19 +22,19 @@ shared=${BRUSHTRACE_SHARED_DIR:-$repo/../shared}
 bundle=$device_repo/.device-bundle
 map_rel=librequake/lq1/maps/src/e4/lq_e4m3.map # the largest shared map (3.9 MB, Quake standard)
 
-cmake --build "$build" -j2 --target brushtrace gl_tests gl_bench
+cmake --build "$build" -j2 --target brushtrace gl_tests gl_bench bench_bvh_generated
 
 tmp=$bundle.tmp
 rm -rf "$tmp"
 mkdir -p "$tmp/lib"
-cp "$build/tests/gl/gl_tests" "$build/bench/gl_bench" "$tmp/"
+cp "$build/tests/gl/gl_tests" "$build/bench/gl_bench" "$build/bench/bench_bvh_generated" "$tmp/"
 "$build/brushtrace" dump "$shared/maps/$map_rel" --json >"$tmp/map.json"
 
 # Every library ldd resolves except glibc's and GCC's runtime (the GPU machine's are newer,
 # hence compatible, and the NVIDIA driver loads them too) and the GL/EGL/Vulkan loaders, which
 # must be the ones that find the NVIDIA driver there.
 system_libs='^(linux-vdso|ld-linux|libc|libm|libdl|libpthread|librt|libresolv|libstdc\+\+|libgcc_s|libEGL|libGL|libGLX|libGLdispatch|libOpenGL|libGLES|libvulkan)[.-]'
-for binary in "$tmp/gl_bench" "$tmp/gl_tests"; do
+for binary in "$tmp/gl_bench" "$tmp/gl_tests" "$tmp/bench_bvh_generated"; do
   ldd "$binary" | awk '$3 ~ /^\// {print $1, $3}' | while read -r name path; do
     if [[ ! $name =~ $system_libs ]]; then cp -Ln "$path" "$tmp/lib/"; fi
   done
@@ -52,6 +52,16 @@ out=\${OUT:-/tmp/out}
 mkdir -p "\$out"
 nvidia-smi -L
 cd .device-bundle
+# The BVH build (issue 3: M brushes/s on 2 cores) and CPU rays per thread on two physical cores
+# of this machine's CPU (one logical CPU of each of two cores, so no two threads share a core).
+cpu_benchmarks() {
+  local cpus
+  cpus=\$(lscpu -p=CPU,CORE,SOCKET | grep -v '^#' | awk -F, '!seen[\$2","\$3]++ {print \$1}' | head -2 | paste -sd,)
+  echo "== bench_bvh_generated on CPUs \$cpus (\$(lscpu | sed -n 's/^Model name: *//p'))"
+  taskset -c "\$cpus" ./bench_bvh_generated --benchmark_filter='BvhBuild/.*/threads:(1|2)/|ClosestHit/.*/threads:1\$' \\
+    --benchmark_repetitions=7 --benchmark_report_aggregates_only=true 2>&1 | grep -E 'median|^Run on|CPU Caches' | tee \$out/bench_bvh.log
+}
+if [ "\${1:-}" = cpu ]; then cpu_benchmarks; exit 0; fi
 # "run-on-device.sh quick": the benchmark alone, cold (NVIDIA's shader cache off), in both
 # lighting modes, for quick comparisons of the first image.
 if [ "\${1:-}" = quick ]; then
@@ -74,6 +84,7 @@ for textures in bindless arrays; do
   echo "== gl_bench $map_rel, \$textures (full samples in both lighting modes)"
   __GL_SHADER_DISK_CACHE=0 ./gl_bench map.json 1280x720 \$textures physical 6 2>&1 | tee \$out/bench_\$textures.log
 done
+cpu_benchmarks
 # As a user starts it: the driver's own shader cache on (its default), the first image in
 # faithful mode; the second run finds both caches filled.
 for run in first second; do
