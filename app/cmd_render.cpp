@@ -96,9 +96,10 @@ int runRender(const RenderOptions& o) {
   sceneOptions.bounceLights = o.lighting != "physical" && o.aov == "beauty"; // faithful _bounce only
   Diagnostics lightDiagnostics;
   const RenderScene renderScene = buildRenderScene(scene, sceneOptions, lightDiagnostics);
-  // A level with faithful dirt renders with the faithful program that traces its occlusion rays.
-  if (glPrograms && o.aov == "beauty" && renderScene.world.dirtSettings.enabled)
-    glPrograms->startPathTracer(o.lighting == "physical", true);
+  // A level with faithful dirt or many bounce lights renders with a faithful program built with
+  // those parts (gl::FaithfulFeatures), started as soon as the level says so.
+  if (glPrograms && o.aov == "beauty" && o.lighting != "physical")
+    glPrograms->startPathTracer(false, gl::faithfulFeatures(renderScene.world.dirtSettings, renderScene.lights));
   for (const Diagnostic& d : lightDiagnostics)
     if (!o.quiet) fmt::print(stderr, "{}\n", format(d));
 

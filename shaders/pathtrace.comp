@@ -175,6 +175,7 @@ struct Path {
   uint lightIndex;
   vec3 pending;
   bool pendingIsFloor; // faithful: a delay 4 light, which raises a floor instead of adding
+#ifdef BT_FAITHFUL_BOUNCE_DRAW
   // Faithful: the draw among the cell's bounce lights (faithfulBounceRay), where it stands.
   uint bounceFirst;        // list position of the first light drawn among; NO_BOUNCE_DRAW: none
   uint bounceLast;         // ... of the last with a share (NO_BOUNCE_DRAW: none has one)
@@ -182,6 +183,7 @@ struct Path {
   float bounceTotal;       // the shares laid end to end
   float bounceCumulative;  // ... up to the light the draw has reached
   float bounceTarget;      // the next target
+#endif
 #ifdef BT_FAITHFUL_DIRT
   // Faithful dirt: the surface's occlusion rays, traced before its lights.
   int dirtRay;      // rays set up so far
@@ -297,6 +299,10 @@ bool faithfulLightRay(inout Path path, GpuLight light, inout Rng rng) {
   return false;
 }
 
+#ifdef BT_FAITHFUL_BOUNCE_DRAW
+// The draw among a cell's bounce lights, in programs built for a level with more bounce lights
+// than the draw's rays (renderer/gl FaithfulFeatures): where no cell lists that many, every
+// light has its own ray below, as the CPU gives each then too.
 const uint NO_BOUNCE_DRAW = 0xffffffffu;
 
 // A bounce light's unshadowed share at the current surface (renderer/cpu bounceShare): the gate
@@ -398,6 +404,7 @@ bool faithfulListedLightRay(inout Path path, uint cell, uint i, uint count, inou
   }
   return faithfulBounceRay(path, cell, i, count, rng);
 }
+#endif
 
 // The pixel's value once a faithful path has ended: what the game would draw.
 vec3 faithfulDisplay(Path path) {
@@ -428,7 +435,9 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
   path.normal = hit.normal;
   path.lightSum = vec3(0.0);
   path.lightFloor = vec3(0.0);
+#ifdef BT_FAITHFUL_BOUNCE_DRAW
   path.bounceFirst = NO_BOUNCE_DRAW;
+#endif
 #ifdef BT_FAITHFUL_DIRT
   path.dirtRay = 0;
   path.dirtSum = 0.0;
@@ -586,7 +595,11 @@ bool nextLightRay(inout Path path, inout Rng rng) {
     if (i == count)
       needsRay = PHYSICAL && world.emitterCount > 0u && physicalEmitterRay(path, rng);
     else if (!PHYSICAL)
+#ifdef BT_FAITHFUL_BOUNCE_DRAW
       needsRay = faithfulListedLightRay(path, cell, i, count, rng);
+#else
+      needsRay = faithfulLightRay(path, lights[faithfulLight(cell, i)], rng);
+#endif
     else if (i < lightGrid.fixedCount)
       needsRay = physicalSunRay(path, lights[lightIndices[i]], rng);
     else

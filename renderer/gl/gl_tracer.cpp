@@ -1,5 +1,6 @@
 #include "renderer/gl/gl_tracer.h"
 
+#include "renderer/cpu/integrator.h"
 #include "renderer/gl/gl_error.h"
 #include "renderer/gl/gl_program.h"
 #include "renderer/gl/gl_scene.h"
@@ -7,6 +8,7 @@
 #include <epoxy/gl.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <string_view>
 
@@ -205,10 +207,21 @@ void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* sh
   slot = std::make_unique<ComputeProgram>(ComputeProgram::Deferred{}, shader, defines, cached ? cache_ : ProgramCache{});
 }
 
-std::vector<std::string> TracerPrograms::pathDefines(bool physical, bool dirt) const {
+FaithfulFeatures faithfulFeatures(const DirtSettings& dirt, const std::vector<GpuLight>& lights) {
+  const size_t bounceLights = size_t(std::count_if(lights.begin(), lights.end(), [](const GpuLight& l) {
+    return l.formula == uint32_t(LightFormula::Bounce);
+  }));
+  return {dirt.enabled, bounceLights > kBounceShadowRays};
+}
+
+std::vector<std::string> TracerPrograms::pathDefines(bool physical, FaithfulFeatures features) const {
   std::vector<std::string> defines = shaderDefines(mode_, layout_);
-  if (physical) defines.emplace_back("BT_LIGHTING_PHYSICAL");
-  if (dirt && !physical) defines.emplace_back("BT_FAITHFUL_DIRT"); // physical mode has no dirt
+  if (physical) {
+    defines.emplace_back("BT_LIGHTING_PHYSICAL"); // physical mode has no dirt, no bounce lights
+    return defines;
+  }
+  if (features.dirt) defines.emplace_back("BT_FAITHFUL_DIRT");
+  if (features.bounceDraw) defines.emplace_back("BT_FAITHFUL_BOUNCE_DRAW");
   return defines;
 }
 
@@ -222,55 +235,56 @@ ComputeProgram& TracerPrograms::finished(std::unique_ptr<ComputeProgram>& slot) 
   return *slot;
 }
 
-// Dirt's occlusion rays exist only in the faithful program of a level that uses dirt: the
-// default program does not grow (nor its compile time). Physical mode ignores `dirt`, here and
-// in pathDefines().
-std::unique_ptr<ComputeProgram>& TracerPrograms::pathSlot(bool physical, bool dirt) {
-  return path_[physical ? 1 : (dirt ? 2 : 0)];
+// Physical mode ignores the faithful features, here and in pathDefines().
+size_t TracerPrograms::variantIndex(bool physical, FaithfulFeatures features) {
+  return physical ? 0 : 1 + (features.dirt ? 1 : 0) + (features.bounceDraw ? 2 : 0);
 }
-std::unique_ptr<ComputeProgram>& TracerPrograms::shadeSlot(bool physical, bool dirt) {
-  return shade_[physical ? 1 : (dirt ? 2 : 0)];
+std::unique_ptr<ComputeProgram>& TracerPrograms::pathSlot(bool physical, FaithfulFeatures features) {
+  return path_[variantIndex(physical, features)];
+}
+std::unique_ptr<ComputeProgram>& TracerPrograms::shadeSlot(bool physical, FaithfulFeatures features) {
+  return shade_[variantIndex(physical, features)];
 }
 
-void TracerPrograms::startPathTracer(bool physical, bool dirt) {
-  std::unique_ptr<ComputeProgram>& slot = pathSlot(physical, dirt);
+void TracerPrograms::startPathTracer(bool physical, FaithfulFeatures features) {
+  std::unique_ptr<ComputeProgram>& slot = pathSlot(physical, features);
   if (slot) return;
   // The wavefront kernels are queued first, so that the driver's threads take them first; a
   // megakernel from the program cache needs none.
-  const std::vector<std::string> defines = pathDefines(physical, dirt);
-  if (wavefrontFirst_ && !programCached("pathtrace.comp", defines, cache_)) startWavefront(physical, dirt);
+  const std::vector<std::string> defines = pathDefines(physical, features);
+  if (wavefrontFirst_ && !programCached("pathtrace.comp", defines, cache_)) startWavefront(physical, features);
   start(slot, "pathtrace.comp", defines);
-  if (wavefrontFirst_ && !slot->loadedFromCache()) startWavefront(physical, dirt); // the driver refused the cached binary
+  if (wavefrontFirst_ && !slot->loadedFromCache()) startWavefront(physical, features); // the driver refused the cached binary
 }
 
-void TracerPrograms::startWavefront(bool physical, bool dirt) {
-  std::vector<std::string> defines = pathDefines(physical, dirt);
+void TracerPrograms::startWavefront(bool physical, FaithfulFeatures features) {
+  std::vector<std::string> defines = pathDefines(physical, features);
   defines.emplace_back("BT_WAVEFRONT_SHADE");
   // Not cached: a start that finds the megakernel in the cache needs no wavefront kernels, and
   // storing them would put their binaries' retrieval (NVIDIA: tenths of a second) before the
   // first image they are for.
-  start(shadeSlot(physical, dirt), "pathtrace.comp", std::move(defines), false);
+  start(shadeSlot(physical, features), "pathtrace.comp", std::move(defines), false);
   start(trace_, "wavefront_trace.comp", shaderDefines(mode_, layout_), false);
 }
 
 void TracerPrograms::startAovs() { start(aov_, "aov.comp", shaderDefines(mode_, layout_)); }
 
-ComputeProgram& TracerPrograms::pathTracer(bool physical, bool dirt) {
-  startPathTracer(physical, dirt);
-  return finished(pathSlot(physical, dirt));
+ComputeProgram& TracerPrograms::pathTracer(bool physical, FaithfulFeatures features) {
+  startPathTracer(physical, features);
+  return finished(pathSlot(physical, features));
 }
-ComputeProgram& TracerPrograms::wavefrontShade(bool physical, bool dirt) {
-  startWavefront(physical, dirt);
-  return finished(shadeSlot(physical, dirt));
+ComputeProgram& TracerPrograms::wavefrontShade(bool physical, FaithfulFeatures features) {
+  startWavefront(physical, features);
+  return finished(shadeSlot(physical, features));
 }
 ComputeProgram& TracerPrograms::wavefrontTrace() {
   start(trace_, "wavefront_trace.comp", shaderDefines(mode_, layout_), false);
   return finished(trace_);
 }
-TracerPrograms::WavefrontKernels TracerPrograms::wavefront(bool physical, bool dirt) {
-  startWavefront(physical, dirt);
+TracerPrograms::WavefrontKernels TracerPrograms::wavefront(bool physical, FaithfulFeatures features) {
+  startWavefront(physical, features);
   ComputeProgram& trace = wavefrontTrace();
-  return {wavefrontShade(physical, dirt), trace};
+  return {wavefrontShade(physical, features), trace};
 }
 ComputeProgram& TracerPrograms::aovs() {
   startAovs();
@@ -281,15 +295,15 @@ ComputeProgram& TracerPrograms::rayBench() {
   return finished(rayBench_);
 }
 
-TracerPrograms::WavefrontState TracerPrograms::wavefrontState(bool physical, bool dirt) {
-  std::unique_ptr<ComputeProgram>& shade = shadeSlot(physical, dirt);
+TracerPrograms::WavefrontState TracerPrograms::wavefrontState(bool physical, FaithfulFeatures features) {
+  std::unique_ptr<ComputeProgram>& shade = shadeSlot(physical, features);
   if (!shade || !trace_) return {};
   return {true, shade->ready(), trace_->ready()};
 }
 
-bool TracerPrograms::wavefrontWhileCompiling(bool physical, bool dirt) {
-  const std::unique_ptr<ComputeProgram>& mega = pathSlot(physical, dirt);
-  return shadeSlot(physical, dirt) && mega && !mega->ready();
+bool TracerPrograms::wavefrontWhileCompiling(bool physical, FaithfulFeatures features) {
+  const std::unique_ptr<ComputeProgram>& mega = pathSlot(physical, features);
+  return shadeSlot(physical, features) && mega && !mega->ready();
 }
 
 struct GlTracer::Impl {
@@ -298,7 +312,7 @@ struct GlTracer::Impl {
   GlTextures textures;
   GlSceneBuffers buffers;
   GpuWorld world;
-  bool dirt = false; // the level uses faithful dirt: BT_FAITHFUL_DIRT in the faithful program
+  FaithfulFeatures features; // of the level: the faithful program's optional parts
   GLuint cameraBuffer = 0;
   GLuint worldBuffer = 0;
   WavefrontBuffers wavefront;
@@ -310,7 +324,7 @@ struct GlTracer::Impl {
         textures(scene, programs->textureMode(), c.info()),
         buffers(tracer, withShadingFlags(textures.materials(), lighting), lighting, scene.materials.size()),
         world(worldBlock(lighting)),
-        dirt(lighting.dirt.enabled) {
+        features(faithfulFeatures(lighting.dirt, lighting.lights)) {
     BT_GL(glCreateBuffers(1, &cameraBuffer));
     BT_GL(glNamedBufferStorage(cameraBuffer, sizeof(GpuCamera), nullptr, GL_DYNAMIC_STORAGE_BIT));
     BT_GL(glCreateBuffers(1, &worldBuffer));
@@ -395,7 +409,7 @@ void GlTracer::setProgramCache(ProgramCache cache) { impl_->programs->setCache(s
 TracerPrograms& GlTracer::programs() { return *impl_->programs; }
 
 ProgramBuild GlTracer::buildPathTracer(int width, int height, bool physical) {
-  ComputeProgram& program = impl_->programs->pathTracer(physical, impl_->dirt);
+  ComputeProgram& program = impl_->programs->pathTracer(physical, impl_->features);
   // Drivers may leave the real compile to the first dispatch (llvmpipe does). One dispatch whose
   // invocations all return at once (image size 0 in the camera block) makes them finish it
   // here. llvmpipe compiles a variant per bound image shape (power-of-two sizes or not), so
@@ -412,7 +426,7 @@ ProgramBuild GlTracer::buildPathTracer(int width, int height, bool physical) {
 }
 
 ProgramBuild GlTracer::buildWavefront(int width, int height, bool physical) {
-  auto [shade, trace] = impl_->programs->wavefront(physical, impl_->dirt);
+  auto [shade, trace] = impl_->programs->wavefront(physical, impl_->features);
   // As buildPathTracer: one dispatch of each with nothing to do finishes the driver's work; the
   // per-pixel buffers are made here too.
   const auto dispatchStart = std::chrono::steady_clock::now();
@@ -472,18 +486,18 @@ BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettin
   out.width = settings.width;
   out.height = settings.height;
   TracerPrograms& programs = *impl_->programs;
-  if (settings.form == PathTracerForm::Auto) programs.startPathTracer(settings.physical, impl_->dirt);
+  if (settings.form == PathTracerForm::Auto) programs.startPathTracer(settings.physical, impl_->features);
   for (int sample = 0; sample < settings.spp; ++sample) {
     impl_->setCamera(camera, settings.width, settings.height, static_cast<uint32_t>(sample), settings.seed, 0);
     const bool wavefront = settings.form == PathTracerForm::Wavefront ||
-                           (settings.form == PathTracerForm::Auto && programs.wavefrontWhileCompiling(settings.physical, impl_->dirt));
+                           (settings.form == PathTracerForm::Auto && programs.wavefrontWhileCompiling(settings.physical, impl_->features));
     if (wavefront) {
-      auto [shade, trace] = programs.wavefront(settings.physical, impl_->dirt);
+      auto [shade, trace] = programs.wavefront(settings.physical, impl_->features);
       impl_->wavefrontSample(shade, trace, settings.width, settings.height);
       ++out.wavefrontSamples;
     } else {
       if (settings.form == PathTracerForm::Auto) impl_->wavefront.release(); // the switch is for good
-      programs.pathTracer(settings.physical, impl_->dirt).dispatch2d(settings.width, settings.height);
+      programs.pathTracer(settings.physical, impl_->features).dispatch2d(settings.width, settings.height);
       // Each sample reads the sum the previous one wrote.
       BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT));
     }

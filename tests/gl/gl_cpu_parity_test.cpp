@@ -263,6 +263,8 @@ TEST(GlCpuParity, ManyBounceLightsDrawTheSameAsTheCpu) {
     const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
     const CameraPose pose{{400.0f, -400.0f, 200.0f}, 20.0f, 135.0f, 0.0f, "test"};
     ASSERT_GT(trailingBounceLights(rs.lights, rs.lightGrid.cellLights(pose.origin)), kBounceShadowRays);
+    // The GL tracer builds its faithful program with the draw (and dirt) for this level alone.
+    EXPECT_EQ(faithfulFeatures(rs.world.dirtSettings, rs.lights), (FaithfulFeatures{dirt, true}));
     RenderSettings settings;
     settings.width = 64;
     settings.height = 40;
@@ -281,6 +283,23 @@ TEST(GlCpuParity, ManyBounceLightsDrawTheSameAsTheCpu) {
       moved += glm::length(cpu.beauty[i] - everyLight.beauty[i]) > 0.01f * glm::length(everyLight.beauty[i]) + 1e-3f;
     EXPECT_GT(moved, cpu.beauty.size() / 10) << "the draw must change the image beyond the agreement";
   }
+}
+
+// The bounce draw is compiled only into the faithful programs of levels that can need it: more
+// bounce lights than the draw's rays. With 16 or fewer no cell lists more, and every light keeps
+// its own ray on both tracers.
+TEST(FaithfulFeatures, TheBounceDrawOnlyWhereALevelHasMoreBounceLightsThanRays) {
+  std::vector<GpuLight> lights(3); // point lights of the default formula
+  DirtSettings dirt;
+  EXPECT_EQ(faithfulFeatures(dirt, lights), (FaithfulFeatures{false, false}));
+  GpuLight bounce;
+  bounce.formula = uint32_t(LightFormula::Bounce);
+  lights.insert(lights.end(), kBounceShadowRays, bounce);
+  EXPECT_EQ(faithfulFeatures(dirt, lights), (FaithfulFeatures{false, false}));
+  lights.push_back(bounce);
+  EXPECT_EQ(faithfulFeatures(dirt, lights), (FaithfulFeatures{false, true}));
+  dirt.enabled = true;
+  EXPECT_EQ(faithfulFeatures(dirt, lights), (FaithfulFeatures{true, true}));
 }
 
 } // namespace
