@@ -90,21 +90,27 @@ void BM_Rays(benchmark::State& state, const std::string& mapName, bool bounce) {
   state.counters["threads"] = threads;
 }
 
+// Renders m at kWidth x kHeight, spp samples per pixel, for as long as the benchmark asks, and
+// reports Msamples/s.
+void timeRenders(benchmark::State& state, const LoadedLevel& m, LightingMode mode, int spp, int threads) {
+  RenderSettings s;
+  s.width = kWidth;
+  s.height = kHeight;
+  s.spp = spp;
+  s.integrator.mode = mode;
+  s.threads = threads;
+  for (auto _ : state) benchmark::DoNotOptimize(renderCpu(m.rs, Camera(m.pose, kWidth, kHeight), s).beauty.data());
+  state.counters["Msamples/s"] = benchmark::Counter(double(kWidth) * kHeight * spp * double(state.iterations()) / 1e6,
+                                                    benchmark::Counter::kIsRate);
+}
+
 void BM_Render(benchmark::State& state, const std::string& mapName, LightingMode mode) {
   const LoadedLevel* m = bench::loadLevel(kMaps.at(mapName));
   if (!m) {
     state.SkipWithError("map not found");
     return;
   }
-  RenderSettings s;
-  s.width = kWidth;
-  s.height = kHeight;
-  s.spp = 1;
-  s.integrator.mode = mode;
-  s.threads = state.range(0) > 0 ? int(state.range(0)) : 0;
-  for (auto _ : state) benchmark::DoNotOptimize(renderCpu(m->rs, Camera(m->pose, kWidth, kHeight), s).beauty.data());
-  state.counters["Msamples/s"] = benchmark::Counter(double(kWidth) * kHeight * double(state.iterations()) / 1e6,
-                                                    benchmark::Counter::kIsRate);
+  timeRenders(state, *m, mode, 1, state.range(0) > 0 ? int(state.range(0)) : 0);
 }
 
 // Faithful `_bounce`: LibreQuake's lq_e3m1 (worldspawn `_bounce 3`: about a thousand bounce
@@ -136,14 +142,7 @@ void BM_RenderBounce(benchmark::State& state) {
     state.SkipWithError("lq_e3m1 not found (../shared missing?)");
     return;
   }
-  RenderSettings s;
-  s.width = kWidth;
-  s.height = kHeight;
-  s.spp = 4;
-  s.integrator.mode = LightingMode::Faithful;
-  for (auto _ : state) benchmark::DoNotOptimize(renderCpu(m->rs, Camera(m->pose, kWidth, kHeight), s).beauty.data());
-  state.counters["Msamples/s"] = benchmark::Counter(double(kWidth) * kHeight * s.spp * double(state.iterations()) / 1e6,
-                                                    benchmark::Counter::kIsRate);
+  timeRenders(state, *m, LightingMode::Faithful, 4, 0);
   state.counters["lights"] = double(m->rs.lights.size());
   // What a hit looks at: the bounce lights its cell lists, on average over the cells.
   const LightGrid& grid = m->rs.lightGrid;

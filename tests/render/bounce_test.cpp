@@ -189,18 +189,20 @@ TEST(FaithfulBounceBudget, SampleCountPerFace) {
   EXPECT_EQ(bounceSampleCount(0, 40000, 20000), 0u);
 }
 
+// test::manyLightsRoom's room of 24 lights with worldspawn `_bounce passes`.
+Scene manyLightsBouncing(int passes) {
+  Scene s = test::manyLightsRoom(24, false, 7);
+  s.entities[0].keys.emplace_back("_bounce", std::to_string(passes));
+  return s;
+}
+
 // A room of many lights with `_bounce 2`, prepared exactly and within a budget an eighth of its
 // luxels with 4 shadow rays per gathered luxel (the path a large level takes).
 struct BudgetRoom {
   Scene scene;
   RenderScene rs;
   std::vector<BrushContents> contents;
-  BudgetRoom() : scene(bouncingRoom()), rs(prepared(scene)), contents(scene.brushes.size(), BrushContents::Solid) {}
-  static Scene bouncingRoom() {
-    Scene s = test::manyLightsRoom(24, false, 7);
-    s.entities[0].keys.emplace_back("_bounce", "2");
-    return s;
-  }
+  BudgetRoom() : scene(manyLightsBouncing(2)), rs(prepared(scene)), contents(scene.brushes.size(), BrushContents::Solid) {}
   static RenderScene prepared(const Scene& s) {
     Diagnostics diags;
     RenderSceneOptions options;
@@ -318,12 +320,7 @@ TEST(FaithfulBounceBudget, DiagnosticsNoteOnlyWhenEstimated) {
 struct BouncingRoom {
   Scene scene;
   RenderScene rs;
-  BouncingRoom() : scene(roomScene()), rs(prepared(scene)) {}
-  static Scene roomScene() {
-    Scene s = test::manyLightsRoom(24, false, 7);
-    s.entities[0].keys.emplace_back("_bounce", "1");
-    return s;
-  }
+  BouncingRoom() : scene(manyLightsBouncing(1)), rs(prepared(scene)) {}
   static RenderScene prepared(const Scene& s) {
     Diagnostics diags;
     return buildRenderScene(s, {}, diags);
