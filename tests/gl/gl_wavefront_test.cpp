@@ -3,6 +3,8 @@
 // for the same seed and sample count, in every lighting mode. Equal within float tolerance, not
 // bit for bit: the driver compiles the traversal and the shading in separate programs, and may
 // contract or reorder their arithmetic differently (measured: bit-exact on llvmpipe).
+#include "renderer/cpu/integrator.h"
+#include "renderer/cpu/light_grid.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_tracer.h"
 #include "tests/gl/test_scenes.h"
@@ -73,6 +75,29 @@ TEST(GlWavefront, FaithfulWithBounceEqualsTheMegakernel) {
   lighting.faithfulBounces = 1;
   lighting.minlight = glm::vec3(5.0f);
   expectSameImage(test::makeTestRoom(), lighting, {.width = kWidth, .height = kHeight, .spp = 2, .seed = 3});
+}
+
+// A level with more bounce lights than the draw's rays gets the faithful program with the draw
+// (BT_FAITHFUL_BOUNCE_DRAW), whose state lives in the path between the wavefront's dispatches.
+// The room's floor and walls as 40 bounce lights facing into it: every cell lists more than 16.
+TEST(GlWavefront, FaithfulBounceDrawEqualsTheMegakernel) {
+  GlLighting lighting;
+  lighting.lights = {pointLight({-100, 0, 200}, 300.0f)};
+  for (int i = 0; i < 40; ++i) {
+    GpuLight bounce = pointLight({-240.0f + 12.0f * float(i), 200.0f - 10.0f * float(i % 7), 1.0f}, 40000.0f + 1000.0f * float(i));
+    bounce.formula = uint32_t(LightFormula::Bounce);
+    bounce.direction = {0.0f, 0.0f, 1.0f}; // towards what it lights
+    bounce.color = {0.9f, 0.6f + 0.01f * float(i % 10), 0.4f};
+    if (i % 4 == 3) bounce.origin = {-255.0f, bounce.origin.y, 60.0f}, bounce.direction = {1.0f, 0.0f, 0.0f};
+    lighting.lights.push_back(bounce);
+  }
+  lighting.faithfulBounces = 1;
+  ASSERT_TRUE(faithfulFeatures(lighting.dirt, lighting.lights).bounceDraw);
+  const Scene room = test::makeTestRoom();
+  lighting.lightGrid = buildLightGrid(lighting.lights, TraceScene::build(room).bounds(), lighting.scaledist);
+  ASSERT_GT(trailingBounceLights(lighting.lights, lighting.lightGrid.cellLights({100.0f, 60.0f, 40.0f})), kBounceShadowRays)
+      << "the cell the camera looks at must draw among its bounce lights";
+  expectSameImage(room, lighting, {.width = kWidth, .height = kHeight, .spp = 2, .seed = 5});
 }
 
 TEST(GlWavefront, PhysicalEqualsTheMegakernel) {
