@@ -264,8 +264,11 @@ void TracerPrograms::startWavefront(bool physical, FaithfulFeatures features) {
   // storing them would put their binaries' retrieval (NVIDIA: tenths of a second) before the
   // first image they are for.
   start(shadeSlot(physical, features), "pathtrace.comp", std::move(defines), false);
-  start(trace_, "wavefront_trace.comp", shaderDefines(mode_, layout_), false);
+  startWavefrontTrace();
 }
+
+// The trace kernel serves every lighting mode; not cached, as the shade kernel.
+void TracerPrograms::startWavefrontTrace() { start(trace_, "wavefront_trace.comp", shaderDefines(mode_, layout_), false); }
 
 void TracerPrograms::startAovs() { start(aov_, "aov.comp", shaderDefines(mode_, layout_)); }
 
@@ -278,7 +281,7 @@ ComputeProgram& TracerPrograms::wavefrontShade(bool physical, FaithfulFeatures f
   return finished(shadeSlot(physical, features));
 }
 ComputeProgram& TracerPrograms::wavefrontTrace() {
-  start(trace_, "wavefront_trace.comp", shaderDefines(mode_, layout_), false);
+  startWavefrontTrace();
   return finished(trace_);
 }
 TracerPrograms::WavefrontKernels TracerPrograms::wavefront(bool physical, FaithfulFeatures features) {
@@ -361,6 +364,21 @@ struct GlTracer::Impl {
     textures.bind();
   }
 
+  // Drivers may leave the real compile to the first dispatch (llvmpipe does). `dispatch` runs
+  // the programs once with nothing to do (image size 0 in the camera block), which makes them
+  // finish it now; returns the milliseconds it took. llvmpipe compiles a variant per bound image
+  // shape (power-of-two sizes or not), so the image is the size the renders will use.
+  double finishWithEmptyDispatch(int width, int height, bool physical, const std::function<void()>& dispatch) {
+    const auto start = std::chrono::steady_clock::now();
+    StorageImage target(GL_RGBA32F, std::max(width, 1), std::max(height, 1));
+    target.bindImage(0, GL_READ_WRITE);
+    setWorld(physical, 0);
+    setCamera(CameraBasis{}, 0, 0, 0, 0);
+    dispatch();
+    BT_GL(glFinish());
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  }
+
   // One sample with the wavefront kernels (camera set): the shade kernel starts every pixel's
   // path at the camera, then trace and shade by turns until every path has ended; each adds its
   // sample to the image as it ends.
@@ -410,36 +428,19 @@ TracerPrograms& GlTracer::programs() { return *impl_->programs; }
 
 ProgramBuild GlTracer::buildPathTracer(int width, int height, bool physical) {
   ComputeProgram& program = impl_->programs->pathTracer(physical, impl_->features);
-  // Drivers may leave the real compile to the first dispatch (llvmpipe does). One dispatch whose
-  // invocations all return at once (image size 0 in the camera block) makes them finish it
-  // here. llvmpipe compiles a variant per bound image shape (power-of-two sizes or not), so
-  // the image is the size the renders will use.
-  const auto dispatchStart = std::chrono::steady_clock::now();
-  StorageImage target(GL_RGBA32F, std::max(width, 1), std::max(height, 1));
-  target.bindImage(0, GL_READ_WRITE);
-  impl_->setWorld(physical, 0);
-  impl_->setCamera(CameraBasis{}, 0, 0, 0, 0);
-  program.dispatch2d(1, 1);
-  BT_GL(glFinish());
-  const double dispatchMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - dispatchStart).count();
+  const double dispatchMs = impl_->finishWithEmptyDispatch(width, height, physical, [&] { program.dispatch2d(1, 1); });
   return {program.buildMilliseconds() + dispatchMs, program.loadedFromCache()};
 }
 
 ProgramBuild GlTracer::buildWavefront(int width, int height, bool physical) {
   auto [shade, trace] = impl_->programs->wavefront(physical, impl_->features);
-  // As buildPathTracer: one dispatch of each with nothing to do finishes the driver's work; the
-  // per-pixel buffers are made here too.
-  const auto dispatchStart = std::chrono::steady_clock::now();
-  StorageImage target(GL_RGBA32F, std::max(width, 1), std::max(height, 1));
-  target.bindImage(0, GL_READ_WRITE);
-  impl_->setWorld(physical, 0);
-  impl_->setCamera(CameraBasis{}, 0, 0, 0, 0);
-  impl_->wavefront.prepare(shade, width, height);
-  impl_->wavefront.bind();
-  shade.dispatch2d(1, 1);
-  trace.dispatch2d(1, 1);
-  BT_GL(glFinish());
-  const double dispatchMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - dispatchStart).count();
+  // The per-pixel buffers are made here too.
+  const double dispatchMs = impl_->finishWithEmptyDispatch(width, height, physical, [&] {
+    impl_->wavefront.prepare(shade, width, height);
+    impl_->wavefront.bind();
+    shade.dispatch2d(1, 1);
+    trace.dispatch2d(1, 1);
+  });
   return {std::max(shade.buildMilliseconds(), trace.buildMilliseconds()) + dispatchMs,
           shade.loadedFromCache() && trace.loadedFromCache()};
 }

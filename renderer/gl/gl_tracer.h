@@ -191,6 +191,7 @@ public:
 private:
   ComputeProgram& finished(std::unique_ptr<ComputeProgram>& slot);
   void start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines, bool cached = true);
+  void startWavefrontTrace();
   std::vector<std::string> pathDefines(bool physical, FaithfulFeatures features) const;
   static size_t variantIndex(bool physical, FaithfulFeatures features);
   std::unique_ptr<ComputeProgram>& pathSlot(bool physical, FaithfulFeatures features);
