@@ -191,7 +191,7 @@ struct Path {
   float occlusion;  // 0 open .. 1 enclosed, once all are back (renderer/cpu faithfulDirtOcclusion)
 #endif
   // Faithful mode: the lights at this surface, and over the path (renderer/cpu faithfulLightAt,
-  // faithfulBounce, radianceFaithful).
+  // faithfulPathEnd, radianceFaithful).
   vec3 lightSum;
   vec3 lightFloor;
   vec3 lit;         // the light sum with its floors
@@ -448,7 +448,7 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
 
 // The surface's lights are all done: the floors, then what the game would draw. The path ends
 // (main() calls this where physical mode samples its next bounce).
-bool faithfulBounce(inout Path path, inout Rng rng) {
+bool faithfulPathEnd(inout Path path, inout Rng rng) {
   vec3 light = max(max(path.lightSum, path.lightFloor), world.minlight * minlightDirtFactor(path));
   // The _surface template's own faces: ericw-tools' face minlight (renderer/cpu faithfulFaceMinlight).
   path.lit = max(light, surfaceFaceMinlight(surfaceLights[faces[path.face].material]) * minlightDirtFactor(path));
@@ -680,7 +680,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
   }
   if (ended) return false;
   if (nextLightRay(path, rng)) return true;
-  return PHYSICAL ? physicalBounce(path, rng) : faithfulBounce(path, rng);
+  return PHYSICAL ? physicalBounce(path, rng) : faithfulPathEnd(path, rng);
 }
 
 // ---- the two forms of the loop ------------------------------------------------------------
