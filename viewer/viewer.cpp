@@ -3,7 +3,7 @@
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/cpu/image_output.h"
 #include "renderer/cpu/render_scene.h"
-#include "renderer/gl/gl_lighting.h"
+#include "renderer/gl/gl_level.h"
 #include "renderer/gl/gl_tracer.h"
 #include "renderer/gl/gl_window.h"
 #include "viewer/file_watcher.h"
@@ -20,7 +20,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <future>
 #include <set>
 
 namespace bt {
@@ -30,13 +29,10 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-// The level as the tracers see it. Rebuilt whole on every reload, so a failed reload leaves
-// the previous one untouched.
-struct Level {
-  Scene scene;
-  RenderScene render;
-  std::unique_ptr<gl::GlTracer> tracer;
-  std::vector<fs::path> files; // what the level was read from: the map, its WADs and images
+// The level as the tracers see it, and the files it was read from: the map, its WADs and
+// images. Rebuilt whole on every reload, so a failed reload leaves the previous one untouched.
+struct Level : gl::GlLevel {
+  std::vector<fs::path> files;
 };
 
 std::vector<fs::path> filesOf(const Scene& scene) {
@@ -47,23 +43,11 @@ std::vector<fs::path> filesOf(const Scene& scene) {
 }
 
 // `programs` outlive the level: a reload uploads the new level and keeps the compiled programs.
-// The level is imported on a worker thread while this one waits for the wavefront kernels,
-// where they were started for the first images (`physical`: the lighting they are for): NVIDIA's
-// driver does part of a compile on the thread that waits for it (`brushtrace bench` measures
-// this). The upload needs this thread's GL context.
+// `physical`: the lighting the first images are for (gl::loadGlLevel waits for those kernels).
 std::unique_ptr<Level> loadLevel(const ViewerOptions& options, gl::GlContext& context,
                                  const std::shared_ptr<gl::TracerPrograms>& programs, bool physical) {
   auto level = std::make_unique<Level>();
-  auto imported = std::async(std::launch::async, [&] {
-    level->scene = importScene(options.map, options.import);
-    level->render = buildRenderScene(level->scene, {}, level->scene.diagnostics);
-  });
-  if (programs->wavefrontState(physical).started) {
-    programs->wavefront(physical);
-  }
-  imported.get();
-  level->tracer = std::make_unique<gl::GlTracer>(context, level->scene, level->render.tracer, programs,
-                                                 gl::lightingFor(level->render));
+  gl::loadGlLevel(*level, context, programs, physical, [&] { return importScene(options.map, options.import); });
   level->files = filesOf(level->scene);
   return level;
 }

@@ -3,7 +3,7 @@
 #include "renderer/cpu/camera.h"
 #include "renderer/cpu/render_scene.h"
 #include "renderer/gl/gl_context.h"
-#include "renderer/gl/gl_lighting.h"
+#include "renderer/gl/gl_level.h"
 #include "renderer/gl/gl_render.h"
 #include "renderer/gl/gl_tracer.h"
 
@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <future>
 #include <random>
 
 namespace bt::gl {
@@ -33,54 +32,31 @@ int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& s
       std::filesystem::temp_directory_path() / fmt::format("brushtrace-bench-{:08x}", std::random_device{}());
   const gl::BeautySettings oneSample{
       .width = s.width, .height = s.height, .spp = 1, .physical = s.physical, .bounces = s.bounces};
-  std::unique_ptr<Scene> scene;
-  std::unique_ptr<RenderScene> renderScene;
   std::unique_ptr<gl::GlContext> context;
-  std::unique_ptr<gl::GlTracer> tracer;
+  std::unique_ptr<gl::GlLevel> level;
   CameraPose pose;
   auto firstImage = [&](const char* label) {
-    tracer.reset();
+    level.reset();
     context.reset();
-    renderScene.reset();
-    scene.reset();
     const auto start = Clock::now();
+    auto at = [&](Clock::time_point t) { return std::chrono::duration<double>(t - start).count(); };
     context = gl::GlContext::createHeadless();
     const double contextSeconds = secondsSince(start);
     auto programs = std::make_shared<gl::TracerPrograms>(*context, s.textures);
     programs->setCache(gl::ProgramCache(cacheDir));
     programs->startPathTracer(s.physical);
     const double startedSeconds = secondsSince(start);
-    // The level is imported on a worker thread while this one waits for the wavefront kernels:
-    // NVIDIA's driver does part of a compile on the thread that waits for it, even after it
-    // reports the compile complete (H100, faithful, cold: the first image 0.49-0.83 s this way,
-    // 0.86-1.2 s with the import here and the wait after it).
     const bool wavefront = programs->wavefrontState(s.physical).started;
-    double importSeconds = 0.0, importedAt = 0.0;
-    auto imported = std::async(std::launch::async, [&] {
-      const auto importStart = Clock::now();
-      scene = std::make_unique<Scene>(loadScene());
-      Diagnostics diagnostics;
-      renderScene = std::make_unique<RenderScene>(buildRenderScene(*scene, {}, diagnostics));
-      importSeconds = secondsSince(importStart);
-      importedAt = secondsSince(start);
-    });
-    // wavefront() waits for the trace kernel, then the shade kernel; the first wait is made
-    // apart here only to time each link's end.
-    double traceLinkedAt = 0.0, shadeLinkedAt = 0.0;
-    if (wavefront) {
-      programs->wavefrontTrace();
-      traceLinkedAt = secondsSince(start);
-      programs->wavefront(s.physical);
-      shadeLinkedAt = secondsSince(start);
-    }
-    imported.get();
-    const auto uploadStart = Clock::now();
-    tracer = std::make_unique<gl::GlTracer>(*context, *scene, renderScene->tracer, programs, gl::lightingFor(*renderScene));
-    const auto uploadEnd = Clock::now();
-    const double uploadSeconds = std::chrono::duration<double>(uploadEnd - uploadStart).count();
+    level = std::make_unique<gl::GlLevel>();
+    gl::GlLevelTimes times;
+    gl::loadGlLevel(*level, *context, programs, s.physical, loadScene, &times);
+    gl::GlTracer* tracer = level->tracer.get();
+    const auto uploadEnd = times.uploaded;
+    const double importSeconds = std::chrono::duration<double>(times.imported - times.importStarted).count();
+    const double uploadSeconds = std::chrono::duration<double>(times.uploaded - times.uploadStarted).count();
     // The default view (info_intermission, info_player_start, else the whole level), so the
     // rays see what a user first sees.
-    pose = defaultCameraPose(*scene);
+    pose = defaultCameraPose(level->scene);
     const gl::CameraBasis camera = gl::cameraFrom(pose, s.width, s.height);
     // One sample with the given form; its seconds.
     auto timeOneSample = [&](gl::PathTracerForm form) {
@@ -107,8 +83,8 @@ int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& s
       fmt::print("  timeline: context {:.3f}, compiles started {:.3f} (the main thread's share of starting them), "
                  "trace kernel linked {:.3f}, import and lights done {:.3f} (worker thread), shade kernel linked {:.3f}, "
                  "uploaded {:.3f}, first dispatches done {:.3f}, first sample read back {:.3f}\n",
-                 contextSeconds, startedSeconds, traceLinkedAt, importedAt, shadeLinkedAt,
-                 std::chrono::duration<double>(uploadEnd - start).count(), readySeconds, total);
+                 contextSeconds, startedSeconds, at(times.traceLinked), at(times.imported), at(times.shadeLinked),
+                 at(times.uploaded), readySeconds, total);
     }
     // The megakernel's first image: the wait for its compile, then one sample.
     const gl::ProgramBuild build = tracer->buildPathTracer(s.width, s.height, s.physical);
@@ -123,12 +99,13 @@ int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& s
   firstImage("cold, empty program cache");
   const auto& info = context->info();
   fmt::print("device: {} ({}, {}), textures: {}, trace layout: {}, parallel shader compile: {}\n", info.renderer,
-             info.platform, info.version, gl::toString(tracer->textureMode()),
-             tracer->programs().traceLayout() == gl::TraceLayout::Software ? "software" : "hardware",
+             info.platform, info.version, gl::toString(level->tracer->textureMode()),
+             level->tracer->programs().traceLayout() == gl::TraceLayout::Software ? "software" : "hardware",
              info.parallelShaderCompile ? "yes" : "no");
   fmt::print("camera: {} ({}), {} lights, {} emitter triangles\n", formatCameraPose(pose), pose.source,
-             renderScene->lights.size(), renderScene->emitters.size());
+             level->render.lights.size(), level->render.emitters.size());
   firstImage("warm");
+  gl::GlTracer* tracer = level->tracer.get();
   // The programs built from here on (ray bench, the other lighting mode) are not stored: the
   // private directory would otherwise be created again and left behind.
   tracer->setProgramCache(gl::ProgramCache{});
