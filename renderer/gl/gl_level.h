@@ -23,7 +23,7 @@ struct GlLevel {
 // When each step of loadGlLevel() ended, for `brushtrace bench`'s first-image timeline.
 struct GlLevelTimes {
   using Clock = std::chrono::steady_clock;
-  Clock::time_point traceLinked, shadeLinked; // equal to uploadStarted's start where none was started
+  Clock::time_point traceLinked, shadeLinked; // both at the upload's end where none was started
   Clock::time_point importStarted, imported;  // import and buildRenderScene (the worker thread)
   Clock::time_point uploadStarted, uploaded;
 };
@@ -33,8 +33,8 @@ struct GlLevelTimes {
 // them for the first images (`physical`: the lighting they are for). NVIDIA's driver does part
 // of a compile on the thread that waits for it (H100, lq_e4m3, faithful, cold: the first image
 // 0.49-0.83 s this way, 0.86-1.2 s with the import on this thread before the wait). The upload
-// needs this thread's GL context, so it comes last. Exceptions of the import or the compile reach the caller, with the
-// worker joined.
+// needs this thread's GL context; it runs between the trace kernel's link and the shade
+// kernel's. Exceptions of the import or the compile reach the caller, with the worker joined.
 void loadGlLevel(GlLevel& level, GlContext& context, const std::shared_ptr<TracerPrograms>& programs, bool physical,
                  const std::function<Scene()>& importLevel, GlLevelTimes* times = nullptr);
 
