@@ -1,7 +1,8 @@
 // What `brushtrace render` and `bench` do between reading a level and uploading it: the import
 // and buildRenderScene (lights, surface light points, emitters, BVH, light grid), on the largest
 // shared map (LibreQuake lq_e4m3: 3399 brushes, 2685 lights), a mid-sized one (lqdm5) and the
-// largest oracle .bsp; plus the light grid alone, the largest single step.
+// largest oracle .bsp; a level with `_bounce` (lq_e3m1), whose bounce lights are made here too;
+// plus the light grid alone, the largest single step.
 //   build/bench/bench_prepare_level [--benchmark_filter=...]
 #include "importers/import.h"
 #include "renderer/cpu/render_scene.h"
@@ -21,6 +22,7 @@ const std::map<std::string, std::string> kLevels = {
     {"lq_e4m3", kShared + "/maps/librequake/lq1/maps/src/e4/lq_e4m3.map"},
     {"lqdm5", kShared + "/maps/librequake/lq1/maps/src/dm/lqdm5.map"},
     {"lq_e4m3_bsp", kShared + "/oracle/maps_librequake_lq1_maps_src_e4_lq_e4m3.bsp"},
+    {"lq_e3m1", kShared + "/maps/librequake/lq1/maps/src/e3/lq_e3m1.map"}, // _bounce 3
 };
 
 bool present(benchmark::State& state, const std::string& path) {
@@ -67,6 +69,7 @@ BENCHMARK_CAPTURE(BM_BuildRenderScene, lq_e4m3, std::string("lq_e4m3"))->Unit(be
 BENCHMARK_CAPTURE(BM_BuildLightGrid, lq_e4m3, std::string("lq_e4m3"))->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_Import, lqdm5, std::string("lqdm5"))->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_BuildRenderScene, lqdm5, std::string("lqdm5"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_BuildRenderScene, lq_e3m1, std::string("lq_e3m1"))->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_Import, lq_e4m3_bsp, std::string("lq_e4m3_bsp"))->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_BuildRenderScene, lq_e4m3_bsp, std::string("lq_e4m3_bsp"))->Unit(benchmark::kMillisecond)->UseRealTime();
 
