@@ -9,7 +9,8 @@
 #   3. prints the `run` call that executes .device-bundle/run-on-device.sh on the GPU machine:
 #      the GL tests with bindless textures forced and again with texture arrays, then
 #      gl_bench on the map with each texture path (NVIDIA's own shader cache off, so its
-#      cold first image is a real compile). `run-on-device.sh quick` runs the benchmark alone.
+#      cold first image is a real compile). `run-on-device.sh quick` runs the benchmark alone,
+#      `run-on-device.sh first-image [N]` the cold first image N times.
 # The GL loader packages (libEGL, libGL, libglvnd, ...) travel in .gl/, fetched once as
 # /work/.library/device/README.md describes; the NVIDIA driver supplies the rest there.
 #
@@ -68,6 +69,15 @@ if [ "\${1:-}" = quick ]; then
   for lighting in faithful physical; do
     echo "== gl_bench $map_rel, bindless, \$lighting, cold"
     __GL_SHADER_DISK_CACHE=0 ./gl_bench map.json 1280x720 bindless \$lighting 1 2>&1 | tee -a \$out/bench_quick.log
+  done
+  exit 0
+fi
+# "run-on-device.sh first-image [N]": the first image alone, faithful, cold, N times (default 5):
+# it varies by a tenth of a second from run to run, so one run says little.
+if [ "\${1:-}" = first-image ]; then
+  for run in \$(seq "\${2:-5}"); do
+    __GL_SHADER_DISK_CACHE=0 ./gl_bench map.json 1280x720 bindless faithful 0.1 2>&1 |
+      grep -A1 'time to first image, wavefront' | tee -a \$out/bench_first_image.log
   done
   exit 0
 fi
