@@ -137,40 +137,45 @@ int cheapestAxis(__m128 cost, __m128i valid) {
   return cheapest == 0 ? -1 : std::countr_zero(static_cast<unsigned>(cheapest));
 }
 
-// Bins of one node, the three axes side by side: box[b][a] and count[b][a] are bin b of axis a.
-// Raw storage, so that only the bins in use are cleared.
+// Bins of one node, the three axes side by side: box[a][b] and count[b][a] are bin b of axis a.
+// Raw storage, so that only the bins in use are cleared. A box's three bins are addressed from
+// one number each, the bin times 16 bytes (a row of count): box[a] is 32 bytes a bin, so that
+// both are an addressing mode away from it, with no index arithmetic per box.
 struct Bins {
   struct Bounds {
     __m128 min, max;
   };
-  Bounds box[kMaxBins][3];
+  Bounds box[3][kMaxBins];
   alignas(16) int32_t count[kMaxBins][4];
 
   void clear(int binCount) {
-    std::fill_n(&box[0][0], 3 * binCount, Bounds{_mm_set1_ps(kFloatMax), _mm_set1_ps(-kFloatMax)});
+    for (int a = 0; a < 3; ++a) std::fill_n(box[a], binCount, Bounds{_mm_set1_ps(kFloatMax), _mm_set1_ps(-kFloatMax)});
     std::fill_n(&count[0][0], 4 * binCount, 0);
   }
-  void add(int bin, int axis, __m128 lo, __m128 hi) {
-    Bounds& b = box[bin][axis];
+  // Adds lo, hi to bin rowOffset / 16 of `axis`.
+  void add(uint32_t rowOffset, int axis, __m128 lo, __m128 hi) {
+    static_assert(sizeof(Bounds) == 2 * sizeof(count[0]));
+    Bounds& b = *reinterpret_cast<Bounds*>(reinterpret_cast<char*>(box[axis]) + 2 * size_t{rowOffset});
     b.min = _mm_min_ps(b.min, lo);
     b.max = _mm_max_ps(b.max, hi);
-    ++count[bin][axis];
+    ++*reinterpret_cast<int32_t*>(reinterpret_cast<char*>(&count[0][axis]) + rowOffset);
   }
   void add(const BoxRef& ref, const BinMapping& mapping) {
     const __m128 lo = ref.lo(), hi = ref.hi();
-    const __m128i bin = mapping.bins(_mm_add_ps(lo, hi));
-    add(_mm_cvtsi128_si32(bin), 0, lo, hi);
-    add(_mm_cvtsi128_si32(_mm_shuffle_epi32(bin, 0x55)), 1, lo, hi);
-    add(_mm_cvtsi128_si32(_mm_shuffle_epi32(bin, 0xaa)), 2, lo, hi);
+    const __m128i rowOffset = _mm_slli_epi32(mapping.bins(_mm_add_ps(lo, hi)), 4);
+    add(static_cast<uint32_t>(_mm_cvtsi128_si32(rowOffset)), 0, lo, hi);
+    add(static_cast<uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(rowOffset, 0x55))), 1, lo, hi);
+    add(static_cast<uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(rowOffset, 0xaa))), 2, lo, hi);
   }
   void merge(const Bins& other, int binCount) {
-    for (int b = 0; b < binCount; ++b) {
-      for (int a = 0; a < 3; ++a) {
-        box[b][a].min = _mm_min_ps(box[b][a].min, other.box[b][a].min);
-        box[b][a].max = _mm_max_ps(box[b][a].max, other.box[b][a].max);
+    for (int a = 0; a < 3; ++a) {
+      for (int b = 0; b < binCount; ++b) {
+        box[a][b].min = _mm_min_ps(box[a][b].min, other.box[a][b].min);
+        box[a][b].max = _mm_max_ps(box[a][b].max, other.box[a][b].max);
       }
-      _mm_store_si128(reinterpret_cast<__m128i*>(count[b]), _mm_add_epi32(_mm_load_si128(reinterpret_cast<const __m128i*>(count[b])), _mm_load_si128(reinterpret_cast<const __m128i*>(other.count[b]))));
     }
+    for (int b = 0; b < binCount; ++b)
+      _mm_store_si128(reinterpret_cast<__m128i*>(count[b]), _mm_add_epi32(_mm_load_si128(reinterpret_cast<const __m128i*>(count[b])), _mm_load_si128(reinterpret_cast<const __m128i*>(other.count[b]))));
   }
 };
 
@@ -215,7 +220,7 @@ Split bestBinnedSplit(const Bins& bins, uint32_t n, const BinMapping& mapping, i
   __m128i count = _mm_setzero_si128();
   for (int b = 0; b < binCount - 1; ++b) {
 #pragma GCC unroll 3
-    for (int a = 0; a < 3; ++a) box[a].grow(bins.box[b][a].min, bins.box[b][a].max);
+    for (int a = 0; a < 3; ++a) box[a].grow(bins.box[a][b].min, bins.box[a][b].max);
     count = _mm_add_epi32(count, _mm_load_si128(reinterpret_cast<const __m128i*>(bins.count[b])));
     leftCost[b] = _mm_mul_ps(halfAreas(box[0], box[1], box[2]), _mm_cvtepi32_ps(count));
   }
@@ -226,7 +231,7 @@ Split bestBinnedSplit(const Bins& bins, uint32_t n, const BinMapping& mapping, i
   count = _mm_setzero_si128();
   for (int b = binCount - 1; b > 0; --b) {
 #pragma GCC unroll 3
-    for (int a = 0; a < 3; ++a) box[a].grow(bins.box[b][a].min, bins.box[b][a].max);
+    for (int a = 0; a < 3; ++a) box[a].grow(bins.box[a][b].min, bins.box[a][b].max);
     count = _mm_add_epi32(count, _mm_load_si128(reinterpret_cast<const __m128i*>(bins.count[b])));
     const __m128 cost = _mm_add_ps(leftCost[b - 1], _mm_mul_ps(halfAreas(box[0], box[1], box[2]), _mm_cvtepi32_ps(count)));
     // Both sides must hold boxes; lane 3 never does (its counts stay 0).
@@ -241,9 +246,9 @@ Split bestBinnedSplit(const Bins& bins, uint32_t n, const BinMapping& mapping, i
   best.lastLeftBin = laneOf(bestBin, best.axis);
   for (int b = 0; b <= best.lastLeftBin; ++b) {
     best.leftCount += bins.count[b][best.axis];
-    best.leftBounds.grow(bins.box[b][best.axis].min, bins.box[b][best.axis].max);
+    best.leftBounds.grow(bins.box[best.axis][b].min, bins.box[best.axis][b].max);
   }
-  for (int b = best.lastLeftBin + 1; b < binCount; ++b) best.rightBounds.grow(bins.box[b][best.axis].min, bins.box[b][best.axis].max);
+  for (int b = best.lastLeftBin + 1; b < binCount; ++b) best.rightBounds.grow(bins.box[best.axis][b].min, bins.box[best.axis][b].max);
   best.childCost = kSahBrushCost * laneOf(bestCost, best.axis);
   return best;
 }
