@@ -73,10 +73,10 @@ struct BoxRef {
   glm::vec3 min;
   uint32_t index;
   glm::vec3 max;
-  uint32_t pad;
+  uint32_t pad; // always 0: max loads as a box corner with lane 3 zero, no masking
 
   __m128 lo() const { return _mm_and_ps(_mm_loadu_ps(&min.x), xyzMask()); }
-  __m128 hi() const { return _mm_and_ps(_mm_loadu_ps(&max.x), xyzMask()); }
+  __m128 hi() const { return _mm_loadu_ps(&max.x); }
   // Twice the centroid: binning only needs positions relative to each other.
   __m128 centroid2() const { return _mm_add_ps(lo(), hi()); }
   float centroid2(int axis) const { return min[axis] + max[axis]; } // == lane `axis` of the above
@@ -149,8 +149,11 @@ struct Bins {
   alignas(16) int32_t count[kMaxBins][4];
 
   void clear(int binCount) {
-    for (int a = 0; a < 3; ++a) std::fill_n(box[a], binCount, Bounds{_mm_set1_ps(kFloatMax), _mm_set1_ps(-kFloatMax)});
-    std::fill_n(&count[0][0], 4 * binCount, 0);
+    const Bounds empty{_mm_set1_ps(kFloatMax), _mm_set1_ps(-kFloatMax)};
+    for (int b = 0; b < binCount; ++b) { // one loop: a call to memset for the counts cost more
+      box[0][b] = box[1][b] = box[2][b] = empty;
+      _mm_store_si128(reinterpret_cast<__m128i*>(count[b]), _mm_setzero_si128());
+    }
   }
   // Adds lo, hi to bin rowOffset / 16 of `axis`.
   void add(uint32_t rowOffset, int axis, __m128 lo, __m128 hi) {
