@@ -507,9 +507,9 @@ private:
 // TaskQueue); every choice depends on the boxes alone, never on which thread
 // builds what, so the tree is the same for any thread count.
 //
-// Around the build, the same threads read the input boxes (chunk by chunk) and copy the
-// finished tree to its depth-first layout (stretch by stretch): done by one thread, these two
-// passes over every box and node held the others idle for a tenth of a two-thread build.
+// Before the build, the same threads read the input boxes, chunk by chunk: done by one thread,
+// that pass held the others idle. After it, the thread that finishes the last task squeezes the
+// holes that tasks leave out of the slots, in place (see layOut()).
 class BinnedSahBuilder {
 public:
   BinnedSahBuilder(std::span<const Aabb> boxes, const SahBuildSettings& settings)
@@ -523,27 +523,23 @@ public:
     refs_[1].reset(new BoxRef[count_]);
     const size_t slotCount = count_ == 0 ? 0 : 2 * size_t{count_} - 1;
     order_.resize(count_);
+    // The slots are the result, cut to the tree's size at the end (see build()). With threads,
+    // the first job of the read stage sizes it while the others read boxes (see
+    // buildWithThreads()); everything the threads use is allocated here, before they start:
+    // nothing they do can throw and leave the others waiting at a barrier.
     if (threads_ == 1) {
-      // One thread lays the tree out depth first as it goes (see build()): the slots are the
-      // result, cut to the tree's size at the end.
       nodes_.resize(slotCount);
-      slots_ = nodes_.data();
     } else {
-      slotStorage_.reset(new GpuBvhNode[slotCount]);
-      slots_ = slotStorage_.get();
-      // Everything the threads use is allocated here, before they start: nothing they do can
-      // throw and leave the others waiting at a barrier.
       nodes_.reserve(slotCount);
     }
-    // A hole per task at most (see build()); a layout job per stretch between holes, and at
-    // most kLayoutJobsPerThread per thread more where stretches are cut. SAH trees of levels
-    // have about 2 n / kTaskMinBoxes tasks (a node splits its boxes roughly in two); only
-    // pathological ones, splitting a few boxes off at a time, have more, and these grow.
+    slots_ = nodes_.data();
+    // A hole per task at most (see build()). SAH trees of levels have about 2 n / kTaskMinBoxes
+    // tasks (a node splits its boxes roughly in two); only pathological ones, splitting a few
+    // boxes off at a time, have more, and these grow.
     const size_t maxTasks = 2 * size_t{count_} / kTaskMinBoxes + 1;
     holes_.reserve(maxTasks);
     holeEnds_.reserve(maxTasks);
     holeShifts_.reserve(maxTasks);
-    layoutJobs_.reserve(maxTasks + 1 + kLayoutJobsPerThread * threads_);
   }
 
   FlatBvh build() {
@@ -557,7 +553,7 @@ public:
     // as its size is not known yet, and the right child's descendants go after them; a task
     // that uses fewer leaves a hole at the end of its slots. So every slot is known before
     // the subtrees are built, threads never share a counter, and the tree is the same for any
-    // thread count. The final layout squeezes the holes out (see planLayout()).
+    // thread count. The final layout squeezes the holes out (see layOut()).
     if (threads_ == 1) {
       NodeTask root{0, 1, 0, count_, 0, 0, 0, {}};
       Box4 centroids; // left to the root, which bins (see partition())
@@ -576,10 +572,6 @@ public:
 
 private:
   static constexpr uint32_t kNoBox = std::numeric_limits<uint32_t>::max();
-  // The final layout is cut into about this many jobs per thread, enough for the threads to
-  // finish together.
-  static constexpr size_t kLayoutJobsPerThread = 8;
-  static constexpr size_t kLayoutJobMinNodes = 1024;
   // The threads split the root chunk by chunk (see buildWithThreads()): chunks of at least this
   // many boxes, and enough of them per thread that one thread can take over from a late one.
   static constexpr uint32_t kRootChunkMinBoxes = 2048;
@@ -738,14 +730,12 @@ private:
       }
       wake_.notify_all();
     };
-    std::atomic<size_t> nextLayoutJob{0};
     const auto run = [&](int thread) {
       runStage(thread, kRead, chunks + 1, readChunk, joinRead, true);
       if (firstInvalid != kNoBox) return;
       runStage(thread, kBin, chunks, binChunk, joinSplit, true);
       if (together) runStage(thread, kPartition, chunks, partitionChunk, joinPartition, false);
-      work(thread); // returns once the last task is done and the layout is planned
-      for (size_t job; (job = nextLayoutJob.fetch_add(1)) < layoutJobs_.size();) runLayoutJob(layoutJobs_[job]);
+      work(thread); // returns once the last task is done and the tree laid out
     };
     {
       std::vector<std::jthread> helpers;
@@ -756,8 +746,8 @@ private:
   }
 
   // Takes tasks until every task, including those that running tasks will still add, is done.
-  // The thread that finishes the last one plans the depth-first layout before letting the
-  // others go on to lay it out.
+  // The thread that finishes the last one lays the tree out (see layOut()) before letting the
+  // others go.
   void work(int thread) {
     std::unique_lock lock(mutex_);
     for (;;) {
@@ -770,7 +760,7 @@ private:
       lock.lock();
       if (const uint32_t reserved = 2 * (task.end - task.begin) - 2; used < reserved) holes_.push_back({task.descendants + used, reserved - used});
       if (unfinished_ == 1) {
-        planLayout();
+        layOut();
         unfinished_ = 0;
         wake_.notify_all();
       } else {
@@ -1019,16 +1009,14 @@ private:
   struct Hole {
     uint32_t begin, size;
   };
-  // Slots [from, to) of the stretch between two holes that ends at stretchEnd; they move down
-  // by `shift`, the size of the holes before them.
-  struct LayoutJob {
-    uint32_t from, to, stretchEnd, shift;
-  };
-
   // The final layout is the slots in their order with the holes squeezed out, which is the
-  // depth-first layout (see build()). Sizes nodes_ and cuts the stretches between the holes
-  // into layoutJobs_ for the threads.
-  void planLayout() {
+  // depth-first layout (see build()). Each stretch between two holes moves down by the size of
+  // the holes before it, in place, in slot order: a slot moves to one before it, so none is
+  // overwritten before it has moved. Done by one thread: in place, the threads could not
+  // move stretches side by side without one overwriting another's before it moved, and a
+  // second array of slots to lay out from cost more (its pages, fresh each build) than the
+  // threads saved.
+  void layOut() {
     std::sort(holes_.begin(), holes_.end(), [](const Hole& a, const Hole& b) { return a.begin < b.begin; });
     const uint32_t slotCount = 2 * count_ - 1;
     uint32_t shift = 0;
@@ -1038,15 +1026,14 @@ private:
       holeShifts_.push_back(shift);
     }
     const uint32_t total = slotCount - shift;
-    nodes_.resize(total); // shrinks: no allocation
-    const uint32_t jobNodes = std::max<uint32_t>(total / (kLayoutJobsPerThread * threads_), kLayoutJobMinNodes);
     uint32_t from = 0;
     shift = 0;
     for (size_t h = 0; h <= holes_.size(); ++h) {
       const uint32_t end = h < holes_.size() ? holes_[h].begin : slotCount;
-      for (uint32_t begin = from; begin < end; begin += jobNodes) layoutJobs_.push_back({begin, std::min(end, begin + jobNodes), end, shift});
+      moveStretch(from, end, shift);
       if (h < holes_.size()) from = holeEnds_[h], shift = holeShifts_[h];
     }
+    nodes_.resize(total); // shrinks: no allocation
   }
 
   // How far slot i moves down: the size of the holes before it.
@@ -1055,15 +1042,15 @@ private:
     return before == 0 ? 0 : holeShifts_[before - 1];
   }
 
-  // Copies the job's nodes to their place in nodes_, and their child indices with them. A
-  // node's children lie after it, mostly in the same stretch; a child past the stretch's end
-  // (the right child of a node whose left child was a task) looks its shift up.
-  void runLayoutJob(const LayoutJob& job) {
-    GpuBvhNode* out = nodes_.data();
-    for (uint32_t i = job.from; i < job.to; ++i) {
+  // Moves slots [from, end), a stretch between two holes, down by `shift`, and their child
+  // indices with them. A node's children lie after it, mostly in the same stretch; a child
+  // past the stretch's end (the right child of a node whose left child was a task) looks its
+  // shift up.
+  void moveStretch(uint32_t from, uint32_t end, uint32_t shift) {
+    for (uint32_t i = from; i < end; ++i) {
       GpuBvhNode node = slots_[i];
-      if (node.count == 0) node.leftFirst -= node.leftFirst < job.stretchEnd ? job.shift : shiftOf(node.leftFirst);
-      out[i - job.shift] = node;
+      if (node.count == 0) node.leftFirst -= node.leftFirst < end ? shift : shiftOf(node.leftFirst);
+      slots_[i - shift] = node;
     }
   }
 
@@ -1072,15 +1059,13 @@ private:
   int threads_ = 1;
   uint32_t count_ = 0;
   std::unique_ptr<BoxRef[]> refs_[2]; // a node's boxes are in one; partitioning moves them to the other
-  std::unique_ptr<GpuBvhNode[]> slotStorage_; // with threads; one thread builds in nodes_
-  GpuBvhNode* slots_ = nullptr;
+  GpuBvhNode* slots_ = nullptr; // nodes_'s storage, before the layout
   std::vector<uint32_t> order_;
   std::vector<GpuBvhNode> nodes_; // the result: slots_ laid out depth first
-  // With threads: the holes between the tasks' slots, sorted by planLayout(), which adds the end
-  // of each and the size of all up to it; and the layout's jobs.
+  // With threads: the holes between the tasks' slots, sorted by layOut(), which adds the end
+  // of each and the size of all up to it.
   std::vector<Hole> holes_;
   std::vector<uint32_t> holeEnds_, holeShifts_;
-  std::vector<LayoutJob> layoutJobs_;
 
   std::mutex mutex_; // guards queues_, queuedTasks_, unfinished_ and holes_
   std::condition_variable wake_;
