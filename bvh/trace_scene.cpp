@@ -219,7 +219,7 @@ TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options)
   TraceScene ts;
   const int threads = options.threads;
   ts.faces_.resize(scene.faces.size());
-  std::vector<FaceRole, DefaultInitAllocator<FaceRole>> roles(scene.faces.size());
+  std::vector<FaceRole> roles(scene.faces.size());
   parallelChunks(scene.faces.size(), threads, [&](size_t begin, size_t end) {
     for (size_t f = begin; f < end; ++f) {
       ts.faces_[f] = toGpuFace(scene.faces[f]);
@@ -229,7 +229,7 @@ TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options)
 
   // Every brush in scene order first (sceneBrush == kNoFace: not traced); they are put in leaf
   // order once the BVH has fixed it.
-  std::vector<GpuBrush, DefaultInitAllocator<GpuBrush>> candidates(scene.brushes.size());
+  std::vector<GpuBrush> candidates(scene.brushes.size());
   parallelChunks(scene.brushes.size(), threads, [&](size_t begin, size_t end) {
     for (size_t b = begin; b < end; ++b) {
       candidates[b].sceneBrush = kNoFace;

@@ -57,10 +57,8 @@
 
 #include <cstdint>
 #include <limits>
-#include <memory>
 #include <optional>
 #include <span>
-#include <utility>
 #include <vector>
 
 namespace bt {
@@ -92,29 +90,6 @@ struct BvhBuildOptions {
   std::vector<bool> includeBrush; // per Scene brush; empty = all. Excluded brushes are never hit.
 };
 
-// std::allocator, except that resize() default-initialises new elements, which for the GPU
-// structs (no initialisers) leaves them unwritten: TraceScene::build() writes every element of
-// its arrays itself, and zero-filling them first (25 MB at 50k brushes, on one thread) cost a
-// tenth of the build.
-template <typename T>
-struct DefaultInitAllocator : std::allocator<T> {
-  template <typename U>
-  struct rebind {
-    using other = DefaultInitAllocator<U>;
-  };
-  DefaultInitAllocator() = default;
-  template <typename U>
-  DefaultInitAllocator(const DefaultInitAllocator<U>&) {}
-  template <typename U>
-  void construct(U* p) {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <typename U, typename... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-};
-
 class TraceScene {
 public:
   static TraceScene build(const Scene& scene, const BvhBuildOptions& options = {});
@@ -137,9 +112,9 @@ public:
 
 private:
   std::vector<GpuBvhNode> nodes_;
-  std::vector<GpuBrush, DefaultInitAllocator<GpuBrush>> brushes_;
-  std::vector<uint32_t, DefaultInitAllocator<uint32_t>> sides_;
-  std::vector<GpuFace, DefaultInitAllocator<GpuFace>> faces_;
+  std::vector<GpuBrush> brushes_;
+  std::vector<uint32_t> sides_;
+  std::vector<GpuFace> faces_;
   double sahCost_ = 0.0;
   Bounds bounds_;
 };
