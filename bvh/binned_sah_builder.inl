@@ -400,7 +400,10 @@ void splitSmallNode(const SmallBoxes& boxes, const SmallNode& node, const SmallS
     }
   };
   filter(node.slots, children[1].slots, children[0].slots);
-  for (int a = 0; a < 3; ++a) filter(node.sorted[a], children[1].sorted[a], children[0].sorted[a]);
+  // Children of one or two boxes sweep nothing (see buildSmallNode()): those of a node of three
+  // boxes never need sorted lists, nor those of a node of four split two and two.
+  if (M > 4 || (M == 4 && split.leftCount != 2))
+    for (int a = 0; a < 3; ++a) filter(node.sorted[a], children[1].sorted[a], children[0].sorted[a]);
 }
 
 // Partition of src[0, n): the boxes left of the split go to leftDst on, in their input order,
