@@ -527,9 +527,9 @@ public:
     const size_t slotCount = count_ == 0 ? 0 : 2 * size_t{count_} - 1;
     order_.resize(count_);
     // The slots are the result, cut to the tree's size at the end (see build()). With threads,
-    // the first job of the read stage sizes it while the others read boxes (see
-    // buildWithThreads()); everything the threads use is allocated here, before they start:
-    // nothing they do can throw and leave the others waiting at a barrier.
+    // the first thread sizes it while the others start (see sizeSlots()); everything the
+    // threads use is allocated here, before they start: nothing they do can throw and leave the
+    // others waiting at a barrier.
     if (threads_ == 1) {
       nodes_.resize(slotCount);
     } else {
@@ -664,12 +664,7 @@ private:
       if (!wait) return;
       for (int now; (now = stage.load()) <= s;) stage.wait(now);
     };
-    // Job 0 of the read stage is the result's zero fill (std::vector has no other way to size):
-    // the first thread takes it while the helpers start. Within the capacity reserved in the
-    // constructor, so it does not allocate.
-    const auto readChunk = [&](int, uint32_t job) {
-      if (job == 0) return nodes_.resize(2 * size_t{count_} - 1);
-      const uint32_t c = job - 1;
+    const auto readChunk = [&](int, uint32_t c) {
       invalid[c] = readBoxes(chunkBegin(c), chunkBegin(c + 1), chunkBounds[c][0], chunkBounds[c][1]);
     };
     const auto joinRead = [&] {
@@ -718,6 +713,7 @@ private:
       partition<SplitKind::kBinned>(src + begin, dst + leftBegin[c], dst + rightBegin[c], end - begin, split, unused);
     };
     const auto joinPartition = [&] {
+      waitForSlots();
       writeBounds(slots_[root.slot], root);
       NodeTask left{}, right{};
       setChildren(root, split.leftCount, left, right);
@@ -734,7 +730,8 @@ private:
       wake_.notify_all();
     };
     const auto run = [&](int thread) {
-      runStage(thread, kRead, chunks + 1, readChunk, joinRead, true);
+      if (thread == 0) sizeSlots();
+      runStage(thread, kRead, chunks, readChunk, joinRead, true);
       if (firstInvalid != kNoBox) return;
       runStage(thread, kBin, chunks, binChunk, joinSplit, true);
       if (together) runStage(thread, kPartition, chunks, partitionChunk, joinPartition, false);
@@ -748,10 +745,24 @@ private:
     return firstInvalid;
   }
 
+  // With threads, the slots (the result's array) are sized by the first thread while the others
+  // start on the root's split, which writes no slot until it joins. Zero-filling them, which
+  // std::vector's resize() cannot be kept from, takes as long as a sixth of a 50k build (the
+  // pages are fresh); done in the read stage, it held the other thread idle at its end. Within
+  // the capacity reserved in the constructor, so it does not allocate.
+  void sizeSlots() {
+    nodes_.resize(2 * size_t{count_} - 1);
+    slotsSized_.store(true);
+    slotsSized_.notify_all();
+  }
+  // Called before a thread writes a slot.
+  void waitForSlots() const { slotsSized_.wait(false); }
+
   // Takes tasks until every task, including those that running tasks will still add, is done.
   // The thread that finishes the last one lays the tree out (see layOut()) before letting the
   // others go.
   void work(int thread) {
+    waitForSlots();
     std::unique_lock lock(mutex_);
     for (;;) {
       wake_.wait(lock, [this] { return queuedTasks_ > 0 || unfinished_ == 0; });
@@ -1070,6 +1081,7 @@ private:
   std::vector<Hole> holes_;
   std::vector<uint32_t> holeEnds_, holeShifts_;
 
+  std::atomic<bool> slotsSized_{false}; // see sizeSlots()
   std::mutex mutex_; // guards queues_, queuedTasks_, unfinished_ and holes_
   std::condition_variable wake_;
   std::vector<TaskQueue> queues_; // one per thread
