@@ -19,10 +19,11 @@ constexpr uint32_t kTaskMinBoxes = 256;
 // A build too small to hand out a few tasks of a few thousand boxes is not worth starting a
 // thread for.
 constexpr uint32_t kThreadsMinBoxes = 4096;
-// Nodes this small are split by an exact sweep over their sorted centroids instead of bins:
-// sorting a handful of boxes costs less than clearing and sweeping 3 x binCount bins, and the
-// deep levels, where bins are coarsest relative to the boxes, are where binning loses most.
-constexpr uint32_t kExactSweepMax = 8;
+// Subtrees this small are built by exact sweeps over their sorted centroids instead of bins (see
+// SmallBoxes): sorting a handful of boxes costs less than clearing and sweeping 3 x binCount
+// bins, and the deep levels, where bins are coarsest relative to the boxes, are where binning
+// loses most.
+constexpr uint32_t kSmallSubtreeMax = 8;
 constexpr uint32_t kMinBins = 8; // see binCountFor()
 constexpr uint32_t kTwoBinSetsMin = 64; // see binBoxes()
 constexpr uint32_t kSampledBinningMin = 2048, kBinSamples = 512; // see sampleStrideFor()
@@ -72,10 +73,10 @@ struct BoxRef {
   glm::vec3 min;
   uint32_t index;
   glm::vec3 max;
-  uint32_t pad;
+  uint32_t pad; // always 0: max loads as a box corner with lane 3 zero, no masking
 
   __m128 lo() const { return _mm_and_ps(_mm_loadu_ps(&min.x), xyzMask()); }
-  __m128 hi() const { return _mm_and_ps(_mm_loadu_ps(&max.x), xyzMask()); }
+  __m128 hi() const { return _mm_loadu_ps(&max.x); }
   // Twice the centroid: binning only needs positions relative to each other.
   __m128 centroid2() const { return _mm_add_ps(lo(), hi()); }
   float centroid2(int axis) const { return min[axis] + max[axis]; } // == lane `axis` of the above
@@ -97,15 +98,13 @@ struct BinMapping {
 };
 
 enum class SplitKind {
-  kExact,   // left = doubled centroid <= position
   kBinned,  // left = bin <= lastLeftBin, every box binned
   kSampled, // left = bin <= lastLeftBin, a sample of the boxes binned (see sampleStrideFor())
 };
 
 struct Split {
   int axis = -1; // -1: no split found (all centroids coincide)
-  SplitKind kind = SplitKind::kExact;
-  float position = 0.0f;
+  SplitKind kind = SplitKind::kBinned;
   int lastLeftBin = 0;
   uint32_t leftCount = 0; // of a sampled split, the sample's; the partition counts the boxes
   double childCost = 0.0; // area(left) * count(left) + area(right) * count(right), half-areas
@@ -138,40 +137,48 @@ int cheapestAxis(__m128 cost, __m128i valid) {
   return cheapest == 0 ? -1 : std::countr_zero(static_cast<unsigned>(cheapest));
 }
 
-// Bins of one node, the three axes side by side: box[b][a] and count[b][a] are bin b of axis a.
-// Raw storage, so that only the bins in use are cleared.
+// Bins of one node, the three axes side by side: box[a][b] and count[b][a] are bin b of axis a.
+// Raw storage, so that only the bins in use are cleared. A box's three bins are addressed from
+// one number each, the bin times 16 bytes (a row of count): box[a] is 32 bytes a bin, so that
+// both are an addressing mode away from it, with no index arithmetic per box.
 struct Bins {
   struct Bounds {
     __m128 min, max;
   };
-  Bounds box[kMaxBins][3];
+  Bounds box[3][kMaxBins];
   alignas(16) int32_t count[kMaxBins][4];
 
   void clear(int binCount) {
-    std::fill_n(&box[0][0], 3 * binCount, Bounds{_mm_set1_ps(kFloatMax), _mm_set1_ps(-kFloatMax)});
-    std::fill_n(&count[0][0], 4 * binCount, 0);
+    const Bounds empty{_mm_set1_ps(kFloatMax), _mm_set1_ps(-kFloatMax)};
+    for (int b = 0; b < binCount; ++b) { // one loop: a call to memset for the counts cost more
+      box[0][b] = box[1][b] = box[2][b] = empty;
+      _mm_store_si128(reinterpret_cast<__m128i*>(count[b]), _mm_setzero_si128());
+    }
   }
-  void add(int bin, int axis, __m128 lo, __m128 hi) {
-    Bounds& b = box[bin][axis];
+  // Adds lo, hi to bin rowOffset / 16 of `axis`.
+  void add(uint32_t rowOffset, int axis, __m128 lo, __m128 hi) {
+    static_assert(sizeof(Bounds) == 2 * sizeof(count[0]));
+    Bounds& b = *reinterpret_cast<Bounds*>(reinterpret_cast<char*>(box[axis]) + 2 * size_t{rowOffset});
     b.min = _mm_min_ps(b.min, lo);
     b.max = _mm_max_ps(b.max, hi);
-    ++count[bin][axis];
+    ++*reinterpret_cast<int32_t*>(reinterpret_cast<char*>(&count[0][axis]) + rowOffset);
   }
   void add(const BoxRef& ref, const BinMapping& mapping) {
     const __m128 lo = ref.lo(), hi = ref.hi();
-    const __m128i bin = mapping.bins(_mm_add_ps(lo, hi));
-    add(_mm_cvtsi128_si32(bin), 0, lo, hi);
-    add(_mm_cvtsi128_si32(_mm_shuffle_epi32(bin, 0x55)), 1, lo, hi);
-    add(_mm_cvtsi128_si32(_mm_shuffle_epi32(bin, 0xaa)), 2, lo, hi);
+    const __m128i rowOffset = _mm_slli_epi32(mapping.bins(_mm_add_ps(lo, hi)), 4);
+    add(static_cast<uint32_t>(_mm_cvtsi128_si32(rowOffset)), 0, lo, hi);
+    add(static_cast<uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(rowOffset, 0x55))), 1, lo, hi);
+    add(static_cast<uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(rowOffset, 0xaa))), 2, lo, hi);
   }
   void merge(const Bins& other, int binCount) {
-    for (int b = 0; b < binCount; ++b) {
-      for (int a = 0; a < 3; ++a) {
-        box[b][a].min = _mm_min_ps(box[b][a].min, other.box[b][a].min);
-        box[b][a].max = _mm_max_ps(box[b][a].max, other.box[b][a].max);
+    for (int a = 0; a < 3; ++a) {
+      for (int b = 0; b < binCount; ++b) {
+        box[a][b].min = _mm_min_ps(box[a][b].min, other.box[a][b].min);
+        box[a][b].max = _mm_max_ps(box[a][b].max, other.box[a][b].max);
       }
-      _mm_store_si128(reinterpret_cast<__m128i*>(count[b]), _mm_add_epi32(_mm_load_si128(reinterpret_cast<const __m128i*>(count[b])), _mm_load_si128(reinterpret_cast<const __m128i*>(other.count[b]))));
     }
+    for (int b = 0; b < binCount; ++b)
+      _mm_store_si128(reinterpret_cast<__m128i*>(count[b]), _mm_add_epi32(_mm_load_si128(reinterpret_cast<const __m128i*>(count[b])), _mm_load_si128(reinterpret_cast<const __m128i*>(other.count[b]))));
   }
 };
 
@@ -215,7 +222,8 @@ Split bestBinnedSplit(const Bins& bins, uint32_t n, const BinMapping& mapping, i
   Box4 box[3];
   __m128i count = _mm_setzero_si128();
   for (int b = 0; b < binCount - 1; ++b) {
-    for (int a = 0; a < 3; ++a) box[a].grow(bins.box[b][a].min, bins.box[b][a].max);
+#pragma GCC unroll 3
+    for (int a = 0; a < 3; ++a) box[a].grow(bins.box[a][b].min, bins.box[a][b].max);
     count = _mm_add_epi32(count, _mm_load_si128(reinterpret_cast<const __m128i*>(bins.count[b])));
     leftCost[b] = _mm_mul_ps(halfAreas(box[0], box[1], box[2]), _mm_cvtepi32_ps(count));
   }
@@ -225,7 +233,8 @@ Split bestBinnedSplit(const Bins& bins, uint32_t n, const BinMapping& mapping, i
   box[0] = box[1] = box[2] = Box4{};
   count = _mm_setzero_si128();
   for (int b = binCount - 1; b > 0; --b) {
-    for (int a = 0; a < 3; ++a) box[a].grow(bins.box[b][a].min, bins.box[b][a].max);
+#pragma GCC unroll 3
+    for (int a = 0; a < 3; ++a) box[a].grow(bins.box[a][b].min, bins.box[a][b].max);
     count = _mm_add_epi32(count, _mm_load_si128(reinterpret_cast<const __m128i*>(bins.count[b])));
     const __m128 cost = _mm_add_ps(leftCost[b - 1], _mm_mul_ps(halfAreas(box[0], box[1], box[2]), _mm_cvtepi32_ps(count)));
     // Both sides must hold boxes; lane 3 never does (its counts stay 0).
@@ -240,9 +249,9 @@ Split bestBinnedSplit(const Bins& bins, uint32_t n, const BinMapping& mapping, i
   best.lastLeftBin = laneOf(bestBin, best.axis);
   for (int b = 0; b <= best.lastLeftBin; ++b) {
     best.leftCount += bins.count[b][best.axis];
-    best.leftBounds.grow(bins.box[b][best.axis].min, bins.box[b][best.axis].max);
+    best.leftBounds.grow(bins.box[best.axis][b].min, bins.box[best.axis][b].max);
   }
-  for (int b = best.lastLeftBin + 1; b < binCount; ++b) best.rightBounds.grow(bins.box[b][best.axis].min, bins.box[b][best.axis].max);
+  for (int b = best.lastLeftBin + 1; b < binCount; ++b) best.rightBounds.grow(bins.box[best.axis][b].min, bins.box[best.axis][b].max);
   best.childCost = kSahBrushCost * laneOf(bestCost, best.axis);
   return best;
 }
@@ -258,126 +267,166 @@ Split bestBinnedSplit(const Bins& bins, uint32_t n, const BinMapping& mapping, i
   return split;
 }
 
-// Two boxes: the one split puts one box on each side and costs the same on every axis, so the
-// first axis on which the centroids differ takes it, as the sweep below would choose.
-Split splitPair(const BoxRef* boxes) {
-  const __m128 c0 = boxes[0].centroid2(), c1 = boxes[1].centroid2();
-  const int differ = _mm_movemask_ps(_mm_cmpneq_ps(c0, c1)) & 7;
-  Split split;
-  if (differ == 0) return split;
-  split.axis = std::countr_zero(static_cast<unsigned>(differ));
-  split.position = std::min(boxes[0].centroid2(split.axis), boxes[1].centroid2(split.axis));
-  split.leftCount = 1;
-  Box4 a, b;
-  a.grow(boxes[0].lo(), boxes[0].hi());
-  b.grow(boxes[1].lo(), boxes[1].hi());
-  split.childCost = kSahBrushCost * (static_cast<double>(a.halfArea()) + b.halfArea());
-  return split;
-}
+// Subtrees of kSmallSubtreeMax boxes or fewer, most of the tree's nodes, are built from their
+// boxes loaded once into registers and sorted once along each axis: each node's split is an
+// exact sweep over its sorted boxes, and its children's sorted lists are its own, filtered. The
+// boxes are never partitioned through the BoxRef buffers again. This makes the tree that sorting
+// and partitioning each node anew would make: boxes with equal centroids keep their order in
+// the node, which a stable partition keeps, and every cost is computed in the same order.
 
-// Exact SAH split of a small node: every plane between consecutive distinct centroids, the
-// three axes side by side as in findBinnedSplit. The node's n boxes fill the first n of Slots
-// slots; the others hold empty boxes with centroids at +inf, which sort after the node's boxes,
-// grow no bounds and are masked out as split candidates. So every loop runs Slots times, fully
-// unrolled: in nodes this small, the mispredicted exits of loops that run n times cost more
-// than the padding's compares. The rank sort costs Slots^2, hence three sizes of slots.
-template <uint32_t Slots>
-Split findExactSplitInSlots(const BoxRef* boxes, uint32_t n) {
-  struct Key {
-    float centroid2;
-    uint32_t slot;
-  };
-  const __m128 emptyLo = _mm_and_ps(_mm_set1_ps(kFloatMax), xyzMask()), emptyHi = _mm_and_ps(_mm_set1_ps(-kFloatMax), xyzMask());
-  const __m128 lastCentroid = _mm_and_ps(_mm_set1_ps(kFloatInf), xyzMask());
-  __m128 lo[Slots], hi[Slots], centroid[Slots];
+// The boxes of a small subtree, slot s holding its root's s-th box.
+struct SmallBoxes {
+  __m128 lo[kSmallSubtreeMax], hi[kSmallSubtreeMax];
+  alignas(16) float centroid2[kSmallSubtreeMax][4]; // lane 3 zero
+  uint32_t index[kSmallSubtreeMax];
+};
+
+// A node of a small subtree: its boxes' slots in node order (the order that partitioning them
+// would have left them in, which its leaf keeps), and sorted along each axis by doubled
+// centroid, then node order.
+struct SmallNode {
+  uint32_t count;
+  uint8_t slots[kSmallSubtreeMax];
+  uint8_t sorted[3][kSmallSubtreeMax];
+};
+
+// The exact SAH split of a small node of three or more boxes: the plane after sorted[axis][0,
+// leftCount).
+struct SmallSplit {
+  int axis = -1; // -1: no split (all centroids coincide)
+  uint32_t leftCount = 0;
+  double childCost = 0.0; // as Split::childCost
+};
+
+// Loads a small subtree's N boxes, in the order they lie in `refs`, and sorts them by rank,
+// all three axes at once: slot i goes to the number of slots before it in (centroid, slot)
+// order. N^2 compares cost less than the mispredicted branches of an insertion sort.
+template <uint32_t N>
+SmallNode loadSmallSubtree(const BoxRef* refs, SmallBoxes& boxes) {
+  SmallNode node;
+  node.count = N;
+  __m128 centroid[N];
 #pragma GCC unroll 8
-  for (uint32_t i = 0; i < Slots; ++i) {
-    const __m128 inNode = _mm_castsi128_ps(_mm_cmplt_epi32(_mm_set1_epi32(static_cast<int32_t>(i)), _mm_set1_epi32(static_cast<int32_t>(n))));
-    const BoxRef& box = boxes[i < n ? i : 0];
-    lo[i] = _mm_or_ps(_mm_and_ps(inNode, box.lo()), _mm_andnot_ps(inNode, emptyLo));
-    hi[i] = _mm_or_ps(_mm_and_ps(inNode, box.hi()), _mm_andnot_ps(inNode, emptyHi));
-    centroid[i] = _mm_or_ps(_mm_and_ps(inNode, _mm_add_ps(lo[i], hi[i])), _mm_andnot_ps(inNode, lastCentroid));
+  for (uint32_t i = 0; i < N; ++i) {
+    boxes.lo[i] = refs[i].lo(), boxes.hi[i] = refs[i].hi();
+    centroid[i] = _mm_add_ps(boxes.lo[i], boxes.hi[i]);
+    _mm_store_ps(boxes.centroid2[i], centroid[i]);
+    boxes.index[i] = refs[i].index;
+    node.slots[i] = static_cast<uint8_t>(i);
   }
-  // Sorted by rank, all three axes at once: slot i goes to the number of slots before it in
-  // (centroid, slot) order. Slots^2 compares cost less than the mispredicted branches of an
-  // insertion sort.
-  Key sorted[3][Slots];
 #pragma GCC unroll 8
-  for (uint32_t i = 0; i < Slots; ++i) {
+  for (uint32_t i = 0; i < N; ++i) {
     __m128i rank = _mm_setzero_si128(); // minus the count, as a true compare is -1
 #pragma GCC unroll 8
     for (uint32_t j = 0; j < i; ++j) rank = _mm_add_epi32(rank, _mm_castps_si128(_mm_cmple_ps(centroid[j], centroid[i])));
 #pragma GCC unroll 8
-    for (uint32_t j = i + 1; j < Slots; ++j) rank = _mm_add_epi32(rank, _mm_castps_si128(_mm_cmplt_ps(centroid[j], centroid[i])));
+    for (uint32_t j = i + 1; j < N; ++j) rank = _mm_add_epi32(rank, _mm_castps_si128(_mm_cmplt_ps(centroid[j], centroid[i])));
     alignas(16) int32_t r[4];
-    alignas(16) float c[4];
     _mm_store_si128(reinterpret_cast<__m128i*>(r), rank);
-    _mm_store_ps(c, centroid[i]);
-    for (int a = 0; a < 3; ++a) sorted[a][-r[a]] = {c[a], i};
+#pragma GCC unroll 3
+    for (int a = 0; a < 3; ++a) node.sorted[a][-r[a]] = static_cast<uint8_t>(i);
   }
-  // rightCost[i]: sorted[a][i, n) on the right.
-  __m128 rightCost[Slots];
+  return node;
+}
+
+// The exact SAH split of a small node of M boxes: every plane between consecutive distinct
+// centroids, the three axes side by side in the lanes of one register (as bestBinnedSplit()).
+// M is a template parameter so that every loop is unrolled: in nodes this small, the
+// mispredicted exits of loops that run a node's count of times cost more than the sweep.
+template <uint32_t M>
+SmallSplit findSmallSplit(const SmallBoxes& boxes, const SmallNode& node) {
+  const auto& sorted = node.sorted;
+  // rightCost[i]: sorted[a][i, M) on the right.
+  __m128 rightCost[M];
   Box4 box[3];
 #pragma GCC unroll 8
-  for (uint32_t i = Slots - 1; i >= 1; --i) {
-    for (int a = 0; a < 3; ++a) box[a].grow(lo[sorted[a][i].slot], hi[sorted[a][i].slot]);
-    rightCost[i] = _mm_mul_ps(halfAreas(box[0], box[1], box[2]), _mm_set1_ps(static_cast<float>(n - i)));
+  for (uint32_t i = M - 1; i >= 1; --i) {
+#pragma GCC unroll 3
+    for (int a = 0; a < 3; ++a) box[a].grow(boxes.lo[sorted[a][i]], boxes.hi[sorted[a][i]]);
+    rightCost[i] = _mm_mul_ps(halfAreas(box[0], box[1], box[2]), _mm_set1_ps(static_cast<float>(M - i)));
   }
   __m128 bestCost = _mm_set1_ps(kFloatInf);
   __m128i bestIndex = _mm_setzero_si128(), found = _mm_setzero_si128();
   box[0] = box[1] = box[2] = Box4{};
 #pragma GCC unroll 8
-  for (uint32_t i = 1; i < Slots; ++i) { // left = sorted[a][0, i)
-    for (int a = 0; a < 3; ++a) box[a].grow(lo[sorted[a][i - 1].slot], hi[sorted[a][i - 1].slot]);
+  for (uint32_t i = 1; i < M; ++i) { // left = sorted[a][0, i)
+#pragma GCC unroll 3
+    for (int a = 0; a < 3; ++a) box[a].grow(boxes.lo[sorted[a][i - 1]], boxes.hi[sorted[a][i - 1]]);
     const __m128 cost = _mm_add_ps(_mm_mul_ps(halfAreas(box[0], box[1], box[2]), _mm_set1_ps(static_cast<float>(i))), rightCost[i]);
-    // Equal centroids cannot be separated by a plane; lane 3 compares 0 with 0. Planes past the
-    // node's last box (i >= n) are padding.
-    const __m128 previous = _mm_setr_ps(sorted[0][i - 1].centroid2, sorted[1][i - 1].centroid2, sorted[2][i - 1].centroid2, 0.0f);
-    const __m128 next = _mm_setr_ps(sorted[0][i].centroid2, sorted[1][i].centroid2, sorted[2][i].centroid2, 0.0f);
-    const __m128 inNode = _mm_castsi128_ps(_mm_cmplt_epi32(_mm_set1_epi32(static_cast<int32_t>(i)), _mm_set1_epi32(static_cast<int32_t>(n))));
-    const __m128i better = _mm_castps_si128(_mm_and_ps(_mm_and_ps(inNode, _mm_cmpneq_ps(previous, next)), _mm_cmplt_ps(cost, bestCost)));
+    // Equal centroids cannot be separated by a plane; lane 3 compares 0 with 0.
+    const __m128 previous = _mm_setr_ps(boxes.centroid2[sorted[0][i - 1]][0], boxes.centroid2[sorted[1][i - 1]][1], boxes.centroid2[sorted[2][i - 1]][2], 0.0f);
+    const __m128 next = _mm_setr_ps(boxes.centroid2[sorted[0][i]][0], boxes.centroid2[sorted[1][i]][1], boxes.centroid2[sorted[2][i]][2], 0.0f);
+    const __m128i better = _mm_castps_si128(_mm_and_ps(_mm_cmpneq_ps(previous, next), _mm_cmplt_ps(cost, bestCost)));
     bestCost = _mm_or_ps(_mm_and_ps(_mm_castsi128_ps(better), cost), _mm_andnot_ps(_mm_castsi128_ps(better), bestCost));
     bestIndex = _mm_or_si128(_mm_and_si128(better, _mm_set1_epi32(static_cast<int32_t>(i))), _mm_andnot_si128(better, bestIndex));
     found = _mm_or_si128(found, better);
   }
-  Split best;
+  SmallSplit best;
   best.axis = cheapestAxis(bestCost, found);
   if (best.axis < 0) return best;
   best.leftCount = static_cast<uint32_t>(laneOf(bestIndex, best.axis));
-  best.position = sorted[best.axis][best.leftCount - 1].centroid2;
   best.childCost = kSahBrushCost * laneOf(bestCost, best.axis);
   return best;
 }
 
-Split findExactSplit(const BoxRef* boxes, uint32_t n) {
-  if (n == 2) return splitPair(boxes);
-  static_assert(kExactSweepMax == 8);
-  return n <= 4 ? findExactSplitInSlots<4>(boxes, n) : n <= 6 ? findExactSplitInSlots<6>(boxes, n) : findExactSplitInSlots<8>(boxes, n);
+// Splits a small node of M boxes into children[1] (left) and children[0] (right), each keeping
+// its boxes' node order and sorted order, and grows their bounds, bounds[1] and bounds[0], as
+// partition() does.
+template <uint32_t M>
+void splitSmallNode(const SmallBoxes& boxes, const SmallNode& node, const SmallSplit& split, SmallNode children[2], Box4 bounds[2]) {
+  const __m128 ignoreUnless[2] = {_mm_set1_ps(kFloatInf), _mm_setzero_ps()}; // [isLeft]: + for left
+  uint8_t isLeft[kSmallSubtreeMax]; // by slot
+  Box4 leftBox, rightBox;
+#pragma GCC unroll 8
+  for (uint32_t i = 0; i < M; ++i) {
+    const uint32_t slot = node.sorted[split.axis][i], left = i < split.leftCount ? 1 : 0;
+    isLeft[slot] = static_cast<uint8_t>(left);
+    const __m128 toLeft = ignoreUnless[left], toRight = ignoreUnless[1 - left];
+    leftBox.grow(_mm_add_ps(boxes.lo[slot], toLeft), _mm_sub_ps(boxes.hi[slot], toLeft));
+    rightBox.grow(_mm_add_ps(boxes.lo[slot], toRight), _mm_sub_ps(boxes.hi[slot], toRight));
+  }
+  bounds[1] = leftBox, bounds[0] = rightBox;
+  children[1].count = split.leftCount;
+  children[0].count = M - split.leftCount;
+  // Filters a list of the node's slots into the children's lists, in its order.
+  const auto filter = [&](const uint8_t* from, uint8_t* toLeft, uint8_t* toRight) {
+    uint32_t left = 0, right = 0;
+#pragma GCC unroll 8
+    for (uint32_t i = 0; i < M; ++i) {
+      const uint32_t slot = from[i], goesLeft = isLeft[slot];
+      (goesLeft ? toLeft[left] : toRight[right]) = static_cast<uint8_t>(slot);
+      left += goesLeft;
+      right += 1 - goesLeft;
+    }
+  };
+  filter(node.slots, children[1].slots, children[0].slots);
+  // Children of one or two boxes sweep nothing (see buildSmallNode()): those of a node of three
+  // boxes never need sorted lists, nor those of a node of four split two and two.
+  if (M > 4 || (M == 4 && split.leftCount != 2))
+    for (int a = 0; a < 3; ++a) filter(node.sorted[a], children[1].sorted[a], children[0].sorted[a]);
 }
 
 // Partition of src[0, n): the boxes left of the split go to leftDst on, in their input order,
 // the others to rightDst on, in input order too, or, for a sampled split, from rightDst
 // backwards (where the bins did not count every box, the left side's size is known only at
 // the end; the order still depends on the boxes alone). Returns the left side's count.
-// A binned split has its children's bounds from the bins; the others grow them here, index [1]
-// the left child's, [0] the right's. The children's centroid bounds are left to the children
-// that bin (see centroidBoundsOf()): most children are leaves or swept exactly, which need none.
+// A binned split has its children's bounds from the bins; a sampled one grows them here, index
+// [1] the left child's, [0] the right's. The children's centroid bounds are left to the children
+// that bin (see centroidBoundsOf()): most children are small subtrees, which need none.
 //
 // The bounds are grown in registers for both sides at once: a box counts for one side by adding
 // 0 to it, for the other by adding infinity (so that min and max ignore it). Growing
 // bounds[isLeft] in memory instead makes each box wait for the previous one's store.
 template <SplitKind Kind>
 uint32_t partition(const BoxRef* src, BoxRef* leftDst, BoxRef* rightDst, uint32_t n, const Split& split, Box4 bounds[2]) {
-  constexpr bool Exact = Kind == SplitKind::kExact;
   constexpr ptrdiff_t rightStep = Kind == SplitKind::kSampled ? -1 : 1;
   uint32_t left = 0, right = 0;
-  const __m128 position = _mm_set1_ps(split.position);
   const __m128i firstRightBin = _mm_set1_epi32(split.lastLeftBin + 1);
   const __m128 ignoreUnless[2] = {_mm_set1_ps(kFloatInf), _mm_setzero_ps()}; // [isLeft]: + for left
   Box4 leftBox = bounds[1], rightBox = bounds[0];
   for (uint32_t i = 0; i < n; ++i) {
     const __m128 lo = src[i].lo(), hi = src[i].hi(), c = _mm_add_ps(lo, hi);
-    const __m128 leftLanes = Exact ? _mm_cmple_ps(c, position) : _mm_castsi128_ps(_mm_cmpgt_epi32(firstRightBin, split.mapping.bins(c)));
+    const __m128 leftLanes = _mm_castsi128_ps(_mm_cmpgt_epi32(firstRightBin, split.mapping.bins(c)));
     const uint32_t isLeft = (_mm_movemask_ps(leftLanes) >> split.axis) & 1;
     (isLeft ? leftDst[left] : rightDst[rightStep * right]) = src[i];
     left += isLeft;
@@ -394,11 +443,7 @@ uint32_t partition(const BoxRef* src, BoxRef* leftDst, BoxRef* rightDst, uint32_
 
 // Partitions src[0, n) into dst[0, n) (see above); returns the left child's box count.
 uint32_t partition(const BoxRef* src, BoxRef* dst, uint32_t n, const Split& split, Box4 bounds[2]) {
-  switch (split.kind) {
-  case SplitKind::kExact: return partition<SplitKind::kExact>(src, dst, dst + split.leftCount, n, split, bounds);
-  case SplitKind::kSampled: return partition<SplitKind::kSampled>(src, dst, dst + n - 1, n, split, bounds);
-  case SplitKind::kBinned: break;
-  }
+  if (split.kind == SplitKind::kSampled) return partition<SplitKind::kSampled>(src, dst, dst + n - 1, n, split, bounds);
   bounds[1] = split.leftBounds, bounds[0] = split.rightBounds;
   return partition<SplitKind::kBinned>(src, dst, dst + split.leftCount, n, split, bounds);
 }
@@ -465,9 +510,9 @@ private:
 // TaskQueue); every choice depends on the boxes alone, never on which thread
 // builds what, so the tree is the same for any thread count.
 //
-// Around the build, the same threads read the input boxes (chunk by chunk) and copy the
-// finished tree to its depth-first layout (stretch by stretch): done by one thread, these two
-// passes over every box and node held the others idle for a tenth of a two-thread build.
+// Before the build, the same threads read the input boxes, chunk by chunk: done by one thread,
+// that pass held the others idle. After it, the thread that finishes the last task squeezes the
+// holes that tasks leave out of the slots, in place (see layOut()).
 class BinnedSahBuilder {
 public:
   BinnedSahBuilder(std::span<const Aabb> boxes, const SahBuildSettings& settings)
@@ -481,27 +526,23 @@ public:
     refs_[1].reset(new BoxRef[count_]);
     const size_t slotCount = count_ == 0 ? 0 : 2 * size_t{count_} - 1;
     order_.resize(count_);
+    // The slots are the result, cut to the tree's size at the end (see build()). With threads,
+    // the first thread sizes it while the others start (see sizeSlots()); everything the
+    // threads use is allocated here, before they start: nothing they do can throw and leave the
+    // others waiting at a barrier.
     if (threads_ == 1) {
-      // One thread lays the tree out depth first as it goes (see build()): the slots are the
-      // result, cut to the tree's size at the end.
       nodes_.resize(slotCount);
-      slots_ = nodes_.data();
     } else {
-      slotStorage_.reset(new GpuBvhNode[slotCount]);
-      slots_ = slotStorage_.get();
-      // Everything the threads use is allocated here, before they start: nothing they do can
-      // throw and leave the others waiting at a barrier.
       nodes_.reserve(slotCount);
     }
-    // A hole per task at most (see build()); a layout job per stretch between holes, and at
-    // most kLayoutJobsPerThread per thread more where stretches are cut. SAH trees of levels
-    // have about 2 n / kTaskMinBoxes tasks (a node splits its boxes roughly in two); only
-    // pathological ones, splitting a few boxes off at a time, have more, and these grow.
+    slots_ = nodes_.data();
+    // A hole per task at most (see build()). SAH trees of levels have about 2 n / kTaskMinBoxes
+    // tasks (a node splits its boxes roughly in two); only pathological ones, splitting a few
+    // boxes off at a time, have more, and these grow.
     const size_t maxTasks = 2 * size_t{count_} / kTaskMinBoxes + 1;
     holes_.reserve(maxTasks);
     holeEnds_.reserve(maxTasks);
     holeShifts_.reserve(maxTasks);
-    layoutJobs_.reserve(maxTasks + 1 + kLayoutJobsPerThread * threads_);
   }
 
   FlatBvh build() {
@@ -515,7 +556,7 @@ public:
     // as its size is not known yet, and the right child's descendants go after them; a task
     // that uses fewer leaves a hole at the end of its slots. So every slot is known before
     // the subtrees are built, threads never share a counter, and the tree is the same for any
-    // thread count. The final layout squeezes the holes out (see planLayout()).
+    // thread count. The final layout squeezes the holes out (see layOut()).
     if (threads_ == 1) {
       NodeTask root{0, 1, 0, count_, 0, 0, 0, {}};
       Box4 centroids; // left to the root, which bins (see partition())
@@ -534,10 +575,6 @@ public:
 
 private:
   static constexpr uint32_t kNoBox = std::numeric_limits<uint32_t>::max();
-  // The final layout is cut into about this many jobs per thread, enough for the threads to
-  // finish together.
-  static constexpr size_t kLayoutJobsPerThread = 8;
-  static constexpr size_t kLayoutJobMinNodes = 1024;
   // The threads split the root chunk by chunk (see buildWithThreads()): chunks of at least this
   // many boxes, and enough of them per thread that one thread can take over from a late one.
   static constexpr uint32_t kRootChunkMinBoxes = 2048;
@@ -627,12 +664,7 @@ private:
       if (!wait) return;
       for (int now; (now = stage.load()) <= s;) stage.wait(now);
     };
-    // Job 0 of the read stage is the result's zero fill (std::vector has no other way to size):
-    // the first thread takes it while the helpers start. Within the capacity reserved in the
-    // constructor, so it does not allocate.
-    const auto readChunk = [&](int, uint32_t job) {
-      if (job == 0) return nodes_.resize(2 * size_t{count_} - 1);
-      const uint32_t c = job - 1;
+    const auto readChunk = [&](int, uint32_t c) {
       invalid[c] = readBoxes(chunkBegin(c), chunkBegin(c + 1), chunkBounds[c][0], chunkBounds[c][1]);
     };
     const auto joinRead = [&] {
@@ -681,6 +713,7 @@ private:
       partition<SplitKind::kBinned>(src + begin, dst + leftBegin[c], dst + rightBegin[c], end - begin, split, unused);
     };
     const auto joinPartition = [&] {
+      waitForSlots();
       writeBounds(slots_[root.slot], root);
       NodeTask left{}, right{};
       setChildren(root, split.leftCount, left, right);
@@ -696,14 +729,13 @@ private:
       }
       wake_.notify_all();
     };
-    std::atomic<size_t> nextLayoutJob{0};
     const auto run = [&](int thread) {
-      runStage(thread, kRead, chunks + 1, readChunk, joinRead, true);
+      if (thread == 0) sizeSlots();
+      runStage(thread, kRead, chunks, readChunk, joinRead, true);
       if (firstInvalid != kNoBox) return;
       runStage(thread, kBin, chunks, binChunk, joinSplit, true);
       if (together) runStage(thread, kPartition, chunks, partitionChunk, joinPartition, false);
-      work(thread); // returns once the last task is done and the layout is planned
-      for (size_t job; (job = nextLayoutJob.fetch_add(1)) < layoutJobs_.size();) runLayoutJob(layoutJobs_[job]);
+      work(thread); // returns once the last task is done and the tree laid out
     };
     {
       std::vector<std::jthread> helpers;
@@ -713,10 +745,24 @@ private:
     return firstInvalid;
   }
 
+  // With threads, the slots (the result's array) are sized by the first thread while the others
+  // start on the root's split, which writes no slot until it joins. Zero-filling them, which
+  // std::vector's resize() cannot be kept from, takes as long as a sixth of a 50k build (the
+  // pages are fresh); done in the read stage, it held the other thread idle at its end. Within
+  // the capacity reserved in the constructor, so it does not allocate.
+  void sizeSlots() {
+    nodes_.resize(2 * size_t{count_} - 1);
+    slotsSized_.store(true);
+    slotsSized_.notify_all();
+  }
+  // Called before a thread writes a slot.
+  void waitForSlots() const { slotsSized_.wait(false); }
+
   // Takes tasks until every task, including those that running tasks will still add, is done.
-  // The thread that finishes the last one plans the depth-first layout before letting the
-  // others go on to lay it out.
+  // The thread that finishes the last one lays the tree out (see layOut()) before letting the
+  // others go.
   void work(int thread) {
+    waitForSlots();
     std::unique_lock lock(mutex_);
     for (;;) {
       wake_.wait(lock, [this] { return queuedTasks_ > 0 || unfinished_ == 0; });
@@ -728,7 +774,7 @@ private:
       lock.lock();
       if (const uint32_t reserved = 2 * (task.end - task.begin) - 2; used < reserved) holes_.push_back({task.descendants + used, reserved - used});
       if (unfinished_ == 1) {
-        planLayout();
+        layOut();
         unfinished_ = 0;
         wake_.notify_all();
       } else {
@@ -788,59 +834,30 @@ private:
     left.owner = right.owner = t.owner;
   }
 
-  // A node of two boxes, the most common interior node (SAH splits to about one box per leaf),
-  // with what buildNode() would make of it but no partition and no child tasks: a leaf, or two
-  // one-box leaves with the lower centroid first. Returns its node count (1 or 3), or 0, having
-  // written nothing, when the centroids coincide and buildNode()'s fallback decides.
-  uint32_t buildPair(GpuBvhNode& node, const NodeTask& t) {
-    const BoxRef* boxes = refs_[t.buffer].get() + t.begin;
-    const Split split = splitPair(boxes);
-    if (split.axis < 0) return 0;
-    if (!shouldSplit(2, settings_.leafSize, t.bounds.halfArea(), split.childCost)) return 1 + makeLeaf(node, t);
-    const uint32_t first = boxes[0].centroid2(split.axis) <= split.position ? 0 : 1;
-    node.leftFirst = t.descendants;
-    node.count = 0;
-    for (uint32_t child = 0; child < 2; ++child) {
-      const BoxRef& box = boxes[child == 0 ? first : 1 - first];
-      slots_[t.descendants + child] = {{box.min.x, box.min.y, box.min.z}, t.begin + child, {box.max.x, box.max.y, box.max.z}, 1};
-      order_[t.begin + child] = box.index;
-    }
-    return 3;
-  }
-
   // Builds t's subtree and returns how many slots from t.descendants on it uses: its node count
   // less one, plus the holes that its tasks may leave (see build()).
   uint32_t buildNode(const NodeTask& t) {
+    const uint32_t count = t.end - t.begin;
+    if (count <= kSmallSubtreeMax) return buildSmallSubtree(t);
     GpuBvhNode& node = slots_[t.slot];
     writeBounds(node, t);
-    const uint32_t count = t.end - t.begin;
-    if (count == 1) return makeLeaf(node, t);
-    if (count == 2 && t.depth < kMedianSplitDepth)
-      if (const uint32_t nodes = buildPair(node, t)) return nodes - 1;
-
+    if (t.depth >= kMedianSplitDepth) return buildAtMedian(t);
     BoxRef* boxes = refs_[t.buffer].get() + t.begin;
     // Initialised from the call, not assigned: a Split is over a hundred bytes.
-    const Split split = t.depth >= kMedianSplitDepth ? Split{}
-                        : count <= kExactSweepMax    ? findExactSplit(boxes, count)
-                                                     : findBinnedSplit(boxes, count, sampleStrideFor(t), centroidBoundsOf(boxes, count), binCountFor(count));
+    const Split split = findBinnedSplit(boxes, count, sampleStrideFor(t), centroidBoundsOf(boxes, count), binCountFor(count));
+    if (split.axis < 0) return buildAtMedian(t);
+    if (!shouldSplit(count, settings_.leafSize, t.bounds.halfArea(), split.childCost)) return makeLeaf(node, t);
     NodeTask left{}, right{};
-    uint32_t leftCount = 0;
-    if (split.axis >= 0) {
-      if (!shouldSplit(count, settings_.leafSize, t.bounds.halfArea(), split.childCost)) return makeLeaf(node, t);
-      Box4 bounds[2];
-      leftCount = partition(boxes, refs_[1 - t.buffer].get() + t.begin, count, split, bounds);
-      left.buffer = right.buffer = 1 - t.buffer;
-      left.bounds = bounds[1], right.bounds = bounds[0];
-    } else {
-      // Too deep for SAH (see kMedianSplitDepth), or every centroid in one point so that no
-      // SAH split exists: split at the median when the node is too big for a leaf.
-      if (count <= static_cast<uint32_t>(settings_.leafSize)) return makeLeaf(node, t);
-      leftCount = medianSplit(boxes, count, centroidBoundsOf(boxes, count));
-      left.buffer = right.buffer = t.buffer;
-      left.bounds = boundsOf(boxes, leftCount);
-      right.bounds = boundsOf(boxes + leftCount, count - leftCount);
-    }
+    Box4 bounds[2];
+    const uint32_t leftCount = partition(boxes, refs_[1 - t.buffer].get() + t.begin, count, split, bounds);
+    left.buffer = right.buffer = 1 - t.buffer;
+    left.bounds = bounds[1], right.bounds = bounds[0];
+    return buildChildren(t, leftCount, left, right);
+  }
 
+  // Makes `left` and `right`, whose bounds and buffer are set, t's children and builds them (or
+  // hands the left one to the task queue); returns the slots that t's subtree uses.
+  uint32_t buildChildren(const NodeTask& t, uint32_t leftCount, NodeTask& left, NodeTask& right) {
     setChildren(t, leftCount, left, right);
     uint32_t leftUsed = 2 * leftCount - 2; // all of its slots, for a task
     if (threads_ > 1 && leftCount >= kTaskMinBoxes) {
@@ -850,6 +867,124 @@ private:
     }
     right.descendants = left.descendants + leftUsed;
     return 2 + leftUsed + buildNode(right);
+  }
+
+  // A node too deep for SAH (see kMedianSplitDepth), or with every centroid in one point so
+  // that no SAH split exists: a leaf, or split at the median when too big for one. Its bounds
+  // are written.
+  uint32_t buildAtMedian(const NodeTask& t) {
+    const uint32_t count = t.end - t.begin;
+    if (count <= static_cast<uint32_t>(settings_.leafSize)) return makeLeaf(slots_[t.slot], t);
+    BoxRef* boxes = refs_[t.buffer].get() + t.begin;
+    NodeTask left{}, right{};
+    const uint32_t leftCount = medianSplit(boxes, count, centroidBoundsOf(boxes, count));
+    left.buffer = right.buffer = t.buffer;
+    left.bounds = boundsOf(boxes, leftCount);
+    right.bounds = boundsOf(boxes + leftCount, count - leftCount);
+    return buildChildren(t, leftCount, left, right);
+  }
+
+  // The subtree of t, of kSmallSubtreeMax boxes or fewer (see SmallBoxes).
+  uint32_t buildSmallSubtree(const NodeTask& t) {
+    static_assert(kSmallSubtreeMax == 8);
+    const BoxRef* refs = refs_[t.buffer].get() + t.begin;
+    SmallBoxes boxes;
+    switch (t.end - t.begin) {
+    case 1: return buildSmallNode(boxes, loadSmallSubtree<1>(refs, boxes), t);
+    case 2: return buildSmallNode(boxes, loadSmallSubtree<2>(refs, boxes), t);
+    case 3: return buildSmallNode(boxes, loadSmallSubtree<3>(refs, boxes), t);
+    case 4: return buildSmallNode(boxes, loadSmallSubtree<4>(refs, boxes), t);
+    case 5: return buildSmallNode(boxes, loadSmallSubtree<5>(refs, boxes), t);
+    case 6: return buildSmallNode(boxes, loadSmallSubtree<6>(refs, boxes), t);
+    case 7: return buildSmallNode(boxes, loadSmallSubtree<7>(refs, boxes), t);
+    default: return buildSmallNode(boxes, loadSmallSubtree<8>(refs, boxes), t);
+    }
+  }
+
+  // Builds a node of a small subtree and its own subtree, as buildNode() does.
+  uint32_t buildSmallNode(const SmallBoxes& boxes, const SmallNode& n, const NodeTask& t) {
+    writeBounds(slots_[t.slot], t);
+    if (n.count == 1) return makeSmallLeaf(boxes, n, t);
+    if (t.depth >= kMedianSplitDepth) return buildSmallAtMedian(boxes, n, t);
+    switch (n.count) {
+    case 2: return buildSmallPair(boxes, n, t);
+    case 3: return buildSmallInterior<3>(boxes, n, t);
+    case 4: return buildSmallInterior<4>(boxes, n, t);
+    case 5: return buildSmallInterior<5>(boxes, n, t);
+    case 6: return buildSmallInterior<6>(boxes, n, t);
+    case 7: return buildSmallInterior<7>(boxes, n, t);
+    default: return buildSmallInterior<8>(boxes, n, t);
+    }
+  }
+
+  template <uint32_t M>
+  uint32_t buildSmallInterior(const SmallBoxes& boxes, const SmallNode& n, const NodeTask& t) {
+    const SmallSplit split = findSmallSplit<M>(boxes, n);
+    if (split.axis < 0) return buildSmallAtMedian(boxes, n, t);
+    if (!shouldSplit(M, settings_.leafSize, t.bounds.halfArea(), split.childCost)) return makeSmallLeaf(boxes, n, t);
+    SmallNode children[2];
+    Box4 bounds[2];
+    splitSmallNode<M>(boxes, n, split, children, bounds);
+    NodeTask left{}, right{};
+    setChildren(t, split.leftCount, left, right);
+    left.buffer = right.buffer = t.buffer;
+    left.bounds = bounds[1], right.bounds = bounds[0];
+    const uint32_t leftUsed = buildSmallNode(boxes, children[1], left);
+    right.descendants = left.descendants + leftUsed;
+    return 2 + leftUsed + buildSmallNode(boxes, children[0], right);
+  }
+
+  // A node of two boxes, the most common interior node (SAH splits to about one box per leaf): a
+  // leaf, or two one-box leaves with the lower centroid first. The one split puts one box on
+  // each side and costs the same on every axis, so the first axis on which the centroids differ
+  // takes it, as a sweep would choose.
+  uint32_t buildSmallPair(const SmallBoxes& boxes, const SmallNode& n, const NodeTask& t) {
+    const uint32_t a = n.slots[0], b = n.slots[1];
+    const int differ = _mm_movemask_ps(_mm_cmpneq_ps(_mm_load_ps(boxes.centroid2[a]), _mm_load_ps(boxes.centroid2[b]))) & 7;
+    if (differ == 0) return buildSmallAtMedian(boxes, n, t);
+    const int axis = std::countr_zero(static_cast<unsigned>(differ));
+    Box4 boxA, boxB;
+    boxA.grow(boxes.lo[a], boxes.hi[a]);
+    boxB.grow(boxes.lo[b], boxes.hi[b]);
+    const double childCost = kSahBrushCost * (static_cast<double>(boxA.halfArea()) + boxB.halfArea());
+    if (!shouldSplit(2, settings_.leafSize, t.bounds.halfArea(), childCost)) return makeSmallLeaf(boxes, n, t);
+    const bool aFirst = boxes.centroid2[a][axis] <= boxes.centroid2[b][axis];
+    GpuBvhNode& node = slots_[t.slot];
+    node.leftFirst = t.descendants;
+    node.count = 0;
+    for (uint32_t child = 0; child < 2; ++child) {
+      const uint32_t slot = (child == 0) == aFirst ? a : b;
+      GpuBvhNode& leaf = slots_[t.descendants + child];
+      _mm_storeu_ps(leaf.boundsMin, boxes.lo[slot]);
+      _mm_storeu_ps(leaf.boundsMax, boxes.hi[slot]);
+      leaf.leftFirst = t.begin + child;
+      leaf.count = 1;
+      order_[t.begin + child] = boxes.index[slot];
+    }
+    return 2;
+  }
+
+  // As makeLeaf(), the boxes in node order.
+  uint32_t makeSmallLeaf(const SmallBoxes& boxes, const SmallNode& n, const NodeTask& t) {
+    GpuBvhNode& node = slots_[t.slot];
+    node.leftFirst = t.begin;
+    node.count = n.count;
+    for (uint32_t i = 0; i < n.count; ++i) order_[t.begin + i] = boxes.index[n.slots[i]];
+    return 0;
+  }
+
+  // buildAtMedian() for a node of a small subtree, whose boxes it first writes to its place in
+  // t's buffer, in node order (the small subtree read them from there and no longer needs them).
+  uint32_t buildSmallAtMedian(const SmallBoxes& boxes, const SmallNode& n, const NodeTask& t) {
+    if (n.count <= static_cast<uint32_t>(settings_.leafSize)) return makeSmallLeaf(boxes, n, t);
+    BoxRef* refs = refs_[t.buffer].get() + t.begin;
+    for (uint32_t i = 0; i < n.count; ++i) {
+      const uint32_t slot = n.slots[i];
+      _mm_storeu_ps(&refs[i].min.x, boxes.lo[slot]);
+      _mm_storeu_ps(&refs[i].max.x, boxes.hi[slot]); // pad = lane 3 = 0
+      refs[i].index = boxes.index[slot];
+    }
+    return buildAtMedian(t);
   }
 
   // Nodes of kSampledBinningMin boxes or more choose their split from every stride-th box, 512
@@ -888,16 +1023,14 @@ private:
   struct Hole {
     uint32_t begin, size;
   };
-  // Slots [from, to) of the stretch between two holes that ends at stretchEnd; they move down
-  // by `shift`, the size of the holes before them.
-  struct LayoutJob {
-    uint32_t from, to, stretchEnd, shift;
-  };
-
   // The final layout is the slots in their order with the holes squeezed out, which is the
-  // depth-first layout (see build()). Sizes nodes_ and cuts the stretches between the holes
-  // into layoutJobs_ for the threads.
-  void planLayout() {
+  // depth-first layout (see build()). Each stretch between two holes moves down by the size of
+  // the holes before it, in place, in slot order: a slot moves to one before it, so none is
+  // overwritten before it has moved. Done by one thread: in place, the threads could not
+  // move stretches side by side without one overwriting another's before it moved, and a
+  // second array of slots to lay out from cost more (its pages, fresh each build) than the
+  // threads saved.
+  void layOut() {
     std::sort(holes_.begin(), holes_.end(), [](const Hole& a, const Hole& b) { return a.begin < b.begin; });
     const uint32_t slotCount = 2 * count_ - 1;
     uint32_t shift = 0;
@@ -907,15 +1040,14 @@ private:
       holeShifts_.push_back(shift);
     }
     const uint32_t total = slotCount - shift;
-    nodes_.resize(total); // shrinks: no allocation
-    const uint32_t jobNodes = std::max<uint32_t>(total / (kLayoutJobsPerThread * threads_), kLayoutJobMinNodes);
     uint32_t from = 0;
     shift = 0;
     for (size_t h = 0; h <= holes_.size(); ++h) {
       const uint32_t end = h < holes_.size() ? holes_[h].begin : slotCount;
-      for (uint32_t begin = from; begin < end; begin += jobNodes) layoutJobs_.push_back({begin, std::min(end, begin + jobNodes), end, shift});
+      moveStretch(from, end, shift);
       if (h < holes_.size()) from = holeEnds_[h], shift = holeShifts_[h];
     }
+    nodes_.resize(total); // shrinks: no allocation
   }
 
   // How far slot i moves down: the size of the holes before it.
@@ -924,15 +1056,15 @@ private:
     return before == 0 ? 0 : holeShifts_[before - 1];
   }
 
-  // Copies the job's nodes to their place in nodes_, and their child indices with them. A
-  // node's children lie after it, mostly in the same stretch; a child past the stretch's end
-  // (the right child of a node whose left child was a task) looks its shift up.
-  void runLayoutJob(const LayoutJob& job) {
-    GpuBvhNode* out = nodes_.data();
-    for (uint32_t i = job.from; i < job.to; ++i) {
+  // Moves slots [from, end), a stretch between two holes, down by `shift`, and their child
+  // indices with them. A node's children lie after it, mostly in the same stretch; a child
+  // past the stretch's end (the right child of a node whose left child was a task) looks its
+  // shift up.
+  void moveStretch(uint32_t from, uint32_t end, uint32_t shift) {
+    for (uint32_t i = from; i < end; ++i) {
       GpuBvhNode node = slots_[i];
-      if (node.count == 0) node.leftFirst -= node.leftFirst < job.stretchEnd ? job.shift : shiftOf(node.leftFirst);
-      out[i - job.shift] = node;
+      if (node.count == 0) node.leftFirst -= node.leftFirst < end ? shift : shiftOf(node.leftFirst);
+      slots_[i - shift] = node;
     }
   }
 
@@ -941,16 +1073,15 @@ private:
   int threads_ = 1;
   uint32_t count_ = 0;
   std::unique_ptr<BoxRef[]> refs_[2]; // a node's boxes are in one; partitioning moves them to the other
-  std::unique_ptr<GpuBvhNode[]> slotStorage_; // with threads; one thread builds in nodes_
-  GpuBvhNode* slots_ = nullptr;
+  GpuBvhNode* slots_ = nullptr; // nodes_'s storage, before the layout
   std::vector<uint32_t> order_;
   std::vector<GpuBvhNode> nodes_; // the result: slots_ laid out depth first
-  // With threads: the holes between the tasks' slots, sorted by planLayout(), which adds the end
-  // of each and the size of all up to it; and the layout's jobs.
+  // With threads: the holes between the tasks' slots, sorted by layOut(), which adds the end
+  // of each and the size of all up to it.
   std::vector<Hole> holes_;
   std::vector<uint32_t> holeEnds_, holeShifts_;
-  std::vector<LayoutJob> layoutJobs_;
 
+  std::atomic<bool> slotsSized_{false}; // see sizeSlots()
   std::mutex mutex_; // guards queues_, queuedTasks_, unfinished_ and holes_
   std::condition_variable wake_;
   std::vector<TaskQueue> queues_; // one per thread

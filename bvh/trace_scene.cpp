@@ -249,12 +249,17 @@ TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options)
     if (!finite) continue;
     boxes.push_back({{g.boundsMin[0], g.boundsMin[1], g.boundsMin[2]}, {g.boundsMax[0], g.boundsMax[1], g.boundsMax[2]}});
     boxBrush.push_back(g.sceneBrush);
-    ts.bounds_.grow(dvec3(boxes.back().min));
-    ts.bounds_.grow(dvec3(boxes.back().max));
   }
 
   FlatBvh bvh = buildBinnedSah(boxes, {options.leafSize, options.binCount, options.threads});
   ts.nodes_ = std::move(bvh.nodes);
+  // The root's box is the float min and max of all brush boxes, their bounds: no need to grow
+  // them box by box in the loop above (two calls per brush, a tenth of the loop).
+  if (!ts.nodes_.empty()) {
+    const GpuBvhNode& root = ts.nodes_[0];
+    ts.bounds_.grow(dvec3(root.boundsMin[0], root.boundsMin[1], root.boundsMin[2]));
+    ts.bounds_.grow(dvec3(root.boundsMax[0], root.boundsMax[1], root.boundsMax[2]));
+  }
   // Brushes and their side lists in leaf order, so a leaf's brushes and planes are adjacent.
   ts.brushes_.resize(bvh.order.size());
   parallelChunks(ts.brushes_.size(), threads, [&](size_t begin, size_t end) {
