@@ -263,10 +263,11 @@ Scene importBsp(const std::string& path, const ImportOptions& options) {
 
   // Coloured light lives in a .lit file beside the level (inside the same archive for a .pk3).
   std::optional<std::vector<uint8_t>> litFile;
+  std::error_code litLookup; // a name the system cannot look up has no .lit beside it
   if (bsp.isQuake1Family()) {
     if (archive) {
       litFile = Pk3Archive(archive->archive).read(std::filesystem::path(archive->entry).replace_extension(".lit").generic_string());
-    } else if (const auto lit = std::filesystem::path(path).replace_extension(".lit"); std::filesystem::is_regular_file(lit)) {
+    } else if (const auto lit = std::filesystem::path(path).replace_extension(".lit"); std::filesystem::is_regular_file(lit, litLookup)) {
       litFile = readWholeFile(lit.string());
     }
   }

@@ -130,9 +130,13 @@ private:
       throw ImportError(Diagnostic{Severity::Error, doc_.path, me.line, me.column,
                                    "misc_external_map without an \"_external_map\" key naming the .map to include"});
     const std::string path = resolveExternalMap(doc_.path, *name);
-    if (!std::filesystem::is_regular_file(path))
+    // The name comes from the file: one the system cannot even look up (too long, ...) is not
+    // found either, with the system's reason.
+    std::error_code lookup;
+    if (!std::filesystem::is_regular_file(path, lookup))
       throw ImportError(Diagnostic{Severity::Error, doc_.path, me.line, me.column,
-                                   fmt::format("misc_external_map: \"_external_map\" \"{}\" not found (looked for {})", *name, path)});
+                                   fmt::format("misc_external_map: \"_external_map\" \"{}\" not found (looked for {}{})", *name, path,
+                                               lookup ? ": " + lookup.message() : "")});
     MapDocument external;
     try {
       external = readMapFile(path);
