@@ -213,6 +213,9 @@ std::vector<Miptex> readMiptexLump(const Reader& reader, const Lump& lump) {
   std::sort(starts.begin(), starts.end());
 
   constexpr int64_t kHeaderSize = 16 + 4 + 4 + 4 * 4; // name, width, height, 4 mip offsets
+  // Records that do not overlap add up to at most the lump; slots sharing one record would copy
+  // it again each time (a 64 KB lump of slots all at one offset: a GB of copies).
+  int64_t copied = 0;
   for (size_t i = 0; i < offsets.size(); ++i) {
     Miptex mip;
     const int64_t offset = offsets[i];
@@ -227,6 +230,10 @@ std::vector<Miptex> readMiptexLump(const Reader& reader, const Lump& lump) {
     // Clamped: a later entry's offset may itself be bad (it is reported when its turn comes).
     const int64_t lumpSize = static_cast<int64_t>(lump.bytes.size());
     const int64_t end = next == starts.end() ? lumpSize : std::min(*next, lumpSize);
+    copied += end - offset;
+    if (copied > lumpSize)
+      reader.fail(lump, fmt::format("texture {} at offset {} shares its record with another texture (the records add up "
+                                    "to more than the lump's {} bytes)", i, offset, lumpSize));
     FieldReader r(lump.bytes.data() + offset);
     mip.present = true;
     mip.name = r.name(16);
@@ -412,6 +419,9 @@ void readBspx(const Reader& reader, BspFile& bsp, std::span<const Lump> lumps) {
   const Lump directory{"BSPX", file.subspan(end)};
   if (count < 0 || end + 8 + count * 32 > file.size())
     reader.fail(directory, fmt::format("{} entries do not fit in the file", count));
+  // Lumps that do not overlap add up to at most the file; overlapping ones would copy the same
+  // bytes again and again (a few MB of directory naming the whole file: terabytes).
+  uint64_t copied = 0;
   for (int64_t i = 0; i < count; ++i) {
     FieldReader r(file.data() + end + 8 + i * 32);
     BspxLump lump;
@@ -420,6 +430,10 @@ void readBspx(const Reader& reader, BspFile& bsp, std::span<const Lump> lumps) {
     if (offset < 0 || length < 0 || static_cast<uint64_t>(offset + length) > file.size())
       reader.fail(fmt::format("lump 'BSPX {}': offset {} + length {} lies outside the file ({} bytes)",
                               lump.name, offset, length, file.size()));
+    copied += static_cast<uint64_t>(length);
+    if (copied > file.size())
+      reader.fail(fmt::format("lump 'BSPX {}': the BSPX lumps overlap (they add up to more than the file's {} bytes)",
+                              lump.name, file.size()));
     lump.bytes.assign(file.begin() + offset, file.begin() + offset + length);
     bsp.bspx.push_back(std::move(lump));
   }

@@ -9,6 +9,7 @@
 
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -147,3 +148,88 @@ TEST(BspFile, OutOfRangeIndexNamesLumpAndRecord) {
 }
 
 } // namespace
+
+namespace {
+
+void appendU32(std::vector<uint8_t>& out, uint32_t v) {
+  for (int k = 0; k < 4; ++k) out.push_back(static_cast<uint8_t>(v >> (8 * k)));
+}
+
+// A BSP29 file with the given lumps (by Quake 1 lump number, the others empty) and `tail`
+// appended after them (where ericw-tools puts its BSPX directory).
+std::vector<uint8_t> quake1File(const std::map<int, std::vector<uint8_t>>& lumps, const std::vector<uint8_t>& tail = {}) {
+  std::vector<uint8_t> out;
+  appendU32(out, 29);
+  std::vector<uint8_t> data;
+  for (int l = 0; l < 15; ++l) {
+    const auto it = lumps.find(l);
+    appendU32(out, static_cast<uint32_t>(4 + 15 * 8 + data.size()));
+    appendU32(out, it == lumps.end() ? 0 : static_cast<uint32_t>(it->second.size()));
+    if (it != lumps.end()) data.insert(data.end(), it->second.begin(), it->second.end());
+  }
+  out.insert(out.end(), data.begin(), data.end());
+  out.insert(out.end(), tail.begin(), tail.end());
+  return out;
+}
+
+} // namespace
+
+// Found while fuzzing (tests/fuzz): directory slots that all name one miptex record each copied
+// it, so a lump of a few KB grew to a copy per slot (64 KB: a GB).
+TEST(BspFile, MiptexSlotsSharingOneRecordAreRejected) {
+  constexpr uint32_t kSlots = 2000;
+  std::vector<uint8_t> textures;
+  appendU32(textures, kSlots);
+  for (uint32_t i = 0; i < kSlots; ++i) appendU32(textures, 4 + 4 * kSlots); // all at the one record
+  const std::vector<uint8_t> record = [] {
+    std::vector<uint8_t> r(16, 0);
+    std::memcpy(r.data(), "brick", 5);
+    appendU32(r, 64); // width
+    appendU32(r, 64); // height
+    for (uint32_t mip : {40u, 40u + 4096, 40u + 5120, 40u + 5376}) appendU32(r, mip);
+    r.resize(40 + 5440, 7);
+    return r;
+  }();
+  textures.insert(textures.end(), record.begin(), record.end());
+  const std::string message = expectThrowMessage(quake1File({{2, textures}}));
+  EXPECT_NE(message.find("test.bsp: error: lump 'textures': texture 2 at offset 8004 shares its record"), std::string::npos)
+      << message;
+
+  // One slot per record is what compilers write, also when a slot is left empty (-1).
+  std::vector<uint8_t> ok;
+  appendU32(ok, 2);
+  appendU32(ok, 12);
+  appendU32(ok, 0xffffffffu);
+  ok.insert(ok.end(), record.begin(), record.end());
+  const BspFile bsp = bt::bsp::readBspFile(quake1File({{2, ok}}), "test.bsp");
+  ASSERT_EQ(bsp.miptex.size(), 2u);
+  EXPECT_EQ(bsp.miptex[0].name, "brick");
+  EXPECT_EQ(bsp.miptex[0].bytes.size(), record.size());
+  EXPECT_FALSE(bsp.miptex[1].present);
+}
+
+// The same for BSPX lumps: entries naming the same bytes again each copied them (a few MB of
+// directory naming the whole file: terabytes).
+TEST(BspFile, OverlappingBspxLumpsAreRejected) {
+  const std::vector<uint8_t> entities = {'{', '}', '\n', 0};
+  auto bspxFile = [&](const std::vector<std::pair<uint32_t, uint32_t>>& lumps) {
+    std::vector<uint8_t> tail = {'B', 'S', 'P', 'X'};
+    appendU32(tail, static_cast<uint32_t>(lumps.size()));
+    for (size_t i = 0; i < lumps.size(); ++i) {
+      std::vector<uint8_t> name(24, 0);
+      name[0] = static_cast<uint8_t>('A' + i);
+      tail.insert(tail.end(), name.begin(), name.end());
+      appendU32(tail, lumps[i].first);
+      appendU32(tail, lumps[i].second);
+    }
+    return quake1File({{0, entities}}, tail);
+  };
+  const size_t size = bspxFile({{0, 0}, {0, 0}}).size();
+  // Two lumps side by side are read; the same two lumps over the whole file are not.
+  const BspFile bsp = bt::bsp::readBspFile(bspxFile({{0, 64}, {64, 64}}), "test.bsp");
+  ASSERT_EQ(bsp.bspx.size(), 2u);
+  EXPECT_EQ(bsp.bspx[1].name, "B");
+  EXPECT_EQ(bsp.bspx[1].bytes.size(), 64u);
+  const std::string message = expectThrowMessage(bspxFile({{0, uint32_t(size)}, {0, uint32_t(size)}}));
+  EXPECT_NE(message.find("test.bsp: error: lump 'BSPX B': the BSPX lumps overlap"), std::string::npos) << message;
+}
