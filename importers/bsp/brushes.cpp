@@ -407,6 +407,16 @@ TextureFrame texinfoFrame(const TexInfo& texinfo, const Plane& plane) {
   return frame;
 }
 
+bool hasVolume(const CompiledBrush& brush) {
+  for (const CompiledSide& side : brush.sides) {
+    double deepest = 0.0;
+    for (const CompiledSide& other : brush.sides)
+      for (const dvec3& p : other.winding) deepest = std::max(deepest, -side.plane.distanceTo(p));
+    if (deepest < kOnEpsilon) return false;
+  }
+  return !brush.sides.empty();
+}
+
 std::vector<CompiledBrush> hullBrushes(const BspFile& bsp, size_t modelIndex) {
   const Model& model = bsp.models.at(modelIndex);
   std::vector<CompiledBrush> brushes;
