@@ -719,11 +719,19 @@ void readQuake3(const Reader& reader, BspFile& bsp) {
 // Checks shared by Q1 and Q2: faces → surfedges → edges → vertices, faces → planes, texinfo.
 void checkFaceChain(const Reader& reader, const BspFile& bsp) {
   const Lump faces{"faces", {}}, surfedges{"surfedges", {}}, edges{"edges", {}};
+  // Compilers write each face's run of surfedges after the previous face's, so the runs add up
+  // to at most the lump. Faces sharing one long run would each become a polygon of it: a few
+  // hundred KB of faces naming one run already cost half a GB.
+  uint64_t faceEdges = 0;
   for (size_t i = 0; i < bsp.faces.size(); ++i) {
     const Face& f = bsp.faces[i];
     reader.checkIndex(faces, i, "plane", f.plane, bsp.planes.size());
     reader.checkIndex(faces, i, "texinfo", f.texinfo, bsp.texinfo.size());
     reader.checkRange(faces, i, "surfedges", f.firstEdge, f.edgeCount, bsp.surfedges.size());
+    faceEdges += static_cast<uint64_t>(f.edgeCount);
+    if (faceEdges > bsp.surfedges.size())
+      reader.fail(faces, fmt::format("record {}: the faces share surfedges (their runs add up to more than the {} "
+                                     "surfedges)", i, bsp.surfedges.size()));
   }
   for (size_t i = 0; i < bsp.surfedges.size(); ++i) {
     const int64_t e = bsp.surfedges[i];

@@ -233,3 +233,46 @@ TEST(BspFile, OverlappingBspxLumpsAreRejected) {
   const std::string message = expectThrowMessage(bspxFile({{0, uint32_t(size)}, {0, uint32_t(size)}}));
   EXPECT_NE(message.find("test.bsp: error: lump 'BSPX B': the BSPX lumps overlap"), std::string::npos) << message;
 }
+
+// Each face owns its run of surfedges. Faces that all named one long run each became a polygon
+// of it: 200 KB of faces cost half a GB and seconds (found while checking the fuzzers' cost).
+TEST(BspFile, FacesSharingSurfedgesAreRejected) {
+  auto f32 = [](std::vector<uint8_t>& out, float v) {
+    uint32_t bits;
+    std::memcpy(&bits, &v, 4);
+    appendU32(out, bits);
+  };
+  auto u16 = [](std::vector<uint8_t>& out, uint16_t v) { out.insert(out.end(), {uint8_t(v), uint8_t(v >> 8)}); };
+  std::vector<uint8_t> planes, textures, vertices, texinfo, edges;
+  for (float v : {0.0f, 0.0f, 1.0f, 0.0f}) f32(planes, v);
+  appendU32(planes, 2);
+  appendU32(textures, 1);
+  appendU32(textures, 8);
+  textures.resize(textures.size() + 16, 0);
+  textures[8] = 'a';
+  for (uint32_t v : {16u, 16u, 0u, 0u, 0u, 0u}) appendU32(textures, v); // no pixels in the file
+  for (float v : {0.0f, 0.0f, 0.0f, 64.0f, 0.0f, 0.0f, 0.0f, 64.0f, 0.0f}) f32(vertices, v);
+  for (float v : {1.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f}) f32(texinfo, v);
+  appendU32(texinfo, 0); // miptex
+  appendU32(texinfo, 0); // flags
+  for (uint16_t v : {0, 1, 1, 2, 2, 0}) u16(edges, v);
+  auto level = [&](const std::vector<std::pair<int32_t, int16_t>>& runs, int surfedgeCount) {
+    std::vector<uint8_t> faces, surfedges;
+    for (const auto& [first, count] : runs) {
+      u16(faces, 0); // plane
+      u16(faces, 0); // side
+      appendU32(faces, static_cast<uint32_t>(first));
+      u16(faces, static_cast<uint16_t>(count));
+      u16(faces, 0); // texinfo
+      appendU32(faces, 0xffffffffu); // no light styles
+      appendU32(faces, 0xffffffffu); // no lightmap
+    }
+    for (int i = 0; i < surfedgeCount; ++i) appendU32(surfedges, static_cast<uint32_t>(i % 3));
+    return quake1File({{1, planes}, {2, textures}, {3, vertices}, {6, texinfo}, {7, faces}, {12, edges}, {13, surfedges}});
+  };
+  const BspFile ok = bt::bsp::readBspFile(level({{0, 3}, {3, 3}}, 6), "test.bsp");
+  ASSERT_EQ(ok.faces.size(), 2u);
+  EXPECT_EQ(ok.faceVertices(1).size(), 3u);
+  const std::string message = expectThrowMessage(level({{0, 3}, {0, 3}}, 3));
+  EXPECT_NE(message.find("test.bsp: error: lump 'faces': record 1: the faces share surfedges"), std::string::npos) << message;
+}
