@@ -701,11 +701,23 @@ void readQuake3(const Reader& reader, BspFile& bsp) {
     reader.checkIndex(L[q3::BrushSides], i, "plane", bsp.brushSides[i].plane, bsp.planes.size());
     reader.checkIndex(L[q3::BrushSides], i, "shader", bsp.brushSides[i].shader, bsp.shaders.size());
   }
+  // q3map2 gives every surface vertices of its own but lets surfaces share one index list, so
+  // indexes alone do not bound the triangles. Their vertices do: a triangulation of V points has
+  // at most 2V triangles (6V indexes); OpenArena's levels stay under 5.5 indexes a vertex.
+  // Without both checks, surfaces naming one long run would multiply its triangles.
+  uint64_t surfaceVertices = 0;
   for (size_t i = 0; i < bsp.surfaces.size(); ++i) {
     const Surface& s = bsp.surfaces[i];
     reader.checkIndex(L[q3::Surfaces], i, "shader", s.shader, bsp.shaders.size());
     reader.checkRange(L[q3::Surfaces], i, "drawverts", s.firstVertex, s.vertexCount, bsp.drawVertices.size());
     reader.checkRange(L[q3::Surfaces], i, "drawindexes", s.firstIndex, s.indexCount, bsp.drawIndices.size());
+    surfaceVertices += static_cast<uint64_t>(s.vertexCount);
+    if (surfaceVertices > bsp.drawVertices.size())
+      reader.fail(L[q3::Surfaces], fmt::format("record {}: the surfaces share drawverts (their runs add up to more than the {} "
+                                               "drawverts)", i, bsp.drawVertices.size()));
+    if (int64_t{s.indexCount} > 6 * int64_t{s.vertexCount})
+      reader.fail(L[q3::Surfaces], fmt::format("record {}: {} indexes for {} vertices (a mesh of V vertices has at most "
+                                               "2V triangles)", i, s.indexCount, s.vertexCount));
     for (int32_t k = 0; k < s.indexCount; ++k)
       reader.checkIndex(L[q3::Surfaces], i, "surface vertex", bsp.drawIndices[s.firstIndex + k], s.vertexCount);
     if (s.type == SurfaceType::Patch &&

@@ -276,3 +276,45 @@ TEST(BspFile, FacesSharingSurfedgesAreRejected) {
   const std::string message = expectThrowMessage(level({{0, 3}, {0, 3}}, 3));
   EXPECT_NE(message.find("test.bsp: error: lump 'faces': record 1: the faces share surfedges"), std::string::npos) << message;
 }
+
+// Quake 3's surfaces may share index lists (q3map2 reuses identical ones), never vertices, and a
+// surface of V vertices has at most 2V triangles. Surfaces that all named one long run of
+// indexes (or vertices) each became its triangles again: quadratic memory in the file size.
+TEST(BspFile, Quake3SurfacesSharingVerticesOrWithMoreTrianglesThanVerticesAllowAreRejected) {
+  struct SurfaceRecord {
+    int32_t firstVertex, vertexCount, firstIndex, indexCount;
+  };
+  auto quake3File = [](const std::vector<SurfaceRecord>& surfaces, uint32_t vertexCount, const std::vector<int32_t>& indexes) {
+    std::map<int, std::vector<uint8_t>> lumps;
+    lumps[1].resize(64 + 8, 0); // one shader, "a"
+    lumps[1][0] = 'a';
+    lumps[10].resize(size_t{44} * vertexCount, 0);
+    for (int32_t i : indexes) appendU32(lumps[11], static_cast<uint32_t>(i));
+    for (const SurfaceRecord& s : surfaces) {
+      std::vector<uint8_t>& out = lumps[13];
+      for (int32_t v : {0, -1, 1, s.firstVertex, s.vertexCount, s.firstIndex, s.indexCount, -1}) appendU32(out, static_cast<uint32_t>(v));
+      out.resize(out.size() + 104 - 32, 0);
+    }
+    std::vector<uint8_t> file = {'I', 'B', 'S', 'P'};
+    appendU32(file, 46);
+    std::vector<uint8_t> data;
+    for (int l = 0; l < 17; ++l) {
+      const std::vector<uint8_t>& bytes = lumps[l];
+      appendU32(file, static_cast<uint32_t>(8 + 17 * 8 + data.size()));
+      appendU32(file, static_cast<uint32_t>(bytes.size()));
+      data.insert(data.end(), bytes.begin(), bytes.end());
+    }
+    file.insert(file.end(), data.begin(), data.end());
+    return file;
+  };
+  // Two triangles with vertices of their own, sharing one index list: what q3map2 writes.
+  const BspFile ok = bt::bsp::readBspFile(quake3File({{0, 3, 0, 3}, {3, 3, 0, 3}}, 6, {0, 1, 2}), "test.bsp");
+  EXPECT_EQ(ok.surfaces.size(), 2u);
+
+  std::string message = expectThrowMessage(quake3File({{0, 3, 0, 3}, {0, 3, 0, 3}}, 3, {0, 1, 2}));
+  EXPECT_NE(message.find("test.bsp: error: lump 'surfaces': record 1: the surfaces share drawverts"), std::string::npos) << message;
+  std::vector<int32_t> many;
+  for (int i = 0; i < 7; ++i) many.insert(many.end(), {0, 1, 2});
+  message = expectThrowMessage(quake3File({{0, 3, 0, 21}}, 3, many));
+  EXPECT_NE(message.find("test.bsp: error: lump 'surfaces': record 0: 21 indexes for 3 vertices"), std::string::npos) << message;
+}
