@@ -243,11 +243,14 @@ TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options)
   boxBrush.reserve(scene.brushes.size());
   for (const GpuBrush& g : candidates) {
     if (g.sceneBrush == kNoFace) continue;
-    // A brush whose bounds overflow float cannot be traced, and the builder refuses such boxes;
-    // the importers keep coordinates finite, so this only keeps a corrupt scene from throwing.
+    // A brush whose bounds overflow float, or whose opposite axial faces cross (a sliver with no
+    // inside), cannot be traced, and the builder refuses such boxes; the importers keep
+    // coordinates finite and drop brushes without volume, so this only keeps a corrupt scene
+    // from throwing.
     const bool finite = std::isfinite(g.boundsMin[0] + g.boundsMin[1] + g.boundsMin[2] + g.boundsMax[0] + g.boundsMax[1] + g.boundsMax[2]);
-    if (!finite) continue;
-    boxes.push_back({{g.boundsMin[0], g.boundsMin[1], g.boundsMin[2]}, {g.boundsMax[0], g.boundsMax[1], g.boundsMax[2]}});
+    const Aabb box{{g.boundsMin[0], g.boundsMin[1], g.boundsMin[2]}, {g.boundsMax[0], g.boundsMax[1], g.boundsMax[2]}};
+    if (!finite || box.empty()) continue;
+    boxes.push_back(box);
     boxBrush.push_back(g.sceneBrush);
   }
 

@@ -407,6 +407,16 @@ TextureFrame texinfoFrame(const TexInfo& texinfo, const Plane& plane) {
   return frame;
 }
 
+bool hasVolume(const CompiledBrush& brush) {
+  for (const CompiledSide& side : brush.sides) {
+    double deepest = 0.0;
+    for (const CompiledSide& other : brush.sides)
+      for (const dvec3& p : other.winding) deepest = std::max(deepest, -side.plane.distanceTo(p));
+    if (deepest < kOnEpsilon) return false;
+  }
+  return !brush.sides.empty();
+}
+
 std::vector<CompiledBrush> hullBrushes(const BspFile& bsp, size_t modelIndex) {
   const Model& model = bsp.models.at(modelIndex);
   std::vector<CompiledBrush> brushes;
@@ -533,13 +543,18 @@ std::vector<CompiledBrush> quake2Brushes(const BspFile& bsp, size_t modelIndex) 
   // Quake 2 models do not list their brushes: collect those of the leafs under the head node.
   std::vector<int32_t> brushIndices;
   std::vector<bool> taken(bsp.brushes.size(), false);
-  std::vector<bool> visited(bsp.nodes.size(), false);
+  std::vector<bool> visited(bsp.nodes.size(), false), leafRead(bsp.leafs.size(), false);
   std::vector<int32_t> stack{model.headNode[0]};
   while (!stack.empty()) {
     const int32_t child = stack.back();
     stack.pop_back();
     if (child < 0) {
-      const Leaf& leaf = bsp.leafs[static_cast<size_t>(-1 - int64_t{child})];
+      // qbsp3 points every solid node child at the one leaf 0, and a corrupt tree may name any
+      // leaf from thousands of nodes: its brush list is read once.
+      const size_t leafIndex = static_cast<size_t>(-1 - int64_t{child});
+      if (leafRead[leafIndex]) continue;
+      leafRead[leafIndex] = true;
+      const Leaf& leaf = bsp.leafs[leafIndex];
       for (int32_t i = 0; i < leaf.leafBrushCount; ++i) {
         const int32_t b = bsp.leafBrushes[static_cast<size_t>(leaf.firstLeafBrush + i)];
         if (!taken[static_cast<size_t>(b)]) {

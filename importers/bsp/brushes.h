@@ -38,6 +38,12 @@ struct CompiledBrush {
   int32_t contents = 0; // Q1 CONTENTS_* or Q2/Q3 contents bits
 };
 
+// False for a brush thinner than the on-plane epsilon (0.01 units) behind one of its sides: a
+// corrupt tree or brush lump can name two planes that close to each other, face to face, and
+// clipping, which counts such distances as "on the plane", then keeps both as sides of a sliver
+// that has no inside to trace.
+bool hasVolume(const CompiledBrush& brush);
+
 // Q1/HL: convex cells of hull 0 of `model` (non-empty leafs).
 std::vector<CompiledBrush> hullBrushes(const BspFile& bsp, size_t model);
 

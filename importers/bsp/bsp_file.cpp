@@ -213,6 +213,9 @@ std::vector<Miptex> readMiptexLump(const Reader& reader, const Lump& lump) {
   std::sort(starts.begin(), starts.end());
 
   constexpr int64_t kHeaderSize = 16 + 4 + 4 + 4 * 4; // name, width, height, 4 mip offsets
+  // Records that do not overlap add up to at most the lump; slots sharing one record would copy
+  // it again each time (a 64 KB lump of slots all at one offset: a GB of copies).
+  int64_t copied = 0;
   for (size_t i = 0; i < offsets.size(); ++i) {
     Miptex mip;
     const int64_t offset = offsets[i];
@@ -227,6 +230,10 @@ std::vector<Miptex> readMiptexLump(const Reader& reader, const Lump& lump) {
     // Clamped: a later entry's offset may itself be bad (it is reported when its turn comes).
     const int64_t lumpSize = static_cast<int64_t>(lump.bytes.size());
     const int64_t end = next == starts.end() ? lumpSize : std::min(*next, lumpSize);
+    copied += end - offset;
+    if (copied > lumpSize)
+      reader.fail(lump, fmt::format("texture {} at offset {} shares its record with another texture (the records add up "
+                                    "to more than the lump's {} bytes)", i, offset, lumpSize));
     FieldReader r(lump.bytes.data() + offset);
     mip.present = true;
     mip.name = r.name(16);
@@ -412,6 +419,9 @@ void readBspx(const Reader& reader, BspFile& bsp, std::span<const Lump> lumps) {
   const Lump directory{"BSPX", file.subspan(end)};
   if (count < 0 || end + 8 + count * 32 > file.size())
     reader.fail(directory, fmt::format("{} entries do not fit in the file", count));
+  // Lumps that do not overlap add up to at most the file; overlapping ones would copy the same
+  // bytes again and again (a few MB of directory naming the whole file: terabytes).
+  uint64_t copied = 0;
   for (int64_t i = 0; i < count; ++i) {
     FieldReader r(file.data() + end + 8 + i * 32);
     BspxLump lump;
@@ -420,6 +430,10 @@ void readBspx(const Reader& reader, BspFile& bsp, std::span<const Lump> lumps) {
     if (offset < 0 || length < 0 || static_cast<uint64_t>(offset + length) > file.size())
       reader.fail(fmt::format("lump 'BSPX {}': offset {} + length {} lies outside the file ({} bytes)",
                               lump.name, offset, length, file.size()));
+    copied += static_cast<uint64_t>(length);
+    if (copied > file.size())
+      reader.fail(fmt::format("lump 'BSPX {}': the BSPX lumps overlap (they add up to more than the file's {} bytes)",
+                              lump.name, file.size()));
     lump.bytes.assign(file.begin() + offset, file.begin() + offset + length);
     bsp.bspx.push_back(std::move(lump));
   }
@@ -687,11 +701,23 @@ void readQuake3(const Reader& reader, BspFile& bsp) {
     reader.checkIndex(L[q3::BrushSides], i, "plane", bsp.brushSides[i].plane, bsp.planes.size());
     reader.checkIndex(L[q3::BrushSides], i, "shader", bsp.brushSides[i].shader, bsp.shaders.size());
   }
+  // q3map2 gives every surface vertices of its own but lets surfaces share one index list, so
+  // indexes alone do not bound the triangles. Their vertices do: a triangulation of V points has
+  // at most 2V triangles (6V indexes); OpenArena's levels stay under 5.5 indexes a vertex.
+  // Without both checks, surfaces naming one long run would multiply its triangles.
+  uint64_t surfaceVertices = 0;
   for (size_t i = 0; i < bsp.surfaces.size(); ++i) {
     const Surface& s = bsp.surfaces[i];
     reader.checkIndex(L[q3::Surfaces], i, "shader", s.shader, bsp.shaders.size());
     reader.checkRange(L[q3::Surfaces], i, "drawverts", s.firstVertex, s.vertexCount, bsp.drawVertices.size());
     reader.checkRange(L[q3::Surfaces], i, "drawindexes", s.firstIndex, s.indexCount, bsp.drawIndices.size());
+    surfaceVertices += static_cast<uint64_t>(s.vertexCount);
+    if (surfaceVertices > bsp.drawVertices.size())
+      reader.fail(L[q3::Surfaces], fmt::format("record {}: the surfaces share drawverts (their runs add up to more than the {} "
+                                               "drawverts)", i, bsp.drawVertices.size()));
+    if (int64_t{s.indexCount} > 6 * int64_t{s.vertexCount})
+      reader.fail(L[q3::Surfaces], fmt::format("record {}: {} indexes for {} vertices (a mesh of V vertices has at most "
+                                               "2V triangles)", i, s.indexCount, s.vertexCount));
     for (int32_t k = 0; k < s.indexCount; ++k)
       reader.checkIndex(L[q3::Surfaces], i, "surface vertex", bsp.drawIndices[s.firstIndex + k], s.vertexCount);
     if (s.type == SurfaceType::Patch &&
@@ -705,11 +731,19 @@ void readQuake3(const Reader& reader, BspFile& bsp) {
 // Checks shared by Q1 and Q2: faces → surfedges → edges → vertices, faces → planes, texinfo.
 void checkFaceChain(const Reader& reader, const BspFile& bsp) {
   const Lump faces{"faces", {}}, surfedges{"surfedges", {}}, edges{"edges", {}};
+  // Compilers write each face's run of surfedges after the previous face's, so the runs add up
+  // to at most the lump. Faces sharing one long run would each become a polygon of it: a few
+  // hundred KB of faces naming one run already cost half a GB.
+  uint64_t faceEdges = 0;
   for (size_t i = 0; i < bsp.faces.size(); ++i) {
     const Face& f = bsp.faces[i];
     reader.checkIndex(faces, i, "plane", f.plane, bsp.planes.size());
     reader.checkIndex(faces, i, "texinfo", f.texinfo, bsp.texinfo.size());
     reader.checkRange(faces, i, "surfedges", f.firstEdge, f.edgeCount, bsp.surfedges.size());
+    faceEdges += static_cast<uint64_t>(f.edgeCount);
+    if (faceEdges > bsp.surfedges.size())
+      reader.fail(faces, fmt::format("record {}: the faces share surfedges (their runs add up to more than the {} "
+                                     "surfedges)", i, bsp.surfedges.size()));
   }
   for (size_t i = 0; i < bsp.surfedges.size(); ++i) {
     const int64_t e = bsp.surfedges[i];

@@ -99,6 +99,7 @@ Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve,
   const auto sizes = miptexSizes(bsp);
   std::vector<bool> frameInTextureUnits; // per face, Quake 3 only
   size_t q3SidesWithoutSurface = 0;
+  size_t brushesWithoutVolume = 0;
   bool worldClaimed = false;
   std::vector<ModelPlacement> placements;
 
@@ -112,6 +113,10 @@ Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve,
     const dvec3 offset = *model == 0 ? dvec3(0.0) : entityOrigin(entity);
     placements.push_back({*model, static_cast<uint32_t>(e), offset});
     for (CompiledBrush& compiled : brushes) {
+      if (!hasVolume(compiled)) {
+        ++brushesWithoutVolume;
+        continue;
+      }
       if (offset != dvec3(0.0)) translate(compiled, offset);
       bt::Brush brush;
       brush.entity = static_cast<uint32_t>(e);
@@ -147,6 +152,10 @@ Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve,
   if (!worldClaimed && !bsp.models.empty())
     scene.diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
                                  "the entities lump has no worldspawn; the world model (model 0) is not imported"});
+  if (brushesWithoutVolume > 0)
+    scene.diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
+                                 fmt::format("{} brush(es) skipped: thinner than 0.01 units between two of their sides "
+                                             "(no volume; the file's planes are corrupt)", brushesWithoutVolume)});
   if (q3SidesWithoutSurface > 0)
     scene.diagnostics.push_back(
         {Severity::Note, bsp.path, 0, 0,
@@ -263,10 +272,11 @@ Scene importBsp(const std::string& path, const ImportOptions& options) {
 
   // Coloured light lives in a .lit file beside the level (inside the same archive for a .pk3).
   std::optional<std::vector<uint8_t>> litFile;
+  std::error_code litLookup; // a name the system cannot look up has no .lit beside it
   if (bsp.isQuake1Family()) {
     if (archive) {
       litFile = Pk3Archive(archive->archive).read(std::filesystem::path(archive->entry).replace_extension(".lit").generic_string());
-    } else if (const auto lit = std::filesystem::path(path).replace_extension(".lit"); std::filesystem::is_regular_file(lit)) {
+    } else if (const auto lit = std::filesystem::path(path).replace_extension(".lit"); std::filesystem::is_regular_file(lit, litLookup)) {
       litFile = readWholeFile(lit.string());
     }
   }

@@ -130,9 +130,13 @@ private:
       throw ImportError(Diagnostic{Severity::Error, doc_.path, me.line, me.column,
                                    "misc_external_map without an \"_external_map\" key naming the .map to include"});
     const std::string path = resolveExternalMap(doc_.path, *name);
-    if (!std::filesystem::is_regular_file(path))
+    // The name comes from the file: one the system cannot even look up (too long, ...) is not
+    // found either, with the system's reason.
+    std::error_code lookup;
+    if (!std::filesystem::is_regular_file(path, lookup))
       throw ImportError(Diagnostic{Severity::Error, doc_.path, me.line, me.column,
-                                   fmt::format("misc_external_map: \"_external_map\" \"{}\" not found (looked for {})", *name, path)});
+                                   fmt::format("misc_external_map: \"_external_map\" \"{}\" not found (looked for {}{})", *name, path,
+                                               lookup ? ": " + lookup.message() : "")});
     MapDocument external;
     try {
       external = readMapFile(path);
@@ -194,6 +198,16 @@ private:
   }
 
   std::optional<uint32_t> buildBrush(const MapBrush& mb, uint32_t entityIndex, const std::string& file, const Placement* placement) {
+    // Building a brush clips every face by every other one, so its cost grows with the square of
+    // its faces: a few MB of faces on one brush would take minutes. Editors and compilers stay far
+    // below this (Quake's qbsp allowed 32 faces a brush, LordHavoc's 256, qbsp3 128); the .bsp
+    // reader draws the line at the same place.
+    constexpr size_t kMaxBrushFaces = 1024;
+    if (mb.faces.size() > kMaxBrushFaces) {
+      report(Severity::Warning, file, mb.line, mb.column,
+             fmt::format("brush skipped: it has {} faces, more than the {} a brush may have", mb.faces.size(), kMaxBrushFaces));
+      return std::nullopt;
+    }
     std::vector<Side> sides;
     sides.reserve(mb.faces.size());
     for (const MapFace& f : mb.faces) {

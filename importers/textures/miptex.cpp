@@ -233,6 +233,14 @@ Material decodeWal(std::span<const uint8_t> bytes, const Palette& quake2Palette,
 Image checkerPlaceholder(int width, int height) {
   width = std::clamp(width, 1, static_cast<int>(kMaxTextureSide));
   height = std::clamp(height, 1, static_cast<int>(kMaxTextureSide));
+  // A decoded texture is no bigger than the file that holds it, but a placeholder costs what its
+  // header asks: 40 bytes of miptex header could ask for 16384x16384 (a GB). Past this side the
+  // checker is drawn smaller by a whole factor; texture coordinates divide by the material's own
+  // size, so it still covers the surface, its cells that factor larger.
+  constexpr int kMaxPlaceholderSide = 1024;
+  const int reduce = (std::max(width, height) + kMaxPlaceholderSide - 1) / kMaxPlaceholderSide;
+  width = (width + reduce - 1) / reduce;
+  height = (height + reduce - 1) / reduce;
   constexpr int kCell = 8;
   constexpr uint8_t kDark = 0x40, kLight = 0x90;
   Image image = blankImage(width, height);

@@ -77,6 +77,8 @@ Material decodeWal(std::span<const uint8_t> bytes, const Palette& quake2Palette,
 void loadMaterials(Scene& scene, const TextureSearch& search);
 
 // A checker of two greys in 8x8-texel cells, opaque. Used for every texture that is not found.
+// Sides above 1024 are divided by the smallest whole factor that brings both to 1024 or less (a
+// corrupt size costs no more than a 1024x1024 image; the material keeps its size).
 Image checkerPlaceholder(int width, int height);
 
 // ---------------------------------------------------------------------------------------------

@@ -26,8 +26,18 @@ constexpr double kOnPlaneEpsilon = 0.01; // qbsp's ON_EPSILON-like tolerance for
 constexpr double kContinuousEpsilon = 0.005; // qbsp: edges turning less than this go straight on
 constexpr double kVoidProbeDistance = 1.0;   // a face looks into the space this far in front of it
 
+// A face may be cut into this many pieces at most, by either subdivision: as many as the whole
+// level may have surface lights (and one more, to tell that the cap was reached). A corrupt or
+// absurd texture scale (a million texels a unit) or a face of a million units would otherwise
+// cut into hundreds of millions of pieces: a hang and gigabytes before any cap on lights.
+constexpr size_t kMaxPiecesPerFace = kMaxSurfaceLights + 1;
+
 void subdivide(const Winding& w, double size, std::vector<Winding>& pieces) {
   if (w.size() < 3) return;
+  if (pieces.size() >= kMaxPiecesPerFace) {
+    pieces.push_back(w); // the rest stays whole
+    return;
+  }
   dvec3 lo = w[0], hi = w[0];
   for (const dvec3& p : w) lo = glm::min(lo, p), hi = glm::max(hi, p);
   for (int axis = 0; axis < 3; ++axis) {
@@ -55,7 +65,7 @@ void subdivideForQbsp(const Winding& w, const TextureFrame& frame, std::vector<W
     const double scale = glm::length(axis);
     if (scale <= 0.0) continue;
     for (Winding rest : current) {
-      while (rest.size() >= 3) {
+      while (rest.size() >= 3 && current.size() + next.size() < kMaxPiecesPerFace) {
         double lo = 1e300, hi = -1e300;
         for (const dvec3& p : rest) lo = std::min(lo, glm::dot(p, axis)), hi = std::max(hi, glm::dot(p, axis));
         if (std::ceil(hi) - std::floor(lo) <= kSubdivideTexels) break;
@@ -357,7 +367,7 @@ std::vector<Winding> compilerFaces(const Scene& scene, const std::vector<uint32_
 void addGridLights(const Face& face, const Winding& fragment, const SurfaceTemplate& t, std::vector<GpuLight>& out) {
   std::vector<Winding> qbspPieces;
   subdivideForQbsp(fragment, face.frame, qbspPieces);
-  for (const Winding& qbspPiece : qbspPieces)
+  for (const Winding& qbspPiece : qbspPieces) {
     for (const Winding& piece : subdivideOnGrid(qbspPiece, kQ1SurfaceGrid)) {
       GpuLight light = t.light;
       light.origin = glm::vec3(centroid(piece) + face.plane.normal * double(t.offset));
@@ -365,6 +375,8 @@ void addGridLights(const Face& face, const Winding& fragment, const SurfaceTempl
       if (t.spotlight) light.direction = glm::vec3(face.plane.normal);
       out.push_back(light);
     }
+    if (out.size() > kMaxSurfaceLights) return; // the caller cuts the list and says so
+  }
 }
 
 // The radiosity kind: one point for the whole face, value x area, falling off as 1/d^2.

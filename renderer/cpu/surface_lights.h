@@ -67,7 +67,9 @@ std::vector<std::vector<dvec3>> visibleFragments(const Scene& scene, uint32_t fa
 std::vector<std::vector<dvec3>> compiledFacePolygons(const Scene& scene, uint32_t face, const std::vector<BrushContents>& contents);
 
 // GLQuake's SubdividePolygon: cut `winding` at multiples of `size` on each axis, the cut
-// nearest the middle first, unless it would leave a piece thinner than 8 units.
+// nearest the middle first, unless it would leave a piece thinner than 8 units. Stops cutting
+// at kMaxSurfaceLights + 1 pieces (the rest stays whole), as the 240-texel subdivision of
+// compiledFacePolygons does.
 std::vector<std::vector<dvec3>> subdivideOnGrid(const std::vector<dvec3>& winding, double size);
 
 } // namespace bt

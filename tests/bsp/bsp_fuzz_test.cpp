@@ -3,6 +3,9 @@
 // under ASan+UBSan).
 #include "importers/bsp/bsp_file.h"
 #include "importers/bsp/bsp_import.h"
+#include "bvh/trace_scene.h"
+
+#include <glm/geometric.hpp>
 #include "tests/test_data.h"
 
 #include <algorithm>
@@ -113,3 +116,26 @@ TEST(BspFuzz, ScrambledLumpContentsNeverCrash) {
 }
 
 } // namespace
+
+// Found by tests/fuzz/fuzz_bsp (tests/bsp/data/fuzz_sliver_cell.bsp, an oracle level with bytes
+// changed): two node planes 1.4e-45 apart, face to face, cut a hull-0 cell into a sliver that kept
+// both as sides. Its +X face lay below its -X face; the BVH builder then threw on the empty box.
+TEST(BspFuzz, CellsThinnerThanTheEpsilonAreSkippedWithAWarning) {
+  const auto path = bt::test::sourceDir() / "tests/bsp/data/fuzz_sliver_cell.bsp";
+  const bt::Scene scene = bt::bsp::sceneFromBsp(bt::bsp::readBspFile(path));
+  bool warned = false;
+  for (const bt::Diagnostic& d : scene.diagnostics)
+    warned |= d.severity == bt::Severity::Warning && d.message.find("brush(es) skipped: thinner than 0.01 units") != std::string::npos;
+  EXPECT_TRUE(warned);
+  EXPECT_FALSE(scene.brushes.empty());
+  for (const bt::Brush& b : scene.brushes) {
+    SCOPED_TRACE(b.firstFace);
+    for (uint32_t f = b.firstFace; f < b.firstFace + b.faceCount; ++f)
+      for (uint32_t g = b.firstFace; g < b.firstFace + b.faceCount; ++g) {
+        const bt::Plane &p = scene.faces[f].plane, &q = scene.faces[g].plane;
+        // Opposite planes of one brush: the brush lies between them, so they must not cross.
+        if (glm::dot(p.normal, q.normal) < -0.999999) EXPECT_GT(p.dist + q.dist, 0.0) << f << " " << g;
+      }
+  }
+  EXPECT_NO_THROW(bt::TraceScene::build(scene));
+}

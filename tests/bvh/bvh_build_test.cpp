@@ -180,6 +180,21 @@ TEST(BvhBuild, BrushWithoutWindingsIsSkipped) {
   EXPECT_EQ(ts.faces().size(), scene.faces.size()); // faces stay indexable by scene index
 }
 
+// Found by tests/fuzz/fuzz_bsp: a corrupt level's brush whose +X face lay below its -X face
+// (a sliver of no thickness) made an empty box, and the builder threw std::invalid_argument.
+TEST(BvhBuild, BrushWhoseAxialFacesCrossIsSkipped) {
+  Scene scene;
+  test::addBox(scene, {0, 0, 0}, {16, 16, 16});
+  test::addBox(scene, {32, 0, 0}, {48, 16, 16});
+  for (uint32_t f = scene.brushes[1].firstFace; f < scene.brushes[1].firstFace + scene.brushes[1].faceCount; ++f) {
+    Plane& plane = scene.faces[f].plane;
+    if (plane.normal.x == 1.0) plane.dist = 31.0; // +X now below -X (32)
+  }
+  const TraceScene ts = TraceScene::build(scene);
+  ASSERT_EQ(ts.brushes().size(), 1u);
+  EXPECT_EQ(ts.brushes()[0].sceneBrush, 0u);
+}
+
 TEST(BvhBuild, InconsistentSceneIsRejected) {
   Scene scene;
   test::addBox(scene, {0, 0, 0}, {16, 16, 16});

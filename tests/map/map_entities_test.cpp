@@ -169,6 +169,21 @@ TEST(BrushEntities, BadExternalMapsStopTheImportNamingFileLineAndColumn) {
   EXPECT_NE(message.find("(in the external map of the misc_external_map at " + includer + ":4)"), std::string::npos) << message;
 }
 
+// Found by tests/fuzz/fuzz_map: a name the file system cannot even look up (longer than a file
+// name may be) threw std::filesystem::filesystem_error out of buildScene.
+TEST(BrushEntities, ExternalMapNameTooLongToLookUpIsNotFound) {
+  const std::string name(5000, 'x');
+  const std::string text = "{\n\"classname\" \"worldspawn\"\n}\n{\n\"classname\" \"misc_external_map\"\n\"_external_map\" \"" +
+                           name + ".map\"\n}\n";
+  try {
+    buildScene(parseMap(text, "long.map"));
+    FAIL() << "no error";
+  } catch (const ImportError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("long.map:4:1: error: misc_external_map: \"_external_map\" \"" + name + ".map\" not found", 0), 0u);
+    EXPECT_NE(std::string(e.what()).find("File name too long"), std::string::npos) << e.what();
+  }
+}
+
 TEST(BrushEntities, OriginBrushGivesTheModelOriginAndTheBrushesStayInPlace) {
   // A door with an origin brush centred on (8, 16, 24); qbsp writes that origin and compiles the
   // model around it, so the engine draws the door where the source has it.

@@ -2,6 +2,7 @@
 #include "importers/map/map_parser.h"
 #include "importers/map/map_scene.h"
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -118,6 +119,26 @@ TEST(MapGeometry, ReportsDegenerateDuplicateAndUnboundedWithLines) {
   ASSERT_EQ(flat.diagnostics.size(), 1u);
   EXPECT_EQ(format(flat.diagnostics[0]), "t.map:2:1: warning: brush skipped: faces on lines 3 and 4 are opposite on one plane (no volume)");
   EXPECT_TRUE(flat.brushes.empty());
+}
+
+// A brush's cost grows with the square of its faces (each clips every other): past 1024 faces
+// it is skipped with a warning instead of taking seconds or, a few MB on, minutes.
+TEST(MapGeometry, BrushWithMoreThan1024FacesIsSkippedNamingItsLine) {
+  // 1025 distinct planes tangent to a sphere, one brush; then an ordinary box.
+  std::string ball;
+  for (int i = 0; i < 1025; ++i) {
+    const double z = 1.0 - 2.0 * (i + 0.5) / 1025.0, r = std::sqrt(1.0 - z * z), phi = i * 2.399963;
+    const dvec3 n(r * std::cos(phi), r * std::sin(phi), z), p = 512.0 * n;
+    const dvec3 u = glm::normalize(glm::cross(n, std::fabs(z) < 0.9 ? dvec3(0, 0, 1) : dvec3(1, 0, 0)));
+    const dvec3 v = glm::cross(n, u);
+    auto point = [](const dvec3& q) { return "( " + std::to_string(q.x) + " " + std::to_string(q.y) + " " + std::to_string(q.z) + " ) "; };
+    ball += point(p) + point(p + 64.0 * v) + point(p + 64.0 * u) + "a 0 0 0 1 1\n";
+  }
+  const Scene scene = build("{\n{\n" + ball + "}\n{\n" + boxBrush() + "}\n}\n");
+  ASSERT_EQ(scene.diagnostics.size(), 1u);
+  EXPECT_EQ(format(scene.diagnostics[0]), "t.map:2:1: warning: brush skipped: it has 1025 faces, more than the 1024 a brush may have");
+  EXPECT_EQ(scene.brushes.size(), 1u);
+  EXPECT_EQ(scene.faces.size(), 6u);
 }
 
 TEST(MapGeometry, MaterialsAreOnePerTextureNameIgnoringCase) {

@@ -212,6 +212,32 @@ TEST(SurfaceLightQ1, AHugeTemplateFaceStopsAtTheCapWithAWarning) {
   EXPECT_NE(diags.back().message.find("surface light points"), std::string::npos) << diags.back().message;
 }
 
+// Found by tests/fuzz/fuzz_bsp: a corrupt level's hull cell reaching out a million units gave a
+// template face that the 128-unit grid cut into 67 million pieces before the cap on lights was
+// ever checked: gigabytes. Cutting now stops at the cap.
+TEST(SurfaceLightQ1, AFaceAMillionUnitsWideStopsAtTheCapWithAWarning) {
+  test::BoxSceneBuilder b;
+  b.material("lava", 255, 64, 0);
+  b.box({-524288, -524288, -16}, {524288, 524288, 0}, "lava");
+  b.entity({{"classname", "light"}, {"origin", "0 0 500"}, {"_surface", "lava"}});
+  const Scene scene = b.build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  EXPECT_EQ(rs.lights.size(), kMaxSurfaceLights);
+  ASSERT_FALSE(diags.empty());
+  EXPECT_NE(diags.back().message.find("surface light points"), std::string::npos) << diags.back().message;
+}
+
+TEST(SurfaceLightGrid, StopsCuttingAtTheCapLeavingTheRestWhole) {
+  // 2^20 units square on the 128 grid: 67 million pieces uncapped.
+  const auto pieces = subdivideOnGrid(square(-524288, 524288), 128.0);
+  EXPECT_GT(pieces.size(), kMaxSurfaceLights);
+  EXPECT_LT(pieces.size(), kMaxSurfaceLights + 64);
+  double total = 0.0;
+  for (const auto& p : pieces) total += area(p);
+  EXPECT_NEAR(total, 1048576.0 * 1048576.0, 1e-6 * 1048576.0 * 1048576.0); // still the whole square
+}
+
 struct JitterCase {
   const char* delay;
   const char* samples;

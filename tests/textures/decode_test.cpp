@@ -384,5 +384,18 @@ TEST(Placeholder, IsACheckerOfTwoGreysIn8x8Cells) {
     }
 }
 
+// Found by tests/fuzz/fuzz_bsp: a miptex header of 40 bytes naming a 16384x16384 texture with
+// no pixels made a placeholder of a GB (several such names: the machine's memory).
+TEST(Placeholder, AboveTwoToTheTenthASideItIsDrawnSmallerByAWholeFactor) {
+  EXPECT_EQ(checkerPlaceholder(1024, 512).width, 1024);
+  const Image huge = checkerPlaceholder(16384, 16384);
+  EXPECT_EQ(huge.width, 1024);
+  EXPECT_EQ(huge.height, 1024);
+  const Image wide = checkerPlaceholder(3000, 100); // factor 3, rounded up: 1000 x 34
+  EXPECT_EQ(wide.width, 1000);
+  EXPECT_EQ(wide.height, 34);
+  EXPECT_EQ(wide.rgba, checkerPlaceholder(1000, 34).rgba);
+}
+
 } // namespace
 } // namespace bt
