@@ -702,9 +702,12 @@ void readQuake3(const Reader& reader, BspFile& bsp) {
     reader.checkIndex(L[q3::BrushSides], i, "shader", bsp.brushSides[i].shader, bsp.shaders.size());
   }
   // q3map2 gives every surface vertices of its own but lets surfaces share one index list, so
-  // indexes alone do not bound the triangles. Their vertices do: a triangulation of V points has
-  // at most 2V triangles (6V indexes); OpenArena's levels stay under 5.5 indexes a vertex.
+  // indexes alone do not bound the triangles. Their vertices do: a plane triangulation of V
+  // points has at most 2V triangles (6V indexes), a closed mesh with g handles 2V - 4 + 4g (a
+  // model of a grating: at most about 3V, 9V indexes). OpenArena's levels stay under 5.5 indexes a
+  // vertex; the limit, 24, leaves models room while keeping the triangles linear in the file.
   // Without both checks, surfaces naming one long run would multiply its triangles.
+  constexpr int64_t kMaxIndexesPerVertex = 24;
   uint64_t surfaceVertices = 0;
   for (size_t i = 0; i < bsp.surfaces.size(); ++i) {
     const Surface& s = bsp.surfaces[i];
@@ -715,9 +718,10 @@ void readQuake3(const Reader& reader, BspFile& bsp) {
     if (surfaceVertices > bsp.drawVertices.size())
       reader.fail(L[q3::Surfaces], fmt::format("record {}: the surfaces share drawverts (their runs add up to more than the {} "
                                                "drawverts)", i, bsp.drawVertices.size()));
-    if (int64_t{s.indexCount} > 6 * int64_t{s.vertexCount})
-      reader.fail(L[q3::Surfaces], fmt::format("record {}: {} indexes for {} vertices (a mesh of V vertices has at most "
-                                               "2V triangles)", i, s.indexCount, s.vertexCount));
+    if (int64_t{s.indexCount} > kMaxIndexesPerVertex * int64_t{s.vertexCount})
+      reader.fail(L[q3::Surfaces], fmt::format("record {}: {} indexes for {} vertices (more than {} a vertex: no mesh of V "
+                                               "vertices has that many triangles)", i, s.indexCount, s.vertexCount,
+                                               kMaxIndexesPerVertex));
     for (int32_t k = 0; k < s.indexCount; ++k)
       reader.checkIndex(L[q3::Surfaces], i, "surface vertex", bsp.drawIndices[s.firstIndex + k], s.vertexCount);
     if (s.type == SurfaceType::Patch &&

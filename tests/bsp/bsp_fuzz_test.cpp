@@ -134,7 +134,9 @@ TEST(BspFuzz, CellsThinnerThanTheEpsilonAreSkippedWithAWarning) {
       for (uint32_t g = b.firstFace; g < b.firstFace + b.faceCount; ++g) {
         const bt::Plane &p = scene.faces[f].plane, &q = scene.faces[g].plane;
         // Opposite planes of one brush: the brush lies between them, so they must not cross.
-        if (glm::dot(p.normal, q.normal) < -0.999999) EXPECT_GT(p.dist + q.dist, 0.0) << f << " " << g;
+        if (glm::dot(p.normal, q.normal) < -0.999999) {
+          EXPECT_GT(p.dist + q.dist, 0.0) << f << " " << g;
+        }
       }
   }
   EXPECT_NO_THROW(bt::TraceScene::build(scene));
