@@ -1,4 +1,5 @@
 // The info, dump and convert commands, run as a user runs them: the built executable.
+#include "tests/app/run_command.h"
 #include "tests/test_data.h"
 
 #include <gtest/gtest.h>
@@ -8,33 +9,15 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sys/wait.h>
 
 namespace {
 
-struct CommandResult {
-  int exitCode = -1;
-  std::string out; // stdout
-  std::string err; // stderr
-};
+using bt::test::brushtrace;
+using bt::test::CommandResult;
 
 std::string readFile(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-CommandResult brushtrace(const std::string& args) {
-  const auto dir = std::filesystem::temp_directory_path() / ("bt_app_test_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const std::string cmd = "'" + (bt::test::binaryDir() / "brushtrace").string() + "' " + args + " >'" + (dir / "out").string() + "' 2>'" +
-                          (dir / "err").string() + "'";
-  const int status = std::system(cmd.c_str());
-  CommandResult r;
-  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = readFile(dir / "out");
-  r.err = readFile(dir / "err");
-  std::filesystem::remove_all(dir);
-  return r;
 }
 
 std::string dialectMap(const char* name) { return (bt::test::mapsDir() / "dialects" / (std::string(name) + ".map")).string(); }

@@ -1,0 +1,172 @@
+// `brushtrace render` as users run it: the built executable, on the default map and on bad
+// input. The tracers themselves are tested in tests/render and tests/gl; this is the command's
+// contract (README): its default map, the camera line, the progress lines, the outputs, the
+// backend choice, the errors, and that a failed render leaves existing files alone.
+#include "tests/app/run_command.h"
+#include "tests/test_data.h"
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <regex>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace {
+
+using bt::test::brushtrace;
+using bt::test::CommandResult;
+namespace fs = std::filesystem;
+constexpr auto npos = std::string::npos;
+
+// A folder of its own for one test's files.
+struct TempDir {
+  fs::path path;
+  explicit TempDir(const std::string& name)
+      : path(fs::temp_directory_path() / ("bt_render_cmd_" + name + "_" + std::to_string(::getpid()))) {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+  std::vector<std::string> files() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(path)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+};
+
+std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+
+struct ReadImage {
+  int width = 0, height = 0;
+  std::vector<std::string> channels;
+  double mean = 0.0; // over every channel and pixel
+};
+
+std::optional<ReadImage> readImage(const fs::path& path) {
+  auto in = OIIO::ImageInput::open(path.string());
+  if (!in) return std::nullopt;
+  const OIIO::ImageSpec& spec = in->spec();
+  ReadImage image{spec.width, spec.height, spec.channelnames, 0.0};
+  std::vector<float> pixels(size_t(spec.width) * spec.height * spec.nchannels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data())) return std::nullopt;
+  for (float v : pixels) image.mean += v;
+  image.mean /= double(std::max<size_t>(pixels.size(), 1));
+  return image;
+}
+
+const char* kSmall = " --size 64x36 --spp 2";
+
+TEST(RenderCommand, RendersTheDefaultMapToPngAndExrOnTheCpu) {
+  TempDir dir("cpu");
+  const CommandResult png = brushtrace("render -o " + quoted(dir.path / "start.png") + kSmall + " --backend cpu");
+  ASSERT_EQ(png.exitCode, 0) << png.err;
+  // The camera it used, in the form --camera takes, and where it came from: maps/start.map's
+  // info_intermission.
+  const std::regex cameraLine(R"(camera \(-?[0-9.]+ -?[0-9.]+ -?[0-9.]+\) -?[0-9.]+ -?[0-9.]+ -?[0-9.]+ \(info_intermission\)\n)");
+  EXPECT_TRUE(std::regex_search(png.out, cameraLine)) << png.out;
+  EXPECT_NE(png.out.find("wrote " + (dir.path / "start.png").string() + " (64x36, 2 spp, faithful lighting, cpu)"), npos) << png.out;
+  const std::optional<ReadImage> tonemapped = readImage(dir.path / "start.png");
+  ASSERT_TRUE(tonemapped);
+  EXPECT_EQ(tonemapped->width, 64);
+  EXPECT_EQ(tonemapped->height, 36);
+  EXPECT_GT(tonemapped->mean, 0.05); // a lit level, not a black image
+
+  const CommandResult exr = brushtrace("render -o " + quoted(dir.path / "start.exr") + kSmall + " --backend cpu --quiet");
+  ASSERT_EQ(exr.exitCode, 0) << exr.err;
+  const std::optional<ReadImage> linear = readImage(dir.path / "start.exr");
+  ASSERT_TRUE(linear);
+  // Beauty and the AOV layers (OpenEXR stores a file's channels sorted, so compared as a set).
+  std::vector<std::string> channels = linear->channels;
+  std::sort(channels.begin(), channels.end());
+  EXPECT_EQ(channels, (std::vector<std::string>{"B", "G", "R", "albedo.B", "albedo.G", "albedo.R", "depth.Z", "normal.X",
+                                                 "normal.Y", "normal.Z"}));
+  // Written under a temporary name and renamed: nothing else is left beside the outputs.
+  EXPECT_EQ(dir.files(), (std::vector<std::string>{"start.exr", "start.png"}));
+}
+
+TEST(RenderCommand, PrintsPlainProgressLinesWhenNotOnATerminalAndNothingWhenQuiet) {
+  TempDir dir("progress");
+  const CommandResult r = brushtrace("render -o " + quoted(dir.path / "a.png") + kSmall + " --backend cpu");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("[100%] spp 2/2 est 00:00:00\n"), npos) << r.out;
+  EXPECT_EQ(r.out.find('\r'), npos) << "no carriage returns without a terminal";
+  const CommandResult quiet = brushtrace("render -o " + quoted(dir.path / "b.png") + kSmall + " --backend cpu --quiet");
+  ASSERT_EQ(quiet.exitCode, 0) << quiet.err;
+  EXPECT_EQ(quiet.out, "");
+}
+
+TEST(RenderCommand, TakesTheCameraItWasGiven) {
+  TempDir dir("camera");
+  const CommandResult r = brushtrace("render -o " + quoted(dir.path / "a.png") + kSmall +
+                                     " --backend cpu --camera '(0 0 64) 10 90 0'");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("camera (0 0 64) 10 90 0 (--camera)\n"), npos) << r.out;
+  const CommandResult bad = brushtrace("render -o " + quoted(dir.path / "b.png") + kSmall + " --backend cpu --camera '0 0 64'");
+  EXPECT_NE(bad.exitCode, 0);
+  EXPECT_NE(bad.err.find("--camera: expected \"(x y z) pitch yaw roll\""), npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir.path / "b.png"));
+}
+
+// Every way a render cannot go on: a message naming the file (and line and column where there
+// is one), a non-zero exit, and the output left as it was.
+TEST(RenderCommand, BadInputFailsWithAMessageAndLeavesTheOutputAlone) {
+  TempDir dir("bad");
+  const fs::path out = dir.path / "keep.png";
+  std::ofstream(out) << "an earlier render";
+  auto unchanged = [&] {
+    std::ifstream in(out);
+    return std::string(std::istreambuf_iterator<char>(in), {}) == "an earlier render";
+  };
+
+  const fs::path missing = dir.path / "missing.map";
+  CommandResult r = brushtrace("render " + quoted(missing) + " -o " + quoted(out) + kSmall + " --backend cpu");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.err.find(missing.string() + ": error: cannot open file"), npos) << r.err;
+  EXPECT_TRUE(unchanged());
+
+  const fs::path malformed = dir.path / "bad.map";
+  std::ofstream(malformed) << "{\n\"classname\" \"worldspawn\"\n{\n( 0 0 0 ) ( 0 1 0 ) ( 1 0 0 ) a 0 zero 0 1 1\n}\n}\n";
+  r = brushtrace("render " + quoted(malformed) + " -o " + quoted(out) + kSmall + " --backend cpu");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.err.find(malformed.string() + ":4:35: error: bad number 'zero'"), npos) << r.err;
+  EXPECT_TRUE(unchanged());
+
+  r = brushtrace("render -o " + quoted(dir.path / "out.jpg") + kSmall + " --backend cpu");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.err.find("out.jpg: output must be .png or .exr"), npos) << r.err;
+  r = brushtrace("render -o " + quoted(out) + " --spp 0 --backend cpu");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.err.find("--spp must be positive"), npos) << r.err;
+  EXPECT_TRUE(unchanged());
+  EXPECT_EQ(dir.files(), (std::vector<std::string>{"bad.map", "keep.png"}));
+}
+
+// --backend gl renders on the GL tracer where a GL 4.5 context can be made (Mesa's llvmpipe
+// here and in CI), else says in one line why and renders on the CPU; auto passes over a
+// software GL, saying so.
+TEST(RenderCommand, GlBackendUsesGlWhereItCanAndSaysWhyNotElsewhere) {
+  TempDir dir("gl");
+  const CommandResult gl = brushtrace("render -o " + quoted(dir.path / "gl.png") + kSmall + " --backend gl");
+  ASSERT_EQ(gl.exitCode, 0) << gl.err;
+  ASSERT_TRUE(readImage(dir.path / "gl.png"));
+  const bool noContext = gl.err.find("brushtrace: no GL 4.5 context (") != npos;
+  if (noContext) {
+    EXPECT_NE(gl.out.find("faithful lighting, cpu)"), npos) << gl.out;
+    GTEST_SKIP() << "no GL 4.5 context on this machine; the CPU fallback was checked: " << gl.err;
+  }
+  EXPECT_NE(gl.out.find("faithful lighting, gl "), npos) << gl.out;
+  if (gl.out.find("llvmpipe") == npos) return; // a hardware GL: auto would use it too
+  const CommandResult autoBackend = brushtrace("render -o " + quoted(dir.path / "auto.png") + kSmall);
+  ASSERT_EQ(autoBackend.exitCode, 0) << autoBackend.err;
+  EXPECT_NE(autoBackend.err.find("brushtrace: GL context is software (llvmpipe"), npos) << autoBackend.err;
+  EXPECT_NE(autoBackend.out.find("faithful lighting, cpu)"), npos) << autoBackend.out;
+}
+
+} // namespace
