@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <future>
 #include <memory>
 #include <optional>
 #include <unistd.h>
@@ -87,15 +88,27 @@ int runRender(const RenderOptions& o) {
   }
 
   const std::string mapPath = o.map.empty() ? defaultMapPath() : o.map;
-  const Scene scene = importScene(mapPath, o.import);
-  for (const Diagnostic& d : scene.diagnostics)
-    if (!o.quiet && d.severity != Severity::Note) fmt::print(stderr, "{}\n", format(d));
-
   RenderSceneOptions sceneOptions;
   sceneOptions.showHidden = o.showHidden;
   sceneOptions.bounceLights = o.lighting != "physical" && o.aov == "beauty"; // faithful _bounce only
+  // The level is imported and prepared on a worker thread while this one waits for the programs
+  // the first samples need: NVIDIA's driver finishes a link on the thread that waits for it, so
+  // a wait after the import would add that work to it (see gl::loadGlLevel).
+  Scene scene;
+  RenderScene renderScene;
   Diagnostics lightDiagnostics;
-  const RenderScene renderScene = buildRenderScene(scene, sceneOptions, lightDiagnostics);
+  auto prepared = std::async(std::launch::async, [&] {
+    scene = importScene(mapPath, o.import);
+    renderScene = buildRenderScene(scene, sceneOptions, lightDiagnostics);
+  });
+  if (glPrograms) {
+    const bool physical = o.lighting == "physical";
+    glPrograms->aovs();
+    if (o.aov == "beauty" && glPrograms->wavefrontState(physical).started) glPrograms->wavefront(physical);
+  }
+  prepared.get();
+  for (const Diagnostic& d : scene.diagnostics)
+    if (!o.quiet && d.severity != Severity::Note) fmt::print(stderr, "{}\n", format(d));
   // A level with faithful dirt or many bounce lights renders with a faithful program built with
   // those parts (gl::FaithfulFeatures), started as soon as the level says so.
   if (glPrograms && o.aov == "beauty" && o.lighting != "physical")
