@@ -156,10 +156,10 @@ TEST(RenderCommand, GlBackendUsesGlWhereItCanAndSaysWhyNotElsewhere) {
   const CommandResult gl = brushtrace("render -o " + quoted(dir.path / "gl.png") + kSmall + " --backend gl");
   ASSERT_EQ(gl.exitCode, 0) << gl.err;
   ASSERT_TRUE(readImage(dir.path / "gl.png"));
-  const bool noContext = gl.err.find("brushtrace: no GL 4.5 context (") != npos;
-  if (noContext) {
+  // Without a GL 4.5 context the contract is the fallback: one line saying why, then the CPU.
+  if (gl.err.find("brushtrace: no GL 4.5 context (") != npos) {
     EXPECT_NE(gl.out.find("faithful lighting, cpu)"), npos) << gl.out;
-    GTEST_SKIP() << "no GL 4.5 context on this machine; the CPU fallback was checked: " << gl.err;
+    return;
   }
   EXPECT_NE(gl.out.find("faithful lighting, gl "), npos) << gl.out;
   if (gl.out.find("llvmpipe") == npos) return; // a hardware GL: auto would use it too
