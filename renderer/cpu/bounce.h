@@ -41,9 +41,10 @@ struct BounceFace {
   std::vector<dvec3> polygon;
 };
 
-// The compiled faces of `scene` that bounce light (see above). `contents` as render_scene.cpp
+// The compiled faces of `scene` that bounce light (see above), in side order, made on `threads`
+// threads (0: all cores; the same faces for any number). `contents` as render_scene.cpp
 // classifies the brushes for qbsp's CSG.
-std::vector<BounceFace> bounceFaces(const RenderScene& rs, const std::vector<BrushContents>& contents);
+std::vector<BounceFace> bounceFaces(const RenderScene& rs, const std::vector<BrushContents>& contents, unsigned threads = 0);
 
 // The bounce light of one face whose mean source light is `meanLight` (light units, rgb) and
 // whose texture's mean colour is `texture` (0..1, its own sRGB bytes), or nullopt when it emits

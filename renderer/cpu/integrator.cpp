@@ -404,6 +404,17 @@ glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLig
                           maxShadowRays);
 }
 
+glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights,
+                                   std::span<const uint32_t> candidates, const glm::vec3& p, const glm::vec3& n, Rng& rng,
+                                   bool twoSided, size_t maxShadowRays) {
+  // Whether to draw goes by every light, as above: a few candidates still take the draw.
+  if (lights.size() <= maxShadowRays) return faithfulLightFrom(rs, lights, p, n, rng, twoSided);
+  const Receiver r{p, n, twoSided};
+  const float occlusion = faithfulOcclusion(rs, p, n, rng);
+  return sampledBounceSum(rs, candidates.size(), [&](size_t i) -> const GpuLight& { return lights[candidates[i]]; }, r,
+                          occlusion, rng, maxShadowRays);
+}
+
 glm::vec3 faithfulFaceMinlight(const RenderScene& rs, uint32_t face) {
   const uint32_t m = gpuFace(rs, face).material;
   return m < rs.surfaceLights.size() ? faithful::surfaceFaceMinlight(rs.surfaceLights[m]) : glm::vec3(0.0f);

@@ -115,6 +115,14 @@ glm::vec3 faithfulLightFrom(const RenderScene& rs, std::span<const GpuLight> lig
 glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p,
                                    const glm::vec3& n, Rng& rng, bool twoSided, size_t maxShadowRays);
 
+// The same number, from only the `candidates` among `lights` (indices, increasing) that can have
+// a share at p: every light left out must give exactly 0 there (light_grid.h's lists for a grid
+// of `lights` do). The draw sums the same shares in the same order, so the result is bit for bit
+// the one over every light; the bounce pass sweeps a few hundred lights instead of thousands.
+glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights,
+                                   std::span<const uint32_t> candidates, const glm::vec3& p, const glm::vec3& n, Rng& rng,
+                                   bool twoSided, size_t maxShadowRays);
+
 // Faithful mode: the floor a face's own radiosity `_surface` template puts under its light
 // (zero for every other face); the caller takes max(faithfulLightAt, this), with the minlight
 // dirt of `_minlight_dirt` where the level has it (radiance() does).

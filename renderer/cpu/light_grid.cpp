@@ -14,9 +14,8 @@ namespace bt {
 
 namespace {
 
-// Grid resolution: at most this many cells along the longest axis, and cells no smaller than
-// kMinCellSize (a typical light reaches 200-300 units, so finer cells only repeat the lists).
-constexpr uint32_t kMaxCellsPerAxis = 32;
+// Cells no smaller than this (a typical light reaches 200-300 units, so finer cells only repeat
+// the lists).
 constexpr float kMinCellSize = 64.0f;
 
 // Reach padding: distanceValue() is computed in float, so a point a hair beyond the exact reach
@@ -87,16 +86,17 @@ uint32_t clampedCell(const GpuLightGrid& g, int axis, float coordinate) {
   return std::min(uint32_t(f), g.dims[axis] - 1);
 }
 
-GpuLightGrid gridOver(const Bounds& bounds) {
+GpuLightGrid gridOver(const Bounds& bounds, uint32_t maxCellsPerAxis) {
   GpuLightGrid g;
   if (bounds.empty()) return g; // one cell, extended to infinity on every side
+  maxCellsPerAxis = std::max(maxCellsPerAxis, 1u);
   const glm::vec3 lo(bounds.min), hi(bounds.max);
   const glm::vec3 extent = hi - lo;
   const float longest = std::max({extent.x, extent.y, extent.z});
   g.origin = lo;
-  g.cellSize = std::max(longest / float(kMaxCellsPerAxis), kMinCellSize);
+  g.cellSize = std::max(longest / float(maxCellsPerAxis), kMinCellSize);
   for (int a = 0; a < 3; ++a)
-    g.dims[a] = std::clamp(uint32_t(std::ceil(extent[a] / g.cellSize)), 1u, kMaxCellsPerAxis);
+    g.dims[a] = std::clamp(uint32_t(std::ceil(extent[a] / g.cellSize)), 1u, maxCellsPerAxis);
   return g;
 }
 
@@ -306,9 +306,9 @@ uint32_t lightGridCell(const GpuLightGrid& g, const glm::vec3& p) {
   return clampedCell(g, 0, p.x) + g.dims[0] * (clampedCell(g, 1, p.y) + g.dims[1] * clampedCell(g, 2, p.z));
 }
 
-LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& bounds, float scaledist) {
+LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& bounds, float scaledist, uint32_t maxCellsPerAxis) {
   LightGrid grid;
-  grid.header = gridOver(bounds);
+  grid.header = gridOver(bounds, maxCellsPerAxis);
   const GpuLightGrid& g = grid.header;
 
   for (uint32_t i = 0; i < lights.size(); ++i)
