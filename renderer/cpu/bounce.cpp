@@ -26,10 +26,6 @@ constexpr double kSampleLift = 1.0;     // ltface.cc sampleOffPlaneDist: luxels 
 constexpr double kMinBounceArea = 1.0;  // bounce.cc skips smaller faces
 constexpr size_t kMaxFragmentsToSplit = 256; // see bounceFaces
 constexpr uint32_t kBounceSeed = 0x626f756eu; // the sampling's own random stream
-// A later pass finds the previous pass's lights that can light a luxel in a light grid of them,
-// coarser than the renderer's: lq_e3m1's 7 000-9 000 lights reach most of the level, and its
-// 32-cell grid took 1 s to list them (then 2 400 a cell of 14 000), this one 20 ms (2 900 of 280).
-constexpr uint32_t kGatherGridCellsPerAxis = 8;
 
 dvec3 vertexMean(const std::vector<dvec3>& w) {
   dvec3 sum(0.0);
@@ -127,15 +123,21 @@ bool sideBounces(const RenderScene& rs, uint32_t faceIndex) {
   return true;
 }
 
-// The lights of `grid` (over bounce lights) that can light p, in index order: its cell's list,
-// merged with the lights of infinite reach (none unless a value is infinite). `merged` holds
-// them when both have some.
-std::span<const uint32_t> candidatesAt(const LightGrid& grid, const glm::vec3& p, std::vector<uint32_t>& merged) {
-  const std::span<const uint32_t> cell = grid.cellLights(p), global = grid.globalLights();
+// The lights of `lights` that can light p, in index order: those `grid` (a grid of them) lists
+// for p with the lights of infinite reach merged in (none unless a value is infinite), or every
+// light without a grid. `scratch` holds them where they are not a list of the grid.
+std::span<const uint32_t> candidatesAt(const std::vector<GpuLight>& lights, const std::optional<LightGrid>& grid,
+                                       const glm::vec3& p, std::vector<uint32_t>& scratch) {
+  if (!grid) {
+    scratch.resize(lights.size());
+    for (uint32_t i = 0; i < lights.size(); ++i) scratch[i] = i;
+    return scratch;
+  }
+  const std::span<const uint32_t> cell = grid->cellLights(p), global = grid->globalLights();
   if (global.empty()) return cell;
-  merged.clear();
-  std::merge(cell.begin(), cell.end(), global.begin(), global.end(), std::back_inserter(merged));
-  return merged;
+  scratch.clear();
+  std::merge(cell.begin(), cell.end(), global.begin(), global.end(), std::back_inserter(scratch));
+  return scratch;
 }
 
 } // namespace
@@ -278,13 +280,13 @@ BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushCont
   };
 
   // A later pass draws among the previous pass's lights (faithfulLightFromSampled), sweeping only
-  // those that can light the luxel: the lists of a light grid of them. A bounce light's reach (its
-  // gate) spans most of a level, but half of the level lies behind its face.
+  // those that can light the luxel: the lists of a light grid of them (see BounceBudget).
   std::vector<GpuLight> previous;
-  LightGrid previousGrid;
+  std::optional<LightGrid> previousGrid;
   for (int pass = 0; pass < rs.world.bounces; ++pass) {
     const size_t passBudget = pass == 0 ? budget.directLuxels : budget.gatherLuxels;
-    if (pass > 0) previousGrid = buildLightGrid(previous, rs.tracer.bounds(), rs.world.scaledist, kGatherGridCellsPerAxis);
+    if (pass > 0 && budget.gatherGridCellsPerAxis > 0)
+      previousGrid = buildLightGrid(previous, rs.tracer.bounds(), rs.world.scaledist, budget.gatherGridCellsPerAxis);
     std::atomic<size_t> sampled{0};
     std::atomic<bool> drewLights{false};
     std::vector<std::optional<GpuLight>> made(faces.size());
@@ -306,7 +308,7 @@ BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushCont
           continue;
         }
         if (previous.size() > budget.gatherShadowRays) drewLights = true;
-        sum += faithfulLightFromSampled(rs, previous, candidatesAt(previousGrid, points[k], candidates), points[k], n, rng,
+        sum += faithfulLightFromSampled(rs, previous, candidatesAt(previous, previousGrid, points[k], candidates), points[k], n, rng,
                                         twoSided, budget.gatherShadowRays);
       }
       made[i] = bounceLight(rs, face, sum / float(std::max<size_t>(count, 1)), textureOf(face));

@@ -9,6 +9,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <tuple>
+#include <utility>
 
 namespace bt {
 
@@ -306,38 +308,36 @@ uint32_t lightGridCell(const GpuLightGrid& g, const glm::vec3& p) {
   return clampedCell(g, 0, p.x) + g.dims[0] * (clampedCell(g, 1, p.y) + g.dims[1] * clampedCell(g, 2, p.z));
 }
 
-LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& bounds, float scaledist, uint32_t maxCellsPerAxis) {
-  LightGrid grid;
-  grid.header = gridOver(bounds, maxCellsPerAxis);
-  const GpuLightGrid& g = grid.header;
+namespace {
 
-  for (uint32_t i = 0; i < lights.size(); ++i)
-    if (lights[i].type != uint32_t(LightType::Point) || lights[i].formula == uint32_t(LightFormula::LocalMin))
-      grid.indices.push_back(i);
-  grid.header.fixedCount = uint32_t(grid.indices.size());
+// Suns, domes and local minlights: looked at everywhere, one by one.
+bool isFixed(const GpuLight& l) {
+  return l.type != uint32_t(LightType::Point) || l.formula == uint32_t(LightFormula::LocalMin);
+}
 
-  grid.header.globalFirst = uint32_t(grid.indices.size());
-  for (uint32_t i = 0; i < lights.size(); ++i)
-    if (isFaithfulCandidate(lights[i]) && !std::isfinite(faithfulReach(lights[i], scaledist))) grid.indices.push_back(i);
-  grid.header.globalCount = uint32_t(grid.indices.size()) - grid.header.globalFirst;
+bool hasInfiniteReach(const GpuLight& l, float scaledist) {
+  return isFaithfulCandidate(l) && !std::isfinite(faithfulReach(l, scaledist));
+}
 
-  grid.header.physicalFirst = uint32_t(grid.indices.size());
-  for (uint32_t i = 0; i < lights.size(); ++i)
-    if (isPhysicalCandidate(lights[i])) grid.indices.push_back(i);
-  grid.header.physicalCount = uint32_t(grid.indices.size()) - grid.header.physicalFirst;
+// 0 (every core, at most one per z-slice) where a grid's work is large enough to share.
+unsigned gridThreads(size_t lights, const GpuLightGrid& g) {
+  return lights * g.dims[0] * g.dims[1] * g.dims[2] < 100000 ? 1u : 0u;
+}
 
-  // Finite-reach lights into every cell their reach sphere touches: a large level's thousands of
-  // lights reach thousands of cells each, so the z-slices of cells are shared among threads
-  // (each slice takes the lights in the order above, so the lists do not depend on the threads).
+// The finite-reach faithful lights among lights[first, end) in every cell their reach sphere
+// touches: a large level's thousands of lights reach thousands of cells each, so the z-slices of
+// cells are shared among threads (each slice takes the lights in the order below, so the lists do
+// not depend on the threads). Bounce lights last, so that they end every cell's list
+// (trailingBounceLights): the others, then the bounce lights, in index order.
+std::vector<std::vector<uint32_t>> finiteReachLists(const GpuLightGrid& g, const std::vector<GpuLight>& lights, uint32_t first,
+                                                    float scaledist) {
   const size_t cellCount = size_t(g.dims[0]) * g.dims[1] * g.dims[2];
   struct Reach {
     uint32_t light;
     uint32_t lo[3], hi[3]; // the cells of its reach box
   };
-  // Bounce lights last, so that they end every cell's list (trailingBounceLights); the others,
-  // then the bounce lights, in index order.
-  std::vector<uint32_t> order(lights.size());
-  for (uint32_t i = 0; i < lights.size(); ++i) order[i] = i;
+  std::vector<uint32_t> order;
+  for (uint32_t i = first; i < lights.size(); ++i) order.push_back(i);
   std::stable_partition(order.begin(), order.end(),
                         [&](uint32_t i) { return lights[i].formula != uint32_t(LightFormula::Bounce); });
   std::vector<Reach> reaches;
@@ -353,9 +353,8 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
     reaches.push_back(r);
   }
   std::vector<std::vector<uint32_t>> lists(cellCount);
-  const unsigned threads = reaches.size() * cellCount < 100000 ? 1u : 0u; // 0: every core, at most one per slice
-  auto forSlices = [&](const auto& perSlice) { parallelFor(g.dims[2], threads, [&](size_t z) { perSlice(uint32_t(z)); }); };
-  forSlices([&](uint32_t z) {
+  parallelFor(g.dims[2], gridThreads(reaches.size(), g), [&](size_t slice) {
+    const uint32_t z = uint32_t(slice);
     for (const Reach& r : reaches) {
       if (z < r.lo[2] || z > r.hi[2]) continue;
       const GpuLight& l = lights[r.light];
@@ -369,6 +368,32 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
         }
     }
   });
+  return lists;
+}
+
+} // namespace
+
+LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& bounds, float scaledist, uint32_t maxCellsPerAxis) {
+  LightGrid grid;
+  grid.header = gridOver(bounds, maxCellsPerAxis);
+  const GpuLightGrid& g = grid.header;
+
+  for (uint32_t i = 0; i < lights.size(); ++i)
+    if (isFixed(lights[i])) grid.indices.push_back(i);
+  grid.header.fixedCount = uint32_t(grid.indices.size());
+
+  grid.header.globalFirst = uint32_t(grid.indices.size());
+  for (uint32_t i = 0; i < lights.size(); ++i)
+    if (hasInfiniteReach(lights[i], scaledist)) grid.indices.push_back(i);
+  grid.header.globalCount = uint32_t(grid.indices.size()) - grid.header.globalFirst;
+
+  grid.header.physicalFirst = uint32_t(grid.indices.size());
+  for (uint32_t i = 0; i < lights.size(); ++i)
+    if (isPhysicalCandidate(lights[i])) grid.indices.push_back(i);
+  grid.header.physicalCount = uint32_t(grid.indices.size()) - grid.header.physicalFirst;
+
+  const size_t cellCount = size_t(g.dims[0]) * g.dims[1] * g.dims[2];
+  const std::vector<std::vector<uint32_t>> lists = finiteReachLists(g, lights, 0, scaledist);
   grid.cells.resize(2 * cellCount);
   for (size_t k = 0; k < cellCount; ++k) {
     grid.cells[k] = {uint32_t(grid.indices.size()), uint32_t(lists[k].size())};
@@ -379,7 +404,8 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
   const NearRanking ranking(g, lights, grid.physicalLights());
   std::vector<uint32_t> nearLists(cellCount * kPhysicalNearLights);
   std::vector<uint32_t> nearCounts(cellCount);
-  forSlices([&](uint32_t z) {
+  parallelFor(g.dims[2], gridThreads(ranking.candidateCount(), g), [&](size_t slice) {
+    const uint32_t z = uint32_t(slice);
     std::vector<uint32_t> rankedFor(ranking.candidateCount(), 0);
     // Each cell starts from its neighbour's list: the cell before it in the row, or for a row's
     // first cell the first cell of the row before.
@@ -401,6 +427,51 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
                         nearLists.begin() + k * kPhysicalNearLights + nearCounts[k]);
   }
   return grid;
+}
+
+LightGrid extendLightGrid(const LightGrid& grid, const std::vector<GpuLight>& lights, uint32_t first, const Bounds& bounds,
+                          float scaledist, uint32_t maxCellsPerAxis) {
+  // A physical candidate among the new lights changes the near lists: those are ranked anew.
+  for (uint32_t i = first; i < lights.size(); ++i)
+    if (isPhysicalCandidate(lights[i])) return buildLightGrid(lights, bounds, scaledist, maxCellsPerAxis);
+
+  LightGrid out;
+  out.header = grid.header;
+  const GpuLightGrid& g = out.header;
+  // Each list is in index order and the new lights come after the old: they follow them.
+  auto append = [&](std::span<const uint32_t> old, auto&& belongs) {
+    const uint32_t at = uint32_t(out.indices.size());
+    out.indices.insert(out.indices.end(), old.begin(), old.end());
+    for (uint32_t i = first; i < lights.size(); ++i)
+      if (belongs(lights[i])) out.indices.push_back(i);
+    return std::pair{at, uint32_t(out.indices.size()) - at};
+  };
+  out.header.fixedCount = append(grid.fixedLights(), isFixed).second;
+  std::tie(out.header.globalFirst, out.header.globalCount) =
+      append(grid.globalLights(), [&](const GpuLight& l) { return hasInfiniteReach(l, scaledist); });
+  std::tie(out.header.physicalFirst, out.header.physicalCount) = append(grid.physicalLights(), [](const GpuLight&) { return false; });
+
+  // A cell's list: its old lights other than bounce lights, the new ones, then the old bounce
+  // lights and the new ones (the order buildLightGrid gives them).
+  const size_t cellCount = size_t(g.dims[0]) * g.dims[1] * g.dims[2];
+  const std::vector<std::vector<uint32_t>> added = finiteReachLists(g, lights, first, scaledist);
+  out.cells.resize(2 * cellCount);
+  for (size_t k = 0; k < cellCount; ++k) {
+    const std::span<const uint32_t> old(grid.indices.data() + grid.cells[k].first, grid.cells[k].count);
+    const std::span<const uint32_t> more(added[k]);
+    const size_t oldBounce = trailingBounceLights(lights, old), moreBounce = trailingBounceLights(lights, more);
+    out.cells[k] = {uint32_t(out.indices.size()), uint32_t(old.size() + more.size())};
+    for (const std::span<const uint32_t> part : {old.first(old.size() - oldBounce), more.first(more.size() - moreBounce),
+                                                 old.last(oldBounce), more.last(moreBounce)})
+      out.indices.insert(out.indices.end(), part.begin(), part.end());
+  }
+  // The near lists rank the physical candidates only: unchanged.
+  for (size_t k = 0; k < cellCount; ++k) {
+    const GpuLightCell& near = grid.cells[cellCount + k];
+    out.cells[cellCount + k] = {uint32_t(out.indices.size()), near.count};
+    out.indices.insert(out.indices.end(), grid.indices.begin() + near.first, grid.indices.begin() + near.first + near.count);
+  }
+  return out;
 }
 
 } // namespace bt
