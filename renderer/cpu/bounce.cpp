@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <iterator>
+#include <limits>
 #include <span>
 #include <string>
 
@@ -279,6 +280,15 @@ BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushCont
     return m < textureMeans.size() ? textureMeans[m] : glm::vec3(kBounceGrey);
   };
 
+  // `_dirtmode 0`'s occlusion at a luxel is a fixed function of the point (its 48 rays draw no
+  // random numbers): once cast, its rays serve every later pass that samples the luxel (NaN: not
+  // cast yet). `_dirtmode 1` draws them from the pass's own numbers: cast again.
+  const DirtSettings& dirtSettings = rs.world.dirtSettings;
+  std::vector<std::vector<float>> occlusion;
+  if (budget.reuseDirtOcclusion && dirtSettings.enabled && dirtSettings.mode != 1) {
+    occlusion.resize(faces.size());
+    for (size_t i = 0; i < faces.size(); ++i) occlusion[i].assign(luxels[i].size(), std::numeric_limits<float>::quiet_NaN());
+  }
   // A later pass draws among the previous pass's lights (faithfulLightFromSampled), sweeping only
   // those that can light the luxel: the lists of a light grid of them (see BounceBudget).
   std::vector<GpuLight> previous;
@@ -290,6 +300,7 @@ BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushCont
     std::atomic<size_t> sampled{0};
     std::atomic<bool> drewLights{false};
     std::vector<std::optional<GpuLight>> made(faces.size());
+    // Face i is one thread's in a pass: its luxels' occlusion is read and written there alone.
     parallelFor(faces.size(), budget.threads, [&](size_t i) {
       const BounceFace& face = faces[i];
       const glm::vec3 n(rs.scene->faces[face.face].plane.normal);
@@ -303,13 +314,19 @@ BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushCont
       for (size_t j = 0; j < count; ++j) {
         const size_t k = (2 * j + 1) * points.size() / (2 * count);
         Rng rng = pixelRng(uint32_t(i), uint32_t(k), uint32_t(pass), kBounceSeed);
+        std::optional<float> dirt;
+        if (!occlusion.empty()) {
+          float& known = occlusion[i][k];
+          if (std::isnan(known)) known = faithfulDirtOcclusion(rs, points[k], n, rng);
+          dirt = known;
+        }
         if (pass == 0) {
-          sum += faithfulBounceSourceLight(rs, points[k], n, rng, twoSided);
+          sum += faithfulBounceSourceLight(rs, points[k], n, rng, twoSided, dirt);
           continue;
         }
         if (previous.size() > budget.gatherShadowRays) drewLights = true;
         sum += faithfulLightFromSampled(rs, previous, candidatesAt(previous, previousGrid, points[k], candidates), points[k], n, rng,
-                                        twoSided, budget.gatherShadowRays);
+                                        twoSided, budget.gatherShadowRays, dirt);
       }
       made[i] = bounceLight(rs, face, sum / float(std::max<size_t>(count, 1)), textureOf(face));
     });

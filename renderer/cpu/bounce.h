@@ -72,6 +72,9 @@ struct BounceBudget {
   // Coarser than the renderer's 32: lq_e3m1's 7 000-9 000 lights reach most of the level, and
   // a 32-cell grid of them took 1 s to make (2 400 lights a cell), this one 20 ms (2 900 of 6 800).
   uint32_t gatherGridCellsPerAxis = 8;
+  // A luxel that several passes sample casts its `_dirtmode 0` dirt rays once (the same
+  // occlusion: those rays draw no random numbers). false: each pass casts them (the reference).
+  bool reuseDirtOcclusion = true;
 };
 
 struct BounceLights {

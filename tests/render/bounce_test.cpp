@@ -204,7 +204,13 @@ struct BudgetRoom {
   Scene scene;
   RenderScene rs;
   std::vector<BrushContents> contents;
-  BudgetRoom() : scene(manyLightsBouncing(2)), rs(prepared(scene)), contents(scene.brushes.size(), BrushContents::Solid) {}
+  explicit BudgetRoom(const std::vector<std::pair<std::string, std::string>>& worldKeys = {})
+      : scene(withWorldKeys(manyLightsBouncing(2), worldKeys)), rs(prepared(scene)),
+        contents(scene.brushes.size(), BrushContents::Solid) {}
+  static Scene withWorldKeys(Scene s, const std::vector<std::pair<std::string, std::string>>& keys) {
+    for (const auto& key : keys) s.entities[0].keys.push_back(key);
+    return s;
+  }
   static RenderScene prepared(const Scene& s) {
     Diagnostics diags;
     RenderSceneOptions options;
@@ -269,29 +275,43 @@ TEST(FaithfulBounceBudget, EstimateIsTheSameForAnyThreadCount) {
   expectSameLights(one.lights, three.lights, "1 and 3 threads");
 }
 
-// A later pass sweeps, at each luxel, only the previous pass's lights that a light grid of them
-// lists there (BounceBudget::gatherGridCellsPerAxis): the bounce lights are bit for bit those of
-// sweeping every light, whatever the grid's cells and the threads. The grid does leave lights out
-// here (else the comparison could not fail): the room's first-pass lights face every way.
-TEST(FaithfulBounceBudget, GatherGridGivesTheSweepOverEveryLightBitForBit) {
-  const BudgetRoom room;
-  BounceBudget reference;
-  reference.directLuxels = reference.gatherLuxels = 400;
-  reference.gatherShadowRays = 4; // the draw among the lights, as on a large level
-  reference.renderLights = 1u << 30;
-  reference.gatherGridCellsPerAxis = 0;
-  reference.threads = 1;
-  const BounceLights swept = makeBounceLights(room.rs, room.contents, reference);
-  ASSERT_TRUE(swept.sampledLights);
-  ASSERT_GT(swept.lights.size(), 100u);
-  for (const uint32_t cells : {1u, 2u, 8u, 32u})
-    for (const unsigned threads : {1u, 3u}) {
+// What the bounce preparation cuts short leaves its lights bit for bit as they were, whatever the
+// threads: a later pass's luxel sweeps only the previous pass's lights that a light grid of them
+// lists there (BounceBudget::gatherGridCellsPerAxis), and a luxel sampled again reuses its
+// `_dirtmode 0` occlusion (reuseDirtOcclusion; `_dirtmode 1` casts its random rays again). The
+// reference sweeps every light and casts every ray. The grid does leave lights out here (else the
+// comparison could not fail): the room's first-pass lights face every way.
+TEST(FaithfulBounceBudget, ShortcutsGiveTheReferenceBitForBit) {
+  for (const auto& dirt : std::vector<std::vector<std::pair<std::string, std::string>>>{
+           {}, {{"_dirt", "1"}}, {{"_dirt", "1"}, {"_dirtmode", "1"}}}) {
+    const BudgetRoom room(dirt);
+    const std::string level = dirt.empty() ? "no dirt" : dirt.size() == 1 ? "_dirtmode 0" : "_dirtmode 1";
+    ASSERT_EQ(room.rs.world.dirtSettings.enabled, !dirt.empty());
+    BounceBudget reference;
+    // The same half of the luxels in every pass: later passes sample the direct pass's again.
+    reference.directLuxels = reference.gatherLuxels = 400;
+    reference.gatherShadowRays = 4; // the draw among the lights, as on a large level
+    reference.renderLights = 1u << 30;
+    reference.gatherGridCellsPerAxis = 0;
+    reference.reuseDirtOcclusion = false;
+    reference.threads = 1;
+    const BounceLights swept = makeBounceLights(room.rs, room.contents, reference);
+    ASSERT_TRUE(swept.sampledLights);
+    ASSERT_GT(swept.lights.size(), 100u);
+    for (const auto& [cells, threads] : {std::pair{0u, 1u}, {1u, 3u}, {8u, 1u}, {32u, 3u}}) {
       BounceBudget budget = reference;
       budget.gatherGridCellsPerAxis = cells;
+      budget.reuseDirtOcclusion = true;
       budget.threads = threads;
       expectSameLights(makeBounceLights(room.rs, room.contents, budget).lights, swept.lights,
-                       std::to_string(cells) + " cells, " + std::to_string(threads) + " threads");
+                       level + ", " + std::to_string(cells) + " cells, " + std::to_string(threads) + " threads");
     }
+  }
+
+  const BudgetRoom room;
+  BounceBudget reference;
+  reference.renderLights = 1u << 30;
+  const BounceLights swept = makeBounceLights(room.rs, room.contents, reference);
 
   // The first pass's lights (the first half) in the default gather grid: cells list fewer than all.
   const std::vector<GpuLight> firstPass(swept.lights.begin(), swept.lights.begin() + std::ptrdiff_t(swept.lights.size() / 2));
