@@ -70,9 +70,11 @@ float distanceToCell2(const CellBox& cell, const glm::vec3& p) { return distance
 // A bounce light lights only what lies in front of its face (faithful::emitterTerm: 0 behind its
 // plane), so a cell wholly behind it, by more than float rounding at Quake's extents, never sees
 // it. About half of a level's cells lie behind any one face.
+constexpr float kBehindMargin = 1.0f;
+
 bool cellBehindBounceLight(const GpuLight& light, const CellBox& cell) {
   if (light.formula != uint32_t(LightFormula::Bounce)) return false;
-  constexpr float kMargin = 1.0f;
+  constexpr float kMargin = kBehindMargin;
   float farthest = 0.0f; // along the light's normal, of the cell's corners (infinite at a border)
   for (int a = 0; a < 3; ++a) {
     const float d = light.direction[a];
@@ -319,6 +321,24 @@ bool hasInfiniteReach(const GpuLight& l, float scaledist) {
   return isFaithfulCandidate(l) && !std::isfinite(faithfulReach(l, scaledist));
 }
 
+// One axis's terms of distanceToCell2 (the squared distance from the light's origin to the
+// cell's slab) and of cellBehindBounceLight (the farthest the slab reaches along the light's
+// normal, 0 where the normal has no component): listing a light tests every cell in its reach,
+// and a cell's test is then two sums of three terms.
+struct CellTerms {
+  float distance2 = 0.0f;
+  float farthest = 0.0f;
+};
+
+CellTerms cellTerms(const GpuLightGrid& g, int axis, uint32_t c, const GpuLight& light) {
+  uint32_t cell[3] = {0, 0, 0};
+  cell[axis] = c;
+  const CellBox box = cellBox(g, cell);
+  const float lo = box.lo[axis], hi = box.hi[axis], p = light.origin[axis], d = light.direction[axis];
+  const float distance = p < lo ? lo - p : (p > hi ? p - hi : 0.0f);
+  return {distance * distance, d != 0.0f ? d * ((d > 0.0f ? hi : lo) - p) : 0.0f};
+}
+
 // 0 (every core, at most one per z-slice) where a grid's work is large enough to share.
 unsigned gridThreads(size_t lights, const GpuLightGrid& g) {
   return lights * g.dims[0] * g.dims[1] * g.dims[2] < 100000 ? 1u : 0u;
@@ -355,17 +375,30 @@ std::vector<std::vector<uint32_t>> finiteReachLists(const GpuLightGrid& g, const
   std::vector<std::vector<uint32_t>> lists(cellCount);
   parallelFor(g.dims[2], gridThreads(reaches.size(), g), [&](size_t slice) {
     const uint32_t z = uint32_t(slice);
+    std::array<std::vector<CellTerms>, 2> row; // the x and y terms of the light being listed
     for (const Reach& r : reaches) {
       if (z < r.lo[2] || z > r.hi[2]) continue;
       const GpuLight& l = lights[r.light];
       const float reach = faithfulReach(l, scaledist);
-      uint32_t cell[3] = {0, 0, z};
-      for (cell[1] = r.lo[1]; cell[1] <= r.hi[1]; ++cell[1])
-        for (cell[0] = r.lo[0]; cell[0] <= r.hi[0]; ++cell[0]) {
-          const CellBox box = cellBox(g, cell);
-          if (distanceToCell2(box, l.origin) <= reach * reach && !cellBehindBounceLight(l, box))
-            lists[cell[0] + g.dims[0] * (cell[1] + g.dims[1] * size_t(z))].push_back(r.light);
+      const float reach2 = reach * reach;
+      const bool bounce = l.formula == uint32_t(LightFormula::Bounce);
+      for (int a = 0; a < 2; ++a) {
+        row[a].resize(g.dims[a]);
+        for (uint32_t c = r.lo[a]; c <= r.hi[a]; ++c) row[a][c] = cellTerms(g, a, c, l);
+      }
+      const CellTerms tz = cellTerms(g, 2, z, l);
+      for (uint32_t y = r.lo[1]; y <= r.hi[1]; ++y) {
+        const CellTerms& ty = row[1][y];
+        // The sums grow with the x term (>= 0): a row out of reach without it stays out.
+        if (ty.distance2 + tz.distance2 > reach2) continue;
+        for (uint32_t x = r.lo[0]; x <= r.hi[0]; ++x) {
+          const CellTerms& tx = row[0][x];
+          // distanceToCell2 and cellBehindBounceLight, summed in their order: the same floats.
+          if ((tx.distance2 + ty.distance2) + tz.distance2 <= reach2 &&
+              !(bounce && (tx.farthest + ty.farthest) + tz.farthest < -kBehindMargin))
+            lists[x + g.dims[0] * (y + g.dims[1] * size_t(z))].push_back(r.light);
         }
+      }
     }
   });
   return lists;
