@@ -179,6 +179,7 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   // `_bounce`: the compiler's bounce lights, made from the direct light the grid above gives.
   if (rs.world.bounces > 0 && options.bounceLights) {
     const BounceLights bounced = makeBounceLights(rs, contents);
+    const uint32_t direct = uint32_t(rs.lights.size());
     rs.lights.insert(rs.lights.end(), bounced.lights.begin(), bounced.lights.end());
     if (!bounced.exact())
       diagnostics.push_back({Severity::Note, scene.sourcePath, 0, 0,
@@ -187,7 +188,8 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
                                  (bounced.sampledLights ? " (later passes draw among the bounce lights)" : "") +
                                  ", " + std::to_string(bounced.madeLights) + " bounce lights merged into " +
                                  std::to_string(bounced.lights.size()) + " to keep the preview fast"});
-    rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
+    // The grid of every light, from that of the direct lights: physical mode's lists stay.
+    rs.lightGrid = extendLightGrid(rs.lightGrid, rs.lights, direct, rs.tracer.bounds(), rs.world.scaledist);
   }
   return rs;
 }
