@@ -107,15 +107,20 @@ struct GpuMaterial {
   float roughness;
   float metallic;
   uint32_t pad0;
+  glm::uvec2 baseTexels;     // each map's Image width, height: the arrays path may store it in a
+  glm::uvec2 normalTexels;   // larger layer (gl_textures.h), and the shaders wrap at this size
+  glm::uvec2 emissiveTexels;
 };
-static_assert(sizeof(GpuMaterial) == 72);
+static_assert(sizeof(GpuMaterial) == 96);
 static_assert(offsetof(GpuMaterial, baseHandle) == 0 && offsetof(GpuMaterial, normalHandle) == 8 &&
               offsetof(GpuMaterial, emissiveHandle) == 16 && offsetof(GpuMaterial, baseArray) == 24 &&
               offsetof(GpuMaterial, baseLayer) == 28 && offsetof(GpuMaterial, normalArray) == 32 &&
               offsetof(GpuMaterial, normalLayer) == 36 && offsetof(GpuMaterial, emissiveArray) == 40 &&
               offsetof(GpuMaterial, emissiveLayer) == 44 && offsetof(GpuMaterial, size) == 48 &&
               offsetof(GpuMaterial, flags) == 56 && offsetof(GpuMaterial, roughness) == 60 &&
-              offsetof(GpuMaterial, metallic) == 64 && offsetof(GpuMaterial, pad0) == 68);
+              offsetof(GpuMaterial, metallic) == 64 && offsetof(GpuMaterial, pad0) == 68 &&
+              offsetof(GpuMaterial, baseTexels) == 72 && offsetof(GpuMaterial, normalTexels) == 80 &&
+              offsetof(GpuMaterial, emissiveTexels) == 88);
 
 // std140 uniform block `Camera` (shaders/camera.glsl), binding 0.
 struct GpuCamera {

@@ -134,6 +134,24 @@ TEST(GlCpuParity, AovsEqualTheCpuReferenceOnEveryMapInMaps) {
   }
 }
 
+// More texture sizes than the arrays path has arrays (test_scenes.h makeManyTextureSizesWall):
+// the arrays path, llvmpipe's only one, draws the CPU's albedo.
+TEST(GlCpuParity, AovsWithMoreTextureSizesThanArraysEqualTheCpu) {
+  const Scene scene = test::makeManyTextureSizesWall();
+  Diagnostics diagnostics;
+  const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+  const CameraPose pose{{-150.0f, 0.0f, 0.0f}, 0.0f, 0.0f, 0.0f, "test"};
+  RenderSettings settings;
+  settings.width = 96;
+  settings.height = 64;
+  settings.spp = 1;
+  const RenderImage cpu = renderCpu(rs, Camera(pose, settings.width, settings.height), settings);
+  GlContext& context = test::sharedGlContext();
+  const GlRenderResult gl = renderWithGl(context, rs, pose, settings, TextureMode::Arrays, {}, GlRenderParts::AovsOnly);
+  ASSERT_EQ(gl.textures, TextureMode::Arrays);
+  expectAovsAgree(gl.image, cpu, 0.5);
+}
+
 void expectBeautyAgrees(const RenderImage& gpu, const RenderImage& cpu, double meanTolerance) {
   ASSERT_EQ(gpu.beauty.size(), cpu.beauty.size());
   EXPECT_EQ(gpu.samples, cpu.samples);

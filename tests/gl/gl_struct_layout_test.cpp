@@ -117,7 +117,8 @@ TEST(GlStructLayout, MaterialsAsTheShadersReadThem) {
                 MEMBER(GpuMaterial, baseArray), MEMBER(GpuMaterial, baseLayer), MEMBER(GpuMaterial, normalArray),
                 MEMBER(GpuMaterial, normalLayer), MEMBER(GpuMaterial, emissiveArray), MEMBER(GpuMaterial, emissiveLayer),
                 MEMBER(GpuMaterial, size), MEMBER(GpuMaterial, flags), MEMBER(GpuMaterial, roughness),
-                MEMBER(GpuMaterial, metallic), MEMBER(GpuMaterial, pad0)},
+                MEMBER(GpuMaterial, metallic), MEMBER(GpuMaterial, pad0), MEMBER(GpuMaterial, baseTexels),
+                MEMBER(GpuMaterial, normalTexels), MEMBER(GpuMaterial, emissiveTexels)},
                sizeof(GpuMaterial));
 }
 
