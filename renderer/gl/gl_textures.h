@@ -5,9 +5,13 @@
 //     GpuMaterial naming (array, layer). Past kMaxTextureArrays sizes, classes are merged and a
 //     map sits in the corner of a larger layer; the shaders wrap it at its own size
 //     (GpuMaterial::baseTexels...), so both paths still give one image.
-// Both use the same internal formats, mipmaps, filters and GL_REPEAT, so both give one image.
-// Both filter trilinearly with the driver's anisotropy up to 16x (see setSampling in
-// gl_textures.cpp for what reads through that filter and what does not).
+// The tracer samples neither through the sampler: shaders/textures.glsl fetches the four texels
+// of level 0 and filters them bilinearly in fp32, as the CPU reference does (renderer/cpu
+// bilinearRepeat), so that the GL AOVs equal the CPU's. Mipmaps and anisotropy are not needed
+// for antialiasing either: each progressive sample is jittered over its pixel, so their mean
+// integrates the texture over the pixel's footprint. Both paths still carry mipmaps and the
+// driver's anisotropy up to 16x with the same filters and GL_REPEAT, for any later sampler
+// lookup (textureGrad); no shader makes one today.
 #pragma once
 
 #include "renderer/gl/gl_structs.h"

@@ -138,8 +138,10 @@ TEST(GlAov, MoreTextureSizesThanArraysEqualTheReference) {
   for (size_t i = 0; i < gpu.albedo.size(); ++i) EXPECT_EQ(gpu.albedo[i], b.albedo[i]) << "pixel " << i;
 }
 
-// Both texture paths filter with the driver's anisotropy (llvmpipe offers 16x); the AOVs above
-// stay equal to the CPU reference with it set, as the tracer fetches texels itself.
+// The sampler state the textures carry (gl_textures.h): the driver's anisotropy up to 16x
+// (llvmpipe offers 16x). No shader samples through it today (the tracer fetches level-0 texels
+// itself, so the AOVs above equal the CPU reference); this checks only that a sampler lookup
+// would get the filter gl_textures.h documents.
 TEST(GlTextures, AnisotropicFilteringAtTheDriversMaximumUpTo16) {
   GlContext& context = test::sharedGlContext();
   if (!context.info().anisotropicFiltering) GTEST_SKIP() << context.info().renderer << " has no anisotropic filtering";
