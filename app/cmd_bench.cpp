@@ -32,11 +32,7 @@ struct BenchOptions {
 
 int runBench(const BenchOptions& options) {
   const int width = options.size.width, height = options.size.height;
-  const auto textureMode = gl::parseTextureMode(options.textures);
-  if (!textureMode) {
-    fmt::print(stderr, "brushtrace: --gl-textures '{}' is not bindless, arrays or auto\n", options.textures);
-    return 1;
-  }
+  const auto textureMode = gl::parseTextureMode(options.textures); // --gl-textures admits only the names it parses
   const auto start = std::chrono::steady_clock::now();
   const Scene scene = importScene(options.map, options.import);
   fmt::print("map: {} ({} brushes, {} faces, {} materials), imported in {:.2f} s\n", options.map, scene.brushes.size(),
@@ -63,7 +59,9 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
   addSizeOption(*bench, options->size, "Image size");
   bench->add_option("--bounces", options->bounces, "Bounces of the full samples (physical mode)")->capture_default_str();
   bench->add_option("--seconds", options->seconds, "Time budget of the measurements")->capture_default_str();
-  bench->add_option("--gl-textures", options->textures, "Texture path: auto|bindless|arrays")->capture_default_str();
+  bench->add_option("--gl-textures", options->textures, "Texture path: auto|bindless|arrays")
+      ->check(CLI::IsMember({"auto", "bindless", "arrays"}))
+      ->capture_default_str();
   bench->add_option("--lighting", options->lighting, "Lighting of the full samples: physical|faithful")
       ->check(CLI::IsMember({"physical", "faithful"}))
       ->capture_default_str();

@@ -50,12 +50,13 @@ std::string formatDuration(double seconds) {
 
 int runRender(const RenderOptions& o) {
   const int width = o.size.width, height = o.size.height;
-  {
-    // Say so before rendering, not after.
-    std::string ext = std::filesystem::path(o.output).extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (ext != ".png" && ext != ".exr") throw std::runtime_error(fmt::format("{}: output must be .png or .exr", o.output));
-  }
+  std::string ext = std::filesystem::path(o.output).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  // Say so before rendering, not after.
+  if (ext != ".png" && ext != ".exr") throw std::runtime_error(fmt::format("{}: output must be .png or .exr", o.output));
+  // A PNG of an AOV shows that AOV alone, so the GL backend renders no beauty for it (an EXR
+  // always holds the beauty layer too).
+  const bool aovsOnly = o.aov != "beauty" && ext == ".png";
   if (o.spp <= 0 && o.timeLimit <= 0.0) throw std::runtime_error("--spp must be positive (or give --time)");
 
   const std::optional<gl::TextureMode> glTextures = gl::parseTextureMode(o.glTextures);
@@ -168,11 +169,13 @@ int runRender(const RenderOptions& o) {
     }
   };
 
-  const RenderImage image = glContext ? gl::renderWithGl(*glContext, renderScene, pose, settings, glPrograms, progress).image
+  const gl::GlRenderParts glParts = aovsOnly ? gl::GlRenderParts::AovsOnly : gl::GlRenderParts::BeautyAndAovs;
+  const RenderImage image = glContext ? gl::renderWithGl(*glContext, renderScene, pose, settings, glPrograms, progress, glParts).image
                                       : renderCpu(renderScene, Camera(pose, width, height), settings, progress);
-  if (tty && !o.quiet && image.samples != settings.spp) fmt::print("\n");
+  if (tty && !o.quiet && !aovsOnly && image.samples != settings.spp) fmt::print("\n");
   writeImage(o.output, image, output);
-  if (!o.quiet) fmt::print("wrote {} ({}x{}, {} spp, {} lighting, {})\n", o.output, width, height, image.samples, o.lighting,
+  const std::string rendered = aovsOnly ? fmt::format("--aov {}", o.aov) : fmt::format("{} spp, {} lighting", image.samples, o.lighting);
+  if (!o.quiet) fmt::print("wrote {} ({}x{}, {}, {})\n", o.output, width, height, rendered,
                            glContext ? "gl " + glContext->info().renderer : std::string("cpu"));
   return 0;
 }

@@ -30,12 +30,7 @@ int runView(ViewCommand& cmd) {
       return 1;
     }
   }
-  const auto textures = gl::parseTextureMode(cmd.textures);
-  if (!textures) {
-    fmt::print(stderr, "brushtrace: --textures-mode '{}' is not bindless, arrays or auto\n", cmd.textures);
-    return 1;
-  }
-  o.textures = *textures;
+  o.textures = *gl::parseTextureMode(cmd.textures); // --gl-textures admits only the names it parses
   o.lighting = cmd.lighting == "physical" ? LightingMode::Physical : LightingMode::Faithful;
 
   Viewer viewer(o);
@@ -55,7 +50,9 @@ void addViewCommand(CLI::App& app, int& exitCode) {
   view->add_option("--camera", cmd->camera, "Start camera \"(x y z) pitch yaw roll\" (roll is ignored: the viewer has none)");
   view->add_option("--lighting", cmd->lighting, "faithful|physical")->check(CLI::IsMember({"faithful", "physical"}))->capture_default_str();
   view->add_option("--bounces", cmd->viewer.bounces, "Bounces in physical mode")->capture_default_str();
-  view->add_option("--gl-textures", cmd->textures, "bindless|arrays|auto")->capture_default_str();
+  view->add_option("--gl-textures", cmd->textures, "bindless|arrays|auto")
+      ->check(CLI::IsMember({"auto", "bindless", "arrays"}))
+      ->capture_default_str();
   view->add_option("--screenshots", cmd->viewer.screenshotDir, "Folder F12 writes screenshots into")->capture_default_str();
   view->callback([cmd, &exitCode] { exitCode = runView(*cmd); });
 }

@@ -167,12 +167,24 @@ struct GpuLight {
   float dirtOnRadius = 0.0f;
 };
 static_assert(sizeof(GpuLight) == 96);
-static_assert(offsetof(GpuLight, dirtScale) == 80);
-static_assert(offsetof(GpuLight, cosInner) == 64);
+static_assert(offsetof(GpuLight, origin) == 0);
+static_assert(offsetof(GpuLight, type) == 12);
 static_assert(offsetof(GpuLight, color) == 16);
+static_assert(offsetof(GpuLight, value) == 28);
 static_assert(offsetof(GpuLight, direction) == 32);
+static_assert(offsetof(GpuLight, cosOuter) == 44);
 static_assert(offsetof(GpuLight, formula) == 48);
+static_assert(offsetof(GpuLight, atten) == 52);
+static_assert(offsetof(GpuLight, falloff) == 56);
+static_assert(offsetof(GpuLight, anglescale) == 60);
+static_assert(offsetof(GpuLight, cosInner) == 64);
+static_assert(offsetof(GpuLight, deviance) == 68);
+static_assert(offsetof(GpuLight, flags) == 72);
 static_assert(offsetof(GpuLight, faithfulScale) == 76);
+static_assert(offsetof(GpuLight, dirtScale) == 80);
+static_assert(offsetof(GpuLight, dirtGain) == 84);
+static_assert(offsetof(GpuLight, dirtOffRadius) == 88);
+static_assert(offsetof(GpuLight, dirtOnRadius) == 92);
 
 constexpr uint32_t kLightFlagStartOff = 1u;  // spawnflags & 1 on a styled light: dark by default
 constexpr uint32_t kLightFlagBleed = 2u;     // `_bleed`: lights surfaces behind it too
@@ -202,6 +214,13 @@ struct GpuMaterial {
   uint32_t pad[3] = {0, 0, 0};
 };
 static_assert(sizeof(GpuMaterial) == 64);
+static_assert(offsetof(GpuMaterial, averageAlbedo) == 0);
+static_assert(offsetof(GpuMaterial, emission) == 16);
+static_assert(offsetof(GpuMaterial, size) == 32);
+static_assert(offsetof(GpuMaterial, roughness) == 40);
+static_assert(offsetof(GpuMaterial, metallic) == 44);
+static_assert(offsetof(GpuMaterial, flags) == 48);
+static_assert(offsetof(GpuMaterial, pad) == 52);
 
 constexpr uint32_t kMaterialSpecular = 1u; // has a PBR set (roughness/metallic map): GGX + diffuse
 constexpr uint32_t kMaterialEmissive = 2u; // has an emissive map with lit texels
@@ -216,6 +235,12 @@ struct GpuEmitter {
   float cdf = 0.0f;             // running sum of areas / total, the last one is 1
 };
 static_assert(sizeof(GpuEmitter) == 48);
+static_assert(offsetof(GpuEmitter, v0) == 0);
+static_assert(offsetof(GpuEmitter, face) == 12);
+static_assert(offsetof(GpuEmitter, v1) == 16);
+static_assert(offsetof(GpuEmitter, area) == 28);
+static_assert(offsetof(GpuEmitter, v2) == 32);
+static_assert(offsetof(GpuEmitter, cdf) == 44);
 
 // ---------------------------------------------------------------------------------------------
 // Light selection (renderer/cpu/light_grid.h builds these; renderer/gl uploads them unchanged)

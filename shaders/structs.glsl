@@ -64,7 +64,10 @@ struct GpuMaterial {
   float roughness;      // offset 60
   float metallic;       // offset 64
   uint pad0;            // offset 68
-};                      // 72 bytes
+  uvec2 baseTexels;     // offset 72: each map's width and height in texels, which its array
+  uvec2 normalTexels;   // offset 80  layer may exceed (textures.glsl); 0 where there is no map
+  uvec2 emissiveTexels; // offset 88
+};                      // 96 bytes
 
 // scene/gpu_structs.h GpuLight, byte for byte (Quake light units, colours 0..1).
 const uint LIGHT_POINT = 0u;

@@ -1,6 +1,8 @@
 // Material texture sampling, in two variants chosen at run time from the context:
 //   BT_TEXTURES_BINDLESS: GL_ARB_bindless_texture, one sampler2D handle per material map;
-//   BT_TEXTURES_ARRAYS:   one sampler2DArray per size class, the material naming (array, layer).
+//   BT_TEXTURES_ARRAYS:   one sampler2DArray per size class, the material naming (array, layer);
+//                         a map may sit in the corner of a larger layer (gl_textures.h).
+// Both wrap at the map's own size (GpuMaterial's *Texels), never at the layer's.
 // Both filter the same way as the CPU reference (bvh sampleBilinearRepeat, renderer/cpu
 // bilinearRepeat): bilinear with repeat, texel centres at (i + 0.5) / size, on the stored 8-bit
 // values (GL_RGBA8; sRGB decoded after filtering). The four texels are fetched and weighted
@@ -10,7 +12,6 @@
 #if defined(BT_TEXTURES_BINDLESS)
 // The program enables GL_ARB_bindless_texture right after #version (extensions come first).
 
-ivec2 mapSize(uvec2 handle, uint layer) { return textureSize(sampler2D(handle), 0); }
 vec4 fetchTexel(uvec2 handle, uint layer, ivec2 texel) { return texelFetch(sampler2D(handle), texel, 0); }
 #define MAP_REF uvec2
 #define BASE_REF(m) (m).baseHandle, 0u
@@ -37,11 +38,6 @@ layout(binding = 0) uniform sampler2DArray textureArrays[BT_MAX_TEXTURE_ARRAYS];
   case 14u: return EXPR(textureArrays[14]); case 15u: return EXPR(textureArrays[15]); \
   }
 
-#define SIZE_OF(s) textureSize(s, 0).xy
-ivec2 mapSize(uint array, uint layer) {
-  BT_EACH_ARRAY(SIZE_OF)
-  return ivec2(1);
-}
 #define FETCH_FROM(s) texelFetch(s, ivec3(texel, int(layer)), 0)
 vec4 fetchTexel(uint array, uint layer, ivec2 texel) {
   BT_EACH_ARRAY(FETCH_FROM)
@@ -56,9 +52,10 @@ vec4 fetchTexel(uint array, uint layer, ivec2 texel) {
 #error "define BT_TEXTURES_BINDLESS or BT_TEXTURES_ARRAYS"
 #endif
 
-// Bilinear with repeat; uv in texture repeats (s / width, t / height), v = 0 at the first row.
-vec4 sampleBilinearRepeat(MAP_REF map, uint layer, vec2 uv) {
-  ivec2 size = mapSize(map, layer);
+// Bilinear with repeat over the map's `size` texels; uv in texture repeats (s / width,
+// t / height), v = 0 at the first row.
+vec4 sampleBilinearRepeat(MAP_REF map, uint layer, uvec2 mapTexels, vec2 uv) {
+  ivec2 size = max(ivec2(mapTexels), ivec2(1));
   vec2 x = uv * vec2(size) - 0.5;
   vec2 f = floor(x);
   vec2 a = x - f;
@@ -80,9 +77,9 @@ vec4 sampleBilinearRepeat(MAP_REF map, uint layer, vec2 uv) {
   return top * (1.0 - a.y) + bottom * a.y;
 }
 
-vec4 sampleBase(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(BASE_REF(m), uv); }
-vec4 sampleNormalMap(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(NORMAL_REF(m), uv); }
-vec4 sampleEmissive(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(EMISSIVE_REF(m), uv); }
+vec4 sampleBase(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(BASE_REF(m), m.baseTexels, uv); }
+vec4 sampleNormalMap(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(NORMAL_REF(m), m.normalTexels, uv); }
+vec4 sampleEmissive(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(EMISSIVE_REF(m), m.emissiveTexels, uv); }
 
 // Texture coordinates of p on face f, in texture repeats: Quake's s/t in texels over the size.
 vec2 faceUv(GpuFace f, GpuMaterial m, vec3 p) {

@@ -15,7 +15,7 @@ CameraBasis cameraFrom(const CameraPose& pose, int width, int height) {
 
 std::optional<GlRenderResult> renderWithGl(const RenderScene& scene, const CameraPose& pose, const RenderSettings& settings,
                                            TextureMode textures, const std::function<void(const RenderProgress&)>& progress,
-                                           std::string& whyNot) {
+                                           std::string& whyNot, GlRenderParts parts) {
   std::unique_ptr<GlContext> context;
   try {
     context = GlContext::createHeadless();
@@ -23,16 +23,18 @@ std::optional<GlRenderResult> renderWithGl(const RenderScene& scene, const Camer
     whyNot = e.what();
     return std::nullopt;
   }
-  return renderWithGl(*context, scene, pose, settings, textures, progress);
+  return renderWithGl(*context, scene, pose, settings, textures, progress, parts);
 }
 
 GlRenderResult renderWithGl(GlContext& context, const RenderScene& scene, const CameraPose& pose, const RenderSettings& settings,
-                            TextureMode textures, const std::function<void(const RenderProgress&)>& progress) {
-  return renderWithGl(context, scene, pose, settings, std::make_shared<TracerPrograms>(context, textures), progress);
+                            TextureMode textures, const std::function<void(const RenderProgress&)>& progress,
+                            GlRenderParts parts) {
+  return renderWithGl(context, scene, pose, settings, std::make_shared<TracerPrograms>(context, textures), progress, parts);
 }
 
 GlRenderResult renderWithGl(GlContext& context, const RenderScene& scene, const CameraPose& pose, const RenderSettings& settings,
-                            std::shared_ptr<TracerPrograms> programs, const std::function<void(const RenderProgress&)>& progress) {
+                            std::shared_ptr<TracerPrograms> programs, const std::function<void(const RenderProgress&)>& progress,
+                            GlRenderParts parts) {
   GlTracer tracer(context, *scene.scene, scene.tracer, std::move(programs), lightingFor(scene));
   const CameraBasis camera = cameraFrom(pose, settings.width, settings.height);
 
@@ -50,6 +52,7 @@ GlRenderResult renderWithGl(GlContext& context, const RenderScene& scene, const 
   image.normal = aov.normal;
   image.depth = aov.depth;
   image.face = aov.face;
+  if (parts == GlRenderParts::AovsOnly) return result;
 
   BeautySettings beauty;
   beauty.width = settings.width;

@@ -107,12 +107,20 @@ struct GpuMaterial {
   float roughness;
   float metallic;
   uint32_t pad0;
+  glm::uvec2 baseTexels;     // each map's Image width, height: the arrays path may store it in a
+  glm::uvec2 normalTexels;   // larger layer (gl_textures.h), and the shaders wrap at this size
+  glm::uvec2 emissiveTexels;
 };
-static_assert(sizeof(GpuMaterial) == 72);
-static_assert(offsetof(GpuMaterial, normalHandle) == 8 && offsetof(GpuMaterial, emissiveHandle) == 16 &&
-              offsetof(GpuMaterial, baseArray) == 24 && offsetof(GpuMaterial, emissiveLayer) == 44 &&
-              offsetof(GpuMaterial, size) == 48 && offsetof(GpuMaterial, flags) == 56 &&
-              offsetof(GpuMaterial, roughness) == 60 && offsetof(GpuMaterial, metallic) == 64);
+static_assert(sizeof(GpuMaterial) == 96);
+static_assert(offsetof(GpuMaterial, baseHandle) == 0 && offsetof(GpuMaterial, normalHandle) == 8 &&
+              offsetof(GpuMaterial, emissiveHandle) == 16 && offsetof(GpuMaterial, baseArray) == 24 &&
+              offsetof(GpuMaterial, baseLayer) == 28 && offsetof(GpuMaterial, normalArray) == 32 &&
+              offsetof(GpuMaterial, normalLayer) == 36 && offsetof(GpuMaterial, emissiveArray) == 40 &&
+              offsetof(GpuMaterial, emissiveLayer) == 44 && offsetof(GpuMaterial, size) == 48 &&
+              offsetof(GpuMaterial, flags) == 56 && offsetof(GpuMaterial, roughness) == 60 &&
+              offsetof(GpuMaterial, metallic) == 64 && offsetof(GpuMaterial, pad0) == 68 &&
+              offsetof(GpuMaterial, baseTexels) == 72 && offsetof(GpuMaterial, normalTexels) == 80 &&
+              offsetof(GpuMaterial, emissiveTexels) == 88);
 
 // std140 uniform block `Camera` (shaders/camera.glsl), binding 0.
 struct GpuCamera {
@@ -131,8 +139,11 @@ struct GpuCamera {
   uint32_t pad4[3];
 };
 static_assert(sizeof(GpuCamera) == 96);
-static_assert(offsetof(GpuCamera, forward) == 16 && offsetof(GpuCamera, right) == 32 && offsetof(GpuCamera, up) == 48 &&
-              offsetof(GpuCamera, imageSize) == 64 && offsetof(GpuCamera, frameIndex) == 72);
+static_assert(offsetof(GpuCamera, origin) == 0 && offsetof(GpuCamera, pad0) == 12 && offsetof(GpuCamera, forward) == 16 &&
+              offsetof(GpuCamera, pad1) == 28 && offsetof(GpuCamera, right) == 32 && offsetof(GpuCamera, pad2) == 44 &&
+              offsetof(GpuCamera, up) == 48 && offsetof(GpuCamera, pad3) == 60 && offsetof(GpuCamera, imageSize) == 64 &&
+              offsetof(GpuCamera, frameIndex) == 72 && offsetof(GpuCamera, seed) == 76 &&
+              offsetof(GpuCamera, firstFrame) == 80);
 
 // Lights and emitters are scene/gpu_structs.h's GpuLight and GpuEmitter, uploaded unchanged
 // (shaders/structs.glsl mirrors them).
@@ -160,9 +171,13 @@ struct GpuWorld {
   uint32_t pad;
 };
 static_assert(sizeof(GpuWorld) == 80);
-static_assert(offsetof(GpuWorld, range) == 12 && offsetof(GpuWorld, faithfulBounces) == 24 &&
-              offsetof(GpuWorld, emitterArea) == 40 && offsetof(GpuWorld, bounces) == 48 &&
-              offsetof(GpuWorld, dirtMode) == 52 && offsetof(GpuWorld, dirtScale) == 64 &&
+static_assert(offsetof(GpuWorld, minlight) == 0 && offsetof(GpuWorld, range) == 12 && offsetof(GpuWorld, scaledist) == 16 &&
+              offsetof(GpuWorld, bouncescale) == 20 && offsetof(GpuWorld, faithfulBounces) == 24 &&
+              offsetof(GpuWorld, litwater) == 28 && offsetof(GpuWorld, lightCount) == 32 &&
+              offsetof(GpuWorld, emitterCount) == 36 && offsetof(GpuWorld, emitterArea) == 40 &&
+              offsetof(GpuWorld, physical) == 44 && offsetof(GpuWorld, bounces) == 48 && offsetof(GpuWorld, dirtMode) == 52 &&
+              offsetof(GpuWorld, dirtDepth) == 56 && offsetof(GpuWorld, dirtAngle) == 60 &&
+              offsetof(GpuWorld, dirtScale) == 64 && offsetof(GpuWorld, dirtGain) == 68 &&
               offsetof(GpuWorld, minlightDirt) == 72);
 
 } // namespace bt::gl

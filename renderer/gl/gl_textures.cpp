@@ -8,8 +8,9 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstdint>
 #include <map>
-#include <tuple>
+#include <utility>
 
 namespace bt::gl {
 
@@ -18,7 +19,7 @@ namespace {
 // Plain GL_RGBA8 for every map, sRGB-encoded ones included: the CPU reference filters the
 // stored 8-bit values and decodes afterwards (renderer/cpu/color.h bilinearRepeat, and Quake's
 // engine multiplies texture by light in that encoded space), so the shaders decode after
-// sampling too. `srgb` only keeps base colour and normal maps in separate size classes.
+// sampling too; the arrays path keeps colour and normal maps of one size in one array.
 GLenum internalFormat(bool /*srgb*/) { return GL_RGBA8; }
 
 GLsizei mipLevels(int width, int height) {
@@ -37,11 +38,53 @@ void setSampling(GLuint texture, float anisotropy) {
   if (anisotropy > 1.0f) BT_GL(glTextureParameterf(texture, GL_TEXTURE_MAX_ANISOTROPY, anisotropy));
 }
 
-struct SizeClass {
-  int width, height;
-  bool srgb;
-  auto operator<=>(const SizeClass&) const = default;
+// One map's place on the arrays path: its image, and where GpuMaterial names its array and layer.
+struct Layer {
+  const Image* image;
+  uint32_t* array;
+  uint32_t* layer;
 };
+
+// One texture array: layers of width x height, each holding one map in its corner (most often
+// the map fills it).
+struct SizeClass {
+  int width = 0, height = 0;
+  std::vector<Layer> layers;
+  size_t texels() const { return size_t(width) * size_t(height) * layers.size(); }
+};
+
+// The maps in at most `maxClasses` arrays: one array per distinct size where that fits (a level
+// with many sizes, such as one with high-resolution replacement textures, has more sizes than
+// sampler units). Past that, the two classes whose merge adds the fewest padding texels are
+// merged until they fit: the merged array's layers are as wide and as tall as its largest map,
+// and the shaders wrap each map at its own size (GpuMaterial::baseTexels...), so padding
+// changes no image, only memory.
+std::vector<SizeClass> sizeClasses(const std::vector<Layer>& maps, size_t maxClasses) {
+  std::map<std::pair<int, int>, std::vector<Layer>> bySize;
+  for (const Layer& m : maps) bySize[{m.image->width, m.image->height}].push_back(m);
+  std::vector<SizeClass> classes;
+  for (auto& [size, layers] : bySize) classes.push_back({size.first, size.second, std::move(layers)});
+  while (classes.size() > maxClasses) {
+    size_t bestA = 0, bestB = 1, bestAdded = SIZE_MAX;
+    for (size_t a = 0; a < classes.size(); ++a)
+      for (size_t b = a + 1; b < classes.size(); ++b) {
+        const size_t merged = size_t(std::max(classes[a].width, classes[b].width)) *
+                              size_t(std::max(classes[a].height, classes[b].height)) *
+                              (classes[a].layers.size() + classes[b].layers.size());
+        const size_t added = merged - classes[a].texels() - classes[b].texels();
+        if (added < bestAdded) bestA = a, bestB = b, bestAdded = added;
+      }
+    SizeClass& into = classes[bestA];
+    SizeClass& from = classes[bestB];
+    into.width = std::max(into.width, from.width);
+    into.height = std::max(into.height, from.height);
+    into.layers.insert(into.layers.end(), from.layers.begin(), from.layers.end());
+    classes.erase(classes.begin() + std::ptrdiff_t(bestB));
+  }
+  return classes;
+}
+
+glm::uvec2 texelsOf(const Image& image) { return {uint32_t(image.width), uint32_t(image.height)}; }
 
 } // namespace
 
@@ -63,7 +106,7 @@ std::optional<TextureMode> parseTextureMode(std::string_view name) {
 
 TextureMode resolveTextureMode(TextureMode mode, const GlContextInfo& context) {
   if (mode == TextureMode::Bindless && !context.bindlessTextures)
-    throw GlError(fmt::format("--textures bindless: {} has no GL_ARB_bindless_texture", context.renderer));
+    throw GlError(fmt::format("--gl-textures bindless: {} has no GL_ARB_bindless_texture", context.renderer));
   return mode == TextureMode::Auto ? (context.bindlessTextures ? TextureMode::Bindless : TextureMode::Arrays) : mode;
 }
 
@@ -84,9 +127,9 @@ GlTextures::GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo
     g.size = {static_cast<float>(std::max(m.width, 1)), static_cast<float>(std::max(m.height, 1))};
     g.roughness = m.roughnessValue;
     g.metallic = m.metallicValue;
-    if (!m.baseColor.empty()) g.flags |= kMaterialHasBase;
-    if (!m.normal.empty()) g.flags |= kMaterialHasNormal;
-    if (!m.emissive.empty()) g.flags |= kMaterialHasEmissive;
+    if (!m.baseColor.empty()) g.flags |= kMaterialHasBase, g.baseTexels = texelsOf(m.baseColor);
+    if (!m.normal.empty()) g.flags |= kMaterialHasNormal, g.normalTexels = texelsOf(m.normal);
+    if (!m.emissive.empty()) g.flags |= kMaterialHasEmissive, g.emissiveTexels = texelsOf(m.emissive);
   }
 
   if (mode_ == TextureMode::Bindless) {
@@ -107,26 +150,16 @@ GlTextures::GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo
     return;
   }
 
-  // Arrays: gather the layers of each size class, then upload each class as one array.
-  struct Layer {
-    const Image* image;
-    uint32_t* array;
-    uint32_t* layer;
-  };
-  std::map<SizeClass, std::vector<Layer>> classes;
+  // Arrays: gather every map, group them into size classes, then upload each class as one array.
+  std::vector<Layer> maps;
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     const Material& m = scene.materials[i];
     GpuMaterial& g = materials_[i];
-    if (!m.baseColor.empty())
-      classes[{m.baseColor.width, m.baseColor.height, true}].push_back({&m.baseColor, &g.baseArray, &g.baseLayer});
-    if (!m.normal.empty())
-      classes[{m.normal.width, m.normal.height, false}].push_back({&m.normal, &g.normalArray, &g.normalLayer});
-    if (!m.emissive.empty())
-      classes[{m.emissive.width, m.emissive.height, true}].push_back({&m.emissive, &g.emissiveArray, &g.emissiveLayer});
+    if (!m.baseColor.empty()) maps.push_back({&m.baseColor, &g.baseArray, &g.baseLayer});
+    if (!m.normal.empty()) maps.push_back({&m.normal, &g.normalArray, &g.normalLayer});
+    if (!m.emissive.empty()) maps.push_back({&m.emissive, &g.emissiveArray, &g.emissiveLayer});
   }
-  if (classes.size() > static_cast<size_t>(kMaxTextureArrays))
-    throw GlError(fmt::format("the textures come in {} sizes; the texture-array path holds {} (use bindless)",
-                              classes.size(), kMaxTextureArrays));
+  const std::vector<SizeClass> classes = sizeClasses(maps, size_t(kMaxTextureArrays));
   GLint maxLayers = 0;
   BT_GL(glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers));
 
@@ -136,18 +169,20 @@ GlTextures::GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo
   BT_GL(glTextureStorage3D(placeholder_, 1, GL_RGBA8, 1, 1, 1));
   BT_GL(glTextureSubImage3D(placeholder_, 0, 0, 0, 0, 1, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, white));
 
-  for (const auto& [size, layers] : classes) {
+  for (const SizeClass& size : classes) {
+    const std::vector<Layer>& layers = size.layers;
     if (static_cast<GLint>(layers.size()) > maxLayers)
       throw GlError(fmt::format("{} textures of {}x{}: more than GL_MAX_ARRAY_TEXTURE_LAYERS ({})", layers.size(),
                                 size.width, size.height, maxLayers));
     GLuint array = 0;
     BT_GL(glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &array));
     textures_.push_back(array);
-    BT_GL(glTextureStorage3D(array, mipLevels(size.width, size.height), internalFormat(size.srgb), size.width,
+    BT_GL(glTextureStorage3D(array, mipLevels(size.width, size.height), internalFormat(true), size.width,
                              size.height, static_cast<GLsizei>(layers.size())));
     for (size_t l = 0; l < layers.size(); ++l) {
-      BT_GL(glTextureSubImage3D(array, 0, 0, 0, static_cast<GLint>(l), size.width, size.height, 1, GL_RGBA,
-                                GL_UNSIGNED_BYTE, layers[l].image->rgba.data()));
+      const Image& image = *layers[l].image;
+      BT_GL(glTextureSubImage3D(array, 0, 0, 0, static_cast<GLint>(l), image.width, image.height, 1, GL_RGBA,
+                                GL_UNSIGNED_BYTE, image.rgba.data()));
       *layers[l].array = static_cast<uint32_t>(arrays_.size());
       *layers[l].layer = static_cast<uint32_t>(l);
     }

@@ -1,11 +1,17 @@
 // Material textures on the GPU, in one of two layouts chosen at run time:
 //   bindless (GL_ARB_bindless_texture): one GL_TEXTURE_2D per material map, made resident once,
 //     its 64-bit handle written into GpuMaterial;
-//   arrays (llvmpipe and any context without bindless): one GL_TEXTURE_2D_ARRAY per size class
-//     (same width, height and colour encoding), GpuMaterial naming (array, layer).
-// Both use the same internal formats, mipmaps, filters and GL_REPEAT, so both give one image.
-// Both filter trilinearly with the driver's anisotropy up to 16x (see setSampling in
-// gl_textures.cpp for what reads through that filter and what does not).
+//   arrays (llvmpipe and any context without bindless): one GL_TEXTURE_2D_ARRAY per size class,
+//     GpuMaterial naming (array, layer). Past kMaxTextureArrays sizes, classes are merged and a
+//     map sits in the corner of a larger layer; the shaders wrap it at its own size
+//     (GpuMaterial::baseTexels...), so both paths still give one image.
+// The tracer samples neither through the sampler: shaders/textures.glsl fetches the four texels
+// of level 0 and filters them bilinearly in fp32, as the CPU reference does (renderer/cpu
+// bilinearRepeat), so that the GL AOVs equal the CPU's. Mipmaps and anisotropy are not needed
+// for antialiasing either: each progressive sample is jittered over its pixel, so their mean
+// integrates the texture over the pixel's footprint. Both paths still carry mipmaps and the
+// driver's anisotropy up to 16x with the same filters and GL_REPEAT, for any later sampler
+// lookup (textureGrad); no shader makes one today.
 #pragma once
 
 #include "renderer/gl/gl_structs.h"
@@ -31,9 +37,9 @@ inline constexpr int kMaxTextureArrays = 16;
 
 class GlTextures {
 public:
-  // Uploads every material's base colour and normal map. `Auto` picks bindless when the context
-  // has it. Throws GlError when `Bindless` is asked of a context without it, or when the arrays
-  // path would need more than kMaxTextureArrays size classes.
+  // Uploads every material's base colour, normal and emissive map. `Auto` picks bindless when
+  // the context has it. Throws GlError when `Bindless` is asked of a context without it, or when
+  // one array would need more layers than GL_MAX_ARRAY_TEXTURE_LAYERS.
   GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo& context);
   ~GlTextures();
   GlTextures(const GlTextures&) = delete;
@@ -55,7 +61,7 @@ private:
   float anisotropy_ = 1.0f;
   std::vector<GpuMaterial> materials_;
   std::vector<unsigned> textures_;     // everything created, deleted in the destructor
-  std::vector<unsigned> arrays_;       // arrays path: unit i holds arrays_[i]
+  std::vector<unsigned> arrays_;       // arrays path: unit i holds arrays_[i], at most kMaxTextureArrays
   unsigned placeholder_ = 0;           // arrays path: 1x1 array on the units no size class uses
   std::vector<uint64_t> residentHandles_;
 };

@@ -140,6 +140,43 @@ gl::CameraBasis testCamera(int width, int height) {
   return c;
 }
 
+Scene makeManyTextureSizesWall() {
+  Scene scene;
+  const int widths[] = {4, 8, 12, 16, 24, 32};
+  const int heights[] = {4, 8, 16, 20};
+  for (int row = 0; row < 4; ++row)
+    for (int column = 0; column < 6; ++column) {
+      Material m;
+      m.name = "size" + std::to_string(widths[column]) + "x" + std::to_string(heights[row]);
+      m.source = TextureSource::LooseImage;
+      m.width = widths[column];
+      m.height = heights[row];
+      m.baseColor.width = m.width;
+      m.baseColor.height = m.height;
+      // A colour per texel from a hash of its place and the material: a texel read from the
+      // wrong place (wrapped at another size, or from another layer) shows.
+      for (uint32_t i = 0; i < uint32_t(m.width * m.height); ++i) {
+        const uint32_t h = (i + 1) * 2654435761u ^ uint32_t(scene.materials.size() + 1) * 40503u;
+        m.baseColor.rgba.insert(m.baseColor.rgba.end(), {uint8_t(h), uint8_t(h >> 8), uint8_t(h >> 16), 255});
+      }
+      const uint32_t material = uint32_t(scene.materials.size());
+      scene.materials.push_back(std::move(m));
+      // Side by side without gaps, so that no box's grazing side face is in view.
+      const double y = -144 + 48 * column, z = 96 - 48 * (row + 1);
+      addBox(scene, {0, y, z}, {16, y + 48, z + 48}, material);
+    }
+  return scene;
+}
+
+gl::CameraBasis manyTextureSizesCamera(int width, int height) {
+  gl::CameraBasis c;
+  c.origin = {-150, 0, 0};
+  c.forward = {1, 0, 0};
+  c.right = {0, -1, 0};
+  c.up = {0, 0, float(height) / float(width)};
+  return c;
+}
+
 gl::TextureMode textureModeUnderTest() {
   const char* env = std::getenv("BT_GL_TEXTURES");
   if (!env || !*env) return gl::TextureMode::Auto;

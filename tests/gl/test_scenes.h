@@ -18,6 +18,13 @@ void addBox(Scene& scene, dvec3 min, dvec3 max, uint32_t material);
 Scene makeTestRoom();
 gl::CameraBasis testCamera(int width, int height);
 
+// A wall of 24 boxes side by side facing -X, each textured with its own image size (4 to 32 texels wide, 4 to
+// 20 tall: more sizes than the texture-array path has arrays, kMaxTextureArrays), every texel a
+// different colour and each texture repeating across its face. manyTextureSizesCamera looks at
+// it from -X, the boxes filling most of a 3:2 view.
+Scene makeManyTextureSizesWall();
+gl::CameraBasis manyTextureSizesCamera(int width, int height);
+
 // The texture path the GL tests render with: $BT_GL_TEXTURES (bindless, arrays or auto),
 // auto when unset. scripts/gpu-check.sh forces bindless on the GPU and arrays after it.
 gl::TextureMode textureModeUnderTest();
