@@ -82,6 +82,20 @@ uint32_t classifyTexture(std::string_view texture, const std::optional<SurfaceAt
   return flags;
 }
 
+std::vector<BrushContents> brushContents(const Scene& scene) {
+  std::vector<BrushContents> contents(scene.brushes.size(), BrushContents::Empty);
+  for (size_t b = 0; b < scene.brushes.size(); ++b) {
+    const Brush& brush = scene.brushes[b];
+    if (brush.entity >= scene.entities.size() || !mergedIntoWorld(scene.entities[brush.entity].classname())) continue;
+    uint32_t classes = 0;
+    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
+      classes |= classifyTexture(scene.faces[f].texture, scene.faces[f].surface);
+    if (classes & kFaceHidden) continue;
+    contents[b] = (classes & kFaceLiquid) ? BrushContents::Liquid : BrushContents::Solid;
+  }
+  return contents;
+}
+
 RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& options, Diagnostics& diagnostics) {
   RenderScene rs;
   rs.scene = &scene;
@@ -131,16 +145,7 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   }
 
   // Faithful mode's _surface lights: point lights spread over the template faces.
-  std::vector<BrushContents> contents(scene.brushes.size(), BrushContents::Empty);
-  for (size_t b = 0; b < scene.brushes.size(); ++b) {
-    const Brush& brush = scene.brushes[b];
-    if (brush.entity >= scene.entities.size() || !mergedIntoWorld(scene.entities[brush.entity].classname())) continue;
-    uint32_t classes = 0;
-    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
-      classes |= classifyTexture(scene.faces[f].texture, scene.faces[f].surface);
-    if (classes & kFaceHidden) continue;
-    contents[b] = (classes & kFaceLiquid) ? BrushContents::Liquid : BrushContents::Solid;
-  }
+  const std::vector<BrushContents> contents = brushContents(scene);
 
   // Emitter triangles: a fan over each emitting face's winding.
   for (size_t i = 0; i < scene.faces.size(); ++i) {

@@ -6,6 +6,7 @@
 #include "scene/gpu_structs.h"
 #include "renderer/cpu/light_grid.h"
 #include "renderer/cpu/lights.h"
+#include "renderer/cpu/surface_lights.h"
 #include "scene/scene.h"
 
 #include <glm/vec3.hpp>
@@ -46,6 +47,11 @@ inline glm::vec3 faceNormal(const RenderScene& rs, uint32_t face) {
 // Classifies faces by texture name (Quake conventions, see README), reads the lights, and
 // builds the tracer. `scene` must outlive the result.
 RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& options, Diagnostics& diagnostics);
+
+// What each brush of `scene` is to qbsp's CSG (surface_lights.h BrushContents): world brushes
+// are solid, or liquid where a face is a liquid; brushes with a hidden face, and brush entities
+// that keep their own model, carve nothing.
+std::vector<BrushContents> brushContents(const Scene& scene);
 
 // Brush entities that qbsp merges into the world (worldspawn, func_group, func_detail*): they
 // cast shadows in `light`; the others are models of their own.

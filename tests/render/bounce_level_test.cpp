@@ -15,22 +15,6 @@
 namespace bt {
 namespace {
 
-// The brushes' contents as buildRenderScene gives them to qbsp's CSG: world brushes are solid,
-// or liquid where a face is a liquid, and brushes with a hidden face are left out.
-std::vector<BrushContents> worldContents(const Scene& scene) {
-  std::vector<BrushContents> contents(scene.brushes.size(), BrushContents::Empty);
-  for (size_t b = 0; b < scene.brushes.size(); ++b) {
-    const Brush& brush = scene.brushes[b];
-    if (brush.entity >= scene.entities.size() || !mergedIntoWorld(scene.entities[brush.entity].classname())) continue;
-    uint32_t classes = 0;
-    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
-      classes |= classifyTexture(scene.faces[f].texture, scene.faces[f].surface);
-    if (classes & kFaceHidden) continue;
-    contents[b] = (classes & kFaceLiquid) ? BrushContents::Liquid : BrushContents::Solid;
-  }
-  return contents;
-}
-
 void expectSameLights(const std::vector<GpuLight>& a, const std::vector<GpuLight>& b, const std::string& what) {
   ASSERT_EQ(a.size(), b.size()) << what;
   size_t differ = 0;
@@ -44,7 +28,7 @@ struct E3m1 {
   std::vector<BrushContents> contents;
   explicit E3m1(const std::filesystem::path& shared)
       : scene(importScene((shared / "maps/librequake/lq1/maps/src/e3/lq_e3m1.map").string(), ImportOptions{})),
-        rs(prepared(scene)), contents(worldContents(scene)) {}
+        rs(prepared(scene)), contents(brushContents(scene)) {}
   static RenderScene prepared(const Scene& s) {
     Diagnostics diags;
     RenderSceneOptions options;
