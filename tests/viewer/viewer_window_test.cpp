@@ -84,6 +84,21 @@ protected:
   fs::path dir_, map_;
 };
 
+// The largest difference of a colour channel between the PNG and the window's display image
+// (RGBA8), or 256 when they differ in size.
+int largestDifference(const fs::path& png, const Viewer::DisplayImage& shown) {
+  auto in = OIIO::ImageInput::open(png.string());
+  if (!in) return 256;
+  const auto& spec = in->spec();
+  if (spec.width != shown.width || spec.height != shown.height || spec.nchannels != 3) return 256;
+  std::vector<uint8_t> pixels(size_t(spec.width) * spec.height * 3);
+  in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, pixels.data());
+  int worst = 0;
+  for (size_t i = 0; i < pixels.size() / 3; ++i)
+    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(int(pixels[3 * i + c]) - int(shown.rgba[4 * i + c])));
+  return worst;
+}
+
 double meanPixel(const fs::path& png) {
   auto in = OIIO::ImageInput::open(png.string());
   if (!in) return -1.0;
@@ -106,6 +121,9 @@ TEST_F(ViewerWindowTest, OpensRefinesReloadsOnSaveAndTakesScreenshots) {
   EXPECT_TRUE(fs::exists(fs::path(first).replace_extension(".exr")));
   const double lit = meanPixel(first);
   EXPECT_GT(lit, 5.0) << "the lit room rendered black";
+  // The window shows the GPU's tonemap of the accumulated sum; the PNG is the CPU's tonemap
+  // of the same sum read back.
+  EXPECT_LE(largestDifference(first, viewer.displayed()), 1) << "the screen and the screenshot differ";
 
   // A save that brightens the light reloads the level, keeps the camera and restarts refinement.
   save(roomMap(900));
