@@ -31,18 +31,12 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-// The level as the tracers see it, and the files it was read from: the map, its WADs and
-// images. Rebuilt whole on every reload, so a failed reload leaves the previous one untouched.
+// The level as the tracers see it, and the files it was read from (Scene::inputFiles: the
+// map, prefabs, WADs, palettes, shader scripts, images and companion maps). Rebuilt whole on
+// every reload, so a failed reload leaves the previous one untouched.
 struct Level : gl::GlLevel {
   std::vector<fs::path> files;
 };
-
-std::vector<fs::path> filesOf(const Scene& scene) {
-  std::set<fs::path> files{fs::path(scene.sourcePath)};
-  for (const Material& m : scene.materials)
-    if (!m.sourcePath.empty()) files.insert(fs::path(m.sourcePath));
-  return {files.begin(), files.end()};
-}
 
 // `programs` outlive the level: a reload uploads the new level and keeps the compiled programs.
 // `physical`: the lighting the first images are for (gl::loadGlLevel waits for those kernels).
@@ -50,7 +44,7 @@ std::unique_ptr<Level> loadLevel(const ViewerOptions& options, gl::GlContext& co
                                  const std::shared_ptr<gl::TracerPrograms>& programs, bool physical) {
   auto level = std::make_unique<Level>();
   gl::loadGlLevel(*level, context, programs, physical, [&] { return importScene(options.map, options.import); });
-  level->files = filesOf(level->scene);
+  level->files.assign(level->scene.inputFiles.begin(), level->scene.inputFiles.end());
   return level;
 }
 
@@ -366,6 +360,7 @@ void Viewer::setLighting(LightingMode mode) { impl_->setLighting(mode); }
 fs::path Viewer::screenshot() { return impl_->takeScreenshot(); }
 int Viewer::samples() const { return impl_->full->samples(); }
 int Viewer::reloads() const { return impl_->reloads; }
+int Viewer::glDebugErrors() const { return impl_->window.context().debugErrorCount(); }
 const std::string& Viewer::error() const { return impl_->error; }
 CameraPose Viewer::camera() const { return impl_->pose(); }
 Viewer::DisplayImage Viewer::displayed() const {

@@ -57,6 +57,7 @@ public:
 
   int samples() const;         // accumulated samples per pixel of the current view
   int reloads() const;         // successful reloads since the window opened
+  int glDebugErrors() const;   // GL errors the driver's debug output reported (BT_GL_DEBUG=1)
   const std::string& error() const; // the last reload error, empty when the scene is current
   CameraPose camera() const;
 
