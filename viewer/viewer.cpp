@@ -87,9 +87,9 @@ struct Viewer::Impl {
 
   explicit Impl(ViewerOptions o)
       : options(std::move(o)), window(options.width, options.height, "brushtrace — " + options.map), lighting(options.lighting) {
-    // The path tracer compiles (on the driver's threads, where it has them) while the level loads.
+    // The path tracer compiles (on the driver's threads, where it has them) while the level
+    // loads, from when its lights say which program it needs (gl::loadGlLevel).
     programs = std::make_shared<gl::TracerPrograms>(window.context(), options.textures);
-    programs->startPathTracer(lighting == LightingMode::Physical);
     level = loadLevel(options, window.context(), programs, lighting == LightingMode::Physical);
     watcher.watch(level->files);
     const CameraPose pose = options.camera ? *options.camera : defaultCameraPose(level->scene);
@@ -231,7 +231,8 @@ struct Viewer::Impl {
       image.addSample(*level->tracer, basis(image.width(), image.height()), beautySettings());
       // The first image is up: the other lighting mode compiles in the background, so that
       // switching to it (keys 4/5) does not stall.
-      if (!moving && before == 0) programs->startPathTracer(lighting != LightingMode::Physical);
+      if (!moving && before == 0)
+        programs->startPathTracer(lighting != LightingMode::Physical, level->tracer->faithfulFeatures());
       samplesThisFrame = double(image.width()) * image.height();
     }
     showSum(image);
