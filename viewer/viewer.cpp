@@ -94,6 +94,10 @@ struct Viewer::Impl {
     watcher.watch(level->files);
     const CameraPose pose = options.camera ? *options.camera : defaultCameraPose(level->scene);
     camera = FlyCamera(glm::dvec3(pose.origin), pose.pitch, pose.yaw);
+    // Before ImGui's context, which only the destructor ends: a throw here leaves nothing behind.
+    full = std::make_unique<gl::ProgressiveImage>(options.width, options.height);
+    preview = std::make_unique<gl::ProgressiveImage>(std::max(1, options.width / 2), std::max(1, options.height / 2));
+    tonemap = std::make_unique<gl::TonemapPass>();
 
     glfwSetWindowUserPointer(window.handle(), this);
     glfwSetScrollCallback(window.handle(), [](GLFWwindow* w, double, double dy) {
@@ -104,9 +108,6 @@ struct Viewer::Impl {
     ImGui::GetIO().IniFilename = nullptr; // no imgui.ini littering the user's folder
     ImGui_ImplGlfw_InitForOpenGL(window.handle(), true); // chains to the scroll callback above
     ImGui_ImplOpenGL3_Init("#version 450");
-    full = std::make_unique<gl::ProgressiveImage>(options.width, options.height);
-    preview = std::make_unique<gl::ProgressiveImage>(std::max(1, options.width / 2), std::max(1, options.height / 2));
-    tonemap = std::make_unique<gl::TonemapPass>();
   }
 
   ~Impl() {
