@@ -43,7 +43,11 @@ struct Level : gl::GlLevel {
 std::unique_ptr<Level> loadLevel(const ViewerOptions& options, gl::GlContext& context,
                                  const std::shared_ptr<gl::TracerPrograms>& programs, bool physical) {
   auto level = std::make_unique<Level>();
-  gl::loadGlLevel(*level, context, programs, physical, [&] { return importScene(options.map, options.import); });
+  gl::loadGlLevel(*level, context, programs, physical, [&](const gl::EntitiesRead& entitiesRead) {
+    ImportOptions import = options.import;
+    import.entitiesRead = entitiesRead;
+    return importScene(options.map, import);
+  });
   level->files.assign(level->scene.inputFiles.begin(), level->scene.inputFiles.end());
   return level;
 }
