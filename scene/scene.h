@@ -13,6 +13,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -115,8 +116,16 @@ struct Scene {
   // The lightmaps a compiler baked into a .bsp (null for .map sources), for a view mode that
   // shows them beside the path-traced preview. See scene/compiled_lighting.h.
   std::shared_ptr<const CompiledLighting> compiledLighting;
+  // Every file the import read, the level first: prefab .maps (misc_external_map), WADs,
+  // palettes, Quake 3 shader scripts, each texture image and companion map (a .pk3 for what
+  // came out of one). `brushtrace view` reloads when any of them is saved.
+  std::vector<std::string> inputFiles;
 
   const Entity* worldspawn() const;
+  // Appends `path` to inputFiles unless it is listed already.
+  void addInputFile(const std::string& path) {
+    if (std::find(inputFiles.begin(), inputFiles.end(), path) == inputFiles.end()) inputFiles.push_back(path);
+  }
   // Index of the material called name, or std::nullopt. Case-insensitive like Quake.
   std::optional<uint32_t> findMaterial(std::string_view name) const;
 };

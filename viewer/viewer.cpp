@@ -3,7 +3,9 @@
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/cpu/image_output.h"
 #include "renderer/cpu/render_scene.h"
+#include "renderer/gl/gl_error.h"
 #include "renderer/gl/gl_level.h"
+#include "renderer/gl/gl_progressive.h"
 #include "renderer/gl/gl_tracer.h"
 #include "renderer/gl/gl_window.h"
 #include "viewer/file_watcher.h"
@@ -29,18 +31,12 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-// The level as the tracers see it, and the files it was read from: the map, its WADs and
-// images. Rebuilt whole on every reload, so a failed reload leaves the previous one untouched.
+// The level as the tracers see it, and the files it was read from (Scene::inputFiles: the
+// map, prefabs, WADs, palettes, shader scripts, images and companion maps). Rebuilt whole on
+// every reload, so a failed reload leaves the previous one untouched.
 struct Level : gl::GlLevel {
   std::vector<fs::path> files;
 };
-
-std::vector<fs::path> filesOf(const Scene& scene) {
-  std::set<fs::path> files{fs::path(scene.sourcePath)};
-  for (const Material& m : scene.materials)
-    if (!m.sourcePath.empty()) files.insert(fs::path(m.sourcePath));
-  return {files.begin(), files.end()};
-}
 
 // `programs` outlive the level: a reload uploads the new level and keeps the compiled programs.
 // `physical`: the lighting the first images are for (gl::loadGlLevel waits for those kernels).
@@ -52,11 +48,15 @@ std::unique_ptr<Level> loadLevel(const ViewerOptions& options, gl::GlContext& co
     import.entitiesRead = entitiesRead;
     return importScene(options.map, import);
   });
-  level->files = filesOf(level->scene);
+  level->files.assign(level->scene.inputFiles.begin(), level->scene.inputFiles.end());
   return level;
 }
 
 uint8_t toByte(float v) { return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
+
+// The render command's choice per lighting mode: faithful lighting is Quake's, clamped at the
+// display's white; physical lighting is open-ended radiance.
+Tonemap tonemapFor(LightingMode lighting) { return lighting == LightingMode::Faithful ? Tonemap::Faithful : Tonemap::Aces; }
 
 } // namespace
 
@@ -70,15 +70,15 @@ struct Viewer::Impl {
   ViewMode mode = ViewMode::Beauty;
   LightingMode lighting;
 
-  // Progressive accumulation at full size; reset whenever the view changes.
-  std::vector<glm::vec3> sum;
-  int accumulated = 0;
+  // Progressive accumulation at full size, on the GPU; restarted whenever the view changes.
+  // While the camera moves, each frame is one sample of a half-size preview instead.
+  std::unique_ptr<gl::ProgressiveImage> full;
+  std::unique_ptr<gl::ProgressiveImage> preview;
+  std::unique_ptr<gl::TonemapPass> tonemap;
   bool moving = false;
   gl::AovImages aovs;          // of the current view, for the albedo/normal modes and screenshots
   bool aovsCurrent = false;
-  std::vector<uint8_t> display; // RGBA8 of what is on screen
-  int displayWidth = 0, displayHeight = 0;
-  GLuint displayTexture = 0;
+  std::unique_ptr<gl::GlTexture2D> display; // RGBA8, what is on screen (scaled to the window)
 
   std::string error;
   int reloads = 0;
@@ -86,6 +86,7 @@ struct Viewer::Impl {
   double lastX = 0.0, lastY = 0.0;
   Clock::time_point lastFrame = Clock::now();
   double samplesPerSecond = 0.0;
+  double samplesThisFrame = 0.0; // pixel samples the last frame drew
   std::set<int> keysDown; // for edge-triggered keys
 
   explicit Impl(ViewerOptions o)
@@ -97,6 +98,10 @@ struct Viewer::Impl {
     watcher.watch(level->files);
     const CameraPose pose = options.camera ? *options.camera : defaultCameraPose(level->scene);
     camera = FlyCamera(glm::dvec3(pose.origin), pose.pitch, pose.yaw);
+    // Before ImGui's context, which only the destructor ends: a throw here leaves nothing behind.
+    full = std::make_unique<gl::ProgressiveImage>(options.width, options.height);
+    preview = std::make_unique<gl::ProgressiveImage>(std::max(1, options.width / 2), std::max(1, options.height / 2));
+    tonemap = std::make_unique<gl::TonemapPass>();
 
     glfwSetWindowUserPointer(window.handle(), this);
     glfwSetScrollCallback(window.handle(), [](GLFWwindow* w, double, double dy) {
@@ -107,13 +112,14 @@ struct Viewer::Impl {
     ImGui::GetIO().IniFilename = nullptr; // no imgui.ini littering the user's folder
     ImGui_ImplGlfw_InitForOpenGL(window.handle(), true); // chains to the scroll callback above
     ImGui_ImplOpenGL3_Init("#version 450");
-    glCreateTextures(GL_TEXTURE_2D, 1, &displayTexture);
-    glTextureParameteri(displayTexture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(displayTexture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   }
 
   ~Impl() {
-    glDeleteTextures(1, &displayTexture);
+    // GL objects before the window's context.
+    display.reset();
+    tonemap.reset();
+    preview.reset();
+    full.reset();
     ImGui_ImplOpenGL3_Shutdown();
     ImGui_ImplGlfw_Shutdown();
     ImGui::DestroyContext();
@@ -125,7 +131,7 @@ struct Viewer::Impl {
   }
 
   void restart() {
-    accumulated = 0;
+    full->restart();
     aovsCurrent = false;
   }
 
@@ -211,80 +217,59 @@ struct Viewer::Impl {
     aovsCurrent = true;
   }
 
-  gl::BeautySettings beautySettings(int width, int height, uint32_t sampleIndex) const {
-    return gl::BeautySettings{.width = width, .height = height, .spp = 1, .seed = sampleIndex,
-                              .physical = lighting == LightingMode::Physical, .bounces = options.bounces};
+  gl::BeautySettings beautySettings() const {
+    return gl::BeautySettings{.physical = lighting == LightingMode::Physical, .bounces = options.bounces};
   }
 
-  // One sample: a quarter-size preview while the camera moves, else one more full-size sample.
+  // One sample: of a half-size preview while the camera moves, else one more full-size sample
+  // into the accumulation. Either is tonemapped on the GPU into the display image.
   void renderSample() {
     if (mode != ViewMode::Beauty) {
       renderAovsIfNeeded();
       showAov();
       return;
     }
-    const auto start = Clock::now();
-    if (moving) {
-      const int w = std::max(1, options.width / 2), h = std::max(1, options.height / 2);
-      const gl::BeautyImage preview = level->tracer->renderBeauty(basis(w, h), beautySettings(w, h, 0));
-      showRadiance(preview.beauty, 1, w, h);
-    } else if (accumulated < options.maxSamples) {
-      const int w = options.width, h = options.height;
-      const gl::BeautyImage next = level->tracer->renderBeauty(basis(w, h), beautySettings(w, h, static_cast<uint32_t>(accumulated)));
-      if (accumulated == 0) sum.assign(next.beauty.size(), glm::vec3(0.0f));
-      for (size_t i = 0; i < sum.size(); ++i) sum[i] += next.beauty[i];
-      ++accumulated;
-      showRadiance(sum, accumulated, w, h);
+    gl::ProgressiveImage& image = moving ? *preview : *full;
+    if (moving) preview->restart();
+    if (image.samples() < options.maxSamples) {
+      const int before = image.samples();
+      image.addSample(*level->tracer, basis(image.width(), image.height()), beautySettings());
       // The first image is up: the other lighting mode compiles in the background, so that
       // switching to it (keys 4/5) does not stall.
-      if (accumulated == 1) programs->startPathTracer(lighting != LightingMode::Physical, level->tracer->faithfulFeatures());
-    } else {
-      return;
+      if (!moving && before == 0)
+        programs->startPathTracer(lighting != LightingMode::Physical, level->tracer->faithfulFeatures());
+      samplesThisFrame = double(image.width()) * image.height();
     }
-    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    const double pixels = moving ? 0.25 * options.width * options.height : double(options.width) * options.height;
-    samplesPerSecond = seconds > 0.0 ? pixels / seconds : 0.0;
+    showSum(image);
   }
 
-  void showRadiance(const std::vector<glm::vec3>& radiance, int samples, int width, int height) {
-    display.resize(static_cast<size_t>(width) * height * 4);
-    const Tonemap tonemap = lighting == LightingMode::Faithful ? Tonemap::Faithful : Tonemap::Aces;
-    for (size_t i = 0; i < radiance.size(); ++i) {
-      const glm::vec3 c = linearToSrgb(applyTonemap(tonemap, radiance[i] / float(samples)));
-      display[i * 4 + 0] = toByte(c.r);
-      display[i * 4 + 1] = toByte(c.g);
-      display[i * 4 + 2] = toByte(c.b);
-      display[i * 4 + 3] = 255;
-    }
-    upload(width, height);
+  const gl::GlTexture2D& displayOfSize(int width, int height) {
+    if (!display || display->width() != width || display->height() != height)
+      display = std::make_unique<gl::GlTexture2D>(GL_RGBA8, width, height);
+    return *display;
   }
 
+  void showSum(const gl::ProgressiveImage& image) {
+    tonemap->run(image.sum(), image.samples(), displayOfSize(image.width(), image.height()), tonemapFor(lighting),
+                 options.exposureEv);
+  }
+
+  // The albedo and normal views are one deterministic sample each, converted here as the
+  // render command's PNGs are.
   void showAov() {
     const int width = aovs.width, height = aovs.height;
-    display.resize(static_cast<size_t>(width) * height * 4);
+    std::vector<uint8_t> rgba(static_cast<size_t>(width) * height * 4);
     for (size_t i = 0; i < aovs.albedo.size(); ++i) {
       glm::vec3 c = mode == ViewMode::Albedo ? linearToSrgb(glm::vec3(aovs.albedo[i])) : aovs.normal[i] * 0.5f + 0.5f;
       if (mode == ViewMode::Normal && aovs.face[i] == gl::AovImages::kNoFace) c = glm::vec3(0.0f);
-      display[i * 4 + 0] = toByte(c.r);
-      display[i * 4 + 1] = toByte(c.g);
-      display[i * 4 + 2] = toByte(c.b);
-      display[i * 4 + 3] = 255;
+      rgba[i * 4 + 0] = toByte(c.r);
+      rgba[i * 4 + 1] = toByte(c.g);
+      rgba[i * 4 + 2] = toByte(c.b);
+      rgba[i * 4 + 3] = 255;
     }
-    upload(width, height);
-  }
-
-  void upload(int width, int height) {
-    if (width != displayWidth || height != displayHeight) {
-      glDeleteTextures(1, &displayTexture);
-      glCreateTextures(GL_TEXTURE_2D, 1, &displayTexture);
-      glTextureStorage2D(displayTexture, 1, GL_RGBA8, width, height);
-      glTextureParameteri(displayTexture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-      glTextureParameteri(displayTexture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-      displayWidth = width;
-      displayHeight = height;
-    }
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage2D(displayTexture, 0, 0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, display.data());
+    const gl::GlTexture2D& target = displayOfSize(width, height);
+    BT_GL(glPixelStorei(GL_UNPACK_ALIGNMENT, 1));
+    BT_GL(glTextureSubImage2D(target.id(), 0, 0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data()));
   }
 
   void drawOverlay() {
@@ -293,8 +278,9 @@ struct Viewer::Impl {
     ImGui::NewFrame();
     int fbWidth = 0, fbHeight = 0;
     glfwGetFramebufferSize(window.handle(), &fbWidth, &fbHeight);
-    ImGui::GetBackgroundDrawList()->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(displayTexture)),
-                                             ImVec2(0, 0), ImVec2(float(fbWidth), float(fbHeight)));
+    if (display)
+      ImGui::GetBackgroundDrawList()->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(display->id())),
+                                               ImVec2(0, 0), ImVec2(float(fbWidth), float(fbHeight)));
 
     ImGui::SetNextWindowPos(ImVec2(8, 8));
     ImGui::SetNextWindowBgAlpha(0.6f);
@@ -304,7 +290,7 @@ struct Viewer::Impl {
     const char* modeName = mode == ViewMode::Beauty ? "beauty" : mode == ViewMode::Albedo ? "albedo" : "normal";
     ImGui::Text("%s | %s lighting | %s", modeName, lighting == LightingMode::Faithful ? "faithful" : "physical",
                 gl::toString(level->tracer->textureMode()));
-    ImGui::Text("spp %d | %.2f Msamples/s", accumulated, samplesPerSecond * 1e-6);
+    ImGui::Text("spp %d | %.2f Msamples/s", full->samples(), samplesPerSecond * 1e-6);
     ImGui::Text("camera %s", formatCameraPose(pose()).c_str());
     ImGui::TextDisabled("RMB look, WASD move, Q/E down/up, wheel fwd, RMB+wheel speed (%.0f)", camera.speed);
     ImGui::TextDisabled("1 beauty 2 albedo 3 normal | 4 faithful 5 physical | F12 screenshot");
@@ -312,9 +298,9 @@ struct Viewer::Impl {
     ImGui::End();
 
     ImGui::Render();
-    glViewport(0, 0, fbWidth, fbHeight);
-    glClearColor(0, 0, 0, 1);
-    glClear(GL_COLOR_BUFFER_BIT);
+    BT_GL(glViewport(0, 0, fbWidth, fbHeight));
+    BT_GL(glClearColor(0, 0, 0, 1));
+    BT_GL(glClear(GL_COLOR_BUFFER_BIT));
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
   }
 
@@ -322,8 +308,13 @@ struct Viewer::Impl {
     glfwPollEvents();
     if (glfwWindowShouldClose(window.handle())) return false;
     const auto now = Clock::now();
-    const double dt = std::min(0.25, std::chrono::duration<double>(now - lastFrame).count());
+    const double frameSeconds = std::chrono::duration<double>(now - lastFrame).count();
+    const double dt = std::min(0.25, frameSeconds);
     lastFrame = now;
+    // Samples are no longer waited for one by one (nothing is read back), so the rate is the
+    // last frame's samples over the whole frame's time, the swap's wait for the GPU included.
+    samplesPerSecond = frameSeconds > 0.0 ? samplesThisFrame / frameSeconds : 0.0;
+    samplesThisFrame = 0.0;
 
     handleKeys();
     moving = camera.update(readInput(), dt);
@@ -340,11 +331,9 @@ struct Viewer::Impl {
     RenderImage image;
     image.width = aovs.width;
     image.height = aovs.height;
-    image.samples = std::max(accumulated, 1);
+    image.samples = std::max(full->samples(), 1);
     const size_t n = static_cast<size_t>(image.width) * image.height;
-    image.beauty.resize(n, glm::vec3(0.0f));
-    if (accumulated > 0 && sum.size() == n)
-      for (size_t i = 0; i < n; ++i) image.beauty[i] = sum[i] / float(accumulated);
+    image.beauty = full->readMean(); // black before the first sample
     image.albedo.resize(n);
     for (size_t i = 0; i < n; ++i) image.albedo[i] = glm::vec3(aovs.albedo[i]);
     image.normal = aovs.normal;
@@ -359,7 +348,8 @@ struct Viewer::Impl {
     }
     OutputSettings output;
     output.aov = mode == ViewMode::Beauty ? Aov::Beauty : mode == ViewMode::Albedo ? Aov::Albedo : Aov::Normal;
-    output.tonemap = lighting == LightingMode::Faithful ? Tonemap::Faithful : Tonemap::Aces;
+    output.tonemap = tonemapFor(lighting);
+    output.exposureEv = options.exposureEv;
     writeImage(png.string(), image, output);
     fs::path exr = png;
     exr.replace_extension(".exr");
@@ -374,9 +364,14 @@ bool Viewer::frame() { return impl_->frame(); }
 void Viewer::setMode(ViewMode mode) { impl_->setMode(mode); }
 void Viewer::setLighting(LightingMode mode) { impl_->setLighting(mode); }
 fs::path Viewer::screenshot() { return impl_->takeScreenshot(); }
-int Viewer::samples() const { return impl_->accumulated; }
+int Viewer::samples() const { return impl_->full->samples(); }
 int Viewer::reloads() const { return impl_->reloads; }
+int Viewer::glDebugErrors() const { return impl_->window.context().debugErrorCount(); }
 const std::string& Viewer::error() const { return impl_->error; }
 CameraPose Viewer::camera() const { return impl_->pose(); }
+Viewer::DisplayImage Viewer::displayed() const {
+  if (!impl_->display) return {};
+  return {impl_->display->width(), impl_->display->height(), gl::readRgba8(*impl_->display)};
+}
 
 } // namespace bt

@@ -1,8 +1,11 @@
 // `brushtrace view`: the level in a window, path-traced progressively on the GPU, reloaded
-// whenever the map or a texture it uses is saved.
+// whenever a file the import read is saved (the map, prefabs, WADs, palettes, shader scripts,
+// every texture image and companion map: Scene::inputFiles).
 //
+// Samples accumulate in one RGBA32F image on the GPU and a compute pass tonemaps it into the
+// image the window draws, so nothing is read back per frame (gl_progressive.h).
 // One Viewer is one window. frame() runs one iteration of the loop (events, camera, reload,
-// one sample, overlay, present), so tests drive it frame by frame under Xvfb.
+// one sample, tonemap, overlay, present), so tests drive it frame by frame under Xvfb.
 #pragma once
 
 #include "importers/import.h"
@@ -14,6 +17,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace bt {
 
@@ -30,6 +34,7 @@ struct ViewerOptions {
   int bounces = 3;
   std::filesystem::path screenshotDir = ".";
   int maxSamples = 4096; // refinement stops here; the window stays responsive
+  float exposureEv = 0.0f; // as render's --exposure: on screen, in screenshots and in the EXR
 };
 
 class Viewer {
@@ -52,8 +57,18 @@ public:
 
   int samples() const;         // accumulated samples per pixel of the current view
   int reloads() const;         // successful reloads since the window opened
+  int glDebugErrors() const;   // GL errors the driver's debug output reported (BT_GL_DEBUG=1)
   const std::string& error() const; // the last reload error, empty when the scene is current
   CameraPose camera() const;
+
+  // What the window shows, read back from the GPU: the tonemapped display image (RGBA8, rows
+  // top to bottom) at its own size, before it is scaled to the window. For tests.
+  struct DisplayImage {
+    int width = 0;
+    int height = 0;
+    std::vector<uint8_t> rgba;
+  };
+  DisplayImage displayed() const;
 
 private:
   struct Impl;

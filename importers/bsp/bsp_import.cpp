@@ -208,7 +208,9 @@ void decodeEmbeddedMiptex(const BspFile& bsp, Scene& scene, const TextureSearch&
     const fs::path dir = fs::path(bsp.path).parent_path();
     try {
       // A level in <game>/maps/ finds <game>/gfx/palette.lmp walking up.
-      palette = findPalette(search.palette, {dir.empty() ? fs::path(".") : dir});
+      fs::path paletteFile;
+      palette = findPalette(search.palette, {dir.empty() ? fs::path(".") : dir}, &paletteFile);
+      if (!paletteFile.empty()) scene.addInputFile(paletteFile.string());
     } catch (const ImportError& e) {
       scene.diagnostics.push_back({Severity::Warning, e.diagnostic().file, 0, 0,
                                    "palette not usable: " + e.diagnostic().message});
@@ -285,14 +287,23 @@ Scene importBsp(const std::string& path, const ImportOptions& options) {
     if (options.entitiesRead) options.entitiesRead(scene);
     if (options.textures.load) {
       if (bsp.isQuake1Family()) decodeEmbeddedMiptex(bsp, scene, options.textures);
-      if (bsp.version == Version::Quake3_46)
-        resolveQuake3Materials(scene.materials, quake3GameFiles(path, archive, options), scene.diagnostics);
+      if (bsp.version == Version::Quake3_46) {
+        std::vector<std::string> filesRead;
+        resolveQuake3Materials(scene.materials, quake3GameFiles(path, archive, options), scene.diagnostics, &filesRead);
+        for (const std::string& file : filesRead) scene.addInputFile(file);
+      }
     }
     // WADs, loose images and Quake 2 .wal files, companion maps, placeholders and the one
     // warning naming what is missing: the same search as for .map files.
     loadMaterials(scene, options.textures);
   };
-  return sceneFromBsp(bsp, resolve, litFile);
+  Scene scene = sceneFromBsp(bsp, resolve, litFile);
+  // The level first: the .bsp, or the .pk3 it is in (which holds its .lit too).
+  const std::string level = archive ? archive->archive : path;
+  std::erase(scene.inputFiles, level);
+  scene.inputFiles.insert(scene.inputFiles.begin(), level);
+  if (litFile && !archive) scene.addInputFile(std::filesystem::path(path).replace_extension(".lit").string());
+  return scene;
 }
 
 } // namespace bt::bsp

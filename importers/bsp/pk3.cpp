@@ -108,12 +108,17 @@ void GameFiles::addArchive(const std::filesystem::path& archive) {
   archives_.emplace_back(archive);
 }
 
-std::optional<std::vector<uint8_t>> GameFiles::read(std::string_view name) const {
-  // Names come from the level and its shader scripts: never let them climb out of the game.
+// Names come from the level and its shader scripts: never let them climb out of the game.
+static bool staysInTheGame(std::string_view name) {
   const std::filesystem::path relative{std::string(name)};
-  if (relative.is_absolute()) return std::nullopt;
+  if (relative.is_absolute()) return false;
   for (const auto& part : relative)
-    if (part == "..") return std::nullopt;
+    if (part == "..") return false;
+  return true;
+}
+
+std::optional<std::vector<uint8_t>> GameFiles::read(std::string_view name) const {
+  if (!staysInTheGame(name)) return std::nullopt;
   for (const auto& dir : dirs_) {
     const std::filesystem::path p = dir / std::filesystem::path(std::string(name));
     std::error_code ec;
@@ -124,6 +129,20 @@ std::optional<std::vector<uint8_t>> GameFiles::read(std::string_view name) const
   }
   for (auto it = archives_.rbegin(); it != archives_.rend(); ++it)
     if (auto bytes = it->read(name)) return bytes;
+  return std::nullopt;
+}
+
+std::optional<std::filesystem::path> GameFiles::fileHolding(std::string_view name) const {
+  // The same search as read(), without reading.
+  if (!staysInTheGame(name)) return std::nullopt;
+  const std::filesystem::path relative{std::string(name)};
+  for (const auto& dir : dirs_) {
+    const std::filesystem::path p = dir / relative;
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(p, ec)) return p;
+  }
+  for (auto it = archives_.rbegin(); it != archives_.rend(); ++it)
+    if (it->contains(name)) return it->path();
   return std::nullopt;
 }
 

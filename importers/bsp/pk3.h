@@ -50,6 +50,9 @@ public:
   void addArchive(const std::filesystem::path& archive);
 
   std::optional<std::vector<uint8_t>> read(std::string_view name) const;
+  // The file on disk that read(name) takes its bytes from: the loose file, or the .pk3 holding
+  // it; std::nullopt when there is none.
+  std::optional<std::filesystem::path> fileHolding(std::string_view name) const;
   // Names under `folder` ending in `suffix` (case-insensitive), from every source, deduplicated.
   std::vector<std::string> list(std::string_view folder, std::string_view suffix) const;
 

@@ -115,11 +115,17 @@ std::map<std::string, std::string> parseShaderImages(std::string_view scriptText
   return images;
 }
 
-void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& files, Diagnostics& diagnostics) {
+void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& files, Diagnostics& diagnostics,
+                            std::vector<std::string>* filesRead) {
+  auto noteRead = [&](std::string_view name) {
+    if (!filesRead) return;
+    if (const auto file = files.fileHolding(name)) filesRead->push_back(file->string());
+  };
   std::map<std::string, std::string> shaderImages;
   for (const std::string& script : files.list("scripts", ".shader")) {
     const auto bytes = files.read(script);
     if (!bytes) continue;
+    noteRead(script);
     const std::string_view text(reinterpret_cast<const char*>(bytes->data()), bytes->size());
     for (auto& [name, image] : parseShaderImages(text)) shaderImages.try_emplace(name, image);
   }
@@ -133,6 +139,7 @@ void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& f
         const std::string file = base + ext;
         const auto bytes = files.read(file);
         if (!bytes) continue;
+        noteRead(file);
         Image image;
         try {
           image = decodeImage(*bytes, file);

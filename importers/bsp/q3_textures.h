@@ -17,7 +17,10 @@ std::map<std::string, std::string> parseShaderImages(std::string_view scriptText
 
 // Loads the base colour of each material named by a Quake 3 shader: the image the shader
 // scripts name for it, else an image file with the shader's own name (.tga, .jpg, .png). The
-// material's size becomes the image's. Materials found nowhere stay missing.
-void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& files, Diagnostics& diagnostics);
+// material's size becomes the image's. Materials found nowhere stay missing. `filesRead`, when
+// given, receives the files on disk the scripts and images were read from (a .pk3 for those
+// inside one).
+void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& files, Diagnostics& diagnostics,
+                            std::vector<std::string>* filesRead = nullptr);
 
 } // namespace bt::bsp

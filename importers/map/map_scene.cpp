@@ -54,6 +54,7 @@ class SceneBuilder {
 public:
   SceneBuilder(const MapDocument& doc, const std::vector<Material>* loaded) : doc_(doc), loaded_(loaded) {
     scene_.sourcePath = doc.path;
+    scene_.addInputFile(doc.path);
     scene_.format = toString(doc.dialect);
   }
 
@@ -138,6 +139,7 @@ private:
                                    fmt::format("misc_external_map: \"_external_map\" \"{}\" not found (looked for {}{})", *name, path,
                                                lookup ? ": " + lookup.message() : "")});
     MapDocument external;
+    scene_.addInputFile(path);
     try {
       external = readMapFile(path);
     } catch (const ImportError& error) {
@@ -344,6 +346,7 @@ Scene importMap(const std::string& path, const ImportOptions& options) {
   Scene sized = buildScene(doc, &scene.materials);
   sized.materials = std::move(scene.materials);
   sized.diagnostics = std::move(scene.diagnostics);
+  sized.inputFiles = std::move(scene.inputFiles);
   return sized;
 }
 

@@ -199,6 +199,7 @@ public:
         for (const LooseFolder& folder : folders_) {
           const fs::path* file = folder.find(stem + std::string(c.suffix));
           if (!file || isWal(*file)) continue; // companions are images
+          filesRead_.push_back(file->string());
           try {
             applyCompanion(material, c.kind, loadImage(*file));
             found.insert(c.kind);
@@ -220,6 +221,9 @@ public:
                     "found (give --palette, or put gfx/palette.lmp in the game dir): {}",
                     palettelessNames_.size(), names)});
   }
+
+  // Every WAD, palette and image file read so far, in the order read (repeats possible).
+  const std::vector<std::string>& filesRead() const { return filesRead_; }
 
   std::string describeSearch() const {
     std::string text;
@@ -313,6 +317,7 @@ private:
     if (wad.failed) return nullptr;
     if (!wad.file) {
       try {
+        filesRead_.push_back(wad.path.string()); // listed even when corrupt: a save that fixes it reloads
         wad.file = std::make_unique<WadFile>(WadFile::open(wad.path));
       } catch (const ImportError& e) {
         wad.failed = true;
@@ -332,7 +337,9 @@ private:
     std::vector<fs::path> startDirs{mapDir_};
     for (const Wad& wad : wads_) startDirs.push_back(wad.path.parent_path().empty() ? "." : wad.path.parent_path());
     try {
-      palette_ = findPalette(search_.palette, startDirs);
+      fs::path file;
+      palette_ = findPalette(search_.palette, startDirs, &file);
+      if (!file.empty()) filesRead_.push_back(file.string());
     } catch (const ImportError& e) {
       warn("palette not usable: " + e.diagnostic().message, e.diagnostic().file);
     }
@@ -382,10 +389,15 @@ private:
   }
 
   std::optional<Material> loadLoose(const fs::path& file, const std::string& name) {
+    filesRead_.push_back(file.string());
     try {
       Material material;
       if (isWal(file)) {
-        if (!quake2Palette_) quake2Palette_ = findQuake2Palette(search_.palette, {file.parent_path(), mapDir_});
+        if (!quake2Palette_) {
+          fs::path paletteFile;
+          quake2Palette_ = findQuake2Palette(search_.palette, {file.parent_path(), mapDir_}, &paletteFile);
+          if (!paletteFile.empty()) filesRead_.push_back(paletteFile.string());
+        }
         if (!*quake2Palette_) {
           warn(fmt::format("'{}' is a Quake 2 .wal but no Quake 2 palette was found (give --palette, or "
                            "put pics/colormap.pcx in the game dir)",
@@ -494,6 +506,7 @@ private:
   std::map<std::string, std::optional<std::pair<int, int>>> undecodedSizes_;
   std::vector<std::string> palettelessNames_;
   std::map<fs::path, Decoded> decoded_; // by decodeAhead(), until find() takes them
+  std::vector<std::string> filesRead_;
 };
 
 void replaceLeadingSpelling(std::vector<std::string>& out, std::string_view name, std::string_view prefix,
@@ -556,6 +569,7 @@ void loadMaterials(Scene& scene, const TextureSearch& search) {
     library.addCompanions(material);
   }
   library.reportPaletteless(scene);
+  for (const std::string& file : library.filesRead()) scene.addInputFile(file);
 
   if (!missing.empty()) {
     std::string names;

@@ -116,20 +116,29 @@ std::optional<std::filesystem::path> findUpwards(const std::vector<std::filesyst
 }
 } // namespace
 
-std::optional<Palette> findPalette(const std::string& explicitPalette,
-                                   const std::vector<std::filesystem::path>& startDirs) {
-  if (!explicitPalette.empty()) return loadPalette(explicitPalette);
+namespace {
+// `explicitPalette`, else the first of `relativeNames` up the tree from `startDirs`.
+std::optional<Palette> findPaletteFile(const std::string& explicitPalette, const std::vector<std::filesystem::path>& startDirs,
+                                       std::initializer_list<const char*> relativeNames, std::filesystem::path* readFrom) {
+  std::optional<std::filesystem::path> file;
+  if (!explicitPalette.empty()) file = explicitPalette;
+  else file = findUpwards(startDirs, relativeNames);
+  if (!file) return std::nullopt;
+  if (readFrom) *readFrom = *file;
+  return loadPalette(*file);
+}
+} // namespace
+
+std::optional<Palette> findPalette(const std::string& explicitPalette, const std::vector<std::filesystem::path>& startDirs,
+                                   std::filesystem::path* readFrom) {
   // A Quake game dir (id1/, or LibreQuake's lq1/) keeps it in gfx/; some mods ship it loose.
-  if (auto found = findUpwards(startDirs, {"gfx/palette.lmp", "palette.lmp"})) return loadPalette(*found);
-  return std::nullopt;
+  return findPaletteFile(explicitPalette, startDirs, {"gfx/palette.lmp", "palette.lmp"}, readFrom);
 }
 
 std::optional<Palette> findQuake2Palette(const std::string& explicitPalette,
-                                         const std::vector<std::filesystem::path>& startDirs) {
-  if (!explicitPalette.empty()) return loadPalette(explicitPalette);
+                                         const std::vector<std::filesystem::path>& startDirs, std::filesystem::path* readFrom) {
   // Quake 2 has no palette.lmp: its palette is the one of baseq2/pics/colormap.pcx.
-  if (auto found = findUpwards(startDirs, {"pics/colormap.pcx"})) return loadPalette(*found);
-  return std::nullopt;
+  return findPaletteFile(explicitPalette, startDirs, {"pics/colormap.pcx"}, readFrom);
 }
 
 Material decodeMiptex(std::span<const uint8_t> bytes, const Palette* quakePalette, bool halfLife,

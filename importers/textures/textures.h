@@ -146,12 +146,15 @@ Image decodeImage(std::span<const uint8_t> bytes, const std::string& name);
 
 // Quake's palette for a level: `explicitPalette` when given (throws ImportError if unreadable),
 // otherwise the first gfx/palette.lmp (or palette.lmp) found walking up from each of
-// `startDirs`. Never invents one: std::nullopt when nothing is found.
+// `startDirs`. Never invents one: std::nullopt when nothing is found. `readFrom`, when given,
+// receives the file the palette was read from.
 std::optional<Palette> findPalette(const std::string& explicitPalette,
-                                   const std::vector<std::filesystem::path>& startDirs);
+                                   const std::vector<std::filesystem::path>& startDirs,
+                                   std::filesystem::path* readFrom = nullptr);
 // Quake 2's palette: `explicitPalette`, else pics/colormap.pcx walking up from `startDirs`.
 std::optional<Palette> findQuake2Palette(const std::string& explicitPalette,
-                                         const std::vector<std::filesystem::path>& startDirs);
+                                         const std::vector<std::filesystem::path>& startDirs,
+                                         std::filesystem::path* readFrom = nullptr);
 
 // Reads a whole texture/WAD/palette file; throws ImportError naming it when it cannot be read.
 std::vector<uint8_t> readTextureFile(const std::filesystem::path& path);

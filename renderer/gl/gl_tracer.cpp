@@ -573,6 +573,28 @@ BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettin
 }
 
 
+void GlTracer::addSample(const CameraBasis& camera, const BeautySettings& settings, unsigned sum, uint32_t sampleIndex) {
+  if (settings.width <= 0 || settings.height <= 0)
+    throw GlError(fmt::format("image size {}x{} is empty", settings.width, settings.height));
+  BT_GL(glBindImageTexture(0, sum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F));
+  impl_->setWorld(settings.physical, settings.bounces);
+  impl_->setCamera(camera, settings.width, settings.height, sampleIndex, settings.seed, 0);
+  TracerPrograms& programs = *impl_->programs;
+  if (settings.form == PathTracerForm::Auto) programs.startPathTracer(settings.physical, impl_->features);
+  const bool wavefront = settings.form == PathTracerForm::Wavefront ||
+                         (settings.form == PathTracerForm::Auto && programs.wavefrontWhileCompiling(settings.physical, impl_->features));
+  if (wavefront) {
+    auto [shade, trace] = programs.wavefront(settings.physical, impl_->features);
+    impl_->wavefrontSample(shade, trace, settings.width, settings.height);
+  } else {
+    if (settings.form == PathTracerForm::Auto) impl_->wavefront.release(); // the switch is for good
+    programs.pathTracer(settings.physical, impl_->features).dispatch2d(settings.width, settings.height);
+  }
+  // The next sample, and the tonemap pass, read the sum this one wrote.
+  BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT));
+}
+
+
 CameraBasis CameraBasis::fromQuakeAngles(const glm::vec3& origin, float pitch, float yaw, float roll, int width, int height,
                                          float horizontalFovDegrees) {
   const float p = glm::radians(pitch), y = glm::radians(yaw), r = glm::radians(roll);

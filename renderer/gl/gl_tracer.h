@@ -272,6 +272,13 @@ public:
   BeautyImage renderBeauty(const CameraBasis& camera, const BeautySettings& settings,
                            const std::function<bool(int)>& progress = {});
 
+  // One sample of a progressive render into `sum`, an RGBA32F texture of settings.width by
+  // settings.height that the caller keeps across calls (settings.spp is ignored): sample
+  // `sampleIndex` draws renderBeauty's stream for its sample n, so sampleIndex 0 overwrites the
+  // sum (pathtrace.comp `accumulate`) and later ones add to it. Nothing is read back: the
+  // viewer tonemaps the sum on the GPU (gl_progressive.h).
+  void addSample(const CameraBasis& camera, const BeautySettings& settings, unsigned sum, uint32_t sampleIndex);
+
   // Times closest-hit queries alone (shaders/raybench.comp): `passes` frames of primary rays,
   // then `passes` frames of one cosine bounce ray from each primary hit.
   RayBenchmark benchmarkRays(const CameraBasis& camera, int width, int height, int passes);

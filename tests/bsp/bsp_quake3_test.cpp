@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <unistd.h>
 
 namespace {
 
@@ -20,6 +21,8 @@ const std::filesystem::path kLevels = kGameDir / "pak6-patch085.pk3";
   if (!std::filesystem::exists(kLevels))                                                                   \
   GTEST_SKIP() << kLevels << " not found: install Debian's openarena-085-data (scripts/install-deps.sh " \
                              "--with-test-data)"
+
+bool openArenaInstalled() { return std::filesystem::exists(kLevels); }
 
 std::vector<std::string> levelNames() {
   std::vector<std::string> out;
@@ -140,6 +143,37 @@ textures/a/anim
   EXPECT_EQ(images.at("textures/a/first"), "textures/a/base.jpg");
   EXPECT_EQ(images.at("textures/a/editoronly"), "textures/a/only.tga");
   EXPECT_EQ(images.at("textures/a/anim"), "textures/a/f1.tga");
+}
+
+// The viewer reloads when a shader script or an image it named is saved: resolveQuake3Materials
+// lists the files it read, loose ones by path and those in a .pk3 by the archive.
+TEST(Quake3, ResolvingMaterialsListsTheScriptsAndImagesItRead) {
+  namespace fs = std::filesystem;
+  const fs::path game = fs::temp_directory_path() / ("bt_q3files_" + std::to_string(::getpid()));
+  fs::create_directories(game / "scripts");
+  fs::create_directories(game / "textures/a");
+  std::ofstream(game / "scripts/a.shader") << "textures/a/wall\n{\n  { map textures/a/stone.tga }\n}\n";
+  // A 1x1 uncompressed true-colour TGA: 18-byte header, one BGR texel.
+  const unsigned char tga[] = {0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 1, 0, 24, 0, 10, 20, 30};
+  std::ofstream(game / "textures/a/stone.tga", std::ios::binary).write(reinterpret_cast<const char*>(tga), sizeof tga);
+  std::ofstream(game / "textures/a/other.tga", std::ios::binary).write(reinterpret_cast<const char*>(tga), sizeof tga);
+  bt::bsp::GameFiles files;
+  files.addGameDir(game);
+  if (openArenaInstalled()) files.addArchive(kLevels);
+  std::vector<bt::Material> materials(1);
+  materials[0].name = "textures/a/wall";
+  bt::Diagnostics diagnostics;
+  std::vector<std::string> read;
+  bt::bsp::resolveQuake3Materials(materials, files, diagnostics, &read);
+  EXPECT_FALSE(materials[0].missing());
+  EXPECT_NE(std::find(read.begin(), read.end(), (game / "scripts/a.shader").string()), read.end());
+  EXPECT_NE(std::find(read.begin(), read.end(), (game / "textures/a/stone.tga").string()), read.end());
+  EXPECT_EQ(std::find(read.begin(), read.end(), (game / "textures/a/other.tga").string()), read.end());
+  if (openArenaInstalled()) {
+    EXPECT_NE(std::find(read.begin(), read.end(), kLevels.string()), read.end()) << "the .pk3's own scripts";
+  }
+  std::error_code ec;
+  fs::remove_all(game, ec);
 }
 
 TEST(Pk3, ArchivePathsSplitAtTheArchiveExtension) {

@@ -127,6 +127,23 @@ TEST(BrushEntities, ExternalMapBrushesArePlacedRetypedAndKeepTheirTextures) {
   EXPECT_NE(writeMap(doc).find("\"classname\" \"misc_external_map\""), std::string::npos);
 }
 
+// The viewer watches Scene::inputFiles: a saved prefab must reload the level that includes it.
+TEST(BrushEntities, TheImportListsTheMapAndEachExternalMapAsInputFiles) {
+  TempDir dir;
+  const std::string prefab = dir.write("prefabs/crate.map", kWorld.substr(0, kWorld.size() - 2) + box({0, 0, 0}, {8, 8, 8}, "a 0 0 0 1 1") + "}\n");
+  dir.write("prefabs/unused.map", kWorld); // beside it, never named: not listed
+  const std::string placement = "{\n\"classname\" \"misc_external_map\"\n\"_external_map\" \"prefabs/crate.map\"\n"
+                                "\"_external_map_classname\" \"func_group\"\n}\n";
+  const std::string main = dir.write("level.map", kWorld + placement + placement);
+  ImportOptions options;
+  options.textures.load = false;
+  const Scene scene = importMap(main, options);
+  ASSERT_EQ(scene.entities.size(), 3u);
+  ASSERT_EQ(scene.inputFiles.size(), 2u) << "the map, then the prefab once however often it is placed";
+  EXPECT_EQ(scene.inputFiles[0], main);
+  EXPECT_EQ(fs::path(scene.inputFiles[1]).lexically_normal(), fs::path(prefab).lexically_normal());
+}
+
 TEST(BrushEntities, NestedExternalMapsAreNotFollowedSoSelfReferenceEnds) {
   TempDir dir;
   // A prefab that includes itself: qbsp takes its brushes and ignores its point entities.

@@ -371,6 +371,30 @@ TEST(LoadMaterials, CompanionMapsFillNormalRoughnessMetallicAndEmissive) {
   EXPECT_EQ(stone.emissive.texel(0, 0)[0], 3);
 }
 
+// `brushtrace view` reloads when any file the import read is saved: the WAD, the palette its
+// textures needed, each loose image and each companion map; not the files it passed over.
+TEST(LoadMaterials, ListsTheWadPaletteImagesAndCompanionMapsItReadAsInputFiles) {
+  test::TempDir dir;
+  test::writeFile(dir / "gfx/palette.lmp", std::vector<uint8_t>(768, 40));
+  test::writeFile(dir / "base.wad", test::makeWad("WAD2", {{"brick", WadFile::kTypeMiptexWad2,
+                                                             test::makeMiptex("brick", 16, 16, std::vector<uint8_t>(256, 3))}}));
+  test::writeImage(dir / "textures/metal.png", 2, 2, 3, solid(2, 2, 3, {100, 100, 100}));
+  test::writeImage(dir / "textures/metal_glow.png", 2, 2, 3, solid(2, 2, 3, {0, 250, 0}));
+  test::writeImage(dir / "textures/unused.png", 2, 2, 3, solid(2, 2, 3, {1, 2, 3}));
+  test::writeImage(dir / "textures/unused_norm.png", 2, 2, 3, solid(2, 2, 3, {128, 128, 255}));
+  Scene scene = makeScene(dir / "level.map", {{"wad", "base.wad"}}, {"brick", "metal"});
+  loadMaterials(scene, TextureSearch{});
+  EXPECT_TRUE(scene.diagnostics.empty()) << test::describe(scene.diagnostics);
+  ASSERT_EQ(material(scene, "brick").source, TextureSource::Wad2);
+
+  std::set<fs::path> listed;
+  for (const std::string& file : scene.inputFiles) listed.insert(fs::absolute(file).lexically_normal());
+  EXPECT_EQ(listed.size(), scene.inputFiles.size()) << "a file listed twice";
+  const std::set<fs::path> expected{dir / "base.wad", dir / "gfx/palette.lmp", dir / "textures/metal.png",
+                                    dir / "textures/metal_glow.png"};
+  EXPECT_EQ(listed, expected);
+}
+
 TEST(LoadMaterials, CompanionMapsAlsoApplyToTexturesFromWads) {
   BT_REQUIRE_SHARED(shared);
   test::TempDir dir;

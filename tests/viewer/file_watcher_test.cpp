@@ -61,9 +61,12 @@ TEST_F(FileWatcherTest, WaitsUntilTheFileStopsChanging) {
   watcher.watch({map_});
   auto t0 = FileWatcher::Clock::now();
   write(map_, "part 1");
-  EXPECT_TRUE(watcher.poll(t0 + 90ms).empty());
-  write(map_, "part 1 part 2"); // a second write restarts the quiet period
-  EXPECT_TRUE(watcher.poll(t0 + 150ms).empty());
+  EXPECT_TRUE(watcher.poll(t0 + 90ms).empty()); // the first write is seen at 90 ms
+  write(map_, "part 1 part 2");
+  // 105 ms after the first write was seen: reported here if the second did not restart the
+  // quiet period. The second is seen now, so the period runs to 295 ms.
+  EXPECT_TRUE(watcher.poll(t0 + 195ms).empty()) << "the second write did not restart the quiet period";
+  EXPECT_TRUE(watcher.poll(t0 + 280ms).empty());
   EXPECT_EQ(watcher.poll(t0 + 300ms).size(), 1u);
 }
 

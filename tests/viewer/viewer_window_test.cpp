@@ -1,5 +1,5 @@
-// The viewer in a real window. CTest runs this binary under xvfb-run (tests/viewer/CMakeLists.txt);
-// without a display it skips, saying so.
+// The viewer in a real window. CTest runs this binary under xvfb-run (tests/viewer/CMakeLists.txt)
+// with BT_GL_DEBUG=1; without a display it exits with kSkipped, which ctest reports as skipped.
 #include "viewer/viewer.h"
 
 #include <OpenImageIO/imageio.h>
@@ -16,8 +16,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A closed 256-unit room (six brushes) with one light in the middle, Valve 220.
-std::string roomMap(int lightValue) {
+// A closed 256-unit room (six brushes) of texture "wall" with one light in the middle, Valve 220;
+// the player starts at x = playerX.
+std::string roomMap(int lightValue, int playerX = -96) {
   auto brush = [](int x0, int y0, int z0, int x1, int y1, int z1) {
     auto face = [](int ax, int ay, int az, int bx, int by, int bz, int cx, int cy, int cz, const char* axes) {
       char line[256];
@@ -38,18 +39,20 @@ std::string roomMap(int lightValue) {
   map += brush(-128, -144, -144, 128, -128, 144) + brush(-128, 128, -144, 128, 144, 144);
   map += brush(-128, -128, -144, 128, 128, -128) + brush(-128, -128, 128, 128, 128, 144);
   map += "}\n{\n\"classname\" \"light\"\n\"origin\" \"0 0 64\"\n\"light\" \"" + std::to_string(lightValue) + "\"\n}\n";
-  map += "{\n\"classname\" \"info_player_start\"\n\"origin\" \"-96 0 -64\"\n\"angle\" \"0\"\n}\n";
+  map += "{\n\"classname\" \"info_player_start\"\n\"origin\" \"" + std::to_string(playerX) + " 0 -64\"\n\"angle\" \"0\"\n}\n";
   return map;
 }
 
 class ViewerWindowTest : public ::testing::Test {
 protected:
   void SetUp() override {
-    if (!std::getenv("DISPLAY")) GTEST_SKIP() << "no X display (run under xvfb-run, as ctest does)";
     dir_ = fs::temp_directory_path() / ("bt_view_" + std::to_string(std::random_device{}()));
     fs::create_directories(dir_);
     map_ = dir_ / "room.map";
     std::ofstream(map_) << roomMap(300);
+    // The loose texture beside the map (<map dir>/textures), as LibreQuake and ports keep them.
+    writeTexture(dir_ / "textures/wall.png", 128);
+    writeTexture(dir_ / "textures/wall_norm.png", 128); // a companion map: read, so watched
   }
   void TearDown() override {
     if (!dir_.empty()) fs::remove_all(dir_);
@@ -59,6 +62,19 @@ protected:
   void save(const std::string& text) {
     std::ofstream(dir_ / "room.map.tmp") << text;
     fs::rename(dir_ / "room.map.tmp", map_);
+  }
+
+  // A 16x16 grey PNG, saved the way an image editor does (a temporary file renamed over it).
+  static void writeTexture(const fs::path& png, uint8_t grey) {
+    fs::create_directories(png.parent_path());
+    const fs::path temp = png.parent_path() / ("saving-" + png.filename().string());
+    const std::vector<uint8_t> pixels(16 * 16 * 3, grey);
+    auto out = OIIO::ImageOutput::create(temp.string());
+    ASSERT_TRUE(out);
+    ASSERT_TRUE(out->open(temp.string(), OIIO::ImageSpec(16, 16, 3, OIIO::TypeDesc::UINT8)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
+    ASSERT_TRUE(out->close());
+    fs::rename(temp, png);
   }
 
   ViewerOptions options() const {
@@ -84,6 +100,21 @@ protected:
   fs::path dir_, map_;
 };
 
+// The largest difference of a colour channel between the PNG and the window's display image
+// (RGBA8), or 256 when they differ in size.
+int largestDifference(const fs::path& png, const Viewer::DisplayImage& shown) {
+  auto in = OIIO::ImageInput::open(png.string());
+  if (!in) return 256;
+  const auto& spec = in->spec();
+  if (spec.width != shown.width || spec.height != shown.height || spec.nchannels != 3) return 256;
+  std::vector<uint8_t> pixels(size_t(spec.width) * spec.height * 3);
+  in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, pixels.data());
+  int worst = 0;
+  for (size_t i = 0; i < pixels.size() / 3; ++i)
+    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(int(pixels[3 * i + c]) - int(shown.rgba[4 * i + c])));
+  return worst;
+}
+
 double meanPixel(const fs::path& png) {
   auto in = OIIO::ImageInput::open(png.string());
   if (!in) return -1.0;
@@ -106,12 +137,16 @@ TEST_F(ViewerWindowTest, OpensRefinesReloadsOnSaveAndTakesScreenshots) {
   EXPECT_TRUE(fs::exists(fs::path(first).replace_extension(".exr")));
   const double lit = meanPixel(first);
   EXPECT_GT(lit, 5.0) << "the lit room rendered black";
+  // The window shows the GPU's tonemap of the accumulated sum; the PNG is the CPU's tonemap
+  // of the same sum read back.
+  EXPECT_LE(largestDifference(first, viewer.displayed()), 1) << "the screen and the screenshot differ";
 
-  // A save that brightens the light reloads the level, keeps the camera and restarts refinement.
-  save(roomMap(900));
+  // A save that brightens the light reloads the level, keeps the camera and restarts
+  // refinement. The save also moves the player start, where a camera reset would go.
+  save(roomMap(900, 64));
   ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.reloads() == 1; })) << "the save was not noticed";
   EXPECT_TRUE(viewer.error().empty());
-  EXPECT_EQ(viewer.camera().origin, glm::vec3(-96, 0, -42));
+  EXPECT_EQ(viewer.camera().origin, glm::vec3(-96, 0, -42)) << "the reload moved the camera";
   ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 3; }));
   const fs::path brighter = viewer.screenshot();
   EXPECT_NE(brighter, first) << "a screenshot overwrote the previous one";
@@ -130,7 +165,62 @@ TEST_F(ViewerWindowTest, OpensRefinesReloadsOnSaveAndTakesScreenshots) {
   viewer.setMode(ViewMode::Normal);
   EXPECT_TRUE(viewer.frame());
   EXPECT_GT(meanPixel(viewer.screenshot()), 5.0);
+  EXPECT_EQ(viewer.glDebugErrors(), 0);
+}
+
+TEST_F(ViewerWindowTest, ReloadsWhenATextureImageOrCompanionMapTheMapUsesIsSaved) {
+  Viewer viewer(options());
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 2; }));
+  const double grey = meanPixel(viewer.screenshot());
+  EXPECT_GT(grey, 5.0);
+
+  // An image in the same folder that the map does not use is not watched: no reload within
+  // several debounce intervals (the watcher's is 250 ms).
+  writeTexture(dir_ / "textures/unused.png", 255);
+  EXPECT_FALSE(frameUntil(viewer, [&] { return viewer.reloads() > 0; }, 1.0)) << "reloaded for a file the map does not use";
+
+  writeTexture(dir_ / "textures/wall.png", 250);
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.reloads() == 1; })) << "the texture's save was not noticed";
+  EXPECT_TRUE(viewer.error().empty()) << viewer.error();
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 2; }));
+  const fs::path brighter = viewer.screenshot();
+  EXPECT_GT(meanPixel(brighter), grey * 1.3) << "the reloaded texture is not brighter";
+  EXPECT_LE(largestDifference(brighter, viewer.displayed()), 1) << "the screen and the screenshot differ";
+
+  // Companion maps are watched as well as the base image.
+  writeTexture(dir_ / "textures/wall_norm.png", 127);
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.reloads() == 2; })) << "the companion map's save was not noticed";
+  EXPECT_EQ(viewer.glDebugErrors(), 0);
+}
+
+TEST_F(ViewerWindowTest, DrawsPhysicalLighting) {
+  Viewer viewer(options());
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 2; }));
+  const fs::path faithful = viewer.screenshot();
+
+  viewer.setLighting(LightingMode::Physical);
+  EXPECT_EQ(viewer.samples(), 0) << "switching the lighting restarts refinement";
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 4; }));
+  const fs::path physical = viewer.screenshot();
+  EXPECT_GT(meanPixel(physical), 5.0) << "the physically lit room rendered black";
+  EXPECT_GT(std::abs(meanPixel(physical) - meanPixel(faithful)), 1.0) << "the physical image is the faithful one";
+  // Physical lighting is shown through ACES, on screen as in the PNG.
+  EXPECT_LE(largestDifference(physical, viewer.displayed()), 1) << "the screen and the screenshot differ";
+  EXPECT_EQ(viewer.glDebugErrors(), 0);
 }
 
 } // namespace
 } // namespace bt
+
+// ctest's SKIP_RETURN_CODE for this test (tests/viewer/CMakeLists.txt): no display is a skip,
+// not a pass.
+constexpr int kSkipped = 77;
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  if (!std::getenv("DISPLAY")) {
+    std::fprintf(stderr, "viewer_window_tests: no X display (run under xvfb-run, as ctest does where it has it): skipped\n");
+    return kSkipped;
+  }
+  return RUN_ALL_TESTS();
+}
