@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
+#include <cmath>
 #include <fstream>
 #include <stdexcept>
 #include <string>
@@ -75,10 +76,22 @@ RgbImage uniformRgb(int width, int height, uint8_t r, uint8_t g, uint8_t b) {
   return image;
 }
 
+RgbImage bumpsNormalMap(int width, int height) {
+  RgbImage image{width, height, {}};
+  const double twoPi = 6.283185307179586;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const glm::dvec3 n = glm::normalize(glm::dvec3(0.7 * std::sin(twoPi * x / width), 0.5 * std::cos(twoPi * 2.0 * y / height), 1.0));
+      for (int c = 0; c < 3; ++c) image.rgb.push_back(uint8_t(std::lround((n[c] + 1.0) * 0.5 * 255.0)));
+    }
+  return image;
+}
+
 NormalMapRoom::NormalMapRoom(const NormalMapRoomOptions& options) {
   writeRgb(dir_ / "textures/bumpy.png", uniformRgb(16, 16, 180, 180, 180));
   writeRgb(dir_ / "textures/plain.png", uniformRgb(16, 16, 120, 120, 120));
   if (!options.normalMap.rgb.empty()) writeRgb(dir_ / "textures/bumpy_norm.png", options.normalMap);
+  if (options.glossy) writeRgb(dir_ / "textures/bumpy_rough.png", uniformRgb(16, 16, 89, 89, 89));
   const std::filesystem::path mapPath = dir_ / "room.map";
   {
     std::ofstream out(mapPath);

@@ -30,11 +30,15 @@ struct RgbImage {
 };
 
 RgbImage uniformRgb(int width, int height, uint8_t r, uint8_t g, uint8_t b);
+// A normal map of smooth bumps, tilting up to ~35 degrees along s and t, every texel different:
+// for comparing two tracers' filtering and frames, not for a direction to expect.
+RgbImage bumpsNormalMap(int width, int height);
 
 struct NormalMapRoomOptions {
   RgbImage normalMap;    // "bumpy_norm.png"; none when empty
   bool mirrored = false; // the wall's texture with scale -1 along s
   glm::vec3 light{0.0f, 0.0f, 128.0f};
+  bool glossy = false;   // a "bumpy_rough.png" companion (roughness 0.35), which adds the GGX lobe
 };
 
 class NormalMapRoom {
