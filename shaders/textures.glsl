@@ -14,7 +14,6 @@ ivec2 mapSize(uvec2 handle, uint layer) { return textureSize(sampler2D(handle), 
 vec4 fetchTexel(uvec2 handle, uint layer, ivec2 texel) { return texelFetch(sampler2D(handle), texel, 0); }
 #define MAP_REF uvec2
 #define BASE_REF(m) (m).baseHandle, 0u
-#define NORMAL_REF(m) (m).normalHandle, 0u
 #define EMISSIVE_REF(m) (m).emissiveHandle, 0u
 
 #elif defined(BT_TEXTURES_ARRAYS)
@@ -49,7 +48,6 @@ vec4 fetchTexel(uint array, uint layer, ivec2 texel) {
 }
 #define MAP_REF uint
 #define BASE_REF(m) (m).baseArray, (m).baseLayer
-#define NORMAL_REF(m) (m).normalArray, (m).normalLayer
 #define EMISSIVE_REF(m) (m).emissiveArray, (m).emissiveLayer
 
 #else
@@ -81,6 +79,8 @@ vec4 sampleBilinearRepeat(MAP_REF map, uint layer, vec2 uv) {
 }
 
 vec4 sampleBase(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(BASE_REF(m), uv); }
+vec4 sampleEmissive(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(EMISSIVE_REF(m), uv); }
+
 // The base colour or the normal map, chosen at run time: a loop over both then reads them at one
 // call site (physical mode's surfaces, pathtrace.comp physicalSurface).
 const uint MAP_BASE = 0u;
@@ -92,8 +92,6 @@ vec4 sampleBaseOrNormal(GpuMaterial m, uint map, vec2 uv) {
   return sampleBilinearRepeat(map == MAP_BASE ? m.baseArray : m.normalArray, map == MAP_BASE ? m.baseLayer : m.normalLayer, uv);
 #endif
 }
-vec4 sampleNormalMap(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(NORMAL_REF(m), uv); }
-vec4 sampleEmissive(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(EMISSIVE_REF(m), uv); }
 
 // Texture coordinates of p on face f, in texture repeats: Quake's s/t in texels over the size.
 vec2 faceUv(GpuFace f, GpuMaterial m, vec3 p) {
