@@ -5,6 +5,7 @@
 #include "renderer/cpu/image_output.h"
 #include "renderer/cpu/render_scene.h"
 #include "renderer/gl/gl_context.h"
+#include "renderer/gl/gl_level.h"
 #include "renderer/gl/gl_render.h"
 #include "renderer/gl/gl_tracer.h"
 
@@ -13,7 +14,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <future>
 #include <memory>
 #include <optional>
 #include <unistd.h>
@@ -58,6 +58,23 @@ int runRender(const RenderOptions& o) {
   }
   if (o.spp <= 0 && o.timeLimit <= 0.0) throw std::runtime_error("--spp must be positive (or give --time)");
 
+  const std::optional<gl::TextureMode> glTextures = gl::parseTextureMode(o.glTextures);
+  if (!glTextures) throw std::runtime_error("--gl-textures: expected auto, bindless or arrays");
+
+  // The level is imported and prepared on a worker thread from the start: its import overlaps
+  // the GL context's creation, and once its lights are collected the GL programs it needs start
+  // compiling while the rest of the preparation runs (gl::LevelPreparation).
+  const std::string mapPath = o.map.empty() ? defaultMapPath() : o.map;
+  const bool physical = o.lighting == "physical";
+  RenderSceneOptions sceneOptions;
+  sceneOptions.showHidden = o.showHidden;
+  sceneOptions.bounceLights = !physical && o.aov == "beauty"; // faithful _bounce only
+  Scene scene;
+  RenderScene renderScene;
+  Diagnostics lightDiagnostics;
+  gl::LevelPreparation preparation(scene, renderScene, [&] { return importScene(mapPath, o.import); }, sceneOptions,
+                                   &lightDiagnostics);
+
   // gl and auto render on the GL tracer when a GL 4.5 context can be made; otherwise one line
   // says why and the CPU reference renders instead. auto also passes over a software GL
   // (Mesa's llvmpipe): the CPU tracer is many times faster than compute shaders emulated on it.
@@ -76,43 +93,27 @@ int runRender(const RenderOptions& o) {
     }
   }
 
-  const std::optional<gl::TextureMode> glTextures = gl::parseTextureMode(o.glTextures);
-  if (!glTextures) throw std::runtime_error("--gl-textures: expected auto, bindless or arrays");
-  // The GL programs this render needs start compiling now, on the driver's threads where it
-  // has them, and are ready, or nearly, once the level is imported.
+  // The GL programs this render needs start compiling as soon as what they need is known, on
+  // the driver's threads where it has them, and are ready, or nearly, once the level is
+  // prepared. This thread then waits for them while the worker prepares the level: NVIDIA's
+  // driver finishes a link on the thread that waits for it (see gl::loadGlLevel).
   std::shared_ptr<gl::TracerPrograms> glPrograms;
   if (glContext) {
     glPrograms = std::make_shared<gl::TracerPrograms>(*glContext, *glTextures);
     glPrograms->startAovs();
-    if (o.aov == "beauty") glPrograms->startPathTracer(o.lighting == "physical");
+    if (o.aov == "beauty") {
+      glPrograms->startTraceKernel();
+      const gl::FaithfulFeatures features = physical ? gl::FaithfulFeatures{} : gl::faithfulFeatures(preparation.lightKinds());
+      glPrograms->startPathTracer(physical, features);
+      glPrograms->aovs();
+      if (glPrograms->wavefrontState(physical, features).started) glPrograms->wavefront(physical, features);
+    } else {
+      glPrograms->aovs();
+    }
   }
-
-  const std::string mapPath = o.map.empty() ? defaultMapPath() : o.map;
-  RenderSceneOptions sceneOptions;
-  sceneOptions.showHidden = o.showHidden;
-  sceneOptions.bounceLights = o.lighting != "physical" && o.aov == "beauty"; // faithful _bounce only
-  // The level is imported and prepared on a worker thread while this one waits for the programs
-  // the first samples need: NVIDIA's driver finishes a link on the thread that waits for it, so
-  // a wait after the import would add that work to it (see gl::loadGlLevel).
-  Scene scene;
-  RenderScene renderScene;
-  Diagnostics lightDiagnostics;
-  auto prepared = std::async(std::launch::async, [&] {
-    scene = importScene(mapPath, o.import);
-    renderScene = buildRenderScene(scene, sceneOptions, lightDiagnostics);
-  });
-  if (glPrograms) {
-    const bool physical = o.lighting == "physical";
-    glPrograms->aovs();
-    if (o.aov == "beauty" && glPrograms->wavefrontState(physical).started) glPrograms->wavefront(physical);
-  }
-  prepared.get();
+  preparation.wait();
   for (const Diagnostic& d : scene.diagnostics)
     if (!o.quiet && d.severity != Severity::Note) fmt::print(stderr, "{}\n", format(d));
-  // A level with faithful dirt or many bounce lights renders with a faithful program built with
-  // those parts (gl::FaithfulFeatures), started as soon as the level says so.
-  if (glPrograms && o.aov == "beauty" && o.lighting != "physical")
-    glPrograms->startPathTracer(false, gl::faithfulFeatures(renderScene.world.dirtSettings, renderScene.lights));
   for (const Diagnostic& d : lightDiagnostics)
     if (!o.quiet) fmt::print(stderr, "{}\n", format(d));
 

@@ -42,6 +42,18 @@ const bool PHYSICAL = true;
 #else
 const bool PHYSICAL = false;
 #endif
+// The same for the faithful program's optional parts (renderer/gl FaithfulFeatures): a level
+// without suns and sky domes, or without _deviance, compiles without their code.
+#if defined(BT_LIGHTING_PHYSICAL) || defined(BT_FAITHFUL_SKY)
+const bool SKY_RAYS = true; // physical suns, faithful suns and domes
+#else
+const bool SKY_RAYS = false;
+#endif
+#if defined(BT_LIGHTING_PHYSICAL) || defined(BT_FAITHFUL_JITTER)
+const bool JITTERED_LIGHTS = true;
+#else
+const bool JITTERED_LIGHTS = false;
+#endif
 
 // Physical-mode scale from Quake light units (renderer/cpu/integrator.h).
 const float PHYSICAL_POINT_SCALE = PI * 128.0;
@@ -58,7 +70,7 @@ vec3 emissiveAt(uint face, vec3 p) {
 // One of ericw-tools' `_samples` jittered copies of a point light: uniform in the cube of
 // half-size `_deviance` (renderer/cpu/integrator.cpp jitteredOrigin).
 vec3 jitteredOrigin(GpuLight light, inout Rng rng) {
-  if (light.deviance <= 0.0) return light.origin;
+  if (!JITTERED_LIGHTS || light.deviance <= 0.0) return light.origin;
   vec3 u = vec3(rngNext(rng), rngNext(rng), rngNext(rng));
   return light.origin + light.deviance * (2.0 * u - 1.0);
 }
@@ -296,6 +308,7 @@ bool faithfulLightRay(inout Path path, GpuLight light, inout Rng rng) {
     path.pendingIsFloor = light.formula == FORMULA_LOCAL_MIN;
     return true;
   }
+#ifdef BT_FAITHFUL_SKY
   if (light.type == LIGHT_SUN) {
     vec3 toSun = -light.direction;
     if (light.deviance > 0.0) toSun = sampleCone(toSun, light.deviance, rngNext2(rng));
@@ -315,6 +328,7 @@ bool faithfulLightRay(inout Path path, GpuLight light, inout Rng rng) {
     path.pending = light.value * angleTerm(cosIncidence, light.anglescale) * dirtFactor(path, light, 0.0) * light.color;
     return true;
   }
+#endif
   return false;
 }
 
@@ -691,7 +705,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
       if (path.dirtRay == DIRT_RAYS) path.occlusion = 1.0 - path.dirtSum / (float(DIRT_RAYS) * world.dirtDepth);
     } else
 #endif
-    if (path.kind == RAY_SKY) {
+    if (SKY_RAYS && path.kind == RAY_SKY) {
       bool reached = !gaveUp && (hit.face == NO_FACE || (flags & FACE_SKY) != 0u);
       if (reached) {
         if (PHYSICAL) path.radiance += path.throughput * path.pending;
@@ -754,12 +768,157 @@ void accumulate(ivec2 pixel, vec3 l) {
 // found, then the next ray out to WavefrontRays, or the sample into the image at the path's end.
 #include "wavefront.glsl"
 
-// A pixel's path between dispatches.
+// A pixel's path between dispatches: the Path fields that a later dispatch of this lighting mode
+// reads, no more. Each is a load and a store per path and round, and code for the driver to
+// compile: storing the whole Path (a faithful program's unused physical fields too) made the
+// faithful kernel's first image ~30 ms later (H100, lq_e4m3, cold). A field added to Path that
+// outlives a dispatch is added here and in both functions below.
+struct StoredPath {
+  uint kind;
+  vec3 origin;
+  vec3 dir;
+  float tMin;
+  float tMax;
+  int skips;
+  uint face;
+  vec3 position;
+  vec3 normal;
+  uint lightIndex;
+  vec3 pending;
+#ifdef BT_LIGHTING_PHYSICAL
+  uint emitterFace;
+  vec3 emitterPoint;
+  int depth;
+  vec3 wo;
+  Bsdf bsdf;
+  vec3 throughput;
+  float prevBsdfPdf;
+  vec3 radiance;
+#else
+  bool pendingIsFloor;
+  vec3 lightSum;
+  vec3 lightFloor;
+  vec3 texture;
+  vec3 fullbright;
+#ifdef BT_FAITHFUL_BOUNCE_DRAW
+  uint bounceFirst;
+  uint bounceLast;
+  uint bounceDrawn;
+  float bounceTotal;
+  float bounceCumulative;
+  float bounceTarget;
+#endif
+#ifdef BT_FAITHFUL_DIRT
+  int dirtRay;
+  float dirtSum;
+  float occlusion;
+#endif
+#endif
+};
+
 struct WavefrontPath {
   Rng rng;
-  Path path;
+  StoredPath path;
 };
 layout(std430, binding = 13) buffer WavefrontPaths { WavefrontPath wavefrontPaths[]; };
+
+void storePath(int slot, Rng rng, Path p) {
+  wavefrontPaths[slot].rng = rng;
+  StoredPath s;
+  s.kind = p.kind;
+  s.origin = p.origin;
+  s.dir = p.dir;
+  s.tMin = p.tMin;
+  s.tMax = p.tMax;
+  s.skips = p.skips;
+  s.face = p.face;
+  s.position = p.position;
+  s.normal = p.normal;
+  s.lightIndex = p.lightIndex;
+  s.pending = p.pending;
+#ifdef BT_LIGHTING_PHYSICAL
+  s.emitterFace = p.emitterFace;
+  s.emitterPoint = p.emitterPoint;
+  s.depth = p.depth;
+  s.wo = p.wo;
+  s.bsdf = p.bsdf;
+  s.throughput = p.throughput;
+  s.prevBsdfPdf = p.prevBsdfPdf;
+  s.radiance = p.radiance;
+#else
+  s.pendingIsFloor = p.pendingIsFloor;
+  s.lightSum = p.lightSum;
+  s.lightFloor = p.lightFloor;
+  s.texture = p.texture;
+  s.fullbright = p.fullbright;
+#ifdef BT_FAITHFUL_BOUNCE_DRAW
+  s.bounceFirst = p.bounceFirst;
+  s.bounceLast = p.bounceLast;
+  s.bounceDrawn = p.bounceDrawn;
+  s.bounceTotal = p.bounceTotal;
+  s.bounceCumulative = p.bounceCumulative;
+  s.bounceTarget = p.bounceTarget;
+#endif
+#ifdef BT_FAITHFUL_DIRT
+  s.dirtRay = p.dirtRay;
+  s.dirtSum = p.dirtSum;
+  s.occlusion = p.occlusion;
+#endif
+#endif
+  wavefrontPaths[slot].path = s;
+}
+
+// The fields not stored are those this mode's later dispatches set before they read them.
+Path loadPath(int slot, out Rng rng) {
+  rng = wavefrontPaths[slot].rng;
+  StoredPath s = wavefrontPaths[slot].path;
+  Path p;
+  p.kind = s.kind;
+  p.origin = s.origin;
+  p.dir = s.dir;
+  p.tMin = s.tMin;
+  p.tMax = s.tMax;
+  p.skips = s.skips;
+  p.face = s.face;
+  p.position = s.position;
+  p.normal = s.normal;
+  p.lightIndex = s.lightIndex;
+  p.pending = s.pending;
+#ifdef BT_LIGHTING_PHYSICAL
+  p.emitterFace = s.emitterFace;
+  p.emitterPoint = s.emitterPoint;
+  p.depth = s.depth;
+  p.wo = s.wo;
+  p.bsdf = s.bsdf;
+  p.throughput = s.throughput;
+  p.prevBsdfPdf = s.prevBsdfPdf;
+  p.radiance = s.radiance;
+#else
+  p.emitterFace = NO_FACE;
+  p.depth = 0;
+  p.pendingIsFloor = s.pendingIsFloor;
+  p.lightSum = s.lightSum;
+  p.lightFloor = s.lightFloor;
+  p.lit = vec3(0.0);
+  p.texture = s.texture;
+  p.fullbright = s.fullbright;
+  p.radiance = vec3(0.0);
+#ifdef BT_FAITHFUL_BOUNCE_DRAW
+  p.bounceFirst = s.bounceFirst;
+  p.bounceLast = s.bounceLast;
+  p.bounceDrawn = s.bounceDrawn;
+  p.bounceTotal = s.bounceTotal;
+  p.bounceCumulative = s.bounceCumulative;
+  p.bounceTarget = s.bounceTarget;
+#endif
+#ifdef BT_FAITHFUL_DIRT
+  p.dirtRay = s.dirtRay;
+  p.dirtSum = s.dirtSum;
+  p.occlusion = s.occlusion;
+#endif
+#endif
+  return p;
+}
 
 layout(location = 0) uniform uint wavefrontStart; // 1: start the paths at the camera
 
@@ -773,8 +932,7 @@ void main() {
     path = cameraPath(pixel, rng);
   } else {
     if (wavefrontRays[slot].live == 0u) return;
-    rng = wavefrontPaths[slot].rng;
-    path = wavefrontPaths[slot].path;
+    path = loadPath(slot, rng);
     if (!advance(path, wavefrontHits[slot], rng)) {
       wavefrontRays[slot].live = 0u;
       accumulate(pixel, path.radiance);
@@ -782,7 +940,7 @@ void main() {
       return;
     }
   }
-  wavefrontPaths[slot] = WavefrontPath(rng, path);
+  storePath(slot, rng, path);
   wavefrontRays[slot] = WavefrontRay(path.origin, path.tMin, path.dir, path.tMax, path.kind == RAY_SHADOW ? 1u : 0u,
                                      lightPassFlags(PHYSICAL), 1u);
 }

@@ -86,9 +86,9 @@ struct Viewer::Impl {
 
   explicit Impl(ViewerOptions o)
       : options(std::move(o)), window(options.width, options.height, "brushtrace — " + options.map), lighting(options.lighting) {
-    // The path tracer compiles (on the driver's threads, where it has them) while the level loads.
+    // The path tracer compiles (on the driver's threads, where it has them) while the level
+    // loads, from when its lights say which program it needs (gl::loadGlLevel).
     programs = std::make_shared<gl::TracerPrograms>(window.context(), options.textures);
-    programs->startPathTracer(lighting == LightingMode::Physical);
     level = loadLevel(options, window.context(), programs, lighting == LightingMode::Physical);
     watcher.watch(level->files);
     const CameraPose pose = options.camera ? *options.camera : defaultCameraPose(level->scene);
@@ -233,7 +233,7 @@ struct Viewer::Impl {
       showRadiance(sum, accumulated, w, h);
       // The first image is up: the other lighting mode compiles in the background, so that
       // switching to it (keys 4/5) does not stall.
-      if (accumulated == 1) programs->startPathTracer(lighting != LightingMode::Physical);
+      if (accumulated == 1) programs->startPathTracer(lighting != LightingMode::Physical, level->tracer->faithfulFeatures());
     } else {
       return;
     }

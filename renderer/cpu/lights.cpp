@@ -257,6 +257,18 @@ glm::vec3 directionFromMangle(float yawDegrees, float pitchDegrees) {
   return {std::cos(yaw) * std::cos(pitch), std::sin(yaw) * std::cos(pitch), std::sin(pitch)};
 }
 
+LightKinds lightKinds(const SceneLights& lights, bool bounceLights) {
+  LightKinds kinds;
+  for (const GpuLight& l : lights.lights) {
+    kinds.sky |= l.type == uint32_t(LightType::Sun) || l.type == uint32_t(LightType::Dome);
+    kinds.jitter |= l.type == uint32_t(LightType::Point) && l.deviance > 0.0f;
+  }
+  for (const SurfaceTemplate& t : lights.surfaceTemplates) kinds.jitter |= t.light.deviance > 0.0f;
+  kinds.dirt = lights.world.dirtSettings.enabled;
+  kinds.bounce = bounceLights && lights.world.bounces > 0;
+  return kinds;
+}
+
 SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagnostics& diagnostics) {
   SceneLights out;
   out.world = readWorld(scene, diagnostics);

@@ -75,6 +75,19 @@ struct LightOptions {
 // in `diagnostics` (file and line of the entity) and replaced by the default.
 SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagnostics& diagnostics);
 
+// The kinds of light a level has, as collectLights() finds them: before the `_surface` and
+// `_bounce` lights are made, which take most of a level's preparation and add point lights only.
+// The GL tracer compiles only the code for the kinds a level has, and starts that compile from
+// these as soon as the lights are collected (renderer/gl FaithfulFeatures).
+struct LightKinds {
+  bool sky = false;    // suns or sky domes
+  bool jitter = false; // point lights with `_deviance`, or `_surface` templates with it (their lights inherit it)
+  bool dirt = false;   // dirt's occlusion rays (DirtSettings::enabled)
+  bool bounce = false; // `_bounce` lights will be made (worldspawn `_bounce`, and the render wants them)
+  bool operator==(const LightKinds&) const = default;
+};
+LightKinds lightKinds(const SceneLights& lights, bool bounceLights);
+
 // "yaw pitch roll" in degrees as ericw-tools' mangle: the direction (+pitch looks up).
 glm::vec3 directionFromMangle(float yawDegrees, float pitchDegrees);
 

@@ -83,9 +83,14 @@ uint32_t classifyTexture(std::string_view texture, const std::optional<SurfaceAt
 }
 
 RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& options, Diagnostics& diagnostics) {
+  return buildRenderScene(scene, collectLights(scene, options.lights, diagnostics), options, diagnostics);
+}
+
+RenderScene buildRenderScene(const Scene& scene, SceneLights lights, const RenderSceneOptions& options,
+                             Diagnostics& diagnostics) {
   RenderScene rs;
   rs.scene = &scene;
-  SceneLights lights = collectLights(scene, options.lights, diagnostics);
+  rs.lightKinds = lightKinds(lights, options.bounceLights);
   rs.lights = std::move(lights.lights);
   rs.world = lights.world;
 

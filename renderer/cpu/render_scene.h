@@ -33,6 +33,7 @@ struct RenderScene {
   std::vector<GpuEmitter> emitters;       // triangles of emitting faces, cdf by area
   float emitterArea = 0.0f;
   WorldLighting world;
+  LightKinds lightKinds;                  // what collectLights found (before _surface and _bounce lights)
   TraceScene tracer;                      // the brushes that are ever visible, in a BVH
 };
 
@@ -45,6 +46,10 @@ inline glm::vec3 faceNormal(const RenderScene& rs, uint32_t face) {
 // Classifies faces by texture name (Quake conventions, see README), reads the lights, and
 // builds the tracer. `scene` must outlive the result.
 RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& options, Diagnostics& diagnostics);
+// The same from lights collectLights() gave already (with options.lights): a caller that wants
+// to act on them early (the GL front ends start the compile of the lighting they need).
+RenderScene buildRenderScene(const Scene& scene, SceneLights lights, const RenderSceneOptions& options,
+                             Diagnostics& diagnostics);
 
 // Brush entities that qbsp merges into the world (worldspawn, func_group, func_detail*): they
 // cast shadows in `light`; the others are models of their own.

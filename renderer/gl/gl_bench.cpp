@@ -22,10 +22,11 @@ double secondsSince(Clock::time_point start) { return std::chrono::duration<doub
 } // namespace
 
 int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& s) {
-  // Time to first image: the context, the path tracer's compile started (it runs on the
-  // driver's threads where the driver has them), the level imported and prepared meanwhile,
-  // uploaded, then the wait for the compile and one sample: with the wavefront kernels where
-  // they were started (TracerPrograms::startPathTracer says where), and with the megakernel.
+  // Time to first image: the level's import started on a worker thread, the context made
+  // meanwhile, the path tracer's compile started (it runs on the driver's threads where the
+  // driver has them) once the level's lights are known, the level prepared meanwhile, uploaded,
+  // then the wait for the compile and one sample: with the wavefront kernels where they were
+  // started (TracerPrograms::startPathTracer says where), and with the megakernel.
   // Cold with an empty program cache (every shader compiled, as on a first start), then warm
   // from the binaries that run stored. A private cache directory keeps the user's cache out of it.
   const std::filesystem::path cacheDir =
@@ -40,20 +41,22 @@ int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& s
     context.reset();
     const auto start = Clock::now();
     auto at = [&](Clock::time_point t) { return std::chrono::duration<double>(t - start).count(); };
-    context = gl::GlContext::createHeadless();
-    const double contextSeconds = secondsSince(start);
-    auto programs = std::make_shared<gl::TracerPrograms>(*context, s.textures);
-    programs->setCache(gl::ProgramCache(cacheDir));
-    programs->startPathTracer(s.physical);
-    const double startedSeconds = secondsSince(start);
-    const bool wavefront = programs->wavefrontState(s.physical).started;
     level = std::make_unique<gl::GlLevel>();
     gl::GlLevelTimes times;
-    gl::loadGlLevel(*level, *context, programs, s.physical, loadScene, &times);
+    {
+      const std::unique_ptr<gl::LevelPreparation> preparation = gl::prepareGlLevel(*level, loadScene);
+      context = gl::GlContext::createHeadless();
+      times.contextMade = Clock::now();
+      auto programs = std::make_shared<gl::TracerPrograms>(*context, s.textures);
+      programs->setCache(gl::ProgramCache(cacheDir));
+      gl::loadGlLevel(*level, *preparation, *context, programs, s.physical, &times);
+    }
     gl::GlTracer* tracer = level->tracer.get();
     const auto uploadEnd = times.uploaded;
-    const double importSeconds = std::chrono::duration<double>(times.imported - times.importStarted).count();
+    const double contextSeconds = at(times.contextMade);
+    const double importSeconds = at(times.prepared);
     const double uploadSeconds = std::chrono::duration<double>(times.uploaded - times.uploadStarted).count();
+    const bool wavefront = tracer->programs().wavefrontState(s.physical, tracer->faithfulFeatures()).started;
     // The default view (info_intermission, info_player_start, else the whole level), so the
     // rays see what a user first sees.
     pose = defaultCameraPose(level->scene);
@@ -74,24 +77,24 @@ int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& s
       const double readySeconds = secondsSince(start);
       const double sample = timeOneSample(gl::PathTracerForm::Wavefront);
       const double total = secondsSince(start);
-      const bool megakernelReady = !tracer->programs().wavefrontWhileCompiling(s.physical);
+      const bool megakernelReady = !tracer->programs().wavefrontWhileCompiling(s.physical, tracer->faithfulFeatures());
       fmt::print("time to first image, wavefront kernels ({}): {:.3f} s at {}x{}: their compile {:.0f} ms of which {:.0f} ms "
                  "after the upload (ready at {:.3f} s), 1 spp {:.3f} s; the megakernel {}\n",
                  label, total, s.width, s.height, build.milliseconds, waitSeconds * 1000.0, readySeconds, sample,
                  megakernelReady ? "was ready before" : "still compiling");
       // Each step's end, in seconds from the start, to see which one the first image waits for.
-      fmt::print("  timeline: context {:.3f}, compiles started {:.3f} (the main thread's share of starting them), "
-                 "trace kernel linked {:.3f}, import and lights done {:.3f} (worker thread), shade kernel linked {:.3f}, "
-                 "uploaded {:.3f}, first dispatches done {:.3f}, first sample read back {:.3f}\n",
-                 contextSeconds, startedSeconds, at(times.traceLinked), at(times.imported), at(times.shadeLinked),
-                 at(times.uploaded), readySeconds, total);
+      fmt::print("  timeline: context {:.3f}, lights collected {:.3f} (worker thread), compiles started {:.3f} (the main "
+                 "thread's share of starting them), trace kernel linked {:.3f}, level prepared {:.3f} (worker thread), "
+                 "uploaded {:.3f}, shade kernel linked {:.3f}, first dispatches done {:.3f}, first sample read back {:.3f}\n",
+                 contextSeconds, at(times.lightsCollected), at(times.programsStarted), at(times.traceLinked),
+                 at(times.prepared), at(times.uploaded), at(times.shadeLinked), readySeconds, total);
     }
     // The megakernel's first image: the wait for its compile, then one sample.
     const gl::ProgramBuild build = tracer->buildPathTracer(s.width, s.height, s.physical);
     const double readySeconds = secondsSince(start);
     const double waitSeconds = secondsSince(uploadEnd);
     const double sample = timeOneSample(gl::PathTracerForm::Megakernel);
-    fmt::print("time to first image ({}): {:.3f} s at {}x{}: context {:.3f} s, import and lights {:.3f} s, upload {:.3f} s, "
+    fmt::print("time to first image ({}): {:.3f} s at {}x{}: context {:.3f} s, level prepared at {:.3f} s, upload {:.3f} s, "
                "compile {:.0f} ms of which {:.0f} ms after the upload{}, 1 spp {:.3f} s (megakernel ready at {:.3f} s)\n",
                label, secondsSince(start), s.width, s.height, contextSeconds, importSeconds, uploadSeconds, build.milliseconds,
                waitSeconds * 1000.0, build.fromCache ? " (program binary from the cache)" : "", sample, readySeconds);

@@ -2,38 +2,77 @@
 
 #include "renderer/gl/gl_lighting.h"
 
-#include <future>
-
 namespace bt::gl {
 
-void loadGlLevel(GlLevel& level, GlContext& context, const std::shared_ptr<TracerPrograms>& programs, bool physical,
-                 const std::function<Scene()>& importLevel, GlLevelTimes* times) {
+LevelPreparation::LevelPreparation(Scene& scene, RenderScene& render, std::function<Scene()> importLevel,
+                                   RenderSceneOptions options, Diagnostics* lightDiagnostics)
+    : kinds_(kindsPromise_.get_future().share()) {
+  done_ = std::async(std::launch::async, [this, &scene, &render, importLevel = std::move(importLevel),
+                                          options = std::move(options), lightDiagnostics] {
+    bool kindsSet = false;
+    try {
+      started = Clock::now();
+      scene = importLevel();
+      Diagnostics& diagnostics = lightDiagnostics ? *lightDiagnostics : scene.diagnostics;
+      SceneLights lights = collectLights(scene, options.lights, diagnostics);
+      lightsCollected = Clock::now();
+      kindsPromise_.set_value(bt::lightKinds(lights, options.bounceLights));
+      kindsSet = true;
+      render = buildRenderScene(scene, std::move(lights), options, diagnostics);
+      prepared = Clock::now();
+    } catch (...) {
+      if (!kindsSet) kindsPromise_.set_exception(std::current_exception());
+      throw;
+    }
+  });
+}
+
+// std::async's future joins the worker in its destructor; an exception nobody asked for is dropped.
+LevelPreparation::~LevelPreparation() = default;
+
+LightKinds LevelPreparation::lightKinds() { return kinds_.get(); }
+
+void LevelPreparation::wait() {
+  if (done_.valid()) done_.get();
+}
+
+std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, std::function<Scene()> importLevel) {
+  return std::make_unique<LevelPreparation>(level.scene, level.render, std::move(importLevel));
+}
+
+void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& context,
+                 const std::shared_ptr<TracerPrograms>& programs, bool physical, GlLevelTimes* times) {
   using Clock = GlLevelTimes::Clock;
   GlLevelTimes local;
   GlLevelTimes& t = times ? *times : local;
-  auto imported = std::async(std::launch::async, [&] {
-    t.importStarted = Clock::now();
-    level.scene = importLevel();
-    level.render = buildRenderScene(level.scene, {}, level.scene.diagnostics);
-    t.imported = Clock::now();
-  });
-  // The future's destructor joins the worker if a wait below throws; its own exception is then
-  // lost to the compile error, which is the one the caller can do nothing about.
-  const bool wavefront = programs->wavefrontState(physical).started;
+  programs->startTraceKernel();
+  // Physical programs have every part; a faithful one waits for the lights to know its parts.
+  const FaithfulFeatures features = physical ? FaithfulFeatures{} : faithfulFeatures(preparation.lightKinds());
+  programs->startPathTracer(physical, features);
+  t.programsStarted = Clock::now();
+  const bool wavefront = programs->wavefrontState(physical, features).started;
   if (wavefront) {
     programs->wavefrontTrace();
     t.traceLinked = Clock::now();
   }
-  imported.get();
+  preparation.wait();
+  t.lightsCollected = preparation.lightsCollected;
+  t.prepared = preparation.prepared;
   // The upload goes between the two waits: the trace kernel links well before the shade kernel,
-  // and the import is done by then, so the upload costs the first image nothing (H100, lq_e4m3,
-  // cold: 10 ms less than uploading after both waits, the shade kernel's link no later).
+  // and the preparation is done by then, so the upload costs the first image nothing (H100,
+  // lq_e4m3, cold: 10 ms less than uploading after both waits, the shade kernel's link no later).
   t.uploadStarted = Clock::now();
   level.tracer = std::make_unique<GlTracer>(context, level.scene, level.render.tracer, programs, lightingFor(level.render));
   t.uploaded = Clock::now();
-  if (wavefront) programs->wavefront(physical);
+  if (wavefront) programs->wavefront(physical, features);
   t.shadeLinked = Clock::now();
   if (!wavefront) t.traceLinked = t.shadeLinked;
+}
+
+void loadGlLevel(GlLevel& level, GlContext& context, const std::shared_ptr<TracerPrograms>& programs, bool physical,
+                 const std::function<Scene()>& importLevel, GlLevelTimes* times) {
+  const std::unique_ptr<LevelPreparation> preparation = prepareGlLevel(level, importLevel);
+  loadGlLevel(level, *preparation, context, programs, physical, times);
 }
 
 } // namespace bt::gl

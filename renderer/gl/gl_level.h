@@ -1,5 +1,7 @@
 // A level loaded for the GL tracer the way every front end gets to its first image: the level
-// imported on a worker thread while the path tracer compiles, then uploaded.
+// imported and prepared on a worker thread, started before the GL context exists; the path
+// tracer's compile started as soon as the level's lights say which program it needs; then the
+// upload.
 #pragma once
 
 #include "renderer/cpu/render_scene.h"
@@ -8,9 +10,39 @@
 
 #include <chrono>
 #include <functional>
+#include <future>
 #include <memory>
 
 namespace bt::gl {
+
+// A level's import and preparation on a worker thread: importLevel(), renderer/cpu's
+// collectLights() and buildRenderScene(), into `scene` and `render` (render.scene points at
+// scene), with the preparation's diagnostics into `lightDiagnostics` (null: scene.diagnostics).
+// Those three belong to the worker until wait() returns. The level's LightKinds are known after
+// its import, well before the rest (lq_e4m3: the import 68 ms, the preparation another 60 ms,
+// and seconds on a `_bounce` level): a front end starts the GL programs for them meanwhile.
+// Exceptions of the import or the preparation reach the caller of lightKinds() and wait().
+class LevelPreparation {
+public:
+  using Clock = std::chrono::steady_clock;
+  LevelPreparation(Scene& scene, RenderScene& render, std::function<Scene()> importLevel,
+                   RenderSceneOptions options = {}, Diagnostics* lightDiagnostics = nullptr);
+  ~LevelPreparation(); // waits for the worker
+  LevelPreparation(const LevelPreparation&) = delete;
+  LevelPreparation& operator=(const LevelPreparation&) = delete;
+
+  // Blocks until the lights are collected.
+  LightKinds lightKinds();
+  // Blocks until the preparation is done; then scene and render are the caller's again.
+  void wait();
+
+  Clock::time_point started, lightsCollected, prepared; // the worker's steps, for timelines
+
+private:
+  std::promise<LightKinds> kindsPromise_;
+  std::shared_future<LightKinds> kinds_;
+  std::future<void> done_;
+};
 
 // The level, what the tracers need of it (render.scene points at scene, so a GlLevel stays
 // where it was made), and its GPU buffers.
@@ -23,18 +55,29 @@ struct GlLevel {
 // When each step of loadGlLevel() ended, for `brushtrace bench`'s first-image timeline.
 struct GlLevelTimes {
   using Clock = std::chrono::steady_clock;
+  Clock::time_point contextMade;              // the caller's, where it wants it in the timeline
+  Clock::time_point lightsCollected, prepared; // the preparation's (LevelPreparation)
+  Clock::time_point programsStarted;          // the path tracer's programs queued for the level's lights
   Clock::time_point traceLinked, shadeLinked; // both at the upload's end where none was started
-  Clock::time_point importStarted, imported;  // import and buildRenderScene (the worker thread)
   Clock::time_point uploadStarted, uploaded;
 };
 
-// Fills `level`: importLevel() and buildRenderScene() (diagnostics into the scene's) run on a
-// worker thread while this one waits for the wavefront kernels where startPathTracer() started
-// them for the first images (`physical`: the lighting they are for). NVIDIA's driver does part
-// of a compile on the thread that waits for it (H100, lq_e4m3, faithful, cold: the first image
-// 0.49-0.83 s this way, 0.86-1.2 s with the import on this thread before the wait). The upload
-// needs this thread's GL context; it runs between the trace kernel's link and the shade
-// kernel's. Exceptions of the import or the compile reach the caller, with the worker joined.
+// Starts a LevelPreparation of `importLevel` into `level` (default RenderSceneOptions, the
+// preparation's diagnostics into the scene's). Start it before the GL context: the import then
+// overlaps the context's creation.
+std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, std::function<Scene()> importLevel);
+
+// Finishes loading `level`, whose preparation is `preparation`: starts the wavefront trace kernel
+// (it needs nothing of the level), waits for the level's lights and starts the path tracer for
+// them (startPathTracer: `physical` is the lighting of the first images, the faithful features
+// from the lights' kinds), then waits for the wavefront kernels where they were started. NVIDIA's
+// driver does part of a compile on the thread that waits for it (H100, lq_e4m3, faithful, cold:
+// the first image 0.49-0.83 s this way, 0.86-1.2 s with the import on this thread before the
+// wait). The upload needs this thread's GL context; it runs between the trace kernel's link
+// and the shade kernel's. Exceptions of the preparation or the compile reach the caller.
+void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& context,
+                 const std::shared_ptr<TracerPrograms>& programs, bool physical, GlLevelTimes* times = nullptr);
+// Both, for a caller that has its context already (the viewer's reloads).
 void loadGlLevel(GlLevel& level, GlContext& context, const std::shared_ptr<TracerPrograms>& programs, bool physical,
                  const std::function<Scene()>& importLevel, GlLevelTimes* times = nullptr);
 

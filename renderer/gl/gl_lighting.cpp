@@ -23,6 +23,7 @@ GlLighting lightingFor(const RenderScene& rs) {
   out.faithfulBounces = rs.world.bounces;
   out.litwater = rs.world.litwater;
   out.dirt = rs.world.dirtSettings;
+  out.lightKinds = rs.lightKinds;
   return out;
 }
 

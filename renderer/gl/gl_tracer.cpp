@@ -242,11 +242,20 @@ void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* sh
   slot = std::make_unique<ComputeProgram>(ComputeProgram::Deferred{}, shader, defines, cached ? cache_ : ProgramCache{});
 }
 
+FaithfulFeatures faithfulFeatures(const LightKinds& kinds) {
+  return {.dirt = kinds.dirt, .bounceDraw = kinds.bounce, .sky = kinds.sky, .jitter = kinds.jitter};
+}
+
 FaithfulFeatures faithfulFeatures(const DirtSettings& dirt, const std::vector<GpuLight>& lights) {
-  const size_t bounceLights = size_t(std::count_if(lights.begin(), lights.end(), [](const GpuLight& l) {
-    return l.formula == uint32_t(LightFormula::Bounce);
-  }));
-  return {dirt.enabled, bounceLights > kBounceShadowRays};
+  FaithfulFeatures f{.dirt = dirt.enabled};
+  size_t bounceLights = 0;
+  for (const GpuLight& l : lights) {
+    bounceLights += l.formula == uint32_t(LightFormula::Bounce);
+    f.sky |= l.type == uint32_t(LightType::Sun) || l.type == uint32_t(LightType::Dome);
+    f.jitter |= l.type == uint32_t(LightType::Point) && l.deviance > 0.0f;
+  }
+  f.bounceDraw = bounceLights > kBounceShadowRays;
+  return f;
 }
 
 std::vector<std::string> TracerPrograms::pathDefines(bool physical, FaithfulFeatures features) const {
@@ -257,6 +266,8 @@ std::vector<std::string> TracerPrograms::pathDefines(bool physical, FaithfulFeat
   }
   if (features.dirt) defines.emplace_back("BT_FAITHFUL_DIRT");
   if (features.bounceDraw) defines.emplace_back("BT_FAITHFUL_BOUNCE_DRAW");
+  if (features.sky) defines.emplace_back("BT_FAITHFUL_SKY");
+  if (features.jitter) defines.emplace_back("BT_FAITHFUL_JITTER");
   return defines;
 }
 
@@ -272,7 +283,8 @@ ComputeProgram& TracerPrograms::finished(std::unique_ptr<ComputeProgram>& slot) 
 
 // Physical mode ignores the faithful features, here and in pathDefines().
 size_t TracerPrograms::variantIndex(bool physical, FaithfulFeatures features) {
-  return physical ? 0 : 1 + (features.dirt ? 1 : 0) + (features.bounceDraw ? 2 : 0);
+  if (physical) return 0;
+  return 1 + (features.dirt ? 1 : 0) + (features.bounceDraw ? 2 : 0) + (features.sky ? 4 : 0) + (features.jitter ? 8 : 0);
 }
 std::unique_ptr<ComputeProgram>& TracerPrograms::pathSlot(bool physical, FaithfulFeatures features) {
   return path_[variantIndex(physical, features)];
@@ -300,6 +312,10 @@ void TracerPrograms::startWavefront(bool physical, FaithfulFeatures features) {
   // first image they are for.
   start(shadeSlot(physical, features), "pathtrace.comp", std::move(defines), false);
   startWavefrontTrace();
+}
+
+void TracerPrograms::startTraceKernel() {
+  if (wavefrontFirst_) startWavefrontTrace();
 }
 
 // The trace kernel serves every lighting mode; not cached, as the shade kernel.
@@ -362,7 +378,7 @@ struct GlTracer::Impl {
         textures(scene, programs->textureMode(), c.info()),
         buffers(tracer, withShadingFlags(textures.materials(), lighting), lighting, scene.materials.size()),
         world(worldBlock(lighting)),
-        features(faithfulFeatures(lighting.dirt, lighting.lights)) {
+        features(gl::faithfulFeatures(lighting.lightKinds) | gl::faithfulFeatures(lighting.dirt, lighting.lights)) {
     BT_GL(glCreateBuffers(1, &cameraBuffer));
     BT_GL(glNamedBufferStorage(cameraBuffer, sizeof(GpuCamera), nullptr, GL_DYNAMIC_STORAGE_BIT));
     BT_GL(glCreateBuffers(1, &worldBuffer));
@@ -456,6 +472,7 @@ GlTracer::GlTracer(GlContext& context, const Scene& scene, TextureMode textures,
 GlTracer::~GlTracer() = default;
 
 TextureMode GlTracer::textureMode() const { return impl_->textures.mode(); }
+FaithfulFeatures GlTracer::faithfulFeatures() const { return impl_->features; }
 
 void GlTracer::setProgramCache(ProgramCache cache) { impl_->programs->setCache(std::move(cache)); }
 

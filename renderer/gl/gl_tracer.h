@@ -68,21 +68,36 @@ struct GlLighting {
   int faithfulBounces = 0; // _bounce
   bool litwater = false;
   DirtSettings dirt;       // worldspawn dirt; enabled builds the faithful program with BT_FAITHFUL_DIRT
+  LightKinds lightKinds;   // RenderScene::lightKinds: which faithful program the level was started with
 };
 
 // The faithful program's parts that only some levels need. Each is compiled only into the
-// programs of the levels that use it, so every other level's program stays as small and as fast
-// as without it: with the bounce draw always compiled in, lq_e4m3 (not one bounce light) drew
-// 353 faithful samples/s on an H100 instead of 496. Physical programs have neither.
+// programs of the levels that use it, so every other level's program stays as small, as fast to
+// run and as quick to compile as without it: with the bounce draw always compiled in, lq_e4m3
+// (not one bounce light) drew 353 faithful samples/s on an H100 instead of 496; without the sky
+// and _deviance code its wavefront shade kernel compiled ~40 ms sooner. Physical programs have
+// all of them.
 struct FaithfulFeatures {
   bool dirt = false;       // BT_FAITHFUL_DIRT: dirt's occlusion rays (worldspawn _dirt)
   bool bounceDraw = false; // BT_FAITHFUL_BOUNCE_DRAW: a cell's many bounce lights drawn among
+  bool sky = false;        // BT_FAITHFUL_SKY: suns and sky domes, and their rays to the sky
+  bool jitter = false;     // BT_FAITHFUL_JITTER: point lights' _deviance (jittered copies)
   bool operator==(const FaithfulFeatures&) const = default;
+  // Both sets' parts.
+  FaithfulFeatures operator|(const FaithfulFeatures& o) const {
+    return {dirt || o.dirt, bounceDraw || o.bounceDraw, sky || o.sky, jitter || o.jitter};
+  }
 };
 
-// What a level lit by `lights` with `dirt` needs: dirt where it is enabled; the bounce draw
-// where it has more bounce lights than the draw's rays (renderer/cpu kBounceShadowRays), as no
-// cell can list more bounce lights than the level has.
+// What a level needs, known as soon as its lights are collected (renderer/cpu LightKinds), long
+// before its preparation ends: the front ends start the compile with this. A level that bounces
+// gets the bounce draw whatever its count of bounce lights, which is known only at the end (the
+// draw is used only in cells that list more bounce lights than its rays, so the image is the same).
+FaithfulFeatures faithfulFeatures(const LightKinds& kinds);
+// What lights as uploaded need at least: dirt where it is enabled; the bounce draw where there
+// are more bounce lights than the draw's rays (renderer/cpu kBounceShadowRays), as no cell can
+// list more bounce lights than the level has; the sky with a sun or dome; jitter with a point
+// light's _deviance. The tracer renders with this and the LightKinds' features together.
 FaithfulFeatures faithfulFeatures(const DirtSettings& dirt, const std::vector<GpuLight>& lights);
 
 // The two forms of the path tracer; both draw the same image for the same settings.
@@ -156,6 +171,9 @@ public:
   // can draw sooner: when the driver compiles on its own threads (a GPU; llvmpipe compiles at
   // the first dispatch whatever the form) and the megakernel is not in the program cache.
   void startPathTracer(bool physical, FaithfulFeatures features = {});
+  // The wavefront trace kernel, where startPathTracer() would start it: it serves every
+  // lighting mode and feature set, so it can start before the level says which it needs.
+  void startTraceKernel();
   void startWavefront(bool physical, FaithfulFeatures features = {});
   void startAovs();
   // The finished program, built now if it was not started.
@@ -203,9 +221,9 @@ private:
   bool wavefrontFirst_; // startPathTracer starts the wavefront kernels too (driver compiles in parallel, a GPU)
   // One program per lighting mode (BT_LIGHTING_PHYSICAL chosen at build), so each compiles
   // only its own integrator, and per set of faithful features (variantIndex: physical, then
-  // faithful with none, dirt, the bounce draw, both); the same for the wavefront form's shade
-  // kernels. Its trace kernel serves every mode.
-  static constexpr size_t kPathVariants = 5;
+  // faithful with each of the 16 sets); the same for the wavefront form's shade kernels. Its
+  // trace kernel serves every mode.
+  static constexpr size_t kPathVariants = 17;
   std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[kPathVariants], trace_, aov_, rayBench_;
 };
 
@@ -231,6 +249,8 @@ public:
   GlTracer& operator=(const GlTracer&) = delete;
 
   TextureMode textureMode() const; // the path in use: Bindless or Arrays
+  // The parts of its faithful programs: the level's LightKinds' and what its lights need.
+  FaithfulFeatures faithfulFeatures() const;
 
   // Where programs are cached; ProgramCache::fromEnvironment(GL_VENDOR) unless set before they
   // are built.

@@ -10,6 +10,7 @@
 #include "renderer/cpu/integrator.h"
 #include "renderer/cpu/light_grid.h"
 #include "renderer/cpu/render_scene.h"
+#include "renderer/gl/gl_level.h"
 #include "renderer/gl/gl_render.h"
 #include "importers/import.h"
 #include "tests/gl/test_scenes.h"
@@ -22,6 +23,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 
 namespace bt::gl {
 namespace {
@@ -265,7 +267,7 @@ TEST(GlCpuParity, ManyBounceLightsDrawTheSameAsTheCpu) {
     const CameraPose pose{{400.0f, -400.0f, 200.0f}, 20.0f, 135.0f, 0.0f, "test"};
     ASSERT_GT(trailingBounceLights(rs.lights, rs.lightGrid.cellLights(pose.origin)), kBounceShadowRays);
     // The GL tracer builds its faithful program with the draw (and dirt) for this level alone.
-    EXPECT_EQ(faithfulFeatures(rs.world.dirtSettings, rs.lights), (FaithfulFeatures{dirt, true}));
+    EXPECT_EQ(faithfulFeatures(rs.world.dirtSettings, rs.lights), (FaithfulFeatures{.dirt = dirt, .bounceDraw = true, .sky = true}));
     RenderSettings settings;
     settings.width = 64;
     settings.height = 40;
@@ -301,6 +303,95 @@ TEST(FaithfulFeatures, TheBounceDrawOnlyWhereALevelHasMoreBounceLightsThanRays) 
   EXPECT_EQ(faithfulFeatures(dirt, lights), (FaithfulFeatures{false, true}));
   dirt.enabled = true;
   EXPECT_EQ(faithfulFeatures(dirt, lights), (FaithfulFeatures{true, true}));
+}
+
+// The sky code where a level has a sun or a dome, the jitter where a point light has _deviance
+// (a sun's penumbra is the sky code's own).
+TEST(FaithfulFeatures, TheSkyAndTheJitterOnlyWhereALightNeedsThem) {
+  std::vector<GpuLight> lights(3);
+  const DirtSettings dirt;
+  EXPECT_EQ(faithfulFeatures(dirt, lights), FaithfulFeatures{});
+  lights[1].deviance = 8.0f;
+  EXPECT_EQ(faithfulFeatures(dirt, lights), (FaithfulFeatures{.jitter = true}));
+  lights[1].deviance = 0.0f;
+  for (const LightType sky : {LightType::Sun, LightType::Dome}) {
+    lights[2].type = uint32_t(sky);
+    lights[2].deviance = 0.1f;
+    EXPECT_EQ(faithfulFeatures(dirt, lights), (FaithfulFeatures{.sky = true}));
+  }
+}
+
+// The front ends start a level's faithful program from its LightKinds, before its _surface and
+// _bounce lights exist (gl::loadGlLevel); the tracer renders with those features and what the
+// finished light list needs together. If the kinds missed something the lights need, the level
+// would compile a second program before its first image. Every map of ours and ericw-tools' test
+// maps (every light entity key ericw-tools tests: suns, domes, _deviance, dirt, _bounce,
+// _surface) must be covered by its kinds.
+TEST(FaithfulFeatures, TheLightKindsOfEveryTestMapCoverWhatItsFinishedLightsNeed) {
+  BT_REQUIRE_SHARED(shared);
+  std::vector<std::filesystem::path> maps;
+  for (const auto& dir : {test::mapsDir(), shared / "maps" / "ericw-tools"})
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(dir))
+      if (entry.path().extension() == ".map") maps.push_back(entry.path());
+  std::sort(maps.begin(), maps.end());
+  ImportOptions options;
+  options.textures.load = false; // the kinds of light do not depend on the textures
+  FaithfulFeatures seen;
+  size_t checked = 0;
+  for (const auto& path : maps) {
+    SCOPED_TRACE(path.string());
+    Scene scene;
+    try {
+      scene = importScene(path.string(), options);
+    } catch (const ImportError&) {
+      continue; // the corpus has maps that are meant not to import
+    }
+    Diagnostics diagnostics;
+    const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+    const FaithfulFeatures started = faithfulFeatures(rs.lightKinds);
+    EXPECT_EQ(started | faithfulFeatures(rs.world.dirtSettings, rs.lights), started);
+    seen = seen | started;
+    ++checked;
+  }
+  EXPECT_GT(checked, maps.size() * 9 / 10);
+  // Not passed for want of a case: the maps use every part.
+  EXPECT_EQ(seen, (FaithfulFeatures{true, true, true, true}));
+}
+
+// The level's kinds of light come before its preparation ends, and are those the prepared level
+// records; an import that fails reaches both waits with its message, and nothing hangs.
+TEST(LevelPreparation, GivesTheLightKindsFirstAndTheImportsErrors) {
+  BT_REQUIRE_SHARED(shared);
+  const std::filesystem::path map = shared / "maps" / "ericw-tools" / "testmaps" / "q1_sunlight.map";
+  ASSERT_TRUE(std::filesystem::exists(map));
+  Scene scene;
+  RenderScene render;
+  LevelPreparation preparation(scene, render, [&] { return importScene(map.string(), {}); });
+  const LightKinds kinds = preparation.lightKinds();
+  EXPECT_TRUE(kinds.sky);
+  preparation.wait();
+  EXPECT_EQ(render.scene, &scene);
+  EXPECT_EQ(render.lightKinds, kinds);
+  EXPECT_FALSE(render.lights.empty());
+  EXPECT_LE(preparation.started, preparation.lightsCollected);
+  EXPECT_LE(preparation.lightsCollected, preparation.prepared);
+
+  const std::filesystem::path bad = std::filesystem::temp_directory_path() / "brushtrace-preparation-bad.map";
+  {
+    std::ofstream out(bad);
+    out << "{\n\"classname\" \"worldspawn\"\n{\n( 0 0 0 ) ( 1 0 0 ) ( 0 1 zero ) tex 0 0 0 1 1\n}\n}\n";
+  }
+  Scene badScene;
+  RenderScene badRender;
+  LevelPreparation failing(badScene, badRender, [&] { return importScene(bad.string(), {}); });
+  try {
+    failing.lightKinds();
+    ADD_FAILURE() << "lightKinds() returned for a map that does not import";
+  } catch (const ImportError& e) {
+    EXPECT_NE(std::string(e.what()).find("brushtrace-preparation-bad.map:4:"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(failing.wait(), ImportError);
+  std::filesystem::remove(bad);
 }
 
 // Normal maps in physical mode (renderer/cpu shadingNormal, pathtrace.comp physicalSurface): a
