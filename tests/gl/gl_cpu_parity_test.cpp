@@ -410,6 +410,14 @@ TEST(GlCpuParity, NormalMappedWallAgreesWithTheCpuReference) {
     RenderImage cpu;
     const RenderImage gpu = renderBoth(bumps.render(), bumps.pose(), settings, cpu);
     expectBeautyAgrees(gpu, cpu, 0.03);
+    // The normal AOV stays the face's own normal on both tracers.
+    size_t wall = 0;
+    for (size_t i = 0; i < gpu.face.size() && i < cpu.face.size(); ++i)
+      if (cpu.face[i] == bumps.wallFace() + 1 && gpu.face[i] == cpu.face[i]) {
+        ++wall;
+        EXPECT_LT(glm::length(gpu.normal[i] - glm::vec3(-1.0f, 0.0f, 0.0f)), 1e-6f) << "pixel " << i;
+      }
+    EXPECT_GT(wall, cpu.face.size() / 2);
 
     const RenderImage withoutMap = renderCpu(flat.render(), Camera(flat.pose(), settings.width, settings.height), settings);
     size_t moved = 0;
