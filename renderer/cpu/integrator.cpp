@@ -585,8 +585,8 @@ glm::vec3 pointLightUnshadowed(const RenderScene& rs, const Bsdf& bsdf, const Gp
 }
 
 // How likely light selection picks a point light from the near list: its unshadowed
-// irradiance at `origin` on the plane of shading normal n, summed over colour channels (at the light's own
-// origin: the pick does not depend on the _deviance jitter).
+// irradiance at `origin` on the plane of shading normal n, summed over colour channels (at the
+// light's own origin: the pick does not depend on the _deviance jitter).
 float selectionWeight(const GpuLight& light, const glm::vec3& origin, const glm::vec3& n) {
   const glm::vec3 d = light.origin - origin;
   const float dist2 = glm::dot(d, d);
