@@ -561,8 +561,8 @@ bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
   bool shaded = (flags & FACE_SKY) == 0u && path.depth < world.bounces + 1;
   // The base colour, for the sky and the BSDF, and the normal map where a shaded surface's
   // material has one, read in one loop: each place that reads a texture is a copy of the
-  // sampling code for the driver to compile (textures.glsl), and a second place cost llvmpipe
-  // about a second more per physical program.
+  // sampling code for the driver to compile (textures.glsl): a second place cost llvmpipe about
+  // 0.8 s more CPU per physical program built, this loop about 0.3 s (medians of 5, 2-core VM).
   vec4 base = vec4(0.5, 0.5, 0.5, 1.0); // a material without a texture is mid grey (materialBaseColor)
   vec3 normalTexel = vec3(0.0);
   uint firstMap = (m.flags & MATERIAL_HAS_BASE) != 0u ? MAP_BASE : MAP_NORMAL;
