@@ -44,7 +44,13 @@ int runBench(const BenchOptions& options) {
              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   gl::GlBenchSettings settings{width, height, options.bounces, options.seconds, *textureMode, options.lighting == "physical"};
   // The first image is timed with the import inside it, as `render` gets there.
-  return gl::runGlBench([&] { return importScene(options.map, options.import); }, settings);
+  return gl::runGlBench(
+      [&](const gl::EntitiesRead& entitiesRead) {
+        ImportOptions import = options.import;
+        import.entitiesRead = entitiesRead;
+        return importScene(options.map, import);
+      },
+      settings);
 }
 
 } // namespace

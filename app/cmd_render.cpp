@@ -72,8 +72,12 @@ int runRender(const RenderOptions& o) {
   Scene scene;
   RenderScene renderScene;
   Diagnostics lightDiagnostics;
-  gl::LevelPreparation preparation(scene, renderScene, [&] { return importScene(mapPath, o.import); }, sceneOptions,
-                                   &lightDiagnostics);
+  auto importLevel = [&](const gl::EntitiesRead& entitiesRead) {
+    ImportOptions import = o.import;
+    import.entitiesRead = entitiesRead;
+    return importScene(mapPath, import);
+  };
+  gl::LevelPreparation preparation(scene, renderScene, importLevel, sceneOptions, &lightDiagnostics);
 
   // gl and auto render on the GL tracer when a GL 4.5 context can be made; otherwise one line
   // says why and the CPU reference renders instead. auto also passes over a software GL

@@ -3,6 +3,7 @@
 
 #include "scene/scene.h"
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,6 +28,11 @@ struct TextureSearch {
 struct ImportOptions {
   std::optional<MapDialect> dialect; // --dialect forces one; otherwise detected
   TextureSearch textures;
+  // Called once, before the textures are loaded, with the scene's entities as they will be
+  // returned (its faces' texture frames may still change; materials are names only then). Loading textures is most of a
+  // textured import (lq_e4m3: 130 PNGs); a front end acts on the level's lights meanwhile
+  // (renderer/gl LevelPreparation starts the GL programs they need).
+  std::function<void(const Scene&)> entitiesRead;
 };
 
 // Opens a .map or .bsp (or "archive.pk3:maps/x.bsp") and returns its scene with materials

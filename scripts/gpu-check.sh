@@ -1,16 +1,18 @@
 #!/usr/bin/env bash
 # GPU proof of the GL tracer (issue 4), repeatable by anyone with the `device` tool:
-#   1. builds the GL test binary (gl_tests) and the GL benchmark (bench/gl_bench) here; both
-#      link only GL, epoxy and fmt (the importers' OpenImageIO brings over 300 MB of libraries,
-#      far over what travels), so the benchmark map is imported here and carried as a
-#      `brushtrace dump --json` file (geometry, entities and lights; textures stay behind);
-#   2. bundles them with their non-system shared libraries (from ldd) and the dump into
+#   1. builds here the GL test binaries (gl_tests; gl_parity_tests_portable, the CPU-parity
+#      tests) and the GL benchmark (bench/gl_bench). Those that import levels link the importers
+#      without OpenImageIO (bt_importers_portable: loose images are PNGs, through libpng), whose
+#      libraries (over 300 MB) could not travel; everything else is as in `brushtrace`;
+#   2. bundles them, stripped of debug info, with their non-system shared libraries (from ldd),
+#      the benchmark level (the largest shared map, as `brushtrace bench` would read it: the .map
+#      and its textures) and the shared test maps the parity tests read, into
 #      <repo the device tool sends>/.device-bundle/ (git-ignored);
 #   3. prints the `run` call that executes .device-bundle/run-on-device.sh on the GPU machine:
-#      the GL tests with bindless textures forced and again with texture arrays, then
-#      gl_bench on the map with each texture path (NVIDIA's own shader cache off, so its
-#      cold first image is a real compile). `run-on-device.sh quick` runs the benchmark alone,
-#      `run-on-device.sh first-image [N]` the cold first image N times.
+#      the GL tests and the parity tests with bindless textures forced, the GL tests again with
+#      texture arrays, then gl_bench on the level with each texture path (NVIDIA's own shader
+#      cache off, so its cold first image is a real compile). `run-on-device.sh quick` runs the
+#      benchmark alone, `run-on-device.sh first-image [N]` the cold first image N times.
 # The GL loader packages (libEGL, libGL, libglvnd, ...) travel in .gl/, fetched once as
 # /work/.library/device/README.md describes; the NVIDIA driver supplies the rest there.
 #
@@ -21,22 +23,29 @@ device_repo=${1:-/work/main}
 build=${BUILD_DIR:-$repo/build}
 shared=${BRUSHTRACE_SHARED_DIR:-$repo/../shared}
 bundle=$device_repo/.device-bundle
-map_rel=librequake/lq1/maps/src/e4/lq_e4m3.map # the largest shared map (3.9 MB, Quake standard)
+map_rel=maps/librequake/lq1/maps/src/e4/lq_e4m3.map # the largest shared map (3.9 MB, Quake standard)
 
-cmake --build "$build" -j2 --target brushtrace gl_tests gl_bench bench_bvh_generated
+cmake --build "$build" -j2 --target gl_tests gl_parity_tests_portable gl_bench bench_bvh_generated
 
 tmp=$bundle.tmp
 rm -rf "$tmp"
-mkdir -p "$tmp/lib"
-cp "$build/tests/gl/gl_tests" "$build/bench/gl_bench" "$build/bench/bench_bvh_generated" "$tmp/"
-"$build/brushtrace" dump "$shared/maps/$map_rel" --json >"$tmp/map.json"
+mkdir -p "$tmp/lib" "$tmp/shared"
+binaries=(gl_tests gl_parity_tests_portable gl_bench bench_bvh_generated)
+cp "$build/tests/gl/gl_tests" "$build/tests/gl/gl_parity_tests_portable" "$build/bench/gl_bench" \
+  "$build/bench/bench_bvh_generated" "$tmp/"
+for binary in "${binaries[@]}"; do strip --strip-debug "$tmp/$binary"; done
+# The shared data the benchmark and the parity tests read, at the same paths under shared/.
+for rel in "$map_rel" maps/librequake/lq1/maps/src/misc/slope.map maps/librequake/texture-wads maps/ericw-tools/testmaps; do
+  mkdir -p "$tmp/shared/$(dirname "$rel")"
+  cp -r "$shared/$rel" "$tmp/shared/$rel"
+done
 
 # Every library ldd resolves except glibc's and GCC's runtime (the GPU machine's are newer,
 # hence compatible, and the NVIDIA driver loads them too) and the GL/EGL/Vulkan loaders, which
 # must be the ones that find the NVIDIA driver there.
 system_libs='^(linux-vdso|ld-linux|libc|libm|libdl|libpthread|librt|libresolv|libstdc\+\+|libgcc_s|libEGL|libGL|libGLX|libGLdispatch|libOpenGL|libGLES|libvulkan)[.-]'
-for binary in "$tmp/gl_bench" "$tmp/gl_tests" "$tmp/bench_bvh_generated"; do
-  ldd "$binary" | awk '$3 ~ /^\// {print $1, $3}' | while read -r name path; do
+for binary in "${binaries[@]}"; do
+  ldd "$tmp/$binary" | awk '$3 ~ /^\// {print $1, $3}' | while read -r name path; do
     if [[ ! $name =~ $system_libs ]]; then cp -Ln "$path" "$tmp/lib/"; fi
   done
 done
@@ -49,6 +58,7 @@ for f in .gl/*.deb; do dpkg -x "\$f" /; done
 ldconfig
 export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
 export LD_LIBRARY_PATH=\$PWD/.device-bundle/lib
+export BRUSHTRACE_SHARED_DIR=\$PWD/.device-bundle/shared BRUSHTRACE_SOURCE_DIR=\$PWD
 out=\${OUT:-/tmp/out}
 mkdir -p "\$out"
 nvidia-smi -L
@@ -68,7 +78,7 @@ if [ "\${1:-}" = cpu ]; then cpu_benchmarks; exit 0; fi
 if [ "\${1:-}" = quick ]; then
   for lighting in faithful physical; do
     echo "== gl_bench $map_rel, bindless, \$lighting, cold"
-    __GL_SHADER_DISK_CACHE=0 ./gl_bench map.json 1280x720 bindless \$lighting 1 2>&1 | tee -a \$out/bench_quick.log
+    __GL_SHADER_DISK_CACHE=0 ./gl_bench shared/$map_rel 1280x720 bindless \$lighting 1 2>&1 | tee -a \$out/bench_quick.log
   done
   exit 0
 fi
@@ -76,7 +86,7 @@ fi
 # it varies by a tenth of a second from run to run, so one run says little.
 if [ "\${1:-}" = first-image ]; then
   for run in \$(seq "\${2:-5}"); do
-    __GL_SHADER_DISK_CACHE=0 ./gl_bench map.json 1280x720 bindless faithful 0.1 2>&1 |
+    __GL_SHADER_DISK_CACHE=0 ./gl_bench shared/$map_rel 1280x720 bindless faithful 0.1 2>&1 |
       grep -A1 'time to first image, wavefront' | tee -a \$out/bench_first_image.log
   done
   exit 0
@@ -85,6 +95,9 @@ fi
 echo "== GL tests, bindless forced (GL debug output on)"
 BT_GL_DEBUG=1 BT_GL_TEXTURES=bindless ./gl_tests >\$out/gl_tests_bindless.log 2>&1
 echo "exit \$?"; grep -E '^GL context|GL context on|passed over|^\[  (FAILED|PASSED|SKIPPED) |GL debug' \$out/gl_tests_bindless.log | sort -u | head -30
+echo "== GL parity tests (against the CPU reference), bindless forced (GL debug output on)"
+BT_GL_DEBUG=1 BT_GL_TEXTURES=bindless ./gl_parity_tests_portable >\$out/gl_parity_tests_bindless.log 2>&1
+echo "exit \$?"; grep -E '^\[  (FAILED|PASSED|SKIPPED) |GL debug' \$out/gl_parity_tests_bindless.log | sort -u | head -30
 echo "== GL tests, texture arrays forced"
 BT_GL_TEXTURES=arrays ./gl_tests >\$out/gl_tests_arrays.log 2>&1
 echo "exit \$?"; grep -E '^\[  (FAILED|PASSED|SKIPPED) ' \$out/gl_tests_arrays.log | head -20
@@ -92,14 +105,14 @@ echo "exit \$?"; grep -E '^\[  (FAILED|PASSED|SKIPPED) ' \$out/gl_tests_arrays.l
 # and "warm" is brushtrace's program binary cache alone (the tests above filled the driver's).
 for textures in bindless arrays; do
   echo "== gl_bench $map_rel, \$textures (full samples in both lighting modes)"
-  __GL_SHADER_DISK_CACHE=0 ./gl_bench map.json 1280x720 \$textures physical 6 2>&1 | tee \$out/bench_\$textures.log
+  __GL_SHADER_DISK_CACHE=0 ./gl_bench shared/$map_rel 1280x720 \$textures physical 6 2>&1 | tee \$out/bench_\$textures.log
 done
 cpu_benchmarks
 # As a user starts it: the driver's own shader cache on (its default), the first image in
 # faithful mode; the second run finds both caches filled.
 for run in first second; do
   echo "== gl_bench, bindless, faithful, driver cache on (\$run run)"
-  ./gl_bench map.json 1280x720 bindless faithful 2 2>&1 | grep -E 'time to first image' | tee -a \$out/bench_driver_cache.log
+  ./gl_bench shared/$map_rel 1280x720 bindless faithful 2 2>&1 | grep -E 'time to first image' | tee -a \$out/bench_driver_cache.log
 done
 SCRIPT
 chmod +x "$tmp/run-on-device.sh"

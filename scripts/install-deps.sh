@@ -12,7 +12,7 @@ packages=(
   glslang-dev glslang-tools
   libcli11-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libimgui-dev libzip-dev
+  libimgui-dev libzip-dev libpng-dev
   xvfb xauth
 )
 if [[ "${1:-}" == "--with-test-data" ]]; then

@@ -12,7 +12,12 @@ std::optional<std::filesystem::path> sharedDir() {
   return std::filesystem::weakly_canonical(dir, ec);
 }
 
-std::filesystem::path sourceDir() { return BRUSHTRACE_SOURCE_DIR; }
+// $BRUSHTRACE_SOURCE_DIR overrides the build's own path for test binaries carried to another
+// machine (scripts/gpu-check.sh), where the repository sits elsewhere.
+std::filesystem::path sourceDir() {
+  if (const char* env = std::getenv("BRUSHTRACE_SOURCE_DIR"); env && *env) return env;
+  return BRUSHTRACE_SOURCE_DIR;
+}
 std::filesystem::path binaryDir() { return BRUSHTRACE_BINARY_DIR; }
 std::filesystem::path mapsDir() { return sourceDir() / "maps"; }
 

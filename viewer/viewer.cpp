@@ -47,7 +47,11 @@ std::vector<fs::path> filesOf(const Scene& scene) {
 std::unique_ptr<Level> loadLevel(const ViewerOptions& options, gl::GlContext& context,
                                  const std::shared_ptr<gl::TracerPrograms>& programs, bool physical) {
   auto level = std::make_unique<Level>();
-  gl::loadGlLevel(*level, context, programs, physical, [&] { return importScene(options.map, options.import); });
+  gl::loadGlLevel(*level, context, programs, physical, [&](const gl::EntitiesRead& entitiesRead) {
+    ImportOptions import = options.import;
+    import.entitiesRead = entitiesRead;
+    return importScene(options.map, import);
+  });
   level->files = filesOf(level->scene);
   return level;
 }

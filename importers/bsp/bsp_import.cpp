@@ -282,6 +282,7 @@ Scene importBsp(const std::string& path, const ImportOptions& options) {
   }
 
   MaterialResolver resolve = [&](Scene& scene) {
+    if (options.entitiesRead) options.entitiesRead(scene);
     if (options.textures.load) {
       if (bsp.isQuake1Family()) decodeEmbeddedMiptex(bsp, scene, options.textures);
       if (bsp.version == Version::Quake3_46)

@@ -21,7 +21,7 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 } // namespace
 
-int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& s) {
+int runGlBench(const LevelImport& importLevel, const GlBenchSettings& s) {
   // Time to first image: the level's import started on a worker thread, the context made
   // meanwhile, the path tracer's compile started (it runs on the driver's threads where the
   // driver has them) once the level's lights are known, the level prepared meanwhile, uploaded,
@@ -44,7 +44,7 @@ int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& s
     level = std::make_unique<gl::GlLevel>();
     gl::GlLevelTimes times;
     {
-      const std::unique_ptr<gl::LevelPreparation> preparation = gl::prepareGlLevel(*level, loadScene);
+      const std::unique_ptr<gl::LevelPreparation> preparation = gl::prepareGlLevel(*level, importLevel);
       context = gl::GlContext::createHeadless();
       times.contextMade = Clock::now();
       auto programs = std::make_shared<gl::TracerPrograms>(*context, s.textures);

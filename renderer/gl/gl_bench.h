@@ -2,6 +2,7 @@
 // carry the importers' image libraries): ray rates, full samples per second, time to first image.
 #pragma once
 
+#include "renderer/gl/gl_level.h"
 #include "renderer/gl/gl_textures.h"
 #include "scene/scene.h"
 
@@ -19,9 +20,10 @@ struct GlBenchSettings {
 };
 
 // Prints the measurements to stdout; returns the exit status (1 if GL reported errors).
-// `loadScene` imports the level: it is timed as part of the first image, which is measured the
-// way `brushtrace render` gets there (context, the path tracer's compile started, import,
-// upload, the compile's end, one sample).
-int runGlBench(const std::function<Scene()>& loadScene, const GlBenchSettings& settings);
+// `importLevel` imports the level: it is timed as part of the first image, which is measured
+// the way `brushtrace render` gets there (gl::LevelPreparation and gl::loadGlLevel: the import
+// started, the context, the path tracer's compile started once the lights are read, the
+// preparation, upload, the compile's end, one sample).
+int runGlBench(const LevelImport& importLevel, const GlBenchSettings& settings);
 
 } // namespace bt::gl

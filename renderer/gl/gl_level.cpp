@@ -2,26 +2,34 @@
 
 #include "renderer/gl/gl_lighting.h"
 
+#include <optional>
+
 namespace bt::gl {
 
-LevelPreparation::LevelPreparation(Scene& scene, RenderScene& render, std::function<Scene()> importLevel,
-                                   RenderSceneOptions options, Diagnostics* lightDiagnostics)
+LevelPreparation::LevelPreparation(Scene& scene, RenderScene& render, LevelImport importLevel, RenderSceneOptions options,
+                                   Diagnostics* lightDiagnostics)
     : kinds_(kindsPromise_.get_future().share()) {
   done_ = std::async(std::launch::async, [this, &scene, &render, importLevel = std::move(importLevel),
                                           options = std::move(options), lightDiagnostics] {
-    bool kindsSet = false;
+    std::optional<SceneLights> lights;
+    Diagnostics collectDiagnostics;
+    // The lights need the entities only, so they are collected as soon as the importer has them.
+    auto collect = [&](const Scene& read) {
+      if (lights) return;
+      lights = collectLights(read, options.lights, collectDiagnostics);
+      lightsCollected = Clock::now();
+      kindsPromise_.set_value(bt::lightKinds(*lights, options.bounceLights));
+    };
     try {
       started = Clock::now();
-      scene = importLevel();
+      scene = importLevel(collect);
+      collect(scene); // an importer that did not say when it had the entities
       Diagnostics& diagnostics = lightDiagnostics ? *lightDiagnostics : scene.diagnostics;
-      SceneLights lights = collectLights(scene, options.lights, diagnostics);
-      lightsCollected = Clock::now();
-      kindsPromise_.set_value(bt::lightKinds(lights, options.bounceLights));
-      kindsSet = true;
-      render = buildRenderScene(scene, std::move(lights), options, diagnostics);
+      diagnostics.insert(diagnostics.end(), collectDiagnostics.begin(), collectDiagnostics.end());
+      render = buildRenderScene(scene, std::move(*lights), options, diagnostics);
       prepared = Clock::now();
     } catch (...) {
-      if (!kindsSet) kindsPromise_.set_exception(std::current_exception());
+      if (!lights) kindsPromise_.set_exception(std::current_exception());
       throw;
     }
   });
@@ -36,7 +44,7 @@ void LevelPreparation::wait() {
   if (done_.valid()) done_.get();
 }
 
-std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, std::function<Scene()> importLevel) {
+std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport importLevel) {
   return std::make_unique<LevelPreparation>(level.scene, level.render, std::move(importLevel));
 }
 
@@ -70,7 +78,7 @@ void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& conte
 }
 
 void loadGlLevel(GlLevel& level, GlContext& context, const std::shared_ptr<TracerPrograms>& programs, bool physical,
-                 const std::function<Scene()>& importLevel, GlLevelTimes* times) {
+                 const LevelImport& importLevel, GlLevelTimes* times) {
   const std::unique_ptr<LevelPreparation> preparation = prepareGlLevel(level, importLevel);
   loadGlLevel(level, *preparation, context, programs, physical, times);
 }

@@ -366,10 +366,19 @@ TEST(LevelPreparation, GivesTheLightKindsFirstAndTheImportsErrors) {
   ASSERT_TRUE(std::filesystem::exists(map));
   Scene scene;
   RenderScene render;
-  LevelPreparation preparation(scene, render, [&] { return importScene(map.string(), {}); });
+  bool readEarly = false;
+  LevelPreparation preparation(scene, render, [&](const EntitiesRead& entitiesRead) {
+    ImportOptions options;
+    options.entitiesRead = [&](const Scene& read) {
+      readEarly = read.materials.empty() || read.materials.front().baseColor.empty(); // before the textures
+      entitiesRead(read);
+    };
+    return importScene(map.string(), options);
+  });
   const LightKinds kinds = preparation.lightKinds();
   EXPECT_TRUE(kinds.sky);
   preparation.wait();
+  EXPECT_TRUE(readEarly) << "the lights were collected after the textures were loaded";
   EXPECT_EQ(render.scene, &scene);
   EXPECT_EQ(render.lightKinds, kinds);
   EXPECT_FALSE(render.lights.empty());
@@ -383,7 +392,7 @@ TEST(LevelPreparation, GivesTheLightKindsFirstAndTheImportsErrors) {
   }
   Scene badScene;
   RenderScene badRender;
-  LevelPreparation failing(badScene, badRender, [&] { return importScene(bad.string(), {}); });
+  LevelPreparation failing(badScene, badRender, [&](const EntitiesRead&) { return importScene(bad.string(), {}); });
   try {
     failing.lightKinds();
     ADD_FAILURE() << "lightKinds() returned for a map that does not import";
