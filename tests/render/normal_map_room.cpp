@@ -4,7 +4,10 @@
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
+#include <png.h>
+#include <unistd.h>
 
+#include <atomic>
 #include <cmath>
 #include <fstream>
 #include <stdexcept>
@@ -16,8 +19,17 @@ namespace {
 constexpr int kInside = 128; // the room's inside is [-128, 128] x [-128, 128] x [0, 256]
 constexpr int kWall = 16;
 
-void writeRgb(const std::filesystem::path& path, const RgbImage& image) {
-  writeImage(path, image.width, image.height, 3, image.rgb);
+namespace fs = std::filesystem;
+
+void writeRgb(const fs::path& path, const RgbImage& image) {
+  fs::create_directories(path.parent_path());
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  png.width = png_uint_32(image.width);
+  png.height = png_uint_32(image.height);
+  png.format = PNG_FORMAT_RGB;
+  if (!png_image_write_to_file(&png, path.c_str(), 0, image.rgb.data(), 0, nullptr))
+    throw std::runtime_error("cannot write " + path.string() + ": " + png.message);
 }
 
 std::string vec(const glm::ivec3& v) { return fmt::format("( {} {} {} )", v.x, v.y, v.z); }
@@ -87,19 +99,31 @@ RgbImage bumpsNormalMap(int width, int height) {
   return image;
 }
 
+NormalMapRoom::Folder::Folder() {
+  static std::atomic<int> counter{0};
+  path = fs::temp_directory_path() / fmt::format("bt_normal_map_room_{}_{}", ::getpid(), counter++);
+  fs::remove_all(path);
+  fs::create_directories(path);
+}
+
+NormalMapRoom::Folder::~Folder() {
+  std::error_code ec;
+  fs::remove_all(path, ec);
+}
+
 NormalMapRoom::NormalMapRoom(const NormalMapRoomOptions& options) {
-  writeRgb(dir_ / "textures/bumpy.png", uniformRgb(16, 16, 180, 180, 180));
-  writeRgb(dir_ / "textures/plain.png", uniformRgb(16, 16, 120, 120, 120));
-  if (!options.normalMap.rgb.empty()) writeRgb(dir_ / "textures/bumpy_norm.png", options.normalMap);
-  if (options.glossy) writeRgb(dir_ / "textures/bumpy_rough.png", uniformRgb(16, 16, 89, 89, 89));
-  const std::filesystem::path mapPath = dir_ / "room.map";
+  writeRgb(dir_.path / "textures/bumpy.png", uniformRgb(16, 16, 180, 180, 180));
+  writeRgb(dir_.path / "textures/plain.png", uniformRgb(16, 16, 120, 120, 120));
+  if (!options.normalMap.rgb.empty()) writeRgb(dir_.path / "textures/bumpy_norm.png", options.normalMap);
+  if (options.glossy) writeRgb(dir_.path / "textures/bumpy_rough.png", uniformRgb(16, 16, 89, 89, 89));
+  const fs::path mapPath = dir_.path / "room.map";
   {
     std::ofstream out(mapPath);
     out << roomMap(options);
     if (!out) throw std::runtime_error("cannot write " + mapPath.string());
   }
   ImportOptions import;
-  import.textures.textureDirs.push_back((dir_ / "textures").string());
+  import.textures.textureDirs.push_back((dir_.path / "textures").string());
   scene_ = importScene(mapPath.string(), import);
   bool found = false;
   for (uint32_t i = 0; i < scene_.faces.size(); ++i)

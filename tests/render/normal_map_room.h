@@ -1,6 +1,8 @@
 // A small level for normal-map tests, imported the way users load one: a Valve 220 .map and
 // loose PNG textures (base colour plus a `_norm` companion) written to a temporary folder, read
-// through importScene with that folder as a texture folder (`--textures DIR`).
+// through importScene with that folder as a texture folder (`--textures DIR`). The PNGs are
+// written with libpng, not OpenImageIO, so that the GPU check's portable parity tests
+// (bt_importers_portable) use the room too.
 //
 // The room is 256 units on a side. Its +x wall, seen from inside (face normal -x), carries the
 // texture "bumpy"; the camera looks at it from the room's middle, so it fills the image. The
@@ -12,12 +14,11 @@
 #include "renderer/cpu/camera.h"
 #include "renderer/cpu/render_scene.h"
 #include "scene/scene.h"
-#include "tests/textures/texture_fixtures.h"
 
 #include <glm/vec3.hpp>
 
 #include <cstdint>
-#include <memory>
+#include <filesystem>
 #include <vector>
 
 namespace bt::test {
@@ -53,7 +54,16 @@ public:
   uint32_t wallFace() const { return wallFace_; } // index into scene().faces
 
 private:
-  TempDir dir_;
+  // A fresh folder under the system's temporary one, removed with its files.
+  struct Folder {
+    Folder();
+    ~Folder();
+    Folder(const Folder&) = delete;
+    Folder& operator=(const Folder&) = delete;
+    std::filesystem::path path;
+  };
+
+  Folder dir_; // the .map and its textures
   Scene scene_;
   RenderScene render_; // points into scene_
   uint32_t wallFace_ = 0;
