@@ -2,7 +2,8 @@
 // and buildRenderScene (lights, surface light points, emitters, BVH, light grid), on the largest
 // shared map (LibreQuake lq_e4m3: 3399 brushes, 2685 lights), a mid-sized one (lqdm5) and the
 // largest oracle .bsp; a level with `_bounce` (lq_e3m1), whose bounce lights are made here too;
-// plus the light grid alone, the largest single step.
+// plus the light grid alone, the largest single step, and on lq_e3m1 its bounce lights added to
+// the direct lights' grid (what buildRenderScene does) against the grid made at once.
 //   build/bench/bench_prepare_level [--benchmark_filter=...]
 #include "importers/import.h"
 #include "renderer/cpu/render_scene.h"
@@ -62,6 +63,24 @@ void BM_BuildLightGrid(benchmark::State& state, const std::string& level) {
   state.counters["cells"] = double(rs.lightGrid.cells.size() / 2);
 }
 
+// A `_bounce` level's grid as buildRenderScene makes it: the direct lights' grid, then the bounce
+// lights added to it (extendLightGrid), against BM_BuildLightGrid's grid of every light at once.
+void BM_ExtendLightGrid(benchmark::State& state, const std::string& level) {
+  const std::string& path = kLevels.at(level);
+  if (!present(state, path)) return;
+  const Scene scene = importScene(path, ImportOptions{});
+  Diagnostics diagnostics;
+  const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+  RenderSceneOptions directOnly;
+  directOnly.bounceLights = false;
+  const RenderScene direct = buildRenderScene(scene, directOnly, diagnostics);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(extendLightGrid(direct.lightGrid, rs.lights, uint32_t(direct.lights.size()), rs.tracer.bounds(),
+                                             rs.world.scaledist)
+                                 .indices.data());
+  state.counters["added"] = double(rs.lights.size() - direct.lights.size());
+}
+
 } // namespace
 
 BENCHMARK_CAPTURE(BM_Import, lq_e4m3, std::string("lq_e4m3"))->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -70,6 +89,8 @@ BENCHMARK_CAPTURE(BM_BuildLightGrid, lq_e4m3, std::string("lq_e4m3"))->Unit(benc
 BENCHMARK_CAPTURE(BM_Import, lqdm5, std::string("lqdm5"))->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_BuildRenderScene, lqdm5, std::string("lqdm5"))->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_BuildRenderScene, lq_e3m1, std::string("lq_e3m1"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_BuildLightGrid, lq_e3m1, std::string("lq_e3m1"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_ExtendLightGrid, lq_e3m1, std::string("lq_e3m1"))->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_Import, lq_e4m3_bsp, std::string("lq_e4m3_bsp"))->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_BuildRenderScene, lq_e4m3_bsp, std::string("lq_e4m3_bsp"))->Unit(benchmark::kMillisecond)->UseRealTime();
 

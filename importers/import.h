@@ -28,10 +28,12 @@ struct TextureSearch {
 struct ImportOptions {
   std::optional<MapDialect> dialect; // --dialect forces one; otherwise detected
   TextureSearch textures;
-  // Called once, before the textures are loaded, with the scene's entities as they will be
-  // returned (its faces' texture frames may still change; materials are names only then). Loading textures is most of a
-  // textured import (lq_e4m3: 130 PNGs); a front end acts on the level's lights meanwhile
-  // (renderer/gl LevelPreparation starts the GL programs they need).
+  // Called once, as soon as the importer has the level's entities: with a scene that holds them
+  // with their keys as the file gives them, and maybe more. A .map's comes right after the
+  // parse, before its brushes are built and its textures loaded (entities only; qbsp's keys for
+  // brush entities, such as an origin brush's, not added yet); a .bsp's before its textures.
+  // A front end acts on the level's lights meanwhile (renderer/gl LevelPreparation starts the
+  // GL programs they need: lq_e4m3's parse is about half of its import).
   std::function<void(const Scene&)> entitiesRead;
 };
 

@@ -321,8 +321,19 @@ Scene buildScene(const MapDocument& doc, const std::vector<Material>* loaded) { 
 
 Scene importMap(const std::string& path, const ImportOptions& options) {
   const MapDocument doc = readMapFile(path, options.dialect);
+  if (options.entitiesRead) {
+    Scene entities;
+    entities.sourcePath = doc.path;
+    entities.format = toString(doc.dialect);
+    for (const MapEntity& me : doc.entities) {
+      Entity e;
+      e.line = me.line;
+      e.keys = me.keys;
+      entities.entities.push_back(std::move(e));
+    }
+    options.entitiesRead(entities);
+  }
   Scene scene = buildScene(doc);
-  if (options.entitiesRead) options.entitiesRead(scene);
   loadMaterials(scene, options.textures);
   const bool brushPrimitives = std::any_of(doc.entities.begin(), doc.entities.end(), [](const MapEntity& e) {
     return std::any_of(e.brushes.begin(), e.brushes.end(), [](const MapBrush& b) { return b.kind == MapBrush::Kind::BrushDef; });

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -395,8 +396,9 @@ enum class LightSource { All, Grid, GridSampledBounce };
 
 // The faithful light sum at p: the dirt occlusion first, then the lights, then the floors.
 glm::vec3 faithfulSum(const RenderScene& rs, LightSource source, const Receiver& r, const glm::vec3& faceMinlight, Rng& rng,
-                      FaithfulLights which = FaithfulLights::Shown, int* bounceShadowRays = nullptr) {
-  const float occlusion = faithfulOcclusion(rs, r.p, r.n, rng);
+                      FaithfulLights which = FaithfulLights::Shown, int* bounceShadowRays = nullptr,
+                      std::optional<float> knownOcclusion = std::nullopt) {
+  const float occlusion = knownOcclusion ? *knownOcclusion : faithfulOcclusion(rs, r.p, r.n, rng);
   glm::vec3 sum(0.0f), localMin(0.0f);
   auto add = [&](const GpuLight& light) {
     if (which == FaithfulLights::BounceSources && !feedsBounce(light, rs.world)) return;
@@ -443,8 +445,10 @@ glm::vec3 faithfulLightSampled(const RenderScene& rs, const glm::vec3& p, const 
                      FaithfulLights::Shown, bounceShadowRays);
 }
 
-glm::vec3 faithfulBounceSourceLight(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided) {
-  return faithfulSum(rs, LightSource::Grid, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng, FaithfulLights::BounceSources);
+glm::vec3 faithfulBounceSourceLight(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided,
+                                    std::optional<float> occlusion) {
+  return faithfulSum(rs, LightSource::Grid, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng, FaithfulLights::BounceSources,
+                     nullptr, occlusion);
 }
 
 glm::vec3 faithfulLightFrom(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p, const glm::vec3& n,
@@ -463,6 +467,21 @@ glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLig
   const float occlusion = faithfulOcclusion(rs, p, n, rng);
   return sampledBounceSum(rs, lights.size(), [&](size_t i) -> const GpuLight& { return lights[i]; }, r, occlusion, rng,
                           maxShadowRays);
+}
+
+glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights,
+                                   std::span<const uint32_t> candidates, const glm::vec3& p, const glm::vec3& n, Rng& rng,
+                                   bool twoSided, size_t maxShadowRays, std::optional<float> knownOcclusion) {
+  const Receiver r{p, n, twoSided};
+  const float occlusion = knownOcclusion ? *knownOcclusion : faithfulOcclusion(rs, p, n, rng);
+  // Whether to draw goes by every light, as above: a few candidates still take the draw.
+  if (lights.size() <= maxShadowRays) {
+    glm::vec3 sum(0.0f), localMin(0.0f);
+    for (const GpuLight& light : lights) addFaithfulLight(rs, light, r, occlusion, rng, sum, localMin);
+    return sum;
+  }
+  return sampledBounceSum(rs, candidates.size(), [&](size_t i) -> const GpuLight& { return lights[candidates[i]]; }, r,
+                          occlusion, rng, maxShadowRays);
 }
 
 glm::vec3 faithfulFaceMinlight(const RenderScene& rs, uint32_t face) {

@@ -7,6 +7,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <optional>
 #include <span>
 
 namespace bt {
@@ -103,9 +104,12 @@ glm::vec3 faithfulLightSampled(const RenderScene& rs, const glm::vec3& p, const 
 
 // What ericw-tools' bounce re-emits of the light at p (ltface.cc's bounce_color, from the grid's
 // lists): the positive lights of style 0 (any style with `_bouncestyled`), no local minlight, no
-// floors, no bounce lights. bounce.h averages it over each face.
+// floors, no bounce lights. bounce.h averages it over each face. `occlusion`, when given, is
+// faithfulDirtOcclusion's at p, known already: only with `_dirtmode 0`, whose rays draw no random
+// numbers, so that the result is the same as without it (bounce.cpp samples a luxel in several
+// passes).
 glm::vec3 faithfulBounceSourceLight(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng,
-                                    bool twoSided = false);
+                                    bool twoSided = false, std::optional<float> occlusion = std::nullopt);
 
 // The sum of `lights` alone at p (each with its shadow ray and dirt), no floors: a later bounce
 // pass takes what the previous pass's bounce lights brought.
@@ -121,6 +125,15 @@ glm::vec3 faithfulLightFrom(const RenderScene& rs, std::span<const GpuLight> lig
 // the estimate stays unbiased there; faithfulLightSampled draws the same way at a shown point.
 glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p,
                                    const glm::vec3& n, Rng& rng, bool twoSided, size_t maxShadowRays);
+
+// The same number, from only the `candidates` among `lights` (indices, increasing) that can have
+// a share at p: every light left out must give exactly 0 there (light_grid.h's lists for a grid
+// of `lights` do). The draw sums the same shares in the same order, so the result is bit for bit
+// the one over every light; the bounce pass sweeps a few thousand lights instead of all. With
+// `occlusion`, as faithfulBounceSourceLight.
+glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights,
+                                   std::span<const uint32_t> candidates, const glm::vec3& p, const glm::vec3& n, Rng& rng,
+                                   bool twoSided, size_t maxShadowRays, std::optional<float> occlusion = std::nullopt);
 
 // Faithful mode: the floor a face's own radiosity `_surface` template puts under its light
 // (zero for every other face); the caller takes max(faithfulLightAt, this), with the minlight

@@ -9,14 +9,15 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <tuple>
+#include <utility>
 
 namespace bt {
 
 namespace {
 
-// Grid resolution: at most this many cells along the longest axis, and cells no smaller than
-// kMinCellSize (a typical light reaches 200-300 units, so finer cells only repeat the lists).
-constexpr uint32_t kMaxCellsPerAxis = 32;
+// Cells no smaller than this (a typical light reaches 200-300 units, so finer cells only repeat
+// the lists).
 constexpr float kMinCellSize = 64.0f;
 
 // Reach padding: distanceValue() is computed in float, so a point a hair beyond the exact reach
@@ -69,9 +70,11 @@ float distanceToCell2(const CellBox& cell, const glm::vec3& p) { return distance
 // A bounce light lights only what lies in front of its face (faithful::emitterTerm: 0 behind its
 // plane), so a cell wholly behind it, by more than float rounding at Quake's extents, never sees
 // it. About half of a level's cells lie behind any one face.
+constexpr float kBehindMargin = 1.0f;
+
 bool cellBehindBounceLight(const GpuLight& light, const CellBox& cell) {
   if (light.formula != uint32_t(LightFormula::Bounce)) return false;
-  constexpr float kMargin = 1.0f;
+  constexpr float kMargin = kBehindMargin;
   float farthest = 0.0f; // along the light's normal, of the cell's corners (infinite at a border)
   for (int a = 0; a < 3; ++a) {
     const float d = light.direction[a];
@@ -87,16 +90,17 @@ uint32_t clampedCell(const GpuLightGrid& g, int axis, float coordinate) {
   return std::min(uint32_t(f), g.dims[axis] - 1);
 }
 
-GpuLightGrid gridOver(const Bounds& bounds) {
+GpuLightGrid gridOver(const Bounds& bounds, uint32_t maxCellsPerAxis) {
   GpuLightGrid g;
   if (bounds.empty()) return g; // one cell, extended to infinity on every side
+  maxCellsPerAxis = std::max(maxCellsPerAxis, 1u);
   const glm::vec3 lo(bounds.min), hi(bounds.max);
   const glm::vec3 extent = hi - lo;
   const float longest = std::max({extent.x, extent.y, extent.z});
   g.origin = lo;
-  g.cellSize = std::max(longest / float(kMaxCellsPerAxis), kMinCellSize);
+  g.cellSize = std::max(longest / float(maxCellsPerAxis), kMinCellSize);
   for (int a = 0; a < 3; ++a)
-    g.dims[a] = std::clamp(uint32_t(std::ceil(extent[a] / g.cellSize)), 1u, kMaxCellsPerAxis);
+    g.dims[a] = std::clamp(uint32_t(std::ceil(extent[a] / g.cellSize)), 1u, maxCellsPerAxis);
   return g;
 }
 
@@ -306,38 +310,54 @@ uint32_t lightGridCell(const GpuLightGrid& g, const glm::vec3& p) {
   return clampedCell(g, 0, p.x) + g.dims[0] * (clampedCell(g, 1, p.y) + g.dims[1] * clampedCell(g, 2, p.z));
 }
 
-LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& bounds, float scaledist) {
-  LightGrid grid;
-  grid.header = gridOver(bounds);
-  const GpuLightGrid& g = grid.header;
+namespace {
 
-  for (uint32_t i = 0; i < lights.size(); ++i)
-    if (lights[i].type != uint32_t(LightType::Point) || lights[i].formula == uint32_t(LightFormula::LocalMin))
-      grid.indices.push_back(i);
-  grid.header.fixedCount = uint32_t(grid.indices.size());
+// Suns, domes and local minlights: looked at everywhere, one by one.
+bool isFixed(const GpuLight& l) {
+  return l.type != uint32_t(LightType::Point) || l.formula == uint32_t(LightFormula::LocalMin);
+}
 
-  grid.header.globalFirst = uint32_t(grid.indices.size());
-  for (uint32_t i = 0; i < lights.size(); ++i)
-    if (isFaithfulCandidate(lights[i]) && !std::isfinite(faithfulReach(lights[i], scaledist))) grid.indices.push_back(i);
-  grid.header.globalCount = uint32_t(grid.indices.size()) - grid.header.globalFirst;
+bool hasInfiniteReach(const GpuLight& l, float scaledist) {
+  return isFaithfulCandidate(l) && !std::isfinite(faithfulReach(l, scaledist));
+}
 
-  grid.header.physicalFirst = uint32_t(grid.indices.size());
-  for (uint32_t i = 0; i < lights.size(); ++i)
-    if (isPhysicalCandidate(lights[i])) grid.indices.push_back(i);
-  grid.header.physicalCount = uint32_t(grid.indices.size()) - grid.header.physicalFirst;
+// One axis's terms of distanceToCell2 (the squared distance from the light's origin to the
+// cell's slab) and of cellBehindBounceLight (the farthest the slab reaches along the light's
+// normal, 0 where the normal has no component): listing a light tests every cell in its reach,
+// and a cell's test is then two sums of three terms.
+struct CellTerms {
+  float distance2 = 0.0f;
+  float farthest = 0.0f;
+};
 
-  // Finite-reach lights into every cell their reach sphere touches: a large level's thousands of
-  // lights reach thousands of cells each, so the z-slices of cells are shared among threads
-  // (each slice takes the lights in the order above, so the lists do not depend on the threads).
+CellTerms cellTerms(const GpuLightGrid& g, int axis, uint32_t c, const GpuLight& light) {
+  uint32_t cell[3] = {0, 0, 0};
+  cell[axis] = c;
+  const CellBox box = cellBox(g, cell);
+  const float lo = box.lo[axis], hi = box.hi[axis], p = light.origin[axis], d = light.direction[axis];
+  const float distance = p < lo ? lo - p : (p > hi ? p - hi : 0.0f);
+  return {distance * distance, d != 0.0f ? d * ((d > 0.0f ? hi : lo) - p) : 0.0f};
+}
+
+// 0 (every core, at most one per z-slice) where a grid's work is large enough to share.
+unsigned gridThreads(size_t lights, const GpuLightGrid& g) {
+  return lights * g.dims[0] * g.dims[1] * g.dims[2] < 100000 ? 1u : 0u;
+}
+
+// The finite-reach faithful lights among lights[first, end) in every cell their reach sphere
+// touches: a large level's thousands of lights reach thousands of cells each, so the z-slices of
+// cells are shared among threads (each slice takes the lights in the order below, so the lists do
+// not depend on the threads). Bounce lights last, so that they end every cell's list
+// (trailingBounceLights): the others, then the bounce lights, in index order.
+std::vector<std::vector<uint32_t>> finiteReachLists(const GpuLightGrid& g, const std::vector<GpuLight>& lights, uint32_t first,
+                                                    float scaledist) {
   const size_t cellCount = size_t(g.dims[0]) * g.dims[1] * g.dims[2];
   struct Reach {
     uint32_t light;
     uint32_t lo[3], hi[3]; // the cells of its reach box
   };
-  // Bounce lights last, so that they end every cell's list (trailingBounceLights); the others,
-  // then the bounce lights, in index order.
-  std::vector<uint32_t> order(lights.size());
-  for (uint32_t i = 0; i < lights.size(); ++i) order[i] = i;
+  std::vector<uint32_t> order;
+  for (uint32_t i = first; i < lights.size(); ++i) order.push_back(i);
   std::stable_partition(order.begin(), order.end(),
                         [&](uint32_t i) { return lights[i].formula != uint32_t(LightFormula::Bounce); });
   std::vector<Reach> reaches;
@@ -353,22 +373,60 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
     reaches.push_back(r);
   }
   std::vector<std::vector<uint32_t>> lists(cellCount);
-  const unsigned threads = reaches.size() * cellCount < 100000 ? 1u : 0u; // 0: every core, at most one per slice
-  auto forSlices = [&](const auto& perSlice) { parallelFor(g.dims[2], threads, [&](size_t z) { perSlice(uint32_t(z)); }); };
-  forSlices([&](uint32_t z) {
+  parallelFor(g.dims[2], gridThreads(reaches.size(), g), [&](size_t slice) {
+    const uint32_t z = uint32_t(slice);
+    std::array<std::vector<CellTerms>, 2> row; // the x and y terms of the light being listed
     for (const Reach& r : reaches) {
       if (z < r.lo[2] || z > r.hi[2]) continue;
       const GpuLight& l = lights[r.light];
       const float reach = faithfulReach(l, scaledist);
-      uint32_t cell[3] = {0, 0, z};
-      for (cell[1] = r.lo[1]; cell[1] <= r.hi[1]; ++cell[1])
-        for (cell[0] = r.lo[0]; cell[0] <= r.hi[0]; ++cell[0]) {
-          const CellBox box = cellBox(g, cell);
-          if (distanceToCell2(box, l.origin) <= reach * reach && !cellBehindBounceLight(l, box))
-            lists[cell[0] + g.dims[0] * (cell[1] + g.dims[1] * size_t(z))].push_back(r.light);
+      const float reach2 = reach * reach;
+      const bool bounce = l.formula == uint32_t(LightFormula::Bounce);
+      for (int a = 0; a < 2; ++a) {
+        row[a].resize(g.dims[a]);
+        for (uint32_t c = r.lo[a]; c <= r.hi[a]; ++c) row[a][c] = cellTerms(g, a, c, l);
+      }
+      const CellTerms tz = cellTerms(g, 2, z, l);
+      for (uint32_t y = r.lo[1]; y <= r.hi[1]; ++y) {
+        const CellTerms& ty = row[1][y];
+        // The sums grow with the x term (>= 0): a row out of reach without it stays out.
+        if (ty.distance2 + tz.distance2 > reach2) continue;
+        for (uint32_t x = r.lo[0]; x <= r.hi[0]; ++x) {
+          const CellTerms& tx = row[0][x];
+          // distanceToCell2 and cellBehindBounceLight, summed in their order: the same floats.
+          if ((tx.distance2 + ty.distance2) + tz.distance2 <= reach2 &&
+              !(bounce && (tx.farthest + ty.farthest) + tz.farthest < -kBehindMargin))
+            lists[x + g.dims[0] * (y + g.dims[1] * size_t(z))].push_back(r.light);
         }
+      }
     }
   });
+  return lists;
+}
+
+} // namespace
+
+LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& bounds, float scaledist, uint32_t maxCellsPerAxis) {
+  LightGrid grid;
+  grid.header = gridOver(bounds, maxCellsPerAxis);
+  const GpuLightGrid& g = grid.header;
+
+  for (uint32_t i = 0; i < lights.size(); ++i)
+    if (isFixed(lights[i])) grid.indices.push_back(i);
+  grid.header.fixedCount = uint32_t(grid.indices.size());
+
+  grid.header.globalFirst = uint32_t(grid.indices.size());
+  for (uint32_t i = 0; i < lights.size(); ++i)
+    if (hasInfiniteReach(lights[i], scaledist)) grid.indices.push_back(i);
+  grid.header.globalCount = uint32_t(grid.indices.size()) - grid.header.globalFirst;
+
+  grid.header.physicalFirst = uint32_t(grid.indices.size());
+  for (uint32_t i = 0; i < lights.size(); ++i)
+    if (isPhysicalCandidate(lights[i])) grid.indices.push_back(i);
+  grid.header.physicalCount = uint32_t(grid.indices.size()) - grid.header.physicalFirst;
+
+  const size_t cellCount = size_t(g.dims[0]) * g.dims[1] * g.dims[2];
+  const std::vector<std::vector<uint32_t>> lists = finiteReachLists(g, lights, 0, scaledist);
   grid.cells.resize(2 * cellCount);
   for (size_t k = 0; k < cellCount; ++k) {
     grid.cells[k] = {uint32_t(grid.indices.size()), uint32_t(lists[k].size())};
@@ -379,7 +437,8 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
   const NearRanking ranking(g, lights, grid.physicalLights());
   std::vector<uint32_t> nearLists(cellCount * kPhysicalNearLights);
   std::vector<uint32_t> nearCounts(cellCount);
-  forSlices([&](uint32_t z) {
+  parallelFor(g.dims[2], gridThreads(ranking.candidateCount(), g), [&](size_t slice) {
+    const uint32_t z = uint32_t(slice);
     std::vector<uint32_t> rankedFor(ranking.candidateCount(), 0);
     // Each cell starts from its neighbour's list: the cell before it in the row, or for a row's
     // first cell the first cell of the row before.
@@ -401,6 +460,51 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
                         nearLists.begin() + k * kPhysicalNearLights + nearCounts[k]);
   }
   return grid;
+}
+
+LightGrid extendLightGrid(const LightGrid& grid, const std::vector<GpuLight>& lights, uint32_t first, const Bounds& bounds,
+                          float scaledist, uint32_t maxCellsPerAxis) {
+  // A physical candidate among the new lights changes the near lists: those are ranked anew.
+  for (uint32_t i = first; i < lights.size(); ++i)
+    if (isPhysicalCandidate(lights[i])) return buildLightGrid(lights, bounds, scaledist, maxCellsPerAxis);
+
+  LightGrid out;
+  out.header = grid.header;
+  const GpuLightGrid& g = out.header;
+  // Each list is in index order and the new lights come after the old: they follow them.
+  auto append = [&](std::span<const uint32_t> old, auto&& belongs) {
+    const uint32_t at = uint32_t(out.indices.size());
+    out.indices.insert(out.indices.end(), old.begin(), old.end());
+    for (uint32_t i = first; i < lights.size(); ++i)
+      if (belongs(lights[i])) out.indices.push_back(i);
+    return std::pair{at, uint32_t(out.indices.size()) - at};
+  };
+  out.header.fixedCount = append(grid.fixedLights(), isFixed).second;
+  std::tie(out.header.globalFirst, out.header.globalCount) =
+      append(grid.globalLights(), [&](const GpuLight& l) { return hasInfiniteReach(l, scaledist); });
+  std::tie(out.header.physicalFirst, out.header.physicalCount) = append(grid.physicalLights(), [](const GpuLight&) { return false; });
+
+  // A cell's list: its old lights other than bounce lights, the new ones, then the old bounce
+  // lights and the new ones (the order buildLightGrid gives them).
+  const size_t cellCount = size_t(g.dims[0]) * g.dims[1] * g.dims[2];
+  const std::vector<std::vector<uint32_t>> added = finiteReachLists(g, lights, first, scaledist);
+  out.cells.resize(2 * cellCount);
+  for (size_t k = 0; k < cellCount; ++k) {
+    const std::span<const uint32_t> old(grid.indices.data() + grid.cells[k].first, grid.cells[k].count);
+    const std::span<const uint32_t> more(added[k]);
+    const size_t oldBounce = trailingBounceLights(lights, old), moreBounce = trailingBounceLights(lights, more);
+    out.cells[k] = {uint32_t(out.indices.size()), uint32_t(old.size() + more.size())};
+    for (const std::span<const uint32_t> part : {old.first(old.size() - oldBounce), more.first(more.size() - moreBounce),
+                                                 old.last(oldBounce), more.last(moreBounce)})
+      out.indices.insert(out.indices.end(), part.begin(), part.end());
+  }
+  // The near lists rank the physical candidates only: unchanged.
+  for (size_t k = 0; k < cellCount; ++k) {
+    const GpuLightCell& near = grid.cells[cellCount + k];
+    out.cells[cellCount + k] = {uint32_t(out.indices.size()), near.count};
+    out.indices.insert(out.indices.end(), grid.indices.begin() + near.first, grid.indices.begin() + near.first + near.count);
+  }
+  return out;
 }
 
 } // namespace bt

@@ -50,9 +50,20 @@ float faithfulReach(const GpuLight& light, float scaledist);
 // shadow-testing each (integrator.h kBounceShadowRays).
 size_t trailingBounceLights(const std::vector<GpuLight>& lights, std::span<const uint32_t> list);
 
+// Grid resolution: at most this many cells along the longest axis (and cells no smaller than 64
+// units). The renderer's grid; a coarser one lists more lights per cell but is built sooner.
+inline constexpr uint32_t kMaxLightGridCellsPerAxis = 32;
+
 // The grid over `bounds` (the level's traceable brushes; points outside it still get a correct
 // list). Point lights of value 0 light nothing in either mode and are in no list.
-LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& bounds, float scaledist);
+LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& bounds, float scaledist,
+                         uint32_t maxCellsPerAxis = kMaxLightGridCellsPerAxis);
+
+// buildLightGrid(lights, bounds, scaledist, maxCellsPerAxis), from `grid`, that of lights' first
+// `first` (with the same bounds, scaledist and cells): the same grid, sooner where the new lights
+// are none of physical mode's (bounce lights), whose near lists it keeps instead of ranking again.
+LightGrid extendLightGrid(const LightGrid& grid, const std::vector<GpuLight>& lights, uint32_t first, const Bounds& bounds,
+                          float scaledist, uint32_t maxCellsPerAxis = kMaxLightGridCellsPerAxis);
 
 // The cell holding p, clamped to the grid (NaN goes to cell 0).
 uint32_t lightGridCell(const GpuLightGrid& grid, const glm::vec3& p);

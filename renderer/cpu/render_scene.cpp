@@ -83,13 +83,9 @@ uint32_t classifyTexture(std::string_view texture, const std::optional<SurfaceAt
 }
 
 RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& options, Diagnostics& diagnostics) {
-  return buildRenderScene(scene, collectLights(scene, options.lights, diagnostics), options, diagnostics);
-}
-
-RenderScene buildRenderScene(const Scene& scene, SceneLights lights, const RenderSceneOptions& options,
-                             Diagnostics& diagnostics) {
   RenderScene rs;
   rs.scene = &scene;
+  SceneLights lights = collectLights(scene, options.lights, diagnostics);
   rs.lightKinds = lightKinds(lights, options.bounceLights);
   rs.lights = std::move(lights.lights);
   rs.world = lights.world;
@@ -183,6 +179,7 @@ RenderScene buildRenderScene(const Scene& scene, SceneLights lights, const Rende
   // `_bounce`: the compiler's bounce lights, made from the direct light the grid above gives.
   if (rs.world.bounces > 0 && options.bounceLights) {
     const BounceLights bounced = makeBounceLights(rs, contents);
+    const uint32_t direct = uint32_t(rs.lights.size());
     rs.lights.insert(rs.lights.end(), bounced.lights.begin(), bounced.lights.end());
     if (!bounced.exact())
       diagnostics.push_back({Severity::Note, scene.sourcePath, 0, 0,
@@ -191,7 +188,8 @@ RenderScene buildRenderScene(const Scene& scene, SceneLights lights, const Rende
                                  (bounced.sampledLights ? " (later passes draw among the bounce lights)" : "") +
                                  ", " + std::to_string(bounced.madeLights) + " bounce lights merged into " +
                                  std::to_string(bounced.lights.size()) + " to keep the preview fast"});
-    rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
+    // The grid of every light, from that of the direct lights: physical mode's lists stay.
+    rs.lightGrid = extendLightGrid(rs.lightGrid, rs.lights, direct, rs.tracer.bounds(), rs.world.scaledist);
   }
   return rs;
 }

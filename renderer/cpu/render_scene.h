@@ -46,10 +46,6 @@ inline glm::vec3 faceNormal(const RenderScene& rs, uint32_t face) {
 // Classifies faces by texture name (Quake conventions, see README), reads the lights, and
 // builds the tracer. `scene` must outlive the result.
 RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& options, Diagnostics& diagnostics);
-// The same from lights collectLights() gave already (with options.lights): a caller that wants
-// to act on them early (the GL front ends start the compile of the lighting they need).
-RenderScene buildRenderScene(const Scene& scene, SceneLights lights, const RenderSceneOptions& options,
-                             Diagnostics& diagnostics);
 
 // Brush entities that qbsp merges into the world (worldspawn, func_group, func_detail*): they
 // cast shadows in `light`; the others are models of their own.

@@ -2,8 +2,6 @@
 
 #include "renderer/gl/gl_lighting.h"
 
-#include <optional>
-
 namespace bt::gl {
 
 LevelPreparation::LevelPreparation(Scene& scene, RenderScene& render, LevelImport importLevel, RenderSceneOptions options,
@@ -11,25 +9,26 @@ LevelPreparation::LevelPreparation(Scene& scene, RenderScene& render, LevelImpor
     : kinds_(kindsPromise_.get_future().share()) {
   done_ = std::async(std::launch::async, [this, &scene, &render, importLevel = std::move(importLevel),
                                           options = std::move(options), lightDiagnostics] {
-    std::optional<SceneLights> lights;
-    Diagnostics collectDiagnostics;
-    // The lights need the entities only, so they are collected as soon as the importer has them.
-    auto collect = [&](const Scene& read) {
-      if (lights) return;
-      lights = collectLights(read, options.lights, collectDiagnostics);
+    bool kindsSet = false;
+    // The kinds need the entities only, so they are told as soon as the importer has them. The
+    // lights are collected again from the finished scene, which may have more keys.
+    auto tell = [&](const Scene& read) {
+      if (kindsSet) return;
+      Diagnostics ignored; // the collection below reports them
+      const LightKinds kinds = bt::lightKinds(collectLights(read, options.lights, ignored), options.bounceLights);
       lightsCollected = Clock::now();
-      kindsPromise_.set_value(bt::lightKinds(*lights, options.bounceLights));
+      kindsPromise_.set_value(kinds);
+      kindsSet = true;
     };
     try {
       started = Clock::now();
-      scene = importLevel(collect);
-      collect(scene); // an importer that did not say when it had the entities
+      scene = importLevel(tell);
+      tell(scene); // an importer that did not say when it had the entities
       Diagnostics& diagnostics = lightDiagnostics ? *lightDiagnostics : scene.diagnostics;
-      diagnostics.insert(diagnostics.end(), collectDiagnostics.begin(), collectDiagnostics.end());
-      render = buildRenderScene(scene, std::move(*lights), options, diagnostics);
+      render = buildRenderScene(scene, options, diagnostics);
       prepared = Clock::now();
     } catch (...) {
-      if (!lights) kindsPromise_.set_exception(std::current_exception());
+      if (!kindsSet) kindsPromise_.set_exception(std::current_exception());
       throw;
     }
   });

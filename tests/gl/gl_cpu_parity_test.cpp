@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 namespace bt::gl {
 namespace {
@@ -321,25 +322,32 @@ TEST(FaithfulFeatures, TheSkyAndTheJitterOnlyWhereALightNeedsThem) {
   }
 }
 
-// The front ends start a level's faithful program from its LightKinds, before its _surface and
-// _bounce lights exist (gl::loadGlLevel); the tracer renders with those features and what the
-// finished light list needs together. If the kinds missed something the lights need, the level
-// would compile a second program before its first image. Every map of ours and ericw-tools' test
-// maps (every light entity key ericw-tools tests: suns, domes, _deviance, dirt, _bounce,
-// _surface) must be covered by its kinds.
-TEST(FaithfulFeatures, TheLightKindsOfEveryTestMapCoverWhatItsFinishedLightsNeed) {
+// The front ends start a level's faithful program from its LightKinds, told as soon as the
+// importer has its entities (ImportOptions::entitiesRead), before its brushes, textures, _surface
+// and _bounce lights exist (gl::LevelPreparation); the tracer renders with those features and
+// what the finished light list needs together. If the early kinds differed from the finished
+// level's, or missed something its lights need, the level would compile a second program before
+// its first image. Every map of ours and every shared .map (ericw-tools' test maps use every
+// light key: suns, domes, _deviance, dirt, _bounce, _surface) must agree.
+TEST(FaithfulFeatures, TheEarlyLightKindsOfEveryMapAreTheFinishedLevelsAndCoverItsLights) {
   BT_REQUIRE_SHARED(shared);
   std::vector<std::filesystem::path> maps;
-  for (const auto& dir : {test::mapsDir(), shared / "maps" / "ericw-tools"})
+  for (const auto& dir : {test::mapsDir(), shared / "maps"})
     for (const auto& entry : std::filesystem::recursive_directory_iterator(dir))
       if (entry.path().extension() == ".map") maps.push_back(entry.path());
   std::sort(maps.begin(), maps.end());
-  ImportOptions options;
-  options.textures.load = false; // the kinds of light do not depend on the textures
   FaithfulFeatures seen;
   size_t checked = 0;
   for (const auto& path : maps) {
     SCOPED_TRACE(path.string());
+    std::optional<LightKinds> early;
+    ImportOptions options;
+    options.textures.load = false; // the kinds of light do not depend on the textures
+    options.entitiesRead = [&](const Scene& read) {
+      EXPECT_FALSE(early) << "told twice";
+      Diagnostics ignored;
+      early = lightKinds(collectLights(read, {}, ignored), true);
+    };
     Scene scene;
     try {
       scene = importScene(path.string(), options);
@@ -348,6 +356,8 @@ TEST(FaithfulFeatures, TheLightKindsOfEveryTestMapCoverWhatItsFinishedLightsNeed
     }
     Diagnostics diagnostics;
     const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+    ASSERT_TRUE(early);
+    EXPECT_EQ(*early, rs.lightKinds);
     const FaithfulFeatures started = faithfulFeatures(rs.lightKinds);
     EXPECT_EQ(started | faithfulFeatures(rs.world.dirtSettings, rs.lights), started);
     seen = seen | started;

@@ -14,6 +14,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
+#include <string>
 
 namespace bt {
 namespace {
@@ -202,7 +204,13 @@ struct BudgetRoom {
   Scene scene;
   RenderScene rs;
   std::vector<BrushContents> contents;
-  BudgetRoom() : scene(manyLightsBouncing(2)), rs(prepared(scene)), contents(scene.brushes.size(), BrushContents::Solid) {}
+  explicit BudgetRoom(const std::vector<std::pair<std::string, std::string>>& worldKeys = {})
+      : scene(withWorldKeys(manyLightsBouncing(2), worldKeys)), rs(prepared(scene)),
+        contents(scene.brushes.size(), BrushContents::Solid) {}
+  static Scene withWorldKeys(Scene s, const std::vector<std::pair<std::string, std::string>>& keys) {
+    for (const auto& key : keys) s.entities[0].keys.push_back(key);
+    return s;
+  }
   static RenderScene prepared(const Scene& s) {
     Diagnostics diags;
     RenderSceneOptions options;
@@ -247,6 +255,13 @@ TEST(FaithfulBounceBudget, SubsetEstimateIsCloseToTheExactBounce) {
   }
 }
 
+// Every field of two lists of lights, bit for bit (so that -0 and 0 differ, NaN equals itself).
+void expectSameLights(const std::vector<GpuLight>& a, const std::vector<GpuLight>& b, const std::string& what) {
+  ASSERT_EQ(a.size(), b.size()) << what;
+  for (size_t i = 0; i < a.size(); ++i)
+    ASSERT_EQ(std::memcmp(&a[i], &b[i], sizeof(GpuLight)), 0) << what << ": light " << i << " of " << a.size();
+}
+
 TEST(FaithfulBounceBudget, EstimateIsTheSameForAnyThreadCount) {
   const BudgetRoom room;
   BounceBudget budget;
@@ -257,11 +272,57 @@ TEST(FaithfulBounceBudget, EstimateIsTheSameForAnyThreadCount) {
   budget.threads = 3;
   const BounceLights three = makeBounceLights(room.rs, room.contents, budget);
   ASSERT_FALSE(one.exact());
-  ASSERT_EQ(one.lights.size(), three.lights.size());
-  for (size_t i = 0; i < one.lights.size(); ++i) {
-    EXPECT_EQ(one.lights[i].value, three.lights[i].value);
-    EXPECT_EQ(one.lights[i].color, three.lights[i].color);
+  expectSameLights(one.lights, three.lights, "1 and 3 threads");
+}
+
+// What the bounce preparation cuts short leaves its lights bit for bit as they were, whatever the
+// threads: a later pass's luxel sweeps only the previous pass's lights that a light grid of them
+// lists there (BounceBudget::gatherGridCellsPerAxis), and a luxel sampled again reuses its
+// `_dirtmode 0` occlusion (reuseDirtOcclusion; `_dirtmode 1` casts its random rays again). The
+// reference sweeps every light and casts every ray. The grid does leave lights out here (else the
+// comparison could not fail): the room's first-pass lights face every way.
+TEST(FaithfulBounceBudget, ShortcutsGiveTheReferenceBitForBit) {
+  for (const auto& dirt : std::vector<std::vector<std::pair<std::string, std::string>>>{
+           {}, {{"_dirt", "1"}}, {{"_dirt", "1"}, {"_dirtmode", "1"}}}) {
+    const BudgetRoom room(dirt);
+    const std::string level = dirt.empty() ? "no dirt" : dirt.size() == 1 ? "_dirtmode 0" : "_dirtmode 1";
+    ASSERT_EQ(room.rs.world.dirtSettings.enabled, !dirt.empty());
+    BounceBudget reference;
+    // The same half of the luxels in every pass: later passes sample the direct pass's again.
+    reference.directLuxels = reference.gatherLuxels = 400;
+    reference.gatherShadowRays = 4; // the draw among the lights, as on a large level
+    reference.renderLights = 1u << 30;
+    reference.gatherGridCellsPerAxis = 0;
+    reference.reuseDirtOcclusion = false;
+    reference.threads = 1;
+    const BounceLights swept = makeBounceLights(room.rs, room.contents, reference);
+    ASSERT_TRUE(swept.sampledLights);
+    ASSERT_GT(swept.lights.size(), 100u);
+    for (const auto& [cells, threads] : {std::pair{0u, 1u}, {1u, 3u}, {8u, 1u}, {32u, 3u}}) {
+      BounceBudget budget = reference;
+      budget.gatherGridCellsPerAxis = cells;
+      budget.reuseDirtOcclusion = true;
+      budget.threads = threads;
+      expectSameLights(makeBounceLights(room.rs, room.contents, budget).lights, swept.lights,
+                       level + ", " + std::to_string(cells) + " cells, " + std::to_string(threads) + " threads");
+    }
   }
+
+  const BudgetRoom room;
+  BounceBudget reference;
+  reference.renderLights = 1u << 30;
+  const BounceLights swept = makeBounceLights(room.rs, room.contents, reference);
+
+  // The first pass's lights (the first half) in the default gather grid: cells list fewer than all.
+  const std::vector<GpuLight> firstPass(swept.lights.begin(), swept.lights.begin() + std::ptrdiff_t(swept.lights.size() / 2));
+  const LightGrid grid = buildLightGrid(firstPass, room.rs.tracer.bounds(), room.rs.world.scaledist,
+                                        BounceBudget{}.gatherGridCellsPerAxis);
+  const size_t cells = size_t(grid.header.dims[0]) * grid.header.dims[1] * grid.header.dims[2];
+  ASSERT_GT(cells, 1u);
+  size_t listed = 0;
+  for (size_t c = 0; c < cells; ++c) listed += grid.cells[c].count;
+  EXPECT_LT(listed, cells * firstPass.size() * 3 / 4) << "per cell on average " << double(listed) / double(cells) << " of "
+                                                      << firstPass.size();
 }
 
 // Clustering keeps the bounce lights' power and, seen from afar, their light; it leaves a
@@ -470,6 +531,46 @@ TEST(FaithfulBounceDraw, ShownPixelsConvergeToTheExhaustiveImage) {
   }
   ASSERT_GT(referenceSum.y, 0.0);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(sampledSum[c], referenceSum[c], 0.005 * referenceSum[c]) << "channel " << c;
+}
+
+// buildRenderScene makes the grid of a `_bounce` level once, then adds the bounce lights to it
+// (extendLightGrid): the very grid of every light, lists, order and physical near lists alike.
+void expectSameGrid(const LightGrid& a, const LightGrid& b, const std::string& what) {
+  EXPECT_EQ(std::memcmp(&a.header, &b.header, sizeof(GpuLightGrid)), 0) << what;
+  ASSERT_EQ(a.cells.size(), b.cells.size()) << what;
+  for (size_t c = 0; c < a.cells.size(); ++c) {
+    ASSERT_EQ(a.cells[c].first, b.cells[c].first) << what << ": cell " << c;
+    ASSERT_EQ(a.cells[c].count, b.cells[c].count) << what << ": cell " << c;
+  }
+  EXPECT_EQ(a.indices, b.indices) << what;
+}
+
+TEST(FaithfulBounceDraw, GridWithBounceLightsAddedIsTheGridOfEveryLight) {
+  const BouncingRoom room;
+  const RenderScene& rs = room.rs;
+  const Bounds bounds = rs.tracer.bounds();
+  const float scaledist = rs.world.scaledist;
+  const size_t bounce = bounceLightsOf(rs).size();
+  ASSERT_GT(bounce, 100u);
+  expectSameGrid(rs.lightGrid, buildLightGrid(rs.lights, bounds, scaledist), "buildRenderScene");
+
+  // Any split of the lights: the direct lights' first ones, all of them, some bounce lights.
+  // With lights added that are not bounce lights nor physical candidates (here every direct
+  // light marked as a _surface point), each cell's order is the others, then the bounce lights.
+  std::vector<GpuLight> surfacePoints = rs.lights;
+  for (GpuLight& l : surfacePoints)
+    if (l.formula != uint32_t(LightFormula::Bounce)) l.flags |= kLightFlagFromSurface;
+  const size_t direct = rs.lights.size() - bounce;
+  for (const std::vector<GpuLight>* lights : {&rs.lights, static_cast<const std::vector<GpuLight>*>(&surfacePoints)})
+    for (const size_t first : {size_t(0), direct / 2, direct, direct + bounce / 3, rs.lights.size()}) {
+      const std::vector<GpuLight> before(lights->begin(), lights->begin() + std::ptrdiff_t(first));
+      for (const uint32_t cells : {kMaxLightGridCellsPerAxis, 4u})
+        expectSameGrid(extendLightGrid(buildLightGrid(before, bounds, scaledist, cells), *lights, uint32_t(first), bounds,
+                                       scaledist, cells),
+                       buildLightGrid(*lights, bounds, scaledist, cells),
+                       std::string(lights == &rs.lights ? "level's lights" : "surface points") + " from " +
+                           std::to_string(first) + ", " + std::to_string(cells) + " cells");
+    }
 }
 
 } // namespace
