@@ -15,7 +15,6 @@
 vec4 fetchTexel(uvec2 handle, uint layer, ivec2 texel) { return texelFetch(sampler2D(handle), texel, 0); }
 #define MAP_REF uvec2
 #define BASE_REF(m) (m).baseHandle, 0u
-#define NORMAL_REF(m) (m).normalHandle, 0u
 #define EMISSIVE_REF(m) (m).emissiveHandle, 0u
 
 #elif defined(BT_TEXTURES_ARRAYS)
@@ -45,7 +44,6 @@ vec4 fetchTexel(uint array, uint layer, ivec2 texel) {
 }
 #define MAP_REF uint
 #define BASE_REF(m) (m).baseArray, (m).baseLayer
-#define NORMAL_REF(m) (m).normalArray, (m).normalLayer
 #define EMISSIVE_REF(m) (m).emissiveArray, (m).emissiveLayer
 
 #else
@@ -78,8 +76,21 @@ vec4 sampleBilinearRepeat(MAP_REF map, uint layer, uvec2 mapTexels, vec2 uv) {
 }
 
 vec4 sampleBase(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(BASE_REF(m), m.baseTexels, uv); }
-vec4 sampleNormalMap(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(NORMAL_REF(m), m.normalTexels, uv); }
 vec4 sampleEmissive(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(EMISSIVE_REF(m), m.emissiveTexels, uv); }
+
+// The base colour or the normal map, chosen at run time: a loop over both then reads them at one
+// call site (physical mode's surfaces, pathtrace.comp physicalSurface).
+const uint MAP_BASE = 0u;
+const uint MAP_NORMAL = 1u;
+vec4 sampleBaseOrNormal(GpuMaterial m, uint map, vec2 uv) {
+  uvec2 texels = map == MAP_BASE ? m.baseTexels : m.normalTexels;
+#if defined(BT_TEXTURES_BINDLESS)
+  return sampleBilinearRepeat(map == MAP_BASE ? m.baseHandle : m.normalHandle, 0u, texels, uv);
+#else
+  return sampleBilinearRepeat(map == MAP_BASE ? m.baseArray : m.normalArray, map == MAP_BASE ? m.baseLayer : m.normalLayer,
+                              texels, uv);
+#endif
+}
 
 // Texture coordinates of p on face f, in texture repeats: Quake's s/t in texels over the size.
 vec2 faceUv(GpuFace f, GpuMaterial m, vec3 p) {
@@ -92,6 +103,28 @@ vec2 faceUv(GpuFace f, GpuMaterial m, vec3 p) {
 vec4 materialBaseColor(GpuMaterial m, vec2 uv) {
   if ((m.flags & MATERIAL_HAS_BASE) == 0u) return vec4(0.5, 0.5, 0.5, 1.0);
   return sampleBase(m, uv);
+}
+
+// Normal maps, as renderer/cpu/integrator.cpp reads them (decodeNormalTexel, normalMapToWorld):
+// DarkPlaces' `_norm` convention, red along +s, green up in the image (-t), blue along the face
+// normal, a texel t holding 2 t - 1; (0, 0, 0) for a texel with no direction.
+vec3 decodeNormalTexel(vec3 texel) {
+  vec3 n = 2.0 * texel - 1.0;
+  float length2 = dot(n, n);
+  return length2 > 1e-8 ? n / sqrt(length2) : vec3(0.0);
+}
+
+// `local` in world space on a face with normal n and texture axes s, t (GpuFace tangent and
+// bitangent): s's direction, the axis orthogonal to it, the handedness the axes have on the
+// face (a mirrored texture mirrors its normal map); the face normal where s runs along it.
+vec3 normalMapToWorld(vec3 local, vec3 s, vec3 t, vec3 n) {
+  vec3 x = s - n * dot(n, s);
+  float length2 = dot(x, x);
+  if (!(length2 > 1e-6 * dot(s, s))) return n;
+  x /= sqrt(length2);
+  float handedness = dot(cross(s, t), n) > 0.0 ? -1.0 : 1.0;
+  vec3 y = handedness * cross(n, x);
+  return normalize(x * local.x + y * local.y + n * local.z);
 }
 
 vec3 srgbToLinear(vec3 c) {

@@ -129,6 +129,67 @@ glm::vec3 emissiveAt(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
 
 namespace {
 
+// Normal maps (Material::normal, the importer's `_norm`/`_normal` companions) follow the
+// convention of DarkPlaces, the engine those companion textures come from: tangent space, red
+// along +s (right in the image), green up in the image, blue along the face normal; a texel t
+// (0..1, filtered like the base colour) holds 2 t - 1. Up in the image is -t: rows are stored
+// top to bottom and t grows with the row (DarkPlaces' Mod_BuildBumpVectors likewise points its
+// tvector against t). A texel with no direction gives (0, 0, 0).
+glm::vec3 decodeNormalTexel(const glm::vec3& texel) {
+  const glm::vec3 n = 2.0f * texel - 1.0f;
+  const float length2 = glm::dot(n, n);
+  return length2 > 1e-8f ? n / std::sqrt(length2) : glm::vec3(0.0f);
+}
+
+// `local` (a decoded texel) in world space on a face with normal n and texture axes s and t
+// (TextureFrame's tangent and bitangent: Quake's axes are neither unit nor orthogonal). The
+// frame keeps s's direction, takes the second axis orthogonal to it, and keeps the handedness
+// the axes have on the face, so a mirrored texture (a negative scale) mirrors its normal map.
+// Where s runs along the normal there is no frame, and the face normal stays.
+glm::vec3 normalMapToWorld(const glm::vec3& local, const glm::vec3& s, const glm::vec3& t, const glm::vec3& n) {
+  glm::vec3 x = s - n * glm::dot(n, s);
+  const float length2 = glm::dot(x, x);
+  if (!(length2 > 1e-6f * glm::dot(s, s))) return n;
+  x /= std::sqrt(length2);
+  // (s, -t, n) is right-handed for a texture seen unmirrored from the front of its face.
+  const float handedness = glm::dot(glm::cross(s, t), n) > 0.0f ? -1.0f : 1.0f;
+  const glm::vec3 y = handedness * glm::cross(n, x);
+  return glm::normalize(x * local.x + y * local.y + n * local.z);
+}
+
+// A normal map may tilt the shading normal so far that wo falls behind it, or that light
+// reflected about it leaves into the face. Iray's fix (Keller et al. 2017, "The Iray Light
+// Transport Simulation and Rendering System", shading normals): where wo's mirror direction
+// about ns comes within kHorizonMargin of the face's plane or below, it is lifted to that
+// height and ns becomes the half vector of wo and the lifted direction. ns then faces wo, stays
+// in front of the face, and is left unchanged wherever the map tilts it reasonably.
+constexpr float kHorizonMargin = 0.01f;
+
+glm::vec3 keepAboveHorizon(const glm::vec3& ns, const glm::vec3& ng, const glm::vec3& wo) {
+  const glm::vec3 mirror = 2.0f * glm::dot(ns, wo) * ns - wo;
+  const float height = glm::dot(mirror, ng);
+  if (height >= kHorizonMargin) return ns;
+  const glm::vec3 lifted = glm::normalize(mirror + ng * (kHorizonMargin - height));
+  const glm::vec3 halfway = wo + lifted;
+  const float length2 = glm::dot(halfway, halfway);
+  return length2 > 1e-12f ? halfway / std::sqrt(length2) : ng;
+}
+
+} // namespace
+
+glm::vec3 shadingNormal(const RenderScene& rs, const SurfaceHit& hit, const glm::vec3& wo) {
+  const GpuFace& f = gpuFace(rs, hit.face);
+  if (f.material >= rs.scene->materials.size() || rs.scene->materials[f.material].normal.empty()) return hit.normal;
+  const glm::vec2 uv = textureUV(rs, hit.face, hit.position);
+  const glm::vec3 texel(sampleBilinearRepeat(rs.scene->materials[f.material].normal, uv.x, uv.y));
+  const glm::vec3 local = decodeNormalTexel(texel);
+  if (local == glm::vec3(0.0f)) return hit.normal;
+  const glm::vec3 s(f.tangent[0], f.tangent[1], f.tangent[2]), t(f.bitangent[0], f.bitangent[1], f.bitangent[2]);
+  return keepAboveHorizon(normalMapToWorld(local, s, t, hit.normal), hit.normal, wo);
+}
+
+namespace {
+
 // How far a dirt ray gets: the first face that blocks light, or `depth` when it meets none (or
 // the sky: ericw-tools counts only solid hits) within it.
 float dirtRayDistance(const RenderScene& rs, const glm::vec3& origin, const glm::vec3& dir, float depth) {
@@ -466,6 +527,7 @@ struct Bsdf {
   float roughness;
   float metallic;
   bool specular; // GGX lobe present (materials with a PBR set)
+  glm::vec3 n;   // shading normal: the face's, or its normal map's (shadingNormal)
 };
 
 float ggxD(float noh, float alpha) {
@@ -479,11 +541,14 @@ float smithG1(float nov, float alpha) {
 }
 constexpr float kSpecularLobeProbability = 0.5f;
 
-glm::vec3 bsdfEval(const Bsdf& b, const glm::vec3& n, const glm::vec3& wo, const glm::vec3& wi, float& pdf) {
+// ng: the face's own normal. Light from behind the face cannot reach the front, even where a
+// normal map turns the shading normal towards it.
+glm::vec3 bsdfEval(const Bsdf& b, const glm::vec3& ng, const glm::vec3& wo, const glm::vec3& wi, float& pdf) {
+  const glm::vec3& n = b.n;
   const float nol = glm::dot(n, wi);
   const float nov = glm::dot(n, wo);
   pdf = 0.0f;
-  if (nol <= 0.0f || nov <= 0.0f) return glm::vec3(0.0f);
+  if (nol <= 0.0f || nov <= 0.0f || glm::dot(ng, wi) <= 0.0f) return glm::vec3(0.0f);
   if (!b.specular) {
     pdf = nol / kPi;
     return b.albedo / kPi;
@@ -500,7 +565,8 @@ glm::vec3 bsdfEval(const Bsdf& b, const glm::vec3& n, const glm::vec3& wo, const
   return diffuse + spec;
 }
 
-glm::vec3 bsdfSample(const Bsdf& b, const glm::vec3& n, const glm::vec3& wo, Rng& rng) {
+glm::vec3 bsdfSample(const Bsdf& b, const glm::vec3& wo, Rng& rng) {
+  const glm::vec3& n = b.n;
   if (!b.specular || rng.next() >= kSpecularLobeProbability) return sampleCosineHemisphere(n, rng.next2());
   // GGX normal distribution sampling, then reflect.
   const float alpha = std::max(b.roughness * b.roughness, 1e-3f);
@@ -523,23 +589,23 @@ glm::vec3 emittedRadiance(const RenderScene& rs, uint32_t face, const glm::vec3&
 // A point light's unshadowed contribution to the light leaving towards wo (physical units),
 // with wi and the distance of the shadow ray.
 glm::vec3 pointLightUnshadowed(const RenderScene& rs, const Bsdf& bsdf, const GpuLight& light, const glm::vec3& pos,
-                               const glm::vec3& origin, const glm::vec3& n, const glm::vec3& wo, glm::vec3& wi,
+                               const glm::vec3& origin, const glm::vec3& ng, const glm::vec3& wo, glm::vec3& wi,
                                float& dist) {
   const glm::vec3 d = pos - origin;
   const float dist2 = glm::dot(d, d);
   dist = std::sqrt(dist2);
   wi = d / dist;
   float pdf;
-  const glm::vec3 f = bsdfEval(bsdf, n, wo, wi, pdf);
+  const glm::vec3 f = bsdfEval(bsdf, ng, wo, wi, pdf);
   const float cone = faithful::spotTerm(light, wi);
   if (pdf == 0.0f || cone == 0.0f) return glm::vec3(0.0f);
   const glm::vec3 intensity = light.color * light.value * rs.world.range * kPhysicalPointScale * cone;
-  return f * intensity * glm::dot(n, wi) / dist2;
+  return f * intensity * glm::dot(bsdf.n, wi) / dist2;
 }
 
 // How likely light selection picks a point light from the near list: its unshadowed
-// irradiance on the surface plane at `origin`, summed over colour channels (at the light's own
-// origin: the pick does not depend on the _deviance jitter).
+// irradiance at `origin` on the plane of shading normal n, summed over colour channels (at the
+// light's own origin: the pick does not depend on the _deviance jitter).
 float selectionWeight(const GpuLight& light, const glm::vec3& origin, const glm::vec3& n) {
   const glm::vec3 d = light.origin - origin;
   const float dist2 = glm::dot(d, d);
@@ -551,18 +617,18 @@ float selectionWeight(const GpuLight& light, const glm::vec3& origin, const glm:
 }
 
 glm::vec3 sunContribution(const RenderScene& rs, const Bsdf& bsdf, const GpuLight& light, const glm::vec3& origin,
-                          const glm::vec3& n, const glm::vec3& wo, Rng& rng) {
+                          const glm::vec3& ng, const glm::vec3& wo, Rng& rng) {
   glm::vec3 wi = -light.direction;
   if (light.deviance > 0.0f) wi = sampleCone(wi, light.deviance, rng.next2());
   float pdf;
-  const glm::vec3 f = bsdfEval(bsdf, n, wo, wi, pdf);
+  const glm::vec3 f = bsdfEval(bsdf, ng, wo, wi, pdf);
   if (pdf == 0.0f) return glm::vec3(0.0f);
   if (!reachesSky(rs, Ray{origin, 0.0f, wi, std::numeric_limits<float>::infinity()}, LightingMode::Physical)) return glm::vec3(0.0f);
-  return f * light.color * light.value * rs.world.range * kPhysicalSunScale * glm::dot(n, wi);
+  return f * light.color * light.value * rs.world.range * kPhysicalSunScale * glm::dot(bsdf.n, wi);
 }
 
 // Every point light and sun, each with its own shadow ray: the reference for selection.
-glm::vec3 allLightsExhaustive(const RenderScene& rs, const Bsdf& bsdf, const glm::vec3& origin, const glm::vec3& n,
+glm::vec3 allLightsExhaustive(const RenderScene& rs, const Bsdf& bsdf, const glm::vec3& origin, const glm::vec3& ng,
                               const glm::vec3& wo, Rng& rng) {
   glm::vec3 l(0.0f);
   for (const GpuLight& light : rs.lights) {
@@ -573,11 +639,11 @@ glm::vec3 allLightsExhaustive(const RenderScene& rs, const Bsdf& bsdf, const glm
       const glm::vec3 pos = jitteredOrigin(light, rng);
       glm::vec3 wi;
       float dist;
-      const glm::vec3 c = pointLightUnshadowed(rs, bsdf, light, pos, origin, n, wo, wi, dist);
+      const glm::vec3 c = pointLightUnshadowed(rs, bsdf, light, pos, origin, ng, wo, wi, dist);
       if (c == glm::vec3(0.0f) || occluded(rs, Ray{origin, 0.0f, wi, dist}, LightingMode::Physical)) continue;
       l += c;
     } else if (light.type == uint32_t(LightType::Sun)) {
-      l += sunContribution(rs, bsdf, light, origin, n, wo, rng);
+      l += sunContribution(rs, bsdf, light, origin, ng, wo, rng);
     }
   }
   return l;
@@ -593,16 +659,17 @@ constexpr float kNearListProbability = 0.9f;
 //   near:    the cell's near list (light_grid.h), by selectionWeight at the hit's origin;
 //   uniform: any light of the physical list, 1 / count.
 // pdf(light) = P(near) * weight / nearTotal [if listed] + (1 - P(near)) / count.
-// Weights use the light's own origin, so the pick does not depend on its _deviance jitter,
+// Weights use the light's own origin and the shading normal, so the pick does not depend on its _deviance jitter,
 // which is drawn for the chosen light only. Random numbers per hit, in order: the suns', the
 // strategy, the pick, the chosen light's jitter (3, when soft); light_select.glsl draws the same.
-glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::vec3& origin, const glm::vec3& n,
+glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::vec3& origin, const glm::vec3& ng,
                             const glm::vec3& wo, Rng& rng) {
   glm::vec3 l(0.0f);
   for (uint32_t i : rs.lightGrid.fixedLights()) {
     const GpuLight& light = rs.lights[i];
-    if (light.type == uint32_t(LightType::Sun) && light.value > 0.0f) l += sunContribution(rs, bsdf, light, origin, n, wo, rng);
+    if (light.type == uint32_t(LightType::Sun) && light.value > 0.0f) l += sunContribution(rs, bsdf, light, origin, ng, wo, rng);
   }
+  const glm::vec3& n = bsdf.n;
 
   const std::span<const uint32_t> all = rs.lightGrid.physicalLights();
   const std::span<const uint32_t> near = rs.lightGrid.physicalNearLights(origin);
@@ -638,19 +705,20 @@ glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::
   const glm::vec3 pos = jitteredOrigin(light, rng);
   glm::vec3 wi;
   float dist;
-  const glm::vec3 c = pointLightUnshadowed(rs, bsdf, light, pos, origin, n, wo, wi, dist);
+  const glm::vec3 c = pointLightUnshadowed(rs, bsdf, light, pos, origin, ng, wo, wi, dist);
   if (pdf > 0.0f && c != glm::vec3(0.0f) && !occluded(rs, Ray{origin, 0.0f, wi, dist}, LightingMode::Physical))
     l += c / pdf;
   return l;
 }
 
 // Direct light at a surface by next-event estimation: point lights and suns, then one emitter
-// triangle (MIS-weighted against BSDF sampling).
+// triangle (MIS-weighted against BSDF sampling). Rays leave from the face (ng), not from where
+// a normal map pretends it is.
 glm::vec3 directLight(const RenderScene& rs, const IntegratorSettings& settings, const Bsdf& bsdf, const glm::vec3& p,
-                      const glm::vec3& n, const glm::vec3& wo, Rng& rng) {
-  const glm::vec3 origin = offsetPoint(p, n);
-  glm::vec3 l = settings.lightSelection ? allLightsSelected(rs, bsdf, origin, n, wo, rng)
-                                        : allLightsExhaustive(rs, bsdf, origin, n, wo, rng);
+                      const glm::vec3& ng, const glm::vec3& wo, Rng& rng) {
+  const glm::vec3 origin = offsetPoint(p, ng);
+  glm::vec3 l = settings.lightSelection ? allLightsSelected(rs, bsdf, origin, ng, wo, rng)
+                                        : allLightsExhaustive(rs, bsdf, origin, ng, wo, rng);
 
   if (!rs.emitters.empty()) {
     const GpuEmitter& e = rs.emitters[pickEmitter(rs, rng.next())];
@@ -662,13 +730,13 @@ glm::vec3 directLight(const RenderScene& rs, const IntegratorSettings& settings,
     const glm::vec3 ln = faceNormal(rs, e.face);
     const float cosLight = -glm::dot(ln, wi);
     float bsdfPdf;
-    const glm::vec3 f = bsdfEval(bsdf, n, wo, wi, bsdfPdf);
+    const glm::vec3 f = bsdfEval(bsdf, ng, wo, wi, bsdfPdf);
     if (cosLight > 0.0f && bsdfPdf > 0.0f) {
       const float lightPdf = dist2 / (cosLight * rs.emitterArea); // solid angle
       // Stop just short of the emitter so that its own face does not count as a blocker.
       if (!occluded(rs, Ray{origin, 0.0f, wi, dist - 2.0f * kSurfaceOffset}, LightingMode::Physical)) {
         const glm::vec3 le = emittedRadiance(rs, e.face, q);
-        l += f * le * glm::dot(n, wi) * powerHeuristic(lightPdf, bsdfPdf) / lightPdf;
+        l += f * le * glm::dot(bsdf.n, wi) * powerHeuristic(lightPdf, bsdfPdf) / lightPdf;
       }
     }
   }
@@ -701,15 +769,15 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
     if (depth >= settings.bounces + 1) break;
 
     const GpuMaterial& m = rs.materials[gpuFace(rs, hit.face).material];
-    Bsdf bsdf{srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position))), m.roughness, m.metallic,
-              (m.flags & kMaterialSpecular) != 0};
+    const Bsdf bsdf{srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position))), m.roughness, m.metallic,
+                    (m.flags & kMaterialSpecular) != 0, shadingNormal(rs, hit, wo)};
     l += throughput * directLight(rs, settings, bsdf, hit.position, n, wo, rng);
 
-    const glm::vec3 wi = bsdfSample(bsdf, n, wo, rng);
+    const glm::vec3 wi = bsdfSample(bsdf, wo, rng);
     float pdf;
     const glm::vec3 f = bsdfEval(bsdf, n, wo, wi, pdf);
     if (pdf <= 0.0f) break;
-    throughput *= f * glm::dot(n, wi) / pdf;
+    throughput *= f * glm::dot(bsdf.n, wi) / pdf;
     prevBsdfPdf = pdf;
 
     // Russian roulette after three bounces, survival by throughput.

@@ -44,6 +44,13 @@ bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode);
 glm::vec4 baseColorAt(const RenderScene& rs, uint32_t face, const glm::vec3& p);
 glm::vec3 emissiveAt(const RenderScene& rs, uint32_t face, const glm::vec3& p); // sRGB-encoded
 
+// Physical mode's shading normal at a hit seen from wo (unit, towards the viewer): the face
+// normal, or where the face's material has a normal map, the map's normal in the face's texture
+// frame (DarkPlaces' `_norm` convention, integrator.cpp), bent where needed so that it faces wo
+// and light reflected about it leaves the face (Iray's fix). Faithful mode and the normal AOV
+// keep the face normal: ericw-tools' `light` has no normal maps.
+glm::vec3 shadingNormal(const RenderScene& rs, const SurfaceHit& hit, const glm::vec3& wo);
+
 // Faithful mode: the light sum ericw-tools `light` would compute at surface point p with
 // normal n (light units, per colour channel; before _range). Stochastic only for soft
 // lights (deviance, penumbra, domes), exact otherwise; `_surface` lights are point lights here.

@@ -7,6 +7,7 @@
 #include "renderer/gl/gl_render.h"
 #include "tests/gl/test_scenes.h"
 #include "tests/render/box_scene.h"
+#include "tests/render/normal_map_room.h"
 #include "tests/test_data.h"
 
 #include <gtest/gtest.h>
@@ -72,6 +73,17 @@ TEST(GlWavefrontMap, ManyBounceLightsFaithful) {
   start.keys = {{"classname", "info_player_start"}, {"origin", "400 -400 150"}, {"angle", "135"}};
   scene.entities.push_back(start);
   expectFormsAgree(scene, false);
+}
+
+// Physical mode's shading normal (Bsdf::n, from a normal map) outlives a dispatch: a mirrored,
+// glossy wall of bumps (tests/render/normal_map_room.h), seen from the room's middle.
+TEST(GlWavefrontMap, NormalMappedWallPhysical) {
+  const test::NormalMapRoom room({test::bumpsNormalMap(12, 12), true, {96.0f, -120.0f, 128.0f}, true});
+  Scene scene = room.scene();
+  Entity start;
+  start.keys = {{"classname", "info_player_start"}, {"origin", "-8 0 106"}, {"angle", "0"}};
+  scene.entities.push_back(start);
+  expectFormsAgree(scene, true);
 }
 
 } // namespace
