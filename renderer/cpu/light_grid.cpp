@@ -69,19 +69,10 @@ float distanceToCell2(const CellBox& cell, const glm::vec3& p) { return distance
 
 // A bounce light lights only what lies in front of its face (faithful::emitterTerm: 0 behind its
 // plane), so a cell wholly behind it, by more than float rounding at Quake's extents, never sees
-// it. About half of a level's cells lie behind any one face.
+// it: the farthest of the cell's corners along the light's normal (summed over the axes where
+// the normal has a component; infinite at a border) is below -kBehindMargin. About half of a
+// level's cells lie behind any one face.
 constexpr float kBehindMargin = 1.0f;
-
-bool cellBehindBounceLight(const GpuLight& light, const CellBox& cell) {
-  if (light.formula != uint32_t(LightFormula::Bounce)) return false;
-  constexpr float kMargin = kBehindMargin;
-  float farthest = 0.0f; // along the light's normal, of the cell's corners (infinite at a border)
-  for (int a = 0; a < 3; ++a) {
-    const float d = light.direction[a];
-    if (d != 0.0f) farthest += d * ((d > 0.0f ? cell.hi[a] : cell.lo[a]) - light.origin[a]);
-  }
-  return farthest < -kMargin;
-}
 
 uint32_t clampedCell(const GpuLightGrid& g, int axis, float coordinate) {
   const float f = (coordinate - g.origin[axis]) / g.cellSize;
@@ -322,8 +313,8 @@ bool hasInfiniteReach(const GpuLight& l, float scaledist) {
 }
 
 // One axis's terms of distanceToCell2 (the squared distance from the light's origin to the
-// cell's slab) and of cellBehindBounceLight (the farthest the slab reaches along the light's
-// normal, 0 where the normal has no component): listing a light tests every cell in its reach,
+// cell's slab) and of the test behind a bounce light (kBehindMargin: the farthest the slab
+// reaches along the light's normal, 0 where the normal has no component): listing a light tests every cell in its reach,
 // and a cell's test is then two sums of three terms.
 struct CellTerms {
   float distance2 = 0.0f;
@@ -393,7 +384,7 @@ std::vector<std::vector<uint32_t>> finiteReachLists(const GpuLightGrid& g, const
         if (ty.distance2 + tz.distance2 > reach2) continue;
         for (uint32_t x = r.lo[0]; x <= r.hi[0]; ++x) {
           const CellTerms& tx = row[0][x];
-          // distanceToCell2 and cellBehindBounceLight, summed in their order: the same floats.
+          // distanceToCell2 and the test behind a bounce light, each summed x, y, z.
           if ((tx.distance2 + ty.distance2) + tz.distance2 <= reach2 &&
               !(bounce && (tx.farthest + ty.farthest) + tz.farthest < -kBehindMargin))
             lists[x + g.dims[0] * (y + g.dims[1] * size_t(z))].push_back(r.light);
