@@ -64,6 +64,9 @@ TEST(GlTonemap, EqualsTheCpusPngBytesForEveryOperatorWithin1Of255) {
 class GlProgressiveTest : public ::testing::Test {
 protected:
   static constexpr int kWidth = 48, kHeight = 32;
+  // The context first: each test makes GL objects before it asks for the tracer, and ctest runs
+  // each test in a process of its own.
+  void SetUp() override { test::sharedGlContext(); }
   // The room lit by one point light, physical with a bounce: every sample is noisy, so a sample
   // drawn from the wrong stream, or added to a stale sum, shows.
   GlTracer& tracer() {
