@@ -594,7 +594,6 @@ void GlTracer::addSample(const CameraBasis& camera, const BeautySettings& settin
   BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT));
 }
 
-
 CameraBasis CameraBasis::fromQuakeAngles(const glm::vec3& origin, float pitch, float yaw, float roll, int width, int height,
                                          float horizontalFovDegrees) {
   const float p = glm::radians(pitch), y = glm::radians(yaw), r = glm::radians(roll);
