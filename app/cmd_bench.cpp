@@ -41,12 +41,7 @@ int runBench(const BenchOptions& options) {
   gl::GlBenchSettings settings{width, height, options.bounces, options.seconds, *textureMode, options.lighting == "physical"};
   // The first image is timed with the import inside it, as `render` gets there.
   return gl::runGlBench(
-      [&](const gl::EntitiesRead& entitiesRead) {
-        ImportOptions import = options.import;
-        import.entitiesRead = entitiesRead;
-        return importScene(options.map, import);
-      },
-      settings);
+      [&](const gl::EntitiesRead& entitiesRead) { return importScene(options.map, options.import, entitiesRead); }, settings);
 }
 
 } // namespace

@@ -73,12 +73,9 @@ int runRender(const RenderOptions& o) {
   Scene scene;
   RenderScene renderScene;
   Diagnostics lightDiagnostics;
-  auto importLevel = [&](const gl::EntitiesRead& entitiesRead) {
-    ImportOptions import = o.import;
-    import.entitiesRead = entitiesRead;
-    return importScene(mapPath, import);
-  };
-  gl::LevelPreparation preparation(scene, renderScene, importLevel, sceneOptions, &lightDiagnostics);
+  gl::LevelPreparation preparation(
+      scene, renderScene, [&](const gl::EntitiesRead& entitiesRead) { return importScene(mapPath, o.import, entitiesRead); },
+      sceneOptions, &lightDiagnostics);
 
   // gl and auto render on the GL tracer when a GL 4.5 context can be made; otherwise one line
   // says why and the CPU reference renders instead. auto also passes over a software GL
@@ -107,9 +104,7 @@ int runRender(const RenderOptions& o) {
     glPrograms = std::make_shared<gl::TracerPrograms>(*glContext, *glTextures);
     glPrograms->startAovs();
     if (o.aov == "beauty") {
-      glPrograms->startTraceKernel();
-      const gl::FaithfulFeatures features = physical ? gl::FaithfulFeatures{} : gl::faithfulFeatures(preparation.lightKinds());
-      glPrograms->startPathTracer(physical, features);
+      const gl::FaithfulFeatures features = gl::startPathTracerFor(*glPrograms, preparation, physical);
       glPrograms->aovs();
       if (glPrograms->wavefrontState(physical, features).started) glPrograms->wavefront(physical, features);
     } else {

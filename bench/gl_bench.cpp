@@ -34,12 +34,7 @@ int main(int argc, char** argv) {
     fmt::print("scene: {} ({} brushes, {} faces, {} materials, {} of them placeholders)\n", level, scene.brushes.size(),
                scene.faces.size(), scene.materials.size(), placeholders);
     return bt::gl::runGlBench(
-        [&](const bt::gl::EntitiesRead& entitiesRead) {
-          bt::ImportOptions options;
-          options.entitiesRead = entitiesRead;
-          return bt::importScene(level, options);
-        },
-        settings);
+        [&](const bt::gl::EntitiesRead& entitiesRead) { return bt::importScene(level, {}, entitiesRead); }, settings);
   } catch (const std::exception& e) {
     fmt::print(stderr, "gl_bench: {}\n", e.what());
     return 1;

@@ -56,4 +56,9 @@ Scene importScene(const std::string& path, const ImportOptions& options) {
   throw ImportError(Diagnostic{Severity::Error, path, 0, 0, "not a level brushtrace reads (expected .map, .bsp or archive.pk3:maps/name.bsp)"});
 }
 
+Scene importScene(const std::string& path, ImportOptions options, std::function<void(const Scene&)> entitiesRead) {
+  options.entitiesRead = std::move(entitiesRead);
+  return importScene(path, options);
+}
+
 } // namespace bt

@@ -41,5 +41,8 @@ struct ImportOptions {
 // resolved. Throws ImportError when the file cannot be imported at all; everything skipped on
 // the way (invalid brushes, missing textures) is in Scene::diagnostics.
 Scene importScene(const std::string& path, const ImportOptions& options);
+// The same with options.entitiesRead set to `entitiesRead` (the GL front ends' level import,
+// renderer/gl LevelPreparation).
+Scene importScene(const std::string& path, ImportOptions options, std::function<void(const Scene&)> entitiesRead);
 
 } // namespace bt

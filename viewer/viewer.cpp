@@ -31,24 +31,15 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-// The level as the tracers see it, and the files it was read from (Scene::inputFiles: the
-// map, prefabs, WADs, palettes, shader scripts, images and companion maps). Rebuilt whole on
-// every reload, so a failed reload leaves the previous one untouched.
-struct Level : gl::GlLevel {
-  std::vector<fs::path> files;
-};
-
-// `programs` outlive the level: a reload uploads the new level and keeps the compiled programs.
-// `physical`: the lighting the first images are for (gl::loadGlLevel waits for those kernels).
-std::unique_ptr<Level> loadLevel(const ViewerOptions& options, gl::GlContext& context,
-                                 const std::shared_ptr<gl::TracerPrograms>& programs, bool physical) {
-  auto level = std::make_unique<Level>();
-  gl::loadGlLevel(*level, context, programs, physical, [&](const gl::EntitiesRead& entitiesRead) {
-    ImportOptions import = options.import;
-    import.entitiesRead = entitiesRead;
-    return importScene(options.map, import);
-  });
-  level->files.assign(level->scene.inputFiles.begin(), level->scene.inputFiles.end());
+// The level as the tracers see it, rebuilt whole on every reload, so a failed reload leaves the
+// previous one untouched. `programs` outlive it: a reload uploads the new level and keeps the
+// compiled programs. `physical`: the lighting the first images are for (gl::loadGlLevel waits
+// for those kernels).
+std::unique_ptr<gl::GlLevel> loadLevel(const ViewerOptions& options, gl::GlContext& context,
+                                       const std::shared_ptr<gl::TracerPrograms>& programs, bool physical) {
+  auto level = std::make_unique<gl::GlLevel>();
+  gl::loadGlLevel(*level, context, programs, physical,
+                  [&](const gl::EntitiesRead& entitiesRead) { return importScene(options.map, options.import, entitiesRead); });
   return level;
 }
 
@@ -65,7 +56,7 @@ struct Viewer::Impl {
   gl::GlWindow window;
   std::shared_ptr<gl::TracerPrograms> programs;
   FileWatcher watcher;
-  std::unique_ptr<Level> level;
+  std::unique_ptr<gl::GlLevel> level;
   FlyCamera camera;
   ViewMode mode = ViewMode::Beauty;
   LightingMode lighting;
@@ -95,7 +86,7 @@ struct Viewer::Impl {
     // loads, from when its lights say which program it needs (gl::loadGlLevel).
     programs = std::make_shared<gl::TracerPrograms>(window.context(), options.textures);
     level = loadLevel(options, window.context(), programs, lighting == LightingMode::Physical);
-    watcher.watch(level->files);
+    watchLevelFiles();
     const CameraPose pose = options.camera ? *options.camera : defaultCameraPose(level->scene);
     camera = FlyCamera(glm::dvec3(pose.origin), pose.pitch, pose.yaw);
     // Before ImGui's context, which only the destructor ends: a throw here leaves nothing behind.
@@ -192,6 +183,10 @@ struct Viewer::Impl {
     restart();
   }
 
+  // Every file the level was read from (Scene::inputFiles: the map, prefabs, WADs, palettes,
+  // shader scripts, images and companion maps).
+  void watchLevelFiles() { watcher.watch({level->scene.inputFiles.begin(), level->scene.inputFiles.end()}); }
+
   void reloadIfSaved() {
     if (watcher.poll().empty()) return;
     try {
@@ -203,7 +198,7 @@ struct Viewer::Impl {
       // Keep showing the last good level; the error stays on screen until a save fixes it.
       error = e.what();
     }
-    watcher.watch(level->files);
+    watchLevelFiles();
   }
 
   gl::CameraBasis basis(int width, int height) const {

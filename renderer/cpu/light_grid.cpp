@@ -314,8 +314,8 @@ bool hasInfiniteReach(const GpuLight& l, float scaledist) {
 
 // One axis's terms of distanceToCell2 (the squared distance from the light's origin to the
 // cell's slab) and of the test behind a bounce light (kBehindMargin: the farthest the slab
-// reaches along the light's normal, 0 where the normal has no component): listing a light tests every cell in its reach,
-// and a cell's test is then two sums of three terms.
+// reaches along the light's normal, 0 where the normal has no component): listing a light
+// tests every cell in its reach, and a cell's test is then two sums of three terms.
 struct CellTerms {
   float distance2 = 0.0f;
   float farthest = 0.0f;

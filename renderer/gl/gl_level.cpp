@@ -47,15 +47,20 @@ std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport imp
   return std::make_unique<LevelPreparation>(level.scene, level.render, std::move(importLevel));
 }
 
+FaithfulFeatures startPathTracerFor(TracerPrograms& programs, LevelPreparation& preparation, bool physical) {
+  programs.startTraceKernel();
+  // Physical programs have every part; a faithful one waits for the lights to know its parts.
+  const FaithfulFeatures features = physical ? FaithfulFeatures{} : faithfulFeatures(preparation.lightKinds());
+  programs.startPathTracer(physical, features);
+  return features;
+}
+
 void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& context,
                  const std::shared_ptr<TracerPrograms>& programs, bool physical, GlLevelTimes* times) {
   using Clock = GlLevelTimes::Clock;
   GlLevelTimes local;
   GlLevelTimes& t = times ? *times : local;
-  programs->startTraceKernel();
-  // Physical programs have every part; a faithful one waits for the lights to know its parts.
-  const FaithfulFeatures features = physical ? FaithfulFeatures{} : faithfulFeatures(preparation.lightKinds());
-  programs->startPathTracer(physical, features);
+  const FaithfulFeatures features = startPathTracerFor(*programs, preparation, physical);
   t.programsStarted = Clock::now();
   const bool wavefront = programs->wavefrontState(physical, features).started;
   if (wavefront) {

@@ -74,10 +74,14 @@ struct GlLevelTimes {
 // overlaps the context's creation.
 std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport importLevel);
 
-// Finishes loading `level`, whose preparation is `preparation`: starts the wavefront trace kernel
-// (it needs nothing of the level), waits for the level's lights and starts the path tracer for
-// them (startPathTracer: `physical` is the lighting of the first images, the faithful features
-// from the lights' kinds), then waits for the wavefront kernels where they were started. NVIDIA's
+// Starts `programs`' path tracer for `physical` lighting (the first images') and the level's
+// kinds of light: the wavefront trace kernel at once (it needs nothing of the level), the rest
+// once the preparation knows the kinds (a physical program has every part and waits for
+// nothing). The faithful features it was started with.
+FaithfulFeatures startPathTracerFor(TracerPrograms& programs, LevelPreparation& preparation, bool physical);
+
+// Finishes loading `level`, whose preparation is `preparation`: starts the path tracer
+// (startPathTracerFor), then waits for the wavefront kernels where they were started. NVIDIA's
 // driver does part of a compile on the thread that waits for it (H100, lq_e4m3, faithful, cold:
 // the first image 0.49-0.83 s this way, 0.86-1.2 s with the import on this thread before the
 // wait). The upload needs this thread's GL context; it runs between the trace kernel's link

@@ -456,6 +456,26 @@ struct GlTracer::Impl {
                                   paths, round));
     }
   }
+
+  // Sample `sampleIndex` of `camera` into the image bound at unit 0 (sample 0 overwrites it,
+  // later ones add to it): with the wavefront kernels where settings.form asks for them, or for
+  // Auto while the megakernel still compiles, else with the megakernel. True where the wavefront
+  // kernels drew it.
+  bool drawSample(const CameraBasis& camera, const BeautySettings& settings, uint32_t sampleIndex) {
+    setCamera(camera, settings.width, settings.height, sampleIndex, settings.seed, 0);
+    const bool byWavefront = settings.form == PathTracerForm::Wavefront ||
+                             (settings.form == PathTracerForm::Auto && programs->wavefrontWhileCompiling(settings.physical, features));
+    if (byWavefront) {
+      auto [shade, trace] = programs->wavefront(settings.physical, features);
+      wavefrontSample(shade, trace, settings.width, settings.height);
+    } else {
+      if (settings.form == PathTracerForm::Auto) wavefront.release(); // the switch is for good
+      programs->pathTracer(settings.physical, features).dispatch2d(settings.width, settings.height);
+    }
+    // Each sample reads the sum the previous one wrote.
+    BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT));
+    return byWavefront;
+  }
 };
 
 GlTracer::GlTracer(GlContext& context, const Scene& scene, const TraceScene& tracer, TextureMode textures,
@@ -540,22 +560,9 @@ BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettin
   BeautyImage out;
   out.width = settings.width;
   out.height = settings.height;
-  TracerPrograms& programs = *impl_->programs;
-  if (settings.form == PathTracerForm::Auto) programs.startPathTracer(settings.physical, impl_->features);
+  if (settings.form == PathTracerForm::Auto) impl_->programs->startPathTracer(settings.physical, impl_->features);
   for (int sample = 0; sample < settings.spp; ++sample) {
-    impl_->setCamera(camera, settings.width, settings.height, static_cast<uint32_t>(sample), settings.seed, 0);
-    const bool wavefront = settings.form == PathTracerForm::Wavefront ||
-                           (settings.form == PathTracerForm::Auto && programs.wavefrontWhileCompiling(settings.physical, impl_->features));
-    if (wavefront) {
-      auto [shade, trace] = programs.wavefront(settings.physical, impl_->features);
-      impl_->wavefrontSample(shade, trace, settings.width, settings.height);
-      ++out.wavefrontSamples;
-    } else {
-      if (settings.form == PathTracerForm::Auto) impl_->wavefront.release(); // the switch is for good
-      programs.pathTracer(settings.physical, impl_->features).dispatch2d(settings.width, settings.height);
-      // Each sample reads the sum the previous one wrote.
-      BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT));
-    }
+    if (impl_->drawSample(camera, settings, static_cast<uint32_t>(sample))) ++out.wavefrontSamples;
     out.samples = sample + 1;
     if (progress) {
       BT_GL(glFinish()); // so the callback sees real progress and timing
@@ -572,26 +579,15 @@ BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettin
   return out;
 }
 
-
 void GlTracer::addSample(const CameraBasis& camera, const BeautySettings& settings, unsigned sum, uint32_t sampleIndex) {
   if (settings.width <= 0 || settings.height <= 0)
     throw GlError(fmt::format("image size {}x{} is empty", settings.width, settings.height));
   BT_GL(glBindImageTexture(0, sum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F));
   impl_->setWorld(settings.physical, settings.bounces);
-  impl_->setCamera(camera, settings.width, settings.height, sampleIndex, settings.seed, 0);
-  TracerPrograms& programs = *impl_->programs;
-  if (settings.form == PathTracerForm::Auto) programs.startPathTracer(settings.physical, impl_->features);
-  const bool wavefront = settings.form == PathTracerForm::Wavefront ||
-                         (settings.form == PathTracerForm::Auto && programs.wavefrontWhileCompiling(settings.physical, impl_->features));
-  if (wavefront) {
-    auto [shade, trace] = programs.wavefront(settings.physical, impl_->features);
-    impl_->wavefrontSample(shade, trace, settings.width, settings.height);
-  } else {
-    if (settings.form == PathTracerForm::Auto) impl_->wavefront.release(); // the switch is for good
-    programs.pathTracer(settings.physical, impl_->features).dispatch2d(settings.width, settings.height);
-  }
-  // The next sample, and the tonemap pass, read the sum this one wrote.
-  BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT));
+  if (settings.form == PathTracerForm::Auto) impl_->programs->startPathTracer(settings.physical, impl_->features);
+  impl_->drawSample(camera, settings, sampleIndex);
+  // The tonemap pass and a read-back see the sum this sample wrote.
+  BT_GL(glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT));
 }
 
 CameraBasis CameraBasis::fromQuakeAngles(const glm::vec3& origin, float pitch, float yaw, float roll, int width, int height,
