@@ -99,6 +99,11 @@ public:
   // Whether closestHit(ray) would find anything, without looking for the closest.
   bool occluded(const Ray& ray) const;
 
+  // Whether p lies inside some brush for which `counts(scene brush index)` is true: strictly, or
+  // with `onSurface` also on its boundary. ericw-tools' "point in solid" tests, which move a
+  // luxel's sample point out of walls and a light off the face it lies on.
+  template <class Counts> bool inside(const glm::vec3& p, const Counts& counts, bool onSurface = false) const;
+
   // The hit of one brush (index into brushes()), by the rules above; what the BVH calls per leaf.
   std::optional<Hit> intersectBrush(const Ray& ray, uint32_t brushIndex) const;
 
@@ -118,6 +123,37 @@ private:
   double sahCost_ = 0.0;
   Bounds bounds_;
 };
+
+template <class Counts> bool TraceScene::inside(const glm::vec3& p, const Counts& counts, bool onSurface) const {
+  auto inBox = [&](const float* lo, const float* hi) {
+    if (onSurface) return p.x >= lo[0] && p.x <= hi[0] && p.y >= lo[1] && p.y <= hi[1] && p.z >= lo[2] && p.z <= hi[2];
+    return p.x > lo[0] && p.x < hi[0] && p.y > lo[1] && p.y < hi[1] && p.z > lo[2] && p.z < hi[2];
+  };
+  if (nodes_.empty() || !inBox(nodes_[0].boundsMin, nodes_[0].boundsMax)) return false;
+  uint32_t stack[kBvhMaxDepth + 1]; // one pop and up to two pushes per level
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const GpuBvhNode& node = nodes_[stack[--top]];
+    if (node.count == 0) {
+      for (uint32_t c = node.leftFirst; c < node.leftFirst + 2; ++c)
+        if (inBox(nodes_[c].boundsMin, nodes_[c].boundsMax)) stack[top++] = c;
+      continue;
+    }
+    for (uint32_t i = node.leftFirst; i < node.leftFirst + node.count; ++i) {
+      const GpuBrush& b = brushes_[i];
+      if (!inBox(b.boundsMin, b.boundsMax)) continue;
+      bool in = true;
+      for (uint32_t k = b.firstSide; k < b.firstSide + b.sideCount && in; ++k) {
+        const float* plane = faces_[sides_[k]].plane;
+        const float d = plane[0] * p.x + plane[1] * p.y + plane[2] * p.z;
+        in = onSurface ? d <= plane[3] : d < plane[3];
+      }
+      if (in && counts(b.sceneBrush)) return true;
+    }
+  }
+  return false;
+}
 
 // Where a ray leaving a surface should start: p pushed along the geometric normal n (unit,
 // on the side the ray leaves to) by a distance that covers the rounding error of a hit point

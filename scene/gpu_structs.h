@@ -165,8 +165,12 @@ struct GpuLight {
   float dirtGain = 1.0f;
   float dirtOffRadius = 0.0f;
   float dirtOnRadius = 0.0f;
+  // Suns with `_suntexture`: 1 + the material of the sky faces they shine through (a sun ray that
+  // reaches sky of another texture is blocked); 0: any sky.
+  uint32_t skyMaterial = 0;
+  uint32_t pad[3] = {0, 0, 0}; // zero; keeps the struct a whole number of 16-byte rows
 };
-static_assert(sizeof(GpuLight) == 96);
+static_assert(sizeof(GpuLight) == 112);
 static_assert(offsetof(GpuLight, origin) == 0);
 static_assert(offsetof(GpuLight, type) == 12);
 static_assert(offsetof(GpuLight, color) == 16);
@@ -185,6 +189,7 @@ static_assert(offsetof(GpuLight, dirtScale) == 80);
 static_assert(offsetof(GpuLight, dirtGain) == 84);
 static_assert(offsetof(GpuLight, dirtOffRadius) == 88);
 static_assert(offsetof(GpuLight, dirtOnRadius) == 92);
+static_assert(offsetof(GpuLight, skyMaterial) == 96);
 
 constexpr uint32_t kLightFlagStartOff = 1u;  // spawnflags & 1 on a styled light: dark by default
 constexpr uint32_t kLightFlagBleed = 2u;     // `_bleed`: lights surfaces behind it too
@@ -286,5 +291,42 @@ struct GpuLightCell {
 };
 static_assert(sizeof(GpuLightCell) == 8);
 static_assert(offsetof(GpuLightCell, count) == 4);
+
+// ---------------------------------------------------------------------------------------------
+// Lightmaps (renderer/cpu/lightmaps.h bakes them; renderer/gl uploads them unchanged)
+// Faithful mode shows the light as the engine does: one luxel every 16 texels on each compiled
+// face, filtered bilinearly. A scene face (brush side) holds the compiled faces qbsp makes of it
+// (its fragments: CSG pieces, 240-texel subdivisions), each with its own luxel grid. A point of
+// the face is shown from the fragment whose polygon holds it, else from the one it lies least
+// outside of (the nearest, measured along the violated edge lines).
+//   faceLightmaps[face] = uvec2(first fragment, fragment count): count 0 = not baked (the
+//                         tracers then evaluate the light at the point itself);
+//   fragment edges: edges[firstEdge .. + edgeCount) are lines (a, b, c, 0) in texel space,
+//                   a·s + b·t + c >= 0 inside;
+//   luxels[firstLuxel + y * width + x]: RGBA8 (r in the low byte), the stored lightmap value
+//                   (light × _range, clamped as the compiler clamps, 0..255), alpha unused.
+// Luxel (x, y) is centred on texel (16 (minS + x), 16 (minT + y)).
+// The GL tracer reads all of it from one uint buffer (packLightmaps; shaders/lightmaps.glsl):
+//   [0] first fragment word, [1] first edge word, [2] first luxel word, [3] face count F;
+//   [4 + 2 face], [5 + 2 face]: the face's (first fragment, count); then the fragments (8 words
+//   each, this struct), the edges (4 float words each), the luxels (1 word each).
+// ---------------------------------------------------------------------------------------------
+struct GpuLightmapFragment {
+  int32_t minS = 0;
+  int32_t minT = 0;
+  uint32_t width = 0;
+  uint32_t height = 0;
+  uint32_t firstLuxel = 0;
+  uint32_t firstEdge = 0;
+  uint32_t edgeCount = 0;
+  uint32_t pad = 0; // zero
+};
+static_assert(sizeof(GpuLightmapFragment) == 32);
+static_assert(offsetof(GpuLightmapFragment, minT) == 4);
+static_assert(offsetof(GpuLightmapFragment, width) == 8);
+static_assert(offsetof(GpuLightmapFragment, height) == 12);
+static_assert(offsetof(GpuLightmapFragment, firstLuxel) == 16);
+static_assert(offsetof(GpuLightmapFragment, firstEdge) == 20);
+static_assert(offsetof(GpuLightmapFragment, edgeCount) == 24);
 
 } // namespace bt

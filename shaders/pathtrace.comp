@@ -30,6 +30,7 @@
 #include "sampling.glsl"
 #include "faithful.glsl"
 #include "light_select.glsl"
+#include "lightmaps.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(rgba32f, binding = 0) uniform image2D accumulation; // rgb: sum of samples
@@ -463,6 +464,15 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
     return false;
   }
   path.fullbright = emissiveAt(hit.face, hit.position);
+  // A baked face shows its luxels as the game shows its lightmap; the path ends here.
+  uvec2 baked = lightmapRange(hit.face);
+  if (baked.y > 0u) {
+    GpuFace f = faces[hit.face];
+    vec3 d = hit.position - f.origin;
+    vec3 stored = lightmapValue(baked, vec2(dot(d, f.tangent), dot(d, f.bitangent)));
+    path.radiance = srgbToLinear(max(path.texture * stored / OVERBRIGHT_ONE, path.fullbright));
+    return false;
+  }
   path.face = hit.face;
   path.position = hit.position;
   path.normal = hit.normal;

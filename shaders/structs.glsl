@@ -106,7 +106,9 @@ struct GpuLight {
   float dirtGain;      // offset 84
   float dirtOffRadius; // offset 88: with LIGHT_FLAG_DIRT_RADIUS
   float dirtOnRadius;  // offset 92
-};                 // 96 bytes
+  uint skyMaterial;    // offset 96: suns with _suntexture, 1 + the sky material (0: any sky)
+  uint pad0, pad1, pad2;
+};                 // 112 bytes
 
 // scene/gpu_structs.h GpuEmitter: one triangle of an emitting face, cdf by area.
 struct GpuEmitter {

@@ -100,13 +100,13 @@ bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode) {
   return true;
 }
 
-bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode) {
+bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t skyMaterial) {
   Ray r = ray;
   for (int i = 0; i < kMaxSkips; ++i) {
     const std::optional<Hit> hit = rs.tracer.closestHit(r);
-    if (!hit) return true; // left the level: nothing to stop the sun
+    if (!hit) return skyMaterial == 0; // left the level: nothing to stop the sun, unless it needs a texture
     const uint32_t flags = rs.faceFlags[hit->face];
-    if (!hit->inside && (flags & kFaceSky)) return true;
+    if (!hit->inside && (flags & kFaceSky)) return skyMaterial == 0 || gpuFace(rs, hit->face).material + 1 == skyMaterial;
     if (!hit->inside && blocksLight(flags, mode)) return false;
     r.tMin = hit->t + 1e-3f;
   }
@@ -268,7 +268,9 @@ void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiv
     const glm::vec3 n = facingNormal(r, toSun);
     const float value = faithful::sunValue(jittered, n) * faithful::lightDirtFactor(light, occlusion, 0.0f);
     if (value == 0.0f) return;
-    if (!reachesSky(rs, Ray{offsetPoint(r.p, n), 0.0f, toSun, std::numeric_limits<float>::infinity()}, LightingMode::Faithful)) return;
+    if (!reachesSky(rs, Ray{offsetPoint(r.p, n), 0.0f, toSun, std::numeric_limits<float>::infinity()}, LightingMode::Faithful,
+                    light.skyMaterial))
+      return;
     sum += value * light.color;
   } else if (light.type == uint32_t(LightType::Dome)) {
     // One direction of the dome per sample, uniform over its hemisphere: the mean over the
@@ -484,6 +486,18 @@ glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLig
                           occlusion, rng, maxShadowRays);
 }
 
+glm::vec3 faithfulLuxelLight(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided,
+                             const glm::vec3& faceMinlight) {
+  // Dirt rays start at the compiler's sample point, which p already is.
+  const float occlusion = faithfulOcclusion(rs, p - n * faithful::kDirtSampleLift, n, rng);
+  return faithfulSum(rs, LightSource::Grid, Receiver{p, n, twoSided}, faceMinlight, rng, FaithfulLights::Shown, nullptr,
+                     occlusion);
+}
+
+glm::vec3 faithfulLuxelFloor(const RenderScene& rs, const glm::vec3& faceMinlight) {
+  return applyFloors(rs, glm::vec3(0.0f), glm::vec3(0.0f), faceMinlight, 0.0f);
+}
+
 glm::vec3 faithfulFaceMinlight(const RenderScene& rs, uint32_t face) {
   const uint32_t m = gpuFace(rs, face).material;
   return m < rs.surfaceLights.size() ? faithful::surfaceFaceMinlight(rs.surfaceLights[m]) : glm::vec3(0.0f);
@@ -509,12 +523,17 @@ glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& sett
   // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
   if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater)) return srgbToLinear(texture);
 
-  const glm::vec3 light = faithfulLight(rs, settings, hit, faithfulFaceMinlight(rs, hit.face), rng);
-  // The compiler scales a coloured sum so its brightest channel fits in 255, keeping the hue.
-  glm::vec3 stored = light * rs.world.range;
-  const float peak = std::max({stored.x, stored.y, stored.z});
-  if (peak > 255.0f) stored *= 255.0f / peak;
-  stored = glm::max(stored, glm::vec3(0.0f));
+  glm::vec3 stored;
+  if (const auto baked = lightmapValue(rs.lightmaps, hit.face, textureCoordinates(gpuFace(rs, hit.face), hit.position))) {
+    stored = *baked; // the game's look: the compiler's luxels through the engine's filter
+  } else {
+    const glm::vec3 light = faithfulLight(rs, settings, hit, faithfulFaceMinlight(rs, hit.face), rng);
+    // The compiler scales a coloured sum so its brightest channel fits in 255, keeping the hue.
+    stored = light * rs.world.range;
+    const float peak = std::max({stored.x, stored.y, stored.z});
+    if (peak > 255.0f) stored *= 255.0f / peak;
+    stored = glm::max(stored, glm::vec3(0.0f));
+  }
   // Engine: texture x lightmap / 128, in the texture's (gamma) space; fullbright texels unlit.
   const glm::vec3 display = glm::max(texture * stored / faithful::kOverbrightOne, emissiveAt(rs, hit.face, hit.position));
   return srgbToLinear(display);

@@ -38,7 +38,8 @@ SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray);
 bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode);
 
 // True when the ray reaches a sky face (or leaves the level) before anything else: sunlight.
-bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode);
+// `skyMaterial`: 1 + the only sky material that counts (a sun's `_suntexture`), 0 any sky.
+bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t skyMaterial = 0);
 
 // Base colour at a face point: rgb as stored (sRGB-encoded, 0..1), a = coverage.
 glm::vec4 baseColorAt(const RenderScene& rs, uint32_t face, const glm::vec3& p);
@@ -134,6 +135,14 @@ glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLig
 glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights,
                                    std::span<const uint32_t> candidates, const glm::vec3& p, const glm::vec3& n, Rng& rng,
                                    bool twoSided, size_t maxShadowRays, std::optional<float> occlusion = std::nullopt);
+
+// The light ericw-tools `light` stores at a luxel whose sample point is p (already lifted off the
+// face as the compiler lifts it: lightmap_bake.h): every light the grid lists, each bounce light
+// shadow-tested, dirt cast from p itself, then the floors (minlight, `faceMinlight`).
+glm::vec3 faithfulLuxelLight(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided,
+                             const glm::vec3& faceMinlight);
+// What an occluded luxel (its sample point in solid, or too far off its face) stores: the floors.
+glm::vec3 faithfulLuxelFloor(const RenderScene& rs, const glm::vec3& faceMinlight);
 
 // Faithful mode: the floor a face's own radiosity `_surface` template puts under its light
 // (zero for every other face); the caller takes max(faithfulLightAt, this), with the minlight

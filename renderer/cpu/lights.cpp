@@ -110,6 +110,7 @@ SurfaceTemplate readSurfaceTemplate(const KeyReader& keys, const std::string& te
   t.spotlight = keys.number("_surface_spotlight", 0.0f) != 0.0f;
   t.radiosity = keys.has("_surface_radiosity") ? keys.number("_surface_radiosity", 0.0f) != 0.0f : world.surflightRadiosity;
   t.minlightScale = keys.number("_surflight_minlight_scale", world.surflightMinlightScale);
+  t.group = int(keys.number("_surflight_group", 0.0f));
   if (t.spotlight && t.light.cosOuter < -1.0f) {
     // The axis is each face's normal; the cone is the template's `angle` / `_softangle`.
     const float angle = keys.number("angle", kDefaultSpotAngle);
@@ -280,18 +281,24 @@ SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagn
 
     GpuLight light;
     light.type = uint32_t(LightType::Point);
-    light.value = keys.number("light", kDefaultLightValue);
+    light.value = kDefaultLightValue;
     light.color = keys.color("_color");
-    // Half-Life's `_light "r g b brightness"` form.
-    if (const std::string* hl = entity.find("_light")) {
-      const std::vector<float> n = parseNumbers(*hl);
-      if (n.size() == 4) {
-        light.color = glm::vec3(n[0], n[1], n[2]) / 255.0f;
-        light.value = n[3];
+    // `light` and Half-Life's `_light` take "value", "r g b" (value 300) or "r g b value", the
+    // colour 0..255 or 0..1 as `_color` (ericw-tools reads both forms, q1_light_hlform).
+    for (const char* key : {"light", "_light"}) {
+      const std::string* text = keys.find(key);
+      if (!text) continue;
+      const std::vector<float> n = parseNumbers(*text);
+      if (n.size() == 3 || n.size() == 4) {
+        glm::vec3 c(n[0], n[1], n[2]);
+        if (c.x > 1.0f || c.y > 1.0f || c.z > 1.0f) c /= 255.0f;
+        light.color = glm::max(c, glm::vec3(0.0f));
+        if (n.size() == 4) light.value = n[3];
       } else if (n.size() == 1) {
         light.value = n[0];
       } else {
-        keys.warn(fmt::format("key \"_light\" has value \"{}\", expected \"r g b brightness\"", *hl));
+        keys.warn(fmt::format("key \"{}\" has value \"{}\", expected a value, \"r g b\" or \"r g b value\"; using {}",
+                              key, *text, light.value));
       }
     }
 
@@ -339,6 +346,14 @@ SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagn
       // ericw-tools spreads a light-entity sun over its `_deviance` (degrees), not `_samples` copies.
       light.deviance = glm::radians(keys.number("_deviance", keys.number("_sunlight_penumbra", 0.0f)));
       light.faithfulScale = 1.0f;
+      if (const std::string* sky = keys.find("_suntexture"); sky && !sky->empty()) {
+        if (auto m = scene.findMaterial(*sky)) {
+          light.skyMaterial = *m + 1;
+        } else {
+          keys.warn(fmt::format("_suntexture \"{}\": no face has this texture; the sun lights nothing", *sky));
+          light.value = 0.0f;
+        }
+      }
       out.lights.push_back(light);
       continue;
     }

@@ -55,6 +55,7 @@ struct SurfaceTemplate {
   bool spotlight = false;     // `_surface_spotlight`: each point light is a spotlight along the face normal
   bool radiosity = false;     // `_surface_radiosity` 1: ericw-tools' "Q2-style" radiosity surface light
   float minlightScale = 1.0f; // `_surflight_minlight_scale`: radiosity kind: face minlight = value x this
+  int group = 0;              // `_surflight_group`: only faces of entities with the same `_surflight_group` (0: unset) emit
 };
 
 struct SceneLights {

@@ -96,6 +96,29 @@ std::vector<BrushContents> brushContents(const Scene& scene) {
   return contents;
 }
 
+namespace {
+
+// ericw-tools' FixLightsOnFaces: a light in the world's solid or on one of its faces is moved 2
+// units along the first axis direction (-x, +x, -y, +y, -z, +z) that leaves it outside; luxels
+// are sampled 1 unit off faces, so the light does not end up on a sample point.
+void nudgeLightsOffFaces(RenderScene& rs, const std::vector<BrushContents>& contents) {
+  auto solid = [&](uint32_t brush) { return contents[brush] == BrushContents::Solid; };
+  for (GpuLight& light : rs.lights) {
+    if (light.type != uint32_t(LightType::Point) || light.value == 0.0f) continue;
+    if (!rs.tracer.inside(light.origin, solid, true)) continue;
+    for (int i = 0; i < 6; ++i) {
+      glm::vec3 moved = light.origin;
+      moved[i / 2] += (i % 2) ? 2.0f : -2.0f;
+      if (!rs.tracer.inside(moved, solid, true)) {
+        light.origin = moved;
+        break;
+      }
+    }
+  }
+}
+
+} // namespace
+
 RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& options, Diagnostics& diagnostics) {
   RenderScene rs;
   rs.scene = &scene;
@@ -177,6 +200,7 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
     bvh.includeBrush[b] = visible;
   }
   rs.tracer = TraceScene::build(scene, bvh);
+  nudgeLightsOffFaces(rs, contents);
   // After the tracer: the compiler drops template faces that look into the void.
   for (const GpuLight& l : spreadSurfaceLights(scene, lights.surfaceTemplates, contents, rs.world, rs.tracer, diagnostics))
     rs.lights.push_back(l);

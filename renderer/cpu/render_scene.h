@@ -5,6 +5,7 @@
 #include "bvh/trace_scene.h"
 #include "scene/gpu_structs.h"
 #include "renderer/cpu/light_grid.h"
+#include "renderer/cpu/lightmaps.h"
 #include "renderer/cpu/lights.h"
 #include "renderer/cpu/surface_lights.h"
 #include "scene/scene.h"
@@ -36,6 +37,9 @@ struct RenderScene {
   WorldLighting world;
   LightKinds lightKinds;                  // what collectLights found (before _surface and _bounce lights)
   TraceScene tracer;                      // the brushes that are ever visible, in a BVH
+  // Faithful mode's luxels (lightmap_bake.h): a face baked here is shown from them, as the game
+  // shows its lightmaps; any other face has its light evaluated at the shown point.
+  Lightmaps lightmaps;
 };
 
 inline const GpuFace& gpuFace(const RenderScene& rs, uint32_t face) { return rs.tracer.faces()[face]; }

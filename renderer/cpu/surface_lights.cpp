@@ -469,6 +469,14 @@ std::vector<Winding> compiledFacePolygons(const Scene& scene, uint32_t faceIndex
   return pieces;
 }
 
+// The `_surflight_group` of the entity a face belongs to (0 when unset): a template lights only
+// the faces of its own group (ericw-tools' surface light groups).
+static int surfaceLightGroup(const Scene& scene, uint32_t face) {
+  const uint32_t brush = scene.faces[face].brush;
+  if (brush >= scene.brushes.size() || scene.brushes[brush].entity >= scene.entities.size()) return 0;
+  return std::atoi(std::string(scene.entities[scene.brushes[brush].entity].value("_surflight_group", "0")).c_str());
+}
+
 std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
                                           const std::vector<BrushContents>& contents, const WorldLighting& world,
                                           const TraceScene& tracer, Diagnostics& diagnostics) {
@@ -495,6 +503,7 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
     const size_t first = surfaces.size();
     for (uint32_t f = 0; f < scene.faces.size(); ++f) {
       if (!equalsIgnoreCase(scene.faces[f].texture, t.texture)) continue;
+      if (surfaceLightGroup(scene, f) != t.group) continue;
       std::vector<Winding> fragments = visibleFragments(scene, f, contents);
       if (fragments.empty()) continue;
       auto it = std::find_if(surfaces.begin() + std::ptrdiff_t(first), surfaces.end(),

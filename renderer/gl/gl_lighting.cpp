@@ -24,6 +24,7 @@ GlLighting lightingFor(const RenderScene& rs) {
   out.litwater = rs.world.litwater;
   out.dirt = rs.world.dirtSettings;
   out.lightKinds = rs.lightKinds;
+  out.lightmaps = packLightmaps(rs.lightmaps);
   return out;
 }
 

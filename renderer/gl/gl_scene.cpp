@@ -127,15 +127,23 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMa
   gridBytes.insert(gridBytes.end(), cells, cells + grid.cells.size() * sizeof(GpuLightCell));
   upload(buffers_[kBindingLightGrid], std::span<const uint8_t>(gridBytes));
   upload(buffers_[kBindingLightIndices], std::span<const uint32_t>(grid.indices));
+
+  // A level without baked luxels still gets the header (no face), so the shader reads 0 faces.
+  BT_GL(glCreateBuffers(1, &lightmaps_));
+  std::vector<uint32_t> lightmaps = lighting.lightmaps;
+  if (lightmaps.size() < 4) lightmaps = {4u, 4u, 4u, 0u};
+  upload(lightmaps_, std::span<const uint32_t>(lightmaps));
 }
 
 GlSceneBuffers::~GlSceneBuffers() {
   glDeleteTextures(kTexelViewCount, texelViews_);
   glDeleteBuffers(kBufferCount, buffers_);
+  glDeleteBuffers(1, &lightmaps_);
 }
 
 void GlSceneBuffers::bind() const {
   for (GLuint i = 0; i < kBufferCount; ++i) BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, buffers_[i]));
+  BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingLightmaps, lightmaps_));
   for (GLuint i = 0; i < kTexelViewCount; ++i) BT_GL(glBindTextureUnit(kTexelNodes + i, texelViews_[i]));
 }
 

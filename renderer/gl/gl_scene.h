@@ -33,6 +33,7 @@ private:
   static constexpr int kTexelViewCount = kTexelUnitEnd - kTexelNodes;
   unsigned buffers_[kBufferCount] = {};
   unsigned texelViews_[kTexelViewCount] = {}; // buffer textures, by TexelUnit - kTexelNodes
+  unsigned lightmaps_ = 0;                     // kBindingLightmaps
 };
 
 } // namespace bt::gl

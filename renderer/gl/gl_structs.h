@@ -32,6 +32,7 @@ enum Binding : uint32_t {
   kBindingWavefrontHits = 12,
   kBindingWavefrontPaths = 13,
   kBindingWavefrontEndedCount = 14,
+  kBindingLightmaps = 15, // faithful mode's baked luxels, packed (scene/gpu_structs.h; shaders/lightmaps.glsl)
 };
 
 // The brushes, slanted-side lists and faces are bvh/trace_scene.h's TraceScene arrays

@@ -69,6 +69,7 @@ struct GlLighting {
   bool litwater = false;
   DirtSettings dirt;       // worldspawn dirt; enabled builds the faithful program with BT_FAITHFUL_DIRT
   LightKinds lightKinds;   // RenderScene::lightKinds: which faithful program the level was started with
+  std::vector<uint32_t> lightmaps; // RenderScene::lightmaps packed (renderer/cpu/lightmaps.h packLightmaps); empty = none
 };
 
 // The faithful program's parts that only some levels need. Each is compiled only into the

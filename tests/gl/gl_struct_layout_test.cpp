@@ -128,7 +128,8 @@ std::vector<Member> lightMembers() {
           MEMBER(GpuLight, formula),       MEMBER(GpuLight, atten),      MEMBER(GpuLight, falloff),
           MEMBER(GpuLight, anglescale),    MEMBER(GpuLight, cosInner),   MEMBER(GpuLight, deviance),
           MEMBER(GpuLight, flags),         MEMBER(GpuLight, faithfulScale), MEMBER(GpuLight, dirtScale),
-          MEMBER(GpuLight, dirtGain),      MEMBER(GpuLight, dirtOffRadius), MEMBER(GpuLight, dirtOnRadius)};
+          MEMBER(GpuLight, dirtGain),      MEMBER(GpuLight, dirtOffRadius), MEMBER(GpuLight, dirtOnRadius),
+          MEMBER(GpuLight, skyMaterial)};
 }
 
 TEST(GlStructLayout, LightsAndSurfaceLightsAsTheShadersReadThem) {

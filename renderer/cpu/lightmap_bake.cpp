@@ -1,0 +1,257 @@
+#include "renderer/cpu/lightmap_bake.h"
+
+#include "renderer/cpu/integrator.h"
+#include "renderer/cpu/sampling.h"
+#include "renderer/cpu/surface_lights.h"
+#include "scene/parallel_for.h"
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace bt {
+
+namespace {
+
+constexpr double kSampleLift = 1.0;          // ltface.cc sampleOffPlaneDist
+constexpr double kSolidJitter = 0.5;         // PositionSamplePointOnFace tries p ± 0.5 on each axis
+constexpr uint32_t kBakeSeed = 0x6c757865u;  // the bake's own random stream
+constexpr int kSoftLightSamples = 16;
+
+// Texture space (s, t, height above the frame's origin along n) <-> world, for one face.
+struct FaceFrame {
+  glm::dmat3 toWorld{1.0};
+  dvec3 origin{0.0};
+  double height = 0.0;
+  bool valid = false;
+
+  explicit FaceFrame(const Face& face) {
+    const dvec3 n = face.plane.normal;
+    const glm::dmat3 toTexture = glm::transpose(glm::dmat3(face.frame.tangent, face.frame.bitangent, n));
+    if (!(std::abs(glm::determinant(toTexture)) > 1e-12)) return;
+    toWorld = glm::inverse(toTexture);
+    origin = face.frame.origin;
+    height = face.plane.dist - glm::dot(n, origin);
+    valid = true;
+  }
+  dvec3 point(double s, double t) const { return origin + toWorld * dvec3(s, t, height); }
+};
+
+bool insidePolygon(const std::vector<dvec3>& w, const dvec3& n, const dvec3& p) {
+  for (size_t i = 0; i < w.size(); ++i)
+    if (glm::dot(glm::cross(w[(i + 1) % w.size()] - w[i], p - w[i]), n) < 0.0) return false;
+  return true;
+}
+
+dvec3 closestOnBoundary(const std::vector<dvec3>& w, const dvec3& p) {
+  dvec3 best = p;
+  double bestDist2 = 1e300;
+  for (size_t i = 0; i < w.size(); ++i) {
+    const dvec3& a = w[i];
+    const dvec3 ab = w[(i + 1) % w.size()] - a;
+    const double len2 = glm::dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    const dvec3 q = a + t * ab;
+    const double d2 = glm::dot(p - q, p - q);
+    if (d2 < bestDist2) bestDist2 = d2, best = q;
+  }
+  return best;
+}
+
+// The fragment's edges as texel-space lines, unit (a, b), positive inside.
+void appendEdges(const Face& face, const std::vector<dvec3>& polygon, std::vector<glm::vec4>& edges) {
+  std::vector<glm::dvec2> st;
+  st.reserve(polygon.size());
+  for (const dvec3& v : polygon) st.emplace_back(face.frame.s(v), face.frame.t(v));
+  double area2 = 0.0;
+  for (size_t i = 0; i < st.size(); ++i) {
+    const glm::dvec2& a = st[i];
+    const glm::dvec2& b = st[(i + 1) % st.size()];
+    area2 += a.x * b.y - a.y * b.x;
+  }
+  const double orientation = area2 < 0.0 ? -1.0 : 1.0;
+  for (size_t i = 0; i < st.size(); ++i) {
+    const glm::dvec2& a = st[i];
+    const glm::dvec2& b = st[(i + 1) % st.size()];
+    glm::dvec2 normal = orientation * glm::dvec2(-(b.y - a.y), b.x - a.x);
+    const double len = glm::length(normal);
+    if (!(len > 1e-9)) continue; // a degenerate edge says nothing
+    normal /= len;
+    edges.emplace_back(float(normal.x), float(normal.y), float(-glm::dot(normal, a)), 0.0f);
+  }
+}
+
+// Quake's luxel grid of a polygon on `face` (CalcSurfaceExtents): texture extents in float.
+GpuLightmapFragment luxelGrid(const Face& face, const std::vector<dvec3>& polygon) {
+  float lo[2] = {1e30f, 1e30f}, hi[2] = {-1e30f, -1e30f};
+  for (const dvec3& v : polygon) {
+    const float st[2] = {float(face.frame.s(v)), float(face.frame.t(v))};
+    for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], st[a]), hi[a] = std::max(hi[a], st[a]);
+  }
+  GpuLightmapFragment g;
+  const int first[2] = {int(std::floor(lo[0] / float(kLuxelTexels))), int(std::floor(lo[1] / float(kLuxelTexels)))};
+  g.minS = first[0];
+  g.minT = first[1];
+  g.width = uint32_t(int(std::ceil(hi[0] / float(kLuxelTexels))) - first[0] + 1);
+  g.height = uint32_t(int(std::ceil(hi[1] / float(kLuxelTexels))) - first[1] + 1);
+  return g;
+}
+
+// What counts as solid for a sample point (Light_PointInAnySolid): the world's solid brushes,
+// the brushes of models that cast shadows, and those of the face's own model.
+struct SolidTest {
+  const RenderScene& rs;
+  const std::vector<BrushContents>& contents;
+  uint32_t selfEntity;
+
+  bool operator()(uint32_t brush) const {
+    if (contents[brush] == BrushContents::Solid) return true;
+    if (contents[brush] == BrushContents::Liquid) return false;
+    const Brush& b = rs.scene->brushes[brush];
+    if (b.faceCount == 0) return false;
+    const uint32_t flags = rs.faceFlags[b.firstFace];
+    if (flags & (kFaceHidden | kFaceLiquid)) return false;
+    return b.entity == selfEntity || !(flags & kFaceNoShadow);
+  }
+};
+
+std::optional<glm::vec3> positionOutOfSolid(const RenderScene& rs, const SolidTest& solid, const dvec3& point) {
+  const glm::vec3 p(point);
+  if (!rs.tracer.inside(p, solid)) return p;
+  for (int x = -1; x <= 1; x += 2)
+    for (int y = -1; y <= 1; y += 2)
+      for (int z = -1; z <= 1; z += 2) {
+        const glm::vec3 q = glm::vec3(point + kSolidJitter * dvec3(x, y, z));
+        if (!rs.tracer.inside(q, solid)) return q;
+      }
+  return std::nullopt;
+}
+
+// Where the compiler samples the point (x, y) of a fragment's luxel grid (CalcPointNormal,
+// PositionSamplePointOnFace): see lightmap_bake.h.
+std::optional<glm::vec3> samplePoint(const RenderScene& rs, const SolidTest& solid, const Face& face, const FaceFrame& frame,
+                                     const GpuLightmapFragment& g, const std::vector<dvec3>& polygon, double x, double y) {
+  if (!frame.valid) return std::nullopt;
+  const dvec3 n = face.plane.normal;
+  const double s = (g.minS + x) * kLuxelTexels, t = (g.minT + y) * kLuxelTexels;
+  dvec3 p = frame.point(s, t);
+  if (!insidePolygon(polygon, n, p)) {
+    const dvec3 q = closestOnBoundary(polygon, p);
+    if (glm::length(glm::dvec2(face.frame.s(q) - s, face.frame.t(q) - t)) > double(kLuxelTexels)) return std::nullopt;
+    p = q;
+  }
+  return positionOutOfSolid(rs, solid, p + n * kSampleLift);
+}
+
+// The compiler's store: light × _range, a coloured sum scaled so its brightest channel fits in
+// 255 (keeping the hue), truncated to bytes (WriteSingleLightmap's float-to-integer conversion).
+uint32_t storedLuxel(const glm::vec3& light, float range) {
+  glm::vec3 stored = glm::max(light * range, glm::vec3(0.0f));
+  const float peak = std::max({stored.x, stored.y, stored.z});
+  if (peak > 255.0f) stored *= 255.0f / peak;
+  return packLuxel(glm::floor(stored));
+}
+
+int lightSamples(const RenderScene& rs, const LightmapBakeOptions& options) {
+  if (options.samples > 0) return options.samples;
+  const bool soft = rs.lightKinds.sky || rs.lightKinds.jitter || (rs.lightKinds.dirt && rs.world.dirtSettings.mode == 1);
+  return soft ? kSoftLightSamples : 1;
+}
+
+} // namespace
+
+bool faceHasLightmap(const RenderScene& rs, uint32_t face) {
+  const uint32_t flags = rs.faceFlags[face];
+  if (flags & (kFaceHidden | kFaceSky)) return false;
+  if ((flags & kFaceLiquid) && !rs.world.litwater) return false;
+  return !rs.scene->faces[face].winding.empty();
+}
+
+Lightmaps layoutLightmaps(const RenderScene& rs, std::span<const uint32_t> faces, unsigned threads) {
+  const Scene& scene = *rs.scene;
+  const std::vector<BrushContents> contents = brushContents(scene);
+  std::vector<std::vector<std::vector<dvec3>>> pieces(faces.size());
+  parallelFor(faces.size(), threads, [&](size_t i) {
+    if (faces[i] < scene.faces.size() && faceHasLightmap(rs, faces[i]))
+      pieces[i] = compiledFacePolygons(scene, faces[i], contents);
+  });
+
+  Lightmaps lm;
+  lm.faceRanges.assign(scene.faces.size(), glm::uvec2(0));
+  uint32_t luxels = 0;
+  for (size_t i = 0; i < faces.size(); ++i) {
+    const uint32_t face = faces[i];
+    if (pieces[i].empty() || lm.faceRanges[face].y > 0) continue;
+    const Face& f = scene.faces[face];
+    lm.faceRanges[face] = glm::uvec2(uint32_t(lm.fragments.size()), uint32_t(pieces[i].size()));
+    for (std::vector<dvec3>& polygon : pieces[i]) {
+      GpuLightmapFragment g = luxelGrid(f, polygon);
+      g.firstLuxel = luxels;
+      g.firstEdge = uint32_t(lm.edges.size());
+      appendEdges(f, polygon, lm.edges);
+      g.edgeCount = uint32_t(lm.edges.size()) - g.firstEdge;
+      luxels += g.width * g.height;
+      lm.fragments.push_back(g);
+      lm.fragmentFace.push_back(face);
+      lm.polygons.push_back(std::move(polygon));
+    }
+  }
+  lm.luxels.assign(luxels, 0u);
+  return lm;
+}
+
+Lightmaps layoutLightmaps(const RenderScene& rs, unsigned threads) {
+  std::vector<uint32_t> faces;
+  for (uint32_t f = 0; f < rs.scene->faces.size(); ++f)
+    if (faceHasLightmap(rs, f)) faces.push_back(f);
+  return layoutLightmaps(rs, faces, threads);
+}
+
+std::optional<glm::vec3> luxelSamplePoint(const RenderScene& rs, const Lightmaps& lm, uint32_t fragment, double x,
+                                          double y) {
+  const std::vector<BrushContents> contents = brushContents(*rs.scene);
+  const Face& face = rs.scene->faces[lm.fragmentFace[fragment]];
+  const SolidTest solid{rs, contents, rs.scene->brushes[face.brush].entity};
+  return samplePoint(rs, solid, face, FaceFrame(face), lm.fragments[fragment], lm.polygons[fragment], x, y);
+}
+
+void bakeLightmaps(const RenderScene& rs, Lightmaps& lm, const LightmapBakeOptions& options) {
+  const Scene& scene = *rs.scene;
+  const std::vector<BrushContents> contents = brushContents(scene);
+  const int extra = std::clamp(options.extra, 1, 4);
+  const int samples = lightSamples(rs, options);
+  parallelFor(lm.fragments.size(), options.threads, [&](size_t fi) {
+    const uint32_t faceIndex = lm.fragmentFace[fi];
+    const Face& face = scene.faces[faceIndex];
+    const FaceFrame frame(face);
+    const GpuLightmapFragment& g = lm.fragments[fi];
+    const std::vector<dvec3>& polygon = lm.polygons[fi];
+    const glm::vec3 n(face.plane.normal);
+    const bool twoSided = rs.faceFlags[faceIndex] & kFaceLiquid;
+    const glm::vec3 faceMinlight = faithfulFaceMinlight(rs, faceIndex);
+    const SolidTest solid{rs, contents, scene.brushes[face.brush].entity};
+    for (uint32_t y = 0; y < g.height; ++y)
+      for (uint32_t x = 0; x < g.width; ++x) {
+        const uint32_t index = y * g.width + x;
+        glm::vec3 light(0.0f);
+        for (int sy = 0; sy < extra; ++sy)
+          for (int sx = 0; sx < extra; ++sx) {
+            const double ox = -0.5 + (0.5 + sx) / extra, oy = -0.5 + (0.5 + sy) / extra;
+            const std::optional<glm::vec3> p = samplePoint(rs, solid, face, frame, g, polygon, x + ox, y + oy);
+            glm::vec3 sum(0.0f);
+            for (int k = 0; k < samples; ++k) {
+              Rng rng = pixelRng(uint32_t(fi), index * uint32_t(extra * extra) + uint32_t(sy * extra + sx), uint32_t(k), kBakeSeed);
+              sum += p ? faithfulLuxelLight(rs, *p, n, rng, twoSided, faceMinlight)
+                       : faithfulLuxelFloor(rs, faceMinlight);
+            }
+            light += sum / float(samples);
+          }
+        lm.luxels[g.firstLuxel + index] = storedLuxel(light / float(extra * extra), rs.world.range);
+      }
+  });
+}
+
+} // namespace bt

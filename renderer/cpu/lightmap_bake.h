@@ -1,0 +1,51 @@
+// Faithful mode's light compiler: the luxels ericw-tools `light` (2.0.0-alpha11, ltface.cc)
+// computes for the faces qbsp makes, in the layout of lightmaps.h.
+//
+//   layout   each lit brush side becomes the faces qbsp compiles of it (surface_lights.h
+//            compiledFacePolygons: CSG, the split of a tree grown on it, the 240-texel
+//            subdivision); each gets Quake's luxel grid: its texture-space extents in float,
+//            floored / ceiled to 16 texels, one luxel every 16 texels (CalcSurfaceExtents).
+//   samples  CalcPoints: a luxel's point on the plane, lifted 1 unit off it. Inside the face it
+//            stays; outside, it is snapped onto the face's boundary (then lifted) when that is
+//            at most one luxel away, otherwise it is occluded. A point inside a solid brush is
+//            tried at the 8 corners of a 1-unit cube around it; if all are solid it is
+//            occluded. An occluded luxel gets only the floors (minlight). With `extra` N the
+//            luxel is the mean of N x N such points on a grid 1/N luxel apart (-extra, -extra4).
+//   light    at each point the faithful light sum of integrator.h (every light the grid lists,
+//            each bounce light shadow-tested), `samples` times averaged for soft lights.
+//   stored   light × _range, a coloured sum scaled so its brightest channel fits in 255,
+//            truncated to whole bytes as the compiler writes them.
+#pragma once
+
+#include "renderer/cpu/lightmaps.h"
+#include "renderer/cpu/render_scene.h"
+
+#include <span>
+
+namespace bt {
+
+struct LightmapBakeOptions {
+  int extra = 1;       // sample points per luxel along each axis: 1 (the compiler's default), 2 or 4
+  int samples = 0;     // light samples per point; 0: 1 for a level without soft lights, else 16
+  unsigned threads = 0; // 0: all cores
+};
+
+// Whether the compiled level gives scene face `face` a lightmap: drawn, not sky, and a liquid
+// only with `_litwater`.
+bool faceHasLightmap(const RenderScene& rs, uint32_t face);
+
+// The lightmap layout of `faces` (scene face indices; those without a lightmap are skipped),
+// luxels zero.
+Lightmaps layoutLightmaps(const RenderScene& rs, std::span<const uint32_t> faces, unsigned threads = 0);
+// ... of every face that has one.
+Lightmaps layoutLightmaps(const RenderScene& rs, unsigned threads = 0);
+
+// Every luxel of `lightmaps`, as above. The same result for any number of threads.
+void bakeLightmaps(const RenderScene& rs, Lightmaps& lightmaps, const LightmapBakeOptions& options = {});
+
+// Where the compiler samples luxel (x, y) (in fractional luxels with `extra`) of fragment
+// `fragment`, or nullopt when that point is occluded. Exposed for tests.
+std::optional<glm::vec3> luxelSamplePoint(const RenderScene& rs, const Lightmaps& lightmaps, uint32_t fragment,
+                                          double x, double y);
+
+} // namespace bt

@@ -1,0 +1,54 @@
+// Faithful mode's baked luxels (renderer/cpu/lightmaps.h lightmapValue, the CPU reference): the
+// stored lightmap value at a texel point of a face, filtered bilinearly as the engine filters its
+// lightmaps. Layout of the packed buffer: scene/gpu_structs.h (GpuLightmapFragment).
+layout(std430, binding = 15) readonly buffer Lightmaps { uint lightmapData[]; };
+
+// (first fragment, count) of face `face`; count 0: not baked.
+uvec2 lightmapRange(uint face) {
+  if (face >= lightmapData[3]) return uvec2(0u);
+  return uvec2(lightmapData[4u + 2u * face], lightmapData[5u + 2u * face]);
+}
+
+// The fragment holding st, else the one st lies least outside of (lightmapFragmentAt).
+uint lightmapFragmentAt(uvec2 range, vec2 st) {
+  uint best = range.x;
+  float bestOutside = -1e30;
+  for (uint f = range.x; f < range.x + range.y; ++f) {
+    uint at = lightmapData[0] + 8u * f;
+    uint firstEdge = lightmapData[at + 5u], edgeCount = lightmapData[at + 6u];
+    float inside = 1e30;
+    for (uint e = firstEdge; e < firstEdge + edgeCount; ++e) {
+      uint ea = lightmapData[1] + 4u * e;
+      vec3 l = uintBitsToFloat(uvec3(lightmapData[ea], lightmapData[ea + 1u], lightmapData[ea + 2u]));
+      inside = min(inside, l.x * st.x + l.y * st.y + l.z);
+    }
+    if (inside >= 0.0) return f;
+    if (inside > bestOutside) {
+      bestOutside = inside;
+      best = f;
+    }
+  }
+  return best;
+}
+
+vec3 unpackLuxel(uint v) { return vec3(float(v & 255u), float((v >> 8) & 255u), float((v >> 16) & 255u)); }
+
+// The stored value (0..255 per channel) shown at texel point st of a face with `range`.
+vec3 lightmapValue(uvec2 range, vec2 st) {
+  uint at = lightmapData[0] + 8u * lightmapFragmentAt(range, st);
+  int minS = int(lightmapData[at]), minT = int(lightmapData[at + 1u]);
+  int width = int(lightmapData[at + 2u]), height = int(lightmapData[at + 3u]);
+  uint firstLuxel = lightmapData[2] + lightmapData[at + 4u];
+  float u = st.x / 16.0 - float(minS), v = st.y / 16.0 - float(minT);
+  float fu = floor(u), fv = floor(v);
+  float wu = u - fu, wv = v - fv;
+  int x0 = clamp(int(fu), 0, width - 1), x1 = clamp(int(fu) + 1, 0, width - 1);
+  int y0 = clamp(int(fv), 0, height - 1), y1 = clamp(int(fv) + 1, 0, height - 1);
+  vec3 a = unpackLuxel(lightmapData[firstLuxel + uint(y0 * width + x0)]);
+  vec3 b = unpackLuxel(lightmapData[firstLuxel + uint(y0 * width + x1)]);
+  vec3 c = unpackLuxel(lightmapData[firstLuxel + uint(y1 * width + x0)]);
+  vec3 d = unpackLuxel(lightmapData[firstLuxel + uint(y1 * width + x1)]);
+  vec3 top = a * (1.0 - wu) + b * wu;
+  vec3 bottom = c * (1.0 - wu) + d * wu;
+  return top * (1.0 - wv) + bottom * wv;
+}

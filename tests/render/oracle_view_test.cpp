@@ -1,0 +1,333 @@
+// Faithful mode as a user sees it, against the reference compiler: every level under
+// ../shared/oracle/lit/ (ericw-tools `light`, default settings) is rendered from its source .map
+// from three cameras, in colour, and each pixel's light is compared with the compiled lightmap
+// that this test samples itself at the point the pixel sees, bilinearly over the face's luxels as
+// GLQuake and QuakeSpasm filter them. The same lightmaps are also compared luxel by luxel.
+//
+// What a pixel shows of the light: the renderer's faithful display is srgbToLinear(texture ×
+// stored / 128) (renderer/cpu/README.md), so stored = 128 × linearToSrgb(beauty) / texture per
+// channel, where texture is the base colour at the hit of the pixel's own (jittered) ray.
+#include "importers/bsp/bsp_file.h"
+#include "importers/import.h"
+#include "renderer/cpu/color.h"
+#include "renderer/cpu/cpu_renderer.h"
+#include "renderer/cpu/lightmap_bake.h"
+#include "tests/test_data.h"
+
+#include <fmt/format.h>
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+#include <glm/trigonometric.hpp>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdlib>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <optional>
+
+namespace bt {
+namespace {
+
+// Below this stored value a relative error says nothing (1 unit of 8 is 12 %): relative to 8.
+constexpr double kErrorFloor = 8.0;
+// A channel of the texture darker than this tells too little of the light under it.
+constexpr float kMinTexture = 24.0f / 255.0f;
+constexpr int kWidth = 128, kHeight = 96;
+
+// One compiled face of the world model with its style-0 lightmap: the oracle.
+struct CompiledFace {
+  glm::dvec3 normal{0.0};
+  double dist = 0.0;
+  std::vector<glm::dvec3> polygon;
+  glm::dvec4 vecs[2];
+  int mins[2] = {0, 0};
+  int width = 0, height = 0;
+  size_t offset = 0; // into the lighting lump
+  double area = 0.0;
+};
+
+class CompiledLightmaps {
+public:
+  explicit CompiledLightmaps(const std::filesystem::path& bspPath) : bsp_(bsp::readBspFile(bspPath)) {
+    std::filesystem::path lit = bspPath;
+    lit.replace_extension(".lit");
+    if (std::ifstream in{lit, std::ios::binary}) {
+      std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      if (bytes.size() == 8 + 3 * bsp_.lighting.size()) rgb_.assign(bytes.begin() + 8, bytes.end());
+    }
+    const bsp::Model& world = bsp_.models.at(0);
+    for (int32_t fi = world.firstFace; fi < world.firstFace + world.faceCount; ++fi) add(fi);
+  }
+
+  const std::vector<CompiledFace>& faces() const { return faces_; }
+
+  // The compiled light (stored values, rgb) at world point p of a face facing n, bilinear over the
+  // luxels of the compiled face that holds p; nullopt where no lit face lies there.
+  std::optional<glm::dvec3> at(const glm::dvec3& p, const glm::dvec3& n) const {
+    for (const CompiledFace& f : faces_) {
+      if (glm::dot(f.normal, n) < 0.999 || std::abs(glm::dot(f.normal, p) - f.dist) > 0.5) continue;
+      if (!contains(f, p)) continue;
+      return bilinear(f, p);
+    }
+    return std::nullopt;
+  }
+
+  glm::dvec3 luxel(const CompiledFace& f, int x, int y) const {
+    const size_t i = f.offset + size_t(y) * size_t(f.width) + size_t(x);
+    if (!rgb_.empty()) return {rgb_[3 * i], rgb_[3 * i + 1], rgb_[3 * i + 2]};
+    return glm::dvec3(bsp_.lighting[i]);
+  }
+  // The world point of luxel (x, y)'s centre on the face plane.
+  glm::dvec3 luxelPoint(const CompiledFace& f, int x, int y) const {
+    const glm::dvec3 s(f.vecs[0]), t(f.vecs[1]);
+    const double sv = (f.mins[0] + x) * 16.0 - f.vecs[0].w, tv = (f.mins[1] + y) * 16.0 - f.vecs[1].w;
+    // Solve dot(p, s) = sv, dot(p, t) = tv, dot(p, n) = dist.
+    const glm::dmat3 m = glm::transpose(glm::dmat3(s, t, f.normal));
+    return glm::inverse(m) * glm::dvec3(sv, tv, f.dist);
+  }
+
+private:
+  void add(int32_t fi) {
+    const bsp::Face& face = bsp_.faces[size_t(fi)];
+    if (face.lightOffset < 0 || face.styles[0] != 0) return; // unlit (sky, liquids) or styled only
+    const bsp::TexInfo& tex = bsp_.texinfo[size_t(face.texinfo)];
+    CompiledFace f;
+    const bsp::BspPlane& plane = bsp_.planes[size_t(face.plane)];
+    f.normal = glm::dvec3(plane.normal);
+    f.dist = plane.dist;
+    if (face.side) f.normal = -f.normal, f.dist = -f.dist;
+    f.polygon = bsp_.faceVertices(size_t(fi));
+    float lo[2] = {1e30f, 1e30f}, hi[2] = {-1e30f, -1e30f};
+    for (int a = 0; a < 2; ++a) f.vecs[a] = glm::dvec4(tex.vecs[a][0], tex.vecs[a][1], tex.vecs[a][2], tex.vecs[a][3]);
+    for (const glm::dvec3& dv : f.polygon) {
+      const glm::vec3 v(dv); // in float, as the engine and the compiler compute extents
+      for (int a = 0; a < 2; ++a) {
+        const float st = v.x * tex.vecs[a][0] + v.y * tex.vecs[a][1] + v.z * tex.vecs[a][2] + tex.vecs[a][3];
+        lo[a] = std::min(lo[a], st), hi[a] = std::max(hi[a], st);
+      }
+    }
+    for (int a = 0; a < 2; ++a) f.mins[a] = int(std::floor(lo[a] / 16.0f));
+    f.width = int(std::ceil(hi[0] / 16.0f)) - f.mins[0] + 1;
+    f.height = int(std::ceil(hi[1] / 16.0f)) - f.mins[1] + 1;
+    f.offset = size_t(face.lightOffset);
+    if (f.offset + size_t(f.width) * size_t(f.height) > bsp_.lighting.size()) return;
+    for (size_t i = 1; i + 1 < f.polygon.size(); ++i)
+      f.area += 0.5 * glm::length(glm::cross(f.polygon[i] - f.polygon[0], f.polygon[i + 1] - f.polygon[0]));
+    faces_.push_back(std::move(f));
+  }
+
+  static bool contains(const CompiledFace& f, const glm::dvec3& p) {
+    const auto& w = f.polygon;
+    // Quake stores a face's vertices clockwise seen from its front; go by the polygon's own turn.
+    glm::dvec3 turn(0.0);
+    for (size_t i = 1; i + 1 < w.size(); ++i) turn += glm::cross(w[i] - w[0], w[i + 1] - w[0]);
+    const double side = glm::dot(turn, f.normal) < 0.0 ? -1.0 : 1.0;
+    for (size_t i = 0; i < w.size(); ++i) {
+      const glm::dvec3 edge = w[(i + 1) % w.size()] - w[i];
+      const glm::dvec3 inward = side * glm::normalize(glm::cross(f.normal, edge));
+      if (glm::dot(p - w[i], inward) < -0.05) return false;
+    }
+    return true;
+  }
+
+  // GLQuake's filter: luxel centres at 16 (mins + x) texels, clamped at the face's border.
+  glm::dvec3 bilinear(const CompiledFace& f, const glm::dvec3& p) const {
+    const double u = (glm::dot(p, glm::dvec3(f.vecs[0])) + f.vecs[0].w) / 16.0 - f.mins[0];
+    const double v = (glm::dot(p, glm::dvec3(f.vecs[1])) + f.vecs[1].w) / 16.0 - f.mins[1];
+    const double fu = std::floor(u), fv = std::floor(v);
+    const int x0 = std::clamp(int(fu), 0, f.width - 1), x1 = std::clamp(int(fu) + 1, 0, f.width - 1);
+    const int y0 = std::clamp(int(fv), 0, f.height - 1), y1 = std::clamp(int(fv) + 1, 0, f.height - 1);
+    const double wu = u - fu, wv = v - fv;
+    return (luxel(f, x0, y0) * (1 - wu) + luxel(f, x1, y0) * wu) * (1 - wv) +
+           (luxel(f, x0, y1) * (1 - wu) + luxel(f, x1, y1) * wu) * wv;
+  }
+
+  bsp::BspFile bsp_;
+  std::vector<uint8_t> rgb_;
+  std::vector<CompiledFace> faces_;
+};
+
+// The .map each lit .bsp was compiled from (oracle/manifest.json).
+std::filesystem::path sourceMap(const std::filesystem::path& shared, const std::string& bspName) {
+  std::ifstream in(shared / "oracle" / "manifest.json");
+  const nlohmann::json manifest = nlohmann::json::parse(in);
+  for (const auto& entry : manifest)
+    if (entry.value("bsp", "") == bspName) return shared / entry.value("map", "");
+  return {};
+}
+
+// A camera that looks straight at the centre of a large lit face from in front of it.
+CameraPose faceCamera(const RenderScene& rs, const CompiledFace& face) {
+  glm::dvec3 centre(0.0);
+  for (const glm::dvec3& v : face.polygon) centre += v;
+  centre /= double(face.polygon.size());
+  const glm::vec3 n(face.normal);
+  // Back away along the normal, but stay in front of whatever is behind the camera.
+  const Ray back{glm::vec3(centre) + n * 0.5f, 0.0f, n, 160.0f};
+  const SurfaceHit blocker = traceVisible(rs, back);
+  const float distance = blocker.found ? std::max(blocker.t * 0.8f, 4.0f) : 160.0f;
+  CameraPose pose;
+  pose.origin = glm::vec3(centre) + n * distance;
+  const glm::vec3 look = -n;
+  pose.yaw = glm::degrees(std::atan2(look.y, look.x));
+  pose.pitch = -glm::degrees(std::asin(std::clamp(look.z, -1.0f, 1.0f))); // positive pitch looks down
+  pose.source = "face camera";
+  return pose;
+}
+
+struct ViewResult {
+  size_t compared = 0, within5 = 0, skyOrUnlit = 0, noCompiledFace = 0;
+  double median = 0.0;
+};
+
+// With BT_ORACLE_VIEW_DIR set, each view is written there as a PPM: ours | the compiler's | the
+// error (green within 5 %, red beyond, blue where nothing is compared), to see where they differ.
+void writeDebugImage(const std::string& name, const std::vector<glm::vec3>& ours, const std::vector<glm::vec3>& compiled,
+                     const std::vector<float>& error) {
+  const char* dir = std::getenv("BT_ORACLE_VIEW_DIR");
+  if (!dir) return;
+  std::ofstream out(std::filesystem::path(dir) / (name + ".ppm"), std::ios::binary);
+  out << "P6\n" << 3 * kWidth << " " << kHeight << "\n255\n";
+  for (int y = 0; y < kHeight; ++y)
+    for (int part = 0; part < 3; ++part)
+      for (int x = 0; x < kWidth; ++x) {
+        const size_t i = size_t(y) * kWidth + x;
+        glm::vec3 c = part == 0 ? ours[i] / 255.0f : part == 1 ? compiled[i] / 255.0f
+                    : error[i] < 0.0f ? glm::vec3(0, 0, 0.5f) : error[i] <= 0.05f ? glm::vec3(0, 0.6f, 0) : glm::vec3(1, 0, 0);
+        c = glm::clamp(c, 0.0f, 1.0f);
+        out.put(char(c.x * 255.0f)).put(char(c.y * 255.0f)).put(char(c.z * 255.0f));
+      }
+}
+
+ViewResult compareView(const RenderScene& rs, const CompiledLightmaps& oracle, const CameraPose& pose,
+                       const std::string& name) {
+  const Camera camera(pose, kWidth, kHeight);
+  RenderSettings settings;
+  settings.width = kWidth, settings.height = kHeight, settings.spp = 1, settings.seed = 0;
+  const RenderImage image = renderCpu(rs, camera, settings);
+  ViewResult r;
+  std::vector<double> errors;
+  std::vector<glm::vec3> oursImage(size_t(kWidth) * kHeight, glm::vec3(0.0f)), compiledImage = oursImage;
+  std::vector<float> errorImage(oursImage.size(), -1.0f);
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      // The pixel's one sample: the renderer's own jittered ray (cpu_renderer.cpp).
+      Rng rng = pixelRng(uint32_t(x), uint32_t(y), 0, settings.seed);
+      const glm::vec2 jitter = rng.next2();
+      const SurfaceHit hit = traceVisible(rs, camera.ray(float(x) + jitter.x, float(y) + jitter.y));
+      if (!hit.found) continue;
+      const uint32_t flags = rs.faceFlags[hit.face];
+      const glm::vec3 texture = glm::vec3(baseColorAt(rs, hit.face, hit.position));
+      const glm::vec3 emissive = emissiveAt(rs, hit.face, hit.position);
+      if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater) || emissive != glm::vec3(0.0f)) {
+        ++r.skyOrUnlit;
+        continue;
+      }
+      const std::optional<glm::dvec3> compiled = oracle.at(glm::dvec3(hit.position), glm::dvec3(hit.normal));
+      if (!compiled) {
+        ++r.noCompiledFace;
+        continue;
+      }
+      const glm::vec3 shown = linearToSrgb(image.beauty[size_t(y) * kWidth + x]);
+      double error = 0.0;
+      bool any = false;
+      for (int c = 0; c < 3; ++c) {
+        if (texture[c] < kMinTexture) continue;
+        const double ours = 128.0 * shown[c] / texture[c];
+        error = std::max(error, std::abs(ours - (*compiled)[c]) / std::max((*compiled)[c], kErrorFloor));
+        any = true;
+      }
+      if (!any) continue;
+      const size_t i = size_t(y) * kWidth + x;
+      oursImage[i] = 128.0f * shown / glm::max(texture, glm::vec3(kMinTexture));
+      compiledImage[i] = glm::vec3(*compiled);
+      errorImage[i] = float(error);
+      errors.push_back(error);
+      r.within5 += error <= 0.05;
+    }
+  writeDebugImage(name, oursImage, compiledImage, errorImage);
+  r.compared = errors.size();
+  if (!errors.empty()) {
+    std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
+    r.median = errors[errors.size() / 2];
+  }
+  return r;
+}
+
+class OracleView : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(OracleView, FaithfulPixelsMatchTheCompiledLightmaps) {
+  BT_REQUIRE_SHARED(shared);
+  const std::string bspName = std::string("maps_") + GetParam() + ".bsp";
+  const std::filesystem::path bspPath = shared / "oracle" / "lit" / bspName;
+  const std::filesystem::path map = sourceMap(shared, bspName);
+  ASSERT_FALSE(map.empty()) << "no manifest entry for " << bspName;
+  const CompiledLightmaps oracle(bspPath);
+
+  const Scene scene = importScene(map.string(), ImportOptions{});
+  RenderSceneOptions options;
+  options.lights.styleZeroOnly = true;
+  Diagnostics diags;
+  RenderScene rs = buildRenderScene(scene, options, diags);
+  rs.lightmaps = layoutLightmaps(rs);
+  bakeLightmaps(rs, rs.lightmaps);
+
+  std::vector<CameraPose> cameras{defaultCameraPose(scene)};
+  std::vector<const CompiledFace*> largest;
+  for (const CompiledFace& f : oracle.faces()) largest.push_back(&f);
+  std::sort(largest.begin(), largest.end(), [](auto* a, auto* b) { return a->area > b->area; });
+  for (const CompiledFace* f : largest) {
+    if (cameras.size() == 3) break;
+    if (cameras.size() == 2 && glm::dot(glm::dvec3(f->normal), glm::dvec3(largest[0]->normal)) > 0.99) continue;
+    cameras.push_back(faceCamera(rs, *f));
+  }
+  for (const CameraPose& pose : cameras) {
+    const ViewResult r = compareView(rs, oracle, pose, fmt::format("{}-{}", GetParam(), &pose - cameras.data()));
+    std::printf("%s", fmt::format("oracle view {} {}: {} pixels, median {:.2f} %, within 5 %: {:.1f} % ({} sky/unlit, {} on no compiled face)\n",
+                                  GetParam(), formatCameraPose(pose), r.compared, 100.0 * r.median,
+                                  100.0 * double(r.within5) / double(std::max<size_t>(r.compared, 1)), r.skyOrUnlit,
+                                  r.noCompiledFace).c_str());
+    ASSERT_GT(r.compared, 0u) << formatCameraPose(pose);
+    EXPECT_LE(r.median, 0.02) << formatCameraPose(pose);
+    EXPECT_GE(double(r.within5) / double(r.compared), 0.90) << formatCameraPose(pose);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Lit, OracleView,
+                         ::testing::Values("ericw-tools_testmaps_deprecated_falloff",
+                                           "ericw-tools_testmaps_deprecated_nobounce",
+                                           "ericw-tools_testmaps_deprecated_dirttest2",
+                                           "ericw-tools_testmaps_deprecated_bouncecolorscaletest",
+                                           "ericw-tools_testmaps_deprecated_light_near_wall",
+                                           "ericw-tools_testmaps_deprecated_suntest",
+                                           "ericw-tools_testmaps_deprecated_testminlight",
+                                           "ericw-tools_testmaps_deprecated_testlightonface",
+                                           "ericw-tools_testmaps_q1_surflight_minlight",
+                                           "ericw-tools_testmaps_q1_light_bounce_litwater",
+                                           "ericw-tools_testmaps_q1_light_bounce_noshadow",
+                                           "ericw-tools_testmaps_deprecated_dirttest",
+                                           "ericw-tools_testmaps_q1_light_hlform",
+                                           "ericw-tools_testmaps_q1_light_skip_shadow",
+                                           "ericw-tools_testmaps_q1_light_suntexture",
+                                           "ericw-tools_testmaps_q1_light_surflight_group",
+                                           "ericw-tools_testmaps_q1_light_switchableshadow_selfshadows",
+                                           "ericw-tools_testmaps_q1_litwater_opt_in",
+                                           "ericw-tools_testmaps_q1_light_black",
+                                           "ericw-tools_testmaps_q1_lightignore",
+                                           "ericw-tools_testmaps_q1_light_switchableshadow_target",
+                                           "ericw-tools_testmaps_q1_sunlight",
+                                           "ericw-tools_testmaps_q1_litwater",
+                                           "ericw-tools_testmaps_q1_minlight_nobounce",
+                                           "quake_map_source_e1m1",
+                                           "ericw-tools_testmaps_deprecated_testsurfacelight"),
+                         [](const auto& info) {
+                           std::string n = info.param;
+                           std::replace(n.begin(), n.end(), '-', '_');
+                           return n;
+                         });
+
+} // namespace
+} // namespace bt
