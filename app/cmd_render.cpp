@@ -3,6 +3,7 @@
 
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/cpu/image_output.h"
+#include "renderer/cpu/lightmap_bake.h"
 #include "renderer/cpu/render_scene.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_level.h"
@@ -40,6 +41,8 @@ struct RenderOptions {
   uint32_t seed = 0;
   bool quiet = false;
   bool showHidden = false;
+  std::string luxels = "on";
+  int extra = 1;
   ImportOptions import;
 };
 
@@ -164,6 +167,16 @@ int runRender(const RenderOptions& o) {
     }
   };
 
+  // Faithful mode shows the compiler's luxels as the game does; `--luxels off` evaluates the
+  // light at each pixel's own point ("what the light is" rather than "what the game shows").
+  if (settings.integrator.mode == LightingMode::Faithful && output.aov == Aov::Beauty && o.luxels == "on") {
+    const Camera camera(pose, width, height);
+    LightmapBakeOptions bake;
+    bake.extra = o.extra;
+    bake.threads = unsigned(o.threads);
+    bakeFaithfulLightmaps(renderScene, &camera, width, height, bake);
+  }
+
   const gl::GlRenderParts glParts = aovsOnly ? gl::GlRenderParts::AovsOnly : gl::GlRenderParts::BeautyAndAovs;
   const RenderImage image = glContext ? gl::renderWithGl(*glContext, renderScene, pose, settings, glPrograms, progress, glParts).image
                                       : renderCpu(renderScene, Camera(pose, width, height), settings, progress);
@@ -203,6 +216,13 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
       ->check(CLI::IsMember({"faithful", "aces", "agx", "linear"}));
   cmd->add_option("--lighting", options->lighting, "faithful (ericw-tools light formulas) | physical (radiometric path tracing)")
       ->check(CLI::IsMember({"faithful", "physical"}))
+      ->capture_default_str();
+  cmd->add_option("--luxels", options->luxels,
+                  "Faithful lighting: on = the compiler's luxels filtered as the engine shows them, off = the light at each pixel")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
+  cmd->add_option("--extra", options->extra, "Faithful luxels: sample points per luxel along each axis (light -extra: 1, 2 or 4)")
+      ->check(CLI::IsMember({1, 2, 4}))
       ->capture_default_str();
   cmd->add_option("--bounces", options->bounces, "Physical lighting: indirect bounces")->check(CLI::Range(0, 64))->capture_default_str();
   cmd->add_option("--threads", options->threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber)->capture_default_str();

@@ -10,8 +10,10 @@
 #include "scene/gpu_structs.h"
 
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 
 #include <algorithm>
+#include <vector>
 #include <cmath>
 
 namespace bt::faithful {
@@ -148,6 +150,32 @@ inline constexpr int kDirtElevationSteps = 3;
 inline constexpr int kDirtRays = kDirtAzimuthSteps * kDirtElevationSteps;
 // The compiler's sample points sit this far off the face (ltface.cc sampleOffPlaneDist); the
 // occlusion rays leave from there.
+// ericw-tools' `-sunsamples` (64): how many suns a sky dome or a sun's penumbra becomes.
+inline constexpr int kSunSamples = 64;
+
+// The directions towards the sky of ericw-tools' upper sky dome (SetupSkyDome, after q3map2):
+// rings of suns at equal elevation steps, each ring turned by a fraction of a step, plus one
+// straight up; `kSunSamples` 64 gives 4 rings of 16 and the zenith, 65 suns sharing the value.
+// The lower dome is the same with z negated.
+inline std::vector<glm::vec3> skyDomeDirections(int sunSamples = kSunSamples) {
+  const int iterations = std::max(int(std::lround(std::sqrt(double(sunSamples - 1) / 4.0))) + 1, 2);
+  const int elevationSteps = iterations - 1, angleSteps = elevationSteps * 4;
+  const float elevationStep = glm::radians(90.0f / float(elevationSteps + 1));
+  const float angleStep = glm::radians(360.0f / float(angleSteps));
+  std::vector<glm::vec3> toSky;
+  float angle = 0.0f, elevation = elevationStep * 0.5f;
+  for (int i = 0; i < elevationSteps; ++i) {
+    for (int j = 0; j < angleSteps; ++j) {
+      toSky.emplace_back(std::cos(angle) * std::cos(elevation), std::sin(angle) * std::cos(elevation), std::sin(elevation));
+      angle += angleStep;
+    }
+    elevation += elevationStep;
+    angle += angleStep / float(elevationSteps);
+  }
+  toSky.emplace_back(0.0f, 0.0f, 1.0f);
+  return toSky;
+}
+
 inline constexpr float kDirtSampleLift = 1.0f;
 
 // Ray `index` of the fixed pattern in the sample's tangent space (z along the normal), for a

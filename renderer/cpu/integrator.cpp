@@ -487,11 +487,40 @@ glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLig
 }
 
 glm::vec3 faithfulLuxelLight(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided,
-                             const glm::vec3& faceMinlight) {
+                             const glm::vec3& faceMinlight, int softSamples) {
   // Dirt rays start at the compiler's sample point, which p already is.
   const float occlusion = faithfulOcclusion(rs, p - n * faithful::kDirtSampleLift, n, rng);
-  return faithfulSum(rs, LightSource::Grid, Receiver{p, n, twoSided}, faceMinlight, rng, FaithfulLights::Shown, nullptr,
-                     occlusion);
+  const Receiver r{p, n, twoSided};
+  glm::vec3 sum(0.0f), soft(0.0f), localMin(0.0f);
+  static const std::vector<glm::vec3> dome = faithful::skyDomeDirections();
+  auto add = [&](uint32_t index) {
+    const GpuLight& light = rs.lights[index];
+    if (light.type == uint32_t(LightType::Dome)) {
+      // The compiler's own suns, not a random sampling of the dome: the same luxels, not noise.
+      for (glm::vec3 toSky : dome) {
+        if (light.direction.z < 0.0f) toSky.z = -toSky.z;
+        const glm::vec3 facing = facingNormal(r, toSky);
+        const float cosIncidence = glm::dot(toSky, facing);
+        if (cosIncidence <= 0.0f) continue;
+        if (!reachesSky(rs, Ray{offsetPoint(p, facing), 0.0f, toSky, std::numeric_limits<float>::infinity()}, LightingMode::Faithful,
+                        light.skyMaterial))
+          continue;
+        sum += light.value / float(dome.size()) * faithful::angleTerm(cosIncidence, light.anglescale) *
+               faithful::lightDirtFactor(light, occlusion, 0.0f) * light.color;
+      }
+      return;
+    }
+    if (light.type == uint32_t(LightType::Point) && light.deviance <= 0.0f) {
+      addFaithfulLight(rs, light, r, occlusion, rng, sum, localMin);
+      return;
+    }
+    for (int k = 0; k < softSamples; ++k) addFaithfulLight(rs, light, r, occlusion, rng, soft, localMin);
+  };
+  const LightGrid& grid = rs.lightGrid;
+  for (uint32_t i : grid.fixedLights()) add(i);
+  for (uint32_t i : grid.globalLights()) add(i);
+  for (uint32_t i : grid.cellLights(p)) add(i);
+  return applyFloors(rs, sum + soft / float(std::max(softSamples, 1)), localMin, faceMinlight, occlusion);
 }
 
 glm::vec3 faithfulLuxelFloor(const RenderScene& rs, const glm::vec3& faceMinlight) {

@@ -139,8 +139,10 @@ glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLig
 // The light ericw-tools `light` stores at a luxel whose sample point is p (already lifted off the
 // face as the compiler lifts it: lightmap_bake.h): every light the grid lists, each bounce light
 // shadow-tested, dirt cast from p itself, then the floors (minlight, `faceMinlight`).
+// Soft lights (suns, domes, `_deviance` copies), whose every sample draws another direction or
+// position, are averaged over `softSamples` samples; every other light is exact in one.
 glm::vec3 faithfulLuxelLight(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided,
-                             const glm::vec3& faceMinlight);
+                             const glm::vec3& faceMinlight, int softSamples = 1);
 // What an occluded luxel (its sample point in solid, or too far off its face) stores: the floors.
 glm::vec3 faithfulLuxelFloor(const RenderScene& rs, const glm::vec3& faceMinlight);
 

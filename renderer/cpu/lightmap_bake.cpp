@@ -1,5 +1,6 @@
 #include "renderer/cpu/lightmap_bake.h"
 
+#include "renderer/cpu/faithful.h"
 #include "renderer/cpu/integrator.h"
 #include "renderer/cpu/sampling.h"
 #include "renderer/cpu/surface_lights.h"
@@ -19,7 +20,7 @@ namespace {
 constexpr double kSampleLift = 1.0;          // ltface.cc sampleOffPlaneDist
 constexpr double kSolidJitter = 0.5;         // PositionSamplePointOnFace tries p ± 0.5 on each axis
 constexpr uint32_t kBakeSeed = 0x6c757865u;  // the bake's own random stream
-constexpr int kSoftLightSamples = 16;
+constexpr int kSoftLightSamples = faithful::kSunSamples; // the compiler's suns per penumbra
 
 // Texture space (s, t, height above the frame's origin along n) <-> world, for one face.
 struct FaceFrame {
@@ -157,7 +158,7 @@ uint32_t storedLuxel(const glm::vec3& light, float range) {
 
 int lightSamples(const RenderScene& rs, const LightmapBakeOptions& options) {
   if (options.samples > 0) return options.samples;
-  const bool soft = rs.lightKinds.sky || rs.lightKinds.jitter || (rs.lightKinds.dirt && rs.world.dirtSettings.mode == 1);
+  const bool soft = rs.lightKinds.sky || rs.lightKinds.jitter;
   return soft ? kSoftLightSamples : 1;
 }
 
@@ -241,17 +242,38 @@ void bakeLightmaps(const RenderScene& rs, Lightmaps& lm, const LightmapBakeOptio
           for (int sx = 0; sx < extra; ++sx) {
             const double ox = -0.5 + (0.5 + sx) / extra, oy = -0.5 + (0.5 + sy) / extra;
             const std::optional<glm::vec3> p = samplePoint(rs, solid, face, frame, g, polygon, x + ox, y + oy);
-            glm::vec3 sum(0.0f);
-            for (int k = 0; k < samples; ++k) {
-              Rng rng = pixelRng(uint32_t(fi), index * uint32_t(extra * extra) + uint32_t(sy * extra + sx), uint32_t(k), kBakeSeed);
-              sum += p ? faithfulLuxelLight(rs, *p, n, rng, twoSided, faceMinlight)
-                       : faithfulLuxelFloor(rs, faceMinlight);
-            }
-            light += sum / float(samples);
+            Rng rng = pixelRng(uint32_t(fi), index * uint32_t(extra * extra) + uint32_t(sy * extra + sx), 0, kBakeSeed);
+            light += p ? faithfulLuxelLight(rs, *p, n, rng, twoSided, faceMinlight, samples) : faithfulLuxelFloor(rs, faceMinlight);
           }
         lm.luxels[g.firstLuxel + index] = storedLuxel(light / float(extra * extra), rs.world.range);
       }
   });
+}
+
+std::vector<uint32_t> facesSeen(const RenderScene& rs, const Camera& camera, int width, int height, unsigned threads) {
+  const size_t faceCount = rs.scene->faces.size();
+  std::vector<std::vector<uint8_t>> seenByRow(size_t(2 * height + 1));
+  parallelFor(seenByRow.size(), threads, [&](size_t row) {
+    std::vector<uint8_t>& seen = seenByRow[row];
+    seen.assign(faceCount, 0);
+    for (int column = 0; column <= 2 * width; ++column) {
+      const SurfaceHit hit = traceVisible(rs, camera.ray(0.5f * float(column), 0.5f * float(row)));
+      if (hit.found) seen[hit.face] = 1;
+    }
+  });
+  std::vector<uint32_t> faces;
+  for (uint32_t f = 0; f < faceCount; ++f) {
+    bool seen = false;
+    for (const std::vector<uint8_t>& row : seenByRow) seen = seen || row[f];
+    if (seen && faceHasLightmap(rs, f)) faces.push_back(f);
+  }
+  return faces;
+}
+
+void bakeFaithfulLightmaps(RenderScene& rs, const Camera* camera, int width, int height, const LightmapBakeOptions& options) {
+  rs.lightmaps = camera ? layoutLightmaps(rs, facesSeen(rs, *camera, width, height, options.threads), options.threads)
+                        : layoutLightmaps(rs, options.threads);
+  bakeLightmaps(rs, rs.lightmaps, options);
 }
 
 } // namespace bt

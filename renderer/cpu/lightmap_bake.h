@@ -12,11 +12,14 @@
 //            occluded. An occluded luxel gets only the floors (minlight). With `extra` N the
 //            luxel is the mean of N x N such points on a grid 1/N luxel apart (-extra, -extra4).
 //   light    at each point the faithful light sum of integrator.h (every light the grid lists,
-//            each bounce light shadow-tested), `samples` times averaged for soft lights.
+//            each bounce light shadow-tested); a sky dome as the compiler's own 65 suns
+//            (faithful.h skyDomeDirections); a sun's penumbra and `_deviance` copies averaged over
+//            `samples` random directions or positions (the compiler's 64 are random too).
 //   stored   light × _range, a coloured sum scaled so its brightest channel fits in 255,
 //            truncated to whole bytes as the compiler writes them.
 #pragma once
 
+#include "renderer/cpu/camera.h"
 #include "renderer/cpu/lightmaps.h"
 #include "renderer/cpu/render_scene.h"
 
@@ -26,7 +29,7 @@ namespace bt {
 
 struct LightmapBakeOptions {
   int extra = 1;       // sample points per luxel along each axis: 1 (the compiler's default), 2 or 4
-  int samples = 0;     // light samples per point; 0: 1 for a level without soft lights, else 16
+  int samples = 0;     // samples of each soft light per point; 0: 1 for a level without soft lights, else 64
   unsigned threads = 0; // 0: all cores
 };
 
@@ -42,6 +45,15 @@ Lightmaps layoutLightmaps(const RenderScene& rs, unsigned threads = 0);
 
 // Every luxel of `lightmaps`, as above. The same result for any number of threads.
 void bakeLightmaps(const RenderScene& rs, Lightmaps& lightmaps, const LightmapBakeOptions& options = {});
+
+// The faces with a lightmap that a width x height image from `camera` can show: those hit by rays
+// through every pixel's corners and centre, so that a render bakes only what its samples land on
+// (a face seen by no such ray, a sliver under half a pixel, is lit at the point itself).
+std::vector<uint32_t> facesSeen(const RenderScene& rs, const Camera& camera, int width, int height, unsigned threads = 0);
+
+// What `render` and `view` do before a faithful image: lay out and bake the faces `camera` sees
+// (all lit faces when camera is null) into rs.lightmaps.
+void bakeFaithfulLightmaps(RenderScene& rs, const Camera* camera, int width, int height, const LightmapBakeOptions& options);
 
 // Where the compiler samples luxel (x, y) (in fractional luxels with `extra`) of fragment
 // `fragment`, or nullopt when that point is occluded. Exposed for tests.

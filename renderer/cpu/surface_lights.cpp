@@ -1,5 +1,7 @@
 #include "renderer/cpu/surface_lights.h"
 
+#include "renderer/cpu/render_scene.h"
+
 #include "scene/names.h"
 #include "scene/parallel_for.h"
 #include "scene/winding.h"
@@ -469,12 +471,16 @@ std::vector<Winding> compiledFacePolygons(const Scene& scene, uint32_t faceIndex
   return pieces;
 }
 
-// The `_surflight_group` of the entity a face belongs to (0 when unset): a template lights only
-// the faces of its own group (ericw-tools' surface light groups).
+// The `_surflight_group` of the model a face belongs to (0 when unset): a template lights only the
+// faces of its own group (ericw-tools' surface light groups). func_detail and func_group are
+// merged into the world by qbsp, and their keys with them: the world's group, 0
+// (q1_light_surflight_group: a func_detail with group 1 glows with the group-0 template).
 static int surfaceLightGroup(const Scene& scene, uint32_t face) {
   const uint32_t brush = scene.faces[face].brush;
   if (brush >= scene.brushes.size() || scene.brushes[brush].entity >= scene.entities.size()) return 0;
-  return std::atoi(std::string(scene.entities[scene.brushes[brush].entity].value("_surflight_group", "0")).c_str());
+  const Entity& entity = scene.entities[scene.brushes[brush].entity];
+  if (mergedIntoWorld(entity.classname())) return 0;
+  return std::atoi(std::string(entity.value("_surflight_group", "0")).c_str());
 }
 
 std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,

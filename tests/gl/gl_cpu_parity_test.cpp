@@ -18,6 +18,8 @@
 #include "tests/render/normal_map_room.h"
 #include "tests/test_data.h"
 
+#include "renderer/cpu/lightmap_bake.h"
+
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
@@ -191,6 +193,27 @@ TEST(GlCpuParity, FaithfulBeautyAgreesWithTheCpuReference) {
   RenderImage cpu;
   const RenderImage gpu = renderBoth(level->render, level->pose, settings, cpu);
   expectBeautyAgrees(gpu, cpu, 0.01);
+}
+
+// Faithful mode as the game shows it: both tracers read the same baked luxels
+// (renderer/cpu/lightmap_bake.h) and filter them with the same arithmetic, so every pixel agrees
+// up to float rounding, not only on average; a face left unbaked is lit at its point by both.
+TEST(GlCpuParity, BakedLuxelsShowTheSameInBothTracers) {
+  BT_REQUIRE_SHARED(shared);
+  auto level = loadLibreQuake(shared, "misc/slope.map");
+  const RenderSettings settings = beautySettings(LightingMode::Faithful, 3);
+  const Camera camera(level->pose, settings.width, settings.height);
+  bakeFaithfulLightmaps(level->render, &camera, settings.width, settings.height, {});
+  ASSERT_FALSE(level->render.lightmaps.empty());
+  RenderImage cpu;
+  const RenderImage gpu = renderBoth(level->render, level->pose, settings, cpu);
+  ASSERT_EQ(gpu.beauty.size(), cpu.beauty.size());
+  size_t lit = 0;
+  for (size_t i = 0; i < cpu.beauty.size(); ++i) {
+    EXPECT_LE(glm::length(gpu.beauty[i] - cpu.beauty[i]), 1e-4f * glm::length(cpu.beauty[i]) + 1e-5f) << "pixel " << i;
+    lit += cpu.beauty[i] != glm::vec3(0.0f);
+  }
+  EXPECT_GT(lit, cpu.beauty.size() / 2) << "a black image proves nothing";
 }
 
 TEST(GlCpuParity, PhysicalBeautyAgreesWithTheCpuReference) {

@@ -1,0 +1,77 @@
+// Faithful mode's light compiler (renderer/cpu/lightmap_bake.h) on whole levels: the layout of
+// qbsp's faces and their luxel grids, then the bake of every luxel on all cores, against
+// ericw-tools `light` on the same level (its own log in ../shared/oracle/lit/ gives its time).
+//   build/bench/bench_bake [--benchmark_filter=...]
+#include "importers/import.h"
+#include "renderer/cpu/lightmap_bake.h"
+
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <map>
+#include <string>
+
+namespace {
+
+using namespace bt;
+
+const std::string kShared = BRUSHTRACE_SHARED_DIR;
+const std::map<std::string, std::string> kLevels = {
+    {"lqdm5", kShared + "/maps/librequake/lq1/maps/src/dm/lqdm5.map"}, // 2 598 lights, 939 584 luxels compiled
+    {"e1m1", kShared + "/maps/quake_map_source/e1m1.map"},
+    {"lq_e4m3", kShared + "/maps/librequake/lq1/maps/src/e4/lq_e4m3.map"},
+};
+
+struct Level {
+  Scene scene;
+  RenderScene rs;
+};
+
+Level* prepare(benchmark::State& state, const std::string& name) {
+  const std::string& path = kLevels.at(name);
+  if (!std::filesystem::exists(path)) {
+    state.SkipWithError(("not found (../shared missing?): " + path).c_str());
+    return nullptr;
+  }
+  static std::map<std::string, std::unique_ptr<Level>> cache;
+  auto& level = cache[name];
+  if (!level) {
+    level = std::make_unique<Level>();
+    ImportOptions options;
+    options.textures.load = false;
+    level->scene = importScene(path, options);
+    Diagnostics diagnostics;
+    level->rs = buildRenderScene(level->scene, {}, diagnostics);
+  }
+  return level.get();
+}
+
+void BM_Layout(benchmark::State& state, const std::string& name) {
+  Level* level = prepare(state, name);
+  if (!level) return;
+  size_t luxels = 0;
+  for (auto _ : state) luxels = layoutLightmaps(level->rs).luxels.size();
+  state.counters["luxels"] = double(luxels);
+}
+
+void BM_Bake(benchmark::State& state, const std::string& name) {
+  Level* level = prepare(state, name);
+  if (!level) return;
+  const Lightmaps layout = layoutLightmaps(level->rs);
+  for (auto _ : state) {
+    Lightmaps lm = layout;
+    bakeLightmaps(level->rs, lm);
+    benchmark::DoNotOptimize(lm.luxels.data());
+  }
+  state.counters["luxels"] = double(layout.luxels.size());
+  state.counters["luxels/s"] = benchmark::Counter(double(layout.luxels.size()), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+} // namespace
+
+BENCHMARK_CAPTURE(BM_Layout, e1m1, std::string("e1m1"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Bake, e1m1, std::string("e1m1"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Layout, lqdm5, std::string("lqdm5"))->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_Bake, lqdm5, std::string("lqdm5"))->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_Bake, lq_e4m3, std::string("lq_e4m3"))->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK_MAIN();
