@@ -1,5 +1,7 @@
 #include "renderer/gl/gl_bench.h"
 
+#include "renderer/cpu/lightmap_bake.h"
+
 #include "renderer/cpu/camera.h"
 #include "renderer/cpu/render_scene.h"
 #include "renderer/gl/gl_context.h"
@@ -19,6 +21,35 @@ namespace bt::gl {
 namespace {
 using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+} // namespace
+
+namespace {
+
+// Faithful mode as `render` shows it: the faces the camera sees baked on the CPU (timed), then
+// frames that each look up the luxels: what a camera move costs once the bake is done.
+void benchBakedLuxels(gl::GlTracer& tracer, RenderScene& rs, const CameraPose& pose, const gl::CameraBasis& camera,
+                      gl::BeautySettings settings, const GlBenchSettings& s) {
+  const auto bakeStart = Clock::now();
+  const Camera cpuCamera(pose, s.width, s.height);
+  bakeFaithfulLightmaps(rs, &cpuCamera, s.width, s.height, {});
+  const double bakeSeconds = secondsSince(bakeStart);
+  tracer.setLightmaps(packLightmaps(rs.lightmaps));
+  fmt::print("faithful luxels: {} faces seen, {} luxels baked on the CPU in {:.2f} s\n", rs.lightmaps.faceRanges.size() -
+                 size_t(std::count(rs.lightmaps.faceRanges.begin(), rs.lightmaps.faceRanges.end(), glm::uvec2(0))),
+             rs.lightmaps.luxels.size(), bakeSeconds);
+  settings.physical = false;
+  settings.form = gl::PathTracerForm::Megakernel;
+  tracer.renderBeauty(camera, settings);
+  const auto start = Clock::now();
+  settings.spp = 64;
+  const gl::BeautyImage image = tracer.renderBeauty(camera, settings);
+  const double seconds = secondsSince(start);
+  fmt::print("samples: {:.2f} full samples/s at {}x{}, faithful, baked luxels ({} spp in {:.2f} s)\n", image.samples / seconds,
+             s.width, s.height, image.samples, seconds);
+  rs.lightmaps = {};
+  tracer.setLightmaps({});
+}
+
 } // namespace
 
 int runGlBench(const LevelImport& importLevel, const GlBenchSettings& s) {
@@ -156,6 +187,7 @@ int runGlBench(const LevelImport& importLevel, const GlBenchSettings& s) {
                  image.samples * double(s.width) * s.height / seconds * 1e-6);
     }
   }
+  benchBakedLuxels(*tracer, level->render, pose, camera, oneSample, s);
   return context->debugErrorCount() == 0 ? 0 : 1;
 }
 

@@ -128,11 +128,16 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMa
   upload(buffers_[kBindingLightGrid], std::span<const uint8_t>(gridBytes));
   upload(buffers_[kBindingLightIndices], std::span<const uint32_t>(grid.indices));
 
-  // A level without baked luxels still gets the header (no face), so the shader reads 0 faces.
+  setLightmaps(lighting.lightmaps);
+}
+
+void GlSceneBuffers::setLightmaps(const std::vector<uint32_t>& packed) {
+  // Buffer storage is immutable: a new bake gets a new buffer. A level without baked luxels
+  // still gets the header (no face), so the shader reads 0 faces.
+  static const std::vector<uint32_t> none{4u, 4u, 4u, 0u};
+  if (lightmaps_) BT_GL(glDeleteBuffers(1, &lightmaps_));
   BT_GL(glCreateBuffers(1, &lightmaps_));
-  std::vector<uint32_t> lightmaps = lighting.lightmaps;
-  if (lightmaps.size() < 4) lightmaps = {4u, 4u, 4u, 0u};
-  upload(lightmaps_, std::span<const uint32_t>(lightmaps));
+  upload(lightmaps_, std::span<const uint32_t>(packed.size() < 4 ? none : packed));
 }
 
 GlSceneBuffers::~GlSceneBuffers() {

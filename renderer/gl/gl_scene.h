@@ -27,6 +27,7 @@ public:
   GlSceneBuffers& operator=(const GlSceneBuffers&) = delete;
 
   void bind() const; // to the Binding points and TexelUnits of gl_structs.h
+  void setLightmaps(const std::vector<uint32_t>& packed); // kBindingLightmaps; empty: none
 
 private:
   static constexpr int kBufferCount = 11; // Binding 0..10

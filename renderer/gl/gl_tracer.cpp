@@ -605,6 +605,8 @@ CameraBasis CameraBasis::fromQuakeAngles(const glm::vec3& origin, float pitch, f
   return c;
 }
 
+void GlTracer::setLightmaps(const std::vector<uint32_t>& packed) { impl_->buffers.setLightmaps(packed); }
+
 RayBenchmark GlTracer::benchmarkRays(const CameraBasis& camera, int width, int height, int passes) {
   using Clock = std::chrono::steady_clock;
   StorageImage hits(GL_RGBA32F, width, height);

@@ -283,6 +283,9 @@ public:
   // Times closest-hit queries alone (shaders/raybench.comp): `passes` frames of primary rays,
   // then `passes` frames of one cosine bounce ray from each primary hit.
   RayBenchmark benchmarkRays(const CameraBasis& camera, int width, int height, int passes);
+  // Replaces faithful mode's baked luxels (GlLighting::lightmaps, packed; empty for none): a bake
+  // made after the upload (gl_bench, a viewer that bakes as the camera moves).
+  void setLightmaps(const std::vector<uint32_t>& packed);
 
 private:
   struct Impl;
