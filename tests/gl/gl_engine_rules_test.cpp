@@ -5,6 +5,7 @@
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/cpu/render_scene.h"
 #include "renderer/gl/gl_render.h"
+#include "renderer/gl/gl_tracer.h"
 #include "tests/gl/test_scenes.h"
 #include "tests/test_data.h"
 
@@ -36,8 +37,10 @@ Renders renderMap(const std::string& name, LightingMode mode) {
   Renders r;
   r.cpu = renderCpu(rs, Camera(pose, kWidth, kHeight), settings);
   GlContext& context = test::sharedGlContext();
+  // One set of programs for every map of the suite: on llvmpipe each build takes seconds.
+  static const auto programs = std::make_shared<TracerPrograms>(context, test::textureModeUnderTest());
   const int errorsBefore = context.debugErrorCount();
-  r.gpu = renderWithGl(context, rs, pose, settings, test::textureModeUnderTest(), {}).image;
+  r.gpu = renderWithGl(context, rs, pose, settings, programs, {}).image;
   EXPECT_EQ(context.debugErrorCount(), errorsBefore);
   return r;
 }

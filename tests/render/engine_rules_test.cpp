@@ -4,6 +4,7 @@
 // these same images.
 #include "importers/bsp/q3_textures.h"
 #include "importers/import.h"
+#include "importers/textures/png_indices.h"
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/cpu/game_rules.h"
 #include "renderer/cpu/render_scene.h"
@@ -13,6 +14,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 
 namespace bt {
 namespace {
@@ -192,6 +196,27 @@ TEST(EngineRules, GameHidesTheEntitiesItsCodeNeverDraws) {
   EXPECT_FALSE(gameHidesEntity(entity({{"classname", "func_wall"}, {"rendermode", "2"}, {"renderamt", "120"}}), Game::HalfLife));
   EXPECT_FALSE(gameHidesEntity(entity({{"classname", "func_door"}}), Game::Quake3));
   EXPECT_TRUE(gameHidesEntity(entity({{"classname", "trigger_push"}}), Game::Quake3));
+}
+
+// The palette indices of LibreQuake-style PNGs; anything else, a truncated file included, is no
+// such PNG (nullopt), never a crash.
+TEST(EngineRules, PngPaletteIndicesAreReadAsStored) {
+  const std::filesystem::path fence = test::mapsDir() / "engine_rules/textures/{fence.png";
+  const auto indices = readPngPaletteIndices(fence);
+  ASSERT_TRUE(indices);
+  ASSERT_EQ(indices->size(), 64u * 64u);
+  EXPECT_EQ((*indices)[0], 1);          // (0, 0): on a bar
+  EXPECT_EQ((*indices)[8 * 64 + 8], 255); // (8, 8): a hole
+  EXPECT_FALSE(readPngPaletteIndices(test::mapsDir() / "textures/bricks.png")); // RGB
+  std::ifstream in(fence, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  const std::filesystem::path cut = std::filesystem::temp_directory_path() / "bt_engine_rules_cut.png";
+  for (size_t size : {size_t(0), size_t(8), size_t(40), bytes.size() / 2, bytes.size() - 13}) {
+    std::ofstream(cut, std::ios::binary).write(bytes.data(), std::streamsize(size));
+    EXPECT_FALSE(readPngPaletteIndices(cut)) << size << " bytes";
+  }
+  std::filesystem::remove(cut);
+  EXPECT_FALSE(readPngPaletteIndices(test::mapsDir() / "engine_rules/textures/no such file.png"));
 }
 
 TEST(EngineRules, Quake3ShadersAlphaTestOnlyWhereTheySay) {
