@@ -207,6 +207,12 @@ constexpr uint32_t kFaceSky = 2u;        // sky*: the environment, and where sun
 constexpr uint32_t kFaceLiquid = 4u;     // '*' textures / Q2 liquid contents: unlit unless _litwater
 constexpr uint32_t kFaceNoShadow = 8u;   // faithful mode: does not block light (brush entity without _shadow)
 constexpr uint32_t kFaceEmissive = 16u;  // has emissive texels or is a _surface template
+// Alpha-tested faces: a point where the base colour's filtered alpha fails the test is a hole
+// for every ray. The test is alpha >= 0.5 ('{' textures, images with alpha, alphaFunc GE128),
+// or with one of the two flags after it Quake 3's alphaFunc GT0 / LT128.
+constexpr uint32_t kFaceMasked = 32u;
+constexpr uint32_t kFaceMaskGt0 = 64u;
+constexpr uint32_t kFaceMaskLt128 = 128u;
 
 // Per-material parameters; the images themselves travel as textures.
 struct GpuMaterial {

@@ -21,6 +21,11 @@ struct Image {
 // Where a material's base colour came from; "missing" means a generated checker placeholder.
 enum class TextureSource { Missing, Wad2, Wad3, Miptex, Wal, LooseImage };
 
+// How the base colour's alpha cuts holes in a face. FromImage: alpha >= 0.5 is solid where the
+// image has any texel below 255 ('{' textures, loose images with alpha), else no test; Quake 3
+// shaders set None or their alphaFunc, since Quake 3 draws an image's alpha only when told.
+enum class AlphaTest : uint8_t { FromImage, None, Gt0, Lt128, Ge128 };
+
 struct Material {
   std::string name;     // texture name as the map spells it
   int width = 64;       // size in texels: texture coordinates are divided by it to sample
@@ -34,6 +39,7 @@ struct Material {
   Image metallic;    // R channel, empty when absent (then `metallicValue`)
   Image emissive;    // sRGB; Quake fullbright texels (palette 224..255) land here too
 
+  AlphaTest alphaTest = AlphaTest::FromImage;
   float roughnessValue = 0.8f;
   float metallicValue = 0.0f;
 

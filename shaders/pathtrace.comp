@@ -700,7 +700,8 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     uint flags = 0u;
     if (hit.face != NO_FACE) flags = faceFlags[hit.face]; // a branch: never a read at NO_FACE
     bool passThrough = hit.face != NO_FACE &&
-                       (hit.inside || (path.kind == RAY_SURFACE ? (flags & FACE_HIDDEN) != 0u
+                       (hit.inside || maskedOut(hit.face, path.origin + path.dir * hit.t) ||
+                        (path.kind == RAY_SURFACE ? (flags & FACE_HIDDEN) != 0u
                                                                 : (flags & FACE_SKY) == 0u && !blocksLight(flags, PHYSICAL)));
     if (passThrough && ++path.skips < MAX_SKIPS) {
       path.tMin = hit.t + SKIP_STEP;

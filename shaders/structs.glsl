@@ -41,6 +41,9 @@ const uint FACE_SKY = 2u;       // sky*: the environment, and where sunlight com
 const uint FACE_LIQUID = 4u;    // '*' textures: unlit unless _litwater
 const uint FACE_NO_SHADOW = 8u; // faithful mode: does not block light
 const uint FACE_EMISSIVE = 16u; // emissive texels or a _surface template
+const uint FACE_MASKED = 32u;   // alpha-tested: a hole where alpha < 0.5 (scene/gpu_structs.h kFaceMasked)
+const uint FACE_MASK_GT0 = 64u;   // ... or where alpha is 0 (Quake 3 alphaFunc GT0)
+const uint FACE_MASK_LT128 = 128u; // ... or where alpha >= 0.5 (alphaFunc LT128)
 
 const uint MATERIAL_HAS_BASE = 1u;
 const uint MATERIAL_HAS_NORMAL = 2u;

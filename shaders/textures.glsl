@@ -127,6 +127,9 @@ vec3 normalMapToWorld(vec3 local, vec3 s, vec3 t, vec3 n) {
   return normalize(x * local.x + y * local.y + n * local.z);
 }
 
+// trace.glsl's alpha test reads the textures where this file comes first.
+#define BT_ALPHA_TEST
+
 vec3 srgbToLinear(vec3 c) {
   return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), greaterThan(c, vec3(0.04045)));
 }

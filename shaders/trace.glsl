@@ -281,6 +281,22 @@ void pushNode(inout NodeStack s, uint node) { traversalStack[s.size++] = node; }
 uint popNode(inout NodeStack s) { return traversalStack[--s.size]; }
 #endif
 
+// Alpha-tested faces (renderer/cpu passesThrough): a hole for every ray where the base colour's
+// filtered alpha fails the face's test. Programs without textures.glsl (raybench) test nothing.
+bool maskedOut(uint face, vec3 p) {
+#ifdef BT_ALPHA_TEST
+  uint flags = faceFlags[face];
+  if ((flags & FACE_MASKED) == 0u) return false;
+  GpuMaterial m = materials[faces[face].material];
+  float a = materialBaseColor(m, faceUv(faces[face], m, p)).a;
+  if ((flags & FACE_MASK_GT0) != 0u) return !(a > 0.0);
+  if ((flags & FACE_MASK_LT128) != 0u) return !(a < 0.5);
+  return !(a >= 0.5);
+#else
+  return false;
+#endif
+}
+
 Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   Hit best = Hit(r.tMax, NO_FACE, false);
 #ifdef BT_TRACE_SOFTWARE
@@ -317,7 +333,7 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
       Hit hit;
       if (!hitBrush(r, i, best.t, hit)) continue;
       if (anyHit) {
-        if (!hit.inside && (faceFlags[hit.face] & passFlags) == 0u) return hit;
+        if (!hit.inside && (faceFlags[hit.face] & passFlags) == 0u && !maskedOut(hit.face, r.origin + r.dir * hit.t)) return hit;
       } else if (closer(hit, best)) {
         best = hit;
       }

@@ -22,7 +22,7 @@ SurfaceHit traceVisible(vec3 origin, vec3 dir) {
   for (int i = 0; i < MAX_SKIPS; ++i) {
     Hit hit = traceRay(makeTraceRay(origin, dir, tMin, INFINITY), false, 0u);
     if (hit.face == NO_FACE) break;
-    if (!hit.inside && (faceFlags[hit.face] & FACE_HIDDEN) == 0u)
+    if (!hit.inside && !maskedOut(hit.face, origin + dir * hit.t) && (faceFlags[hit.face] & FACE_HIDDEN) == 0u)
       return SurfaceHit(true, hit.t, hit.face, origin + dir * hit.t, faceNormal(hit.face));
     tMin = hit.t + SKIP_STEP;
   }
@@ -45,8 +45,9 @@ bool reachesSky(vec3 origin, vec3 dir, bool physical) {
     Hit hit = traceRay(makeTraceRay(origin, dir, tMin, INFINITY), false, 0u);
     if (hit.face == NO_FACE) return true; // left the level: nothing stops the sun
     uint flags = faceFlags[hit.face];
-    if (!hit.inside && (flags & FACE_SKY) != 0u) return true;
-    if (!hit.inside && blocksLight(flags, physical)) return false;
+    bool through = hit.inside || maskedOut(hit.face, origin + dir * hit.t);
+    if (!through && (flags & FACE_SKY) != 0u) return true;
+    if (!through && blocksLight(flags, physical)) return false;
     tMin = hit.t + SKIP_STEP;
   }
   return false;

@@ -7,6 +7,7 @@
 // the one call of the traversal in this program. No lighting mode: the ray carries its
 // pass flags, so one program serves faithful and physical shade kernels.
 #include "scene_buffers.glsl"
+#include "textures.glsl" // the alpha test of trace.glsl
 #include "trace.glsl"
 #include "camera.glsl"
 #include "wavefront.glsl"

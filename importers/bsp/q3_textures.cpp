@@ -115,6 +115,36 @@ std::map<std::string, std::string> parseShaderImages(std::string_view scriptText
   return images;
 }
 
+std::map<std::string, AlphaTest> parseShaderAlphaTests(std::string_view scriptText) {
+  std::map<std::string, AlphaTest> tests;
+  ShaderLexer lex(scriptText);
+  while (true) {
+    const std::string_view name = lex.next();
+    if (name.empty()) break;
+    if (name == "{" || name == "}") continue; // stray brace: resynchronise
+    if (lex.next() != "{") continue;
+    AlphaTest test = AlphaTest::None;
+    for (int depth = 1; depth > 0;) {
+      const std::string_view token = lex.next();
+      if (token.empty()) break;
+      if (token == "{") {
+        ++depth;
+      } else if (token == "}") {
+        --depth;
+      } else {
+        // The first stage's alphaFunc decides what the depth buffer keeps; later ones blend over it.
+        if (depth == 2 && test == AlphaTest::None && lowercase(token) == "alphafunc") {
+          const std::string func = lowercase(lex.next(true));
+          test = func == "gt0" ? AlphaTest::Gt0 : func == "lt128" ? AlphaTest::Lt128 : func == "ge128" ? AlphaTest::Ge128 : test;
+        }
+        lex.skipArguments();
+      }
+    }
+    tests.try_emplace(lowercase(name), test);
+  }
+  return tests;
+}
+
 void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& files, Diagnostics& diagnostics,
                             std::vector<std::string>* filesRead) {
   auto noteRead = [&](std::string_view name) {
@@ -122,14 +152,19 @@ void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& f
     if (const auto file = files.fileHolding(name)) filesRead->push_back(file->string());
   };
   std::map<std::string, std::string> shaderImages;
+  std::map<std::string, AlphaTest> alphaTests;
   for (const std::string& script : files.list("scripts", ".shader")) {
     const auto bytes = files.read(script);
     if (!bytes) continue;
     noteRead(script);
     const std::string_view text(reinterpret_cast<const char*>(bytes->data()), bytes->size());
     for (auto& [name, image] : parseShaderImages(text)) shaderImages.try_emplace(name, image);
+    for (auto& [name, test] : parseShaderAlphaTests(text)) alphaTests.try_emplace(name, test);
   }
   for (Material& m : materials) {
+    // Quake 3 draws an image's alpha only where the shader says how.
+    const auto test = alphaTests.find(lowercase(m.name));
+    m.alphaTest = test != alphaTests.end() ? test->second : AlphaTest::None;
     std::vector<std::string> candidates;
     if (auto it = shaderImages.find(lowercase(m.name)); it != shaderImages.end())
       candidates.push_back(stripExtension(it->second));

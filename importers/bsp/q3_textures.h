@@ -15,6 +15,10 @@ namespace bt::bsp {
 // `map` (not $lightmap) or else its qer_editorimage. Keys are lowercase shader names.
 std::map<std::string, std::string> parseShaderImages(std::string_view scriptText);
 
+// For each shader defined in scripts/*.shader, the alphaFunc of its first stage that has one
+// (GT0, LT128, GE128), else None. Keys are lowercase shader names.
+std::map<std::string, AlphaTest> parseShaderAlphaTests(std::string_view scriptText);
+
 // Loads the base colour of each material named by a Quake 3 shader: the image the shader
 // scripts name for it, else an image file with the shader's own name (.tga, .jpg, .png). The
 // material's size becomes the image's. Materials found nowhere stay missing. `filesRead`, when

@@ -3,6 +3,7 @@
 // Order of search for a name: the WADs (--wad, then worldspawn "wad"), then loose image folders
 // (--textures, the unpacked folder of a WAD that is not there, TrenchBroom's "_tb_textures",
 // <mapdir>/textures, <mapdir>/../textures). Companion maps come from the loose folders.
+#include "importers/textures/png_indices.h"
 #include "importers/textures/textures.h"
 #include "scene/names.h"
 #include "scene/parallel_for.h"
@@ -428,10 +429,28 @@ private:
     const bool fence = !name.empty() && name.front() == '{';
     const bool fullbrights = lowercase(file.stem().string()).ends_with("_fbr");
     if (!fence && !fullbrights) return;
+    const bool keyed = fence && keyOutIndex255(material.baseColor, file);
     const Palette* palette = quakePalette();
     if (!palette) return;
-    if (fence) keyOutTransparentColour(material.baseColor, *palette);
+    if (fence && !keyed) keyOutTransparentColour(material.baseColor, *palette);
     if (fullbrights) recoverFullbrights(material, *palette);
+  }
+
+  static bool hasAlpha(const Image& image) {
+    for (size_t i = 3; i < image.rgba.size(); i += 4)
+      if (image.rgba[i] != 255) return true;
+    return false;
+  }
+
+  // '{' textures saved as 8-bit colour-mapped PNGs (LibreQuake's): index 255 is see-through,
+  // whatever colour the file's palette gives it. False when the file is no such PNG.
+  static bool keyOutIndex255(Image& image, const fs::path& file) {
+    if (hasAlpha(image)) return true; // the image has its own alpha: keep it
+    const auto indices = readPngPaletteIndices(file);
+    if (!indices || indices->size() * 4 != image.rgba.size()) return false;
+    for (size_t i = 0; i < indices->size(); ++i)
+      if ((*indices)[i] == 255) std::fill_n(&image.rgba[i * 4], 4, uint8_t{0});
+    return true;
   }
 
   static uint32_t packRgb(const uint8_t* rgb) { return uint32_t{rgb[0]} << 16 | uint32_t{rgb[1]} << 8 | rgb[2]; }

@@ -25,8 +25,9 @@ struct CameraPose {
 std::optional<CameraPose> parseCameraPose(std::string_view text);
 std::string formatCameraPose(const CameraPose& pose);
 
-// First info_intermission (origin, mangle), else info_player_start (22 units eye height,
-// `angle` as yaw), else a view of the whole map from above one corner.
+// Where the level's game puts the eye (README, "Default camera"): its intermission view, else
+// its player start, else a deathmatch spawn; a level with none of them gets a point of empty
+// space inside it, else (nothing closes in anywhere) a view of the whole map from one corner.
 CameraPose defaultCameraPose(const Scene& scene);
 
 class Camera {

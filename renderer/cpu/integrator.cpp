@@ -37,6 +37,18 @@ bool blocksLight(uint32_t faceFlags, LightingMode mode) {
   return true;
 }
 
+// Where a ray goes on past a hit: the far side of a brush it started in, and the holes of
+// alpha-tested faces (kFaceMasked), which are holes to every ray as `{` brushes are to the compiler.
+bool passesThrough(const RenderScene& rs, const Hit& hit, const Ray& ray) {
+  if (hit.inside) return true;
+  const uint32_t flags = rs.faceFlags[hit.face];
+  if (!(flags & kFaceMasked)) return false;
+  const float a = baseColorAt(rs, hit.face, ray.origin + ray.direction * hit.t).a;
+  if (flags & kFaceMaskGt0) return !(a > 0.0f);
+  if (flags & kFaceMaskLt128) return !(a < 0.5f);
+  return !(a >= 0.5f);
+}
+
 // The emitter triangle whose cdf interval holds u (binary search, GLSL-friendly loop).
 uint32_t pickEmitter(const RenderScene& rs, float u) {
   uint32_t lo = 0, hi = uint32_t(rs.emitters.size()) - 1;
@@ -75,7 +87,7 @@ SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray) {
   for (int i = 0; i < kMaxSkips; ++i) {
     const std::optional<Hit> hit = rs.tracer.closestHit(r);
     if (!hit) return {};
-    if (!hit->inside && !(rs.faceFlags[hit->face] & kFaceHidden)) {
+    if (!passesThrough(rs, *hit, r) && !(rs.faceFlags[hit->face] & kFaceHidden)) {
       SurfaceHit s;
       s.found = true;
       s.t = hit->t;
@@ -94,7 +106,7 @@ bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode) {
   for (int i = 0; i < kMaxSkips; ++i) {
     const std::optional<Hit> hit = rs.tracer.closestHit(r);
     if (!hit) return false;
-    if (!hit->inside && blocksLight(rs.faceFlags[hit->face], mode)) return true;
+    if (blocksLight(rs.faceFlags[hit->face], mode) && !passesThrough(rs, *hit, r)) return true;
     r.tMin = hit->t + 1e-3f;
   }
   return true;
@@ -106,8 +118,9 @@ bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32
     const std::optional<Hit> hit = rs.tracer.closestHit(r);
     if (!hit) return skyMaterial == 0; // left the level: nothing to stop the sun, unless it needs a texture
     const uint32_t flags = rs.faceFlags[hit->face];
-    if (!hit->inside && (flags & kFaceSky)) return skyMaterial == 0 || gpuFace(rs, hit->face).material + 1 == skyMaterial;
-    if (!hit->inside && blocksLight(flags, mode)) return false;
+    const bool through = passesThrough(rs, *hit, r);
+    if (!through && (flags & kFaceSky)) return skyMaterial == 0 || gpuFace(rs, hit->face).material + 1 == skyMaterial;
+    if (!through && blocksLight(flags, mode)) return false;
     r.tMin = hit->t + 1e-3f;
   }
   return false;
@@ -199,8 +212,9 @@ float dirtRayDistance(const RenderScene& rs, const glm::vec3& origin, const glm:
     const std::optional<Hit> hit = rs.tracer.closestHit(r);
     if (!hit) return depth;
     const uint32_t flags = rs.faceFlags[hit->face];
-    if (!hit->inside && (flags & kFaceSky)) return depth;
-    if (!hit->inside && blocksLight(flags, LightingMode::Faithful)) return std::min(hit->t, depth);
+    const bool through = passesThrough(rs, *hit, r);
+    if (!through && (flags & kFaceSky)) return depth;
+    if (!through && blocksLight(flags, LightingMode::Faithful)) return std::min(hit->t, depth);
     lastT = hit->t;
     r.tMin = hit->t + 1e-3f;
   }

@@ -1,5 +1,6 @@
 #include "renderer/cpu/render_scene.h"
 #include "renderer/cpu/bounce.h"
+#include "renderer/cpu/game_rules.h"
 #include "renderer/cpu/surface_lights.h"
 #include "scene/names.h"
 
@@ -54,6 +55,20 @@ GpuMaterial materialParams(const Material& m, const std::array<float, 256>& toLi
   return g;
 }
 
+// The kFaceMask* flags a material's faces get (gpu_structs.h).
+uint32_t alphaTestFlags(const Material& m) {
+  switch (m.alphaTest) {
+  case AlphaTest::None: return 0u;
+  case AlphaTest::Gt0: return kFaceMasked | kFaceMaskGt0;
+  case AlphaTest::Lt128: return kFaceMasked | kFaceMaskLt128;
+  case AlphaTest::Ge128: return kFaceMasked;
+  case AlphaTest::FromImage: break;
+  }
+  for (size_t i = 3; i < m.baseColor.rgba.size(); i += 4)
+    if (m.baseColor.rgba[i] != 255) return kFaceMasked;
+  return 0u;
+}
+
 } // namespace
 
 bool mergedIntoWorld(std::string_view classname) {
@@ -66,7 +81,9 @@ uint32_t classifyTexture(std::string_view texture, const std::optional<SurfaceAt
   const std::string_view base = std::string_view(name).substr(name.find_last_of('/') + 1);
   uint32_t flags = 0;
   static constexpr std::string_view kHidden[] = {"clip", "trigger", "skip", "hint", "hintskip", "origin",
-                                                 "nodraw", "null", "aaatrigger", "playerclip", "monsterclip"};
+                                                 "nodraw", "null", "aaatrigger", "playerclip", "monsterclip",
+                                                 // qbsp's skip names for liquids: the brush stays water, unseen
+                                                 "*waterskip", "*slimeskip", "*lavaskip"};
   for (std::string_view h : kHidden)
     if (base == h) flags |= kFaceHidden;
   if (name.starts_with("common/") || name.starts_with("textures/common/")) flags |= kFaceHidden;
@@ -147,20 +164,25 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
       if (tmpl.faithfulScale > 0.0f) tmpl.flags |= kLightFlagFaceMinlight;
     }
 
+  std::vector<uint32_t> materialMasks;
+  for (const Material& m : scene.materials) materialMasks.push_back(alphaTestFlags(m));
   rs.faceFlags.resize(scene.faces.size());
+  const Game game = gameOf(scene);
   for (size_t i = 0; i < scene.faces.size(); ++i) {
     const Face& f = scene.faces[i];
     uint32_t& flags = rs.faceFlags[i];
-    flags = classifyTexture(f.texture, f.surface);
-    if (options.showHidden) flags &= ~kFaceHidden;
+    flags = classifyTexture(f.texture, f.surface) | materialMasks[f.material];
     if (f.brush < scene.brushes.size()) {
       const uint32_t e = scene.brushes[f.brush].entity;
       if (e < scene.entities.size()) {
         const Entity& ent = scene.entities[e];
         const bool shadowKey = std::atof(std::string(ent.value("_shadow", "0")).c_str()) != 0.0;
         if (!mergedIntoWorld(ent.classname()) && !shadowKey) flags |= kFaceNoShadow;
+        // What the game never draws is not in the compiled lighting either, `_shadow` or not.
+        if (gameHidesEntity(ent, game)) flags |= kFaceHidden | kFaceNoShadow;
       }
     }
+    if (options.showHidden) flags &= ~kFaceHidden;
     const uint32_t m = f.material;
     if (m < rs.materials.size() && ((rs.materials[m].flags & kMaterialEmissive) || rs.surfaceLights[m].value != 0.0f) &&
         !(flags & (kFaceHidden | kFaceSky)))

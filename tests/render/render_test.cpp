@@ -43,7 +43,7 @@ TEST(Camera, ParseFormatAndDefaults) {
 
   test::BoxSceneBuilder b;
   b.material("white", 255, 255, 255);
-  b.box({-64, -64, -16}, {64, 64, 0}, "white");
+  b.room({-64, -64, 0}, {64, 64, 128}, "white"); // a view that sees walls keeps the entity's angles
   b.entity({{"classname", "info_player_start"}, {"origin", "10 20 24"}, {"angle", "90"}});
   CameraPose d = defaultCameraPose(b.build());
   EXPECT_EQ(d.source, "info_player_start");

@@ -1,0 +1,66 @@
+#include "renderer/cpu/game_rules.h"
+
+#include "renderer/cpu/lights.h"
+
+#include <cmath>
+
+namespace bt {
+
+namespace {
+
+int spawnflags(const Entity& e) { return int(parseFloat(e.value("spawnflags", "0")).value_or(0.0f)); }
+
+// Brush entities whose spawn function never links a visible model, in every game that has them.
+// The classnames do not clash between the games, so one list serves all.
+constexpr std::string_view kNeverDrawn[] = {
+    "func_episodegate",  // Quake misc.qc func_episodegate: returns before setmodel on a new game
+    "func_areaportal",   // Quake 2 g_misc.c SP_func_areaportal: no gi.setmodel
+    "func_killbox",      // Quake 2 g_func.c SP_func_killbox: SVF_NOCLIENT
+    "func_ladder",       // Half-Life triggers.cpp CLadder::Precache: kRenderTransTexture, renderamt 0
+    "func_monsterclip",  // Half-Life bmodels.cpp CFuncMonsterClip::Spawn: EF_NODRAW
+    "func_mortar_field", // Half-Life mortar.cpp CFuncMortarField::Spawn: EF_NODRAW
+    "func_tankcontrols", // Half-Life func_tank.cpp CFuncTankControls::Spawn: EF_NODRAW
+    "func_traincontrols",// Half-Life plats.cpp CFuncTrainControls::Spawn: EF_NODRAW
+    "game_zone_player",  // Half-Life maprules.cpp CRuleBrushEntity::Spawn: EF_NODRAW
+    "env_bubbles",       // Half-Life effects.cpp CBubbling::Spawn: kRenderTransTexture, renderamt 0
+};
+
+// Quake 2's trigger-spawned brush models start unlinked from the client (SVF_NOCLIENT).
+bool quake2WaitsForTrigger(std::string_view classname, int flags) {
+  if (classname == "func_wall") return (flags & 7) != 0 && !(flags & 4); // g_misc.c SP_func_wall: START_ON is 4
+  if (classname == "func_object") return flags != 0;                     // g_misc.c SP_func_object
+  if (classname == "func_explosive") return (flags & 1) != 0;            // g_misc.c SP_func_explosive
+  return false;
+}
+
+// Half-Life's renderer skips a model drawn blended at amount 0 (rendermode other than normal).
+bool halfLifeInvisible(const Entity& e) {
+  const auto mode = parseFloat(e.value("rendermode", "0"));
+  const auto amount = parseFloat(e.value("renderamt", "255"));
+  return mode && amount && *mode != 0.0f && *amount == 0.0f;
+}
+
+} // namespace
+
+Game gameOf(const Scene& scene) {
+  const std::string_view f = scene.format;
+  if (f.starts_with("quake2") || f == "ibsp38" || f == "daikatana") return Game::Quake2;
+  if (f.starts_with("quake3") || f == "ibsp46") return Game::Quake3;
+  if (f == "bsp30") return Game::HalfLife;
+  for (const Material& m : scene.materials)
+    if (m.source == TextureSource::Wad3) return Game::HalfLife;
+  return Game::Quake;
+}
+
+bool gameHidesEntity(const Entity& entity, Game game) {
+  const std::string_view classname = entity.classname();
+  // Quake triggers.qc InitTrigger (modelindex 0), Quake 2 g_trigger.c InitTrigger and Quake 3
+  // g_trigger.c InitTrigger (SVF_NOCLIENT), Half-Life triggers.cpp CBaseTrigger::InitTrigger (EF_NODRAW).
+  if (classname.starts_with("trigger_")) return true;
+  for (std::string_view hidden : kNeverDrawn)
+    if (classname == hidden) return true;
+  if (game == Game::Quake2 && quake2WaitsForTrigger(classname, spawnflags(entity))) return true;
+  return (game == Game::Quake || game == Game::HalfLife) && halfLifeInvisible(entity);
+}
+
+} // namespace bt
