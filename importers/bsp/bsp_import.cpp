@@ -295,6 +295,15 @@ Scene importBsp(const std::string& path, const ImportOptions& options) {
   }
 
   const game::GameInstall install = game::openGameInstall(options.textures.game, path, toString(bsp.version));
+  // Else the engine's: maps/<name>.lit in the game's files (a pak, a mod's maps/ folder).
+  std::string litHolder;
+  if (bsp.isQuake1Family() && !litFile) {
+    const std::string lit = "maps/" + std::filesystem::path(archive ? archive->entry : path).stem().string() + ".lit";
+    if (auto holder = install.files.fileHolding(lit)) {
+      litFile = install.files.read(lit);
+      litHolder = holder->string();
+    }
+  }
   MaterialResolver resolve = [&](Scene& scene) {
     if (options.entitiesRead) options.entitiesRead(scene);
     if (options.textures.load) {
@@ -314,7 +323,8 @@ Scene importBsp(const std::string& path, const ImportOptions& options) {
   const std::string level = archive ? archive->archive : path;
   std::erase(scene.inputFiles, level);
   scene.inputFiles.insert(scene.inputFiles.begin(), level);
-  if (litFile && !archive) scene.addInputFile(std::filesystem::path(path).replace_extension(".lit").string());
+  if (!litHolder.empty()) scene.addInputFile(litHolder);
+  else if (litFile && !archive) scene.addInputFile(std::filesystem::path(path).replace_extension(".lit").string());
   return scene;
 }
 

@@ -52,6 +52,19 @@ fs::path normaliseBaseDir(const fs::path& dir, const GameProfile* profile) {
   return dir;
 }
 
+// A profile guessed from the format yields to the install's own base folder: a Valve 220 map
+// with --basedir naming a Half-Life install is Half-Life's.
+const GameProfile* profileInstalledAt(const fs::path& baseDir, const GameProfile* guess) {
+  if (baseDir.empty()) return guess;
+  if (guess)
+    for (std::string_view base : guess->baseGames)
+      if (isDir(baseDir / base)) return guess;
+  for (const GameProfile& p : gameProfiles())
+    for (std::string_view base : p.baseGames)
+      if (isDir(baseDir / base)) return &p;
+  return guess;
+}
+
 void addGameDir(GameInstall& install, const fs::path& dir) {
   for (const fs::path& d : install.gameDirs)
     if (d == dir) return;
@@ -72,6 +85,7 @@ GameInstall openGameInstall(const GameOptions& options, const std::string& level
   else if (install.profile)
     if (auto it = options.configuredBaseDirs.find(std::string(install.profile->name)); it != options.configuredBaseDirs.end())
       install.baseDir = it->second;
+  if (options.game.empty() && levelInstall.empty()) install.profile = profileInstalledAt(install.baseDir, install.profile);
   if (!install.baseDir.empty() && !isDir(install.baseDir))
     install.problems.push_back({Severity::Warning, install.baseDir.string(), 0, 0, "game install (--basedir) is not a folder"});
 

@@ -5,6 +5,7 @@
 #include "importers/game/file_system.h"
 #include "importers/game/game_install.h"
 #include "importers/game/game_profile.h"
+#include "scene/compiled_lighting.h"
 #include "tests/game/game_fixtures.h"
 #include "tests/test_data.h"
 #include "tests/textures/texture_fixtures.h"
@@ -188,6 +189,33 @@ TEST(GameInstall, InputFilesListTheArchivesTexturesAndPalettesCameFrom) {
   EXPECT_FALSE(scene.materials[0].missing()) << test::describe(scene.diagnostics);
   EXPECT_EQ(scene.materials[0].baseColor.rgba[0], 3) << "the pak's palette";
   EXPECT_NE(std::find(scene.inputFiles.begin(), scene.inputFiles.end(), (dir / "quake/id1/pak0.pak").string()),
+            scene.inputFiles.end());
+}
+
+// A Valve 220 map is Quake's by default, but --basedir naming a Half-Life install makes it Half-Life's.
+TEST(GameInstall, TheInstallsBaseFolderOverridesTheFormatsGuess) {
+  test::TempDir dir;
+  test::writeFile(dir / "hl/valve/halflife.wad", test::makeWad("WAD3", {}));
+  const game::GameInstall install = game::openGameInstall({.baseDir = (dir / "hl").string()}, "", "valve220");
+  ASSERT_NE(install.profile, nullptr);
+  EXPECT_EQ(install.profile->name, "halflife");
+  EXPECT_TRUE(install.files.read("halflife.wad"));
+}
+
+// Coloured light is looked up as the engine looks it up: maps/<level>.lit in the game's files.
+TEST(GameInstall, LitFileOfALevelInAPakComesFromTheGamesFiles) {
+  BT_REQUIRE_SHARED(shared);
+  test::TempDir dir;
+  const fs::path oracle = shared / "oracle/lit/maps_ericw-tools_testmaps_deprecated_suntest";
+  test::writePak(dir / "quake/id1/pak0.pak", {{"maps/sun.bsp", test::readFile(oracle.string() + ".bsp")}});
+  test::writeFile(dir / "quake/id1/maps/sun.lit", test::readFile(oracle.string() + ".lit"));
+  ImportOptions options;
+  options.textures.load = false;
+  const Scene scene = importScene((dir / "quake/id1/pak0.pak").string() + ":maps/sun.bsp", options);
+  ASSERT_TRUE(scene.compiledLighting);
+  EXPECT_EQ(scene.compiledLighting->source, ".lit file");
+  EXPECT_EQ(scene.inputFiles.front(), (dir / "quake/id1/pak0.pak").string());
+  EXPECT_NE(std::find(scene.inputFiles.begin(), scene.inputFiles.end(), (dir / "quake/id1/maps/sun.lit").string()),
             scene.inputFiles.end());
 }
 
