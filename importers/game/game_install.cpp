@@ -87,7 +87,8 @@ GameInstall openGameInstall(const GameOptions& options, const std::string& level
       install.baseDir = it->second;
   if (options.game.empty() && levelInstall.empty()) install.profile = profileInstalledAt(install.baseDir, install.profile);
   if (!install.baseDir.empty() && !isDir(install.baseDir))
-    install.problems.push_back({Severity::Warning, install.baseDir.string(), 0, 0, "game install (--basedir) is not a folder"});
+    install.problems.push_back({Severity::Warning, install.baseDir.string(), 0, 0,
+                                "the game install (--basedir, BT_<GAME>_BASEDIR or the config file) is not a folder"});
 
   // The engine's order: mods, the level's own game folder (a mod when it is not the base), the base game.
   for (const std::string& mod : options.mods) {
