@@ -173,6 +173,23 @@ TEST(BuiltinPalettes, AreTheGamesPalettes) {
   EXPECT_FALSE(game::builtinPalette("halflife"));
 }
 
+// Each game's textures index its own palette: Hexen II's levels get Hexen II's, not Quake's.
+TEST(BuiltinPalettes, AreChosenByTheLevelsGame) {
+  for (const auto& [format, game] : {std::pair{"hexen2", "hexen2"}, {"standard", "quake"}, {"ibsp38", "quake2"}}) {
+    SCOPED_TRACE(format);
+    const game::GameInstall install = game::openGameInstall({}, "", format);
+    Diagnostics diagnostics;
+    std::string file = "unset";
+    const std::optional<Palette> palette =
+        game::installPalette(install, std::string_view(game) == "quake2", "x.map", diagnostics, &file);
+    ASSERT_TRUE(palette);
+    EXPECT_EQ(palette->rgb, game::builtinPalette(game)->rgb);
+    EXPECT_TRUE(file.empty());
+    ASSERT_EQ(diagnostics.size(), 1u);
+    EXPECT_NE(diagnostics[0].message.find("built-in"), std::string::npos);
+  }
+}
+
 // `view` reloads when a file the import read is saved: for what came out of a pak, the pak.
 TEST(GameInstall, InputFilesListTheArchivesTexturesAndPalettesCameFrom) {
   test::TempDir dir;
