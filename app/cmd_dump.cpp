@@ -49,7 +49,7 @@ void addDumpCommand(CLI::App& app, int& exitCode) {
     ImportOptions import;
   };
   auto args = std::make_shared<Args>();
-  cmd->add_option("MAP", args->path, "Level to import (.map or .bsp)")->required();
+  cmd->add_option("MAP", args->path, "Level to import (.map, .bsp, ARCHIVE:maps/x.bsp, or a level name with --game/--basedir)")->required();
   cmd->add_flag("--json", args->json, "Print JSON (the only format; required)")->required();
   addImportOptions(*cmd, args->import);
   cmd->callback([args, &exitCode] {

@@ -53,10 +53,12 @@ void addInfoCommand(CLI::App& app, int& exitCode) {
     ImportOptions import;
   };
   auto args = std::make_shared<Args>();
-  cmd->add_option("MAP", args->path, "Level to import (.map or .bsp)")->required();
+  cmd->add_option("MAP", args->path, "Level to import (.map, .bsp, ARCHIVE:maps/x.bsp, a level name with a game install), or a .pak/.pk3 to list")->required();
   cmd->add_flag("--json", args->json, "Print JSON instead of text");
   addImportOptions(*cmd, args->import);
   cmd->callback([args, &exitCode] {
+    exitCode = 0;
+    if (printArchiveContents(args->path, args->json)) return;
     const Scene scene = importScene(args->path, args->import);
     if (args->json) fmt::print("{}\n", infoJson(scene).dump(1));
     else printInfo(scene);

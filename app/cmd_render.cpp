@@ -193,7 +193,7 @@ int runRender(const RenderOptions& o) {
 void addRenderCommand(CLI::App& app, int& exitCode) {
   auto options = std::make_shared<RenderOptions>();
   CLI::App* cmd = app.add_subcommand("render", "Path-trace a level's lighting to an image (PNG or EXR)");
-  cmd->add_option("map", options->map, "Level to render (.map or .bsp); default maps/start.map")->type_name("MAP");
+  cmd->add_option("map", options->map, "Level to render (.map, .bsp, ARCHIVE:maps/x.bsp, or a level name with --game/--basedir); default maps/start.map")->type_name("MAP");
   cmd->add_option("-o,--output", options->output, "Output image, .png (tonemapped sRGB) or .exr (linear + AOV layers)")
       ->required()
       ->type_name("OUT");

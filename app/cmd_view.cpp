@@ -44,7 +44,7 @@ int runView(ViewCommand& cmd) {
 void addViewCommand(CLI::App& app, int& exitCode) {
   auto cmd = std::make_shared<ViewCommand>();
   CLI::App* view = app.add_subcommand("view", "Open a level in a window, path-traced progressively; reloads on save");
-  view->add_option("map", cmd->viewer.map, "Level file (.map or .bsp); default maps/start.map");
+  view->add_option("map", cmd->viewer.map, "Level file (.map, .bsp, ARCHIVE:maps/x.bsp, or a level name with --game/--basedir); default maps/start.map");
   addImportOptions(*view, cmd->viewer.import);
   addSizeOption(*view, cmd->size, "Window size");
   view->add_option("--camera", cmd->camera, "Start camera \"(x y z) pitch yaw roll\" (roll is ignored: the viewer has none)");

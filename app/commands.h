@@ -8,8 +8,19 @@
 
 namespace bt::app {
 
-// --dialect, --wad, --textures, --palette, --no-textures: every command that imports a level.
+// --dialect, --wad, --textures, --palette, --no-textures and the game options: every command
+// that imports a level.
 void addImportOptions(CLI::App& command, ImportOptions& options);
+// --game NAME, --basedir DIR, --mod NAME; the configured installs are read after the parse.
+void addGameOptions(CLI::App& command, GameOptions& game);
+
+// Each game's install from the user's config file, overridden by BT_<GAME>_BASEDIR (cmd_config.cpp).
+std::map<std::string, std::string> configuredBaseDirs();
+// brushtrace config set|get|list (cmd_config.cpp).
+void addConfigCommand(CLI::App& app, int& exitCode);
+// `info` on an archive (pak0.pak, x.pk3): the levels and textures it holds. False when `path`
+// is not an archive of its own (a level, or "archive:maps/x.bsp").
+bool printArchiveContents(const std::string& path, bool json);
 
 // --size WIDTHxHEIGHT into `size`, checked while the command line is parsed, so a malformed
 // size is a usage error (exit 2) like any other bad option.

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   bt::app::addRenderCommand(app, exitCode);
   bt::app::addBenchCommand(app, exitCode);
   bt::app::addViewCommand(app, exitCode);
+  bt::app::addConfigCommand(app, exitCode);
 
   try {
     app.parse(argc, argv);

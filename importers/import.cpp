@@ -2,6 +2,7 @@
 
 #include "importers/bsp/bsp_import.h"
 #include "importers/bsp/pk3.h"
+#include "importers/game/game_install.h"
 #include "importers/map/map_scene.h"
 #include "importers/textures/textures.h"
 
@@ -49,11 +50,29 @@ std::string lowercaseExtension(const std::string& path) {
 }
 } // namespace
 
+namespace {
+// "e1m1" (or "e1m1.bsp"): a name, not a path, as the engines' `map e1m1` takes it.
+bool isBareLevelName(const std::string& path) {
+  if (path.empty() || path.find_first_of("/\\:") != std::string::npos) return false;
+  const std::string ext = lowercaseExtension(path);
+  return ext.empty() || ext == ".bsp";
+}
+} // namespace
+
 Scene importScene(const std::string& path, const ImportOptions& options) {
-  // Compiled levels: "x.bsp" or "archive.pk3:maps/x.bsp".
+  std::error_code ec;
+  if (isBareLevelName(path) && !std::filesystem::exists(path, ec)) {
+    if (auto found = game::findLevelByName(options.textures.game, path)) return importScene(*found, options);
+    const std::string stem = std::filesystem::path(path).stem().string();
+    throw ImportError(Diagnostic{Severity::Error, path, 0, 0,
+                                 "no such file, and no game install holds maps/" + stem +
+                                     ".bsp (name the game and its folder: --game NAME --basedir DIR, or set it once "
+                                     "with `brushtrace config set GAME.basedir DIR`)"});
+  }
+  // Compiled levels: "x.bsp", "archive.pak:maps/x.bsp" or "archive.pk3:maps/x.bsp".
   if (bsp::splitArchivePath(path) || lowercaseExtension(path) == ".bsp") return bsp::importBsp(path, options);
   if (lowercaseExtension(path) == ".map") return map::importMap(path, options); // materials included
-  throw ImportError(Diagnostic{Severity::Error, path, 0, 0, "not a level brushtrace reads (expected .map, .bsp or archive.pk3:maps/name.bsp)"});
+  throw ImportError(Diagnostic{Severity::Error, path, 0, 0, "not a level brushtrace reads (expected .map, .bsp, archive.pak:maps/name.bsp or archive.pk3:maps/name.bsp)"});
 }
 
 Scene importScene(const std::string& path, ImportOptions options, std::function<void(const Scene&)> entitiesRead) {

@@ -1,4 +1,5 @@
 #include "importers/bsp/bsp_import.h"
+#include "importers/game/game_install.h"
 #include "scene/names.h"
 
 #include "importers/bsp/brushes.h"
@@ -196,7 +197,7 @@ std::vector<uint8_t> readWholeFile(const std::string& path) {
 
 // Q1/HL levels usually carry their textures: decode every miptex with pixels (Quake's with the
 // game palette, Half-Life's with their own). What is left is looked up like .map textures.
-void decodeEmbeddedMiptex(const BspFile& bsp, Scene& scene, const TextureSearch& search) {
+void decodeEmbeddedMiptex(const BspFile& bsp, Scene& scene, const TextureSearch& search, const game::GameInstall& install) {
   const bool halfLife = bsp.version == Version::HalfLife30;
   bool anyPixels = false;
   for (const Miptex& m : bsp.miptex) anyPixels |= m.present && m.hasPixels;
@@ -214,6 +215,12 @@ void decodeEmbeddedMiptex(const BspFile& bsp, Scene& scene, const TextureSearch&
     } catch (const ImportError& e) {
       scene.diagnostics.push_back({Severity::Warning, e.diagnostic().file, 0, 0,
                                    "palette not usable: " + e.diagnostic().message});
+    }
+    if (!palette) {
+      // The game's gfx/palette.lmp (inside pak0.pak in a Quake install), else the built-in one.
+      std::string file;
+      palette = game::installPalette(install, /*quake2=*/false, bsp.path, scene.diagnostics, &file);
+      if (!file.empty()) scene.addInputFile(file);
     }
     if (!palette) {
       scene.diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
@@ -243,19 +250,23 @@ void decodeEmbeddedMiptex(const BspFile& bsp, Scene& scene, const TextureSearch&
 
 // Quake 3 looks for textures in the game directory: the folder holding the .pk3 the level came
 // from, or the parent of the level's maps/ folder; --textures folders come first.
-GameFiles quake3GameFiles(const std::string& path, const std::optional<ArchivePath>& archive,
-                          const ImportOptions& options) {
+// Then the game install's folders (game::openGameInstall: mods, the level's game folder, baseq3/
+// or baseoa/), and the level's own archive wherever it is.
+GameFiles quake3GameFiles(const std::optional<ArchivePath>& archive, const ImportOptions& options,
+                          const game::GameInstall& install) {
   GameFiles files;
-  for (const std::string& dir : options.textures.textureDirs) files.addGameDir(dir);
-  namespace fs = std::filesystem;
-  if (archive) {
-    files.addGameDir(fs::path(archive->archive).parent_path());
-    files.addArchive(archive->archive);
-  } else {
-    const fs::path mapsDir = fs::path(path).parent_path();
-    if (mapsDir.filename() == "maps") files.addGameDir(mapsDir.parent_path());
-  }
+  for (const std::string& dir : options.textures.textureDirs) files.addGameDir(dir, {".pk3"});
+  for (const std::filesystem::path& dir : install.gameDirs) files.addGameDir(dir, {".pk3"});
+  if (archive) files.addArchive(archive->archive);
   return files;
+}
+
+// The bytes of "archive:entry", from a .pak or a .pk3.
+std::optional<std::vector<uint8_t>> readFromArchive(const ArchivePath& archive, const std::string& entry) {
+  const std::unique_ptr<game::Archive> opened = game::openArchive(archive.archive);
+  if (!opened)
+    throw ImportError(Diagnostic{Severity::Error, archive.archive, 0, 0, "not an archive brushtrace reads (.pak, .pk3, .zip)"});
+  return opened->read(entry);
 }
 
 } // namespace
@@ -264,7 +275,7 @@ Scene importBsp(const std::string& path, const ImportOptions& options) {
   const std::optional<ArchivePath> archive = splitArchivePath(path);
   std::vector<uint8_t> bytes;
   if (archive) {
-    auto entry = Pk3Archive(archive->archive).read(archive->entry);
+    auto entry = readFromArchive(*archive, archive->entry);
     if (!entry) throw ImportError(Diagnostic{Severity::Error, path, 0, 0, "no such file in the archive"});
     bytes = std::move(*entry);
   } else {
@@ -277,19 +288,29 @@ Scene importBsp(const std::string& path, const ImportOptions& options) {
   std::error_code litLookup; // a name the system cannot look up has no .lit beside it
   if (bsp.isQuake1Family()) {
     if (archive) {
-      litFile = Pk3Archive(archive->archive).read(std::filesystem::path(archive->entry).replace_extension(".lit").generic_string());
+      litFile = readFromArchive(*archive, std::filesystem::path(archive->entry).replace_extension(".lit").generic_string());
     } else if (const auto lit = std::filesystem::path(path).replace_extension(".lit"); std::filesystem::is_regular_file(lit, litLookup)) {
       litFile = readWholeFile(lit.string());
     }
   }
 
+  const game::GameInstall install = game::openGameInstall(options.textures.game, path, toString(bsp.version));
+  // Else the engine's: maps/<name>.lit in the game's files (a pak, a mod's maps/ folder).
+  std::string litHolder;
+  if (bsp.isQuake1Family() && !litFile) {
+    const std::string lit = "maps/" + std::filesystem::path(archive ? archive->entry : path).stem().string() + ".lit";
+    if (auto holder = install.files.fileHolding(lit)) {
+      litFile = install.files.read(lit);
+      litHolder = holder->string();
+    }
+  }
   MaterialResolver resolve = [&](Scene& scene) {
     if (options.entitiesRead) options.entitiesRead(scene);
     if (options.textures.load) {
-      if (bsp.isQuake1Family()) decodeEmbeddedMiptex(bsp, scene, options.textures);
+      if (bsp.isQuake1Family()) decodeEmbeddedMiptex(bsp, scene, options.textures, install);
       if (bsp.version == Version::Quake3_46) {
         std::vector<std::string> filesRead;
-        resolveQuake3Materials(scene.materials, quake3GameFiles(path, archive, options), scene.diagnostics, &filesRead);
+        resolveQuake3Materials(scene.materials, quake3GameFiles(archive, options, install), scene.diagnostics, &filesRead);
         for (const std::string& file : filesRead) scene.addInputFile(file);
       }
     }
@@ -302,7 +323,8 @@ Scene importBsp(const std::string& path, const ImportOptions& options) {
   const std::string level = archive ? archive->archive : path;
   std::erase(scene.inputFiles, level);
   scene.inputFiles.insert(scene.inputFiles.begin(), level);
-  if (litFile && !archive) scene.addInputFile(std::filesystem::path(path).replace_extension(".lit").string());
+  if (!litHolder.empty()) scene.addInputFile(litHolder);
+  else if (litFile && !archive) scene.addInputFile(std::filesystem::path(path).replace_extension(".lit").string());
   return scene;
 }
 

@@ -13,24 +13,6 @@
 
 namespace bt::bsp {
 
-namespace {
-bool endsWith(std::string_view s, std::string_view suffix) {
-  return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
-}
-} // namespace
-
-std::optional<ArchivePath> splitArchivePath(const std::string& path) {
-  const std::string lower = lowercase(path);
-  for (const char* ext : {".pk3:", ".zip:"}) {
-    const size_t at = lower.find(ext);
-    if (at != std::string::npos) {
-      const size_t split = at + 4;
-      return ArchivePath{path.substr(0, split), path.substr(split + 1)};
-    }
-  }
-  return std::nullopt;
-}
-
 struct Pk3Archive::Handle {
   zip_t* zip = nullptr;
   ~Handle() {
@@ -90,80 +72,6 @@ std::optional<std::vector<uint8_t>> Pk3Archive::read(std::string_view name, uint
     throw ImportError(Diagnostic{Severity::Error, where, 0, 0,
                                  fmt::format("corrupt entry: read {} of {} bytes {}", got, st.size, error)});
   return bytes;
-}
-
-void GameFiles::addGameDir(const std::filesystem::path& dir) {
-  std::error_code ec;
-  dirs_.push_back(dir);
-  std::vector<std::filesystem::path> paks;
-  for (const auto& entry : std::filesystem::directory_iterator(dir, ec))
-    if (entry.is_regular_file(ec) && lowercase(entry.path().extension().string()) == ".pk3") paks.push_back(entry.path());
-  std::sort(paks.begin(), paks.end());
-  for (const auto& p : paks) addArchive(p);
-}
-
-void GameFiles::addArchive(const std::filesystem::path& archive) {
-  for (const Pk3Archive& a : archives_)
-    if (a.path() == archive) return;
-  archives_.emplace_back(archive);
-}
-
-// Names come from the level and its shader scripts: never let them climb out of the game.
-static bool staysInTheGame(std::string_view name) {
-  const std::filesystem::path relative{std::string(name)};
-  if (relative.is_absolute()) return false;
-  for (const auto& part : relative)
-    if (part == "..") return false;
-  return true;
-}
-
-std::optional<std::vector<uint8_t>> GameFiles::read(std::string_view name) const {
-  if (!staysInTheGame(name)) return std::nullopt;
-  for (const auto& dir : dirs_) {
-    const std::filesystem::path p = dir / std::filesystem::path(std::string(name));
-    std::error_code ec;
-    if (std::filesystem::is_regular_file(p, ec)) {
-      std::ifstream in(p, std::ios::binary);
-      return std::vector<uint8_t>{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-    }
-  }
-  for (auto it = archives_.rbegin(); it != archives_.rend(); ++it)
-    if (auto bytes = it->read(name)) return bytes;
-  return std::nullopt;
-}
-
-std::optional<std::filesystem::path> GameFiles::fileHolding(std::string_view name) const {
-  // The same search as read(), without reading.
-  if (!staysInTheGame(name)) return std::nullopt;
-  const std::filesystem::path relative{std::string(name)};
-  for (const auto& dir : dirs_) {
-    const std::filesystem::path p = dir / relative;
-    std::error_code ec;
-    if (std::filesystem::is_regular_file(p, ec)) return p;
-  }
-  for (auto it = archives_.rbegin(); it != archives_.rend(); ++it)
-    if (it->contains(name)) return it->path();
-  return std::nullopt;
-}
-
-std::vector<std::string> GameFiles::list(std::string_view folder, std::string_view suffix) const {
-  const std::string prefix = lowercase(folder) + "/";
-  const std::string lowerSuffix = lowercase(suffix);
-  std::set<std::string> seen;
-  std::vector<std::string> out;
-  auto consider = [&](const std::string& name) {
-    const std::string lower = lowercase(name);
-    if (lower.rfind(prefix, 0) == 0 && endsWith(lower, lowerSuffix) && seen.insert(lower).second) out.push_back(name);
-  };
-  for (const auto& dir : dirs_) {
-    std::error_code ec;
-    for (const auto& entry : std::filesystem::directory_iterator(dir / std::string(folder), ec))
-      consider(std::string(folder) + "/" + entry.path().filename().string());
-  }
-  for (const Pk3Archive& a : archives_)
-    for (const std::string& name : a.names()) consider(name);
-  std::sort(out.begin(), out.end());
-  return out;
 }
 
 } // namespace bt::bsp

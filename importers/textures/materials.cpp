@@ -2,9 +2,12 @@
 //
 // Order of search for a name: the WADs (--wad, then worldspawn "wad"), then loose image folders
 // (--textures, the unpacked folder of a WAD that is not there, TrenchBroom's "_tb_textures",
-// <mapdir>/textures, <mapdir>/../textures). Companion maps come from the loose folders.
-#include "importers/textures/png_indices.h"
+// <mapdir>/textures, <mapdir>/../textures), then the game install's file system (mods, the
+// base game, their archives: importers/game/). Companion maps come from the loose folders.
 #include "importers/textures/textures.h"
+
+#include "importers/game/game_install.h"
+#include "importers/textures/png_indices.h"
 #include "scene/names.h"
 #include "scene/parallel_for.h"
 
@@ -18,7 +21,6 @@
 #include <optional>
 #include <set>
 #include <system_error>
-#include <tuple>
 #include <unordered_map>
 
 namespace bt {
@@ -121,7 +123,9 @@ constexpr std::array<CompanionSuffix, 7> kCompanionSuffixes{{
 class TextureLibrary {
 public:
   TextureLibrary(const Scene& scene, const TextureSearch& search, Diagnostics& diagnostics)
-      : search_(search), diagnostics_(diagnostics), sceneFile_(scene.sourcePath) {
+      : search_(search), diagnostics_(diagnostics), sceneFile_(scene.sourcePath),
+        install_(game::openGameInstall(search.game, scene.sourcePath, scene.format)) {
+    for (const Diagnostic& d : install_.problems) diagnostics_.push_back(d);
     mapDir_ = scene.sourcePath.empty() ? fs::path(".") : fs::path(scene.sourcePath).parent_path();
     if (mapDir_.empty()) mapDir_ = ".";
     const Entity* world = scene.worldspawn();
@@ -156,16 +160,7 @@ public:
       for (const std::string& stem : spellings)
         if (const fs::path* file = folder.find(stem))
           if (auto material = loadLoose(*file, name)) return material;
-    return std::nullopt;
-  }
-
-  // True when `name` was found in a Quake WAD but could not be decoded for want of a palette;
-  // then `size` is its size from the miptex header, when that header is sane.
-  bool foundWithoutPalette(const std::string& name, std::optional<std::pair<int, int>>& size) const {
-    auto it = undecodedSizes_.find(lowercase(name));
-    if (it == undecodedSizes_.end()) return false;
-    size = it->second;
-    return true;
+    return findInGame(name, spellings);
   }
 
   // Decodes, on all cores, the loose image that find() reads first for each material still
@@ -212,17 +207,6 @@ public:
       }
   }
 
-  void reportPaletteless(const Scene& scene) {
-    if (palettelessNames_.empty()) return;
-    std::string names;
-    for (const std::string& n : palettelessNames_) names += (names.empty() ? "" : ", ") + n;
-    diagnostics_.push_back(Diagnostic{
-        Severity::Warning, scene.sourcePath, 0, 0,
-        fmt::format("{} texture(s) found in Quake WADs but drawn as placeholders because no Quake palette was "
-                    "found (give --palette, or put gfx/palette.lmp in the game dir): {}",
-                    palettelessNames_.size(), names)});
-  }
-
   // Every WAD, palette and image file read so far, in the order read (repeats possible).
   const std::vector<std::string>& filesRead() const { return filesRead_; }
 
@@ -230,6 +214,7 @@ public:
     std::string text;
     for (const Wad& wad : wads_) text += (text.empty() ? "" : ", ") + wad.path.string();
     for (const LooseFolder& folder : folders_) text += (text.empty() ? "" : ", ") + folder.root().string() + "/";
+    for (const std::string& mount : install_.files.describeMounts()) text += (text.empty() ? "" : ", ") + mount;
     return text.empty() ? "no WADs or texture folders" : text;
   }
 
@@ -247,6 +232,50 @@ private:
     decoded_.erase(it);
     if (d.error) throw ImportError(*d.error);
     return std::move(d.image);
+  }
+
+  // A loose texture in the game's file system: <textures>/<name>.<ext> (Quake 2's .wal, images
+  // of source ports), loose files or inside the game's archives.
+  std::optional<Material> findInGame(const std::string& name, const std::vector<std::string>& spellings) {
+    if (install_.files.empty()) return std::nullopt;
+    const std::string folder = install_.profile && !install_.profile->textures.empty()
+                                   ? std::string(install_.profile->textures) + "/" : "textures/";
+    for (const std::string& stem : spellings)
+      for (std::string_view ext : kImageExtensions) {
+        const std::string file = folder + stem + std::string(ext);
+        std::optional<std::vector<uint8_t>> bytes;
+        try {
+          bytes = install_.files.read(file);
+        } catch (const ImportError& e) { // a corrupt archive entry
+          warn("texture skipped: " + e.diagnostic().message, e.diagnostic().file);
+        }
+        if (!bytes) continue;
+        filesRead_.push_back(install_.files.fileHolding(file)->string());
+        if (auto material = decodeGameTexture(*bytes, *install_.files.describe(file), name)) return material;
+      }
+    return std::nullopt;
+  }
+
+  std::optional<Material> decodeGameTexture(const std::vector<uint8_t>& bytes, const std::string& where, const std::string& name) {
+    try {
+      Material material;
+      if (isWal(where)) {
+        const Palette* palette = quake2Palette(mapDir_);
+        if (!palette) return std::nullopt;
+        material = decodeWal(bytes, *palette, where);
+      } else {
+        material.baseColor = decodeImage(bytes, where);
+        material.width = material.baseColor.width;
+        material.height = material.baseColor.height;
+        material.source = TextureSource::LooseImage;
+      }
+      material.name = name;
+      material.sourcePath = where;
+      return material;
+    } catch (const ImportError& e) {
+      warn("texture skipped: " + e.diagnostic().message, e.diagnostic().file);
+      return std::nullopt;
+    }
   }
 
   // The first file find() tries among the loose folders.
@@ -299,6 +328,7 @@ private:
       if (seenWads_.insert(ec ? candidate : canonical).second) wads_.push_back(Wad{candidate, {}, false});
       return;
     }
+    if (addWadFromGame(given)) return;
     // LibreQuake (and other projects) keep each WAD as a folder of images, named like the WAD,
     // and build the .wad from it; use the folder when the WAD itself is not there.
     for (const fs::path& candidate : candidates) {
@@ -312,6 +342,39 @@ private:
     std::string tried;
     for (const fs::path& c : candidates) tried += (tried.empty() ? "" : ", ") + c.string();
     warn(fmt::format("WAD '{}' ({}) not found (tried {})", entry, origin, tried));
+  }
+
+  // The game's files hold the WAD under some tail of the path the key gives: a key written on
+  // the mapper's machine ("C:\\quake\\id1\\gfx\\base.wad", "/home/me/q/id1/base.wad") names it
+  // by the part below the game folder, or by its bare name.
+  bool addWadFromGame(const fs::path& given) {
+    std::vector<fs::path> parts;
+    for (const fs::path& part : given.relative_path()) parts.push_back(part);
+    std::vector<std::string> names;
+    for (size_t first = 0; first < parts.size(); ++first) {
+      fs::path tail;
+      for (size_t i = first; i < parts.size(); ++i) tail /= parts[i];
+      names.push_back(tail.generic_string());
+    }
+    // Quake keeps its WADs in gfx/ ("gfx/base.wad"), where a key that names only the file means them.
+    if (given.has_filename()) names.push_back("gfx/" + given.filename().string());
+    for (const std::string& name : names) {
+      if (!game::staysInTheGame(name)) continue;
+      const auto where = install_.files.describe(name);
+      if (!where) continue;
+      if (!seenWads_.insert(*where).second) return true;
+      filesRead_.push_back(install_.files.fileHolding(name)->string());
+      Wad wad{*where, {}, false};
+      try {
+        wad.file = std::make_unique<WadFile>(WadFile::fromBytes(*install_.files.read(name), *where));
+      } catch (const ImportError& e) {
+        warn("WAD skipped: " + e.diagnostic().message, e.diagnostic().file);
+        wad.failed = true;
+      }
+      wads_.push_back(std::move(wad));
+      return true;
+    }
+    return false;
   }
 
   const WadFile* openWad(Wad& wad) {
@@ -346,7 +409,16 @@ private:
     }
     for (size_t i = 0; !palette_ && i < wads_.size(); ++i)
       if (const WadFile* file = openWad(wads_[i])) palette_ = file->palette();
+    if (!palette_) palette_ = gamePalette(/*quake2=*/false);
     return palette_ ? &*palette_ : nullptr;
+  }
+
+  // The game's own palette through its file system, else the built-in one (with a note).
+  std::optional<Palette> gamePalette(bool quake2) {
+    std::string file;
+    std::optional<Palette> palette = game::installPalette(install_, quake2, sceneFile_, diagnostics_, &file);
+    if (!file.empty()) filesRead_.push_back(file);
+    return palette;
   }
 
   std::optional<Material> loadFromWad(Wad& wad, const std::string& name, const std::vector<std::string>& spellings) {
@@ -356,10 +428,7 @@ private:
       const WadFile::Entry* entry = file->findTexture(spelling);
       if (!entry) continue;
       const Palette* palette = file->halfLife() ? nullptr : quakePalette();
-      if (!file->halfLife() && !palette) {
-        notePaletteless(name, file->data(*entry));
-        return std::nullopt;
-      }
+      if (!file->halfLife() && !palette) return std::nullopt; // only when even the built-in one is gone
       try {
         std::optional<Material> material = file->loadTexture(spelling, palette);
         material->name = name;
@@ -373,20 +442,16 @@ private:
     return std::nullopt;
   }
 
-  // Remembers a WAD2 texture that could not be decoded for want of a palette, with the size from
-  // its miptex header: the placeholder must keep that size, since texture coordinates divide by it.
-  void notePaletteless(const std::string& name, std::span<const uint8_t> miptex) {
-    auto [slot, inserted] = undecodedSizes_.try_emplace(lowercase(name));
-    if (inserted) palettelessNames_.push_back(name);
-    constexpr size_t kSizeEnd = 24; // name[16], uint32 width, uint32 height
-    if (miptex.size() < kSizeEnd) return;
-    const auto u32 = [&](size_t at) {
-      return uint32_t{miptex[at]} | uint32_t{miptex[at + 1]} << 8 | uint32_t{miptex[at + 2]} << 16 |
-             uint32_t{miptex[at + 3]} << 24;
-    };
-    const uint32_t width = u32(16), height = u32(20);
-    if (width > 0 && height > 0 && width <= 16384 && height <= 16384)
-      slot->second = std::pair{static_cast<int>(width), static_cast<int>(height)};
+  // Quake 2's palette for .wal files: --palette, pics/colormap.pcx up the tree from `startDir`
+  // or the map, the game's files, else the built-in one. Throws ImportError for a bad --palette.
+  const Palette* quake2Palette(const fs::path& startDir) {
+    if (!quake2Palette_) {
+      fs::path paletteFile;
+      quake2Palette_ = findQuake2Palette(search_.palette, {startDir, mapDir_}, &paletteFile);
+      if (!paletteFile.empty()) filesRead_.push_back(paletteFile.string());
+      if (!*quake2Palette_) quake2Palette_ = gamePalette(/*quake2=*/true);
+    }
+    return *quake2Palette_ ? &**quake2Palette_ : nullptr;
   }
 
   std::optional<Material> loadLoose(const fs::path& file, const std::string& name) {
@@ -394,18 +459,9 @@ private:
     try {
       Material material;
       if (isWal(file)) {
-        if (!quake2Palette_) {
-          fs::path paletteFile;
-          quake2Palette_ = findQuake2Palette(search_.palette, {file.parent_path(), mapDir_}, &paletteFile);
-          if (!paletteFile.empty()) filesRead_.push_back(paletteFile.string());
-        }
-        if (!*quake2Palette_) {
-          warn(fmt::format("'{}' is a Quake 2 .wal but no Quake 2 palette was found (give --palette, or "
-                           "put pics/colormap.pcx in the game dir)",
-                           file.string()));
-          return std::nullopt;
-        }
-        material = decodeWal(readTextureFile(file), **quake2Palette_, file.string());
+        const Palette* palette = quake2Palette(file.parent_path());
+        if (!palette) return std::nullopt;
+        material = decodeWal(readTextureFile(file), *palette, file.string());
       } else {
         material.baseColor = decodedImage(file);
         material.width = material.baseColor.width;
@@ -512,6 +568,7 @@ private:
   const TextureSearch& search_;
   Diagnostics& diagnostics_;
   std::string sceneFile_;
+  game::GameInstall install_;
   fs::path mapDir_;
   std::vector<Wad> wads_;
   std::set<fs::path> seenWads_;
@@ -522,8 +579,6 @@ private:
   std::optional<Palette> palette_;
   std::vector<uint32_t> fullbrightColours_; // sorted, from palette_
   std::optional<std::optional<Palette>> quake2Palette_; // outer: looked for yet; inner: found
-  std::map<std::string, std::optional<std::pair<int, int>>> undecodedSizes_;
-  std::vector<std::string> palettelessNames_;
   std::map<fs::path, Decoded> decoded_; // by decodeAhead(), until find() takes them
   std::vector<std::string> filesRead_;
 };
@@ -578,16 +633,13 @@ void loadMaterials(Scene& scene, const TextureSearch& search) {
         }
         material = std::move(*found);
       } else {
-        std::optional<std::pair<int, int>> wadSize;
-        if (!library.foundWithoutPalette(material.name, wadSize)) missing.push_back(material.name);
-        if (wadSize) std::tie(material.width, material.height) = *wadSize;
+        missing.push_back(material.name);
         material.baseColor = checkerPlaceholder(material.width, material.height);
         continue;
       }
     }
     library.addCompanions(material);
   }
-  library.reportPaletteless(scene);
   for (const std::string& file : library.filesRead()) scene.addInputFile(file);
 
   if (!missing.empty()) {

@@ -65,8 +65,10 @@ Material decodeWal(std::span<const uint8_t> bytes, const Palette& quake2Palette,
 //    and so is <mapdir>/../textures (a Quake 2 game dir with the map in maps/).
 //  - Loose .wal files are decoded with the Quake 2 palette: search.palette, else
 //    pics/colormap.pcx up the tree.
-//  - A WAD2 texture found while no Quake palette exists keeps its WAD size, gets the placeholder
-//    and is named in a separate warning that says why.
+//  - After those, the game install of search.game (importers/game/game_install.h): WADs named
+//    by the "wad" key by the tails of their path, <textures>/<name>.wal and images, the game's
+//    palette. A WAD2 or .wal texture with no palette anywhere is decoded with the built-in
+//    palette of the game (importers/game/default_palettes.h), with one warning that says so.
 //  - Companion maps are also looked up for materials that are already loaded (BSP miptex).
 //  - search.load == false: every missing material just gets its placeholder, no warnings.
 // Sizes (texture coordinates are divided by them): a missing material keeps the size it has

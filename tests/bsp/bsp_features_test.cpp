@@ -642,14 +642,19 @@ TEST(BspTextures, QuakeMiptexInsideTheBspAreDecodedWithTheQuakePalette) {
   EXPECT_EQ(decoded, 20u);
   EXPECT_GT(fullbrightTexels, 0u);
 
-  // Without a palette the level's own pixels cannot be read: one warning says so, and the names
-  // are looked up like a .map's instead (not found here: placeholders).
+  // Without a palette anywhere the level's own pixels are read with the built-in Quake palette
+  // (the same table), and one warning says so.
   const bt::Scene withoutPalette = importPath(path);
   size_t warnings = 0;
   for (const bt::Diagnostic& d : withoutPalette.diagnostics)
-    warnings += d.message.find("the level's own textures need Quake's palette") != std::string::npos;
+    warnings += d.message.find("built-in Quake palette") != std::string::npos;
   EXPECT_EQ(warnings, 1u);
-  for (const bt::Material& m : withoutPalette.materials) EXPECT_NE(m.source, bt::TextureSource::Miptex) << m.name;
+  for (const bt::bsp::Miptex& miptex : bsp.miptex) {
+    if (!miptex.present || !miptex.hasPixels) continue;
+    const bt::Material& m = withoutPalette.materials[*withoutPalette.findMaterial(miptex.name)];
+    EXPECT_EQ(m.source, bt::TextureSource::Miptex) << m.name;
+    EXPECT_EQ(m.baseColor.rgba, scene.materials[*scene.findMaterial(miptex.name)].baseColor.rgba) << m.name;
+  }
 }
 
 TEST(BspTextures, TexturesMissingFromTheBspAreSearchedInWads) {

@@ -104,7 +104,9 @@ TEST(LoadMaterials, WadKeyIsRelativeToTheMapAndMissingWadsAreWarnings) {
   EXPECT_EQ(warningsMentioning(scene, "free_wad.wad"), 1) << test::describe(scene.diagnostics);
 }
 
-TEST(LoadMaterials, QuakeWadWithoutPaletteGivesPlaceholderOfTheWadSizeAndSaysWhy) {
+// No Quake palette anywhere: the built-in one draws WAD2 textures (no placeholder because no
+// palette was passed), and one warning says so.
+TEST(LoadMaterials, QuakeWadWithoutPaletteUsesTheBuiltInPaletteAndSaysSo) {
   BT_REQUIRE_SHARED(shared);
   test::TempDir dir;
   // A 32x16 texture in a WAD2 in a folder without any palette up the tree (the temp dir).
@@ -113,13 +115,14 @@ TEST(LoadMaterials, QuakeWadWithoutPaletteGivesPlaceholderOfTheWadSizeAndSaysWhy
   Scene scene = makeScene(dir / "level.map", {{"wad", "tex.wad"}}, {"brick", "gone"});
   loadMaterials(scene, TextureSearch{});
   const Material& brick = material(scene, "brick");
-  EXPECT_TRUE(brick.missing());
+  ASSERT_FALSE(brick.missing());
   EXPECT_EQ(brick.width, 32);
   EXPECT_EQ(brick.height, 16);
-  EXPECT_EQ(brick.baseColor.width, 32);
+  const std::vector<uint8_t> quake = test::readFile(shared / "maps/palettes/quake.lmp");
+  EXPECT_EQ(brick.baseColor.rgba[0], quake[4 * 3]);
+  EXPECT_EQ(brick.baseColor.rgba[1], quake[4 * 3 + 1]);
   ASSERT_EQ(test::countWarnings(scene), 2) << test::describe(scene.diagnostics);
-  EXPECT_EQ(warningsMentioning(scene, "palette"), 1);
-  // "brick" is explained by the palette warning, not listed as not found.
+  EXPECT_EQ(warningsMentioning(scene, "built-in Quake palette"), 1);
   for (const Diagnostic& d : scene.diagnostics)
     if (d.message.find("not found") != std::string::npos) {
       EXPECT_NE(d.message.find("gone"), std::string::npos);
@@ -421,11 +424,11 @@ TEST(LoadMaterials, Quake2WalNamesWithFoldersUseTheQuake2Palette) {
     EXPECT_EQ(m.width, 64);
   }
   {
-    // No Quake 2 palette anywhere up the tree: a warning that says so, and the placeholder.
+    // No Quake 2 palette anywhere up the tree: the built-in one, and a warning that says so.
     Scene scene = makeScene(mapDir / "q2.map", {}, {"e1u1/alphamask"});
     loadMaterials(scene, TextureSearch{});
-    EXPECT_TRUE(material(scene, "e1u1/alphamask").missing());
-    EXPECT_EQ(warningsMentioning(scene, "Quake 2 palette"), 1) << test::describe(scene.diagnostics);
+    EXPECT_EQ(material(scene, "e1u1/alphamask").source, TextureSource::Wal);
+    EXPECT_EQ(warningsMentioning(scene, "built-in Quake 2 palette"), 1) << test::describe(scene.diagnostics);
   }
 }
 
@@ -482,7 +485,8 @@ TEST(LoadMaterials, BadPaletteOptionIsAWarning) {
   TextureSearch search;
   search.palette = (dir / "bad.lmp").string();
   ASSERT_NO_THROW(loadMaterials(scene, search));
-  EXPECT_TRUE(material(scene, "{trigger").missing());
+  // Said once; the texture is then drawn with the built-in Quake palette, not as a placeholder.
+  EXPECT_EQ(material(scene, "{trigger").source, TextureSource::Wad2);
   const auto namesBadPalette = [](const Diagnostic& d) { return d.file.find("bad.lmp") != std::string::npos; };
   EXPECT_EQ(std::count_if(scene.diagnostics.begin(), scene.diagnostics.end(), namesBadPalette), 1)
       << test::describe(scene.diagnostics);
