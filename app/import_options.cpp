@@ -17,10 +17,12 @@ void addImportOptions(CLI::App& command, ImportOptions& options) {
           "Force the .map dialect: standard|valve220|quake2|quake2-valve|quake3|quake3-valve|hexen2|daikatana")
       ->type_name("DIALECT");
   command.add_option("--wad", options.textures.wads, "WAD file to search for textures (repeatable), before the map's \"wad\" key")
-      ->type_name("FILE");
+      ->type_name("FILE")
+      ->check(CLI::ExistingFile);
   command.add_option("--textures", options.textures.textureDirs, "Folder of loose texture images <name>.png|tga|jpg (repeatable)")
-      ->type_name("DIR");
-  command.add_option("--palette", options.textures.palette, "Quake palette.lmp (768 bytes) for WAD2 textures")->type_name("FILE");
+      ->type_name("DIR")
+      ->check(CLI::ExistingDirectory);
+  command.add_option("--palette", options.textures.palette, "Quake palette.lmp (768 bytes) for WAD2 textures")->type_name("FILE")->check(CLI::ExistingFile);
   command.add_flag_callback("--no-textures", [&options] { options.textures.load = false; }, "Import geometry only: every texture is a placeholder");
 }
 
