@@ -43,19 +43,4 @@ void addSizeOption(CLI::App& command, ImageSize& size, const std::string& help) 
       ->default_str(std::to_string(size.width) + "x" + std::to_string(size.height));
 }
 
-// maps/start.map in the current directory, then beside the executable's build folder
-// (build/brushtrace -> ../maps), then in the source tree it was built from.
-std::string defaultMapPath() {
-  namespace fs = std::filesystem;
-  std::vector<fs::path> candidates{fs::current_path() / "maps" / "start.map"};
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) candidates.push_back(exe.parent_path().parent_path() / "maps" / "start.map");
-  candidates.push_back(fs::path(BRUSHTRACE_SOURCE_DIR) / "maps" / "start.map");
-  for (const fs::path& p : candidates)
-    if (fs::is_regular_file(p, ec)) return p.string();
-  throw std::runtime_error("no MAP given and maps/start.map not found (looked in the current directory, beside the "
-                           "executable and in " BRUSHTRACE_SOURCE_DIR ")");
-}
-
 } // namespace bt::app
