@@ -222,7 +222,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
       ->type_name("OUT")
       ->check(imageFile());
   CLI::Option* spp = cmd->add_option("--spp", options->spp, "Samples per pixel")->check(positive())->capture_default_str();
-  cmd->add_option("--time", options->timeLimit, "Stop after this many seconds (with --spp: whichever comes first)")
+  cmd->add_option("--time", options->timeLimit, "Stop after this many seconds (with --spp: whichever comes first; alone: as many samples as fit)")
       ->type_name("S")
       ->check(positive());
   addSizeOption(*cmd, options->size, "Image size");

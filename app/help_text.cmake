@@ -21,5 +21,7 @@ foreach(name ${names})
   endif()
   string(APPEND text "\n\n==== brushtrace ${name} ====\n\n${help}")
 endforeach()
+# CLI11 prints argv[0]: the build tree's path, which means nothing where the text is installed.
+string(REPLACE "${EXE}" "brushtrace" text "${text}")
 file(WRITE "${OUT}.tmp" "${text}")
 file(RENAME "${OUT}.tmp" "${OUT}")

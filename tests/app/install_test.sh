@@ -32,7 +32,9 @@ renders_default_map() {
 
 cmake --install "$build" --prefix "$tmp/prefix" >/dev/null
 renders_default_map "$tmp/prefix/bin/brushtrace"
-grep -q "brushtrace render" "$tmp/prefix/share/doc/brushtrace/brushtrace-help.txt" || { echo "FAIL: no help text"; exit 1; }
+help="$tmp/prefix/share/doc/brushtrace/brushtrace-help.txt"
+grep -q "Usage: brushtrace render" "$help" || { echo "FAIL: no help text of render in $help"; exit 1; }
+if grep -q "$build" "$help"; then echo "FAIL: $help names the build folder"; exit 1; fi
 
 (cd "$tmp" && cpack --config "$build/CPackConfig.cmake" -B "$tmp/package" >/dev/null)
 deb=$(ls "$tmp"/package/brushtrace_*.deb)
