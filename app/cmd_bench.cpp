@@ -4,6 +4,7 @@
 // the start to the first image as `render` gets there (context, the shader compile started,
 // import beside it, upload, the rest of the compile, 1 spp).
 #include "app/commands.h"
+#include "app/usage_checks.h"
 #include "renderer/gl/gl_bench.h"
 #include "renderer/gl/gl_error.h"
 
@@ -49,11 +50,11 @@ int runBench(const BenchOptions& options) {
 void addBenchCommand(CLI::App& app, int& exitCode) {
   auto options = std::make_shared<BenchOptions>();
   CLI::App* bench = app.add_subcommand("bench", "Measure the GL tracer: ray rates, samples/s, time to first image");
-  bench->add_option("map", options->map, "Level to load (.map or .bsp)")->required();
+  bench->add_option("map", options->map, "Level to load (.map or .bsp)")->required()->check(levelFile());
   addImportOptions(*bench, options->import);
   addSizeOption(*bench, options->size, "Image size");
-  bench->add_option("--bounces", options->bounces, "Bounces of the full samples (physical mode)")->capture_default_str();
-  bench->add_option("--seconds", options->seconds, "Time budget of the measurements")->capture_default_str();
+  bench->add_option("--bounces", options->bounces, "Bounces of the full samples (physical mode)")->check(CLI::Range(0, 64))->capture_default_str();
+  bench->add_option("--seconds", options->seconds, "Time budget of the measurements")->check(positive())->capture_default_str();
   bench->add_option("--gl-textures", options->textures, "Texture path: auto|bindless|arrays")
       ->check(CLI::IsMember({"auto", "bindless", "arrays"}))
       ->capture_default_str();

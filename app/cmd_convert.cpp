@@ -1,5 +1,6 @@
 // brushtrace convert IN -o OUT [--dialect D] [--in-place]: rewrite a .map, in its own dialect or another.
 #include "app/commands.h"
+#include "app/usage_checks.h"
 
 #include "importers/map/map_parser.h"
 #include "importers/map/map_writer.h"
@@ -21,8 +22,8 @@ void addConvertCommand(CLI::App& app, int& exitCode) {
     bool inPlace = false;
   };
   auto args = std::make_shared<Args>();
-  cmd->add_option("IN", args->input, "The .map to read")->required();
-  cmd->add_option("-o,--output", args->output, "The .map to write")->required();
+  cmd->add_option("IN", args->input, "The .map to read")->required()->check(levelFile());
+  cmd->add_option("-o,--output", args->output, "The .map to write")->required()->check(outputFile());
   auto dialectOption = [](std::optional<MapDialect>& into, const char* name) {
     return [&into, name](const std::string& value) {
       into = parseDialect(value);

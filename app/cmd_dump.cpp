@@ -1,5 +1,6 @@
-// brushtrace dump MAP --json: the imported scene, face by face.
+// brushtrace dump MAP [--json]: the imported scene, face by face.
 #include "app/commands.h"
+#include "app/usage_checks.h"
 #include "app/scene_json.h"
 
 #include <fmt/format.h>
@@ -49,8 +50,10 @@ void addDumpCommand(CLI::App& app, int& exitCode) {
     ImportOptions import;
   };
   auto args = std::make_shared<Args>();
-  cmd->add_option("MAP", args->path, "Level to import (.map, .bsp, ARCHIVE:maps/x.bsp, or a level name with --game/--basedir)")->required();
-  cmd->add_flag("--json", args->json, "Print JSON (the only format; required)")->required();
+  cmd->add_option("MAP", args->path, "Level to import (.map, .bsp, ARCHIVE:maps/x.bsp, or a level name with --game/--basedir)")
+      ->required()
+      ->check(levelFile());
+  cmd->add_flag("--json", args->json, "Print JSON (the only format, also without this flag)");
   addImportOptions(*cmd, args->import);
   cmd->callback([args, &exitCode] {
     // Geometry only unless asked: dump prints no pixels, so it does not need to read textures.

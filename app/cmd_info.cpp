@@ -1,5 +1,6 @@
 // brushtrace info MAP [--json]: what a level holds and what the importer could not use.
 #include "app/commands.h"
+#include "app/usage_checks.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -53,7 +54,9 @@ void addInfoCommand(CLI::App& app, int& exitCode) {
     ImportOptions import;
   };
   auto args = std::make_shared<Args>();
-  cmd->add_option("MAP", args->path, "Level to import (.map, .bsp, ARCHIVE:maps/x.bsp, a level name with a game install), or a .pak/.pk3 to list")->required();
+  cmd->add_option("MAP", args->path, "Level to import (.map, .bsp, ARCHIVE:maps/x.bsp, a level name with a game install), or a .pak/.pk3 to list")
+      ->required()
+      ->check(levelFile());
   cmd->add_flag("--json", args->json, "Print JSON instead of text");
   addImportOptions(*cmd, args->import);
   cmd->callback([args, &exitCode] {

@@ -1,5 +1,6 @@
 // `brushtrace render`: import a level and path-trace it to a PNG or EXR.
 #include "app/commands.h"
+#include "app/usage_checks.h"
 
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/cpu/image_output.h"
@@ -15,6 +16,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <unistd.h>
@@ -26,10 +28,10 @@ namespace {
 struct RenderOptions {
   std::string map;
   std::string output;
-  int spp = 64;
+  int spp = 64;      // 0: --time alone bounds the render
   double timeLimit = 0.0;
   ImageSize size{960, 540};
-  std::string camera;
+  std::optional<CameraPose> camera;
   std::string backend = "auto";
   std::string glTextures = "auto";
   std::string aov = "beauty";
@@ -51,16 +53,99 @@ std::string formatDuration(double seconds) {
   return fmt::format("{:02}:{:02}:{:02}", s / 3600, (s / 60) % 60, s % 60);
 }
 
+// Progress lines on stdout. Their fraction is that of whichever limit ends the render (samples
+// or --time), so the last line says 100 %. Each line is flushed: piped to a log or a GUI, a
+// block-buffered stdout would hold them until the end, and lose them on Ctrl-C.
+class ProgressPrinter {
+public:
+  ProgressPrinter(double timeLimit, bool tty) : timeLimit_(timeLimit), tty_(tty) {}
+
+  void operator()(const RenderProgress& p) {
+    // The renderers stop after the pass that reaches a limit, on the same elapsed time.
+    const bool sppDone = p.samplesTotal > 0 && p.samplesDone >= p.samplesTotal;
+    const bool timeUp = timeLimit_ > 0.0 && p.elapsed >= timeLimit_;
+    double fraction = p.samplesTotal > 0 ? double(p.samplesDone) / p.samplesTotal : 0.0;
+    if (timeLimit_ > 0.0) fraction = std::max(fraction, p.elapsed / timeLimit_);
+    if (sppDone || timeUp) fraction = 1.0;
+    const std::string total = p.samplesTotal > 0 ? std::to_string(p.samplesTotal) : "?";
+    const std::string line = fmt::format("[{:3.0f}%] spp {}/{} est {}", std::min(fraction, 1.0) * 100.0, p.samplesDone,
+                                         total, formatDuration(sppDone || timeUp ? 0.0 : p.estimatedRemaining));
+    if (tty_) {
+      fmt::print("\r{}{}", line, sppDone || timeUp ? "\n" : "");
+    } else if (sppDone || timeUp || p.elapsed - lastPrinted_ >= 5.0) { // plain lines, not one per pass
+      fmt::print("{}\n", line);
+      lastPrinted_ = p.elapsed;
+    }
+    std::fflush(stdout);
+  }
+
+private:
+  double timeLimit_;
+  bool tty_;
+  double lastPrinted_ = -1e30; // the first pass prints at once
+};
+
+// Faces a render can show: none (an empty .map, or only clip and trigger brushes) would give a
+// black image that looks like a lighting bug.
+bool hasDrawnFace(const RenderScene& scene, bool showHidden) {
+  return std::any_of(scene.faceFlags.begin(), scene.faceFlags.end(),
+                     [&](uint32_t flags) { return showHidden || !(flags & kFaceHidden); });
+}
+
+RenderSettings renderSettings(const RenderOptions& o) {
+  RenderSettings settings;
+  settings.width = o.size.width;
+  settings.height = o.size.height;
+  settings.spp = o.spp;
+  settings.timeLimit = o.timeLimit;
+  settings.threads = o.threads;
+  settings.seed = o.seed;
+  settings.integrator.mode = o.lighting == "physical" ? LightingMode::Physical : LightingMode::Faithful;
+  settings.integrator.bounces = o.bounces;
+  // AOVs other than beauty need no samples beyond the one through each pixel centre.
+  if (o.aov != "beauty") settings.spp = 1, settings.timeLimit = 0.0;
+  return settings;
+}
+
+OutputSettings outputSettings(const RenderOptions& o) {
+  OutputSettings output;
+  output.exposureEv = o.exposure;
+  const std::string tonemap = o.tonemap.empty() ? (o.lighting == "physical" ? "aces" : "faithful") : o.tonemap;
+  output.tonemap = tonemap == "aces" ? Tonemap::Aces : tonemap == "agx" ? Tonemap::Agx
+                 : tonemap == "linear" ? Tonemap::Linear : Tonemap::Faithful;
+  output.aov = o.aov == "albedo" ? Aov::Albedo : o.aov == "normal" ? Aov::Normal : o.aov == "depth" ? Aov::Depth
+             : o.aov == "face" ? Aov::Face : Aov::Beauty;
+  return output;
+}
+
+// gl and auto render on the GL tracer when a GL 4.5 context can be made; otherwise one line
+// says why and the CPU reference renders instead. auto also passes over a software GL
+// (Mesa's llvmpipe): the CPU tracer is many times faster than compute shaders emulated on it.
+std::unique_ptr<gl::GlContext> makeGlContext(const RenderOptions& o) {
+  std::unique_ptr<gl::GlContext> glContext;
+  if (o.backend != "cpu") {
+    try {
+      glContext = gl::GlContext::createHeadless();
+    } catch (const std::exception& e) {
+      fmt::print(stderr, "brushtrace: no GL 4.5 context ({}); rendering on the CPU\n", e.what());
+    }
+    if (glContext && o.backend == "auto" && glContext->info().softwareRenderer) {
+      if (!o.quiet)
+        fmt::print(stderr, "brushtrace: GL context is software ({}); rendering on the CPU (--backend gl forces it)\n",
+                   glContext->info().renderer);
+      glContext.reset();
+    }
+  }
+  return glContext;
+}
+
 int runRender(const RenderOptions& o) {
   const int width = o.size.width, height = o.size.height;
   std::string ext = std::filesystem::path(o.output).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  // Say so before rendering, not after.
-  if (ext != ".png" && ext != ".exr") throw std::runtime_error(fmt::format("{}: output must be .png or .exr", o.output));
   // A PNG of an AOV shows that AOV alone, so the GL backend renders no beauty for it (an EXR
   // always holds the beauty layer too).
   const bool aovsOnly = o.aov != "beauty" && ext == ".png";
-  if (o.spp <= 0 && o.timeLimit <= 0.0) throw std::runtime_error("--spp must be positive (or give --time)");
 
   const std::optional<gl::TextureMode> glTextures = gl::parseTextureMode(o.glTextures);
   if (!glTextures) throw std::runtime_error("--gl-textures: expected auto, bindless or arrays");
@@ -80,23 +165,7 @@ int runRender(const RenderOptions& o) {
       scene, renderScene, [&](const gl::EntitiesRead& entitiesRead) { return importScene(mapPath, o.import, entitiesRead); },
       sceneOptions, &lightDiagnostics);
 
-  // gl and auto render on the GL tracer when a GL 4.5 context can be made; otherwise one line
-  // says why and the CPU reference renders instead. auto also passes over a software GL
-  // (Mesa's llvmpipe): the CPU tracer is many times faster than compute shaders emulated on it.
-  std::unique_ptr<gl::GlContext> glContext;
-  if (o.backend != "cpu") {
-    try {
-      glContext = gl::GlContext::createHeadless();
-    } catch (const std::exception& e) {
-      fmt::print(stderr, "brushtrace: no GL 4.5 context ({}); rendering on the CPU\n", e.what());
-    }
-    if (glContext && o.backend == "auto" && glContext->info().softwareRenderer) {
-      if (!o.quiet)
-        fmt::print(stderr, "brushtrace: GL context is software ({}); rendering on the CPU (--backend gl forces it)\n",
-                   glContext->info().renderer);
-      glContext.reset();
-    }
-  }
+  std::unique_ptr<gl::GlContext> glContext = makeGlContext(o);
 
   // The GL programs this render needs start compiling as soon as what they need is known, on
   // the driver's threads where it has them, and are ready, or nearly, once the level is
@@ -120,52 +189,20 @@ int runRender(const RenderOptions& o) {
   for (const Diagnostic& d : lightDiagnostics)
     if (!o.quiet) fmt::print(stderr, "{}\n", format(d));
 
-  CameraPose pose = defaultCameraPose(scene);
-  if (!o.camera.empty()) {
-    auto parsed = parseCameraPose(o.camera);
-    if (!parsed) throw std::runtime_error(fmt::format("--camera: expected \"(x y z) pitch yaw roll\", got \"{}\"", o.camera));
-    pose = *parsed;
+  if (!hasDrawnFace(renderScene, o.showHidden)) {
+    fmt::print(stderr, "{}: warning: the level has no face to draw; no image written\n", mapPath);
+    return 1;
   }
+
+  const CameraPose pose = o.camera ? *o.camera : defaultCameraPose(scene);
   if (!o.quiet) fmt::print("camera {} ({})\n", formatCameraPose(pose), pose.source);
+  std::fflush(stdout); // a pipe reads it now, not when the render ends
 
-  RenderSettings settings;
-  settings.width = width;
-  settings.height = height;
-  settings.spp = o.spp;
-  settings.timeLimit = o.timeLimit;
-  settings.threads = o.threads;
-  settings.seed = o.seed;
-  settings.integrator.mode = o.lighting == "physical" ? LightingMode::Physical : LightingMode::Faithful;
-  settings.integrator.bounces = o.bounces;
-
-  OutputSettings output;
-  output.exposureEv = o.exposure;
-  const std::string tonemap = o.tonemap.empty() ? (o.lighting == "physical" ? "aces" : "faithful") : o.tonemap;
-  output.tonemap = tonemap == "aces" ? Tonemap::Aces : tonemap == "agx" ? Tonemap::Agx
-                 : tonemap == "linear" ? Tonemap::Linear : Tonemap::Faithful;
-  output.aov = o.aov == "albedo" ? Aov::Albedo : o.aov == "normal" ? Aov::Normal : o.aov == "depth" ? Aov::Depth
-             : o.aov == "face" ? Aov::Face : Aov::Beauty;
-  // AOVs other than beauty need no samples beyond the one through each pixel centre.
-  if (output.aov != Aov::Beauty) settings.spp = 1, settings.timeLimit = 0.0;
-
-  const bool tty = isatty(fileno(stdout));
-  double lastPrinted = -1.0;
-  auto progress = [&](const RenderProgress& p) {
-    if (o.quiet) return;
-    const double fraction = p.samplesTotal > 0 ? double(p.samplesDone) / p.samplesTotal
-                                               : std::min(1.0, p.elapsed / std::max(o.timeLimit, 1e-9));
-    const std::string total = p.samplesTotal > 0 ? std::to_string(p.samplesTotal) : "?";
-    const std::string line = fmt::format("[{:3.0f}%] spp {}/{} est {}", fraction * 100.0, p.samplesDone, total,
-                                         formatDuration(p.estimatedRemaining));
-    const bool last = p.samplesTotal > 0 && p.samplesDone == p.samplesTotal;
-    if (tty) {
-      fmt::print("\r{}{}", line, last ? "\n" : "");
-      std::fflush(stdout);
-    } else if (last || p.elapsed - lastPrinted >= 5.0) { // plain lines, not one per pass
-      fmt::print("{}\n", line);
-      lastPrinted = p.elapsed;
-    }
-  };
+  const RenderSettings settings = renderSettings(o);
+  const OutputSettings output = outputSettings(o);
+  ProgressPrinter printer(settings.timeLimit, isatty(fileno(stdout)));
+  std::function<void(const RenderProgress&)> progress;
+  if (!o.quiet) progress = std::ref(printer);
 
   // Faithful mode shows the compiler's luxels as the game does; `--luxels off` evaluates the
   // light at each pixel's own point ("what the light is" rather than "what the game shows").
@@ -180,7 +217,6 @@ int runRender(const RenderOptions& o) {
   const gl::GlRenderParts glParts = aovsOnly ? gl::GlRenderParts::AovsOnly : gl::GlRenderParts::BeautyAndAovs;
   const RenderImage image = glContext ? gl::renderWithGl(*glContext, renderScene, pose, settings, glPrograms, progress, glParts).image
                                       : renderCpu(renderScene, Camera(pose, width, height), settings, progress);
-  if (tty && !o.quiet && !aovsOnly && image.samples != settings.spp) fmt::print("\n");
   writeImage(o.output, image, output);
   const std::string rendered = aovsOnly ? fmt::format("--aov {}", o.aov) : fmt::format("{} spp, {} lighting", image.samples, o.lighting);
   if (!o.quiet) fmt::print("wrote {} ({}x{}, {}, {})\n", o.output, width, height, rendered,
@@ -193,15 +229,20 @@ int runRender(const RenderOptions& o) {
 void addRenderCommand(CLI::App& app, int& exitCode) {
   auto options = std::make_shared<RenderOptions>();
   CLI::App* cmd = app.add_subcommand("render", "Path-trace a level's lighting to an image (PNG or EXR)");
-  cmd->add_option("map", options->map, "Level to render (.map, .bsp, ARCHIVE:maps/x.bsp, or a level name with --game/--basedir); default maps/start.map")->type_name("MAP");
+  cmd->add_option("map", options->map, "Level to render (.map, .bsp, ARCHIVE:maps/x.bsp, or a level name with --game/--basedir); default maps/start.map")
+      ->type_name("MAP")
+      ->check(levelFile());
   cmd->add_option("-o,--output", options->output, "Output image, .png (tonemapped sRGB) or .exr (linear + AOV layers)")
       ->required()
-      ->type_name("OUT");
-  cmd->add_option("--spp", options->spp, "Samples per pixel")->capture_default_str();
-  cmd->add_option("--time", options->timeLimit, "Stop after this many seconds (with --spp: whichever comes first)")
-      ->type_name("S");
+      ->type_name("OUT")
+      ->check(imageFile());
+  CLI::Option* spp = cmd->add_option("--spp", options->spp, "Samples per pixel")->check(positive())->capture_default_str();
+  cmd->add_option("--time", options->timeLimit, "Stop after this many seconds (with --spp: whichever comes first; alone: as many samples as fit)")
+      ->type_name("S")
+      ->check(positive());
   addSizeOption(*cmd, options->size, "Image size");
-  cmd->add_option("--camera", options->camera, "Camera \"(x y z) pitch yaw roll\"; default from the level's entities");
+  addCameraOption(*cmd, options->camera,
+                  "Camera \"(x y z) pitch yaw roll\" or \"setpos x y z pitch yaw roll\" (roll optional); default from the level's entities");
   cmd->add_option("--backend", options->backend, "auto|gl|cpu")
       ->check(CLI::IsMember({"auto", "gl", "cpu"}))
       ->capture_default_str();
@@ -230,7 +271,10 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_flag("--quiet", options->quiet, "No progress or camera lines");
   cmd->add_flag("--show-hidden", options->showHidden, "Draw clip/trigger/skip/hint/origin faces");
   addImportOptions(*cmd, options->import);
-  cmd->callback([options, &exitCode] { exitCode = runRender(*options); });
+  cmd->callback([options, spp, &exitCode] {
+    if (options->timeLimit > 0.0 && spp->count() == 0) options->spp = 0; // --time alone: as many samples as fit
+    exitCode = runRender(*options);
+  });
 }
 
 } // namespace bt::app

@@ -1,5 +1,6 @@
 // brushtrace view [MAP]: the live viewer (viewer/viewer.h).
 #include "app/commands.h"
+#include "app/usage_checks.h"
 #include "viewer/viewer.h"
 
 #include <fmt/format.h>
@@ -12,7 +13,7 @@ namespace {
 
 struct ViewCommand {
   ViewerOptions viewer;
-  std::string camera;
+  std::optional<CameraPose> camera;
   ImageSize size{1280, 720};
   std::string textures = "auto";
   std::string lighting = "faithful";
@@ -23,13 +24,7 @@ int runView(ViewCommand& cmd) {
   if (o.map.empty()) o.map = defaultMapPath();
   o.width = cmd.size.width;
   o.height = cmd.size.height;
-  if (!cmd.camera.empty()) {
-    o.camera = parseCameraPose(cmd.camera);
-    if (!o.camera) {
-      fmt::print(stderr, "brushtrace: --camera '{}' is not \"(x y z) pitch yaw roll\"\n", cmd.camera);
-      return 1;
-    }
-  }
+  o.camera = cmd.camera;
   o.textures = *gl::parseTextureMode(cmd.textures); // --gl-textures admits only the names it parses
   o.lighting = cmd.lighting == "physical" ? LightingMode::Physical : LightingMode::Faithful;
 
@@ -44,16 +39,17 @@ int runView(ViewCommand& cmd) {
 void addViewCommand(CLI::App& app, int& exitCode) {
   auto cmd = std::make_shared<ViewCommand>();
   CLI::App* view = app.add_subcommand("view", "Open a level in a window, path-traced progressively; reloads on save");
-  view->add_option("map", cmd->viewer.map, "Level file (.map, .bsp, ARCHIVE:maps/x.bsp, or a level name with --game/--basedir); default maps/start.map");
+  view->add_option("map", cmd->viewer.map, "Level file (.map, .bsp, ARCHIVE:maps/x.bsp, or a level name with --game/--basedir); default maps/start.map")
+      ->check(levelFile());
   addImportOptions(*view, cmd->viewer.import);
   addSizeOption(*view, cmd->size, "Window size");
-  view->add_option("--camera", cmd->camera, "Start camera \"(x y z) pitch yaw roll\" (roll is ignored: the viewer has none)");
+  addCameraOption(*view, cmd->camera, "Start camera \"(x y z) pitch yaw roll\" or \"setpos x y z pitch yaw roll\" (roll is ignored: the viewer has none)");
   view->add_option("--lighting", cmd->lighting, "faithful|physical")->check(CLI::IsMember({"faithful", "physical"}))->capture_default_str();
-  view->add_option("--bounces", cmd->viewer.bounces, "Bounces in physical mode")->capture_default_str();
+  view->add_option("--bounces", cmd->viewer.bounces, "Bounces in physical mode")->check(CLI::Range(0, 64))->capture_default_str();
   view->add_option("--gl-textures", cmd->textures, "bindless|arrays|auto")
       ->check(CLI::IsMember({"auto", "bindless", "arrays"}))
       ->capture_default_str();
-  view->add_option("--screenshots", cmd->viewer.screenshotDir, "Folder F12 writes screenshots into")->capture_default_str();
+  view->add_option("--screenshots", cmd->viewer.screenshotDir, "Folder F12 writes screenshots into")->check(writableFolder())->capture_default_str();
   view->callback([cmd, &exitCode] { exitCode = runView(*cmd); });
 }
 

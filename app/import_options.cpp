@@ -27,10 +27,12 @@ void addImportOptions(CLI::App& command, ImportOptions& options) {
           "Force the .map dialect: standard|valve220|quake2|quake2-valve|quake3|quake3-valve|hexen2|daikatana")
       ->type_name("DIALECT");
   command.add_option("--wad", options.textures.wads, "WAD file to search for textures (repeatable), before the map's \"wad\" key")
-      ->type_name("FILE");
+      ->type_name("FILE")
+      ->check(CLI::ExistingFile);
   command.add_option("--textures", options.textures.textureDirs, "Folder of loose texture images <name>.png|tga|jpg (repeatable)")
-      ->type_name("DIR");
-  command.add_option("--palette", options.textures.palette, "Quake palette.lmp (768 bytes) for WAD2 textures")->type_name("FILE");
+      ->type_name("DIR")
+      ->check(CLI::ExistingDirectory);
+  command.add_option("--palette", options.textures.palette, "Quake palette.lmp (768 bytes) for WAD2 textures")->type_name("FILE")->check(CLI::ExistingFile);
   command.add_flag_callback("--no-textures", [&options] { options.textures.load = false; }, "Import geometry only: every texture is a placeholder");
   addGameOptions(command, options.textures.game);
 }
@@ -110,21 +112,6 @@ bool printArchiveContents(const std::string& path, bool json) {
     for (const auto& name : wad["textures"]) fmt::print("      {}\n", name.get<std::string>());
   }
   return true;
-}
-
-// maps/start.map in the current directory, then beside the executable's build folder
-// (build/brushtrace -> ../maps), then in the source tree it was built from.
-std::string defaultMapPath() {
-  namespace fs = std::filesystem;
-  std::vector<fs::path> candidates{fs::current_path() / "maps" / "start.map"};
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) candidates.push_back(exe.parent_path().parent_path() / "maps" / "start.map");
-  candidates.push_back(fs::path(BRUSHTRACE_SOURCE_DIR) / "maps" / "start.map");
-  for (const fs::path& p : candidates)
-    if (fs::is_regular_file(p, ec)) return p.string();
-  throw std::runtime_error("no MAP given and maps/start.map not found (looked in the current directory, beside the "
-                           "executable and in " BRUSHTRACE_SOURCE_DIR ")");
 }
 
 } // namespace bt::app

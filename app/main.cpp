@@ -1,5 +1,6 @@
 // brushtrace: open Quake-family levels and preview their lighting.
 #include "app/commands.h"
+#include "app/usage_checks.h"
 
 #include <fmt/format.h>
 
@@ -19,6 +20,16 @@ int main(int argc, char** argv) {
   bt::app::addBenchCommand(app, exitCode);
   bt::app::addViewCommand(app, exitCode);
   bt::app::addConfigCommand(app, exitCode);
+
+  // CLI11 alone says only "A subcommand is required" or that an argument was not expected.
+  if (argc < 2 || (argv[1][0] != '-' && !bt::app::isCommand(app, argv[1]))) {
+    if (argc < 2) fmt::print(stderr, "brushtrace: a command is required\n");
+    else if (const auto near = bt::app::nearestCommand(app, argv[1]))
+      fmt::print(stderr, "brushtrace: unknown command '{}'; did you mean '{}'?\n", argv[1], *near);
+    else fmt::print(stderr, "brushtrace: unknown command '{}'\n", argv[1]);
+    fmt::print(stderr, "{}", bt::app::commandList(app));
+    return 2;
+  }
 
   try {
     app.parse(argc, argv);

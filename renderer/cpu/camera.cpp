@@ -12,27 +12,74 @@
 #include <cmath>
 #include <limits>
 #include <regex>
+#include <sstream>
 #include <vector>
 
 namespace bt {
 
-std::optional<CameraPose> parseCameraPose(std::string_view text) {
-  static const std::regex pattern(
-      R"(\s*\(\s*(\S+)\s+(\S+)\s+(\S+)\s*\)\s*(\S+)\s+(\S+)\s+(\S+)\s*)");
-  std::cmatch m;
-  const std::string s(text);
-  if (!std::regex_match(s.c_str(), m, pattern)) return std::nullopt;
-  float v[6];
-  for (int i = 0; i < 6; ++i) {
-    auto f = parseFloat(m[i + 1].str());
+namespace {
+
+// Whitespace-separated numbers; nullopt when any word is not one.
+std::optional<std::vector<float>> numbersIn(std::string_view text) {
+  std::vector<float> numbers;
+  std::istringstream words{std::string(text)};
+  for (std::string word; words >> word;) {
+    const auto f = parseFloat(word);
     if (!f) return std::nullopt;
-    v[i] = *f;
+    numbers.push_back(*f);
   }
+  return numbers;
+}
+
+// `rest` after the word `name` when `text` starts with it, else nullopt.
+std::optional<std::string_view> afterWord(std::string_view text, std::string_view name) {
+  const size_t start = text.find_first_not_of(" \t");
+  if (start == std::string_view::npos || text.substr(start, name.size()) != name) return std::nullopt;
+  text.remove_prefix(start + name.size());
+  if (!text.empty() && text.front() != ' ' && text.front() != '\t') return std::nullopt;
+  return text;
+}
+
+// Quake's console forms: `setpos x y z pitch yaw [roll]` (QuakeSpasm, ironwail) and the Source
+// engine's `getpos` line `setpos x y z;setang pitch yaw [roll]`.
+std::optional<std::vector<float>> parseSetpos(std::string_view text) {
+  const auto rest = afterWord(text, "setpos");
+  if (!rest) return std::nullopt;
+  const size_t semicolon = rest->find(';');
+  if (semicolon == std::string_view::npos) return numbersIn(*rest);
+  auto position = numbersIn(rest->substr(0, semicolon));
+  const auto angleText = afterWord(rest->substr(semicolon + 1), "setang");
+  if (!position || position->size() != 3 || !angleText) return std::nullopt;
+  const auto angles = numbersIn(*angleText);
+  if (!angles) return std::nullopt;
+  position->insert(position->end(), angles->begin(), angles->end());
+  return position;
+}
+
+// "(x y z) pitch yaw [roll]", as formatCameraPose writes it.
+std::optional<std::vector<float>> parseParenthesised(std::string_view text) {
+  const size_t open = text.find_first_not_of(" \t");
+  const size_t close = text.find(')');
+  if (open == std::string_view::npos || text[open] != '(' || close == std::string_view::npos) return std::nullopt;
+  auto position = numbersIn(text.substr(open + 1, close - open - 1));
+  const auto angles = numbersIn(text.substr(close + 1));
+  if (!position || position->size() != 3 || !angles) return std::nullopt;
+  position->insert(position->end(), angles->begin(), angles->end());
+  return position;
+}
+
+} // namespace
+
+std::optional<CameraPose> parseCameraPose(std::string_view text) {
+  auto v = parseSetpos(text);
+  if (!v) v = parseParenthesised(text);
+  // x y z pitch yaw, and roll where given: the consoles print the camera without it.
+  if (!v || v->size() < 5 || v->size() > 6) return std::nullopt;
   CameraPose pose;
-  pose.origin = {v[0], v[1], v[2]};
-  pose.pitch = v[3];
-  pose.yaw = v[4];
-  pose.roll = v[5];
+  pose.origin = {(*v)[0], (*v)[1], (*v)[2]};
+  pose.pitch = (*v)[3];
+  pose.yaw = (*v)[4];
+  pose.roll = v->size() == 6 ? (*v)[5] : 0.0f;
   pose.source = "--camera";
   return pose;
 }

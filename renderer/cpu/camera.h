@@ -21,7 +21,8 @@ struct CameraPose {
   std::string source; // where it came from: "info_intermission", "--camera", ...
 };
 
-// "(x y z) pitch yaw roll"; nullopt when malformed.
+// "(x y z) pitch yaw roll", Quake's console line "setpos x y z pitch yaw roll" or Source's
+// "setpos x y z;setang pitch yaw roll", roll optional in each (0); nullopt when malformed.
 std::optional<CameraPose> parseCameraPose(std::string_view text);
 std::string formatCameraPose(const CameraPose& pose);
 

@@ -45,8 +45,12 @@ TEST(DumpCommand, PrintsTheDocumentedSchema) {
   EXPECT_EQ(door.at("keys")[3][0], "targetname");
 }
 
-TEST(DumpCommand, RequiresJsonAndReportsBadInputWithPosition) {
-  EXPECT_EQ(brushtrace("dump '" + dialectMap("standard") + "'").exitCode, 2);
+// JSON is dump's only format, so --json is optional: the same output with and without it.
+TEST(DumpCommand, PrintsJsonWithoutTheFlagAndReportsBadInputWithPosition) {
+  const CommandResult plain = brushtrace("dump '" + dialectMap("standard") + "'");
+  ASSERT_EQ(plain.exitCode, 0) << plain.err;
+  EXPECT_EQ(nlohmann::json::parse(plain.out).at("dialect"), "standard");
+  EXPECT_EQ(plain.out, brushtrace("dump --json '" + dialectMap("standard") + "'").out);
   const auto bad = std::filesystem::temp_directory_path() / "bt_app_bad.map";
   std::ofstream(bad) << "{\n\"classname\" \"worldspawn\"\n{\n( 0 0 0 ) ( 0 1 0 ) ( 1 0 0 ) a 0 zero 0 1 1\n}\n}\n";
   const CommandResult r = brushtrace("dump --json '" + bad.string() + "'");

@@ -40,6 +40,20 @@ TEST(Camera, ParseFormatAndDefaults) {
   EXPECT_EQ(formatCameraPose(*pose), "(1 -2.5 3) 10 20 30");
   EXPECT_FALSE(parseCameraPose("1 2 3 10 20 30"));
   EXPECT_FALSE(parseCameraPose("(1 2 x) 10 20 30"));
+  // Quake's and Source's console lines, and every form without roll.
+  for (const char* text : {"setpos 1 -2.5 3 10 20 30", "setpos 1 -2.5 3;setang 10 20 30", " setpos 1 -2.5 3 ; setang 10 20 30 "}) {
+    const auto setpos = parseCameraPose(text);
+    ASSERT_TRUE(setpos) << text;
+    EXPECT_EQ(formatCameraPose(*setpos), "(1 -2.5 3) 10 20 30") << text;
+  }
+  for (const char* text : {"(1 -2.5 3) 10 20", "setpos 1 -2.5 3 10 20", "setpos 1 -2.5 3;setang 10 20"}) {
+    const auto noRoll = parseCameraPose(text);
+    ASSERT_TRUE(noRoll) << text;
+    EXPECT_EQ(formatCameraPose(*noRoll), "(1 -2.5 3) 10 20 0") << text;
+  }
+  for (const char* text : {"setpos 1 2 3", "setpos 1 2 3 4", "setpos 1 2 3 4 5 6 7", "setpos 1 2;setang 3 4 5", "setpos 1 2 3;setang 4",
+                           "setposx 1 2 3 4 5", "(1 2 3) 4", "(1 2 3) 4 5 6 7", "setpos 1 2 3;setang 4 5 x", ""})
+    EXPECT_FALSE(parseCameraPose(text)) << text;
 
   test::BoxSceneBuilder b;
   b.material("white", 255, 255, 255);
