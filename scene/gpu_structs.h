@@ -168,7 +168,7 @@ struct GpuLight {
   // Suns with `_suntexture`: 1 + the material of the sky faces they shine through (a sun ray that
   // reaches sky of another texture is blocked); 0: any sky.
   uint32_t skyMaterial = 0;
-  uint32_t pad[3] = {0, 0, 0}; // zero; keeps the struct a whole number of 16-byte rows
+  uint32_t pad0 = 0, pad1 = 0, pad2 = 0; // zero; keep the struct a whole number of 16-byte rows
 };
 static_assert(sizeof(GpuLight) == 112);
 static_assert(offsetof(GpuLight, origin) == 0);

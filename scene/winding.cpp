@@ -2,6 +2,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -154,5 +155,27 @@ void removeDuplicatePoints(Winding& w, double epsilon) {
   if (out.size() < 3) out.clear();
   w = std::move(out);
 }
+
+dvec3 nearestOnPolygon(const Winding& w, const dvec3& n, const dvec3& p) {
+  bool inside = true;
+  for (size_t i = 0; i < w.size() && inside; ++i)
+    inside = glm::dot(glm::cross(w[(i + 1) % w.size()] - w[i], p - w[i]), n) >= 0.0;
+  if (inside) return p;
+  // Outside: the nearest point of every edge decides (beyond a corner, the nearest edge need
+  // not be one that p is outside of).
+  dvec3 best = p;
+  double bestDist2 = 1e300;
+  for (size_t i = 0; i < w.size(); ++i) {
+    const dvec3& a = w[i];
+    const dvec3 ab = w[(i + 1) % w.size()] - a;
+    const double len2 = glm::dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    const dvec3 q = a + t * ab;
+    const double d2 = glm::dot(p - q, p - q);
+    if (d2 < bestDist2) bestDist2 = d2, best = q;
+  }
+  return best;
+}
+
 
 } // namespace bt

@@ -40,4 +40,9 @@ Winding intersectConvex(const Winding& w, const Winding& clip, const dvec3& norm
 // points becomes empty.
 void removeDuplicatePoints(Winding& w, double epsilon = 1e-6);
 
+// The point of convex polygon `w` (counter-clockwise seen along `normal`) nearest to p, a point of
+// its plane: p itself inside, else the nearest point of its boundary. The compilers move a luxel
+// centre that falls off its face there.
+dvec3 nearestOnPolygon(const Winding& w, const dvec3& normal, const dvec3& p);
+
 } // namespace bt

@@ -34,29 +34,6 @@ dvec3 vertexMean(const std::vector<dvec3>& w) {
   return sum / double(w.size());
 }
 
-// The point of convex polygon `w` (normal `n`) nearest to p, a point of its plane: the
-// compiler moves a luxel centre that falls off its face onto the face's edge.
-dvec3 nearestOnPolygon(const std::vector<dvec3>& w, const dvec3& n, const dvec3& p) {
-  bool inside = true;
-  for (size_t i = 0; i < w.size() && inside; ++i)
-    inside = glm::dot(glm::cross(w[(i + 1) % w.size()] - w[i], p - w[i]), n) >= 0.0;
-  if (inside) return p;
-  // Outside: the nearest point of every edge decides (beyond a corner, the nearest edge need
-  // not be one that p is outside of).
-  dvec3 best = p;
-  double bestDist2 = 1e300;
-  for (size_t i = 0; i < w.size(); ++i) {
-    const dvec3& a = w[i];
-    const dvec3 ab = w[(i + 1) % w.size()] - a;
-    const double len2 = glm::dot(ab, ab);
-    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-    const dvec3 q = a + t * ab;
-    const double d2 = glm::dot(p - q, p - q);
-    if (d2 < bestDist2) bestDist2 = d2, best = q;
-  }
-  return best;
-}
-
 // The compiler's luxel centres of one face, pulled onto it and lifted 1 unit off it (where the
 // compiler samples: a spotlight's cone edge falls on other luxels there): its texture-space extents (in float,
 // as the compiler computes them) floored/ceiled to 16 texels, one luxel every 16 texels.

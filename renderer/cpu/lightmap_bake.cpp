@@ -5,6 +5,7 @@
 #include "renderer/cpu/sampling.h"
 #include "renderer/cpu/surface_lights.h"
 #include "scene/parallel_for.h"
+#include "scene/winding.h"
 
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
@@ -40,27 +41,6 @@ struct FaceFrame {
   }
   dvec3 point(double s, double t) const { return origin + toWorld * dvec3(s, t, height); }
 };
-
-bool insidePolygon(const std::vector<dvec3>& w, const dvec3& n, const dvec3& p) {
-  for (size_t i = 0; i < w.size(); ++i)
-    if (glm::dot(glm::cross(w[(i + 1) % w.size()] - w[i], p - w[i]), n) < 0.0) return false;
-  return true;
-}
-
-dvec3 closestOnBoundary(const std::vector<dvec3>& w, const dvec3& p) {
-  dvec3 best = p;
-  double bestDist2 = 1e300;
-  for (size_t i = 0; i < w.size(); ++i) {
-    const dvec3& a = w[i];
-    const dvec3 ab = w[(i + 1) % w.size()] - a;
-    const double len2 = glm::dot(ab, ab);
-    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-    const dvec3 q = a + t * ab;
-    const double d2 = glm::dot(p - q, p - q);
-    if (d2 < bestDist2) bestDist2 = d2, best = q;
-  }
-  return best;
-}
 
 // The fragment's edges as texel-space lines, unit (a, b), positive inside.
 void appendEdges(const Face& face, const std::vector<dvec3>& polygon, std::vector<glm::vec4>& edges) {
@@ -139,8 +119,8 @@ std::optional<glm::vec3> samplePoint(const RenderScene& rs, const SolidTest& sol
   const dvec3 n = face.plane.normal;
   const double s = (g.minS + x) * kLuxelTexels, t = (g.minT + y) * kLuxelTexels;
   dvec3 p = frame.point(s, t);
-  if (!insidePolygon(polygon, n, p)) {
-    const dvec3 q = closestOnBoundary(polygon, p);
+  if (const dvec3 q = nearestOnPolygon(polygon, n, p); q != p) {
+    // Off the face: snapped onto its boundary when that is at most a luxel away.
     if (glm::length(glm::dvec2(face.frame.s(q) - s, face.frame.t(q) - t)) > double(kLuxelTexels)) return std::nullopt;
     p = q;
   }

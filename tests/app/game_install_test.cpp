@@ -175,7 +175,9 @@ TEST(GameInstall, ConfigFileRemembersTheInstallAndTheEnvironmentOverridesIt) {
 }
 
 TEST(GameInstall, UnknownGameIsAUsageError) {
-  const CommandResult r = brushtrace("info x.map --game doom");
+  test::TempDir dir;
+  writeText(dir / "room.map", floorMap("Standard", "test.wad", "wall"));
+  const CommandResult r = brushtrace("info " + (dir / "room.map").string() + " --game doom");
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_NE(r.err.find("unknown game 'doom'"), npos) << r.err;
 }

@@ -129,7 +129,8 @@ std::vector<Member> lightMembers() {
           MEMBER(GpuLight, anglescale),    MEMBER(GpuLight, cosInner),   MEMBER(GpuLight, deviance),
           MEMBER(GpuLight, flags),         MEMBER(GpuLight, faithfulScale), MEMBER(GpuLight, dirtScale),
           MEMBER(GpuLight, dirtGain),      MEMBER(GpuLight, dirtOffRadius), MEMBER(GpuLight, dirtOnRadius),
-          MEMBER(GpuLight, skyMaterial)};
+          MEMBER(GpuLight, skyMaterial),   MEMBER(GpuLight, pad0),       MEMBER(GpuLight, pad1),
+          MEMBER(GpuLight, pad2)};
 }
 
 TEST(GlStructLayout, LightsAndSurfaceLightsAsTheShadersReadThem) {
