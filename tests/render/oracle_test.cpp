@@ -12,6 +12,7 @@
 #include "renderer/cpu/faithful.h"
 #include "renderer/cpu/integrator.h"
 #include "scene/parallel_for.h"
+#include "tests/render/oracle_levels.h"
 #include "tests/test_data.h"
 
 #include <fmt/format.h>
@@ -198,14 +199,6 @@ OracleResult compareWithCompiler(const std::filesystem::path& bspPath, const std
   return result;
 }
 
-// The .map each lit .bsp was compiled from (oracle/manifest.json).
-std::filesystem::path sourceMap(const std::filesystem::path& shared, const std::string& bspName) {
-  std::ifstream in(shared / "oracle" / "manifest.json");
-  const nlohmann::json manifest = nlohmann::json::parse(in);
-  for (const auto& entry : manifest)
-    if (entry.value("bsp", "") == bspName) return shared / entry.value("map", "");
-  return {};
-}
 
 // The lit oracle level maps_<name>.bsp against faithful mode on its source .map, with the figures
 // printed to the test log (they are what the closing note reports); nullopt, with the failure
@@ -218,7 +211,7 @@ std::optional<OracleResult> compareLitLevel(const std::filesystem::path& shared,
     ADD_FAILURE() << bspPath << " does not exist";
     return std::nullopt;
   }
-  const std::filesystem::path map = sourceMap(shared, bspName);
+  const std::filesystem::path map = test::oracleSourceMap(shared, bspName);
   if (map.empty()) {
     ADD_FAILURE() << "no manifest entry for " << bspName;
     return std::nullopt;
@@ -241,6 +234,16 @@ TEST_P(OracleLightmaps, FaithfulDirectLightMatchesCompiler) {
   EXPECT_LE(r.medianError, 0.05);
 }
 
+// Every lit oracle level but the two compared apart below.
+std::vector<const char*> luxelCentreLevels() {
+  std::vector<const char*> levels;
+  for (const char* name : test::kLitLevels)
+    if (std::string_view(name) != "ericw-tools_testmaps_q1_light_invalid_delay" &&
+        std::string_view(name) != "librequake_lq1_maps_src_dm_lqdm5")
+      levels.push_back(name);
+  return levels;
+}
+
 INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
                          // deprecated_nobounce (second) sets worldspawn _bounce 1: its rooms are lit by one spotlight
                          // each, aimed at a pillar, and the rest is bounced light (bounce.h; direct light alone was 62.5 %
@@ -250,32 +253,7 @@ INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
                          // OracleLargeLevel below. testsurfacelight (last) has the thinnest margin: 4.8 % (its
                          // _surface lights stand on faces split as qbsp's tree would split them, not on the
                          // compiler's own faces; with those its median is 0.00 %).
-                         ::testing::Values("ericw-tools_testmaps_deprecated_falloff",
-                                           "ericw-tools_testmaps_deprecated_nobounce",
-                                           "ericw-tools_testmaps_deprecated_dirttest2",
-                                           "ericw-tools_testmaps_deprecated_bouncecolorscaletest",
-                                           "ericw-tools_testmaps_deprecated_light_near_wall",
-                                           "ericw-tools_testmaps_deprecated_suntest",
-                                           "ericw-tools_testmaps_deprecated_testminlight",
-                                           "ericw-tools_testmaps_deprecated_testlightonface",
-                                           "ericw-tools_testmaps_q1_surflight_minlight",
-                                           "ericw-tools_testmaps_q1_light_bounce_litwater",
-                                           "ericw-tools_testmaps_q1_light_bounce_noshadow",
-                                           "ericw-tools_testmaps_deprecated_dirttest",
-                                           "ericw-tools_testmaps_q1_light_hlform",
-                                           "ericw-tools_testmaps_q1_light_skip_shadow",
-                                           "ericw-tools_testmaps_q1_light_suntexture",
-                                           "ericw-tools_testmaps_q1_light_surflight_group",
-                                           "ericw-tools_testmaps_q1_light_switchableshadow_selfshadows",
-                                           "ericw-tools_testmaps_q1_litwater_opt_in",
-                                           "ericw-tools_testmaps_q1_light_black",
-                                           "ericw-tools_testmaps_q1_lightignore",
-                                           "ericw-tools_testmaps_q1_light_switchableshadow_target",
-                                           "ericw-tools_testmaps_q1_sunlight",
-                                           "ericw-tools_testmaps_q1_litwater",
-                                           "ericw-tools_testmaps_q1_minlight_nobounce",
-                                           "quake_map_source_e1m1",
-                                           "ericw-tools_testmaps_deprecated_testsurfacelight"),
+                         ::testing::ValuesIn(luxelCentreLevels()),
                          [](const auto& info) {
                            std::string n = info.param;
                            std::replace(n.begin(), n.end(), '-', '_');
@@ -312,7 +290,7 @@ TEST(OracleInvalidDelay, CompilerAndFaithfulModeLightNothing) {
   for (int32_t fi = world.firstFace; fi < world.firstFace + world.faceCount; ++fi)
     EXPECT_LT(bsp.faces[size_t(fi)].lightOffset, 0) << "face " << fi << " is lit";
 
-  const std::filesystem::path map = sourceMap(shared, bspName);
+  const std::filesystem::path map = test::oracleSourceMap(shared, bspName);
   ASSERT_FALSE(map.empty());
   ImportOptions options;
   options.textures.load = false;

@@ -12,6 +12,7 @@
 #include "renderer/cpu/color.h"
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/cpu/lightmap_bake.h"
+#include "tests/render/oracle_levels.h"
 #include "tests/test_data.h"
 
 #include <fmt/format.h>
@@ -152,14 +153,6 @@ private:
   std::vector<CompiledFace> faces_;
 };
 
-// The .map each lit .bsp was compiled from (oracle/manifest.json).
-std::filesystem::path sourceMap(const std::filesystem::path& shared, const std::string& bspName) {
-  std::ifstream in(shared / "oracle" / "manifest.json");
-  const nlohmann::json manifest = nlohmann::json::parse(in);
-  for (const auto& entry : manifest)
-    if (entry.value("bsp", "") == bspName) return shared / entry.value("map", "");
-  return {};
-}
 
 // A camera that looks straight at the centre of a large lit face from in front of it.
 CameraPose faceCamera(const RenderScene& rs, const CompiledFace& face) {
@@ -357,44 +350,13 @@ std::vector<CameraPose> oracleCameras(const Scene& scene, const RenderScene& rs,
   return cameras;
 }
 
-// Every lit oracle level; EveryLitOracleLevelIsListed checks that none under oracle/lit/ is left out.
-const char* const kLitLevels[] = {
-    "ericw-tools_testmaps_deprecated_falloff",
-    "ericw-tools_testmaps_deprecated_nobounce",
-    "ericw-tools_testmaps_deprecated_dirttest2",
-    "ericw-tools_testmaps_deprecated_bouncecolorscaletest",
-    "ericw-tools_testmaps_deprecated_light_near_wall",
-    "ericw-tools_testmaps_deprecated_suntest",
-    "ericw-tools_testmaps_deprecated_testminlight",
-    "ericw-tools_testmaps_deprecated_testlightonface",
-    "ericw-tools_testmaps_q1_surflight_minlight",
-    "ericw-tools_testmaps_q1_light_bounce_litwater",
-    "ericw-tools_testmaps_q1_light_bounce_noshadow",
-    "ericw-tools_testmaps_deprecated_dirttest",
-    "ericw-tools_testmaps_q1_light_hlform",
-    "ericw-tools_testmaps_q1_light_skip_shadow",
-    "ericw-tools_testmaps_q1_light_suntexture",
-    "ericw-tools_testmaps_q1_light_surflight_group",
-    "ericw-tools_testmaps_q1_light_switchableshadow_selfshadows",
-    "ericw-tools_testmaps_q1_litwater_opt_in",
-    "ericw-tools_testmaps_q1_light_black",
-    "ericw-tools_testmaps_q1_lightignore",
-    "ericw-tools_testmaps_q1_light_switchableshadow_target",
-    "ericw-tools_testmaps_q1_sunlight",
-    "ericw-tools_testmaps_q1_litwater",
-    "ericw-tools_testmaps_q1_minlight_nobounce",
-    "quake_map_source_e1m1",
-    "ericw-tools_testmaps_deprecated_testsurfacelight",
-    "ericw-tools_testmaps_q1_light_invalid_delay",
-    "librequake_lq1_maps_src_dm_lqdm5",
-};
 
 class OracleView : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(OracleView, FaithfulPixelsMatchTheCompiledLightmaps) {
   BT_REQUIRE_SHARED(shared);
   const std::string bspName = std::string("maps_") + GetParam() + ".bsp";
-  const std::filesystem::path map = sourceMap(shared, bspName);
+  const std::filesystem::path map = test::oracleSourceMap(shared, bspName);
   ASSERT_FALSE(map.empty()) << "no manifest entry for " << bspName;
   const CompiledLightmaps oracle(shared / "oracle" / "lit" / bspName);
   const Scene scene = importScene(map.string(), ImportOptions{});
@@ -459,11 +421,11 @@ TEST(OracleView, EveryLitOracleLevelIsListed) {
     const std::string file = entry.path().filename().string();
     if (entry.path().extension() != ".bsp" || !file.starts_with("maps_")) continue;
     const std::string name = file.substr(5, file.size() - 9);
-    EXPECT_TRUE(std::find(std::begin(kLitLevels), std::end(kLitLevels), name) != std::end(kLitLevels)) << name;
+    EXPECT_TRUE(std::find(std::begin(test::kLitLevels), std::end(test::kLitLevels), name) != std::end(test::kLitLevels)) << name;
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Lit, OracleView, ::testing::ValuesIn(kLitLevels),
+INSTANTIATE_TEST_SUITE_P(Lit, OracleView, ::testing::ValuesIn(test::kLitLevels),
                          [](const auto& info) {
                            std::string n = info.param;
                            std::replace(n.begin(), n.end(), '-', '_');
