@@ -461,6 +461,15 @@ bool TraceScene::occluded(const Ray& ray) const {
                             : traverse<true, false>(r, nodes_, brushes_, sides_, faces_, any);
 }
 
+std::optional<Hit> TraceScene::anyHit(const Ray& ray) const {
+  Hit any;
+  const RayContext r(ray);
+  const bool found = r.hasZeroComponent ? traverse<true, true>(r, nodes_, brushes_, sides_, faces_, any)
+                                        : traverse<true, false>(r, nodes_, brushes_, sides_, faces_, any);
+  if (!found) return std::nullopt;
+  return any;
+}
+
 glm::vec3 offsetRayOrigin(const glm::vec3& p, const glm::vec3& n) {
   const float magnitude = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
   return p + n * (1.0f / 1024.0f + magnitude * 0x1p-18f);

@@ -98,6 +98,9 @@ public:
   std::optional<Hit> closestHit(const Ray& ray) const;
   // Whether closestHit(ray) would find anything, without looking for the closest.
   bool occluded(const Ray& ray) const;
+  // Some hit with t in (ray.tMin, ray.tMax), the first the traversal meets (not the closest):
+  // what a shadow ray needs when that hit is a blocker.
+  std::optional<Hit> anyHit(const Ray& ray) const;
 
   // Whether p lies inside some brush for which `counts(scene brush index)` is true: strictly, or
   // with `onSurface` also on its boundary. ericw-tools' "point in solid" tests, which move a

@@ -102,6 +102,12 @@ SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray) {
 }
 
 bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode) {
+  // Most shadow rays that are blocked are blocked by any wall on the way: the first hit the
+  // traversal meets settles it. Only a hit the ray may pass (a liquid, a hole, a face that casts
+  // no shadow) needs the walk from hit to hit below, which gives the same answer.
+  const std::optional<Hit> any = rs.tracer.anyHit(ray);
+  if (!any) return false;
+  if (blocksLight(rs.faceFlags[any->face], mode) && !passesThrough(rs, *any, ray)) return true;
   Ray r = ray;
   for (int i = 0; i < kMaxSkips; ++i) {
     const std::optional<Hit> hit = rs.tracer.closestHit(r);
