@@ -191,14 +191,6 @@ Lightmaps layoutLightmaps(const RenderScene& rs, unsigned threads) {
   return layoutLightmaps(rs, faces, threads);
 }
 
-std::optional<glm::vec3> luxelSamplePoint(const RenderScene& rs, const Lightmaps& lm, uint32_t fragment, double x,
-                                          double y) {
-  const std::vector<BrushContents> contents = brushContents(*rs.scene);
-  const Face& face = rs.scene->faces[lm.fragmentFace[fragment]];
-  const SolidTest solid{rs, contents, rs.scene->brushes[face.brush].entity};
-  return samplePoint(rs, solid, face, FaceFrame(face), lm.fragments[fragment], lm.polygons[fragment], x, y);
-}
-
 void bakeLightmaps(const RenderScene& rs, Lightmaps& lm, const LightmapBakeOptions& options) {
   const Scene& scene = *rs.scene;
   const std::vector<BrushContents> contents = brushContents(scene);

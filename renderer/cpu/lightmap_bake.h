@@ -51,13 +51,8 @@ void bakeLightmaps(const RenderScene& rs, Lightmaps& lightmaps, const LightmapBa
 // (a face seen by no such ray, a sliver under half a pixel, is lit at the point itself).
 std::vector<uint32_t> facesSeen(const RenderScene& rs, const Camera& camera, int width, int height, unsigned threads = 0);
 
-// What `render` and `view` do before a faithful image: lay out and bake the faces `camera` sees
+// What `render` does before a faithful image (the viewer does not bake yet): lay out and bake the faces `camera` sees
 // (all lit faces when camera is null) into rs.lightmaps.
 void bakeFaithfulLightmaps(RenderScene& rs, const Camera* camera, int width, int height, const LightmapBakeOptions& options);
-
-// Where the compiler samples luxel (x, y) (in fractional luxels with `extra`) of fragment
-// `fragment`, or nullopt when that point is occluded. Exposed for tests.
-std::optional<glm::vec3> luxelSamplePoint(const RenderScene& rs, const Lightmaps& lightmaps, uint32_t fragment,
-                                          double x, double y);
 
 } // namespace bt
