@@ -206,17 +206,25 @@ int runRender(const RenderOptions& o) {
 
   // Faithful mode shows the compiler's luxels as the game does; `--luxels off` evaluates the
   // light at each pixel's own point ("what the light is" rather than "what the game shows").
+  std::optional<LuxelBakeJob> gpuBake;
   if (settings.integrator.mode == LightingMode::Faithful && output.aov == Aov::Beauty && o.luxels == "on") {
     const Camera camera(pose, width, height);
     LightmapBakeOptions bake;
     bake.extra = o.extra;
     bake.threads = unsigned(o.threads);
-    bakeFaithfulLightmaps(renderScene, &camera, width, height, bake);
+    // The GL backend lights the luxels on the GPU (gl_bake.h); the CPU finds their sample points.
+    if (glContext) {
+      renderScene.lightmaps = layoutFaithfulLightmaps(renderScene, &camera, width, height, bake.threads);
+      gpuBake = luxelBakeJob(renderScene, renderScene.lightmaps, bake);
+    } else {
+      bakeFaithfulLightmaps(renderScene, &camera, width, height, bake);
+    }
   }
 
   const gl::GlRenderParts glParts = aovsOnly ? gl::GlRenderParts::AovsOnly : gl::GlRenderParts::BeautyAndAovs;
-  const RenderImage image = glContext ? gl::renderWithGl(*glContext, renderScene, pose, settings, glPrograms, progress, glParts).image
-                                      : renderCpu(renderScene, Camera(pose, width, height), settings, progress);
+  const RenderImage image =
+      glContext ? gl::renderWithGl(*glContext, renderScene, pose, settings, glPrograms, progress, glParts, gpuBake ? &*gpuBake : nullptr).image
+                : renderCpu(renderScene, Camera(pose, width, height), settings, progress);
   writeImage(o.output, image, output);
   const std::string rendered = aovsOnly ? fmt::format("--aov {}", o.aov) : fmt::format("{} spp, {} lighting", image.samples, o.lighting);
   if (!o.quiet) fmt::print("wrote {} ({}x{}, {}, {})\n", o.output, width, height, rendered,

@@ -335,4 +335,21 @@ static_assert(offsetof(GpuLightmapFragment, firstLuxel) == 16);
 static_assert(offsetof(GpuLightmapFragment, firstEdge) == 20);
 static_assert(offsetof(GpuLightmapFragment, edgeCount) == 24);
 
+// One sample point of faithful mode's bake (renderer/cpu/lightmap_bake.h): where the compiler
+// samples a luxel, found on the CPU, lit by either tracer (shaders/bake.comp). Sample
+// luxel * extra^2 + k is the k-th of luxel's extra x extra points (luxel: its index in the
+// luxels array).
+struct GpuLuxelSample {
+  float position[3]{};
+  uint32_t face = 0;          // scene face: its plane's normal faces the light
+  float faceMinlight[3]{};    // integrator.h faithfulFaceMinlight of the face
+  uint32_t flags = 0;         // kLuxelSample* bits
+};
+inline constexpr uint32_t kLuxelSampleOccluded = 1u; // in solid or off the face: the floors only
+inline constexpr uint32_t kLuxelSampleTwoSided = 2u; // a lit liquid, lit from both sides
+static_assert(sizeof(GpuLuxelSample) == 32);
+static_assert(offsetof(GpuLuxelSample, face) == 12);
+static_assert(offsetof(GpuLuxelSample, faceMinlight) == 16);
+static_assert(offsetof(GpuLuxelSample, flags) == 28);
+
 } // namespace bt

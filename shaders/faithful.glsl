@@ -9,6 +9,25 @@ const float BOUNCE_HOTSPOT_CLAMP = 128.0; // bounce lights: IndirectLightFace's 
 const float BOUNCE_GATE = 0.01;           // a bounce light's share below this in every channel is dropped
 const uint BOUNCE_SHADOW_RAYS = 16u;      // renderer/cpu/integrator.h kBounceShadowRays
 
+// Programs for a level without _deviance (renderer/gl FaithfulFeatures) compile without it.
+#if defined(BT_LIGHTING_PHYSICAL) || defined(BT_FAITHFUL_JITTER)
+const bool JITTERED_LIGHTS = true;
+#else
+const bool JITTERED_LIGHTS = false;
+#endif
+
+// One of ericw-tools' `_samples` jittered copies of a point light: uniform in the cube of
+// half-size `_deviance` (renderer/cpu/integrator.cpp jitteredOrigin). Needs sampling.glsl.
+vec3 jitteredOrigin(GpuLight light, inout Rng rng) {
+  if (!JITTERED_LIGHTS || light.deviance <= 0.0) return light.origin;
+  vec3 u = vec3(rngNext(rng), rngNext(rng), rngNext(rng));
+  return light.origin + light.deviance * (2.0 * u - 1.0);
+}
+
+// The normal the surface turns to light from `toLight`: a lit liquid is lit from both sides
+// (renderer/cpu facingNormal).
+vec3 facingNormal(vec3 n, vec3 toLight, bool twoSided) { return twoSided && dot(n, toLight) < 0.0 ? -n : n; }
+
 float copyDistanceValue(GpuLight light, float dist, float scaledist) {
   float value = light.value;
   if (light.formula == FORMULA_SURFACE_RADIOSITY) {

@@ -50,11 +50,6 @@ const bool SKY_RAYS = true; // physical suns, faithful suns and domes
 #else
 const bool SKY_RAYS = false;
 #endif
-#if defined(BT_LIGHTING_PHYSICAL) || defined(BT_FAITHFUL_JITTER)
-const bool JITTERED_LIGHTS = true;
-#else
-const bool JITTERED_LIGHTS = false;
-#endif
 
 // Physical-mode scale from Quake light units (renderer/cpu/integrator.h).
 const float PHYSICAL_POINT_SCALE = PI * 128.0;
@@ -66,14 +61,6 @@ vec3 emissiveAt(uint face, vec3 p) {
   GpuMaterial m = materials[faces[face].material];
   if ((m.flags & MATERIAL_HAS_EMISSIVE) == 0u) return vec3(0.0);
   return sampleEmissive(m, textureUv(face, p)).rgb;
-}
-
-// One of ericw-tools' `_samples` jittered copies of a point light: uniform in the cube of
-// half-size `_deviance` (renderer/cpu/integrator.cpp jitteredOrigin).
-vec3 jitteredOrigin(GpuLight light, inout Rng rng) {
-  if (!JITTERED_LIGHTS || light.deviance <= 0.0) return light.origin;
-  vec3 u = vec3(rngNext(rng), rngNext(rng), rngNext(rng));
-  return light.origin + light.deviance * (2.0 * u - 1.0);
 }
 
 uint pickEmitter(float u) {
@@ -283,9 +270,6 @@ void faithfulDirtRay(inout Path path, inout Rng rng) {
 }
 #endif
 
-// The normal the surface turns to light from `toLight`: a lit liquid is lit from both sides
-// (renderer/cpu facingNormal).
-vec3 facingNormal(vec3 n, vec3 toLight, bool twoSided) { return twoSided && dot(n, toLight) < 0.0 ? -n : n; }
 
 // One light of renderer/cpu faithfulLightFromGrid at the current surface: false if it adds nothing
 // here, else the ray that decides whether it does.

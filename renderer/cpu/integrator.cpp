@@ -506,41 +506,74 @@ glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLig
                           occlusion, rng, maxShadowRays);
 }
 
-glm::vec3 faithfulLuxelLight(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided,
-                             const glm::vec3& faceMinlight, int softSamples) {
-  // Dirt rays start at the compiler's sample point, which p already is.
-  const float occlusion = faithfulOcclusion(rs, p - n * faithful::kDirtSampleLift, n, rng);
-  const Receiver r{p, n, twoSided};
-  glm::vec3 sum(0.0f), soft(0.0f), localMin(0.0f);
-  static const std::vector<glm::vec3> dome = faithful::skyDomeDirections();
-  auto add = [&](uint32_t index) {
-    const GpuLight& light = rs.lights[index];
-    if (light.type == uint32_t(LightType::Dome)) {
-      // The compiler's own suns, not a random sampling of the dome: the same luxels, not noise.
-      for (glm::vec3 toSky : dome) {
-        if (light.direction.z < 0.0f) toSky.z = -toSky.z;
-        const glm::vec3 facing = facingNormal(r, toSky);
-        const float cosIncidence = glm::dot(toSky, facing);
-        if (cosIncidence <= 0.0f) continue;
-        if (!reachesSky(rs, Ray{offsetPoint(p, facing), 0.0f, toSky, std::numeric_limits<float>::infinity()}, LightingMode::Faithful,
-                        light.skyMaterial))
-          continue;
-        sum += light.value / float(dome.size()) * faithful::angleTerm(cosIncidence, light.anglescale) *
-               faithful::lightDirtFactor(light, occlusion, 0.0f) * light.color;
-      }
-      return;
-    }
-    if (light.type == uint32_t(LightType::Point) && light.deviance <= 0.0f) {
-      addFaithfulLight(rs, light, r, occlusion, rng, sum, localMin);
-      return;
-    }
-    for (int k = 0; k < softSamples; ++k) addFaithfulLight(rs, light, r, occlusion, rng, soft, localMin);
-  };
+namespace {
+
+const std::vector<glm::vec3>& skyDome() {
+  static const std::vector<glm::vec3> dome = faithful::skyDomeDirections(); // a constant table
+  return dome;
+}
+
+// A light the luxel passes sample: one that draws a direction or a position per sample.
+bool softLight(const GpuLight& light) {
+  return (light.type == uint32_t(LightType::Point) || light.type == uint32_t(LightType::Sun)) && light.deviance > 0.0f;
+}
+
+// The lights a luxel at p takes, in the grid's order.
+template <class F> void forLuxelLights(const RenderScene& rs, const glm::vec3& p, const F& f) {
   const LightGrid& grid = rs.lightGrid;
-  for (uint32_t i : grid.fixedLights()) add(i);
-  for (uint32_t i : grid.globalLights()) add(i);
-  for (uint32_t i : grid.cellLights(p)) add(i);
-  return applyFloors(rs, sum + soft / float(std::max(softSamples, 1)), localMin, faceMinlight, occlusion);
+  for (uint32_t i : grid.fixedLights()) f(rs.lights[i]);
+  for (uint32_t i : grid.globalLights()) f(rs.lights[i]);
+  for (uint32_t i : grid.cellLights(p)) f(rs.lights[i]);
+}
+
+// One of the compiler's dome suns, not a random direction: the same luxels, not noise.
+glm::vec3 domeSunLight(const RenderScene& rs, const GpuLight& light, const Receiver& r, glm::vec3 toSky, float occlusion) {
+  if (light.direction.z < 0.0f) toSky.z = -toSky.z;
+  const glm::vec3 facing = facingNormal(r, toSky);
+  const float cosIncidence = glm::dot(toSky, facing);
+  if (cosIncidence <= 0.0f) return glm::vec3(0.0f);
+  if (!reachesSky(rs, Ray{offsetPoint(r.p, facing), 0.0f, toSky, std::numeric_limits<float>::infinity()},
+                  LightingMode::Faithful, light.skyMaterial))
+    return glm::vec3(0.0f);
+  return light.value * faithful::angleTerm(cosIncidence, light.anglescale) *
+         faithful::lightDirtFactor(light, occlusion, 0.0f) * light.color;
+}
+
+} // namespace
+
+int luxelPasses(const RenderScene& rs, int softSamples) {
+  int passes = 1;
+  for (const GpuLight& light : rs.lights) {
+    if (light.type == uint32_t(LightType::Dome)) passes = std::max(passes, int(skyDome().size()));
+    if (softLight(light)) passes = std::max(passes, softSamples);
+  }
+  return passes;
+}
+
+void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, bool twoSided, int pass,
+                       int softSamples, Rng& rng, LuxelSums& sums) {
+  const Receiver r{p, n, twoSided};
+  // Dirt rays start at the compiler's sample point, which p already is.
+  if (pass == 0) sums.occlusion = faithfulOcclusion(rs, p - n * faithful::kDirtSampleLift, n, rng);
+  forLuxelLights(rs, p, [&](const GpuLight& light) {
+    if (light.type == uint32_t(LightType::Dome)) {
+      if (pass < int(skyDome().size())) sums.dome += domeSunLight(rs, light, r, skyDome()[size_t(pass)], sums.occlusion);
+    } else if (softLight(light)) {
+      if (pass < softSamples) addFaithfulLight(rs, light, r, sums.occlusion, rng, sums.soft, sums.localMin);
+    } else if (pass == 0) {
+      addFaithfulLight(rs, light, r, sums.occlusion, rng, sums.fixed, sums.localMin);
+    }
+  });
+}
+
+glm::vec3 faithfulLuxelLight(const RenderScene& rs, const LuxelSums& sums, int passes, int softSamples,
+                             const glm::vec3& faceMinlight) {
+  const int domePasses = std::min(passes, int(skyDome().size()));
+  const int softPasses = std::min(passes, softSamples);
+  glm::vec3 sum = sums.fixed;
+  if (domePasses > 0) sum += sums.dome / float(domePasses);
+  if (softPasses > 0) sum += sums.soft / float(softPasses);
+  return applyFloors(rs, sum, sums.localMin, faceMinlight, sums.occlusion);
 }
 
 glm::vec3 faithfulLuxelFloor(const RenderScene& rs, const glm::vec3& faceMinlight) {

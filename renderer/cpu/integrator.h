@@ -137,12 +137,30 @@ glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLig
                                    bool twoSided, size_t maxShadowRays, std::optional<float> occlusion = std::nullopt);
 
 // The light ericw-tools `light` stores at a luxel whose sample point is p (already lifted off the
-// face as the compiler lifts it: lightmap_bake.h): every light the grid lists, each bounce light
-// shadow-tested, dirt cast from p itself, then the floors (minlight, `faceMinlight`).
-// Soft lights (suns, domes, `_deviance` copies), whose every sample draws another direction or
-// position, are averaged over `softSamples` samples; every other light is exact in one.
-glm::vec3 faithfulLuxelLight(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided,
-                             const glm::vec3& faceMinlight, int softSamples = 1);
+// face as the compiler lifts it: lightmap_bake.h), computed in passes so that both tracers bake
+// it the same way and a bake can show its luxels before the last pass:
+//   pass 0   the dirt occlusion (cast from p itself), then every light of one fixed position
+//            (point lights without `_deviance`, suns without a penumbra, each bounce light);
+//   pass k   the k-th of the compiler's sky dome directions (faithful::skyDomeDirections) and
+//            the k-th of `softSamples` samples of each soft light (a sun's penumbra or
+//            `_deviance` jitter), for k below those counts.
+// Pass k draws only from its own stream (the caller's pixelRng(sample, k)). The light is then
+// the fixed part plus the mean of the dome and soft samples so far, under the floors (minlight,
+// `faceMinlight`): faithfulLuxelLight.
+struct LuxelSums {
+  glm::vec3 fixed{0.0f};
+  float occlusion = 0.0f;
+  glm::vec3 localMin{0.0f}; // delay-4 lights: a floor, not a term
+  glm::vec3 dome{0.0f};     // sum over the passes so far of each pass's dome direction
+  glm::vec3 soft{0.0f};     // sum over the passes so far of each pass's soft samples
+};
+// How many passes a level's luxels take: 1, the dome's directions, or `softSamples`.
+int luxelPasses(const RenderScene& rs, int softSamples);
+void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, bool twoSided, int pass,
+                       int softSamples, Rng& rng, LuxelSums& sums);
+// The light after `passes` passes.
+glm::vec3 faithfulLuxelLight(const RenderScene& rs, const LuxelSums& sums, int passes, int softSamples,
+                             const glm::vec3& faceMinlight);
 // What an occluded luxel (its sample point in solid, or too far off its face) stores: the floors.
 glm::vec3 faithfulLuxelFloor(const RenderScene& rs, const glm::vec3& faceMinlight);
 

@@ -191,34 +191,69 @@ Lightmaps layoutLightmaps(const RenderScene& rs, unsigned threads) {
   return layoutLightmaps(rs, faces, threads);
 }
 
-void bakeLightmaps(const RenderScene& rs, Lightmaps& lm, const LightmapBakeOptions& options) {
+std::vector<GpuLuxelSample> luxelSamples(const RenderScene& rs, const Lightmaps& lm, int extra, unsigned threads) {
   const Scene& scene = *rs.scene;
   const std::vector<BrushContents> contents = brushContents(scene);
-  const int extra = std::clamp(options.extra, 1, 4);
-  const int samples = lightSamples(rs, options);
-  parallelFor(lm.fragments.size(), options.threads, [&](size_t fi) {
+  extra = std::clamp(extra, 1, 4);
+  const uint32_t perLuxel = uint32_t(extra * extra);
+  std::vector<GpuLuxelSample> samples(lm.luxels.size() * perLuxel);
+  parallelFor(lm.fragments.size(), threads, [&](size_t fi) {
     const uint32_t faceIndex = lm.fragmentFace[fi];
     const Face& face = scene.faces[faceIndex];
     const FaceFrame frame(face);
     const GpuLightmapFragment& g = lm.fragments[fi];
-    const std::vector<dvec3>& polygon = lm.polygons[fi];
-    const glm::vec3 n(face.plane.normal);
-    const bool twoSided = rs.faceFlags[faceIndex] & kFaceLiquid;
     const glm::vec3 faceMinlight = faithfulFaceMinlight(rs, faceIndex);
+    const uint32_t twoSided = (rs.faceFlags[faceIndex] & kFaceLiquid) ? kLuxelSampleTwoSided : 0u;
     const SolidTest solid{rs, contents, scene.brushes[face.brush].entity};
     for (uint32_t y = 0; y < g.height; ++y)
-      for (uint32_t x = 0; x < g.width; ++x) {
-        const uint32_t index = y * g.width + x;
-        glm::vec3 light(0.0f);
+      for (uint32_t x = 0; x < g.width; ++x)
         for (int sy = 0; sy < extra; ++sy)
           for (int sx = 0; sx < extra; ++sx) {
             const double ox = -0.5 + (0.5 + sx) / extra, oy = -0.5 + (0.5 + sy) / extra;
-            const std::optional<glm::vec3> p = samplePoint(rs, solid, face, frame, g, polygon, x + ox, y + oy);
-            Rng rng = pixelRng(uint32_t(fi), index * uint32_t(extra * extra) + uint32_t(sy * extra + sx), 0, kBakeSeed);
-            light += p ? faithfulLuxelLight(rs, *p, n, rng, twoSided, faceMinlight, samples) : faithfulLuxelFloor(rs, faceMinlight);
+            const std::optional<glm::vec3> p = samplePoint(rs, solid, face, frame, g, lm.polygons[fi], x + ox, y + oy);
+            GpuLuxelSample& s = samples[(g.firstLuxel + y * g.width + x) * perLuxel + uint32_t(sy * extra + sx)];
+            const glm::vec3 at = p.value_or(glm::vec3(0.0f));
+            for (int a = 0; a < 3; ++a) s.position[a] = at[a], s.faceMinlight[a] = faceMinlight[a];
+            s.face = faceIndex;
+            s.flags = twoSided | (p ? 0u : kLuxelSampleOccluded);
           }
-        lm.luxels[g.firstLuxel + index] = storedLuxel(light / float(extra * extra), rs.world.range);
+  });
+  return samples;
+}
+
+LuxelBakeJob luxelBakeJob(const RenderScene& rs, const Lightmaps& lm, const LightmapBakeOptions& options) {
+  LuxelBakeJob job;
+  const int extra = std::clamp(options.extra, 1, 4);
+  job.samples = luxelSamples(rs, lm, extra, options.threads);
+  job.samplesPerLuxel = uint32_t(extra * extra);
+  job.softSamples = lightSamples(rs, options);
+  job.passes = luxelPasses(rs, job.softSamples);
+  job.seed = kBakeSeed;
+  return job;
+}
+
+void bakeLightmaps(const RenderScene& rs, Lightmaps& lm, const LightmapBakeOptions& options) {
+  const LuxelBakeJob job = luxelBakeJob(rs, lm, options);
+  parallelFor(lm.luxels.size(), options.threads, [&](size_t luxel) {
+    glm::vec3 light(0.0f);
+    for (uint32_t k = 0; k < job.samplesPerLuxel; ++k) {
+      const uint32_t index = uint32_t(luxel) * job.samplesPerLuxel + k;
+      const GpuLuxelSample& s = job.samples[index];
+      const glm::vec3 faceMinlight(s.faceMinlight[0], s.faceMinlight[1], s.faceMinlight[2]);
+      if (s.flags & kLuxelSampleOccluded) {
+        light += faithfulLuxelFloor(rs, faceMinlight);
+        continue;
       }
+      const glm::vec3 p(s.position[0], s.position[1], s.position[2]);
+      const glm::vec3 n(rs.scene->faces[s.face].plane.normal);
+      LuxelSums sums;
+      for (int pass = 0; pass < job.passes; ++pass) {
+        Rng rng = pixelRng(index, uint32_t(pass), 0, job.seed);
+        faithfulLuxelPass(rs, p, n, s.flags & kLuxelSampleTwoSided, pass, job.softSamples, rng, sums);
+      }
+      light += faithfulLuxelLight(rs, sums, job.passes, job.softSamples, faceMinlight);
+    }
+    lm.luxels[luxel] = storedLuxel(light / float(job.samplesPerLuxel), rs.world.range);
   });
 }
 
@@ -242,9 +277,12 @@ std::vector<uint32_t> facesSeen(const RenderScene& rs, const Camera& camera, int
   return faces;
 }
 
+Lightmaps layoutFaithfulLightmaps(const RenderScene& rs, const Camera* camera, int width, int height, unsigned threads) {
+  return camera ? layoutLightmaps(rs, facesSeen(rs, *camera, width, height, threads), threads) : layoutLightmaps(rs, threads);
+}
+
 void bakeFaithfulLightmaps(RenderScene& rs, const Camera* camera, int width, int height, const LightmapBakeOptions& options) {
-  rs.lightmaps = camera ? layoutLightmaps(rs, facesSeen(rs, *camera, width, height, options.threads), options.threads)
-                        : layoutLightmaps(rs, options.threads);
+  rs.lightmaps = layoutFaithfulLightmaps(rs, camera, width, height, options.threads);
   bakeLightmaps(rs, rs.lightmaps, options);
 }
 

@@ -43,6 +43,21 @@ Lightmaps layoutLightmaps(const RenderScene& rs, std::span<const uint32_t> faces
 // ... of every face that has one.
 Lightmaps layoutLightmaps(const RenderScene& rs, unsigned threads = 0);
 
+// Where the compiler samples each luxel of `lightmaps` (extra x extra points each, luxel-major:
+// scene/gpu_structs.h GpuLuxelSample), what both tracers' bakes light.
+std::vector<GpuLuxelSample> luxelSamples(const RenderScene& rs, const Lightmaps& lightmaps, int extra, unsigned threads = 0);
+
+// A bake as both tracers run it: the sample points, and the passes of integrator.h
+// faithfulLuxelPass over them, pass k of sample i drawing from pixelRng(i, k, 0, seed).
+struct LuxelBakeJob {
+  std::vector<GpuLuxelSample> samples;
+  uint32_t samplesPerLuxel = 1; // extra^2
+  int softSamples = 1;
+  int passes = 1;
+  uint32_t seed = 0;
+};
+LuxelBakeJob luxelBakeJob(const RenderScene& rs, const Lightmaps& lightmaps, const LightmapBakeOptions& options = {});
+
 // Every luxel of `lightmaps`, as above. The same result for any number of threads.
 void bakeLightmaps(const RenderScene& rs, Lightmaps& lightmaps, const LightmapBakeOptions& options = {});
 
@@ -50,6 +65,10 @@ void bakeLightmaps(const RenderScene& rs, Lightmaps& lightmaps, const LightmapBa
 // through every pixel's corners and centre, so that a render bakes only what its samples land on
 // (a face seen by no such ray, a sliver under half a pixel, is lit at the point itself).
 std::vector<uint32_t> facesSeen(const RenderScene& rs, const Camera& camera, int width, int height, unsigned threads = 0);
+
+// The layout of the faces `camera` sees (all lit faces when camera is null), luxels zero: what a
+// GPU bake fills.
+Lightmaps layoutFaithfulLightmaps(const RenderScene& rs, const Camera* camera, int width, int height, unsigned threads = 0);
 
 // What `render` does before a faithful image (the viewer does not bake yet): lay out and bake the faces `camera` sees
 // (all lit faces when camera is null) into rs.lightmaps.

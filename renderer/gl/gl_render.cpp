@@ -1,5 +1,6 @@
 #include "renderer/gl/gl_render.h"
 
+#include "renderer/gl/gl_bake.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_error.h"
 #include "renderer/gl/gl_lighting.h"
@@ -34,8 +35,9 @@ GlRenderResult renderWithGl(GlContext& context, const RenderScene& scene, const 
 
 GlRenderResult renderWithGl(GlContext& context, const RenderScene& scene, const CameraPose& pose, const RenderSettings& settings,
                             std::shared_ptr<TracerPrograms> programs, const std::function<void(const RenderProgress&)>& progress,
-                            GlRenderParts parts) {
+                            GlRenderParts parts, const LuxelBakeJob* bake) {
   GlTracer tracer(context, *scene.scene, scene.tracer, std::move(programs), lightingFor(scene));
+  if (bake && parts != GlRenderParts::AovsOnly) GlLightmapBake(tracer, *bake).finish();
   const CameraBasis camera = cameraFrom(pose, settings.width, settings.height);
 
   GlRenderResult result;

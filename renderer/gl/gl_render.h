@@ -3,6 +3,7 @@
 #pragma once
 
 #include "renderer/cpu/cpu_renderer.h"
+#include "renderer/cpu/lightmap_bake.h"
 #include "renderer/cpu/render_scene.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_textures.h"
@@ -41,9 +42,10 @@ std::optional<GlRenderResult> renderWithGl(const RenderScene& scene, const Camer
 GlRenderResult renderWithGl(GlContext& context, const RenderScene& scene, const CameraPose& pose, const RenderSettings& settings,
                             TextureMode textures, const std::function<void(const RenderProgress&)>& progress,
                             GlRenderParts parts = GlRenderParts::BeautyAndAovs);
-// ... and with programs it started building before it imported the level.
+// ... and with programs it started building before it imported the level. With `bake`, faithful
+// mode's luxels of scene.lightmaps (laid out, not lit) are baked on the GPU first (gl_bake.h).
 GlRenderResult renderWithGl(GlContext& context, const RenderScene& scene, const CameraPose& pose, const RenderSettings& settings,
                             std::shared_ptr<TracerPrograms> programs, const std::function<void(const RenderProgress&)>& progress,
-                            GlRenderParts parts = GlRenderParts::BeautyAndAovs);
+                            GlRenderParts parts = GlRenderParts::BeautyAndAovs, const LuxelBakeJob* bake = nullptr);
 
 } // namespace bt::gl

@@ -28,6 +28,7 @@ public:
 
   void bind() const; // to the Binding points and TexelUnits of gl_structs.h
   void setLightmaps(const std::vector<uint32_t>& packed); // kBindingLightmaps; empty: none
+  unsigned lightmapBuffer() const { return lightmaps_; }   // what a GPU bake writes its luxels into
 
 private:
   static constexpr int kBufferCount = 11; // Binding 0..10

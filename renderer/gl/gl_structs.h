@@ -33,6 +33,11 @@ enum Binding : uint32_t {
   kBindingWavefrontPaths = 13,
   kBindingWavefrontEndedCount = 14,
   kBindingLightmaps = 15, // faithful mode's baked luxels, packed (scene/gpu_structs.h; shaders/lightmaps.glsl)
+  // The faithful bake (shaders/bake.comp, gl_bake.h) runs without the wavefront's buffers and
+  // takes their points: drivers need offer only 16 storage blocks to a compute shader.
+  kBindingBakeSamples = 11, // GpuLuxelSample per sample point
+  kBindingBakeSums = 12,    // 4 vec4 per sample point (renderer/cpu LuxelSums)
+  kBindingBakeSkyDome = 13, // vec4 per dome direction (renderer/cpu/faithful.h skyDomeDirections)
 };
 
 // The brushes, slanted-side lists and faces are bvh/trace_scene.h's TraceScene arrays

@@ -323,6 +323,12 @@ void TracerPrograms::startWavefrontTrace() { start(trace_, "wavefront_trace.comp
 
 void TracerPrograms::startAovs() { start(aov_, "aov.comp", shaderDefines(mode_, layout_)); }
 
+ComputeProgram& TracerPrograms::bake(FaithfulFeatures features) {
+  std::unique_ptr<ComputeProgram>& slot = bake_[variantIndex(false, features)];
+  start(slot, "bake.comp", pathDefines(false, features));
+  return finished(slot);
+}
+
 ComputeProgram& TracerPrograms::pathTracer(bool physical, FaithfulFeatures features) {
   startPathTracer(physical, features);
   return finished(pathSlot(physical, features));
@@ -606,6 +612,22 @@ CameraBasis CameraBasis::fromQuakeAngles(const glm::vec3& origin, float pitch, f
 }
 
 void GlTracer::setLightmaps(const std::vector<uint32_t>& packed) { impl_->buffers.setLightmaps(packed); }
+
+void GlTracer::bindLevel() {
+  impl_->setWorld(false, 0);
+  impl_->buffers.bind();
+  impl_->textures.bind();
+}
+
+unsigned GlTracer::lightmapBuffer() const { return impl_->buffers.lightmapBuffer(); }
+
+std::vector<uint32_t> GlTracer::readLightmaps() const {
+  GLint64 bytes = 0;
+  BT_GL(glGetNamedBufferParameteri64v(lightmapBuffer(), GL_BUFFER_SIZE, &bytes));
+  std::vector<uint32_t> data(size_t(bytes) / sizeof(uint32_t));
+  BT_GL(glGetNamedBufferSubData(lightmapBuffer(), 0, GLsizeiptr(data.size() * sizeof(uint32_t)), data.data()));
+  return data;
+}
 
 RayBenchmark GlTracer::benchmarkRays(const CameraBasis& camera, int width, int height, int passes) {
   using Clock = std::chrono::steady_clock;

@@ -193,6 +193,8 @@ public:
   WavefrontKernels wavefront(bool physical, FaithfulFeatures features = {});
   ComputeProgram& aovs();
   ComputeProgram& rayBench();
+  // Faithful mode's light compiler (shaders/bake.comp, gl_bake.h), with the level's features.
+  ComputeProgram& bake(FaithfulFeatures features);
   // PathTracerForm::Auto's choice for the next sample: the wavefront kernels were started and
   // the megakernel is still compiling.
   bool wavefrontWhileCompiling(bool physical, FaithfulFeatures features = {});
@@ -225,7 +227,7 @@ private:
   // faithful with each of the 16 sets); the same for the wavefront form's shade kernels. Its
   // trace kernel serves every mode.
   static constexpr size_t kPathVariants = 17;
-  std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[kPathVariants], trace_, aov_, rayBench_;
+  std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[kPathVariants], bake_[kPathVariants], trace_, aov_, rayBench_;
 };
 
 struct ProgramBuild {
@@ -286,6 +288,12 @@ public:
   // Replaces faithful mode's baked luxels (GlLighting::lightmaps, packed; empty for none): a bake
   // made after the upload (gl_bench, a viewer that bakes as the camera moves).
   void setLightmaps(const std::vector<uint32_t>& packed);
+  // For passes of other kernels over the level (gl_bake.h): binds the world block, the scene's
+  // buffers and textures as the path tracer sees them; the lightmap buffer's GL name; and its
+  // whole packed content, read back (tests).
+  void bindLevel();
+  unsigned lightmapBuffer() const;
+  std::vector<uint32_t> readLightmaps() const;
 
 private:
   struct Impl;

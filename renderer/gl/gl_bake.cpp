@@ -1,0 +1,90 @@
+#include "renderer/gl/gl_bake.h"
+
+#include "renderer/cpu/faithful.h"
+#include "renderer/gl/gl_error.h"
+#include "renderer/gl/gl_program.h"
+#include "renderer/gl/gl_structs.h"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+
+namespace bt::gl {
+
+namespace {
+
+// Items per dispatch: a pass over a whole level is split so that no one dispatch holds the GPU
+// (or llvmpipe's threads) for long.
+constexpr uint32_t kItemsPerDispatch = 1u << 16;
+constexpr uint32_t kGroupSize = 64; // bake.comp: trace.glsl's 8 x 8
+
+GLuint storage(const void* data, size_t bytes) {
+  GLuint buffer = 0;
+  BT_GL(glCreateBuffers(1, &buffer));
+  BT_GL(glNamedBufferStorage(buffer, GLsizeiptr(std::max<size_t>(bytes, 16)), data, data ? 0 : GL_DYNAMIC_STORAGE_BIT));
+  return buffer;
+}
+
+} // namespace
+
+GlLightmapBake::GlLightmapBake(GlTracer& tracer, const LuxelBakeJob& job)
+    : tracer_(tracer),
+      features_(tracer.faithfulFeatures()),
+      sampleCount_(uint32_t(job.samples.size())),
+      luxelCount_(uint32_t(job.samples.size() / std::max(job.samplesPerLuxel, 1u))),
+      samplesPerLuxel_(std::max(job.samplesPerLuxel, 1u)),
+      softSamples_(job.softSamples),
+      passes_(job.passes),
+      seed_(job.seed) {
+  samples_ = storage(job.samples.empty() ? nullptr : job.samples.data(), job.samples.size() * sizeof(GpuLuxelSample));
+  sums_ = storage(nullptr, size_t(sampleCount_) * 4 * sizeof(glm::vec4));
+  std::vector<glm::vec4> dome;
+  for (const glm::vec3& d : faithful::skyDomeDirections()) dome.emplace_back(d, 0.0f);
+  dome_ = storage(dome.data(), dome.size() * sizeof(glm::vec4));
+  tracer_.programs().bake(features_); // built now, not in the middle of the first pass
+}
+
+GlLightmapBake::~GlLightmapBake() {
+  const GLuint buffers[] = {samples_, sums_, dome_};
+  glDeleteBuffers(3, buffers);
+}
+
+void GlLightmapBake::dispatch(int pass, uint32_t items) {
+  ComputeProgram& program = tracer_.programs().bake(features_);
+  const GLuint id = program.id();
+  BT_GL(glProgramUniform1i(id, 2, pass));
+  BT_GL(glProgramUniform1i(id, 3, done_));
+  BT_GL(glProgramUniform1i(id, 4, softSamples_));
+  BT_GL(glProgramUniform1ui(id, 5, samplesPerLuxel_));
+  BT_GL(glProgramUniform1ui(id, 6, seed_));
+  for (uint32_t first = 0; first < items; first += kItemsPerDispatch) {
+    const uint32_t count = std::min(kItemsPerDispatch, items - first);
+    BT_GL(glProgramUniform1ui(id, 0, first));
+    BT_GL(glProgramUniform1ui(id, 1, count));
+    const uint32_t groups = (count + kGroupSize - 1) / kGroupSize;
+    program.dispatch2d(int(groups * 8), 8); // a row of 8 x 8 groups
+  }
+  BT_GL(glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT));
+}
+
+void GlLightmapBake::run(int passes) {
+  if (sampleCount_ == 0) {
+    done_ = passes_;
+    return;
+  }
+  tracer_.bindLevel();
+  BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingBakeSamples, samples_));
+  BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingBakeSums, sums_));
+  BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingBakeSkyDome, dome_));
+  BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingLightmaps, tracer_.lightmapBuffer()));
+  const int last = std::min(passes_, done_ + std::max(passes, 1));
+  for (; done_ < last; ++done_) dispatch(done_, sampleCount_);
+  dispatch(-1, luxelCount_); // the resolve: the luxels of the passes done
+}
+
+void GlLightmapBake::finish() {
+  run(passes_ - done_);
+  BT_GL(glFinish());
+}
+
+} // namespace bt::gl

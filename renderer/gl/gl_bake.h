@@ -1,0 +1,39 @@
+// Faithful mode's light compiler on the GPU (shaders/bake.comp): the CPU reference's bake
+// (renderer/cpu/lightmap_bake.h bakeLightmaps), pass by pass, into the tracer's lightmap buffer,
+// so the path tracer shows the luxels as they sharpen. The CPU finds the sample points
+// (LuxelBakeJob); the GPU lights them.
+#pragma once
+
+#include "renderer/cpu/lightmap_bake.h"
+#include "renderer/gl/gl_tracer.h"
+
+namespace bt::gl {
+
+class GlLightmapBake {
+public:
+  // `tracer` holds the job's layout already (GlLighting::lightmaps, or setLightmaps with
+  // packLightmaps of it); its luxels are overwritten. The tracer's context must be current.
+  GlLightmapBake(GlTracer& tracer, const LuxelBakeJob& job);
+  ~GlLightmapBake();
+  GlLightmapBake(const GlLightmapBake&) = delete;
+  GlLightmapBake& operator=(const GlLightmapBake&) = delete;
+
+  // Runs up to `passes` more passes over every sample, then stores the luxels they give so far.
+  void run(int passes);
+  // Every pass at once, then waits for the GPU.
+  void finish();
+  int passesDone() const { return done_; }
+  bool done() const { return done_ >= passes_; }
+
+private:
+  void dispatch(int pass, uint32_t items);
+
+  GlTracer& tracer_;
+  FaithfulFeatures features_;
+  unsigned samples_ = 0, sums_ = 0, dome_ = 0;
+  uint32_t sampleCount_ = 0, luxelCount_ = 0, samplesPerLuxel_ = 1;
+  int softSamples_ = 1, passes_ = 1, done_ = 0;
+  uint32_t seed_ = 0;
+};
+
+} // namespace bt::gl

@@ -1,0 +1,227 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#ifdef BT_TEXTURES_BINDLESS
+#extension GL_ARB_bindless_texture : require
+#endif
+// Faithful mode's light compiler on the GPU: renderer/cpu/lightmap_bake.cpp bakeLightmaps with
+// integrator.cpp faithfulLuxelPass and faithfulLuxelLight, the CPU reference, drawing the same
+// random numbers in the same order. The CPU finds the sample points (lightmap_bake.h
+// luxelSamples); each dispatch runs one pass over a range of them, adding to their sums, and a
+// resolve dispatch turns the sums so far into the stored luxels that lightmaps.glsl shows, so
+// the luxels sharpen pass by pass.
+#include "scene_buffers.glsl"
+#include "textures.glsl"
+#include "trace.glsl"
+#include "visible.glsl"
+#include "sampling.glsl"
+#include "faithful.glsl"
+#include "light_select.glsl"
+
+// Workgroups of trace.glsl's 8 x 8 invocations, one item each, in a row of groups (gl_bake.cpp).
+// scene/gpu_structs.h GpuLuxelSample, byte for byte.
+struct GpuLuxelSample {
+  vec3 position;     // offset 0
+  uint face;         // offset 12
+  vec3 faceMinlight; // offset 16
+  uint flags;        // offset 28
+};                   // 32 bytes
+const uint LUXEL_SAMPLE_OCCLUDED = 1u;  // kLuxelSampleOccluded
+const uint LUXEL_SAMPLE_TWO_SIDED = 2u; // kLuxelSampleTwoSided
+
+// Binding numbers: renderer/gl/gl_structs.h kBindingBake*.
+layout(std430, binding = 11) readonly buffer LuxelSamples { GpuLuxelSample luxelSamples[]; };
+// Per sample, renderer/cpu LuxelSums as 4 vec4: (fixed, occlusion), (localMin, 0), (dome, 0), (soft, 0).
+layout(std430, binding = 12) buffer LuxelSumBuffer { vec4 luxelSums[]; };
+layout(std430, binding = 13) readonly buffer SkyDome { vec4 skyDome[]; }; // faithful.h skyDomeDirections
+layout(std430, binding = 15) buffer Lightmaps { uint lightmapData[]; };   // scene/gpu_structs.h layout
+
+layout(location = 0) uniform uint firstItem;   // first sample (a pass) or luxel (the resolve)
+layout(location = 1) uniform uint itemCount;
+layout(location = 2) uniform int pass;         // the pass to run; -1: resolve
+layout(location = 3) uniform int passesDone;   // for the resolve
+layout(location = 4) uniform int softSamples;
+layout(location = 5) uniform uint samplesPerLuxel;
+layout(location = 6) uniform uint bakeSeed;    // lightmap_bake.cpp kBakeSeed
+
+float dirtFactorAt(GpuLight light, float occlusion, float dist) {
+#ifdef BT_FAITHFUL_DIRT
+  return lightDirtFactor(light, occlusion, dist);
+#else
+  return 1.0;
+#endif
+}
+
+bool softLight(GpuLight light) { return (light.type == LIGHT_POINT || light.type == LIGHT_SUN) && light.deviance > 0.0; }
+
+// renderer/cpu reachesSky with a sun's _suntexture (skyMaterial: material + 1, 0 = any sky).
+bool reachesSkyOf(vec3 origin, vec3 dir, uint skyMaterial) {
+  float tMin = 0.0;
+  for (int i = 0; i < MAX_SKIPS; ++i) {
+    Hit hit = traceRay(makeTraceRay(origin, dir, tMin, INFINITY), false, 0u);
+    if (hit.face == NO_FACE) return skyMaterial == 0u;
+    uint flags = faceFlags[hit.face];
+    bool through = hit.inside || maskedOut(hit.face, origin + dir * hit.t);
+    if (!through && (flags & FACE_SKY) != 0u) return skyMaterial == 0u || faces[hit.face].material + 1u == skyMaterial;
+    if (!through && blocksLight(flags, false)) return false;
+    tMin = hit.t + SKIP_STEP;
+  }
+  return false;
+}
+
+#ifdef BT_FAITHFUL_DIRT
+// renderer/cpu dirtRayDistance.
+float dirtRayDistance(vec3 origin, vec3 dir, float depth) {
+  float tMin = 0.0, lastT = depth;
+  for (int i = 0; i < MAX_SKIPS; ++i) {
+    Hit hit = traceRay(makeTraceRay(origin, dir, tMin, depth), false, 0u);
+    if (hit.face == NO_FACE) return depth;
+    uint flags = faceFlags[hit.face];
+    bool through = hit.inside || maskedOut(hit.face, origin + dir * hit.t);
+    if (!through && (flags & FACE_SKY) != 0u) return depth;
+    if (!through && blocksLight(flags, false)) return min(hit.t, depth);
+    lastT = hit.t;
+    tMin = hit.t + SKIP_STEP;
+  }
+  return lastT;
+}
+
+// renderer/cpu faithfulOcclusion, cast from the sample point p.
+float occlusionAt(vec3 p, vec3 n, inout Rng rng) {
+  float cone = world.dirtAngle, sum = 0.0;
+  for (int i = 0; i < DIRT_RAYS; ++i) {
+    vec3 v;
+    if (world.dirtMode == 1u) {
+      float u0 = rngNext(rng), u1 = rngNext(rng);
+      v = dirtRandomVector(u0, u1, cone);
+    } else {
+      v = dirtPatternVector(i, cone);
+    }
+    sum += dirtRayDistance(p, dirtRayDirection(n, v), world.dirtDepth);
+  }
+  return 1.0 - sum / (float(DIRT_RAYS) * world.dirtDepth);
+}
+#endif
+
+// renderer/cpu addFaithfulLight: one light's share at the sample, into sum or localMin.
+void addLight(GpuLight light, vec3 p, vec3 normal, bool twoSided, float occlusion, inout Rng rng, inout vec3 sum,
+              inout vec3 localMin) {
+  if (light.type == LIGHT_POINT) {
+    vec3 pos = jitteredOrigin(light, rng);
+    vec3 d = pos - p;
+    float dist = length(d);
+    if (dist <= 0.0) return;
+    vec3 toLight = d / dist;
+    vec3 n = facingNormal(normal, toLight, twoSided);
+    float value = pointLightValue(light, n, toLight, dist, world.scaledist) * dirtFactorAt(light, occlusion, dist);
+    if (value == 0.0) return;
+    vec3 origin = offsetPoint(p, n);
+    vec3 toLightFromOrigin = pos - origin;
+    float len = length(toLightFromOrigin);
+    if (occluded(origin, toLightFromOrigin / len, len, false)) return;
+    if (light.formula == FORMULA_LOCAL_MIN) localMin = max(localMin, value * light.color);
+    else sum += value * light.color;
+  }
+#ifdef BT_FAITHFUL_SKY
+  else if (light.type == LIGHT_SUN) {
+    vec3 toSun = -light.direction;
+    if (light.deviance > 0.0) toSun = sampleCone(toSun, light.deviance, rngNext2(rng));
+    vec3 n = facingNormal(normal, toSun, twoSided);
+    float value = sunValue(light, -toSun, n) * dirtFactorAt(light, occlusion, 0.0);
+    if (value == 0.0) return;
+    if (!reachesSkyOf(offsetPoint(p, n), toSun, light.skyMaterial)) return;
+    sum += value * light.color;
+  }
+#endif
+}
+
+// renderer/cpu domeSunLight: one of the compiler's dome suns.
+vec3 domeSunLight(GpuLight light, vec3 p, vec3 normal, bool twoSided, vec3 toSky, float occlusion) {
+  if (light.direction.z < 0.0) toSky.z = -toSky.z;
+  vec3 facing = facingNormal(normal, toSky, twoSided);
+  float cosIncidence = dot(toSky, facing);
+  if (cosIncidence <= 0.0) return vec3(0.0);
+  if (!reachesSkyOf(offsetPoint(p, facing), toSky, light.skyMaterial)) return vec3(0.0);
+  return light.value * angleTerm(cosIncidence, light.anglescale) * dirtFactorAt(light, occlusion, 0.0) * light.color;
+}
+
+// renderer/cpu faithfulLuxelPass for sample `index`.
+void runPass(uint index) {
+  GpuLuxelSample s = luxelSamples[index];
+  if ((s.flags & LUXEL_SAMPLE_OCCLUDED) != 0u) return;
+  vec3 p = s.position, n = faces[s.face].plane.xyz;
+  bool twoSided = (s.flags & LUXEL_SAMPLE_TWO_SIDED) != 0u;
+  Rng rng = pixelRng(index, uint(pass), 0u, bakeSeed);
+  vec4 fixedSum = pass == 0 ? vec4(0.0) : luxelSums[4u * index];
+  vec3 localMin = pass == 0 ? vec3(0.0) : luxelSums[4u * index + 1u].xyz;
+  vec3 dome = pass == 0 ? vec3(0.0) : luxelSums[4u * index + 2u].xyz;
+  vec3 soft = pass == 0 ? vec3(0.0) : luxelSums[4u * index + 3u].xyz;
+#ifdef BT_FAITHFUL_DIRT
+  if (pass == 0)
+    fixedSum.w = occlusionAt(p - n * DIRT_SAMPLE_LIFT, n, rng);
+#endif
+  float occlusion = fixedSum.w;
+  uint cell = lightGridCell(p);
+  uint count = faithfulLightCount(cell);
+  for (uint i = 0u; i < count; ++i) {
+    GpuLight light = lights[faithfulLight(cell, i)];
+    if (light.type == LIGHT_DOME) {
+#ifdef BT_FAITHFUL_SKY
+      if (pass < int(skyDome.length())) dome += domeSunLight(light, p, n, twoSided, skyDome[pass].xyz, occlusion);
+#endif
+    } else if (softLight(light)) {
+      if (pass < softSamples) addLight(light, p, n, twoSided, occlusion, rng, soft, localMin);
+    } else if (pass == 0) {
+      vec3 sum = fixedSum.xyz;
+      addLight(light, p, n, twoSided, occlusion, rng, sum, localMin);
+      fixedSum.xyz = sum;
+    }
+  }
+  luxelSums[4u * index] = fixedSum;
+  luxelSums[4u * index + 1u] = vec4(localMin, 0.0);
+  luxelSums[4u * index + 2u] = vec4(dome, 0.0);
+  luxelSums[4u * index + 3u] = vec4(soft, 0.0);
+}
+
+// renderer/cpu applyFloors.
+vec3 applyFloors(vec3 sum, vec3 localMin, vec3 faceMinlight, float occlusion) {
+  float minlightDirt = 1.0;
+#ifdef BT_FAITHFUL_DIRT
+  if (world.minlightDirt != 0u) minlightDirt = 1.0 - dirtAmount(occlusion, world.dirtGain, world.dirtScale);
+#endif
+  return max(max(sum, localMin), max(world.minlight, faceMinlight) * minlightDirt);
+}
+
+// renderer/cpu faithfulLuxelLight of sample `index` after passesDone passes.
+vec3 sampleLight(uint index) {
+  GpuLuxelSample s = luxelSamples[index];
+  if ((s.flags & LUXEL_SAMPLE_OCCLUDED) != 0u) return applyFloors(vec3(0.0), vec3(0.0), s.faceMinlight, 0.0);
+  vec4 fixedSum = luxelSums[4u * index];
+  vec3 sum = fixedSum.xyz;
+  int domePasses = min(passesDone, int(skyDome.length()));
+  int softPasses = min(passesDone, softSamples);
+  if (domePasses > 0) sum += luxelSums[4u * index + 2u].xyz / float(domePasses);
+  if (softPasses > 0) sum += luxelSums[4u * index + 3u].xyz / float(softPasses);
+  return applyFloors(sum, luxelSums[4u * index + 1u].xyz, s.faceMinlight, fixedSum.w);
+}
+
+// lightmap_bake.cpp storedLuxel and lightmaps.h packLuxel.
+uint storedLuxel(vec3 light, float range) {
+  vec3 stored = max(light * range, vec3(0.0));
+  float peak = max(stored.x, max(stored.y, stored.z));
+  if (peak > 255.0) stored *= 255.0 / peak;
+  uvec3 b = uvec3(clamp(floor(stored), 0.0, 255.0));
+  return b.x | (b.y << 8) | (b.z << 16) | (255u << 24);
+}
+
+void main() {
+  uint offset = gl_WorkGroupID.x * 64u + gl_LocalInvocationIndex;
+  if (offset >= itemCount) return;
+  uint item = firstItem + offset;
+  if (pass >= 0) {
+    runPass(item);
+    return;
+  }
+  vec3 light = vec3(0.0);
+  for (uint k = 0u; k < samplesPerLuxel; ++k) light += sampleLight(item * samplesPerLuxel + k);
+  lightmapData[lightmapData[2] + item] = storedLuxel(light / float(samplesPerLuxel), world.range);
+}

@@ -1,0 +1,95 @@
+// Faithful mode's light compiler on the GPU (renderer/gl/gl_bake.h) against the CPU's
+// (renderer/cpu/lightmap_bake.h): the same sample points, passes and random streams, so the
+// same stored luxels up to float rounding.
+#include "renderer/cpu/lightmap_bake.h"
+#include "renderer/cpu/render_scene.h"
+#include "renderer/gl/gl_bake.h"
+#include "renderer/gl/gl_lighting.h"
+#include "tests/gl/test_scenes.h"
+#include "tests/render/box_scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+namespace {
+
+using namespace bt;
+using namespace bt::gl;
+
+// A courtyard open to a sky brush, a pillar in it: every kind of light the bake passes treat
+// differently (a plain point light, a `_deviance` light, a sun with a penumbra, the sky dome),
+// with dirt, so every branch of bake.comp runs.
+Scene courtyard() {
+  test::BoxSceneBuilder b;
+  b.material("wall", 150, 140, 120);
+  b.material("sky1", 40, 60, 200);
+  b.box({-128, -128, -16}, {128, 128, 0}, "wall");
+  b.box({-144, -128, 0}, {-128, 128, 192}, "wall");
+  b.box({128, -128, 0}, {144, 128, 192}, "wall");
+  b.box({-128, -144, 0}, {128, -128, 192}, "wall");
+  b.box({-128, 128, 0}, {128, 144, 192}, "wall");
+  b.box({-144, -144, 192}, {144, 144, 208}, "sky1");
+  b.box({-16, -16, 0}, {16, 16, 96}, "wall");
+  b.worldKey("_sunlight", "150");
+  b.worldKey("_sun_mangle", "30 -60 0");
+  b.worldKey("_sunlight_penumbra", "4");
+  b.worldKey("_sunlight2", "60");
+  b.worldKey("_dirt", "1");
+  b.entity({{"classname", "light"}, {"origin", "-64 -64 48"}, {"light", "250"}});
+  b.entity({{"classname", "light"}, {"origin", "64 48 64"}, {"light", "200"}, {"_deviance", "12"}, {"_samples", "4"},
+            {"_color", "1 0.6 0.3"}});
+  return b.build();
+}
+
+// The luxels of the packed buffer (scene/gpu_structs.h layout: its word 2 is where they start).
+std::vector<uint32_t> packedLuxels(const std::vector<uint32_t>& packed, size_t count) {
+  return {packed.begin() + packed[2], packed.begin() + packed[2] + std::ptrdiff_t(count)};
+}
+
+int largestChannelDifference(uint32_t a, uint32_t b) {
+  int largest = 0;
+  for (int shift = 0; shift < 24; shift += 8)
+    largest = std::max(largest, std::abs(int((a >> shift) & 255u) - int((b >> shift) & 255u)));
+  return largest;
+}
+
+TEST(GlBake, GpuBakeStoresTheCpuLuxels) {
+  const Scene scene = courtyard();
+  Diagnostics diagnostics;
+  RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+  LightmapBakeOptions options;
+  options.samples = 8; // soft lights' samples: fewer than the compiler's 64, for llvmpipe's sake
+  Lightmaps cpu = layoutLightmaps(rs);
+  ASSERT_GT(cpu.luxels.size(), 1000u);
+  const LuxelBakeJob job = luxelBakeJob(rs, cpu, options);
+  ASSERT_EQ(job.passes, 65) << "the sky dome's directions, one a pass";
+  bakeLightmaps(rs, cpu, options);
+
+  GlContext& context = test::sharedGlContext();
+  rs.lightmaps = cpu;
+  std::fill(rs.lightmaps.luxels.begin(), rs.lightmaps.luxels.end(), 0u); // the GPU must fill them
+  GlTracer tracer(context, scene, rs.tracer, TextureMode::Arrays, lightingFor(rs));
+  GlLightmapBake bake(tracer, job);
+  bake.run(1);
+  EXPECT_EQ(bake.passesDone(), 1);
+  EXPECT_FALSE(bake.done());
+  bake.finish();
+  EXPECT_TRUE(bake.done());
+  const std::vector<uint32_t> gpu = packedLuxels(tracer.readLightmaps(), cpu.luxels.size());
+
+  // Float rounding (a shader may fuse multiply-adds) moves a luxel across a byte's edge, rarely
+  // across a shadow's: within 1 everywhere but a handful of luxels.
+  size_t equal = 0, off = 0, lit = 0;
+  for (size_t i = 0; i < gpu.size(); ++i) {
+    const int d = largestChannelDifference(gpu[i], cpu.luxels[i]);
+    equal += d == 0;
+    off += d > 1;
+    lit += (cpu.luxels[i] & 0xffffffu) != 0;
+  }
+  EXPECT_GE(double(equal), 0.97 * double(gpu.size()));
+  EXPECT_LE(double(off), 0.002 * double(gpu.size()) + 1.0);
+  EXPECT_GT(double(lit), 0.7 * double(gpu.size())) << "a dark bake proves nothing (the walls' outer faces are dark)";
+}
+
+} // namespace
