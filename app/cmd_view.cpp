@@ -17,6 +17,7 @@ struct ViewCommand {
   ImageSize size{1280, 720};
   std::string textures = "auto";
   std::string lighting = "faithful";
+  std::string luxels = "on";
 };
 
 int runView(ViewCommand& cmd) {
@@ -27,6 +28,7 @@ int runView(ViewCommand& cmd) {
   o.camera = cmd.camera;
   o.textures = *gl::parseTextureMode(cmd.textures); // --gl-textures admits only the names it parses
   o.lighting = cmd.lighting == "physical" ? LightingMode::Physical : LightingMode::Faithful;
+  o.luxels = cmd.luxels == "on";
 
   Viewer viewer(o);
   while (viewer.frame()) {
@@ -45,6 +47,13 @@ void addViewCommand(CLI::App& app, int& exitCode) {
   addSizeOption(*view, cmd->size, "Window size");
   addCameraOption(*view, cmd->camera, "Start camera \"(x y z) pitch yaw roll\" or \"setpos x y z pitch yaw roll\" (roll is ignored: the viewer has none)");
   view->add_option("--lighting", cmd->lighting, "faithful|physical")->check(CLI::IsMember({"faithful", "physical"}))->capture_default_str();
+  view->add_option("--luxels", cmd->luxels,
+                   "Faithful lighting: on = the compiler's luxels, baked on the GPU as the first frames show, off = the light at each pixel")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
+  view->add_option("--extra", cmd->viewer.bake.extra, "Faithful luxels: sample points per luxel along each axis (light -extra: 1, 2 or 4)")
+      ->check(CLI::IsMember({1, 2, 4}))
+      ->capture_default_str();
   view->add_option("--bounces", cmd->viewer.bounces, "Bounces in physical mode")->check(CLI::Range(0, 64))->capture_default_str();
   view->add_option("--gl-textures", cmd->textures, "bindless|arrays|auto")
       ->check(CLI::IsMember({"auto", "bindless", "arrays"}))

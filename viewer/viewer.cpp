@@ -3,6 +3,7 @@
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/cpu/image_output.h"
 #include "renderer/cpu/render_scene.h"
+#include "renderer/gl/gl_bake.h"
 #include "renderer/gl/gl_error.h"
 #include "renderer/gl/gl_level.h"
 #include "renderer/gl/gl_progressive.h"
@@ -28,6 +29,9 @@ namespace bt {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+
+// GPU time a frame gives faithful mode's bake while it runs.
+constexpr double kBakeMillisecondsPerFrame = 30.0;
 
 namespace {
 
@@ -57,6 +61,9 @@ struct Viewer::Impl {
   std::shared_ptr<gl::TracerPrograms> programs;
   FileWatcher watcher;
   std::unique_ptr<gl::GlLevel> level;
+  // Faithful mode's luxels, baked on the GPU a little every frame from the second on (gl_bake.h);
+  // reads level->render, so it goes before the level does.
+  std::unique_ptr<gl::ProgressiveLevelBake> bake;
   FlyCamera camera;
   ViewMode mode = ViewMode::Beauty;
   LightingMode lighting;
@@ -86,6 +93,7 @@ struct Viewer::Impl {
     // loads, from when its lights say which program it needs (gl::loadGlLevel).
     programs = std::make_shared<gl::TracerPrograms>(window.context(), options.textures);
     level = loadLevel(options, window.context(), programs, lighting == LightingMode::Physical);
+    startBake();
     watchLevelFiles();
     const CameraPose pose = options.camera ? *options.camera : defaultCameraPose(level->scene);
     camera = FlyCamera(glm::dvec3(pose.origin), pose.pitch, pose.yaw);
@@ -114,7 +122,20 @@ struct Viewer::Impl {
     ImGui_ImplOpenGL3_Shutdown();
     ImGui_ImplGlfw_Shutdown();
     ImGui::DestroyContext();
+    bake.reset();
     level.reset(); // GL objects before the window's context
+  }
+
+  void startBake() {
+    bake.reset();
+    if (options.luxels) bake = std::make_unique<gl::ProgressiveLevelBake>(level->render, options.bake);
+  }
+
+  // Faithful mode shows the compiler's luxels once they are baked; until then the light at each
+  // pixel's point. A frame's share of the bake keeps frames coming while it runs.
+  void bakeSome() {
+    if (!bake || bake->done() || lighting != LightingMode::Faithful || full->samples() == 0) return;
+    if (bake->step(*level->tracer, kBakeMillisecondsPerFrame)) restart();
   }
 
   CameraPose pose() const {
@@ -190,7 +211,10 @@ struct Viewer::Impl {
   void reloadIfSaved() {
     if (watcher.poll().empty()) return;
     try {
-      level = loadLevel(options, window.context(), programs, lighting == LightingMode::Physical);
+      std::unique_ptr<gl::GlLevel> next = loadLevel(options, window.context(), programs, lighting == LightingMode::Physical);
+      bake.reset();
+      level = std::move(next);
+      startBake();
       error.clear();
       ++reloads;
       restart();
@@ -224,6 +248,7 @@ struct Viewer::Impl {
       showAov();
       return;
     }
+    if (!moving) bakeSome();
     gl::ProgressiveImage& image = moving ? *preview : *full;
     if (moving) preview->restart();
     if (image.samples() < options.maxSamples) {
@@ -286,6 +311,8 @@ struct Viewer::Impl {
     ImGui::Text("%s | %s lighting | %s", modeName, lighting == LightingMode::Faithful ? "faithful" : "physical",
                 gl::toString(level->tracer->textureMode()));
     ImGui::Text("spp %d | %.2f Msamples/s", full->samples(), samplesPerSecond * 1e-6);
+    if (bake && lighting == LightingMode::Faithful && !bake->done())
+      ImGui::Text("baking luxels: pass %d of %d", bake->passesDone(), std::max(bake->passes(), 1));
     ImGui::Text("camera %s", formatCameraPose(pose()).c_str());
     ImGui::TextDisabled("RMB look, WASD move, Q/E down/up, wheel fwd, RMB+wheel speed (%.0f)", camera.speed);
     ImGui::TextDisabled("1 beauty 2 albedo 3 normal | 4 faithful 5 physical | F12 screenshot");
@@ -361,6 +388,7 @@ void Viewer::setLighting(LightingMode mode) { impl_->setLighting(mode); }
 fs::path Viewer::screenshot() { return impl_->takeScreenshot(); }
 int Viewer::samples() const { return impl_->full->samples(); }
 int Viewer::reloads() const { return impl_->reloads; }
+bool Viewer::luxelsBaked() const { return !impl_->bake || impl_->bake->done(); }
 int Viewer::glDebugErrors() const { return impl_->window.context().debugErrorCount(); }
 const std::string& Viewer::error() const { return impl_->error; }
 CameraPose Viewer::camera() const { return impl_->pose(); }

@@ -11,6 +11,7 @@
 #include "importers/import.h"
 #include "renderer/cpu/camera.h"
 #include "renderer/cpu/integrator.h"
+#include "renderer/cpu/lightmap_bake.h"
 #include "renderer/gl/gl_textures.h"
 
 #include <filesystem>
@@ -35,6 +36,8 @@ struct ViewerOptions {
   std::filesystem::path screenshotDir = ".";
   int maxSamples = 4096; // refinement stops here; the window stays responsive
   float exposureEv = 0.0f; // as render's --exposure: on screen, in screenshots and in the EXR
+  bool luxels = true;      // faithful mode: the compiler's luxels, baked on the GPU (render's --luxels)
+  LightmapBakeOptions bake; // their --extra
 };
 
 class Viewer {
@@ -57,6 +60,7 @@ public:
 
   int samples() const;         // accumulated samples per pixel of the current view
   int reloads() const;         // successful reloads since the window opened
+  bool luxelsBaked() const;    // faithful mode's bake of the current level is done (true without one)
   int glDebugErrors() const;   // GL errors the driver's debug output reported (BT_GL_DEBUG=1)
   const std::string& error() const; // the last reload error, empty when the scene is current
   CameraPose camera() const;

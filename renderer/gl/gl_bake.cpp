@@ -8,6 +8,7 @@
 #include <epoxy/gl.h>
 
 #include <algorithm>
+#include <chrono>
 
 namespace bt::gl {
 
@@ -85,6 +86,37 @@ void GlLightmapBake::run(int passes) {
 void GlLightmapBake::finish() {
   run(passes_ - done_);
   BT_GL(glFinish());
+}
+
+ProgressiveLevelBake::ProgressiveLevelBake(const RenderScene& rs, LightmapBakeOptions options)
+    : worker_(std::async(std::launch::async, [&rs, options] {
+        Work w;
+        w.layout = layoutLightmaps(rs, options.threads);
+        w.job = luxelBakeJob(rs, w.layout, options);
+        return w;
+      })) {}
+
+ProgressiveLevelBake::~ProgressiveLevelBake() {
+  if (worker_.valid()) worker_.wait();
+}
+
+bool ProgressiveLevelBake::step(GlTracer& tracer, double milliseconds) {
+  if (!bake_) {
+    if (!worker_.valid() || worker_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return false;
+    const Work work = worker_.get();
+    if (work.layout.empty()) return false; // nothing to bake: the level stays lit at each point
+    tracer.setLightmaps(packLightmaps(work.layout));
+    bake_ = std::make_unique<GlLightmapBake>(tracer, work.job);
+    passes_ = work.job.passes;
+  }
+  if (bake_->done()) return false;
+  const auto start = std::chrono::steady_clock::now();
+  do {
+    bake_->run(1);
+    BT_GL(glFinish()); // to know what the pass cost
+  } while (!bake_->done() &&
+           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() < milliseconds);
+  return true;
 }
 
 } // namespace bt::gl

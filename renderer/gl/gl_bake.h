@@ -7,6 +7,9 @@
 #include "renderer/cpu/lightmap_bake.h"
 #include "renderer/gl/gl_tracer.h"
 
+#include <future>
+#include <memory>
+
 namespace bt::gl {
 
 class GlLightmapBake {
@@ -34,6 +37,35 @@ private:
   uint32_t sampleCount_ = 0, luxelCount_ = 0, samplesPerLuxel_ = 1;
   int softSamples_ = 1, passes_ = 1, done_ = 0;
   uint32_t seed_ = 0;
+};
+
+// A whole level's bake for an interactive front end (the viewer): the CPU's layout and sample
+// points on a worker thread, so the first frames come at once (lit at each pixel's point), then
+// the GPU's passes a few each frame, the luxels sharpening as they come.
+class ProgressiveLevelBake {
+public:
+  // Starts the worker on `rs`, which must outlive this object and stay unchanged.
+  ProgressiveLevelBake(const RenderScene& rs, LightmapBakeOptions options = {});
+  ~ProgressiveLevelBake(); // waits for the worker
+  ProgressiveLevelBake(const ProgressiveLevelBake&) = delete;
+  ProgressiveLevelBake& operator=(const ProgressiveLevelBake&) = delete;
+
+  // One frame's share, about `milliseconds` of GPU work (at least one pass): once the worker is
+  // done, uploads the layout into `tracer` and runs passes. True when the luxels `tracer` shows
+  // changed, so the caller restarts its accumulation.
+  bool step(GlTracer& tracer, double milliseconds);
+  bool done() const { return bake_ && bake_->done(); }
+  int passesDone() const { return bake_ ? bake_->passesDone() : 0; }
+  int passes() const { return passes_; }
+
+private:
+  struct Work {
+    Lightmaps layout;
+    LuxelBakeJob job;
+  };
+  std::future<Work> worker_;
+  std::unique_ptr<GlLightmapBake> bake_;
+  int passes_ = 0;
 };
 
 } // namespace bt::gl

@@ -2,6 +2,11 @@
 // with BT_GL_DEBUG=1; without a display it exits with kSkipped, which ctest reports as skipped.
 #include "viewer/viewer.h"
 
+#include "renderer/cpu/cpu_renderer.h"
+#include "renderer/cpu/image_output.h"
+#include "renderer/cpu/lightmap_bake.h"
+#include "renderer/cpu/render_scene.h"
+
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
@@ -190,6 +195,38 @@ TEST_F(ViewerWindowTest, ReloadsWhenATextureImageOrCompanionMapTheMapUsesIsSaved
   // Companion maps are watched as well as the base image.
   writeTexture(dir_ / "textures/wall_norm.png", 127);
   ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.reloads() == 2; })) << "the companion map's save was not noticed";
+  EXPECT_EQ(viewer.glDebugErrors(), 0);
+}
+
+// Faithful mode bakes the level's luxels on the GPU over the first frames, then shows what
+// `render` shows: the same stream of samples from the same luxels, so after the bake the
+// viewer's image equals the CPU's render of the same camera and sample count.
+TEST_F(ViewerWindowTest, BakesTheLuxelsThenShowsWhatRenderShows) {
+  ViewerOptions o = options();
+  Viewer viewer(o);
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.luxelsBaked() && viewer.samples() >= 2; })) << "the bake never ended";
+  const Viewer::DisplayImage shown = viewer.displayed();
+
+  const Scene scene = importScene(o.map, o.import);
+  Diagnostics diagnostics;
+  RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+  rs.lightmaps = layoutLightmaps(rs);
+  bakeLightmaps(rs, rs.lightmaps);
+  RenderSettings settings;
+  settings.width = o.width;
+  settings.height = o.height;
+  settings.spp = viewer.samples();
+  const RenderImage cpu = renderCpu(rs, Camera(viewer.camera(), o.width, o.height), settings);
+  const fs::path png = dir_ / "cpu.png";
+  writeImage(png.string(), cpu, OutputSettings{});
+  const int worst = largestDifference(png, shown);
+  EXPECT_LE(worst, 2) << "the viewer's baked luxels are not render's";
+
+  // The comparison can tell: luxels of a light 5 % brighter are another picture.
+  for (GpuLight& light : rs.lights) light.color *= 1.05f;
+  bakeLightmaps(rs, rs.lightmaps);
+  writeImage(png.string(), renderCpu(rs, Camera(viewer.camera(), o.width, o.height), settings), OutputSettings{});
+  EXPECT_GT(largestDifference(png, shown), 4) << "a 5 % brighter light looks the same: the test cannot tell";
   EXPECT_EQ(viewer.glDebugErrors(), 0);
 }
 
