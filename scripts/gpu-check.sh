@@ -24,6 +24,7 @@ build=${BUILD_DIR:-$repo/build}
 shared=${BRUSHTRACE_SHARED_DIR:-$repo/../shared}
 bundle=$device_repo/.device-bundle
 map_rel=maps/librequake/lq1/maps/src/e4/lq_e4m3.map # the largest shared map (3.9 MB, Quake standard)
+many_lights_rel=maps/librequake/lq1/maps/src/dm/lqdm5.map # 2,598 lights, a sun and a sky dome
 
 cmake --build "$build" -j2 --target gl_tests gl_parity_tests_portable gl_bench bench_bvh_generated
 
@@ -35,7 +36,7 @@ cp "$build/tests/gl/gl_tests" "$build/tests/gl/gl_parity_tests_portable" "$build
   "$build/bench/bench_bvh_generated" "$tmp/"
 for binary in "${binaries[@]}"; do strip --strip-debug "$tmp/$binary"; done
 # The shared data the benchmark and the parity tests read, at the same paths under shared/.
-for rel in "$map_rel" maps/librequake/lq1/maps/src/misc/slope.map maps/librequake/texture-wads maps/ericw-tools/testmaps; do
+for rel in "$map_rel" "$many_lights_rel" maps/librequake/lq1/maps/src/misc/slope.map maps/librequake/texture-wads maps/ericw-tools/testmaps; do
   mkdir -p "$tmp/shared/$(dirname "$rel")"
   cp -r "$shared/$rel" "$tmp/shared/$rel"
 done
@@ -79,6 +80,15 @@ if [ "\${1:-}" = quick ]; then
   for lighting in faithful physical; do
     echo "== gl_bench $map_rel, bindless, \$lighting, cold"
     __GL_SHADER_DISK_CACHE=0 ./gl_bench shared/$map_rel 1280x720 bindless \$lighting 1 2>&1 | tee -a \$out/bench_quick.log
+  done
+  exit 0
+fi
+# "run-on-device.sh bake": faithful mode's GPU bake of both levels (the camera's faces and the
+# whole level), and frames from its luxels.
+if [ "\${1:-}" = bake ]; then
+  for rel in $map_rel $many_lights_rel; do
+    echo "== gl_bench \$rel, bindless, faithful"
+    ./gl_bench shared/\$rel 1280x720 bindless faithful 1 2>&1 | grep -E 'faithful|first image' | tee -a \$out/bench_bake.log
   done
   exit 0
 fi

@@ -53,73 +53,75 @@ float dirtFactorAt(GpuLight light, float occlusion, float dist) {
 
 bool softLight(GpuLight light) { return (light.type == LIGHT_POINT || light.type == LIGHT_SUN) && light.deviance > 0.0; }
 
-// renderer/cpu reachesSky with a sun's _suntexture (skyMaterial: material + 1, 0 = any sky).
-bool reachesSkyOf(vec3 origin, vec3 dir, uint skyMaterial) {
-  float tMin = 0.0;
-  for (int i = 0; i < MAX_SKIPS; ++i) {
-    Hit hit = traceRay(makeTraceRay(origin, dir, tMin, INFINITY), false, 0u);
-    if (hit.face == NO_FACE) return skyMaterial == 0u;
-    uint flags = faceFlags[hit.face];
-    bool through = hit.inside || maskedOut(hit.face, origin + dir * hit.t);
-    if (!through && (flags & FACE_SKY) != 0u) return skyMaterial == 0u || faces[hit.face].material + 1u == skyMaterial;
-    if (!through && blocksLight(flags, false)) return false;
-    tMin = hit.t + SKIP_STEP;
-  }
-  return false;
-}
+// The program's one traversal: NVIDIA inlines every call site into a full copy of it, and a copy
+// per kind of ray took its compile from ~1 s to ~7 s (H100). Kinds of query, as renderer/cpu:
+const uint QUERY_SHADOW = 0u; // occluded(): 1 when no face that blocks light lies before tMax, else 0
+const uint QUERY_SKY = 1u;    // reachesSky() with a sun's _suntexture (skyMaterial: material + 1, 0 any): 1 or 0
+const uint QUERY_DIRT = 2u;   // dirtRayDistance(): how far the ray gets, at most tMax
 
-#ifdef BT_FAITHFUL_DIRT
-// renderer/cpu dirtRayDistance.
-float dirtRayDistance(vec3 origin, vec3 dir, float depth) {
-  float tMin = 0.0, lastT = depth;
+float query(uint kind, vec3 origin, vec3 dir, float tMax, uint skyMaterial) {
+  if (kind == QUERY_SHADOW)
+    return traceRay(makeTraceRay(origin, dir, 0.0, tMax), true, lightPassFlags(false)).face == NO_FACE ? 1.0 : 0.0;
+  float tMin = 0.0, lastT = tMax;
   for (int i = 0; i < MAX_SKIPS; ++i) {
-    Hit hit = traceRay(makeTraceRay(origin, dir, tMin, depth), false, 0u);
-    if (hit.face == NO_FACE) return depth;
+    Hit hit = traceRay(makeTraceRay(origin, dir, tMin, tMax), false, 0u);
+    if (hit.face == NO_FACE) return kind == QUERY_SKY ? float(skyMaterial == 0u) : tMax;
     uint flags = faceFlags[hit.face];
     bool through = hit.inside || maskedOut(hit.face, origin + dir * hit.t);
-    if (!through && (flags & FACE_SKY) != 0u) return depth;
-    if (!through && blocksLight(flags, false)) return min(hit.t, depth);
+    if (!through && (flags & FACE_SKY) != 0u)
+      return kind == QUERY_SKY ? float(skyMaterial == 0u || faces[hit.face].material + 1u == skyMaterial) : tMax;
+    if (!through && blocksLight(flags, false)) return kind == QUERY_SKY ? 0.0 : min(hit.t, tMax);
     lastT = hit.t;
     tMin = hit.t + SKIP_STEP;
   }
-  return lastT;
+  return kind == QUERY_SKY ? 0.0 : lastT;
 }
 
-// renderer/cpu faithfulOcclusion, cast from the sample point p.
-float occlusionAt(vec3 p, vec3 n, inout Rng rng) {
-  float cone = world.dirtAngle, sum = 0.0;
-  for (int i = 0; i < DIRT_RAYS; ++i) {
-    vec3 v;
-    if (world.dirtMode == 1u) {
-      float u0 = rngNext(rng), u1 = rngNext(rng);
-      v = dirtRandomVector(u0, u1, cone);
-    } else {
-      v = dirtPatternVector(i, cone);
-    }
-    sum += dirtRayDistance(p, dirtRayDirection(n, v), world.dirtDepth);
+// Where a light's share goes (renderer/cpu LuxelSums).
+const uint TO_FIXED = 0u, TO_LOCAL_MIN = 1u, TO_DOME = 2u, TO_SOFT = 3u, TO_DIRT = 4u;
+
+// One item of a pass: a ray, and what its answer adds where.
+struct Item {
+  bool needed;
+  uint kind;
+  vec3 origin, dir;
+  float tMax;
+  uint skyMaterial;
+  vec3 gain;
+  uint target;
+};
+
+// renderer/cpu addFaithfulLight and domeSunLight up to their ray, in `pass` (the passes split the
+// lights as faithfulLuxelPass does).
+Item lightItem(GpuLight light, vec3 p, vec3 normal, bool twoSided, float occlusion, inout Rng rng) {
+  Item it = Item(false, QUERY_SHADOW, vec3(0.0), vec3(0.0), 0.0, 0u, vec3(0.0), TO_FIXED);
+  bool soft = softLight(light);
+  if (light.type == LIGHT_DOME) {
+    if (pass >= int(skyDome.length())) return it;
+    vec3 toSky = skyDome[pass].xyz;
+    if (light.direction.z < 0.0) toSky.z = -toSky.z;
+    vec3 facing = facingNormal(normal, toSky, twoSided);
+    float cosIncidence = dot(toSky, facing);
+    if (cosIncidence <= 0.0) return it;
+    it = Item(true, QUERY_SKY, offsetPoint(p, facing), toSky, INFINITY, light.skyMaterial,
+              light.value * angleTerm(cosIncidence, light.anglescale) * dirtFactorAt(light, occlusion, 0.0) * light.color, TO_DOME);
+    return it;
   }
-  return 1.0 - sum / (float(DIRT_RAYS) * world.dirtDepth);
-}
-#endif
-
-// renderer/cpu addFaithfulLight: one light's share at the sample, into sum or localMin.
-void addLight(GpuLight light, vec3 p, vec3 normal, bool twoSided, float occlusion, inout Rng rng, inout vec3 sum,
-              inout vec3 localMin) {
+  if (soft ? pass >= softSamples : pass != 0) return it;
   if (light.type == LIGHT_POINT) {
     vec3 pos = jitteredOrigin(light, rng);
     vec3 d = pos - p;
     float dist = length(d);
-    if (dist <= 0.0) return;
+    if (dist <= 0.0) return it;
     vec3 toLight = d / dist;
     vec3 n = facingNormal(normal, toLight, twoSided);
     float value = pointLightValue(light, n, toLight, dist, world.scaledist) * dirtFactorAt(light, occlusion, dist);
-    if (value == 0.0) return;
+    if (value == 0.0) return it;
     vec3 origin = offsetPoint(p, n);
     vec3 toLightFromOrigin = pos - origin;
     float len = length(toLightFromOrigin);
-    if (occluded(origin, toLightFromOrigin / len, len, false)) return;
-    if (light.formula == FORMULA_LOCAL_MIN) localMin = max(localMin, value * light.color);
-    else sum += value * light.color;
+    uint target = light.formula == FORMULA_LOCAL_MIN ? TO_LOCAL_MIN : soft ? TO_SOFT : TO_FIXED;
+    it = Item(true, QUERY_SHADOW, origin, toLightFromOrigin / len, len, 0u, value * light.color, target);
   }
 #ifdef BT_FAITHFUL_SKY
   else if (light.type == LIGHT_SUN) {
@@ -127,24 +129,15 @@ void addLight(GpuLight light, vec3 p, vec3 normal, bool twoSided, float occlusio
     if (light.deviance > 0.0) toSun = sampleCone(toSun, light.deviance, rngNext2(rng));
     vec3 n = facingNormal(normal, toSun, twoSided);
     float value = sunValue(light, -toSun, n) * dirtFactorAt(light, occlusion, 0.0);
-    if (value == 0.0) return;
-    if (!reachesSkyOf(offsetPoint(p, n), toSun, light.skyMaterial)) return;
-    sum += value * light.color;
+    if (value == 0.0) return it;
+    it = Item(true, QUERY_SKY, offsetPoint(p, n), toSun, INFINITY, light.skyMaterial, value * light.color, soft ? TO_SOFT : TO_FIXED);
   }
 #endif
+  return it;
 }
 
-// renderer/cpu domeSunLight: one of the compiler's dome suns.
-vec3 domeSunLight(GpuLight light, vec3 p, vec3 normal, bool twoSided, vec3 toSky, float occlusion) {
-  if (light.direction.z < 0.0) toSky.z = -toSky.z;
-  vec3 facing = facingNormal(normal, toSky, twoSided);
-  float cosIncidence = dot(toSky, facing);
-  if (cosIncidence <= 0.0) return vec3(0.0);
-  if (!reachesSkyOf(offsetPoint(p, facing), toSky, light.skyMaterial)) return vec3(0.0);
-  return light.value * angleTerm(cosIncidence, light.anglescale) * dirtFactorAt(light, occlusion, 0.0) * light.color;
-}
-
-// renderer/cpu faithfulLuxelPass for sample `index`.
+// renderer/cpu faithfulLuxelPass for sample `index`: pass 0's dirt rays, then the lights, one
+// item at a time through the one query.
 void runPass(uint index) {
   GpuLuxelSample s = luxelSamples[index];
   if ((s.flags & LUXEL_SAMPLE_OCCLUDED) != 0u) return;
@@ -155,27 +148,42 @@ void runPass(uint index) {
   vec3 localMin = pass == 0 ? vec3(0.0) : luxelSums[4u * index + 1u].xyz;
   vec3 dome = pass == 0 ? vec3(0.0) : luxelSums[4u * index + 2u].xyz;
   vec3 soft = pass == 0 ? vec3(0.0) : luxelSums[4u * index + 3u].xyz;
-#ifdef BT_FAITHFUL_DIRT
-  if (pass == 0)
-    fixedSum.w = occlusionAt(p - n * DIRT_SAMPLE_LIFT, n, rng);
-#endif
-  float occlusion = fixedSum.w;
   uint cell = lightGridCell(p);
-  uint count = faithfulLightCount(cell);
-  for (uint i = 0u; i < count; ++i) {
-    GpuLight light = lights[faithfulLight(cell, i)];
-    if (light.type == LIGHT_DOME) {
-#ifdef BT_FAITHFUL_SKY
-      if (pass < int(skyDome.length())) dome += domeSunLight(light, p, n, twoSided, skyDome[pass].xyz, occlusion);
+  // After pass 0 only soft lights and domes take part: the fixed list's, unless point lights jitter.
+  uint lightCount = pass == 0 || JITTERED_LIGHTS ? faithfulLightCount(cell) : lightGrid.fixedCount;
+  uint dirtRays = 0u;
+#ifdef BT_FAITHFUL_DIRT
+  if (pass == 0) dirtRays = uint(DIRT_RAYS);
 #endif
-    } else if (softLight(light)) {
-      if (pass < softSamples) addLight(light, p, n, twoSided, occlusion, rng, soft, localMin);
-    } else if (pass == 0) {
-      vec3 sum = fixedSum.xyz;
-      addLight(light, p, n, twoSided, occlusion, rng, sum, localMin);
-      fixedSum.xyz = sum;
+  float dirtSum = 0.0;
+  for (uint k = 0u; k < dirtRays + lightCount; ++k) {
+    Item it;
+    if (k < dirtRays) {
+#ifdef BT_FAITHFUL_DIRT
+      vec3 v;
+      if (world.dirtMode == 1u) {
+        float u0 = rngNext(rng), u1 = rngNext(rng);
+        v = dirtRandomVector(u0, u1, world.dirtAngle);
+      } else {
+        v = dirtPatternVector(int(k), world.dirtAngle);
+      }
+      it = Item(true, QUERY_DIRT, p, dirtRayDirection(n, v), world.dirtDepth, 0u, vec3(0.0), TO_DIRT);
+#endif
+    } else {
+      if (k == dirtRays && dirtRays > 0u) fixedSum.w = 1.0 - dirtSum / (float(dirtRays) * world.dirtDepth);
+      it = lightItem(lights[faithfulLight(cell, k - dirtRays)], p, n, twoSided, fixedSum.w, rng);
+    }
+    if (!it.needed) continue;
+    float answer = query(it.kind, it.origin, it.dir, it.tMax, it.skyMaterial);
+    if (it.target == TO_DIRT) dirtSum += answer;
+    else if (answer > 0.0) {
+      if (it.target == TO_FIXED) fixedSum.xyz += it.gain;
+      else if (it.target == TO_LOCAL_MIN) localMin = max(localMin, it.gain);
+      else if (it.target == TO_DOME) dome += it.gain;
+      else soft += it.gain;
     }
   }
+  if (lightCount == 0u && dirtRays > 0u) fixedSum.w = 1.0 - dirtSum / (float(dirtRays) * world.dirtDepth);
   luxelSums[4u * index] = fixedSum;
   luxelSums[4u * index + 1u] = vec4(localMin, 0.0);
   luxelSums[4u * index + 2u] = vec4(dome, 0.0);

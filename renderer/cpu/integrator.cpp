@@ -518,10 +518,12 @@ bool softLight(const GpuLight& light) {
   return (light.type == uint32_t(LightType::Point) || light.type == uint32_t(LightType::Sun)) && light.deviance > 0.0f;
 }
 
-// The lights a luxel at p takes, in the grid's order.
-template <class F> void forLuxelLights(const RenderScene& rs, const glm::vec3& p, const F& f) {
+// The lights a luxel at p takes in `pass`, in the grid's order. After pass 0 only soft lights
+// and domes take part: those of the fixed list (suns, domes), unless point lights jitter.
+template <class F> void forLuxelLights(const RenderScene& rs, const glm::vec3& p, int pass, const F& f) {
   const LightGrid& grid = rs.lightGrid;
   for (uint32_t i : grid.fixedLights()) f(rs.lights[i]);
+  if (pass > 0 && !rs.lightKinds.jitter) return;
   for (uint32_t i : grid.globalLights()) f(rs.lights[i]);
   for (uint32_t i : grid.cellLights(p)) f(rs.lights[i]);
 }
@@ -555,7 +557,7 @@ void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec
   const Receiver r{p, n, twoSided};
   // Dirt rays start at the compiler's sample point, which p already is.
   if (pass == 0) sums.occlusion = faithfulOcclusion(rs, p - n * faithful::kDirtSampleLift, n, rng);
-  forLuxelLights(rs, p, [&](const GpuLight& light) {
+  forLuxelLights(rs, p, pass, [&](const GpuLight& light) {
     if (light.type == uint32_t(LightType::Dome)) {
       if (pass < int(skyDome().size())) sums.dome += domeSunLight(rs, light, r, skyDome()[size_t(pass)], sums.occlusion);
     } else if (softLight(light)) {

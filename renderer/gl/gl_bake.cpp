@@ -102,6 +102,8 @@ ProgressiveLevelBake::~ProgressiveLevelBake() {
 
 bool ProgressiveLevelBake::step(GlTracer& tracer, double milliseconds) {
   if (!bake_) {
+    // The program compiles on the driver's threads meanwhile (seconds on a GPU from cold).
+    if (!tracer.programs().bakeReady(tracer.faithfulFeatures())) return false;
     if (!worker_.valid() || worker_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return false;
     const Work work = worker_.get();
     if (work.layout.empty()) return false; // nothing to bake: the level stays lit at each point

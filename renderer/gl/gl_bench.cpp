@@ -4,6 +4,7 @@
 
 #include "renderer/cpu/camera.h"
 #include "renderer/cpu/render_scene.h"
+#include "renderer/gl/gl_bake.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_level.h"
 #include "renderer/gl/gl_render.h"
@@ -24,6 +25,28 @@ double secondsSince(Clock::time_point start) { return std::chrono::duration<doub
 } // namespace
 
 namespace {
+
+// Faithful mode's bake on the GPU (gl_bake.h) of `what`: the layout and sample points on the
+// CPU, then every pass on the GPU (the program built first, timed apart).
+void benchGpuBake(gl::GlTracer& tracer, const RenderScene& rs, const Camera* camera, const GlBenchSettings& s, const char* what) {
+  const auto start = Clock::now();
+  const Lightmaps layout = layoutFaithfulLightmaps(rs, camera, s.width, s.height);
+  const double layoutSeconds = secondsSince(start);
+  const auto samplesStart = Clock::now();
+  const LuxelBakeJob job = luxelBakeJob(rs, layout);
+  const double samplesSeconds = secondsSince(samplesStart);
+  tracer.setLightmaps(packLightmaps(layout));
+  const auto buildStart = Clock::now();
+  gl::GlLightmapBake bake(tracer, job);
+  const double buildSeconds = secondsSince(buildStart);
+  const auto gpuStart = Clock::now();
+  bake.finish();
+  const double gpuSeconds = secondsSince(gpuStart);
+  fmt::print("faithful bake on the GPU, {}: {} luxels, {} passes; CPU layout {:.3f} s + sample points {:.3f} s, GPU passes {:.3f} s "
+             "(program build {:.2f} s)\n",
+             what, layout.luxels.size(), job.passes, layoutSeconds, samplesSeconds, gpuSeconds, buildSeconds);
+  tracer.setLightmaps({});
+}
 
 // Faithful mode as `render` shows it: the faces the camera sees baked on the CPU (timed), then
 // frames that each look up the luxels: what a camera move costs once the bake is done.
@@ -48,6 +71,8 @@ void benchBakedLuxels(gl::GlTracer& tracer, RenderScene& rs, const CameraPose& p
              s.width, s.height, image.samples, seconds);
   rs.lightmaps = {};
   tracer.setLightmaps({});
+  benchGpuBake(tracer, rs, &cpuCamera, s, "the camera's faces");
+  benchGpuBake(tracer, rs, nullptr, s, "the whole level");
 }
 
 } // namespace

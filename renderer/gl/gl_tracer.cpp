@@ -323,10 +323,18 @@ void TracerPrograms::startWavefrontTrace() { start(trace_, "wavefront_trace.comp
 
 void TracerPrograms::startAovs() { start(aov_, "aov.comp", shaderDefines(mode_, layout_)); }
 
+void TracerPrograms::startBake(FaithfulFeatures features) {
+  start(bake_[variantIndex(false, features)], "bake.comp", pathDefines(false, features));
+}
+
+bool TracerPrograms::bakeReady(FaithfulFeatures features) {
+  startBake(features);
+  return bake_[variantIndex(false, features)]->ready();
+}
+
 ComputeProgram& TracerPrograms::bake(FaithfulFeatures features) {
-  std::unique_ptr<ComputeProgram>& slot = bake_[variantIndex(false, features)];
-  start(slot, "bake.comp", pathDefines(false, features));
-  return finished(slot);
+  startBake(features);
+  return finished(bake_[variantIndex(false, features)]);
 }
 
 ComputeProgram& TracerPrograms::pathTracer(bool physical, FaithfulFeatures features) {

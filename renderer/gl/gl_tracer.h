@@ -193,7 +193,10 @@ public:
   WavefrontKernels wavefront(bool physical, FaithfulFeatures features = {});
   ComputeProgram& aovs();
   ComputeProgram& rayBench();
-  // Faithful mode's light compiler (shaders/bake.comp, gl_bake.h), with the level's features.
+  // Faithful mode's light compiler (shaders/bake.comp, gl_bake.h), with the level's features:
+  // started, whether the driver has finished it, and finished.
+  void startBake(FaithfulFeatures features);
+  bool bakeReady(FaithfulFeatures features);
   ComputeProgram& bake(FaithfulFeatures features);
   // PathTracerForm::Auto's choice for the next sample: the wavefront kernels were started and
   // the megakernel is still compiling.
