@@ -6,7 +6,7 @@
 // Faithful mode's light compiler on the GPU: renderer/cpu/lightmap_bake.cpp bakeLightmaps with
 // integrator.cpp faithfulLuxelPass and faithfulLuxelLight, the CPU reference, drawing the same
 // random numbers in the same order. The CPU finds the sample points (lightmap_bake.h
-// luxelSamples); each dispatch runs one pass over a range of them, adding to their sums, and a
+// luxelSamples); each dispatch runs some passes over a range of them, adding to their sums, and a
 // resolve dispatch turns the sums so far into the stored luxels that lightmaps.glsl shows, so
 // the luxels sharpen pass by pass.
 #include "scene_buffers.glsl"
@@ -37,7 +37,9 @@ layout(std430, binding = 15) buffer Lightmaps { uint lightmapData[]; };   // sce
 
 layout(location = 0) uniform uint firstItem;   // first sample (a pass) or luxel (the resolve)
 layout(location = 1) uniform uint itemCount;
-layout(location = 2) uniform int pass;         // the pass to run; -1: resolve
+layout(location = 2) uniform int firstPass;    // the first pass to run; -1: resolve
+layout(location = 7) uniform int passCount;    // passes to run, one after the other in each invocation
+int pass;                                      // the pass runPasses is in
 layout(location = 3) uniform int passesDone;   // for the resolve
 layout(location = 4) uniform int softSamples;
 layout(location = 5) uniform uint samplesPerLuxel;
@@ -136,54 +138,56 @@ Item lightItem(GpuLight light, vec3 p, vec3 normal, bool twoSided, float occlusi
   return it;
 }
 
-// renderer/cpu faithfulLuxelPass for sample `index`: pass 0's dirt rays, then the lights, one
-// item at a time through the one query.
-void runPass(uint index) {
+// renderer/cpu faithfulLuxelPass for sample `index`, passes firstPass .. + passCount: pass 0's
+// dirt rays, then the lights, one item at a time through the one query.
+void runPasses(uint index) {
   GpuLuxelSample s = luxelSamples[index];
   if ((s.flags & LUXEL_SAMPLE_OCCLUDED) != 0u) return;
   vec3 p = s.position, n = faces[s.face].plane.xyz;
   bool twoSided = (s.flags & LUXEL_SAMPLE_TWO_SIDED) != 0u;
-  Rng rng = pixelRng(index, uint(pass), 0u, bakeSeed);
-  vec4 fixedSum = pass == 0 ? vec4(0.0) : luxelSums[4u * index];
-  vec3 localMin = pass == 0 ? vec3(0.0) : luxelSums[4u * index + 1u].xyz;
-  vec3 dome = pass == 0 ? vec3(0.0) : luxelSums[4u * index + 2u].xyz;
-  vec3 soft = pass == 0 ? vec3(0.0) : luxelSums[4u * index + 3u].xyz;
+  vec4 fixedSum = firstPass == 0 ? vec4(0.0) : luxelSums[4u * index];
+  vec3 localMin = firstPass == 0 ? vec3(0.0) : luxelSums[4u * index + 1u].xyz;
+  vec3 dome = firstPass == 0 ? vec3(0.0) : luxelSums[4u * index + 2u].xyz;
+  vec3 soft = firstPass == 0 ? vec3(0.0) : luxelSums[4u * index + 3u].xyz;
   uint cell = lightGridCell(p);
-  // After pass 0 only soft lights and domes take part: the fixed list's, unless point lights jitter.
-  uint lightCount = pass == 0 || JITTERED_LIGHTS ? faithfulLightCount(cell) : lightGrid.fixedCount;
-  uint dirtRays = 0u;
+  for (pass = firstPass; pass < firstPass + passCount; ++pass) {
+    Rng rng = pixelRng(index, uint(pass), 0u, bakeSeed);
+    // After pass 0 only soft lights and domes take part: the fixed list's, unless point lights jitter.
+    uint lightCount = pass == 0 || JITTERED_LIGHTS ? faithfulLightCount(cell) : lightGrid.fixedCount;
+    uint dirtRays = 0u;
 #ifdef BT_FAITHFUL_DIRT
-  if (pass == 0) dirtRays = uint(DIRT_RAYS);
+    if (pass == 0) dirtRays = uint(DIRT_RAYS);
 #endif
-  float dirtSum = 0.0;
-  for (uint k = 0u; k < dirtRays + lightCount; ++k) {
-    Item it;
-    if (k < dirtRays) {
+    float dirtSum = 0.0;
+    for (uint k = 0u; k < dirtRays + lightCount; ++k) {
+      Item it;
+      if (k < dirtRays) {
 #ifdef BT_FAITHFUL_DIRT
-      vec3 v;
-      if (world.dirtMode == 1u) {
-        float u0 = rngNext(rng), u1 = rngNext(rng);
-        v = dirtRandomVector(u0, u1, world.dirtAngle);
+        vec3 v;
+        if (world.dirtMode == 1u) {
+          float u0 = rngNext(rng), u1 = rngNext(rng);
+          v = dirtRandomVector(u0, u1, world.dirtAngle);
+        } else {
+          v = dirtPatternVector(int(k), world.dirtAngle);
+        }
+        it = Item(true, QUERY_DIRT, p, dirtRayDirection(n, v), world.dirtDepth, 0u, vec3(0.0), TO_DIRT);
+#endif
       } else {
-        v = dirtPatternVector(int(k), world.dirtAngle);
+        if (k == dirtRays && dirtRays > 0u) fixedSum.w = 1.0 - dirtSum / (float(dirtRays) * world.dirtDepth);
+        it = lightItem(lights[faithfulLight(cell, k - dirtRays)], p, n, twoSided, fixedSum.w, rng);
       }
-      it = Item(true, QUERY_DIRT, p, dirtRayDirection(n, v), world.dirtDepth, 0u, vec3(0.0), TO_DIRT);
-#endif
-    } else {
-      if (k == dirtRays && dirtRays > 0u) fixedSum.w = 1.0 - dirtSum / (float(dirtRays) * world.dirtDepth);
-      it = lightItem(lights[faithfulLight(cell, k - dirtRays)], p, n, twoSided, fixedSum.w, rng);
+      if (!it.needed) continue;
+      float answer = query(it.kind, it.origin, it.dir, it.tMax, it.skyMaterial);
+      if (it.target == TO_DIRT) dirtSum += answer;
+      else if (answer > 0.0) {
+        if (it.target == TO_FIXED) fixedSum.xyz += it.gain;
+        else if (it.target == TO_LOCAL_MIN) localMin = max(localMin, it.gain);
+        else if (it.target == TO_DOME) dome += it.gain;
+        else soft += it.gain;
+      }
     }
-    if (!it.needed) continue;
-    float answer = query(it.kind, it.origin, it.dir, it.tMax, it.skyMaterial);
-    if (it.target == TO_DIRT) dirtSum += answer;
-    else if (answer > 0.0) {
-      if (it.target == TO_FIXED) fixedSum.xyz += it.gain;
-      else if (it.target == TO_LOCAL_MIN) localMin = max(localMin, it.gain);
-      else if (it.target == TO_DOME) dome += it.gain;
-      else soft += it.gain;
-    }
+    if (lightCount == 0u && dirtRays > 0u) fixedSum.w = 1.0 - dirtSum / (float(dirtRays) * world.dirtDepth);
   }
-  if (lightCount == 0u && dirtRays > 0u) fixedSum.w = 1.0 - dirtSum / (float(dirtRays) * world.dirtDepth);
   luxelSums[4u * index] = fixedSum;
   luxelSums[4u * index + 1u] = vec4(localMin, 0.0);
   luxelSums[4u * index + 2u] = vec4(dome, 0.0);
@@ -225,8 +229,8 @@ void main() {
   uint offset = gl_WorkGroupID.x * 64u + gl_LocalInvocationIndex;
   if (offset >= itemCount) return;
   uint item = firstItem + offset;
-  if (pass >= 0) {
-    runPass(item);
+  if (firstPass >= 0) {
+    runPasses(item);
     return;
   }
   vec3 light = vec3(0.0);

@@ -29,7 +29,7 @@ public:
   bool done() const { return done_ >= passes_; }
 
 private:
-  void dispatch(int pass, uint32_t items);
+  void dispatch(int firstPass, int passCount, uint32_t items);
 
   GlTracer& tracer_;
   FaithfulFeatures features_;
