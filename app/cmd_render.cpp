@@ -2,6 +2,7 @@
 #include "app/commands.h"
 #include "app/usage_checks.h"
 
+#include "renderer/cpu/compiled_lightmaps.h"
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/cpu/image_output.h"
 #include "renderer/cpu/lightmap_bake.h"
@@ -204,9 +205,16 @@ int runRender(const RenderOptions& o) {
   std::function<void(const RenderProgress&)> progress;
   if (!o.quiet) progress = std::ref(printer);
 
+  // Compiled: the level's own lightmaps as its engine shows them; without any, faithful light.
+  bool compiled = o.lighting == "compiled" && output.aov == Aov::Beauty;
+  if (compiled) {
+    const std::string why = showCompiledLightmaps(scene, renderScene, o.import.textures.game.game);
+    if (!why.empty()) fmt::print(stderr, "{}: warning: {}; showing faithful lighting\n", mapPath, why);
+    compiled = why.empty();
+  }
   // Faithful mode shows the compiler's luxels as the game does; `--luxels off` evaluates the
   // light at each pixel's own point ("what the light is" rather than "what the game shows").
-  if (settings.integrator.mode == LightingMode::Faithful && output.aov == Aov::Beauty && o.luxels == "on") {
+  if (!compiled && settings.integrator.mode == LightingMode::Faithful && output.aov == Aov::Beauty && o.luxels == "on") {
     const Camera camera(pose, width, height);
     LightmapBakeOptions bake;
     bake.extra = o.extra;
@@ -255,8 +263,10 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--exposure", options->exposure, "Exposure in EV (stops)")->capture_default_str();
   cmd->add_option("--tonemap", options->tonemap, "faithful|aces|agx|linear (default faithful, aces for physical lighting)")
       ->check(CLI::IsMember({"faithful", "aces", "agx", "linear"}));
-  cmd->add_option("--lighting", options->lighting, "faithful (ericw-tools light formulas) | physical (radiometric path tracing)")
-      ->check(CLI::IsMember({"faithful", "physical"}))
+  cmd->add_option("--lighting", options->lighting,
+                  "faithful (ericw-tools light formulas) | physical (radiometric path tracing) | compiled (a .bsp's own "
+                  "lightmaps, as its engine shows them)")
+      ->check(CLI::IsMember({"faithful", "physical", "compiled"}))
       ->capture_default_str();
   cmd->add_option("--luxels", options->luxels,
                   "Faithful lighting: on = the compiler's luxels filtered as the engine shows them, off = the light at each pixel")

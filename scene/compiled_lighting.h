@@ -47,6 +47,9 @@ struct CompiledLighting {
   // Where the colours came from: "lighting lump" (Quake's 8-bit grey), ".lit file",
   // "BSPX RGBLIGHTING", "RGB lighting lump" (Half-Life, Quake 2), "lightmap pages" (Quake 3).
   std::string source;
+  // The engine that shows these lightmaps: "quake", "hexen2" (Hexen II's 80-byte models),
+  // "halflife", "quake2" or "quake3", from the file's version (renderer/cpu/compiled_lightmaps.h).
+  std::string engine = "quake";
   // "16 texels per luxel", "per-face luxel size (BSPX LMSHIFT)" or "decoupled (BSPX DECOUPLED_LM)".
   std::string layout = "16 texels per luxel";
   int luxelSize = 16; // texels per luxel of faces that do not say otherwise

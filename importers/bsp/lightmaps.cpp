@@ -188,6 +188,11 @@ LightmapExtents lightmapExtents(const BspFile& bsp, size_t face, int luxelSize) 
 CompiledLighting readCompiledLighting(const BspFile& bsp, const std::vector<ModelPlacement>& placements,
                                       const std::optional<std::vector<uint8_t>>& litFile, Diagnostics& diagnostics) {
   CompiledLighting out;
+  out.engine = bsp.version == Version::Quake3_46   ? "quake3"
+             : bsp.version == Version::HalfLife30  ? "halflife"
+             : bsp.version == Version::Quake2_38   ? "quake2"
+             : bsp.hexen2Models                    ? "hexen2"
+                                                   : "quake";
   if (bsp.version == Version::Quake3_46) {
     out.source = "lightmap pages";
     const size_t pageBytes = kQuake3Page * kQuake3Page * 3;
