@@ -151,7 +151,6 @@ void addFragment(const FaceFrame& frame, const LightmappedFace& f, const LuxelRu
   };
   axis(f.luxelS, f.luxelSOffset, g.luxelU);
   axis(f.luxelT, f.luxelTOffset, g.luxelV);
-  addEdges(frame, f.polygon, lm, g);
   const size_t luxels = size_t(f.width) * size_t(f.height);
   for (size_t k = 0; k < luxels; ++k) {
     std::array<glm::vec3, 4> stored{};
@@ -159,9 +158,17 @@ void addFragment(const FaceFrame& frame, const LightmappedFace& f, const LuxelRu
       for (int c = 0; c < 3; ++c) stored[s][c] = float(f.rgb[(s * luxels + k) * 3 + size_t(c)]);
     lm.luxels.push_back(packLuxel(engineLuxel(rule.engine, rule.styleValues, f.styles, stored)));
   }
-  lm.fragments.push_back(g);
-  lm.polygons.push_back(f.polygon);
-  lm.fragmentFace.push_back(face);
+  // Quake 3's surfaces are triangles that need not make a convex polygon: one fragment each,
+  // all reading the surface's one block of luxels.
+  const auto add = [&](const std::vector<dvec3>& polygon) {
+    addEdges(frame, polygon, lm, g);
+    lm.fragments.push_back(g);
+    lm.polygons.push_back(polygon);
+    lm.fragmentFace.push_back(face);
+  };
+  if (f.triangles.empty()) return add(f.polygon);
+  for (size_t i = 0; i + 2 < f.triangles.size(); i += 3)
+    add({f.polygon[f.triangles[i]], f.polygon[f.triangles[i + 1]], f.polygon[f.triangles[i + 2]]});
 }
 
 // A face the engine draws without a lightmap in a lit level: black (its light is never added).
@@ -183,6 +190,7 @@ std::optional<LightmapEngine> lightmapEngineNamed(const std::string& name) {
   if (name == "hexen2") return LightmapEngine::Hexen2;
   if (name == "halflife") return LightmapEngine::HalfLife;
   if (name == "quake2") return LightmapEngine::Quake2;
+  if (name == "quake3") return LightmapEngine::Quake3;
   return std::nullopt;
 }
 
@@ -205,6 +213,12 @@ std::array<float, 256> styleValuesAtLoad(LightmapEngine engine, const Scene& sce
 
 glm::vec3 engineLuxel(LightmapEngine engine, const std::array<float, 256>& styleValues, const std::array<uint8_t, 4>& styles,
                       const std::array<glm::vec3, 4>& stored) {
+  if (engine == LightmapEngine::Quake3) { // one style; R_ColorShiftLightingBytes by 2 - 1 bits
+    glm::ivec3 v = glm::ivec3(stored[0]) << 1;
+    const int peak = std::max({v.x, v.y, v.z});
+    if (peak > 255) v = v * 255 / peak;
+    return glm::vec3(v);
+  }
   if (engine == LightmapEngine::Quake2) {
     glm::vec3 sum(0.0f);
     for (size_t s = 0; s < 4 && styles[s] != 255; ++s) sum += stored[s] * styleValues[styles[s]];
@@ -223,7 +237,8 @@ glm::vec3 engineLuxel(LightmapEngine engine, const std::array<float, 256>& style
 }
 
 float engineDisplayScale(LightmapEngine engine) {
-  return engine == LightmapEngine::Quake ? 2.0f / 255.0f : 1.0f / 255.0f; // QuakeSpasm's overbright doubles
+  // QuakeSpasm's overbright and Quake 3's gamma ramp double the picture.
+  return engine == LightmapEngine::Quake || engine == LightmapEngine::Quake3 ? 2.0f / 255.0f : 1.0f / 255.0f;
 }
 
 CompiledLightmaps buildCompiledLightmaps(const Scene& scene, const RenderScene& rs, LightmapEngine engine) {
@@ -260,7 +275,7 @@ std::string showCompiledLightmaps(const Scene& scene, RenderScene& rs, const std
   const CompiledLighting* cl = scene.compiledLighting.get();
   if (!cl) return "the level is not a compiled .bsp, so it has no lightmaps";
   const std::optional<LightmapEngine> engine = lightmapEngineNamed(game.empty() || !lightmapEngineNamed(game) ? cl->engine : game);
-  if (!engine) return "the compiled view does not draw " + cl->engine + "'s lightmap pages yet";
+  if (!engine) return "no display rule for the engine '" + cl->engine + "'";
   CompiledLightmaps compiled = buildCompiledLightmaps(scene, rs, *engine);
   if (compiled.compiledFaces == 0) return "the level has no lightmaps (compiled without light)";
   rs.lightmaps = std::move(compiled.lightmaps);

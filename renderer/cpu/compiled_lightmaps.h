@@ -16,6 +16,11 @@
 //   quake2   id's ref_gl R_BuildLightMap with gl_modulate 1: the sum Σ stored × style / 'm'
 //            truncated, scaled down to keep its hue where a channel passes 255, shown as
 //            texture × luxel / 255.
+//   quake3   ioquake3 with its defaults r_mapOverBrightBits 2, r_overBrightBits 1 (fullscreen,
+//            hardware gamma): R_ColorShiftLightingBytes doubles each luxel, scaled down to keep
+//            its hue where a channel passes 255, and the gamma ramp doubles the picture:
+//            texture × luxel × 2 / 255. Its planar surfaces' lightmap blocks only (patches,
+//            triangle soups and vertex light are not drawn from compiled light yet).
 // Styles (the `lightstyle` strings the game code sets at worldspawn, the same table in Quake,
 // Hexen II, Half-Life and Quake 2) take their first letter, the value at time 0: Quake and
 // Half-Life weigh a letter (c - 'a') × 22 (so 'm' is 264, 3 % over 256) and a style nobody set
@@ -34,10 +39,10 @@
 
 namespace bt {
 
-enum class LightmapEngine { Quake, Hexen2, HalfLife, Quake2 };
+enum class LightmapEngine { Quake, Hexen2, HalfLife, Quake2, Quake3 };
 
 // The engine named by CompiledLighting::engine or `--game` ("quake", "hexen2", "halflife",
-// "quake2"); nullopt for one without a rule here (Quake 3).
+// "quake2", "quake3"); nullopt for any other name.
 std::optional<LightmapEngine> lightmapEngineNamed(const std::string& name);
 
 // The engine's weight of each of the 256 light styles when the level loads (see above).
