@@ -39,6 +39,7 @@ struct RenderOptions {
   float exposure = 0.0f;
   std::string tonemap; // empty: faithful for --lighting faithful, aces for physical
   std::string lighting = "faithful";
+  bool lightingGiven = false; // --lighting on the command line (a Quake 3 .bsp defaults to compiled)
   int bounces = 3;
   int threads = 0;
   uint32_t seed = 0;
@@ -206,7 +207,11 @@ int runRender(const RenderOptions& o) {
   if (!o.quiet) progress = std::ref(printer);
 
   // Compiled: the level's own lightmaps as its engine shows them; without any, faithful light.
-  bool compiled = o.lighting == "compiled" && output.aov == Aov::Beauty;
+  // q3map2 leaves no light entities in a compiled Quake 3 level: only its lightmaps show its light.
+  const bool quake3Default = !o.lightingGiven && scene.format == "ibsp46";
+  if (quake3Default && !o.quiet)
+    fmt::print(stderr, "{}: note: a compiled Quake 3 level keeps no lights; showing its lightmaps (--lighting compiled)\n", mapPath);
+  bool compiled = (o.lighting == "compiled" || quake3Default) && output.aov == Aov::Beauty;
   if (compiled) {
     const std::string why = showCompiledLightmaps(scene, renderScene, o.import.textures.game.game);
     if (!why.empty()) fmt::print(stderr, "{}: warning: {}; showing faithful lighting\n", mapPath, why);
@@ -226,7 +231,8 @@ int runRender(const RenderOptions& o) {
   const RenderImage image = glContext ? gl::renderWithGl(*glContext, renderScene, pose, settings, glPrograms, progress, glParts).image
                                       : renderCpu(renderScene, Camera(pose, width, height), settings, progress);
   writeImage(o.output, image, output);
-  const std::string rendered = aovsOnly ? fmt::format("--aov {}", o.aov) : fmt::format("{} spp, {} lighting", image.samples, o.lighting);
+  const std::string lighting = compiled ? "compiled" : o.lighting == "compiled" ? "faithful" : o.lighting;
+  const std::string rendered = aovsOnly ? fmt::format("--aov {}", o.aov) : fmt::format("{} spp, {} lighting", image.samples, lighting);
   if (!o.quiet) fmt::print("wrote {} ({}x{}, {}, {})\n", o.output, width, height, rendered,
                            glContext ? "gl " + glContext->info().renderer : std::string("cpu"));
   return 0;
@@ -281,7 +287,9 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_flag("--quiet", options->quiet, "No progress or camera lines");
   cmd->add_flag("--show-hidden", options->showHidden, "Draw clip/trigger/skip/hint/origin faces");
   addImportOptions(*cmd, options->import);
-  cmd->callback([options, spp, &exitCode] {
+  CLI::Option* lighting = cmd->get_option("--lighting");
+  cmd->callback([options, spp, lighting, &exitCode] {
+    options->lightingGiven = lighting->count() > 0;
     if (options->timeLimit > 0.0 && spp->count() == 0) options->spp = 0; // --time alone: as many samples as fit
     exitCode = runRender(*options);
   });

@@ -27,8 +27,10 @@ int runView(ViewCommand& cmd) {
   o.camera = cmd.camera;
   o.textures = *gl::parseTextureMode(cmd.textures); // --gl-textures admits only the names it parses
   o.lighting = cmd.lighting == "physical" ? LightingMode::Physical : LightingMode::Faithful;
+  o.compiled = cmd.lighting == "compiled";
 
   Viewer viewer(o);
+  if (!viewer.notice().empty()) fmt::print(stderr, "{}: warning: {}\n", o.map, viewer.notice());
   while (viewer.frame()) {
   }
   return 0;
@@ -44,7 +46,9 @@ void addViewCommand(CLI::App& app, int& exitCode) {
   addImportOptions(*view, cmd->viewer.import);
   addSizeOption(*view, cmd->size, "Window size");
   addCameraOption(*view, cmd->camera, "Start camera \"(x y z) pitch yaw roll\" or \"setpos x y z pitch yaw roll\" (roll is ignored: the viewer has none)");
-  view->add_option("--lighting", cmd->lighting, "faithful|physical")->check(CLI::IsMember({"faithful", "physical"}))->capture_default_str();
+  view->add_option("--lighting", cmd->lighting, "faithful|physical|compiled (keys 4, 5, 6)")
+      ->check(CLI::IsMember({"faithful", "physical", "compiled"}))
+      ->capture_default_str();
   view->add_option("--bounces", cmd->viewer.bounces, "Bounces in physical mode")->check(CLI::Range(0, 64))->capture_default_str();
   view->add_option("--gl-textures", cmd->textures, "bindless|arrays|auto")
       ->check(CLI::IsMember({"auto", "bindless", "arrays"}))

@@ -1,5 +1,6 @@
 #include "viewer/viewer.h"
 
+#include "renderer/cpu/compiled_lightmaps.h"
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/cpu/image_output.h"
 #include "renderer/cpu/render_scene.h"
@@ -72,6 +73,8 @@ struct Viewer::Impl {
   std::unique_ptr<gl::GlTexture2D> display; // RGBA8, what is on screen (scaled to the window)
 
   std::string error;
+  std::string notice; // why the compiled view could not be shown
+  bool compiled = false;
   int reloads = 0;
   double wheel = 0.0; // scroll notches since the last frame
   double lastX = 0.0, lastY = 0.0;
@@ -87,6 +90,7 @@ struct Viewer::Impl {
     programs = std::make_shared<gl::TracerPrograms>(window.context(), options.textures);
     level = loadLevel(options, window.context(), programs, lighting == LightingMode::Physical);
     watchLevelFiles();
+    if (options.compiled) showCompiled();
     const CameraPose pose = options.camera ? *options.camera : defaultCameraPose(level->scene);
     camera = FlyCamera(glm::dvec3(pose.origin), pose.pitch, pose.yaw);
     // Before ImGui's context, which only the destructor ends: a throw here leaves nothing behind.
@@ -169,6 +173,7 @@ struct Viewer::Impl {
     if (pressedOnce(GLFW_KEY_3)) setMode(ViewMode::Normal);
     if (pressedOnce(GLFW_KEY_4)) setLighting(LightingMode::Faithful);
     if (pressedOnce(GLFW_KEY_5)) setLighting(LightingMode::Physical);
+    if (pressedOnce(GLFW_KEY_6)) showCompiled();
     if (pressedOnce(GLFW_KEY_F12)) takeScreenshot();
     if (pressedOnce(GLFW_KEY_ESCAPE)) glfwSetWindowShouldClose(window.handle(), GLFW_TRUE);
   }
@@ -178,9 +183,27 @@ struct Viewer::Impl {
   }
 
   void setLighting(LightingMode m) {
-    if (lighting == m) return;
+    if (lighting == m && !compiled) return;
+    if (compiled) {
+      level->render.lightmaps = {};
+      level->tracer->setLightmaps({});
+      compiled = false;
+    }
     lighting = m;
     restart();
+  }
+
+  // The compiled view is faithful mode's tracer reading the level's own luxels instead of
+  // evaluating the light (renderer/cpu/compiled_lightmaps.h).
+  bool showCompiled() {
+    const std::string why = showCompiledLightmaps(level->scene, level->render, options.import.textures.game.game);
+    notice = why.empty() ? std::string() : why + "; showing faithful lighting";
+    if (!why.empty()) return false;
+    level->tracer->setLightmaps(packLightmaps(level->render.lightmaps));
+    compiled = true;
+    lighting = LightingMode::Faithful;
+    restart();
+    return true;
   }
 
   // Every file the level was read from (Scene::inputFiles: the map, prefabs, WADs, palettes,
@@ -193,6 +216,7 @@ struct Viewer::Impl {
       level = loadLevel(options, window.context(), programs, lighting == LightingMode::Physical);
       error.clear();
       ++reloads;
+      if (compiled) showCompiled();
       restart();
     } catch (const std::exception& e) {
       // Keep showing the last good level; the error stays on screen until a save fixes it.
@@ -283,12 +307,13 @@ struct Viewer::Impl {
                  ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing |
                      ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoMove);
     const char* modeName = mode == ViewMode::Beauty ? "beauty" : mode == ViewMode::Albedo ? "albedo" : "normal";
-    ImGui::Text("%s | %s lighting | %s", modeName, lighting == LightingMode::Faithful ? "faithful" : "physical",
-                gl::toString(level->tracer->textureMode()));
+    const char* lightingName = compiled ? "compiled" : lighting == LightingMode::Faithful ? "faithful" : "physical";
+    ImGui::Text("%s | %s lighting | %s", modeName, lightingName, gl::toString(level->tracer->textureMode()));
     ImGui::Text("spp %d | %.2f Msamples/s", full->samples(), samplesPerSecond * 1e-6);
     ImGui::Text("camera %s", formatCameraPose(pose()).c_str());
     ImGui::TextDisabled("RMB look, WASD move, Q/E down/up, wheel fwd, RMB+wheel speed (%.0f)", camera.speed);
-    ImGui::TextDisabled("1 beauty 2 albedo 3 normal | 4 faithful 5 physical | F12 screenshot");
+    ImGui::TextDisabled("1 beauty 2 albedo 3 normal | 4 faithful 5 physical 6 compiled | F12 screenshot");
+    if (!notice.empty()) ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "%s", notice.c_str());
     if (!error.empty()) ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "reload failed: %s", error.c_str());
     ImGui::End();
 
@@ -358,6 +383,8 @@ Viewer::~Viewer() = default;
 bool Viewer::frame() { return impl_->frame(); }
 void Viewer::setMode(ViewMode mode) { impl_->setMode(mode); }
 void Viewer::setLighting(LightingMode mode) { impl_->setLighting(mode); }
+bool Viewer::showCompiled() { return impl_->showCompiled(); }
+const std::string& Viewer::notice() const { return impl_->notice; }
 fs::path Viewer::screenshot() { return impl_->takeScreenshot(); }
 int Viewer::samples() const { return impl_->full->samples(); }
 int Viewer::reloads() const { return impl_->reloads; }

@@ -174,6 +174,42 @@ TEST(RenderCommand, ALevelWithNoDrawnFaceWarnsAndExitsOne) {
   EXPECT_EQ(shown.exitCode, 0) << shown.err;
 }
 
+// --lighting compiled draws a .bsp's own lightmaps (tests/render/compiled_view_test.cpp checks
+// the pixels); a level without any says so in one line and renders faithful light; a compiled
+// Quake 3 level renders compiled unless told otherwise, with a note.
+TEST(RenderCommand, CompiledLightingShowsTheLightmapsOrSaysWhyNot) {
+  BT_REQUIRE_SHARED(shared);
+  TempDir dir("compiled");
+  const std::string out = " -o " + quoted(dir.path / "out.png") + kSmall + " --backend cpu";
+  const fs::path lit = shared / "oracle/lit/maps_quake_map_source_e1m1.bsp";
+  const CommandResult shown = brushtrace("render " + quoted(lit) + out + " --lighting compiled");
+  EXPECT_EQ(shown.exitCode, 0) << shown.err;
+  EXPECT_NE(shown.out.find("compiled lighting"), npos) << shown.out;
+  EXPECT_EQ(shown.err.find("showing faithful lighting"), npos) << shown.err;
+
+  const fs::path unlit = shared / "oracle/maps_ericw-tools_testmaps_q1_cube.bsp";
+  const CommandResult fallback = brushtrace("render " + quoted(unlit) + out + " --lighting compiled");
+  EXPECT_EQ(fallback.exitCode, 0) << fallback.err;
+  EXPECT_NE(fallback.err.find(unlit.string() + ": warning: the level has no lightmaps (compiled without light); showing faithful "
+                                               "lighting"),
+            npos)
+      << fallback.err;
+  EXPECT_NE(fallback.out.find("faithful lighting"), npos) << fallback.out;
+  EXPECT_TRUE(fs::exists(dir.path / "out.png"));
+
+  const fs::path openArena = "/usr/share/games/openarena/baseoa/pak1-maps.pk3";
+  if (!fs::exists(openArena)) GTEST_SKIP() << openArena << " not found: the Quake 3 default is not checked";
+  const fs::path level = openArena.string() + ":maps/aggressor.bsp";
+  const CommandResult quake3 = brushtrace("render " + quoted(level) + out + " --no-textures");
+  EXPECT_EQ(quake3.exitCode, 0) << quake3.err;
+  EXPECT_NE(quake3.err.find("note: a compiled Quake 3 level keeps no lights; showing its lightmaps (--lighting compiled)"), npos)
+      << quake3.err;
+  EXPECT_NE(quake3.out.find("compiled lighting"), npos) << quake3.out;
+  const CommandResult told = brushtrace("render " + quoted(level) + out + " --no-textures --lighting faithful");
+  EXPECT_EQ(told.err.find("note: a compiled Quake 3"), npos) << told.err;
+  EXPECT_NE(told.out.find("faithful lighting"), npos) << told.out;
+}
+
 // Every form --camera takes puts the camera at the same place: the same pixels as the
 // parenthesised form (albedo: one sample through each pixel centre, so the images compare
 // exactly), and the camera line printed in that form.
