@@ -4,6 +4,7 @@
 
 #include "renderer/cpu/compiled_lightmaps.h"
 #include "renderer/cpu/cpu_renderer.h"
+#include "renderer/cpu/difference.h"
 #include "renderer/cpu/image_output.h"
 #include "renderer/cpu/lightmap_bake.h"
 #include "renderer/cpu/render_scene.h"
@@ -20,6 +21,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <utility>
 #include <unistd.h>
 
 namespace bt::app {
@@ -141,6 +143,42 @@ std::unique_ptr<gl::GlContext> makeGlContext(const RenderOptions& o) {
   return glContext;
 }
 
+// What --lighting asks of the level's compiled lightmaps. `compiled`: they are in rs.lightmaps;
+// `difference`: they wait in differenceLightmaps for the second render. A level without any
+// gets one warning line and faithful light.
+struct LightmapChoice {
+  bool compiled = false;
+  bool difference = false;
+  Lightmaps differenceLightmaps;
+};
+
+LightmapChoice chooseLightmaps(const RenderOptions& o, const Scene& scene, RenderScene& rs, const std::string& mapPath, bool beauty) {
+  // q3map2 leaves no light entities in a compiled Quake 3 level: only its lightmaps show its light.
+  const bool quake3Default = !o.lightingGiven && scene.format == "ibsp46";
+  if (quake3Default && !o.quiet)
+    fmt::print(stderr, "{}: note: a compiled Quake 3 level keeps no lights; showing its lightmaps (--lighting compiled)\n", mapPath);
+  LightmapChoice choice;
+  if (!beauty || !(o.lighting == "compiled" || o.lighting == "difference" || quake3Default)) return choice;
+  const std::string why = showCompiledLightmaps(scene, rs, o.import.textures.game.game);
+  if (!why.empty()) {
+    fmt::print(stderr, "{}: warning: {}; showing faithful lighting\n", mapPath, why);
+    return choice;
+  }
+  choice.difference = o.lighting == "difference";
+  choice.compiled = !choice.difference;
+  if (choice.difference) choice.differenceLightmaps = std::exchange(rs.lightmaps, Lightmaps{});
+  return choice;
+}
+
+// The faithful luxels of the faces the camera sees, on all cores, before the first sample.
+void bakeFaithful(const RenderOptions& o, RenderScene& rs, const CameraPose& pose) {
+  const Camera camera(pose, o.size.width, o.size.height);
+  LightmapBakeOptions bake;
+  bake.extra = o.extra;
+  bake.threads = unsigned(o.threads);
+  bakeFaithfulLightmaps(rs, &camera, o.size.width, o.size.height, bake);
+}
+
 int runRender(const RenderOptions& o) {
   const int width = o.size.width, height = o.size.height;
   std::string ext = std::filesystem::path(o.output).extension().string();
@@ -206,32 +244,26 @@ int runRender(const RenderOptions& o) {
   std::function<void(const RenderProgress&)> progress;
   if (!o.quiet) progress = std::ref(printer);
 
-  // Compiled: the level's own lightmaps as its engine shows them; without any, faithful light.
-  // q3map2 leaves no light entities in a compiled Quake 3 level: only its lightmaps show its light.
-  const bool quake3Default = !o.lightingGiven && scene.format == "ibsp46";
-  if (quake3Default && !o.quiet)
-    fmt::print(stderr, "{}: note: a compiled Quake 3 level keeps no lights; showing its lightmaps (--lighting compiled)\n", mapPath);
-  bool compiled = (o.lighting == "compiled" || quake3Default) && output.aov == Aov::Beauty;
-  if (compiled) {
-    const std::string why = showCompiledLightmaps(scene, renderScene, o.import.textures.game.game);
-    if (!why.empty()) fmt::print(stderr, "{}: warning: {}; showing faithful lighting\n", mapPath, why);
-    compiled = why.empty();
-  }
+  const LightmapChoice choice = chooseLightmaps(o, scene, renderScene, mapPath, output.aov == Aov::Beauty);
   // Faithful mode shows the compiler's luxels as the game does; `--luxels off` evaluates the
   // light at each pixel's own point ("what the light is" rather than "what the game shows").
-  if (!compiled && settings.integrator.mode == LightingMode::Faithful && output.aov == Aov::Beauty && o.luxels == "on") {
-    const Camera camera(pose, width, height);
-    LightmapBakeOptions bake;
-    bake.extra = o.extra;
-    bake.threads = unsigned(o.threads);
-    bakeFaithfulLightmaps(renderScene, &camera, width, height, bake);
-  }
+  if (!choice.compiled && settings.integrator.mode == LightingMode::Faithful && output.aov == Aov::Beauty && o.luxels == "on")
+    bakeFaithful(o, renderScene, pose);
 
   const gl::GlRenderParts glParts = aovsOnly ? gl::GlRenderParts::AovsOnly : gl::GlRenderParts::BeautyAndAovs;
-  const RenderImage image = glContext ? gl::renderWithGl(*glContext, renderScene, pose, settings, glPrograms, progress, glParts).image
-                                      : renderCpu(renderScene, Camera(pose, width, height), settings, progress);
-  writeImage(o.output, image, output);
-  const std::string lighting = compiled ? "compiled" : o.lighting == "compiled" ? "faithful" : o.lighting;
+  const auto render = [&] {
+    return glContext ? gl::renderWithGl(*glContext, renderScene, pose, settings, glPrograms, progress, glParts).image
+                     : renderCpu(renderScene, Camera(pose, width, height), settings, progress);
+  };
+  RenderImage image = render();
+  OutputSettings written = output;
+  if (choice.difference) { // the faithful image first, then the compiled one from the same camera
+    renderScene.lightmaps = choice.differenceLightmaps;
+    image = differenceImage(render(), image, output);
+    written.exposureEv = 0.0f, written.tonemap = Tonemap::Faithful; // the heat map's own colours
+  }
+  writeImage(o.output, image, written);
+  const std::string lighting = choice.compiled ? "compiled" : choice.difference ? "difference" : o.lighting == "physical" ? "physical" : "faithful";
   const std::string rendered = aovsOnly ? fmt::format("--aov {}", o.aov) : fmt::format("{} spp, {} lighting", image.samples, lighting);
   if (!o.quiet) fmt::print("wrote {} ({}x{}, {}, {})\n", o.output, width, height, rendered,
                            glContext ? "gl " + glContext->info().renderer : std::string("cpu"));
@@ -271,8 +303,8 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
       ->check(CLI::IsMember({"faithful", "aces", "agx", "linear"}));
   cmd->add_option("--lighting", options->lighting,
                   "faithful (ericw-tools light formulas) | physical (radiometric path tracing) | compiled (a .bsp's own "
-                  "lightmaps, as its engine shows them)")
-      ->check(CLI::IsMember({"faithful", "physical", "compiled"}))
+                  "lightmaps, as its engine shows them) | difference (compiled vs faithful as a heat map)")
+      ->check(CLI::IsMember({"faithful", "physical", "compiled", "difference"}))
       ->capture_default_str();
   cmd->add_option("--luxels", options->luxels,
                   "Faithful lighting: on = the compiler's luxels filtered as the engine shows them, off = the light at each pixel")

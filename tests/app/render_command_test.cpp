@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -208,6 +210,44 @@ TEST(RenderCommand, CompiledLightingShowsTheLightmapsOrSaysWhyNot) {
   const CommandResult told = brushtrace("render " + quoted(level) + out + " --no-textures --lighting faithful");
   EXPECT_EQ(told.err.find("note: a compiled Quake 3"), npos) << told.err;
   EXPECT_NE(told.out.find("faithful lighting"), npos) << told.out;
+}
+
+// --lighting difference: each pixel of its PNG is the heat colour of the largest channel
+// difference between the compiled and the faithful PNGs of the same view (README's scale: 0
+// black, 8 steps blue, 16 green, 24 yellow, 32 or more red, linear between).
+TEST(RenderCommand, DifferenceIsTheHeatMapOfCompiledAgainstFaithful) {
+  BT_REQUIRE_SHARED(shared);
+  TempDir dir("difference");
+  const fs::path level = shared / "oracle/lit/maps_ericw-tools_testmaps_q1_light_suntexture.bsp";
+  const std::string common = " --size 96x60 --spp 1 --backend cpu --quiet";
+  for (const char* mode : {"faithful", "compiled", "difference"}) {
+    const CommandResult r = brushtrace("render " + quoted(level) + " -o " + quoted(dir.path / (std::string(mode) + ".png")) +
+                                       common + " --lighting " + mode);
+    ASSERT_EQ(r.exitCode, 0) << mode << ": " << r.err;
+  }
+  const std::vector<float> faithful = readPixels(dir.path / "faithful.png"), compiled = readPixels(dir.path / "compiled.png"),
+                           difference = readPixels(dir.path / "difference.png");
+  ASSERT_EQ(faithful.size(), size_t(96 * 60 * 3));
+  ASSERT_EQ(compiled.size(), faithful.size());
+  ASSERT_EQ(difference.size(), faithful.size());
+  const auto heat = [](int steps) {
+    const float stops[5][3] = {{0, 0, 0}, {0, 0, 1}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}};
+    const float at = float(std::min(steps, 32)) / 8.0f;
+    const int i = std::min(int(at), 3);
+    const float w = at - float(i);
+    return std::array<float, 3>{stops[i][0] * (1 - w) + stops[i + 1][0] * w, stops[i][1] * (1 - w) + stops[i + 1][1] * w,
+                                stops[i][2] * (1 - w) + stops[i + 1][2] * w};
+  };
+  size_t differing = 0, off = 0;
+  for (size_t p = 0; p < faithful.size() / 3; ++p) {
+    int steps = 0;
+    for (size_t c = 0; c < 3; ++c) steps = std::max(steps, int(std::lround(std::abs(faithful[p * 3 + c] - compiled[p * 3 + c]) * 255.0f)));
+    differing += steps > 0;
+    const std::array<float, 3> want = heat(steps);
+    for (size_t c = 0; c < 3; ++c) off += std::abs(difference[p * 3 + c] - want[c]) > 1.0f / 255.0f + 1e-4f;
+  }
+  EXPECT_EQ(off, 0u);
+  EXPECT_GT(differing, 100u) << "the two modes must disagree somewhere for the test to show anything";
 }
 
 // Every form --camera takes puts the camera at the same place: the same pixels as the
