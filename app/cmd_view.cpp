@@ -30,6 +30,7 @@ int runView(ViewCommand& cmd) {
   o.compiled = cmd.lighting == "compiled";
 
   Viewer viewer(o);
+  if (cmd.lighting == "difference") viewer.showDifference();
   if (!viewer.notice().empty()) fmt::print(stderr, "{}: warning: {}\n", o.map, viewer.notice());
   while (viewer.frame()) {
   }
@@ -46,8 +47,8 @@ void addViewCommand(CLI::App& app, int& exitCode) {
   addImportOptions(*view, cmd->viewer.import);
   addSizeOption(*view, cmd->size, "Window size");
   addCameraOption(*view, cmd->camera, "Start camera \"(x y z) pitch yaw roll\" or \"setpos x y z pitch yaw roll\" (roll is ignored: the viewer has none)");
-  view->add_option("--lighting", cmd->lighting, "faithful|physical|compiled (keys 4, 5, 6)")
-      ->check(CLI::IsMember({"faithful", "physical", "compiled"}))
+  view->add_option("--lighting", cmd->lighting, "faithful|physical|compiled|difference (keys 4, 5, 6, 7)")
+      ->check(CLI::IsMember({"faithful", "physical", "compiled", "difference"}))
       ->capture_default_str();
   view->add_option("--bounces", cmd->viewer.bounces, "Bounces in physical mode")->check(CLI::Range(0, 64))->capture_default_str();
   view->add_option("--gl-textures", cmd->textures, "bindless|arrays|auto")

@@ -55,6 +55,9 @@ public:
   // The level's compiled lightmaps as its engine shows them (key 6); false when it has none
   // (notice() says why and faithful lighting stays).
   bool showCompiled();
+  // Key 7: the compiled view against faithful light as a heat map (render --lighting difference's
+  // scale); false, as showCompiled, for a level without lightmaps.
+  bool showDifference();
   const std::string& notice() const; // the last mode switch that could not be made, and why
   // Writes <map>-NNN.png (tonemapped) and <map>-NNN.exr (linear, with AOV layers) into the
   // screenshot folder and returns the PNG's path. F12 calls this.

@@ -9,6 +9,7 @@
 #include "renderer/cpu/cpu_renderer.h"
 
 #include <cstdint>
+#include <vector>
 
 namespace bt {
 
@@ -16,6 +17,9 @@ inline constexpr int kDifferenceFullScale = 32; // display steps of 1/255 shown 
 
 // The heat map's colour (display, sRGB 0..1) for a difference of `steps` display levels.
 glm::vec3 differenceColour(int steps);
+
+// The heat map (display colours, RGB bytes) of two pictures' display bytes (displayPixels).
+std::vector<uint8_t> differencePixels(const std::vector<uint8_t>& compiled, const std::vector<uint8_t>& faithful);
 
 // The heat map of two renders of one view; its beauty is linear, so that the faithful tonemap at
 // exposure 0 writes differenceColour exactly. AOVs are `compiled`'s.
