@@ -212,8 +212,6 @@ bool quake3Surface(const BspFile& bsp, const Surface& surface, const ModelPlacem
   if (surface.firstVertex < 0 || surface.vertexCount < 3 || size_t(surface.firstVertex) + size_t(surface.vertexCount) > bsp.drawVertices.size() ||
       surface.firstIndex < 0 || surface.indexCount < 3 || size_t(surface.firstIndex) + size_t(surface.indexCount) > bsp.drawIndices.size())
     return false;
-  lf.normal = glm::dvec3(surface.lightmapVecs[2]);
-  if (!(std::abs(glm::length(lf.normal) - 1.0) < 1e-3)) return false;
   std::vector<glm::dvec2> texel; // page texel coordinates, centres at integers
   glm::dvec2 lo(1e30), hi(-1e30);
   for (int32_t v = 0; v < surface.vertexCount; ++v) {
@@ -236,6 +234,14 @@ bool quake3Surface(const BspFile& bsp, const Surface& surface, const ModelPlacem
     if (area > bestArea) bestArea = area, best = t;
   }
   const std::array<glm::dvec3, 3> p{lf.polygon[best[0]], lf.polygon[best[1]], lf.polygon[best[2]]};
+  // The plane's normal: lightmapVecs[2], which some q3map2 versions leave zero, else the largest
+  // triangle's, turned to the side the vertex normals face.
+  lf.normal = glm::dvec3(surface.lightmapVecs[2]);
+  if (!(std::abs(glm::length(lf.normal) - 1.0) < 1e-3)) {
+    lf.normal = glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0]));
+    if (glm::dot(lf.normal, glm::dvec3(bsp.drawVertices[size_t(surface.firstVertex) + best[0]].normal)) < 0.0) lf.normal = -lf.normal;
+    if (!(std::abs(glm::length(lf.normal) - 1.0) < 1e-3)) return false; // also NaN: no triangle with an area
+  }
   const auto coordinate = [&](int axis) {
     return std::array<double, 3>{texel[best[0]][axis] - first[axis], texel[best[1]][axis] - first[axis], texel[best[2]][axis] - first[axis]};
   };

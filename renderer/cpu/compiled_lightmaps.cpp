@@ -42,6 +42,10 @@ std::array<uint8_t, 256> goldSrcLightGamma() {
 
 glm::dvec3 vec(const float* v) { return {v[0], v[1], v[2]}; }
 
+// How far a compiled face may lie from the brush side it is drawn on: q3map2 leaves some
+// surfaces an eighth of a unit off their side (a panel on a ceiling); Quake's faces lie on it.
+constexpr double kPlaneSlack = 0.25;
+
 // The compiled faces by entity and plane distance (1-unit buckets), for finding those that lie
 // on a scene face.
 class CompiledFaceIndex {
@@ -54,10 +58,21 @@ public:
     }
   }
 
-  // The compiled faces of `entity` on `plane` whose bounds overlap those of `winding`.
+  // The compiled faces of `entity` on `plane` whose bounds overlap those of `winding`; for a side
+  // the compiler drew nothing of (one hidden in the game), those that touch it: a ray that
+  // grazes its edge shows their light, as the engine shows the face beside it.
   std::vector<uint32_t> on(uint32_t entity, const Plane& plane, const std::vector<dvec3>& winding) const {
     Bounds box;
     for (const dvec3& p : winding) box.grow(p);
+    std::vector<uint32_t> out = overlapping(entity, plane, box, kTouch);
+    return out.empty() ? overlapping(entity, plane, box, -kTouch) : out;
+  }
+
+private:
+  // Shrunk by `margin` (grown where negative): faces that only touch along an edge do not overlap.
+  static constexpr double kTouch = 0.05;
+
+  std::vector<uint32_t> overlapping(uint32_t entity, const Plane& plane, const Bounds& box, double margin) const {
     std::vector<uint32_t> out;
     const int64_t cell = int64_t(std::floor(plane.dist));
     for (int64_t c = cell - 1; c <= cell + 1; ++c) {
@@ -65,23 +80,20 @@ public:
       if (it == buckets_.end()) continue;
       for (uint32_t i : it->second) {
         const LightmappedFace& f = cl_.faces[i];
-        if (glm::dot(f.normal, plane.normal) < 0.999 || std::abs(glm::dot(f.normal, f.polygon[0]) - plane.dist) > 0.1) continue;
+        if (glm::dot(f.normal, plane.normal) < 0.999 || std::abs(glm::dot(f.normal, f.polygon[0]) - plane.dist) > kPlaneSlack) continue;
         Bounds fb;
         for (const dvec3& p : f.polygon) fb.grow(p);
-        if (overlap(fb, box, plane.normal)) out.push_back(i);
+        if (overlap(fb, box, plane.normal, margin)) out.push_back(i);
       }
     }
     return out;
   }
 
-private:
-  // Boxes of two polygons on one plane, shrunk a little so that faces that only touch along an
-  // edge do not overlap; along the plane's own axis (a flat box) both lie at the same place.
-  static bool overlap(const Bounds& a, const Bounds& b, const dvec3& normal) {
-    constexpr double kTouch = 0.05;
+  // Along the plane's own axis (a flat box) both boxes lie at the same place.
+  static bool overlap(const Bounds& a, const Bounds& b, const dvec3& normal, double margin) {
     for (int axis = 0; axis < 3; ++axis) {
       if (std::abs(normal[axis]) > 0.999) continue;
-      if (a.min[axis] > b.max[axis] - kTouch || a.max[axis] < b.min[axis] + kTouch) return false;
+      if (a.min[axis] > b.max[axis] - margin || a.max[axis] < b.min[axis] + margin) return false;
     }
     return true;
   }

@@ -216,7 +216,6 @@ TEST(CompiledView, HalfLifeAndQuake2PixelsShowTheCompiledLightmaps) {
 const std::filesystem::path kOpenArenaMaps = "/usr/share/games/openarena/baseoa/pak1-maps.pk3";
 constexpr size_t kOpenArenaLevels = 12;
 constexpr int kPage = 128;
-constexpr double kQuake3GapShare = 0.005; // of a view's compared pixels (see the test)
 
 class Quake3Oracle {
 public:
@@ -304,10 +303,7 @@ TEST(CompiledView, OpenArenaPixelsShowTheCompiledLightmapPages) {
       const auto at = [&](const glm::dvec3& p, const glm::dvec3& n) { return oracle.allAt(p, n); };
       const Comparison r = compareWith(rs, at, 2.0 / 255.0, camera, image);
       std::printf("%s", fmt::format("compiled view {} {}: {}\n", level, formatCameraPose(pose), r.describe()).c_str());
-      // Known gap: a few pixels (11 of 2,731 in one view of delta, 3 in ctf_gate1) land on a brush
-      // side that no planar surface was matched to (a sliver surface, or a side of another
-      // entity), and show faithful light (black) or another surface's block there.
-      EXPECT_LE(double(r.off), kQuake3GapShare * double(r.compared)) << formatCameraPose(pose) << ": " << r.describe();
+      EXPECT_EQ(r.off, 0u) << formatCameraPose(pose) << ": " << r.describe();
       if (r.bright < kMinBrightPixels) continue;
       EXPECT_GT(compareWith(rs, at, 2.0 / 255.0, camera, image, 1.02).off, r.bright / 2) << "2 % too bright passes";
       ++judged;
