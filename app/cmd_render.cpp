@@ -2,7 +2,9 @@
 #include "app/commands.h"
 #include "app/usage_checks.h"
 
+#include "renderer/cpu/compiled_lightmaps.h"
 #include "renderer/cpu/cpu_renderer.h"
+#include "renderer/cpu/difference.h"
 #include "renderer/cpu/image_output.h"
 #include "renderer/cpu/lightmap_bake.h"
 #include "renderer/cpu/render_scene.h"
@@ -19,6 +21,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <utility>
 #include <unistd.h>
 
 namespace bt::app {
@@ -38,6 +41,7 @@ struct RenderOptions {
   float exposure = 0.0f;
   std::string tonemap; // empty: faithful for --lighting faithful, aces for physical
   std::string lighting = "faithful";
+  bool lightingGiven = false; // --lighting on the command line (a Quake 3 .bsp defaults to compiled)
   int bounces = 3;
   int threads = 0;
   uint32_t seed = 0;
@@ -139,6 +143,49 @@ std::unique_ptr<gl::GlContext> makeGlContext(const RenderOptions& o) {
   return glContext;
 }
 
+// What --lighting asks of the level's compiled lightmaps. `compiled`: they are in rs.lightmaps;
+// `difference`: they wait in differenceLightmaps for the second render. A level without any
+// gets one warning line and faithful light.
+struct LightmapChoice {
+  bool compiled = false;
+  bool difference = false;
+  Lightmaps differenceLightmaps;
+};
+
+LightmapChoice chooseLightmaps(const RenderOptions& o, const Scene& scene, RenderScene& rs, const std::string& mapPath, bool beauty) {
+  // q3map2 leaves no light entities in a compiled Quake 3 level: only its lightmaps show its light.
+  const bool quake3Default = !o.lightingGiven && scene.format == "ibsp46";
+  if (quake3Default && !o.quiet)
+    fmt::print(stderr, "{}: note: a compiled Quake 3 level keeps no lights; showing its lightmaps (--lighting compiled)\n", mapPath);
+  LightmapChoice choice;
+  if (!beauty || !(o.lighting == "compiled" || o.lighting == "difference" || quake3Default)) return choice;
+  const std::string why = showCompiledLightmaps(scene, rs, o.import.textures.game.game);
+  if (!why.empty()) {
+    fmt::print(stderr, "{}: warning: {}; showing faithful lighting\n", mapPath, why);
+    return choice;
+  }
+  choice.difference = o.lighting == "difference";
+  choice.compiled = !choice.difference;
+  if (choice.difference) choice.differenceLightmaps = std::exchange(rs.lightmaps, Lightmaps{});
+  return choice;
+}
+
+// The faithful luxels of the faces the camera sees, on all cores, before the first sample.
+// Faithful mode's luxels of the faces the camera sees: baked here on all cores for the CPU
+// backend; for the GL backend laid out with their sample points, which the GPU lights (gl_bake.h).
+std::optional<LuxelBakeJob> bakeFaithful(const RenderOptions& o, RenderScene& rs, const CameraPose& pose, bool onGpu) {
+  const Camera camera(pose, o.size.width, o.size.height);
+  LightmapBakeOptions bake;
+  bake.extra = o.extra;
+  bake.threads = unsigned(o.threads);
+  if (!onGpu) {
+    bakeFaithfulLightmaps(rs, &camera, o.size.width, o.size.height, bake);
+    return std::nullopt;
+  }
+  rs.lightmaps = layoutFaithfulLightmaps(rs, &camera, o.size.width, o.size.height, bake.threads);
+  return luxelBakeJob(rs, rs.lightmaps, bake);
+}
+
 int runRender(const RenderOptions& o) {
   const int width = o.size.width, height = o.size.height;
   std::string ext = std::filesystem::path(o.output).extension().string();
@@ -204,29 +251,30 @@ int runRender(const RenderOptions& o) {
   std::function<void(const RenderProgress&)> progress;
   if (!o.quiet) progress = std::ref(printer);
 
+  const LightmapChoice choice = chooseLightmaps(o, scene, renderScene, mapPath, output.aov == Aov::Beauty);
   // Faithful mode shows the compiler's luxels as the game does; `--luxels off` evaluates the
   // light at each pixel's own point ("what the light is" rather than "what the game shows").
   std::optional<LuxelBakeJob> gpuBake;
-  if (settings.integrator.mode == LightingMode::Faithful && output.aov == Aov::Beauty && o.luxels == "on") {
-    const Camera camera(pose, width, height);
-    LightmapBakeOptions bake;
-    bake.extra = o.extra;
-    bake.threads = unsigned(o.threads);
-    // The GL backend lights the luxels on the GPU (gl_bake.h); the CPU finds their sample points.
-    if (glContext) {
-      renderScene.lightmaps = layoutFaithfulLightmaps(renderScene, &camera, width, height, bake.threads);
-      gpuBake = luxelBakeJob(renderScene, renderScene.lightmaps, bake);
-    } else {
-      bakeFaithfulLightmaps(renderScene, &camera, width, height, bake);
-    }
-  }
+  if (!choice.compiled && settings.integrator.mode == LightingMode::Faithful && output.aov == Aov::Beauty && o.luxels == "on")
+    gpuBake = bakeFaithful(o, renderScene, pose, glContext != nullptr);
 
   const gl::GlRenderParts glParts = aovsOnly ? gl::GlRenderParts::AovsOnly : gl::GlRenderParts::BeautyAndAovs;
-  const RenderImage image =
-      glContext ? gl::renderWithGl(*glContext, renderScene, pose, settings, glPrograms, progress, glParts, gpuBake ? &*gpuBake : nullptr).image
-                : renderCpu(renderScene, Camera(pose, width, height), settings, progress);
-  writeImage(o.output, image, output);
-  const std::string rendered = aovsOnly ? fmt::format("--aov {}", o.aov) : fmt::format("{} spp, {} lighting", image.samples, o.lighting);
+  const LuxelBakeJob* bakeFirst = gpuBake ? &*gpuBake : nullptr; // the faithful image's luxels, lit on the GPU
+  const auto render = [&] {
+    const LuxelBakeJob* bake = std::exchange(bakeFirst, nullptr);
+    return glContext ? gl::renderWithGl(*glContext, renderScene, pose, settings, glPrograms, progress, glParts, bake).image
+                     : renderCpu(renderScene, Camera(pose, width, height), settings, progress);
+  };
+  RenderImage image = render();
+  OutputSettings written = output;
+  if (choice.difference) { // the faithful image first, then the compiled one from the same camera
+    renderScene.lightmaps = choice.differenceLightmaps;
+    image = differenceImage(render(), image, output);
+    written.exposureEv = 0.0f, written.tonemap = Tonemap::Faithful; // the heat map's own colours
+  }
+  writeImage(o.output, image, written);
+  const std::string lighting = choice.compiled ? "compiled" : choice.difference ? "difference" : o.lighting == "physical" ? "physical" : "faithful";
+  const std::string rendered = aovsOnly ? fmt::format("--aov {}", o.aov) : fmt::format("{} spp, {} lighting", image.samples, lighting);
   if (!o.quiet) fmt::print("wrote {} ({}x{}, {}, {})\n", o.output, width, height, rendered,
                            glContext ? "gl " + glContext->info().renderer : std::string("cpu"));
   return 0;
@@ -263,8 +311,10 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--exposure", options->exposure, "Exposure in EV (stops)")->capture_default_str();
   cmd->add_option("--tonemap", options->tonemap, "faithful|aces|agx|linear (default faithful, aces for physical lighting)")
       ->check(CLI::IsMember({"faithful", "aces", "agx", "linear"}));
-  cmd->add_option("--lighting", options->lighting, "faithful (ericw-tools light formulas) | physical (radiometric path tracing)")
-      ->check(CLI::IsMember({"faithful", "physical"}))
+  cmd->add_option("--lighting", options->lighting,
+                  "faithful (ericw-tools light formulas) | physical (radiometric path tracing) | compiled (a .bsp's own "
+                  "lightmaps, as its engine shows them) | difference (compiled vs faithful as a heat map)")
+      ->check(CLI::IsMember({"faithful", "physical", "compiled", "difference"}))
       ->capture_default_str();
   cmd->add_option("--luxels", options->luxels,
                   "Faithful lighting: on = the compiler's luxels filtered as the engine shows them, off = the light at each pixel")
@@ -279,7 +329,9 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_flag("--quiet", options->quiet, "No progress or camera lines");
   cmd->add_flag("--show-hidden", options->showHidden, "Draw clip/trigger/skip/hint/origin faces");
   addImportOptions(*cmd, options->import);
-  cmd->callback([options, spp, &exitCode] {
+  CLI::Option* lighting = cmd->get_option("--lighting");
+  cmd->callback([options, spp, lighting, &exitCode] {
+    options->lightingGiven = lighting->count() > 0;
     if (options->timeLimit > 0.0 && spp->count() == 0) options->spp = 0; // --time alone: as many samples as fit
     exitCode = runRender(*options);
   });

@@ -29,8 +29,11 @@ int runView(ViewCommand& cmd) {
   o.textures = *gl::parseTextureMode(cmd.textures); // --gl-textures admits only the names it parses
   o.lighting = cmd.lighting == "physical" ? LightingMode::Physical : LightingMode::Faithful;
   o.luxels = cmd.luxels == "on";
+  o.compiled = cmd.lighting == "compiled";
 
   Viewer viewer(o);
+  if (cmd.lighting == "difference") viewer.showDifference();
+  if (!viewer.notice().empty()) fmt::print(stderr, "{}: warning: {}\n", o.map, viewer.notice());
   while (viewer.frame()) {
   }
   return 0;
@@ -46,7 +49,9 @@ void addViewCommand(CLI::App& app, int& exitCode) {
   addImportOptions(*view, cmd->viewer.import);
   addSizeOption(*view, cmd->size, "Window size");
   addCameraOption(*view, cmd->camera, "Start camera \"(x y z) pitch yaw roll\" or \"setpos x y z pitch yaw roll\" (roll is ignored: the viewer has none)");
-  view->add_option("--lighting", cmd->lighting, "faithful|physical")->check(CLI::IsMember({"faithful", "physical"}))->capture_default_str();
+  view->add_option("--lighting", cmd->lighting, "faithful|physical|compiled|difference (keys 4, 5, 6, 7)")
+      ->check(CLI::IsMember({"faithful", "physical", "compiled", "difference"}))
+      ->capture_default_str();
   view->add_option("--luxels", cmd->luxels,
                    "Faithful lighting: on = the compiler's luxels, baked on the GPU as the first frames show, off = the light at each pixel")
       ->check(CLI::IsMember({"on", "off"}))

@@ -36,6 +36,9 @@ struct LightmappedFace {
   // applied). For Quake's grid that is sAxis / luxelSize and sOffset / luxelSize - lightmapMins[0].
   glm::dvec3 luxelS{1.0 / 16.0, 0.0, 0.0}, luxelT{0.0, 1.0 / 16.0, 0.0};
   double luxelSOffset = 0.0, luxelTOffset = 0.0;
+  // Quake 3: the draw surface's triangles, three indices into `polygon` each (q3map2's planar
+  // surfaces need not be convex); empty for Q1/HL/Q2, whose polygon is convex.
+  std::vector<uint32_t> triangles;
   std::array<uint8_t, 4> styles{255, 255, 255, 255}; // light styles in order, 255 = unused
   // For each used style in order, width * height RGB triples, rows top (t min) to bottom.
   // Values as stored: the light sum x 0.5 (_range), clamped to 255; grey levels are repeated
@@ -47,12 +50,17 @@ struct CompiledLighting {
   // Where the colours came from: "lighting lump" (Quake's 8-bit grey), ".lit file",
   // "BSPX RGBLIGHTING", "RGB lighting lump" (Half-Life, Quake 2), "lightmap pages" (Quake 3).
   std::string source;
+  // The engine that shows these lightmaps: "quake", "hexen2" (Hexen II's 80-byte models),
+  // "halflife", "quake2" or "quake3", from the file's version (renderer/cpu/compiled_lightmaps.h).
+  std::string engine = "quake";
   // "16 texels per luxel", "per-face luxel size (BSPX LMSHIFT)" or "decoupled (BSPX DECOUPLED_LM)".
   std::string layout = "16 texels per luxel";
   int luxelSize = 16; // texels per luxel of faces that do not say otherwise
   std::vector<LightmappedFace> faces;
   // Quake 3 keeps its lightmaps as 128x128 RGB pages that draw vertices index; the pages are kept
-  // here (alpha 255) although draw surfaces are not part of the Scene.
+  // here (alpha 255), and each planar draw surface's block of its page is one of `faces` (its
+  // luxels copied out, luxel (x, y) the block's texel (x, y)). Patches and triangle soups,
+  // vertex-lit surfaces and the light grid are not read yet.
   std::vector<Image> pages;
 };
 

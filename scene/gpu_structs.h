@@ -311,10 +311,15 @@ static_assert(offsetof(GpuLightCell, count) == 4);
 //                   a·s + b·t + c >= 0 inside;
 //   luxels[firstLuxel + y * width + x]: RGBA8 (r in the low byte), the stored lightmap value
 //                   (light × _range, clamped as the compiler clamps, 0..255), alpha unused.
-// Luxel (x, y) is centred on texel (16 (minS + x), 16 (minT + y)).
+// Luxel (x, y) is centred where u = x and v = y, with u = luxelU·(s, t, 1) - minS and v likewise
+// (the scene face's texel coordinates s, t). Faithful mode's grid, Quake's, is the default
+// luxelU = (1/16, 0, 0): luxel (x, y) on texel (16 (minS + x), 16 (minT + y)). A compiled .bsp's
+// own lightmaps (--lighting compiled) set them from the file: BSPX LMSHIFT's per-face luxel size,
+// DECOUPLED_LM's own axes, or a compiled face whose texture frame is not the scene face's.
 // The GL tracer reads all of it from one uint buffer (packLightmaps; shaders/lightmaps.glsl):
-//   [0] first fragment word, [1] first edge word, [2] first luxel word, [3] face count F;
-//   [4 + 2 face], [5 + 2 face]: the face's (first fragment, count); then the fragments (8 words
+//   [0] first fragment word, [1] first edge word, [2] first luxel word, [3] face count F,
+//   [4] the display scale (float bits: shown = texture × luxel × scale), [5..7] zero;
+//   [8 + 2 face], [9 + 2 face]: the face's (first fragment, count); then the fragments (16 words
 //   each, this struct), the edges (4 float words each), the luxels (1 word each).
 // ---------------------------------------------------------------------------------------------
 struct GpuLightmapFragment {
@@ -326,14 +331,18 @@ struct GpuLightmapFragment {
   uint32_t firstEdge = 0;
   uint32_t edgeCount = 0;
   uint32_t pad = 0; // zero
+  float luxelU[4] = {1.0f / 16.0f, 0.0f, 0.0f, 0.0f}; // (a, b, c, 0): u + minS = a s + b t + c
+  float luxelV[4] = {0.0f, 1.0f / 16.0f, 0.0f, 0.0f};
 };
-static_assert(sizeof(GpuLightmapFragment) == 32);
+static_assert(sizeof(GpuLightmapFragment) == 64);
 static_assert(offsetof(GpuLightmapFragment, minT) == 4);
 static_assert(offsetof(GpuLightmapFragment, width) == 8);
 static_assert(offsetof(GpuLightmapFragment, height) == 12);
 static_assert(offsetof(GpuLightmapFragment, firstLuxel) == 16);
 static_assert(offsetof(GpuLightmapFragment, firstEdge) == 20);
 static_assert(offsetof(GpuLightmapFragment, edgeCount) == 24);
+static_assert(offsetof(GpuLightmapFragment, luxelU) == 32);
+static_assert(offsetof(GpuLightmapFragment, luxelV) == 48);
 
 // One sample point of faithful mode's bake (renderer/cpu/lightmap_bake.h): where the compiler
 // samples a luxel, found on the CPU, lit by either tracer (shaders/bake.comp). Sample

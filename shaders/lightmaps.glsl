@@ -6,15 +6,18 @@ layout(std430, binding = 15) readonly buffer Lightmaps { uint lightmapData[]; };
 // (first fragment, count) of face `face`; count 0: not baked.
 uvec2 lightmapRange(uint face) {
   if (face >= lightmapData[3]) return uvec2(0u);
-  return uvec2(lightmapData[4u + 2u * face], lightmapData[5u + 2u * face]);
+  return uvec2(lightmapData[8u + 2u * face], lightmapData[9u + 2u * face]);
 }
+
+// shown = texture × luxel × this (renderer/cpu/lightmaps.h Lightmaps::displayScale).
+float lightmapDisplayScale() { return uintBitsToFloat(lightmapData[4]); }
 
 // The fragment holding st, else the one st lies least outside of (lightmapFragmentAt).
 uint lightmapFragmentAt(uvec2 range, vec2 st) {
   uint best = range.x;
   float bestOutside = -1e30;
   for (uint f = range.x; f < range.x + range.y; ++f) {
-    uint at = lightmapData[0] + 8u * f;
+    uint at = lightmapData[0] + 16u * f;
     uint firstEdge = lightmapData[at + 5u], edgeCount = lightmapData[at + 6u];
     float inside = 1e30;
     for (uint e = firstEdge; e < firstEdge + edgeCount; ++e) {
@@ -35,11 +38,15 @@ vec3 unpackLuxel(uint v) { return vec3(float(v & 255u), float((v >> 8) & 255u), 
 
 // The stored value (0..255 per channel) shown at texel point st of a face with `range`.
 vec3 lightmapValue(uvec2 range, vec2 st) {
-  uint at = lightmapData[0] + 8u * lightmapFragmentAt(range, st);
+  uint at = lightmapData[0] + 16u * lightmapFragmentAt(range, st);
   int minS = int(lightmapData[at]), minT = int(lightmapData[at + 1u]);
   int width = int(lightmapData[at + 2u]), height = int(lightmapData[at + 3u]);
   uint firstLuxel = lightmapData[2] + lightmapData[at + 4u];
-  float u = st.x / 16.0 - float(minS), v = st.y / 16.0 - float(minT);
+  vec3 luxelU = uintBitsToFloat(uvec3(lightmapData[at + 8u], lightmapData[at + 9u], lightmapData[at + 10u]));
+  vec3 luxelV = uintBitsToFloat(uvec3(lightmapData[at + 12u], lightmapData[at + 13u], lightmapData[at + 14u]));
+  // Written as the CPU writes it (a s + b t + c, left to right) so that both round alike.
+  float u = luxelU.x * st.x + luxelU.y * st.y + luxelU.z - float(minS);
+  float v = luxelV.x * st.x + luxelV.y * st.y + luxelV.z - float(minT);
   float fu = floor(u), fv = floor(v);
   float wu = u - fu, wv = v - fv;
   int x0 = clamp(int(fu), 0, width - 1), x1 = clamp(int(fu) + 1, 0, width - 1);

@@ -454,7 +454,7 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
     GpuFace f = faces[hit.face];
     vec3 d = hit.position - f.origin;
     vec3 stored = lightmapValue(baked, vec2(dot(d, f.tangent), dot(d, f.bitangent)));
-    path.radiance = srgbToLinear(max(path.texture * stored / OVERBRIGHT_ONE, path.fullbright));
+    path.radiance = srgbToLinear(max(path.texture * stored * lightmapDisplayScale(), path.fullbright));
     return false;
   }
   path.face = hit.face;

@@ -1,6 +1,8 @@
 #include "viewer/viewer.h"
 
+#include "renderer/cpu/compiled_lightmaps.h"
 #include "renderer/cpu/cpu_renderer.h"
+#include "renderer/cpu/difference.h"
 #include "renderer/cpu/image_output.h"
 #include "renderer/cpu/render_scene.h"
 #include "renderer/gl/gl_bake.h"
@@ -79,6 +81,13 @@ struct Viewer::Impl {
   std::unique_ptr<gl::GlTexture2D> display; // RGBA8, what is on screen (scaled to the window)
 
   std::string error;
+  std::string notice; // why the compiled view could not be shown
+  bool compiled = false;
+  // Key 7: faithful light accumulates in `full` while the compiled picture of the view, drawn
+  // once when the camera stops, waits in compiledPixels (display bytes; empty: not drawn yet).
+  bool difference = false;
+  std::vector<uint32_t> compiledPacked;
+  std::vector<uint8_t> compiledPixels;
   int reloads = 0;
   double wheel = 0.0; // scroll notches since the last frame
   double lastX = 0.0, lastY = 0.0;
@@ -95,6 +104,7 @@ struct Viewer::Impl {
     level = loadLevel(options, window.context(), programs, lighting == LightingMode::Physical);
     startBake();
     watchLevelFiles();
+    if (options.compiled) showCompiled();
     const CameraPose pose = options.camera ? *options.camera : defaultCameraPose(level->scene);
     camera = FlyCamera(glm::dvec3(pose.origin), pose.pitch, pose.yaw);
     // Before ImGui's context, which only the destructor ends: a throw here leaves nothing behind.
@@ -134,7 +144,7 @@ struct Viewer::Impl {
   // Faithful mode shows the compiler's luxels once they are baked; until then the light at each
   // pixel's point. A frame's share of the bake keeps frames coming while it runs.
   void bakeSome() {
-    if (!bake || bake->done() || lighting != LightingMode::Faithful || full->samples() == 0) return;
+    if (!bake || bake->done() || lighting != LightingMode::Faithful || compiled || difference || full->samples() == 0) return;
     if (bake->step(*level->tracer, kBakeMillisecondsPerFrame)) restart();
   }
 
@@ -145,6 +155,7 @@ struct Viewer::Impl {
   void restart() {
     full->restart();
     aovsCurrent = false;
+    compiledPixels.clear();
   }
 
   bool pressedOnce(int key) {
@@ -190,6 +201,8 @@ struct Viewer::Impl {
     if (pressedOnce(GLFW_KEY_3)) setMode(ViewMode::Normal);
     if (pressedOnce(GLFW_KEY_4)) setLighting(LightingMode::Faithful);
     if (pressedOnce(GLFW_KEY_5)) setLighting(LightingMode::Physical);
+    if (pressedOnce(GLFW_KEY_6)) showCompiled();
+    if (pressedOnce(GLFW_KEY_7)) showDifference();
     if (pressedOnce(GLFW_KEY_F12)) takeScreenshot();
     if (pressedOnce(GLFW_KEY_ESCAPE)) glfwSetWindowShouldClose(window.handle(), GLFW_TRUE);
   }
@@ -199,9 +212,75 @@ struct Viewer::Impl {
   }
 
   void setLighting(LightingMode m) {
-    if (lighting == m) return;
+    if (lighting == m && !compiled && !difference) return;
+    const bool leftCompiledView = compiled || difference; // which replaced the baked luxels
+    if (compiled) {
+      level->render.lightmaps = {};
+      level->tracer->setLightmaps({});
+      compiled = false;
+    }
+    difference = false;
     lighting = m;
+    if (leftCompiledView) startBake();
     restart();
+  }
+
+  // The compiled view is faithful mode's tracer reading the level's own luxels instead of
+  // evaluating the light (renderer/cpu/compiled_lightmaps.h).
+  bool showCompiled() {
+    const std::string why = showCompiledLightmaps(level->scene, level->render, options.import.textures.game.game);
+    notice = why.empty() ? std::string() : why + "; showing faithful lighting";
+    if (!why.empty()) return false;
+    compiledPacked = packLightmaps(level->render.lightmaps);
+    level->tracer->setLightmaps(compiledPacked);
+    compiled = true;
+    difference = false;
+    lighting = LightingMode::Faithful;
+    restart();
+    return true;
+  }
+
+  // The compiled view against faithful light, as render --lighting difference shows it.
+  bool showDifference() {
+    if (!compiled && !showCompiled()) return false;
+    level->render.lightmaps = {};
+    level->tracer->setLightmaps({});
+    compiled = false;
+    difference = true;
+    restart();
+    return true;
+  }
+
+  // The compiled picture of the current view: a few samples with the compiled luxels uploaded.
+  void drawCompiledPicture() {
+    gl::ProgressiveImage image(options.width, options.height);
+    level->tracer->setLightmaps(compiledPacked);
+    for (int i = 0; i < 4; ++i) image.addSample(*level->tracer, basis(image.width(), image.height()), beautySettings());
+    level->tracer->setLightmaps({});
+    compiledPixels = displayPixels(meanImage(image), displayOutput());
+  }
+
+  RenderImage meanImage(const gl::ProgressiveImage& image) const {
+    RenderImage out;
+    out.width = image.width();
+    out.height = image.height();
+    out.beauty = image.readMean();
+    return out;
+  }
+  OutputSettings displayOutput() const {
+    OutputSettings output;
+    output.tonemap = tonemapFor(lighting);
+    output.exposureEv = options.exposureEv;
+    return output;
+  }
+
+  void showDifferenceImage() {
+    const std::vector<uint8_t> heat = differencePixels(compiledPixels, displayPixels(meanImage(*full), displayOutput()));
+    std::vector<uint8_t> rgba(heat.size() / 3 * 4, 255);
+    for (size_t i = 0; i < heat.size() / 3; ++i) std::copy_n(&heat[i * 3], 3, &rgba[i * 4]);
+    const gl::GlTexture2D& target = displayOfSize(full->width(), full->height());
+    BT_GL(glPixelStorei(GL_UNPACK_ALIGNMENT, 1));
+    BT_GL(glTextureSubImage2D(target.id(), 0, 0, 0, full->width(), full->height(), GL_RGBA, GL_UNSIGNED_BYTE, rgba.data()));
   }
 
   // Every file the level was read from (Scene::inputFiles: the map, prefabs, WADs, palettes,
@@ -217,6 +296,11 @@ struct Viewer::Impl {
       startBake();
       error.clear();
       ++reloads;
+      if (compiled || difference) {
+        const bool wasDifference = difference;
+        compiled = difference = false;
+        if (showCompiled() && wasDifference) showDifference();
+      }
       restart();
     } catch (const std::exception& e) {
       // Keep showing the last good level; the error stays on screen until a save fixes it.
@@ -249,6 +333,7 @@ struct Viewer::Impl {
       return;
     }
     if (!moving) bakeSome();
+    if (difference && !moving && compiledPixels.empty()) drawCompiledPicture();
     gl::ProgressiveImage& image = moving ? *preview : *full;
     if (moving) preview->restart();
     if (image.samples() < options.maxSamples) {
@@ -260,7 +345,8 @@ struct Viewer::Impl {
         programs->startPathTracer(lighting != LightingMode::Physical, level->tracer->faithfulFeatures());
       samplesThisFrame = double(image.width()) * image.height();
     }
-    showSum(image);
+    if (difference && !moving) showDifferenceImage();
+    else showSum(image);
   }
 
   const gl::GlTexture2D& displayOfSize(int width, int height) {
@@ -308,14 +394,17 @@ struct Viewer::Impl {
                  ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing |
                      ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoMove);
     const char* modeName = mode == ViewMode::Beauty ? "beauty" : mode == ViewMode::Albedo ? "albedo" : "normal";
-    ImGui::Text("%s | %s lighting | %s", modeName, lighting == LightingMode::Faithful ? "faithful" : "physical",
-                gl::toString(level->tracer->textureMode()));
+    const char* lightingName = difference ? "compiled vs faithful (black 0, blue 8, green 16, yellow 24, red 32+ levels)"
+                             : compiled   ? "compiled"
+                             : lighting == LightingMode::Faithful ? "faithful" : "physical";
+    ImGui::Text("%s | %s lighting | %s", modeName, lightingName, gl::toString(level->tracer->textureMode()));
     ImGui::Text("spp %d | %.2f Msamples/s", full->samples(), samplesPerSecond * 1e-6);
     if (bake && lighting == LightingMode::Faithful && !bake->done())
       ImGui::Text("baking luxels: pass %d of %d", bake->passesDone(), std::max(bake->passes(), 1));
     ImGui::Text("camera %s", formatCameraPose(pose()).c_str());
     ImGui::TextDisabled("RMB look, WASD move, Q/E down/up, wheel fwd, RMB+wheel speed (%.0f)", camera.speed);
-    ImGui::TextDisabled("1 beauty 2 albedo 3 normal | 4 faithful 5 physical | F12 screenshot");
+    ImGui::TextDisabled("1 beauty 2 albedo 3 normal | 4 faithful 5 physical 6 compiled 7 difference | F12 screenshot");
+    if (!notice.empty()) ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "%s", notice.c_str());
     if (!error.empty()) ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "reload failed: %s", error.c_str());
     ImGui::End();
 
@@ -385,6 +474,9 @@ Viewer::~Viewer() = default;
 bool Viewer::frame() { return impl_->frame(); }
 void Viewer::setMode(ViewMode mode) { impl_->setMode(mode); }
 void Viewer::setLighting(LightingMode mode) { impl_->setLighting(mode); }
+bool Viewer::showCompiled() { return impl_->showCompiled(); }
+bool Viewer::showDifference() { return impl_->showDifference(); }
+const std::string& Viewer::notice() const { return impl_->notice; }
 fs::path Viewer::screenshot() { return impl_->takeScreenshot(); }
 int Viewer::samples() const { return impl_->full->samples(); }
 int Viewer::reloads() const { return impl_->reloads; }

@@ -32,6 +32,7 @@ struct ViewerOptions {
   std::optional<CameraPose> camera; // default: the render command's default camera
   gl::TextureMode textures = gl::TextureMode::Auto;
   LightingMode lighting = LightingMode::Faithful;
+  bool compiled = false; // --lighting compiled: a .bsp's own lightmaps (key 6), in faithful mode
   int bounces = 3;
   std::filesystem::path screenshotDir = ".";
   int maxSamples = 4096; // refinement stops here; the window stays responsive
@@ -54,6 +55,13 @@ public:
 
   void setMode(ViewMode mode);
   void setLighting(LightingMode mode);
+  // The level's compiled lightmaps as its engine shows them (key 6); false when it has none
+  // (notice() says why and faithful lighting stays).
+  bool showCompiled();
+  // Key 7: the compiled view against faithful light as a heat map (render --lighting difference's
+  // scale); false, as showCompiled, for a level without lightmaps.
+  bool showDifference();
+  const std::string& notice() const; // the last mode switch that could not be made, and why
   // Writes <map>-NNN.png (tonemapped) and <map>-NNN.exr (linear, with AOV layers) into the
   // screenshot folder and returns the PNG's path. F12 calls this.
   std::filesystem::path screenshot();

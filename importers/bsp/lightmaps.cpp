@@ -185,9 +185,90 @@ LightmapExtents lightmapExtents(const BspFile& bsp, size_t face, int luxelSize) 
   return e;
 }
 
+namespace {
+
+// u = dot(p, axis) + offset through three points of a plane with known u: the gradient lies in
+// the plane (a planar surface's lightmap is a projection of it, q3map2 lightmapVecs).
+bool fitPlanarAxis(const std::array<glm::dvec3, 3>& p, const std::array<double, 3>& u, glm::dvec3& axis, double& offset) {
+  const glm::dvec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
+  const double a = glm::dot(e1, e1), b = glm::dot(e1, e2), c = glm::dot(e2, e2);
+  const double det = a * c - b * b;
+  if (!(std::abs(det) > 1e-9)) return false;
+  const double d1 = u[1] - u[0], d2 = u[2] - u[0];
+  const double alpha = (d1 * c - d2 * b) / det, beta = (d2 * a - d1 * b) / det;
+  axis = alpha * e1 + beta * e2;
+  offset = u[0] - glm::dot(axis, p[0]);
+  return true;
+}
+
+// One planar draw surface with a lightmap as a LightmappedFace: its triangles, and the block of
+// its page its vertices' lightmap coordinates reach, a luxel beyond on each side for the filter
+// (q3map2 leaves lightmapCorner / lightmapSize 0 in some levels, so they are not trusted), with
+// the luxel axes fitted to those coordinates (texel centres at integers: u = s × 128 - 0.5 - x0).
+// False when the surface's records are unusable.
+bool quake3Surface(const BspFile& bsp, const Surface& surface, const ModelPlacement& placement, LightmappedFace& lf) {
+  const size_t pages = bsp.lightmaps.size() / (kQuake3Page * kQuake3Page * 3);
+  if (surface.lightmap < 0 || size_t(surface.lightmap) >= pages) return false;
+  if (surface.firstVertex < 0 || surface.vertexCount < 3 || size_t(surface.firstVertex) + size_t(surface.vertexCount) > bsp.drawVertices.size() ||
+      surface.firstIndex < 0 || surface.indexCount < 3 || size_t(surface.firstIndex) + size_t(surface.indexCount) > bsp.drawIndices.size())
+    return false;
+  std::vector<glm::dvec2> texel; // page texel coordinates, centres at integers
+  glm::dvec2 lo(1e30), hi(-1e30);
+  for (int32_t v = 0; v < surface.vertexCount; ++v) {
+    const DrawVertex& dv = bsp.drawVertices[size_t(surface.firstVertex + v)];
+    lf.polygon.push_back(glm::dvec3(dv.position) + placement.origin);
+    texel.push_back(glm::dvec2(dv.lightmap) * double(kQuake3Page) - 0.5);
+    lo = glm::min(lo, texel.back()), hi = glm::max(hi, texel.back());
+  }
+  if (!(lo.x > -2.0 && lo.y > -2.0 && hi.x < kQuake3Page + 1.0 && hi.y < kQuake3Page + 1.0)) return false; // also NaN
+  const glm::ivec2 first = glm::clamp(glm::ivec2(glm::floor(lo)) - 1, 0, kQuake3Page - 1);
+  const glm::ivec2 last = glm::clamp(glm::ivec2(glm::ceil(hi)) + 1, 0, kQuake3Page - 1);
+  double bestArea = 0.0;
+  std::array<size_t, 3> best{};
+  for (int32_t i = 0; i + 2 < surface.indexCount; i += 3) {
+    std::array<size_t, 3> t{};
+    for (int k = 0; k < 3; ++k) t[size_t(k)] = size_t(bsp.drawIndices[size_t(surface.firstIndex + i + k)]);
+    if (t[0] >= lf.polygon.size() || t[1] >= lf.polygon.size() || t[2] >= lf.polygon.size()) return false;
+    for (size_t k : t) lf.triangles.push_back(uint32_t(k));
+    const double area = glm::length(glm::cross(lf.polygon[t[1]] - lf.polygon[t[0]], lf.polygon[t[2]] - lf.polygon[t[0]]));
+    if (area > bestArea) bestArea = area, best = t;
+  }
+  const std::array<glm::dvec3, 3> p{lf.polygon[best[0]], lf.polygon[best[1]], lf.polygon[best[2]]};
+  // The plane's normal: lightmapVecs[2], which some q3map2 versions leave zero, else the largest
+  // triangle's, turned to the side the vertex normals face.
+  lf.normal = glm::dvec3(surface.lightmapVecs[2]);
+  if (!(std::abs(glm::length(lf.normal) - 1.0) < 1e-3)) {
+    lf.normal = glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0]));
+    if (glm::dot(lf.normal, glm::dvec3(bsp.drawVertices[size_t(surface.firstVertex) + best[0]].normal)) < 0.0) lf.normal = -lf.normal;
+    if (!(std::abs(glm::length(lf.normal) - 1.0) < 1e-3)) return false; // also NaN: no triangle with an area
+  }
+  const auto coordinate = [&](int axis) {
+    return std::array<double, 3>{texel[best[0]][axis] - first[axis], texel[best[1]][axis] - first[axis], texel[best[2]][axis] - first[axis]};
+  };
+  if (!fitPlanarAxis(p, coordinate(0), lf.luxelS, lf.luxelSOffset) || !fitPlanarAxis(p, coordinate(1), lf.luxelT, lf.luxelTOffset))
+    return false;
+  lf.entity = placement.entity;
+  lf.luxelSize = 0;
+  lf.width = last.x - first.x + 1;
+  lf.height = last.y - first.y + 1;
+  lf.styles = {0, 255, 255, 255};
+  const uint8_t* page = bsp.lightmaps.data() + size_t(surface.lightmap) * kQuake3Page * kQuake3Page * 3;
+  for (int y = first.y; y <= last.y; ++y)
+    for (int x = first.x; x <= last.x; ++x)
+      for (int c = 0; c < 3; ++c) lf.rgb.push_back(page[(size_t(y) * kQuake3Page + size_t(x)) * 3 + size_t(c)]);
+  return true;
+}
+
+} // namespace
+
 CompiledLighting readCompiledLighting(const BspFile& bsp, const std::vector<ModelPlacement>& placements,
                                       const std::optional<std::vector<uint8_t>>& litFile, Diagnostics& diagnostics) {
   CompiledLighting out;
+  out.engine = bsp.version == Version::Quake3_46   ? "quake3"
+             : bsp.version == Version::HalfLife30  ? "halflife"
+             : bsp.version == Version::Quake2_38   ? "quake2"
+             : bsp.hexen2Models                    ? "hexen2"
+                                                   : "quake";
   if (bsp.version == Version::Quake3_46) {
     out.source = "lightmap pages";
     const size_t pageBytes = kQuake3Page * kQuake3Page * 3;
@@ -201,6 +282,22 @@ CompiledLighting readCompiledLighting(const BspFile& bsp, const std::vector<Mode
       }
       out.pages.push_back(std::move(page));
     }
+    size_t unusable = 0;
+    for (const ModelPlacement& placement : placements) {
+      const Model& model = bsp.models[placement.model];
+      for (int32_t i = 0; i < model.faceCount; ++i) {
+        const Surface& surface = bsp.surfaces[size_t(model.firstFace + i)];
+        if (surface.type != SurfaceType::Planar || surface.lightmap < 0) continue;
+        LightmappedFace lf;
+        if (quake3Surface(bsp, surface, placement, lf)) out.faces.push_back(std::move(lf));
+        else ++unusable;
+      }
+    }
+    if (unusable > 0)
+      diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
+                             fmt::format("lump 'surfaces': {} planar surfaces with a lightmap point outside their page, "
+                                         "vertices or indices, or lie on no plane; they are kept without a lightmap",
+                                         unusable)});
     return out;
   }
 

@@ -609,7 +609,9 @@ glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& sett
 
   glm::vec3 stored;
   if (const auto baked = lightmapValue(rs.lightmaps, hit.face, textureCoordinates(gpuFace(rs, hit.face), hit.position))) {
-    stored = *baked; // the game's look: the compiler's luxels through the engine's filter
+    // The game's look: the compiler's luxels through the engine's filter and display.
+    const glm::vec3 shown = texture * *baked * rs.lightmaps.displayScale;
+    return srgbToLinear(glm::max(shown, emissiveAt(rs, hit.face, hit.position)));
   } else {
     const glm::vec3 light = faithfulLight(rs, settings, hit, faithfulFaceMinlight(rs, hit.face), rng);
     // The compiler scales a coloured sum so its brightest channel fits in 255, keeping the hue.

@@ -1,6 +1,7 @@
 #include "renderer/cpu/lightmaps.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 
@@ -26,10 +27,11 @@ uint32_t lightmapFragmentAt(const Lightmaps& lm, uint32_t face, const glm::vec2&
 std::optional<glm::vec3> lightmapValue(const Lightmaps& lm, uint32_t face, const glm::vec2& st) {
   if (!lm.baked(face)) return std::nullopt;
   const GpuLightmapFragment& g = lm.fragments[lightmapFragmentAt(lm, face, st)];
-  // Luxel (x, y) sits on texel 16 (min + x): the engine's lightmap texture coordinates put the
-  // texel centres there, and its bilinear filter clamps at the fragment's border.
-  const float u = st.x / float(kLuxelTexels) - float(g.minS);
-  const float v = st.y / float(kLuxelTexels) - float(g.minT);
+  // Luxel (x, y) sits where u = x, v = y (texel 16 (min + x) on Quake's grid): the engine's
+  // lightmap texture coordinates put the texel centres there, and its bilinear filter clamps at
+  // the fragment's border.
+  const float u = g.luxelU[0] * st.x + g.luxelU[1] * st.y + g.luxelU[2] - float(g.minS);
+  const float v = g.luxelV[0] * st.x + g.luxelV[1] * st.y + g.luxelV[2] - float(g.minT);
   const float fu = std::floor(u), fv = std::floor(v);
   const float wu = u - fu, wv = v - fv;
   const int maxX = int(g.width) - 1, maxY = int(g.height) - 1;
@@ -43,14 +45,19 @@ std::optional<glm::vec3> lightmapValue(const Lightmaps& lm, uint32_t face, const
 
 std::vector<uint32_t> packLightmaps(const Lightmaps& lm) {
   const uint32_t faceCount = lm.empty() ? 0u : uint32_t(lm.faceRanges.size());
-  const uint32_t fragmentsAt = 4 + 2 * faceCount;
-  const uint32_t edgesAt = fragmentsAt + uint32_t(lm.fragments.size()) * 8;
+  const uint32_t fragmentsAt = 8 + 2 * faceCount;
+  const uint32_t edgesAt = fragmentsAt + uint32_t(lm.fragments.size()) * 16;
   const uint32_t luxelsAt = edgesAt + uint32_t(lm.edges.size()) * 4;
-  std::vector<uint32_t> out{fragmentsAt, edgesAt, luxelsAt, faceCount};
+  std::vector<uint32_t> out{fragmentsAt, edgesAt, luxelsAt, faceCount, std::bit_cast<uint32_t>(lm.displayScale), 0u, 0u, 0u};
   out.reserve(luxelsAt + lm.luxels.size());
   for (uint32_t f = 0; f < faceCount; ++f) out.insert(out.end(), {lm.faceRanges[f].x, lm.faceRanges[f].y});
-  for (const GpuLightmapFragment& g : lm.fragments)
+  auto bits = [](const float(&v)[4]) {
+    return std::array<uint32_t, 4>{std::bit_cast<uint32_t>(v[0]), std::bit_cast<uint32_t>(v[1]), std::bit_cast<uint32_t>(v[2]), 0u};
+  };
+  for (const GpuLightmapFragment& g : lm.fragments) {
     out.insert(out.end(), {uint32_t(g.minS), uint32_t(g.minT), g.width, g.height, g.firstLuxel, g.firstEdge, g.edgeCount, 0u});
+    for (const auto& axis : {bits(g.luxelU), bits(g.luxelV)}) out.insert(out.end(), axis.begin(), axis.end());
+  }
   for (const glm::vec4& e : lm.edges)
     out.insert(out.end(), {std::bit_cast<uint32_t>(e.x), std::bit_cast<uint32_t>(e.y), std::bit_cast<uint32_t>(e.z), 0u});
   out.insert(out.end(), lm.luxels.begin(), lm.luxels.end());

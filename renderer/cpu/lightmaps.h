@@ -27,6 +27,10 @@ struct Lightmaps {
   std::vector<uint32_t> luxels;                 // RGBA8, r in the low byte
   std::vector<std::vector<dvec3>> polygons;     // per fragment: its world-space polygon (for the bake)
   std::vector<uint32_t> fragmentFace;           // per fragment: its scene face
+  // What the engine draws: texture × luxel × displayScale, in the texture's (gamma) space.
+  // Faithful luxels hold the stored value and Quake's overbright shows 128 as the texture's own
+  // colour; a compiled view's luxels hold what its engine uploads (compiled_lightmaps.h).
+  float displayScale = 1.0f / 128.0f;
 
   bool empty() const { return fragments.empty(); }
   bool baked(uint32_t face) const { return face < faceRanges.size() && faceRanges[face].y > 0; }

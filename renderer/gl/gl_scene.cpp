@@ -134,10 +134,10 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMa
 void GlSceneBuffers::setLightmaps(const std::vector<uint32_t>& packed) {
   // Buffer storage is immutable: a new bake gets a new buffer. A level without baked luxels
   // still gets the header (no face), so the shader reads 0 faces.
-  static const std::vector<uint32_t> none{4u, 4u, 4u, 0u};
+  static const std::vector<uint32_t> none{8u, 8u, 8u, 0u, 0u, 0u, 0u, 0u};
   if (lightmaps_) BT_GL(glDeleteBuffers(1, &lightmaps_));
   BT_GL(glCreateBuffers(1, &lightmaps_));
-  upload(lightmaps_, std::span<const uint32_t>(packed.size() < 4 ? none : packed));
+  upload(lightmaps_, std::span<const uint32_t>(packed.size() < 8 ? none : packed));
 }
 
 GlSceneBuffers::~GlSceneBuffers() {

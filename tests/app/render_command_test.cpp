@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -172,6 +174,80 @@ TEST(RenderCommand, ALevelWithNoDrawnFaceWarnsAndExitsOne) {
   const CommandResult shown =
       brushtrace("render " + quoted(clip) + " -o " + quoted(dir.path / "out.png") + kSmall + " --backend cpu --show-hidden");
   EXPECT_EQ(shown.exitCode, 0) << shown.err;
+}
+
+// --lighting compiled draws a .bsp's own lightmaps (tests/render/compiled_view_test.cpp checks
+// the pixels); a level without any says so in one line and renders faithful light; a compiled
+// Quake 3 level renders compiled unless told otherwise, with a note.
+TEST(RenderCommand, CompiledLightingShowsTheLightmapsOrSaysWhyNot) {
+  BT_REQUIRE_SHARED(shared);
+  TempDir dir("compiled");
+  const std::string out = " -o " + quoted(dir.path / "out.png") + kSmall + " --backend cpu";
+  const fs::path lit = shared / "oracle/lit/maps_quake_map_source_e1m1.bsp";
+  const CommandResult shown = brushtrace("render " + quoted(lit) + out + " --lighting compiled");
+  EXPECT_EQ(shown.exitCode, 0) << shown.err;
+  EXPECT_NE(shown.out.find("compiled lighting"), npos) << shown.out;
+  EXPECT_EQ(shown.err.find("showing faithful lighting"), npos) << shown.err;
+
+  const fs::path unlit = shared / "oracle/maps_ericw-tools_testmaps_q1_cube.bsp";
+  const CommandResult fallback = brushtrace("render " + quoted(unlit) + out + " --lighting compiled");
+  EXPECT_EQ(fallback.exitCode, 0) << fallback.err;
+  EXPECT_NE(fallback.err.find(unlit.string() + ": warning: the level has no lightmaps (compiled without light); showing faithful "
+                                               "lighting"),
+            npos)
+      << fallback.err;
+  EXPECT_NE(fallback.out.find("faithful lighting"), npos) << fallback.out;
+  EXPECT_TRUE(fs::exists(dir.path / "out.png"));
+
+  const fs::path openArena = "/usr/share/games/openarena/baseoa/pak1-maps.pk3";
+  if (!fs::exists(openArena)) GTEST_SKIP() << openArena << " not found: the Quake 3 default is not checked";
+  const fs::path level = openArena.string() + ":maps/aggressor.bsp";
+  const CommandResult quake3 = brushtrace("render " + quoted(level) + out + " --no-textures");
+  EXPECT_EQ(quake3.exitCode, 0) << quake3.err;
+  EXPECT_NE(quake3.err.find("note: a compiled Quake 3 level keeps no lights; showing its lightmaps (--lighting compiled)"), npos)
+      << quake3.err;
+  EXPECT_NE(quake3.out.find("compiled lighting"), npos) << quake3.out;
+  const CommandResult told = brushtrace("render " + quoted(level) + out + " --no-textures --lighting faithful");
+  EXPECT_EQ(told.err.find("note: a compiled Quake 3"), npos) << told.err;
+  EXPECT_NE(told.out.find("faithful lighting"), npos) << told.out;
+}
+
+// --lighting difference: each pixel of its PNG is the heat colour of the largest channel
+// difference between the compiled and the faithful PNGs of the same view (README's scale: 0
+// black, 8 steps blue, 16 green, 24 yellow, 32 or more red, linear between).
+TEST(RenderCommand, DifferenceIsTheHeatMapOfCompiledAgainstFaithful) {
+  BT_REQUIRE_SHARED(shared);
+  TempDir dir("difference");
+  const fs::path level = shared / "oracle/lit/maps_ericw-tools_testmaps_q1_light_suntexture.bsp";
+  const std::string common = " --size 96x60 --spp 1 --backend cpu --quiet";
+  for (const char* mode : {"faithful", "compiled", "difference"}) {
+    const CommandResult r = brushtrace("render " + quoted(level) + " -o " + quoted(dir.path / (std::string(mode) + ".png")) +
+                                       common + " --lighting " + mode);
+    ASSERT_EQ(r.exitCode, 0) << mode << ": " << r.err;
+  }
+  const std::vector<float> faithful = readPixels(dir.path / "faithful.png"), compiled = readPixels(dir.path / "compiled.png"),
+                           difference = readPixels(dir.path / "difference.png");
+  ASSERT_EQ(faithful.size(), size_t(96 * 60 * 3));
+  ASSERT_EQ(compiled.size(), faithful.size());
+  ASSERT_EQ(difference.size(), faithful.size());
+  const auto heat = [](int steps) {
+    const float stops[5][3] = {{0, 0, 0}, {0, 0, 1}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}};
+    const float at = float(std::min(steps, 32)) / 8.0f;
+    const int i = std::min(int(at), 3);
+    const float w = at - float(i);
+    return std::array<float, 3>{stops[i][0] * (1 - w) + stops[i + 1][0] * w, stops[i][1] * (1 - w) + stops[i + 1][1] * w,
+                                stops[i][2] * (1 - w) + stops[i + 1][2] * w};
+  };
+  size_t differing = 0, off = 0;
+  for (size_t p = 0; p < faithful.size() / 3; ++p) {
+    int steps = 0;
+    for (size_t c = 0; c < 3; ++c) steps = std::max(steps, int(std::lround(std::abs(faithful[p * 3 + c] - compiled[p * 3 + c]) * 255.0f)));
+    differing += steps > 0;
+    const std::array<float, 3> want = heat(steps);
+    for (size_t c = 0; c < 3; ++c) off += std::abs(difference[p * 3 + c] - want[c]) > 1.0f / 255.0f + 1e-4f;
+  }
+  EXPECT_EQ(off, 0u);
+  EXPECT_GT(differing, 100u) << "the two modes must disagree somewhere for the test to show anything";
 }
 
 // Every form --camera takes puts the camera at the same place: the same pixels as the

@@ -3,6 +3,9 @@
 // under ASan+UBSan).
 #include "importers/bsp/bsp_file.h"
 #include "importers/bsp/bsp_import.h"
+#include "importers/bsp/pk3.h"
+#include "renderer/cpu/compiled_lightmaps.h"
+#include "renderer/cpu/render_scene.h"
 #include "bvh/trace_scene.h"
 
 #include <glm/geometric.hpp>
@@ -113,6 +116,69 @@ TEST(BspFuzz, ScrambledLumpContentsNeverCrash) {
       importOrReject(bytes);
     }
   }
+}
+
+// The lightmap paths: the compiled lightmaps of a damaged level are read (importer) and laid
+// out on its faces (the compiled view) without a crash: Quake 1/HL/Q2 levels of the sample, and
+// an OpenArena level whose draw surfaces and vertices (lightmap page, corner, axes, coordinates)
+// are scrambled.
+// Returns true when the level still had compiled lightmaps to lay out.
+bool buildCompiledView(std::span<const uint8_t> bytes) {
+  try {
+    const bt::Scene scene = bt::bsp::sceneFromBsp(bt::bsp::readBspFile(bytes, "fuzz.bsp"));
+    bt::Diagnostics diagnostics;
+    bt::RenderScene rs = bt::buildRenderScene(scene, {}, diagnostics);
+    const bool shown = bt::showCompiledLightmaps(scene, rs, "").empty();
+    const bt::Lightmaps& lm = rs.lightmaps;
+    for (const bt::GpuLightmapFragment& g : lm.fragments)
+      EXPECT_LE(size_t(g.firstLuxel) + size_t(g.width) * g.height, lm.luxels.size());
+    return shown;
+  } catch (const bt::ImportError&) {
+    return false;
+  }
+}
+
+TEST(BspFuzz, ScrambledLightmapsNeverCrashTheCompiledView) {
+  BT_REQUIRE_SHARED(shared);
+  std::mt19937 rng(2211);
+  std::uniform_int_distribution<int> value(0, 255);
+  std::vector<std::filesystem::path> files; // the lit levels: Quake 1 (some with .lit), Half-Life, Quake 2
+  for (const char* folder : {"oracle/lit", "oracle/lit-games"})
+    for (const auto& entry : std::filesystem::directory_iterator(shared / folder))
+      if (entry.path().extension() == ".bsp" && entry.file_size() <= 100 * 1024) files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  int shown = 0;
+  for (size_t i = 0; i < files.size(); i += 6) {
+    SCOPED_TRACE(files[i].string());
+    const auto original = readBytes(files[i]);
+    std::uniform_int_distribution<size_t> where(lumpTableSize(original), original.size() - 1);
+    for (int k = 0; k < 5; ++k) {
+      auto bytes = original;
+      for (int f = 0; f < 16; ++f) bytes[where(rng)] = static_cast<uint8_t>(value(rng));
+      shown += buildCompiledView(bytes);
+    }
+  }
+  EXPECT_GT(shown, 0) << "no damaged level kept lightmaps to lay out";
+  const std::filesystem::path pk3 = "/usr/share/games/openarena/baseoa/pak1-maps.pk3";
+  if (!std::filesystem::exists(pk3)) GTEST_SKIP() << pk3 << " not found: Quake 3 surfaces not fuzzed";
+  const std::vector<uint8_t> original = *bt::bsp::Pk3Archive(pk3).read("maps/q3dm6ish.bsp");
+  ASSERT_TRUE(buildCompiledView(original)) << "the undamaged level has lightmaps";
+  auto lump = [&](int index) { // Quake 3's lump table: offset, length
+    size_t at = 8 + size_t(index) * 8, offset = 0, length = 0;
+    for (int b = 3; b >= 0; --b) offset = offset << 8 | original[at + size_t(b)], length = length << 8 | original[at + 4 + size_t(b)];
+    return std::pair{offset, length};
+  };
+  int quake3Shown = 0;
+  for (int surfacesOrVertices : {13, 10}) { // LUMP_SURFACES, LUMP_DRAWVERTS
+    const auto [offset, length] = lump(surfacesOrVertices);
+    std::uniform_int_distribution<size_t> where(offset, offset + length - 1);
+    for (int k = 0; k < 3; ++k) {
+      auto bytes = original;
+      for (int f = 0; f < 64; ++f) bytes[where(rng)] = static_cast<uint8_t>(value(rng));
+      quake3Shown += buildCompiledView(bytes);
+    }
+  }
+  EXPECT_GT(quake3Shown, 0) << "no damaged Quake 3 level kept lightmaps to lay out";
 }
 
 } // namespace

@@ -18,6 +18,7 @@
 #include "tests/render/normal_map_room.h"
 #include "tests/test_data.h"
 
+#include "renderer/cpu/compiled_lightmaps.h"
 #include "renderer/cpu/lightmap_bake.h"
 
 #include <glm/geometric.hpp>
@@ -215,6 +216,30 @@ TEST(GlCpuParity, BakedLuxelsShowTheSameInBothTracers) {
     lit += cpu.beauty[i] != glm::vec3(0.0f);
   }
   EXPECT_GT(lit, cpu.beauty.size() / 2) << "a black image proves nothing";
+}
+
+// --lighting compiled: both tracers draw a .bsp's own lightmaps from the same fragments
+// (renderer/cpu/compiled_lightmaps.h), through each engine's display scale: a Quake level with a
+// .lit (overbright) and a Quake 2 one (no overbright), every pixel up to float rounding.
+TEST(GlCpuParity, CompiledLightmapsShowTheSameInBothTracers) {
+  BT_REQUIRE_SHARED(shared);
+  for (const char* file : {"lit/maps_ericw-tools_testmaps_q1_light_hlform.bsp", "lit-games/maps_ericw-tools_testmaps_q2_light_sun.bsp"}) {
+    SCOPED_TRACE(file);
+    const Scene scene = importScene((shared / "oracle" / file).string(), ImportOptions{});
+    Diagnostics diagnostics;
+    RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+    ASSERT_EQ(showCompiledLightmaps(scene, rs, ""), "");
+    const RenderSettings settings = beautySettings(LightingMode::Faithful, 1);
+    RenderImage cpu;
+    const RenderImage gpu = renderBoth(rs, defaultCameraPose(scene), settings, cpu);
+    ASSERT_EQ(gpu.beauty.size(), cpu.beauty.size());
+    size_t lit = 0;
+    for (size_t i = 0; i < cpu.beauty.size(); ++i) {
+      EXPECT_LE(glm::length(gpu.beauty[i] - cpu.beauty[i]), 2e-3f * glm::length(cpu.beauty[i]) + 2e-4f) << "pixel " << i;
+      lit += cpu.beauty[i] != glm::vec3(0.0f);
+    }
+    EXPECT_GT(lit, cpu.beauty.size() / 4) << "a black image proves nothing";
+  }
 }
 
 TEST(GlCpuParity, PhysicalBeautyAgreesWithTheCpuReference) {

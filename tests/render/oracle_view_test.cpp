@@ -12,6 +12,7 @@
 #include "renderer/cpu/color.h"
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/cpu/lightmap_bake.h"
+#include "tests/render/lightmap_oracle.h"
 #include "tests/render/oracle_levels.h"
 #include "tests/test_data.h"
 
@@ -40,138 +41,8 @@ constexpr int kWidth = 128, kHeight = 96;
 constexpr size_t kMinLitPixels = 200;
 constexpr size_t kWholeLevelLuxels = 270000; // e1m1 (260 000) whole, lqdm5 (290 000) by camera
 
-// One compiled face of the world model with its style-0 lightmap: the oracle.
-struct CompiledFace {
-  glm::dvec3 normal{0.0};
-  double dist = 0.0;
-  std::vector<glm::dvec3> polygon;
-  glm::dvec4 vecs[2];
-  int mins[2] = {0, 0};
-  int width = 0, height = 0;
-  size_t offset = 0; // into the lighting lump
-  double area = 0.0;
-};
-
-class CompiledLightmaps {
-public:
-  explicit CompiledLightmaps(const std::filesystem::path& bspPath) : bsp_(bsp::readBspFile(bspPath)) {
-    std::filesystem::path lit = bspPath;
-    lit.replace_extension(".lit");
-    if (std::ifstream in{lit, std::ios::binary}) {
-      std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-      if (bytes.size() == 8 + 3 * bsp_.lighting.size()) rgb_.assign(bytes.begin() + 8, bytes.end());
-    }
-    const bsp::Model& world = bsp_.models.at(0);
-    for (int32_t fi = world.firstFace; fi < world.firstFace + world.faceCount; ++fi) add(fi);
-  }
-
-  const std::vector<CompiledFace>& faces() const { return faces_; }
-
-  // The compiled light (stored values, rgb) at world point p of a face facing n, bilinear over the
-  // luxels of the compiled face that holds p; nullopt where no lit face lies there.
-  std::optional<glm::dvec3> at(const glm::dvec3& p, const glm::dvec3& n) const {
-    for (const CompiledFace& f : faces_) {
-      if (glm::dot(f.normal, n) < 0.999 || std::abs(glm::dot(f.normal, p) - f.dist) > 0.5) continue;
-      if (!contains(f, p)) continue;
-      return bilinear(f, p);
-    }
-    return std::nullopt;
-  }
-
-  glm::dvec3 luxel(const CompiledFace& f, int x, int y) const {
-    const size_t i = f.offset + size_t(y) * size_t(f.width) + size_t(x);
-    if (!rgb_.empty()) return {rgb_[3 * i], rgb_[3 * i + 1], rgb_[3 * i + 2]};
-    return glm::dvec3(bsp_.lighting[i]);
-  }
-  // The world point of luxel (x, y)'s centre on the face plane.
-  glm::dvec3 luxelPoint(const CompiledFace& f, int x, int y) const {
-    const glm::dvec3 s(f.vecs[0]), t(f.vecs[1]);
-    const double sv = (f.mins[0] + x) * 16.0 - f.vecs[0].w, tv = (f.mins[1] + y) * 16.0 - f.vecs[1].w;
-    // Solve dot(p, s) = sv, dot(p, t) = tv, dot(p, n) = dist.
-    const glm::dmat3 m = glm::transpose(glm::dmat3(s, t, f.normal));
-    return glm::inverse(m) * glm::dvec3(sv, tv, f.dist);
-  }
-
-private:
-  void add(int32_t fi) {
-    const bsp::Face& face = bsp_.faces[size_t(fi)];
-    if (face.lightOffset < 0 || face.styles[0] != 0) return; // unlit (sky, liquids) or styled only
-    const bsp::TexInfo& tex = bsp_.texinfo[size_t(face.texinfo)];
-    CompiledFace f;
-    const bsp::BspPlane& plane = bsp_.planes[size_t(face.plane)];
-    f.normal = glm::dvec3(plane.normal);
-    f.dist = plane.dist;
-    if (face.side) f.normal = -f.normal, f.dist = -f.dist;
-    f.polygon = bsp_.faceVertices(size_t(fi));
-    float lo[2] = {1e30f, 1e30f}, hi[2] = {-1e30f, -1e30f};
-    for (int a = 0; a < 2; ++a) f.vecs[a] = glm::dvec4(tex.vecs[a][0], tex.vecs[a][1], tex.vecs[a][2], tex.vecs[a][3]);
-    for (const glm::dvec3& dv : f.polygon) {
-      const glm::vec3 v(dv); // in float, as the engine and the compiler compute extents
-      for (int a = 0; a < 2; ++a) {
-        const float st = v.x * tex.vecs[a][0] + v.y * tex.vecs[a][1] + v.z * tex.vecs[a][2] + tex.vecs[a][3];
-        lo[a] = std::min(lo[a], st), hi[a] = std::max(hi[a], st);
-      }
-    }
-    for (int a = 0; a < 2; ++a) f.mins[a] = int(std::floor(lo[a] / 16.0f));
-    f.width = int(std::ceil(hi[0] / 16.0f)) - f.mins[0] + 1;
-    f.height = int(std::ceil(hi[1] / 16.0f)) - f.mins[1] + 1;
-    f.offset = size_t(face.lightOffset);
-    if (f.offset + size_t(f.width) * size_t(f.height) > bsp_.lighting.size()) return;
-    for (size_t i = 1; i + 1 < f.polygon.size(); ++i)
-      f.area += 0.5 * glm::length(glm::cross(f.polygon[i] - f.polygon[0], f.polygon[i + 1] - f.polygon[0]));
-    faces_.push_back(std::move(f));
-  }
-
-  static bool contains(const CompiledFace& f, const glm::dvec3& p) {
-    const auto& w = f.polygon;
-    // Quake stores a face's vertices clockwise seen from its front; go by the polygon's own turn.
-    glm::dvec3 turn(0.0);
-    for (size_t i = 1; i + 1 < w.size(); ++i) turn += glm::cross(w[i] - w[0], w[i + 1] - w[0]);
-    const double side = glm::dot(turn, f.normal) < 0.0 ? -1.0 : 1.0;
-    for (size_t i = 0; i < w.size(); ++i) {
-      const glm::dvec3 edge = w[(i + 1) % w.size()] - w[i];
-      const glm::dvec3 inward = side * glm::normalize(glm::cross(f.normal, edge));
-      if (glm::dot(p - w[i], inward) < -0.05) return false;
-    }
-    return true;
-  }
-
-  // GLQuake's filter: luxel centres at 16 (mins + x) texels, clamped at the face's border.
-  glm::dvec3 bilinear(const CompiledFace& f, const glm::dvec3& p) const {
-    const double u = (glm::dot(p, glm::dvec3(f.vecs[0])) + f.vecs[0].w) / 16.0 - f.mins[0];
-    const double v = (glm::dot(p, glm::dvec3(f.vecs[1])) + f.vecs[1].w) / 16.0 - f.mins[1];
-    const double fu = std::floor(u), fv = std::floor(v);
-    const int x0 = std::clamp(int(fu), 0, f.width - 1), x1 = std::clamp(int(fu) + 1, 0, f.width - 1);
-    const int y0 = std::clamp(int(fv), 0, f.height - 1), y1 = std::clamp(int(fv) + 1, 0, f.height - 1);
-    const double wu = u - fu, wv = v - fv;
-    return (luxel(f, x0, y0) * (1 - wu) + luxel(f, x1, y0) * wu) * (1 - wv) +
-           (luxel(f, x0, y1) * (1 - wu) + luxel(f, x1, y1) * wu) * wv;
-  }
-
-  bsp::BspFile bsp_;
-  std::vector<uint8_t> rgb_;
-  std::vector<CompiledFace> faces_;
-};
-
-
-// A camera that looks straight at the centre of a large lit face from in front of it.
-CameraPose faceCamera(const RenderScene& rs, const CompiledFace& face) {
-  glm::dvec3 centre(0.0);
-  for (const glm::dvec3& v : face.polygon) centre += v;
-  centre /= double(face.polygon.size());
-  const glm::vec3 n(face.normal);
-  // Back away along the normal, but stay in front of whatever is behind the camera.
-  const Ray back{glm::vec3(centre) + n * 0.5f, 0.0f, n, 160.0f};
-  const SurfaceHit blocker = traceVisible(rs, back);
-  const float distance = blocker.found ? std::max(blocker.t * 0.8f, 4.0f) : 160.0f;
-  CameraPose pose;
-  pose.origin = glm::vec3(centre) + n * distance;
-  const glm::vec3 look = -n;
-  pose.yaw = glm::degrees(std::atan2(look.y, look.x));
-  pose.pitch = -glm::degrees(std::asin(std::clamp(look.z, -1.0f, 1.0f))); // positive pitch looks down
-  pose.source = "face camera";
-  return pose;
-}
+using test::CompiledFace;
+using CompiledLightmaps = test::LightmapOracle;
 
 // Pixels (or luxels) where the compiled light is at least kErrorFloor are "lit": the median and
 // the share within 5 % are theirs, so that a view mostly in darkness cannot pass on its black
@@ -336,20 +207,7 @@ std::string describe(const ViewResult& r) {
                      100.0 * double(r.darkWithin5) / double(std::max<size_t>(r.dark, 1)), r.skyOrUnlit, r.noCompiledFace);
 }
 
-// The default camera, and two that look straight at the two largest lit faces that face apart.
-std::vector<CameraPose> oracleCameras(const Scene& scene, const RenderScene& rs, const CompiledLightmaps& oracle) {
-  std::vector<CameraPose> cameras{defaultCameraPose(scene)};
-  std::vector<const CompiledFace*> largest;
-  for (const CompiledFace& f : oracle.faces()) largest.push_back(&f);
-  std::sort(largest.begin(), largest.end(), [](auto* a, auto* b) { return a->area > b->area; });
-  for (const CompiledFace* f : largest) {
-    if (cameras.size() == 3) break;
-    if (cameras.size() == 2 && glm::dot(f->normal, largest[0]->normal) > 0.99) continue;
-    cameras.push_back(faceCamera(rs, *f));
-  }
-  return cameras;
-}
-
+using test::oracleCameras;
 
 class OracleView : public ::testing::TestWithParam<const char*> {};
 

@@ -1,5 +1,7 @@
 // The viewer in a real window. CTest runs this binary under xvfb-run (tests/viewer/CMakeLists.txt)
 // with BT_GL_DEBUG=1; without a display it exits with kSkipped, which ctest reports as skipped.
+#include "renderer/cpu/difference.h"
+#include "tests/test_data.h"
 #include "viewer/viewer.h"
 
 #include "renderer/cpu/cpu_renderer.h"
@@ -243,6 +245,47 @@ TEST_F(ViewerWindowTest, DrawsPhysicalLighting) {
   EXPECT_GT(std::abs(meanPixel(physical) - meanPixel(faithful)), 1.0) << "the physical image is the faithful one";
   // Physical lighting is shown through ACES, on screen as in the PNG.
   EXPECT_LE(largestDifference(physical, viewer.displayed()), 1) << "the screen and the screenshot differ";
+  EXPECT_EQ(viewer.glDebugErrors(), 0);
+}
+
+// Key 6 shows a lit .bsp's own lightmaps, key 7 where they differ from faithful light as the
+// heat map render --lighting difference draws (every pixel a colour of its scale); a level
+// without lightmaps keeps faithful light and says why.
+TEST_F(ViewerWindowTest, ShowsTheCompiledLightmapsAndTheirDifference) {
+  {
+    Viewer room(options());
+    EXPECT_FALSE(room.showCompiled());
+    EXPECT_NE(room.notice().find("not a compiled .bsp"), std::string::npos) << room.notice();
+    EXPECT_FALSE(room.showDifference());
+  }
+  BT_REQUIRE_SHARED(shared);
+  ViewerOptions o = options();
+  o.map = (shared / "oracle/lit/maps_ericw-tools_testmaps_q1_light_suntexture.bsp").string();
+  Viewer viewer(o);
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 2; }));
+  const fs::path faithful = viewer.screenshot();
+  ASSERT_TRUE(viewer.showCompiled()) << viewer.notice();
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 2; }));
+  const fs::path compiled = viewer.screenshot();
+  EXPECT_LE(largestDifference(compiled, viewer.displayed()), 1) << "the screen and the screenshot differ";
+  EXPECT_GT(largestDifference(faithful, viewer.displayed()), 8) << "the compiled view is the faithful one";
+
+  ASSERT_TRUE(viewer.showDifference());
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 4; }));
+  const Viewer::DisplayImage heat = viewer.displayed();
+  size_t offScale = 0, coloured = 0;
+  for (size_t i = 0; i + 3 < heat.rgba.size(); i += 4) {
+    int best = 256;
+    for (int steps = 0; steps <= kDifferenceFullScale; ++steps) {
+      const glm::vec3 c = differenceColour(steps) * 255.0f;
+      best = std::min(best, std::max({std::abs(int(std::lround(c.x)) - heat.rgba[i]), std::abs(int(std::lround(c.y)) - heat.rgba[i + 1]),
+                                      std::abs(int(std::lround(c.z)) - heat.rgba[i + 2])}));
+    }
+    offScale += best > 1;
+    coloured += heat.rgba[i] + heat.rgba[i + 1] + heat.rgba[i + 2] > 0;
+  }
+  EXPECT_EQ(offScale, 0u) << "pixels that are no colour of the heat scale";
+  EXPECT_GT(coloured, 0u) << "the compiled and faithful light agree everywhere: the map shows nothing";
   EXPECT_EQ(viewer.glDebugErrors(), 0);
 }
 
