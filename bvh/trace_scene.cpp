@@ -525,11 +525,11 @@ bool traceBoth(const RayContext& r, const TraceScene& ts, Hit& best) {
   const std::span<const uint32_t> sides = ts.sides();
   const std::span<const GpuFace> faces = ts.faces();
   bool found = traverse<AnyHit, ZeroSafe>(
-      r, ts.nodes(), [&](uint32_t i, float tLimit, Hit& hit) { return hitBrush<ZeroSafe>(r, brushes[i], sides, faces, tLimit, hit); }, best);
+      r, ts.nodes(), [&r, brushes, sides, faces](uint32_t i, float tLimit, Hit& hit) { return hitBrush<ZeroSafe>(r, brushes[i], sides, faces, tLimit, hit); }, best);
   if (ts.triangleNodes().empty() || (AnyHit && found)) return found;
   const std::span<const GpuTriangle> triangles = ts.triangles();
   found |= traverse<AnyHit, ZeroSafe>(
-      r, ts.triangleNodes(), [&](uint32_t i, float tLimit, Hit& hit) { return hitTriangle(r, triangles[i], tLimit, hit); }, best);
+      r, ts.triangleNodes(), [&r, triangles](uint32_t i, float tLimit, Hit& hit) { return hitTriangle(r, triangles[i], tLimit, hit); }, best);
   return found;
 }
 
