@@ -68,7 +68,7 @@ std::vector<GlBvhNode> bvhForGl(std::span<const GpuBvhNode> nodes) {
   return gl;
 }
 
-std::vector<GlBvhNode> bvhForGl(const TraceScene& tracer) {
+std::vector<GlBvhNode> sceneBvhForGl(const TraceScene& tracer) {
   std::vector<GlBvhNode> nodes = bvhForGl(tracer.nodes());
   if (tracer.triangleNodes().empty()) return nodes;
   const auto base = static_cast<uint32_t>(nodes.size());
@@ -112,7 +112,7 @@ void makeTexelView(GLuint& view, GLuint buffer, GLenum format, size_t bytes, siz
 GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMaterial>& materials,
                                const GlLighting& lighting, size_t materialCount) {
   BT_GL(glCreateBuffers(kBufferCount, buffers_));
-  const std::vector<GlBvhNode> bvh = bvhForGl(tracer);
+  const std::vector<GlBvhNode> bvh = sceneBvhForGl(tracer);
   upload(buffers_[kBindingNodes], std::span<const GlBvhNode>(bvh));
   const std::vector<uint32_t> brushRows = brushAndTriangleRows(tracer);
   upload(buffers_[kBindingBrushes], std::span<const uint32_t>(brushRows));

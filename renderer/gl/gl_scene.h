@@ -18,7 +18,7 @@ struct GlLighting;
 std::vector<GlBvhNode> bvhForGl(std::span<const GpuBvhNode> nodes);
 // Both trees of a TraceScene, the triangles' after the brushes' with node 0's pads set
 // (gl_structs.h GlBvhNode says how).
-std::vector<GlBvhNode> bvhForGl(const TraceScene& tracer);
+std::vector<GlBvhNode> sceneBvhForGl(const TraceScene& tracer);
 
 class GlSceneBuffers {
 public:

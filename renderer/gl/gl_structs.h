@@ -52,7 +52,8 @@ enum Binding : uint32_t {
 //
 //   4 texels (shaders/trace.glsl nodeRow): (leftMin, left), (leftMax, pad), (rightMin, right),
 //   (rightMax, pad).
-// Mesh triangles (TraceScene::triangleNodes(), scene/gpu_structs.h GpuTriangle) travel in the
+// Mesh triangles (TraceScene::triangleNodes(), scene/gpu_structs.h GpuTriangle; gl_scene.h
+// sceneBvhForGl) travel in the
 // same two buffers, so that they need no binding of their own: their tree's GlBvhNodes follow
 // the brushes' (child references offset by where they start; leaf references name triangles),
 // and the triangles follow the brushes in the brush buffer, 3 rows (texels) each. The root's
