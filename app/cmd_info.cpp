@@ -11,6 +11,22 @@ namespace bt::app {
 
 namespace {
 
+// Quake 3 curves and triangle soups: meshes and their triangles (two faces each, scene.h Mesh).
+struct MeshSummary {
+  size_t curves = 0, curveTriangles = 0, soups = 0, soupTriangles = 0;
+  size_t faces() const { return 2 * (curveTriangles + soupTriangles); }
+};
+
+MeshSummary meshSummary(const Scene& scene) {
+  MeshSummary m;
+  for (const Mesh& mesh : scene.meshes) {
+    const bool curve = mesh.kind == MeshKind::Curve;
+    ++(curve ? m.curves : m.soups);
+    (curve ? m.curveTriangles : m.soupTriangles) += mesh.faceCount / 2;
+  }
+  return m;
+}
+
 nlohmann::ordered_json infoJson(const Scene& scene) {
   nlohmann::ordered_json textures = nlohmann::ordered_json::array();
   for (const Material& m : scene.materials)
@@ -22,14 +38,20 @@ nlohmann::ordered_json infoJson(const Scene& scene) {
   nlohmann::ordered_json bounds = nullptr;
   if (!scene.bounds.empty())
     bounds = {{"min", {scene.bounds.min.x, scene.bounds.min.y, scene.bounds.min.z}}, {"max", {scene.bounds.max.x, scene.bounds.max.y, scene.bounds.max.z}}};
+  const MeshSummary meshes = meshSummary(scene);
   return {{"path", scene.sourcePath},     {"dialect", scene.format},           {"entities", scene.entities.size()},
-          {"brushes", scene.brushes.size()}, {"faces", scene.faces.size()},    {"bounds", bounds},
+          {"brushes", scene.brushes.size()}, {"faces", scene.faces.size() - meshes.faces()},
+          {"curves", meshes.curves},       {"curve_triangles", meshes.curveTriangles},
+          {"triangle_soups", meshes.soups}, {"soup_triangles", meshes.soupTriangles}, {"bounds", bounds},
           {"textures", textures},         {"problems", problems}};
 }
 
 void printInfo(const Scene& scene) {
+  const MeshSummary meshes = meshSummary(scene);
   fmt::print("{}\n  dialect   {}\n  entities  {}\n  brushes   {}\n  faces     {}\n", scene.sourcePath, scene.format, scene.entities.size(),
-             scene.brushes.size(), scene.faces.size());
+             scene.brushes.size(), scene.faces.size() - meshes.faces());
+  if (meshes.curves > 0) fmt::print("  curves    {} ({} triangles)\n", meshes.curves, meshes.curveTriangles);
+  if (meshes.soups > 0) fmt::print("  soups     {} ({} triangles)\n", meshes.soups, meshes.soupTriangles);
   if (!scene.bounds.empty())
     fmt::print("  bounds    ({} {} {}) .. ({} {} {})\n", scene.bounds.min.x, scene.bounds.min.y, scene.bounds.min.z, scene.bounds.max.x,
                scene.bounds.max.y, scene.bounds.max.z);

@@ -52,6 +52,17 @@ struct RenderOptions {
   ImportOptions import;
 };
 
+// Quake 3 curves and triangle soups drawn, as `info` counts them.
+std::string meshLine(const Scene& scene) {
+  size_t curves = 0, curveTriangles = 0, soups = 0, soupTriangles = 0;
+  for (const Mesh& mesh : scene.meshes) {
+    const bool curve = mesh.kind == MeshKind::Curve;
+    ++(curve ? curves : soups);
+    (curve ? curveTriangles : soupTriangles) += mesh.faceCount / 2;
+  }
+  return fmt::format("curves {} ({} triangles), triangle soups {} ({} triangles)", curves, curveTriangles, soups, soupTriangles);
+}
+
 std::string formatDuration(double seconds) {
   const long s = std::max(0L, long(seconds + 0.5));
   return fmt::format("{:02}:{:02}:{:02}", s / 3600, (s / 60) % 60, s % 60);
@@ -235,6 +246,7 @@ int runRender(const RenderOptions& o) {
     if (!o.quiet && d.severity != Severity::Note) fmt::print(stderr, "{}\n", format(d));
   for (const Diagnostic& d : lightDiagnostics)
     if (!o.quiet) fmt::print(stderr, "{}\n", format(d));
+  if (!o.quiet && !scene.meshes.empty()) fmt::print("{}\n", meshLine(scene));
 
   if (!hasDrawnFace(renderScene, o.showHidden)) {
     fmt::print(stderr, "{}: warning: the level has no face to draw; no image written\n", mapPath);

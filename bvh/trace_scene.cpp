@@ -206,6 +206,46 @@ inline bool closer(const Hit& hit, const Hit& best) {
   return hit.face > best.face;
 }
 
+// The mesh triangles and their BVH. Boxes are the float vertices' bounds widened by a few ulps
+// of the coordinates, so that a ray that the widened triangle test accepts at an edge (or a
+// flat triangle's box of no thickness) is never refused by its node first.
+void buildTriangles(const Scene& scene, const BvhBuildOptions& options, std::vector<GpuBvhNode>& nodes,
+                    std::vector<GpuTriangle>& triangles) {
+  if (!options.includeMesh.empty() && options.includeMesh.size() != scene.meshes.size())
+    throw std::invalid_argument("BvhBuildOptions::includeMesh must be empty or have one entry per mesh");
+  std::vector<GpuTriangle> all;
+  std::vector<Aabb> boxes;
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh& mesh = scene.meshes[m];
+    if (!options.includeMesh.empty() && !options.includeMesh[m]) continue;
+    if (mesh.firstFace > scene.faces.size() || mesh.faceCount > scene.faces.size() - mesh.firstFace)
+      throw std::invalid_argument("TraceScene::build: a mesh's faces lie outside Scene::faces");
+    for (uint32_t f = mesh.firstFace; f + 1 < mesh.firstFace + mesh.faceCount; f += 2) {
+      const std::vector<dvec3>& w = scene.faces[f].winding;
+      if (w.size() != 3) continue;
+      GpuTriangle t{};
+      t.face = f;
+      Aabb box{glm::vec3(kInfinity), glm::vec3(-kInfinity)};
+      float* corners[3] = {t.v0, t.v1, t.v2};
+      for (int k = 0; k < 3; ++k)
+        for (int a = 0; a < 3; ++a) {
+          corners[k][a] = static_cast<float>(w[k][a]);
+          const float pad = std::abs(corners[k][a]) * 0x1p-20f + 0x1p-20f;
+          box.min[a] = std::min(box.min[a], corners[k][a] - pad);
+          box.max[a] = std::max(box.max[a], corners[k][a] + pad);
+        }
+      if (!std::isfinite(box.min.x + box.min.y + box.min.z + box.max.x + box.max.y + box.max.z)) continue;
+      all.push_back(t);
+      boxes.push_back(box);
+    }
+  }
+  if (all.empty()) return;
+  FlatBvh bvh = buildBinnedSah(boxes, {options.leafSize, options.binCount, options.threads});
+  nodes = std::move(bvh.nodes);
+  triangles.resize(bvh.order.size());
+  for (size_t i = 0; i < bvh.order.size(); ++i) triangles[i] = all[bvh.order[i]];
+}
+
 } // namespace
 
 TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options) {
@@ -284,6 +324,12 @@ TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options)
     }
   });
   ts.sahCost_ = bt::sahCost(ts.nodes_);
+  buildTriangles(scene, options, ts.triangleNodes_, ts.triangles_);
+  if (!ts.triangleNodes_.empty()) {
+    const GpuBvhNode& root = ts.triangleNodes_[0];
+    ts.bounds_.grow(dvec3(root.boundsMin[0], root.boundsMin[1], root.boundsMin[2]));
+    ts.bounds_.grow(dvec3(root.boundsMax[0], root.boundsMax[1], root.boundsMax[2]));
+  }
   return ts;
 }
 
@@ -394,14 +440,39 @@ std::optional<Hit> TraceScene::intersectBrush(const Ray& ray, uint32_t brushInde
   return std::nullopt;
 }
 
+namespace {
+
+// Moller-Trumbore against one mesh triangle (gpu_structs.h GpuTriangle has the rules), double-sided.
+[[gnu::always_inline]] inline bool hitTriangle(const RayContext& r, const GpuTriangle& tri, float tLimit, Hit& hit) {
+  const glm::vec3 v0(tri.v0[0], tri.v0[1], tri.v0[2]);
+  const glm::vec3 e1 = glm::vec3(tri.v1[0], tri.v1[1], tri.v1[2]) - v0;
+  const glm::vec3 e2 = glm::vec3(tri.v2[0], tri.v2[1], tri.v2[2]) - v0;
+  const glm::vec3 p = glm::cross(r.direction, e2);
+  const float det = glm::dot(e1, p);
+  if (det == 0.0f) return false; // the ray lies in the triangle's plane: it sees no area
+  const float inv = 1.0f / det;
+  const glm::vec3 s = r.origin - v0;
+  const float u = glm::dot(s, p) * inv;
+  if (u < -kTriangleEdgeEpsilon || u > 1.0f + kTriangleEdgeEpsilon) return false;
+  const glm::vec3 q = glm::cross(s, e1);
+  const float v = glm::dot(r.direction, q) * inv;
+  if (v < -kTriangleEdgeEpsilon || u + v > 1.0f + kTriangleEdgeEpsilon) return false;
+  const float t = glm::dot(e2, q) * inv;
+  if (!(t > r.tMin && t < r.tMax) || t > tLimit) return false;
+  hit.t = t;
+  hit.face = det > 0.0f ? tri.face : tri.face + 1;
+  hit.brush = kNoBrush;
+  hit.inside = false;
+  return true;
+}
+
 // Depth-first traversal, nearer child first, with a stack of kBvhMaxDepth entries, which the
-// builder guarantees is enough (tinybvh's scheme).
-template <bool AnyHit, bool ZeroSafe>
-static bool traverse(const RayContext& r, std::span<const GpuBvhNode> nodes, std::span<const GpuBrush> brushes,
-                     std::span<const uint32_t> sides, std::span<const GpuFace> faces, Hit& best) {
+// builder guarantees is enough (tinybvh's scheme). hitItem(i, tLimit, hit) tests leaf item i.
+// `best` comes in with the limit (best.t: tMax, or the closest hit of the other BVH) and the hit
+// that set it, and goes out with the closest of both.
+template <bool AnyHit, bool ZeroSafe, class HitItem>
+[[gnu::always_inline]] inline bool traverse(const RayContext& r, std::span<const GpuBvhNode> nodes, const HitItem& hitItem, Hit& best) {
   if (nodes.empty()) return false;
-  best.t = r.tMax;
-  best.face = kNoFace;
   bool found = false;
   float near = 0.0f;
   if (!nodeOverlaps<ZeroSafe>(r, nodes[0], best.t, near)) return false;
@@ -414,7 +485,7 @@ static bool traverse(const RayContext& r, std::span<const GpuBvhNode> nodes, std
     if (node.count > 0) {
       for (uint32_t i = node.leftFirst; i < node.leftFirst + node.count; ++i) {
         Hit hit;
-        if (hitBrush<ZeroSafe>(r, brushes[i], sides, faces, best.t, hit) && closer(hit, best)) {
+        if (hitItem(i, best.t, hit) && closer(hit, best)) {
           best = hit;
           found = true;
           if constexpr (AnyHit) return true;
@@ -445,11 +516,35 @@ static bool traverse(const RayContext& r, std::span<const GpuBvhNode> nodes, std
   }
 }
 
+// Brushes, then (only when the level has meshes) triangles up to the closest brush hit.
+template <bool AnyHit, bool ZeroSafe>
+bool traceBoth(const RayContext& r, const TraceScene& ts, Hit& best) {
+  best.t = r.tMax;
+  best.face = kNoFace;
+  const std::span<const GpuBrush> brushes = ts.brushes();
+  const std::span<const uint32_t> sides = ts.sides();
+  const std::span<const GpuFace> faces = ts.faces();
+  bool found = traverse<AnyHit, ZeroSafe>(
+      r, ts.nodes(), [&r, brushes, sides, faces](uint32_t i, float tLimit, Hit& hit) { return hitBrush<ZeroSafe>(r, brushes[i], sides, faces, tLimit, hit); }, best);
+  if (ts.triangleNodes().empty() || (AnyHit && found)) return found;
+  const std::span<const GpuTriangle> triangles = ts.triangles();
+  found |= traverse<AnyHit, ZeroSafe>(
+      r, ts.triangleNodes(), [&r, triangles](uint32_t i, float tLimit, Hit& hit) { return hitTriangle(r, triangles[i], tLimit, hit); }, best);
+  return found;
+}
+
+} // namespace
+
+std::optional<Hit> TraceScene::intersectTriangle(const Ray& ray, uint32_t triangleIndex) const {
+  Hit hit;
+  if (hitTriangle(RayContext(ray), triangles_.at(triangleIndex), ray.tMax, hit)) return hit;
+  return std::nullopt;
+}
+
 std::optional<Hit> TraceScene::closestHit(const Ray& ray) const {
   Hit best;
   const RayContext r(ray);
-  const bool found = r.hasZeroComponent ? traverse<false, true>(r, nodes_, brushes_, sides_, faces_, best)
-                                        : traverse<false, false>(r, nodes_, brushes_, sides_, faces_, best);
+  const bool found = r.hasZeroComponent ? traceBoth<false, true>(r, *this, best) : traceBoth<false, false>(r, *this, best);
   if (found) return best;
   return std::nullopt;
 }
@@ -457,15 +552,13 @@ std::optional<Hit> TraceScene::closestHit(const Ray& ray) const {
 bool TraceScene::occluded(const Ray& ray) const {
   Hit any;
   const RayContext r(ray);
-  return r.hasZeroComponent ? traverse<true, true>(r, nodes_, brushes_, sides_, faces_, any)
-                            : traverse<true, false>(r, nodes_, brushes_, sides_, faces_, any);
+  return r.hasZeroComponent ? traceBoth<true, true>(r, *this, any) : traceBoth<true, false>(r, *this, any);
 }
 
 std::optional<Hit> TraceScene::anyHit(const Ray& ray) const {
   Hit any;
   const RayContext r(ray);
-  const bool found = r.hasZeroComponent ? traverse<true, true>(r, nodes_, brushes_, sides_, faces_, any)
-                                        : traverse<true, false>(r, nodes_, brushes_, sides_, faces_, any);
+  const bool found = r.hasZeroComponent ? traceBoth<true, true>(r, *this, any) : traceBoth<true, false>(r, *this, any);
   if (!found) return std::nullopt;
   return any;
 }

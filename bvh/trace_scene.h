@@ -29,6 +29,14 @@
 // level shows. The answer never depends on traversal order (two brushes sharing a face, a ray
 // along the shared plane: both top faces are hit at the same t, the later one wins on CPU and GPU).
 //
+// Mesh triangles (scene.h Mesh, gpu_structs.h GpuTriangle) are a second primitive with a BVH of
+// their own, traversed after the brushes' with the closest brush hit as its limit; a level
+// without meshes has an empty triangle BVH and traces as before. A triangle hit is never
+// `inside`; its face is the side facing the ray (so a hit always meets a face whose normal
+// faces the ray, as with brushes), and it follows the same closest-hit order: at equal t, an
+// entering brush hit and a triangle hit compare by face index, and mesh faces come after the
+// faces of the brushes before them in the file.
+//
 // Neighbouring brushes: a shared face has the same float plane on both sides (axial: the same
 // box coordinate; slanted: exactly negated), so both brushes compute the same t for it and the
 // hidden faces between them are never the closest hit, except for a ray that lands exactly on
@@ -73,7 +81,7 @@ struct Ray {
 struct Hit {
   float t = 0.0f;
   uint32_t face = kNoFace;  // index into Scene::faces AND TraceScene::faces()
-  uint32_t brush = kNoFace; // index into Scene::brushes
+  uint32_t brush = kNoFace; // index into Scene::brushes; kNoBrush for a mesh triangle
   bool inside = false;      // the ray started inside the brush; face is where it leaves
 };
 
@@ -88,6 +96,7 @@ struct BvhBuildOptions {
   // No reinsertion/optimisation pass: the binned tree is already within 2 % of the exact
   // full-sweep SAH on the shared maps (tests/bvh), so there is little left for one to gain.
   std::vector<bool> includeBrush; // per Scene brush; empty = all. Excluded brushes are never hit.
+  std::vector<bool> includeMesh;  // per Scene mesh, the same
 };
 
 class TraceScene {
@@ -109,20 +118,26 @@ public:
 
   // The hit of one brush (index into brushes()), by the rules above; what the BVH calls per leaf.
   std::optional<Hit> intersectBrush(const Ray& ray, uint32_t brushIndex) const;
+  // The same for one triangle (index into triangles()).
+  std::optional<Hit> intersectTriangle(const Ray& ray, uint32_t triangleIndex) const;
 
   std::span<const GpuBvhNode> nodes() const { return nodes_; }
   std::span<const GpuBrush> brushes() const { return brushes_; }
   std::span<const uint32_t> sides() const { return sides_; } // see GpuBrush
   std::span<const GpuFace> faces() const { return faces_; }
+  std::span<const GpuBvhNode> triangleNodes() const { return triangleNodes_; } // empty without meshes
+  std::span<const GpuTriangle> triangles() const { return triangles_; }
 
   double sahCost() const { return sahCost_; } // of nodes(), see bvh/sah_builder.h
-  Bounds bounds() const { return bounds_; }   // of the traceable brushes
+  Bounds bounds() const { return bounds_; }   // of the traceable brushes and triangles
 
 private:
   std::vector<GpuBvhNode> nodes_;
   std::vector<GpuBrush> brushes_;
   std::vector<uint32_t> sides_;
   std::vector<GpuFace> faces_;
+  std::vector<GpuBvhNode> triangleNodes_;
+  std::vector<GpuTriangle> triangles_;
   double sahCost_ = 0.0;
   Bounds bounds_;
 };

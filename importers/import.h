@@ -1,6 +1,7 @@
 // The importers' front door: open any level file the tool understands and get a Scene.
 #pragma once
 
+#include "scene/curves.h"
 #include "scene/scene.h"
 
 #include <functional>
@@ -48,6 +49,9 @@ struct ImportOptions {
   // A front end acts on the level's lights meanwhile (renderer/gl LevelPreparation starts the
   // GL programs they need: lq_e4m3's parse is about half of its import).
   std::function<void(const Scene&)> entitiesRead;
+  // Quake 3 curves: the most a tessellated chord may lie off the curve (scene/curves.h; the
+  // engine's r_subdivisions). Tests pass less for a finer reference.
+  double curveMaxError = kPatchMaxError;
 };
 
 // Opens a .map or .bsp (or "archive.pak:maps/x.bsp", "archive.pk3:maps/x.bsp", or a bare level

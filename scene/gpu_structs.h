@@ -111,6 +111,36 @@ static_assert(offsetof(GpuFace, brush) == 44);
 static_assert(offsetof(GpuFace, bitangent) == 48);
 static_assert(offsetof(GpuFace, pad) == 60);
 
+// One mesh triangle (scene.h Mesh), 48 bytes, in the order of the triangle BVH's leaves.
+// Triangles have a BVH of their own (TraceScene::triangleNodes(), GpuBvhNode as above, its
+// leaves holding triangles[leftFirst .. + count)), traversed after the brush BVH, so that a level
+// without meshes traces its brushes exactly as before. The ray test is Moller-Trumbore with the
+// barycentric bounds widened by kTriangleEdgeEpsilon (neighbours overlap by a hair instead of
+// leaving cracks a ray slips through); a hit is double-sided and meets face `face` (the front
+// side, Scene::faces) when the ray comes from the front (det > 0), else face + 1 (the back side).
+//
+//   struct Triangle { vec3 v0; uint face; vec3 v1; uint pad0; vec3 v2; uint pad1; };
+struct GpuTriangle {
+  float v0[3];
+  uint32_t face;
+  float v1[3];
+  uint32_t pad0; // zero
+  float v2[3];
+  uint32_t pad1; // zero
+};
+static_assert(sizeof(GpuTriangle) == 48);
+static_assert(offsetof(GpuTriangle, v0) == 0);
+static_assert(offsetof(GpuTriangle, face) == 12);
+static_assert(offsetof(GpuTriangle, v1) == 16);
+static_assert(offsetof(GpuTriangle, pad0) == 28);
+static_assert(offsetof(GpuTriangle, v2) == 32);
+static_assert(offsetof(GpuTriangle, pad1) == 44);
+
+// How far outside a triangle, in barycentric units, a ray still hits it (see GpuTriangle): 2^-20.
+// The shaders get the inverse as BT_TRIANGLE_EDGE_EPSILON_INVERSE (renderer/gl reads it from here).
+inline constexpr uint32_t kTriangleEdgeEpsilonInverse = 1048576;
+inline constexpr float kTriangleEdgeEpsilon = 1.0f / float(kTriangleEdgeEpsilonInverse);
+
 // ---------------------------------------------------------------------------------------------
 // Lighting and shading (renderer/cpu builds these; renderer/gl uploads them unchanged)
 // Lights, emitters and shading parameters: the CPU tracer reads them from std::vectors and the

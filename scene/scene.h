@@ -70,9 +70,12 @@ struct SurfaceAttributes {
   bool operator==(const SurfaceAttributes&) const = default;
 };
 
+// Face::brush of a mesh triangle's face: it belongs to no brush (Scene::meshes holds it).
+inline constexpr uint32_t kNoBrush = 0xffffffffu;
+
 struct Face {
   int line = 0;          // 1-based source line of the face, 0 when the source has no lines (BSP)
-  uint32_t brush = 0;    // index into Scene::brushes
+  uint32_t brush = 0;    // index into Scene::brushes, or kNoBrush for a mesh triangle
   uint32_t material = 0; // index into Scene::materials
   std::string texture;
   Plane plane;
@@ -87,6 +90,32 @@ struct Brush {
   uint32_t firstFace = 0; // faces [firstFace, firstFace + faceCount) of Scene::faces
   uint32_t faceCount = 0;
   Bounds bounds;          // from the windings
+};
+
+// A triangle mesh: a Quake 3 curve (patchDef2/3, an IBSP patch) tessellated, or an IBSP triangle
+// soup. Each triangle is two faces of Scene::faces, one per side, so that everything keyed by
+// face (materials, classes, AOV face ids) works on it unchanged and every hit meets a face whose
+// plane faces the ray, as a brush face does:
+//   faces[firstFace + 2k]     the front side: winding (a, b, c) counter-clockwise seen from the
+//                             front, plane normal = normalize(cross(b - a, c - a));
+//   faces[firstFace + 2k + 1] the back side: winding (a, c, b), the plane flipped.
+// Both have brush = kNoBrush, the mesh's material and a texture frame (in the triangle's plane)
+// that reproduces the vertices' st exactly: st interpolated barycentrically is affine on the plane.
+// Scene::meshes lie in the order of their faces.
+enum class MeshKind : uint8_t { Curve, TriangleSoup };
+
+struct Mesh {
+  int line = 0;           // the patchDef's line in a .map, 0 for a .bsp
+  uint32_t entity = 0;
+  MeshKind kind = MeshKind::Curve;
+  uint32_t firstFace = 0; // faces [firstFace, firstFace + faceCount) of Scene::faces
+  uint32_t faceCount = 0; // two per triangle
+  Bounds bounds;
+};
+
+struct MeshVertex {
+  dvec3 position{0.0};
+  double s = 0.0, t = 0.0; // texture coordinates in texels
 };
 
 struct Entity {
@@ -110,8 +139,9 @@ struct Scene {
   std::vector<Entity> entities;
   std::vector<Brush> brushes;
   std::vector<Face> faces;
+  std::vector<Mesh> meshes;        // curves and triangle soups, see Mesh
   std::vector<Material> materials; // one per distinct texture name, see material.h
-  Bounds bounds;                   // of all brushes
+  Bounds bounds;                   // of all brushes and meshes
   Diagnostics diagnostics;         // everything the importer skipped or could not resolve
   // The lightmaps a compiler baked into a .bsp (null for .map sources), for a view mode that
   // shows them beside the path-traced preview. See scene/compiled_lighting.h.
@@ -122,6 +152,12 @@ struct Scene {
   std::vector<std::string> inputFiles;
 
   const Entity* worldspawn() const;
+  // The entity a face belongs to, through its brush or its mesh; entities.size() if none.
+  uint32_t faceEntity(uint32_t face) const;
+  // Appends triangle (a, b, c) to the last mesh as its two faces (see Mesh), with `model` as
+  // the faces' texture, material and surface attributes. A triangle without area is skipped
+  // (false): it has no plane, and no ray can see it.
+  bool addMeshTriangle(const MeshVertex& a, const MeshVertex& b, const MeshVertex& c, const Face& model);
   // Appends `path` to inputFiles unless it is listed already.
   void addInputFile(const std::string& path) {
     if (std::find(inputFiles.begin(), inputFiles.end(), path) == inputFiles.end()) inputFiles.push_back(path);

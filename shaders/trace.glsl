@@ -8,12 +8,18 @@
 //     met more head-on, then to the box side, then to the earlier side;
 //   - a ray starting inside a brush hits where it leaves, with `inside` set;
 //   - among brushes, the smallest t wins; at equal t entering beats leaving, then the higher
-//     face index (the later brush, as qbsp keeps it) wins (trace_scene.cpp closer).
+//     face index (the later brush, as qbsp keeps it) wins (trace_scene.cpp closer);
+//   - mesh triangles (scene/gpu_structs.h GpuTriangle) have their own tree, walked after the
+//     brushes' up to the closest brush hit: Moller-Trumbore, barycentric bounds widened by
+//     TRIANGLE_EDGE_EPSILON, double-sided, the face of the side the ray meets, never inside.
 // Needs scene_buffers.glsl. BT_BVH_MAX_DEPTH is scene/gpu_structs.h's kBvhMaxDepth, defined by
 // the program (renderer/gl) and by the build's glslangValidator run alike.
 
 #ifndef BT_BVH_MAX_DEPTH
 #error "BT_BVH_MAX_DEPTH (scene/gpu_structs.h kBvhMaxDepth) must be defined"
+#endif
+#ifndef BT_TRIANGLE_EDGE_EPSILON_INVERSE
+#error "BT_TRIANGLE_EDGE_EPSILON_INVERSE (scene/gpu_structs.h kTriangleEdgeEpsilonInverse) must be defined"
 #endif
 
 const uint NO_FACE = 0xffffffffu;
@@ -108,6 +114,7 @@ uint leafCount(uint ref) { return (ref >> 24) & 0x7fu; }
 #ifdef BT_TRACE_SOFTWARE
 uvec4 nodeRow(uint n, uint row) { return texelFetch(nodeTexels, int(4u * n + row)); }
 uvec4 brushRow(uint b, uint row) { return texelFetch(brushTexels, int(4u * b + row)); }
+uvec4 primitiveRow(uint row) { return texelFetch(brushTexels, int(row)); } // brushes', then triangles' rows
 uint sideFace(uint i) { return texelFetch(sideTexels, int(i)).x; }
 vec4 facePlane(uint f) { return texelFetch(faceTexels, int(4u * f)); }
 #else
@@ -117,6 +124,7 @@ layout(std430, binding = 1) readonly buffer BrushRows { uvec4 brushRows[]; };
 layout(std430, binding = 7) readonly buffer SideFaces { uint sideFaces[]; };
 uvec4 nodeRow(uint n, uint row) { return nodeRows[4u * n + row]; }
 uvec4 brushRow(uint b, uint row) { return brushRows[4u * b + row]; }
+uvec4 primitiveRow(uint row) { return brushRows[row]; } // brushes', then triangles' rows
 uint sideFace(uint i) { return sideFaces[i]; }
 vec4 facePlane(uint f) { return faces[f].plane; }
 #endif
@@ -207,6 +215,32 @@ bool hitBrush(TraceRay r, uint b, float tLimit, out Hit hit) {
     hit = Hit(exit.t, exit.face, true);
   }
   return hit.face != NO_FACE; // only a broken winding leaves no face
+}
+
+// scene/gpu_structs.h kTriangleEdgeEpsilon.
+const float TRIANGLE_EDGE_EPSILON = 1.0 / float(BT_TRIANGLE_EDGE_EPSILON_INVERSE);
+
+// Moller-Trumbore against triangle k, whose 3 rows start at brush-buffer row firstRow + 3k
+// (trace_scene.cpp hitTriangle): (v0, face), (v1, pad), (v2, pad).
+bool hitTriangle(TraceRay r, uint firstRow, uint k, float tLimit, out Hit hit) {
+  hit = Hit(0.0, NO_FACE, false);
+  uvec4 row0 = primitiveRow(firstRow + 3u * k), row1 = primitiveRow(firstRow + 3u * k + 1u), row2 = primitiveRow(firstRow + 3u * k + 2u);
+  vec3 v0 = uintBitsToFloat(row0.xyz);
+  vec3 e1 = uintBitsToFloat(row1.xyz) - v0, e2 = uintBitsToFloat(row2.xyz) - v0;
+  vec3 p = cross(r.dir, e2);
+  float det = dot(e1, p);
+  if (det == 0.0) return false; // the ray lies in the triangle's plane
+  float inv = 1.0 / det;
+  vec3 s = r.origin - v0;
+  float u = dot(s, p) * inv;
+  if (u < -TRIANGLE_EDGE_EPSILON || u > 1.0 + TRIANGLE_EDGE_EPSILON) return false;
+  vec3 q = cross(s, e1);
+  float v = dot(r.dir, q) * inv;
+  if (v < -TRIANGLE_EDGE_EPSILON || u + v > 1.0 + TRIANGLE_EDGE_EPSILON) return false;
+  float t = dot(e2, q) * inv;
+  if (!(t > r.tMin && t < r.tMax) || t > tLimit) return false;
+  hit = Hit(t, det > 0.0 ? row0.w : row0.w + 1u, false);
+  return true;
 }
 
 // The closest-hit order of trace_scene.cpp closer(): smaller t; at equal t entering before
@@ -305,6 +339,11 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   NodeStack stack = NodeStack(0);
 #endif
   uint current = 0u; // a child reference; the root is GlBvhNode 0
+  // GlBvhNode 0's pads (renderer/gl/gl_structs.h): the triangle tree's root (NO_CHILD: the
+  // level has no mesh) and the row of the first triangle. The walk does the brushes' tree, then
+  // the triangles'.
+  uvec4 rootPads = uvec4(nodeRow(0u, 1u).w, nodeRow(0u, 3u).w, 0u, 0u);
+  bool inTriangles = false;
   while (true) {
     // Down through interior nodes to the next leaf; with nothing left to visit, an empty leaf.
     while ((current & LEAF_REF) == 0u) {
@@ -331,14 +370,19 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
     uint first = leafFirst(current), end = first + leafCount(current);
     for (uint i = first; i < end; ++i) {
       Hit hit;
-      if (!hitBrush(r, i, best.t, hit)) continue;
+      if (!(inTriangles ? hitTriangle(r, rootPads.y, i, best.t, hit) : hitBrush(r, i, best.t, hit))) continue;
       if (anyHit) {
         if (!hit.inside && (faceFlags[hit.face] & passFlags) == 0u && !maskedOut(hit.face, r.origin + r.dir * hit.t)) return hit;
       } else if (closer(hit, best)) {
         best = hit;
       }
     }
-    if (stack.size == 0) break;
+    if (stack.size == 0) {
+      if (inTriangles || rootPads.x == NO_CHILD) break;
+      inTriangles = true;
+      current = rootPads.x;
+      continue;
+    }
     current = popNode(stack);
   }
   return best;

@@ -5,6 +5,8 @@
 #include "importers/bsp/brushes.h"
 #include "importers/bsp/entities.h"
 #include "importers/bsp/lightmaps.h"
+#include "importers/bsp/meshes.h"
+#include "scene/curves.h"
 #include "importers/bsp/pk3.h"
 #include "importers/bsp/q3_textures.h"
 #include "importers/textures/textures.h"
@@ -89,8 +91,8 @@ std::map<std::string, std::pair<int, int>> miptexSizes(const BspFile& bsp) {
 
 } // namespace
 
-Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve,
-                   const std::optional<std::vector<uint8_t>>& litFile) {
+Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve, const std::optional<std::vector<uint8_t>>& litFile,
+                   double curveMaxError) {
   Scene scene;
   scene.sourcePath = bsp.path;
   scene.format = toString(bsp.version);
@@ -103,6 +105,19 @@ Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve,
   size_t brushesWithoutVolume = 0;
   bool worldClaimed = false;
   std::vector<ModelPlacement> placements;
+
+  auto materialFor = [&](const std::string& name) {
+    const std::string key = lowercase(name);
+    auto [it, inserted] = materialByName.try_emplace(key, static_cast<uint32_t>(scene.materials.size()));
+    if (inserted) {
+      Material m;
+      m.name = name;
+      if (const auto s = sizes.find(key); s != sizes.end()) std::tie(m.width, m.height) = s->second;
+      scene.materials.push_back(std::move(m));
+    }
+    return it->second;
+  };
+  MeshCounts meshes;
 
   for (size_t e = 0; e < scene.entities.size(); ++e) {
     Entity& entity = scene.entities[e];
@@ -123,18 +138,11 @@ Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve,
       brush.entity = static_cast<uint32_t>(e);
       brush.firstFace = static_cast<uint32_t>(scene.faces.size());
       for (CompiledSide& side : compiled.sides) {
-        const std::string key = lowercase(side.texture);
-        auto [it, inserted] = materialByName.try_emplace(key, static_cast<uint32_t>(scene.materials.size()));
-        if (inserted) {
-          Material m;
-          m.name = side.texture;
-          if (const auto s = sizes.find(key); s != sizes.end()) std::tie(m.width, m.height) = s->second;
-          scene.materials.push_back(std::move(m));
-        }
+        const uint32_t material = materialFor(side.texture);
         if (bsp.version == Version::Quake3_46 && !side.hasSurface) ++q3SidesWithoutSurface;
         bt::Face face;
         face.brush = static_cast<uint32_t>(scene.brushes.size());
-        face.material = it->second;
+        face.material = material;
         face.texture = std::move(side.texture);
         face.plane = side.plane;
         face.frame = side.frame;
@@ -149,7 +157,16 @@ Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve,
       scene.brushes.push_back(brush);
     }
     entity.brushCount = static_cast<uint32_t>(scene.brushes.size()) - entity.firstBrush;
+    if (bsp.version == Version::Quake3_46) {
+      addQuake3Meshes(bsp, bsp.models[*model], uint32_t(e), offset, curveMaxError, scene,
+                      [&](int32_t shader) { return materialFor(bsp.shaders[size_t(shader)].name); }, meshes);
+      frameInTextureUnits.resize(scene.faces.size(), true); // drawverts' st are in texture units
+    }
   }
+  if (meshes.skipped > 0)
+    scene.diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
+                                 fmt::format("{} patch(es) skipped: sizes the engine refuses (each side odd, 3 to {})",
+                                             meshes.skipped, kPatchMaxGridSize)});
   if (!worldClaimed && !bsp.models.empty())
     scene.diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
                                  "the entities lump has no worldspawn; the world model (model 0) is not imported"});
@@ -318,7 +335,7 @@ Scene importBsp(const std::string& path, const ImportOptions& options) {
     // warning naming what is missing: the same search as for .map files.
     loadMaterials(scene, options.textures);
   };
-  Scene scene = sceneFromBsp(bsp, resolve, litFile);
+  Scene scene = sceneFromBsp(bsp, resolve, litFile, options.curveMaxError);
   // The level first: the .bsp, or the .pk3 it is in (which holds its .lit too).
   const std::string level = archive ? archive->archive : path;
   std::erase(scene.inputFiles, level);

@@ -21,8 +21,9 @@ using MaterialResolver = std::function<void(Scene& scene)>;
 // entity's "origin"; materials resolved by `resolve` (if given) before Quake 3's frames, which
 // count texture widths, are scaled to texels by the material's size; the compiled lightmaps in
 // Scene::compiledLighting, coloured by `litFile` (a .lit file's bytes) when given.
+// Quake 3 curves are tessellated to `curveMaxError` (scene/curves.h).
 Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve = {},
-                   const std::optional<std::vector<uint8_t>>& litFile = std::nullopt);
+                   const std::optional<std::vector<uint8_t>>& litFile = std::nullopt, double curveMaxError = kPatchMaxError);
 
 // Opens a .bsp file (or "archive.pk3:maps/x.bsp") and returns its scene with textures resolved
 // as options say. This is importScene's .bsp branch.

@@ -62,8 +62,9 @@ struct MapFace {
 struct MapBrush {
   enum class Kind { Brush, BrushDef, Verbatim };
   Kind kind = Kind::Brush;
-  int line = 0;
+  int line = 0;        // of the '{'
   int column = 0;
+  int keywordLine = 0; // Kind::Verbatim: the line of the block's keyword, where `verbatim` starts
   std::vector<MapFace> faces;
   std::string verbatim; // Kind::Verbatim: the text between the brush's braces, exactly as read
 

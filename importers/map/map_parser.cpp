@@ -310,6 +310,7 @@ private:
     (void)keywordStart;
     // patchDef2, patchDef3, brushDef3 or something newer: keep the text, braces balanced.
     b.kind = MapBrush::Kind::Verbatim;
+    b.keywordLine = kwLine;
     std::string_view rest = in_.balancedBlock(line, col);
     b.verbatim = std::string(keyword) + std::string(rest);
     return b;

@@ -4,6 +4,7 @@
 #include "importers/map/brush_entities.h"
 #include "importers/map/map_geometry.h"
 #include "importers/map/map_parser.h"
+#include "importers/map/map_patches.h"
 #include "importers/textures/textures.h"
 
 #include <fmt/format.h>
@@ -52,7 +53,8 @@ std::string formatVector(const dvec3& v) { return fmt::format("{} {} {}", v.x, v
 
 class SceneBuilder {
 public:
-  SceneBuilder(const MapDocument& doc, const std::vector<Material>* loaded) : doc_(doc), loaded_(loaded) {
+  SceneBuilder(const MapDocument& doc, const std::vector<Material>* loaded, double curveMaxError)
+      : doc_(doc), loaded_(loaded), curveMaxError_(curveMaxError) {
     scene_.sourcePath = doc.path;
     scene_.addInputFile(doc.path);
     scene_.format = toString(doc.dialect);
@@ -91,7 +93,7 @@ public:
     }
     if (verbatim_ > 0)
       report(Severity::Note, doc_.path, 0, 0,
-             fmt::format("{} patch or unknown block(s) kept verbatim for writing but not built into geometry", verbatim_));
+             fmt::format("{} unknown block(s) (brushDef3 or newer) kept verbatim for writing but not built into geometry", verbatim_));
     return std::move(scene_);
   }
 
@@ -113,7 +115,8 @@ private:
     std::optional<dvec3> originBrush;
     for (const MapBrush& mb : brushes) {
       if (mb.kind == MapBrush::Kind::Verbatim) {
-        ++verbatim_;
+        if (isPatchBlock(mb.verbatim)) buildPatch(mb, entityIndex, file, placement);
+        else ++verbatim_;
         continue;
       }
       const std::optional<uint32_t> built = buildBrush(mb, entityIndex, file, placement);
@@ -300,6 +303,43 @@ private:
     return brushIndex;
   }
 
+  // A patchDef2/patchDef3 (kept verbatim for the writer) tessellated as the Quake 3 engine
+  // does (scene/curves.h) into a mesh of the entity. Its st are in texture units: texels are
+  // st times the texture's size, known once the textures are loaded (importMap builds twice).
+  void buildPatch(const MapBrush& mb, uint32_t entityIndex, const std::string& file, const Placement* placement) {
+    std::string error;
+    int lineOffset = 0;
+    std::optional<MapPatch> patch = parsePatchBlock(mb.verbatim, error, lineOffset);
+    if (patch && !(error = patchGridProblem(patch->control)).empty()) patch.reset();
+    if (!patch) {
+      report(Severity::Warning, file, mb.keywordLine + lineOffset, 0, "patch skipped: " + error);
+      return;
+    }
+    Face model;
+    model.line = mb.keywordLine;
+    model.texture = patch->texture;
+    model.material = materialFor(patch->texture);
+    double width = 64.0, height = 64.0;
+    if (loaded_ && model.material < loaded_->size()) {
+      width = (*loaded_)[model.material].width;
+      height = (*loaded_)[model.material].height;
+    }
+    for (PatchPoint& p : patch->control.points)
+      if (placement) p.position = placement->apply(p.position);
+    const PatchGrid grid = tessellatePatch(patch->control, curveMaxError_);
+    scene_.meshes.push_back(Mesh{mb.keywordLine, entityIndex, MeshKind::Curve, static_cast<uint32_t>(scene_.faces.size()), 0, {}});
+    auto vertex = [&](int row, int column) {
+      const PatchPoint& p = grid.at(row, column);
+      return MeshVertex{p.position, p.st.x * width, p.st.y * height};
+    };
+    for (int i = 0; i + 1 < grid.height; ++i)
+      for (int j = 0; j + 1 < grid.width; ++j) {
+        scene_.addMeshTriangle(vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1), model);
+        scene_.addMeshTriangle(vertex(i, j), vertex(i + 1, j + 1), vertex(i, j + 1), model);
+      }
+    if (scene_.meshes.back().faceCount == 0) scene_.meshes.pop_back(); // a patch without area
+  }
+
   uint32_t materialFor(const std::string& name) {
     const auto [it, inserted] = materialIndex_.try_emplace(lowercase(name), static_cast<uint32_t>(scene_.materials.size()));
     if (inserted) {
@@ -312,6 +352,7 @@ private:
 
   const MapDocument& doc_;
   const std::vector<Material>* loaded_;
+  double curveMaxError_;
   Scene scene_;
   size_t verbatim_ = 0;
   std::unordered_map<std::string, uint32_t> materialIndex_;
@@ -319,7 +360,9 @@ private:
 
 } // namespace
 
-Scene buildScene(const MapDocument& doc, const std::vector<Material>* loaded) { return SceneBuilder(doc, loaded).build(); }
+Scene buildScene(const MapDocument& doc, const std::vector<Material>* loaded, double curveMaxError) {
+  return SceneBuilder(doc, loaded, curveMaxError).build();
+}
 
 Scene importMap(const std::string& path, const ImportOptions& options) {
   const MapDocument doc = readMapFile(path, options.dialect);
@@ -335,15 +378,18 @@ Scene importMap(const std::string& path, const ImportOptions& options) {
     }
     options.entitiesRead(entities);
   }
-  Scene scene = buildScene(doc);
+  Scene scene = buildScene(doc, nullptr, options.curveMaxError);
   loadMaterials(scene, options.textures);
-  const bool brushPrimitives = std::any_of(doc.entities.begin(), doc.entities.end(), [](const MapEntity& e) {
-    return std::any_of(e.brushes.begin(), e.brushes.end(), [](const MapBrush& b) { return b.kind == MapBrush::Kind::BrushDef; });
+  const bool inTextureUnits = std::any_of(doc.entities.begin(), doc.entities.end(), [](const MapEntity& e) {
+    return std::any_of(e.brushes.begin(), e.brushes.end(), [](const MapBrush& b) {
+      return b.kind == MapBrush::Kind::BrushDef || (b.kind == MapBrush::Kind::Verbatim && isPatchBlock(b.verbatim));
+    });
   });
-  if (!brushPrimitives) return scene;
-  // brushDef matrices are in texture widths: now that the sizes are known, build the frames again.
+  if (!inTextureUnits) return scene;
+  // brushDef matrices and patch st are in texture widths: now that the sizes are known, build
+  // the frames again.
   // Materials come out in the same order, since the document is the same.
-  Scene sized = buildScene(doc, &scene.materials);
+  Scene sized = buildScene(doc, &scene.materials, options.curveMaxError);
   sized.materials = std::move(scene.materials);
   sized.diagnostics = std::move(scene.diagnostics);
   sized.inputFiles = std::move(scene.inputFiles);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "importers/map/map_document.h"
+#include "scene/curves.h"
 #include "scene/scene.h"
 
 namespace bt::map {
@@ -13,7 +14,8 @@ namespace bt::map {
 // `loaded`: the materials of an earlier build of the same document after their pixels were
 // loaded; brushDef texture matrices are then sized by them (qbsp uses the texture's real size,
 // 64x64 when it is missing), otherwise by 64x64.
-Scene buildScene(const MapDocument& doc, const std::vector<Material>* loaded = nullptr);
+// Quake 3 patches are tessellated to `curveMaxError` (scene/curves.h).
+Scene buildScene(const MapDocument& doc, const std::vector<Material>* loaded = nullptr, double curveMaxError = kPatchMaxError);
 
 // Imports a .map file: parse, build, load the materials' pixels (importers/textures).
 Scene importMap(const std::string& path, const ImportOptions& options);

@@ -88,6 +88,7 @@ bool sideBounces(const RenderScene& rs, uint32_t faceIndex) {
   if ((flags & kFaceLiquid) && !rs.world.litwater) return false; // no lightmap, nothing to bounce
   const Scene& scene = *rs.scene;
   const Face& face = scene.faces[faceIndex];
+  if (face.brush == kNoBrush) return false; // a mesh triangle: no lightmap to bounce (faceHasLightmap)
   if (face.material < rs.surfaceLights.size() && rs.surfaceLights[face.material].value != 0.0f) return false;
   // A brush model's `_bounce -1` keeps its faces from bouncing (qbsp's no_bounce texinfo flag).
   // Not on the brush entities qbsp merges into the world: the compiler bounced light off

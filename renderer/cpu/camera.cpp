@@ -159,6 +159,11 @@ std::vector<bool> undrawnFaces(const Scene& scene) {
     for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
       hidden[f] = entityHidden || (classifyTexture(scene.faces[f].texture, scene.faces[f].surface) & kFaceHidden);
   }
+  for (const Mesh& mesh : scene.meshes) {
+    const bool entityHidden = mesh.entity < scene.entities.size() && gameHidesEntity(scene.entities[mesh.entity], game);
+    for (uint32_t f = mesh.firstFace; f < mesh.firstFace + mesh.faceCount; ++f)
+      hidden[f] = entityHidden || (classifyTexture(scene.faces[f].texture, scene.faces[f].surface) & kFaceHidden);
+  }
   return hidden;
 }
 
@@ -216,6 +221,7 @@ std::optional<CameraPose> insideCameraPose(const Scene& scene) {
   for (size_t b = 0; b < scene.brushes.size(); ++b)
     for (uint32_t f = scene.brushes[b].firstFace; f < scene.brushes[b].firstFace + scene.brushes[b].faceCount; ++f)
       if (!hidden[f]) bvh.includeBrush[b] = true;
+  for (const Mesh& mesh : scene.meshes) bvh.includeMesh.push_back(mesh.faceCount > 0 && !hidden[mesh.firstFace]);
   const TraceScene tracer = TraceScene::build(scene, bvh);
   const std::vector<BrushContents> contents = brushContents(scene);
   // The grid reaches a player's eye height above the top, where a level that is only a floor is seen.

@@ -148,7 +148,8 @@ bool faceHasLightmap(const RenderScene& rs, uint32_t face) {
   const uint32_t flags = rs.faceFlags[face];
   if (flags & (kFaceHidden | kFaceSky)) return false;
   if ((flags & kFaceLiquid) && !rs.world.litwater) return false;
-  return !rs.scene->faces[face].winding.empty();
+  // Mesh triangles (Quake 3 curves) have no compiled lightmap here: lit at each point.
+  return !rs.scene->faces[face].winding.empty() && rs.scene->faces[face].brush != kNoBrush;
 }
 
 Lightmaps layoutLightmaps(const RenderScene& rs, std::span<const uint32_t> faces, unsigned threads) {

@@ -172,8 +172,8 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
     const Face& f = scene.faces[i];
     uint32_t& flags = rs.faceFlags[i];
     flags = classifyTexture(f.texture, f.surface) | materialMasks[f.material];
-    if (f.brush < scene.brushes.size()) {
-      const uint32_t e = scene.brushes[f.brush].entity;
+    {
+      const uint32_t e = scene.faceEntity(uint32_t(i)); // a brush's or a mesh's
       if (e < scene.entities.size()) {
         const Entity& ent = scene.entities[e];
         const bool shadowKey = std::atof(std::string(ent.value("_shadow", "0")).c_str()) != 0.0;
@@ -221,6 +221,8 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
     for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f) visible |= !(rs.faceFlags[f] & kFaceHidden);
     bvh.includeBrush[b] = visible;
   }
+  // Meshes likewise (a mesh has one material, so its faces are all hidden or none).
+  for (const Mesh& mesh : scene.meshes) bvh.includeMesh.push_back(mesh.faceCount > 0 && !(rs.faceFlags[mesh.firstFace] & kFaceHidden));
   rs.tracer = TraceScene::build(scene, bvh);
   nudgeLightsOffFaces(rs, contents);
   // After the tracer: the compiler drops template faces that look into the void.

@@ -508,7 +508,7 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
   for (const SurfaceTemplate& t : templates) {
     const size_t first = surfaces.size();
     for (uint32_t f = 0; f < scene.faces.size(); ++f) {
-      if (!equalsIgnoreCase(scene.faces[f].texture, t.texture)) continue;
+      if (scene.faces[f].brush == kNoBrush || !equalsIgnoreCase(scene.faces[f].texture, t.texture)) continue; // meshes: no compiled faces
       if (surfaceLightGroup(scene, f) != t.group) continue;
       std::vector<Winding> fragments = visibleFragments(scene, f, contents);
       if (fragments.empty()) continue;

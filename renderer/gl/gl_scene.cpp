@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cfloat>
+#include <cstring>
 #include <span>
 
 namespace bt::gl {
@@ -67,7 +68,30 @@ std::vector<GlBvhNode> bvhForGl(std::span<const GpuBvhNode> nodes) {
   return gl;
 }
 
+std::vector<GlBvhNode> sceneBvhForGl(const TraceScene& tracer) {
+  std::vector<GlBvhNode> nodes = bvhForGl(tracer.nodes());
+  if (tracer.triangleNodes().empty()) return nodes;
+  const auto base = static_cast<uint32_t>(nodes.size());
+  for (GlBvhNode node : bvhForGl(tracer.triangleNodes())) {
+    for (uint32_t* ref : {&node.left, &node.right})
+      if (*ref != kGlNoChild && !(*ref & kGlLeafRef)) *ref += base;
+    nodes.push_back(node);
+  }
+  nodes[0].pad0 = base;
+  nodes[0].pad1 = static_cast<uint32_t>(tracer.brushes().size_bytes() / 16);
+  return nodes;
+}
+
 namespace {
+
+// The brushes' rows, then the triangles' (gl_structs.h GlBvhNode).
+std::vector<uint32_t> brushAndTriangleRows(const TraceScene& tracer) {
+  std::vector<uint32_t> words(tracer.brushes().size_bytes() / 4 + tracer.triangles().size_bytes() / 4);
+  std::memcpy(words.data(), tracer.brushes().data(), tracer.brushes().size_bytes());
+  if (!tracer.triangles().empty())
+    std::memcpy(words.data() + tracer.brushes().size_bytes() / 4, tracer.triangles().data(), tracer.triangles().size_bytes());
+  return words;
+}
 
 // A buffer texture over `buffer` (of `bytes` bytes) with texels of `format` (`texelBytes` each),
 // on unit `unit`'s slot in `views`. The texel count must fit the context's buffer-texture limit
@@ -88,9 +112,10 @@ void makeTexelView(GLuint& view, GLuint buffer, GLenum format, size_t bytes, siz
 GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMaterial>& materials,
                                const GlLighting& lighting, size_t materialCount) {
   BT_GL(glCreateBuffers(kBufferCount, buffers_));
-  const std::vector<GlBvhNode> bvh = bvhForGl(tracer.nodes());
+  const std::vector<GlBvhNode> bvh = sceneBvhForGl(tracer);
   upload(buffers_[kBindingNodes], std::span<const GlBvhNode>(bvh));
-  upload(buffers_[kBindingBrushes], tracer.brushes());
+  const std::vector<uint32_t> brushRows = brushAndTriangleRows(tracer);
+  upload(buffers_[kBindingBrushes], std::span<const uint32_t>(brushRows));
   upload(buffers_[kBindingSides], tracer.sides());
   upload(buffers_[kBindingFaces], tracer.faces());
   GLint units = 0;
@@ -100,7 +125,7 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMa
   makeTexelView(texelViews_[kTexelNodes - kTexelNodes], buffers_[kBindingNodes], GL_RGBA32UI,
                 bvh.size() * sizeof(GlBvhNode), 16, "the BVH nodes");
   makeTexelView(texelViews_[kTexelBrushes - kTexelNodes], buffers_[kBindingBrushes], GL_RGBA32UI,
-                tracer.brushes().size_bytes(), 16, "the brushes");
+                brushRows.size() * 4, 16, "the brushes and triangles");
   makeTexelView(texelViews_[kTexelSides - kTexelNodes], buffers_[kBindingSides], GL_R32UI, tracer.sides().size_bytes(), 4,
                 "the slanted sides");
   makeTexelView(texelViews_[kTexelFaces - kTexelNodes], buffers_[kBindingFaces], GL_RGBA32F, tracer.faces().size_bytes(), 16,

@@ -16,6 +16,9 @@ struct GlLighting;
 // gl_structs.h GlBvhNode from TraceScene's tree (TraceScene::nodes()), in linear time. Throws
 // GlError for a leaf beyond GlBvhNode's reference limits (kGlLeafMaxCount, kGlLeafMaxFirst).
 std::vector<GlBvhNode> bvhForGl(std::span<const GpuBvhNode> nodes);
+// Both trees of a TraceScene, the triangles' after the brushes' with node 0's pads set
+// (gl_structs.h GlBvhNode says how).
+std::vector<GlBvhNode> sceneBvhForGl(const TraceScene& tracer);
 
 class GlSceneBuffers {
 public:

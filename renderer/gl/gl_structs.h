@@ -57,6 +57,13 @@ enum Binding : uint32_t {
 //
 //   4 texels (shaders/trace.glsl nodeRow): (leftMin, left), (leftMax, pad), (rightMin, right),
 //   (rightMax, pad).
+// Mesh triangles (TraceScene::triangleNodes(), scene/gpu_structs.h GpuTriangle; gl_scene.h
+// sceneBvhForGl) travel in the
+// same two buffers, so that they need no binding of their own: their tree's GlBvhNodes follow
+// the brushes' (child references offset by where they start; leaf references name triangles),
+// and the triangles follow the brushes in the brush buffer, 3 rows (texels) each. The root's
+// pads say where: node 0's pad0 is the triangle tree's root node (kGlNoChild: no triangles),
+// its pad1 the brush-buffer row of the first triangle (shaders/trace.glsl traceRay).
 inline constexpr uint32_t kGlNoChild = 0;
 inline constexpr uint32_t kGlLeafRef = 0x80000000u;
 inline constexpr uint32_t kGlLeafMaxCount = 127;
@@ -88,7 +95,7 @@ enum TexelUnit : uint32_t {
   kTexelFaces = 19,
   kTexelUnitEnd = 20, // one past the last: the context must offer this many compute texture units
 };
-static_assert(sizeof(GlBvhNode) == 4 * 16 && sizeof(GpuBrush) == 4 * 16 && sizeof(GpuFace) == 4 * 16);
+static_assert(sizeof(GlBvhNode) == 4 * 16 && sizeof(GpuBrush) == 4 * 16 && sizeof(GpuFace) == 4 * 16 && sizeof(GpuTriangle) == 3 * 16);
 static_assert(offsetof(GpuFace, plane) == 0);
 
 enum MaterialFlags : uint32_t {

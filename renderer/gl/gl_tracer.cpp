@@ -210,7 +210,8 @@ GpuWorld worldBlock(const GlLighting& lighting) {
 
 std::vector<std::string> shaderDefines(TextureMode mode, TraceLayout layout) {
   std::vector<std::string> defines{mode == TextureMode::Bindless ? "BT_TEXTURES_BINDLESS" : "BT_TEXTURES_ARRAYS",
-                                   fmt::format("BT_BVH_MAX_DEPTH {}", kBvhMaxDepth)};
+                                   fmt::format("BT_BVH_MAX_DEPTH {}", kBvhMaxDepth),
+                                   fmt::format("BT_TRIANGLE_EDGE_EPSILON_INVERSE {}u", kTriangleEdgeEpsilonInverse)};
   if (layout == TraceLayout::Software) defines.emplace_back("BT_TRACE_SOFTWARE");
   return defines;
 }

@@ -14,15 +14,17 @@ namespace bt::test {
 
 // The closest hit by testing every brush, with the tie-break that trace_scene.h states: at
 // equal t an entering hit beats a leaving one, then the higher face index (the later brush).
+// Mesh triangles count as well, by the same order.
 inline std::optional<Hit> bruteForceClosestHit(const TraceScene& ts, const Ray& ray) {
   std::optional<Hit> best;
-  for (uint32_t b = 0; b < ts.brushes().size(); ++b) {
-    const std::optional<Hit> h = ts.intersectBrush(ray, b);
-    if (!h) continue;
+  auto consider = [&](const std::optional<Hit>& h) {
+    if (!h) return;
     const bool better = !best || h->t < best->t ||
                         (h->t == best->t && (h->inside != best->inside ? !h->inside : h->face > best->face));
     if (better) best = h;
-  }
+  };
+  for (uint32_t b = 0; b < ts.brushes().size(); ++b) consider(ts.intersectBrush(ray, b));
+  for (uint32_t t = 0; t < ts.triangles().size(); ++t) consider(ts.intersectTriangle(ray, t));
   return best;
 }
 
