@@ -9,8 +9,6 @@
 
 namespace bt::app {
 
-namespace {
-
 nlohmann::ordered_json infoJson(const Scene& scene) {
   nlohmann::ordered_json textures = nlohmann::ordered_json::array();
   for (const Material& m : scene.materials)
@@ -26,6 +24,8 @@ nlohmann::ordered_json infoJson(const Scene& scene) {
           {"brushes", scene.brushes.size()}, {"faces", scene.faces.size()},    {"bounds", bounds},
           {"textures", textures},         {"problems", problems}};
 }
+
+namespace {
 
 void printInfo(const Scene& scene) {
   fmt::print("{}\n  dialect   {}\n  entities  {}\n  brushes   {}\n  faces     {}\n", scene.sourcePath, scene.format, scene.entities.size(),
