@@ -116,7 +116,9 @@ int runBatchCommand(const BatchArgs& args) {
 void addBatchCommand(CLI::App& app, int& exitCode) {
   CLI::App* cmd = app.add_subcommand("batch", "Check and render many levels: per-level results, report.json and an index.html contact sheet");
   auto args = std::make_shared<BatchArgs>();
-  cmd->add_option("INPUT", args->inputs, "A manifest (.json), or levels and folders of levels with the default jobs")->check(CLI::ExistingPath);
+  // A plain path must exist; ARCHIVE:maps/x.bsp, a bare level name and a glob are the importer's and the manifest's to check.
+  const CLI::Validator plainPathExists([](std::string& p) { return p.find_first_of(":*?[") != std::string::npos || p.find('/') == std::string::npos && p.find('.') == std::string::npos ? std::string() : CLI::ExistingPath(p); }, "PATH");
+  cmd->add_option("INPUT", args->inputs, "A manifest (.json), or levels (files, ARCHIVE:maps/x.bsp, globs, folders) with the default jobs")->check(plainPathExists);
   cmd->add_option("-o,--output", args->output, "The folder of results (made if missing)")->type_name("DIR")->check(outputFolder());
   cmd->add_option("--merge", args->merge, "Only merge the results under DIR (every shard's) into report.json and index.html")
       ->type_name("DIR")
