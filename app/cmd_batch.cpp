@@ -72,6 +72,7 @@ std::string slurmScript(const BatchArgs& args) {
   const std::string env = "--export=ALL,BRUSHTRACE=" + quoted(exe);
   return fmt::format("mkdir -p {0}/slurm\n"
                      "array=$(sbatch --parsable --array=1-{1} {2}--output={0}/slurm/%A_%a.out {3} {4} {5} {0} {1})\n"
+                     "echo \"${{array%%;*}}\"\n"
                      "sbatch --parsable --dependency=afterany:${{array%%;*}} --output={0}/slurm/merge-%j.out {3} {6} {0}\n",
                      quoted(out), args.slurmShards, args.gpu ? "--gres=gpu:1 " : "", env, quoted((scripts / "batch-array.sbatch").string()),
                      quoted(fs::absolute(args.inputs[0]).string()), quoted((scripts / "batch-merge.sbatch").string()));

@@ -98,6 +98,9 @@ std::string waitForChild(pid_t child, double limitSeconds) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
+  // scancel signals every process of the task at once: the child may die of it before this
+  // process sees its own SIGTERM. Either way the level was stopped, not failed.
+  if (stopRequested || (WIFSIGNALED(status) && (WTERMSIG(status) == SIGTERM || WTERMSIG(status) == SIGINT))) return "stopped";
   if (WIFSIGNALED(status)) return fmt::format("crashed: killed by signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)));
   if (WEXITSTATUS(status) != 0) return fmt::format("the level's process exited with status {}", WEXITSTATUS(status));
   return "";
