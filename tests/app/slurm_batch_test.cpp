@@ -99,7 +99,11 @@ TEST(SlurmBatch, AnArrayWithOneTaskCancelledAndRequeuedMergesToTheSingleMachineR
   ASSERT_EQ(std::system(("scancel " + array + "_2").c_str()), 0);
   ASSERT_TRUE(waitFor([&] { return capture("squeue -h -t R -j " + array + "_2").empty(); }, std::chrono::seconds(60)));
   ASSERT_EQ(std::system(("scontrol requeue " + array + "_2").c_str()), 0);
-  std::system(("scontrol update jobid=" + array + "_2 starttime=now").c_str());
+  // The hold is set a moment after the requeue returns: update until the task leaves BeginTime.
+  waitFor([&] {
+    std::system(("scontrol update jobid=" + array + "_2 starttime=now 2>/dev/null").c_str());
+    return capture("squeue -h -o %r -j " + array + "_2").find("BeginTime") == std::string::npos;
+  }, std::chrono::seconds(150));
   ASSERT_TRUE(waitFor([&] { return capture("squeue -h").empty(); }, std::chrono::seconds(420))) << capture("squeue");
 
   const std::string log = bt::test::readText(log2);
