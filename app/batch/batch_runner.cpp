@@ -89,8 +89,10 @@ std::string waitForChild(pid_t child, double limitSeconds) {
   int status = 0;
   for (;;) {
     const pid_t done = waitpid(child, &status, WNOHANG);
-    if (done == child) break;
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // A child that ended between two polls but past the limit still took too long.
+    if (done == child && (elapsed <= limitSeconds || stopRequested)) break;
+    if (done == child) return fmt::format("timed out after {:g} s (limits.seconds)", limitSeconds);
     if (stopRequested || elapsed > limitSeconds) {
       kill(child, SIGKILL);
       waitpid(child, &status, 0);

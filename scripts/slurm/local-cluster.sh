@@ -45,7 +45,7 @@ state=$(cd "$state" && pwd)
 chmod 700 "$state/munge"
 dd if=/dev/urandom of="$state/munge/munge.key" bs=1024 count=1 status=none
 chmod 400 "$state/munge/munge.key"
-munged --key-file="$state/munge/munge.key" --socket="$state/munge/munge.socket" --pid-file="$state/munge/munged.pid" \
+timeout 30 munged --key-file="$state/munge/munge.key" --socket="$state/munge/munge.socket" --pid-file="$state/munge/munged.pid" \
   --log-file="$state/munge/munged.log" --seed-file="$state/munge/munged.seed" --force
 
 host=$(hostname -s)

@@ -166,6 +166,7 @@ TEST(BatchCommand, ATimeoutOrACrashIsTheLevelsFailureAndTheBatchGoesOn) {
   const json report = bt::test::readJson(dir / "timeout" / "report.json");
   ASSERT_EQ(report.at("levels").size(), 2u);
   for (const json& level : report["levels"]) {
+    ASSERT_EQ(level.at("failures").size(), 1u) << level;
     EXPECT_EQ(level["failures"][0].at("job"), "process");
     EXPECT_EQ(level["failures"][0].at("message").get<std::string>().rfind("timed out after 0.001 s", 0), 0u) << level["failures"][0];
   }

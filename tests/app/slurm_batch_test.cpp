@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
 #include <thread>
 #include <unistd.h>
 
@@ -81,6 +82,8 @@ TEST(SlurmBatch, AnArrayWithOneTaskCancelledAndRequeuedMergesToTheSingleMachineR
   if (!fs::exists("/usr/sbin/slurmctld") || !fs::exists("/usr/sbin/munged") || geteuid() != 0)
     GTEST_SKIP() << "needs root and Debian's slurm-wlm and munge (apt-get install slurm-wlm munge): the one-node cluster is not started";
   const fs::path dir = bt::test::freshTempDir("slurm");
+  // Removed after the cluster has stopped (declared first, destroyed last): the stop reads its pid files.
+  const std::shared_ptr<void> removeDir(nullptr, [&dir](void*) { fs::remove_all(dir); });
   bt::test::writeText(dir / "m.json", manifestOf40(shared).dump(1));
   const auto single = brushtrace("batch " + q(dir / "m.json") + " -o " + q(dir / "single"));
   ASSERT_LE(single.exitCode, 1) << single.err;
@@ -99,10 +102,11 @@ TEST(SlurmBatch, AnArrayWithOneTaskCancelledAndRequeuedMergesToTheSingleMachineR
   ASSERT_EQ(std::system(("scancel " + array + "_2").c_str()), 0);
   ASSERT_TRUE(waitFor([&] { return capture("squeue -h -t R -j " + array + "_2").empty(); }, std::chrono::seconds(60)));
   ASSERT_EQ(std::system(("scontrol requeue " + array + "_2").c_str()), 0);
-  // The hold is set a moment after the requeue returns: update until the task leaves BeginTime.
+  // The hold is set a moment after the requeue returns: update until the task is no longer pending.
   waitFor([&] {
     std::system(("scontrol update jobid=" + array + "_2 starttime=now 2>/dev/null").c_str());
-    return capture("squeue -h -o %r -j " + array + "_2").find("BeginTime") == std::string::npos;
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    return capture("squeue -h -t PD -j " + array + "_2").empty();
   }, std::chrono::seconds(150));
   ASSERT_TRUE(waitFor([&] { return capture("squeue -h").empty(); }, std::chrono::seconds(420))) << capture("squeue");
 
@@ -121,7 +125,6 @@ TEST(SlurmBatch, AnArrayWithOneTaskCancelledAndRequeuedMergesToTheSingleMachineR
   EXPECT_EQ(report.at("levels").size(), 40u);
   EXPECT_EQ(bt::test::withoutTimings(report), bt::test::withoutTimings(bt::test::readJson(dir / "single" / "report.json")));
   EXPECT_EQ(bt::test::partialFiles(dir / "cluster"), std::vector<fs::path>{});
-  fs::remove_all(dir);
 }
 
 } // namespace
