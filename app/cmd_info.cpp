@@ -27,6 +27,8 @@ MeshSummary meshSummary(const Scene& scene) {
   return m;
 }
 
+} // namespace
+
 nlohmann::ordered_json infoJson(const Scene& scene) {
   nlohmann::ordered_json textures = nlohmann::ordered_json::array();
   for (const Material& m : scene.materials)
@@ -45,6 +47,8 @@ nlohmann::ordered_json infoJson(const Scene& scene) {
           {"triangle_soups", meshes.soups}, {"soup_triangles", meshes.soupTriangles}, {"bounds", bounds},
           {"textures", textures},         {"problems", problems}};
 }
+
+namespace {
 
 void printInfo(const Scene& scene) {
   const MeshSummary meshes = meshSummary(scene);

@@ -1,5 +1,6 @@
 // `brushtrace render`: import a level and path-trace it to a PNG or EXR.
 #include "app/commands.h"
+#include "app/render_options.h"
 #include "app/usage_checks.h"
 
 #include "renderer/cpu/compiled_lightmaps.h"
@@ -28,29 +29,6 @@ namespace bt::app {
 
 namespace {
 
-struct RenderOptions {
-  std::string map;
-  std::string output;
-  int spp = 64;      // 0: --time alone bounds the render
-  double timeLimit = 0.0;
-  ImageSize size{960, 540};
-  std::optional<CameraPose> camera;
-  std::string backend = "auto";
-  std::string glTextures = "auto";
-  std::string aov = "beauty";
-  float exposure = 0.0f;
-  std::string tonemap; // empty: faithful for --lighting faithful, aces for physical
-  std::string lighting = "faithful";
-  bool lightingGiven = false; // --lighting on the command line (a Quake 3 .bsp defaults to compiled)
-  int bounces = 3;
-  int threads = 0;
-  uint32_t seed = 0;
-  bool quiet = false;
-  bool showHidden = false;
-  std::string luxels = "on";
-  int extra = 1;
-  ImportOptions import;
-};
 
 // Quake 3 curves and triangle soups drawn, as `info` counts them.
 std::string meshLine(const Scene& scene) {
@@ -181,7 +159,6 @@ LightmapChoice chooseLightmaps(const RenderOptions& o, const Scene& scene, Rende
   return choice;
 }
 
-// The faithful luxels of the faces the camera sees, on all cores, before the first sample.
 // Faithful mode's luxels of the faces the camera sees: baked here on all cores for the CPU
 // backend; for the GL backend laid out with their sample points, which the GPU lights (gl_bake.h).
 std::optional<LuxelBakeJob> bakeFaithful(const RenderOptions& o, RenderScene& rs, const CameraPose& pose, bool onGpu) {
@@ -197,7 +174,9 @@ std::optional<LuxelBakeJob> bakeFaithful(const RenderOptions& o, RenderScene& rs
   return luxelBakeJob(rs, rs.lightmaps, bake);
 }
 
-int runRender(const RenderOptions& o) {
+} // namespace
+
+int runRender(const RenderOptions& o, RenderOutcome* outcome) {
   const int width = o.size.width, height = o.size.height;
   std::string ext = std::filesystem::path(o.output).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -289,10 +268,9 @@ int runRender(const RenderOptions& o) {
   const std::string rendered = aovsOnly ? fmt::format("--aov {}", o.aov) : fmt::format("{} spp, {} lighting", image.samples, lighting);
   if (!o.quiet) fmt::print("wrote {} ({}x{}, {}, {})\n", o.output, width, height, rendered,
                            glContext ? "gl " + glContext->info().renderer : std::string("cpu"));
+  if (outcome) *outcome = {pose, image.samples, glContext ? "gl " + glContext->info().renderer : std::string("cpu")};
   return 0;
 }
-
-} // namespace
 
 void addRenderCommand(CLI::App& app, int& exitCode) {
   auto options = std::make_shared<RenderOptions>();

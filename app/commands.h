@@ -5,6 +5,7 @@
 #include "importers/import.h"
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 namespace bt::app {
 
@@ -33,6 +34,9 @@ void addSizeOption(CLI::App& command, ImageSize& size, const std::string& help);
 // The level `render` and `view` open when given none: maps/start.map.
 std::string defaultMapPath();
 
+// What `info --json` prints for a level: dialect, counts, bounds, textures, problems (cmd_info.cpp).
+nlohmann::ordered_json infoJson(const Scene& scene);
+
 // info MAP [--json], dump MAP --json, convert IN -o OUT [--dialect D] [--in-place]
 void addInfoCommand(CLI::App& app, int& exitCode);
 void addDumpCommand(CLI::App& app, int& exitCode);
@@ -43,6 +47,8 @@ void addRenderCommand(CLI::App& app, int& exitCode);
 void addBenchCommand(CLI::App& app, int& exitCode);
 // brushtrace view [MAP] (cmd_view.cpp): the live viewer.
 void addViewCommand(CLI::App& app, int& exitCode);
+// brushtrace batch (cmd_batch.cpp): many levels' checks and renders, restartable and shardable.
+void addBatchCommand(CLI::App& app, int& exitCode);
 
 
 } // namespace bt::app

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   bt::app::addBenchCommand(app, exitCode);
   bt::app::addViewCommand(app, exitCode);
   bt::app::addConfigCommand(app, exitCode);
+  bt::app::addBatchCommand(app, exitCode);
 
   // CLI11 alone says only "A subcommand is required" or that an argument was not expected.
   if (argc < 2 || (argv[1][0] != '-' && !bt::app::isCommand(app, argv[1]))) {

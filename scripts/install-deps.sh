@@ -12,7 +12,8 @@ packages=(
   glslang-dev glslang-tools
   libcli11-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libimgui-dev libzip-dev libpng-dev
+  libimgui-dev libzip-dev libpng-dev libssl-dev
+  slurm-wlm munge
   xvfb xauth
 )
 if [[ "${1:-}" == "--with-test-data" ]]; then

@@ -344,6 +344,23 @@ CameraPose defaultCameraPose(const Scene& scene) {
   return pose;
 }
 
+std::vector<CameraPose> spawnCameraPoses(const Scene& scene) {
+  const Game game = gameOf(scene);
+  std::vector<CameraPose> poses;
+  for (const EyePoint& eye : eyePoints(game))
+    for (const Entity& e : scene.entities) {
+      const auto origin = parseVec3(e.value("origin"));
+      if (e.classname() != eye.classname || !origin) continue;
+      CameraPose pose;
+      pose.origin = *origin + glm::vec3(0.0f, 0.0f, eye.height);
+      readAngles(e, pose);
+      if (game == Game::Quake3 && eye.height == 0.0f) aimAtTarget(scene, e, pose);
+      pose.source = fmt::format("{} (line {})", eye.classname, e.line);
+      if (withinLevel(scene, pose.origin)) poses.push_back(pose);
+    }
+  return poses;
+}
+
 Camera::Camera(const CameraPose& pose, int width, int height, float horizontalFovDegrees)
     : origin_(pose.origin), width_(width), height_(height) {
   const float pitch = glm::radians(pose.pitch), yaw = glm::radians(pose.yaw), roll = glm::radians(pose.roll);

@@ -10,6 +10,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace bt {
 
@@ -30,6 +31,10 @@ std::string formatCameraPose(const CameraPose& pose);
 // its player start, else a deathmatch spawn; a level with none of them gets a point of empty
 // space inside it, else (nothing closes in anywhere) a view of the whole map from one corner.
 CameraPose defaultCameraPose(const Scene& scene);
+// Every spawn point and intermission view of the level's game that lies within its bounds, in
+// the order defaultCameraPose() prefers them and then file order, each at its eye height and
+// angles: the further views a batch renders beside the default one.
+std::vector<CameraPose> spawnCameraPoses(const Scene& scene);
 
 class Camera {
 public:

@@ -18,11 +18,12 @@ std::string readFile(const std::filesystem::path& p) {
 }
 } // namespace
 
-CommandResult brushtrace(const std::string& args) {
+CommandResult brushtrace(const std::string& args) { return runShell("'" + (binaryDir() / "brushtrace").string() + "' " + args); }
+
+CommandResult runShell(const std::string& command) {
   const auto dir = std::filesystem::temp_directory_path() / ("bt_app_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  const std::string cmd = "'" + (binaryDir() / "brushtrace").string() + "' " + args + " >'" + (dir / "out").string() + "' 2>'" +
-                          (dir / "err").string() + "'";
+  const std::string cmd = command + " >'" + (dir / "out").string() + "' 2>'" + (dir / "err").string() + "'";
   const int status = std::system(cmd.c_str());
   CommandResult r;
   r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -1,0 +1,47 @@
+// `render`'s options and its whole job, shared by the `render` command and `batch`'s renders.
+#pragma once
+
+#include "app/commands.h"
+#include "renderer/cpu/camera.h"
+
+#include <optional>
+#include <string>
+
+namespace bt::app {
+
+struct RenderOptions {
+  std::string map;
+  std::string output;
+  int spp = 64;      // 0: --time alone bounds the render
+  double timeLimit = 0.0;
+  ImageSize size{960, 540};
+  std::optional<CameraPose> camera;
+  std::string backend = "auto";
+  std::string glTextures = "auto";
+  std::string aov = "beauty";
+  float exposure = 0.0f;
+  std::string tonemap; // empty: faithful for --lighting faithful, aces for physical
+  std::string lighting = "faithful";
+  bool lightingGiven = false; // --lighting on the command line (a Quake 3 .bsp defaults to compiled)
+  int bounces = 3;
+  int threads = 0;
+  uint32_t seed = 0;
+  bool quiet = false;
+  bool showHidden = false;
+  std::string luxels = "on";
+  int extra = 1;
+  ImportOptions import;
+};
+
+// What a finished render used, for callers that record it (batch's per-level results).
+struct RenderOutcome {
+  CameraPose pose;
+  int samples = 0;
+  std::string device; // "cpu" or "gl <renderer>"
+};
+
+// Imports o.map and renders it to o.output: 0 when the image was written, 1 when the level has
+// nothing to draw. Throws on a level that cannot be imported or an image that cannot be written.
+int runRender(const RenderOptions& o, RenderOutcome* outcome = nullptr);
+
+} // namespace bt::app
