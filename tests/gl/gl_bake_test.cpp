@@ -78,17 +78,21 @@ TEST(GlBake, GpuBakeStoresTheCpuLuxels) {
   EXPECT_TRUE(bake.done());
   const std::vector<uint32_t> gpu = packedLuxels(tracer.readLightmaps(), cpu.luxels.size());
 
-  // Float rounding (a shader may fuse multiply-adds) moves a luxel across a byte's edge, rarely
-  // across a shadow's: within 1 everywhere but a handful of luxels.
-  size_t equal = 0, off = 0, lit = 0;
+  // Float rounding (a shader may fuse multiply-adds; its sin and cos are not libm's) moves a
+  // luxel across a byte's edge, and a soft light's sample ray that grazes an edge across the
+  // shadow's: one sun sample of 8 is 19 levels here. Within 1 nearly everywhere (llvmpipe: 99.8 %,
+  // an H200: 96.9 %, 3 % of luxels a sample apart at the pillar's edges); a bake drawing other
+  // random numbers (its seed + 1) has 23 % of its luxels off by more and a mean 1.4 levels away.
+  size_t within = 0, lit = 0;
+  double sum = 0.0;
   for (size_t i = 0; i < gpu.size(); ++i) {
     const int d = largestChannelDifference(gpu[i], cpu.luxels[i]);
-    equal += d == 0;
-    off += d > 1;
+    within += d <= 1;
+    sum += d;
     lit += (cpu.luxels[i] & 0xffffffu) != 0;
   }
-  EXPECT_GE(double(equal), 0.97 * double(gpu.size()));
-  EXPECT_LE(double(off), 0.002 * double(gpu.size()) + 1.0);
+  EXPECT_GE(double(within), 0.95 * double(gpu.size()));
+  EXPECT_LE(sum / double(gpu.size()), 1.0) << "mean difference, in levels of the brightest channel";
   EXPECT_GT(double(lit), 0.7 * double(gpu.size())) << "a dark bake proves nothing (the walls' outer faces are dark)";
 }
 
