@@ -7,6 +7,7 @@
 #include "renderer/gl/gl_lighting.h"
 #include "renderer/gl/gl_render.h"
 #include "renderer/gl/gl_tracer.h"
+#include "tests/gl/cpu_and_gl.h"
 #include "tests/gl/test_scenes.h"
 #include "tests/test_data.h"
 
@@ -24,31 +25,9 @@ const Scene& curvesMap() {
   return scene;
 }
 
-struct Renders {
-  RenderImage cpu, gpu;
-};
+using Renders = test::CpuAndGl;
 
-Renders render(LightingMode mode) {
-  const Scene& scene = curvesMap();
-  Diagnostics diagnostics;
-  const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
-  const CameraPose pose = defaultCameraPose(scene);
-  RenderSettings settings;
-  settings.width = kWidth;
-  settings.height = kHeight;
-  settings.spp = 4;
-  settings.seed = 7;
-  settings.integrator.mode = mode;
-  settings.integrator.bounces = 2;
-  Renders r;
-  r.cpu = renderCpu(rs, Camera(pose, kWidth, kHeight), settings);
-  GlContext& context = test::sharedGlContext();
-  static const auto programs = std::make_shared<TracerPrograms>(context, test::textureModeUnderTest());
-  const int errorsBefore = context.debugErrorCount();
-  r.gpu = renderWithGl(context, rs, pose, settings, programs, {}).image;
-  EXPECT_EQ(context.debugErrorCount(), errorsBefore);
-  return r;
-}
+Renders render(LightingMode mode) { return test::renderCpuAndGl(curvesMap(), mode, kWidth, kHeight); }
 
 bool onMesh(uint32_t pixelFace) { return pixelFace > 0 && curvesMap().faces[pixelFace - 1].brush == kNoBrush; }
 

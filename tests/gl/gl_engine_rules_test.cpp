@@ -6,6 +6,7 @@
 #include "renderer/cpu/render_scene.h"
 #include "renderer/gl/gl_render.h"
 #include "renderer/gl/gl_tracer.h"
+#include "tests/gl/cpu_and_gl.h"
 #include "tests/gl/test_scenes.h"
 #include "tests/test_data.h"
 
@@ -18,31 +19,11 @@ namespace {
 constexpr int kWidth = 96;
 constexpr int kHeight = 64;
 
-struct Renders {
-  RenderImage cpu, gpu;
-};
+using Renders = test::CpuAndGl;
 
 Renders renderMap(const std::string& name, LightingMode mode) {
   const Scene scene = importScene((test::mapsDir() / "engine_rules" / name).string(), ImportOptions{});
-  Diagnostics diagnostics;
-  const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
-  const CameraPose pose = defaultCameraPose(scene);
-  RenderSettings settings;
-  settings.width = kWidth;
-  settings.height = kHeight;
-  settings.spp = 4;
-  settings.seed = 7;
-  settings.integrator.mode = mode;
-  settings.integrator.bounces = 2;
-  Renders r;
-  r.cpu = renderCpu(rs, Camera(pose, kWidth, kHeight), settings);
-  GlContext& context = test::sharedGlContext();
-  // One set of programs for every map of the suite: on llvmpipe each build takes seconds.
-  static const auto programs = std::make_shared<TracerPrograms>(context, test::textureModeUnderTest());
-  const int errorsBefore = context.debugErrorCount();
-  r.gpu = renderWithGl(context, rs, pose, settings, programs, {}).image;
-  EXPECT_EQ(context.debugErrorCount(), errorsBefore);
-  return r;
+  return test::renderCpuAndGl(scene, mode, kWidth, kHeight);
 }
 
 // Faces equal but for a few pixels whose ray grazes an edge; beauty as gl_cpu_parity_test's
