@@ -266,6 +266,9 @@ CompiledLightmaps buildCompiledLightmaps(const Scene& scene, const RenderScene& 
   lm.faceRanges.assign(scene.faces.size(), glm::uvec2(0));
   for (uint32_t f = 0; f < scene.faces.size(); ++f) {
     const Face& face = scene.faces[f];
+    // Mesh triangles (Quake 3 curves and soups) lie on no brush side: lit at each point, as in
+    // faithful mode, until the view maps their own lightmap coordinates.
+    if (face.brush == kNoBrush) continue;
     const std::vector<uint32_t> on = index.on(scene.brushes[face.brush].entity, face.plane, face.winding);
     const FaceFrame frame(gpuFace(rs, f));
     if (on.empty() || !frame.valid) continue;

@@ -108,7 +108,8 @@ Comparison compareWith(const RenderScene& rs, const ExpectedAt& expectedAt, doub
       if (!hit.found) continue;
       const uint32_t flags = rs.faceFlags[hit.face];
       const glm::dvec3 texture(baseColorAt(rs, hit.face, hit.position));
-      if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater) ||
+      // Mesh triangles (Quake 3 curves) have no compiled lightmap in the view yet: lit at each point.
+      if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater) || rs.scene->faces[hit.face].brush == kNoBrush ||
           emissiveAt(rs, hit.face, hit.position) != glm::vec3(0.0f)) {
         ++r.excluded;
         continue;
