@@ -70,7 +70,7 @@ std::vector<uint32_t> facesSeen(const RenderScene& rs, const Camera& camera, int
 // GPU bake fills.
 Lightmaps layoutFaithfulLightmaps(const RenderScene& rs, const Camera* camera, int width, int height, unsigned threads = 0);
 
-// What `render` does before a faithful image (the viewer does not bake yet): lay out and bake the faces `camera` sees
+// What `render --backend cpu` does before a faithful image: lay out and bake the faces `camera` sees
 // (all lit faces when camera is null) into rs.lightmaps.
 void bakeFaithfulLightmaps(RenderScene& rs, const Camera* camera, int width, int height, const LightmapBakeOptions& options);
 
