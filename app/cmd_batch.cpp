@@ -29,11 +29,14 @@ struct BatchArgs {
 
 // --shard K/N, 1 <= K <= N, checked while the command line is parsed.
 void addShardOption(CLI::App& cmd, BatchArgs& args) {
-  cmd.add_option_function<std::string>("--shard", [&args](const std::string& text) {
-       char rest = 0;
-       if (std::sscanf(text.c_str(), "%d/%d%c", &args.shard, &args.shards, &rest) != 2 || args.shard < 1 || args.shard > args.shards)
-         throw CLI::ValidationError("--shard", "expected K/N with 1 <= K <= N, got '" + text + "'");
-     }, "Run only slice K of N (every N-th level from the K-th); merge the slices with --merge")
+  cmd.add_option_function<std::string>(
+         "--shard",
+         [&args](const std::string& text) {
+           char rest = 0;
+           if (std::sscanf(text.c_str(), "%d/%d%c", &args.shard, &args.shards, &rest) != 2 || args.shard < 1 || args.shard > args.shards)
+             throw CLI::ValidationError("--shard", "expected K/N with 1 <= K <= N, got '" + text + "'");
+         },
+         "Run only slice K of N (every N-th level from the K-th); merge the slices with --merge")
       ->type_name("K/N");
 }
 
@@ -107,27 +110,39 @@ int runBatchCommand(const BatchArgs& args) {
     return 1;
   }
   if (args.shards == 1) batch::mergeResults(args.output);
-  if (failed > 0) fmt::print(stderr, "brushtrace: batch: {} level(s) failed; see {}\n", failed,
-                             (fs::path(args.output) / (args.shards == 1 ? "index.html" : "levels")).string());
+  if (failed > 0)
+    fmt::print(stderr, "brushtrace: batch: {} level(s) failed; see {}\n", failed,
+               (fs::path(args.output) / (args.shards == 1 ? "index.html" : "levels")).string());
   return failed == 0 ? 0 : 1;
 }
 
 } // namespace
 
 void addBatchCommand(CLI::App& app, int& exitCode) {
-  CLI::App* cmd = app.add_subcommand("batch", "Check and render many levels: per-level results, report.json and an index.html contact sheet");
+  CLI::App* cmd =
+      app.add_subcommand("batch", "Check and render many levels: per-level results, report.json and an index.html contact sheet");
   auto args = std::make_shared<BatchArgs>();
   // A plain path must exist; ARCHIVE:maps/x.bsp, a bare level name and a glob are the importer's and the manifest's to check.
-  const CLI::Validator plainPathExists([](std::string& p) { return p.find_first_of(":*?[") != std::string::npos || p.find('/') == std::string::npos && p.find('.') == std::string::npos ? std::string() : CLI::ExistingPath(p); }, "PATH");
-  cmd->add_option("INPUT", args->inputs, "A manifest (.json), or levels (files, ARCHIVE:maps/x.bsp, globs, folders) with the default jobs")->check(plainPathExists);
+  const CLI::Validator plainPathExists(
+      [](std::string& p) {
+        return p.find_first_of(":*?[") != std::string::npos || p.find('/') == std::string::npos && p.find('.') == std::string::npos
+            ? std::string()
+            : CLI::ExistingPath(p);
+      },
+      "PATH");
+  cmd->add_option("INPUT", args->inputs, "A manifest (.json), or levels (files, ARCHIVE:maps/x.bsp, globs, folders) with the default jobs")
+      ->check(plainPathExists);
   cmd->add_option("-o,--output", args->output, "The folder of results (made if missing)")->type_name("DIR")->check(outputFolder());
   cmd->add_option("--merge", args->merge, "Only merge the results under DIR (every shard's) into report.json and index.html")
       ->type_name("DIR")
       ->check(writableFolder());
   addShardOption(*cmd, *args);
-  cmd->add_option("--backend", args->backend, "Override the manifest's render backend: auto|gl|cpu")->check(CLI::IsMember({"auto", "gl", "cpu"}));
+  cmd->add_option("--backend", args->backend, "Override the manifest's render backend: auto|gl|cpu")
+      ->check(CLI::IsMember({"auto", "gl", "cpu"}));
   cmd->add_flag("--slurm", args->slurm, "Print the sbatch commands of a Slurm job array over the manifest and its merge job");
-  cmd->add_option("--shards", args->slurmShards, "--slurm: array tasks, one shard each")->check(CLI::Range(1, 100000))->capture_default_str();
+  cmd->add_option("--shards", args->slurmShards, "--slurm: array tasks, one shard each")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
   cmd->add_flag("--gpu", args->gpu, "--slurm: ask each task for a GPU (--gres=gpu:1)");
   cmd->add_flag("--submit", args->submit, "--slurm: submit through sbatch instead of printing");
   cmd->callback([args, cmd, &exitCode] {

@@ -36,13 +36,12 @@ int runBench(const BenchOptions& options) {
   const auto textureMode = gl::parseTextureMode(options.textures); // --gl-textures admits only the names it parses
   const auto start = std::chrono::steady_clock::now();
   const Scene scene = importScene(options.map, options.import);
-  fmt::print("map: {} ({} brushes, {} faces, {} materials), imported in {:.2f} s\n", options.map, scene.brushes.size(),
-             scene.faces.size(), scene.materials.size(),
-             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  fmt::print("map: {} ({} brushes, {} faces, {} materials), imported in {:.2f} s\n", options.map, scene.brushes.size(), scene.faces.size(),
+             scene.materials.size(), std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   gl::GlBenchSettings settings{width, height, options.bounces, options.seconds, *textureMode, options.lighting == "physical"};
   // The first image is timed with the import inside it, as `render` gets there.
-  return gl::runGlBench(
-      [&](const gl::EntitiesRead& entitiesRead) { return importScene(options.map, options.import, entitiesRead); }, settings);
+  return gl::runGlBench([&](const gl::EntitiesRead& entitiesRead) { return importScene(options.map, options.import, entitiesRead); },
+                        settings);
 }
 
 } // namespace
@@ -53,7 +52,9 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
   bench->add_option("map", options->map, "Level to load (.map or .bsp)")->required()->check(levelFile());
   addImportOptions(*bench, options->import);
   addSizeOption(*bench, options->size, "Image size");
-  bench->add_option("--bounces", options->bounces, "Bounces of the full samples (physical mode)")->check(CLI::Range(0, 64))->capture_default_str();
+  bench->add_option("--bounces", options->bounces, "Bounces of the full samples (physical mode)")
+      ->check(CLI::Range(0, 64))
+      ->capture_default_str();
   bench->add_option("--seconds", options->seconds, "Time budget of the measurements")->check(positive())->capture_default_str();
   bench->add_option("--gl-textures", options->textures, "Texture path: auto|bindless|arrays")
       ->check(CLI::IsMember({"auto", "bindless", "arrays"}))

@@ -63,8 +63,8 @@ std::pair<std::string, std::string> splitKey(const std::string& key) {
   const size_t dot = key.find('.');
   const std::string gameName = key.substr(0, dot);
   if (dot == std::string::npos || !game::findGameProfile(gameName) || key.substr(dot + 1) != "basedir")
-    throw CLI::ValidationError("KEY", fmt::format("unknown setting '{}': the settings are GAME.basedir, GAME one of {}",
-                                                  key, game::gameProfileNames()));
+    throw CLI::ValidationError(
+        "KEY", fmt::format("unknown setting '{}': the settings are GAME.basedir, GAME one of {}", key, game::gameProfileNames()));
   return {gameName, "basedir"};
 }
 

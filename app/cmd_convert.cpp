@@ -34,7 +34,8 @@ void addConvertCommand(CLI::App& app, int& exitCode) {
                                         "Dialect to write: standard|valve220|quake2|quake2-valve|quake3|quake3-valve|hexen2|daikatana "
                                         "(default: the input's)")
       ->type_name("DIALECT");
-  cmd->add_option_function<std::string>("--from", dialectOption(args->inputDialect, "--from"), "Force the input's dialect instead of detecting it")
+  cmd->add_option_function<std::string>("--from", dialectOption(args->inputDialect, "--from"),
+                                        "Force the input's dialect instead of detecting it")
       ->type_name("DIALECT");
   cmd->add_flag("--in-place", args->inPlace, "Allow OUT to be the same file as IN");
   cmd->callback([args, &exitCode] {
@@ -54,7 +55,8 @@ void addConvertCommand(CLI::App& app, int& exitCode) {
       fmt::print(stderr, "{}\n", format(d));
       inexact += d.severity == Severity::Warning;
     }
-    fmt::print(stderr, "{}: {} -> {}, {} face(s) not represented exactly\n", args->output, toString(doc.dialect), toString(converted.dialect), inexact);
+    fmt::print(stderr, "{}: {} -> {}, {} face(s) not represented exactly\n", args->output, toString(doc.dialect),
+               toString(converted.dialect), inexact);
     exitCode = 0;
   });
 }

@@ -10,7 +10,9 @@
 namespace bt::app {
 
 namespace {
-nlohmann::ordered_json vec(const dvec3& v) { return nlohmann::ordered_json::array({v.x, v.y, v.z}); }
+nlohmann::ordered_json vec(const dvec3& v) {
+  return nlohmann::ordered_json::array({v.x, v.y, v.z});
+}
 } // namespace
 
 nlohmann::ordered_json dumpJson(const Scene& scene) {
@@ -37,7 +39,8 @@ nlohmann::ordered_json dumpJson(const Scene& scene) {
       }
       brushes.push_back({{"line", brush.line}, {"faces", std::move(faces)}});
     }
-    entities.push_back({{"classname", std::string(e.classname())}, {"line", e.line}, {"keys", std::move(keys)}, {"brushes", std::move(brushes)}});
+    entities.push_back(
+        {{"classname", std::string(e.classname())}, {"line", e.line}, {"keys", std::move(keys)}, {"brushes", std::move(brushes)}});
   }
   return {{"dialect", scene.format}, {"entities", std::move(entities)}};
 }

@@ -36,16 +36,27 @@ nlohmann::ordered_json infoJson(const Scene& scene) {
   nlohmann::ordered_json problems = nlohmann::ordered_json::array();
   for (const Diagnostic& d : scene.diagnostics)
     if (d.severity != Severity::Note)
-      problems.push_back({{"severity", d.severity == Severity::Error ? "error" : "warning"}, {"line", d.line}, {"column", d.column}, {"message", d.message}});
+      problems.push_back({{"severity", d.severity == Severity::Error ? "error" : "warning"},
+                          {"line", d.line},
+                          {"column", d.column},
+                          {"message", d.message}});
   nlohmann::ordered_json bounds = nullptr;
   if (!scene.bounds.empty())
-    bounds = {{"min", {scene.bounds.min.x, scene.bounds.min.y, scene.bounds.min.z}}, {"max", {scene.bounds.max.x, scene.bounds.max.y, scene.bounds.max.z}}};
+    bounds = {{"min", {scene.bounds.min.x, scene.bounds.min.y, scene.bounds.min.z}},
+              {"max", {scene.bounds.max.x, scene.bounds.max.y, scene.bounds.max.z}}};
   const MeshSummary meshes = meshSummary(scene);
-  return {{"path", scene.sourcePath},     {"dialect", scene.format},           {"entities", scene.entities.size()},
-          {"brushes", scene.brushes.size()}, {"faces", scene.faces.size() - meshes.faces()},
-          {"curves", meshes.curves},       {"curve_triangles", meshes.curveTriangles},
-          {"triangle_soups", meshes.soups}, {"soup_triangles", meshes.soupTriangles}, {"bounds", bounds},
-          {"textures", textures},         {"problems", problems}};
+  return {{"path", scene.sourcePath},
+          {"dialect", scene.format},
+          {"entities", scene.entities.size()},
+          {"brushes", scene.brushes.size()},
+          {"faces", scene.faces.size() - meshes.faces()},
+          {"curves", meshes.curves},
+          {"curve_triangles", meshes.curveTriangles},
+          {"triangle_soups", meshes.soups},
+          {"soup_triangles", meshes.soupTriangles},
+          {"bounds", bounds},
+          {"textures", textures},
+          {"problems", problems}};
 }
 
 namespace {
@@ -80,7 +91,8 @@ void addInfoCommand(CLI::App& app, int& exitCode) {
     ImportOptions import;
   };
   auto args = std::make_shared<Args>();
-  cmd->add_option("MAP", args->path, "Level to import (.map, .bsp, ARCHIVE:maps/x.bsp, a level name with a game install), or a .pak/.pk3 to list")
+  cmd->add_option("MAP", args->path,
+                  "Level to import (.map, .bsp, ARCHIVE:maps/x.bsp, a level name with a game install), or a .pak/.pk3 to list")
       ->required()
       ->check(levelFile());
   cmd->add_flag("--json", args->json, "Print JSON instead of text");
@@ -89,8 +101,10 @@ void addInfoCommand(CLI::App& app, int& exitCode) {
     exitCode = 0;
     if (printArchiveContents(args->path, args->json)) return;
     const Scene scene = importScene(args->path, args->import);
-    if (args->json) fmt::print("{}\n", infoJson(scene).dump(1));
-    else printInfo(scene);
+    if (args->json)
+      fmt::print("{}\n", infoJson(scene).dump(1));
+    else
+      printInfo(scene);
     exitCode = 0;
   });
 }

@@ -29,7 +29,6 @@ namespace bt::app {
 
 namespace {
 
-
 // Quake 3 curves and triangle soups drawn, as `info` counts them.
 std::string meshLine(const Scene& scene) {
   size_t curves = 0, curveTriangles = 0, soups = 0, soupTriangles = 0;
@@ -61,8 +60,8 @@ public:
     if (timeLimit_ > 0.0) fraction = std::max(fraction, p.elapsed / timeLimit_);
     if (sppDone || timeUp) fraction = 1.0;
     const std::string total = p.samplesTotal > 0 ? std::to_string(p.samplesTotal) : "?";
-    const std::string line = fmt::format("[{:3.0f}%] spp {}/{} est {}", std::min(fraction, 1.0) * 100.0, p.samplesDone,
-                                         total, formatDuration(sppDone || timeUp ? 0.0 : p.estimatedRemaining));
+    const std::string line = fmt::format("[{:3.0f}%] spp {}/{} est {}", std::min(fraction, 1.0) * 100.0, p.samplesDone, total,
+                                         formatDuration(sppDone || timeUp ? 0.0 : p.estimatedRemaining));
     if (tty_) {
       fmt::print("\r{}{}", line, sppDone || timeUp ? "\n" : "");
     } else if (sppDone || timeUp || p.elapsed - lastPrinted_ >= 5.0) { // plain lines, not one per pass
@@ -81,8 +80,7 @@ private:
 // Faces a render can show: none (an empty .map, or only clip and trigger brushes) would give a
 // black image that looks like a lighting bug.
 bool hasDrawnFace(const RenderScene& scene, bool showHidden) {
-  return std::any_of(scene.faceFlags.begin(), scene.faceFlags.end(),
-                     [&](uint32_t flags) { return showHidden || !(flags & kFaceHidden); });
+  return std::any_of(scene.faceFlags.begin(), scene.faceFlags.end(), [&](uint32_t flags) { return showHidden || !(flags & kFaceHidden); });
 }
 
 RenderSettings renderSettings(const RenderOptions& o) {
@@ -104,10 +102,15 @@ OutputSettings outputSettings(const RenderOptions& o) {
   OutputSettings output;
   output.exposureEv = o.exposure;
   const std::string tonemap = o.tonemap.empty() ? (o.lighting == "physical" ? "aces" : "faithful") : o.tonemap;
-  output.tonemap = tonemap == "aces" ? Tonemap::Aces : tonemap == "agx" ? Tonemap::Agx
-                 : tonemap == "linear" ? Tonemap::Linear : Tonemap::Faithful;
-  output.aov = o.aov == "albedo" ? Aov::Albedo : o.aov == "normal" ? Aov::Normal : o.aov == "depth" ? Aov::Depth
-             : o.aov == "face" ? Aov::Face : Aov::Beauty;
+  output.tonemap = tonemap == "aces" ? Tonemap::Aces
+      : tonemap == "agx"             ? Tonemap::Agx
+      : tonemap == "linear"          ? Tonemap::Linear
+                                     : Tonemap::Faithful;
+  output.aov = o.aov == "albedo" ? Aov::Albedo
+      : o.aov == "normal"        ? Aov::Normal
+      : o.aov == "depth"         ? Aov::Depth
+      : o.aov == "face"          ? Aov::Face
+                                 : Aov::Beauty;
   return output;
 }
 
@@ -199,8 +202,8 @@ int runRender(const RenderOptions& o, RenderOutcome* outcome) {
   RenderScene renderScene;
   Diagnostics lightDiagnostics;
   gl::LevelPreparation preparation(
-      scene, renderScene, [&](const gl::EntitiesRead& entitiesRead) { return importScene(mapPath, o.import, entitiesRead); },
-      sceneOptions, &lightDiagnostics);
+      scene, renderScene, [&](const gl::EntitiesRead& entitiesRead) { return importScene(mapPath, o.import, entitiesRead); }, sceneOptions,
+      &lightDiagnostics);
 
   std::unique_ptr<gl::GlContext> glContext = makeGlContext(o);
 
@@ -264,10 +267,14 @@ int runRender(const RenderOptions& o, RenderOutcome* outcome) {
     written.exposureEv = 0.0f, written.tonemap = Tonemap::Faithful; // the heat map's own colours
   }
   writeImage(o.output, image, written);
-  const std::string lighting = choice.compiled ? "compiled" : choice.difference ? "difference" : o.lighting == "physical" ? "physical" : "faithful";
+  const std::string lighting = choice.compiled ? "compiled"
+      : choice.difference                      ? "difference"
+      : o.lighting == "physical"               ? "physical"
+                                               : "faithful";
   const std::string rendered = aovsOnly ? fmt::format("--aov {}", o.aov) : fmt::format("{} spp, {} lighting", image.samples, lighting);
-  if (!o.quiet) fmt::print("wrote {} ({}x{}, {}, {})\n", o.output, width, height, rendered,
-                           glContext ? "gl " + glContext->info().renderer : std::string("cpu"));
+  if (!o.quiet)
+    fmt::print("wrote {} ({}x{}, {}, {})\n", o.output, width, height, rendered,
+               glContext ? "gl " + glContext->info().renderer : std::string("cpu"));
   if (outcome) *outcome = {pose, image.samples, glContext ? "gl " + glContext->info().renderer : std::string("cpu")};
   return 0;
 }
@@ -275,7 +282,8 @@ int runRender(const RenderOptions& o, RenderOutcome* outcome) {
 void addRenderCommand(CLI::App& app, int& exitCode) {
   auto options = std::make_shared<RenderOptions>();
   CLI::App* cmd = app.add_subcommand("render", "Path-trace a level's lighting to an image (PNG or EXR)");
-  cmd->add_option("map", options->map, "Level to render (.map, .bsp, ARCHIVE:maps/x.bsp, or a level name with --game/--basedir); default maps/start.map")
+  cmd->add_option("map", options->map,
+                  "Level to render (.map, .bsp, ARCHIVE:maps/x.bsp, or a level name with --game/--basedir); default maps/start.map")
       ->type_name("MAP")
       ->check(levelFile());
   cmd->add_option("-o,--output", options->output, "Output image, .png (tonemapped sRGB) or .exr (linear + AOV layers)")
@@ -283,15 +291,15 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
       ->type_name("OUT")
       ->check(imageFile());
   CLI::Option* spp = cmd->add_option("--spp", options->spp, "Samples per pixel")->check(positive())->capture_default_str();
-  cmd->add_option("--time", options->timeLimit, "Stop after this many seconds (with --spp: whichever comes first; alone: as many samples as fit)")
+  cmd->add_option("--time", options->timeLimit,
+                  "Stop after this many seconds (with --spp: whichever comes first; alone: as many samples as fit)")
       ->type_name("S")
       ->check(positive());
   addSizeOption(*cmd, options->size, "Image size");
-  addCameraOption(*cmd, options->camera,
-                  "Camera \"(x y z) pitch yaw roll\" or \"setpos x y z pitch yaw roll\" (roll optional); default from the level's entities");
-  cmd->add_option("--backend", options->backend, "auto|gl|cpu")
-      ->check(CLI::IsMember({"auto", "gl", "cpu"}))
-      ->capture_default_str();
+  addCameraOption(
+      *cmd, options->camera,
+      "Camera \"(x y z) pitch yaw roll\" or \"setpos x y z pitch yaw roll\" (roll optional); default from the level's entities");
+  cmd->add_option("--backend", options->backend, "auto|gl|cpu")->check(CLI::IsMember({"auto", "gl", "cpu"}))->capture_default_str();
   cmd->add_option("--gl-textures", options->glTextures, "GL texture path: auto|bindless|arrays")
       ->check(CLI::IsMember({"auto", "bindless", "arrays"}))
       ->capture_default_str();

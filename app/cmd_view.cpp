@@ -34,8 +34,7 @@ int runView(ViewCommand& cmd) {
   Viewer viewer(o);
   if (cmd.lighting == "difference") viewer.showDifference();
   if (!viewer.notice().empty()) fmt::print(stderr, "{}: warning: {}\n", o.map, viewer.notice());
-  while (viewer.frame()) {
-  }
+  while (viewer.frame()) {}
   return 0;
 }
 
@@ -44,16 +43,19 @@ int runView(ViewCommand& cmd) {
 void addViewCommand(CLI::App& app, int& exitCode) {
   auto cmd = std::make_shared<ViewCommand>();
   CLI::App* view = app.add_subcommand("view", "Open a level in a window, path-traced progressively; reloads on save");
-  view->add_option("map", cmd->viewer.map, "Level file (.map, .bsp, ARCHIVE:maps/x.bsp, or a level name with --game/--basedir); default maps/start.map")
+  view->add_option("map", cmd->viewer.map,
+                   "Level file (.map, .bsp, ARCHIVE:maps/x.bsp, or a level name with --game/--basedir); default maps/start.map")
       ->check(levelFile());
   addImportOptions(*view, cmd->viewer.import);
   addSizeOption(*view, cmd->size, "Window size");
-  addCameraOption(*view, cmd->camera, "Start camera \"(x y z) pitch yaw roll\" or \"setpos x y z pitch yaw roll\" (roll is ignored: the viewer has none)");
+  addCameraOption(*view, cmd->camera,
+                  "Start camera \"(x y z) pitch yaw roll\" or \"setpos x y z pitch yaw roll\" (roll is ignored: the viewer has none)");
   view->add_option("--lighting", cmd->lighting, "faithful|physical|compiled|difference (keys 4, 5, 6, 7)")
       ->check(CLI::IsMember({"faithful", "physical", "compiled", "difference"}))
       ->capture_default_str();
-  view->add_option("--luxels", cmd->luxels,
-                   "Faithful lighting: on = the compiler's luxels, baked on the GPU as the first frames show, off = the light at each pixel")
+  view->add_option(
+          "--luxels", cmd->luxels,
+          "Faithful lighting: on = the compiler's luxels, baked on the GPU as the first frames show, off = the light at each pixel")
       ->check(CLI::IsMember({"on", "off"}))
       ->capture_default_str();
   view->add_option("--extra", cmd->viewer.bake.extra, "Faithful luxels: sample points per luxel along each axis (light -extra: 1, 2 or 4)")
@@ -63,7 +65,9 @@ void addViewCommand(CLI::App& app, int& exitCode) {
   view->add_option("--gl-textures", cmd->textures, "bindless|arrays|auto")
       ->check(CLI::IsMember({"auto", "bindless", "arrays"}))
       ->capture_default_str();
-  view->add_option("--screenshots", cmd->viewer.screenshotDir, "Folder F12 writes screenshots into")->check(writableFolder())->capture_default_str();
+  view->add_option("--screenshots", cmd->viewer.screenshotDir, "Folder F12 writes screenshots into")
+      ->check(writableFolder())
+      ->capture_default_str();
   view->callback([cmd, &exitCode] { exitCode = runView(*cmd); });
 }
 

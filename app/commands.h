@@ -50,5 +50,4 @@ void addViewCommand(CLI::App& app, int& exitCode);
 // brushtrace batch (cmd_batch.cpp): many levels' checks and renders, restartable and shardable.
 void addBatchCommand(CLI::App& app, int& exitCode);
 
-
 } // namespace bt::app

@@ -32,8 +32,11 @@ void addImportOptions(CLI::App& command, ImportOptions& options) {
   command.add_option("--textures", options.textures.textureDirs, "Folder of loose texture images <name>.png|tga|jpg (repeatable)")
       ->type_name("DIR")
       ->check(CLI::ExistingDirectory);
-  command.add_option("--palette", options.textures.palette, "Quake palette.lmp (768 bytes) for WAD2 textures")->type_name("FILE")->check(CLI::ExistingFile);
-  command.add_flag_callback("--no-textures", [&options] { options.textures.load = false; }, "Import geometry only: every texture is a placeholder");
+  command.add_option("--palette", options.textures.palette, "Quake palette.lmp (768 bytes) for WAD2 textures")
+      ->type_name("FILE")
+      ->check(CLI::ExistingFile);
+  command.add_flag_callback(
+      "--no-textures", [&options] { options.textures.load = false; }, "Import geometry only: every texture is a placeholder");
   addGameOptions(command, options.textures.game);
 }
 
@@ -48,8 +51,10 @@ void addGameOptions(CLI::App& command, GameOptions& game) {
           },
           "The game: quake|hexen2|halflife|quake2|quake3 (otherwise from the level's format and folder)")
       ->type_name("NAME");
-  command.add_option("--basedir", game.baseDir, "The game install: the folder holding id1/, baseq2/, valve/, baseq3/ or baseoa/ "
-                                                "(default: the level's own, else `brushtrace config`)")
+  command
+      .add_option("--basedir", game.baseDir,
+                  "The game install: the folder holding id1/, baseq2/, valve/, baseq3/ or baseoa/ "
+                  "(default: the level's own, else `brushtrace config`)")
       ->type_name("DIR");
   command.add_option("--mod", game.mods, "A game folder under --basedir searched before the base game (repeatable, first first)")
       ->type_name("NAME");
@@ -64,8 +69,8 @@ void addSizeOption(CLI::App& command, ImageSize& size, const std::string& help) 
           [&size](const std::string& text) {
             int width = 0, height = 0;
             char x = 0, rest = 0;
-            if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || x != 'x' || width <= 0 ||
-                height <= 0 || width > 16384 || height > 16384)
+            if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || x != 'x' || width <= 0 || height <= 0 ||
+                width > 16384 || height > 16384)
               throw CLI::ValidationError("--size", "expected WIDTHxHEIGHT (1..16384 each), got '" + text + "'");
             size = {width, height};
           },
@@ -88,8 +93,10 @@ bool printArchiveContents(const std::string& path, bool json) {
   nlohmann::ordered_json wads = nlohmann::ordered_json::array();
   for (const std::string& name : archive->names()) {
     const std::string lower = lowercase(name);
-    if (lower.starts_with("maps/") && hasExtension(name, {".bsp"})) levels.push_back(name);
-    else if (lower.starts_with("textures/") && hasExtension(name, {".wal", ".tga", ".jpg", ".jpeg", ".png"})) textures.push_back(name);
+    if (lower.starts_with("maps/") && hasExtension(name, {".bsp"}))
+      levels.push_back(name);
+    else if (lower.starts_with("textures/") && hasExtension(name, {".wal", ".tga", ".jpg", ".jpeg", ".png"}))
+      textures.push_back(name);
     else if (hasExtension(name, {".wad"})) {
       const WadFile wad = WadFile::fromBytes(*archive->read(name), path + ":" + name);
       nlohmann::ordered_json names = nlohmann::ordered_json::array();

@@ -24,10 +24,12 @@ int main(int argc, char** argv) {
 
   // CLI11 alone says only "A subcommand is required" or that an argument was not expected.
   if (argc < 2 || (argv[1][0] != '-' && !bt::app::isCommand(app, argv[1]))) {
-    if (argc < 2) fmt::print(stderr, "brushtrace: a command is required\n");
+    if (argc < 2)
+      fmt::print(stderr, "brushtrace: a command is required\n");
     else if (const auto near = bt::app::nearestCommand(app, argv[1]))
       fmt::print(stderr, "brushtrace: unknown command '{}'; did you mean '{}'?\n", argv[1], *near);
-    else fmt::print(stderr, "brushtrace: unknown command '{}'\n", argv[1]);
+    else
+      fmt::print(stderr, "brushtrace: unknown command '{}'\n", argv[1]);
     fmt::print(stderr, "{}", bt::app::commandList(app));
     return 2;
   }

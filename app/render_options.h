@@ -12,7 +12,7 @@ namespace bt::app {
 struct RenderOptions {
   std::string map;
   std::string output;
-  int spp = 64;      // 0: --time alone bounds the render
+  int spp = 64; // 0: --time alone bounds the render
   double timeLimit = 0.0;
   ImageSize size{960, 540};
   std::optional<CameraPose> camera;

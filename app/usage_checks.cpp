@@ -114,9 +114,10 @@ void addCameraOption(CLI::App& command, std::optional<CameraPose>& pose, const s
           [&pose](const std::string& text) {
             pose = parseCameraPose(text);
             if (!pose)
-              throw CLI::ValidationError("--camera", fmt::format("expected \"(x y z) pitch yaw roll\" or \"setpos x y z pitch yaw "
-                                                                 "roll\" (roll optional), got \"{}\"",
-                                                                 text));
+              throw CLI::ValidationError("--camera",
+                                         fmt::format("expected \"(x y z) pitch yaw roll\" or \"setpos x y z pitch yaw "
+                                                     "roll\" (roll optional), got \"{}\"",
+                                                     text));
           },
           help)
       ->type_name("POSE");

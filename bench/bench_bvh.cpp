@@ -48,7 +48,7 @@ struct BenchScene {
   Scene scene;
   std::vector<dvec3> openPoints; // where rays start
   std::unique_ptr<TraceScene> trace;
-  std::vector<Aabb> boxes; // of trace->brushes(), what the BVH builder sees
+  std::vector<Aabb> boxes;   // of trace->brushes(), what the BVH builder sees
   double fullSweepSah = 0.0; // of the reference builder on `boxes`; 0 when not computed
   std::vector<Ray> primary, bounce;
 };
@@ -120,7 +120,7 @@ BenchScene& benchScene(const std::string& name) {
 }
 
 #ifdef BT_BENCH_SHARED_MAPS
-const char* kLargestSharedMap = "unvanquished-chasm/maps/chasm.map"; // 3724 brushes
+const char* kLargestSharedMap = "unvanquished-chasm/maps/chasm.map";     // 3724 brushes
 const char* kSecondSharedMap = "librequake/lq1/maps/src/e4/lq_e4m3.map"; // 3399 brushes
 #endif
 
@@ -190,9 +190,10 @@ void registerAll() {
     }
     if (scene == "500000") continue; // traces at 5k, 50k and on the maps
     for (bool bounce : {false, true})
-      benchmark::RegisterBenchmark(((bounce ? "ClosestHit/bounce/" : "ClosestHit/primary/") + label).c_str(),
-                                   BM_ClosestHit, scene, bounce)
-          ->Threads(1)->Threads(cores)->UseRealTime();
+      benchmark::RegisterBenchmark(((bounce ? "ClosestHit/bounce/" : "ClosestHit/primary/") + label).c_str(), BM_ClosestHit, scene, bounce)
+          ->Threads(1)
+          ->Threads(cores)
+          ->UseRealTime();
   }
 }
 

@@ -29,8 +29,8 @@ void buildOnce(benchmark::State& state, const Scene& scene, const RenderSceneOpt
   for (auto _ : state) {
     Diagnostics diagnostics;
     const RenderScene rs = buildRenderScene(scene, options, diagnostics);
-    bounceLights = size_t(std::count_if(rs.lights.begin(), rs.lights.end(),
-                                        [](const GpuLight& l) { return l.formula == uint32_t(LightFormula::Bounce); }));
+    bounceLights = size_t(
+        std::count_if(rs.lights.begin(), rs.lights.end(), [](const GpuLight& l) { return l.formula == uint32_t(LightFormula::Bounce); }));
     for (const Diagnostic& d : diagnostics)
       if (d.message.starts_with("_bounce")) note = d.message;
     benchmark::DoNotOptimize(rs.lights.data());
@@ -46,8 +46,7 @@ void BM_BuildRenderScene(benchmark::State& state) {
     return;
   }
   Scene scene = importScene(kE4m3, ImportOptions{});
-  if (state.range(0) > 0 && !scene.entities.empty())
-    scene.entities[0].keys.emplace_back("_bounce", std::to_string(state.range(0)));
+  if (state.range(0) > 0 && !scene.entities.empty()) scene.entities[0].keys.emplace_back("_bounce", std::to_string(state.range(0)));
   buildOnce(state, scene, {});
 }
 BENCHMARK(BM_BuildRenderScene)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();

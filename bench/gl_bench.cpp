@@ -31,10 +31,9 @@ int main(int argc, char** argv) {
     const bt::Scene scene = bt::importScene(level, {});
     size_t placeholders = 0;
     for (const bt::Material& m : scene.materials) placeholders += m.sourcePath.empty();
-    fmt::print("scene: {} ({} brushes, {} faces, {} materials, {} of them placeholders)\n", level, scene.brushes.size(),
-               scene.faces.size(), scene.materials.size(), placeholders);
-    return bt::gl::runGlBench(
-        [&](const bt::gl::EntitiesRead& entitiesRead) { return bt::importScene(level, {}, entitiesRead); }, settings);
+    fmt::print("scene: {} ({} brushes, {} faces, {} materials, {} of them placeholders)\n", level, scene.brushes.size(), scene.faces.size(),
+               scene.materials.size(), placeholders);
+    return bt::gl::runGlBench([&](const bt::gl::EntitiesRead& entitiesRead) { return bt::importScene(level, {}, entitiesRead); }, settings);
   } catch (const std::exception& e) {
     fmt::print(stderr, "gl_bench: {}\n", e.what());
     return 1;

@@ -65,8 +65,8 @@ void BM_LightSelection(benchmark::State& state, const std::string& mapName, Ligh
   const double samples = double(kWidth) * kHeight * double(state.iterations());
   state.counters["samples/s"] = benchmark::Counter(samples, benchmark::Counter::kIsRate);
   // Seconds per sample per pixel of a 320x180 frame, the size the numbers are quoted at.
-  state.counters["s/spp@320x180"] = benchmark::Counter(samples / (320.0 * 180.0),
-                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["s/spp@320x180"] =
+      benchmark::Counter(samples / (320.0 * 180.0), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["lights"] = double(m->rs.lights.size());
   const LightGrid& grid = m->rs.lightGrid;
   const size_t cellCount = grid.cells.size() / 2;

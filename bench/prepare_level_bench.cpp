@@ -58,8 +58,7 @@ void BM_BuildLightGrid(benchmark::State& state, const std::string& level) {
   const Scene scene = importScene(path, ImportOptions{});
   Diagnostics diagnostics;
   const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
-  for (auto _ : state)
-    benchmark::DoNotOptimize(buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist).indices.data());
+  for (auto _ : state) benchmark::DoNotOptimize(buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist).indices.data());
   state.counters["cells"] = double(rs.lightGrid.cells.size() / 2);
 }
 
@@ -75,9 +74,9 @@ void BM_ExtendLightGrid(benchmark::State& state, const std::string& level) {
   directOnly.bounceLights = false;
   const RenderScene direct = buildRenderScene(scene, directOnly, diagnostics);
   for (auto _ : state)
-    benchmark::DoNotOptimize(extendLightGrid(direct.lightGrid, rs.lights, uint32_t(direct.lights.size()), rs.tracer.bounds(),
-                                             rs.world.scaledist)
-                                 .indices.data());
+    benchmark::DoNotOptimize(
+        extendLightGrid(direct.lightGrid, rs.lights, uint32_t(direct.lights.size()), rs.tracer.bounds(), rs.world.scaledist)
+            .indices.data());
   state.counters["added"] = double(rs.lights.size() - direct.lights.size());
 }
 

@@ -32,8 +32,7 @@ constexpr int kWidth = 320, kHeight = 180;
 // Runs fn(i) for i in [0, n) on `threads` threads in contiguous chunks. Not bt::parallelFor,
 // which hands out one index at a time: a shared counter per ray would cost as much as a ray,
 // and this measures the rays.
-template <class Fn>
-void forEachInChunks(size_t n, int threads, const Fn& fn) {
+template <class Fn> void forEachInChunks(size_t n, int threads, const Fn& fn) {
   std::vector<std::thread> pool;
   const size_t chunk = (n + size_t(threads) - 1) / size_t(threads);
   for (int t = 1; t < threads; ++t)
@@ -82,10 +81,9 @@ void BM_Rays(benchmark::State& state, const std::string& mapName, bool bounce) {
     });
     benchmark::DoNotOptimize(hits.data());
   }
-  state.counters["Mrays/s"] = benchmark::Counter(double(batch.size()) * double(state.iterations()) / 1e6,
-                                                 benchmark::Counter::kIsRate);
-  state.counters["Mrays/s/thread"] = benchmark::Counter(double(batch.size()) * double(state.iterations()) / 1e6 / threads,
-                                                        benchmark::Counter::kIsRate);
+  state.counters["Mrays/s"] = benchmark::Counter(double(batch.size()) * double(state.iterations()) / 1e6, benchmark::Counter::kIsRate);
+  state.counters["Mrays/s/thread"] =
+      benchmark::Counter(double(batch.size()) * double(state.iterations()) / 1e6 / threads, benchmark::Counter::kIsRate);
   state.counters["brushes"] = double(m->scene.brushes.size());
   state.counters["threads"] = threads;
 }
@@ -100,8 +98,8 @@ void timeRenders(benchmark::State& state, const LoadedLevel& m, LightingMode mod
   s.integrator.mode = mode;
   s.threads = threads;
   for (auto _ : state) benchmark::DoNotOptimize(renderCpu(m.rs, Camera(m.pose, kWidth, kHeight), s).beauty.data());
-  state.counters["Msamples/s"] = benchmark::Counter(double(kWidth) * kHeight * spp * double(state.iterations()) / 1e6,
-                                                    benchmark::Counter::kIsRate);
+  state.counters["Msamples/s"] =
+      benchmark::Counter(double(kWidth) * kHeight * spp * double(state.iterations()) / 1e6, benchmark::Counter::kIsRate);
 }
 
 void BM_Render(benchmark::State& state, const std::string& mapName, LightingMode mode) {
@@ -160,10 +158,24 @@ BENCHMARK_CAPTURE(BM_Rays, e1m1_primary, std::string("e1m1"), false)->Arg(1)->Ar
 BENCHMARK_CAPTURE(BM_Rays, e1m1_bounce, std::string("e1m1"), true)->Arg(1)->Arg(0)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Rays, lqdm5_primary, std::string("lqdm5"), false)->Arg(1)->Arg(0)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Rays, lqdm5_bounce, std::string("lqdm5"), true)->Arg(1)->Arg(0)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Render, start_faithful, std::string("start"), LightingMode::Faithful)->Arg(1)->Arg(0)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Render, start_physical, std::string("start"), LightingMode::Physical)->Arg(1)->Arg(0)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Render, e1m1_faithful, std::string("e1m1"), LightingMode::Faithful)->Arg(0)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Render, e1m1_physical, std::string("e1m1"), LightingMode::Physical)->Arg(0)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Render, start_faithful, std::string("start"), LightingMode::Faithful)
+    ->Arg(1)
+    ->Arg(0)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Render, start_physical, std::string("start"), LightingMode::Physical)
+    ->Arg(1)
+    ->Arg(0)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Render, e1m1_faithful, std::string("e1m1"), LightingMode::Faithful)
+    ->Arg(0)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Render, e1m1_physical, std::string("e1m1"), LightingMode::Physical)
+    ->Arg(0)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 // range(0): 1 with lq_e3m1's bounce lights, 0 without.
 BENCHMARK(BM_RenderBounce)->ArgName("bounce_lights")->Arg(0)->Arg(1)->UseRealTime()->Unit(benchmark::kMillisecond);

@@ -44,8 +44,7 @@ void BM_LoadMaterialsLibreQuakeMap(benchmark::State& state) {
   // Valve 220 face lines: "( p ) ( p ) ( p ) NAME [ ...": the name follows the third point.
   std::set<std::string> names;
   const std::regex face(R"(\) (\S+) \[)");
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), face); it != std::sregex_iterator(); ++it)
-    names.insert((*it)[1]);
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), face); it != std::sregex_iterator(); ++it) names.insert((*it)[1]);
   std::string wadKey;
   std::smatch m;
   if (std::regex_search(text, m, std::regex(R"re("wad" "([^"]*)")re"))) wadKey = m[1];

@@ -24,15 +24,17 @@ constexpr uint32_t kThreadsMinBoxes = 4096;
 // bins, and the deep levels, where bins are coarsest relative to the boxes, are where binning
 // loses most.
 constexpr uint32_t kSmallSubtreeMax = 8;
-constexpr uint32_t kMinBins = 8; // see binCountFor()
-constexpr uint32_t kTwoBinSetsMin = 64; // see binBoxes()
+constexpr uint32_t kMinBins = 8;                                 // see binCountFor()
+constexpr uint32_t kTwoBinSetsMin = 64;                          // see binBoxes()
 constexpr uint32_t kSampledBinningMin = 2048, kBinSamples = 512; // see sampleStrideFor()
 
 // The builder's inner loops work on SSE registers (x86-64 baseline): a box is two __m128
 // with x, y, z in lanes 0-2; lane 3 is masked to zero before any arithmetic.
 // A function, not a constant: a namespace-scope __m128 may be initialised at start-up, which in
 // the AVX2 compilation (see sah_builder.cpp) would run AVX2 code on any CPU.
-inline __m128 xyzMask() { return _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0)); }
+inline __m128 xyzMask() {
+  return _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0));
+}
 
 struct Box4 {
   __m128 min = _mm_set1_ps(kFloatMax);
@@ -129,7 +131,8 @@ int32_t laneOf(__m128i v, int axis) {
 // that compares less than the best so far). Without branches: which axis wins is a coin toss
 // that a branch predictor loses half the time.
 int cheapestAxis(__m128 cost, __m128i valid) {
-  const __m128 validCost = _mm_or_ps(_mm_and_ps(_mm_castsi128_ps(valid), cost), _mm_andnot_ps(_mm_castsi128_ps(valid), _mm_set1_ps(kFloatInf)));
+  const __m128 validCost =
+      _mm_or_ps(_mm_and_ps(_mm_castsi128_ps(valid), cost), _mm_andnot_ps(_mm_castsi128_ps(valid), _mm_set1_ps(kFloatInf)));
   __m128 lowest = _mm_min_ps(validCost, _mm_shuffle_ps(validCost, validCost, _MM_SHUFFLE(3, 0, 2, 1)));
   lowest = _mm_min_ps(lowest, _mm_shuffle_ps(validCost, validCost, _MM_SHUFFLE(3, 1, 0, 2)));
   // lowest holds the minimum of the three lanes in each of lanes 0-2.
@@ -178,7 +181,9 @@ struct Bins {
       }
     }
     for (int b = 0; b < binCount; ++b)
-      _mm_store_si128(reinterpret_cast<__m128i*>(count[b]), _mm_add_epi32(_mm_load_si128(reinterpret_cast<const __m128i*>(count[b])), _mm_load_si128(reinterpret_cast<const __m128i*>(other.count[b]))));
+      _mm_store_si128(reinterpret_cast<__m128i*>(count[b]),
+                      _mm_add_epi32(_mm_load_si128(reinterpret_cast<const __m128i*>(count[b])),
+                                    _mm_load_si128(reinterpret_cast<const __m128i*>(other.count[b]))));
   }
 };
 
@@ -301,8 +306,7 @@ struct SmallSplit {
 // Loads a small subtree's N boxes, in the order they lie in `refs`, and sorts them by rank,
 // all three axes at once: slot i goes to the number of slots before it in (centroid, slot)
 // order. N^2 compares cost less than the mispredicted branches of an insertion sort.
-template <uint32_t N>
-SmallNode loadSmallSubtree(const BoxRef* refs, SmallBoxes& boxes) {
+template <uint32_t N> SmallNode loadSmallSubtree(const BoxRef* refs, SmallBoxes& boxes) {
   SmallNode node;
   node.count = N;
   __m128 centroid[N];
@@ -333,8 +337,7 @@ SmallNode loadSmallSubtree(const BoxRef* refs, SmallBoxes& boxes) {
 // centroids, the three axes side by side in the lanes of one register (as bestBinnedSplit()).
 // M is a template parameter so that every loop is unrolled: in nodes this small, the
 // mispredicted exits of loops that run a node's count of times cost more than the sweep.
-template <uint32_t M>
-SmallSplit findSmallSplit(const SmallBoxes& boxes, const SmallNode& node) {
+template <uint32_t M> SmallSplit findSmallSplit(const SmallBoxes& boxes, const SmallNode& node) {
   const auto& sorted = node.sorted;
   // rightCost[i]: sorted[a][i, M) on the right.
   __m128 rightCost[M];
@@ -354,8 +357,10 @@ SmallSplit findSmallSplit(const SmallBoxes& boxes, const SmallNode& node) {
     for (int a = 0; a < 3; ++a) box[a].grow(boxes.lo[sorted[a][i - 1]], boxes.hi[sorted[a][i - 1]]);
     const __m128 cost = _mm_add_ps(_mm_mul_ps(halfAreas(box[0], box[1], box[2]), _mm_set1_ps(static_cast<float>(i))), rightCost[i]);
     // Equal centroids cannot be separated by a plane; lane 3 compares 0 with 0.
-    const __m128 previous = _mm_setr_ps(boxes.centroid2[sorted[0][i - 1]][0], boxes.centroid2[sorted[1][i - 1]][1], boxes.centroid2[sorted[2][i - 1]][2], 0.0f);
-    const __m128 next = _mm_setr_ps(boxes.centroid2[sorted[0][i]][0], boxes.centroid2[sorted[1][i]][1], boxes.centroid2[sorted[2][i]][2], 0.0f);
+    const __m128 previous =
+        _mm_setr_ps(boxes.centroid2[sorted[0][i - 1]][0], boxes.centroid2[sorted[1][i - 1]][1], boxes.centroid2[sorted[2][i - 1]][2], 0.0f);
+    const __m128 next =
+        _mm_setr_ps(boxes.centroid2[sorted[0][i]][0], boxes.centroid2[sorted[1][i]][1], boxes.centroid2[sorted[2][i]][2], 0.0f);
     const __m128i better = _mm_castps_si128(_mm_and_ps(_mm_cmpneq_ps(previous, next), _mm_cmplt_ps(cost, bestCost)));
     bestCost = _mm_or_ps(_mm_and_ps(_mm_castsi128_ps(better), cost), _mm_andnot_ps(_mm_castsi128_ps(better), bestCost));
     bestIndex = _mm_or_si128(_mm_and_si128(better, _mm_set1_epi32(static_cast<int32_t>(i))), _mm_andnot_si128(better, bestIndex));
@@ -375,7 +380,7 @@ SmallSplit findSmallSplit(const SmallBoxes& boxes, const SmallNode& node) {
 template <uint32_t M>
 void splitSmallNode(const SmallBoxes& boxes, const SmallNode& node, const SmallSplit& split, SmallNode children[2], Box4 bounds[2]) {
   const __m128 ignoreUnless[2] = {_mm_set1_ps(kFloatInf), _mm_setzero_ps()}; // [isLeft]: + for left
-  uint8_t isLeft[kSmallSubtreeMax]; // by slot
+  uint8_t isLeft[kSmallSubtreeMax];                                          // by slot
   Box4 leftBox, rightBox;
 #pragma GCC unroll 8
   for (uint32_t i = 0; i < M; ++i) {
@@ -636,7 +641,7 @@ private:
     for (Bins& b : bins) b.clear(binCount);
     std::vector<std::array<int32_t, 4>> chunkCounts(size_t{chunks} * binCount);
     std::vector<std::array<Box4, 2>> chunkBounds(chunks);        // [bounds, centroids]
-    std::vector<uint32_t> invalid(chunks);                        // first invalid box
+    std::vector<uint32_t> invalid(chunks);                       // first invalid box
     std::vector<uint32_t> leftBegin(chunks), rightBegin(chunks); // where the boxes go
     NodeTask root{0, 1, 0, count_, 0, 0, 0, {}};
     Box4 rootCentroids;
@@ -702,7 +707,8 @@ private:
       for (uint32_t c = 0; c < chunks; ++c) {
         leftBegin[c] = left, rightBegin[c] = right;
         uint32_t leftInChunk = 0;
-        for (int b = 0; b <= split.lastLeftBin; ++b) leftInChunk += static_cast<uint32_t>(chunkCounts[size_t{c} * binCount + b][split.axis]);
+        for (int b = 0; b <= split.lastLeftBin; ++b)
+          leftInChunk += static_cast<uint32_t>(chunkCounts[size_t{c} * binCount + b][split.axis]);
         left += leftInChunk;
         right += chunkBegin(c + 1) - chunkBegin(c) - leftInChunk;
       }
@@ -772,7 +778,8 @@ private:
       lock.unlock();
       const uint32_t used = buildNode(task);
       lock.lock();
-      if (const uint32_t reserved = 2 * (task.end - task.begin) - 2; used < reserved) holes_.push_back({task.descendants + used, reserved - used});
+      if (const uint32_t reserved = 2 * (task.end - task.begin) - 2; used < reserved)
+        holes_.push_back({task.descendants + used, reserved - used});
       if (unfinished_ == 1) {
         layOut();
         unfinished_ = 0;
@@ -917,8 +924,7 @@ private:
     }
   }
 
-  template <uint32_t M>
-  uint32_t buildSmallInterior(const SmallBoxes& boxes, const SmallNode& n, const NodeTask& t) {
+  template <uint32_t M> uint32_t buildSmallInterior(const SmallBoxes& boxes, const SmallNode& n, const NodeTask& t) {
     const SmallSplit split = findSmallSplit<M>(boxes, n);
     if (split.axis < 0) return buildSmallAtMedian(boxes, n, t);
     if (!shouldSplit(M, settings_.leafSize, t.bounds.halfArea(), split.childCost)) return makeSmallLeaf(boxes, n, t);
@@ -1073,7 +1079,7 @@ private:
   int threads_ = 1;
   uint32_t count_ = 0;
   std::unique_ptr<BoxRef[]> refs_[2]; // a node's boxes are in one; partitioning moves them to the other
-  GpuBvhNode* slots_ = nullptr; // nodes_'s storage, before the layout
+  GpuBvhNode* slots_ = nullptr;       // nodes_'s storage, before the layout
   std::vector<uint32_t> order_;
   std::vector<GpuBvhNode> nodes_; // the result: slots_ laid out depth first
   // With threads: the holes between the tasks' slots, sorted by layOut(), which adds the end
@@ -1082,7 +1088,7 @@ private:
   std::vector<uint32_t> holeEnds_, holeShifts_;
 
   std::atomic<bool> slotsSized_{false}; // see sizeSlots()
-  std::mutex mutex_; // guards queues_, queuedTasks_, unfinished_ and holes_
+  std::mutex mutex_;                    // guards queues_, queuedTasks_, unfinished_ and holes_
   std::condition_variable wake_;
   std::vector<TaskQueue> queues_; // one per thread
   uint32_t queuedTasks_ = 0;

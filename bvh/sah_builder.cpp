@@ -101,8 +101,7 @@ double sahCost(std::span<const GpuBvhNode> nodes) {
   const double rootArea = halfArea(nodes[0]);
   if (!(rootArea > 0.0)) return 0.0;
   double cost = 0.0;
-  for (const GpuBvhNode& n : nodes)
-    cost += n.count == 0 ? kSahTraversalCost * halfArea(n) : kSahBrushCost * n.count * halfArea(n);
+  for (const GpuBvhNode& n : nodes) cost += n.count == 0 ? kSahTraversalCost * halfArea(n) : kSahBrushCost * n.count * halfArea(n);
   return cost / rootArea;
 }
 

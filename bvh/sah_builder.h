@@ -44,9 +44,9 @@ inline constexpr double kSahTraversalCost = 1.0;
 inline constexpr double kSahBrushCost = 1.0;
 
 struct SahBuildSettings {
-  int leafSize = 4;  // see BvhBuildOptions
+  int leafSize = 4; // see BvhBuildOptions
   int binCount = 32;
-  int threads = 0;   // 0 = all cores
+  int threads = 0; // 0 = all cores
 };
 
 struct FlatBvh {

@@ -26,8 +26,7 @@ constexpr double kAxialTolerance = 1e-9;
 int axialSide(const dvec3& n) {
   for (int a = 0; a < 3; ++a) {
     const int b = (a + 1) % 3, c = (a + 2) % 3;
-    if (std::abs(n[b]) < kAxialTolerance && std::abs(n[c]) < kAxialTolerance && std::abs(n[a]) > 0.5)
-      return 2 * a + (n[a] > 0.0 ? 1 : 0);
+    if (std::abs(n[b]) < kAxialTolerance && std::abs(n[c]) < kAxialTolerance && std::abs(n[a]) > 0.5) return 2 * a + (n[a] > 0.0 ? 1 : 0);
   }
   return -1;
 }
@@ -112,8 +111,7 @@ std::optional<GpuBrush> makeGpuBrush(const Scene& scene, uint32_t brushIndex, st
 
 // Runs work(begin, end) over [0, count) in `threads` contiguous chunks at once (0 = all cores).
 // Every chunk writes only its own part of the output, so the result is the same for any count.
-template <typename Work>
-void parallelChunks(size_t count, int threads, const Work& work) {
+template <typename Work> void parallelChunks(size_t count, int threads, const Work& work) {
   if (threads <= 0) threads = static_cast<int>(std::thread::hardware_concurrency());
   // A chunk is a fraction of a millisecond of work below some 16k items (faces or brushes),
   // less than starting a thread and waiting for it can cost on a busy machine.
@@ -158,8 +156,7 @@ struct Slab {
 };
 
 // ZeroSafe = false is the fast path for rays without zero direction components.
-template <bool ZeroSafe>
-[[gnu::always_inline]] inline Slab intersectBox(const RayContext& r, const float* boxMin, const float* boxMax) {
+template <bool ZeroSafe> [[gnu::always_inline]] inline Slab intersectBox(const RayContext& r, const float* boxMin, const float* boxMax) {
   Slab s{-kInfinity, kInfinity, -1, -1};
   for (int a = 0; a < 3; ++a) {
     if (ZeroSafe && r.direction[a] == 0.0f) {
@@ -339,8 +336,7 @@ namespace {
 // When two axes give the same t (the ray meets an edge exactly), the one the ray meets more
 // head-on (larger |d|) takes it: the hidden face between two neighbouring brushes is always
 // the one met at a glancing angle by rays that reach their shared edge from the open side.
-template <bool ZeroSafe>
-[[gnu::always_inline]] inline Slab brushBox(const RayContext& r, const GpuBrush& brush) {
+template <bool ZeroSafe> [[gnu::always_inline]] inline Slab brushBox(const RayContext& r, const GpuBrush& brush) {
   Slab s{-kInfinity, kInfinity, -1, -1};
   for (int a = 0; a < 3; ++a) {
     if (ZeroSafe && r.direction[a] == 0.0f) {
@@ -354,8 +350,7 @@ template <bool ZeroSafe>
     const float facing = std::abs(r.direction[a]);
     if (tNear > s.near || (tNear == s.near && s.nearAxis >= 0 && facing > std::abs(r.direction[s.nearAxis])))
       s.near = tNear, s.nearAxis = a;
-    if (tFar < s.far || (tFar == s.far && s.farAxis >= 0 && facing > std::abs(r.direction[s.farAxis])))
-      s.far = tFar, s.farAxis = a;
+    if (tFar < s.far || (tFar == s.far && s.farAxis >= 0 && facing > std::abs(r.direction[s.farAxis]))) s.far = tFar, s.farAxis = a;
   }
   return s;
 }
@@ -370,9 +365,8 @@ struct Crossing {
 // Haines' clip against one brush; the contract is spelled out in trace_scene.h. A brush whose
 // box starts beyond tLimit (the closest hit so far) is rejected before its planes are read:
 // its hit could only be farther (a hit at exactly tLimit still competes in the tie-break).
-template <bool ZeroSafe>
-inline bool hitBrush(const RayContext& r, const GpuBrush& brush, std::span<const uint32_t> sides,
-                     std::span<const GpuFace> faces, float tLimit, Hit& hit) {
+template <bool ZeroSafe> inline bool hitBrush(const RayContext& r, const GpuBrush& brush, std::span<const uint32_t> sides,
+                                              std::span<const GpuFace> faces, float tLimit, Hit& hit) {
   const Slab box = brushBox<ZeroSafe>(r, brush);
   if (box.near > box.far || box.far <= r.tMin || box.near >= r.tMax || box.near > tLimit) return false;
 
@@ -396,8 +390,7 @@ inline bool hitBrush(const RayContext& r, const GpuBrush& brush, std::span<const
 
   // Merge the box sides (those with an axial face) into the slanted candidates, same rule.
   if (box.nearAxis >= 0) {
-    const Crossing side{box.near, brush.axialFace[2 * box.nearAxis + r.negative[box.nearAxis]],
-                        std::abs(r.direction[box.nearAxis])};
+    const Crossing side{box.near, brush.axialFace[2 * box.nearAxis + r.negative[box.nearAxis]], std::abs(r.direction[box.nearAxis])};
     if (side.t > enter.t || (side.t == enter.t && side.face != kNoFace && side.facing >= enter.facing)) {
       // A box side without an axial face only touches the brush in an edge: the slanted plane
       // the ray crosses there keeps the face, the box keeps the (larger, conservative) t.
@@ -405,8 +398,7 @@ inline bool hitBrush(const RayContext& r, const GpuBrush& brush, std::span<const
     }
   }
   if (box.farAxis >= 0) {
-    const Crossing side{box.far, brush.axialFace[2 * box.farAxis + 1 - r.negative[box.farAxis]],
-                        std::abs(r.direction[box.farAxis])};
+    const Crossing side{box.far, brush.axialFace[2 * box.farAxis + 1 - r.negative[box.farAxis]], std::abs(r.direction[box.farAxis])};
     if (side.t < exit.t || (side.t == exit.t && side.face != kNoFace && side.facing >= exit.facing))
       exit = {side.t, side.face != kNoFace ? side.face : exit.face, side.facing};
   }
@@ -434,8 +426,8 @@ std::optional<Hit> TraceScene::intersectBrush(const Ray& ray, uint32_t brushInde
   Hit hit;
   const RayContext r(ray);
   const GpuBrush& brush = brushes_.at(brushIndex);
-  const bool found = r.hasZeroComponent ? hitBrush<true>(r, brush, sides_, faces_, r.tMax, hit)
-                                        : hitBrush<false>(r, brush, sides_, faces_, r.tMax, hit);
+  const bool found =
+      r.hasZeroComponent ? hitBrush<true>(r, brush, sides_, faces_, r.tMax, hit) : hitBrush<false>(r, brush, sides_, faces_, r.tMax, hit);
   if (found) return hit;
   return std::nullopt;
 }
@@ -517,19 +509,23 @@ template <bool AnyHit, bool ZeroSafe, class HitItem>
 }
 
 // Brushes, then (only when the level has meshes) triangles up to the closest brush hit.
-template <bool AnyHit, bool ZeroSafe>
-bool traceBoth(const RayContext& r, const TraceScene& ts, Hit& best) {
+template <bool AnyHit, bool ZeroSafe> bool traceBoth(const RayContext& r, const TraceScene& ts, Hit& best) {
   best.t = r.tMax;
   best.face = kNoFace;
   const std::span<const GpuBrush> brushes = ts.brushes();
   const std::span<const uint32_t> sides = ts.sides();
   const std::span<const GpuFace> faces = ts.faces();
   bool found = traverse<AnyHit, ZeroSafe>(
-      r, ts.nodes(), [&r, brushes, sides, faces](uint32_t i, float tLimit, Hit& hit) { return hitBrush<ZeroSafe>(r, brushes[i], sides, faces, tLimit, hit); }, best);
+      r, ts.nodes(),
+      [&r, brushes, sides, faces](uint32_t i, float tLimit, Hit& hit) {
+        return hitBrush<ZeroSafe>(r, brushes[i], sides, faces, tLimit, hit);
+      },
+      best);
   if (ts.triangleNodes().empty() || (AnyHit && found)) return found;
   const std::span<const GpuTriangle> triangles = ts.triangles();
   found |= traverse<AnyHit, ZeroSafe>(
-      r, ts.triangleNodes(), [&r, triangles](uint32_t i, float tLimit, Hit& hit) { return hitTriangle(r, triangles[i], tLimit, hit); }, best);
+      r, ts.triangleNodes(), [&r, triangles](uint32_t i, float tLimit, Hit& hit) { return hitTriangle(r, triangles[i], tLimit, hit); },
+      best);
   return found;
 }
 

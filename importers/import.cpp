@@ -72,7 +72,9 @@ Scene importScene(const std::string& path, const ImportOptions& options) {
   // Compiled levels: "x.bsp", "archive.pak:maps/x.bsp" or "archive.pk3:maps/x.bsp".
   if (bsp::splitArchivePath(path) || lowercaseExtension(path) == ".bsp") return bsp::importBsp(path, options);
   if (lowercaseExtension(path) == ".map") return map::importMap(path, options); // materials included
-  throw ImportError(Diagnostic{Severity::Error, path, 0, 0, "not a level brushtrace reads (expected .map, .bsp, archive.pak:maps/name.bsp or archive.pk3:maps/name.bsp)"});
+  throw ImportError(
+      Diagnostic{Severity::Error, path, 0, 0,
+                 "not a level brushtrace reads (expected .map, .bsp, archive.pak:maps/name.bsp or archive.pk3:maps/name.bsp)"});
 }
 
 Scene importScene(const std::string& path, ImportOptions options, std::function<void(const Scene&)> entitiesRead) {

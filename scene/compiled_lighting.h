@@ -15,7 +15,7 @@ namespace bt {
 
 // One compiled (drawn) face of a Q1/HL/Q2 level with its lightmaps.
 struct LightmappedFace {
-  uint32_t entity = 0;            // Scene::entities index of the entity whose model holds it
+  uint32_t entity = 0;             // Scene::entities index of the entity whose model holds it
   std::vector<glm::dvec3> polygon; // world space (entity origin applied), counter-clockwise seen from the front
   glm::dvec3 normal{0.0, 0.0, 1.0};
   std::string texture;

@@ -148,12 +148,12 @@ inline constexpr float kTriangleEdgeEpsilon = 1.0f / float(kTriangleEdgeEpsilonI
 // ---------------------------------------------------------------------------------------------
 // ericw-tools' `delay` key: how a point light's value falls off with distance.
 enum class LightFormula : uint32_t {
-  Linear = 0,       // value - dist * wait           (Quake's own, the default)
-  Inverse = 1,      // value * 128 / (dist * wait)
-  Inverse2 = 2,     // value * 128^2 / (dist * wait)^2
-  Infinite = 3,     // value, at any distance
-  LocalMin = 4,     // value, at any distance, but as a floor (like worldspawn minlight)
-  Inverse2A = 5,    // value * 128^2 / (dist * wait + 128)^2: inverse square without the pole
+  Linear = 0,    // value - dist * wait           (Quake's own, the default)
+  Inverse = 1,   // value * 128 / (dist * wait)
+  Inverse2 = 2,  // value * 128^2 / (dist * wait)^2
+  Infinite = 3,  // value, at any distance
+  LocalMin = 4,  // value, at any distance, but as a floor (like worldspawn minlight)
+  Inverse2A = 5, // value * 128^2 / (dist * wait + 128)^2: inverse square without the pole
   // Not a `delay` value: one point of an ericw-tools radiosity surface light (_surface with
   // _surface_radiosity 1): value / max(dist, 16)^2, times a half-Lambert term on both the
   // emitting face (`direction` is its normal) and the receiving one.
@@ -165,29 +165,29 @@ enum class LightFormula : uint32_t {
 };
 
 enum class LightType : uint32_t {
-  Point = 0,  // light entity, with a cone when `spotCosOuter > -1`
-  Sun = 1,    // worldspawn _sunlight: parallel light that must reach a sky face
-  Dome = 2,   // worldspawn _sunlight2 (upper) / _sunlight3 (lower): sky-dome light from sky faces
+  Point = 0, // light entity, with a cone when `spotCosOuter > -1`
+  Sun = 1,   // worldspawn _sunlight: parallel light that must reach a sky face
+  Dome = 2,  // worldspawn _sunlight2 (upper) / _sunlight3 (lower): sky-dome light from sky faces
 };
 
 // One light. Values are in Quake light units (the `light` key); colours are 0..1.
 struct GpuLight {
-  glm::vec3 origin{0.0f};      // point: position; sun/dome: unused
-  uint32_t type = 0;           // LightType
-  glm::vec3 color{1.0f};       // _color normalised to 0..1
-  float value = 300.0f;        // `light`, or _sunlight/_sunlight2/_sunlight3
+  glm::vec3 origin{0.0f};                 // point: position; sun/dome: unused
+  uint32_t type = 0;                      // LightType
+  glm::vec3 color{1.0f};                  // _color normalised to 0..1
+  float value = 300.0f;                   // `light`, or _sunlight/_sunlight2/_sunlight3
   glm::vec3 direction{0.0f, 0.0f, -1.0f}; // spot axis / direction the sun shines (unit); dome: +z upper, -z lower
-  float cosOuter = -2.0f;      // spotlights: cos(angle / 2); below -1 = no cone
-  uint32_t formula = 0;        // LightFormula (point lights)
-  float atten = 1.0f;          // `wait`: scales distance in the falloff formulas
-  float falloff = 0.0f;        // `_falloff`: linear falloff to zero at this distance (0 = off)
-  float anglescale = 0.5f;     // `_anglescale`: 0 ignores the incidence angle, 1 is Lambert
-  float cosInner = -2.0f;      // spotlights: cos(_softangle / 2), full brightness inside
-  float deviance = 0.0f;       // `_deviance` (point) or _sunlight_penumbra in radians (sun): soft shadow radius
-  uint32_t flags = 0;          // kLightFlag*
-  float faithfulScale = 1.0f;  // faithful mode uses value * this: ericw-tools' count of jittered copies of a
-                               // linear light (each keeps the full value); on a per-material _surface
-                               // template with kLightFlagFaceMinlight, the face minlight scale
+  float cosOuter = -2.0f;                 // spotlights: cos(angle / 2); below -1 = no cone
+  uint32_t formula = 0;                   // LightFormula (point lights)
+  float atten = 1.0f;                     // `wait`: scales distance in the falloff formulas
+  float falloff = 0.0f;                   // `_falloff`: linear falloff to zero at this distance (0 = off)
+  float anglescale = 0.5f;                // `_anglescale`: 0 ignores the incidence angle, 1 is Lambert
+  float cosInner = -2.0f;                 // spotlights: cos(_softangle / 2), full brightness inside
+  float deviance = 0.0f;                  // `_deviance` (point) or _sunlight_penumbra in radians (sun): soft shadow radius
+  uint32_t flags = 0;                     // kLightFlag*
+  float faithfulScale = 1.0f;             // faithful mode uses value * this: ericw-tools' count of jittered copies of a
+                                          // linear light (each keeps the full value); on a per-material _surface
+                                          // template with kLightFlagFaceMinlight, the face minlight scale
   // Faithful dirt (ambient occlusion), read only with kLightFlagDirt: the light's own
   // `_dirtscale` / `_dirtgain` (or the worldspawn's), and with kLightFlagDirtRadius the distances
   // `_dirt_off_radius` / `_dirt_on_radius` between which dirt ramps in (renderer/cpu/faithful.h).
@@ -221,10 +221,10 @@ static_assert(offsetof(GpuLight, dirtOffRadius) == 88);
 static_assert(offsetof(GpuLight, dirtOnRadius) == 92);
 static_assert(offsetof(GpuLight, skyMaterial) == 96);
 
-constexpr uint32_t kLightFlagStartOff = 1u;  // spawnflags & 1 on a styled light: dark by default
-constexpr uint32_t kLightFlagBleed = 2u;     // `_bleed`: lights surfaces behind it too
-constexpr uint32_t kLightFlagFromSurface = 4u; // faithful-only point light: a _surface template's point, or a bounce light
-                                               // (physical mode lights those faces as area emitters instead)
+constexpr uint32_t kLightFlagStartOff = 1u;     // spawnflags & 1 on a styled light: dark by default
+constexpr uint32_t kLightFlagBleed = 2u;        // `_bleed`: lights surfaces behind it too
+constexpr uint32_t kLightFlagFromSurface = 4u;  // faithful-only point light: a _surface template's point, or a bounce light
+                                                // (physical mode lights those faces as area emitters instead)
 constexpr uint32_t kLightFlagFaceMinlight = 8u; // per-material _surface template (radiosity kind): in faithful
                                                 // mode its faces get value * faithfulScale * colour as minlight
 constexpr uint32_t kLightFlagDirt = 16u;        // faithful: dimmed by dirt (worldspawn _dirt, or the light's _dirt 1)
@@ -232,11 +232,11 @@ constexpr uint32_t kLightFlagDirtRadius = 32u;  // ... only beyond _dirt_off_rad
 
 // Face classes, one uint32 per scene face (RenderScene::faceFlags); the geometry and texture
 // frame of a face are the bvh part's GpuFace (scene/gpu_structs.h).
-constexpr uint32_t kFaceHidden = 1u;     // clip, trigger, skip, hint, origin, common/*: never seen
-constexpr uint32_t kFaceSky = 2u;        // sky*: the environment, and where sunlight comes from
-constexpr uint32_t kFaceLiquid = 4u;     // '*' textures / Q2 liquid contents: unlit unless _litwater
-constexpr uint32_t kFaceNoShadow = 8u;   // faithful mode: does not block light (brush entity without _shadow)
-constexpr uint32_t kFaceEmissive = 16u;  // has emissive texels or is a _surface template
+constexpr uint32_t kFaceHidden = 1u;    // clip, trigger, skip, hint, origin, common/*: never seen
+constexpr uint32_t kFaceSky = 2u;       // sky*: the environment, and where sunlight comes from
+constexpr uint32_t kFaceLiquid = 4u;    // '*' textures / Q2 liquid contents: unlit unless _litwater
+constexpr uint32_t kFaceNoShadow = 8u;  // faithful mode: does not block light (brush entity without _shadow)
+constexpr uint32_t kFaceEmissive = 16u; // has emissive texels or is a _surface template
 // Alpha-tested faces: a point where the base colour's filtered alpha fails the test is a hole
 // for every ray. The test is alpha >= 0.5 ('{' textures, images with alpha, alphaFunc GE128),
 // or with one of the two flags after it Quake 3's alphaFunc GT0 / LT128.
@@ -251,7 +251,7 @@ struct GpuMaterial {
   glm::vec2 size{64.0f};         // texels: texture coordinates divide by it
   float roughness = 0.8f;
   float metallic = 0.0f;
-  uint32_t flags = 0;            // kMaterial*
+  uint32_t flags = 0; // kMaterial*
   uint32_t pad[3] = {0, 0, 0};
 };
 static_assert(sizeof(GpuMaterial) == 64);
@@ -273,7 +273,7 @@ struct GpuEmitter {
   glm::vec3 v1{0.0f};
   float area = 0.0f;
   glm::vec3 v2{0.0f};
-  float cdf = 0.0f;             // running sum of areas / total, the last one is 1
+  float cdf = 0.0f; // running sum of areas / total, the last one is 1
 };
 static_assert(sizeof(GpuEmitter) == 48);
 static_assert(offsetof(GpuEmitter, v0) == 0);
@@ -305,8 +305,8 @@ static_assert(offsetof(GpuEmitter, cdf) == 44);
 //   struct LightCell { uint first; uint count; };
 // ---------------------------------------------------------------------------------------------
 struct GpuLightGrid {
-  glm::vec3 origin{0.0f};   // min corner of cell (0, 0, 0)
-  float cellSize = 1.0f;    // cubic cells, Quake units
+  glm::vec3 origin{0.0f}; // min corner of cell (0, 0, 0)
+  float cellSize = 1.0f;  // cubic cells, Quake units
   uint32_t dims[3] = {1, 1, 1};
   uint32_t fixedCount = 0;
   uint32_t globalFirst = 0;
@@ -360,7 +360,7 @@ struct GpuLightmapFragment {
   uint32_t firstLuxel = 0;
   uint32_t firstEdge = 0;
   uint32_t edgeCount = 0;
-  uint32_t pad = 0; // zero
+  uint32_t pad = 0;                                   // zero
   float luxelU[4] = {1.0f / 16.0f, 0.0f, 0.0f, 0.0f}; // (a, b, c, 0): u + minS = a s + b t + c
   float luxelV[4] = {0.0f, 1.0f / 16.0f, 0.0f, 0.0f};
 };
@@ -380,9 +380,9 @@ static_assert(offsetof(GpuLightmapFragment, luxelV) == 48);
 // luxels array).
 struct GpuLuxelSample {
   float position[3]{};
-  uint32_t face = 0;          // scene face: its plane's normal faces the light
-  float faceMinlight[3]{};    // integrator.h faithfulFaceMinlight of the face
-  uint32_t flags = 0;         // kLuxelSample* bits
+  uint32_t face = 0;       // scene face: its plane's normal faces the light
+  float faceMinlight[3]{}; // integrator.h faithfulFaceMinlight of the face
+  uint32_t flags = 0;      // kLuxelSample* bits
 };
 inline constexpr uint32_t kLuxelSampleOccluded = 1u; // in solid or off the face: the floors only
 inline constexpr uint32_t kLuxelSampleTwoSided = 2u; // a lit liquid, lit from both sides

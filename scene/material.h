@@ -27,17 +27,17 @@ enum class TextureSource { Missing, Wad2, Wad3, Miptex, Wal, LooseImage };
 enum class AlphaTest : uint8_t { FromImage, None, Gt0, Lt128, Ge128 };
 
 struct Material {
-  std::string name;     // texture name as the map spells it
-  int width = 64;       // size in texels: texture coordinates are divided by it to sample
+  std::string name; // texture name as the map spells it
+  int width = 64;   // size in texels: texture coordinates are divided by it to sample
   int height = 64;
   TextureSource source = TextureSource::Missing;
   std::string sourcePath; // file the base colour was read from (WAD, image), empty if missing
 
-  Image baseColor;   // sRGB, alpha = coverage ('{' textures)
-  Image normal;      // tangent-space normal map, empty when absent
-  Image roughness;   // R channel, empty when absent (then `roughnessValue`)
-  Image metallic;    // R channel, empty when absent (then `metallicValue`)
-  Image emissive;    // sRGB; Quake fullbright texels (palette 224..255) land here too
+  Image baseColor; // sRGB, alpha = coverage ('{' textures)
+  Image normal;    // tangent-space normal map, empty when absent
+  Image roughness; // R channel, empty when absent (then `roughnessValue`)
+  Image metallic;  // R channel, empty when absent (then `metallicValue`)
+  Image emissive;  // sRGB; Quake fullbright texels (palette 224..255) land here too
 
   AlphaTest alphaTest = AlphaTest::FromImage;
   float roughnessValue = 0.8f;

@@ -6,7 +6,9 @@
 namespace bt {
 
 namespace {
-char lower(char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); }
+char lower(char c) {
+  return static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+}
 } // namespace
 
 std::string lowercase(std::string_view s) {

@@ -13,8 +13,7 @@ namespace bt {
 // Runs fn(i) for every i in [0, count) on at most `threads` threads (0: one per core), the
 // calling thread among them. Indices are handed out one at a time, so items of uneven cost
 // still keep every thread busy; fn must not depend on which thread runs it.
-template <typename Fn>
-void parallelFor(size_t count, unsigned threads, const Fn& fn) {
+template <typename Fn> void parallelFor(size_t count, unsigned threads, const Fn& fn) {
   if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
   const size_t used = std::min<size_t>(threads, std::max<size_t>(count, 1));
   std::atomic<size_t> next{0};

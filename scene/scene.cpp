@@ -38,7 +38,9 @@ double TextureFrame::t(const dvec3& p) const {
   return d.x * bitangent.x + d.y * bitangent.y + d.z * bitangent.z;
 }
 
-std::string_view Entity::classname() const { return value("classname"); }
+std::string_view Entity::classname() const {
+  return value("classname");
+}
 
 const std::string* Entity::find(std::string_view key) const {
   for (const auto& [k, v] : keys)
@@ -90,8 +92,10 @@ static TextureFrame triangleFrame(const MeshVertex& a, const MeshVertex& b, cons
     frame.origin = a.position - frame.tangent * x - frame.bitangent * y;
   } else {
     frame.origin = a.position; // st constant or degenerate: s(a) is off by a.s, kept by the shift below
-    if (m11 > 0.0) frame.origin -= frame.tangent * (a.s / m11);
-    else if (m22 > 0.0) frame.origin -= frame.bitangent * (a.t / m22);
+    if (m11 > 0.0)
+      frame.origin -= frame.tangent * (a.s / m11);
+    else if (m22 > 0.0)
+      frame.origin -= frame.bitangent * (a.t / m22);
   }
   return frame;
 }

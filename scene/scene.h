@@ -89,7 +89,7 @@ struct Brush {
   uint32_t entity = 0;
   uint32_t firstFace = 0; // faces [firstFace, firstFace + faceCount) of Scene::faces
   uint32_t faceCount = 0;
-  Bounds bounds;          // from the windings
+  Bounds bounds; // from the windings
 };
 
 // A triangle mesh: a Quake 3 curve (patchDef2/3, an IBSP patch) tessellated, or an IBSP triangle
@@ -105,7 +105,7 @@ struct Brush {
 enum class MeshKind : uint8_t { Curve, TriangleSoup };
 
 struct Mesh {
-  int line = 0;           // the patchDef's line in a .map, 0 for a .bsp
+  int line = 0; // the patchDef's line in a .map, 0 for a .bsp
   uint32_t entity = 0;
   MeshKind kind = MeshKind::Curve;
   uint32_t firstFace = 0; // faces [firstFace, firstFace + faceCount) of Scene::faces
@@ -121,7 +121,7 @@ struct MeshVertex {
 struct Entity {
   int line = 0;
   std::vector<std::pair<std::string, std::string>> keys; // file order, duplicates kept
-  uint32_t firstBrush = 0; // brushes [firstBrush, firstBrush + brushCount) of Scene::brushes
+  uint32_t firstBrush = 0;                               // brushes [firstBrush, firstBrush + brushCount) of Scene::brushes
   uint32_t brushCount = 0;
 
   std::string_view classname() const;

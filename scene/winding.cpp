@@ -49,13 +49,17 @@ dvec3 crossing(const dvec3& p, const dvec3& q, double dp, double dq, const Plane
   // Axial planes: put the coordinate exactly on the plane, as qbsp does, so that
   // neighbouring brushes share vertices bit for bit.
   for (int k = 0; k < 3; ++k) {
-    if (plane.normal[k] == 1.0) mid[k] = plane.dist;
-    else if (plane.normal[k] == -1.0) mid[k] = -plane.dist;
+    if (plane.normal[k] == 1.0)
+      mid[k] = plane.dist;
+    else if (plane.normal[k] == -1.0)
+      mid[k] = -plane.dist;
   }
   return mid;
 }
 
-bool crosses(double dp, double dq, double epsilon) { return (dp > epsilon && dq < -epsilon) || (dp < -epsilon && dq > epsilon); }
+bool crosses(double dp, double dq, double epsilon) {
+  return (dp > epsilon && dq < -epsilon) || (dp < -epsilon && dq > epsilon);
+}
 
 } // namespace
 
@@ -130,7 +134,9 @@ dvec3 areaVector(const Winding& w) {
   return sum * 0.5;
 }
 
-double area(const Winding& w) { return glm::length(areaVector(w)); }
+double area(const Winding& w) {
+  return glm::length(areaVector(w));
+}
 
 Winding intersectConvex(const Winding& w, const Winding& clip, const dvec3& normal) {
   Winding out = w;
@@ -158,8 +164,7 @@ void removeDuplicatePoints(Winding& w, double epsilon) {
 
 dvec3 nearestOnPolygon(const Winding& w, const dvec3& n, const dvec3& p) {
   bool inside = true;
-  for (size_t i = 0; i < w.size() && inside; ++i)
-    inside = glm::dot(glm::cross(w[(i + 1) % w.size()] - w[i], p - w[i]), n) >= 0.0;
+  for (size_t i = 0; i < w.size() && inside; ++i) inside = glm::dot(glm::cross(w[(i + 1) % w.size()] - w[i], p - w[i]), n) >= 0.0;
   if (inside) return p;
   // Outside: the nearest point of every edge decides (beyond a corner, the nearest edge need
   // not be one that p is outside of).
@@ -176,6 +181,5 @@ dvec3 nearestOnPolygon(const Winding& w, const dvec3& n, const dvec3& p) {
   }
   return best;
 }
-
 
 } // namespace bt

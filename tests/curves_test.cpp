@@ -20,7 +20,9 @@ template <class Point> PatchGrid grid(int width, int height, const Point& point)
 
 // The st of the control points are their parameters (column / 2, row / 2): a quadratic Bezier of
 // evenly spaced values is linear, so each tessellated point's st is the (u, v) it lies at.
-PatchPoint parametric(const glm::dvec3& p, int i, int j) { return {p, {j * 0.5, i * 0.5}}; }
+PatchPoint parametric(const glm::dvec3& p, int i, int j) {
+  return {p, {j * 0.5, i * 0.5}};
+}
 
 // A half pipe along y (the arch a mapper makes from a 3x3 patch), then a second patch bending back.
 PatchGrid pipe() {

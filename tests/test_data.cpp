@@ -18,7 +18,11 @@ std::filesystem::path sourceDir() {
   if (const char* env = std::getenv("BRUSHTRACE_SOURCE_DIR"); env && *env) return env;
   return BRUSHTRACE_SOURCE_DIR;
 }
-std::filesystem::path binaryDir() { return BRUSHTRACE_BINARY_DIR; }
-std::filesystem::path mapsDir() { return sourceDir() / "maps"; }
+std::filesystem::path binaryDir() {
+  return BRUSHTRACE_BINARY_DIR;
+}
+std::filesystem::path mapsDir() {
+  return sourceDir() / "maps";
+}
 
 } // namespace bt::test

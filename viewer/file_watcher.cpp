@@ -21,8 +21,7 @@ fs::path normalised(const fs::path& p) {
 }
 } // namespace
 
-FileWatcher::FileWatcher(std::chrono::milliseconds debounce)
-    : fd_(inotify_init1(IN_NONBLOCK | IN_CLOEXEC)), debounce_(debounce) {}
+FileWatcher::FileWatcher(std::chrono::milliseconds debounce) : fd_(inotify_init1(IN_NONBLOCK | IN_CLOEXEC)), debounce_(debounce) {}
 
 FileWatcher::~FileWatcher() {
   if (fd_ >= 0) close(fd_);

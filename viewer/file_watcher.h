@@ -40,8 +40,8 @@ private:
 
   int fd_ = -1;
   std::chrono::milliseconds debounce_;
-  std::map<int, std::filesystem::path> directories_; // inotify watch descriptor -> directory
-  std::set<std::filesystem::path> files_;            // absolute, normalised paths
+  std::map<int, std::filesystem::path> directories_;           // inotify watch descriptor -> directory
+  std::set<std::filesystem::path> files_;                      // absolute, normalised paths
   std::map<std::filesystem::path, Clock::time_point> pending_; // last event time per changed file
 };
 

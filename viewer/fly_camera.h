@@ -13,11 +13,11 @@ namespace bt {
 struct FlyInput {
   bool forward = false, back = false, left = false, right = false;
   bool up = false, down = false;
-  bool fast = false;      // Shift
-  bool looking = false;   // right mouse button held
-  double mouseDx = 0.0;   // pixels since the last frame
+  bool fast = false;    // Shift
+  bool looking = false; // right mouse button held
+  double mouseDx = 0.0; // pixels since the last frame
   double mouseDy = 0.0;
-  double wheel = 0.0;     // notches since the last frame, positive away from the user
+  double wheel = 0.0; // notches since the last frame, positive away from the user
 };
 
 class FlyCamera {
@@ -32,11 +32,11 @@ public:
   glm::dvec3 rightVector() const; // in the horizontal plane: no roll
 
   glm::dvec3 position{0.0};
-  double pitch = 0.0;          // degrees, clamped to ±89 so the view never flips
-  double yaw = 0.0;            // degrees, kept in [0, 360)
-  double speed = 320.0;        // units per second (Quake's run speed)
+  double pitch = 0.0;   // degrees, clamped to ±89 so the view never flips
+  double yaw = 0.0;     // degrees, kept in [0, 360)
+  double speed = 320.0; // units per second (Quake's run speed)
   double lookDegreesPerPixel = 0.2;
-  double wheelStep = 32.0;     // units per wheel notch
+  double wheelStep = 32.0; // units per wheel notch
   double fastFactor = 4.0;
   static constexpr double kMinSpeed = 16.0;
   static constexpr double kMaxSpeed = 8192.0;

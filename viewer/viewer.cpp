@@ -49,11 +49,15 @@ std::unique_ptr<gl::GlLevel> loadLevel(const ViewerOptions& options, gl::GlConte
   return level;
 }
 
-uint8_t toByte(float v) { return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
+uint8_t toByte(float v) {
+  return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+}
 
 // The render command's choice per lighting mode: faithful lighting is Quake's, clamped at the
 // display's white; physical lighting is open-ended radiance.
-Tonemap tonemapFor(LightingMode lighting) { return lighting == LightingMode::Faithful ? Tonemap::Faithful : Tonemap::Aces; }
+Tonemap tonemapFor(LightingMode lighting) {
+  return lighting == LightingMode::Faithful ? Tonemap::Faithful : Tonemap::Aces;
+}
 
 } // namespace
 
@@ -76,7 +80,7 @@ struct Viewer::Impl {
   std::unique_ptr<gl::ProgressiveImage> preview;
   std::unique_ptr<gl::TonemapPass> tonemap;
   bool moving = false;
-  gl::AovImages aovs;          // of the current view, for the albedo/normal modes and screenshots
+  gl::AovImages aovs; // of the current view, for the albedo/normal modes and screenshots
   bool aovsCurrent = false;
   std::unique_ptr<gl::GlTexture2D> display; // RGBA8, what is on screen (scaled to the window)
 
@@ -94,7 +98,7 @@ struct Viewer::Impl {
   Clock::time_point lastFrame = Clock::now();
   double samplesPerSecond = 0.0;
   double samplesThisFrame = 0.0; // pixel samples the last frame drew
-  std::set<int> keysDown; // for edge-triggered keys
+  std::set<int> keysDown;        // for edge-triggered keys
 
   explicit Impl(ViewerOptions o)
       : options(std::move(o)), window(options.width, options.height, "brushtrace — " + options.map), lighting(options.lighting) {
@@ -113,12 +117,11 @@ struct Viewer::Impl {
     tonemap = std::make_unique<gl::TonemapPass>();
 
     glfwSetWindowUserPointer(window.handle(), this);
-    glfwSetScrollCallback(window.handle(), [](GLFWwindow* w, double, double dy) {
-      static_cast<Impl*>(glfwGetWindowUserPointer(w))->wheel += dy;
-    });
+    glfwSetScrollCallback(window.handle(),
+                          [](GLFWwindow* w, double, double dy) { static_cast<Impl*>(glfwGetWindowUserPointer(w))->wheel += dy; });
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
-    ImGui::GetIO().IniFilename = nullptr; // no imgui.ini littering the user's folder
+    ImGui::GetIO().IniFilename = nullptr;                // no imgui.ini littering the user's folder
     ImGui_ImplGlfw_InitForOpenGL(window.handle(), true); // chains to the scroll callback above
     ImGui_ImplOpenGL3_Init("#version 450");
   }
@@ -161,8 +164,10 @@ struct Viewer::Impl {
   bool pressedOnce(int key) {
     const bool down = glfwGetKey(window.handle(), key) == GLFW_PRESS;
     const bool was = keysDown.count(key) > 0;
-    if (down) keysDown.insert(key);
-    else keysDown.erase(key);
+    if (down)
+      keysDown.insert(key);
+    else
+      keysDown.erase(key);
     return down && !was;
   }
 
@@ -310,8 +315,8 @@ struct Viewer::Impl {
   }
 
   gl::CameraBasis basis(int width, int height) const {
-    return gl::CameraBasis::fromQuakeAngles(glm::vec3(camera.position), static_cast<float>(camera.pitch),
-                                            static_cast<float>(camera.yaw), 0.0f, width, height);
+    return gl::CameraBasis::fromQuakeAngles(glm::vec3(camera.position), static_cast<float>(camera.pitch), static_cast<float>(camera.yaw),
+                                            0.0f, width, height);
   }
 
   void renderAovsIfNeeded() {
@@ -341,12 +346,13 @@ struct Viewer::Impl {
       image.addSample(*level->tracer, basis(image.width(), image.height()), beautySettings());
       // The first image is up: the other lighting mode compiles in the background, so that
       // switching to it (keys 4/5) does not stall.
-      if (!moving && before == 0)
-        programs->startPathTracer(lighting != LightingMode::Physical, level->tracer->faithfulFeatures());
+      if (!moving && before == 0) programs->startPathTracer(lighting != LightingMode::Physical, level->tracer->faithfulFeatures());
       samplesThisFrame = double(image.width()) * image.height();
     }
-    if (difference && !moving) showDifferenceImage();
-    else showSum(image);
+    if (difference && !moving)
+      showDifferenceImage();
+    else
+      showSum(image);
   }
 
   const gl::GlTexture2D& displayOfSize(int width, int height) {
@@ -356,8 +362,7 @@ struct Viewer::Impl {
   }
 
   void showSum(const gl::ProgressiveImage& image) {
-    tonemap->run(image.sum(), image.samples(), displayOfSize(image.width(), image.height()), tonemapFor(lighting),
-                 options.exposureEv);
+    tonemap->run(image.sum(), image.samples(), displayOfSize(image.width(), image.height()), tonemapFor(lighting), options.exposureEv);
   }
 
   // The albedo and normal views are one deterministic sample each, converted here as the
@@ -385,8 +390,8 @@ struct Viewer::Impl {
     int fbWidth = 0, fbHeight = 0;
     glfwGetFramebufferSize(window.handle(), &fbWidth, &fbHeight);
     if (display)
-      ImGui::GetBackgroundDrawList()->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(display->id())),
-                                               ImVec2(0, 0), ImVec2(float(fbWidth), float(fbHeight)));
+      ImGui::GetBackgroundDrawList()->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(display->id())), ImVec2(0, 0),
+                                               ImVec2(float(fbWidth), float(fbHeight)));
 
     ImGui::SetNextWindowPos(ImVec2(8, 8));
     ImGui::SetNextWindowBgAlpha(0.6f);
@@ -394,9 +399,10 @@ struct Viewer::Impl {
                  ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing |
                      ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoMove);
     const char* modeName = mode == ViewMode::Beauty ? "beauty" : mode == ViewMode::Albedo ? "albedo" : "normal";
-    const char* lightingName = difference ? "compiled vs faithful (black 0, blue 8, green 16, yellow 24, red 32+ levels)"
-                             : compiled   ? "compiled"
-                             : lighting == LightingMode::Faithful ? "faithful" : "physical";
+    const char* lightingName = difference    ? "compiled vs faithful (black 0, blue 8, green 16, yellow 24, red 32+ levels)"
+        : compiled                           ? "compiled"
+        : lighting == LightingMode::Faithful ? "faithful"
+                                             : "physical";
     ImGui::Text("%s | %s lighting | %s", modeName, lightingName, gl::toString(level->tracer->textureMode()));
     ImGui::Text("spp %d | %.2f Msamples/s", full->samples(), samplesPerSecond * 1e-6);
     if (bake && lighting == LightingMode::Faithful && !bake->done())
@@ -471,19 +477,45 @@ struct Viewer::Impl {
 
 Viewer::Viewer(ViewerOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
 Viewer::~Viewer() = default;
-bool Viewer::frame() { return impl_->frame(); }
-void Viewer::setMode(ViewMode mode) { impl_->setMode(mode); }
-void Viewer::setLighting(LightingMode mode) { impl_->setLighting(mode); }
-bool Viewer::showCompiled() { return impl_->showCompiled(); }
-bool Viewer::showDifference() { return impl_->showDifference(); }
-const std::string& Viewer::notice() const { return impl_->notice; }
-fs::path Viewer::screenshot() { return impl_->takeScreenshot(); }
-int Viewer::samples() const { return impl_->full->samples(); }
-int Viewer::reloads() const { return impl_->reloads; }
-bool Viewer::luxelsBaked() const { return !impl_->bake || impl_->bake->done(); }
-int Viewer::glDebugErrors() const { return impl_->window.context().debugErrorCount(); }
-const std::string& Viewer::error() const { return impl_->error; }
-CameraPose Viewer::camera() const { return impl_->pose(); }
+bool Viewer::frame() {
+  return impl_->frame();
+}
+void Viewer::setMode(ViewMode mode) {
+  impl_->setMode(mode);
+}
+void Viewer::setLighting(LightingMode mode) {
+  impl_->setLighting(mode);
+}
+bool Viewer::showCompiled() {
+  return impl_->showCompiled();
+}
+bool Viewer::showDifference() {
+  return impl_->showDifference();
+}
+const std::string& Viewer::notice() const {
+  return impl_->notice;
+}
+fs::path Viewer::screenshot() {
+  return impl_->takeScreenshot();
+}
+int Viewer::samples() const {
+  return impl_->full->samples();
+}
+int Viewer::reloads() const {
+  return impl_->reloads;
+}
+bool Viewer::luxelsBaked() const {
+  return !impl_->bake || impl_->bake->done();
+}
+int Viewer::glDebugErrors() const {
+  return impl_->window.context().debugErrorCount();
+}
+const std::string& Viewer::error() const {
+  return impl_->error;
+}
+CameraPose Viewer::camera() const {
+  return impl_->pose();
+}
 Viewer::DisplayImage Viewer::displayed() const {
   if (!impl_->display) return {};
   return {impl_->display->width(), impl_->display->height(), gl::readRgba8(*impl_->display)};

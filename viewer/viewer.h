@@ -35,9 +35,9 @@ struct ViewerOptions {
   bool compiled = false; // --lighting compiled: a .bsp's own lightmaps (key 6), in faithful mode
   int bounces = 3;
   std::filesystem::path screenshotDir = ".";
-  int maxSamples = 4096; // refinement stops here; the window stays responsive
-  float exposureEv = 0.0f; // as render's --exposure: on screen, in screenshots and in the EXR
-  bool luxels = true;      // faithful mode: the compiler's luxels, baked on the GPU (render's --luxels)
+  int maxSamples = 4096;    // refinement stops here; the window stays responsive
+  float exposureEv = 0.0f;  // as render's --exposure: on screen, in screenshots and in the EXR
+  bool luxels = true;       // faithful mode: the compiler's luxels, baked on the GPU (render's --luxels)
   LightmapBakeOptions bake; // their --extra
 };
 
@@ -66,10 +66,10 @@ public:
   // screenshot folder and returns the PNG's path. F12 calls this.
   std::filesystem::path screenshot();
 
-  int samples() const;         // accumulated samples per pixel of the current view
-  int reloads() const;         // successful reloads since the window opened
-  bool luxelsBaked() const;    // faithful mode's bake of the current level is done (true without one)
-  int glDebugErrors() const;   // GL errors the driver's debug output reported (BT_GL_DEBUG=1)
+  int samples() const;              // accumulated samples per pixel of the current view
+  int reloads() const;              // successful reloads since the window opened
+  bool luxelsBaked() const;         // faithful mode's bake of the current level is done (true without one)
+  int glDebugErrors() const;        // GL errors the driver's debug output reported (BT_GL_DEBUG=1)
   const std::string& error() const; // the last reload error, empty when the scene is current
   CameraPose camera() const;
 

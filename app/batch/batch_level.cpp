@@ -29,7 +29,9 @@ private:
 };
 
 // Timings are kept to the millisecond: they are figures for people, and the report stays readable.
-double rounded(double seconds) { return std::round(seconds * 1000.0) / 1000.0; }
+double rounded(double seconds) {
+  return std::round(seconds * 1000.0) / 1000.0;
+}
 
 json diagnosticJson(const Diagnostic& d) {
   const char* severity = d.severity == Severity::Error ? "error" : d.severity == Severity::Warning ? "warning" : "note";
@@ -60,7 +62,10 @@ json roundTrip(const Level& level, json& failures) {
   const std::string text = map::writeMap(map::convertDocument(doc, doc.dialect, report));
   const bool same = map::parseMap(text, level.path + " (rewritten)") == doc;
   if (!same) failures.push_back({{"job", "roundtrip"}, {"message", "the same-dialect rewrite reads back as a different document"}});
-  return {{"dialect", toString(doc.dialect)}, {"lossless", same}, {"bytes", text.size()}, {"sha256", sha256Hex(text)},
+  return {{"dialect", toString(doc.dialect)},
+          {"lossless", same},
+          {"bytes", text.size()},
+          {"sha256", sha256Hex(text)},
           {"seconds", rounded(clock.seconds())}};
 }
 
@@ -106,9 +111,15 @@ json renders(const Level& level, const Scene& scene, const RenderJob& job, const
           failures.push_back({{"job", "render"}, {"message", "the level has no face to draw; no image written"}});
           return images;
         }
-        images.push_back({{"image", imagePrefix + name}, {"camera", formatCameraPose(outcome.pose)}, {"source", outcome.pose.source},
-                          {"lighting", lighting}, {"aov", aov}, {"samples", outcome.samples}, {"device", outcome.device},
-                          {"sha256", sha256File(o.output)}, {"seconds", rounded(clock.seconds())}});
+        images.push_back({{"image", imagePrefix + name},
+                          {"camera", formatCameraPose(outcome.pose)},
+                          {"source", outcome.pose.source},
+                          {"lighting", lighting},
+                          {"aov", aov},
+                          {"samples", outcome.samples},
+                          {"device", outcome.device},
+                          {"sha256", sha256File(o.output)},
+                          {"seconds", rounded(clock.seconds())}});
       }
   return images;
 }
@@ -154,8 +165,11 @@ json runLevelJobs(const Level& level, const Jobs& jobs, const std::string& workD
 }
 
 json failedLevel(const Level& level, const std::string& job, const std::string& message) {
-  return {{"id", level.id}, {"level", level.path}, {"inputs", hashInputs(levelFiles(level.path))},
-          {"failures", json::array({{{"job", job}, {"message", message}}})}, {"status", "failed"}};
+  return {{"id", level.id},
+          {"level", level.path},
+          {"inputs", hashInputs(levelFiles(level.path))},
+          {"failures", json::array({{{"job", job}, {"message", message}}})},
+          {"status", "failed"}};
 }
 
 json hashInputs(const std::vector<std::string>& files) {

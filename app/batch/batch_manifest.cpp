@@ -105,8 +105,10 @@ void addLevels(const json& entry, const fs::path& base, std::vector<Level>& leve
   const std::string path = resolve(object.at("path").get<std::string>(), base);
   const ImportOptions import = importOptionsOf(object, base);
   std::vector<std::string> paths{path};
-  if (fs::is_directory(path)) paths = levelsUnder(path);
-  else if (path.find_first_of("*?[") != std::string::npos) paths = expandGlob(path);
+  if (fs::is_directory(path))
+    paths = levelsUnder(path);
+  else if (path.find_first_of("*?[") != std::string::npos)
+    paths = expandGlob(path);
   if (paths.empty()) throw std::runtime_error(fmt::format("{}: '{}' matches no level", where, path));
   for (const std::string& p : paths) levels.push_back(makeLevel(p, import, object));
 }
@@ -127,8 +129,10 @@ RenderJob renderJobOf(const json& j) {
       backends{"auto", "gl", "cpu"};
   if (r.size.width < 1 || r.size.height < 1 || r.spp < 1 || r.seconds < 0 || r.spawnCameras < 0)
     throw std::runtime_error("jobs.render: size, spp, seconds and spawn_cameras must be positive");
-  for (const auto& l : r.lighting) if (!lightings.count(l)) throw std::runtime_error("jobs.render.lighting: unknown mode '" + l + "'");
-  for (const auto& a : r.aovs) if (!aovs.count(a)) throw std::runtime_error("jobs.render.aovs: unknown AOV '" + a + "'");
+  for (const auto& l : r.lighting)
+    if (!lightings.count(l)) throw std::runtime_error("jobs.render.lighting: unknown mode '" + l + "'");
+  for (const auto& a : r.aovs)
+    if (!aovs.count(a)) throw std::runtime_error("jobs.render.aovs: unknown AOV '" + a + "'");
   if (!backends.count(r.backend)) throw std::runtime_error("jobs.render.backend: expected auto, gl or cpu");
   return r;
 }
@@ -142,8 +146,10 @@ Manifest parseManifest(const json& j, const fs::path& base) {
   requireKnownKeys(jobs, {"import", "roundtrip", "render"}, "jobs");
   m.jobs.import = value(jobs, "import", true);
   m.jobs.roundTrip = value(jobs, "roundtrip", true);
-  if (jobs.contains("render")) m.jobs.render = jobs.at("render").is_boolean() && !jobs.at("render").get<bool>()
-                                                  ? std::nullopt : std::optional(renderJobOf(jobs.at("render").is_object() ? jobs.at("render") : json::object()));
+  if (jobs.contains("render"))
+    m.jobs.render = jobs.at("render").is_boolean() && !jobs.at("render").get<bool>()
+        ? std::nullopt
+        : std::optional(renderJobOf(jobs.at("render").is_object() ? jobs.at("render") : json::object()));
   const json limits = value(j, "limits", json::object());
   requireKnownKeys(limits, {"seconds", "memory_mb"}, "limits");
   m.limits.seconds = value(limits, "seconds", m.limits.seconds);
@@ -176,8 +182,14 @@ Manifest manifestForLevels(const std::vector<std::string>& paths) {
 json toJson(const Jobs& jobs) {
   json j{{"import", jobs.import}, {"roundtrip", jobs.roundTrip}, {"render", false}};
   if (const auto& r = jobs.render)
-    j["render"] = {{"size", fmt::format("{}x{}", r->size.width, r->size.height)}, {"spp", r->spp}, {"seconds", r->seconds},
-                   {"lighting", r->lighting}, {"aovs", r->aovs}, {"spawn_cameras", r->spawnCameras}, {"backend", r->backend}, {"seed", r->seed}};
+    j["render"] = {{"size", fmt::format("{}x{}", r->size.width, r->size.height)},
+                   {"spp", r->spp},
+                   {"seconds", r->seconds},
+                   {"lighting", r->lighting},
+                   {"aovs", r->aovs},
+                   {"spawn_cameras", r->spawnCameras},
+                   {"backend", r->backend},
+                   {"seed", r->seed}};
   return j;
 }
 

@@ -38,8 +38,8 @@ struct Level {
 };
 
 struct Limits {
-  double seconds = 600.0;  // per level, all its jobs
-  long memoryMb = 8192;    // the child process's address space; 0: no limit
+  double seconds = 600.0; // per level, all its jobs
+  long memoryMb = 8192;   // the child process's address space; 0: no limit
 };
 
 struct Manifest {

@@ -38,7 +38,10 @@ json summaryOf(const json& levels) {
     images += level.value("renders", json::array()).size();
     seconds += level.value("seconds", 0.0);
   }
-  return {{"levels", levels.size()}, {"ok", levels.size() - failed}, {"failed", failed}, {"images", images},
+  return {{"levels", levels.size()},
+          {"ok", levels.size() - failed},
+          {"failed", failed},
+          {"images", images},
           {"seconds", std::round(seconds * 1000.0) / 1000.0}};
 }
 
@@ -50,10 +53,11 @@ std::string figures(const json& level) {
     size_t missing = 0;
     for (const json& t : info["textures"]) missing += !t.value("found", false);
     text += fmt::format("{} &middot; {} brushes &middot; {} faces<br>{} textures, {} missing &middot; {} problems<br>",
-                        escapeHtml(info.value("dialect", "")), info.value("brushes", 0), info.value("faces", 0),
-                        info["textures"].size(), missing, info["problems"].size());
+                        escapeHtml(info.value("dialect", "")), info.value("brushes", 0), info.value("faces", 0), info["textures"].size(),
+                        missing, info["problems"].size());
   }
-  if (level.contains("roundtrip")) text += level["roundtrip"].value("lossless", false) ? "round trip lossless<br>" : "round trip CHANGED<br>";
+  if (level.contains("roundtrip"))
+    text += level["roundtrip"].value("lossless", false) ? "round trip lossless<br>" : "round trip CHANGED<br>";
   text += fmt::format("{:.2f} s", level.value("seconds", 0.0));
   return text;
 }
@@ -62,12 +66,14 @@ std::string card(const json& level) {
   const bool ok = level.value("status", "") == "ok";
   std::string thumbs;
   for (const json& r : level.value("renders", json::array()))
-    thumbs += fmt::format("<img src=\"{}\" alt=\"{}\" title=\"{} {} {}\">", escapeHtml(r.value("image", "")), escapeHtml(r.value("source", "")),
-                          escapeHtml(r.value("camera", "")), escapeHtml(r.value("lighting", "")), escapeHtml(r.value("aov", "")));
+    thumbs +=
+        fmt::format("<img src=\"{}\" alt=\"{}\" title=\"{} {} {}\">", escapeHtml(r.value("image", "")), escapeHtml(r.value("source", "")),
+                    escapeHtml(r.value("camera", "")), escapeHtml(r.value("lighting", "")), escapeHtml(r.value("aov", "")));
   if (thumbs.empty()) thumbs = "<div class=\"noimage\">no image</div>";
-  return fmt::format("<div class=\"card {}\">{}<div class=\"name\" title=\"{}\">{}</div><div class=\"status\">{}</div><div class=\"fig\">{}</div></div>\n",
-                     ok ? "ok" : "failed", thumbs, escapeHtml(level.value("level", "")),
-                     escapeHtml(fs::path(level.value("level", "")).filename().string()), ok ? "ok" : "FAILED", figures(level));
+  return fmt::format(
+      "<div class=\"card {}\">{}<div class=\"name\" title=\"{}\">{}</div><div class=\"status\">{}</div><div class=\"fig\">{}</div></div>\n",
+      ok ? "ok" : "failed", thumbs, escapeHtml(level.value("level", "")),
+      escapeHtml(fs::path(level.value("level", "")).filename().string()), ok ? "ok" : "FAILED", figures(level));
 }
 
 const char* const kStyle = R"(body{font:14px sans-serif;margin:1em;background:#222;color:#ddd}
@@ -92,11 +98,12 @@ std::string contactSheet(const json& report) {
                               escapeHtml(f.value("job", "")), escapeHtml(f.value("message", "")));
   std::string cards;
   for (const json* level : levels) cards += card(*level);
-  return fmt::format("<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>brushtrace batch</title><style>{}</style></head><body>\n"
-                     "<h1>brushtrace batch: {} levels, {} ok, {} failed, {} images, {:.1f} s</h1>\n"
-                     "<h2>Failures</h2>\n<table id=\"failures\">\n{}</table>\n<h2>Levels</h2>\n<div class=\"grid\">\n{}</div>\n</body></html>\n",
-                     kStyle, summary.value("levels", 0), summary.value("ok", 0), summary.value("failed", 0), summary.value("images", 0),
-                     summary.value("seconds", 0.0), failures.empty() ? "<tr><td>none</td></tr>\n" : failures, cards);
+  return fmt::format(
+      "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>brushtrace batch</title><style>{}</style></head><body>\n"
+      "<h1>brushtrace batch: {} levels, {} ok, {} failed, {} images, {:.1f} s</h1>\n"
+      "<h2>Failures</h2>\n<table id=\"failures\">\n{}</table>\n<h2>Levels</h2>\n<div class=\"grid\">\n{}</div>\n</body></html>\n",
+      kStyle, summary.value("levels", 0), summary.value("ok", 0), summary.value("failed", 0), summary.value("images", 0),
+      summary.value("seconds", 0.0), failures.empty() ? "<tr><td>none</td></tr>\n" : failures, cards);
 }
 
 json mergeResults(const std::string& outDir) {

@@ -28,10 +28,12 @@ namespace {
 // handler can only set a flag of static storage; the runner then kills the level's child and
 // leaves without writing a result for it, so a requeued run redoes that level.
 volatile std::sig_atomic_t stopRequested = 0;
-extern "C" void requestStop(int) { stopRequested = 1; }
+extern "C" void requestStop(int) {
+  stopRequested = 1;
+}
 
 void installStopHandlers() {
-  struct sigaction action{};
+  struct sigaction action {};
   action.sa_handler = requestStop;
   sigemptyset(&action.sa_mask);
   sigaction(SIGTERM, &action, nullptr);
@@ -121,7 +123,8 @@ std::optional<json> runLevel(const Level& level, const Manifest& manifest, const
   if (problem.empty())
     if (auto result = readJsonFile((work / "result.json").string())) return result;
   const std::string tail = logTail(work / "log.txt");
-  return failedLevel(level, "process", problem.empty() ? "no result written" : problem + (tail.empty() ? "" : "; its last output: " + tail));
+  return failedLevel(level, "process",
+                     problem.empty() ? "no result written" : problem + (tail.empty() ? "" : "; its last output: " + tail));
 }
 
 // A result and its images take their place: the images first, the result last, so a result
@@ -155,7 +158,8 @@ void printProgress(const Level& level, const json& result, const char* how, size
   std::string line = fmt::format("{:<7} {}", ok ? how : "FAILED", level.path);
   if (!ok && !result["failures"].empty())
     line += fmt::format(": {}: {}", result["failures"][0].value("job", ""), result["failures"][0].value("message", ""));
-  else line += fmt::format(" ({:.2f} s)", result.value("seconds", 0.0));
+  else
+    line += fmt::format(" ({:.2f} s)", result.value("seconds", 0.0));
   fmt::print("{}\n[{:3.0f}%] {}/{} levels, {} failed\n", line, 100.0 * double(done) / double(total), done, total, failed);
   std::fflush(stdout); // piped to a log or a Slurm output file, each line shows as it happens
 }

@@ -33,12 +33,13 @@ constexpr double kMinSideArea = 1e-3;
 // ON_EPSILON; compiled vertices are snapped, so a smaller value keeps thin slivers apart.
 constexpr double kOnEpsilon = 0.01;
 
-Plane toPlane(const BspPlane& p) { return {dvec3(p.normal), static_cast<double>(p.dist)}; }
+Plane toPlane(const BspPlane& p) {
+  return {dvec3(p.normal), static_cast<double>(p.dist)};
+}
 
 // The point of `plane` where both texture coordinates are zero: solves
 // dot(n, o) = dist, dot(tangent, o) = -sOffset, dot(bitangent, o) = -tOffset.
-dvec3 frameOrigin(const Plane& plane, const dvec3& tangent, const dvec3& bitangent, double sOffset,
-                  double tOffset) {
+dvec3 frameOrigin(const Plane& plane, const dvec3& tangent, const dvec3& bitangent, double sOffset, double tOffset) {
   const glm::dmat3 rows(plane.normal, tangent, bitangent); // columns; transpose = rows
   const glm::dmat3 m = glm::transpose(rows);
   if (std::abs(glm::determinant(m)) < 1e-12) return plane.normal * plane.dist; // degenerate projection
@@ -79,8 +80,7 @@ std::vector<CompiledSide> sidesFromPlanes(const std::vector<Plane>& planes, std:
     for (size_t j = 0; j < planes.size() && !w.empty(); ++j) {
       if (i == j) continue;
       // Of two identical planes only the first keeps its polygon.
-      if (j < i && glm::dot(planes[i].normal, planes[j].normal) > 1.0 - 1e-9 &&
-          std::abs(planes[i].dist - planes[j].dist) < kOnEpsilon) {
+      if (j < i && glm::dot(planes[i].normal, planes[j].normal) > 1.0 - 1e-9 && std::abs(planes[i].dist - planes[j].dist) < kOnEpsilon) {
         w.clear();
         break;
       }
@@ -181,10 +181,8 @@ CellSplit splitCell(const Cell& cell, const Plane& plane) {
   }
   for (const CellSide& side : cell) {
     SplitWinding parts = splitWinding(side.winding, plane, kOnEpsilon);
-    if (parts.front.size() >= 3 && area(parts.front) >= kMinSideArea)
-      out.front.push_back({side.plane, std::move(parts.front)});
-    if (parts.back.size() >= 3 && area(parts.back) >= kMinSideArea)
-      out.back.push_back({side.plane, std::move(parts.back)});
+    if (parts.front.size() >= 3 && area(parts.front) >= kMinSideArea) out.front.push_back({side.plane, std::move(parts.front)});
+    if (parts.back.size() >= 3 && area(parts.back) >= kMinSideArea) out.back.push_back({side.plane, std::move(parts.back)});
   }
   // `section` is counter-clockwise seen from the plane's front: right for the back cell, whose
   // outward normal is the plane's; reversed for the front cell.
@@ -209,8 +207,7 @@ Cell boundingCell(const Model& model) {
 std::optional<Plane> textureSplitPlane(const BspFile& bsp, const CoplanarIndex& faces, const CellSide& side) {
   const auto on = faces.overlaps(side.plane, side.winding, 0.01);
   bool mixed = false;
-  for (const auto& o : on)
-    mixed |= bsp.faces[o.payload].texinfo != bsp.faces[on.front().payload].texinfo;
+  for (const auto& o : on) mixed |= bsp.faces[o.payload].texinfo != bsp.faces[on.front().payload].texinfo;
   if (!mixed) return std::nullopt;
   // Candidates: the lines through the faces' edges. A useful one has a face of one texinfo
   // wholly in front and a face of another wholly behind; the best cuts the fewest faces in two.
@@ -283,8 +280,7 @@ void splitByTexture(Cell cell, const BspFile& bsp, const CoplanarIndex& faces, i
 // inside the liquid has the liquid cell's side at its back, and is left out. Liquid-textured faces
 // with no liquid behind them are func_illusionary_visblocker (qbsp writes its volume as empty
 // leafs) and get their slab like any other.
-std::vector<CompiledBrush> slabsForUncoveredFaces(const BspFile& bsp, const Model& model,
-                                                   const std::vector<CompiledBrush>& cells) {
+std::vector<CompiledBrush> slabsForUncoveredFaces(const BspFile& bsp, const Model& model, const std::vector<CompiledBrush>& cells) {
   constexpr double kSlabThickness = 1.0 / 16.0; // within qbsp's 0.1 epsilon: the twin still lies "on" the back
   CoplanarIndex sides;
   for (const CompiledBrush& cell : cells)
@@ -456,8 +452,7 @@ std::vector<CompiledBrush> hullBrushes(const BspFile& bsp, size_t modelIndex) {
       continue;
     }
     const size_t nodeIndex = static_cast<size_t>(item.child);
-    if (visited[nodeIndex])
-      failTree(bsp, "nodes", fmt::format("node {} is reached twice from model {} (a cycle)", nodeIndex, modelIndex));
+    if (visited[nodeIndex]) failTree(bsp, "nodes", fmt::format("node {} is reached twice from model {} (a cycle)", nodeIndex, modelIndex));
     visited[nodeIndex] = true;
     const Node& node = bsp.nodes[nodeIndex];
     CellSplit split = splitCell(item.cell, toPlane(bsp.planes[static_cast<size_t>(node.plane)]));
@@ -475,8 +470,7 @@ std::optional<std::vector<CompiledBrush>> brushListBrushes(const BspFile& bsp, s
   const auto& bytes = lump->bytes;
   size_t pos = 0;
   auto fail = [&](const std::string& message) {
-    throw ImportError(Diagnostic{Severity::Error, bsp.path, 0, 0,
-                                 fmt::format("lump 'BSPX BRUSHLIST': {} (at byte {})", message, pos)});
+    throw ImportError(Diagnostic{Severity::Error, bsp.path, 0, 0, fmt::format("lump 'BSPX BRUSHLIST': {} (at byte {})", message, pos)});
   };
   auto need = [&](size_t n) {
     if (bytes.size() - pos < n) fail("truncated");
@@ -647,8 +641,8 @@ std::optional<TextureFrame> triangleFrame(const BspFile& bsp, const DrawTriangle
   frame.tangent = inv * dvec3(b.st.x - a.st.x, c.st.x - a.st.x, 0.0);
   frame.bitangent = inv * dvec3(b.st.y - a.st.y, c.st.y - a.st.y, 0.0);
   const dvec3 p0(a.position);
-  frame.origin = frameOrigin(plane, frame.tangent, frame.bitangent, a.st.x - glm::dot(p0, frame.tangent),
-                             a.st.y - glm::dot(p0, frame.bitangent));
+  frame.origin =
+      frameOrigin(plane, frame.tangent, frame.bitangent, a.st.x - glm::dot(p0, frame.tangent), a.st.y - glm::dot(p0, frame.bitangent));
   return frame;
 }
 

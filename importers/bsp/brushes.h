@@ -22,7 +22,7 @@
 namespace bt::bsp {
 
 struct CompiledSide {
-  Plane plane;    // outward
+  Plane plane;     // outward
   Winding winding; // counter-clockwise seen from outside
   std::string texture;
   TextureFrame frame;

@@ -41,8 +41,8 @@ public:
   }
   int16_t i16() { return static_cast<int16_t>(u16()); }
   uint32_t u32() {
-    uint32_t v = static_cast<uint32_t>(p_[0]) | (static_cast<uint32_t>(p_[1]) << 8) |
-                 (static_cast<uint32_t>(p_[2]) << 16) | (static_cast<uint32_t>(p_[3]) << 24);
+    uint32_t v = static_cast<uint32_t>(p_[0]) | (static_cast<uint32_t>(p_[1]) << 8) | (static_cast<uint32_t>(p_[2]) << 16) |
+        (static_cast<uint32_t>(p_[3]) << 24);
     p_ += 4;
     return v;
   }
@@ -72,41 +72,86 @@ struct Lump {
 
 // The per-version lump numbers. Quake 1 and Half-Life share one table.
 namespace q1 {
-enum : int { Entities, Planes, Textures, Vertices, Visibility, Nodes, Texinfo, Faces, Lighting,
-             ClipNodes, Leafs, MarkSurfaces, Edges, SurfEdges, Models, Count };
-constexpr const char* kNames[Count] = {"entities", "planes", "textures", "vertexes", "visibility",
-                                       "nodes", "texinfo", "faces", "lighting", "clipnodes",
-                                       "leafs", "marksurfaces", "edges", "surfedges", "models"};
+enum : int {
+  Entities,
+  Planes,
+  Textures,
+  Vertices,
+  Visibility,
+  Nodes,
+  Texinfo,
+  Faces,
+  Lighting,
+  ClipNodes,
+  Leafs,
+  MarkSurfaces,
+  Edges,
+  SurfEdges,
+  Models,
+  Count
+};
+constexpr const char* kNames[Count] = {"entities", "planes",    "textures", "vertexes",     "visibility", "nodes",     "texinfo", "faces",
+                                       "lighting", "clipnodes", "leafs",    "marksurfaces", "edges",      "surfedges", "models"};
 } // namespace q1
 namespace q2 {
-enum : int { Entities, Planes, Vertices, Visibility, Nodes, Texinfo, Faces, Lighting, Leafs,
-             LeafFaces, LeafBrushes, Edges, SurfEdges, Models, Brushes, BrushSides, Pop, Areas,
-             AreaPortals, Count };
-constexpr const char* kNames[Count] = {"entities", "planes", "vertexes", "visibility", "nodes",
-                                       "texinfo", "faces", "lighting", "leafs", "leaffaces",
-                                       "leafbrushes", "edges", "surfedges", "models", "brushes",
-                                       "brushsides", "pop", "areas", "areaportals"};
+enum : int {
+  Entities,
+  Planes,
+  Vertices,
+  Visibility,
+  Nodes,
+  Texinfo,
+  Faces,
+  Lighting,
+  Leafs,
+  LeafFaces,
+  LeafBrushes,
+  Edges,
+  SurfEdges,
+  Models,
+  Brushes,
+  BrushSides,
+  Pop,
+  Areas,
+  AreaPortals,
+  Count
+};
+constexpr const char* kNames[Count] = {"entities", "planes",     "vertexes",  "visibility",  "nodes",      "texinfo",   "faces",
+                                       "lighting", "leafs",      "leaffaces", "leafbrushes", "edges",      "surfedges", "models",
+                                       "brushes",  "brushsides", "pop",       "areas",       "areaportals"};
 } // namespace q2
 namespace q3 {
-enum : int { Entities, Shaders, Planes, Nodes, Leafs, LeafSurfaces, LeafBrushes, Models, Brushes,
-             BrushSides, DrawVerts, DrawIndexes, Fogs, Surfaces, Lightmaps, LightGrid, Visibility,
-             Count };
-constexpr const char* kNames[Count] = {"entities", "shaders", "planes", "nodes", "leafs",
-                                       "leafsurfaces", "leafbrushes", "models", "brushes",
-                                       "brushsides", "drawverts", "drawindexes", "fogs", "surfaces",
-                                       "lightmaps", "lightgrid", "visibility"};
+enum : int {
+  Entities,
+  Shaders,
+  Planes,
+  Nodes,
+  Leafs,
+  LeafSurfaces,
+  LeafBrushes,
+  Models,
+  Brushes,
+  BrushSides,
+  DrawVerts,
+  DrawIndexes,
+  Fogs,
+  Surfaces,
+  Lightmaps,
+  LightGrid,
+  Visibility,
+  Count
+};
+constexpr const char* kNames[Count] = {"entities",    "shaders",  "planes",    "nodes",      "leafs",     "leafsurfaces",
+                                       "leafbrushes", "models",   "brushes",   "brushsides", "drawverts", "drawindexes",
+                                       "fogs",        "surfaces", "lightmaps", "lightgrid",  "visibility"};
 } // namespace q3
 
 class Reader {
 public:
   Reader(std::span<const uint8_t> file, const std::string& path) : file_(file), path_(path) {}
 
-  [[noreturn]] void fail(std::string message) const {
-    throw ImportError(Diagnostic{Severity::Error, path_, 0, 0, std::move(message)});
-  }
-  [[noreturn]] void fail(const Lump& lump, std::string message) const {
-    fail(fmt::format("lump '{}': {}", lump.name, message));
-  }
+  [[noreturn]] void fail(std::string message) const { throw ImportError(Diagnostic{Severity::Error, path_, 0, 0, std::move(message)}); }
+  [[noreturn]] void fail(const Lump& lump, std::string message) const { fail(fmt::format("lump '{}': {}", lump.name, message)); }
 
   const std::string& path() const { return path_; }
   std::span<const uint8_t> file() const { return file_; }
@@ -115,19 +160,16 @@ public:
   std::vector<Lump> lumpTable(size_t tableOffset, const char* const* names, int count) const {
     const size_t tableEnd = tableOffset + static_cast<size_t>(count) * 8;
     if (file_.size() < tableEnd)
-      fail(fmt::format("header: file is {} bytes, too short for the lump table ({} bytes)",
-                       file_.size(), tableEnd));
+      fail(fmt::format("header: file is {} bytes, too short for the lump table ({} bytes)", file_.size(), tableEnd));
     std::vector<Lump> lumps;
     FieldReader r(file_.data() + tableOffset);
     for (int i = 0; i < count; ++i) {
       const int64_t offset = r.i32();
       const int64_t length = r.i32();
       Lump lump{names[i], {}};
-      if (offset < 0 || length < 0)
-        fail(lump, fmt::format("negative offset {} or length {} in the lump table", offset, length));
+      if (offset < 0 || length < 0) fail(lump, fmt::format("negative offset {} or length {} in the lump table", offset, length));
       if (static_cast<uint64_t>(offset + length) > file_.size())
-        fail(lump, fmt::format("offset {} + length {} lies past the end of the file ({} bytes)",
-                               offset, length, file_.size()));
+        fail(lump, fmt::format("offset {} + length {} lies past the end of the file ({} bytes)", offset, length, file_.size()));
       lump.bytes = file_.subspan(static_cast<size_t>(offset), static_cast<size_t>(length));
       lumps.push_back(lump);
     }
@@ -135,11 +177,9 @@ public:
   }
 
   // Splits a lump into fixed-size records and parses each with parse(FieldReader&).
-  template <class Record, class Parse>
-  std::vector<Record> records(const Lump& lump, size_t recordSize, Parse parse) const {
+  template <class Record, class Parse> std::vector<Record> records(const Lump& lump, size_t recordSize, Parse parse) const {
     if (lump.bytes.size() % recordSize != 0)
-      fail(lump, fmt::format("length {} is not a multiple of the record size {}",
-                             lump.bytes.size(), recordSize));
+      fail(lump, fmt::format("length {} is not a multiple of the record size {}", lump.bytes.size(), recordSize));
     const size_t count = lump.bytes.size() / recordSize;
     std::vector<Record> out;
     out.reserve(count);
@@ -151,18 +191,14 @@ public:
   }
 
   // Fails unless 0 <= value < count.
-  void checkIndex(const Lump& lump, size_t record, const char* what, int64_t value,
-                  size_t count) const {
+  void checkIndex(const Lump& lump, size_t record, const char* what, int64_t value, size_t count) const {
     if (value < 0 || static_cast<uint64_t>(value) >= count)
-      fail(lump, fmt::format("record {} refers to {} {}, but there are {}", record, what, value,
-                             count));
+      fail(lump, fmt::format("record {} refers to {} {}, but there are {}", record, what, value, count));
   }
   // Fails unless [first, first + n) lies inside [0, count).
-  void checkRange(const Lump& lump, size_t record, const char* what, int64_t first, int64_t n,
-                  size_t count) const {
+  void checkRange(const Lump& lump, size_t record, const char* what, int64_t first, int64_t n, size_t count) const {
     if (first < 0 || n < 0 || static_cast<uint64_t>(first + n) > count)
-      fail(lump, fmt::format("record {} refers to {} {}..{}, but there are {}", record, what,
-                             first, first + n, count));
+      fail(lump, fmt::format("record {} refers to {} {}..{}, but there are {}", record, what, first, first + n, count));
   }
 
 private:
@@ -176,15 +212,17 @@ std::string entitiesText(const Lump& lump) {
   return std::string(begin, nul ? static_cast<size_t>(nul - begin) : lump.bytes.size());
 }
 
-std::vector<uint8_t> copyBytes(const Lump& lump) { return {lump.bytes.begin(), lump.bytes.end()}; }
+std::vector<uint8_t> copyBytes(const Lump& lump) {
+  return {lump.bytes.begin(), lump.bytes.end()};
+}
 
 // ---------------------------------------------------------------------------------------------
 // Quake 1 family: BSP29, BSP2, 2PSB, BSP30 (Half-Life)
 
 // Record sizes that differ between the 16-bit and the two 32-bit layouts.
 struct Q1Layout {
-  bool wide;         // BSP2 or 2PSB: 32-bit indices
-  bool floatBounds;  // BSP2: float node/leaf bounds (2PSB keeps int16)
+  bool wide;        // BSP2 or 2PSB: 32-bit indices
+  bool floatBounds; // BSP2: float node/leaf bounds (2PSB keeps int16)
   size_t nodeSize() const { return !wide ? 24 : floatBounds ? 44 : 32; }
   size_t leafSize() const { return !wide ? 28 : floatBounds ? 44 : 32; }
   size_t faceSize() const { return wide ? 28 : 20; }
@@ -201,8 +239,7 @@ std::vector<Miptex> readMiptexLump(const Reader& reader, const Lump& lump) {
   FieldReader header(lump.bytes.data());
   const int64_t count = header.i32();
   if (count < 0 || 4 + count * 4 > static_cast<int64_t>(lump.bytes.size()))
-    reader.fail(lump, fmt::format("texture count {} does not fit in {} bytes", count,
-                                  lump.bytes.size()));
+    reader.fail(lump, fmt::format("texture count {} does not fit in {} bytes", count, lump.bytes.size()));
   std::vector<int64_t> offsets(static_cast<size_t>(count));
   for (auto& o : offsets) o = header.i32();
 
@@ -224,16 +261,17 @@ std::vector<Miptex> readMiptexLump(const Reader& reader, const Lump& lump) {
       continue;
     }
     if (offset < 0 || offset + kHeaderSize > static_cast<int64_t>(lump.bytes.size()))
-      reader.fail(lump, fmt::format("texture {} at offset {} lies outside the lump ({} bytes)", i,
-                                    offset, lump.bytes.size()));
+      reader.fail(lump, fmt::format("texture {} at offset {} lies outside the lump ({} bytes)", i, offset, lump.bytes.size()));
     auto next = std::upper_bound(starts.begin(), starts.end(), offset);
     // Clamped: a later entry's offset may itself be bad (it is reported when its turn comes).
     const int64_t lumpSize = static_cast<int64_t>(lump.bytes.size());
     const int64_t end = next == starts.end() ? lumpSize : std::min(*next, lumpSize);
     copied += end - offset;
     if (copied > lumpSize)
-      reader.fail(lump, fmt::format("texture {} at offset {} shares its record with another texture (the records add up "
-                                    "to more than the lump's {} bytes)", i, offset, lumpSize));
+      reader.fail(lump,
+                  fmt::format("texture {} at offset {} shares its record with another texture (the records add up "
+                              "to more than the lump's {} bytes)",
+                              i, offset, lumpSize));
     FieldReader r(lump.bytes.data() + offset);
     mip.present = true;
     mip.name = r.name(16);
@@ -269,8 +307,7 @@ bool looksLikeHexen2Models(const Lump& lump) {
 
 void readQuake1(const Reader& reader, BspFile& bsp) {
   const auto lumps = reader.lumpTable(4, q1::kNames, q1::Count);
-  const Q1Layout layout{bsp.version == Version::Bsp2 || bsp.version == Version::Bsp2rmq,
-                        bsp.version == Version::Bsp2};
+  const Q1Layout layout{bsp.version == Version::Bsp2 || bsp.version == Version::Bsp2rmq, bsp.version == Version::Bsp2};
   const auto& L = lumps;
 
   bsp.entities = entitiesText(L[q1::Entities]);
@@ -377,8 +414,10 @@ void readQuake1(const Reader& reader, BspFile& bsp) {
     const Node& n = bsp.nodes[i];
     reader.checkIndex(nodesLump, i, "plane", n.plane, bsp.planes.size());
     for (int32_t child : n.children) {
-      if (child >= 0) reader.checkIndex(nodesLump, i, "node", child, bsp.nodes.size());
-      else reader.checkIndex(nodesLump, i, "leaf", -1 - int64_t{child}, bsp.leafs.size());
+      if (child >= 0)
+        reader.checkIndex(nodesLump, i, "node", child, bsp.nodes.size());
+      else
+        reader.checkIndex(nodesLump, i, "leaf", -1 - int64_t{child}, bsp.leafs.size());
     }
     reader.checkRange(nodesLump, i, "faces", n.firstFace, n.faceCount, bsp.faces.size());
   }
@@ -389,10 +428,8 @@ void readQuake1(const Reader& reader, BspFile& bsp) {
       if (child >= 0) reader.checkIndex(L[q1::ClipNodes], i, "clipnode", child, bsp.clipNodes.size());
   }
   for (size_t i = 0; i < bsp.leafs.size(); ++i)
-    reader.checkRange(L[q1::Leafs], i, "marksurfaces", bsp.leafs[i].firstLeafFace,
-                      bsp.leafs[i].leafFaceCount, bsp.leafFaces.size());
-  for (size_t i = 0; i < bsp.leafFaces.size(); ++i)
-    reader.checkIndex(L[q1::MarkSurfaces], i, "face", bsp.leafFaces[i], bsp.faces.size());
+    reader.checkRange(L[q1::Leafs], i, "marksurfaces", bsp.leafs[i].firstLeafFace, bsp.leafs[i].leafFaceCount, bsp.leafFaces.size());
+  for (size_t i = 0; i < bsp.leafFaces.size(); ++i) reader.checkIndex(L[q1::MarkSurfaces], i, "face", bsp.leafFaces[i], bsp.faces.size());
   for (size_t i = 0; i < bsp.models.size(); ++i) {
     const Model& m = bsp.models[i];
     // A model without faces (a trigger made of clip brushes) may still name node 0.
@@ -417,8 +454,7 @@ void readBspx(const Reader& reader, BspFile& bsp, std::span<const Lump> lumps) {
   FieldReader header(file.data() + end + 4);
   const int64_t count = header.i32();
   const Lump directory{"BSPX", file.subspan(end)};
-  if (count < 0 || end + 8 + count * 32 > file.size())
-    reader.fail(directory, fmt::format("{} entries do not fit in the file", count));
+  if (count < 0 || end + 8 + count * 32 > file.size()) reader.fail(directory, fmt::format("{} entries do not fit in the file", count));
   // Lumps that do not overlap add up to at most the file; overlapping ones would copy the same
   // bytes again and again (a few MB of directory naming the whole file: terabytes).
   uint64_t copied = 0;
@@ -428,12 +464,12 @@ void readBspx(const Reader& reader, BspFile& bsp, std::span<const Lump> lumps) {
     lump.name = r.name(24);
     const int64_t offset = r.i32(), length = r.i32();
     if (offset < 0 || length < 0 || static_cast<uint64_t>(offset + length) > file.size())
-      reader.fail(fmt::format("lump 'BSPX {}': offset {} + length {} lies outside the file ({} bytes)",
-                              lump.name, offset, length, file.size()));
+      reader.fail(
+          fmt::format("lump 'BSPX {}': offset {} + length {} lies outside the file ({} bytes)", lump.name, offset, length, file.size()));
     copied += static_cast<uint64_t>(length);
     if (copied > file.size())
-      reader.fail(fmt::format("lump 'BSPX {}': the BSPX lumps overlap (they add up to more than the file's {} bytes)",
-                              lump.name, file.size()));
+      reader.fail(
+          fmt::format("lump 'BSPX {}': the BSPX lumps overlap (they add up to more than the file's {} bytes)", lump.name, file.size()));
     lump.bytes.assign(file.begin() + offset, file.begin() + offset + length);
     bsp.bspx.push_back(std::move(lump));
   }
@@ -444,8 +480,7 @@ void readBspx(const Reader& reader, BspFile& bsp, std::span<const Lump> lumps) {
 void checkBrushSideCount(const Reader& reader, const Lump& lump, size_t record, int32_t sideCount) {
   constexpr int32_t kMaxBrushSides = 1024;
   if (sideCount > kMaxBrushSides)
-    reader.fail(lump, fmt::format("record {} has {} sides, more than the {} a brush may have", record, sideCount,
-                                  kMaxBrushSides));
+    reader.fail(lump, fmt::format("record {} has {} sides, more than the {} a brush may have", record, sideCount, kMaxBrushSides));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -538,14 +573,15 @@ void readQuake2(const Reader& reader, BspFile& bsp) {
   });
 
   for (size_t i = 0; i < bsp.texinfo.size(); ++i)
-    if (bsp.texinfo[i].nextTexinfo != -1)
-      reader.checkIndex(L[q2::Texinfo], i, "texinfo", bsp.texinfo[i].nextTexinfo, bsp.texinfo.size());
+    if (bsp.texinfo[i].nextTexinfo != -1) reader.checkIndex(L[q2::Texinfo], i, "texinfo", bsp.texinfo[i].nextTexinfo, bsp.texinfo.size());
   for (size_t i = 0; i < bsp.nodes.size(); ++i) {
     const Node& n = bsp.nodes[i];
     reader.checkIndex(L[q2::Nodes], i, "plane", n.plane, bsp.planes.size());
     for (int32_t child : n.children) {
-      if (child >= 0) reader.checkIndex(L[q2::Nodes], i, "node", child, bsp.nodes.size());
-      else reader.checkIndex(L[q2::Nodes], i, "leaf", -1 - int64_t{child}, bsp.leafs.size());
+      if (child >= 0)
+        reader.checkIndex(L[q2::Nodes], i, "node", child, bsp.nodes.size());
+      else
+        reader.checkIndex(L[q2::Nodes], i, "leaf", -1 - int64_t{child}, bsp.leafs.size());
     }
     reader.checkRange(L[q2::Nodes], i, "faces", n.firstFace, n.faceCount, bsp.faces.size());
   }
@@ -554,8 +590,7 @@ void readQuake2(const Reader& reader, BspFile& bsp) {
     reader.checkRange(L[q2::Leafs], i, "leaffaces", l.firstLeafFace, l.leafFaceCount, bsp.leafFaces.size());
     reader.checkRange(L[q2::Leafs], i, "leafbrushes", l.firstLeafBrush, l.leafBrushCount, bsp.leafBrushes.size());
   }
-  for (size_t i = 0; i < bsp.leafFaces.size(); ++i)
-    reader.checkIndex(L[q2::LeafFaces], i, "face", bsp.leafFaces[i], bsp.faces.size());
+  for (size_t i = 0; i < bsp.leafFaces.size(); ++i) reader.checkIndex(L[q2::LeafFaces], i, "face", bsp.leafFaces[i], bsp.faces.size());
   for (size_t i = 0; i < bsp.leafBrushes.size(); ++i)
     reader.checkIndex(L[q2::LeafBrushes], i, "brush", bsp.leafBrushes[i], bsp.brushes.size());
   for (size_t i = 0; i < bsp.models.size(); ++i) {
@@ -564,14 +599,12 @@ void readQuake2(const Reader& reader, BspFile& bsp) {
     reader.checkRange(L[q2::Models], i, "faces", m.firstFace, m.faceCount, bsp.faces.size());
   }
   for (size_t i = 0; i < bsp.brushes.size(); ++i) {
-    reader.checkRange(L[q2::Brushes], i, "brushsides", bsp.brushes[i].firstSide, bsp.brushes[i].sideCount,
-                      bsp.brushSides.size());
+    reader.checkRange(L[q2::Brushes], i, "brushsides", bsp.brushes[i].firstSide, bsp.brushes[i].sideCount, bsp.brushSides.size());
     checkBrushSideCount(reader, L[q2::Brushes], i, bsp.brushes[i].sideCount);
   }
   for (size_t i = 0; i < bsp.brushSides.size(); ++i) {
     reader.checkIndex(L[q2::BrushSides], i, "plane", bsp.brushSides[i].plane, bsp.planes.size());
-    if (bsp.brushSides[i].texinfo != -1)
-      reader.checkIndex(L[q2::BrushSides], i, "texinfo", bsp.brushSides[i].texinfo, bsp.texinfo.size());
+    if (bsp.brushSides[i].texinfo != -1) reader.checkIndex(L[q2::BrushSides], i, "texinfo", bsp.brushSides[i].texinfo, bsp.texinfo.size());
   }
 }
 
@@ -673,8 +706,10 @@ void readQuake3(const Reader& reader, BspFile& bsp) {
     const Node& n = bsp.nodes[i];
     reader.checkIndex(L[q3::Nodes], i, "plane", n.plane, bsp.planes.size());
     for (int32_t child : n.children) {
-      if (child >= 0) reader.checkIndex(L[q3::Nodes], i, "node", child, bsp.nodes.size());
-      else reader.checkIndex(L[q3::Nodes], i, "leaf", -1 - int64_t{child}, bsp.leafs.size());
+      if (child >= 0)
+        reader.checkIndex(L[q3::Nodes], i, "node", child, bsp.nodes.size());
+      else
+        reader.checkIndex(L[q3::Nodes], i, "leaf", -1 - int64_t{child}, bsp.leafs.size());
     }
   }
   for (size_t i = 0; i < bsp.leafs.size(); ++i) {
@@ -716,19 +751,21 @@ void readQuake3(const Reader& reader, BspFile& bsp) {
     reader.checkRange(L[q3::Surfaces], i, "drawindexes", s.firstIndex, s.indexCount, bsp.drawIndices.size());
     surfaceVertices += static_cast<uint64_t>(s.vertexCount);
     if (surfaceVertices > bsp.drawVertices.size())
-      reader.fail(L[q3::Surfaces], fmt::format("record {}: the surfaces share drawverts (their runs add up to more than the {} "
-                                               "drawverts)", i, bsp.drawVertices.size()));
+      reader.fail(L[q3::Surfaces],
+                  fmt::format("record {}: the surfaces share drawverts (their runs add up to more than the {} "
+                              "drawverts)",
+                              i, bsp.drawVertices.size()));
     if (int64_t{s.indexCount} > kMaxIndexesPerVertex * int64_t{s.vertexCount})
-      reader.fail(L[q3::Surfaces], fmt::format("record {}: {} indexes for {} vertices (more than {} a vertex: no mesh of V "
-                                               "vertices has that many triangles)", i, s.indexCount, s.vertexCount,
-                                               kMaxIndexesPerVertex));
+      reader.fail(L[q3::Surfaces],
+                  fmt::format("record {}: {} indexes for {} vertices (more than {} a vertex: no mesh of V "
+                              "vertices has that many triangles)",
+                              i, s.indexCount, s.vertexCount, kMaxIndexesPerVertex));
     for (int32_t k = 0; k < s.indexCount; ++k)
       reader.checkIndex(L[q3::Surfaces], i, "surface vertex", bsp.drawIndices[s.firstIndex + k], s.vertexCount);
     if (s.type == SurfaceType::Patch &&
-        (s.patchSize[0] < 0 || s.patchSize[1] < 0 ||
-         int64_t{s.patchSize[0]} * s.patchSize[1] > s.vertexCount))
-      reader.fail(L[q3::Surfaces], fmt::format("record {}: patch {}x{} needs more than its {} vertices",
-                                               i, s.patchSize[0], s.patchSize[1], s.vertexCount));
+        (s.patchSize[0] < 0 || s.patchSize[1] < 0 || int64_t{s.patchSize[0]} * s.patchSize[1] > s.vertexCount))
+      reader.fail(L[q3::Surfaces],
+                  fmt::format("record {}: patch {}x{} needs more than its {} vertices", i, s.patchSize[0], s.patchSize[1], s.vertexCount));
   }
 }
 
@@ -746,8 +783,10 @@ void checkFaceChain(const Reader& reader, const BspFile& bsp) {
     reader.checkRange(faces, i, "surfedges", f.firstEdge, f.edgeCount, bsp.surfedges.size());
     faceEdges += static_cast<uint64_t>(f.edgeCount);
     if (faceEdges > bsp.surfedges.size())
-      reader.fail(faces, fmt::format("record {}: the faces share surfedges (their runs add up to more than the {} "
-                                     "surfedges)", i, bsp.surfedges.size()));
+      reader.fail(faces,
+                  fmt::format("record {}: the faces share surfedges (their runs add up to more than the {} "
+                              "surfedges)",
+                              i, bsp.surfedges.size()));
   }
   for (size_t i = 0; i < bsp.surfedges.size(); ++i) {
     const int64_t e = bsp.surfedges[i];
@@ -786,8 +825,7 @@ BspFile readBspFile(std::span<const uint8_t> bytes, const std::string& pathForEr
   Reader reader(bytes, pathForErrors);
   BspFile bsp;
   bsp.path = pathForErrors;
-  if (bytes.size() < 8)
-    reader.fail(fmt::format("header: file is {} bytes, too short to be a BSP file", bytes.size()));
+  if (bytes.size() < 8) reader.fail(fmt::format("header: file is {} bytes, too short to be a BSP file", bytes.size()));
 
   FieldReader header(bytes.data());
   const uint32_t magic = header.u32();
@@ -795,10 +833,10 @@ BspFile readBspFile(std::span<const uint8_t> bytes, const std::string& pathForEr
   auto fourCC = [](const char* s) { return FieldReader(reinterpret_cast<const uint8_t*>(s)).u32(); };
 
   if (magic == 29 || magic == 30 || magic == fourCC("BSP2") || magic == fourCC("2PSB")) {
-    bsp.version = magic == 29   ? Version::Bsp29
-                  : magic == 30 ? Version::HalfLife30
-                  : magic == fourCC("BSP2") ? Version::Bsp2
-                                            : Version::Bsp2rmq;
+    bsp.version = magic == 29     ? Version::Bsp29
+        : magic == 30             ? Version::HalfLife30
+        : magic == fourCC("BSP2") ? Version::Bsp2
+                                  : Version::Bsp2rmq;
     readQuake1(reader, bsp);
     checkFaceChain(reader, bsp);
     const auto lumps = reader.lumpTable(4, q1::kNames, q1::Count);
@@ -815,18 +853,17 @@ BspFile readBspFile(std::span<const uint8_t> bytes, const std::string& pathForEr
     reader.fail(fmt::format("header: unsupported BSP version {} (brushtrace reads IBSP 38 and 46)", ibspVersion));
   } else {
     reader.fail(fmt::format("header: not a BSP file (starts with 0x{:08x}; expected 29, 30, BSP2, "
-                            "2PSB or IBSP)", magic));
+                            "2PSB or IBSP)",
+                            magic));
   }
   return bsp;
 }
 
 BspFile readBspFile(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw ImportError(Diagnostic{Severity::Error, path.string(), 0, 0, "cannot open file"});
+  if (!in) throw ImportError(Diagnostic{Severity::Error, path.string(), 0, 0, "cannot open file"});
   std::vector<uint8_t> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  if (in.bad())
-    throw ImportError(Diagnostic{Severity::Error, path.string(), 0, 0, "read error"});
+  if (in.bad()) throw ImportError(Diagnostic{Severity::Error, path.string(), 0, 0, "read error"});
   return readBspFile(bytes, path.string());
 }
 

@@ -51,8 +51,8 @@ struct TexInfo {
   std::array<std::array<float, 4>, 2> vecs{};
   int32_t flags = 0;
   std::string texture;
-  int32_t value = 0;       // Q2 surface value (light emission)
-  int32_t miptex = -1;     // Q1/HL index into BspFile::miptex
+  int32_t value = 0;        // Q2 surface value (light emission)
+  int32_t miptex = -1;      // Q1/HL index into BspFile::miptex
   int32_t nextTexinfo = -1; // Q2 animation chain, -1 ends it
 };
 
@@ -64,7 +64,7 @@ struct Face {
   int32_t edgeCount = 0;
   int32_t texinfo = 0;
   std::array<uint8_t, 4> styles{255, 255, 255, 255}; // 255 ends the list
-  int32_t lightOffset = -1;                           // byte offset into lighting, -1 = none
+  int32_t lightOffset = -1;                          // byte offset into lighting, -1 = none
 };
 
 // A Q1/HL texture in the miptex lump. `bytes` is the whole record from its header on, cut at the
@@ -73,8 +73,8 @@ struct Miptex {
   std::string name;
   uint32_t width = 0;
   uint32_t height = 0;
-  bool present = false;              // false: the directory slot is -1 (texture left out)
-  bool hasPixels = false;            // false: qbsp -notex / external (WAD) texture
+  bool present = false;   // false: the directory slot is -1 (texture left out)
+  bool hasPixels = false; // false: qbsp -notex / external (WAD) texture
   std::vector<uint8_t> bytes;
 };
 
@@ -87,8 +87,8 @@ struct Node {
 };
 
 struct Leaf {
-  int32_t contents = 0;     // Q1 CONTENTS_* (negative) or Q2 contents bits; Q3: 0
-  int32_t cluster = -1;     // Q1 visofs, Q2/Q3 cluster
+  int32_t contents = 0; // Q1 CONTENTS_* (negative) or Q2 contents bits; Q3: 0
+  int32_t cluster = -1; // Q1 visofs, Q2/Q3 cluster
   int32_t area = 0;
   int32_t firstLeafFace = 0; // into leafFaces (Q1 marksurfaces, Q3 leafsurfaces)
   int32_t leafFaceCount = 0;
@@ -136,7 +136,7 @@ struct Shader {
 
 struct DrawVertex {
   glm::vec3 position{0.0f};
-  glm::vec2 st{0.0f};       // texture coordinates, in texture widths (not texels)
+  glm::vec2 st{0.0f}; // texture coordinates, in texture widths (not texels)
   glm::vec2 lightmap{0.0f};
   glm::vec3 normal{0.0f};
   std::array<uint8_t, 4> color{};
@@ -188,7 +188,7 @@ struct BspFile {
   std::vector<ClipNode> clipNodes;  // Q1/HL
   std::vector<Brush> brushes;       // Q2/Q3
   std::vector<BrushSide> brushSides;
-  std::vector<uint8_t> lighting;    // Q1: 1 byte per luxel; HL/Q2: RGB
+  std::vector<uint8_t> lighting; // Q1: 1 byte per luxel; HL/Q2: RGB
   std::vector<uint8_t> visibility;
 
   // Quake 3
@@ -208,8 +208,7 @@ struct BspFile {
   // The BSPX lump called name, or nullptr.
   const BspxLump* findBspx(std::string_view name) const;
   bool isQuake1Family() const {
-    return version == Version::Bsp29 || version == Version::Bsp2 || version == Version::Bsp2rmq ||
-           version == Version::HalfLife30;
+    return version == Version::Bsp29 || version == Version::Bsp2 || version == Version::Bsp2rmq || version == Version::HalfLife30;
   }
 };
 

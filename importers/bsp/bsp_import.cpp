@@ -158,31 +158,31 @@ Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve, const st
     }
     entity.brushCount = static_cast<uint32_t>(scene.brushes.size()) - entity.firstBrush;
     if (bsp.version == Version::Quake3_46) {
-      addQuake3Meshes(bsp, bsp.models[*model], uint32_t(e), offset, curveMaxError, scene,
-                      [&](int32_t shader) { return materialFor(bsp.shaders[size_t(shader)].name); }, meshes);
+      addQuake3Meshes(
+          bsp, bsp.models[*model], uint32_t(e), offset, curveMaxError, scene,
+          [&](int32_t shader) { return materialFor(bsp.shaders[size_t(shader)].name); }, meshes);
       frameInTextureUnits.resize(scene.faces.size(), true); // drawverts' st are in texture units
     }
   }
   if (meshes.skipped > 0)
-    scene.diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
-                                 fmt::format("{} patch(es) skipped: sizes the engine refuses (each side odd, 3 to {})",
-                                             meshes.skipped, kPatchMaxGridSize)});
+    scene.diagnostics.push_back(
+        {Severity::Warning, bsp.path, 0, 0,
+         fmt::format("{} patch(es) skipped: sizes the engine refuses (each side odd, 3 to {})", meshes.skipped, kPatchMaxGridSize)});
   if (!worldClaimed && !bsp.models.empty())
-    scene.diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
-                                 "the entities lump has no worldspawn; the world model (model 0) is not imported"});
+    scene.diagnostics.push_back(
+        {Severity::Warning, bsp.path, 0, 0, "the entities lump has no worldspawn; the world model (model 0) is not imported"});
   if (brushesWithoutVolume > 0)
     scene.diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
                                  fmt::format("{} brush(es) skipped: thinner than 0.01 units between two of their sides "
-                                             "(no volume; the file's planes are corrupt)", brushesWithoutVolume)});
+                                             "(no volume; the file's planes are corrupt)",
+                                             brushesWithoutVolume)});
   if (q3SidesWithoutSurface > 0)
-    scene.diagnostics.push_back(
-        {Severity::Note, bsp.path, 0, 0,
-         fmt::format("{} brush sides have no draw surface lying on them (hidden, nodraw or caulk); they get a "
-                     "paraxial texture frame",
-                     q3SidesWithoutSurface)});
+    scene.diagnostics.push_back({Severity::Note, bsp.path, 0, 0,
+                                 fmt::format("{} brush sides have no draw surface lying on them (hidden, nodraw or caulk); they get a "
+                                             "paraxial texture frame",
+                                             q3SidesWithoutSurface)});
 
-  scene.compiledLighting =
-      std::make_shared<const CompiledLighting>(readCompiledLighting(bsp, placements, litFile, scene.diagnostics));
+  scene.compiledLighting = std::make_shared<const CompiledLighting>(readCompiledLighting(bsp, placements, litFile, scene.diagnostics));
 
   if (resolve) resolve(scene);
   for (size_t f = 0; f < scene.faces.size(); ++f) {
@@ -230,8 +230,7 @@ void decodeEmbeddedMiptex(const BspFile& bsp, Scene& scene, const TextureSearch&
       palette = findPalette(search.palette, {dir.empty() ? fs::path(".") : dir}, &paletteFile);
       if (!paletteFile.empty()) scene.addInputFile(paletteFile.string());
     } catch (const ImportError& e) {
-      scene.diagnostics.push_back({Severity::Warning, e.diagnostic().file, 0, 0,
-                                   "palette not usable: " + e.diagnostic().message});
+      scene.diagnostics.push_back({Severity::Warning, e.diagnostic().file, 0, 0, "palette not usable: " + e.diagnostic().message});
     }
     if (!palette) {
       // The game's gfx/palette.lmp (inside pak0.pak in a Quake install), else the built-in one.
@@ -251,14 +250,12 @@ void decodeEmbeddedMiptex(const BspFile& bsp, Scene& scene, const TextureSearch&
     for (const Miptex& m : bsp.miptex) {
       if (!m.present || !m.hasPixels || !textureNamesEqual(m.name, material.name)) continue;
       try {
-        Material decoded = decodeMiptex(m.bytes, palette ? &*palette : nullptr, halfLife,
-                                        bsp.path + " (miptex " + m.name + ")");
+        Material decoded = decodeMiptex(m.bytes, palette ? &*palette : nullptr, halfLife, bsp.path + " (miptex " + m.name + ")");
         decoded.name = material.name;
         decoded.sourcePath = bsp.path;
         material = std::move(decoded);
       } catch (const ImportError& e) {
-        scene.diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
-                                     "embedded texture skipped: " + e.diagnostic().message});
+        scene.diagnostics.push_back({Severity::Warning, bsp.path, 0, 0, "embedded texture skipped: " + e.diagnostic().message});
       }
       break;
     }
@@ -269,8 +266,7 @@ void decodeEmbeddedMiptex(const BspFile& bsp, Scene& scene, const TextureSearch&
 // from, or the parent of the level's maps/ folder; --textures folders come first.
 // Then the game install's folders (game::openGameInstall: mods, the level's game folder, baseq3/
 // or baseoa/), and the level's own archive wherever it is.
-GameFiles quake3GameFiles(const std::optional<ArchivePath>& archive, const ImportOptions& options,
-                          const game::GameInstall& install) {
+GameFiles quake3GameFiles(const std::optional<ArchivePath>& archive, const ImportOptions& options, const game::GameInstall& install) {
   GameFiles files;
   for (const std::string& dir : options.textures.textureDirs) files.addGameDir(dir, {".pk3"});
   for (const std::filesystem::path& dir : install.gameDirs) files.addGameDir(dir, {".pk3"});
@@ -281,8 +277,7 @@ GameFiles quake3GameFiles(const std::optional<ArchivePath>& archive, const Impor
 // The bytes of "archive:entry", from a .pak or a .pk3.
 std::optional<std::vector<uint8_t>> readFromArchive(const ArchivePath& archive, const std::string& entry) {
   const std::unique_ptr<game::Archive> opened = game::openArchive(archive.archive);
-  if (!opened)
-    throw ImportError(Diagnostic{Severity::Error, archive.archive, 0, 0, "not an archive brushtrace reads (.pak, .pk3, .zip)"});
+  if (!opened) throw ImportError(Diagnostic{Severity::Error, archive.archive, 0, 0, "not an archive brushtrace reads (.pak, .pk3, .zip)"});
   return opened->read(entry);
 }
 
@@ -340,8 +335,10 @@ Scene importBsp(const std::string& path, const ImportOptions& options) {
   const std::string level = archive ? archive->archive : path;
   std::erase(scene.inputFiles, level);
   scene.inputFiles.insert(scene.inputFiles.begin(), level);
-  if (!litHolder.empty()) scene.addInputFile(litHolder);
-  else if (litFile && !archive) scene.addInputFile(std::filesystem::path(path).replace_extension(".lit").string());
+  if (!litHolder.empty())
+    scene.addInputFile(litHolder);
+  else if (litFile && !archive)
+    scene.addInputFile(std::filesystem::path(path).replace_extension(".lit").string());
   return scene;
 }
 

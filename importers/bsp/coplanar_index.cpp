@@ -34,8 +34,8 @@ uint64_t CoplanarIndex::key(int axis, int64_t cell) {
 
 void CoplanarIndex::add(const Plane& plane, Winding polygon, uint32_t payload) {
   if (polygon.size() < 3) return;
-  Entry e{plane, std::move(polygon), dvec3(std::numeric_limits<double>::infinity()),
-          dvec3(-std::numeric_limits<double>::infinity()), payload};
+  Entry e{plane, std::move(polygon), dvec3(std::numeric_limits<double>::infinity()), dvec3(-std::numeric_limits<double>::infinity()),
+          payload};
   for (const dvec3& p : e.polygon) {
     e.boundsMin = glm::min(e.boundsMin, p);
     e.boundsMax = glm::max(e.boundsMax, p);
@@ -52,8 +52,7 @@ void CoplanarIndex::add(const Plane& plane, Winding polygon, uint32_t payload) {
   entries_.push_back(std::move(e));
 }
 
-std::vector<CoplanarIndex::Overlap> CoplanarIndex::overlaps(const Plane& plane, const Winding& winding,
-                                                          double minArea) const {
+std::vector<CoplanarIndex::Overlap> CoplanarIndex::overlaps(const Plane& plane, const Winding& winding, double minArea) const {
   std::vector<Overlap> out;
   if (winding.size() < 3) return out;
   const auto bucket = buckets_.find(key(dominantAxis(plane.normal), distCell(plane.dist)));
@@ -66,9 +65,7 @@ std::vector<CoplanarIndex::Overlap> CoplanarIndex::overlaps(const Plane& plane, 
   }
   for (uint32_t index : bucket->second) {
     const Entry& e = entries_[index];
-    if (glm::any(glm::greaterThan(e.boundsMin, hi + kPlaneEpsilon)) ||
-        glm::any(glm::lessThan(e.boundsMax, lo - kPlaneEpsilon)))
-      continue;
+    if (glm::any(glm::greaterThan(e.boundsMin, hi + kPlaneEpsilon)) || glm::any(glm::lessThan(e.boundsMax, lo - kPlaneEpsilon))) continue;
     if (glm::dot(e.plane.normal, plane.normal) < kNormalAgreement) continue;
     bool onPlane = true;
     for (const dvec3& p : e.polygon) onPlane = onPlane && std::abs(plane.distanceTo(p)) <= kPlaneEpsilon;

@@ -22,8 +22,8 @@ public:
 
   struct Overlap {
     uint32_t payload;
-    double area;             // of the part of the polygon inside the winding
-    const Winding* polygon;  // the whole polygon as added
+    double area;            // of the part of the polygon inside the winding
+    const Winding* polygon; // the whole polygon as added
   };
   // The polygons on `plane` (same orientation, within qbsp's 0.1 epsilon) that overlap
   // `winding` (counter-clockwise seen from the front) by more than `minArea`.

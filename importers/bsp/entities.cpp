@@ -45,13 +45,12 @@ public:
     const size_t begin = pos_;
     while (pos_ < text_.size() && text_[pos_] != '"') {
       if (text_[pos_] == '\n')
-        throw ImportError(Diagnostic{Severity::Error, path_, startLine, startColumn,
-                                     "entities lump: string runs past the end of its line"});
+        throw ImportError(
+            Diagnostic{Severity::Error, path_, startLine, startColumn, "entities lump: string runs past the end of its line"});
       advance();
     }
     if (pos_ >= text_.size())
-      throw ImportError(Diagnostic{Severity::Error, path_, startLine, startColumn,
-                                   "entities lump: unterminated string"});
+      throw ImportError(Diagnostic{Severity::Error, path_, startLine, startColumn, "entities lump: unterminated string"});
     std::string s(text_.substr(begin, pos_ - begin));
     advance(); // closing quote
     return s;
@@ -90,8 +89,7 @@ std::vector<Entity> parseEntities(std::string_view text, const std::string& path
     lex.expect('{', "'{' opening an entity");
     while (true) {
       if (!lex.skipSpace())
-        throw ImportError(Diagnostic{Severity::Error, path, e.line, 0,
-                                     "entities lump: entity opened here is never closed"});
+        throw ImportError(Diagnostic{Severity::Error, path, e.line, 0, "entities lump: entity opened here is never closed"});
       if (lex.peek() == '}') {
         lex.expect('}', "'}'");
         break;

@@ -12,9 +12,9 @@ namespace bt::bsp {
 
 namespace {
 
-constexpr int kLuxel = 16;            // texels per luxel in Quake 1/2 without BSPX LMSHIFT
-constexpr int kMaxLightmapSide = 1024; // far beyond any compiler; guards corrupt texinfo
-constexpr int kMaxLmShift = 15;        // LMSHIFT values above this are corrupt (ericw-tools writes 0..8)
+constexpr int kLuxel = 16;              // texels per luxel in Quake 1/2 without BSPX LMSHIFT
+constexpr int kMaxLightmapSide = 1024;  // far beyond any compiler; guards corrupt texinfo
+constexpr int kMaxLmShift = 15;         // LMSHIFT values above this are corrupt (ericw-tools writes 0..8)
 constexpr size_t kDecoupledRecord = 40; // uint16 width, height; int32 offset; float world_to_lm[2][4]
 constexpr int kQuake3Page = 128;
 
@@ -26,16 +26,13 @@ struct LightData {
   int bytesPerLuxel = 1; // 1 grey, 3 RGB
 };
 
-LightData chooseLightData(const BspFile& bsp, const std::optional<std::vector<uint8_t>>& litFile,
-                          Diagnostics& diagnostics) {
-  if (bsp.version == Version::HalfLife30 || bsp.version == Version::Quake2_38)
-    return {"RGB lighting lump", bsp.lighting, 1, 3};
+LightData chooseLightData(const BspFile& bsp, const std::optional<std::vector<uint8_t>>& litFile, Diagnostics& diagnostics) {
+  if (bsp.version == Version::HalfLife30 || bsp.version == Version::Quake2_38) return {"RGB lighting lump", bsp.lighting, 1, 3};
   if (litFile) {
     const auto& lit = *litFile;
-    const bool header = lit.size() >= 8 && std::memcmp(lit.data(), "QLIT", 4) == 0 && lit[4] == 1 && lit[5] == 0 &&
-                        lit[6] == 0 && lit[7] == 0;
-    if (header && lit.size() - 8 == bsp.lighting.size() * 3)
-      return {".lit file", std::span(lit).subspan(8), 3, 3};
+    const bool header =
+        lit.size() >= 8 && std::memcmp(lit.data(), "QLIT", 4) == 0 && lit[4] == 1 && lit[5] == 0 && lit[6] == 0 && lit[7] == 0;
+    if (header && lit.size() - 8 == bsp.lighting.size() * 3) return {".lit file", std::span(lit).subspan(8), 3, 3};
     diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
                            fmt::format(".lit file ignored: expected \"QLIT\" version 1 and {} bytes of colour, found "
                                        "{} bytes",
@@ -50,13 +47,15 @@ LightData chooseLightData(const BspFile& bsp, const std::optional<std::vector<ui
 struct LuxelGrid {
   int width = 0, height = 0; // 0: no lightmap
   std::array<int, 2> mins{0, 0};
-  int luxelSize = kLuxel; // 0 for DECOUPLED_LM
+  int luxelSize = kLuxel;    // 0 for DECOUPLED_LM
   glm::dvec3 s{0.0}, t{0.0}; // model space -> luxel coordinates
   double sOffset = 0.0, tOffset = 0.0;
-  bool badRecord = false;    // the BSPX record itself is unusable (counted in a warning)
+  bool badRecord = false; // the BSPX record itself is unusable (counted in a warning)
 };
 
-uint16_t u16At(const std::vector<uint8_t>& b, size_t at) { return static_cast<uint16_t>(b[at] | b[at + 1] << 8); }
+uint16_t u16At(const std::vector<uint8_t>& b, size_t at) {
+  return static_cast<uint16_t>(b[at] | b[at + 1] << 8);
+}
 uint32_t u32At(const std::vector<uint8_t>& b, size_t at) {
   return uint32_t{b[at]} | uint32_t{b[at + 1]} << 8 | uint32_t{b[at + 2]} << 16 | uint32_t{b[at + 3]} << 24;
 }
@@ -74,12 +73,16 @@ public:
   LuxelLayout(const BspFile& bsp, Diagnostics& diagnostics) : bsp_(bsp) {
     const size_t faces = bsp.faces.size();
     if (const BspxLump* lump = bsp.findBspx("DECOUPLED_LM")) {
-      if (lump->bytes.size() == faces * kDecoupledRecord) decoupled_ = &lump->bytes;
-      else ignored(*lump, faces * kDecoupledRecord, bsp.path, diagnostics);
+      if (lump->bytes.size() == faces * kDecoupledRecord)
+        decoupled_ = &lump->bytes;
+      else
+        ignored(*lump, faces * kDecoupledRecord, bsp.path, diagnostics);
     }
     if (const BspxLump* lump = bsp.findBspx("LMSHIFT")) {
-      if (lump->bytes.size() == faces) shifts_ = &lump->bytes;
-      else ignored(*lump, faces, bsp.path, diagnostics);
+      if (lump->bytes.size() == faces)
+        shifts_ = &lump->bytes;
+      else
+        ignored(*lump, faces, bsp.path, diagnostics);
     }
   }
 
@@ -140,9 +143,9 @@ private:
   }
 
   static void ignored(const BspxLump& lump, size_t expected, const std::string& path, Diagnostics& diagnostics) {
-    diagnostics.push_back({Severity::Warning, path, 0, 0,
-                           fmt::format("lump 'BSPX {}' ignored: {} bytes where the faces need {}", lump.name,
-                                       lump.bytes.size(), expected)});
+    diagnostics.push_back(
+        {Severity::Warning, path, 0, 0,
+         fmt::format("lump 'BSPX {}' ignored: {} bytes where the faces need {}", lump.name, lump.bytes.size(), expected)});
   }
 
   const BspFile& bsp_;
@@ -163,8 +166,8 @@ LightmapExtents lightmapExtents(const BspFile& bsp, size_t face, int luxelSize) 
   for (const glm::dvec3& p : bsp.faceVertices(face)) {
     for (int i = 0; i < 2; ++i) {
       const auto& v = texinfo.vecs[static_cast<size_t>(i)];
-      const long double exact = static_cast<long double>(p.x) * v[0] + static_cast<long double>(p.y) * v[1] +
-                                static_cast<long double>(p.z) * v[2] + v[3];
+      const long double exact =
+          static_cast<long double>(p.x) * v[0] + static_cast<long double>(p.y) * v[1] + static_cast<long double>(p.z) * v[2] + v[3];
       if (!(std::fabs(exact) < 1e9L)) return {}; // corrupt texinfo or vertices (also NaN)
       const float st = static_cast<float>(exact);
       lo[i] = std::min(lo[i], st);
@@ -209,8 +212,9 @@ bool fitPlanarAxis(const std::array<glm::dvec3, 3>& p, const std::array<double, 
 bool quake3Surface(const BspFile& bsp, const Surface& surface, const ModelPlacement& placement, LightmappedFace& lf) {
   const size_t pages = bsp.lightmaps.size() / (kQuake3Page * kQuake3Page * 3);
   if (surface.lightmap < 0 || size_t(surface.lightmap) >= pages) return false;
-  if (surface.firstVertex < 0 || surface.vertexCount < 3 || size_t(surface.firstVertex) + size_t(surface.vertexCount) > bsp.drawVertices.size() ||
-      surface.firstIndex < 0 || surface.indexCount < 3 || size_t(surface.firstIndex) + size_t(surface.indexCount) > bsp.drawIndices.size())
+  if (surface.firstVertex < 0 || surface.vertexCount < 3 ||
+      size_t(surface.firstVertex) + size_t(surface.vertexCount) > bsp.drawVertices.size() || surface.firstIndex < 0 ||
+      surface.indexCount < 3 || size_t(surface.firstIndex) + size_t(surface.indexCount) > bsp.drawIndices.size())
     return false;
   std::vector<glm::dvec2> texel; // page texel coordinates, centres at integers
   glm::dvec2 lo(1e30), hi(-1e30);
@@ -243,7 +247,8 @@ bool quake3Surface(const BspFile& bsp, const Surface& surface, const ModelPlacem
     if (!(std::abs(glm::length(lf.normal) - 1.0) < 1e-3)) return false; // also NaN: no triangle with an area
   }
   const auto coordinate = [&](int axis) {
-    return std::array<double, 3>{texel[best[0]][axis] - first[axis], texel[best[1]][axis] - first[axis], texel[best[2]][axis] - first[axis]};
+    return std::array<double, 3>{texel[best[0]][axis] - first[axis], texel[best[1]][axis] - first[axis],
+                                 texel[best[2]][axis] - first[axis]};
   };
   if (!fitPlanarAxis(p, coordinate(0), lf.luxelS, lf.luxelSOffset) || !fitPlanarAxis(p, coordinate(1), lf.luxelT, lf.luxelTOffset))
     return false;
@@ -264,11 +269,11 @@ bool quake3Surface(const BspFile& bsp, const Surface& surface, const ModelPlacem
 CompiledLighting readCompiledLighting(const BspFile& bsp, const std::vector<ModelPlacement>& placements,
                                       const std::optional<std::vector<uint8_t>>& litFile, Diagnostics& diagnostics) {
   CompiledLighting out;
-  out.engine = bsp.version == Version::Quake3_46   ? "quake3"
-             : bsp.version == Version::HalfLife30  ? "halflife"
-             : bsp.version == Version::Quake2_38   ? "quake2"
-             : bsp.hexen2Models                    ? "hexen2"
-                                                   : "quake";
+  out.engine = bsp.version == Version::Quake3_46 ? "quake3"
+      : bsp.version == Version::HalfLife30       ? "halflife"
+      : bsp.version == Version::Quake2_38        ? "quake2"
+      : bsp.hexen2Models                         ? "hexen2"
+                                                 : "quake";
   if (bsp.version == Version::Quake3_46) {
     out.source = "lightmap pages";
     const size_t pageBytes = kQuake3Page * kQuake3Page * 3;
@@ -289,8 +294,10 @@ CompiledLighting readCompiledLighting(const BspFile& bsp, const std::vector<Mode
         const Surface& surface = bsp.surfaces[size_t(model.firstFace + i)];
         if (surface.type != SurfaceType::Planar || surface.lightmap < 0) continue;
         LightmappedFace lf;
-        if (quake3Surface(bsp, surface, placement, lf)) out.faces.push_back(std::move(lf));
-        else ++unusable;
+        if (quake3Surface(bsp, surface, placement, lf))
+          out.faces.push_back(std::move(lf));
+        else
+          ++unusable;
       }
     }
     if (unusable > 0)
@@ -335,8 +342,7 @@ CompiledLighting readCompiledLighting(const BspFile& bsp, const std::vector<Mode
       lf.luxelSOffset = grid.sOffset - glm::dot(grid.s, placement.origin);
       lf.luxelTOffset = grid.tOffset - glm::dot(grid.t, placement.origin);
 
-      const int styleCount = static_cast<int>(std::count_if(face.styles.begin(), face.styles.end(),
-                                                            [](uint8_t s) { return s != 255; }));
+      const int styleCount = static_cast<int>(std::count_if(face.styles.begin(), face.styles.end(), [](uint8_t s) { return s != 255; }));
       if (offset >= 0 && styleCount > 0 && grid.width > 0 && grid.height > 0) {
         // 64-bit sizes: a corrupt DECOUPLED_LM record may claim 65535 x 65535 luxels.
         const size_t luxels = static_cast<size_t>(grid.width) * static_cast<size_t>(grid.height);
@@ -367,8 +373,7 @@ CompiledLighting readCompiledLighting(const BspFile& bsp, const std::vector<Mode
     diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
                            fmt::format("lump 'BSPX {}': {} faces have an unusable record (a luxel size beyond "
                                        "1 << {}, or a projection that is not finite); they are kept without a lightmap",
-                                       layout.lumpName(),
-                                       badRecords, kMaxLmShift)});
+                                       layout.lumpName(), badRecords, kMaxLmShift)});
   return out;
 }
 

@@ -65,8 +65,10 @@ void addQuake3Meshes(const BspFile& bsp, const Model& model, uint32_t entity, co
     const bool curve = s.type == SurfaceType::Patch;
     scene.meshes.push_back(Mesh{0, entity, curve ? MeshKind::Curve : MeshKind::TriangleSoup, uint32_t(scene.faces.size()), 0, {}});
     const bt::Face faceTemplate = faceModel(bsp, s, material);
-    if (curve) addCurve(bsp, s, offset, curveMaxError, scene, faceTemplate);
-    else addSoup(bsp, s, offset, scene, faceTemplate);
+    if (curve)
+      addCurve(bsp, s, offset, curveMaxError, scene, faceTemplate);
+    else
+      addSoup(bsp, s, offset, scene, faceTemplate);
     if (scene.meshes.back().faceCount == 0) {
       scene.meshes.pop_back();
       continue;

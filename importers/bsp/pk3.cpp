@@ -58,19 +58,16 @@ std::optional<std::vector<uint8_t>> Pk3Archive::read(std::string_view name, uint
   if (zip_stat_index(handle_->zip, static_cast<zip_uint64_t>(index), 0, &st) != 0 || !(st.valid & ZIP_STAT_SIZE))
     throw ImportError(Diagnostic{Severity::Error, where, 0, 0, "cannot read the archive entry's size"});
   if (st.size > maxBytes)
-    throw ImportError(Diagnostic{Severity::Error, where, 0, 0,
-                                 fmt::format("entry is {} bytes, more than the {} allowed", st.size, maxBytes)});
+    throw ImportError(
+        Diagnostic{Severity::Error, where, 0, 0, fmt::format("entry is {} bytes, more than the {} allowed", st.size, maxBytes)});
   zip_file_t* file = zip_fopen_index(handle_->zip, static_cast<zip_uint64_t>(index), 0);
-  if (!file)
-    throw ImportError(Diagnostic{Severity::Error, where, 0, 0,
-                                 std::string("cannot open entry: ") + zip_strerror(handle_->zip)});
+  if (!file) throw ImportError(Diagnostic{Severity::Error, where, 0, 0, std::string("cannot open entry: ") + zip_strerror(handle_->zip)});
   std::vector<uint8_t> bytes(static_cast<size_t>(st.size));
   const zip_int64_t got = bytes.empty() ? 0 : zip_fread(file, bytes.data(), bytes.size());
   const std::string error = got < 0 ? zip_file_strerror(file) : "";
   zip_fclose(file);
   if (got < 0 || static_cast<uint64_t>(got) != st.size)
-    throw ImportError(Diagnostic{Severity::Error, where, 0, 0,
-                                 fmt::format("corrupt entry: read {} of {} bytes {}", got, st.size, error)});
+    throw ImportError(Diagnostic{Severity::Error, where, 0, 0, fmt::format("corrupt entry: read {} of {} bytes {}", got, st.size, error)});
   return bytes;
 }
 

@@ -11,7 +11,9 @@ namespace bt::bsp {
 
 namespace {
 
-bool isLineEnd(char c) { return c == '\n' || c == '\r'; }
+bool isLineEnd(char c) {
+  return c == '\n' || c == '\r';
+}
 
 // Tokens of a shader script: words, quoted strings, braces; `//` and `/* */` comments skipped.
 class ShaderLexer {
@@ -46,9 +48,7 @@ public:
       pos_ = end + 1;
       return text_.substr(begin + 1, end - begin - 1);
     }
-    while (pos_ < text_.size() && static_cast<unsigned char>(text_[pos_]) > ' ' && text_[pos_] != '{' &&
-           text_[pos_] != '}')
-      ++pos_;
+    while (pos_ < text_.size() && static_cast<unsigned char>(text_[pos_]) > ' ' && text_[pos_] != '{' && text_[pos_] != '}') ++pos_;
     return text_.substr(begin, pos_ - begin);
   }
 
@@ -66,7 +66,9 @@ private:
   size_t pos_ = 0;
 };
 
-bool isImage(std::string_view path) { return !path.empty() && path[0] != '$' && path[0] != '*'; }
+bool isImage(std::string_view path) {
+  return !path.empty() && path[0] != '$' && path[0] != '*';
+}
 
 std::string stripExtension(const std::string& name) {
   const size_t dot = name.find_last_of('.');
@@ -166,8 +168,7 @@ void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& f
     const auto test = alphaTests.find(lowercase(m.name));
     m.alphaTest = test != alphaTests.end() ? test->second : AlphaTest::None;
     std::vector<std::string> candidates;
-    if (auto it = shaderImages.find(lowercase(m.name)); it != shaderImages.end())
-      candidates.push_back(stripExtension(it->second));
+    if (auto it = shaderImages.find(lowercase(m.name)); it != shaderImages.end()) candidates.push_back(stripExtension(it->second));
     candidates.push_back(stripExtension(m.name));
     for (const std::string& base : candidates) {
       for (const char* ext : {".tga", ".jpg", ".png"}) {
@@ -179,8 +180,8 @@ void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& f
         try {
           image = decodeImage(*bytes, file);
         } catch (const ImportError& e) {
-          diagnostics.push_back({Severity::Warning, file, 0, 0,
-                                 "cannot decode image for shader " + m.name + ": " + e.diagnostic().message});
+          diagnostics.push_back(
+              {Severity::Warning, file, 0, 0, "cannot decode image for shader " + m.name + ": " + e.diagnostic().message});
           continue;
         }
         m.width = image.width;

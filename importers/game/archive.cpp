@@ -12,8 +12,8 @@
 namespace bt::game {
 
 namespace {
-constexpr size_t kHeaderSize = 12;   // "PACK", directory offset, directory length
-constexpr size_t kEntrySize = 64;    // name[56], offset, size
+constexpr size_t kHeaderSize = 12; // "PACK", directory offset, directory length
+constexpr size_t kEntrySize = 64;  // name[56], offset, size
 constexpr size_t kNameSize = 56;
 // Quake's own limit is 2048 files (MAX_FILES_IN_PACK); Quake 2 mods ship bigger paks. Bounded so
 // that a corrupt length cannot make us allocate gigabytes for the directory.
@@ -59,15 +59,15 @@ void PakArchive::readDirectory(std::span<const uint8_t> header, uint64_t fileSiz
   if (dirOffset > fileSize || dirLength > fileSize - dirOffset)
     fail(path_, {}, fmt::format("truncated archive: the directory ends at byte {} of a {}-byte file", dirOffset + dirLength, fileSize));
   const std::vector<uint8_t> dir = whole ? std::vector<uint8_t>(whole->begin() + static_cast<ptrdiff_t>(dirOffset),
-                                                                  whole->begin() + static_cast<ptrdiff_t>(dirOffset + dirLength))
+                                                                whole->begin() + static_cast<ptrdiff_t>(dirOffset + dirLength))
                                          : readRange(path_, dirOffset, dirLength);
   if (dir.size() != dirLength) fail(path_, {}, "cannot read the directory");
   for (size_t at = 0; at < dir.size(); at += kEntrySize) {
     Entry entry{detail::readName(dir, at, kNameSize), detail::readU32(dir, at + 56), detail::readU32(dir, at + 60)};
     if (uint64_t{entry.offset} + entry.size > fileSize)
       fail(path_, entry.name,
-           fmt::format("directory entry {} lies about its size: bytes {}..{} of a {}-byte file", at / kEntrySize,
-                       entry.offset, uint64_t{entry.offset} + entry.size, fileSize));
+           fmt::format("directory entry {} lies about its size: bytes {}..{} of a {}-byte file", at / kEntrySize, entry.offset,
+                       uint64_t{entry.offset} + entry.size, fileSize));
     entries_.push_back(std::move(entry));
   }
 }

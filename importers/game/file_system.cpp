@@ -33,12 +33,13 @@ void FileSystem::addGameDir(const fs::path& dir, const std::vector<std::string>&
   }
   // Quake loads pak0, pak1, ... and searches the last loaded first; Quake 3 sorts its pk3s by
   // name and searches them the same way. Both amount to: descending by name.
-  std::sort(archives.begin(), archives.end(), [](const fs::path& a, const fs::path& b) {
-    return lowercase(a.filename().string()) > lowercase(b.filename().string());
-  });
+  std::sort(archives.begin(), archives.end(),
+            [](const fs::path& a, const fs::path& b) { return lowercase(a.filename().string()) > lowercase(b.filename().string()); });
   for (const fs::path& a : archives) {
-    if (fs::is_directory(a, ec)) mounts_.push_back(Mount{a, nullptr});
-    else try {
+    if (fs::is_directory(a, ec))
+      mounts_.push_back(Mount{a, nullptr});
+    else
+      try {
         addArchive(a);
       } catch (const ImportError& e) {
         skipped_.push_back({Severity::Warning, e.diagnostic().file, 0, 0, "archive skipped: " + e.diagnostic().message});

@@ -80,8 +80,10 @@ GameInstall openGameInstall(const GameOptions& options, const std::string& level
   const fs::path levelInstall = installOf(levelDir, install.profile);
   if (!install.profile) install.profile = profileForFormat(format);
 
-  if (!options.baseDir.empty()) install.baseDir = normaliseBaseDir(fs::path(options.baseDir), install.profile);
-  else if (!levelInstall.empty()) install.baseDir = levelInstall;
+  if (!options.baseDir.empty())
+    install.baseDir = normaliseBaseDir(fs::path(options.baseDir), install.profile);
+  else if (!levelInstall.empty())
+    install.baseDir = levelInstall;
   else if (install.profile)
     if (auto it = options.configuredBaseDirs.find(std::string(install.profile->name)); it != options.configuredBaseDirs.end())
       install.baseDir = it->second;
@@ -93,8 +95,10 @@ GameInstall openGameInstall(const GameOptions& options, const std::string& level
   // The engine's order: mods, the level's own game folder (a mod when it is not the base), the base game.
   for (const std::string& mod : options.mods) {
     const fs::path dir = install.baseDir / mod;
-    if (isDir(dir)) addGameDir(install, dir);
-    else install.problems.push_back({Severity::Warning, dir.string(), 0, 0, "mod folder (--mod) not found"});
+    if (isDir(dir))
+      addGameDir(install, dir);
+    else
+      install.problems.push_back({Severity::Warning, dir.string(), 0, 0, "mod folder (--mod) not found"});
   }
   if (!levelDir.empty()) addGameDir(install, levelDir);
   if (install.profile && !install.baseDir.empty())
@@ -113,23 +117,23 @@ std::optional<std::string> findLevelByName(const GameOptions& options, const std
   const std::string stem = lowercase(fs::path(name).extension().string()) == ".bsp" ? fs::path(name).stem().string() : name;
   const std::string entry = "maps/" + stem + ".bsp";
   std::vector<const GameProfile*> candidates;
-  if (!options.game.empty()) candidates.push_back(findGameProfile(options.game));
+  if (!options.game.empty())
+    candidates.push_back(findGameProfile(options.game));
   else
     for (const GameProfile& p : gameProfiles()) candidates.push_back(&p);
   for (const GameProfile* profile : candidates) {
     if (!profile) continue;
     GameOptions forGame = options;
     forGame.game = profile->name;
-    if (options.game.empty() && options.baseDir.empty() && !options.configuredBaseDirs.contains(std::string(profile->name)))
-      continue;
+    if (options.game.empty() && options.baseDir.empty() && !options.configuredBaseDirs.contains(std::string(profile->name))) continue;
     const GameInstall install = openGameInstall(forGame, "", "");
     if (auto where = install.files.describe(entry)) return where;
   }
   return std::nullopt;
 }
 
-std::optional<Palette> installPalette(const GameInstall& install, bool quake2, const std::string& sceneFile,
-                                      Diagnostics& diagnostics, std::string* readFrom) {
+std::optional<Palette> installPalette(const GameInstall& install, bool quake2, const std::string& sceneFile, Diagnostics& diagnostics,
+                                      std::string* readFrom) {
   const GameProfile* quake2Profile = findGameProfile("quake2");
   const GameProfile* profile = quake2 ? quake2Profile : install.profile;
   // WAD2 textures are Quake's whatever the level's format says (a Half-Life or Quake 2 map

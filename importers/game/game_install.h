@@ -16,11 +16,11 @@
 namespace bt::game {
 
 struct GameInstall {
-  const GameProfile* profile = nullptr;         // nullptr: not known (no --game, an unusual format)
-  std::filesystem::path baseDir;                // the install; empty when none was found
-  std::vector<std::filesystem::path> gameDirs;  // in search order
-  FileSystem files;                             // over gameDirs
-  Diagnostics problems;                         // game folders named but absent, archives skipped as corrupt
+  const GameProfile* profile = nullptr;        // nullptr: not known (no --game, an unusual format)
+  std::filesystem::path baseDir;               // the install; empty when none was found
+  std::vector<std::filesystem::path> gameDirs; // in search order
+  FileSystem files;                            // over gameDirs
+  Diagnostics problems;                        // game folders named but absent, archives skipped as corrupt
 };
 
 // The install a level belongs to. The profile: --game, else the game folder the level lies in
@@ -41,7 +41,7 @@ std::optional<std::string> findLevelByName(const GameOptions& options, const std
 // (gfx/palette.lmp, Quake 2's pics/colormap.pcx) through the file system, else the built-in one
 // (default_palettes.h) with a note in `diagnostics`. `quake2`: the .wal palette is wanted, whatever
 // the profile. `readFrom` receives the file on disk that gave it (empty for the built-in one).
-std::optional<Palette> installPalette(const GameInstall& install, bool quake2, const std::string& sceneFile,
-                                      Diagnostics& diagnostics, std::string* readFrom);
+std::optional<Palette> installPalette(const GameInstall& install, bool quake2, const std::string& sceneFile, Diagnostics& diagnostics,
+                                      std::string* readFrom);
 
 } // namespace bt::game

@@ -11,21 +11,19 @@ namespace {
 // Hexen II's data1, Half-Life's valve, ioquake3's BASEGAME and OpenArena's baseoa).
 const std::vector<GameProfile>& profiles() {
   static const std::vector<GameProfile> table{
-      {"quake", "Quake", {"id1"}, {".pak"}, "gfx/palette.lmp", "", "gfx/env", "progs", "", MapDialect::Standard,
-       {"bsp29", "bsp2", "2psb"}},
-      {"hexen2", "Hexen II", {"data1"}, {".pak"}, "gfx/palette.lmp", "", "gfx/env", "models", "", MapDialect::Hexen2,
-       {}},
+      {"quake", "Quake", {"id1"}, {".pak"}, "gfx/palette.lmp", "", "gfx/env", "progs", "", MapDialect::Standard, {"bsp29", "bsp2", "2psb"}},
+      {"hexen2", "Hexen II", {"data1"}, {".pak"}, "gfx/palette.lmp", "", "gfx/env", "models", "", MapDialect::Hexen2, {}},
       {"halflife", "Half-Life", {"valve"}, {".pak"}, "", "", "gfx/env", "models", "", MapDialect::Valve220, {"bsp30"}},
-      {"quake2", "Quake 2", {"baseq2"}, {".pak"}, "pics/colormap.pcx", "textures", "env", "models", "",
-       MapDialect::Quake2, {"ibsp38"}},
-      {"quake3", "Quake 3", {"baseq3", "baseoa"}, {".pk3"}, "", "textures", "env", "models", "scripts",
-       MapDialect::Quake3, {"ibsp46"}},
+      {"quake2", "Quake 2", {"baseq2"}, {".pak"}, "pics/colormap.pcx", "textures", "env", "models", "", MapDialect::Quake2, {"ibsp38"}},
+      {"quake3", "Quake 3", {"baseq3", "baseoa"}, {".pk3"}, "", "textures", "env", "models", "scripts", MapDialect::Quake3, {"ibsp46"}},
   };
   return table;
 }
 } // namespace
 
-std::span<const GameProfile> gameProfiles() { return profiles(); }
+std::span<const GameProfile> gameProfiles() {
+  return profiles();
+}
 
 const GameProfile* findGameProfile(std::string_view name) {
   for (const GameProfile& p : profiles())

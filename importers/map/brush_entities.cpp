@@ -141,9 +141,11 @@ bool isOriginBrush(const MapBrush& brush) {
 bool mergedIntoWorld(std::string_view classname) {
   const std::string name = lowercase(classname);
   return name == "worldspawn" || name == "func_group" || name == "func_detail" || name == "func_detail_illusionary" ||
-         name == "func_detail_wall" || name == "func_detail_fence" || name == "func_illusionary_visblocker";
+      name == "func_detail_wall" || name == "func_detail_fence" || name == "func_illusionary_visblocker";
 }
 
-bool isHipnoticRotator(std::string_view classname) { return lowercase(classname).starts_with("rotate_"); }
+bool isHipnoticRotator(std::string_view classname) {
+  return lowercase(classname).starts_with("rotate_");
+}
 
 } // namespace bt::map

@@ -28,10 +28,10 @@ enum class TextureKind {
 
 struct TextureParams {
   TextureKind kind = TextureKind::Standard;
-  std::array<double, 2> offset{0.0, 0.0};  // Standard and Valve 220
-  double rotation = 0.0;                   // Standard and Valve 220 (informative only for Valve)
-  std::array<double, 2> scale{1.0, 1.0};   // Standard and Valve 220
-  std::array<dvec3, 2> axis{};             // Valve 220: U and V axes
+  std::array<double, 2> offset{0.0, 0.0};        // Standard and Valve 220
+  double rotation = 0.0;                         // Standard and Valve 220 (informative only for Valve)
+  std::array<double, 2> scale{1.0, 1.0};         // Standard and Valve 220
+  std::array<dvec3, 2> axis{};                   // Valve 220: U and V axes
   std::array<std::array<double, 3>, 2> matrix{}; // BrushPrimitive rows
 
   bool operator==(const TextureParams&) const = default;
@@ -42,19 +42,19 @@ struct MapFace {
   int column = 0;
   std::array<dvec3, 3> points{}; // as written; qbsp builds the plane from them
   std::string texture;
-  bool quotedTexture = false;    // written as "name" (names with spaces)
+  bool quotedTexture = false; // written as "name" (names with spaces)
   TextureParams tex;
   // Quake 2 / Quake 3 / Daikatana: contents, surface flags, value
   std::optional<SurfaceAttributes> surface;
-  std::optional<double> hexen2Value;               // Hexen II's one extra field
+  std::optional<double> hexen2Value;                // Hexen II's one extra field
   std::optional<std::array<int, 3>> daikatanaColor; // Daikatana's surface colour after Q2 fields
-  std::string trailingComment;                     // e.g. QuArK's "//TX1" at the end of the line
+  std::string trailingComment;                      // e.g. QuArK's "//TX1" at the end of the line
 
   // Equality is of content: where a face sits in the file (line, column) is not part of it,
   // so a rewritten file compares equal to its source.
   bool operator==(const MapFace& o) const {
     return points == o.points && texture == o.texture && quotedTexture == o.quotedTexture && tex == o.tex && surface == o.surface &&
-           hexen2Value == o.hexen2Value && daikatanaColor == o.daikatanaColor && trailingComment == o.trailingComment;
+        hexen2Value == o.hexen2Value && daikatanaColor == o.daikatanaColor && trailingComment == o.trailingComment;
   }
 };
 
@@ -62,7 +62,7 @@ struct MapFace {
 struct MapBrush {
   enum class Kind { Brush, BrushDef, Verbatim };
   Kind kind = Kind::Brush;
-  int line = 0;        // of the '{'
+  int line = 0; // of the '{'
   int column = 0;
   int keywordLine = 0; // Kind::Verbatim: the line of the block's keyword, where `verbatim` starts
   std::vector<MapFace> faces;
@@ -89,9 +89,7 @@ struct MapDocument {
   bool dialectFromHeader = false; // a "// Format:" comment named it
   std::vector<MapEntity> entities;
 
-  bool operator==(const MapDocument& other) const {
-    return dialect == other.dialect && entities == other.entities;
-  }
+  bool operator==(const MapDocument& other) const { return dialect == other.dialect && entities == other.entities; }
 };
 
 } // namespace bt::map

@@ -22,11 +22,10 @@ std::optional<Plane> planeFromPoints(const std::array<dvec3, 3>& points) {
 ParaxialAxes paraxialAxes(const dvec3& normal) {
   // QuakeEd's table: {normal, s axis, t axis} for floor, ceiling, west, east, south, north.
   static constexpr double kBase[6][3][3] = {
-      {{0, 0, 1}, {1, 0, 0}, {0, -1, 0}},  {{0, 0, -1}, {1, 0, 0}, {0, -1, 0}},
-      {{1, 0, 0}, {0, 1, 0}, {0, 0, -1}},  {{-1, 0, 0}, {0, 1, 0}, {0, 0, -1}},
-      {{0, 1, 0}, {1, 0, 0}, {0, 0, -1}},  {{0, -1, 0}, {1, 0, 0}, {0, 0, -1}},
+      {{0, 0, 1}, {1, 0, 0}, {0, -1, 0}},  {{0, 0, -1}, {1, 0, 0}, {0, -1, 0}}, {{1, 0, 0}, {0, 1, 0}, {0, 0, -1}},
+      {{-1, 0, 0}, {0, 1, 0}, {0, 0, -1}}, {{0, 1, 0}, {1, 0, 0}, {0, 0, -1}},  {{0, -1, 0}, {1, 0, 0}, {0, 0, -1}},
   };
-  auto vec = [](const double (&v)[3]) { return dvec3{v[0], v[1], v[2]}; };
+  auto vec = [](const double(&v)[3]) { return dvec3{v[0], v[1], v[2]}; };
   double best = 0.0;
   int bestAxis = 0;
   for (int i = 0; i < 6; ++i) {

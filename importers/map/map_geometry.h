@@ -64,7 +64,6 @@ inline constexpr double kWorldExtent = 262144.0;
 // qbsp's ON_EPSILON for classifying points against a plane while clipping brush windings.
 inline constexpr double kOnEpsilon = 0.0001;
 
-
 } // namespace bt::map
 
 namespace bt::map {

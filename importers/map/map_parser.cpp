@@ -51,8 +51,10 @@ public:
   void skipSpaceOnLine() {
     while (pos_ < text_.size()) {
       const char c = text_[pos_];
-      if (c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v') ++pos_;
-      else return;
+      if (c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v')
+        ++pos_;
+      else
+        return;
     }
   }
 
@@ -104,8 +106,10 @@ public:
     ++pos_;
     const size_t start = pos_;
     while (pos_ < text_.size() && text_[pos_] != '"') {
-      if (text_[pos_] == '\n') newline();
-      else ++pos_;
+      if (text_[pos_] == '\n')
+        newline();
+      else
+        ++pos_;
     }
     if (atEnd()) failAt(startLine, startCol, fmt::format("unterminated string ({})", what));
     std::string s(text_.substr(start, pos_ - start));
@@ -141,8 +145,10 @@ public:
       if (c == '"') {
         ++pos_;
         while (pos_ < text_.size() && text_[pos_] != '"') {
-          if (text_[pos_] == '\n') newline();
-          else ++pos_;
+          if (text_[pos_] == '\n')
+            newline();
+          else
+            ++pos_;
         }
         if (pos_ < text_.size()) ++pos_;
         continue;
@@ -421,8 +427,11 @@ private:
       break;
     }
     default:
-      in_.failAt(firstLine, firstCol,
-                 fmt::format("{} fields after the texture parameters: expected none, 1 (Hexen II), 3 (Quake 2 contents, flags, value) or 6 (Daikatana)", count));
+      in_.failAt(
+          firstLine, firstCol,
+          fmt::format(
+              "{} fields after the texture parameters: expected none, 1 (Hexen II), 3 (Quake 2 contents, flags, value) or 6 (Daikatana)",
+              count));
     }
   }
 

@@ -19,7 +19,7 @@ namespace bt::map {
 
 struct MapPatch {
   std::string texture;
-  PatchGrid control; // st in texture units
+  PatchGrid control;  // st in texture units
   int lineOffset = 0; // lines from the block's keyword to where a problem was found
 };
 

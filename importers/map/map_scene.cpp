@@ -35,7 +35,7 @@ bool drawsNothing(const MapFace& f) {
 
 bool samePlane(const Plane& a, const Plane& b) {
   return std::fabs(a.normal.x - b.normal.x) < kNormalEpsilon && std::fabs(a.normal.y - b.normal.y) < kNormalEpsilon &&
-         std::fabs(a.normal.z - b.normal.z) < kNormalEpsilon && std::fabs(a.dist - b.dist) < kDistEpsilon;
+      std::fabs(a.normal.z - b.normal.z) < kNormalEpsilon && std::fabs(a.dist - b.dist) < kDistEpsilon;
 }
 
 // Sets the first `key` (Quake compares keys without case) to value, or adds it.
@@ -49,7 +49,9 @@ void setKey(std::vector<std::pair<std::string, std::string>>& keys, std::string_
   keys.emplace_back(std::string(key), std::move(value));
 }
 
-std::string formatVector(const dvec3& v) { return fmt::format("{} {} {}", v.x, v.y, v.z); }
+std::string formatVector(const dvec3& v) {
+  return fmt::format("{} {} {}", v.x, v.y, v.z);
+}
 
 class SceneBuilder {
 public:
@@ -71,8 +73,8 @@ public:
       e.firstBrush = static_cast<uint32_t>(scene_.brushes.size());
       const auto entityIndex = static_cast<uint32_t>(scene_.entities.size());
       const std::optional<dvec3> originBrush = equalsIgnoreCase(e.classname(), "misc_external_map")
-                                                   ? includeExternalMap(me, e, entityIndex)
-                                                   : buildBrushes(me.brushes, entityIndex, doc_.path, nullptr);
+          ? includeExternalMap(me, e, entityIndex)
+          : buildBrushes(me.brushes, entityIndex, doc_.path, nullptr);
       e.brushCount = static_cast<uint32_t>(scene_.brushes.size()) - e.firstBrush;
       if (originBrush && mergedIntoWorld(e.classname())) {
         report(Severity::Note, doc_.path, me.line, me.column,
@@ -115,8 +117,10 @@ private:
     std::optional<dvec3> originBrush;
     for (const MapBrush& mb : brushes) {
       if (mb.kind == MapBrush::Kind::Verbatim) {
-        if (isPatchBlock(mb.verbatim)) buildPatch(mb, entityIndex, file, placement);
-        else ++verbatim_;
+        if (isPatchBlock(mb.verbatim))
+          buildPatch(mb, entityIndex, file, placement);
+        else
+          ++verbatim_;
         continue;
       }
       const std::optional<uint32_t> built = buildBrush(mb, entityIndex, file, placement);
@@ -152,7 +156,8 @@ private:
     }
     if (!me.brushes.empty())
       report(Severity::Warning, doc_.path, me.line, me.column,
-             fmt::format("misc_external_map has {} brush(es) of its own; ignored, as qbsp replaces them by the external map's", me.brushes.size()));
+             fmt::format("misc_external_map has {} brush(es) of its own; ignored, as qbsp replaces them by the external map's",
+                         me.brushes.size()));
 
     std::vector<std::string> warnings;
     const Placement placement = externalMapPlacement(e.keys, warnings);
@@ -218,8 +223,9 @@ private:
     for (const MapFace& f : mb.faces) {
       const std::optional<Plane> written = planeFromPoints(f.points);
       // qbsp moves the three points and builds the plane again from them.
-      const std::optional<Plane> plane =
-          placement ? planeFromPoints({placement->apply(f.points[0]), placement->apply(f.points[1]), placement->apply(f.points[2])}) : written;
+      const std::optional<Plane> plane = placement
+          ? planeFromPoints({placement->apply(f.points[0]), placement->apply(f.points[1]), placement->apply(f.points[2])})
+          : written;
       if (!written || !plane) {
         report(Severity::Warning, file, f.line, f.column, "face skipped: its three points are collinear (degenerate plane)");
         continue;
@@ -268,7 +274,8 @@ private:
     for (size_t i = 0; i < sides.size(); ++i) {
       if (windings[i].size() < 3) {
         // A plane that touches the brush in an edge or not at all: qbsp drops it too.
-        report(Severity::Note, file, sides[i].face->line, sides[i].face->column, "face dropped: its plane does not touch the brush in an area");
+        report(Severity::Note, file, sides[i].face->line, sides[i].face->column,
+               "face dropped: its plane does not touch the brush in an area");
         continue;
       }
       const MapFace& mf = *sides[i].face;

@@ -19,7 +19,7 @@ bool usesValveAxes(MapDialect d) {
 }
 bool hasSurfaceFields(MapDialect d) {
   return d == MapDialect::Quake2 || d == MapDialect::Quake2Valve || d == MapDialect::Quake3 || d == MapDialect::Quake3Valve ||
-         d == MapDialect::Daikatana;
+      d == MapDialect::Daikatana;
 }
 
 // TrenchBroom's names, so that TrenchBroom and our reader both pick the dialect up again.
@@ -92,8 +92,8 @@ private:
     const double err = maxTexelError(vecs, textureVecs(standard, plane), points);
     if (!(err <= 0.01))
       report_.push_back(Diagnostic{Severity::Warning, path_, f.line, f.column,
-                                   fmt::format("texture of '{}' cannot be represented exactly in {}: off by up to {:.3g} texels",
-                                               f.texture, toString(target_), err)});
+                                   fmt::format("texture of '{}' cannot be represented exactly in {}: off by up to {:.3g} texels", f.texture,
+                                               toString(target_), err)});
     f.tex = standard;
   }
 
@@ -113,7 +113,8 @@ private:
   }
 
   void droppedField(const MapFace& f, const char* what) {
-    report_.push_back(Diagnostic{Severity::Note, path_, f.line, f.column, fmt::format("{} dropped: {} cannot hold it", what, toString(target_))});
+    report_.push_back(
+        Diagnostic{Severity::Note, path_, f.line, f.column, fmt::format("{} dropped: {} cannot hold it", what, toString(target_))});
   }
 
   MapDialect target_;
@@ -123,8 +124,10 @@ private:
 
 void writeTexture(std::string& out, const MapFace& f) {
   const bool quote = f.quotedTexture || f.texture.empty() || f.texture.find_first_of(" \t\r\n") != std::string::npos;
-  if (quote) fmt::format_to(std::back_inserter(out), "\"{}\"", f.texture);
-  else out += f.texture;
+  if (quote)
+    fmt::format_to(std::back_inserter(out), "\"{}\"", f.texture);
+  else
+    out += f.texture;
 }
 
 void writeFace(std::string& out, const MapFace& f) {
@@ -134,8 +137,8 @@ void writeFace(std::string& out, const MapFace& f) {
   const TextureParams& t = f.tex;
   switch (t.kind) {
   case TextureKind::BrushPrimitive:
-    fmt::format_to(std::back_inserter(out), "( ( {} {} {} ) ( {} {} {} ) ) ", t.matrix[0][0], t.matrix[0][1], t.matrix[0][2], t.matrix[1][0],
-                   t.matrix[1][1], t.matrix[1][2]);
+    fmt::format_to(std::back_inserter(out), "( ( {} {} {} ) ( {} {} {} ) ) ", t.matrix[0][0], t.matrix[0][1], t.matrix[0][2],
+                   t.matrix[1][0], t.matrix[1][1], t.matrix[1][2]);
     writeTexture(out, f);
     break;
   case TextureKind::Valve220:
@@ -149,7 +152,8 @@ void writeFace(std::string& out, const MapFace& f) {
     break;
   }
   if (f.surface) fmt::format_to(std::back_inserter(out), " {} {} {}", f.surface->contents, f.surface->flags, f.surface->value);
-  if (f.daikatanaColor) fmt::format_to(std::back_inserter(out), " {} {} {}", (*f.daikatanaColor)[0], (*f.daikatanaColor)[1], (*f.daikatanaColor)[2]);
+  if (f.daikatanaColor)
+    fmt::format_to(std::back_inserter(out), " {} {} {}", (*f.daikatanaColor)[0], (*f.daikatanaColor)[1], (*f.daikatanaColor)[2]);
   if (f.hexen2Value) fmt::format_to(std::back_inserter(out), " {}", *f.hexen2Value);
   if (!f.trailingComment.empty()) fmt::format_to(std::back_inserter(out), " {}", f.trailingComment);
   out += '\n';

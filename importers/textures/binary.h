@@ -19,7 +19,7 @@ inline bool fits(std::span<const uint8_t> bytes, uint64_t offset, uint64_t size)
 inline uint32_t readU32(std::span<const uint8_t> bytes, size_t offset) {
   assert(fits(bytes, offset, 4));
   return static_cast<uint32_t>(bytes[offset]) | static_cast<uint32_t>(bytes[offset + 1]) << 8 |
-         static_cast<uint32_t>(bytes[offset + 2]) << 16 | static_cast<uint32_t>(bytes[offset + 3]) << 24;
+      static_cast<uint32_t>(bytes[offset + 2]) << 16 | static_cast<uint32_t>(bytes[offset + 3]) << 24;
 }
 
 inline uint16_t readU16(std::span<const uint8_t> bytes, size_t offset) {

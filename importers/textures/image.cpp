@@ -32,10 +32,9 @@ std::unique_ptr<OIIO::ImageInput> openImage(const std::string& name, OIIO::Files
 // (extra channels ignored).
 Image readRgba(OIIO::ImageInput& input, const std::string& file) {
   const OIIO::ImageSpec& spec = input.spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.width > kMaxImageSide || spec.height > kMaxImageSide ||
-      spec.nchannels <= 0 || spec.depth != 1)
-    fail(file, fmt::format("unsupported image size {}x{}x{} with {} channels", spec.width, spec.height, spec.depth,
-                           spec.nchannels));
+  if (spec.width <= 0 || spec.height <= 0 || spec.width > kMaxImageSide || spec.height > kMaxImageSide || spec.nchannels <= 0 ||
+      spec.depth != 1)
+    fail(file, fmt::format("unsupported image size {}x{}x{} with {} channels", spec.width, spec.height, spec.depth, spec.nchannels));
 
   const int channels = spec.nchannels;
   std::vector<uint8_t> pixels(static_cast<size_t>(spec.width) * spec.height * channels);

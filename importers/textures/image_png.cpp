@@ -39,8 +39,7 @@ Image finishRead(png_image& png, const std::string& file) {
   image.width = static_cast<int>(png.width);
   image.height = static_cast<int>(png.height);
   image.rgba.resize(PNG_IMAGE_SIZE(png));
-  if (!png_image_finish_read(&png, nullptr, image.rgba.data(), 0, nullptr))
-    fail(file, fmt::format("cannot decode image: {}", png.message));
+  if (!png_image_finish_read(&png, nullptr, image.rgba.data(), 0, nullptr)) fail(file, fmt::format("cannot decode image: {}", png.message));
   return image;
 }
 

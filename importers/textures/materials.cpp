@@ -64,7 +64,9 @@ int extensionRank(const fs::path& file) {
   return -1;
 }
 
-bool isWal(const fs::path& file) { return lowercase(file.extension().string()) == ".wal"; }
+bool isWal(const fs::path& file) {
+  return lowercase(file.extension().string()) == ".wal";
+}
 
 // One folder of loose textures, indexed once by lower-case relative stem ("e1u1/floor1_3"),
 // which makes lookups case-insensitive like the engines' file systems.
@@ -131,12 +133,13 @@ public:
     const Entity* world = scene.worldspawn();
     for (const std::string& wad : search.wads) addWad(wad, "--wad", /*relativeToMap=*/false);
     if (world)
-      for (const std::string& wad : splitList(world->value("wad")))
-        addWad(wad, "worldspawn \"wad\"", /*relativeToMap=*/true);
+      for (const std::string& wad : splitList(world->value("wad"))) addWad(wad, "worldspawn \"wad\"", /*relativeToMap=*/true);
 
     for (const std::string& dir : search.textureDirs) {
-      if (isDirectory(dir)) addFolder(dir);
-      else warn(fmt::format("texture folder '{}' (--textures) does not exist", dir));
+      if (isDirectory(dir))
+        addFolder(dir);
+      else
+        warn(fmt::format("texture folder '{}' (--textures) does not exist", dir));
     }
     for (const fs::path& dir : unpackedWadFolders_) addFolder(dir);
     // TrenchBroom keeps the texture folders of a map in this key, relative to the game dir; for
@@ -172,8 +175,7 @@ public:
     std::set<fs::path> listed;
     for (const Material& m : materials)
       if (m.missing())
-        if (const fs::path* file = firstLooseFile(m.name); file && !isWal(*file) && listed.insert(*file).second)
-          files.push_back(*file);
+        if (const fs::path* file = firstLooseFile(m.name); file && !isWal(*file) && listed.insert(*file).second) files.push_back(*file);
     std::vector<Decoded> decoded(files.size());
     parallelFor(files.size(), 0, [&](size_t i) {
       try {
@@ -238,8 +240,8 @@ private:
   // of source ports), loose files or inside the game's archives.
   std::optional<Material> findInGame(const std::string& name, const std::vector<std::string>& spellings) {
     if (install_.files.empty()) return std::nullopt;
-    const std::string folder = install_.profile && !install_.profile->textures.empty()
-                                   ? std::string(install_.profile->textures) + "/" : "textures/";
+    const std::string folder =
+        install_.profile && !install_.profile->textures.empty() ? std::string(install_.profile->textures) + "/" : "textures/";
     for (const std::string& stem : spellings)
       for (std::string_view ext : kImageExtensions) {
         const std::string file = folder + stem + std::string(ext);
@@ -385,8 +387,7 @@ private:
         wad.file = std::make_unique<WadFile>(WadFile::open(wad.path));
       } catch (const ImportError& e) {
         wad.failed = true;
-        diagnostics_.push_back(Diagnostic{Severity::Warning, e.diagnostic().file, 0, 0,
-                                          "WAD skipped: " + e.diagnostic().message});
+        diagnostics_.push_back(Diagnostic{Severity::Warning, e.diagnostic().file, 0, 0, "WAD skipped: " + e.diagnostic().message});
         return nullptr;
       }
     }
@@ -434,8 +435,7 @@ private:
         material->name = name;
         return material;
       } catch (const ImportError& e) {
-        diagnostics_.push_back(Diagnostic{Severity::Warning, e.diagnostic().file, 0, 0,
-                                          "texture skipped: " + e.diagnostic().message});
+        diagnostics_.push_back(Diagnostic{Severity::Warning, e.diagnostic().file, 0, 0, "texture skipped: " + e.diagnostic().message});
         return std::nullopt;
       }
     }
@@ -473,8 +473,7 @@ private:
       material.sourcePath = file.string();
       return material;
     } catch (const ImportError& e) {
-      diagnostics_.push_back(
-          Diagnostic{Severity::Warning, e.diagnostic().file, 0, 0, "texture skipped: " + e.diagnostic().message});
+      diagnostics_.push_back(Diagnostic{Severity::Warning, e.diagnostic().file, 0, 0, "texture skipped: " + e.diagnostic().message});
       return std::nullopt;
     }
   }
@@ -540,8 +539,7 @@ private:
     for (size_t i = 0; i < base.rgba.size(); i += 4) {
       emissive.rgba[i + 3] = 255;
       const uint8_t* texel = &base.rgba[i];
-      if (texel[3] == 0 || !std::binary_search(fullbrightColours_.begin(), fullbrightColours_.end(), packRgb(texel)))
-        continue;
+      if (texel[3] == 0 || !std::binary_search(fullbrightColours_.begin(), fullbrightColours_.end(), packRgb(texel))) continue;
       std::copy_n(texel, 3, &emissive.rgba[i]);
       any = true;
     }
@@ -577,9 +575,9 @@ private:
   std::set<fs::path> seenFolders_;
   bool paletteResolved_ = false;
   std::optional<Palette> palette_;
-  std::vector<uint32_t> fullbrightColours_; // sorted, from palette_
+  std::vector<uint32_t> fullbrightColours_;             // sorted, from palette_
   std::optional<std::optional<Palette>> quake2Palette_; // outer: looked for yet; inner: found
-  std::map<fs::path, Decoded> decoded_; // by decodeAhead(), until find() takes them
+  std::map<fs::path, Decoded> decoded_;                 // by decodeAhead(), until find() takes them
   std::vector<std::string> filesRead_;
 };
 
@@ -613,8 +611,7 @@ std::vector<std::string> textureFileStems(std::string_view name) {
 void loadMaterials(Scene& scene, const TextureSearch& search) {
   if (!search.load) {
     for (Material& material : scene.materials)
-      if (material.missing() && material.baseColor.empty())
-        material.baseColor = checkerPlaceholder(material.width, material.height);
+      if (material.missing() && material.baseColor.empty()) material.baseColor = checkerPlaceholder(material.width, material.height);
     return;
   }
 
@@ -647,8 +644,7 @@ void loadMaterials(Scene& scene, const TextureSearch& search) {
     for (const std::string& n : missing) names += (names.empty() ? "" : ", ") + n;
     scene.diagnostics.push_back(Diagnostic{
         Severity::Warning, scene.sourcePath, 0, 0,
-        fmt::format("{} texture(s) not found, drawn as a checker: {} (searched {})", missing.size(), names,
-                    library.describeSearch())});
+        fmt::format("{} texture(s) not found, drawn as a checker: {} (searched {})", missing.size(), names, library.describeSearch())});
   }
 }
 

@@ -37,13 +37,14 @@ std::vector<uint8_t> readWholeFile(const std::filesystem::path& path, uint64_t m
   if (size > maxSize) fail(path.string(), fmt::format("file too large ({} bytes)", size));
   std::ifstream in(path, std::ios::binary);
   std::vector<uint8_t> bytes(size);
-  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size)))
-    fail(path.string(), "cannot read");
+  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size))) fail(path.string(), "cannot read");
   return bytes;
 }
 
 // Quake 1 texture names start with '{' when they are alpha-tested ("fence") textures.
-bool isFenceTexture(std::string_view name) { return !name.empty() && name.front() == '{'; }
+bool isFenceTexture(std::string_view name) {
+  return !name.empty() && name.front() == '{';
+}
 
 // Quake's software renderer draws palette indices 224..255 at full brightness regardless of
 // lighting; GL engines and ericw-tools' light follow the same rule for "fullbright" texels.
@@ -86,9 +87,10 @@ Palette paletteFromBytes(std::span<const uint8_t> bytes, std::string_view what) 
     std::copy(bytes.end() - 768, bytes.end(), palette.rgb.begin());
     return palette;
   }
-  fail(what, fmt::format("not a palette: {} bytes (a palette.lmp has 768, or a PCX file with a "
-                         "256-colour palette)",
-                         bytes.size()));
+  fail(what,
+       fmt::format("not a palette: {} bytes (a palette.lmp has 768, or a PCX file with a "
+                   "256-colour palette)",
+                   bytes.size()));
 }
 
 Palette loadPalette(const std::filesystem::path& lmp) {
@@ -121,8 +123,10 @@ namespace {
 std::optional<Palette> findPaletteFile(const std::string& explicitPalette, const std::vector<std::filesystem::path>& startDirs,
                                        std::initializer_list<const char*> relativeNames, std::filesystem::path* readFrom) {
   std::optional<std::filesystem::path> file;
-  if (!explicitPalette.empty()) file = explicitPalette;
-  else file = findUpwards(startDirs, relativeNames);
+  if (!explicitPalette.empty())
+    file = explicitPalette;
+  else
+    file = findUpwards(startDirs, relativeNames);
   if (!file) return std::nullopt;
   if (readFrom) *readFrom = *file;
   return loadPalette(*file);
@@ -135,14 +139,13 @@ std::optional<Palette> findPalette(const std::string& explicitPalette, const std
   return findPaletteFile(explicitPalette, startDirs, {"gfx/palette.lmp", "palette.lmp"}, readFrom);
 }
 
-std::optional<Palette> findQuake2Palette(const std::string& explicitPalette,
-                                         const std::vector<std::filesystem::path>& startDirs, std::filesystem::path* readFrom) {
+std::optional<Palette> findQuake2Palette(const std::string& explicitPalette, const std::vector<std::filesystem::path>& startDirs,
+                                         std::filesystem::path* readFrom) {
   // Quake 2 has no palette.lmp: its palette is the one of baseq2/pics/colormap.pcx.
   return findPaletteFile(explicitPalette, startDirs, {"pics/colormap.pcx"}, readFrom);
 }
 
-Material decodeMiptex(std::span<const uint8_t> bytes, const Palette* quakePalette, bool halfLife,
-                      std::string_view what) {
+Material decodeMiptex(std::span<const uint8_t> bytes, const Palette* quakePalette, bool halfLife, std::string_view what) {
   // struct miptex_t { char name[16]; uint32 width, height; uint32 offsets[4]; } followed by the
   // four mip levels (offsets relative to the miptex start); Half-Life adds a palette after mip 3.
   constexpr size_t kHeaderSize = 40;
@@ -153,21 +156,20 @@ Material decodeMiptex(std::span<const uint8_t> bytes, const Palette* quakePalett
   checkSize(width, height, what);
   uint32_t offsets[4];
   for (int i = 0; i < 4; ++i) offsets[i] = readU32(bytes, 24 + 4 * i);
-  if (offsets[0] == 0)
-    fail(what, "miptex has no pixel data (the compiler left it to be found in a WAD)");
+  if (offsets[0] == 0) fail(what, "miptex has no pixel data (the compiler left it to be found in a WAD)");
 
   const uint64_t pixelCount = uint64_t{width} * height;
   if (!fits(bytes, offsets[0], pixelCount))
-    fail(what, fmt::format("truncated miptex: {}x{} pixels at offset {} need {} bytes, have {}", width, height,
-                           offsets[0], offsets[0] + pixelCount, bytes.size()));
+    fail(what,
+         fmt::format("truncated miptex: {}x{} pixels at offset {} need {} bytes, have {}", width, height, offsets[0],
+                     offsets[0] + pixelCount, bytes.size()));
 
   Palette ownPalette;
   const Palette* palette = quakePalette;
   if (halfLife) {
     // After the smallest mip (1/8 size): uint16 colour count, then count RGB triples.
     const uint64_t paletteAt = uint64_t{offsets[3]} + uint64_t{width / 8} * (height / 8);
-    if (offsets[3] == 0 || !fits(bytes, paletteAt, 2))
-      fail(what, "truncated Half-Life miptex: no palette after the last mip");
+    if (offsets[3] == 0 || !fits(bytes, paletteAt, 2)) fail(what, "truncated Half-Life miptex: no palette after the last mip");
     const uint16_t colours = readU16(bytes, paletteAt);
     if (colours > 256) fail(what, fmt::format("Half-Life miptex palette has {} colours (at most 256)", colours));
     if (!fits(bytes, paletteAt + 2, uint64_t{colours} * 3))
@@ -213,16 +215,16 @@ Material decodeWal(std::span<const uint8_t> bytes, const Palette& quake2Palette,
   // struct miptex_t (Quake 2) { char name[32]; uint32 width, height; uint32 offsets[4];
   //   char animname[32]; int32 flags, contents, value; } = 100 bytes, then the mips.
   constexpr size_t kHeaderSize = 100;
-  if (!fits(bytes, 0, kHeaderSize))
-    fail(what, fmt::format("truncated .wal: {} bytes, the header alone has {}", bytes.size(), kHeaderSize));
+  if (!fits(bytes, 0, kHeaderSize)) fail(what, fmt::format("truncated .wal: {} bytes, the header alone has {}", bytes.size(), kHeaderSize));
   const uint32_t width = readU32(bytes, 32);
   const uint32_t height = readU32(bytes, 36);
   checkSize(width, height, what);
   const uint32_t offset = readU32(bytes, 40);
   const uint64_t pixelCount = uint64_t{width} * height;
   if (offset < kHeaderSize || !fits(bytes, offset, pixelCount))
-    fail(what, fmt::format("truncated .wal: {}x{} pixels at offset {} need {} bytes, have {}", width, height,
-                           offset, uint64_t{offset} + pixelCount, bytes.size()));
+    fail(what,
+         fmt::format("truncated .wal: {}x{} pixels at offset {} need {} bytes, have {}", width, height, offset,
+                     uint64_t{offset} + pixelCount, bytes.size()));
 
   Material material;
   material.name = readName(bytes, 0, 32);

@@ -39,8 +39,8 @@ std::optional<std::vector<uint8_t>> readPngPaletteIndices(const std::filesystem:
   if (std::fread(signature, 1, 8, f.get()) != 8 || png_sig_cmp(signature, 0, 8) != 0) return std::nullopt;
   PngReader r;
   // Silent: the image has been decoded already, and its problems reported there.
-  r.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, [](png_structp p, png_const_charp) { png_longjmp(p, 1); },
-                                 [](png_structp, png_const_charp) {});
+  r.png = png_create_read_struct(
+      PNG_LIBPNG_VER_STRING, nullptr, [](png_structp p, png_const_charp) { png_longjmp(p, 1); }, [](png_structp, png_const_charp) {});
   if (!r.png) return std::nullopt;
   r.info = png_create_info_struct(r.png);
   if (!r.info) return std::nullopt;
@@ -52,8 +52,7 @@ std::optional<std::vector<uint8_t>> readPngPaletteIndices(const std::filesystem:
   png_read_info(r.png, r.info);
   const png_uint_32 width = png_get_image_width(r.png, r.info), height = png_get_image_height(r.png, r.info);
   if (png_get_color_type(r.png, r.info) != PNG_COLOR_TYPE_PALETTE || png_get_bit_depth(r.png, r.info) != 8 ||
-      png_get_interlace_type(r.png, r.info) != PNG_INTERLACE_NONE || width == 0 || height == 0 ||
-      width > 16384 || height > 16384)
+      png_get_interlace_type(r.png, r.info) != PNG_INTERLACE_NONE || width == 0 || height == 0 || width > 16384 || height > 16384)
     return std::nullopt;
   return readRows(r, width, height);
 }

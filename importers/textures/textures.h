@@ -44,8 +44,7 @@ Palette paletteFromBytes(std::span<const uint8_t> bytes, std::string_view what);
 // Throws ImportError naming `what` on truncation or bad sizes (or a null Quake palette).
 // A miptex whose pixel offsets are all zero (texture stored outside the .bsp) also throws:
 // the caller then looks it up by name like any other missing texture.
-Material decodeMiptex(std::span<const uint8_t> bytes, const Palette* quakePalette, bool halfLife,
-                      std::string_view what);
+Material decodeMiptex(std::span<const uint8_t> bytes, const Palette* quakePalette, bool halfLife, std::string_view what);
 
 // Decodes a Quake 2 .wal (name[32], width, height, 4 mip offsets, ...) with the Quake 2 palette.
 // Index 255 is transparent, as in Quake 2's GL renderer. Throws ImportError naming `what` on
@@ -90,8 +89,8 @@ Image checkerPlaceholder(int width, int height);
 class WadFile {
 public:
   // Quake's lump types; only miptex are textures.
-  static constexpr uint8_t kTypePalette = 0x40; // '@'
-  static constexpr uint8_t kTypeQpic = 0x42;    // 'B', status-bar pictures: not textures
+  static constexpr uint8_t kTypePalette = 0x40;    // '@'
+  static constexpr uint8_t kTypeQpic = 0x42;       // 'B', status-bar pictures: not textures
   static constexpr uint8_t kTypeMiptexWad2 = 0x44; // 'D'
   static constexpr uint8_t kTypeMiptexWad3 = 0x43; // 'C'
 
@@ -150,12 +149,10 @@ Image decodeImage(std::span<const uint8_t> bytes, const std::string& name);
 // otherwise the first gfx/palette.lmp (or palette.lmp) found walking up from each of
 // `startDirs`. Never invents one: std::nullopt when nothing is found. `readFrom`, when given,
 // receives the file the palette was read from.
-std::optional<Palette> findPalette(const std::string& explicitPalette,
-                                   const std::vector<std::filesystem::path>& startDirs,
+std::optional<Palette> findPalette(const std::string& explicitPalette, const std::vector<std::filesystem::path>& startDirs,
                                    std::filesystem::path* readFrom = nullptr);
 // Quake 2's palette: `explicitPalette`, else pics/colormap.pcx walking up from `startDirs`.
-std::optional<Palette> findQuake2Palette(const std::string& explicitPalette,
-                                         const std::vector<std::filesystem::path>& startDirs,
+std::optional<Palette> findQuake2Palette(const std::string& explicitPalette, const std::vector<std::filesystem::path>& startDirs,
                                          std::filesystem::path* readFrom = nullptr);
 
 // Reads a whole texture/WAD/palette file; throws ImportError naming it when it cannot be read.

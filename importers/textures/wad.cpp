@@ -33,17 +33,23 @@ std::string printableMagic(std::span<const uint8_t> bytes) {
   std::string text;
   for (size_t i = 0; i < 4 && i < bytes.size(); ++i) {
     const uint8_t c = bytes[i];
-    if (std::isprint(c)) text.push_back(static_cast<char>(c));
-    else text += fmt::format("\\x{:02x}", c);
+    if (std::isprint(c))
+      text.push_back(static_cast<char>(c));
+    else
+      text += fmt::format("\\x{:02x}", c);
   }
   return text;
 }
 
-bool isMiptexType(uint8_t type) { return type == WadFile::kTypeMiptexWad2 || type == WadFile::kTypeMiptexWad3; }
+bool isMiptexType(uint8_t type) {
+  return type == WadFile::kTypeMiptexWad2 || type == WadFile::kTypeMiptexWad3;
+}
 
 } // namespace
 
-bool textureNamesEqual(std::string_view a, std::string_view b) { return equalsIgnoreCase(a, b); }
+bool textureNamesEqual(std::string_view a, std::string_view b) {
+  return equalsIgnoreCase(a, b);
+}
 
 WadFile WadFile::open(const std::filesystem::path& path) {
   return fromBytes(readTextureFile(path), path.string());
@@ -57,14 +63,17 @@ WadFile WadFile::fromBytes(std::vector<uint8_t> bytes, std::string displayName) 
     fail(wad.displayName_, fmt::format("too small for a WAD header ({} bytes, need {})", bytes.size(), kHeaderSize));
 
   const std::string magic = printableMagic(all);
-  if (magic == "WAD3") wad.halfLife_ = true;
-  else if (magic != "WAD2") fail(wad.displayName_, fmt::format("not a WAD2/WAD3 file (magic '{}')", magic));
+  if (magic == "WAD3")
+    wad.halfLife_ = true;
+  else if (magic != "WAD2")
+    fail(wad.displayName_, fmt::format("not a WAD2/WAD3 file (magic '{}')", magic));
 
   const uint32_t count = readU32(all, 4);
   const uint32_t directoryOffset = readU32(all, 8);
   if (!fits(all, directoryOffset, uint64_t{count} * kDirectoryEntrySize))
-    fail(wad.displayName_, fmt::format("directory of {} entries at offset {} runs past the end of the file ({} bytes)",
-                                       count, directoryOffset, bytes.size()));
+    fail(
+        wad.displayName_,
+        fmt::format("directory of {} entries at offset {} runs past the end of the file ({} bytes)", count, directoryOffset, bytes.size()));
 
   wad.entries_.reserve(count);
   for (uint32_t i = 0; i < count; ++i) {
@@ -78,8 +87,9 @@ WadFile WadFile::fromBytes(std::vector<uint8_t> bytes, std::string displayName) 
     // Some tools leave unnamed slots in the directory; nothing can refer to them.
     if (entry.name.empty()) continue;
     if (!fits(all, entry.offset, entry.size))
-      fail(wad.displayName_, fmt::format("entry {} '{}' (offset {}, size {}) lies past the end of the file ({} bytes)", i,
-                                         entry.name, entry.offset, entry.size, bytes.size()));
+      fail(wad.displayName_,
+           fmt::format("entry {} '{}' (offset {}, size {}) lies past the end of the file ({} bytes)", i, entry.name, entry.offset,
+                       entry.size, bytes.size()));
     wad.entries_.push_back(std::move(entry));
   }
   wad.bytes_ = std::move(bytes);
@@ -108,8 +118,7 @@ std::optional<Material> WadFile::loadTexture(std::string_view name, const Palett
   const Entry* entry = findTexture(name);
   if (!entry) return std::nullopt;
   const std::string what = displayName_ + ":" + entry->name;
-  if (entry->compression != 0)
-    fail(what, fmt::format("compressed WAD lump (compression {}) is not supported", entry->compression));
+  if (entry->compression != 0) fail(what, fmt::format("compressed WAD lump (compression {}) is not supported", entry->compression));
   Material material = decodeMiptex(data(*entry), quakePalette, halfLife_, what);
   material.name = std::string(name);
   material.source = halfLife_ ? TextureSource::Wad3 : TextureSource::Wad2;

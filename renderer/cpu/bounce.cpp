@@ -21,11 +21,11 @@ namespace bt {
 
 namespace {
 
-constexpr float kLuxelTexels = 16.0f;   // Quake 1 lightmaps: one luxel every 16 texels
-constexpr double kBounceLift = 1.0;     // bounce.cc lifts the light 1 unit off its face
-constexpr double kSampleLift = 1.0;     // ltface.cc sampleOffPlaneDist: luxels are sampled 1 unit off the face
-constexpr double kMinBounceArea = 1.0;  // bounce.cc skips smaller faces
-constexpr size_t kMaxFragmentsToSplit = 256; // see bounceFaces
+constexpr float kLuxelTexels = 16.0f;         // Quake 1 lightmaps: one luxel every 16 texels
+constexpr double kBounceLift = 1.0;           // bounce.cc lifts the light 1 unit off its face
+constexpr double kSampleLift = 1.0;           // ltface.cc sampleOffPlaneDist: luxels are sampled 1 unit off the face
+constexpr double kMinBounceArea = 1.0;        // bounce.cc skips smaller faces
+constexpr size_t kMaxFragmentsToSplit = 256;  // see bounceFaces
 constexpr uint32_t kBounceSeed = 0x626f756eu; // the sampling's own random stream
 
 dvec3 vertexMean(const std::vector<dvec3>& w) {
@@ -105,8 +105,8 @@ bool sideBounces(const RenderScene& rs, uint32_t faceIndex) {
 // The lights of `lights` that can light p, in index order: those `grid` (a grid of them) lists
 // for p with the lights of infinite reach merged in (none unless a value is infinite), or every
 // light without a grid. `scratch` holds them where they are not a list of the grid.
-std::span<const uint32_t> candidatesAt(const std::vector<GpuLight>& lights, const std::optional<LightGrid>& grid,
-                                       const glm::vec3& p, std::vector<uint32_t>& scratch) {
+std::span<const uint32_t> candidatesAt(const std::vector<GpuLight>& lights, const std::optional<LightGrid>& grid, const glm::vec3& p,
+                                       std::vector<uint32_t>& scratch) {
   if (!grid) {
     scratch.resize(lights.size());
     for (uint32_t i = 0; i < lights.size(); ++i) scratch[i] = i;
@@ -133,9 +133,8 @@ std::vector<BounceFace> bounceFaces(const RenderScene& rs, const std::vector<Bru
     // to split as qbsp's tree splits it; its CSG fragments stand in for its compiled faces there
     // (the same area and luxels, more and smaller bounce lights).
     std::vector<std::vector<dvec3>> fragments = visibleFragments(scene, f, contents);
-    std::vector<std::vector<dvec3>> polygons = fragments.size() > kMaxFragmentsToSplit
-                                                   ? std::move(fragments)
-                                                   : compiledFacePolygons(scene, f, contents);
+    std::vector<std::vector<dvec3>> polygons =
+        fragments.size() > kMaxFragmentsToSplit ? std::move(fragments) : compiledFacePolygons(scene, f, contents);
     for (std::vector<dvec3>& polygon : polygons)
       if (area(polygon) >= kMinBounceArea) perSide[i].push_back({f, std::move(polygon)});
   });
@@ -145,8 +144,7 @@ std::vector<BounceFace> bounceFaces(const RenderScene& rs, const std::vector<Bru
   return faces;
 }
 
-std::optional<GpuLight> bounceLight(const RenderScene& rs, const BounceFace& face, const glm::vec3& meanLight,
-                                    const glm::vec3& texture) {
+std::optional<GpuLight> bounceLight(const RenderScene& rs, const BounceFace& face, const glm::vec3& meanLight, const glm::vec3& texture) {
   const Face& side = rs.scene->faces[face.face];
   glm::vec3 color = meanLight * glm::mix(glm::vec3(kBounceGrey), texture, rs.world.bouncecolorscale);
   const float intensity = std::max({color.x, color.y, color.z});
@@ -240,8 +238,7 @@ std::vector<GpuLight> clusterBounceLights(const std::vector<GpuLight>& lights, c
   return out;
 }
 
-BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushContents>& contents,
-                              const BounceBudget& budget) {
+BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushContents>& contents, const BounceBudget& budget) {
   BounceLights out;
   if (rs.world.bounces <= 0) return out;
   const std::vector<BounceFace> faces = bounceFaces(rs, contents, budget.threads);

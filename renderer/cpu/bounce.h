@@ -49,8 +49,7 @@ std::vector<BounceFace> bounceFaces(const RenderScene& rs, const std::vector<Bru
 // The bounce light of one face whose mean source light is `meanLight` (light units, rgb) and
 // whose texture's mean colour is `texture` (0..1, its own sRGB bytes), or nullopt when it emits
 // nothing.
-std::optional<GpuLight> bounceLight(const RenderScene& rs, const BounceFace& face, const glm::vec3& meanLight,
-                                    const glm::vec3& texture);
+std::optional<GpuLight> bounceLight(const RenderScene& rs, const BounceFace& face, const glm::vec3& meanLight, const glm::vec3& texture);
 
 // What the preparation may spend, so that a large level with `_bounce 3` prepares in seconds
 // (a preview) while a small one stays exact. Each pass samples every luxel of every face while
@@ -80,8 +79,8 @@ struct BounceBudget {
 
 struct BounceLights {
   std::vector<GpuLight> lights;
-  size_t luxels = 0;         // the compiled faces' luxels (one pass)
-  size_t sampledLuxels = 0;  // the fewest any pass sampled: == luxels when the bounce is exact
+  size_t luxels = 0;          // the compiled faces' luxels (one pass)
+  size_t sampledLuxels = 0;   // the fewest any pass sampled: == luxels when the bounce is exact
   bool sampledLights = false; // a later pass drew among the previous pass's lights
   size_t madeLights = 0;      // the bounce lights before clustering (== lights.size() when none)
   bool exact() const { return sampledLuxels == luxels && !sampledLights && madeLights == lights.size(); }
@@ -95,8 +94,7 @@ std::vector<GpuLight> clusterBounceLights(const std::vector<GpuLight>& lights, c
 
 // Every pass of the level's `_bounce` (none when it is 0): `rs` holds the direct lights and
 // their grid. The faces are sampled on all cores; the result does not depend on their number.
-BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushContents>& contents,
-                              const BounceBudget& budget = {});
+BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushContents>& contents, const BounceBudget& budget = {});
 
 // The luxels a pass samples of a face that has `count`, when the level has `total` and the pass
 // may sample `budget`: all of them while the total fits, else count x budget / total rounded, at

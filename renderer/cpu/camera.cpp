@@ -102,16 +102,18 @@ struct EyePoint {
 std::vector<EyePoint> eyePoints(Game game) {
   switch (game) {
   case Game::Quake: // client.qc PutClientInServer: view_ofs '0 0 22'
-    return {{"info_intermission", 0.0f}, {"info_player_start", 22.0f}, {"info_player_deathmatch", 22.0f},
-            {"info_player_coop", 22.0f}};
+    return {{"info_intermission", 0.0f}, {"info_player_start", 22.0f}, {"info_player_deathmatch", 22.0f}, {"info_player_coop", 22.0f}};
   case Game::HalfLife: // player.cpp CBasePlayer::Spawn: spot + (0 0 1), view_ofs VEC_VIEW (0 0 28)
     return {{"info_player_start", 29.0f}, {"info_player_deathmatch", 29.0f}};
   case Game::Quake2: // p_client.c SelectSpawnPoint: origin[2] += 9; PutClientInServer: viewheight 22
-    return {{"info_player_intermission", 0.0f}, {"info_player_start", 31.0f}, {"info_player_deathmatch", 31.0f},
-            {"info_player_coop", 31.0f}};
+    return {
+        {"info_player_intermission", 0.0f}, {"info_player_start", 31.0f}, {"info_player_deathmatch", 31.0f}, {"info_player_coop", 31.0f}};
   case Game::Quake3: // g_client.c SelectSpawnPoint: origin[2] += 9; DEFAULT_VIEWHEIGHT 26
-    return {{"info_player_intermission", 0.0f}, {"info_human_intermission", 0.0f}, {"info_alien_intermission", 0.0f},
-            {"info_player_start", 35.0f}, {"info_player_deathmatch", 35.0f}}; // the second and third: Unvanquished
+    return {{"info_player_intermission", 0.0f},
+            {"info_human_intermission", 0.0f},
+            {"info_alien_intermission", 0.0f},
+            {"info_player_start", 35.0f},
+            {"info_player_deathmatch", 35.0f}}; // the second and third: Unvanquished
   }
   return {};
 }
@@ -229,8 +231,8 @@ std::optional<CameraPose> insideCameraPose(const Scene& scene) {
   const dvec3 extent = scene.bounds.extent() + dvec3(0.0, 0.0, kEyeAboveTheTop);
   std::vector<dvec3> points;
   for (int i = 0; i < kGrid * kGrid * kGrid; ++i)
-    points.push_back(scene.bounds.min + extent * dvec3((i % kGrid + 0.5) / kGrid, (i / kGrid % kGrid + 0.5) / kGrid,
-                                                       (i / kGrid / kGrid + 0.5) / kGrid));
+    points.push_back(scene.bounds.min +
+                     extent * dvec3((i % kGrid + 0.5) / kGrid, (i / kGrid % kGrid + 0.5) / kGrid, (i / kGrid / kGrid + 0.5) / kGrid));
   const dvec3 centre = scene.bounds.center();
   std::stable_sort(points.begin(), points.end(),
                    [&](const dvec3& a, const dvec3& b) { return glm::length(a - centre) < glm::length(b - centre); });

@@ -18,11 +18,14 @@ inline float srgbToLinear(float c) {
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 inline float linearToSrgb(float c) {
-  return c <= BT_SRGB_LINEAR_LIMIT ? c * BT_SRGB_LINEAR_SLOPE
-                                   : BT_SRGB_SCALE * std::pow(c, 1.0f / BT_SRGB_GAMMA) - BT_SRGB_OFFSET;
+  return c <= BT_SRGB_LINEAR_LIMIT ? c * BT_SRGB_LINEAR_SLOPE : BT_SRGB_SCALE * std::pow(c, 1.0f / BT_SRGB_GAMMA) - BT_SRGB_OFFSET;
 }
-inline glm::vec3 srgbToLinear(const glm::vec3& c) { return {srgbToLinear(c.x), srgbToLinear(c.y), srgbToLinear(c.z)}; }
-inline glm::vec3 linearToSrgb(const glm::vec3& c) { return {linearToSrgb(c.x), linearToSrgb(c.y), linearToSrgb(c.z)}; }
+inline glm::vec3 srgbToLinear(const glm::vec3& c) {
+  return {srgbToLinear(c.x), srgbToLinear(c.y), srgbToLinear(c.z)};
+}
+inline glm::vec3 linearToSrgb(const glm::vec3& c) {
+  return {linearToSrgb(c.x), linearToSrgb(c.y), linearToSrgb(c.z)};
+}
 
 enum class Tonemap { Faithful, Aces, Agx, Linear };
 
@@ -43,8 +46,8 @@ inline glm::vec3 tonemapAgx(glm::vec3 c) {
     v[i] = (std::clamp(l, minEv, maxEv) - minEv) / (maxEv - minEv);
   }
   const glm::vec3 x2 = v * v, x4 = x2 * x2;
-  v = BT_AGX_POLY6 * x4 * x2 + BT_AGX_POLY5 * x4 * v + BT_AGX_POLY4 * x4 + BT_AGX_POLY3 * x2 * v + BT_AGX_POLY2 * x2 +
-      BT_AGX_POLY1 * v + BT_AGX_POLY0;
+  v = BT_AGX_POLY6 * x4 * x2 + BT_AGX_POLY5 * x4 * v + BT_AGX_POLY4 * x4 + BT_AGX_POLY3 * x2 * v + BT_AGX_POLY2 * x2 + BT_AGX_POLY1 * v +
+      BT_AGX_POLY0;
   const glm::vec3 outRow0{BT_AGX_OUT_ROW0};
   const glm::vec3 outRow1{BT_AGX_OUT_ROW1};
   const glm::vec3 outRow2{BT_AGX_OUT_ROW2};

@@ -40,7 +40,9 @@ std::array<uint8_t, 256> goldSrcLightGamma() {
   return out;
 }
 
-glm::dvec3 vec(const float* v) { return {v[0], v[1], v[2]}; }
+glm::dvec3 vec(const float* v) {
+  return {v[0], v[1], v[2]};
+}
 
 // How far a compiled face may lie from the brush side it is drawn on: q3map2 leaves some
 // surfaces an eighth of a unit off their side (a panel on a ceiling); Quake's faces lie on it.
@@ -155,7 +157,7 @@ void addFragment(const FaceFrame& frame, const LightmappedFace& f, const LuxelRu
   g.height = uint32_t(f.height);
   g.firstLuxel = uint32_t(lm.luxels.size());
   // u = dot(p(s, t), luxelS) + luxelSOffset, an affine function of (s, t).
-  const auto axis = [&](const dvec3& luxelAxis, double offset, float (&out)[4]) {
+  const auto axis = [&](const dvec3& luxelAxis, double offset, float(&out)[4]) {
     out[0] = float(glm::dot(frame.ps, luxelAxis));
     out[1] = float(glm::dot(frame.pt, luxelAxis));
     out[2] = float(glm::dot(frame.p0, luxelAxis) + offset);

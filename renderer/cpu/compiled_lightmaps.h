@@ -49,8 +49,8 @@ std::optional<LightmapEngine> lightmapEngineNamed(const std::string& name);
 std::array<float, 256> styleValuesAtLoad(LightmapEngine engine, const Scene& scene);
 
 // What the engine uploads for one luxel: `stored` holds the luxel's value in each of its styles.
-glm::vec3 engineLuxel(LightmapEngine engine, const std::array<float, 256>& styleValues,
-                      const std::array<uint8_t, 4>& styles, const std::array<glm::vec3, 4>& stored);
+glm::vec3 engineLuxel(LightmapEngine engine, const std::array<float, 256>& styleValues, const std::array<uint8_t, 4>& styles,
+                      const std::array<glm::vec3, 4>& stored);
 
 // shown = texture × luxel × this.
 float engineDisplayScale(LightmapEngine engine);

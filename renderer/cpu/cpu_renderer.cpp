@@ -23,8 +23,7 @@ int threadCount(int requested) {
 }
 
 // Runs rowFn(y) for every row on `threads` workers; rows are handed out one at a time.
-template <class RowFn>
-void forEachRow(int height, int threads, const RowFn& rowFn) {
+template <class RowFn> void forEachRow(int height, int threads, const RowFn& rowFn) {
   parallelFor(size_t(std::max(height, 0)), unsigned(std::max(threads, 1)), [&](size_t y) { rowFn(int(y)); });
 }
 
@@ -86,9 +85,8 @@ RenderImage renderCpu(const RenderScene& scene, const Camera& camera, const Rend
       p.samplesTotal = settings.spp;
       p.elapsed = t;
       const double perPass = t / pass;
-      p.estimatedRemaining = settings.timeLimit > 0.0 && settings.spp <= 0
-                                 ? std::max(0.0, settings.timeLimit - t)
-                                 : perPass * (maxSamples - pass);
+      p.estimatedRemaining =
+          settings.timeLimit > 0.0 && settings.spp <= 0 ? std::max(0.0, settings.timeLimit - t) : perPass * (maxSamples - pass);
       if (settings.timeLimit > 0.0) p.estimatedRemaining = std::min(p.estimatedRemaining, std::max(0.0, settings.timeLimit - t));
       progress(p);
     }
@@ -121,7 +119,9 @@ glm::vec3 faceColor(uint32_t face) {
   return glm::vec3(float(h & 0xff), float((h >> 8) & 0xff), float((h >> 16) & 0xff)) / 255.0f;
 }
 
-uint8_t toByte(float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
+uint8_t toByte(float v) {
+  return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+}
 
 } // namespace
 

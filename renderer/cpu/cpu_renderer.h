@@ -17,9 +17,9 @@ namespace bt {
 struct RenderSettings {
   int width = 640;
   int height = 360;
-  int spp = 64;             // samples per pixel (upper bound when timeLimit is set)
-  double timeLimit = 0.0;   // seconds; 0 = none. Stops after the pass that crosses it.
-  int threads = 0;          // 0 = every hardware thread
+  int spp = 64;           // samples per pixel (upper bound when timeLimit is set)
+  double timeLimit = 0.0; // seconds; 0 = none. Stops after the pass that crosses it.
+  int threads = 0;        // 0 = every hardware thread
   uint32_t seed = 0;
   IntegratorSettings integrator;
 };
@@ -31,10 +31,10 @@ struct RenderImage {
   int height = 0;
   int samples = 0;
   std::vector<glm::vec3> beauty;
-  std::vector<glm::vec3> albedo;  // linear base colour of the visible face
-  std::vector<glm::vec3> normal;  // world-space face normal, 0 where nothing is hit
-  std::vector<float> depth;       // distance along the ray, +inf where nothing is hit
-  std::vector<uint32_t> face;     // scene face index + 1, 0 where nothing is hit
+  std::vector<glm::vec3> albedo; // linear base colour of the visible face
+  std::vector<glm::vec3> normal; // world-space face normal, 0 where nothing is hit
+  std::vector<float> depth;      // distance along the ray, +inf where nothing is hit
+  std::vector<uint32_t> face;    // scene face index + 1, 0 where nothing is hit
 };
 
 struct RenderProgress {

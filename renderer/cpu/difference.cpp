@@ -10,8 +10,8 @@
 namespace bt {
 
 glm::vec3 differenceColour(int steps) {
-  static constexpr std::array<glm::vec3, 5> kStops{glm::vec3(0, 0, 0), glm::vec3(0, 0, 1), glm::vec3(0, 1, 0),
-                                                   glm::vec3(1, 1, 0), glm::vec3(1, 0, 0)};
+  static constexpr std::array<glm::vec3, 5> kStops{glm::vec3(0, 0, 0), glm::vec3(0, 0, 1), glm::vec3(0, 1, 0), glm::vec3(1, 1, 0),
+                                                   glm::vec3(1, 0, 0)};
   const float at = std::clamp(float(steps), 0.0f, float(kDifferenceFullScale)) / float(kDifferenceFullScale) * 4.0f;
   const int i = std::min(int(at), 3);
   return glm::mix(kStops[size_t(i)], kStops[size_t(i) + 1], at - float(i));

@@ -56,14 +56,9 @@ inline float copyDistanceValue(const GpuLight& light, float dist, float scaledis
 
   float scaled = scaledist * light.atten * dist;
   switch (formula) {
-  case LightFormula::Inverse:
-    return value / (std::max(scaled, 1e-3f) / kFormulaScale);
-  case LightFormula::Inverse2A:
-    scaled += kFormulaScale;
-    return value / ((scaled * scaled) / (kFormulaScale * kFormulaScale));
-  case LightFormula::Inverse2:
-    scaled = std::max(scaled, 1e-3f);
-    return value / ((scaled * scaled) / (kFormulaScale * kFormulaScale));
+  case LightFormula::Inverse: return value / (std::max(scaled, 1e-3f) / kFormulaScale);
+  case LightFormula::Inverse2A: scaled += kFormulaScale; return value / ((scaled * scaled) / (kFormulaScale * kFormulaScale));
+  case LightFormula::Inverse2: scaled = std::max(scaled, 1e-3f); return value / ((scaled * scaled) / (kFormulaScale * kFormulaScale));
   case LightFormula::Linear:
   default:
     // Negative lights ("darklights") fall off towards zero from below.
@@ -106,17 +101,18 @@ inline float emitterTerm(const GpuLight& light, const glm::vec3& toLight) {
 }
 
 // The brightest channel a light's value is spread over: what the bounce gate compares.
-inline float maxChannel(const glm::vec3& c) { return std::max({c.x, c.y, c.z}); }
+inline float maxChannel(const glm::vec3& c) {
+  return std::max({c.x, c.y, c.z});
+}
 
 // One point light's contribution at a surface point with unit normal `normal`
 // (GetLightValueWithAngle). `toLight` is unit, from the surface to the light.
-inline float pointLightValue(const GpuLight& light, const glm::vec3& normal, const glm::vec3& toLight,
-                             float dist, float scaledist = 1.0f) {
+inline float pointLightValue(const GpuLight& light, const glm::vec3& normal, const glm::vec3& toLight, float dist, float scaledist = 1.0f) {
   float cosIncidence = glm::dot(toLight, normal);
   if (light.flags & kLightFlagBleed) cosIncidence = std::abs(cosIncidence);
   if (cosIncidence < 0.0f) return 0.0f; // behind the surface: nothing, whatever the anglescale
-  const float value = distanceValue(light, dist, scaledist) * angleTerm(cosIncidence, light.anglescale) *
-                      spotTerm(light, toLight) * emitterTerm(light, toLight);
+  const float value = distanceValue(light, dist, scaledist) * angleTerm(cosIncidence, light.anglescale) * spotTerm(light, toLight) *
+      emitterTerm(light, toLight);
   if (light.formula == uint32_t(LightFormula::Bounce) && value * maxChannel(light.color) <= kBounceGate) return 0.0f;
   return value;
 }
@@ -226,8 +222,10 @@ inline float lightDirtFactor(const GpuLight& light, float occlusion, float dist)
   if (!(light.flags & kLightFlagDirt)) return 1.0f;
   float dirt = dirtAmount(occlusion, light.dirtGain, light.dirtScale);
   if (light.flags & kLightFlagDirtRadius) {
-    if (dist < light.dirtOffRadius) dirt = 0.0f;
-    else if (dist < light.dirtOnRadius) dirt *= (dist - light.dirtOffRadius) / (light.dirtOnRadius - light.dirtOffRadius);
+    if (dist < light.dirtOffRadius)
+      dirt = 0.0f;
+    else if (dist < light.dirtOnRadius)
+      dirt *= (dist - light.dirtOffRadius) / (light.dirtOnRadius - light.dirtOffRadius);
   }
   return 1.0f - dirt;
 }

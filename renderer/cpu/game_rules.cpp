@@ -8,21 +8,23 @@ namespace bt {
 
 namespace {
 
-int spawnflags(const Entity& e) { return int(parseFloat(e.value("spawnflags", "0")).value_or(0.0f)); }
+int spawnflags(const Entity& e) {
+  return int(parseFloat(e.value("spawnflags", "0")).value_or(0.0f));
+}
 
 // Brush entities whose spawn function never links a visible model, in every game that has them.
 // The classnames do not clash between the games, so one list serves all.
 constexpr std::string_view kNeverDrawn[] = {
-    "func_episodegate",  // Quake misc.qc func_episodegate: returns before setmodel on a new game
-    "func_areaportal",   // Quake 2 g_misc.c SP_func_areaportal: no gi.setmodel
-    "func_killbox",      // Quake 2 g_func.c SP_func_killbox: SVF_NOCLIENT
-    "func_ladder",       // Half-Life triggers.cpp CLadder::Precache: kRenderTransTexture, renderamt 0
-    "func_monsterclip",  // Half-Life bmodels.cpp CFuncMonsterClip::Spawn: EF_NODRAW
-    "func_mortar_field", // Half-Life mortar.cpp CFuncMortarField::Spawn: EF_NODRAW
-    "func_tankcontrols", // Half-Life func_tank.cpp CFuncTankControls::Spawn: EF_NODRAW
-    "func_traincontrols",// Half-Life plats.cpp CFuncTrainControls::Spawn: EF_NODRAW
-    "game_zone_player",  // Half-Life maprules.cpp CRuleBrushEntity::Spawn: EF_NODRAW
-    "env_bubbles",       // Half-Life effects.cpp CBubbling::Spawn: kRenderTransTexture, renderamt 0
+    "func_episodegate",   // Quake misc.qc func_episodegate: returns before setmodel on a new game
+    "func_areaportal",    // Quake 2 g_misc.c SP_func_areaportal: no gi.setmodel
+    "func_killbox",       // Quake 2 g_func.c SP_func_killbox: SVF_NOCLIENT
+    "func_ladder",        // Half-Life triggers.cpp CLadder::Precache: kRenderTransTexture, renderamt 0
+    "func_monsterclip",   // Half-Life bmodels.cpp CFuncMonsterClip::Spawn: EF_NODRAW
+    "func_mortar_field",  // Half-Life mortar.cpp CFuncMortarField::Spawn: EF_NODRAW
+    "func_tankcontrols",  // Half-Life func_tank.cpp CFuncTankControls::Spawn: EF_NODRAW
+    "func_traincontrols", // Half-Life plats.cpp CFuncTrainControls::Spawn: EF_NODRAW
+    "game_zone_player",   // Half-Life maprules.cpp CRuleBrushEntity::Spawn: EF_NODRAW
+    "env_bubbles",        // Half-Life effects.cpp CBubbling::Spawn: kRenderTransTexture, renderamt 0
 };
 
 // Quake 2's trigger-spawned brush models start unlinked from the client (SVF_NOCLIENT).

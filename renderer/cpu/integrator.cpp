@@ -22,7 +22,9 @@ namespace {
 constexpr float kSurfaceOffset = 0.03f;
 constexpr int kMaxSkips = 64; // hidden faces/back faces skipped along one ray before giving up
 
-glm::vec3 offsetPoint(const glm::vec3& p, const glm::vec3& n) { return p + n * kSurfaceOffset; }
+glm::vec3 offsetPoint(const glm::vec3& p, const glm::vec3& n) {
+  return p + n * kSurfaceOffset;
+}
 
 glm::vec2 textureUV(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
   const GpuFace& f = gpuFace(rs, face);
@@ -54,8 +56,10 @@ uint32_t pickEmitter(const RenderScene& rs, float u) {
   uint32_t lo = 0, hi = uint32_t(rs.emitters.size()) - 1;
   while (lo < hi) {
     const uint32_t mid = (lo + hi) / 2;
-    if (rs.emitters[mid].cdf < u) lo = mid + 1;
-    else hi = mid;
+    if (rs.emitters[mid].cdf < u)
+      lo = mid + 1;
+    else
+      hi = mid;
   }
   return lo;
 }
@@ -262,8 +266,8 @@ glm::vec3 facingNormal(const Receiver& r, const glm::vec3& toLight) {
 
 // Faithful mode: one light's share of the light sum at the receiver, dimmed by the dirt
 // `occlusion` there. Local-minlight lights raise `localMin` instead: they are a floor, not a sum.
-void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiver& r, float occlusion, Rng& rng,
-                      glm::vec3& sum, glm::vec3& localMin) {
+void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiver& r, float occlusion, Rng& rng, glm::vec3& sum,
+                      glm::vec3& localMin) {
   if (light.type == uint32_t(LightType::Point)) {
     const glm::vec3 pos = jitteredOrigin(light, rng);
     const glm::vec3 d = pos - r.p;
@@ -271,15 +275,17 @@ void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiv
     if (dist <= 0.0f) return;
     const glm::vec3 toLight = d / dist;
     const glm::vec3 n = facingNormal(r, toLight);
-    const float value = faithful::pointLightValue(light, n, toLight, dist, rs.world.scaledist) *
-                        faithful::lightDirtFactor(light, occlusion, dist);
+    const float value =
+        faithful::pointLightValue(light, n, toLight, dist, rs.world.scaledist) * faithful::lightDirtFactor(light, occlusion, dist);
     if (value == 0.0f) return;
     const glm::vec3 origin = offsetPoint(r.p, n);
     const glm::vec3 toLightFromOrigin = pos - origin;
     const float len = glm::length(toLightFromOrigin);
     if (occluded(rs, Ray{origin, 0.0f, toLightFromOrigin / len, len}, LightingMode::Faithful)) return;
-    if (light.formula == uint32_t(LightFormula::LocalMin)) localMin = glm::max(localMin, value * light.color);
-    else sum += value * light.color;
+    if (light.formula == uint32_t(LightFormula::LocalMin))
+      localMin = glm::max(localMin, value * light.color);
+    else
+      sum += value * light.color;
   } else if (light.type == uint32_t(LightType::Sun)) {
     glm::vec3 toSun = -light.direction;
     if (light.deviance > 0.0f) toSun = sampleCone(toSun, light.deviance, rng.next2());
@@ -300,8 +306,8 @@ void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiv
     const float cosIncidence = glm::dot(dir, n);
     if (cosIncidence <= 0.0f) return;
     if (!reachesSky(rs, Ray{offsetPoint(r.p, n), 0.0f, dir, std::numeric_limits<float>::infinity()}, LightingMode::Faithful)) return;
-    sum += light.value * faithful::angleTerm(cosIncidence, light.anglescale) *
-           faithful::lightDirtFactor(light, occlusion, 0.0f) * light.color;
+    sum +=
+        light.value * faithful::angleTerm(cosIncidence, light.anglescale) * faithful::lightDirtFactor(light, occlusion, 0.0f) * light.color;
   }
 }
 
@@ -354,9 +360,8 @@ BounceShare bounceShare(const RenderScene& rs, const GpuLight& light, const Rece
 // those of the lights before. Here the second sweep reads the weights the first one kept (the
 // sweep over a cell's hundreds of lights is most of the cost). `shadowRaysCast`, when given,
 // counts the rays (tests).
-template <class LightAt>
-glm::vec3 sampledBounceSum(const RenderScene& rs, size_t count, const LightAt& lightAt, const Receiver& r, float occlusion,
-                           Rng& rng, size_t shadowRays, int* shadowRaysCast = nullptr) {
+template <class LightAt> glm::vec3 sampledBounceSum(const RenderScene& rs, size_t count, const LightAt& lightAt, const Receiver& r,
+                                                    float occlusion, Rng& rng, size_t shadowRays, int* shadowRaysCast = nullptr) {
   std::vector<float> weights(count);
   float total = 0.0f;
   size_t last = count; // the last light with a share: rounding may leave targets past the others
@@ -439,8 +444,9 @@ glm::vec3 faithfulSum(const RenderScene& rs, LightSource source, const Receiver&
     for (uint32_t i : drawBounce ? cell.first(cell.size() - bounceCount) : cell) add(rs.lights[i]);
     if (drawBounce) {
       const std::span<const uint32_t> bounce = cell.last(bounceCount);
-      sum += sampledBounceSum(rs, bounce.size(), [&](size_t k) -> const GpuLight& { return rs.lights[bounce[k]]; }, r,
-                              occlusion, rng, kBounceShadowRays, bounceShadowRays);
+      sum += sampledBounceSum(
+          rs, bounce.size(), [&](size_t k) -> const GpuLight& { return rs.lights[bounce[k]]; }, r, occlusion, rng, kBounceShadowRays,
+          bounceShadowRays);
     }
   }
   if (which == FaithfulLights::BounceSources) return sum;
@@ -463,18 +469,18 @@ glm::vec3 faithfulLightFromGrid(const RenderScene& rs, const glm::vec3& p, const
 
 glm::vec3 faithfulLightSampled(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided,
                                int* bounceShadowRays) {
-  return faithfulSum(rs, LightSource::GridSampledBounce, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng,
-                     FaithfulLights::Shown, bounceShadowRays);
+  return faithfulSum(rs, LightSource::GridSampledBounce, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng, FaithfulLights::Shown,
+                     bounceShadowRays);
 }
 
 glm::vec3 faithfulBounceSourceLight(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided,
                                     std::optional<float> occlusion) {
-  return faithfulSum(rs, LightSource::Grid, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng, FaithfulLights::BounceSources,
-                     nullptr, occlusion);
+  return faithfulSum(rs, LightSource::Grid, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng, FaithfulLights::BounceSources, nullptr,
+                     occlusion);
 }
 
-glm::vec3 faithfulLightFrom(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p, const glm::vec3& n,
-                            Rng& rng, bool twoSided) {
+glm::vec3 faithfulLightFrom(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p, const glm::vec3& n, Rng& rng,
+                            bool twoSided) {
   const Receiver r{p, n, twoSided};
   const float occlusion = faithfulOcclusion(rs, p, n, rng);
   glm::vec3 sum(0.0f), localMin(0.0f);
@@ -482,18 +488,18 @@ glm::vec3 faithfulLightFrom(const RenderScene& rs, std::span<const GpuLight> lig
   return sum;
 }
 
-glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p,
-                                   const glm::vec3& n, Rng& rng, bool twoSided, size_t maxShadowRays) {
+glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p, const glm::vec3& n,
+                                   Rng& rng, bool twoSided, size_t maxShadowRays) {
   if (lights.size() <= maxShadowRays) return faithfulLightFrom(rs, lights, p, n, rng, twoSided);
   const Receiver r{p, n, twoSided};
   const float occlusion = faithfulOcclusion(rs, p, n, rng);
-  return sampledBounceSum(rs, lights.size(), [&](size_t i) -> const GpuLight& { return lights[i]; }, r, occlusion, rng,
-                          maxShadowRays);
+  return sampledBounceSum(
+      rs, lights.size(), [&](size_t i) -> const GpuLight& { return lights[i]; }, r, occlusion, rng, maxShadowRays);
 }
 
-glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights,
-                                   std::span<const uint32_t> candidates, const glm::vec3& p, const glm::vec3& n, Rng& rng,
-                                   bool twoSided, size_t maxShadowRays, std::optional<float> knownOcclusion) {
+glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights, std::span<const uint32_t> candidates,
+                                   const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided, size_t maxShadowRays,
+                                   std::optional<float> knownOcclusion) {
   const Receiver r{p, n, twoSided};
   const float occlusion = knownOcclusion ? *knownOcclusion : faithfulOcclusion(rs, p, n, rng);
   // Whether to draw goes by every light, as above: a few candidates still take the draw.
@@ -502,8 +508,8 @@ glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLig
     for (const GpuLight& light : lights) addFaithfulLight(rs, light, r, occlusion, rng, sum, localMin);
     return sum;
   }
-  return sampledBounceSum(rs, candidates.size(), [&](size_t i) -> const GpuLight& { return lights[candidates[i]]; }, r,
-                          occlusion, rng, maxShadowRays);
+  return sampledBounceSum(
+      rs, candidates.size(), [&](size_t i) -> const GpuLight& { return lights[candidates[i]]; }, r, occlusion, rng, maxShadowRays);
 }
 
 namespace {
@@ -534,11 +540,11 @@ glm::vec3 domeSunLight(const RenderScene& rs, const GpuLight& light, const Recei
   const glm::vec3 facing = facingNormal(r, toSky);
   const float cosIncidence = glm::dot(toSky, facing);
   if (cosIncidence <= 0.0f) return glm::vec3(0.0f);
-  if (!reachesSky(rs, Ray{offsetPoint(r.p, facing), 0.0f, toSky, std::numeric_limits<float>::infinity()},
-                  LightingMode::Faithful, light.skyMaterial))
+  if (!reachesSky(rs, Ray{offsetPoint(r.p, facing), 0.0f, toSky, std::numeric_limits<float>::infinity()}, LightingMode::Faithful,
+                  light.skyMaterial))
     return glm::vec3(0.0f);
-  return light.value * faithful::angleTerm(cosIncidence, light.anglescale) *
-         faithful::lightDirtFactor(light, occlusion, 0.0f) * light.color;
+  return light.value * faithful::angleTerm(cosIncidence, light.anglescale) * faithful::lightDirtFactor(light, occlusion, 0.0f) *
+      light.color;
 }
 
 } // namespace
@@ -552,8 +558,8 @@ int luxelPasses(const RenderScene& rs, int softSamples) {
   return passes;
 }
 
-void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, bool twoSided, int pass,
-                       int softSamples, Rng& rng, LuxelSums& sums) {
+void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, bool twoSided, int pass, int softSamples, Rng& rng,
+                       LuxelSums& sums) {
   const Receiver r{p, n, twoSided};
   // Dirt rays start at the compiler's sample point, which p already is.
   if (pass == 0) sums.occlusion = faithfulOcclusion(rs, p - n * faithful::kDirtSampleLift, n, rng);
@@ -568,8 +574,7 @@ void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec
   });
 }
 
-glm::vec3 faithfulLuxelLight(const RenderScene& rs, const LuxelSums& sums, int passes, int softSamples,
-                             const glm::vec3& faceMinlight) {
+glm::vec3 faithfulLuxelLight(const RenderScene& rs, const LuxelSums& sums, int passes, int softSamples, const glm::vec3& faceMinlight) {
   const int domePasses = std::min(passes, int(skyDome().size()));
   const int softPasses = std::min(passes, softSamples);
   glm::vec3 sum = sums.fixed;
@@ -592,8 +597,8 @@ namespace {
 // The light sum at a faithful hit: from the grid's lists when rendering, or by the exhaustive
 // loop (the reference the grid must reproduce). Lit liquids take light from both sides. A level
 // with `_bounce` has its bounce lights among rs.lights (bounce.h), summed like the others.
-glm::vec3 faithfulLight(const RenderScene& rs, const IntegratorSettings& settings, const SurfaceHit& hit,
-                        const glm::vec3& faceMinlight, Rng& rng) {
+glm::vec3 faithfulLight(const RenderScene& rs, const IntegratorSettings& settings, const SurfaceHit& hit, const glm::vec3& faceMinlight,
+                        Rng& rng) {
   const bool twoSided = rs.faceFlags[hit.face] & kFaceLiquid;
   return faithfulSum(rs, settings.lightSelection ? LightSource::GridSampledBounce : LightSource::All,
                      Receiver{hit.position, hit.normal, twoSided}, faceMinlight, rng);
@@ -694,8 +699,7 @@ glm::vec3 emittedRadiance(const RenderScene& rs, uint32_t face, const glm::vec3&
 // A point light's unshadowed contribution to the light leaving towards wo (physical units),
 // with wi and the distance of the shadow ray.
 glm::vec3 pointLightUnshadowed(const RenderScene& rs, const Bsdf& bsdf, const GpuLight& light, const glm::vec3& pos,
-                               const glm::vec3& origin, const glm::vec3& ng, const glm::vec3& wo, glm::vec3& wi,
-                               float& dist) {
+                               const glm::vec3& origin, const glm::vec3& ng, const glm::vec3& wo, glm::vec3& wi, float& dist) {
   const glm::vec3 d = pos - origin;
   const float dist2 = glm::dot(d, d);
   dist = std::sqrt(dist2);
@@ -721,8 +725,8 @@ float selectionWeight(const GpuLight& light, const glm::vec3& origin, const glm:
   return (light.color.x + light.color.y + light.color.z) * light.value * faithful::spotTerm(light, wi) * cosSurface / dist2;
 }
 
-glm::vec3 sunContribution(const RenderScene& rs, const Bsdf& bsdf, const GpuLight& light, const glm::vec3& origin,
-                          const glm::vec3& ng, const glm::vec3& wo, Rng& rng) {
+glm::vec3 sunContribution(const RenderScene& rs, const Bsdf& bsdf, const GpuLight& light, const glm::vec3& origin, const glm::vec3& ng,
+                          const glm::vec3& wo, Rng& rng) {
   glm::vec3 wi = -light.direction;
   if (light.deviance > 0.0f) wi = sampleCone(wi, light.deviance, rng.next2());
   float pdf;
@@ -733,8 +737,8 @@ glm::vec3 sunContribution(const RenderScene& rs, const Bsdf& bsdf, const GpuLigh
 }
 
 // Every point light and sun, each with its own shadow ray: the reference for selection.
-glm::vec3 allLightsExhaustive(const RenderScene& rs, const Bsdf& bsdf, const glm::vec3& origin, const glm::vec3& ng,
-                              const glm::vec3& wo, Rng& rng) {
+glm::vec3 allLightsExhaustive(const RenderScene& rs, const Bsdf& bsdf, const glm::vec3& origin, const glm::vec3& ng, const glm::vec3& wo,
+                              Rng& rng) {
   glm::vec3 l(0.0f);
   for (const GpuLight& light : rs.lights) {
     if (light.value <= 0.0f) continue; // negative lights have no physical meaning
@@ -767,8 +771,8 @@ constexpr float kNearListProbability = 0.9f;
 // Weights use the light's own origin and the shading normal, so the pick does not depend on its _deviance jitter,
 // which is drawn for the chosen light only. Random numbers per hit, in order: the suns', the
 // strategy, the pick, the chosen light's jitter (3, when soft); light_select.glsl draws the same.
-glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::vec3& origin, const glm::vec3& ng,
-                            const glm::vec3& wo, Rng& rng) {
+glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::vec3& origin, const glm::vec3& ng, const glm::vec3& wo,
+                            Rng& rng) {
   glm::vec3 l(0.0f);
   for (uint32_t i : rs.lightGrid.fixedLights()) {
     const GpuLight& light = rs.lights[i];
@@ -803,27 +807,26 @@ glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::
     for (uint32_t i : near)
       if (i == chosen) chosenWeight = selectionWeight(rs.lights[i], origin, n);
   }
-  const float pdf = (nearProbability > 0.0f ? nearProbability * chosenWeight / nearTotal : 0.0f) +
-                    (1.0f - nearProbability) / float(all.size());
+  const float pdf =
+      (nearProbability > 0.0f ? nearProbability * chosenWeight / nearTotal : 0.0f) + (1.0f - nearProbability) / float(all.size());
 
   const GpuLight& light = rs.lights[chosen];
   const glm::vec3 pos = jitteredOrigin(light, rng);
   glm::vec3 wi;
   float dist;
   const glm::vec3 c = pointLightUnshadowed(rs, bsdf, light, pos, origin, ng, wo, wi, dist);
-  if (pdf > 0.0f && c != glm::vec3(0.0f) && !occluded(rs, Ray{origin, 0.0f, wi, dist}, LightingMode::Physical))
-    l += c / pdf;
+  if (pdf > 0.0f && c != glm::vec3(0.0f) && !occluded(rs, Ray{origin, 0.0f, wi, dist}, LightingMode::Physical)) l += c / pdf;
   return l;
 }
 
 // Direct light at a surface by next-event estimation: point lights and suns, then one emitter
 // triangle (MIS-weighted against BSDF sampling). Rays leave from the face (ng), not from where
 // a normal map pretends it is.
-glm::vec3 directLight(const RenderScene& rs, const IntegratorSettings& settings, const Bsdf& bsdf, const glm::vec3& p,
-                      const glm::vec3& ng, const glm::vec3& wo, Rng& rng) {
+glm::vec3 directLight(const RenderScene& rs, const IntegratorSettings& settings, const Bsdf& bsdf, const glm::vec3& p, const glm::vec3& ng,
+                      const glm::vec3& wo, Rng& rng) {
   const glm::vec3 origin = offsetPoint(p, ng);
-  glm::vec3 l = settings.lightSelection ? allLightsSelected(rs, bsdf, origin, ng, wo, rng)
-                                        : allLightsExhaustive(rs, bsdf, origin, ng, wo, rng);
+  glm::vec3 l =
+      settings.lightSelection ? allLightsSelected(rs, bsdf, origin, ng, wo, rng) : allLightsExhaustive(rs, bsdf, origin, ng, wo, rng);
 
   if (!rs.emitters.empty()) {
     const GpuEmitter& e = rs.emitters[pickEmitter(rs, rng.next())];

@@ -16,8 +16,8 @@ enum class LightingMode { Faithful, Physical };
 
 struct IntegratorSettings {
   LightingMode mode = LightingMode::Faithful;
-  int bounces = 3;        // physical: indirect bounces after the first hit (faithful mode bounces as the
-                          // level's `_bounce` asks, through bounce lights: bounce.h)
+  int bounces = 3; // physical: indirect bounces after the first hit (faithful mode bounces as the
+                   // level's `_bounce` asks, through bounce lights: bounce.h)
   // true: the light grid's lists (faithful) and one selected point light per hit (physical);
   // false: every light at every hit, the reference both converge to (tests, benchmarks).
   bool lightSelection = true;
@@ -79,8 +79,7 @@ float faithfulDirtOcclusion(const RenderScene& rs, const glm::vec3& p, const glm
 // the mean of f(S), which differs from f(sum) wherever f bends (Jensen), so the image would
 // not converge to the exhaustive one. The grid keeps the result exact and drops the per-light
 // loop from O(lights) to the few lights that can reach the point.
-glm::vec3 faithfulLightFromGrid(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng,
-                                bool twoSided = false);
+glm::vec3 faithfulLightFromGrid(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided = false);
 
 // The shadow rays a shown point spends on its cell's bounce lights (bounce.h) when the cell lists
 // more than this many; with fewer each gets its own, as any light. A level's bounce lights reach
@@ -109,13 +108,13 @@ glm::vec3 faithfulLightSampled(const RenderScene& rs, const glm::vec3& p, const 
 // faithfulDirtOcclusion's at p, known already: only with `_dirtmode 0`, whose rays draw no random
 // numbers, so that the result is the same as without it (bounce.cpp samples a luxel in several
 // passes).
-glm::vec3 faithfulBounceSourceLight(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng,
-                                    bool twoSided = false, std::optional<float> occlusion = std::nullopt);
+glm::vec3 faithfulBounceSourceLight(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided = false,
+                                    std::optional<float> occlusion = std::nullopt);
 
 // The sum of `lights` alone at p (each with its shadow ray and dirt), no floors: a later bounce
 // pass takes what the previous pass's bounce lights brought.
-glm::vec3 faithfulLightFrom(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p, const glm::vec3& n,
-                            Rng& rng, bool twoSided = false);
+glm::vec3 faithfulLightFrom(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p, const glm::vec3& n, Rng& rng,
+                            bool twoSided = false);
 
 // An unbiased estimate of faithfulLightFrom for point lights without jitter (bounce lights) that
 // casts at most `maxShadowRays` shadow rays: when more lights are given, that many targets are
@@ -124,17 +123,17 @@ glm::vec3 faithfulLightFrom(const RenderScene& rs, std::span<const GpuLight> lig
 // counts its share / (rays x probability) per target where it is visible. Exact where every
 // candidate is visible and of one hue. The bounce pass averages it over a face, a linear mean, so
 // the estimate stays unbiased there; faithfulLightSampled draws the same way at a shown point.
-glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p,
-                                   const glm::vec3& n, Rng& rng, bool twoSided, size_t maxShadowRays);
+glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p, const glm::vec3& n,
+                                   Rng& rng, bool twoSided, size_t maxShadowRays);
 
 // The same number, from only the `candidates` among `lights` (indices, increasing) that can have
 // a share at p: every light left out must give exactly 0 there (light_grid.h's lists for a grid
 // of `lights` do). The draw sums the same shares in the same order, so the result is bit for bit
 // the one over every light; the bounce pass sweeps a few thousand lights instead of all. With
 // `occlusion`, as faithfulBounceSourceLight.
-glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights,
-                                   std::span<const uint32_t> candidates, const glm::vec3& p, const glm::vec3& n, Rng& rng,
-                                   bool twoSided, size_t maxShadowRays, std::optional<float> occlusion = std::nullopt);
+glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights, std::span<const uint32_t> candidates,
+                                   const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided, size_t maxShadowRays,
+                                   std::optional<float> occlusion = std::nullopt);
 
 // The light ericw-tools `light` stores at a luxel whose sample point is p (already lifted off the
 // face as the compiler lifts it: lightmap_bake.h), computed in passes so that both tracers bake
@@ -156,11 +155,10 @@ struct LuxelSums {
 };
 // How many passes a level's luxels take: 1, the dome's directions, or `softSamples`.
 int luxelPasses(const RenderScene& rs, int softSamples);
-void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, bool twoSided, int pass,
-                       int softSamples, Rng& rng, LuxelSums& sums);
+void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, bool twoSided, int pass, int softSamples, Rng& rng,
+                       LuxelSums& sums);
 // The light after `passes` passes.
-glm::vec3 faithfulLuxelLight(const RenderScene& rs, const LuxelSums& sums, int passes, int softSamples,
-                             const glm::vec3& faceMinlight);
+glm::vec3 faithfulLuxelLight(const RenderScene& rs, const LuxelSums& sums, int passes, int softSamples, const glm::vec3& faceMinlight);
 // What an occluded luxel (its sample point in solid, or too far off its face) stores: the floors.
 glm::vec3 faithfulLuxelFloor(const RenderScene& rs, const glm::vec3& faceMinlight);
 

@@ -27,13 +27,15 @@ constexpr float kReachSlack = 1.0f;
 
 // How far a _deviance jitter moves a light: its copies fill the cube of half-size deviance
 // (integrator.cpp jitteredOrigin), whose corners are sqrt(3) deviance away.
-float maxJitter(const GpuLight& light) { return std::sqrt(3.0f) * std::max(light.deviance, 0.0f); }
+float maxJitter(const GpuLight& light) {
+  return std::sqrt(3.0f) * std::max(light.deviance, 0.0f);
+}
 
 // Physical mode's point lights: negative lights have no physical meaning, local minlight is a
 // faithful floor, and points spread over _surface faces are area emitters there instead.
 bool isPhysicalCandidate(const GpuLight& l) {
   return l.type == uint32_t(LightType::Point) && l.formula != uint32_t(LightFormula::LocalMin) && l.value > 0.0f &&
-         !(l.flags & kLightFlagFromSurface);
+      !(l.flags & kLightFlagFromSurface);
 }
 
 bool isFaithfulCandidate(const GpuLight& l) {
@@ -65,7 +67,9 @@ float distanceToCell2(const CellBox& cell, const glm::vec3& pointsLo, const glm:
   return d2;
 }
 
-float distanceToCell2(const CellBox& cell, const glm::vec3& p) { return distanceToCell2(cell, p, p); }
+float distanceToCell2(const CellBox& cell, const glm::vec3& p) {
+  return distanceToCell2(cell, p, p);
+}
 
 // A bounce light lights only what lies in front of its face (faithful::emitterTerm: 0 behind its
 // plane), so a cell wholly behind it, by more than float rounding at Quake's extents, never sees
@@ -90,8 +94,7 @@ GpuLightGrid gridOver(const Bounds& bounds, uint32_t maxCellsPerAxis) {
   const float longest = std::max({extent.x, extent.y, extent.z});
   g.origin = lo;
   g.cellSize = std::max(longest / float(maxCellsPerAxis), kMinCellSize);
-  for (int a = 0; a < 3; ++a)
-    g.dims[a] = std::clamp(uint32_t(std::ceil(extent[a] / g.cellSize)), 1u, maxCellsPerAxis);
+  for (int a = 0; a < 3; ++a) g.dims[a] = std::clamp(uint32_t(std::ceil(extent[a] / g.cellSize)), 1u, maxCellsPerAxis);
   return g;
 }
 
@@ -270,8 +273,10 @@ float faithfulReach(const GpuLight& light, float scaledist) {
   float reach = std::numeric_limits<float>::infinity();
   if (light.formula == uint32_t(LightFormula::Linear)) {
     // faithful::distanceValue: _falloff wins; otherwise value - dist * wait * _dist hits 0.
-    if (light.falloff > 0.0f) reach = light.falloff;
-    else if (scaledist * light.atten > 0.0f) reach = std::abs(light.value) / (scaledist * light.atten);
+    if (light.falloff > 0.0f)
+      reach = light.falloff;
+    else if (scaledist * light.atten > 0.0f)
+      reach = std::abs(light.value) / (scaledist * light.atten);
   } else if (light.formula == uint32_t(LightFormula::Bounce)) {
     // faithful::pointLightValue: value / d^2 (both cosines at most 1) under the gate gives 0.
     reach = std::sqrt(std::max(light.value * light.faithfulScale * faithful::maxChannel(light.color), 0.0f) / faithful::kBounceGate);
@@ -349,8 +354,7 @@ std::vector<std::vector<uint32_t>> finiteReachLists(const GpuLightGrid& g, const
   };
   std::vector<uint32_t> order;
   for (uint32_t i = first; i < lights.size(); ++i) order.push_back(i);
-  std::stable_partition(order.begin(), order.end(),
-                        [&](uint32_t i) { return lights[i].formula != uint32_t(LightFormula::Bounce); });
+  std::stable_partition(order.begin(), order.end(), [&](uint32_t i) { return lights[i].formula != uint32_t(LightFormula::Bounce); });
   std::vector<Reach> reaches;
   for (uint32_t i : order) {
     if (!isFaithfulCandidate(lights[i])) continue;
@@ -453,8 +457,8 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
   return grid;
 }
 
-LightGrid extendLightGrid(const LightGrid& grid, const std::vector<GpuLight>& lights, uint32_t first, const Bounds& bounds,
-                          float scaledist, uint32_t maxCellsPerAxis) {
+LightGrid extendLightGrid(const LightGrid& grid, const std::vector<GpuLight>& lights, uint32_t first, const Bounds& bounds, float scaledist,
+                          uint32_t maxCellsPerAxis) {
   // A physical candidate among the new lights changes the near lists: those are ranked anew.
   for (uint32_t i = first; i < lights.size(); ++i)
     if (isPhysicalCandidate(lights[i])) return buildLightGrid(lights, bounds, scaledist, maxCellsPerAxis);
@@ -485,8 +489,8 @@ LightGrid extendLightGrid(const LightGrid& grid, const std::vector<GpuLight>& li
     const std::span<const uint32_t> more(added[k]);
     const size_t oldBounce = trailingBounceLights(lights, old), moreBounce = trailingBounceLights(lights, more);
     out.cells[k] = {uint32_t(out.indices.size()), uint32_t(old.size() + more.size())};
-    for (const std::span<const uint32_t> part : {old.first(old.size() - oldBounce), more.first(more.size() - moreBounce),
-                                                 old.last(oldBounce), more.last(moreBounce)})
+    for (const std::span<const uint32_t> part :
+         {old.first(old.size() - oldBounce), more.first(more.size() - moreBounce), old.last(oldBounce), more.last(moreBounce)})
       out.indices.insert(out.indices.end(), part.begin(), part.end());
   }
   // The near lists rank the physical candidates only: unchanged.

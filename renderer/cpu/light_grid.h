@@ -62,8 +62,8 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
 // buildLightGrid(lights, bounds, scaledist, maxCellsPerAxis), from `grid`, that of lights' first
 // `first` (with the same bounds, scaledist and cells): the same grid, sooner where the new lights
 // are none of physical mode's (bounce lights), whose near lists it keeps instead of ranking again.
-LightGrid extendLightGrid(const LightGrid& grid, const std::vector<GpuLight>& lights, uint32_t first, const Bounds& bounds,
-                          float scaledist, uint32_t maxCellsPerAxis = kMaxLightGridCellsPerAxis);
+LightGrid extendLightGrid(const LightGrid& grid, const std::vector<GpuLight>& lights, uint32_t first, const Bounds& bounds, float scaledist,
+                          uint32_t maxCellsPerAxis = kMaxLightGridCellsPerAxis);
 
 // The cell holding p, clamped to the grid (NaN goes to cell 0).
 uint32_t lightGridCell(const GpuLightGrid& grid, const glm::vec3& p);

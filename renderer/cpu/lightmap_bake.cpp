@@ -18,9 +18,9 @@ namespace bt {
 
 namespace {
 
-constexpr double kSampleLift = 1.0;          // ltface.cc sampleOffPlaneDist
-constexpr double kSolidJitter = 0.5;         // PositionSamplePointOnFace tries p ± 0.5 on each axis
-constexpr uint32_t kBakeSeed = 0x6c757865u;  // the bake's own random stream
+constexpr double kSampleLift = 1.0;                      // ltface.cc sampleOffPlaneDist
+constexpr double kSolidJitter = 0.5;                     // PositionSamplePointOnFace tries p ± 0.5 on each axis
+constexpr uint32_t kBakeSeed = 0x6c757865u;              // the bake's own random stream
 constexpr int kSoftLightSamples = faithful::kSunSamples; // the compiler's suns per penumbra
 
 // Texture space (s, t, height above the frame's origin along n) <-> world, for one face.
@@ -157,8 +157,7 @@ Lightmaps layoutLightmaps(const RenderScene& rs, std::span<const uint32_t> faces
   const std::vector<BrushContents> contents = brushContents(scene);
   std::vector<std::vector<std::vector<dvec3>>> pieces(faces.size());
   parallelFor(faces.size(), threads, [&](size_t i) {
-    if (faces[i] < scene.faces.size() && faceHasLightmap(rs, faces[i]))
-      pieces[i] = compiledFacePolygons(scene, faces[i], contents);
+    if (faces[i] < scene.faces.size() && faceHasLightmap(rs, faces[i])) pieces[i] = compiledFacePolygons(scene, faces[i], contents);
   });
 
   Lightmaps lm;

@@ -28,8 +28,8 @@
 namespace bt {
 
 struct LightmapBakeOptions {
-  int extra = 1;       // sample points per luxel along each axis: 1 (the compiler's default), 2 or 4
-  int samples = 0;     // samples of each soft light per point; 0: 1 for a level without soft lights, else 64
+  int extra = 1;        // sample points per luxel along each axis: 1 (the compiler's default), 2 or 4
+  int samples = 0;      // samples of each soft light per point; 0: 1 for a level without soft lights, else 64
   unsigned threads = 0; // 0: all cores
 };
 

@@ -21,12 +21,12 @@ namespace bt {
 inline constexpr int kLuxelTexels = 16;
 
 struct Lightmaps {
-  std::vector<glm::uvec2> faceRanges;           // per scene face: (first fragment, count); count 0 = not baked
+  std::vector<glm::uvec2> faceRanges; // per scene face: (first fragment, count); count 0 = not baked
   std::vector<GpuLightmapFragment> fragments;
-  std::vector<glm::vec4> edges;                 // (a, b, c, 0): a s + b t + c >= 0 inside the fragment
-  std::vector<uint32_t> luxels;                 // RGBA8, r in the low byte
-  std::vector<std::vector<dvec3>> polygons;     // per fragment: its world-space polygon (for the bake)
-  std::vector<uint32_t> fragmentFace;           // per fragment: its scene face
+  std::vector<glm::vec4> edges;             // (a, b, c, 0): a s + b t + c >= 0 inside the fragment
+  std::vector<uint32_t> luxels;             // RGBA8, r in the low byte
+  std::vector<std::vector<dvec3>> polygons; // per fragment: its world-space polygon (for the bake)
+  std::vector<uint32_t> fragmentFace;       // per fragment: its scene face
   // What the engine draws: texture × luxel × displayScale, in the texture's (gamma) space.
   // Faithful luxels hold the stored value and Quake's overbright shows 128 as the texture's own
   // colour; a compiled view's luxels hold what its engine uploads (compiled_lightmaps.h).
@@ -53,6 +53,8 @@ inline uint32_t packLuxel(const glm::vec3& stored) {
   auto byte = [](float v) { return uint32_t(v < 0.0f ? 0.0f : v > 255.0f ? 255.0f : v); };
   return byte(stored.x) | byte(stored.y) << 8 | byte(stored.z) << 16 | 255u << 24;
 }
-inline glm::vec3 unpackLuxel(uint32_t v) { return {float(v & 255u), float((v >> 8) & 255u), float((v >> 16) & 255u)}; }
+inline glm::vec3 unpackLuxel(uint32_t v) {
+  return {float(v & 255u), float((v >> 8) & 255u), float((v >> 16) & 255u)};
+}
 
 } // namespace bt

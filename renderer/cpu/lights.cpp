@@ -12,13 +12,15 @@ namespace bt {
 
 namespace {
 
-constexpr float kDefaultLightValue = 300.0f;   // Quake's `light` default
-constexpr float kDefaultSpotAngle = 40.0f;     // ericw-tools' cone when `angle` is absent
+constexpr float kDefaultLightValue = 300.0f; // Quake's `light` default
+constexpr float kDefaultSpotAngle = 40.0f;   // ericw-tools' cone when `angle` is absent
 constexpr int kMaxFormula = 5;
 
 // Integer keys (style, spawnflags, _bounce) arrive as floats; clamp before converting so that
 // garbage like 1e30 cannot overflow the cast.
-int toInt(float v) { return static_cast<int>(std::clamp(v, -1e6f, 1e6f)); }
+int toInt(float v) {
+  return static_cast<int>(std::clamp(v, -1e6f, 1e6f));
+}
 
 std::vector<float> parseNumbers(std::string_view text) {
   std::vector<float> numbers;
@@ -73,8 +75,8 @@ public:
   }
 
   void warn(std::string message) const {
-    diagnostics_.push_back({Severity::Warning, scene_.sourcePath, entity_.line, 0,
-                            fmt::format("{}: {}", entity_.classname(), std::move(message))});
+    diagnostics_.push_back(
+        {Severity::Warning, scene_.sourcePath, entity_.line, 0, fmt::format("{}: {}", entity_.classname(), std::move(message))});
   }
 
 private:
@@ -99,8 +101,7 @@ void applyJitter(const KeyReader& keys, GpuLight& light) {
   if (light.formula == uint32_t(LightFormula::Linear)) light.faithfulScale = float(samples);
 }
 
-SurfaceTemplate readSurfaceTemplate(const KeyReader& keys, const std::string& texture, const GpuLight& light,
-                                    const WorldLighting& world) {
+SurfaceTemplate readSurfaceTemplate(const KeyReader& keys, const std::string& texture, const GpuLight& light, const WorldLighting& world) {
   SurfaceTemplate t;
   t.texture = texture;
   t.light = light;
@@ -209,8 +210,10 @@ void addWorldSuns(const Scene& scene, const WorldLighting& world, SceneLights& o
     sun.value = sunlight;
     sun.color = keys.color("_sunlight_color", keys.color("_sun_color"));
     glm::vec3 mangle{0.0f, -90.0f, 0.0f}; // straight down, ericw-tools' default
-    if (auto m = keys.vec3("_sun_mangle")) mangle = *m;
-    else if (auto m2 = keys.vec3("_sunlight_mangle")) mangle = *m2;
+    if (auto m = keys.vec3("_sun_mangle"))
+      mangle = *m;
+    else if (auto m2 = keys.vec3("_sunlight_mangle"))
+      mangle = *m2;
     sun.direction = directionFromMangle(mangle.x, mangle.y);
     sun.anglescale = world.anglescale;
     sun.deviance = glm::radians(keys.number("_sunlight_penumbra", 0.0f));
@@ -220,7 +223,12 @@ void addWorldSuns(const Scene& scene, const WorldLighting& world, SceneLights& o
 
   // Sky domes: light from every direction of the upper (_sunlight2) or lower (_sunlight3)
   // hemisphere that reaches a sky face.
-  const struct { const char* value; const char* color; const char* colorAlt; float z; } domes[] = {
+  const struct {
+    const char* value;
+    const char* color;
+    const char* colorAlt;
+    float z;
+  } domes[] = {
       {"_sunlight2", "_sunlight2_color", "_sunlight_color2", 1.0f},
       {"_sunlight3", "_sunlight3_color", "_sunlight_color3", -1.0f},
   };
@@ -297,8 +305,8 @@ SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagn
       } else if (n.size() == 1) {
         light.value = n[0];
       } else {
-        keys.warn(fmt::format("key \"{}\" has value \"{}\", expected a value, \"r g b\" or \"r g b value\"; using {}",
-                              key, *text, light.value));
+        keys.warn(
+            fmt::format("key \"{}\" has value \"{}\", expected a value, \"r g b\" or \"r g b value\"; using {}", key, *text, light.value));
       }
     }
 

@@ -17,30 +17,30 @@ namespace bt {
 // surface point's occlusion is measured. Which lights it dims is on each GpuLight
 // (kLightFlagDirt); minlight is dimmed when `minlight` is set.
 struct DirtSettings {
-  bool enabled = false;       // anything uses dirt: the occlusion rays are traced at all
-  int mode = 0;               // `_dirtmode`: 0 the fixed 48-ray cone, 1 random rays in it
-  float depth = 128.0f;       // `_dirtdepth`: rays look this far; a hit at 0 is full occlusion
-  float scale = 1.0f;         // `_dirtscale`
-  float gain = 1.0f;          // `_dirtgain`: occlusion ^ gain
-  float angle = 88.0f;        // `_dirtangle`: the cone's half-angle from the normal, degrees
-  bool minlight = false;      // `_minlight_dirt` (on by default when `_dirt` is 1)
+  bool enabled = false;  // anything uses dirt: the occlusion rays are traced at all
+  int mode = 0;          // `_dirtmode`: 0 the fixed 48-ray cone, 1 random rays in it
+  float depth = 128.0f;  // `_dirtdepth`: rays look this far; a hit at 0 is full occlusion
+  float scale = 1.0f;    // `_dirtscale`
+  float gain = 1.0f;     // `_dirtgain`: occlusion ^ gain
+  float angle = 88.0f;   // `_dirtangle`: the cone's half-angle from the normal, degrees
+  bool minlight = false; // `_minlight_dirt` (on by default when `_dirt` is 1)
 };
 
 // Worldspawn keys that set up the whole level's lighting.
 struct WorldLighting {
-  float range = 0.5f;         // `_range`: lightmap = light sum * range
-  float scaledist = 1.0f;     // `_dist`: scales distance in every falloff formula
-  float anglescale = 0.5f;    // `_anglescale` (or `_anglesense`): default for every light and the sun
-  glm::vec3 minlight{0.0f};   // `light` / `_minlight` * `_minlight_color`, in light units
-  int bounces = 0;            // `_bounce`: passes of ericw-tools bounce lights (renderer/cpu/bounce.h)
-  float bouncescale = 1.0f;   // `_bouncescale`
-  float bouncecolorscale = 0.0f; // `_bouncecolorscale`: 0 bounces grey (127), 1 the texture's mean colour
-  bool bouncestyled = false;  // `_bouncestyled`: styled lights bounce too
-  bool litwater = false;      // `_litwater`: liquids receive light instead of drawing fullbright
-  bool surflightRadiosity = false;  // `_surflight_radiosity`: default kind of every _surface template
-  float surflightScale = 1.0f;      // `_surflightscale`: scales radiosity surface lights
+  float range = 0.5f;                  // `_range`: lightmap = light sum * range
+  float scaledist = 1.0f;              // `_dist`: scales distance in every falloff formula
+  float anglescale = 0.5f;             // `_anglescale` (or `_anglesense`): default for every light and the sun
+  glm::vec3 minlight{0.0f};            // `light` / `_minlight` * `_minlight_color`, in light units
+  int bounces = 0;                     // `_bounce`: passes of ericw-tools bounce lights (renderer/cpu/bounce.h)
+  float bouncescale = 1.0f;            // `_bouncescale`
+  float bouncecolorscale = 0.0f;       // `_bouncecolorscale`: 0 bounces grey (127), 1 the texture's mean colour
+  bool bouncestyled = false;           // `_bouncestyled`: styled lights bounce too
+  bool litwater = false;               // `_litwater`: liquids receive light instead of drawing fullbright
+  bool surflightRadiosity = false;     // `_surflight_radiosity`: default kind of every _surface template
+  float surflightScale = 1.0f;         // `_surflightscale`: scales radiosity surface lights
   float surflightMinlightScale = 1.0f; // `_surflight_minlight_scale`: default face minlight of radiosity templates
-  bool dirt = false;          // `_dirt 1`: every light is dimmed by dirt unless its own `_dirt` is -1
+  bool dirt = false;                   // `_dirt 1`: every light is dimmed by dirt unless its own `_dirt` is -1
   DirtSettings dirtSettings;
 };
 
@@ -59,7 +59,7 @@ struct SurfaceTemplate {
 };
 
 struct SceneLights {
-  std::vector<GpuLight> lights;             // point and spot lights, suns, domes
+  std::vector<GpuLight> lights; // point and spot lights, suns, domes
   std::vector<SurfaceTemplate> surfaceTemplates;
   WorldLighting world;
 };
@@ -97,6 +97,8 @@ std::optional<glm::vec3> parseVec3(std::string_view text);
 std::optional<float> parseFloat(std::string_view text);
 
 // Light style of a packed GpuLight::flags value.
-inline uint32_t lightStyle(const GpuLight& light) { return light.flags >> 8; }
+inline uint32_t lightStyle(const GpuLight& light) {
+  return light.flags >> 8;
+}
 
 } // namespace bt

@@ -19,7 +19,7 @@ namespace {
 
 // Quake 2 surface flags and contents that decide how a face is drawn.
 constexpr int32_t kQ2SurfSky = 0x4, kQ2SurfWarp = 0x8, kQ2SurfHint = 0x100, kQ2SurfSkip = 0x200, kQ2SurfNodraw = 0x80;
-constexpr int32_t kQ2ContentsLiquid = 8 | 16 | 32; // lava, slime, water
+constexpr int32_t kQ2ContentsLiquid = 8 | 16 | 32;     // lava, slime, water
 constexpr int32_t kQ2ContentsClip = 0x10000 | 0x20000; // player clip, monster clip
 
 // srgbToLinear(byte / 255) for every byte: a level's textures hold millions of texels.
@@ -80,8 +80,8 @@ uint32_t classifyTexture(std::string_view texture, const std::optional<SurfaceAt
   // The last path component: Quake 2/3 names carry folders ("e1u1/clip", "common/caulk").
   const std::string_view base = std::string_view(name).substr(name.find_last_of('/') + 1);
   uint32_t flags = 0;
-  static constexpr std::string_view kHidden[] = {"clip", "trigger", "skip", "hint", "hintskip", "origin",
-                                                 "nodraw", "null", "aaatrigger", "playerclip", "monsterclip",
+  static constexpr std::string_view kHidden[] = {"clip", "trigger", "skip", "hint", "hintskip", "origin", "nodraw", "null", "aaatrigger",
+                                                 "playerclip", "monsterclip",
                                                  // qbsp's skip names for liquids: the brush stays water, unseen
                                                  "*waterskip", "*slimeskip", "*lavaskip"};
   for (std::string_view h : kHidden)
@@ -146,8 +146,7 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
 
   // Every lookup below indexes materials by face; a scene that breaks that is a bug upstream.
   for (const Face& f : scene.faces)
-    if (f.material >= scene.materials.size())
-      throw std::invalid_argument("buildRenderScene: face material index out of range");
+    if (f.material >= scene.materials.size()) throw std::invalid_argument("buildRenderScene: face material index out of range");
   rs.materials.reserve(scene.materials.size());
   const std::array<float, 256> toLinear = srgbByteToLinear();
   for (const Material& m : scene.materials) rs.materials.push_back(materialParams(m, toLinear));
@@ -236,10 +235,9 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
     rs.lights.insert(rs.lights.end(), bounced.lights.begin(), bounced.lights.end());
     if (!bounced.exact())
       diagnostics.push_back({Severity::Note, scene.sourcePath, 0, 0,
-                             "_bounce estimated from " + std::to_string(bounced.sampledLuxels) + " of " +
-                                 std::to_string(bounced.luxels) + " luxels per pass" +
-                                 (bounced.sampledLights ? " (later passes draw among the bounce lights)" : "") +
-                                 ", " + std::to_string(bounced.madeLights) + " bounce lights merged into " +
+                             "_bounce estimated from " + std::to_string(bounced.sampledLuxels) + " of " + std::to_string(bounced.luxels) +
+                                 " luxels per pass" + (bounced.sampledLights ? " (later passes draw among the bounce lights)" : "") + ", " +
+                                 std::to_string(bounced.madeLights) + " bounce lights merged into " +
                                  std::to_string(bounced.lights.size()) + " to keep the preview fast"});
     // The grid of every light, from that of the direct lights: physical mode's lists stay.
     rs.lightGrid = extendLightGrid(rs.lightGrid, rs.lights, direct, rs.tracer.bounds(), rs.world.scaledist);

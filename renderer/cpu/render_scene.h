@@ -26,23 +26,25 @@ struct RenderSceneOptions {
 };
 
 struct RenderScene {
-  const Scene* scene = nullptr;           // images are read from scene->materials
-  std::vector<uint32_t> faceFlags;        // kFace* per scene face
-  std::vector<GpuMaterial> materials;     // parallel to scene->materials
+  const Scene* scene = nullptr;       // images are read from scene->materials
+  std::vector<uint32_t> faceFlags;    // kFace* per scene face
+  std::vector<GpuMaterial> materials; // parallel to scene->materials
   std::vector<GpuLight> lights;
-  LightGrid lightGrid;                    // which lights a point looks at (light_grid.h)
-  std::vector<GpuLight> surfaceLights;    // per material: the _surface template (value 0 = none)
-  std::vector<GpuEmitter> emitters;       // triangles of emitting faces, cdf by area
+  LightGrid lightGrid;                 // which lights a point looks at (light_grid.h)
+  std::vector<GpuLight> surfaceLights; // per material: the _surface template (value 0 = none)
+  std::vector<GpuEmitter> emitters;    // triangles of emitting faces, cdf by area
   float emitterArea = 0.0f;
   WorldLighting world;
-  LightKinds lightKinds;                  // what collectLights found (before _surface and _bounce lights)
-  TraceScene tracer;                      // the brushes that are ever visible, in a BVH
+  LightKinds lightKinds; // what collectLights found (before _surface and _bounce lights)
+  TraceScene tracer;     // the brushes that are ever visible, in a BVH
   // Faithful mode's luxels (lightmap_bake.h): a face baked here is shown from them, as the game
   // shows its lightmaps; any other face has its light evaluated at the shown point.
   Lightmaps lightmaps;
 };
 
-inline const GpuFace& gpuFace(const RenderScene& rs, uint32_t face) { return rs.tracer.faces()[face]; }
+inline const GpuFace& gpuFace(const RenderScene& rs, uint32_t face) {
+  return rs.tracer.faces()[face];
+}
 inline glm::vec3 faceNormal(const RenderScene& rs, uint32_t face) {
   const float* p = gpuFace(rs, face).plane;
   return {p[0], p[1], p[2]};

@@ -20,11 +20,11 @@ namespace bt {
 
 namespace {
 
-constexpr double kQ1SurfaceGrid = 128.0; // `light -surflight_subdivide` default
-constexpr double kMinPieceWidth = 8.0;   // GLQuake does not cut off slivers thinner than this
-constexpr double kRadiosityLift = 1.0;   // surflight.cc lifts a radiosity point 1 unit off the face
-constexpr double kMinEmitterArea = 1.0;  // surflight.cc skips smaller faces
-constexpr double kOnPlaneEpsilon = 0.01; // qbsp's ON_EPSILON-like tolerance for touching planes
+constexpr double kQ1SurfaceGrid = 128.0;     // `light -surflight_subdivide` default
+constexpr double kMinPieceWidth = 8.0;       // GLQuake does not cut off slivers thinner than this
+constexpr double kRadiosityLift = 1.0;       // surflight.cc lifts a radiosity point 1 unit off the face
+constexpr double kMinEmitterArea = 1.0;      // surflight.cc skips smaller faces
+constexpr double kOnPlaneEpsilon = 0.01;     // qbsp's ON_EPSILON-like tolerance for touching planes
 constexpr double kContinuousEpsilon = 0.005; // qbsp: edges turning less than this go straight on
 constexpr double kVoidProbeDistance = 1.0;   // a face looks into the space this far in front of it
 
@@ -146,8 +146,10 @@ bool makeConvex(Winding& w, const dvec3& normal) {
     const dvec3 in = glm::normalize(w[i] - prev), out = glm::normalize(next - w[i]);
     const double turn = glm::dot(glm::cross(in, out), normal);
     if (turn < -kContinuousEpsilon) return false;
-    if (turn <= kContinuousEpsilon) w.erase(w.begin() + std::ptrdiff_t(i));
-    else ++i;
+    if (turn <= kContinuousEpsilon)
+      w.erase(w.begin() + std::ptrdiff_t(i));
+    else
+      ++i;
   }
   return w.size() >= 3;
 }
@@ -327,8 +329,8 @@ void splitAll(const std::vector<Winding>& polygons, const Plane& plane, std::vec
   }
 }
 
-void splitIntoFaces(const std::vector<Winding>& fragments, const std::vector<Winding>& footprints,
-                    const std::vector<Plane>& candidates, const dvec3& normal, std::vector<Winding>& faces) {
+void splitIntoFaces(const std::vector<Winding>& fragments, const std::vector<Winding>& footprints, const std::vector<Plane>& candidates,
+                    const dvec3& normal, std::vector<Winding>& faces) {
   if (fragments.empty()) return;
   std::vector<Winding> merged = fragments;
   mergeCoplanar(merged, normal);
@@ -382,8 +384,8 @@ void addGridLights(const Face& face, const Winding& fragment, const SurfaceTempl
 }
 
 // The radiosity kind: one point for the whole face, value x area, falling off as 1/d^2.
-void addRadiosityLight(const Scene& scene, const Face& face, const Winding& fragment, const SurfaceTemplate& t,
-                       const WorldLighting& world, std::vector<GpuLight>& out) {
+void addRadiosityLight(const Scene& scene, const Face& face, const Winding& fragment, const SurfaceTemplate& t, const WorldLighting& world,
+                       std::vector<GpuLight>& out) {
   const double faceArea = area(fragment);
   if (faceArea < kMinEmitterArea) return;
   const dvec3 origin = vertexMean(fragment) + face.plane.normal * kRadiosityLift;
@@ -428,7 +430,9 @@ VoidTest::VoidTest(const Scene& scene, const TraceScene& tracer) : tracer_(trace
   sealed_ = sealed_ && anyEntity;
 }
 
-bool VoidTest::inVoid(const dvec3& p) const { return sealed_ && escapes(p); }
+bool VoidTest::inVoid(const dvec3& p) const {
+  return sealed_ && escapes(p);
+}
 
 bool VoidTest::escapes(const dvec3& p) const {
   for (int x = -1; x <= 1; ++x)
@@ -466,8 +470,7 @@ std::vector<Winding> compiledFacePolygons(const Scene& scene, uint32_t faceIndex
   const std::vector<Winding> fragments = visibleFragments(scene, faceIndex, contents);
   if (fragments.empty()) return {};
   std::vector<Winding> pieces;
-  for (const Winding& w : compilerFaces(scene, {faceIndex}, fragments, contents))
-    subdivideForQbsp(w, scene.faces[faceIndex].frame, pieces);
+  for (const Winding& w : compilerFaces(scene, {faceIndex}, fragments, contents)) subdivideForQbsp(w, scene.faces[faceIndex].frame, pieces);
   return pieces;
 }
 
@@ -484,8 +487,8 @@ static int surfaceLightGroup(const Scene& scene, uint32_t face) {
 }
 
 std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
-                                          const std::vector<BrushContents>& contents, const WorldLighting& world,
-                                          const TraceScene& tracer, Diagnostics& diagnostics) {
+                                          const std::vector<BrushContents>& contents, const WorldLighting& world, const TraceScene& tracer,
+                                          Diagnostics& diagnostics) {
   if (templates.empty()) return {};
   // The void test traces rays from every point entity (thousands on a large level); the
   // surfaces' CSG below does not need it, so it runs beside them.
@@ -500,9 +503,9 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
   auto sameSurface = [&](const Face& a, const Face& b) {
     auto near = [](const dvec3& p, const dvec3& q) { return glm::length(p - q) < 1e-4; };
     return near(a.plane.normal, b.plane.normal) && std::abs(a.plane.dist - b.plane.dist) < kOnPlaneEpsilon &&
-           near(a.frame.tangent, b.frame.tangent) && near(a.frame.bitangent, b.frame.bitangent) &&
-           std::abs(a.frame.s(a.frame.origin) - a.frame.s(b.frame.origin)) < 1e-3 &&
-           std::abs(a.frame.t(a.frame.origin) - a.frame.t(b.frame.origin)) < 1e-3;
+        near(a.frame.tangent, b.frame.tangent) && near(a.frame.bitangent, b.frame.bitangent) &&
+        std::abs(a.frame.s(a.frame.origin) - a.frame.s(b.frame.origin)) < 1e-3 &&
+        std::abs(a.frame.t(a.frame.origin) - a.frame.t(b.frame.origin)) < 1e-3;
   };
   std::vector<Surface> surfaces; // template by template
   for (const SurfaceTemplate& t : templates) {
@@ -520,9 +523,8 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
     }
   }
   // Each surface's faces depend on nothing else: the surfaces are shared among threads.
-  parallelFor(surfaces.size(), 0, [&](size_t i) {
-    surfaces[i].polygons = compilerFaces(scene, surfaces[i].sides, surfaces[i].polygons, contents);
-  });
+  parallelFor(surfaces.size(), 0,
+              [&](size_t i) { surfaces[i].polygons = compilerFaces(scene, surfaces[i].sides, surfaces[i].polygons, contents); });
   const VoidTest inVoid = voidTest.get();
 
   std::vector<GpuLight> lights;
@@ -546,9 +548,9 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
       }
       if (lights.size() > kMaxSurfaceLights) {
         lights.resize(kMaxSurfaceLights);
-        diagnostics.push_back({Severity::Warning, scene.sourcePath, face.line, 0,
-                               fmt::format("_surface \"{}\": more than {} surface light points; the rest are left out",
-                                           t.texture, kMaxSurfaceLights)});
+        diagnostics.push_back(
+            {Severity::Warning, scene.sourcePath, face.line, 0,
+             fmt::format("_surface \"{}\": more than {} surface light points; the rest are left out", t.texture, kMaxSurfaceLights)});
         return lights;
       }
     }

@@ -39,8 +39,8 @@ enum class BrushContents : uint8_t { Empty, Solid, Liquid };
 // brushes) tells which faces look into the void, which qbsp removes (looksIntoVoid).
 inline constexpr size_t kMaxSurfaceLights = 65536;
 std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
-                                          const std::vector<BrushContents>& contents, const WorldLighting& world,
-                                          const TraceScene& tracer, Diagnostics& diagnostics);
+                                          const std::vector<BrushContents>& contents, const WorldLighting& world, const TraceScene& tracer,
+                                          Diagnostics& diagnostics);
 
 // qbsp fills the void around a sealed level ("outside filling") and makes no face that looks
 // into it. A point is in the void when some ray from it leaves the level (inside a sealed

@@ -21,7 +21,9 @@ constexpr uint32_t kGroupSize = 64; // bake.comp: trace.glsl's 8 x 8
 // Passes one invocation runs in a row: up to 8 where there are samples enough to fill the GPU
 // without them (H100: lqdm5's 290k samples 0.35 -> 0.29 s with 8; its camera's 13k samples
 // 0.14 -> 0.26 s, so these take one at a time).
-int passesPerDispatch(uint32_t samples) { return int(std::clamp<uint32_t>(samples / 32768u, 1u, 8u)); }
+int passesPerDispatch(uint32_t samples) {
+  return int(std::clamp<uint32_t>(samples / 32768u, 1u, 8u));
+}
 
 GLuint storage(const void* data, size_t bytes) {
   GLuint buffer = 0;
@@ -33,14 +35,9 @@ GLuint storage(const void* data, size_t bytes) {
 } // namespace
 
 GlLightmapBake::GlLightmapBake(GlTracer& tracer, const LuxelBakeJob& job)
-    : tracer_(tracer),
-      features_(tracer.faithfulFeatures()),
-      sampleCount_(uint32_t(job.samples.size())),
-      luxelCount_(uint32_t(job.samples.size() / std::max(job.samplesPerLuxel, 1u))),
-      samplesPerLuxel_(std::max(job.samplesPerLuxel, 1u)),
-      softSamples_(job.softSamples),
-      passes_(job.passes),
-      seed_(job.seed) {
+    : tracer_(tracer), features_(tracer.faithfulFeatures()), sampleCount_(uint32_t(job.samples.size())),
+      luxelCount_(uint32_t(job.samples.size() / std::max(job.samplesPerLuxel, 1u))), samplesPerLuxel_(std::max(job.samplesPerLuxel, 1u)),
+      softSamples_(job.softSamples), passes_(job.passes), seed_(job.seed) {
   samples_ = storage(job.samples.empty() ? nullptr : job.samples.data(), job.samples.size() * sizeof(GpuLuxelSample));
   sums_ = storage(nullptr, size_t(sampleCount_) * 4 * sizeof(glm::vec4));
   std::vector<glm::vec4> dome;
@@ -127,8 +124,7 @@ bool ProgressiveLevelBake::step(GlTracer& tracer, double milliseconds) {
   do {
     bake_->run(1);
     BT_GL(glFinish()); // to know what the pass cost
-  } while (!bake_->done() &&
-           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() < milliseconds);
+  } while (!bake_->done() && std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() < milliseconds);
   return true;
 }
 

@@ -21,7 +21,9 @@ namespace bt::gl {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
 } // namespace
 
 namespace {
@@ -57,7 +59,8 @@ void benchBakedLuxels(gl::GlTracer& tracer, RenderScene& rs, const CameraPose& p
   bakeFaithfulLightmaps(rs, &cpuCamera, s.width, s.height, {});
   const double bakeSeconds = secondsSince(bakeStart);
   tracer.setLightmaps(packLightmaps(rs.lightmaps));
-  fmt::print("faithful luxels: {} faces seen, {} luxels baked on the CPU in {:.2f} s\n", rs.lightmaps.faceRanges.size() -
+  fmt::print("faithful luxels: {} faces seen, {} luxels baked on the CPU in {:.2f} s\n",
+             rs.lightmaps.faceRanges.size() -
                  size_t(std::count(rs.lightmaps.faceRanges.begin(), rs.lightmaps.faceRanges.end(), glm::uvec2(0))),
              rs.lightmaps.luxels.size(), bakeSeconds);
   settings.physical = false;
@@ -67,8 +70,8 @@ void benchBakedLuxels(gl::GlTracer& tracer, RenderScene& rs, const CameraPose& p
   settings.spp = 64;
   const gl::BeautyImage image = tracer.renderBeauty(camera, settings);
   const double seconds = secondsSince(start);
-  fmt::print("samples: {:.2f} full samples/s at {}x{}, faithful, baked luxels ({} spp in {:.2f} s)\n", image.samples / seconds,
-             s.width, s.height, image.samples, seconds);
+  fmt::print("samples: {:.2f} full samples/s at {}x{}, faithful, baked luxels ({} spp in {:.2f} s)\n", image.samples / seconds, s.width,
+             s.height, image.samples, seconds);
   rs.lightmaps = {};
   tracer.setLightmaps({});
   benchGpuBake(tracer, rs, &cpuCamera, s, "the camera's faces");
@@ -87,8 +90,7 @@ int runGlBench(const LevelImport& importLevel, const GlBenchSettings& s) {
   // from the binaries that run stored. A private cache directory keeps the user's cache out of it.
   const std::filesystem::path cacheDir =
       std::filesystem::temp_directory_path() / fmt::format("brushtrace-bench-{:08x}", std::random_device{}());
-  const gl::BeautySettings oneSample{
-      .width = s.width, .height = s.height, .spp = 1, .physical = s.physical, .bounces = s.bounces};
+  const gl::BeautySettings oneSample{.width = s.width, .height = s.height, .spp = 1, .physical = s.physical, .bounces = s.bounces};
   std::unique_ptr<gl::GlContext> context;
   std::unique_ptr<gl::GlLevel> level;
   CameraPose pose;
@@ -142,8 +144,8 @@ int runGlBench(const LevelImport& importLevel, const GlBenchSettings& s) {
       fmt::print("  timeline: context {:.3f}, lights collected {:.3f} (worker thread), compiles started {:.3f} (the main "
                  "thread's share of starting them), trace kernel linked {:.3f}, level prepared {:.3f} (worker thread), "
                  "uploaded {:.3f}, shade kernel linked {:.3f}, first dispatches done {:.3f}, first sample read back {:.3f}\n",
-                 contextSeconds, at(times.lightsCollected), at(times.programsStarted), at(times.traceLinked),
-                 at(times.prepared), at(times.uploaded), at(times.shadeLinked), readySeconds, total);
+                 contextSeconds, at(times.lightsCollected), at(times.programsStarted), at(times.traceLinked), at(times.prepared),
+                 at(times.uploaded), at(times.shadeLinked), readySeconds, total);
     }
     // The megakernel's first image: the wait for its compile, then one sample.
     const gl::ProgramBuild build = tracer->buildPathTracer(s.width, s.height, s.physical);
@@ -157,12 +159,12 @@ int runGlBench(const LevelImport& importLevel, const GlBenchSettings& s) {
   };
   firstImage("cold, empty program cache");
   const auto& info = context->info();
-  fmt::print("device: {} ({}, {}), textures: {}, trace layout: {}, parallel shader compile: {}\n", info.renderer,
-             info.platform, info.version, gl::toString(level->tracer->textureMode()),
+  fmt::print("device: {} ({}, {}), textures: {}, trace layout: {}, parallel shader compile: {}\n", info.renderer, info.platform,
+             info.version, gl::toString(level->tracer->textureMode()),
              level->tracer->programs().traceLayout() == gl::TraceLayout::Software ? "software" : "hardware",
              info.parallelShaderCompile ? "yes" : "no");
-  fmt::print("camera: {} ({}), {} lights, {} emitter triangles\n", formatCameraPose(pose), pose.source,
-             level->render.lights.size(), level->render.emitters.size());
+  fmt::print("camera: {} ({}), {} lights, {} emitter triangles\n", formatCameraPose(pose), pose.source, level->render.lights.size(),
+             level->render.emitters.size());
   firstImage("warm");
   gl::GlTracer* tracer = level->tracer.get();
   // The programs built from here on (ray bench, the other lighting mode) are not stored: the
@@ -179,10 +181,10 @@ int runGlBench(const LevelImport& importLevel, const GlBenchSettings& s) {
   const double perPass = std::max(probe.primarySeconds + probe.bounceSeconds, 1e-4);
   const int passes = std::max(1, static_cast<int>(s.seconds / 3.0 / perPass));
   const gl::RayBenchmark rays = tracer->benchmarkRays(camera, s.width, s.height, passes);
-  fmt::print("primary rays: {:.2f} Mrays/s ({} passes of {})\n",
-             rays.primaryRays * double(rays.passes) / rays.primarySeconds * 1e-6, rays.passes, rays.primaryRays);
-  fmt::print("bounce rays:  {:.2f} Mrays/s ({} passes of {})\n",
-             rays.bounceRays * double(rays.passes) / rays.bounceSeconds * 1e-6, rays.passes, rays.bounceRays);
+  fmt::print("primary rays: {:.2f} Mrays/s ({} passes of {})\n", rays.primaryRays * double(rays.passes) / rays.primarySeconds * 1e-6,
+             rays.passes, rays.primaryRays);
+  fmt::print("bounce rays:  {:.2f} Mrays/s ({} passes of {})\n", rays.bounceRays * double(rays.passes) / rays.bounceSeconds * 1e-6,
+             rays.passes, rays.bounceRays);
 
   // Full samples in both lighting modes, with each form of the path tracer. A sample's cost
   // varies with the dispatch queue's state, so the batch doubles until one takes at least a
@@ -205,9 +207,8 @@ int runGlBench(const LevelImport& importLevel, const GlBenchSettings& s) {
         // Aim past the minimum from the rate so far, at least doubling.
         settings.spp = std::max(settings.spp * 2, static_cast<int>(settings.spp * 1.2 * minimum / std::max(seconds, 1e-4)));
       }
-      fmt::print("samples: {:.2f} full samples/s at {}x{}, {}{} ({} spp in {:.2f} s, {:.1f} Msamples/s)\n",
-                 image.samples / seconds, s.width, s.height,
-                 physical ? fmt::format("physical, {} bounces", s.bounces) : std::string("faithful"),
+      fmt::print("samples: {:.2f} full samples/s at {}x{}, {}{} ({} spp in {:.2f} s, {:.1f} Msamples/s)\n", image.samples / seconds,
+                 s.width, s.height, physical ? fmt::format("physical, {} bounces", s.bounces) : std::string("faithful"),
                  form == gl::PathTracerForm::Wavefront ? ", wavefront kernels" : "", image.samples, seconds,
                  image.samples * double(s.width) * s.height / seconds * 1e-6);
     }

@@ -50,7 +50,9 @@ bool debugOutputWanted() {
 #endif
 }
 
-std::string eglErrorText() { return fmt::format("EGL error 0x{:04x}", eglGetError()); }
+std::string eglErrorText() {
+  return fmt::format("EGL error 0x{:04x}", eglGetError());
+}
 
 // Initialises `display` and makes a GL 4.5 core context current on it; on failure returns why.
 std::optional<std::string> makeCurrentContext(EGLDisplay display, EGLContext& context) {
@@ -73,15 +75,18 @@ std::optional<std::string> makeCurrentContext(EGLDisplay display, EGLContext& co
   }
 
   const EGLint flags = debugOutputWanted() ? EGL_CONTEXT_OPENGL_DEBUG_BIT_KHR : 0;
-  const EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4,
-                                   EGL_CONTEXT_MINOR_VERSION, 5,
-                                   EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                                   EGL_CONTEXT_FLAGS_KHR, flags,
+  const EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                   4,
+                                   EGL_CONTEXT_MINOR_VERSION,
+                                   5,
+                                   EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                   EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                   EGL_CONTEXT_FLAGS_KHR,
+                                   flags,
                                    EGL_NONE};
   context = eglCreateContext(display, config, EGL_NO_CONTEXT, contextAttribs);
   if (context == EGL_NO_CONTEXT) return "no GL 4.5 core context: " + eglErrorText();
-  if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context))
-    return "eglMakeCurrent: " + eglErrorText();
+  if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context)) return "eglMakeCurrent: " + eglErrorText();
   if (epoxy_gl_version() < 45) return fmt::format("GL version {} < 4.5", epoxy_gl_version() / 10.0);
   return std::nullopt;
 }
@@ -127,8 +132,8 @@ std::unique_ptr<GlContext> GlContext::createHeadless() {
   // NVIDIA's EGL lists device enumeration as part of EGL_EXT_device_base, Mesa's as
   // EGL_EXT_device_enumeration; either provides eglQueryDevicesEXT.
   const bool platformDevice = hasExtension(clientExtensions, "EGL_EXT_platform_device");
-  const bool enumeration = hasExtension(clientExtensions, "EGL_EXT_device_enumeration") ||
-                           hasExtension(clientExtensions, "EGL_EXT_device_base");
+  const bool enumeration =
+      hasExtension(clientExtensions, "EGL_EXT_device_enumeration") || hasExtension(clientExtensions, "EGL_EXT_device_base");
   if (platformDevice && enumeration) {
     EGLint count = 0;
     eglQueryDevicesEXT(0, nullptr, &count);
@@ -172,8 +177,7 @@ GlContext::~GlContext() = default;
 
 void GlContext::makeCurrent() const {
   if (eglGetCurrentContext() == egl_->context) return;
-  if (!eglMakeCurrent(egl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, egl_->context))
-    throw GlError("eglMakeCurrent: " + eglErrorText());
+  if (!eglMakeCurrent(egl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, egl_->context)) throw GlError("eglMakeCurrent: " + eglErrorText());
 }
 
 void GlContext::queryInfo() {
@@ -209,8 +213,8 @@ void GlContext::enableDebugOutput() {
   checkGlError("glDebugMessageCallback", __FILE__, __LINE__);
 }
 
-void GlContext::debugCallback(unsigned /*source*/, unsigned type, unsigned id, unsigned severity, int /*length*/,
-                              const char* message, const void* self) {
+void GlContext::debugCallback(unsigned /*source*/, unsigned type, unsigned id, unsigned severity, int /*length*/, const char* message,
+                              const void* self) {
   if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return;
   if (type == GL_DEBUG_TYPE_ERROR) ++const_cast<GlContext*>(static_cast<const GlContext*>(self))->debugErrors_;
   std::fprintf(stderr, "brushtrace: GL debug (id %u): %s\n", id, message);

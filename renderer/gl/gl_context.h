@@ -13,14 +13,14 @@
 namespace bt::gl {
 
 struct GlContextInfo {
-  std::string platform; // "device" or "surfaceless"
-  std::string vendor;   // GL_VENDOR
-  std::string renderer; // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
-  std::string version;  // GL_VERSION
-  bool bindlessTextures = false; // GL_ARB_bindless_texture
-  bool anisotropicFiltering = false; // GL_ARB_texture_filter_anisotropic / EXT
-  int maxTextureUnits = 0;           // GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS
-  bool softwareRenderer = false; // GL emulated on the CPU: Mesa's llvmpipe, softpipe, swrast
+  std::string platform;               // "device" or "surfaceless"
+  std::string vendor;                 // GL_VENDOR
+  std::string renderer;               // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
+  std::string version;                // GL_VERSION
+  bool bindlessTextures = false;      // GL_ARB_bindless_texture
+  bool anisotropicFiltering = false;  // GL_ARB_texture_filter_anisotropic / EXT
+  int maxTextureUnits = 0;            // GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS
+  bool softwareRenderer = false;      // GL emulated on the CPU: Mesa's llvmpipe, softpipe, swrast
   bool parallelShaderCompile = false; // GL_KHR/ARB_parallel_shader_compile: compiles run on driver threads
 };
 
@@ -48,8 +48,8 @@ private:
   GlContext(std::unique_ptr<Egl> egl, std::string platform);
   void queryInfo();
   void enableDebugOutput();
-  static void debugCallback(unsigned source, unsigned type, unsigned id, unsigned severity, int length,
-                            const char* message, const void* self);
+  static void debugCallback(unsigned source, unsigned type, unsigned id, unsigned severity, int length, const char* message,
+                            const void* self);
 
   std::unique_ptr<Egl> egl_;
   GlContextInfo info_;

@@ -23,8 +23,8 @@ const char* glErrorName(unsigned error);
 } // namespace bt::gl
 
 // Runs a GL call and reports any error it set, with the call's source text.
-#define BT_GL(call)                                     \
-  do {                                                  \
-    call;                                               \
-    ::bt::gl::checkGlError(#call, __FILE__, __LINE__);  \
+#define BT_GL(call)                                                                                                                        \
+  do {                                                                                                                                     \
+    call;                                                                                                                                  \
+    ::bt::gl::checkGlError(#call, __FILE__, __LINE__);                                                                                     \
   } while (0)

@@ -7,37 +7,39 @@ namespace bt::gl {
 LevelPreparation::LevelPreparation(Scene& scene, RenderScene& render, LevelImport importLevel, RenderSceneOptions options,
                                    Diagnostics* lightDiagnostics)
     : kinds_(kindsPromise_.get_future().share()) {
-  done_ = std::async(std::launch::async, [this, &scene, &render, importLevel = std::move(importLevel),
-                                          options = std::move(options), lightDiagnostics] {
-    bool kindsSet = false;
-    // The kinds need the entities only, so they are told as soon as the importer has them. The
-    // lights are collected again from the finished scene, which may have more keys.
-    auto tell = [&](const Scene& read) {
-      if (kindsSet) return;
-      Diagnostics ignored; // the collection below reports them
-      const LightKinds kinds = bt::lightKinds(collectLights(read, options.lights, ignored), options.bounceLights);
-      lightsCollected = Clock::now();
-      kindsPromise_.set_value(kinds);
-      kindsSet = true;
-    };
-    try {
-      started = Clock::now();
-      scene = importLevel(tell);
-      tell(scene); // an importer that did not say when it had the entities
-      Diagnostics& diagnostics = lightDiagnostics ? *lightDiagnostics : scene.diagnostics;
-      render = buildRenderScene(scene, options, diagnostics);
-      prepared = Clock::now();
-    } catch (...) {
-      if (!kindsSet) kindsPromise_.set_exception(std::current_exception());
-      throw;
-    }
-  });
+  done_ = std::async(std::launch::async,
+                     [this, &scene, &render, importLevel = std::move(importLevel), options = std::move(options), lightDiagnostics] {
+                       bool kindsSet = false;
+                       // The kinds need the entities only, so they are told as soon as the importer has them. The
+                       // lights are collected again from the finished scene, which may have more keys.
+                       auto tell = [&](const Scene& read) {
+                         if (kindsSet) return;
+                         Diagnostics ignored; // the collection below reports them
+                         const LightKinds kinds = bt::lightKinds(collectLights(read, options.lights, ignored), options.bounceLights);
+                         lightsCollected = Clock::now();
+                         kindsPromise_.set_value(kinds);
+                         kindsSet = true;
+                       };
+                       try {
+                         started = Clock::now();
+                         scene = importLevel(tell);
+                         tell(scene); // an importer that did not say when it had the entities
+                         Diagnostics& diagnostics = lightDiagnostics ? *lightDiagnostics : scene.diagnostics;
+                         render = buildRenderScene(scene, options, diagnostics);
+                         prepared = Clock::now();
+                       } catch (...) {
+                         if (!kindsSet) kindsPromise_.set_exception(std::current_exception());
+                         throw;
+                       }
+                     });
 }
 
 // std::async's future joins the worker in its destructor; an exception nobody asked for is dropped.
 LevelPreparation::~LevelPreparation() = default;
 
-LightKinds LevelPreparation::lightKinds() { return kinds_.get(); }
+LightKinds LevelPreparation::lightKinds() {
+  return kinds_.get();
+}
 
 void LevelPreparation::wait() {
   if (done_.valid()) done_.get();
@@ -55,8 +57,8 @@ FaithfulFeatures startPathTracerFor(TracerPrograms& programs, LevelPreparation& 
   return features;
 }
 
-void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& context,
-                 const std::shared_ptr<TracerPrograms>& programs, bool physical, GlLevelTimes* times) {
+void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& context, const std::shared_ptr<TracerPrograms>& programs,
+                 bool physical, GlLevelTimes* times) {
   using Clock = GlLevelTimes::Clock;
   GlLevelTimes local;
   GlLevelTimes& t = times ? *times : local;

@@ -62,10 +62,10 @@ struct GlLevel {
 // When each step of loadGlLevel() ended, for `brushtrace bench`'s first-image timeline.
 struct GlLevelTimes {
   using Clock = std::chrono::steady_clock;
-  Clock::time_point contextMade;              // the caller's, where it wants it in the timeline
+  Clock::time_point contextMade;               // the caller's, where it wants it in the timeline
   Clock::time_point lightsCollected, prepared; // the preparation's (LevelPreparation)
-  Clock::time_point programsStarted;          // the path tracer's programs queued for the level's lights
-  Clock::time_point traceLinked, shadeLinked; // both at the upload's end where none was started
+  Clock::time_point programsStarted;           // the path tracer's programs queued for the level's lights
+  Clock::time_point traceLinked, shadeLinked;  // both at the upload's end where none was started
   Clock::time_point uploadStarted, uploaded;
 };
 
@@ -86,8 +86,8 @@ FaithfulFeatures startPathTracerFor(TracerPrograms& programs, LevelPreparation& 
 // the first image 0.49-0.83 s this way, 0.86-1.2 s with the import on this thread before the
 // wait). The upload needs this thread's GL context; it runs between the trace kernel's link
 // and the shade kernel's. Exceptions of the preparation or the compile reach the caller.
-void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& context,
-                 const std::shared_ptr<TracerPrograms>& programs, bool physical, GlLevelTimes* times = nullptr);
+void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& context, const std::shared_ptr<TracerPrograms>& programs,
+                 bool physical, GlLevelTimes* times = nullptr);
 // Both, for a caller that has its context already (the viewer's reloads).
 void loadGlLevel(GlLevel& level, GlContext& context, const std::shared_ptr<TracerPrograms>& programs, bool physical,
                  const LevelImport& importLevel, GlLevelTimes* times = nullptr);

@@ -94,12 +94,16 @@ std::vector<GLint> programBinaryFormats() {
 
 bool isOpaqueType(GLint type) {
   switch (type) {
-  case GL_SAMPLER_2D: case GL_SAMPLER_2D_ARRAY: case GL_INT_SAMPLER_2D: case GL_UNSIGNED_INT_SAMPLER_2D:
-  case GL_IMAGE_2D: case GL_INT_IMAGE_2D: case GL_UNSIGNED_INT_IMAGE_2D:
-  case GL_IMAGE_2D_ARRAY: case GL_UNSIGNED_INT_IMAGE_2D_ARRAY:
-    return true;
-  default:
-    return false;
+  case GL_SAMPLER_2D:
+  case GL_SAMPLER_2D_ARRAY:
+  case GL_INT_SAMPLER_2D:
+  case GL_UNSIGNED_INT_SAMPLER_2D:
+  case GL_IMAGE_2D:
+  case GL_INT_IMAGE_2D:
+  case GL_UNSIGNED_INT_IMAGE_2D:
+  case GL_IMAGE_2D_ARRAY:
+  case GL_UNSIGNED_INT_IMAGE_2D_ARRAY: return true;
+  default: return false;
   }
 }
 
@@ -128,7 +132,7 @@ std::vector<ProgramBindingPoint> readBindings(GLuint program) {
     }
   }
   for (const auto& [interface, kind] : {std::pair{GL_SHADER_STORAGE_BLOCK, ProgramBindingPoint::StorageBlock},
-                                       std::pair{GL_UNIFORM_BLOCK, ProgramBindingPoint::UniformBlock}}) {
+                                        std::pair{GL_UNIFORM_BLOCK, ProgramBindingPoint::UniformBlock}}) {
     glGetProgramInterfaceiv(program, interface, GL_ACTIVE_RESOURCES, &count);
     for (GLint i = 0; i < count; ++i) {
       const GLenum prop = GL_BUFFER_BINDING;
@@ -145,8 +149,12 @@ void applyBindings(GLuint program, const std::vector<ProgramBindingPoint>& bindi
   for (const ProgramBindingPoint& b : bindings) {
     switch (b.kind) {
     case ProgramBindingPoint::Uniform: glProgramUniform1i(program, b.index, b.binding); break;
-    case ProgramBindingPoint::StorageBlock: glShaderStorageBlockBinding(program, static_cast<GLuint>(b.index), static_cast<GLuint>(b.binding)); break;
-    case ProgramBindingPoint::UniformBlock: glUniformBlockBinding(program, static_cast<GLuint>(b.index), static_cast<GLuint>(b.binding)); break;
+    case ProgramBindingPoint::StorageBlock:
+      glShaderStorageBlockBinding(program, static_cast<GLuint>(b.index), static_cast<GLuint>(b.binding));
+      break;
+    case ProgramBindingPoint::UniformBlock:
+      glUniformBlockBinding(program, static_cast<GLuint>(b.index), static_cast<GLuint>(b.binding));
+      break;
     }
   }
   checkGlError("restoring a cached program's binding points", __FILE__, __LINE__);
@@ -174,8 +182,7 @@ ComputeProgram::ComputeProgram(Deferred, std::string_view name, std::span<const 
     cache_ = cache;
     cacheKey_ = programCacheKey(source, glString(GL_VENDOR), glString(GL_RENDERER), glString(GL_VERSION));
   }
-  parallelCompile_ = epoxy_has_gl_extension("GL_KHR_parallel_shader_compile") ||
-                     epoxy_has_gl_extension("GL_ARB_parallel_shader_compile");
+  parallelCompile_ = epoxy_has_gl_extension("GL_KHR_parallel_shader_compile") || epoxy_has_gl_extension("GL_ARB_parallel_shader_compile");
   start_ = std::chrono::steady_clock::now();
   if (useCache) {
     if (const std::optional<ProgramBinary> binary = cache.load(name, cacheKey_)) loadedFromCache_ = loadFrom(*binary);

@@ -14,7 +14,7 @@
 namespace bt::gl {
 
 struct ShaderFile {
-  const char* name;   // file name in shaders/
+  const char* name; // file name in shaders/
   const char* source;
 };
 
@@ -59,12 +59,18 @@ public:
   // second on the calling thread after this says done.
   bool ready();
 
-  unsigned id() { finish(); return program_; }
+  unsigned id() {
+    finish();
+    return program_;
+  }
   // Wall time from the start of the build to finish(): glCompileShader + glLinkProgram (or
   // glProgramBinary when loaded from the cache), less whatever overlapped other work when the
   // build was started early. Drivers may defer part of the work to the first dispatch (Mesa's
   // llvmpipe does).
-  double buildMilliseconds() { finish(); return buildMilliseconds_; }
+  double buildMilliseconds() {
+    finish();
+    return buildMilliseconds_;
+  }
   bool loadedFromCache() const { return loadedFromCache_; }
   // Dispatches enough local_size_x by local_size_y groups to cover width by height invocations.
   void dispatch2d(int width, int height);
@@ -76,11 +82,11 @@ private:
 
   std::string name_;
   ProgramCache cache_;
-  std::string cacheKey_;          // empty: not stored
-  unsigned shader_ = 0;           // while a compile is in flight
-  bool parallelCompile_ = false;  // the driver compiles on its own threads (completion status)
+  std::string cacheKey_;         // empty: not stored
+  unsigned shader_ = 0;          // while a compile is in flight
+  bool parallelCompile_ = false; // the driver compiles on its own threads (completion status)
   bool finished_ = false;
-  std::string error_;             // why the build failed, rethrown by every later finish()
+  std::string error_; // why the build failed, rethrown by every later finish()
   int localSize_[3] = {1, 1, 1};
   std::chrono::steady_clock::time_point start_;
   unsigned program_ = 0;

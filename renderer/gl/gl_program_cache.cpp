@@ -23,13 +23,11 @@ uint64_t fnv1a64(std::string_view text) {
   return h;
 }
 
-template <typename T>
-void put(std::string& out, T value) {
+template <typename T> void put(std::string& out, T value) {
   out.append(reinterpret_cast<const char*>(&value), sizeof value);
 }
 
-template <typename T>
-bool get(std::string_view& in, T& value) {
+template <typename T> bool get(std::string_view& in, T& value) {
   if (in.size() < sizeof value) return false;
   std::memcpy(&value, in.data(), sizeof value);
   in.remove_prefix(sizeof value);
@@ -38,8 +36,7 @@ bool get(std::string_view& in, T& value) {
 
 } // namespace
 
-std::string programCacheKey(std::string_view source, std::string_view vendor, std::string_view renderer,
-                            std::string_view version) {
+std::string programCacheKey(std::string_view source, std::string_view vendor, std::string_view renderer, std::string_view version) {
   // The whole text, not just its hash, goes into the file: a hash collision then reads as a
   // mismatch instead of loading another program's binary.
   return fmt::format("{}\n{}\n{}\n{}", vendor, renderer, version, source);
@@ -52,8 +49,7 @@ ProgramCache ProgramCache::fromEnvironment(std::string_view glVendor) {
   const bool forced = setting == "1" || setting == "on";
   if (!forced && glVendor.find("NVIDIA") != std::string_view::npos) return {};
   if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return ProgramCache(std::filesystem::path(xdg) / "brushtrace");
-  if (const char* home = std::getenv("HOME"); home && *home)
-    return ProgramCache(std::filesystem::path(home) / ".cache" / "brushtrace");
+  if (const char* home = std::getenv("HOME"); home && *home) return ProgramCache(std::filesystem::path(home) / ".cache" / "brushtrace");
   return {};
 }
 
@@ -104,8 +100,7 @@ void ProgramCache::store(std::string_view name, std::string_view key, const Prog
 
   const std::filesystem::path file = fileFor(name, key);
   // A name of our own next to the target: two processes storing at once each rename a whole file.
-  const std::filesystem::path temporary =
-      file.string() + fmt::format(".tmp{:08x}", std::random_device{}());
+  const std::filesystem::path temporary = file.string() + fmt::format(".tmp{:08x}", std::random_device{}());
   {
     std::ofstream tmp(temporary, std::ios::binary | std::ios::trunc);
     if (!tmp.write(out.data(), static_cast<std::streamsize>(out.size())) || !tmp.flush()) {

@@ -61,7 +61,6 @@ private:
 };
 
 // The cache key of a program: its source text and the driver that compiles it.
-std::string programCacheKey(std::string_view source, std::string_view vendor, std::string_view renderer,
-                            std::string_view version);
+std::string programCacheKey(std::string_view source, std::string_view vendor, std::string_view renderer, std::string_view version);
 
 } // namespace bt::gl

@@ -22,7 +22,9 @@ GlTexture2D::GlTexture2D(unsigned internalFormat, int width, int height) : width
   BT_GL(glTextureParameteri(texture_, GL_TEXTURE_MAG_FILTER, GL_LINEAR));
 }
 
-GlTexture2D::~GlTexture2D() { glDeleteTextures(1, &texture_); }
+GlTexture2D::~GlTexture2D() {
+  glDeleteTextures(1, &texture_);
+}
 
 ProgressiveImage::ProgressiveImage(int width, int height) : sum_(GL_RGBA32F, width, height) {}
 
@@ -52,8 +54,8 @@ TonemapPass::TonemapPass() : program_("tonemap.comp", {}) {}
 
 void TonemapPass::run(const GlTexture2D& sum, int samples, const GlTexture2D& display, Tonemap tonemap, float exposureEv) {
   if (sum.width() != display.width() || sum.height() != display.height())
-    throw GlError(fmt::format("tonemap: a {}x{} sum onto a {}x{} display image", sum.width(), sum.height(), display.width(),
-                              display.height()));
+    throw GlError(
+        fmt::format("tonemap: a {}x{} sum onto a {}x{} display image", sum.width(), sum.height(), display.width(), display.height()));
   const GLuint program = program_.id();
   const float scale = std::exp2(exposureEv) / static_cast<float>(std::max(samples, 1));
   BT_GL(glProgramUniform1f(program, 0, scale));

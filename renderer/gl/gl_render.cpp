@@ -28,8 +28,7 @@ std::optional<GlRenderResult> renderWithGl(const RenderScene& scene, const Camer
 }
 
 GlRenderResult renderWithGl(GlContext& context, const RenderScene& scene, const CameraPose& pose, const RenderSettings& settings,
-                            TextureMode textures, const std::function<void(const RenderProgress&)>& progress,
-                            GlRenderParts parts) {
+                            TextureMode textures, const std::function<void(const RenderProgress&)>& progress, GlRenderParts parts) {
   return renderWithGl(context, scene, pose, settings, std::make_shared<TracerPrograms>(context, textures), progress, parts);
 }
 

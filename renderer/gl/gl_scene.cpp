@@ -15,8 +15,7 @@ namespace bt::gl {
 
 namespace {
 
-template <typename T>
-void upload(GLuint buffer, std::span<const T> v) {
+template <typename T> void upload(GLuint buffer, std::span<const T> v) {
   // A zero-sized buffer cannot be bound as an SSBO; an empty array uploads one zero element.
   const T zero{};
   const T* data = v.empty() ? &zero : v.data();
@@ -29,8 +28,8 @@ void upload(GLuint buffer, std::span<const T> v) {
 uint32_t childRef(const GpuBvhNode& n, uint32_t glIndex) {
   if (n.count == 0) return glIndex;
   if (n.count > kGlLeafMaxCount || n.leftFirst > kGlLeafMaxFirst)
-    throw GlError(fmt::format("scene too large for the GL tracer: a BVH leaf of {} brushes from brush {} (at most {} from {})",
-                              n.count, n.leftFirst, kGlLeafMaxCount, kGlLeafMaxFirst));
+    throw GlError(fmt::format("scene too large for the GL tracer: a BVH leaf of {} brushes from brush {} (at most {} from {})", n.count,
+                              n.leftFirst, kGlLeafMaxCount, kGlLeafMaxFirst));
   return kGlLeafRef | n.count << 24 | n.leftFirst;
 }
 
@@ -101,16 +100,16 @@ void makeTexelView(GLuint& view, GLuint buffer, GLenum format, size_t bytes, siz
   BT_GL(glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels));
   const size_t texels = std::max<size_t>(bytes, texelBytes) / texelBytes;
   if (texels > static_cast<size_t>(maxTexels))
-    throw GlError(fmt::format("scene too large for this GL context: {} needs {} buffer-texture texels, the limit is {}",
-                              what, texels, maxTexels));
+    throw GlError(
+        fmt::format("scene too large for this GL context: {} needs {} buffer-texture texels, the limit is {}", what, texels, maxTexels));
   BT_GL(glCreateTextures(GL_TEXTURE_BUFFER, 1, &view));
   BT_GL(glTextureBuffer(view, format, buffer));
 }
 
 } // namespace
 
-GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMaterial>& materials,
-                               const GlLighting& lighting, size_t materialCount) {
+GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMaterial>& materials, const GlLighting& lighting,
+                               size_t materialCount) {
   BT_GL(glCreateBuffers(kBufferCount, buffers_));
   const std::vector<GlBvhNode> bvh = sceneBvhForGl(tracer);
   upload(buffers_[kBindingNodes], std::span<const GlBvhNode>(bvh));
@@ -122,14 +121,13 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMa
   BT_GL(glGetIntegerv(GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS, &units));
   if (units < static_cast<GLint>(kTexelUnitEnd))
     throw GlError(fmt::format("the GL context offers {} compute texture units; the tracer needs {}", units, int(kTexelUnitEnd)));
-  makeTexelView(texelViews_[kTexelNodes - kTexelNodes], buffers_[kBindingNodes], GL_RGBA32UI,
-                bvh.size() * sizeof(GlBvhNode), 16, "the BVH nodes");
-  makeTexelView(texelViews_[kTexelBrushes - kTexelNodes], buffers_[kBindingBrushes], GL_RGBA32UI,
-                brushRows.size() * 4, 16, "the brushes and triangles");
+  makeTexelView(texelViews_[kTexelNodes - kTexelNodes], buffers_[kBindingNodes], GL_RGBA32UI, bvh.size() * sizeof(GlBvhNode), 16,
+                "the BVH nodes");
+  makeTexelView(texelViews_[kTexelBrushes - kTexelNodes], buffers_[kBindingBrushes], GL_RGBA32UI, brushRows.size() * 4, 16,
+                "the brushes and triangles");
   makeTexelView(texelViews_[kTexelSides - kTexelNodes], buffers_[kBindingSides], GL_R32UI, tracer.sides().size_bytes(), 4,
                 "the slanted sides");
-  makeTexelView(texelViews_[kTexelFaces - kTexelNodes], buffers_[kBindingFaces], GL_RGBA32F, tracer.faces().size_bytes(), 16,
-                "the faces");
+  makeTexelView(texelViews_[kTexelFaces - kTexelNodes], buffers_[kBindingFaces], GL_RGBA32F, tracer.faces().size_bytes(), 16, "the faces");
   std::vector<uint32_t> faceFlags = lighting.faceFlags;
   faceFlags.resize(tracer.faces().size(), 0u);
   upload(buffers_[kBindingFaceFlags], std::span<const uint32_t>(faceFlags));
@@ -143,9 +141,8 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMa
 
   // Light selection: the grid header and its cells in one buffer, as light_select.glsl reads
   // them. A lighting without a grid (tests that list lights by hand) gets one built here.
-  const LightGrid grid = lighting.lightGrid.cells.empty()
-                             ? buildLightGrid(lighting.lights, tracer.bounds(), lighting.scaledist)
-                             : lighting.lightGrid;
+  const LightGrid grid =
+      lighting.lightGrid.cells.empty() ? buildLightGrid(lighting.lights, tracer.bounds(), lighting.scaledist) : lighting.lightGrid;
   const auto* header = reinterpret_cast<const uint8_t*>(&grid.header);
   const auto* cells = reinterpret_cast<const uint8_t*>(grid.cells.data());
   std::vector<uint8_t> gridBytes(header, header + sizeof(GpuLightGrid));

@@ -23,22 +23,21 @@ std::vector<GlBvhNode> sceneBvhForGl(const TraceScene& tracer);
 class GlSceneBuffers {
 public:
   // faceFlags in GlLighting: one per TraceScene face (= Scene face), or empty for none.
-  GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMaterial>& materials, const GlLighting& lighting,
-                 size_t materialCount);
+  GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMaterial>& materials, const GlLighting& lighting, size_t materialCount);
   ~GlSceneBuffers();
   GlSceneBuffers(const GlSceneBuffers&) = delete;
   GlSceneBuffers& operator=(const GlSceneBuffers&) = delete;
 
-  void bind() const; // to the Binding points and TexelUnits of gl_structs.h
+  void bind() const;                                      // to the Binding points and TexelUnits of gl_structs.h
   void setLightmaps(const std::vector<uint32_t>& packed); // kBindingLightmaps; empty: none
-  unsigned lightmapBuffer() const { return lightmaps_; }   // what a GPU bake writes its luxels into
+  unsigned lightmapBuffer() const { return lightmaps_; }  // what a GPU bake writes its luxels into
 
 private:
   static constexpr int kBufferCount = 11; // Binding 0..10
   static constexpr int kTexelViewCount = kTexelUnitEnd - kTexelNodes;
   unsigned buffers_[kBufferCount] = {};
   unsigned texelViews_[kTexelViewCount] = {}; // buffer textures, by TexelUnit - kTexelNodes
-  unsigned lightmaps_ = 0;                     // kBindingLightmaps
+  unsigned lightmaps_ = 0;                    // kBindingLightmaps
 };
 
 } // namespace bt::gl

@@ -25,7 +25,7 @@ enum Binding : uint32_t {
   kBindingEmitters = 6,
   kBindingSides = 7,
   kBindingFaceFlags = 8,
-  kBindingLightGrid = 9,    // GpuLightGrid, then its GpuLightCell array (shaders/light_select.glsl)
+  kBindingLightGrid = 9,     // GpuLightGrid, then its GpuLightCell array (shaders/light_select.glsl)
   kBindingLightIndices = 10, // the grid's uint index array into the light buffer
   // The wavefront path tracer's per-pixel state (shaders/wavefront.glsl, pathtrace.comp's shade kernel).
   kBindingWavefrontRays = 11,
@@ -106,22 +106,22 @@ enum MaterialFlags : uint32_t {
 };
 
 struct GpuMaterial {
-  uint64_t baseHandle;   // bindless texture handles, 0 on the arrays path
+  uint64_t baseHandle; // bindless texture handles, 0 on the arrays path
   uint64_t normalHandle;
   uint64_t emissiveHandle;
-  uint32_t baseArray;    // arrays path: which sampler2DArray, and the layer in it
+  uint32_t baseArray; // arrays path: which sampler2DArray, and the layer in it
   uint32_t baseLayer;
   uint32_t normalArray;
   uint32_t normalLayer;
   uint32_t emissiveArray;
   uint32_t emissiveLayer;
-  glm::vec2 size;        // Material::width, height
-  uint32_t flags;        // MaterialFlags
+  glm::vec2 size; // Material::width, height
+  uint32_t flags; // MaterialFlags
   float roughness;
   float metallic;
   uint32_t pad0;
-  glm::uvec2 baseTexels;     // each map's Image width, height: the arrays path may store it in a
-  glm::uvec2 normalTexels;   // larger layer (gl_textures.h), and the shaders wrap at this size
+  glm::uvec2 baseTexels;   // each map's Image width, height: the arrays path may store it in a
+  glm::uvec2 normalTexels; // larger layer (gl_textures.h), and the shaders wrap at this size
   glm::uvec2 emissiveTexels;
 };
 static_assert(sizeof(GpuMaterial) == 96);
@@ -129,9 +129,8 @@ static_assert(offsetof(GpuMaterial, baseHandle) == 0 && offsetof(GpuMaterial, no
               offsetof(GpuMaterial, emissiveHandle) == 16 && offsetof(GpuMaterial, baseArray) == 24 &&
               offsetof(GpuMaterial, baseLayer) == 28 && offsetof(GpuMaterial, normalArray) == 32 &&
               offsetof(GpuMaterial, normalLayer) == 36 && offsetof(GpuMaterial, emissiveArray) == 40 &&
-              offsetof(GpuMaterial, emissiveLayer) == 44 && offsetof(GpuMaterial, size) == 48 &&
-              offsetof(GpuMaterial, flags) == 56 && offsetof(GpuMaterial, roughness) == 60 &&
-              offsetof(GpuMaterial, metallic) == 64 && offsetof(GpuMaterial, pad0) == 68 &&
+              offsetof(GpuMaterial, emissiveLayer) == 44 && offsetof(GpuMaterial, size) == 48 && offsetof(GpuMaterial, flags) == 56 &&
+              offsetof(GpuMaterial, roughness) == 60 && offsetof(GpuMaterial, metallic) == 64 && offsetof(GpuMaterial, pad0) == 68 &&
               offsetof(GpuMaterial, baseTexels) == 72 && offsetof(GpuMaterial, normalTexels) == 80 &&
               offsetof(GpuMaterial, emissiveTexels) == 88);
 
@@ -155,8 +154,7 @@ static_assert(sizeof(GpuCamera) == 96);
 static_assert(offsetof(GpuCamera, origin) == 0 && offsetof(GpuCamera, pad0) == 12 && offsetof(GpuCamera, forward) == 16 &&
               offsetof(GpuCamera, pad1) == 28 && offsetof(GpuCamera, right) == 32 && offsetof(GpuCamera, pad2) == 44 &&
               offsetof(GpuCamera, up) == 48 && offsetof(GpuCamera, pad3) == 60 && offsetof(GpuCamera, imageSize) == 64 &&
-              offsetof(GpuCamera, frameIndex) == 72 && offsetof(GpuCamera, seed) == 76 &&
-              offsetof(GpuCamera, firstFrame) == 80);
+              offsetof(GpuCamera, frameIndex) == 72 && offsetof(GpuCamera, seed) == 76 && offsetof(GpuCamera, firstFrame) == 80);
 
 // Lights and emitters are scene/gpu_structs.h's GpuLight and GpuEmitter, uploaded unchanged
 // (shaders/structs.glsl mirrors them).
@@ -177,20 +175,18 @@ struct GpuWorld {
   // Faithful dirt (renderer/cpu DirtSettings); read only by a program built with BT_FAITHFUL_DIRT.
   uint32_t dirtMode;
   float dirtDepth;
-  float dirtAngle;     // the cone's half-angle, radians
-  float dirtScale;     // worldspawn _dirtscale / _dirtgain, for minlight
+  float dirtAngle; // the cone's half-angle, radians
+  float dirtScale; // worldspawn _dirtscale / _dirtgain, for minlight
   float dirtGain;
   uint32_t minlightDirt;
   uint32_t pad;
 };
 static_assert(sizeof(GpuWorld) == 80);
 static_assert(offsetof(GpuWorld, minlight) == 0 && offsetof(GpuWorld, range) == 12 && offsetof(GpuWorld, scaledist) == 16 &&
-              offsetof(GpuWorld, bouncescale) == 20 && offsetof(GpuWorld, faithfulBounces) == 24 &&
-              offsetof(GpuWorld, litwater) == 28 && offsetof(GpuWorld, lightCount) == 32 &&
-              offsetof(GpuWorld, emitterCount) == 36 && offsetof(GpuWorld, emitterArea) == 40 &&
+              offsetof(GpuWorld, bouncescale) == 20 && offsetof(GpuWorld, faithfulBounces) == 24 && offsetof(GpuWorld, litwater) == 28 &&
+              offsetof(GpuWorld, lightCount) == 32 && offsetof(GpuWorld, emitterCount) == 36 && offsetof(GpuWorld, emitterArea) == 40 &&
               offsetof(GpuWorld, physical) == 44 && offsetof(GpuWorld, bounces) == 48 && offsetof(GpuWorld, dirtMode) == 52 &&
-              offsetof(GpuWorld, dirtDepth) == 56 && offsetof(GpuWorld, dirtAngle) == 60 &&
-              offsetof(GpuWorld, dirtScale) == 64 && offsetof(GpuWorld, dirtGain) == 68 &&
-              offsetof(GpuWorld, minlightDirt) == 72);
+              offsetof(GpuWorld, dirtDepth) == 56 && offsetof(GpuWorld, dirtAngle) == 60 && offsetof(GpuWorld, dirtScale) == 64 &&
+              offsetof(GpuWorld, dirtGain) == 68 && offsetof(GpuWorld, minlightDirt) == 72);
 
 } // namespace bt::gl

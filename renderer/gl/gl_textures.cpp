@@ -20,7 +20,9 @@ namespace {
 // stored 8-bit values and decodes afterwards (renderer/cpu/color.h bilinearRepeat, and Quake's
 // engine multiplies texture by light in that encoded space), so the shaders decode after
 // sampling too; the arrays path keeps colour and normal maps of one size in one array.
-GLenum internalFormat(bool /*srgb*/) { return GL_RGBA8; }
+GLenum internalFormat(bool /*srgb*/) {
+  return GL_RGBA8;
+}
 
 GLsizei mipLevels(int width, int height) {
   return static_cast<GLsizei>(std::bit_width(static_cast<unsigned>(std::max(width, height))));
@@ -69,8 +71,7 @@ std::vector<SizeClass> sizeClasses(const std::vector<Layer>& maps, size_t maxCla
     for (size_t a = 0; a < classes.size(); ++a)
       for (size_t b = a + 1; b < classes.size(); ++b) {
         const size_t merged = size_t(std::max(classes[a].width, classes[b].width)) *
-                              size_t(std::max(classes[a].height, classes[b].height)) *
-                              (classes[a].layers.size() + classes[b].layers.size());
+            size_t(std::max(classes[a].height, classes[b].height)) * (classes[a].layers.size() + classes[b].layers.size());
         const size_t added = merged - classes[a].texels() - classes[b].texels();
         if (added < bestAdded) bestA = a, bestB = b, bestAdded = added;
       }
@@ -84,7 +85,9 @@ std::vector<SizeClass> sizeClasses(const std::vector<Layer>& maps, size_t maxCla
   return classes;
 }
 
-glm::uvec2 texelsOf(const Image& image) { return {uint32_t(image.width), uint32_t(image.height)}; }
+glm::uvec2 texelsOf(const Image& image) {
+  return {uint32_t(image.width), uint32_t(image.height)};
+}
 
 } // namespace
 
@@ -172,17 +175,17 @@ GlTextures::GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo
   for (const SizeClass& size : classes) {
     const std::vector<Layer>& layers = size.layers;
     if (static_cast<GLint>(layers.size()) > maxLayers)
-      throw GlError(fmt::format("{} textures of {}x{}: more than GL_MAX_ARRAY_TEXTURE_LAYERS ({})", layers.size(),
-                                size.width, size.height, maxLayers));
+      throw GlError(fmt::format("{} textures of {}x{}: more than GL_MAX_ARRAY_TEXTURE_LAYERS ({})", layers.size(), size.width, size.height,
+                                maxLayers));
     GLuint array = 0;
     BT_GL(glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &array));
     textures_.push_back(array);
-    BT_GL(glTextureStorage3D(array, mipLevels(size.width, size.height), internalFormat(true), size.width,
-                             size.height, static_cast<GLsizei>(layers.size())));
+    BT_GL(glTextureStorage3D(array, mipLevels(size.width, size.height), internalFormat(true), size.width, size.height,
+                             static_cast<GLsizei>(layers.size())));
     for (size_t l = 0; l < layers.size(); ++l) {
       const Image& image = *layers[l].image;
-      BT_GL(glTextureSubImage3D(array, 0, 0, 0, static_cast<GLint>(l), image.width, image.height, 1, GL_RGBA,
-                                GL_UNSIGNED_BYTE, image.rgba.data()));
+      BT_GL(glTextureSubImage3D(array, 0, 0, 0, static_cast<GLint>(l), image.width, image.height, 1, GL_RGBA, GL_UNSIGNED_BYTE,
+                                image.rgba.data()));
       *layers[l].array = static_cast<uint32_t>(arrays_.size());
       *layers[l].layer = static_cast<uint32_t>(l);
     }

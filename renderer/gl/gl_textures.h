@@ -60,9 +60,9 @@ private:
   TextureMode mode_ = TextureMode::Arrays;
   float anisotropy_ = 1.0f;
   std::vector<GpuMaterial> materials_;
-  std::vector<unsigned> textures_;     // everything created, deleted in the destructor
-  std::vector<unsigned> arrays_;       // arrays path: unit i holds arrays_[i], at most kMaxTextureArrays
-  unsigned placeholder_ = 0;           // arrays path: 1x1 array on the units no size class uses
+  std::vector<unsigned> textures_; // everything created, deleted in the destructor
+  std::vector<unsigned> arrays_;   // arrays path: unit i holds arrays_[i], at most kMaxTextureArrays
+  unsigned placeholder_ = 0;       // arrays path: 1x1 array on the units no size class uses
   std::vector<uint64_t> residentHandles_;
 };
 

@@ -24,7 +24,6 @@ namespace bt::gl {
 
 namespace {
 
-
 // An RGBA32F or R32UI image the shaders write, deleted with its owner.
 class StorageImage {
 public:
@@ -71,8 +70,7 @@ public:
     use(std::span<const T>(static_cast<const T*>(mapped), count));
   }
 
-  template <typename T>
-  std::vector<T> read(int width, int height, GLenum pixelFormat, GLenum type, int components) const {
+  template <typename T> std::vector<T> read(int width, int height, GLenum pixelFormat, GLenum type, int components) const {
     std::vector<T> pixels;
     readMapped<T>(width, height, pixelFormat, type, components,
                   [&](std::span<const T> mapped) { pixels.assign(mapped.begin(), mapped.end()); });
@@ -230,15 +228,13 @@ TraceLayout resolveTraceLayout(TraceLayout layout, const GlContextInfo& context)
 } // namespace
 
 TracerPrograms::TracerPrograms(GlContext& context, TextureMode textures, TraceLayout layout)
-    : mode_(resolveTextureMode(textures, context.info())),
-      layout_(resolveTraceLayout(layout, context.info())),
+    : mode_(resolveTextureMode(textures, context.info())), layout_(resolveTraceLayout(layout, context.info())),
       cache_(ProgramCache::fromEnvironment(context.info().vendor)),
       wavefrontFirst_(context.info().parallelShaderCompile && !context.info().softwareRenderer) {}
 
 TracerPrograms::~TracerPrograms() = default;
 
-void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines,
-                           bool cached) {
+void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines, bool cached) {
   if (slot) return;
   slot = std::make_unique<ComputeProgram>(ComputeProgram::Deferred{}, shader, defines, cached ? cache_ : ProgramCache{});
 }
@@ -320,9 +316,13 @@ void TracerPrograms::startTraceKernel() {
 }
 
 // The trace kernel serves every lighting mode; not cached, as the shade kernel.
-void TracerPrograms::startWavefrontTrace() { start(trace_, "wavefront_trace.comp", shaderDefines(mode_, layout_), false); }
+void TracerPrograms::startWavefrontTrace() {
+  start(trace_, "wavefront_trace.comp", shaderDefines(mode_, layout_), false);
+}
 
-void TracerPrograms::startAovs() { start(aov_, "aov.comp", shaderDefines(mode_, layout_)); }
+void TracerPrograms::startAovs() {
+  start(aov_, "aov.comp", shaderDefines(mode_, layout_));
+}
 
 void TracerPrograms::startBake(FaithfulFeatures features) {
   start(bake_[variantIndex(false, features)], "bake.comp", pathDefines(false, features));
@@ -386,13 +386,9 @@ struct GlTracer::Impl {
   GLuint worldBuffer = 0;
   WavefrontBuffers wavefront;
 
-  Impl(GlContext& c, const Scene& scene, const TraceScene& tracer, std::shared_ptr<TracerPrograms> p,
-       const GlLighting& lighting)
-      : context(c),
-        programs(std::move(p)),
-        textures(scene, programs->textureMode(), c.info()),
-        buffers(tracer, withShadingFlags(textures.materials(), lighting), lighting, scene.materials.size()),
-        world(worldBlock(lighting)),
+  Impl(GlContext& c, const Scene& scene, const TraceScene& tracer, std::shared_ptr<TracerPrograms> p, const GlLighting& lighting)
+      : context(c), programs(std::move(p)), textures(scene, programs->textureMode(), c.info()),
+        buffers(tracer, withShadingFlags(textures.materials(), lighting), lighting, scene.materials.size()), world(worldBlock(lighting)),
         features(gl::faithfulFeatures(lighting.lightKinds) | gl::faithfulFeatures(lighting.dirt, lighting.lights)) {
     BT_GL(glCreateBuffers(1, &cameraBuffer));
     BT_GL(glNamedBufferStorage(cameraBuffer, sizeof(GpuCamera), nullptr, GL_DYNAMIC_STORAGE_BIT));
@@ -412,8 +408,7 @@ struct GlTracer::Impl {
     BT_GL(glBindBufferBase(GL_UNIFORM_BUFFER, 1, worldBuffer));
   }
 
-  void setCamera(const CameraBasis& basis, int width, int height, uint32_t frameIndex, uint32_t seed,
-                 uint32_t firstFrame = 0) {
+  void setCamera(const CameraBasis& basis, int width, int height, uint32_t frameIndex, uint32_t seed, uint32_t firstFrame = 0) {
     GpuCamera camera{};
     camera.origin = basis.origin;
     camera.forward = basis.forward;
@@ -467,8 +462,7 @@ struct GlTracer::Impl {
       const uint32_t ended = wavefront.endedCount();
       if (ended >= paths) return;
       if (round >= kWavefrontMaxRounds)
-        throw GlError(fmt::format("the wavefront path tracer still has {} of {} paths live after {} rounds", paths - ended,
-                                  paths, round));
+        throw GlError(fmt::format("the wavefront path tracer still has {} of {} paths live after {} rounds", paths - ended, paths, round));
     }
   }
 
@@ -479,7 +473,7 @@ struct GlTracer::Impl {
   bool drawSample(const CameraBasis& camera, const BeautySettings& settings, uint32_t sampleIndex) {
     setCamera(camera, settings.width, settings.height, sampleIndex, settings.seed, 0);
     const bool byWavefront = settings.form == PathTracerForm::Wavefront ||
-                             (settings.form == PathTracerForm::Auto && programs->wavefrontWhileCompiling(settings.physical, features));
+        (settings.form == PathTracerForm::Auto && programs->wavefrontWhileCompiling(settings.physical, features));
     if (byWavefront) {
       auto [shade, trace] = programs->wavefront(settings.physical, features);
       wavefrontSample(shade, trace, settings.width, settings.height);
@@ -493,12 +487,11 @@ struct GlTracer::Impl {
   }
 };
 
-GlTracer::GlTracer(GlContext& context, const Scene& scene, const TraceScene& tracer, TextureMode textures,
-                   const GlLighting& lighting)
+GlTracer::GlTracer(GlContext& context, const Scene& scene, const TraceScene& tracer, TextureMode textures, const GlLighting& lighting)
     : GlTracer(context, scene, tracer, std::make_shared<TracerPrograms>(context, textures), lighting) {}
 
-GlTracer::GlTracer(GlContext& context, const Scene& scene, const TraceScene& tracer,
-                   std::shared_ptr<TracerPrograms> programs, const GlLighting& lighting)
+GlTracer::GlTracer(GlContext& context, const Scene& scene, const TraceScene& tracer, std::shared_ptr<TracerPrograms> programs,
+                   const GlLighting& lighting)
     : impl_(std::make_unique<Impl>(context, scene, tracer, std::move(programs), lighting)) {}
 
 GlTracer::GlTracer(GlContext& context, const Scene& scene, TextureMode textures, const GlLighting& lighting)
@@ -506,12 +499,20 @@ GlTracer::GlTracer(GlContext& context, const Scene& scene, TextureMode textures,
 
 GlTracer::~GlTracer() = default;
 
-TextureMode GlTracer::textureMode() const { return impl_->textures.mode(); }
-FaithfulFeatures GlTracer::faithfulFeatures() const { return impl_->features; }
+TextureMode GlTracer::textureMode() const {
+  return impl_->textures.mode();
+}
+FaithfulFeatures GlTracer::faithfulFeatures() const {
+  return impl_->features;
+}
 
-void GlTracer::setProgramCache(ProgramCache cache) { impl_->programs->setCache(std::move(cache)); }
+void GlTracer::setProgramCache(ProgramCache cache) {
+  impl_->programs->setCache(std::move(cache));
+}
 
-TracerPrograms& GlTracer::programs() { return *impl_->programs; }
+TracerPrograms& GlTracer::programs() {
+  return *impl_->programs;
+}
 
 ProgramBuild GlTracer::buildPathTracer(int width, int height, bool physical) {
   ComputeProgram& program = impl_->programs->pathTracer(physical, impl_->features);
@@ -528,8 +529,7 @@ ProgramBuild GlTracer::buildWavefront(int width, int height, bool physical) {
     shade.dispatch2d(1, 1);
     trace.dispatch2d(1, 1);
   });
-  return {std::max(shade.buildMilliseconds(), trace.buildMilliseconds()) + dispatchMs,
-          shade.loadedFromCache() && trace.loadedFromCache()};
+  return {std::max(shade.buildMilliseconds(), trace.buildMilliseconds()) + dispatchMs, shade.loadedFromCache() && trace.loadedFromCache()};
 }
 
 AovImages GlTracer::renderAovs(const CameraBasis& camera, int width, int height) {
@@ -565,10 +565,8 @@ AovImages GlTracer::renderAovs(const CameraBasis& camera, int width, int height)
   return out;
 }
 
-BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettings& settings,
-                                   const std::function<bool(int)>& progress) {
-  if (settings.width <= 0 || settings.height <= 0)
-    throw GlError(fmt::format("image size {}x{} is empty", settings.width, settings.height));
+BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettings& settings, const std::function<bool(int)>& progress) {
+  if (settings.width <= 0 || settings.height <= 0) throw GlError(fmt::format("image size {}x{} is empty", settings.width, settings.height));
   StorageImage accumulation(GL_RGBA32F, settings.width, settings.height);
   accumulation.bindImage(0, GL_READ_WRITE);
   impl_->setWorld(settings.physical, settings.bounces);
@@ -588,15 +586,13 @@ BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettin
   const float scale = 1.0f / static_cast<float>(std::max(out.samples, 1));
   accumulation.readMapped<float>(settings.width, settings.height, GL_RGBA, GL_FLOAT, 4, [&](std::span<const float> sum) {
     out.beauty.resize(sum.size() / 4);
-    for (size_t i = 0; i < out.beauty.size(); ++i)
-      out.beauty[i] = glm::vec3(sum[4 * i], sum[4 * i + 1], sum[4 * i + 2]) * scale;
+    for (size_t i = 0; i < out.beauty.size(); ++i) out.beauty[i] = glm::vec3(sum[4 * i], sum[4 * i + 1], sum[4 * i + 2]) * scale;
   });
   return out;
 }
 
 void GlTracer::addSample(const CameraBasis& camera, const BeautySettings& settings, unsigned sum, uint32_t sampleIndex) {
-  if (settings.width <= 0 || settings.height <= 0)
-    throw GlError(fmt::format("image size {}x{} is empty", settings.width, settings.height));
+  if (settings.width <= 0 || settings.height <= 0) throw GlError(fmt::format("image size {}x{} is empty", settings.width, settings.height));
   BT_GL(glBindImageTexture(0, sum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F));
   impl_->setWorld(settings.physical, settings.bounces);
   if (settings.form == PathTracerForm::Auto) impl_->programs->startPathTracer(settings.physical, impl_->features);
@@ -620,7 +616,9 @@ CameraBasis CameraBasis::fromQuakeAngles(const glm::vec3& origin, float pitch, f
   return c;
 }
 
-void GlTracer::setLightmaps(const std::vector<uint32_t>& packed) { impl_->buffers.setLightmaps(packed); }
+void GlTracer::setLightmaps(const std::vector<uint32_t>& packed) {
+  impl_->buffers.setLightmaps(packed);
+}
 
 void GlTracer::bindLevel() {
   impl_->setWorld(false, 0);
@@ -628,7 +626,9 @@ void GlTracer::bindLevel() {
   impl_->textures.bind();
 }
 
-unsigned GlTracer::lightmapBuffer() const { return impl_->buffers.lightmapBuffer(); }
+unsigned GlTracer::lightmapBuffer() const {
+  return impl_->buffers.lightmapBuffer();
+}
 
 std::vector<uint32_t> GlTracer::readLightmaps() const {
   GLint64 bytes = 0;

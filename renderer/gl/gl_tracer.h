@@ -56,19 +56,19 @@ struct AovImages {
 struct GlLighting {
   std::vector<uint32_t> faceFlags;     // per Scene face: renderer/cpu kFace*; empty = none
   std::vector<uint32_t> materialFlags; // per material: kMaterialGgx / kMaterialHasEmissive overrides; empty = from the images
-  std::vector<GpuLight> lights;         // point lights, suns, domes
-  LightGrid lightGrid;                  // renderer/cpu's lists over `lights`; no cells = built on upload
-  std::vector<GpuLight> surfaceLights;  // per material: its _surface template (value 0 = none); empty = none
-  std::vector<GpuEmitter> emitters;     // triangles of emitting faces, cdf by area
+  std::vector<GpuLight> lights;        // point lights, suns, domes
+  LightGrid lightGrid;                 // renderer/cpu's lists over `lights`; no cells = built on upload
+  std::vector<GpuLight> surfaceLights; // per material: its _surface template (value 0 = none); empty = none
+  std::vector<GpuEmitter> emitters;    // triangles of emitting faces, cdf by area
   float emitterArea = 0.0f;
   glm::vec3 minlight{0.0f};
-  float range = 0.5f;      // _range
-  float scaledist = 1.0f;  // _dist
+  float range = 0.5f;     // _range
+  float scaledist = 1.0f; // _dist
   float bouncescale = 1.0f;
   int faithfulBounces = 0; // _bounce
   bool litwater = false;
-  DirtSettings dirt;       // worldspawn dirt; enabled builds the faithful program with BT_FAITHFUL_DIRT
-  LightKinds lightKinds;   // RenderScene::lightKinds: which faithful program the level was started with
+  DirtSettings dirt;               // worldspawn dirt; enabled builds the faithful program with BT_FAITHFUL_DIRT
+  LightKinds lightKinds;           // RenderScene::lightKinds: which faithful program the level was started with
   std::vector<uint32_t> lightmaps; // RenderScene::lightmaps packed (renderer/cpu/lightmaps.h packLightmaps); empty = none
 };
 
@@ -161,7 +161,7 @@ public:
   TracerPrograms(const TracerPrograms&) = delete;
   TracerPrograms& operator=(const TracerPrograms&) = delete;
 
-  TextureMode textureMode() const { return mode_; } // Bindless or Arrays
+  TextureMode textureMode() const { return mode_; }   // Bindless or Arrays
   TraceLayout traceLayout() const { return layout_; } // Software or Hardware
   // Where programs built from now on are cached; ProgramCache::fromEnvironment(GL_VENDOR) by default.
   void setCache(ProgramCache cache) { cache_ = std::move(cache); }
@@ -243,8 +243,7 @@ public:
   // Uploads the scene: `tracer`'s BVH, brushes, sides and faces as they are (the CPU
   // reference's RenderScene::tracer, so both trace the same tree), the scene's textures and the
   // lighting. The context must stay current on this thread for the tracer's life.
-  GlTracer(GlContext& context, const Scene& scene, const TraceScene& tracer, TextureMode textures,
-           const GlLighting& lighting = {});
+  GlTracer(GlContext& context, const Scene& scene, const TraceScene& tracer, TextureMode textures, const GlLighting& lighting = {});
   // The same with programs built (or being built) already: their texture path is the tracer's.
   GlTracer(GlContext& context, const Scene& scene, const TraceScene& tracer, std::shared_ptr<TracerPrograms> programs,
            const GlLighting& lighting = {});
@@ -275,8 +274,7 @@ public:
   // picks; Auto switches to the megakernel at the first sample after its compile ends).
   // progress(n) is called after every sample with the samples done; returning false stops
   // early (--time).
-  BeautyImage renderBeauty(const CameraBasis& camera, const BeautySettings& settings,
-                           const std::function<bool(int)>& progress = {});
+  BeautyImage renderBeauty(const CameraBasis& camera, const BeautySettings& settings, const std::function<bool(int)>& progress = {});
 
   // One sample of a progressive render into `sum`, an RGBA32F texture of settings.width by
   // settings.height that the caller keeps across calls (settings.spp is ignored): sample

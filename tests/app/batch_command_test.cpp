@@ -20,7 +20,9 @@ using bt::test::brushtrace;
 using bt::test::CommandResult;
 using nlohmann::json;
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string q(const fs::path& p) {
+  return "'" + p.string() + "'";
+}
 
 std::string sha256(const std::string& bytes) {
   unsigned char digest[EVP_MAX_MD_SIZE];
@@ -49,7 +51,8 @@ void expectSameAsSingleCommands(const json& level, const fs::path& out, const fs
   EXPECT_EQ(level.at("roundtrip").at("bytes"), rewritten.size());
   EXPECT_TRUE(level.at("roundtrip").at("lossless"));
 
-  const CommandResult render = brushtrace("render " + q(path) + " -o " + q(scratch / "single.png") + " --size 64x36 --spp 1 --backend cpu --lighting physical");
+  const CommandResult render =
+      brushtrace("render " + q(path) + " -o " + q(scratch / "single.png") + " --size 64x36 --spp 1 --backend cpu --lighting physical");
   if (render.exitCode != 0) { // a level with nothing to draw: the batch records the same failure
     EXPECT_NE(render.err.find("no face to draw"), std::string::npos) << render.err;
     ASSERT_EQ(level.at("failures").size(), 1u);
@@ -73,8 +76,10 @@ void expectSameAsSingleCommands(const json& level, const fs::path& out, const fs
 TEST(BatchCommand, EverySharedMapGivesWhatTheSingleCommandsGive) {
   BT_REQUIRE_SHARED(shared);
   const fs::path dir = bt::test::freshTempDir("shared");
-  bt::test::writeText(dir / "manifest.json", json{{"levels", {(shared / "maps").string()}},
-                                                  {"jobs", {{"render", {{"size", "64x36"}, {"spp", 1}, {"backend", "cpu"}, {"lighting", {"physical"}}}}}}}.dump());
+  bt::test::writeText(dir / "manifest.json",
+                      json{{"levels", {(shared / "maps").string()}},
+                           {"jobs", {{"render", {{"size", "64x36"}, {"spp", 1}, {"backend", "cpu"}, {"lighting", {"physical"}}}}}}}
+                          .dump());
   const CommandResult r = brushtrace("batch " + q(dir / "manifest.json") + " -o " + q(dir / "out"));
   const json report = bt::test::readJson(dir / "out" / "report.json");
   const size_t failed = report.at("summary").at("failed");
@@ -85,7 +90,8 @@ TEST(BatchCommand, EverySharedMapGivesWhatTheSingleCommandsGive) {
   EXPECT_EQ(report.at("summary").at("levels"), maps);
   // One progress line per level and its percentage, the last at 100 %.
   EXPECT_EQ(size_t(std::count(r.out.begin(), r.out.end(), '\n')), 2 * maps);
-  const std::string last = "[100%] " + std::to_string(maps) + "/" + std::to_string(maps) + " levels, " + std::to_string(failed) + " failed\n";
+  const std::string last =
+      "[100%] " + std::to_string(maps) + "/" + std::to_string(maps) + " levels, " + std::to_string(failed) + " failed\n";
   EXPECT_TRUE(r.out.ends_with(last)) << r.out.substr(r.out.size() - 200);
   // Each single command costs half a second of CPU before it starts (the executable's shared
   // libraries), so CI compares every sixth level with them (39 levels, 117 commands) and
@@ -103,9 +109,12 @@ TEST(BatchCommand, EverySharedMapGivesWhatTheSingleCommandsGive) {
 
 // Two of the repository's small maps: one with a player start, one .map per dialect.
 json smallManifest(const fs::path& dir, const std::string& extra = "") {
-  for (const char* name : {"standard", "quake2"}) fs::copy_file(bt::test::mapsDir() / "dialects" / (std::string(name) + ".map"), dir / (std::string(name) + ".map"), fs::copy_options::skip_existing);
+  for (const char* name : {"standard", "quake2"})
+    fs::copy_file(bt::test::mapsDir() / "dialects" / (std::string(name) + ".map"), dir / (std::string(name) + ".map"),
+                  fs::copy_options::skip_existing);
   return json::parse(R"({"levels": ["*.map"], "jobs": {"render": {"size": "32x18", "spp": 1, "backend": "cpu", "lighting": ["physical"],
-                        "aovs": ["beauty", "albedo"]}})" + extra + "}");
+                        "aovs": ["beauty", "albedo"]}})" +
+                     extra + "}");
 }
 
 std::vector<std::string> statusWords(const std::string& out) {
@@ -184,7 +193,8 @@ TEST(BatchCommand, BadUsageAndBadManifestsSayWhatIsWrong) {
   EXPECT_EQ(brushtrace("batch " + q(bt::test::mapsDir() / "start.map")).exitCode, 2); // no -o
   EXPECT_EQ(brushtrace("batch " + q(bt::test::mapsDir() / "start.map") + " -o " + q(dir / "o") + " --shard 3/2").exitCode, 2);
   EXPECT_EQ(brushtrace("batch " + q(bt::test::mapsDir() / "start.map") + " -o /nonexistent/o").exitCode, 2);
-  bt::test::writeText(dir / "bad.json", json{{"levels", {(bt::test::mapsDir() / "start.map").string()}}, {"jobs", {{"render", {{"sise", "1x1"}}}}}}.dump());
+  bt::test::writeText(dir / "bad.json",
+                      json{{"levels", {(bt::test::mapsDir() / "start.map").string()}}, {"jobs", {{"render", {{"sise", "1x1"}}}}}}.dump());
   CommandResult r = brushtrace("batch " + q(dir / "bad.json") + " -o " + q(dir / "o"));
   EXPECT_EQ(r.exitCode, 1);
   EXPECT_NE(r.err.find((dir / "bad.json").string() + ": jobs.render: unknown key 'sise'"), std::string::npos) << r.err;
@@ -222,12 +232,14 @@ document.getElementById("f").onload = function () {
                   " cards " + Array.from(d.querySelectorAll(".card .name")).map(n => n.textContent).join(",");
   document.body.appendChild(p);
 };</script></body></html>)");
-  const std::string browser = q(chromium) + " --headless --no-sandbox --disable-gpu --allow-file-access-from-files --virtual-time-budget=10000 ";
+  const std::string browser =
+      q(chromium) + " --headless --no-sandbox --disable-gpu --allow-file-access-from-files --virtual-time-budget=10000 ";
   const CommandResult dom = bt::test::runShell(browser + "--dump-dom " + q("file://" + (dir / "out" / "check.html").string()));
   // The two levels that rendered have a beauty and an albedo thumbnail each; a row per failure
   // (broken.map: its import and its round trip; empty.map: nothing to draw); the failures come first.
   EXPECT_NE(dom.out.find("<pre id=\"result\">images 4 loaded 4 failures 3 cards broken.map,empty.map,quake2.map,standard.map</pre>"),
-            std::string::npos) << dom.out << dom.err;
+            std::string::npos)
+      << dom.out << dom.err;
   const fs::path shot = bt::test::binaryDir() / "batch_contact_sheet.png";
   const CommandResult screenshot = bt::test::runShell(browser + "--window-size=1000,700 --screenshot=" + q(shot) + " " +
                                                       q("file://" + (dir / "out" / "index.html").string()));

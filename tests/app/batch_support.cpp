@@ -13,9 +13,13 @@ std::string readText(const fs::path& p) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-nlohmann::json readJson(const fs::path& p) { return nlohmann::json::parse(readText(p)); }
+nlohmann::json readJson(const fs::path& p) {
+  return nlohmann::json::parse(readText(p));
+}
 
-void writeText(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
+void writeText(const fs::path& p, const std::string& text) {
+  std::ofstream(p, std::ios::binary) << text;
+}
 
 nlohmann::json withoutTimings(nlohmann::json j) {
   if (j.is_object()) {

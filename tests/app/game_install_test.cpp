@@ -23,7 +23,9 @@ using test::brushtrace;
 using test::CommandResult;
 constexpr auto npos = std::string::npos;
 
-std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string quoted(const fs::path& p) {
+  return "'" + p.string() + "'";
+}
 
 // One floor brush (z from -16 to 0, 512 units square) covered by `texture`; a view straight down
 // at it from 64 units sees nothing else.
@@ -61,8 +63,7 @@ std::vector<std::array<int, 3>> pixels(const fs::path& png) {
 // How many pixels are not `rgb` (to one 8-bit step, the sRGB round trip's rounding).
 size_t pixelsOtherThan(const std::vector<std::array<int, 3>>& image, std::array<int, 3> rgb) {
   size_t wrong = 0;
-  for (const auto& p : image)
-    wrong += std::abs(p[0] - rgb[0]) > 1 || std::abs(p[1] - rgb[1]) > 1 || std::abs(p[2] - rgb[2]) > 1;
+  for (const auto& p : image) wrong += std::abs(p[0] - rgb[0]) > 1 || std::abs(p[1] - rgb[1]) > 1 || std::abs(p[2] - rgb[2]) > 1;
   return wrong;
 }
 
@@ -78,8 +79,8 @@ TEST(GameInstall, Quake1WadAndPaletteOnlyInsideAPak) {
   test::TempDir dir;
   test::writePak(dir / "quake/id1/pak0.pak", {{"gfx/palette.lmp", test::testPalette()}, {"gfx/test.wad", wadWithWall(10)}});
   writeText(dir / "levels/room.map", floorMap("Standard", "gfx/test.wad", "wall"));
-  const CommandResult r = brushtrace("render " + quoted(dir / "levels/room.map") + " -o " + quoted(dir / "room.png") +
-                                     " --basedir " + quoted(dir / "quake") + kFloorView);
+  const CommandResult r = brushtrace("render " + quoted(dir / "levels/room.map") + " -o " + quoted(dir / "room.png") + " --basedir " +
+                                     quoted(dir / "quake") + kFloorView);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const auto image = pixels(dir / "room.png");
   ASSERT_EQ(image.size(), 16u * 12u);
@@ -93,8 +94,8 @@ TEST(GameInstall, Quake1WadWithoutAnyPaletteUsesTheBuiltInOne) {
   test::TempDir dir;
   test::writePak(dir / "quake/id1/pak0.pak", {{"gfx/test.wad", wadWithWall(10)}});
   writeText(dir / "levels/room.map", floorMap("Standard", "test.wad", "wall"));
-  const CommandResult r = brushtrace("render " + quoted(dir / "levels/room.map") + " -o " + quoted(dir / "room.png") +
-                                     " --basedir " + quoted(dir / "quake") + kFloorView);
+  const CommandResult r = brushtrace("render " + quoted(dir / "levels/room.map") + " -o " + quoted(dir / "room.png") + " --basedir " +
+                                     quoted(dir / "quake") + kFloorView);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   // Quake's colour 10 is (155, 155, 155) (gfx/palette.lmp; the shared copy is checked in game_archive_tests).
   EXPECT_EQ(pixelsOtherThan(pixels(dir / "room.png"), {155, 155, 155}), 0u) << r.err;
@@ -119,8 +120,8 @@ TEST(GameInstall, Quake2WalAndColormapOnlyInsideAPak) {
                  {{"pics/colormap.pcx", test::testPalettePcx()},
                   {"textures/e1u1/floor.wal", test::makeWal("e1u1/floor", 16, 16, std::vector<uint8_t>(256, 20))}});
   writeText(dir / "levels/q2room.map", floorMap("Quake2", "", "e1u1/floor"));
-  const CommandResult r = brushtrace("render " + quoted(dir / "levels/q2room.map") + " -o " + quoted(dir / "q2.png") +
-                                     " --basedir " + quoted(dir / "q2") + kFloorView);
+  const CommandResult r = brushtrace("render " + quoted(dir / "levels/q2room.map") + " -o " + quoted(dir / "q2.png") + " --basedir " +
+                                     quoted(dir / "q2") + kFloorView);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_EQ(pixelsOtherThan(pixels(dir / "q2.png"), {20, 235, 77}), 0u) << r.err;
 }
@@ -131,8 +132,8 @@ TEST(GameInstall, ModIsSearchedBeforeTheBaseGame) {
   test::writePak(dir / "quake/id1/pak0.pak", {{"gfx/palette.lmp", test::testPalette()}, {"gfx/test.wad", wadWithWall(10)}});
   test::writePak(dir / "quake/mymod/pak0.pak", {{"gfx/test.wad", wadWithWall(50)}});
   writeText(dir / "levels/room.map", floorMap("Standard", "gfx/test.wad", "wall"));
-  const std::string args = "render " + quoted(dir / "levels/room.map") + " -o " + quoted(dir / "mod.png") + " --basedir " +
-                           quoted(dir / "quake") + kFloorView;
+  const std::string args =
+      "render " + quoted(dir / "levels/room.map") + " -o " + quoted(dir / "mod.png") + " --basedir " + quoted(dir / "quake") + kFloorView;
   ASSERT_EQ(brushtrace(args + " --mod mymod").exitCode, 0);
   EXPECT_EQ(pixelsOtherThan(pixels(dir / "mod.png"), {50, 205, 77}), 0u);
   ASSERT_EQ(brushtrace(args).exitCode, 0);
@@ -185,11 +186,12 @@ TEST(GameInstall, UnknownGameIsAUsageError) {
 // `info ARCHIVE` lists the levels and textures the archive holds.
 TEST(GameInstall, InfoOnAnArchiveListsItsLevelsAndTextures) {
   test::TempDir dir;
-  test::writePak(dir / "pak0.pak", {{"maps/e1m1.bsp", test::bytesOf("x")},
-                                    {"maps/e1m2.bsp", test::bytesOf("x")},
-                                    {"textures/e1u1/floor.wal", test::makeWal("e1u1/floor", 16, 16, std::vector<uint8_t>(256, 1))},
-                                    {"gfx/test.wad", wadWithWall(10)},
-                                    {"sound/x.wav", test::bytesOf("x")}});
+  test::writePak(dir / "pak0.pak",
+                 {{"maps/e1m1.bsp", test::bytesOf("x")},
+                  {"maps/e1m2.bsp", test::bytesOf("x")},
+                  {"textures/e1u1/floor.wal", test::makeWal("e1u1/floor", 16, 16, std::vector<uint8_t>(256, 1))},
+                  {"gfx/test.wad", wadWithWall(10)},
+                  {"sound/x.wav", test::bytesOf("x")}});
   const CommandResult r = brushtrace("info " + quoted(dir / "pak0.pak") + " --json");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const nlohmann::json info = nlohmann::json::parse(r.out);
@@ -225,8 +227,8 @@ TEST(GameInstall, CorruptArchivesAreClearErrors) {
   EXPECT_NE(r.err.find((dir / "quake/id1/pak0.pak").string() + ":gfx/test.wad"), npos) << r.err;
   // In the install it is left out with that message; the level still renders, the texture missing.
   writeText(dir / "levels/room.map", floorMap("Standard", "test.wad", "wall"));
-  r = brushtrace("render " + quoted(dir / "levels/room.map") + " -o " + quoted(dir / "room.png") + " --basedir " +
-                 quoted(dir / "quake") + kFloorView);
+  r = brushtrace("render " + quoted(dir / "levels/room.map") + " -o " + quoted(dir / "room.png") + " --basedir " + quoted(dir / "quake") +
+                 kFloorView);
   EXPECT_EQ(r.exitCode, 0) << r.err;
   EXPECT_NE(r.err.find((dir / "quake/id1/pak0.pak").string() + ":gfx/test.wad: warning: archive skipped"), npos) << r.err;
 }
@@ -240,9 +242,9 @@ TEST(GameInstall, LevelsInsideAPakByArchivePathAndByName) {
                  {{"maps/cubes.bsp", test::readFile(shared / "oracle/maps_ericw-tools_testmaps_q1_cubes.bsp")},
                   {"gfx/palette.lmp", test::readFile(shared / "maps/palettes/quake.lmp")},
                   {"gfx/fence.wad", test::readFile(shared / "maps/ericw-tools/testmaps/deprecated/fence.wad")}});
-  for (const std::string& level : {quoted(dir / "quake/id1/pak0.pak") + ":maps/cubes.bsp",
-                                   std::string("cubes --game quake --basedir ") + quoted(dir / "quake"),
-                                   std::string("cubes --basedir ") + quoted(dir / "quake")}) {
+  for (const std::string& level :
+       {quoted(dir / "quake/id1/pak0.pak") + ":maps/cubes.bsp", std::string("cubes --game quake --basedir ") + quoted(dir / "quake"),
+        std::string("cubes --basedir ") + quoted(dir / "quake")}) {
     SCOPED_TRACE(level);
     const CommandResult info = brushtrace("info " + level + " --json");
     ASSERT_EQ(info.exitCode, 0) << info.err;
@@ -274,7 +276,8 @@ TEST(GameInstall, OpenArenaLevelByNameFromItsArchive) {
   size_t found = 0;
   for (const auto& texture : json["textures"]) found += texture["found"].get<bool>();
   EXPECT_GE(found * 10, json["textures"].size() * 9) << "nine textures in ten found: " << info.out;
-  const CommandResult render = brushtrace("render " + level + " -o " + quoted(dir / "oa.png") + " --size 32x18 --aov albedo --backend cpu --quiet");
+  const CommandResult render =
+      brushtrace("render " + level + " -o " + quoted(dir / "oa.png") + " --size 32x18 --aov albedo --backend cpu --quiet");
   ASSERT_EQ(render.exitCode, 0) << render.err;
   EXPECT_EQ(pixels(dir / "oa.png").size(), 32u * 18u);
 }

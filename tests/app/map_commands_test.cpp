@@ -20,7 +20,9 @@ std::string readFile(const std::filesystem::path& p) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-std::string dialectMap(const char* name) { return (bt::test::mapsDir() / "dialects" / (std::string(name) + ".map")).string(); }
+std::string dialectMap(const char* name) {
+  return (bt::test::mapsDir() / "dialects" / (std::string(name) + ".map")).string();
+}
 
 TEST(DumpCommand, PrintsTheDocumentedSchema) {
   const CommandResult r = brushtrace("dump --json '" + dialectMap("valve220") + "'");

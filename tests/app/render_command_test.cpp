@@ -45,7 +45,9 @@ struct TempDir {
   }
 };
 
-std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string quoted(const fs::path& p) {
+  return "'" + p.string() + "'";
+}
 
 struct ReadImage {
   int width = 0, height = 0;
@@ -99,8 +101,8 @@ TEST(RenderCommand, RendersTheDefaultMapToPngAndExrOnTheCpu) {
   // Beauty and the AOV layers (OpenEXR stores a file's channels sorted, so compared as a set).
   std::vector<std::string> channels = linear->channels;
   std::sort(channels.begin(), channels.end());
-  EXPECT_EQ(channels, (std::vector<std::string>{"B", "G", "R", "albedo.B", "albedo.G", "albedo.R", "depth.Z", "normal.X",
-                                                 "normal.Y", "normal.Z"}));
+  EXPECT_EQ(channels,
+            (std::vector<std::string>{"B", "G", "R", "albedo.B", "albedo.G", "albedo.R", "depth.Z", "normal.X", "normal.Y", "normal.Z"}));
   // Written under a temporary name and renamed: nothing else is left beside the outputs.
   EXPECT_EQ(dir.files(), (std::vector<std::string>{"start.exr", "start.png"}));
 }
@@ -118,8 +120,7 @@ TEST(RenderCommand, PrintsPlainProgressLinesWhenNotOnATerminalAndNothingWhenQuie
 
 TEST(RenderCommand, TakesTheCameraItWasGiven) {
   TempDir dir("camera");
-  const CommandResult r = brushtrace("render -o " + quoted(dir.path / "a.png") + kSmall +
-                                     " --backend cpu --camera '(0 0 64) 10 90 0'");
+  const CommandResult r = brushtrace("render -o " + quoted(dir.path / "a.png") + kSmall + " --backend cpu --camera '(0 0 64) 10 90 0'");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_NE(r.out.find("camera (0 0 64) 10 90 0 (--camera)\n"), npos) << r.out;
   const CommandResult bad = brushtrace("render -o " + quoted(dir.path / "b.png") + kSmall + " --backend cpu --camera '0 0 64'");
@@ -192,8 +193,9 @@ TEST(RenderCommand, CompiledLightingShowsTheLightmapsOrSaysWhyNot) {
   const fs::path unlit = shared / "oracle/maps_ericw-tools_testmaps_q1_cube.bsp";
   const CommandResult fallback = brushtrace("render " + quoted(unlit) + out + " --lighting compiled");
   EXPECT_EQ(fallback.exitCode, 0) << fallback.err;
-  EXPECT_NE(fallback.err.find(unlit.string() + ": warning: the level has no lightmaps (compiled without light); showing faithful "
-                                               "lighting"),
+  EXPECT_NE(fallback.err.find(unlit.string() +
+                              ": warning: the level has no lightmaps (compiled without light); showing faithful "
+                              "lighting"),
             npos)
       << fallback.err;
   EXPECT_NE(fallback.out.find("faithful lighting"), npos) << fallback.out;
@@ -221,8 +223,8 @@ TEST(RenderCommand, DifferenceIsTheHeatMapOfCompiledAgainstFaithful) {
   const fs::path level = shared / "oracle/lit/maps_ericw-tools_testmaps_q1_light_suntexture.bsp";
   const std::string common = " --size 96x60 --spp 1 --backend cpu --quiet";
   for (const char* mode : {"faithful", "compiled", "difference"}) {
-    const CommandResult r = brushtrace("render " + quoted(level) + " -o " + quoted(dir.path / (std::string(mode) + ".png")) +
-                                       common + " --lighting " + mode);
+    const CommandResult r =
+        brushtrace("render " + quoted(level) + " -o " + quoted(dir.path / (std::string(mode) + ".png")) + common + " --lighting " + mode);
     ASSERT_EQ(r.exitCode, 0) << mode << ": " << r.err;
   }
   const std::vector<float> faithful = readPixels(dir.path / "faithful.png"), compiled = readPixels(dir.path / "compiled.png"),
@@ -306,8 +308,8 @@ TEST(RenderCommand, ProgressReachesOneHundredPercentWithTimeAndSpp) {
 // render ends: the first one is read while the render still has a second and a half to go.
 TEST(RenderCommand, ProgressLinesArriveThroughAPipeWhileRendering) {
   TempDir dir("pipe");
-  const std::string command = "'" + (bt::test::binaryDir() / "brushtrace").string() + "' render -o " +
-                              quoted(dir.path / "a.png") + " --size 32x18 --backend cpu --time 3 2>/dev/null";
+  const std::string command = "'" + (bt::test::binaryDir() / "brushtrace").string() + "' render -o " + quoted(dir.path / "a.png") +
+      " --size 32x18 --backend cpu --time 3 2>/dev/null";
   FILE* pipe = ::popen(command.c_str(), "r");
   ASSERT_TRUE(pipe);
   using Clock = std::chrono::steady_clock;

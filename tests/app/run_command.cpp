@@ -18,7 +18,9 @@ std::string readFile(const std::filesystem::path& p) {
 }
 } // namespace
 
-CommandResult brushtrace(const std::string& args) { return runShell("'" + (binaryDir() / "brushtrace").string() + "' " + args); }
+CommandResult brushtrace(const std::string& args) {
+  return runShell("'" + (binaryDir() / "brushtrace").string() + "' " + args);
+}
 
 CommandResult runShell(const std::string& command) {
   const auto dir = std::filesystem::temp_directory_path() / ("bt_app_test_" + std::to_string(::getpid()));

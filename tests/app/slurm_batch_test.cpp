@@ -21,7 +21,9 @@ namespace fs = std::filesystem;
 using bt::test::brushtrace;
 using nlohmann::json;
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string q(const fs::path& p) {
+  return "'" + p.string() + "'";
+}
 
 // A command's stdout (sbatch, squeue, scontrol), or "" when it fails.
 std::string capture(const std::string& command) {
@@ -103,11 +105,13 @@ TEST(SlurmBatch, AnArrayWithOneTaskCancelledAndRequeuedMergesToTheSingleMachineR
   ASSERT_TRUE(waitFor([&] { return capture("squeue -h -t R -j " + array + "_2").empty(); }, std::chrono::seconds(60)));
   ASSERT_EQ(std::system(("scontrol requeue " + array + "_2").c_str()), 0);
   // The hold is set a moment after the requeue returns: update until the task is no longer pending.
-  waitFor([&] {
-    std::system(("scontrol update jobid=" + array + "_2 starttime=now 2>/dev/null").c_str());
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
-    return capture("squeue -h -t PD -j " + array + "_2").empty();
-  }, std::chrono::seconds(150));
+  waitFor(
+      [&] {
+        std::system(("scontrol update jobid=" + array + "_2 starttime=now 2>/dev/null").c_str());
+        std::this_thread::sleep_for(std::chrono::milliseconds(500));
+        return capture("squeue -h -t PD -j " + array + "_2").empty();
+      },
+      std::chrono::seconds(150));
   ASSERT_TRUE(waitFor([&] { return capture("squeue -h").empty(); }, std::chrono::seconds(420))) << capture("squeue");
 
   const std::string log = bt::test::readText(log2);

@@ -20,7 +20,9 @@ using bt::test::CommandResult;
 constexpr auto npos = std::string::npos;
 namespace fs = std::filesystem;
 
-std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string quoted(const fs::path& p) {
+  return "'" + p.string() + "'";
+}
 
 const char* kCommands[] = {"info", "dump", "convert", "render", "view", "bench"};
 
@@ -59,7 +61,8 @@ TEST(UsageErrors, EveryCommandChecksItsOptionsBeforeAnyWork) {
   const std::string out = " -o " + quoted(dir / "out.png");
   const std::vector<std::pair<std::string, std::string>> cases{
       {"render " + level + " -o " + quoted(dir / "out.jpg"), "--output: '" + (dir / "out.jpg").string() + "': output must be .png or .exr"},
-      {"render " + level + " -o " + quoted(dir / "missing" / "out.png"), "--output: folder '" + (dir / "missing").string() + "' does not exist"},
+      {"render " + level + " -o " + quoted(dir / "missing" / "out.png"),
+       "--output: folder '" + (dir / "missing").string() + "' does not exist"},
       {"render " + level + " -o " + quoted(locked / "out.png"), "--output: folder '" + locked.string() + "' is not writable"},
       {"render " + level + out + " --spp 0", "--spp"},
       {"render " + level + out + " --spp -3", "--spp"},
@@ -112,8 +115,7 @@ TEST(UsageErrors, UnknownGlTexturePathExitsTwoInEveryCommand) {
 // Where the GL context has no bindless textures (llvmpipe here and in CI), asking for them is an
 // error naming --gl-textures, not a fallback; a GPU with bindless renders.
 TEST(UsageErrors, BindlessWithoutTheExtensionNamesTheFlag) {
-  const std::filesystem::path out =
-      std::filesystem::temp_directory_path() / ("bt_usage_bindless_" + std::to_string(::getpid()) + ".png");
+  const std::filesystem::path out = std::filesystem::temp_directory_path() / ("bt_usage_bindless_" + std::to_string(::getpid()) + ".png");
   const CommandResult r = brushtrace("render -o '" + out.string() + "' --size 16x9 --aov albedo --backend gl --gl-textures bindless");
   std::filesystem::remove(out);
   // Without a GL 4.5 context there is no texture path to ask about: the render falls back to the

@@ -39,7 +39,9 @@ uint32_t u32At(const Bytes& b, size_t at) {
   std::memcpy(&v, &b[at], 4);
   return v;
 }
-void putU32(Bytes& b, size_t at, uint32_t v) { std::memcpy(&b[at], &v, 4); }
+void putU32(Bytes& b, size_t at, uint32_t v) {
+  std::memcpy(&b[at], &v, 4);
+}
 void appendU32(Bytes& b, uint32_t v) {
   b.resize(b.size() + 4);
   putU32(b, b.size() - 4, v);
@@ -61,8 +63,7 @@ Bytes withBspx(Bytes bsp, const std::vector<std::pair<std::string, Bytes>>& lump
   const size_t table = quake2 ? 8 : 4;
   const int lumpCount = quake2 ? 19 : 15;
   size_t end = 0;
-  for (int i = 0; i < lumpCount; ++i)
-    end = std::max<size_t>(end, size_t(u32At(bsp, table + i * 8)) + u32At(bsp, table + 4 + i * 8));
+  for (int i = 0; i < lumpCount; ++i) end = std::max<size_t>(end, size_t(u32At(bsp, table + i * 8)) + u32At(bsp, table + 4 + i * 8));
   bsp.resize((end + 3) & ~size_t{3}, 0);
   const size_t directory = bsp.size();
   bsp.resize(directory + 8 + lumps.size() * 32, 0);
@@ -201,8 +202,8 @@ TEST(BspLightmaps, LitFileGivesColourAndGreyLumpOtherwise) {
     const bool hasLit = std::filesystem::exists(litPath);
     const Bytes lit = hasLit ? readBytes(litPath) : Bytes{};
     bt::Diagnostics diagnostics;
-    const bt::CompiledLighting lighting = bt::bsp::readCompiledLighting(
-        bsp, {{0, 0, glm::dvec3(0.0)}}, hasLit ? std::optional<Bytes>(lit) : std::nullopt, diagnostics);
+    const bt::CompiledLighting lighting =
+        bt::bsp::readCompiledLighting(bsp, {{0, 0, glm::dvec3(0.0)}}, hasLit ? std::optional<Bytes>(lit) : std::nullopt, diagnostics);
     EXPECT_TRUE(diagnostics.empty());
     EXPECT_EQ(lighting.source, hasLit ? ".lit file" : "lighting lump");
     ASSERT_EQ(lighting.faces.size(), static_cast<size_t>(bsp.models[0].faceCount));
@@ -422,8 +423,8 @@ TEST(BspLightmaps, BspxLightmapLumpsOfTheWrongSizeAreIgnored) {
   Bytes decoupled = decoupledLikeQuakeGrid(bsp);
   decoupled.pop_back();
   bt::Diagnostics diagnostics;
-  const auto lighting = worldLighting(
-      withBspx(original, {{"LMSHIFT", Bytes(bsp.faces.size() + 1, 5)}, {"DECOUPLED_LM", decoupled}}), diagnostics);
+  const auto lighting =
+      worldLighting(withBspx(original, {{"LMSHIFT", Bytes(bsp.faces.size() + 1, 5)}, {"DECOUPLED_LM", decoupled}}), diagnostics);
   EXPECT_EQ(lighting.layout, "16 texels per luxel");
   ASSERT_EQ(diagnostics.size(), 2u);
   EXPECT_NE(diagnostics[0].message.find("lump 'BSPX DECOUPLED_LM' ignored"), std::string::npos) << diagnostics[0].message;
@@ -646,8 +647,7 @@ TEST(BspTextures, QuakeMiptexInsideTheBspAreDecodedWithTheQuakePalette) {
   // (the same table), and one warning says so.
   const bt::Scene withoutPalette = importPath(path);
   size_t warnings = 0;
-  for (const bt::Diagnostic& d : withoutPalette.diagnostics)
-    warnings += d.message.find("built-in Quake palette") != std::string::npos;
+  for (const bt::Diagnostic& d : withoutPalette.diagnostics) warnings += d.message.find("built-in Quake palette") != std::string::npos;
   EXPECT_EQ(warnings, 1u);
   for (const bt::bsp::Miptex& miptex : bsp.miptex) {
     if (!miptex.present || !miptex.hasPixels) continue;
@@ -680,8 +680,10 @@ Bytes widenBsp29(const Bytes& in, bool floatBounds) {
   auto u16 = [&](size_t at) { return static_cast<uint16_t>(in[at] | (in[at + 1] << 8)); };
   auto bounds = [&](Bytes& out, size_t at) {
     for (int k = 0; k < 6; ++k) {
-      if (floatBounds) appendF32(out, static_cast<float>(i16(at + 2 * k)));
-      else appendU16(out, static_cast<uint16_t>(i16(at + 2 * k)));
+      if (floatBounds)
+        appendF32(out, static_cast<float>(i16(at + 2 * k)));
+      else
+        appendU16(out, static_cast<uint16_t>(i16(at + 2 * k)));
     }
   };
   std::vector<Bytes> lumps(15);
@@ -732,8 +734,7 @@ Bytes widenBsp29(const Bytes& in, bool floatBounds) {
     case 12: // edges
       for (size_t at = offset; at < offset + length; at += 2) appendU32(out, u16(at));
       break;
-    default:
-      out.assign(in.begin() + static_cast<long>(offset), in.begin() + static_cast<long>(offset + length));
+    default: out.assign(in.begin() + static_cast<long>(offset), in.begin() + static_cast<long>(offset + length));
     }
   }
   Bytes out(4 + 15 * 8, 0);

@@ -27,8 +27,7 @@ std::vector<OracleEntry> oracleEntries(const std::filesystem::path& shared) {
   std::ifstream in(shared / "oracle" / "manifest.json");
   const auto manifest = nlohmann::json::parse(in);
   std::vector<OracleEntry> out;
-  for (const auto& e : manifest)
-    out.push_back({shared / "oracle" / e.at("bsp").get<std::string>(), e.at("qbsp_flags").get<std::string>()});
+  for (const auto& e : manifest) out.push_back({shared / "oracle" / e.at("bsp").get<std::string>(), e.at("qbsp_flags").get<std::string>()});
   return out;
 }
 
@@ -80,8 +79,7 @@ TEST(BspFile, EveryOracleBspReadsWithItsVersionAndFacesOnTheirPlanes) {
       EXPECT_FALSE(bsp.faceTexture(f).empty()) << "face " << f;
       const auto& plane = bsp.planes[static_cast<size_t>(bsp.faces[f].plane)];
       const glm::dvec3 normal = glm::dvec3(plane.normal) * (bsp.faces[f].side ? -1.0 : 1.0);
-      for (const auto& p : points)
-        ASSERT_NEAR(glm::dot(glm::dvec3(plane.normal), p), plane.dist, 0.1) << "face " << f;
+      for (const auto& p : points) ASSERT_NEAR(glm::dot(glm::dvec3(plane.normal), p), plane.dist, 0.1) << "face " << f;
       // qbsp snaps vertices, so they sit within its ON_EPSILON (0.1) of the plane, not exactly on it.
       // Quake stores face vertices clockwise seen from the front: Newell's normal points back.
       // qbsp's T-junction fixing leaves slivers and a few non-convex polygons whose sign is
@@ -192,8 +190,7 @@ TEST(BspFile, MiptexSlotsSharingOneRecordAreRejected) {
   }();
   textures.insert(textures.end(), record.begin(), record.end());
   const std::string message = expectThrowMessage(quake1File({{2, textures}}));
-  EXPECT_NE(message.find("test.bsp: error: lump 'textures': texture 2 at offset 8004 shares its record"), std::string::npos)
-      << message;
+  EXPECT_NE(message.find("test.bsp: error: lump 'textures': texture 2 at offset 8004 shares its record"), std::string::npos) << message;
 
   // One slot per record is what compilers write, also when a slot is left empty (-1).
   std::vector<uint8_t> ok;
@@ -263,7 +260,7 @@ TEST(BspFile, FacesSharingSurfedgesAreRejected) {
       u16(faces, 0); // side
       appendU32(faces, static_cast<uint32_t>(first));
       u16(faces, static_cast<uint16_t>(count));
-      u16(faces, 0); // texinfo
+      u16(faces, 0);                 // texinfo
       appendU32(faces, 0xffffffffu); // no light styles
       appendU32(faces, 0xffffffffu); // no lightmap
     }

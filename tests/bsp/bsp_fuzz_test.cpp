@@ -36,7 +36,9 @@ std::vector<std::filesystem::path> sampleOracle(const std::filesystem::path& sha
 
 // The end of the last lump: cutting the file anywhere before it must be reported.
 size_t lumpDataEnd(std::span<const uint8_t> bytes) {
-  auto u32 = [&](size_t at) { return uint32_t(bytes[at]) | uint32_t(bytes[at + 1]) << 8 | uint32_t(bytes[at + 2]) << 16 | uint32_t(bytes[at + 3]) << 24; };
+  auto u32 = [&](size_t at) {
+    return uint32_t(bytes[at]) | uint32_t(bytes[at + 1]) << 8 | uint32_t(bytes[at + 2]) << 16 | uint32_t(bytes[at + 3]) << 24;
+  };
   const bool ibsp = bytes[0] == 'I';
   const size_t table = ibsp ? 8 : 4;
   const int count = !ibsp ? 15 : (u32(4) == 38 ? 19 : 17);
@@ -130,8 +132,7 @@ bool buildCompiledView(std::span<const uint8_t> bytes) {
     bt::RenderScene rs = bt::buildRenderScene(scene, {}, diagnostics);
     const bool shown = bt::showCompiledLightmaps(scene, rs, "").empty();
     const bt::Lightmaps& lm = rs.lightmaps;
-    for (const bt::GpuLightmapFragment& g : lm.fragments)
-      EXPECT_LE(size_t(g.firstLuxel) + size_t(g.width) * g.height, lm.luxels.size());
+    for (const bt::GpuLightmapFragment& g : lm.fragments) EXPECT_LE(size_t(g.firstLuxel) + size_t(g.width) * g.height, lm.luxels.size());
     return shown;
   } catch (const bt::ImportError&) {
     return false;

@@ -68,13 +68,12 @@ constexpr double kRequiredAgreement = 0.99;
 constexpr double kMaxUndecidedFraction = 0.10;
 
 bool isGeneratedHiddenSide(std::string_view texture) {
-  return texture == "skip" || texture == "*waterskip" || texture == "*slimeskip" || texture == "*lavaskip" ||
-         texture == "skyskip" || texture == "e1u1/skip";
+  return texture == "skip" || texture == "*waterskip" || texture == "*slimeskip" || texture == "*lavaskip" || texture == "skyskip" ||
+      texture == "e1u1/skip";
 }
 
 // The .bsp's scene with its textures found where its source .map's are.
-Scene importBspBesideMap(const bsp::BspFile& file, const std::filesystem::path& bspPath,
-                         const std::filesystem::path& mapPath) {
+Scene importBspBesideMap(const bsp::BspFile& file, const std::filesystem::path& bspPath, const std::filesystem::path& mapPath) {
   const TextureSearch search;
   return bsp::sceneFromBsp(file, [&](Scene& scene) {
     scene.sourcePath = mapPath.string(); // where loadMaterials resolves relative WADs and folders
@@ -156,8 +155,7 @@ private:
     // False for a degenerate polygon (no area).
     bool setVertices(const std::vector<dvec3>& vertices) {
       dvec3 normal(0.0); // Newell's method: independent of which way qbsp wound the face
-      for (size_t i = 0; i < vertices.size(); ++i)
-        normal += glm::cross(vertices[i], vertices[(i + 1) % vertices.size()]);
+      for (size_t i = 0; i < vertices.size(); ++i) normal += glm::cross(vertices[i], vertices[(i + 1) % vertices.size()]);
       if (glm::length(normal) < 1e-6) return false;
       normal = glm::normalize(normal);
       for (size_t i = 0; i < vertices.size(); ++i) {
@@ -173,8 +171,7 @@ private:
       return near(plane, other) || near(plane.flipped(), other);
     }
     bool contains(const dvec3& p) const {
-      return std::all_of(edges.begin(), edges.end(),
-                         [&](const Edge& e) { return glm::dot(p - e.start, e.inward) >= -kInsideEpsilon; });
+      return std::all_of(edges.begin(), edges.end(), [&](const Edge& e) { return glm::dot(p - e.start, e.inward) >= -kInsideEpsilon; });
     }
   };
 
@@ -194,8 +191,8 @@ private:
 struct Agreement {
   size_t compared = 0, agreeing = 0, excluded = 0;
   // Of `excluded`, differing pixels the compiled level does not decide (see compareImages).
-  size_t notCompiled = 0;    // the .map shows a face the compiler removed
-  size_t onCompiledEdge = 0; // the .bsp's face is drawn there too: the point is on their boundary
+  size_t notCompiled = 0;                              // the .map shows a face the compiler removed
+  size_t onCompiledEdge = 0;                           // the .bsp's face is drawn there too: the point is on their boundary
   size_t albedoOnly = 0, normalOnly = 0, coverage = 0; // kinds of disagreement
   double fraction() const { return compared ? double(agreeing) / double(compared) : 1.0; }
   // Of the pixels that would be compared without the compiled-face rule, the share it took out.
@@ -211,9 +208,8 @@ dvec3 visiblePoint(const RenderImage& image, const Camera& camera, size_t i) {
   return dvec3(ray.origin) + dvec3(ray.direction) * double(image.depth[i]);
 }
 
-Agreement compareImages(const RenderImage& fromMap, const RenderImage& fromBsp, const RenderImage& bspWithHidden,
-                        const Scene& mapScene, const Scene& bspScene, const CompiledFaces& compiled,
-                        const Camera& camera) {
+Agreement compareImages(const RenderImage& fromMap, const RenderImage& fromBsp, const RenderImage& bspWithHidden, const Scene& mapScene,
+                        const Scene& bspScene, const CompiledFaces& compiled, const Camera& camera) {
   const float minCos = std::cos(glm::radians(kNormalToleranceDegrees));
   Agreement a;
   for (size_t i = 0; i < fromMap.face.size(); ++i) {
@@ -238,8 +234,7 @@ Agreement compareImages(const RenderImage& fromMap, const RenderImage& fromBsp, 
         continue;
       }
       const std::string_view bspTexture = fromBsp.face[i] ? bspScene.faces[fromBsp.face[i] - 1].texture : "";
-      if (!bspTexture.empty() && !compiled.sameTexture(bspTexture, mapFace.texture) &&
-          compiled.draws(mapFace.plane, p, bspTexture)) {
+      if (!bspTexture.empty() && !compiled.sameTexture(bspTexture, mapFace.texture) && compiled.draws(mapFace.plane, p, bspTexture)) {
         ++a.excluded;
         ++a.onCompiledEdge;
         continue;
@@ -309,9 +304,8 @@ TEST(BspImage, MapAndBspRenderTheSameAlbedoAndNormals) {
     const Camera camera(comparisonCamera(fromMap), kWidth, kHeight);
     const Agreement a = compareImages(renderAovs(fromMap, camera, false), renderAovs(fromBsp, camera, false),
                                       renderAovs(fromBsp, camera, true), fromMap, fromBsp, CompiledFaces(file), camera);
-    EXPECT_GE(a.fraction(), kRequiredAgreement)
-        << a.agreeing << " of " << a.compared << " pixels agree; differing albedo " << a.albedoOnly << ", normal "
-        << a.normalOnly << ", face or none " << a.coverage;
+    EXPECT_GE(a.fraction(), kRequiredAgreement) << a.agreeing << " of " << a.compared << " pixels agree; differing albedo " << a.albedoOnly
+                                                << ", normal " << a.normalOnly << ", face or none " << a.coverage;
     EXPECT_LE(a.undecidedFraction(), kMaxUndecidedFraction)
         << a.notCompiled << " differing pixels show a face the .bsp does not draw there, " << a.onCompiledEdge
         << " lie on the edge of two compiled faces: too many to be faces qbsp removed";
@@ -335,13 +329,12 @@ TEST(BspImage, MapAndBspRenderTheSameAlbedoAndNormals) {
     const Agreement& a = r.agreement;
     std::printf("  %6.2f %% of %5zu (excluded %5zu, of them not compiled %4zu + on an edge %4zu = %5.2f %%; albedo "
                 "%4zu, normal %4zu, face or none %4zu)  %s\n",
-                100.0 * a.fraction(), a.compared, a.excluded, a.notCompiled, a.onCompiledEdge,
-                100.0 * a.undecidedFraction(), a.albedoOnly, a.normalOnly, a.coverage, r.name.c_str());
+                100.0 * a.fraction(), a.compared, a.excluded, a.notCompiled, a.onCompiledEdge, 100.0 * a.undecidedFraction(), a.albedoOnly,
+                a.normalOnly, a.coverage, r.name.c_str());
   }
   std::printf("%zu levels, %zu pixels compared, %.3f %% agree; %zu levels show nothing comparable from their "
               "camera; the compiled-face rule took out at most %.2f %% of a level\n",
-              results.size(), compared, 100.0 * double(agreeing) / double(compared), nothingToCompare,
-              100.0 * mostUndecided);
+              results.size(), compared, 100.0 * double(agreeing) / double(compared), nothingToCompare, 100.0 * mostUndecided);
 }
 
 } // namespace

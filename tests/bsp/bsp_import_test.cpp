@@ -49,7 +49,9 @@ void expectConvexClosedBrushes(const bt::Scene& scene) {
   EXPECT_EQ(bad, 0u) << "winding vertices off their plane, outside their brush or facing inwards";
 }
 
-bool isLiquid(std::string_view texture) { return !texture.empty() && (texture[0] == '*' || texture[0] == '!'); }
+bool isLiquid(std::string_view texture) {
+  return !texture.empty() && (texture[0] == '*' || texture[0] == '!');
+}
 
 // Every face qbsp kept (Q1/HL world model) lies on a brush side of the scene with the same
 // texture and a frame that gives the same texel coordinates as its texinfo.
@@ -110,8 +112,7 @@ FaceMatch matchWorldFaces(const bt::bsp::BspFile& bsp, const bt::Scene& scene) {
     }
     if (side.texture != texinfo.texture) {
       bool overlapped = false;
-      for (const auto& o : compiled.overlaps(plane, polygon, area * 0.5))
-        overlapped |= bsp.faceTexture(o.payload) == side.texture;
+      for (const auto& o : compiled.overlaps(plane, polygon, area * 0.5)) overlapped |= bsp.faceTexture(o.payload) == side.texture;
       if (overlapped) {
         --m.faces;
         continue;
@@ -155,8 +156,8 @@ TEST(BspImport, EveryOracleBspImportsIntoClosedBrushesThatCarryItsFaces) {
     total.wrongTexture += m.wrongTexture;
     total.wrongFrame += m.wrongFrame;
   }
-  std::printf("world faces %zu: uncovered %zu, other texture %zu, other frame %zu\n", total.faces, total.uncovered,
-              total.wrongTexture, total.wrongFrame);
+  std::printf("world faces %zu: uncovered %zu, other texture %zu, other frame %zu\n", total.faces, total.uncovered, total.wrongTexture,
+              total.wrongFrame);
 }
 
 } // namespace
@@ -164,8 +165,8 @@ TEST(BspImport, EveryOracleBspImportsIntoClosedBrushesThatCarryItsFaces) {
 namespace {
 
 bool isGeneratedHiddenSide(std::string_view texture) {
-  return texture == "skip" || texture == "*waterskip" || texture == "*slimeskip" || texture == "*lavaskip" ||
-         texture == "skyskip" || texture == "e1u1/skip";
+  return texture == "skip" || texture == "*waterskip" || texture == "*slimeskip" || texture == "*lavaskip" || texture == "skyskip" ||
+      texture == "e1u1/skip";
 }
 
 bool sameTextureName(std::string_view a, std::string_view b) {
@@ -208,8 +209,8 @@ TEST(BspImport, SidesMatchTheMapTheyWereCompiledFrom) {
         if (!sameTextureName(face.texture, side.texture)) continue;
         bool sameFrame = true;
         for (const auto& p : side.winding)
-          sameFrame = sameFrame && std::abs(face.frame.s(p) - side.frame.s(p)) <= 0.01 &&
-                      std::abs(face.frame.t(p) - side.frame.t(p)) <= 0.01;
+          sameFrame =
+              sameFrame && std::abs(face.frame.s(p) - side.frame.s(p)) <= 0.01 && std::abs(face.frame.t(p) - side.frame.t(p)) <= 0.01;
         if (sameFrame) {
           matched = true;
           break;
@@ -225,8 +226,8 @@ TEST(BspImport, SidesMatchTheMapTheyWereCompiledFrom) {
     sides += levelSides;
     unmatched += levelUnmatched;
   }
-  std::printf("%zu levels (%zu .map files the map importer rejects): %zu of %zu textured sides unmatched\n", levels,
-              mapFailures, unmatched, sides);
+  std::printf("%zu levels (%zu .map files the map importer rejects): %zu of %zu textured sides unmatched\n", levels, mapFailures, unmatched,
+              sides);
   EXPECT_GE(levels, 200u);
   EXPECT_LE(unmatched, sides / 50);
 }

@@ -17,12 +17,15 @@ namespace {
 const std::filesystem::path kGameDir = "/usr/share/games/openarena/baseoa";
 const std::filesystem::path kLevels = kGameDir / "pak6-patch085.pk3";
 
-#define REQUIRE_OPENARENA()                                                                                \
-  if (!std::filesystem::exists(kLevels))                                                                   \
-  GTEST_SKIP() << kLevels << " not found: install Debian's openarena-085-data (scripts/install-deps.sh " \
-                             "--with-test-data)"
+#define REQUIRE_OPENARENA()                                                                                                                \
+  if (!std::filesystem::exists(kLevels))                                                                                                   \
+  GTEST_SKIP() << kLevels                                                                                                                  \
+               << " not found: install Debian's openarena-085-data (scripts/install-deps.sh "                                              \
+                  "--with-test-data)"
 
-bool openArenaInstalled() { return std::filesystem::exists(kLevels); }
+bool openArenaInstalled() {
+  return std::filesystem::exists(kLevels);
+}
 
 std::vector<std::string> levelNames() {
   std::vector<std::string> out;
@@ -32,8 +35,7 @@ std::vector<std::string> levelNames() {
 }
 
 bool isToolTexture(std::string_view name) {
-  return name == "noshader" || name.find("common/") != std::string_view::npos ||
-         name.find("system/") != std::string_view::npos;
+  return name == "noshader" || name.find("common/") != std::string_view::npos || name.find("system/") != std::string_view::npos;
 }
 
 double area(const std::vector<glm::dvec3>& w) {

@@ -47,7 +47,7 @@ TEST(BvhBuild, SingleBrushIsOneLeaf) {
   const TraceScene ts = TraceScene::build(scene);
   ASSERT_EQ(ts.nodes().size(), 1u);
   EXPECT_EQ(ts.nodes()[0].count, 1u);
-  EXPECT_EQ(ts.sahCost(), 1.0); // one leaf with one brush, area ratio 1
+  EXPECT_EQ(ts.sahCost(), 1.0);             // one leaf with one brush, area ratio 1
   EXPECT_EQ(ts.brushes()[0].sideCount, 0u); // a box is all axial
 }
 
@@ -59,8 +59,8 @@ TEST(BvhBuild, SahCostFollowsTheCostModel) {
 }
 
 TEST(BvhBuild, EveryBrushReachableExactlyOnce) {
-  for (const auto& [name, scene] : {std::pair{"level", test::generateLevel(3000, 1).scene},
-                                    std::pair{"random", test::generateRandomBrushes(3000, 2)}}) {
+  for (const auto& [name, scene] :
+       {std::pair{"level", test::generateLevel(3000, 1).scene}, std::pair{"random", test::generateRandomBrushes(3000, 2)}}) {
     SCOPED_TRACE(name);
     for (int leafSize : {1, 4, 16}) {
       const TraceScene ts = TraceScene::build(scene, {.leafSize = leafSize});

@@ -19,8 +19,7 @@ inline std::optional<Hit> bruteForceClosestHit(const TraceScene& ts, const Ray& 
   std::optional<Hit> best;
   auto consider = [&](const std::optional<Hit>& h) {
     if (!h) return;
-    const bool better = !best || h->t < best->t ||
-                        (h->t == best->t && (h->inside != best->inside ? !h->inside : h->face > best->face));
+    const bool better = !best || h->t < best->t || (h->t == best->t && (h->inside != best->inside ? !h->inside : h->face > best->face));
     if (better) best = h;
   };
   for (uint32_t b = 0; b < ts.brushes().size(); ++b) consider(ts.intersectBrush(ray, b));
@@ -58,7 +57,7 @@ inline std::vector<Ray> randomRays(const Bounds& bounds, int count, uint32_t see
     r.direction = randomUnitVector(rng);
     const int kind = i % 8;
     if (kind == 1) r.direction = glm::vec3(0.0f), r.direction[i % 3] = (i & 8) ? 1.0f : -1.0f;
-    if (kind == 2) r.direction[i % 3] = 0.0f; // in a coordinate plane
+    if (kind == 2) r.direction[i % 3] = 0.0f;                       // in a coordinate plane
     if (kind == 3) r.origin = glm::round(r.origin / 16.0f) * 16.0f; // on the grid planes of boxes
     if (kind == 4) r.tMin = static_cast<float>(u(rng) * 200.0);
     if (kind == 5) r.tMax = static_cast<float>(u(rng) * 400.0);

@@ -46,8 +46,7 @@ Plane planeThrough(const dvec3& normal, const dvec3& point) {
 }
 
 std::vector<Plane> boxPlanes(const dvec3& min, const dvec3& max) {
-  return {{{-1, 0, 0}, -min.x}, {{1, 0, 0}, max.x}, {{0, -1, 0}, -min.y},
-          {{0, 1, 0}, max.y},   {{0, 0, -1}, -min.z}, {{0, 0, 1}, max.z}};
+  return {{{-1, 0, 0}, -min.x}, {{1, 0, 0}, max.x}, {{0, -1, 0}, -min.y}, {{0, 1, 0}, max.y}, {{0, 0, -1}, -min.z}, {{0, 0, 1}, max.z}};
 }
 
 // A prism with a regular polygon as its cross-section, standing on the XY plane.
@@ -115,14 +114,14 @@ GeneratedLevel generateLevel(int brushCount, uint32_t seed) {
       for (int x = 0; x < side && made < rooms; ++x, ++made) {
         const dvec3 o(x * kRoom, y * kRoom, z * (kHeight + 2 * kSlab));
         const double top = o.z + kSlab + kHeight;
-        addBox(scene, o, o + dvec3(kRoom, kRoom, kSlab), "floor");                      // 1
+        addBox(scene, o, o + dvec3(kRoom, kRoom, kSlab), "floor");                       // 1
         addBox(scene, {o.x, o.y, top}, {o.x + kRoom, o.y + kRoom, top + kSlab}, "ceil"); // 2
         // West and south walls with a door gap; the neighbours' walls close the other sides.
         const double door = snap(64 + unit(rng) * 96);
-        addBox(scene, {o.x, o.y + kWall, o.z + kSlab}, {o.x + kWall, o.y + door, top});          // 3
-        addBox(scene, {o.x, o.y + door + 64, o.z + kSlab}, {o.x + kWall, o.y + kRoom, top});     // 4
-        addBox(scene, {o.x, o.y, o.z + kSlab}, {o.x + door, o.y + kWall, top});                  // 5
-        addBox(scene, {o.x + door + 64, o.y, o.z + kSlab}, {o.x + kRoom, o.y + kWall, top});     // 6
+        addBox(scene, {o.x, o.y + kWall, o.z + kSlab}, {o.x + kWall, o.y + door, top});      // 3
+        addBox(scene, {o.x, o.y + door + 64, o.z + kSlab}, {o.x + kWall, o.y + kRoom, top}); // 4
+        addBox(scene, {o.x, o.y, o.z + kSlab}, {o.x + door, o.y + kWall, top});              // 5
+        addBox(scene, {o.x + door + 64, o.y, o.z + kSlab}, {o.x + kRoom, o.y + kWall, top}); // 6
         // An octagonal pillar and a ramp: the slanted planes.
         // In one of the four quarters away from the room's centre, where openPoints lie.
         const dvec3 pillar(o.x + (unit(rng) < 0.5 ? 64 : 192), o.y + (unit(rng) < 0.5 ? 64 : 192), 0);
@@ -131,8 +130,8 @@ GeneratedLevel generateLevel(int brushCount, uint32_t seed) {
         const double rampX = o.x + snap(24 + unit(rng) * 128), rampY = o.y + snap(24 + unit(rng) * 128);
         std::vector<Plane> ramp = boxPlanes({rampX, rampY, o.z + kSlab}, {rampX + 96, rampY + 64, o.z + kSlab + 48});
         ramp[5] = planeThrough({-48, 0, 96}, {rampX, rampY, o.z + kSlab}); // slope up along +X
-        addBrush(scene, ramp, "ramp"); // 8
-        for (int c = 0; c < 4; ++c) { // 9..12: crates, some stacked
+        addBrush(scene, ramp, "ramp");                                     // 8
+        for (int c = 0; c < 4; ++c) {                                      // 9..12: crates, some stacked
           const double size = snap(16 + unit(rng) * 32);
           const double cx = o.x + snap(24 + unit(rng) * (kRoom - 48 - size));
           const double cy = o.y + snap(24 + unit(rng) * (kRoom - 48 - size));

@@ -80,11 +80,14 @@ TEST(RayBrush, BoxFromEachSide) {
   test::addBox(scene, {-16, -32, -64}, {16, 32, 64});
   const TraceScene ts = TraceScene::build(scene);
   // Faces are in boxPlanes order: -X, +X, -Y, +Y, -Z, +Z.
-  struct Case { glm::vec3 origin, direction; float t; uint32_t face; };
+  struct Case {
+    glm::vec3 origin, direction;
+    float t;
+    uint32_t face;
+  };
   const Case cases[] = {
-      {{-100, 1, 2}, {1, 0, 0}, 84, 0}, {{100, 1, 2}, {-1, 0, 0}, 84, 1},
-      {{1, -100, 2}, {0, 1, 0}, 68, 2}, {{1, 100, 2}, {0, -1, 0}, 68, 3},
-      {{1, 2, -100}, {0, 0, 1}, 36, 4}, {{1, 2, 100}, {0, 0, -1}, 36, 5},
+      {{-100, 1, 2}, {1, 0, 0}, 84, 0},    {{100, 1, 2}, {-1, 0, 0}, 84, 1}, {{1, -100, 2}, {0, 1, 0}, 68, 2},
+      {{1, 100, 2}, {0, -1, 0}, 68, 3},    {{1, 2, -100}, {0, 0, 1}, 36, 4}, {{1, 2, 100}, {0, 0, -1}, 36, 5},
       {{-100, 0, 100}, {1, 0, -1}, 84, 0}, // through the -X face near its top edge
   };
   for (const Case& c : cases) {
@@ -119,8 +122,8 @@ TEST(RayBrush, IntervalBoundsAreExclusive) {
 
 TEST(RayBrush, RayStartingInsideLeavesThroughTheExitFace) {
   Scene scene;
-  const std::vector<Plane> wedge = {{{-1, 0, 0}, 0}, {{0, -1, 0}, 0}, {{0, 1, 0}, 32}, {{0, 0, -1}, 0},
-                                     {glm::normalize(dvec3(1, 0, 1)), 32 / std::sqrt(2.0)}};
+  const std::vector<Plane> wedge = {
+      {{-1, 0, 0}, 0}, {{0, -1, 0}, 0}, {{0, 1, 0}, 32}, {{0, 0, -1}, 0}, {glm::normalize(dvec3(1, 0, 1)), 32 / std::sqrt(2.0)}};
   test::addBrush(scene, wedge, "wedge"); // x >= 0, 0 <= y <= 32, z >= 0, x + z <= 32
   const TraceScene ts = TraceScene::build(scene);
   const auto up = ts.closestHit({{4, 16, 4}, 0.0f, {0, 0, 1}});
@@ -295,8 +298,8 @@ TEST(RayBrush, NoSelfHitsOnAGeneratedLevel) {
     if (!bounce) continue;
     EXPECT_FALSE(bounce->inside) << "bounce started inside brush " << bounce->brush;
     const GpuFace& next = ts.faces()[bounce->face];
-    const bool samePlane = next.plane[0] == face.plane[0] && next.plane[1] == face.plane[1] &&
-                           next.plane[2] == face.plane[2] && next.plane[3] == face.plane[3];
+    const bool samePlane = next.plane[0] == face.plane[0] && next.plane[1] == face.plane[1] && next.plane[2] == face.plane[2] &&
+        next.plane[3] == face.plane[3];
     EXPECT_FALSE(samePlane) << "self hit at t " << bounce->t;
   }
   EXPECT_GT(bounces, 15000);

@@ -26,8 +26,7 @@ TEST_P(BvhOnSharedMap, BuildsAndMatchesBruteForce) {
   const Scene scene = importScene(path.string(), {.textures = {.load = false}});
   ASSERT_GT(scene.brushes.size(), 100u);
   const TraceScene ts = TraceScene::build(scene);
-  std::printf("%s: %zu brushes, %zu traced, %zu nodes\n", GetParam().path, scene.brushes.size(), ts.brushes().size(),
-              ts.nodes().size());
+  std::printf("%s: %zu brushes, %zu traced, %zu nodes\n", GetParam().path, scene.brushes.size(), ts.brushes().size(), ts.nodes().size());
 
   test::expectWellFormed(ts);
   test::expectSahNearFullSweep(ts, BvhBuildOptions{}.leafSize, GetParam().path);
@@ -71,16 +70,15 @@ TEST_P(BvhOnSharedMap, BuildsAndMatchesBruteForce) {
     ++bounces;
     if (!bounce) continue;
     const GpuFace& next = ts.faces()[bounce->face];
-    const bool samePlane = next.plane[0] == face.plane[0] && next.plane[1] == face.plane[1] &&
-                           next.plane[2] == face.plane[2] && next.plane[3] == face.plane[3];
+    const bool samePlane = next.plane[0] == face.plane[0] && next.plane[1] == face.plane[1] && next.plane[2] == face.plane[2] &&
+        next.plane[3] == face.plane[3];
     EXPECT_FALSE(samePlane && !bounce->inside && bounce->t < 1.0f) << "self hit at t " << bounce->t;
   }
   EXPECT_GT(bounces, 0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Maps, BvhOnSharedMap,
-                         ::testing::Values(SharedMap{"quake_map_source/e1m1.map", 1500},
-                                           SharedMap{"quake_map_source/dm3.map", 1500},
+                         ::testing::Values(SharedMap{"quake_map_source/e1m1.map", 1500}, SharedMap{"quake_map_source/dm3.map", 1500},
                                            SharedMap{"librequake/lq1/maps/src/e4/lq_e4m3.map", 600},
                                            SharedMap{"unvanquished-chasm/maps/chasm.map", 600}),
                          [](const auto& info) {

@@ -17,7 +17,9 @@ Image testImage() {
   return image;
 }
 
-float red(const glm::vec4& c) { return c.r * 255.0f; }
+float red(const glm::vec4& c) {
+  return c.r * 255.0f;
+}
 
 TEST(TextureSampling, TexelCentresReturnTheTexel) {
   const Image image = testImage();
@@ -36,7 +38,8 @@ TEST(TextureSampling, BlendsBetweenCentres) {
   // Halfway between columns 1 and 2 of row 0: u = 2 / 4.
   EXPECT_FLOAT_EQ(red(sampleBilinearRepeat(image, 0.5f, 0.25f)), 15.0f);
   // A quarter of the way from column 0 to 1 and from row 0 to 1.
-  EXPECT_NEAR(red(sampleBilinearRepeat(image, (0.5f + 0.25f) / 4.0f, (0.5f + 0.25f) / 2.0f)), 0.75f * 0.75f * 0 + 0.25f * 0.75f * 10 + 0.75f * 0.25f * 100 + 0.25f * 0.25f * 110, 1e-4f);
+  EXPECT_NEAR(red(sampleBilinearRepeat(image, (0.5f + 0.25f) / 4.0f, (0.5f + 0.25f) / 2.0f)),
+              0.75f * 0.75f * 0 + 0.25f * 0.75f * 10 + 0.75f * 0.25f * 100 + 0.25f * 0.25f * 110, 1e-4f);
 }
 
 TEST(TextureSampling, RepeatsAcrossTheEdges) {

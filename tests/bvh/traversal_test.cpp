@@ -17,14 +17,13 @@ int expectClosestHitsMatchBruteForce(const TraceScene& ts, const std::vector<Ray
     const std::optional<Hit> bvh = ts.closestHit(r);
     const std::optional<Hit> brute = test::bruteForceClosestHit(ts, r);
     const bool same = bvh.has_value() == brute.has_value() &&
-                      (!bvh || (bvh->t == brute->t && bvh->face == brute->face && bvh->brush == brute->brush &&
-                                bvh->inside == brute->inside));
+        (!bvh || (bvh->t == brute->t && bvh->face == brute->face && bvh->brush == brute->brush && bvh->inside == brute->inside));
     if (!same) {
       ++failures;
-      ADD_FAILURE() << "ray " << i << " (" << r.origin.x << " " << r.origin.y << " " << r.origin.z << ") dir ("
-                    << r.direction.x << " " << r.direction.y << " " << r.direction.z << ") [" << r.tMin << ", " << r.tMax
-                    << "]: bvh " << (bvh ? std::to_string(bvh->t) + " face " + std::to_string(bvh->face) : "miss")
-                    << ", brute force " << (brute ? std::to_string(brute->t) + " face " + std::to_string(brute->face) : "miss");
+      ADD_FAILURE() << "ray " << i << " (" << r.origin.x << " " << r.origin.y << " " << r.origin.z << ") dir (" << r.direction.x << " "
+                    << r.direction.y << " " << r.direction.z << ") [" << r.tMin << ", " << r.tMax << "]: bvh "
+                    << (bvh ? std::to_string(bvh->t) + " face " + std::to_string(bvh->face) : "miss") << ", brute force "
+                    << (brute ? std::to_string(brute->t) + " face " + std::to_string(brute->face) : "miss");
     }
     EXPECT_EQ(ts.occluded(r), brute.has_value()) << "ray " << i;
     hits += brute.has_value();
@@ -46,8 +45,8 @@ TEST(Traversal, ClosestHitEqualsBruteForceOnALevel) {
 
 TEST(Traversal, ClosestHitEqualsBruteForceOnOverlappingRandomBrushes) {
   const Scene scene = test::generateRandomBrushes(1500, 34, 1024.0);
-  for (const BvhBuildOptions& options : {BvhBuildOptions{}, BvhBuildOptions{.leafSize = 1, .binCount = 4},
-                                         BvhBuildOptions{.leafSize = 12, .binCount = 64}}) {
+  for (const BvhBuildOptions& options :
+       {BvhBuildOptions{}, BvhBuildOptions{.leafSize = 1, .binCount = 4}, BvhBuildOptions{.leafSize = 12, .binCount = 64}}) {
     const TraceScene ts = TraceScene::build(scene, options);
     const int hits = expectClosestHitsMatchBruteForce(ts, test::randomRays(ts.bounds(), 2000, 35));
     EXPECT_GT(hits, 700);

@@ -31,8 +31,7 @@ void decodeOwnMiptex(const bt::bsp::BspFile& bsp, bt::Scene& scene) {
       if (!m.present || !m.hasPixels || !bt::textureNamesEqual(m.name, material.name)) continue;
       try {
         material = bt::decodeMiptex(m.bytes, &palette, halfLife, "fuzz.bsp (miptex)");
-      } catch (const bt::ImportError&) {
-      }
+      } catch (const bt::ImportError&) {}
       break;
     }
   bt::loadMaterials(scene, bt::TextureSearch{.load = false});
@@ -58,7 +57,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (selector & 2) lit = litFileFor(bsp, selector >> 2);
     const bt::Scene scene = bt::bsp::sceneFromBsp(bsp, resolve, lit);
     bt::fuzz::prepareForRender(scene);
-  } catch (const bt::ImportError&) {
-  }
+  } catch (const bt::ImportError&) {}
   return 0;
 }

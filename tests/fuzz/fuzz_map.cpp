@@ -14,8 +14,7 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
   const unsigned selector = data[0] % 9;
-  const std::optional<bt::MapDialect> forced =
-      selector == 0 ? std::nullopt : std::optional(static_cast<bt::MapDialect>(selector - 1));
+  const std::optional<bt::MapDialect> forced = selector == 0 ? std::nullopt : std::optional(static_cast<bt::MapDialect>(selector - 1));
   const std::string_view text(reinterpret_cast<const char*>(data + 1), size - 1);
   try {
     const bt::map::MapDocument doc = bt::map::parseMap(text, "fuzz.map", forced);

@@ -43,7 +43,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     case 3: (void)bt::decodeWal(bytes, palette, "fuzz.wal"); break;
     case 4: (void)bt::paletteFromBytes(bytes, "fuzz.lmp"); break;
     }
-  } catch (const bt::ImportError&) {
-  }
+  } catch (const bt::ImportError&) {}
   return 0;
 }

@@ -43,8 +43,8 @@ TEST(PakArchive, ReadsEntriesByNameIgnoringCase) {
 TEST(GameFileSystem, SearchesModThenBaseLooseBeforeArchivesLaterPaksFirst) {
   test::TempDir dir;
   const fs::path id1 = dir / "quake/id1", mod = dir / "quake/mymod";
-  test::writePak(id1 / "pak0.pak", {{"a.txt", bytesOf("pak0")}, {"b.txt", bytesOf("pak0")}, {"c.txt", bytesOf("pak0")},
-                                    {"only0.txt", bytesOf("pak0")}});
+  test::writePak(id1 / "pak0.pak",
+                 {{"a.txt", bytesOf("pak0")}, {"b.txt", bytesOf("pak0")}, {"c.txt", bytesOf("pak0")}, {"only0.txt", bytesOf("pak0")}});
   test::writePak(id1 / "pak1.pak", {{"a.txt", bytesOf("pak1")}, {"b.txt", bytesOf("pak1")}});
   writeText(id1 / "b.txt", "id1 loose");
   test::writePak(mod / "pak0.pak", {{"c.txt", bytesOf("mod pak0")}, {"d.txt", bytesOf("mod pak0")}});
@@ -70,8 +70,7 @@ TEST(GameFileSystem, Quake3LoadsPk3sAndPk3dirsByNameTheLaterFirst) {
   test::writePk3(baseoa / "zz-mine.pk3", {{"scripts/a.shader", bytesOf("zz")}});
   writeText(baseoa / "pak5.pk3dir/x.txt", "pk3dir");
   test::writePak(baseoa / "ignored.pak", {{"x.txt", bytesOf("a .pak is not Quake 3's")}});
-  const game::GameInstall install =
-      game::openGameInstall(GameOptions{.baseDir = (dir / "openarena").string()}, "", "ibsp46");
+  const game::GameInstall install = game::openGameInstall(GameOptions{.baseDir = (dir / "openarena").string()}, "", "ibsp46");
   ASSERT_NE(install.profile, nullptr);
   EXPECT_EQ(install.profile->name, "quake3");
   EXPECT_EQ(text(install.files.read("scripts/a.shader")), "zz");
@@ -110,7 +109,7 @@ TEST(PakArchive, EntryThatLiesAboutItsSizeIsAnErrorNamingArchiveAndEntry) {
   test::TempDir dir;
   std::vector<uint8_t> bytes = test::makePak({{"a.txt", bytesOf("a")}, {"textures/wall.wal", bytesOf("0123456789")}});
   const size_t sizeField = bytes.size() - 64 + 60; // the last entry's size
-  bytes[sizeField + 2] = 0x10;                      // ~1 MB, in a file of a few hundred bytes
+  bytes[sizeField + 2] = 0x10;                     // ~1 MB, in a file of a few hundred bytes
   test::writeFile(dir / "pak0.pak", bytes);
   try {
     game::PakArchive pak(dir / "pak0.pak");
@@ -180,8 +179,7 @@ TEST(BuiltinPalettes, AreChosenByTheLevelsGame) {
     const game::GameInstall install = game::openGameInstall({}, "", format);
     Diagnostics diagnostics;
     std::string file = "unset";
-    const std::optional<Palette> palette =
-        game::installPalette(install, std::string_view(game) == "quake2", "x.map", diagnostics, &file);
+    const std::optional<Palette> palette = game::installPalette(install, std::string_view(game) == "quake2", "x.map", diagnostics, &file);
     ASSERT_TRUE(palette);
     EXPECT_EQ(palette->rgb, game::builtinPalette(game)->rgb);
     EXPECT_TRUE(file.empty());
@@ -193,20 +191,21 @@ TEST(BuiltinPalettes, AreChosenByTheLevelsGame) {
 // `view` reloads when a file the import read is saved: for what came out of a pak, the pak.
 TEST(GameInstall, InputFilesListTheArchivesTexturesAndPalettesCameFrom) {
   test::TempDir dir;
-  test::writePak(dir / "quake/id1/pak0.pak",
-                 {{"gfx/palette.lmp", test::testPalette()},
-                  {"gfx/test.wad", test::makeWad("WAD2", {{"wall", 0x44, test::makeMiptex("wall", 16, 16, std::vector<uint8_t>(256, 3))}})}});
+  test::writePak(
+      dir / "quake/id1/pak0.pak",
+      {{"gfx/palette.lmp", test::testPalette()},
+       {"gfx/test.wad", test::makeWad("WAD2", {{"wall", 0x44, test::makeMiptex("wall", 16, 16, std::vector<uint8_t>(256, 3))}})}});
   fs::create_directories(dir / "quake/id1/maps");
-  std::ofstream(dir / "quake/id1/maps/x.map") << "{\n\"classname\" \"worldspawn\"\n\"wad\" \"test.wad\"\n{\n"
-                                                 "( 0 0 0 ) ( 0 1 0 ) ( 0 0 1 ) wall 0 0 0 1 1\n( 0 0 0 ) ( 0 0 1 ) ( 1 0 0 ) wall 0 0 0 1 1\n"
-                                                 "( 0 0 0 ) ( 1 0 0 ) ( 0 1 0 ) wall 0 0 0 1 1\n( 8 8 8 ) ( 8 0 8 ) ( 0 8 8 ) wall 0 0 0 1 1\n"
-                                                 "( 8 8 8 ) ( 0 8 8 ) ( 8 8 0 ) wall 0 0 0 1 1\n( 8 8 8 ) ( 8 8 0 ) ( 8 0 8 ) wall 0 0 0 1 1\n}\n}\n";
+  std::ofstream(dir / "quake/id1/maps/x.map")
+      << "{\n\"classname\" \"worldspawn\"\n\"wad\" \"test.wad\"\n{\n"
+         "( 0 0 0 ) ( 0 1 0 ) ( 0 0 1 ) wall 0 0 0 1 1\n( 0 0 0 ) ( 0 0 1 ) ( 1 0 0 ) wall 0 0 0 1 1\n"
+         "( 0 0 0 ) ( 1 0 0 ) ( 0 1 0 ) wall 0 0 0 1 1\n( 8 8 8 ) ( 8 0 8 ) ( 0 8 8 ) wall 0 0 0 1 1\n"
+         "( 8 8 8 ) ( 0 8 8 ) ( 8 8 0 ) wall 0 0 0 1 1\n( 8 8 8 ) ( 8 8 0 ) ( 8 0 8 ) wall 0 0 0 1 1\n}\n}\n";
   const Scene scene = importScene((dir / "quake/id1/maps/x.map").string(), ImportOptions{});
   ASSERT_FALSE(scene.materials.empty());
   EXPECT_FALSE(scene.materials[0].missing()) << test::describe(scene.diagnostics);
   EXPECT_EQ(scene.materials[0].baseColor.rgba[0], 3) << "the pak's palette";
-  EXPECT_NE(std::find(scene.inputFiles.begin(), scene.inputFiles.end(), (dir / "quake/id1/pak0.pak").string()),
-            scene.inputFiles.end());
+  EXPECT_NE(std::find(scene.inputFiles.begin(), scene.inputFiles.end(), (dir / "quake/id1/pak0.pak").string()), scene.inputFiles.end());
 }
 
 // A Valve 220 map is Quake's by default, but --basedir naming a Half-Life install makes it Half-Life's.
@@ -232,8 +231,7 @@ TEST(GameInstall, LitFileOfALevelInAPakComesFromTheGamesFiles) {
   ASSERT_TRUE(scene.compiledLighting);
   EXPECT_EQ(scene.compiledLighting->source, ".lit file");
   EXPECT_EQ(scene.inputFiles.front(), (dir / "quake/id1/pak0.pak").string());
-  EXPECT_NE(std::find(scene.inputFiles.begin(), scene.inputFiles.end(), (dir / "quake/id1/maps/sun.lit").string()),
-            scene.inputFiles.end());
+  EXPECT_NE(std::find(scene.inputFiles.begin(), scene.inputFiles.end(), (dir / "quake/id1/maps/sun.lit").string()), scene.inputFiles.end());
 }
 
 } // namespace

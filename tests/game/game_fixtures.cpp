@@ -52,7 +52,9 @@ void writePk3(const std::filesystem::path& path, const std::vector<ArchiveEntry>
   if (zip_close(zip) != 0) throw std::runtime_error("cannot write " + path.string());
 }
 
-std::vector<uint8_t> bytesOf(const std::string& text) { return {text.begin(), text.end()}; }
+std::vector<uint8_t> bytesOf(const std::string& text) {
+  return {text.begin(), text.end()};
+}
 
 std::vector<uint8_t> testPalette() {
   std::vector<uint8_t> palette(768);
@@ -66,8 +68,8 @@ std::vector<uint8_t> testPalette() {
 
 std::vector<uint8_t> testPalettePcx() {
   std::vector<uint8_t> pcx(128, 0);
-  pcx[0] = 0x0A;      // PCX signature
-  pcx.push_back(0);   // a token of image data
+  pcx[0] = 0x0A;       // PCX signature
+  pcx.push_back(0);    // a token of image data
   pcx.push_back(0x0C); // the 256-colour palette follows
   const std::vector<uint8_t> palette = testPalette();
   pcx.insert(pcx.end(), palette.begin(), palette.end());

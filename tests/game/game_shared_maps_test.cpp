@@ -62,7 +62,8 @@ TEST(GameInstall, EverySharedQuake1MapFindsItsWadsInsideThePak) {
   for (const auto& entry : manifest) {
     const std::string flags = entry.at("qbsp_flags");
     if (flags.find("-q2bsp") != std::string::npos || flags.find("-hlbsp") != std::string::npos ||
-        flags.find("-hexen2") != std::string::npos) continue;
+        flags.find("-hexen2") != std::string::npos)
+      continue;
     const fs::path map = dir / "levels" / entry.at("map").get<std::string>();
     SCOPED_TRACE(map.string());
     ImportOptions options;

@@ -40,8 +40,7 @@ void expectAovsMatch(const AovImages& gpu, const AovImages& ref, double albedoTo
     EXPECT_LT(glm::length(gpu.normal[i] - ref.normal[i]), 1e-5f) << "pixel " << i;
     // The float hit point is a few ulps off the double one; on the checker's steepest texel
     // gradient that moves the filtered colour by up to ~1e-5.
-    for (int c = 0; c < 4; ++c)
-      EXPECT_NEAR(gpu.albedo[i][c], ref.albedo[i][c], albedoTolerance) << "pixel " << i << " channel " << c;
+    for (int c = 0; c < 4; ++c) EXPECT_NEAR(gpu.albedo[i][c], ref.albedo[i][c], albedoTolerance) << "pixel " << i << " channel " << c;
   }
   EXPECT_LE(mismatched, kMaxFaceMismatch * ref.face.size()) << mismatched << " pixels see another face";
   EXPECT_GT(hits, ref.face.size() / 2);
@@ -170,8 +169,8 @@ TEST(GlAov, EmptySceneSeesNothing) {
   for (float d : gpu.depth) EXPECT_TRUE(std::isinf(d));
 }
 
-void expectLayoutFacesEqualClosestHit(const Scene& scene, const TraceScene& traceScene, const CameraBasis& camera, int width,
-                                      int height, TraceLayout layout) {
+void expectLayoutFacesEqualClosestHit(const Scene& scene, const TraceScene& traceScene, const CameraBasis& camera, int width, int height,
+                                      TraceLayout layout) {
   GlContext& context = test::sharedGlContext();
   GlTracer tracer(context, scene, traceScene, std::make_shared<TracerPrograms>(context, TextureMode::Arrays, layout));
   const AovImages gpu = tracer.renderAovs(camera, width, height);
@@ -202,8 +201,7 @@ void expectLayoutFacesEqualClosestHit(const Scene& scene, const TraceScene& trac
 // (renderer/gl/gl_structs.h GlBvhNode) by trace_scene.cpp's rules. Both trace layouts are held
 // to it on whatever runs the tests: llvmpipe's (BT_TRACE_SOFTWARE) and the GPUs'.
 void expectFacesEqualClosestHit(const Scene& scene, const TraceScene& traceScene,
-                                const CameraBasis& camera = test::testCamera(kWidth, kHeight), int width = kWidth,
-                                int height = kHeight) {
+                                const CameraBasis& camera = test::testCamera(kWidth, kHeight), int width = kWidth, int height = kHeight) {
   for (const TraceLayout layout : {TraceLayout::Software, TraceLayout::Hardware}) {
     SCOPED_TRACE(layout == TraceLayout::Software ? "software trace layout" : "hardware trace layout");
     expectLayoutFacesEqualClosestHit(scene, traceScene, camera, width, height, layout);
@@ -223,7 +221,7 @@ TEST(GlAov, FacesEqualTraceSceneClosestHit) {
 // t shrinks.
 size_t deepestStack(const TraceScene& scene, const std::vector<GlBvhNode>& nodes, const Ray& ray) {
   float best = std::numeric_limits<float>::infinity();
-  auto overlaps = [&](const float (&min)[3], const float (&max)[3], float& entry) {
+  auto overlaps = [&](const float(&min)[3], const float(&max)[3], float& entry) {
     float near = 0.0f, far = best;
     for (int a = 0; a < 3; ++a) {
       const float t0 = (min[a] - ray.origin[a]) / ray.direction[a], t1 = (max[a] - ray.origin[a]) / ray.direction[a];

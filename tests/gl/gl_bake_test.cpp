@@ -37,8 +37,8 @@ Scene courtyard() {
   b.worldKey("_sunlight2", "60");
   b.worldKey("_dirt", "1");
   b.entity({{"classname", "light"}, {"origin", "-64 -64 48"}, {"light", "250"}});
-  b.entity({{"classname", "light"}, {"origin", "64 48 64"}, {"light", "200"}, {"_deviance", "12"}, {"_samples", "4"},
-            {"_color", "1 0.6 0.3"}});
+  b.entity(
+      {{"classname", "light"}, {"origin", "64 48 64"}, {"light", "200"}, {"_deviance", "12"}, {"_samples", "4"}, {"_color", "1 0.6 0.3"}});
   return b.build();
 }
 
@@ -49,8 +49,7 @@ std::vector<uint32_t> packedLuxels(const std::vector<uint32_t>& packed, size_t c
 
 int largestChannelDifference(uint32_t a, uint32_t b) {
   int largest = 0;
-  for (int shift = 0; shift < 24; shift += 8)
-    largest = std::max(largest, std::abs(int((a >> shift) & 255u) - int((b >> shift) & 255u)));
+  for (int shift = 0; shift < 24; shift += 8) largest = std::max(largest, std::abs(int((a >> shift) & 255u) - int((b >> shift) & 255u)));
   return largest;
 }
 

@@ -32,7 +32,9 @@ glm::vec2 pixelJitter(uint32_t x, uint32_t y, uint32_t sample, uint32_t seed) {
   return {a, rngNext(state)};
 }
 
-float srgbToLinear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
+float srgbToLinear(float c) {
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
 
 // Pixels whose 3x3 neighbourhood sees only the untextured material: every jittered sample
 // lands on the same flat grey face.
@@ -74,9 +76,12 @@ TEST(GlBeauty, FaithfulInfiniteLightGivesTheOverbrightFormula) {
   size_t lit = 0, dark = 0;
   for (size_t i : pixels) {
     const glm::vec3 c = image.beauty[i];
-    if (glm::length(c - glm::vec3(expected)) < 1e-5f) ++lit;
-    else if (glm::length(c) < 1e-6f) ++dark;
-    else ADD_FAILURE() << "pixel " << i << " = (" << c.x << ", " << c.y << ", " << c.z << "), expected " << expected << " or 0";
+    if (glm::length(c - glm::vec3(expected)) < 1e-5f)
+      ++lit;
+    else if (glm::length(c) < 1e-6f)
+      ++dark;
+    else
+      ADD_FAILURE() << "pixel " << i << " = (" << c.x << ", " << c.y << ", " << c.z << "), expected " << expected << " or 0";
   }
   EXPECT_GT(lit, pixels.size() / 2) << "the wall should be mostly lit (" << dark << " in shadow)";
 }
@@ -95,8 +100,7 @@ TEST(GlBeauty, PhysicalPointLightGivesInverseSquareLambert) {
   const CameraBasis camera = test::testCamera(kWidth, kHeight);
   const AovImages aov = tracer.renderAovs(camera, kWidth, kHeight);
   constexpr int kSpp = 8;
-  const BeautyImage image =
-      tracer.renderBeauty(camera, {.width = kWidth, .height = kHeight, .spp = kSpp, .physical = true, .bounces = 0});
+  const BeautyImage image = tracer.renderBeauty(camera, {.width = kWidth, .height = kHeight, .spp = kSpp, .physical = true, .bounces = 0});
 
   const float albedo = srgbToLinear(0.5f);
   const float intensity = 300.0f * 0.5f * 3.14159265f * 128.0f;
@@ -109,8 +113,8 @@ TEST(GlBeauty, PhysicalPointLightGivesInverseSquareLambert) {
     float expected = 0.0f;
     for (int s = 0; s < kSpp; ++s) {
       const glm::vec2 j = pixelJitter(x, y, s, 0);
-      const glm::vec3 dir = glm::normalize(camera.forward + ((x + j.x) / kWidth * 2 - 1) * camera.right -
-                                           ((y + j.y) / kHeight * 2 - 1) * camera.up);
+      const glm::vec3 dir =
+          glm::normalize(camera.forward + ((x + j.x) / kWidth * 2 - 1) * camera.right - ((y + j.y) / kHeight * 2 - 1) * camera.up);
       const glm::vec3 p = camera.origin + dir * ((float(plane.dist) - glm::dot(n, camera.origin)) / glm::dot(n, dir));
       const glm::vec3 toLight = light.origin - p;
       const float d2 = glm::dot(toLight, toLight);

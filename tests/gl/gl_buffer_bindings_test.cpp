@@ -28,7 +28,8 @@ std::map<std::string, int> declaredNumbers(const std::regex& declaration) {
 
 // Every `layout(std430, binding = N) ... buffer Name`: Name -> N.
 std::map<std::string, int> storageBufferBindings() {
-  return declaredNumbers(std::regex(R"(layout\s*\(\s*std430\s*,\s*binding\s*=\s*(\d+)\s*\)\s*(?:readonly\s+|writeonly\s+)*buffer\s+(\w+))"));
+  return declaredNumbers(
+      std::regex(R"(layout\s*\(\s*std430\s*,\s*binding\s*=\s*(\d+)\s*\)\s*(?:readonly\s+|writeonly\s+)*buffer\s+(\w+))"));
 }
 
 // Every `layout(binding = N) uniform [u]samplerBuffer name` (the traversal's texel views): name -> N.
@@ -38,7 +39,9 @@ std::map<std::string, int> texelViewUnits() {
 
 // The faithful bake's buffers (shaders/bake.comp), which take the wavefront's points: no program
 // uses both (drivers need offer only 16 storage blocks to a compute shader).
-bool bakeBuffer(const std::string& name) { return name == "LuxelSamples" || name == "LuxelSumBuffer" || name == "SkyDome"; }
+bool bakeBuffer(const std::string& name) {
+  return name == "LuxelSamples" || name == "LuxelSumBuffer" || name == "SkyDome";
+}
 
 TEST(ShaderBindings, EveryStorageBufferHasItsOwnBindingPoint) {
   const std::map<std::string, int> bindings = storageBufferBindings();
@@ -75,9 +78,9 @@ TEST(ShaderBindings, BakeBuffersMatchTheEnumAndNoBufferOfTheirProgram) {
 // GlTracer binds the wavefront form's per-pixel buffers (shaders/wavefront.glsl, pathtrace.comp).
 TEST(ShaderBindings, WavefrontBuffersMatchTheEnum) {
   const std::map<std::string, int> bindings = storageBufferBindings();
-  for (const auto& [name, point] : {std::pair{"WavefrontRays", kBindingWavefrontRays}, std::pair{"WavefrontHits", kBindingWavefrontHits},
-                                    std::pair{"WavefrontPaths", kBindingWavefrontPaths},
-                                    std::pair{"WavefrontEndedCount", kBindingWavefrontEndedCount}}) {
+  for (const auto& [name, point] :
+       {std::pair{"WavefrontRays", kBindingWavefrontRays}, std::pair{"WavefrontHits", kBindingWavefrontHits},
+        std::pair{"WavefrontPaths", kBindingWavefrontPaths}, std::pair{"WavefrontEndedCount", kBindingWavefrontEndedCount}}) {
     ASSERT_TRUE(bindings.contains(name)) << name;
     EXPECT_EQ(bindings.at(name), int(point)) << name;
   }

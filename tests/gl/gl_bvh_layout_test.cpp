@@ -24,7 +24,9 @@ void expectSameTree(const TraceScene& scene) {
   std::vector<int> reached(nodes.size(), 0);
   std::vector<int> glReached(gl.size(), 0);
   ++reached[0];
-  struct Pair { uint32_t node, glNode; };
+  struct Pair {
+    uint32_t node, glNode;
+  };
   std::vector<Pair> unvisited{{0, 0}};
   while (!unvisited.empty()) {
     const auto [n, g] = unvisited.back();

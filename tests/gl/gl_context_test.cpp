@@ -24,8 +24,8 @@ TEST(GlContext, HeadlessContextIsGl45WithCompute) {
   EXPECT_TRUE(info.platform.starts_with("device") || info.platform == "surfaceless") << info.platform;
   EXPECT_GE(epoxy_gl_version(), 45) << info.version;
   EXPECT_GE(info.maxTextureUnits, 16) << "the arrays path binds 16 sampler2DArrays";
-  std::printf("GL context: %s, %s, %s, bindless %s\n", info.platform.c_str(), info.renderer.c_str(),
-              info.version.c_str(), info.bindlessTextures ? "yes" : "no");
+  std::printf("GL context: %s, %s, %s, bindless %s\n", info.platform.c_str(), info.renderer.c_str(), info.version.c_str(),
+              info.bindlessTextures ? "yes" : "no");
   const std::string renderer = info.renderer;
   context.reset();
   EXPECT_EQ(shared.info().renderer, renderer);

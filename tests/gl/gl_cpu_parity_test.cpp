@@ -76,7 +76,7 @@ void expectAovsAgree(const RenderImage& gpu, const RenderImage& cpu, double minH
       // (the GL tracer clips by every plane, the CPU's TraceScene takes axial planes from the
       // box), so either face may win. Geometrically the pixel is the same.
       const bool tie = gpu.face[i] != 0 && cpu.face[i] != 0 && std::abs(gpu.depth[i] - cpu.depth[i]) <= 1e-4f * cpu.depth[i] &&
-                       glm::length(gpu.normal[i] - cpu.normal[i]) < 1e-6f;
+          glm::length(gpu.normal[i] - cpu.normal[i]) < 1e-6f;
       ++(tie ? coplanarTies : mismatched);
       continue;
     }
@@ -132,8 +132,7 @@ TEST(GlCpuParity, AovsEqualTheCpuReferenceOnEveryMapInMaps) {
     level.pose = defaultCameraPose(level.scene);
     const RenderImage cpu = renderCpu(level.render, Camera(level.pose, settings.width, settings.height), settings);
     const int errorsBefore = context.debugErrorCount();
-    const RenderImage gpu =
-        renderWithGl(context, level.render, level.pose, settings, programs, {}, GlRenderParts::AovsOnly).image;
+    const RenderImage gpu = renderWithGl(context, level.render, level.pose, settings, programs, {}, GlRenderParts::AovsOnly).image;
     EXPECT_EQ(context.debugErrorCount(), errorsBefore);
     EXPECT_TRUE(gpu.beauty.empty());
     // The dialect maps are an open room seen from its corner: a quarter of the view is the void.
@@ -351,9 +350,8 @@ TEST(GlCpuParity, FaithfulBounceAgreesWithTheCpuReference) {
   level.scene = importScene((shared / "maps/ericw-tools/testmaps/deprecated/nobounce.map").string(), ImportOptions{});
   Diagnostics diagnostics;
   level.render = buildRenderScene(level.scene, {}, diagnostics);
-  const auto bounceLights = std::count_if(level.render.lights.begin(), level.render.lights.end(), [](const GpuLight& l) {
-    return l.formula == uint32_t(LightFormula::Bounce);
-  });
+  const auto bounceLights = std::count_if(level.render.lights.begin(), level.render.lights.end(),
+                                          [](const GpuLight& l) { return l.formula == uint32_t(LightFormula::Bounce); });
   ASSERT_EQ(bounceLights, 2) << "one for each pillar face a spotlight lights";
   level.pose = defaultCameraPose(level.scene);
   const RenderSettings settings = beautySettings(LightingMode::Faithful, 13);

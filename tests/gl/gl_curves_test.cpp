@@ -27,9 +27,13 @@ const Scene& curvesMap() {
 
 using Renders = test::CpuAndGl;
 
-Renders render(LightingMode mode) { return test::renderCpuAndGl(curvesMap(), mode, kWidth, kHeight); }
+Renders render(LightingMode mode) {
+  return test::renderCpuAndGl(curvesMap(), mode, kWidth, kHeight);
+}
 
-bool onMesh(uint32_t pixelFace) { return pixelFace > 0 && curvesMap().faces[pixelFace - 1].brush == kNoBrush; }
+bool onMesh(uint32_t pixelFace) {
+  return pixelFace > 0 && curvesMap().faces[pixelFace - 1].brush == kNoBrush;
+}
 
 // The AOVs: the same face (a triangle's side) at all but a few pixels whose ray grazes an edge,
 // and there the same albedo, normal and depth.
@@ -41,7 +45,7 @@ void expectAovsAgree(const Renders& r) {
     if (r.gpu.face[i] != r.cpu.face[i]) continue;
     ++sameFace;
     close += glm::length(r.gpu.albedo[i] - r.cpu.albedo[i]) < 2e-3f && glm::length(r.gpu.normal[i] - r.cpu.normal[i]) < 1e-4f &&
-             std::abs(r.gpu.depth[i] - r.cpu.depth[i]) <= 1e-3f * r.cpu.depth[i];
+        std::abs(r.gpu.depth[i] - r.cpu.depth[i]) <= 1e-3f * r.cpu.depth[i];
   }
   EXPECT_GT(curvePixels, r.cpu.face.size() / 5) << "the camera should see the arch and the pillar";
   EXPECT_NEAR(double(gpuCurvePixels), double(curvePixels), curvePixels * 0.005 + 1);

@@ -87,8 +87,10 @@ TEST(ProgramCache, EnvironmentPicksTheDirectoryOrDisablesIt) {
   setenv("BT_SHADER_CACHE", "off", 1);
   EXPECT_FALSE(ProgramCache::fromEnvironment().enabled());
   unsetenv("BT_SHADER_CACHE");
-  if (savedXdg) setenv("XDG_CACHE_HOME", xdg.c_str(), 1);
-  else unsetenv("XDG_CACHE_HOME");
+  if (savedXdg)
+    setenv("XDG_CACHE_HOME", xdg.c_str(), 1);
+  else
+    unsetenv("XDG_CACHE_HOME");
 }
 
 TEST(ProgramCache, CorruptBinaryFallsBackToCompiling) {

@@ -80,9 +80,7 @@ protected:
     }
     return *tracer_;
   }
-  BeautySettings settings(int spp) const {
-    return {.width = kWidth, .height = kHeight, .spp = spp, .physical = true, .bounces = 1};
-  }
+  BeautySettings settings(int spp) const { return {.width = kWidth, .height = kHeight, .spp = spp, .physical = true, .bounces = 1}; }
   static void expectClose(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
     ASSERT_EQ(a.size(), b.size());
     double worst = 0.0, total = 0.0;

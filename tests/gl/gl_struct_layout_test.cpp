@@ -29,7 +29,10 @@ struct Member {
   std::string name;
   size_t offset;
 };
-#define MEMBER(Struct, name) Member{#name, offsetof(Struct, name)}
+#define MEMBER(Struct, name)                                                                                                               \
+  Member {                                                                                                                                 \
+#name, offsetof(Struct, name)                                                                                                          \
+  }
 
 // The programs the structs live in, built once for the whole test program: aov.comp (faces,
 // materials, camera) and the path tracer in both lighting modes (lights, surface lights,
@@ -116,21 +119,19 @@ TEST(GlStructLayout, MaterialsAsTheShadersReadThem) {
                {MEMBER(GpuMaterial, baseHandle), MEMBER(GpuMaterial, normalHandle), MEMBER(GpuMaterial, emissiveHandle),
                 MEMBER(GpuMaterial, baseArray), MEMBER(GpuMaterial, baseLayer), MEMBER(GpuMaterial, normalArray),
                 MEMBER(GpuMaterial, normalLayer), MEMBER(GpuMaterial, emissiveArray), MEMBER(GpuMaterial, emissiveLayer),
-                MEMBER(GpuMaterial, size), MEMBER(GpuMaterial, flags), MEMBER(GpuMaterial, roughness),
-                MEMBER(GpuMaterial, metallic), MEMBER(GpuMaterial, pad0), MEMBER(GpuMaterial, baseTexels),
-                MEMBER(GpuMaterial, normalTexels), MEMBER(GpuMaterial, emissiveTexels)},
+                MEMBER(GpuMaterial, size), MEMBER(GpuMaterial, flags), MEMBER(GpuMaterial, roughness), MEMBER(GpuMaterial, metallic),
+                MEMBER(GpuMaterial, pad0), MEMBER(GpuMaterial, baseTexels), MEMBER(GpuMaterial, normalTexels),
+                MEMBER(GpuMaterial, emissiveTexels)},
                sizeof(GpuMaterial));
 }
 
 std::vector<Member> lightMembers() {
-  return {MEMBER(GpuLight, origin),        MEMBER(GpuLight, type),       MEMBER(GpuLight, color),
-          MEMBER(GpuLight, value),         MEMBER(GpuLight, direction),  MEMBER(GpuLight, cosOuter),
-          MEMBER(GpuLight, formula),       MEMBER(GpuLight, atten),      MEMBER(GpuLight, falloff),
-          MEMBER(GpuLight, anglescale),    MEMBER(GpuLight, cosInner),   MEMBER(GpuLight, deviance),
-          MEMBER(GpuLight, flags),         MEMBER(GpuLight, faithfulScale), MEMBER(GpuLight, dirtScale),
-          MEMBER(GpuLight, dirtGain),      MEMBER(GpuLight, dirtOffRadius), MEMBER(GpuLight, dirtOnRadius),
-          MEMBER(GpuLight, skyMaterial),   MEMBER(GpuLight, pad0),       MEMBER(GpuLight, pad1),
-          MEMBER(GpuLight, pad2)};
+  return {MEMBER(GpuLight, origin),        MEMBER(GpuLight, type),          MEMBER(GpuLight, color),       MEMBER(GpuLight, value),
+          MEMBER(GpuLight, direction),     MEMBER(GpuLight, cosOuter),      MEMBER(GpuLight, formula),     MEMBER(GpuLight, atten),
+          MEMBER(GpuLight, falloff),       MEMBER(GpuLight, anglescale),    MEMBER(GpuLight, cosInner),    MEMBER(GpuLight, deviance),
+          MEMBER(GpuLight, flags),         MEMBER(GpuLight, faithfulScale), MEMBER(GpuLight, dirtScale),   MEMBER(GpuLight, dirtGain),
+          MEMBER(GpuLight, dirtOffRadius), MEMBER(GpuLight, dirtOnRadius),  MEMBER(GpuLight, skyMaterial), MEMBER(GpuLight, pad0),
+          MEMBER(GpuLight, pad1),          MEMBER(GpuLight, pad2)};
 }
 
 TEST(GlStructLayout, LightsAndSurfaceLightsAsTheShadersReadThem) {
@@ -140,17 +141,17 @@ TEST(GlStructLayout, LightsAndSurfaceLightsAsTheShadersReadThem) {
 
 TEST(GlStructLayout, EmittersAsTheShadersReadThem) {
   expectLayout(GL_BUFFER_VARIABLE, "emitters[0].",
-               {MEMBER(GpuEmitter, v0), MEMBER(GpuEmitter, face), MEMBER(GpuEmitter, v1), MEMBER(GpuEmitter, area),
-                MEMBER(GpuEmitter, v2), MEMBER(GpuEmitter, cdf)},
+               {MEMBER(GpuEmitter, v0), MEMBER(GpuEmitter, face), MEMBER(GpuEmitter, v1), MEMBER(GpuEmitter, area), MEMBER(GpuEmitter, v2),
+                MEMBER(GpuEmitter, cdf)},
                sizeof(GpuEmitter));
 }
 
 // The grid header, then its cells in the same buffer (GlSceneBuffers uploads them back to back).
 TEST(GlStructLayout, LightGridAsTheShadersReadIt) {
   expectLayout(GL_BUFFER_VARIABLE, "lightGrid.",
-               {MEMBER(GpuLightGrid, origin), MEMBER(GpuLightGrid, cellSize), MEMBER(GpuLightGrid, dims),
-                MEMBER(GpuLightGrid, fixedCount), MEMBER(GpuLightGrid, globalFirst), MEMBER(GpuLightGrid, globalCount),
-                MEMBER(GpuLightGrid, physicalFirst), MEMBER(GpuLightGrid, physicalCount)},
+               {MEMBER(GpuLightGrid, origin), MEMBER(GpuLightGrid, cellSize), MEMBER(GpuLightGrid, dims), MEMBER(GpuLightGrid, fixedCount),
+                MEMBER(GpuLightGrid, globalFirst), MEMBER(GpuLightGrid, globalCount), MEMBER(GpuLightGrid, physicalFirst),
+                MEMBER(GpuLightGrid, physicalCount)},
                0);
   std::vector<Member> cells = {MEMBER(GpuLightCell, first), MEMBER(GpuLightCell, count)};
   for (Member& m : cells) m.offset += sizeof(GpuLightGrid);
@@ -162,16 +163,14 @@ TEST(GlStructLayout, CameraAndWorldBlocksAsTheShadersReadThem) {
   expectLayout(GL_UNIFORM, "Camera.",
                {MEMBER(GpuCamera, origin), MEMBER(GpuCamera, pad0), MEMBER(GpuCamera, forward), MEMBER(GpuCamera, pad1),
                 MEMBER(GpuCamera, right), MEMBER(GpuCamera, pad2), MEMBER(GpuCamera, up), MEMBER(GpuCamera, pad3),
-                MEMBER(GpuCamera, imageSize), MEMBER(GpuCamera, frameIndex), MEMBER(GpuCamera, seed),
-                MEMBER(GpuCamera, firstFrame)},
+                MEMBER(GpuCamera, imageSize), MEMBER(GpuCamera, frameIndex), MEMBER(GpuCamera, seed), MEMBER(GpuCamera, firstFrame)},
                0);
   expectLayout(GL_UNIFORM, "World.",
-               {MEMBER(GpuWorld, minlight), MEMBER(GpuWorld, range), MEMBER(GpuWorld, scaledist),
-                MEMBER(GpuWorld, bouncescale), MEMBER(GpuWorld, faithfulBounces), MEMBER(GpuWorld, litwater),
-                MEMBER(GpuWorld, lightCount), MEMBER(GpuWorld, emitterCount), MEMBER(GpuWorld, emitterArea),
-                MEMBER(GpuWorld, physical), MEMBER(GpuWorld, bounces), MEMBER(GpuWorld, dirtMode),
-                MEMBER(GpuWorld, dirtDepth), MEMBER(GpuWorld, dirtAngle), MEMBER(GpuWorld, dirtScale),
-                MEMBER(GpuWorld, dirtGain), MEMBER(GpuWorld, minlightDirt)},
+               {MEMBER(GpuWorld, minlight), MEMBER(GpuWorld, range), MEMBER(GpuWorld, scaledist), MEMBER(GpuWorld, bouncescale),
+                MEMBER(GpuWorld, faithfulBounces), MEMBER(GpuWorld, litwater), MEMBER(GpuWorld, lightCount), MEMBER(GpuWorld, emitterCount),
+                MEMBER(GpuWorld, emitterArea), MEMBER(GpuWorld, physical), MEMBER(GpuWorld, bounces), MEMBER(GpuWorld, dirtMode),
+                MEMBER(GpuWorld, dirtDepth), MEMBER(GpuWorld, dirtAngle), MEMBER(GpuWorld, dirtScale), MEMBER(GpuWorld, dirtGain),
+                MEMBER(GpuWorld, minlightDirt)},
                0);
 }
 

@@ -29,7 +29,9 @@ std::shared_ptr<TracerPrograms> sharedPrograms() {
   return programs;
 }
 
-float largestOf(glm::vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
+float largestOf(glm::vec3 v) {
+  return std::max(v.x, std::max(v.y, v.z));
+}
 
 // Renders `settings` with both forms and compares them pixel by pixel.
 void expectSameImage(const Scene& scene, const GlLighting& lighting, BeautySettings settings) {
@@ -57,8 +59,8 @@ void expectSameImage(const Scene& scene, const GlLighting& lighting, BeautySetti
   }
   EXPECT_GT(lit, mega.beauty.size() / 2) << "the test should see a lit room";
   EXPECT_LE(differing, mega.beauty.size() / 200) << "largest difference " << largest;
-  std::printf("wavefront vs megakernel: %zu of %zu pixels bit-exact, %zu beyond float tolerance, largest difference %g\n",
-              exact, mega.beauty.size(), differing, largest);
+  std::printf("wavefront vs megakernel: %zu of %zu pixels bit-exact, %zu beyond float tolerance, largest difference %g\n", exact,
+              mega.beauty.size(), differing, largest);
 }
 
 GpuLight pointLight(glm::vec3 origin, float value) {

@@ -33,7 +33,9 @@ void axialFrame(const dvec3& n, dvec3& tangent, dvec3& bitangent) {
   }
 }
 
-double srgbToLinear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+double srgbToLinear(double c) {
+  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
 
 // Bilinear filtering with repeat on the stored 8-bit values, texel centres at (i + 0.5), then
 // sRGB decoding: what the CPU reference computes.
@@ -90,8 +92,7 @@ void addBrush(Scene& scene, const std::vector<Plane>& planes, const Bounds& boun
 
 void addBox(Scene& scene, dvec3 min, dvec3 max, uint32_t material) {
   addBrush(scene,
-           {{{1, 0, 0}, max.x}, {{-1, 0, 0}, -min.x}, {{0, 1, 0}, max.y}, {{0, -1, 0}, -min.y},
-            {{0, 0, 1}, max.z}, {{0, 0, -1}, -min.z}},
+           {{{1, 0, 0}, max.x}, {{-1, 0, 0}, -min.x}, {{0, 1, 0}, max.y}, {{0, -1, 0}, -min.y}, {{0, 0, 1}, max.z}, {{0, 0, -1}, -min.z}},
            Bounds{min, max}, material);
 }
 
@@ -117,11 +118,15 @@ Scene makeTestRoom() {
   addBox(scene, {256, -272, 0}, {272, 272, 256}, 0);
   addBox(scene, {-256, -272, 0}, {256, -256, 256}, 0);
   addBox(scene, {-256, 256, 0}, {256, 272, 256}, 2);
-  addBox(scene, {40, -60, 0}, {104, 4, 200}, 1);        // pillar
+  addBox(scene, {40, -60, 0}, {104, 4, 200}, 1); // pillar
   // A wedge: a box cut by a plane sloping down towards the camera, so one face is not axial.
   const dvec3 slope = glm::normalize(dvec3(-1, -0.3, 1));
   addBrush(scene,
-           {{{1, 0, 0}, 200}, {{-1, 0, 0}, -120}, {{0, 1, 0}, 160}, {{0, -1, 0}, -80}, {{0, 0, -1}, 0},
+           {{{1, 0, 0}, 200},
+            {{-1, 0, 0}, -120},
+            {{0, 1, 0}, 160},
+            {{0, -1, 0}, -80},
+            {{0, 0, -1}, 0},
             {slope, glm::dot(slope, dvec3(200, 160, 90))}},
            Bounds{{120, 80, 0}, {200, 160, 90}}, 0);
   return scene;

@@ -35,8 +35,8 @@ std::string box(const dvec3& lo, const dvec3& hi, const std::string& tail) {
 class TempDir {
 public:
   TempDir() {
-    path_ = fs::temp_directory_path() / fmt::format("bt_entities_{}_{}", ::testing::UnitTest::GetInstance()->current_test_info()->name(),
-                                                    static_cast<const void*>(this));
+    path_ = fs::temp_directory_path() /
+        fmt::format("bt_entities_{}_{}", ::testing::UnitTest::GetInstance()->current_test_info()->name(), static_cast<const void*>(this));
     fs::create_directories(path_);
   }
   ~TempDir() {
@@ -83,13 +83,16 @@ TEST(BrushEntities, ExternalMapBrushesArePlacedRetypedAndKeepTheirTextures) {
   TempDir dir;
   // The prefab: a 64-unit box in a Valve 220 file with a rotated, scaled texture, and a
   // func_detail whose brush qbsp also takes.
-  const std::string prefab = dir.write("prefabs/crate.map", "{\n\"classname\" \"worldspawn\"\n\"mapversion\" \"220\"\n" +
-                                                               box({0, 0, 0}, {64, 64, 64}, "crate [ 1 1 0 3 ] [ 0 0 -1 5 ] 0 0.5 2") +
-                                                               "}\n{\n\"classname\" \"func_detail\"\n" +
-                                                               box({0, 0, 64}, {16, 16, 80}, "crate [ 1 0 0 0 ] [ 0 -1 0 0 ] 0 1 1") + "}\n");
-  const std::string main = dir.write(
-      "level.map", kWorld + "{\n\"classname\" \"misc_external_map\"\n\"origin\" \"100 0 8\"\n\"_external_map\" \"prefabs/crate.map\"\n"
-                            "\"_external_map_classname\" \"func_wall\"\n\"_external_map_angle\" \"90\"\n\"_external_map_scale\" \"2 1 1\"\n\"targetname\" \"w\"\n}\n");
+  const std::string prefab = dir.write(
+      "prefabs/crate.map",
+      "{\n\"classname\" \"worldspawn\"\n\"mapversion\" \"220\"\n" + box({0, 0, 0}, {64, 64, 64}, "crate [ 1 1 0 3 ] [ 0 0 -1 5 ] 0 0.5 2") +
+          "}\n{\n\"classname\" \"func_detail\"\n" + box({0, 0, 64}, {16, 16, 80}, "crate [ 1 0 0 0 ] [ 0 -1 0 0 ] 0 1 1") + "}\n");
+  const std::string main =
+      dir.write("level.map",
+                kWorld +
+                    "{\n\"classname\" \"misc_external_map\"\n\"origin\" \"100 0 8\"\n\"_external_map\" \"prefabs/crate.map\"\n"
+                    "\"_external_map_classname\" \"func_wall\"\n\"_external_map_angle\" \"90\"\n\"_external_map_scale\" \"2 1 "
+                    "1\"\n\"targetname\" \"w\"\n}\n");
   const MapDocument doc = readMapFile(main);
   const Scene scene = buildScene(doc);
   const Scene source = buildScene(readMapFile(prefab));
@@ -130,7 +133,8 @@ TEST(BrushEntities, ExternalMapBrushesArePlacedRetypedAndKeepTheirTextures) {
 // The viewer watches Scene::inputFiles: a saved prefab must reload the level that includes it.
 TEST(BrushEntities, TheImportListsTheMapAndEachExternalMapAsInputFiles) {
   TempDir dir;
-  const std::string prefab = dir.write("prefabs/crate.map", kWorld.substr(0, kWorld.size() - 2) + box({0, 0, 0}, {8, 8, 8}, "a 0 0 0 1 1") + "}\n");
+  const std::string prefab =
+      dir.write("prefabs/crate.map", kWorld.substr(0, kWorld.size() - 2) + box({0, 0, 0}, {8, 8, 8}, "a 0 0 0 1 1") + "}\n");
   dir.write("prefabs/unused.map", kWorld); // beside it, never named: not listed
   const std::string placement = "{\n\"classname\" \"misc_external_map\"\n\"_external_map\" \"prefabs/crate.map\"\n"
                                 "\"_external_map_classname\" \"func_group\"\n}\n";
@@ -147,17 +151,22 @@ TEST(BrushEntities, TheImportListsTheMapAndEachExternalMapAsInputFiles) {
 TEST(BrushEntities, NestedExternalMapsAreNotFollowedSoSelfReferenceEnds) {
   TempDir dir;
   // A prefab that includes itself: qbsp takes its brushes and ignores its point entities.
-  dir.write("self.map", kWorld.substr(0, kWorld.size() - 2) + box({0, 0, 0}, {8, 8, 8}, "a 0 0 0 1 1") +
-                            "}\n{\n\"classname\" \"misc_external_map\"\n\"_external_map\" \"self.map\"\n\"_external_map_classname\" \"func_group\"\n}\n");
-  const std::string main = dir.write("level.map", kWorld + "{\n\"classname\" \"misc_external_map\"\n\"_external_map\" \"self.map\"\n"
-                                                           "\"_external_map_classname\" \"func_group\"\n}\n");
+  dir.write(
+      "self.map",
+      kWorld.substr(0, kWorld.size() - 2) + box({0, 0, 0}, {8, 8, 8}, "a 0 0 0 1 1") +
+          "}\n{\n\"classname\" \"misc_external_map\"\n\"_external_map\" \"self.map\"\n\"_external_map_classname\" \"func_group\"\n}\n");
+  const std::string main = dir.write("level.map",
+                                     kWorld +
+                                         "{\n\"classname\" \"misc_external_map\"\n\"_external_map\" \"self.map\"\n"
+                                         "\"_external_map_classname\" \"func_group\"\n}\n");
   const Scene scene = buildScene(readMapFile(main));
   ASSERT_EQ(scene.entities.size(), 2u);
   EXPECT_EQ(scene.entities[1].classname(), "func_group");
   EXPECT_EQ(scene.entities[1].brushCount, 1u);
   bool noted = false;
   for (const Diagnostic& d : scene.diagnostics)
-    noted |= d.severity == Severity::Note && d.file.ends_with("self.map") && d.line == 12 && d.message.find("not followed") != std::string::npos;
+    noted |=
+        d.severity == Severity::Note && d.file.ends_with("self.map") && d.line == 12 && d.message.find("not followed") != std::string::npos;
   EXPECT_TRUE(noted);
 }
 
@@ -179,7 +188,8 @@ TEST(BrushEntities, BadExternalMapsStopTheImportNamingFileLineAndColumn) {
   const std::string missing = dir.write("missing.map", kWorld + entity + "\"_external_map\" \"gone.map\"\n}\n");
   EXPECT_NE(error(missing).find(missing + ":4:1: error: misc_external_map: \"_external_map\" \"gone.map\" not found"), std::string::npos);
   // A malformed prefab: its own file, line and column, and who included it.
-  const std::string broken = dir.write("broken.map", "{\n\"classname\" \"worldspawn\"\n{\n( 0 0 0 ) ( 1 0 0 ) ( 0 oops 0 ) a 0 0 0 1 1\n}\n}\n");
+  const std::string broken =
+      dir.write("broken.map", "{\n\"classname\" \"worldspawn\"\n{\n( 0 0 0 ) ( 1 0 0 ) ( 0 oops 0 ) a 0 0 0 1 1\n}\n}\n");
   const std::string includer = dir.write("includer.map", kWorld + entity + "\"_external_map\" \"broken.map\"\n}\n");
   const std::string message = error(includer);
   EXPECT_EQ(message.rfind(broken + ":4:", 0), 0u) << message;
@@ -190,13 +200,14 @@ TEST(BrushEntities, BadExternalMapsStopTheImportNamingFileLineAndColumn) {
 // name may be) threw std::filesystem::filesystem_error out of buildScene.
 TEST(BrushEntities, ExternalMapNameTooLongToLookUpIsNotFound) {
   const std::string name(5000, 'x');
-  const std::string text = "{\n\"classname\" \"worldspawn\"\n}\n{\n\"classname\" \"misc_external_map\"\n\"_external_map\" \"" +
-                           name + ".map\"\n}\n";
+  const std::string text =
+      "{\n\"classname\" \"worldspawn\"\n}\n{\n\"classname\" \"misc_external_map\"\n\"_external_map\" \"" + name + ".map\"\n}\n";
   try {
     buildScene(parseMap(text, "long.map"));
     FAIL() << "no error";
   } catch (const ImportError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("long.map:4:1: error: misc_external_map: \"_external_map\" \"" + name + ".map\" not found", 0), 0u);
+    EXPECT_EQ(std::string(e.what()).rfind("long.map:4:1: error: misc_external_map: \"_external_map\" \"" + name + ".map\" not found", 0),
+              0u);
     EXPECT_NE(std::string(e.what()).find("File name too long"), std::string::npos) << e.what();
   }
 }
@@ -204,9 +215,9 @@ TEST(BrushEntities, ExternalMapNameTooLongToLookUpIsNotFound) {
 TEST(BrushEntities, OriginBrushGivesTheModelOriginAndTheBrushesStayInPlace) {
   // A door with an origin brush centred on (8, 16, 24); qbsp writes that origin and compiles the
   // model around it, so the engine draws the door where the source has it.
-  const std::string text = kWorld + "{\n\"classname\" \"func_door_rotating\"\n\"origin\" \"1 1 1\"\n" + box({0, 0, 0}, {64, 8, 96}, "door 0 0 0 1 1") +
-                           box({0, 8, 16}, {16, 24, 32}, "ORIGIN 0 0 0 1 1") + "}\n{\n\"classname\" \"func_group\"\n" +
-                           box({0, 0, 0}, {8, 8, 8}, "origin 0 0 0 1 1") + "}\n";
+  const std::string text = kWorld + "{\n\"classname\" \"func_door_rotating\"\n\"origin\" \"1 1 1\"\n" +
+      box({0, 0, 0}, {64, 8, 96}, "door 0 0 0 1 1") + box({0, 8, 16}, {16, 24, 32}, "ORIGIN 0 0 0 1 1") +
+      "}\n{\n\"classname\" \"func_group\"\n" + box({0, 0, 0}, {8, 8, 8}, "origin 0 0 0 1 1") + "}\n";
   const Scene scene = buildScene(parseMap(text, "door.map"));
   ASSERT_EQ(scene.entities.size(), 3u);
   EXPECT_EQ(scene.entities[1].value("origin"), "8 16 24"); // replaces the written one, as in qbsp
@@ -232,9 +243,9 @@ TEST(BrushEntities, QuakeTwoOriginBrushesGoByTheirContents) {
 }
 
 TEST(BrushEntities, HipnoticRotatorsTakeTheirTargetsOrigin) {
-  const std::string text = kWorld + "{\n\"classname\" \"rotate_object\"\n\"target\" \"pivot\"\n" + box({0, 0, 0}, {8, 8, 8}, "a 0 0 0 1 1") +
-                           "}\n{\n\"classname\" \"rotate_door\"\n" + box({0, 0, 0}, {8, 8, 8}, "a 0 0 0 1 1") +
-                           "}\n{\n\"classname\" \"info_rotate\"\n\"targetname\" \"PIVOT\"\n\"origin\" \"4 -4 2.5\"\n}\n";
+  const std::string text = kWorld + "{\n\"classname\" \"rotate_object\"\n\"target\" \"pivot\"\n" +
+      box({0, 0, 0}, {8, 8, 8}, "a 0 0 0 1 1") + "}\n{\n\"classname\" \"rotate_door\"\n" + box({0, 0, 0}, {8, 8, 8}, "a 0 0 0 1 1") +
+      "}\n{\n\"classname\" \"info_rotate\"\n\"targetname\" \"PIVOT\"\n\"origin\" \"4 -4 2.5\"\n}\n";
   const Scene scene = buildScene(parseMap(text, "rot.map"));
   ASSERT_EQ(scene.entities.size(), 4u);
   EXPECT_EQ(scene.entities[1].value("origin"), "4 -4 2.5"); // the target comes later in the file

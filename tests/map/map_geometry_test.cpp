@@ -12,12 +12,14 @@ namespace {
 
 // A 64x64x64 box from (0,0,0), faces in TrenchBroom's order: -X, -Y, -Z, +Z, +Y, +X.
 std::string boxBrush(const std::string& tail = "a 0 0 0 1 1") {
-  return "( 0 0 0 ) ( 0 64 0 ) ( 0 0 64 ) " + tail + "\n( 0 0 0 ) ( 0 0 64 ) ( 64 0 0 ) " + tail + "\n( 0 0 0 ) ( 64 0 0 ) ( 0 64 0 ) " + tail +
-         "\n( 64 64 64 ) ( 64 0 64 ) ( 0 64 64 ) " + tail + "\n( 64 64 64 ) ( 0 64 64 ) ( 64 64 0 ) " + tail +
-         "\n( 64 64 64 ) ( 64 64 0 ) ( 64 0 64 ) " + tail + "\n";
+  return "( 0 0 0 ) ( 0 64 0 ) ( 0 0 64 ) " + tail + "\n( 0 0 0 ) ( 0 0 64 ) ( 64 0 0 ) " + tail + "\n( 0 0 0 ) ( 64 0 0 ) ( 0 64 0 ) " +
+      tail + "\n( 64 64 64 ) ( 64 0 64 ) ( 0 64 64 ) " + tail + "\n( 64 64 64 ) ( 0 64 64 ) ( 64 64 0 ) " + tail +
+      "\n( 64 64 64 ) ( 64 64 0 ) ( 64 0 64 ) " + tail + "\n";
 }
 
-Scene build(const std::string& text) { return buildScene(parseMap(text, "t.map")); }
+Scene build(const std::string& text) {
+  return buildScene(parseMap(text, "t.map"));
+}
 
 TEST(MapGeometry, PlaneFromPointsFollowsQuakeOrientation) {
   // Points clockwise seen from outside: the normal points out of the brush.

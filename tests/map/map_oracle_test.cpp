@@ -131,7 +131,8 @@ ModelOrigins compareModelOrigins(const MapDocument& doc, const Scene& scene, con
     ++model;
     const auto it = compiled.find(model);
     if (it == compiled.end()) {
-      ADD_FAILURE() << "entity on line " << e.line << " ('" << e.classname() << "') should be model *" << model << ", which the .bsp does not name";
+      ADD_FAILURE() << "entity on line " << e.line << " ('" << e.classname() << "') should be model *" << model
+                    << ", which the .bsp does not name";
       continue;
     }
     if (originBrushKnownByNameOnly(doc.entities[i], quake2)) {
@@ -139,9 +140,9 @@ ModelOrigins compareModelOrigins(const MapDocument& doc, const Scene& scene, con
       continue;
     }
     const dvec3 ours = originOf(e);
-    EXPECT_LT(glm::length(ours - it->second), 0.01) << "model *" << model << " ('" << e.classname() << "', line " << e.line << "): origin "
-                                                     << it->second.x << " " << it->second.y << " " << it->second.z << " in the .bsp, "
-                                                     << ours.x << " " << ours.y << " " << ours.z << " in our Scene";
+    EXPECT_LT(glm::length(ours - it->second), 0.01)
+        << "model *" << model << " ('" << e.classname() << "', line " << e.line << "): origin " << it->second.x << " " << it->second.y
+        << " " << it->second.z << " in the .bsp, " << ours.x << " " << ours.y << " " << ours.z << " in our Scene";
     ++result.compared;
   }
   return result;
@@ -190,10 +191,12 @@ MapResult compareWithOracle(const Scene& scene, const bsp::BspFile& bsp) {
         const double t = local.x * ti.vecs[1][0] + local.y * ti.vecs[1][1] + local.z * ti.vecs[1][2] + ti.vecs[1][3];
         std::optional<Candidate> atVertex;
         for (const Face* f : sources) {
-          const Candidate c{distanceOutside(f->winding, f->plane.normal, p), std::max(std::fabs(f->frame.s(p) - s), std::fabs(f->frame.t(p) - t))};
+          const Candidate c{distanceOutside(f->winding, f->plane.normal, p),
+                            std::max(std::fabs(f->frame.s(p) - s), std::fabs(f->frame.t(p) - t))};
           const bool contains = c.outside < 0.1;
           const bool bestContains = atVertex && atVertex->outside < 0.1;
-          if (!atVertex || (contains && !bestContains) || (contains == bestContains && (contains ? c.error < atVertex->error : c.outside < atVertex->outside)))
+          if (!atVertex || (contains && !bestContains) ||
+              (contains == bestContains && (contains ? c.error < atVertex->error : c.outside < atVertex->outside)))
             atVertex = c;
         }
         best->outside = std::max(best->outside, atVertex->outside);
@@ -202,7 +205,8 @@ MapResult compareWithOracle(const Scene& scene, const bsp::BspFile& bsp) {
     }
     if (!best) {
       ++result.unmatched;
-      result.problems.push_back(fmt::format("face {} '{}': no source face on plane ({} {} {}) {}", i, bsp.faceTexture(i), normal.x, normal.y, normal.z, dist));
+      result.problems.push_back(
+          fmt::format("face {} '{}': no source face on plane ({} {} {}) {}", i, bsp.faceTexture(i), normal.x, normal.y, normal.z, dist));
     } else if (best->error > kTexelTolerance) {
       ++result.wrong;
       result.problems.push_back(fmt::format("face {} '{}': texel coordinates off by {} (vertex outside source by {})", i,
@@ -261,8 +265,9 @@ TEST(QbspOracle, EveryCompiledFaceHasOurTexelCoordinates) {
                                     "known by texture name only, which the oracle's qbsp had no .wal for)\n",
                                     mapsPassed, manifest.size(), allModels, modelsByNameOnly);
   for (const auto& [dialect, r] : byDialect)
-    summary += fmt::format("  {:<14} faces {:>6}  matched {:>6}  wrong {:>4}  unmatched {:>4}  polygon past ours {:>3} (by up to {:.3g} units)\n", dialect,
-                           r.faces, r.matched, r.wrong, r.unmatched, r.uncontained, r.maxOutside);
+    summary +=
+        fmt::format("  {:<14} faces {:>6}  matched {:>6}  wrong {:>4}  unmatched {:>4}  polygon past ours {:>3} (by up to {:.3g} units)\n",
+                    dialect, r.faces, r.matched, r.wrong, r.unmatched, r.uncontained, r.maxOutside);
   std::cout << summary << (deviations.empty() ? "every compiled face paired and within tolerance\n" : "faces that differ:\n" + deviations);
   RecordProperty("summary", summary);
 }

@@ -9,7 +9,9 @@
 namespace bt::map {
 namespace {
 
-MapDocument parse(const std::string& text, std::optional<MapDialect> forced = std::nullopt) { return parseMap(text, "test.map", forced); }
+MapDocument parse(const std::string& text, std::optional<MapDialect> forced = std::nullopt) {
+  return parseMap(text, "test.map", forced);
+}
 
 // The message of the ImportError that parsing `text` throws, or "" if it does not throw.
 std::string parseError(const std::string& text) {
@@ -22,7 +24,8 @@ std::string parseError(const std::string& text) {
 }
 
 TEST(MapParser, ReadsAStandardFaceLineWithItsPosition) {
-  const MapDocument doc = parse("{\n\"classname\" \"worldspawn\"\n{\n  ( 1 2 3 ) ( 4.5 -6 7e1 ) ( 0 0 1 ) WALL_1 16 -8 22.5 0.5 -2\n}\n}\n");
+  const MapDocument doc =
+      parse("{\n\"classname\" \"worldspawn\"\n{\n  ( 1 2 3 ) ( 4.5 -6 7e1 ) ( 0 0 1 ) WALL_1 16 -8 22.5 0.5 -2\n}\n}\n");
   ASSERT_EQ(doc.entities.size(), 1u);
   ASSERT_EQ(doc.entities[0].brushes.size(), 1u);
   const MapFace& f = doc.entities[0].brushes[0].faces.at(0);
@@ -40,10 +43,9 @@ TEST(MapParser, ReadsAStandardFaceLineWithItsPosition) {
 }
 
 TEST(MapParser, ReadsValve220AndStandardLinesMixedInOneBrush) {
-  const MapDocument doc = parse(
-      "{\n\"classname\" \"worldspawn\"\n{\n"
-      "( 0 0 0 ) ( 0 1 0 ) ( 1 0 0 ) a [ 1 0 0 4 ] [ 0 -1 0 8 ] 15 0.25 0.5\n"
-      "( 0 0 0 ) ( 0 1 0 ) ( 1 0 0 ) b 1 2 3 4 5\n}\n}\n");
+  const MapDocument doc = parse("{\n\"classname\" \"worldspawn\"\n{\n"
+                                "( 0 0 0 ) ( 0 1 0 ) ( 1 0 0 ) a [ 1 0 0 4 ] [ 0 -1 0 8 ] 15 0.25 0.5\n"
+                                "( 0 0 0 ) ( 0 1 0 ) ( 1 0 0 ) b 1 2 3 4 5\n}\n}\n");
   const auto& faces = doc.entities[0].brushes[0].faces;
   ASSERT_EQ(faces.size(), 2u);
   EXPECT_EQ(faces[0].tex.kind, TextureKind::Valve220);
@@ -55,10 +57,9 @@ TEST(MapParser, ReadsValve220AndStandardLinesMixedInOneBrush) {
 }
 
 TEST(MapParser, ReadsSurfaceFieldsHexen2AndDaikatanaExtras) {
-  const MapDocument doc = parse(
-      "{\n{\n( 0 0 0 ) ( 0 1 0 ) ( 1 0 0 ) e1u1/floor 0 0 0 1 1 1 16 200\n"
-      "( 0 0 0 ) ( 0 1 0 ) ( 1 0 0 ) rtex 0 0 0 1 1 7\n"
-      "( 0 0 0 ) ( 0 1 0 ) ( 1 0 0 ) dk 0 0 0 1 1 8 4 2 255 128 64\n}\n}\n");
+  const MapDocument doc = parse("{\n{\n( 0 0 0 ) ( 0 1 0 ) ( 1 0 0 ) e1u1/floor 0 0 0 1 1 1 16 200\n"
+                                "( 0 0 0 ) ( 0 1 0 ) ( 1 0 0 ) rtex 0 0 0 1 1 7\n"
+                                "( 0 0 0 ) ( 0 1 0 ) ( 1 0 0 ) dk 0 0 0 1 1 8 4 2 255 128 64\n}\n}\n");
   const auto& f = doc.entities[0].brushes[0].faces;
   ASSERT_TRUE(f[0].surface);
   EXPECT_EQ(*f[0].surface, (SurfaceAttributes{1, 16, 200}));
@@ -127,7 +128,8 @@ TEST(MapParser, DetectsDialectFromHeaderKeysAndFaceLines) {
 TEST(MapParser, ReportsTruncatedFilesWithLineAndColumn) {
   EXPECT_EQ(parseError("{\n\"classname\" \"worldspawn\"\n{\n( 0 0 0 ) ( 0 1 0 ) ( 1 0 0 ) a 0 0"),
             "test.map:4:36: error: unexpected end of file, expected texture rotation");
-  EXPECT_EQ(parseError("{\n\"classname\" \"worldspawn\"\n"), "test.map:1:1: error: unexpected end of file: this entity's '{' is never closed");
+  EXPECT_EQ(parseError("{\n\"classname\" \"worldspawn\"\n"),
+            "test.map:1:1: error: unexpected end of file: this entity's '{' is never closed");
   EXPECT_EQ(parseError("{\n\"classname\" \"worl"), "test.map:2:13: error: unterminated string (value of key \"classname\")");
 }
 
@@ -138,8 +140,12 @@ TEST(MapParser, ReportsUnbalancedBracesBadNumbersAndGarbage) {
   EXPECT_EQ(parseError("{\n{\n( 0 0 0 ) ( 0 1 0 ) ( 1 0 0 ) a 0 0 0 1 nan\n}\n}\n"),
             "test.map:3:41: error: bad number 'nan' for texture scale y");
   EXPECT_EQ(parseError("{\n{\n( 0 0 0 ) ( 0 1 0 ) ( 1 0 0 ) a 0 0 0 1 1 0 0\n}\n}\n"),
-            "test.map:3:43: error: 2 fields after the texture parameters: expected none, 1 (Hexen II), 3 (Quake 2 contents, flags, value) or 6 (Daikatana)");
-  EXPECT_EQ(parseError(std::string("\x7f" "ELF\x02\x01\x01\0\0\0", 10)), "test.map:1:1: error: expected '{' to open an entity, found byte 0x7f");
+            "test.map:3:43: error: 2 fields after the texture parameters: expected none, 1 (Hexen II), 3 (Quake 2 contents, flags, value) "
+            "or 6 (Daikatana)");
+  EXPECT_EQ(parseError(std::string("\x7f"
+                                   "ELF\x02\x01\x01\0\0\0",
+                                   10)),
+            "test.map:1:1: error: expected '{' to open an entity, found byte 0x7f");
   EXPECT_EQ(parseError(std::string("{\n{\n( 0 0 0 ) ( 0 1 0 ) ( 1 0 0 ) a\x01\x02 0 0 0 1 1\n}\n}\n")),
             "test.map:3:32: error: unexpected byte 0x01 in texture name");
 }

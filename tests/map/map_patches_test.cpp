@@ -15,7 +15,9 @@ const std::string kFlatPatch = "{\npatchDef2\n{\nfloor\n( 3 3 0 0 0 )\n(\n"
                                "( ( 64 0 8 1 0 ) ( 64 32 8 1 0.5 ) ( 64 64 8 1 1 ) )\n"
                                "( ( 128 0 8 2 0 ) ( 128 32 8 2 0.5 ) ( 128 64 8 2 1 ) )\n)\n}\n}\n";
 
-std::string worldWith(const std::string& blocks) { return "// Format: Quake3 (legacy)\n{\n\"classname\" \"worldspawn\"\n" + blocks + "}\n"; }
+std::string worldWith(const std::string& blocks) {
+  return "// Format: Quake3 (legacy)\n{\n\"classname\" \"worldspawn\"\n" + blocks + "}\n";
+}
 
 TEST(MapPatches, FlatPatchBecomesTwoTrianglesWithTexelSt) {
   const Scene scene = buildScene(parseMap(worldWith(kFlatPatch), "p.map"));

@@ -51,7 +51,8 @@ double maxTexelDifference(const Scene& a, const Scene& b) {
   double err = 0.0;
   for (size_t i = 0; i < a.faces.size(); ++i)
     for (const dvec3& p : a.faces[i].winding)
-      err = std::max({err, std::fabs(a.faces[i].frame.s(p) - b.faces[i].frame.s(p)), std::fabs(a.faces[i].frame.t(p) - b.faces[i].frame.t(p))});
+      err = std::max(
+          {err, std::fabs(a.faces[i].frame.s(p) - b.faces[i].frame.s(p)), std::fabs(a.faces[i].frame.t(p) - b.faces[i].frame.t(p))});
   return err;
 }
 
@@ -64,7 +65,8 @@ TEST(SharedMaps, StandardToValveIsTexelExactAndValveToStandardReportsWhatItCanno
     if (doc.dialect == MapDialect::Standard) {
       ++standardMaps;
       Diagnostics report;
-      const MapDocument valve = parseMap(writeMap(convertDocument(doc, MapDialect::Valve220, report)), path.string()); // the same folder: prefabs resolve alike
+      const MapDocument valve =
+          parseMap(writeMap(convertDocument(doc, MapDialect::Valve220, report)), path.string()); // the same folder: prefabs resolve alike
       const Scene before = buildScene(doc);
       const Scene after = buildScene(valve);
       ASSERT_EQ(before.faces.size(), after.faces.size());

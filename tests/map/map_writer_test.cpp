@@ -15,7 +15,9 @@ namespace {
 
 const char* const kDialects[] = {"standard", "valve220", "quake2", "quake2-valve", "quake3", "quake3-valve", "hexen2", "daikatana"};
 
-std::string dialectMap(const std::string& name) { return (bt::test::mapsDir() / "dialects" / (name + ".map")).string(); }
+std::string dialectMap(const std::string& name) {
+  return (bt::test::mapsDir() / "dialects" / (name + ".map")).string();
+}
 
 // The largest difference in texel coordinates between two imports of the same brushes, over
 // every winding vertex.
@@ -24,7 +26,8 @@ double maxTexelDifference(const Scene& a, const Scene& b) {
   double err = 0.0;
   for (size_t i = 0; i < std::min(a.faces.size(), b.faces.size()); ++i)
     for (const dvec3& p : a.faces[i].winding)
-      err = std::max({err, std::fabs(a.faces[i].frame.s(p) - b.faces[i].frame.s(p)), std::fabs(a.faces[i].frame.t(p) - b.faces[i].frame.t(p))});
+      err = std::max(
+          {err, std::fabs(a.faces[i].frame.s(p) - b.faces[i].frame.s(p)), std::fabs(a.faces[i].frame.t(p) - b.faces[i].frame.t(p))});
   return err;
 }
 
@@ -79,11 +82,13 @@ TEST(MapWriter, ValveToStandardIsExactWhereItCanBeAndReportsWhereNot) {
   EXPECT_LT(maxTexelDifference(buildScene(doc), buildScene(standard)), 0.01);
 
   // A sheared projection (axes not perpendicular) has no Standard equivalent: reported with its line.
-  const MapDocument sheared = parseMap(
-      "{\n{\n( 0 0 0 ) ( 0 64 0 ) ( 0 0 64 ) a [ 0 1 0 0 ] [ 0 0.6 -0.8 0 ] 0 1 1\n( 0 0 0 ) ( 0 0 64 ) ( 64 0 0 ) a [ 1 0 0 0 ] [ 0 0 -1 0 ] 0 1 1\n"
-      "( 0 0 0 ) ( 64 0 0 ) ( 0 64 0 ) a [ 1 0 0 0 ] [ 0 -1 0 0 ] 0 1 1\n( 64 64 64 ) ( 64 0 64 ) ( 0 64 64 ) a [ 1 0 0 0 ] [ 0 -1 0 0 ] 0 1 1\n"
-      "( 64 64 64 ) ( 0 64 64 ) ( 64 64 0 ) a [ 1 0 0 0 ] [ 0 0 -1 0 ] 0 1 1\n( 64 64 64 ) ( 64 64 0 ) ( 64 0 64 ) a [ 0 1 0 0 ] [ 0 0 -1 0 ] 0 1 1\n}\n}\n",
-      "shear.map");
+  const MapDocument sheared = parseMap("{\n{\n( 0 0 0 ) ( 0 64 0 ) ( 0 0 64 ) a [ 0 1 0 0 ] [ 0 0.6 -0.8 0 ] 0 1 1\n( 0 0 0 ) ( 0 0 64 ) ( "
+                                       "64 0 0 ) a [ 1 0 0 0 ] [ 0 0 -1 0 ] 0 1 1\n"
+                                       "( 0 0 0 ) ( 64 0 0 ) ( 0 64 0 ) a [ 1 0 0 0 ] [ 0 -1 0 0 ] 0 1 1\n( 64 64 64 ) ( 64 0 64 ) ( 0 64 "
+                                       "64 ) a [ 1 0 0 0 ] [ 0 -1 0 0 ] 0 1 1\n"
+                                       "( 64 64 64 ) ( 0 64 64 ) ( 64 64 0 ) a [ 1 0 0 0 ] [ 0 0 -1 0 ] 0 1 1\n( 64 64 64 ) ( 64 64 0 ) ( "
+                                       "64 0 64 ) a [ 0 1 0 0 ] [ 0 0 -1 0 ] 0 1 1\n}\n}\n",
+                                       "shear.map");
   Diagnostics shearReport;
   convertDocument(sheared, MapDialect::Standard, shearReport);
   ASSERT_EQ(shearReport.size(), 1u);

@@ -27,8 +27,8 @@ struct E3m1 {
   RenderScene rs; // the direct lights and their grid, as makeBounceLights gets them
   std::vector<BrushContents> contents;
   explicit E3m1(const std::filesystem::path& shared)
-      : scene(importScene((shared / "maps/librequake/lq1/maps/src/e3/lq_e3m1.map").string(), ImportOptions{})),
-        rs(prepared(scene)), contents(brushContents(scene)) {}
+      : scene(importScene((shared / "maps/librequake/lq1/maps/src/e3/lq_e3m1.map").string(), ImportOptions{})), rs(prepared(scene)),
+        contents(brushContents(scene)) {}
   static RenderScene prepared(const Scene& s) {
     Diagnostics diags;
     RenderSceneOptions options;

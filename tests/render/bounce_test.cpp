@@ -205,8 +205,7 @@ struct BudgetRoom {
   RenderScene rs;
   std::vector<BrushContents> contents;
   explicit BudgetRoom(const std::vector<std::pair<std::string, std::string>>& worldKeys = {})
-      : scene(withWorldKeys(manyLightsBouncing(2), worldKeys)), rs(prepared(scene)),
-        contents(scene.brushes.size(), BrushContents::Solid) {}
+      : scene(withWorldKeys(manyLightsBouncing(2), worldKeys)), rs(prepared(scene)), contents(scene.brushes.size(), BrushContents::Solid) {}
   static Scene withWorldKeys(Scene s, const std::vector<std::pair<std::string, std::string>>& keys) {
     for (const auto& key : keys) s.entities[0].keys.push_back(key);
     return s;
@@ -282,8 +281,8 @@ TEST(FaithfulBounceBudget, EstimateIsTheSameForAnyThreadCount) {
 // reference sweeps every light and casts every ray. The grid does leave lights out here (else the
 // comparison could not fail): the room's first-pass lights face every way.
 TEST(FaithfulBounceBudget, ShortcutsGiveTheReferenceBitForBit) {
-  for (const auto& dirt : std::vector<std::vector<std::pair<std::string, std::string>>>{
-           {}, {{"_dirt", "1"}}, {{"_dirt", "1"}, {"_dirtmode", "1"}}}) {
+  for (const auto& dirt :
+       std::vector<std::vector<std::pair<std::string, std::string>>>{{}, {{"_dirt", "1"}}, {{"_dirt", "1"}, {"_dirtmode", "1"}}}) {
     const BudgetRoom room(dirt);
     const std::string level = dirt.empty() ? "no dirt" : dirt.size() == 1 ? "_dirtmode 0" : "_dirtmode 1";
     ASSERT_EQ(room.rs.world.dirtSettings.enabled, !dirt.empty());
@@ -315,14 +314,13 @@ TEST(FaithfulBounceBudget, ShortcutsGiveTheReferenceBitForBit) {
 
   // The first pass's lights (the first half) in the default gather grid: cells list fewer than all.
   const std::vector<GpuLight> firstPass(swept.lights.begin(), swept.lights.begin() + std::ptrdiff_t(swept.lights.size() / 2));
-  const LightGrid grid = buildLightGrid(firstPass, room.rs.tracer.bounds(), room.rs.world.scaledist,
-                                        BounceBudget{}.gatherGridCellsPerAxis);
+  const LightGrid grid = buildLightGrid(firstPass, room.rs.tracer.bounds(), room.rs.world.scaledist, BounceBudget{}.gatherGridCellsPerAxis);
   const size_t cells = size_t(grid.header.dims[0]) * grid.header.dims[1] * grid.header.dims[2];
   ASSERT_GT(cells, 1u);
   size_t listed = 0;
   for (size_t c = 0; c < cells; ++c) listed += grid.cells[c].count;
-  EXPECT_LT(listed, cells * firstPass.size() * 3 / 4) << "per cell on average " << double(listed) / double(cells) << " of "
-                                                      << firstPass.size();
+  EXPECT_LT(listed, cells * firstPass.size() * 3 / 4)
+      << "per cell on average " << double(listed) / double(cells) << " of " << firstPass.size();
 }
 
 // Clustering keeps the bounce lights' power and, seen from afar, their light; it leaves a
@@ -367,8 +365,8 @@ TEST(FaithfulBounceBudget, DiagnosticsNoteOnlyWhenEstimated) {
   b.entity({{"classname", "light"}, {"origin", "2048 2048 400"}, {"light", "300"}, {"delay", "3"}});
   Diagnostics large;
   (void)buildRenderScene(b.build(), {}, large);
-  const auto note = std::find_if(large.begin(), large.end(),
-                                 [](const Diagnostic& d) { return d.message.starts_with("_bounce estimated from "); });
+  const auto note =
+      std::find_if(large.begin(), large.end(), [](const Diagnostic& d) { return d.message.starts_with("_bounce estimated from "); });
   ASSERT_NE(note, large.end());
   EXPECT_EQ(note->severity, Severity::Note);
   EXPECT_NE(note->message.find(" luxels per pass"), std::string::npos) << note->message;
@@ -406,8 +404,7 @@ struct MeanAndError {
   glm::dvec3 error{0.0};
 };
 
-template <class Draw>
-MeanAndError meanOf(int n, const Draw& draw) {
+template <class Draw> MeanAndError meanOf(int n, const Draw& draw) {
   glm::dvec3 sum(0.0), sum2(0.0);
   for (int s = 0; s < n; ++s) {
     const glm::dvec3 v(draw(s));
@@ -440,8 +437,8 @@ TEST(FaithfulBounceDraw, FewShadowRaysAndTheExactSumOnAverage) {
       return v;
     });
     for (int c = 0; c < 3; ++c)
-      EXPECT_NEAR(m.mean[c], exact[c], 4.5 * m.error[c] + 1e-4 * exact[c]) << "channel " << c << " at " << hit.position.x
-                                                                             << " " << hit.position.y << " " << hit.position.z;
+      EXPECT_NEAR(m.mean[c], exact[c], 4.5 * m.error[c] + 1e-4 * exact[c])
+          << "channel " << c << " at " << hit.position.x << " " << hit.position.y << " " << hit.position.z;
   }
   EXPECT_GE(drawnPoints, 20u) << "most cells list more bounce lights than shadow rays";
 }
@@ -459,8 +456,8 @@ TEST(FaithfulBounceDraw, CellsBehindABounceLightLeaveItOut) {
   size_t listed = 0;
   for (size_t c = 0; c < cells; ++c)
     listed += trailingBounceLights(room.rs.lights, {grid.indices.data() + grid.cells[c].first, grid.cells[c].count});
-  EXPECT_LT(listed, cells * bounceLights * 3 / 4) << "of " << bounceLights << " bounce lights, per cell on average "
-                                                   << double(listed) / double(cells);
+  EXPECT_LT(listed, cells * bounceLights * 3 / 4)
+      << "of " << bounceLights << " bounce lights, per cell on average " << double(listed) / double(cells);
   for (const SurfaceHit& hit : room.shownPoints(48)) {
     Rng a = pixelRng(0, 0, 0, 1), b = pixelRng(0, 0, 0, 1);
     const glm::vec3 every = faithfulLightAt(room.rs, hit.position, hit.normal, a);
@@ -565,11 +562,11 @@ TEST(FaithfulBounceDraw, GridWithBounceLightsAddedIsTheGridOfEveryLight) {
     for (const size_t first : {size_t(0), direct / 2, direct, direct + bounce / 3, rs.lights.size()}) {
       const std::vector<GpuLight> before(lights->begin(), lights->begin() + std::ptrdiff_t(first));
       for (const uint32_t cells : {kMaxLightGridCellsPerAxis, 4u})
-        expectSameGrid(extendLightGrid(buildLightGrid(before, bounds, scaledist, cells), *lights, uint32_t(first), bounds,
-                                       scaledist, cells),
-                       buildLightGrid(*lights, bounds, scaledist, cells),
-                       std::string(lights == &rs.lights ? "level's lights" : "surface points") + " from " +
-                           std::to_string(first) + ", " + std::to_string(cells) + " cells");
+        expectSameGrid(
+            extendLightGrid(buildLightGrid(before, bounds, scaledist, cells), *lights, uint32_t(first), bounds, scaledist, cells),
+            buildLightGrid(*lights, bounds, scaledist, cells),
+            std::string(lights == &rs.lights ? "level's lights" : "surface points") + " from " + std::to_string(first) + ", " +
+                std::to_string(cells) + " cells");
     }
 }
 

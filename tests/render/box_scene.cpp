@@ -103,7 +103,7 @@ Scene manyLightsRoom(int count, bool soft, uint32_t seed) {
   b.material("white", 200, 200, 200);
   b.material("sky1", 40, 60, 200);
   b.room({-512, -512, 0}, {512, 512, 256}, "white");
-  b.box({-16, -512, 0}, {16, 200, 160}, "white"); // half wall
+  b.box({-16, -512, 0}, {16, 200, 160}, "white");                                                       // half wall
   for (int i = 0; i < 4; ++i) b.box({-400.0 + 200 * i, 250, 0}, {-370.0 + 200 * i, 280, 256}, "white"); // pillars
   b.box({200, -200, 236}, {328, -72, 256}, "sky1"); // sky patch: sunlight reaches what sees it
   b.worldKey("_sunlight", "80");
@@ -113,23 +113,28 @@ Scene manyLightsRoom(int count, bool soft, uint32_t seed) {
   for (int i = 0; i < count; ++i) {
     const glm::vec3 o(-480.0f + 960.0f * u(gen), -480.0f + 960.0f * u(gen), 20.0f + 220.0f * u(gen));
     std::vector<std::pair<std::string, std::string>> keys = {
-        {"classname", "light"}, {"origin", fmt::format("{} {} {}", o.x, o.y, o.z)},
-        {"light", fmt::format("{}", 100.0f + 300.0f * u(gen))}};
+        {"classname", "light"}, {"origin", fmt::format("{} {} {}", o.x, o.y, o.z)}, {"light", fmt::format("{}", 100.0f + 300.0f * u(gen))}};
     switch (i % 8) {
-    case 0: break;                                                 // linear
-    case 1: keys.push_back({"wait", "2"}); break;                  // linear, half reach
-    case 2: keys.push_back({"_falloff", "180"}); break;            // linear to 0 at 180
-    case 3: keys.push_back({"delay", "1"}); break;                 // inverse: reaches everywhere
-    case 4: keys.push_back({"delay", "5"}); break;                 // inverse square "a"
-    case 5: keys.push_back({"mangle", "30 -60 0"}); keys.push_back({"angle", "70"}); break; // spot
+    case 0: break;                                      // linear
+    case 1: keys.push_back({"wait", "2"}); break;       // linear, half reach
+    case 2: keys.push_back({"_falloff", "180"}); break; // linear to 0 at 180
+    case 3: keys.push_back({"delay", "1"}); break;      // inverse: reaches everywhere
+    case 4: keys.push_back({"delay", "5"}); break;      // inverse square "a"
+    case 5:
+      keys.push_back({"mangle", "30 -60 0"});
+      keys.push_back({"angle", "70"});
+      break; // spot
     case 6: keys.push_back({"_color", "255 128 64"}); break;
-    case 7: keys.push_back({"delay", "2"}); keys.push_back({"wait", "4"}); break;
+    case 7:
+      keys.push_back({"delay", "2"});
+      keys.push_back({"wait", "4"});
+      break;
     }
     if (soft && i % 3 == 0) keys.push_back({"_deviance", "12"});
     b.entity(keys);
   }
-  b.entity({{"classname", "light"}, {"origin", "-300 -300 100"}, {"light", "-150"}});               // darklight
-  b.entity({{"classname", "light"}, {"origin", "300 300 100"}, {"light", "40"}, {"delay", "4"}});   // local minlight
+  b.entity({{"classname", "light"}, {"origin", "-300 -300 100"}, {"light", "-150"}});             // darklight
+  b.entity({{"classname", "light"}, {"origin", "300 300 100"}, {"light", "40"}, {"delay", "4"}}); // local minlight
   return b.build();
 }
 

@@ -80,7 +80,9 @@ glm::dvec3 engineLuxel(const StyleTable& styles, const test::LightmapOracle& ora
   return glm::min(glm::floor(sum / 256.0), glm::dvec3(255.0));
 }
 
-double displayScale(Engine engine) { return engine == Engine::Quake ? 2.0 / 255.0 : 1.0 / 255.0; }
+double displayScale(Engine engine) {
+  return engine == Engine::Quake ? 2.0 / 255.0 : 1.0 / 255.0;
+}
 
 struct Comparison {
   size_t compared = 0, bright = 0, off = 0, excluded = 0;
@@ -96,8 +98,8 @@ struct Comparison {
 using ExpectedAt = std::function<std::vector<glm::dvec3>(const glm::dvec3& p, const glm::dvec3& n)>;
 
 // The pixels of `image` (1 spp, seed 0) against texture × luxel × scale, shown scaled by `gain`.
-Comparison compareWith(const RenderScene& rs, const ExpectedAt& expectedAt, double scale, const Camera& camera,
-                       const RenderImage& image, double gain = 1.0) {
+Comparison compareWith(const RenderScene& rs, const ExpectedAt& expectedAt, double scale, const Camera& camera, const RenderImage& image,
+                       double gain = 1.0) {
   Comparison r;
   for (int y = 0; y < kHeight; ++y)
     for (int x = 0; x < kWidth; ++x) {
@@ -232,11 +234,13 @@ public:
       const glm::dvec3 v0(bsp_.drawVertices[size_t(s.firstVertex)].position);
       if (glm::dot(normal, n) < 0.999 || std::abs(glm::dot(normal, p - v0)) > 0.5) continue;
       for (int32_t k = 0; k + 2 < s.indexCount; k += 3) {
-        const auto vertex = [&](int j) { return bsp_.drawVertices[size_t(s.firstVertex + bsp_.drawIndices[size_t(s.firstIndex + k + j)])]; };
+        const auto vertex = [&](int j) {
+          return bsp_.drawVertices[size_t(s.firstVertex + bsp_.drawIndices[size_t(s.firstIndex + k + j)])];
+        };
         const auto weights = barycentric(p, glm::dvec3(vertex(0).position), glm::dvec3(vertex(1).position), glm::dvec3(vertex(2).position));
         if (!weights) continue;
         const glm::dvec2 lm = glm::dvec2(vertex(0).lightmap) * (*weights)[0] + glm::dvec2(vertex(1).lightmap) * (*weights)[1] +
-                              glm::dvec2(vertex(2).lightmap) * (*weights)[2];
+            glm::dvec2(vertex(2).lightmap) * (*weights)[2];
         out.push_back(sample(s, lm * double(kPage) - 0.5));
       }
     }

@@ -31,12 +31,14 @@ RenderScene prepare(const Scene& scene) {
   return buildRenderScene(scene, options, diagnostics);
 }
 
-bool onMesh(const Scene& scene, uint32_t pixelFace) { return pixelFace > 0 && scene.faces[pixelFace - 1].brush == kNoBrush; }
+bool onMesh(const Scene& scene, uint32_t pixelFace) {
+  return pixelFace > 0 && scene.faces[pixelFace - 1].brush == kNoBrush;
+}
 
 // The mesh a pixel's face (face AOV: index + 1) belongs to; both tessellations have the same meshes.
 size_t meshOf(const Scene& scene, uint32_t pixelFace) {
-  const auto it = std::upper_bound(scene.meshes.begin(), scene.meshes.end(), pixelFace - 1,
-                                   [](uint32_t f, const Mesh& m) { return f < m.firstFace; });
+  const auto it =
+      std::upper_bound(scene.meshes.begin(), scene.meshes.end(), pixelFace - 1, [](uint32_t f, const Mesh& m) { return f < m.firstFace; });
   return size_t(it - scene.meshes.begin()) - 1;
 }
 
@@ -72,7 +74,9 @@ std::vector<CameraPose> camerasSeeingCurves(const Scene& scene, const RenderScen
     const glm::vec3 centre((middle.winding[0] + middle.winding[1] + middle.winding[2]) / 3.0);
     for (float side : {1.0f, -1.0f}) {
       const glm::vec3 eye = centre + glm::vec3(middle.plane.normal) * (160.0f * side);
-      if (rs.tracer.inside(eye, [](uint32_t) { return true; }, true)) continue;
+      if (rs.tracer.inside(
+              eye, [](uint32_t) { return true; }, true))
+        continue;
       const std::optional<Hit> hit = rs.tracer.closestHit(Ray{eye, 0.0f, centre - eye, 1.01f});
       if (!hit || hit->t < 0.95f || hit->face < mesh.firstFace || hit->face >= mesh.firstFace + mesh.faceCount) continue;
       if (!clearAround(rs, eye)) continue;
@@ -123,13 +127,13 @@ void expectCurvesAsTheReference(const std::string& level, ImportOptions options)
       escaped += got.face[i] == 0;
       // The same curve, where the finer one is: the chords lie within 4 units of it.
       shownAsCurve += onMesh(coarse, got.face[i]) && meshOf(coarse, got.face[i]) == meshOf(fine, want.face[i]) &&
-                      std::abs(got.depth[i] - want.depth[i]) < 8.0f;
+          std::abs(got.depth[i] - want.depth[i]) < 8.0f;
       const float distance = albedoDistance(got, want, int(i % kWidth), int(i / kWidth));
       difference += distance;
       offColour += distance > 0.1f;
     }
-    const std::string where = level + " from " + std::to_string(pose.origin.x) + " " + std::to_string(pose.origin.y) + " " +
-                              std::to_string(pose.origin.z);
+    const std::string where =
+        level + " from " + std::to_string(pose.origin.x) + " " + std::to_string(pose.origin.y) + " " + std::to_string(pose.origin.z);
     ASSERT_GT(curvePixels, size_t(kWidth * kHeight / 25)) << where;
     EXPECT_EQ(escaped, 0u) << where;
     // At the silhouettes the chords cut inside the curve: pixels there show what is behind.

@@ -72,12 +72,11 @@ TEST_P(LibreQuakeLevel, ShowsNoTriggerAndNoOpaqueFence) {
   RecordProperty("fenceFaces", int(fences));
 }
 
-INSTANTIATE_TEST_SUITE_P(Shared, LibreQuakeLevel, testing::ValuesIn(libreQuakeMaps()),
-                         [](const auto& info) {
-                           std::string name = fs::path(info.param).stem().string();
-                           std::replace(name.begin(), name.end(), '-', '_'); // gtest names: letters, digits, _
-                           return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(Shared, LibreQuakeLevel, testing::ValuesIn(libreQuakeMaps()), [](const auto& info) {
+  std::string name = fs::path(info.param).stem().string();
+  std::replace(name.begin(), name.end(), '-', '_'); // gtest names: letters, digits, _
+  return name;
+});
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(LibreQuakeLevel);
 
 // The default camera is inside the level's bounds, in no solid brush, and its view's centre

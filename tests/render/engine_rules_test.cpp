@@ -170,7 +170,8 @@ TEST(EngineRules, PngFenceShadowsFollowItsMask) {
       const size_t i = size_t(y) * kWidth + x;
       const bool isLit = image.beauty[i].r > 0.0f;
       ++(texel == Texel::Clear ? lit : shadowed);
-      EXPECT_EQ(isLit, texel == Texel::Clear) << "floor pixel " << x << "," << y << (isLit ? " behind a bar is lit" : " behind a hole is dark");
+      EXPECT_EQ(isLit, texel == Texel::Clear) << "floor pixel " << x << "," << y
+                                              << (isLit ? " behind a bar is lit" : " behind a hole is dark");
     }
   EXPECT_GT(lit, 300u);
   EXPECT_GT(shadowed, 100u);
@@ -205,8 +206,8 @@ TEST(EngineRules, PngPaletteIndicesAreReadAsStored) {
   const auto indices = readPngPaletteIndices(fence);
   ASSERT_TRUE(indices);
   ASSERT_EQ(indices->size(), 64u * 64u);
-  EXPECT_EQ((*indices)[0], 1);          // (0, 0): on a bar
-  EXPECT_EQ((*indices)[8 * 64 + 8], 255); // (8, 8): a hole
+  EXPECT_EQ((*indices)[0], 1);                                                  // (0, 0): on a bar
+  EXPECT_EQ((*indices)[8 * 64 + 8], 255);                                       // (8, 8): a hole
   EXPECT_FALSE(readPngPaletteIndices(test::mapsDir() / "textures/bricks.png")); // RGB
   std::ifstream in(fence, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), {});
@@ -255,9 +256,10 @@ Scene roomFor(const std::string& format, std::vector<std::vector<std::pair<std::
 
 // Each game's eye: its spawn offset and view height, its intermission first.
 TEST(DefaultCamera, EachGamePutsTheEyeWhereItsCodeDoes) {
-  CameraPose pose = defaultCameraPose(roomFor("quake2", {{{"classname", "info_player_deathmatch"}, {"origin", "0 0 24"}},
-                                                         {{"classname", "info_player_start"}, {"origin", "10 0 24"}, {"targetname", "x"}},
-                                                         {{"classname", "info_player_start"}, {"origin", "20 0 24"}, {"angles", "5 90 0"}}}));
+  CameraPose pose = defaultCameraPose(roomFor("quake2",
+                                              {{{"classname", "info_player_deathmatch"}, {"origin", "0 0 24"}},
+                                               {{"classname", "info_player_start"}, {"origin", "10 0 24"}, {"targetname", "x"}},
+                                               {{"classname", "info_player_start"}, {"origin", "20 0 24"}, {"angles", "5 90 0"}}}));
   EXPECT_EQ(pose.source, "info_player_start");
   EXPECT_EQ(pose.origin, glm::vec3(20, 0, 55)); // the start without a targetname, + 9 + 22
   EXPECT_FLOAT_EQ(pose.pitch, 5.0f);
@@ -267,9 +269,10 @@ TEST(DefaultCamera, EachGamePutsTheEyeWhereItsCodeDoes) {
   pose = defaultCameraPose(roomFor("bsp30", {{{"classname", "info_player_deathmatch"}, {"origin", "0 0 36"}}}));
   EXPECT_EQ(pose.origin, glm::vec3(0, 0, 65)); // + 1 + 28
   // Quake 3's intermission looks at its target.
-  pose = defaultCameraPose(roomFor("quake3", {{{"classname", "info_player_deathmatch"}, {"origin", "0 0 24"}},
-                                              {{"classname", "info_player_intermission"}, {"origin", "0 0 100"}, {"target", "t"}},
-                                              {{"classname", "target_position"}, {"origin", "-100 0 0"}, {"targetname", "t"}}}));
+  pose = defaultCameraPose(roomFor("quake3",
+                                   {{{"classname", "info_player_deathmatch"}, {"origin", "0 0 24"}},
+                                    {{"classname", "info_player_intermission"}, {"origin", "0 0 100"}, {"target", "t"}},
+                                    {{"classname", "target_position"}, {"origin", "-100 0 0"}, {"targetname", "t"}}}));
   EXPECT_EQ(pose.source, "info_player_intermission");
   EXPECT_EQ(pose.origin, glm::vec3(0, 0, 100));
   EXPECT_NEAR(std::abs(pose.yaw), 180.0f, 1e-4f);

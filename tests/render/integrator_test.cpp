@@ -21,7 +21,9 @@ test::BoxSceneBuilder floorScene() {
 }
 
 // A ray straight down onto the floor at (x, y).
-Ray downAt(float x, float y) { return Ray{{x, y, 64.0f}, 0.0f, {0.0f, 0.0f, -1.0f}, 1e9f}; }
+Ray downAt(float x, float y) {
+  return Ray{{x, y, 64.0f}, 0.0f, {0.0f, 0.0f, -1.0f}, 1e9f};
+}
 
 // The light sum a faithful render implies, recovered from the displayed radiance of a white
 // texel: display = lightmap / 128, lightmap = sum * range.
@@ -86,8 +88,7 @@ TEST(FaithfulRender, SpotlightConeOnTheFloor) {
   EXPECT_NEAR(faithfulSumFromRadiance(radiance(rs, {LightingMode::Faithful, 0}, downAt(0, 0), rng)), 300.0f, 1.0f);
   // 20 units off axis at 100 below is 11.3 degrees: inside the 20 degree half-angle.
   const float cos20 = 100.0f / std::sqrt(100.0f * 100.0f + 400.0f);
-  EXPECT_NEAR(faithfulSumFromRadiance(radiance(rs, {LightingMode::Faithful, 0}, downAt(20, 0), rng)),
-              300.0f * (0.5f + 0.5f * cos20), 1.0f);
+  EXPECT_NEAR(faithfulSumFromRadiance(radiance(rs, {LightingMode::Faithful, 0}, downAt(20, 0), rng)), 300.0f * (0.5f + 0.5f * cos20), 1.0f);
   // 50 units off axis is 26.6 degrees: outside.
   EXPECT_NEAR(faithfulSumFromRadiance(radiance(rs, {LightingMode::Faithful, 0}, downAt(50, 0), rng)), 0.0f, 0.01f);
 }
@@ -221,8 +222,7 @@ TEST(FaithfulDirt, MinlightDirtDimsARadiosityTemplatesFaceMinlight) {
     b.material("lamp", 255, 255, 255);
     b.material("white", 255, 255, 255);
     b.box({-2048, -2048, -16}, {2048, 2048, 0}, "lamp");
-    b.entity({{"classname", "light"}, {"origin", "0 0 -1000"}, {"light", "100"}, {"_surface", "lamp"},
-              {"_surface_radiosity", "1"}});
+    b.entity({{"classname", "light"}, {"origin", "0 0 -1000"}, {"light", "100"}, {"_surface", "lamp"}, {"_surface_radiosity", "1"}});
     if (*minlightDirt) b.worldKey("_minlight_dirt", minlightDirt);
     const RenderScene rs = dirtSlabScene(b, {{"light", "0"}});
     Rng rng = pixelRng(0, 0, 0, 0);

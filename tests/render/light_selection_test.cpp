@@ -95,7 +95,7 @@ TEST(LightGrid, EveryLightIsInTheListsOfItsKind) {
   int physical = 0;
   for (const GpuLight& l : rs.lights)
     physical += l.type == uint32_t(LightType::Point) && l.formula != uint32_t(LightFormula::LocalMin) && l.value > 0.0f &&
-                !(l.flags & kLightFlagFromSurface);
+        !(l.flags & kLightFlagFromSurface);
   EXPECT_EQ(int(grid.physicalLights().size()), physical);
   EXPECT_EQ(grid.fixedLights().size(), 2u); // the sun and the local minlight
 
@@ -172,7 +172,7 @@ TEST(LightGrid, PhysicalNearListsAreTheStrongestLightsOfAPlainRanking) {
     l.color = i % 5 == 0 ? glm::vec3(1.0f, 0.5f, 0.25f) : glm::vec3(1.0f);
     if (i % 7 == 0) l.deviance = 30.0f * u(gen);
     if (i % 11 == 0) l.formula = uint32_t(LightFormula::Inverse2);
-    if (i % 13 == 0) l.value = -l.value;          // negative: not physical
+    if (i % 13 == 0) l.value = -l.value;               // negative: not physical
     if (i % 17 == 0) l.flags |= kLightFlagFromSurface; // a _surface point: not physical
     if (i % 19 == 0) l.formula = uint32_t(LightFormula::LocalMin);
     lights.push_back(l);
@@ -225,8 +225,10 @@ TEST(LightSelection, FaithfulGridEqualsExhaustiveForHardLights) {
   EXPECT_GT(lit, 100); // the comparison is about lit points, not darkness
   for (int i = 0; i < 200; ++i) {
     Rng pick = pixelRng(uint32_t(i), 9, 0, 0);
-    const Ray ray{{-450.0f + 900.0f * pick.next(), -450.0f + 900.0f * pick.next(), 200.0f}, 0.0f,
-                  glm::normalize(glm::vec3(pick.next() - 0.5f, pick.next() - 0.5f, -1.0f)), 1e9f};
+    const Ray ray{{-450.0f + 900.0f * pick.next(), -450.0f + 900.0f * pick.next(), 200.0f},
+                  0.0f,
+                  glm::normalize(glm::vec3(pick.next() - 0.5f, pick.next() - 0.5f, -1.0f)),
+                  1e9f};
     Rng a = pixelRng(uint32_t(i), 0, 0, 0), b = a;
     const glm::vec3 exhaustive = radiance(rs, {LightingMode::Faithful, 0, false}, ray, a);
     const glm::vec3 selected = radiance(rs, {LightingMode::Faithful, 0, true}, ray, b);
@@ -237,8 +239,7 @@ TEST(LightSelection, FaithfulGridEqualsExhaustiveForHardLights) {
 struct MeanAndError {
   double mean = 0.0, error = 0.0; // standard error of the mean
 };
-template <class Fn>
-MeanAndError sampleMean(int n, const Fn& sample) {
+template <class Fn> MeanAndError sampleMean(int n, const Fn& sample) {
   double sum = 0.0, sum2 = 0.0;
   for (int i = 0; i < n; ++i) {
     const double v = sample(uint32_t(i));
@@ -255,8 +256,14 @@ TEST(LightSelection, FaithfulGridConvergesToExhaustiveForSoftLights) {
   const RenderScene rs = buildRs(scene);
   for (const SurfacePoint& s : randomSurfacePoints(rs, 6, 21)) {
     const int n = 3000;
-    const MeanAndError e = sampleMean(n, [&](uint32_t i) { Rng r = pixelRng(i, 0, 0, 1); return faithfulLightAt(rs, s.p, s.n, r).y; });
-    const MeanAndError g = sampleMean(n, [&](uint32_t i) { Rng r = pixelRng(i, 0, 0, 2); return faithfulLightFromGrid(rs, s.p, s.n, r).y; });
+    const MeanAndError e = sampleMean(n, [&](uint32_t i) {
+      Rng r = pixelRng(i, 0, 0, 1);
+      return faithfulLightAt(rs, s.p, s.n, r).y;
+    });
+    const MeanAndError g = sampleMean(n, [&](uint32_t i) {
+      Rng r = pixelRng(i, 0, 0, 2);
+      return faithfulLightFromGrid(rs, s.p, s.n, r).y;
+    });
     EXPECT_NEAR(g.mean, e.mean, 4.5 * std::hypot(e.error, g.error) + 1e-3 * e.mean) << "at " << s.p.x << " " << s.p.y << " " << s.p.z;
   }
 }
@@ -269,8 +276,10 @@ TEST(LightSelection, PhysicalSelectedConvergesToExhaustiveMean) {
   int compared = 0;
   for (int k = 0; k < 8; ++k) {
     Rng pick = pixelRng(uint32_t(k), 77, 0, 0);
-    const Ray ray{{-450.0f + 900.0f * pick.next(), -450.0f + 900.0f * pick.next(), 200.0f}, 0.0f,
-                  glm::normalize(glm::vec3(pick.next() - 0.5f, pick.next() - 0.5f, -1.0f)), 1e9f};
+    const Ray ray{{-450.0f + 900.0f * pick.next(), -450.0f + 900.0f * pick.next(), 200.0f},
+                  0.0f,
+                  glm::normalize(glm::vec3(pick.next() - 0.5f, pick.next() - 0.5f, -1.0f)),
+                  1e9f};
     // One weighted sum of red and blue instead of two runs: a wrong colour still moves it.
     auto channels = [](const glm::vec3& l) { return double(l.x) + 2.0 * double(l.z); };
     const int n = 1000;

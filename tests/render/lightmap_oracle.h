@@ -185,8 +185,7 @@ private:
     const int x0 = std::clamp(int(fu), 0, f.width - 1), x1 = std::clamp(int(fu) + 1, 0, f.width - 1);
     const int y0 = std::clamp(int(fv), 0, f.height - 1), y1 = std::clamp(int(fv) + 1, 0, f.height - 1);
     const double wu = u - fu, wv = v - fv;
-    return (value(f, x0, y0) * (1 - wu) + value(f, x1, y0) * wu) * (1 - wv) +
-           (value(f, x0, y1) * (1 - wu) + value(f, x1, y1) * wu) * wv;
+    return (value(f, x0, y0) * (1 - wu) + value(f, x1, y0) * wu) * (1 - wv) + (value(f, x0, y1) * (1 - wu) + value(f, x1, y1) * wu) * wv;
   }
 
   bsp::BspFile bsp_;

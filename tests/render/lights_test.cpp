@@ -85,8 +85,14 @@ TEST(FaithfulFormula, LightmapRangeAndClamp) {
 TEST(LightEntities, KeysAndDefaults) {
   test::BoxSceneBuilder b;
   b.entity({{"classname", "light"}, {"origin", "1 2 3"}});
-  b.entity({{"classname", "light_fluoro"}, {"origin", "0 0 0"}, {"light", "200"}, {"_color", "255 128 0"},
-            {"delay", "2"}, {"wait", "0.5"}, {"_anglescale", "1"}, {"_falloff", "300"}});
+  b.entity({{"classname", "light_fluoro"},
+            {"origin", "0 0 0"},
+            {"light", "200"},
+            {"_color", "255 128 0"},
+            {"delay", "2"},
+            {"wait", "0.5"},
+            {"_anglescale", "1"},
+            {"_falloff", "300"}});
   b.entity({{"classname", "light"}, {"origin", "0 0 0"}, {"_color", "0.5 1 0.25"}});
   b.scene().entities.back().line = 42;
   Diagnostics diags;
@@ -140,7 +146,7 @@ TEST(LightEntities, SpotlightsFromTargetAndMangle) {
   EXPECT_NEAR(lights.lights[0].cosOuter, std::cos(glm::radians(30.0f)), 1e-6f);
   EXPECT_NEAR(lights.lights[0].cosInner, std::cos(glm::radians(15.0f)), 1e-6f);
   EXPECT_NEAR(glm::distance(lights.lights[1].direction, glm::vec3(0, 1, 0)), 0.0f, 1e-6f); // yaw 90
-  EXPECT_NEAR(lights.lights[1].cosOuter, std::cos(glm::radians(20.0f)), 1e-6f);           // default 40
+  EXPECT_NEAR(lights.lights[1].cosOuter, std::cos(glm::radians(20.0f)), 1e-6f);            // default 40
 }
 
 TEST(LightEntities, StylesStartOffAndSurfaceTemplates) {

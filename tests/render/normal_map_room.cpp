@@ -32,7 +32,9 @@ void writeRgb(const fs::path& path, const RgbImage& image) {
     throw std::runtime_error("cannot write " + path.string() + ": " + png.message);
 }
 
-std::string vec(const glm::ivec3& v) { return fmt::format("( {} {} {} )", v.x, v.y, v.z); }
+std::string vec(const glm::ivec3& v) {
+  return fmt::format("( {} {} {} )", v.x, v.y, v.z);
+}
 
 // One brush side in Valve 220 form: three points clockwise seen from outside (Quake's order: the
 // plane's normal is cross(p2 - p0, p1 - p0)), the texture and its axes.
@@ -57,8 +59,10 @@ std::string box(const glm::ivec3& lo, const glm::ivec3& hi, const std::string& i
       glm::ivec3 normal(0);
       normal[axis] = sign;
       const glm::ivec3 point = sign > 0 ? hi : lo;
-      if (axis == 0 && sign < 0 && !innerSide.empty()) text += side(normal, point, "bumpy", innerSide);
-      else text += side(normal, point, "plain", paraxialAxes(normal));
+      if (axis == 0 && sign < 0 && !innerSide.empty())
+        text += side(normal, point, "bumpy", innerSide);
+      else
+        text += side(normal, point, "plain", paraxialAxes(normal));
     }
   return text + "}\n";
 }
@@ -75,8 +79,8 @@ std::string roomMap(const NormalMapRoomOptions& options) {
   map += box({-in, -in, top}, {in, in, top + kWall});             // ceiling
   map += box({-in, -in, -kWall}, {in, in, 0});                    // floor
   map += "}\n";
-  map += fmt::format("{{\n\"classname\" \"light\"\n\"origin\" \"{} {} {}\"\n\"light\" \"300\"\n}}\n", options.light.x,
-                     options.light.y, options.light.z);
+  map += fmt::format("{{\n\"classname\" \"light\"\n\"origin\" \"{} {} {}\"\n\"light\" \"300\"\n}}\n", options.light.x, options.light.y,
+                     options.light.z);
   return map;
 }
 
@@ -134,6 +138,8 @@ NormalMapRoom::NormalMapRoom(const NormalMapRoomOptions& options) {
 }
 
 // From the middle of the room, level, towards +x: the bumpy wall fills the view.
-CameraPose NormalMapRoom::pose() const { return CameraPose{{-8.0f, 0.0f, 128.0f}, 0.0f, 0.0f, 0.0f, "test"}; }
+CameraPose NormalMapRoom::pose() const {
+  return CameraPose{{-8.0f, 0.0f, 128.0f}, 0.0f, 0.0f, 0.0f, "test"};
+}
 
 } // namespace bt::test

@@ -39,7 +39,7 @@ struct NormalMapRoomOptions {
   RgbImage normalMap;    // "bumpy_norm.png"; none when empty
   bool mirrored = false; // the wall's texture with scale -1 along s
   glm::vec3 light{0.0f, 0.0f, 128.0f};
-  bool glossy = false;   // a "bumpy_rough.png" companion (roughness 0.35), which adds the GGX lobe
+  bool glossy = false; // a "bumpy_rough.png" companion (roughness 0.35), which adds the GGX lobe
 };
 
 class NormalMapRoom {

@@ -98,9 +98,8 @@ TEST(NormalMap, ShadingNormalFollowsTheTextureFrame) {
     glm::vec3 expected;
   };
   const Case cases[] = {
-      {kTowardsS, false, {-0.866f, -0.5f, 0.0f}}, {kAgainstS, false, {-0.866f, 0.5f, 0.0f}},
-      {kTowardsS, true, {-0.866f, 0.5f, 0.0f}},   {kUp, false, {-0.866f, 0.0f, 0.5f}},
-      {kDown, true, {-0.866f, 0.0f, -0.5f}},      {kFlat, false, {-1.0f, 0.0f, 0.0f}},
+      {kTowardsS, false, {-0.866f, -0.5f, 0.0f}}, {kAgainstS, false, {-0.866f, 0.5f, 0.0f}}, {kTowardsS, true, {-0.866f, 0.5f, 0.0f}},
+      {kUp, false, {-0.866f, 0.0f, 0.5f}},        {kDown, true, {-0.866f, 0.0f, -0.5f}},     {kFlat, false, {-1.0f, 0.0f, 0.0f}},
   };
   for (const Case& c : cases) {
     const NormalMapRoom room({c.map, c.mirrored, kLightRight});
@@ -113,8 +112,7 @@ TEST(NormalMap, ShadingNormalFollowsTheTextureFrame) {
     EXPECT_NEAR(glm::length(n), 1.0f, 1e-5f);
     // 8-bit texels: 191 decodes to 0.498, 128 to 0.004 (not 0), 238 to 0.867.
     EXPECT_LT(glm::length(n - c.expected), 0.01f) << "texel " << int(c.map.rgb[0]) << " " << int(c.map.rgb[1])
-                                                   << (c.mirrored ? " mirrored" : "") << ": got " << n.x << " " << n.y
-                                                   << " " << n.z;
+                                                  << (c.mirrored ? " mirrored" : "") << ": got " << n.x << " " << n.y << " " << n.z;
   }
 }
 

@@ -33,10 +33,10 @@ namespace {
 struct OracleResult {
   size_t luxels = 0;
   size_t faces = 0;
-  double medianError = 0.0;    // |ours - compiler| / max(compiler, kErrorFloor)
-  double meanAbsError = 0.0;   // in lightmap units (0..255)
+  double medianError = 0.0;     // |ours - compiler| / max(compiler, kErrorFloor)
+  double meanAbsError = 0.0;    // in lightmap units (0..255)
   double meanSignedError = 0.0; // ours - compiler: > 0 too bright
-  size_t within5 = 0;          // luxels within 5 %
+  size_t within5 = 0;           // luxels within 5 %
 };
 
 // Below this stored value a relative error says nothing (1 unit of 8 is 12 %): relative to 8.
@@ -46,12 +46,12 @@ constexpr int kSamplesPerLuxel = 4;
 
 // The luxels of one compiled face: where they lie, and where the face's samples start in the lump.
 struct FaceLuxels {
-  int lo[2] = {0, 0};     // texture-space luxel origin / 16
-  int size[2] = {0, 0};   // luxels per axis
+  int lo[2] = {0, 0};   // texture-space luxel origin / 16
+  int size[2] = {0, 0}; // luxels per axis
   glm::dmat3 toWorld{1.0};
   glm::dvec3 normal{0.0};
   double dist = 0.0;
-  glm::dvec2 shift{0.0};  // texinfo vecs[a][3]
+  glm::dvec2 shift{0.0}; // texinfo vecs[a][3]
 
   size_t count() const { return size_t(size[0]) * size_t(size[1]); }
   // Luxel (s, t) -> the point on the face plane with those texture coordinates.
@@ -140,8 +140,7 @@ std::vector<int> faithfulLuxels(const RenderScene& rs, const LitFace& face, Luxe
 // comes from the light grid's lists (faithfulLightFromGrid, what the renderer evaluates; equal to
 // the every-light loop for lights without soft shadows, tests/render/light_selection_test.cpp),
 // and faces are shared among threads: lqdm5 has 2598 lights and 939 584 luxels.
-OracleResult compareWithCompiler(const std::filesystem::path& bspPath, const std::filesystem::path& mapPath,
-                                 Luxels which) {
+OracleResult compareWithCompiler(const std::filesystem::path& bspPath, const std::filesystem::path& mapPath, Luxels which) {
   const bsp::BspFile bsp = bsp::readBspFile(bspPath);
   ImportOptions options;
   options.textures.load = false; // light values do not depend on texture pixels
@@ -199,12 +198,10 @@ OracleResult compareWithCompiler(const std::filesystem::path& bspPath, const std
   return result;
 }
 
-
 // The lit oracle level maps_<name>.bsp against faithful mode on its source .map, with the figures
 // printed to the test log (they are what the closing note reports); nullopt, with the failure
 // recorded, when the level or its manifest entry is missing.
-std::optional<OracleResult> compareLitLevel(const std::filesystem::path& shared, const std::string& name,
-                                            Luxels which = Luxels::All) {
+std::optional<OracleResult> compareLitLevel(const std::filesystem::path& shared, const std::string& name, Luxels which = Luxels::All) {
   const std::string bspName = "maps_" + name + ".bsp";
   const std::filesystem::path bspPath = shared / "oracle" / "lit" / bspName;
   if (!std::filesystem::exists(bspPath)) {
@@ -217,9 +214,13 @@ std::optional<OracleResult> compareLitLevel(const std::filesystem::path& shared,
     return std::nullopt;
   }
   const OracleResult r = compareWithCompiler(bspPath, map, which);
-  std::printf("%s", fmt::format("oracle {}: {} faces, {} luxels, median error {:.2f} %, within 5 %: {:.1f} %, mean |diff| {:.2f}/255, mean diff {:+.2f}\n",
-                                name, r.faces, r.luxels, 100.0 * r.medianError, 100.0 * double(r.within5) / double(std::max<size_t>(r.luxels, 1)),
-                                r.meanAbsError, r.meanSignedError).c_str());
+  std::printf(
+      "%s",
+      fmt::format(
+          "oracle {}: {} faces, {} luxels, median error {:.2f} %, within 5 %: {:.1f} %, mean |diff| {:.2f}/255, mean diff {:+.2f}\n", name,
+          r.faces, r.luxels, 100.0 * r.medianError, 100.0 * double(r.within5) / double(std::max<size_t>(r.luxels, 1)), r.meanAbsError,
+          r.meanSignedError)
+          .c_str());
   return r;
 }
 
@@ -253,8 +254,7 @@ INSTANTIATE_TEST_SUITE_P(Lit, OracleLightmaps,
                          // OracleLargeLevel below. testsurfacelight (last) has the thinnest margin: 4.8 % (its
                          // _surface lights stand on faces split as qbsp's tree would split them, not on the
                          // compiler's own faces; with those its median is 0.00 %).
-                         ::testing::ValuesIn(luxelCentreLevels()),
-                         [](const auto& info) {
+                         ::testing::ValuesIn(luxelCentreLevels()), [](const auto& info) {
                            std::string n = info.param;
                            std::replace(n.begin(), n.end(), '-', '_');
                            return n;
@@ -302,8 +302,8 @@ TEST(OracleInvalidDelay, CompilerAndFaithfulModeLightNothing) {
     if (e.classname() == "light") light = &e;
   ASSERT_NE(light, nullptr);
   ASSERT_GT(light->line, 0);
-  const auto delay = std::find_if(diags.begin(), diags.end(),
-                                  [](const Diagnostic& d) { return d.message.find("invalid delay 15") != std::string::npos; });
+  const auto delay =
+      std::find_if(diags.begin(), diags.end(), [](const Diagnostic& d) { return d.message.find("invalid delay 15") != std::string::npos; });
   ASSERT_NE(delay, diags.end()) << "no diagnostic for delay 15";
   EXPECT_EQ(delay->severity, Severity::Warning);
   EXPECT_EQ(delay->file, scene.sourcePath);

@@ -82,8 +82,11 @@ void writeDebugImage(const std::string& name, const std::vector<glm::vec3>& ours
     for (int part = 0; part < 3; ++part)
       for (int x = 0; x < kWidth; ++x) {
         const size_t i = size_t(y) * kWidth + x;
-        glm::vec3 c = part == 0 ? ours[i] / 255.0f : part == 1 ? compiled[i] / 255.0f
-                    : error[i] < 0.0f ? glm::vec3(0, 0, 0.5f) : error[i] <= 0.05f ? glm::vec3(0, 0.6f, 0) : glm::vec3(1, 0, 0);
+        glm::vec3 c = part == 0 ? ours[i] / 255.0f
+            : part == 1         ? compiled[i] / 255.0f
+            : error[i] < 0.0f   ? glm::vec3(0, 0, 0.5f)
+            : error[i] <= 0.05f ? glm::vec3(0, 0.6f, 0)
+                                : glm::vec3(1, 0, 0);
         c = glm::clamp(c, 0.0f, 1.0f);
         out.put(char(c.x * 255.0f)).put(char(c.y * 255.0f)).put(char(c.z * 255.0f));
       }
@@ -283,12 +286,11 @@ TEST(OracleView, EveryLitOracleLevelIsListed) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Lit, OracleView, ::testing::ValuesIn(test::kLitLevels),
-                         [](const auto& info) {
-                           std::string n = info.param;
-                           std::replace(n.begin(), n.end(), '-', '_');
-                           return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(Lit, OracleView, ::testing::ValuesIn(test::kLitLevels), [](const auto& info) {
+  std::string n = info.param;
+  std::replace(n.begin(), n.end(), '-', '_');
+  return n;
+});
 
 } // namespace
 } // namespace bt

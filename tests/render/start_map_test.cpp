@@ -11,7 +11,9 @@
 namespace bt {
 namespace {
 
-Scene importStart() { return importScene((test::mapsDir() / "start.map").string(), ImportOptions{}); }
+Scene importStart() {
+  return importScene((test::mapsDir() / "start.map").string(), ImportOptions{});
+}
 
 TEST(StartMap, ImportsWithEveryTextureAndLightType) {
   const Scene scene = importStart();

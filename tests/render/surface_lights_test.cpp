@@ -98,8 +98,7 @@ TEST(SurfaceLightQ1, BarsAcrossTheSurfaceSplitItAlongTheirEndsFirst) {
   std::sort(top.begin(), top.end(), [](glm::vec2 a, glm::vec2 c) { return a.y != c.y ? a.y < c.y : a.x < c.x; });
   // Beyond the bars: 0..192 x 96..192 cut by the 128 grid at x = 128 and y = 128. Between them:
   // the strips 0..48, 64..128 and 144..192, each too small for the grid to cut.
-  const std::vector<glm::vec2> expected = {{24, 48},   {96, 48},   {168, 48},  {64, 112},
-                                           {160, 112}, {64, 160}, {160, 160}};
+  const std::vector<glm::vec2> expected = {{24, 48}, {96, 48}, {168, 48}, {64, 112}, {160, 112}, {64, 160}, {160, 160}};
   ASSERT_EQ(top.size(), expected.size());
   for (size_t i = 0; i < expected.size(); ++i) {
     EXPECT_NEAR(top[i].x, expected[i].x, 1e-3f) << i;
@@ -220,7 +219,9 @@ TEST(SurfaceLightQ1, AHugeTemplateFaceStopsAtTheCapWithAWarning) {
 // Found by tests/fuzz/fuzz_bsp: a corrupt level's hull cell reaching out a million units gave a
 // template face that the 128-unit grid cut into 67 million pieces before the cap on lights was
 // ever checked: gigabytes. Cutting now stops at the cap.
-TEST(SurfaceLightQ1, AFaceAMillionUnitsWideStopsAtTheCapWithAWarning) { expectLavaFloorStopsAtTheCap(524288); }
+TEST(SurfaceLightQ1, AFaceAMillionUnitsWideStopsAtTheCapWithAWarning) {
+  expectLavaFloorStopsAtTheCap(524288);
+}
 
 TEST(SurfaceLightGrid, StopsCuttingAtTheCapLeavingTheRestWhole) {
   // 2^20 units square on the 128 grid: 67 million pieces uncapped.
@@ -240,11 +241,9 @@ struct JitterCase {
 
 TEST(Deviance, SamplesDefaultTo16AndOnlyLinearLightsKeepTheFullValuePerCopy) {
   const JitterCase cases[] = {
-      {"0", "", 8.0f, 16.0f},  // linear: 16 copies of the whole value
-      {"0", "4", 8.0f, 4.0f},
-      {"2", "", 8.0f, 1.0f},   // inverse square: the value is split among the copies
-      {"1", "4", 8.0f, 1.0f},
-      {"0", "1", 0.0f, 1.0f},  // one sample: no jitter at all
+      {"0", "", 8.0f, 16.0f},                         // linear: 16 copies of the whole value
+      {"0", "4", 8.0f, 4.0f}, {"2", "", 8.0f, 1.0f},  // inverse square: the value is split among the copies
+      {"1", "4", 8.0f, 1.0f}, {"0", "1", 0.0f, 1.0f}, // one sample: no jitter at all
   };
   for (const JitterCase& c : cases) {
     test::BoxSceneBuilder b;

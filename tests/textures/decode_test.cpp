@@ -130,9 +130,9 @@ TEST(Miptex, HalfLifeUsesItsOwnPaletteAndHasNoFullbrights) {
   for (int i = 0; i < 256; ++i) own[i * 3] = own[i * 3 + 1] = own[i * 3 + 2] = static_cast<uint8_t>(255 - i);
   const auto indices = indicesOf(16, 16, [](int x, int) { return x < 4 ? 255 : x < 8 ? 230 : 3; });
   const Material m = decodeMiptex(makeMiptex("{fence", 16, 16, indices, &own), nullptr, true, "test");
-  expectTexel(m.baseColor, 0, 0, 0, 0, 0, 0);           // index 255 of a '{' texture: transparent
-  expectTexel(m.baseColor, 5, 0, 25, 25, 25, 255);      // own palette entry 230
-  expectTexel(m.baseColor, 9, 9, 252, 252, 252, 255);   // own palette entry 3
+  expectTexel(m.baseColor, 0, 0, 0, 0, 0, 0);         // index 255 of a '{' texture: transparent
+  expectTexel(m.baseColor, 5, 0, 25, 25, 25, 255);    // own palette entry 230
+  expectTexel(m.baseColor, 9, 9, 252, 252, 252, 255); // own palette entry 3
   EXPECT_TRUE(m.emissive.empty());
 }
 
@@ -174,8 +174,7 @@ TEST(Wal, DecodesQuake2TexturesWithIndex255Transparent) {
   expectTexel(m.baseColor, 0, 2, 0, 0, 0, 0);
   expectPaletteTexel(m.baseColor, 3, 2, p, 30);
   const std::vector<uint8_t> wal = test::makeWal("t", 8, 4, indices);
-  for (size_t size : {0, 50, 99, 100, 131})
-    EXPECT_THROW(decodeWal(std::span(wal.data(), size), p, "t.wal"), ImportError) << size;
+  for (size_t size : {0, 50, 99, 100, 131}) EXPECT_THROW(decodeWal(std::span(wal.data(), size), p, "t.wal"), ImportError) << size;
 }
 
 TEST(Wal, DecodesTheEricwToolsAlphamaskWal) {
@@ -232,8 +231,7 @@ TEST(WadFile, WadTexturesMatchLibreQuakesPngsOfTheSameName) {
   const fs::path lq = shared / "maps/librequake/texture-wads";
   const Palette quake = loadPalette(shared / "maps/palettes/quake.lmp");
   const WadFile wad = WadFile::open(lq / "lq_dev_legacy/lq_dev_legacy.wad");
-  for (const char* name : {"clip", "origin", "skip", "trigger", "*blood1", "*slime1", "*smile", "*teleport",
-                           "*water1", "*water2"}) {
+  for (const char* name : {"clip", "origin", "skip", "trigger", "*blood1", "*slime1", "*smile", "*teleport", "*water1", "*water2"}) {
     SCOPED_TRACE(name);
     const std::optional<Material> fromWad = wad.loadTexture(name, &quake);
     ASSERT_TRUE(fromWad);
@@ -357,8 +355,8 @@ TEST(WadFile, TruncatedAndDamagedWadsNeverCrash) {
         // Header, directory, or a miptex header (the first lump starts at 12).
         const size_t region = random() % 3;
         const size_t at = region == 0 ? random() % 12
-                          : region == 1 ? directory + random() % (damaged.size() - directory)
-                                        : 12 + random() % 40;
+            : region == 1             ? directory + random() % (damaged.size() - directory)
+                                      : 12 + random() % 40;
         damaged[at] = static_cast<uint8_t>(random());
       }
       tryAll(std::move(damaged));

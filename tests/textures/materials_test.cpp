@@ -24,8 +24,7 @@ const Material& material(const Scene& scene, std::string_view name) {
 // The warnings whose text mentions `needle`.
 int warningsMentioning(const Scene& scene, std::string_view needle) {
   int n = 0;
-  for (const Diagnostic& d : scene.diagnostics)
-    n += d.severity == Severity::Warning && d.message.find(needle) != std::string::npos;
+  for (const Diagnostic& d : scene.diagnostics) n += d.severity == Severity::Warning && d.message.find(needle) != std::string::npos;
   return n;
 }
 
@@ -36,13 +35,14 @@ std::vector<uint8_t> solid(int width, int height, int channels, std::initializer
   return pixels;
 }
 
-bool endsWith(const std::string& s, std::string_view suffix) { return s.ends_with(suffix); }
+bool endsWith(const std::string& s, std::string_view suffix) {
+  return s.ends_with(suffix);
+}
 
 TEST(TextureNames, EngineAndLibreQuakeSpellingsAreAllTried) {
   const auto stems = textureFileStems("*water1");
   EXPECT_EQ(stems.front(), "*water1");
-  for (const char* s : {"#water1", "star_water1", "star_water1_fbr"})
-    EXPECT_NE(std::find(stems.begin(), stems.end(), s), stems.end()) << s;
+  for (const char* s : {"#water1", "star_water1", "star_water1_fbr"}) EXPECT_NE(std::find(stems.begin(), stems.end(), s), stems.end()) << s;
   const auto button = textureFileStems("+0button");
   EXPECT_NE(std::find(button.begin(), button.end(), "plus_0button"), button.end());
   const auto back = textureFileStems("star_lava");
@@ -90,8 +90,7 @@ TEST(LoadMaterials, NoTextureLoadingLeavesPlaceholdersWithoutWarnings) {
 TEST(LoadMaterials, WadKeyIsRelativeToTheMapAndMissingWadsAreWarnings) {
   BT_REQUIRE_SHARED(shared);
   const fs::path testmaps = shared / "maps/ericw-tools/testmaps";
-  Scene scene = makeScene(testmaps / "q1_cube.map", {{"wad", "deprecated/free_wad.wad;deprecated/fence.wad"}},
-                          {"{TRIGGER"});
+  Scene scene = makeScene(testmaps / "q1_cube.map", {{"wad", "deprecated/free_wad.wad;deprecated/fence.wad"}}, {"{TRIGGER"});
   TextureSearch search;
   search.palette = (shared / "maps/palettes/quake.lmp").string();
   loadMaterials(scene, search);
@@ -110,8 +109,8 @@ TEST(LoadMaterials, QuakeWadWithoutPaletteUsesTheBuiltInPaletteAndSaysSo) {
   BT_REQUIRE_SHARED(shared);
   test::TempDir dir;
   // A 32x16 texture in a WAD2 in a folder without any palette up the tree (the temp dir).
-  test::writeFile(dir / "tex.wad", test::makeWad("WAD2", {{"brick", 0x44, test::makeMiptex("brick", 32, 16,
-                                                                                           std::vector<uint8_t>(512, 4))}}));
+  test::writeFile(dir / "tex.wad",
+                  test::makeWad("WAD2", {{"brick", 0x44, test::makeMiptex("brick", 32, 16, std::vector<uint8_t>(512, 4))}}));
   Scene scene = makeScene(dir / "level.map", {{"wad", "tex.wad"}}, {"brick", "gone"});
   loadMaterials(scene, TextureSearch{});
   const Material& brick = material(scene, "brick");
@@ -149,8 +148,8 @@ TEST(LoadMaterials, CommandLineWadsComeBeforeTheWadKey) {
   test::TempDir dir;
   const fs::path ours = dir / "ours.wad";
   test::writeFile(ours, test::makeWad("WAD2", {{"clip", 0x44, test::makeMiptex("clip", 16, 16, std::vector<uint8_t>(256, 9))}}));
-  Scene scene = makeScene(shared / "maps/librequake/texture-wads/level.map", {{"wad", "lq_dev_legacy/lq_dev_legacy.wad"}},
-                          {"clip", "skip"});
+  Scene scene =
+      makeScene(shared / "maps/librequake/texture-wads/level.map", {{"wad", "lq_dev_legacy/lq_dev_legacy.wad"}}, {"clip", "skip"});
   TextureSearch search;
   search.wads = {ours.string()};
   search.palette = (shared / "maps/palettes/quake.lmp").string();
@@ -164,8 +163,7 @@ TEST(LoadMaterials, CommandLineWadsComeBeforeTheWadKey) {
 TEST(LoadMaterials, HalfLifeWadsResolveByFileNameBesideTheMap) {
   BT_REQUIRE_SHARED(shared);
   const fs::path deprecated = shared / "maps/ericw-tools/testmaps/deprecated";
-  Scene scene = makeScene(deprecated / "hl_level.map", {{"wad", "\\sierra\\half-life\\valve\\hlwad.wad"}},
-                          {"hltest", "!LiquidTest"});
+  Scene scene = makeScene(deprecated / "hl_level.map", {{"wad", "\\sierra\\half-life\\valve\\hlwad.wad"}}, {"hltest", "!LiquidTest"});
   loadMaterials(scene, TextureSearch{});
   EXPECT_TRUE(scene.diagnostics.empty()) << test::describe(scene.diagnostics);
   EXPECT_EQ(material(scene, "hltest").source, TextureSource::Wad3);
@@ -178,8 +176,9 @@ TEST(LoadMaterials, LibreQuakeMapsFindTheirTexturesInTheUnpackedWadFolders) {
   BT_REQUIRE_SHARED(shared);
   const fs::path lq = shared / "maps/librequake";
   Scene scene = makeScene(lq / "lq1/maps/src/dm/lqdm8.map",
-                          {{"wad", "../../../../texture-wads/lq_tech.wad;../../../../texture-wads/lq_liquidsky.wad;"
-                                   "../../../../texture-wads/lq_utility.wad"}},
+                          {{"wad",
+                            "../../../../texture-wads/lq_tech.wad;../../../../texture-wads/lq_liquidsky.wad;"
+                            "../../../../texture-wads/lq_utility.wad"}},
                           {"aqpipe13", "T_METALSHEETB", "*tele3", "+atlight1", "clip", "{char_0", "no_such_texture"});
   loadMaterials(scene, TextureSearch{});
   ASSERT_EQ(test::countWarnings(scene), 1) << test::describe(scene.diagnostics);
@@ -220,8 +219,8 @@ TEST(LoadMaterials, LibreQuakeMapsFindTheirTexturesInTheUnpackedWadFolders) {
 TEST(LoadMaterials, EveryTextureOfLibreQuakeMapsIsFound) {
   BT_REQUIRE_SHARED(shared);
   const fs::path src = shared / "maps/librequake/lq1/maps/src";
-  for (const char* map : {"dm/lqdm8.map", "dm/lqdm11.map", "dm/lqdm12.map", "dm/lqdm13.map", "e3/lq_e3m1.map",
-                          "misc/dev.map", "misc/slope.map", "brushmodels/b_bh100.map"}) {
+  for (const char* map : {"dm/lqdm8.map", "dm/lqdm11.map", "dm/lqdm12.map", "dm/lqdm13.map", "e3/lq_e3m1.map", "misc/dev.map",
+                          "misc/slope.map", "brushmodels/b_bh100.map"}) {
     SCOPED_TRACE(map);
     std::ifstream in(src / map);
     ASSERT_TRUE(in);
@@ -280,8 +279,7 @@ TEST(LoadMaterials, LooseFenceImagesWithoutAlphaKeyOutPaletteColour255) {
 TEST(LoadMaterials, EricwToolsLooseTextureMaps) {
   BT_REQUIRE_SHARED(shared);
   const fs::path testmaps = shared / "maps/ericw-tools/testmaps";
-  Scene found = makeScene(testmaps / "q1_loose_textures.map", {{"_tb_textures", "textures"}},
-                          {"floor_purple_c", "wall_tan_a"});
+  Scene found = makeScene(testmaps / "q1_loose_textures.map", {{"_tb_textures", "textures"}}, {"floor_purple_c", "wall_tan_a"});
   TextureSearch search;
   search.textureDirs = {(testmaps / "q1_loose_textures/textures").string()};
   loadMaterials(found, search);
@@ -379,8 +377,9 @@ TEST(LoadMaterials, CompanionMapsFillNormalRoughnessMetallicAndEmissive) {
 TEST(LoadMaterials, ListsTheWadPaletteImagesAndCompanionMapsItReadAsInputFiles) {
   test::TempDir dir;
   test::writeFile(dir / "gfx/palette.lmp", std::vector<uint8_t>(768, 40));
-  test::writeFile(dir / "base.wad", test::makeWad("WAD2", {{"brick", WadFile::kTypeMiptexWad2,
-                                                             test::makeMiptex("brick", 16, 16, std::vector<uint8_t>(256, 3))}}));
+  test::writeFile(
+      dir / "base.wad",
+      test::makeWad("WAD2", {{"brick", WadFile::kTypeMiptexWad2, test::makeMiptex("brick", 16, 16, std::vector<uint8_t>(256, 3))}}));
   test::writeImage(dir / "textures/metal.png", 2, 2, 3, solid(2, 2, 3, {100, 100, 100}));
   test::writeImage(dir / "textures/metal_glow.png", 2, 2, 3, solid(2, 2, 3, {0, 250, 0}));
   test::writeImage(dir / "textures/unused.png", 2, 2, 3, solid(2, 2, 3, {1, 2, 3}));
@@ -393,8 +392,7 @@ TEST(LoadMaterials, ListsTheWadPaletteImagesAndCompanionMapsItReadAsInputFiles) 
   std::set<fs::path> listed;
   for (const std::string& file : scene.inputFiles) listed.insert(fs::absolute(file).lexically_normal());
   EXPECT_EQ(listed.size(), scene.inputFiles.size()) << "a file listed twice";
-  const std::set<fs::path> expected{dir / "base.wad", dir / "gfx/palette.lmp", dir / "textures/metal.png",
-                                    dir / "textures/metal_glow.png"};
+  const std::set<fs::path> expected{dir / "base.wad", dir / "gfx/palette.lmp", dir / "textures/metal.png", dir / "textures/metal_glow.png"};
   EXPECT_EQ(listed, expected);
 }
 
@@ -470,8 +468,7 @@ TEST(LoadMaterials, BrokenImagesAreWarningsNamingTheFile) {
   EXPECT_EQ(test::countWarnings(scene), 3) << test::describe(scene.diagnostics);
   EXPECT_EQ(warningsMentioning(scene, "garbage, halfpng"), 1) << test::describe(scene.diagnostics);
   const auto namesFile = [&](std::string_view file) {
-    return std::count_if(scene.diagnostics.begin(), scene.diagnostics.end(),
-                         [&](const Diagnostic& d) { return d.file.ends_with(file); });
+    return std::count_if(scene.diagnostics.begin(), scene.diagnostics.end(), [&](const Diagnostic& d) { return d.file.ends_with(file); });
   };
   EXPECT_EQ(namesFile("garbage.png"), 1);
   EXPECT_EQ(namesFile("halfpng.png"), 1);
@@ -488,8 +485,7 @@ TEST(LoadMaterials, BadPaletteOptionIsAWarning) {
   // Said once; the texture is then drawn with the built-in Quake palette, not as a placeholder.
   EXPECT_EQ(material(scene, "{trigger").source, TextureSource::Wad2);
   const auto namesBadPalette = [](const Diagnostic& d) { return d.file.find("bad.lmp") != std::string::npos; };
-  EXPECT_EQ(std::count_if(scene.diagnostics.begin(), scene.diagnostics.end(), namesBadPalette), 1)
-      << test::describe(scene.diagnostics);
+  EXPECT_EQ(std::count_if(scene.diagnostics.begin(), scene.diagnostics.end(), namesBadPalette), 1) << test::describe(scene.diagnostics);
 }
 
 } // namespace

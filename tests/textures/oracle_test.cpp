@@ -93,8 +93,8 @@ TEST(Oracle, WadTexturesResolveExactlyAsQbspResolvedThem) {
     for (const CompiledTexture& t : compiled) {
       const Material& m = scene.materials.at(*scene.findMaterial(t.name));
       const bool fromWad = m.source == TextureSource::Wad2 || m.source == TextureSource::Wad3;
-      EXPECT_EQ(fromWad, t.width > 0) << t.name << " qbsp size " << t.width << "x" << t.height << ", ours from "
-                                      << toString(m.source) << " " << m.sourcePath;
+      EXPECT_EQ(fromWad, t.width > 0) << t.name << " qbsp size " << t.width << "x" << t.height << ", ours from " << toString(m.source)
+                                      << " " << m.sourcePath;
       if (fromWad && t.width > 0) {
         ++foundInWads;
         EXPECT_EQ(m.width, static_cast<int>(t.width)) << t.name;

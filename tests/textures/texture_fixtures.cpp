@@ -14,8 +14,7 @@ namespace fs = std::filesystem;
 
 TempDir::TempDir() {
   static std::atomic<int> counter{0};
-  path_ = fs::temp_directory_path() /
-          ("bt_textures_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+  path_ = fs::temp_directory_path() / ("bt_textures_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
   fs::remove_all(path_);
   fs::create_directories(path_);
 }
@@ -37,8 +36,8 @@ void putName(std::vector<uint8_t>& out, size_t at, const std::string& name, size
 std::vector<uint8_t> makeMiptex(const std::string& name, int width, int height, const std::vector<uint8_t>& indices,
                                 const std::vector<uint8_t>* ownPalette) {
   const size_t header = 40;
-  const size_t mipSizes[4] = {size_t(width) * height, size_t(width / 2) * (height / 2),
-                              size_t(width / 4) * (height / 4), size_t(width / 8) * (height / 8)};
+  const size_t mipSizes[4] = {size_t(width) * height, size_t(width / 2) * (height / 2), size_t(width / 4) * (height / 4),
+                              size_t(width / 8) * (height / 8)};
   size_t total = header + mipSizes[0] + mipSizes[1] + mipSizes[2] + mipSizes[3];
   if (ownPalette) total += 2 + ownPalette->size();
   std::vector<uint8_t> out(total, 0);
@@ -100,7 +99,9 @@ void writeFile(const fs::path& path, const std::vector<uint8_t>& bytes) {
   if (!out) throw std::runtime_error("cannot write " + path.string());
 }
 
-std::vector<uint8_t> readFile(const fs::path& path) { return readTextureFile(path); }
+std::vector<uint8_t> readFile(const fs::path& path) {
+  return readTextureFile(path);
+}
 
 void writeImage(const fs::path& path, int width, int height, int channels, const std::vector<uint8_t>& pixels) {
   fs::create_directories(path.parent_path());
@@ -144,4 +145,6 @@ std::string describe(const Diagnostics& diagnostics) {
 // OpenImageIO 2.4 keeps the text of the last failed ImageInput::open in a thread-local string
 // that LeakSanitizer sometimes reports at exit. It is one buffer per thread, not a growing leak,
 // and not ours to free.
-extern "C" const char* __lsan_default_suppressions() { return "leak:OpenImageIO_v2_4::ImageInput::geterror\n"; }
+extern "C" const char* __lsan_default_suppressions() {
+  return "leak:OpenImageIO_v2_4::ImageInput::geterror\n";
+}

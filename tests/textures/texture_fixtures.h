@@ -45,8 +45,7 @@ void writeFile(const std::filesystem::path& path, const std::vector<uint8_t>& by
 std::vector<uint8_t> readFile(const std::filesystem::path& path);
 
 // Writes an 8-bit image (1, 3 or 4 channels) with OpenImageIO, creating folders as needed.
-void writeImage(const std::filesystem::path& path, int width, int height, int channels,
-                const std::vector<uint8_t>& pixels);
+void writeImage(const std::filesystem::path& path, int width, int height, int channels, const std::vector<uint8_t>& pixels);
 
 // A Scene with a worldspawn carrying `keys` and one material per name, all still missing.
 Scene makeScene(const std::filesystem::path& sourcePath, const std::vector<std::pair<std::string, std::string>>& keys,

@@ -33,12 +33,12 @@ std::string roomMap(int lightValue, int playerX = -96) {
       return std::string(line);
     };
     std::string b = "{\n";
-    b += face(x0, y0, z0, x0, y0 + 1, z0, x0, y0, z0 + 1, "[ 0 1 0 0 ] [ 0 0 -1 0 ]");   // -X
-    b += face(x1, y1, z1, x1, y1, z1 + 1, x1, y1 + 1, z1, "[ 0 1 0 0 ] [ 0 0 -1 0 ]");   // +X
-    b += face(x0, y0, z0, x0, y0, z0 + 1, x0 + 1, y0, z0, "[ 1 0 0 0 ] [ 0 0 -1 0 ]");   // -Y
-    b += face(x1, y1, z1, x1 + 1, y1, z1, x1, y1, z1 + 1, "[ 1 0 0 0 ] [ 0 0 -1 0 ]");   // +Y
-    b += face(x0, y0, z0, x0 + 1, y0, z0, x0, y0 + 1, z0, "[ 1 0 0 0 ] [ 0 -1 0 0 ]");   // -Z
-    b += face(x1, y1, z1, x1, y1 + 1, z1, x1 + 1, y1, z1, "[ 1 0 0 0 ] [ 0 -1 0 0 ]");   // +Z
+    b += face(x0, y0, z0, x0, y0 + 1, z0, x0, y0, z0 + 1, "[ 0 1 0 0 ] [ 0 0 -1 0 ]"); // -X
+    b += face(x1, y1, z1, x1, y1, z1 + 1, x1, y1 + 1, z1, "[ 0 1 0 0 ] [ 0 0 -1 0 ]"); // +X
+    b += face(x0, y0, z0, x0, y0, z0 + 1, x0 + 1, y0, z0, "[ 1 0 0 0 ] [ 0 0 -1 0 ]"); // -Y
+    b += face(x1, y1, z1, x1 + 1, y1, z1, x1, y1, z1 + 1, "[ 1 0 0 0 ] [ 0 0 -1 0 ]"); // +Y
+    b += face(x0, y0, z0, x0 + 1, y0, z0, x0, y0 + 1, z0, "[ 1 0 0 0 ] [ 0 -1 0 0 ]"); // -Z
+    b += face(x1, y1, z1, x1, y1 + 1, z1, x1 + 1, y1, z1, "[ 1 0 0 0 ] [ 0 -1 0 0 ]"); // +Z
     return b + "}\n";
   };
   std::string map = "// Game: Quake\n// Format: Valve\n{\n\"classname\" \"worldspawn\"\n\"mapversion\" \"220\"\n";
@@ -94,8 +94,7 @@ protected:
   }
 
   // Runs frames until `done` or a time limit: reloads wait for the watcher's debounce.
-  template <typename Pred>
-  static bool frameUntil(Viewer& viewer, Pred done, double seconds = 120.0) {
+  template <typename Pred> static bool frameUntil(Viewer& viewer, Pred done, double seconds = 120.0) {
     const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
     while (std::chrono::steady_clock::now() < end) {
       if (!viewer.frame()) return false;
@@ -184,7 +183,9 @@ TEST_F(ViewerWindowTest, ReloadsWhenATextureImageOrCompanionMapTheMapUsesIsSaved
   // An image in the same folder that the map does not use is not watched: no reload within
   // several debounce intervals (the watcher's is 250 ms).
   writeTexture(dir_ / "textures/unused.png", 255);
-  EXPECT_FALSE(frameUntil(viewer, [&] { return viewer.reloads() > 0; }, 1.0)) << "reloaded for a file the map does not use";
+  EXPECT_FALSE(frameUntil(
+      viewer, [&] { return viewer.reloads() > 0; }, 1.0))
+      << "reloaded for a file the map does not use";
 
   writeTexture(dir_ / "textures/wall.png", 250);
   ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.reloads() == 1; })) << "the texture's save was not noticed";
@@ -278,8 +279,9 @@ TEST_F(ViewerWindowTest, ShowsTheCompiledLightmapsAndTheirDifference) {
     int best = 256;
     for (int steps = 0; steps <= kDifferenceFullScale; ++steps) {
       const glm::vec3 c = differenceColour(steps) * 255.0f;
-      best = std::min(best, std::max({std::abs(int(std::lround(c.x)) - heat.rgba[i]), std::abs(int(std::lround(c.y)) - heat.rgba[i + 1]),
-                                      std::abs(int(std::lround(c.z)) - heat.rgba[i + 2])}));
+      best = std::min(best,
+                      std::max({std::abs(int(std::lround(c.x)) - heat.rgba[i]), std::abs(int(std::lround(c.y)) - heat.rgba[i + 1]),
+                                std::abs(int(std::lround(c.z)) - heat.rgba[i + 2])}));
     }
     offScale += best > 1;
     coloured += heat.rgba[i] + heat.rgba[i + 1] + heat.rgba[i + 2] > 0;
