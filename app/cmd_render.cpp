@@ -3,16 +3,17 @@
 #include "app/render_options.h"
 #include "app/usage_checks.h"
 
-#include "renderer/cpu/compiled_lightmaps.h"
+#include "lighting/compiled_lightmaps.h"
 #include "renderer/cpu/cpu_renderer.h"
-#include "renderer/cpu/difference.h"
-#include "renderer/cpu/image_output.h"
-#include "renderer/cpu/lightmap_bake.h"
-#include "renderer/cpu/render_scene.h"
+#include "renderer/difference.h"
+#include "renderer/image_output.h"
+#include "lighting/lightmap_bake.h"
+#include "lighting/render_scene.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_level.h"
 #include "renderer/gl/gl_render.h"
 #include "renderer/gl/gl_tracer.h"
+#include "renderer/view_lightmaps.h"
 
 #include <fmt/format.h>
 
@@ -177,6 +178,43 @@ std::optional<LuxelBakeJob> bakeFaithful(const RenderOptions& o, RenderScene& rs
   return luxelBakeJob(rs, rs.lightmaps, bake);
 }
 
+// The GL programs the render needs, compiling as soon as what they need is known, on the
+// driver's threads where it has them: ready, or nearly, once the level is prepared. This thread
+// then waits for them while the worker prepares the level: NVIDIA's driver finishes a link on the
+// thread that waits for it (see gl::loadGlLevel).
+std::shared_ptr<gl::TracerPrograms> startGlPrograms(const RenderOptions& o, gl::GlContext& context, gl::TextureMode textures,
+                                                    gl::LevelPreparation& preparation) {
+  const bool physical = o.lighting == "physical";
+  auto programs = std::make_shared<gl::TracerPrograms>(context, textures);
+  programs->startAovs();
+  if (o.aov == "beauty") {
+    const gl::FaithfulFeatures features = gl::startPathTracerFor(*programs, preparation, physical);
+    programs->aovs();
+    if (programs->wavefrontState(physical, features).started) programs->wavefront(physical, features);
+  } else {
+    programs->aovs();
+  }
+  return programs;
+}
+
+// The import's warnings and errors, the light preparation's diagnostics and the meshes' line.
+void printPreparation(const Scene& scene, const Diagnostics& lightDiagnostics) {
+  for (const Diagnostic& d : scene.diagnostics)
+    if (d.severity != Severity::Note) fmt::print(stderr, "{}\n", format(d));
+  for (const Diagnostic& d : lightDiagnostics) fmt::print(stderr, "{}\n", format(d));
+  if (!scene.meshes.empty()) fmt::print("{}\n", meshLine(scene));
+}
+
+std::string writtenLine(const RenderOptions& o, const RenderImage& image, const LightmapChoice& choice, bool aovsOnly,
+                        const std::string& device) {
+  const std::string lighting = choice.compiled ? "compiled"
+      : choice.difference                      ? "difference"
+      : o.lighting == "physical"               ? "physical"
+                                               : "faithful";
+  const std::string rendered = aovsOnly ? fmt::format("--aov {}", o.aov) : fmt::format("{} spp, {} lighting", image.samples, lighting);
+  return fmt::format("wrote {} ({}x{}, {}, {})", o.output, o.size.width, o.size.height, rendered, device);
+}
+
 } // namespace
 
 int runRender(const RenderOptions& o, RenderOutcome* outcome) {
@@ -207,28 +245,10 @@ int runRender(const RenderOptions& o, RenderOutcome* outcome) {
 
   std::unique_ptr<gl::GlContext> glContext = makeGlContext(o);
 
-  // The GL programs this render needs start compiling as soon as what they need is known, on
-  // the driver's threads where it has them, and are ready, or nearly, once the level is
-  // prepared. This thread then waits for them while the worker prepares the level: NVIDIA's
-  // driver finishes a link on the thread that waits for it (see gl::loadGlLevel).
   std::shared_ptr<gl::TracerPrograms> glPrograms;
-  if (glContext) {
-    glPrograms = std::make_shared<gl::TracerPrograms>(*glContext, *glTextures);
-    glPrograms->startAovs();
-    if (o.aov == "beauty") {
-      const gl::FaithfulFeatures features = gl::startPathTracerFor(*glPrograms, preparation, physical);
-      glPrograms->aovs();
-      if (glPrograms->wavefrontState(physical, features).started) glPrograms->wavefront(physical, features);
-    } else {
-      glPrograms->aovs();
-    }
-  }
+  if (glContext) glPrograms = startGlPrograms(o, *glContext, *glTextures, preparation);
   preparation.wait();
-  for (const Diagnostic& d : scene.diagnostics)
-    if (!o.quiet && d.severity != Severity::Note) fmt::print(stderr, "{}\n", format(d));
-  for (const Diagnostic& d : lightDiagnostics)
-    if (!o.quiet) fmt::print(stderr, "{}\n", format(d));
-  if (!o.quiet && !scene.meshes.empty()) fmt::print("{}\n", meshLine(scene));
+  if (!o.quiet) printPreparation(scene, lightDiagnostics);
 
   if (!hasDrawnFace(renderScene, o.showHidden)) {
     fmt::print(stderr, "{}: warning: the level has no face to draw; no image written\n", mapPath);
@@ -267,15 +287,9 @@ int runRender(const RenderOptions& o, RenderOutcome* outcome) {
     written.exposureEv = 0.0f, written.tonemap = Tonemap::Faithful; // the heat map's own colours
   }
   writeImage(o.output, image, written);
-  const std::string lighting = choice.compiled ? "compiled"
-      : choice.difference                      ? "difference"
-      : o.lighting == "physical"               ? "physical"
-                                               : "faithful";
-  const std::string rendered = aovsOnly ? fmt::format("--aov {}", o.aov) : fmt::format("{} spp, {} lighting", image.samples, lighting);
-  if (!o.quiet)
-    fmt::print("wrote {} ({}x{}, {}, {})\n", o.output, width, height, rendered,
-               glContext ? "gl " + glContext->info().renderer : std::string("cpu"));
-  if (outcome) *outcome = {pose, image.samples, glContext ? "gl " + glContext->info().renderer : std::string("cpu")};
+  const std::string device = glContext ? "gl " + glContext->info().renderer : std::string("cpu");
+  if (!o.quiet) fmt::print("{}\n", writtenLine(o, image, choice, aovsOnly, device));
+  if (outcome) *outcome = {pose, image.samples, device};
   return 0;
 }
 

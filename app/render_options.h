@@ -2,7 +2,7 @@
 #pragma once
 
 #include "app/commands.h"
-#include "renderer/cpu/camera.h"
+#include "renderer/camera.h"
 
 #include <optional>
 #include <string>

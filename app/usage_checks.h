@@ -5,7 +5,7 @@
 // every command checks its options the same way.
 #pragma once
 
-#include "renderer/cpu/camera.h"
+#include "renderer/camera.h"
 
 #include <CLI/CLI.hpp>
 

@@ -1,9 +1,9 @@
-// Faithful mode's light compiler (renderer/cpu/lightmap_bake.h) on whole levels: the layout of
+// Faithful mode's light compiler (lighting/lightmap_bake.h) on whole levels: the layout of
 // qbsp's faces and their luxel grids, then the bake of every luxel on all cores, against
 // ericw-tools `light` on the same level (its own log in ../shared/oracle/lit/ gives its time).
 //   build/bench/bench_bake [--benchmark_filter=...]
 #include "importers/import.h"
-#include "renderer/cpu/lightmap_bake.h"
+#include "lighting/lightmap_bake.h"
 
 #include <benchmark/benchmark.h>
 

@@ -1,4 +1,4 @@
-// Faithful `_bounce` preparation (renderer/cpu/bounce.h): buildRenderScene on LibreQuake's
+// Faithful `_bounce` preparation (lighting/bounce.h): buildRenderScene on LibreQuake's
 // lq_e4m3, the largest shared map, as it is (no bounce) and with worldspawn `_bounce 1` forced,
 // and on lq_e3m1, whose worldspawn sets `_bounce 3`, without and with its bounce lights.
 // The difference is the bounce lights' cost: the mean direct light over each compiled face's
@@ -6,7 +6,7 @@
 // scene.
 //   build/bench/bench_bounce
 #include "importers/import.h"
-#include "renderer/cpu/render_scene.h"
+#include "lighting/render_scene.h"
 
 #include <benchmark/benchmark.h>
 

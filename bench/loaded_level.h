@@ -3,8 +3,8 @@
 #pragma once
 
 #include "importers/import.h"
-#include "renderer/cpu/camera.h"
-#include "renderer/cpu/render_scene.h"
+#include "renderer/camera.h"
+#include "lighting/render_scene.h"
 
 #include <filesystem>
 #include <map>

@@ -6,7 +6,7 @@
 // the direct lights' grid (what buildRenderScene does) against the grid made at once.
 //   build/bench/bench_prepare_level [--benchmark_filter=...]
 #include "importers/import.h"
-#include "renderer/cpu/render_scene.h"
+#include "lighting/render_scene.h"
 
 #include <benchmark/benchmark.h>
 

@@ -5,7 +5,7 @@
 #include "bench/loaded_level.h"
 #include "importers/import.h"
 #include "renderer/cpu/cpu_renderer.h"
-#include "renderer/cpu/light_grid.h"
+#include "lighting/light_grid.h"
 
 #include <benchmark/benchmark.h>
 
@@ -59,7 +59,7 @@ RaySet makeRays(const LoadedLevel& m) {
     if (!hit.found) continue;
     Rng rng = pixelRng(uint32_t(i), 0, 0, 0);
     const glm::vec3 dir = sampleCosineHemisphere(hit.normal, rng.next2());
-    set.bounce.push_back(Ray{hit.position + hit.normal * 0.03f, 0.0f, dir, std::numeric_limits<float>::infinity()});
+    set.bounce.push_back(Ray{offsetRayOrigin(hit.position, hit.normal), 0.0f, dir, std::numeric_limits<float>::infinity()});
   }
   return set;
 }

@@ -559,11 +559,6 @@ std::optional<Hit> TraceScene::anyHit(const Ray& ray) const {
   return any;
 }
 
-glm::vec3 offsetRayOrigin(const glm::vec3& p, const glm::vec3& n) {
-  const float magnitude = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-  return p + n * (1.0f / 1024.0f + magnitude * 0x1p-18f);
-}
-
 glm::vec2 textureCoordinates(const GpuFace& face, const glm::vec3& p) {
   const glm::vec3 d = p - glm::vec3(face.origin[0], face.origin[1], face.origin[2]);
   return {glm::dot(d, glm::vec3(face.tangent[0], face.tangent[1], face.tangent[2])),

@@ -51,13 +51,15 @@
 //
 // Epsilons: the test itself has none; everything is exact IEEE float with the rules above, so
 // the BVH and a brute-force loop agree bit for bit. Self-intersection is avoided by the caller:
-// start secondary rays at offsetRayOrigin(hit point, geometric normal) with tMin = 0. The
-// offset covers the float error of p = origin + t * direction at Quake map coordinates.
+// start secondary rays at offsetRayOrigin(hit point, geometric normal) with tMin = 0, and go on
+// past a skipped hit from continueRayAfter(t): both tracers follow this one rule
+// (shaders/ray_offsets.glsl holds its numbers for both).
 #pragma once
 
 #include "bvh/sah_builder.h" // Aabb, sahCost() and the SAH cost model
 #include "scene/gpu_structs.h"
 #include "scene/scene.h"
+#include "shaders/ray_offsets.glsl" // shared with shaders/visible.glsl
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -173,10 +175,16 @@ template <class Counts> bool TraceScene::inside(const glm::vec3& p, const Counts
   return false;
 }
 
-// Where a ray leaving a surface should start: p pushed along the geometric normal n (unit,
-// on the side the ray leaves to) by a distance that covers the rounding error of a hit point
-// at p's magnitude: 1/1024 unit plus 2^-18 of the largest coordinate (about 32 float ulps).
-glm::vec3 offsetRayOrigin(const glm::vec3& p, const glm::vec3& n);
+// Where a ray leaving a surface should start: p pushed along the geometric normal n (unit, on the
+// side the ray leaves to) by BT_SURFACE_OFFSET.
+inline constexpr float kSurfaceOffset = BT_SURFACE_OFFSET;
+inline glm::vec3 offsetRayOrigin(const glm::vec3& p, const glm::vec3& n) {
+  return p + n * kSurfaceOffset;
+}
+// Where a ray that skips a hit at t goes on from.
+inline float continueRayAfter(float t) {
+  return t + BT_SKIP_STEP;
+}
 
 // Texture coordinates in texels at a point on a face: (s, t) from the face's frame.
 glm::vec2 textureCoordinates(const GpuFace& face, const glm::vec3& p);

@@ -51,7 +51,7 @@ struct CompiledLighting {
   // "BSPX RGBLIGHTING", "RGB lighting lump" (Half-Life, Quake 2), "lightmap pages" (Quake 3).
   std::string source;
   // The engine that shows these lightmaps: "quake", "hexen2" (Hexen II's 80-byte models),
-  // "halflife", "quake2" or "quake3", from the file's version (renderer/cpu/compiled_lightmaps.h).
+  // "halflife", "quake2" or "quake3", from the file's version (lighting/compiled_lightmaps.h).
   std::string engine = "quake";
   // "16 texels per luxel", "per-face luxel size (BSPX LMSHIFT)" or "decoupled (BSPX DECOUPLED_LM)".
   std::string layout = "16 texels per luxel";

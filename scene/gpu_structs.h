@@ -158,7 +158,7 @@ enum class LightFormula : uint32_t {
   // _surface_radiosity 1): value / max(dist, 16)^2, times a half-Lambert term on both the
   // emitting face (`direction` is its normal) and the receiving one.
   SurfaceRadiosity = 6,
-  // Not a `delay` value either: one ericw-tools bounce light (renderer/cpu/bounce.h), a lit face
+  // Not a `delay` value either: one ericw-tools bounce light (lighting/bounce.h), a lit face
   // re-emitting its mean direct light: value / max(dist, 128)^2, times the cosine on the emitting
   // face (`direction` is its normal) and on the receiving one (anglescale 1).
   Bounce = 7,
@@ -190,7 +190,7 @@ struct GpuLight {
                                           // template with kLightFlagFaceMinlight, the face minlight scale
   // Faithful dirt (ambient occlusion), read only with kLightFlagDirt: the light's own
   // `_dirtscale` / `_dirtgain` (or the worldspawn's), and with kLightFlagDirtRadius the distances
-  // `_dirt_off_radius` / `_dirt_on_radius` between which dirt ramps in (renderer/cpu/faithful.h).
+  // `_dirt_off_radius` / `_dirt_on_radius` between which dirt ramps in (lighting/faithful.h).
   float dirtScale = 1.0f;
   float dirtGain = 1.0f;
   float dirtOffRadius = 0.0f;
@@ -284,7 +284,7 @@ static_assert(offsetof(GpuEmitter, v2) == 32);
 static_assert(offsetof(GpuEmitter, cdf) == 44);
 
 // ---------------------------------------------------------------------------------------------
-// Light selection (renderer/cpu/light_grid.h builds these; renderer/gl uploads them unchanged)
+// Light selection (lighting/light_grid.h builds these; renderer/gl uploads them unchanged)
 // A uniform grid over the level; each cell lists the point lights whose faithful-mode reach
 // touches it. All lists are ranges of one uint array of indices into the light list:
 //   [0, fixedCount)                          suns, domes and local-minlight lights: every point
@@ -329,7 +329,7 @@ static_assert(sizeof(GpuLightCell) == 8);
 static_assert(offsetof(GpuLightCell, count) == 4);
 
 // ---------------------------------------------------------------------------------------------
-// Lightmaps (renderer/cpu/lightmaps.h bakes them; renderer/gl uploads them unchanged)
+// Lightmaps (lighting/lightmaps.h bakes them; renderer/gl uploads them unchanged)
 // Faithful mode shows the light as the engine does: one luxel every 16 texels on each compiled
 // face, filtered bilinearly. A scene face (brush side) holds the compiled faces qbsp makes of it
 // (its fragments: CSG pieces, 240-texel subdivisions), each with its own luxel grid. A point of
@@ -374,7 +374,7 @@ static_assert(offsetof(GpuLightmapFragment, edgeCount) == 24);
 static_assert(offsetof(GpuLightmapFragment, luxelU) == 32);
 static_assert(offsetof(GpuLightmapFragment, luxelV) == 48);
 
-// One sample point of faithful mode's bake (renderer/cpu/lightmap_bake.h): where the compiler
+// One sample point of faithful mode's bake (lighting/lightmap_bake.h): where the compiler
 // samples a luxel, found on the CPU, lit by either tracer (shaders/bake.comp). Sample
 // luxel * extra^2 + k is the k-th of luxel's extra x extra points (luxel: its index in the
 // luxels array).

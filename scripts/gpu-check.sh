@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# GPU proof of the GL tracer (issue 4), repeatable by anyone with the `device` tool:
+# GPU proof of the GL tracer, repeatable by anyone with the `device` tool:
 #   1. builds here the GL test binaries (gl_tests; gl_parity_tests_portable, the CPU-parity
 #      tests) and the GL benchmark (bench/gl_bench). Those that import levels link the importers
 #      without OpenImageIO (bt_importers_portable: loose images are PNGs, through libpng), whose
@@ -64,7 +64,7 @@ out=\${OUT:-/tmp/out}
 mkdir -p "\$out"
 nvidia-smi -L
 cd .device-bundle
-# The BVH build (issue 3: M brushes/s on 2 cores) and CPU rays per thread on two physical cores
+# The BVH build (M brushes/s on 2 cores) and CPU rays per thread on two physical cores
 # of this machine's CPU (one logical CPU of each of two cores, so no two threads share a core).
 cpu_benchmarks() {
   local cpus

@@ -3,7 +3,7 @@
 #ifdef BT_TEXTURES_BINDLESS
 #extension GL_ARB_bindless_texture : require
 #endif
-// Faithful mode's light compiler on the GPU: renderer/cpu/lightmap_bake.cpp bakeLightmaps with
+// Faithful mode's light compiler on the GPU: lighting/lightmap_bake.cpp bakeLightmaps with
 // integrator.cpp faithfulLuxelPass and faithfulLuxelLight, the CPU reference, drawing the same
 // random numbers in the same order. The CPU finds the sample points (lightmap_bake.h
 // luxelSamples); each dispatch runs some passes over a range of them, adding to their sums, and a

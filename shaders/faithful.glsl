@@ -1,4 +1,4 @@
-// renderer/cpu/faithful.h in GLSL: what ericw-tools `light` computes for one light at one
+// lighting/faithful.h in GLSL: what ericw-tools `light` computes for one light at one
 // point (ltface.cc GetLightValue / GetLightValueWithAngle). Light units, Quake units.
 
 const float FORMULA_SCALE = 128.0;  // ericw-tools LF_SCALE
@@ -107,7 +107,7 @@ float sunValue(GpuLight sun, vec3 direction, vec3 normal) {
 }
 
 #ifdef BT_FAITHFUL_DIRT
-// Dirt (renderer/cpu/faithful.h): ericw-tools' ambient occlusion, in programs built for a level
+// Dirt (lighting/faithful.h): ericw-tools' ambient occlusion, in programs built for a level
 // that uses it.
 const int DIRT_AZIMUTH_STEPS = 16;
 const int DIRT_ELEVATION_STEPS = 3;

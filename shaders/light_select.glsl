@@ -1,4 +1,4 @@
-// Light selection: renderer/cpu/light_grid.h's lists and integrator.cpp's selected paths in
+// Light selection: lighting/light_grid.h's lists and integrator.cpp's selected paths in
 // GLSL, reading the same bytes (scene/gpu_structs.h GpuLightGrid, GpuLightCell, and the index
 // array) and drawing the same random numbers in the same order, so that a pixel's sample n
 // picks the same light on both tracers.

@@ -1,4 +1,4 @@
-// Faithful mode's baked luxels (renderer/cpu/lightmaps.h lightmapValue, the CPU reference): the
+// Faithful mode's baked luxels (lighting/lightmaps.h lightmapValue, the CPU reference): the
 // stored lightmap value at a texel point of a face, filtered bilinearly as the engine filters its
 // lightmaps. Layout of the packed buffer: scene/gpu_structs.h (GpuLightmapFragment).
 layout(std430, binding = 15) readonly buffer Lightmaps { uint lightmapData[]; };
@@ -9,7 +9,7 @@ uvec2 lightmapRange(uint face) {
   return uvec2(lightmapData[8u + 2u * face], lightmapData[9u + 2u * face]);
 }
 
-// shown = texture × luxel × this (renderer/cpu/lightmaps.h Lightmaps::displayScale).
+// shown = texture × luxel × this (lighting/lightmaps.h Lightmaps::displayScale).
 float lightmapDisplayScale() { return uintBitsToFloat(lightmapData[4]); }
 
 // The fragment holding st, else the one st lies least outside of (lightmapFragmentAt).

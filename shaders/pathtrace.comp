@@ -437,7 +437,7 @@ vec3 faithfulDisplay(Path path) {
 }
 
 // A surface ray's result. False when the path ends here. A faithful path is the camera ray's
-// surface only: the level's _bounce arrives there through its bounce lights (renderer/cpu/bounce.h).
+// surface only: the level's _bounce arrives there through its bounce lights (lighting/bounce.h).
 bool faithfulSurface(inout Path path, SurfaceHit hit) {
   if (!hit.found) return false;
   uint flags = faceFlags[hit.face];

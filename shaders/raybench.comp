@@ -12,6 +12,7 @@
 #include "trace.glsl"
 #include "camera.glsl"
 #include "sampling.glsl"
+#include "ray_offsets.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(rgba32f, binding = 0) uniform image2D hits; // xyz: primary hit point, w: face + 1 (0 = miss)
@@ -29,7 +30,7 @@ void main() {
     if (primary.w == 0.0) return;
     vec3 n = faces[uint(primary.w) - 1u].plane.xyz;
     Rng rng = pixelRng(uint(pixel.x), uint(pixel.y), camera.frameIndex, camera.seed);
-    origin = primary.xyz + n * 0.03;
+    origin = primary.xyz + n * BT_SURFACE_OFFSET;
     dir = sampleCosineHemisphere(n, rngNext2(rng));
   }
   // One call site of the traversal for both modes (trace.glsl says why).

@@ -1,4 +1,4 @@
-// renderer/cpu/sampling.h in GLSL: the same PCG streams, so a pixel's sample n draws the same
+// lighting/sampling.h in GLSL: the same PCG streams, so a pixel's sample n draws the same
 // numbers on both tracers.
 const float PI = 3.14159265358979;
 

@@ -83,7 +83,7 @@ const uint FORMULA_INFINITE = 3u;
 const uint FORMULA_LOCAL_MIN = 4u;
 const uint FORMULA_INVERSE2A = 5u;
 const uint FORMULA_SURFACE_RADIOSITY = 6u;
-const uint FORMULA_BOUNCE = 7u; // an ericw-tools bounce light (renderer/cpu/bounce.h)
+const uint FORMULA_BOUNCE = 7u; // an ericw-tools bounce light (lighting/bounce.h)
 const uint LIGHT_FLAG_BLEED = 2u;
 const uint LIGHT_FLAG_FROM_SURFACE = 4u;
 const uint LIGHT_FLAG_FACE_MINLIGHT = 8u;
@@ -105,7 +105,7 @@ struct GpuLight {
   float deviance;  // offset 68
   uint flags;      // offset 72
   float faithfulScale; // offset 76
-  float dirtScale;     // offset 80: faithful dirt (LIGHT_FLAG_DIRT), renderer/cpu/faithful.h
+  float dirtScale;     // offset 80: faithful dirt (LIGHT_FLAG_DIRT), lighting/faithful.h
   float dirtGain;      // offset 84
   float dirtOffRadius; // offset 88: with LIGHT_FLAG_DIRT_RADIUS
   float dirtOnRadius;  // offset 92

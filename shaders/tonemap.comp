@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // The display image of a progressive render: the accumulated sum divided by its sample count,
 // exposed, tonemapped and sRGB-encoded into an RGBA8 image the viewer draws as it is.
-// The operators are renderer/cpu/color.h's (applyTonemap, linearToSrgb) line for line, with the
+// The operators are scene/color.h's (applyTonemap, linearToSrgb) line for line, with the
 // constants of both from tonemap_constants.glsl, so a PNG the CPU writes from the same linear
 // image has the same bytes, within rounding (tests/gl/gl_progressive_test.cpp holds them to 1/255).
 #include "tonemap_constants.glsl"

@@ -1,4 +1,4 @@
-// The tonemap operators' constants, one source for both tracers: renderer/cpu/color.h includes
+// The tonemap operators' constants, one source for both tracers: scene/color.h includes
 // this file as C++ and shaders/tonemap.comp as GLSL. Hence only #defines of float literals with
 // the f suffix, which both languages read alike (GLSL since 1.30).
 #ifndef BT_TONEMAP_CONSTANTS

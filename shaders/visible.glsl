@@ -1,10 +1,10 @@
-// The integrator's ray queries (renderer/cpu/integrator.cpp traceVisible, occluded,
-// reachesSky): closest hits that skip what is never drawn or never blocks light.
+// The ray queries of lighting/visibility.h (traceVisible, occluded, reachesSky): closest hits that skip what is never drawn or never blocks light.
 // Needs scene_buffers.glsl and trace.glsl.
 
-const int MAX_SKIPS = 64;        // hidden faces / inside hits skipped along one ray
-const float SKIP_STEP = 1e-3;    // past a skipped hit, as the CPU reference
-const float SURFACE_OFFSET = 0.03; // rays leave surfaces this far along the normal
+#include "ray_offsets.glsl" // one rule with the CPU tracer (bvh/trace_scene.h)
+const int MAX_SKIPS = BT_MAX_SKIPS;
+const float SKIP_STEP = BT_SKIP_STEP;
+const float SURFACE_OFFSET = BT_SURFACE_OFFSET;
 
 struct SurfaceHit {
   bool found;

@@ -1,16 +1,17 @@
 #include "viewer/viewer.h"
 
-#include "renderer/cpu/compiled_lightmaps.h"
+#include "lighting/compiled_lightmaps.h"
 #include "renderer/cpu/cpu_renderer.h"
-#include "renderer/cpu/difference.h"
-#include "renderer/cpu/image_output.h"
-#include "renderer/cpu/render_scene.h"
+#include "renderer/difference.h"
+#include "renderer/image_output.h"
+#include "lighting/render_scene.h"
 #include "renderer/gl/gl_bake.h"
 #include "renderer/gl/gl_error.h"
 #include "renderer/gl/gl_level.h"
 #include "renderer/gl/gl_progressive.h"
 #include "renderer/gl/gl_tracer.h"
-#include "renderer/gl/gl_window.h"
+#include "viewer/gl_window.h"
+#include "scene/color.h"
 #include "viewer/file_watcher.h"
 #include "viewer/fly_camera.h"
 
@@ -231,7 +232,7 @@ struct Viewer::Impl {
   }
 
   // The compiled view is faithful mode's tracer reading the level's own luxels instead of
-  // evaluating the light (renderer/cpu/compiled_lightmaps.h).
+  // evaluating the light (lighting/compiled_lightmaps.h).
   bool showCompiled() {
     const std::string why = showCompiledLightmaps(level->scene, level->render, options.import.textures.game.game);
     notice = why.empty() ? std::string() : why + "; showing faithful lighting";

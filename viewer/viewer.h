@@ -9,9 +9,9 @@
 #pragma once
 
 #include "importers/import.h"
-#include "renderer/cpu/camera.h"
+#include "renderer/camera.h"
 #include "renderer/cpu/integrator.h"
-#include "renderer/cpu/lightmap_bake.h"
+#include "lighting/lightmap_bake.h"
 #include "renderer/gl/gl_textures.h"
 
 #include <filesystem>

@@ -1,8 +1,8 @@
 // The CPU backend: renders a RenderScene into a linear image plus AOVs, on all cores.
 #pragma once
 
-#include "renderer/cpu/camera.h"
-#include "renderer/cpu/color.h"
+#include "renderer/camera.h"
+#include "renderer/render.h"
 #include "renderer/cpu/integrator.h"
 
 #include <glm/vec3.hpp>
@@ -14,53 +14,11 @@
 
 namespace bt {
 
-struct RenderSettings {
-  int width = 640;
-  int height = 360;
-  int spp = 64;           // samples per pixel (upper bound when timeLimit is set)
-  double timeLimit = 0.0; // seconds; 0 = none. Stops after the pass that crosses it.
-  int threads = 0;        // 0 = every hardware thread
-  uint32_t seed = 0;
-  IntegratorSettings integrator;
-};
-
-// A rendered frame. beauty is the mean linear radiance; the AOVs come from one ray through
-// each pixel centre, so they are exact and deterministic.
-struct RenderImage {
-  int width = 0;
-  int height = 0;
-  int samples = 0;
-  std::vector<glm::vec3> beauty;
-  std::vector<glm::vec3> albedo; // linear base colour of the visible face
-  std::vector<glm::vec3> normal; // world-space face normal, 0 where nothing is hit
-  std::vector<float> depth;      // distance along the ray, +inf where nothing is hit
-  std::vector<uint32_t> face;    // scene face index + 1, 0 where nothing is hit
-};
-
-struct RenderProgress {
-  int samplesDone = 0;
-  int samplesTotal = 0; // spp, or 0 when only a time limit bounds the render
-  double elapsed = 0.0;
-  double estimatedRemaining = 0.0;
-};
-
 RenderImage renderCpu(const RenderScene& scene, const Camera& camera, const RenderSettings& settings,
                       const std::function<void(const RenderProgress&)>& progress = {});
 
 // The AOVs alone (beauty left black, samples 0): what an albedo, normal, depth or face output
 // needs, without the cost of lighting every pixel.
 RenderImage renderAovsCpu(const RenderScene& scene, const Camera& camera, int width, int height, int threads = 0);
-
-// Image outputs.
-enum class Aov { Beauty, Albedo, Normal, Depth, Face };
-
-struct OutputSettings {
-  Aov aov = Aov::Beauty;
-  float exposureEv = 0.0f;
-  Tonemap tonemap = Tonemap::Faithful;
-};
-
-// The 8-bit sRGB pixels a PNG of `image` holds (RGB, rows top to bottom).
-std::vector<uint8_t> displayPixels(const RenderImage& image, const OutputSettings& output);
 
 } // namespace bt

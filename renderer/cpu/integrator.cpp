@@ -1,7 +1,7 @@
 #include "renderer/cpu/integrator.h"
 
-#include "renderer/cpu/color.h"
-#include "renderer/cpu/faithful.h"
+#include "lighting/faithful.h"
+#include "scene/color.h"
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
@@ -17,40 +17,6 @@ namespace bt {
 
 namespace {
 
-// Rays leave surfaces this far along the normal: a few float ulps at Quake's 32k extents,
-// well under a texel.
-constexpr float kSurfaceOffset = 0.03f;
-constexpr int kMaxSkips = 64; // hidden faces/back faces skipped along one ray before giving up
-
-glm::vec3 offsetPoint(const glm::vec3& p, const glm::vec3& n) {
-  return p + n * kSurfaceOffset;
-}
-
-glm::vec2 textureUV(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
-  const GpuFace& f = gpuFace(rs, face);
-  const glm::vec2 st = textureCoordinates(f, p);
-  const glm::vec2 size = f.material < rs.materials.size() ? rs.materials[f.material].size : glm::vec2(64.0f);
-  return st / size;
-}
-
-bool blocksLight(uint32_t faceFlags, LightingMode mode) {
-  if (faceFlags & (kFaceHidden | kFaceLiquid)) return false;
-  if (mode == LightingMode::Faithful && (faceFlags & kFaceNoShadow)) return false;
-  return true;
-}
-
-// Where a ray goes on past a hit: the far side of a brush it started in, and the holes of
-// alpha-tested faces (kFaceMasked), which are holes to every ray as `{` brushes are to the compiler.
-bool passesThrough(const RenderScene& rs, const Hit& hit, const Ray& ray) {
-  if (hit.inside) return true;
-  const uint32_t flags = rs.faceFlags[hit.face];
-  if (!(flags & kFaceMasked)) return false;
-  const float a = baseColorAt(rs, hit.face, ray.origin + ray.direction * hit.t).a;
-  if (flags & kFaceMaskGt0) return !(a > 0.0f);
-  if (flags & kFaceMaskLt128) return !(a < 0.5f);
-  return !(a >= 0.5f);
-}
-
 // The emitter triangle whose cdf interval holds u (binary search, GLSL-friendly loop).
 uint32_t pickEmitter(const RenderScene& rs, float u) {
   uint32_t lo = 0, hi = uint32_t(rs.emitters.size()) - 1;
@@ -62,14 +28,6 @@ uint32_t pickEmitter(const RenderScene& rs, float u) {
       hi = mid;
   }
   return lo;
-}
-
-// A point light's position for one sample: one of ericw-tools' `_samples` jittered copies,
-// uniform in the cube of half-size `_deviance` around the light.
-glm::vec3 jitteredOrigin(const GpuLight& light, Rng& rng) {
-  if (light.deviance <= 0.0f) return light.origin;
-  const glm::vec3 u{rng.next(), rng.next(), rng.next()}; // braces: drawn left to right, as in GLSL
-  return light.origin + light.deviance * (2.0f * u - 1.0f);
 }
 
 // Domes sit in the light grid's fixed list (suns, domes, local minlights): a bounce ray that
@@ -85,70 +43,6 @@ glm::vec3 skyDomeRadiance(const RenderScene& rs, const glm::vec3& dir) {
 }
 
 } // namespace
-
-SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray) {
-  Ray r = ray;
-  for (int i = 0; i < kMaxSkips; ++i) {
-    const std::optional<Hit> hit = rs.tracer.closestHit(r);
-    if (!hit) return {};
-    if (!passesThrough(rs, *hit, r) && !(rs.faceFlags[hit->face] & kFaceHidden)) {
-      SurfaceHit s;
-      s.found = true;
-      s.t = hit->t;
-      s.face = hit->face;
-      s.position = ray.origin + ray.direction * hit->t;
-      s.normal = faceNormal(rs, hit->face);
-      return s;
-    }
-    r.tMin = hit->t + 1e-3f;
-  }
-  return {};
-}
-
-bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode) {
-  // Most shadow rays that are blocked are blocked by any wall on the way: the first hit the
-  // traversal meets settles it. Only a hit the ray may pass (a liquid, a hole, a face that casts
-  // no shadow) needs the walk from hit to hit below, which gives the same answer.
-  const std::optional<Hit> any = rs.tracer.anyHit(ray);
-  if (!any) return false;
-  if (blocksLight(rs.faceFlags[any->face], mode) && !passesThrough(rs, *any, ray)) return true;
-  Ray r = ray;
-  for (int i = 0; i < kMaxSkips; ++i) {
-    const std::optional<Hit> hit = rs.tracer.closestHit(r);
-    if (!hit) return false;
-    if (blocksLight(rs.faceFlags[hit->face], mode) && !passesThrough(rs, *hit, r)) return true;
-    r.tMin = hit->t + 1e-3f;
-  }
-  return true;
-}
-
-bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t skyMaterial) {
-  Ray r = ray;
-  for (int i = 0; i < kMaxSkips; ++i) {
-    const std::optional<Hit> hit = rs.tracer.closestHit(r);
-    if (!hit) return skyMaterial == 0; // left the level: nothing to stop the sun, unless it needs a texture
-    const uint32_t flags = rs.faceFlags[hit->face];
-    const bool through = passesThrough(rs, *hit, r);
-    if (!through && (flags & kFaceSky)) return skyMaterial == 0 || gpuFace(rs, hit->face).material + 1 == skyMaterial;
-    if (!through && blocksLight(flags, mode)) return false;
-    r.tMin = hit->t + 1e-3f;
-  }
-  return false;
-}
-
-glm::vec4 baseColorAt(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
-  const uint32_t m = gpuFace(rs, face).material;
-  if (m >= rs.scene->materials.size() || rs.scene->materials[m].baseColor.empty()) return glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
-  const glm::vec2 uv = textureUV(rs, face, p);
-  return sampleBilinearRepeat(rs.scene->materials[m].baseColor, uv.x, uv.y);
-}
-
-glm::vec3 emissiveAt(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
-  const uint32_t m = gpuFace(rs, face).material;
-  if (m >= rs.scene->materials.size() || !(rs.materials[m].flags & kMaterialEmissive)) return glm::vec3(0.0f);
-  const glm::vec2 uv = textureUV(rs, face, p);
-  return glm::vec3(sampleBilinearRepeat(rs.scene->materials[m].emissive, uv.x, uv.y));
-}
 
 namespace {
 
@@ -213,395 +107,17 @@ glm::vec3 shadingNormal(const RenderScene& rs, const SurfaceHit& hit, const glm:
 
 namespace {
 
-// How far a dirt ray gets: the first face that blocks light, or `depth` when it meets none (or
-// the sky: ericw-tools counts only solid hits) within it.
-float dirtRayDistance(const RenderScene& rs, const glm::vec3& origin, const glm::vec3& dir, float depth) {
-  Ray r{origin, 0.0f, dir, depth};
-  float lastT = depth;
-  for (int i = 0; i < kMaxSkips; ++i) {
-    const std::optional<Hit> hit = rs.tracer.closestHit(r);
-    if (!hit) return depth;
-    const uint32_t flags = rs.faceFlags[hit->face];
-    const bool through = passesThrough(rs, *hit, r);
-    if (!through && (flags & kFaceSky)) return depth;
-    if (!through && blocksLight(flags, LightingMode::Faithful)) return std::min(hit->t, depth);
-    lastT = hit->t;
-    r.tMin = hit->t + 1e-3f;
-  }
-  return lastT; // too many faces to pass: blocked where the search stopped
-}
-
-// Faithful dirt occlusion at p (0 open .. 1 enclosed), or 0 when the level uses no dirt.
-float faithfulOcclusion(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng) {
-  const DirtSettings& dirt = rs.world.dirtSettings;
-  if (!dirt.enabled) return 0.0f;
-  const glm::vec3 origin = p + n * faithful::kDirtSampleLift;
-  const float cone = glm::radians(dirt.angle);
-  float sum = 0.0f;
-  for (int i = 0; i < faithful::kDirtRays; ++i) {
-    glm::vec3 v;
-    if (dirt.mode == 1) {
-      const float u0 = rng.next(), u1 = rng.next(); // in this order, as the GL tracer draws them
-      v = faithful::dirtRandomVector(u0, u1, cone);
-    } else {
-      v = faithful::dirtPatternVector(i, cone);
-    }
-    sum += dirtRayDistance(rs, origin, faithful::dirtRayDirection(n, v), dirt.depth);
-  }
-  return faithful::dirtOcclusion(sum, faithful::kDirtRays, dirt.depth);
-}
-
-// A faithful receiver: a surface point, its face's normal, and whether light from behind counts.
-struct Receiver {
-  glm::vec3 p;
-  glm::vec3 n;
-  bool twoSided; // a lit liquid: ericw-tools lights it from above and below (ltface.cc "twosided")
-};
-
-// The normal the receiver turns to light arriving from `toLight`: a two-sided receiver faces
-// every light, so the angle term takes |cos| and the shadow ray leaves from the light's side.
-glm::vec3 facingNormal(const Receiver& r, const glm::vec3& toLight) {
-  return r.twoSided && glm::dot(r.n, toLight) < 0.0f ? -r.n : r.n;
-}
-
-// Faithful mode: one light's share of the light sum at the receiver, dimmed by the dirt
-// `occlusion` there. Local-minlight lights raise `localMin` instead: they are a floor, not a sum.
-void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiver& r, float occlusion, Rng& rng, glm::vec3& sum,
-                      glm::vec3& localMin) {
-  if (light.type == uint32_t(LightType::Point)) {
-    const glm::vec3 pos = jitteredOrigin(light, rng);
-    const glm::vec3 d = pos - r.p;
-    const float dist = glm::length(d);
-    if (dist <= 0.0f) return;
-    const glm::vec3 toLight = d / dist;
-    const glm::vec3 n = facingNormal(r, toLight);
-    const float value =
-        faithful::pointLightValue(light, n, toLight, dist, rs.world.scaledist) * faithful::lightDirtFactor(light, occlusion, dist);
-    if (value == 0.0f) return;
-    const glm::vec3 origin = offsetPoint(r.p, n);
-    const glm::vec3 toLightFromOrigin = pos - origin;
-    const float len = glm::length(toLightFromOrigin);
-    if (occluded(rs, Ray{origin, 0.0f, toLightFromOrigin / len, len}, LightingMode::Faithful)) return;
-    if (light.formula == uint32_t(LightFormula::LocalMin))
-      localMin = glm::max(localMin, value * light.color);
-    else
-      sum += value * light.color;
-  } else if (light.type == uint32_t(LightType::Sun)) {
-    glm::vec3 toSun = -light.direction;
-    if (light.deviance > 0.0f) toSun = sampleCone(toSun, light.deviance, rng.next2());
-    GpuLight jittered = light;
-    jittered.direction = -toSun;
-    const glm::vec3 n = facingNormal(r, toSun);
-    const float value = faithful::sunValue(jittered, n) * faithful::lightDirtFactor(light, occlusion, 0.0f);
-    if (value == 0.0f) return;
-    if (!reachesSky(rs, Ray{offsetPoint(r.p, n), 0.0f, toSun, std::numeric_limits<float>::infinity()}, LightingMode::Faithful,
-                    light.skyMaterial))
-      return;
-    sum += value * light.color;
-  } else if (light.type == uint32_t(LightType::Dome)) {
-    // One direction of the dome per sample, uniform over its hemisphere: the mean over the
-    // dome's directions of value * angle term, for those that reach the sky.
-    const glm::vec3 dir = sampleUniformHemisphere(light.direction, rng.next2());
-    const glm::vec3 n = facingNormal(r, dir);
-    const float cosIncidence = glm::dot(dir, n);
-    if (cosIncidence <= 0.0f) return;
-    if (!reachesSky(rs, Ray{offsetPoint(r.p, n), 0.0f, dir, std::numeric_limits<float>::infinity()}, LightingMode::Faithful)) return;
-    sum +=
-        light.value * faithful::angleTerm(cosIncidence, light.anglescale) * faithful::lightDirtFactor(light, occlusion, 0.0f) * light.color;
-  }
-}
-
-// A bounce light's unshadowed share at the receiver (its 0.01 gate applied; dirt comes after
-// the draw, the same factor for every bounce light), and the side of the receiver it lights.
-// weight, its brightest channel, is what the draw goes by: 0 where it adds nothing.
-struct BounceShare {
-  glm::vec3 rgb{0.0f};
-  float weight = 0.0f;
-  float dist = 0.0f;
-  glm::vec3 n{0.0f};
-};
-
-// Whether the receiver clearly gets nothing of a bounce light `d` away (d from the receiver to
-// it): it lies behind the light's face, or the light behind a one-sided receiver, at an angle
-// whose cosine is above 1e-4, far beyond float rounding, so pointLightValue would say 0 too. No
-// square root: the draw's sweep tests a cell's hundreds of bounce lights at every hit.
-bool clearlyUnlit(const GpuLight& light, const Receiver& r, const glm::vec3& d) {
-  constexpr float kCos2 = 1e-8f; // (1e-4)^2
-  const float d2 = glm::dot(d, d);
-  const float away = glm::dot(light.direction, d); // > 0: the receiver is behind the light's face
-  if (away > 0.0f && away * away > kCos2 * d2) return true;
-  const float facing = glm::dot(r.n, d);
-  return !r.twoSided && facing < 0.0f && facing * facing > kCos2 * d2;
-}
-
-BounceShare bounceShare(const RenderScene& rs, const GpuLight& light, const Receiver& r) {
-  BounceShare s;
-  const glm::vec3 d = light.origin - r.p;
-  if (clearlyUnlit(light, r, d)) return s;
-  s.dist = glm::length(d);
-  if (!(s.dist > 0.0f)) return s;
-  const glm::vec3 toLight = d / s.dist;
-  s.n = facingNormal(r, toLight);
-  const float value = faithful::pointLightValue(light, s.n, toLight, s.dist, rs.world.scaledist);
-  if (!(value > 0.0f)) return s;
-  s.rgb = value * light.color;
-  s.weight = std::max(faithful::maxChannel(s.rgb), 0.0f);
-  return s;
-}
-
-// An unbiased estimate of the sum of `count` bounce lights (point lights without jitter;
-// lightAt(i) is the i-th) at the receiver, with at most `shadowRays` shadow rays: the lights'
-// shares laid end to end on [0, total), one target drawn in each of `shadowRays` equal strata of
-// it (stratified: where every light is visible and of one hue the estimate is exact), and each
-// light a target falls on counts share x total / (weight x shadowRays) per target where it is
-// visible. A light that several targets fall on is traced once. Two sweeps over the lights (the
-// total, then the picks in order) and no list, so the GL tracer does the same in fixed space
-// (pathtrace.comp faithfulBounceRay), drawing the same numbers: one per stratum, in order, after
-// those of the lights before. Here the second sweep reads the weights the first one kept (the
-// sweep over a cell's hundreds of lights is most of the cost). `shadowRaysCast`, when given,
-// counts the rays (tests).
-template <class LightAt> glm::vec3 sampledBounceSum(const RenderScene& rs, size_t count, const LightAt& lightAt, const Receiver& r,
-                                                    float occlusion, Rng& rng, size_t shadowRays, int* shadowRaysCast = nullptr) {
-  std::vector<float> weights(count);
-  float total = 0.0f;
-  size_t last = count; // the last light with a share: rounding may leave targets past the others
-  for (size_t i = 0; i < count; ++i) {
-    weights[i] = bounceShare(rs, lightAt(i), r).weight;
-    if (weights[i] > 0.0f) total += weights[i], last = i;
-  }
-  if (last == count || shadowRays == 0) return glm::vec3(0.0f);
-  const float strata = float(shadowRays);
-  glm::vec3 sum(0.0f);
-  float cumulative = 0.0f;
-  size_t drawn = 0;
-  float target = rng.next() / strata * total;
-  for (size_t i = 0; i <= last && drawn < shadowRays; ++i) {
-    if (!(weights[i] > 0.0f)) continue;
-    cumulative += weights[i];
-    int picks = 0;
-    while (drawn < shadowRays && (target < cumulative || i == last)) {
-      ++picks, ++drawn;
-      if (drawn < shadowRays) target = (float(drawn) + rng.next()) / strata * total;
-    }
-    if (picks == 0) continue;
-    if (shadowRaysCast) ++*shadowRaysCast;
-    const GpuLight& light = lightAt(i);
-    const BounceShare s = bounceShare(rs, light, r); // its weight is weights[i]: the same computation
-    const glm::vec3 origin = offsetPoint(r.p, s.n);
-    const glm::vec3 toLight = light.origin - origin;
-    const float len = glm::length(toLight);
-    if (occluded(rs, Ray{origin, 0.0f, toLight / len, len}, LightingMode::Faithful)) continue;
-    sum += s.rgb * faithful::lightDirtFactor(light, occlusion, s.dist) * (float(picks) * total / (s.weight * strata));
-  }
-  return sum;
-}
-
-// worldspawn minlight, a radiosity template's face minlight and delay-4 lights are floors under
-// the sum, not terms of it; with `_minlight_dirt`, dirt dims both minlights (LightFace_Min).
-glm::vec3 applyFloors(const RenderScene& rs, const glm::vec3& sum, const glm::vec3& localMin, const glm::vec3& faceMinlight,
-                      float occlusion) {
-  const DirtSettings& dirt = rs.world.dirtSettings;
-  const float minlightDirt = dirt.minlight ? 1.0f - faithful::dirtAmount(occlusion, dirt.gain, dirt.scale) : 1.0f;
-  return glm::max(glm::max(sum, localMin), glm::max(rs.world.minlight, faceMinlight) * minlightDirt);
-}
-
-// Which lights a faithful sum takes: all of them with the floors (what a surface shows), or what
-// ericw-tools' bounce re-emits (ltface.cc: the lights that add to a lightmap's bounce_color in the
-// direct pass): positive lights, no local minlight, style 0 unless `_bouncestyled`, no floors.
-enum class FaithfulLights { Shown, BounceSources };
-
-bool feedsBounce(const GpuLight& light, const WorldLighting& world) {
-  if (light.value <= 0.0f || light.formula == uint32_t(LightFormula::Bounce)) return false;
-  if (light.type == uint32_t(LightType::Point) && light.formula == uint32_t(LightFormula::LocalMin)) return false;
-  return world.bouncestyled || lightStyle(light) == 0;
-}
-
-// Where the light sum comes from: every light of the level (the reference), the grid's lists
-// for p, or those lists with the cell's bounce lights drawn (sampledBounceSum) when there are
-// more than kBounceShadowRays of them.
-enum class LightSource { All, Grid, GridSampledBounce };
-
-// The faithful light sum at p: the dirt occlusion first, then the lights, then the floors.
-glm::vec3 faithfulSum(const RenderScene& rs, LightSource source, const Receiver& r, const glm::vec3& faceMinlight, Rng& rng,
-                      FaithfulLights which = FaithfulLights::Shown, int* bounceShadowRays = nullptr,
-                      std::optional<float> knownOcclusion = std::nullopt) {
-  const float occlusion = knownOcclusion ? *knownOcclusion : faithfulOcclusion(rs, r.p, r.n, rng);
-  glm::vec3 sum(0.0f), localMin(0.0f);
-  auto add = [&](const GpuLight& light) {
-    if (which == FaithfulLights::BounceSources && !feedsBounce(light, rs.world)) return;
-    if (bounceShadowRays && light.formula == uint32_t(LightFormula::Bounce)) ++*bounceShadowRays; // at most
-    addFaithfulLight(rs, light, r, occlusion, rng, sum, localMin);
-  };
-  if (source == LightSource::All) {
-    for (const GpuLight& light : rs.lights) add(light);
-  } else {
-    const LightGrid& grid = rs.lightGrid;
-    for (uint32_t i : grid.fixedLights()) add(rs.lights[i]);
-    for (uint32_t i : grid.globalLights()) add(rs.lights[i]);
-    const std::span<const uint32_t> cell = grid.cellLights(r.p);
-    const size_t bounceCount = trailingBounceLights(rs.lights, cell); // they come last in a cell
-    const bool drawBounce = source == LightSource::GridSampledBounce && bounceCount > kBounceShadowRays;
-    for (uint32_t i : drawBounce ? cell.first(cell.size() - bounceCount) : cell) add(rs.lights[i]);
-    if (drawBounce) {
-      const std::span<const uint32_t> bounce = cell.last(bounceCount);
-      sum += sampledBounceSum(
-          rs, bounce.size(), [&](size_t k) -> const GpuLight& { return rs.lights[bounce[k]]; }, r, occlusion, rng, kBounceShadowRays,
-          bounceShadowRays);
-    }
-  }
-  if (which == FaithfulLights::BounceSources) return sum;
-  return applyFloors(rs, sum, localMin, faceMinlight, occlusion);
-}
-
-} // namespace
-
-float faithfulDirtOcclusion(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng) {
-  return faithfulOcclusion(rs, p, n, rng);
-}
-
-glm::vec3 faithfulLightAt(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided) {
-  return faithfulSum(rs, LightSource::All, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng);
-}
-
-glm::vec3 faithfulLightFromGrid(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided) {
-  return faithfulSum(rs, LightSource::Grid, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng);
-}
-
-glm::vec3 faithfulLightSampled(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided,
-                               int* bounceShadowRays) {
-  return faithfulSum(rs, LightSource::GridSampledBounce, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng, FaithfulLights::Shown,
-                     bounceShadowRays);
-}
-
-glm::vec3 faithfulBounceSourceLight(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided,
-                                    std::optional<float> occlusion) {
-  return faithfulSum(rs, LightSource::Grid, Receiver{p, n, twoSided}, glm::vec3(0.0f), rng, FaithfulLights::BounceSources, nullptr,
-                     occlusion);
-}
-
-glm::vec3 faithfulLightFrom(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p, const glm::vec3& n, Rng& rng,
-                            bool twoSided) {
-  const Receiver r{p, n, twoSided};
-  const float occlusion = faithfulOcclusion(rs, p, n, rng);
-  glm::vec3 sum(0.0f), localMin(0.0f);
-  for (const GpuLight& light : lights) addFaithfulLight(rs, light, r, occlusion, rng, sum, localMin);
-  return sum;
-}
-
-glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights, const glm::vec3& p, const glm::vec3& n,
-                                   Rng& rng, bool twoSided, size_t maxShadowRays) {
-  if (lights.size() <= maxShadowRays) return faithfulLightFrom(rs, lights, p, n, rng, twoSided);
-  const Receiver r{p, n, twoSided};
-  const float occlusion = faithfulOcclusion(rs, p, n, rng);
-  return sampledBounceSum(
-      rs, lights.size(), [&](size_t i) -> const GpuLight& { return lights[i]; }, r, occlusion, rng, maxShadowRays);
-}
-
-glm::vec3 faithfulLightFromSampled(const RenderScene& rs, std::span<const GpuLight> lights, std::span<const uint32_t> candidates,
-                                   const glm::vec3& p, const glm::vec3& n, Rng& rng, bool twoSided, size_t maxShadowRays,
-                                   std::optional<float> knownOcclusion) {
-  const Receiver r{p, n, twoSided};
-  const float occlusion = knownOcclusion ? *knownOcclusion : faithfulOcclusion(rs, p, n, rng);
-  // Whether to draw goes by every light, as above: a few candidates still take the draw.
-  if (lights.size() <= maxShadowRays) {
-    glm::vec3 sum(0.0f), localMin(0.0f);
-    for (const GpuLight& light : lights) addFaithfulLight(rs, light, r, occlusion, rng, sum, localMin);
-    return sum;
-  }
-  return sampledBounceSum(
-      rs, candidates.size(), [&](size_t i) -> const GpuLight& { return lights[candidates[i]]; }, r, occlusion, rng, maxShadowRays);
-}
-
-namespace {
-
-const std::vector<glm::vec3>& skyDome() {
-  static const std::vector<glm::vec3> dome = faithful::skyDomeDirections(); // a constant table
-  return dome;
-}
-
-// A light the luxel passes sample: one that draws a direction or a position per sample.
-bool softLight(const GpuLight& light) {
-  return (light.type == uint32_t(LightType::Point) || light.type == uint32_t(LightType::Sun)) && light.deviance > 0.0f;
-}
-
-// The lights a luxel at p takes in `pass`, in the grid's order. After pass 0 only soft lights
-// and domes take part: those of the fixed list (suns, domes), unless point lights jitter.
-template <class F> void forLuxelLights(const RenderScene& rs, const glm::vec3& p, int pass, const F& f) {
-  const LightGrid& grid = rs.lightGrid;
-  for (uint32_t i : grid.fixedLights()) f(rs.lights[i]);
-  if (pass > 0 && !rs.lightKinds.jitter) return;
-  for (uint32_t i : grid.globalLights()) f(rs.lights[i]);
-  for (uint32_t i : grid.cellLights(p)) f(rs.lights[i]);
-}
-
-// One of the compiler's dome suns, not a random direction: the same luxels, not noise.
-glm::vec3 domeSunLight(const RenderScene& rs, const GpuLight& light, const Receiver& r, glm::vec3 toSky, float occlusion) {
-  if (light.direction.z < 0.0f) toSky.z = -toSky.z;
-  const glm::vec3 facing = facingNormal(r, toSky);
-  const float cosIncidence = glm::dot(toSky, facing);
-  if (cosIncidence <= 0.0f) return glm::vec3(0.0f);
-  if (!reachesSky(rs, Ray{offsetPoint(r.p, facing), 0.0f, toSky, std::numeric_limits<float>::infinity()}, LightingMode::Faithful,
-                  light.skyMaterial))
-    return glm::vec3(0.0f);
-  return light.value * faithful::angleTerm(cosIncidence, light.anglescale) * faithful::lightDirtFactor(light, occlusion, 0.0f) *
-      light.color;
-}
-
-} // namespace
-
-int luxelPasses(const RenderScene& rs, int softSamples) {
-  int passes = 1;
-  for (const GpuLight& light : rs.lights) {
-    if (light.type == uint32_t(LightType::Dome)) passes = std::max(passes, int(skyDome().size()));
-    if (softLight(light)) passes = std::max(passes, softSamples);
-  }
-  return passes;
-}
-
-void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, bool twoSided, int pass, int softSamples, Rng& rng,
-                       LuxelSums& sums) {
-  const Receiver r{p, n, twoSided};
-  // Dirt rays start at the compiler's sample point, which p already is.
-  if (pass == 0) sums.occlusion = faithfulOcclusion(rs, p - n * faithful::kDirtSampleLift, n, rng);
-  forLuxelLights(rs, p, pass, [&](const GpuLight& light) {
-    if (light.type == uint32_t(LightType::Dome)) {
-      if (pass < int(skyDome().size())) sums.dome += domeSunLight(rs, light, r, skyDome()[size_t(pass)], sums.occlusion);
-    } else if (softLight(light)) {
-      if (pass < softSamples) addFaithfulLight(rs, light, r, sums.occlusion, rng, sums.soft, sums.localMin);
-    } else if (pass == 0) {
-      addFaithfulLight(rs, light, r, sums.occlusion, rng, sums.fixed, sums.localMin);
-    }
-  });
-}
-
-glm::vec3 faithfulLuxelLight(const RenderScene& rs, const LuxelSums& sums, int passes, int softSamples, const glm::vec3& faceMinlight) {
-  const int domePasses = std::min(passes, int(skyDome().size()));
-  const int softPasses = std::min(passes, softSamples);
-  glm::vec3 sum = sums.fixed;
-  if (domePasses > 0) sum += sums.dome / float(domePasses);
-  if (softPasses > 0) sum += sums.soft / float(softPasses);
-  return applyFloors(rs, sum, sums.localMin, faceMinlight, sums.occlusion);
-}
-
-glm::vec3 faithfulLuxelFloor(const RenderScene& rs, const glm::vec3& faceMinlight) {
-  return applyFloors(rs, glm::vec3(0.0f), glm::vec3(0.0f), faceMinlight, 0.0f);
-}
-
-glm::vec3 faithfulFaceMinlight(const RenderScene& rs, uint32_t face) {
-  const uint32_t m = gpuFace(rs, face).material;
-  return m < rs.surfaceLights.size() ? faithful::surfaceFaceMinlight(rs.surfaceLights[m]) : glm::vec3(0.0f);
-}
-
-namespace {
-
 // The light sum at a faithful hit: from the grid's lists when rendering, or by the exhaustive
 // loop (the reference the grid must reproduce). Lit liquids take light from both sides. A level
 // with `_bounce` has its bounce lights among rs.lights (bounce.h), summed like the others.
-glm::vec3 faithfulLight(const RenderScene& rs, const IntegratorSettings& settings, const SurfaceHit& hit, const glm::vec3& faceMinlight,
-                        Rng& rng) {
-  const bool twoSided = rs.faceFlags[hit.face] & kFaceLiquid;
-  return faithfulSum(rs, settings.lightSelection ? LightSource::GridSampledBounce : LightSource::All,
-                     Receiver{hit.position, hit.normal, twoSided}, faceMinlight, rng);
+glm::vec3 faithfulLightAtHit(const RenderScene& rs, const IntegratorSettings& settings, const SurfaceHit& hit, Rng& rng) {
+  FaithfulQuery q;
+  q.p = hit.position;
+  q.n = hit.normal;
+  q.twoSided = rs.faceFlags[hit.face] & kFaceLiquid;
+  q.lights = settings.lightSelection ? LightSet::GridSampledBounce : LightSet::All;
+  q.faceMinlight = faithfulFaceMinlight(rs, hit.face);
+  return faithfulLight(rs, q, rng);
 }
 
 glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, Rng& rng) {
@@ -618,7 +134,7 @@ glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& sett
     const glm::vec3 shown = texture * *baked * rs.lightmaps.displayScale;
     return srgbToLinear(glm::max(shown, emissiveAt(rs, hit.face, hit.position)));
   } else {
-    const glm::vec3 light = faithfulLight(rs, settings, hit, faithfulFaceMinlight(rs, hit.face), rng);
+    const glm::vec3 light = faithfulLightAtHit(rs, settings, hit, rng);
     // The compiler scales a coloured sum so its brightest channel fits in 255, keeping the hue.
     stored = light * rs.world.range;
     const float peak = std::max({stored.x, stored.y, stored.z});
@@ -824,7 +340,7 @@ glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::
 // a normal map pretends it is.
 glm::vec3 directLight(const RenderScene& rs, const IntegratorSettings& settings, const Bsdf& bsdf, const glm::vec3& p, const glm::vec3& ng,
                       const glm::vec3& wo, Rng& rng) {
-  const glm::vec3 origin = offsetPoint(p, ng);
+  const glm::vec3 origin = offsetRayOrigin(p, ng);
   glm::vec3 l =
       settings.lightSelection ? allLightsSelected(rs, bsdf, origin, ng, wo, rng) : allLightsExhaustive(rs, bsdf, origin, ng, wo, rng);
 
@@ -894,7 +410,7 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
       if (rng.next() >= survive) break;
       throughput /= survive;
     }
-    ray = Ray{offsetPoint(hit.position, n), 0.0f, wi, std::numeric_limits<float>::infinity()};
+    ray = Ray{offsetRayOrigin(hit.position, n), 0.0f, wi, std::numeric_limits<float>::infinity()};
   }
   return l;
 }

@@ -1,6 +1,6 @@
 #include "renderer/gl/gl_bake.h"
 
-#include "renderer/cpu/faithful.h"
+#include "lighting/faithful.h"
 #include "renderer/gl/gl_error.h"
 #include "renderer/gl/gl_program.h"
 #include "renderer/gl/gl_structs.h"

@@ -1,10 +1,10 @@
 // Faithful mode's light compiler on the GPU (shaders/bake.comp): the CPU reference's bake
-// (renderer/cpu/lightmap_bake.h bakeLightmaps), pass by pass, into the tracer's lightmap buffer,
+// (lighting/lightmap_bake.h bakeLightmaps), pass by pass, into the tracer's lightmap buffer,
 // so the path tracer shows the luxels as they sharpen. The CPU finds the sample points
 // (LuxelBakeJob); the GPU lights them.
 #pragma once
 
-#include "renderer/cpu/lightmap_bake.h"
+#include "lighting/lightmap_bake.h"
 #include "renderer/gl/gl_tracer.h"
 
 #include <future>

@@ -1,9 +1,9 @@
 #include "renderer/gl/gl_bench.h"
 
-#include "renderer/cpu/lightmap_bake.h"
+#include "renderer/view_lightmaps.h"
 
-#include "renderer/cpu/camera.h"
-#include "renderer/cpu/render_scene.h"
+#include "renderer/camera.h"
+#include "lighting/render_scene.h"
 #include "renderer/gl/gl_bake.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_level.h"

@@ -30,7 +30,7 @@ public:
   // per platform tried, when none works.
   static std::unique_ptr<GlContext> createHeadless();
   // Wraps a GL 4.5 core context that something else made current (a GLFW window, see
-  // gl_window.h) and owns; `platform` names it in info().
+  // viewer/gl_window.h) and owns; `platform` names it in info().
   static std::unique_ptr<GlContext> adoptCurrent(std::string platform);
   ~GlContext();
   GlContext(const GlContext&) = delete;

@@ -4,7 +4,7 @@
 // upload.
 #pragma once
 
-#include "renderer/cpu/render_scene.h"
+#include "lighting/render_scene.h"
 #include "renderer/gl/gl_tracer.h"
 #include "scene/scene.h"
 

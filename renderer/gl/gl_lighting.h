@@ -2,7 +2,7 @@
 // from one classification of faces and one light list, so they cannot drift apart.
 #pragma once
 
-#include "renderer/cpu/render_scene.h"
+#include "lighting/render_scene.h"
 #include "renderer/gl/gl_tracer.h"
 
 namespace bt::gl {

@@ -4,7 +4,7 @@
 // for screenshots and tests.
 #pragma once
 
-#include "renderer/cpu/color.h"
+#include "renderer/tonemap.h"
 #include "renderer/gl/gl_program.h"
 #include "renderer/gl/gl_tracer.h"
 
@@ -59,7 +59,7 @@ private:
   int samples_ = 0;
 };
 
-// shaders/tonemap.comp: exposure, renderer/cpu/color.h's tonemap operator and sRGB encoding on
+// shaders/tonemap.comp: exposure, scene/color.h's tonemap operator and sRGB encoding on
 // the GPU, so the viewer shows the bytes a PNG of the same image would hold.
 class TonemapPass {
 public:

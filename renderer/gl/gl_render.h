@@ -2,9 +2,10 @@
 // (renderer/cpu/cpu_renderer.h), rendered by the GL compute tracer.
 #pragma once
 
-#include "renderer/cpu/cpu_renderer.h"
-#include "renderer/cpu/lightmap_bake.h"
-#include "renderer/cpu/render_scene.h"
+#include "renderer/camera.h"
+#include "renderer/render.h"
+#include "lighting/lightmap_bake.h"
+#include "lighting/render_scene.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_textures.h"
 #include "renderer/gl/gl_tracer.h"

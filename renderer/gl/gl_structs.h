@@ -37,7 +37,7 @@ enum Binding : uint32_t {
   // takes their points: drivers need offer only 16 storage blocks to a compute shader.
   kBindingBakeSamples = 11, // GpuLuxelSample per sample point
   kBindingBakeSums = 12,    // 4 vec4 per sample point (renderer/cpu LuxelSums)
-  kBindingBakeSkyDome = 13, // vec4 per dome direction (renderer/cpu/faithful.h skyDomeDirections)
+  kBindingBakeSkyDome = 13, // vec4 per dome direction (lighting/faithful.h skyDomeDirections)
 };
 
 // The brushes, slanted-side lists and faces are bvh/trace_scene.h's TraceScene arrays

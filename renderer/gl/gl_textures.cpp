@@ -17,7 +17,7 @@ namespace bt::gl {
 namespace {
 
 // Plain GL_RGBA8 for every map, sRGB-encoded ones included: the CPU reference filters the
-// stored 8-bit values and decodes afterwards (renderer/cpu/color.h bilinearRepeat, and Quake's
+// stored 8-bit values and decodes afterwards (scene/color.h bilinearRepeat, and Quake's
 // engine multiplies texture by light in that encoded space), so the shaders decode after
 // sampling too; the arrays path keeps colour and normal maps of one size in one array.
 GLenum internalFormat(bool /*srgb*/) {

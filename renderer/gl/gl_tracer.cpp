@@ -1,6 +1,6 @@
 #include "renderer/gl/gl_tracer.h"
 
-#include "renderer/cpu/integrator.h"
+#include "lighting/faithful_light.h"
 #include "renderer/gl/gl_error.h"
 #include "renderer/gl/gl_program.h"
 #include "renderer/gl/gl_scene.h"

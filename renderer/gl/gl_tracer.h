@@ -2,8 +2,8 @@
 #pragma once
 
 #include "bvh/trace_scene.h"
-#include "renderer/cpu/light_grid.h"
-#include "renderer/cpu/lights.h"
+#include "lighting/light_grid.h"
+#include "lighting/lights.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_program.h"
 #include "renderer/gl/gl_program_cache.h"
@@ -69,7 +69,7 @@ struct GlLighting {
   bool litwater = false;
   DirtSettings dirt;               // worldspawn dirt; enabled builds the faithful program with BT_FAITHFUL_DIRT
   LightKinds lightKinds;           // RenderScene::lightKinds: which faithful program the level was started with
-  std::vector<uint32_t> lightmaps; // RenderScene::lightmaps packed (renderer/cpu/lightmaps.h packLightmaps); empty = none
+  std::vector<uint32_t> lightmaps; // RenderScene::lightmaps packed (lighting/lightmaps.h packLightmaps); empty = none
 };
 
 // The faithful program's parts that only some levels need. Each is compiled only into the

@@ -4,8 +4,8 @@
 #include "importers/bsp/bsp_file.h"
 #include "importers/bsp/bsp_import.h"
 #include "importers/bsp/pk3.h"
-#include "renderer/cpu/compiled_lightmaps.h"
-#include "renderer/cpu/render_scene.h"
+#include "lighting/compiled_lightmaps.h"
+#include "lighting/render_scene.h"
 #include "bvh/trace_scene.h"
 
 #include <glm/geometric.hpp>

@@ -4,7 +4,7 @@
 //
 // Which pixels are compared. The compiler removes faces: sides buried in other brushes or facing
 // the void, and the hidden classes (skip, hint, clip, ...). The .map render skips the hidden
-// classes itself (renderer/cpu/README.md), so both renders already pass through them. Sides that
+// classes itself (lighting/README.md), so both renders already pass through them. Sides that
 // qbsp removed for lying outside the level or against another brush come back from the .bsp
 // with a generated hidden name (importers/bsp/brushes.h: "skip", "*waterskip", ..., and
 // "e1u1/skip" for Quake 2); where the .map shows such a side, the .bsp cannot. So a pixel is
@@ -32,10 +32,10 @@
 #include "importers/bsp/bsp_import.h"
 #include "importers/import.h"
 #include "importers/textures/textures.h"
-#include "renderer/cpu/color.h"
+#include "scene/color.h"
 #include "renderer/cpu/cpu_renderer.h"
-#include "renderer/cpu/lights.h"
-#include "renderer/cpu/render_scene.h"
+#include "lighting/lights.h"
+#include "lighting/render_scene.h"
 #include "tests/test_data.h"
 
 #include <glm/geometric.hpp>

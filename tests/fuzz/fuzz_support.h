@@ -1,7 +1,7 @@
 // What every harness shares: the bound on a scene worth preparing, and the preparation itself.
 #pragma once
 
-#include "renderer/cpu/render_scene.h"
+#include "lighting/render_scene.h"
 #include "scene/scene.h"
 
 #include <cstddef>
@@ -15,7 +15,7 @@ constexpr size_t kMaxPreparedFaces = 4096;
 
 // The preparation every level goes through before a render: light entities -> lights, surface
 // lights, emitters, the brush BVH (TraceScene::build). Faithful mode's bounce lights are left
-// out: they trace the level and are bounded by their own budget (renderer/cpu/bounce.h).
+// out: they trace the level and are bounded by their own budget (lighting/bounce.h).
 inline void prepareForRender(const Scene& scene) {
   if (scene.faces.size() > kMaxPreparedFaces) return;
   RenderSceneOptions options;

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "renderer/cpu/cpu_renderer.h"
-#include "renderer/cpu/render_scene.h"
+#include "lighting/render_scene.h"
 #include "renderer/gl/gl_render.h"
 #include "renderer/gl/gl_tracer.h"
 #include "tests/gl/test_scenes.h"

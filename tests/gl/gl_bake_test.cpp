@@ -1,8 +1,8 @@
 // Faithful mode's light compiler on the GPU (renderer/gl/gl_bake.h) against the CPU's
-// (renderer/cpu/lightmap_bake.h): the same sample points, passes and random streams, so the
+// (lighting/lightmap_bake.h): the same sample points, passes and random streams, so the
 // same stored luxels up to float rounding.
-#include "renderer/cpu/lightmap_bake.h"
-#include "renderer/cpu/render_scene.h"
+#include "lighting/lightmap_bake.h"
+#include "lighting/render_scene.h"
 #include "renderer/gl/gl_bake.h"
 #include "renderer/gl/gl_lighting.h"
 #include "tests/gl/test_scenes.h"

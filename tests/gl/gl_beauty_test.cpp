@@ -3,6 +3,7 @@
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_tracer.h"
 #include "tests/gl/test_scenes.h"
+#include "scene/color.h"
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -15,7 +16,7 @@ namespace {
 constexpr int kWidth = 64;
 constexpr int kHeight = 48;
 
-// renderer/cpu/sampling.h's streams: the test recomputes the tracer's pixel jitter.
+// lighting/sampling.h's streams: the test recomputes the tracer's pixel jitter.
 uint32_t pcgHash(uint32_t v) {
   const uint32_t state = v * 747796405u + 2891336453u;
   const uint32_t word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;

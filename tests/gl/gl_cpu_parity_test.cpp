@@ -8,8 +8,8 @@
 //   within 1 % (+ 1e-3 absolute) of the CPU's value.
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/cpu/integrator.h"
-#include "renderer/cpu/light_grid.h"
-#include "renderer/cpu/render_scene.h"
+#include "lighting/light_grid.h"
+#include "lighting/render_scene.h"
 #include "renderer/gl/gl_level.h"
 #include "renderer/gl/gl_render.h"
 #include "importers/import.h"
@@ -18,8 +18,9 @@
 #include "tests/render/normal_map_room.h"
 #include "tests/test_data.h"
 
-#include "renderer/cpu/compiled_lightmaps.h"
-#include "renderer/cpu/lightmap_bake.h"
+#include "lighting/compiled_lightmaps.h"
+#include "lighting/lightmap_bake.h"
+#include "renderer/view_lightmaps.h"
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -196,7 +197,7 @@ TEST(GlCpuParity, FaithfulBeautyAgreesWithTheCpuReference) {
 }
 
 // Faithful mode as the game shows it: both tracers read the same baked luxels
-// (renderer/cpu/lightmap_bake.h) and filter them with the same arithmetic, so every pixel agrees
+// (lighting/lightmap_bake.h) and filter them with the same arithmetic, so every pixel agrees
 // up to float rounding (a shader may fuse the filters' multiply-adds: 0.2 % seen on llvmpipe, 5e-5 in the H100's darkest pixels), not
 // only on average; a face left unbaked is lit at its point by both.
 TEST(GlCpuParity, BakedLuxelsShowTheSameInBothTracers) {
@@ -218,7 +219,7 @@ TEST(GlCpuParity, BakedLuxelsShowTheSameInBothTracers) {
 }
 
 // --lighting compiled: both tracers draw a .bsp's own lightmaps from the same fragments
-// (renderer/cpu/compiled_lightmaps.h), through each engine's display scale: a Quake level with a
+// (lighting/compiled_lightmaps.h), through each engine's display scale: a Quake level with a
 // .lit (overbright) and a Quake 2 one (no overbright), every pixel up to float rounding.
 TEST(GlCpuParity, CompiledLightmapsShowTheSameInBothTracers) {
   BT_REQUIRE_SHARED(shared);
@@ -343,7 +344,7 @@ TEST(GlCpuParity, FaithfulDirtAgreesWithTheCpuReference) {
 
 // Faithful _bounce on both tracers: ericw-tools' deprecated/nobounce.map (worldspawn _bounce 1),
 // whose rooms are lit by a spotlight on a pillar and, everywhere else, by the bounce lights the
-// CPU made (renderer/cpu/bounce.h) and the GL tracer sums like its other lights.
+// CPU made (lighting/bounce.h) and the GL tracer sums like its other lights.
 TEST(GlCpuParity, FaithfulBounceAgreesWithTheCpuReference) {
   BT_REQUIRE_SHARED(shared);
   Level level;

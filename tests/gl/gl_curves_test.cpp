@@ -3,7 +3,7 @@
 // and physical beauty in the megakernel and wavefront forms.
 #include "importers/import.h"
 #include "renderer/cpu/cpu_renderer.h"
-#include "renderer/cpu/render_scene.h"
+#include "lighting/render_scene.h"
 #include "renderer/gl/gl_lighting.h"
 #include "renderer/gl/gl_render.h"
 #include "renderer/gl/gl_tracer.h"

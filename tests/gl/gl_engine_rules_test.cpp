@@ -3,7 +3,7 @@
 // for shadow rays, in both lighting modes, against the CPU reference.
 #include "importers/import.h"
 #include "renderer/cpu/cpu_renderer.h"
-#include "renderer/cpu/render_scene.h"
+#include "lighting/render_scene.h"
 #include "renderer/gl/gl_render.h"
 #include "renderer/gl/gl_tracer.h"
 #include "tests/gl/cpu_and_gl.h"

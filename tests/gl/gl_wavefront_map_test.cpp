@@ -2,7 +2,7 @@
 // the hand-built room): a LibreQuake map with its textures, and maps/start.map, whose sun, sky,
 // spotlights and emitting lamp exercise every kind of ray in both lighting modes.
 #include "importers/import.h"
-#include "renderer/cpu/render_scene.h"
+#include "lighting/render_scene.h"
 #include "renderer/gl/gl_lighting.h"
 #include "renderer/gl/gl_render.h"
 #include "tests/gl/test_scenes.h"

@@ -4,7 +4,7 @@
 // bit for bit: the driver compiles the traversal and the shading in separate programs, and may
 // contract or reorder their arithmetic differently (measured: bit-exact on llvmpipe).
 #include "renderer/cpu/integrator.h"
-#include "renderer/cpu/light_grid.h"
+#include "lighting/light_grid.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_tracer.h"
 #include "tests/gl/test_scenes.h"

@@ -1,6 +1,7 @@
 #include "tests/gl/test_scenes.h"
 
 #include "scene/winding.h"
+#include "scene/color.h"
 
 #include <stdexcept>
 #include <string>

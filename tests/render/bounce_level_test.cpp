@@ -2,9 +2,9 @@
 // preparation cuts short must leave its bounce lights and light grid bit for bit as they were.
 // Not under the sanitizers: the reference sweep alone takes seconds.
 #include "importers/import.h"
-#include "renderer/cpu/bounce.h"
-#include "renderer/cpu/light_grid.h"
-#include "renderer/cpu/render_scene.h"
+#include "lighting/bounce.h"
+#include "lighting/light_grid.h"
+#include "lighting/render_scene.h"
 #include "tests/test_data.h"
 
 #include <gtest/gtest.h>

@@ -1,11 +1,11 @@
-// Faithful `_bounce` (renderer/cpu/bounce.h): ericw-tools' bounce lights, against values worked
+// Faithful `_bounce` (lighting/bounce.h): ericw-tools' bounce lights, against values worked
 // out by hand from bounce.cc / IndirectLightFace.
-#include "renderer/cpu/bounce.h"
+#include "lighting/bounce.h"
 #include "renderer/cpu/cpu_renderer.h"
-#include "renderer/cpu/faithful.h"
+#include "lighting/faithful.h"
 #include "renderer/cpu/integrator.h"
-#include "renderer/cpu/light_grid.h"
-#include "renderer/cpu/render_scene.h"
+#include "lighting/light_grid.h"
+#include "lighting/render_scene.h"
 #include "tests/render/box_scene.h"
 
 #include <glm/geometric.hpp>
@@ -62,10 +62,13 @@ TEST(FaithfulBounce, OneFaceLightsAReceiverAsWorkedOutByHand) {
 
   const glm::vec3 down(0.0f, 0.0f, -1.0f);
   Rng rng = pixelRng(0, 0, 0, 1);
-  EXPECT_NEAR(faithfulLightFrom(rs, bounced, {64.0f, 64.0f, 317.0f}, down, rng).x, 9.0665f, 1e-3f);
-  EXPECT_NEAR(faithfulLightFrom(rs, bounced, {364.0f, 64.0f, 417.0f}, down, rng).x, 2.0889f, 1e-3f);
+  const GivenLights given{bounced};
+  EXPECT_NEAR(faithfulLight(rs, {.p = {64.0f, 64.0f, 317.0f}, .n = down, .lights = LightSet::Given, .given = &given}, rng).x, 9.0665f,
+              1e-3f);
+  EXPECT_NEAR(faithfulLight(rs, {.p = {364.0f, 64.0f, 417.0f}, .n = down, .lights = LightSet::Given, .given = &given}, rng).x, 2.0889f,
+              1e-3f);
   // Behind the emitting face, or a receiver turned away: nothing.
-  EXPECT_EQ(faithfulLightFrom(rs, bounced, {64.0f, 64.0f, 317.0f}, -down, rng), glm::vec3(0.0f));
+  EXPECT_EQ(faithfulLight(rs, {.p = {64.0f, 64.0f, 317.0f}, .n = -down, .lights = LightSet::Given, .given = &given}, rng), glm::vec3(0.0f));
   // Nearer than 128 units the distance is clamped: 815 987.5 / 128^2 = 49.80.
   EXPECT_NEAR(faithful::pointLightValue(l, down, down, 50.0f), 815987.5f / (128.0f * 128.0f), 1e-2f);
 }
@@ -428,11 +431,13 @@ TEST(FaithfulBounceDraw, FewShadowRaysAndTheExactSumOnAverage) {
     if (inCell <= kBounceShadowRays) continue;
     ++drawnPoints;
     Rng any = pixelRng(0, 0, 0, 1);
-    const glm::dvec3 exact(faithfulLightFromGrid(room.rs, hit.position, hit.normal, any));
+    const glm::dvec3 exact(faithfulLight(room.rs, {.p = hit.position, .n = hit.normal, .lights = LightSet::Grid}, any));
     const MeanAndError m = meanOf(400, [&](int s) {
       Rng rng = pixelRng(uint32_t(s), 7, 0, 3);
       int rays = 0;
-      const glm::vec3 v = faithfulLightSampled(room.rs, hit.position, hit.normal, rng, false, &rays);
+      const glm::vec3 v = faithfulLight(
+          room.rs,
+          {.p = hit.position, .n = hit.normal, .twoSided = false, .lights = LightSet::GridSampledBounce, .bounceShadowRays = &rays}, rng);
       EXPECT_LE(rays, int(kBounceShadowRays)) << "of " << inCell << " bounce lights";
       return v;
     });
@@ -460,8 +465,8 @@ TEST(FaithfulBounceDraw, CellsBehindABounceLightLeaveItOut) {
       << "of " << bounceLights << " bounce lights, per cell on average " << double(listed) / double(cells);
   for (const SurfaceHit& hit : room.shownPoints(48)) {
     Rng a = pixelRng(0, 0, 0, 1), b = pixelRng(0, 0, 0, 1);
-    const glm::vec3 every = faithfulLightAt(room.rs, hit.position, hit.normal, a);
-    const glm::vec3 listedSum = faithfulLightFromGrid(room.rs, hit.position, hit.normal, b);
+    const glm::vec3 every = faithfulLight(room.rs, {.p = hit.position, .n = hit.normal, .lights = LightSet::All}, a);
+    const glm::vec3 listedSum = faithfulLight(room.rs, {.p = hit.position, .n = hit.normal, .lights = LightSet::Grid}, b);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(listedSum[c], every[c], 1e-4f * every[c] + 1e-4f) << "channel " << c;
   }
 }
@@ -476,9 +481,11 @@ TEST(FaithfulBounceDraw, FewBounceLightsKeepTheExactLoop) {
   for (const glm::vec3 p : {glm::vec3(64.0f, 64.0f, 317.0f), glm::vec3(364.0f, 64.0f, 417.0f)}) {
     Rng a = pixelRng(1, 2, 3, 4), b = pixelRng(1, 2, 3, 4);
     int rays = 0;
-    const glm::vec3 exact = faithfulLightFromGrid(rs, p, down, a);
+    const glm::vec3 exact = faithfulLight(rs, {.p = p, .n = down, .lights = LightSet::Grid}, a);
     EXPECT_GT(exact.x, 0.0f);
-    EXPECT_EQ(faithfulLightSampled(rs, p, down, b, false, &rays), exact);
+    EXPECT_EQ(
+        faithfulLight(rs, {.p = p, .n = down, .twoSided = false, .lights = LightSet::GridSampledBounce, .bounceShadowRays = &rays}, b),
+        exact);
     EXPECT_EQ(rays, 1);
   }
 }

@@ -4,7 +4,7 @@
 // the level there) and the albedo AOV is the same within the chords' deviation.
 #include "importers/import.h"
 #include "renderer/cpu/cpu_renderer.h"
-#include "renderer/cpu/render_scene.h"
+#include "lighting/render_scene.h"
 #include "tests/test_data.h"
 
 #include <gtest/gtest.h>

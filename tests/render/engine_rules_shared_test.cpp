@@ -4,7 +4,7 @@
 #include "importers/import.h"
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/cpu/integrator.h"
-#include "renderer/cpu/render_scene.h"
+#include "lighting/render_scene.h"
 #include "tests/test_data.h"
 
 #include <nlohmann/json.hpp>

@@ -6,8 +6,8 @@
 #include "importers/import.h"
 #include "importers/textures/png_indices.h"
 #include "renderer/cpu/cpu_renderer.h"
-#include "renderer/cpu/game_rules.h"
-#include "renderer/cpu/render_scene.h"
+#include "lighting/game_rules.h"
+#include "lighting/render_scene.h"
 #include "tests/render/box_scene.h"
 #include "tests/test_data.h"
 

@@ -1,6 +1,6 @@
 // Analytic scenes: a lit floor per light type and formula, against the value worked out by
 // hand (faithful mode) or the radiometric integral (physical mode), and a furnace.
-#include "renderer/cpu/color.h"
+#include "scene/color.h"
 #include "renderer/cpu/integrator.h"
 #include "tests/render/box_scene.h"
 
@@ -104,7 +104,7 @@ TEST(FaithfulRender, SkyDomeMeanOverTheHemisphere) {
   const int n = 4000;
   for (int i = 0; i < n; ++i) {
     Rng rng = pixelRng(0, 0, uint32_t(i), 7);
-    sum += faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng).x;
+    sum += faithfulLight(rs, {.p = {0, 0, 0}, .n = {0, 0, 1}, .lights = LightSet::All}, rng).x;
   }
   EXPECT_NEAR(sum / n, 75.0, 1.0); // standard error ~0.2
 }
@@ -150,31 +150,33 @@ TEST(FaithfulDirt, LightIsDimmedByOneMinusDirt) {
     test::BoxSceneBuilder b = floorScene();
     const RenderScene rs = dirtSlabScene(b, {});
     Rng rng = pixelRng(0, 0, 0, 0);
-    EXPECT_NEAR(faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng).x, 300.0f * (1.0f - slabOcclusion()), 0.05f);
+    EXPECT_NEAR(faithfulLight(rs, {.p = {0, 0, 0}, .n = {0, 0, 1}, .lights = LightSet::All}, rng).x, 300.0f * (1.0f - slabOcclusion()),
+                0.05f);
   }
   { // The light's own _dirt -1: no dirt.
     test::BoxSceneBuilder b = floorScene();
     const RenderScene rs = dirtSlabScene(b, {{"_dirt", "-1"}});
     Rng rng = pixelRng(0, 0, 0, 0);
-    EXPECT_NEAR(faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng).x, 300.0f, 0.05f);
+    EXPECT_NEAR(faithfulLight(rs, {.p = {0, 0, 0}, .n = {0, 0, 1}, .lights = LightSet::All}, rng).x, 300.0f, 0.05f);
   }
   { // _dirtscale 2 and _dirtgain 0.5: min(1, sqrt(occlusion) x 2) = 1: all dirt.
     test::BoxSceneBuilder b = floorScene();
     const RenderScene rs = dirtSlabScene(b, {{"_dirtscale", "2"}, {"_dirtgain", "0.5"}});
     Rng rng = pixelRng(0, 0, 0, 0);
-    EXPECT_NEAR(faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng).x, 0.0f, 0.05f);
+    EXPECT_NEAR(faithfulLight(rs, {.p = {0, 0, 0}, .n = {0, 0, 1}, .lights = LightSet::All}, rng).x, 0.0f, 0.05f);
   }
   { // The light is 9 units away: between _dirt_off_radius 5 and _dirt_on_radius 13, half the dirt.
     test::BoxSceneBuilder b = floorScene();
     const RenderScene rs = dirtSlabScene(b, {{"_dirt_off_radius", "5"}, {"_dirt_on_radius", "13"}});
     Rng rng = pixelRng(0, 0, 0, 0);
-    EXPECT_NEAR(faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng).x, 300.0f * (1.0f - 0.5f * slabOcclusion()), 0.05f);
+    EXPECT_NEAR(faithfulLight(rs, {.p = {0, 0, 0}, .n = {0, 0, 1}, .lights = LightSet::All}, rng).x,
+                300.0f * (1.0f - 0.5f * slabOcclusion()), 0.05f);
   }
   { // Nearer than _dirt_off_radius: no dirt.
     test::BoxSceneBuilder b = floorScene();
     const RenderScene rs = dirtSlabScene(b, {{"_dirt_off_radius", "10"}, {"_dirt_on_radius", "20"}});
     Rng rng = pixelRng(0, 0, 0, 0);
-    EXPECT_NEAR(faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng).x, 300.0f, 0.05f);
+    EXPECT_NEAR(faithfulLight(rs, {.p = {0, 0, 0}, .n = {0, 0, 1}, .lights = LightSet::All}, rng).x, 300.0f, 0.05f);
   }
 }
 
@@ -183,13 +185,13 @@ TEST(FaithfulDirt, MinlightIsDimmedByDefaultUnderDirt) {
   b.worldKey("light", "40");
   const RenderScene rs = dirtSlabScene(b, {{"light", "0"}});
   Rng rng = pixelRng(0, 0, 0, 0);
-  EXPECT_NEAR(faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng).x, 40.0f * (1.0f - slabOcclusion()), 0.01f);
+  EXPECT_NEAR(faithfulLight(rs, {.p = {0, 0, 0}, .n = {0, 0, 1}, .lights = LightSet::All}, rng).x, 40.0f * (1.0f - slabOcclusion()), 0.01f);
 
   test::BoxSceneBuilder off = floorScene();
   off.worldKey("light", "40");
   off.worldKey("_minlight_dirt", "0");
   const RenderScene rsOff = dirtSlabScene(off, {{"light", "0"}});
-  EXPECT_NEAR(faithfulLightAt(rsOff, {0, 0, 0}, {0, 0, 1}, rng).x, 40.0f, 0.01f);
+  EXPECT_NEAR(faithfulLight(rsOff, {.p = {0, 0, 0}, .n = {0, 0, 1}, .lights = LightSet::All}, rng).x, 40.0f, 0.01f);
 }
 
 TEST(FaithfulDirt, SunlightIsDimmedUnlessSunlightDirtIsOff) {
@@ -208,7 +210,7 @@ TEST(FaithfulDirt, SunlightIsDimmedUnlessSunlightDirtIsOff) {
     const float occlusion = faithfulDirtOcclusion(rs, {1592, 0, 0}, {0, 0, 1}, rng);
     ASSERT_GT(occlusion, 0.2f);
     const float expected = *sunDirt ? 100.0f : 100.0f * (1.0f - occlusion);
-    EXPECT_NEAR(faithfulLightAt(rs, {1592, 0, 0}, {0, 0, 1}, rng).x, expected, 0.05f);
+    EXPECT_NEAR(faithfulLight(rs, {.p = {1592, 0, 0}, .n = {0, 0, 1}, .lights = LightSet::All}, rng).x, expected, 0.05f);
   }
 }
 
@@ -240,7 +242,7 @@ TEST(FaithfulDirt, LevelsWithoutDirtTraceNoOcclusion) {
   EXPECT_FALSE(rs.world.dirtSettings.enabled);
   Rng rng = pixelRng(0, 0, 0, 0);
   EXPECT_EQ(faithfulDirtOcclusion(rs, {0, 0, 0}, {0, 0, 1}, rng), 0.0f);
-  EXPECT_NEAR(faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng).x, 300.0f, 0.05f);
+  EXPECT_NEAR(faithfulLight(rs, {.p = {0, 0, 0}, .n = {0, 0, 1}, .lights = LightSet::All}, rng).x, 300.0f, 0.05f);
 }
 
 TEST(FaithfulRender, LiquidsAreFullbrightUnlessLitwater) {
@@ -275,9 +277,10 @@ TEST(FaithfulRender, LitLiquidsTakeLightFromBelowToo) {
     const bool liquid = texture[0] == '*';
     Rng rng = pixelRng(0, 0, 0, 0);
     // Straight below: |cos| = 1; 32 units aside: |cos| = 1/sqrt(2), half-Lambert.
-    EXPECT_NEAR(faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng, true).x, 50.0f, 1e-3f);
-    EXPECT_NEAR(faithfulLightAt(rs, {32, 0, 0}, {0, 0, 1}, rng, true).x, 50.0f * (0.5f + 0.5f / std::sqrt(2.0f)), 1e-3f);
-    EXPECT_EQ(faithfulLightAt(rs, {0, 0, 0}, {0, 0, 1}, rng, false).x, 0.0f);
+    EXPECT_NEAR(faithfulLight(rs, {.p = {0, 0, 0}, .n = {0, 0, 1}, .twoSided = true, .lights = LightSet::All}, rng).x, 50.0f, 1e-3f);
+    EXPECT_NEAR(faithfulLight(rs, {.p = {32, 0, 0}, .n = {0, 0, 1}, .twoSided = true, .lights = LightSet::All}, rng).x,
+                50.0f * (0.5f + 0.5f / std::sqrt(2.0f)), 1e-3f);
+    EXPECT_EQ(faithfulLight(rs, {.p = {0, 0, 0}, .n = {0, 0, 1}, .twoSided = false, .lights = LightSet::All}, rng).x, 0.0f);
     // The renderer lights liquid faces two-sided, and only those.
     const float display = linearToSrgb(radiance(rs, {LightingMode::Faithful, 0}, downAt(0, 0), rng).x);
     const float texel = 100.0f / 255.0f;

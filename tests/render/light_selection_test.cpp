@@ -1,9 +1,9 @@
-// Light selection (renderer/cpu/light_grid.h and the integrator's selected paths) against the
+// Light selection (lighting/light_grid.h and the integrator's selected paths) against the
 // exhaustive loop over every light: the grid's lists never drop a light that lights a point,
 // faithful mode gives the exhaustive value, physical mode converges to the exhaustive mean.
-#include "renderer/cpu/faithful.h"
+#include "lighting/faithful.h"
 #include "renderer/cpu/integrator.h"
-#include "renderer/cpu/light_grid.h"
+#include "lighting/light_grid.h"
 #include "tests/render/box_scene.h"
 
 #include <gtest/gtest.h>
@@ -217,8 +217,8 @@ TEST(LightSelection, FaithfulGridEqualsExhaustiveForHardLights) {
   int lit = 0;
   for (const SurfacePoint& s : randomSurfacePoints(rs, 400, 2)) {
     Rng a = pixelRng(1, 2, 3, 4), b = a;
-    const glm::vec3 exhaustive = faithfulLightAt(rs, s.p, s.n, a);
-    const glm::vec3 grid = faithfulLightFromGrid(rs, s.p, s.n, b);
+    const glm::vec3 exhaustive = faithfulLight(rs, {.p = s.p, .n = s.n, .lights = LightSet::All}, a);
+    const glm::vec3 grid = faithfulLight(rs, {.p = s.p, .n = s.n, .lights = LightSet::Grid}, b);
     for (int c = 0; c < 3; ++c) ASSERT_NEAR(grid[c], exhaustive[c], 1e-4f * std::max(1.0f, std::abs(exhaustive[c])));
     lit += exhaustive.x > 50.0f;
   }
@@ -258,11 +258,11 @@ TEST(LightSelection, FaithfulGridConvergesToExhaustiveForSoftLights) {
     const int n = 3000;
     const MeanAndError e = sampleMean(n, [&](uint32_t i) {
       Rng r = pixelRng(i, 0, 0, 1);
-      return faithfulLightAt(rs, s.p, s.n, r).y;
+      return faithfulLight(rs, {.p = s.p, .n = s.n, .lights = LightSet::All}, r).y;
     });
     const MeanAndError g = sampleMean(n, [&](uint32_t i) {
       Rng r = pixelRng(i, 0, 0, 2);
-      return faithfulLightFromGrid(rs, s.p, s.n, r).y;
+      return faithfulLight(rs, {.p = s.p, .n = s.n, .lights = LightSet::Grid}, r).y;
     });
     EXPECT_NEAR(g.mean, e.mean, 4.5 * std::hypot(e.error, g.error) + 1e-3 * e.mean) << "at " << s.p.x << " " << s.p.y << " " << s.p.z;
   }

@@ -6,8 +6,8 @@
 #pragma once
 
 #include "importers/bsp/bsp_file.h"
-#include "renderer/cpu/camera.h"
-#include "renderer/cpu/render_scene.h"
+#include "renderer/camera.h"
+#include "lighting/render_scene.h"
 
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>

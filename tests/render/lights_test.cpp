@@ -1,7 +1,7 @@
 // Light entity parsing and the faithful formulas, against values worked out by hand from
 // ericw-tools' definitions.
-#include "renderer/cpu/faithful.h"
-#include "renderer/cpu/lights.h"
+#include "lighting/faithful.h"
+#include "lighting/lights.h"
 #include "tests/render/box_scene.h"
 
 #include <gtest/gtest.h>

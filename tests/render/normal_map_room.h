@@ -11,8 +11,8 @@
 // negative scale (+s points to +y). One point light lights the room.
 #pragma once
 
-#include "renderer/cpu/camera.h"
-#include "renderer/cpu/render_scene.h"
+#include "renderer/camera.h"
+#include "lighting/render_scene.h"
 #include "scene/scene.h"
 
 #include <glm/vec3.hpp>

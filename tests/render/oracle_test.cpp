@@ -9,7 +9,7 @@
 // stored byte is (light sum x _range) clamped to 255, the brightest of r, g, b for coloured light.
 #include "importers/bsp/bsp_file.h"
 #include "importers/import.h"
-#include "renderer/cpu/faithful.h"
+#include "lighting/faithful.h"
 #include "renderer/cpu/integrator.h"
 #include "scene/parallel_for.h"
 #include "tests/render/oracle_levels.h"
@@ -124,7 +124,7 @@ std::vector<int> faithfulLuxels(const RenderScene& rs, const LitFace& face, Luxe
       glm::vec3 sum(0.0f);
       for (int k = 0; k < kSamplesPerLuxel; ++k) {
         Rng rng = pixelRng(uint32_t(face.index), uint32_t(t * l.size[0] + s), uint32_t(k), 1);
-        sum += faithfulLightFromGrid(rs, p, normal, rng, face.twoSided);
+        sum += faithfulLight(rs, {.p = p, .n = normal, .twoSided = face.twoSided, .lights = LightSet::Grid}, rng);
       }
       glm::vec3 stored = glm::max(sum / float(kSamplesPerLuxel), face.faceMinlight) * rs.world.range;
       const float peak = std::max({stored.x, stored.y, stored.z});
@@ -316,7 +316,7 @@ TEST(OracleInvalidDelay, CompilerAndFaithfulModeLightNothing) {
     for (int t = 0; t < face.size[1]; ++t)
       for (int s = 0; s < face.size[0]; ++s) {
         Rng rng = pixelRng(uint32_t(fi), uint32_t(t * face.size[0] + s), 0, 1);
-        const glm::vec3 l = faithfulLightAt(rs, face.point(s, t), glm::vec3(face.normal), rng);
+        const glm::vec3 l = faithfulLight(rs, {.p = face.point(s, t), .n = glm::vec3(face.normal), .lights = LightSet::All}, rng);
         ++luxels;
         lit += l != glm::vec3(0.0f);
       }

@@ -5,13 +5,14 @@
 // GLQuake and QuakeSpasm filter them. The same lightmaps are also compared luxel by luxel.
 //
 // What a pixel shows of the light: the renderer's faithful display is srgbToLinear(texture ×
-// stored / 128) (renderer/cpu/README.md), so stored = 128 × linearToSrgb(beauty) / texture per
+// stored / 128) (lighting/README.md), so stored = 128 × linearToSrgb(beauty) / texture per
 // channel, where texture is the base colour at the hit of the pixel's own (jittered) ray.
 #include "importers/bsp/bsp_file.h"
 #include "importers/import.h"
-#include "renderer/cpu/color.h"
+#include "scene/color.h"
 #include "renderer/cpu/cpu_renderer.h"
-#include "renderer/cpu/lightmap_bake.h"
+#include "lighting/lightmap_bake.h"
+#include "renderer/view_lightmaps.h"
 #include "tests/render/lightmap_oracle.h"
 #include "tests/render/oracle_levels.h"
 #include "tests/test_data.h"
@@ -187,7 +188,7 @@ bool meets(const ViewResult& r, const Bar& bar) {
 // Levels below the bar today, each held at what it reaches so that it cannot get worse unseen;
 // the faithful-mode issue (14) stays open until this table is empty.
 //   testsurfacelight: its _surface points stand on faces split as a tree grown on that surface
-//     alone would split them, not on the compiler's own faces (renderer/cpu/README.md).
+//     alone would split them, not on the compiler's own faces (lighting/README.md).
 //   suntest: `_light_channel_mask` / `_object_channel_mask` are not read yet.
 //   dirttest2: dirt is weaker than the compiler's in corners and along edges.
 //   q1_surflight_minlight: scattered luxels of the radiosity template's faces.

@@ -1,8 +1,9 @@
 // Whole-frame rendering: camera conventions, determinism across threads and runs, exact AOVs,
 // and the image files.
 #include "renderer/cpu/cpu_renderer.h"
-#include "renderer/cpu/image_output.h"
+#include "renderer/image_output.h"
 #include "tests/render/box_scene.h"
+#include "scene/color.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>

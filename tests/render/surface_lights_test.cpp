@@ -1,9 +1,9 @@
 // Faithful `_surface` lights and `_deviance`/`_samples`: where ericw-tools `light` puts the
 // point lights it makes from a template, what they carry, and what a jittered light adds up to.
 // Expected values are worked out by hand from the compiler's rules (surface_lights.h).
-#include "renderer/cpu/faithful.h"
+#include "lighting/faithful.h"
 #include "renderer/cpu/integrator.h"
-#include "renderer/cpu/surface_lights.h"
+#include "lighting/surface_lights.h"
 #include "scene/winding.h"
 #include "tests/render/box_scene.h"
 
@@ -290,7 +290,7 @@ TEST(Deviance, FaithfulLightIsTheSumOfTheJitteredCopies) {
   double sum = 0.0;
   for (int i = 0; i < samples; ++i) {
     Rng rng = pixelRng(7, 3, uint32_t(i), 2);
-    sum += faithfulLightAt(rs, p, n, rng).x;
+    sum += faithfulLight(rs, {.p = p, .n = n, .lights = LightSet::All}, rng).x;
   }
   EXPECT_NEAR(sum / samples, expected, 0.01 * expected);
   // Far from what one unjittered copy gives: the copies add up.

@@ -1,13 +1,13 @@
 // The viewer in a real window. CTest runs this binary under xvfb-run (tests/viewer/CMakeLists.txt)
 // with BT_GL_DEBUG=1; without a display it exits with kSkipped, which ctest reports as skipped.
-#include "renderer/cpu/difference.h"
+#include "renderer/difference.h"
 #include "tests/test_data.h"
 #include "viewer/viewer.h"
 
 #include "renderer/cpu/cpu_renderer.h"
-#include "renderer/cpu/image_output.h"
-#include "renderer/cpu/lightmap_bake.h"
-#include "renderer/cpu/render_scene.h"
+#include "renderer/image_output.h"
+#include "lighting/lightmap_bake.h"
+#include "lighting/render_scene.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>

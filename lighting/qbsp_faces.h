@@ -1,30 +1,22 @@
-// Faithful-mode `_surface` lights: the point lights ericw-tools `light` creates from a template
-// (entities.cc MakeSurfaceLights, surflight.cc MakeSurfaceLight), as ordinary GpuLights so that
-// both tracers treat them like any other light.
+// The faces qbsp compiles of a Quake 1 level's brush sides, rebuilt from the .map: what its CSG
+// keeps of each side, split as the BSP tree would split it, merged and subdivided as qbsp does.
+// ericw-tools `light` spreads surface lights (surface_lights.h) and bounces light (bounce.h) over
+// these faces, so the light models need them without a compile.
 //
-// Two kinds, chosen per template by `_surface_radiosity` (worldspawn `_surflight_radiosity`):
-//   - Q1 kind (the default): every face with the template's texture is cut on a 128-unit world
-//     grid (GLQuake's SubdividePolygon, `light -surflight_subdivide` 128); each piece gets a copy
-//     of the template, with its full value, at the piece's centroid lifted `_surface_offset`
-//     (2) units along the face normal; `_surface_spotlight` turns the copies into spotlights
-//     along the normal.
-//   - radiosity kind: one point per face (`-emissivequality low`, the default) at the mean of
-//     its vertices lifted 1 unit, carrying value x face area (LightFormula::SurfaceRadiosity).
-//
-// The compiler works on the faces of the compiled BSP. We rebuild what qbsp's CSG leaves of each
+// We rebuild what qbsp's CSG leaves of each
 // source brush side (visibleFragments), split it as a BSP tree grown on that surface alone
 // would (qbsp3's choice of split planes among the edges of the brushes that reach the surface),
 // merge what is left in each cell and apply the 240-texel subdivision. The compiler's tree is
 // grown over the whole level, so its planes also cut a surface where nothing near it does: our
-// faces are close to, not the same as, the compiler's (surface_lights.cpp, compilerFaces).
+// faces are close to, not the same as, the compiler's (compilerFaces).
 // Faces that look into the void outside a sealed level are dropped, as qbsp drops them.
 #pragma once
 
 #include "bvh/trace_scene.h"
-#include "renderer/cpu/lights.h"
-#include "scene/gpu_structs.h"
 #include "scene/scene.h"
 
+#include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace bt {
@@ -33,14 +25,14 @@ namespace bt {
 // clip/trigger/skip brushes carve nothing out of the world's faces.
 enum class BrushContents : uint8_t { Empty, Solid, Liquid };
 
-// `contents[b]` for every brush of `scene`. A radiosity template without `_color` takes the
-// texture's colour (scene materials). A template that would make more than kMaxSurfaceLights
-// points (a huge face) stops there, with a warning in `diagnostics`. `tracer` (the level's
-// brushes) tells which faces look into the void, which qbsp removes (looksIntoVoid).
-inline constexpr size_t kMaxSurfaceLights = 65536;
-std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
-                                          const std::vector<BrushContents>& contents, const WorldLighting& world, const TraceScene& tracer,
-                                          Diagnostics& diagnostics);
+inline constexpr double kOnPlaneEpsilon = 0.01;   // qbsp's ON_EPSILON-like tolerance for touching planes
+inline constexpr double kVoidProbeDistance = 1.0; // a face looks into the space this far in front of it
+
+// A face may be cut into this many pieces at most, by either subdivision: as many as the whole
+// level may have surface lights, and one more to tell that the cap was reached. A corrupt or
+// absurd texture scale (a million texels a unit) or a face of a million units would otherwise
+// cut into hundreds of millions of pieces: a hang and gigabytes before any cap on lights.
+inline constexpr size_t kMaxPiecesPerFace = 65537;
 
 // qbsp fills the void around a sealed level ("outside filling") and makes no face that looks
 // into it. A point is in the void when some ray from it leaves the level (inside a sealed
@@ -68,8 +60,18 @@ std::vector<std::vector<dvec3>> compiledFacePolygons(const Scene& scene, uint32_
 
 // GLQuake's SubdividePolygon: cut `winding` at multiples of `size` on each axis, the cut
 // nearest the middle first, unless it would leave a piece thinner than 8 units. Stops cutting
-// at kMaxSurfaceLights + 1 pieces (the rest stays whole), as the 240-texel subdivision of
+// at kMaxPiecesPerFace pieces (the rest stays whole), as the 240-texel subdivision of
 // compiledFacePolygons does.
 std::vector<std::vector<dvec3>> subdivideOnGrid(const std::vector<dvec3>& winding, double size);
+
+// What qbsp makes of one surface (coplanar sides `sides` with one texture projection, of which
+// `fragments` survived its CSG): a tree grown on that surface alone, its cells' pieces merged.
+std::vector<std::vector<dvec3>> compilerFaces(const Scene& scene, const std::vector<uint32_t>& sides,
+                                              const std::vector<std::vector<dvec3>>& fragments, const std::vector<BrushContents>& contents);
+
+// qbsp's SubdivideFace: Quake 1 faces wider than 240 texels are cut every 224 texels (the
+// subdivide size less 16) along each texture axis, from the smallest texel coordinate up, so
+// that each one fits the engine's surface cache. ericw-tools `light` sees these pieces.
+void subdivideForQbsp(const std::vector<dvec3>& w, const TextureFrame& frame, std::vector<std::vector<dvec3>>& pieces);
 
 } // namespace bt

@@ -1,4 +1,4 @@
-#include "renderer/cpu/lightmaps.h"
+#include "lighting/lightmaps.h"
 
 #include <algorithm>
 #include <array>

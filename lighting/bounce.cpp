@@ -1,6 +1,6 @@
-#include "renderer/cpu/bounce.h"
+#include "lighting/bounce.h"
 
-#include "renderer/cpu/integrator.h"
+#include "lighting/faithful_light.h"
 #include "scene/parallel_for.h"
 #include "scene/winding.h"
 
@@ -123,8 +123,7 @@ std::span<const uint32_t> candidatesAt(const std::vector<GpuLight>& lights, cons
 
 std::vector<BounceFace> bounceFaces(const RenderScene& rs, const std::vector<BrushContents>& contents, unsigned threads) {
   const Scene& scene = *rs.scene;
-  // Each side on its own (lq_e3m1: 9 300 faces of 3 400 brushes, 140 ms on one core), then in
-  // side order.
+  // Each side on its own (the qbsp face emulation is most of the cost), then in side order.
   std::vector<std::vector<BounceFace>> perSide(scene.faces.size());
   parallelFor(scene.faces.size(), threads, [&](size_t i) {
     const uint32_t f = uint32_t(i);
@@ -191,7 +190,7 @@ std::vector<GpuLight> clusterBounceLights(const std::vector<GpuLight>& lights, c
   };
   // The finest grid whose occupied (cell, direction) pairs fit (coarser cells merge across walls).
   // The count is not monotonic in n, so every n from the finest down is tried: each occupied key
-  // marked with n in a table of all keys (64^3 x 6), not sorted (lq_e3m1: 55 grids, 80 -> 15 ms).
+  // marked with n in a table of all keys (64^3 x 6), not sorted: sorting each grid cost 5x more.
   constexpr int kFinest = 64;
   std::vector<uint64_t> keys(lights.size());
   std::vector<uint8_t> markedFor(size_t(kFinest) * kFinest * kFinest * 6, 0);
@@ -264,7 +263,7 @@ BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushCont
     occlusion.resize(faces.size());
     for (size_t i = 0; i < faces.size(); ++i) occlusion[i].assign(luxels[i].size(), std::numeric_limits<float>::quiet_NaN());
   }
-  // A later pass draws among the previous pass's lights (faithfulLightFromSampled), sweeping only
+  // A later pass draws among the previous pass's lights (LightSet::Given), sweeping only
   // those that can light the luxel: the lists of a light grid of them (see BounceBudget).
   std::vector<GpuLight> previous;
   std::optional<LightGrid> previousGrid;
@@ -295,13 +294,21 @@ BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushCont
           if (std::isnan(known)) known = faithfulDirtOcclusion(rs, points[k], n, rng);
           dirt = known;
         }
+        FaithfulQuery q;
+        q.p = points[k];
+        q.n = n;
+        q.twoSided = twoSided;
+        q.occlusion = dirt;
         if (pass == 0) {
-          sum += faithfulBounceSourceLight(rs, points[k], n, rng, twoSided, dirt);
+          q.lights = LightSet::BounceSources;
+          sum += faithfulLight(rs, q, rng);
           continue;
         }
         if (previous.size() > budget.gatherShadowRays) drewLights = true;
-        sum += faithfulLightFromSampled(rs, previous, candidatesAt(previous, previousGrid, points[k], candidates), points[k], n, rng,
-                                        twoSided, budget.gatherShadowRays, dirt);
+        const GivenLights given{previous, candidatesAt(previous, previousGrid, points[k], candidates), budget.gatherShadowRays};
+        q.lights = LightSet::Given;
+        q.given = &given;
+        sum += faithfulLight(rs, q, rng);
       }
       made[i] = bounceLight(rs, face, sum / float(std::max<size_t>(count, 1)), textureOf(face));
     });

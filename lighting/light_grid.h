@@ -47,7 +47,7 @@ float faithfulReach(const GpuLight& light, float scaledist);
 // How many lights at the end of `list` (indices into `lights`) are bounce lights
 // (LightFormula::Bounce). buildLightGrid lists a cell's bounce lights after its others, so these
 // are all of the cell's: a level's hundreds of them that the renderer draws among instead of
-// shadow-testing each (integrator.h kBounceShadowRays).
+// shadow-testing each (faithful_light.h kBounceShadowRays).
 size_t trailingBounceLights(const std::vector<GpuLight>& lights, std::span<const uint32_t> list);
 
 // Grid resolution: at most this many cells along the longest axis (and cells no smaller than 64

@@ -1,8 +1,8 @@
-#include "renderer/cpu/camera.h"
+#include "renderer/camera.h"
 
-#include "renderer/cpu/game_rules.h"
-#include "renderer/cpu/lights.h"
-#include "renderer/cpu/render_scene.h"
+#include "lighting/game_rules.h"
+#include "lighting/lights.h"
+#include "lighting/render_scene.h"
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
@@ -172,11 +172,11 @@ std::vector<bool> undrawnFaces(const Scene& scene) {
 // The distance to the first drawn face along a ray, stepping past hidden faces and the far
 // sides of brushes the ray starts in; nullopt when it leaves the level.
 std::optional<float> drawnHitDistance(const TraceScene& tracer, const std::vector<bool>& hidden, Ray ray) {
-  for (int i = 0; i < 64; ++i) {
+  for (int i = 0; i < BT_MAX_SKIPS; ++i) {
     const std::optional<Hit> hit = tracer.closestHit(ray);
     if (!hit) return std::nullopt;
     if (!hit->inside && !hidden[hit->face]) return hit->t;
-    ray.tMin = hit->t + 1e-3f;
+    ray.tMin = continueRayAfter(hit->t);
   }
   return std::nullopt;
 }

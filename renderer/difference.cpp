@@ -1,6 +1,6 @@
-#include "renderer/cpu/difference.h"
+#include "renderer/difference.h"
 
-#include "renderer/cpu/color.h"
+#include "scene/color.h"
 
 #include <algorithm>
 #include <array>

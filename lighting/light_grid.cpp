@@ -1,5 +1,5 @@
-#include "renderer/cpu/light_grid.h"
-#include "renderer/cpu/faithful.h"
+#include "lighting/light_grid.h"
+#include "lighting/faithful.h"
 #include "scene/parallel_for.h"
 
 #include <glm/common.hpp>
@@ -26,7 +26,7 @@ constexpr float kReachRelativeSlack = 1e-3f;
 constexpr float kReachSlack = 1.0f;
 
 // How far a _deviance jitter moves a light: its copies fill the cube of half-size deviance
-// (integrator.cpp jitteredOrigin), whose corners are sqrt(3) deviance away.
+// (faithful_light.h jitteredOrigin), whose corners are sqrt(3) deviance away.
 float maxJitter(const GpuLight& light) {
   return std::sqrt(3.0f) * std::max(light.deviance, 0.0f);
 }

@@ -1,4 +1,4 @@
-#include "renderer/gl/gl_window.h"
+#include "viewer/gl_window.h"
 
 #include "renderer/gl/gl_error.h"
 

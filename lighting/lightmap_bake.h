@@ -11,7 +11,7 @@
 //            tried at the 8 corners of a 1-unit cube around it; if all are solid it is
 //            occluded. An occluded luxel gets only the floors (minlight). With `extra` N the
 //            luxel is the mean of N x N such points on a grid 1/N luxel apart (-extra, -extra4).
-//   light    at each point the faithful light sum of integrator.h (every light the grid lists,
+//   light    at each point the faithful light sum of faithful_light.h (every light the grid lists,
 //            each bounce light shadow-tested); a sky dome as the compiler's own 65 suns
 //            (faithful.h skyDomeDirections); a sun's penumbra and `_deviance` copies averaged over
 //            `samples` random directions or positions (the compiler's 64 are random too).
@@ -19,9 +19,8 @@
 //            truncated to whole bytes as the compiler writes them.
 #pragma once
 
-#include "renderer/cpu/camera.h"
-#include "renderer/cpu/lightmaps.h"
-#include "renderer/cpu/render_scene.h"
+#include "lighting/lightmaps.h"
+#include "lighting/render_scene.h"
 
 #include <span>
 
@@ -47,7 +46,7 @@ Lightmaps layoutLightmaps(const RenderScene& rs, unsigned threads = 0);
 // scene/gpu_structs.h GpuLuxelSample), what both tracers' bakes light.
 std::vector<GpuLuxelSample> luxelSamples(const RenderScene& rs, const Lightmaps& lightmaps, int extra, unsigned threads = 0);
 
-// A bake as both tracers run it: the sample points, and the passes of integrator.h
+// A bake as both tracers run it: the sample points, and the passes of faithful_light.h
 // faithfulLuxelPass over them, pass k of sample i drawing from pixelRng(i, k, 0, seed).
 struct LuxelBakeJob {
   std::vector<GpuLuxelSample> samples;
@@ -60,18 +59,5 @@ LuxelBakeJob luxelBakeJob(const RenderScene& rs, const Lightmaps& lightmaps, con
 
 // Every luxel of `lightmaps`, as above. The same result for any number of threads.
 void bakeLightmaps(const RenderScene& rs, Lightmaps& lightmaps, const LightmapBakeOptions& options = {});
-
-// The faces with a lightmap that a width x height image from `camera` can show: those hit by rays
-// through every pixel's corners and centre, so that a render bakes only what its samples land on
-// (a face seen by no such ray, a sliver under half a pixel, is lit at the point itself).
-std::vector<uint32_t> facesSeen(const RenderScene& rs, const Camera& camera, int width, int height, unsigned threads = 0);
-
-// The layout of the faces `camera` sees (all lit faces when camera is null), luxels zero: what a
-// GPU bake fills.
-Lightmaps layoutFaithfulLightmaps(const RenderScene& rs, const Camera* camera, int width, int height, unsigned threads = 0);
-
-// What `render --backend cpu` does before a faithful image: lay out and bake the faces `camera` sees
-// (all lit faces when camera is null) into rs.lightmaps.
-void bakeFaithfulLightmaps(RenderScene& rs, const Camera* camera, int width, int height, const LightmapBakeOptions& options);
 
 } // namespace bt

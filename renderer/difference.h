@@ -6,7 +6,7 @@
 // levels on a flat wall, and anything past 32 is simply wrong.
 #pragma once
 
-#include "renderer/cpu/cpu_renderer.h"
+#include "renderer/render.h"
 
 #include <cstdint>
 #include <vector>

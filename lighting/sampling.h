@@ -1,4 +1,4 @@
-// Random numbers and sampling routines of the integrator, GLSL-portable: a per-sample PCG
+// Random numbers and sampling routines of both tracers, GLSL-portable: a per-sample PCG
 // stream seeded from (pixel, sample index, seed), so an image depends only on those.
 #pragma once
 

@@ -1,13 +1,14 @@
-// Everything the integrator reads, as flat arrays of the structs in scene/gpu_structs.h: per-face
-// shading data, per-material parameters, lights and emitter triangles, plus the ray tracer.
+// Everything the light models and both tracers read, as flat arrays of the structs in
+// scene/gpu_structs.h: per-face shading data, per-material parameters, lights and emitter
+// triangles, plus the ray tracer.
 #pragma once
 
 #include "bvh/trace_scene.h"
 #include "scene/gpu_structs.h"
-#include "renderer/cpu/light_grid.h"
-#include "renderer/cpu/lightmaps.h"
-#include "renderer/cpu/lights.h"
-#include "renderer/cpu/surface_lights.h"
+#include "lighting/light_grid.h"
+#include "lighting/lightmaps.h"
+#include "lighting/lights.h"
+#include "lighting/surface_lights.h"
 #include "scene/scene.h"
 
 #include <glm/vec3.hpp>

@@ -1,4 +1,4 @@
-#include "renderer/cpu/image_output.h"
+#include "renderer/image_output.h"
 
 #include "scene/names.h"
 

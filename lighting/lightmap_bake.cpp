@@ -1,9 +1,10 @@
-#include "renderer/cpu/lightmap_bake.h"
+#include "lighting/lightmap_bake.h"
 
-#include "renderer/cpu/faithful.h"
-#include "renderer/cpu/integrator.h"
-#include "renderer/cpu/sampling.h"
-#include "renderer/cpu/surface_lights.h"
+#include "lighting/faithful.h"
+#include "lighting/faithful_light.h"
+#include "lighting/visibility.h"
+#include "lighting/sampling.h"
+#include "lighting/surface_lights.h"
 #include "scene/parallel_for.h"
 #include "scene/winding.h"
 
@@ -255,35 +256,6 @@ void bakeLightmaps(const RenderScene& rs, Lightmaps& lm, const LightmapBakeOptio
     }
     lm.luxels[luxel] = storedLuxel(light / float(job.samplesPerLuxel), rs.world.range);
   });
-}
-
-std::vector<uint32_t> facesSeen(const RenderScene& rs, const Camera& camera, int width, int height, unsigned threads) {
-  const size_t faceCount = rs.scene->faces.size();
-  std::vector<std::vector<uint8_t>> seenByRow(size_t(2 * height + 1));
-  parallelFor(seenByRow.size(), threads, [&](size_t row) {
-    std::vector<uint8_t>& seen = seenByRow[row];
-    seen.assign(faceCount, 0);
-    for (int column = 0; column <= 2 * width; ++column) {
-      const SurfaceHit hit = traceVisible(rs, camera.ray(0.5f * float(column), 0.5f * float(row)));
-      if (hit.found) seen[hit.face] = 1;
-    }
-  });
-  std::vector<uint32_t> faces;
-  for (uint32_t f = 0; f < faceCount; ++f) {
-    bool seen = false;
-    for (const std::vector<uint8_t>& row : seenByRow) seen = seen || row[f];
-    if (seen && faceHasLightmap(rs, f)) faces.push_back(f);
-  }
-  return faces;
-}
-
-Lightmaps layoutFaithfulLightmaps(const RenderScene& rs, const Camera* camera, int width, int height, unsigned threads) {
-  return camera ? layoutLightmaps(rs, facesSeen(rs, *camera, width, height, threads), threads) : layoutLightmaps(rs, threads);
-}
-
-void bakeFaithfulLightmaps(RenderScene& rs, const Camera* camera, int width, int height, const LightmapBakeOptions& options) {
-  rs.lightmaps = layoutFaithfulLightmaps(rs, camera, width, height, options.threads);
-  bakeLightmaps(rs, rs.lightmaps, options);
 }
 
 } // namespace bt

@@ -23,8 +23,8 @@
 // samples a subset of the luxels and merges the lights it makes (BounceBudget).
 #pragma once
 
-#include "renderer/cpu/render_scene.h"
-#include "renderer/cpu/surface_lights.h"
+#include "lighting/render_scene.h"
+#include "lighting/surface_lights.h"
 
 #include <vector>
 

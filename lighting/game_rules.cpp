@@ -1,6 +1,6 @@
-#include "renderer/cpu/game_rules.h"
+#include "lighting/game_rules.h"
 
-#include "renderer/cpu/lights.h"
+#include "lighting/lights.h"
 
 #include <cmath>
 

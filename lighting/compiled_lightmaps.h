@@ -28,8 +28,8 @@
 // or 'a' where a light with that style starts off (spawnflags 1), as the lights' spawn code sets.
 #pragma once
 
-#include "renderer/cpu/lightmaps.h"
-#include "renderer/cpu/render_scene.h"
+#include "lighting/lightmaps.h"
+#include "lighting/render_scene.h"
 #include "scene/compiled_lighting.h"
 #include "scene/scene.h"
 

@@ -1,5 +1,5 @@
 // Light entities and worldspawn lighting keys -> the flat light list both tracers read.
-// Key names and defaults are ericw-tools `light`'s (see renderer/cpu/README.md for the table).
+// Key names and defaults are ericw-tools `light`'s (see lighting/README.md for the table).
 #pragma once
 
 #include "scene/gpu_structs.h"
@@ -32,7 +32,7 @@ struct WorldLighting {
   float scaledist = 1.0f;              // `_dist`: scales distance in every falloff formula
   float anglescale = 0.5f;             // `_anglescale` (or `_anglesense`): default for every light and the sun
   glm::vec3 minlight{0.0f};            // `light` / `_minlight` * `_minlight_color`, in light units
-  int bounces = 0;                     // `_bounce`: passes of ericw-tools bounce lights (renderer/cpu/bounce.h)
+  int bounces = 0;                     // `_bounce`: passes of ericw-tools bounce lights (lighting/bounce.h)
   float bouncescale = 1.0f;            // `_bouncescale`
   float bouncecolorscale = 0.0f;       // `_bouncecolorscale`: 0 bounces grey (127), 1 the texture's mean colour
   bool bouncestyled = false;           // `_bouncestyled`: styled lights bounce too
@@ -46,7 +46,7 @@ struct WorldLighting {
 
 // An area-light template: a light entity with `_surface "texture"` makes every face with that
 // texture emit. Physical mode lights those faces as area emitters; faithful mode spreads point
-// lights over them the way ericw-tools `light` does (renderer/cpu/surface_lights.h).
+// lights over them the way ericw-tools `light` does (lighting/surface_lights.h).
 struct SurfaceTemplate {
   std::string texture;
   GpuLight light;             // value, colour, formula, anglescale, style of the template

@@ -3,7 +3,7 @@
 // OpenImageIO and its hundreds of megabytes of dependencies.
 #pragma once
 
-#include "renderer/cpu/cpu_renderer.h"
+#include "renderer/render.h"
 
 #include <string>
 

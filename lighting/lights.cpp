@@ -1,4 +1,4 @@
-#include "renderer/cpu/lights.h"
+#include "lighting/lights.h"
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>

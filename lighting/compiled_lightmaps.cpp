@@ -1,4 +1,4 @@
-#include "renderer/cpu/compiled_lightmaps.h"
+#include "lighting/compiled_lightmaps.h"
 
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>

@@ -1,10 +1,10 @@
-#include "renderer/cpu/render_scene.h"
-#include "renderer/cpu/bounce.h"
-#include "renderer/cpu/game_rules.h"
-#include "renderer/cpu/surface_lights.h"
+#include "lighting/render_scene.h"
+#include "lighting/bounce.h"
+#include "lighting/game_rules.h"
+#include "lighting/surface_lights.h"
 #include "scene/names.h"
 
-#include "renderer/cpu/color.h"
+#include "scene/color.h"
 
 #include <glm/geometric.hpp>
 
@@ -134,27 +134,12 @@ void nudgeLightsOffFaces(RenderScene& rs, const std::vector<BrushContents>& cont
   }
 }
 
-} // namespace
-
-RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& options, Diagnostics& diagnostics) {
-  RenderScene rs;
-  rs.scene = &scene;
-  SceneLights lights = collectLights(scene, options.lights, diagnostics);
-  rs.lightKinds = lightKinds(lights, options.bounceLights);
-  rs.lights = std::move(lights.lights);
-  rs.world = lights.world;
-
-  // Every lookup below indexes materials by face; a scene that breaks that is a bug upstream.
-  for (const Face& f : scene.faces)
-    if (f.material >= scene.materials.size()) throw std::invalid_argument("buildRenderScene: face material index out of range");
-  rs.materials.reserve(scene.materials.size());
-  const std::array<float, 256> toLinear = srgbByteToLinear();
-  for (const Material& m : scene.materials) rs.materials.push_back(materialParams(m, toLinear));
-
-  // _surface templates: every material with the template's texture name emits.
+// _surface templates: every material with the template's texture name emits.
+void applySurfaceTemplates(RenderScene& rs, const std::vector<SurfaceTemplate>& templates) {
+  const Scene& scene = *rs.scene;
   rs.surfaceLights.assign(scene.materials.size(), GpuLight{});
   for (GpuLight& l : rs.surfaceLights) l.value = 0.0f;
-  for (const SurfaceTemplate& t : lights.surfaceTemplates)
+  for (const SurfaceTemplate& t : templates)
     if (auto m = scene.findMaterial(t.texture)) {
       GpuLight& tmpl = rs.surfaceLights[*m];
       tmpl = t.light;
@@ -162,7 +147,12 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
       tmpl.faithfulScale = t.radiosity ? std::max(t.minlightScale, 0.0f) : 0.0f;
       if (tmpl.faithfulScale > 0.0f) tmpl.flags |= kLightFlagFaceMinlight;
     }
+}
 
+// Each face's class (kFace*): its texture's, its entity's (shadows, what the game hides), and
+// whether it emits.
+void classifyFaces(RenderScene& rs, const RenderSceneOptions& options) {
+  const Scene& scene = *rs.scene;
   std::vector<uint32_t> materialMasks;
   for (const Material& m : scene.materials) materialMasks.push_back(alphaTestFlags(m));
   rs.faceFlags.resize(scene.faces.size());
@@ -187,11 +177,11 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
         !(flags & (kFaceHidden | kFaceSky)))
       flags |= kFaceEmissive;
   }
+}
 
-  // Faithful mode's _surface lights: point lights spread over the template faces.
-  const std::vector<BrushContents> contents = brushContents(scene);
-
-  // Emitter triangles: a fan over each emitting face's winding.
+// Emitter triangles: a fan over each emitting face's winding.
+void addEmitters(RenderScene& rs) {
+  const Scene& scene = *rs.scene;
   for (size_t i = 0; i < scene.faces.size(); ++i) {
     if (!(rs.faceFlags[i] & kFaceEmissive)) continue;
     const std::vector<dvec3>& w = scene.faces[i].winding;
@@ -210,8 +200,12 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   }
   for (GpuEmitter& e : rs.emitters) e.cdf /= rs.emitterArea;
   if (!rs.emitters.empty()) rs.emitters.back().cdf = 1.0f;
+}
 
-  // Brushes whose every face is hidden (clip, trigger, ...) are left out of the BVH.
+// The BVH over what can block a ray: brushes whose every face is hidden (clip, trigger, ...) and
+// hidden meshes are left out.
+TraceScene buildTracer(const RenderScene& rs) {
+  const Scene& scene = *rs.scene;
   BvhBuildOptions bvh;
   bvh.includeBrush.resize(scene.brushes.size());
   for (size_t b = 0; b < scene.brushes.size(); ++b) {
@@ -220,28 +214,55 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
     for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f) visible |= !(rs.faceFlags[f] & kFaceHidden);
     bvh.includeBrush[b] = visible;
   }
-  // Meshes likewise (a mesh has one material, so its faces are all hidden or none).
+  // A mesh has one material, so its faces are all hidden or none.
   for (const Mesh& mesh : scene.meshes) bvh.includeMesh.push_back(mesh.faceCount > 0 && !(rs.faceFlags[mesh.firstFace] & kFaceHidden));
-  rs.tracer = TraceScene::build(scene, bvh);
+  return TraceScene::build(scene, bvh);
+}
+
+// `_bounce`: the compiler's bounce lights, made from the direct light the grid gives, and the
+// grid of every light extended from that of the direct lights (physical mode's lists stay).
+void addBounceLights(RenderScene& rs, const std::vector<BrushContents>& contents, Diagnostics& diagnostics) {
+  const BounceLights bounced = makeBounceLights(rs, contents);
+  const uint32_t direct = uint32_t(rs.lights.size());
+  rs.lights.insert(rs.lights.end(), bounced.lights.begin(), bounced.lights.end());
+  if (!bounced.exact())
+    diagnostics.push_back({Severity::Note, rs.scene->sourcePath, 0, 0,
+                           "_bounce estimated from " + std::to_string(bounced.sampledLuxels) + " of " + std::to_string(bounced.luxels) +
+                               " luxels per pass" + (bounced.sampledLights ? " (later passes draw among the bounce lights)" : "") + ", " +
+                               std::to_string(bounced.madeLights) + " bounce lights merged into " + std::to_string(bounced.lights.size()) +
+                               " to keep the preview fast"});
+  rs.lightGrid = extendLightGrid(rs.lightGrid, rs.lights, direct, rs.tracer.bounds(), rs.world.scaledist);
+}
+
+} // namespace
+
+RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& options, Diagnostics& diagnostics) {
+  RenderScene rs;
+  rs.scene = &scene;
+  SceneLights lights = collectLights(scene, options.lights, diagnostics);
+  rs.lightKinds = lightKinds(lights, options.bounceLights);
+  rs.lights = std::move(lights.lights);
+  rs.world = lights.world;
+
+  // Every lookup below indexes materials by face; a scene that breaks that is a bug upstream.
+  for (const Face& f : scene.faces)
+    if (f.material >= scene.materials.size()) throw std::invalid_argument("buildRenderScene: face material index out of range");
+  rs.materials.reserve(scene.materials.size());
+  const std::array<float, 256> toLinear = srgbByteToLinear();
+  for (const Material& m : scene.materials) rs.materials.push_back(materialParams(m, toLinear));
+  applySurfaceTemplates(rs, lights.surfaceTemplates);
+  classifyFaces(rs, options);
+  addEmitters(rs);
+
+  const std::vector<BrushContents> contents = brushContents(scene);
+  rs.tracer = buildTracer(rs);
   nudgeLightsOffFaces(rs, contents);
-  // After the tracer: the compiler drops template faces that look into the void.
+  // Faithful mode's _surface lights: point lights spread over the template faces, after the
+  // tracer (the compiler drops template faces that look into the void).
   for (const GpuLight& l : spreadSurfaceLights(scene, lights.surfaceTemplates, contents, rs.world, rs.tracer, diagnostics))
     rs.lights.push_back(l);
   rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
-  // `_bounce`: the compiler's bounce lights, made from the direct light the grid above gives.
-  if (rs.world.bounces > 0 && options.bounceLights) {
-    const BounceLights bounced = makeBounceLights(rs, contents);
-    const uint32_t direct = uint32_t(rs.lights.size());
-    rs.lights.insert(rs.lights.end(), bounced.lights.begin(), bounced.lights.end());
-    if (!bounced.exact())
-      diagnostics.push_back({Severity::Note, scene.sourcePath, 0, 0,
-                             "_bounce estimated from " + std::to_string(bounced.sampledLuxels) + " of " + std::to_string(bounced.luxels) +
-                                 " luxels per pass" + (bounced.sampledLights ? " (later passes draw among the bounce lights)" : "") + ", " +
-                                 std::to_string(bounced.madeLights) + " bounce lights merged into " +
-                                 std::to_string(bounced.lights.size()) + " to keep the preview fast"});
-    // The grid of every light, from that of the direct lights: physical mode's lists stay.
-    rs.lightGrid = extendLightGrid(rs.lightGrid, rs.lights, direct, rs.tracer.bounds(), rs.world.scaledist);
-  }
+  if (rs.world.bounces > 0 && options.bounceLights) addBounceLights(rs, contents, diagnostics);
   return rs;
 }
 

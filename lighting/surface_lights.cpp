@@ -1,0 +1,187 @@
+#include "lighting/surface_lights.h"
+
+#include "lighting/render_scene.h"
+
+#include "scene/names.h"
+#include "scene/parallel_for.h"
+#include "scene/winding.h"
+
+#include <fmt/format.h>
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <future>
+#include <optional>
+
+namespace bt {
+
+namespace {
+
+constexpr double kQ1SurfaceGrid = 128.0; // `light -surflight_subdivide` default
+constexpr double kRadiosityLift = 1.0;   // surflight.cc lifts a radiosity point 1 unit off the face
+constexpr double kMinEmitterArea = 1.0;  // surflight.cc skips smaller faces
+
+// The texture's mean colour in its own (sRGB) space, 0..1, as ericw-tools averages it.
+glm::vec3 averageColor(const Image& image) {
+  glm::dvec3 sum(0.0);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const uint8_t* p = image.texel(x, y);
+      sum += glm::dvec3(p[0], p[1], p[2]);
+    }
+  return glm::vec3(sum / (255.0 * double(image.width) * double(image.height)));
+}
+
+dvec3 vertexMean(const Winding& w) {
+  dvec3 sum(0.0);
+  for (const dvec3& p : w) sum += p;
+  return sum / double(w.size());
+}
+
+// Area-weighted centroid (ericw-tools' PolyCentroid); the vertex mean for a degenerate polygon.
+dvec3 centroid(const Winding& w) {
+  dvec3 sum(0.0);
+  double totalArea = 0.0;
+  for (size_t i = 1; i + 1 < w.size(); ++i) {
+    const double a = glm::length(glm::cross(w[i] - w[0], w[i + 1] - w[0])) * 0.5;
+    sum += a * (w[0] + w[i] + w[i + 1]) / 3.0;
+    totalArea += a;
+  }
+  return totalArea > 0.0 ? sum / totalArea : vertexMean(w);
+}
+
+// The Q1 kind: a full copy of the template on every grid piece of the face.
+void addGridLights(const Face& face, const Winding& fragment, const SurfaceTemplate& t, std::vector<GpuLight>& out) {
+  std::vector<Winding> qbspPieces;
+  subdivideForQbsp(fragment, face.frame, qbspPieces);
+  for (const Winding& qbspPiece : qbspPieces) {
+    for (const Winding& piece : subdivideOnGrid(qbspPiece, kQ1SurfaceGrid)) {
+      GpuLight light = t.light;
+      light.origin = glm::vec3(centroid(piece) + face.plane.normal * double(t.offset));
+      light.flags |= kLightFlagFromSurface;
+      if (t.spotlight) light.direction = glm::vec3(face.plane.normal);
+      out.push_back(light);
+    }
+    if (out.size() > kMaxSurfaceLights) return; // the caller cuts the list and says so
+  }
+}
+
+// The radiosity kind: one point for the whole face, value x area, falling off as 1/d^2.
+void addRadiosityLight(const Scene& scene, const Face& face, const Winding& fragment, const SurfaceTemplate& t, const WorldLighting& world,
+                       std::vector<GpuLight>& out) {
+  const double faceArea = area(fragment);
+  if (faceArea < kMinEmitterArea) return;
+  const dvec3 origin = vertexMean(fragment) + face.plane.normal * kRadiosityLift;
+
+  // surflight.cc: colour (0..1) x light value; its brightest channel is the intensity, and the
+  // colour is normalised by it only when that is above 1.
+  glm::vec3 color = t.light.color;
+  if (!t.hasColor && face.material < scene.materials.size() && !scene.materials[face.material].baseColor.empty())
+    color = averageColor(scene.materials[face.material].baseColor);
+  color *= t.light.value;
+  const float intensity = std::max({color.x, color.y, color.z});
+  if (intensity <= 0.0f) return; // ericw-tools has no negative surface lights
+  if (intensity > 1.0f) color /= intensity;
+
+  GpuLight light;
+  light.type = uint32_t(LightType::Point);
+  light.formula = uint32_t(LightFormula::SurfaceRadiosity);
+  light.origin = glm::vec3(origin);
+  light.direction = glm::vec3(face.plane.normal);
+  light.color = color;
+  light.value = intensity * float(faceArea) * world.surflightScale;
+  light.anglescale = 0.5f; // the receiver's (0.5 + 0.5 cos): ericw-tools' "rescale"
+  light.flags = (t.light.flags & ~kLightFlagBleed) | kLightFlagFromSurface;
+  out.push_back(light);
+}
+
+} // namespace
+
+// The `_surflight_group` of the model a face belongs to (0 when unset): a template lights only the
+// faces of its own group (ericw-tools' surface light groups). func_detail and func_group are
+// merged into the world by qbsp, and their keys with them: the world's group, 0
+// (q1_light_surflight_group: a func_detail with group 1 glows with the group-0 template).
+static int surfaceLightGroup(const Scene& scene, uint32_t face) {
+  const uint32_t brush = scene.faces[face].brush;
+  if (brush >= scene.brushes.size() || scene.brushes[brush].entity >= scene.entities.size()) return 0;
+  const Entity& entity = scene.entities[scene.brushes[brush].entity];
+  if (mergedIntoWorld(entity.classname())) return 0;
+  return std::atoi(std::string(entity.value("_surflight_group", "0")).c_str());
+}
+
+std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
+                                          const std::vector<BrushContents>& contents, const WorldLighting& world, const TraceScene& tracer,
+                                          Diagnostics& diagnostics) {
+  if (templates.empty()) return {};
+  // The void test traces rays from every point entity (thousands on a large level); the
+  // surfaces' CSG below does not need it, so it runs beside them.
+  std::future<VoidTest> voidTest = std::async(std::launch::async, [&] { return VoidTest(scene, tracer); });
+  // qbsp makes its faces of what CSG leaves of the coplanar sides with one texture and
+  // projection (compilerFaces); the compiler spreads its lights over those faces.
+  struct Surface {
+    const SurfaceTemplate* light;
+    std::vector<uint32_t> sides; // the first gives plane, frame, material
+    std::vector<Winding> polygons;
+  };
+  auto sameSurface = [&](const Face& a, const Face& b) {
+    auto near = [](const dvec3& p, const dvec3& q) { return glm::length(p - q) < 1e-4; };
+    return near(a.plane.normal, b.plane.normal) && std::abs(a.plane.dist - b.plane.dist) < kOnPlaneEpsilon &&
+        near(a.frame.tangent, b.frame.tangent) && near(a.frame.bitangent, b.frame.bitangent) &&
+        std::abs(a.frame.s(a.frame.origin) - a.frame.s(b.frame.origin)) < 1e-3 &&
+        std::abs(a.frame.t(a.frame.origin) - a.frame.t(b.frame.origin)) < 1e-3;
+  };
+  std::vector<Surface> surfaces; // template by template
+  for (const SurfaceTemplate& t : templates) {
+    const size_t first = surfaces.size();
+    for (uint32_t f = 0; f < scene.faces.size(); ++f) {
+      if (scene.faces[f].brush == kNoBrush || !equalsIgnoreCase(scene.faces[f].texture, t.texture)) continue; // meshes: no compiled faces
+      if (surfaceLightGroup(scene, f) != t.group) continue;
+      std::vector<Winding> fragments = visibleFragments(scene, f, contents);
+      if (fragments.empty()) continue;
+      auto it = std::find_if(surfaces.begin() + std::ptrdiff_t(first), surfaces.end(),
+                             [&](const Surface& s) { return sameSurface(scene.faces[s.sides.front()], scene.faces[f]); });
+      if (it == surfaces.end()) it = surfaces.insert(surfaces.end(), Surface{&t, {}, {}});
+      it->sides.push_back(f);
+      for (Winding& w : fragments) it->polygons.push_back(std::move(w));
+    }
+  }
+  // Each surface's faces depend on nothing else: the surfaces are shared among threads.
+  parallelFor(surfaces.size(), 0,
+              [&](size_t i) { surfaces[i].polygons = compilerFaces(scene, surfaces[i].sides, surfaces[i].polygons, contents); });
+  const VoidTest inVoid = voidTest.get();
+
+  std::vector<GpuLight> lights;
+  for (const Surface& surface : surfaces) {
+    const SurfaceTemplate& t = *surface.light;
+    const Face& face = scene.faces[surface.sides.front()];
+    const bool liquid = face.brush < contents.size() && contents[face.brush] == BrushContents::Liquid;
+    for (const Winding& polygon : surface.polygons) {
+      if (inVoid.inVoid(centroid(polygon) + face.plane.normal * kVoidProbeDistance)) continue;
+      if (!t.radiosity) {
+        addGridLights(face, polygon, t, lights);
+      } else {
+        addRadiosityLight(scene, face, polygon, t, world, lights);
+        // qbsp gives a liquid surface a second face looking into the liquid; the Q1 kind skips
+        // it ("underwater side"), the radiosity kind emits from it too.
+        if (liquid) {
+          Face underwater = face;
+          underwater.plane = face.plane.flipped();
+          addRadiosityLight(scene, underwater, Winding(polygon.rbegin(), polygon.rend()), t, world, lights);
+        }
+      }
+      if (lights.size() > kMaxSurfaceLights) {
+        lights.resize(kMaxSurfaceLights);
+        diagnostics.push_back(
+            {Severity::Warning, scene.sourcePath, face.line, 0,
+             fmt::format("_surface \"{}\": more than {} surface light points; the rest are left out", t.texture, kMaxSurfaceLights)});
+        return lights;
+      }
+    }
+  }
+  return lights;
+}
+
+} // namespace bt

@@ -1,0 +1,118 @@
+#include "lighting/visibility.h"
+
+#include <optional>
+
+namespace bt {
+
+namespace {
+
+constexpr int kMaxSkips = BT_MAX_SKIPS; // shaders/ray_offsets.glsl
+
+bool blocksLight(uint32_t faceFlags, LightingMode mode) {
+  if (faceFlags & (kFaceHidden | kFaceLiquid)) return false;
+  if (mode == LightingMode::Faithful && (faceFlags & kFaceNoShadow)) return false;
+  return true;
+}
+
+// Where a ray goes on past a hit: the far side of a brush it started in, and the holes of
+// alpha-tested faces (kFaceMasked), which are holes to every ray as `{` brushes are to the compiler.
+bool passesThrough(const RenderScene& rs, const Hit& hit, const Ray& ray) {
+  if (hit.inside) return true;
+  const uint32_t flags = rs.faceFlags[hit.face];
+  if (!(flags & kFaceMasked)) return false;
+  const float a = baseColorAt(rs, hit.face, ray.origin + ray.direction * hit.t).a;
+  if (flags & kFaceMaskGt0) return !(a > 0.0f);
+  if (flags & kFaceMaskLt128) return !(a < 0.5f);
+  return !(a >= 0.5f);
+}
+
+} // namespace
+
+glm::vec2 textureUV(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
+  const GpuFace& f = gpuFace(rs, face);
+  const glm::vec2 st = textureCoordinates(f, p);
+  const glm::vec2 size = f.material < rs.materials.size() ? rs.materials[f.material].size : glm::vec2(64.0f);
+  return st / size;
+}
+
+SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray) {
+  Ray r = ray;
+  for (int i = 0; i < kMaxSkips; ++i) {
+    const std::optional<Hit> hit = rs.tracer.closestHit(r);
+    if (!hit) return {};
+    if (!passesThrough(rs, *hit, r) && !(rs.faceFlags[hit->face] & kFaceHidden)) {
+      SurfaceHit s;
+      s.found = true;
+      s.t = hit->t;
+      s.face = hit->face;
+      s.position = ray.origin + ray.direction * hit->t;
+      s.normal = faceNormal(rs, hit->face);
+      return s;
+    }
+    r.tMin = continueRayAfter(hit->t);
+  }
+  return {};
+}
+
+bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode) {
+  // Most shadow rays that are blocked are blocked by any wall on the way: the first hit the
+  // traversal meets settles it. Only a hit the ray may pass (a liquid, a hole, a face that casts
+  // no shadow) needs the walk from hit to hit below, which gives the same answer.
+  const std::optional<Hit> any = rs.tracer.anyHit(ray);
+  if (!any) return false;
+  if (blocksLight(rs.faceFlags[any->face], mode) && !passesThrough(rs, *any, ray)) return true;
+  Ray r = ray;
+  for (int i = 0; i < kMaxSkips; ++i) {
+    const std::optional<Hit> hit = rs.tracer.closestHit(r);
+    if (!hit) return false;
+    if (blocksLight(rs.faceFlags[hit->face], mode) && !passesThrough(rs, *hit, r)) return true;
+    r.tMin = continueRayAfter(hit->t);
+  }
+  return true;
+}
+
+bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t skyMaterial) {
+  Ray r = ray;
+  for (int i = 0; i < kMaxSkips; ++i) {
+    const std::optional<Hit> hit = rs.tracer.closestHit(r);
+    if (!hit) return skyMaterial == 0; // left the level: nothing to stop the sun, unless it needs a texture
+    const uint32_t flags = rs.faceFlags[hit->face];
+    const bool through = passesThrough(rs, *hit, r);
+    if (!through && (flags & kFaceSky)) return skyMaterial == 0 || gpuFace(rs, hit->face).material + 1 == skyMaterial;
+    if (!through && blocksLight(flags, mode)) return false;
+    r.tMin = continueRayAfter(hit->t);
+  }
+  return false;
+}
+
+glm::vec4 baseColorAt(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
+  const uint32_t m = gpuFace(rs, face).material;
+  if (m >= rs.scene->materials.size() || rs.scene->materials[m].baseColor.empty()) return glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
+  const glm::vec2 uv = textureUV(rs, face, p);
+  return sampleBilinearRepeat(rs.scene->materials[m].baseColor, uv.x, uv.y);
+}
+
+glm::vec3 emissiveAt(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
+  const uint32_t m = gpuFace(rs, face).material;
+  if (m >= rs.scene->materials.size() || !(rs.materials[m].flags & kMaterialEmissive)) return glm::vec3(0.0f);
+  const glm::vec2 uv = textureUV(rs, face, p);
+  return glm::vec3(sampleBilinearRepeat(rs.scene->materials[m].emissive, uv.x, uv.y));
+}
+
+float blockedDistance(const RenderScene& rs, const glm::vec3& origin, const glm::vec3& dir, float depth) {
+  Ray r{origin, 0.0f, dir, depth};
+  float lastT = depth;
+  for (int i = 0; i < kMaxSkips; ++i) {
+    const std::optional<Hit> hit = rs.tracer.closestHit(r);
+    if (!hit) return depth;
+    const uint32_t flags = rs.faceFlags[hit->face];
+    const bool through = passesThrough(rs, *hit, r);
+    if (!through && (flags & kFaceSky)) return depth;
+    if (!through && blocksLight(flags, LightingMode::Faithful)) return std::min(hit->t, depth);
+    lastT = hit->t;
+    r.tMin = continueRayAfter(hit->t);
+  }
+  return lastT; // too many faces to pass: blocked where the search stopped
+}
+
+} // namespace bt

@@ -1,0 +1,48 @@
+// What a ray sees of a prepared level under Quake's drawing rules: faces that are never drawn
+// (hidden textures, back faces) are skipped, alpha-tested holes let rays through, and each
+// lighting mode has its own idea of what casts a shadow. Both light models and the CPU tracer
+// ask these questions; shaders/visible.glsl answers them the same way on the GPU.
+#pragma once
+
+#include "lighting/render_scene.h"
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include <cstdint>
+
+namespace bt {
+
+enum class LightingMode { Faithful, Physical };
+
+// A hit after skipping faces that are never drawn.
+struct SurfaceHit {
+  bool found = false;
+  float t = 0.0f;
+  uint32_t face = 0;
+  glm::vec3 position{0.0f};
+  glm::vec3 normal{0.0f, 0.0f, 1.0f}; // the face plane's normal (faces the ray)
+};
+
+SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray);
+
+// True when something that casts shadows in `mode` lies between the ray's tmin and tmax.
+bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode);
+
+// True when the ray reaches a sky face (or leaves the level) before anything else: sunlight.
+// `skyMaterial`: 1 + the only sky material that counts (a sun's `_suntexture`), 0 any sky.
+bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t skyMaterial = 0);
+
+// How far a ray from `origin` along `dir` gets before a face that blocks faithful light, or
+// `depth` when it meets none (or the sky: ericw-tools' dirt counts only solid hits) within it.
+float blockedDistance(const RenderScene& rs, const glm::vec3& origin, const glm::vec3& dir, float depth);
+
+// A face point's texture coordinates in units of its texture's size (repeat wraps at 1).
+glm::vec2 textureUV(const RenderScene& rs, uint32_t face, const glm::vec3& p);
+
+// Base colour at a face point: rgb as stored (sRGB-encoded, 0..1), a = coverage.
+glm::vec4 baseColorAt(const RenderScene& rs, uint32_t face, const glm::vec3& p);
+glm::vec3 emissiveAt(const RenderScene& rs, uint32_t face, const glm::vec3& p); // sRGB-encoded
+
+} // namespace bt

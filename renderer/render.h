@@ -1,0 +1,66 @@
+// What a render asks for and what it gives back, the same for both tracers: the settings, the
+// image with its AOVs, progress, and the 8-bit pixels an output file holds.
+#pragma once
+
+#include "lighting/visibility.h" // LightingMode
+#include "renderer/tonemap.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace bt {
+
+struct IntegratorSettings {
+  LightingMode mode = LightingMode::Faithful;
+  int bounces = 3; // physical: indirect bounces after the first hit (faithful mode bounces as the
+                   // level's `_bounce` asks, through bounce lights: bounce.h)
+  // true: the light grid's lists (faithful) and one selected point light per hit (physical);
+  // false: every light at every hit, the reference both converge to (tests, benchmarks).
+  bool lightSelection = true;
+};
+
+struct RenderSettings {
+  int width = 640;
+  int height = 360;
+  int spp = 64;           // samples per pixel (upper bound when timeLimit is set)
+  double timeLimit = 0.0; // seconds; 0 = none. Stops after the pass that crosses it.
+  int threads = 0;        // 0 = every hardware thread
+  uint32_t seed = 0;
+  IntegratorSettings integrator;
+};
+
+// A rendered frame. beauty is the mean linear radiance; the AOVs come from one ray through
+// each pixel centre, so they are exact and deterministic.
+struct RenderImage {
+  int width = 0;
+  int height = 0;
+  int samples = 0;
+  std::vector<glm::vec3> beauty;
+  std::vector<glm::vec3> albedo; // linear base colour of the visible face
+  std::vector<glm::vec3> normal; // world-space face normal, 0 where nothing is hit
+  std::vector<float> depth;      // distance along the ray, +inf where nothing is hit
+  std::vector<uint32_t> face;    // scene face index + 1, 0 where nothing is hit
+};
+
+struct RenderProgress {
+  int samplesDone = 0;
+  int samplesTotal = 0; // spp, or 0 when only a time limit bounds the render
+  double elapsed = 0.0;
+  double estimatedRemaining = 0.0;
+};
+
+// Image outputs.
+enum class Aov { Beauty, Albedo, Normal, Depth, Face };
+
+struct OutputSettings {
+  Aov aov = Aov::Beauty;
+  float exposureEv = 0.0f;
+  Tonemap tonemap = Tonemap::Faithful;
+};
+
+// The 8-bit sRGB pixels a PNG of `image` holds (RGB, rows top to bottom).
+std::vector<uint8_t> displayPixels(const RenderImage& image, const OutputSettings& output);
+
+} // namespace bt
