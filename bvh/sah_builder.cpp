@@ -23,7 +23,7 @@ namespace bt {
 // instructions per build. Without FMA contraction (not enabled) every rounding is the same,
 // so both build the same tree (tested).
 namespace sse2 {
-#include "bvh/binned_sah_builder.inl"
+#include "bvh/binned_sah/builder.h"
 } // namespace sse2
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
@@ -31,7 +31,7 @@ namespace sse2 {
 #pragma GCC push_options
 #pragma GCC target("avx2")
 namespace avx2 {
-#include "bvh/binned_sah_builder.inl"
+#include "bvh/binned_sah/builder.h"
 } // namespace avx2
 #pragma GCC pop_options
 #endif
