@@ -1,4 +1,4 @@
-// BVH benchmarks (issue 3): build speed and SAH cost on generated levels of 5k, 50k and 500k
+// BVH benchmarks: build speed and SAH cost on generated levels of 5k, 50k and 500k
 // brushes and on the largest shared maps, and closest-hit Mrays/s for primary-like and
 // bounce-like rays, one thread and all threads.
 //
@@ -7,10 +7,10 @@
 //   build/bench/bench_bvh_generated                        the generated levels alone: linked
 //                                     without the importers (and OpenImageIO's hundreds of MB of
 //                                     libraries), so it travels to another machine
-//                                     (scripts/gpu-check.sh measures it on 2 cores there)
+//                                     (scripts/gpu-check.sh runs it on 2 cores there)
 //
 // Two build figures, items_per_second = brushes/s:
-//   BvhBuild/<scene>/threads:N        the issue's "build M brushes/s": the binned SAH builder
+//   BvhBuild/<scene>/threads:N        the builder's brushes/s: the binned SAH builder
 //                                     (buildBinnedSah) over the brush boxes. SAH = its cost,
 //                                     SAH/fullsweep = that over the exact full-sweep reference.
 //   TraceSceneBuild/<scene>/threads:N all of TraceScene::build: GPU faces, brushes with
@@ -131,7 +131,7 @@ double processCpuSeconds() {
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
-// The issue's build figure: the binned SAH builder alone, on the brush boxes.
+// The builder's own figure: the binned SAH builder alone, on the brush boxes.
 void BM_BvhBuild(benchmark::State& state, const std::string& scene) {
   const BenchScene& s = benchScene(scene);
   const int threads = static_cast<int>(state.range(0));

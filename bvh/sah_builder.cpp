@@ -1,45 +1,17 @@
 #include "bvh/sah_builder.h"
 
-#include <algorithm>
-#include <array>
-#include <atomic>
-#include <bit>
-#include <cmath>
-#include <cstddef>
-#include <cstring>
-#include <condition_variable>
-#include <memory>
-#include <mutex>
-#include <stdexcept>
-#include <thread>
+#include "bvh/binned_sah/isa_builds.h"
 
-#include <immintrin.h>
+#include <cstddef>
+#include <stdexcept>
+#include <utility>
 
 namespace bt {
-
-// The builder is compiled twice: for the x86-64 baseline (SSE2) and for AVX2, chosen at run
-// time. The code is the same SSE intrinsics; the AVX2 compilation encodes them with three
-// operands (VEX), which drops the register copies that two-operand SSE needs: 10 % fewer
-// instructions per build. Without FMA contraction (not enabled) every rounding is the same,
-// so both build the same tree (tested).
-namespace sse2 {
-#include "bvh/binned_sah_builder.inl"
-} // namespace sse2
-
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define BT_SAH_BUILDER_AVX2 1
-#pragma GCC push_options
-#pragma GCC target("avx2")
-namespace avx2 {
-#include "bvh/binned_sah_builder.inl"
-} // namespace avx2
-#pragma GCC pop_options
-#endif
 
 namespace {
 
 void checkBoxCount(std::span<const Aabb> boxes) {
-  // The median split's depth bound (see kMedianSplitDepth) holds up to 2^24 boxes.
+  // The median split's depth bound (see kMedianSplitDepth in binned_sah/builder.h) holds up to 2^24 boxes.
   if (boxes.size() > size_t{1} << 24) throw std::invalid_argument("buildBinnedSah: more than 2^24 boxes");
 }
 
@@ -52,17 +24,29 @@ float halfArea(const GpuBvhNode& n) {
 
 } // namespace
 
+void resizeSlots(std::vector<GpuBvhNode>& slots, size_t count) {
+  slots.resize(count);
+}
+
+bool binnedSahAvx2Usable() {
+#if defined(BT_SAH_BUILDER_AVX2)
+  return __builtin_cpu_supports("avx2");
+#else
+  return false;
+#endif
+}
+
 FlatBvh buildBinnedSah(std::span<const Aabb> boxes, const SahBuildSettings& settings) {
   checkBoxCount(boxes); // the builder checks the boxes themselves as it reads them
 #if defined(BT_SAH_BUILDER_AVX2)
-  if (__builtin_cpu_supports("avx2")) return avx2::BinnedSahBuilder(boxes, settings).build();
+  if (binnedSahAvx2Usable()) return avx2::buildBinnedSah(boxes, settings);
 #endif
-  return sse2::BinnedSahBuilder(boxes, settings).build();
+  return sse2::buildBinnedSah(boxes, settings);
 }
 
 FlatBvh buildBinnedSahBaseline(std::span<const Aabb> boxes, const SahBuildSettings& settings) {
   checkBoxCount(boxes);
-  return sse2::BinnedSahBuilder(boxes, settings).build();
+  return sse2::buildBinnedSah(boxes, settings);
 }
 
 std::vector<GpuBvhNode> compactDepthFirst(std::span<const GpuBvhNode> nodes) {

@@ -58,8 +58,11 @@ struct FlatBvh {
 // otherwise). The result does not depend on `threads`.
 FlatBvh buildBinnedSah(std::span<const Aabb> boxes, const SahBuildSettings& settings);
 // The same build compiled for the x86-64 baseline only; buildBinnedSah() runs an AVX2
-// compilation of it where the CPU has AVX2. Both give the same tree; the tests compare them.
+// compilation of it where binnedSahAvx2Usable(). Both give the same tree; the tests compare them.
 FlatBvh buildBinnedSahBaseline(std::span<const Aabb> boxes, const SahBuildSettings& settings);
+// Whether the library holds an AVX2 compilation of the builder (GCC or Clang on x86-64) and the
+// CPU runs it: where not, buildBinnedSah() is buildBinnedSahBaseline().
+bool binnedSahAvx2Usable();
 
 // The SAH decision that every builder here shares (the test suite's full-sweep reference
 // included), in units of half-areas: a node is split when it holds more than leafSize

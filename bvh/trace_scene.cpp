@@ -243,16 +243,66 @@ void buildTriangles(const Scene& scene, const BvhBuildOptions& options, std::vec
   for (size_t i = 0; i < bvh.order.size(); ++i) triangles[i] = all[bvh.order[i]];
 }
 
-} // namespace
+// The boxes of the brushes that can be traced, and which scene brush each is (boxes[i] is
+// the box of scene brush boxBrush[i]).
+void traceableBoxes(std::span<const GpuBrush> candidates, std::vector<Aabb>& boxes, std::vector<uint32_t>& boxBrush) {
+  boxes.reserve(candidates.size());
+  boxBrush.reserve(candidates.size());
+  for (const GpuBrush& g : candidates) {
+    if (g.sceneBrush == kNoFace) continue;
+    // A brush whose bounds overflow float, or whose opposite axial faces cross (a sliver with no
+    // inside), cannot be traced, and the builder refuses such boxes; the importers keep
+    // coordinates finite and drop brushes without volume, so this only keeps a corrupt scene
+    // from throwing.
+    const bool finite = std::isfinite(g.boundsMin[0] + g.boundsMin[1] + g.boundsMin[2] + g.boundsMax[0] + g.boundsMax[1] + g.boundsMax[2]);
+    const Aabb box{{g.boundsMin[0], g.boundsMin[1], g.boundsMin[2]}, {g.boundsMax[0], g.boundsMax[1], g.boundsMax[2]}};
+    if (!finite || box.empty()) continue;
+    boxes.push_back(box);
+    boxBrush.push_back(g.sceneBrush);
+  }
+}
 
-TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options) {
+// The root's box is the float min and max of all the boxes under it, their bounds: no need to
+// grow them box by box.
+void growByRoot(Bounds& bounds, std::span<const GpuBvhNode> nodes) {
+  if (nodes.empty()) return;
+  bounds.grow(dvec3(nodes[0].boundsMin[0], nodes[0].boundsMin[1], nodes[0].boundsMin[2]));
+  bounds.grow(dvec3(nodes[0].boundsMax[0], nodes[0].boundsMax[1], nodes[0].boundsMax[2]));
+}
+
+// The slanted sides of `brushes` (in leaf order), each brush's after the previous one's, so that
+// a leaf's planes are adjacent; sets each brush's firstSide.
+std::vector<uint32_t> sidesInLeafOrder(const Scene& scene, std::span<const FaceRole> roles, std::span<GpuBrush> brushes, int threads) {
+  uint32_t sideCount = 0;
+  for (GpuBrush& g : brushes) {
+    g.firstSide = sideCount;
+    sideCount += g.sideCount;
+  }
+  std::vector<uint32_t> sides(sideCount);
+  parallelChunks(brushes.size(), threads, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      if (brushes[i].sideCount == 0) continue; // a box: all its sides are axial
+      const Brush& brush = scene.brushes[brushes[i].sceneBrush];
+      uint32_t side = brushes[i].firstSide;
+      for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
+        if (roles[f].kind == FaceRole::kSlanted) sides[side++] = f;
+    }
+  });
+  return sides;
+}
+
+void checkBuildInput(const Scene& scene, const BvhBuildOptions& options) {
   if (!options.includeBrush.empty() && options.includeBrush.size() != scene.brushes.size())
     throw std::invalid_argument("BvhBuildOptions::includeBrush must be empty or have one entry per brush");
-
   for (const Brush& b : scene.brushes)
     if (b.firstFace > scene.faces.size() || b.faceCount > scene.faces.size() - b.firstFace)
       throw std::invalid_argument("TraceScene::build: a brush's faces lie outside Scene::faces");
+}
 
+} // namespace
+
+TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options) {
+  checkBuildInput(scene, options);
   TraceScene ts;
   const int threads = options.threads;
   ts.faces_.resize(scene.faces.size());
@@ -275,58 +325,21 @@ TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options)
     }
   });
   std::vector<Aabb> boxes;
-  std::vector<uint32_t> boxBrush; // boxes[i] is the box of scene brush boxBrush[i]
-  boxes.reserve(scene.brushes.size());
-  boxBrush.reserve(scene.brushes.size());
-  for (const GpuBrush& g : candidates) {
-    if (g.sceneBrush == kNoFace) continue;
-    // A brush whose bounds overflow float, or whose opposite axial faces cross (a sliver with no
-    // inside), cannot be traced, and the builder refuses such boxes; the importers keep
-    // coordinates finite and drop brushes without volume, so this only keeps a corrupt scene
-    // from throwing.
-    const bool finite = std::isfinite(g.boundsMin[0] + g.boundsMin[1] + g.boundsMin[2] + g.boundsMax[0] + g.boundsMax[1] + g.boundsMax[2]);
-    const Aabb box{{g.boundsMin[0], g.boundsMin[1], g.boundsMin[2]}, {g.boundsMax[0], g.boundsMax[1], g.boundsMax[2]}};
-    if (!finite || box.empty()) continue;
-    boxes.push_back(box);
-    boxBrush.push_back(g.sceneBrush);
-  }
+  std::vector<uint32_t> boxBrush;
+  traceableBoxes(candidates, boxes, boxBrush);
 
   FlatBvh bvh = buildBinnedSah(boxes, {options.leafSize, options.binCount, options.threads});
   ts.nodes_ = std::move(bvh.nodes);
-  // The root's box is the float min and max of all brush boxes, their bounds: no need to grow
-  // them box by box in the loop above (two calls per brush, a tenth of the loop).
-  if (!ts.nodes_.empty()) {
-    const GpuBvhNode& root = ts.nodes_[0];
-    ts.bounds_.grow(dvec3(root.boundsMin[0], root.boundsMin[1], root.boundsMin[2]));
-    ts.bounds_.grow(dvec3(root.boundsMax[0], root.boundsMax[1], root.boundsMax[2]));
-  }
+  growByRoot(ts.bounds_, ts.nodes_);
   // Brushes and their side lists in leaf order, so a leaf's brushes and planes are adjacent.
   ts.brushes_.resize(bvh.order.size());
   parallelChunks(ts.brushes_.size(), threads, [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) ts.brushes_[i] = candidates[boxBrush[bvh.order[i]]];
   });
-  uint32_t sideCount = 0;
-  for (GpuBrush& g : ts.brushes_) {
-    g.firstSide = sideCount;
-    sideCount += g.sideCount;
-  }
-  ts.sides_.resize(sideCount);
-  parallelChunks(ts.brushes_.size(), threads, [&](size_t begin, size_t end) {
-    for (size_t i = begin; i < end; ++i) {
-      if (ts.brushes_[i].sideCount == 0) continue; // a box: all its sides are axial
-      const Brush& brush = scene.brushes[ts.brushes_[i].sceneBrush];
-      uint32_t side = ts.brushes_[i].firstSide;
-      for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
-        if (roles[f].kind == FaceRole::kSlanted) ts.sides_[side++] = f;
-    }
-  });
+  ts.sides_ = sidesInLeafOrder(scene, roles, ts.brushes_, threads);
   ts.sahCost_ = bt::sahCost(ts.nodes_);
   buildTriangles(scene, options, ts.triangleNodes_, ts.triangles_);
-  if (!ts.triangleNodes_.empty()) {
-    const GpuBvhNode& root = ts.triangleNodes_[0];
-    ts.bounds_.grow(dvec3(root.boundsMin[0], root.boundsMin[1], root.boundsMin[2]));
-    ts.bounds_.grow(dvec3(root.boundsMax[0], root.boundsMax[1], root.boundsMax[2]));
-  }
+  growByRoot(ts.bounds_, ts.triangleNodes_);
   return ts;
 }
 

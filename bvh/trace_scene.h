@@ -93,10 +93,10 @@ struct BvhBuildOptions {
   int binCount = 32; // SAH bins per axis of a large node (a node of n boxes gets
                      // min(binCount, max(5n / 8, 8)), at most 24 below 256 boxes; nodes of 8 or
                      // fewer an exact sweep; nodes of 2048 or more bin a sample); with 32 the
-                     // tree's SAH is within -1..+2 % of the exact full sweep on the shared maps
+                     // tree's SAH is close to the exact full sweep's (tests/bvh checks how close)
   int threads = 0;   // 0 = all cores
-  // No reinsertion/optimisation pass: the binned tree is already within 2 % of the exact
-  // full-sweep SAH on the shared maps (tests/bvh), so there is little left for one to gain.
+  // No reinsertion/optimisation pass: the binned tree's SAH is already close to the exact
+  // full sweep's on the shared maps (tests/bvh), so there is little left for one to gain.
   std::vector<bool> includeBrush; // per Scene brush; empty = all. Excluded brushes are never hit.
   std::vector<bool> includeMesh;  // per Scene mesh, the same
 };

@@ -12,34 +12,6 @@
 namespace bt::test {
 namespace {
 
-// Half the side of the square a winding starts from before clipping: bigger than any scene here.
-constexpr double kBaseWindingSize = 1 << 20;
-constexpr double kClipEpsilon = 1e-7;
-
-// Quake's texture axes (qbsp's baseaxis table): the frame projects along the world axis
-// closest to the face normal.
-TextureFrame quakeFrame(const Plane& plane) {
-  static constexpr std::array<std::array<double, 9>, 6> kBaseAxis = {{
-      {0, 0, 1, 1, 0, 0, 0, -1, 0},  // floor
-      {0, 0, -1, 1, 0, 0, 0, -1, 0}, // ceiling
-      {1, 0, 0, 0, 1, 0, 0, 0, -1},  // west wall
-      {-1, 0, 0, 0, 1, 0, 0, 0, -1}, // east wall
-      {0, 1, 0, 1, 0, 0, 0, 0, -1},  // south wall
-      {0, -1, 0, 1, 0, 0, 0, 0, -1}, // north wall
-  }};
-  int best = 0;
-  double bestDot = -2.0;
-  for (int i = 0; i < 6; ++i) {
-    const double d = glm::dot(plane.normal, dvec3(kBaseAxis[i][0], kBaseAxis[i][1], kBaseAxis[i][2]));
-    if (d > bestDot) bestDot = d, best = i;
-  }
-  TextureFrame frame;
-  frame.origin = plane.normal * plane.dist;
-  frame.tangent = {kBaseAxis[best][3], kBaseAxis[best][4], kBaseAxis[best][5]};
-  frame.bitangent = {kBaseAxis[best][6], kBaseAxis[best][7], kBaseAxis[best][8]};
-  return frame;
-}
-
 Plane planeThrough(const dvec3& normal, const dvec3& point) {
   const dvec3 n = glm::normalize(normal);
   return {n, glm::dot(n, point)};
@@ -65,30 +37,9 @@ std::vector<Plane> prismPlanes(const dvec3& centre, double radius, double zMin, 
 uint32_t addBrush(Scene& scene, std::span<const Plane> planes, const char* texture) {
   if (scene.entities.empty()) scene.entities.push_back({1, {{"classname", "worldspawn"}}, 0, 0});
   if (scene.materials.empty() || !scene.findMaterial(texture)) scene.materials.push_back({.name = texture});
-  const uint32_t material = *scene.findMaterial(texture);
-
-  Brush brush;
-  brush.entity = 0;
-  brush.firstFace = static_cast<uint32_t>(scene.faces.size());
-  brush.faceCount = static_cast<uint32_t>(planes.size());
-  const uint32_t brushIndex = static_cast<uint32_t>(scene.brushes.size());
-  for (size_t i = 0; i < planes.size(); ++i) {
-    Face face;
-    face.brush = brushIndex;
-    face.material = material;
-    face.texture = texture;
-    face.plane = planes[i];
-    face.frame = quakeFrame(planes[i]);
-    face.winding = baseWinding(planes[i], kBaseWindingSize);
-    for (size_t j = 0; j < planes.size() && !face.winding.empty(); ++j)
-      if (j != i) face.winding = clipBehind(face.winding, planes[j], kClipEpsilon);
-    for (const dvec3& p : face.winding) brush.bounds.grow(p);
-    scene.faces.push_back(std::move(face));
-  }
-  scene.brushes.push_back(brush);
+  const uint32_t brush = addBrush(scene, planes, {.material = *scene.findMaterial(texture), .texture = texture});
   scene.entities[0].brushCount = static_cast<uint32_t>(scene.brushes.size());
-  scene.bounds.grow(brush.bounds);
-  return brushIndex;
+  return brush;
 }
 
 uint32_t addBox(Scene& scene, const dvec3& min, const dvec3& max, const char* texture) {

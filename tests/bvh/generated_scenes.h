@@ -3,6 +3,7 @@
 #pragma once
 
 #include "scene/scene.h"
+#include "tests/support/scene_builder.h"
 
 #include <cstdint>
 #include <span>
@@ -11,9 +12,9 @@
 namespace bt::test {
 
 // Appends the convex brush bounded by `planes` (normals pointing out) to the worldspawn of
-// `scene` (created if the scene has no entity): one face per plane, its winding clipped by all
-// the other planes (empty for a redundant plane), Quake's axis-projected texture frame,
-// bounds from the windings. Returns the brush index.
+// `scene` (created if the scene has no entity), every face of material `texture` (added if the
+// scene has none of that name), as tests/support/scene_builder.h makes it: bounds from the
+// windings. A box's faces are -X, +X, -Y, +Y, -Z, +Z. Returns the brush index.
 uint32_t addBrush(Scene& scene, std::span<const Plane> planes, const char* texture = "wall");
 uint32_t addBox(Scene& scene, const dvec3& min, const dvec3& max, const char* texture = "wall");
 

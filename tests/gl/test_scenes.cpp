@@ -18,22 +18,6 @@ namespace bt::test {
 
 namespace {
 
-// Quake's texture base axes (qbsp TextureAxisFromPlane): the axis pair of the closest of
-// floor, ceiling, and the four walls.
-void axialFrame(const dvec3& n, dvec3& tangent, dvec3& bitangent) {
-  const dvec3 a = glm::abs(n);
-  if (a.z >= a.x && a.z >= a.y) {
-    tangent = {1, 0, 0};
-    bitangent = {0, -1, 0};
-  } else if (a.x >= a.y) {
-    tangent = {0, 1, 0};
-    bitangent = {0, 0, -1};
-  } else {
-    tangent = {1, 0, 0};
-    bitangent = {0, 0, -1};
-  }
-}
-
 double srgbToLinear(double c) {
   return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
 }
@@ -68,27 +52,8 @@ Image makeImage(int w, int h, const std::vector<std::array<uint8_t, 3>>& colours
 } // namespace
 
 void addBrush(Scene& scene, const std::vector<Plane>& planes, const Bounds& bounds, uint32_t material) {
-  Brush brush;
-  brush.firstFace = static_cast<uint32_t>(scene.faces.size());
-  brush.faceCount = static_cast<uint32_t>(planes.size());
-  brush.bounds = bounds;
-  for (const Plane& p : planes) {
-    Face f;
-    f.brush = static_cast<uint32_t>(scene.brushes.size());
-    f.material = material;
-    f.texture = scene.materials[material].name;
-    f.plane = p;
-    axialFrame(p.normal, f.frame.tangent, f.frame.bitangent);
-    f.frame.origin = p.normal * p.dist; // on the plane
-    // The winding as qbsp makes it: a huge square on the plane clipped by the other planes
-    // (the BVH takes a brush's bounds and its axial faces from the windings).
-    f.winding = baseWinding(p, 65536.0);
-    for (const Plane& other : planes)
-      if (&other != &p) f.winding = clipBehind(f.winding, other, 1e-6);
-    scene.faces.push_back(f);
-  }
-  scene.brushes.push_back(brush);
-  scene.bounds.grow(bounds);
+  // The GL scenes' windings were clipped from smaller squares than the builder's default.
+  addBrush(scene, planes, {.material = material, .texture = scene.materials[material].name}, {.radius = 65536.0, .epsilon = 1e-6}, bounds);
 }
 
 void addBox(Scene& scene, dvec3 min, dvec3 max, uint32_t material) {

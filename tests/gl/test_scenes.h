@@ -4,11 +4,12 @@
 
 #include "renderer/gl/gl_tracer.h"
 #include "scene/scene.h"
+#include "tests/support/scene_builder.h"
 
 namespace bt::test {
 
-// Appends a brush made of the given outward planes to the scene, each face with its winding.
-// Each face gets Quake's axial texture frame for its plane (the baseaxis qbsp picks for an unrotated, unscaled texture).
+// The brush of the given outward planes with the given bounds (tests/support/scene_builder.h),
+// every face of `material`; a box's faces +X, -X, +Y, -Y, +Z, -Z.
 void addBrush(Scene& scene, const std::vector<Plane>& planes, const Bounds& bounds, uint32_t material);
 void addBox(Scene& scene, dvec3 min, dvec3 max, uint32_t material);
 

@@ -1,5 +1,7 @@
 #include "tests/render/box_scene.h"
 
+#include "tests/support/scene_builder.h"
+
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
@@ -39,50 +41,8 @@ void BoxSceneBuilder::worldKey(const std::string& key, const std::string& value)
 }
 
 void BoxSceneBuilder::box(glm::dvec3 lo, glm::dvec3 hi, const std::string& texture, uint32_t entity) {
-  Brush brush;
-  brush.entity = entity;
-  brush.firstFace = uint32_t(scene_.faces.size());
-  brush.bounds.grow(lo);
-  brush.bounds.grow(hi);
-  const uint32_t brushIndex = uint32_t(scene_.brushes.size());
-  const uint32_t material = scene_.findMaterial(texture).value_or(0);
-  for (int axis = 0; axis < 3; ++axis) {
-    for (int side = 0; side < 2; ++side) {
-      Face f;
-      f.brush = brushIndex;
-      f.material = material;
-      f.texture = texture;
-      glm::dvec3 n(0.0);
-      n[axis] = side ? 1.0 : -1.0;
-      f.plane.normal = n;
-      f.plane.dist = side ? hi[axis] : -lo[axis];
-      // Quake's axial texture projection: drop the normal's axis.
-      const int u = axis == 0 ? 1 : 0, v = axis == 2 ? 1 : 2;
-      f.frame.origin = glm::dvec3(0.0);
-      f.frame.origin[axis] = side ? hi[axis] : lo[axis];
-      f.frame.tangent = glm::dvec3(0.0);
-      f.frame.tangent[u] = 1.0;
-      f.frame.bitangent = glm::dvec3(0.0);
-      f.frame.bitangent[v] = -1.0;
-      // Rectangle on the plane, counter-clockwise seen from outside.
-      const double w = f.frame.origin[axis];
-      glm::dvec3 c[4];
-      const double us[4] = {lo[u], hi[u], hi[u], lo[u]}, vs[4] = {lo[v], lo[v], hi[v], hi[v]};
-      for (int k = 0; k < 4; ++k) {
-        c[k][axis] = w;
-        c[k][u] = us[k];
-        c[k][v] = vs[k];
-      }
-      const glm::dvec3 e1 = c[1] - c[0], e2 = c[2] - c[0];
-      const bool ccw = glm::dot(glm::cross(e1, e2), n) > 0.0;
-      for (int k = 0; k < 4; ++k) f.winding.push_back(c[ccw ? k : 3 - k]);
-      scene_.faces.push_back(std::move(f));
-    }
-  }
-  brush.faceCount = 6;
-  scene_.brushes.push_back(brush);
+  addBox(scene_, lo, hi, {.material = scene_.findMaterial(texture).value_or(0), .texture = texture, .entity = entity});
   scene_.entities[entity].brushCount++;
-  scene_.bounds.grow(brush.bounds);
 }
 
 void BoxSceneBuilder::room(glm::dvec3 lo, glm::dvec3 hi, const std::string& texture, double t) {
