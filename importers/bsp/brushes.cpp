@@ -1,6 +1,7 @@
 #include "importers/bsp/brushes.h"
 
 #include "importers/bsp/coplanar_index.h"
+#include "quake/texture_axes.h"
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
@@ -370,27 +371,10 @@ std::vector<CompiledBrush> slabsForUncoveredFaces(const BspFile& bsp, const Mode
 } // namespace
 
 TextureFrame paraxialFrame(const Plane& plane) {
-  // Quake's base axes (qbsp TextureAxisFromPlane): floor/ceiling, west/east wall, south/north.
-  static constexpr std::array<std::array<dvec3, 3>, 6> kBaseAxes{{
-      {dvec3(0, 0, 1), dvec3(1, 0, 0), dvec3(0, -1, 0)},
-      {dvec3(0, 0, -1), dvec3(1, 0, 0), dvec3(0, -1, 0)},
-      {dvec3(1, 0, 0), dvec3(0, 1, 0), dvec3(0, 0, -1)},
-      {dvec3(-1, 0, 0), dvec3(0, 1, 0), dvec3(0, 0, -1)},
-      {dvec3(0, 1, 0), dvec3(1, 0, 0), dvec3(0, 0, -1)},
-      {dvec3(0, -1, 0), dvec3(1, 0, 0), dvec3(0, 0, -1)},
-  }};
-  size_t best = 0;
-  double bestDot = -1.0;
-  for (size_t i = 0; i < kBaseAxes.size(); ++i) {
-    const double d = glm::dot(plane.normal, kBaseAxes[i][0]);
-    if (d > bestDot + 1e-9) { // first wins ties, as in qbsp
-      bestDot = d;
-      best = i;
-    }
-  }
+  const quake::TextureAxes axes = quake::textureAxisFromPlane(plane.normal);
   TextureFrame frame;
-  frame.tangent = kBaseAxes[best][1];
-  frame.bitangent = kBaseAxes[best][2];
+  frame.tangent = axes.s;
+  frame.bitangent = axes.t;
   frame.origin = frameOrigin(plane, frame.tangent, frame.bitangent, 0.0, 0.0);
   return frame;
 }
