@@ -10,13 +10,13 @@
 #include "importers/bsp/pk3.h"
 #include "importers/bsp/q3_textures.h"
 #include "importers/textures/textures.h"
+#include "quake/entity_keys.h"
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -31,34 +31,21 @@ std::optional<size_t> entityModel(const Entity& entity, const BspFile& bsp, Diag
   if (entity.classname() == "worldspawn") return 0;
   const std::string* key = entity.find("model");
   if (!key || key->empty() || (*key)[0] != '*') return std::nullopt; // point entity or .mdl model
-  size_t model = 0;
-  const char* begin = key->data() + 1;
-  const char* end = key->data() + key->size();
-  const auto [ptr, ec] = std::from_chars(begin, end, model);
-  if (ec != std::errc() || ptr != end || model == 0 || model >= bsp.models.size()) {
+  const std::optional<int> model = quake::parseInteger(std::string_view(*key).substr(1));
+  if (!model || *model <= 0 || size_t(*model) >= bsp.models.size()) {
     diagnostics.push_back({Severity::Warning, bsp.path, entity.line, 0,
                            fmt::format("entity '{}' names model \"{}\", which the file does not have ({} models); "
                                        "its brushes are skipped",
                                        entity.classname(), *key, bsp.models.size())});
     return std::nullopt;
   }
-  return model;
+  return size_t(*model);
 }
 
 // "origin" "x y z"; brush entities are drawn at their origin, as the engines do.
 dvec3 entityOrigin(const Entity& entity) {
-  dvec3 origin{0.0};
   const std::string* value = entity.find("origin");
-  if (!value) return origin;
-  const char* p = value->data();
-  const char* end = p + value->size();
-  for (int k = 0; k < 3; ++k) {
-    while (p < end && *p == ' ') ++p;
-    const auto [next, ec] = std::from_chars(p, end, origin[k]);
-    if (ec != std::errc()) return dvec3(0.0);
-    p = next;
-  }
-  return origin;
+  return value ? quake::parseDvec3(*value).value_or(dvec3(0.0)) : dvec3(0.0);
 }
 
 std::vector<CompiledBrush> modelBrushes(const BspFile& bsp, size_t model) {

@@ -3,6 +3,7 @@
 #include "renderer/cpu/game_rules.h"
 #include "renderer/cpu/lights.h"
 #include "renderer/cpu/render_scene.h"
+#include "quake/entity_keys.h"
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
@@ -12,7 +13,6 @@
 #include <cmath>
 #include <limits>
 #include <regex>
-#include <sstream>
 #include <vector>
 
 namespace bt {
@@ -21,14 +21,14 @@ namespace {
 
 // Whitespace-separated numbers; nullopt when any word is not one.
 std::optional<std::vector<float>> numbersIn(std::string_view text) {
-  std::vector<float> numbers;
-  std::istringstream words{std::string(text)};
-  for (std::string word; words >> word;) {
-    const auto f = parseFloat(word);
-    if (!f) return std::nullopt;
-    numbers.push_back(*f);
+  const auto numbers = quake::parseNumbers(text);
+  if (!numbers) return std::nullopt;
+  std::vector<float> out;
+  for (double n : *numbers) {
+    if (!std::isfinite(float(n))) return std::nullopt;
+    out.push_back(float(n));
   }
-  return numbers;
+  return out;
 }
 
 // `rest` after the word `name` when `text` starts with it, else nullopt.

@@ -2,6 +2,7 @@
 #include "renderer/cpu/bounce.h"
 #include "renderer/cpu/game_rules.h"
 #include "renderer/cpu/surface_lights.h"
+#include "quake/entity_keys.h"
 #include "scene/names.h"
 
 #include "renderer/cpu/color.h"
@@ -175,7 +176,7 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
       const uint32_t e = scene.faceEntity(uint32_t(i)); // a brush's or a mesh's
       if (e < scene.entities.size()) {
         const Entity& ent = scene.entities[e];
-        const bool shadowKey = std::atof(std::string(ent.value("_shadow", "0")).c_str()) != 0.0;
+        const bool shadowKey = quake::EntityKeys(ent).number("_shadow", 0.0f) != 0.0f;
         if (!mergedIntoWorld(ent.classname()) && !shadowKey) flags |= kFaceNoShadow;
         // What the game never draws is not in the compiled lighting either, `_shadow` or not.
         if (gameHidesEntity(ent, game)) flags |= kFaceHidden | kFaceNoShadow;
