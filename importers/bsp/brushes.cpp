@@ -1,6 +1,7 @@
 #include "importers/bsp/brushes.h"
 
 #include "importers/bsp/coplanar_index.h"
+#include "quake/bspfile_q1.h"
 #include "quake/texture_axes.h"
 
 #include <fmt/format.h>
@@ -17,13 +18,6 @@
 namespace bt::bsp {
 
 namespace {
-
-// Quake 1 leaf contents.
-constexpr int32_t kContentsEmpty = -1;
-constexpr int32_t kContentsWater = -3;
-constexpr int32_t kContentsSlime = -4;
-constexpr int32_t kContentsLava = -5;
-constexpr int32_t kContentsSky = -6;
 
 // Half the size of the square every side's polygon starts as; larger than any Quake level
 // (Q3's limit is +-65536) so that clipping, not the square, shapes every side.
@@ -62,10 +56,10 @@ std::vector<Plane> axialBoxPlanes(const dvec3& lo, const dvec3& hi) {
 // Name the reference decompiler gives hidden sides, by the contents of their brush.
 const char* quake1SkipTexture(int32_t contents) {
   switch (contents) {
-  case kContentsWater: return "*waterskip";
-  case kContentsSlime: return "*slimeskip";
-  case kContentsLava: return "*lavaskip";
-  case kContentsSky: return "skyskip";
+  case quake::q1::CONTENTS_WATER: return "*waterskip";
+  case quake::q1::CONTENTS_SLIME: return "*slimeskip";
+  case quake::q1::CONTENTS_LAVA: return "*lavaskip";
+  case quake::q1::CONTENTS_SKY: return "skyskip";
   default: return "skip";
   }
 }
@@ -340,7 +334,7 @@ std::vector<CompiledBrush> slabsForUncoveredFaces(const BspFile& bsp, const Mode
       planes.push_back({outward, glm::dot(outward, a)});
     }
     CompiledBrush slab;
-    slab.contents = kContentsEmpty;
+    slab.contents = quake::q1::CONTENTS_EMPTY;
     std::vector<size_t> kept;
     slab.sides = sidesFromPlanes(planes, &kept);
     if (slab.sides.size() < 4) continue;
@@ -417,7 +411,7 @@ std::vector<CompiledBrush> hullBrushes(const BspFile& bsp, size_t modelIndex) {
     stack.pop_back();
     if (item.child < 0) {
       const Leaf& leaf = bsp.leafs[static_cast<size_t>(-1 - int64_t{item.child})];
-      if (leaf.contents == kContentsEmpty || item.cell.size() < 4) continue;
+      if (leaf.contents == quake::q1::CONTENTS_EMPTY || item.cell.size() < 4) continue;
       std::vector<Cell> pieces;
       splitByTexture(std::move(item.cell), bsp, faces, 0, pieces);
       for (Cell& piece : pieces) {

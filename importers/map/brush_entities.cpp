@@ -1,4 +1,5 @@
 #include "importers/map/brush_entities.h"
+#include "quake/bspfile_q2.h"
 #include "quake/entity_keys.h"
 #include "scene/names.h"
 
@@ -14,9 +15,6 @@
 namespace bt::map {
 
 namespace {
-
-// Quake 2's CONTENTS_ORIGIN: the brush only marks where the model's origin is.
-constexpr int32_t kContentsOrigin = 0x01000000;
 
 using quake::findKey;
 
@@ -123,7 +121,7 @@ bool isOriginBrush(const MapBrush& brush) {
   const MapFace& first = brush.faces.front();
   // Quake 2 faces carry their contents; zero means "the texture's own", and the .wal of an
   // origin texture says CONTENTS_ORIGIN, so the name decides then, as in Quake 1.
-  if (first.surface && first.surface->contents != 0) return (first.surface->contents & kContentsOrigin) != 0;
+  if (first.surface && first.surface->contents != 0) return (first.surface->contents & quake::q2::CONTENTS_ORIGIN) != 0;
   const std::string name = lowercase(first.texture);
   return std::string_view(name).substr(name.find_last_of('/') + 1) == "origin";
 }

@@ -6,6 +6,7 @@
 #include "importers/map/map_parser.h"
 #include "importers/map/map_patches.h"
 #include "importers/textures/textures.h"
+#include "quake/bspfile_q2.h"
 
 #include <fmt/format.h>
 
@@ -27,10 +28,8 @@ constexpr double kDistEpsilon = 0.01;
 // QuakeEd texturing whatever the face line says: seen in its output for ericw-tools' test maps
 // q2_nodraw_light and q2_nodraw_detail_light.
 // qbsp drops NODRAW from faces that are also SKY ("fixes a bug in some old maps"), so those keep theirs.
-constexpr int32_t kSurfSky = 0x4;
-constexpr int32_t kSurfNoDraw = 0x80;
 bool drawsNothing(const MapFace& f) {
-  return f.surface && (f.surface->flags & kSurfNoDraw) != 0 && (f.surface->flags & kSurfSky) == 0;
+  return f.surface && (f.surface->flags & quake::q2::SURF_NODRAW) != 0 && (f.surface->flags & quake::q2::SURF_SKY) == 0;
 }
 
 bool samePlane(const Plane& a, const Plane& b) {
