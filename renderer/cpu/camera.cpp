@@ -4,6 +4,7 @@
 #include "renderer/cpu/lights.h"
 #include "renderer/cpu/render_scene.h"
 #include "quake/entity_keys.h"
+#include "quake/view_angles.h"
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
@@ -365,14 +366,10 @@ std::vector<CameraPose> spawnCameraPoses(const Scene& scene) {
 
 Camera::Camera(const CameraPose& pose, int width, int height, float horizontalFovDegrees)
     : origin_(pose.origin), width_(width), height_(height) {
-  const float pitch = glm::radians(pose.pitch), yaw = glm::radians(pose.yaw), roll = glm::radians(pose.roll);
-  // Quake's AngleVectors (mathlib.c): at zero angles forward = +X, right = -Y, up = +Z.
-  const float sp = std::sin(pitch), cp = std::cos(pitch);
-  const float sy = std::sin(yaw), cy = std::cos(yaw);
-  const float sr = std::sin(roll), cr = std::cos(roll);
-  forward_ = {cp * cy, cp * sy, -sp};
-  right_ = {-sr * sp * cy + cr * sy, -sr * sp * sy - cr * cy, -sr * cp};
-  up_ = {cr * sp * cy + sr * sy, cr * sp * sy - sr * cy, cr * cp};
+  const quake::ViewVectors view = quake::angleVectors(pose.pitch, pose.yaw, pose.roll);
+  forward_ = view.forward;
+  right_ = view.right;
+  up_ = view.up;
   tanHalfX_ = std::tan(glm::radians(horizontalFovDegrees) * 0.5f);
   tanHalfY_ = tanHalfX_ * float(height) / float(std::max(width, 1));
 }
