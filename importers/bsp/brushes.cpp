@@ -268,6 +268,22 @@ void splitByTexture(Cell cell, const BspFile& bsp, const CoplanarIndex& faces, i
   out.push_back(std::move(cell));
 }
 
+// The planes of a slab `thickness` deep behind a face: the face's plane, its back, and one
+// outward plane through each edge of the polygon.
+std::vector<Plane> slabPlanes(const Plane& plane, const Winding& polygon, double thickness) {
+  std::vector<Plane> planes{plane, {-plane.normal, -(plane.dist - thickness)}};
+  for (size_t k = 0; k < polygon.size(); ++k) {
+    const dvec3& a = polygon[k];
+    const dvec3 edge = polygon[(k + 1) % polygon.size()] - a;
+    dvec3 outward = glm::cross(edge, plane.normal);
+    const double len = glm::length(outward);
+    if (len < 1e-9) continue;
+    outward /= len;
+    planes.push_back({outward, glm::dot(outward, a)});
+  }
+  return planes;
+}
+
 // Faces no solid cell carries: func_detail_illusionary and other see-through detail compile to
 // faces in empty leafs. So that they still show, each becomes a thin slab brush behind the face;
 // a face compiled both ways (qbsp's mirrored insides) shares one slab, its twin on the back.
@@ -323,16 +339,7 @@ std::vector<CompiledBrush> slabsForUncoveredFaces(const BspFile& bsp, const Mode
       twin = *t;
       used[*t] = true;
     }
-    std::vector<Plane> planes{front.plane, {-front.plane.normal, -(front.plane.dist - kSlabThickness)}};
-    for (size_t k = 0; k < front.polygon.size(); ++k) {
-      const dvec3& a = front.polygon[k];
-      const dvec3 edge = front.polygon[(k + 1) % front.polygon.size()] - a;
-      dvec3 outward = glm::cross(edge, front.plane.normal);
-      const double len = glm::length(outward);
-      if (len < 1e-9) continue;
-      outward /= len;
-      planes.push_back({outward, glm::dot(outward, a)});
-    }
+    const std::vector<Plane> planes = slabPlanes(front.plane, front.polygon, kSlabThickness);
     CompiledBrush slab;
     slab.contents = quake::q1::CONTENTS_EMPTY;
     std::vector<size_t> kept;
