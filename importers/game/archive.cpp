@@ -1,7 +1,7 @@
 #include "importers/game/archive.h"
 
 #include "importers/bsp/pk3.h"
-#include "importers/textures/binary.h"
+#include "quake/binary_reader.h"
 #include "scene/diagnostics.h"
 #include "scene/names.h"
 

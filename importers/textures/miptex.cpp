@@ -1,5 +1,5 @@
 // Palettes and the 8-bit texture formats: Quake/Half-Life miptex and Quake 2 .wal.
-#include "importers/textures/binary.h"
+#include "quake/binary_reader.h"
 #include "importers/textures/textures.h"
 
 #include <fmt/format.h>
