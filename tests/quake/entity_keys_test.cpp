@@ -41,10 +41,14 @@ TEST(EntityKeys, WordsAreSeparatedBySpacesTabsAndLineBreaks) {
 
 TEST(EntityKeys, KeysMatchExactlyFirstThenIgnoringCaseAndSurroundingSpaces) {
   const KeyValues keys{{"Light", "100"}, {"_surface_radiosity ", "1"}, {"light", "200"}, {" \t_color", "1 0 0"}};
-  EXPECT_EQ(*findKey(keys, "light"), "200");
-  EXPECT_EQ(*findKey(keys, "LIGHT"), "100");
-  EXPECT_EQ(*findKey(keys, "_surface_radiosity"), "1");
-  EXPECT_EQ(*findKey(keys, "_color"), "1 0 0");
+  auto valueOf = [&](std::string_view key) {
+    const std::string* value = findKey(keys, key);
+    return value ? *value : std::string("(absent)");
+  };
+  EXPECT_EQ(valueOf("light"), "200");
+  EXPECT_EQ(valueOf("LIGHT"), "100");
+  EXPECT_EQ(valueOf("_surface_radiosity"), "1");
+  EXPECT_EQ(valueOf("_color"), "1 0 0");
   EXPECT_EQ(findKey(keys, "_surface"), nullptr);
 }
 
