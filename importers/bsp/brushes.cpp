@@ -1,6 +1,7 @@
 #include "importers/bsp/brushes.h"
 
 #include "importers/bsp/coplanar_index.h"
+#include "quake/binary_reader.h"
 #include "quake/bspfile_q1.h"
 #include "quake/texture_axes.h"
 
@@ -453,34 +454,34 @@ std::optional<std::vector<CompiledBrush>> brushListBrushes(const BspFile& bsp, s
   const BspxLump* lump = bsp.findBspx("BRUSHLIST");
   if (!lump) return std::nullopt;
   const auto& bytes = lump->bytes;
-  size_t pos = 0;
+  quake::LittleEndianReader reader(bytes);
   auto fail = [&](const std::string& message) {
-    throw ImportError(Diagnostic{Severity::Error, bsp.path, 0, 0, fmt::format("lump 'BSPX BRUSHLIST': {} (at byte {})", message, pos)});
+    throw ImportError(
+        Diagnostic{Severity::Error, bsp.path, 0, 0, fmt::format("lump 'BSPX BRUSHLIST': {} (at byte {})", message, reader.position())});
   };
+  // Checked here too, so that a truncated lump is an error naming the file and the lump.
   auto need = [&](size_t n) {
-    if (bytes.size() - pos < n) fail("truncated");
+    if (reader.remaining() < n) fail("truncated");
   };
   auto u16 = [&] {
     need(2);
-    const uint16_t v = static_cast<uint16_t>(bytes[pos] | (bytes[pos + 1] << 8));
-    pos += 2;
-    return v;
+    return reader.u16();
   };
   auto i32 = [&] {
     need(4);
-    uint32_t v = 0;
-    for (int k = 3; k >= 0; --k) v = (v << 8) | bytes[pos + static_cast<size_t>(k)];
-    pos += 4;
-    return static_cast<int32_t>(v);
+    return reader.i32();
   };
-  auto f32 = [&] { return std::bit_cast<float>(i32()); };
+  auto f32 = [&] {
+    need(4);
+    return reader.f32();
+  };
 
   // Layout (ericw-tools bspxfile): per model { int32 version = 1, modelnum, numbrushes,
   // numplanes; per brush { float mins[3], maxs[3]; int16 contents; uint16 numplanes;
   // numplanes x { float normal[3], dist } } }. Each brush lists only its non-axial planes; the
   // axial ones are its bounds.
   const CoplanarIndex faces = modelFaceIndex(bsp, bsp.models.at(modelIndex));
-  while (pos < bytes.size()) {
+  while (reader.remaining() > 0) {
     const int32_t version = i32();
     if (version != 1) fail(fmt::format("unsupported version {}", version));
     const int32_t model = i32();

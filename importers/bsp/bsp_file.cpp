@@ -55,10 +55,10 @@ BspFile readBspFile(std::span<const uint8_t> bytes, const std::string& pathForEr
   bsp.path = pathForErrors;
   if (bytes.size() < 8) reader.fail(fmt::format("header: file is {} bytes, too short to be a BSP file", bytes.size()));
 
-  detail::FieldReader header(bytes.data());
+  quake::LittleEndianReader header(bytes);
   const uint32_t magic = header.u32();
   const int32_t ibspVersion = header.i32();
-  auto fourCC = [](const char* s) { return detail::FieldReader(reinterpret_cast<const uint8_t*>(s)).u32(); };
+  auto fourCC = [](const char* s) { return quake::readU32({reinterpret_cast<const uint8_t*>(s), 4}, 0); };
 
   if (magic == 29 || magic == 30 || magic == fourCC("BSP2") || magic == fourCC("2PSB")) {
     bsp.version = magic == 29     ? Version::Bsp29

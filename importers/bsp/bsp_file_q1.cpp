@@ -49,7 +49,7 @@ std::vector<Miptex> readMiptexLump(const Reader& reader, const Lump& lump) {
   std::vector<Miptex> out;
   if (lump.bytes.empty()) return out;
   if (lump.bytes.size() < 4) reader.fail(lump, "too short for the texture count");
-  FieldReader header(lump.bytes.data());
+  FieldReader header(lump.bytes);
   const int64_t count = header.i32();
   if (count < 0 || 4 + count * 4 > static_cast<int64_t>(lump.bytes.size()))
     reader.fail(lump, fmt::format("texture count {} does not fit in {} bytes", count, lump.bytes.size()));
@@ -85,7 +85,7 @@ std::vector<Miptex> readMiptexLump(const Reader& reader, const Lump& lump) {
                   fmt::format("texture {} at offset {} shares its record with another texture (the records add up "
                               "to more than the lump's {} bytes)",
                               i, offset, lumpSize));
-    FieldReader r(lump.bytes.data() + offset);
+    FieldReader r(lump.bytes.subspan(static_cast<size_t>(offset)));
     mip.present = true;
     mip.name = r.name(16);
     mip.width = r.u32();
@@ -108,7 +108,7 @@ bool looksLikeHexen2Models(const Lump& lump) {
   auto contiguous = [&](size_t recordSize, size_t faceFieldOffset) {
     int64_t expected = 0;
     for (size_t i = 0; i < size / recordSize; ++i) {
-      FieldReader r(lump.bytes.data() + i * recordSize + faceFieldOffset);
+      FieldReader r(lump.bytes.subspan(i * recordSize + faceFieldOffset, 8));
       const int64_t first = r.i32(), count = r.i32();
       if (first != expected || count < 0) return false;
       expected = first + count;

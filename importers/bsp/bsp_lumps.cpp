@@ -76,7 +76,7 @@ void readBspx(const Reader& reader, BspFile& bsp, std::span<const Lump> lumps) {
   end = (end + 3) & ~size_t{3};
   const auto file = reader.file();
   if (end + 8 > file.size() || std::memcmp(file.data() + end, "BSPX", 4) != 0) return;
-  FieldReader header(file.data() + end + 4);
+  FieldReader header(file.subspan(end + 4));
   const int64_t count = header.i32();
   const Lump directory{"BSPX", file.subspan(end)};
   if (count < 0 || end + 8 + count * 32 > file.size()) reader.fail(directory, fmt::format("{} entries do not fit in the file", count));
@@ -84,7 +84,7 @@ void readBspx(const Reader& reader, BspFile& bsp, std::span<const Lump> lumps) {
   // bytes again and again (a few MB of directory naming the whole file: terabytes).
   uint64_t copied = 0;
   for (int64_t i = 0; i < count; ++i) {
-    FieldReader r(file.data() + end + 8 + i * 32);
+    FieldReader r(file.subspan(end + 8 + i * 32, 32));
     BspxLump lump;
     lump.name = r.name(24);
     const int64_t offset = r.i32(), length = r.i32();

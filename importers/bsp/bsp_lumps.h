@@ -4,6 +4,7 @@
 #pragma once
 
 #include "importers/bsp/bsp_file.h"
+#include "quake/binary_reader.h"
 #include "scene/diagnostics.h"
 
 #include <fmt/format.h>
@@ -17,43 +18,8 @@
 
 namespace bt::bsp::detail {
 
-// Reads little-endian fields of one record, whatever the host's byte order. The caller has
-// already checked that the record lies inside the lump.
-class FieldReader {
-public:
-  explicit FieldReader(const uint8_t* p) : p_(p) {}
-
-  uint8_t u8() { return *p_++; }
-  uint16_t u16() {
-    uint16_t v = static_cast<uint16_t>(p_[0] | (p_[1] << 8));
-    p_ += 2;
-    return v;
-  }
-  int16_t i16() { return static_cast<int16_t>(u16()); }
-  uint32_t u32() {
-    uint32_t v = static_cast<uint32_t>(p_[0]) | (static_cast<uint32_t>(p_[1]) << 8) | (static_cast<uint32_t>(p_[2]) << 16) |
-        (static_cast<uint32_t>(p_[3]) << 24);
-    p_ += 4;
-    return v;
-  }
-  int32_t i32() { return static_cast<int32_t>(u32()); }
-  float f32() { return std::bit_cast<float>(u32()); }
-  glm::vec3 vec3() {
-    float x = f32(), y = f32();
-    return {x, y, f32()};
-  }
-  // A fixed-size, NUL-padded name field (may lack the NUL when it fills the field).
-  std::string name(size_t size) {
-    const auto* end = static_cast<const uint8_t*>(std::memchr(p_, 0, size));
-    std::string s(reinterpret_cast<const char*>(p_), end ? static_cast<size_t>(end - p_) : size);
-    p_ += size;
-    return s;
-  }
-  void skip(size_t n) { p_ += n; }
-
-private:
-  const uint8_t* p_;
-};
+// Fields of one record (quake/binary_reader.h).
+using FieldReader = quake::LittleEndianReader;
 
 struct Lump {
   const char* name;
@@ -76,7 +42,7 @@ public:
     if (file_.size() < tableEnd)
       fail(fmt::format("header: file is {} bytes, too short for the lump table ({} bytes)", file_.size(), tableEnd));
     std::vector<Lump> lumps;
-    FieldReader r(file_.data() + tableOffset);
+    FieldReader r(file_.subspan(tableOffset));
     for (int i = 0; i < count; ++i) {
       const int64_t offset = r.i32();
       const int64_t length = r.i32();
@@ -98,7 +64,7 @@ public:
     std::vector<Record> out;
     out.reserve(count);
     for (size_t i = 0; i < count; ++i) {
-      FieldReader r(lump.bytes.data() + i * recordSize);
+      FieldReader r(lump.bytes.subspan(i * recordSize, recordSize));
       out.push_back(parse(r));
     }
     return out;

@@ -1,5 +1,7 @@
 #include "importers/bsp/lightmaps.h"
 
+#include "quake/binary_reader.h"
+
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
@@ -7,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <span>
 
 namespace bt::bsp {
 
@@ -52,19 +55,6 @@ struct LuxelGrid {
   double sOffset = 0.0, tOffset = 0.0;
   bool badRecord = false; // the BSPX record itself is unusable (counted in a warning)
 };
-
-uint16_t u16At(const std::vector<uint8_t>& b, size_t at) {
-  return static_cast<uint16_t>(b[at] | b[at + 1] << 8);
-}
-uint32_t u32At(const std::vector<uint8_t>& b, size_t at) {
-  return uint32_t{b[at]} | uint32_t{b[at + 1]} << 8 | uint32_t{b[at + 2]} << 16 | uint32_t{b[at + 3]} << 24;
-}
-float f32At(const std::vector<uint8_t>& b, size_t at) {
-  const uint32_t bits = u32At(b, at);
-  float f;
-  std::memcpy(&f, &bits, 4);
-  return f;
-}
 
 // The luxel layout of a level: Quake's fixed grid, or what the BSPX LMSHIFT / DECOUPLED_LM lumps
 // say per face. A lump whose size does not match the face count is ignored with a warning.
@@ -122,19 +112,20 @@ private:
   // ericw-tools' bspx_decoupled_lm_perface: the lightmap's size in luxels, its offset in the
   // lighting data, and two rows of a world -> luxel matrix (luxel (x, y) centred at (x, y)).
   LuxelGrid decoupledGrid(size_t face, int64_t& offset) const {
-    const std::vector<uint8_t>& b = *decoupled_;
-    const size_t at = face * kDecoupledRecord;
+    const std::span<const uint8_t> records(*decoupled_);
+    quake::LittleEndianReader record(records.subspan(face * kDecoupledRecord, kDecoupledRecord));
+    const uint16_t width = record.u16(), height = record.u16();
     LuxelGrid g;
     g.luxelSize = 0;
-    offset = static_cast<int32_t>(u32At(b, at + 4));
+    offset = record.i32();
     float m[8];
-    for (size_t k = 0; k < 8; ++k) m[k] = f32At(b, at + 8 + 4 * k);
+    for (float& v : m) v = record.f32();
     if (!std::all_of(std::begin(m), std::end(m), [](float v) { return std::isfinite(v); })) {
       g.badRecord = true;
       return g;
     }
-    g.width = u16At(b, at);
-    g.height = u16At(b, at + 2);
+    g.width = width;
+    g.height = height;
     g.s = {m[0], m[1], m[2]};
     g.sOffset = m[3];
     g.t = {m[4], m[5], m[6]};

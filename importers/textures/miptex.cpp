@@ -10,10 +10,10 @@
 
 namespace bt {
 
-using detail::fits;
-using detail::readName;
-using detail::readU16;
-using detail::readU32;
+using quake::fits;
+using quake::readName;
+using quake::readU16;
+using quake::readU32;
 
 namespace {
 

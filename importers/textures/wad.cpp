@@ -14,9 +14,9 @@
 
 namespace bt {
 
-using detail::fits;
-using detail::readName;
-using detail::readU32;
+using quake::fits;
+using quake::readName;
+using quake::readU32;
 
 namespace {
 
