@@ -1,6 +1,7 @@
 #include "lighting/bounce.h"
 
 #include "lighting/faithful_light.h"
+#include "quake/entity_keys.h"
 #include "scene/parallel_for.h"
 #include "scene/winding.h"
 
@@ -96,7 +97,7 @@ bool sideBounces(const RenderScene& rs, uint32_t faceIndex) {
   if (face.brush < scene.brushes.size()) {
     const uint32_t e = scene.brushes[face.brush].entity;
     if (e < scene.entities.size() && !mergedIntoWorld(scene.entities[e].classname()) &&
-        std::atof(std::string(scene.entities[e].value("_bounce", "0")).c_str()) == -1.0)
+        quake::EntityKeys(scene.entities[e]).number("_bounce", 0.0f) == -1.0f)
       return false;
   }
   return true;

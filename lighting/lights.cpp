@@ -1,12 +1,13 @@
 #include "lighting/lights.h"
 
+#include "quake/entity_keys.h"
+
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 namespace bt {
 
@@ -16,75 +17,6 @@ constexpr float kDefaultLightValue = 300.0f; // Quake's `light` default
 constexpr float kDefaultSpotAngle = 40.0f;   // ericw-tools' cone when `angle` is absent
 constexpr int kMaxFormula = 5;
 
-// Integer keys (style, spawnflags, _bounce) arrive as floats; clamp before converting so that
-// garbage like 1e30 cannot overflow the cast.
-int toInt(float v) {
-  return static_cast<int>(std::clamp(v, -1e6f, 1e6f));
-}
-
-std::vector<float> parseNumbers(std::string_view text) {
-  std::vector<float> numbers;
-  std::istringstream in{std::string(text)};
-  float v = 0.0f;
-  while (in >> v) numbers.push_back(v);
-  if (!in.eof()) numbers.clear(); // trailing garbage: not a list of numbers
-  return numbers;
-}
-
-class KeyReader {
-public:
-  KeyReader(const Scene& scene, const Entity& entity, Diagnostics& diagnostics)
-      : scene_(scene), entity_(entity), diagnostics_(diagnostics) {}
-
-  bool has(std::string_view key) const { return find(key) != nullptr; }
-
-  // ericw-tools' entity parser drops spaces around keys, and maps rely on it
-  // (q1_surflight_minlight spells "_surface_radiosity " with a trailing space).
-  const std::string* find(std::string_view key) const {
-    if (const std::string* exact = entity_.find(key)) return exact;
-    for (const auto& [k, v] : entity_.keys) {
-      const size_t first = k.find_first_not_of(" \t");
-      const size_t last = k.find_last_not_of(" \t");
-      if (first != std::string::npos && std::string_view(k).substr(first, last - first + 1) == key) return &v;
-    }
-    return nullptr;
-  }
-
-  float number(std::string_view key, float fallback) const {
-    const std::string* text = find(key);
-    if (!text) return fallback;
-    if (auto v = parseFloat(*text)) return *v;
-    warn(fmt::format("key \"{}\" has value \"{}\", expected a number; using {}", key, *text, fallback));
-    return fallback;
-  }
-
-  std::optional<glm::vec3> vec3(std::string_view key) const {
-    const std::string* text = find(key);
-    if (!text) return std::nullopt;
-    if (auto v = parseVec3(*text)) return v;
-    warn(fmt::format("key \"{}\" has value \"{}\", expected three numbers; ignored", key, *text));
-    return std::nullopt;
-  }
-
-  // `_color` and friends: 0..255 (Quake) or 0..1 (some editors); returned as 0..1.
-  glm::vec3 color(std::string_view key, glm::vec3 fallback = glm::vec3(1.0f)) const {
-    auto c = vec3(key);
-    if (!c) return fallback;
-    if (c->x > 1.0f || c->y > 1.0f || c->z > 1.0f) *c /= 255.0f;
-    return glm::max(*c, glm::vec3(0.0f));
-  }
-
-  void warn(std::string message) const {
-    diagnostics_.push_back(
-        {Severity::Warning, scene_.sourcePath, entity_.line, 0, fmt::format("{}: {}", entity_.classname(), std::move(message))});
-  }
-
-private:
-  const Scene& scene_;
-  const Entity& entity_;
-  Diagnostics& diagnostics_;
-};
-
 // `_deviance` / `_samples` (ericw-tools CheckEntityFields + JitterEntity, from q3map2): the
 // compiler replaces the light by `_samples` copies (16 when only `_deviance` is given), each
 // moved by a uniform offset in [-deviance, deviance] on every axis. The inverse, infinite and
@@ -92,16 +24,17 @@ private:
 // linear lights are not split, so a jittered linear light is `_samples` times as bright.
 // Both tracers draw one copy per sample (deviance = the cube's half-size) and faithful mode
 // multiplies by faithfulScale.
-void applyJitter(const KeyReader& keys, GpuLight& light) {
+void applyJitter(const quake::EntityKeys& keys, GpuLight& light) {
   const float deviance = keys.number("_deviance", 0.0f);
-  int samples = toInt(keys.number("_samples", 0.0f));
+  int samples = keys.integer("_samples", 0);
   if (deviance > 0.0f && samples == 0) samples = 16;
   if (deviance <= 0.0f || samples <= 1) return;
   light.deviance = deviance;
   if (light.formula == uint32_t(LightFormula::Linear)) light.faithfulScale = float(samples);
 }
 
-SurfaceTemplate readSurfaceTemplate(const KeyReader& keys, const std::string& texture, const GpuLight& light, const WorldLighting& world) {
+SurfaceTemplate readSurfaceTemplate(const quake::EntityKeys& keys, const std::string& texture, const GpuLight& light,
+                                    const WorldLighting& world) {
   SurfaceTemplate t;
   t.texture = texture;
   t.light = light;
@@ -133,14 +66,14 @@ WorldLighting readWorld(const Scene& scene, Diagnostics& diagnostics) {
   WorldLighting world;
   const Entity* ws = scene.worldspawn();
   if (!ws) return world;
-  KeyReader keys(scene, *ws, diagnostics);
+  quake::EntityKeys keys(*ws, scene.sourcePath, &diagnostics);
   world.range = keys.number("_range", world.range);
   world.scaledist = keys.number("_dist", world.scaledist);
   world.anglescale = keys.number("_anglescale", keys.number("_anglesense", world.anglescale));
   const float minlight = keys.number("_minlight", keys.number("light", 0.0f));
-  const glm::vec3 minColor = keys.color("_minlight_color", keys.color("_mincolor"));
+  const glm::vec3 minColor = keys.colour("_minlight_color", keys.colour("_mincolor"));
   world.minlight = minlight * minColor;
-  world.bounces = std::clamp(toInt(keys.number("_bounce", 0.0f)), 0, 8);
+  world.bounces = std::clamp(keys.integer("_bounce", 0), 0, 8);
   // ericw-tools' ranges: _bouncescale 0..100, _bouncecolorscale 0..1.
   world.bouncescale = std::clamp(keys.number("_bouncescale", world.bouncescale), 0.0f, 100.0f);
   world.bouncecolorscale = std::clamp(keys.number("_bouncecolorscale", world.bouncecolorscale), 0.0f, 1.0f);
@@ -150,9 +83,9 @@ WorldLighting readWorld(const Scene& scene, Diagnostics& diagnostics) {
   world.surflightScale = keys.number("_surflightscale", world.surflightScale);
   world.surflightMinlightScale = keys.number("_surflight_minlight_scale", world.surflightMinlightScale);
 
-  world.dirt = toInt(keys.number("_dirt", 0.0f)) == 1;
+  world.dirt = keys.integer("_dirt", 0) == 1;
   DirtSettings& dirt = world.dirtSettings;
-  dirt.mode = toInt(keys.number("_dirtmode", 0.0f)) == 1 ? 1 : 0;
+  dirt.mode = keys.integer("_dirtmode", 0) == 1 ? 1 : 0;
   dirt.depth = keys.number("_dirtdepth", dirt.depth);
   if (dirt.depth <= 0.0f) {
     keys.warn(fmt::format("_dirtdepth {} is not positive; using 128", dirt.depth));
@@ -169,8 +102,8 @@ WorldLighting readWorld(const Scene& scene, Diagnostics& diagnostics) {
 
 // Whether the worldspawn sun key `key` (`_sunlight_dirt`, `_sunlight2_dirt`) puts dirt on
 // its suns: 1 on, anything else off; unset follows `_dirt`.
-bool sunDirt(const KeyReader& keys, const WorldLighting& world, std::string_view key) {
-  return toInt(keys.number(key, world.dirt ? 1.0f : 0.0f)) == 1;
+bool sunDirt(const quake::EntityKeys& keys, const WorldLighting& world, std::string_view key) {
+  return keys.integer(key, world.dirt ? 1 : 0) == 1;
 }
 
 // The worldspawn's dirt scale and gain for a light that is dimmed by dirt (suns, domes).
@@ -185,8 +118,8 @@ void applyWorldDirt(const WorldLighting& world, bool useDirt, GpuLight& light) {
 // the worldspawn's `_dirt`; its own `_dirtscale` / `_dirtgain` where non-zero; and with both
 // `_dirt_off_radius` and `_dirt_on_radius`, no dirt nearer than the first, full dirt beyond the
 // second.
-void applyLightDirt(const KeyReader& keys, const WorldLighting& world, GpuLight& light) {
-  const int own = toInt(keys.number("_dirt", 0.0f));
+void applyLightDirt(const quake::EntityKeys& keys, const WorldLighting& world, GpuLight& light) {
+  const int own = keys.integer("_dirt", 0);
   applyWorldDirt(world, own == 1 || (own != -1 && world.dirt), light);
   if (!(light.flags & kLightFlagDirt)) return;
   if (const float scale = keys.number("_dirtscale", 0.0f); scale != 0.0f) light.dirtScale = scale;
@@ -201,14 +134,14 @@ void applyLightDirt(const KeyReader& keys, const WorldLighting& world, GpuLight&
 void addWorldSuns(const Scene& scene, const WorldLighting& world, SceneLights& out, Diagnostics& diagnostics) {
   const Entity* ws = scene.worldspawn();
   if (!ws) return;
-  KeyReader keys(scene, *ws, diagnostics);
+  quake::EntityKeys keys(*ws, scene.sourcePath, &diagnostics);
 
   const float sunlight = keys.number("_sunlight", 0.0f);
   if (sunlight != 0.0f) {
     GpuLight sun;
     sun.type = uint32_t(LightType::Sun);
     sun.value = sunlight;
-    sun.color = keys.color("_sunlight_color", keys.color("_sun_color"));
+    sun.color = keys.colour("_sunlight_color", keys.colour("_sun_color"));
     glm::vec3 mangle{0.0f, -90.0f, 0.0f}; // straight down, ericw-tools' default
     if (auto m = keys.vec3("_sun_mangle"))
       mangle = *m;
@@ -238,7 +171,7 @@ void addWorldSuns(const Scene& scene, const WorldLighting& world, SceneLights& o
     GpuLight dome;
     dome.type = uint32_t(LightType::Dome);
     dome.value = value;
-    dome.color = keys.color(d.color, keys.color(d.colorAlt));
+    dome.color = keys.colour(d.color, keys.colour(d.colorAlt));
     dome.direction = {0.0f, 0.0f, d.z};
     dome.anglescale = world.anglescale;
     applyWorldDirt(world, sunDirt(keys, world, "_sunlight2_dirt"), dome);
@@ -246,19 +179,126 @@ void addWorldSuns(const Scene& scene, const WorldLighting& world, SceneLights& o
   }
 }
 
+// `light` and Half-Life's `_light` take "value", "r g b" (value 300) or "r g b value", the
+// colour 0..255 or 0..1 as `_color` (ericw-tools reads both forms, q1_light_hlform).
+void readLightValue(const quake::EntityKeys& keys, GpuLight& light) {
+  for (const char* key : {"light", "_light"}) {
+    const std::string* text = keys.find(key);
+    if (!text) continue;
+    std::vector<float> n;
+    for (double v : quake::parseNumbers(*text).value_or(std::vector<double>{})) n.push_back(float(v));
+    if (!std::all_of(n.begin(), n.end(), [](float v) { return std::isfinite(v); })) n.clear();
+    if (n.size() == 3 || n.size() == 4) {
+      light.color = quake::normalisedColour(glm::vec3(n[0], n[1], n[2]));
+      if (n.size() == 4) light.value = n[3];
+    } else if (n.size() == 1) {
+      light.value = n[0];
+    } else {
+      keys.warn(
+          fmt::format("key \"{}\" has value \"{}\", expected a value, \"r g b\" or \"r g b value\"; using {}", key, *text, light.value));
+    }
+  }
+}
+
+// The falloff keys, jitter, dirt and bleed of a light entity. False for a `delay` that
+// ericw-tools does not know: it warns and then lights nothing with that light (its
+// q1_light_invalid_delay test map compiles to an empty lightmap lump), so do we.
+bool readLightShape(const quake::EntityKeys& keys, const WorldLighting& world, GpuLight& light) {
+  const float delay = keys.number("delay", 0.0f);
+  if (delay < 0.0f || delay > kMaxFormula || delay != std::floor(delay)) {
+    keys.warn(fmt::format("invalid delay {}: the compiler lights nothing with this light; ignored", delay));
+    return false;
+  }
+  light.formula = static_cast<uint32_t>(delay);
+  light.atten = keys.number("wait", 1.0f);
+  if (light.atten <= 0.0f) light.atten = 1.0f; // ericw-tools: a non-positive wait means 1
+  light.falloff = keys.number("_falloff", 0.0f);
+  light.anglescale = keys.number("_anglescale", keys.number("_anglesense", world.anglescale));
+  applyJitter(keys, light);
+  applyLightDirt(keys, world, light);
+  if (keys.number("_bleed", 0.0f) != 0.0f) light.flags |= kLightFlagBleed;
+  return true;
+}
+
+// Spotlights: a target entity or a mangle gives the axis.
+std::optional<glm::vec3> readSpotAxis(const Scene& scene, const Entity& entity, const quake::EntityKeys& keys, glm::vec3 origin) {
+  if (const std::string* target = entity.find("target"); target && !target->empty()) {
+    const Entity* t = findTarget(scene, *target);
+    std::optional<glm::vec3> targetOrigin = t ? parseVec3(t->value("origin")) : std::nullopt;
+    if (targetOrigin && glm::length(*targetOrigin - origin) > 0.0f) return glm::normalize(*targetOrigin - origin);
+    if (!t) keys.warn(fmt::format("target \"{}\" not found; light is not a spotlight", *target));
+  }
+  if (auto mangle = keys.vec3("mangle")) return directionFromMangle(mangle->x, mangle->y);
+  return std::nullopt;
+}
+
+// A light with `_sun 1` is a sun shining along its spot axis.
+GpuLight sunFromLight(const Scene& scene, const quake::EntityKeys& keys, GpuLight light, std::optional<glm::vec3> axis) {
+  light.type = uint32_t(LightType::Sun);
+  light.direction = axis.value_or(glm::vec3(0.0f, 0.0f, -1.0f));
+  // ericw-tools spreads a light-entity sun over its `_deviance` (degrees), not `_samples` copies.
+  light.deviance = glm::radians(keys.number("_deviance", keys.number("_sunlight_penumbra", 0.0f)));
+  light.faithfulScale = 1.0f;
+  if (const std::string* sky = keys.find("_suntexture"); sky && !sky->empty()) {
+    if (auto m = scene.findMaterial(*sky)) {
+      light.skyMaterial = *m + 1;
+    } else {
+      keys.warn(fmt::format("_suntexture \"{}\": no face has this texture; the sun lights nothing", *sky));
+      light.value = 0.0f;
+    }
+  }
+  return light;
+}
+
+// A spotlight's cone: `angle` is its full width in degrees, `_softangle` the unfaded part.
+void applySpotCone(const quake::EntityKeys& keys, glm::vec3 axis, GpuLight& light) {
+  const float angle = keys.number("angle", kDefaultSpotAngle);
+  float soft = keys.number("_softangle", 0.0f);
+  if (soft <= 0.0f || soft > angle) soft = angle;
+  light.direction = axis;
+  light.cosOuter = std::cos(glm::radians(angle) * 0.5f);
+  light.cosInner = std::cos(glm::radians(soft) * 0.5f);
+}
+
+void addLightEntity(const Scene& scene, const Entity& entity, const LightOptions& options, SceneLights& out, Diagnostics& diagnostics) {
+  quake::EntityKeys keys(entity, scene.sourcePath, &diagnostics);
+  GpuLight light;
+  light.type = uint32_t(LightType::Point);
+  light.value = kDefaultLightValue;
+  light.color = keys.colour("_color");
+  readLightValue(keys, light);
+  if (!readLightShape(keys, out.world, light)) return;
+  if (auto origin = keys.vec3("origin")) {
+    light.origin = *origin;
+  } else {
+    keys.warn("light without a valid origin; ignored");
+    return;
+  }
+  const std::optional<glm::vec3> spotAxis = readSpotAxis(scene, entity, keys, light.origin);
+  if (keys.number("_sun", 0.0f) != 0.0f) {
+    out.lights.push_back(sunFromLight(scene, keys, light, spotAxis));
+    return;
+  }
+  if (spotAxis) applySpotCone(keys, *spotAxis, light);
+
+  const int style = std::clamp(keys.integer("style", 0), 0, 255);
+  const bool switchable = !entity.value("targetname").empty();
+  const bool startOff = switchable && (keys.integer("spawnflags", 0) & 1);
+  if (startOff) light.flags |= kLightFlagStartOff;
+  // Switchable lights get their own style in the compiled map; give them a non-zero one here.
+  const uint32_t effectiveStyle = style > 0 ? uint32_t(style) : (switchable ? 32u : 0u);
+  light.flags |= effectiveStyle << 8;
+
+  if (startOff && !options.includeStartOff) return;
+  if (options.styleZeroOnly && effectiveStyle != 0) return;
+  if (const std::string* surface = keys.find("_surface"); surface && !surface->empty()) {
+    out.surfaceTemplates.push_back(readSurfaceTemplate(keys, *surface, light, out.world));
+    return;
+  }
+  out.lights.push_back(light);
+}
+
 } // namespace
-
-std::optional<float> parseFloat(std::string_view text) {
-  const std::vector<float> n = parseNumbers(text);
-  if (n.size() != 1 || !std::isfinite(n[0])) return std::nullopt;
-  return n[0];
-}
-
-std::optional<glm::vec3> parseVec3(std::string_view text) {
-  const std::vector<float> n = parseNumbers(text);
-  if (n.size() != 3 || !std::isfinite(n[0]) || !std::isfinite(n[1]) || !std::isfinite(n[2])) return std::nullopt;
-  return glm::vec3(n[0], n[1], n[2]);
-}
 
 glm::vec3 directionFromMangle(float yawDegrees, float pitchDegrees) {
   const float yaw = glm::radians(yawDegrees);
@@ -282,115 +322,8 @@ SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagn
   SceneLights out;
   out.world = readWorld(scene, diagnostics);
   addWorldSuns(scene, out.world, out, diagnostics);
-
-  for (const Entity& entity : scene.entities) {
-    if (!entity.classname().starts_with("light")) continue;
-    KeyReader keys(scene, entity, diagnostics);
-
-    GpuLight light;
-    light.type = uint32_t(LightType::Point);
-    light.value = kDefaultLightValue;
-    light.color = keys.color("_color");
-    // `light` and Half-Life's `_light` take "value", "r g b" (value 300) or "r g b value", the
-    // colour 0..255 or 0..1 as `_color` (ericw-tools reads both forms, q1_light_hlform).
-    for (const char* key : {"light", "_light"}) {
-      const std::string* text = keys.find(key);
-      if (!text) continue;
-      const std::vector<float> n = parseNumbers(*text);
-      if (n.size() == 3 || n.size() == 4) {
-        glm::vec3 c(n[0], n[1], n[2]);
-        if (c.x > 1.0f || c.y > 1.0f || c.z > 1.0f) c /= 255.0f;
-        light.color = glm::max(c, glm::vec3(0.0f));
-        if (n.size() == 4) light.value = n[3];
-      } else if (n.size() == 1) {
-        light.value = n[0];
-      } else {
-        keys.warn(
-            fmt::format("key \"{}\" has value \"{}\", expected a value, \"r g b\" or \"r g b value\"; using {}", key, *text, light.value));
-      }
-    }
-
-    // ericw-tools warns about a `delay` it does not know and then lights nothing with that light
-    // (its q1_light_invalid_delay test map compiles to an empty lightmap lump): so do we.
-    const float delay = keys.number("delay", 0.0f);
-    if (delay < 0.0f || delay > kMaxFormula || delay != std::floor(delay)) {
-      keys.warn(fmt::format("invalid delay {}: the compiler lights nothing with this light; ignored", delay));
-      continue;
-    }
-    light.formula = static_cast<uint32_t>(delay);
-    light.atten = keys.number("wait", 1.0f);
-    if (light.atten <= 0.0f) light.atten = 1.0f; // ericw-tools: a non-positive wait means 1
-    light.falloff = keys.number("_falloff", 0.0f);
-    light.anglescale = keys.number("_anglescale", keys.number("_anglesense", out.world.anglescale));
-    applyJitter(keys, light);
-    applyLightDirt(keys, out.world, light);
-    if (keys.number("_bleed", 0.0f) != 0.0f) light.flags |= kLightFlagBleed;
-
-    if (auto origin = keys.vec3("origin")) {
-      light.origin = *origin;
-    } else {
-      keys.warn("light without a valid origin; ignored");
-      continue;
-    }
-
-    // Spotlights: a target entity or a mangle gives the axis; `angle` is the cone, in degrees.
-    std::optional<glm::vec3> spotAxis;
-    if (const std::string* target = entity.find("target"); target && !target->empty()) {
-      const Entity* t = findTarget(scene, *target);
-      std::optional<glm::vec3> targetOrigin = t ? parseVec3(t->value("origin")) : std::nullopt;
-      if (targetOrigin && glm::length(*targetOrigin - light.origin) > 0.0f)
-        spotAxis = glm::normalize(*targetOrigin - light.origin);
-      else if (!t)
-        keys.warn(fmt::format("target \"{}\" not found; light is not a spotlight", *target));
-    }
-    if (!spotAxis) {
-      if (auto mangle = keys.vec3("mangle")) spotAxis = directionFromMangle(mangle->x, mangle->y);
-    }
-
-    // A light with `_sun 1` is a sun shining along its spot axis.
-    if (keys.number("_sun", 0.0f) != 0.0f) {
-      light.type = uint32_t(LightType::Sun);
-      light.direction = spotAxis.value_or(glm::vec3(0.0f, 0.0f, -1.0f));
-      // ericw-tools spreads a light-entity sun over its `_deviance` (degrees), not `_samples` copies.
-      light.deviance = glm::radians(keys.number("_deviance", keys.number("_sunlight_penumbra", 0.0f)));
-      light.faithfulScale = 1.0f;
-      if (const std::string* sky = keys.find("_suntexture"); sky && !sky->empty()) {
-        if (auto m = scene.findMaterial(*sky)) {
-          light.skyMaterial = *m + 1;
-        } else {
-          keys.warn(fmt::format("_suntexture \"{}\": no face has this texture; the sun lights nothing", *sky));
-          light.value = 0.0f;
-        }
-      }
-      out.lights.push_back(light);
-      continue;
-    }
-
-    if (spotAxis) {
-      const float angle = keys.number("angle", kDefaultSpotAngle);
-      float soft = keys.number("_softangle", 0.0f);
-      if (soft <= 0.0f || soft > angle) soft = angle;
-      light.direction = *spotAxis;
-      light.cosOuter = std::cos(glm::radians(angle) * 0.5f);
-      light.cosInner = std::cos(glm::radians(soft) * 0.5f);
-    }
-
-    const int style = std::clamp(toInt(keys.number("style", 0.0f)), 0, 255);
-    const bool switchable = !entity.value("targetname").empty();
-    const bool startOff = switchable && (toInt(keys.number("spawnflags", 0.0f)) & 1);
-    if (startOff) light.flags |= kLightFlagStartOff;
-    // Switchable lights get their own style in the compiled map; give them a non-zero one here.
-    const uint32_t effectiveStyle = style > 0 ? uint32_t(style) : (switchable ? 32u : 0u);
-    light.flags |= effectiveStyle << 8;
-
-    if (startOff && !options.includeStartOff) continue;
-    if (options.styleZeroOnly && effectiveStyle != 0) continue;
-    if (const std::string* surface = keys.find("_surface"); surface && !surface->empty()) {
-      out.surfaceTemplates.push_back(readSurfaceTemplate(keys, *surface, light, out.world));
-      continue;
-    }
-    out.lights.push_back(light);
-  }
+  for (const Entity& entity : scene.entities)
+    if (entity.classname().starts_with("light")) addLightEntity(scene, entity, options, out, diagnostics);
 
   // ericw-tools traces the occlusion rays only where something uses dirt (SetupDirt).
   DirtSettings& dirt = out.world.dirtSettings;

@@ -2,6 +2,7 @@
 // Key names and defaults are ericw-tools `light`'s (see lighting/README.md for the table).
 #pragma once
 
+#include "quake/entity_keys.h"
 #include "scene/gpu_structs.h"
 #include "scene/scene.h"
 
@@ -92,9 +93,9 @@ LightKinds lightKinds(const SceneLights& lights, bool bounceLights);
 // "yaw pitch roll" in degrees as ericw-tools' mangle: the direction (+pitch looks up).
 glm::vec3 directionFromMangle(float yawDegrees, float pitchDegrees);
 
-// Parses "x y z" / "r g b" style keys; nullopt when there are not exactly three numbers.
-std::optional<glm::vec3> parseVec3(std::string_view text);
-std::optional<float> parseFloat(std::string_view text);
+// Key values by quake/entity_keys.h's number rule ("x y z" / "r g b": exactly three numbers).
+using quake::parseFloat;
+using quake::parseVec3;
 
 // Light style of a packed GpuLight::flags value.
 inline uint32_t lightStyle(const GpuLight& light) {

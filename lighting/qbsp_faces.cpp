@@ -1,6 +1,6 @@
 #include "lighting/qbsp_faces.h"
 
-#include "lighting/lights.h" // parseVec3
+#include "quake/entity_keys.h"
 #include "scene/winding.h"
 
 #include <glm/geometric.hpp>
@@ -327,7 +327,7 @@ VoidTest::VoidTest(const Scene& scene, const TraceScene& tracer) : tracer_(trace
   bool anyEntity = false;
   for (const Entity& e : scene.entities) {
     if (e.brushCount > 0) continue;
-    const std::optional<glm::vec3> origin = parseVec3(e.value("origin"));
+    const std::optional<glm::vec3> origin = quake::parseVec3(e.value("origin"));
     if (!origin) continue;
     anyEntity = true;
     if (escapes(dvec3(*origin))) {

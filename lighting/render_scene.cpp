@@ -2,6 +2,8 @@
 #include "lighting/bounce.h"
 #include "lighting/game_rules.h"
 #include "lighting/surface_lights.h"
+#include "quake/bspfile_q2.h"
+#include "quake/entity_keys.h"
 #include "scene/names.h"
 
 #include "scene/color.h"
@@ -16,11 +18,6 @@
 namespace bt {
 
 namespace {
-
-// Quake 2 surface flags and contents that decide how a face is drawn.
-constexpr int32_t kQ2SurfSky = 0x4, kQ2SurfWarp = 0x8, kQ2SurfHint = 0x100, kQ2SurfSkip = 0x200, kQ2SurfNodraw = 0x80;
-constexpr int32_t kQ2ContentsLiquid = 8 | 16 | 32;     // lava, slime, water
-constexpr int32_t kQ2ContentsClip = 0x10000 | 0x20000; // player clip, monster clip
 
 // srgbToLinear(byte / 255) for every byte: a level's textures hold millions of texels.
 std::array<float, 256> srgbByteToLinear() {
@@ -90,10 +87,12 @@ uint32_t classifyTexture(std::string_view texture, const std::optional<SurfaceAt
   if (base.starts_with("sky") || name.starts_with("skies/") || name.starts_with("textures/skies/")) flags |= kFaceSky;
   if (base.starts_with("*") || base.starts_with("!")) flags |= kFaceLiquid;
   if (surface) {
-    if (surface->flags & (kQ2SurfNodraw | kQ2SurfHint | kQ2SurfSkip)) flags |= kFaceHidden;
-    if (surface->contents & kQ2ContentsClip) flags |= kFaceHidden;
-    if (surface->flags & kQ2SurfSky) flags |= kFaceSky;
-    if ((surface->flags & kQ2SurfWarp) || (surface->contents & kQ2ContentsLiquid)) flags |= kFaceLiquid;
+    // Quake 2's bits; Quake 3's surfaceparms share them (quake/bspfile_q3.h).
+    using namespace quake::q2;
+    if (surface->flags & (SURF_NODRAW | SURF_HINT | SURF_SKIP)) flags |= kFaceHidden;
+    if (surface->contents & MASK_CLIP) flags |= kFaceHidden;
+    if (surface->flags & SURF_SKY) flags |= kFaceSky;
+    if ((surface->flags & SURF_WARP) || (surface->contents & MASK_LIQUID)) flags |= kFaceLiquid;
   }
   if (flags & kFaceSky) flags &= ~kFaceHidden; // "common/sky" style names stay visible as sky
   return flags;
@@ -165,7 +164,7 @@ void classifyFaces(RenderScene& rs, const RenderSceneOptions& options) {
       const uint32_t e = scene.faceEntity(uint32_t(i)); // a brush's or a mesh's
       if (e < scene.entities.size()) {
         const Entity& ent = scene.entities[e];
-        const bool shadowKey = std::atof(std::string(ent.value("_shadow", "0")).c_str()) != 0.0;
+        const bool shadowKey = quake::EntityKeys(ent).number("_shadow", 0.0f) != 0.0f;
         if (!mergedIntoWorld(ent.classname()) && !shadowKey) flags |= kFaceNoShadow;
         // What the game never draws is not in the compiled lighting either, `_shadow` or not.
         if (gameHidesEntity(ent, game)) flags |= kFaceHidden | kFaceNoShadow;

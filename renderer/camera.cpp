@@ -3,6 +3,8 @@
 #include "lighting/game_rules.h"
 #include "lighting/lights.h"
 #include "lighting/render_scene.h"
+#include "quake/entity_keys.h"
+#include "quake/view_angles.h"
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
@@ -12,7 +14,6 @@
 #include <cmath>
 #include <limits>
 #include <regex>
-#include <sstream>
 #include <vector>
 
 namespace bt {
@@ -21,14 +22,14 @@ namespace {
 
 // Whitespace-separated numbers; nullopt when any word is not one.
 std::optional<std::vector<float>> numbersIn(std::string_view text) {
-  std::vector<float> numbers;
-  std::istringstream words{std::string(text)};
-  for (std::string word; words >> word;) {
-    const auto f = parseFloat(word);
-    if (!f) return std::nullopt;
-    numbers.push_back(*f);
+  const auto numbers = quake::parseNumbers(text);
+  if (!numbers) return std::nullopt;
+  std::vector<float> out;
+  for (double n : *numbers) {
+    if (!std::isfinite(float(n))) return std::nullopt;
+    out.push_back(float(n));
   }
-  return numbers;
+  return out;
 }
 
 // `rest` after the word `name` when `text` starts with it, else nullopt.
@@ -365,14 +366,10 @@ std::vector<CameraPose> spawnCameraPoses(const Scene& scene) {
 
 Camera::Camera(const CameraPose& pose, int width, int height, float horizontalFovDegrees)
     : origin_(pose.origin), width_(width), height_(height) {
-  const float pitch = glm::radians(pose.pitch), yaw = glm::radians(pose.yaw), roll = glm::radians(pose.roll);
-  // Quake's AngleVectors (mathlib.c): at zero angles forward = +X, right = -Y, up = +Z.
-  const float sp = std::sin(pitch), cp = std::cos(pitch);
-  const float sy = std::sin(yaw), cy = std::cos(yaw);
-  const float sr = std::sin(roll), cr = std::cos(roll);
-  forward_ = {cp * cy, cp * sy, -sp};
-  right_ = {-sr * sp * cy + cr * sy, -sr * sp * sy - cr * cy, -sr * cp};
-  up_ = {cr * sp * cy + sr * sy, cr * sp * sy - sr * cy, cr * cp};
+  const quake::ViewVectors view = quake::angleVectors(pose.pitch, pose.yaw, pose.roll);
+  forward_ = view.forward;
+  right_ = view.right;
+  up_ = view.up;
   tanHalfX_ = std::tan(glm::radians(horizontalFovDegrees) * 0.5f);
   tanHalfY_ = tanHalfX_ * float(height) / float(std::max(width, 1));
 }

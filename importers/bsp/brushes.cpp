@@ -1,6 +1,9 @@
 #include "importers/bsp/brushes.h"
 
 #include "importers/bsp/coplanar_index.h"
+#include "quake/binary_reader.h"
+#include "quake/bspfile_q1.h"
+#include "quake/texture_axes.h"
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
@@ -16,13 +19,6 @@
 namespace bt::bsp {
 
 namespace {
-
-// Quake 1 leaf contents.
-constexpr int32_t kContentsEmpty = -1;
-constexpr int32_t kContentsWater = -3;
-constexpr int32_t kContentsSlime = -4;
-constexpr int32_t kContentsLava = -5;
-constexpr int32_t kContentsSky = -6;
 
 // Half the size of the square every side's polygon starts as; larger than any Quake level
 // (Q3's limit is +-65536) so that clipping, not the square, shapes every side.
@@ -61,10 +57,10 @@ std::vector<Plane> axialBoxPlanes(const dvec3& lo, const dvec3& hi) {
 // Name the reference decompiler gives hidden sides, by the contents of their brush.
 const char* quake1SkipTexture(int32_t contents) {
   switch (contents) {
-  case kContentsWater: return "*waterskip";
-  case kContentsSlime: return "*slimeskip";
-  case kContentsLava: return "*lavaskip";
-  case kContentsSky: return "skyskip";
+  case quake::q1::CONTENTS_WATER: return "*waterskip";
+  case quake::q1::CONTENTS_SLIME: return "*slimeskip";
+  case quake::q1::CONTENTS_LAVA: return "*lavaskip";
+  case quake::q1::CONTENTS_SKY: return "skyskip";
   default: return "skip";
   }
 }
@@ -273,6 +269,22 @@ void splitByTexture(Cell cell, const BspFile& bsp, const CoplanarIndex& faces, i
   out.push_back(std::move(cell));
 }
 
+// The planes of a slab `thickness` deep behind a face: the face's plane, its back, and one
+// outward plane through each edge of the polygon.
+std::vector<Plane> slabPlanes(const Plane& plane, const Winding& polygon, double thickness) {
+  std::vector<Plane> planes{plane, {-plane.normal, -(plane.dist - thickness)}};
+  for (size_t k = 0; k < polygon.size(); ++k) {
+    const dvec3& a = polygon[k];
+    const dvec3 edge = polygon[(k + 1) % polygon.size()] - a;
+    dvec3 outward = glm::cross(edge, plane.normal);
+    const double len = glm::length(outward);
+    if (len < 1e-9) continue;
+    outward /= len;
+    planes.push_back({outward, glm::dot(outward, a)});
+  }
+  return planes;
+}
+
 // Faces no solid cell carries: func_detail_illusionary and other see-through detail compile to
 // faces in empty leafs. So that they still show, each becomes a thin slab brush behind the face;
 // a face compiled both ways (qbsp's mirrored insides) shares one slab, its twin on the back.
@@ -328,18 +340,9 @@ std::vector<CompiledBrush> slabsForUncoveredFaces(const BspFile& bsp, const Mode
       twin = *t;
       used[*t] = true;
     }
-    std::vector<Plane> planes{front.plane, {-front.plane.normal, -(front.plane.dist - kSlabThickness)}};
-    for (size_t k = 0; k < front.polygon.size(); ++k) {
-      const dvec3& a = front.polygon[k];
-      const dvec3 edge = front.polygon[(k + 1) % front.polygon.size()] - a;
-      dvec3 outward = glm::cross(edge, front.plane.normal);
-      const double len = glm::length(outward);
-      if (len < 1e-9) continue;
-      outward /= len;
-      planes.push_back({outward, glm::dot(outward, a)});
-    }
+    const std::vector<Plane> planes = slabPlanes(front.plane, front.polygon, kSlabThickness);
     CompiledBrush slab;
-    slab.contents = kContentsEmpty;
+    slab.contents = quake::q1::CONTENTS_EMPTY;
     std::vector<size_t> kept;
     slab.sides = sidesFromPlanes(planes, &kept);
     if (slab.sides.size() < 4) continue;
@@ -370,27 +373,10 @@ std::vector<CompiledBrush> slabsForUncoveredFaces(const BspFile& bsp, const Mode
 } // namespace
 
 TextureFrame paraxialFrame(const Plane& plane) {
-  // Quake's base axes (qbsp TextureAxisFromPlane): floor/ceiling, west/east wall, south/north.
-  static constexpr std::array<std::array<dvec3, 3>, 6> kBaseAxes{{
-      {dvec3(0, 0, 1), dvec3(1, 0, 0), dvec3(0, -1, 0)},
-      {dvec3(0, 0, -1), dvec3(1, 0, 0), dvec3(0, -1, 0)},
-      {dvec3(1, 0, 0), dvec3(0, 1, 0), dvec3(0, 0, -1)},
-      {dvec3(-1, 0, 0), dvec3(0, 1, 0), dvec3(0, 0, -1)},
-      {dvec3(0, 1, 0), dvec3(1, 0, 0), dvec3(0, 0, -1)},
-      {dvec3(0, -1, 0), dvec3(1, 0, 0), dvec3(0, 0, -1)},
-  }};
-  size_t best = 0;
-  double bestDot = -1.0;
-  for (size_t i = 0; i < kBaseAxes.size(); ++i) {
-    const double d = glm::dot(plane.normal, kBaseAxes[i][0]);
-    if (d > bestDot + 1e-9) { // first wins ties, as in qbsp
-      bestDot = d;
-      best = i;
-    }
-  }
+  const quake::TextureAxes axes = quake::textureAxisFromPlane(plane.normal);
   TextureFrame frame;
-  frame.tangent = kBaseAxes[best][1];
-  frame.bitangent = kBaseAxes[best][2];
+  frame.tangent = axes.s;
+  frame.bitangent = axes.t;
   frame.origin = frameOrigin(plane, frame.tangent, frame.bitangent, 0.0, 0.0);
   return frame;
 }
@@ -433,7 +419,7 @@ std::vector<CompiledBrush> hullBrushes(const BspFile& bsp, size_t modelIndex) {
     stack.pop_back();
     if (item.child < 0) {
       const Leaf& leaf = bsp.leafs[static_cast<size_t>(-1 - int64_t{item.child})];
-      if (leaf.contents == kContentsEmpty || item.cell.size() < 4) continue;
+      if (leaf.contents == quake::q1::CONTENTS_EMPTY || item.cell.size() < 4) continue;
       std::vector<Cell> pieces;
       splitByTexture(std::move(item.cell), bsp, faces, 0, pieces);
       for (Cell& piece : pieces) {
@@ -468,34 +454,34 @@ std::optional<std::vector<CompiledBrush>> brushListBrushes(const BspFile& bsp, s
   const BspxLump* lump = bsp.findBspx("BRUSHLIST");
   if (!lump) return std::nullopt;
   const auto& bytes = lump->bytes;
-  size_t pos = 0;
+  quake::LittleEndianReader reader(bytes);
   auto fail = [&](const std::string& message) {
-    throw ImportError(Diagnostic{Severity::Error, bsp.path, 0, 0, fmt::format("lump 'BSPX BRUSHLIST': {} (at byte {})", message, pos)});
+    throw ImportError(
+        Diagnostic{Severity::Error, bsp.path, 0, 0, fmt::format("lump 'BSPX BRUSHLIST': {} (at byte {})", message, reader.position())});
   };
+  // Checked here too, so that a truncated lump is an error naming the file and the lump.
   auto need = [&](size_t n) {
-    if (bytes.size() - pos < n) fail("truncated");
+    if (reader.remaining() < n) fail("truncated");
   };
   auto u16 = [&] {
     need(2);
-    const uint16_t v = static_cast<uint16_t>(bytes[pos] | (bytes[pos + 1] << 8));
-    pos += 2;
-    return v;
+    return reader.u16();
   };
   auto i32 = [&] {
     need(4);
-    uint32_t v = 0;
-    for (int k = 3; k >= 0; --k) v = (v << 8) | bytes[pos + static_cast<size_t>(k)];
-    pos += 4;
-    return static_cast<int32_t>(v);
+    return reader.i32();
   };
-  auto f32 = [&] { return std::bit_cast<float>(i32()); };
+  auto f32 = [&] {
+    need(4);
+    return reader.f32();
+  };
 
   // Layout (ericw-tools bspxfile): per model { int32 version = 1, modelnum, numbrushes,
   // numplanes; per brush { float mins[3], maxs[3]; int16 contents; uint16 numplanes;
   // numplanes x { float normal[3], dist } } }. Each brush lists only its non-axial planes; the
   // axial ones are its bounds.
   const CoplanarIndex faces = modelFaceIndex(bsp, bsp.models.at(modelIndex));
-  while (pos < bytes.size()) {
+  while (reader.remaining() > 0) {
     const int32_t version = i32();
     if (version != 1) fail(fmt::format("unsupported version {}", version));
     const int32_t model = i32();

@@ -10,13 +10,13 @@
 #include "importers/bsp/pk3.h"
 #include "importers/bsp/q3_textures.h"
 #include "importers/textures/textures.h"
+#include "quake/entity_keys.h"
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -31,34 +31,21 @@ std::optional<size_t> entityModel(const Entity& entity, const BspFile& bsp, Diag
   if (entity.classname() == "worldspawn") return 0;
   const std::string* key = entity.find("model");
   if (!key || key->empty() || (*key)[0] != '*') return std::nullopt; // point entity or .mdl model
-  size_t model = 0;
-  const char* begin = key->data() + 1;
-  const char* end = key->data() + key->size();
-  const auto [ptr, ec] = std::from_chars(begin, end, model);
-  if (ec != std::errc() || ptr != end || model == 0 || model >= bsp.models.size()) {
+  const std::optional<int> model = quake::parseInteger(std::string_view(*key).substr(1));
+  if (!model || *model <= 0 || size_t(*model) >= bsp.models.size()) {
     diagnostics.push_back({Severity::Warning, bsp.path, entity.line, 0,
                            fmt::format("entity '{}' names model \"{}\", which the file does not have ({} models); "
                                        "its brushes are skipped",
                                        entity.classname(), *key, bsp.models.size())});
     return std::nullopt;
   }
-  return model;
+  return size_t(*model);
 }
 
 // "origin" "x y z"; brush entities are drawn at their origin, as the engines do.
 dvec3 entityOrigin(const Entity& entity) {
-  dvec3 origin{0.0};
   const std::string* value = entity.find("origin");
-  if (!value) return origin;
-  const char* p = value->data();
-  const char* end = p + value->size();
-  for (int k = 0; k < 3; ++k) {
-    while (p < end && *p == ' ') ++p;
-    const auto [next, ec] = std::from_chars(p, end, origin[k]);
-    if (ec != std::errc()) return dvec3(0.0);
-    p = next;
-  }
-  return origin;
+  return value ? quake::parseDvec3(*value).value_or(dvec3(0.0)) : dvec3(0.0);
 }
 
 std::vector<CompiledBrush> modelBrushes(const BspFile& bsp, size_t model) {
@@ -89,24 +76,17 @@ std::map<std::string, std::pair<int, int>> miptexSizes(const BspFile& bsp) {
   return sizes;
 }
 
-} // namespace
-
-Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve, const std::optional<std::vector<uint8_t>>& litFile,
-                   double curveMaxError) {
-  Scene scene;
-  scene.sourcePath = bsp.path;
-  scene.format = toString(bsp.version);
-  scene.entities = parseEntities(bsp.entities, bsp.path);
-
+// The scene sceneFromBsp builds: its materials by name, and what it skips on the way.
+struct SceneBuilder {
+  const BspFile& bsp;
+  Scene& scene;
+  std::map<std::string, std::pair<int, int>> sizes = miptexSizes(bsp);
   std::map<std::string, uint32_t> materialByName; // lowercase name -> index
-  const auto sizes = miptexSizes(bsp);
-  std::vector<bool> frameInTextureUnits; // per face, Quake 3 only
+  std::vector<bool> frameInTextureUnits;          // per face, Quake 3 only
   size_t q3SidesWithoutSurface = 0;
   size_t brushesWithoutVolume = 0;
-  bool worldClaimed = false;
-  std::vector<ModelPlacement> placements;
 
-  auto materialFor = [&](const std::string& name) {
+  uint32_t materialFor(const std::string& name) {
     const std::string key = lowercase(name);
     auto [it, inserted] = materialByName.try_emplace(key, static_cast<uint32_t>(scene.materials.size()));
     if (inserted) {
@@ -116,7 +96,80 @@ Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve, const st
       scene.materials.push_back(std::move(m));
     }
     return it->second;
-  };
+  }
+
+  void addBrush(CompiledBrush& compiled, uint32_t entity, const dvec3& offset) {
+    if (!hasVolume(compiled)) {
+      ++brushesWithoutVolume;
+      return;
+    }
+    if (offset != dvec3(0.0)) translate(compiled, offset);
+    bt::Brush brush;
+    brush.entity = entity;
+    brush.firstFace = static_cast<uint32_t>(scene.faces.size());
+    for (CompiledSide& side : compiled.sides) {
+      const uint32_t material = materialFor(side.texture);
+      if (bsp.version == Version::Quake3_46 && !side.hasSurface) ++q3SidesWithoutSurface;
+      bt::Face face;
+      face.brush = static_cast<uint32_t>(scene.brushes.size());
+      face.material = material;
+      face.texture = std::move(side.texture);
+      face.plane = side.plane;
+      face.frame = side.frame;
+      face.surface = side.surface;
+      face.winding = std::move(side.winding);
+      for (const dvec3& p : face.winding) brush.bounds.grow(p);
+      frameInTextureUnits.push_back(side.frameInTextureUnits);
+      scene.faces.push_back(std::move(face));
+    }
+    brush.faceCount = static_cast<uint32_t>(scene.faces.size()) - brush.firstFace;
+    scene.bounds.grow(brush.bounds);
+    scene.brushes.push_back(brush);
+  }
+
+  void warnAboutSkipped(const MeshCounts& meshes, bool worldClaimed) {
+    if (meshes.skipped > 0)
+      scene.diagnostics.push_back(
+          {Severity::Warning, bsp.path, 0, 0,
+           fmt::format("{} patch(es) skipped: sizes the engine refuses (each side odd, 3 to {})", meshes.skipped, kPatchMaxGridSize)});
+    if (!worldClaimed && !bsp.models.empty())
+      scene.diagnostics.push_back(
+          {Severity::Warning, bsp.path, 0, 0, "the entities lump has no worldspawn; the world model (model 0) is not imported"});
+    if (brushesWithoutVolume > 0)
+      scene.diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
+                                   fmt::format("{} brush(es) skipped: thinner than 0.01 units between two of their sides "
+                                               "(no volume; the file's planes are corrupt)",
+                                               brushesWithoutVolume)});
+    if (q3SidesWithoutSurface > 0)
+      scene.diagnostics.push_back({Severity::Note, bsp.path, 0, 0,
+                                   fmt::format("{} brush sides have no draw surface lying on them (hidden, nodraw or caulk); they get a "
+                                               "paraxial texture frame",
+                                               q3SidesWithoutSurface)});
+  }
+
+  // Quake 3's frames are in texture units until the textures' sizes are known.
+  void scaleFramesToTextures() {
+    for (size_t f = 0; f < scene.faces.size(); ++f) {
+      if (!frameInTextureUnits[f]) continue;
+      bt::Face& face = scene.faces[f];
+      const Material& m = scene.materials[face.material];
+      face.frame.tangent *= static_cast<double>(m.width);
+      face.frame.bitangent *= static_cast<double>(m.height);
+    }
+  }
+};
+
+} // namespace
+
+Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve, const std::optional<std::vector<uint8_t>>& litFile,
+                   double curveMaxError) {
+  Scene scene;
+  scene.sourcePath = bsp.path;
+  scene.format = toString(bsp.version);
+  scene.entities = parseEntities(bsp.entities, bsp.path);
+  SceneBuilder builder{bsp, scene};
+  bool worldClaimed = false;
+  std::vector<ModelPlacement> placements;
   MeshCounts meshes;
 
   for (size_t e = 0; e < scene.entities.size(); ++e) {
@@ -128,70 +181,20 @@ Scene sceneFromBsp(const BspFile& bsp, const MaterialResolver& resolve, const st
     std::vector<CompiledBrush> brushes = modelBrushes(bsp, *model);
     const dvec3 offset = *model == 0 ? dvec3(0.0) : entityOrigin(entity);
     placements.push_back({*model, static_cast<uint32_t>(e), offset});
-    for (CompiledBrush& compiled : brushes) {
-      if (!hasVolume(compiled)) {
-        ++brushesWithoutVolume;
-        continue;
-      }
-      if (offset != dvec3(0.0)) translate(compiled, offset);
-      bt::Brush brush;
-      brush.entity = static_cast<uint32_t>(e);
-      brush.firstFace = static_cast<uint32_t>(scene.faces.size());
-      for (CompiledSide& side : compiled.sides) {
-        const uint32_t material = materialFor(side.texture);
-        if (bsp.version == Version::Quake3_46 && !side.hasSurface) ++q3SidesWithoutSurface;
-        bt::Face face;
-        face.brush = static_cast<uint32_t>(scene.brushes.size());
-        face.material = material;
-        face.texture = std::move(side.texture);
-        face.plane = side.plane;
-        face.frame = side.frame;
-        face.surface = side.surface;
-        face.winding = std::move(side.winding);
-        for (const dvec3& p : face.winding) brush.bounds.grow(p);
-        frameInTextureUnits.push_back(side.frameInTextureUnits);
-        scene.faces.push_back(std::move(face));
-      }
-      brush.faceCount = static_cast<uint32_t>(scene.faces.size()) - brush.firstFace;
-      scene.bounds.grow(brush.bounds);
-      scene.brushes.push_back(brush);
-    }
+    for (CompiledBrush& compiled : brushes) builder.addBrush(compiled, static_cast<uint32_t>(e), offset);
     entity.brushCount = static_cast<uint32_t>(scene.brushes.size()) - entity.firstBrush;
     if (bsp.version == Version::Quake3_46) {
       addQuake3Meshes(
           bsp, bsp.models[*model], uint32_t(e), offset, curveMaxError, scene,
-          [&](int32_t shader) { return materialFor(bsp.shaders[size_t(shader)].name); }, meshes);
-      frameInTextureUnits.resize(scene.faces.size(), true); // drawverts' st are in texture units
+          [&](int32_t shader) { return builder.materialFor(bsp.shaders[size_t(shader)].name); }, meshes);
+      builder.frameInTextureUnits.resize(scene.faces.size(), true); // drawverts' st are in texture units
     }
   }
-  if (meshes.skipped > 0)
-    scene.diagnostics.push_back(
-        {Severity::Warning, bsp.path, 0, 0,
-         fmt::format("{} patch(es) skipped: sizes the engine refuses (each side odd, 3 to {})", meshes.skipped, kPatchMaxGridSize)});
-  if (!worldClaimed && !bsp.models.empty())
-    scene.diagnostics.push_back(
-        {Severity::Warning, bsp.path, 0, 0, "the entities lump has no worldspawn; the world model (model 0) is not imported"});
-  if (brushesWithoutVolume > 0)
-    scene.diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
-                                 fmt::format("{} brush(es) skipped: thinner than 0.01 units between two of their sides "
-                                             "(no volume; the file's planes are corrupt)",
-                                             brushesWithoutVolume)});
-  if (q3SidesWithoutSurface > 0)
-    scene.diagnostics.push_back({Severity::Note, bsp.path, 0, 0,
-                                 fmt::format("{} brush sides have no draw surface lying on them (hidden, nodraw or caulk); they get a "
-                                             "paraxial texture frame",
-                                             q3SidesWithoutSurface)});
+  builder.warnAboutSkipped(meshes, worldClaimed);
 
   scene.compiledLighting = std::make_shared<const CompiledLighting>(readCompiledLighting(bsp, placements, litFile, scene.diagnostics));
-
   if (resolve) resolve(scene);
-  for (size_t f = 0; f < scene.faces.size(); ++f) {
-    if (!frameInTextureUnits[f]) continue;
-    bt::Face& face = scene.faces[f];
-    const Material& m = scene.materials[face.material];
-    face.frame.tangent *= static_cast<double>(m.width);
-    face.frame.bitangent *= static_cast<double>(m.height);
-  }
+  builder.scaleFramesToTextures();
   return scene;
 }
 

@@ -1,5 +1,7 @@
 #include "importers/bsp/lightmaps.h"
 
+#include "quake/binary_reader.h"
+
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
@@ -7,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <span>
 
 namespace bt::bsp {
 
@@ -52,19 +55,6 @@ struct LuxelGrid {
   double sOffset = 0.0, tOffset = 0.0;
   bool badRecord = false; // the BSPX record itself is unusable (counted in a warning)
 };
-
-uint16_t u16At(const std::vector<uint8_t>& b, size_t at) {
-  return static_cast<uint16_t>(b[at] | b[at + 1] << 8);
-}
-uint32_t u32At(const std::vector<uint8_t>& b, size_t at) {
-  return uint32_t{b[at]} | uint32_t{b[at + 1]} << 8 | uint32_t{b[at + 2]} << 16 | uint32_t{b[at + 3]} << 24;
-}
-float f32At(const std::vector<uint8_t>& b, size_t at) {
-  const uint32_t bits = u32At(b, at);
-  float f;
-  std::memcpy(&f, &bits, 4);
-  return f;
-}
 
 // The luxel layout of a level: Quake's fixed grid, or what the BSPX LMSHIFT / DECOUPLED_LM lumps
 // say per face. A lump whose size does not match the face count is ignored with a warning.
@@ -122,19 +112,20 @@ private:
   // ericw-tools' bspx_decoupled_lm_perface: the lightmap's size in luxels, its offset in the
   // lighting data, and two rows of a world -> luxel matrix (luxel (x, y) centred at (x, y)).
   LuxelGrid decoupledGrid(size_t face, int64_t& offset) const {
-    const std::vector<uint8_t>& b = *decoupled_;
-    const size_t at = face * kDecoupledRecord;
+    const std::span<const uint8_t> records(*decoupled_);
+    quake::LittleEndianReader record(records.subspan(face * kDecoupledRecord, kDecoupledRecord));
+    const uint16_t width = record.u16(), height = record.u16();
     LuxelGrid g;
     g.luxelSize = 0;
-    offset = static_cast<int32_t>(u32At(b, at + 4));
+    offset = record.i32();
     float m[8];
-    for (size_t k = 0; k < 8; ++k) m[k] = f32At(b, at + 8 + 4 * k);
+    for (float& v : m) v = record.f32();
     if (!std::all_of(std::begin(m), std::end(m), [](float v) { return std::isfinite(v); })) {
       g.badRecord = true;
       return g;
     }
-    g.width = u16At(b, at);
-    g.height = u16At(b, at + 2);
+    g.width = width;
+    g.height = height;
     g.s = {m[0], m[1], m[2]};
     g.sOffset = m[3];
     g.t = {m[4], m[5], m[6]};
@@ -264,50 +255,83 @@ bool quake3Surface(const BspFile& bsp, const Surface& surface, const ModelPlacem
   return true;
 }
 
-} // namespace
-
-CompiledLighting readCompiledLighting(const BspFile& bsp, const std::vector<ModelPlacement>& placements,
-                                      const std::optional<std::vector<uint8_t>>& litFile, Diagnostics& diagnostics) {
-  CompiledLighting out;
-  out.engine = bsp.version == Version::Quake3_46 ? "quake3"
-      : bsp.version == Version::HalfLife30       ? "halflife"
-      : bsp.version == Version::Quake2_38        ? "quake2"
-      : bsp.hexen2Models                         ? "hexen2"
-                                                 : "quake";
-  if (bsp.version == Version::Quake3_46) {
-    out.source = "lightmap pages";
-    const size_t pageBytes = kQuake3Page * kQuake3Page * 3;
-    for (size_t at = 0; at + pageBytes <= bsp.lightmaps.size(); at += pageBytes) {
-      Image page;
-      page.width = page.height = kQuake3Page;
-      page.rgba.resize(kQuake3Page * kQuake3Page * 4);
-      for (size_t i = 0; i < kQuake3Page * kQuake3Page; ++i) {
-        std::memcpy(&page.rgba[i * 4], &bsp.lightmaps[at + i * 3], 3);
-        page.rgba[i * 4 + 3] = 255;
-      }
-      out.pages.push_back(std::move(page));
+// Quake 3: the 128x128 lightmap pages, and each planar surface's rectangle on its page.
+void readQuake3Lighting(const BspFile& bsp, const std::vector<ModelPlacement>& placements, CompiledLighting& out,
+                        Diagnostics& diagnostics) {
+  out.source = "lightmap pages";
+  const size_t pageBytes = kQuake3Page * kQuake3Page * 3;
+  for (size_t at = 0; at + pageBytes <= bsp.lightmaps.size(); at += pageBytes) {
+    Image page;
+    page.width = page.height = kQuake3Page;
+    page.rgba.resize(kQuake3Page * kQuake3Page * 4);
+    for (size_t i = 0; i < kQuake3Page * kQuake3Page; ++i) {
+      std::memcpy(&page.rgba[i * 4], &bsp.lightmaps[at + i * 3], 3);
+      page.rgba[i * 4 + 3] = 255;
     }
-    size_t unusable = 0;
-    for (const ModelPlacement& placement : placements) {
-      const Model& model = bsp.models[placement.model];
-      for (int32_t i = 0; i < model.faceCount; ++i) {
-        const Surface& surface = bsp.surfaces[size_t(model.firstFace + i)];
-        if (surface.type != SurfaceType::Planar || surface.lightmap < 0) continue;
-        LightmappedFace lf;
-        if (quake3Surface(bsp, surface, placement, lf))
-          out.faces.push_back(std::move(lf));
-        else
-          ++unusable;
-      }
-    }
-    if (unusable > 0)
-      diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
-                             fmt::format("lump 'surfaces': {} planar surfaces with a lightmap point outside their page, "
-                                         "vertices or indices, or lie on no plane; they are kept without a lightmap",
-                                         unusable)});
-    return out;
+    out.pages.push_back(std::move(page));
   }
+  size_t unusable = 0;
+  for (const ModelPlacement& placement : placements) {
+    const Model& model = bsp.models[placement.model];
+    for (int32_t i = 0; i < model.faceCount; ++i) {
+      const Surface& surface = bsp.surfaces[size_t(model.firstFace + i)];
+      if (surface.type != SurfaceType::Planar || surface.lightmap < 0) continue;
+      LightmappedFace lf;
+      if (quake3Surface(bsp, surface, placement, lf))
+        out.faces.push_back(std::move(lf));
+      else
+        ++unusable;
+    }
+  }
+  if (unusable > 0)
+    diagnostics.push_back({Severity::Warning, bsp.path, 0, 0,
+                           fmt::format("lump 'surfaces': {} planar surfaces with a lightmap point outside their page, "
+                                       "vertices or indices, or lie on no plane; they are kept without a lightmap",
+                                       unusable)});
+}
 
+// A Quake 1/2 face where the placement puts it: polygon, normal, texture and its axes.
+LightmappedFace placedFace(const BspFile& bsp, size_t f, const ModelPlacement& placement) {
+  const Face& face = bsp.faces[f];
+  const TexInfo& texinfo = bsp.texinfo[static_cast<size_t>(face.texinfo)];
+  const BspPlane& plane = bsp.planes[static_cast<size_t>(face.plane)];
+  LightmappedFace lf;
+  lf.entity = placement.entity;
+  const auto points = bsp.faceVertices(f);
+  for (auto it = points.rbegin(); it != points.rend(); ++it) lf.polygon.push_back(*it + placement.origin);
+  lf.normal = glm::dvec3(plane.normal) * (face.side ? -1.0 : 1.0);
+  lf.texture = texinfo.texture;
+  lf.sAxis = {texinfo.vecs[0][0], texinfo.vecs[0][1], texinfo.vecs[0][2]};
+  lf.tAxis = {texinfo.vecs[1][0], texinfo.vecs[1][1], texinfo.vecs[1][2]};
+  // Moving the face by the origin moves its texture and its luxels with it.
+  lf.sOffset = texinfo.vecs[0][3] - glm::dot(lf.sAxis, placement.origin);
+  lf.tOffset = texinfo.vecs[1][3] - glm::dot(lf.tAxis, placement.origin);
+  return lf;
+}
+
+// The face's luxels of every style, as RGB; false when the face points past the light data.
+bool copyLuxels(const Face& face, const LuxelGrid& grid, int64_t offset, const LightData& data, LightmappedFace& lf) {
+  const int styleCount = static_cast<int>(std::count_if(face.styles.begin(), face.styles.end(), [](uint8_t s) { return s != 255; }));
+  if (offset < 0 || styleCount == 0 || grid.width <= 0 || grid.height <= 0) return true;
+  // 64-bit sizes: a corrupt DECOUPLED_LM record may claim 65535 x 65535 luxels.
+  const size_t luxels = static_cast<size_t>(grid.width) * static_cast<size_t>(grid.height);
+  const size_t begin = static_cast<size_t>(offset) * static_cast<size_t>(data.offsetScale);
+  const size_t length = luxels * static_cast<size_t>(styleCount) * static_cast<size_t>(data.bytesPerLuxel);
+  if (begin > data.bytes.size() || data.bytes.size() - begin < length) return false;
+  lf.lightmapMins = grid.mins;
+  lf.width = grid.width;
+  lf.height = grid.height;
+  lf.styles = face.styles;
+  const uint8_t* src = data.bytes.data() + begin;
+  lf.rgb.resize(luxels * static_cast<size_t>(styleCount) * 3);
+  for (size_t k = 0; k < luxels * static_cast<size_t>(styleCount); ++k)
+    for (int c = 0; c < 3; ++c) lf.rgb[k * 3 + static_cast<size_t>(c)] = src[data.bytesPerLuxel == 3 ? k * 3 + c : k];
+  return true;
+}
+
+// Quake 1/2 and Half-Life: each face's luxel grid and its bytes in the chosen light data.
+void readFaceLighting(const BspFile& bsp, const std::vector<ModelPlacement>& placements, const std::optional<std::vector<uint8_t>>& litFile,
+                      CompiledLighting& out, Diagnostics& diagnostics) {
   const LightData data = chooseLightData(bsp, litFile, diagnostics);
   const LuxelLayout layout(bsp, diagnostics);
   out.source = data.source;
@@ -318,21 +342,7 @@ CompiledLighting readCompiledLighting(const BspFile& bsp, const std::vector<Mode
     const Model& model = bsp.models[placement.model];
     for (int32_t i = 0; i < model.faceCount; ++i) {
       const size_t f = static_cast<size_t>(model.firstFace + i);
-      const Face& face = bsp.faces[f];
-      const TexInfo& texinfo = bsp.texinfo[static_cast<size_t>(face.texinfo)];
-      const BspPlane& plane = bsp.planes[static_cast<size_t>(face.plane)];
-      LightmappedFace lf;
-      lf.entity = placement.entity;
-      const auto points = bsp.faceVertices(f);
-      for (auto it = points.rbegin(); it != points.rend(); ++it) lf.polygon.push_back(*it + placement.origin);
-      lf.normal = glm::dvec3(plane.normal) * (face.side ? -1.0 : 1.0);
-      lf.texture = texinfo.texture;
-      lf.sAxis = {texinfo.vecs[0][0], texinfo.vecs[0][1], texinfo.vecs[0][2]};
-      lf.tAxis = {texinfo.vecs[1][0], texinfo.vecs[1][1], texinfo.vecs[1][2]};
-      // Moving the face by the origin moves its texture and its luxels with it.
-      lf.sOffset = texinfo.vecs[0][3] - glm::dot(lf.sAxis, placement.origin);
-      lf.tOffset = texinfo.vecs[1][3] - glm::dot(lf.tAxis, placement.origin);
-
+      LightmappedFace lf = placedFace(bsp, f, placement);
       int64_t offset = -1;
       const LuxelGrid grid = layout.grid(f, offset);
       badRecords += grid.badRecord;
@@ -341,26 +351,7 @@ CompiledLighting readCompiledLighting(const BspFile& bsp, const std::vector<Mode
       lf.luxelT = grid.t;
       lf.luxelSOffset = grid.sOffset - glm::dot(grid.s, placement.origin);
       lf.luxelTOffset = grid.tOffset - glm::dot(grid.t, placement.origin);
-
-      const int styleCount = static_cast<int>(std::count_if(face.styles.begin(), face.styles.end(), [](uint8_t s) { return s != 255; }));
-      if (offset >= 0 && styleCount > 0 && grid.width > 0 && grid.height > 0) {
-        // 64-bit sizes: a corrupt DECOUPLED_LM record may claim 65535 x 65535 luxels.
-        const size_t luxels = static_cast<size_t>(grid.width) * static_cast<size_t>(grid.height);
-        const size_t begin = static_cast<size_t>(offset) * static_cast<size_t>(data.offsetScale);
-        const size_t length = luxels * static_cast<size_t>(styleCount) * static_cast<size_t>(data.bytesPerLuxel);
-        if (begin > data.bytes.size() || data.bytes.size() - begin < length) {
-          ++outOfBounds;
-        } else {
-          lf.lightmapMins = grid.mins;
-          lf.width = grid.width;
-          lf.height = grid.height;
-          lf.styles = face.styles;
-          const uint8_t* src = data.bytes.data() + begin;
-          lf.rgb.resize(luxels * static_cast<size_t>(styleCount) * 3);
-          for (size_t k = 0; k < luxels * static_cast<size_t>(styleCount); ++k)
-            for (int c = 0; c < 3; ++c) lf.rgb[k * 3 + static_cast<size_t>(c)] = src[data.bytesPerLuxel == 3 ? k * 3 + c : k];
-        }
-      }
+      if (!copyLuxels(bsp.faces[f], grid, offset, data, lf)) ++outOfBounds;
       out.faces.push_back(std::move(lf));
     }
   }
@@ -374,6 +365,22 @@ CompiledLighting readCompiledLighting(const BspFile& bsp, const std::vector<Mode
                            fmt::format("lump 'BSPX {}': {} faces have an unusable record (a luxel size beyond "
                                        "1 << {}, or a projection that is not finite); they are kept without a lightmap",
                                        layout.lumpName(), badRecords, kMaxLmShift)});
+}
+
+} // namespace
+
+CompiledLighting readCompiledLighting(const BspFile& bsp, const std::vector<ModelPlacement>& placements,
+                                      const std::optional<std::vector<uint8_t>>& litFile, Diagnostics& diagnostics) {
+  CompiledLighting out;
+  out.engine = bsp.version == Version::Quake3_46 ? "quake3"
+      : bsp.version == Version::HalfLife30       ? "halflife"
+      : bsp.version == Version::Quake2_38        ? "quake2"
+      : bsp.hexen2Models                         ? "hexen2"
+                                                 : "quake";
+  if (bsp.version == Version::Quake3_46)
+    readQuake3Lighting(bsp, placements, out, diagnostics);
+  else
+    readFaceLighting(bsp, placements, litFile, out, diagnostics);
   return out;
 }
 

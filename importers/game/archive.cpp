@@ -1,7 +1,7 @@
 #include "importers/game/archive.h"
 
 #include "importers/bsp/pk3.h"
-#include "importers/textures/binary.h"
+#include "quake/binary_reader.h"
 #include "scene/diagnostics.h"
 #include "scene/names.h"
 
@@ -53,7 +53,7 @@ void PakArchive::readDirectory(std::span<const uint8_t> header, uint64_t fileSiz
     fail(path_, {}, fmt::format("truncated archive: {} bytes, a .pak header alone has {}", fileSize, kHeaderSize));
   if (std::string_view(reinterpret_cast<const char*>(header.data()), 4) != "PACK")
     fail(path_, {}, "not a .pak archive (no PACK signature)");
-  const uint64_t dirOffset = detail::readU32(header, 4), dirLength = detail::readU32(header, 8);
+  const uint64_t dirOffset = quake::readU32(header, 4), dirLength = quake::readU32(header, 8);
   if (dirLength % kEntrySize != 0 || dirLength / kEntrySize > kMaxEntries)
     fail(path_, {}, fmt::format("corrupt directory: length {} is not a whole number of {}-byte entries", dirLength, kEntrySize));
   if (dirOffset > fileSize || dirLength > fileSize - dirOffset)
@@ -63,7 +63,7 @@ void PakArchive::readDirectory(std::span<const uint8_t> header, uint64_t fileSiz
                                          : readRange(path_, dirOffset, dirLength);
   if (dir.size() != dirLength) fail(path_, {}, "cannot read the directory");
   for (size_t at = 0; at < dir.size(); at += kEntrySize) {
-    Entry entry{detail::readName(dir, at, kNameSize), detail::readU32(dir, at + 56), detail::readU32(dir, at + 60)};
+    Entry entry{quake::readName(dir, at, kNameSize), quake::readU32(dir, at + 56), quake::readU32(dir, at + 60)};
     if (uint64_t{entry.offset} + entry.size > fileSize)
       fail(path_, entry.name,
            fmt::format("directory entry {} lies about its size: bytes {}..{} of a {}-byte file", at / kEntrySize, entry.offset,

@@ -1,10 +1,12 @@
 #include "importers/map/brush_entities.h"
+#include "quake/bspfile_q2.h"
+#include "quake/entity_keys.h"
 #include "scene/names.h"
 
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
-#include <charconv>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -14,14 +16,7 @@ namespace bt::map {
 
 namespace {
 
-// Quake 2's CONTENTS_ORIGIN: the brush only marks where the model's origin is.
-constexpr int32_t kContentsOrigin = 0x01000000;
-
-const std::string* findKey(const std::vector<std::pair<std::string, std::string>>& keys, std::string_view key) {
-  for (const auto& [k, v] : keys)
-    if (equalsIgnoreCase(k, key)) return &v;
-  return nullptr;
-}
+using quake::findKey;
 
 // cos and sin of an angle in degrees, exact at multiples of 90: prefabs are mostly turned by
 // right angles, and sin(pi) = 1.2e-16 would put integer corners a hair off the grid.
@@ -69,18 +64,11 @@ TexVecs Placement::apply(const TexVecs& vecs) const {
 
 int readVector(std::string_view value, dvec3& out) {
   out = dvec3(0.0);
-  const char* p = value.data();
-  const char* end = p + value.size();
-  for (int k = 0; k < 3; ++k) {
-    while (p < end && (*p == ' ' || *p == '\t')) ++p;
-    const auto [next, ec] = std::from_chars(p, end, out[k]);
-    if (ec != std::errc() || !std::isfinite(out[k])) {
-      out[k] = 0.0;
-      return k;
-    }
-    p = next;
-  }
-  return 3;
+  const auto numbers = quake::parseNumbers(value);
+  if (!numbers) return 0;
+  const int count = int(std::min<size_t>(numbers->size(), 3));
+  for (int k = 0; k < count; ++k) out[k] = (*numbers)[k];
+  return count;
 }
 
 Placement externalMapPlacement(const std::vector<std::pair<std::string, std::string>>& keys, std::vector<std::string>& warnings) {
@@ -133,7 +121,7 @@ bool isOriginBrush(const MapBrush& brush) {
   const MapFace& first = brush.faces.front();
   // Quake 2 faces carry their contents; zero means "the texture's own", and the .wal of an
   // origin texture says CONTENTS_ORIGIN, so the name decides then, as in Quake 1.
-  if (first.surface && first.surface->contents != 0) return (first.surface->contents & kContentsOrigin) != 0;
+  if (first.surface && first.surface->contents != 0) return (first.surface->contents & quake::q2::CONTENTS_ORIGIN) != 0;
   const std::string name = lowercase(first.texture);
   return std::string_view(name).substr(name.find_last_of('/') + 1) == "origin";
 }

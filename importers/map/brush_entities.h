@@ -36,7 +36,8 @@ struct Placement {
   TexVecs apply(const TexVecs& vecs) const;
 };
 
-// The key's value as a vector of up to three numbers: how many were read, as qbsp's get_vector.
+// The key's value as a vector of up to three numbers: how many were read, as qbsp's get_vector
+// (a value that breaks quake/entity_keys.h's number rule reads none).
 int readVector(std::string_view value, dvec3& out);
 
 // Where qbsp puts a misc_external_map's brushes: scale, then rotate (Z yaw * Y pitch * X roll,

@@ -1,5 +1,7 @@
 #include "importers/map/map_geometry.h"
 
+#include "quake/texture_axes.h"
+
 #include <glm/geometric.hpp>
 
 #include <cmath>
@@ -19,27 +21,8 @@ std::optional<Plane> planeFromPoints(const std::array<dvec3, 3>& points) {
   return plane;
 }
 
-ParaxialAxes paraxialAxes(const dvec3& normal) {
-  // QuakeEd's table: {normal, s axis, t axis} for floor, ceiling, west, east, south, north.
-  static constexpr double kBase[6][3][3] = {
-      {{0, 0, 1}, {1, 0, 0}, {0, -1, 0}},  {{0, 0, -1}, {1, 0, 0}, {0, -1, 0}}, {{1, 0, 0}, {0, 1, 0}, {0, 0, -1}},
-      {{-1, 0, 0}, {0, 1, 0}, {0, 0, -1}}, {{0, 1, 0}, {1, 0, 0}, {0, 0, -1}},  {{0, -1, 0}, {1, 0, 0}, {0, 0, -1}},
-  };
-  auto vec = [](const double(&v)[3]) { return dvec3{v[0], v[1], v[2]}; };
-  double best = 0.0;
-  int bestAxis = 0;
-  for (int i = 0; i < 6; ++i) {
-    const double d = glm::dot(normal, vec(kBase[i][0]));
-    if (d > best) { // strict: ties keep the earlier axis (qbsp's default "oldaxis" behaviour)
-      best = d;
-      bestAxis = i;
-    }
-  }
-  return {vec(kBase[bestAxis][1]), vec(kBase[bestAxis][2]), vec(kBase[bestAxis][0])};
-}
-
 TexVecs standardVecs(const Plane& plane, const std::array<double, 2>& offset, double rotation, const std::array<double, 2>& scale) {
-  const ParaxialAxes base = paraxialAxes(plane.normal);
+  const quake::TextureAxes base = quake::textureAxisFromPlane(plane.normal);
   std::array<dvec3, 2> v{base.s, base.t};
 
   // QuakeEd rotates within the plane of the two axes that the table's s and t vectors use.
@@ -199,7 +182,7 @@ double tidy(double v, double step) {
 } // namespace
 
 std::optional<StandardParams> fitStandard(const TexVecs& vecs, const Plane& plane) {
-  const ParaxialAxes base = paraxialAxes(plane.normal);
+  const quake::TextureAxes base = quake::textureAxisFromPlane(plane.normal);
   const int sv = base.s.x != 0.0 ? 0 : base.s.y != 0.0 ? 1 : 2;
   const int tv = base.t.x != 0.0 ? 0 : base.t.y != 0.0 ? 1 : 2;
   const int c = 3 - sv - tv; // the axis the table projects along

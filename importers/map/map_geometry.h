@@ -28,16 +28,6 @@ struct TexVecs {
 // brush, so the normal points out). std::nullopt when the points are (nearly) collinear.
 std::optional<Plane> planeFromPoints(const std::array<dvec3, 3>& points);
 
-// The paraxial texture axes of Quake's QuakeEd table for a plane normal: the first of floor,
-// ceiling, west, east, south, north walls whose axis has the largest dot product with the
-// normal (ties keep the earlier entry: qbsp's default, not its -newaxis option).
-struct ParaxialAxes {
-  dvec3 s;
-  dvec3 t;
-  dvec3 snappedNormal;
-};
-ParaxialAxes paraxialAxes(const dvec3& normal);
-
 // qbsp's texinfo vectors for a face: Standard (paraxial axes rotated, divided by scale, zero
 // scale meaning 1), Valve 220 (axis / scale), brush primitives (matrix over q3map2's axis base,
 // in units of a `textureWidth` x `textureHeight` texture; qbsp assumes 64x64). A projection

@@ -1,10 +1,10 @@
 #include "importers/map/map_parser.h"
+#include "quake/entity_keys.h"
 
 #include <fmt/format.h>
 
 #include <array>
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -86,14 +86,10 @@ public:
     const size_t start = pos_;
     const int col = column();
     while (pos_ < text_.size() && !isNumberEnd(text_[pos_])) ++pos_;
-    const char* first = text_.data() + start;
-    const char* last = text_.data() + pos_;
-    if (first != last && *first == '+') ++first; // from_chars rejects a leading '+', editors don't write it but humans do
-    double value = 0.0;
-    const auto [end, ec] = std::from_chars(first, last, value);
-    if (first == last || ec != std::errc() || end != last || !std::isfinite(value))
-      failAt(line_, col, fmt::format("bad number '{}' for {}", printable(text_.substr(start, pos_ - start)), what));
-    return value;
+    const std::string_view word = std::string_view(text_).substr(start, pos_ - start);
+    const std::optional<double> value = quake::parseNumber(word);
+    if (!value) failAt(line_, col, fmt::format("bad number '{}' for {}", printable(word), what));
+    return *value;
   }
 
   // A quoted string. Quake's tools end it at the next '"' (no escapes); newlines are allowed.

@@ -1,10 +1,10 @@
 #include "importers/map/map_patches.h"
+#include "quake/entity_keys.h"
 
 #include <fmt/format.h>
 
 #include <cctype>
 #include <cmath>
-#include <charconv>
 #include <vector>
 
 namespace bt::map {
@@ -53,8 +53,9 @@ bool readNumbers(PatchTokens& tokens, double* out, int count, std::string& error
   if (!expect(tokens, "(", error)) return false;
   for (int i = 0; i < count; ++i) {
     const std::string_view token = tokens.next();
-    const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), out[i]);
-    if (ec != std::errc() || end != token.data() + token.size() || !std::isfinite(out[i])) {
+    const std::optional<double> number = quake::parseNumber(token);
+    if (number) out[i] = *number;
+    if (!number) {
       error = fmt::format("patch: expected a number, found '{}'", token.empty() ? "end of block" : token);
       return false;
     }

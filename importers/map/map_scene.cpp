@@ -6,6 +6,7 @@
 #include "importers/map/map_parser.h"
 #include "importers/map/map_patches.h"
 #include "importers/textures/textures.h"
+#include "quake/bspfile_q2.h"
 
 #include <fmt/format.h>
 
@@ -27,10 +28,8 @@ constexpr double kDistEpsilon = 0.01;
 // QuakeEd texturing whatever the face line says: seen in its output for ericw-tools' test maps
 // q2_nodraw_light and q2_nodraw_detail_light.
 // qbsp drops NODRAW from faces that are also SKY ("fixes a bug in some old maps"), so those keep theirs.
-constexpr int32_t kSurfSky = 0x4;
-constexpr int32_t kSurfNoDraw = 0x80;
 bool drawsNothing(const MapFace& f) {
-  return f.surface && (f.surface->flags & kSurfNoDraw) != 0 && (f.surface->flags & kSurfSky) == 0;
+  return f.surface && (f.surface->flags & quake::q2::SURF_NODRAW) != 0 && (f.surface->flags & quake::q2::SURF_SKY) == 0;
 }
 
 bool samePlane(const Plane& a, const Plane& b) {
@@ -207,7 +206,8 @@ private:
     return dvec3(0.0);
   }
 
-  std::optional<uint32_t> buildBrush(const MapBrush& mb, uint32_t entityIndex, const std::string& file, const Placement* placement) {
+  // The brush's sides, one per plane; nullopt (with a warning) when the brush is skipped.
+  std::optional<std::vector<Side>> brushSides(const MapBrush& mb, const std::string& file, const Placement* placement) {
     // Building a brush clips every face by every other one, so its cost grows with the square of
     // its faces: a few MB of faces on one brush would take minutes. Editors and compilers stay far
     // below this (Quake's qbsp allowed 32 faces a brush, LordHavoc's 256, qbsp3 128); the .bsp
@@ -245,10 +245,11 @@ private:
       }
       if (keep) sides.push_back({&f, *plane, *written});
     }
+    return sides;
+  }
 
-    std::vector<Plane> planes;
-    for (const auto& side : sides) planes.push_back(side.plane);
-    std::vector<Winding> windings = brushWindings(planes);
+  // Whether the windings close a volume; a warning says why not.
+  bool enclosesVolume(const std::vector<Winding>& windings, const MapBrush& mb, const std::string& file) {
     size_t withArea = 0;
     for (const Winding& w : windings) {
       if (w.size() < 3) continue;
@@ -256,51 +257,66 @@ private:
         // A corner out at the base square's reach: nothing clipped this side on that way.
         if (std::fabs(p.x) > kWorldExtent * 0.5 || std::fabs(p.y) > kWorldExtent * 0.5 || std::fabs(p.z) > kWorldExtent * 0.5) {
           report(Severity::Warning, file, mb.line, mb.column, "brush skipped: it is unbounded (its faces do not enclose a volume)");
-          return std::nullopt;
+          return false;
         }
       }
       ++withArea;
     }
     if (withArea < 4) {
       report(Severity::Warning, file, mb.line, mb.column, "brush skipped: it has no volume");
-      return std::nullopt;
+      return false;
     }
+    return true;
+  }
+
+  Face faceFromSide(const Side& side, Winding winding, uint32_t brushIndex, const Placement* placement) {
+    const MapFace& mf = *side.face;
+    Face face;
+    face.line = mf.line;
+    face.brush = brushIndex;
+    face.texture = mf.texture;
+    face.material = materialFor(mf.texture);
+    face.plane = side.plane;
+    int width = 64, height = 64;
+    if (loaded_ && face.material < loaded_->size()) {
+      width = (*loaded_)[face.material].width;
+      height = (*loaded_)[face.material].height;
+    }
+    TexVecs vecs;
+    if (drawsNothing(mf)) {
+      vecs = standardVecs(face.plane, {0.0, 0.0}, 0.0, {1.0, 1.0});
+    } else {
+      // The projection is made where the face was written, then moved with it (texture lock).
+      vecs = faceTextureVecs(mf, side.written, width, height);
+      if (placement) vecs = placement->apply(vecs);
+    }
+    face.frame = frameFromVecs(vecs, face.plane);
+    face.surface = mf.surface;
+    face.winding = std::move(winding);
+    return face;
+  }
+
+  std::optional<uint32_t> buildBrush(const MapBrush& mb, uint32_t entityIndex, const std::string& file, const Placement* placement) {
+    const std::optional<std::vector<Side>> sides = brushSides(mb, file, placement);
+    if (!sides) return std::nullopt;
+    std::vector<Plane> planes;
+    for (const auto& side : *sides) planes.push_back(side.plane);
+    std::vector<Winding> windings = brushWindings(planes);
+    if (!enclosesVolume(windings, mb, file)) return std::nullopt;
 
     Brush brush;
     brush.line = mb.line;
     brush.entity = entityIndex;
     brush.firstFace = static_cast<uint32_t>(scene_.faces.size());
     const auto brushIndex = static_cast<uint32_t>(scene_.brushes.size());
-    for (size_t i = 0; i < sides.size(); ++i) {
+    for (size_t i = 0; i < sides->size(); ++i) {
+      const Side& side = (*sides)[i];
       if (windings[i].size() < 3) {
         // A plane that touches the brush in an edge or not at all: qbsp drops it too.
-        report(Severity::Note, file, sides[i].face->line, sides[i].face->column,
-               "face dropped: its plane does not touch the brush in an area");
+        report(Severity::Note, file, side.face->line, side.face->column, "face dropped: its plane does not touch the brush in an area");
         continue;
       }
-      const MapFace& mf = *sides[i].face;
-      Face face;
-      face.line = mf.line;
-      face.brush = brushIndex;
-      face.texture = mf.texture;
-      face.material = materialFor(mf.texture);
-      face.plane = sides[i].plane;
-      int width = 64, height = 64;
-      if (loaded_ && face.material < loaded_->size()) {
-        width = (*loaded_)[face.material].width;
-        height = (*loaded_)[face.material].height;
-      }
-      TexVecs vecs;
-      if (drawsNothing(mf)) {
-        vecs = standardVecs(face.plane, {0.0, 0.0}, 0.0, {1.0, 1.0});
-      } else {
-        // The projection is made where the face was written, then moved with it (texture lock).
-        vecs = faceTextureVecs(mf, sides[i].written, width, height);
-        if (placement) vecs = placement->apply(vecs);
-      }
-      face.frame = frameFromVecs(vecs, face.plane);
-      face.surface = mf.surface;
-      face.winding = std::move(windings[i]);
+      Face face = faceFromSide(side, std::move(windings[i]), brushIndex, placement);
       for (const dvec3& p : face.winding) brush.bounds.grow(p);
       scene_.faces.push_back(std::move(face));
     }

@@ -1,5 +1,5 @@
 // Palettes and the 8-bit texture formats: Quake/Half-Life miptex and Quake 2 .wal.
-#include "importers/textures/binary.h"
+#include "quake/binary_reader.h"
 #include "importers/textures/textures.h"
 
 #include <fmt/format.h>
@@ -10,10 +10,10 @@
 
 namespace bt {
 
-using detail::fits;
-using detail::readName;
-using detail::readU16;
-using detail::readU32;
+using quake::fits;
+using quake::readName;
+using quake::readU16;
+using quake::readU32;
 
 namespace {
 

@@ -3,7 +3,7 @@
 // Layout: "WAD2"/"WAD3", int32 entry count, int32 directory offset; the directory is an array of
 //   { int32 filepos, disksize, size; int8 type, compression; int16 pad; char name[16]; }.
 // Every offset and size comes from the file, so each one is checked before it is used.
-#include "importers/textures/binary.h"
+#include "quake/binary_reader.h"
 #include "scene/names.h"
 #include "importers/textures/textures.h"
 
@@ -14,9 +14,9 @@
 
 namespace bt {
 
-using detail::fits;
-using detail::readName;
-using detail::readU32;
+using quake::fits;
+using quake::readName;
+using quake::readU32;
 
 namespace {
 

@@ -61,14 +61,6 @@ TEST(MapGeometry, StandardFrameRotatesScalesAndOffsetsLikeQbsp) {
   EXPECT_NEAR(floor.plane.distanceTo(floor.frame.origin), 0.0, 1e-9);
 }
 
-TEST(MapGeometry, ParaxialTiesKeepTheEarlierTableEntry) {
-  // A 45-degree wall between +X and +Y: qbsp's default picks the west-wall entry (s = +Y).
-  const ParaxialAxes axes = paraxialAxes(glm::normalize(dvec3{1, 1, 0}));
-  EXPECT_EQ(axes.s, dvec3(0, 1, 0));
-  EXPECT_EQ(axes.t, dvec3(0, 0, -1));
-  EXPECT_EQ(paraxialAxes(glm::normalize(dvec3{1, 1, 1})).snappedNormal, dvec3(0, 0, 1));
-}
-
 TEST(MapGeometry, ValveFrameUsesTheAxesDividedByScale) {
   const Scene scene = build("{\n{\n" + boxBrush("a [ 0.6 0.8 0 5 ] [ 0 0 -1 -3 ] 0 0.5 4") + "}\n}\n");
   const Face& wall = scene.faces[0];
