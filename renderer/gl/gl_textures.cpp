@@ -122,7 +122,14 @@ GlTextures::GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo
     BT_GL(glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY, &maxAnisotropy));
     anisotropy_ = std::clamp(maxAnisotropy, 1.0f, 16.0f);
   }
+  readMaterials(scene);
+  if (mode_ == TextureMode::Bindless)
+    uploadBindless(scene);
+  else
+    uploadArrays(scene);
+}
 
+void GlTextures::readMaterials(const Scene& scene) {
   materials_.resize(scene.materials.size());
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     const Material& m = scene.materials[i];
@@ -134,26 +141,27 @@ GlTextures::GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo
     if (!m.normal.empty()) g.flags |= kMaterialHasNormal, g.normalTexels = texelsOf(m.normal);
     if (!m.emissive.empty()) g.flags |= kMaterialHasEmissive, g.emissiveTexels = texelsOf(m.emissive);
   }
+}
 
-  if (mode_ == TextureMode::Bindless) {
-    for (size_t i = 0; i < scene.materials.size(); ++i) {
-      const Material& m = scene.materials[i];
-      auto makeResident = [&](const Image& image, bool srgb) -> uint64_t {
-        const GLuint texture = createTexture(image, srgb);
-        const GLuint64 handle = glGetTextureHandleARB(texture);
-        checkGlError("glGetTextureHandleARB", __FILE__, __LINE__);
-        BT_GL(glMakeTextureHandleResidentARB(handle));
-        residentHandles_.push_back(handle);
-        return handle;
-      };
-      if (!m.baseColor.empty()) materials_[i].baseHandle = makeResident(m.baseColor, true);
-      if (!m.normal.empty()) materials_[i].normalHandle = makeResident(m.normal, false);
-      if (!m.emissive.empty()) materials_[i].emissiveHandle = makeResident(m.emissive, true);
-    }
-    return;
+void GlTextures::uploadBindless(const Scene& scene) {
+  auto makeResident = [&](const Image& image, bool srgb) -> uint64_t {
+    const GLuint texture = createTexture(image, srgb);
+    const GLuint64 handle = glGetTextureHandleARB(texture);
+    checkGlError("glGetTextureHandleARB", __FILE__, __LINE__);
+    BT_GL(glMakeTextureHandleResidentARB(handle));
+    residentHandles_.push_back(handle);
+    return handle;
+  };
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    const Material& m = scene.materials[i];
+    if (!m.baseColor.empty()) materials_[i].baseHandle = makeResident(m.baseColor, true);
+    if (!m.normal.empty()) materials_[i].normalHandle = makeResident(m.normal, false);
+    if (!m.emissive.empty()) materials_[i].emissiveHandle = makeResident(m.emissive, true);
   }
+}
 
-  // Arrays: gather every map, group them into size classes, then upload each class as one array.
+// Every map gathered, grouped into size classes, then each class uploaded as one array.
+void GlTextures::uploadArrays(const Scene& scene) {
   std::vector<Layer> maps;
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     const Material& m = scene.materials[i];
@@ -171,7 +179,6 @@ GlTextures::GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo
   textures_.push_back(placeholder_);
   BT_GL(glTextureStorage3D(placeholder_, 1, GL_RGBA8, 1, 1, 1));
   BT_GL(glTextureSubImage3D(placeholder_, 0, 0, 0, 0, 1, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, white));
-
   for (const SizeClass& size : classes) {
     const std::vector<Layer>& layers = size.layers;
     if (static_cast<GLint>(layers.size()) > maxLayers)

@@ -55,6 +55,9 @@ public:
   void bind() const;
 
 private:
+  void readMaterials(const Scene& scene);
+  void uploadBindless(const Scene& scene);
+  void uploadArrays(const Scene& scene);
   unsigned createTexture(const Image& image, bool srgb);
 
   TextureMode mode_ = TextureMode::Arrays;
