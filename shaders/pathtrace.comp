@@ -58,7 +58,7 @@ const float PHYSICAL_SUN_SCALE = PI / 128.0;
 vec2 textureUv(uint face, vec3 p) { return faceUv(faces[face], materials[faces[face].material], p); }
 vec4 baseColorAt(uint face, vec3 p) { return materialBaseColor(materials[faces[face].material], textureUv(face, p)); }
 vec3 emissiveAt(uint face, vec3 p) {
-  GpuMaterial m = materials[faces[face].material];
+  GlMaterial m = materials[faces[face].material];
   if ((m.flags & MATERIAL_HAS_EMISSIVE) == 0u) return vec3(0.0);
   return sampleEmissive(m, textureUv(face, p)).rgb;
 }
@@ -435,7 +435,7 @@ bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
   if (!hit.found) return false; // the void outside a level is black
   uint flags = faceFlags[hit.face];
   GpuFace f = faces[hit.face];
-  GpuMaterial m = materials[f.material];
+  GlMaterial m = materials[f.material];
   bool shaded = (flags & FACE_SKY) == 0u && path.depth < world.bounces + 1;
   // The base colour, for the sky and the BSDF, and the normal map where a shaded surface's
   // material has one, read in one loop: each place that reads a texture is a copy of the

@@ -15,7 +15,7 @@ layout(binding = 17) uniform usamplerBuffer brushTexels; // GpuBrush: 4 texels (
 layout(binding = 18) uniform usamplerBuffer sideTexels;  // TraceScene::sides(): 1 texel each (R32UI)
 layout(binding = 19) uniform samplerBuffer faceTexels;   // GpuFace: 4 texels (RGBA32F), the plane first
 #endif
-layout(std430, binding = 3) readonly buffer Materials { GpuMaterial materials[]; };
+layout(std430, binding = 3) readonly buffer Materials { GlMaterial materials[]; };
 layout(std430, binding = 4) readonly buffer Lights { GpuLight lights[]; };
 layout(std430, binding = 5) readonly buffer SurfaceLights { GpuLight surfaceLights[]; }; // per material
 layout(std430, binding = 6) readonly buffer Emitters { GpuEmitter emitters[]; };

@@ -321,7 +321,7 @@ bool maskedOut(uint face, vec3 p) {
 #ifdef BT_ALPHA_TEST
   uint flags = faceFlags[face];
   if ((flags & FACE_MASKED) == 0u) return false;
-  GpuMaterial m = materials[faces[face].material];
+  GlMaterial m = materials[faces[face].material];
   float a = materialBaseColor(m, faceUv(faces[face], m, p)).a;
   if ((flags & FACE_MASK_GT0) != 0u) return !(a > 0.0);
   if ((flags & FACE_MASK_LT128) != 0u) return !(a < 0.5);

@@ -40,7 +40,7 @@ void setSampling(GLuint texture, float anisotropy) {
   if (anisotropy > 1.0f) BT_GL(glTextureParameterf(texture, GL_TEXTURE_MAX_ANISOTROPY, anisotropy));
 }
 
-// One map's place on the arrays path: its image, and where GpuMaterial names its array and layer.
+// One map's place on the arrays path: its image, and where GlMaterial names its array and layer.
 struct Layer {
   const Image* image;
   uint32_t* array;
@@ -59,7 +59,7 @@ struct SizeClass {
 // with many sizes, such as one with high-resolution replacement textures, has more sizes than
 // sampler units). Past that, the two classes whose merge adds the fewest padding texels are
 // merged until they fit: the merged array's layers are as wide and as tall as its largest map,
-// and the shaders wrap each map at its own size (GpuMaterial::baseTexels...), so padding
+// and the shaders wrap each map at its own size (GlMaterial::baseTexels...), so padding
 // changes no image, only memory.
 std::vector<SizeClass> sizeClasses(const std::vector<Layer>& maps, size_t maxClasses) {
   std::map<std::pair<int, int>, std::vector<Layer>> bySize;
@@ -133,7 +133,7 @@ void GlTextures::readMaterials(const Scene& scene) {
   materials_.resize(scene.materials.size());
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     const Material& m = scene.materials[i];
-    GpuMaterial& g = materials_[i];
+    GlMaterial& g = materials_[i];
     g.size = {static_cast<float>(std::max(m.width, 1)), static_cast<float>(std::max(m.height, 1))};
     g.roughness = m.roughnessValue;
     g.metallic = m.metallicValue;
@@ -165,7 +165,7 @@ void GlTextures::uploadArrays(const Scene& scene) {
   std::vector<Layer> maps;
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     const Material& m = scene.materials[i];
-    GpuMaterial& g = materials_[i];
+    GlMaterial& g = materials_[i];
     if (!m.baseColor.empty()) maps.push_back({&m.baseColor, &g.baseArray, &g.baseLayer});
     if (!m.normal.empty()) maps.push_back({&m.normal, &g.normalArray, &g.normalLayer});
     if (!m.emissive.empty()) maps.push_back({&m.emissive, &g.emissiveArray, &g.emissiveLayer});

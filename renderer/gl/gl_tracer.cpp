@@ -18,7 +18,7 @@ namespace bt::gl {
 
 namespace {
 
-std::vector<GpuMaterial> withShadingFlags(std::vector<GpuMaterial> materials, const GlLighting& lighting) {
+std::vector<GlMaterial> withShadingFlags(std::vector<GlMaterial> materials, const GlLighting& lighting) {
   if (lighting.materialFlags.empty()) return materials;
   for (size_t i = 0; i < materials.size() && i < lighting.materialFlags.size(); ++i) {
     materials[i].flags &= ~(kMaterialGgx | kMaterialHasEmissive);

@@ -22,9 +22,10 @@
 namespace bt::gl {
 
 // Per pixel, rows top to bottom, with the CPU reference's meanings (renderer/cpu RenderImage).
-// A pixel that sees nothing has albedo 0, normal 0, depth +infinity and face kNoFace.
+// A pixel that sees nothing has albedo 0, normal 0, depth +infinity and face kNothingHit (not
+// bt::kNoFace: this image counts faces from 1).
 struct AovImages {
-  static constexpr uint32_t kNoFace = 0;
+  static constexpr uint32_t kNothingHit = 0;
   int width = 0;
   int height = 0;
   std::vector<glm::vec4> albedo; // linear rgb, a = 1 where something was hit
