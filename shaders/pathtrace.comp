@@ -5,8 +5,8 @@
 #endif
 #ifdef BT_WAVEFRONT_SHADE
 // The wavefront form exists to compile fast: without NVIDIA's loop unrolling its first image
-// came 0.1-0.4 s sooner (H100, lq_e4m3, cold) for 4 % of its physical samples/s (faithful: no
-// change). The traversal, where unrolling pays 4x, is the trace kernel's and keeps it.
+// comes sooner for a few per cent of its physical samples/s (bench/README.md). The traversal,
+// where unrolling pays most, is the trace kernel's and keeps it.
 #pragma optionNV(unroll none)
 #endif
 // One sample per pixel of the integrator in renderer/cpu/integrator.cpp (faithful and
@@ -439,8 +439,8 @@ bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
   bool shaded = (flags & FACE_SKY) == 0u && path.depth < world.bounces + 1;
   // The base colour, for the sky and the BSDF, and the normal map where a shaded surface's
   // material has one, read in one loop: each place that reads a texture is a copy of the
-  // sampling code for the driver to compile (textures.glsl): a second place cost llvmpipe about
-  // 0.8 s more CPU per physical program built, this loop about 0.3 s (medians of 5, 2-core VM).
+  // sampling code for the driver to compile (textures.glsl), and one loop costs llvmpipe's
+  // compile less than a second place (bench/README.md).
   vec4 base = vec4(0.5, 0.5, 0.5, 1.0); // a material without a texture is mid grey (materialBaseColor)
   vec3 normalTexel = vec3(0.0);
   uint firstMap = (m.flags & MATERIAL_HAS_BASE) != 0u ? MAP_BASE : MAP_NORMAL;

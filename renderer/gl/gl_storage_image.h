@@ -27,8 +27,7 @@ public:
   // Hands `use` the image's pixels (width * height * components values of T, top row first as
   // the shaders write them), valid during the call. They come through a pixel-pack buffer that
   // the driver fills by a GPU copy and that is then mapped: NVIDIA's glGetTextureImage into
-  // client memory moved a 1280x720 RGBA32F image at 0.6 GB/s (25 ms on the H100 machine, half
-  // the first image's time after the compile); a buffer copy runs at bus speed.
+  // client memory is far slower than the bus (bench/README.md); a buffer copy runs at bus speed.
   template <typename T, typename Use>
   void readMapped(int width, int height, GLenum pixelFormat, GLenum type, int components, const Use& use) const {
     const size_t count = static_cast<size_t>(width) * static_cast<size_t>(height) * static_cast<size_t>(components);

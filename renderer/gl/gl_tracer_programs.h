@@ -17,10 +17,9 @@ namespace bt::gl {
 
 // The faithful program's parts that only some levels need. Each is compiled only into the
 // programs of the levels that use it, so every other level's program stays as small, as fast to
-// run and as quick to compile as without it: with the bounce draw always compiled in, lq_e4m3
-// (not one bounce light) drew 353 faithful samples/s on an H100 instead of 496; without the sky
-// and _deviance code its wavefront shade kernel compiled ~40 ms sooner. Physical programs have
-// all of them.
+// run and as quick to compile as without it (the bounce draw compiled into every program cost a
+// level without bounce lights nearly a third of its faithful samples/s: bench/README.md).
+// Physical programs have all of them.
 struct FaithfulFeatures {
   bool dirt = false;       // BT_FAITHFUL_DIRT: dirt's occlusion rays (worldspawn _dirt)
   bool bounceDraw = false; // BT_FAITHFUL_BOUNCE_DRAW: a cell's many bounce lights drawn among
@@ -46,7 +45,7 @@ FaithfulFeatures faithfulFeatures(const DirtSettings& dirt, const std::vector<Gp
 
 // The two forms of the path tracer; both draw the same image for the same settings.
 //   Megakernel: shaders/pathtrace.comp, one program that runs each path to its end, the
-//               fastest, but the slowest to compile (NVIDIA: 1.2-1.8 s without its cache).
+//               fastest, but the slowest to compile (seconds on NVIDIA without its cache).
 //   Wavefront:  pathtrace.comp's shade kernel and shaders/wavefront_trace.comp, two smaller
 //               programs the driver compiles in parallel (shaders/wavefront.glsl), dispatched
 //               by turns, one ray per path each turn: for the first images while the
@@ -98,10 +97,9 @@ public:
   ComputeProgram& wavefrontShade(bool physical, FaithfulFeatures features = {});
   ComputeProgram& wavefrontTrace();
   // Both wavefront kernels finished, the trace kernel first. NVIDIA finishes each program on
-  // the thread that waits for it, after its own threads report the compile complete (H100,
-  // cold: ~60 ms for the trace kernel, ~190 ms for the shade kernel, one program at a time).
-  // The trace kernel's compile ends first (~150 ms, the shade kernel's ~280 ms), so waiting
-  // for it first does its part while the shade kernel still compiles instead of after it.
+  // the thread that waits for it, after its own threads report the compile complete, one
+  // program at a time. The trace kernel's compile ends first, so waiting for it first does its
+  // part while the shade kernel still compiles instead of after it.
   struct WavefrontKernels {
     ComputeProgram& shade;
     ComputeProgram& trace;
