@@ -6,15 +6,77 @@
 #include <fmt/format.h>
 
 #include <cstdlib>
+#include <iterator>
 #include <string_view>
 
 namespace bt::gl {
 
+namespace {
+
+// shader_switches.def as tables.
+struct SwitchEntry {
+  std::string_view axis, define;
+};
+constexpr SwitchEntry kSwitches[] = {
+#define BT_SWITCH(axis, define) {#axis, #define},
+#define BT_PROGRAM(name, shader, axes)
+#include "renderer/gl/shader_switches.def"
+#undef BT_PROGRAM
+#undef BT_SWITCH
+};
+struct ProgramEntry {
+  const char* shader;
+  std::string_view axes;
+};
+constexpr ProgramEntry kPrograms[] = {
+#define BT_SWITCH(axis, define)
+#define BT_PROGRAM(name, shader, axes) {#shader, #axes},
+#include "renderer/gl/shader_switches.def"
+#undef BT_PROGRAM
+#undef BT_SWITCH
+};
+static_assert(std::size(kPrograms) == size_t(kTracerProgramCount));
+
+// The switches of one axis, in the list's order.
+std::vector<std::string_view> switchesOf(std::string_view axis) {
+  std::vector<std::string_view> out;
+  for (const SwitchEntry& s : kSwitches)
+    if (s.axis == axis) out.push_back(s.define);
+  return out;
+}
+
+bool takes(TracerProgram program, std::string_view axis) {
+  return kPrograms[size_t(program)].axes.find(axis) != std::string_view::npos;
+}
+
+} // namespace
+
+const char* shaderFile(TracerProgram program) {
+  return kPrograms[size_t(program)].shader;
+}
+
 std::vector<std::string> shaderDefines(TextureMode mode, TraceLayout layout) {
-  std::vector<std::string> defines{mode == TextureMode::Bindless ? "BT_TEXTURES_BINDLESS" : "BT_TEXTURES_ARRAYS",
+  const std::vector<std::string_view> textures = switchesOf("Textures"); // bindless, arrays
+  std::vector<std::string> defines{std::string(textures.at(mode == TextureMode::Bindless ? 0 : 1)),
                                    fmt::format("BT_BVH_MAX_DEPTH {}", kBvhMaxDepth),
                                    fmt::format("BT_TRIANGLE_EDGE_EPSILON_INVERSE {}u", kTriangleEdgeEpsilonInverse)};
-  if (layout == TraceLayout::Software) defines.emplace_back("BT_TRACE_SOFTWARE");
+  if (layout == TraceLayout::Software) defines.emplace_back(switchesOf("Layout").at(0));
+  return defines;
+}
+
+std::vector<std::string> programDefines(TracerProgram program, TextureMode mode, TraceLayout layout, bool physical,
+                                        FaithfulFeatures features) {
+  std::vector<std::string> defines = shaderDefines(mode, layout);
+  if (physical && takes(program, "Physical")) {
+    defines.emplace_back(switchesOf("Physical").at(0)); // physical mode has no dirt, no bounce lights
+  } else if (takes(program, "Faithful")) {
+    const std::vector<std::string_view> parts = switchesOf("Faithful");
+    const bool on[] = {features.dirt, features.bounceDraw, features.sky, features.jitter};
+    if (parts.size() != std::size(on)) throw GlError("shader_switches.def: FaithfulFeatures has 4 parts");
+    for (size_t i = 0; i < parts.size(); ++i)
+      if (on[i]) defines.emplace_back(parts[i]);
+  }
+  if (takes(program, "Wavefront")) defines.emplace_back(switchesOf("Wavefront").at(0));
   return defines;
 }
 
@@ -59,19 +121,6 @@ FaithfulFeatures faithfulFeatures(const DirtSettings& dirt, const std::vector<Gp
   return f;
 }
 
-std::vector<std::string> TracerPrograms::pathDefines(bool physical, FaithfulFeatures features) const {
-  std::vector<std::string> defines = shaderDefines(mode_, layout_);
-  if (physical) {
-    defines.emplace_back("BT_LIGHTING_PHYSICAL"); // physical mode has no dirt, no bounce lights
-    return defines;
-  }
-  if (features.dirt) defines.emplace_back("BT_FAITHFUL_DIRT");
-  if (features.bounceDraw) defines.emplace_back("BT_FAITHFUL_BOUNCE_DRAW");
-  if (features.sky) defines.emplace_back("BT_FAITHFUL_SKY");
-  if (features.jitter) defines.emplace_back("BT_FAITHFUL_JITTER");
-  return defines;
-}
-
 ComputeProgram& TracerPrograms::finished(std::unique_ptr<ComputeProgram>& slot) {
   try {
     slot->finish();
@@ -82,7 +131,7 @@ ComputeProgram& TracerPrograms::finished(std::unique_ptr<ComputeProgram>& slot) 
   return *slot;
 }
 
-// Physical mode ignores the faithful features, here and in pathDefines().
+// Physical mode ignores the faithful features, here and in programDefines().
 size_t TracerPrograms::variantIndex(bool physical, FaithfulFeatures features) {
   if (physical) return 0;
   return 1 + (features.dirt ? 1 : 0) + (features.bounceDraw ? 2 : 0) + (features.sky ? 4 : 0) + (features.jitter ? 8 : 0);
@@ -99,19 +148,19 @@ void TracerPrograms::startPathTracer(bool physical, FaithfulFeatures features) {
   if (slot) return;
   // The wavefront kernels are queued first, so that the driver's threads take them first; a
   // megakernel from the program cache needs none.
-  const std::vector<std::string> defines = pathDefines(physical, features);
-  if (wavefrontFirst_ && !programCached("pathtrace.comp", defines, cache_)) startWavefront(physical, features);
-  start(slot, "pathtrace.comp", defines);
+  const std::vector<std::string> defines = programDefines(TracerProgram::PathTracer, mode_, layout_, physical, features);
+  const char* shader = shaderFile(TracerProgram::PathTracer);
+  if (wavefrontFirst_ && !programCached(shader, defines, cache_)) startWavefront(physical, features);
+  start(slot, shader, defines);
   if (wavefrontFirst_ && !slot->loadedFromCache()) startWavefront(physical, features); // the driver refused the cached binary
 }
 
 void TracerPrograms::startWavefront(bool physical, FaithfulFeatures features) {
-  std::vector<std::string> defines = pathDefines(physical, features);
-  defines.emplace_back("BT_WAVEFRONT_SHADE");
+  std::vector<std::string> defines = programDefines(TracerProgram::WavefrontShade, mode_, layout_, physical, features);
   // Not cached: a start that finds the megakernel in the cache needs no wavefront kernels, and
   // storing them would put their binaries' retrieval (NVIDIA: tenths of a second) before the
   // first image they are for.
-  start(shadeSlot(physical, features), "pathtrace.comp", std::move(defines), false);
+  start(shadeSlot(physical, features), shaderFile(TracerProgram::WavefrontShade), std::move(defines), false);
   startWavefrontTrace();
 }
 
@@ -121,15 +170,16 @@ void TracerPrograms::startTraceKernel() {
 
 // The trace kernel serves every lighting mode; not cached, as the shade kernel.
 void TracerPrograms::startWavefrontTrace() {
-  start(trace_, "wavefront_trace.comp", shaderDefines(mode_, layout_), false);
+  start(trace_, shaderFile(TracerProgram::WavefrontTrace), programDefines(TracerProgram::WavefrontTrace, mode_, layout_), false);
 }
 
 void TracerPrograms::startAovs() {
-  start(aov_, "aov.comp", shaderDefines(mode_, layout_));
+  start(aov_, shaderFile(TracerProgram::Aovs), programDefines(TracerProgram::Aovs, mode_, layout_));
 }
 
 void TracerPrograms::startBake(FaithfulFeatures features) {
-  start(bake_[variantIndex(false, features)], "bake.comp", pathDefines(false, features));
+  start(bake_[variantIndex(false, features)], shaderFile(TracerProgram::Bake),
+        programDefines(TracerProgram::Bake, mode_, layout_, false, features));
 }
 
 bool TracerPrograms::bakeReady(FaithfulFeatures features) {
@@ -164,7 +214,7 @@ ComputeProgram& TracerPrograms::aovs() {
   return finished(aov_);
 }
 ComputeProgram& TracerPrograms::rayBench() {
-  start(rayBench_, "raybench.comp", shaderDefines(mode_, layout_));
+  start(rayBench_, shaderFile(TracerProgram::RayBench), programDefines(TracerProgram::RayBench, mode_, layout_));
   return finished(rayBench_);
 }
 

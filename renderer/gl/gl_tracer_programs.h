@@ -64,6 +64,29 @@ enum class TraceLayout { Auto, Software, Hardware };
 // (scene/gpu_structs.h kBvhMaxDepth).
 std::vector<std::string> shaderDefines(TextureMode mode, TraceLayout layout = TraceLayout::Hardware);
 
+// The programs TracerPrograms builds (shader_switches.def BT_PROGRAM), in the list's order.
+enum class TracerProgram {
+#define BT_SWITCH(axis, define)
+#define BT_PROGRAM(name, shader, axes) name,
+#include "renderer/gl/shader_switches.def"
+#undef BT_PROGRAM
+#undef BT_SWITCH
+};
+inline constexpr int kTracerProgramCount = 0
+#define BT_SWITCH(axis, define)
+#define BT_PROGRAM(name, shader, axes) +1
+#include "renderer/gl/shader_switches.def"
+#undef BT_PROGRAM
+#undef BT_SWITCH
+    ;
+const char* shaderFile(TracerProgram program); // "pathtrace.comp", ...
+
+// The #defines `program` is built with: shaderDefines(), then, from shader_switches.def, the
+// lighting mode and faithful mode's optional parts where the program takes them (a physical
+// program ignores `features`), and the wavefront form's switch.
+std::vector<std::string> programDefines(TracerProgram program, TextureMode mode, TraceLayout layout, bool physical = false,
+                                        FaithfulFeatures features = {});
+
 // The tracer's compute programs for one context and texture path. Each is built on first use,
 // or started early: `brushtrace render` starts the path tracer before it imports the level, so
 // the driver compiles (on its own threads, GL_KHR_parallel_shader_compile) while the level
@@ -130,7 +153,6 @@ private:
   ComputeProgram& finished(std::unique_ptr<ComputeProgram>& slot);
   void start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines, bool cached = true);
   void startWavefrontTrace();
-  std::vector<std::string> pathDefines(bool physical, FaithfulFeatures features) const;
   static size_t variantIndex(bool physical, FaithfulFeatures features);
   std::unique_ptr<ComputeProgram>& pathSlot(bool physical, FaithfulFeatures features);
   std::unique_ptr<ComputeProgram>& shadeSlot(bool physical, FaithfulFeatures features);
