@@ -29,7 +29,7 @@ void main() {
     return;
   }
   GpuFace f = faces[hit.face];
-  GpuMaterial m = materials[f.material];
+  GlMaterial m = materials[f.material];
   vec4 albedo = materialBaseColor(m, faceUv(f, m, hit.position));
   imageStore(albedoImage, pixel, vec4(srgbToLinear(albedo.rgb), 1.0));
   imageStore(normalImage, pixel, vec4(f.plane.xyz, hit.t));

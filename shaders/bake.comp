@@ -56,7 +56,7 @@ float dirtFactorAt(GpuLight light, float occlusion, float dist) {
 bool softLight(GpuLight light) { return (light.type == LIGHT_POINT || light.type == LIGHT_SUN) && light.deviance > 0.0; }
 
 // The program's one traversal: NVIDIA inlines every call site into a full copy of it, and a copy
-// per kind of ray took its compile from ~1 s to ~7 s (H100). Kinds of query, as renderer/cpu:
+// per kind of ray multiplied its compile time (bench/README.md). Kinds of query, as renderer/cpu:
 const uint QUERY_SHADOW = 0u; // occluded(): 1 when no face that blocks light lies before tMax, else 0
 const uint QUERY_SKY = 1u;    // reachesSky() with a sun's _suntexture (skyMaterial: material + 1, 0 any): 1 or 0
 const uint QUERY_DIRT = 2u;   // dirtRayDistance(): how far the ray gets, at most tMax

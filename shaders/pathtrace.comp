@@ -5,8 +5,8 @@
 #endif
 #ifdef BT_WAVEFRONT_SHADE
 // The wavefront form exists to compile fast: without NVIDIA's loop unrolling its first image
-// came 0.1-0.4 s sooner (H100, lq_e4m3, cold) for 4 % of its physical samples/s (faithful: no
-// change). The traversal, where unrolling pays 4x, is the trace kernel's and keeps it.
+// comes sooner for a few per cent of its physical samples/s (bench/README.md). The traversal,
+// where unrolling pays most, is the trace kernel's and keeps it.
 #pragma optionNV(unroll none)
 #endif
 // One sample per pixel of the integrator in renderer/cpu/integrator.cpp (faithful and
@@ -58,7 +58,7 @@ const float PHYSICAL_SUN_SCALE = PI / 128.0;
 vec2 textureUv(uint face, vec3 p) { return faceUv(faces[face], materials[faces[face].material], p); }
 vec4 baseColorAt(uint face, vec3 p) { return materialBaseColor(materials[faces[face].material], textureUv(face, p)); }
 vec3 emissiveAt(uint face, vec3 p) {
-  GpuMaterial m = materials[faces[face].material];
+  GlMaterial m = materials[faces[face].material];
   if ((m.flags & MATERIAL_HAS_EMISSIVE) == 0u) return vec3(0.0);
   return sampleEmissive(m, textureUv(face, p)).rgb;
 }
@@ -73,78 +73,7 @@ uint pickEmitter(float u) {
   return lo;
 }
 
-// ---- physical mode: materials -----------------------------------------------------------
-
-struct Bsdf {
-  vec3 albedo;
-  float roughness;
-  float metallic;
-  bool specular;
-  vec3 n; // shading normal: the face's, or its normal map's (physicalSurface)
-};
-
-const float SPECULAR_LOBE_PROBABILITY = 0.5;
-
-float ggxD(float noh, float alpha) {
-  float a2 = alpha * alpha;
-  float d = noh * noh * (a2 - 1.0) + 1.0;
-  return a2 / (PI * d * d);
-}
-
-float smithG1(float nov, float alpha) {
-  float a2 = alpha * alpha;
-  return 2.0 * nov / (nov + sqrt(a2 + (1.0 - a2) * nov * nov));
-}
-
-// ng: the face's own normal; light from behind the face never reaches its front (renderer/cpu).
-vec3 bsdfEval(Bsdf b, vec3 ng, vec3 wo, vec3 wi, out float pdf) {
-  vec3 n = b.n;
-  float nol = dot(n, wi);
-  float nov = dot(n, wo);
-  pdf = 0.0;
-  if (nol <= 0.0 || nov <= 0.0 || dot(ng, wi) <= 0.0) return vec3(0.0);
-  if (!b.specular) {
-    pdf = nol / PI;
-    return b.albedo / PI;
-  }
-  float alpha = max(b.roughness * b.roughness, 1e-3);
-  vec3 h = normalize(wo + wi);
-  float noh = max(dot(n, h), 0.0), voh = max(dot(wo, h), 1e-6);
-  vec3 f0 = mix(vec3(0.04), b.albedo, b.metallic);
-  vec3 fresnel = f0 + (1.0 - f0) * pow(1.0 - voh, 5.0);
-  float d = ggxD(noh, alpha);
-  vec3 spec = fresnel * d * smithG1(nol, alpha) * smithG1(nov, alpha) / (4.0 * nol * nov);
-  vec3 diffuse = (1.0 - b.metallic) * b.albedo / PI;
-  pdf = (1.0 - SPECULAR_LOBE_PROBABILITY) * nol / PI + SPECULAR_LOBE_PROBABILITY * d * noh / (4.0 * voh);
-  return diffuse + spec;
-}
-
-vec3 bsdfSample(Bsdf b, vec3 wo, inout Rng rng) {
-  vec3 n = b.n;
-  if (!b.specular || rngNext(rng) >= SPECULAR_LOBE_PROBABILITY) return sampleCosineHemisphere(n, rngNext2(rng));
-  float alpha = max(b.roughness * b.roughness, 1e-3);
-  vec2 u = rngNext2(rng);
-  float cosTheta = sqrt((1.0 - u.x) / (1.0 + (alpha * alpha - 1.0) * u.x));
-  float sinTheta = sqrt(max(0.0, 1.0 - cosTheta * cosTheta));
-  float phi = 2.0 * PI * u.y;
-  vec3 h = toWorld(vec3(sinTheta * cos(phi), sinTheta * sin(phi), cosTheta), n);
-  return reflect(-wo, h);
-}
-
-// A normal map's shading normal made usable for wo (renderer/cpu keepAboveHorizon, Iray's fix):
-// where wo's mirror direction about ns comes within HORIZON_MARGIN of the face or below, it is
-// lifted to that height and ns becomes the half vector of wo and the lifted direction.
-const float HORIZON_MARGIN = 0.01;
-
-vec3 keepAboveHorizon(vec3 ns, vec3 ng, vec3 wo) {
-  vec3 mirror = 2.0 * dot(ns, wo) * ns - wo;
-  float height = dot(mirror, ng);
-  if (height >= HORIZON_MARGIN) return ns;
-  vec3 lifted = normalize(mirror + ng * (HORIZON_MARGIN - height));
-  vec3 halfway = wo + lifted;
-  float length2 = dot(halfway, halfway);
-  return length2 > 1e-12 ? halfway / sqrt(length2) : ng;
-}
+#include "bsdf.glsl"
 
 vec3 emittedRadiance(uint face, vec3 p) {
   vec3 le = srgbToLinear(emissiveAt(face, p));
@@ -172,56 +101,11 @@ const uint RAY_SHADOW = 1u;  // to a light: is the segment blocked (occluded), a
 const uint RAY_SKY = 2u;     // to the sun or the sky dome: does it reach a sky face (reachesSky)
 const uint RAY_DIRT = 3u;    // faithful dirt: how far it gets before a face that blocks light (dirtRayDistance)
 
+// What the CPU's recursion keeps on its stack; path_fields.glsl lists the fields.
+#include "path_fields.glsl"
+#define DECLARE_PATH_FIELD(type, name, kept, onLoad) type name;
 struct Path {
-  // The ray in flight.
-  uint kind;
-  vec3 origin;
-  vec3 dir;
-  float tMin;
-  float tMax;
-  // Physical: the emitter point a shadow ray aims at (NO_FACE for other lights). Its emission
-  // is read once the ray gets through, in advance(), at the one place that reads emission.
-  uint emitterFace;
-  vec3 emitterPoint;
-  int skips;        // hidden faces and inside hits passed along it (MAX_SKIPS, like the CPU's loops)
-  // The surface being lit: which light's ray is in flight (nextLightRay's position in the light
-  // grid's lists, the last = the emitters), and what that light adds if the ray gets through.
-  int depth;        // surfaces before this one; 0 = the camera ray's
-  uint face;
-  vec3 position;
-  vec3 normal;
-  vec3 wo;          // physical: towards the previous vertex
-  uint lightIndex;
-  vec3 pending;
-  bool pendingIsFloor; // faithful: a delay 4 light, which raises a floor instead of adding
-#ifdef BT_FAITHFUL_BOUNCE_DRAW
-  // Faithful: the draw among the cell's bounce lights (faithfulBounceRay), where it stands.
-  uint bounceFirst;        // list position of the first light drawn among; NO_BOUNCE_DRAW: none
-  uint bounceLast;         // ... of the last with a share (NO_BOUNCE_DRAW: none has one)
-  uint bounceDrawn;        // targets placed so far
-  float bounceTotal;       // the shares laid end to end
-  float bounceCumulative;  // ... up to the light the draw has reached
-  float bounceTarget;      // the next target
-#endif
-#ifdef BT_FAITHFUL_DIRT
-  // Faithful dirt: the surface's occlusion rays, traced before its lights.
-  int dirtRay;      // rays set up so far
-  float dirtSum;    // their distances, each at most _dirtdepth
-  float occlusion;  // 0 open .. 1 enclosed, once all are back (renderer/cpu faithfulDirtOcclusion)
-#endif
-  // Faithful mode: the lights at this surface, and over the path (renderer/cpu faithfulLightAt,
-  // faithfulPathEnd, radianceFaithful).
-  vec3 lightSum;
-  vec3 lightFloor;
-  vec3 lit;         // the light sum with its floors
-  vec3 texture;     // the first surface's texture colour (sRGB-encoded) ...
-  vec3 fullbright;  // ... and its emissive texels
-  // Physical mode (renderer/cpu radiancePhysical).
-  Bsdf bsdf;
-  vec3 throughput;
-  float prevBsdfPdf; // 0: camera ray (no MIS weight on what it sees)
-  // The sample, once the path has ended (0 until then in faithful mode).
-  vec3 radiance;
+  PATH_FIELDS(DECLARE_PATH_FIELD)
 };
 
 void setRay(inout Path path, uint kind, vec3 origin, vec3 dir, float tMax) {
@@ -551,12 +435,12 @@ bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
   if (!hit.found) return false; // the void outside a level is black
   uint flags = faceFlags[hit.face];
   GpuFace f = faces[hit.face];
-  GpuMaterial m = materials[f.material];
+  GlMaterial m = materials[f.material];
   bool shaded = (flags & FACE_SKY) == 0u && path.depth < world.bounces + 1;
   // The base colour, for the sky and the BSDF, and the normal map where a shaded surface's
   // material has one, read in one loop: each place that reads a texture is a copy of the
-  // sampling code for the driver to compile (textures.glsl): a second place cost llvmpipe about
-  // 0.8 s more CPU per physical program built, this loop about 0.3 s (medians of 5, 2-core VM).
+  // sampling code for the driver to compile (textures.glsl), and one loop costs llvmpipe's
+  // compile less than a second place (bench/README.md).
   vec4 base = vec4(0.5, 0.5, 0.5, 1.0); // a material without a texture is mid grey (materialBaseColor)
   vec3 normalTexel = vec3(0.0);
   uint firstMap = (m.flags & MATERIAL_HAS_BASE) != 0u ? MAP_BASE : MAP_NORMAL;
@@ -763,157 +647,7 @@ void accumulate(ivec2 pixel, vec3 l) {
 // found, then the next ray out to WavefrontRays, or the sample into the image at the path's end.
 #include "wavefront.glsl"
 
-// A pixel's path between dispatches: the Path fields that a later dispatch of this lighting mode
-// reads, no more. Each is a load and a store per path and round, and code for the driver to
-// compile: storing the whole Path (a faithful program's unused physical fields too) made the
-// faithful kernel's first image ~30 ms later (H100, lq_e4m3, cold). A field added to Path that
-// outlives a dispatch is added here and in both functions below.
-struct StoredPath {
-  uint kind;
-  vec3 origin;
-  vec3 dir;
-  float tMin;
-  float tMax;
-  int skips;
-  uint face;
-  vec3 position;
-  vec3 normal;
-  uint lightIndex;
-  vec3 pending;
-#ifdef BT_LIGHTING_PHYSICAL
-  uint emitterFace;
-  vec3 emitterPoint;
-  int depth;
-  vec3 wo;
-  Bsdf bsdf;
-  vec3 throughput;
-  float prevBsdfPdf;
-  vec3 radiance;
-#else
-  bool pendingIsFloor;
-  vec3 lightSum;
-  vec3 lightFloor;
-  vec3 texture;
-  vec3 fullbright;
-#ifdef BT_FAITHFUL_BOUNCE_DRAW
-  uint bounceFirst;
-  uint bounceLast;
-  uint bounceDrawn;
-  float bounceTotal;
-  float bounceCumulative;
-  float bounceTarget;
-#endif
-#ifdef BT_FAITHFUL_DIRT
-  int dirtRay;
-  float dirtSum;
-  float occlusion;
-#endif
-#endif
-};
-
-struct WavefrontPath {
-  Rng rng;
-  StoredPath path;
-};
-layout(std430, binding = 13) buffer WavefrontPaths { WavefrontPath wavefrontPaths[]; };
-
-void storePath(int slot, Rng rng, Path p) {
-  wavefrontPaths[slot].rng = rng;
-  StoredPath s;
-  s.kind = p.kind;
-  s.origin = p.origin;
-  s.dir = p.dir;
-  s.tMin = p.tMin;
-  s.tMax = p.tMax;
-  s.skips = p.skips;
-  s.face = p.face;
-  s.position = p.position;
-  s.normal = p.normal;
-  s.lightIndex = p.lightIndex;
-  s.pending = p.pending;
-#ifdef BT_LIGHTING_PHYSICAL
-  s.emitterFace = p.emitterFace;
-  s.emitterPoint = p.emitterPoint;
-  s.depth = p.depth;
-  s.wo = p.wo;
-  s.bsdf = p.bsdf;
-  s.throughput = p.throughput;
-  s.prevBsdfPdf = p.prevBsdfPdf;
-  s.radiance = p.radiance;
-#else
-  s.pendingIsFloor = p.pendingIsFloor;
-  s.lightSum = p.lightSum;
-  s.lightFloor = p.lightFloor;
-  s.texture = p.texture;
-  s.fullbright = p.fullbright;
-#ifdef BT_FAITHFUL_BOUNCE_DRAW
-  s.bounceFirst = p.bounceFirst;
-  s.bounceLast = p.bounceLast;
-  s.bounceDrawn = p.bounceDrawn;
-  s.bounceTotal = p.bounceTotal;
-  s.bounceCumulative = p.bounceCumulative;
-  s.bounceTarget = p.bounceTarget;
-#endif
-#ifdef BT_FAITHFUL_DIRT
-  s.dirtRay = p.dirtRay;
-  s.dirtSum = p.dirtSum;
-  s.occlusion = p.occlusion;
-#endif
-#endif
-  wavefrontPaths[slot].path = s;
-}
-
-// The fields not stored are those this mode's later dispatches set before they read them.
-Path loadPath(int slot, out Rng rng) {
-  rng = wavefrontPaths[slot].rng;
-  StoredPath s = wavefrontPaths[slot].path;
-  Path p;
-  p.kind = s.kind;
-  p.origin = s.origin;
-  p.dir = s.dir;
-  p.tMin = s.tMin;
-  p.tMax = s.tMax;
-  p.skips = s.skips;
-  p.face = s.face;
-  p.position = s.position;
-  p.normal = s.normal;
-  p.lightIndex = s.lightIndex;
-  p.pending = s.pending;
-#ifdef BT_LIGHTING_PHYSICAL
-  p.emitterFace = s.emitterFace;
-  p.emitterPoint = s.emitterPoint;
-  p.depth = s.depth;
-  p.wo = s.wo;
-  p.bsdf = s.bsdf;
-  p.throughput = s.throughput;
-  p.prevBsdfPdf = s.prevBsdfPdf;
-  p.radiance = s.radiance;
-#else
-  p.emitterFace = NO_FACE;
-  p.depth = 0;
-  p.pendingIsFloor = s.pendingIsFloor;
-  p.lightSum = s.lightSum;
-  p.lightFloor = s.lightFloor;
-  p.lit = vec3(0.0);
-  p.texture = s.texture;
-  p.fullbright = s.fullbright;
-  p.radiance = vec3(0.0);
-#ifdef BT_FAITHFUL_BOUNCE_DRAW
-  p.bounceFirst = s.bounceFirst;
-  p.bounceLast = s.bounceLast;
-  p.bounceDrawn = s.bounceDrawn;
-  p.bounceTotal = s.bounceTotal;
-  p.bounceCumulative = s.bounceCumulative;
-  p.bounceTarget = s.bounceTarget;
-#endif
-#ifdef BT_FAITHFUL_DIRT
-  p.dirtRay = s.dirtRay;
-  p.dirtSum = s.dirtSum;
-  p.occlusion = s.occlusion;
-#endif
-#endif
-  return p;
-}
+#include "wavefront_path.glsl"
 
 layout(location = 0) uniform uint wavefrontStart; // 1: start the paths at the camera
 

@@ -9,13 +9,13 @@ layout(std430, binding = 2) readonly buffer Faces { GpuFace faces[]; };
 // textures, one 16-byte texel (a row of the struct) per fetch; units as renderer/gl/gl_structs.h
 // TexelUnit. On llvmpipe a storage-buffer load at addresses that differ between invocations
 // runs one branchy scalar load per invocation and component, while a texel fetch is one vector
-// gather: the traversal ran 1.4x faster. GPUs (NVIDIA) read both through the same caches.
+// gather, which the traversal runs faster. GPUs (NVIDIA) read both through the same caches.
 layout(binding = 16) uniform usamplerBuffer nodeTexels;  // GlBvhNode (gl_structs.h): 4 texels (RGBA32UI)
 layout(binding = 17) uniform usamplerBuffer brushTexels; // GpuBrush: 4 texels (RGBA32UI)
 layout(binding = 18) uniform usamplerBuffer sideTexels;  // TraceScene::sides(): 1 texel each (R32UI)
 layout(binding = 19) uniform samplerBuffer faceTexels;   // GpuFace: 4 texels (RGBA32F), the plane first
 #endif
-layout(std430, binding = 3) readonly buffer Materials { GpuMaterial materials[]; };
+layout(std430, binding = 3) readonly buffer Materials { GlMaterial materials[]; };
 layout(std430, binding = 4) readonly buffer Lights { GpuLight lights[]; };
 layout(std430, binding = 5) readonly buffer SurfaceLights { GpuLight surfaceLights[]; }; // per material
 layout(std430, binding = 6) readonly buffer Emitters { GpuEmitter emitters[]; };

@@ -52,7 +52,7 @@ const uint MATERIAL_SPECULAR = 8u;     // a PBR set: GGX + diffuse (renderer/cpu
 
 // Texture references for both paths (bindless handles, or (array, layer) in the texture
 // arrays) and the shading parameters of renderer/cpu's GpuMaterial.
-struct GpuMaterial {
+struct GlMaterial {
   uvec2 baseHandle;     // offset 0
   uvec2 normalHandle;   // offset 8
   uvec2 emissiveHandle; // offset 16

@@ -2,7 +2,7 @@
 //   BT_TEXTURES_BINDLESS: GL_ARB_bindless_texture, one sampler2D handle per material map;
 //   BT_TEXTURES_ARRAYS:   one sampler2DArray per size class, the material naming (array, layer);
 //                         a map may sit in the corner of a larger layer (gl_textures.h).
-// Both wrap at the map's own size (GpuMaterial's *Texels), never at the layer's.
+// Both wrap at the map's own size (GlMaterial's *Texels), never at the layer's.
 // Both filter the same way as the CPU reference (bvh sampleBilinearRepeat, renderer/cpu
 // bilinearRepeat): bilinear with repeat, texel centres at (i + 0.5) / size, on the stored 8-bit
 // values (GL_RGBA8; sRGB decoded after filtering). The four texels are fetched and weighted
@@ -75,14 +75,14 @@ vec4 sampleBilinearRepeat(MAP_REF map, uint layer, uvec2 mapTexels, vec2 uv) {
   return top * (1.0 - a.y) + bottom * a.y;
 }
 
-vec4 sampleBase(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(BASE_REF(m), m.baseTexels, uv); }
-vec4 sampleEmissive(GpuMaterial m, vec2 uv) { return sampleBilinearRepeat(EMISSIVE_REF(m), m.emissiveTexels, uv); }
+vec4 sampleBase(GlMaterial m, vec2 uv) { return sampleBilinearRepeat(BASE_REF(m), m.baseTexels, uv); }
+vec4 sampleEmissive(GlMaterial m, vec2 uv) { return sampleBilinearRepeat(EMISSIVE_REF(m), m.emissiveTexels, uv); }
 
 // The base colour or the normal map, chosen at run time: a loop over both then reads them at one
 // call site (physical mode's surfaces, pathtrace.comp physicalSurface).
 const uint MAP_BASE = 0u;
 const uint MAP_NORMAL = 1u;
-vec4 sampleBaseOrNormal(GpuMaterial m, uint map, vec2 uv) {
+vec4 sampleBaseOrNormal(GlMaterial m, uint map, vec2 uv) {
   uvec2 texels = map == MAP_BASE ? m.baseTexels : m.normalTexels;
 #if defined(BT_TEXTURES_BINDLESS)
   return sampleBilinearRepeat(map == MAP_BASE ? m.baseHandle : m.normalHandle, 0u, texels, uv);
@@ -93,14 +93,14 @@ vec4 sampleBaseOrNormal(GpuMaterial m, uint map, vec2 uv) {
 }
 
 // Texture coordinates of p on face f, in texture repeats: Quake's s/t in texels over the size.
-vec2 faceUv(GpuFace f, GpuMaterial m, vec3 p) {
+vec2 faceUv(GpuFace f, GlMaterial m, vec3 p) {
   vec3 d = p - f.origin;
   return vec2(dot(d, f.tangent), dot(d, f.bitangent)) / m.size;
 }
 
 // The base colour as stored (sRGB-encoded, 0..1; filtered in that encoding like the CPU
 // reference), a = coverage; a material without a texture is mid grey.
-vec4 materialBaseColor(GpuMaterial m, vec2 uv) {
+vec4 materialBaseColor(GlMaterial m, vec2 uv) {
   if ((m.flags & MATERIAL_HAS_BASE) == 0u) return vec4(0.5, 0.5, 0.5, 1.0);
   return sampleBase(m, uv);
 }

@@ -108,9 +108,8 @@ uint leafCount(uint ref) { return (ref >> 24) & 0x7fu; }
 //     buffer-texture texels, the stack's top in registers and the rest in shared memory, each of
 //     which llvmpipe runs far faster than storage-buffer loads and private arrays at per-lane
 //     addresses (see scene_buffers.glsl and NodeStack below);
-//   otherwise (GPUs): storage-buffer rows and a private stack array. On the H100 (lq_e4m3,
-//     1280x720) this layout traces 4548 Mrays/s primary and 1899 bounce, the software one 805
-//     and 648.
+//   otherwise (GPUs): storage-buffer rows and a private stack array, which trace several times
+//     faster there than the software layout (bench/README.md).
 #ifdef BT_TRACE_SOFTWARE
 uvec4 nodeRow(uint n, uint row) { return texelFetch(nodeTexels, int(4u * n + row)); }
 uvec4 brushRow(uint b, uint row) { return texelFetch(brushTexels, int(4u * b + row)); }
@@ -257,8 +256,7 @@ bool closer(Hit hit, Hit best) {
 // loop runs down interior nodes until the ray reaches a leaf, then the leaf's brushes are
 // tested. Invocations that run in lockstep (8 to a SIMD group on llvmpipe, a warp on GPUs)
 // then test their brushes together, where a loop that takes either step per iteration runs
-// both steps, masked, whenever its invocations differ (llvmpipe: primary rays 1.8x, bounce
-// rays 1.4x faster).
+// both steps, masked, whenever its invocations differ (faster on llvmpipe: bench/README.md).
 //   anyHit = false: the closest hit in (tMin, tMax).
 //   anyHit = true: a shadow ray. The first brush entered from outside through a face with none
 //     of `passFlags` (faceFlags) ends the search; hits on faces with them, and exits from a
@@ -321,7 +319,7 @@ bool maskedOut(uint face, vec3 p) {
 #ifdef BT_ALPHA_TEST
   uint flags = faceFlags[face];
   if ((flags & FACE_MASKED) == 0u) return false;
-  GpuMaterial m = materials[faces[face].material];
+  GlMaterial m = materials[faces[face].material];
   float a = materialBaseColor(m, faceUv(faces[face], m, p)).a;
   if ((flags & FACE_MASK_GT0) != 0u) return !(a > 0.0);
   if ((flags & FACE_MASK_LT128) != 0u) return !(a < 0.5);

@@ -1,6 +1,6 @@
 // The wavefront form of the path tracer: the megakernel's loop (pathtrace.comp: trace a ray,
 // advance() the path) cut at the traversal into two programs, so that the driver compiles two
-// small programs in parallel instead of one large one (NVIDIA: ~0.4 s instead of 1.2-1.8 s):
+// small programs in parallel instead of one large one, in about a third of its time on NVIDIA:
 //   pathtrace.comp with BT_WAVEFRONT_SHADE: the camera ray, advance() and the accumulation;
 //   wavefront_trace.comp: the traversal, one ray per pixel to one hit per pixel.
 // renderer/gl/gl_tracer.cpp dispatches shade, then trace and shade by turns until no path is

@@ -373,7 +373,7 @@ struct Viewer::Impl {
     std::vector<uint8_t> rgba(static_cast<size_t>(width) * height * 4);
     for (size_t i = 0; i < aovs.albedo.size(); ++i) {
       glm::vec3 c = mode == ViewMode::Albedo ? linearToSrgb(glm::vec3(aovs.albedo[i])) : aovs.normal[i] * 0.5f + 0.5f;
-      if (mode == ViewMode::Normal && aovs.face[i] == gl::AovImages::kNoFace) c = glm::vec3(0.0f);
+      if (mode == ViewMode::Normal && aovs.face[i] == gl::AovImages::kNothingHit) c = glm::vec3(0.0f);
       rgba[i * 4 + 0] = toByte(c.r);
       rgba[i * 4 + 1] = toByte(c.g);
       rgba[i * 4 + 2] = toByte(c.b);

@@ -19,8 +19,7 @@ namespace {
 constexpr uint32_t kItemsPerDispatch = 1u << 16;
 constexpr uint32_t kGroupSize = 64; // bake.comp: trace.glsl's 8 x 8
 // Passes one invocation runs in a row: up to 8 where there are samples enough to fill the GPU
-// without them (H100: lqdm5's 290k samples 0.35 -> 0.29 s with 8; its camera's 13k samples
-// 0.14 -> 0.26 s, so these take one at a time).
+// without them; fewer samples run faster one pass at a time (bench/README.md).
 int passesPerDispatch(uint32_t samples) {
   return int(std::clamp<uint32_t>(samples / 32768u, 1u, 8u));
 }

@@ -78,143 +78,165 @@ void benchBakedLuxels(gl::GlTracer& tracer, RenderScene& rs, const CameraPose& p
   benchGpuBake(tracer, rs, nullptr, s, "the whole level");
 }
 
-} // namespace
-
-int runGlBench(const LevelImport& importLevel, const GlBenchSettings& s) {
-  // Time to first image: the level's import started on a worker thread, the context made
-  // meanwhile, the path tracer's compile started (it runs on the driver's threads where the
-  // driver has them) once the level's lights are known, the level prepared meanwhile, uploaded,
-  // then the wait for the compile and one sample: with the wavefront kernels where they were
-  // started (TracerPrograms::startPathTracer says where), and with the megakernel.
-  // Cold with an empty program cache (every shader compiled, as on a first start), then warm
-  // from the binaries that run stored. A private cache directory keeps the user's cache out of it.
-  const std::filesystem::path cacheDir =
-      std::filesystem::temp_directory_path() / fmt::format("brushtrace-bench-{:08x}", std::random_device{}());
-  const gl::BeautySettings oneSample{.width = s.width, .height = s.height, .spp = 1, .physical = s.physical, .bounces = s.bounces};
+// What one first-image run leaves for the measurements after it.
+struct BenchRun {
   std::unique_ptr<gl::GlContext> context;
   std::unique_ptr<gl::GlLevel> level;
   CameraPose pose;
-  auto firstImage = [&](const char* label) {
-    level.reset();
-    context.reset();
-    const auto start = Clock::now();
-    auto at = [&](Clock::time_point t) { return std::chrono::duration<double>(t - start).count(); };
-    level = std::make_unique<gl::GlLevel>();
-    gl::GlLevelTimes times;
-    {
-      const std::unique_ptr<gl::LevelPreparation> preparation = gl::prepareGlLevel(*level, importLevel);
-      context = gl::GlContext::createHeadless();
-      times.contextMade = Clock::now();
-      auto programs = std::make_shared<gl::TracerPrograms>(*context, s.textures);
-      programs->setCache(gl::ProgramCache(cacheDir));
-      gl::loadGlLevel(*level, *preparation, *context, programs, s.physical, &times);
-    }
-    gl::GlTracer* tracer = level->tracer.get();
-    const auto uploadEnd = times.uploaded;
-    const double contextSeconds = at(times.contextMade);
-    const double importSeconds = at(times.prepared);
-    const double uploadSeconds = std::chrono::duration<double>(times.uploaded - times.uploadStarted).count();
-    const bool wavefront = tracer->programs().wavefrontState(s.physical, tracer->faithfulFeatures()).started;
-    // The default view (info_intermission, info_player_start, else the whole level), so the
-    // rays see what a user first sees.
-    pose = defaultCameraPose(level->scene);
-    const gl::CameraBasis camera = gl::cameraFrom(pose, s.width, s.height);
-    // One sample with the given form; its seconds.
-    auto timeOneSample = [&](gl::PathTracerForm form) {
-      gl::BeautySettings settings = oneSample;
-      settings.form = form;
-      const auto sampleStart = Clock::now();
-      tracer->renderBeauty(camera, settings);
-      return secondsSince(sampleStart);
-    };
-    // `render` and the viewer draw their first images with the wavefront kernels while the
-    // megakernel compiles (gl::PathTracerForm::Auto), where they were started for it.
-    if (wavefront) {
-      const gl::ProgramBuild build = tracer->buildWavefront(s.width, s.height, s.physical);
-      const double waitSeconds = secondsSince(uploadEnd);
-      const double readySeconds = secondsSince(start);
-      const double sample = timeOneSample(gl::PathTracerForm::Wavefront);
-      const double total = secondsSince(start);
-      const bool megakernelReady = !tracer->programs().wavefrontWhileCompiling(s.physical, tracer->faithfulFeatures());
-      fmt::print("time to first image, wavefront kernels ({}): {:.3f} s at {}x{}: their compile {:.0f} ms of which {:.0f} ms "
-                 "after the upload (ready at {:.3f} s), 1 spp {:.3f} s; the megakernel {}\n",
-                 label, total, s.width, s.height, build.milliseconds, waitSeconds * 1000.0, readySeconds, sample,
-                 megakernelReady ? "was ready before" : "still compiling");
-      // Each step's end, in seconds from the start, to see which one the first image waits for.
-      fmt::print("  timeline: context {:.3f}, lights collected {:.3f} (worker thread), compiles started {:.3f} (the main "
-                 "thread's share of starting them), trace kernel linked {:.3f}, level prepared {:.3f} (worker thread), "
-                 "uploaded {:.3f}, shade kernel linked {:.3f}, first dispatches done {:.3f}, first sample read back {:.3f}\n",
-                 contextSeconds, at(times.lightsCollected), at(times.programsStarted), at(times.traceLinked), at(times.prepared),
-                 at(times.uploaded), at(times.shadeLinked), readySeconds, total);
-    }
-    // The megakernel's first image: the wait for its compile, then one sample.
-    const gl::ProgramBuild build = tracer->buildPathTracer(s.width, s.height, s.physical);
-    const double readySeconds = secondsSince(start);
-    const double waitSeconds = secondsSince(uploadEnd);
-    const double sample = timeOneSample(gl::PathTracerForm::Megakernel);
-    fmt::print("time to first image ({}): {:.3f} s at {}x{}: context {:.3f} s, level prepared at {:.3f} s, upload {:.3f} s, "
-               "compile {:.0f} ms of which {:.0f} ms after the upload{}, 1 spp {:.3f} s (megakernel ready at {:.3f} s)\n",
-               label, secondsSince(start), s.width, s.height, contextSeconds, importSeconds, uploadSeconds, build.milliseconds,
-               waitSeconds * 1000.0, build.fromCache ? " (program binary from the cache)" : "", sample, readySeconds);
-  };
-  firstImage("cold, empty program cache");
-  const auto& info = context->info();
-  fmt::print("device: {} ({}, {}), textures: {}, trace layout: {}, parallel shader compile: {}\n", info.renderer, info.platform,
-             info.version, gl::toString(level->tracer->textureMode()),
-             level->tracer->programs().traceLayout() == gl::TraceLayout::Software ? "software" : "hardware",
-             info.parallelShaderCompile ? "yes" : "no");
-  fmt::print("camera: {} ({}), {} lights, {} emitter triangles\n", formatCameraPose(pose), pose.source, level->render.lights.size(),
-             level->render.emitters.size());
-  firstImage("warm");
-  gl::GlTracer* tracer = level->tracer.get();
-  // The programs built from here on (ray bench, the other lighting mode) are not stored: the
-  // private directory would otherwise be created again and left behind.
-  tracer->setProgramCache(gl::ProgramCache{});
-  std::error_code ignored;
-  std::filesystem::remove_all(cacheDir, ignored);
-  const gl::CameraBasis camera = gl::cameraFrom(pose, s.width, s.height);
+};
 
-  // Ray rates: enough passes to fill about a third of the time budget each. The first probe
-  // also builds the program, so the second one sizes the run.
-  tracer->benchmarkRays(camera, s.width, s.height, 1);
-  gl::RayBenchmark probe = tracer->benchmarkRays(camera, s.width, s.height, 1);
+gl::BeautySettings oneSampleSettings(const GlBenchSettings& s) {
+  return {.width = s.width, .height = s.height, .spp = 1, .physical = s.physical, .bounces = s.bounces};
+}
+
+// The level's import started on a worker thread, the context made meanwhile, the path tracer's
+// compile started (it runs on the driver's threads where the driver has them) once the level's
+// lights are known, the level prepared meanwhile, then uploaded: as `render` gets there.
+gl::GlLevelTimes loadLevel(BenchRun& run, const LevelImport& importLevel, const GlBenchSettings& s, const std::filesystem::path& cacheDir) {
+  run.level = std::make_unique<gl::GlLevel>();
+  gl::GlLevelTimes times;
+  const std::unique_ptr<gl::LevelPreparation> preparation = gl::prepareGlLevel(*run.level, importLevel);
+  run.context = gl::GlContext::createHeadless();
+  times.contextMade = Clock::now();
+  auto programs = std::make_shared<gl::TracerPrograms>(*run.context, s.textures);
+  programs->setCache(gl::ProgramCache(cacheDir));
+  gl::loadGlLevel(*run.level, *preparation, *run.context, programs, s.physical, &times);
+  return times;
+}
+
+// One sample with the given form; its seconds.
+double timeOneSample(gl::GlTracer& tracer, const gl::CameraBasis& camera, const GlBenchSettings& s, gl::PathTracerForm form) {
+  gl::BeautySettings settings = oneSampleSettings(s);
+  settings.form = form;
+  const auto sampleStart = Clock::now();
+  tracer.renderBeauty(camera, settings);
+  return secondsSince(sampleStart);
+}
+
+// `render` and the viewer draw their first images with the wavefront kernels while the
+// megakernel compiles (gl::PathTracerForm::Auto), where they were started for it.
+void wavefrontFirstImage(gl::GlTracer& tracer, const gl::CameraBasis& camera, const GlBenchSettings& s, const char* label,
+                         Clock::time_point start, const gl::GlLevelTimes& times) {
+  auto at = [&](Clock::time_point t) { return std::chrono::duration<double>(t - start).count(); };
+  const gl::ProgramBuild build = tracer.buildWavefront(s.width, s.height, s.physical);
+  const double waitSeconds = secondsSince(times.uploaded);
+  const double readySeconds = secondsSince(start);
+  const double sample = timeOneSample(tracer, camera, s, gl::PathTracerForm::Wavefront);
+  const double total = secondsSince(start);
+  const bool megakernelReady = !tracer.programs().wavefrontWhileCompiling(s.physical, tracer.faithfulFeatures());
+  fmt::print("time to first image, wavefront kernels ({}): {:.3f} s at {}x{}: their compile {:.0f} ms of which {:.0f} ms "
+             "after the upload (ready at {:.3f} s), 1 spp {:.3f} s; the megakernel {}\n",
+             label, total, s.width, s.height, build.milliseconds, waitSeconds * 1000.0, readySeconds, sample,
+             megakernelReady ? "was ready before" : "still compiling");
+  // Each step's end, in seconds from the start, to see which one the first image waits for.
+  fmt::print("  timeline: context {:.3f}, lights collected {:.3f} (worker thread), compiles started {:.3f} (the main "
+             "thread's share of starting them), trace kernel linked {:.3f}, level prepared {:.3f} (worker thread), "
+             "uploaded {:.3f}, shade kernel linked {:.3f}, first dispatches done {:.3f}, first sample read back {:.3f}\n",
+             at(times.contextMade), at(times.lightsCollected), at(times.programsStarted), at(times.traceLinked), at(times.prepared),
+             at(times.uploaded), at(times.shadeLinked), readySeconds, total);
+}
+
+// Time to first image: the level loaded (loadLevel), then the wait for the compile and one
+// sample: with the wavefront kernels where they were started (TracerPrograms::startPathTracer
+// says where), and with the megakernel.
+void firstImage(BenchRun& run, const LevelImport& importLevel, const GlBenchSettings& s, const std::filesystem::path& cacheDir,
+                const char* label) {
+  run.level.reset();
+  run.context.reset();
+  const auto start = Clock::now();
+  const gl::GlLevelTimes times = loadLevel(run, importLevel, s, cacheDir);
+  gl::GlTracer& tracer = *run.level->tracer;
+  const double importSeconds = std::chrono::duration<double>(times.prepared - start).count();
+  const double uploadSeconds = std::chrono::duration<double>(times.uploaded - times.uploadStarted).count();
+  const double contextSeconds = std::chrono::duration<double>(times.contextMade - start).count();
+  // The default view (info_intermission, info_player_start, else the whole level), so the
+  // rays see what a user first sees.
+  run.pose = defaultCameraPose(run.level->scene);
+  const gl::CameraBasis camera = gl::cameraFrom(run.pose, s.width, s.height);
+  if (tracer.programs().wavefrontState(s.physical, tracer.faithfulFeatures()).started)
+    wavefrontFirstImage(tracer, camera, s, label, start, times);
+  // The megakernel's first image: the wait for its compile, then one sample.
+  const gl::ProgramBuild build = tracer.buildPathTracer(s.width, s.height, s.physical);
+  const double readySeconds = secondsSince(start);
+  const double waitSeconds = secondsSince(times.uploaded);
+  const double sample = timeOneSample(tracer, camera, s, gl::PathTracerForm::Megakernel);
+  fmt::print("time to first image ({}): {:.3f} s at {}x{}: context {:.3f} s, level prepared at {:.3f} s, upload {:.3f} s, "
+             "compile {:.0f} ms of which {:.0f} ms after the upload{}, 1 spp {:.3f} s (megakernel ready at {:.3f} s)\n",
+             label, secondsSince(start), s.width, s.height, contextSeconds, importSeconds, uploadSeconds, build.milliseconds,
+             waitSeconds * 1000.0, build.fromCache ? " (program binary from the cache)" : "", sample, readySeconds);
+}
+
+// Ray rates: enough passes to fill about a third of the time budget each. The first probe
+// also builds the program, so the second one sizes the run.
+void benchRays(gl::GlTracer& tracer, const gl::CameraBasis& camera, const GlBenchSettings& s) {
+  tracer.benchmarkRays(camera, s.width, s.height, 1);
+  gl::RayBenchmark probe = tracer.benchmarkRays(camera, s.width, s.height, 1);
   const double perPass = std::max(probe.primarySeconds + probe.bounceSeconds, 1e-4);
   const int passes = std::max(1, static_cast<int>(s.seconds / 3.0 / perPass));
-  const gl::RayBenchmark rays = tracer->benchmarkRays(camera, s.width, s.height, passes);
+  const gl::RayBenchmark rays = tracer.benchmarkRays(camera, s.width, s.height, passes);
   fmt::print("primary rays: {:.2f} Mrays/s ({} passes of {})\n", rays.primaryRays * double(rays.passes) / rays.primarySeconds * 1e-6,
              rays.passes, rays.primaryRays);
   fmt::print("bounce rays:  {:.2f} Mrays/s ({} passes of {})\n", rays.bounceRays * double(rays.passes) / rays.bounceSeconds * 1e-6,
              rays.passes, rays.bounceRays);
+}
 
-  // Full samples in both lighting modes, with each form of the path tracer. A sample's cost
-  // varies with the dispatch queue's state, so the batch doubles until one takes at least a
-  // second (and a sixth of the budget); renderBeauty reads the image back at the end, which
-  // waits for every dispatch.
-  for (const bool physical : {s.physical, !s.physical}) {
-    for (const gl::PathTracerForm form : {gl::PathTracerForm::Megakernel, gl::PathTracerForm::Wavefront}) {
-      gl::BeautySettings settings = oneSample;
-      settings.physical = physical;
-      settings.form = form;
-      tracer->renderBeauty(camera, settings); // builds the programs; this warms the queue
-      const double minimum = std::max(1.0, s.seconds / 6.0);
-      double seconds = 0.0;
-      gl::BeautyImage image;
-      for (;;) {
-        const auto start = Clock::now();
-        image = tracer->renderBeauty(camera, settings);
-        seconds = secondsSince(start);
-        if (seconds >= minimum) break;
-        // Aim past the minimum from the rate so far, at least doubling.
-        settings.spp = std::max(settings.spp * 2, static_cast<int>(settings.spp * 1.2 * minimum / std::max(seconds, 1e-4)));
-      }
-      fmt::print("samples: {:.2f} full samples/s at {}x{}, {}{} ({} spp in {:.2f} s, {:.1f} Msamples/s)\n", image.samples / seconds,
-                 s.width, s.height, physical ? fmt::format("physical, {} bounces", s.bounces) : std::string("faithful"),
-                 form == gl::PathTracerForm::Wavefront ? ", wavefront kernels" : "", image.samples, seconds,
-                 image.samples * double(s.width) * s.height / seconds * 1e-6);
-    }
+// Full samples in one lighting mode with one form of the path tracer. A sample's cost varies
+// with the dispatch queue's state, so the batch doubles until one takes at least a second (and
+// a sixth of the budget); renderBeauty reads the image back at the end, which waits for every
+// dispatch.
+void benchSamples(gl::GlTracer& tracer, const gl::CameraBasis& camera, const GlBenchSettings& s, bool physical, gl::PathTracerForm form) {
+  gl::BeautySettings settings = oneSampleSettings(s);
+  settings.physical = physical;
+  settings.form = form;
+  tracer.renderBeauty(camera, settings); // builds the programs; this warms the queue
+  const double minimum = std::max(1.0, s.seconds / 6.0);
+  double seconds = 0.0;
+  gl::BeautyImage image;
+  for (;;) {
+    const auto start = Clock::now();
+    image = tracer.renderBeauty(camera, settings);
+    seconds = secondsSince(start);
+    if (seconds >= minimum) break;
+    // Aim past the minimum from the rate so far, at least doubling.
+    settings.spp = std::max(settings.spp * 2, static_cast<int>(settings.spp * 1.2 * minimum / std::max(seconds, 1e-4)));
   }
-  benchBakedLuxels(*tracer, level->render, pose, camera, oneSample, s);
-  return context->debugErrorCount() == 0 ? 0 : 1;
+  fmt::print("samples: {:.2f} full samples/s at {}x{}, {}{} ({} spp in {:.2f} s, {:.1f} Msamples/s)\n", image.samples / seconds, s.width,
+             s.height, physical ? fmt::format("physical, {} bounces", s.bounces) : std::string("faithful"),
+             form == gl::PathTracerForm::Wavefront ? ", wavefront kernels" : "", image.samples, seconds,
+             image.samples * double(s.width) * s.height / seconds * 1e-6);
+}
+
+} // namespace
+
+int runGlBench(const LevelImport& importLevel, const GlBenchSettings& s) {
+  // Cold with an empty program cache (every shader compiled, as on a first start), then warm
+  // from the binaries that run stored. A private cache directory keeps the user's cache out of it.
+  const std::filesystem::path cacheDir =
+      std::filesystem::temp_directory_path() / fmt::format("brushtrace-bench-{:08x}", std::random_device{}());
+  BenchRun run;
+  firstImage(run, importLevel, s, cacheDir, "cold, empty program cache");
+  const auto& info = run.context->info();
+  gl::GlTracer& tracer = *run.level->tracer;
+  fmt::print("device: {} ({}, {}), textures: {}, trace layout: {}, parallel shader compile: {}\n", info.renderer, info.platform,
+             info.version, gl::toString(tracer.textureMode()),
+             tracer.programs().traceLayout() == gl::TraceLayout::Software ? "software" : "hardware",
+             info.parallelShaderCompile ? "yes" : "no");
+  fmt::print("camera: {} ({}), {} lights, {} emitter triangles\n", formatCameraPose(run.pose), run.pose.source,
+             run.level->render.lights.size(), run.level->render.emitters.size());
+  firstImage(run, importLevel, s, cacheDir, "warm");
+  gl::GlTracer& warm = *run.level->tracer;
+  // The programs built from here on (ray bench, the other lighting mode) are not stored: the
+  // private directory would otherwise be created again and left behind.
+  warm.setProgramCache(gl::ProgramCache{});
+  std::error_code ignored;
+  std::filesystem::remove_all(cacheDir, ignored);
+  const gl::CameraBasis camera = gl::cameraFrom(run.pose, s.width, s.height);
+  benchRays(warm, camera, s);
+  for (const bool physical : {s.physical, !s.physical})
+    for (const gl::PathTracerForm form : {gl::PathTracerForm::Megakernel, gl::PathTracerForm::Wavefront})
+      benchSamples(warm, camera, s, physical, form);
+  benchBakedLuxels(warm, run.level->render, run.pose, camera, oneSampleSettings(s), s);
+  return run.context->debugErrorCount() == 0 ? 0 : 1;
 }
 
 } // namespace bt::gl

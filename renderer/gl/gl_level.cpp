@@ -73,8 +73,7 @@ void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& conte
   t.lightsCollected = preparation.lightsCollected;
   t.prepared = preparation.prepared;
   // The upload goes between the two waits: the trace kernel links well before the shade kernel,
-  // and the preparation is done by then, so the upload costs the first image nothing (H100,
-  // lq_e4m3, cold: 10 ms less than uploading after both waits, the shade kernel's link no later).
+  // and the preparation is done by then, so the upload costs the first image nothing.
   t.uploadStarted = Clock::now();
   level.tracer = std::make_unique<GlTracer>(context, level.scene, level.render.tracer, programs, lightingFor(level.render));
   t.uploaded = Clock::now();

@@ -21,14 +21,13 @@ namespace bt::gl {
 using EntitiesRead = std::function<void(const Scene&)>;
 using LevelImport = std::function<Scene(const EntitiesRead&)>;
 
-// A level's import and preparation on a worker thread: importLevel(), renderer/cpu's
+// A level's import and preparation on a worker thread: importLevel(), lighting/render_scene.h's
 // collectLights() and buildRenderScene(), into `scene` and `render` (render.scene points at
 // scene), with the preparation's diagnostics into `lightDiagnostics` (null: scene.diagnostics).
 // Those three belong to the worker until wait() returns. The level's lights are collected as
-// soon as its entities are read, so its LightKinds are known well before the rest (lq_e4m3 on
-// the H100's host: ~25 ms, against ~0.1 s for the textured import and another 60 ms for the
-// preparation; seconds on a `_bounce` level): a front end starts the GL programs for them
-// meanwhile. Exceptions of the import or the preparation reach lightKinds() and wait().
+// soon as its entities are read, so its LightKinds are known well before the rest (a fraction
+// of the textured import and the preparation; seconds before them on a `_bounce` level): a
+// front end starts the GL programs for them meanwhile. Exceptions of the import or the preparation reach lightKinds() and wait().
 class LevelPreparation {
 public:
   using Clock = std::chrono::steady_clock;
@@ -82,9 +81,8 @@ FaithfulFeatures startPathTracerFor(TracerPrograms& programs, LevelPreparation& 
 
 // Finishes loading `level`, whose preparation is `preparation`: starts the path tracer
 // (startPathTracerFor), then waits for the wavefront kernels where they were started. NVIDIA's
-// driver does part of a compile on the thread that waits for it (H100, lq_e4m3, faithful, cold:
-// the first image 0.49-0.83 s this way, 0.86-1.2 s with the import on this thread before the
-// wait). The upload needs this thread's GL context; it runs between the trace kernel's link
+// driver does part of a compile on the thread that waits for it, so the first image comes
+// sooner with the import on another thread than before the wait (bench/README.md). The upload needs this thread's GL context; it runs between the trace kernel's link
 // and the shade kernel's. Exceptions of the preparation or the compile reach the caller.
 void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& context, const std::shared_ptr<TracerPrograms>& programs,
                  bool physical, GlLevelTimes* times = nullptr);

@@ -21,7 +21,7 @@ namespace bt::gl {
 
 // A binding point of a linked program, as the source's layout(binding = N) set it. Stored
 // with the binary and applied again after glProgramBinary: the GL spec says the binary keeps
-// them, but on NVIDIA (580 driver, H100) programs loaded from a binary read and wrote through
+// them, but on NVIDIA's 580 driver programs loaded from a binary read and wrote through
 // the wrong units and faulted, which is what lost bindings look like.
 struct ProgramBindingPoint {
   enum Kind : int32_t { Uniform = 0, StorageBlock = 1, UniformBlock = 2 };

@@ -1,5 +1,5 @@
 // The GL backend of `brushtrace render`: the same inputs and output as renderCpu
-// (renderer/cpu/cpu_renderer.h), rendered by the GL compute tracer.
+// (renderer/render.h), rendered by the GL compute tracer.
 #pragma once
 
 #include "renderer/camera.h"
@@ -16,7 +16,7 @@
 
 namespace bt::gl {
 
-// The pinhole camera of renderer/cpu's Camera for a pose and image size.
+// The pinhole camera of renderer/camera.h's Camera for a pose and image size.
 CameraBasis cameraFrom(const CameraPose& pose, int width, int height);
 
 struct GlRenderResult {

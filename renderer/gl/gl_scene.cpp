@@ -108,7 +108,7 @@ void makeTexelView(GLuint& view, GLuint buffer, GLenum format, size_t bytes, siz
 
 } // namespace
 
-GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMaterial>& materials, const GlLighting& lighting,
+GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMaterial>& materials, const GlLighting& lighting,
                                size_t materialCount) {
   BT_GL(glCreateBuffers(kBufferCount, buffers_));
   const std::vector<GlBvhNode> bvh = sceneBvhForGl(tracer);
@@ -131,7 +131,7 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMa
   std::vector<uint32_t> faceFlags = lighting.faceFlags;
   faceFlags.resize(tracer.faces().size(), 0u);
   upload(buffers_[kBindingFaceFlags], std::span<const uint32_t>(faceFlags));
-  upload(buffers_[kBindingMaterials], std::span<const GpuMaterial>(materials));
+  upload(buffers_[kBindingMaterials], std::span<const GlMaterial>(materials));
   upload(buffers_[kBindingLights], std::span<const GpuLight>(lighting.lights));
   // One template per material, so the shader indexes it by a face's material; value 0 = none.
   std::vector<GpuLight> surfaceLights = lighting.surfaceLights;

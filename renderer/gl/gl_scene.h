@@ -23,7 +23,7 @@ std::vector<GlBvhNode> sceneBvhForGl(const TraceScene& tracer);
 class GlSceneBuffers {
 public:
   // faceFlags in GlLighting: one per TraceScene face (= Scene face), or empty for none.
-  GlSceneBuffers(const TraceScene& tracer, const std::vector<GpuMaterial>& materials, const GlLighting& lighting, size_t materialCount);
+  GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMaterial>& materials, const GlLighting& lighting, size_t materialCount);
   ~GlSceneBuffers();
   GlSceneBuffers(const GlSceneBuffers&) = delete;
   GlSceneBuffers& operator=(const GlSceneBuffers&) = delete;

@@ -36,7 +36,7 @@ enum Binding : uint32_t {
   // The faithful bake (shaders/bake.comp, gl_bake.h) runs without the wavefront's buffers and
   // takes their points: drivers need offer only 16 storage blocks to a compute shader.
   kBindingBakeSamples = 11, // GpuLuxelSample per sample point
-  kBindingBakeSums = 12,    // 4 vec4 per sample point (renderer/cpu LuxelSums)
+  kBindingBakeSums = 12,    // 4 vec4 per sample point (lighting/faithful_light.h LuxelSums)
   kBindingBakeSkyDome = 13, // vec4 per dome direction (lighting/faithful.h skyDomeDirections)
 };
 
@@ -98,14 +98,18 @@ enum TexelUnit : uint32_t {
 static_assert(sizeof(GlBvhNode) == 4 * 16 && sizeof(GpuBrush) == 4 * 16 && sizeof(GpuFace) == 4 * 16 && sizeof(GpuTriangle) == 3 * 16);
 static_assert(offsetof(GpuFace, plane) == 0);
 
+// GlMaterial::flags. Not the bits of bt::GpuMaterial::flags (scene/gpu_structs.h: the CPU
+// reference's shading parameters, never uploaded); lightingFor() (gl_lighting.cpp) translates.
 enum MaterialFlags : uint32_t {
   kMaterialHasBase = 1,
   kMaterialHasNormal = 2,
-  kMaterialHasEmissive = 4, // renderer/cpu kMaterialEmissive
-  kMaterialGgx = 8,         // renderer/cpu kMaterialSpecular
+  kMaterialHasEmissive = 4, // scene/gpu_structs.h kMaterialEmissive
+  kMaterialGgx = 8,         // scene/gpu_structs.h kMaterialSpecular
 };
 
-struct GpuMaterial {
+// A material as the shaders read it (shaders/structs.glsl GlMaterial): its textures on either
+// path and the flags above.
+struct GlMaterial {
   uint64_t baseHandle; // bindless texture handles, 0 on the arrays path
   uint64_t normalHandle;
   uint64_t emissiveHandle;
@@ -124,15 +128,14 @@ struct GpuMaterial {
   glm::uvec2 normalTexels; // larger layer (gl_textures.h), and the shaders wrap at this size
   glm::uvec2 emissiveTexels;
 };
-static_assert(sizeof(GpuMaterial) == 96);
-static_assert(offsetof(GpuMaterial, baseHandle) == 0 && offsetof(GpuMaterial, normalHandle) == 8 &&
-              offsetof(GpuMaterial, emissiveHandle) == 16 && offsetof(GpuMaterial, baseArray) == 24 &&
-              offsetof(GpuMaterial, baseLayer) == 28 && offsetof(GpuMaterial, normalArray) == 32 &&
-              offsetof(GpuMaterial, normalLayer) == 36 && offsetof(GpuMaterial, emissiveArray) == 40 &&
-              offsetof(GpuMaterial, emissiveLayer) == 44 && offsetof(GpuMaterial, size) == 48 && offsetof(GpuMaterial, flags) == 56 &&
-              offsetof(GpuMaterial, roughness) == 60 && offsetof(GpuMaterial, metallic) == 64 && offsetof(GpuMaterial, pad0) == 68 &&
-              offsetof(GpuMaterial, baseTexels) == 72 && offsetof(GpuMaterial, normalTexels) == 80 &&
-              offsetof(GpuMaterial, emissiveTexels) == 88);
+static_assert(sizeof(GlMaterial) == 96);
+static_assert(offsetof(GlMaterial, baseHandle) == 0 && offsetof(GlMaterial, normalHandle) == 8 &&
+              offsetof(GlMaterial, emissiveHandle) == 16 && offsetof(GlMaterial, baseArray) == 24 &&
+              offsetof(GlMaterial, baseLayer) == 28 && offsetof(GlMaterial, normalArray) == 32 && offsetof(GlMaterial, normalLayer) == 36 &&
+              offsetof(GlMaterial, emissiveArray) == 40 && offsetof(GlMaterial, emissiveLayer) == 44 && offsetof(GlMaterial, size) == 48 &&
+              offsetof(GlMaterial, flags) == 56 && offsetof(GlMaterial, roughness) == 60 && offsetof(GlMaterial, metallic) == 64 &&
+              offsetof(GlMaterial, pad0) == 68 && offsetof(GlMaterial, baseTexels) == 72 && offsetof(GlMaterial, normalTexels) == 80 &&
+              offsetof(GlMaterial, emissiveTexels) == 88);
 
 // std140 uniform block `Camera` (shaders/camera.glsl), binding 0.
 struct GpuCamera {
@@ -172,7 +175,7 @@ struct GpuWorld {
   float emitterArea;
   uint32_t physical;
   int32_t bounces;
-  // Faithful dirt (renderer/cpu DirtSettings); read only by a program built with BT_FAITHFUL_DIRT.
+  // Faithful dirt (lighting/lights.h DirtSettings); read only by a program built with BT_FAITHFUL_DIRT.
   uint32_t dirtMode;
   float dirtDepth;
   float dirtAngle; // the cone's half-angle, radians

@@ -40,7 +40,7 @@ void setSampling(GLuint texture, float anisotropy) {
   if (anisotropy > 1.0f) BT_GL(glTextureParameterf(texture, GL_TEXTURE_MAX_ANISOTROPY, anisotropy));
 }
 
-// One map's place on the arrays path: its image, and where GpuMaterial names its array and layer.
+// One map's place on the arrays path: its image, and where GlMaterial names its array and layer.
 struct Layer {
   const Image* image;
   uint32_t* array;
@@ -59,7 +59,7 @@ struct SizeClass {
 // with many sizes, such as one with high-resolution replacement textures, has more sizes than
 // sampler units). Past that, the two classes whose merge adds the fewest padding texels are
 // merged until they fit: the merged array's layers are as wide and as tall as its largest map,
-// and the shaders wrap each map at its own size (GpuMaterial::baseTexels...), so padding
+// and the shaders wrap each map at its own size (GlMaterial::baseTexels...), so padding
 // changes no image, only memory.
 std::vector<SizeClass> sizeClasses(const std::vector<Layer>& maps, size_t maxClasses) {
   std::map<std::pair<int, int>, std::vector<Layer>> bySize;
@@ -122,11 +122,18 @@ GlTextures::GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo
     BT_GL(glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY, &maxAnisotropy));
     anisotropy_ = std::clamp(maxAnisotropy, 1.0f, 16.0f);
   }
+  readMaterials(scene);
+  if (mode_ == TextureMode::Bindless)
+    uploadBindless(scene);
+  else
+    uploadArrays(scene);
+}
 
+void GlTextures::readMaterials(const Scene& scene) {
   materials_.resize(scene.materials.size());
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     const Material& m = scene.materials[i];
-    GpuMaterial& g = materials_[i];
+    GlMaterial& g = materials_[i];
     g.size = {static_cast<float>(std::max(m.width, 1)), static_cast<float>(std::max(m.height, 1))};
     g.roughness = m.roughnessValue;
     g.metallic = m.metallicValue;
@@ -134,30 +141,31 @@ GlTextures::GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo
     if (!m.normal.empty()) g.flags |= kMaterialHasNormal, g.normalTexels = texelsOf(m.normal);
     if (!m.emissive.empty()) g.flags |= kMaterialHasEmissive, g.emissiveTexels = texelsOf(m.emissive);
   }
+}
 
-  if (mode_ == TextureMode::Bindless) {
-    for (size_t i = 0; i < scene.materials.size(); ++i) {
-      const Material& m = scene.materials[i];
-      auto makeResident = [&](const Image& image, bool srgb) -> uint64_t {
-        const GLuint texture = createTexture(image, srgb);
-        const GLuint64 handle = glGetTextureHandleARB(texture);
-        checkGlError("glGetTextureHandleARB", __FILE__, __LINE__);
-        BT_GL(glMakeTextureHandleResidentARB(handle));
-        residentHandles_.push_back(handle);
-        return handle;
-      };
-      if (!m.baseColor.empty()) materials_[i].baseHandle = makeResident(m.baseColor, true);
-      if (!m.normal.empty()) materials_[i].normalHandle = makeResident(m.normal, false);
-      if (!m.emissive.empty()) materials_[i].emissiveHandle = makeResident(m.emissive, true);
-    }
-    return;
+void GlTextures::uploadBindless(const Scene& scene) {
+  auto makeResident = [&](const Image& image, bool srgb) -> uint64_t {
+    const GLuint texture = createTexture(image, srgb);
+    const GLuint64 handle = glGetTextureHandleARB(texture);
+    checkGlError("glGetTextureHandleARB", __FILE__, __LINE__);
+    BT_GL(glMakeTextureHandleResidentARB(handle));
+    residentHandles_.push_back(handle);
+    return handle;
+  };
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    const Material& m = scene.materials[i];
+    if (!m.baseColor.empty()) materials_[i].baseHandle = makeResident(m.baseColor, true);
+    if (!m.normal.empty()) materials_[i].normalHandle = makeResident(m.normal, false);
+    if (!m.emissive.empty()) materials_[i].emissiveHandle = makeResident(m.emissive, true);
   }
+}
 
-  // Arrays: gather every map, group them into size classes, then upload each class as one array.
+// Every map gathered, grouped into size classes, then each class uploaded as one array.
+void GlTextures::uploadArrays(const Scene& scene) {
   std::vector<Layer> maps;
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     const Material& m = scene.materials[i];
-    GpuMaterial& g = materials_[i];
+    GlMaterial& g = materials_[i];
     if (!m.baseColor.empty()) maps.push_back({&m.baseColor, &g.baseArray, &g.baseLayer});
     if (!m.normal.empty()) maps.push_back({&m.normal, &g.normalArray, &g.normalLayer});
     if (!m.emissive.empty()) maps.push_back({&m.emissive, &g.emissiveArray, &g.emissiveLayer});
@@ -171,7 +179,6 @@ GlTextures::GlTextures(const Scene& scene, TextureMode mode, const GlContextInfo
   textures_.push_back(placeholder_);
   BT_GL(glTextureStorage3D(placeholder_, 1, GL_RGBA8, 1, 1, 1));
   BT_GL(glTextureSubImage3D(placeholder_, 0, 0, 0, 0, 1, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, white));
-
   for (const SizeClass& size : classes) {
     const std::vector<Layer>& layers = size.layers;
     if (static_cast<GLint>(layers.size()) > maxLayers)

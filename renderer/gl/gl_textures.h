@@ -1,13 +1,13 @@
 // Material textures on the GPU, in one of two layouts chosen at run time:
 //   bindless (GL_ARB_bindless_texture): one GL_TEXTURE_2D per material map, made resident once,
-//     its 64-bit handle written into GpuMaterial;
+//     its 64-bit handle written into GlMaterial;
 //   arrays (llvmpipe and any context without bindless): one GL_TEXTURE_2D_ARRAY per size class,
-//     GpuMaterial naming (array, layer). Past kMaxTextureArrays sizes, classes are merged and a
+//     GlMaterial naming (array, layer). Past kMaxTextureArrays sizes, classes are merged and a
 //     map sits in the corner of a larger layer; the shaders wrap it at its own size
-//     (GpuMaterial::baseTexels...), so both paths still give one image.
+//     (GlMaterial::baseTexels...), so both paths still give one image.
 // The tracer samples neither through the sampler: shaders/textures.glsl fetches the four texels
-// of level 0 and filters them bilinearly in fp32, as the CPU reference does (renderer/cpu
-// bilinearRepeat), so that the GL AOVs equal the CPU's. Mipmaps and anisotropy are not needed
+// of level 0 and filters them bilinearly in fp32, as the CPU reference does (bvh/trace_scene.h
+// sampleBilinearRepeat), so that the GL AOVs equal the CPU's. Mipmaps and anisotropy are not needed
 // for antialiasing either: each progressive sample is jittered over its pixel, so their mean
 // integrates the texture over the pixel's footprint. Both paths still carry mipmaps and the
 // driver's anisotropy up to 16x with the same filters and GL_REPEAT, for any later sampler
@@ -47,7 +47,7 @@ public:
 
   TextureMode mode() const { return mode_; } // Bindless or Arrays, never Auto
   // One per Scene::materials entry, texture references filled in.
-  const std::vector<GpuMaterial>& materials() const { return materials_; }
+  const std::vector<GlMaterial>& materials() const { return materials_; }
   // The anisotropy every texture is sampled with: the driver's maximum up to 16, 1 without
   // anisotropic filtering.
   float anisotropy() const { return anisotropy_; }
@@ -55,11 +55,14 @@ public:
   void bind() const;
 
 private:
+  void readMaterials(const Scene& scene);
+  void uploadBindless(const Scene& scene);
+  void uploadArrays(const Scene& scene);
   unsigned createTexture(const Image& image, bool srgb);
 
   TextureMode mode_ = TextureMode::Arrays;
   float anisotropy_ = 1.0f;
-  std::vector<GpuMaterial> materials_;
+  std::vector<GlMaterial> materials_;
   std::vector<unsigned> textures_; // everything created, deleted in the destructor
   std::vector<unsigned> arrays_;   // arrays path: unit i holds arrays_[i], at most kMaxTextureArrays
   unsigned placeholder_ = 0;       // arrays path: 1x1 array on the units no size class uses

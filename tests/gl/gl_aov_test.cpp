@@ -34,7 +34,7 @@ void expectAovsMatch(const AovImages& gpu, const AovImages& ref, double albedoTo
       ++mismatched;
       continue;
     }
-    if (ref.face[i] == AovImages::kNoFace) continue;
+    if (ref.face[i] == AovImages::kNothingHit) continue;
     ++hits;
     EXPECT_NEAR(gpu.depth[i], ref.depth[i], 1e-4 * ref.depth[i] + 1e-3) << "pixel " << i;
     EXPECT_LT(glm::length(gpu.normal[i] - ref.normal[i]), 1e-5f) << "pixel " << i;
@@ -66,7 +66,7 @@ TEST(GlAov, EveryBrushAndMaterialIsSeen) {
   std::vector<bool> materialSeen(scene.materials.size());
   bool slopedSeen = false;
   for (uint32_t f : gpu.face) {
-    if (f == AovImages::kNoFace) continue;
+    if (f == AovImages::kNothingHit) continue;
     materialSeen[scene.faces[f - 1].material] = true;
     const dvec3 n = scene.faces[f - 1].plane.normal;
     slopedSeen |= std::abs(n.x) > 0.1 && std::abs(n.z) > 0.1;
@@ -127,7 +127,7 @@ TEST(GlAov, MoreTextureSizesThanArraysEqualTheReference) {
   expectAovsMatch(gpu, test::referenceAovs(scene, camera, width, height), 1e-4);
   std::set<uint32_t> materialsSeen;
   for (uint32_t f : gpu.face)
-    if (f != AovImages::kNoFace) materialsSeen.insert(scene.faces[f - 1].material);
+    if (f != AovImages::kNothingHit) materialsSeen.insert(scene.faces[f - 1].material);
   EXPECT_EQ(materialsSeen.size(), scene.materials.size()) << "every texture size in view";
 
   if (!context->info().bindlessTextures) return; // compared on the GPU (scripts/gpu-check.sh)
@@ -165,7 +165,7 @@ TEST(GlAov, EmptySceneSeesNothing) {
   Scene scene;
   GlTracer tracer(*context, scene, TextureMode::Arrays);
   const AovImages gpu = tracer.renderAovs(test::testCamera(16, 8), 16, 8);
-  for (uint32_t f : gpu.face) EXPECT_EQ(f, AovImages::kNoFace);
+  for (uint32_t f : gpu.face) EXPECT_EQ(f, AovImages::kNothingHit);
   for (float d : gpu.depth) EXPECT_TRUE(std::isinf(d));
 }
 
@@ -182,7 +182,7 @@ void expectLayoutFacesEqualClosestHit(const Scene& scene, const TraceScene& trac
       const glm::vec3 dir = glm::normalize(camera.forward + ndc.x * camera.right - ndc.y * camera.up);
       const std::optional<Hit> hit = traceScene.closestHit(Ray{camera.origin, 0.0f, dir});
       const size_t i = static_cast<size_t>(y) * width + x;
-      const uint32_t expected = hit ? hit->face + 1 : AovImages::kNoFace;
+      const uint32_t expected = hit ? hit->face + 1 : AovImages::kNothingHit;
       if (gpu.face[i] != expected) {
         ++mismatched;
         continue;

@@ -45,7 +45,7 @@ std::vector<size_t> plainInteriorPixels(const Scene& scene, const AovImages& aov
   for (int y = 1; y + 1 < aov.height; ++y)
     for (int x = 1; x + 1 < aov.width; ++x) {
       const uint32_t f = aov.face[static_cast<size_t>(y) * aov.width + x];
-      bool interior = f != AovImages::kNoFace && scene.faces[f - 1].material == plain;
+      bool interior = f != AovImages::kNothingHit && scene.faces[f - 1].material == plain;
       for (int dy = -1; dy <= 1 && interior; ++dy)
         for (int dx = -1; dx <= 1; ++dx) interior &= aov.face[static_cast<size_t>(y + dy) * aov.width + x + dx] == f;
       if (interior) pixels.push_back(static_cast<size_t>(y) * aov.width + x);

@@ -125,7 +125,7 @@ TEST(ProgramCache, CorruptBinaryFallsBackToCompiling) {
     GlTracer tracer(context, scene, TextureMode::Arrays);
     tracer.setProgramCache(cache);
     const AovImages aov = tracer.renderAovs(test::testCamera(32, 16), 32, 16);
-    EXPECT_NE(std::count(aov.face.begin(), aov.face.end(), AovImages::kNoFace), static_cast<long>(aov.face.size()));
+    EXPECT_NE(std::count(aov.face.begin(), aov.face.end(), AovImages::kNothingHit), static_cast<long>(aov.face.size()));
   }
   // The bad file was replaced by a good one.
   ComputeProgram fourth("aov.comp", defines, cache);
@@ -152,7 +152,7 @@ TEST(ProgramCache, CachedProgramRendersTheSameAovs) {
   EXPECT_EQ(a.face, b.face);
   EXPECT_EQ(a.depth, b.depth);
   EXPECT_EQ(a.albedo, b.albedo);
-  EXPECT_NE(std::count(a.face.begin(), a.face.end(), AovImages::kNoFace), static_cast<long>(a.face.size()));
+  EXPECT_NE(std::count(a.face.begin(), a.face.end(), AovImages::kNothingHit), static_cast<long>(a.face.size()));
 }
 
 } // namespace

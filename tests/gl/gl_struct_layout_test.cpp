@@ -116,13 +116,13 @@ TEST(GlStructLayout, FacesAsTheShadersReadThem) {
 
 TEST(GlStructLayout, MaterialsAsTheShadersReadThem) {
   expectLayout(GL_BUFFER_VARIABLE, "materials[0].",
-               {MEMBER(GpuMaterial, baseHandle), MEMBER(GpuMaterial, normalHandle), MEMBER(GpuMaterial, emissiveHandle),
-                MEMBER(GpuMaterial, baseArray), MEMBER(GpuMaterial, baseLayer), MEMBER(GpuMaterial, normalArray),
-                MEMBER(GpuMaterial, normalLayer), MEMBER(GpuMaterial, emissiveArray), MEMBER(GpuMaterial, emissiveLayer),
-                MEMBER(GpuMaterial, size), MEMBER(GpuMaterial, flags), MEMBER(GpuMaterial, roughness), MEMBER(GpuMaterial, metallic),
-                MEMBER(GpuMaterial, pad0), MEMBER(GpuMaterial, baseTexels), MEMBER(GpuMaterial, normalTexels),
-                MEMBER(GpuMaterial, emissiveTexels)},
-               sizeof(GpuMaterial));
+               {MEMBER(GlMaterial, baseHandle), MEMBER(GlMaterial, normalHandle), MEMBER(GlMaterial, emissiveHandle),
+                MEMBER(GlMaterial, baseArray), MEMBER(GlMaterial, baseLayer), MEMBER(GlMaterial, normalArray),
+                MEMBER(GlMaterial, normalLayer), MEMBER(GlMaterial, emissiveArray), MEMBER(GlMaterial, emissiveLayer),
+                MEMBER(GlMaterial, size), MEMBER(GlMaterial, flags), MEMBER(GlMaterial, roughness), MEMBER(GlMaterial, metallic),
+                MEMBER(GlMaterial, pad0), MEMBER(GlMaterial, baseTexels), MEMBER(GlMaterial, normalTexels),
+                MEMBER(GlMaterial, emissiveTexels)},
+               sizeof(GlMaterial));
 }
 
 std::vector<Member> lightMembers() {

@@ -170,7 +170,7 @@ gl::AovImages referenceAovs(const Scene& scene, const gl::CameraBasis& camera, i
   out.albedo.assign(n, glm::vec4(0.0f));
   out.normal.assign(n, glm::vec3(0.0f));
   out.depth.assign(n, std::numeric_limits<float>::infinity());
-  out.face.assign(n, gl::AovImages::kNoFace);
+  out.face.assign(n, gl::AovImages::kNothingHit);
   const dvec3 origin(camera.origin), forward(camera.forward), right(camera.right), up(camera.up);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {

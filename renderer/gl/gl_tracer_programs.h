@@ -1,0 +1,172 @@
+// The tracer's compute programs: which variants exist (lighting mode, faithful features, texture
+// path, trace layout), the #defines each is built with, and when each is started and finished.
+#pragma once
+
+#include "lighting/lights.h"
+#include "renderer/gl/gl_context.h"
+#include "renderer/gl/gl_program.h"
+#include "renderer/gl/gl_program_cache.h"
+#include "renderer/gl/gl_textures.h"
+#include "scene/gpu_structs.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace bt::gl {
+
+// The faithful program's parts that only some levels need. Each is compiled only into the
+// programs of the levels that use it, so every other level's program stays as small, as fast to
+// run and as quick to compile as without it (the bounce draw compiled into every program cost a
+// level without bounce lights nearly a third of its faithful samples/s: bench/README.md).
+// Physical programs have all of them.
+struct FaithfulFeatures {
+  bool dirt = false;       // BT_FAITHFUL_DIRT: dirt's occlusion rays (worldspawn _dirt)
+  bool bounceDraw = false; // BT_FAITHFUL_BOUNCE_DRAW: a cell's many bounce lights drawn among
+  bool sky = false;        // BT_FAITHFUL_SKY: suns and sky domes, and their rays to the sky
+  bool jitter = false;     // BT_FAITHFUL_JITTER: point lights' _deviance (jittered copies)
+  bool operator==(const FaithfulFeatures&) const = default;
+  // Both sets' parts.
+  FaithfulFeatures operator|(const FaithfulFeatures& o) const {
+    return {dirt || o.dirt, bounceDraw || o.bounceDraw, sky || o.sky, jitter || o.jitter};
+  }
+};
+
+// What a level needs, known as soon as its lights are collected (lighting/lights.h LightKinds), long
+// before its preparation ends: the front ends start the compile with this. A level that bounces
+// gets the bounce draw whatever its count of bounce lights, which is known only at the end (the
+// draw is used only in cells that list more bounce lights than its rays, so the image is the same).
+FaithfulFeatures faithfulFeatures(const LightKinds& kinds);
+// What lights as uploaded need at least: dirt where it is enabled; the bounce draw where there
+// are more bounce lights than the draw's rays (lighting/faithful_light.h kBounceShadowRays), as no cell can
+// list more bounce lights than the level has; the sky with a sun or dome; jitter with a point
+// light's _deviance. The tracer renders with this and the LightKinds' features together.
+FaithfulFeatures faithfulFeatures(const DirtSettings& dirt, const std::vector<GpuLight>& lights);
+
+// The two forms of the path tracer; both draw the same image for the same settings.
+//   Megakernel: shaders/pathtrace.comp, one program that runs each path to its end, the
+//               fastest, but the slowest to compile (seconds on NVIDIA without its cache).
+//   Wavefront:  pathtrace.comp's shade kernel and shaders/wavefront_trace.comp, two smaller
+//               programs the driver compiles in parallel (shaders/wavefront.glsl), dispatched
+//               by turns, one ray per path each turn: for the first images while the
+//               megakernel compiles.
+//   Auto:       each sample with the megakernel once the driver has it, else with the wavefront
+//               kernels where TracerPrograms started them for this (never waits for the megakernel).
+enum class PathTracerForm { Auto, Megakernel, Wavefront };
+
+// Where the traversal reads the scene and keeps its stack (shaders/trace.glsl): Software for GL
+// emulated on the CPU (Mesa's llvmpipe), Hardware for GPUs; Auto picks from GL_RENDERER, and
+// BT_GL_TRACE_LAYOUT=software|hardware in the environment overrides Auto (to compare them).
+enum class TraceLayout { Auto, Software, Hardware };
+
+// The #defines every program of the tracer is built with: the texture path (Bindless or
+// Arrays), the trace layout (BT_TRACE_SOFTWARE) and BT_BVH_MAX_DEPTH, the traversal stack size
+// (scene/gpu_structs.h kBvhMaxDepth).
+std::vector<std::string> shaderDefines(TextureMode mode, TraceLayout layout = TraceLayout::Hardware);
+
+// The programs TracerPrograms builds (shader_switches.def BT_PROGRAM), in the list's order.
+enum class TracerProgram {
+#define BT_SWITCH(axis, define)
+#define BT_PROGRAM(name, shader, axes) name,
+#include "renderer/gl/shader_switches.def"
+#undef BT_PROGRAM
+#undef BT_SWITCH
+};
+inline constexpr int kTracerProgramCount = 0
+#define BT_SWITCH(axis, define)
+#define BT_PROGRAM(name, shader, axes) +1
+#include "renderer/gl/shader_switches.def"
+#undef BT_PROGRAM
+#undef BT_SWITCH
+    ;
+const char* shaderFile(TracerProgram program); // "pathtrace.comp", ...
+
+// The #defines `program` is built with: shaderDefines(), then, from shader_switches.def, the
+// lighting mode and faithful mode's optional parts where the program takes them (a physical
+// program ignores `features`), and the wavefront form's switch.
+std::vector<std::string> programDefines(TracerProgram program, TextureMode mode, TraceLayout layout, bool physical = false,
+                                        FaithfulFeatures features = {});
+
+// The tracer's compute programs for one context and texture path. Each is built on first use,
+// or started early: `brushtrace render` starts the path tracer before it imports the level, so
+// the driver compiles (on its own threads, GL_KHR_parallel_shader_compile) while the level
+// loads, and the viewer keeps one set across reloads of the map. The context must be current.
+class TracerPrograms {
+public:
+  // Throws GlError for TextureMode::Bindless on a context without bindless textures.
+  TracerPrograms(GlContext& context, TextureMode textures, TraceLayout layout = TraceLayout::Auto);
+  ~TracerPrograms();
+  TracerPrograms(const TracerPrograms&) = delete;
+  TracerPrograms& operator=(const TracerPrograms&) = delete;
+
+  TextureMode textureMode() const { return mode_; }   // Bindless or Arrays
+  TraceLayout traceLayout() const { return layout_; } // Software or Hardware
+  // Where programs built from now on are cached; ProgramCache::fromEnvironment(GL_VENDOR) by default.
+  void setCache(ProgramCache cache) { cache_ = std::move(cache); }
+
+  // Start building, without waiting (a no-op when started already). `features`: the faithful
+  // program's optional parts the level uses (FaithfulFeatures); physical programs ignore them.
+  // The path tracer's wavefront kernels start with the megakernel (queued before it) where they
+  // can draw sooner: when the driver compiles on its own threads (a GPU; llvmpipe compiles at
+  // the first dispatch whatever the form) and the megakernel is not in the program cache.
+  void startPathTracer(bool physical, FaithfulFeatures features = {});
+  // The wavefront trace kernel, where startPathTracer() would start it: it serves every
+  // lighting mode and feature set, so it can start before the level says which it needs.
+  void startTraceKernel();
+  void startWavefront(bool physical, FaithfulFeatures features = {});
+  void startAovs();
+  // The finished program, built now if it was not started.
+  ComputeProgram& pathTracer(bool physical, FaithfulFeatures features = {});
+  ComputeProgram& wavefrontShade(bool physical, FaithfulFeatures features = {});
+  ComputeProgram& wavefrontTrace();
+  // Both wavefront kernels finished, the trace kernel first. NVIDIA finishes each program on
+  // the thread that waits for it, after its own threads report the compile complete, one
+  // program at a time. The trace kernel's compile ends first, so waiting for it first does its
+  // part while the shade kernel still compiles instead of after it.
+  struct WavefrontKernels {
+    ComputeProgram& shade;
+    ComputeProgram& trace;
+  };
+  WavefrontKernels wavefront(bool physical, FaithfulFeatures features = {});
+  ComputeProgram& aovs();
+  ComputeProgram& rayBench();
+  // Faithful mode's light compiler (shaders/bake.comp, gl_bake.h), with the level's features:
+  // started, whether the driver has finished it, and finished.
+  void startBake(FaithfulFeatures features);
+  bool bakeReady(FaithfulFeatures features);
+  ComputeProgram& bake(FaithfulFeatures features);
+  // PathTracerForm::Auto's choice for the next sample: the wavefront kernels were started and
+  // the megakernel is still compiling.
+  bool wavefrontWhileCompiling(bool physical, FaithfulFeatures features = {});
+  // Where the wavefront kernels' compile stands, without waiting. Callers with other work
+  // before the first image (the import) do it on another thread and wait for these kernels
+  // meanwhile with wavefront(): NVIDIA's driver does part of a compile on the thread that
+  // waits for it (`brushtrace bench`, the viewer).
+  struct WavefrontState {
+    bool started = false;
+    bool shadeReady = false;
+    bool traceReady = false;
+  };
+  WavefrontState wavefrontState(bool physical, FaithfulFeatures features = {});
+
+private:
+  ComputeProgram& finished(std::unique_ptr<ComputeProgram>& slot);
+  void start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines, bool cached = true);
+  void startWavefrontTrace();
+  static size_t variantIndex(bool physical, FaithfulFeatures features);
+  std::unique_ptr<ComputeProgram>& pathSlot(bool physical, FaithfulFeatures features);
+  std::unique_ptr<ComputeProgram>& shadeSlot(bool physical, FaithfulFeatures features);
+
+  TextureMode mode_;
+  TraceLayout layout_;
+  ProgramCache cache_;
+  bool wavefrontFirst_; // startPathTracer starts the wavefront kernels too (driver compiles in parallel, a GPU)
+  // One program per lighting mode (BT_LIGHTING_PHYSICAL chosen at build), so each compiles
+  // only its own integrator, and per set of faithful features (variantIndex: physical, then
+  // faithful with each of the 16 sets); the same for the wavefront form's shade kernels. Its
+  // trace kernel serves every mode.
+  static constexpr size_t kPathVariants = 17;
+  std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[kPathVariants], bake_[kPathVariants], trace_, aov_, rayBench_;
+};
+
+} // namespace bt::gl
