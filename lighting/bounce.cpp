@@ -238,6 +238,23 @@ std::vector<GpuLight> clusterBounceLights(const std::vector<GpuLight>& lights, c
   return out;
 }
 
+namespace {
+
+// `_dirtmode 0`'s occlusion at a luxel is a fixed function of the point (its 48 rays draw no
+// random numbers): once cast, its rays serve every later pass that samples the luxel (NaN: not
+// cast yet). `_dirtmode 1` draws them from the pass's own numbers: cast again (none kept).
+std::vector<std::vector<float>> reusableDirtOcclusion(const RenderScene& rs, const std::vector<std::vector<glm::vec3>>& luxels,
+                                                      const BounceBudget& budget) {
+  const DirtSettings& dirt = rs.world.dirtSettings;
+  std::vector<std::vector<float>> occlusion;
+  if (!budget.reuseDirtOcclusion || !dirt.enabled || dirt.mode == 1) return occlusion;
+  occlusion.resize(luxels.size());
+  for (size_t i = 0; i < luxels.size(); ++i) occlusion[i].assign(luxels[i].size(), std::numeric_limits<float>::quiet_NaN());
+  return occlusion;
+}
+
+} // namespace
+
 BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushContents>& contents, const BounceBudget& budget) {
   BounceLights out;
   if (rs.world.bounces <= 0) return out;
@@ -255,15 +272,7 @@ BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushCont
     return m < textureMeans.size() ? textureMeans[m] : glm::vec3(kBounceGrey);
   };
 
-  // `_dirtmode 0`'s occlusion at a luxel is a fixed function of the point (its 48 rays draw no
-  // random numbers): once cast, its rays serve every later pass that samples the luxel (NaN: not
-  // cast yet). `_dirtmode 1` draws them from the pass's own numbers: cast again.
-  const DirtSettings& dirtSettings = rs.world.dirtSettings;
-  std::vector<std::vector<float>> occlusion;
-  if (budget.reuseDirtOcclusion && dirtSettings.enabled && dirtSettings.mode != 1) {
-    occlusion.resize(faces.size());
-    for (size_t i = 0; i < faces.size(); ++i) occlusion[i].assign(luxels[i].size(), std::numeric_limits<float>::quiet_NaN());
-  }
+  std::vector<std::vector<float>> occlusion = reusableDirtOcclusion(rs, luxels, budget);
   // A later pass draws among the previous pass's lights (LightSet::Given), sweeping only
   // those that can light the luxel: the lists of a light grid of them (see BounceBudget).
   std::vector<GpuLight> previous;
@@ -295,13 +304,8 @@ BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushCont
           if (std::isnan(known)) known = faithfulDirtOcclusion(rs, points[k], n, rng);
           dirt = known;
         }
-        FaithfulQuery q;
-        q.p = points[k];
-        q.n = n;
-        q.twoSided = twoSided;
-        q.occlusion = dirt;
+        FaithfulQuery q{.p = points[k], .n = n, .twoSided = twoSided, .lights = LightSet::BounceSources, .occlusion = dirt};
         if (pass == 0) {
-          q.lights = LightSet::BounceSources;
           sum += faithfulLight(rs, q, rng);
           continue;
         }

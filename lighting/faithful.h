@@ -7,6 +7,7 @@
 // lightmap, and the engine draws texture * lightmap / 128 ("overbright": 255 is almost 2x).
 #pragma once
 
+#include "shaders/light_constants.glsl" // the numbers, shared with the shaders
 #include "scene/gpu_structs.h"
 
 #include <glm/geometric.hpp>
@@ -20,21 +21,21 @@ namespace bt::faithful {
 
 // ericw-tools' LF_SCALE: the inverse formulas are normalised so that at 128 units they give the
 // light's own value.
-inline constexpr float kFormulaScale = 128.0f;
+inline constexpr float kFormulaScale = BT_FORMULA_SCALE;
 // Quake's default `_range` (rangescale): the stored lightmap is half the light sum.
 inline constexpr float kDefaultRange = 0.5f;
 // Overbright: the engine maps lightmap 128 to the texture's own colour.
-inline constexpr float kOverbrightOne = 128.0f;
+inline constexpr float kOverbrightOne = BT_OVERBRIGHT_ONE;
 
 // Radiosity surface lights clamp the distance here (ltface.cc's "hotspot clamp"), so that a
 // luxel right next to an emitting face does not blow up.
-inline constexpr float kSurfaceHotspotClamp = 16.0f;
+inline constexpr float kSurfaceHotspotClamp = BT_SURFACE_HOTSPOT_CLAMP;
 // Bounce lights clamp the distance at 128 (IndirectLightFace's hotspot clamp) ...
-inline constexpr float kBounceHotspotClamp = 128.0f;
+inline constexpr float kBounceHotspotClamp = BT_BOUNCE_HOTSPOT_CLAMP;
 // ... and the compiler drops a bounce light's share at a sample point when no channel of it is
 // above this (LightFace_SurfaceLight's gate at the default -emissivequality): so a bounce light
 // reaches a finite distance (light_grid.h faithfulReach).
-inline constexpr float kBounceGate = 0.01f;
+inline constexpr float kBounceGate = BT_BOUNCE_GATE;
 
 // Light value at `dist` from one copy of a point light, before the angle terms (GetLightValue).
 // `atten` is the light's `wait`; ericw-tools multiplies it with the global `_dist` (scaledist).
@@ -141,8 +142,8 @@ inline float sunValue(const GpuLight& sun, const glm::vec3& normal) {
 
 // `_dirtmode 0`: the fixed pattern, 16 azimuths x 3 elevations (at 1/6, 3/6 and 5/6 of the
 // cone's half-angle).
-inline constexpr int kDirtAzimuthSteps = 16;
-inline constexpr int kDirtElevationSteps = 3;
+inline constexpr int kDirtAzimuthSteps = BT_DIRT_AZIMUTH_STEPS;
+inline constexpr int kDirtElevationSteps = BT_DIRT_ELEVATION_STEPS;
 inline constexpr int kDirtRays = kDirtAzimuthSteps * kDirtElevationSteps;
 // The compiler's sample points sit this far off the face (ltface.cc sampleOffPlaneDist); the
 // occlusion rays leave from there.
@@ -172,7 +173,7 @@ inline std::vector<glm::vec3> skyDomeDirections(int sunSamples = kSunSamples) {
   return toSky;
 }
 
-inline constexpr float kDirtSampleLift = 1.0f;
+inline constexpr float kDirtSampleLift = BT_DIRT_SAMPLE_LIFT;
 
 // Ray `index` of the fixed pattern in the sample's tangent space (z along the normal), for a
 // cone of half-angle `coneRadians`; azimuth-major, as SetupDirt orders them.

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "lighting/render_scene.h"
+#include "shaders/light_constants.glsl" // BT_BOUNCE_SHADOW_RAYS, shared with the shaders
 #include "lighting/sampling.h"
 
 #include <glm/vec3.hpp>
@@ -22,8 +23,7 @@ namespace bt {
 // most of it (their gate at value / d^2), so a cell of a large level lists hundreds of them.
 // 16, not fewer: the shown pixel bends the estimate (LightSet::GridSampledBounce), and with 8
 // lq_e3m1's image mean came out visibly low in blue (lighting/README.md has the figures).
-// shaders/faithful.glsl BOUNCE_SHADOW_RAYS is the same.
-inline constexpr size_t kBounceShadowRays = 16;
+inline constexpr size_t kBounceShadowRays = BT_BOUNCE_SHADOW_RAYS;
 
 // Which lights a faithful query sums.
 enum class LightSet {

@@ -2,6 +2,8 @@
 // stream seeded from (pixel, sample index, seed), so an image depends only on those.
 #pragma once
 
+#include "shaders/light_constants.glsl" // BT_PI, shared with the shaders
+
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -11,7 +13,7 @@
 
 namespace bt {
 
-inline constexpr float kPi = 3.14159265358979f;
+inline constexpr float kPi = BT_PI;
 
 // PCG-RXS-M-XS hash (Jarzynski & Olano, "Hash Functions for GPU Rendering", 2020).
 inline uint32_t pcgHash(uint32_t v) {

@@ -7,6 +7,8 @@
 // sections (materials, lights, ...) below, in the same style.
 #pragma once
 
+#include "shaders/scene_constants.glsl" // the flag bits and codes, shared with the shaders
+
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -17,7 +19,7 @@
 namespace bt {
 
 // "No face": an unused slot in GpuBrush::axialFace.
-inline constexpr uint32_t kNoFace = 0xffffffffu;
+inline constexpr uint32_t kNoFace = BT_NO_FACE;
 
 // ---------------------------------------------------------------------------------------------
 // BVH (bvh/trace_scene.h builds these)
@@ -148,26 +150,26 @@ inline constexpr float kTriangleEdgeEpsilon = 1.0f / float(kTriangleEdgeEpsilonI
 // ---------------------------------------------------------------------------------------------
 // ericw-tools' `delay` key: how a point light's value falls off with distance.
 enum class LightFormula : uint32_t {
-  Linear = 0,    // value - dist * wait           (Quake's own, the default)
-  Inverse = 1,   // value * 128 / (dist * wait)
-  Inverse2 = 2,  // value * 128^2 / (dist * wait)^2
-  Infinite = 3,  // value, at any distance
-  LocalMin = 4,  // value, at any distance, but as a floor (like worldspawn minlight)
-  Inverse2A = 5, // value * 128^2 / (dist * wait + 128)^2: inverse square without the pole
+  Linear = BT_FORMULA_LINEAR,       // value - dist * wait           (Quake's own, the default)
+  Inverse = BT_FORMULA_INVERSE,     // value * 128 / (dist * wait)
+  Inverse2 = BT_FORMULA_INVERSE2,   // value * 128^2 / (dist * wait)^2
+  Infinite = BT_FORMULA_INFINITE,   // value, at any distance
+  LocalMin = BT_FORMULA_LOCAL_MIN,  // value, at any distance, but as a floor (like worldspawn minlight)
+  Inverse2A = BT_FORMULA_INVERSE2A, // value * 128^2 / (dist * wait + 128)^2: inverse square without the pole
   // Not a `delay` value: one point of an ericw-tools radiosity surface light (_surface with
   // _surface_radiosity 1): value / max(dist, 16)^2, times a half-Lambert term on both the
   // emitting face (`direction` is its normal) and the receiving one.
-  SurfaceRadiosity = 6,
+  SurfaceRadiosity = BT_FORMULA_SURFACE_RADIOSITY,
   // Not a `delay` value either: one ericw-tools bounce light (lighting/bounce.h), a lit face
   // re-emitting its mean direct light: value / max(dist, 128)^2, times the cosine on the emitting
   // face (`direction` is its normal) and on the receiving one (anglescale 1).
-  Bounce = 7,
+  Bounce = BT_FORMULA_BOUNCE,
 };
 
 enum class LightType : uint32_t {
-  Point = 0, // light entity, with a cone when `spotCosOuter > -1`
-  Sun = 1,   // worldspawn _sunlight: parallel light that must reach a sky face
-  Dome = 2,  // worldspawn _sunlight2 (upper) / _sunlight3 (lower): sky-dome light from sky faces
+  Point = BT_LIGHT_POINT, // light entity, with a cone when `spotCosOuter > -1`
+  Sun = BT_LIGHT_SUN,     // worldspawn _sunlight: parallel light that must reach a sky face
+  Dome = BT_LIGHT_DOME,   // worldspawn _sunlight2 (upper) / _sunlight3 (lower): sky-dome light from sky faces
 };
 
 // One light. Values are in Quake light units (the `light` key); colours are 0..1.
@@ -221,28 +223,29 @@ static_assert(offsetof(GpuLight, dirtOffRadius) == 88);
 static_assert(offsetof(GpuLight, dirtOnRadius) == 92);
 static_assert(offsetof(GpuLight, skyMaterial) == 96);
 
-constexpr uint32_t kLightFlagStartOff = 1u;     // spawnflags & 1 on a styled light: dark by default
-constexpr uint32_t kLightFlagBleed = 2u;        // `_bleed`: lights surfaces behind it too
-constexpr uint32_t kLightFlagFromSurface = 4u;  // faithful-only point light: a _surface template's point, or a bounce light
-                                                // (physical mode lights those faces as area emitters instead)
-constexpr uint32_t kLightFlagFaceMinlight = 8u; // per-material _surface template (radiosity kind): in faithful
-                                                // mode its faces get value * faithfulScale * colour as minlight
-constexpr uint32_t kLightFlagDirt = 16u;        // faithful: dimmed by dirt (worldspawn _dirt, or the light's _dirt 1)
-constexpr uint32_t kLightFlagDirtRadius = 32u;  // ... only beyond _dirt_off_radius, fully beyond _dirt_on_radius
+constexpr uint32_t kLightFlagStartOff = BT_LIGHT_FLAG_START_OFF; // spawnflags & 1 on a styled light: dark by default
+constexpr uint32_t kLightFlagBleed = BT_LIGHT_FLAG_BLEED;        // `_bleed`: lights surfaces behind it too
+constexpr uint32_t kLightFlagFromSurface =
+    BT_LIGHT_FLAG_FROM_SURFACE; // faithful-only point light: a _surface template's point, or a bounce light
+                                // (physical mode lights those faces as area emitters instead)
+constexpr uint32_t kLightFlagFaceMinlight = BT_LIGHT_FLAG_FACE_MINLIGHT; // per-material _surface template (radiosity kind): in faithful
+                                                                         // mode its faces get value * faithfulScale * colour as minlight
+constexpr uint32_t kLightFlagDirt = BT_LIGHT_FLAG_DIRT;              // faithful: dimmed by dirt (worldspawn _dirt, or the light's _dirt 1)
+constexpr uint32_t kLightFlagDirtRadius = BT_LIGHT_FLAG_DIRT_RADIUS; // ... only beyond _dirt_off_radius, fully beyond _dirt_on_radius
 
 // Face classes, one uint32 per scene face (RenderScene::faceFlags); the geometry and texture
 // frame of a face are the bvh part's GpuFace (scene/gpu_structs.h).
-constexpr uint32_t kFaceHidden = 1u;    // clip, trigger, skip, hint, origin, common/*: never seen
-constexpr uint32_t kFaceSky = 2u;       // sky*: the environment, and where sunlight comes from
-constexpr uint32_t kFaceLiquid = 4u;    // '*' textures / Q2 liquid contents: unlit unless _litwater
-constexpr uint32_t kFaceNoShadow = 8u;  // faithful mode: does not block light (brush entity without _shadow)
-constexpr uint32_t kFaceEmissive = 16u; // has emissive texels or is a _surface template
+constexpr uint32_t kFaceHidden = BT_FACE_HIDDEN;      // clip, trigger, skip, hint, origin, common/*: never seen
+constexpr uint32_t kFaceSky = BT_FACE_SKY;            // sky*: the environment, and where sunlight comes from
+constexpr uint32_t kFaceLiquid = BT_FACE_LIQUID;      // '*' textures / Q2 liquid contents: unlit unless _litwater
+constexpr uint32_t kFaceNoShadow = BT_FACE_NO_SHADOW; // faithful mode: does not block light (brush entity without _shadow)
+constexpr uint32_t kFaceEmissive = BT_FACE_EMISSIVE;  // has emissive texels or is a _surface template
 // Alpha-tested faces: a point where the base colour's filtered alpha fails the test is a hole
 // for every ray. The test is alpha >= 0.5 ('{' textures, images with alpha, alphaFunc GE128),
 // or with one of the two flags after it Quake 3's alphaFunc GT0 / LT128.
-constexpr uint32_t kFaceMasked = 32u;
-constexpr uint32_t kFaceMaskGt0 = 64u;
-constexpr uint32_t kFaceMaskLt128 = 128u;
+constexpr uint32_t kFaceMasked = BT_FACE_MASKED;
+constexpr uint32_t kFaceMaskGt0 = BT_FACE_MASK_GT0;
+constexpr uint32_t kFaceMaskLt128 = BT_FACE_MASK_LT128;
 
 // Per-material parameters; the images themselves travel as textures.
 struct GpuMaterial {
@@ -384,8 +387,8 @@ struct GpuLuxelSample {
   float faceMinlight[3]{}; // integrator.h faithfulFaceMinlight of the face
   uint32_t flags = 0;      // kLuxelSample* bits
 };
-inline constexpr uint32_t kLuxelSampleOccluded = 1u; // in solid or off the face: the floors only
-inline constexpr uint32_t kLuxelSampleTwoSided = 2u; // a lit liquid, lit from both sides
+inline constexpr uint32_t kLuxelSampleOccluded = BT_LUXEL_SAMPLE_OCCLUDED;  // in solid or off the face: the floors only
+inline constexpr uint32_t kLuxelSampleTwoSided = BT_LUXEL_SAMPLE_TWO_SIDED; // a lit liquid, lit from both sides
 static_assert(sizeof(GpuLuxelSample) == 32);
 static_assert(offsetof(GpuLuxelSample, face) == 12);
 static_assert(offsetof(GpuLuxelSample, faceMinlight) == 16);

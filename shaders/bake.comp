@@ -25,12 +25,12 @@ struct GpuLuxelSample {
   vec3 faceMinlight; // offset 16
   uint flags;        // offset 28
 };                   // 32 bytes
-const uint LUXEL_SAMPLE_OCCLUDED = 1u;  // kLuxelSampleOccluded
-const uint LUXEL_SAMPLE_TWO_SIDED = 2u; // kLuxelSampleTwoSided
+const uint LUXEL_SAMPLE_OCCLUDED = BT_LUXEL_SAMPLE_OCCLUDED;
+const uint LUXEL_SAMPLE_TWO_SIDED = BT_LUXEL_SAMPLE_TWO_SIDED;
 
 // Binding numbers: renderer/gl/gl_structs.h kBindingBake*.
 layout(std430, binding = 11) readonly buffer LuxelSamples { GpuLuxelSample luxelSamples[]; };
-// Per sample, renderer/cpu LuxelSums as 4 vec4: (fixed, occlusion), (localMin, 0), (dome, 0), (soft, 0).
+// Per sample, lighting LuxelSums as 4 vec4: (fixed, occlusion), (localMin, 0), (dome, 0), (soft, 0).
 layout(std430, binding = 12) buffer LuxelSumBuffer { vec4 luxelSums[]; };
 layout(std430, binding = 13) readonly buffer SkyDome { vec4 skyDome[]; }; // faithful.h skyDomeDirections
 layout(std430, binding = 15) buffer Lightmaps { uint lightmapData[]; };   // scene/gpu_structs.h layout
@@ -59,7 +59,7 @@ bool softLight(GpuLight light) { return (light.type == LIGHT_POINT || light.type
 // per kind of ray multiplied its compile time (bench/README.md). Kinds of query, as renderer/cpu:
 const uint QUERY_SHADOW = 0u; // occluded(): 1 when no face that blocks light lies before tMax, else 0
 const uint QUERY_SKY = 1u;    // reachesSky() with a sun's _suntexture (skyMaterial: material + 1, 0 any): 1 or 0
-const uint QUERY_DIRT = 2u;   // dirtRayDistance(): how far the ray gets, at most tMax
+const uint QUERY_DIRT = 2u;   // blockedDistance(): how far the ray gets, at most tMax
 
 float query(uint kind, vec3 origin, vec3 dir, float tMax, uint skyMaterial) {
   if (kind == QUERY_SHADOW)
@@ -79,7 +79,7 @@ float query(uint kind, vec3 origin, vec3 dir, float tMax, uint skyMaterial) {
   return kind == QUERY_SKY ? 0.0 : lastT;
 }
 
-// Where a light's share goes (renderer/cpu LuxelSums).
+// Where a light's share goes (lighting LuxelSums).
 const uint TO_FIXED = 0u, TO_LOCAL_MIN = 1u, TO_DOME = 2u, TO_SOFT = 3u, TO_DIRT = 4u;
 
 // One item of a pass: a ray, and what its answer adds where.
@@ -93,7 +93,7 @@ struct Item {
   uint target;
 };
 
-// renderer/cpu addFaithfulLight and domeSunLight up to their ray, in `pass` (the passes split the
+// lighting addFaithfulLight and domeSunLight up to their ray, in `pass` (the passes split the
 // lights as faithfulLuxelPass does).
 Item lightItem(GpuLight light, vec3 p, vec3 normal, bool twoSided, float occlusion, inout Rng rng) {
   Item it = Item(false, QUERY_SHADOW, vec3(0.0), vec3(0.0), 0.0, 0u, vec3(0.0), TO_FIXED);
@@ -138,7 +138,7 @@ Item lightItem(GpuLight light, vec3 p, vec3 normal, bool twoSided, float occlusi
   return it;
 }
 
-// renderer/cpu faithfulLuxelPass for sample `index`, passes firstPass .. + passCount: pass 0's
+// lighting faithfulLuxelPass for sample `index`, passes firstPass .. + passCount: pass 0's
 // dirt rays, then the lights, one item at a time through the one query.
 void runPasses(uint index) {
   GpuLuxelSample s = luxelSamples[index];
@@ -194,7 +194,7 @@ void runPasses(uint index) {
   luxelSums[4u * index + 3u] = vec4(soft, 0.0);
 }
 
-// renderer/cpu applyFloors.
+// lighting applyFloors.
 vec3 applyFloors(vec3 sum, vec3 localMin, vec3 faceMinlight, float occlusion) {
   float minlightDirt = 1.0;
 #ifdef BT_FAITHFUL_DIRT
@@ -203,7 +203,7 @@ vec3 applyFloors(vec3 sum, vec3 localMin, vec3 faceMinlight, float occlusion) {
   return max(max(sum, localMin), max(world.minlight, faceMinlight) * minlightDirt);
 }
 
-// renderer/cpu faithfulLuxelLight of sample `index` after passesDone passes.
+// lighting faithfulLuxelLight of sample `index` after passesDone passes.
 vec3 sampleLight(uint index) {
   GpuLuxelSample s = luxelSamples[index];
   if ((s.flags & LUXEL_SAMPLE_OCCLUDED) != 0u) return applyFloors(vec3(0.0), vec3(0.0), s.faceMinlight, 0.0);

@@ -1,6 +1,7 @@
 // Physical mode's materials (renderer/cpu's GGX + diffuse BSDF): evaluation, sampling and the
 // normal-map horizon fix. Needs sampling.glsl.
 
+#include "light_constants.glsl"
 struct Bsdf {
   vec3 albedo;
   float roughness;
@@ -9,7 +10,7 @@ struct Bsdf {
   vec3 n; // shading normal: the face's, or its normal map's (physicalSurface)
 };
 
-const float SPECULAR_LOBE_PROBABILITY = 0.5;
+const float SPECULAR_LOBE_PROBABILITY = BT_SPECULAR_LOBE_PROBABILITY;
 
 float ggxD(float noh, float alpha) {
   float a2 = alpha * alpha;
@@ -60,7 +61,7 @@ vec3 bsdfSample(Bsdf b, vec3 wo, inout Rng rng) {
 // A normal map's shading normal made usable for wo (renderer/cpu keepAboveHorizon, Iray's fix):
 // where wo's mirror direction about ns comes within HORIZON_MARGIN of the face or below, it is
 // lifted to that height and ns becomes the half vector of wo and the lifted direction.
-const float HORIZON_MARGIN = 0.01;
+const float HORIZON_MARGIN = BT_HORIZON_MARGIN;
 
 vec3 keepAboveHorizon(vec3 ns, vec3 ng, vec3 wo) {
   vec3 mirror = 2.0 * dot(ns, wo) * ns - wo;

@@ -1,13 +1,14 @@
 // lighting/faithful.h in GLSL: what ericw-tools `light` computes for one light at one
 // point (ltface.cc GetLightValue / GetLightValueWithAngle). Light units, Quake units.
 
-const float FORMULA_SCALE = 128.0;  // ericw-tools LF_SCALE
-const float OVERBRIGHT_ONE = 128.0; // the engine maps lightmap 128 to the texture's colour
+#include "light_constants.glsl"
+const float FORMULA_SCALE = BT_FORMULA_SCALE;
+const float OVERBRIGHT_ONE = BT_OVERBRIGHT_ONE;
 
-const float SURFACE_HOTSPOT_CLAMP = 16.0; // radiosity surface lights: ltface.cc's hotspot clamp
-const float BOUNCE_HOTSPOT_CLAMP = 128.0; // bounce lights: IndirectLightFace's hotspot clamp
-const float BOUNCE_GATE = 0.01;           // a bounce light's share below this in every channel is dropped
-const uint BOUNCE_SHADOW_RAYS = 16u;      // renderer/cpu/integrator.h kBounceShadowRays
+const float SURFACE_HOTSPOT_CLAMP = BT_SURFACE_HOTSPOT_CLAMP;
+const float BOUNCE_HOTSPOT_CLAMP = BT_BOUNCE_HOTSPOT_CLAMP;
+const float BOUNCE_GATE = BT_BOUNCE_GATE;
+const uint BOUNCE_SHADOW_RAYS = BT_BOUNCE_SHADOW_RAYS;
 
 // Programs for a level without _deviance (renderer/gl FaithfulFeatures) compile without it.
 #if defined(BT_LIGHTING_PHYSICAL) || defined(BT_FAITHFUL_JITTER)
@@ -17,7 +18,7 @@ const bool JITTERED_LIGHTS = false;
 #endif
 
 // One of ericw-tools' `_samples` jittered copies of a point light: uniform in the cube of
-// half-size `_deviance` (renderer/cpu/integrator.cpp jitteredOrigin). Needs sampling.glsl.
+// half-size `_deviance` (lighting/faithful_light.h jitteredOrigin). Needs sampling.glsl.
 vec3 jitteredOrigin(GpuLight light, inout Rng rng) {
   if (!JITTERED_LIGHTS || light.deviance <= 0.0) return light.origin;
   vec3 u = vec3(rngNext(rng), rngNext(rng), rngNext(rng));
@@ -25,7 +26,7 @@ vec3 jitteredOrigin(GpuLight light, inout Rng rng) {
 }
 
 // The normal the surface turns to light from `toLight`: a lit liquid is lit from both sides
-// (renderer/cpu facingNormal).
+// (lighting facingNormal).
 vec3 facingNormal(vec3 n, vec3 toLight, bool twoSided) { return twoSided && dot(n, toLight) < 0.0 ? -n : n; }
 
 float copyDistanceValue(GpuLight light, float dist, float scaledist) {
@@ -109,10 +110,10 @@ float sunValue(GpuLight sun, vec3 direction, vec3 normal) {
 #ifdef BT_FAITHFUL_DIRT
 // Dirt (lighting/faithful.h): ericw-tools' ambient occlusion, in programs built for a level
 // that uses it.
-const int DIRT_AZIMUTH_STEPS = 16;
-const int DIRT_ELEVATION_STEPS = 3;
+const int DIRT_AZIMUTH_STEPS = BT_DIRT_AZIMUTH_STEPS;
+const int DIRT_ELEVATION_STEPS = BT_DIRT_ELEVATION_STEPS;
 const int DIRT_RAYS = DIRT_AZIMUTH_STEPS * DIRT_ELEVATION_STEPS;
-const float DIRT_SAMPLE_LIFT = 1.0; // the compiler's sample points sit 1 unit off the face
+const float DIRT_SAMPLE_LIFT = BT_DIRT_SAMPLE_LIFT;
 
 vec3 dirtPatternVector(int index, float coneRadians) {
   float azimuth = float(index / DIRT_ELEVATION_STEPS) * (2.0 * 3.14159265358979 / float(DIRT_AZIMUTH_STEPS));

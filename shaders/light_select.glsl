@@ -6,6 +6,7 @@
 // does not care how the caller traces its shadow rays.
 
 // scene/gpu_structs.h GpuLightGrid, byte for byte.
+#include "light_constants.glsl"
 struct GpuLightGrid {
   vec3 origin;        // offset 0: min corner of cell (0, 0, 0)
   float cellSize;     // offset 12
@@ -28,7 +29,7 @@ layout(std430, binding = 9) readonly buffer LightGridBuffer {
 };
 layout(std430, binding = 10) readonly buffer LightIndices { uint lightIndices[]; }; // into lights[]
 
-// renderer/cpu lightGridCell: the cell holding p, clamped to the grid (NaN to cell 0).
+// lighting lightGridCell: the cell holding p, clamped to the grid (NaN to cell 0).
 uint lightGridAxis(float coordinate, float origin, uint dim) {
   float f = (coordinate - origin) / lightGrid.cellSize;
   if (!(f >= 0.0)) return 0u;
@@ -42,7 +43,7 @@ uint lightGridCell(vec3 p) {
          d.x * (lightGridAxis(p.y, lightGrid.origin.y, d.y) + d.y * lightGridAxis(p.z, lightGrid.origin.z, d.z));
 }
 
-// Faithful mode's lights at a point of `cell`, in the CPU's order (faithfulLightFromGrid): the
+// Faithful mode's lights at a point of `cell`, in the CPU's order (LightSet::Grid): the
 // fixed lights, the infinite-reach lights, then the cell's own list.
 uint faithfulLightCount(uint cell) { return lightGrid.fixedCount + lightGrid.globalCount + lightCells[cell].count; }
 
@@ -64,7 +65,7 @@ float selectionWeight(GpuLight light, vec3 origin, vec3 n) {
   return (light.color.x + light.color.y + light.color.z) * light.value * spotTerm(light, wi) * cosSurface / dist2;
 }
 
-const float NEAR_LIST_PROBABILITY = 0.9; // integrator.cpp kNearListProbability
+const float NEAR_LIST_PROBABILITY = BT_NEAR_LIST_PROBABILITY;
 
 // Physical mode (integrator.cpp allLightsSelected): one point light, from the cell's near list
 // by weight with probability NEAR_LIST_PROBABILITY, else uniformly from the physical list.

@@ -58,12 +58,12 @@
 #define PATH_FIELDS_DIRT(X) \
   X(int, dirtRay, KEPT_FAITHFUL, LOAD_UNSET) /* rays set up so far */ \
   X(float, dirtSum, KEPT_FAITHFUL, LOAD_UNSET) /* their distances, each at most _dirtdepth */ \
-  X(float, occlusion, KEPT_FAITHFUL, LOAD_UNSET) /* 0 open .. 1 enclosed, once all are back (renderer/cpu faithfulDirtOcclusion) */
+  X(float, occlusion, KEPT_FAITHFUL, LOAD_UNSET) /* 0 open .. 1 enclosed, once all are back (lighting faithfulDirtOcclusion) */
 #else
 #define PATH_FIELDS_DIRT(X)
 #endif
 
-// Faithful mode: the lights at this surface, and over the path (renderer/cpu faithfulLightAt,
+// Faithful mode: the lights at this surface, and over the path (lighting/ faithfulLight (LightSet::All),
 // faithfulPathEnd, radianceFaithful). Physical mode (renderer/cpu radiancePhysical). The sample.
 #define PATH_FIELDS_LIGHT(X) \
   X(vec3, lightSum, KEPT_FAITHFUL, LOAD_UNSET) \

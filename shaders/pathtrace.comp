@@ -52,8 +52,8 @@ const bool SKY_RAYS = false;
 #endif
 
 // Physical-mode scale from Quake light units (renderer/cpu/integrator.h).
-const float PHYSICAL_POINT_SCALE = PI * 128.0;
-const float PHYSICAL_SUN_SCALE = PI / 128.0;
+const float PHYSICAL_POINT_SCALE = PI * BT_PHYSICAL_LIGHT_UNIT;
+const float PHYSICAL_SUN_SCALE = PI / BT_PHYSICAL_LIGHT_UNIT;
 
 vec2 textureUv(uint face, vec3 p) { return faceUv(faces[face], materials[faces[face].material], p); }
 vec4 baseColorAt(uint face, vec3 p) { return materialBaseColor(materials[faces[face].material], textureUv(face, p)); }
@@ -96,10 +96,10 @@ vec3 skyDomeRadiance(vec3 dir) {
 
 // ---- the path ----------------------------------------------------------------------------
 
-const uint RAY_SURFACE = 0u; // camera or bounce ray: the next surface drawn (renderer/cpu traceVisible)
+const uint RAY_SURFACE = 0u; // camera or bounce ray: the next surface drawn (lighting traceVisible)
 const uint RAY_SHADOW = 1u;  // to a light: is the segment blocked (occluded), any hit
 const uint RAY_SKY = 2u;     // to the sun or the sky dome: does it reach a sky face (reachesSky)
-const uint RAY_DIRT = 3u;    // faithful dirt: how far it gets before a face that blocks light (dirtRayDistance)
+const uint RAY_DIRT = 3u;    // faithful dirt: how far it gets before a face that blocks light (blockedDistance)
 
 // What the CPU's recursion keeps on its stack; path_fields.glsl lists the fields.
 #include "path_fields.glsl"
@@ -138,7 +138,7 @@ float minlightDirtFactor(Path path) {
 }
 
 #ifdef BT_FAITHFUL_DIRT
-// The surface's next occlusion ray (renderer/cpu faithfulOcclusion): the fixed pattern, or for
+// The surface's next occlusion ray (lighting faithfulOcclusion): the fixed pattern, or for
 // _dirtmode 1 a random direction of the cone, from 1 unit off the face.
 void faithfulDirtRay(inout Path path, inout Rng rng) {
   vec3 v;
@@ -155,7 +155,7 @@ void faithfulDirtRay(inout Path path, inout Rng rng) {
 #endif
 
 
-// One light of renderer/cpu faithfulLightFromGrid at the current surface: false if it adds nothing
+// One light of lighting/faithful_light.h LightSet::Grid at the current surface: false if it adds nothing
 // here, else the ray that decides whether it does.
 bool faithfulLightRay(inout Path path, GpuLight light, inout Rng rng) {
   vec3 p = path.position;
@@ -207,7 +207,7 @@ bool faithfulLightRay(inout Path path, GpuLight light, inout Rng rng) {
 // light has its own ray below, as the CPU gives each then too.
 const uint NO_BOUNCE_DRAW = 0xffffffffu;
 
-// A bounce light's unshadowed share at the current surface (renderer/cpu bounceShare): the gate
+// A bounce light's unshadowed share at the current surface (lighting bounceShare): the gate
 // applied, dirt not (it comes after the draw); weight, its brightest channel, 0 where it adds
 // nothing; n, the side of the surface it lights.
 struct BounceShare {
@@ -217,7 +217,7 @@ struct BounceShare {
   vec3 n;
 };
 
-// renderer/cpu clearlyUnlit: behind the light's face, or the light behind a one-sided surface, at
+// lighting clearlyUnlit: behind the light's face, or the light behind a one-sided surface, at
 // a cosine above 1e-4 (pointLightValue gives 0 there too), without a square root.
 bool clearlyUnlit(GpuLight light, vec3 n, bool twoSided, vec3 d) {
   const float COS2 = 1e-8;
@@ -262,7 +262,7 @@ void startBounceDraw(inout Path path, uint cell, uint first, uint count, inout R
   if (path.bounceLast != NO_BOUNCE_DRAW) path.bounceTarget = rngNext(rng) / float(BOUNCE_SHADOW_RAYS) * path.bounceTotal;
 }
 
-// The second sweep (renderer/cpu sampledBounceSum), from list position i on, to the next bounce
+// The second sweep (lighting sampledBounceSum), from list position i on, to the next bounce
 // light a target falls on: the targets on its share, one drawn per stratum, and one shadow ray
 // for them all; false (the list done) when every target is placed.
 bool faithfulBounceRay(inout Path path, uint cell, uint i, uint count, inout Rng rng) {
@@ -295,7 +295,7 @@ bool faithfulBounceRay(inout Path path, uint cell, uint i, uint count, inout Rng
 }
 
 // Light i of the faithful lists (light_select.glsl faithfulLight) at the current surface, in
-// renderer/cpu faithfulLightSampled's way: its own ray, except the cell's bounce lights (last in
+// lighting/faithful_light.h LightSet::GridSampledBounce's way: its own ray, except the cell's bounce lights (last in
 // its list) where there are more than BOUNCE_SHADOW_RAYS: those are drawn among.
 bool faithfulListedLightRay(inout Path path, uint cell, uint i, uint count, inout Rng rng) {
   if (i < path.bounceFirst) {
@@ -361,7 +361,7 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
 // (main() calls this where physical mode samples its next bounce).
 bool faithfulPathEnd(inout Path path, inout Rng rng) {
   vec3 light = max(max(path.lightSum, path.lightFloor), world.minlight * minlightDirtFactor(path));
-  // The _surface template's own faces: ericw-tools' face minlight (renderer/cpu faithfulFaceMinlight).
+  // The _surface template's own faces: ericw-tools' face minlight (lighting faithfulFaceMinlight).
   path.lit = max(light, surfaceFaceMinlight(surfaceLights[faces[path.face].material]) * minlightDirtFactor(path));
   path.radiance = faithfulDisplay(path);
   return false;
@@ -506,7 +506,7 @@ bool physicalBounce(inout Path path, inout Rng rng) {
 
 // The next light of the current surface that needs a ray, set up in `path`; false when none is
 // left. The lights come from the light grid (light_select.glsl), in renderer/cpu's order:
-//   faithful: the fixed, global and cell lists (faithfulLightSampled; _surface lights are
+//   faithful: the fixed, global and cell lists (LightSet::GridSampledBounce; _surface lights are
 //             point lights in them), a cell's many bounce lights drawn among (faithfulListedLightRay);
 //   physical: the fixed list's suns, one selected point light (allLightsSelected), then one
 //             emitter sample.

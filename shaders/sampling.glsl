@@ -1,6 +1,7 @@
 // lighting/sampling.h in GLSL: the same PCG streams, so a pixel's sample n draws the same
 // numbers on both tracers.
-const float PI = 3.14159265358979;
+#include "light_constants.glsl"
+const float PI = BT_PI;
 
 uint pcgHash(uint v) {
   uint state = v * 747796405u + 2891336453u;

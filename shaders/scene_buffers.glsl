@@ -21,7 +21,7 @@ layout(std430, binding = 5) readonly buffer SurfaceLights { GpuLight surfaceLigh
 layout(std430, binding = 6) readonly buffer Emitters { GpuEmitter emitters[]; };
 layout(std430, binding = 8) readonly buffer FaceFlags { uint faceFlags[]; }; // per face: FACE_* (RenderScene::faceFlags)
 
-// Worldspawn lighting (renderer/cpu WorldLighting) and the integrator settings.
+// Worldspawn lighting (lighting WorldLighting) and the integrator settings.
 layout(std140, binding = 1) uniform World {
   vec3 minlight;      // light units
   float range;        // _range
@@ -34,7 +34,7 @@ layout(std140, binding = 1) uniform World {
   float emitterArea;
   uint physical;      // 0 faithful, 1 physical (pathtrace.comp: BT_LIGHTING_PHYSICAL decides)
   int bounces;        // physical: --bounces
-  // Faithful dirt (renderer/cpu DirtSettings), read with BT_FAITHFUL_DIRT only.
+  // Faithful dirt (lighting DirtSettings), read with BT_FAITHFUL_DIRT only.
   uint dirtMode;      // 0: the fixed 48-ray pattern, 1: random rays in the cone
   float dirtDepth;    // _dirtdepth
   float dirtAngle;    // _dirtangle, radians

@@ -25,6 +25,7 @@
 // One brush side, faces[i] = Scene::faces[i]: plane.xyz the outward normal, plane.w the
 // distance (dot(normal, p) == dist on it); texture frame s = dot(p - origin, tangent),
 // t = dot(p - origin, bitangent), in texels.
+#include "scene_constants.glsl"
 struct GpuFace {
   vec4 plane;       // offset 0
   vec3 origin;      // offset 16
@@ -36,19 +37,19 @@ struct GpuFace {
 };                  // 64 bytes
 
 // faceFlags[] (RenderScene::faceFlags): the face classes of scene/gpu_structs.h kFace*.
-const uint FACE_HIDDEN = 1u;    // clip, trigger, skip, hint, origin, common/*: never seen
-const uint FACE_SKY = 2u;       // sky*: the environment, and where sunlight comes from
-const uint FACE_LIQUID = 4u;    // '*' textures: unlit unless _litwater
-const uint FACE_NO_SHADOW = 8u; // faithful mode: does not block light
-const uint FACE_EMISSIVE = 16u; // emissive texels or a _surface template
-const uint FACE_MASKED = 32u;   // alpha-tested: a hole where alpha < 0.5 (scene/gpu_structs.h kFaceMasked)
-const uint FACE_MASK_GT0 = 64u;   // ... or where alpha is 0 (Quake 3 alphaFunc GT0)
-const uint FACE_MASK_LT128 = 128u; // ... or where alpha >= 0.5 (alphaFunc LT128)
+const uint FACE_HIDDEN = BT_FACE_HIDDEN;
+const uint FACE_SKY = BT_FACE_SKY;
+const uint FACE_LIQUID = BT_FACE_LIQUID;
+const uint FACE_NO_SHADOW = BT_FACE_NO_SHADOW;
+const uint FACE_EMISSIVE = BT_FACE_EMISSIVE;
+const uint FACE_MASKED = BT_FACE_MASKED;
+const uint FACE_MASK_GT0 = BT_FACE_MASK_GT0;
+const uint FACE_MASK_LT128 = BT_FACE_MASK_LT128;
 
-const uint MATERIAL_HAS_BASE = 1u;
-const uint MATERIAL_HAS_NORMAL = 2u;
-const uint MATERIAL_HAS_EMISSIVE = 4u; // an emissive map with lit texels (renderer/cpu kMaterialEmissive)
-const uint MATERIAL_SPECULAR = 8u;     // a PBR set: GGX + diffuse (renderer/cpu kMaterialSpecular)
+const uint MATERIAL_HAS_BASE = BT_GL_MATERIAL_HAS_BASE;
+const uint MATERIAL_HAS_NORMAL = BT_GL_MATERIAL_HAS_NORMAL;
+const uint MATERIAL_HAS_EMISSIVE = BT_GL_MATERIAL_HAS_EMISSIVE;
+const uint MATERIAL_SPECULAR = BT_GL_MATERIAL_GGX;
 
 // Texture references for both paths (bindless handles, or (array, layer) in the texture
 // arrays) and the shading parameters of renderer/cpu's GpuMaterial.
@@ -73,22 +74,22 @@ struct GlMaterial {
 };                      // 96 bytes
 
 // scene/gpu_structs.h GpuLight, byte for byte (Quake light units, colours 0..1).
-const uint LIGHT_POINT = 0u;
-const uint LIGHT_SUN = 1u;
-const uint LIGHT_DOME = 2u;
-const uint FORMULA_LINEAR = 0u;
-const uint FORMULA_INVERSE = 1u;
-const uint FORMULA_INVERSE2 = 2u;
-const uint FORMULA_INFINITE = 3u;
-const uint FORMULA_LOCAL_MIN = 4u;
-const uint FORMULA_INVERSE2A = 5u;
-const uint FORMULA_SURFACE_RADIOSITY = 6u;
-const uint FORMULA_BOUNCE = 7u; // an ericw-tools bounce light (lighting/bounce.h)
-const uint LIGHT_FLAG_BLEED = 2u;
-const uint LIGHT_FLAG_FROM_SURFACE = 4u;
-const uint LIGHT_FLAG_FACE_MINLIGHT = 8u;
-const uint LIGHT_FLAG_DIRT = 16u;
-const uint LIGHT_FLAG_DIRT_RADIUS = 32u;
+const uint LIGHT_POINT = BT_LIGHT_POINT;
+const uint LIGHT_SUN = BT_LIGHT_SUN;
+const uint LIGHT_DOME = BT_LIGHT_DOME;
+const uint FORMULA_LINEAR = BT_FORMULA_LINEAR;
+const uint FORMULA_INVERSE = BT_FORMULA_INVERSE;
+const uint FORMULA_INVERSE2 = BT_FORMULA_INVERSE2;
+const uint FORMULA_INFINITE = BT_FORMULA_INFINITE;
+const uint FORMULA_LOCAL_MIN = BT_FORMULA_LOCAL_MIN;
+const uint FORMULA_INVERSE2A = BT_FORMULA_INVERSE2A;
+const uint FORMULA_SURFACE_RADIOSITY = BT_FORMULA_SURFACE_RADIOSITY;
+const uint FORMULA_BOUNCE = BT_FORMULA_BOUNCE; // an ericw-tools bounce light (lighting/bounce.h)
+const uint LIGHT_FLAG_BLEED = BT_LIGHT_FLAG_BLEED;
+const uint LIGHT_FLAG_FROM_SURFACE = BT_LIGHT_FLAG_FROM_SURFACE;
+const uint LIGHT_FLAG_FACE_MINLIGHT = BT_LIGHT_FLAG_FACE_MINLIGHT;
+const uint LIGHT_FLAG_DIRT = BT_LIGHT_FLAG_DIRT;
+const uint LIGHT_FLAG_DIRT_RADIUS = BT_LIGHT_FLAG_DIRT_RADIUS;
 
 struct GpuLight {
   vec3 origin;     // offset 0

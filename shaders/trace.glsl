@@ -15,6 +15,7 @@
 // Needs scene_buffers.glsl. BT_BVH_MAX_DEPTH is scene/gpu_structs.h's kBvhMaxDepth, defined by
 // the program (renderer/gl) and by the build's glslangValidator run alike.
 
+#include "scene_constants.glsl"
 #ifndef BT_BVH_MAX_DEPTH
 #error "BT_BVH_MAX_DEPTH (scene/gpu_structs.h kBvhMaxDepth) must be defined"
 #endif
@@ -22,7 +23,7 @@
 #error "BT_TRIANGLE_EDGE_EPSILON_INVERSE (scene/gpu_structs.h kTriangleEdgeEpsilonInverse) must be defined"
 #endif
 
-const uint NO_FACE = 0xffffffffu;
+const uint NO_FACE = BT_NO_FACE;
 // FLT_MAX stands in for the CPU's infinity: every t of a real ray is far below it (directions
 // are flushed below 2^-100, coordinates are Quake's), and GPU compilers may assume that no
 // value is infinite (NVIDIA's does).
@@ -97,8 +98,8 @@ Slab intersectBox(TraceRay r, vec3 boxMin, vec3 boxMax) {
 // A child reference is a GlBvhNode index, or a leaf (LEAF_REF set: brushes first .. first +
 // count), or NO_CHILD (0: node 0 is the root, nobody's child) on the root of a scene with fewer
 // than two leaves.
-const uint NO_CHILD = 0u;
-const uint LEAF_REF = 0x80000000u;
+const uint NO_CHILD = BT_GL_NO_CHILD;
+const uint LEAF_REF = BT_GL_LEAF_REF;
 uint leafFirst(uint ref) { return ref & 0x00ffffffu; }
 uint leafCount(uint ref) { return (ref >> 24) & 0x7fu; }
 
@@ -313,7 +314,7 @@ void pushNode(inout NodeStack s, uint node) { traversalStack[s.size++] = node; }
 uint popNode(inout NodeStack s) { return traversalStack[--s.size]; }
 #endif
 
-// Alpha-tested faces (renderer/cpu passesThrough): a hole for every ray where the base colour's
+// Alpha-tested faces (lighting passesThrough): a hole for every ray where the base colour's
 // filtered alpha fails the face's test. Programs without textures.glsl (raybench) test nothing.
 bool maskedOut(uint face, vec3 p) {
 #ifdef BT_ALPHA_TEST

@@ -29,7 +29,7 @@ SurfaceHit traceVisible(vec3 origin, vec3 dir) {
   return SurfaceHit(false, 0.0, NO_FACE, vec3(0.0), vec3(0.0));
 }
 
-// The face classes light passes through (renderer/cpu blocksLight): hidden faces and liquids,
+// The face classes light passes through (lighting blocksLight): hidden faces and liquids,
 // and in faithful mode brush entities without _shadow.
 uint lightPassFlags(bool physical) { return FACE_HIDDEN | FACE_LIQUID | (physical ? 0u : FACE_NO_SHADOW); }
 bool blocksLight(uint flags, bool physical) { return (flags & lightPassFlags(physical)) == 0u; }

@@ -80,7 +80,7 @@ glm::vec3 normalMapToWorld(const glm::vec3& local, const glm::vec3& s, const glm
 // about ns comes within kHorizonMargin of the face's plane or below, it is lifted to that
 // height and ns becomes the half vector of wo and the lifted direction. ns then faces wo, stays
 // in front of the face, and is left unchanged wherever the map tilts it reasonably.
-constexpr float kHorizonMargin = 0.01f;
+constexpr float kHorizonMargin = BT_HORIZON_MARGIN;
 
 glm::vec3 keepAboveHorizon(const glm::vec3& ns, const glm::vec3& ng, const glm::vec3& wo) {
   const glm::vec3 mirror = 2.0f * glm::dot(ns, wo) * ns - wo;
@@ -165,7 +165,7 @@ float smithG1(float nov, float alpha) {
   const float a2 = alpha * alpha;
   return 2.0f * nov / (nov + std::sqrt(a2 + (1.0f - a2) * nov * nov));
 }
-constexpr float kSpecularLobeProbability = 0.5f;
+constexpr float kSpecularLobeProbability = BT_SPECULAR_LOBE_PROBABILITY;
 
 // ng: the face's own normal. Light from behind the face cannot reach the front, even where a
 // normal map turns the shading normal towards it.
@@ -276,7 +276,7 @@ glm::vec3 allLightsExhaustive(const RenderScene& rs, const Bsdf& bsdf, const glm
 
 // Light selection's probability of the near list (the rest goes to a uniform pick over every
 // physical light, so that a light missing from the near list can still be picked: unbiased).
-constexpr float kNearListProbability = 0.9f;
+constexpr float kNearListProbability = BT_NEAR_LIST_PROBABILITY;
 
 // Suns one by one (there are at most a few), then ONE point light, divided by the probability
 // of picking it: an unbiased estimate of the sum over all of them with one shadow ray instead

@@ -30,7 +30,7 @@ glm::vec3 radiance(const RenderScene& rs, const IntegratorSettings& settings, co
 // V * kPhysicalPointScale * _range, a sun of value V gives irradiance V * kPhysicalSunScale *
 // _range. Chosen so that a white surface head-on to a delay-2 light (or a sun, anglescale 0)
 // shows the same brightness in both modes.
-inline constexpr float kPhysicalPointScale = kPi * 128.0f;
-inline constexpr float kPhysicalSunScale = kPi / 128.0f;
+inline constexpr float kPhysicalPointScale = kPi * BT_PHYSICAL_LIGHT_UNIT;
+inline constexpr float kPhysicalSunScale = kPi / BT_PHYSICAL_LIGHT_UNIT;
 
 } // namespace bt

@@ -64,8 +64,8 @@ enum Binding : uint32_t {
 // and the triangles follow the brushes in the brush buffer, 3 rows (texels) each. The root's
 // pads say where: node 0's pad0 is the triangle tree's root node (kGlNoChild: no triangles),
 // its pad1 the brush-buffer row of the first triangle (shaders/trace.glsl traceRay).
-inline constexpr uint32_t kGlNoChild = 0;
-inline constexpr uint32_t kGlLeafRef = 0x80000000u;
+inline constexpr uint32_t kGlNoChild = BT_GL_NO_CHILD;
+inline constexpr uint32_t kGlLeafRef = BT_GL_LEAF_REF;
 inline constexpr uint32_t kGlLeafMaxCount = 127;
 inline constexpr uint32_t kGlLeafMaxFirst = (1u << 24) - 1;
 struct GlBvhNode {
@@ -101,10 +101,10 @@ static_assert(offsetof(GpuFace, plane) == 0);
 // GlMaterial::flags. Not the bits of bt::GpuMaterial::flags (scene/gpu_structs.h: the CPU
 // reference's shading parameters, never uploaded); lightingFor() (gl_lighting.cpp) translates.
 enum MaterialFlags : uint32_t {
-  kMaterialHasBase = 1,
-  kMaterialHasNormal = 2,
-  kMaterialHasEmissive = 4, // scene/gpu_structs.h kMaterialEmissive
-  kMaterialGgx = 8,         // scene/gpu_structs.h kMaterialSpecular
+  kMaterialHasBase = BT_GL_MATERIAL_HAS_BASE,
+  kMaterialHasNormal = BT_GL_MATERIAL_HAS_NORMAL,
+  kMaterialHasEmissive = BT_GL_MATERIAL_HAS_EMISSIVE, // scene/gpu_structs.h kMaterialEmissive
+  kMaterialGgx = BT_GL_MATERIAL_GGX,                  // scene/gpu_structs.h kMaterialSpecular
 };
 
 // A material as the shaders read it (shaders/structs.glsl GlMaterial): its textures on either

@@ -362,7 +362,7 @@ TEST(GlCpuParity, FaithfulBounceAgreesWithTheCpuReference) {
 }
 
 // More bounce lights than kBounceShadowRays in a cell: both tracers draw among them by their
-// share at the hit (renderer/cpu faithfulLightSampled, pathtrace.comp faithfulBounceRay) with the
+// share at the hit (lighting/faithful_light.h LightSet::GridSampledBounce, pathtrace.comp faithfulBounceRay) with the
 // same numbers, so they draw the same lights. The many-lights room with `_bounce 1` (about 250
 // bounce lights a cell), plain and with dirt (which dims each drawn light). The draw's noise moves
 // most pixels of the CPU's own image by more than the agreement asked here, checked first: a GL

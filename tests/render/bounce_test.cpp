@@ -375,7 +375,7 @@ TEST(FaithfulBounceBudget, DiagnosticsNoteOnlyWhenEstimated) {
   EXPECT_NE(note->message.find(" luxels per pass"), std::string::npos) << note->message;
 }
 
-// --- A shown point draws among its cell's bounce lights (integrator.h faithfulLightSampled) ---
+// --- A shown point draws among its cell's bounce lights (faithful_light.h LightSet::GridSampledBounce) ---
 
 // The many-lights room with `_bounce 1`: its compiled faces bounce through hundreds of lights,
 // and most cells list more than kBounceShadowRays of them.
@@ -420,7 +420,7 @@ template <class Draw> MeanAndError meanOf(int n, const Draw& draw) {
 }
 
 // At points whose cell lists about 250 bounce lights: at most kBounceShadowRays shadow rays go to
-// them, and over many draws the estimate's mean is the exact sum (faithfulLightFromGrid, every
+// them, and over many draws the estimate's mean is the exact sum (LightSet::Grid, every
 // light shadow-tested; the room has no soft lights, so that is one number) within its Monte
 // Carlo error. Measured: |z| <= 2.5 at all 24 points, one draw's spread 0.4-5 % of the sum.
 TEST(FaithfulBounceDraw, FewShadowRaysAndTheExactSumOnAverage) {

@@ -96,7 +96,7 @@ struct LitFace {
   FaceLuxels luxels;
   size_t lightOffset = 0;
   glm::vec3 faceMinlight{0.0f};
-  bool twoSided = false; // a lit liquid (faithfulLightAt)
+  bool twoSided = false; // a lit liquid (FaithfulQuery::twoSided)
 };
 
 // Which luxels of each lit face are compared: all of them, or (for a level too large to evaluate
@@ -137,7 +137,7 @@ std::vector<int> faithfulLuxels(const RenderScene& rs, const LitFace& face, Luxe
 }
 
 // Faithful light at every luxel of every lit world face, against the compiler's. The light sum
-// comes from the light grid's lists (faithfulLightFromGrid, what the renderer evaluates; equal to
+// comes from the light grid's lists (LightSet::Grid, what the renderer evaluates; equal to
 // the every-light loop for lights without soft shadows, tests/render/light_selection_test.cpp),
 // and faces are shared among threads: lqdm5 has 2598 lights and 939 584 luxels.
 OracleResult compareWithCompiler(const std::filesystem::path& bspPath, const std::filesystem::path& mapPath, Luxels which) {

@@ -1,0 +1,26 @@
+// The light models' numbers, one source for both tracers: lighting/faithful.h, lighting/sampling.h
+// and renderer/cpu/integrator.h include this file as C++, shaders/*.glsl as GLSL. Hence only
+// #defines of literals (floats with the f suffix), which both languages read alike.
+#ifndef BT_LIGHT_CONSTANTS
+#define BT_LIGHT_CONSTANTS
+
+#define BT_PI 3.14159265358979f
+
+// ericw-tools `light` (faithful mode).
+#define BT_FORMULA_SCALE 128.0f          // LF_SCALE: distances in the formulas are over 128 units
+#define BT_OVERBRIGHT_ONE 128.0f         // the engine shows lightmap 128 as the texture's own colour
+#define BT_SURFACE_HOTSPOT_CLAMP 16.0f   // radiosity surface lights: ltface.cc's hotspot clamp
+#define BT_BOUNCE_HOTSPOT_CLAMP 128.0f   // bounce lights: IndirectLightFace's hotspot clamp
+#define BT_BOUNCE_GATE 0.01f             // a bounce light's share below this in every channel is dropped
+#define BT_BOUNCE_SHADOW_RAYS 16u        // shadow rays a shown point draws among its cell's bounce lights
+#define BT_DIRT_AZIMUTH_STEPS 16         // dirt's fixed pattern (`_dirtmode 0`)
+#define BT_DIRT_ELEVATION_STEPS 3
+#define BT_DIRT_SAMPLE_LIFT 1.0f         // the compiler's sample points sit 1 unit off the face
+
+// Physical mode.
+#define BT_NEAR_LIST_PROBABILITY 0.9f    // light selection: a pick from the cell's near list
+#define BT_SPECULAR_LOBE_PROBABILITY 0.5f
+#define BT_HORIZON_MARGIN 0.01f          // shading normals: Iray's margin above the face's plane
+#define BT_PHYSICAL_LIGHT_UNIT 128.0f    // Quake light units per physical unit (point: x pi, sun: / pi)
+
+#endif
