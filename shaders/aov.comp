@@ -1,5 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#include "gl_bindings.glsl"
 #ifdef BT_TEXTURES_BINDLESS
 #extension GL_ARB_bindless_texture : require
 #endif
@@ -13,9 +14,9 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(rgba32f, binding = 0) uniform writeonly image2D albedoImage; // rgb linear albedo, a = coverage
-layout(rgba32f, binding = 1) uniform writeonly image2D normalImage; // xyz world normal, w = distance along the ray
-layout(r32ui, binding = 2) uniform writeonly uimage2D faceImage;   // Scene::faces index + 1, 0 = miss
+layout(rgba32f, binding = BT_IMAGE_ALBEDO) uniform writeonly image2D albedoImage; // rgb linear albedo, a = coverage
+layout(rgba32f, binding = BT_IMAGE_NORMAL_DEPTH) uniform writeonly image2D normalImage; // xyz world normal, w = distance along the ray
+layout(r32ui, binding = BT_IMAGE_FACE) uniform writeonly uimage2D faceImage;   // Scene::faces index + 1, 0 = miss
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);

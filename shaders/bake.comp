@@ -1,5 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#include "gl_bindings.glsl"
 #ifdef BT_TEXTURES_BINDLESS
 #extension GL_ARB_bindless_texture : require
 #endif
@@ -29,11 +30,11 @@ const uint LUXEL_SAMPLE_OCCLUDED = BT_LUXEL_SAMPLE_OCCLUDED;
 const uint LUXEL_SAMPLE_TWO_SIDED = BT_LUXEL_SAMPLE_TWO_SIDED;
 
 // Binding numbers: renderer/gl/gl_structs.h kBindingBake*.
-layout(std430, binding = 11) readonly buffer LuxelSamples { GpuLuxelSample luxelSamples[]; };
+layout(std430, binding = BT_BINDING_BAKE_SAMPLES) readonly buffer LuxelSamples { GpuLuxelSample luxelSamples[]; };
 // Per sample, lighting LuxelSums as 4 vec4: (fixed, occlusion), (localMin, 0), (dome, 0), (soft, 0).
-layout(std430, binding = 12) buffer LuxelSumBuffer { vec4 luxelSums[]; };
-layout(std430, binding = 13) readonly buffer SkyDome { vec4 skyDome[]; }; // faithful.h skyDomeDirections
-layout(std430, binding = 15) buffer Lightmaps { uint lightmapData[]; };   // scene/gpu_structs.h layout
+layout(std430, binding = BT_BINDING_BAKE_SUMS) buffer LuxelSumBuffer { vec4 luxelSums[]; };
+layout(std430, binding = BT_BINDING_BAKE_SKY_DOME) readonly buffer SkyDome { vec4 skyDome[]; }; // faithful.h skyDomeDirections
+layout(std430, binding = BT_BINDING_LIGHTMAPS) buffer Lightmaps { uint lightmapData[]; };   // scene/gpu_structs.h layout
 
 layout(location = 0) uniform uint firstItem;   // first sample (a pass) or luxel (the resolve)
 layout(location = 1) uniform uint itemCount;

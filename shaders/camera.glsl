@@ -1,7 +1,8 @@
 // The pinhole camera, set by renderer/gl/gl_tracer.cpp from a bt::gl::CameraBasis.
 // right and up are scaled so that pixel centres span the image: a ray through pixel (x, y),
 // y counted from the top row, has direction forward + (2 (x / w) - 1) right + (1 - 2 (y / h)) up.
-layout(std140, binding = 0) uniform Camera {
+#include "gl_bindings.glsl"
+layout(std140, binding = BT_UNIFORM_CAMERA) uniform Camera {
   vec3 origin;
   float pad0;
   vec3 forward; // unit

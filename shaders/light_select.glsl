@@ -6,6 +6,7 @@
 // does not care how the caller traces its shadow rays.
 
 // scene/gpu_structs.h GpuLightGrid, byte for byte.
+#include "gl_bindings.glsl"
 #include "light_constants.glsl"
 struct GpuLightGrid {
   vec3 origin;        // offset 0: min corner of cell (0, 0, 0)
@@ -23,11 +24,11 @@ struct GpuLightCell {
   uint count;
 };
 
-layout(std430, binding = 9) readonly buffer LightGridBuffer {
+layout(std430, binding = BT_BINDING_LIGHT_GRID) readonly buffer LightGridBuffer {
   GpuLightGrid lightGrid;
   GpuLightCell lightCells[];
 };
-layout(std430, binding = 10) readonly buffer LightIndices { uint lightIndices[]; }; // into lights[]
+layout(std430, binding = BT_BINDING_LIGHT_INDICES) readonly buffer LightIndices { uint lightIndices[]; }; // into lights[]
 
 // lighting lightGridCell: the cell holding p, clamped to the grid (NaN to cell 0).
 uint lightGridAxis(float coordinate, float origin, uint dim) {

@@ -1,7 +1,8 @@
 // Faithful mode's baked luxels (lighting/lightmaps.h lightmapValue, the CPU reference): the
 // stored lightmap value at a texel point of a face, filtered bilinearly as the engine filters its
 // lightmaps. Layout of the packed buffer: scene/gpu_structs.h (GpuLightmapFragment).
-layout(std430, binding = 15) readonly buffer Lightmaps { uint lightmapData[]; };
+#include "gl_bindings.glsl"
+layout(std430, binding = BT_BINDING_LIGHTMAPS) readonly buffer Lightmaps { uint lightmapData[]; };
 
 // (first fragment, count) of face `face`; count 0: not baked.
 uvec2 lightmapRange(uint face) {

@@ -1,5 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#include "gl_bindings.glsl"
 #ifdef BT_TEXTURES_BINDLESS
 #extension GL_ARB_bindless_texture : require
 #endif
@@ -33,7 +34,7 @@
 #include "lightmaps.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(rgba32f, binding = 0) uniform image2D accumulation; // rgb: sum of samples
+layout(rgba32f, binding = BT_IMAGE_ACCUMULATION) uniform image2D accumulation; // rgb: sum of samples
 
 // The lighting mode is fixed when the program is built (renderer/gl/gl_tracer.cpp builds one
 // program per mode): each program then compiles only its own integrator, and the driver's

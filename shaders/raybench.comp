@@ -1,5 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#include "gl_bindings.glsl"
 #ifdef BT_TEXTURES_BINDLESS
 #extension GL_ARB_bindless_texture : require
 #endif
@@ -15,8 +16,8 @@
 #include "ray_offsets.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(rgba32f, binding = 0) uniform image2D hits; // xyz: primary hit point, w: face + 1 (0 = miss)
-layout(r32f, binding = 1) uniform writeonly image2D bounceT;
+layout(rgba32f, binding = BT_IMAGE_PRIMARY_HITS) uniform image2D hits; // xyz: primary hit point, w: face + 1 (0 = miss)
+layout(r32f, binding = BT_IMAGE_BOUNCE_T) uniform writeonly image2D bounceT;
 
 layout(location = 0) uniform uint mode;
 

@@ -1,8 +1,9 @@
 // The scene's storage buffers; binding numbers match renderer/gl/gl_structs.h (Binding).
+#include "gl_bindings.glsl"
 #include "structs.glsl"
 
 // TraceScene's faces (bvh/trace_scene.h), unchanged.
-layout(std430, binding = 2) readonly buffer Faces { GpuFace faces[]; };
+layout(std430, binding = BT_BINDING_FACES) readonly buffer Faces { GpuFace faces[]; };
 #ifdef BT_TRACE_SOFTWARE
 // With BT_TRACE_SOFTWARE (llvmpipe; trace.glsl) the traversal reads the BVH nodes (GlBvhNode, made from TraceScene's tree at
 // upload), TraceScene's brushes and slanted-side lists, and the face planes through buffer
@@ -10,19 +11,19 @@ layout(std430, binding = 2) readonly buffer Faces { GpuFace faces[]; };
 // TexelUnit. On llvmpipe a storage-buffer load at addresses that differ between invocations
 // runs one branchy scalar load per invocation and component, while a texel fetch is one vector
 // gather, which the traversal runs faster. GPUs (NVIDIA) read both through the same caches.
-layout(binding = 16) uniform usamplerBuffer nodeTexels;  // GlBvhNode (gl_structs.h): 4 texels (RGBA32UI)
-layout(binding = 17) uniform usamplerBuffer brushTexels; // GpuBrush: 4 texels (RGBA32UI)
-layout(binding = 18) uniform usamplerBuffer sideTexels;  // TraceScene::sides(): 1 texel each (R32UI)
-layout(binding = 19) uniform samplerBuffer faceTexels;   // GpuFace: 4 texels (RGBA32F), the plane first
+layout(binding = BT_TEXEL_NODES) uniform usamplerBuffer nodeTexels;  // GlBvhNode (gl_structs.h): 4 texels (RGBA32UI)
+layout(binding = BT_TEXEL_BRUSHES) uniform usamplerBuffer brushTexels; // GpuBrush: 4 texels (RGBA32UI)
+layout(binding = BT_TEXEL_SIDES) uniform usamplerBuffer sideTexels;  // TraceScene::sides(): 1 texel each (R32UI)
+layout(binding = BT_TEXEL_FACES) uniform samplerBuffer faceTexels;   // GpuFace: 4 texels (RGBA32F), the plane first
 #endif
-layout(std430, binding = 3) readonly buffer Materials { GlMaterial materials[]; };
-layout(std430, binding = 4) readonly buffer Lights { GpuLight lights[]; };
-layout(std430, binding = 5) readonly buffer SurfaceLights { GpuLight surfaceLights[]; }; // per material
-layout(std430, binding = 6) readonly buffer Emitters { GpuEmitter emitters[]; };
-layout(std430, binding = 8) readonly buffer FaceFlags { uint faceFlags[]; }; // per face: FACE_* (RenderScene::faceFlags)
+layout(std430, binding = BT_BINDING_MATERIALS) readonly buffer Materials { GlMaterial materials[]; };
+layout(std430, binding = BT_BINDING_LIGHTS) readonly buffer Lights { GpuLight lights[]; };
+layout(std430, binding = BT_BINDING_SURFACE_LIGHTS) readonly buffer SurfaceLights { GpuLight surfaceLights[]; }; // per material
+layout(std430, binding = BT_BINDING_EMITTERS) readonly buffer Emitters { GpuEmitter emitters[]; };
+layout(std430, binding = BT_BINDING_FACE_FLAGS) readonly buffer FaceFlags { uint faceFlags[]; }; // per face: FACE_* (RenderScene::faceFlags)
 
 // Worldspawn lighting (lighting WorldLighting) and the integrator settings.
-layout(std140, binding = 1) uniform World {
+layout(std140, binding = BT_UNIFORM_WORLD) uniform World {
   vec3 minlight;      // light units
   float range;        // _range
   float scaledist;    // _dist

@@ -9,6 +9,7 @@
 // here in fp32 rather than by the sampler, whose filter weights have 8 fractional bits on
 // NVIDIA and llvmpipe alike: that would put the GPU image up to ~1 % away from the CPU's.
 
+#include "gl_bindings.glsl"
 #if defined(BT_TEXTURES_BINDLESS)
 // The program enables GL_ARB_bindless_texture right after #version (extensions come first).
 
@@ -20,8 +21,7 @@ vec4 fetchTexel(uvec2 handle, uint layer, ivec2 texel) { return texelFetch(sampl
 #elif defined(BT_TEXTURES_ARRAYS)
 
 // Must equal kMaxTextureArrays in renderer/gl/gl_textures.h.
-#define BT_MAX_TEXTURE_ARRAYS 16
-layout(binding = 0) uniform sampler2DArray textureArrays[BT_MAX_TEXTURE_ARRAYS];
+layout(binding = BT_TEXTURE_ARRAYS_UNIT) uniform sampler2DArray textureArrays[BT_MAX_TEXTURE_ARRAYS];
 
 // GLSL 4.50 allows indexing a sampler array only with a dynamically uniform index; neighbouring
 // pixels see different materials, so each array is named by a constant in a switch instead.

@@ -5,12 +5,13 @@
 // The operators are scene/color.h's (applyTonemap, linearToSrgb) line for line, with the
 // constants of both from tonemap_constants.glsl, so a PNG the CPU writes from the same linear
 // image has the same bytes, within rounding (tests/gl/gl_progressive_test.cpp holds them to 1/255).
+#include "gl_bindings.glsl"
 #include "tonemap_constants.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(rgba32f, binding = 0) uniform readonly image2D accumulation; // rgb: radiance summed over `samples`
-layout(rgba8, binding = 1) uniform writeonly image2D display;       // sRGB-encoded, a = 1
+layout(rgba32f, binding = BT_IMAGE_ACCUMULATION) uniform readonly image2D accumulation; // rgb: radiance summed over `samples`
+layout(rgba8, binding = BT_IMAGE_DISPLAY) uniform writeonly image2D display;       // sRGB-encoded, a = 1
 
 layout(location = 0) uniform float scale;    // exp2(exposure EV) / samples
 layout(location = 1) uniform uint tonemap;   // bt::Tonemap: 0 faithful, 1 aces, 2 agx, 3 linear

@@ -15,6 +15,7 @@
 // Needs scene_buffers.glsl. BT_BVH_MAX_DEPTH is scene/gpu_structs.h's kBvhMaxDepth, defined by
 // the program (renderer/gl) and by the build's glslangValidator run alike.
 
+#include "gl_bindings.glsl"
 #include "scene_constants.glsl"
 #ifndef BT_BVH_MAX_DEPTH
 #error "BT_BVH_MAX_DEPTH (scene/gpu_structs.h kBvhMaxDepth) must be defined"
@@ -119,9 +120,9 @@ uint sideFace(uint i) { return texelFetch(sideTexels, int(i)).x; }
 vec4 facePlane(uint f) { return texelFetch(faceTexels, int(4u * f)); }
 #else
 // The buffers behind the texel views (renderer/gl/gl_structs.h Binding), as rows.
-layout(std430, binding = 0) readonly buffer NodeRows { uvec4 nodeRows[]; };
-layout(std430, binding = 1) readonly buffer BrushRows { uvec4 brushRows[]; };
-layout(std430, binding = 7) readonly buffer SideFaces { uint sideFaces[]; };
+layout(std430, binding = BT_BINDING_NODES) readonly buffer NodeRows { uvec4 nodeRows[]; };
+layout(std430, binding = BT_BINDING_BRUSHES) readonly buffer BrushRows { uvec4 brushRows[]; };
+layout(std430, binding = BT_BINDING_SIDES) readonly buffer SideFaces { uint sideFaces[]; };
 uvec4 nodeRow(uint n, uint row) { return nodeRows[4u * n + row]; }
 uvec4 brushRow(uint b, uint row) { return brushRows[4u * b + row]; }
 uvec4 primitiveRow(uint row) { return brushRows[row]; } // brushes', then triangles' rows

@@ -8,6 +8,7 @@
 // y * width + x; the path's own state (Path, Rng) is in pathtrace.comp's WavefrontPaths.
 
 // The ray a pixel's path waits for, as the megakernel passes it to traceRay.
+#include "gl_bindings.glsl"
 struct WavefrontRay {
   vec3 origin;
   float tMin;
@@ -18,11 +19,11 @@ struct WavefrontRay {
   uint live;      // 0: the path has ended (or the pixel has none): nothing to trace or shade
 };
 
-layout(std430, binding = 11) buffer WavefrontRays { WavefrontRay wavefrontRays[]; };
-layout(std430, binding = 12) buffer WavefrontHits { Hit wavefrontHits[]; };
+layout(std430, binding = BT_BINDING_WAVEFRONT_RAYS) buffer WavefrontRays { WavefrontRay wavefrontRays[]; };
+layout(std430, binding = BT_BINDING_WAVEFRONT_HITS) buffer WavefrontHits { Hit wavefrontHits[]; };
 // Paths ended in this sample: the host clears it at the start and stops when all have ended.
 // (One atomic per path, not one per live path and round.)
-layout(std430, binding = 14) buffer WavefrontEndedCount { uint wavefrontEnded; };
+layout(std430, binding = BT_BINDING_WAVEFRONT_ENDED_COUNT) buffer WavefrontEndedCount { uint wavefrontEnded; };
 
 // The pixel's slot, or -1 outside the image (the dispatch covers whole 8 x 8 groups).
 int wavefrontSlot(ivec2 pixel) {

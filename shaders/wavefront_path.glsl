@@ -3,6 +3,7 @@
 // `kept`). Each is a load and a store per path and round, and code for the driver to compile:
 // storing the whole Path (a faithful program's unused physical fields too) made the faithful
 // kernel's first image later.
+#include "gl_bindings.glsl"
 #define STORED_PATH_FIELD(type, name, kept, onLoad) kept(type name;)
 struct StoredPath {
   PATH_FIELDS(STORED_PATH_FIELD)
@@ -12,7 +13,7 @@ struct WavefrontPath {
   Rng rng;
   StoredPath path;
 };
-layout(std430, binding = 13) buffer WavefrontPaths { WavefrontPath wavefrontPaths[]; };
+layout(std430, binding = BT_BINDING_WAVEFRONT_PATHS) buffer WavefrontPaths { WavefrontPath wavefrontPaths[]; };
 
 #define STORE_PATH_FIELD(type, name, kept, onLoad) kept(s.name = p.name;)
 void storePath(int slot, Rng rng, Path p) {

@@ -1,6 +1,7 @@
 #include "renderer/gl/gl_progressive.h"
 
 #include "renderer/gl/gl_error.h"
+#include "renderer/gl/gl_structs.h"
 
 #include <epoxy/gl.h>
 #include <fmt/format.h>
@@ -60,8 +61,8 @@ void TonemapPass::run(const GlTexture2D& sum, int samples, const GlTexture2D& di
   const float scale = std::exp2(exposureEv) / static_cast<float>(std::max(samples, 1));
   BT_GL(glProgramUniform1f(program, 0, scale));
   BT_GL(glProgramUniform1ui(program, 1, static_cast<GLuint>(tonemap)));
-  BT_GL(glBindImageTexture(0, sum.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F));
-  BT_GL(glBindImageTexture(1, display.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8));
+  BT_GL(glBindImageTexture(kImageAccumulation, sum.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F));
+  BT_GL(glBindImageTexture(kImageDisplay, display.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8));
   program_.dispatch2d(display.width(), display.height());
   // The overlay samples the display image; readRgba8 reads it back.
   BT_GL(glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT));

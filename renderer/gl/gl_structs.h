@@ -3,6 +3,7 @@
 // asserted: a mismatch with the GLSL side is a compile error here.
 #pragma once
 
+#include "shaders/gl_bindings.glsl" // binding points, texture and image units, shared with the shaders
 #include "scene/gpu_structs.h"
 
 #include <glm/vec2.hpp>
@@ -14,30 +15,30 @@
 
 namespace bt::gl {
 
-// Binding points of the storage buffers (shaders/scene_buffers.glsl).
+// Binding points of the storage buffers (their numbers: shaders/gl_bindings.glsl).
 enum Binding : uint32_t {
-  kBindingNodes = 0,
-  kBindingBrushes = 1,
-  kBindingFaces = 2,
-  kBindingMaterials = 3,
-  kBindingLights = 4,
-  kBindingSurfaceLights = 5,
-  kBindingEmitters = 6,
-  kBindingSides = 7,
-  kBindingFaceFlags = 8,
-  kBindingLightGrid = 9,     // GpuLightGrid, then its GpuLightCell array (shaders/light_select.glsl)
-  kBindingLightIndices = 10, // the grid's uint index array into the light buffer
+  kBindingNodes = BT_BINDING_NODES,
+  kBindingBrushes = BT_BINDING_BRUSHES,
+  kBindingFaces = BT_BINDING_FACES,
+  kBindingMaterials = BT_BINDING_MATERIALS,
+  kBindingLights = BT_BINDING_LIGHTS,
+  kBindingSurfaceLights = BT_BINDING_SURFACE_LIGHTS,
+  kBindingEmitters = BT_BINDING_EMITTERS,
+  kBindingSides = BT_BINDING_SIDES,
+  kBindingFaceFlags = BT_BINDING_FACE_FLAGS,
+  kBindingLightGrid = BT_BINDING_LIGHT_GRID,       // GpuLightGrid, then its GpuLightCell array (shaders/light_select.glsl)
+  kBindingLightIndices = BT_BINDING_LIGHT_INDICES, // the grid's uint index array into the light buffer
   // The wavefront path tracer's per-pixel state (shaders/wavefront.glsl, pathtrace.comp's shade kernel).
-  kBindingWavefrontRays = 11,
-  kBindingWavefrontHits = 12,
-  kBindingWavefrontPaths = 13,
-  kBindingWavefrontEndedCount = 14,
-  kBindingLightmaps = 15, // faithful mode's baked luxels, packed (scene/gpu_structs.h; shaders/lightmaps.glsl)
+  kBindingWavefrontRays = BT_BINDING_WAVEFRONT_RAYS,
+  kBindingWavefrontHits = BT_BINDING_WAVEFRONT_HITS,
+  kBindingWavefrontPaths = BT_BINDING_WAVEFRONT_PATHS,
+  kBindingWavefrontEndedCount = BT_BINDING_WAVEFRONT_ENDED_COUNT,
+  kBindingLightmaps = BT_BINDING_LIGHTMAPS, // faithful mode's baked luxels, packed (scene/gpu_structs.h; shaders/lightmaps.glsl)
   // The faithful bake (shaders/bake.comp, gl_bake.h) runs without the wavefront's buffers and
   // takes their points: drivers need offer only 16 storage blocks to a compute shader.
-  kBindingBakeSamples = 11, // GpuLuxelSample per sample point
-  kBindingBakeSums = 12,    // 4 vec4 per sample point (lighting/faithful_light.h LuxelSums)
-  kBindingBakeSkyDome = 13, // vec4 per dome direction (lighting/faithful.h skyDomeDirections)
+  kBindingBakeSamples = BT_BINDING_BAKE_SAMPLES,  // GpuLuxelSample per sample point
+  kBindingBakeSums = BT_BINDING_BAKE_SUMS,        // 4 vec4 per sample point (lighting/faithful_light.h LuxelSums)
+  kBindingBakeSkyDome = BT_BINDING_BAKE_SKY_DOME, // vec4 per dome direction (lighting/faithful.h skyDomeDirections)
 };
 
 // The brushes, slanted-side lists and faces are bvh/trace_scene.h's TraceScene arrays
@@ -89,11 +90,11 @@ static_assert(offsetof(GlBvhNode, rightMax) == 48 && offsetof(GlBvhNode, pad1) =
 // 16-byte texel per row of the struct: a GpuBvhNode is 2 texels, a GpuBrush 4, a GpuFace 4 (its
 // plane first), a side index 1 (R32UI); the nodes are GlBvhNodes, 4 texels each.
 enum TexelUnit : uint32_t {
-  kTexelNodes = 16,
-  kTexelBrushes = 17,
-  kTexelSides = 18,
-  kTexelFaces = 19,
-  kTexelUnitEnd = 20, // one past the last: the context must offer this many compute texture units
+  kTexelNodes = BT_TEXEL_NODES,
+  kTexelBrushes = BT_TEXEL_BRUSHES,
+  kTexelSides = BT_TEXEL_SIDES,
+  kTexelFaces = BT_TEXEL_FACES,
+  kTexelUnitEnd = BT_TEXEL_UNIT_END, // one past the last: the context must offer this many compute texture units
 };
 static_assert(sizeof(GlBvhNode) == 4 * 16 && sizeof(GpuBrush) == 4 * 16 && sizeof(GpuFace) == 4 * 16 && sizeof(GpuTriangle) == 3 * 16);
 static_assert(offsetof(GpuFace, plane) == 0);
@@ -192,4 +193,17 @@ static_assert(offsetof(GpuWorld, minlight) == 0 && offsetof(GpuWorld, range) == 
               offsetof(GpuWorld, dirtDepth) == 56 && offsetof(GpuWorld, dirtAngle) == 60 && offsetof(GpuWorld, dirtScale) == 64 &&
               offsetof(GpuWorld, dirtGain) == 68 && offsetof(GpuWorld, minlightDirt) == 72);
 
+} // namespace bt::gl
+
+namespace bt::gl {
+// Uniform blocks and image units (shaders/gl_bindings.glsl).
+inline constexpr uint32_t kUniformCamera = BT_UNIFORM_CAMERA;
+inline constexpr uint32_t kUniformWorld = BT_UNIFORM_WORLD;
+inline constexpr uint32_t kImageAccumulation = BT_IMAGE_ACCUMULATION;
+inline constexpr uint32_t kImageDisplay = BT_IMAGE_DISPLAY;
+inline constexpr uint32_t kImageAlbedo = BT_IMAGE_ALBEDO;
+inline constexpr uint32_t kImageNormalDepth = BT_IMAGE_NORMAL_DEPTH;
+inline constexpr uint32_t kImageFace = BT_IMAGE_FACE;
+inline constexpr uint32_t kImagePrimaryHits = BT_IMAGE_PRIMARY_HITS;
+inline constexpr uint32_t kImageBounceT = BT_IMAGE_BOUNCE_T;
 } // namespace bt::gl

@@ -220,7 +220,8 @@ void GlTextures::bind() const {
   // Every unit the shader declares gets a complete texture, the unused ones a 1x1 placeholder:
   // what an unbound sampler returns is the driver's choice.
   for (int i = 0; i < kMaxTextureArrays; ++i)
-    BT_GL(glBindTextureUnit(static_cast<GLuint>(i), i < static_cast<int>(arrays_.size()) ? arrays_[static_cast<size_t>(i)] : placeholder_));
+    BT_GL(glBindTextureUnit(static_cast<GLuint>(BT_TEXTURE_ARRAYS_UNIT + i),
+                            i < static_cast<int>(arrays_.size()) ? arrays_[static_cast<size_t>(i)] : placeholder_));
 }
 
 GlTextures::~GlTextures() {

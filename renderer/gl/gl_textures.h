@@ -32,8 +32,7 @@ std::optional<TextureMode> parseTextureMode(std::string_view name); // "auto", "
 // Throws GlError for Bindless on a context without GL_ARB_bindless_texture.
 TextureMode resolveTextureMode(TextureMode mode, const GlContextInfo& context);
 
-// Must equal BT_MAX_TEXTURE_ARRAYS in shaders/textures.glsl.
-inline constexpr int kMaxTextureArrays = 16;
+inline constexpr int kMaxTextureArrays = BT_MAX_TEXTURE_ARRAYS; // shaders/gl_bindings.glsl
 
 class GlTextures {
 public:

@@ -5,6 +5,7 @@
 #include "renderer/gl/gl_scene.h"
 #include "renderer/gl/gl_storage_image.h"
 #include "renderer/gl/gl_wavefront.h"
+#include "renderer/gl/gl_structs.h"
 
 #include <epoxy/gl.h>
 #include <fmt/format.h>
@@ -79,7 +80,7 @@ struct GlTracer::Impl {
     world.physical = physical ? 1u : 0u;
     world.bounces = bounces;
     BT_GL(glNamedBufferSubData(worldBuffer, 0, sizeof world, &world));
-    BT_GL(glBindBufferBase(GL_UNIFORM_BUFFER, 1, worldBuffer));
+    BT_GL(glBindBufferBase(GL_UNIFORM_BUFFER, kUniformWorld, worldBuffer));
   }
 
   void setCamera(const CameraBasis& basis, int width, int height, uint32_t frameIndex, uint32_t seed, uint32_t firstFrame = 0) {
@@ -93,8 +94,8 @@ struct GlTracer::Impl {
     camera.seed = seed;
     camera.firstFrame = firstFrame;
     BT_GL(glNamedBufferSubData(cameraBuffer, 0, sizeof camera, &camera));
-    BT_GL(glBindBufferBase(GL_UNIFORM_BUFFER, 0, cameraBuffer));
-    BT_GL(glBindBufferBase(GL_UNIFORM_BUFFER, 1, worldBuffer));
+    BT_GL(glBindBufferBase(GL_UNIFORM_BUFFER, kUniformCamera, cameraBuffer));
+    BT_GL(glBindBufferBase(GL_UNIFORM_BUFFER, kUniformWorld, worldBuffer));
     buffers.bind();
     textures.bind();
   }
@@ -106,7 +107,7 @@ struct GlTracer::Impl {
   double finishWithEmptyDispatch(int width, int height, bool physical, const std::function<void()>& dispatch) {
     const auto start = std::chrono::steady_clock::now();
     StorageImage target(GL_RGBA32F, std::max(width, 1), std::max(height, 1));
-    target.bindImage(0, GL_READ_WRITE);
+    target.bindImage(kImageAccumulation, GL_READ_WRITE);
     setWorld(physical, 0);
     setCamera(CameraBasis{}, 0, 0, 0, 0);
     dispatch();
@@ -186,9 +187,9 @@ AovImages GlTracer::renderAovs(const CameraBasis& camera, int width, int height)
   StorageImage normalDepth(GL_RGBA32F, width, height);
   StorageImage face(GL_R32UI, width, height);
   impl_->setCamera(camera, width, height, 0, 0);
-  albedo.bindImage(0, GL_WRITE_ONLY);
-  normalDepth.bindImage(1, GL_WRITE_ONLY);
-  face.bindImage(2, GL_WRITE_ONLY);
+  albedo.bindImage(kImageAlbedo, GL_WRITE_ONLY);
+  normalDepth.bindImage(kImageNormalDepth, GL_WRITE_ONLY);
+  face.bindImage(kImageFace, GL_WRITE_ONLY);
   impl_->programs->aovs().dispatch2d(width, height);
   BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
 
@@ -216,7 +217,7 @@ AovImages GlTracer::renderAovs(const CameraBasis& camera, int width, int height)
 BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettings& settings, const std::function<bool(int)>& progress) {
   if (settings.width <= 0 || settings.height <= 0) throw GlError(fmt::format("image size {}x{} is empty", settings.width, settings.height));
   StorageImage accumulation(GL_RGBA32F, settings.width, settings.height);
-  accumulation.bindImage(0, GL_READ_WRITE);
+  accumulation.bindImage(kImageAccumulation, GL_READ_WRITE);
   impl_->setWorld(settings.physical, settings.bounces);
   BeautyImage out;
   out.width = settings.width;
@@ -241,7 +242,7 @@ BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettin
 
 void GlTracer::addSample(const CameraBasis& camera, const BeautySettings& settings, unsigned sum, uint32_t sampleIndex) {
   if (settings.width <= 0 || settings.height <= 0) throw GlError(fmt::format("image size {}x{} is empty", settings.width, settings.height));
-  BT_GL(glBindImageTexture(0, sum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F));
+  BT_GL(glBindImageTexture(kImageAccumulation, sum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F));
   impl_->setWorld(settings.physical, settings.bounces);
   if (settings.form == PathTracerForm::Auto) impl_->programs->startPathTracer(settings.physical, impl_->features);
   impl_->drawSample(camera, settings, sampleIndex);
@@ -275,8 +276,8 @@ RayBenchmark GlTracer::benchmarkRays(const CameraBasis& camera, int width, int h
   using Clock = std::chrono::steady_clock;
   StorageImage hits(GL_RGBA32F, width, height);
   StorageImage bounceT(GL_R32F, width, height);
-  hits.bindImage(0, GL_READ_WRITE);
-  bounceT.bindImage(1, GL_WRITE_ONLY);
+  hits.bindImage(kImagePrimaryHits, GL_READ_WRITE);
+  bounceT.bindImage(kImageBounceT, GL_WRITE_ONLY);
   ComputeProgram& bench = impl_->programs->rayBench();
   const GLuint program = bench.id();
   RayBenchmark result;

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <map>
 #include <regex>
 #include <string>
@@ -14,14 +15,33 @@
 namespace bt::gl {
 namespace {
 
-// Name -> N for every match of `declaration` (group 1: the number, group 2: the name) in the
-// embedded shader files.
+// The values of the #defines of integers in the embedded shader files (shaders/gl_bindings.glsl
+// names every binding point).
+std::map<std::string, int> definedNumbers() {
+  std::map<std::string, int> defines;
+  const std::regex define(R"(#define\s+(\w+)\s+(\d+)u?\b)");
+  for (const ShaderFile& file : embeddedShaders()) {
+    const std::string source(file.source);
+    for (auto it = std::sregex_iterator(source.begin(), source.end(), define); it != std::sregex_iterator(); ++it)
+      defines[(*it)[1].str()] = std::stoi((*it)[2].str());
+  }
+  return defines;
+}
+
+// Name -> N for every match of `declaration` (group 1: the number or the #define naming it,
+// group 2: the name) in the embedded shader files; -1 where a name has no value.
 std::map<std::string, int> declaredNumbers(const std::regex& declaration) {
+  const std::map<std::string, int> defines = definedNumbers();
   std::map<std::string, int> numbers;
   for (const ShaderFile& file : embeddedShaders()) {
     const std::string source(file.source);
-    for (auto it = std::sregex_iterator(source.begin(), source.end(), declaration); it != std::sregex_iterator(); ++it)
-      numbers[(*it)[2].str()] = std::stoi((*it)[1].str());
+    for (auto it = std::sregex_iterator(source.begin(), source.end(), declaration); it != std::sregex_iterator(); ++it) {
+      const std::string value = (*it)[1].str();
+      const auto defined = defines.find(value);
+      numbers[(*it)[2].str()] = std::isdigit(static_cast<unsigned char>(value[0])) ? std::stoi(value)
+          : defined != defines.end()                                               ? defined->second
+                                                                                   : -1;
+    }
   }
   return numbers;
 }
@@ -29,12 +49,12 @@ std::map<std::string, int> declaredNumbers(const std::regex& declaration) {
 // Every `layout(std430, binding = N) ... buffer Name`: Name -> N.
 std::map<std::string, int> storageBufferBindings() {
   return declaredNumbers(
-      std::regex(R"(layout\s*\(\s*std430\s*,\s*binding\s*=\s*(\d+)\s*\)\s*(?:readonly\s+|writeonly\s+)*buffer\s+(\w+))"));
+      std::regex(R"(layout\s*\(\s*std430\s*,\s*binding\s*=\s*(\w+)\s*\)\s*(?:readonly\s+|writeonly\s+)*buffer\s+(\w+))"));
 }
 
 // Every `layout(binding = N) uniform [u]samplerBuffer name` (the traversal's texel views): name -> N.
 std::map<std::string, int> texelViewUnits() {
-  return declaredNumbers(std::regex(R"(layout\s*\(\s*binding\s*=\s*(\d+)\s*\)\s*uniform\s+u?samplerBuffer\s+(\w+))"));
+  return declaredNumbers(std::regex(R"(layout\s*\(\s*binding\s*=\s*(\w+)\s*\)\s*uniform\s+u?samplerBuffer\s+(\w+))"));
 }
 
 // The faithful bake's buffers (shaders/bake.comp), which take the wavefront's points: no program
@@ -48,6 +68,7 @@ TEST(ShaderBindings, EveryStorageBufferHasItsOwnBindingPoint) {
   ASSERT_GE(bindings.size(), 8u); // nodes, brushes and sides are read as texels only
   std::map<int, std::string> owner;
   for (const auto& [name, point] : bindings) {
+    EXPECT_GE(point, 0) << name << "'s binding names no #define of shaders/gl_bindings.glsl";
     if (bakeBuffer(name)) continue;
     const auto [it, inserted] = owner.emplace(point, name);
     EXPECT_TRUE(inserted) << name << " and " << it->second << " both use binding " << point;
