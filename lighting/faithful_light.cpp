@@ -262,13 +262,10 @@ glm::vec3 givenLightsSum(const RenderScene& rs, const GivenLights& given, const 
     for (const GpuLight& light : given.lights) addFaithfulLight(rs, light, r, occlusion, rng, sum, localMin);
     return sum;
   }
-  if (!given.candidates)
-    return sampledBounceSum(
-        rs, given.lights.size(), [&](size_t i) -> const GpuLight& { return given.lights[i]; }, r, occlusion, rng, given.maxShadowRays);
-  const std::span<const uint32_t> candidates = *given.candidates;
-  return sampledBounceSum(
-      rs, candidates.size(), [&](size_t i) -> const GpuLight& { return given.lights[candidates[i]]; }, r, occlusion, rng,
-      given.maxShadowRays);
+  // The draw sweeps the candidates only (every light where none are named).
+  const auto candidate = [&](size_t i) -> const GpuLight& { return given.lights[given.candidates ? (*given.candidates)[i] : i]; };
+  const size_t count = given.candidates ? given.candidates->size() : given.lights.size();
+  return sampledBounceSum(rs, count, candidate, r, occlusion, rng, given.maxShadowRays);
 }
 
 } // namespace

@@ -1,6 +1,7 @@
 #include "lighting/game_rules.h"
 
 #include "lighting/lights.h"
+#include "quake/entity_keys.h"
 
 #include <cmath>
 
@@ -9,7 +10,7 @@ namespace bt {
 namespace {
 
 int spawnflags(const Entity& e) {
-  return int(parseFloat(e.value("spawnflags", "0")).value_or(0.0f));
+  return int(quake::parseFloat(e.value("spawnflags", "0")).value_or(0.0f));
 }
 
 // Brush entities whose spawn function never links a visible model, in every game that has them.
@@ -37,8 +38,8 @@ bool quake2WaitsForTrigger(std::string_view classname, int flags) {
 
 // Half-Life's renderer skips a model drawn blended at amount 0 (rendermode other than normal).
 bool halfLifeInvisible(const Entity& e) {
-  const auto mode = parseFloat(e.value("rendermode", "0"));
-  const auto amount = parseFloat(e.value("renderamt", "255"));
+  const auto mode = quake::parseFloat(e.value("rendermode", "0"));
+  const auto amount = quake::parseFloat(e.value("renderamt", "255"));
   return mode && amount && *mode != 0.0f && *amount == 0.0f;
 }
 

@@ -224,7 +224,7 @@ bool readLightShape(const quake::EntityKeys& keys, const WorldLighting& world, G
 std::optional<glm::vec3> readSpotAxis(const Scene& scene, const Entity& entity, const quake::EntityKeys& keys, glm::vec3 origin) {
   if (const std::string* target = entity.find("target"); target && !target->empty()) {
     const Entity* t = findTarget(scene, *target);
-    std::optional<glm::vec3> targetOrigin = t ? parseVec3(t->value("origin")) : std::nullopt;
+    std::optional<glm::vec3> targetOrigin = t ? quake::parseVec3(t->value("origin")) : std::nullopt;
     if (targetOrigin && glm::length(*targetOrigin - origin) > 0.0f) return glm::normalize(*targetOrigin - origin);
     if (!t) keys.warn(fmt::format("target \"{}\" not found; light is not a spotlight", *target));
   }

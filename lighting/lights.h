@@ -93,10 +93,6 @@ LightKinds lightKinds(const SceneLights& lights, bool bounceLights);
 // "yaw pitch roll" in degrees as ericw-tools' mangle: the direction (+pitch looks up).
 glm::vec3 directionFromMangle(float yawDegrees, float pitchDegrees);
 
-// Key values by quake/entity_keys.h's number rule ("x y z" / "r g b": exactly three numbers).
-using quake::parseFloat;
-using quake::parseVec3;
-
 // Light style of a packed GpuLight::flags value.
 inline uint32_t lightStyle(const GpuLight& light) {
   return light.flags >> 8;

@@ -122,13 +122,13 @@ std::vector<EyePoint> eyePoints(Game game) {
 // The entity's view angles as the games' spawn code reads them: `mangle` (Quake's
 // info_intermission), else `angles` (pitch yaw roll), else `angle` as the yaw.
 void readAngles(const Entity& e, CameraPose& pose) {
-  auto angles = parseVec3(e.value("mangle"));
-  if (!angles) angles = parseVec3(e.value("angles"));
+  auto angles = quake::parseVec3(e.value("mangle"));
+  if (!angles) angles = quake::parseVec3(e.value("angles"));
   if (angles) {
     pose.pitch = angles->x;
     pose.yaw = angles->y;
     pose.roll = angles->z;
-  } else if (auto yaw = parseFloat(e.value("angle")); yaw && *yaw >= 0.0f) { // -1/-2 mean up/down
+  } else if (auto yaw = quake::parseFloat(e.value("angle")); yaw && *yaw >= 0.0f) { // -1/-2 mean up/down
     pose.yaw = *yaw;
   }
 }
@@ -139,7 +139,7 @@ void aimAtTarget(const Scene& scene, const Entity& e, CameraPose& pose) {
   if (target.empty()) return;
   for (const Entity& t : scene.entities) {
     if (t.value("targetname") != target) continue;
-    const auto at = parseVec3(t.value("origin"));
+    const auto at = quake::parseVec3(t.value("origin"));
     if (!at) return;
     const glm::vec3 d = *at - pose.origin;
     if (glm::length(d) <= 0.0f) return;
@@ -314,12 +314,12 @@ std::optional<CameraPose> gameCamera(const Scene& scene) {
     // Quake 2's single player starts at the info_player_start without a targetname.
     const Entity* found = nullptr;
     for (const Entity& e : scene.entities) {
-      if (e.classname() != eye.classname || !parseVec3(e.value("origin"))) continue;
+      if (e.classname() != eye.classname || !quake::parseVec3(e.value("origin"))) continue;
       if (!found || (found->find("targetname") && !e.find("targetname"))) found = &e;
     }
     if (!found) continue;
     CameraPose pose;
-    pose.origin = *parseVec3(found->value("origin")) + glm::vec3(0.0f, 0.0f, eye.height);
+    pose.origin = *quake::parseVec3(found->value("origin")) + glm::vec3(0.0f, 0.0f, eye.height);
     readAngles(*found, pose);
     if (game == Game::Quake3 && eye.height == 0.0f) aimAtTarget(scene, *found, pose);
     pose.source = std::string(eye.classname);
@@ -352,7 +352,7 @@ std::vector<CameraPose> spawnCameraPoses(const Scene& scene) {
   std::vector<CameraPose> poses;
   for (const EyePoint& eye : eyePoints(game))
     for (const Entity& e : scene.entities) {
-      const auto origin = parseVec3(e.value("origin"));
+      const auto origin = quake::parseVec3(e.value("origin"));
       if (e.classname() != eye.classname || !origin) continue;
       CameraPose pose;
       pose.origin = *origin + glm::vec3(0.0f, 0.0f, eye.height);

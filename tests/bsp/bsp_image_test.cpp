@@ -36,6 +36,7 @@
 #include "renderer/cpu/cpu_renderer.h"
 #include "lighting/lights.h"
 #include "lighting/render_scene.h"
+#include "quake/entity_keys.h"
 #include "tests/test_data.h"
 
 #include <glm/geometric.hpp>
@@ -270,10 +271,10 @@ CameraPose comparisonCamera(const Scene& scene) {
   if (pose.source == "info_intermission" || pose.source == "info_player_start") return pose;
   for (const Entity& e : scene.entities)
     if (e.classname() == "info_player_start")
-      if (const auto origin = parseVec3(e.value("origin"))) {
+      if (const auto origin = quake::parseVec3(e.value("origin"))) {
         CameraPose start;
         start.origin = *origin + glm::vec3(0.0f, 0.0f, 22.0f);
-        start.yaw = parseFloat(e.value("angle")).value_or(0.0f);
+        start.yaw = quake::parseFloat(e.value("angle")).value_or(0.0f);
         return start;
       }
   CameraPose whole;
