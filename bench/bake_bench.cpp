@@ -67,8 +67,29 @@ void BM_Bake(benchmark::State& state, const std::string& name) {
   state.counters["luxels/s"] = benchmark::Counter(double(layout.luxels.size()), benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// A slice of a level, every 12th face that has a lightmap, with the shadow cache on (1) or off
+// (0): a figure in seconds that scales to the whole level by luxels/s.
+void BM_BakeSlice(benchmark::State& state, const std::string& name) {
+  Level* level = prepare(state, name);
+  if (!level) return;
+  std::vector<uint32_t> faces;
+  for (uint32_t f = 0; f < level->rs.scene->faces.size(); ++f)
+    if (faceHasLightmap(level->rs, f) && f % 12 == 0) faces.push_back(f);
+  const Lightmaps layout = layoutLightmaps(level->rs, faces);
+  LightmapBakeOptions options;
+  options.shadowCache = state.range(0) != 0;
+  for (auto _ : state) {
+    Lightmaps lm = layout;
+    bakeLightmaps(level->rs, lm, options);
+    benchmark::DoNotOptimize(lm.luxels.data());
+  }
+  state.counters["luxels"] = double(layout.luxels.size());
+  state.counters["luxels/s"] = benchmark::Counter(double(layout.luxels.size()), benchmark::Counter::kIsIterationInvariantRate);
+}
+
 } // namespace
 
+BENCHMARK_CAPTURE(BM_BakeSlice, lqdm5, std::string("lqdm5"))->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 BENCHMARK_CAPTURE(BM_Layout, e1m1, std::string("e1m1"))->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_Bake, e1m1, std::string("e1m1"))->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_Layout, lqdm5, std::string("lqdm5"))->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);

@@ -439,6 +439,7 @@ std::optional<Hit> TraceScene::intersectBrush(const Ray& ray, uint32_t brushInde
   Hit hit;
   const RayContext r(ray);
   const GpuBrush& brush = brushes_.at(brushIndex);
+  hit.slot = brushIndex;
   const bool found =
       r.hasZeroComponent ? hitBrush<true>(r, brush, sides_, faces_, r.tMax, hit) : hitBrush<false>(r, brush, sides_, faces_, r.tMax, hit);
   if (found) return hit;
@@ -531,13 +532,18 @@ template <bool AnyHit, bool ZeroSafe> bool traceBoth(const RayContext& r, const 
   bool found = traverse<AnyHit, ZeroSafe>(
       r, ts.nodes(),
       [&r, brushes, sides, faces](uint32_t i, float tLimit, Hit& hit) {
+        hit.slot = i;
         return hitBrush<ZeroSafe>(r, brushes[i], sides, faces, tLimit, hit);
       },
       best);
   if (ts.triangleNodes().empty() || (AnyHit && found)) return found;
   const std::span<const GpuTriangle> triangles = ts.triangles();
   found |= traverse<AnyHit, ZeroSafe>(
-      r, ts.triangleNodes(), [&r, triangles](uint32_t i, float tLimit, Hit& hit) { return hitTriangle(r, triangles[i], tLimit, hit); },
+      r, ts.triangleNodes(),
+      [&r, triangles](uint32_t i, float tLimit, Hit& hit) {
+        hit.slot = i;
+        return hitTriangle(r, triangles[i], tLimit, hit);
+      },
       best);
   return found;
 }
@@ -546,6 +552,7 @@ template <bool AnyHit, bool ZeroSafe> bool traceBoth(const RayContext& r, const 
 
 std::optional<Hit> TraceScene::intersectTriangle(const Ray& ray, uint32_t triangleIndex) const {
   Hit hit;
+  hit.slot = triangleIndex;
   if (hitTriangle(RayContext(ray), triangles_.at(triangleIndex), ray.tMax, hit)) return hit;
   return std::nullopt;
 }

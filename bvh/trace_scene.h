@@ -84,6 +84,7 @@ struct Hit {
   float t = 0.0f;
   uint32_t face = kNoFace;  // index into Scene::faces AND TraceScene::faces()
   uint32_t brush = kNoFace; // index into Scene::brushes; kNoBrush for a mesh triangle
+  uint32_t slot = kNoFace;  // index into TraceScene::brushes() (or triangles()): intersectBrush's argument
   bool inside = false;      // the ray started inside the brush; face is where it leaves
 };
 

@@ -58,8 +58,20 @@ glm::vec3 facingNormal(const Receiver& r, const glm::vec3& toLight) {
 
 // Faithful mode: one light's share of the light sum at the receiver, dimmed by the dirt
 // `occlusion` there. Local-minlight lights raise `localMin` instead: they are a floor, not a sum.
+// occluded(), trying first the brush that blocked the cache's last ray toward light `index`.
+bool shadowed(const RenderScene& rs, const Ray& ray, ShadowCache* cache, size_t index) {
+  if (!cache) return occluded(rs, ray, LightingMode::Faithful);
+  uint32_t& blocker = cache->blocker[index];
+  const bool blocked = (blocker != kNoFace && blockedByBrush(rs, ray, LightingMode::Faithful, blocker)) ||
+      occluded(rs, ray, LightingMode::Faithful, &blocker);
+  cache->lastSeen[index] = !blocked;
+  return blocked;
+}
+
+// `cache`, when given, is the caller's ShadowCache and `light` is rs.lights[index]; `seen`: the
+// cache proved that no brush blocks the shadow ray.
 void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiver& r, float occlusion, Rng& rng, glm::vec3& sum,
-                      glm::vec3& localMin) {
+                      glm::vec3& localMin, ShadowCache* cache = nullptr, size_t index = 0, bool seen = false) {
   if (light.type == uint32_t(LightType::Point)) {
     const glm::vec3 pos = jitteredOrigin(light, rng);
     const glm::vec3 d = pos - r.p;
@@ -73,7 +85,7 @@ void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiv
     const glm::vec3 origin = offsetRayOrigin(r.p, n);
     const glm::vec3 toLightFromOrigin = pos - origin;
     const float len = glm::length(toLightFromOrigin);
-    if (occluded(rs, Ray{origin, 0.0f, toLightFromOrigin / len, len}, LightingMode::Faithful)) return;
+    if (!seen && shadowed(rs, Ray{origin, 0.0f, toLightFromOrigin / len, len}, cache, index)) return;
     if (light.formula == uint32_t(LightFormula::LocalMin))
       localMin = glm::max(localMin, value * light.color);
     else
@@ -331,19 +343,31 @@ int luxelPasses(const RenderScene& rs, int softSamples) {
 }
 
 void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, bool twoSided, int pass, int softSamples, Rng& rng,
-                       LuxelSums& sums) {
+                       LuxelSums& sums, ShadowCache* cache) {
+  const auto index = [&](const GpuLight& light) { return size_t(&light - rs.lights.data()); };
   const Receiver r{p, n, twoSided};
   // Dirt rays start at the compiler's sample point, which p already is.
   if (pass == 0) sums.occlusion = faithfulOcclusion(rs, p - n * faithful::kDirtSampleLift, n, rng);
-  forLuxelLights(rs, p, pass, [&](const GpuLight& light) {
+  const auto each = [&](const GpuLight& light) {
     if (light.type == uint32_t(LightType::Dome)) {
       if (pass < int(skyDome().size())) sums.dome += domeSunLight(rs, light, r, skyDome()[size_t(pass)], sums.occlusion);
     } else if (softLight(light)) {
-      if (pass < softSamples) addFaithfulLight(rs, light, r, sums.occlusion, rng, sums.soft, sums.localMin);
+      if (pass < softSamples) addFaithfulLight(rs, light, r, sums.occlusion, rng, sums.soft, sums.localMin, cache, index(light));
     } else if (pass == 0) {
-      addFaithfulLight(rs, light, r, sums.occlusion, rng, sums.fixed, sums.localMin);
+      addFaithfulLight(rs, light, r, sums.occlusion, rng, sums.fixed, sums.localMin, cache, index(light));
     }
-  });
+  };
+  if (pass == 0 && cache && cache->grouped) {
+    for (uint32_t e : cache->groupLights) {
+      const uint32_t i = e & ~kSeenByAll;
+      if (e & kSeenByAll)
+        addFaithfulLight(rs, rs.lights[i], r, sums.occlusion, rng, sums.fixed, sums.localMin, cache, i, true);
+      else
+        each(rs.lights[i]);
+    }
+  } else {
+    forLuxelLights(rs, p, pass, each);
+  }
 }
 
 glm::vec3 faithfulLuxelLight(const RenderScene& rs, const LuxelSums& sums, int passes, int softSamples, const glm::vec3& faceMinlight) {

@@ -9,12 +9,15 @@
 #include "lighting/render_scene.h"
 #include "shaders/light_constants.glsl" // BT_BOUNCE_SHADOW_RAYS, shared with the shaders
 #include "lighting/sampling.h"
+#include "lighting/shadow_groups.h"
 
 #include <glm/vec3.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <span>
+#include <vector>
 
 namespace bt {
 
@@ -134,8 +137,9 @@ struct LuxelSums {
 };
 // How many passes a level's luxels take: 1, the dome's directions, or `softSamples`.
 int luxelPasses(const RenderScene& rs, int softSamples);
+
 void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, bool twoSided, int pass, int softSamples, Rng& rng,
-                       LuxelSums& sums);
+                       LuxelSums& sums, ShadowCache* cache = nullptr);
 // The light after `passes` passes.
 glm::vec3 faithfulLuxelLight(const RenderScene& rs, const LuxelSums& sums, int passes, int softSamples, const glm::vec3& faceMinlight);
 // What an occluded luxel (its sample point in solid, or too far off its face) stores: the floors.

@@ -233,28 +233,75 @@ LuxelBakeJob luxelBakeJob(const RenderScene& rs, const Lightmaps& lm, const Ligh
   return job;
 }
 
+namespace {
+
+// One luxel's stored value: the mean light of its sample points.
+uint32_t bakeLuxel(const RenderScene& rs, const LuxelBakeJob& job, size_t luxel, ShadowCache* cache) {
+  glm::vec3 light(0.0f);
+  for (uint32_t k = 0; k < job.samplesPerLuxel; ++k) {
+    const uint32_t index = uint32_t(luxel) * job.samplesPerLuxel + k;
+    const GpuLuxelSample& s = job.samples[index];
+    const glm::vec3 faceMinlight(s.faceMinlight[0], s.faceMinlight[1], s.faceMinlight[2]);
+    if (s.flags & kLuxelSampleOccluded) {
+      light += faithfulLuxelFloor(rs, faceMinlight);
+      continue;
+    }
+    const glm::vec3 p(s.position[0], s.position[1], s.position[2]);
+    const glm::vec3 n(rs.scene->faces[s.face].plane.normal);
+    LuxelSums sums;
+    for (int pass = 0; pass < job.passes; ++pass) {
+      Rng rng = pixelRng(index, uint32_t(pass), 0, job.seed);
+      faithfulLuxelPass(rs, p, n, s.flags & kLuxelSampleTwoSided, pass, job.softSamples, rng, sums, cache);
+    }
+    light += faithfulLuxelLight(rs, sums, job.passes, job.softSamples, faceMinlight);
+  }
+  return storedLuxel(light / float(job.samplesPerLuxel), rs.world.range);
+}
+
+// The sample points of luxels [begin, end) that cast shadow rays from one side of one face:
+// what prepareLuxelGroup takes as a group. Empty when they are not all such.
+std::vector<glm::vec3> shadowGroup(const LuxelBakeJob& job, size_t begin, size_t end) {
+  std::vector<glm::vec3> points;
+  const uint32_t face = job.samples[begin * job.samplesPerLuxel].face;
+  for (size_t i = begin * job.samplesPerLuxel; i < end * job.samplesPerLuxel; ++i) {
+    const GpuLuxelSample& s = job.samples[i];
+    if (s.face != face || (s.flags & kLuxelSampleTwoSided)) return {};
+    if (!(s.flags & kLuxelSampleOccluded)) points.emplace_back(s.position[0], s.position[1], s.position[2]);
+  }
+  return points;
+}
+
+} // namespace
+
 void bakeLightmaps(const RenderScene& rs, Lightmaps& lm, const LightmapBakeOptions& options) {
   const LuxelBakeJob job = luxelBakeJob(rs, lm, options);
-  parallelFor(lm.luxels.size(), options.threads, [&](size_t luxel) {
-    glm::vec3 light(0.0f);
-    for (uint32_t k = 0; k < job.samplesPerLuxel; ++k) {
-      const uint32_t index = uint32_t(luxel) * job.samplesPerLuxel + k;
-      const GpuLuxelSample& s = job.samples[index];
-      const glm::vec3 faceMinlight(s.faceMinlight[0], s.faceMinlight[1], s.faceMinlight[2]);
-      if (s.flags & kLuxelSampleOccluded) {
-        light += faithfulLuxelFloor(rs, faceMinlight);
-        continue;
+  const std::vector<uint8_t> solid = options.shadowCache ? solidBlockers(rs) : std::vector<uint8_t>();
+  // Runs of neighbouring luxels (a face's rows) share a shadow cache, and groups of up to kGroup of them
+  // on one face the lights hidden from all of them: fixed runs and groups, so the result does not
+  // depend on which thread takes which.
+  constexpr size_t kRun = 256, kGroup = 8;
+  parallelFor((lm.luxels.size() + kRun - 1) / kRun, options.threads, [&](size_t run) {
+    std::optional<ShadowCache> cache;
+    if (options.shadowCache) cache.emplace(rs, solid);
+    const size_t end = std::min(lm.luxels.size(), (run + 1) * kRun);
+    const auto faceOf = [&](size_t luxel) { return job.samples[luxel * job.samplesPerLuxel].face; };
+    const auto cellOf = [&](size_t luxel) {
+      const GpuLuxelSample& s = job.samples[luxel * job.samplesPerLuxel];
+      return rs.lightGrid.cellLights(glm::vec3(s.position[0], s.position[1], s.position[2]));
+    };
+    const auto together = [&](size_t a, size_t b) {
+      const std::span<const uint32_t> x = cellOf(a), y = cellOf(b);
+      return faceOf(a) == faceOf(b) && (x.data() == y.data() || std::equal(x.begin(), x.end(), y.begin(), y.end()));
+    };
+    for (size_t group = run * kRun, groupEnd; group < end; group = groupEnd) {
+      groupEnd = group + 1;
+      while (groupEnd < end && groupEnd - group < kGroup && together(group, groupEnd)) ++groupEnd;
+      if (cache) {
+        const std::vector<glm::vec3> points = shadowGroup(job, group, groupEnd);
+        prepareLuxelGroup(rs, points, glm::vec3(rs.scene->faces[faceOf(group)].plane.normal), *cache);
       }
-      const glm::vec3 p(s.position[0], s.position[1], s.position[2]);
-      const glm::vec3 n(rs.scene->faces[s.face].plane.normal);
-      LuxelSums sums;
-      for (int pass = 0; pass < job.passes; ++pass) {
-        Rng rng = pixelRng(index, uint32_t(pass), 0, job.seed);
-        faithfulLuxelPass(rs, p, n, s.flags & kLuxelSampleTwoSided, pass, job.softSamples, rng, sums);
-      }
-      light += faithfulLuxelLight(rs, sums, job.passes, job.softSamples, faceMinlight);
+      for (size_t luxel = group; luxel < groupEnd; ++luxel) lm.luxels[luxel] = bakeLuxel(rs, job, luxel, cache ? &*cache : nullptr);
     }
-    lm.luxels[luxel] = storedLuxel(light / float(job.samplesPerLuxel), rs.world.range);
   });
 }
 

@@ -27,9 +27,10 @@
 namespace bt {
 
 struct LightmapBakeOptions {
-  int extra = 1;        // sample points per luxel along each axis: 1 (the compiler's default), 2 or 4
-  int samples = 0;      // samples of each soft light per point; 0: 1 for a level without soft lights, else 64
-  unsigned threads = 0; // 0: all cores
+  int extra = 1;           // sample points per luxel along each axis: 1 (the compiler's default), 2 or 4
+  int samples = 0;         // samples of each soft light per point; 0: 1 for a level without soft lights, else 64
+  unsigned threads = 0;    // 0: all cores
+  bool shadowCache = true; // faithful_light.h ShadowCache: off only to measure it or to test that it changes nothing
 };
 
 // Whether the compiled level gives scene face `face` a lightmap: drawn, not sky, and a liquid

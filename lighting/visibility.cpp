@@ -1,6 +1,7 @@
 #include "lighting/visibility.h"
 
 #include <optional>
+#include <span>
 
 namespace bt {
 
@@ -54,21 +55,30 @@ SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray) {
   return {};
 }
 
-bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode) {
+bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t* blocker) {
+  const auto blockedBy = [&](const Hit& hit) {
+    if (blocker && hit.brush != kNoBrush) *blocker = hit.slot;
+    return true;
+  };
   // Most shadow rays that are blocked are blocked by any wall on the way: the first hit the
   // traversal meets settles it. Only a hit the ray may pass (a liquid, a hole, a face that casts
   // no shadow) needs the walk from hit to hit below, which gives the same answer.
   const std::optional<Hit> any = rs.tracer.anyHit(ray);
   if (!any) return false;
-  if (blocksLight(rs.faceFlags[any->face], mode) && !passesThrough(rs, *any, ray)) return true;
+  if (blocksLight(rs.faceFlags[any->face], mode) && !passesThrough(rs, *any, ray)) return blockedBy(*any);
   Ray r = ray;
   for (int i = 0; i < kMaxSkips; ++i) {
     const std::optional<Hit> hit = rs.tracer.closestHit(r);
     if (!hit) return false;
-    if (blocksLight(rs.faceFlags[hit->face], mode) && !passesThrough(rs, *hit, r)) return true;
+    if (blocksLight(rs.faceFlags[hit->face], mode) && !passesThrough(rs, *hit, r)) return blockedBy(*hit);
     r.tMin = continueRayAfter(hit->t);
   }
   return true;
+}
+
+bool blockedByBrush(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t slot) {
+  const std::optional<Hit> hit = rs.tracer.intersectBrush(ray, slot);
+  return hit && !hit->inside && blocksLight(rs.faceFlags[hit->face], mode) && !passesThrough(rs, *hit, ray);
 }
 
 bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t skyMaterial) {
@@ -83,6 +93,24 @@ bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32
     r.tMin = continueRayAfter(hit->t);
   }
   return false;
+}
+
+std::vector<uint8_t> solidBlockers(const RenderScene& rs) {
+  const std::span<const GpuBrush> brushes = rs.tracer.brushes();
+  const std::span<const uint32_t> sides = rs.tracer.sides();
+  std::vector<uint8_t> solid(brushes.size(), 0);
+  const auto blocks = [&](uint32_t face) {
+    const uint32_t flags = rs.faceFlags[face];
+    return blocksLight(flags, LightingMode::Faithful) && !(flags & kFaceMasked);
+  };
+  for (size_t b = 0; b < brushes.size(); ++b) {
+    const GpuBrush& brush = brushes[b];
+    bool all = true;
+    for (uint32_t face : brush.axialFace) all = all && (face == kNoFace || blocks(face));
+    for (uint32_t k = brush.firstSide; all && k < brush.firstSide + brush.sideCount; ++k) all = blocks(sides[k]);
+    solid[b] = all;
+  }
+  return solid;
 }
 
 glm::vec4 baseColorAt(const RenderScene& rs, uint32_t face, const glm::vec3& p) {

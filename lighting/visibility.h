@@ -11,6 +11,7 @@
 #include <glm/vec4.hpp>
 
 #include <cstdint>
+#include <vector>
 
 namespace bt {
 
@@ -27,8 +28,16 @@ struct SurfaceHit {
 
 SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray);
 
-// True when something that casts shadows in `mode` lies between the ray's tmin and tmax.
-bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode);
+// True when something that casts shadows in `mode` lies between the ray's tmin and tmax. With
+// `blocker`, a brush that blocked it is stored there (its TraceScene slot; unchanged when nothing,
+// or a mesh triangle, did): what the next shadow ray toward the same light tries first.
+bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t* blocker = nullptr);
+
+// Whether brush `slot` (a TraceScene slot) alone blocks the ray: the ray enters it within (tmin,
+// tmax), from outside, through a face that blocks light in `mode`, where the face has no hole.
+// One brush test. Where it says yes, occluded() says yes too, except where a face that does not
+// block lies in exactly the plane the ray enters the brush by and wins the tie for that hit.
+bool blockedByBrush(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t slot);
 
 // True when the ray reaches a sky face (or leaves the level) before anything else: sunlight.
 // `skyMaterial`: 1 + the only sky material that counts (a sun's `_suntexture`), 0 any sky.
@@ -37,6 +46,11 @@ bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32
 // How far a ray from `origin` along `dir` gets before a face that blocks faithful light, or
 // `depth` when it meets none (or the sky: ericw-tools' dirt counts only solid hits) within it.
 float blockedDistance(const RenderScene& rs, const glm::vec3& origin, const glm::vec3& dir, float depth);
+
+// Per TraceScene brush slot, 1 where every face of the brush blocks faithful light and none has
+// alpha-tested holes: a ray that enters such a brush from outside is blocked, whichever face it
+// enters by.
+std::vector<uint8_t> solidBlockers(const RenderScene& rs);
 
 // A face point's texture coordinates in units of its texture's size (repeat wraps at 1).
 glm::vec2 textureUV(const RenderScene& rs, uint32_t face, const glm::vec3& p);

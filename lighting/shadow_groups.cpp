@@ -1,0 +1,198 @@
+#include "lighting/shadow_groups.h"
+
+#include "lighting/faithful.h"
+#include "lighting/visibility.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <array>
+#include <limits>
+
+namespace bt {
+
+ShadowCache::ShadowCache(const RenderScene& rs, const std::vector<uint8_t>& solidBrushes)
+    : solid(&solidBrushes), blocker(rs.lights.size(), kNoFace), lastSeen(rs.lights.size(), 0) {}
+
+namespace {
+
+// The stretch [enter, exit] of the segment c + s (l - c), s in [0, 1], that lies inside brush
+// `slot`: Haines' clip in plain arithmetic, no tie rules (trace_scene.h has them for rays).
+bool segmentStretch(const TraceScene& ts, uint32_t slot, const glm::vec3& c, const glm::vec3& l, float& enter, float& exit) {
+  const GpuBrush& b = ts.brushes()[slot];
+  const glm::vec3 d = l - c;
+  enter = 0.0f, exit = 1.0f;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0.0f) {
+      if (c[a] < b.boundsMin[a] || c[a] > b.boundsMax[a]) return false;
+      continue;
+    }
+    const float t0 = (b.boundsMin[a] - c[a]) / d[a], t1 = (b.boundsMax[a] - c[a]) / d[a];
+    enter = std::max(enter, std::min(t0, t1)), exit = std::min(exit, std::max(t0, t1));
+  }
+  for (uint32_t k = b.firstSide; k < b.firstSide + b.sideCount && enter < exit; ++k) {
+    const GpuFace& f = ts.faces()[ts.sides()[k]];
+    const glm::vec3 n(f.plane[0], f.plane[1], f.plane[2]);
+    const float denom = glm::dot(n, d), num = f.plane[3] - glm::dot(n, c);
+    if (denom < 0.0f)
+      enter = std::max(enter, num / denom);
+    else if (denom > 0.0f)
+      exit = std::min(exit, num / denom);
+    else if (num < 0.0f)
+      return false; // parallel, in front of the plane
+  }
+  return enter < exit;
+}
+
+// A group's ray origins: a box in the frame of their face (u, v in its plane, n off it), 8 corners.
+struct OriginBox {
+  glm::vec3 u, v, n;
+  glm::vec3 lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
+  Bounds world;
+  glm::vec3 corner(int k) const { return u * (k & 1 ? hi.x : lo.x) + v * (k & 2 ? hi.y : lo.y) + n * (k & 4 ? hi.z : lo.z); }
+};
+
+// Whether solid brush `slot` lies clear of the box and holds a stretch of every segment from a
+// corner of it to the light (kMargin of the segment at least, far above float rounding).
+bool brushHidesBox(const RenderScene& rs, uint32_t slot, const OriginBox& box, const glm::vec3& light) {
+  constexpr float kMargin = 1e-3f;
+  const GpuBrush& b = rs.tracer.brushes()[slot];
+  bool apart = false;
+  for (int a = 0; a < 3; ++a) apart = apart || box.world.max[a] < b.boundsMin[a] || box.world.min[a] > b.boundsMax[a];
+  if (!apart) return false;
+  for (int k = 0; k < 8; ++k) {
+    float enter = 0.0f, exit = 0.0f;
+    if (!segmentStretch(rs.tracer, slot, box.corner(k), light, enter, exit) || !(enter > 0.0f && enter + kMargin < exit)) return false;
+  }
+  return true;
+}
+
+// The pyramid from the box's face (flat: its ray origins on one plane) to a light, as five planes
+// (outward normal, offset), and its bounding box.
+struct Pyramid {
+  std::array<glm::vec4, 5> planes;
+  std::array<glm::vec3, 5> vertices; // the base's corners, then the light
+  Bounds bounds;
+};
+
+Pyramid pyramidTo(const OriginBox& box, const glm::vec3& light) {
+  const float z = 0.5f * (box.lo.z + box.hi.z);
+  const std::array<glm::vec3, 4> base = {box.u * box.lo.x + box.v * box.lo.y + box.n * z, box.u * box.hi.x + box.v * box.lo.y + box.n * z,
+                                         box.u * box.hi.x + box.v * box.hi.y + box.n * z, box.u * box.lo.x + box.v * box.hi.y + box.n * z};
+  const glm::vec3 centre = 0.25f * (base[0] + base[1] + base[2] + base[3]);
+  Pyramid p;
+  for (int k = 0; k < 4; ++k) {
+    const glm::vec3& a = base[size_t(k)];
+    glm::vec3 m = glm::normalize(glm::cross(base[size_t((k + 1) % 4)] - a, light - a));
+    if (glm::dot(m, centre - a) > 0.0f) m = -m;
+    p.planes[size_t(k)] = glm::vec4(m, glm::dot(m, a));
+    p.vertices[size_t(k)] = a;
+    p.bounds.grow(dvec3(a));
+  }
+  p.planes[4] = glm::vec4(-box.n, -z);
+  p.vertices[4] = light;
+  p.bounds.grow(dvec3(light));
+  return p;
+}
+
+// Whether a box lies outside the pyramid by more than `margin` (some plane has it wholly in front).
+bool outside(const Pyramid& p, const float* lo, const float* hi, float margin) {
+  for (int a = 0; a < 3; ++a)
+    if (lo[a] > p.bounds.max[a] + margin || hi[a] < p.bounds.min[a] - margin) return true;
+  for (const glm::vec4& q : p.planes) {
+    const glm::vec3 nearest(q.x > 0.0f ? lo[0] : hi[0], q.y > 0.0f ? lo[1] : hi[1], q.z > 0.0f ? lo[2] : hi[2]);
+    if (glm::dot(glm::vec3(q), nearest) > q.w + margin) return true;
+  }
+  return false;
+}
+
+// Whether the pyramid lies wholly in front of one of brush `slot`'s slanted planes (by more than
+// `margin`): the box test above cannot tell a slanted brush's empty corners from the brush.
+bool apartFromSlantedPlanes(const TraceScene& ts, uint32_t slot, const Pyramid& p, float margin) {
+  const GpuBrush& b = ts.brushes()[slot];
+  for (uint32_t k = b.firstSide; k < b.firstSide + b.sideCount; ++k) {
+    const GpuFace& f = ts.faces()[ts.sides()[k]];
+    const glm::vec3 n(f.plane[0], f.plane[1], f.plane[2]);
+    bool allInFront = true;
+    for (const glm::vec3& v : p.vertices) allInFront = allInFront && glm::dot(n, v) > f.plane[3] + margin;
+    if (allInFront) return true;
+  }
+  return false;
+}
+
+// Whether some brush meets the pyramid (or comes within `margin` of it).
+bool anyBrushNear(const TraceScene& ts, const Pyramid& p, float margin) {
+  const std::span<const GpuBvhNode> nodes = ts.nodes();
+  if (nodes.empty() || outside(p, nodes[0].boundsMin, nodes[0].boundsMax, margin)) return false;
+  uint32_t stack[kBvhMaxDepth + 1];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const GpuBvhNode& node = nodes[stack[--top]];
+    if (node.count == 0) {
+      for (uint32_t c = node.leftFirst; c < node.leftFirst + 2; ++c)
+        if (!outside(p, nodes[c].boundsMin, nodes[c].boundsMax, margin)) stack[top++] = c;
+      continue;
+    }
+    for (uint32_t i = node.leftFirst; i < node.leftFirst + node.count; ++i)
+      if (!outside(p, ts.brushes()[i].boundsMin, ts.brushes()[i].boundsMax, margin) && !apartFromSlantedPlanes(ts, i, p, margin))
+        return true;
+  }
+  return false;
+}
+
+} // namespace
+
+void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points, const glm::vec3& n, ShadowCache& cache) {
+  cache.groupLights.clear();
+  cache.grouped = false;
+  if (points.empty()) return;
+  const LightGrid& grid = rs.lightGrid;
+  const std::span<const uint32_t> cell = grid.cellLights(points.front());
+  for (const glm::vec3& p : points) {
+    const std::span<const uint32_t> other = grid.cellLights(p);
+    if (other.data() != cell.data() && !std::equal(other.begin(), other.end(), cell.begin(), cell.end())) return; // no common list
+  }
+  OriginBox box;
+  box.n = n;
+  box.u = glm::normalize(std::abs(n.x) < 0.6f ? glm::cross(n, glm::vec3(1, 0, 0)) : glm::cross(n, glm::vec3(0, 1, 0)));
+  box.v = glm::cross(n, box.u);
+  for (const glm::vec3& p : points) {
+    const glm::vec3 o = offsetRayOrigin(p, n);
+    box.lo = glm::min(box.lo, glm::vec3(glm::dot(box.u, o), glm::dot(box.v, o), glm::dot(n, o)));
+    box.hi = glm::max(box.hi, glm::vec3(glm::dot(box.u, o), glm::dot(box.v, o), glm::dot(n, o)));
+  }
+  box.lo -= glm::vec3(1e-3f), box.hi += glm::vec3(1e-3f); // the frame's own rounding
+  for (int k = 0; k < 8; ++k) box.world.grow(dvec3(box.corner(k)));
+  float nearest = std::numeric_limits<float>::infinity();
+  for (const glm::vec3& p : points) nearest = std::min(nearest, glm::dot(n, p));
+  // Flat: the ray origins lie on one plane (to float rounding), the pyramid's base. Meshes are
+  // not in the brush BVH: no pyramid proves their absence.
+  const bool flat = box.hi.z - box.lo.z <= 4e-3f && rs.tracer.triangleNodes().empty();
+  constexpr uint32_t kDropped = ~0u;
+  const auto entry = [&](uint32_t i) -> uint32_t {
+    const GpuLight& light = rs.lights[i];
+    if (light.type != uint32_t(LightType::Point) || light.deviance > 0.0f) return i;
+    // Behind every point's plane (by far more than rounding): pointLightValue gives 0 to all.
+    if (!(light.flags & kLightFlagBleed) && glm::dot(n, light.origin) < nearest - 1e-2f) return kDropped;
+    const uint32_t slot = cache.blocker[i];
+    if (slot != kNoFace && (*cache.solid)[slot] && brushHidesBox(rs, slot, box, light.origin)) return kDropped;
+    // Tried only where the last ray toward the light was not blocked: a proof that fails costs a
+    // traversal, and lights that were blocked a luxel ago mostly are again.
+    constexpr float kNearMargin = 1e-2f;
+    if (flat && cache.lastSeen[i] && glm::dot(n, light.origin) > box.hi.z + 1.0f &&
+        !anyBrushNear(rs.tracer, pyramidTo(box, light.origin), kNearMargin))
+      return i | kSeenByAll;
+    return i;
+  };
+  const auto add = [&](std::span<const uint32_t> lights) {
+    for (uint32_t i : lights)
+      if (const uint32_t e = entry(i); e != kDropped) cache.groupLights.push_back(e);
+  };
+  add(grid.fixedLights());
+  add(grid.globalLights());
+  add(cell);
+  cache.grouped = true;
+}
+
+} // namespace bt

@@ -1,0 +1,44 @@
+// Shadow rays shared by neighbouring luxels, for the CPU bake. A large level's luxels each look at
+// thousands of point lights (lqdm5: about 2,500, most behind the face or blocked, the rest seen),
+// and neighbouring luxels mostly get the same answer from each, so it is worked out once per
+// group of them where that can be proved, and the rays are cast only where it cannot:
+//   blocker      per light, the brush that last blocked a shadow ray toward it: neighbouring
+//                luxels are mostly shadowed from a light by the same wall, so one brush test
+//                settles most blocked rays (visibility.h blockedByBrush).
+//   groupLights  set by prepareLuxelGroup for a group of neighbouring sample points of one face:
+//                the lights of pass 0 in the order they are summed, less the point lights that
+//                light none of the points (behind all of them, or hidden from all of them by one
+//                solid brush), each marked kSeenByAll where no brush comes near any segment from
+//                the points to it (no shadow ray needed).
+// By convexity: a segment from any point of the box around the ray origins to a light passes
+// through the hull of the points that the box corners' segments have inside a convex brush, and
+// lies inside the pyramid from the box's face to the light. The luxels are occluded()'s but for
+// the tie visibility.h blockedByBrush names and rays grazing a brush within float rounding.
+#pragma once
+
+#include "lighting/render_scene.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace bt {
+
+inline constexpr uint32_t kSeenByAll = 0x80000000u; // a groupLights entry: light index | this bit
+
+struct ShadowCache {
+  ShadowCache(const RenderScene& rs, const std::vector<uint8_t>& solid);
+  const std::vector<uint8_t>* solid; // visibility.h solidBlockers()
+  std::vector<uint32_t> blocker;     // TraceScene brush slot per light, kNoFace: none yet
+  std::vector<uint8_t> lastSeen;     // per light: the last shadow ray toward it was not blocked
+  std::vector<uint32_t> groupLights; // indices into rs.lights, with kSeenByAll
+  bool grouped = false;              // groupLights holds the current group's list
+};
+
+// Prepares cache.groupLights for sample `points` of one face (normal n, one-sided). Leaves the
+// cache ungrouped where the points do not share one light list (two grid cells).
+void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points, const glm::vec3& n, ShadowCache& cache);
+
+} // namespace bt
