@@ -82,9 +82,11 @@ void addRadiosityLight(const Scene& scene, const Face& face, const Winding& frag
   // colour is normalised by it only when that is above 1.
   glm::vec3 color = t.light.color;
   if (!t.hasColor && face.material < scene.materials.size()) {
-    // Face_LookupTextureColor: 127 grey for a texture the compiler has no pixels of.
+    // Face_LookupTextureColor: a texture the compiler cannot find is an image without pixels,
+    // whose mean is black (light_q2_emissive_cube's SURF_LIGHT faces light nothing); one it
+    // found without pixels is 127 grey.
     const Material& m = scene.materials[face.material];
-    color = m.missing() || m.baseColor.empty() ? glm::vec3(kTextureGrey) : averageColor(m.baseColor);
+    color = m.missing() ? glm::vec3(0.0f) : m.baseColor.empty() ? glm::vec3(kTextureGrey) : averageColor(m.baseColor);
   }
   color *= t.light.value;
   const float intensity = std::max({color.x, color.y, color.z});
