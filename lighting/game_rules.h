@@ -2,6 +2,7 @@
 // which brush entities it never draws, and where it puts the player's eye.
 #pragma once
 
+#include "lighting/lights.h"
 #include "scene/scene.h"
 
 #include <string_view>
@@ -18,5 +19,15 @@ Game gameOf(const Scene& scene);
 // Whether the game code never draws this brush entity's model when the level starts (README,
 // "What the engine hides", lists each rule with the function of id's or Valve's game code).
 bool gameHidesEntity(const Entity& entity, Game game);
+
+// The worldspawn defaults ericw-tools `light` takes from its game target before the level's keys
+// (light.cc, each game's defaults; lighting/README.md lists them), and how the game's engine
+// shows a stored lightmap value.
+WorldLighting compilerDefaults(Game game);
+
+// Light units per unit of the worldspawn's `_minlight`: ericw-tools reads a Quake 2 level's
+// `_minlight` as a fraction of 128 (arghrad's convention: the lit-games oracle stores 0.26 -> 33,
+// 0.5 -> 64, 0.75 -> 96 at range 1), every other game's in light units.
+float minlightUnit(Game game);
 
 } // namespace bt

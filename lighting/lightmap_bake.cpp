@@ -182,6 +182,7 @@ Lightmaps layoutLightmaps(const RenderScene& rs, std::span<const uint32_t> faces
     }
   }
   lm.luxels.assign(luxels, 0u);
+  lm.displayScale = 1.0f / rs.world.overbrightOne;
   return lm;
 }
 

@@ -1,5 +1,7 @@
 #include "lighting/lights.h"
 
+#include "lighting/game_rules.h"
+#include "quake/bspfile_q2.h"
 #include "quake/entity_keys.h"
 
 #include <fmt/format.h>
@@ -63,7 +65,7 @@ const Entity* findTarget(const Scene& scene, std::string_view targetname) {
 }
 
 WorldLighting readWorld(const Scene& scene, Diagnostics& diagnostics) {
-  WorldLighting world;
+  WorldLighting world = compilerDefaults(gameOf(scene));
   const Entity* ws = scene.worldspawn();
   if (!ws) return world;
   quake::EntityKeys keys(*ws, scene.sourcePath, &diagnostics);
@@ -72,15 +74,16 @@ WorldLighting readWorld(const Scene& scene, Diagnostics& diagnostics) {
   world.anglescale = keys.number("_anglescale", keys.number("_anglesense", world.anglescale));
   const float minlight = keys.number("_minlight", keys.number("light", 0.0f));
   const glm::vec3 minColor = keys.colour("_minlight_color", keys.colour("_mincolor"));
-  world.minlight = minlight * minColor;
-  world.bounces = std::clamp(keys.integer("_bounce", 0), 0, 8);
+  world.minlight = minlight * minlightUnit(gameOf(scene)) * minColor;
+  world.bounces = std::clamp(keys.integer("_bounce", world.bounces), 0, 8);
   // ericw-tools' ranges: _bouncescale 0..100, _bouncecolorscale 0..1.
   world.bouncescale = std::clamp(keys.number("_bouncescale", world.bouncescale), 0.0f, 100.0f);
   world.bouncecolorscale = std::clamp(keys.number("_bouncecolorscale", world.bouncecolorscale), 0.0f, 1.0f);
-  world.bouncestyled = keys.number("_bouncestyled", 0.0f) != 0.0f;
+  world.bouncestyled = keys.number("_bouncestyled", world.bouncestyled ? 1.0f : 0.0f) != 0.0f;
   world.litwater = keys.number("_litwater", 0.0f) != 0.0f;
-  world.surflightRadiosity = keys.number("_surflight_radiosity", 0.0f) != 0.0f;
+  world.surflightRadiosity = keys.number("_surflight_radiosity", world.surflightRadiosity ? 1.0f : 0.0f) != 0.0f;
   world.surflightScale = keys.number("_surflightscale", world.surflightScale);
+  world.surflightSkyScale = keys.number("_surflightskyscale", world.surflightSkyScale);
   world.surflightMinlightScale = keys.number("_surflight_minlight_scale", world.surflightMinlightScale);
 
   world.dirt = keys.integer("_dirt", 0) == 1;
@@ -136,7 +139,9 @@ void addWorldSuns(const Scene& scene, const WorldLighting& world, SceneLights& o
   if (!ws) return;
   quake::EntityKeys keys(*ws, scene.sourcePath, &diagnostics);
 
-  const float sunlight = keys.number("_sunlight", 0.0f);
+  // ericw-tools reads Quake 2's arghrad spelling `_sun_light` as `_sunlight`, as it reads
+  // `_sun_color` and `_sun_mangle` below.
+  const float sunlight = keys.number("_sunlight", keys.number("_sun_light", 0.0f));
   if (sunlight != 0.0f) {
     GpuLight sun;
     sun.type = uint32_t(LightType::Sun);
@@ -298,6 +303,36 @@ void addLightEntity(const Scene& scene, const Entity& entity, const LightOptions
   out.lights.push_back(light);
 }
 
+// Quake 2's surface lights (ericw-tools surflight.cc MakeSurfaceLightsThread): every face whose
+// texinfo has SURF_LIGHT and a non-zero value is a radiosity surface light of that value, in the
+// texture's mean colour; one template per texture and value.
+void addQuake2SurfaceLights(const Scene& scene, SceneLights& out, Diagnostics& diagnostics) {
+  bool skyWarned = false;
+  for (const Face& f : scene.faces) {
+    if (f.brush == kNoBrush || !f.surface || !(f.surface->flags & quake::q2::SURF_LIGHT) || f.surface->value == 0.0) continue;
+    if (f.surface->flags & quake::q2::SURF_SKY) {
+      // The compiler's sky emitters shine in every direction, scaled by `_surflightskyscale`.
+      if (!skyWarned)
+        diagnostics.push_back(
+            {Severity::Warning, scene.sourcePath, f.line, 0,
+             fmt::format("sky face \"{}\" with SURF_LIGHT: Quake 2 sky surface lights are not modelled; it emits nothing", f.texture)});
+      skyWarned = true;
+      continue;
+    }
+    const auto same = [&](const SurfaceTemplate& t) { return t.q2Value == f.surface->value && t.texture == f.texture; };
+    if (std::any_of(out.surfaceTemplates.begin(), out.surfaceTemplates.end(), same)) continue;
+    SurfaceTemplate t;
+    t.texture = f.texture;
+    t.q2Value = f.surface->value;
+    t.radiosity = true;
+    t.minlightScale = out.world.surflightMinlightScale;
+    t.light.type = uint32_t(LightType::Point);
+    t.light.value = float(f.surface->value);
+    t.light.color = glm::vec3(1.0f);
+    out.surfaceTemplates.push_back(t);
+  }
+}
+
 } // namespace
 
 glm::vec3 directionFromMangle(float yawDegrees, float pitchDegrees) {
@@ -324,6 +359,7 @@ SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagn
   addWorldSuns(scene, out.world, out, diagnostics);
   for (const Entity& entity : scene.entities)
     if (entity.classname().starts_with("light")) addLightEntity(scene, entity, options, out, diagnostics);
+  if (gameOf(scene) == Game::Quake2) addQuake2SurfaceLights(scene, out, diagnostics);
 
   // ericw-tools traces the occlusion rays only where something uses dirt (SetupDirt).
   DirtSettings& dirt = out.world.dirtSettings;

@@ -30,6 +30,7 @@ struct DirtSettings {
 // Worldspawn keys that set up the whole level's lighting.
 struct WorldLighting {
   float range = 0.5f;                  // `_range`: lightmap = light sum * range
+  float overbrightOne = 128.0f;        // the stored value the engine shows as the texture's own colour (Quake's overbright; 255 without)
   float scaledist = 1.0f;              // `_dist`: scales distance in every falloff formula
   float anglescale = 0.5f;             // `_anglescale` (or `_anglesense`): default for every light and the sun
   glm::vec3 minlight{0.0f};            // `light` / `_minlight` * `_minlight_color`, in light units
@@ -40,6 +41,7 @@ struct WorldLighting {
   bool litwater = false;               // `_litwater`: liquids receive light instead of drawing fullbright
   bool surflightRadiosity = false;     // `_surflight_radiosity`: default kind of every _surface template
   float surflightScale = 1.0f;         // `_surflightscale`: scales radiosity surface lights
+  float surflightSkyScale = 1.0f;      // `_surflightskyscale`: scales Quake 2 sky faces that emit (not modelled)
   float surflightMinlightScale = 1.0f; // `_surflight_minlight_scale`: default face minlight of radiosity templates
   bool dirt = false;                   // `_dirt 1`: every light is dimmed by dirt unless its own `_dirt` is -1
   DirtSettings dirtSettings;
@@ -57,6 +59,9 @@ struct SurfaceTemplate {
   bool radiosity = false;     // `_surface_radiosity` 1: ericw-tools' "Q2-style" radiosity surface light
   float minlightScale = 1.0f; // `_surflight_minlight_scale`: radiosity kind: face minlight = value x this
   int group = 0;              // `_surflight_group`: only faces of entities with the same `_surflight_group` (0: unset) emit
+  // Quake 2's texinfo surface lights (SURF_LIGHT with a value): only faces whose texinfo has the
+  // flag and this value emit, not every face with the texture.
+  std::optional<double> q2Value;
 };
 
 struct SceneLights {

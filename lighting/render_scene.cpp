@@ -148,6 +148,20 @@ void applySurfaceTemplates(RenderScene& rs, const std::vector<SurfaceTemplate>& 
     }
 }
 
+// Quake 2 draws a face by its surface flags alone (ref_gl R_RenderBrushPoly): warped without a
+// lightmap with SURF_WARP, sky with SURF_SKY, whatever its name or contents. A liquid brush's
+// face without SURF_WARP is lit and drawn with its lightmap (qbsp and light give it one:
+// q2_csg_water_water_current90); the light passes through it all the same.
+uint32_t quake2DrawnAs(uint32_t flags, const SurfaceAttributes& surface) {
+  using namespace quake::q2;
+  const bool liquid = flags & kFaceLiquid;
+  flags &= ~(kFaceLiquid | kFaceSky);
+  if (surface.flags & SURF_WARP) flags |= kFaceLiquid;
+  if (surface.flags & SURF_SKY) flags |= kFaceSky;
+  if (liquid && !(flags & kFaceLiquid)) flags |= kFaceNoShadow;
+  return flags;
+}
+
 // Each face's class (kFace*): its texture's, its entity's (shadows, what the game hides), and
 // whether it emits.
 void classifyFaces(RenderScene& rs, const RenderSceneOptions& options) {
@@ -160,6 +174,7 @@ void classifyFaces(RenderScene& rs, const RenderSceneOptions& options) {
     const Face& f = scene.faces[i];
     uint32_t& flags = rs.faceFlags[i];
     flags = classifyTexture(f.texture, f.surface) | materialMasks[f.material];
+    if (game == Game::Quake2 && f.surface) flags = quake2DrawnAs(flags, *f.surface);
     {
       const uint32_t e = scene.faceEntity(uint32_t(i)); // a brush's or a mesh's
       if (e < scene.entities.size()) {

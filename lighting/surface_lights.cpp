@@ -1,6 +1,7 @@
 #include "lighting/surface_lights.h"
 
 #include "lighting/render_scene.h"
+#include "quake/bspfile_q2.h"
 
 #include "scene/names.h"
 #include "scene/parallel_for.h"
@@ -20,9 +21,10 @@ namespace bt {
 
 namespace {
 
-constexpr double kQ1SurfaceGrid = 128.0; // `light -surflight_subdivide` default
-constexpr double kRadiosityLift = 1.0;   // surflight.cc lifts a radiosity point 1 unit off the face
-constexpr double kMinEmitterArea = 1.0;  // surflight.cc skips smaller faces
+constexpr double kQ1SurfaceGrid = 128.0;        // `light -surflight_subdivide` default
+constexpr double kRadiosityLift = 1.0;          // surflight.cc lifts a radiosity point 1 unit off the face
+constexpr double kMinEmitterArea = 1.0;         // surflight.cc skips smaller faces
+constexpr float kTextureGrey = 127.0f / 255.0f; // bounce.cc Face_LookupTextureColor without pixels
 
 // The texture's mean colour in its own (sRGB) space, 0..1, as ericw-tools averages it.
 glm::vec3 averageColor(const Image& image) {
@@ -79,8 +81,13 @@ void addRadiosityLight(const Scene& scene, const Face& face, const Winding& frag
   // surflight.cc: colour (0..1) x light value; its brightest channel is the intensity, and the
   // colour is normalised by it only when that is above 1.
   glm::vec3 color = t.light.color;
-  if (!t.hasColor && face.material < scene.materials.size() && !scene.materials[face.material].baseColor.empty())
-    color = averageColor(scene.materials[face.material].baseColor);
+  if (!t.hasColor && face.material < scene.materials.size()) {
+    // Face_LookupTextureColor: a texture the compiler cannot find is an image without pixels,
+    // whose mean is black (light_q2_emissive_cube's SURF_LIGHT faces light nothing); one it
+    // found without pixels is 127 grey.
+    const Material& m = scene.materials[face.material];
+    color = m.missing() ? glm::vec3(0.0f) : m.baseColor.empty() ? glm::vec3(kTextureGrey) : averageColor(m.baseColor);
+  }
   color *= t.light.value;
   const float intensity = std::max({color.x, color.y, color.z});
   if (intensity <= 0.0f) return; // ericw-tools has no negative surface lights
@@ -139,6 +146,10 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
     for (uint32_t f = 0; f < scene.faces.size(); ++f) {
       if (scene.faces[f].brush == kNoBrush || !equalsIgnoreCase(scene.faces[f].texture, t.texture)) continue; // meshes: no compiled faces
       if (surfaceLightGroup(scene, f) != t.group) continue;
+      if (t.q2Value &&
+          !(scene.faces[f].surface && (scene.faces[f].surface->flags & quake::q2::SURF_LIGHT) &&
+            scene.faces[f].surface->value == *t.q2Value))
+        continue;
       std::vector<Winding> fragments = visibleFragments(scene, f, contents);
       if (fragments.empty()) continue;
       auto it = std::find_if(surfaces.begin() + std::ptrdiff_t(first), surfaces.end(),

@@ -136,6 +136,7 @@ struct CompiledLighting; // scene/compiled_lighting.h
 struct Scene {
   std::string sourcePath;
   std::string format; // map dialect ("standard", "valve220", ...) or BSP version ("bsp29", ...)
+  std::string game;   // the game profile `--game` names (quake, halflife, quake2, ...); empty: told by the level
   std::vector<Entity> entities;
   std::vector<Brush> brushes;
   std::vector<Face> faces;

@@ -141,8 +141,9 @@ glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& sett
     if (peak > 255.0f) stored *= 255.0f / peak;
     stored = glm::max(stored, glm::vec3(0.0f));
   }
-  // Engine: texture x lightmap / 128, in the texture's (gamma) space; fullbright texels unlit.
-  const glm::vec3 display = glm::max(texture * stored / faithful::kOverbrightOne, emissiveAt(rs, hit.face, hit.position));
+  // Engine: texture x lightmap / 128 (Quake's overbright; 255 in Quake 2 and Half-Life), in the
+  // texture's (gamma) space; fullbright texels unlit.
+  const glm::vec3 display = glm::max(texture * stored / rs.world.overbrightOne, emissiveAt(rs, hit.face, hit.position));
   return srgbToLinear(display);
 }
 

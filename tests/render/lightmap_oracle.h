@@ -6,6 +6,7 @@
 #pragma once
 
 #include "importers/bsp/bsp_file.h"
+#include "quake/bspfile_q2.h"
 #include "renderer/camera.h"
 #include "lighting/render_scene.h"
 
@@ -107,6 +108,9 @@ private:
     if (face.lightOffset < 0 || face.styles[0] == 255) return; // unlit (sky, liquids)
     if (styleZeroOnly && face.styles[0] != 0) return;          // styled only
     const bsp::TexInfo& tex = bsp_.texinfo[size_t(face.texinfo)];
+    // Quake 2's ref_gl draws warped (liquid) and sky faces without their lightmap, whatever the
+    // compiler stored for them (R_RenderBrushPoly: EmitWaterPolys, the sky box).
+    if (bsp_.version == bsp::Version::Quake2_38 && (tex.flags & (quake::q2::SURF_WARP | quake::q2::SURF_SKY))) return;
     CompiledFace f;
     const bsp::BspPlane& plane = bsp_.planes[size_t(face.plane)];
     f.normal = glm::dvec3(plane.normal);

@@ -2,6 +2,7 @@
 // ericw-tools' definitions.
 #include "lighting/faithful.h"
 #include "lighting/lights.h"
+#include "quake/bspfile_q2.h"
 #include "tests/render/box_scene.h"
 
 #include <gtest/gtest.h>
@@ -199,6 +200,50 @@ TEST(LightEntities, WorldspawnSunDomesAndMinlight) {
   EXPECT_FLOAT_EQ(lights.world.range, 1.0f);
   EXPECT_EQ(lights.world.bounces, 1);
   EXPECT_TRUE(diags.empty());
+}
+
+// ericw-tools' Quake 2 target: its defaults before the level's keys, `_minlight` in 128ths,
+// and a face with SURF_LIGHT and a value as a radiosity surface light of that value.
+TEST(LightEntities, Quake2GameTargetAndSurfaceLights) {
+  test::BoxSceneBuilder b;
+  b.worldKey("_minlight", "0.5");
+  b.worldKey("_bouncescale", "2");
+  b.box({0, 0, 0}, {64, 64, 64}, b.material("e1u1/baselt_5", 200, 200, 160));
+  Scene scene = b.build();
+  scene.format = "ibsp38";
+  ASSERT_GE(scene.faces.size(), 3u);
+  scene.faces[0].surface = SurfaceAttributes{0, quake::q2::SURF_LIGHT, 300.0};
+  scene.faces[1].surface = SurfaceAttributes{0, quake::q2::SURF_LIGHT | quake::q2::SURF_SKY, 100.0};
+  scene.faces[2].surface = SurfaceAttributes{0, quake::q2::SURF_LIGHT, 0.0}; // no value: no light
+  Diagnostics diags;
+  const SceneLights lights = collectLights(scene, {}, diags);
+  EXPECT_FLOAT_EQ(lights.world.range, 1.0f);
+  EXPECT_EQ(lights.world.bounces, 1);
+  EXPECT_TRUE(lights.world.bouncestyled);
+  EXPECT_FLOAT_EQ(lights.world.bouncescale, 2.0f); // the level's key wins
+  EXPECT_FLOAT_EQ(lights.world.bouncecolorscale, 0.5f);
+  EXPECT_FLOAT_EQ(lights.world.surflightScale, 0.65f);
+  EXPECT_TRUE(lights.world.surflightRadiosity);
+  EXPECT_FLOAT_EQ(lights.world.overbrightOne, 255.0f);
+  EXPECT_EQ(lights.world.minlight, glm::vec3(64.0f));
+  ASSERT_EQ(lights.surfaceTemplates.size(), 1u);
+  const SurfaceTemplate& t = lights.surfaceTemplates[0];
+  EXPECT_EQ(t.texture, scene.faces[0].texture);
+  EXPECT_EQ(t.q2Value, 300.0);
+  EXPECT_TRUE(t.radiosity);
+  EXPECT_FLOAT_EQ(t.light.value, 300.0f);
+  ASSERT_EQ(diags.size(), 1u); // the sky emitter is named, not silently dropped
+  EXPECT_NE(diags[0].message.find("SURF_LIGHT"), std::string::npos);
+
+  // The same level as Quake's: none of it.
+  scene.format = "quake2";
+  scene.game = "quake";
+  const SceneLights quake = collectLights(scene, {}, diags);
+  EXPECT_FLOAT_EQ(quake.world.range, 0.5f);
+  EXPECT_EQ(quake.world.bounces, 0);
+  EXPECT_EQ(quake.world.minlight, glm::vec3(0.5f));
+  EXPECT_FLOAT_EQ(quake.world.overbrightOne, 128.0f);
+  EXPECT_TRUE(quake.surfaceTemplates.empty());
 }
 
 } // namespace

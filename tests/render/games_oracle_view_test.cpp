@@ -1,0 +1,102 @@
+// Faithful mode for Quake 2 and Half-Life as a user sees it, against the reference compiler:
+// every level under ../shared/oracle/lit-games/ (ericw-tools `light` 2.0.0-alpha11 with its game
+// target's defaults; manifest.json gives the flags) is rendered from its source .map from three
+// cameras, in colour, and compared pixel by pixel and luxel by luxel with its RGB lightmaps
+// (oracle_view.h, the Quake 1 test's comparison).
+//
+// Both engines draw texture × stored / 255 (no overbright: Quake 2's ref_gl at gl_modulate 1,
+// Half-Life's at its default light gamma, lighting/README.md "The compiled view"), so here
+// stored = 255 × linearToSrgb(beauty) / texture per channel.
+#include "tests/render/oracle_levels.h"
+#include "tests/render/oracle_view.h"
+#include "tests/test_data.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+
+namespace bt {
+namespace {
+
+using test::Bar;
+
+constexpr double kEngineDisplayScale = 1.0 / 255.0;
+
+// Levels below the bar today, each held at what it reaches (the worst median and share within
+// 5 % of its luxels and views) so that it cannot get worse unseen:
+//   light_q2_translucent_shadow: Quake 2's translucent faces (SURF_TRANS33/66, CONTENTS_WINDOW)
+//     tint and pass part of the light in ericw-tools, and ref_gl draws them without their
+//     lightmap; neither is modelled.
+//   q2_areaportal, q2_areaportal_with_detail, q2_areaportals: the bounced light (the Quake 2
+//     target's default `_bounce 1`); with bounce off the luxels fall to 70 % / 52 % within 5 %,
+//     with ours to 85 % / 63 %: our bounce lights are not yet the compiler's here.
+//   q2_dirt, q2_light_group_dirt: dirt is weaker than the compiler's in corners and along edges
+//     (as Quake's dirttest2, issue 14).
+//   q2_hdrtest: a coloured inverse-square (`delay 2`) light 15 on a small room; cause not found.
+//   q2_light_cone: luxels all within 5 %, pixels at the edge of the three small spots are not;
+//     arghrad's `_cone` key is not read.
+//   q2_light_group: `_light_channel_mask` / `_object_channel_mask` are not read (the Quake 1
+//     channel-mask work, issue 14, adds them).
+//   q2_light_negative, q2_light_negative_bounce: the compiler subtracts a negative light after
+//     the minlight floor (its 0.5 × 128 = 64 goes to 0 where the light reaches); we floor the
+//     sum, negative light included.
+//   q2_light_visapprox, q2_light_visapprox2: we light faces that the compiler leaves black
+//     (its light culling by visibility, `visapprox`, is not modelled).
+//   q2_lightmap_custom_scale: `_world_units_per_luxel` (BSPX DECOUPLED_LM luxel grids) is not
+//     modelled: our luxels are Quake's 16 texels.
+const std::map<std::string, Bar>& knownGaps() {
+  static const std::map<std::string, Bar> gaps = {
+      {"ericw-tools_testmaps_light_q2_translucent_shadow", {0.35, 0.0}},
+      {"ericw-tools_testmaps_q2_areaportal", {0.02, 0.84}},
+      {"ericw-tools_testmaps_q2_areaportal_with_detail", {0.02, 0.84}},
+      {"ericw-tools_testmaps_q2_areaportals", {0.02, 0.63}},
+      {"ericw-tools_testmaps_q2_dirt", {0.02, 0.84}},
+      {"ericw-tools_testmaps_q2_light_group_dirt", {0.02, 0.82}},
+      {"ericw-tools_testmaps_q2_hdrtest", {0.53, 0.0}},
+      {"ericw-tools_testmaps_q2_light_cone", {0.02, 0.59}},
+      {"ericw-tools_testmaps_q2_light_group", {3.0, 0.0}},
+      {"ericw-tools_testmaps_q2_light_negative", {0.02, 0.70}},
+      {"ericw-tools_testmaps_q2_light_negative_bounce", {0.02, 0.70}},
+      {"ericw-tools_testmaps_q2_light_visapprox", {0.96, 0.04}},
+      {"ericw-tools_testmaps_q2_light_visapprox2", {0.02, 0.66}},
+      {"ericw-tools_testmaps_q2_lightmap_custom_scale", {1.0, 0.0}},
+  };
+  return gaps;
+}
+
+class GamesOracleView : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(GamesOracleView, FaithfulPixelsMatchTheCompiledLightmaps) {
+  BT_REQUIRE_SHARED(shared);
+  const std::string bspName = std::string("maps_") + GetParam() + ".bsp";
+  const std::filesystem::path map = test::oracleSourceMap(shared, bspName, "lit-games");
+  ASSERT_FALSE(map.empty()) << "no manifest entry for " << bspName;
+  const auto gap = knownGaps().find(GetParam());
+  const Bar bar = gap == knownGaps().end() ? Bar{} : gap->second;
+  test::checkOracleLevel(GetParam(), map, shared / "oracle" / "lit-games" / bspName, kEngineDisplayScale, bar, gap != knownGaps().end());
+}
+
+// No level under oracle/lit-games/ is left out of kLitGameLevels unseen.
+TEST(GamesOracleView, EveryLitGameLevelIsListed) {
+  BT_REQUIRE_SHARED(shared);
+  size_t levels = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(shared / "oracle" / "lit-games")) {
+    const std::string file = entry.path().filename().string();
+    if (entry.path().extension() != ".bsp" || !file.starts_with("maps_")) continue;
+    const std::string name = file.substr(5, file.size() - 9);
+    EXPECT_TRUE(std::find(std::begin(test::kLitGameLevels), std::end(test::kLitGameLevels), name) != std::end(test::kLitGameLevels))
+        << name;
+    ++levels;
+  }
+  EXPECT_EQ(levels, std::size(test::kLitGameLevels));
+}
+
+INSTANTIATE_TEST_SUITE_P(LitGames, GamesOracleView, ::testing::ValuesIn(test::kLitGameLevels), [](const auto& info) {
+  std::string n = info.param;
+  std::replace(n.begin(), n.end(), '-', '_');
+  return n;
+});
+
+} // namespace
+} // namespace bt
