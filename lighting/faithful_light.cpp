@@ -47,7 +47,8 @@ float faithfulOcclusion(const RenderScene& rs, const glm::vec3& p, const glm::ve
 struct Receiver {
   glm::vec3 p;
   glm::vec3 n;
-  bool twoSided; // a lit liquid: ericw-tools lights it from above and below (ltface.cc "twosided")
+  bool twoSided;                        // a lit liquid: ericw-tools lights it from above and below (ltface.cc "twosided")
+  uint32_t channels = kDefaultChannels; // its face's `_object_channel_mask`
 };
 
 // The normal the receiver turns to light arriving from `toLight`: a two-sided receiver faces
@@ -60,6 +61,10 @@ glm::vec3 facingNormal(const Receiver& r, const glm::vec3& toLight) {
 // `occlusion` there. Local-minlight lights raise `localMin` instead: they are a floor, not a sum.
 void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiver& r, float occlusion, Rng& rng, glm::vec3& sum,
                       glm::vec3& localMin) {
+  // The compiler's lighting channels (ltface.cc): a point light lights only the faces on one of
+  // its channels; suns and domes are on the default channel.
+  const uint32_t channels = light.type == uint32_t(LightType::Point) ? light.lightChannels : kDefaultChannels;
+  if (!(channels & r.channels)) return;
   if (light.type == uint32_t(LightType::Point)) {
     const glm::vec3 pos = jitteredOrigin(light, rng);
     const glm::vec3 d = pos - r.p;
@@ -73,7 +78,7 @@ void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiv
     const glm::vec3 origin = offsetRayOrigin(r.p, n);
     const glm::vec3 toLightFromOrigin = pos - origin;
     const float len = glm::length(toLightFromOrigin);
-    if (occluded(rs, Ray{origin, 0.0f, toLightFromOrigin / len, len}, LightingMode::Faithful)) return;
+    if (occluded(rs, Ray{origin, 0.0f, toLightFromOrigin / len, len}, LightingMode::Faithful, light.shadowChannels)) return;
     if (light.formula == uint32_t(LightFormula::LocalMin))
       localMin = glm::max(localMin, value * light.color);
     else
@@ -271,7 +276,7 @@ glm::vec3 givenLightsSum(const RenderScene& rs, const GivenLights& given, const 
 } // namespace
 
 glm::vec3 faithfulLight(const RenderScene& rs, const FaithfulQuery& q, Rng& rng) {
-  const Receiver r{q.p, q.n, q.twoSided};
+  const Receiver r{q.p, q.n, q.twoSided, q.channels};
   switch (q.lights) {
   case LightSet::All: return faithfulSum(rs, LightSource::All, r, q.faceMinlight, rng);
   case LightSet::Grid: return faithfulSum(rs, LightSource::Grid, r, q.faceMinlight, rng);
@@ -331,8 +336,8 @@ int luxelPasses(const RenderScene& rs, int softSamples) {
 }
 
 void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, bool twoSided, int pass, int softSamples, Rng& rng,
-                       LuxelSums& sums) {
-  const Receiver r{p, n, twoSided};
+                       LuxelSums& sums, uint32_t channels) {
+  const Receiver r{p, n, twoSided, channels};
   // Dirt rays start at the compiler's sample point, which p already is.
   if (pass == 0) sums.occlusion = faithfulOcclusion(rs, p - n * faithful::kDirtSampleLift, n, rng);
   forLuxelLights(rs, p, pass, [&](const GpuLight& light) {

@@ -82,21 +82,23 @@ GpuLightmapFragment luxelGrid(const Face& face, const std::vector<dvec3>& polygo
   return g;
 }
 
-// What counts as solid for a sample point (Light_PointInAnySolid): the world's solid brushes,
-// the brushes of models that cast shadows, and those of the face's own model.
+// What counts as solid for a sample point (Light_PointInAnySolid): the brushes of the face's own
+// model, and those of the world and of the models that cast shadows that are on the same
+// lighting channels as the face (the world only for a face on the default channel).
 struct SolidTest {
   const RenderScene& rs;
   const std::vector<BrushContents>& contents;
   uint32_t selfEntity;
+  uint32_t selfChannels;
 
   bool operator()(uint32_t brush) const {
-    if (contents[brush] == BrushContents::Solid) return true;
+    if (contents[brush] == BrushContents::Solid) return selfChannels == kDefaultChannels;
     if (contents[brush] == BrushContents::Liquid) return false;
     const Brush& b = rs.scene->brushes[brush];
     if (b.faceCount == 0) return false;
     const uint32_t flags = rs.faceFlags[b.firstFace];
     if (flags & (kFaceHidden | kFaceLiquid)) return false;
-    return b.entity == selfEntity || !(flags & kFaceNoShadow);
+    return b.entity == selfEntity || (!(flags & kFaceNoShadow) && objectChannels(rs, b.firstFace) == selfChannels);
   }
 };
 
@@ -205,7 +207,7 @@ std::vector<GpuLuxelSample> luxelSamples(const RenderScene& rs, const Lightmaps&
     const GpuLightmapFragment& g = lm.fragments[fi];
     const glm::vec3 faceMinlight = faithfulFaceMinlight(rs, faceIndex);
     const uint32_t twoSided = (rs.faceFlags[faceIndex] & kFaceLiquid) ? kLuxelSampleTwoSided : 0u;
-    const SolidTest solid{rs, contents, scene.brushes[face.brush].entity};
+    const SolidTest solid{rs, contents, scene.brushes[face.brush].entity, objectChannels(rs, faceIndex)};
     for (uint32_t y = 0; y < g.height; ++y)
       for (uint32_t x = 0; x < g.width; ++x)
         for (int sy = 0; sy < extra; ++sy)
@@ -250,7 +252,7 @@ void bakeLightmaps(const RenderScene& rs, Lightmaps& lm, const LightmapBakeOptio
       LuxelSums sums;
       for (int pass = 0; pass < job.passes; ++pass) {
         Rng rng = pixelRng(index, uint32_t(pass), 0, job.seed);
-        faithfulLuxelPass(rs, p, n, s.flags & kLuxelSampleTwoSided, pass, job.softSamples, rng, sums);
+        faithfulLuxelPass(rs, p, n, s.flags & kLuxelSampleTwoSided, pass, job.softSamples, rng, sums, objectChannels(rs, s.face));
       }
       light += faithfulLuxelLight(rs, sums, job.passes, job.softSamples, faceMinlight);
     }

@@ -8,9 +8,11 @@ namespace {
 
 constexpr int kMaxSkips = BT_MAX_SKIPS; // shaders/ray_offsets.glsl
 
-bool blocksLight(uint32_t faceFlags, LightingMode mode) {
+// `channels`: the ray's shadow channels; a face on none of them lets it pass (faithful mode).
+bool blocksLight(const RenderScene& rs, uint32_t face, LightingMode mode, uint32_t channels = kDefaultChannels) {
+  const uint32_t faceFlags = rs.faceFlags[face];
   if (faceFlags & (kFaceHidden | kFaceLiquid)) return false;
-  if (mode == LightingMode::Faithful && (faceFlags & kFaceNoShadow)) return false;
+  if (mode == LightingMode::Faithful && ((faceFlags & kFaceNoShadow) || !(objectChannels(rs, face) & channels))) return false;
   return true;
 }
 
@@ -54,18 +56,18 @@ SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray) {
   return {};
 }
 
-bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode) {
+bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t channels) {
   // Most shadow rays that are blocked are blocked by any wall on the way: the first hit the
   // traversal meets settles it. Only a hit the ray may pass (a liquid, a hole, a face that casts
   // no shadow) needs the walk from hit to hit below, which gives the same answer.
   const std::optional<Hit> any = rs.tracer.anyHit(ray);
   if (!any) return false;
-  if (blocksLight(rs.faceFlags[any->face], mode) && !passesThrough(rs, *any, ray)) return true;
+  if (blocksLight(rs, any->face, mode, channels) && !passesThrough(rs, *any, ray)) return true;
   Ray r = ray;
   for (int i = 0; i < kMaxSkips; ++i) {
     const std::optional<Hit> hit = rs.tracer.closestHit(r);
     if (!hit) return false;
-    if (blocksLight(rs.faceFlags[hit->face], mode) && !passesThrough(rs, *hit, r)) return true;
+    if (blocksLight(rs, hit->face, mode, channels) && !passesThrough(rs, *hit, r)) return true;
     r.tMin = continueRayAfter(hit->t);
   }
   return true;
@@ -79,7 +81,7 @@ bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32
     const uint32_t flags = rs.faceFlags[hit->face];
     const bool through = passesThrough(rs, *hit, r);
     if (!through && (flags & kFaceSky)) return skyMaterial == 0 || gpuFace(rs, hit->face).material + 1 == skyMaterial;
-    if (!through && blocksLight(flags, mode)) return false;
+    if (!through && blocksLight(rs, hit->face, mode)) return false;
     r.tMin = continueRayAfter(hit->t);
   }
   return false;
@@ -108,7 +110,7 @@ float blockedDistance(const RenderScene& rs, const glm::vec3& origin, const glm:
     const uint32_t flags = rs.faceFlags[hit->face];
     const bool through = passesThrough(rs, *hit, r);
     if (!through && (flags & kFaceSky)) return depth;
-    if (!through && blocksLight(flags, LightingMode::Faithful)) return std::min(hit->t, depth);
+    if (!through && blocksLight(rs, hit->face, LightingMode::Faithful)) return std::min(hit->t, depth);
     lastT = hit->t;
     r.tMin = continueRayAfter(hit->t);
   }

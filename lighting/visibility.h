@@ -27,8 +27,9 @@ struct SurfaceHit {
 
 SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray);
 
-// True when something that casts shadows in `mode` lies between the ray's tmin and tmax.
-bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode);
+// True when something that casts shadows in `mode` lies between the ray's tmin and tmax; in
+// faithful mode only faces on one of `channels` (a light's `_shadow_channel_mask`) do.
+bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t channels = kDefaultChannels);
 
 // True when the ray reaches a sky face (or leaves the level) before anything else: sunlight.
 // `skyMaterial`: 1 + the only sky material that counts (a sun's `_suntexture`), 0 any sky.
