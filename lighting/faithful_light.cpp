@@ -66,11 +66,14 @@ void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiv
   const uint32_t channels = light.type == uint32_t(LightType::Point) ? light.lightChannels : kDefaultChannels;
   if (!(channels & r.channels)) return;
   if (light.type == uint32_t(LightType::Point)) {
-    const glm::vec3 pos = jitteredOrigin(light, rng);
+    glm::vec3 pos = jitteredOrigin(light, rng);
     const glm::vec3 d = pos - r.p;
-    const float dist = glm::length(d);
-    if (dist <= 0.0f) return;
-    const glm::vec3 toLight = d / dist;
+    float dist = glm::length(d);
+    glm::vec3 toLight = d / dist;
+    if (!(dist >= faithful::kNearestLight)) {
+      dist = faithful::kNearestLight, toLight = glm::vec3(0.0f, 0.0f, 1.0f);
+      pos = r.p + toLight * dist;
+    }
     const glm::vec3 n = facingNormal(r, toLight);
     const float value =
         faithful::pointLightValue(light, n, toLight, dist, rs.world.scaledist) * faithful::lightDirtFactor(light, occlusion, dist);

@@ -189,13 +189,11 @@ bool meets(const ViewResult& r, const Bar& bar) {
 // the faithful-mode issue (14) stays open until this table is empty.
 //   testsurfacelight: its _surface points stand on faces split as a tree grown on that surface
 //     alone would split them, not on the compiler's own faces (lighting/README.md).
-//   q1_surflight_minlight: scattered luxels of the radiosity template's faces.
 //   lqdm5: its sun's penumbra is 64 random directions in the compiler and 64 others here, so
 //     partly shadowed luxels differ by that noise; about 80 % are within 5 %.
 const std::map<std::string, Bar>& knownGaps() {
   static const std::map<std::string, Bar> gaps = {
       {"ericw-tools_testmaps_deprecated_testsurfacelight", {0.15, 0.14}},
-      {"ericw-tools_testmaps_q1_surflight_minlight", {0.02, 0.88}},
       {"librequake_lq1_maps_src_dm_lqdm5", {0.02, 0.79}},
   };
   return gaps;
