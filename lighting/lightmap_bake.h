@@ -15,7 +15,8 @@
 //   light    at each point the faithful light sum of faithful_light.h (every light the grid lists,
 //            each bounce light shadow-tested); a sky dome as the compiler's own 65 suns
 //            (faithful.h skyDomeDirections); a sun's penumbra and `_deviance` copies averaged over
-//            `samples` random directions or positions (the compiler's 64 are random too).
+//            `samples` random directions or positions (the compiler's 64 are glibc rand()'s,
+//            not reproduced yet: lighting/README.md).
 //   stored   light × _range, a coloured sum scaled so its brightest channel fits in 255,
 //            truncated to whole bytes as the compiler writes them.
 #pragma once
