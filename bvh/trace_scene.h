@@ -118,6 +118,10 @@ public:
   // with `onSurface` also on its boundary. ericw-tools' "point in solid" tests, which move a
   // luxel's sample point out of walls and a light off the face it lies on.
   template <class Counts> bool inside(const glm::vec3& p, const Counts& counts, bool onSurface = false) const;
+  // Whether p lies at most `margin` outside such a brush (behind every side's plane moved out by
+  // `margin`): ericw-tools' Light_PointInSolid, which takes both sides of a BSP plane nearer than
+  // 0.1 unit to the point.
+  template <class Counts> bool nearInside(const glm::vec3& p, float margin, const Counts& counts) const;
 
   // The hit of one brush (index into brushes()), by the rules above; what the BVH calls per leaf.
   std::optional<Hit> intersectBrush(const Ray& ray, uint32_t brushIndex) const;
@@ -143,12 +147,29 @@ private:
   std::vector<GpuTriangle> triangles_;
   double sahCost_ = 0.0;
   Bounds bounds_;
+
+  // inside()'s walk: boxes widened by `margin`, closed or open; `within(d, w)` says whether a
+  // point at d = n.p lies inside the slanted side n.x = w.
+  template <class Counts, class Within>
+  bool insideBy(const glm::vec3& p, float margin, bool closed, const Counts& counts, const Within& within) const;
 };
 
 template <class Counts> bool TraceScene::inside(const glm::vec3& p, const Counts& counts, bool onSurface) const {
+  if (onSurface) return insideBy(p, 0.0f, true, counts, [](float d, float w) { return d <= w; });
+  return insideBy(p, 0.0f, false, counts, [](float d, float w) { return d < w; });
+}
+
+template <class Counts> bool TraceScene::nearInside(const glm::vec3& p, float margin, const Counts& counts) const {
+  return insideBy(p, margin, true, counts, [margin](float d, float w) { return d <= w + margin; });
+}
+
+template <class Counts, class Within>
+bool TraceScene::insideBy(const glm::vec3& p, float margin, bool closed, const Counts& counts, const Within& within) const {
+  // A brush's box is its axial sides (only slanted sides are listed), widened by the margin.
   auto inBox = [&](const float* lo, const float* hi) {
-    if (onSurface) return p.x >= lo[0] && p.x <= hi[0] && p.y >= lo[1] && p.y <= hi[1] && p.z >= lo[2] && p.z <= hi[2];
-    return p.x > lo[0] && p.x < hi[0] && p.y > lo[1] && p.y < hi[1] && p.z > lo[2] && p.z < hi[2];
+    if (!closed) return p.x > lo[0] && p.x < hi[0] && p.y > lo[1] && p.y < hi[1] && p.z > lo[2] && p.z < hi[2];
+    return p.x >= lo[0] - margin && p.x <= hi[0] + margin && p.y >= lo[1] - margin && p.y <= hi[1] + margin && p.z >= lo[2] - margin &&
+        p.z <= hi[2] + margin;
   };
   if (nodes_.empty() || !inBox(nodes_[0].boundsMin, nodes_[0].boundsMax)) return false;
   uint32_t stack[kBvhMaxDepth + 1]; // one pop and up to two pushes per level
@@ -167,8 +188,7 @@ template <class Counts> bool TraceScene::inside(const glm::vec3& p, const Counts
       bool in = true;
       for (uint32_t k = b.firstSide; k < b.firstSide + b.sideCount && in; ++k) {
         const float* plane = faces_[sides_[k]].plane;
-        const float d = plane[0] * p.x + plane[1] * p.y + plane[2] * p.z;
-        in = onSurface ? d <= plane[3] : d < plane[3];
+        in = within(plane[0] * p.x + plane[1] * p.y + plane[2] * p.z, plane[3]);
       }
       if (in && counts(b.sceneBrush)) return true;
     }

@@ -89,7 +89,8 @@ glm::vec3 textureMean(const Material& m) {
 bool sideBounces(const RenderScene& rs, uint32_t faceIndex) {
   const uint32_t flags = rs.faceFlags[faceIndex];
   if (flags & (kFaceHidden | kFaceSky | kFaceNoShadow)) return false;
-  if ((flags & kFaceLiquid) && !rs.world.litwater) return false; // no lightmap, nothing to bounce
+  if (objectChannels(rs, faceIndex) != kDefaultChannels) return false; // light.cc: off channel 1, no bounce
+  if ((flags & kFaceLiquid) && !rs.world.litwater) return false;       // no lightmap, nothing to bounce
   const Scene& scene = *rs.scene;
   const Face& face = scene.faces[faceIndex];
   if (face.brush == kNoBrush) return false; // a mesh triangle: no lightmap to bounce (faceHasLightmap)

@@ -89,6 +89,16 @@ inline float spotTerm(const GpuLight& light, const glm::vec3& toLight) {
   return (cosAxis - light.cosOuter) / (light.cosInner - light.cosOuter);
 }
 
+// GetSurfaceLighting's tolerance (LIGHT_ANGLE_EPSILON): a radiosity point lights a receiver this
+// little behind its face (in cosine), and a receiver facing this little away from it, such as the
+// faces in its own plane.
+inline constexpr float kLightAngleEpsilon = BT_LIGHT_ANGLE_EPSILON;
+
+// The cosine below which a light gives nothing: 0, or -kLightAngleEpsilon for a radiosity point.
+inline float behindCosine(const GpuLight& light) {
+  return light.formula == uint32_t(LightFormula::SurfaceRadiosity) ? -kLightAngleEpsilon : 0.0f;
+}
+
 // A radiosity surface light point shines into the half-space in front of its face, with the
 // same half-Lambert (0.5 + 0.5 cos) on its side as on the receiver's (ltface.cc
 // GetSurfaceLighting, "rescale"); a bounce light with the plain cosine (no rescale); 1 for every
@@ -97,7 +107,7 @@ inline float emitterTerm(const GpuLight& light, const glm::vec3& toLight) {
   const bool radiosity = light.formula == uint32_t(LightFormula::SurfaceRadiosity);
   if (!radiosity && light.formula != uint32_t(LightFormula::Bounce)) return 1.0f;
   const float cosEmit = -glm::dot(light.direction, toLight);
-  if (cosEmit < 0.0f) return 0.0f;
+  if (cosEmit < behindCosine(light)) return 0.0f;
   return radiosity ? angleTerm(cosEmit, 0.5f) : cosEmit;
 }
 
@@ -111,7 +121,7 @@ inline float maxChannel(const glm::vec3& c) {
 inline float pointLightValue(const GpuLight& light, const glm::vec3& normal, const glm::vec3& toLight, float dist, float scaledist = 1.0f) {
   float cosIncidence = glm::dot(toLight, normal);
   if (light.flags & kLightFlagBleed) cosIncidence = std::abs(cosIncidence);
-  if (cosIncidence < 0.0f) return 0.0f; // behind the surface: nothing, whatever the anglescale
+  if (cosIncidence < behindCosine(light)) return 0.0f; // behind the surface: nothing, whatever the anglescale
   const float value = distanceValue(light, dist, scaledist) * angleTerm(cosIncidence, light.anglescale) * spotTerm(light, toLight) *
       emitterTerm(light, toLight);
   if (light.formula == uint32_t(LightFormula::Bounce) && value * maxChannel(light.color) <= kBounceGate) return 0.0f;
@@ -174,6 +184,9 @@ inline std::vector<glm::vec3> skyDomeDirections(int sunSamples = kSunSamples) {
 }
 
 inline constexpr float kDirtSampleLift = BT_DIRT_SAMPLE_LIFT;
+// A point light nearer than this to the point it lights counts as this far, straight up (+z), as
+// GetLightContrib takes it: a radiosity `_surface` point can sit on a luxel's sample point.
+inline constexpr float kNearestLight = BT_NEAREST_LIGHT;
 
 // Ray `index` of the fixed pattern in the sample's tangent space (z along the normal), for a
 // cone of half-angle `coneRadians`; azimuth-major, as SetupDirt orders them.

@@ -47,7 +47,8 @@ float faithfulOcclusion(const RenderScene& rs, const glm::vec3& p, const glm::ve
 struct Receiver {
   glm::vec3 p;
   glm::vec3 n;
-  bool twoSided; // a lit liquid: ericw-tools lights it from above and below (ltface.cc "twosided")
+  bool twoSided;                        // a lit liquid: ericw-tools lights it from above and below (ltface.cc "twosided")
+  uint32_t channels = kDefaultChannels; // its face's `_object_channel_mask`
 };
 
 // The normal the receiver turns to light arriving from `toLight`: a two-sided receiver faces
@@ -58,12 +59,13 @@ glm::vec3 facingNormal(const Receiver& r, const glm::vec3& toLight) {
 
 // Faithful mode: one light's share of the light sum at the receiver, dimmed by the dirt
 // `occlusion` there. Local-minlight lights raise `localMin` instead: they are a floor, not a sum.
-// occluded(), trying first the brush that blocked the cache's last ray toward light `index`.
-bool shadowed(const RenderScene& rs, const Ray& ray, ShadowCache* cache, size_t index) {
-  if (!cache) return occluded(rs, ray, LightingMode::Faithful);
+// occluded() on the light's shadow `channels`, trying first the brush that blocked the cache's
+// last ray toward light `index`.
+bool shadowed(const RenderScene& rs, const Ray& ray, uint32_t channels, ShadowCache* cache, size_t index) {
+  if (!cache) return occluded(rs, ray, LightingMode::Faithful, channels);
   uint32_t& blocker = cache->blocker[index];
-  const bool blocked = (blocker != kNoFace && blockedByBrush(rs, ray, LightingMode::Faithful, blocker)) ||
-      occluded(rs, ray, LightingMode::Faithful, &blocker);
+  const bool blocked = (blocker != kNoFace && blockedByBrush(rs, ray, LightingMode::Faithful, blocker, channels)) ||
+      occluded(rs, ray, LightingMode::Faithful, channels, &blocker);
   cache->lastSeen[index] = !blocked;
   return blocked;
 }
@@ -72,12 +74,19 @@ bool shadowed(const RenderScene& rs, const Ray& ray, ShadowCache* cache, size_t 
 // cache proved that no brush blocks the shadow ray.
 void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiver& r, float occlusion, Rng& rng, glm::vec3& sum,
                       glm::vec3& localMin, ShadowCache* cache = nullptr, size_t index = 0, bool seen = false) {
+  // The compiler's lighting channels (ltface.cc): a point light lights only the faces on one of
+  // its channels; suns and domes are on the default channel.
+  const uint32_t channels = light.type == uint32_t(LightType::Point) ? light.lightChannels : kDefaultChannels;
+  if (!(channels & r.channels)) return;
   if (light.type == uint32_t(LightType::Point)) {
-    const glm::vec3 pos = jitteredOrigin(light, rng);
+    glm::vec3 pos = jitteredOrigin(light, rng);
     const glm::vec3 d = pos - r.p;
-    const float dist = glm::length(d);
-    if (dist <= 0.0f) return;
-    const glm::vec3 toLight = d / dist;
+    float dist = glm::length(d);
+    glm::vec3 toLight = d / dist;
+    if (!(dist >= faithful::kNearestLight)) {
+      dist = faithful::kNearestLight, toLight = glm::vec3(0.0f, 0.0f, 1.0f);
+      pos = r.p + toLight * dist;
+    }
     const glm::vec3 n = facingNormal(r, toLight);
     const float value =
         faithful::pointLightValue(light, n, toLight, dist, rs.world.scaledist) * faithful::lightDirtFactor(light, occlusion, dist);
@@ -85,7 +94,7 @@ void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiv
     const glm::vec3 origin = offsetRayOrigin(r.p, n);
     const glm::vec3 toLightFromOrigin = pos - origin;
     const float len = glm::length(toLightFromOrigin);
-    if (!seen && shadowed(rs, Ray{origin, 0.0f, toLightFromOrigin / len, len}, cache, index)) return;
+    if (!seen && shadowed(rs, Ray{origin, 0.0f, toLightFromOrigin / len, len}, light.shadowChannels, cache, index)) return;
     if (light.formula == uint32_t(LightFormula::LocalMin))
       localMin = glm::max(localMin, value * light.color);
     else
@@ -283,7 +292,7 @@ glm::vec3 givenLightsSum(const RenderScene& rs, const GivenLights& given, const 
 } // namespace
 
 glm::vec3 faithfulLight(const RenderScene& rs, const FaithfulQuery& q, Rng& rng) {
-  const Receiver r{q.p, q.n, q.twoSided};
+  const Receiver r{q.p, q.n, q.twoSided, q.channels};
   switch (q.lights) {
   case LightSet::All: return faithfulSum(rs, LightSource::All, r, q.faceMinlight, rng);
   case LightSet::Grid: return faithfulSum(rs, LightSource::Grid, r, q.faceMinlight, rng);
@@ -343,9 +352,9 @@ int luxelPasses(const RenderScene& rs, int softSamples) {
 }
 
 void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, bool twoSided, int pass, int softSamples, Rng& rng,
-                       LuxelSums& sums, ShadowCache* cache) {
+                       LuxelSums& sums, uint32_t channels, ShadowCache* cache) {
   const auto index = [&](const GpuLight& light) { return size_t(&light - rs.lights.data()); };
-  const Receiver r{p, n, twoSided};
+  const Receiver r{p, n, twoSided, channels};
   // Dirt rays start at the compiler's sample point, which p already is.
   if (pass == 0) sums.occlusion = faithfulOcclusion(rs, p - n * faithful::kDirtSampleLift, n, rng);
   const auto each = [&](const GpuLight& light) {

@@ -89,6 +89,7 @@ struct FaithfulQuery {
   // The surface is a lit liquid, which ericw-tools lights from both sides (a light below it
   // counts with |cos|, ltface.cc "twosided"); the renderer sets it on kFaceLiquid faces.
   bool twoSided = false;
+  uint32_t channels = kDefaultChannels; // the receiving face's objectChannels (render_scene.h)
   LightSet lights = LightSet::Grid;
   const GivenLights* given = nullptr; // LightSet::Given only
   // A floor under the sum beside worldspawn minlight: faithfulFaceMinlight of the receiver's face
@@ -138,8 +139,9 @@ struct LuxelSums {
 // How many passes a level's luxels take: 1, the dome's directions, or `softSamples`.
 int luxelPasses(const RenderScene& rs, int softSamples);
 
+// `channels`: the receiving face's objectChannels.
 void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, bool twoSided, int pass, int softSamples, Rng& rng,
-                       LuxelSums& sums, ShadowCache* cache = nullptr);
+                       LuxelSums& sums, uint32_t channels = kDefaultChannels, ShadowCache* cache = nullptr);
 // The light after `passes` passes.
 glm::vec3 faithfulLuxelLight(const RenderScene& rs, const LuxelSums& sums, int passes, int softSamples, const glm::vec3& faceMinlight);
 // What an occluded luxel (its sample point in solid, or too far off its face) stores: the floors.

@@ -2,6 +2,7 @@
 
 #include "lighting/faithful.h"
 #include "lighting/faithful_light.h"
+#include "lighting/qbsp_faces.h"
 #include "lighting/visibility.h"
 #include "lighting/sampling.h"
 #include "lighting/surface_lights.h"
@@ -21,6 +22,7 @@ namespace {
 
 constexpr double kSampleLift = 1.0;                      // ltface.cc sampleOffPlaneDist
 constexpr double kSolidJitter = 0.5;                     // PositionSamplePointOnFace tries p ± 0.5 on each axis
+constexpr float kSolidMargin = 0.1f;                     // Light_PointInSolid: a point this near a BSP plane is tested on both sides
 constexpr uint32_t kBakeSeed = 0x6c757865u;              // the bake's own random stream
 constexpr int kSoftLightSamples = faithful::kSunSamples; // the compiler's suns per penumbra
 
@@ -82,32 +84,38 @@ GpuLightmapFragment luxelGrid(const Face& face, const std::vector<dvec3>& polygo
   return g;
 }
 
-// What counts as solid for a sample point (Light_PointInAnySolid): the world's solid brushes,
-// the brushes of models that cast shadows, and those of the face's own model.
+// What counts as solid for a sample point (Light_PointInAnySolid): the brushes of the face's own
+// model, and those of the world and of the models that cast shadows that are on the same
+// lighting channels as the face (the world only for a face on the default channel).
 struct SolidTest {
   const RenderScene& rs;
   const std::vector<BrushContents>& contents;
   uint32_t selfEntity;
+  uint32_t selfChannels;
+  // The space outside a sealed level, solid to the compiler (qbsp fills it); null where the
+  // world does not count.
+  const VoidTest* voids;
 
   bool operator()(uint32_t brush) const {
-    if (contents[brush] == BrushContents::Solid) return true;
+    if (contents[brush] == BrushContents::Solid) return selfChannels == kDefaultChannels;
     if (contents[brush] == BrushContents::Liquid) return false;
     const Brush& b = rs.scene->brushes[brush];
     if (b.faceCount == 0) return false;
     const uint32_t flags = rs.faceFlags[b.firstFace];
     if (flags & (kFaceHidden | kFaceLiquid)) return false;
-    return b.entity == selfEntity || !(flags & kFaceNoShadow);
+    return b.entity == selfEntity || (!(flags & kFaceNoShadow) && objectChannels(rs, b.firstFace) == selfChannels);
   }
 };
 
+// The point itself lies in front of a face the compiler kept, never in the void; its moved copies may.
 std::optional<glm::vec3> positionOutOfSolid(const RenderScene& rs, const SolidTest& solid, const dvec3& point) {
   const glm::vec3 p(point);
-  if (!rs.tracer.inside(p, solid)) return p;
+  if (!rs.tracer.nearInside(p, kSolidMargin, solid)) return p;
   for (int x = -1; x <= 1; x += 2)
     for (int y = -1; y <= 1; y += 2)
       for (int z = -1; z <= 1; z += 2) {
-        const glm::vec3 q = glm::vec3(point + kSolidJitter * dvec3(x, y, z));
-        if (!rs.tracer.inside(q, solid)) return q;
+        const dvec3 q = point + kSolidJitter * dvec3(x, y, z);
+        if (!rs.tracer.nearInside(glm::vec3(q), kSolidMargin, solid) && !(solid.voids && solid.voids->inVoid(q))) return glm::vec3(q);
       }
   return std::nullopt;
 }
@@ -196,6 +204,7 @@ Lightmaps layoutLightmaps(const RenderScene& rs, unsigned threads) {
 std::vector<GpuLuxelSample> luxelSamples(const RenderScene& rs, const Lightmaps& lm, int extra, unsigned threads) {
   const Scene& scene = *rs.scene;
   const std::vector<BrushContents> contents = brushContents(scene);
+  const VoidTest voids(scene, rs.tracer);
   extra = std::clamp(extra, 1, 4);
   const uint32_t perLuxel = uint32_t(extra * extra);
   std::vector<GpuLuxelSample> samples(lm.luxels.size() * perLuxel);
@@ -206,7 +215,8 @@ std::vector<GpuLuxelSample> luxelSamples(const RenderScene& rs, const Lightmaps&
     const GpuLightmapFragment& g = lm.fragments[fi];
     const glm::vec3 faceMinlight = faithfulFaceMinlight(rs, faceIndex);
     const uint32_t twoSided = (rs.faceFlags[faceIndex] & kFaceLiquid) ? kLuxelSampleTwoSided : 0u;
-    const SolidTest solid{rs, contents, scene.brushes[face.brush].entity};
+    const uint32_t channels = objectChannels(rs, faceIndex);
+    const SolidTest solid{rs, contents, scene.brushes[face.brush].entity, channels, channels == kDefaultChannels ? &voids : nullptr};
     for (uint32_t y = 0; y < g.height; ++y)
       for (uint32_t x = 0; x < g.width; ++x)
         for (int sy = 0; sy < extra; ++sy)
@@ -252,7 +262,7 @@ uint32_t bakeLuxel(const RenderScene& rs, const LuxelBakeJob& job, size_t luxel,
     LuxelSums sums;
     for (int pass = 0; pass < job.passes; ++pass) {
       Rng rng = pixelRng(index, uint32_t(pass), 0, job.seed);
-      faithfulLuxelPass(rs, p, n, s.flags & kLuxelSampleTwoSided, pass, job.softSamples, rng, sums, cache);
+      faithfulLuxelPass(rs, p, n, s.flags & kLuxelSampleTwoSided, pass, job.softSamples, rng, sums, objectChannels(rs, s.face), cache);
     }
     light += faithfulLuxelLight(rs, sums, job.passes, job.softSamples, faceMinlight);
   }

@@ -7,14 +7,16 @@
 //            floored / ceiled to 16 texels, one luxel every 16 texels (CalcSurfaceExtents).
 //   samples  CalcPoints: a luxel's point on the plane, lifted 1 unit off it. Inside the face it
 //            stays; outside, it is snapped onto the face's boundary (then lifted) when that is
-//            at most one luxel away, otherwise it is occluded. A point inside a solid brush is
-//            tried at the 8 corners of a 1-unit cube around it; if all are solid it is
-//            occluded. An occluded luxel gets only the floors (minlight). With `extra` N the
+//            at most one luxel away, otherwise it is occluded. A point inside a solid brush, or
+//            within 0.1 unit of one (Light_PointInSolid), is tried at the 8 corners of a 1-unit
+//            cube around it, the void outside the level counting as solid; if all are solid it
+//            is occluded. An occluded luxel gets only the floors (minlight). With `extra` N the
 //            luxel is the mean of N x N such points on a grid 1/N luxel apart (-extra, -extra4).
 //   light    at each point the faithful light sum of faithful_light.h (every light the grid lists,
 //            each bounce light shadow-tested); a sky dome as the compiler's own 65 suns
 //            (faithful.h skyDomeDirections); a sun's penumbra and `_deviance` copies averaged over
-//            `samples` random directions or positions (the compiler's 64 are random too).
+//            `samples` random directions or positions (the compiler's 64 are glibc rand()'s,
+//            not reproduced yet: lighting/README.md).
 //   stored   light × _range, a coloured sum scaled so its brightest channel fits in 255,
 //            truncated to whole bytes as the compiler writes them.
 #pragma once

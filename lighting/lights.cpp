@@ -300,6 +300,9 @@ void addLightEntity(const Scene& scene, const Entity& entity, const LightOptions
     out.surfaceTemplates.push_back(readSurfaceTemplate(keys, *surface, light, out.world));
     return;
   }
+  // Suns and surface lights stay on the default channel, as in the compiler (entities.cc).
+  light.lightChannels = uint32_t(keys.integer("_light_channel_mask", int(kDefaultChannels)));
+  light.shadowChannels = uint32_t(keys.integer("_shadow_channel_mask", int(light.lightChannels)));
   out.lights.push_back(light);
 }
 

@@ -162,6 +162,14 @@ uint32_t quake2DrawnAs(uint32_t flags, const SurfaceAttributes& surface) {
   return flags;
 }
 
+// An entity's `_object_channel_mask`; what qbsp merges into the world falls back on the
+// worldspawn's, as the world model reads it.
+uint32_t entityChannels(const Scene& scene, const Entity& ent) {
+  const Entity* world = mergedIntoWorld(ent.classname()) ? scene.worldspawn() : nullptr;
+  const int fallback = world ? quake::EntityKeys(*world).integer("_object_channel_mask", int(kDefaultChannels)) : int(kDefaultChannels);
+  return uint32_t(quake::EntityKeys(ent).integer("_object_channel_mask", fallback));
+}
+
 // Each face's class (kFace*): its texture's, its entity's (shadows, what the game hides), and
 // whether it emits.
 void classifyFaces(RenderScene& rs, const RenderSceneOptions& options) {
@@ -169,6 +177,7 @@ void classifyFaces(RenderScene& rs, const RenderSceneOptions& options) {
   std::vector<uint32_t> materialMasks;
   for (const Material& m : scene.materials) materialMasks.push_back(alphaTestFlags(m));
   rs.faceFlags.resize(scene.faces.size());
+  rs.faceChannels.clear();
   const Game game = gameOf(scene);
   for (size_t i = 0; i < scene.faces.size(); ++i) {
     const Face& f = scene.faces[i];
@@ -180,7 +189,13 @@ void classifyFaces(RenderScene& rs, const RenderSceneOptions& options) {
       if (e < scene.entities.size()) {
         const Entity& ent = scene.entities[e];
         const bool shadowKey = quake::EntityKeys(ent).number("_shadow", 0.0f) != 0.0f;
-        if (!mergedIntoWorld(ent.classname()) && !shadowKey) flags |= kFaceNoShadow;
+        const uint32_t channels = entityChannels(scene, ent);
+        if (channels != kDefaultChannels) {
+          if (rs.faceChannels.empty()) rs.faceChannels.assign(scene.faces.size(), kDefaultChannels);
+          rs.faceChannels[i] = channels;
+        }
+        // A model on channels of its own casts shadows without `_shadow` (trace_embree.cc).
+        if (!mergedIntoWorld(ent.classname()) && !shadowKey && channels == kDefaultChannels) flags |= kFaceNoShadow;
         // What the game never draws is not in the compiled lighting either, `_shadow` or not.
         if (gameHidesEntity(ent, game)) flags |= kFaceHidden | kFaceNoShadow;
       }

@@ -27,8 +27,11 @@ struct RenderSceneOptions {
 };
 
 struct RenderScene {
-  const Scene* scene = nullptr;       // images are read from scene->materials
-  std::vector<uint32_t> faceFlags;    // kFace* per scene face
+  const Scene* scene = nullptr;    // images are read from scene->materials
+  std::vector<uint32_t> faceFlags; // kFace* per scene face
+  // ericw-tools' `_object_channel_mask` per scene face (objectChannels); empty when every face
+  // is on the default channel.
+  std::vector<uint32_t> faceChannels;
   std::vector<GpuMaterial> materials; // parallel to scene->materials
   std::vector<GpuLight> lights;
   LightGrid lightGrid;                 // which lights a point looks at (light_grid.h)
@@ -45,6 +48,10 @@ struct RenderScene {
 
 inline const GpuFace& gpuFace(const RenderScene& rs, uint32_t face) {
   return rs.tracer.faces()[face];
+}
+// The lighting channels a face is on: those of the lights that light it and of the rays it blocks.
+inline uint32_t objectChannels(const RenderScene& rs, uint32_t face) {
+  return face < rs.faceChannels.size() ? rs.faceChannels[face] : kDefaultChannels;
 }
 inline glm::vec3 faceNormal(const RenderScene& rs, uint32_t face) {
   const float* p = gpuFace(rs, face).plane;

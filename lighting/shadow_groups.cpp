@@ -176,7 +176,9 @@ void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points,
     // Behind every point's plane (by far more than rounding): pointLightValue gives 0 to all.
     if (!(light.flags & kLightFlagBleed) && glm::dot(n, light.origin) < nearest - 1e-2f) return kDropped;
     const uint32_t slot = cache.blocker[i];
-    if (slot != kNoFace && (*cache.solid)[slot] && brushHidesBox(rs, slot, box, light.origin)) return kDropped;
+    // A solid brush blocks every ray on the default shadow channel (solidBlockers).
+    if (slot != kNoFace && light.shadowChannels == kDefaultChannels && (*cache.solid)[slot] && brushHidesBox(rs, slot, box, light.origin))
+      return kDropped;
     // Tried only where the last ray toward the light was not blocked: a proof that fails costs a
     // traversal, and lights that were blocked a luxel ago mostly are again.
     constexpr float kNearMargin = 1e-2f;

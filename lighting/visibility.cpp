@@ -9,9 +9,11 @@ namespace {
 
 constexpr int kMaxSkips = BT_MAX_SKIPS; // shaders/ray_offsets.glsl
 
-bool blocksLight(uint32_t faceFlags, LightingMode mode) {
+// `channels`: the ray's shadow channels; a face on none of them lets it pass (faithful mode).
+bool blocksLight(const RenderScene& rs, uint32_t face, LightingMode mode, uint32_t channels = kDefaultChannels) {
+  const uint32_t faceFlags = rs.faceFlags[face];
   if (faceFlags & (kFaceHidden | kFaceLiquid)) return false;
-  if (mode == LightingMode::Faithful && (faceFlags & kFaceNoShadow)) return false;
+  if (mode == LightingMode::Faithful && ((faceFlags & kFaceNoShadow) || !(objectChannels(rs, face) & channels))) return false;
   return true;
 }
 
@@ -55,7 +57,7 @@ SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray) {
   return {};
 }
 
-bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t* blocker) {
+bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t channels, uint32_t* blocker) {
   const auto blockedBy = [&](const Hit& hit) {
     if (blocker && hit.brush != kNoBrush) *blocker = hit.slot;
     return true;
@@ -65,20 +67,20 @@ bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t
   // no shadow) needs the walk from hit to hit below, which gives the same answer.
   const std::optional<Hit> any = rs.tracer.anyHit(ray);
   if (!any) return false;
-  if (blocksLight(rs.faceFlags[any->face], mode) && !passesThrough(rs, *any, ray)) return blockedBy(*any);
+  if (blocksLight(rs, any->face, mode, channels) && !passesThrough(rs, *any, ray)) return blockedBy(*any);
   Ray r = ray;
   for (int i = 0; i < kMaxSkips; ++i) {
     const std::optional<Hit> hit = rs.tracer.closestHit(r);
     if (!hit) return false;
-    if (blocksLight(rs.faceFlags[hit->face], mode) && !passesThrough(rs, *hit, r)) return blockedBy(*hit);
+    if (blocksLight(rs, hit->face, mode, channels) && !passesThrough(rs, *hit, r)) return blockedBy(*hit);
     r.tMin = continueRayAfter(hit->t);
   }
   return true;
 }
 
-bool blockedByBrush(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t slot) {
+bool blockedByBrush(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t slot, uint32_t channels) {
   const std::optional<Hit> hit = rs.tracer.intersectBrush(ray, slot);
-  return hit && !hit->inside && blocksLight(rs.faceFlags[hit->face], mode) && !passesThrough(rs, *hit, ray);
+  return hit && !hit->inside && blocksLight(rs, hit->face, mode, channels) && !passesThrough(rs, *hit, ray);
 }
 
 bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t skyMaterial) {
@@ -89,7 +91,7 @@ bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32
     const uint32_t flags = rs.faceFlags[hit->face];
     const bool through = passesThrough(rs, *hit, r);
     if (!through && (flags & kFaceSky)) return skyMaterial == 0 || gpuFace(rs, hit->face).material + 1 == skyMaterial;
-    if (!through && blocksLight(flags, mode)) return false;
+    if (!through && blocksLight(rs, hit->face, mode)) return false;
     r.tMin = continueRayAfter(hit->t);
   }
   return false;
@@ -99,10 +101,7 @@ std::vector<uint8_t> solidBlockers(const RenderScene& rs) {
   const std::span<const GpuBrush> brushes = rs.tracer.brushes();
   const std::span<const uint32_t> sides = rs.tracer.sides();
   std::vector<uint8_t> solid(brushes.size(), 0);
-  const auto blocks = [&](uint32_t face) {
-    const uint32_t flags = rs.faceFlags[face];
-    return blocksLight(flags, LightingMode::Faithful) && !(flags & kFaceMasked);
-  };
+  const auto blocks = [&](uint32_t face) { return blocksLight(rs, face, LightingMode::Faithful) && !(rs.faceFlags[face] & kFaceMasked); };
   for (size_t b = 0; b < brushes.size(); ++b) {
     const GpuBrush& brush = brushes[b];
     bool all = true;
@@ -136,7 +135,7 @@ float blockedDistance(const RenderScene& rs, const glm::vec3& origin, const glm:
     const uint32_t flags = rs.faceFlags[hit->face];
     const bool through = passesThrough(rs, *hit, r);
     if (!through && (flags & kFaceSky)) return depth;
-    if (!through && blocksLight(flags, LightingMode::Faithful)) return std::min(hit->t, depth);
+    if (!through && blocksLight(rs, hit->face, LightingMode::Faithful)) return std::min(hit->t, depth);
     lastT = hit->t;
     r.tMin = continueRayAfter(hit->t);
   }

@@ -28,16 +28,18 @@ struct SurfaceHit {
 
 SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray);
 
-// True when something that casts shadows in `mode` lies between the ray's tmin and tmax. With
+// True when something that casts shadows in `mode` lies between the ray's tmin and tmax; in
+// faithful mode only faces on one of `channels` (a light's `_shadow_channel_mask`) do. With
 // `blocker`, a brush that blocked it is stored there (its TraceScene slot; unchanged when nothing,
 // or a mesh triangle, did): what the next shadow ray toward the same light tries first.
-bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t* blocker = nullptr);
+bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t channels = kDefaultChannels, uint32_t* blocker = nullptr);
 
 // Whether brush `slot` (a TraceScene slot) alone blocks the ray: the ray enters it within (tmin,
-// tmax), from outside, through a face that blocks light in `mode`, where the face has no hole.
-// One brush test. Where it says yes, occluded() says yes too, except where a face that does not
-// block lies in exactly the plane the ray enters the brush by and wins the tie for that hit.
-bool blockedByBrush(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t slot);
+// tmax), from outside, through a face that blocks light in `mode` (on `channels`), where the face
+// has no hole. One brush test. Where it says yes, occluded() says yes too, except where a face
+// that does not block lies in exactly the plane the ray enters the brush by and wins the tie for
+// that hit.
+bool blockedByBrush(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t slot, uint32_t channels = kDefaultChannels);
 
 // True when the ray reaches a sky face (or leaves the level) before anything else: sunlight.
 // `skyMaterial`: 1 + the only sky material that counts (a sun's `_suntexture`), 0 any sky.

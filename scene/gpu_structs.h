@@ -172,6 +172,9 @@ enum class LightType : uint32_t {
   Dome = BT_LIGHT_DOME,   // worldspawn _sunlight2 (upper) / _sunlight3 (lower): sky-dome light from sky faces
 };
 
+// ericw-tools' CHANNEL_MASK_DEFAULT: the lighting channel of every light, face and ray that sets none.
+constexpr uint32_t kDefaultChannels = 1;
+
 // One light. Values are in Quake light units (the `light` key); colours are 0..1.
 struct GpuLight {
   glm::vec3 origin{0.0f};                 // point: position; sun/dome: unused
@@ -200,7 +203,12 @@ struct GpuLight {
   // Suns with `_suntexture`: 1 + the material of the sky faces they shine through (a sun ray that
   // reaches sky of another texture is blocked); 0: any sky.
   uint32_t skyMaterial = 0;
-  uint32_t pad0 = 0, pad1 = 0, pad2 = 0; // zero; keep the struct a whole number of 16-byte rows
+  // ericw-tools' lighting channels: a point light lights only
+  // faces whose object mask (`_object_channel_mask`) shares a bit with `_light_channel_mask`, and
+  // only such faces of `_shadow_channel_mask` (default: the light mask) block its rays.
+  uint32_t lightChannels = kDefaultChannels;
+  uint32_t shadowChannels = kDefaultChannels;
+  uint32_t pad2 = 0; // zero; keep the struct a whole number of 16-byte rows
 };
 static_assert(sizeof(GpuLight) == 112);
 static_assert(offsetof(GpuLight, origin) == 0);
@@ -222,6 +230,8 @@ static_assert(offsetof(GpuLight, dirtGain) == 84);
 static_assert(offsetof(GpuLight, dirtOffRadius) == 88);
 static_assert(offsetof(GpuLight, dirtOnRadius) == 92);
 static_assert(offsetof(GpuLight, skyMaterial) == 96);
+static_assert(offsetof(GpuLight, lightChannels) == 100);
+static_assert(offsetof(GpuLight, shadowChannels) == 104);
 
 constexpr uint32_t kLightFlagStartOff = BT_LIGHT_FLAG_START_OFF; // spawnflags & 1 on a styled light: dark by default
 constexpr uint32_t kLightFlagBleed = BT_LIGHT_FLAG_BLEED;        // `_bleed`: lights surfaces behind it too

@@ -115,8 +115,11 @@ Item lightItem(GpuLight light, vec3 p, vec3 normal, bool twoSided, float occlusi
     vec3 pos = jitteredOrigin(light, rng);
     vec3 d = pos - p;
     float dist = length(d);
-    if (dist <= 0.0) return it;
     vec3 toLight = d / dist;
+    if (!(dist >= NEAREST_LIGHT)) {
+      dist = NEAREST_LIGHT, toLight = vec3(0.0, 0.0, 1.0);
+      pos = p + toLight * dist;
+    }
     vec3 n = facingNormal(normal, toLight, twoSided);
     float value = pointLightValue(light, n, toLight, dist, world.scaledist) * dirtFactorAt(light, occlusion, dist);
     if (value == 0.0) return it;

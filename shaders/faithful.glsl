@@ -8,6 +8,8 @@ const float OVERBRIGHT_ONE = BT_OVERBRIGHT_ONE;
 const float SURFACE_HOTSPOT_CLAMP = BT_SURFACE_HOTSPOT_CLAMP;
 const float BOUNCE_HOTSPOT_CLAMP = BT_BOUNCE_HOTSPOT_CLAMP;
 const float BOUNCE_GATE = BT_BOUNCE_GATE;
+const float LIGHT_ANGLE_EPSILON = BT_LIGHT_ANGLE_EPSILON;
+const float NEAREST_LIGHT = BT_NEAREST_LIGHT; // lighting/faithful.h kNearestLight
 const uint BOUNCE_SHADOW_RAYS = BT_BOUNCE_SHADOW_RAYS;
 
 // Programs for a level without _deviance (renderer/gl FaithfulFeatures) compile without it.
@@ -74,20 +76,25 @@ float spotTerm(GpuLight light, vec3 toLight) {
   return (cosAxis - light.cosOuter) / (light.cosInner - light.cosOuter);
 }
 
+// lighting/faithful.h behindCosine: radiosity points count a little behind (LIGHT_ANGLE_EPSILON).
+float behindCosine(GpuLight light) {
+  return light.formula == FORMULA_SURFACE_RADIOSITY ? -LIGHT_ANGLE_EPSILON : 0.0;
+}
+
 // A radiosity surface light point: half-Lambert on the emitting face's side too; a bounce light:
 // the plain cosine there.
 float emitterTerm(GpuLight light, vec3 toLight) {
   bool radiosity = light.formula == FORMULA_SURFACE_RADIOSITY;
   if (!radiosity && light.formula != FORMULA_BOUNCE) return 1.0;
   float cosEmit = -dot(light.direction, toLight);
-  if (cosEmit < 0.0) return 0.0;
+  if (cosEmit < behindCosine(light)) return 0.0;
   return radiosity ? angleTerm(cosEmit, 0.5) : cosEmit;
 }
 
 float pointLightValue(GpuLight light, vec3 normal, vec3 toLight, float dist, float scaledist) {
   float cosIncidence = dot(toLight, normal);
   if ((light.flags & LIGHT_FLAG_BLEED) != 0u) cosIncidence = abs(cosIncidence);
-  if (cosIncidence < 0.0) return 0.0;
+  if (cosIncidence < behindCosine(light)) return 0.0;
   float value = distanceValue(light, dist, scaledist) * angleTerm(cosIncidence, light.anglescale) *
                 spotTerm(light, toLight) * emitterTerm(light, toLight);
   vec3 c = light.color;

@@ -16,6 +16,8 @@
 #define BT_DIRT_AZIMUTH_STEPS 16         // dirt's fixed pattern (`_dirtmode 0`)
 #define BT_DIRT_ELEVATION_STEPS 3
 #define BT_DIRT_SAMPLE_LIFT 1.0f         // the compiler's sample points sit 1 unit off the face
+#define BT_LIGHT_ANGLE_EPSILON 0.01f      // GetSurfaceLighting: a radiosity point this little (in cosine) behind still lights
+#define BT_NEAREST_LIGHT 0.1f            // GetLightContrib: a nearer light is this far, straight up (+z)
 
 // Physical mode.
 #define BT_NEAR_LIST_PROBABILITY 0.9f    // light selection: a pick from the cell's near list

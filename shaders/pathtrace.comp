@@ -166,9 +166,13 @@ bool faithfulLightRay(inout Path path, GpuLight light, inout Rng rng) {
     vec3 pos = jitteredOrigin(light, rng);
     vec3 d = pos - p;
     float dist = length(d);
-    if (dist <= 0.0) return false;
-    vec3 n = facingNormal(path.normal, d / dist, twoSided);
-    float value = pointLightValue(light, n, d / dist, dist, world.scaledist) * dirtFactor(path, light, dist);
+    vec3 toLightDir = d / dist;
+    if (!(dist >= NEAREST_LIGHT)) {
+      dist = NEAREST_LIGHT, toLightDir = vec3(0.0, 0.0, 1.0);
+      pos = p + toLightDir * dist;
+    }
+    vec3 n = facingNormal(path.normal, toLightDir, twoSided);
+    float value = pointLightValue(light, n, toLightDir, dist, world.scaledist) * dirtFactor(path, light, dist);
     if (value == 0.0) return false;
     vec3 origin = offsetPoint(p, n);
     vec3 toLight = pos - origin;

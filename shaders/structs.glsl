@@ -111,7 +111,9 @@ struct GpuLight {
   float dirtOffRadius; // offset 88: with LIGHT_FLAG_DIRT_RADIUS
   float dirtOnRadius;  // offset 92
   uint skyMaterial;    // offset 96: suns with _suntexture, 1 + the sky material (0: any sky)
-  uint pad0, pad1, pad2;
+  uint lightChannels;  // offset 100: _light_channel_mask (lighting/faithful_light.cpp; not read here yet)
+  uint shadowChannels; // offset 104: _shadow_channel_mask
+  uint pad2;
 };                 // 112 bytes
 
 // scene/gpu_structs.h GpuEmitter: one triangle of an emitting face, cdf by area.

@@ -115,6 +115,7 @@ glm::vec3 faithfulLightAtHit(const RenderScene& rs, const IntegratorSettings& se
   q.p = hit.position;
   q.n = hit.normal;
   q.twoSided = rs.faceFlags[hit.face] & kFaceLiquid;
+  q.channels = objectChannels(rs, hit.face);
   q.lights = settings.lightSelection ? LightSet::GridSampledBounce : LightSet::All;
   q.faceMinlight = faithfulFaceMinlight(rs, hit.face);
   return faithfulLight(rs, q, rng);

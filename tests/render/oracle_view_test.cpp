@@ -25,19 +25,19 @@ using test::Bar;
 // Levels below the bar today, each held at what it reaches so that it cannot get worse unseen;
 // the faithful-mode issue (14) stays open until this table is empty.
 //   testsurfacelight: its _surface points stand on faces split as a tree grown on that surface
-//     alone would split them, not on the compiler's own faces (lighting/README.md).
-//   suntest: `_light_channel_mask` / `_object_channel_mask` are not read yet.
-//   dirttest2: dirt is weaker than the compiler's in corners and along edges.
-//   q1_surflight_minlight: scattered luxels of the radiosity template's faces.
-//   lqdm5: its sun's penumbra is 64 random directions in the compiler and 64 others here, so
-//     partly shadowed luxels differ by that noise; about 80 % are within 5 %.
+//     alone would split them, not on the compiler's own faces (lighting/README.md): qbsp's tree
+//     is grown over the whole level, so planes of brushes far from a surface cut it too.
+//   lqdm5: its sun's penumbra. The compiler's 64 directions are not noise: light.cc SetupSun
+//     takes the sun's own direction, then 63 jittered by glibc rand() from its default seed (no
+//     srand; nothing draws before it here), azimuth and elevation each uniform in ±penumbra, its
+//     rejection test comparing radians² with degrees² and so never rejecting. Those directions
+//     in the luxel passes (tried on the CPU alone) give luxels 90.1 % and views 89.6 / 87.0 /
+//     97.9 % within 5 % (from 84.8 / 82.3 / 85.9 / 94.9): the GL bake needs the same table
+//     (GlBake checks both agree on a penumbra), and the rest of the gap is still unexplained.
 const std::map<std::string, Bar>& knownGaps() {
   static const std::map<std::string, Bar> gaps = {
-      {"ericw-tools_testmaps_deprecated_testsurfacelight", {0.15, 0.14}},
-      {"ericw-tools_testmaps_deprecated_suntest", {0.02, 0.67}},
-      {"ericw-tools_testmaps_deprecated_dirttest2", {0.02, 0.84}},
-      {"ericw-tools_testmaps_q1_surflight_minlight", {0.02, 0.88}},
-      {"librequake_lq1_maps_src_dm_lqdm5", {0.02, 0.79}},
+      {"ericw-tools_testmaps_deprecated_testsurfacelight", {0.13, 0.16}},
+      {"librequake_lq1_maps_src_dm_lqdm5", {0.02, 0.82}},
   };
   return gaps;
 }

@@ -8,7 +8,7 @@
 // the later brush's face by the closest-hit tie rule, steps past it and so finds itself inside
 // the wall, which it leaves unblocked: light leaks through the wall. The cache tests the wall
 // brush alone and finds it blocked, as the compiler does (qbsp's CSG keeps the wall there). So a
-// luxel may only be darker with the cache, and such leaks are rare: e1m1 has 103 of 260,075.
+// luxel may only be darker with the cache, and such leaks are rare: e1m1 has 65 of 260,075.
 #include "importers/import.h"
 #include "lighting/lightmap_bake.h"
 #include "tests/render/oracle_levels.h"
