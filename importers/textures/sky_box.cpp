@@ -63,6 +63,8 @@ std::optional<Material> readSide(const game::GameInstall& install, const std::st
 void loadSkyBox(Scene& scene, const TextureSearch& search) {
   const Entity* world = scene.worldspawn();
   if (!search.load || !world) return;
+  // Most levels name no sky box: they cost no look at the game's files.
+  if (skyBoxKey(*world, "quake").empty()) return; // Quake's keys are the others' and more
   const game::GameInstall install = game::openGameInstall(search.game, scene.sourcePath, scene.format);
   if (!install.profile || install.profile->skies.empty() || install.profile->name == "quake3") return; // Quake 3: a shader's skyParms
   const std::string_view name = skyBoxKey(*world, install.profile->name);
