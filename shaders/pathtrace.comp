@@ -155,7 +155,6 @@ void faithfulDirtRay(inout Path path, inout Rng rng) {
 }
 #endif
 
-
 // One light of lighting/faithful_light.h LightSet::Grid at the current surface: false if it adds nothing
 // here, else the ray that decides whether it does.
 bool faithfulLightRay(inout Path path, GpuLight light, inout Rng rng) {
