@@ -261,7 +261,9 @@ TEST_F(ViewerWindowTest, ShowsTheCompiledLightmapsAndTheirDifference) {
   }
   BT_REQUIRE_SHARED(shared);
   ViewerOptions o = options();
-  o.map = (shared / "oracle/lit/maps_ericw-tools_testmaps_q1_light_suntexture.bsp").string();
+  // A level whose faithful light is still far from the compiler's (issue 14's known gaps), so
+  // that switching views shows: on the levels faithful mode matches, the two agree within 5/255.
+  o.map = (shared / "oracle/lit/maps_ericw-tools_testmaps_deprecated_testsurfacelight.bsp").string();
   Viewer viewer(o);
   ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 2; }));
   const fs::path faithful = viewer.screenshot();
