@@ -493,6 +493,7 @@ template <bool AnyHit, bool ZeroSafe, class HitItem>
         Hit hit;
         if (hitItem(i, best.t, hit) && closer(hit, best)) {
           best = hit;
+          best.slot = i;
           found = true;
           if constexpr (AnyHit) return true;
         }
@@ -532,18 +533,13 @@ template <bool AnyHit, bool ZeroSafe> bool traceBoth(const RayContext& r, const 
   bool found = traverse<AnyHit, ZeroSafe>(
       r, ts.nodes(),
       [&r, brushes, sides, faces](uint32_t i, float tLimit, Hit& hit) {
-        hit.slot = i;
         return hitBrush<ZeroSafe>(r, brushes[i], sides, faces, tLimit, hit);
       },
       best);
   if (ts.triangleNodes().empty() || (AnyHit && found)) return found;
   const std::span<const GpuTriangle> triangles = ts.triangles();
   found |= traverse<AnyHit, ZeroSafe>(
-      r, ts.triangleNodes(),
-      [&r, triangles](uint32_t i, float tLimit, Hit& hit) {
-        hit.slot = i;
-        return hitTriangle(r, triangles[i], tLimit, hit);
-      },
+      r, ts.triangleNodes(), [&r, triangles](uint32_t i, float tLimit, Hit& hit) { return hitTriangle(r, triangles[i], tLimit, hit); },
       best);
   return found;
 }
