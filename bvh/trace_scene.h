@@ -123,6 +123,11 @@ public:
   // 0.1 unit to the point.
   template <class Counts> bool nearInside(const glm::vec3& p, float margin, const Counts& counts) const;
 
+  // The brush BVH's walk without a ray: into every node whose box `enter(lo, hi)` accepts, calling
+  // `visit(slot)` for each brush of the leaves it reaches (slot: index into brushes()) until one
+  // returns true, which walkBrushes then returns. Point tests and packets of rays share it.
+  template <class Enter, class Visit> bool walkBrushes(const Enter& enter, const Visit& visit) const;
+
   // The hit of one brush (index into brushes()), by the rules above; what the BVH calls per leaf.
   std::optional<Hit> intersectBrush(const Ray& ray, uint32_t brushIndex) const;
   // The same for one triangle (index into triangles()).
@@ -171,7 +176,19 @@ bool TraceScene::insideBy(const glm::vec3& p, float margin, bool closed, const C
     return p.x >= lo[0] - margin && p.x <= hi[0] + margin && p.y >= lo[1] - margin && p.y <= hi[1] + margin && p.z >= lo[2] - margin &&
         p.z <= hi[2] + margin;
   };
-  if (nodes_.empty() || !inBox(nodes_[0].boundsMin, nodes_[0].boundsMax)) return false;
+  return walkBrushes(inBox, [&](uint32_t slot) {
+    const GpuBrush& b = brushes_[slot];
+    if (!inBox(b.boundsMin, b.boundsMax)) return false;
+    for (uint32_t k = b.firstSide; k < b.firstSide + b.sideCount; ++k) {
+      const float* plane = faces_[sides_[k]].plane;
+      if (!within(plane[0] * p.x + plane[1] * p.y + plane[2] * p.z, plane[3])) return false;
+    }
+    return bool(counts(b.sceneBrush));
+  });
+}
+
+template <class Enter, class Visit> bool TraceScene::walkBrushes(const Enter& enter, const Visit& visit) const {
+  if (nodes_.empty() || !enter(nodes_[0].boundsMin, nodes_[0].boundsMax)) return false;
   uint32_t stack[kBvhMaxDepth + 1]; // one pop and up to two pushes per level
   int top = 0;
   stack[top++] = 0;
@@ -179,19 +196,11 @@ bool TraceScene::insideBy(const glm::vec3& p, float margin, bool closed, const C
     const GpuBvhNode& node = nodes_[stack[--top]];
     if (node.count == 0) {
       for (uint32_t c = node.leftFirst; c < node.leftFirst + 2; ++c)
-        if (inBox(nodes_[c].boundsMin, nodes_[c].boundsMax)) stack[top++] = c;
+        if (enter(nodes_[c].boundsMin, nodes_[c].boundsMax)) stack[top++] = c;
       continue;
     }
-    for (uint32_t i = node.leftFirst; i < node.leftFirst + node.count; ++i) {
-      const GpuBrush& b = brushes_[i];
-      if (!inBox(b.boundsMin, b.boundsMax)) continue;
-      bool in = true;
-      for (uint32_t k = b.firstSide; k < b.firstSide + b.sideCount && in; ++k) {
-        const float* plane = faces_[sides_[k]].plane;
-        in = within(plane[0] * p.x + plane[1] * p.y + plane[2] * p.z, plane[3]);
-      }
-      if (in && counts(b.sceneBrush)) return true;
-    }
+    for (uint32_t i = node.leftFirst; i < node.leftFirst + node.count; ++i)
+      if (visit(i)) return true;
   }
   return false;
 }

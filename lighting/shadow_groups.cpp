@@ -122,23 +122,11 @@ bool apartFromSlantedPlanes(const TraceScene& ts, uint32_t slot, const Pyramid& 
 
 // Whether some brush meets the pyramid (or comes within `margin` of it).
 bool anyBrushNear(const TraceScene& ts, const Pyramid& p, float margin) {
-  const std::span<const GpuBvhNode> nodes = ts.nodes();
-  if (nodes.empty() || outside(p, nodes[0].boundsMin, nodes[0].boundsMax, margin)) return false;
-  uint32_t stack[kBvhMaxDepth + 1];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const GpuBvhNode& node = nodes[stack[--top]];
-    if (node.count == 0) {
-      for (uint32_t c = node.leftFirst; c < node.leftFirst + 2; ++c)
-        if (!outside(p, nodes[c].boundsMin, nodes[c].boundsMax, margin)) stack[top++] = c;
-      continue;
-    }
-    for (uint32_t i = node.leftFirst; i < node.leftFirst + node.count; ++i)
-      if (!outside(p, ts.brushes()[i].boundsMin, ts.brushes()[i].boundsMax, margin) && !apartFromSlantedPlanes(ts, i, p, margin))
-        return true;
-  }
-  return false;
+  const auto near = [&](const float* lo, const float* hi) { return !outside(p, lo, hi, margin); };
+  return ts.walkBrushes(near, [&](uint32_t slot) {
+    const GpuBrush& b = ts.brushes()[slot];
+    return near(b.boundsMin, b.boundsMax) && !apartFromSlantedPlanes(ts, slot, p, margin);
+  });
 }
 
 } // namespace
