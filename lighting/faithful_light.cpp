@@ -59,17 +59,6 @@ glm::vec3 facingNormal(const Receiver& r, const glm::vec3& toLight) {
 
 // Faithful mode: one light's share of the light sum at the receiver, dimmed by the dirt
 // `occlusion` there. Local-minlight lights raise `localMin` instead: they are a floor, not a sum.
-// occluded() on the light's shadow `channels`, trying first the brush that blocked the cache's
-// last ray toward light `index`.
-bool shadowed(const RenderScene& rs, const Ray& ray, uint32_t channels, ShadowCache* cache, size_t index) {
-  if (!cache) return occluded(rs, ray, LightingMode::Faithful, channels);
-  uint32_t& blocker = cache->blocker[index];
-  const bool blocked = (blocker != kNoFace && blockedByBrush(rs, ray, LightingMode::Faithful, blocker, channels)) ||
-      occluded(rs, ray, LightingMode::Faithful, channels, &blocker);
-  cache->lastSeen[index] = !blocked;
-  return blocked;
-}
-
 // `cache`, when given, is the caller's ShadowCache and `light` is rs.lights[index]; `seen`: the
 // cache proved that no brush blocks the shadow ray.
 void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiver& r, float occlusion, Rng& rng, glm::vec3& sum,
@@ -94,7 +83,10 @@ void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiv
     const glm::vec3 origin = offsetRayOrigin(r.p, n);
     const glm::vec3 toLightFromOrigin = pos - origin;
     const float len = glm::length(toLightFromOrigin);
-    if (!seen && shadowed(rs, Ray{origin, 0.0f, toLightFromOrigin / len, len}, light.shadowChannels, cache, index)) return;
+    const Ray ray{origin, 0.0f, toLightFromOrigin / len, len};
+    if (!seen &&
+        (cache ? cachedShadowed(rs, *cache, uint32_t(index), ray) : occluded(rs, ray, LightingMode::Faithful, light.shadowChannels)))
+      return;
     if (light.formula == uint32_t(LightFormula::LocalMin))
       localMin = glm::max(localMin, value * light.color);
     else

@@ -12,7 +12,7 @@
 namespace bt {
 
 ShadowCache::ShadowCache(const RenderScene& rs, const std::vector<uint8_t>& solidBrushes)
-    : solid(&solidBrushes), blocker(rs.lights.size(), kNoFace), lastSeen(rs.lights.size(), 0) {}
+    : solid(&solidBrushes), recent(rs.lights.size() * kRecent, kNoFace), lastSeen(rs.lights.size(), 0) {}
 
 namespace {
 
@@ -163,7 +163,7 @@ void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points,
     if (light.type != uint32_t(LightType::Point) || light.deviance > 0.0f) return i;
     // Behind every point's plane (by far more than rounding): pointLightValue gives 0 to all.
     if (!(light.flags & kLightFlagBleed) && glm::dot(n, light.origin) < nearest - 1e-2f) return kDropped;
-    const uint32_t slot = cache.blocker[i];
+    const uint32_t slot = cache.recent[size_t(i) * ShadowCache::kRecent];
     // A solid brush blocks every ray on the default shadow channel (solidBlockers).
     if (slot != kNoFace && light.shadowChannels == kDefaultChannels && (*cache.solid)[slot] && brushHidesBox(rs, slot, box, light.origin))
       return kDropped;
@@ -183,6 +183,27 @@ void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points,
   add(grid.globalLights());
   add(cell);
   cache.grouped = true;
+}
+
+bool cachedShadowed(const RenderScene& rs, ShadowCache& cache, uint32_t index, const Ray& ray) {
+  const uint32_t channels = rs.lights[index].shadowChannels;
+  uint32_t* recent = &cache.recent[size_t(index) * ShadowCache::kRecent];
+  bool blocked = false;
+  for (int j = 0; j < ShadowCache::kRecent && recent[j] != kNoFace && !blocked; ++j)
+    if (blockedByBrush(rs, ray, LightingMode::Faithful, recent[j], channels)) {
+      std::rotate(recent, recent + j, recent + j + 1);
+      blocked = true;
+    }
+  uint32_t found = kNoFace;
+  if (!blocked && occluded(rs, ray, LightingMode::Faithful, channels, &found)) {
+    blocked = true;
+    if (found != kNoFace) {
+      std::copy_backward(recent, recent + ShadowCache::kRecent - 1, recent + ShadowCache::kRecent);
+      recent[0] = found;
+    }
+  }
+  cache.lastSeen[index] = !blocked;
+  return blocked;
 }
 
 } // namespace bt

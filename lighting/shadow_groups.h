@@ -2,9 +2,10 @@
 // thousands of point lights (lqdm5: about 2,500, most behind the face or blocked, the rest seen),
 // and neighbouring luxels mostly get the same answer from each, so it is worked out once per
 // group of them where that can be proved, and the rays are cast only where it cannot:
-//   blocker      per light, the brush that last blocked a shadow ray toward it: neighbouring
-//                luxels are mostly shadowed from a light by the same wall, so one brush test
-//                settles most blocked rays (visibility.h blockedByBrush).
+//   recent       per light, the last brushes that blocked a shadow ray toward it, latest first:
+//                neighbouring luxels are mostly shadowed from a light by the same few brushes of
+//                a wall, so a brush test or two settle most blocked rays (visibility.h
+//                blockedByBrush; on lqdm5 four brushes leave a third of the walks one leaves).
 //   groupLights  set by prepareLuxelGroup for a group of neighbouring sample points of one face:
 //                the lights of pass 0 in the order they are summed, less the point lights that
 //                light none of the points (behind all of them, or hidden from all of them by one
@@ -29,13 +30,18 @@ namespace bt {
 inline constexpr uint32_t kSeenByAll = 0x80000000u; // a groupLights entry: light index | this bit
 
 struct ShadowCache {
+  static constexpr int kRecent = 4;
   ShadowCache(const RenderScene& rs, const std::vector<uint8_t>& solid);
   const std::vector<uint8_t>* solid; // visibility.h solidBlockers()
-  std::vector<uint32_t> blocker;     // TraceScene brush slot per light, kNoFace: none yet
+  std::vector<uint32_t> recent;      // kRecent TraceScene brush slots per light; kNoFace: none yet
   std::vector<uint8_t> lastSeen;     // per light: the last shadow ray toward it was not blocked
   std::vector<uint32_t> groupLights; // indices into rs.lights, with kSeenByAll
   bool grouped = false;              // groupLights holds the current group's list
 };
+
+// occluded(rs, ray, Faithful, the light's shadow channels) for a shadow ray toward light `index`,
+// trying the light's recent blockers first; remembers what blocked it.
+bool cachedShadowed(const RenderScene& rs, ShadowCache& cache, uint32_t index, const Ray& ray);
 
 // Prepares cache.groupLights for sample `points` of one face (normal n, one-sided). Leaves the
 // cache ungrouped where the points do not share one light list (two grid cells).
