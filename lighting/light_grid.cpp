@@ -1,5 +1,6 @@
 #include "lighting/light_grid.h"
 #include "lighting/faithful.h"
+#include "lighting/physical_light.h"
 #include "scene/parallel_for.h"
 
 #include <glm/common.hpp>
@@ -195,11 +196,13 @@ private:
 
 class NearRanking {
 public:
-  NearRanking(const GpuLightGrid& g, const std::vector<GpuLight>& lights, std::span<const uint32_t> physical)
+  // power: the light's physical intensity (physical_light.h), channels summed; its window only
+  // lowers the light further out, so power / d^2 stays a bound.
+  NearRanking(const GpuLightGrid& g, const std::vector<GpuLight>& lights, std::span<const uint32_t> physical, float scaledist)
       : grid_(g), nearest2_(0.25f * g.cellSize * g.cellSize) {
     for (uint32_t i : physical) {
       const GpuLight& l = lights[i];
-      const float power = (l.color.x + l.color.y + l.color.z) * l.value;
+      const float power = (l.color.x + l.color.y + l.color.z) * physical::intensity(l, scaledist);
       if (power > 0.0f) candidates_.push_back({l.origin, maxJitter(l), power, i});
     }
     if (!candidates_.empty()) buildCandidateTree(candidates_, 0, uint32_t(candidates_.size()), nodes_);
@@ -429,7 +432,7 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
   }
 
   // Physical near lists: every cell on the same threads; each cell's list depends on nothing else.
-  const NearRanking ranking(g, lights, grid.physicalLights());
+  const NearRanking ranking(g, lights, grid.physicalLights(), scaledist);
   std::vector<uint32_t> nearLists(cellCount * kPhysicalNearLights);
   std::vector<uint32_t> nearCounts(cellCount);
   parallelFor(g.dims[2], gridThreads(ranking.candidateCount(), g), [&](size_t slice) {

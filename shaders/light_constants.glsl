@@ -24,5 +24,6 @@
 #define BT_SPECULAR_LOBE_PROBABILITY 0.5f
 #define BT_HORIZON_MARGIN 0.01f          // shading normals: Iray's margin above the face's plane
 #define BT_PHYSICAL_LIGHT_UNIT 128.0f    // Quake light units per physical unit (point: x pi, sun: / pi)
+#define BT_PHYSICAL_REACH_THRESHOLD 1.0f // light units: where an inverse-formula light ends in physical mode
 
 #endif

@@ -53,7 +53,7 @@ const bool SKY_RAYS = false;
 #endif
 
 // Physical-mode scale from Quake light units (renderer/cpu/integrator.h).
-const float PHYSICAL_POINT_SCALE = PI * BT_PHYSICAL_LIGHT_UNIT;
+const float PHYSICAL_POINT_SCALE = PI / BT_PHYSICAL_LIGHT_UNIT; // integrator.h kPhysicalPointScale
 const float PHYSICAL_SUN_SCALE = PI / BT_PHYSICAL_LIGHT_UNIT;
 
 vec2 textureUv(uint face, vec3 p) { return faceUv(faces[face], materials[faces[face].material], p); }
@@ -405,9 +405,9 @@ bool physicalSelectedLightRay(inout Path path, inout Rng rng) {
   vec3 f = bsdfEval(path.bsdf, n, path.wo, wi, pdf);
   float cone = spotTerm(light, wi);
   if (pdf == 0.0 || cone == 0.0) return false;
-  vec3 intensity = light.color * light.value * world.range * PHYSICAL_POINT_SCALE * cone;
+  vec3 irradiance = light.color * physicalFalloff(light, world.scaledist, dist2) * world.range * PHYSICAL_POINT_SCALE * cone;
   setRay(path, RAY_SHADOW, origin, wi, dist);
-  path.pending = f * intensity * dot(path.bsdf.n, wi) / dist2 / chosen.pdf;
+  path.pending = f * irradiance * dot(path.bsdf.n, wi) / chosen.pdf;
   return true;
 }
 

@@ -26,11 +26,12 @@ glm::vec3 shadingNormal(const RenderScene& rs, const SurfaceHit& hit, const glm:
 // Linear radiance along the ray.
 glm::vec3 radiance(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, Rng& rng);
 
-// Physical-mode scale from Quake light units: a point light of value V has radiant intensity
-// V * kPhysicalPointScale * _range, a sun of value V gives irradiance V * kPhysicalSunScale *
-// _range. Chosen so that a white surface head-on to a delay-2 light (or a sun, anglescale 0)
-// shows the same brightness in both modes.
-inline constexpr float kPhysicalPointScale = kPi * BT_PHYSICAL_LIGHT_UNIT;
+// Physical-mode scale from Quake light units: a point light of intensity I (light units x
+// distance^2, lighting/physical_light.h) has radiant intensity I * kPhysicalPointScale * _range,
+// a sun of value V gives irradiance V * kPhysicalSunScale * _range. Chosen so that a white
+// surface head-on to a point light at its match distance (or a sun, anglescale 0) shows the same
+// brightness in both modes.
+inline constexpr float kPhysicalPointScale = kPi / BT_PHYSICAL_LIGHT_UNIT;
 inline constexpr float kPhysicalSunScale = kPi / BT_PHYSICAL_LIGHT_UNIT;
 
 } // namespace bt

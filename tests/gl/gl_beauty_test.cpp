@@ -89,13 +89,17 @@ TEST(GlBeauty, FaithfulInfiniteLightGivesTheOverbrightFormula) {
 
 TEST(GlBeauty, PhysicalPointLightGivesInverseSquareLambert) {
   // Direct light only (bounces 0) from a point light on a diffuse grey wall:
-  // L = albedo / pi * I * cos(theta) / d^2, with I = light * _range * pi * 128.
+  // L = albedo / pi * I * W(d) * cos(theta) / d^2: an inverse-square (delay 2) `light 300` ends
+  // where the compiler's light falls to 1, 128 sqrt(300) units away, and matches it at 128
+  // (lighting/physical_light.h), so I = 300 * 128^2 / W(128) * _range * pi / 128, with Karis'
+  // window W(d) = (1 - (d / reach)^4)^2.
   GlContext* context = &test::sharedGlContext();
   const Scene scene = test::makeTestRoom();
   GlLighting lighting;
   GpuLight light;
   light.origin = {-100, 0, 200};
   light.value = 300.0f;
+  light.formula = uint32_t(LightFormula::Inverse2);
   lighting.lights = {light};
   GlTracer tracer(*context, scene, test::textureModeUnderTest(), lighting);
   const CameraBasis camera = test::testCamera(kWidth, kHeight);
@@ -104,7 +108,11 @@ TEST(GlBeauty, PhysicalPointLightGivesInverseSquareLambert) {
   const BeautyImage image = tracer.renderBeauty(camera, {.width = kWidth, .height = kHeight, .spp = kSpp, .physical = true, .bounces = 0});
 
   const float albedo = srgbToLinear(0.5f);
-  const float intensity = 300.0f * 0.5f * 3.14159265f * 128.0f;
+  const auto window = [](float d) {
+    const float x = d / (128.0f * std::sqrt(300.0f)), w = std::max(1.0f - x * x * x * x, 0.0f);
+    return w * w;
+  };
+  const float intensity = 300.0f * 128.0f * 128.0f / window(128.0f) * 0.5f * 3.14159265f / 128.0f;
   size_t compared = 0;
   for (size_t i : plainInteriorPixels(scene, aov)) {
     const int x = static_cast<int>(i % kWidth), y = static_cast<int>(i / kWidth);
@@ -119,7 +127,7 @@ TEST(GlBeauty, PhysicalPointLightGivesInverseSquareLambert) {
       const glm::vec3 p = camera.origin + dir * ((float(plane.dist) - glm::dot(n, camera.origin)) / glm::dot(n, dir));
       const glm::vec3 toLight = light.origin - p;
       const float d2 = glm::dot(toLight, toLight);
-      expected += albedo / 3.14159265f * intensity * (glm::dot(n, toLight) / std::sqrt(d2)) / d2 / kSpp;
+      expected += albedo / 3.14159265f * intensity * window(std::sqrt(d2)) * (glm::dot(n, toLight) / std::sqrt(d2)) / d2 / kSpp;
     }
     const float got = image.beauty[i].x;
     if (got == 0.0f) continue; // in the pillar's shadow

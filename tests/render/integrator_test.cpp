@@ -4,10 +4,15 @@
 #include "renderer/cpu/integrator.h"
 #include "tests/render/box_scene.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace bt {
 namespace {
@@ -288,7 +293,14 @@ TEST(FaithfulRender, LitLiquidsTakeLightFromBelowToo) {
   }
 }
 
-TEST(PhysicalRender, PointLightInverseSquare) {
+// Karis' windowed falloff, written out again here: (1 - (d / reach)^4)^2, clamped.
+double karisWindow(double d, double reach) {
+  const double x = d / reach;
+  const double w = std::clamp(1.0 - x * x * x * x, 0.0, 1.0);
+  return w * w;
+}
+
+TEST(PhysicalRender, PointLightInverseSquareWindowedAtItsReach) {
   test::BoxSceneBuilder b = floorScene();
   b.entity({{"classname", "light"}, {"origin", "0 0 80"}});
   const Scene scene = b.build();
@@ -296,10 +308,79 @@ TEST(PhysicalRender, PointLightInverseSquare) {
   const RenderScene rs = buildRenderScene(scene, {}, diags);
   Rng rng = pixelRng(0, 0, 0, 0);
   const glm::vec3 l = radiance(rs, {LightingMode::Physical, 0}, downAt(60.0f, 0.0f), rng);
-  // White Lambertian: L = (1 / pi) * I * cos / d^2 with I = 300 * range * pi * 128.
-  const float expected = 300.0f * 0.5f * 128.0f * 0.8f / (100.0f * 100.0f);
-  EXPECT_NEAR(l.x, expected, 1e-3f * expected);
-  // The same light in faithful delay-2 mode head-on at anglescale 0 shows the same display value.
+  // `light 300`, linear: reach 300; it matches the compiler's 150 at 150 units, so
+  // I = 150 * 150^2 / W(150); white Lambertian L = (1 / pi) * I * range * pi / 128 * W(d) * cos / d^2.
+  const double intensity = 150.0 * 150.0 * 150.0 / karisWindow(150.0, 300.0);
+  const double expected = intensity * 0.5 / 128.0 * karisWindow(100.0, 300.0) * 0.8 / (100.0 * 100.0);
+  EXPECT_NEAR(l.x, expected, 1e-3 * expected);
+}
+
+// Head-on at its match distance, a white floor's physical radiance is the compiler's light there
+// x _range / 128 (the faithful lightmap over 128): per formula, the distance and the light the
+// compiler gives there written out from ltface.cc GetLightValue.
+TEST(PhysicalRender, EachFormulaMatchesTheCompiledLightAtItsMatchDistance) {
+  struct Case {
+    const char* delay;
+    const char* wait;
+    const char* falloff;
+    double distance, compiled;
+  };
+  const Case cases[] = {
+      {"0", "1", "", 150.0, 150.0},                               // linear: half its reach of 300
+      {"0", "2", "", 75.0, 150.0},                                // wait 2 halves the reach
+      {"0", "1", "200", 100.0, 150.0},                            // _falloff 200: 300 * (1 - 100 / 200)
+      {"1", "1", "", 128.0, 300.0},                               // inverse: 300 * 128 / d
+      {"2", "2", "", 64.0, 300.0},                                // inverse square, wait 2: 300 * (128 / (2 d))^2
+      {"5", "1", "", 128.0, 300.0 * 128 * 128 / (256.0 * 256.0)}, // inverse square without the pole
+  };
+  for (const Case& c : cases) {
+    test::BoxSceneBuilder b = floorScene();
+    std::vector<std::pair<std::string, std::string>> keys = {
+        {"classname", "light"}, {"origin", fmt::format("0 0 {}", c.distance)}, {"delay", c.delay}, {"wait", c.wait}};
+    if (*c.falloff) keys.emplace_back("_falloff", c.falloff);
+    b.entity(keys);
+    const Scene scene = b.build();
+    Diagnostics diags;
+    const RenderScene rs = buildRenderScene(scene, {}, diags);
+    Rng rng = pixelRng(0, 0, 0, 0);
+    const glm::vec3 l = radiance(rs, {LightingMode::Physical, 0}, downAt(0.0f, 0.0f), rng);
+    // The shadow ray leaves 0.03 units above the floor: the light is that much nearer (its window
+    // opens by as little again, below 5e-4).
+    const double nearer = c.distance / (c.distance - 0.03);
+    const double expected = c.compiled * 0.5 / 128.0 * nearer * nearer;
+    EXPECT_NEAR(l.x, expected, 5e-4 * expected) << "delay " << c.delay << " wait " << c.wait << " _falloff " << c.falloff;
+  }
+}
+
+// A mapper's short light (high `wait`) ends in physical mode where the compiled one does: the end
+// wall of a corridor 1.5 reaches away, facing the light, gets at most 5 % of the light of the floor
+// under it, with four bounces (an unwindowed inverse square gives it (24 / 90)^2 = 7 % directly).
+TEST(PhysicalRender, AShortLightEndsWhereTheCompiledOneDoes) {
+  test::BoxSceneBuilder b;
+  b.material("white", 200, 200, 200);
+  b.box({-64, -64, -16}, {90, 64, 0}, "white");   // floor
+  b.box({-64, -64, 128}, {90, 64, 144}, "white"); // ceiling
+  b.box({-64, -80, 0}, {90, -64, 128}, "white");  // side walls
+  b.box({-64, 64, 0}, {90, 80, 128}, "white");
+  b.box({-80, -64, 0}, {-64, 64, 128}, "white");                                             // the near end
+  b.box({90, -80, -16}, {106, 80, 144}, "white");                                            // the far end
+  b.entity({{"classname", "light"}, {"origin", "0 0 24"}, {"light", "300"}, {"wait", "5"}}); // reach 60
+  const Scene scene = b.build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  const auto mean = [&](const Ray& ray) {
+    glm::dvec3 sum(0.0);
+    constexpr int kSamples = 4096;
+    for (int i = 0; i < kSamples; ++i) {
+      Rng rng = pixelRng(uint32_t(i), 0, 0, 7);
+      sum += glm::dvec3(radiance(rs, {LightingMode::Physical, 4}, ray, rng));
+    }
+    return sum / double(kSamples);
+  };
+  const glm::dvec3 nearFloor = mean(downAt(0.0f, 0.0f)), farWall = mean(Ray{{40.0f, 0.0f, 24.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, 1e9f});
+  for (int c = 0; c < 3; ++c)
+    EXPECT_LE(farWall[c], 0.05 * nearFloor[c]) << "channel " << c << ": " << farWall[c] << " against " << nearFloor[c];
+  EXPECT_GT(nearFloor.x, 0.0);
 }
 
 // Form factor from a point to a parallel rectangle [0, a] x [0, b] at height c, the point

@@ -4,6 +4,7 @@
 #include "lighting/faithful.h"
 #include "renderer/cpu/integrator.h"
 #include "lighting/light_grid.h"
+#include "lighting/physical_light.h"
 #include "tests/render/box_scene.h"
 
 #include <gtest/gtest.h>
@@ -130,7 +131,7 @@ TEST(LightGrid, EmptyLevelHasOneCellWithEveryFiniteLight) {
 }
 
 // The near lists against the plain ranking they stand for: every physical light of positive
-// power ranked in every cell by power / d^2 (d from the jittered light to the cell, whose border
+// power (physical intensity, channels summed; the grids here have _dist 1) ranked in every cell by power / d^2 (d from the jittered light to the cell, whose border
 // sides reach to infinity, at least half a cell), largest first, ties to the lower index.
 // Lights in clusters and in exact duplicates (ties), far outside the grid, jittered, and of kinds
 // that physical mode leaves out.
@@ -139,7 +140,7 @@ std::vector<uint32_t> referenceNearList(const std::vector<GpuLight>& lights, con
   std::vector<std::pair<float, uint32_t>> ranked;
   for (uint32_t i : grid.physicalLights()) {
     const GpuLight& l = lights[i];
-    const float power = (l.color.x + l.color.y + l.color.z) * l.value;
+    const float power = (l.color.x + l.color.y + l.color.z) * physical::intensity(l, 1.0f);
     if (!(power > 0.0f)) continue;
     float d2 = 0.0f;
     for (int a = 0; a < 3; ++a) {

@@ -1,0 +1,66 @@
+// Physical mode's point lights keep the reach the mapper tuned (lighting/README.md, "Physical
+// mode", key by key): an inverse-square source whose light is windowed to zero where the
+// compiler's formula reaches zero (linear lights: `_falloff`, or `light` / (`wait` x `_dist`)) or
+// falls below kPhysicalReachThreshold (the inverse formulas), and whose intensity matches the
+// compiler's light at a reference distance. shaders/light_select.glsl computes the same.
+#pragma once
+
+#include "lighting/faithful.h"
+#include "scene/gpu_structs.h"
+#include "shaders/light_constants.glsl"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace bt::physical {
+
+// Light units (the compiler's light at a point) below which an inverse-formula light ends.
+inline constexpr float kReachThreshold = BT_PHYSICAL_REACH_THRESHOLD;
+
+// Where the light ends: the distance its compiled light reaches zero (linear) or the threshold
+// (inverse, inverse square); infinity for lights that never fall off (delay 3).
+inline float reach(const GpuLight& light, float scaledist) {
+  const float s = std::max(scaledist * light.atten, 1e-6f), value = std::abs(light.value);
+  switch (LightFormula(light.formula)) {
+  case LightFormula::Linear: return light.falloff > 0.0f ? light.falloff : value / s;
+  case LightFormula::Inverse: return value / kReachThreshold * BT_FORMULA_SCALE / s;
+  case LightFormula::Inverse2: return std::sqrt(value / kReachThreshold) * BT_FORMULA_SCALE / s;
+  case LightFormula::Inverse2A: return std::max(std::sqrt(value / kReachThreshold) - 1.0f, 0.0f) * BT_FORMULA_SCALE / s;
+  default: return std::numeric_limits<float>::infinity();
+  }
+}
+
+// The windowed falloff of Karis, "Real Shading in Unreal Engine 4" (SIGGRAPH 2013 course
+// notes): (1 - (d / reach)^4)^2 clamped to [0, 1]; 1 near the light, smooth to 0 at the reach.
+inline float window(float dist, float reachDistance) {
+  const float x = dist / reachDistance, x2 = x * x;
+  const float w = std::clamp(1.0f - x2 * x2, 0.0f, 1.0f);
+  return w * w;
+}
+
+// The distance at which the physical light matches the compiled one: half the reach of a linear
+// light (where the compiler gives half its value), the formula's own unit (128 / (wait x
+// `_dist`)) for the others (where inverse and inverse square give exactly `light`).
+inline float matchDistance(const GpuLight& light, float scaledist) {
+  if (light.formula == uint32_t(LightFormula::Linear)) return 0.5f * reach(light, scaledist);
+  return BT_FORMULA_SCALE / std::max(scaledist * light.atten, 1e-6f);
+}
+
+// Intensity in light units x distance^2: intensity / d^2 x window(d) at the match distance
+// equals the compiler's light there, head-on (before `_range` and the physical unit).
+inline float intensity(const GpuLight& light, float scaledist) {
+  const float d = matchDistance(light, scaledist), r = reach(light, scaledist);
+  const float compiled = faithful::copyDistanceValue(light, d, scaledist);
+  const float w = std::isfinite(r) ? window(d, r) : 1.0f;
+  return w > 0.0f ? compiled * d * d / w : 0.0f;
+}
+
+// The light's windowed irradiance factor at distance `dist`: intensity x window / dist^2.
+inline float falloff(const GpuLight& light, float scaledist, float dist2) {
+  const float r = reach(light, scaledist);
+  const float w = std::isfinite(r) ? window(std::sqrt(dist2), r) : 1.0f;
+  return intensity(light, scaledist) * w / dist2;
+}
+
+} // namespace bt::physical
