@@ -3,7 +3,6 @@
 
 #include "light_constants.glsl"
 const float FORMULA_SCALE = BT_FORMULA_SCALE;
-const float OVERBRIGHT_ONE = BT_OVERBRIGHT_ONE;
 
 const float SURFACE_HOTSPOT_CLAMP = BT_SURFACE_HOTSPOT_CLAMP;
 const float BOUNCE_HOTSPOT_CLAMP = BT_BOUNCE_HOTSPOT_CLAMP;
