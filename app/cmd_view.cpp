@@ -18,6 +18,7 @@ struct ViewCommand {
   std::string textures = "auto";
   std::string lighting = "faithful";
   std::string luxels = "on";
+  CLI::Option* lightingOption = nullptr;
 };
 
 int runView(ViewCommand& cmd) {
@@ -30,9 +31,11 @@ int runView(ViewCommand& cmd) {
   o.lighting = cmd.lighting == "physical" ? LightingMode::Physical : LightingMode::Faithful;
   o.luxels = cmd.luxels == "on";
   o.compiled = cmd.lighting == "compiled";
+  o.lightingGiven = cmd.lightingOption && cmd.lightingOption->count() > 0;
 
   Viewer viewer(o);
   if (cmd.lighting == "difference") viewer.showDifference();
+  if (!viewer.note().empty()) fmt::print(stderr, "{}: note: {}\n", o.map, viewer.note());
   if (!viewer.notice().empty()) fmt::print(stderr, "{}: warning: {}\n", o.map, viewer.notice());
   while (viewer.frame()) {}
   return 0;
@@ -50,9 +53,9 @@ void addViewCommand(CLI::App& app, int& exitCode) {
   addSizeOption(*view, cmd->size, "Window size");
   addCameraOption(*view, cmd->camera,
                   "Start camera \"(x y z) pitch yaw roll\" or \"setpos x y z pitch yaw roll\" (roll is ignored: the viewer has none)");
-  view->add_option("--lighting", cmd->lighting, "faithful|physical|compiled|difference (keys 4, 5, 6, 7)")
-      ->check(CLI::IsMember({"faithful", "physical", "compiled", "difference"}))
-      ->capture_default_str();
+  cmd->lightingOption = view->add_option("--lighting", cmd->lighting, "faithful|physical|compiled|difference (keys 4, 5, 6, 7)")
+                            ->check(CLI::IsMember({"faithful", "physical", "compiled", "difference"}))
+                            ->capture_default_str();
   view->add_option(
           "--luxels", cmd->luxels,
           "Faithful lighting: on = the compiler's luxels, baked on the GPU as the first frames show, off = the light at each pixel")

@@ -37,6 +37,16 @@ inline constexpr float kBounceHotspotClamp = BT_BOUNCE_HOTSPOT_CLAMP;
 // reaches a finite distance (light_grid.h faithfulReach).
 inline constexpr float kBounceGate = BT_BOUNCE_GATE;
 
+// q3map2's point and linear lights (light_ydnar.c LightContributionToSample): nothing from the
+// envelope on (`falloff`), the distance clamped at 16 units, then photons / d² or, linear,
+// photons × linearScale − d × fade (lighting/q3map2_light.h sets the fields).
+inline float q3map2Value(const GpuLight& light, float dist) {
+  if (dist >= light.falloff) return 0.0f;
+  const float d = std::max(dist, BT_Q3_HOTSPOT_CLAMP);
+  if (light.formula == uint32_t(LightFormula::Q3Linear)) return std::max(light.value - d * light.atten, 0.0f);
+  return light.value * (kFormulaScale * kFormulaScale) / (d * d);
+}
+
 // Light value at `dist` from one copy of a point light, before the angle terms (GetLightValue).
 // `atten` is the light's `wait`; ericw-tools multiplies it with the global `_dist` (scaledist).
 inline float copyDistanceValue(const GpuLight& light, float dist, float scaledist) {
@@ -49,6 +59,8 @@ inline float copyDistanceValue(const GpuLight& light, float dist, float scaledis
     const float d = std::max(dist, kBounceHotspotClamp);
     return value / (d * d);
   }
+  if (light.formula == uint32_t(LightFormula::Q3Point) || light.formula == uint32_t(LightFormula::Q3Linear))
+    return q3map2Value(light, dist);
   if (light.falloff > 0.0f && light.formula == uint32_t(LightFormula::Linear))
     return dist < light.falloff ? value * (1.0f - dist / light.falloff) : 0.0f;
 
@@ -89,6 +101,19 @@ inline float spotTerm(const GpuLight& light, const glm::vec3& toLight) {
   return (cosAxis - light.cosOuter) / (light.cosInner - light.cosOuter);
 }
 
+// q3map2's spotlight cone (LightContributionToSample): the cone's radius grows by radiusByDist
+// (`cosInner`) per unit along the axis; a point outside gets nothing, one within 32 units of its
+// edge a linear fade. `toLight` is unit, `dist` the distance to the light.
+inline float q3map2SpotTerm(const GpuLight& light, const glm::vec3& toLight, float dist) {
+  if (!(light.flags & kLightFlagQ3Spot)) return 1.0f;
+  const float along = -glm::dot(light.direction, toLight) * dist;
+  if (along < 0.0f) return 0.0f;
+  const float radiusAtDist = light.cosInner * along;
+  const float sampleRadius = std::sqrt(std::max(dist * dist - along * along, 0.0f));
+  if (sampleRadius >= radiusAtDist) return 0.0f;
+  return std::min((radiusAtDist - sampleRadius) / BT_Q3_SPOT_EDGE, 1.0f);
+}
+
 // GetSurfaceLighting's tolerance (LIGHT_ANGLE_EPSILON): a radiosity point lights a receiver this
 // little behind its face (in cosine), and a receiver facing this little away from it, such as the
 // faces in its own plane.
@@ -123,7 +148,7 @@ inline float pointLightValue(const GpuLight& light, const glm::vec3& normal, con
   if (light.flags & kLightFlagBleed) cosIncidence = std::abs(cosIncidence);
   if (cosIncidence < behindCosine(light)) return 0.0f; // behind the surface: nothing, whatever the anglescale
   const float value = distanceValue(light, dist, scaledist) * angleTerm(cosIncidence, light.anglescale) * spotTerm(light, toLight) *
-      emitterTerm(light, toLight);
+      emitterTerm(light, toLight) * q3map2SpotTerm(light, toLight, dist);
   if (light.formula == uint32_t(LightFormula::Bounce) && value * maxChannel(light.color) <= kBounceGate) return 0.0f;
   return value;
 }

@@ -1,6 +1,7 @@
 #include "lighting/lights.h"
 
 #include "lighting/game_rules.h"
+#include "lighting/q3map2_light.h"
 #include "quake/bspfile_q2.h"
 #include "quake/entity_keys.h"
 
@@ -358,6 +359,13 @@ LightKinds lightKinds(const SceneLights& lights, bool bounceLights) {
 
 SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagnostics& diagnostics) {
   SceneLights out;
+  if (gameOf(scene) == Game::Quake3) {
+    // q3map2's keys and rules, not ericw-tools' (lighting/q3map2_light.h).
+    out.world = compilerDefaults(Game::Quake3);
+    q3map2::readWorld(scene, out.world, diagnostics);
+    q3map2::addLightEntities(scene, options, out, diagnostics);
+    return out;
+  }
   out.world = readWorld(scene, diagnostics);
   addWorldSuns(scene, out.world, out, diagnostics);
   for (const Entity& entity : scene.entities)

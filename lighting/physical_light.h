@@ -27,6 +27,8 @@ inline float reach(const GpuLight& light, float scaledist) {
   case LightFormula::Inverse: return value / kReachThreshold * BT_FORMULA_SCALE / s;
   case LightFormula::Inverse2: return std::sqrt(value / kReachThreshold) * BT_FORMULA_SCALE / s;
   case LightFormula::Inverse2A: return std::max(std::sqrt(value / kReachThreshold) - 1.0f, 0.0f) * BT_FORMULA_SCALE / s;
+  case LightFormula::Q3Point:
+  case LightFormula::Q3Linear: return light.falloff; // q3map2's envelope
   default: return std::numeric_limits<float>::infinity();
   }
 }
@@ -41,9 +43,12 @@ inline float window(float dist, float reachDistance) {
 
 // The distance at which the physical light matches the compiled one: half the reach of a linear
 // light (where the compiler gives half its value), the formula's own unit (128 / (wait x
-// `_dist`)) for the others (where inverse and inverse square give exactly `light`).
+// `_dist`)) for the others (where inverse and inverse square give exactly `light`); for q3map2's
+// inverse-square lights 128 units, or half their envelope where that is nearer.
 inline float matchDistance(const GpuLight& light, float scaledist) {
-  if (light.formula == uint32_t(LightFormula::Linear)) return 0.5f * reach(light, scaledist);
+  if (light.formula == uint32_t(LightFormula::Linear) || light.formula == uint32_t(LightFormula::Q3Linear))
+    return 0.5f * reach(light, scaledist);
+  if (light.formula == uint32_t(LightFormula::Q3Point)) return std::min(BT_FORMULA_SCALE, 0.5f * reach(light, scaledist));
   return BT_FORMULA_SCALE / std::max(scaledist * light.atten, 1e-6f);
 }
 

@@ -164,6 +164,12 @@ enum class LightFormula : uint32_t {
   // re-emitting its mean direct light: value / max(dist, 128)^2, times the cosine on the emitting
   // face (`direction` is its normal) and on the receiving one (anglescale 1).
   Bounce = BT_FORMULA_BOUNCE,
+  // Quake 3's q3map2 (lighting/q3map2_light.h): value × 128² / max(dist, 16)², 0 from `falloff`
+  // (q3map2's envelope) on; `value` is q3map2's photons / 128², so physical mode reads it as an
+  // inverse-square light of the same brightness.
+  Q3Point = BT_FORMULA_Q3_POINT,
+  // q3map2's linear light (spawnflags 1): value - max(dist, 16) × atten (`fade`), 0 from `falloff` on.
+  Q3Linear = BT_FORMULA_Q3_LINEAR,
 };
 
 enum class LightType : uint32_t {
@@ -187,7 +193,8 @@ struct GpuLight {
   float atten = 1.0f;                     // `wait`: scales distance in the falloff formulas
   float falloff = 0.0f;                   // `_falloff`: linear falloff to zero at this distance (0 = off)
   float anglescale = 0.5f;                // `_anglescale`: 0 ignores the incidence angle, 1 is Lambert
-  float cosInner = -2.0f;                 // spotlights: cos(_softangle / 2), full brightness inside
+  float cosInner = -2.0f;                 // spotlights: cos(_softangle / 2), full brightness inside; with
+                                          // kLightFlagQ3Spot q3map2's radiusByDist (cone radius per unit along the axis)
   float deviance = 0.0f;                  // `_deviance` (point) or _sunlight_penumbra in radians (sun): soft shadow radius
   uint32_t flags = 0;                     // kLightFlag*
   float faithfulScale = 1.0f;             // faithful mode uses value * this: ericw-tools' count of jittered copies of a
@@ -242,6 +249,8 @@ constexpr uint32_t kLightFlagFaceMinlight = BT_LIGHT_FLAG_FACE_MINLIGHT; // per-
                                                                          // mode its faces get value * faithfulScale * colour as minlight
 constexpr uint32_t kLightFlagDirt = BT_LIGHT_FLAG_DIRT;              // faithful: dimmed by dirt (worldspawn _dirt, or the light's _dirt 1)
 constexpr uint32_t kLightFlagDirtRadius = BT_LIGHT_FLAG_DIRT_RADIUS; // ... only beyond _dirt_off_radius, fully beyond _dirt_on_radius
+constexpr uint32_t kLightFlagQ3Spot = BT_LIGHT_FLAG_Q3_SPOT;         // q3map2 spotlight: cone of radius cosInner (its radiusByDist) x the
+                                                                     // distance along `direction`, fading over the last 32 units
 
 // Face classes, one uint32 per scene face (RenderScene::faceFlags); the geometry and texture
 // frame of a face are the bvh part's GpuFace (scene/gpu_structs.h).

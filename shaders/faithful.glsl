@@ -3,12 +3,13 @@
 
 #include "light_constants.glsl"
 const float FORMULA_SCALE = BT_FORMULA_SCALE;
-const float OVERBRIGHT_ONE = BT_OVERBRIGHT_ONE;
 
 const float SURFACE_HOTSPOT_CLAMP = BT_SURFACE_HOTSPOT_CLAMP;
 const float BOUNCE_HOTSPOT_CLAMP = BT_BOUNCE_HOTSPOT_CLAMP;
 const float BOUNCE_GATE = BT_BOUNCE_GATE;
 const float LIGHT_ANGLE_EPSILON = BT_LIGHT_ANGLE_EPSILON;
+const float Q3_HOTSPOT_CLAMP = BT_Q3_HOTSPOT_CLAMP;
+const float Q3_SPOT_EDGE = BT_Q3_SPOT_EDGE;
 const float NEAREST_LIGHT = BT_NEAREST_LIGHT; // lighting/faithful.h kNearestLight
 const uint BOUNCE_SHADOW_RAYS = BT_BOUNCE_SHADOW_RAYS;
 
@@ -31,8 +32,17 @@ vec3 jitteredOrigin(GpuLight light, inout Rng rng) {
 // (lighting facingNormal).
 vec3 facingNormal(vec3 n, vec3 toLight, bool twoSided) { return twoSided && dot(n, toLight) < 0.0 ? -n : n; }
 
+// lighting/faithful.h q3map2Value: q3map2's point and linear lights.
+float q3map2Value(GpuLight light, float dist) {
+  if (dist >= light.falloff) return 0.0;
+  float d = max(dist, Q3_HOTSPOT_CLAMP);
+  if (light.formula == FORMULA_Q3_LINEAR) return max(light.value - d * light.atten, 0.0);
+  return light.value * (FORMULA_SCALE * FORMULA_SCALE) / (d * d);
+}
+
 float copyDistanceValue(GpuLight light, float dist, float scaledist) {
   float value = light.value;
+  if (light.formula == FORMULA_Q3_POINT || light.formula == FORMULA_Q3_LINEAR) return q3map2Value(light, dist);
   if (light.formula == FORMULA_SURFACE_RADIOSITY) {
     float d = max(dist, SURFACE_HOTSPOT_CLAMP);
     return value / (d * d);
@@ -76,6 +86,17 @@ float spotTerm(GpuLight light, vec3 toLight) {
   return (cosAxis - light.cosOuter) / (light.cosInner - light.cosOuter);
 }
 
+// lighting/faithful.h q3map2SpotTerm: q3map2's cone, radiusByDist in cosInner.
+float q3map2SpotTerm(GpuLight light, vec3 toLight, float dist) {
+  if ((light.flags & LIGHT_FLAG_Q3_SPOT) == 0u) return 1.0;
+  float along = -dot(light.direction, toLight) * dist;
+  if (along < 0.0) return 0.0;
+  float radiusAtDist = light.cosInner * along;
+  float sampleRadius = sqrt(max(dist * dist - along * along, 0.0));
+  if (sampleRadius >= radiusAtDist) return 0.0;
+  return min((radiusAtDist - sampleRadius) / Q3_SPOT_EDGE, 1.0);
+}
+
 // lighting/faithful.h behindCosine: radiosity points count a little behind (LIGHT_ANGLE_EPSILON).
 float behindCosine(GpuLight light) {
   return light.formula == FORMULA_SURFACE_RADIOSITY ? -LIGHT_ANGLE_EPSILON : 0.0;
@@ -96,7 +117,7 @@ float pointLightValue(GpuLight light, vec3 normal, vec3 toLight, float dist, flo
   if ((light.flags & LIGHT_FLAG_BLEED) != 0u) cosIncidence = abs(cosIncidence);
   if (cosIncidence < behindCosine(light)) return 0.0;
   float value = distanceValue(light, dist, scaledist) * angleTerm(cosIncidence, light.anglescale) *
-                spotTerm(light, toLight) * emitterTerm(light, toLight);
+                spotTerm(light, toLight) * emitterTerm(light, toLight) * q3map2SpotTerm(light, toLight, dist);
   vec3 c = light.color;
   if (light.formula == FORMULA_BOUNCE && value * max(c.x, max(c.y, c.z)) <= BOUNCE_GATE) return 0.0;
   return value;

@@ -19,6 +19,10 @@
 #define BT_LIGHT_ANGLE_EPSILON 0.01f      // GetSurfaceLighting: a radiosity point this little (in cosine) behind still lights
 #define BT_NEAREST_LIGHT 0.1f            // GetLightContrib: a nearer light is this far, straight up (+z)
 
+// q3map2 (faithful mode of Quake 3 levels, lighting/q3map2_light.h).
+#define BT_Q3_HOTSPOT_CLAMP 16.0f        // LightContributionToSample: a point or spot light is never nearer than this
+#define BT_Q3_SPOT_EDGE 32.0f            // ... and a spotlight's cone fades to 0 over its last 32 units of radius
+
 // Physical mode.
 #define BT_NEAR_LIST_PROBABILITY 0.9f    // light selection: a pick from the cell's near list
 #define BT_SPECULAR_LOBE_PROBABILITY 0.5f

@@ -319,8 +319,9 @@ vec3 faithfulDisplay(Path path) {
   float peak = max(stored.x, max(stored.y, stored.z));
   if (peak > 255.0) stored *= 255.0 / peak;
   stored = max(stored, vec3(0.0));
-  // Engine: texture x lightmap / 128 in the texture's (gamma) space; fullbright texels unlit.
-  vec3 display = max(path.texture * stored / OVERBRIGHT_ONE, path.fullbright);
+  // Engine: texture x lightmap / its overbright one (Quake 128, Quake 2 and Half-Life 255) in the
+  // texture's (gamma) space; fullbright texels unlit.
+  vec3 display = max(path.texture * stored / world.overbrightOne, path.fullbright);
   return srgbToLinear(display);
 }
 

@@ -42,4 +42,5 @@ layout(std140, binding = BT_UNIFORM_WORLD) uniform World {
   float dirtScale;    // worldspawn _dirtscale / _dirtgain (minlight's dirt)
   float dirtGain;
   uint minlightDirt;  // _minlight_dirt
+  float overbrightOne;// lighting WorldLighting::overbrightOne: the game's display (Quake 128, Quake 2 and Half-Life 255)
 } world;

@@ -28,6 +28,8 @@
 #define BT_FORMULA_INVERSE2A 5u
 #define BT_FORMULA_SURFACE_RADIOSITY 6u
 #define BT_FORMULA_BOUNCE 7u
+#define BT_FORMULA_Q3_POINT 8u
+#define BT_FORMULA_Q3_LINEAR 9u
 
 // GpuLight::flags.
 #define BT_LIGHT_FLAG_START_OFF 1u
@@ -36,6 +38,7 @@
 #define BT_LIGHT_FLAG_FACE_MINLIGHT 8u
 #define BT_LIGHT_FLAG_DIRT 16u
 #define BT_LIGHT_FLAG_DIRT_RADIUS 32u
+#define BT_LIGHT_FLAG_Q3_SPOT 64u
 
 // GpuLuxelSample::flags.
 #define BT_LUXEL_SAMPLE_OCCLUDED 1u

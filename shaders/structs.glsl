@@ -85,11 +85,14 @@ const uint FORMULA_LOCAL_MIN = BT_FORMULA_LOCAL_MIN;
 const uint FORMULA_INVERSE2A = BT_FORMULA_INVERSE2A;
 const uint FORMULA_SURFACE_RADIOSITY = BT_FORMULA_SURFACE_RADIOSITY;
 const uint FORMULA_BOUNCE = BT_FORMULA_BOUNCE; // an ericw-tools bounce light (lighting/bounce.h)
+const uint FORMULA_Q3_POINT = BT_FORMULA_Q3_POINT;   // q3map2's point/spot light (lighting/q3map2_light.h)
+const uint FORMULA_Q3_LINEAR = BT_FORMULA_Q3_LINEAR; // ... with spawnflags 1 (linear)
 const uint LIGHT_FLAG_BLEED = BT_LIGHT_FLAG_BLEED;
 const uint LIGHT_FLAG_FROM_SURFACE = BT_LIGHT_FLAG_FROM_SURFACE;
 const uint LIGHT_FLAG_FACE_MINLIGHT = BT_LIGHT_FLAG_FACE_MINLIGHT;
 const uint LIGHT_FLAG_DIRT = BT_LIGHT_FLAG_DIRT;
 const uint LIGHT_FLAG_DIRT_RADIUS = BT_LIGHT_FLAG_DIRT_RADIUS;
+const uint LIGHT_FLAG_Q3_SPOT = BT_LIGHT_FLAG_Q3_SPOT;
 
 struct GpuLight {
   vec3 origin;     // offset 0

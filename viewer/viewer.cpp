@@ -87,6 +87,7 @@ struct Viewer::Impl {
 
   std::string error;
   std::string notice; // why the compiled view could not be shown
+  std::string note;   // why the viewer opened in a mode not asked for
   bool compiled = false;
   // Key 7: faithful light accumulates in `full` while the compiled picture of the view, drawn
   // once when the camera stops, waits in compiledPixels (display bytes; empty: not drawn yet).
@@ -109,13 +110,16 @@ struct Viewer::Impl {
     level = loadLevel(options, window.context(), programs, lighting == LightingMode::Physical);
     startBake();
     watchLevelFiles();
-    if (options.compiled) showCompiled();
     const CameraPose pose = options.camera ? *options.camera : defaultCameraPose(level->scene);
     camera = FlyCamera(glm::dvec3(pose.origin), pose.pitch, pose.yaw);
     // Before ImGui's context, which only the destructor ends: a throw here leaves nothing behind.
     full = std::make_unique<gl::ProgressiveImage>(options.width, options.height);
     preview = std::make_unique<gl::ProgressiveImage>(std::max(1, options.width / 2), std::max(1, options.height / 2));
     tonemap = std::make_unique<gl::TonemapPass>();
+    // After the images: switching views restarts them.
+    const bool quake3Default = !options.lightingGiven && level->scene.format == "ibsp46";
+    if (quake3Default) note = "a compiled Quake 3 level keeps no lights; showing its lightmaps (--lighting compiled)";
+    if (options.compiled || quake3Default) showCompiled();
 
     glfwSetWindowUserPointer(window.handle(), this);
     glfwSetScrollCallback(window.handle(),
@@ -495,6 +499,9 @@ bool Viewer::showDifference() {
 }
 const std::string& Viewer::notice() const {
   return impl_->notice;
+}
+const std::string& Viewer::note() const {
+  return impl_->note;
 }
 fs::path Viewer::screenshot() {
   return impl_->takeScreenshot();

@@ -33,6 +33,9 @@ struct ViewerOptions {
   gl::TextureMode textures = gl::TextureMode::Auto;
   LightingMode lighting = LightingMode::Faithful;
   bool compiled = false; // --lighting compiled: a .bsp's own lightmaps (key 6), in faithful mode
+  // --lighting given; without it a compiled Quake 3 level opens in the compiled view (q3map2
+  // leaves no light entities in it, so faithful light would be black), with note() saying so.
+  bool lightingGiven = false;
   int bounces = 3;
   std::filesystem::path screenshotDir = ".";
   int maxSamples = 4096;    // refinement stops here; the window stays responsive
@@ -62,6 +65,7 @@ public:
   // scale); false, as showCompiled, for a level without lightmaps.
   bool showDifference();
   const std::string& notice() const; // the last mode switch that could not be made, and why
+  const std::string& note() const;   // a mode the viewer chose by itself, and why (empty: none)
   // Writes <map>-NNN.png (tonemapped) and <map>-NNN.exr (linear, with AOV layers) into the
   // screenshot folder and returns the PNG's path. F12 calls this.
   std::filesystem::path screenshot();

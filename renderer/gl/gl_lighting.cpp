@@ -18,6 +18,7 @@ GlLighting lightingFor(const RenderScene& rs) {
   out.emitterArea = rs.emitterArea;
   out.minlight = rs.world.minlight;
   out.range = rs.world.range;
+  out.overbrightOne = rs.world.overbrightOne;
   out.scaledist = rs.world.scaledist;
   out.bouncescale = rs.world.bouncescale;
   out.faithfulBounces = rs.world.bounces;

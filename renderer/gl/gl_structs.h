@@ -183,7 +183,7 @@ struct GpuWorld {
   float dirtScale; // worldspawn _dirtscale / _dirtgain, for minlight
   float dirtGain;
   uint32_t minlightDirt;
-  uint32_t pad;
+  float overbrightOne; // WorldLighting::overbrightOne: the per-pixel view shows texture × stored / this
 };
 static_assert(sizeof(GpuWorld) == 80);
 static_assert(offsetof(GpuWorld, minlight) == 0 && offsetof(GpuWorld, range) == 12 && offsetof(GpuWorld, scaledist) == 16 &&
@@ -191,7 +191,7 @@ static_assert(offsetof(GpuWorld, minlight) == 0 && offsetof(GpuWorld, range) == 
               offsetof(GpuWorld, lightCount) == 32 && offsetof(GpuWorld, emitterCount) == 36 && offsetof(GpuWorld, emitterArea) == 40 &&
               offsetof(GpuWorld, physical) == 44 && offsetof(GpuWorld, bounces) == 48 && offsetof(GpuWorld, dirtMode) == 52 &&
               offsetof(GpuWorld, dirtDepth) == 56 && offsetof(GpuWorld, dirtAngle) == 60 && offsetof(GpuWorld, dirtScale) == 64 &&
-              offsetof(GpuWorld, dirtGain) == 68 && offsetof(GpuWorld, minlightDirt) == 72);
+              offsetof(GpuWorld, dirtGain) == 68 && offsetof(GpuWorld, minlightDirt) == 72 && offsetof(GpuWorld, overbrightOne) == 76);
 
 } // namespace bt::gl
 

@@ -45,6 +45,7 @@ GpuWorld worldBlock(const GlLighting& lighting) {
   w.dirtScale = lighting.dirt.scale;
   w.dirtGain = lighting.dirt.gain;
   w.minlightDirt = lighting.dirt.minlight ? 1u : 0u;
+  w.overbrightOne = lighting.overbrightOne;
   return w;
 }
 

@@ -46,8 +46,9 @@ struct GlLighting {
   std::vector<GpuEmitter> emitters;    // triangles of emitting faces, cdf by area
   float emitterArea = 0.0f;
   glm::vec3 minlight{0.0f};
-  float range = 0.5f;     // _range
-  float scaledist = 1.0f; // _dist
+  float range = 0.5f;           // _range
+  float overbrightOne = 128.0f; // WorldLighting::overbrightOne: what the per-pixel view divides by
+  float scaledist = 1.0f;       // _dist
   float bouncescale = 1.0f;
   int faithfulBounces = 0; // _bounce
   bool litwater = false;

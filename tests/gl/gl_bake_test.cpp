@@ -1,12 +1,14 @@
 // Faithful mode's light compiler on the GPU (renderer/gl/gl_bake.h) against the CPU's
 // (lighting/lightmap_bake.h): the same sample points, passes and random streams, so the
 // same stored luxels up to float rounding.
+#include "importers/import.h"
 #include "lighting/lightmap_bake.h"
 #include "lighting/render_scene.h"
 #include "renderer/gl/gl_bake.h"
 #include "renderer/gl/gl_lighting.h"
 #include "tests/gl/test_scenes.h"
 #include "tests/render/box_scene.h"
+#include "tests/test_data.h"
 
 #include <gtest/gtest.h>
 
@@ -93,6 +95,34 @@ TEST(GlBake, GpuBakeStoresTheCpuLuxels) {
   EXPECT_GE(double(within), 0.95 * double(gpu.size()));
   EXPECT_LE(sum / double(gpu.size()), 1.0) << "mean difference, in levels of the brightest channel";
   EXPECT_GT(double(lit), 0.7 * double(gpu.size())) << "a dark bake proves nothing (the walls' outer faces are dark)";
+}
+
+// Quake 3's q3map2 lights (lighting/q3map2_light.h: the Q3Point and Q3Linear formulas, q3map2's
+// spotlight cone) bake to the same luxels on the GPU: maps/q3map2/point_lights.map, one light of
+// each kind over a floor, no soft light, so every luxel within float rounding of the CPU's.
+TEST(GlBake, GpuBakeStoresTheCpuLuxelsOfQ3map2Lights) {
+  const Scene scene = importScene((test::mapsDir() / "q3map2" / "point_lights.map").string(), ImportOptions{});
+  Diagnostics diagnostics;
+  RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+  Lightmaps cpu = layoutLightmaps(rs);
+  ASSERT_GT(cpu.luxels.size(), 1000u);
+  const LuxelBakeJob job = luxelBakeJob(rs, cpu, {});
+  bakeLightmaps(rs, cpu, {});
+
+  GlContext& context = test::sharedGlContext();
+  rs.lightmaps = cpu;
+  std::fill(rs.lightmaps.luxels.begin(), rs.lightmaps.luxels.end(), 0u);
+  GlTracer tracer(context, scene, rs.tracer, TextureMode::Arrays, lightingFor(rs));
+  GlLightmapBake bake(tracer, job);
+  bake.finish();
+  const std::vector<uint32_t> gpu = packedLuxels(tracer.readLightmaps(), cpu.luxels.size());
+  size_t within = 0, lit = 0;
+  for (size_t i = 0; i < gpu.size(); ++i) {
+    within += largestChannelDifference(gpu[i], cpu.luxels[i]) <= 1;
+    lit += (cpu.luxels[i] & 0xffffffu) != 0;
+  }
+  EXPECT_GE(double(within), 0.999 * double(gpu.size()));
+  EXPECT_GT(double(lit), 0.4 * double(gpu.size())) << "a dark bake proves nothing (the floor's sides and bottom are dark)";
 }
 
 } // namespace

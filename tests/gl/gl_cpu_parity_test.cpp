@@ -244,6 +244,21 @@ TEST(GlCpuParity, CompiledLightmapsShowTheSameInBothTracers) {
   }
 }
 
+// Faithful light at each pixel (--luxels off) on a Quake 2 level: both tracers show it as ref_gl
+// does, texture × stored / 255 (WorldLighting::overbrightOne, which the GL tracer reads from the
+// World block), not Quake's / 128, which drew it twice as bright on the GPU.
+TEST(GlCpuParity, Quake2PerPixelLightShowsAsTheCpuShowsIt) {
+  BT_REQUIRE_SHARED(shared);
+  const Scene scene = importScene((shared / "oracle/lit-games/maps_ericw-tools_testmaps_q2_dirt.bsp").string(), ImportOptions{});
+  Diagnostics diagnostics;
+  const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+  ASSERT_EQ(rs.world.overbrightOne, 255.0f);
+  ASSERT_TRUE(rs.lightmaps.empty()) << "the light at each pixel, not baked luxels";
+  RenderImage cpu;
+  const RenderImage gpu = renderBoth(rs, defaultCameraPose(scene), beautySettings(LightingMode::Faithful, 5), cpu);
+  expectBeautyAgrees(gpu, cpu, 0.01);
+}
+
 TEST(GlCpuParity, PhysicalBeautyAgreesWithTheCpuReference) {
   BT_REQUIRE_SHARED(shared);
   const auto level = loadLibreQuake(shared, "misc/slope.map");

@@ -293,6 +293,39 @@ TEST_F(ViewerWindowTest, ShowsTheCompiledLightmapsAndTheirDifference) {
   EXPECT_EQ(viewer.glDebugErrors(), 0);
 }
 
+// q3map2 strips the light entities from a compiled Quake 3 level: without --lighting the viewer
+// opens one in the compiled view (as render does), with a note saying why; asked for faithful
+// light, it keeps it.
+TEST_F(ViewerWindowTest, OpensACompiledQuake3LevelInTheCompiledView) {
+  const fs::path openArena = "/usr/share/games/openarena/baseoa/pak1-maps.pk3";
+  if (!fs::exists(openArena)) GTEST_SKIP() << openArena << " not found: the Quake 3 default is not checked";
+  ViewerOptions o = options();
+  o.map = openArena.string() + ":maps/aggressor.bsp";
+  const auto shownAfterOneSample = [&](Viewer& viewer) {
+    EXPECT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 1; }));
+    return viewer.displayed();
+  };
+  o.lightingGiven = true; // --lighting faithful: the level's lights, which q3map2 removed
+  Viewer::DisplayImage faithful;
+  {
+    Viewer told(o); // one window at a time (ImGui's context is global)
+    EXPECT_EQ(told.note(), "");
+    faithful = shownAfterOneSample(told);
+  }
+  o.lightingGiven = false;
+  Viewer viewer(o);
+  EXPECT_NE(viewer.note().find("a compiled Quake 3 level keeps no lights"), std::string::npos) << viewer.note();
+  EXPECT_EQ(viewer.notice(), "");
+  const Viewer::DisplayImage compiled = shownAfterOneSample(viewer);
+  ASSERT_EQ(compiled.rgba.size(), faithful.rgba.size());
+  size_t brighter = 0;
+  for (size_t i = 0; i + 3 < compiled.rgba.size(); i += 4) {
+    const int c = compiled.rgba[i] + compiled.rgba[i + 1] + compiled.rgba[i + 2];
+    brighter += c > faithful.rgba[i] + faithful.rgba[i + 1] + faithful.rgba[i + 2] + 24;
+  }
+  EXPECT_GT(brighter, compiled.rgba.size() / 4 / 10) << "the compiled view shows the lightmaps where faithful light has none";
+}
+
 } // namespace
 } // namespace bt
 
