@@ -133,6 +133,14 @@ struct Entity {
 
 struct CompiledLighting; // scene/compiled_lighting.h
 
+// A level's sky box: six images the engine draws around the eye on every sky face, in the
+// order of their suffixes rt, bk, lf, ft, up, dn (QuakeSpasm and Quake 2: `suf`), as the six
+// materials from `firstMaterial` on (materials no face uses).
+struct SkyBox {
+  std::string name; // the key's value: "mysky" for gfx/env/mysky{rt,bk,lf,ft,up,dn}.tga
+  uint32_t firstMaterial = 0;
+};
+
 struct Scene {
   std::string sourcePath;
   std::string format; // map dialect ("standard", "valve220", ...) or BSP version ("bsp29", ...)
@@ -151,6 +159,7 @@ struct Scene {
   // palettes, Quake 3 shader scripts, each texture image and companion map (a .pk3 for what
   // came out of one). `brushtrace view` reloads when any of them is saved.
   std::vector<std::string> inputFiles;
+  std::optional<SkyBox> skyBox; // the worldspawn's sky box where the game files hold its images
 
   const Entity* worldspawn() const;
   // The entity a face belongs to, through its brush or its mesh; entities.size() if none.

@@ -8,6 +8,7 @@
 // pixel centre (deterministic, so the CPU reference gives the same image).
 #include "scene_buffers.glsl"
 #include "textures.glsl"
+#include "sky.glsl"
 #include "trace.glsl"
 #include "visible.glsl"
 #include "camera.glsl"
@@ -30,8 +31,7 @@ void main() {
     return;
   }
   GpuFace f = faces[hit.face];
-  GlMaterial m = materials[f.material];
-  vec4 albedo = materialBaseColor(m, faceUv(f, m, hit.position));
+  vec4 albedo = baseOrSkyColor(hit.face, hit.position, dir); // a sky face: the sky seen along the ray
   imageStore(albedoImage, pixel, vec4(srgbToLinear(albedo.rgb), 1.0));
   imageStore(normalImage, pixel, vec4(f.plane.xyz, hit.t));
   imageStore(faceImage, pixel, uvec4(hit.face + 1u));

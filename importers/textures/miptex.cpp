@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <system_error>
 
@@ -44,6 +45,25 @@ std::vector<uint8_t> readWholeFile(const std::filesystem::path& path, uint64_t m
 // Quake 1 texture names start with '{' when they are alpha-tested ("fence") textures.
 bool isFenceTexture(std::string_view name) {
   return !name.empty() && name.front() == '{';
+}
+
+// Quake's scrolling sky: QuakeSpasm (Mod_LoadTextures) gives every texture named sky* two layers.
+bool isQuakeSky(std::string_view name) {
+  return name.size() >= 3 && std::tolower(static_cast<unsigned char>(name[0])) == 's' &&
+      std::tolower(static_cast<unsigned char>(name[1])) == 'k' && std::tolower(static_cast<unsigned char>(name[2])) == 'y';
+}
+
+// QuakeSpasm's Sky_LoadTexture: the front layer is the left half, and its palette index 0 is
+// clear. The clear texels get alpha 0 and black, so that filtering them adds no colour.
+void clearSkyFrontLayer(Material& material, const uint8_t* indices) {
+  material.skyLayers = true;
+  material.alphaTest = AlphaTest::None; // the face is solid: the layers are drawn on it
+  const int half = material.width / 2;
+  for (int y = 0; y < material.height; ++y)
+    for (int x = 0; x < half; ++x) {
+      const size_t i = size_t(y) * size_t(material.width) + size_t(x);
+      if (indices[i] == 0) std::fill_n(&material.baseColor.rgba[i * 4], 4, uint8_t{0});
+    }
 }
 
 // Quake's software renderer draws palette indices 224..255 at full brightness regardless of
@@ -196,6 +216,8 @@ Material decodeMiptex(std::span<const uint8_t> bytes, const Palette* quakePalett
     setTexel(material.baseColor, i, &palette->rgb[index * 3], 255);
     anyFullbright |= !halfLife && index >= kFirstFullbright;
   }
+  // Half-Life draws its sky* faces with the level's skybox only (`skyname`), never the texture.
+  if (!halfLife && isQuakeSky(material.name) && width >= 2) clearSkyFrontLayer(material, indices);
 
   if (anyFullbright) {
     material.emissive = blankImage(material.width, material.height);

@@ -1,6 +1,7 @@
 #include "renderer/cpu/integrator.h"
 
 #include "lighting/faithful.h"
+#include "renderer/cpu/sky.h"
 #include "scene/color.h"
 
 #include <glm/geometric.hpp>
@@ -125,7 +126,8 @@ glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& sett
   const SurfaceHit hit = traceVisible(rs, ray);
   if (!hit.found) return glm::vec3(0.0f);
   const uint32_t flags = rs.faceFlags[hit.face];
-  const glm::vec3 texture = glm::vec3(baseColorAt(rs, hit.face, hit.position));
+  // A sky face shows the sky the ray looks into (sky.h), the same for every face of it.
+  const glm::vec3 texture = glm::vec3(baseOrSkyColor(rs, hit.face, hit.position, ray.direction));
   // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
   if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater)) return srgbToLinear(texture);
 
@@ -377,7 +379,9 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
     if (!hit.found) break; // the void outside a level is black
     const uint32_t flags = rs.faceFlags[hit.face];
     if (flags & kFaceSky) {
-      l += throughput * (srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position))) + skyDomeRadiance(rs, ray.direction));
+      // The sky by the ray's own direction, camera ray or bounce: the image faithful mode shows.
+      const glm::vec3 sky = srgbToLinear(glm::vec3(baseOrSkyColor(rs, hit.face, hit.position, ray.direction)));
+      l += throughput * (sky + skyDomeRadiance(rs, ray.direction));
       break;
     }
     const glm::vec3 n = hit.normal;

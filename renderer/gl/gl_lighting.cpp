@@ -22,6 +22,7 @@ GlLighting lightingFor(const RenderScene& rs) {
   out.bouncescale = rs.world.bouncescale;
   out.faithfulBounces = rs.world.bounces;
   out.litwater = rs.world.litwater;
+  if (rs.scene && rs.scene->skyBox) out.skyBoxMaterial = rs.scene->skyBox->firstMaterial;
   out.dirt = rs.world.dirtSettings;
   out.lightKinds = rs.lightKinds;
   out.lightmaps = packLightmaps(rs.lightmaps);

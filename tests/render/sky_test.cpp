@@ -1,0 +1,292 @@
+// Quake's two-layer sky as QuakeSpasm draws it at time 0 (Quake/gl_sky.c), on maps/sky/
+// (generate.py there): every sky pixel of the albedo AOV against the engine's formula, computed
+// here from the texture's texels, and the beauty of both lighting modes against it.
+#include "importers/import.h"
+#include "lighting/render_scene.h"
+#include "renderer/cpu/cpu_renderer.h"
+#include "scene/color.h"
+#include "tests/test_data.h"
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <optional>
+
+namespace bt {
+namespace {
+
+constexpr int kWidth = 96;
+constexpr int kHeight = 64;
+
+struct Level {
+  Scene scene;
+  RenderScene render;
+};
+
+std::unique_ptr<Level> loadSkyLevel(bool lights = true) {
+  auto level = std::make_unique<Level>();
+  level->scene = importScene((test::mapsDir() / "sky" / "sky_layers.map").string(), ImportOptions{});
+  // The light is a point entity after every brush entity: dropping it renumbers no brush's entity.
+  if (!lights) std::erase_if(level->scene.entities, [](const Entity& e) { return e.classname() == "light"; });
+  Diagnostics diagnostics;
+  level->render = buildRenderScene(level->scene, {}, diagnostics);
+  return level;
+}
+
+const Material& skyMaterial(const Scene& scene) {
+  const auto m = scene.findMaterial("sky_test");
+  EXPECT_TRUE(m.has_value());
+  return scene.materials[*m];
+}
+
+// The engine's rule, written out again: Sky_GetTexCoord (the direction from the eye, z times 3,
+// scaled to 6*63, over 128) gives both layers' coordinates at time 0; Sky_LoadTexture makes the
+// right half the solid layer and the left half the alpha layer, its index 0 clear (black in this
+// level's palette, and no other index is); the alpha layer is drawn over the solid one (GL_DECAL).
+// Each layer is filtered bilinearly with repeat over its own 128x128 texels.
+glm::dvec3 engineSky(const Image& image, glm::dvec3 dir) {
+  dir.z *= 3.0;
+  const double scale = 6.0 * 63.0 / glm::length(dir);
+  const double s = dir.x * scale / 128.0, t = dir.y * scale / 128.0;
+  const int side = image.height; // 128: each layer is square
+  auto layer = [&](int firstColumn, glm::dvec3& rgb, double& alpha) {
+    const double x = (s - std::floor(s)) * side - 0.5, y = (t - std::floor(t)) * side - 0.5;
+    const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+    rgb = glm::dvec3(0.0), alpha = 0.0;
+    for (int k = 0; k < 4; ++k) {
+      const int tx = ((x0 + (k & 1)) % side + side) % side, ty = ((y0 + (k >> 1)) % side + side) % side;
+      const double w = ((k & 1) ? x - x0 : 1.0 - (x - x0)) * ((k >> 1) ? y - y0 : 1.0 - (y - y0));
+      const uint8_t* p = image.texel(firstColumn + tx, ty);
+      const bool clear = firstColumn == 0 && p[0] == 0 && p[1] == 0 && p[2] == 0;
+      rgb += w * glm::dvec3(p[0], p[1], p[2]) / 255.0;
+      alpha += clear ? 0.0 : w;
+    }
+  };
+  glm::dvec3 back, front;
+  double backAlpha, frontAlpha;
+  layer(side, back, backAlpha);
+  layer(0, front, frontAlpha);
+  const glm::dvec3 shown = front + back * (1.0 - frontAlpha); // clear texels are black: front is premultiplied
+  return glm::dvec3(srgbToLinear(float(shown.x)), srgbToLinear(float(shown.y)), srgbToLinear(float(shown.z)));
+}
+
+bool isSky(const Level& level, uint32_t faceIndexPlusOne) {
+  return faceIndexPlusOne != 0 && level.scene.faces[faceIndexPlusOne - 1].texture == "sky_test";
+}
+
+RenderImage renderSky(const Level& level, LightingMode mode, int spp) {
+  RenderSettings settings;
+  settings.width = kWidth;
+  settings.height = kHeight;
+  settings.spp = spp;
+  settings.threads = 2;
+  settings.integrator.mode = mode;
+  settings.integrator.bounces = 2;
+  return renderCpu(level.render, Camera(defaultCameraPose(level.scene), kWidth, kHeight), settings);
+}
+
+TEST(Sky, QuakeSkyTextureHasTwoLayers) {
+  const auto level = loadSkyLevel();
+  const Material& sky = skyMaterial(level->scene);
+  EXPECT_TRUE(sky.skyLayers);
+  ASSERT_EQ(sky.baseColor.width, 256);
+  // Index 0 (black) is clear in the front (left) half only; the back layer is opaque.
+  size_t clearFront = 0, clearBack = 0;
+  for (int y = 0; y < 128; ++y)
+    for (int x = 0; x < 256; ++x) (x < 128 ? clearFront : clearBack) += sky.baseColor.texel(x, y)[3] == 0;
+  EXPECT_EQ(clearBack, 0u);
+  EXPECT_GT(clearFront, 128u * 128u / 2);
+}
+
+// Every sky pixel of the albedo AOV is the engine's sky along the pixel's ray, and the level's
+// camera sees both layers and most of the sky's range of heights.
+TEST(Sky, AlbedoOfSkyPixelsIsTheEnginesTwoLayerSky) {
+  const auto level = loadSkyLevel();
+  const Image& texture = skyMaterial(level->scene).baseColor;
+  const RenderImage image = renderSky(*level, LightingMode::Faithful, 1);
+  const Camera camera(defaultCameraPose(level->scene), kWidth, kHeight);
+  size_t sky = 0, front = 0, back = 0, wrong = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const size_t i = size_t(y) * kWidth + x;
+      if (!isSky(*level, image.face[i])) continue;
+      ++sky;
+      const glm::dvec3 expected = engineSky(texture, glm::dvec3(camera.ray(x + 0.5f, y + 0.5f).direction));
+      const glm::dvec3 got(image.albedo[i]);
+      const double error = std::max({std::abs(got.x - expected.x), std::abs(got.y - expected.y), std::abs(got.z - expected.z)});
+      if (error > 2e-3 && wrong++ < 5)
+        ADD_FAILURE() << "pixel " << x << "," << y << ": albedo " << got.x << " " << got.y << " " << got.z << ", the engine's sky "
+                      << expected.x << " " << expected.y << " " << expected.z;
+      front += expected.x > 2.0 * expected.z; // red or yellow: the front layer
+      back += expected.z > 2.0 * expected.x;  // blue: the back layer shows through
+    }
+  EXPECT_EQ(wrong, 0u) << "of " << sky << " sky pixels";
+  EXPECT_GT(sky, size_t(kWidth * kHeight) / 3) << "the camera should look at the sky";
+  EXPECT_GT(front, sky / 10);
+  EXPECT_GT(back, sky / 4);
+}
+
+// The beauty of a sky pixel is the sky, unlit, in both modes (physical mode: the `sky`
+// radiance is the image's linear colour; no sky-dome light here). Compared in the mean over sky
+// pixels, since beauty samples are jittered in the pixel.
+TEST(Sky, BeautyOfSkyPixelsIsTheSameImageInBothModes) {
+  const auto level = loadSkyLevel();
+  for (LightingMode mode : {LightingMode::Faithful, LightingMode::Physical}) {
+    const RenderImage image = renderSky(*level, mode, 16);
+    glm::dvec3 beauty(0.0), albedo(0.0);
+    for (size_t i = 0; i < image.face.size(); ++i)
+      if (isSky(*level, image.face[i])) beauty += glm::dvec3(image.beauty[i]), albedo += glm::dvec3(image.albedo[i]);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(beauty[c], albedo[c], 0.01 * albedo[c]) << "channel " << c << ", mode " << int(mode);
+  }
+}
+
+// Physical mode, the level's light off: the floor is lit by the sky alone, through bounce rays
+// that meet the sky at their own directions. Each floor pixel against the test's own estimate
+// of albedo x the mean sky radiance over cosine-distributed directions from its point (those that
+// leave the room through the ceiling; the walls are black without light, and --bounces 0 stops
+// a path at the first of them).
+TEST(Sky, BounceRaysSeeTheSkyByTheirOwnDirection) {
+  const auto level = loadSkyLevel(/*lights=*/false);
+  const Image& texture = skyMaterial(level->scene).baseColor;
+  constexpr int kSide = 16;
+  const CameraPose pose{glm::vec3(0.0f, 0.0f, 128.0f), 90.0f, 0.0f, 0.0f, "test"}; // straight down
+  const Camera camera(pose, kSide, kSide);
+  RenderSettings settings;
+  settings.width = settings.height = kSide;
+  settings.spp = 256;
+  settings.threads = 2;
+  settings.integrator.mode = LightingMode::Physical;
+  settings.integrator.bounces = 0;
+  const RenderImage image = renderCpu(level->render, camera, settings);
+  const double albedo = srgbToLinear(128.0f / 255.0f); // the floor's grey (generate.py)
+  glm::dvec3 rendered(0.0), expected(0.0);
+  constexpr int kStrata = 64;
+  for (int y = 4; y < 12; ++y)
+    for (int x = 4; x < 12; ++x) {
+      const Ray ray = camera.ray(x + 0.5f, y + 0.5f);
+      const glm::dvec3 p = glm::dvec3(ray.origin) - glm::dvec3(ray.direction) * (double(ray.origin.z) / ray.direction.z);
+      glm::dvec3 sum(0.0);
+      for (int i = 0; i < kStrata; ++i)
+        for (int j = 0; j < kStrata; ++j) { // Malley's method: a stratified disc lifted onto the hemisphere
+          const double r = std::sqrt((i + 0.5) / kStrata), phi = 2.0 * 3.14159265358979 * (j + 0.5) / kStrata;
+          const glm::dvec3 w(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0, 1.0 - r * r)));
+          const glm::dvec3 q = p + w * (256.0 / w.z); // where it meets the ceiling's plane
+          if (std::abs(q.x) < 256.0 && std::abs(q.y) < 256.0) sum += engineSky(texture, w);
+        }
+      expected += albedo * sum / double(kStrata * kStrata);
+      rendered += glm::dvec3(image.beauty[size_t(y) * kSide + x]);
+    }
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(rendered[c], expected[c], 0.02 * expected[c]) << "channel " << c;
+  EXPECT_GT(expected.z, 0.0);
+}
+
+// The sky box level (maps/sky/id1/: its six images in the game folder's gfx/env/).
+std::unique_ptr<Level> loadSkyBoxLevel() {
+  auto level = std::make_unique<Level>();
+  level->scene = importScene((test::mapsDir() / "sky" / "id1" / "maps" / "sky_box.map").string(), ImportOptions{});
+  Diagnostics diagnostics;
+  level->render = buildRenderScene(level->scene, {}, diagnostics);
+  return level;
+}
+
+// The engine's sky box, written out from what a player sees: each image stands on its side of
+// the box upright and unmirrored, as seen from inside facing that side (the walls with +z up; up
+// and dn as seen facing +x, then looking up or down). `left` and `up` are the world directions
+// of the image's left and top. (QuakeSpasm Sky_DrawSkyBox: rt on +x, lf on -x, bk on +y, ft on
+// -y.) The images are one colour each with a white top left quarter (generate.py).
+struct BoxSide {
+  glm::vec3 forward, left, up;
+  glm::dvec3 colour;
+};
+const BoxSide kBoxSides[6] = {
+    {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {200, 0, 0}},    // rt
+    {{0, 1, 0}, {-1, 0, 0}, {0, 0, 1}, {0, 200, 0}},   // bk
+    {{-1, 0, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, 200}},  // lf
+    {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}, {200, 200, 0}}, // ft
+    {{0, 0, 1}, {0, 1, 0}, {-1, 0, 0}, {0, 200, 200}}, // up
+    {{0, 0, -1}, {0, 1, 0}, {1, 0, 0}, {200, 0, 200}}, // dn
+};
+
+// The colour the engine shows along dir; nullopt within a texel of a quarter's edge, where
+// the filter blends the white quarter into the side's colour.
+std::optional<glm::dvec3> engineSkyBox(const glm::vec3& dir) {
+  const BoxSide* side = &kBoxSides[0];
+  for (const BoxSide& s : kBoxSides)
+    if (glm::dot(dir, s.forward) > glm::dot(dir, side->forward)) side = &s;
+  const float depth = glm::dot(dir, side->forward);
+  const float left = glm::dot(dir, side->left) / depth, up = glm::dot(dir, side->up) / depth; // -1..1 across the side
+  if (std::abs(left) < 0.3f || std::abs(up) < 0.3f) return std::nullopt;
+  const glm::dvec3 shown = left > 0.0f && up > 0.0f ? glm::dvec3(255.0) : side->colour;
+  return glm::dvec3(srgbToLinear(float(shown.x / 255.0)), srgbToLinear(float(shown.y / 255.0)), srgbToLinear(float(shown.z / 255.0)));
+}
+
+TEST(Sky, SkyBoxIsReadFromTheGameFolder) {
+  const auto level = loadSkyBoxLevel();
+  ASSERT_TRUE(level->scene.skyBox.has_value());
+  EXPECT_EQ(level->scene.skyBox->name, "testsky");
+  EXPECT_EQ(level->scene.materials[level->scene.skyBox->firstMaterial].name, "gfx/env/testskyrt.tga");
+}
+
+// A sky box whose images the game folder lacks: one warning naming every file tried, and the sky
+// stays Quake's two layers.
+TEST(Sky, MissingSkyBoxWarnsOnceAndKeepsTheLayers) {
+  const std::filesystem::path install = std::filesystem::path(::testing::TempDir()) / "bt_sky_missing";
+  std::filesystem::create_directories(install / "id1" / "maps");
+  std::ifstream in(test::mapsDir() / "sky" / "id1" / "maps" / "sky_box.map");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  text.replace(text.find("\"testsky\""), 9, "\"nosuch\"");
+  text.replace(text.find("../../sky_layers.wad"), 20, (test::mapsDir() / "sky" / "sky_layers.wad").string());
+  std::ofstream(install / "id1" / "maps" / "missing.map") << text;
+  const Scene scene = importScene((install / "id1" / "maps" / "missing.map").string(), ImportOptions{});
+  EXPECT_FALSE(scene.skyBox.has_value());
+  size_t warnings = 0;
+  for (const Diagnostic& d : scene.diagnostics) {
+    if (d.message.find("sky box") == std::string::npos) continue;
+    ++warnings;
+    for (const char* suffix : {"rt", "bk", "lf", "ft", "up", "dn"})
+      for (const char* extension : {".tga", ".pcx"})
+        EXPECT_NE(d.message.find(std::string("gfx/env/nosuch") + suffix + extension), std::string::npos) << d.message;
+  }
+  EXPECT_EQ(warnings, 1u);
+  EXPECT_TRUE(scene.materials[*scene.findMaterial("sky_test")].skyLayers);
+  std::filesystem::remove_all(install);
+}
+
+// Looking along each axis, every sky pixel shows the side of the box the engine puts there, the
+// right way up and round.
+TEST(Sky, AlbedoOfSkyPixelsIsTheEnginesSkyBox) {
+  const auto level = loadSkyBoxLevel();
+  const std::pair<float, float> views[] = {{0, 0}, {0, 90}, {0, 180}, {0, 270}, {-90, 0}, {90, 0}}; // pitch, yaw
+  for (const auto& [pitch, yaw] : views) {
+    const CameraPose pose{glm::vec3(0.0f), pitch, yaw, 0.0f, "test"};
+    RenderSettings settings;
+    settings.width = kWidth;
+    settings.height = kHeight;
+    settings.spp = 1;
+    settings.threads = 2;
+    const Camera camera(pose, kWidth, kHeight);
+    const RenderImage image = renderCpu(level->render, camera, settings);
+    size_t checked = 0, wrong = 0;
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x) {
+        const size_t i = size_t(y) * kWidth + x;
+        if (!isSky(*level, image.face[i])) continue;
+        const auto expected = engineSkyBox(glm::normalize(camera.ray(x + 0.5f, y + 0.5f).direction));
+        if (!expected) continue;
+        ++checked;
+        const glm::dvec3 got(image.albedo[i]);
+        if (glm::length(got - *expected) > 1e-3 && wrong++ < 3)
+          ADD_FAILURE() << "pitch " << pitch << " yaw " << yaw << ", pixel " << x << "," << y << ": " << got.x << " " << got.y << " "
+                        << got.z << ", the engine's " << expected->x << " " << expected->y << " " << expected->z;
+      }
+    EXPECT_EQ(wrong, 0u) << "pitch " << pitch << " yaw " << yaw;
+    EXPECT_GT(checked, size_t(kWidth * kHeight) / 4) << "pitch " << pitch << " yaw " << yaw;
+  }
+}
+
+} // namespace
+} // namespace bt
