@@ -34,19 +34,12 @@ glm::vec4 texelValue(const Image& image, int x, int y) {
 } // namespace
 
 glm::vec4 sampleBilinearRepeat(const Image& image, float u, float v) {
-  return sampleBilinearRepeat(image, ImageRegion{0, 0, image.width, image.height}, u, v);
-}
-
-glm::vec4 sampleBilinearRepeat(const Image& image, const ImageRegion& region, float u, float v) {
   if (image.empty() || image.rgba.size() < static_cast<size_t>(image.width) * image.height * 4) return glm::vec4(0.0f);
-  if (region.width <= 0 || region.height <= 0 || region.x + region.width > image.width || region.y + region.height > image.height)
-    return glm::vec4(0.0f);
-  const LinearTaps x = linearTaps(u, region.width);
-  const LinearTaps y = linearTaps(v, region.height);
+  const LinearTaps x = linearTaps(u, image.width);
+  const LinearTaps y = linearTaps(v, image.height);
   const float wx = static_cast<float>(x.weight), wy = static_cast<float>(y.weight);
-  auto at = [&](int tx, int ty) { return texelValue(image, region.x + tx, region.y + ty); };
-  const glm::vec4 top = at(x.first, y.first) * (1.0f - wx) + at(x.second, y.first) * wx;
-  const glm::vec4 bottom = at(x.first, y.second) * (1.0f - wx) + at(x.second, y.second) * wx;
+  const glm::vec4 top = texelValue(image, x.first, y.first) * (1.0f - wx) + texelValue(image, x.second, y.first) * wx;
+  const glm::vec4 bottom = texelValue(image, x.first, y.second) * (1.0f - wx) + texelValue(image, x.second, y.second) * wx;
   return top * (1.0f - wy) + bottom * wy;
 }
 

@@ -216,13 +216,4 @@ glm::vec2 textureCoordinates(const GpuFace& face, const glm::vec3& p);
 // Returns the texel values / 255 (no sRGB decode). An empty image gives (0, 0, 0, 0).
 glm::vec4 sampleBilinearRepeat(const Image& image, float u, float v);
 
-// A rectangle of texels of an image, sampled as if it were the whole image (Quake's sky layers
-// are the two halves of one texture, each repeating on its own).
-struct ImageRegion {
-  int x = 0, y = 0, width = 0, height = 0;
-};
-// The same filter over `region` alone, wrapping at its edges; (0, 0, 0, 0) for a region that
-// does not lie in the image.
-glm::vec4 sampleBilinearRepeat(const Image& image, const ImageRegion& region, float u, float v);
-
 } // namespace bt

@@ -31,8 +31,11 @@ void main() {
     return;
   }
   GpuFace f = faces[hit.face];
-  vec4 albedo = baseOrSkyColor(hit.face, hit.position, dir); // a sky face: the sky seen along the ray
-  imageStore(albedoImage, pixel, vec4(srgbToLinear(albedo.rgb), 1.0));
+  GlMaterial m = materials[f.material];
+  // A sky face of a level with sky images shows them along the ray (sky.glsl).
+  bool sky = (faceFlags[hit.face] & FACE_SKY) != 0u && world.skyKind != SKY_NONE;
+  vec3 albedo = sky ? skyColor(dir) : materialBaseColor(m, faceUv(f, m, hit.position)).rgb;
+  imageStore(albedoImage, pixel, vec4(srgbToLinear(albedo), 1.0));
   imageStore(normalImage, pixel, vec4(f.plane.xyz, hit.t));
   imageStore(faceImage, pixel, uvec4(hit.face + 1u));
 }

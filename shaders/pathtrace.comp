@@ -58,6 +58,7 @@ const float PHYSICAL_POINT_SCALE = PI * BT_PHYSICAL_LIGHT_UNIT;
 const float PHYSICAL_SUN_SCALE = PI / BT_PHYSICAL_LIGHT_UNIT;
 
 vec2 textureUv(uint face, vec3 p) { return faceUv(faces[face], materials[faces[face].material], p); }
+vec4 baseColorAt(uint face, vec3 p) { return materialBaseColor(materials[faces[face].material], textureUv(face, p)); }
 vec3 emissiveAt(uint face, vec3 p) {
   GlMaterial m = materials[faces[face].material];
   if ((m.flags & MATERIAL_HAS_EMISSIVE) == 0u) return vec3(0.0);
@@ -329,8 +330,7 @@ vec3 faithfulDisplay(Path path) {
 bool faithfulSurface(inout Path path, SurfaceHit hit) {
   if (!hit.found) return false;
   uint flags = faceFlags[hit.face];
-  // A sky face shows the sky the ray looks into (sky.glsl).
-  path.texture = baseOrSkyColor(hit.face, hit.position, path.dir).rgb;
+  path.texture = baseColorAt(hit.face, hit.position).rgb;
   // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
   if ((flags & FACE_SKY) != 0u || ((flags & FACE_LIQUID) != 0u && world.litwater == 0u)) {
     path.radiance = srgbToLinear(path.texture);
@@ -440,11 +440,7 @@ bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
   if (!hit.found) return false; // the void outside a level is black
   uint flags = faceFlags[hit.face];
   GpuFace f = faces[hit.face];
-  // A sky face shows the sky box or Quake's two layers by the ray's own direction (sky.glsl),
-  // the image faithful mode shows, for camera rays and bounces alike; its layers are read in
-  // the loop below.
-  FaceView view = faceView(hit.face, flags, hit.position, path.dir);
-  GlMaterial m = view.m;
+  GlMaterial m = materials[f.material];
   bool shaded = (flags & FACE_SKY) == 0u && path.depth < world.bounces + 1;
   // The base colour, for the sky and the BSDF, and the normal map where a shaded surface's
   // material has one, read in one loop: each place that reads a texture is a copy of the
@@ -452,13 +448,12 @@ bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
   // compile less than a second place (bench/README.md).
   vec4 base = vec4(0.5, 0.5, 0.5, 1.0); // a material without a texture is mid grey (materialBaseColor)
   vec3 normalTexel = vec3(0.0);
-  bool skyLayers = view.skyLayers;
   uint firstMap = (m.flags & MATERIAL_HAS_BASE) != 0u ? MAP_BASE : MAP_NORMAL;
-  uint lastMap = skyLayers || (shaded && (m.flags & MATERIAL_HAS_NORMAL) != 0u) ? MAP_NORMAL : MAP_BASE;
+  uint lastMap = shaded && (m.flags & MATERIAL_HAS_NORMAL) != 0u ? MAP_NORMAL : MAP_BASE;
+  vec2 uv = faceUv(f, m, hit.position);
   for (uint map = firstMap; map <= lastMap; ++map) {
-    vec4 texel = sampleBaseOrNormal(m, map, view.uv, skyLayers);
+    vec4 texel = sampleBaseOrNormal(m, map, uv);
     if (map == MAP_BASE) base = texel;
-    else if (skyLayers) base.rgb = texel.rgb + base.rgb * (1.0 - texel.a);
     else normalTexel = texel.rgb;
   }
   vec3 baseColor = srgbToLinear(base.rgb);
@@ -559,7 +554,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
   // that reads a texture is a copy of the sampling code for the driver to compile.
   uint emissionFace = NO_FACE;
   vec3 emissionPoint = vec3(0.0);
-  bool surfaceReached = false;
+  bool surfaceReached = false, skyShown = false;
   SurfaceHit surface;
   bool shadowPassed = path.kind == RAY_SHADOW && hit.face == NO_FACE;
   if (path.kind == RAY_SHADOW) {
@@ -606,6 +601,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
       surface = SurfaceHit(found, hit.t, hit.face, position, vec3(0.0));
       if (found) surface.normal = faceNormal(hit.face);
       surfaceReached = true;
+      skyShown = found && (flags & FACE_SKY) != 0u && world.skyKind != SKY_NONE;
       if (PHYSICAL && found && (flags & FACE_EMISSIVE) != 0u) {
         emissionFace = hit.face;
         emissionPoint = position;
@@ -617,7 +613,9 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
   if (PHYSICAL && shadowPassed)
     path.radiance += path.throughput * path.pending * (path.emitterFace != NO_FACE ? le : vec3(1.0));
   if (surfaceReached) {
-    ended = !(PHYSICAL ? physicalSurface(path, surface, le) : faithfulSurface(path, surface));
+    // The level's sky images by the ray's direction, as a miss: not the surface shading (sky.glsl).
+    if (skyShown) path.radiance += path.throughput * (srgbToLinear(skyColor(path.dir)) + (PHYSICAL ? skyDomeRadiance(path.dir) : vec3(0.0)));
+    ended = skyShown || !(PHYSICAL ? physicalSurface(path, surface, le) : faithfulSurface(path, surface));
     path.lightIndex = 0u;
   }
   if (ended) return false;

@@ -42,5 +42,6 @@ layout(std140, binding = BT_UNIFORM_WORLD) uniform World {
   float dirtScale;    // worldspawn _dirtscale / _dirtgain (minlight's dirt)
   float dirtGain;
   uint minlightDirt;  // _minlight_dirt
-  uint skyBoxMaterial;// the first of the sky box's six materials (sky.glsl), BT_NO_SKY_BOX without one
+  uint skyKind;       // the level's sky images (sky.glsl): SKY_NONE, Quake's layers, a sky box
+  uint skyMaterial;   // the first of them (scene Sky::firstMaterial)
 } world;

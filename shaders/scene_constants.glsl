@@ -46,7 +46,6 @@
 #define BT_GL_MATERIAL_HAS_NORMAL 2u
 #define BT_GL_MATERIAL_HAS_EMISSIVE 4u // an emissive map with lit texels
 #define BT_GL_MATERIAL_GGX 8u          // a PBR set: GGX + diffuse
-#define BT_GL_MATERIAL_SKY_LAYERS 16u  // scene/material.h Material::skyLayers: Quake's two-layer sky
 
 // renderer/gl/gl_structs.h GlBvhNode child references.
 #define BT_GL_NO_CHILD 0u

@@ -1,7 +1,16 @@
-// The sky as renderer/cpu/sky.cpp draws it (QuakeSpasm, Quake/gl_sky.c): a sky face shows the
-// level's sky box, else Quake's two layers (MATERIAL_SKY_LAYERS), by the ray's direction, else
-// its texture mapped on the face. Comes after scene_buffers.glsl and textures.glsl.
+// The sky as renderer/cpu/sky.cpp draws it (QuakeSpasm, Quake/gl_sky.c; ioquake3 tr_sky.c): a
+// sky face of a level with sky images (world.skyKind) shows them by the ray's direction, the
+// same on every sky face, whatever point of it the ray meets. Comes after scene_buffers.glsl and
+// textures.glsl.
+//
+// A path that meets such a face is handed to skyColor once, where the hit is read
+// (pathtrace.comp advance), as a miss would be: the surface shading and the texture loop that
+// every other hit runs hold no sky code, so levels without sky pay nothing for it.
 #include "sky_constants.glsl"
+
+const uint SKY_NONE = BT_SKY_NONE;
+const uint SKY_QUAKE_LAYERS = BT_SKY_QUAKE_LAYERS;
+const uint SKY_BOX_CLAMPED = BT_SKY_BOX_CLAMPED;
 
 // Sky_GetTexCoord at time 0: repeats of a 128x128 layer seen along dir (from the eye).
 vec2 skyLayerUv(vec3 dir) {
@@ -23,8 +32,9 @@ uint skyBoxSide(vec3 d) {
 }
 
 // Where dir meets the side's image, in repeats (sky.cpp skyBoxUv): st_to_vec turned around,
-// then Sky_EmitSkyBoxVertex's [-1, 1] to [0, 1], its half-texel inset and its flip of t.
-vec2 skyBoxUv(uint side, vec3 d, uvec2 texels) {
+// then [-1, 1] to [0, 1], pulled in by half a texel (Sky_EmitSkyBoxVertex) or clamped to the
+// edge texels' centres (Quake 3's clamp to edge), and t flipped.
+vec2 skyBoxUv(uint side, vec3 d, uvec2 texels, bool clamped) {
   vec3 b = vec3(0.0);
   for (int j = 0; j < 3; ++j) {
     int k = SKY_ST_TO_VEC[side * 3u + uint(j)];
@@ -32,44 +42,22 @@ vec2 skyBoxUv(uint side, vec3 d, uvec2 texels) {
   }
   vec2 size = vec2(max(texels, uvec2(1u)));
   vec2 st = (b.xy / b.z + 1.0) * 0.5;
-  st = st * (size - 1.0) / size + 0.5 / size;
+  st = clamped ? clamp(st, 0.5 / size, 1.0 - 0.5 / size) : st * (size - 1.0) / size + 0.5 / size;
   return vec2(st.x, 1.0 - st.y);
 }
 
-
-// What a face shows along dir: the material and coordinates to sample, and whether they are
-// Quake's two sky layers (sampleBaseOrNormal's skyLayers).
-struct FaceView {
-  GlMaterial m;
-  vec2 uv;
-  bool skyLayers;
-};
-
-// `flags`: the face's faceFlags.
-FaceView faceView(uint face, uint flags, vec3 p, vec3 dir) {
-  GpuFace f = faces[face];
-  GlMaterial m = materials[f.material];
-  bool sky = (flags & FACE_SKY) != 0u;
-  if (sky && world.skyBoxMaterial != BT_NO_SKY_BOX) {
-    uint side = skyBoxSide(dir);
-    GlMaterial image = materials[world.skyBoxMaterial + SKY_TEX_ORDER[side]];
-    return FaceView(image, skyBoxUv(side, dir, image.baseTexels), false);
-  }
-  if (sky && (m.flags & MATERIAL_SKY_LAYERS) != 0u) return FaceView(m, skyLayerUv(dir), true);
-  return FaceView(m, faceUv(f, m, p), false);
-}
-
-// The colour a ray along dir sees at p on face (renderer/cpu baseOrSkyColor), sRGB-encoded as
-// stored, a = coverage: the sky, else the base colour. One call site of the sampling code for
-// both layers (textures.glsl explains why that matters).
-vec4 baseOrSkyColor(uint face, vec3 p, vec3 dir) {
-  FaceView view = faceView(face, faceFlags[face], p, dir);
-  if ((view.m.flags & MATERIAL_HAS_BASE) == 0u) return vec4(0.5, 0.5, 0.5, 1.0);
-  vec4 color = vec4(0.0);
-  for (uint map = MAP_BASE; map <= (view.skyLayers ? MAP_NORMAL : MAP_BASE); ++map) {
-    vec4 texel = sampleBaseOrNormal(view.m, map, view.uv, view.skyLayers);
-    // The clear texels are black: the filtered front colour is already weighted by its alpha.
-    color = map == MAP_BASE ? texel : vec4(texel.rgb + color.rgb * (1.0 - texel.a), 1.0);
+// The level's sky seen along dir, sRGB-encoded as stored: Quake's front layer over its back
+// layer (the clear texels are black, so the filtered front is already weighted by its alpha),
+// or the sky box's side. One call site of the sampling code for every layer (textures.glsl).
+vec3 skyColor(vec3 dir) {
+  bool layers = world.skyKind == SKY_QUAKE_LAYERS;
+  uint side = skyBoxSide(dir);
+  vec3 color = vec3(0.0);
+  for (uint layer = 0u; layer < (layers ? 2u : 1u); ++layer) {
+    GlMaterial m = materials[world.skyMaterial + (layers ? layer : SKY_TEX_ORDER[side])];
+    vec2 uv = layers ? skyLayerUv(dir) : skyBoxUv(side, dir, m.baseTexels, world.skyKind == SKY_BOX_CLAMPED);
+    vec4 texel = sampleBase(m, uv);
+    color = texel.rgb + color * (1.0 - texel.a);
   }
   return color;
 }

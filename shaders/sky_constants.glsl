@@ -1,5 +1,5 @@
 // Quake's two-layer sky as QuakeSpasm draws it (Quake/gl_sky.c), one source for both tracers:
-// renderer/cpu/sky.cpp includes this file as C++, shaders/textures.glsl as GLSL. Hence only
+// renderer/cpu/sky.cpp and renderer/gl include this file as C++, shaders/sky.glsl as GLSL. Hence only
 // #defines of literals (floats with the f suffix), which both languages read alike.
 #ifndef BT_SKY_CONSTANTS
 #define BT_SKY_CONSTANTS
@@ -16,6 +16,11 @@
 // skytexorder[i] of the suffixes rt, bk, lf, ft, up, dn. Sides: +x, -x, +y, -y, +z, -z.
 #define BT_SKY_ST_TO_VEC 3, -1, 2, -3, 1, 2, 1, 3, 2, -1, -3, 2, -2, -1, 3, 2, -1, -3
 #define BT_SKY_TEX_ORDER 0, 2, 1, 3, 4, 5
-#define BT_NO_SKY_BOX 0xffffffffu // GpuWorld::skyBoxMaterial of a level without a sky box
+
+// scene/scene.h Sky::Kind, the World block's skyKind: what the level's sky images are.
+#define BT_SKY_NONE 0u          // none: a sky face shows its own texture, as any face
+#define BT_SKY_QUAKE_LAYERS 1u  // Quake's two layers: back, then front (its index 0 clear)
+#define BT_SKY_BOX 2u           // six sides, pulled in by half a texel (QuakeSpasm, Quake 2)
+#define BT_SKY_BOX_CLAMPED 3u   // six sides, clamped to their edge texels (Quake 3: sky_min 0, sky_max 1, GL_CLAMP_TO_EDGE)
 
 #endif

@@ -49,7 +49,6 @@ const uint FACE_MASK_LT128 = BT_FACE_MASK_LT128;
 const uint MATERIAL_HAS_BASE = BT_GL_MATERIAL_HAS_BASE;
 const uint MATERIAL_HAS_NORMAL = BT_GL_MATERIAL_HAS_NORMAL;
 const uint MATERIAL_HAS_EMISSIVE = BT_GL_MATERIAL_HAS_EMISSIVE;
-const uint MATERIAL_SKY_LAYERS = BT_GL_MATERIAL_SKY_LAYERS;
 const uint MATERIAL_SPECULAR = BT_GL_MATERIAL_GGX;
 
 // Texture references for both paths (bindless handles, or (array, layer) in the texture

@@ -50,11 +50,10 @@ vec4 fetchTexel(uint array, uint layer, ivec2 texel) {
 #error "define BT_TEXTURES_BINDLESS or BT_TEXTURES_ARRAYS"
 #endif
 
-// Bilinear with repeat over the `regionTexels` texels from `corner` of the map (the whole map,
-// or one layer of Quake's sky: bvh ImageRegion); uv in repeats of the region, v = 0 at its
-// first row.
-vec4 sampleBilinearRegion(MAP_REF map, uint layer, ivec2 corner, uvec2 regionTexels, vec2 uv) {
-  ivec2 size = max(ivec2(regionTexels), ivec2(1));
+// Bilinear with repeat over the map's `size` texels; uv in texture repeats (s / width,
+// t / height), v = 0 at the first row.
+vec4 sampleBilinearRepeat(MAP_REF map, uint layer, uvec2 mapTexels, vec2 uv) {
+  ivec2 size = max(ivec2(mapTexels), ivec2(1));
   vec2 x = uv * vec2(size) - 0.5;
   vec2 f = floor(x);
   vec2 a = x - f;
@@ -70,39 +69,26 @@ vec4 sampleBilinearRegion(MAP_REF map, uint layer, ivec2 corner, uvec2 regionTex
   // place a texture is read), most of the path tracer's build time on llvmpipe.
   vec4 texels[4]; // (i0.x, i0.y), (i1.x, i0.y), (i0.x, i1.y), (i1.x, i1.y)
   for (int k = 0; k < 4; ++k)
-    texels[k] = fetchTexel(map, layer, corner + ivec2((k & 1) == 0 ? i0.x : i1.x, (k & 2) == 0 ? i0.y : i1.y));
+    texels[k] = fetchTexel(map, layer, ivec2((k & 1) == 0 ? i0.x : i1.x, (k & 2) == 0 ? i0.y : i1.y));
   vec4 top = texels[0] * (1.0 - a.x) + texels[1] * a.x;
   vec4 bottom = texels[2] * (1.0 - a.x) + texels[3] * a.x;
   return top * (1.0 - a.y) + bottom * a.y;
-}
-
-// Over the map's `mapTexels`: uv in texture repeats (s / width, t / height).
-vec4 sampleBilinearRepeat(MAP_REF map, uint layer, uvec2 mapTexels, vec2 uv) {
-  return sampleBilinearRegion(map, layer, ivec2(0), mapTexels, uv);
 }
 
 vec4 sampleBase(GlMaterial m, vec2 uv) { return sampleBilinearRepeat(BASE_REF(m), m.baseTexels, uv); }
 vec4 sampleEmissive(GlMaterial m, vec2 uv) { return sampleBilinearRepeat(EMISSIVE_REF(m), m.emissiveTexels, uv); }
 
 // The base colour or the normal map, chosen at run time: a loop over both then reads them at one
-// call site (physical mode's surfaces, pathtrace.comp physicalSurface). On Quake's two-layer sky
-// (skyLayers, sky.glsl) the two are the base colour's layers instead: MAP_BASE its back layer
-// (the right half), MAP_NORMAL its front layer (the left half).
+// call site (physical mode's surfaces, pathtrace.comp physicalSurface).
 const uint MAP_BASE = 0u;
 const uint MAP_NORMAL = 1u;
-vec4 sampleBaseOrNormal(GlMaterial m, uint map, vec2 uv, bool skyLayers) {
-  bool base = map == MAP_BASE || skyLayers;
-  uvec2 texels = base ? m.baseTexels : m.normalTexels;
-  ivec2 corner = ivec2(0);
-  if (skyLayers) {
-    uint halfWidth = texels.x / 2u;
-    corner.x = map == MAP_BASE ? int(halfWidth) : 0;
-    texels.x = map == MAP_BASE ? texels.x - halfWidth : halfWidth;
-  }
+vec4 sampleBaseOrNormal(GlMaterial m, uint map, vec2 uv) {
+  uvec2 texels = map == MAP_BASE ? m.baseTexels : m.normalTexels;
 #if defined(BT_TEXTURES_BINDLESS)
-  return sampleBilinearRegion(base ? m.baseHandle : m.normalHandle, 0u, corner, texels, uv);
+  return sampleBilinearRepeat(map == MAP_BASE ? m.baseHandle : m.normalHandle, 0u, texels, uv);
 #else
-  return sampleBilinearRegion(base ? m.baseArray : m.normalArray, base ? m.baseLayer : m.normalLayer, corner, texels, uv);
+  return sampleBilinearRepeat(map == MAP_BASE ? m.baseArray : m.normalArray, map == MAP_BASE ? m.baseLayer : m.normalLayer,
+                              texels, uv);
 #endif
 }
 

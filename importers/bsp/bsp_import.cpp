@@ -332,7 +332,7 @@ Scene importBsp(const std::string& path, const ImportOptions& options) {
     // WADs, loose images and Quake 2 .wal files, companion maps, placeholders and the one
     // warning naming what is missing: the same search as for .map files.
     loadMaterials(scene, options.textures);
-    loadSkyBox(scene, options.textures);
+    loadSky(scene, options.textures);
   };
   Scene scene = sceneFromBsp(bsp, resolve, litFile, options.curveMaxError);
   // The level first: the .bsp, or the .pk3 it is in (which holds its .lit too).

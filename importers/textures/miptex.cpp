@@ -53,19 +53,6 @@ bool isQuakeSky(std::string_view name) {
       std::tolower(static_cast<unsigned char>(name[1])) == 'k' && std::tolower(static_cast<unsigned char>(name[2])) == 'y';
 }
 
-// QuakeSpasm's Sky_LoadTexture: the front layer is the left half, and its palette index 0 is
-// clear. The clear texels get alpha 0 and black, so that filtering them adds no colour.
-void clearSkyFrontLayer(Material& material, const uint8_t* indices) {
-  material.skyLayers = true;
-  material.alphaTest = AlphaTest::None; // the face is solid: the layers are drawn on it
-  const int half = material.width / 2;
-  for (int y = 0; y < material.height; ++y)
-    for (int x = 0; x < half; ++x) {
-      const size_t i = size_t(y) * size_t(material.width) + size_t(x);
-      if (indices[i] == 0) std::fill_n(&material.baseColor.rgba[i * 4], 4, uint8_t{0});
-    }
-}
-
 // Quake's software renderer draws palette indices 224..255 at full brightness regardless of
 // lighting; GL engines and ericw-tools' light follow the same rule for "fullbright" texels.
 constexpr int kFirstFullbright = 224;
@@ -85,6 +72,19 @@ Image blankImage(int width, int height) {
   image.height = height;
   image.rgba.assign(static_cast<size_t>(width) * height * 4, 0);
   return image;
+}
+
+// QuakeSpasm's Sky_LoadTexture: the front layer is the left half, and its palette index 0 is
+// clear. The clear texels get alpha 0 and black, so that filtering them adds no colour.
+Image skyFrontLayer(const Image& texture, const uint8_t* indices) {
+  const int half = texture.width / 2;
+  Image front = blankImage(half, texture.height);
+  for (int y = 0; y < texture.height; ++y)
+    for (int x = 0; x < half; ++x) {
+      const size_t i = size_t(y) * size_t(texture.width) + size_t(x);
+      if (indices[i] != 0) std::copy_n(&texture.rgba[i * 4], 4, &front.rgba[(size_t(y) * size_t(half) + size_t(x)) * 4]);
+    }
+  return front;
 }
 
 } // namespace
@@ -217,7 +217,7 @@ Material decodeMiptex(std::span<const uint8_t> bytes, const Palette* quakePalett
     anyFullbright |= !halfLife && index >= kFirstFullbright;
   }
   // Half-Life draws its sky* faces with the level's skybox only (`skyname`), never the texture.
-  if (!halfLife && isQuakeSky(material.name) && width >= 2) clearSkyFrontLayer(material, indices);
+  if (!halfLife && isQuakeSky(material.name) && width >= 2) material.skyFront = skyFrontLayer(material.baseColor, indices);
 
   if (anyFullbright) {
     material.emissive = blankImage(material.width, material.height);

@@ -1,7 +1,6 @@
 #include "renderer/cpu/sky.h"
 
 #include "bvh/trace_scene.h"
-#include "lighting/visibility.h"
 #include "shaders/sky_constants.glsl" // the engine's numbers, shared with the shaders
 
 #include <glm/common.hpp>
@@ -20,17 +19,6 @@ glm::vec2 skyLayerUv(const glm::vec3& dir) {
   return glm::vec2(flattened.x, flattened.y) * scale / BT_SKY_LAYER_SCALE;
 }
 
-glm::vec4 skyLayersColor(const Material& sky, const glm::vec3& dir) {
-  const Image& image = sky.baseColor;
-  const int half = image.width / 2;
-  const glm::vec2 uv = skyLayerUv(dir);
-  // Both layers scroll by 0 at time 0, so they share the coordinates.
-  const glm::vec4 back = sampleBilinearRepeat(image, ImageRegion{half, 0, image.width - half, image.height}, uv.x, uv.y);
-  const glm::vec4 front = sampleBilinearRepeat(image, ImageRegion{0, 0, half, image.height}, uv.x, uv.y);
-  // The clear texels are black, so the filtered front colour is already weighted by its alpha.
-  return glm::vec4(glm::vec3(front) + glm::vec3(back) * (1.0f - front.a), 1.0f);
-}
-
 namespace {
 constexpr int kStToVec[18] = {BT_SKY_ST_TO_VEC};
 constexpr int kSkyTexOrder[6] = {BT_SKY_TEX_ORDER};
@@ -43,7 +31,7 @@ int skyBoxSide(const glm::vec3& d) {
   return d.z < 0.0f ? 5 : 4;
 }
 
-glm::vec2 skyBoxUv(int side, const glm::vec3& d, int width, int height) {
+glm::vec2 skyBoxUv(int side, const glm::vec3& d, int width, int height, bool clamped) {
   glm::vec3 b(0.0f);
   for (int j = 0; j < 3; ++j) {
     const int k = kStToVec[side * 3 + j];
@@ -51,24 +39,24 @@ glm::vec2 skyBoxUv(int side, const glm::vec3& d, int width, int height) {
   }
   const glm::vec2 size(std::max(width, 1), std::max(height, 1));
   glm::vec2 st = (glm::vec2(b) / b.z + 1.0f) * 0.5f;
-  st = st * (size - 1.0f) / size + 0.5f / size;
+  st = clamped ? glm::clamp(st, 0.5f / size, 1.0f - 0.5f / size) : st * (size - 1.0f) / size + 0.5f / size;
   return glm::vec2(st.x, 1.0f - st.y);
 }
 
-glm::vec4 skyBoxColor(const Scene& scene, const glm::vec3& dir) {
-  const int side = skyBoxSide(dir);
-  const Image& image = scene.materials[scene.skyBox->firstMaterial + uint32_t(kSkyTexOrder[side])].baseColor;
-  const glm::vec2 uv = skyBoxUv(side, dir, image.width, image.height);
-  return glm::vec4(glm::vec3(sampleBilinearRepeat(image, uv.x, uv.y)), 1.0f);
-}
-
-glm::vec4 baseOrSkyColor(const RenderScene& rs, uint32_t face, const glm::vec3& p, const glm::vec3& dir) {
-  if (rs.faceFlags[face] & kFaceSky) {
-    if (rs.scene->skyBox) return skyBoxColor(*rs.scene, dir);
-    const uint32_t m = gpuFace(rs, face).material;
-    if (m < rs.scene->materials.size() && rs.scene->materials[m].skyLayers) return skyLayersColor(rs.scene->materials[m], dir);
+glm::vec3 skyColor(const Scene& scene, const glm::vec3& dir) {
+  const Sky& sky = *scene.sky;
+  if (sky.kind == Sky::Kind::QuakeLayers) {
+    // Both layers scroll by 0 at time 0, so they share the coordinates. The front layer's clear
+    // texels are black, so its filtered colour is already weighted by its alpha (GL_DECAL).
+    const glm::vec2 uv = skyLayerUv(dir);
+    const glm::vec4 back = sampleBilinearRepeat(scene.materials[sky.firstMaterial].baseColor, uv.x, uv.y);
+    const glm::vec4 front = sampleBilinearRepeat(scene.materials[sky.firstMaterial + 1].baseColor, uv.x, uv.y);
+    return glm::vec3(front) + glm::vec3(back) * (1.0f - front.a);
   }
-  return baseColorAt(rs, face, p);
+  const int side = skyBoxSide(dir);
+  const Image& image = scene.materials[sky.firstMaterial + uint32_t(kSkyTexOrder[side])].baseColor;
+  const glm::vec2 uv = skyBoxUv(side, dir, image.width, image.height, sky.kind == Sky::Kind::BoxClamped);
+  return glm::vec3(sampleBilinearRepeat(image, uv.x, uv.y));
 }
 
 } // namespace bt

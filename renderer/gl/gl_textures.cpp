@@ -140,7 +140,6 @@ void GlTextures::readMaterials(const Scene& scene) {
     if (!m.baseColor.empty()) g.flags |= kMaterialHasBase, g.baseTexels = texelsOf(m.baseColor);
     if (!m.normal.empty()) g.flags |= kMaterialHasNormal, g.normalTexels = texelsOf(m.normal);
     if (!m.emissive.empty()) g.flags |= kMaterialHasEmissive, g.emissiveTexels = texelsOf(m.emissive);
-    if (m.skyLayers && !m.baseColor.empty()) g.flags |= kMaterialSkyLayers;
   }
 }
 

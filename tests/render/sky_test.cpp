@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -89,16 +90,31 @@ RenderImage renderSky(const Level& level, LightingMode mode, int spp) {
   return renderCpu(level.render, Camera(defaultCameraPose(level.scene), kWidth, kHeight), settings);
 }
 
+// The level's sky is the sky texture's two layers, as two materials: the right half (back,
+// opaque) and the left half (front) with palette index 0 (black here) clear and black. The
+// texture itself stays as the WAD holds it (its faces are drawn as the sky, not with it).
 TEST(Sky, QuakeSkyTextureHasTwoLayers) {
   const auto level = loadSkyLevel();
-  const Material& sky = skyMaterial(level->scene);
-  EXPECT_TRUE(sky.skyLayers);
-  ASSERT_EQ(sky.baseColor.width, 256);
-  // Index 0 (black) is clear in the front (left) half only; the back layer is opaque.
-  size_t clearFront = 0, clearBack = 0;
+  const Image& texture = skyMaterial(level->scene).baseColor;
+  ASSERT_TRUE(level->scene.sky.has_value());
+  EXPECT_EQ(level->scene.sky->kind, Sky::Kind::QuakeLayers);
+  EXPECT_EQ(level->scene.sky->name, "sky_test");
+  ASSERT_EQ(texture.width, 256);
+  const Image& back = level->scene.materials[level->scene.sky->firstMaterial].baseColor;
+  const Image& front = level->scene.materials[level->scene.sky->firstMaterial + 1].baseColor;
+  ASSERT_EQ(back.width, 128);
+  ASSERT_EQ(front.width, 128);
+  size_t clearFront = 0, wrong = 0;
   for (int y = 0; y < 128; ++y)
-    for (int x = 0; x < 256; ++x) (x < 128 ? clearFront : clearBack) += sky.baseColor.texel(x, y)[3] == 0;
-  EXPECT_EQ(clearBack, 0u);
+    for (int x = 0; x < 128; ++x) {
+      const uint8_t* left = texture.texel(x, y);
+      const bool clear = left[0] == 0 && left[1] == 0 && left[2] == 0;
+      clearFront += clear;
+      wrong += !std::equal(back.texel(x, y), back.texel(x, y) + 4, texture.texel(x + 128, y));
+      wrong += clear ? front.texel(x, y)[3] != 0 || front.texel(x, y)[0] != 0 : !std::equal(front.texel(x, y), front.texel(x, y) + 4, left);
+      wrong += texture.texel(x, y)[3] != 255 || texture.texel(x + 128, y)[3] != 255;
+    }
+  EXPECT_EQ(wrong, 0u);
   EXPECT_GT(clearFront, 128u * 128u / 2);
 }
 
@@ -226,9 +242,10 @@ std::optional<glm::dvec3> engineSkyBox(const glm::vec3& dir) {
 
 TEST(Sky, SkyBoxIsReadFromTheGameFolder) {
   const auto level = loadSkyBoxLevel();
-  ASSERT_TRUE(level->scene.skyBox.has_value());
-  EXPECT_EQ(level->scene.skyBox->name, "testsky");
-  EXPECT_EQ(level->scene.materials[level->scene.skyBox->firstMaterial].name, "gfx/env/testskyrt.tga");
+  ASSERT_TRUE(level->scene.sky.has_value());
+  EXPECT_EQ(level->scene.sky->kind, Sky::Kind::Box);
+  EXPECT_EQ(level->scene.sky->name, "testsky");
+  EXPECT_EQ(level->scene.materials[level->scene.sky->firstMaterial].name, "gfx/env/testskyrt.tga");
 }
 
 // A sky box whose images the game folder lacks: one warning naming every file tried, and the sky
@@ -242,7 +259,8 @@ TEST(Sky, MissingSkyBoxWarnsOnceAndKeepsTheLayers) {
   text.replace(text.find("../../sky_layers.wad"), 20, (test::mapsDir() / "sky" / "sky_layers.wad").string());
   std::ofstream(install / "id1" / "maps" / "missing.map") << text;
   const Scene scene = importScene((install / "id1" / "maps" / "missing.map").string(), ImportOptions{});
-  EXPECT_FALSE(scene.skyBox.has_value());
+  ASSERT_TRUE(scene.sky.has_value());
+  EXPECT_EQ(scene.sky->kind, Sky::Kind::QuakeLayers);
   size_t warnings = 0;
   for (const Diagnostic& d : scene.diagnostics) {
     if (d.message.find("sky box") == std::string::npos) continue;
@@ -252,7 +270,6 @@ TEST(Sky, MissingSkyBoxWarnsOnceAndKeepsTheLayers) {
         EXPECT_NE(d.message.find(std::string("gfx/env/nosuch") + suffix + extension), std::string::npos) << d.message;
   }
   EXPECT_EQ(warnings, 1u);
-  EXPECT_TRUE(scene.materials[*scene.findMaterial("sky_test")].skyLayers);
   std::filesystem::remove_all(install);
 }
 

@@ -1,13 +1,16 @@
-// The level's sky box, looked up as its engine looks it up: the worldspawn key names it and the
-// game's files hold its six images (QuakeSpasm Sky_NewMap and Sky_LoadSkyBox, Quake/gl_sky.c;
-// Quake 2 ref_gl R_SetSky, gl_warp.c).
+// The level's sky images (Scene::sky). A sky box is looked up as its engine looks it up: the
+// worldspawn key names it and the game's files hold its six images (QuakeSpasm Sky_NewMap and
+// Sky_LoadSkyBox, Quake/gl_sky.c; Quake 2 ref_gl R_SetSky, gl_warp.c). Without one, a Quake
+// level's sky texture gives its two layers (Sky_LoadTexture).
 #include "importers/game/game_install.h"
 #include "importers/textures/textures.h"
 #include "quake/entity_keys.h"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
+#include <optional>
 #include <span>
 #include <string_view>
 
@@ -15,7 +18,7 @@ namespace bt {
 
 namespace {
 
-// `suf` of both engines: the order SkyBox::materials keeps.
+// `suf` of the engines: the order Sky keeps the box's materials in.
 constexpr std::array<std::string_view, 6> kSuffixes = {"rt", "bk", "lf", "ft", "up", "dn"};
 
 // The key that names the sky box: Quake's `sky` (QuakeSpasm also reads Half-Life's `skyname` and
@@ -58,18 +61,18 @@ std::optional<Material> readSide(const game::GameInstall& install, const std::st
   return m;
 }
 
-} // namespace
-
-void loadSkyBox(Scene& scene, const TextureSearch& search) {
+// The worldspawn's sky box from the game's files; false when the level names none or one of its
+// images is missing (then with one warning naming the files tried).
+bool loadSkyBox(Scene& scene, const TextureSearch& search) {
   const Entity* world = scene.worldspawn();
-  if (!search.load || !world) return;
+  if (!search.load || !world) return false;
   // Most levels name no sky box: they cost no look at the game's files.
-  if (skyBoxKey(*world, "quake").empty()) return; // Quake's keys are the others' and more
+  if (skyBoxKey(*world, "quake").empty()) return false; // Quake's keys are the others' and more
   const game::GameInstall install = game::openGameInstall(search.game, scene.sourcePath, scene.format);
-  if (!install.profile || install.profile->skies.empty() || install.profile->name == "quake3") return; // Quake 3: a shader's skyParms
+  if (!install.profile || install.profile->skies.empty() || install.profile->name == "quake3") return false; // Quake 3: a shader's skyParms
   const std::string_view name = skyBoxKey(*world, install.profile->name);
-  if (name.empty()) return;
-  SkyBox box{std::string(name), uint32_t(scene.materials.size())};
+  if (name.empty()) return false;
+  Sky sky{Sky::Kind::Box, std::string(name), uint32_t(scene.materials.size())};
   std::vector<Material> sides;
   std::vector<std::string> missing;
   for (std::string_view suffix : kSuffixes) {
@@ -98,10 +101,47 @@ void loadSkyBox(Scene& scene, const TextureSearch& search) {
                    fmt::format("sky box '{}' not drawn: no image for {} (looked in {}); the sky stays as the "
                                "level's sky texture draws it",
                                name, list, install.gameDirs.empty() ? std::string("no game install") : install.baseDir.string())});
-    return;
+    return false;
   }
   for (Material& side : sides) scene.materials.push_back(std::move(side));
-  scene.skyBox = std::move(box);
+  scene.sky = std::move(sky);
+  return true;
+}
+
+// Quake's two layers of the level's sky texture: its right half (back) and its front layer, as
+// two materials. QuakeSpasm draws one sky texture's layers on every sky face of a frame (the
+// last of its sky texture chains); here, the last sky texture a face uses. A replacement image
+// of another size than the miptex (loadMaterials) keeps the texture drawn on the face instead.
+void takeQuakeSkyLayers(Scene& scene) {
+  std::optional<uint32_t> last;
+  for (const Face& face : scene.faces)
+    if (face.material < scene.materials.size() && !scene.materials[face.material].skyFront.empty())
+      last = std::max(last.value_or(0), face.material);
+  if (!last) return;
+  const Material& texture = scene.materials[*last];
+  const Image& front = texture.skyFront;
+  if (texture.baseColor.width != 2 * front.width || texture.baseColor.height != front.height) return;
+  Material back, layer;
+  back.name = texture.name + " (back layer)", layer.name = texture.name + " (front layer)";
+  back.sourcePath = layer.sourcePath = texture.sourcePath;
+  back.source = layer.source = texture.source;
+  back.alphaTest = layer.alphaTest = AlphaTest::None;
+  back.width = layer.width = front.width, back.height = layer.height = front.height;
+  back.baseColor = front; // the size; every texel is overwritten below
+  for (int y = 0; y < front.height; ++y)
+    std::copy_n(texture.baseColor.texel(front.width, y), size_t(front.width) * 4,
+                back.baseColor.rgba.begin() + ptrdiff_t(y) * front.width * 4);
+  layer.baseColor = front;
+  scene.sky = Sky{Sky::Kind::QuakeLayers, texture.name, uint32_t(scene.materials.size())};
+  scene.materials.push_back(std::move(back));
+  scene.materials.push_back(std::move(layer));
+}
+
+} // namespace
+
+void loadSky(Scene& scene, const TextureSearch& search) {
+  if (scene.sky) return; // Quake 3's, from its shaders (importers/bsp loadQuake3Sky)
+  if (!loadSkyBox(scene, search)) takeQuakeSkyLayers(scene);
 }
 
 } // namespace bt
