@@ -325,7 +325,10 @@ Scene importBsp(const std::string& path, const ImportOptions& options) {
       if (bsp.isQuake1Family()) decodeEmbeddedMiptex(bsp, scene, options.textures, install);
       if (bsp.version == Version::Quake3_46) {
         std::vector<std::string> filesRead;
-        resolveQuake3Materials(scene.materials, quake3GameFiles(archive, options, install), scene.diagnostics, &filesRead);
+        std::map<std::string, std::string> skyBoxes;
+        const GameFiles files = quake3GameFiles(archive, options, install);
+        resolveQuake3Materials(scene.materials, files, scene.diagnostics, &filesRead, &skyBoxes);
+        loadQuake3Sky(scene, files, skyBoxes, &filesRead);
         for (const std::string& file : filesRead) scene.addInputFile(file);
       }
     }

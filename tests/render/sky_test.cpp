@@ -1,21 +1,26 @@
 // Quake's two-layer sky as QuakeSpasm draws it at time 0 (Quake/gl_sky.c), on maps/sky/
 // (generate.py there): every sky pixel of the albedo AOV against the engine's formula, computed
 // here from the texture's texels, and the beauty of both lighting modes against it.
+#include "importers/bsp/q3_textures.h"
 #include "importers/import.h"
 #include "lighting/render_scene.h"
 #include "renderer/cpu/cpu_renderer.h"
 #include "scene/color.h"
+#include "tests/render/box_scene.h"
 #include "tests/test_data.h"
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <optional>
+#include <unistd.h>
 
 namespace bt {
 namespace {
@@ -302,6 +307,132 @@ TEST(Sky, AlbedoOfSkyPixelsIsTheEnginesSkyBox) {
       }
     EXPECT_EQ(wrong, 0u) << "pitch " << pitch << " yaw " << yaw;
     EXPECT_GT(checked, size_t(kWidth * kHeight) / 4) << "pitch " << pitch << " yaw " << yaw;
+  }
+}
+
+// ---- Quake 3: skyParms -----------------------------------------------------------------------
+
+// A Quake 3 game folder in a temporary directory: scripts/sky.shader with `shaderText`, and the
+// far box env/test/test_{rt,...}.tga, each side 2x2 of its kBoxSides colour with a white top left
+// texel (so the box's orientation shows as in the Quake test above).
+struct Quake3Game {
+  std::filesystem::path dir;
+  explicit Quake3Game(const std::string& shaderText, bool withBox = true) {
+    dir = std::filesystem::temp_directory_path() / ("bt_q3sky_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir / "scripts");
+    std::filesystem::create_directories(dir / "env/test");
+    std::ofstream(dir / "scripts/sky.shader") << shaderText;
+    const char* suffixes[6] = {"rt", "bk", "lf", "ft", "up", "dn"};
+    for (int i = 0; withBox && i < 6; ++i) {
+      const glm::dvec3& c = kBoxSides[i].colour;
+      // An uncompressed true-colour TGA, rows from the top (descriptor 0x20), texels in BGR.
+      std::vector<unsigned char> tga = {0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 2, 0, 2, 0, 24, 0x20};
+      for (int t = 0; t < 4; ++t) {
+        const bool white = t == 0;
+        tga.insert(tga.end(),
+                   {white ? uint8_t(255) : uint8_t(c.z), white ? uint8_t(255) : uint8_t(c.y), white ? uint8_t(255) : uint8_t(c.x)});
+      }
+      std::ofstream(dir / "env/test" / (std::string("test_") + suffixes[i] + ".tga"), std::ios::binary)
+          .write(reinterpret_cast<const char*>(tga.data()), std::streamsize(tga.size()));
+    }
+  }
+  ~Quake3Game() {
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+  }
+};
+
+// A Quake 3 room whose every face is the sky shader textures/skies/test (SURF_SKY, as q3map2
+// writes the shader's surfaceparm sky), its sky read from `game` as the .bsp importer reads it.
+std::unique_ptr<Level> quake3SkyRoom(const Quake3Game& game) {
+  test::BoxSceneBuilder b;
+  b.material("textures/skies/test", 90, 30, 150);
+  b.room({-256, -256, -256}, {256, 256, 256}, "textures/skies/test");
+  auto level = std::make_unique<Level>();
+  level->scene = b.build();
+  level->scene.game = "quake3";
+  level->scene.format = "ibsp46";
+  for (Face& face : level->scene.faces) face.surface = SurfaceAttributes{0, 0x4, 0.0}; // SURF_SKY
+  bsp::GameFiles files;
+  files.addGameDir(game.dir);
+  std::map<std::string, std::string> boxes;
+  bsp::resolveQuake3Materials(level->scene.materials, files, level->scene.diagnostics, nullptr, &boxes);
+  // The stage names no image file: the material keeps its image, stripes of two colours a
+  // texel wide whose mean, (60, 60, 80), no face shows where the texture is mapped on it.
+  Image& stripes = level->scene.materials[0].baseColor;
+  for (size_t i = 0; i < stripes.rgba.size() / 4; ++i)
+    if (i % 2) std::copy_n(std::array<uint8_t, 3>{30, 90, 10}.begin(), 3, stripes.rgba.begin() + ptrdiff_t(i * 4));
+  bsp::loadQuake3Sky(level->scene, files, boxes);
+  Diagnostics diagnostics;
+  level->render = buildRenderScene(level->scene, {}, diagnostics);
+  return level;
+}
+
+// Every sky pixel of the six axis views against `expected` (nullopt: not checked).
+template <class Expected> void expectSkyPixels(const Level& level, const Expected& expected) {
+  const std::pair<float, float> views[] = {{0, 0}, {0, 90}, {0, 180}, {0, 270}, {-90, 0}, {90, 0}}; // pitch, yaw
+  for (const auto& [pitch, yaw] : views) {
+    const Camera camera(CameraPose{glm::vec3(0.0f), pitch, yaw, 0.0f, "test"}, kWidth, kHeight);
+    RenderSettings settings;
+    settings.width = kWidth;
+    settings.height = kHeight;
+    settings.spp = 1;
+    settings.threads = 2;
+    const RenderImage image = renderCpu(level.render, camera, settings);
+    size_t checked = 0, wrong = 0;
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x) {
+        const size_t i = size_t(y) * kWidth + x;
+        const std::optional<glm::dvec3> want = expected(glm::normalize(camera.ray(x + 0.5f, y + 0.5f).direction));
+        if (!want) continue;
+        ++checked;
+        const glm::dvec3 got(image.albedo[i]);
+        if (glm::length(got - *want) > 1e-3 && wrong++ < 3)
+          ADD_FAILURE() << "pitch " << pitch << " yaw " << yaw << ", pixel " << x << "," << y << ": " << got.x << " " << got.y << " "
+                        << got.z << ", ioquake3's " << want->x << " " << want->y << " " << want->z;
+      }
+    EXPECT_EQ(wrong, 0u) << "pitch " << pitch << " yaw " << yaw;
+    EXPECT_GT(checked, size_t(kWidth * kHeight) / 16) << "pitch " << pitch << " yaw " << yaw;
+  }
+}
+
+// ioquake3 draws the far box with the tables of Quake's (tr_sky.c MakeSkyVec, sky_texorder), each
+// side clamped to its edge: a 2x2 image's texels fill the side's quarters, blended only within
+// half the side's width of its centre lines.
+TEST(Sky, Quake3FarBoxIsTheSkyShadersSkyParms) {
+  const Quake3Game game("textures/skies/test\n{\n  surfaceparm sky\n  skyParms env/test/test 512 -\n  {\n    map $whiteimage\n  }\n}\n");
+  const auto level = quake3SkyRoom(game);
+  ASSERT_TRUE(level->scene.sky.has_value());
+  EXPECT_EQ(level->scene.sky->kind, Sky::Kind::BoxClamped);
+  EXPECT_EQ(level->scene.sky->name, "env/test/test");
+  EXPECT_EQ(level->scene.materials[level->scene.sky->firstMaterial + 1].name, "env/test/test_bk.tga");
+  expectSkyPixels(*level, [](const glm::vec3& dir) -> std::optional<glm::dvec3> {
+    const BoxSide* side = &kBoxSides[0];
+    for (const BoxSide& s : kBoxSides)
+      if (glm::dot(dir, s.forward) > glm::dot(dir, side->forward)) side = &s;
+    const float depth = glm::dot(dir, side->forward);
+    const float left = glm::dot(dir, side->left) / depth, up = glm::dot(dir, side->up) / depth;
+    if (std::abs(left) < 0.55f || std::abs(up) < 0.55f) return std::nullopt; // within the filter's blend
+    const glm::dvec3 shown = left > 0.0f && up > 0.0f ? glm::dvec3(255.0) : side->colour;
+    return glm::dvec3(srgbToLinear(float(shown.x / 255.0)), srgbToLinear(float(shown.y / 255.0)), srgbToLinear(float(shown.z / 255.0)));
+  });
+}
+
+// Without a far box ("-"), or with one whose images are missing (one warning naming them), the
+// sky is the mean colour of the shader's image in every direction.
+TEST(Sky, Quake3SkyWithoutFarBoxIsTheShadersMeanColour) {
+  for (const char* farbox : {"-", "env/nosuch/nosuch"}) {
+    SCOPED_TRACE(farbox);
+    const Quake3Game game(std::string("textures/skies/test\n{\n  skyParms ") + farbox + " 512 -\n}\n", /*withBox=*/false);
+    const auto level = quake3SkyRoom(game);
+    ASSERT_TRUE(level->scene.sky.has_value());
+    size_t warnings = 0;
+    for (const Diagnostic& d : level->scene.diagnostics)
+      warnings += d.message.find("sky box 'env/nosuch/nosuch'") != std::string::npos &&
+          d.message.find("env/nosuch/nosuch_dn.tga") != std::string::npos;
+    EXPECT_EQ(warnings, farbox[0] == '-' ? 0u : 1u);
+    const glm::dvec3 mean(srgbToLinear(60.0f / 255.0f), srgbToLinear(60.0f / 255.0f), srgbToLinear(80.0f / 255.0f));
+    expectSkyPixels(*level, [&](const glm::vec3&) { return std::optional<glm::dvec3>(mean); });
   }
 }
 
