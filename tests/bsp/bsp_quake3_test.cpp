@@ -147,6 +147,31 @@ TEST(Quake3, SideFramesReproduceDrawVertexTextureCoordinates) {
   EXPECT_LE(wrong, checked / 50) << wrong << " of " << checked;
 }
 
+// skyParms' first argument, read at the shader's top level only; "-" is no far box, and a
+// commented-out line is no skyParms.
+TEST(Quake3, ShaderScriptsNameTheirSkyBox) {
+  const auto boxes = bt::bsp::parseShaderSkyBoxes(R"(
+textures/skies/Space
+{
+  surfaceparm sky
+  // skyparms env/old/old - -
+  SKYPARMS env/space1 512 -
+  { map textures/skies/stars.tga }
+}
+textures/skies/clouds
+{
+  skyParms - 512 -
+}
+textures/base/wall
+{
+  { map textures/base/wall.tga }
+}
+)");
+  ASSERT_EQ(boxes.size(), 2u);
+  EXPECT_EQ(boxes.at("textures/skies/space"), "env/space1");
+  EXPECT_EQ(boxes.at("textures/skies/clouds"), "");
+}
+
 TEST(Quake3, ShaderScriptsNameTheirImage) {
   const auto images = bt::bsp::parseShaderImages(R"(
 // comment { not a brace }
