@@ -45,8 +45,9 @@ enum Binding : uint32_t {
 
 // The brushes, slanted-side lists and faces are bvh/trace_scene.h's TraceScene arrays
 // (scene/gpu_structs.h GpuBrush, GpuFace), uploaded unchanged; the BVH nodes are GlBvhNodes made
-// from TraceScene's tree (below). The shaders read the face classes (kFace*) from a separate
-// per-face buffer, RenderScene::faceFlags.
+// from TraceScene's tree (below). The shaders read the face classes (kFace*) and lighting
+// channels from a separate per-face buffer, RenderScene::faceFlags and faceChannels packed by
+// gpuFaceWord.
 
 // The BVH as the GL traversal reads it, made from TraceScene::nodes() at upload (gl_scene.h
 // bvhForGl, linear time): one node per interior node of that tree, holding both children's boxes,
