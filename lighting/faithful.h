@@ -183,7 +183,7 @@ inline constexpr int kDirtRays = kDirtAzimuthSteps * kDirtElevationSteps;
 // The compiler's sample points sit this far off the face (ltface.cc sampleOffPlaneDist); the
 // occlusion rays leave from there.
 // ericw-tools' `-sunsamples` (64): how many suns a sky dome or a sun's penumbra becomes.
-inline constexpr int kSunSamples = 64;
+inline constexpr int kSunSamples = BT_SUN_SAMPLES;
 
 // The directions towards the sky of ericw-tools' upper sky dome (SetupSkyDome, after q3map2):
 // rings of suns at equal elevation steps, each ring turned by a fraction of a step, plus one

@@ -61,8 +61,10 @@ glm::vec3 facingNormal(const Receiver& r, const glm::vec3& toLight) {
 // `occlusion` there. Local-minlight lights raise `localMin` instead: they are a floor, not a sum.
 // `cache`, when given, is the caller's ShadowCache and `light` is rs.lights[index]; `seen`: the
 // cache proved that no brush blocks the shadow ray.
+// `pass`: a luxel pass (faithfulLuxelPass), in which a penumbra sun takes the compiler's own
+// direction of that pass instead of a random one; -1 elsewhere.
 void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiver& r, float occlusion, Rng& rng, glm::vec3& sum,
-                      glm::vec3& localMin, ShadowCache* cache = nullptr, size_t index = 0, bool seen = false) {
+                      glm::vec3& localMin, ShadowCache* cache = nullptr, size_t index = 0, bool seen = false, int pass = -1) {
   // The compiler's lighting channels (ltface.cc): a point light lights only the faces on one of
   // its channels; suns and domes are on the default channel.
   const uint32_t channels = light.type == uint32_t(LightType::Point) ? light.lightChannels : kDefaultChannels;
@@ -93,7 +95,10 @@ void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiv
       sum += value * light.color;
   } else if (light.type == uint32_t(LightType::Sun)) {
     glm::vec3 toSun = -light.direction;
-    if (light.deviance > 0.0f) toSun = sampleCone(toSun, light.deviance, rng.next2());
+    if (pass >= 0 && (light.flags & kLightFlagSunTable))
+      toSun = -rs.sunTable[light.sunTable + uint32_t(pass % faithful::kSunSamples)];
+    else if (light.deviance > 0.0f)
+      toSun = sampleCone(toSun, light.deviance, rng.next2());
     GpuLight jittered = light;
     jittered.direction = -toSun;
     const glm::vec3 n = facingNormal(r, toSun);
@@ -353,7 +358,8 @@ void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec
     if (light.type == uint32_t(LightType::Dome)) {
       if (pass < int(skyDome().size())) sums.dome += domeSunLight(rs, light, r, skyDome()[size_t(pass)], sums.occlusion);
     } else if (softLight(light)) {
-      if (pass < softSamples) addFaithfulLight(rs, light, r, sums.occlusion, rng, sums.soft, sums.localMin, cache, index(light));
+      if (pass < softSamples)
+        addFaithfulLight(rs, light, r, sums.occlusion, rng, sums.soft, sums.localMin, cache, index(light), false, pass);
     } else if (pass == 0) {
       addFaithfulLight(rs, light, r, sums.occlusion, rng, sums.fixed, sums.localMin, cache, index(light));
     }

@@ -241,6 +241,7 @@ LuxelBakeJob luxelBakeJob(const RenderScene& rs, const Lightmaps& lm, const Ligh
   job.softSamples = lightSamples(rs, options);
   job.passes = luxelPasses(rs, job.softSamples);
   job.seed = kBakeSeed;
+  job.sunTable = rs.sunTable;
   return job;
 }
 

@@ -14,9 +14,8 @@
 //            luxel is the mean of N x N such points on a grid 1/N luxel apart (-extra, -extra4).
 //   light    at each point the faithful light sum of faithful_light.h (every light the grid lists,
 //            each bounce light shadow-tested); a sky dome as the compiler's own 65 suns
-//            (faithful.h skyDomeDirections); a sun's penumbra and `_deviance` copies averaged over
-//            `samples` random directions or positions (the compiler's 64 are glibc rand()'s,
-//            not reproduced yet: lighting/README.md).
+//            (faithful.h skyDomeDirections); a sun's penumbra as the compiler's own directions
+//            (penumbra_suns.h), `_deviance` copies averaged over `samples` random positions.
 //   stored   light × _range, a coloured sum scaled so its brightest channel fits in 255,
 //            truncated to whole bytes as the compiler writes them.
 #pragma once
@@ -57,6 +56,7 @@ struct LuxelBakeJob {
   int softSamples = 1;
   int passes = 1;
   uint32_t seed = 0;
+  std::vector<glm::vec3> sunTable; // RenderScene::sunTable, which the GPU bake uploads
 };
 LuxelBakeJob luxelBakeJob(const RenderScene& rs, const Lightmaps& lightmaps, const LightmapBakeOptions& options = {});
 

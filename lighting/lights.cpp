@@ -1,6 +1,8 @@
 #include "lighting/lights.h"
 
+#include "lighting/faithful.h"
 #include "lighting/game_rules.h"
+#include "lighting/penumbra_suns.h"
 #include "lighting/q3map2_light.h"
 #include "quake/bspfile_q2.h"
 #include "quake/entity_keys.h"
@@ -266,7 +268,18 @@ void applySpotCone(const quake::EntityKeys& keys, glm::vec3 axis, GpuLight& ligh
   light.cosInner = std::cos(glm::radians(soft) * 0.5f);
 }
 
-void addLightEntity(const Scene& scene, const Entity& entity, const LightOptions& options, SceneLights& out, Diagnostics& diagnostics) {
+// A sun with a penumbra takes the compiler's kSunSamples directions for it, the next ones `rand`
+// gives.
+void attachSunTable(GlibcRand& rand, GpuLight& sun, std::vector<glm::vec3>& table) {
+  if (sun.type != uint32_t(LightType::Sun) || sun.deviance <= 0.0f) return;
+  sun.flags |= kLightFlagSunTable;
+  sun.sunTable = uint32_t(table.size());
+  const double degrees = double(sun.deviance) * (180.0 / 3.14159265358979323846);
+  for (const glm::vec3& d : penumbraDirections(rand, sun.direction, degrees, faithful::kSunSamples)) table.push_back(d);
+}
+
+void addLightEntity(const Scene& scene, const Entity& entity, const LightOptions& options, SceneLights& out, Diagnostics& diagnostics,
+                    GlibcRand& rand) {
   quake::EntityKeys keys(entity, scene.sourcePath, &diagnostics);
   GpuLight light;
   light.type = uint32_t(LightType::Point);
@@ -283,6 +296,7 @@ void addLightEntity(const Scene& scene, const Entity& entity, const LightOptions
   const std::optional<glm::vec3> spotAxis = readSpotAxis(scene, entity, keys, light.origin);
   if (keys.number("_sun", 0.0f) != 0.0f) {
     out.lights.push_back(sunFromLight(scene, keys, light, spotAxis));
+    if (light.value >= 1.0f) attachSunTable(rand, out.lights.back(), out.sunTable); // SetupSuns: int(light) > 0
     return;
   }
   if (spotAxis) applySpotCone(keys, *spotAxis, light);
@@ -368,8 +382,14 @@ SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagn
   }
   out.world = readWorld(scene, diagnostics);
   addWorldSuns(scene, out.world, out, diagnostics);
+  const size_t worldLights = out.lights.size();
+  // The compiler's rand() stream: its light jitter first, then the entity suns, then the world's.
+  GlibcRand rand;
+  for (uint64_t n = randDrawsBeforeSuns(scene); n > 0; --n) rand.next();
   for (const Entity& entity : scene.entities)
-    if (entity.classname().starts_with("light")) addLightEntity(scene, entity, options, out, diagnostics);
+    if (entity.classname().starts_with("light")) addLightEntity(scene, entity, options, out, diagnostics, rand);
+  for (uint64_t n = randDrawsOfSunCopies(scene); n > 0; --n) rand.next();
+  for (size_t i = 0; i < worldLights; ++i) attachSunTable(rand, out.lights[i], out.sunTable);
   if (gameOf(scene) == Game::Quake2) addQuake2SurfaceLights(scene, out, diagnostics);
 
   // ericw-tools traces the occlusion rays only where something uses dirt (SetupDirt).

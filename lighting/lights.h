@@ -66,6 +66,10 @@ struct SurfaceTemplate {
 
 struct SceneLights {
   std::vector<GpuLight> lights; // point and spot lights, suns, domes
+  // The directions of the compiler's suns for every sun with a penumbra (GpuLight::sunTable),
+  // drawn in the compiler's order: the `_sun 1` lights in entity order, then the worldspawn sun
+  // (lighting/penumbra_suns.h).
+  std::vector<glm::vec3> sunTable;
   std::vector<SurfaceTemplate> surfaceTemplates;
   WorldLighting world;
 };

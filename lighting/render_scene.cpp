@@ -275,6 +275,7 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   rs.lightKinds = lightKinds(lights, options.bounceLights);
   rs.lights = std::move(lights.lights);
   rs.world = lights.world;
+  rs.sunTable = std::move(lights.sunTable);
 
   // Every lookup below indexes materials by face; a scene that breaks that is a bug upstream.
   for (const Face& f : scene.faces)

@@ -215,7 +215,9 @@ struct GpuLight {
   // only such faces of `_shadow_channel_mask` (default: the light mask) block its rays.
   uint32_t lightChannels = kDefaultChannels;
   uint32_t shadowChannels = kDefaultChannels;
-  uint32_t pad2 = 0; // zero; keep the struct a whole number of 16-byte rows
+  // With kLightFlagSunTable (a sun with a penumbra): where its kSunSamples directions begin in
+  // RenderScene::sunTable, the compiler's own suns (lighting/penumbra_suns.h).
+  uint32_t sunTable = 0;
 };
 static_assert(sizeof(GpuLight) == 112);
 static_assert(offsetof(GpuLight, origin) == 0);
@@ -239,6 +241,7 @@ static_assert(offsetof(GpuLight, dirtOnRadius) == 92);
 static_assert(offsetof(GpuLight, skyMaterial) == 96);
 static_assert(offsetof(GpuLight, lightChannels) == 100);
 static_assert(offsetof(GpuLight, shadowChannels) == 104);
+static_assert(offsetof(GpuLight, sunTable) == 108);
 
 constexpr uint32_t kLightFlagStartOff = BT_LIGHT_FLAG_START_OFF; // spawnflags & 1 on a styled light: dark by default
 constexpr uint32_t kLightFlagBleed = BT_LIGHT_FLAG_BLEED;        // `_bleed`: lights surfaces behind it too
@@ -251,6 +254,8 @@ constexpr uint32_t kLightFlagDirt = BT_LIGHT_FLAG_DIRT;              // faithful
 constexpr uint32_t kLightFlagDirtRadius = BT_LIGHT_FLAG_DIRT_RADIUS; // ... only beyond _dirt_off_radius, fully beyond _dirt_on_radius
 constexpr uint32_t kLightFlagQ3Spot = BT_LIGHT_FLAG_Q3_SPOT;         // q3map2 spotlight: cone of radius cosInner (its radiusByDist) x the
                                                                      // distance along `direction`, fading over the last 32 units
+constexpr uint32_t kLightFlagSunTable =
+    BT_LIGHT_FLAG_SUN_TABLE; // a penumbra sun whose luxel samples are the compiler's directions (sunTable)
 
 // Face classes, one uint32 per scene face (RenderScene::faceFlags); the geometry and texture
 // frame of a face are the bvh part's GpuFace (scene/gpu_structs.h).
@@ -265,6 +270,12 @@ constexpr uint32_t kFaceEmissive = BT_FACE_EMISSIVE;  // has emissive texels or 
 constexpr uint32_t kFaceMasked = BT_FACE_MASKED;
 constexpr uint32_t kFaceMaskGt0 = BT_FACE_MASK_GT0;
 constexpr uint32_t kFaceMaskLt128 = BT_FACE_MASK_LT128;
+
+// A face's word in the GL tracer's face buffer: its kFace* classes, its lighting channels
+// (`_object_channel_mask`) and the bit every face has (shaders/scene_constants.glsl).
+constexpr uint32_t gpuFaceWord(uint32_t faceFlags, uint32_t channels) {
+  return faceFlags | ((channels << BT_FACE_CHANNEL_SHIFT) & BT_FACE_CHANNEL_BITS) | BT_FACE_ANY_CHANNEL;
+}
 
 // Per-material parameters; the images themselves travel as textures.
 struct GpuMaterial {

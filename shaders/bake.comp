@@ -33,7 +33,8 @@ const uint LUXEL_SAMPLE_TWO_SIDED = BT_LUXEL_SAMPLE_TWO_SIDED;
 layout(std430, binding = BT_BINDING_BAKE_SAMPLES) readonly buffer LuxelSamples { GpuLuxelSample luxelSamples[]; };
 // Per sample, lighting LuxelSums as 4 vec4: (fixed, occlusion), (localMin, 0), (dome, 0), (soft, 0).
 layout(std430, binding = BT_BINDING_BAKE_SUMS) buffer LuxelSumBuffer { vec4 luxelSums[]; };
-layout(std430, binding = BT_BINDING_BAKE_SKY_DOME) readonly buffer SkyDome { vec4 skyDome[]; }; // faithful.h skyDomeDirections
+// faithful.h skyDomeDirections (domeSuns of them), then RenderScene::sunTable.
+layout(std430, binding = BT_BINDING_BAKE_SKY_DOME) readonly buffer SkyDome { vec4 skyDome[]; };
 layout(std430, binding = BT_BINDING_LIGHTMAPS) buffer Lightmaps { uint lightmapData[]; };   // scene/gpu_structs.h layout
 
 layout(location = 0) uniform uint firstItem;   // first sample (a pass) or luxel (the resolve)
@@ -45,6 +46,8 @@ layout(location = 3) uniform int passesDone;   // for the resolve
 layout(location = 4) uniform int softSamples;
 layout(location = 5) uniform uint samplesPerLuxel;
 layout(location = 6) uniform uint bakeSeed;    // lightmap_bake.cpp kBakeSeed
+layout(location = 8) uniform int domeSuns;     // the dome's directions at the start of skyDome
+const uint SUN_SAMPLES = uint(BT_SUN_SAMPLES); // lighting/faithful.h kSunSamples: each penumbra sun's directions
 
 float dirtFactorAt(GpuLight light, float occlusion, float dist) {
 #ifdef BT_FAITHFUL_DIRT
@@ -62,9 +65,10 @@ const uint QUERY_SHADOW = 0u; // occluded(): 1 when no face that blocks light li
 const uint QUERY_SKY = 1u;    // reachesSky() with a sun's _suntexture (skyMaterial: material + 1, 0 any): 1 or 0
 const uint QUERY_DIRT = 2u;   // blockedDistance(): how far the ray gets, at most tMax
 
-float query(uint kind, vec3 origin, vec3 dir, float tMax, uint skyMaterial) {
-  if (kind == QUERY_SHADOW)
-    return traceRay(makeTraceRay(origin, dir, 0.0, tMax), true, lightPassFlags(false)).face == NO_FACE ? 1.0 : 0.0;
+// `param`: a shadow ray's pass word (visible.glsl shadowPassFlags), a sky ray's skyMaterial.
+float query(uint kind, vec3 origin, vec3 dir, float tMax, uint param) {
+  if (kind == QUERY_SHADOW) return traceRay(makeTraceRay(origin, dir, 0.0, tMax), true, param).face == NO_FACE ? 1.0 : 0.0;
+  uint skyMaterial = param;
   float tMin = 0.0, lastT = tMax;
   for (int i = 0; i < MAX_SKIPS; ++i) {
     Hit hit = traceRay(makeTraceRay(origin, dir, tMin, tMax), false, 0u);
@@ -89,18 +93,20 @@ struct Item {
   uint kind;
   vec3 origin, dir;
   float tMax;
-  uint skyMaterial;
+  uint param; // query()'s: the pass word or the sky material
   vec3 gain;
   uint target;
 };
 
 // lighting addFaithfulLight and domeSunLight up to their ray, in `pass` (the passes split the
 // lights as faithfulLuxelPass does).
-Item lightItem(GpuLight light, vec3 p, vec3 normal, bool twoSided, float occlusion, inout Rng rng) {
+// `receiver`: the face's channels; a point light lights only faces on one of its channels, suns
+// the default channel's (the dome's suns every face, as faithfulLuxelPass).
+Item lightItem(GpuLight light, vec3 p, vec3 normal, bool twoSided, uint receiver, float occlusion, inout Rng rng) {
   Item it = Item(false, QUERY_SHADOW, vec3(0.0), vec3(0.0), 0.0, 0u, vec3(0.0), TO_FIXED);
   bool soft = softLight(light);
   if (light.type == LIGHT_DOME) {
-    if (pass >= int(skyDome.length())) return it;
+    if (pass >= domeSuns) return it;
     vec3 toSky = skyDome[pass].xyz;
     if (light.direction.z < 0.0) toSky.z = -toSky.z;
     vec3 facing = facingNormal(normal, toSky, twoSided);
@@ -111,6 +117,7 @@ Item lightItem(GpuLight light, vec3 p, vec3 normal, bool twoSided, float occlusi
     return it;
   }
   if (soft ? pass >= softSamples : pass != 0) return it;
+  if (((light.type == LIGHT_POINT ? light.lightChannels : DEFAULT_CHANNELS) & receiver) == 0u) return it;
   if (light.type == LIGHT_POINT) {
     vec3 pos = jitteredOrigin(light, rng);
     vec3 d = pos - p;
@@ -127,12 +134,14 @@ Item lightItem(GpuLight light, vec3 p, vec3 normal, bool twoSided, float occlusi
     vec3 toLightFromOrigin = pos - origin;
     float len = length(toLightFromOrigin);
     uint target = light.formula == FORMULA_LOCAL_MIN ? TO_LOCAL_MIN : soft ? TO_SOFT : TO_FIXED;
-    it = Item(true, QUERY_SHADOW, origin, toLightFromOrigin / len, len, 0u, value * light.color, target);
+    it = Item(true, QUERY_SHADOW, origin, toLightFromOrigin / len, len, shadowPassFlags(false, light.shadowChannels), value * light.color,
+              target);
   }
 #ifdef BT_FAITHFUL_SKY
   else if (light.type == LIGHT_SUN) {
     vec3 toSun = -light.direction;
-    if (light.deviance > 0.0) toSun = sampleCone(toSun, light.deviance, rngNext2(rng));
+    if ((light.flags & LIGHT_FLAG_SUN_TABLE) != 0u) toSun = -skyDome[uint(domeSuns) + light.sunTable + uint(pass) % SUN_SAMPLES].xyz;
+    else if (light.deviance > 0.0) toSun = sampleCone(toSun, light.deviance, rngNext2(rng));
     vec3 n = facingNormal(normal, toSun, twoSided);
     float value = sunValue(light, -toSun, n) * dirtFactorAt(light, occlusion, 0.0);
     if (value == 0.0) return it;
@@ -149,6 +158,7 @@ void runPasses(uint index) {
   if ((s.flags & LUXEL_SAMPLE_OCCLUDED) != 0u) return;
   vec3 p = s.position, n = faces[s.face].plane.xyz;
   bool twoSided = (s.flags & LUXEL_SAMPLE_TWO_SIDED) != 0u;
+  uint receiver = faceChannels(s.face);
   vec4 fixedSum = firstPass == 0 ? vec4(0.0) : luxelSums[4u * index];
   vec3 localMin = firstPass == 0 ? vec3(0.0) : luxelSums[4u * index + 1u].xyz;
   vec3 dome = firstPass == 0 ? vec3(0.0) : luxelSums[4u * index + 2u].xyz;
@@ -178,10 +188,10 @@ void runPasses(uint index) {
 #endif
       } else {
         if (k == dirtRays && dirtRays > 0u) fixedSum.w = 1.0 - dirtSum / (float(dirtRays) * world.dirtDepth);
-        it = lightItem(lights[faithfulLight(cell, k - dirtRays)], p, n, twoSided, fixedSum.w, rng);
+        it = lightItem(lights[faithfulLight(cell, k - dirtRays)], p, n, twoSided, receiver, fixedSum.w, rng);
       }
       if (!it.needed) continue;
-      float answer = query(it.kind, it.origin, it.dir, it.tMax, it.skyMaterial);
+      float answer = query(it.kind, it.origin, it.dir, it.tMax, it.param);
       if (it.target == TO_DIRT) dirtSum += answer;
       else if (answer > 0.0) {
         if (it.target == TO_FIXED) fixedSum.xyz += it.gain;
@@ -213,7 +223,7 @@ vec3 sampleLight(uint index) {
   if ((s.flags & LUXEL_SAMPLE_OCCLUDED) != 0u) return applyFloors(vec3(0.0), vec3(0.0), s.faceMinlight, 0.0);
   vec4 fixedSum = luxelSums[4u * index];
   vec3 sum = fixedSum.xyz;
-  int domePasses = min(passesDone, int(skyDome.length()));
+  int domePasses = min(passesDone, domeSuns);
   int softPasses = min(passesDone, softSamples);
   if (domePasses > 0) sum += luxelSums[4u * index + 2u].xyz / float(domePasses);
   if (softPasses > 0) sum += luxelSums[4u * index + 3u].xyz / float(softPasses);

@@ -20,6 +20,9 @@
   X(vec3, dir, KEPT_ALWAYS, LOAD_UNSET) \
   X(float, tMin, KEPT_ALWAYS, LOAD_UNSET) \
   X(float, tMax, KEPT_ALWAYS, LOAD_UNSET) \
+  /* A shadow ray's pass word (visible.glsl shadowPassFlags), set with the ray: the wavefront */ \
+  /* form hands it to its trace kernel in the same dispatch, so it is not kept. */ \
+  X(uint, passFlags, KEPT_NEVER, LOAD_ZERO) \
   /* Physical: the emitter point a shadow ray aims at (NO_FACE for other lights). Its emission */ \
   /* is read once the ray gets through, in advance(), at the one place that reads emission. */ \
   X(uint, emitterFace, KEPT_PHYSICAL, LOAD_NO_FACE) \

@@ -116,6 +116,7 @@ void setRay(inout Path path, uint kind, vec3 origin, vec3 dir, float tMax) {
   path.dir = dir;
   path.tMin = 0.0;
   path.tMax = tMax;
+  path.passFlags = lightPassFlags(PHYSICAL);
   path.emitterFace = NO_FACE;
   path.skips = 0;
 }
@@ -162,6 +163,9 @@ bool faithfulLightRay(inout Path path, GpuLight light, inout Rng rng) {
   vec3 p = path.position;
   bool twoSided = (faceFlags[path.face] & FACE_LIQUID) != 0u;
   path.pendingIsFloor = false;
+  // The compiler's lighting channels: a point light lights only faces on one of its channels,
+  // the sky the default channel's (lighting addFaithfulLight).
+  if (((light.type == LIGHT_POINT ? light.lightChannels : DEFAULT_CHANNELS) & faceChannels(path.face)) == 0u) return false;
   if (light.type == LIGHT_POINT) {
     vec3 pos = jitteredOrigin(light, rng);
     vec3 d = pos - p;
@@ -178,6 +182,7 @@ bool faithfulLightRay(inout Path path, GpuLight light, inout Rng rng) {
     vec3 toLight = pos - origin;
     float len = length(toLight);
     setRay(path, RAY_SHADOW, origin, toLight / len, len);
+    path.passFlags = shadowPassFlags(false, light.shadowChannels);
     path.pending = value * light.color;
     path.pendingIsFloor = light.formula == FORMULA_LOCAL_MIN;
     return true;
@@ -680,7 +685,7 @@ void main() {
   }
   storePath(slot, rng, path);
   wavefrontRays[slot] = WavefrontRay(path.origin, path.tMin, path.dir, path.tMax, path.kind == RAY_SHADOW ? 1u : 0u,
-                                     lightPassFlags(PHYSICAL), 1u);
+                                     path.passFlags, 1u);
 }
 #else
 void main() {
@@ -688,10 +693,9 @@ void main() {
   if (any(greaterThanEqual(pixel, camera.imageSize))) return;
   Rng rng;
   Path path = cameraPath(pixel, rng);
-  uint passFlags = lightPassFlags(PHYSICAL);
   while (true) {
     // The one call of the traversal in this program.
-    Hit hit = traceRay(makeTraceRay(path.origin, path.dir, path.tMin, path.tMax), path.kind == RAY_SHADOW, passFlags);
+    Hit hit = traceRay(makeTraceRay(path.origin, path.dir, path.tMin, path.tMax), path.kind == RAY_SHADOW, path.passFlags);
     if (!advance(path, hit, rng)) break;
   }
   accumulate(pixel, path.radiance);

@@ -13,6 +13,14 @@
 #define BT_FACE_MASKED 32u     // alpha-tested: a hole where alpha < 0.5
 #define BT_FACE_MASK_GT0 64u   // ... or where alpha is 0 (Quake 3 alphaFunc GT0)
 #define BT_FACE_MASK_LT128 128u // ... or where alpha >= 0.5 (alphaFunc LT128)
+// The GL tracer's face words add the face's lighting channels (RenderScene::faceChannels) above
+// the classes, and one bit every face has; a ray's pass word (shaders/trace.glsl blocksRay) has
+// the classes it passes in the low byte and, above, the channels a face must share to block it
+// (physical mode: the every-face bit).
+#define BT_FACE_CLASS_BITS 0xffu
+#define BT_FACE_CHANNEL_SHIFT 8u
+#define BT_FACE_CHANNEL_BITS 0x7fffff00u // channels 1 .. 2^22: a mask's higher bits are dropped
+#define BT_FACE_ANY_CHANNEL 0x80000000u
 
 // GpuLight::type.
 #define BT_LIGHT_POINT 0u
@@ -39,6 +47,7 @@
 #define BT_LIGHT_FLAG_DIRT 16u
 #define BT_LIGHT_FLAG_DIRT_RADIUS 32u
 #define BT_LIGHT_FLAG_Q3_SPOT 64u
+#define BT_LIGHT_FLAG_SUN_TABLE 128u
 
 // GpuLuxelSample::flags.
 #define BT_LUXEL_SAMPLE_OCCLUDED 1u

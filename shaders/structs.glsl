@@ -45,6 +45,11 @@ const uint FACE_EMISSIVE = BT_FACE_EMISSIVE;
 const uint FACE_MASKED = BT_FACE_MASKED;
 const uint FACE_MASK_GT0 = BT_FACE_MASK_GT0;
 const uint FACE_MASK_LT128 = BT_FACE_MASK_LT128;
+const uint FACE_CLASS_BITS = BT_FACE_CLASS_BITS;
+const uint FACE_CHANNEL_SHIFT = BT_FACE_CHANNEL_SHIFT;
+const uint FACE_CHANNEL_BITS = BT_FACE_CHANNEL_BITS;
+const uint FACE_ANY_CHANNEL = BT_FACE_ANY_CHANNEL;
+const uint DEFAULT_CHANNELS = 1u; // scene/gpu_structs.h kDefaultChannels
 
 const uint MATERIAL_HAS_BASE = BT_GL_MATERIAL_HAS_BASE;
 const uint MATERIAL_HAS_NORMAL = BT_GL_MATERIAL_HAS_NORMAL;
@@ -93,6 +98,7 @@ const uint LIGHT_FLAG_FACE_MINLIGHT = BT_LIGHT_FLAG_FACE_MINLIGHT;
 const uint LIGHT_FLAG_DIRT = BT_LIGHT_FLAG_DIRT;
 const uint LIGHT_FLAG_DIRT_RADIUS = BT_LIGHT_FLAG_DIRT_RADIUS;
 const uint LIGHT_FLAG_Q3_SPOT = BT_LIGHT_FLAG_Q3_SPOT;
+const uint LIGHT_FLAG_SUN_TABLE = BT_LIGHT_FLAG_SUN_TABLE;
 
 struct GpuLight {
   vec3 origin;     // offset 0
@@ -116,7 +122,7 @@ struct GpuLight {
   uint skyMaterial;    // offset 96: suns with _suntexture, 1 + the sky material (0: any sky)
   uint lightChannels;  // offset 100: _light_channel_mask (lighting/faithful_light.cpp; not read here yet)
   uint shadowChannels; // offset 104: _shadow_channel_mask
-  uint pad2;
+  uint sunTable;       // offset 108: with LIGHT_FLAG_SUN_TABLE, the first of its directions in the bake's sun table
 };                 // 112 bytes
 
 // scene/gpu_structs.h GpuEmitter: one triangle of an emitting face, cdf by area.

@@ -260,8 +260,8 @@ bool closer(Hit hit, Hit best) {
 // then test their brushes together, where a loop that takes either step per iteration runs
 // both steps, masked, whenever its invocations differ (faster on llvmpipe: bench/README.md).
 //   anyHit = false: the closest hit in (tMin, tMax).
-//   anyHit = true: a shadow ray. The first brush entered from outside through a face with none
-//     of `passFlags` (faceFlags) ends the search; hits on faces with them, and exits from a
+//   anyHit = true: a shadow ray. The first brush entered from outside through a face that blocks
+//     it (blocksRay: none of the classes `passFlags` passes, on one of its channels) ends the search; hits on faces with them, and exits from a
 //     brush the ray starts in, are passed through. This is what the CPU integrator's occluded()
 //     finds by skipping from one closest hit to the next.
 // Every query of a shader goes through one call of this function: NVIDIA inlines each call
@@ -331,6 +331,12 @@ bool maskedOut(uint face, vec3 p) {
 #endif
 }
 
+// Whether a face (its word in faceFlags) blocks a ray of pass word `passFlags`: none of the classes
+// the ray passes, and one of the channels it is blocked on (scene_constants.glsl).
+bool blocksRay(uint flags, uint passFlags) {
+  return (flags & passFlags & FACE_CLASS_BITS) == 0u && (flags & passFlags & ~FACE_CLASS_BITS) != 0u;
+}
+
 Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   Hit best = Hit(r.tMax, NO_FACE, false);
 #ifdef BT_TRACE_SOFTWARE
@@ -372,7 +378,7 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
       Hit hit;
       if (!(inTriangles ? hitTriangle(r, rootPads.y, i, best.t, hit) : hitBrush(r, i, best.t, hit))) continue;
       if (anyHit) {
-        if (!hit.inside && (faceFlags[hit.face] & passFlags) == 0u && !maskedOut(hit.face, r.origin + r.dir * hit.t)) return hit;
+        if (!hit.inside && blocksRay(faceFlags[hit.face], passFlags) && !maskedOut(hit.face, r.origin + r.dir * hit.t)) return hit;
       } else if (closer(hit, best)) {
         best = hit;
       }

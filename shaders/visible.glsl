@@ -29,10 +29,18 @@ SurfaceHit traceVisible(vec3 origin, vec3 dir) {
   return SurfaceHit(false, 0.0, NO_FACE, vec3(0.0), vec3(0.0));
 }
 
-// The face classes light passes through (lighting blocksLight): hidden faces and liquids,
-// and in faithful mode brush entities without _shadow.
-uint lightPassFlags(bool physical) { return FACE_HIDDEN | FACE_LIQUID | (physical ? 0u : FACE_NO_SHADOW); }
-bool blocksLight(uint flags, bool physical) { return (flags & lightPassFlags(physical)) == 0u; }
+// The pass word (trace.glsl blocksRay) of a ray on lighting channels `channels` (lighting
+// blocksLight): light passes hidden faces and liquids, in faithful mode brush entities without
+// _shadow and faces on none of the ray's channels; physical mode knows no channels.
+uint shadowPassFlags(bool physical, uint channels) {
+  uint classes = FACE_HIDDEN | FACE_LIQUID | (physical ? 0u : FACE_NO_SHADOW);
+  return classes | (physical ? FACE_ANY_CHANNEL : (channels << FACE_CHANNEL_SHIFT) & FACE_CHANNEL_BITS);
+}
+// ... of the rays of suns, domes, dirt and every light on the default channel.
+uint lightPassFlags(bool physical) { return shadowPassFlags(physical, DEFAULT_CHANNELS); }
+bool blocksLight(uint flags, bool physical) { return blocksRay(flags, lightPassFlags(physical)); }
+// The channels a face is on (its object mask; RenderScene::faceChannels).
+uint faceChannels(uint face) { return (faceFlags[face] & FACE_CHANNEL_BITS) >> FACE_CHANNEL_SHIFT; }
 
 // Any blocker on the segment: one any-hit traversal, stopping at the first.
 bool occluded(vec3 origin, vec3 dir, float tMax, bool physical) {

@@ -15,7 +15,7 @@ struct WavefrontRay {
   vec3 dir;
   float tMax;
   uint anyHit;    // 1: a shadow ray (any hit)
-  uint passFlags; // FACE_* classes the traversal passes (visible.glsl lightPassFlags)
+  uint passFlags; // the traversal's pass word (visible.glsl shadowPassFlags)
   uint live;      // 0: the path has ended (or the pixel has none): nothing to trace or shade
 };
 

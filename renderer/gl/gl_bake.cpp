@@ -41,6 +41,8 @@ GlLightmapBake::GlLightmapBake(GlTracer& tracer, const LuxelBakeJob& job)
   sums_ = storage(nullptr, size_t(sampleCount_) * 4 * sizeof(glm::vec4));
   std::vector<glm::vec4> dome;
   for (const glm::vec3& d : faithful::skyDomeDirections()) dome.emplace_back(d, 0.0f);
+  domeSuns_ = int(dome.size());
+  for (const glm::vec3& d : job.sunTable) dome.emplace_back(d, 0.0f);
   dome_ = storage(dome.data(), dome.size() * sizeof(glm::vec4));
   tracer_.programs().bake(features_); // built now, not in the middle of the first pass
 }
@@ -59,6 +61,7 @@ void GlLightmapBake::dispatch(int firstPass, int passCount, uint32_t items) {
   BT_GL(glProgramUniform1i(id, 4, softSamples_));
   BT_GL(glProgramUniform1ui(id, 5, samplesPerLuxel_));
   BT_GL(glProgramUniform1ui(id, 6, seed_));
+  BT_GL(glProgramUniform1i(id, 8, domeSuns_));
   for (uint32_t first = 0; first < items; first += kItemsPerDispatch) {
     const uint32_t count = std::min(kItemsPerDispatch, items - first);
     BT_GL(glProgramUniform1ui(id, 0, first));

@@ -36,6 +36,7 @@ private:
   unsigned samples_ = 0, sums_ = 0, dome_ = 0;
   uint32_t sampleCount_ = 0, luxelCount_ = 0, samplesPerLuxel_ = 1;
   int softSamples_ = 1, passes_ = 1, done_ = 0;
+  int domeSuns_ = 0; // the dome's directions, before the penumbra suns' in the same buffer
   uint32_t seed_ = 0;
 };
 

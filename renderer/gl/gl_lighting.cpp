@@ -7,7 +7,8 @@ static_assert(uint32_t(Sky::Kind::QuakeLayers) == BT_SKY_QUAKE_LAYERS && uint32_
 
 GlLighting lightingFor(const RenderScene& rs) {
   GlLighting out;
-  out.faceFlags = rs.faceFlags;
+  out.faceFlags.resize(rs.faceFlags.size());
+  for (size_t f = 0; f < rs.faceFlags.size(); ++f) out.faceFlags[f] = gpuFaceWord(rs.faceFlags[f], objectChannels(rs, uint32_t(f)));
   // The CPU reference decides which materials are glossy or emissive; the GL tracer follows.
   out.materialFlags.reserve(rs.materials.size());
   for (const bt::GpuMaterial& m : rs.materials)

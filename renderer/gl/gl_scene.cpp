@@ -129,7 +129,7 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMat
                 "the slanted sides");
   makeTexelView(texelViews_[kTexelFaces - kTexelNodes], buffers_[kBindingFaces], GL_RGBA32F, tracer.faces().size_bytes(), 16, "the faces");
   std::vector<uint32_t> faceFlags = lighting.faceFlags;
-  faceFlags.resize(tracer.faces().size(), 0u);
+  faceFlags.resize(tracer.faces().size(), gpuFaceWord(0u, kDefaultChannels));
   upload(buffers_[kBindingFaceFlags], std::span<const uint32_t>(faceFlags));
   upload(buffers_[kBindingMaterials], std::span<const GlMaterial>(materials));
   upload(buffers_[kBindingLights], std::span<const GpuLight>(lighting.lights));

@@ -37,15 +37,18 @@ enum Binding : uint32_t {
   kBindingLightmaps = BT_BINDING_LIGHTMAPS, // faithful mode's baked luxels, packed (scene/gpu_structs.h; shaders/lightmaps.glsl)
   // The faithful bake (shaders/bake.comp, gl_bake.h) runs without the wavefront's buffers and
   // takes their points: drivers need offer only 16 storage blocks to a compute shader.
-  kBindingBakeSamples = BT_BINDING_BAKE_SAMPLES,  // GpuLuxelSample per sample point
-  kBindingBakeSums = BT_BINDING_BAKE_SUMS,        // 4 vec4 per sample point (lighting/faithful_light.h LuxelSums)
-  kBindingBakeSkyDome = BT_BINDING_BAKE_SKY_DOME, // vec4 per dome direction (lighting/faithful.h skyDomeDirections)
+  kBindingBakeSamples = BT_BINDING_BAKE_SAMPLES, // GpuLuxelSample per sample point
+  kBindingBakeSums = BT_BINDING_BAKE_SUMS,       // 4 vec4 per sample point (lighting/faithful_light.h LuxelSums)
+  // vec4 per direction: the dome's (lighting/faithful.h skyDomeDirections), then the penumbra
+  // suns' table (RenderScene::sunTable)
+  kBindingBakeSkyDome = BT_BINDING_BAKE_SKY_DOME,
 };
 
 // The brushes, slanted-side lists and faces are bvh/trace_scene.h's TraceScene arrays
 // (scene/gpu_structs.h GpuBrush, GpuFace), uploaded unchanged; the BVH nodes are GlBvhNodes made
-// from TraceScene's tree (below). The shaders read the face classes (kFace*) from a separate
-// per-face buffer, RenderScene::faceFlags.
+// from TraceScene's tree (below). The shaders read the face classes (kFace*) and lighting
+// channels from a separate per-face buffer, RenderScene::faceFlags and faceChannels packed by
+// gpuFaceWord.
 
 // The BVH as the GL traversal reads it, made from TraceScene::nodes() at upload (gl_scene.h
 // bvhForGl, linear time): one node per interior node of that tree, holding both children's boxes,

@@ -38,7 +38,7 @@ struct AovImages {
 // faces and materials, its light list and emitters, and the worldspawn lighting keys. The
 // render command fills it from lighting/render_scene.h's RenderScene, so both tracers light alike.
 struct GlLighting {
-  std::vector<uint32_t> faceFlags;     // per Scene face: scene/gpu_structs.h kFace*; empty = none
+  std::vector<uint32_t> faceFlags;     // per Scene face: scene/gpu_structs.h gpuFaceWord (kFace* and channels); empty = none
   std::vector<uint32_t> materialFlags; // per material: kMaterialGgx / kMaterialHasEmissive overrides; empty = from the images
   std::vector<GpuLight> lights;        // point lights, suns, domes
   LightGrid lightGrid;                 // lighting/light_grid.h's lists over `lights`; no cells = built on upload

@@ -10,6 +10,7 @@
 #include "tests/render/box_scene.h"
 #include "tests/test_data.h"
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -123,6 +124,51 @@ TEST(GlBake, GpuBakeStoresTheCpuLuxelsOfQ3map2Lights) {
   }
   EXPECT_GE(double(within), 0.999 * double(gpu.size()));
   EXPECT_GT(double(lit), 0.4 * double(gpu.size())) << "a dark bake proves nothing (the floor's sides and bottom are dark)";
+}
+
+// ericw-tools' suntest: a green light on lighting channel 2 (`_light_channel_mask 2`), which
+// lights only the func_wall on channels 1 and 2 (`_object_channel_mask 3`) and shines through the
+// world (channel 1), the func_wall casting the shadows of both channels. The GPU bake reads the
+// masks as the CPU's does: without them the green light lights the floor and walls around.
+TEST(GlBake, LightingChannelsGiveTheCpuLuxels) {
+  BT_REQUIRE_SHARED(shared);
+  const Scene scene = importScene((shared / "maps/ericw-tools/testmaps/deprecated/suntest.map").string(), ImportOptions{});
+  RenderSceneOptions sceneOptions;
+  sceneOptions.lights.styleZeroOnly = true;
+  Diagnostics diagnostics;
+  RenderScene rs = buildRenderScene(scene, sceneOptions, diagnostics);
+  ASSERT_FALSE(rs.faceChannels.empty()) << "suntest's func_wall is on channels 1 and 2";
+  // The faces within 320 units of the green light (56 568 -264): the func_wall, the floor and
+  // walls around it, which the light reaches only through the world.
+  std::vector<uint32_t> near;
+  for (uint32_t f = 0; f < scene.faces.size(); ++f)
+    for (const dvec3& v : scene.faces[f].winding)
+      if (glm::distance(glm::vec3(v), glm::vec3(56.0f, 568.0f, -264.0f)) < 320.0f) {
+        near.push_back(f);
+        break;
+      }
+  Lightmaps cpu = layoutLightmaps(rs, near);
+  ASSERT_GT(cpu.luxels.size(), 500u);
+  const LuxelBakeJob job = luxelBakeJob(rs, cpu, {});
+  bakeLightmaps(rs, cpu, {});
+
+  GlContext& context = test::sharedGlContext();
+  rs.lightmaps = cpu;
+  std::fill(rs.lightmaps.luxels.begin(), rs.lightmaps.luxels.end(), 0u);
+  GlTracer tracer(context, scene, rs.tracer, TextureMode::Arrays, lightingFor(rs));
+  GlLightmapBake bake(tracer, job);
+  bake.finish();
+  const std::vector<uint32_t> gpu = packedLuxels(tracer.readLightmaps(), cpu.luxels.size());
+  size_t within = 0, far = 0, green = 0;
+  for (size_t i = 0; i < gpu.size(); ++i) {
+    const int d = largestChannelDifference(gpu[i], cpu.luxels[i]);
+    within += d <= 1;
+    far += d > 8;
+    green += int((cpu.luxels[i] >> 8) & 255u) > int(cpu.luxels[i] & 255u) + 16;
+  }
+  EXPECT_GT(green, 20u) << "the green light lights the func_wall";
+  EXPECT_GE(double(within), 0.98 * double(gpu.size()));
+  EXPECT_LE(double(far), 0.002 * double(gpu.size())) << far << " of " << gpu.size() << " luxels more than 8 levels apart";
 }
 
 } // namespace

@@ -359,6 +359,27 @@ TEST(GlCpuParity, FaithfulDirtAgreesWithTheCpuReference) {
   }
 }
 
+// ericw-tools' suntest, evaluated at each pixel on both tracers: a green light on lighting
+// channel 2 lights only the func_wall on channels 1 and 2 (`_object_channel_mask 3`), through
+// the world (channel 1), and the func_wall shadows both channels; seen from above the wall.
+TEST(GlCpuParity, LightingChannelsAgreeWithTheCpuReference) {
+  BT_REQUIRE_SHARED(shared);
+  Level level;
+  level.scene = importScene((shared / "maps/ericw-tools/testmaps/deprecated/suntest.map").string(), ImportOptions{});
+  Diagnostics diagnostics;
+  level.render = buildRenderScene(level.scene, {}, diagnostics);
+  ASSERT_FALSE(level.render.faceChannels.empty());
+  level.pose = CameraPose{{48.0f, 400.0f, -200.0f}, 30.0f, 90.0f, 0.0f, "test"};
+  RenderSettings settings = beautySettings(LightingMode::Faithful, 5);
+  settings.spp = 2;
+  RenderImage cpu;
+  const RenderImage gpu = renderBoth(level.render, level.pose, settings, cpu);
+  expectBeautyAgrees(gpu, cpu, 0.01);
+  size_t green = 0;
+  for (const glm::vec3& c : cpu.beauty) green += c.g > 2.0f * c.r + 0.01f;
+  EXPECT_GT(green, cpu.beauty.size() / 100) << "the green light lights the func_wall in view";
+}
+
 // Faithful _bounce on both tracers: ericw-tools' deprecated/nobounce.map (worldspawn _bounce 1),
 // whose rooms are lit by a spotlight on a pillar and, everywhere else, by the bounce lights the
 // CPU made (lighting/bounce.h) and the GL tracer sums like its other lights.

@@ -131,7 +131,7 @@ std::vector<Member> lightMembers() {
           MEMBER(GpuLight, falloff),        MEMBER(GpuLight, anglescale),    MEMBER(GpuLight, cosInner),    MEMBER(GpuLight, deviance),
           MEMBER(GpuLight, flags),          MEMBER(GpuLight, faithfulScale), MEMBER(GpuLight, dirtScale),   MEMBER(GpuLight, dirtGain),
           MEMBER(GpuLight, dirtOffRadius),  MEMBER(GpuLight, dirtOnRadius),  MEMBER(GpuLight, skyMaterial), MEMBER(GpuLight, lightChannels),
-          MEMBER(GpuLight, shadowChannels), MEMBER(GpuLight, pad2)};
+          MEMBER(GpuLight, shadowChannels), MEMBER(GpuLight, sunTable)};
 }
 
 TEST(GlStructLayout, LightsAndSurfaceLightsAsTheShadersReadThem) {

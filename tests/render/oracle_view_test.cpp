@@ -26,18 +26,16 @@ using test::Bar;
 // the faithful-mode issue (14) stays open until this table is empty.
 //   testsurfacelight: its _surface points stand on faces split as a tree grown on that surface
 //     alone would split them, not on the compiler's own faces (lighting/README.md): qbsp's tree
-//     is grown over the whole level, so planes of brushes far from a surface cut it too.
-//   lqdm5: its sun's penumbra. The compiler's 64 directions are not noise: light.cc SetupSun
-//     takes the sun's own direction, then 63 jittered by glibc rand() from its default seed (no
-//     srand; nothing draws before it here), azimuth and elevation each uniform in ±penumbra, its
-//     rejection test comparing radians² with degrees² and so never rejecting. Those directions
-//     in the luxel passes (tried on the CPU alone) give luxels 90.1 % and views 89.6 / 87.0 /
-//     97.9 % within 5 % (from 84.8 / 82.3 / 85.9 / 94.9): the GL bake needs the same table
-//     (GlBake checks both agree on a penumbra), and the rest of the gap is still unexplained.
+//     is grown over the whole level, so planes of brushes far from a surface cut it too
+//     (surface_light_points_test.cpp holds how many of the points stand where the .bsp's do).
+//   lqdm5: its sun's penumbra is now the compiler's own 64 directions in both tracers
+//     (lighting/penumbra_suns.h: glibc rand() from its default seed, as SetupSun draws them),
+//     which took luxels from 84.8 to 90.1 % within 5 % and the views from 82.3 / 85.9 / 94.9 to
+//     89.6 / 87.0 / 97.9 %; held at the lowest of those. The rest of the gap is unexplained.
 const std::map<std::string, Bar>& knownGaps() {
   static const std::map<std::string, Bar> gaps = {
       {"ericw-tools_testmaps_deprecated_testsurfacelight", {0.13, 0.16}},
-      {"librequake_lq1_maps_src_dm_lqdm5", {0.02, 0.82}},
+      {"librequake_lq1_maps_src_dm_lqdm5", {0.02, 0.87}},
   };
   return gaps;
 }
