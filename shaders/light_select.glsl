@@ -154,3 +154,15 @@ SelectedLight selectPhysicalLight(vec3 origin, vec3 n, inout Rng rng) {
   s.found = s.pdf > 0.0;
   return s;
 }
+
+// Physical mode's emitter triangle for a uniform u: the first whose cumulative area share
+// (GpuEmitter::cdf) reaches u, by bisection.
+uint pickEmitter(float u) {
+  uint lo = 0u, hi = world.emitterCount - 1u;
+  while (lo < hi) {
+    uint mid = (lo + hi) / 2u;
+    if (emitters[mid].cdf < u) lo = mid + 1u;
+    else hi = mid;
+  }
+  return lo;
+}

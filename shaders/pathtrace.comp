@@ -65,16 +65,6 @@ vec3 emissiveAt(uint face, vec3 p) {
   return sampleEmissive(m, textureUv(face, p)).rgb;
 }
 
-uint pickEmitter(float u) {
-  uint lo = 0u, hi = world.emitterCount - 1u;
-  while (lo < hi) {
-    uint mid = (lo + hi) / 2u;
-    if (emitters[mid].cdf < u) lo = mid + 1u;
-    else hi = mid;
-  }
-  return lo;
-}
-
 #include "bsdf.glsl"
 
 vec3 emittedRadiance(uint face, vec3 p) {
