@@ -72,7 +72,7 @@ bool mergedIntoWorld(std::string_view classname) {
   return classname == "worldspawn" || classname == "func_group" || classname.starts_with("func_detail");
 }
 
-uint32_t classifyTexture(std::string_view texture, const std::optional<SurfaceAttributes>& surface) {
+uint32_t classifyTexture(std::string_view texture, const std::optional<SurfaceAttributes>& surface, Game game) {
   const std::string name = lowercase(texture);
   // The last path component: Quake 2/3 names carry folders ("e1u1/clip", "common/caulk").
   const std::string_view base = std::string_view(name).substr(name.find_last_of('/') + 1);
@@ -87,12 +87,14 @@ uint32_t classifyTexture(std::string_view texture, const std::optional<SurfaceAt
   if (base.starts_with("sky") || name.starts_with("skies/") || name.starts_with("textures/skies/")) flags |= kFaceSky;
   if (base.starts_with("*") || base.starts_with("!")) flags |= kFaceLiquid;
   if (surface) {
-    // Quake 2's bits; Quake 3's surfaceparms share them (quake/bspfile_q3.h).
+    // Quake 2's bits; Quake 3's surfaceparms share them (quake/bspfile_q3.h) but for 0x8, which
+    // is Quake 3's SURF_LADDER: a ladder is no liquid.
     using namespace quake::q2;
+    const bool warp = game != Game::Quake3 && (surface->flags & SURF_WARP);
     if (surface->flags & (SURF_NODRAW | SURF_HINT | SURF_SKIP)) flags |= kFaceHidden;
     if (surface->contents & MASK_CLIP) flags |= kFaceHidden;
     if (surface->flags & SURF_SKY) flags |= kFaceSky;
-    if ((surface->flags & SURF_WARP) || (surface->contents & MASK_LIQUID)) flags |= kFaceLiquid;
+    if (warp || (surface->contents & MASK_LIQUID)) flags |= kFaceLiquid;
   }
   if (flags & kFaceSky) flags &= ~kFaceHidden; // "common/sky" style names stay visible as sky
   return flags;
@@ -100,12 +102,13 @@ uint32_t classifyTexture(std::string_view texture, const std::optional<SurfaceAt
 
 std::vector<BrushContents> brushContents(const Scene& scene) {
   std::vector<BrushContents> contents(scene.brushes.size(), BrushContents::Empty);
+  const Game game = gameOf(scene);
   for (size_t b = 0; b < scene.brushes.size(); ++b) {
     const Brush& brush = scene.brushes[b];
     if (brush.entity >= scene.entities.size() || !mergedIntoWorld(scene.entities[brush.entity].classname())) continue;
     uint32_t classes = 0;
     for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
-      classes |= classifyTexture(scene.faces[f].texture, scene.faces[f].surface);
+      classes |= classifyTexture(scene.faces[f].texture, scene.faces[f].surface, game);
     if (classes & kFaceHidden) continue;
     contents[b] = (classes & kFaceLiquid) ? BrushContents::Liquid : BrushContents::Solid;
   }
@@ -182,7 +185,7 @@ void classifyFaces(RenderScene& rs, const RenderSceneOptions& options) {
   for (size_t i = 0; i < scene.faces.size(); ++i) {
     const Face& f = scene.faces[i];
     uint32_t& flags = rs.faceFlags[i];
-    flags = classifyTexture(f.texture, f.surface) | materialMasks[f.material];
+    flags = classifyTexture(f.texture, f.surface, game) | materialMasks[f.material];
     if (game == Game::Quake2 && f.surface) flags = quake2DrawnAs(flags, *f.surface);
     {
       const uint32_t e = scene.faceEntity(uint32_t(i)); // a brush's or a mesh's

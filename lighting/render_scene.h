@@ -5,6 +5,7 @@
 
 #include "bvh/trace_scene.h"
 #include "scene/gpu_structs.h"
+#include "lighting/game_rules.h"
 #include "lighting/light_grid.h"
 #include "lighting/lightmaps.h"
 #include "lighting/lights.h"
@@ -72,7 +73,8 @@ std::vector<BrushContents> brushContents(const Scene& scene);
 // cast shadows in `light`; the others are models of their own.
 bool mergedIntoWorld(std::string_view classname);
 
-// Face classification from a texture name and its Q2/Q3 surface attributes.
-uint32_t classifyTexture(std::string_view texture, const std::optional<SurfaceAttributes>& surface);
+// Face classification from a texture name and its Q2/Q3 surface attributes, read as `game`
+// reads them (the games share the bits but Quake 3's SURF_LADDER, Quake 2's SURF_WARP).
+uint32_t classifyTexture(std::string_view texture, const std::optional<SurfaceAttributes>& surface, Game game);
 
 } // namespace bt

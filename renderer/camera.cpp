@@ -160,12 +160,12 @@ std::vector<bool> undrawnFaces(const Scene& scene) {
   for (const Brush& brush : scene.brushes) {
     const bool entityHidden = brush.entity < scene.entities.size() && gameHidesEntity(scene.entities[brush.entity], game);
     for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
-      hidden[f] = entityHidden || (classifyTexture(scene.faces[f].texture, scene.faces[f].surface) & kFaceHidden);
+      hidden[f] = entityHidden || (classifyTexture(scene.faces[f].texture, scene.faces[f].surface, game) & kFaceHidden);
   }
   for (const Mesh& mesh : scene.meshes) {
     const bool entityHidden = mesh.entity < scene.entities.size() && gameHidesEntity(scene.entities[mesh.entity], game);
     for (uint32_t f = mesh.firstFace; f < mesh.firstFace + mesh.faceCount; ++f)
-      hidden[f] = entityHidden || (classifyTexture(scene.faces[f].texture, scene.faces[f].surface) & kFaceHidden);
+      hidden[f] = entityHidden || (classifyTexture(scene.faces[f].texture, scene.faces[f].surface, game) & kFaceHidden);
   }
   return hidden;
 }

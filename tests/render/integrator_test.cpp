@@ -267,6 +267,34 @@ TEST(FaithfulRender, LiquidsAreFullbrightUnlessLitwater) {
   }
 }
 
+// Bit 0x8 of a face's surface flags is Quake 2's SURF_WARP (water, slime, lava: drawn unlit at the
+// texture's colour without _litwater) but Quake 3's SURF_LADDER: a Quake 3 ladder is lit like any
+// floor, where the same bit in a Quake 2 level makes the floor a liquid.
+TEST(FaithfulRender, Bit8IsAQuake2LiquidButAQuake3Ladder) {
+  auto floorSeen = [](const char* game, std::optional<SurfaceAttributes> surface) {
+    test::BoxSceneBuilder b;
+    b.material("floor", 100, 100, 100);
+    b.box({-512, -512, -16}, {512, 512, 0}, "floor");
+    b.entity({{"classname", "light"}, {"origin", "0 0 50"}, {"light", "50"}, {"delay", "3"}});
+    Scene scene = b.build();
+    scene.game = game;
+    for (Face& face : scene.faces) face.surface = surface;
+    Diagnostics diags;
+    const RenderScene rs = buildRenderScene(scene, {}, diags);
+    Rng rng = pixelRng(0, 0, 0, 0);
+    return linearToSrgb(radiance(rs, {LightingMode::Faithful, 0}, downAt(0, 0), rng).x);
+  };
+  const SurfaceAttributes bit8{0, 0x8, 0.0};
+  const float texel = 100.0f / 255.0f;
+  const float quake3Floor = floorSeen("quake3", std::nullopt);
+  EXPECT_NEAR(quake3Floor, texel * 50.0f * 0.5f / 128.0f, 1e-3f); // lit, far darker than the texel
+  EXPECT_EQ(floorSeen("quake3", bit8), quake3Floor);
+  EXPECT_NEAR(floorSeen("quake2", bit8), texel, 1e-3f);
+  EXPECT_EQ(classifyTexture("textures/base/ladder", bit8, Game::Quake3), 0u);
+  EXPECT_EQ(classifyTexture("e1u1/water", bit8, Game::Quake2), kFaceLiquid);
+  EXPECT_EQ(classifyTexture("textures/liquids/water", SurfaceAttributes{0x20, 0, 0.0}, Game::Quake3), kFaceLiquid);
+}
+
 // ericw-tools lights a lit liquid from both sides (ltface.cc "twosided"): a light under the
 // surface counts at |cos|, where any other face ignores a light behind it.
 TEST(FaithfulRender, LitLiquidsTakeLightFromBelowToo) {
@@ -474,16 +502,16 @@ TEST(Tracing, HiddenFacesAreSkippedAndBlockNothing) {
 }
 
 TEST(Tracing, TextureNamesClassify) {
-  EXPECT_EQ(classifyTexture("CLIP", std::nullopt), kFaceHidden);
-  EXPECT_EQ(classifyTexture("trigger", std::nullopt), kFaceHidden);
-  EXPECT_EQ(classifyTexture("e1u1/skip", std::nullopt), kFaceHidden);
-  EXPECT_EQ(classifyTexture("common/caulk", std::nullopt), kFaceHidden);
-  EXPECT_EQ(classifyTexture("sky4", std::nullopt), kFaceSky);
-  EXPECT_EQ(classifyTexture("*lava1", std::nullopt), kFaceLiquid);
-  EXPECT_EQ(classifyTexture("!water", std::nullopt), kFaceLiquid);
-  EXPECT_EQ(classifyTexture("wbrick1_5", std::nullopt), 0u);
-  EXPECT_EQ(classifyTexture("e1u1/floor", SurfaceAttributes{32, 0, 0.0}), kFaceLiquid); // Q2 water contents
-  EXPECT_EQ(classifyTexture("e1u1/sky1", SurfaceAttributes{0, 4, 0.0}), kFaceSky);
+  EXPECT_EQ(classifyTexture("CLIP", std::nullopt, Game::Quake), kFaceHidden);
+  EXPECT_EQ(classifyTexture("trigger", std::nullopt, Game::Quake), kFaceHidden);
+  EXPECT_EQ(classifyTexture("e1u1/skip", std::nullopt, Game::Quake), kFaceHidden);
+  EXPECT_EQ(classifyTexture("common/caulk", std::nullopt, Game::Quake), kFaceHidden);
+  EXPECT_EQ(classifyTexture("sky4", std::nullopt, Game::Quake), kFaceSky);
+  EXPECT_EQ(classifyTexture("*lava1", std::nullopt, Game::Quake), kFaceLiquid);
+  EXPECT_EQ(classifyTexture("!water", std::nullopt, Game::Quake), kFaceLiquid);
+  EXPECT_EQ(classifyTexture("wbrick1_5", std::nullopt, Game::Quake), 0u);
+  EXPECT_EQ(classifyTexture("e1u1/floor", SurfaceAttributes{32, 0, 0.0}, Game::Quake2), kFaceLiquid); // Q2 water contents
+  EXPECT_EQ(classifyTexture("e1u1/sky1", SurfaceAttributes{0, 4, 0.0}, Game::Quake2), kFaceSky);
 }
 
 } // namespace

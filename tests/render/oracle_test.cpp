@@ -166,7 +166,7 @@ OracleResult compareWithCompiler(const std::filesystem::path& bspPath, const std
     if (auto material = scene.findMaterial(texture); material && *material < rs.surfaceLights.size())
       lit.faceMinlight = faithful::surfaceFaceMinlight(rs.surfaceLights[*material]);
     // A lit liquid face takes light from both sides, as the renderer lights kFaceLiquid faces.
-    lit.twoSided = classifyTexture(texture, std::nullopt) & kFaceLiquid;
+    lit.twoSided = classifyTexture(texture, std::nullopt, Game::Quake) & kFaceLiquid;
     faces.push_back(lit);
   }
 
