@@ -56,6 +56,19 @@ int largestChannelDifference(uint32_t a, uint32_t b) {
   return largest;
 }
 
+// Bakes `cpu`'s luxels on the CPU (left in `cpu`) and the same job on the GPU into an empty
+// atlas, with default options; returns the GPU's luxels.
+std::vector<uint32_t> bakeOnBoth(const Scene& scene, RenderScene& rs, Lightmaps& cpu) {
+  const LuxelBakeJob job = luxelBakeJob(rs, cpu, {});
+  bakeLightmaps(rs, cpu, {});
+  rs.lightmaps = cpu;
+  std::fill(rs.lightmaps.luxels.begin(), rs.lightmaps.luxels.end(), 0u); // the GPU must fill them
+  GlTracer tracer(test::sharedGlContext(), scene, rs.tracer, TextureMode::Arrays, lightingFor(rs));
+  GlLightmapBake bake(tracer, job);
+  bake.finish();
+  return packedLuxels(tracer.readLightmaps(), cpu.luxels.size());
+}
+
 TEST(GlBake, GpuBakeStoresTheCpuLuxels) {
   const Scene scene = courtyard();
   Diagnostics diagnostics;
@@ -107,16 +120,7 @@ TEST(GlBake, GpuBakeStoresTheCpuLuxelsOfQ3map2Lights) {
   RenderScene rs = buildRenderScene(scene, {}, diagnostics);
   Lightmaps cpu = layoutLightmaps(rs);
   ASSERT_GT(cpu.luxels.size(), 1000u);
-  const LuxelBakeJob job = luxelBakeJob(rs, cpu, {});
-  bakeLightmaps(rs, cpu, {});
-
-  GlContext& context = test::sharedGlContext();
-  rs.lightmaps = cpu;
-  std::fill(rs.lightmaps.luxels.begin(), rs.lightmaps.luxels.end(), 0u);
-  GlTracer tracer(context, scene, rs.tracer, TextureMode::Arrays, lightingFor(rs));
-  GlLightmapBake bake(tracer, job);
-  bake.finish();
-  const std::vector<uint32_t> gpu = packedLuxels(tracer.readLightmaps(), cpu.luxels.size());
+  const std::vector<uint32_t> gpu = bakeOnBoth(scene, rs, cpu);
   size_t within = 0, lit = 0;
   for (size_t i = 0; i < gpu.size(); ++i) {
     within += largestChannelDifference(gpu[i], cpu.luxels[i]) <= 1;
@@ -149,16 +153,7 @@ TEST(GlBake, LightingChannelsGiveTheCpuLuxels) {
       }
   Lightmaps cpu = layoutLightmaps(rs, near);
   ASSERT_GT(cpu.luxels.size(), 500u);
-  const LuxelBakeJob job = luxelBakeJob(rs, cpu, {});
-  bakeLightmaps(rs, cpu, {});
-
-  GlContext& context = test::sharedGlContext();
-  rs.lightmaps = cpu;
-  std::fill(rs.lightmaps.luxels.begin(), rs.lightmaps.luxels.end(), 0u);
-  GlTracer tracer(context, scene, rs.tracer, TextureMode::Arrays, lightingFor(rs));
-  GlLightmapBake bake(tracer, job);
-  bake.finish();
-  const std::vector<uint32_t> gpu = packedLuxels(tracer.readLightmaps(), cpu.luxels.size());
+  const std::vector<uint32_t> gpu = bakeOnBoth(scene, rs, cpu);
   size_t within = 0, far = 0, green = 0;
   for (size_t i = 0; i < gpu.size(); ++i) {
     const int d = largestChannelDifference(gpu[i], cpu.luxels[i]);
