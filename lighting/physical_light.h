@@ -54,18 +54,22 @@ inline float matchDistance(const GpuLight& light, float scaledist) {
 
 // Intensity in light units x distance^2: intensity / d^2 x window(d) at the match distance
 // equals the compiler's light there, head-on (before `_range` and the physical unit).
-inline float intensity(const GpuLight& light, float scaledist) {
-  const float d = matchDistance(light, scaledist), r = reach(light, scaledist);
+// `r`: reach(light, scaledist), which the caller may have at hand.
+inline float intensity(const GpuLight& light, float scaledist, float r) {
+  const float d = matchDistance(light, scaledist);
   const float compiled = faithful::copyDistanceValue(light, d, scaledist);
   const float w = std::isfinite(r) ? window(d, r) : 1.0f;
   return w > 0.0f ? compiled * d * d / w : 0.0f;
+}
+inline float intensity(const GpuLight& light, float scaledist) {
+  return intensity(light, scaledist, reach(light, scaledist));
 }
 
 // The light's windowed irradiance factor at distance `dist`: intensity x window / dist^2.
 inline float falloff(const GpuLight& light, float scaledist, float dist2) {
   const float r = reach(light, scaledist);
   const float w = std::isfinite(r) ? window(std::sqrt(dist2), r) : 1.0f;
-  return intensity(light, scaledist) * w / dist2;
+  return intensity(light, scaledist, r) * w / dist2;
 }
 
 } // namespace bt::physical

@@ -76,8 +76,8 @@ float physicalWindow(float dist, float reach) {
   return w * w;
 }
 
-float physicalIntensity(GpuLight light, float scaledist) {
-  float r = physicalReach(light, scaledist);
+// r: physicalReach(light, scaledist)
+float physicalIntensity(GpuLight light, float scaledist, float r) {
   float d = FORMULA_SCALE / max(scaledist * light.atten, 1e-6);
   if (light.formula == FORMULA_LINEAR || light.formula == FORMULA_Q3_LINEAR) d = 0.5 * r;
   if (light.formula == FORMULA_Q3_POINT) d = min(FORMULA_SCALE, 0.5 * r);
@@ -89,7 +89,7 @@ float physicalIntensity(GpuLight light, float scaledist) {
 float physicalFalloff(GpuLight light, float scaledist, float dist2) {
   float r = physicalReach(light, scaledist);
   float w = r < PHYSICAL_NO_REACH ? physicalWindow(sqrt(dist2), r) : 1.0;
-  return physicalIntensity(light, scaledist) * w / dist2;
+  return physicalIntensity(light, scaledist, r) * w / dist2;
 }
 
 // integrator.cpp selectionWeight: unshadowed irradiance on the surface plane, channels summed.
