@@ -1,6 +1,7 @@
 #include "lighting/bounce.h"
 
 #include "lighting/faithful_light.h"
+#include "lighting/physical_light.h"
 #include "quake/entity_keys.h"
 #include "scene/parallel_for.h"
 #include "scene/winding.h"
@@ -331,6 +332,7 @@ BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushCont
   }
   out.madeLights = out.lights.size();
   out.lights = clusterBounceLights(out.lights, rs.tracer.bounds(), budget.renderLights);
+  for (GpuLight& l : out.lights) physical::prepare(l, rs.world.scaledist); // as every light of a RenderScene
   return out;
 }
 

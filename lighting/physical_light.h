@@ -65,11 +65,20 @@ inline float intensity(const GpuLight& light, float scaledist) {
   return intensity(light, scaledist, reach(light, scaledist));
 }
 
-// The light's windowed irradiance factor at distance `dist`: intensity x window / dist^2.
-inline float falloff(const GpuLight& light, float scaledist, float dist2) {
+// Stores the light's intensity and 1 / reach in it (GpuLight::physical*): the tracers' light
+// loops read them instead of deriving both per sample. buildRenderScene prepares every light.
+inline void prepare(GpuLight& light, float scaledist) {
   const float r = reach(light, scaledist);
-  const float w = std::isfinite(r) ? window(std::sqrt(dist2), r) : 1.0f;
-  return intensity(light, scaledist, r) * w / dist2;
+  light.physicalIntensity = intensity(light, scaledist, r);
+  light.physicalInvReach = std::isfinite(r) && r > 0.0f ? 1.0f / r : 0.0f;
+}
+
+// The prepared light's windowed irradiance factor at squared distance dist2: intensity x
+// window / dist^2, the window as window() with x = dist / reach (1 everywhere for 1 / reach 0).
+inline float falloff(const GpuLight& light, float dist2) {
+  const float x2 = dist2 * light.physicalInvReach * light.physicalInvReach;
+  const float w = std::clamp(1.0f - x2 * x2, 0.0f, 1.0f);
+  return light.physicalIntensity * (w * w) / dist2;
 }
 
 } // namespace bt::physical

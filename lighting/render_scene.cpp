@@ -1,6 +1,7 @@
 #include "lighting/render_scene.h"
 #include "lighting/bounce.h"
 #include "lighting/game_rules.h"
+#include "lighting/physical_light.h"
 #include "lighting/surface_lights.h"
 #include "quake/bspfile_q2.h"
 #include "quake/entity_keys.h"
@@ -294,8 +295,9 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   // tracer (the compiler drops template faces that look into the void).
   for (const GpuLight& l : spreadSurfaceLights(scene, lights.surfaceTemplates, contents, rs.world, rs.tracer, diagnostics))
     rs.lights.push_back(l);
+  for (GpuLight& l : rs.lights) physical::prepare(l, rs.world.scaledist);
   rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
-  if (rs.world.bounces > 0 && options.bounceLights) addBounceLights(rs, contents, diagnostics);
+  if (rs.world.bounces > 0 && options.bounceLights) addBounceLights(rs, contents, diagnostics); // prepared too
   return rs;
 }
 

@@ -218,8 +218,14 @@ struct GpuLight {
   // With kLightFlagSunTable (a sun with a penumbra): where its kSunSamples directions begin in
   // RenderScene::sunTable, the compiler's own suns (lighting/penumbra_suns.h).
   uint32_t sunTable = 0;
+  // Physical mode's windowed inverse-square light (lighting/physical_light.h), set once per light
+  // by physical::prepare so that the tracers' light loops do not re-derive it per sample:
+  // intensity in light units x distance^2, and 1 / the light's reach (0: it never ends).
+  float physicalIntensity = 0.0f;
+  float physicalInvReach = 0.0f;
+  uint32_t pad[2] = {0, 0}; // zero: 128 bytes, so that no light straddles a 128-byte cache line
 };
-static_assert(sizeof(GpuLight) == 112);
+static_assert(sizeof(GpuLight) == 128);
 static_assert(offsetof(GpuLight, origin) == 0);
 static_assert(offsetof(GpuLight, type) == 12);
 static_assert(offsetof(GpuLight, color) == 16);
@@ -242,6 +248,8 @@ static_assert(offsetof(GpuLight, skyMaterial) == 96);
 static_assert(offsetof(GpuLight, lightChannels) == 100);
 static_assert(offsetof(GpuLight, shadowChannels) == 104);
 static_assert(offsetof(GpuLight, sunTable) == 108);
+static_assert(offsetof(GpuLight, physicalIntensity) == 112);
+static_assert(offsetof(GpuLight, physicalInvReach) == 116);
 
 constexpr uint32_t kLightFlagStartOff = BT_LIGHT_FLAG_START_OFF; // spawnflags & 1 on a styled light: dark by default
 constexpr uint32_t kLightFlagBleed = BT_LIGHT_FLAG_BLEED;        // `_bleed`: lights surfaces behind it too

@@ -55,41 +55,12 @@ uint faithfulLight(uint cell, uint k) {
   return lightIndices[lightCells[cell].first + k - lightGrid.globalCount];
 }
 
-// lighting/physical_light.h in GLSL: a physical point light's windowed inverse-square falloff,
-// matched to the compiled light. Needs faithful.glsl (copyDistanceValue).
-const float PHYSICAL_REACH_THRESHOLD = BT_PHYSICAL_REACH_THRESHOLD;
-const float PHYSICAL_NO_REACH = 3.0e38; // delay 3: never falls off
-
-float physicalReach(GpuLight light, float scaledist) {
-  float s = max(scaledist * light.atten, 1e-6), value = abs(light.value);
-  if (light.formula == FORMULA_LINEAR) return light.falloff > 0.0 ? light.falloff : value / s;
-  if (light.formula == FORMULA_INVERSE) return value / PHYSICAL_REACH_THRESHOLD * FORMULA_SCALE / s;
-  if (light.formula == FORMULA_INVERSE2) return sqrt(value / PHYSICAL_REACH_THRESHOLD) * FORMULA_SCALE / s;
-  if (light.formula == FORMULA_INVERSE2A) return max(sqrt(value / PHYSICAL_REACH_THRESHOLD) - 1.0, 0.0) * FORMULA_SCALE / s;
-  if (light.formula == FORMULA_Q3_POINT || light.formula == FORMULA_Q3_LINEAR) return light.falloff;
-  return PHYSICAL_NO_REACH;
-}
-
-float physicalWindow(float dist, float reach) {
-  float x = dist / reach, x2 = x * x;
+// lighting/physical_light.h falloff: the prepared light's windowed inverse-square falloff,
+// intensity x window / dist^2 (GpuLight::physicalIntensity, physicalInvReach, set on the CPU).
+float physicalFalloff(GpuLight light, float dist2) {
+  float x2 = dist2 * light.physicalInvReach * light.physicalInvReach;
   float w = clamp(1.0 - x2 * x2, 0.0, 1.0);
-  return w * w;
-}
-
-// r: physicalReach(light, scaledist)
-float physicalIntensity(GpuLight light, float scaledist, float r) {
-  float d = FORMULA_SCALE / max(scaledist * light.atten, 1e-6);
-  if (light.formula == FORMULA_LINEAR || light.formula == FORMULA_Q3_LINEAR) d = 0.5 * r;
-  if (light.formula == FORMULA_Q3_POINT) d = min(FORMULA_SCALE, 0.5 * r);
-  float w = r < PHYSICAL_NO_REACH ? physicalWindow(d, r) : 1.0;
-  return w > 0.0 ? copyDistanceValue(light, d, scaledist) * d * d / w : 0.0;
-}
-
-// intensity x window / dist^2
-float physicalFalloff(GpuLight light, float scaledist, float dist2) {
-  float r = physicalReach(light, scaledist);
-  float w = r < PHYSICAL_NO_REACH ? physicalWindow(sqrt(dist2), r) : 1.0;
-  return physicalIntensity(light, scaledist, r) * w / dist2;
+  return light.physicalIntensity * (w * w) / dist2;
 }
 
 // integrator.cpp selectionWeight: unshadowed irradiance on the surface plane, channels summed.
@@ -100,7 +71,7 @@ float selectionWeight(GpuLight light, vec3 origin, vec3 n) {
   vec3 wi = d / sqrt(dist2);
   float cosSurface = dot(n, wi);
   if (cosSurface <= 0.0) return 0.0;
-  return (light.color.x + light.color.y + light.color.z) * physicalFalloff(light, world.scaledist, dist2) * spotTerm(light, wi) * cosSurface;
+  return (light.color.x + light.color.y + light.color.z) * physicalFalloff(light, dist2) * spotTerm(light, wi) * cosSurface;
 }
 
 const float NEAR_LIST_PROBABILITY = BT_NEAR_LIST_PROBABILITY;

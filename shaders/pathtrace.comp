@@ -401,7 +401,7 @@ bool physicalSelectedLightRay(inout Path path, inout Rng rng) {
   vec3 f = bsdfEval(path.bsdf, n, path.wo, wi, pdf);
   float cone = spotTerm(light, wi);
   if (pdf == 0.0 || cone == 0.0) return false;
-  vec3 irradiance = light.color * physicalFalloff(light, world.scaledist, dist2) * world.range * PHYSICAL_POINT_SCALE * cone;
+  vec3 irradiance = light.color * physicalFalloff(light, dist2) * world.range * PHYSICAL_POINT_SCALE * cone;
   setRay(path, RAY_SHADOW, origin, wi, dist);
   path.pending = f * irradiance * dot(path.bsdf.n, wi) / chosen.pdf;
   return true;

@@ -123,7 +123,9 @@ struct GpuLight {
   uint lightChannels;  // offset 100: _light_channel_mask (lighting/faithful_light.cpp; not read here yet)
   uint shadowChannels; // offset 104: _shadow_channel_mask
   uint sunTable;       // offset 108: with LIGHT_FLAG_SUN_TABLE, the first of its directions in the bake's sun table
-};                 // 112 bytes
+  float physicalIntensity; // offset 112: lighting/physical_light.h prepare
+  float physicalInvReach;  // offset 116: 0 = never ends
+};                 // 128 bytes: std430 rounds the array stride up to the vec3s' 16-byte alignment
 
 // scene/gpu_structs.h GpuEmitter: one triangle of an emitting face, cdf by area.
 struct GpuEmitter {

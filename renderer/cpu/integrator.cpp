@@ -228,23 +228,21 @@ glm::vec3 pointLightUnshadowed(const RenderScene& rs, const Bsdf& bsdf, const Gp
   const glm::vec3 f = bsdfEval(bsdf, ng, wo, wi, pdf);
   const float cone = faithful::spotTerm(light, wi);
   if (pdf == 0.0f || cone == 0.0f) return glm::vec3(0.0f);
-  const glm::vec3 irradiance =
-      light.color * physical::falloff(light, rs.world.scaledist, dist2) * rs.world.range * kPhysicalPointScale * cone;
+  const glm::vec3 irradiance = light.color * physical::falloff(light, dist2) * rs.world.range * kPhysicalPointScale * cone;
   return f * irradiance * glm::dot(bsdf.n, wi);
 }
 
 // How likely light selection picks a point light from the near list: its unshadowed
 // irradiance at `origin` on the plane of shading normal n, summed over colour channels (at the
 // light's own origin: the pick does not depend on the _deviance jitter).
-float selectionWeight(const GpuLight& light, const glm::vec3& origin, const glm::vec3& n, float scaledist) {
+float selectionWeight(const GpuLight& light, const glm::vec3& origin, const glm::vec3& n) {
   const glm::vec3 d = light.origin - origin;
   const float dist2 = glm::dot(d, d);
   if (!(dist2 > 0.0f)) return 0.0f;
   const glm::vec3 wi = d / std::sqrt(dist2);
   const float cosSurface = glm::dot(n, wi);
   if (cosSurface <= 0.0f) return 0.0f;
-  return (light.color.x + light.color.y + light.color.z) * physical::falloff(light, scaledist, dist2) * faithful::spotTerm(light, wi) *
-      cosSurface;
+  return (light.color.x + light.color.y + light.color.z) * physical::falloff(light, dist2) * faithful::spotTerm(light, wi) * cosSurface;
 }
 
 glm::vec3 sunContribution(const RenderScene& rs, const Bsdf& bsdf, const GpuLight& light, const glm::vec3& origin, const glm::vec3& ng,
@@ -305,7 +303,7 @@ glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::
   const std::span<const uint32_t> all = rs.lightGrid.physicalLights();
   const std::span<const uint32_t> near = rs.lightGrid.physicalNearLights(origin);
   float nearTotal = 0.0f;
-  for (uint32_t i : near) nearTotal += selectionWeight(rs.lights[i], origin, n, rs.world.scaledist);
+  for (uint32_t i : near) nearTotal += selectionWeight(rs.lights[i], origin, n);
   const float uStrategy = rng.next(), uPick = rng.next();
   if (all.empty()) return l;
   const float nearProbability = nearTotal > 0.0f ? kNearListProbability : 0.0f;
@@ -318,7 +316,7 @@ glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::
     const float target = uPick * nearTotal;
     float cumulative = 0.0f;
     for (uint32_t i : near) {
-      const float w = selectionWeight(rs.lights[i], origin, n, rs.world.scaledist);
+      const float w = selectionWeight(rs.lights[i], origin, n);
       if (w <= 0.0f) continue;
       chosen = i, chosenWeight = w;
       cumulative += w;
@@ -327,7 +325,7 @@ glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::
   } else {
     chosen = all[std::min(uint32_t(uPick * float(all.size())), uint32_t(all.size()) - 1)];
     for (uint32_t i : near)
-      if (i == chosen) chosenWeight = selectionWeight(rs.lights[i], origin, n, rs.world.scaledist);
+      if (i == chosen) chosenWeight = selectionWeight(rs.lights[i], origin, n);
   }
   const float pdf =
       (nearProbability > 0.0f ? nearProbability * chosenWeight / nearTotal : 0.0f) + (1.0f - nearProbability) / float(all.size());

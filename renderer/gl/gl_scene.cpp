@@ -1,5 +1,6 @@
 #include "renderer/gl/gl_scene.h"
 
+#include "lighting/physical_light.h"
 #include "renderer/gl/gl_error.h"
 #include "renderer/gl/gl_tracer.h"
 
@@ -132,7 +133,11 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMat
   faceFlags.resize(tracer.faces().size(), gpuFaceWord(0u, kDefaultChannels));
   upload(buffers_[kBindingFaceFlags], std::span<const uint32_t>(faceFlags));
   upload(buffers_[kBindingMaterials], std::span<const GlMaterial>(materials));
-  upload(buffers_[kBindingLights], std::span<const GpuLight>(lighting.lights));
+  // buildRenderScene prepares its lights' physical terms; lights listed by hand (tests, tool
+  // authors) get them here. Preparing twice gives the same bytes.
+  std::vector<GpuLight> lights = lighting.lights;
+  for (GpuLight& l : lights) physical::prepare(l, lighting.scaledist);
+  upload(buffers_[kBindingLights], std::span<const GpuLight>(lights));
   // One template per material, so the shader indexes it by a face's material; value 0 = none.
   std::vector<GpuLight> surfaceLights = lighting.surfaceLights;
   surfaceLights.resize(std::max(surfaceLights.size(), materialCount), GpuLight{.value = 0.0f});

@@ -126,12 +126,30 @@ TEST(GlStructLayout, MaterialsAsTheShadersReadThem) {
 }
 
 std::vector<Member> lightMembers() {
-  return {MEMBER(GpuLight, origin),         MEMBER(GpuLight, type),          MEMBER(GpuLight, color),       MEMBER(GpuLight, value),
-          MEMBER(GpuLight, direction),      MEMBER(GpuLight, cosOuter),      MEMBER(GpuLight, formula),     MEMBER(GpuLight, atten),
-          MEMBER(GpuLight, falloff),        MEMBER(GpuLight, anglescale),    MEMBER(GpuLight, cosInner),    MEMBER(GpuLight, deviance),
-          MEMBER(GpuLight, flags),          MEMBER(GpuLight, faithfulScale), MEMBER(GpuLight, dirtScale),   MEMBER(GpuLight, dirtGain),
-          MEMBER(GpuLight, dirtOffRadius),  MEMBER(GpuLight, dirtOnRadius),  MEMBER(GpuLight, skyMaterial), MEMBER(GpuLight, lightChannels),
-          MEMBER(GpuLight, shadowChannels), MEMBER(GpuLight, sunTable)};
+  return {MEMBER(GpuLight, origin),
+          MEMBER(GpuLight, type),
+          MEMBER(GpuLight, color),
+          MEMBER(GpuLight, value),
+          MEMBER(GpuLight, direction),
+          MEMBER(GpuLight, cosOuter),
+          MEMBER(GpuLight, formula),
+          MEMBER(GpuLight, atten),
+          MEMBER(GpuLight, falloff),
+          MEMBER(GpuLight, anglescale),
+          MEMBER(GpuLight, cosInner),
+          MEMBER(GpuLight, deviance),
+          MEMBER(GpuLight, flags),
+          MEMBER(GpuLight, faithfulScale),
+          MEMBER(GpuLight, dirtScale),
+          MEMBER(GpuLight, dirtGain),
+          MEMBER(GpuLight, dirtOffRadius),
+          MEMBER(GpuLight, dirtOnRadius),
+          MEMBER(GpuLight, skyMaterial),
+          MEMBER(GpuLight, lightChannels),
+          MEMBER(GpuLight, shadowChannels),
+          MEMBER(GpuLight, sunTable),
+          MEMBER(GpuLight, physicalIntensity),
+          MEMBER(GpuLight, physicalInvReach)};
 }
 
 TEST(GlStructLayout, LightsAndSurfaceLightsAsTheShadersReadThem) {

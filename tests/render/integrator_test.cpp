@@ -361,6 +361,7 @@ TEST(PhysicalRender, EachFormulaMatchesTheCompiledLightAtItsMatchDistance) {
       {"1", "1", "", 128.0, 300.0},                               // inverse: 300 * 128 / d
       {"2", "2", "", 64.0, 300.0},                                // inverse square, wait 2: 300 * (128 / (2 d))^2
       {"5", "1", "", 128.0, 300.0 * 128 * 128 / (256.0 * 256.0)}, // inverse square without the pole
+      {"3", "1", "", 128.0, 300.0},                               // no falloff: never ends (no window)
   };
   for (const Case& c : cases) {
     test::BoxSceneBuilder b = floorScene();
