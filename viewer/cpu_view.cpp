@@ -1,0 +1,90 @@
+#include "viewer/cpu_view.h"
+
+#include "lighting/sampling.h"
+#include "renderer/cpu/integrator.h"
+#include "renderer/view_lightmaps.h"
+#include "scene/parallel_for.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace bt {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+// Rows per band: enough to keep every core busy, few enough to stop near the budget.
+constexpr int kBandRows = 8;
+} // namespace
+
+CpuProgressive::CpuProgressive(int width, int height)
+    : width_(width), height_(height), sum_(size_t(width) * size_t(height)), rowSamples_(size_t(height), 0) {}
+
+void CpuProgressive::restart() {
+  std::fill(sum_.begin(), sum_.end(), glm::dvec3(0.0));
+  std::fill(rowSamples_.begin(), rowSamples_.end(), 0);
+  passes_ = 0;
+  nextRow_ = 0;
+}
+
+size_t CpuProgressive::refine(const RenderScene& scene, const Camera& camera, const IntegratorSettings& integrator,
+                              std::chrono::duration<double> budget, int maxSamples) {
+  const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(budget);
+  size_t traced = 0;
+  while (passes_ < maxSamples) {
+    const int first = nextRow_, rows = std::min(kBandRows, height_ - nextRow_);
+    parallelFor(size_t(rows) * size_t(width_), 0, [&](size_t i) {
+      const int x = int(i % size_t(width_)), y = first + int(i / size_t(width_));
+      Rng rng = pixelRng(uint32_t(x), uint32_t(y), uint32_t(passes_), 0);
+      const glm::vec2 jitter = rng.next2();
+      const glm::vec3 l = radiance(scene, integrator, camera.ray(float(x) + jitter.x, float(y) + jitter.y), rng);
+      // A NaN or infinite sample would poison the pixel for good; drop it (as renderCpu does).
+      if (std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z)) sum_[size_t(y) * width_ + x] += glm::dvec3(l);
+    });
+    for (int y = first; y < first + rows; ++y) ++rowSamples_[size_t(y)];
+    traced += size_t(rows) * size_t(width_);
+    nextRow_ += rows;
+    if (nextRow_ == height_) {
+      nextRow_ = 0;
+      ++passes_;
+    }
+    if (Clock::now() >= end) break;
+  }
+  return traced;
+}
+
+RenderImage CpuProgressive::mean() const {
+  RenderImage image;
+  image.width = width_;
+  image.height = height_;
+  image.samples = passes_;
+  image.beauty.assign(sum_.size(), glm::vec3(0.0f));
+  for (int y = 0; y < height_; ++y) {
+    const int n = rowSamples_[size_t(y)];
+    if (n == 0) continue;
+    for (int x = 0; x < width_; ++x) {
+      const size_t i = size_t(y) * width_ + x;
+      image.beauty[i] = glm::vec3(sum_[i] / double(n));
+    }
+  }
+  return image;
+}
+
+CpuLuxelBake::CpuLuxelBake(const RenderScene& scene, LightmapBakeOptions options)
+    : baking_(std::async(std::launch::async, [&scene, options] {
+        Lightmaps lightmaps = layoutFaithfulLightmaps(scene, nullptr, 0, 0, options.threads);
+        bakeLightmaps(scene, lightmaps, options);
+        return lightmaps;
+      })) {}
+
+CpuLuxelBake::~CpuLuxelBake() {
+  if (baking_.valid()) baking_.wait();
+}
+
+bool CpuLuxelBake::takeInto(RenderScene& scene) {
+  if (taken_ || baking_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return false;
+  scene.lightmaps = baking_.get();
+  taken_ = true;
+  return true;
+}
+
+} // namespace bt
