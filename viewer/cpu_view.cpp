@@ -12,8 +12,8 @@ namespace bt {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-// Rows per band: enough to keep every core busy, few enough to stop near the budget.
-constexpr int kBandRows = 8;
+// The most rows a band takes (a view of sky, which costs nothing, would otherwise be one band).
+constexpr int kMaxBandRows = 64;
 } // namespace
 
 CpuProgressive::CpuProgressive(int width, int height)
@@ -28,10 +28,17 @@ void CpuProgressive::restart() {
 
 size_t CpuProgressive::refine(const RenderScene& scene, const Camera& camera, const IntegratorSettings& integrator,
                               std::chrono::duration<double> budget, int maxSamples) {
-  const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(budget);
+  const auto start = Clock::now();
   size_t traced = 0;
   while (passes_ < maxSamples) {
-    const int first = nextRow_, rows = std::min(kBandRows, height_ - nextRow_);
+    // Bands of about a quarter of the budget, by the last band's time per row, and none that
+    // would end past the budget (but one at least): a frame ends near its budget, not a band late.
+    const int wanted = secondsPerRow_ > 0.0 ? int(0.25 * budget.count() / secondsPerRow_) : 1; // one row to time first
+    const int rows = std::min(std::clamp(wanted, 1, kMaxBandRows), height_ - nextRow_);
+    const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+    if (traced > 0 && elapsed + rows * secondsPerRow_ > budget.count()) break;
+    const int first = nextRow_;
+    const auto bandStart = Clock::now();
     parallelFor(size_t(rows) * size_t(width_), 0, [&](size_t i) {
       const int x = int(i % size_t(width_)), y = first + int(i / size_t(width_));
       Rng rng = pixelRng(uint32_t(x), uint32_t(y), uint32_t(passes_), 0);
@@ -40,6 +47,7 @@ size_t CpuProgressive::refine(const RenderScene& scene, const Camera& camera, co
       // A NaN or infinite sample would poison the pixel for good; drop it (as renderCpu does).
       if (std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z)) sum_[size_t(y) * width_ + x] += glm::dvec3(l);
     });
+    secondsPerRow_ = std::chrono::duration<double>(Clock::now() - bandStart).count() / rows;
     for (int y = first; y < first + rows; ++y) ++rowSamples_[size_t(y)];
     traced += size_t(rows) * size_t(width_);
     nextRow_ += rows;
@@ -47,7 +55,6 @@ size_t CpuProgressive::refine(const RenderScene& scene, const Camera& camera, co
       nextRow_ = 0;
       ++passes_;
     }
-    if (Clock::now() >= end) break;
   }
   return traced;
 }

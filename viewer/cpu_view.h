@@ -25,8 +25,9 @@ public:
 
   // Starts over for a new view (camera, lighting, level).
   void restart();
-  // Traces rows of the current pass, a band at a time on every core, until `budget` has passed
-  // (at least one band) or `maxSamples` full passes are done. Returns the pixel samples traced.
+  // Traces rows of the current pass, a band at a time on every core, until the next band would end
+  // past `budget` (one band at least) or `maxSamples` full passes are done. Returns the pixel
+  // samples traced.
   size_t refine(const RenderScene& scene, const Camera& camera, const IntegratorSettings& integrator, std::chrono::duration<double> budget,
                 int maxSamples);
 
@@ -42,7 +43,8 @@ private:
   std::vector<glm::dvec3> sum_;
   std::vector<int> rowSamples_;
   int passes_ = 0;
-  int nextRow_ = 0; // of the current pass
+  int nextRow_ = 0;            // of the current pass
+  double secondsPerRow_ = 0.0; // the last band's, to size the next
 };
 
 // Faithful mode's luxels for the CPU window: every lit face of the level laid out and baked on a

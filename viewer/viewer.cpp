@@ -44,8 +44,9 @@ constexpr double kBakeMillisecondsPerFrame = 30.0;
 // How long the overlay shows a screenshot's path, and why one failed.
 constexpr std::chrono::seconds kScreenshotShown(4);
 constexpr std::chrono::seconds kScreenshotErrorShown(10);
-// The CPU tracer's share of a frame: the window answers input and reloads about ten times a second.
-constexpr std::chrono::milliseconds kCpuFrameBudget(100);
+// The CPU tracer's share of a frame: with the image's upload and the overlay (~20-40 ms on
+// llvmpipe) the window answers input and reloads about ten times a second.
+constexpr std::chrono::milliseconds kCpuFrameBudget(80);
 
 namespace {
 

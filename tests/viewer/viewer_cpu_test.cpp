@@ -77,17 +77,17 @@ TEST_F(ViewerWindowTest, DISABLED_FrameTimesOnALibreQuakeLevel) {
     Viewer viewer(o);
     const double openSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - opened).count();
     std::vector<double> frames;
-    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-    while (std::chrono::steady_clock::now() < end && frames.size() < 40) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (std::chrono::steady_clock::now() < end && frames.size() < 60 && (backend == ViewerBackend::Cpu || frames.size() < 4)) {
       const auto t0 = std::chrono::steady_clock::now();
       ASSERT_TRUE(viewer.frame());
       frames.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
-    std::vector<double> sorted = frames;
-    std::sort(sorted.begin(), sorted.end());
-    std::printf("%s: open %.2f s, %zu frames in 20 s, frame ms median %.0f max %.0f, %d spp\n",
-                backend == ViewerBackend::Gl ? "GL tracer (llvmpipe)" : "CPU tracer", openSeconds, frames.size(), sorted[sorted.size() / 2],
-                sorted.back(), viewer.samples());
+    std::vector<double> later(frames.begin() + 1, frames.end()); // the first compiles the GL programs
+    std::sort(later.begin(), later.end());
+    std::printf("%s: open %.2f s, first frame %.0f ms, then %zu frames: median %.0f ms, max %.0f ms, %d spp\n",
+                backend == ViewerBackend::Gl ? "GL tracer (llvmpipe)" : "CPU tracer", openSeconds, frames.front(), later.size(),
+                later[later.size() / 2], later.back(), viewer.samples());
   }
 }
 
