@@ -87,8 +87,12 @@ CpuLuxelBake::~CpuLuxelBake() {
   if (baking_.valid()) baking_.wait();
 }
 
+bool CpuLuxelBake::ready() const {
+  return taken_ || baking_.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+}
+
 bool CpuLuxelBake::takeInto(RenderScene& scene) {
-  if (taken_ || baking_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return false;
+  if (taken_ || !ready()) return false;
   scene.lightmaps = baking_.get();
   taken_ = true;
   return true;

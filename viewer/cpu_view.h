@@ -56,8 +56,13 @@ public:
   // Moves the baked luxels into scene.lightmaps once they are ready; true then (once).
   bool takeInto(RenderScene& scene);
   bool done() const { return taken_; }
+  bool ready() const; // the worker has finished
+  // Keeps `level` (what the bake reads) alive until this bake is destroyed: a reload replaces a
+  // level whose bake still runs without waiting for it (there is no stopping it halfway).
+  void holdUntilDone(std::shared_ptr<const void> level) { level_ = std::move(level); }
 
 private:
+  std::shared_ptr<const void> level_; // destroyed after the destructor has waited for the worker
   std::future<Lightmaps> baking_;
   bool taken_ = false;
 };

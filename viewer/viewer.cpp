@@ -31,8 +31,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
-#include <set>
 
 namespace bt {
 
@@ -101,7 +99,8 @@ struct Viewer::Impl {
   bool cpu = false;
   std::string cpuReason;
   std::unique_ptr<CpuProgressive> cpuFull, cpuPreview;
-  std::unique_ptr<CpuLuxelBake> cpuBake; // reads level->render, so it goes before the level does
+  std::unique_ptr<CpuLuxelBake> cpuBake;                   // reads level->render, so it goes before the level does
+  std::vector<std::unique_ptr<CpuLuxelBake>> retiredBakes; // of replaced levels, each holding its level
   FlyCamera camera;
   bool cameraPlaced = false; // at the level's render camera, or --camera
   ViewMode mode = ViewMode::Beauty;
@@ -184,6 +183,7 @@ struct Viewer::Impl {
     input.uninstall();
     pending.reset(); // waits for its import
     cpuBake.reset();
+    retiredBakes.clear();
     bake.reset();
     level.reset(); // GL objects before the window's context
   }
@@ -216,7 +216,11 @@ struct Viewer::Impl {
   // A level that loaded, at start-up or on a save: shown from where the camera is (the first
   // one from its render camera), in the view that was on screen.
   void installLevel(std::unique_ptr<gl::GlLevel> next, const std::vector<std::string>& missingFiles) {
-    cpuBake.reset(); // waits for a CPU bake of the previous level, which reads it
+    if (cpuBake && !cpuBake->ready()) { // it reads the level replaced: both go when it ends
+      cpuBake->holdUntilDone(std::shared_ptr<const gl::GlLevel>(std::move(level)));
+      retiredBakes.push_back(std::move(cpuBake));
+    }
+    cpuBake.reset();
     bake.reset();
     level = std::move(next);
     startBake();
@@ -248,6 +252,7 @@ struct Viewer::Impl {
   // Faithful mode shows the compiler's luxels once they are baked; until then the light at each
   // pixel's point. A frame's share of the bake keeps frames coming while it runs.
   void bakeSome() {
+    std::erase_if(retiredBakes, [](const std::unique_ptr<CpuLuxelBake>& b) { return b->ready(); });
     if (cpuBake && lighting == LightingMode::Faithful && !compiled && !difference && cpuBake->takeInto(level->render)) restart();
     if (!level || !bake || bake->done() || lighting != LightingMode::Faithful || compiled || difference || full->samples() == 0) return;
     if (bake->step(*level->tracer, kBakeMillisecondsPerFrame)) restart();

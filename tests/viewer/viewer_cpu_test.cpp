@@ -44,6 +44,26 @@ TEST_F(ViewerWindowTest, TheCpuWindowDrawsWhatRenderBackendCpuWrites) {
   EXPECT_EQ(viewer.glDebugErrors(), 0);
 }
 
+// A save reloads the CPU window's level as it does the GL window's (the import on a worker thread,
+// the luxels baked again, refinement restarted), keeping the camera: the window then draws what
+// render --backend cpu writes of the saved level.
+TEST_F(ViewerWindowTest, TheCpuWindowReloadsOnSave) {
+  ViewerOptions o = options();
+  o.backend = ViewerBackend::Cpu;
+  o.maxSamples = 3;
+  Viewer viewer(o);
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.luxelsBaked() && viewer.samples() == o.maxSamples; }));
+  save(roomMap(900, 64));
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.reloads() == 1; })) << "the save was not noticed";
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.luxelsBaked() && viewer.samples() == o.maxSamples; }));
+  ASSERT_TRUE(viewer.frame());
+  EXPECT_TRUE(viewer.error().empty()) << viewer.error();
+  EXPECT_EQ(viewer.camera().origin, glm::vec3(-96, 0, -42)) << "the reload moved the camera";
+  const fs::path png = dir_ / "render-cpu.png";
+  renderOnCpu(viewer, o, o.maxSamples, png);
+  EXPECT_EQ(largestDifference(png, viewer.displayed()), 0) << "the CPU window does not show the saved level as render does";
+}
+
 // Under Xvfb the window's GL is llvmpipe: without --backend the CPU tracer draws, and says why.
 TEST_F(ViewerWindowTest, ASoftwareGlWindowDrawsWithTheCpuTracerAndSaysWhy) {
   ViewerOptions o = options();
