@@ -18,6 +18,7 @@ struct ViewCommand {
   std::string textures = "auto";
   std::string lighting = "faithful";
   std::string luxels = "on";
+  std::string backend = "auto";
   CLI::Option* lightingOption = nullptr;
 };
 
@@ -30,14 +31,21 @@ int runView(ViewCommand& cmd) {
   o.textures = *gl::parseTextureMode(cmd.textures); // --gl-textures admits only the names it parses
   o.lighting = cmd.lighting == "physical" ? LightingMode::Physical : LightingMode::Faithful;
   o.luxels = cmd.luxels == "on";
+  o.backend = cmd.backend == "gl" ? ViewerBackend::Gl : cmd.backend == "cpu" ? ViewerBackend::Cpu : ViewerBackend::Auto;
   o.compiled = cmd.lighting == "compiled";
   o.lightingGiven = cmd.lightingOption && cmd.lightingOption->count() > 0;
 
   Viewer viewer(o);
+  // A level that does not load opens the window anyway, waiting for a save that fixes it.
+  if (!viewer.error().empty()) fmt::print(stderr, "{}\n", viewer.error());
+  for (const std::string& warning : viewer.warnings()) fmt::print(stderr, "{}\n", warning);
   if (cmd.lighting == "difference") viewer.showDifference();
   if (!viewer.note().empty()) fmt::print(stderr, "{}: note: {}\n", o.map, viewer.note());
   if (!viewer.notice().empty()) fmt::print(stderr, "{}: warning: {}\n", o.map, viewer.notice());
+  if (viewer.cpuTracer()) fmt::print(stderr, "brushtrace: {}\n", viewer.cpuReason());
   while (viewer.frame()) {}
+  // Where the mapper left the camera, as --camera takes it back.
+  fmt::print("camera {}\n", formatCameraPose(viewer.camera()));
   return 0;
 }
 
@@ -65,6 +73,9 @@ void addViewCommand(CLI::App& app, int& exitCode) {
       ->check(CLI::IsMember({1, 2, 4}))
       ->capture_default_str();
   view->add_option("--bounces", cmd->viewer.bounces, "Bounces in physical mode")->check(CLI::Range(0, 64))->capture_default_str();
+  view->add_option("--backend", cmd->backend, "auto|gl|cpu: auto draws with the CPU tracer where the window's GL is software (llvmpipe)")
+      ->check(CLI::IsMember({"auto", "gl", "cpu"}))
+      ->capture_default_str();
   view->add_option("--gl-textures", cmd->textures, "bindless|arrays|auto")
       ->check(CLI::IsMember({"auto", "bindless", "arrays"}))
       ->capture_default_str();

@@ -14,7 +14,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libimgui-dev libzip-dev libpng-dev libssl-dev
   slurm-wlm munge
-  xvfb xauth
+  xvfb xauth libx11-dev
 )
 if [[ "${1:-}" == "--with-test-data" ]]; then
   packages+=(openarena-085-data openarena-data)

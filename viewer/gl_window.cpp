@@ -6,6 +6,10 @@
 // epoxy must come first: GLFW would otherwise pull in the system GL header.
 #include <GLFW/glfw3.h>
 
+// From GLFW's glfw3native.h, which with GLFW_EXPOSE_NATIVE_X11 also wants the Xrandr headers; an
+// X11 Window is an XID, an unsigned long.
+extern "C" unsigned long glfwGetX11Window(GLFWwindow* window);
+
 #include <string>
 
 namespace bt::gl {
@@ -36,6 +40,10 @@ GlWindow::GlWindow(int width, int height, const std::string& title) {
   glfwMakeContextCurrent(window_);
   glfwSwapInterval(0); // progressive refinement wants every frame it can get
   context_ = GlContext::adoptCurrent("glfw");
+}
+
+unsigned long GlWindow::x11Window() const {
+  return glfwGetX11Window(window_);
 }
 
 GlWindow::~GlWindow() {

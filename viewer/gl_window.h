@@ -22,6 +22,7 @@ public:
   GlWindow& operator=(const GlWindow&) = delete;
 
   GLFWwindow* handle() const { return window_; }
+  unsigned long x11Window() const; // the X11 window's id (tests send it key events)
   GlContext& context() { return *context_; }
 
 private:

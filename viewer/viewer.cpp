@@ -1,5 +1,6 @@
 #include "viewer/viewer.h"
 
+#include "importers/textures/missing_textures.h"
 #include "lighting/compiled_lightmaps.h"
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/difference.h"
@@ -12,8 +13,13 @@
 #include "renderer/gl/gl_tracer.h"
 #include "viewer/gl_window.h"
 #include "scene/color.h"
-#include "viewer/file_watcher.h"
 #include "viewer/fly_camera.h"
+#include "viewer/cpu_view.h"
+#include "viewer/overlay.h"
+#include "viewer/picking.h"
+#include "viewer/view_images.h"
+#include "viewer/watcher_thread.h"
+#include "viewer/window_input.h"
 
 #include <epoxy/gl.h>
 // epoxy before GLFW, so that GLFW does not include the system GL header.
@@ -25,8 +31,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
-#include <set>
 
 namespace bt {
 
@@ -35,23 +39,40 @@ using Clock = std::chrono::steady_clock;
 
 // GPU time a frame gives faithful mode's bake while it runs.
 constexpr double kBakeMillisecondsPerFrame = 30.0;
+// How long the overlay shows a screenshot's path, and why one failed.
+constexpr std::chrono::seconds kScreenshotShown(4);
+constexpr std::chrono::seconds kScreenshotErrorShown(10);
+// The CPU tracer's share of a frame: with the image's upload and the overlay (~20-40 ms on
+// llvmpipe) the window answers input and reloads about ten times a second.
+constexpr std::chrono::milliseconds kCpuFrameBudget(80);
 
 namespace {
 
-// The level as the tracers see it, rebuilt whole on every reload, so a failed reload leaves the
-// previous one untouched. `programs` outlive it: a reload uploads the new level and keeps the
-// compiled programs. `physical`: the lighting the first images are for (gl::loadGlLevel waits
-// for those kernels).
-std::unique_ptr<gl::GlLevel> loadLevel(const ViewerOptions& options, gl::GlContext& context,
-                                       const std::shared_ptr<gl::TracerPrograms>& programs, bool physical) {
-  auto level = std::make_unique<gl::GlLevel>();
-  gl::loadGlLevel(*level, context, programs, physical,
-                  [&](const gl::EntitiesRead& entitiesRead) { return importScene(options.map, options.import, entitiesRead); });
-  return level;
-}
+// A level being loaded, at start-up or after a save: the import and preparation on a worker
+// thread (the frames go on showing the current level), then the upload on the frame's thread.
+// Rebuilt whole every time, so a failed reload leaves the level on screen untouched.
+struct PendingLevel {
+  std::unique_ptr<gl::GlLevel> level = std::make_unique<gl::GlLevel>();
+  // Where the level's missing textures would be: a texture that appears there reloads it. Found
+  // on the worker too (the loose folders are indexed again).
+  std::shared_ptr<std::vector<std::string>> missingFiles = std::make_shared<std::vector<std::string>>();
+  std::unique_ptr<gl::LevelPreparation> preparation;
 
-uint8_t toByte(float v) {
-  return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+  explicit PendingLevel(const ViewerOptions& options)
+      : preparation(gl::prepareGlLevel(
+            *level, [map = options.map, import = options.import, missing = missingFiles](const gl::EntitiesRead& entitiesRead) {
+              Scene scene = importScene(map, import, entitiesRead);
+              *missing = missingTextureFiles(scene, import.textures);
+              return scene;
+            })) {}
+};
+
+// What to watch when a level never loaded: the file named (an archive's for ARCHIVE:maps/x.bsp).
+fs::path levelFileOf(const std::string& map) {
+  std::error_code ec;
+  if (fs::exists(map, ec)) return map;
+  const size_t colon = map.rfind(':');
+  return colon == std::string::npos ? fs::path(map) : fs::path(map.substr(0, colon));
 }
 
 // The render command's choice per lighting mode: faithful lighting is Quake's, clamped at the
@@ -66,12 +87,22 @@ struct Viewer::Impl {
   ViewerOptions options;
   gl::GlWindow window;
   std::shared_ptr<gl::TracerPrograms> programs;
-  FileWatcher watcher;
-  std::unique_ptr<gl::GlLevel> level;
+  WindowInput input; // every press between two frames (GLFW's callbacks)
+  WatcherThread watcher;
+  std::unique_ptr<gl::GlLevel> level; // null while no level has loaded (a broken map at start-up)
+  std::unique_ptr<PendingLevel> pending;
   // Faithful mode's luxels, baked on the GPU a little every frame from the second on (gl_bake.h);
   // reads level->render, so it goes before the level does.
   std::unique_ptr<gl::ProgressiveLevelBake> bake;
+  // Without hardware GL (or --backend cpu) the CPU tracer draws the window, a band of rows per
+  // frame (cpu_view.h); the level then has no GL tracer, and its luxels bake on a worker thread.
+  bool cpu = false;
+  std::string cpuReason;
+  std::unique_ptr<CpuProgressive> cpuFull, cpuPreview;
+  std::unique_ptr<CpuLuxelBake> cpuBake;                   // reads level->render, so it goes before the level does
+  std::vector<std::unique_ptr<CpuLuxelBake>> retiredBakes; // of replaced levels, each holding its level
   FlyCamera camera;
+  bool cameraPlaced = false; // at the level's render camera, or --camera
   ViewMode mode = ViewMode::Beauty;
   LightingMode lighting;
 
@@ -81,13 +112,18 @@ struct Viewer::Impl {
   std::unique_ptr<gl::ProgressiveImage> preview;
   std::unique_ptr<gl::TonemapPass> tonemap;
   bool moving = false;
-  gl::AovImages aovs; // of the current view, for the albedo/normal modes and screenshots
+  RenderImage aovs; // of the current view, for the albedo/normal modes and screenshots
   bool aovsCurrent = false;
   std::unique_ptr<gl::GlTexture2D> display; // RGBA8, what is on screen (scaled to the window)
 
-  std::string error;
-  std::string notice; // why the compiled view could not be shown
-  std::string note;   // why the viewer opened in a mode not asked for
+  std::string error;    // why the level on screen is not the files' (or why none is)
+  std::string notice;   // why the compiled view could not be shown
+  std::string note;     // why the viewer opened in a mode not asked for
+  OverlayMessage flash; // for a few seconds: the last screenshot's path or why it failed, the camera copied
+  Clock::time_point flashUntil{};
+  PickedFace picked;        // the face last clicked
+  bool overlayShown = true; // F1
+  bool opened = false;      // the constructor is done: a level loaded from now on is a reload
   bool compiled = false;
   // Key 7: faithful light accumulates in `full` while the compiled picture of the view, drawn
   // once when the camera stops, waits in compiledPixels (display bytes; empty: not drawn yet).
@@ -95,40 +131,44 @@ struct Viewer::Impl {
   std::vector<uint32_t> compiledPacked;
   std::vector<uint8_t> compiledPixels;
   int reloads = 0;
-  double wheel = 0.0; // scroll notches since the last frame
-  double lastX = 0.0, lastY = 0.0;
   Clock::time_point lastFrame = Clock::now();
   double samplesPerSecond = 0.0;
   double samplesThisFrame = 0.0; // pixel samples the last frame drew
-  std::set<int> keysDown;        // for edge-triggered keys
 
   explicit Impl(ViewerOptions o)
       : options(std::move(o)), window(options.width, options.height, "brushtrace — " + options.map), lighting(options.lighting) {
     // The path tracer compiles (on the driver's threads, where it has them) while the level
     // loads, from when its lights say which program it needs (gl::loadGlLevel).
-    programs = std::make_shared<gl::TracerPrograms>(window.context(), options.textures);
-    level = loadLevel(options, window.context(), programs, lighting == LightingMode::Physical);
-    startBake();
-    watchLevelFiles();
-    const CameraPose pose = options.camera ? *options.camera : defaultCameraPose(level->scene);
-    camera = FlyCamera(glm::dvec3(pose.origin), pose.pitch, pose.yaw);
-    // Before ImGui's context, which only the destructor ends: a throw here leaves nothing behind.
+    chooseTracer();
+    if (!cpu) programs = std::make_shared<gl::TracerPrograms>(window.context(), options.textures);
     full = std::make_unique<gl::ProgressiveImage>(options.width, options.height);
+    cpuFull = std::make_unique<CpuProgressive>(options.width, options.height);
+    cpuPreview = std::make_unique<CpuProgressive>(std::max(1, options.width / 2), std::max(1, options.height / 2));
     preview = std::make_unique<gl::ProgressiveImage>(std::max(1, options.width / 2), std::max(1, options.height / 2));
     tonemap = std::make_unique<gl::TonemapPass>();
-    // After the images: switching views restarts them.
-    const bool quake3Default = !options.lightingGiven && level->scene.format == "ibsp46";
+    if (options.camera) placeCamera(*options.camera);
+    // A level that does not load opens the window with the error; the next good save loads it.
+    try {
+      PendingLevel first(options);
+      installLevel(finishLoading(first), *first.missingFiles);
+    } catch (const gl::GlError&) {
+      throw; // no window worth keeping
+    } catch (const std::exception& e) {
+      error = e.what();
+      watcher.watch({levelFileOf(options.map)});
+    }
+    const bool quake3Default = level && !options.lightingGiven && level->scene.format == "ibsp46";
     if (quake3Default) note = "a compiled Quake 3 level keeps no lights; showing its lightmaps (--lighting compiled)";
     if (options.compiled || quake3Default) showCompiled();
 
-    glfwSetWindowUserPointer(window.handle(), this);
-    glfwSetScrollCallback(window.handle(),
-                          [](GLFWwindow* w, double, double dy) { static_cast<Impl*>(glfwGetWindowUserPointer(w))->wheel += dy; });
+    // Before ImGui's backend, which chains to these callbacks (and restores them on shutdown).
+    input.install(window.handle());
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
-    ImGui::GetIO().IniFilename = nullptr;                // no imgui.ini littering the user's folder
-    ImGui_ImplGlfw_InitForOpenGL(window.handle(), true); // chains to the scroll callback above
+    ImGui::GetIO().IniFilename = nullptr; // no imgui.ini littering the user's folder
+    ImGui_ImplGlfw_InitForOpenGL(window.handle(), true);
     ImGui_ImplOpenGL3_Init("#version 450");
+    opened = true;
   }
 
   ~Impl() {
@@ -140,19 +180,81 @@ struct Viewer::Impl {
     ImGui_ImplOpenGL3_Shutdown();
     ImGui_ImplGlfw_Shutdown();
     ImGui::DestroyContext();
+    input.uninstall();
+    pending.reset(); // waits for its import
+    cpuBake.reset();
+    retiredBakes.clear();
     bake.reset();
     level.reset(); // GL objects before the window's context
   }
 
-  void startBake() {
+  void chooseTracer() {
+    const gl::GlContextInfo& info = window.context().info();
+    if (options.backend == ViewerBackend::Cpu) cpuReason = "drawing with the CPU tracer (--backend cpu)";
+    if (options.backend == ViewerBackend::Auto && info.softwareRenderer)
+      cpuReason = fmt::format("the window's GL is software ({}): drawing with the CPU tracer, several times faster there "
+                              "(--backend gl forces the GL tracer)",
+                              info.renderer);
+    cpu = !cpuReason.empty();
+  }
+
+  // The level of a finished import: uploaded for the GL tracer, or as it is for the CPU's.
+  // Rethrows the import's error.
+  std::unique_ptr<gl::GlLevel> finishLoading(PendingLevel& loading) {
+    if (cpu)
+      loading.preparation->wait();
+    else
+      gl::loadGlLevel(*loading.level, *loading.preparation, window.context(), programs, lighting == LightingMode::Physical);
+    return std::move(loading.level);
+  }
+
+  void placeCamera(const CameraPose& pose) {
+    camera = FlyCamera(glm::dvec3(pose.origin), pose.pitch, pose.yaw);
+    cameraPlaced = true;
+  }
+
+  // A level that loaded, at start-up or on a save: shown from where the camera is (the first
+  // one from its render camera), in the view that was on screen.
+  void installLevel(std::unique_ptr<gl::GlLevel> next, const std::vector<std::string>& missingFiles) {
+    if (cpuBake && !cpuBake->ready()) { // it reads the level replaced: both go when it ends
+      cpuBake->holdUntilDone(std::shared_ptr<const gl::GlLevel>(std::move(level)));
+      retiredBakes.push_back(std::move(cpuBake));
+    }
+    cpuBake.reset();
     bake.reset();
-    if (options.luxels) bake = std::make_unique<gl::ProgressiveLevelBake>(level->render, options.bake);
+    level = std::move(next);
+    startBake();
+    error.clear();
+    if (opened) ++reloads;
+    if (!cameraPlaced) placeCamera(defaultCameraPose(level->scene));
+    if (compiled || difference) {
+      const bool wasDifference = difference;
+      compiled = difference = false;
+      if (showCompiled() && wasDifference) showDifference();
+    }
+    restart();
+    watchLevelFiles(missingFiles);
+  }
+
+  void startBake() {
+    // A CPU bake still running is this level's: its luxels are taken when it is done. (The
+    // compiled view replaces only render.lightmaps, which the bake does not read.)
+    if (cpu && cpuBake && !cpuBake->done()) return;
+    cpuBake.reset();
+    bake.reset();
+    if (!options.luxels) return;
+    if (cpu)
+      cpuBake = std::make_unique<CpuLuxelBake>(level->render, options.bake);
+    else
+      bake = std::make_unique<gl::ProgressiveLevelBake>(level->render, options.bake);
   }
 
   // Faithful mode shows the compiler's luxels once they are baked; until then the light at each
   // pixel's point. A frame's share of the bake keeps frames coming while it runs.
   void bakeSome() {
-    if (!bake || bake->done() || lighting != LightingMode::Faithful || compiled || difference || full->samples() == 0) return;
+    std::erase_if(retiredBakes, [](const std::unique_ptr<CpuLuxelBake>& b) { return b->ready(); });
+    if (cpuBake && lighting == LightingMode::Faithful && !compiled && !difference && cpuBake->takeInto(level->render)) restart();
+    if (!level || !bake || bake->done() || lighting != LightingMode::Faithful || compiled || difference || full->samples() == 0) return;
     if (bake->step(*level->tracer, kBakeMillisecondsPerFrame)) restart();
   }
 
@@ -162,59 +264,80 @@ struct Viewer::Impl {
 
   void restart() {
     full->restart();
+    cpuFull->restart();
     aovsCurrent = false;
     compiledPixels.clear();
   }
 
-  bool pressedOnce(int key) {
-    const bool down = glfwGetKey(window.handle(), key) == GLFW_PRESS;
-    const bool was = keysDown.count(key) > 0;
-    if (down)
-      keysDown.insert(key);
-    else
-      keysDown.erase(key);
-    return down && !was;
+  // Every press since the last frame, in order: a tap shorter than a frame counts.
+  void handlePresses() {
+    for (const Press& press : input.takePresses()) {
+      if (press.device == Press::Device::MouseButton) {
+        if (press.code == GLFW_MOUSE_BUTTON_LEFT && level && !ImGui::GetIO().WantCaptureMouse) pick(press.x, press.y);
+        continue;
+      }
+      if (press.code == GLFW_KEY_F1) {
+        overlayShown = !overlayShown;
+        continue;
+      }
+      if (press.code == GLFW_KEY_C && (press.mods & GLFW_MOD_CONTROL)) {
+        (press.mods & GLFW_MOD_SHIFT) ? copyPickedFace() : copyCamera();
+        continue;
+      }
+      if (!ImGui::GetIO().WantCaptureKeyboard) actOnKey(press.code);
+    }
   }
 
-  FlyInput readInput() {
-    GLFWwindow* w = window.handle();
-    auto held = [w](int key) { return glfwGetKey(w, key) == GLFW_PRESS; };
-    FlyInput in;
-    const bool typing = ImGui::GetIO().WantCaptureKeyboard;
-    if (!typing) {
-      in.forward = held(GLFW_KEY_W);
-      in.back = held(GLFW_KEY_S);
-      in.left = held(GLFW_KEY_A);
-      in.right = held(GLFW_KEY_D);
-      in.down = held(GLFW_KEY_Q) || held(GLFW_KEY_C);
-      in.up = held(GLFW_KEY_E) || held(GLFW_KEY_SPACE);
-      in.fast = held(GLFW_KEY_LEFT_SHIFT) || held(GLFW_KEY_RIGHT_SHIFT);
-    }
-    double x = 0.0, y = 0.0;
-    glfwGetCursorPos(w, &x, &y);
-    in.looking = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
-    if (in.looking) {
-      in.mouseDx = x - lastX;
-      in.mouseDy = y - lastY;
-    }
-    lastX = x;
-    lastY = y;
-    if (!ImGui::GetIO().WantCaptureMouse) in.wheel = wheel;
-    wheel = 0.0;
-    return in;
+  void actOnKey(int key) {
+    if (key == GLFW_KEY_ESCAPE) glfwSetWindowShouldClose(window.handle(), GLFW_TRUE);
+    if (key == GLFW_KEY_F12) screenshotWithFeedback();
+    if (!level) return; // the keys below change the view of a level
+    if (key == GLFW_KEY_1) setMode(ViewMode::Beauty);
+    if (key == GLFW_KEY_2) setMode(ViewMode::Albedo);
+    if (key == GLFW_KEY_3) setMode(ViewMode::Normal);
+    if (key == GLFW_KEY_4) setLighting(LightingMode::Faithful);
+    if (key == GLFW_KEY_5) setLighting(LightingMode::Physical);
+    if (key == GLFW_KEY_6) showCompiled();
+    if (key == GLFW_KEY_7) showDifference();
   }
 
-  void handleKeys() {
-    if (ImGui::GetIO().WantCaptureKeyboard) return;
-    if (pressedOnce(GLFW_KEY_1)) setMode(ViewMode::Beauty);
-    if (pressedOnce(GLFW_KEY_2)) setMode(ViewMode::Albedo);
-    if (pressedOnce(GLFW_KEY_3)) setMode(ViewMode::Normal);
-    if (pressedOnce(GLFW_KEY_4)) setLighting(LightingMode::Faithful);
-    if (pressedOnce(GLFW_KEY_5)) setLighting(LightingMode::Physical);
-    if (pressedOnce(GLFW_KEY_6)) showCompiled();
-    if (pressedOnce(GLFW_KEY_7)) showDifference();
-    if (pressedOnce(GLFW_KEY_F12)) takeScreenshot();
-    if (pressedOnce(GLFW_KEY_ESCAPE)) glfwSetWindowShouldClose(window.handle(), GLFW_TRUE);
+  // A left click: the face under the cursor (window coordinates, the image scaled to the window).
+  void pick(double x, double y) {
+    int width = 0, height = 0;
+    glfwGetWindowSize(window.handle(), &width, &height);
+    const float px = float(x * options.width / std::max(width, 1)), py = float(y * options.height / std::max(height, 1));
+    picked = pickFace(level->render, pose(), options.width, options.height, px, py);
+  }
+
+  // Ctrl+Shift+C: the picked face's file:line, to open in an editor.
+  void copyPickedFace() {
+    if (picked.fileLine.empty()) return;
+    glfwSetClipboardString(window.handle(), picked.fileLine.c_str());
+    flash = {OverlayMessage::Kind::Info, "copied " + picked.fileLine};
+    flashUntil = Clock::now() + kScreenshotShown;
+  }
+
+  // Ctrl+C: the camera as --camera takes it and as Quake's console takes it, to paste into a
+  // render command or the game.
+  void copyCamera() {
+    const CameraPose p = pose();
+    const std::string text = fmt::format("--camera '{}'\nsetpos {:g} {:g} {:g} {:g} {:g} {:g}\n", formatCameraPose(p), p.origin.x,
+                                         p.origin.y, p.origin.z, p.pitch, p.yaw, p.roll);
+    glfwSetClipboardString(window.handle(), text.c_str());
+    flash = {OverlayMessage::Kind::Info, "copied the camera: " + formatCameraPose(p)};
+    flashUntil = Clock::now() + kScreenshotShown;
+  }
+
+  // F12: the screenshot's path on screen for a few seconds, or why it could not be written (a
+  // folder removed or made read-only since the start); the viewer goes on either way.
+  void screenshotWithFeedback() {
+    try {
+      flash = {OverlayMessage::Kind::Info, "screenshot " + takeScreenshot().string()};
+      flashUntil = Clock::now() + kScreenshotShown;
+    } catch (const std::exception& e) {
+      flash = {OverlayMessage::Kind::Error, std::string("screenshot failed: ") + e.what()};
+      flashUntil = Clock::now() + kScreenshotErrorShown;
+    }
   }
 
   void setMode(ViewMode m) {
@@ -222,11 +345,15 @@ struct Viewer::Impl {
   }
 
   void setLighting(LightingMode m) {
+    if (!level) {
+      lighting = m;
+      return;
+    }
     if (lighting == m && !compiled && !difference) return;
     const bool leftCompiledView = compiled || difference; // which replaced the baked luxels
     if (compiled) {
       level->render.lightmaps = {};
-      level->tracer->setLightmaps({});
+      if (!cpu) level->tracer->setLightmaps({});
       compiled = false;
     }
     difference = false;
@@ -238,11 +365,14 @@ struct Viewer::Impl {
   // The compiled view is faithful mode's tracer reading the level's own luxels instead of
   // evaluating the light (lighting/compiled_lightmaps.h).
   bool showCompiled() {
+    if (!level) return false;
     const std::string why = showCompiledLightmaps(level->scene, level->render, options.import.textures.game.game);
     notice = why.empty() ? std::string() : why + "; showing faithful lighting";
     if (!why.empty()) return false;
-    compiledPacked = packLightmaps(level->render.lightmaps);
-    level->tracer->setLightmaps(compiledPacked);
+    if (!cpu) {
+      compiledPacked = packLightmaps(level->render.lightmaps);
+      level->tracer->setLightmaps(compiledPacked);
+    }
     compiled = true;
     difference = false;
     lighting = LightingMode::Faithful;
@@ -252,6 +382,10 @@ struct Viewer::Impl {
 
   // The compiled view against faithful light, as render --lighting difference shows it.
   bool showDifference() {
+    if (cpu) {
+      notice = "the compiled-against-faithful view needs the GL tracer; showing faithful lighting";
+      return false;
+    }
     if (!compiled && !showCompiled()) return false;
     level->render.lightmaps = {};
     level->tracer->setLightmaps({});
@@ -286,37 +420,33 @@ struct Viewer::Impl {
 
   void showDifferenceImage() {
     const std::vector<uint8_t> heat = differencePixels(compiledPixels, displayPixels(meanImage(*full), displayOutput()));
-    std::vector<uint8_t> rgba(heat.size() / 3 * 4, 255);
-    for (size_t i = 0; i < heat.size() / 3; ++i) std::copy_n(&heat[i * 3], 3, &rgba[i * 4]);
-    const gl::GlTexture2D& target = displayOfSize(full->width(), full->height());
-    BT_GL(glPixelStorei(GL_UNPACK_ALIGNMENT, 1));
-    BT_GL(glTextureSubImage2D(target.id(), 0, 0, 0, full->width(), full->height(), GL_RGBA, GL_UNSIGNED_BYTE, rgba.data()));
+    showRgba(full->width(), full->height(), rgbToRgba(heat));
   }
 
   // Every file the level was read from (Scene::inputFiles: the map, prefabs, WADs, palettes,
-  // shader scripts, images and companion maps).
-  void watchLevelFiles() { watcher.watch({level->scene.inputFiles.begin(), level->scene.inputFiles.end()}); }
+  // shader scripts, images and companion maps), and every image it looked for in vain (a
+  // texture that appears reloads the level).
+  void watchLevelFiles(const std::vector<std::string>& missingFiles) {
+    std::vector<fs::path> files(level->scene.inputFiles.begin(), level->scene.inputFiles.end());
+    files.insert(files.end(), missingFiles.begin(), missingFiles.end());
+    watcher.watch(files);
+  }
 
+  // A save starts the import on a worker thread; the frames go on with the current level until
+  // it is done, then it is uploaded here. A save during an import reloads again after it.
   void reloadIfSaved() {
-    if (watcher.poll().empty()) return;
+    if (!pending) {
+      if (watcher.takeChange()) pending = std::make_unique<PendingLevel>(options);
+      return;
+    }
+    if (!pending->preparation->ready()) return;
     try {
-      std::unique_ptr<gl::GlLevel> next = loadLevel(options, window.context(), programs, lighting == LightingMode::Physical);
-      bake.reset();
-      level = std::move(next);
-      startBake();
-      error.clear();
-      ++reloads;
-      if (compiled || difference) {
-        const bool wasDifference = difference;
-        compiled = difference = false;
-        if (showCompiled() && wasDifference) showDifference();
-      }
-      restart();
+      installLevel(finishLoading(*pending), *pending->missingFiles);
     } catch (const std::exception& e) {
       // Keep showing the last good level; the error stays on screen until a save fixes it.
       error = e.what();
     }
-    watchLevelFiles();
+    pending.reset();
   }
 
   gl::CameraBasis basis(int width, int height) const {
@@ -326,7 +456,8 @@ struct Viewer::Impl {
 
   void renderAovsIfNeeded() {
     if (aovsCurrent) return;
-    aovs = level->tracer->renderAovs(basis(options.width, options.height), options.width, options.height);
+    aovs = cpu ? renderAovsCpu(level->render, Camera(pose(), options.width, options.height), options.width, options.height)
+               : aovImage(level->tracer->renderAovs(basis(options.width, options.height), options.width, options.height));
     aovsCurrent = true;
   }
 
@@ -337,12 +468,17 @@ struct Viewer::Impl {
   // One sample: of a half-size preview while the camera moves, else one more full-size sample
   // into the accumulation. Either is tonemapped on the GPU into the display image.
   void renderSample() {
+    if (!level) {
+      display.reset(); // nothing to show but the error
+      return;
+    }
     if (mode != ViewMode::Beauty) {
       renderAovsIfNeeded();
-      showAov();
+      showRgba(aovs.width, aovs.height, aovRgba(aovs, mode));
       return;
     }
     if (!moving) bakeSome();
+    if (cpu) return refineOnCpu();
     if (difference && !moving && compiledPixels.empty()) drawCompiledPicture();
     gl::ProgressiveImage& image = moving ? *preview : *full;
     if (moving) preview->restart();
@@ -370,25 +506,59 @@ struct Viewer::Impl {
     tonemap->run(image.sum(), image.samples(), displayOfSize(image.width(), image.height()), tonemapFor(lighting), options.exposureEv);
   }
 
-  // The albedo and normal views are one deterministic sample each, converted here as the
-  // render command's PNGs are.
-  void showAov() {
-    const int width = aovs.width, height = aovs.height;
-    std::vector<uint8_t> rgba(static_cast<size_t>(width) * height * 4);
-    for (size_t i = 0; i < aovs.albedo.size(); ++i) {
-      glm::vec3 c = mode == ViewMode::Albedo ? linearToSrgb(glm::vec3(aovs.albedo[i])) : aovs.normal[i] * 0.5f + 0.5f;
-      if (mode == ViewMode::Normal && aovs.face[i] == gl::AovImages::kNothingHit) c = glm::vec3(0.0f);
-      rgba[i * 4 + 0] = toByte(c.r);
-      rgba[i * 4 + 1] = toByte(c.g);
-      rgba[i * 4 + 2] = toByte(c.b);
-      rgba[i * 4 + 3] = 255;
-    }
+  // Display bytes made on the CPU (the albedo and normal views, the heat map, the CPU tracer's image).
+  void showRgba(int width, int height, const std::vector<uint8_t>& rgba) {
     const gl::GlTexture2D& target = displayOfSize(width, height);
     BT_GL(glPixelStorei(GL_UNPACK_ALIGNMENT, 1));
     BT_GL(glTextureSubImage2D(target.id(), 0, 0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data()));
   }
 
-  void drawOverlay() {
+  // The CPU tracer's frame: rows for about kCpuFrameBudget of a half-size preview while the camera
+  // moves, else of the full image; the image so far shown through render's own tonemap.
+  void refineOnCpu() {
+    CpuProgressive& image = moving ? *cpuPreview : *cpuFull;
+    if (moving) cpuPreview->restart();
+    const Camera view(pose(), image.width(), image.height());
+    IntegratorSettings integrator;
+    integrator.mode = lighting;
+    integrator.bounces = options.bounces;
+    samplesThisFrame = double(image.refine(level->render, view, integrator, kCpuFrameBudget, moving ? 1 : options.maxSamples));
+    showRgba(image.width(), image.height(), rgbToRgba(displayPixels(image.mean(), displayOutput())));
+  }
+
+  OverlayContent overlayContent() const {
+    OverlayContent c;
+    if (level) {
+      const char* modeName = mode == ViewMode::Beauty ? "beauty" : mode == ViewMode::Albedo ? "albedo" : "normal";
+      const char* lightingName = difference    ? "compiled vs faithful (black 0, blue 8, green 16, yellow 24, red 32+ levels)"
+          : compiled                           ? "compiled"
+          : lighting == LightingMode::Faithful ? "faithful"
+                                               : "physical";
+      const char* tracer = cpu ? "CPU tracer" : gl::toString(level->tracer->textureMode());
+      c.status.push_back(fmt::format("{} | {} lighting | {}", modeName, lightingName, tracer));
+      c.status.push_back(fmt::format("spp {} | {:.2f} Msamples/s", samples(), samplesPerSecond * 1e-6));
+      if (cpuBake && lighting == LightingMode::Faithful && !cpuBake->done()) c.status.push_back("baking luxels on the CPU");
+      if (bake && lighting == LightingMode::Faithful && !bake->done())
+        c.status.push_back(fmt::format("baking luxels: pass {} of {}", bake->passesDone(), std::max(bake->passes(), 1)));
+      c.status.push_back("camera " + formatCameraPose(pose()));
+      c.picked = picked.lines;
+      for (const Diagnostic& d : level->scene.diagnostics)
+        if (d.severity != Severity::Note) c.warnings.push_back(format(d));
+    }
+    if (pending) c.status.push_back("reloading " + options.map + " ...");
+    if (!level) c.picked.clear();
+    if (cpu) c.status.insert(c.status.begin(), cpuReason);
+    c.hints.push_back(fmt::format("RMB look, WASD move, Q/E down/up, wheel fwd, RMB+wheel speed ({:.0f})", camera.speed));
+    c.hints.push_back("1 beauty 2 albedo 3 normal | 4 faithful 5 physical 6 compiled 7 difference | F12 screenshot | click: face | Ctrl+C "
+                      "copy camera, Ctrl+Shift+C its file:line | F1 overlay");
+    if (!notice.empty()) c.messages.push_back({OverlayMessage::Kind::Warning, notice});
+    if (!error.empty())
+      c.messages.push_back({OverlayMessage::Kind::Error, (level ? "reload failed: " : "cannot load the level (save a fix): ") + error});
+    if (Clock::now() < flashUntil) c.messages.push_back(flash);
+    return c;
+  }
+
+  void drawWindow() {
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
@@ -397,28 +567,7 @@ struct Viewer::Impl {
     if (display)
       ImGui::GetBackgroundDrawList()->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(display->id())), ImVec2(0, 0),
                                                ImVec2(float(fbWidth), float(fbHeight)));
-
-    ImGui::SetNextWindowPos(ImVec2(8, 8));
-    ImGui::SetNextWindowBgAlpha(0.6f);
-    ImGui::Begin("brushtrace", nullptr,
-                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing |
-                     ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoMove);
-    const char* modeName = mode == ViewMode::Beauty ? "beauty" : mode == ViewMode::Albedo ? "albedo" : "normal";
-    const char* lightingName = difference    ? "compiled vs faithful (black 0, blue 8, green 16, yellow 24, red 32+ levels)"
-        : compiled                           ? "compiled"
-        : lighting == LightingMode::Faithful ? "faithful"
-                                             : "physical";
-    ImGui::Text("%s | %s lighting | %s", modeName, lightingName, gl::toString(level->tracer->textureMode()));
-    ImGui::Text("spp %d | %.2f Msamples/s", full->samples(), samplesPerSecond * 1e-6);
-    if (bake && lighting == LightingMode::Faithful && !bake->done())
-      ImGui::Text("baking luxels: pass %d of %d", bake->passesDone(), std::max(bake->passes(), 1));
-    ImGui::Text("camera %s", formatCameraPose(pose()).c_str());
-    ImGui::TextDisabled("RMB look, WASD move, Q/E down/up, wheel fwd, RMB+wheel speed (%.0f)", camera.speed);
-    ImGui::TextDisabled("1 beauty 2 albedo 3 normal | 4 faithful 5 physical 6 compiled 7 difference | F12 screenshot");
-    if (!notice.empty()) ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "%s", notice.c_str());
-    if (!error.empty()) ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "reload failed: %s", error.c_str());
-    ImGui::End();
-
+    if (overlayShown) drawOverlay(overlayContent());
     ImGui::Render();
     BT_GL(glViewport(0, 0, fbWidth, fbHeight));
     BT_GL(glClearColor(0, 0, 0, 1));
@@ -438,45 +587,28 @@ struct Viewer::Impl {
     samplesPerSecond = frameSeconds > 0.0 ? samplesThisFrame / frameSeconds : 0.0;
     samplesThisFrame = 0.0;
 
-    handleKeys();
-    moving = camera.update(readInput(), dt);
+    handlePresses();
+    if (glfwWindowShouldClose(window.handle())) return false; // Escape
+    moving = camera.update(input.flyInput(!ImGui::GetIO().WantCaptureKeyboard, !ImGui::GetIO().WantCaptureMouse), dt);
     if (moving) restart();
     reloadIfSaved();
     renderSample();
-    drawOverlay();
+    drawWindow();
     glfwSwapBuffers(window.handle());
     return true;
   }
 
-  fs::path takeScreenshot() {
-    renderAovsIfNeeded();
-    RenderImage image;
-    image.width = aovs.width;
-    image.height = aovs.height;
-    image.samples = std::max(full->samples(), 1);
-    const size_t n = static_cast<size_t>(image.width) * image.height;
-    image.beauty = full->readMean(); // black before the first sample
-    image.albedo.resize(n);
-    for (size_t i = 0; i < n; ++i) image.albedo[i] = glm::vec3(aovs.albedo[i]);
-    image.normal = aovs.normal;
-    image.depth = aovs.depth;
-    image.face = aovs.face;
+  int samples() const { return cpu ? cpuFull->samples() : full->samples(); }
 
-    const std::string stem = fs::path(options.map).stem().string();
-    fs::path png;
-    for (int i = 0;; ++i) {
-      png = options.screenshotDir / fmt::format("{}-{:03}.png", stem, i);
-      if (!fs::exists(png)) break;
-    }
-    OutputSettings output;
+  fs::path takeScreenshot() {
+    if (!level) throw std::runtime_error("no level is loaded");
+    renderAovsIfNeeded();
+    RenderImage image = aovs;
+    image.samples = std::max(samples(), 1);
+    image.beauty = cpu ? cpuFull->mean().beauty : full->readMean(); // black before the first sample
+    OutputSettings output = displayOutput();
     output.aov = mode == ViewMode::Beauty ? Aov::Beauty : mode == ViewMode::Albedo ? Aov::Albedo : Aov::Normal;
-    output.tonemap = tonemapFor(lighting);
-    output.exposureEv = options.exposureEv;
-    writeImage(png.string(), image, output);
-    fs::path exr = png;
-    exr.replace_extension(".exr");
-    writeImage(exr.string(), image, output);
-    return png;
+    return writeScreenshot(options.screenshotDir, fs::path(options.map).stem().string(), image, output);
   }
 };
 
@@ -507,13 +639,19 @@ fs::path Viewer::screenshot() {
   return impl_->takeScreenshot();
 }
 int Viewer::samples() const {
-  return impl_->full->samples();
+  return impl_->samples();
+}
+bool Viewer::cpuTracer() const {
+  return impl_->cpu;
+}
+const std::string& Viewer::cpuReason() const {
+  return impl_->cpuReason;
 }
 int Viewer::reloads() const {
   return impl_->reloads;
 }
 bool Viewer::luxelsBaked() const {
-  return !impl_->bake || impl_->bake->done();
+  return (!impl_->bake || impl_->bake->done()) && (!impl_->cpuBake || impl_->cpuBake->done());
 }
 int Viewer::glDebugErrors() const {
   return impl_->window.context().debugErrorCount();
@@ -523,6 +661,33 @@ const std::string& Viewer::error() const {
 }
 CameraPose Viewer::camera() const {
   return impl_->pose();
+}
+const PickedFace& Viewer::picked() const {
+  return impl_->picked;
+}
+bool Viewer::reloading() const {
+  return impl_->pending != nullptr;
+}
+bool Viewer::hasLevel() const {
+  return impl_->level != nullptr;
+}
+ViewMode Viewer::mode() const {
+  return impl_->mode;
+}
+LightingMode Viewer::lighting() const {
+  return impl_->lighting;
+}
+bool Viewer::overlayShown() const {
+  return impl_->overlayShown;
+}
+std::vector<OverlayMessage> Viewer::messages() const {
+  return impl_->overlayContent().messages;
+}
+std::vector<std::string> Viewer::warnings() const {
+  return impl_->overlayContent().warnings;
+}
+unsigned long Viewer::x11Window() const {
+  return impl_->window.x11Window();
 }
 Viewer::DisplayImage Viewer::displayed() const {
   if (!impl_->display) return {};

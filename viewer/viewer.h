@@ -4,8 +4,10 @@
 //
 // Samples accumulate in one RGBA32F image on the GPU and a compute pass tonemaps it into the
 // image the window draws, so nothing is read back per frame (gl_progressive.h).
-// One Viewer is one window. frame() runs one iteration of the loop (events, camera, reload,
-// one sample, tonemap, overlay, present), so tests drive it frame by frame under Xvfb.
+// One Viewer is one window. frame() runs one iteration of the loop (every key pressed since the
+// last frame, camera, a finished reload, one sample, tonemap, overlay, present), so tests drive
+// it frame by frame under Xvfb. The files are watched on a thread of their own and a reload's
+// import runs on a worker thread, so neither waits for a frame nor holds one up.
 #pragma once
 
 #include "importers/import.h"
@@ -13,6 +15,8 @@
 #include "renderer/cpu/integrator.h"
 #include "lighting/lightmap_bake.h"
 #include "renderer/gl/gl_textures.h"
+#include "viewer/overlay.h"
+#include "viewer/picking.h"
 
 #include <filesystem>
 #include <memory>
@@ -24,6 +28,10 @@ namespace bt {
 
 enum class ViewMode { Beauty, Albedo, Normal };
 
+// Which tracer draws the window: Auto takes the GL tracer unless the window's GL is emulated on
+// the CPU (llvmpipe), where the CPU tracer is several times faster; as `render --backend`.
+enum class ViewerBackend { Auto, Gl, Cpu };
+
 struct ViewerOptions {
   std::string map;
   ImportOptions import;
@@ -31,6 +39,7 @@ struct ViewerOptions {
   int height = 720;
   std::optional<CameraPose> camera; // default: the render command's default camera
   gl::TextureMode textures = gl::TextureMode::Auto;
+  ViewerBackend backend = ViewerBackend::Auto;
   LightingMode lighting = LightingMode::Faithful;
   bool compiled = false; // --lighting compiled: a .bsp's own lightmaps (key 6), in faithful mode
   // --lighting given; without it a compiled Quake 3 level opens in the compiled view (q3map2
@@ -46,8 +55,9 @@ struct ViewerOptions {
 
 class Viewer {
 public:
-  // Opens the window and loads the level. Throws on a level that cannot be imported or when
-  // no window can be opened (the message says which).
+  // Opens the window and loads the level. A level that cannot be imported opens the window with
+  // the error (error(), hasLevel() false) and loads at the next save that fixes it. Throws when no
+  // window can be opened (the message says why).
   explicit Viewer(ViewerOptions options);
   ~Viewer();
   Viewer(const Viewer&) = delete;
@@ -66,16 +76,28 @@ public:
   bool showDifference();
   const std::string& notice() const; // the last mode switch that could not be made, and why
   const std::string& note() const;   // a mode the viewer chose by itself, and why (empty: none)
+  bool cpuTracer() const;            // the window shows the CPU tracer's image (cpuReason() says why)
+  const std::string& cpuReason() const;
   // Writes <map>-NNN.png (tonemapped) and <map>-NNN.exr (linear, with AOV layers) into the
-  // screenshot folder and returns the PNG's path. F12 calls this.
+  // screenshot folder and returns the PNG's path; throws when they cannot be written. F12 calls
+  // this and shows the path, or the error, in the overlay.
   std::filesystem::path screenshot();
 
   int samples() const;              // accumulated samples per pixel of the current view
   int reloads() const;              // successful reloads since the window opened
+  const PickedFace& picked() const; // the face a left click picked (the overlay's panel shows it)
+  bool reloading() const;           // a save's import is running on its worker thread
   bool luxelsBaked() const;         // faithful mode's bake of the current level is done (true without one)
   int glDebugErrors() const;        // GL errors the driver's debug output reported (BT_GL_DEBUG=1)
   const std::string& error() const; // the last reload error, empty when the scene is current
   CameraPose camera() const;
+  bool hasLevel() const; // false while a level broken at start-up waits for a fix
+  ViewMode mode() const;
+  LightingMode lighting() const;
+  bool overlayShown() const;                    // F1 toggles it
+  std::vector<OverlayMessage> messages() const; // what the overlay shows in colour now (screenshot, errors)
+  std::vector<std::string> warnings() const;    // the import's warnings, as the overlay's panel lists them
+  unsigned long x11Window() const;              // the X11 window, for tests that send it key events (0 elsewhere)
 
   // What the window shows, read back from the GPU: the tonemapped display image (RGBA8, rows
   // top to bottom) at its own size, before it is scaled to the window. For tests.

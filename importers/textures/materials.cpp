@@ -4,6 +4,7 @@
 // (--textures, the unpacked folder of a WAD that is not there, TrenchBroom's "_tb_textures",
 // <mapdir>/textures, <mapdir>/../textures), then the game install's file system (mods, the
 // base game, their archives: importers/game/). Companion maps come from the loose folders.
+#include "importers/textures/missing_textures.h"
 #include "importers/textures/textures.h"
 
 #include "importers/game/game_install.h"
@@ -207,6 +208,16 @@ public:
           break;
         }
       }
+  }
+
+  // Where a loose image of `name` would have been found: each spelling with each extension in
+  // each loose folder (lower case, as the folders are indexed).
+  std::vector<std::string> lookedFor(const std::string& name) const {
+    std::vector<std::string> files;
+    for (const std::string& stem : textureFileStems(name))
+      for (const LooseFolder& folder : folders_)
+        for (std::string_view ext : kImageExtensions) files.push_back((folder.root() / (lowercase(stem) + std::string(ext))).string());
+    return files;
   }
 
   // Every WAD, palette and image file read so far, in the order read (repeats possible).
@@ -646,6 +657,18 @@ void loadMaterials(Scene& scene, const TextureSearch& search) {
         Severity::Warning, scene.sourcePath, 0, 0,
         fmt::format("{} texture(s) not found, drawn as a checker: {} (searched {})", missing.size(), names, library.describeSearch())});
   }
+}
+
+std::vector<std::string> missingTextureFiles(const Scene& scene, const TextureSearch& search) {
+  std::vector<std::string> files;
+  const bool anyMissing = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.missing(); });
+  if (!search.load || !anyMissing) return files;
+  Diagnostics ignored; // the import reported them
+  const TextureLibrary library(scene, search, ignored);
+  for (const Material& material : scene.materials)
+    if (material.missing())
+      for (std::string& file : library.lookedFor(material.name)) files.push_back(std::move(file));
+  return files;
 }
 
 } // namespace bt

@@ -45,6 +45,10 @@ void LevelPreparation::wait() {
   if (done_.valid()) done_.get();
 }
 
+bool LevelPreparation::ready() const {
+  return !done_.valid() || done_.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+}
+
 std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport importLevel) {
   return std::make_unique<LevelPreparation>(level.scene, level.render, std::move(importLevel));
 }

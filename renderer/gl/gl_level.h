@@ -41,6 +41,8 @@ public:
   LightKinds lightKinds();
   // Blocks until the preparation is done; then scene and render are the caller's again.
   void wait();
+  // Whether wait() would return at once (the viewer's reload polls it between frames).
+  bool ready() const;
 
   Clock::time_point started, lightsCollected, prepared; // the worker's steps, for timelines
 

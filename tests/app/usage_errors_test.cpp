@@ -84,6 +84,7 @@ TEST(UsageErrors, EveryCommandChecksItsOptionsBeforeAnyWork) {
       {"view " + level + " --camera 'setpos 1 2'", "--camera: expected"},
       {"view " + level + " --screenshots " + quoted(dir / "missing"), "--screenshots: folder"},
       {"view " + level + " --bounces 65", "--bounces"},
+      {"view " + level + " --backend vulkan", "--backend"},
       {"view " + quoted(dir / "missing.map"), "map: '"},
       {"bench " + quoted(dir / "missing.map"), "map: '"},
       {"bench " + level + " --seconds 0", "--seconds"},

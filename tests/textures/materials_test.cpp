@@ -1,4 +1,5 @@
 // loadMaterials: search order, name spellings, palettes, companion maps, missing textures.
+#include "importers/textures/missing_textures.h"
 #include "importers/textures/textures.h"
 #include "tests/test_data.h"
 #include "tests/textures/texture_fixtures.h"
@@ -394,6 +395,23 @@ TEST(LoadMaterials, ListsTheWadPaletteImagesAndCompanionMapsItReadAsInputFiles) 
   EXPECT_EQ(listed.size(), scene.inputFiles.size()) << "a file listed twice";
   const std::set<fs::path> expected{dir / "base.wad", dir / "gfx/palette.lmp", dir / "textures/metal.png", dir / "textures/metal_glow.png"};
   EXPECT_EQ(listed, expected);
+}
+
+// ... and where each missing texture would have been read from, so that one that appears reloads
+// the level: every spelling with every image extension in every loose folder, none for the found.
+TEST(LoadMaterials, ListsWhereAMissingTextureWouldBeRead) {
+  test::TempDir dir;
+  test::writeImage(dir / "textures/metal.png", 2, 2, 3, solid(2, 2, 3, {100, 100, 100}));
+  Scene scene = makeScene(dir / "level.map", {}, {"metal", "*Lava1"});
+  loadMaterials(scene, TextureSearch{});
+  const std::vector<std::string> files = missingTextureFiles(scene, TextureSearch{});
+  const std::set<fs::path> listed(files.begin(), files.end());
+  for (const char* file : {"textures/*lava1.png", "textures/*lava1.tga", "textures/star_lava1.png", "textures/#lava1.jpg"})
+    EXPECT_TRUE(listed.count(dir / file)) << file << " not listed";
+  for (const fs::path& file : listed) EXPECT_EQ(file.string().find("metal"), std::string::npos) << file << ": metal was found";
+  scene.materials[0].source = TextureSource::LooseImage; // as if both were found
+  scene.materials[1].source = TextureSource::LooseImage;
+  EXPECT_TRUE(missingTextureFiles(scene, TextureSearch{}).empty());
 }
 
 TEST(LoadMaterials, CompanionMapsAlsoApplyToTexturesFromWads) {

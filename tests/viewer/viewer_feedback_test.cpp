@@ -1,0 +1,223 @@
+// The viewer as a mapper drives it: taps shorter than a frame, screenshots that fail, a map that
+// is broken when the window opens, a texture that appears. Keys reach the window as X events
+// (XSendEvent to the viewer's window), so they go through GLFW's event processing and the
+// viewer's callbacks exactly as a user's key presses do; nothing is injected behind GLFW.
+#include "tests/viewer/viewer_test_fixture.h"
+
+#include <GLFW/glfw3.h>
+#include <X11/Xlib.h>
+#include <X11/keysym.h>
+
+#include <algorithm>
+#include <thread>
+
+namespace bt {
+namespace {
+
+using namespace viewer_test;
+
+// A press and its release, both delivered before the viewer's next frame: a tap shorter than a
+// frame, which polling the key state once per frame never sees.
+void tap(const Viewer& viewer, KeySym key, unsigned int state = 0) {
+  Display* display = XOpenDisplay(nullptr);
+  ASSERT_NE(display, nullptr);
+  XKeyEvent event{};
+  event.display = display;
+  event.window = viewer.x11Window();
+  event.root = DefaultRootWindow(display);
+  event.time = CurrentTime;
+  event.same_screen = True;
+  event.keycode = XKeysymToKeycode(display, key);
+  event.state = state;
+  event.type = KeyPress;
+  XSendEvent(display, event.window, True, KeyPressMask, reinterpret_cast<XEvent*>(&event));
+  event.type = KeyRelease;
+  XSendEvent(display, event.window, True, KeyReleaseMask, reinterpret_cast<XEvent*>(&event));
+  XSync(display, False); // both are in the viewer's queue when this returns
+  XCloseDisplay(display);
+}
+
+// The pointer moved to (x, y) of the window and a left click there.
+void click(const Viewer& viewer, int x, int y) {
+  Display* display = XOpenDisplay(nullptr);
+  ASSERT_NE(display, nullptr);
+  const Window window = viewer.x11Window();
+  XWarpPointer(display, None, window, 0, 0, 0, 0, x, y);
+  XButtonEvent event{};
+  event.display = display;
+  event.window = window;
+  event.root = DefaultRootWindow(display);
+  event.time = CurrentTime;
+  event.x = x;
+  event.y = y;
+  event.same_screen = True;
+  event.button = Button1;
+  event.type = ButtonPress;
+  XSendEvent(display, window, True, ButtonPressMask, reinterpret_cast<XEvent*>(&event));
+  event.type = ButtonRelease;
+  event.state = Button1Mask;
+  XSendEvent(display, window, True, ButtonReleaseMask, reinterpret_cast<XEvent*>(&event));
+  XSync(display, False);
+  XCloseDisplay(display);
+}
+
+std::string allMessages(const Viewer& viewer) {
+  std::string text;
+  for (const OverlayMessage& m : viewer.messages()) text += m.text + "\n";
+  return text;
+}
+
+bool hasMessage(const Viewer& viewer, OverlayMessage::Kind kind, const std::string& part) {
+  const auto messages = viewer.messages();
+  return std::any_of(messages.begin(), messages.end(),
+                     [&](const OverlayMessage& m) { return m.kind == kind && m.text.find(part) != std::string::npos; });
+}
+
+TEST_F(ViewerWindowTest, ATapShorterThanAFrameIsActedOn) {
+  Viewer viewer(options());
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 1; }));
+
+  tap(viewer, XK_F12);
+  tap(viewer, XK_2);
+  tap(viewer, XK_5);
+  ASSERT_TRUE(viewer.frame());
+  const fs::path shot = dir_ / "room-000.png";
+  EXPECT_TRUE(fs::exists(shot)) << "the F12 tap was lost";
+  EXPECT_TRUE(hasMessage(viewer, OverlayMessage::Kind::Info, shot.string())) << allMessages(viewer);
+  EXPECT_EQ(viewer.mode(), ViewMode::Albedo) << "the 2 tap was lost";
+  EXPECT_EQ(viewer.lighting(), LightingMode::Physical) << "the 5 tap was lost";
+
+  // F1 hides the overlay and shows it again, one tap each, in the same frame too.
+  tap(viewer, XK_F1);
+  ASSERT_TRUE(viewer.frame());
+  EXPECT_FALSE(viewer.overlayShown());
+  tap(viewer, XK_F1);
+  tap(viewer, XK_F1);
+  tap(viewer, XK_F1);
+  ASSERT_TRUE(viewer.frame());
+  EXPECT_TRUE(viewer.overlayShown()) << "three taps in one frame did not toggle three times";
+  EXPECT_EQ(viewer.glDebugErrors(), 0);
+}
+
+// Ctrl+C: a press with its modifier, through the same queue.
+TEST_F(ViewerWindowTest, CtrlCCopiesTheCameraForRenderAndForTheGame) {
+  Viewer viewer(options());
+  ASSERT_TRUE(viewer.frame());
+  tap(viewer, XK_c, ControlMask);
+  ASSERT_TRUE(viewer.frame());
+  EXPECT_TRUE(hasMessage(viewer, OverlayMessage::Kind::Info, "copied the camera: (-96 0 -42) 0 0 0")) << allMessages(viewer);
+  const char* text = glfwGetClipboardString(nullptr); // the viewer's window owns the selection
+  ASSERT_NE(text, nullptr);
+  EXPECT_EQ(std::string(text), "--camera '(-96 0 -42) 0 0 0'\nsetpos -96 0 -42 0 0 0\n");
+  EXPECT_EQ(viewer.camera().origin, glm::vec3(-96, 0, -42)) << "the C of Ctrl+C moved the camera";
+}
+
+// The room's +X wall is brush 1 (line 14 of the map), its -X face on line 15: straight ahead of
+// the camera, under the window's centre.
+TEST_F(ViewerWindowTest, AClickShowsTheFaceUnderTheCursorWithItsFileAndLine) {
+  Viewer viewer(options());
+  tap(viewer, XK_F1); // the overlay covers most of this small window, and a click on it is its own
+  ASSERT_TRUE(viewer.frame());
+  click(viewer, 48, 32);
+  ASSERT_TRUE(viewer.frame());
+  const PickedFace& picked = viewer.picked();
+  ASSERT_TRUE(picked.hit) << "the click picked nothing";
+  EXPECT_EQ(picked.fileLine, map_.string() + ":15");
+  std::string lines;
+  for (const std::string& line : picked.lines) lines += line + "\n";
+  EXPECT_NE(lines.find("brush 1: " + map_.string() + ":14"), std::string::npos) << lines;
+  EXPECT_NE(lines.find("texture wall"), std::string::npos) << lines;
+  EXPECT_NE(lines.find("entity 0 worldspawn: " + map_.string() + ":3"), std::string::npos) << lines;
+  EXPECT_NE(lines.find("solid"), std::string::npos) << lines;
+
+  tap(viewer, XK_c, ControlMask | ShiftMask);
+  ASSERT_TRUE(viewer.frame());
+  const char* text = glfwGetClipboardString(nullptr);
+  ASSERT_NE(text, nullptr);
+  EXPECT_EQ(std::string(text), map_.string() + ":15");
+}
+
+TEST_F(ViewerWindowTest, AScreenshotIntoAFolderThatIsGoneShowsTheErrorAndTheViewerGoesOn) {
+  ViewerOptions o = options();
+  o.screenshotDir = dir_ / "shots";
+  fs::create_directories(o.screenshotDir);
+  Viewer viewer(o);
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 1; }));
+  fs::remove(o.screenshotDir); // removed while the viewer runs
+
+  tap(viewer, XK_F12);
+  ASSERT_TRUE(viewer.frame()) << "the failed screenshot closed the viewer";
+  EXPECT_TRUE(hasMessage(viewer, OverlayMessage::Kind::Error, "screenshot failed")) << allMessages(viewer);
+  EXPECT_TRUE(hasMessage(viewer, OverlayMessage::Kind::Error, (o.screenshotDir / "room-000.png").string())) << allMessages(viewer);
+  const int samples = viewer.samples();
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() > samples; })) << "refinement stopped";
+
+  // The folder is back: the next F12 writes there and says where.
+  fs::create_directories(o.screenshotDir);
+  tap(viewer, XK_F12);
+  ASSERT_TRUE(viewer.frame());
+  EXPECT_TRUE(fs::exists(o.screenshotDir / "room-000.png"));
+  EXPECT_TRUE(fs::exists(o.screenshotDir / "room-000.exr"));
+  EXPECT_TRUE(hasMessage(viewer, OverlayMessage::Kind::Info, (o.screenshotDir / "room-000.png").string())) << allMessages(viewer);
+  EXPECT_FALSE(hasMessage(viewer, OverlayMessage::Kind::Error, "screenshot failed")) << allMessages(viewer);
+  EXPECT_EQ(viewer.glDebugErrors(), 0);
+}
+
+TEST_F(ViewerWindowTest, AMapBrokenAtStartUpShowsTheErrorUntilASaveFixesIt) {
+  std::ofstream(map_) << "{\n\"classname\" \"worldspawn\"\n{\n( 0 0 0 ) ( 1 0";
+  Viewer viewer(options());
+  EXPECT_FALSE(viewer.hasLevel());
+  EXPECT_NE(viewer.error().find(map_.string() + ":4:"), std::string::npos) << "no file:line:col: " << viewer.error();
+  EXPECT_TRUE(hasMessage(viewer, OverlayMessage::Kind::Error, map_.string() + ":4:")) << allMessages(viewer);
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(viewer.frame()) << "the window without a level closed";
+  tap(viewer, XK_F12); // nothing to shoot: said so, and the viewer goes on
+  ASSERT_TRUE(viewer.frame());
+  EXPECT_TRUE(hasMessage(viewer, OverlayMessage::Kind::Error, "screenshot failed")) << allMessages(viewer);
+
+  save(roomMap(300));
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.hasLevel() && viewer.samples() >= 2; })) << "the fixed save was not loaded";
+  EXPECT_TRUE(viewer.error().empty()) << viewer.error();
+  EXPECT_EQ(viewer.camera().origin, glm::vec3(-96, 0, -42)) << "the level did not open at its render camera";
+  const fs::path shot = viewer.screenshot();
+  EXPECT_GT(meanPixel(shot), 5.0) << "the fixed level rendered black";
+  EXPECT_LE(largestDifference(shot, viewer.displayed()), 1) << "the window does not show the level";
+  EXPECT_EQ(viewer.glDebugErrors(), 0);
+}
+
+TEST_F(ViewerWindowTest, ATextureThatAppearsReloadsTheLevel) {
+  fs::remove(dir_ / "textures/wall.png");
+  fs::remove(dir_ / "textures/wall_norm.png");
+  Viewer viewer(options());
+  const auto warnings = viewer.warnings();
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("not found"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("wall"), std::string::npos) << warnings[0];
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 2; }));
+  const fs::path checker = viewer.screenshot();
+
+  writeTexture(dir_ / "textures/wall.png", 250);
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.reloads() == 1 && viewer.samples() >= 2; }))
+      << "the texture that appeared did not reload the level";
+  EXPECT_TRUE(viewer.warnings().empty()) << viewer.warnings().front();
+  const fs::path textured = viewer.screenshot();
+  EXPECT_GT(meanPixel(textured), meanPixel(checker) * 1.2) << "the level still shows the checker";
+  EXPECT_EQ(viewer.glDebugErrors(), 0);
+}
+
+// The save is noticed by the watcher's thread while a frame is busy, and the reload's import runs
+// on a worker thread: the frames go on meanwhile and the level changes between two of them.
+TEST_F(ViewerWindowTest, ASaveIsNoticedWhileAFrameIsBusy) {
+  Viewer viewer(options());
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 1; }));
+  save(roomMap(900));
+  std::this_thread::sleep_for(std::chrono::milliseconds(600)); // a frame that takes 0.6 s
+  ASSERT_TRUE(viewer.frame());
+  // Polled by the frame, the save would only now be seen, and waited for another debounce.
+  EXPECT_TRUE(viewer.reloading() || viewer.reloads() == 1) << "the first frame after the save did not start the reload";
+  ASSERT_TRUE(frameUntil(
+      viewer, [&] { return viewer.reloads() == 1; }, 10.0))
+      << "the save was not noticed";
+}
+
+} // namespace
+} // namespace bt

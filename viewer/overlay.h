@@ -1,0 +1,29 @@
+// The viewer's overlay (imgui): the frame's status lines, the messages that come and go
+// (a screenshot's path, why it failed, why a level did not load), and a panel listing the
+// import's warnings with their file:line:col, the face a click picked. F1 hides it; the image underneath is drawn
+// whatever it shows.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace bt {
+
+struct OverlayMessage {
+  enum class Kind { Info, Warning, Error };
+  Kind kind = Kind::Info;
+  std::string text;
+};
+
+struct OverlayContent {
+  std::vector<std::string> status;      // one line each, plain
+  std::vector<std::string> hints;       // the keys, dimmed
+  std::vector<OverlayMessage> messages; // coloured by kind
+  std::vector<std::string> warnings;    // the import's diagnostics, formatted
+  std::vector<std::string> picked;      // the face a click picked
+};
+
+// Draws the content into the current imgui frame (between NewFrame and Render).
+void drawOverlay(const OverlayContent& content);
+
+} // namespace bt
