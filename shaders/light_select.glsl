@@ -66,7 +66,7 @@ float physicalReach(GpuLight light, float scaledist) {
   if (light.formula == FORMULA_INVERSE) return value / PHYSICAL_REACH_THRESHOLD * FORMULA_SCALE / s;
   if (light.formula == FORMULA_INVERSE2) return sqrt(value / PHYSICAL_REACH_THRESHOLD) * FORMULA_SCALE / s;
   if (light.formula == FORMULA_INVERSE2A) return max(sqrt(value / PHYSICAL_REACH_THRESHOLD) - 1.0, 0.0) * FORMULA_SCALE / s;
-  if (light.formula == FORMULA_Q3_POINT || light.formula == FORMULA_Q3_LINEAR) return light.falloff;
+  if (light.formula == FORMULA_Q3_POINT || light.formula == FORMULA_Q3_LINEAR || light.formula == FORMULA_Q3_AREA) return light.falloff;
   return PHYSICAL_NO_REACH;
 }
 
@@ -80,7 +80,7 @@ float physicalWindow(float dist, float reach) {
 float physicalIntensity(GpuLight light, float scaledist, float r) {
   float d = FORMULA_SCALE / max(scaledist * light.atten, 1e-6);
   if (light.formula == FORMULA_LINEAR || light.formula == FORMULA_Q3_LINEAR) d = 0.5 * r;
-  if (light.formula == FORMULA_Q3_POINT) d = min(FORMULA_SCALE, 0.5 * r);
+  if (light.formula == FORMULA_Q3_POINT || light.formula == FORMULA_Q3_AREA) d = min(FORMULA_SCALE, 0.5 * r);
   float w = r < PHYSICAL_NO_REACH ? physicalWindow(d, r) : 1.0;
   return w > 0.0 ? copyDistanceValue(light, d, scaledist) * d * d / w : 0.0;
 }
