@@ -59,7 +59,8 @@ inline float copyDistanceValue(const GpuLight& light, float dist, float scaledis
     const float d = std::max(dist, kBounceHotspotClamp);
     return value / (d * d);
   }
-  if (light.formula == uint32_t(LightFormula::Q3Point) || light.formula == uint32_t(LightFormula::Q3Linear))
+  if (light.formula == uint32_t(LightFormula::Q3Point) || light.formula == uint32_t(LightFormula::Q3Linear) ||
+      light.formula == uint32_t(LightFormula::Q3Area))
     return q3map2Value(light, dist);
   if (light.falloff > 0.0f && light.formula == uint32_t(LightFormula::Linear))
     return dist < light.falloff ? value * (1.0f - dist / light.falloff) : 0.0f;
@@ -126,11 +127,12 @@ inline float behindCosine(const GpuLight& light) {
 
 // A radiosity surface light point shines into the half-space in front of its face, with the
 // same half-Lambert (0.5 + 0.5 cos) on its side as on the receiver's (ltface.cc
-// GetSurfaceLighting, "rescale"); a bounce light with the plain cosine (no rescale); 1 for every
-// other light.
+// GetSurfaceLighting, "rescale"); a bounce light and a q3map2 area light (light.c
+// LightContributionToSample, `-faster`: angle *= -dot(light normal, direction)) with the plain
+// cosine; 1 for every other light.
 inline float emitterTerm(const GpuLight& light, const glm::vec3& toLight) {
   const bool radiosity = light.formula == uint32_t(LightFormula::SurfaceRadiosity);
-  if (!radiosity && light.formula != uint32_t(LightFormula::Bounce)) return 1.0f;
+  if (!radiosity && light.formula != uint32_t(LightFormula::Bounce) && light.formula != uint32_t(LightFormula::Q3Area)) return 1.0f;
   const float cosEmit = -glm::dot(light.direction, toLight);
   if (cosEmit < behindCosine(light)) return 0.0f;
   return radiosity ? angleTerm(cosEmit, 0.5f) : cosEmit;

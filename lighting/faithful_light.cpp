@@ -212,7 +212,7 @@ glm::vec3 applyFloors(const RenderScene& rs, const glm::vec3& sum, const glm::ve
                       float occlusion) {
   const DirtSettings& dirt = rs.world.dirtSettings;
   const float minlightDirt = dirt.minlight ? 1.0f - faithful::dirtAmount(occlusion, dirt.gain, dirt.scale) : 1.0f;
-  return glm::max(glm::max(sum, localMin), glm::max(rs.world.minlight, faceMinlight) * minlightDirt);
+  return glm::max(glm::max(sum + rs.world.ambient, localMin), glm::max(rs.world.minlight, faceMinlight) * minlightDirt);
 }
 
 // Which lights a faithful sum takes: all of them with the floors (what a surface shows), or what

@@ -280,7 +280,8 @@ float faithfulReach(const GpuLight& light, float scaledist) {
       reach = light.falloff;
     else if (scaledist * light.atten > 0.0f)
       reach = std::abs(light.value) / (scaledist * light.atten);
-  } else if (light.formula == uint32_t(LightFormula::Q3Point) || light.formula == uint32_t(LightFormula::Q3Linear)) {
+  } else if (light.formula == uint32_t(LightFormula::Q3Point) || light.formula == uint32_t(LightFormula::Q3Linear) ||
+             light.formula == uint32_t(LightFormula::Q3Area)) {
     reach = light.falloff; // faithful::q3map2Value: q3map2's envelope
   } else if (light.formula == uint32_t(LightFormula::Bounce)) {
     // faithful::pointLightValue: value / d^2 (both cosines at most 1) under the gate gives 0.

@@ -4,6 +4,7 @@
 #include "lighting/game_rules.h"
 #include "lighting/penumbra_suns.h"
 #include "lighting/q3map2_light.h"
+#include "lighting/q3map2_shader_light.h"
 #include "quake/bspfile_q2.h"
 #include "quake/entity_keys.h"
 
@@ -378,6 +379,7 @@ SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagn
     out.world = compilerDefaults(Game::Quake3);
     q3map2::readWorld(scene, out.world, diagnostics);
     q3map2::addLightEntities(scene, options, out, diagnostics);
+    q3map2::addShaderSuns(scene, out);
     return out;
   }
   out.world = readWorld(scene, diagnostics);

@@ -34,6 +34,7 @@ struct WorldLighting {
   float scaledist = 1.0f;              // `_dist`: scales distance in every falloff formula
   float anglescale = 0.5f;             // `_anglescale` (or `_anglesense`): default for every light and the sun
   glm::vec3 minlight{0.0f};            // `light` / `_minlight` * `_minlight_color`, in light units
+  glm::vec3 ambient{0.0f};             // q3map2's worldspawn `_ambient` × `_color`: added to every sum (Quake 3 only)
   int bounces = 0;                     // `_bounce`: passes of ericw-tools bounce lights (lighting/bounce.h)
   float bouncescale = 1.0f;            // `_bouncescale`
   float bouncecolorscale = 0.0f;       // `_bouncecolorscale`: 0 bounces grey (127), 1 the texture's mean colour

@@ -28,6 +28,7 @@ inline float reach(const GpuLight& light, float scaledist) {
   case LightFormula::Inverse2: return std::sqrt(value / kReachThreshold) * BT_FORMULA_SCALE / s;
   case LightFormula::Inverse2A: return std::max(std::sqrt(value / kReachThreshold) - 1.0f, 0.0f) * BT_FORMULA_SCALE / s;
   case LightFormula::Q3Point:
+  case LightFormula::Q3Area:
   case LightFormula::Q3Linear: return light.falloff; // q3map2's envelope
   default: return std::numeric_limits<float>::infinity();
   }
@@ -48,7 +49,8 @@ inline float window(float dist, float reachDistance) {
 inline float matchDistance(const GpuLight& light, float scaledist) {
   if (light.formula == uint32_t(LightFormula::Linear) || light.formula == uint32_t(LightFormula::Q3Linear))
     return 0.5f * reach(light, scaledist);
-  if (light.formula == uint32_t(LightFormula::Q3Point)) return std::min(BT_FORMULA_SCALE, 0.5f * reach(light, scaledist));
+  if (light.formula == uint32_t(LightFormula::Q3Point) || light.formula == uint32_t(LightFormula::Q3Area))
+    return std::min(BT_FORMULA_SCALE, 0.5f * reach(light, scaledist));
   return BT_FORMULA_SCALE / std::max(scaledist * light.atten, 1e-6f);
 }
 

@@ -165,9 +165,10 @@ void readWorld(const Scene& scene, WorldLighting& world, Diagnostics& diagnostic
   glm::vec3 color = keys.vec3("_color").value_or(glm::vec3(0.0f));
   if (glm::length(color) == 0.0f) color = glm::vec3(1.0f);
   world.minlight = firstNumber(keys, "_minlight") * color;
+  // LightingAtSample starts every sample's sum at ambientColor before the lights.
   float ambient = firstNumber(keys, "_ambient");
   if (ambient == 0.0f) ambient = firstNumber(keys, "ambient");
-  if (ambient != 0.0f) keys.warn("worldspawn _ambient (q3map2's light added to every luxel) is not modelled yet; ignored");
+  world.ambient = ambient * color;
 }
 
 void addLightEntities(const Scene& scene, const LightOptions& options, SceneLights& out, Diagnostics& diagnostics) {

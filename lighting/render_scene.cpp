@@ -2,6 +2,7 @@
 #include "lighting/bounce.h"
 #include "lighting/game_rules.h"
 #include "lighting/physical_light.h"
+#include "lighting/q3map2_shader_light.h"
 #include "lighting/surface_lights.h"
 #include "quake/bspfile_q2.h"
 #include "quake/entity_keys.h"
@@ -179,7 +180,7 @@ uint32_t entityChannels(const Scene& scene, const Entity& ent) {
 void classifyFaces(RenderScene& rs, const RenderSceneOptions& options) {
   const Scene& scene = *rs.scene;
   std::vector<uint32_t> materialMasks;
-  for (const Material& m : scene.materials) materialMasks.push_back(alphaTestFlags(m));
+  for (const Material& m : scene.materials) materialMasks.push_back(alphaTestFlags(m) | q3map2::shaderFaceFlags(m));
   rs.faceFlags.resize(scene.faces.size());
   rs.faceChannels.clear();
   const Game game = gameOf(scene);
@@ -187,6 +188,7 @@ void classifyFaces(RenderScene& rs, const RenderSceneOptions& options) {
     const Face& f = scene.faces[i];
     uint32_t& flags = rs.faceFlags[i];
     flags = classifyTexture(f.texture, f.surface, game) | materialMasks[f.material];
+    if (flags & kFaceSky) flags &= ~kFaceHidden; // a Quake 3 sky shader on a common/ name
     if (game == Game::Quake2 && f.surface) flags = quake2DrawnAs(flags, *f.surface);
     {
       const uint32_t e = scene.faceEntity(uint32_t(i)); // a brush's or a mesh's
@@ -295,6 +297,8 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   // tracer (the compiler drops template faces that look into the void).
   for (const GpuLight& l : spreadSurfaceLights(scene, lights.surfaceTemplates, contents, rs.world, rs.tracer, diagnostics))
     rs.lights.push_back(l);
+  if (gameOf(scene) == Game::Quake3)
+    for (const GpuLight& l : q3map2::shaderSurfaceLights(scene, contents, rs.tracer, diagnostics)) rs.lights.push_back(l);
   for (GpuLight& l : rs.lights) physical::prepare(l, rs.world.scaledist);
   rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
   if (rs.world.bounces > 0 && options.bounceLights) addBounceLights(rs, contents, diagnostics); // prepared too

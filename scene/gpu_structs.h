@@ -170,6 +170,9 @@ enum class LightFormula : uint32_t {
   Q3Point = BT_FORMULA_Q3_POINT,
   // q3map2's linear light (spawnflags 1): value - max(dist, 16) × atten (`fade`), 0 from `falloff` on.
   Q3Linear = BT_FORMULA_Q3_LINEAR,
+  // One piece of a q3map2 surface light (`q3map_surfacelight`), as its area light's `-faster`
+  // approximation: Q3Point's law times the cosine on the emitting face (`direction` is its normal).
+  Q3Area = BT_FORMULA_Q3_AREA,
 };
 
 enum class LightType : uint32_t {

@@ -26,6 +26,38 @@ enum class TextureSource { Missing, Wad2, Wad3, Miptex, Wal, LooseImage };
 // shaders set None or their alphaFunc, since Quake 3 draws an image's alpha only when told.
 enum class AlphaTest : uint8_t { FromImage, None, Gt0, Lt128, Ge128 };
 
+// One `q3map_sun` / `q3map_sunExt` line of a Quake 3 shader, as q3map2's ParseShaderFile keeps it.
+struct Q3ShaderSun {
+  float color[3] = {1.0f, 1.0f, 1.0f}; // as written (q3map2 normalises it to unit length)
+  float intensity = 0.0f;              // photons
+  float degrees = 0.0f;                // azimuth of the direction towards the sun (0 = +x, 90 = +y)
+  float elevation = 0.0f;              // degrees above the horizon
+  float deviance = 0.0f;               // q3map_sunExt: the penumbra, degrees (0: a hard sun)
+  int samples = 1;                     // q3map_sunExt: how many suns q3map2 spreads it over
+};
+
+// What q3map2 reads from a Quake 3 shader for light (shaders.c ParseShaderFile, LoadShaderImages);
+// all defaults for other games and for names no shader script defines. lighting/q3map2_shader_light.h
+// turns it into lights; lighting/README.md ("Quake 3 in faithful mode") lists each key.
+struct Q3ShaderLight {
+  bool defined = false; // a shader script defines this name
+  std::string script;   // that script, and the line its name is on (for messages)
+  int line = 0;
+  float surfaceLight = 0.0f;           // q3map_surfacelight: area light value
+  float color[3] = {1.0f, 1.0f, 1.0f}; // q3map2's si->color: q3map_lightRGB, else the light image's mean
+  bool hasLightRGB = false;            // q3map_lightRGB given (else color is the image's, white without one)
+  std::string lightImage;              // q3map_lightImage, else the first stage's map, else skyParms' _up image
+  float subdivide = 0.0f;              // q3map_lightSubdivide (0: the compiler's default, 120)
+  float backsplashFraction = 0.05f;    // q3map_backsplash percent / 100 (default 5 %)
+  float backsplashDistance = 23.0f;    // q3map_backsplash distance (default 23)
+  std::vector<Q3ShaderSun> suns;       // q3map_sun / q3map_sunExt lines
+  float skyLightValue = 0.0f;          // q3map_skylight value
+  int skyLightIterations = 0;          // q3map_skylight iterations (at least 2)
+  bool sky = false;                    // surfaceparm sky (q3map_sun implies it)
+  bool nodraw = false;                 // surfaceparm nodraw
+  bool nolightmap = false;             // surfaceparm nolightmap
+};
+
 struct Material {
   std::string name; // texture name as the map spells it
   int width = 64;   // size in texels: texture coordinates are divided by it to sample
@@ -40,6 +72,7 @@ struct Material {
   Image emissive;  // sRGB; Quake fullbright texels (palette 224..255) land here too
 
   AlphaTest alphaTest = AlphaTest::FromImage;
+  Q3ShaderLight q3; // Quake 3 shaders only
   float roughnessValue = 0.8f;
   float metallicValue = 0.0f;
 

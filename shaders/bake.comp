@@ -214,7 +214,7 @@ vec3 applyFloors(vec3 sum, vec3 localMin, vec3 faceMinlight, float occlusion) {
 #ifdef BT_FAITHFUL_DIRT
   if (world.minlightDirt != 0u) minlightDirt = 1.0 - dirtAmount(occlusion, world.dirtGain, world.dirtScale);
 #endif
-  return max(max(sum, localMin), max(world.minlight, faceMinlight) * minlightDirt);
+  return max(max(sum + world.ambient, localMin), max(world.minlight, faceMinlight) * minlightDirt);
 }
 
 // lighting faithfulLuxelLight of sample `index` after passesDone passes.

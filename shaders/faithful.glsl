@@ -42,7 +42,8 @@ float q3map2Value(GpuLight light, float dist) {
 
 float copyDistanceValue(GpuLight light, float dist, float scaledist) {
   float value = light.value;
-  if (light.formula == FORMULA_Q3_POINT || light.formula == FORMULA_Q3_LINEAR) return q3map2Value(light, dist);
+  if (light.formula == FORMULA_Q3_POINT || light.formula == FORMULA_Q3_LINEAR || light.formula == FORMULA_Q3_AREA)
+    return q3map2Value(light, dist);
   if (light.formula == FORMULA_SURFACE_RADIOSITY) {
     float d = max(dist, SURFACE_HOTSPOT_CLAMP);
     return value / (d * d);
@@ -106,7 +107,7 @@ float behindCosine(GpuLight light) {
 // the plain cosine there.
 float emitterTerm(GpuLight light, vec3 toLight) {
   bool radiosity = light.formula == FORMULA_SURFACE_RADIOSITY;
-  if (!radiosity && light.formula != FORMULA_BOUNCE) return 1.0;
+  if (!radiosity && light.formula != FORMULA_BOUNCE && light.formula != FORMULA_Q3_AREA) return 1.0;
   float cosEmit = -dot(light.direction, toLight);
   if (cosEmit < behindCosine(light)) return 0.0;
   return radiosity ? angleTerm(cosEmit, 0.5) : cosEmit;

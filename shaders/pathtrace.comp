@@ -360,7 +360,7 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
 // The surface's lights are all done: the floors, then what the game would draw. The path ends
 // (main() calls this where physical mode samples its next bounce).
 bool faithfulPathEnd(inout Path path, inout Rng rng) {
-  vec3 light = max(max(path.lightSum, path.lightFloor), world.minlight * minlightDirtFactor(path));
+  vec3 light = max(max(path.lightSum + world.ambient, path.lightFloor), world.minlight * minlightDirtFactor(path));
   // The _surface template's own faces: ericw-tools' face minlight (lighting faithfulFaceMinlight).
   path.lit = max(light, surfaceFaceMinlight(surfaceLights[faces[path.face].material]) * minlightDirtFactor(path));
   path.radiance = faithfulDisplay(path);

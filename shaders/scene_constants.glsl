@@ -38,6 +38,7 @@
 #define BT_FORMULA_BOUNCE 7u
 #define BT_FORMULA_Q3_POINT 8u
 #define BT_FORMULA_Q3_LINEAR 9u
+#define BT_FORMULA_Q3_AREA 10u
 
 // GpuLight::flags.
 #define BT_LIGHT_FLAG_START_OFF 1u

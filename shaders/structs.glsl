@@ -92,6 +92,7 @@ const uint FORMULA_SURFACE_RADIOSITY = BT_FORMULA_SURFACE_RADIOSITY;
 const uint FORMULA_BOUNCE = BT_FORMULA_BOUNCE; // an ericw-tools bounce light (lighting/bounce.h)
 const uint FORMULA_Q3_POINT = BT_FORMULA_Q3_POINT;   // q3map2's point/spot light (lighting/q3map2_light.h)
 const uint FORMULA_Q3_LINEAR = BT_FORMULA_Q3_LINEAR; // ... with spawnflags 1 (linear)
+const uint FORMULA_Q3_AREA = BT_FORMULA_Q3_AREA;     // ... a piece of a q3map_surfacelight (lighting/q3map2_shader_light.h)
 const uint LIGHT_FLAG_BLEED = BT_LIGHT_FLAG_BLEED;
 const uint LIGHT_FLAG_FROM_SURFACE = BT_LIGHT_FLAG_FROM_SURFACE;
 const uint LIGHT_FLAG_FACE_MINLIGHT = BT_LIGHT_FLAG_FACE_MINLIGHT;

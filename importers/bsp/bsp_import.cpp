@@ -8,6 +8,7 @@
 #include "importers/bsp/meshes.h"
 #include "scene/curves.h"
 #include "importers/bsp/pk3.h"
+#include "importers/bsp/q3_shader_light.h"
 #include "importers/bsp/q3_textures.h"
 #include "importers/textures/textures.h"
 #include "quake/entity_keys.h"
@@ -325,7 +326,9 @@ Scene importBsp(const std::string& path, const ImportOptions& options) {
       if (bsp.isQuake1Family()) decodeEmbeddedMiptex(bsp, scene, options.textures, install);
       if (bsp.version == Version::Quake3_46) {
         std::vector<std::string> filesRead;
-        resolveQuake3Materials(scene.materials, quake3GameFiles(archive, options, install), scene.diagnostics, &filesRead);
+        const GameFiles files = quake3GameFiles(archive, options, install);
+        resolveQuake3Materials(scene.materials, files, scene.diagnostics, &filesRead);
+        readQuake3ShaderLight(scene.materials, files, scene.diagnostics, &filesRead);
         for (const std::string& file : filesRead) scene.addInputFile(file);
       }
     }

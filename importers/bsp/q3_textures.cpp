@@ -1,4 +1,5 @@
 #include "importers/bsp/q3_textures.h"
+#include "importers/bsp/shader_lexer.h"
 #include "importers/textures/textures.h"
 #include "scene/names.h"
 
@@ -10,61 +11,6 @@
 namespace bt::bsp {
 
 namespace {
-
-bool isLineEnd(char c) {
-  return c == '\n' || c == '\r';
-}
-
-// Tokens of a shader script: words, quoted strings, braces; `//` and `/* */` comments skipped.
-class ShaderLexer {
-public:
-  explicit ShaderLexer(std::string_view text) : text_(text) {}
-
-  // The next token, or empty at the end. `sameLine` stops at a line break (stage arguments).
-  std::string_view next(bool sameLine = false) {
-    while (pos_ < text_.size()) {
-      const char c = text_[pos_];
-      if (isLineEnd(c) && sameLine) return {};
-      if (c == '/' && pos_ + 1 < text_.size() && text_[pos_ + 1] == '/') {
-        while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
-      } else if (c == '/' && pos_ + 1 < text_.size() && text_[pos_ + 1] == '*') {
-        const size_t end = text_.find("*/", pos_ + 2);
-        pos_ = end == std::string_view::npos ? text_.size() : end + 2;
-      } else if (static_cast<unsigned char>(c) <= ' ') {
-        ++pos_;
-      } else {
-        break;
-      }
-    }
-    if (pos_ >= text_.size()) return {};
-    const size_t begin = pos_;
-    if (text_[pos_] == '{' || text_[pos_] == '}') return text_.substr(pos_++, 1);
-    if (text_[pos_] == '"') {
-      const size_t end = text_.find('"', pos_ + 1);
-      if (end == std::string_view::npos) { // unterminated: the rest of the text
-        pos_ = text_.size();
-        return text_.substr(begin + 1);
-      }
-      pos_ = end + 1;
-      return text_.substr(begin + 1, end - begin - 1);
-    }
-    while (pos_ < text_.size() && static_cast<unsigned char>(text_[pos_]) > ' ' && text_[pos_] != '{' && text_[pos_] != '}') ++pos_;
-    return text_.substr(begin, pos_ - begin);
-  }
-
-  // Skips a keyword's remaining arguments, up to the line's end or a brace: some scripts put a
-  // stage's closing brace on the same line, after a lone carriage return.
-  void skipArguments() {
-    while (pos_ < text_.size() && !isLineEnd(text_[pos_]) && text_[pos_] != '{' && text_[pos_] != '}') {
-      if (text_[pos_] == '/' && pos_ + 1 < text_.size() && text_[pos_ + 1] == '/') return;
-      ++pos_;
-    }
-  }
-
-private:
-  std::string_view text_;
-  size_t pos_ = 0;
-};
 
 bool isImage(std::string_view path) {
   return !path.empty() && path[0] != '$' && path[0] != '*';

@@ -5,6 +5,8 @@
 #include "importers/map/map_geometry.h"
 #include "importers/map/map_parser.h"
 #include "importers/map/map_patches.h"
+#include "importers/bsp/q3_shader_light.h"
+#include "importers/game/game_install.h"
 #include "importers/textures/textures.h"
 #include "quake/bspfile_q2.h"
 
@@ -387,6 +389,25 @@ Scene buildScene(const MapDocument& doc, const std::vector<Material>* loaded, do
   return SceneBuilder(doc, loaded, curveMaxError).build();
 }
 
+namespace {
+
+// q3map2 lights a Quake 3 level from its shader scripts too (q3map_surfacelight, sky shaders):
+// they lie in scripts/ of the level's game folder (the parent of its maps/) and the install,
+// after the --textures folders, as the engine searches them.
+void readQuake3ShaderScripts(Scene& scene, const std::string& path, const ImportOptions& options) {
+  const bool quake3 = scene.format.starts_with("quake3") || options.textures.game.game == "quake3";
+  if (!quake3) return;
+  const game::GameInstall install = game::openGameInstall(options.textures.game, path, scene.format);
+  bsp::GameFiles files;
+  for (const std::string& dir : options.textures.textureDirs) files.addGameDir(dir, {".pk3"});
+  for (const std::filesystem::path& dir : install.gameDirs) files.addGameDir(dir, {".pk3"});
+  std::vector<std::string> filesRead;
+  bsp::readQuake3ShaderLight(scene.materials, files, scene.diagnostics, &filesRead);
+  for (const std::string& file : filesRead) scene.addInputFile(file);
+}
+
+} // namespace
+
 Scene importMap(const std::string& path, const ImportOptions& options) {
   const MapDocument doc = readMapFile(path, options.dialect);
   if (options.entitiesRead) {
@@ -408,7 +429,10 @@ Scene importMap(const std::string& path, const ImportOptions& options) {
       return b.kind == MapBrush::Kind::BrushDef || (b.kind == MapBrush::Kind::Verbatim && isPatchBlock(b.verbatim));
     });
   });
-  if (!inTextureUnits) return scene;
+  if (!inTextureUnits) {
+    readQuake3ShaderScripts(scene, path, options);
+    return scene;
+  }
   // brushDef matrices and patch st are in texture widths: now that the sizes are known, build
   // the frames again.
   // Materials come out in the same order, since the document is the same.
@@ -416,6 +440,7 @@ Scene importMap(const std::string& path, const ImportOptions& options) {
   sized.materials = std::move(scene.materials);
   sized.diagnostics = std::move(scene.diagnostics);
   sized.inputFiles = std::move(scene.inputFiles);
+  readQuake3ShaderScripts(sized, path, options);
   return sized;
 }
 

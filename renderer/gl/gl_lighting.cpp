@@ -18,6 +18,7 @@ GlLighting lightingFor(const RenderScene& rs) {
   out.emitters = rs.emitters;
   out.emitterArea = rs.emitterArea;
   out.minlight = rs.world.minlight;
+  out.ambient = rs.world.ambient;
   out.range = rs.world.range;
   out.overbrightOne = rs.world.overbrightOne;
   out.scaledist = rs.world.scaledist;

@@ -187,8 +187,11 @@ struct GpuWorld {
   float dirtGain;
   uint32_t minlightDirt;
   float overbrightOne; // WorldLighting::overbrightOne: the per-pixel view shows texture × stored / this
+  glm::vec3 ambient;   // WorldLighting::ambient: q3map2's `_ambient`, added to the light sum
+  float pad = 0.0f;
 };
-static_assert(sizeof(GpuWorld) == 80);
+static_assert(sizeof(GpuWorld) == 96);
+static_assert(offsetof(GpuWorld, ambient) == 80);
 static_assert(offsetof(GpuWorld, minlight) == 0 && offsetof(GpuWorld, range) == 12 && offsetof(GpuWorld, scaledist) == 16 &&
               offsetof(GpuWorld, bouncescale) == 20 && offsetof(GpuWorld, faithfulBounces) == 24 && offsetof(GpuWorld, litwater) == 28 &&
               offsetof(GpuWorld, lightCount) == 32 && offsetof(GpuWorld, emitterCount) == 36 && offsetof(GpuWorld, emitterArea) == 40 &&

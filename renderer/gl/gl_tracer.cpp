@@ -31,6 +31,7 @@ std::vector<GlMaterial> withShadingFlags(std::vector<GlMaterial> materials, cons
 GpuWorld worldBlock(const GlLighting& lighting) {
   GpuWorld w{};
   w.minlight = lighting.minlight;
+  w.ambient = lighting.ambient;
   w.range = lighting.range;
   w.scaledist = lighting.scaledist;
   w.bouncescale = lighting.bouncescale;

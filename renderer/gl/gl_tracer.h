@@ -46,6 +46,7 @@ struct GlLighting {
   std::vector<GpuEmitter> emitters;    // triangles of emitting faces, cdf by area
   float emitterArea = 0.0f;
   glm::vec3 minlight{0.0f};
+  glm::vec3 ambient{0.0f};      // q3map2's `_ambient` (WorldLighting::ambient)
   float range = 0.5f;           // _range
   float overbrightOne = 128.0f; // WorldLighting::overbrightOne: what the per-pixel view divides by
   float scaledist = 1.0f;       // _dist

@@ -130,6 +130,29 @@ TEST(GlBake, GpuBakeStoresTheCpuLuxelsOfQ3map2Lights) {
   EXPECT_GT(double(lit), 0.4 * double(gpu.size())) << "a dark bake proves nothing (the floor's sides and bottom are dark)";
 }
 
+// q3map2's light from Quake 3 shaders (lighting/q3map2_shader_light.h): surface lights (the
+// Q3Area formula and their backsplash points), a sky shader's q3map_sun with worldspawn
+// _ambient, a q3map_skylight dome (maps/q3map2/shader_light/maps). No soft light: every luxel
+// within float rounding of the CPU's.
+TEST(GlBake, GpuBakeStoresTheCpuLuxelsOfQ3map2ShaderLight) {
+  for (const char* map : {"surface_light.map", "sun.map", "skylight.map"}) {
+    SCOPED_TRACE(map);
+    const Scene scene = importScene((test::mapsDir() / "q3map2" / "shader_light" / "maps" / map).string(), ImportOptions{});
+    Diagnostics diagnostics;
+    RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+    Lightmaps cpu = layoutLightmaps(rs);
+    ASSERT_GT(cpu.luxels.size(), 500u);
+    const std::vector<uint32_t> gpu = bakeOnBoth(scene, rs, cpu);
+    size_t within = 0, lit = 0;
+    for (size_t i = 0; i < gpu.size(); ++i) {
+      within += largestChannelDifference(gpu[i], cpu.luxels[i]) <= 1;
+      lit += (cpu.luxels[i] & 0xffffffu) != 0;
+    }
+    EXPECT_GE(double(within), 0.999 * double(gpu.size()));
+    EXPECT_GT(double(lit), 0.2 * double(gpu.size())) << "a dark bake proves nothing";
+  }
+}
+
 // ericw-tools' suntest: a green light on lighting channel 2 (`_light_channel_mask 2`), which
 // lights only the func_wall on channels 1 and 2 (`_object_channel_mask 3`) and shines through the
 // world (channel 1), the func_wall casting the shadows of both channels. The GPU bake reads the

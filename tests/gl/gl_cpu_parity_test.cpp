@@ -259,6 +259,24 @@ TEST(GlCpuParity, Quake2PerPixelLightShowsAsTheCpuShowsIt) {
   expectBeautyAgrees(gpu, cpu, 0.01);
 }
 
+// q3map2's light from Quake 3 shaders at each pixel (--luxels off; lighting/q3map2_shader_light.h):
+// surface lights, a sky shader's sun with worldspawn _ambient, a q3map_skylight dome, seen from
+// above the floor by both tracers alike.
+TEST(GlCpuParity, Q3map2ShaderLightPerPixelShowsAsTheCpuShowsIt) {
+  for (const char* map : {"surface_light.map", "sun.map", "skylight.map"}) {
+    SCOPED_TRACE(map);
+    const Scene scene = importScene((test::mapsDir() / "q3map2" / "shader_light" / "maps" / map).string(), ImportOptions{});
+    Diagnostics diagnostics;
+    const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+    CameraPose pose;
+    pose.origin = {0.0f, 0.0f, 100.0f};
+    pose.pitch = 90.0f; // looking down, below the panels
+    RenderImage cpu;
+    const RenderImage gpu = renderBoth(rs, pose, beautySettings(LightingMode::Faithful, 5), cpu);
+    expectBeautyAgrees(gpu, cpu, 0.01);
+  }
+}
+
 TEST(GlCpuParity, PhysicalBeautyAgreesWithTheCpuReference) {
   BT_REQUIRE_SHARED(shared);
   const auto level = loadLibreQuake(shared, "misc/slope.map");
