@@ -40,6 +40,10 @@ struct Material {
   Image emissive;  // sRGB; Quake fullbright texels (palette 224..255) land here too
 
   AlphaTest alphaTest = AlphaTest::FromImage;
+  // Quake's scrolling sky only (Sky_LoadTexture in QuakeSpasm's gl_sky.c): the front layer, the
+  // left half of baseColor with its palette index 0 clear (alpha 0, black), which the level's
+  // Scene::sky takes; baseColor itself stays the texture as the WAD holds it. Empty otherwise.
+  Image skyFront;
   float roughnessValue = 0.8f;
   float metallicValue = 0.0f;
 

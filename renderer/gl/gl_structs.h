@@ -5,6 +5,7 @@
 
 #include "shaders/gl_bindings.glsl" // binding points, texture and image units, shared with the shaders
 #include "scene/gpu_structs.h"
+#include "shaders/sky_constants.glsl" // BT_SKY_*, shared with the shaders
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -186,15 +187,19 @@ struct GpuWorld {
   float dirtScale; // worldspawn _dirtscale / _dirtgain, for minlight
   float dirtGain;
   uint32_t minlightDirt;
-  float overbrightOne; // WorldLighting::overbrightOne: the per-pixel view shows texture × stored / this
+  float overbrightOne;   // WorldLighting::overbrightOne: the per-pixel view shows texture × stored / this
+  uint32_t skyKind;      // scene Sky::Kind (BT_SKY_*), BT_SKY_NONE without sky images
+  uint32_t skyMaterial;  // scene Sky::firstMaterial
+  uint32_t pad[2];       // std140 rounds the block up to 16 bytes
 };
-static_assert(sizeof(GpuWorld) == 80);
+static_assert(sizeof(GpuWorld) == 96);
 static_assert(offsetof(GpuWorld, minlight) == 0 && offsetof(GpuWorld, range) == 12 && offsetof(GpuWorld, scaledist) == 16 &&
               offsetof(GpuWorld, bouncescale) == 20 && offsetof(GpuWorld, faithfulBounces) == 24 && offsetof(GpuWorld, litwater) == 28 &&
               offsetof(GpuWorld, lightCount) == 32 && offsetof(GpuWorld, emitterCount) == 36 && offsetof(GpuWorld, emitterArea) == 40 &&
               offsetof(GpuWorld, physical) == 44 && offsetof(GpuWorld, bounces) == 48 && offsetof(GpuWorld, dirtMode) == 52 &&
               offsetof(GpuWorld, dirtDepth) == 56 && offsetof(GpuWorld, dirtAngle) == 60 && offsetof(GpuWorld, dirtScale) == 64 &&
-              offsetof(GpuWorld, dirtGain) == 68 && offsetof(GpuWorld, minlightDirt) == 72 && offsetof(GpuWorld, overbrightOne) == 76);
+              offsetof(GpuWorld, dirtGain) == 68 && offsetof(GpuWorld, minlightDirt) == 72 && offsetof(GpuWorld, overbrightOne) == 76 &&
+              offsetof(GpuWorld, skyKind) == 80 && offsetof(GpuWorld, skyMaterial) == 84);
 
 } // namespace bt::gl
 
