@@ -296,6 +296,7 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
     rs.lights.push_back(l);
   rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
   if (rs.world.bounces > 0 && options.bounceLights) addBounceLights(rs, contents, diagnostics);
+  if (scene.sky) rs.sky = bakeSkyMap(scene);
   return rs;
 }
 

@@ -33,9 +33,9 @@ void main() {
   GpuFace f = faces[hit.face];
   GlMaterial m = materials[f.material];
   // A sky face of a level with sky images shows them along the ray (sky.glsl).
-  bool sky = (faceFlags[hit.face] & FACE_SKY) != 0u && world.skyKind != SKY_NONE;
-  vec3 albedo = sky ? skyColor(dir) : materialBaseColor(m, faceUv(f, m, hit.position)).rgb;
-  imageStore(albedoImage, pixel, vec4(srgbToLinear(albedo), 1.0));
+  bool sky = (faceFlags[hit.face] & FACE_SKY) != 0u && world.skySize != 0u;
+  vec3 albedo = sky ? skyRadiance(dir) : srgbToLinear(materialBaseColor(m, faceUv(f, m, hit.position)).rgb);
+  imageStore(albedoImage, pixel, vec4(albedo, 1.0));
   imageStore(normalImage, pixel, vec4(f.plane.xyz, hit.t));
   imageStore(faceImage, pixel, uvec4(hit.face + 1u));
 }

@@ -597,7 +597,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
       surface = SurfaceHit(found, hit.t, hit.face, position, vec3(0.0));
       if (found) surface.normal = faceNormal(hit.face);
       surfaceReached = true;
-      skyShown = found && (flags & FACE_SKY) != 0u && world.skyKind != SKY_NONE;
+      skyShown = found && (flags & FACE_SKY) != 0u && world.skySize != 0u;
       if (PHYSICAL && found && (flags & FACE_EMISSIVE) != 0u) {
         emissionFace = hit.face;
         emissionPoint = position;
@@ -610,7 +610,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     path.radiance += path.throughput * path.pending * (path.emitterFace != NO_FACE ? le : vec3(1.0));
   if (surfaceReached) {
     // The level's sky images by the ray's direction, as a miss: not the surface shading (sky.glsl).
-    if (skyShown) path.radiance += path.throughput * (srgbToLinear(skyColor(path.dir)) + (PHYSICAL ? skyDomeRadiance(path.dir) : vec3(0.0)));
+    if (skyShown) path.radiance += path.throughput * (skyRadiance(path.dir) + (PHYSICAL ? skyDomeRadiance(path.dir) : vec3(0.0)));
     ended = skyShown || !(PHYSICAL ? physicalSurface(path, surface, le) : faithfulSurface(path, surface));
     path.lightIndex = 0u;
   }

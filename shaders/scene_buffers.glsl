@@ -43,6 +43,5 @@ layout(std140, binding = BT_UNIFORM_WORLD) uniform World {
   float dirtGain;
   uint minlightDirt;  // _minlight_dirt
   float overbrightOne;// lighting WorldLighting::overbrightOne: the game's display (Quake 128, Quake 2 and Half-Life 255)
-  uint skyKind;       // the level's sky images (sky.glsl): SKY_NONE, Quake's layers, a sky box
-  uint skyMaterial;   // the first of them (scene Sky::firstMaterial)
+  uint skySize;       // the sky texture's face edge in texels (sky.glsl), 0 without sky images
 } world;

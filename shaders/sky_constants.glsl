@@ -1,5 +1,5 @@
 // Quake's two-layer sky as QuakeSpasm draws it (Quake/gl_sky.c), one source for both tracers:
-// renderer/cpu/sky.cpp and renderer/gl include this file as C++, shaders/sky.glsl as GLSL. Hence only
+// lighting/sky.cpp includes this file as C++, shaders/sky.glsl as GLSL. Hence only
 // #defines of literals (floats with the f suffix), which both languages read alike.
 #ifndef BT_SKY_CONSTANTS
 #define BT_SKY_CONSTANTS
@@ -17,10 +17,11 @@
 #define BT_SKY_ST_TO_VEC 3, -1, 2, -3, 1, 2, 1, 3, 2, -1, -3, 2, -2, -1, 3, 2, -1, -3
 #define BT_SKY_TEX_ORDER 0, 2, 1, 3, 4, 5
 
-// scene/scene.h Sky::Kind, the World block's skyKind: what the level's sky images are.
-#define BT_SKY_NONE 0u          // none: a sky face shows its own texture, as any face
-#define BT_SKY_QUAKE_LAYERS 1u  // Quake's two layers: back, then front (its index 0 clear)
-#define BT_SKY_BOX 2u           // six sides, pulled in by half a texel (QuakeSpasm, Quake 2)
-#define BT_SKY_BOX_CLAMPED 3u   // six sides, clamped to their edge texels (Quake 3: sky_min 0, sky_max 1, GL_CLAMP_TO_EDGE)
+// The baked sky (lighting/sky.h SkyMap, shaders/sky.glsl): texels along a cube face's edge, and
+// the floor of a direction's largest component (a zero direction reads a texel, not a NaN).
+#define BT_SKY_MAP_LAYERS_SIZE 512 // Quake's 128x128 layers, magnified about 2x across the up face
+#define BT_SKY_MAP_MIN_SIZE 256    // a sky box's largest side, within these bounds
+#define BT_SKY_MAP_MAX_SIZE 1024
+#define BT_SKY_MAP_TINY 1e-30f
 
 #endif

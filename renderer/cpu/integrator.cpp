@@ -3,7 +3,7 @@
 #include "lighting/physical_light.h"
 
 #include "lighting/faithful.h"
-#include "renderer/cpu/sky.h"
+#include "lighting/sky.h"
 #include "scene/color.h"
 
 #include <glm/geometric.hpp>
@@ -129,7 +129,7 @@ glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& sett
   if (!hit.found) return glm::vec3(0.0f);
   const uint32_t flags = rs.faceFlags[hit.face];
   // A sky face of a level with sky images shows them by the ray's direction, as a miss would.
-  if ((flags & kFaceSky) && rs.scene && rs.scene->sky) return srgbToLinear(skyColor(*rs.scene, ray.direction));
+  if ((flags & kFaceSky) && rs.sky.size > 0) return skyRadiance(rs.sky, ray.direction);
   const glm::vec3 texture = glm::vec3(baseColorAt(rs, hit.face, hit.position));
   // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
   if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater)) return srgbToLinear(texture);
@@ -386,8 +386,8 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
     if (flags & kFaceSky) {
       // The level's sky images by the ray's own direction, camera ray or bounce, else the face's texture.
       const glm::vec3 sky =
-          rs.scene && rs.scene->sky ? skyColor(*rs.scene, ray.direction) : glm::vec3(baseColorAt(rs, hit.face, hit.position));
-      l += throughput * (srgbToLinear(sky) + skyDomeRadiance(rs, ray.direction));
+          rs.sky.size > 0 ? skyRadiance(rs.sky, ray.direction) : srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position)));
+      l += throughput * (sky + skyDomeRadiance(rs, ray.direction));
       break;
     }
     const glm::vec3 n = hit.normal;

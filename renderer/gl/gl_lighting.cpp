@@ -2,9 +2,6 @@
 
 namespace bt::gl {
 
-static_assert(uint32_t(Sky::Kind::QuakeLayers) == BT_SKY_QUAKE_LAYERS && uint32_t(Sky::Kind::Box) == BT_SKY_BOX &&
-              uint32_t(Sky::Kind::BoxClamped) == BT_SKY_BOX_CLAMPED);
-
 GlLighting lightingFor(const RenderScene& rs) {
   GlLighting out;
   out.faceFlags.resize(rs.faceFlags.size());
@@ -27,7 +24,7 @@ GlLighting lightingFor(const RenderScene& rs) {
   out.bouncescale = rs.world.bouncescale;
   out.faithfulBounces = rs.world.bounces;
   out.litwater = rs.world.litwater;
-  if (rs.scene && rs.scene->sky) out.skyKind = uint32_t(rs.scene->sky->kind), out.skyMaterial = rs.scene->sky->firstMaterial;
+  out.sky = rs.sky;
   out.dirt = rs.world.dirtSettings;
   out.lightKinds = rs.lightKinds;
   out.lightmaps = packLightmaps(rs.lightmaps);

@@ -5,7 +5,6 @@
 
 #include "shaders/gl_bindings.glsl" // binding points, texture and image units, shared with the shaders
 #include "scene/gpu_structs.h"
-#include "shaders/sky_constants.glsl" // BT_SKY_*, shared with the shaders
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -98,7 +97,9 @@ enum TexelUnit : uint32_t {
   kTexelBrushes = BT_TEXEL_BRUSHES,
   kTexelSides = BT_TEXEL_SIDES,
   kTexelFaces = BT_TEXEL_FACES,
-  kTexelUnitEnd = BT_TEXEL_UNIT_END, // one past the last: the context must offer this many compute texture units
+  kTexelUnitEnd = BT_TEXEL_UNIT_END,         // one past the last buffer texture
+  kTextureSky = BT_TEXTURE_SKY,              // not a buffer: the sky's 2D array texture (gl_scene.h)
+  kTextureUnitCount = BT_TEXTURE_UNIT_COUNT, // the context must offer this many compute texture units
 };
 static_assert(sizeof(GlBvhNode) == 4 * 16 && sizeof(GpuBrush) == 4 * 16 && sizeof(GpuFace) == 4 * 16 && sizeof(GpuTriangle) == 3 * 16);
 static_assert(offsetof(GpuFace, plane) == 0);
@@ -187,10 +188,9 @@ struct GpuWorld {
   float dirtScale; // worldspawn _dirtscale / _dirtgain, for minlight
   float dirtGain;
   uint32_t minlightDirt;
-  float overbrightOne;   // WorldLighting::overbrightOne: the per-pixel view shows texture × stored / this
-  uint32_t skyKind;      // scene Sky::Kind (BT_SKY_*), BT_SKY_NONE without sky images
-  uint32_t skyMaterial;  // scene Sky::firstMaterial
-  uint32_t pad[2];       // std140 rounds the block up to 16 bytes
+  float overbrightOne; // WorldLighting::overbrightOne: the per-pixel view shows texture × stored / this
+  uint32_t skySize;    // lighting/sky.h SkyMap::size: the sky texture's face edge, 0 without sky images
+  uint32_t pad[3];     // std140 rounds the block up to 16 bytes
 };
 static_assert(sizeof(GpuWorld) == 96);
 static_assert(offsetof(GpuWorld, minlight) == 0 && offsetof(GpuWorld, range) == 12 && offsetof(GpuWorld, scaledist) == 16 &&
@@ -199,7 +199,7 @@ static_assert(offsetof(GpuWorld, minlight) == 0 && offsetof(GpuWorld, range) == 
               offsetof(GpuWorld, physical) == 44 && offsetof(GpuWorld, bounces) == 48 && offsetof(GpuWorld, dirtMode) == 52 &&
               offsetof(GpuWorld, dirtDepth) == 56 && offsetof(GpuWorld, dirtAngle) == 60 && offsetof(GpuWorld, dirtScale) == 64 &&
               offsetof(GpuWorld, dirtGain) == 68 && offsetof(GpuWorld, minlightDirt) == 72 && offsetof(GpuWorld, overbrightOne) == 76 &&
-              offsetof(GpuWorld, skyKind) == 80 && offsetof(GpuWorld, skyMaterial) == 84);
+              offsetof(GpuWorld, skySize) == 80);
 
 } // namespace bt::gl
 
