@@ -21,6 +21,7 @@
 #include <iterator>
 #include <map>
 #include <optional>
+#include <tuple>
 #include <unistd.h>
 
 namespace bt {
@@ -328,8 +329,7 @@ TEST(Sky, MissingSkyBoxWarnsOnceAndKeepsTheLayers) {
 
 // Looking along each axis, every sky pixel shows the side of the box the engine puts there, the
 // right way up and round.
-TEST(Sky, AlbedoOfSkyPixelsIsTheEnginesSkyBox) {
-  const auto level = loadSkyBoxLevel();
+void expectEnginesSkyBox(const Level& level) {
   const std::pair<float, float> views[] = {{0, 0}, {0, 90}, {0, 180}, {0, 270}, {-90, 0}, {90, 0}}; // pitch, yaw
   for (const auto& [pitch, yaw] : views) {
     const CameraPose pose{glm::vec3(0.0f), pitch, yaw, 0.0f, "test"};
@@ -339,12 +339,12 @@ TEST(Sky, AlbedoOfSkyPixelsIsTheEnginesSkyBox) {
     settings.spp = 1;
     settings.threads = 2;
     const Camera camera(pose, kWidth, kHeight);
-    const RenderImage image = renderCpu(level->render, camera, settings);
+    const RenderImage image = renderCpu(level.render, camera, settings);
     size_t checked = 0, wrong = 0;
     for (int y = 0; y < kHeight; ++y)
       for (int x = 0; x < kWidth; ++x) {
         const size_t i = size_t(y) * kWidth + x;
-        if (!isSky(*level, image.face[i])) continue;
+        if (!isSky(level, image.face[i])) continue;
         const auto expected = engineSkyBox(glm::normalize(camera.ray(x + 0.5f, y + 0.5f).direction));
         if (!expected) continue;
         ++checked;
@@ -355,6 +355,45 @@ TEST(Sky, AlbedoOfSkyPixelsIsTheEnginesSkyBox) {
       }
     EXPECT_EQ(wrong, 0u) << "pitch " << pitch << " yaw " << yaw;
     EXPECT_GT(checked, size_t(kWidth * kHeight) / 4) << "pitch " << pitch << " yaw " << yaw;
+  }
+}
+
+TEST(Sky, AlbedoOfSkyPixelsIsTheEnginesSkyBox) {
+  expectEnginesSkyBox(*loadSkyBoxLevel());
+}
+
+// The same level in a Half-Life and a Quake 2 game folder, which name the box by their own keys
+// and keep its images in their own folders (README's table: `skyname` and gfx/env/, `sky` and
+// env/): the same box, seen the same way.
+TEST(Sky, HalfLifeAndQuake2SkyBoxesAreReadFromTheirFolders) {
+  const std::filesystem::path source = test::mapsDir() / "sky";
+  const std::string_view suffixes[6] = {"rt", "bk", "lf", "ft", "up", "dn"};
+  for (const auto& [baseDir, key, envDir] : {std::tuple<std::string, std::string, std::string>{"valve", "skyname", "gfx/env"},
+                                             std::tuple<std::string, std::string, std::string>{"baseq2", "sky", "env"}}) {
+    const std::filesystem::path install = std::filesystem::temp_directory_path() / ("bt_sky_" + baseDir + std::to_string(::getpid()));
+    std::filesystem::create_directories(install / baseDir / "maps");
+    std::filesystem::create_directories(install / baseDir / envDir);
+    for (std::string_view suffix : suffixes) {
+      const std::string file = "testsky" + std::string(suffix) + ".tga";
+      std::filesystem::copy_file(source / "id1/gfx/env" / file, install / baseDir / envDir / file);
+    }
+    std::filesystem::copy_file(source / "sky_layers.wad", install / "sky_layers.wad"); // the map's "../../sky_layers.wad"
+    std::ifstream in(source / "id1/maps/sky_box.map");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    text.replace(text.find("\"sky\" \"testsky\""), 15, "\"" + key + "\" \"testsky\"");
+    const std::filesystem::path map = install / baseDir / "maps" / "sky_box.map";
+    std::ofstream(map) << text;
+    auto level = std::make_unique<Level>();
+    level->scene = importScene(map.string(), ImportOptions{});
+    std::error_code ec;
+    std::filesystem::remove_all(install, ec);
+    ASSERT_TRUE(level->scene.sky.has_value()) << baseDir;
+    EXPECT_EQ(level->scene.sky->kind, Sky::Kind::Box) << baseDir;
+    EXPECT_EQ(level->scene.materials[level->scene.sky->firstMaterial].name, envDir + "/testskyrt.tga") << baseDir;
+    Diagnostics diagnostics;
+    level->render = buildRenderScene(level->scene, {}, diagnostics);
+    SCOPED_TRACE(baseDir);
+    expectEnginesSkyBox(*level);
   }
 }
 
