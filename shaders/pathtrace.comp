@@ -610,7 +610,11 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     path.radiance += path.throughput * path.pending * (path.emitterFace != NO_FACE ? le : vec3(1.0));
   if (surfaceReached) {
     // The level's sky images by the ray's direction, as a miss: not the surface shading (sky.glsl).
-    if (skyShown) path.radiance += path.throughput * (skyRadiance(path.dir) + (PHYSICAL ? skyDomeRadiance(path.dir) : vec3(0.0)));
+    // A faithful path is its camera ray alone and keeps no throughput between wavefront dispatches.
+    if (skyShown) {
+      vec3 sky = skyRadiance(path.dir);
+      path.radiance = PHYSICAL ? path.radiance + path.throughput * (sky + skyDomeRadiance(path.dir)) : sky;
+    }
     ended = skyShown || !(PHYSICAL ? physicalSurface(path, surface, le) : faithfulSurface(path, surface));
     path.lightIndex = 0u;
   }

@@ -2,7 +2,11 @@
 // the engine's formula): Quake's two-layer sky seen by direction, pixel for pixel in the albedo
 // AOV and in the beauty of both lighting modes, against the CPU reference.
 #include "importers/import.h"
+#include "lighting/render_scene.h"
+#include "renderer/gl/gl_lighting.h"
+#include "renderer/gl/gl_tracer.h"
 #include "tests/gl/cpu_and_gl.h"
+#include "tests/gl/test_scenes.h"
 #include "tests/test_data.h"
 
 #include <glm/geometric.hpp>
@@ -64,6 +68,32 @@ TEST(GlSky, SkyBoxMatchesTheCpu) {
   size_t red = 0;
   for (const glm::vec3& a : faithful.gpu.albedo) red += a.x > 0.3f && a.y < 0.05f && a.z < 0.05f;
   EXPECT_GT(red, faithful.gpu.albedo.size() / 4);
+}
+
+// The wavefront form's shade kernel reads the sky where the megakernel does (pathtrace.comp
+// advance): the same image from both forms, pixel for pixel, with the sky in view.
+TEST(GlSky, WavefrontFormShowsTheSameSkyAsTheMegakernel) {
+  const Scene scene = importScene((test::mapsDir() / "sky" / "sky_layers.map").string(), ImportOptions{});
+  Diagnostics diagnostics;
+  const RenderScene render = buildRenderScene(scene, {}, diagnostics);
+  GlTracer tracer(test::sharedGlContext(), scene, render.tracer, test::textureModeUnderTest(), lightingFor(render));
+  const CameraBasis camera = cameraFrom(defaultCameraPose(scene), kWidth, kHeight);
+  for (bool physical : {false, true}) {
+    BeautySettings settings{.width = kWidth, .height = kHeight, .spp = 2, .seed = 11, .physical = physical, .bounces = 2};
+    settings.form = PathTracerForm::Megakernel;
+    const BeautyImage mega = tracer.renderBeauty(camera, settings);
+    settings.form = PathTracerForm::Wavefront;
+    const BeautyImage wave = tracer.renderBeauty(camera, settings);
+    ASSERT_EQ(wave.wavefrontSamples, 2);
+    size_t differing = 0, blue = 0;
+    for (size_t i = 0; i < mega.beauty.size(); ++i) {
+      const glm::vec3 a = mega.beauty[i], d = glm::abs(a - wave.beauty[i]);
+      differing += std::max({d.x, d.y, d.z}) > 1e-4f * std::max({1.0f, a.x, a.y, a.z});
+      blue += a.z > 2.0f * a.x && a.z > 0.05f; // the back layer showing through
+    }
+    EXPECT_GT(blue, mega.beauty.size() / 10) << "the sky should be in view; physical " << physical;
+    EXPECT_LE(differing, mega.beauty.size() / 200) << differing << " pixels differ; physical " << physical;
+  }
 }
 
 } // namespace
