@@ -302,6 +302,7 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   for (GpuLight& l : rs.lights) physical::prepare(l, rs.world.scaledist);
   rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
   if (rs.world.bounces > 0 && options.bounceLights) addBounceLights(rs, contents, diagnostics); // prepared too
+  if (scene.sky) rs.sky = bakeSkyMap(scene);
   return rs;
 }
 

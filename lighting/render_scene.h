@@ -9,6 +9,7 @@
 #include "lighting/light_grid.h"
 #include "lighting/lightmaps.h"
 #include "lighting/lights.h"
+#include "lighting/sky.h"
 #include "lighting/surface_lights.h"
 #include "scene/scene.h"
 
@@ -46,6 +47,9 @@ struct RenderScene {
   // Faithful mode's luxels (lightmap_bake.h): a face baked here is shown from them, as the game
   // shows its lightmaps; any other face has its light evaluated at the shown point.
   Lightmaps lightmaps;
+  // The level's sky images baked by direction (sky.h), what a sky face shows in both tracers;
+  // size 0 without sky images (a sky face then shows its own texture, as any face).
+  SkyMap sky;
 };
 
 inline const GpuFace& gpuFace(const RenderScene& rs, uint32_t face) {

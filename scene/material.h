@@ -73,6 +73,10 @@ struct Material {
 
   AlphaTest alphaTest = AlphaTest::FromImage;
   Q3ShaderLight q3; // Quake 3 shaders only
+  // Quake's scrolling sky only (Sky_LoadTexture in QuakeSpasm's gl_sky.c): the front layer, the
+  // left half of baseColor with its palette index 0 clear (alpha 0, black), which the level's
+  // Scene::sky takes; baseColor itself stays the texture as the WAD holds it. Empty otherwise.
+  Image skyFront;
   float roughnessValue = 0.8f;
   float metallicValue = 0.0f;
 

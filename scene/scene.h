@@ -133,6 +133,20 @@ struct Entity {
 
 struct CompiledLighting; // scene/compiled_lighting.h
 
+// The images a level's sky faces show by the ray's direction, the same on every sky face, as
+// the engine draws its sky (lighting/sky.h): Quake's two layers or a sky box. They are the
+// materials from `firstMaterial` on, materials no face uses: the layers back then front; the
+// box's sides in the order of their suffixes rt, bk, lf, ft, up, dn (the engines' `suf`).
+struct Sky {
+  // Quake's two layers: back, then front (its index 0 clear); six sides pulled in by half a
+  // texel (QuakeSpasm, Quake 2); six sides clamped to their edge texels (Quake 3: sky_min 0,
+  // sky_max 1, GL_CLAMP_TO_EDGE).
+  enum class Kind : uint32_t { QuakeLayers = 1, Box = 2, BoxClamped = 3 };
+  Kind kind = Kind::QuakeLayers;
+  std::string name; // the sky box's name ("mysky" for gfx/env/mysky{rt,...}.tga), or the sky texture's
+  uint32_t firstMaterial = 0;
+};
+
 struct Scene {
   std::string sourcePath;
   std::string format; // map dialect ("standard", "valve220", ...) or BSP version ("bsp29", ...)
@@ -151,6 +165,7 @@ struct Scene {
   // palettes, Quake 3 shader scripts, each texture image and companion map (a .pk3 for what
   // came out of one). `brushtrace view` reloads when any of them is saved.
   std::vector<std::string> inputFiles;
+  std::optional<Sky> sky; // where the level has sky images (importers/textures loadSky)
 
   const Entity* worldspawn() const;
   // The entity a face belongs to, through its brush or its mesh; entities.size() if none.

@@ -8,6 +8,7 @@
 // pixel centre (deterministic, so the CPU reference gives the same image).
 #include "scene_buffers.glsl"
 #include "textures.glsl"
+#include "sky.glsl"
 #include "trace.glsl"
 #include "visible.glsl"
 #include "camera.glsl"
@@ -31,8 +32,10 @@ void main() {
   }
   GpuFace f = faces[hit.face];
   GlMaterial m = materials[f.material];
-  vec4 albedo = materialBaseColor(m, faceUv(f, m, hit.position));
-  imageStore(albedoImage, pixel, vec4(srgbToLinear(albedo.rgb), 1.0));
+  // A sky face of a level with sky images shows them along the ray (sky.glsl).
+  bool sky = (faceFlags[hit.face] & FACE_SKY) != 0u && world.skySize != 0u;
+  vec3 albedo = sky ? skyRadiance(dir) : srgbToLinear(materialBaseColor(m, faceUv(f, m, hit.position)).rgb);
+  imageStore(albedoImage, pixel, vec4(albedo, 1.0));
   imageStore(normalImage, pixel, vec4(f.plane.xyz, hit.t));
   imageStore(faceImage, pixel, uvec4(hit.face + 1u));
 }

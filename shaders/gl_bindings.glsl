@@ -37,6 +37,8 @@
 #define BT_TEXEL_SIDES 18
 #define BT_TEXEL_FACES 19
 #define BT_TEXEL_UNIT_END 20
+#define BT_TEXTURE_SKY 20        // the level's sky by direction (sky.glsl): RGBA16F, six layers
+#define BT_TEXTURE_UNIT_COUNT 21 // the units a context must offer the tracer's compute shaders
 
 // Uniform blocks.
 #define BT_UNIFORM_CAMERA 0

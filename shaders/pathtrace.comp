@@ -25,6 +25,7 @@
 //   each -> the next RAY_SURFACE, until the path ends.
 #include "scene_buffers.glsl"
 #include "textures.glsl"
+#include "sky.glsl"
 #include "trace.glsl"
 #include "visible.glsl"
 #include "camera.glsl"
@@ -549,7 +550,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
   // that reads a texture is a copy of the sampling code for the driver to compile.
   uint emissionFace = NO_FACE;
   vec3 emissionPoint = vec3(0.0);
-  bool surfaceReached = false;
+  bool surfaceReached = false, skyShown = false;
   SurfaceHit surface;
   bool shadowPassed = path.kind == RAY_SHADOW && hit.face == NO_FACE;
   if (path.kind == RAY_SHADOW) {
@@ -596,6 +597,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
       surface = SurfaceHit(found, hit.t, hit.face, position, vec3(0.0));
       if (found) surface.normal = faceNormal(hit.face);
       surfaceReached = true;
+      skyShown = found && (flags & FACE_SKY) != 0u && world.skySize != 0u;
       if (PHYSICAL && found && (flags & FACE_EMISSIVE) != 0u) {
         emissionFace = hit.face;
         emissionPoint = position;
@@ -607,7 +609,13 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
   if (PHYSICAL && shadowPassed)
     path.radiance += path.throughput * path.pending * (path.emitterFace != NO_FACE ? le : vec3(1.0));
   if (surfaceReached) {
-    ended = !(PHYSICAL ? physicalSurface(path, surface, le) : faithfulSurface(path, surface));
+    // The level's sky images by the ray's direction, as a miss: not the surface shading (sky.glsl).
+    // A faithful path is its camera ray alone and keeps no throughput between wavefront dispatches.
+    if (skyShown) {
+      vec3 sky = skyRadiance(path.dir);
+      path.radiance = PHYSICAL ? path.radiance + path.throughput * (sky + skyDomeRadiance(path.dir)) : sky;
+    }
+    ended = skyShown || !(PHYSICAL ? physicalSurface(path, surface, le) : faithfulSurface(path, surface));
     path.lightIndex = 0u;
   }
   if (ended) return false;

@@ -326,15 +326,18 @@ Scene importBsp(const std::string& path, const ImportOptions& options) {
       if (bsp.isQuake1Family()) decodeEmbeddedMiptex(bsp, scene, options.textures, install);
       if (bsp.version == Version::Quake3_46) {
         std::vector<std::string> filesRead;
+        std::map<std::string, std::string> skyBoxes;
         const GameFiles files = quake3GameFiles(archive, options, install);
-        resolveQuake3Materials(scene.materials, files, scene.diagnostics, &filesRead);
+        resolveQuake3Materials(scene.materials, files, scene.diagnostics, &filesRead, &skyBoxes);
         readQuake3ShaderLight(scene.materials, files, scene.diagnostics, &filesRead);
+        loadQuake3Sky(scene, files, skyBoxes, &filesRead);
         for (const std::string& file : filesRead) scene.addInputFile(file);
       }
     }
     // WADs, loose images and Quake 2 .wal files, companion maps, placeholders and the one
     // warning naming what is missing: the same search as for .map files.
     loadMaterials(scene, options.textures);
+    loadSky(scene, options.textures);
   };
   Scene scene = sceneFromBsp(bsp, resolve, litFile, options.curveMaxError);
   // The level first: the .bsp, or the .pk3 it is in (which holds its .lit too).

@@ -5,8 +5,13 @@
 
 #include <fmt/format.h>
 
+#include <glm/vec3.hpp>
+
+#include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
+#include <optional>
 
 namespace bt::bsp {
 
@@ -93,8 +98,35 @@ std::map<std::string, AlphaTest> parseShaderAlphaTests(std::string_view scriptTe
   return tests;
 }
 
+std::map<std::string, std::string> parseShaderSkyBoxes(std::string_view scriptText) {
+  std::map<std::string, std::string> boxes;
+  ShaderLexer lex(scriptText);
+  while (true) {
+    const std::string_view name = lex.next();
+    if (name.empty()) break;
+    if (name == "{" || name == "}") continue; // stray brace: resynchronise
+    if (lex.next() != "{") continue;
+    for (int depth = 1; depth > 0;) {
+      const std::string_view token = lex.next();
+      if (token.empty()) break;
+      if (token == "{") {
+        ++depth;
+      } else if (token == "}") {
+        --depth;
+      } else {
+        if (depth == 1 && lowercase(token) == "skyparms") {
+          const std::string_view farbox = lex.next(true);
+          boxes.try_emplace(lowercase(name), farbox == "-" ? std::string() : std::string(farbox));
+        }
+        lex.skipArguments();
+      }
+    }
+  }
+  return boxes;
+}
+
 void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& files, Diagnostics& diagnostics,
-                            std::vector<std::string>* filesRead) {
+                            std::vector<std::string>* filesRead, std::map<std::string, std::string>* skyBoxes) {
   auto noteRead = [&](std::string_view name) {
     if (!filesRead) return;
     if (const auto file = files.fileHolding(name)) filesRead->push_back(file->string());
@@ -108,6 +140,8 @@ void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& f
     const std::string_view text(reinterpret_cast<const char*>(bytes->data()), bytes->size());
     for (auto& [name, image] : parseShaderImages(text)) shaderImages.try_emplace(name, image);
     for (auto& [name, test] : parseShaderAlphaTests(text)) alphaTests.try_emplace(name, test);
+    if (skyBoxes)
+      for (auto& [name, box] : parseShaderSkyBoxes(text)) skyBoxes->try_emplace(name, box);
   }
   for (Material& m : materials) {
     // Quake 3 draws an image's alpha only where the shader says how.
@@ -140,6 +174,99 @@ void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& f
       if (!m.missing()) break;
     }
   }
+}
+
+namespace {
+
+// ParseSkyParms' `suf`: the order Sky keeps the box's materials in.
+constexpr const char* kSkySuffixes[6] = {"rt", "bk", "lf", "ft", "up", "dn"};
+
+// The six sides of a far box; fewer where an image is missing or unreadable (named in `missing`).
+std::vector<Material> readFarBox(const std::string& farbox, const GameFiles& files, std::vector<std::string>& missing,
+                                 std::vector<std::string>* filesRead) {
+  std::vector<Material> sides;
+  for (const char* suffix : kSkySuffixes) {
+    const size_t before = sides.size();
+    std::vector<std::string> tried;
+    for (const char* ext : {".tga", ".jpg", ".png"}) {
+      const std::string file = fmt::format("{}_{}{}", farbox, suffix, ext);
+      const auto bytes = files.read(file);
+      if (!bytes) {
+        tried.push_back(file);
+        continue;
+      }
+      if (filesRead)
+        if (const auto holder = files.fileHolding(file)) filesRead->push_back(holder->string());
+      Material side;
+      try {
+        side.baseColor = decodeImage(*bytes, file);
+      } catch (const ImportError& e) {
+        tried.push_back(fmt::format("{} ({})", file, e.diagnostic().message));
+        continue;
+      }
+      side.name = side.sourcePath = file;
+      side.width = side.baseColor.width, side.height = side.baseColor.height;
+      side.source = TextureSource::LooseImage;
+      side.alphaTest = AlphaTest::None;
+      sides.push_back(std::move(side));
+      break;
+    }
+    if (sides.size() == before) missing.insert(missing.end(), tried.begin(), tried.end());
+  }
+  return sides;
+}
+
+// One colour in every direction: six 1x1 sides of the image's mean colour (sRGB bytes averaged).
+std::vector<Material> flatSky(const Material& shader) {
+  glm::dvec3 sum(0.0);
+  const size_t texels = shader.baseColor.rgba.size() / 4;
+  for (size_t i = 0; i < texels; ++i)
+    sum += glm::dvec3(shader.baseColor.rgba[i * 4], shader.baseColor.rgba[i * 4 + 1], shader.baseColor.rgba[i * 4 + 2]);
+  const glm::dvec3 mean = sum / double(std::max<size_t>(texels, 1));
+  Material side;
+  side.name = shader.name + " (mean colour)";
+  side.sourcePath = shader.sourcePath;
+  side.width = side.height = 1;
+  side.source = shader.source;
+  side.alphaTest = AlphaTest::None;
+  side.baseColor.width = side.baseColor.height = 1;
+  side.baseColor.rgba = {uint8_t(std::lround(mean.x)), uint8_t(std::lround(mean.y)), uint8_t(std::lround(mean.z)), 255};
+  return std::vector<Material>(6, side);
+}
+
+} // namespace
+
+void loadQuake3Sky(Scene& scene, const GameFiles& files, const std::map<std::string, std::string>& skyBoxes,
+                   std::vector<std::string>* filesRead) {
+  // A level has one sky shader in practice; ioquake3 would draw each one's box on its own faces.
+  std::optional<uint32_t> shader;
+  for (const Face& face : scene.faces)
+    if (face.material < scene.materials.size() && skyBoxes.contains(lowercase(scene.materials[face.material].name))) {
+      shader = face.material;
+      break;
+    }
+  if (!shader) return;
+  const std::string name = scene.materials[*shader].name;
+  const std::string& farbox = skyBoxes.at(lowercase(name));
+  std::vector<std::string> missing;
+  std::vector<Material> sides;
+  if (!farbox.empty()) {
+    sides = readFarBox(farbox, files, missing, filesRead);
+    if (!missing.empty()) {
+      std::string list;
+      for (const std::string& file : missing) list += (list.empty() ? "" : ", ") + file;
+      scene.diagnostics.push_back(Diagnostic{Severity::Warning, scene.sourcePath, 0, 0,
+                                             fmt::format("sky box '{}' of shader '{}' not drawn: no image for {}; the sky shows the "
+                                                         "mean colour of the shader's image instead",
+                                                         farbox, name, list)});
+      sides.clear();
+    }
+  }
+  if (sides.empty() && !scene.materials[*shader].missing()) sides = flatSky(scene.materials[*shader]);
+  if (sides.empty()) return;
+  const bool box = !farbox.empty() && missing.empty();
+  scene.sky = Sky{Sky::Kind::BoxClamped, box ? farbox : name, uint32_t(scene.materials.size())};
+  for (Material& side : sides) scene.materials.push_back(std::move(side));
 }
 
 } // namespace bt::bsp

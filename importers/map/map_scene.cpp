@@ -424,6 +424,7 @@ Scene importMap(const std::string& path, const ImportOptions& options) {
   }
   Scene scene = buildScene(doc, nullptr, options.curveMaxError);
   loadMaterials(scene, options.textures);
+  loadSky(scene, options.textures);
   const bool inTextureUnits = std::any_of(doc.entities.begin(), doc.entities.end(), [](const MapEntity& e) {
     return std::any_of(e.brushes.begin(), e.brushes.end(), [](const MapBrush& b) {
       return b.kind == MapBrush::Kind::BrushDef || (b.kind == MapBrush::Kind::Verbatim && isPatchBlock(b.verbatim));

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <system_error>
 
@@ -46,6 +47,12 @@ bool isFenceTexture(std::string_view name) {
   return !name.empty() && name.front() == '{';
 }
 
+// Quake's scrolling sky: QuakeSpasm (Mod_LoadTextures) gives every texture named sky* two layers.
+bool isQuakeSky(std::string_view name) {
+  return name.size() >= 3 && std::tolower(static_cast<unsigned char>(name[0])) == 's' &&
+      std::tolower(static_cast<unsigned char>(name[1])) == 'k' && std::tolower(static_cast<unsigned char>(name[2])) == 'y';
+}
+
 // Quake's software renderer draws palette indices 224..255 at full brightness regardless of
 // lighting; GL engines and ericw-tools' light follow the same rule for "fullbright" texels.
 constexpr int kFirstFullbright = 224;
@@ -65,6 +72,19 @@ Image blankImage(int width, int height) {
   image.height = height;
   image.rgba.assign(static_cast<size_t>(width) * height * 4, 0);
   return image;
+}
+
+// QuakeSpasm's Sky_LoadTexture: the front layer is the left half, and its palette index 0 is
+// clear. The clear texels get alpha 0 and black, so that filtering them adds no colour.
+Image skyFrontLayer(const Image& texture, const uint8_t* indices) {
+  const int half = texture.width / 2;
+  Image front = blankImage(half, texture.height);
+  for (int y = 0; y < texture.height; ++y)
+    for (int x = 0; x < half; ++x) {
+      const size_t i = size_t(y) * size_t(texture.width) + size_t(x);
+      if (indices[i] != 0) std::copy_n(&texture.rgba[i * 4], 4, &front.rgba[(size_t(y) * size_t(half) + size_t(x)) * 4]);
+    }
+  return front;
 }
 
 } // namespace
@@ -196,6 +216,8 @@ Material decodeMiptex(std::span<const uint8_t> bytes, const Palette* quakePalett
     setTexel(material.baseColor, i, &palette->rgb[index * 3], 255);
     anyFullbright |= !halfLife && index >= kFirstFullbright;
   }
+  // Half-Life draws its sky* faces with the level's skybox only (`skyname`), never the texture.
+  if (!halfLife && isQuakeSky(material.name) && width >= 2) material.skyFront = skyFrontLayer(material.baseColor, indices);
 
   if (anyFullbright) {
     material.emissive = blankImage(material.width, material.height);

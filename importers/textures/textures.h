@@ -77,6 +77,13 @@ Material decodeWal(std::span<const uint8_t> bytes, const Palette& quake2Palette,
 // size stays and the image is a (possibly higher-resolution) replacement drawn over it.
 void loadMaterials(Scene& scene, const TextureSearch& search);
 
+// The level's sky images (Scene::sky), appended to scene.materials: the worldspawn's sky box
+// (Quake `sky`, Half-Life `skyname`, Quake 2 `sky`), its six images <skies>/NAME{rt,bk,lf,ft,up,dn}.tga
+// (else .pcx; the game profile's skies folder) from the game's files; else Quake's two layers of
+// the sky texture (Material::skyFront). Where a sky box image is not found or cannot be read, one
+// warning names the files tried and the level keeps the layers, if any.
+void loadSky(Scene& scene, const TextureSearch& search);
+
 // A checker of two greys in 8x8-texel cells, opaque. Used for every texture that is not found.
 // Sides above 1024 are divided by the smallest whole factor that brings both to 1024 or less (a
 // corrupt size costs no more than a 1024x1024 image; the material keeps its size).

@@ -1,5 +1,7 @@
 #include "renderer/cpu/cpu_renderer.h"
 
+#include "lighting/sky.h"
+
 #include "scene/color.h"
 #include "scene/parallel_for.h"
 
@@ -36,7 +38,8 @@ void renderAovs(const RenderScene& scene, const Camera& camera, RenderImage& ima
       const Ray ray = camera.ray(float(x) + 0.5f, float(y) + 0.5f);
       const SurfaceHit hit = traceVisible(scene, ray);
       if (!hit.found) continue;
-      image.albedo[i] = srgbToLinear(glm::vec3(baseColorAt(scene, hit.face, hit.position)));
+      const bool sky = (scene.faceFlags[hit.face] & kFaceSky) && scene.sky.size > 0; // its images along the ray
+      image.albedo[i] = sky ? skyRadiance(scene.sky, ray.direction) : srgbToLinear(glm::vec3(baseColorAt(scene, hit.face, hit.position)));
       image.normal[i] = hit.normal;
       image.depth[i] = hit.t;
       image.face[i] = hit.face + 1;

@@ -3,6 +3,7 @@
 #include "lighting/physical_light.h"
 
 #include "lighting/faithful.h"
+#include "lighting/sky.h"
 #include "scene/color.h"
 
 #include <glm/geometric.hpp>
@@ -127,6 +128,8 @@ glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& sett
   const SurfaceHit hit = traceVisible(rs, ray);
   if (!hit.found) return glm::vec3(0.0f);
   const uint32_t flags = rs.faceFlags[hit.face];
+  // A sky face of a level with sky images shows them by the ray's direction, as a miss would.
+  if ((flags & kFaceSky) && rs.sky.size > 0) return skyRadiance(rs.sky, ray.direction);
   const glm::vec3 texture = glm::vec3(baseColorAt(rs, hit.face, hit.position));
   // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
   if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater)) return srgbToLinear(texture);
@@ -379,7 +382,10 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
     if (!hit.found) break; // the void outside a level is black
     const uint32_t flags = rs.faceFlags[hit.face];
     if (flags & kFaceSky) {
-      l += throughput * (srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position))) + skyDomeRadiance(rs, ray.direction));
+      // The level's sky images by the ray's own direction, camera ray or bounce, else the face's texture.
+      const glm::vec3 sky =
+          rs.sky.size > 0 ? skyRadiance(rs.sky, ray.direction) : srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position)));
+      l += throughput * (sky + skyDomeRadiance(rs, ray.direction));
       break;
     }
     const glm::vec3 n = hit.normal;

@@ -25,6 +25,7 @@ GlLighting lightingFor(const RenderScene& rs) {
   out.bouncescale = rs.world.bouncescale;
   out.faithfulBounces = rs.world.bounces;
   out.litwater = rs.world.litwater;
+  out.sky = rs.sky;
   out.dirt = rs.world.dirtSettings;
   out.lightKinds = rs.lightKinds;
   out.lightmaps = packLightmaps(rs.lightmaps);

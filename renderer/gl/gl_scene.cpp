@@ -120,8 +120,8 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMat
   upload(buffers_[kBindingFaces], tracer.faces());
   GLint units = 0;
   BT_GL(glGetIntegerv(GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS, &units));
-  if (units < static_cast<GLint>(kTexelUnitEnd))
-    throw GlError(fmt::format("the GL context offers {} compute texture units; the tracer needs {}", units, int(kTexelUnitEnd)));
+  if (units < static_cast<GLint>(kTextureUnitCount))
+    throw GlError(fmt::format("the GL context offers {} compute texture units; the tracer needs {}", units, int(kTextureUnitCount)));
   makeTexelView(texelViews_[kTexelNodes - kTexelNodes], buffers_[kBindingNodes], GL_RGBA32UI, bvh.size() * sizeof(GlBvhNode), 16,
                 "the BVH nodes");
   makeTexelView(texelViews_[kTexelBrushes - kTexelNodes], buffers_[kBindingBrushes], GL_RGBA32UI, brushRows.size() * 4, 16,
@@ -156,6 +156,18 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMat
   upload(buffers_[kBindingLightIndices], std::span<const uint32_t>(grid.indices));
 
   setLightmaps(lighting.lightmaps);
+  uploadSky(lighting.sky);
+}
+
+// The sky by direction as the CPU baked it (lighting/sky.h SkyMap): six layers of half floats,
+// read with texelFetch only. A level without sky images gets one texel, never read.
+void GlSceneBuffers::uploadSky(const SkyMap& sky) {
+  const GLsizei size = std::max(sky.size, 1), layers = sky.size > 0 ? 6 : 1;
+  BT_GL(glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &sky_));
+  BT_GL(glTextureStorage3D(sky_, 1, GL_RGBA16F, size, size, layers));
+  BT_GL(glTextureParameteri(sky_, GL_TEXTURE_MIN_FILTER, GL_NEAREST));
+  BT_GL(glTextureParameteri(sky_, GL_TEXTURE_MAG_FILTER, GL_NEAREST));
+  if (sky.size > 0) BT_GL(glTextureSubImage3D(sky_, 0, 0, 0, 0, size, size, layers, GL_RGBA, GL_HALF_FLOAT, sky.texels.data()));
 }
 
 void GlSceneBuffers::setLightmaps(const std::vector<uint32_t>& packed) {
@@ -171,12 +183,14 @@ GlSceneBuffers::~GlSceneBuffers() {
   glDeleteTextures(kTexelViewCount, texelViews_);
   glDeleteBuffers(kBufferCount, buffers_);
   glDeleteBuffers(1, &lightmaps_);
+  glDeleteTextures(1, &sky_);
 }
 
 void GlSceneBuffers::bind() const {
   for (GLuint i = 0; i < kBufferCount; ++i) BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, buffers_[i]));
   BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingLightmaps, lightmaps_));
   for (GLuint i = 0; i < kTexelViewCount; ++i) BT_GL(glBindTextureUnit(kTexelNodes + i, texelViews_[i]));
+  BT_GL(glBindTextureUnit(kTextureSky, sky_));
 }
 
 } // namespace bt::gl

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "bvh/trace_scene.h"
+#include "lighting/sky.h"
 #include "renderer/gl/gl_structs.h"
 
 #include <span>
@@ -38,6 +39,9 @@ private:
   unsigned buffers_[kBufferCount] = {};
   unsigned texelViews_[kTexelViewCount] = {}; // buffer textures, by TexelUnit - kTexelNodes
   unsigned lightmaps_ = 0;                    // kBindingLightmaps
+  unsigned sky_ = 0;                          // kTextureSky
+
+  void uploadSky(const SkyMap& sky);
 };
 
 } // namespace bt::gl

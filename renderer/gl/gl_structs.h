@@ -97,7 +97,9 @@ enum TexelUnit : uint32_t {
   kTexelBrushes = BT_TEXEL_BRUSHES,
   kTexelSides = BT_TEXEL_SIDES,
   kTexelFaces = BT_TEXEL_FACES,
-  kTexelUnitEnd = BT_TEXEL_UNIT_END, // one past the last: the context must offer this many compute texture units
+  kTexelUnitEnd = BT_TEXEL_UNIT_END,         // one past the last buffer texture
+  kTextureSky = BT_TEXTURE_SKY,              // not a buffer: the sky's 2D array texture (gl_scene.h)
+  kTextureUnitCount = BT_TEXTURE_UNIT_COUNT, // the context must offer this many compute texture units
 };
 static_assert(sizeof(GlBvhNode) == 4 * 16 && sizeof(GpuBrush) == 4 * 16 && sizeof(GpuFace) == 4 * 16 && sizeof(GpuTriangle) == 3 * 16);
 static_assert(offsetof(GpuFace, plane) == 0);
@@ -188,16 +190,18 @@ struct GpuWorld {
   uint32_t minlightDirt;
   float overbrightOne; // WorldLighting::overbrightOne: the per-pixel view shows texture × stored / this
   glm::vec3 ambient;   // WorldLighting::ambient: q3map2's `_ambient`, added to the light sum
-  float pad = 0.0f;
+  uint32_t skySize;    // lighting/sky.h SkyMap::size: the sky texture's face edge, 0 without sky images
 };
 static_assert(sizeof(GpuWorld) == 96);
 static_assert(offsetof(GpuWorld, ambient) == 80);
+static_assert(offsetof(GpuWorld, skySize) == 92);
 static_assert(offsetof(GpuWorld, minlight) == 0 && offsetof(GpuWorld, range) == 12 && offsetof(GpuWorld, scaledist) == 16 &&
               offsetof(GpuWorld, bouncescale) == 20 && offsetof(GpuWorld, faithfulBounces) == 24 && offsetof(GpuWorld, litwater) == 28 &&
               offsetof(GpuWorld, lightCount) == 32 && offsetof(GpuWorld, emitterCount) == 36 && offsetof(GpuWorld, emitterArea) == 40 &&
               offsetof(GpuWorld, physical) == 44 && offsetof(GpuWorld, bounces) == 48 && offsetof(GpuWorld, dirtMode) == 52 &&
               offsetof(GpuWorld, dirtDepth) == 56 && offsetof(GpuWorld, dirtAngle) == 60 && offsetof(GpuWorld, dirtScale) == 64 &&
-              offsetof(GpuWorld, dirtGain) == 68 && offsetof(GpuWorld, minlightDirt) == 72 && offsetof(GpuWorld, overbrightOne) == 76);
+              offsetof(GpuWorld, dirtGain) == 68 && offsetof(GpuWorld, minlightDirt) == 72 && offsetof(GpuWorld, overbrightOne) == 76 &&
+              offsetof(GpuWorld, skySize) == 80);
 
 } // namespace bt::gl
 

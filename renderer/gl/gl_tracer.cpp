@@ -37,6 +37,7 @@ GpuWorld worldBlock(const GlLighting& lighting) {
   w.bouncescale = lighting.bouncescale;
   w.faithfulBounces = lighting.faithfulBounces;
   w.litwater = lighting.litwater ? 1u : 0u;
+  w.skySize = uint32_t(lighting.sky.size);
   w.lightCount = static_cast<uint32_t>(lighting.lights.size());
   w.emitterCount = static_cast<uint32_t>(lighting.emitters.size());
   w.emitterArea = lighting.emitterArea;

@@ -4,6 +4,7 @@
 #include "bvh/trace_scene.h"
 #include "lighting/light_grid.h"
 #include "lighting/lights.h"
+#include "lighting/sky.h"
 #include "renderer/gl/gl_camera.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_structs.h"
@@ -53,6 +54,7 @@ struct GlLighting {
   float bouncescale = 1.0f;
   int faithfulBounces = 0; // _bounce
   bool litwater = false;
+  SkyMap sky;                      // RenderScene::sky: the level's sky by direction (size 0: none)
   DirtSettings dirt;               // worldspawn dirt; enabled builds the faithful program with BT_FAITHFUL_DIRT
   LightKinds lightKinds;           // RenderScene::lightKinds: which faithful program the level was started with
   std::vector<uint32_t> lightmaps; // RenderScene::lightmaps packed (lighting/lightmaps.h packLightmaps); empty = none

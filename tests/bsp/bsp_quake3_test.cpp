@@ -8,6 +8,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <unistd.h>
@@ -73,6 +74,32 @@ TEST(Quake3, AllTwelveOpenArenaLevelsImportTexturedFromThePk3) {
   }
 }
 
+// Every OpenArena level with a sky face gets its sky from the sky shader (loadQuake3Sky): a far
+// box of six images from env/ in pak0.pk3 where its skyParms names one that is there, else the
+// shader image's mean colour.
+TEST(Quake3, OpenArenaLevelsTakeTheirSkyFromTheSkyShader) {
+  REQUIRE_OPENARENA();
+  size_t withSky = 0, farBoxes = 0;
+  for (const std::string& name : levelNames()) {
+    SCOPED_TRACE(name);
+    const bt::Scene scene = bt::importScene(kLevels.string() + ":" + name, bt::ImportOptions{});
+    const bool skyFace =
+        std::any_of(scene.faces.begin(), scene.faces.end(), [](const bt::Face& f) { return f.surface && (f.surface->flags & 0x4); });
+    if (!skyFace) continue;
+    ++withSky;
+    ASSERT_TRUE(scene.sky.has_value());
+    EXPECT_EQ(scene.sky->kind, bt::Sky::Kind::BoxClamped);
+    ASSERT_LE(scene.sky->firstMaterial + 6, scene.materials.size());
+    const std::string& rt = scene.materials[scene.sky->firstMaterial].name;
+    if (rt.rfind("env/", 0) != 0) continue;
+    ++farBoxes;
+    EXPECT_NE(rt.find("_rt."), std::string::npos) << rt;
+    for (int i = 0; i < 6; ++i) EXPECT_GT(scene.materials[scene.sky->firstMaterial + i].baseColor.width, 1) << i;
+  }
+  EXPECT_GT(withSky, 0u);
+  EXPECT_GT(farBoxes, 0u);
+}
+
 // The frame solved for a brush side reproduces the texture coordinates of the draw triangles
 // lying on it (up to whole texture repeats, which q3map2 subtracts per surface).
 TEST(Quake3, SideFramesReproduceDrawVertexTextureCoordinates) {
@@ -118,6 +145,31 @@ TEST(Quake3, SideFramesReproduceDrawVertexTextureCoordinates) {
   }
   EXPECT_GT(checked, 500u);
   EXPECT_LE(wrong, checked / 50) << wrong << " of " << checked;
+}
+
+// skyParms' first argument, read at the shader's top level only; "-" is no far box, and a
+// commented-out line is no skyParms.
+TEST(Quake3, ShaderScriptsNameTheirSkyBox) {
+  const auto boxes = bt::bsp::parseShaderSkyBoxes(R"(
+textures/skies/Space
+{
+  surfaceparm sky
+  // skyparms env/old/old - -
+  SKYPARMS env/space1 512 -
+  { map textures/skies/stars.tga }
+}
+textures/skies/clouds
+{
+  skyParms - 512 -
+}
+textures/base/wall
+{
+  { map textures/base/wall.tga }
+}
+)");
+  ASSERT_EQ(boxes.size(), 2u);
+  EXPECT_EQ(boxes.at("textures/skies/space"), "env/space1");
+  EXPECT_EQ(boxes.at("textures/skies/clouds"), "");
 }
 
 TEST(Quake3, ShaderScriptsNameTheirImage) {

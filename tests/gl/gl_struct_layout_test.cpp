@@ -188,7 +188,8 @@ TEST(GlStructLayout, CameraAndWorldBlocksAsTheShadersReadThem) {
                 MEMBER(GpuWorld, faithfulBounces), MEMBER(GpuWorld, litwater), MEMBER(GpuWorld, lightCount), MEMBER(GpuWorld, emitterCount),
                 MEMBER(GpuWorld, emitterArea), MEMBER(GpuWorld, physical), MEMBER(GpuWorld, bounces), MEMBER(GpuWorld, dirtMode),
                 MEMBER(GpuWorld, dirtDepth), MEMBER(GpuWorld, dirtAngle), MEMBER(GpuWorld, dirtScale), MEMBER(GpuWorld, dirtGain),
-                MEMBER(GpuWorld, minlightDirt), MEMBER(GpuWorld, overbrightOne)},
+                MEMBER(GpuWorld, minlightDirt), MEMBER(GpuWorld, overbrightOne), MEMBER(GpuWorld, ambient),
+                MEMBER(GpuWorld, skySize)},
                0);
 }
 
