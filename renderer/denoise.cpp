@@ -63,7 +63,7 @@ void filterRows(const Guide& g, const std::vector<glm::vec3>& in, std::vector<gl
           const float offset = float(spacing * (std::abs(dx) + std::abs(dy)));
           const float wDepth =
               std::exp(-std::abs(zp - g.depth[q]) / (BT_DENOISE_SIGMA_DEPTH * gradient * offset + BT_DENOISE_DEPTH_FLOOR * zp));
-          const float wLum = std::exp(-std::abs(lp - lq) / (sigma * 0.5f * (lp + lq) + BT_DENOISE_LUMINANCE_FLOOR));
+          const float wLum = std::exp(-std::abs(lp - lq) / (sigma * std::sqrt(std::max(lp * lq, 0.0f)) + BT_DENOISE_LUMINANCE_FLOOR));
           const float w = kKernel[std::abs(dx)] * kKernel[std::abs(dy)] * wNormal * wDepth * wLum;
           sum += w * in[q];
           weights += w;

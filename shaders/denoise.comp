@@ -79,7 +79,7 @@ void main() {
       float wNormal = pow(max(0.0, dot(nzp.xyz, nzq.xyz)), BT_DENOISE_SIGMA_NORMAL);
       float offset = float(spacing * (abs(dx) + abs(dy)));
       float wDepth = exp(-abs(nzp.w - nzq.w) / (BT_DENOISE_SIGMA_DEPTH * gradient * offset + BT_DENOISE_DEPTH_FLOOR * nzp.w));
-      float wLum = exp(-abs(lp - lq) / (sigma * 0.5 * (lp + lq) + BT_DENOISE_LUMINANCE_FLOOR));
+      float wLum = exp(-abs(lp - lq) / (sigma * sqrt(max(lp * lq, 0.0)) + BT_DENOISE_LUMINANCE_FLOOR));
       float w = kKernel[abs(dx)] * kKernel[abs(dy)] * wNormal * wDepth * wLum;
       sum += w * cq;
       weights += w;

@@ -18,8 +18,11 @@
 #define BT_DENOISE_KERNEL2 0.0625f
 // Edge stops, as SVGF (Schied et al. 2017) writes them: normals max(0, n.n')^SIGMA_NORMAL;
 // depth exp(-|z - z'| / (SIGMA_DEPTH |grad z| |offset| + DEPTH_FLOOR z)), the gradient so that
-// a sloped floor is one surface; irradiance luminance exp(-|l - l'| / (sigma (l + l') / 2 +
-// LUMINANCE_FLOOR)), sigma = SIGMA_LUMINANCE / sqrt(spp) / 2^pass. SVGF divides by the pixel's
+// a sloped floor is one surface; irradiance luminance exp(-|l - l'| / (sigma sqrt(l l') +
+// LUMINANCE_FLOOR)), sigma = SIGMA_LUMINANCE / sqrt(spp) / 2^pass: relative to the geometric
+// mean of the two, so the brighter a firefly the less it weighs (relative to their arithmetic
+// mean the weight would tend to exp(-2 / sigma) however bright, and spread fireflies into blobs;
+// relative to the darker one it smooths noise too little). SVGF divides by the pixel's
 // measured standard deviation; brushtrace's tracers keep no second moment, so the expected
 // relative noise of a path-traced mean (1 / sqrt(spp)) stands in for it: a young image is
 // smoothed, a converged one is left nearly as it is. Dammertz halves the colour sigma each pass.
