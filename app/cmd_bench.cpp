@@ -5,8 +5,13 @@
 // import beside it, upload, the rest of the compile, 1 spp).
 #include "app/commands.h"
 #include "app/usage_checks.h"
+#include "lighting/render_scene.h"
+#include "renderer/cpu/cpu_renderer.h"
+#include "renderer/denoise.h"
+#include "renderer/exposure.h"
 #include "renderer/gl/gl_bench.h"
 #include "renderer/gl/gl_error.h"
+#include "renderer/time_to_converged.h"
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
@@ -16,6 +21,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <thread>
 
 namespace bt::app {
 
@@ -29,16 +35,73 @@ struct BenchOptions {
   double seconds = 5.0;
   std::string textures = "auto";
   std::string lighting = "physical";
+  std::string backend = "gl";
+  bool timeToConverged = false;
+  int referenceSpp = 4096;
 };
 
+// The CPU tracer's time to converged (the GL tracer's is part of runGlBench): physical light at
+// --size with --bounces, denoiser off and on, against a --reference-spp render of another seed.
+int runCpuTimeToConverged(const BenchOptions& options) {
+  const Scene scene = importScene(options.map, options.import);
+  Diagnostics diagnostics;
+  const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+  const CameraPose pose = defaultCameraPose(scene);
+  const Camera camera(pose, options.size.width, options.size.height);
+  const auto render = [&](int spp, uint32_t seed) {
+    RenderSettings settings;
+    settings.width = options.size.width, settings.height = options.size.height, settings.spp = spp, settings.seed = seed;
+    settings.integrator.mode = LightingMode::Physical;
+    settings.integrator.bounces = options.bounces;
+    return renderCpu(rs, camera, settings);
+  };
+  fmt::print("cpu, {} threads; camera {} ({})\n", std::thread::hardware_concurrency(), formatCameraPose(pose), pose.source);
+  const auto start = std::chrono::steady_clock::now();
+  const RenderImage reference = render(options.referenceSpp, 0x5eed);
+  const float ev = autoExposureEv(reference.beauty, reference.width, reference.height);
+  fmt::print("reference: {} spp in {:.1f} s, exposure {:+.2f} EV\n", options.referenceSpp,
+             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), ev);
+  std::fflush(stdout);
+  const std::vector<glm::vec3> referenceDisplay = displayedImage(reference.beauty, ev);
+  for (bool denoiseOn : {false, true}) {
+    ConvergeSettings settings;
+    settings.maxSpp = options.referenceSpp / 4; // beyond that the reference's own noise counts
+    settings.denoise = denoiseOn;
+    settings.denoiser = [](const RenderImage& image) { return denoise(image); };
+    settings.onStep = [](const ConvergeStep& s) {
+      fmt::print("  {} spp: {:.2f} s, rel MSE {:.4f}\n", s.spp, s.seconds, s.relativeMse);
+      std::fflush(stdout);
+    };
+    fmt::print("denoiser {}:\n", denoiseOn ? "on" : "off");
+    const std::vector<ConvergeStep> steps = timeToConverged([&](int spp) { return render(spp, 0); }, referenceDisplay, settings);
+    const ConvergeStep& last = steps.back();
+    if (last.relativeMse <= kConvergedRelativeMse)
+      fmt::print("time to converged, cpu, denoiser {}: {:.2f} s ({} spp, rel MSE {:.4f} <= {}) at {}x{}, {} bounces\n",
+                 denoiseOn ? "on" : "off", last.seconds, last.spp, last.relativeMse, kConvergedRelativeMse, options.size.width,
+                 options.size.height, options.bounces);
+    else
+      fmt::print("time to converged, cpu, denoiser {}: not within {} spp (rel MSE {:.4f})\n", denoiseOn ? "on" : "off", last.spp,
+                 last.relativeMse);
+  }
+  return 0;
+}
+
 int runBench(const BenchOptions& options) {
+  if (options.backend == "cpu") return runCpuTimeToConverged(options); // the CPU tracer has only this measure
   const int width = options.size.width, height = options.size.height;
   const auto textureMode = gl::parseTextureMode(options.textures); // --gl-textures admits only the names it parses
   const auto start = std::chrono::steady_clock::now();
   const Scene scene = importScene(options.map, options.import);
   fmt::print("map: {} ({} brushes, {} faces, {} materials), imported in {:.2f} s\n", options.map, scene.brushes.size(), scene.faces.size(),
              scene.materials.size(), std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  gl::GlBenchSettings settings{width, height, options.bounces, options.seconds, *textureMode, options.lighting == "physical"};
+  gl::GlBenchSettings settings{width,
+                               height,
+                               options.bounces,
+                               options.seconds,
+                               *textureMode,
+                               options.lighting == "physical",
+                               options.timeToConverged,
+                               options.referenceSpp};
   // The first image is timed with the import inside it, as `render` gets there.
   return gl::runGlBench([&](const gl::EntitiesRead& entitiesRead) { return importScene(options.map, options.import, entitiesRead); },
                         settings);
@@ -61,6 +124,15 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
       ->capture_default_str();
   bench->add_option("--lighting", options->lighting, "Lighting of the full samples: physical|faithful")
       ->check(CLI::IsMember({"physical", "faithful"}))
+      ->capture_default_str();
+  bench->add_flag("--time-to-converged", options->timeToConverged,
+                  "Measure only the time until the displayed physical image is within rel. MSE 0.01 of a --reference-spp render, "
+                  "denoiser off and on");
+  bench->add_option("--backend", options->backend, "gl: the GL tracer; cpu: the CPU tracer (its time to converged only)")
+      ->check(CLI::IsMember({"gl", "cpu"}))
+      ->capture_default_str();
+  bench->add_option("--reference-spp", options->referenceSpp, "Samples per pixel of the time-to-converged reference")
+      ->check(positive())
       ->capture_default_str();
   bench->callback([options, &exitCode] {
     try {

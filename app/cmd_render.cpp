@@ -5,11 +5,14 @@
 
 #include "lighting/compiled_lightmaps.h"
 #include "renderer/cpu/cpu_renderer.h"
+#include "renderer/denoise.h"
 #include "renderer/difference.h"
+#include "renderer/exposure.h"
 #include "renderer/image_output.h"
 #include "lighting/lightmap_bake.h"
 #include "lighting/render_scene.h"
 #include "renderer/gl/gl_context.h"
+#include "renderer/gl/gl_denoise.h"
 #include "renderer/gl/gl_level.h"
 #include "renderer/gl/gl_render.h"
 #include "renderer/gl/gl_tracer.h"
@@ -101,7 +104,7 @@ RenderSettings renderSettings(const RenderOptions& o) {
 
 OutputSettings outputSettings(const RenderOptions& o) {
   OutputSettings output;
-  output.exposureEv = o.exposure;
+  output.exposureEv = o.exposure.value_or(0.0f); // physical mode without --exposure: measured after the render
   const std::string tonemap = o.tonemap.empty() ? (o.lighting == "physical" ? "aces" : "faithful") : o.tonemap;
   output.tonemap = tonemap == "aces" ? Tonemap::Aces
       : tonemap == "agx"             ? Tonemap::Agx
@@ -206,13 +209,26 @@ void printPreparation(const Scene& scene, const Diagnostics& lightDiagnostics) {
 }
 
 std::string writtenLine(const RenderOptions& o, const RenderImage& image, const LightmapChoice& choice, bool aovsOnly,
-                        const std::string& device) {
+                        const OutputSettings& written, const std::string& device) {
   const std::string lighting = choice.compiled ? "compiled"
       : choice.difference                      ? "difference"
       : o.lighting == "physical"               ? "physical"
                                                : "faithful";
-  const std::string rendered = aovsOnly ? fmt::format("--aov {}", o.aov) : fmt::format("{} spp, {} lighting", image.samples, lighting);
+  std::string rendered = aovsOnly ? fmt::format("--aov {}", o.aov) : fmt::format("{} spp, {} lighting", image.samples, lighting);
+  if (!aovsOnly && (written.exposureAuto || o.exposure))
+    rendered += fmt::format(", exposure {:+.2f} EV{}", written.exposureEv, written.exposureAuto ? " auto" : "");
+  if (!image.denoised.empty()) rendered += ", denoised";
   return fmt::format("wrote {} ({}x{}, {}, {})", o.output, o.size.width, o.size.height, rendered, device);
+}
+
+// What the display does with a finished beauty: --denoise (on the tracer that rendered it) and
+// physical mode's automatic exposure, measured on the raw beauty (both layers are written with it).
+void finishBeauty(const RenderOptions& o, RenderImage& image, OutputSettings& written, gl::GlContext* glContext) {
+  if (o.denoise) image.denoised = glContext ? gl::denoiseWithGl(image) : denoise(image, o.threads);
+  if (o.lighting == "physical" && !o.exposure) {
+    written.exposureEv = autoExposureEv(image.beauty, image.width, image.height);
+    written.exposureAuto = true;
+  }
 }
 
 } // namespace
@@ -285,11 +301,13 @@ int runRender(const RenderOptions& o, RenderOutcome* outcome) {
     renderScene.lightmaps = choice.differenceLightmaps;
     image = differenceImage(render(), image, output);
     written.exposureEv = 0.0f, written.tonemap = Tonemap::Faithful; // the heat map's own colours
+  } else if (!aovsOnly) {
+    finishBeauty(o, image, written, glContext.get());
   }
   writeImage(o.output, image, written);
   const std::string device = glContext ? "gl " + glContext->info().renderer : std::string("cpu");
-  if (!o.quiet) fmt::print("{}\n", writtenLine(o, image, choice, aovsOnly, device));
-  if (outcome) *outcome = {pose, image.samples, device};
+  if (!o.quiet) fmt::print("{}\n", writtenLine(o, image, choice, aovsOnly, written, device));
+  if (outcome) *outcome = {pose, image.samples, device, written.exposureEv};
   return 0;
 }
 
@@ -320,7 +338,12 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--aov", options->aov, "beauty|albedo|normal|depth|face")
       ->check(CLI::IsMember({"beauty", "albedo", "normal", "depth", "face"}))
       ->capture_default_str();
-  cmd->add_option("--exposure", options->exposure, "Exposure in EV (stops)")->capture_default_str();
+  cmd->add_option("--exposure", options->exposure,
+                  "Exposure in EV (stops); default: automatic for physical lighting (log-average luminance to 0.18), 0 otherwise")
+      ->type_name("EV");
+  cmd->add_flag(
+      "--denoise", options->denoise,
+      "Denoise the beauty (a-trous filter guided by the AOVs): the PNG shows it, the EXR keeps the raw beauty and adds it as denoised.*");
   cmd->add_option("--tonemap", options->tonemap, "faithful|aces|agx|linear (default faithful, aces for physical lighting)")
       ->check(CLI::IsMember({"faithful", "aces", "agx", "linear"}));
   cmd->add_option("--lighting", options->lighting,

@@ -19,8 +19,11 @@ struct RenderOptions {
   std::string backend = "auto";
   std::string glTextures = "auto";
   std::string aov = "beauty";
-  float exposure = 0.0f;
-  std::string tonemap; // empty: faithful for --lighting faithful, aces for physical
+  // --exposure EV; without it physical lighting is exposed automatically (renderer/exposure.h)
+  // and faithful lighting at 0 EV, the game's own brightness.
+  std::optional<float> exposure;
+  bool denoise = false; // --denoise: the PNG shows the denoised beauty, the EXR gains its layer
+  std::string tonemap;  // empty: faithful for --lighting faithful, aces for physical
   std::string lighting = "faithful";
   bool lightingGiven = false; // --lighting on the command line (a Quake 3 .bsp defaults to compiled)
   int bounces = 3;
@@ -37,7 +40,8 @@ struct RenderOptions {
 struct RenderOutcome {
   CameraPose pose;
   int samples = 0;
-  std::string device; // "cpu" or "gl <renderer>"
+  std::string device;      // "cpu" or "gl <renderer>"
+  float exposureEv = 0.0f; // the exposure the image was written with
 };
 
 // Imports o.map and renders it to o.output: 0 when the image was written, 1 when the level has

@@ -12,6 +12,39 @@
 
 namespace bt {
 
+namespace {
+
+// Linear beauty (exposure applied) as R, G, B, the default layer, then the AOVs and, after
+// --denoise, the denoised beauty as denoised.R/G/B. The exposure goes into the header.
+bool writeExr(OIIO::ImageOutput& out, const std::string& temp, const RenderImage& image, const OutputSettings& output) {
+  const size_t n = size_t(image.width) * size_t(image.height);
+  const bool denoised = !image.denoised.empty();
+  const int channels = denoised ? 13 : 10;
+  std::vector<float> pixels(n * size_t(channels));
+  const float exposure = std::exp2(output.exposureEv);
+  for (size_t i = 0; i < n; ++i) {
+    float* p = &pixels[i * size_t(channels)];
+    const glm::vec3 b = image.beauty[i] * exposure;
+    p[0] = b.x, p[1] = b.y, p[2] = b.z;
+    p[3] = image.albedo[i].x, p[4] = image.albedo[i].y, p[5] = image.albedo[i].z;
+    p[6] = image.normal[i].x, p[7] = image.normal[i].y, p[8] = image.normal[i].z;
+    p[9] = image.depth[i];
+    if (denoised) {
+      const glm::vec3 d = image.denoised[i] * exposure;
+      p[10] = d.x, p[11] = d.y, p[12] = d.z;
+    }
+  }
+  OIIO::ImageSpec spec(image.width, image.height, channels, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"R", "G", "B", "albedo.R", "albedo.G", "albedo.B", "normal.X", "normal.Y", "normal.Z", "depth.Z"};
+  if (denoised) spec.channelnames.insert(spec.channelnames.end(), {"denoised.R", "denoised.G", "denoised.B"});
+  spec.attribute("compression", "zip");
+  spec.attribute("brushtrace:exposureEV", output.exposureEv);
+  spec.attribute("brushtrace:exposure", output.exposureAuto ? "auto" : "given");
+  return out.open(temp, spec) && out.write_image(OIIO::TypeDesc::FLOAT, pixels.data());
+}
+
+} // namespace
+
 void writeImage(const std::string& path, const RenderImage& image, const OutputSettings& output) {
   namespace fs = std::filesystem;
   const fs::path target(path);
@@ -28,22 +61,7 @@ void writeImage(const std::string& path, const RenderImage& image, const OutputS
     OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
     ok = out->open(temp.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, pixels.data());
   } else {
-    const size_t n = size_t(image.width) * size_t(image.height);
-    constexpr int kChannels = 10;
-    std::vector<float> pixels(n * kChannels);
-    const float exposure = std::exp2(output.exposureEv);
-    for (size_t i = 0; i < n; ++i) {
-      float* p = &pixels[i * kChannels];
-      const glm::vec3 b = image.beauty[i] * exposure;
-      p[0] = b.x, p[1] = b.y, p[2] = b.z;
-      p[3] = image.albedo[i].x, p[4] = image.albedo[i].y, p[5] = image.albedo[i].z;
-      p[6] = image.normal[i].x, p[7] = image.normal[i].y, p[8] = image.normal[i].z;
-      p[9] = image.depth[i];
-    }
-    OIIO::ImageSpec spec(image.width, image.height, kChannels, OIIO::TypeDesc::FLOAT);
-    spec.channelnames = {"R", "G", "B", "albedo.R", "albedo.G", "albedo.B", "normal.X", "normal.Y", "normal.Z", "depth.Z"};
-    spec.attribute("compression", "zip");
-    ok = out->open(temp.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels.data());
+    ok = writeExr(*out, temp.string(), image, output);
   }
   const std::string error = out->geterror();
   ok = out->close() && ok;

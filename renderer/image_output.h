@@ -9,8 +9,10 @@
 
 namespace bt {
 
-// .png: tonemapped sRGB of the chosen AOV. .exr: linear beauty (exposure applied) with
-// albedo.*, normal.* and depth.Z layers. Written to a temporary name and renamed.
+// .png: tonemapped sRGB of the chosen AOV (the denoised beauty where the image has one). .exr:
+// linear beauty (exposure applied) as the default layer, with albedo.*, normal.*, depth.Z and,
+// when denoised, denoised.* layers, and the exposure in the header (brushtrace:exposureEV,
+// brushtrace:exposure "auto" or "given"). Written to a temporary name and renamed.
 // Throws std::runtime_error with the reason when the file cannot be written.
 void writeImage(const std::string& path, const RenderImage& image, const OutputSettings& output);
 

@@ -31,10 +31,11 @@ std::vector<uint8_t> displayPixels(const RenderImage& image, const OutputSetting
   for (float d : image.depth)
     if (std::isfinite(d)) maxDepth = std::max(maxDepth, d);
   const float exposure = std::exp2(output.exposureEv);
+  const std::vector<glm::vec3>& beauty = image.denoised.empty() ? image.beauty : image.denoised;
   for (size_t i = 0; i < n; ++i) {
     glm::vec3 c;
     switch (output.aov) {
-    case Aov::Beauty: c = linearToSrgb(applyTonemap(output.tonemap, image.beauty[i] * exposure)); break;
+    case Aov::Beauty: c = linearToSrgb(applyTonemap(output.tonemap, beauty[i] * exposure)); break;
     case Aov::Albedo: c = linearToSrgb(glm::clamp(image.albedo[i], 0.0f, 1.0f)); break;
     case Aov::Normal: c = image.face[i] ? image.normal[i] * 0.5f + 0.5f : glm::vec3(0.0f); break;
     case Aov::Depth:

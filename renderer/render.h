@@ -38,10 +38,11 @@ struct RenderImage {
   int height = 0;
   int samples = 0;
   std::vector<glm::vec3> beauty;
-  std::vector<glm::vec3> albedo; // linear base colour of the visible face
-  std::vector<glm::vec3> normal; // world-space face normal, 0 where nothing is hit
-  std::vector<float> depth;      // distance along the ray, +inf where nothing is hit
-  std::vector<uint32_t> face;    // scene face index + 1, 0 where nothing is hit
+  std::vector<glm::vec3> albedo;   // linear base colour of the visible face
+  std::vector<glm::vec3> normal;   // world-space face normal, 0 where nothing is hit
+  std::vector<float> depth;        // distance along the ray, +inf where nothing is hit
+  std::vector<uint32_t> face;      // scene face index + 1, 0 where nothing is hit
+  std::vector<glm::vec3> denoised; // the beauty denoised (renderer/denoise.h), empty if not asked for
 };
 
 struct RenderProgress {
@@ -57,10 +58,12 @@ enum class Aov { Beauty, Albedo, Normal, Depth, Face };
 struct OutputSettings {
   Aov aov = Aov::Beauty;
   float exposureEv = 0.0f;
+  bool exposureAuto = false; // exposureEv was measured (renderer/exposure.h), not given; EXR metadata
   Tonemap tonemap = Tonemap::Faithful;
 };
 
-// The 8-bit sRGB pixels a PNG of `image` holds (RGB, rows top to bottom).
+// The 8-bit sRGB pixels a PNG of `image` holds (RGB, rows top to bottom); the beauty AOV shows
+// image.denoised where there is one.
 std::vector<uint8_t> displayPixels(const RenderImage& image, const OutputSettings& output);
 
 } // namespace bt

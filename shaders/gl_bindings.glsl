@@ -52,5 +52,9 @@
 #define BT_IMAGE_FACE 2          // aov.comp
 #define BT_IMAGE_PRIMARY_HITS 0  // raybench.comp
 #define BT_IMAGE_BOUNCE_T 1      // raybench.comp
+#define BT_IMAGE_DENOISE_IN 0            // denoise.comp: the pass's input (the beauty, or the last pass's irradiance)
+#define BT_IMAGE_DENOISE_OUT 1           // denoise.comp: its output
+#define BT_IMAGE_DENOISE_ALBEDO 2        // denoise.comp
+#define BT_IMAGE_DENOISE_NORMAL_DEPTH 3  // denoise.comp
 
 #endif

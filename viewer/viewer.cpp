@@ -4,6 +4,7 @@
 #include "lighting/compiled_lightmaps.h"
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/difference.h"
+#include "renderer/exposure.h"
 #include "renderer/image_output.h"
 #include "lighting/render_scene.h"
 #include "renderer/gl/gl_bake.h"
@@ -111,6 +112,7 @@ struct Viewer::Impl {
   std::unique_ptr<gl::ProgressiveImage> full;
   std::unique_ptr<gl::ProgressiveImage> preview;
   std::unique_ptr<gl::TonemapPass> tonemap;
+  ExposureSmoother autoExposure; // physical mode's exposure, followed from frame to frame
   bool moving = false;
   RenderImage aovs; // of the current view, for the albedo/normal modes and screenshots
   bool aovsCurrent = false;
@@ -414,7 +416,7 @@ struct Viewer::Impl {
   OutputSettings displayOutput() const {
     OutputSettings output;
     output.tonemap = tonemapFor(lighting);
-    output.exposureEv = options.exposureEv;
+    output.exposureEv = displayExposure();
     return output;
   }
 
@@ -503,8 +505,18 @@ struct Viewer::Impl {
   }
 
   void showSum(const gl::ProgressiveImage& image) {
-    tonemap->run(image.sum(), image.samples(), displayOfSize(image.width(), image.height()), tonemapFor(lighting), options.exposureEv);
+    tonemap->run(image.sum(), image.samples(), displayOfSize(image.width(), image.height()), tonemapFor(lighting), exposureOf(image));
   }
+
+  // Physical mode is exposed as `render` exposes it (renderer/exposure.h), from a read-back of
+  // the image a few times a second, smoothed so the picture does not pump.
+  float exposureOf(const gl::ProgressiveImage& image) {
+    if (lighting != LightingMode::Physical || image.samples() == 0) return displayExposure();
+    const double now = std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+    if (autoExposure.due(now)) autoExposure.update(autoExposureEv(image.readMean(), image.width(), image.height()), now);
+    return autoExposure.ev();
+  }
+  float displayExposure() const { return lighting == LightingMode::Physical ? autoExposure.ev() : options.exposureEv; }
 
   // Display bytes made on the CPU (the albedo and normal views, the heat map, the CPU tracer's image).
   void showRgba(int width, int height, const std::vector<uint8_t>& rgba) {

@@ -3,9 +3,12 @@
 #include "renderer/view_lightmaps.h"
 
 #include "renderer/camera.h"
+#include "renderer/exposure.h"
+#include "renderer/time_to_converged.h"
 #include "lighting/render_scene.h"
 #include "renderer/gl/gl_bake.h"
 #include "renderer/gl/gl_context.h"
+#include "renderer/gl/gl_denoise.h"
 #include "renderer/gl/gl_level.h"
 #include "renderer/gl/gl_render.h"
 #include "renderer/gl/gl_tracer.h"
@@ -206,6 +209,39 @@ void benchSamples(gl::GlTracer& tracer, const gl::CameraBasis& camera, const GlB
              image.samples * double(s.width) * s.height / seconds * 1e-6);
 }
 
+// Issue 18's time to converged on the GPU: renderBeauty at 1, 2, 4, ... spp (read back, as the
+// measure needs the image) and the denoiser's passes on it (gl_denoise.h); the AOVs, which the
+// viewer has before its first sample, are rendered once outside the timing.
+void benchTimeToConverged(gl::GlTracer& tracer, const gl::CameraBasis& camera, const GlBenchSettings& s) {
+  const AovImages aov = tracer.renderAovs(camera, s.width, s.height);
+  const auto render = [&](int spp, uint32_t seed) {
+    gl::BeautySettings settings = oneSampleSettings(s);
+    settings.spp = spp, settings.seed = seed, settings.physical = true, settings.bounces = s.bounces;
+    const BeautyImage beauty = tracer.renderBeauty(camera, settings);
+    RenderImage image;
+    image.width = s.width, image.height = s.height, image.samples = beauty.samples, image.beauty = beauty.beauty;
+    image.normal = aov.normal, image.depth = aov.depth, image.face = aov.face;
+    for (const glm::vec4& a : aov.albedo) image.albedo.emplace_back(a);
+    return image;
+  };
+  const auto start = Clock::now();
+  const RenderImage reference = render(s.referenceSpp, 0x5eed);
+  const float ev = autoExposureEv(reference.beauty, s.width, s.height);
+  fmt::print("reference: {} spp in {:.2f} s, exposure {:+.2f} EV\n", s.referenceSpp, secondsSince(start), ev);
+  const std::vector<glm::vec3> referenceDisplay = displayedImage(reference.beauty, ev);
+  for (bool denoiseOn : {false, true}) {
+    ConvergeSettings settings;
+    settings.maxSpp = s.referenceSpp / 4; // beyond that the reference's own noise counts
+    settings.denoise = denoiseOn;
+    settings.denoiser = [](const RenderImage& image) { return denoiseWithGl(image); };
+    const ConvergeStep last = timeToConverged([&](int spp) { return render(spp, 0); }, referenceDisplay, settings).back();
+    const bool reached = last.relativeMse <= kConvergedRelativeMse;
+    fmt::print("time to converged, gl, denoiser {}: {} ({} spp, rel MSE {:.4f}, threshold {}) at {}x{}, {} bounces\n",
+               denoiseOn ? "on" : "off", reached ? fmt::format("{:.3f} s", last.seconds) : std::string("not reached"), last.spp,
+               last.relativeMse, kConvergedRelativeMse, s.width, s.height, s.bounces);
+  }
+}
+
 } // namespace
 
 int runGlBench(const LevelImport& importLevel, const GlBenchSettings& s) {
@@ -223,6 +259,12 @@ int runGlBench(const LevelImport& importLevel, const GlBenchSettings& s) {
              info.parallelShaderCompile ? "yes" : "no");
   fmt::print("camera: {} ({}), {} lights, {} emitter triangles\n", formatCameraPose(run.pose), run.pose.source,
              run.level->render.lights.size(), run.level->render.emitters.size());
+  if (s.timeToConverged) {
+    std::error_code ignored;
+    std::filesystem::remove_all(cacheDir, ignored);
+    benchTimeToConverged(tracer, gl::cameraFrom(run.pose, s.width, s.height), s);
+    return run.context->debugErrorCount() == 0 ? 0 : 1;
+  }
   firstImage(run, importLevel, s, cacheDir, "warm");
   gl::GlTracer& warm = *run.level->tracer;
   // The programs built from here on (ray bench, the other lighting mode) are not stored: the

@@ -17,6 +17,10 @@ struct GlBenchSettings {
   double seconds = 5.0; // time budget of the measurements
   TextureMode textures = TextureMode::Auto;
   bool physical = true; // lighting of the full samples
+  // Measure only the time to converged (renderer/time_to_converged.h), against a render of
+  // this many spp: physical light, denoiser off and on.
+  bool timeToConverged = false;
+  int referenceSpp = 4096;
 };
 
 // Prints the measurements to stdout; returns the exit status (1 if GL reported errors).

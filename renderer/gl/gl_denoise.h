@@ -1,0 +1,33 @@
+// The preview denoiser on the GPU: shaders/denoise.comp, renderer/denoise.h's filter pass for
+// pass, so both tracers' images are denoised alike (tests/gl/gl_denoise_test.cpp).
+#pragma once
+
+#include "renderer/render.h"
+#include "renderer/gl/gl_program.h"
+#include "renderer/gl/gl_progressive.h"
+
+#include <glm/vec3.hpp>
+
+#include <vector>
+
+namespace bt::gl {
+
+class DenoisePass {
+public:
+  DenoisePass(); // builds the program; the context must be current
+  // out = the denoised beauty, from `beauty` (RGBA32F) times `scale`, the mean of `samples`
+  // samples (a progressive sum with scale 1 / samples, or a mean with 1), guided by `albedo` and
+  // `normalDepth` (RGBA32F: aov.comp's normal and depth, depth +inf where nothing is hit).
+  // `scratch` holds every other pass. All five textures are the beauty's size.
+  void run(const GlTexture2D& beauty, float scale, int samples, const GlTexture2D& albedo, const GlTexture2D& normalDepth,
+           const GlTexture2D& out, const GlTexture2D& scratch);
+
+private:
+  ComputeProgram program_;
+};
+
+// renderer/denoise.h's denoise(image), on the current GL context: the image and its AOVs
+// uploaded, filtered and read back.
+std::vector<glm::vec3> denoiseWithGl(const RenderImage& image);
+
+} // namespace bt::gl

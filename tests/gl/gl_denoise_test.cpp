@@ -1,0 +1,67 @@
+// The denoiser's GLSL pass (shaders/denoise.comp, gl::DenoisePass) against the C++ one
+// (renderer/denoise.h) on the same image: the hand-built room's AOVs as the tracer gives them,
+// and a noisy beauty made from them, every pixel in colour.
+#include "renderer/denoise.h"
+#include "renderer/gl/gl_context.h"
+#include "renderer/gl/gl_denoise.h"
+#include "renderer/gl/gl_tracer.h"
+#include "tests/gl/test_scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace bt::gl {
+namespace {
+
+constexpr int kWidth = 80, kHeight = 60;
+
+// The room's AOVs, and a beauty of albedo x a light falling off across the image x noise in
+// 0..2 (as a few samples per pixel give), with a hole of sky (nothing hit) and a NaN sample.
+RenderImage noisyRoom(int samples) {
+  const Scene scene = test::makeTestRoom();
+  GlTracer tracer(test::sharedGlContext(), scene, test::textureModeUnderTest(), GlLighting{});
+  const AovImages aov = tracer.renderAovs(test::testCamera(kWidth, kHeight), kWidth, kHeight);
+  RenderImage image;
+  image.width = kWidth, image.height = kHeight, image.samples = samples;
+  image.normal = aov.normal, image.depth = aov.depth, image.face = aov.face;
+  for (size_t i = 0; i < aov.face.size(); ++i) {
+    const int x = int(i % kWidth), y = int(i / kWidth);
+    image.albedo.push_back(glm::vec3(aov.albedo[i]));
+    const float noise = float((uint32_t(i) * 2654435761u >> 8) % 1000) / 500.0f;
+    const float light = 4.0f / (1.0f + 0.002f * float((x - 20) * (x - 20) + (y - 15) * (y - 15)));
+    image.beauty.push_back(image.albedo.back() * light * noise);
+  }
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 8; ++x) image.depth[size_t(y) * kWidth + size_t(x)] = INFINITY, image.beauty[size_t(y) * kWidth + size_t(x)] = {};
+  image.beauty[size_t(30) * kWidth + 40] = glm::vec3(NAN);
+  return image;
+}
+
+TEST(GlDenoise, TheShaderGivesTheCpuFiltersImage) {
+  GlContext& context = test::sharedGlContext();
+  for (int samples : {4, 256}) {
+    SCOPED_TRACE(testing::Message() << samples << " spp");
+    const RenderImage image = noisyRoom(samples);
+    const int errorsBefore = context.debugErrorCount();
+    const std::vector<glm::vec3> gpu = denoiseWithGl(image);
+    EXPECT_EQ(context.debugErrorCount(), errorsBefore);
+    const std::vector<glm::vec3> cpu = denoise(image);
+    ASSERT_EQ(gpu.size(), cpu.size());
+    // Stated tolerance: 1e-4 of the value (float exp and pow may differ in the last bits between
+    // drivers and libm), every channel of every pixel.
+    size_t off = 0, changed = 0;
+    for (size_t i = 0; i < cpu.size(); ++i) {
+      for (int c = 0; c < 3; ++c) {
+        const bool close = std::abs(gpu[i][c] - cpu[i][c]) <= 1e-4f * std::max(1.0f, std::abs(cpu[i][c]));
+        if (!close && off++ < 5) ADD_FAILURE() << "pixel " << i << " channel " << c << ": gl " << gpu[i][c] << ", cpu " << cpu[i][c];
+      }
+      changed += std::abs(cpu[i].x - image.beauty[i].x) > 1e-3f;
+    }
+    EXPECT_EQ(off, 0u);
+    EXPECT_GT(changed, cpu.size() / 2) << "the filter changed the image";
+  }
+}
+
+} // namespace
+} // namespace bt::gl
