@@ -41,13 +41,6 @@ GpuLight shaderSun(const Q3ShaderSun& s) {
   return light;
 }
 
-std::vector<bool> usedMaterials(const Scene& scene) {
-  std::vector<bool> used(scene.materials.size(), false);
-  for (const Face& f : scene.faces)
-    if (f.material < used.size()) used[f.material] = true;
-  return used;
-}
-
 using dvec3 = glm::dvec3;
 
 dvec3 boundsCentre(const Winding& w, dvec3& extent) {
@@ -149,10 +142,10 @@ std::vector<glm::vec3> skyLightDirections(int iterations) {
 }
 
 void addShaderSuns(const Scene& scene, SceneLights& out) {
-  const std::vector<bool> used = usedMaterials(scene);
-  for (size_t m = 0; m < scene.materials.size(); ++m) {
-    const Q3ShaderLight& q3 = scene.materials[m].q3;
-    if (!used[m] || !q3.defined) continue;
+  // A scene's materials are the textures its faces name (a .bsp's, those of its shader lump).
+  for (const Material& material : scene.materials) {
+    const Q3ShaderLight& q3 = material.q3;
+    if (!q3.defined) continue;
     for (const Q3ShaderSun& s : q3.suns) out.lights.push_back(shaderSun(s));
     if (q3.skyLightValue <= 0.0f) continue;
     const std::vector<glm::vec3> dome = skyLightDirections(q3.skyLightIterations);

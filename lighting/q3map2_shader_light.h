@@ -34,7 +34,7 @@ std::vector<glm::vec3> skyLightDirections(int iterations);
 // The direction towards a q3map_sun: (cos a cos e, sin a cos e, sin e).
 glm::vec3 sunDirection(float degrees, float elevation);
 
-// The suns of every shader a face of the level uses: each q3map_sun / q3map_sunExt line
+// The suns of every shader of the level's materials: each q3map_sun / q3map_sunExt line
 // (CreateSunLight; the colour normalised to unit length, as ParseShaderFile does) and the
 // q3map_skylight dome (value / suns each, in the shader's light colour). Appended to out.lights.
 void addShaderSuns(const Scene& scene, SceneLights& out);

@@ -321,16 +321,22 @@ Scene importBsp(const std::string& path, const ImportOptions& options) {
     }
   }
   MaterialResolver resolve = [&](Scene& scene) {
+    // q3map2's light keys first: the early kinds of light (entitiesRead) need the sky shaders' suns.
+    std::optional<GameFiles> quake3Files;
+    if (bsp.version == Version::Quake3_46) {
+      quake3Files = quake3GameFiles(archive, options, install);
+      std::vector<std::string> filesRead;
+      readQuake3ShaderLight(scene.materials, *quake3Files, scene.diagnostics, &filesRead);
+      for (const std::string& file : filesRead) scene.addInputFile(file);
+    }
     if (options.entitiesRead) options.entitiesRead(scene);
     if (options.textures.load) {
       if (bsp.isQuake1Family()) decodeEmbeddedMiptex(bsp, scene, options.textures, install);
-      if (bsp.version == Version::Quake3_46) {
+      if (quake3Files) {
         std::vector<std::string> filesRead;
         std::map<std::string, std::string> skyBoxes;
-        const GameFiles files = quake3GameFiles(archive, options, install);
-        resolveQuake3Materials(scene.materials, files, scene.diagnostics, &filesRead, &skyBoxes);
-        readQuake3ShaderLight(scene.materials, files, scene.diagnostics, &filesRead);
-        loadQuake3Sky(scene, files, skyBoxes, &filesRead);
+        resolveQuake3Materials(scene.materials, *quake3Files, scene.diagnostics, &filesRead, &skyBoxes);
+        loadQuake3Sky(scene, *quake3Files, skyBoxes, &filesRead);
         for (const std::string& file : filesRead) scene.addInputFile(file);
       }
     }

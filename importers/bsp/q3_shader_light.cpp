@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 
 namespace bt::bsp {
 
@@ -131,6 +132,33 @@ private:
   std::string editorImage_;
 };
 
+std::string withoutExtension(std::string_view name) {
+  const size_t dot = name.find_last_of('.');
+  const size_t slash = name.find_last_of('/');
+  if (dot != std::string_view::npos && (slash == std::string_view::npos || dot > slash)) name = name.substr(0, dot);
+  return std::string(name);
+}
+
+// q3map2's ImageLoad: the image under any of the extensions it reads.
+std::optional<Image> loadImage(const GameFiles& files, std::string_view name, Diagnostics& diagnostics,
+                               std::vector<std::string>* filesRead) {
+  const std::string stem = withoutExtension(name);
+  for (const char* ext : {".tga", ".jpg", ".png"}) {
+    const std::string file = stem + ext;
+    const auto bytes = files.read(file);
+    if (!bytes) continue;
+    if (filesRead)
+      if (const auto holder = files.fileHolding(file)) filesRead->push_back(holder->string());
+    try {
+      return decodeImage(*bytes, file);
+    } catch (const ImportError& e) {
+      diagnostics.push_back(
+          {Severity::Warning, files.describe(file).value_or(file), 0, 0, "cannot decode the light image: " + e.diagnostic().message});
+    }
+  }
+  return std::nullopt;
+}
+
 } // namespace
 
 std::map<std::string, ParsedShaderLight> parseShaderLights(std::string_view text, const std::string& scriptName, Diagnostics& diagnostics) {
@@ -166,41 +194,6 @@ void setColorFromImage(Q3ShaderLight& light, const Image& image) {
   const double peak = std::max({sum[0], sum[1], sum[2]});
   for (int c = 0; c < 3; ++c) light.color[c] = peak == 0.0 ? 1.0f : float(sum[c] / peak);
 }
-
-} // namespace bt::bsp
-
-namespace bt::bsp {
-
-namespace {
-
-std::string withoutExtension(std::string_view name) {
-  const size_t dot = name.find_last_of('.');
-  const size_t slash = name.find_last_of('/');
-  if (dot != std::string_view::npos && (slash == std::string_view::npos || dot > slash)) name = name.substr(0, dot);
-  return std::string(name);
-}
-
-// q3map2's ImageLoad: the image under any of the extensions it reads.
-std::optional<Image> loadImage(const GameFiles& files, std::string_view name, Diagnostics& diagnostics,
-                               std::vector<std::string>* filesRead) {
-  const std::string stem = withoutExtension(name);
-  for (const char* ext : {".tga", ".jpg", ".png"}) {
-    const std::string file = stem + ext;
-    const auto bytes = files.read(file);
-    if (!bytes) continue;
-    if (filesRead)
-      if (const auto holder = files.fileHolding(file)) filesRead->push_back(holder->string());
-    try {
-      return decodeImage(*bytes, file);
-    } catch (const ImportError& e) {
-      diagnostics.push_back(
-          {Severity::Warning, files.describe(file).value_or(file), 0, 0, "cannot decode the light image: " + e.diagnostic().message});
-    }
-  }
-  return std::nullopt;
-}
-
-} // namespace
 
 void readQuake3ShaderLight(std::vector<Material>& materials, const GameFiles& files, Diagnostics& diagnostics,
                            std::vector<std::string>* filesRead) {

@@ -393,16 +393,46 @@ namespace {
 
 // q3map2 lights a Quake 3 level from its shader scripts too (q3map_surfacelight, sky shaders):
 // they lie in scripts/ of the level's game folder (the parent of its maps/) and the install,
-// after the --textures folders, as the engine searches them.
-void readQuake3ShaderScripts(Scene& scene, const std::string& path, const ImportOptions& options) {
-  const bool quake3 = scene.format.starts_with("quake3") || options.textures.game.game == "quake3";
-  if (!quake3) return;
-  const game::GameInstall install = game::openGameInstall(options.textures.game, path, scene.format);
+// after the --textures folders, as the engine searches them. Returns one Material (no image)
+// per texture the level's brushes and patches name, with its shader's light keys; nothing for
+// other games. Read before the entities are told (ImportOptions::entitiesRead), so that the
+// early kinds of light know the sky shaders' suns.
+std::vector<Material> readShaderLight(const MapDocument& doc, const std::string& path, const ImportOptions& options,
+                                      std::vector<std::string>& filesRead, Diagnostics& diagnostics) {
+  const std::string format = toString(doc.dialect);
+  if (!format.starts_with("quake3") && options.textures.game.game != "quake3") return {};
+  std::vector<Material> materials;
+  std::unordered_map<std::string, size_t> seen;
+  auto add = [&](const std::string& texture) {
+    if (seen.try_emplace(lowercase(texture), materials.size()).second) materials.emplace_back().name = texture;
+  };
+  for (const MapEntity& e : doc.entities)
+    for (const MapBrush& b : e.brushes) {
+      for (const MapFace& f : b.faces) add(f.texture);
+      std::string error;
+      int lineOffset = 0;
+      if (b.kind == MapBrush::Kind::Verbatim && isPatchBlock(b.verbatim))
+        if (const auto patch = parsePatchBlock(b.verbatim, error, lineOffset)) add(patch->texture);
+    }
+  const game::GameInstall install = game::openGameInstall(options.textures.game, path, format);
   bsp::GameFiles files;
   for (const std::string& dir : options.textures.textureDirs) files.addGameDir(dir, {".pk3"});
   for (const std::filesystem::path& dir : install.gameDirs) files.addGameDir(dir, {".pk3"});
-  std::vector<std::string> filesRead;
-  bsp::readQuake3ShaderLight(scene.materials, files, scene.diagnostics, &filesRead);
+  bsp::readQuake3ShaderLight(materials, files, diagnostics, &filesRead);
+  return materials;
+}
+
+// The light keys read by readShaderLight, given to the built scene's materials by name.
+void applyShaderLight(Scene& scene, const std::vector<Material>& shaderLight, const std::vector<std::string>& filesRead,
+                      const Diagnostics& diagnostics) {
+  if (shaderLight.empty()) return;
+  for (Material& m : scene.materials)
+    for (const Material& s : shaderLight)
+      if (equalsIgnoreCase(m.name, s.name)) {
+        m.q3 = s.q3;
+        break;
+      }
+  for (const Diagnostic& d : diagnostics) scene.diagnostics.push_back(d);
   for (const std::string& file : filesRead) scene.addInputFile(file);
 }
 
@@ -410,10 +440,14 @@ void readQuake3ShaderScripts(Scene& scene, const std::string& path, const Import
 
 Scene importMap(const std::string& path, const ImportOptions& options) {
   const MapDocument doc = readMapFile(path, options.dialect);
+  std::vector<std::string> shaderFiles;
+  Diagnostics shaderDiagnostics;
+  const std::vector<Material> shaderLight = readShaderLight(doc, path, options, shaderFiles, shaderDiagnostics);
   if (options.entitiesRead) {
     Scene entities;
     entities.sourcePath = doc.path;
     entities.format = toString(doc.dialect);
+    entities.materials = shaderLight; // Quake 3: what the sky shaders' suns need
     for (const MapEntity& me : doc.entities) {
       Entity e;
       e.line = me.line;
@@ -431,7 +465,7 @@ Scene importMap(const std::string& path, const ImportOptions& options) {
     });
   });
   if (!inTextureUnits) {
-    readQuake3ShaderScripts(scene, path, options);
+    applyShaderLight(scene, shaderLight, shaderFiles, shaderDiagnostics);
     return scene;
   }
   // brushDef matrices and patch st are in texture widths: now that the sizes are known, build
@@ -441,7 +475,7 @@ Scene importMap(const std::string& path, const ImportOptions& options) {
   sized.materials = std::move(scene.materials);
   sized.diagnostics = std::move(scene.diagnostics);
   sized.inputFiles = std::move(scene.inputFiles);
-  readQuake3ShaderScripts(sized, path, options);
+  applyShaderLight(sized, shaderLight, shaderFiles, shaderDiagnostics);
   return sized;
 }
 
