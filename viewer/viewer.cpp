@@ -1,6 +1,5 @@
 #include "viewer/viewer.h"
 
-#include "importers/textures/missing_textures.h"
 #include "lighting/compiled_lightmaps.h"
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/difference.h"
@@ -17,6 +16,7 @@
 #include "viewer/fly_camera.h"
 #include "viewer/cpu_view.h"
 #include "viewer/overlay.h"
+#include "viewer/pending_level.h"
 #include "viewer/picking.h"
 #include "viewer/view_images.h"
 #include "viewer/watcher_thread.h"
@@ -48,33 +48,6 @@ constexpr std::chrono::seconds kScreenshotErrorShown(10);
 constexpr std::chrono::milliseconds kCpuFrameBudget(80);
 
 namespace {
-
-// A level being loaded, at start-up or after a save: the import and preparation on a worker
-// thread (the frames go on showing the current level), then the upload on the frame's thread.
-// Rebuilt whole every time, so a failed reload leaves the level on screen untouched.
-struct PendingLevel {
-  std::unique_ptr<gl::GlLevel> level = std::make_unique<gl::GlLevel>();
-  // Where the level's missing textures would be: a texture that appears there reloads it. Found
-  // on the worker too (the loose folders are indexed again).
-  std::shared_ptr<std::vector<std::string>> missingFiles = std::make_shared<std::vector<std::string>>();
-  std::unique_ptr<gl::LevelPreparation> preparation;
-
-  explicit PendingLevel(const ViewerOptions& options)
-      : preparation(gl::prepareGlLevel(
-            *level, [map = options.map, import = options.import, missing = missingFiles](const gl::EntitiesRead& entitiesRead) {
-              Scene scene = importScene(map, import, entitiesRead);
-              *missing = missingTextureFiles(scene, import.textures);
-              return scene;
-            })) {}
-};
-
-// What to watch when a level never loaded: the file named (an archive's for ARCHIVE:maps/x.bsp).
-fs::path levelFileOf(const std::string& map) {
-  std::error_code ec;
-  if (fs::exists(map, ec)) return map;
-  const size_t colon = map.rfind(':');
-  return colon == std::string::npos ? fs::path(map) : fs::path(map.substr(0, colon));
-}
 
 // The render command's choice per lighting mode: faithful lighting is Quake's, clamped at the
 // display's white; physical lighting is open-ended radiance.
@@ -311,12 +284,16 @@ struct Viewer::Impl {
     picked = pickFace(level->render, pose(), options.width, options.height, px, py);
   }
 
+  void showFor(std::chrono::seconds duration, OverlayMessage message) {
+    flash = std::move(message);
+    flashUntil = Clock::now() + duration;
+  }
+
   // Ctrl+Shift+C: the picked face's file:line, to open in an editor.
   void copyPickedFace() {
     if (picked.fileLine.empty()) return;
     glfwSetClipboardString(window.handle(), picked.fileLine.c_str());
-    flash = {OverlayMessage::Kind::Info, "copied " + picked.fileLine};
-    flashUntil = Clock::now() + kScreenshotShown;
+    showFor(kScreenshotShown, {OverlayMessage::Kind::Info, "copied " + picked.fileLine});
   }
 
   // Ctrl+C: the camera as --camera takes it and as Quake's console takes it, to paste into a
@@ -326,19 +303,16 @@ struct Viewer::Impl {
     const std::string text = fmt::format("--camera '{}'\nsetpos {:g} {:g} {:g} {:g} {:g} {:g}\n", formatCameraPose(p), p.origin.x,
                                          p.origin.y, p.origin.z, p.pitch, p.yaw, p.roll);
     glfwSetClipboardString(window.handle(), text.c_str());
-    flash = {OverlayMessage::Kind::Info, "copied the camera: " + formatCameraPose(p)};
-    flashUntil = Clock::now() + kScreenshotShown;
+    showFor(kScreenshotShown, {OverlayMessage::Kind::Info, "copied the camera: " + formatCameraPose(p)});
   }
 
   // F12: the screenshot's path on screen for a few seconds, or why it could not be written (a
   // folder removed or made read-only since the start); the viewer goes on either way.
   void screenshotWithFeedback() {
     try {
-      flash = {OverlayMessage::Kind::Info, "screenshot " + takeScreenshot().string()};
-      flashUntil = Clock::now() + kScreenshotShown;
+      showFor(kScreenshotShown, {OverlayMessage::Kind::Info, "screenshot " + takeScreenshot().string()});
     } catch (const std::exception& e) {
-      flash = {OverlayMessage::Kind::Error, std::string("screenshot failed: ") + e.what()};
-      flashUntil = Clock::now() + kScreenshotErrorShown;
+      showFor(kScreenshotErrorShown, {OverlayMessage::Kind::Error, std::string("screenshot failed: ") + e.what()});
     }
   }
 
@@ -511,10 +485,10 @@ struct Viewer::Impl {
   // Physical mode is exposed as `render` exposes it (renderer/exposure.h), from a read-back of
   // the image a few times a second, smoothed so the picture does not pump.
   float exposureOf(const gl::ProgressiveImage& image) {
-    if (lighting != LightingMode::Physical || image.samples() == 0) return displayExposure();
     const double now = std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
-    if (autoExposure.due(now)) autoExposure.update(autoExposureEv(image.readMean(), image.width(), image.height()), now);
-    return autoExposure.ev();
+    if (lighting == LightingMode::Physical && image.samples() > 0 && autoExposure.due(now))
+      autoExposure.update(autoExposureEv(image.readMean(), image.width(), image.height()), now);
+    return displayExposure();
   }
   float displayExposure() const { return lighting == LightingMode::Physical ? autoExposure.ev() : options.exposureEv; }
 
