@@ -14,7 +14,7 @@
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: gl_bench LEVEL [WxH] [auto|bindless|arrays] [physical|faithful] [seconds]\n");
+    std::fprintf(stderr, "usage: gl_bench LEVEL [WxH] [auto|bindless|arrays] [physical|faithful] [seconds] [converge [REFERENCE_SPP]]\n");
     return 2;
   }
   bt::gl::GlBenchSettings settings;
@@ -26,6 +26,14 @@ int main(int argc, char** argv) {
   }
   if (argc > 4) settings.physical = std::string(argv[4]) != "faithful";
   if (argc > 5) settings.seconds = std::atof(argv[5]);
+  // Issue 18's time to converged (brushtrace bench --time-to-converged), for the device machine,
+  // where brushtrace itself does not travel.
+  if (argc > 6) {
+    if (std::string(argv[6]) != "converge") return 2;
+    settings.timeToConverged = true;
+    if (argc > 7) settings.referenceSpp = std::atoi(argv[7]);
+    if (settings.referenceSpp < 4) return 2;
+  }
   try {
     const std::string level = argv[1];
     const bt::Scene scene = bt::importScene(level, {});
