@@ -187,16 +187,16 @@ inline constexpr int kDirtRays = kDirtAzimuthSteps * kDirtElevationSteps;
 // ericw-tools' `-sunsamples` (64): how many suns a sky dome or a sun's penumbra becomes.
 inline constexpr int kSunSamples = BT_SUN_SAMPLES;
 
-// The directions towards the sky of ericw-tools' upper sky dome (SetupSkyDome, after q3map2):
-// rings of suns at equal elevation steps, each ring turned by a fraction of a step, plus one
-// straight up; `kSunSamples` 64 gives 4 rings of 16 and the zenith, 65 suns sharing the value.
-// The lower dome is the same with z negated.
-inline std::vector<glm::vec3> skyDomeDirections(int sunSamples = kSunSamples) {
-  const int iterations = std::max(int(std::lround(std::sqrt(double(sunSamples - 1) / 4.0))) + 1, 2);
-  const int elevationSteps = iterations - 1, angleSteps = elevationSteps * 4;
-  const float elevationStep = glm::radians(90.0f / float(elevationSteps + 1));
-  const float angleStep = glm::radians(360.0f / float(angleSteps));
+// The directions towards the sky of q3map2's sky dome (2.5.17 CreateSkyLights, for
+// q3map_skylight; ericw-tools' SetupSkyDome took it from there): `iterations` - 1 rings of
+// 4 (iterations - 1) suns at equal elevation steps, each ring turned by a fraction of a step,
+// plus one straight up. Fewer than 2 iterations: none.
+inline std::vector<glm::vec3> skyDomeRings(int iterations) {
   std::vector<glm::vec3> toSky;
+  if (iterations < 2) return toSky;
+  const int elevationSteps = iterations - 1, angleSteps = elevationSteps * 4;
+  const float elevationStep = glm::radians(90.0f / float(iterations));
+  const float angleStep = glm::radians(360.0f / float(angleSteps));
   float angle = 0.0f, elevation = elevationStep * 0.5f;
   for (int i = 0; i < elevationSteps; ++i) {
     for (int j = 0; j < angleSteps; ++j) {
@@ -208,6 +208,12 @@ inline std::vector<glm::vec3> skyDomeDirections(int sunSamples = kSunSamples) {
   }
   toSky.emplace_back(0.0f, 0.0f, 1.0f);
   return toSky;
+}
+
+// ericw-tools' upper sky dome: `kSunSamples` 64 gives 4 rings of 16 and the zenith, 65 suns
+// sharing the value. The lower dome is the same with z negated.
+inline std::vector<glm::vec3> skyDomeDirections(int sunSamples = kSunSamples) {
+  return skyDomeRings(std::max(int(std::lround(std::sqrt(double(sunSamples - 1) / 4.0))) + 1, 2));
 }
 
 inline constexpr float kDirtSampleLift = BT_DIRT_SAMPLE_LIFT;

@@ -123,22 +123,7 @@ glm::vec3 sunDirection(float degrees, float elevation) {
 }
 
 std::vector<glm::vec3> skyLightDirections(int iterations) {
-  std::vector<glm::vec3> toSky;
-  if (iterations < 2) return toSky;
-  const int elevationSteps = iterations - 1, angleSteps = elevationSteps * 4;
-  const float elevationStep = glm::radians(90.0f / float(iterations)); // skips elevation 0
-  const float angleStep = glm::radians(360.0f / float(angleSteps));
-  float angle = 0.0f, elevation = elevationStep * 0.5f;
-  for (int i = 0; i < elevationSteps; ++i) {
-    for (int j = 0; j < angleSteps; ++j) {
-      toSky.emplace_back(std::cos(angle) * std::cos(elevation), std::sin(angle) * std::cos(elevation), std::sin(elevation));
-      angle += angleStep;
-    }
-    elevation += elevationStep;
-    angle += angleStep / float(elevationSteps);
-  }
-  toSky.emplace_back(0.0f, 0.0f, 1.0f);
-  return toSky;
+  return faithful::skyDomeRings(iterations);
 }
 
 void addShaderSuns(const Scene& scene, SceneLights& out) {
