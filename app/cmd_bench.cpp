@@ -8,7 +8,6 @@
 #include "lighting/render_scene.h"
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/denoise.h"
-#include "renderer/exposure.h"
 #include "renderer/gl/gl_bench.h"
 #include "renderer/gl/gl_error.h"
 #include "renderer/time_to_converged.h"
@@ -56,33 +55,11 @@ int runCpuTimeToConverged(const BenchOptions& options) {
     return renderCpu(rs, camera, settings);
   };
   fmt::print("cpu, {} threads; camera {} ({})\n", std::thread::hardware_concurrency(), formatCameraPose(pose), pose.source);
-  const auto start = std::chrono::steady_clock::now();
-  const RenderImage reference = render(options.referenceSpp, 0x5eed);
-  const float ev = autoExposureEv(reference.beauty, reference.width, reference.height);
-  fmt::print("reference: {} spp in {:.1f} s, exposure {:+.2f} EV\n", options.referenceSpp,
-             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), ev);
-  std::fflush(stdout);
-  const std::vector<glm::vec3> referenceDisplay = displayedImage(reference.beauty, ev);
-  for (bool denoiseOn : {false, true}) {
-    ConvergeSettings settings;
-    settings.maxSpp = options.referenceSpp / 4; // beyond that the reference's own noise counts
-    settings.denoise = denoiseOn;
-    settings.denoiser = [](const RenderImage& image) { return denoise(image); };
-    settings.onStep = [](const ConvergeStep& s) {
-      fmt::print("  {} spp: {:.2f} s, rel MSE {:.4f}\n", s.spp, s.seconds, s.relativeMse);
-      std::fflush(stdout);
-    };
-    fmt::print("denoiser {}:\n", denoiseOn ? "on" : "off");
-    const std::vector<ConvergeStep> steps = timeToConverged([&](int spp) { return render(spp, 0); }, referenceDisplay, settings);
-    const ConvergeStep& last = steps.back();
-    if (last.relativeMse <= kConvergedRelativeMse)
-      fmt::print("time to converged, cpu, denoiser {}: {:.2f} s ({} spp, rel MSE {:.4f} <= {}) at {}x{}, {} bounces\n",
-                 denoiseOn ? "on" : "off", last.seconds, last.spp, last.relativeMse, kConvergedRelativeMse, options.size.width,
-                 options.size.height, options.bounces);
-    else
-      fmt::print("time to converged, cpu, denoiser {}: not within {} spp (rel MSE {:.4f})\n", denoiseOn ? "on" : "off", last.spp,
-                 last.relativeMse);
-  }
+  printTimeToConverged({.tracer = "cpu",
+                        .referenceSpp = options.referenceSpp,
+                        .bounces = options.bounces,
+                        .render = render,
+                        .denoiser = [](const RenderImage& image) { return denoise(image); }});
   return 0;
 }
 

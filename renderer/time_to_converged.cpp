@@ -4,7 +4,11 @@
 #include "renderer/tonemap.h"
 #include "scene/color.h"
 
+#include <fmt/format.h>
+
 #include <chrono>
+#include <cstdio>
+#include <string>
 
 namespace bt {
 
@@ -43,6 +47,33 @@ std::vector<ConvergeStep> timeToConverged(const std::function<RenderImage(int sp
     if (step.relativeMse <= kConvergedRelativeMse) break;
   }
   return steps;
+}
+
+void printTimeToConverged(const ConvergeRun& run) {
+  const auto start = std::chrono::steady_clock::now();
+  const RenderImage reference = run.render(run.referenceSpp, 0x5eed);
+  const float ev = autoExposureEv(reference.beauty, reference.width, reference.height);
+  fmt::print("reference: {} spp in {:.2f} s, exposure {:+.2f} EV\n", run.referenceSpp,
+             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), ev);
+  std::fflush(stdout);
+  const std::vector<glm::vec3> referenceDisplay = displayedImage(reference.beauty, ev);
+  for (bool denoiseOn : {false, true}) {
+    ConvergeSettings settings;
+    settings.maxSpp = run.referenceSpp / 4;
+    settings.denoise = denoiseOn;
+    settings.denoiser = run.denoiser;
+    settings.onStep = [](const ConvergeStep& s) {
+      fmt::print("  {} spp: {:.2f} s, rel MSE {:.4f}\n", s.spp, s.seconds, s.relativeMse);
+      std::fflush(stdout);
+    };
+    fmt::print("denoiser {}:\n", denoiseOn ? "on" : "off");
+    const ConvergeStep last = timeToConverged([&](int spp) { return run.render(spp, 0); }, referenceDisplay, settings).back();
+    const bool reached = last.relativeMse <= kConvergedRelativeMse;
+    fmt::print("time to converged, {}, denoiser {}: {} ({} spp, rel MSE {:.4f}, threshold {}) at {}x{}, {} bounces\n", run.tracer,
+               denoiseOn ? "on" : "off", reached ? fmt::format("{:.3f} s", last.seconds) : std::string("not reached"), last.spp,
+               last.relativeMse, kConvergedRelativeMse, reference.width, reference.height, run.bounces);
+    std::fflush(stdout);
+  }
 }
 
 } // namespace bt

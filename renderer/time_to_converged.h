@@ -39,4 +39,17 @@ struct ConvergeSettings {
 std::vector<ConvergeStep> timeToConverged(const std::function<RenderImage(int spp)>& render, const std::vector<glm::vec3>& referenceDisplay,
                                           const ConvergeSettings& settings);
 
+// The whole measure as `brushtrace bench` and gl_bench print it: a reference of `referenceSpp`
+// (seed 0x5eed), then the sweep of seed 0 with the denoiser off and on, up to a quarter of the
+// reference's spp (beyond that its own noise counts); each step and each result on stdout.
+// `tracer` names the tracer in the lines ("cpu", "gl").
+struct ConvergeRun {
+  const char* tracer = "cpu";
+  int referenceSpp = 4096;
+  int bounces = 4;
+  std::function<RenderImage(int spp, uint32_t seed)> render;
+  std::function<std::vector<glm::vec3>(const RenderImage&)> denoiser;
+};
+void printTimeToConverged(const ConvergeRun& run);
+
 } // namespace bt

@@ -3,7 +3,6 @@
 #include "renderer/view_lightmaps.h"
 
 #include "renderer/camera.h"
-#include "renderer/exposure.h"
 #include "renderer/time_to_converged.h"
 #include "lighting/render_scene.h"
 #include "renderer/gl/gl_bake.h"
@@ -224,22 +223,10 @@ void benchTimeToConverged(gl::GlTracer& tracer, const gl::CameraBasis& camera, c
     for (const glm::vec4& a : aov.albedo) image.albedo.emplace_back(a);
     return image;
   };
-  const auto start = Clock::now();
-  const RenderImage reference = render(s.referenceSpp, 0x5eed);
-  const float ev = autoExposureEv(reference.beauty, s.width, s.height);
-  fmt::print("reference: {} spp in {:.2f} s, exposure {:+.2f} EV\n", s.referenceSpp, secondsSince(start), ev);
-  const std::vector<glm::vec3> referenceDisplay = displayedImage(reference.beauty, ev);
-  for (bool denoiseOn : {false, true}) {
-    ConvergeSettings settings;
-    settings.maxSpp = s.referenceSpp / 4; // beyond that the reference's own noise counts
-    settings.denoise = denoiseOn;
-    settings.denoiser = [](const RenderImage& image) { return denoiseWithGl(image); };
-    const ConvergeStep last = timeToConverged([&](int spp) { return render(spp, 0); }, referenceDisplay, settings).back();
-    const bool reached = last.relativeMse <= kConvergedRelativeMse;
-    fmt::print("time to converged, gl, denoiser {}: {} ({} spp, rel MSE {:.4f}, threshold {}) at {}x{}, {} bounces\n",
-               denoiseOn ? "on" : "off", reached ? fmt::format("{:.3f} s", last.seconds) : std::string("not reached"), last.spp,
-               last.relativeMse, kConvergedRelativeMse, s.width, s.height, s.bounces);
-  }
+  printTimeToConverged(
+      {.tracer = "gl", .referenceSpp = s.referenceSpp, .bounces = s.bounces, .render = render, .denoiser = [](const RenderImage& image) {
+         return denoiseWithGl(image);
+       }});
 }
 
 } // namespace
