@@ -382,6 +382,21 @@ TEST(PhysicalRender, EachFormulaMatchesTheCompiledLightAtItsMatchDistance) {
   }
 }
 
+// `delay 3` never falls off in the compiler: its physical light has no reach, so far beyond its
+// match distance (128) it is the plain inverse square of its matched intensity, unwindowed.
+TEST(PhysicalRender, ALightThatNeverFallsOffHasNoWindow) {
+  test::BoxSceneBuilder b = floorScene();
+  b.entity({{"classname", "light"}, {"origin", "0 0 2000"}, {"delay", "3"}});
+  const Scene scene = b.build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  Rng rng = pixelRng(0, 0, 0, 0);
+  const glm::vec3 l = radiance(rs, {LightingMode::Physical, 0}, downAt(0.0f, 0.0f), rng);
+  const double d = 2000.0 - 0.03; // the shadow ray leaves 0.03 units above the floor
+  const double expected = 300.0 * 128.0 * 128.0 / (d * d) * 0.5 / 128.0;
+  EXPECT_NEAR(l.x, expected, 5e-4 * expected);
+}
+
 // A mapper's short light (high `wait`) ends in physical mode where the compiled one does: the end
 // wall of a corridor 1.5 reaches away, facing the light, gets at most 5 % of the light of the floor
 // under it, with four bounces (an unwindowed inverse square gives it (24 / 90)^2 = 7 % directly).
