@@ -302,6 +302,28 @@ glm::vec3 faithfulLight(const RenderScene& rs, const FaithfulQuery& q, Rng& rng)
   return glm::vec3(0.0f);
 }
 
+LightShares faithfulLightShares(const RenderScene& rs, const FaithfulQuery& q, int samples, Rng& rng) {
+  const Receiver r{q.p, q.n, q.twoSided, q.channels};
+  LightShares shares;
+  shares.occlusion = faithfulOcclusion(rs, r.p, r.n, rng);
+  shares.perLight.resize(rs.lights.size(), glm::vec3(0.0f));
+  glm::vec3 sum(0.0f), localMin(0.0f);
+  for (size_t i = 0; i < rs.lights.size(); ++i) {
+    const GpuLight& light = rs.lights[i];
+    const bool soft = light.type == uint32_t(LightType::Dome) || light.deviance > 0.0f;
+    const int draws = soft ? std::max(samples, 1) : 1;
+    glm::vec3 share(0.0f), min(0.0f);
+    for (int k = 0; k < draws; ++k) addFaithfulLight(rs, light, r, shares.occlusion, rng, share, min);
+    shares.perLight[i] = share / float(draws);
+    sum += shares.perLight[i];
+    localMin = glm::max(localMin, min);
+  }
+  shares.ambient = rs.world.ambient;
+  shares.shown = applyFloors(rs, sum, localMin, q.faceMinlight, shares.occlusion);
+  shares.floors = shares.shown - sum - shares.ambient;
+  return shares;
+}
+
 namespace {
 
 const std::vector<glm::vec3>& skyDome() {

@@ -104,6 +104,20 @@ struct FaithfulQuery {
 
 glm::vec3 faithfulLight(const RenderScene& rs, const FaithfulQuery& query, Rng& rng);
 
+// Why a spot is lit (the viewer's pick): each light's share of the faithful light at query.p, in
+// rs.lights' order, with the floors that lift the sum to what the surface shows, so that
+//   shown = sum of perLight + ambient + floors   (per channel).
+// Every light of the level is asked (query.lights is ignored) and soft lights (`_deviance`,
+// penumbra suns, domes) are averaged over `samples` draws; dirt is drawn once, as one pixel does.
+struct LightShares {
+  std::vector<glm::vec3> perLight; // one per rs.lights, zero where a light adds nothing
+  glm::vec3 ambient{0.0f};         // worldspawn `_ambient` (q3map2)
+  glm::vec3 floors{0.0f};          // what minlight, a face's template minlight or delay-4 lights add on top
+  glm::vec3 shown{0.0f};           // the light the surface shows there
+  float occlusion = 0.0f;          // the dirt at p (0 in the open)
+};
+LightShares faithfulLightShares(const RenderScene& rs, const FaithfulQuery& query, int samples, Rng& rng);
+
 // Faithful dirt (worldspawn `_dirt`, ericw-tools' ambient occlusion) at surface point p with
 // normal n: 0 in the open .. 1 enclosed, 0 when the level uses no dirt. faithfulLight computes it
 // first (drawing `_dirtmode 1`'s random numbers before any light's) and dims each light that has

@@ -1,13 +1,21 @@
 #include "viewer/picking.h"
 
+#include "lighting/faithful_light.h"
 #include "lighting/visibility.h"
+#include "quake/entity_keys.h"
 #include "scene/gpu_structs.h"
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
+
 namespace bt {
 
 namespace {
+
+constexpr size_t kPickNamedLights = 8; // the largest shares named in the panel
+constexpr int kPickSoftSamples = 64;   // draws of each soft light (penumbra, _deviance, dome)
 
 std::string at(const std::string& file, int line) {
   return line > 0 ? fmt::format("{}:{}", file, line) : file + " (no line: a compiled level)";
@@ -23,6 +31,71 @@ std::string kindOf(const RenderScene& rs, const Face& face, uint32_t index) {
     kind += fmt::format(" | contents 0x{:x}, surface flags 0x{:x}, value {:g}", uint32_t(face.surface->contents),
                         uint32_t(face.surface->flags), face.surface->value);
   return kind;
+}
+
+float brightness(const glm::vec3& rgb) {
+  return rgb.r + rgb.g + rgb.b;
+}
+
+// The light entity a point light came from, found by its origin (lights do not keep their
+// entity): its classname and file:line, or what kind of light it is when no entity has it.
+std::string lightName(const Scene& scene, const GpuLight& light) {
+  if (light.type == uint32_t(LightType::Sun)) return "sun";
+  if (light.type == uint32_t(LightType::Dome)) return "sky dome";
+  if (light.flags & kLightFlagFromSurface)
+    return fmt::format("surface light point ({:g} {:g} {:g})", light.origin.x, light.origin.y, light.origin.z);
+  for (const Entity& e : scene.entities) {
+    if (!e.classname().starts_with("light")) continue;
+    const auto origin = quake::EntityKeys(e).vec3("origin");
+    if (origin && glm::all(glm::lessThan(glm::abs(*origin - light.origin), glm::vec3(0.01f))))
+      return fmt::format("{} ({:g} {:g} {:g}) {}:{}", e.classname(), light.origin.x, light.origin.y, light.origin.z, scene.sourcePath,
+                         e.line);
+  }
+  return fmt::format("light ({:g} {:g} {:g})", light.origin.x, light.origin.y, light.origin.z);
+}
+
+// The light at the picked point, light by light: the largest shares named, bounce lights and
+// the rest summed, then the floors, so that the percentages add up to the light shown.
+void addLightShares(const RenderScene& rs, const SurfaceHit& hit, std::vector<std::string>& lines) {
+  FaithfulQuery q;
+  q.p = hit.position;
+  q.n = hit.normal;
+  q.twoSided = rs.faceFlags[hit.face] & kFaceLiquid;
+  q.channels = objectChannels(rs, hit.face);
+  q.faceMinlight = faithfulFaceMinlight(rs, hit.face);
+  Rng rng(0x9e3779b9u);
+  const LightShares shares = faithfulLightShares(rs, q, kPickSoftSamples, rng);
+  const float total = brightness(shares.shown);
+  lines.push_back(fmt::format("faithful light here {:.0f} {:.0f} {:.0f} (light units, before the display)", shares.shown.r, shares.shown.g,
+                              shares.shown.b));
+  if (!(total > 0.0f)) return;
+  const auto percent = [&](const glm::vec3& rgb) { return 100.0f * brightness(rgb) / total; };
+  std::vector<size_t> order;
+  glm::vec3 bounce(0.0f);
+  size_t bounceCount = 0;
+  for (size_t i = 0; i < shares.perLight.size(); ++i) {
+    if (!(brightness(shares.perLight[i]) > 0.0f)) continue;
+    if (rs.lights[i].formula == uint32_t(LightFormula::Bounce) && rs.lights[i].type == uint32_t(LightType::Point)) {
+      bounce += shares.perLight[i], ++bounceCount;
+    } else {
+      order.push_back(i);
+    }
+  }
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return brightness(shares.perLight[a]) > brightness(shares.perLight[b]); });
+  glm::vec3 rest(0.0f);
+  for (size_t k = 0; k < order.size(); ++k) {
+    if (k < kPickNamedLights)
+      lines.push_back(fmt::format("  {:5.1f} %  {}", percent(shares.perLight[order[k]]), lightName(*rs.scene, rs.lights[order[k]])));
+    else
+      rest += shares.perLight[order[k]];
+  }
+  if (order.size() > kPickNamedLights)
+    lines.push_back(fmt::format("  {:5.1f} %  {} more lights", percent(rest), order.size() - kPickNamedLights));
+  if (bounceCount > 0) lines.push_back(fmt::format("  {:5.1f} %  bounce ({} bounce lights)", percent(bounce), bounceCount));
+  if (brightness(shares.ambient) > 0.0f) lines.push_back(fmt::format("  {:5.1f} %  _ambient", percent(shares.ambient)));
+  if (brightness(shares.floors) > 0.0f) lines.push_back(fmt::format("  {:5.1f} %  minlight floors", percent(shares.floors)));
+  if (shares.occlusion > 0.0f) lines.push_back(fmt::format("  dirt {:.2f} (0 open, 1 enclosed)", shares.occlusion));
 }
 
 } // namespace
@@ -50,6 +123,7 @@ PickedFace pickFace(const RenderScene& rs, const CameraPose& pose, int width, in
   picked.lines.push_back(kindOf(rs, face, hit.face));
   picked.lines.push_back(fmt::format("point ({:g} {:g} {:g}), normal ({:g} {:g} {:g})", hit.position.x, hit.position.y, hit.position.z,
                                      hit.normal.x, hit.normal.y, hit.normal.z));
+  if (!(rs.faceFlags[hit.face] & kFaceSky)) addLightShares(rs, hit, picked.lines);
   return picked;
 }
 

@@ -1,6 +1,7 @@
 // A click on the image: the face under the cursor and where it comes from, so that a mapper finds
 // it in the editor (the .map's file:line of the face and of its brush), with its texture, its
-// entity and what the compiler makes of it (sky, liquid, Quake 2/3 contents).
+// entity and what the compiler makes of it (sky, liquid, Quake 2/3 contents), and why the point
+// is lit: the faithful light there broken down by light (faithfulLightShares).
 #pragma once
 
 #include "lighting/render_scene.h"

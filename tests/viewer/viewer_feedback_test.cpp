@@ -114,7 +114,7 @@ TEST_F(ViewerWindowTest, CtrlCCopiesTheCameraForRenderAndForTheGame) {
 
 // The room's +X wall is brush 1 (line 14 of the map), its -X face on line 15: straight ahead of
 // the camera, under the window's centre.
-TEST_F(ViewerWindowTest, AClickShowsTheFaceUnderTheCursorWithItsFileAndLine) {
+TEST_F(ViewerWindowTest, AClickShowsTheFaceUnderTheCursorWithItsFileLineAndLights) {
   Viewer viewer(options());
   tap(viewer, XK_F1); // the overlay covers most of this small window, and a click on it is its own
   ASSERT_TRUE(viewer.frame());
@@ -129,6 +129,8 @@ TEST_F(ViewerWindowTest, AClickShowsTheFaceUnderTheCursorWithItsFileAndLine) {
   EXPECT_NE(lines.find("texture wall"), std::string::npos) << lines;
   EXPECT_NE(lines.find("entity 0 worldspawn: " + map_.string() + ":3"), std::string::npos) << lines;
   EXPECT_NE(lines.find("solid"), std::string::npos) << lines;
+  // The room's one light (its entity on line 55) gives the wall all of its light.
+  EXPECT_NE(lines.find("100.0 %  light (0 0 64) " + map_.string() + ":55"), std::string::npos) << lines;
 
   tap(viewer, XK_c, ControlMask | ShiftMask);
   ASSERT_TRUE(viewer.frame());
