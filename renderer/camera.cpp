@@ -383,4 +383,12 @@ Ray Camera::ray(float x, float y) const {
   return r;
 }
 
+std::optional<glm::vec3> Camera::project(const glm::vec3& point) const {
+  const glm::vec3 d = point - origin_;
+  const float depth = glm::dot(d, forward_);
+  if (!(depth > 1e-3f)) return std::nullopt;
+  const float ndcX = glm::dot(d, right_) / (depth * tanHalfX_), ndcY = glm::dot(d, up_) / (depth * tanHalfY_);
+  return glm::vec3((ndcX + 1.0f) * 0.5f * float(width_), (1.0f - ndcY) * 0.5f * float(height_), depth);
+}
+
 } // namespace bt

@@ -41,6 +41,9 @@ public:
   Camera(const CameraPose& pose, int width, int height, float horizontalFovDegrees = 90.0f);
   // Ray through image point (x, y) in pixels, (0, 0) the top-left corner.
   Ray ray(float x, float y) const;
+  // The inverse of ray(): the image point (pixels) a world point lies on, with its distance
+  // along forward() in z; nullopt for a point not in front of the camera.
+  std::optional<glm::vec3> project(const glm::vec3& point) const;
   glm::vec3 forward() const { return forward_; }
 
 private:

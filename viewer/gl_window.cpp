@@ -10,6 +10,7 @@
 // X11 Window is an XID, an unsigned long.
 extern "C" unsigned long glfwGetX11Window(GLFWwindow* window);
 
+#include <algorithm>
 #include <string>
 
 namespace bt::gl {
@@ -44,6 +45,17 @@ GlWindow::GlWindow(int width, int height, const std::string& title) {
 
 unsigned long GlWindow::x11Window() const {
   return glfwGetX11Window(window_);
+}
+
+std::vector<uint8_t> GlWindow::readBackBuffer(int& width, int& height) const {
+  glfwGetFramebufferSize(window_, &width, &height);
+  std::vector<uint8_t> rgba(size_t(width) * height * 4);
+  BT_GL(glReadBuffer(GL_BACK));
+  BT_GL(glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data()));
+  for (int y = 0; y < height / 2; ++y) // GL's rows go up
+    std::swap_ranges(rgba.begin() + size_t(y) * width * 4, rgba.begin() + size_t(y + 1) * width * 4,
+                     rgba.begin() + size_t(height - 1 - y) * width * 4);
+  return rgba;
 }
 
 GlWindow::~GlWindow() {

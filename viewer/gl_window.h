@@ -5,8 +5,10 @@
 
 #include "renderer/gl/gl_context.h"
 
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 struct GLFWwindow;
 
@@ -24,6 +26,8 @@ public:
   GLFWwindow* handle() const { return window_; }
   unsigned long x11Window() const; // the X11 window's id (tests send it key events)
   GlContext& context() { return *context_; }
+  // The back buffer as RGBA8, rows top to bottom (what the next swap shows): for tests.
+  std::vector<uint8_t> readBackBuffer(int& width, int& height) const;
 
 private:
   GLFWwindow* window_ = nullptr;

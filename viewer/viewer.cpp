@@ -17,6 +17,7 @@
 #include "viewer/cpu_view.h"
 #include "viewer/overlay.h"
 #include "viewer/pending_level.h"
+#include "viewer/markers.h"
 #include "viewer/picking.h"
 #include "viewer/view_images.h"
 #include "viewer/watcher_thread.h"
@@ -97,6 +98,7 @@ struct Viewer::Impl {
   OverlayMessage flash; // for a few seconds: the last screenshot's path or why it failed, the camera copied
   Clock::time_point flashUntil{};
   PickedFace picked;        // the face last clicked
+  MarkerLayer markers;      // light and entity markers (key L)
   bool overlayShown = true; // F1
   bool opened = false;      // the constructor is done: a level loaded from now on is a reload
   bool compiled = false;
@@ -198,6 +200,7 @@ struct Viewer::Impl {
     cpuBake.reset();
     bake.reset();
     level = std::move(next);
+    markers.setLevel(level->render);
     startBake();
     error.clear();
     if (opened) ++reloads;
@@ -274,6 +277,7 @@ struct Viewer::Impl {
     if (key == GLFW_KEY_5) setLighting(LightingMode::Physical);
     if (key == GLFW_KEY_6) showCompiled();
     if (key == GLFW_KEY_7) showDifference();
+    if (key == GLFW_KEY_L) markers.toggle();
   }
 
   // A left click: the face under the cursor (window coordinates, the image scaled to the window).
@@ -536,7 +540,7 @@ struct Viewer::Impl {
     if (cpu) c.status.insert(c.status.begin(), cpuReason);
     c.hints.push_back(fmt::format("RMB look, WASD move, Q/E down/up, wheel fwd, RMB+wheel speed ({:.0f})", camera.speed));
     c.hints.push_back("1 beauty 2 albedo 3 normal | 4 faithful 5 physical 6 compiled 7 difference | F12 screenshot | click: face | Ctrl+C "
-                      "copy camera, Ctrl+Shift+C its file:line | F1 overlay");
+                      "copy camera, Ctrl+Shift+C its file:line | L markers | F1 overlay");
     if (!notice.empty()) c.messages.push_back({OverlayMessage::Kind::Warning, notice});
     if (!error.empty())
       c.messages.push_back({OverlayMessage::Kind::Error, (level ? "reload failed: " : "cannot load the level (save a fix): ") + error});
@@ -553,6 +557,7 @@ struct Viewer::Impl {
     if (display)
       ImGui::GetBackgroundDrawList()->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(display->id())), ImVec2(0, 0),
                                                ImVec2(float(fbWidth), float(fbHeight)));
+    if (level) markers.draw(Camera(pose(), options.width, options.height), options.width, options.height);
     if (overlayShown) drawOverlay(overlayContent());
     ImGui::Render();
     BT_GL(glViewport(0, 0, fbWidth, fbHeight));
@@ -674,6 +679,15 @@ std::vector<std::string> Viewer::warnings() const {
 }
 unsigned long Viewer::x11Window() const {
   return impl_->window.x11Window();
+}
+bool Viewer::markersShown() const {
+  return impl_->markers.shown();
+}
+Viewer::DisplayImage Viewer::window() {
+  impl_->drawWindow(); // the back buffer, as the next swap would show it
+  DisplayImage image;
+  image.rgba = impl_->window.readBackBuffer(image.width, image.height);
+  return image;
 }
 Viewer::DisplayImage Viewer::displayed() const {
   if (!impl_->display) return {};

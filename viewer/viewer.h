@@ -107,6 +107,9 @@ public:
     std::vector<uint8_t> rgba;
   };
   DisplayImage displayed() const;
+  // The whole window as the next swap shows it (overlay and markers included), drawn again now.
+  DisplayImage window();
+  bool markersShown() const; // L toggles them
 
 private:
   struct Impl;

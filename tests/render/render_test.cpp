@@ -34,6 +34,23 @@ TEST(Camera, QuakeViewAngles) {
   EXPECT_NEAR(c.ray(100.0f, 25.0f).direction.x, std::sqrt(0.5f), 1e-5f);
 }
 
+// The viewer's markers are drawn where project() puts them: the pixel whose ray passes there.
+TEST(Camera, ProjectIsTheInverseOfRay) {
+  CameraPose p;
+  p.origin = glm::vec3(10, -20, 30);
+  p.pitch = 20, p.yaw = 135, p.roll = 5;
+  const Camera c(p, 320, 180);
+  for (const glm::vec2 pixel : {glm::vec2(0.5f, 0.5f), glm::vec2(160, 90), glm::vec2(300.25f, 17.75f), glm::vec2(12, 170)}) {
+    const Ray r = c.ray(pixel.x, pixel.y);
+    const auto projected = c.project(r.origin + r.direction * 250.0f);
+    ASSERT_TRUE(projected.has_value());
+    EXPECT_NEAR(projected->x, pixel.x, 1e-3f);
+    EXPECT_NEAR(projected->y, pixel.y, 1e-3f);
+    EXPECT_NEAR(projected->z, 250.0f * glm::dot(r.direction, c.forward()), 1e-2f);
+  }
+  EXPECT_FALSE(c.project(p.origin - c.forward() * 10.0f).has_value()) << "a point behind the camera has no pixel";
+}
+
 TEST(Camera, ParseFormatAndDefaults) {
   auto pose = parseCameraPose("(1 -2.5 3) 10 20 30");
   ASSERT_TRUE(pose);

@@ -99,6 +99,50 @@ TEST_F(ViewerWindowTest, ATapShorterThanAFrameIsActedOn) {
   EXPECT_EQ(viewer.glDebugErrors(), 0);
 }
 
+// L: the room's light as a gizmo of its reach. Seen from 100 units in front of it, its rings
+// (reach 300 / 4 = 75 units apart, facing the camera) land 36 pixels from the centre of this
+// 96x64 window (90 degree field of view); the image elsewhere is left as it was.
+TEST_F(ViewerWindowTest, LShowsTheLightsReachAroundIt) {
+  ViewerOptions o = options();
+  o.camera = CameraPose{glm::vec3(-100, 0, 64), 0, 0, 0, "test"};
+  o.maxSamples = 1; // the image stays as it is between the two reads, markers aside
+  o.luxels = false;
+  Viewer viewer(o);
+  tap(viewer, XK_F1);
+  ASSERT_TRUE(viewer.frame());
+  const Viewer::DisplayImage before = viewer.window();
+  tap(viewer, XK_l);
+  ASSERT_TRUE(viewer.frame());
+  EXPECT_TRUE(viewer.markersShown());
+  const Viewer::DisplayImage after = viewer.window();
+  ASSERT_EQ(after.width, 96);
+  ASSERT_EQ(after.height, 64);
+  const auto at = [](const Viewer::DisplayImage& image, int x, int y) { return &image.rgba[(size_t(y) * image.width + x) * 4]; };
+  const auto changedNear = [&](float x, float y) {
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int px = int(x) + dx, py = int(y) + dy;
+        if (!std::equal(at(before, px, py), at(before, px, py) + 3, at(after, px, py))) return true;
+      }
+    return false;
+  };
+  int onRing = 0, inWindow = 0;
+  for (int k = 0; k < 32; ++k) {
+    const float a = 2.0f * 3.14159265f * float(k) / 32.0f, x = 48.0f + 36.0f * std::cos(a), y = 32.0f + 36.0f * std::sin(a);
+    if (y < 1.5f || y > 62.5f) continue; // the ring leaves this short window at the top and bottom
+    ++inWindow;
+    onRing += changedNear(x, y);
+  }
+  EXPECT_GE(inWindow, 12);
+  EXPECT_EQ(onRing, inWindow) << "the first ring (75 units) is not 36 pixels from the light everywhere";
+  const uint8_t* centre = at(after, 48, 32);
+  EXPECT_GE(std::min({centre[0], centre[1], centre[2]}), 250) << "the light's dot is not white";
+  EXPECT_TRUE(std::equal(at(before, 10, 5), at(before, 10, 5) + 3, at(after, 10, 5))) << "a pixel between the rings changed";
+  tap(viewer, XK_l);
+  ASSERT_TRUE(viewer.frame());
+  EXPECT_FALSE(viewer.markersShown());
+}
+
 // Ctrl+C: a press with its modifier, through the same queue.
 TEST_F(ViewerWindowTest, CtrlCCopiesTheCameraForRenderAndForTheGame) {
   Viewer viewer(options());
