@@ -21,9 +21,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path configFile() {
-  if (const char* xdg = std::getenv("XDG_CONFIG_HOME"); xdg && *xdg) return fs::path(xdg) / "brushtrace" / "config.json";
-  if (const char* home = std::getenv("HOME"); home && *home) return fs::path(home) / ".config" / "brushtrace" / "config.json";
-  throw std::runtime_error("no configuration folder: neither XDG_CONFIG_HOME nor HOME is set");
+  return userConfigFolder() / "config.json";
 }
 
 // The file's settings; an empty object when there is no file yet. Throws naming the file when
@@ -75,6 +73,12 @@ std::string environmentName(std::string_view gameName) {
 }
 
 } // namespace
+
+fs::path userConfigFolder() {
+  if (const char* xdg = std::getenv("XDG_CONFIG_HOME"); xdg && *xdg) return fs::path(xdg) / "brushtrace";
+  if (const char* home = std::getenv("HOME"); home && *home) return fs::path(home) / ".config" / "brushtrace";
+  throw std::runtime_error("no configuration folder: neither XDG_CONFIG_HOME nor HOME is set");
+}
 
 std::map<std::string, std::string> configuredBaseDirs() {
   std::map<std::string, std::string> dirs;

@@ -34,6 +34,9 @@ int runView(ViewCommand& cmd) {
   o.backend = cmd.backend == "gl" ? ViewerBackend::Gl : cmd.backend == "cpu" ? ViewerBackend::Cpu : ViewerBackend::Auto;
   o.compiled = cmd.lighting == "compiled";
   o.lightingGiven = cmd.lightingOption && cmd.lightingOption->count() > 0;
+  try {
+    o.bookmarksFile = userConfigFolder() / "bookmarks.json";
+  } catch (const std::exception&) {} // no HOME: bookmarks last for the session
 
   Viewer viewer(o);
   // A level that does not load opens the window anyway, waiting for a save that fixes it.

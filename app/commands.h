@@ -7,6 +7,9 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
+#include <map>
+
 namespace bt::app {
 
 // --dialect, --wad, --textures, --palette, --no-textures and the game options: every command
@@ -15,6 +18,9 @@ void addImportOptions(CLI::App& command, ImportOptions& options);
 // --game NAME, --basedir DIR, --mod NAME; the configured installs are read after the parse.
 void addGameOptions(CLI::App& command, GameOptions& game);
 
+// The user's settings folder: $XDG_CONFIG_HOME/brushtrace, else ~/.config/brushtrace; throws
+// when neither is set (cmd_config.cpp). config.json and the viewer's bookmarks.json live there.
+std::filesystem::path userConfigFolder();
 // Each game's install from the user's config file, overridden by BT_<GAME>_BASEDIR (cmd_config.cpp).
 std::map<std::string, std::string> configuredBaseDirs();
 // brushtrace config set|get|list (cmd_config.cpp).

@@ -17,6 +17,7 @@
 #include "viewer/cpu_view.h"
 #include "viewer/overlay.h"
 #include "viewer/pending_level.h"
+#include "viewer/bookmarks.h"
 #include "viewer/markers.h"
 #include "viewer/picking.h"
 #include "viewer/view_images.h"
@@ -97,8 +98,9 @@ struct Viewer::Impl {
   std::string note;     // why the viewer opened in a mode not asked for
   OverlayMessage flash; // for a few seconds: the last screenshot's path or why it failed, the camera copied
   Clock::time_point flashUntil{};
-  PickedFace picked;        // the face last clicked
-  MarkerLayer markers;      // light and entity markers (key L)
+  PickedFace picked;   // the face last clicked
+  MarkerLayer markers; // light and entity markers (key L)
+  Bookmarks bookmarks{options.bookmarksFile, fs::absolute(options.map).lexically_normal().string()};
   bool overlayShown = true; // F1
   bool opened = false;      // the constructor is done: a level loaded from now on is a reload
   bool compiled = false;
@@ -259,7 +261,13 @@ struct Viewer::Impl {
         continue;
       }
       if (press.code == GLFW_KEY_C && (press.mods & GLFW_MOD_CONTROL)) {
-        (press.mods & GLFW_MOD_SHIFT) ? copyPickedFace() : copyCamera();
+        copyToClipboard(press.mods & GLFW_MOD_SHIFT);
+        continue;
+      }
+      if (press.code >= GLFW_KEY_0 && press.code <= GLFW_KEY_9 && (press.mods & (GLFW_MOD_CONTROL | GLFW_MOD_ALT))) {
+        std::optional<CameraPose> goTo;
+        showFor(kScreenshotShown, bookmarks.press(press.code - GLFW_KEY_0, press.mods & GLFW_MOD_CONTROL, pose(), goTo));
+        if (goTo) placeCamera(*goTo), restart();
         continue;
       }
       if (!ImGui::GetIO().WantCaptureKeyboard) actOnKey(press.code);
@@ -293,21 +301,15 @@ struct Viewer::Impl {
     flashUntil = Clock::now() + duration;
   }
 
-  // Ctrl+Shift+C: the picked face's file:line, to open in an editor.
-  void copyPickedFace() {
-    if (picked.fileLine.empty()) return;
-    glfwSetClipboardString(window.handle(), picked.fileLine.c_str());
-    showFor(kScreenshotShown, {OverlayMessage::Kind::Info, "copied " + picked.fileLine});
-  }
-
-  // Ctrl+C: the camera as --camera takes it and as Quake's console takes it, to paste into a
-  // render command or the game.
-  void copyCamera() {
+  // Ctrl+C: the camera as --camera and Quake's setpos take it; Ctrl+Shift+C: the picked face's file:line, for the editor.
+  void copyToClipboard(bool pickedFace) {
     const CameraPose p = pose();
-    const std::string text = fmt::format("--camera '{}'\nsetpos {:g} {:g} {:g} {:g} {:g} {:g}\n", formatCameraPose(p), p.origin.x,
-                                         p.origin.y, p.origin.z, p.pitch, p.yaw, p.roll);
+    const std::string text = pickedFace ? picked.fileLine
+                                        : fmt::format("--camera '{}'\nsetpos {:g} {:g} {:g} {:g} {:g} {:g}\n", formatCameraPose(p),
+                                                      p.origin.x, p.origin.y, p.origin.z, p.pitch, p.yaw, p.roll);
+    if (text.empty()) return;
     glfwSetClipboardString(window.handle(), text.c_str());
-    showFor(kScreenshotShown, {OverlayMessage::Kind::Info, "copied the camera: " + formatCameraPose(p)});
+    showFor(kScreenshotShown, {OverlayMessage::Kind::Info, pickedFace ? "copied " + text : "copied the camera: " + formatCameraPose(p)});
   }
 
   // F12: the screenshot's path on screen for a few seconds, or why it could not be written (a
@@ -540,7 +542,7 @@ struct Viewer::Impl {
     if (cpu) c.status.insert(c.status.begin(), cpuReason);
     c.hints.push_back(fmt::format("RMB look, WASD move, Q/E down/up, wheel fwd, RMB+wheel speed ({:.0f})", camera.speed));
     c.hints.push_back("1 beauty 2 albedo 3 normal | 4 faithful 5 physical 6 compiled 7 difference | F12 screenshot | click: face | Ctrl+C "
-                      "copy camera, Ctrl+Shift+C its file:line | L markers | F1 overlay");
+                      "copy camera, Ctrl+Shift+C its file:line | L markers | Ctrl/Alt+0-9 bookmarks | F1 overlay");
     if (!notice.empty()) c.messages.push_back({OverlayMessage::Kind::Warning, notice});
     if (!error.empty())
       c.messages.push_back({OverlayMessage::Kind::Error, (level ? "reload failed: " : "cannot load the level (save a fix): ") + error});

@@ -47,10 +47,11 @@ struct ViewerOptions {
   bool lightingGiven = false;
   int bounces = 3;
   std::filesystem::path screenshotDir = ".";
-  int maxSamples = 4096;    // refinement stops here; the window stays responsive
-  float exposureEv = 0.0f;  // as render's --exposure: on screen, in screenshots and in the EXR
-  bool luxels = true;       // faithful mode: the compiler's luxels, baked on the GPU (render's --luxels)
-  LightmapBakeOptions bake; // their --extra
+  int maxSamples = 4096;               // refinement stops here; the window stays responsive
+  float exposureEv = 0.0f;             // as render's --exposure: on screen, in screenshots and in the EXR
+  bool luxels = true;                  // faithful mode: the compiler's luxels, baked on the GPU (render's --luxels)
+  LightmapBakeOptions bake;            // their --extra
+  std::filesystem::path bookmarksFile; // camera bookmarks (viewer/bookmarks.h); empty: this session only
 };
 
 class Viewer {

@@ -9,6 +9,7 @@
 #include <X11/keysym.h>
 
 #include <algorithm>
+#include <iterator>
 #include <thread>
 
 namespace bt {
@@ -141,6 +142,57 @@ TEST_F(ViewerWindowTest, LShowsTheLightsReachAroundIt) {
   tap(viewer, XK_l);
   ASSERT_TRUE(viewer.frame());
   EXPECT_FALSE(viewer.markersShown());
+}
+
+// Ctrl+digit keeps the camera in the user's bookmarks file; Alt+digit in a later session of the
+// same level goes back to it.
+TEST_F(ViewerWindowTest, BookmarksOutliveTheSession) {
+  ViewerOptions o = options();
+  o.bookmarksFile = dir_ / "config" / "bookmarks.json";
+  o.camera = CameraPose{glm::vec3(-50, 20, -30), 10, 45, 0, "test"};
+  {
+    Viewer viewer(o);
+    ASSERT_TRUE(viewer.frame());
+    tap(viewer, XK_3, ControlMask);
+    ASSERT_TRUE(viewer.frame());
+    EXPECT_TRUE(hasMessage(viewer, OverlayMessage::Kind::Info, "bookmark 3: (-50 20 -30) 10 45 0")) << allMessages(viewer);
+  }
+  ASSERT_TRUE(fs::exists(o.bookmarksFile));
+  o.camera = CameraPose{glm::vec3(0, 0, 0), 0, 0, 0, "test"};
+  Viewer viewer(o);
+  ASSERT_TRUE(viewer.frame());
+  tap(viewer, XK_4, Mod1Mask);
+  ASSERT_TRUE(viewer.frame());
+  EXPECT_TRUE(hasMessage(viewer, OverlayMessage::Kind::Warning, "no bookmark 4")) << allMessages(viewer);
+  EXPECT_EQ(viewer.camera().origin, glm::vec3(0, 0, 0));
+  tap(viewer, XK_3, Mod1Mask);
+  ASSERT_TRUE(viewer.frame());
+  EXPECT_EQ(viewer.camera().origin, glm::vec3(-50, 20, -30));
+  EXPECT_NEAR(viewer.camera().pitch, 10.0f, 1e-4f);
+  EXPECT_NEAR(viewer.camera().yaw, 45.0f, 1e-4f);
+  EXPECT_EQ(viewer.lighting(), LightingMode::Faithful) << "Alt+4 was taken as key 4";
+}
+
+// A bookmarks file that cannot be written (its folder is a file) or is not ours to rewrite:
+// the overlay says so, the file is left as it is, and the bookmark is still there this session.
+TEST_F(ViewerWindowTest, ABookmarkThatCannotBeSavedIsKeptForTheSession) {
+  ViewerOptions o = options();
+  std::ofstream(dir_ / "damaged.json") << "{ not json";
+  for (const fs::path& file : {dir_ / "damaged.json", dir_ / "room.map" / "bookmarks.json"}) {
+    o.bookmarksFile = file;
+    o.camera = CameraPose{glm::vec3(-60, 10, -20), 0, 30, 0, "test"};
+    Viewer viewer(o);
+    ASSERT_TRUE(viewer.frame());
+    tap(viewer, XK_1, ControlMask);
+    ASSERT_TRUE(viewer.frame());
+    EXPECT_TRUE(hasMessage(viewer, OverlayMessage::Kind::Error, "bookmark kept for this session only: " + file.string()))
+        << allMessages(viewer);
+    tap(viewer, XK_1, Mod1Mask);
+    ASSERT_TRUE(viewer.frame());
+    EXPECT_TRUE(hasMessage(viewer, OverlayMessage::Kind::Info, "bookmark 1: (-60 10 -20) 0 30 0")) << allMessages(viewer);
+  }
+  std::ifstream in(dir_ / "damaged.json");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "{ not json") << "the damaged file was rewritten";
 }
 
 // Ctrl+C: a press with its modifier, through the same queue.
