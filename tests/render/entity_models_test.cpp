@@ -186,6 +186,38 @@ TEST(EntityModels, WithoutTheGameFilesNothingIsAddedAndOneNoteSaysSo) {
   EXPECT_EQ(notes, 1u);
 }
 
+// Quake's item boxes are .bsp models: item_health with spawnflags 2 (H_MEGA) is items.qc's
+// maps/b_bh100.bsp, here LibreQuake's as ericw-tools compiled it (../shared/oracle), its world
+// model's faces placed at the entity. Its `skip` faces are hidden as in any level.
+TEST(EntityModels, QuakeItemBoxesAreBspModelsChosenBySpawnflags) {
+  BT_REQUIRE_SHARED(shared);
+  const fs::path box = shared / "oracle" / "maps_librequake_lq1_maps_src_brushmodels_b_bh100.bsp";
+  if (!fs::is_regular_file(box)) GTEST_SKIP() << box << " not found";
+  const Folders folders;
+  fs::copy_file(box, folders.root / "q/id1/maps/b_bh100.bsp");
+  std::string map = roomWithModels();
+  map = map.substr(0, map.find("{\n\"classname\" \"misc_model\""));
+  map += "{\n\"classname\" \"item_health\"\n\"spawnflags\" \"2\"\n\"origin\" \"60 -16 16\"\n}\n";
+  writeFile(folders.root / "q/id1/maps/items.map", std::vector<uint8_t>(map.begin(), map.end()));
+  const Scene scene = import(folders.root / "q/id1/maps/items.map");
+  const std::vector<const Mesh*> placed = models(scene);
+  ASSERT_FALSE(placed.empty());
+  Bounds bounds;
+  for (const Mesh* m : placed) {
+    EXPECT_EQ(scene.entities[m->entity].classname(), "item_health");
+    EXPECT_TRUE(scene.materials[scene.faces[m->firstFace].material].name.starts_with("maps/b_bh100.bsp:"));
+    bounds.grow(m->bounds);
+  }
+  EXPECT_LT(glm::length(bounds.min - dvec3(60, -16, 16)), 1e-3);
+  EXPECT_LT(glm::length(bounds.max - dvec3(92, 16, 48)), 1e-3);
+  const RenderImage image = render(scene, defaultCameraPose(scene), LightingMode::Faithful, 1);
+  const size_t centre = size_t(image.height / 2) * size_t(image.width) + size_t(image.width / 2);
+  ASSERT_NE(image.face[centre], 0u);
+  const Face& seen = scene.faces[image.face[centre] - 1];
+  EXPECT_EQ(seen.brush, kNoBrush) << "the middle of the view is the box";
+  EXPECT_NE(seen.texture, "skip");
+}
+
 TEST(EntityModels, ACorruptModelIsAWarningNamingItAndTheLevelStillImports) {
   const Folders folders;
   std::vector<uint8_t> cut = test::writeMdl(test::squareMdl(64, kSkinIndex));
