@@ -218,6 +218,27 @@ TEST(EntityModels, QuakeItemBoxesAreBspModelsChosenBySpawnflags) {
   EXPECT_NE(seen.texture, "skip");
 }
 
+// q3map2's misc_model keys: modelscale_vec scales each axis, else modelscale all three; the
+// Quake 3 "angles" (pitch yaw roll) turn it. Each entity here has the roof model (0..64 square).
+TEST(EntityModels, MiscModelScaleAndAnglesKeys) {
+  const Folders folders;
+  std::string map = roomWithModels();
+  map = map.substr(0, map.find("{\n\"classname\" \"misc_model\""));
+  map += "{\n\"classname\" \"misc_model\"\n\"model\" \"progs/roof.mdl\"\n\"origin\" \"0 0 100\"\n"
+         "\"modelscale_vec\" \"2 0.5 1\"\n\"modelscale\" \"3\"\n}\n";
+  map += "{\n\"classname\" \"misc_model\"\n\"model\" \"progs/roof.mdl\"\n\"origin\" \"0 0 100\"\n\"modelscale\" \"0.5\"\n}\n";
+  map += "{\n\"classname\" \"misc_model\"\n\"model\" \"progs/roof.mdl\"\n\"origin\" \"0 0 100\"\n\"angles\" \"0 0 90\"\n}\n";
+  writeFile(folders.root / "q/id1/maps/scaled.map", std::vector<uint8_t>(map.begin(), map.end()));
+  const Scene scene = import(folders.root / "q/id1/maps/scaled.map");
+  const std::vector<const Mesh*> placed = models(scene);
+  ASSERT_EQ(placed.size(), 3u);
+  EXPECT_EQ(placed[0]->bounds.max, dvec3(128, 32, 100)) << "modelscale_vec wins over modelscale";
+  EXPECT_EQ(placed[1]->bounds.max, dvec3(32, 32, 100));
+  // Rolled 90 degrees about its forward (+x) axis: its +y (left) turns to +z.
+  EXPECT_NEAR(placed[2]->bounds.max.z, 164, 1e-4);
+  EXPECT_NEAR(placed[2]->bounds.max.y, 0, 1e-4);
+}
+
 TEST(EntityModels, ACorruptModelIsAWarningNamingItAndTheLevelStillImports) {
   const Folders folders;
   std::vector<uint8_t> cut = test::writeMdl(test::squareMdl(64, kSkinIndex));
