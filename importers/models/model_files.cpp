@@ -48,12 +48,14 @@ uint32_t addMaterial(Scene& scene, Material m) {
 
 // The material a skin or shader name names: the level's own when it has one, else loaded now.
 // Quake 3 names an image with its extension, and the renderer looks it up without (R_FindShader).
-uint32_t skinMaterial(const game::GameInstall& install, std::string name, bool quake3, Scene& scene) {
+uint32_t skinMaterial(const game::GameInstall& install, std::string name, bool quake3, bool load, Scene& scene) {
   if (quake3) name = std::filesystem::path(name).replace_extension().generic_string();
   if (const auto existing = scene.findMaterial(name)) return *existing;
   Material m;
   m.name = name;
-  if (quake3) {
+  if (!load) {
+    // --no-textures: the placeholder, as every texture of the level
+  } else if (quake3) {
     std::vector<Material> one{m};
     std::vector<std::string> filesRead;
     bsp::resolveQuake3Materials(one, install.files, scene.diagnostics, &filesRead);
@@ -89,23 +91,26 @@ LoadedModel aliasParts(const quake::AliasModel& model, const std::vector<uint32_
   return loaded;
 }
 
-LoadedModel loadAlias(const game::GameInstall& install, const std::string& path, int skin, const std::vector<uint8_t>& bytes,
+LoadedModel loadAlias(const game::GameInstall& install, const std::string& path, int skin, const std::vector<uint8_t>& bytes, bool load,
                       Scene& scene) {
   const std::string where = install.files.describe(path).value_or(path);
   const quake::AliasModel model = quake::readAliasModel(bytes, where, skin);
   std::vector<uint32_t> materials;
   if (!model.skinIndices.empty()) { // .mdl: its own skin, through the game palette
     std::string from;
-    const std::optional<Palette> palette = game::installPalette(install, false, scene.sourcePath, scene.diagnostics, &from);
+    std::optional<Palette> palette;
+    if (load) palette = game::installPalette(install, false, scene.sourcePath, scene.diagnostics, &from);
     if (!from.empty()) scene.addInputFile(from);
     const std::string name = skin > 0 ? path + "#" + std::to_string(skin) : path;
     Material m = palette ? paletteSkin(model, *palette, name) : Material{};
-    if (!palette) m.name = name, m.baseColor = checkerPlaceholder(m.width, m.height);
-    m.sourcePath = where;
+    if (palette)
+      m.sourcePath = where;
+    else
+      m.name = name, m.baseColor = checkerPlaceholder(m.width, m.height);
     materials.assign(model.surfaces.size(), addMaterial(scene, std::move(m)));
   } else {
     const bool quake3 = extensionOf(path) == ".md3";
-    for (const quake::AliasSurface& s : model.surfaces) materials.push_back(skinMaterial(install, s.skin, quake3, scene));
+    for (const quake::AliasSurface& s : model.surfaces) materials.push_back(skinMaterial(install, s.skin, quake3, load, scene));
   }
   return aliasParts(model, materials, scene);
 }
@@ -147,7 +152,7 @@ std::optional<LoadedModel> loadModel(const game::GameInstall& install, const std
   const std::optional<std::vector<uint8_t>> bytes = install.files.read(path);
   if (!bytes) return std::nullopt;
   if (const auto holder = install.files.fileHolding(path)) scene.addInputFile(holder->string());
-  return loadAlias(install, path, skin, *bytes, scene);
+  return loadAlias(install, path, skin, *bytes, options.textures.load, scene);
 }
 
 } // namespace bt::models

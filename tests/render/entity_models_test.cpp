@@ -239,6 +239,17 @@ TEST(EntityModels, MiscModelScaleAndAnglesKeys) {
   EXPECT_NEAR(placed[2]->bounds.max.y, 0, 1e-4);
 }
 
+// --no-textures: the models are placed, their skins are placeholders as every texture is.
+TEST(EntityModels, WithoutTexturesTheModelsKeepTheirPlaceButNotTheirSkins) {
+  const Folders folders;
+  ImportOptions options;
+  options.textures.load = false;
+  const Scene scene = importScene(folders.inGame.string(), options);
+  const std::vector<const Mesh*> placed = models(scene);
+  ASSERT_EQ(placed.size(), 2u);
+  for (const Mesh* m : placed) EXPECT_TRUE(scene.materials[scene.faces[m->firstFace].material].missing());
+}
+
 TEST(EntityModels, ACorruptModelIsAWarningNamingItAndTheLevelStillImports) {
   const Folders folders;
   std::vector<uint8_t> cut = test::writeMdl(test::squareMdl(64, kSkinIndex));
