@@ -1,9 +1,12 @@
 // brushtrace info MAP [--json]: what a level holds and what the importer could not use.
 #include "app/commands.h"
 #include "app/usage_checks.h"
+#include "importers/models/entity_models.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+
+#include <utility>
 
 #include <algorithm>
 
@@ -11,18 +14,20 @@ namespace bt::app {
 
 namespace {
 
-// Quake 3 curves and triangle soups: meshes and their triangles (two faces each, scene.h Mesh).
+// Quake 3 curves, triangle soups and entity models: meshes and their triangles (two faces each, scene.h Mesh).
 struct MeshSummary {
-  size_t curves = 0, curveTriangles = 0, soups = 0, soupTriangles = 0;
-  size_t faces() const { return 2 * (curveTriangles + soupTriangles); }
+  size_t curves = 0, curveTriangles = 0, soups = 0, soupTriangles = 0, models = 0, modelTriangles = 0;
+  size_t faces() const { return 2 * (curveTriangles + soupTriangles + modelTriangles); }
 };
 
 MeshSummary meshSummary(const Scene& scene) {
   MeshSummary m;
+  uint32_t lastModelEntity = ~0u; // a model is one mesh per skin or shader, all of one entity
   for (const Mesh& mesh : scene.meshes) {
-    const bool curve = mesh.kind == MeshKind::Curve;
-    ++(curve ? m.curves : m.soups);
-    (curve ? m.curveTriangles : m.soupTriangles) += mesh.faceCount / 2;
+    const bool curve = mesh.kind == MeshKind::Curve, model = mesh.kind == MeshKind::Model;
+    if (model) m.models += std::exchange(lastModelEntity, mesh.entity) != mesh.entity;
+    if (!model) ++(curve ? m.curves : m.soups);
+    (curve ? m.curveTriangles : model ? m.modelTriangles : m.soupTriangles) += mesh.faceCount / 2;
   }
   return m;
 }
@@ -54,6 +59,8 @@ nlohmann::ordered_json infoJson(const Scene& scene) {
           {"curve_triangles", meshes.curveTriangles},
           {"triangle_soups", meshes.soups},
           {"soup_triangles", meshes.soupTriangles},
+          {"models", meshes.models},
+          {"model_triangles", meshes.modelTriangles},
           {"bounds", bounds},
           {"textures", textures},
           {"problems", problems}};
@@ -67,6 +74,8 @@ void printInfo(const Scene& scene) {
              scene.brushes.size(), scene.faces.size() - meshes.faces());
   if (meshes.curves > 0) fmt::print("  curves    {} ({} triangles)\n", meshes.curves, meshes.curveTriangles);
   if (meshes.soups > 0) fmt::print("  soups     {} ({} triangles)\n", meshes.soups, meshes.soupTriangles);
+  if (meshes.models > 0) fmt::print("  models    {} ({} triangles)\n", meshes.models, meshes.modelTriangles);
+  if (const Diagnostic* missing = models::missingModelsNote(scene)) fmt::print("  models    {}\n", missing->message);
   if (!scene.bounds.empty())
     fmt::print("  bounds    ({} {} {}) .. ({} {} {})\n", scene.bounds.min.x, scene.bounds.min.y, scene.bounds.min.z, scene.bounds.max.x,
                scene.bounds.max.y, scene.bounds.max.z);

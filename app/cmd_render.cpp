@@ -3,6 +3,7 @@
 #include "app/render_options.h"
 #include "app/usage_checks.h"
 
+#include "importers/models/entity_models.h"
 #include "lighting/compiled_lightmaps.h"
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/denoise.h"
@@ -33,15 +34,20 @@ namespace bt::app {
 
 namespace {
 
-// Quake 3 curves and triangle soups drawn, as `info` counts them.
+// Quake 3 curves and triangle soups drawn, as `info` counts them, and entity models where any.
 std::string meshLine(const Scene& scene) {
-  size_t curves = 0, curveTriangles = 0, soups = 0, soupTriangles = 0;
+  size_t curves = 0, curveTriangles = 0, soups = 0, soupTriangles = 0, models = 0, modelTriangles = 0;
+  uint32_t lastModelEntity = ~0u; // a model is one mesh per skin or shader, all of one entity
   for (const Mesh& mesh : scene.meshes) {
-    const bool curve = mesh.kind == MeshKind::Curve;
-    ++(curve ? curves : soups);
-    (curve ? curveTriangles : soupTriangles) += mesh.faceCount / 2;
+    const bool curve = mesh.kind == MeshKind::Curve, model = mesh.kind == MeshKind::Model;
+    if (model) models += std::exchange(lastModelEntity, mesh.entity) != mesh.entity;
+    if (!model) ++(curve ? curves : soups);
+    (curve ? curveTriangles : model ? modelTriangles : soupTriangles) += mesh.faceCount / 2;
   }
-  return fmt::format("curves {} ({} triangles), triangle soups {} ({} triangles)", curves, curveTriangles, soups, soupTriangles);
+  std::string line =
+      fmt::format("curves {} ({} triangles), triangle soups {} ({} triangles)", curves, curveTriangles, soups, soupTriangles);
+  if (models > 0) line += fmt::format(", entity models {} ({} triangles)", models, modelTriangles);
+  return line;
 }
 
 std::string formatDuration(double seconds) {
@@ -206,6 +212,7 @@ void printPreparation(const Scene& scene, const Diagnostics& lightDiagnostics) {
     if (d.severity != Severity::Note) fmt::print(stderr, "{}\n", format(d));
   for (const Diagnostic& d : lightDiagnostics) fmt::print(stderr, "{}\n", format(d));
   if (!scene.meshes.empty()) fmt::print("{}\n", meshLine(scene));
+  if (const Diagnostic* missing = models::missingModelsNote(scene)) fmt::print("{}\n", missing->message);
 }
 
 std::string writtenLine(const RenderOptions& o, const RenderImage& image, const LightmapChoice& choice, bool aovsOnly,

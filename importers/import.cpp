@@ -4,6 +4,7 @@
 #include "importers/bsp/pk3.h"
 #include "importers/game/game_install.h"
 #include "importers/map/map_scene.h"
+#include "importers/models/entity_models.h"
 #include "importers/textures/textures.h"
 
 #include <algorithm>
@@ -70,9 +71,11 @@ Scene importScene(const std::string& path, const ImportOptions& options) {
                                      "with `brushtrace config set GAME.basedir DIR`)"});
   }
   // Compiled levels: "x.bsp", "archive.pak:maps/x.bsp" or "archive.pk3:maps/x.bsp".
-  // The game the user names rules what the level means (lighting/game_rules.h gameOf).
+  // The game the user names rules what the level means (lighting/game_rules.h gameOf). Then
+  // the models the game shows at the level's point entities, from its install.
   const auto named = [&](Scene scene) {
     scene.game = options.textures.game.game;
+    models::addEntityModels(scene, path, options);
     return scene;
   };
   if (bsp::splitArchivePath(path) || lowercaseExtension(path) == ".bsp") return named(bsp::importBsp(path, options));

@@ -101,11 +101,12 @@ struct Brush {
 //   faces[firstFace + 2k + 1] the back side: winding (a, c, b), the plane flipped.
 // Both have brush = kNoBrush, the mesh's material and a texture frame (in the triangle's plane)
 // that reproduces the vertices' st exactly: st interpolated barycentrically is affine on the plane.
-// Scene::meshes lie in the order of their faces.
-enum class MeshKind : uint8_t { Curve, TriangleSoup };
+// Scene::meshes lie in the order of their faces. A Model is one skin's triangles of an entity
+// model (importers/models/entity_models.h), placed at its point entity.
+enum class MeshKind : uint8_t { Curve, TriangleSoup, Model };
 
 struct Mesh {
-  int line = 0; // the patchDef's line in a .map, 0 for a .bsp
+  int line = 0; // the patchDef's (a model's: its entity's) line in a .map, 0 for a .bsp
   uint32_t entity = 0;
   MeshKind kind = MeshKind::Curve;
   uint32_t firstFace = 0; // faces [firstFace, firstFace + faceCount) of Scene::faces

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs one harness for a while, politely: one process, lowest priority, bounded memory and time.
-#   tests/fuzz/run.sh <map|bsp|textures|q3_shader|archive> <seconds> <work dir> [seed dir...]
+#   tests/fuzz/run.sh <map|bsp|textures|q3_shader|archive|models> <seconds> <work dir> [seed dir...]
 # New corpus entries go to <work dir>/corpus, crashes/timeouts/OOMs to <work dir>/artifacts/.
 # Expects the harnesses in build-fuzz/ (see README.md here). Extra libFuzzer flags: FUZZ_FLAGS.
 set -euo pipefail
