@@ -1,7 +1,9 @@
 // Light selection against the exhaustive light loop (IntegratorSettings::lightSelection), CPU
-// tracer, on the two shared maps with the most lights: id's e1m1 (198 light entities) and
-// LibreQuake's lq_e4m3 (1213). One sample per pixel of a small frame from the map's default
-// camera, both lighting modes, one thread and two.
+// tracer, on shared maps with many lights: id's e1m1 (198 light entities), LibreQuake's lq_e4m3
+// (1213) and lqdm5 (2,598 with its _surface points, issue 18's many-lights level). One sample
+// per pixel of a small frame from the map's default camera, both lighting modes, one thread and
+// two. Physical mode's selection is the light grid's near lists (selection 1, what the
+// renderer uses) or the light tree (selection 2, lighting/light_tree.h).
 //   build/bench/bench_light_selection [--benchmark_filter=...]
 // Samples/s is per sample, not per unit of noise: physical selection trades variance per sample
 // for far fewer shadow rays (the tests show it converges to the same mean), so the benchmark
@@ -26,11 +28,13 @@ using namespace bt;
 const std::map<std::string, std::string> kMaps = {
     {"e1m1", std::string(BRUSHTRACE_SHARED_DIR) + "/maps/quake_map_source/e1m1.map"},
     {"lq_e4m3", std::string(BRUSHTRACE_SHARED_DIR) + "/maps/librequake/lq1/maps/src/e4/lq_e4m3.map"},
+    {"lqdm5", std::string(BRUSHTRACE_SHARED_DIR) + "/maps/librequake/lq1/maps/src/dm/lqdm5.map"},
 };
 
 constexpr int kWidth = 96, kHeight = 54;
 
-// range(0): threads; range(1): 1 = light selection, 0 = every light at every hit.
+// range(0): threads; range(1): 1 = light selection (physical: the near lists), 2 = physical
+// mode's light tree, 0 = every light at every hit.
 void BM_LightSelection(benchmark::State& state, const std::string& mapName, LightingMode mode) {
   const bench::LoadedLevel* m = bench::loadLevel(kMaps.at(mapName));
   if (!m) {
@@ -44,6 +48,7 @@ void BM_LightSelection(benchmark::State& state, const std::string& mapName, Ligh
   s.threads = int(state.range(0));
   s.integrator.mode = mode;
   s.integrator.lightSelection = state.range(1) != 0;
+  if (state.range(1) == 2) s.integrator.physicalPick = IntegratorSettings::PhysicalPick::Tree;
   const Camera camera(m->pose, kWidth, kHeight);
   RenderImage image;
   for (auto _ : state) {
@@ -84,11 +89,22 @@ void threadsAndSelection(benchmark::internal::Benchmark* b) {
   b->UseRealTime()->Unit(benchmark::kMillisecond)->MinTime(0.5);
 }
 
+// Physical mode's near lists against the tree, and the exhaustive loop once (lqdm5's takes
+// seconds a frame).
+void physicalPicks(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"threads", "selection"});
+  for (int selection : {1, 2}) b->Args({2, selection});
+  b->Args({2, 0});
+  b->UseRealTime()->Unit(benchmark::kMillisecond)->MinTime(0.5);
+}
+
 } // namespace
 
 BENCHMARK_CAPTURE(BM_LightSelection, e1m1_faithful, std::string("e1m1"), LightingMode::Faithful)->Apply(threadsAndSelection);
 BENCHMARK_CAPTURE(BM_LightSelection, e1m1_physical, std::string("e1m1"), LightingMode::Physical)->Apply(threadsAndSelection);
 BENCHMARK_CAPTURE(BM_LightSelection, lq_e4m3_faithful, std::string("lq_e4m3"), LightingMode::Faithful)->Apply(threadsAndSelection);
 BENCHMARK_CAPTURE(BM_LightSelection, lq_e4m3_physical, std::string("lq_e4m3"), LightingMode::Physical)->Apply(threadsAndSelection);
+BENCHMARK_CAPTURE(BM_LightSelection, lq_e4m3_physical_picks, std::string("lq_e4m3"), LightingMode::Physical)->Apply(physicalPicks);
+BENCHMARK_CAPTURE(BM_LightSelection, lqdm5_physical_picks, std::string("lqdm5"), LightingMode::Physical)->Apply(physicalPicks);
 
 BENCHMARK_MAIN();

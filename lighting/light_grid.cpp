@@ -1,5 +1,6 @@
 #include "lighting/light_grid.h"
 #include "lighting/faithful.h"
+#include "lighting/light_tree.h"
 #include "lighting/physical_light.h"
 #include "scene/parallel_for.h"
 
@@ -434,6 +435,8 @@ LightGrid buildLightGrid(const std::vector<GpuLight>& lights, const Bounds& boun
     grid.indices.insert(grid.indices.end(), lists[k].begin(), lists[k].end());
   }
 
+  grid.physicalTree = buildLightTree(lights, grid.physicalLights(), scaledist);
+
   // Physical near lists: every cell on the same threads; each cell's list depends on nothing else.
   const NearRanking ranking(g, lights, grid.physicalLights(), scaledist);
   std::vector<uint32_t> nearLists(cellCount * kPhysicalNearLights);
@@ -499,7 +502,8 @@ LightGrid extendLightGrid(const LightGrid& grid, const std::vector<GpuLight>& li
          {old.first(old.size() - oldBounce), more.first(more.size() - moreBounce), old.last(oldBounce), more.last(moreBounce)})
       out.indices.insert(out.indices.end(), part.begin(), part.end());
   }
-  // The near lists rank the physical candidates only: unchanged.
+  // The near lists and the tree hold the physical candidates only: unchanged.
+  out.physicalTree = grid.physicalTree;
   for (size_t k = 0; k < cellCount; ++k) {
     const GpuLightCell& near = grid.cells[cellCount + k];
     out.cells[cellCount + k] = {uint32_t(out.indices.size()), near.count};

@@ -8,6 +8,7 @@
 // reach everywhere and sit in lists of their own (see gpu_structs.h for the ranges).
 #pragma once
 
+#include "lighting/light_tree.h"
 #include "scene/gpu_structs.h"
 #include "scene/scene.h"
 
@@ -20,6 +21,8 @@ struct LightGrid {
   GpuLightGrid header;
   std::vector<GpuLightCell> cells;
   std::vector<uint32_t> indices; // into RenderScene::lights
+  // A light tree over the physical list (light_tree.h): IntegratorSettings::PhysicalPick::Tree.
+  std::vector<LightTreeNode> physicalTree;
 
   // Suns, domes and local-minlight lights: evaluated one by one everywhere.
   std::span<const uint32_t> fixedLights() const { return {indices.data(), header.fixedCount}; }

@@ -19,6 +19,11 @@ struct IntegratorSettings {
   // true: the light grid's lists (faithful) and one selected point light per hit (physical);
   // false: every light at every hit, the reference both converge to (tests, benchmarks).
   bool lightSelection = true;
+  // Physical mode's pick of one point light per hit (with lightSelection): the light grid's near
+  // lists (both tracers), or the light tree (lighting/light_tree.h, CPU only), measured noisier
+  // on the shared levels and kept to measure against (tests, bench_light_selection).
+  enum class PhysicalPick { NearList, Tree };
+  PhysicalPick physicalPick = PhysicalPick::NearList;
 };
 
 struct RenderSettings {

@@ -1,5 +1,6 @@
 #include "renderer/cpu/integrator.h"
 
+#include "lighting/light_tree.h"
 #include "lighting/physical_light.h"
 
 #include "lighting/faithful.h"
@@ -285,30 +286,19 @@ glm::vec3 allLightsExhaustive(const RenderScene& rs, const Bsdf& bsdf, const glm
 // physical light, so that a light missing from the near list can still be picked: unbiased).
 constexpr float kNearListProbability = BT_NEAR_LIST_PROBABILITY;
 
-// Suns one by one (there are at most a few), then ONE point light, divided by the probability
-// of picking it: an unbiased estimate of the sum over all of them with one shadow ray instead
-// of hundreds. The pick mixes two strategies (one-sample mixture, Veach's "balance" pdf):
+// Physical mode's pick (IntegratorSettings::PhysicalPick::NearList), a one-sample mixture of two
+// strategies (Veach's "balance" pdf):
 //   near:    the cell's near list (light_grid.h), by selectionWeight at the hit's origin;
 //   uniform: any light of the physical list, 1 / count.
 // pdf(light) = P(near) * weight / nearTotal [if listed] + (1 - P(near)) / count.
-// Weights use the light's own origin and the shading normal, so the pick does not depend on its _deviance jitter,
-// which is drawn for the chosen light only. Random numbers per hit, in order: the suns', the
-// strategy, the pick, the chosen light's jitter (3, when soft); light_select.glsl draws the same.
-glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::vec3& origin, const glm::vec3& ng, const glm::vec3& wo,
-                            Rng& rng) {
-  glm::vec3 l(0.0f);
-  for (uint32_t i : rs.lightGrid.fixedLights()) {
-    const GpuLight& light = rs.lights[i];
-    if (light.type == uint32_t(LightType::Sun) && light.value > 0.0f) l += sunContribution(rs, bsdf, light, origin, ng, wo, rng);
-  }
-  const glm::vec3& n = bsdf.n;
-
+// Random numbers: the strategy, then the pick.
+LightPick pickFromNearList(const RenderScene& rs, const glm::vec3& origin, const glm::vec3& n, Rng& rng) {
   const std::span<const uint32_t> all = rs.lightGrid.physicalLights();
   const std::span<const uint32_t> near = rs.lightGrid.physicalNearLights(origin);
   float nearTotal = 0.0f;
   for (uint32_t i : near) nearTotal += selectionWeight(rs.lights[i], origin, n);
   const float uStrategy = rng.next(), uPick = rng.next();
-  if (all.empty()) return l;
+  if (all.empty()) return {};
   const float nearProbability = nearTotal > 0.0f ? kNearListProbability : 0.0f;
 
   uint32_t chosen = 0;
@@ -332,13 +322,34 @@ glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::
   }
   const float pdf =
       (nearProbability > 0.0f ? nearProbability * chosenWeight / nearTotal : 0.0f) + (1.0f - nearProbability) / float(all.size());
+  return {pdf > 0.0f, chosen, pdf};
+}
 
-  const GpuLight& light = rs.lights[chosen];
+// Suns one by one (there are at most a few), then ONE point light, divided by the probability
+// of picking it: an unbiased estimate of the sum over all of them with one shadow ray instead
+// of hundreds. The pick (the near lists, or the light tree: light_tree.h) weighs lights at
+// their own origin and the shading normal, so it does not depend on the light's _deviance
+// jitter, which is drawn for the chosen light only. Random numbers per hit, in order: the
+// suns', the pick's (two for the near lists, one for the tree), the chosen light's jitter (3,
+// when soft); light_select.glsl draws the same as the near lists.
+glm::vec3 allLightsSelected(const RenderScene& rs, const IntegratorSettings& settings, const Bsdf& bsdf, const glm::vec3& origin,
+                            const glm::vec3& ng, const glm::vec3& wo, Rng& rng) {
+  glm::vec3 l(0.0f);
+  for (uint32_t i : rs.lightGrid.fixedLights()) {
+    const GpuLight& light = rs.lights[i];
+    if (light.type == uint32_t(LightType::Sun) && light.value > 0.0f) l += sunContribution(rs, bsdf, light, origin, ng, wo, rng);
+  }
+  const LightPick pick = settings.physicalPick == IntegratorSettings::PhysicalPick::Tree
+      ? pickLightFromTree(rs.lightGrid.physicalTree, origin, bsdf.n, rng.next())
+      : pickFromNearList(rs, origin, bsdf.n, rng);
+  if (!pick.found) return l;
+
+  const GpuLight& light = rs.lights[pick.light];
   const glm::vec3 pos = jitteredOrigin(light, rng);
   glm::vec3 wi;
   float dist;
   const glm::vec3 c = pointLightUnshadowed(rs, bsdf, light, pos, origin, ng, wo, wi, dist);
-  if (pdf > 0.0f && c != glm::vec3(0.0f) && !occluded(rs, Ray{origin, 0.0f, wi, dist}, LightingMode::Physical)) l += c / pdf;
+  if (c != glm::vec3(0.0f) && !occluded(rs, Ray{origin, 0.0f, wi, dist}, LightingMode::Physical)) l += c / pick.pdf;
   return l;
 }
 
@@ -348,8 +359,8 @@ glm::vec3 allLightsSelected(const RenderScene& rs, const Bsdf& bsdf, const glm::
 glm::vec3 directLight(const RenderScene& rs, const IntegratorSettings& settings, const Bsdf& bsdf, const glm::vec3& p, const glm::vec3& ng,
                       const glm::vec3& wo, Rng& rng) {
   const glm::vec3 origin = offsetRayOrigin(p, ng);
-  glm::vec3 l =
-      settings.lightSelection ? allLightsSelected(rs, bsdf, origin, ng, wo, rng) : allLightsExhaustive(rs, bsdf, origin, ng, wo, rng);
+  glm::vec3 l = settings.lightSelection ? allLightsSelected(rs, settings, bsdf, origin, ng, wo, rng)
+                                        : allLightsExhaustive(rs, bsdf, origin, ng, wo, rng);
 
   if (!rs.emitters.empty()) {
     const GpuEmitter& e = rs.emitters[pickEmitter(rs, rng.next())];

@@ -98,4 +98,37 @@ Scene manyLightsRoom(int count, bool soft, uint32_t seed) {
   return b.build();
 }
 
+Scene manyLightsHall(int count, uint32_t seed) {
+  BoxSceneBuilder b;
+  b.material("white", 200, 200, 200);
+  b.room({-2048, -256, 0}, {2048, 256, 256}, "white");
+  for (int wall = 1; wall < 8; ++wall) {
+    const double x = -2048.0 + 512.0 * wall;
+    b.box({x - 8, -256, 0}, {x + 8, 64, 256}, "white"); // a doorway at y 64 .. 256, z 0 .. 160
+    b.box({x - 8, 64, 160}, {x + 8, 256, 256}, "white");
+  }
+  std::mt19937 gen(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int i = 0; i < count; ++i) {
+    const glm::vec3 o(-2030.0f + 4060.0f * u(gen), -240.0f + 480.0f * u(gen), 16.0f + 224.0f * u(gen));
+    std::vector<std::pair<std::string, std::string>> keys = {
+        {"classname", "light"}, {"origin", fmt::format("{} {} {}", o.x, o.y, o.z)}, {"light", fmt::format("{}", 100.0f + 200.0f * u(gen))}};
+    switch (i % 5) {
+    case 0: keys.push_back({"wait", fmt::format("{}", 1.0f + 2.0f * u(gen))}); break;
+    case 1: keys.push_back({"_falloff", fmt::format("{}", 80.0f + 200.0f * u(gen))}); break;
+    case 2:
+      keys.push_back({"delay", "2"});
+      keys.push_back({"wait", fmt::format("{}", 2.0f + 6.0f * u(gen))});
+      break;
+    case 3: keys.push_back({"_color", "255 160 96"}); break;
+    case 4:
+      keys.push_back({"mangle", "0 -90 0"});
+      keys.push_back({"angle", "60"});
+      break;
+    }
+    b.entity(keys);
+  }
+  return b.build();
+}
+
 } // namespace bt::test

@@ -36,4 +36,9 @@ private:
 // `softLights`), a darklight, a local minlight and a sun: for light selection tests.
 Scene manyLightsRoom(int count, bool softLights, uint32_t seed);
 
+// A 4096 x 512 x 256 hall around (0 0 128) cut into eight rooms by walls with a doorway, lit by
+// `count` lights of short, varied reach (linear with wait 1 to 3 or a _falloff, inverse square
+// with wait 2 to 8, a few coloured and spots): a level's many lights, of which a point sees few.
+Scene manyLightsHall(int count, uint32_t seed);
+
 } // namespace bt::test
