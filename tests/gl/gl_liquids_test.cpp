@@ -6,6 +6,7 @@
 #include "scene/color.h"
 #include "tests/gl/cpu_and_gl.h"
 #include "tests/gl/test_scenes.h"
+#include "tests/render/liquid_ranges.h"
 #include "tests/test_data.h"
 
 #include <glm/geometric.hpp>
@@ -85,6 +86,18 @@ TEST(GlLiquids, PhysicalWaterAgreesWithTheCpu) {
   EXPECT_GE(close, pool.cpu.beauty.size() * 97 / 100) << close << " of " << pool.cpu.beauty.size() << " pixels agree";
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(gpuSum[c], cpuSum[c], 0.03 * cpuSum[c] + 1e-6) << "channel " << c;
   EXPECT_GT(cpuSum.x + cpuSum.y + cpuSum.z, 0.0) << "a black image proves nothing";
+}
+
+// pools.map's water, slime and lava in physical mode: the GL image agrees with the CPU's, and its
+// liquids land in the documented ranges (tests/render/liquid_ranges.h).
+TEST(GlLiquids, PhysicalLiquidsLookLikeThemselves) {
+  const Scene scene = importScene((test::mapsDir() / "liquids" / "pools.map").string(), ImportOptions{});
+  const test::CpuAndGl pools = test::renderCpuAndGl(scene, LightingMode::Physical, kWidth, kHeight, 16);
+  size_t close = 0;
+  for (size_t i = 0; i < pools.cpu.beauty.size(); ++i)
+    close += glm::length(pools.gpu.beauty[i] - pools.cpu.beauty[i]) <= 0.01f * glm::length(pools.cpu.beauty[i]) + 1e-3f;
+  EXPECT_GE(close, pools.cpu.beauty.size() * 97 / 100) << close << " of " << pools.cpu.beauty.size() << " pixels agree";
+  test::expectLiquidsInRange(scene, pools.gpu, "GL");
 }
 
 } // namespace

@@ -7,13 +7,17 @@
 #include "lighting/render_scene.h"
 #include "renderer/cpu/cpu_renderer.h"
 #include "scene/color.h"
+#include "tests/render/liquid_ranges.h"
 #include "tests/test_data.h"
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <memory>
+#include <optional>
 
 namespace bt {
 namespace {
@@ -134,6 +138,107 @@ TEST(Liquids, PhysicalWaterIsTheTintedBlendOnAverage) {
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], 0.05 * want[c]) << "channel " << c;
   EXPECT_GT(want.x + want.y + want.z, 0.0) << "a black pool proves nothing";
 }
+
+// pools.map in physical mode: each liquid's mean displayed colour lands in its documented range
+// (lighting/README.md, "Liquids"): water blue and neither black nor washed out, slime green
+// and not a flat neon, lava orange and bright. 16 samples, 2 bounces.
+TEST(Liquids, PhysicalLiquidsLookLikeThemselves) {
+  const auto pools = load("pools.map");
+  test::expectLiquidsInRange(pools->scene, render(*pools, LightingMode::Physical, 16), "CPU");
+}
+
+// lava_dark.map has no light at all: only the lava's emission can light the wall beside it.
+TEST(Liquids, LavaLightsAWallInTheDark) {
+  const auto level = load("lava_dark.map");
+  ASSERT_FALSE(level->render.emitters.empty()) << "lava should be an emitter";
+  const RenderImage image = render(*level, LightingMode::Physical, 16);
+  glm::dvec3 wall(0.0);
+  size_t count = 0;
+  for (size_t i = 0; i < image.face.size(); ++i)
+    if (image.face[i] != 0 && level->scene.faces[image.face[i] - 1].texture == "poolwall") wall += glm::dvec3(image.beauty[i]), ++count;
+  ASSERT_GT(count, size_t(50)) << "the wall should be in view";
+  wall /= double(count);
+  // Without the lava the wall is black (0): no other light.
+  EXPECT_GT(wall.x, 0.005) << "the lava's light should reach the wall: mean " << wall.x << " " << wall.y << " " << wall.z;
+  EXPECT_GT(wall.x, wall.z) << "in the lava's colour";
+}
+
+// ../shared's LibreQuake levels that have liquids: from 8 units above the centre of the largest
+// liquid surface, looking down, a physical render has no NaN or infinite pixel and the liquid is not black (its mean displayed
+// colour, auto-exposed, above 0.02 in some channel).
+std::vector<std::string> libreQuakeMaps() {
+  std::vector<std::string> maps;
+  if (auto shared = test::sharedDir())
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(*shared / "maps/librequake/lq1/maps/src"))
+      if (entry.path().extension() == ".map") maps.push_back(entry.path().string());
+  std::sort(maps.begin(), maps.end());
+  return maps;
+}
+
+// The largest drawn liquid face that looks up and that a ray straight down from 8 units above
+// its centre sees (not one under a floor), with that point; nullopt when there is none.
+std::optional<std::pair<uint32_t, glm::vec3>> visibleLiquidSurface(const RenderScene& rs) {
+  std::vector<std::pair<double, uint32_t>> byArea;
+  for (uint32_t f = 0; f < rs.faceFlags.size(); ++f) {
+    const Face& face = rs.scene->faces[f];
+    if (!(rs.faceFlags[f] & kFaceLiquid) || (rs.faceFlags[f] & kFaceHidden) || face.plane.normal.z < 0.9) continue;
+    dvec3 area(0.0);
+    for (size_t k = 1; k + 1 < face.winding.size(); ++k)
+      area += glm::cross(face.winding[k] - face.winding[0], face.winding[k + 1] - face.winding[0]);
+    byArea.emplace_back(-glm::length(area), f);
+  }
+  std::sort(byArea.begin(), byArea.end());
+  for (const auto& [negArea, f] : byArea) {
+    dvec3 centre(0.0);
+    for (const dvec3& p : rs.scene->faces[f].winding) centre += p / double(rs.scene->faces[f].winding.size());
+    const glm::vec3 eye(centre + dvec3(0.0, 0.0, 8.0));
+    const SurfaceHit hit = traceVisible(rs, Ray{eye, 0.0f, glm::vec3(0.0f, 0.0f, -1.0f)});
+    if (hit.found && hit.face == f) return std::make_pair(f, eye);
+  }
+  return std::nullopt;
+}
+
+class LibreQuakeLiquids : public testing::TestWithParam<std::string> {};
+
+TEST_P(LibreQuakeLiquids, PhysicalLiquidsAreNeitherNanNorBlack) {
+  BT_REQUIRE_SHARED(shared);
+  ImportOptions options;
+  for (const auto& dir : std::filesystem::directory_iterator(shared / "maps/librequake/texture-wads"))
+    if (dir.is_directory()) options.textures.textureDirs.push_back(dir.path().string());
+  Level level;
+  level.scene = importScene(GetParam(), options);
+  Diagnostics diagnostics;
+  RenderSceneOptions sceneOptions;
+  sceneOptions.bounceLights = false;
+  level.render = buildRenderScene(level.scene, sceneOptions, diagnostics);
+  const auto liquid = visibleLiquidSurface(level.render);
+  if (!liquid) GTEST_SKIP() << "no liquid surface in view from above";
+  const Face& face = level.scene.faces[liquid->first];
+  CameraPose pose;
+  pose.origin = liquid->second;
+  pose.pitch = 90.0f; // straight down at it, close enough that it fills the view
+  RenderSettings settings;
+  settings.width = 48;
+  settings.height = 32;
+  settings.spp = 4;
+  settings.threads = 2;
+  settings.integrator.mode = LightingMode::Physical;
+  settings.integrator.bounces = 2;
+  const RenderImage image = renderCpu(level.render, Camera(pose, 48, 32), settings);
+  for (const glm::vec3& c : image.beauty) ASSERT_TRUE(std::isfinite(c.x + c.y + c.z)) << "a NaN or infinite pixel";
+  size_t count = 0;
+  const glm::vec3 mean = test::displayedMean(level.scene, image, face.texture, count);
+  ASSERT_GT(count, size_t(48 * 32 / 4)) << face.texture << " should fill the view (line " << face.line << ")";
+  EXPECT_GT(std::max({mean.x, mean.y, mean.z}), 0.02f) << face.texture << " is black: " << mean.x << " " << mean.y << " " << mean.z;
+  RecordProperty("liquid", face.texture);
+}
+
+INSTANTIATE_TEST_SUITE_P(Shared, LibreQuakeLiquids, testing::ValuesIn(libreQuakeMaps()), [](const auto& info) {
+  std::string name = std::filesystem::path(info.param).stem().string();
+  std::replace(name.begin(), name.end(), '-', '_'); // gtest names: letters, digits, _
+  return name;
+});
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(LibreQuakeLiquids);
 
 } // namespace
 } // namespace bt
