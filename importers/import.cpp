@@ -6,6 +6,8 @@
 #include "importers/map/map_scene.h"
 #include "importers/models/entity_models.h"
 #include "importers/textures/textures.h"
+#include "quake/bspfile_q2.h"
+#include "scene/names.h"
 
 #include <algorithm>
 #include <array>
@@ -52,6 +54,22 @@ std::string lowercaseExtension(const std::string& path) {
 } // namespace
 
 namespace {
+// Physical mode's glowing liquids (lighting/README.md, "Liquids"): lava and teleporters emit
+// their whole texture, as fullbright texels do (their emissive map becomes the base colour).
+// Faithful mode draws liquids unlit, so it shows the same.
+void makeLiquidsGlow(Scene& scene) {
+  std::vector<bool> glows(scene.materials.size(), false);
+  for (const Face& face : scene.faces) {
+    if (face.material >= glows.size()) continue;
+    const std::string name = lowercase(face.texture);
+    const std::string_view base = std::string_view(name).substr(name.find_last_of('/') + 1);
+    const bool lavaContents = face.surface && (face.surface->contents & quake::q2::CONTENTS_LAVA);
+    glows[face.material] = glows[face.material] || base.starts_with("*lava") || base.starts_with("*tele") || lavaContents;
+  }
+  for (size_t m = 0; m < glows.size(); ++m)
+    if (glows[m] && !scene.materials[m].baseColor.empty()) scene.materials[m].emissive = scene.materials[m].baseColor;
+}
+
 // "e1m1" (or "e1m1.bsp"): a name, not a path, as the engines' `map e1m1` takes it.
 bool isBareLevelName(const std::string& path) {
   if (path.empty() || path.find_first_of("/\\:") != std::string::npos) return false;
@@ -76,6 +94,7 @@ Scene importScene(const std::string& path, const ImportOptions& options) {
   const auto named = [&](Scene scene) {
     scene.game = options.textures.game.game;
     models::addEntityModels(scene, path, options);
+    makeLiquidsGlow(scene);
     return scene;
   };
   if (bsp::splitArchivePath(path) || lowercaseExtension(path) == ".bsp") return named(bsp::importBsp(path, options));

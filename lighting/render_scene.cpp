@@ -1,6 +1,7 @@
 #include "lighting/render_scene.h"
 #include "lighting/bounce.h"
 #include "lighting/game_rules.h"
+#include "lighting/liquids.h"
 #include "lighting/physical_light.h"
 #include "lighting/q3map2_shader_light.h"
 #include "lighting/surface_lights.h"
@@ -288,6 +289,7 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   for (const Material& m : scene.materials) rs.materials.push_back(materialParams(m, toLinear));
   applySurfaceTemplates(rs, lights.surfaceTemplates);
   classifyFaces(rs, options);
+  applyLiquidBlends(scene, rs.faceFlags, rs.materials);
   addEmitters(rs);
 
   const std::vector<BrushContents> contents = brushContents(scene);

@@ -1,5 +1,6 @@
 #include "renderer/view_lightmaps.h"
 
+#include "lighting/liquids.h"
 #include "lighting/visibility.h"
 #include "scene/parallel_for.h"
 
@@ -14,8 +15,13 @@ std::vector<uint32_t> facesSeen(const RenderScene& rs, const Camera& camera, int
     std::vector<uint8_t>& seen = seenByRow[row];
     seen.assign(faceCount, 0);
     for (int column = 0; column <= 2 * width; ++column) {
-      const SurfaceHit hit = traceVisible(rs, camera.ray(0.5f * float(column), 0.5f * float(row)));
-      if (hit.found) seen[hit.face] = 1;
+      // What lies behind a translucent liquid shows too (lighting/liquids.h).
+      Ray ray = camera.ray(0.5f * float(column), 0.5f * float(row));
+      for (SurfaceHit hit = traceVisible(rs, ray); hit.found; hit = traceVisible(rs, ray)) {
+        seen[hit.face] = 1;
+        if (!(rs.faceFlags[hit.face] & kFaceLiquid) || !(liquidBlend(rs.materials[gpuFace(rs, hit.face).material]).behind > 0.0f)) break;
+        ray.tMin = continueRayAfter(hit.t);
+      }
     }
   });
   std::vector<uint32_t> faces;

@@ -296,7 +296,13 @@ struct GpuMaterial {
   float roughness = 0.8f;
   float metallic = 0.0f;
   uint32_t flags = 0; // kMaterial*
-  uint32_t pad[3] = {0, 0, 0};
+  // A liquid's blend with what lies behind it (lighting/liquids.h): its own colour's weight
+  // (the engine's alpha); what lies behind weighs 1 - opacity, or 1 with kMaterialBlendAdd.
+  // Read on kFaceLiquid faces only; 1 = opaque. Faithful mode reads `opacity`, physical mode
+  // `physicalOpacity` (the map's alpha, else the liquid's physical default).
+  float opacity = 1.0f;
+  float physicalOpacity = 1.0f;
+  uint32_t pad = 0;
 };
 static_assert(sizeof(GpuMaterial) == 64);
 static_assert(offsetof(GpuMaterial, averageAlbedo) == 0);
@@ -305,10 +311,13 @@ static_assert(offsetof(GpuMaterial, size) == 32);
 static_assert(offsetof(GpuMaterial, roughness) == 40);
 static_assert(offsetof(GpuMaterial, metallic) == 44);
 static_assert(offsetof(GpuMaterial, flags) == 48);
-static_assert(offsetof(GpuMaterial, pad) == 52);
+static_assert(offsetof(GpuMaterial, opacity) == 52);
+static_assert(offsetof(GpuMaterial, physicalOpacity) == 56);
+static_assert(offsetof(GpuMaterial, pad) == 60);
 
 constexpr uint32_t kMaterialSpecular = 1u; // has a PBR set (roughness/metallic map): GGX + diffuse
 constexpr uint32_t kMaterialEmissive = 2u; // has an emissive map with lit texels
+constexpr uint32_t kMaterialBlendAdd = 4u; // a liquid drawn additively (Quake 3 blendFunc add): behind weighs 1
 
 // One triangle of an emitting face, for next-event estimation by area.
 struct GpuEmitter {

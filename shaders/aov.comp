@@ -23,19 +23,40 @@ void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(pixel, camera.imageSize))) return;
   vec3 dir = cameraRayDirection(vec2(pixel) + 0.5);
-  SurfaceHit hit = traceVisible(camera.origin, dir);
-  if (!hit.found) {
-    imageStore(albedoImage, pixel, vec4(0.0));
-    imageStore(normalImage, pixel, vec4(0.0, 0.0, 0.0, uintBitsToFloat(0x7f800000u))); // +inf: GLSL leaves 1/0 undefined
-    imageStore(faceImage, pixel, uvec4(0u));
-    return;
+  // The first surface gives the normal, depth and face; a translucent liquid's albedo is
+  // blended over what lies behind it as the engine blends colours (renderer/cpu albedoAlong),
+  // the ray going on along the camera's line: one call of the traversal for all of it.
+  SurfaceHit hit;
+  vec3 veil = vec3(0.0), albedo;
+  float keep = 1.0, tMin = 0.0;
+  vec3 rayDir = dir;
+  for (bool first = true;; first = false) {
+    SurfaceHit s = traceVisibleFrom(camera.origin, rayDir, tMin);
+    if (first) hit = s;
+    if (!hit.found) {
+      imageStore(albedoImage, pixel, vec4(0.0));
+      imageStore(normalImage, pixel, vec4(0.0, 0.0, 0.0, uintBitsToFloat(0x7f800000u))); // +inf: GLSL leaves 1/0 undefined
+      imageStore(faceImage, pixel, uvec4(0u));
+      return;
+    }
+    albedo = vec3(0.0);
+    if (s.found) {
+      GpuFace f = faces[s.face];
+      GlMaterial m = materials[f.material];
+      // A sky face of a level with sky images shows them along the ray (sky.glsl).
+      bool sky = (faceFlags[s.face] & FACE_SKY) != 0u && world.skySize != 0u;
+      albedo = sky ? skyRadiance(dir) : srgbToLinear(materialBaseColor(m, faceUv(f, m, s.position)).rgb);
+    }
+    vec2 blend = s.found && (faceFlags[s.face] & FACE_LIQUID) != 0u ? liquidBlend(s.face) : vec2(1.0, 0.0);
+    if (!(blend.y > 0.0)) break;
+    veil += keep * blend.x * linearToSrgb(albedo);
+    keep *= blend.y;
+    vec3 toSurface = s.position - camera.origin;
+    tMin = length(toSurface) + SKIP_STEP;
+    rayDir = toSurface / length(toSurface);
   }
-  GpuFace f = faces[hit.face];
-  GlMaterial m = materials[f.material];
-  // A sky face of a level with sky images shows them along the ray (sky.glsl).
-  bool sky = (faceFlags[hit.face] & FACE_SKY) != 0u && world.skySize != 0u;
-  vec3 albedo = sky ? skyRadiance(dir) : srgbToLinear(materialBaseColor(m, faceUv(f, m, hit.position)).rgb);
+  if (veil != vec3(0.0) || keep != 1.0) albedo = srgbToLinear(veil + keep * linearToSrgb(albedo));
   imageStore(albedoImage, pixel, vec4(albedo, 1.0));
-  imageStore(normalImage, pixel, vec4(f.plane.xyz, hit.t));
+  imageStore(normalImage, pixel, vec4(faces[hit.face].plane.xyz, hit.t));
   imageStore(faceImage, pixel, uvec4(hit.face + 1u));
 }

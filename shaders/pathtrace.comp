@@ -324,6 +324,7 @@ vec3 faithfulDisplay(Path path) {
 // A surface ray's result. False when the path ends here. A faithful path is the camera ray's
 // surface only: the level's _bounce arrives there through its bounce lights (lighting/bounce.h).
 bool faithfulSurface(inout Path path, SurfaceHit hit) {
+  path.face = hit.found ? hit.face : NO_FACE, path.position = hit.position; // faithfulBehindLiquid's too
   if (!hit.found) return false;
   uint flags = faceFlags[hit.face];
   path.texture = baseColorAt(hit.face, hit.position).rgb;
@@ -342,8 +343,6 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
     path.radiance = srgbToLinear(max(path.texture * stored * lightmapDisplayScale(), path.fullbright));
     return false;
   }
-  path.face = hit.face;
-  path.position = hit.position;
   path.normal = hit.normal;
   path.lightSum = vec3(0.0);
   path.lightFloor = vec3(0.0);
@@ -368,6 +367,7 @@ bool faithfulPathEnd(inout Path path, inout Rng rng) {
   return false;
 }
 
+#include "liquids.glsl" // faithfulBehindLiquid, physicalPassesLiquid
 // ---- physical mode ---------------------------------------------------------------------
 
 // A light of the fixed list (light_select.glsl) at the current surface: suns get a ray, the
@@ -593,6 +593,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
       }
     } else {
       bool found = !gaveUp && hit.face != NO_FACE;
+      if (PHYSICAL && found && (flags & FACE_LIQUID) != 0u && physicalPassesLiquid(path, hit.face, rng)) return passOn(path, hit.t);
       vec3 position = path.origin + path.dir * hit.t;
       surface = SurfaceHit(found, hit.t, hit.face, position, vec3(0.0));
       if (found) surface.normal = faceNormal(hit.face);
@@ -618,9 +619,9 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     ended = skyShown || !(PHYSICAL ? physicalSurface(path, surface, le) : faithfulSurface(path, surface));
     path.lightIndex = 0u;
   }
-  if (ended) return false;
+  if (ended) return !PHYSICAL && faithfulBehindLiquid(path, !skyShown);
   if (nextLightRay(path, rng)) return true;
-  return PHYSICAL ? physicalBounce(path, rng) : faithfulPathEnd(path, rng);
+  return PHYSICAL ? physicalBounce(path, rng) : faithfulPathEnd(path, rng) || faithfulBehindLiquid(path, true);
 }
 
 // ---- the two forms of the loop ------------------------------------------------------------
@@ -638,6 +639,7 @@ Path cameraPath(ivec2 pixel, out Rng rng) {
   path.throughput = vec3(1.0);
   path.prevBsdfPdf = 0.0;
   path.radiance = vec3(0.0);
+  path.veil = vec4(0.0, 0.0, 0.0, 1.0);
   return path;
 }
 

@@ -59,6 +59,7 @@
 #define BT_GL_MATERIAL_HAS_NORMAL 2u
 #define BT_GL_MATERIAL_HAS_EMISSIVE 4u // an emissive map with lit texels
 #define BT_GL_MATERIAL_GGX 8u          // a PBR set: GGX + diffuse
+#define BT_GL_MATERIAL_BLEND_ADD 16u   // a liquid drawn additively (GlMaterial::opacity)
 
 // renderer/gl/gl_structs.h GlBvhNode child references.
 #define BT_GL_NO_CHILD 0u

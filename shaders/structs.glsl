@@ -55,6 +55,7 @@ const uint MATERIAL_HAS_BASE = BT_GL_MATERIAL_HAS_BASE;
 const uint MATERIAL_HAS_NORMAL = BT_GL_MATERIAL_HAS_NORMAL;
 const uint MATERIAL_HAS_EMISSIVE = BT_GL_MATERIAL_HAS_EMISSIVE;
 const uint MATERIAL_SPECULAR = BT_GL_MATERIAL_GGX;
+const uint MATERIAL_BLEND_ADD = BT_GL_MATERIAL_BLEND_ADD;
 
 // Texture references for both paths (bindless handles, or (array, layer) in the texture
 // arrays) and the shading parameters of renderer/cpu's GpuMaterial.
@@ -72,11 +73,12 @@ struct GlMaterial {
   uint flags;           // offset 56
   float roughness;      // offset 60
   float metallic;       // offset 64
-  uint pad0;            // offset 68
+  float opacity;        // offset 68: a liquid's blend (lighting/liquids.h), 1 = opaque
   uvec2 baseTexels;     // offset 72: each map's width and height in texels, which its array
   uvec2 normalTexels;   // offset 80  layer may exceed (textures.glsl); 0 where there is no map
   uvec2 emissiveTexels; // offset 88
-};                      // 96 bytes
+  vec4 liquid;          // offset 96: physical mode's liquid, rgb transmission tint, a opacity
+};                      // 112 bytes
 
 // scene/gpu_structs.h GpuLight, byte for byte (Quake light units, colours 0..1).
 const uint LIGHT_POINT = BT_LIGHT_POINT;

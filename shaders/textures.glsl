@@ -133,3 +133,16 @@ vec3 normalMapToWorld(vec3 local, vec3 s, vec3 t, vec3 n) {
 vec3 srgbToLinear(vec3 c) {
   return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), greaterThan(c, vec3(0.04045)));
 }
+// scene/color.h linearToSrgb: where a liquid is blended as the engine blends, in gamma space.
+#include "tonemap_constants.glsl"
+vec3 linearToSrgb(vec3 c) {
+  return mix(c * BT_SRGB_LINEAR_SLOPE, BT_SRGB_SCALE * pow(c, vec3(1.0 / BT_SRGB_GAMMA)) - BT_SRGB_OFFSET,
+             greaterThan(c, vec3(BT_SRGB_LINEAR_LIMIT)));
+}
+
+// lighting/liquids.h liquidBlend on a liquid face: (self, behind), the weights of the liquid's
+// own colour and of what lies behind it; behind is 0 for an opaque one.
+vec2 liquidBlend(uint face) {
+  GlMaterial m = materials[faces[face].material];
+  return vec2(m.opacity, (m.flags & MATERIAL_BLEND_ADD) != 0u ? 1.0 : 1.0 - m.opacity);
+}

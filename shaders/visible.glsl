@@ -17,8 +17,7 @@ struct SurfaceHit {
 vec3 offsetPoint(vec3 p, vec3 n) { return p + n * SURFACE_OFFSET; }
 vec3 faceNormal(uint face) { return faces[face].plane.xyz; }
 
-SurfaceHit traceVisible(vec3 origin, vec3 dir) {
-  float tMin = 0.0;
+SurfaceHit traceVisibleFrom(vec3 origin, vec3 dir, float tMin) {
   for (int i = 0; i < MAX_SKIPS; ++i) {
     Hit hit = traceRay(makeTraceRay(origin, dir, tMin, INFINITY), false, 0u);
     if (hit.face == NO_FACE) break;
@@ -28,6 +27,7 @@ SurfaceHit traceVisible(vec3 origin, vec3 dir) {
   }
   return SurfaceHit(false, 0.0, NO_FACE, vec3(0.0), vec3(0.0));
 }
+SurfaceHit traceVisible(vec3 origin, vec3 dir) { return traceVisibleFrom(origin, dir, 0.0); }
 
 // The pass word (trace.glsl blocksRay) of a ray on lighting channels `channels` (lighting
 // blocksLight): light passes hidden faces and liquids, in faithful mode brush entities without

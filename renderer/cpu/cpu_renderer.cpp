@@ -1,5 +1,6 @@
 #include "renderer/cpu/cpu_renderer.h"
 
+#include "lighting/liquids.h"
 #include "lighting/sky.h"
 
 #include "scene/color.h"
@@ -31,6 +32,32 @@ template <class RowFn> void forEachRow(int height, int threads, const RowFn& row
   parallelFor(size_t(std::max(height, 0)), unsigned(std::max(threads, 1)), [&](size_t y) { rowFn(int(y)); });
 }
 
+glm::vec3 surfaceAlbedo(const RenderScene& scene, const Ray& ray, const SurfaceHit& hit) {
+  if (!hit.found) return glm::vec3(0.0f);
+  const bool sky = (scene.faceFlags[hit.face] & kFaceSky) && scene.sky.size > 0; // its images along the ray
+  return sky ? skyRadiance(scene.sky, ray.direction) : srgbToLinear(glm::vec3(baseColorAt(scene, hit.face, hit.position)));
+}
+
+// The albedo at the camera ray's surface `hit`; a translucent liquid's blended over what lies
+// behind it as the engine blends colours (lighting/liquids.h, in their gamma space), going on
+// along the camera's line as aov.comp does.
+glm::vec3 albedoAlong(const RenderScene& scene, const Ray& ray, SurfaceHit hit) {
+  glm::vec3 veil(0.0f);
+  float keep = 1.0f;
+  for (bool veiled = false;; veiled = true) {
+    const glm::vec3 albedo = surfaceAlbedo(scene, ray, hit);
+    const LiquidBlend blend = hit.found && (scene.faceFlags[hit.face] & kFaceLiquid)
+        ? liquidBlend(scene.materials[gpuFace(scene, hit.face).material])
+        : LiquidBlend{};
+    if (!(blend.behind > 0.0f)) return veiled ? srgbToLinear(veil + keep * linearToSrgb(albedo)) : albedo;
+    veil += keep * blend.self * linearToSrgb(albedo);
+    keep *= blend.behind;
+    const glm::vec3 toSurface = hit.position - ray.origin;
+    const float t = glm::length(toSurface);
+    hit = traceVisible(scene, Ray{ray.origin, continueRayAfter(t), toSurface / t, std::numeric_limits<float>::infinity()});
+  }
+}
+
 void renderAovs(const RenderScene& scene, const Camera& camera, RenderImage& image, int threads) {
   forEachRow(image.height, threads, [&](int y) {
     for (int x = 0; x < image.width; ++x) {
@@ -38,8 +65,7 @@ void renderAovs(const RenderScene& scene, const Camera& camera, RenderImage& ima
       const Ray ray = camera.ray(float(x) + 0.5f, float(y) + 0.5f);
       const SurfaceHit hit = traceVisible(scene, ray);
       if (!hit.found) continue;
-      const bool sky = (scene.faceFlags[hit.face] & kFaceSky) && scene.sky.size > 0; // its images along the ray
-      image.albedo[i] = sky ? skyRadiance(scene.sky, ray.direction) : srgbToLinear(glm::vec3(baseColorAt(scene, hit.face, hit.position)));
+      image.albedo[i] = albedoAlong(scene, ray, hit);
       image.normal[i] = hit.normal;
       image.depth[i] = hit.t;
       image.face[i] = hit.face + 1;

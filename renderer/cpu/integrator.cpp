@@ -4,6 +4,7 @@
 #include "lighting/physical_light.h"
 
 #include "lighting/faithful.h"
+#include "lighting/liquids.h"
 #include "lighting/sky.h"
 #include "scene/color.h"
 
@@ -125,8 +126,9 @@ glm::vec3 faithfulLightAtHit(const RenderScene& rs, const IntegratorSettings& se
   return faithfulLight(rs, q, rng);
 }
 
-glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, Rng& rng) {
-  const SurfaceHit hit = traceVisible(rs, ray);
+// What the game draws at the camera ray's surface `hit`, linear.
+glm::vec3 faithfulSurfaceRadiance(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, const SurfaceHit& hit,
+                                  Rng& rng) {
   if (!hit.found) return glm::vec3(0.0f);
   const uint32_t flags = rs.faceFlags[hit.face];
   // A sky face of a level with sky images shows them by the ray's direction, as a miss would.
@@ -152,6 +154,40 @@ glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& sett
   // texture's (gamma) space; fullbright texels unlit.
   const glm::vec3 display = glm::max(texture * stored / rs.world.overbrightOne, emissiveAt(rs, hit.face, hit.position));
   return srgbToLinear(display);
+}
+
+// A translucent liquid's blend (lighting/liquids.h); opaque for every other face.
+LiquidBlend surfaceBlend(const RenderScene& rs, const SurfaceHit& hit) {
+  if (!hit.found || !(rs.faceFlags[hit.face] & kFaceLiquid)) return {};
+  return liquidBlend(rs.materials[gpuFace(rs, hit.face).material]);
+}
+
+LiquidBlend physicalSurfaceBlend(const RenderScene& rs, const SurfaceHit& hit) {
+  if (!hit.found || !(rs.faceFlags[hit.face] & kFaceLiquid)) return {};
+  return physicalLiquidBlend(rs.materials[gpuFace(rs, hit.face).material]);
+}
+
+// The camera ray's surface as the game draws it, and where it is a translucent liquid, blended
+// over what lies behind as the engine blends it: in the framebuffer's (the textures') gamma
+// space, display = self x liquid + behind x what lies behind. The ray goes on behind the liquid
+// along the camera's line through the point it met, as pathtrace.comp restarts it.
+glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, Rng& rng) {
+  glm::vec3 veil(0.0f);
+  float keep = 1.0f;
+  bool veiled = false;
+  Ray r = ray;
+  while (true) {
+    const SurfaceHit hit = traceVisible(rs, r);
+    const glm::vec3 l = faithfulSurfaceRadiance(rs, settings, r, hit, rng);
+    const LiquidBlend blend = surfaceBlend(rs, hit);
+    if (!(blend.behind > 0.0f)) return veiled ? srgbToLinear(veil + keep * linearToSrgb(l)) : l;
+    veil += keep * blend.self * linearToSrgb(l);
+    keep *= blend.behind;
+    veiled = true;
+    const glm::vec3 toSurface = hit.position - ray.origin;
+    const float t = glm::length(toSurface);
+    r = Ray{ray.origin, continueRayAfter(t), toSurface / t, std::numeric_limits<float>::infinity()};
+  }
 }
 
 // --- physical mode ------------------------------------------------------------------------
@@ -389,7 +425,18 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
   glm::vec3 l(0.0f), throughput(1.0f);
   float prevBsdfPdf = 0.0f; // 0: camera ray (no MIS weight on what it sees)
   for (int depth = 0;; ++depth) {
-    const SurfaceHit hit = traceVisible(rs, ray);
+    SurfaceHit hit = traceVisible(rs, ray);
+    // A translucent liquid is drawn with probability self / (self + behind), else the ray goes
+    // on behind it; weighted by self + behind, the mean is the engine's blend (physical opacity).
+    // Light that crosses it takes the liquid's tint (lighting/liquids.h liquidTint).
+    for (LiquidBlend blend = physicalSurfaceBlend(rs, hit); blend.behind > 0.0f; blend = physicalSurfaceBlend(rs, hit)) {
+      const float total = blend.self + blend.behind;
+      throughput *= total;
+      if (rng.next() * total < blend.self) break;
+      throughput *= liquidTint(rs.materials[gpuFace(rs, hit.face).material]);
+      ray.tMin = continueRayAfter(hit.t);
+      hit = traceVisible(rs, ray);
+    }
     if (!hit.found) break; // the void outside a level is black
     const uint32_t flags = rs.faceFlags[hit.face];
     if (flags & kFaceSky) {

@@ -1,5 +1,7 @@
 #include "renderer/gl/gl_lighting.h"
 
+#include "lighting/liquids.h"
+
 namespace bt::gl {
 
 GlLighting lightingFor(const RenderScene& rs) {
@@ -8,9 +10,13 @@ GlLighting lightingFor(const RenderScene& rs) {
   for (size_t f = 0; f < rs.faceFlags.size(); ++f) out.faceFlags[f] = gpuFaceWord(rs.faceFlags[f], objectChannels(rs, uint32_t(f)));
   // The CPU reference decides which materials are glossy or emissive; the GL tracer follows.
   out.materialFlags.reserve(rs.materials.size());
-  for (const bt::GpuMaterial& m : rs.materials)
+  for (const bt::GpuMaterial& m : rs.materials) {
     out.materialFlags.push_back(((m.flags & bt::kMaterialSpecular) ? kMaterialGgx : 0u) |
-                                ((m.flags & bt::kMaterialEmissive) ? kMaterialHasEmissive : 0u));
+                                ((m.flags & bt::kMaterialEmissive) ? kMaterialHasEmissive : 0u) |
+                                ((m.flags & bt::kMaterialBlendAdd) ? kMaterialBlendAddGl : 0u));
+    out.materialOpacity.push_back(m.opacity);
+    out.materialLiquid.push_back(glm::vec4(liquidTint(m), m.physicalOpacity));
+  }
   // Lights and emitters are uploaded as the CPU reference built them (scene/gpu_structs.h).
   out.lights = rs.lights;
   out.lightGrid = rs.lightGrid;

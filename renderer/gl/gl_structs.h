@@ -111,6 +111,7 @@ enum MaterialFlags : uint32_t {
   kMaterialHasNormal = BT_GL_MATERIAL_HAS_NORMAL,
   kMaterialHasEmissive = BT_GL_MATERIAL_HAS_EMISSIVE, // scene/gpu_structs.h kMaterialEmissive
   kMaterialGgx = BT_GL_MATERIAL_GGX,                  // scene/gpu_structs.h kMaterialSpecular
+  kMaterialBlendAddGl = BT_GL_MATERIAL_BLEND_ADD,     // scene/gpu_structs.h kMaterialBlendAdd
 };
 
 // A material as the shaders read it (shaders/structs.glsl GlMaterial): its textures on either
@@ -129,19 +130,20 @@ struct GlMaterial {
   uint32_t flags; // MaterialFlags
   float roughness;
   float metallic;
-  uint32_t pad0;
+  float opacity;           // scene/gpu_structs.h GpuMaterial::opacity (liquids)
   glm::uvec2 baseTexels;   // each map's Image width, height: the arrays path may store it in a
   glm::uvec2 normalTexels; // larger layer (gl_textures.h), and the shaders wrap at this size
   glm::uvec2 emissiveTexels;
+  glm::vec4 liquid; // physical mode's liquid: rgb the transmission tint, a GpuMaterial::physicalOpacity
 };
-static_assert(sizeof(GlMaterial) == 96);
+static_assert(sizeof(GlMaterial) == 112);
 static_assert(offsetof(GlMaterial, baseHandle) == 0 && offsetof(GlMaterial, normalHandle) == 8 &&
               offsetof(GlMaterial, emissiveHandle) == 16 && offsetof(GlMaterial, baseArray) == 24 &&
               offsetof(GlMaterial, baseLayer) == 28 && offsetof(GlMaterial, normalArray) == 32 && offsetof(GlMaterial, normalLayer) == 36 &&
               offsetof(GlMaterial, emissiveArray) == 40 && offsetof(GlMaterial, emissiveLayer) == 44 && offsetof(GlMaterial, size) == 48 &&
               offsetof(GlMaterial, flags) == 56 && offsetof(GlMaterial, roughness) == 60 && offsetof(GlMaterial, metallic) == 64 &&
-              offsetof(GlMaterial, pad0) == 68 && offsetof(GlMaterial, baseTexels) == 72 && offsetof(GlMaterial, normalTexels) == 80 &&
-              offsetof(GlMaterial, emissiveTexels) == 88);
+              offsetof(GlMaterial, opacity) == 68 && offsetof(GlMaterial, baseTexels) == 72 && offsetof(GlMaterial, normalTexels) == 80 &&
+              offsetof(GlMaterial, emissiveTexels) == 88 && offsetof(GlMaterial, liquid) == 96);
 
 // std140 uniform block `Camera` (shaders/camera.glsl), binding 0.
 struct GpuCamera {

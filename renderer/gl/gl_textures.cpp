@@ -137,6 +137,8 @@ void GlTextures::readMaterials(const Scene& scene) {
     g.size = {static_cast<float>(std::max(m.width, 1)), static_cast<float>(std::max(m.height, 1))};
     g.roughness = m.roughnessValue;
     g.metallic = m.metallicValue;
+    g.opacity = 1.0f; // the render scene's liquids set theirs (gl_tracer.cpp withShadingFlags)
+    g.liquid = glm::vec4(1.0f);
     if (!m.baseColor.empty()) g.flags |= kMaterialHasBase, g.baseTexels = texelsOf(m.baseColor);
     if (!m.normal.empty()) g.flags |= kMaterialHasNormal, g.normalTexels = texelsOf(m.normal);
     if (!m.emissive.empty()) g.flags |= kMaterialHasEmissive, g.emissiveTexels = texelsOf(m.emissive);

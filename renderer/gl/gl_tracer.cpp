@@ -20,10 +20,15 @@ namespace bt::gl {
 namespace {
 
 std::vector<GlMaterial> withShadingFlags(std::vector<GlMaterial> materials, const GlLighting& lighting) {
+  for (size_t i = 0; i < materials.size(); ++i) {
+    materials[i].opacity = i < lighting.materialOpacity.size() ? lighting.materialOpacity[i] : 1.0f;
+    materials[i].liquid = i < lighting.materialLiquid.size() ? lighting.materialLiquid[i] : glm::vec4(1.0f);
+  }
   if (lighting.materialFlags.empty()) return materials;
+  constexpr uint32_t kShading = kMaterialGgx | kMaterialHasEmissive | kMaterialBlendAddGl;
   for (size_t i = 0; i < materials.size() && i < lighting.materialFlags.size(); ++i) {
-    materials[i].flags &= ~(kMaterialGgx | kMaterialHasEmissive);
-    materials[i].flags |= lighting.materialFlags[i] & (kMaterialGgx | kMaterialHasEmissive);
+    materials[i].flags &= ~kShading;
+    materials[i].flags |= lighting.materialFlags[i] & kShading;
   }
   return materials;
 }

@@ -39,12 +39,15 @@ struct AovImages {
 // faces and materials, its light list and emitters, and the worldspawn lighting keys. The
 // render command fills it from lighting/render_scene.h's RenderScene, so both tracers light alike.
 struct GlLighting {
-  std::vector<uint32_t> faceFlags;     // per Scene face: scene/gpu_structs.h gpuFaceWord (kFace* and channels); empty = none
-  std::vector<uint32_t> materialFlags; // per material: kMaterialGgx / kMaterialHasEmissive overrides; empty = from the images
-  std::vector<GpuLight> lights;        // point lights, suns, domes
-  LightGrid lightGrid;                 // lighting/light_grid.h's lists over `lights`; no cells = built on upload
-  std::vector<GpuLight> surfaceLights; // per material: its _surface template (value 0 = none); empty = none
-  std::vector<GpuEmitter> emitters;    // triangles of emitting faces, cdf by area
+  std::vector<uint32_t> faceFlags; // per Scene face: scene/gpu_structs.h gpuFaceWord (kFace* and channels); empty = none
+  std::vector<uint32_t>
+      materialFlags; // per material: kMaterialGgx / kMaterialHasEmissive / kMaterialBlendAddGl overrides; empty = from the images
+  std::vector<float> materialOpacity;    // per material: GpuMaterial::opacity (liquids); empty = opaque
+  std::vector<glm::vec4> materialLiquid; // per material: GlMaterial::liquid (physical tint, opacity); empty = opaque
+  std::vector<GpuLight> lights;          // point lights, suns, domes
+  LightGrid lightGrid;                   // lighting/light_grid.h's lists over `lights`; no cells = built on upload
+  std::vector<GpuLight> surfaceLights;   // per material: its _surface template (value 0 = none); empty = none
+  std::vector<GpuEmitter> emitters;      // triangles of emitting faces, cdf by area
   float emitterArea = 0.0f;
   glm::vec3 minlight{0.0f};
   glm::vec3 ambient{0.0f};      // q3map2's `_ambient` (WorldLighting::ambient)

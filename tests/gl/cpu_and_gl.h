@@ -18,16 +18,16 @@ struct CpuAndGl {
   RenderImage cpu, gpu;
 };
 
-// width x height, 4 spp, seed 7, 2 bounces, from the level's default camera; the GL render must
-// report no GL error.
-inline CpuAndGl renderCpuAndGl(const Scene& scene, LightingMode mode, int width, int height) {
+// width x height, 4 spp (or `spp`), seed 7, 2 bounces, from the level's default camera; the GL
+// render must report no GL error.
+inline CpuAndGl renderCpuAndGl(const Scene& scene, LightingMode mode, int width, int height, int spp = 4) {
   Diagnostics diagnostics;
   const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
   const CameraPose pose = defaultCameraPose(scene);
   RenderSettings settings;
   settings.width = width;
   settings.height = height;
-  settings.spp = 4;
+  settings.spp = spp;
   settings.seed = 7;
   settings.integrator.mode = mode;
   settings.integrator.bounces = 2;

@@ -120,8 +120,8 @@ TEST(GlStructLayout, MaterialsAsTheShadersReadThem) {
                 MEMBER(GlMaterial, baseArray), MEMBER(GlMaterial, baseLayer), MEMBER(GlMaterial, normalArray),
                 MEMBER(GlMaterial, normalLayer), MEMBER(GlMaterial, emissiveArray), MEMBER(GlMaterial, emissiveLayer),
                 MEMBER(GlMaterial, size), MEMBER(GlMaterial, flags), MEMBER(GlMaterial, roughness), MEMBER(GlMaterial, metallic),
-                MEMBER(GlMaterial, pad0), MEMBER(GlMaterial, baseTexels), MEMBER(GlMaterial, normalTexels),
-                MEMBER(GlMaterial, emissiveTexels)},
+                MEMBER(GlMaterial, opacity), MEMBER(GlMaterial, baseTexels), MEMBER(GlMaterial, normalTexels),
+                MEMBER(GlMaterial, emissiveTexels), MEMBER(GlMaterial, liquid)},
                sizeof(GlMaterial));
 }
 

@@ -64,6 +64,17 @@ TEST(GlWavefrontMap, StartMapPhysicalWithEmitters) {
   expectFormsAgree(scene, true);
 }
 
+// Translucent water (maps/liquids/pool.map, `_wateralpha 0.5`): the faithful veil of the liquids
+// passed (Path::veil) is kept between dispatches; physical mode's pass through the liquids and
+// the glowing lava (pools.map) draw the same numbers in both forms.
+TEST(GlWavefrontMap, TranslucentWaterFaithful) {
+  expectFormsAgree(importScene((test::mapsDir() / "liquids/pool.map").string(), ImportOptions{}), false);
+}
+
+TEST(GlWavefrontMap, LiquidsPhysical) {
+  expectFormsAgree(importScene((test::mapsDir() / "liquids/pools.map").string(), ImportOptions{}), true);
+}
+
 // Faithful `_bounce` with more bounce lights in a cell than kBounceShadowRays: the draw among
 // them keeps its place in the path between the wavefront's dispatches (Path's bounce fields).
 TEST(GlWavefrontMap, ManyBounceLightsFaithful) {

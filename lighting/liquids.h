@@ -1,0 +1,63 @@
+// Liquids as the engines draw them: which liquid a face is, and how its surface blends with
+// what lies behind it (lighting/README.md, "Liquids"). Both tracers read the blend from the
+// face's material (GpuMaterial::opacity and kMaterialBlendAdd), only on kFaceLiquid faces.
+#pragma once
+
+#include "lighting/game_rules.h"
+#include "scene/gpu_structs.h"
+#include "scene/scene.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+namespace bt {
+
+// Quake's four kinds, by name as QuakeSpasm's Mod_LoadFaces tells them (SURF_DRAWLAVA, ...):
+// `*lava...`, `*slime...`, `*tele...`, any other liquid is water. Quake 2 by contents.
+enum class LiquidKind : uint8_t { Water, Slime, Lava, Tele };
+LiquidKind liquidKind(std::string_view texture, const SurfaceAttributes* surface);
+
+// The worldspawn's liquid alphas as QuakeSpasm reads them (gl_rmisc.c R_ParseWorldspawn: a
+// key's leading underscore is ignored, so `_wateralpha` and `wateralpha` both count): water
+// defaults to r_wateralpha's 1 (opaque), the other three to 0, which means "as water"
+// (GL_WaterAlphaForSurface). Values are clamped to 0..1 as the cvars are.
+struct LiquidAlphas {
+  float water = 1.0f, slime = 0.0f, lava = 0.0f, tele = 0.0f;
+  float of(LiquidKind kind) const;
+};
+LiquidAlphas liquidAlphas(const Scene& scene);
+
+// What a translucent liquid weighs in the image: the camera sees self x its colour + behind x
+// what lies behind it. Opaque: (1, 0).
+struct LiquidBlend {
+  float self = 1.0f;
+  float behind = 0.0f;
+};
+inline LiquidBlend liquidBlend(const GpuMaterial& m) {
+  return {m.opacity, (m.flags & kMaterialBlendAdd) ? 1.0f : 1.0f - m.opacity};
+}
+// Physical mode's: the same with GpuMaterial::physicalOpacity.
+inline LiquidBlend physicalLiquidBlend(const GpuMaterial& m) {
+  return {m.physicalOpacity, (m.flags & kMaterialBlendAdd) ? 1.0f : 1.0f - m.physicalOpacity};
+}
+
+// Physical mode's default opacity of a liquid the level leaves opaque: water lets half the
+// light through, slime a fifth; lava and teleporters stay opaque (they glow instead).
+inline constexpr float kPhysicalWaterOpacity = 0.5f;
+inline constexpr float kPhysicalSlimeOpacity = 0.8f;
+
+// Physical mode's tint of the light that crosses a liquid: its texture's mean linear colour
+// scaled so that its brightest channel is 1 (the hue, not the darkness, of the texture).
+glm::vec3 liquidTint(const GpuMaterial& m);
+
+// Sets the blend of every material that a liquid face (kFaceLiquid in faceFlags) uses, for
+// faithful mode (opacity) and physical mode (physicalOpacity: the level's alpha where it gives
+// one below 1, else kPhysicalWaterOpacity / kPhysicalSlimeOpacity / 1 by kind): Quake's
+// worldspawn alphas (Quake and Hexen II), Quake 2's SURF_TRANS33 / SURF_TRANS66 (0.33 / 0.66,
+// ref_gl R_DrawAlphaSurfaces; a texture's first liquid face decides). Other materials stay opaque.
+void applyLiquidBlends(const Scene& scene, const std::vector<uint32_t>& faceFlags, std::vector<GpuMaterial>& materials);
+
+} // namespace bt

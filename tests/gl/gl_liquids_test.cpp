@@ -1,0 +1,104 @@
+// The GL tracer on the liquid maps (maps/liquids/; tests/render/liquids_test.cpp holds the CPU
+// tracer to the engine's blend): `_wateralpha 0.5` water over a yellow floor, in the albedo AOV
+// and the beauty of both lighting modes, against the engine's rule and the CPU reference.
+#include "importers/import.h"
+#include "lighting/render_scene.h"
+#include "scene/color.h"
+#include "tests/gl/cpu_and_gl.h"
+#include "tests/gl/test_scenes.h"
+#include "tests/render/liquid_ranges.h"
+#include "tests/test_data.h"
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace bt::gl {
+namespace {
+
+constexpr int kWidth = 96;
+constexpr int kHeight = 64;
+const glm::vec3 kWaterSrgb = glm::vec3(40, 90, 200) / 255.0f; // generate.py's *water_blue
+
+test::CpuAndGl renderLiquids(const std::string& name, LightingMode mode, int spp) {
+  const Scene scene = importScene((test::mapsDir() / "liquids" / name).string(), ImportOptions{});
+  return test::renderCpuAndGl(scene, mode, kWidth, kHeight, spp);
+}
+
+// Pixels whose ray and its four neighbours' meet the same face as the centre's, a face that
+// `dry` does not have at that pixel (the water): jitter stays on the water.
+std::vector<size_t> waterPixels(const RenderImage& pool, const RenderImage& dry) {
+  std::vector<size_t> pixels;
+  for (int y = 1; y + 1 < kHeight; ++y)
+    for (int x = 1; x + 1 < kWidth; ++x) {
+      const size_t i = size_t(y) * kWidth + x;
+      const uint32_t f = pool.face[i];
+      if (f != 0 && f != dry.face[i] && pool.face[i - 1] == f && pool.face[i + 1] == f && pool.face[i - kWidth] == f &&
+          pool.face[i + kWidth] == f)
+        pixels.push_back(i);
+    }
+  return pixels;
+}
+
+glm::vec3 engineBlend(float alpha, const glm::vec3& waterSrgb, const glm::vec3& behindLinear) {
+  return srgbToLinear(alpha * waterSrgb + (1.0f - alpha) * linearToSrgb(behindLinear));
+}
+
+// Whether got is within tolerance of want in every channel; a failure names the pixel.
+bool expectNear(const glm::vec3& got, const glm::vec3& want, float tolerance, size_t pixel, const char* what) {
+  for (int c = 0; c < 3; ++c)
+    if (std::abs(got[c] - want[c]) > tolerance * want[c] + 1e-3f) {
+      ADD_FAILURE() << what << " at pixel " << pixel << " channel " << c << ": " << got[c] << ", the rule gives " << want[c];
+      return false;
+    }
+  return true;
+}
+
+// One sample a pixel, so that each pixel is one ray in both maps: the GL image's water is the
+// engine's blend of the water and the GL image of the pool without it, in beauty and albedo,
+// and both equal the CPU's.
+TEST(GlLiquids, FaithfulWaterIsTheEnginesBlend) {
+  const test::CpuAndGl pool = renderLiquids("pool.map", LightingMode::Faithful, 1);
+  const test::CpuAndGl dry = renderLiquids("pool_dry.map", LightingMode::Faithful, 1);
+  const std::vector<size_t> water = waterPixels(pool.gpu, dry.gpu);
+  ASSERT_GT(water.size(), size_t(kWidth * kHeight / 20)) << "the camera should look at the pool";
+  for (size_t i : water) {
+    const bool ok = expectNear(pool.gpu.beauty[i], engineBlend(0.5f, kWaterSrgb, dry.gpu.beauty[i]), 0.01f, i, "GL beauty") &&
+        expectNear(pool.gpu.albedo[i], engineBlend(0.5f, kWaterSrgb, dry.gpu.albedo[i]), 0.01f, i, "GL albedo") &&
+        expectNear(pool.gpu.beauty[i], pool.cpu.beauty[i], 0.01f, i, "GL against CPU beauty") &&
+        expectNear(pool.gpu.albedo[i], pool.cpu.albedo[i], 0.01f, i, "GL against CPU albedo");
+    if (!ok) break; // one pixel tells
+  }
+}
+
+// Physical mode's stochastic blend draws the same random numbers in both tracers: 97 % of the
+// pixels within 1 % of the CPU's, the means within 3 % (gl_engine_rules_test's tolerance).
+TEST(GlLiquids, PhysicalWaterAgreesWithTheCpu) {
+  const test::CpuAndGl pool = renderLiquids("pool.map", LightingMode::Physical, 4);
+  size_t close = 0;
+  glm::dvec3 gpuSum(0.0), cpuSum(0.0);
+  for (size_t i = 0; i < pool.cpu.beauty.size(); ++i) {
+    gpuSum += glm::dvec3(pool.gpu.beauty[i]);
+    cpuSum += glm::dvec3(pool.cpu.beauty[i]);
+    close += glm::length(pool.gpu.beauty[i] - pool.cpu.beauty[i]) <= 0.01f * glm::length(pool.cpu.beauty[i]) + 1e-3f;
+  }
+  EXPECT_GE(close, pool.cpu.beauty.size() * 97 / 100) << close << " of " << pool.cpu.beauty.size() << " pixels agree";
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(gpuSum[c], cpuSum[c], 0.03 * cpuSum[c] + 1e-6) << "channel " << c;
+  EXPECT_GT(cpuSum.x + cpuSum.y + cpuSum.z, 0.0) << "a black image proves nothing";
+}
+
+// pools.map's water, slime and lava in physical mode: the GL image agrees with the CPU's, and its
+// liquids land in the documented ranges (tests/render/liquid_ranges.h).
+TEST(GlLiquids, PhysicalLiquidsLookLikeThemselves) {
+  const Scene scene = importScene((test::mapsDir() / "liquids" / "pools.map").string(), ImportOptions{});
+  const test::CpuAndGl pools = test::renderCpuAndGl(scene, LightingMode::Physical, kWidth, kHeight, 16);
+  size_t close = 0;
+  for (size_t i = 0; i < pools.cpu.beauty.size(); ++i)
+    close += glm::length(pools.gpu.beauty[i] - pools.cpu.beauty[i]) <= 0.01f * glm::length(pools.cpu.beauty[i]) + 1e-3f;
+  EXPECT_GE(close, pools.cpu.beauty.size() * 97 / 100) << close << " of " << pools.cpu.beauty.size() << " pixels agree";
+  test::expectLiquidsInRange(scene, pools.gpu, "GL");
+}
+
+} // namespace
+} // namespace bt::gl
