@@ -285,35 +285,48 @@ std::vector<glm::vec3> shadowGroup(const LuxelBakeJob& job, size_t begin, size_t
 
 } // namespace
 
+namespace {
+
+// The luxels [begin, end) of one run, in fixed groups so that the result does not depend on which
+// thread takes which run. With a cache: chunks of up to kChunk luxels of one face share the lights
+// that light none of them, and groups of up to kGroup luxels of one face and one grid cell within
+// a chunk the lights hidden from or seen by all of them.
+void bakeRun(const RenderScene& rs, const LuxelBakeJob& job, size_t begin, size_t end, ShadowCache* cache, Lightmaps& lm) {
+  constexpr size_t kGroup = 8, kChunk = 64;
+  const auto faceOf = [&](size_t luxel) { return job.samples[luxel * job.samplesPerLuxel].face; };
+  const auto cellOf = [&](size_t luxel) {
+    const GpuLuxelSample& s = job.samples[luxel * job.samplesPerLuxel];
+    return rs.lightGrid.cellLights(glm::vec3(s.position[0], s.position[1], s.position[2]));
+  };
+  const auto together = [&](size_t a, size_t b) {
+    const std::span<const uint32_t> x = cellOf(a), y = cellOf(b);
+    return faceOf(a) == faceOf(b) && (x.data() == y.data() || std::equal(x.begin(), x.end(), y.begin(), y.end()));
+  };
+  for (size_t chunk = begin, chunkEnd; chunk < end; chunk = chunkEnd) {
+    chunkEnd = chunk + 1;
+    while (chunkEnd < end && chunkEnd - chunk < kChunk && faceOf(chunkEnd) == faceOf(chunk)) ++chunkEnd;
+    const glm::vec3 n(rs.scene->faces[faceOf(chunk)].plane.normal);
+    if (cache) prepareLuxelChunk(rs, shadowGroup(job, chunk, chunkEnd), n, *cache);
+    for (size_t group = chunk, groupEnd; group < chunkEnd; group = groupEnd) {
+      groupEnd = group + 1;
+      while (groupEnd < chunkEnd && groupEnd - group < kGroup && together(group, groupEnd)) ++groupEnd;
+      if (cache) prepareLuxelGroup(rs, shadowGroup(job, group, groupEnd), n, *cache);
+      for (size_t luxel = group; luxel < groupEnd; ++luxel) lm.luxels[luxel] = bakeLuxel(rs, job, luxel, cache);
+    }
+  }
+}
+
+} // namespace
+
 void bakeLightmaps(const RenderScene& rs, Lightmaps& lm, const LightmapBakeOptions& options) {
   const LuxelBakeJob job = luxelBakeJob(rs, lm, options);
   const std::vector<uint8_t> solid = options.shadowCache ? solidBlockers(rs) : std::vector<uint8_t>();
-  // Runs of neighbouring luxels (a face's rows) share a shadow cache, and groups of up to kGroup of them
-  // on one face the lights hidden from all of them: fixed runs and groups, so the result does not
-  // depend on which thread takes which.
-  constexpr size_t kRun = 256, kGroup = 8;
+  // Runs of neighbouring luxels (a face's rows) share a shadow cache.
+  constexpr size_t kRun = 256;
   parallelFor((lm.luxels.size() + kRun - 1) / kRun, options.threads, [&](size_t run) {
     std::optional<ShadowCache> cache;
     if (options.shadowCache) cache.emplace(rs, solid);
-    const size_t end = std::min(lm.luxels.size(), (run + 1) * kRun);
-    const auto faceOf = [&](size_t luxel) { return job.samples[luxel * job.samplesPerLuxel].face; };
-    const auto cellOf = [&](size_t luxel) {
-      const GpuLuxelSample& s = job.samples[luxel * job.samplesPerLuxel];
-      return rs.lightGrid.cellLights(glm::vec3(s.position[0], s.position[1], s.position[2]));
-    };
-    const auto together = [&](size_t a, size_t b) {
-      const std::span<const uint32_t> x = cellOf(a), y = cellOf(b);
-      return faceOf(a) == faceOf(b) && (x.data() == y.data() || std::equal(x.begin(), x.end(), y.begin(), y.end()));
-    };
-    for (size_t group = run * kRun, groupEnd; group < end; group = groupEnd) {
-      groupEnd = group + 1;
-      while (groupEnd < end && groupEnd - group < kGroup && together(group, groupEnd)) ++groupEnd;
-      if (cache) {
-        const std::vector<glm::vec3> points = shadowGroup(job, group, groupEnd);
-        prepareLuxelGroup(rs, points, glm::vec3(rs.scene->faces[faceOf(group)].plane.normal), *cache);
-      }
-      for (size_t luxel = group; luxel < groupEnd; ++luxel) lm.luxels[luxel] = bakeLuxel(rs, job, luxel, cache ? &*cache : nullptr);
-    }
+    bakeRun(rs, job, run * kRun, std::min(lm.luxels.size(), (run + 1) * kRun), cache ? &*cache : nullptr, lm);
   });
 }
 
