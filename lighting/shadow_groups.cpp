@@ -163,16 +163,11 @@ bool behindAll(const GpuLight& light, const glm::vec3& n, float nearest) {
 
 } // namespace
 
-void prepareLuxelChunk(const RenderScene& rs, std::span<const glm::vec3> points, const glm::vec3& n, ShadowCache& cache) {
+void prepareLuxelFace(const RenderScene& rs, const glm::vec3& n, float nearest, ShadowCache& cache) {
   cache.faceLights.clear();
-  cache.faceReady = false;
-  if (points.empty()) return;
-  const OriginBox box = originBox(points, n);
-  float nearest = std::numeric_limits<float>::infinity();
-  for (const glm::vec3& p : points) nearest = std::min(nearest, glm::dot(n, p));
   for (const std::span<const uint32_t> list : {rs.lightGrid.fixedLights(), rs.lightGrid.globalLights()})
     for (uint32_t i : list)
-      if (!behindAll(rs.lights[i], n, nearest) && !hiddenByRecentBlocker(rs, cache, i, box)) cache.faceLights.push_back(i);
+      if (!behindAll(rs.lights[i], n, nearest)) cache.faceLights.push_back(i);
   cache.faceReady = true;
 }
 
