@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace bt {
 
@@ -285,35 +286,60 @@ std::vector<glm::vec3> shadowGroup(const LuxelBakeJob& job, size_t begin, size_t
 
 } // namespace
 
+namespace {
+
+// Per scene face, the lowest height along its normal of its sample points (prepareLuxelFace).
+std::vector<float> faceNearest(const RenderScene& rs, const LuxelBakeJob& job) {
+  std::vector<float> nearest(rs.scene->faces.size(), std::numeric_limits<float>::infinity());
+  for (const GpuLuxelSample& s : job.samples) {
+    if (s.flags & kLuxelSampleOccluded) continue;
+    const glm::vec3 n(rs.scene->faces[s.face].plane.normal);
+    nearest[s.face] = std::min(nearest[s.face], glm::dot(n, glm::vec3(s.position[0], s.position[1], s.position[2])));
+  }
+  return nearest;
+}
+
+// The luxels [begin, end) of one run, in fixed groups so that the result does not depend on which
+// thread takes which run: with a cache, groups of up to kGroup luxels of one face and one grid cell
+// share the lights hidden from or seen by all of them, and a face's light list is made when the
+// face begins.
+void bakeRun(const RenderScene& rs, const LuxelBakeJob& job, const std::vector<float>& nearest, size_t begin, size_t end,
+             ShadowCache* cache, Lightmaps& lm) {
+  constexpr size_t kGroup = 8;
+  const auto faceOf = [&](size_t luxel) { return job.samples[luxel * job.samplesPerLuxel].face; };
+  const auto cellOf = [&](size_t luxel) {
+    const GpuLuxelSample& s = job.samples[luxel * job.samplesPerLuxel];
+    return rs.lightGrid.cellLights(glm::vec3(s.position[0], s.position[1], s.position[2]));
+  };
+  const auto together = [&](size_t a, size_t b) {
+    const std::span<const uint32_t> x = cellOf(a), y = cellOf(b);
+    return faceOf(a) == faceOf(b) && (x.data() == y.data() || std::equal(x.begin(), x.end(), y.begin(), y.end()));
+  };
+  uint32_t cacheFace = kNoFace;
+  for (size_t group = begin, groupEnd; group < end; group = groupEnd) {
+    groupEnd = group + 1;
+    while (groupEnd < end && groupEnd - group < kGroup && together(group, groupEnd)) ++groupEnd;
+    if (cache) {
+      const glm::vec3 n(rs.scene->faces[faceOf(group)].plane.normal);
+      if (faceOf(group) != cacheFace) cacheFace = faceOf(group), prepareLuxelFace(rs, n, nearest[cacheFace], *cache);
+      prepareLuxelGroup(rs, shadowGroup(job, group, groupEnd), n, *cache);
+    }
+    for (size_t luxel = group; luxel < groupEnd; ++luxel) lm.luxels[luxel] = bakeLuxel(rs, job, luxel, cache);
+  }
+}
+
+} // namespace
+
 void bakeLightmaps(const RenderScene& rs, Lightmaps& lm, const LightmapBakeOptions& options) {
   const LuxelBakeJob job = luxelBakeJob(rs, lm, options);
   const std::vector<uint8_t> solid = options.shadowCache ? solidBlockers(rs) : std::vector<uint8_t>();
-  // Runs of neighbouring luxels (a face's rows) share a shadow cache, and groups of up to kGroup of them
-  // on one face the lights hidden from all of them: fixed runs and groups, so the result does not
-  // depend on which thread takes which.
-  constexpr size_t kRun = 256, kGroup = 8;
+  const std::vector<float> nearest = options.shadowCache ? faceNearest(rs, job) : std::vector<float>();
+  // Runs of neighbouring luxels (a face's rows) share a shadow cache.
+  constexpr size_t kRun = 256;
   parallelFor((lm.luxels.size() + kRun - 1) / kRun, options.threads, [&](size_t run) {
     std::optional<ShadowCache> cache;
     if (options.shadowCache) cache.emplace(rs, solid);
-    const size_t end = std::min(lm.luxels.size(), (run + 1) * kRun);
-    const auto faceOf = [&](size_t luxel) { return job.samples[luxel * job.samplesPerLuxel].face; };
-    const auto cellOf = [&](size_t luxel) {
-      const GpuLuxelSample& s = job.samples[luxel * job.samplesPerLuxel];
-      return rs.lightGrid.cellLights(glm::vec3(s.position[0], s.position[1], s.position[2]));
-    };
-    const auto together = [&](size_t a, size_t b) {
-      const std::span<const uint32_t> x = cellOf(a), y = cellOf(b);
-      return faceOf(a) == faceOf(b) && (x.data() == y.data() || std::equal(x.begin(), x.end(), y.begin(), y.end()));
-    };
-    for (size_t group = run * kRun, groupEnd; group < end; group = groupEnd) {
-      groupEnd = group + 1;
-      while (groupEnd < end && groupEnd - group < kGroup && together(group, groupEnd)) ++groupEnd;
-      if (cache) {
-        const std::vector<glm::vec3> points = shadowGroup(job, group, groupEnd);
-        prepareLuxelGroup(rs, points, glm::vec3(rs.scene->faces[faceOf(group)].plane.normal), *cache);
-      }
-      for (size_t luxel = group; luxel < groupEnd; ++luxel) lm.luxels[luxel] = bakeLuxel(rs, job, luxel, cache ? &*cache : nullptr);
-    }
+    bakeRun(rs, job, nearest, run * kRun, std::min(lm.luxels.size(), (run + 1) * kRun), cache ? &*cache : nullptr, lm);
   });
 }
 

@@ -129,18 +129,8 @@ bool anyBrushNear(const TraceScene& ts, const Pyramid& p, float margin) {
   });
 }
 
-} // namespace
-
-void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points, const glm::vec3& n, ShadowCache& cache) {
-  cache.groupLights.clear();
-  cache.grouped = false;
-  if (points.empty()) return;
-  const LightGrid& grid = rs.lightGrid;
-  const std::span<const uint32_t> cell = grid.cellLights(points.front());
-  for (const glm::vec3& p : points) {
-    const std::span<const uint32_t> other = grid.cellLights(p);
-    if (other.data() != cell.data() && !std::equal(other.begin(), other.end(), cell.begin(), cell.end())) return; // no common list
-  }
+// The box around the ray origins of sample `points` (offsetRayOrigin, off a face of normal n).
+OriginBox originBox(std::span<const glm::vec3> points, const glm::vec3& n) {
   OriginBox box;
   box.n = n;
   box.u = glm::normalize(std::abs(n.x) < 0.6f ? glm::cross(n, glm::vec3(1, 0, 0)) : glm::cross(n, glm::vec3(0, 1, 0)));
@@ -152,6 +142,46 @@ void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points,
   }
   box.lo -= glm::vec3(1e-3f), box.hi += glm::vec3(1e-3f); // the frame's own rounding
   for (int k = 0; k < 8; ++k) box.world.grow(dvec3(box.corner(k)));
+  return box;
+}
+
+// Whether point light i (no jitter) is hidden from the whole box by the solid brush that last
+// blocked a ray toward it: solid brushes block every ray on the default shadow channel.
+bool hiddenByRecentBlocker(const RenderScene& rs, const ShadowCache& cache, uint32_t i, const OriginBox& box) {
+  const GpuLight& light = rs.lights[i];
+  if (light.type != uint32_t(LightType::Point) || light.deviance > 0.0f || light.shadowChannels != kDefaultChannels) return false;
+  const uint32_t slot = cache.recent[size_t(i) * ShadowCache::kRecent];
+  return slot != kNoFace && (*cache.solid)[slot] && brushHidesBox(rs, slot, box, light.origin);
+}
+
+// Behind the plane at height `nearest` along n by far more than rounding: pointLightValue gives 0
+// to every point at that height or above.
+bool behindAll(const GpuLight& light, const glm::vec3& n, float nearest) {
+  return light.type == uint32_t(LightType::Point) && light.deviance <= 0.0f && !(light.flags & kLightFlagBleed) &&
+      glm::dot(n, light.origin) < nearest - 1e-2f;
+}
+
+} // namespace
+
+void prepareLuxelFace(const RenderScene& rs, const glm::vec3& n, float nearest, ShadowCache& cache) {
+  cache.faceLights.clear();
+  for (const std::span<const uint32_t> list : {rs.lightGrid.fixedLights(), rs.lightGrid.globalLights()})
+    for (uint32_t i : list)
+      if (!behindAll(rs.lights[i], n, nearest)) cache.faceLights.push_back(i);
+  cache.faceReady = true;
+}
+
+void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points, const glm::vec3& n, ShadowCache& cache) {
+  cache.groupLights.clear();
+  cache.grouped = false;
+  if (points.empty()) return;
+  const LightGrid& grid = rs.lightGrid;
+  const std::span<const uint32_t> cell = grid.cellLights(points.front());
+  for (const glm::vec3& p : points) {
+    const std::span<const uint32_t> other = grid.cellLights(p);
+    if (other.data() != cell.data() && !std::equal(other.begin(), other.end(), cell.begin(), cell.end())) return; // no common list
+  }
+  const OriginBox box = originBox(points, n);
   float nearest = std::numeric_limits<float>::infinity();
   for (const glm::vec3& p : points) nearest = std::min(nearest, glm::dot(n, p));
   // Flat: the ray origins lie on one plane (to float rounding), the pyramid's base. Meshes are
@@ -161,12 +191,7 @@ void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points,
   const auto entry = [&](uint32_t i) -> uint32_t {
     const GpuLight& light = rs.lights[i];
     if (light.type != uint32_t(LightType::Point) || light.deviance > 0.0f) return i;
-    // Behind every point's plane (by far more than rounding): pointLightValue gives 0 to all.
-    if (!(light.flags & kLightFlagBleed) && glm::dot(n, light.origin) < nearest - 1e-2f) return kDropped;
-    const uint32_t slot = cache.recent[size_t(i) * ShadowCache::kRecent];
-    // A solid brush blocks every ray on the default shadow channel (solidBlockers).
-    if (slot != kNoFace && light.shadowChannels == kDefaultChannels && (*cache.solid)[slot] && brushHidesBox(rs, slot, box, light.origin))
-      return kDropped;
+    if (behindAll(light, n, nearest) || hiddenByRecentBlocker(rs, cache, i, box)) return kDropped;
     // Tried only where the last ray toward the light was not blocked: a proof that fails costs a
     // traversal, and lights that were blocked a luxel ago mostly are again.
     constexpr float kNearMargin = 1e-2f;
@@ -179,8 +204,12 @@ void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points,
     for (uint32_t i : lights)
       if (const uint32_t e = entry(i); e != kDropped) cache.groupLights.push_back(e);
   };
-  add(grid.fixedLights());
-  add(grid.globalLights());
+  if (cache.faceReady) {
+    add(cache.faceLights);
+  } else {
+    add(grid.fixedLights());
+    add(grid.globalLights());
+  }
   add(cell);
   cache.grouped = true;
 }

@@ -6,6 +6,14 @@
 //                neighbouring luxels are mostly shadowed from a light by the same few brushes of
 //                a wall, so a brush test or two settle most blocked rays (visibility.h
 //                blockedByBrush; on lqdm5 four brushes leave a third of the walks one leaves).
+//   faceLights   set by prepareLuxelFace for the sample points of one face: the grid's fixed and
+//                global lists less the point lights behind every point of the face, which the
+//                face's groups then sweep instead of all the level's (lqdm5: about half of its
+//                2,500 lights lie behind any one face). Exactly the lights a group drops as behind
+//                it, and fewer: the groups and so the luxels stay as they were. (Chunks of 64
+//                luxels that also dropped lights hidden from all of them by one brush changed
+//                luxels of falloff.map: groups may not cross a chunk, and other groups make other
+//                proofs, which differ where a ray grazes a tie; bench/README.md, session 14.)
 //   groupLights  set by prepareLuxelGroup for a group of neighbouring sample points of one face:
 //                the lights of pass 0 in the order they are summed, less the point lights that
 //                light none of the points (behind all of them, or hidden from all of them by one
@@ -35,6 +43,8 @@ struct ShadowCache {
   const std::vector<uint8_t>* solid; // visibility.h solidBlockers()
   std::vector<uint32_t> recent;      // kRecent TraceScene brush slots per light; kNoFace: none yet
   std::vector<uint8_t> lastSeen;     // per light: the last shadow ray toward it was not blocked
+  std::vector<uint32_t> faceLights;  // indices into rs.lights
+  bool faceReady = false;            // faceLights holds the current face's list
   std::vector<uint32_t> groupLights; // indices into rs.lights, with kSeenByAll
   bool grouped = false;              // groupLights holds the current group's list
 };
@@ -43,8 +53,13 @@ struct ShadowCache {
 // trying the light's recent blockers first; remembers what blocked it.
 bool cachedShadowed(const RenderScene& rs, ShadowCache& cache, uint32_t index, const Ray& ray);
 
+// Prepares cache.faceLights for the sample points of one face (normal n, one-sided) whose lowest
+// height along n is `nearest`, for the groups of that face that follow.
+void prepareLuxelFace(const RenderScene& rs, const glm::vec3& n, float nearest, ShadowCache& cache);
+
 // Prepares cache.groupLights for sample `points` of one face (normal n, one-sided). Leaves the
-// cache ungrouped where the points do not share one light list (two grid cells).
+// cache ungrouped where the points do not share one light list (two grid cells). Sweeps
+// cache.faceLights where faceReady (prepared for the points' face), else the grid's lists.
 void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points, const glm::vec3& n, ShadowCache& cache);
 
 } // namespace bt

@@ -70,6 +70,10 @@ TEST(ShadowGroups, OnlyStopLightLeaksOfTheLitOracleLevels) {
   }
   EXPECT_EQ(all.brighter, 0u);
   EXPECT_LE(double(all.darker), 0.0005 * double(all.luxels)) << all.darker << " of " << all.luxels;
+  // Pinned: a speed-up of the bake must not move a luxel, and one that changes which luxels share
+  // a group moves these leaks (falloff.map 3, e1m1 68, q1_surflight_minlight 15, testsurfacelight
+  // 91 at session 14). A change that stops more leaks on purpose updates it.
+  EXPECT_EQ(all.darker, 177u);
 }
 
 } // namespace
