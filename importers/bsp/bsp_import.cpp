@@ -323,10 +323,12 @@ Scene importBsp(const std::string& path, const ImportOptions& options) {
   MaterialResolver resolve = [&](Scene& scene) {
     // q3map2's light keys first: the early kinds of light (entitiesRead) need the sky shaders' suns.
     std::optional<GameFiles> quake3Files;
+    Quake3Shaders shaders; // read once, for the light keys and the images
     if (bsp.version == Version::Quake3_46) {
       quake3Files = quake3GameFiles(archive, options, install);
       std::vector<std::string> filesRead;
-      readQuake3ShaderLight(scene.materials, *quake3Files, scene.diagnostics, &filesRead);
+      shaders = readQuake3Shaders(*quake3Files, scene.diagnostics, &filesRead);
+      readQuake3ShaderLight(scene.materials, shaders, *quake3Files, scene.diagnostics, &filesRead);
       for (const std::string& file : filesRead) scene.addInputFile(file);
     }
     if (options.entitiesRead) options.entitiesRead(scene);
@@ -334,9 +336,8 @@ Scene importBsp(const std::string& path, const ImportOptions& options) {
       if (bsp.isQuake1Family()) decodeEmbeddedMiptex(bsp, scene, options.textures, install);
       if (quake3Files) {
         std::vector<std::string> filesRead;
-        std::map<std::string, std::string> skyBoxes;
-        resolveQuake3Materials(scene.materials, *quake3Files, scene.diagnostics, &filesRead, &skyBoxes);
-        loadQuake3Sky(scene, *quake3Files, skyBoxes, &filesRead);
+        resolveQuake3Materials(scene.materials, shaders, *quake3Files, scene.diagnostics, &filesRead);
+        loadQuake3Sky(scene, *quake3Files, shaders, &filesRead);
         for (const std::string& file : filesRead) scene.addInputFile(file);
       }
     }

@@ -1,5 +1,4 @@
 #include "importers/bsp/q3_textures.h"
-#include "importers/bsp/shader_lexer.h"
 #include "importers/textures/textures.h"
 #include "scene/names.h"
 
@@ -30,125 +29,18 @@ std::string stripExtension(const std::string& name) {
 
 } // namespace
 
-std::map<std::string, std::string> parseShaderImages(std::string_view scriptText) {
-  std::map<std::string, std::string> images;
-  ShaderLexer lex(scriptText);
-  while (true) {
-    const std::string_view name = lex.next();
-    if (name.empty()) break;
-    if (name == "{" || name == "}") continue; // stray brace: resynchronise
-    if (lex.next() != "{") continue;
-    std::string stageImage, editorImage;
-    int depth = 1;
-    while (depth > 0) {
-      const std::string_view token = lex.next();
-      if (token.empty()) break;
-      if (token == "{") {
-        ++depth;
-      } else if (token == "}") {
-        --depth;
-      } else {
-        const std::string keyword = lowercase(token);
-        if (depth == 1 && keyword == "qer_editorimage") {
-          editorImage = std::string(lex.next(true));
-        } else if (depth == 2 && stageImage.empty() && (keyword == "map" || keyword == "clampmap")) {
-          const std::string_view path = lex.next(true);
-          if (isImage(path)) stageImage = std::string(path);
-        } else if (depth == 2 && stageImage.empty() && keyword == "animmap") {
-          lex.next(true); // frequency
-          const std::string_view path = lex.next(true);
-          if (isImage(path)) stageImage = std::string(path);
-        }
-        lex.skipArguments();
-      }
-    }
-    const std::string& image = !stageImage.empty() ? stageImage : editorImage;
-    if (!image.empty()) images.try_emplace(lowercase(name), image);
-  }
-  return images;
-}
-
-std::map<std::string, AlphaTest> parseShaderAlphaTests(std::string_view scriptText) {
-  std::map<std::string, AlphaTest> tests;
-  ShaderLexer lex(scriptText);
-  while (true) {
-    const std::string_view name = lex.next();
-    if (name.empty()) break;
-    if (name == "{" || name == "}") continue; // stray brace: resynchronise
-    if (lex.next() != "{") continue;
-    AlphaTest test = AlphaTest::None;
-    for (int depth = 1; depth > 0;) {
-      const std::string_view token = lex.next();
-      if (token.empty()) break;
-      if (token == "{") {
-        ++depth;
-      } else if (token == "}") {
-        --depth;
-      } else {
-        // The first stage's alphaFunc decides what the depth buffer keeps; later ones blend over it.
-        if (depth == 2 && test == AlphaTest::None && lowercase(token) == "alphafunc") {
-          const std::string func = lowercase(lex.next(true));
-          test = func == "gt0" ? AlphaTest::Gt0 : func == "lt128" ? AlphaTest::Lt128 : func == "ge128" ? AlphaTest::Ge128 : test;
-        }
-        lex.skipArguments();
-      }
-    }
-    tests.try_emplace(lowercase(name), test);
-  }
-  return tests;
-}
-
-std::map<std::string, std::string> parseShaderSkyBoxes(std::string_view scriptText) {
-  std::map<std::string, std::string> boxes;
-  ShaderLexer lex(scriptText);
-  while (true) {
-    const std::string_view name = lex.next();
-    if (name.empty()) break;
-    if (name == "{" || name == "}") continue; // stray brace: resynchronise
-    if (lex.next() != "{") continue;
-    for (int depth = 1; depth > 0;) {
-      const std::string_view token = lex.next();
-      if (token.empty()) break;
-      if (token == "{") {
-        ++depth;
-      } else if (token == "}") {
-        --depth;
-      } else {
-        if (depth == 1 && lowercase(token) == "skyparms") {
-          const std::string_view farbox = lex.next(true);
-          boxes.try_emplace(lowercase(name), farbox == "-" ? std::string() : std::string(farbox));
-        }
-        lex.skipArguments();
-      }
-    }
-  }
-  return boxes;
-}
-
-void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& files, Diagnostics& diagnostics,
-                            std::vector<std::string>* filesRead, std::map<std::string, std::string>* skyBoxes) {
+void resolveQuake3Materials(std::vector<Material>& materials, const Quake3Shaders& shaders, const GameFiles& files,
+                            Diagnostics& diagnostics, std::vector<std::string>* filesRead) {
   auto noteRead = [&](std::string_view name) {
     if (!filesRead) return;
     if (const auto file = files.fileHolding(name)) filesRead->push_back(file->string());
   };
-  std::map<std::string, std::string> shaderImages;
-  std::map<std::string, AlphaTest> alphaTests;
-  for (const std::string& script : files.list("scripts", ".shader")) {
-    const auto bytes = files.read(script);
-    if (!bytes) continue;
-    noteRead(script);
-    const std::string_view text(reinterpret_cast<const char*>(bytes->data()), bytes->size());
-    for (auto& [name, image] : parseShaderImages(text)) shaderImages.try_emplace(name, image);
-    for (auto& [name, test] : parseShaderAlphaTests(text)) alphaTests.try_emplace(name, test);
-    if (skyBoxes)
-      for (auto& [name, box] : parseShaderSkyBoxes(text)) skyBoxes->try_emplace(name, box);
-  }
   for (Material& m : materials) {
     // Quake 3 draws an image's alpha only where the shader says how.
-    const auto test = alphaTests.find(lowercase(m.name));
-    m.alphaTest = test != alphaTests.end() ? test->second : AlphaTest::None;
+    const auto shader = shaders.find(lowercase(m.name));
+    m.alphaTest = shader != shaders.end() ? shader->second.alphaTest : AlphaTest::None;
     std::vector<std::string> candidates;
-    if (auto it = shaderImages.find(lowercase(m.name)); it != shaderImages.end()) candidates.push_back(stripExtension(it->second));
+    if (shader != shaders.end() && !shader->second.image.empty()) candidates.push_back(stripExtension(shader->second.image));
     candidates.push_back(stripExtension(m.name));
     for (const std::string& base : candidates) {
       for (const char* ext : {".tga", ".jpg", ".png"}) {
@@ -174,6 +66,11 @@ void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& f
       if (!m.missing()) break;
     }
   }
+}
+
+void resolveQuake3Materials(std::vector<Material>& materials, const GameFiles& files, Diagnostics& diagnostics,
+                            std::vector<std::string>* filesRead) {
+  resolveQuake3Materials(materials, readQuake3Shaders(files, diagnostics, filesRead), files, diagnostics, filesRead);
 }
 
 namespace {
@@ -236,18 +133,19 @@ std::vector<Material> flatSky(const Material& shader) {
 
 } // namespace
 
-void loadQuake3Sky(Scene& scene, const GameFiles& files, const std::map<std::string, std::string>& skyBoxes,
-                   std::vector<std::string>* filesRead) {
+void loadQuake3Sky(Scene& scene, const GameFiles& files, const Quake3Shaders& shaders, std::vector<std::string>* filesRead) {
   // A level has one sky shader in practice; ioquake3 would draw each one's box on its own faces.
   std::optional<uint32_t> shader;
-  for (const Face& face : scene.faces)
-    if (face.material < scene.materials.size() && skyBoxes.contains(lowercase(scene.materials[face.material].name))) {
-      shader = face.material;
-      break;
-    }
+  std::string farbox;
+  for (const Face& face : scene.faces) {
+    if (face.material >= scene.materials.size()) continue;
+    const auto it = shaders.find(lowercase(scene.materials[face.material].name));
+    if (it == shaders.end() || !it->second.skyBox) continue;
+    shader = face.material, farbox = *it->second.skyBox;
+    break;
+  }
   if (!shader) return;
   const std::string name = scene.materials[*shader].name;
-  const std::string& farbox = skyBoxes.at(lowercase(name));
   std::vector<std::string> missing;
   std::vector<Material> sides;
   if (!farbox.empty()) {

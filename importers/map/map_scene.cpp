@@ -418,7 +418,7 @@ std::vector<Material> readShaderLight(const MapDocument& doc, const std::string&
   bsp::GameFiles files;
   for (const std::string& dir : options.textures.textureDirs) files.addGameDir(dir, {".pk3"});
   for (const std::filesystem::path& dir : install.gameDirs) files.addGameDir(dir, {".pk3"});
-  bsp::readQuake3ShaderLight(materials, files, diagnostics, &filesRead);
+  bsp::readQuake3ShaderLight(materials, bsp::readQuake3Shaders(files, diagnostics, &filesRead), files, diagnostics, &filesRead);
   return materials;
 }
 

@@ -442,14 +442,14 @@ std::unique_ptr<Level> quake3SkyRoom(const Quake3Game& game) {
   for (Face& face : level->scene.faces) face.surface = SurfaceAttributes{0, 0x4, 0.0}; // SURF_SKY
   bsp::GameFiles files;
   files.addGameDir(game.dir);
-  std::map<std::string, std::string> boxes;
-  bsp::resolveQuake3Materials(level->scene.materials, files, level->scene.diagnostics, nullptr, &boxes);
+  const bsp::Quake3Shaders shaders = bsp::readQuake3Shaders(files, level->scene.diagnostics);
+  bsp::resolveQuake3Materials(level->scene.materials, shaders, files, level->scene.diagnostics);
   // The stage names no image file: the material keeps its image, stripes of two colours a
   // texel wide whose mean, (60, 60, 80), no face shows where the texture is mapped on it.
   Image& stripes = level->scene.materials[0].baseColor;
   for (size_t i = 0; i < stripes.rgba.size() / 4; ++i)
     if (i % 2) std::copy_n(std::array<uint8_t, 3>{30, 90, 10}.begin(), 3, stripes.rgba.begin() + ptrdiff_t(i * 4));
-  bsp::loadQuake3Sky(level->scene, files, boxes);
+  bsp::loadQuake3Sky(level->scene, files, shaders);
   Diagnostics diagnostics;
   level->render = buildRenderScene(level->scene, {}, diagnostics);
   return level;
