@@ -257,7 +257,12 @@ RenderImage renderAovs(const Scene& scene, const Camera& camera, bool showHidden
   options.showHidden = showHidden;
   options.bounceLights = false; // AOVs only: lq_e3m1's _bounce 3 would cost minutes of lighting
   Diagnostics diagnostics;
-  const RenderScene rs = buildRenderScene(scene, options, diagnostics);
+  RenderScene rs = buildRenderScene(scene, options, diagnostics);
+  // The first surface each pixel sees, liquids included: a translucent liquid's albedo is blended
+  // with what lies behind it, and there the .map import still differs from qbsp, which removes
+  // the faces of liquid brushes inside other liquids (q1_csg_water_eats_water, q2_chop_order_1).
+  // The import paths are compared on what they import.
+  for (GpuMaterial& m : rs.materials) m.opacity = m.physicalOpacity = 1.0f, m.flags &= ~kMaterialBlendAdd;
   return renderAovsCpu(rs, camera, kWidth, kHeight);
 }
 

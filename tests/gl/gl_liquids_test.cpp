@@ -17,6 +17,9 @@
 namespace bt::gl {
 namespace {
 
+using test::engineBlend;
+using test::expectNear;
+
 constexpr int kWidth = 96;
 constexpr int kHeight = 64;
 const glm::vec3 kWaterSrgb = glm::vec3(40, 90, 200) / 255.0f; // generate.py's *water_blue
@@ -39,20 +42,6 @@ std::vector<size_t> waterPixels(const RenderImage& pool, const RenderImage& dry)
         pixels.push_back(i);
     }
   return pixels;
-}
-
-glm::vec3 engineBlend(float alpha, const glm::vec3& waterSrgb, const glm::vec3& behindLinear) {
-  return srgbToLinear(alpha * waterSrgb + (1.0f - alpha) * linearToSrgb(behindLinear));
-}
-
-// Whether got is within tolerance of want in every channel; a failure names the pixel.
-bool expectNear(const glm::vec3& got, const glm::vec3& want, float tolerance, size_t pixel, const char* what) {
-  for (int c = 0; c < 3; ++c)
-    if (std::abs(got[c] - want[c]) > tolerance * want[c] + 1e-3f) {
-      ADD_FAILURE() << what << " at pixel " << pixel << " channel " << c << ": " << got[c] << ", the rule gives " << want[c];
-      return false;
-    }
-  return true;
 }
 
 // One sample a pixel, so that each pixel is one ray in both maps: the GL image's water is the

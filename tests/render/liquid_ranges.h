@@ -19,6 +19,21 @@
 
 namespace bt::test {
 
+// The engine's blend: alpha x water + (1 - alpha) x behind, in the framebuffer's gamma space.
+inline glm::vec3 engineBlend(float alpha, const glm::vec3& waterSrgb, const glm::vec3& behindLinear) {
+  return srgbToLinear(alpha * waterSrgb + (1.0f - alpha) * linearToSrgb(behindLinear));
+}
+
+// Whether got is within tolerance of want in every channel; a failure names the pixel.
+inline bool expectNear(const glm::vec3& got, const glm::vec3& want, float tolerance, size_t pixel, const char* what) {
+  for (int c = 0; c < 3; ++c)
+    if (std::abs(got[c] - want[c]) > tolerance * want[c] + 1e-3f) {
+      ADD_FAILURE() << what << " at pixel " << pixel << " channel " << c << ": " << got[c] << ", the rule gives " << want[c];
+      return false;
+    }
+  return true;
+}
+
 struct LiquidRange {
   const char* texture;
   glm::vec3 lo, hi;

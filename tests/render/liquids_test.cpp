@@ -22,6 +22,9 @@
 namespace bt {
 namespace {
 
+using test::engineBlend;
+using test::expectNear;
+
 constexpr int kWidth = 96;
 constexpr int kHeight = 64;
 const glm::vec3 kWaterSrgb = glm::vec3(40, 90, 200) / 255.0f; // generate.py's *water_blue
@@ -61,21 +64,6 @@ std::vector<size_t> waterPixels(const Level& level, const RenderImage& image) {
     for (int x = 1; x + 1 < kWidth; ++x)
       if (water(x, y) && water(x - 1, y) && water(x + 1, y) && water(x, y - 1) && water(x, y + 1)) pixels.push_back(size_t(y) * kWidth + x);
   return pixels;
-}
-
-// The engine's blend: alpha x water + (1 - alpha) x behind, in the framebuffer's gamma space.
-glm::vec3 engineBlend(float alpha, const glm::vec3& waterSrgb, const glm::vec3& behindLinear) {
-  return srgbToLinear(alpha * waterSrgb + (1.0f - alpha) * linearToSrgb(behindLinear));
-}
-
-// Whether got is within tolerance of want in every channel; a failure names the pixel.
-bool expectNear(const glm::vec3& got, const glm::vec3& want, float tolerance, size_t pixel, const char* what) {
-  for (int c = 0; c < 3; ++c)
-    if (std::abs(got[c] - want[c]) > tolerance * want[c] + 1e-3f) {
-      ADD_FAILURE() << what << " at pixel " << pixel << " channel " << c << ": " << got[c] << ", the rule gives " << want[c];
-      return false;
-    }
-  return true;
 }
 
 TEST(Liquids, WorldspawnAlphasAsQuakeSpasmReadsThem) {
