@@ -64,7 +64,8 @@ TEST(LightShares, AddUpToTheShownLightWhichIsTheTracersLight) {
 
 TEST(LightShares, EachLightsShareIsWhatItGivesAlone) {
   Diagnostics diags;
-  const RenderScene rs = buildRenderScene(test::manyLightsRoom(60, false, 5), {}, diags);
+  const Scene scene = test::manyLightsRoom(60, false, 5); // rs points at it
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
   int checked = 0;
   for (const SurfaceHit& hit : roomPoints(rs)) {
     Rng rng(1);

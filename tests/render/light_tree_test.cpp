@@ -42,7 +42,8 @@ void leafProbabilities(std::span<const LightTreeNode> nodes, uint32_t node, doub
 }
 
 TEST(LightTree, NodesBoundTheirLights) {
-  const RenderScene rs = buildRs(test::manyLightsRoom(200, true, 31));
+  const Scene scene = test::manyLightsRoom(200, true, 31); // rs points at it
+  const RenderScene rs = buildRs(scene);
   const std::vector<LightTreeNode>& nodes = rs.lightGrid.physicalTree;
   std::set<uint32_t> leaves;
   for (uint32_t i = 0; i < nodes.size(); ++i) {
@@ -74,7 +75,8 @@ TEST(LightTree, NodesBoundTheirLights) {
 // 1: the rest is where a node's bound lets the point see it and neither child's does (a sample
 // that finds no light, which only lights that cannot light the point would have used).
 TEST(LightTree, EveryLightThatLightsAPointCanBePicked) {
-  const RenderScene rs = buildRs(test::manyLightsRoom(200, true, 31));
+  const Scene scene = test::manyLightsRoom(200, true, 31); // rs points at it
+  const RenderScene rs = buildRs(scene);
   const std::vector<LightTreeNode>& nodes = rs.lightGrid.physicalTree;
   int points = 0, checked = 0;
   for (uint32_t k = 0; k < 300; ++k) {
@@ -138,7 +140,8 @@ std::vector<PixelStats> pixelStats(const RenderScene& rs, const Camera& camera, 
 // estimator fails one by chance about once in a thousand runs), and the whole image's mean
 // within 1 %. Direct light only (bounces 0): what a wrong pick changes, seen at its largest.
 TEST(LightTree, PictureConvergesToTheExhaustiveLoopInEveryPixel) {
-  const RenderScene rs = buildRs(test::manyLightsRoom(200, true, 31));
+  const Scene scene = test::manyLightsRoom(200, true, 31); // rs points at it
+  const RenderScene rs = buildRs(scene);
   const int width = 32, height = 16;
   const Camera camera(CameraPose{{-480.0f, -480.0f, 220.0f}, 20.0f, 45.0f, 0.0f, "test"}, width, height);
   const IntegratorSettings exhaustive{LightingMode::Physical, 0, false};
@@ -172,7 +175,8 @@ TEST(LightTree, PictureConvergesToTheExhaustiveLoopInEveryPixel) {
 // and PictureConvergesToTheExhaustiveLoopInEveryPixel holds the tree's.
 TEST(LightTree, LessNoisyThanTheNearListsInAHallOfManyLights) {
   constexpr double kNoiseFactor = 1.7;
-  const RenderScene rs = buildRs(test::manyLightsHall(600, 7));
+  const Scene scene = test::manyLightsHall(600, 7); // rs points at it
+  const RenderScene rs = buildRs(scene);
   ASSERT_GT(rs.lightGrid.physicalTree.size(), 1000u);
   const int width = 32, height = 16, spp = 48;
   const Camera camera(CameraPose{{-1950.0f, -150.0f, 150.0f}, 8.0f, 8.0f, 0.0f, "test"}, width, height);
