@@ -8,7 +8,9 @@
 //   mode 0: one primary ray through each pixel (coherent);
 //   mode 1: from each pixel's primary hit, one cosine-distributed bounce ray (incoherent),
 //           the kind the integrator spends most of its time on. Only the bounce rays are timed
-//           apart: the primary hit is read from the image mode 0 wrote.
+//           apart: the primary hit is read from the image mode 0 wrote;
+//   mode 2: the same bounce rays as shadow rays: any-hit queries of at most `shadowLength`,
+//           passing what physical mode's light passes (visible.glsl lightPassFlags(true)).
 #include "scene_buffers.glsl"
 #include "trace.glsl"
 #include "camera.glsl"
@@ -20,13 +22,14 @@ layout(rgba32f, binding = BT_IMAGE_PRIMARY_HITS) uniform image2D hits; // xyz: p
 layout(r32f, binding = BT_IMAGE_BOUNCE_T) uniform writeonly image2D bounceT;
 
 layout(location = 0) uniform uint mode;
+layout(location = 1) uniform float shadowLength;
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(pixel, camera.imageSize))) return;
   vec3 origin = camera.origin;
   vec3 dir = cameraRayDirection(vec2(pixel) + 0.5);
-  if (mode == 1u) {
+  if (mode != 0u) {
     vec4 primary = imageLoad(hits, pixel);
     if (primary.w == 0.0) return;
     vec3 n = faces[uint(primary.w) - 1u].plane.xyz;
@@ -34,8 +37,11 @@ void main() {
     origin = primary.xyz + n * BT_SURFACE_OFFSET;
     dir = sampleCosineHemisphere(n, rngNext2(rng));
   }
-  // One call site of the traversal for both modes (trace.glsl says why).
-  Hit hit = traceRay(makeTraceRay(origin, dir, 0.0, INFINITY), false, 0u);
+  // One call site of the traversal for every mode (trace.glsl says why).
+  bool shadow = mode == 2u;
+  uint passFlags = shadow ? FACE_HIDDEN | FACE_LIQUID | FACE_ANY_CHANNEL : 0u;
+  Hit hit = traceRay(makeTraceRay(origin, dir, 0.0, shadow ? shadowLength : INFINITY), shadow, passFlags);
   if (mode == 0u) imageStore(hits, pixel, vec4(origin + dir * hit.t, hit.face == NO_FACE ? 0.0 : float(hit.face + 1u)));
-  else imageStore(bounceT, pixel, vec4(hit.t));
+  else if (!shadow) imageStore(bounceT, pixel, vec4(hit.t));
+  else if (hit.face != NO_FACE) imageStore(bounceT, pixel, vec4(-hit.t)); // kept, so the query is not optimised away
 }

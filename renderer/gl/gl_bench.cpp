@@ -173,13 +173,16 @@ void firstImage(BenchRun& run, const LevelImport& importLevel, const GlBenchSett
 void benchRays(gl::GlTracer& tracer, const gl::CameraBasis& camera, const GlBenchSettings& s) {
   tracer.benchmarkRays(camera, s.width, s.height, 1);
   gl::RayBenchmark probe = tracer.benchmarkRays(camera, s.width, s.height, 1);
-  const double perPass = std::max(probe.primarySeconds + probe.bounceSeconds, 1e-4);
+  const double perPass = std::max(probe.primarySeconds + probe.bounceSeconds + probe.shadowSeconds, 1e-4);
   const int passes = std::max(1, static_cast<int>(s.seconds / 3.0 / perPass));
   const gl::RayBenchmark rays = tracer.benchmarkRays(camera, s.width, s.height, passes);
   fmt::print("primary rays: {:.2f} Mrays/s ({} passes of {})\n", rays.primaryRays * double(rays.passes) / rays.primarySeconds * 1e-6,
              rays.passes, rays.primaryRays);
   fmt::print("bounce rays:  {:.2f} Mrays/s ({} passes of {})\n", rays.bounceRays * double(rays.passes) / rays.bounceSeconds * 1e-6,
              rays.passes, rays.bounceRays);
+  fmt::print("shadow rays:  {:.2f} Mrays/s ({} passes of {}: the bounce rays as any-hit queries of at most {:.0f} units, their median "
+             "length)\n",
+             rays.bounceRays * double(rays.passes) / rays.shadowSeconds * 1e-6, rays.passes, rays.bounceRays, rays.shadowLength);
 }
 
 // Full samples in one lighting mode with one form of the path tracer. A sample's cost varies

@@ -323,6 +323,15 @@ RayBenchmark GlTracer::benchmarkRays(const CameraBasis& camera, int width, int h
   const auto primary = hits.read<float>(width, height, GL_RGBA, GL_FLOAT, 4);
   for (size_t i = 0; i < result.primaryRays; ++i) result.bounceRays += primary[4 * i + 3] != 0.0f;
   result.bounceSeconds = run(1);
+  BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
+  std::vector<float> lengths = bounceT.read<float>(width, height, GL_RED, GL_FLOAT, 1);
+  std::erase_if(lengths, [](float t) { return !(t > 0.0f && t < 1e30f); }); // misses and pixels without a bounce ray
+  if (!lengths.empty()) {
+    std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+    result.shadowLength = lengths[lengths.size() / 2];
+  }
+  BT_GL(glProgramUniform1f(program, 1, result.shadowLength));
+  result.shadowSeconds = run(2);
   return result;
 }
 

@@ -88,6 +88,10 @@ struct RayBenchmark {
   int passes = 0;
   double primarySeconds = 0.0; // all passes
   double bounceSeconds = 0.0;
+  // The bounce rays again as shadow rays (any hit) of at most shadowLength: the median distance
+  // to the bounce rays' hits, so that about half of them are blocked.
+  float shadowLength = 0.0f;
+  double shadowSeconds = 0.0;
 };
 
 struct ProgramBuild {
@@ -141,7 +145,8 @@ public:
   void addSample(const CameraBasis& camera, const BeautySettings& settings, unsigned sum, uint32_t sampleIndex);
 
   // Times closest-hit queries alone (shaders/raybench.comp): `passes` frames of primary rays,
-  // then `passes` frames of one cosine bounce ray from each primary hit.
+  // then `passes` frames of one cosine bounce ray from each primary hit, then those bounce rays
+  // as shadow rays (RayBenchmark::shadowLength says how long).
   RayBenchmark benchmarkRays(const CameraBasis& camera, int width, int height, int passes);
   // Replaces faithful mode's baked luxels (GlLighting::lightmaps, packed; empty for none): a bake
   // made after the upload (gl_bench, a viewer that bakes as the camera moves).
