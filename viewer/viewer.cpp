@@ -47,6 +47,7 @@ Viewer::Impl::Impl(ViewerOptions o)
 Viewer::Impl::~Impl() {
   // GL objects before the window's context.
   display.reset();
+  denoiser.reset();
   tonemap.reset();
   preview.reset();
   full.reset();
@@ -291,6 +292,12 @@ bool Viewer::reloading() const {
 }
 bool Viewer::hasLevel() const {
   return impl_->level != nullptr;
+}
+void Viewer::setDenoise(bool on) {
+  impl_->denoise = on;
+}
+bool Viewer::denoising() const {
+  return impl_->denoise;
 }
 ViewMode Viewer::mode() const {
   return impl_->mode;

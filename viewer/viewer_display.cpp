@@ -1,5 +1,7 @@
 #include "viewer/viewer_impl.h"
 
+#include "renderer/denoise.h"
+
 namespace bt {
 
 namespace fs = std::filesystem;
@@ -68,7 +70,7 @@ void Viewer::Impl::renderSample() {
     display.reset(); // nothing to show but the error
     return;
   }
-  if (mode != ViewMode::Beauty) {
+  if (mode != ViewMode::Beauty && mode != ViewMode::LightOnly) {
     renderAovsIfNeeded();
     showRgba(aovs.width, aovs.height, aovRgba(aovs, mode));
     return;
@@ -88,8 +90,50 @@ void Viewer::Impl::renderSample() {
   }
   if (difference && !moving)
     showDifferenceImage();
-  else
+  else if (shownOnCpu(image.samples())) {
+    exposureOf(image); // physical mode's exposure follows the raw image, as render's does
+    showImage(shownImage(meanImage(image), image.samples()));
+  } else
     showSum(image);
+}
+
+bool Viewer::Impl::shownOnCpu(int spp) const {
+  return mode == ViewMode::LightOnly || (mode == ViewMode::Beauty && denoiserShare(spp) > 0.0f);
+}
+
+float Viewer::Impl::denoiserShare(int spp) const {
+  return denoise && lighting == LightingMode::Physical && !compiled && !difference ? denoiseShare(std::max(spp, 1)) : 0.0f;
+}
+
+const RenderImage& Viewer::Impl::aovsOfSize(int width, int height) {
+  if (width == options.width && height == options.height) {
+    renderAovsIfNeeded();
+    return aovs;
+  }
+  // The half-size preview while the camera moves: one ray a pixel, cheap beside its sample.
+  previewAovs = cpu ? renderAovsCpu(level->render, Camera(pose(), width, height), width, height)
+                    : aovImage(level->tracer->renderAovs(basis(width, height), width, height));
+  return previewAovs;
+}
+
+RenderImage Viewer::Impl::shownImage(RenderImage mean, int spp) {
+  const RenderImage& guide = aovsOfSize(mean.width, mean.height);
+  std::vector<glm::vec3> raw = std::move(mean.beauty);
+  mean = guide;
+  mean.samples = std::max(spp, 1);
+  mean.beauty = std::move(raw);
+  if (mode == ViewMode::LightOnly) {
+    mean.beauty = lightAlone(mean, lighting != LightingMode::Physical);
+  } else if (const float share = denoiserShare(spp); mode == ViewMode::Beauty && share > 0.0f) {
+    if (!cpu && !denoiser) denoiser = std::make_unique<gl::DenoisePass>();
+    const std::vector<glm::vec3> denoised = cpu ? bt::denoise(mean) : gl::denoiseWithGl(mean, *denoiser);
+    mean.beauty = fadeDenoised(mean.beauty, denoised, share);
+  }
+  return mean;
+}
+
+void Viewer::Impl::showImage(const RenderImage& image) {
+  showRgba(image.width, image.height, rgbToRgba(displayPixels(image, displayOutput())));
 }
 
 const gl::GlTexture2D& Viewer::Impl::displayOfSize(int width, int height) {
@@ -123,20 +167,25 @@ void Viewer::Impl::refineOnCpu() {
   integrator.mode = lighting;
   integrator.bounces = options.bounces;
   samplesThisFrame = double(image.refine(level->render, view, integrator, kCpuFrameBudget, moving ? 1 : options.maxSamples));
-  showRgba(image.width(), image.height(), rgbToRgba(displayPixels(image.mean(), displayOutput())));
+  // A pass under way: its rows have one sample more, which the denoiser's strength need not tell.
+  const int spp = std::max(image.samples(), 1);
+  showImage(shownOnCpu(spp) ? shownImage(image.mean(), spp) : image.mean());
 }
 
 OverlayContent Viewer::Impl::overlayContent() const {
   OverlayContent c;
   if (level) {
-    const char* modeName = mode == ViewMode::Beauty ? "beauty" : mode == ViewMode::Albedo ? "albedo" : "normal";
     const char* lightingName = difference    ? "compiled vs faithful (black 0, blue 8, green 16, yellow 24, red 32+ levels)"
         : compiled                           ? "compiled"
         : lighting == LightingMode::Faithful ? "faithful"
                                              : "physical";
     const char* tracer = cpu ? "CPU tracer" : gl::toString(level->tracer->textureMode());
-    c.status.push_back(fmt::format("{} | {} lighting | {}", modeName, lightingName, tracer));
+    c.status.push_back(fmt::format("{} | {} lighting | {}", toString(mode), lightingName, tracer));
     c.status.push_back(fmt::format("spp {} | {:.2f} Msamples/s", samples(), samplesPerSecond * 1e-6));
+    if (lighting == LightingMode::Physical && !compiled && !difference)
+      c.status.push_back(denoise ? fmt::format("denoiser on: {:.0f} % denoised (full to {} spp, none from {})",
+                                               100.0f * denoiserShare(samples()), kDenoiseFullUntil, kDenoiseGoneAt)
+                                 : std::string("denoiser off (N)"));
     if (cpuBake && lighting == LightingMode::Faithful && !cpuBake->done()) c.status.push_back("baking luxels on the CPU");
     if (bake && lighting == LightingMode::Faithful && !bake->done())
       c.status.push_back(fmt::format("baking luxels: pass {} of {}", bake->passesDone(), std::max(bake->passes(), 1)));
@@ -149,8 +198,9 @@ OverlayContent Viewer::Impl::overlayContent() const {
   if (!level) c.picked.clear();
   if (cpu) c.status.insert(c.status.begin(), cpuReason);
   c.hints.push_back(fmt::format("RMB look, WASD move, Q/E down/up, wheel fwd, RMB+wheel speed ({:.0f})", camera.speed));
-  c.hints.push_back("1 beauty 2 albedo 3 normal | 4 faithful 5 physical 6 compiled 7 difference | F12 screenshot | click: face | Ctrl+C "
-                    "copy camera, Ctrl+Shift+C its file:line | L markers | Ctrl/Alt+0-9 bookmarks | F1 overlay");
+  c.hints.push_back(
+      "1 lit 2 fullbright 3 normals 8 light only 9 flat | 4 faithful 5 physical 6 compiled 7 difference | N denoiser | F12 "
+      "screenshot | click: face | Ctrl+C copy camera, Ctrl+Shift+C its file:line | L markers | Ctrl/Alt+0-9 bookmarks | F1 overlay");
   if (!notice.empty()) c.messages.push_back({OverlayMessage::Kind::Warning, notice});
   if (!error.empty())
     c.messages.push_back({OverlayMessage::Kind::Error, (level ? "reload failed: " : "cannot load the level (save a fix): ") + error});

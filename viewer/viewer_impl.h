@@ -12,6 +12,7 @@
 #include "renderer/image_output.h"
 #include "lighting/render_scene.h"
 #include "renderer/gl/gl_bake.h"
+#include "renderer/gl/gl_denoise.h"
 #include "renderer/gl/gl_error.h"
 #include "renderer/gl/gl_level.h"
 #include "renderer/gl/gl_progressive.h"
@@ -70,10 +71,13 @@ struct Viewer::Impl {
   std::unique_ptr<gl::ProgressiveImage> full;
   std::unique_ptr<gl::ProgressiveImage> preview;
   std::unique_ptr<gl::TonemapPass> tonemap;
-  ExposureSmoother autoExposure; // physical mode's exposure, followed from frame to frame
+  std::unique_ptr<gl::DenoisePass> denoiser; // the GL window's, made at its first use
+  ExposureSmoother autoExposure;             // physical mode's exposure, followed from frame to frame
   bool moving = false;
   RenderImage aovs; // of the current view, for the albedo/normal modes and screenshots
   bool aovsCurrent = false;
+  RenderImage previewAovs;                  // of the half-size preview, while the camera moves
+  bool denoise = options.denoise;           // key N
   std::unique_ptr<gl::GlTexture2D> display; // RGBA8, what is on screen (scaled to the window)
 
   std::string error;    // why the level on screen is not the files' (or why none is)
@@ -181,6 +185,13 @@ struct Viewer::Impl {
   const gl::GlTexture2D& displayOfSize(int width, int height);
 
   void showSum(const gl::ProgressiveImage& image);
+  // The light-only view and physical mode's young image are made on the CPU from the mean and the
+  // AOVs (view_modes.h): whether the current view at `spp` is one of them, and its image.
+  bool shownOnCpu(int spp) const;
+  float denoiserShare(int spp) const; // 0 when the denoiser is off or the view is not physical
+  const RenderImage& aovsOfSize(int width, int height);
+  RenderImage shownImage(RenderImage mean, int spp);
+  void showImage(const RenderImage& image);
 
   // Physical mode is exposed as `render` exposes it (renderer/exposure.h), from a read-back of
   // the image a few times a second, smoothed so the picture does not pump.

@@ -38,8 +38,11 @@ void Viewer::Impl::actOnKey(int key) {
   if (key == GLFW_KEY_F12) screenshotWithFeedback();
   if (!level) return; // the keys below change the view of a level
   if (key == GLFW_KEY_1) setMode(ViewMode::Beauty);
-  if (key == GLFW_KEY_2) setMode(ViewMode::Albedo);
+  if (key == GLFW_KEY_2) setMode(ViewMode::Fullbright);
   if (key == GLFW_KEY_3) setMode(ViewMode::Normal);
+  if (key == GLFW_KEY_8) setMode(ViewMode::LightOnly);
+  if (key == GLFW_KEY_9) setMode(ViewMode::Flat);
+  if (key == GLFW_KEY_N) denoise = !denoise;
   if (key == GLFW_KEY_4) setLighting(LightingMode::Faithful);
   if (key == GLFW_KEY_5) setLighting(LightingMode::Physical);
   if (key == GLFW_KEY_6) showCompiled();
@@ -83,8 +86,13 @@ fs::path Viewer::Impl::takeScreenshot() {
   RenderImage image = aovs;
   image.samples = std::max(samples(), 1);
   image.beauty = cpu ? cpuFull->mean().beauty : full->readMean(); // black before the first sample
+  // What is on screen: the light alone, or the young physical image denoised (the EXR too).
+  if (shownOnCpu(samples())) image = shownImage(std::move(image), samples());
   OutputSettings output = displayOutput();
-  output.aov = mode == ViewMode::Beauty ? Aov::Beauty : mode == ViewMode::Albedo ? Aov::Albedo : Aov::Normal;
+  output.aov = mode == ViewMode::Fullbright ? Aov::Albedo
+      : mode == ViewMode::Normal            ? Aov::Normal
+      : mode == ViewMode::Flat              ? Aov::Face
+                                            : Aov::Beauty;
   return writeScreenshot(options.screenshotDir, fs::path(options.map).stem().string(), image, output);
 }
 
