@@ -32,9 +32,14 @@ RenderImage aovImage(const gl::AovImages& aovs) {
 }
 
 std::vector<uint8_t> aovRgba(const RenderImage& image, ViewMode mode) {
+  if (mode == ViewMode::Flat) {
+    OutputSettings face;
+    face.aov = Aov::Face;
+    return rgbToRgba(displayPixels(image, face));
+  }
   std::vector<uint8_t> rgba(image.albedo.size() * 4);
   for (size_t i = 0; i < image.albedo.size(); ++i) {
-    glm::vec3 c = mode == ViewMode::Albedo ? linearToSrgb(image.albedo[i]) : image.normal[i] * 0.5f + 0.5f;
+    glm::vec3 c = mode == ViewMode::Fullbright ? linearToSrgb(image.albedo[i]) : image.normal[i] * 0.5f + 0.5f;
     if (mode == ViewMode::Normal && image.face[i] == 0) c = glm::vec3(0.0f);
     rgba[i * 4 + 0] = toByte(c.r);
     rgba[i * 4 + 1] = toByte(c.g);

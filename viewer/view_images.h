@@ -4,6 +4,7 @@
 
 #include "renderer/gl/gl_tracer.h"
 #include "renderer/render.h"
+#include "viewer/view_modes.h"
 
 #include <cstdint>
 #include <filesystem>
@@ -12,13 +13,11 @@
 
 namespace bt {
 
-enum class ViewMode;
-
 // The GL tracer's AOVs as the CPU tracer's RenderImage holds them (beauty left empty).
 RenderImage aovImage(const gl::AovImages& aovs);
 
-// The albedo or normal view of `image` as display bytes (RGBA8, rows top to bottom), converted as
-// the render command's PNGs are; nothing hit is black in the normal view.
+// The fullbright, normal or flat view of `image` as display bytes (RGBA8, rows top to bottom), as
+// render --aov albedo, normal and face write them; nothing hit is black in the normal view.
 std::vector<uint8_t> aovRgba(const RenderImage& image, ViewMode mode);
 
 // RGB display bytes (displayPixels) as the window's RGBA8.

@@ -17,6 +17,7 @@
 #include "renderer/gl/gl_textures.h"
 #include "viewer/overlay.h"
 #include "viewer/picking.h"
+#include "viewer/view_modes.h"
 
 #include <filesystem>
 #include <memory>
@@ -25,8 +26,6 @@
 #include <vector>
 
 namespace bt {
-
-enum class ViewMode { Beauty, Albedo, Normal };
 
 // Which tracer draws the window: Auto takes the GL tracer unless the window's GL is emulated on
 // the CPU (llvmpipe), where the CPU tracer is several times faster; as `render --backend`.
@@ -52,6 +51,7 @@ struct ViewerOptions {
   bool luxels = true;                  // faithful mode: the compiler's luxels, baked on the GPU (render's --luxels)
   LightmapBakeOptions bake;            // their --extra
   std::filesystem::path bookmarksFile; // camera bookmarks (viewer/bookmarks.h); empty: this session only
+  bool denoise = true;                 // physical mode shows the denoised image while it is young (key N; view_modes.h)
 };
 
 class Viewer {
@@ -68,6 +68,8 @@ public:
   bool frame();
 
   void setMode(ViewMode mode);
+  void setDenoise(bool on); // key N
+  bool denoising() const;   // physical mode's young image is denoised (view_modes.h denoiseShare)
   void setLighting(LightingMode mode);
   // The level's compiled lightmaps as its engine shows them (key 6); false when it has none
   // (notice() says why and faithful lighting stays).

@@ -48,6 +48,11 @@ void DenoisePass::run(const GlTexture2D& beauty, float scale, int samples, const
 }
 
 std::vector<glm::vec3> denoiseWithGl(const RenderImage& image) {
+  DenoisePass pass;
+  return denoiseWithGl(image, pass);
+}
+
+std::vector<glm::vec3> denoiseWithGl(const RenderImage& image, DenoisePass& pass) {
   const int width = image.width, height = image.height;
   const size_t n = size_t(width) * size_t(height);
   std::vector<float> beauty(n * 4), albedo(n * 4), normalDepth(n * 4);
@@ -64,7 +69,7 @@ std::vector<glm::vec3> denoiseWithGl(const RenderImage& image) {
   upload(sum, beauty);
   upload(albedoTexture, albedo);
   upload(normalDepthTexture, normalDepth);
-  DenoisePass().run(sum, 1.0f, image.samples, albedoTexture, normalDepthTexture, out, scratch);
+  pass.run(sum, 1.0f, image.samples, albedoTexture, normalDepthTexture, out, scratch);
   std::vector<float> rgba(n * 4);
   BT_GL(glPixelStorei(GL_PACK_ALIGNMENT, 4));
   BT_GL(glGetTextureImage(out.id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(rgba.size() * sizeof(float)), rgba.data()));

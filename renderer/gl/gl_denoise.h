@@ -29,5 +29,8 @@ private:
 // renderer/denoise.h's denoise(image), on the current GL context: the image and its AOVs
 // uploaded, filtered and read back.
 std::vector<glm::vec3> denoiseWithGl(const RenderImage& image);
+// ... with `pass`, for a caller that denoises every frame: a program that lives on (a deleted
+// one left current is freed once another is used, and imgui restores the one it found current).
+std::vector<glm::vec3> denoiseWithGl(const RenderImage& image, DenoisePass& pass);
 
 } // namespace bt::gl

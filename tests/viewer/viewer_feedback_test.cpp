@@ -3,6 +3,7 @@
 // (XSendEvent to the viewer's window), so they go through GLFW's event processing and the
 // viewer's callbacks exactly as a user's key presses do; nothing is injected behind GLFW.
 #include "tests/viewer/viewer_test_fixture.h"
+#include "tests/viewer/x_keys.h"
 
 #include <GLFW/glfw3.h>
 #include <X11/Xlib.h>
@@ -16,27 +17,6 @@ namespace bt {
 namespace {
 
 using namespace viewer_test;
-
-// A press and its release, both delivered before the viewer's next frame: a tap shorter than a
-// frame, which polling the key state once per frame never sees.
-void tap(const Viewer& viewer, KeySym key, unsigned int state = 0) {
-  Display* display = XOpenDisplay(nullptr);
-  ASSERT_NE(display, nullptr);
-  XKeyEvent event{};
-  event.display = display;
-  event.window = viewer.x11Window();
-  event.root = DefaultRootWindow(display);
-  event.time = CurrentTime;
-  event.same_screen = True;
-  event.keycode = XKeysymToKeycode(display, key);
-  event.state = state;
-  event.type = KeyPress;
-  XSendEvent(display, event.window, True, KeyPressMask, reinterpret_cast<XEvent*>(&event));
-  event.type = KeyRelease;
-  XSendEvent(display, event.window, True, KeyReleaseMask, reinterpret_cast<XEvent*>(&event));
-  XSync(display, False); // both are in the viewer's queue when this returns
-  XCloseDisplay(display);
-}
 
 // The pointer moved to (x, y) of the window and a left click there.
 void click(const Viewer& viewer, int x, int y) {
@@ -85,7 +65,7 @@ TEST_F(ViewerWindowTest, ATapShorterThanAFrameIsActedOn) {
   const fs::path shot = dir_ / "room-000.png";
   EXPECT_TRUE(fs::exists(shot)) << "the F12 tap was lost";
   EXPECT_TRUE(hasMessage(viewer, OverlayMessage::Kind::Info, shot.string())) << allMessages(viewer);
-  EXPECT_EQ(viewer.mode(), ViewMode::Albedo) << "the 2 tap was lost";
+  EXPECT_EQ(viewer.mode(), ViewMode::Fullbright) << "the 2 tap was lost";
   EXPECT_EQ(viewer.lighting(), LightingMode::Physical) << "the 5 tap was lost";
 
   // F1 hides the overlay and shows it again, one tap each, in the same frame too.

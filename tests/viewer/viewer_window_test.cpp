@@ -60,7 +60,7 @@ TEST_F(ViewerWindowTest, OpensRefinesReloadsOnSaveAndTakesScreenshots) {
   ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 1; }));
 
   // The other views render too.
-  viewer.setMode(ViewMode::Albedo);
+  viewer.setMode(ViewMode::Fullbright);
   EXPECT_TRUE(viewer.frame());
   viewer.setMode(ViewMode::Normal);
   EXPECT_TRUE(viewer.frame());

@@ -1,0 +1,278 @@
+// The view modes of keys 2, 3, 8 and 9 (viewer/view_modes.h) and physical mode's denoiser, every
+// pixel of the window in colour against what each mode's rule gives for the test room, whose
+// walls are all one texture of one colour: fullbright is that colour, light only is the picture of
+// the same room with white walls, flat is render --aov face's colour of each face; the GL window
+// and the CPU window show the same image.
+#include "renderer/denoise.h"
+#include "renderer/image_output.h"
+#include "tests/app/run_command.h"
+#include "tests/viewer/viewer_test_fixture.h"
+#include "tests/viewer/x_keys.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <fmt/format.h>
+
+#include <array>
+#include <set>
+
+namespace bt {
+namespace {
+
+using namespace viewer_test;
+using Rgb = std::array<uint8_t, 3>;
+
+constexpr Rgb kOrange{200, 120, 60};
+constexpr Rgb kWhite{255, 255, 255};
+
+// A 16x16 texture of one colour, saved as an image editor saves it.
+void paintWall(const fs::path& dir, Rgb rgb) {
+  const fs::path png = dir / "textures/wall.png", temp = dir / "textures/saving-wall.png";
+  std::vector<uint8_t> pixels(16 * 16 * 3);
+  for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = rgb[i % 3];
+  auto out = OIIO::ImageOutput::create(temp.string());
+  ASSERT_TRUE(out && out->open(temp.string(), OIIO::ImageSpec(16, 16, 3, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) && out->close());
+  fs::rename(temp, png);
+}
+
+// The largest channel difference between two display images (256: sizes differ).
+int worstBetween(const Viewer::DisplayImage& a, const Viewer::DisplayImage& b) {
+  if (a.width != b.width || a.height != b.height || a.rgba.empty()) return 256;
+  int worst = 0;
+  for (size_t i = 0; i < a.rgba.size(); ++i)
+    if (i % 4 != 3) worst = std::max(worst, std::abs(int(a.rgba[i]) - int(b.rgba[i])));
+  return worst;
+}
+
+// ... between every pixel and one colour.
+int worstAgainst(const Viewer::DisplayImage& shown, Rgb rgb) {
+  if (shown.rgba.empty()) return 256;
+  int worst = 0;
+  for (size_t i = 0; i < shown.rgba.size(); ++i)
+    if (i % 4 != 3) worst = std::max(worst, std::abs(int(shown.rgba[i]) - int(rgb[i % 4])));
+  return worst;
+}
+
+// Display bytes as the window's RGBA8.
+Viewer::DisplayImage asShown(int width, int height, const std::vector<uint8_t>& rgb) {
+  Viewer::DisplayImage image{width, height, std::vector<uint8_t>(size_t(width) * height * 4, 255)};
+  for (size_t i = 0; i < rgb.size() / 3; ++i) std::copy_n(&rgb[i * 3], 3, &image.rgba[i * 4]);
+  return image;
+}
+
+class ViewerModesTest : public ViewerWindowTest {
+protected:
+  ViewerOptions optionsFor(ViewerBackend backend, int maxSamples) const {
+    ViewerOptions o = options();
+    o.backend = backend;
+    o.maxSamples = maxSamples;
+    return o;
+  }
+
+  // The window once the luxels are baked and every pixel has `spp` samples (the views that
+  // trace; the others are drawn from the AOVs in one frame).
+  static Viewer::DisplayImage settled(Viewer& viewer, int spp) {
+    // (Physical light has no luxels: the CPU window does not bake them then.)
+    const bool faithful = viewer.lighting() == LightingMode::Faithful;
+    if (viewer.mode() == ViewMode::Beauty || viewer.mode() == ViewMode::LightOnly)
+      EXPECT_TRUE(frameUntil(viewer, [&] { return (viewer.luxelsBaked() || !faithful) && viewer.samples() >= spp; })) << "no refinement";
+    EXPECT_TRUE(viewer.frame());
+    return viewer.displayed();
+  }
+
+  // The window once physical mode's exposure, which follows the image smoothly, has stopped
+  // moving: the same bytes three frames running.
+  static Viewer::DisplayImage steady(Viewer& viewer) {
+    Viewer::DisplayImage last = viewer.displayed();
+    int same = 0;
+    EXPECT_TRUE(frameUntil(
+        viewer,
+        [&] {
+          Viewer::DisplayImage now = viewer.displayed();
+          same = now.rgba == last.rgba ? same + 1 : 0;
+          last = std::move(now);
+          return same == 3;
+        },
+        30.0))
+        << "the exposure never settled";
+    return last;
+  }
+
+  // `brushtrace render` of the viewer's level from its camera, read back as the window's bytes.
+  Viewer::DisplayImage render(const Viewer& viewer, const ViewerOptions& o, const std::string& flags) {
+    const fs::path png = dir_ / "render.png";
+    const test::CommandResult r = test::brushtrace(fmt::format("render '{}' --camera '{}' --size {}x{} --quiet -o '{}' {}", o.map,
+                                                               formatCameraPose(viewer.camera()), o.width, o.height, png.string(), flags));
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    OIIO::ImageBuf in(png.string());
+    std::vector<uint8_t> rgb(size_t(o.width) * o.height * 3);
+    in.get_pixels(OIIO::ROI(0, o.width, 0, o.height, 0, 1, 0, 3), OIIO::TypeDesc::UINT8, rgb.data());
+    return asShown(o.width, o.height, rgb);
+  }
+};
+
+TEST_F(ViewerModesTest, KeysChooseTheViewModesAndTheDenoiser) {
+  Viewer viewer(options());
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 1; }));
+  const std::pair<KeySym, ViewMode> keys[] = {{XK_2, ViewMode::Fullbright},
+                                              {XK_3, ViewMode::Normal},
+                                              {XK_8, ViewMode::LightOnly},
+                                              {XK_9, ViewMode::Flat},
+                                              {XK_1, ViewMode::Beauty}};
+  for (const auto& [key, mode] : keys) {
+    tap(viewer, key);
+    ASSERT_TRUE(viewer.frame());
+    EXPECT_EQ(viewer.mode(), mode) << toString(mode);
+  }
+  EXPECT_TRUE(viewer.denoising()) << "the denoiser is on by default";
+  tap(viewer, XK_n);
+  ASSERT_TRUE(viewer.frame());
+  EXPECT_FALSE(viewer.denoising()) << "N did not turn the denoiser off";
+}
+
+// r_fullbright 1: the texture as it is, unlit. Every wall is orange, so every pixel is.
+TEST_F(ViewerModesTest, FullbrightShowsTheTexturesWithoutLight) {
+  paintWall(dir_, kOrange);
+  for (const ViewerBackend backend : {ViewerBackend::Gl, ViewerBackend::Cpu}) {
+    Viewer viewer(optionsFor(backend, 2));
+    viewer.setMode(ViewMode::Fullbright);
+    EXPECT_EQ(worstAgainst(settled(viewer, 1), kOrange), 0) << (viewer.cpuTracer() ? "CPU window" : "GL window");
+    EXPECT_EQ(largestDifference(viewer.screenshot(), viewer.displayed()), 0) << "the screenshot is not what is shown";
+  }
+}
+
+// r_drawflat 1: each face in its own colour, the one render --aov face gives it.
+TEST_F(ViewerModesTest, FlatShowsEachFaceInItsOwnColour) {
+  for (const ViewerBackend backend : {ViewerBackend::Gl, ViewerBackend::Cpu}) {
+    const ViewerOptions o = optionsFor(backend, 2);
+    Viewer viewer(o);
+    viewer.setMode(ViewMode::Flat);
+    const Viewer::DisplayImage shown = settled(viewer, 1);
+    EXPECT_EQ(worstBetween(shown, render(viewer, o, "--aov face --backend cpu")), 0) << (viewer.cpuTracer() ? "CPU window" : "GL window");
+    std::set<std::array<uint8_t, 3>> colours;
+    for (size_t i = 0; i < shown.rgba.size(); i += 4) colours.insert({shown.rgba[i], shown.rgba[i + 1], shown.rgba[i + 2]});
+    EXPECT_GE(colours.size(), 4u) << "the back wall, floor, ceiling and side walls in view are not each their own colour";
+    EXPECT_EQ(largestDifference(viewer.screenshot(), shown), 0) << "the screenshot is not what is shown";
+  }
+}
+
+// r_lightmap 1: the light on a white surface. The orange room's light only is the white room's picture.
+TEST_F(ViewerModesTest, LightOnlyShowsTheLightOnAWhiteSurface) {
+  const int spp = 3;
+  paintWall(dir_, kWhite);
+  Viewer::DisplayImage white;
+  {
+    Viewer viewer(optionsFor(ViewerBackend::Gl, spp));
+    white = settled(viewer, spp);
+  }
+  paintWall(dir_, kOrange);
+  Viewer::DisplayImage lit;
+  for (const ViewerBackend backend : {ViewerBackend::Gl, ViewerBackend::Cpu}) {
+    const ViewerOptions o = optionsFor(backend, spp);
+    Viewer viewer(o);
+    lit = settled(viewer, spp);
+    viewer.setMode(ViewMode::LightOnly);
+    const Viewer::DisplayImage alone = settled(viewer, spp);
+    EXPECT_LE(worstBetween(alone, white), 2) << (viewer.cpuTracer() ? "CPU window" : "GL window") << ": not the white room's picture";
+    EXPECT_GT(worstBetween(lit, white), 40) << "the orange room looks white: the test cannot tell";
+    EXPECT_EQ(largestDifference(viewer.screenshot(), alone), 0) << "the screenshot is not what is shown";
+    if (viewer.cpuTracer()) {
+      paintWall(dir_, kWhite); // render --backend cpu of the white room, to the byte
+      // The division by the texture and the sRGB round trip: at most 1 level.
+      EXPECT_LE(worstBetween(alone, render(viewer, o, fmt::format("--backend cpu --spp {}", spp))), 1);
+    }
+  }
+}
+
+// The GL window and the CPU window show the same image in every view mode.
+TEST_F(ViewerModesTest, BothWindowsShowTheSameImageInEachMode) {
+  paintWall(dir_, kOrange);
+  const ViewMode modes[] = {ViewMode::Fullbright, ViewMode::Normal, ViewMode::Flat, ViewMode::LightOnly};
+  std::vector<Viewer::DisplayImage> shown[2];
+  for (const ViewerBackend backend : {ViewerBackend::Gl, ViewerBackend::Cpu}) {
+    Viewer viewer(optionsFor(backend, 3)); // one window at a time: imgui has one context
+    for (const ViewMode mode : modes) {
+      viewer.setMode(mode);
+      shown[backend == ViewerBackend::Cpu].push_back(settled(viewer, 3));
+    }
+  }
+  for (size_t m = 0; m < std::size(modes); ++m)
+    // Faithful light's GL and CPU luxels agree within 2 levels (BakesTheLuxelsThenShowsWhatRenderShows).
+    EXPECT_LE(worstBetween(shown[0][m], shown[1][m]), modes[m] == ViewMode::LightOnly ? 2 : 0) << toString(modes[m]);
+}
+
+// Physical mode's young image is the denoiser's, the converged one the raw beauty: the CPU window
+// against render --backend cpu with and without --denoise, to the byte. (The CPU window keeps
+// exposure 0 in physical mode.)
+TEST_F(ViewerModesTest, TheCpuWindowDenoisesAYoungPhysicalImageAndShowsAConvergedOneRaw) {
+  for (const int spp : {1, kDenoiseGoneAt}) {
+    ViewerOptions o = optionsFor(ViewerBackend::Cpu, spp);
+    o.lighting = LightingMode::Physical;
+    o.lightingGiven = true;
+    Viewer viewer(o);
+    const Viewer::DisplayImage shown = settled(viewer, spp);
+    const std::string flags = fmt::format("--backend cpu --lighting physical --bounces {} --exposure 0 --spp {}", o.bounces, spp);
+    const Viewer::DisplayImage raw = render(viewer, o, flags);
+    if (spp == 1) {
+      EXPECT_EQ(worstBetween(shown, render(viewer, o, flags + " --denoise")), 0) << "1 spp: not the denoiser's image";
+      EXPECT_GT(worstBetween(shown, raw), 20) << "the denoised and raw images look alike: the test cannot tell";
+      EXPECT_EQ(largestDifference(viewer.screenshot(), shown), 0) << "the screenshot is not what is shown";
+      viewer.setDenoise(false);
+      EXPECT_EQ(worstBetween(settled(viewer, spp), raw), 0) << "N: not the raw image";
+    } else {
+      EXPECT_EQ(worstBetween(shown, raw), 0) << spp << " spp: not the raw image";
+    }
+  }
+}
+
+// The GL window: at 1 spp what is shown is the denoiser's output of the raw image and its AOVs
+// (a screenshot's EXR with the denoiser off holds both); at kDenoiseGoneAt spp the raw image.
+TEST_F(ViewerModesTest, TheGlWindowDenoisesAYoungPhysicalImageAndShowsAConvergedOneRaw) {
+  ViewerOptions o = optionsFor(ViewerBackend::Gl, 1);
+  o.lighting = LightingMode::Physical;
+  o.lightingGiven = true;
+  {
+    Viewer viewer(o);
+    const Viewer::DisplayImage denoised = settled(viewer, 1);
+    EXPECT_EQ(largestDifference(viewer.screenshot(), denoised), 0) << "the screenshot is not what is shown";
+    viewer.setDenoise(false);
+    const Viewer::DisplayImage raw = settled(viewer, 1);
+    fs::path exr = viewer.screenshot();
+    exr.replace_extension(".exr");
+    OIIO::ImageBuf in(exr.string());
+    const int n = o.width * o.height;
+    std::vector<float> px(size_t(n) * 10);
+    in.get_pixels(OIIO::ROI(0, o.width, 0, o.height, 0, 1, 0, 10), OIIO::TypeDesc::FLOAT, px.data());
+    // OpenEXR keeps the layers' channels in its own order: each is found by name.
+    const auto channel = [&](const char* name) { return in.spec().channelindex(name); };
+    const int r = channel("R"), g = channel("G"), b = channel("B"), ar = channel("albedo.R"), ag = channel("albedo.G"),
+              ab = channel("albedo.B"), nx = channel("normal.X"), ny = channel("normal.Y"), nz = channel("normal.Z"),
+              z = channel("depth.Z");
+    ASSERT_GE(std::min({r, g, b, ar, ag, ab, nx, ny, nz, z}), 0) << "the screenshot's EXR lacks a layer";
+    RenderImage image; // beauty with the window's exposure applied: the ACES display of it at 0 EV
+    image.width = o.width, image.height = o.height, image.samples = 1;
+    for (int i = 0; i < n; ++i) {
+      const float* p = &px[size_t(i) * 10];
+      image.beauty.emplace_back(p[r], p[g], p[b]);
+      image.albedo.emplace_back(p[ar], p[ag], p[ab]);
+      image.normal.emplace_back(p[nx], p[ny], p[nz]);
+      image.depth.push_back(p[z]);
+      image.face.push_back(std::isfinite(p[z]) ? 1u : 0u);
+    }
+    image.beauty = denoise(image);
+    OutputSettings aces;
+    aces.tonemap = Tonemap::Aces;
+    // The GLSL filter gives the C++ one's values within 1e-4 (GlDenoise.TheShaderGivesTheCpuFiltersImage).
+    EXPECT_LE(worstBetween(denoised, asShown(o.width, o.height, displayPixels(image, aces))), 1) << "1 spp: not the denoiser's image";
+    EXPECT_GT(worstBetween(denoised, raw), 20) << "the denoised and raw images look alike: the test cannot tell";
+  }
+  o.maxSamples = kDenoiseGoneAt;
+  Viewer viewer(o);
+  settled(viewer, kDenoiseGoneAt);
+  const Viewer::DisplayImage shown = steady(viewer);
+  viewer.setDenoise(false);
+  EXPECT_EQ(worstBetween(shown, steady(viewer)), 0) << kDenoiseGoneAt << " spp: not the raw image";
+}
+
+} // namespace
+} // namespace bt
