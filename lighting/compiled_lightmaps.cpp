@@ -24,22 +24,6 @@ float letterValue(LightmapEngine engine, char letter) {
   return engine == LightmapEngine::Quake2 ? float(k) / float('m' - 'a') : float(k * 22);
 }
 
-// GoldSrc's light gamma table at its defaults (gamma 2.5, brightness 0, lightgamma 2.5), as
-// Xash3D computes it (BuildGammaTable), in the byte form LightToTexGamma reads: table[b << 2] >> 2.
-std::array<uint8_t, 256> goldSrcLightGamma() {
-  const float gamma = 2.5f, lightgamma = 2.5f;
-  const float g1 = 1.0f / gamma, g3 = 0.125f;
-  std::array<uint8_t, 256> out{};
-  for (int b = 0; b < 256; ++b) {
-    const int i = b << 2;
-    float f = float(std::pow(i / 1023.0, double(lightgamma)));
-    f = f <= g3 ? (f / g3) * 0.125f : ((f - g3) / (1.0f - g3)) * 0.875f + 0.125f;
-    const double d = std::pow(double(f), double(g1));
-    out[size_t(b)] = uint8_t(std::clamp(int(d * 1023.0), 0, 1023) >> 2);
-  }
-  return out;
-}
-
 glm::dvec3 vec(const float* v) {
   return {v[0], v[1], v[2]};
 }
@@ -243,11 +227,11 @@ glm::vec3 engineLuxel(LightmapEngine engine, const std::array<float, 256>& style
   }
   glm::ivec3 sum(0);
   for (size_t s = 0; s < 4 && styles[s] != 255; ++s) sum += glm::ivec3(stored[s]) * int(styleValues[styles[s]]);
+  // GoldSrc: the sum as a value stored at style 'm', which Lightmaps::luxelDisplay's table takes
+  // through R_BuildLightMap's scale and gamma (exact for luxels of style 0 alone).
+  if (engine == LightmapEngine::HalfLife) return glm::vec3(glm::min(sum / BT_GOLDSRC_STYLE_M, glm::ivec3(255)));
   const int shift = engine == LightmapEngine::Hexen2 ? 7 : 8;
-  const glm::ivec3 v = glm::min(sum >> shift, glm::ivec3(255));
-  if (engine != LightmapEngine::HalfLife) return glm::vec3(v);
-  static const std::array<uint8_t, 256> gamma = goldSrcLightGamma(); // a constant table
-  return {float(gamma[size_t(v.x)]), float(gamma[size_t(v.y)]), float(gamma[size_t(v.z)])};
+  return glm::vec3(glm::min(sum >> shift, glm::ivec3(255)));
 }
 
 float engineDisplayScale(LightmapEngine engine) {
@@ -265,6 +249,7 @@ CompiledLightmaps buildCompiledLightmaps(const Scene& scene, const RenderScene& 
   const LuxelRule rule{engine, styleValuesAtLoad(engine, scene)};
   Lightmaps& lm = out.lightmaps;
   lm.displayScale = engineDisplayScale(engine);
+  if (engine == LightmapEngine::HalfLife) lm.luxelDisplay = BT_LUXEL_DISPLAY_GOLDSRC;
   lm.faceRanges.assign(scene.faces.size(), glm::uvec2(0));
   for (uint32_t f = 0; f < scene.faces.size(); ++f) {
     const Face& face = scene.faces[f];

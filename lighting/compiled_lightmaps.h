@@ -10,9 +10,10 @@
 //            luxel = min(255, (Σ stored × style) >> 8), shown as texture × luxel × 2 / 255.
 //   hexen2   GLHexen / uHexen2 (GLQuake's R_BuildLightMap, no overbright):
 //            luxel = min(255, (Σ stored × style) >> 7), shown as texture × luxel / 255.
-//   halflife GoldSrc as Xash3D reimplements it (no overbright; engine/client/gamma.c):
-//            luxel = lightgamma(min(255, (Σ stored × style) >> 8)) with the default gamma 2.5,
-//            lightgamma 2.5, brightness 0, shown as texture × luxel / 255.
+//   halflife GoldSrc as Xash3D FWGS reimplements it (gl_overbright 0; lighting/luxel_display.h):
+//            luxel = lightgammatable[min(1023, (Σ stored × style) × 338 >> 14)] >> 2 at the
+//            defaults gamma 2.5, lightgamma 2.5, brightness 0, shown as texture × luxel / 255.
+//            Stored here as min(255, Σ stored × style / 264), the table applied by the tracers.
 //   quake2   id's ref_gl R_BuildLightMap with gl_modulate 1: the sum Σ stored × style / 'm'
 //            truncated, scaled down to keep its hue where a channel passes 255, shown as
 //            texture × luxel / 255.

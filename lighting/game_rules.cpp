@@ -1,6 +1,7 @@
 #include "lighting/game_rules.h"
 
 #include "lighting/lights.h"
+#include "lighting/luxel_display.h"
 #include "lighting/q3map2_light.h"
 #include "quake/entity_keys.h"
 
@@ -76,6 +77,8 @@ WorldLighting compilerDefaults(Game game) {
   // Quake 2's ref_gl (gl_modulate 1) and Half-Life's GoldSrc draw texture × lightmap / 255, with
   // no overbright (lighting/README.md, "The compiled view").
   if (game == Game::Quake2 || game == Game::HalfLife) world.overbrightOne = 255.0f;
+  // GoldSrc brightens each luxel through its light gamma table first (lighting/luxel_display.h).
+  if (game == Game::HalfLife) world.luxelDisplay = BT_LUXEL_DISPLAY_GOLDSRC;
   if (game == Game::Quake3) {
     // q3map2 stores the light sum itself; ioquake3 shows it shifted one bit and doubled by the
     // gamma ramp (lighting/q3map2_light.h).

@@ -192,6 +192,7 @@ Lightmaps layoutLightmaps(const RenderScene& rs, std::span<const uint32_t> faces
   }
   lm.luxels.assign(luxels, 0u);
   lm.displayScale = 1.0f / rs.world.overbrightOne;
+  lm.luxelDisplay = rs.world.luxelDisplay;
   return lm;
 }
 

@@ -37,7 +37,9 @@ std::optional<glm::vec3> lightmapValue(const Lightmaps& lm, uint32_t face, const
   const int maxX = int(g.width) - 1, maxY = int(g.height) - 1;
   const int x0 = std::clamp(int(fu), 0, maxX), x1 = std::clamp(int(fu) + 1, 0, maxX);
   const int y0 = std::clamp(int(fv), 0, maxY), y1 = std::clamp(int(fv) + 1, 0, maxY);
-  auto at = [&](int x, int y) { return unpackLuxel(lm.luxels[g.firstLuxel + uint32_t(y) * g.width + uint32_t(x)]); };
+  auto at = [&](int x, int y) {
+    return shownLuxel(lm.luxelDisplay, unpackLuxel(lm.luxels[g.firstLuxel + uint32_t(y) * g.width + uint32_t(x)]));
+  };
   const glm::vec3 top = at(x0, y0) * (1.0f - wu) + at(x1, y0) * wu;
   const glm::vec3 bottom = at(x0, y1) * (1.0f - wu) + at(x1, y1) * wu;
   return top * (1.0f - wv) + bottom * wv;
@@ -48,8 +50,10 @@ std::vector<uint32_t> packLightmaps(const Lightmaps& lm) {
   const uint32_t fragmentsAt = 8 + 2 * faceCount;
   const uint32_t edgesAt = fragmentsAt + uint32_t(lm.fragments.size()) * 16;
   const uint32_t luxelsAt = edgesAt + uint32_t(lm.edges.size()) * 4;
-  std::vector<uint32_t> out{fragmentsAt, edgesAt, luxelsAt, faceCount, std::bit_cast<uint32_t>(lm.displayScale), 0u, 0u, 0u};
-  out.reserve(luxelsAt + lm.luxels.size());
+  const uint32_t tableAt = luxelsAt + uint32_t(lm.luxels.size());
+  std::vector<uint32_t> out{fragmentsAt, edgesAt,         luxelsAt, faceCount, std::bit_cast<uint32_t>(lm.displayScale),
+                            tableAt,     lm.luxelDisplay, 0u};
+  out.reserve(tableAt + BT_LUXEL_TABLE_SIZE);
   for (uint32_t f = 0; f < faceCount; ++f) out.insert(out.end(), {lm.faceRanges[f].x, lm.faceRanges[f].y});
   auto bits = [](const float(&v)[4]) {
     return std::array<uint32_t, 4>{std::bit_cast<uint32_t>(v[0]), std::bit_cast<uint32_t>(v[1]), std::bit_cast<uint32_t>(v[2]), 0u};
@@ -61,6 +65,7 @@ std::vector<uint32_t> packLightmaps(const Lightmaps& lm) {
   for (const glm::vec4& e : lm.edges)
     out.insert(out.end(), {std::bit_cast<uint32_t>(e.x), std::bit_cast<uint32_t>(e.y), std::bit_cast<uint32_t>(e.z), 0u});
   out.insert(out.end(), lm.luxels.begin(), lm.luxels.end());
+  for (float v : goldSrcLuxelTable()) out.push_back(std::bit_cast<uint32_t>(v));
   return out;
 }
 

@@ -4,6 +4,7 @@
 // (scene/gpu_structs.h, GpuLightmapFragment); lightmap_bake.h fills it.
 #pragma once
 
+#include "lighting/luxel_display.h"
 #include "scene/gpu_structs.h"
 #include "scene/scene.h"
 
@@ -31,6 +32,8 @@ struct Lightmaps {
   // Faithful luxels hold the stored value and Quake's overbright shows 128 as the texture's own
   // colour; a compiled view's luxels hold what its engine uploads (compiled_lightmaps.h).
   float displayScale = 1.0f / 128.0f;
+  // What the engine makes of each luxel before filtering it (Half-Life's light gamma table).
+  LuxelDisplay luxelDisplay = BT_LUXEL_DISPLAY_IDENTITY;
 
   bool empty() const { return fragments.empty(); }
   bool baked(uint32_t face) const { return face < faceRanges.size() && faceRanges[face].y > 0; }
@@ -40,13 +43,16 @@ struct Lightmaps {
 // lies least outside of (the largest of its violated edge distances, smallest over fragments).
 uint32_t lightmapFragmentAt(const Lightmaps& lightmaps, uint32_t face, const glm::vec2& st);
 
-// The stored lightmap value (0..255 per channel: light × _range, as the compiler writes it) the
-// engine shows at texel point st of `face`: its fragment's luxels, filtered bilinearly with the
-// edge luxels repeated outward; nullopt when `face` has no baked lightmap.
+// The lightmap value (0..255 per channel) the engine shows at texel point st of `face`: its
+// fragment's luxels (light × _range, as the compiler stores them) through luxelDisplay, filtered
+// bilinearly with the edge luxels repeated outward; nullopt when `face` has no baked lightmap.
 std::optional<glm::vec3> lightmapValue(const Lightmaps& lightmaps, uint32_t face, const glm::vec2& st);
 
 // The single uint buffer the GL tracer reads (layout in scene/gpu_structs.h); a header with no
-// face for empty lightmaps.
+// face for empty lightmaps. Beyond scene/gpu_structs.h's layout, word [5] is the first word of
+// GoldSrc's luxel table (BT_LUXEL_TABLE_SIZE floats, lighting/luxel_display.h), which always
+// follows the luxels (the view at each pixel's point reads it too, baked luxels or not), and
+// word [6] is luxelDisplay.
 std::vector<uint32_t> packLightmaps(const Lightmaps& lightmaps);
 
 inline uint32_t packLuxel(const glm::vec3& stored) {

@@ -31,6 +31,7 @@ struct DirtSettings {
 struct WorldLighting {
   float range = 0.5f;                  // `_range`: lightmap = light sum * range
   float overbrightOne = 128.0f;        // the stored value the engine shows as the texture's own colour (Quake's overbright; 255 without)
+  uint32_t luxelDisplay = 0;           // BT_LUXEL_DISPLAY_*: what the engine makes of a stored luxel first (lighting/luxel_display.h)
   float scaledist = 1.0f;              // `_dist`: scales distance in every falloff formula
   float anglescale = 0.5f;             // `_anglescale` (or `_anglesense`): default for every light and the sun
   glm::vec3 minlight{0.0f};            // `light` / `_minlight` * `_minlight_color`, in light units

@@ -401,9 +401,11 @@ static_assert(offsetof(GpuLightCell, count) == 4);
 // DECOUPLED_LM's own axes, or a compiled face whose texture frame is not the scene face's.
 // The GL tracer reads all of it from one uint buffer (packLightmaps; shaders/lightmaps.glsl):
 //   [0] first fragment word, [1] first edge word, [2] first luxel word, [3] face count F,
-//   [4] the display scale (float bits: shown = texture × luxel × scale), [5..7] zero;
+//   [4] the display scale (float bits: shown = texture × luxel × scale), [5] the first word of
+//   GoldSrc's luxel table, [6] the luxels' display (lighting/luxel_display.h), [7] zero;
 //   [8 + 2 face], [9 + 2 face]: the face's (first fragment, count); then the fragments (16 words
-//   each, this struct), the edges (4 float words each), the luxels (1 word each).
+//   each, this struct), the edges (4 float words each), the luxels (1 word each), the table
+//   (BT_LUXEL_TABLE_SIZE float words).
 // ---------------------------------------------------------------------------------------------
 struct GpuLightmapFragment {
   int32_t minS = 0;

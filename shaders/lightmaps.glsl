@@ -2,6 +2,7 @@
 // stored lightmap value at a texel point of a face, filtered bilinearly as the engine filters its
 // lightmaps. Layout of the packed buffer: scene/gpu_structs.h (GpuLightmapFragment).
 #include "gl_bindings.glsl"
+#include "luxel_display_constants.glsl"
 layout(std430, binding = BT_BINDING_LIGHTMAPS) readonly buffer Lightmaps { uint lightmapData[]; };
 
 // (first fragment, count) of face `face`; count 0: not baked.
@@ -37,7 +38,23 @@ uint lightmapFragmentAt(uvec2 range, vec2 st) {
 
 vec3 unpackLuxel(uint v) { return vec3(float(v & 255u), float((v >> 8) & 255u), float((v >> 16) & 255u)); }
 
-// The stored value (0..255 per channel) shown at texel point st of a face with `range`.
+// lighting/luxel_display.cpp shownLuxel: the luxel the engine draws for a stored value, read from
+// the table the C++ built (packLightmaps puts it after the luxels).
+float shownLuxel(uint display, float stored) {
+  if (display != BT_LUXEL_DISPLAY_GOLDSRC) return stored;
+  float s = clamp(stored, 0.0, float(BT_LUXEL_TABLE_SIZE - 1));
+  int i = min(int(s), BT_LUXEL_TABLE_SIZE - 2);
+  float w = s - float(i);
+  uint at = lightmapData[5] + uint(i);
+  return uintBitsToFloat(lightmapData[at]) * (1.0 - w) + uintBitsToFloat(lightmapData[at + 1u]) * w;
+}
+vec3 shownLuxel(uint display, vec3 stored) {
+  return vec3(shownLuxel(display, stored.x), shownLuxel(display, stored.y), shownLuxel(display, stored.z));
+}
+vec3 shownLuxel(uint v) { return shownLuxel(lightmapData[6], unpackLuxel(v)); }
+
+// The luxel value (0..255 per channel, through the engine's luxel display) shown at texel point st
+// of a face with `range`.
 vec3 lightmapValue(uvec2 range, vec2 st) {
   uint at = lightmapData[0] + 16u * lightmapFragmentAt(range, st);
   int minS = int(lightmapData[at]), minT = int(lightmapData[at + 1u]);
@@ -52,10 +69,10 @@ vec3 lightmapValue(uvec2 range, vec2 st) {
   float wu = u - fu, wv = v - fv;
   int x0 = clamp(int(fu), 0, width - 1), x1 = clamp(int(fu) + 1, 0, width - 1);
   int y0 = clamp(int(fv), 0, height - 1), y1 = clamp(int(fv) + 1, 0, height - 1);
-  vec3 a = unpackLuxel(lightmapData[firstLuxel + uint(y0 * width + x0)]);
-  vec3 b = unpackLuxel(lightmapData[firstLuxel + uint(y0 * width + x1)]);
-  vec3 c = unpackLuxel(lightmapData[firstLuxel + uint(y1 * width + x0)]);
-  vec3 d = unpackLuxel(lightmapData[firstLuxel + uint(y1 * width + x1)]);
+  vec3 a = shownLuxel(lightmapData[firstLuxel + uint(y0 * width + x0)]);
+  vec3 b = shownLuxel(lightmapData[firstLuxel + uint(y0 * width + x1)]);
+  vec3 c = shownLuxel(lightmapData[firstLuxel + uint(y1 * width + x0)]);
+  vec3 d = shownLuxel(lightmapData[firstLuxel + uint(y1 * width + x1)]);
   vec3 top = a * (1.0 - wu) + b * wu;
   vec3 bottom = c * (1.0 - wu) + d * wu;
   return top * (1.0 - wv) + bottom * wv;

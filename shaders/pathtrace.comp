@@ -317,7 +317,7 @@ vec3 faithfulDisplay(Path path) {
   stored = max(stored, vec3(0.0));
   // Engine: texture x lightmap / its overbright one (Quake 128, Quake 2 and Half-Life 255) in the
   // texture's (gamma) space; fullbright texels unlit.
-  vec3 display = max(path.texture * stored / world.overbrightOne, path.fullbright);
+  vec3 display = max(path.texture * shownLuxel(world.luxelDisplay, stored) / world.overbrightOne, path.fullbright);
   return srgbToLinear(display);
 }
 

@@ -152,7 +152,8 @@ glm::vec3 faithfulSurfaceRadiance(const RenderScene& rs, const IntegratorSetting
   }
   // Engine: texture x lightmap / 128 (Quake's overbright; 255 in Quake 2 and Half-Life), in the
   // texture's (gamma) space; fullbright texels unlit.
-  const glm::vec3 display = glm::max(texture * stored / rs.world.overbrightOne, emissiveAt(rs, hit.face, hit.position));
+  const glm::vec3 display =
+      glm::max(texture * shownLuxel(rs.world.luxelDisplay, stored) / rs.world.overbrightOne, emissiveAt(rs, hit.face, hit.position));
   return srgbToLinear(display);
 }
 

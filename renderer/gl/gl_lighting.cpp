@@ -27,6 +27,7 @@ GlLighting lightingFor(const RenderScene& rs) {
   out.ambient = rs.world.ambient;
   out.range = rs.world.range;
   out.overbrightOne = rs.world.overbrightOne;
+  out.luxelDisplay = rs.world.luxelDisplay;
   out.scaledist = rs.world.scaledist;
   out.bouncescale = rs.world.bouncescale;
   out.faithfulBounces = rs.world.bounces;

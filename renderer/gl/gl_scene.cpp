@@ -1,5 +1,6 @@
 #include "renderer/gl/gl_scene.h"
 
+#include "lighting/lightmaps.h"
 #include "lighting/physical_light.h"
 #include "renderer/gl/gl_error.h"
 #include "renderer/gl/gl_tracer.h"
@@ -172,8 +173,9 @@ void GlSceneBuffers::uploadSky(const SkyMap& sky) {
 
 void GlSceneBuffers::setLightmaps(const std::vector<uint32_t>& packed) {
   // Buffer storage is immutable: a new bake gets a new buffer. A level without baked luxels
-  // still gets the header (no face), so the shader reads 0 faces.
-  static const std::vector<uint32_t> none{8u, 8u, 8u, 0u, 0u, 0u, 0u, 0u};
+  // still gets the header (no face), so the shader reads 0 faces, and GoldSrc's luxel table,
+  // which the view at each pixel's point reads (lighting/luxel_display.h).
+  static const std::vector<uint32_t> none = packLightmaps(Lightmaps{}); // a constant
   if (lightmaps_) BT_GL(glDeleteBuffers(1, &lightmaps_));
   BT_GL(glCreateBuffers(1, &lightmaps_));
   upload(lightmaps_, std::span<const uint32_t>(packed.size() < 8 ? none : packed));

@@ -53,6 +53,7 @@ GpuWorld worldBlock(const GlLighting& lighting) {
   w.dirtGain = lighting.dirt.gain;
   w.minlightDirt = lighting.dirt.minlight ? 1u : 0u;
   w.overbrightOne = lighting.overbrightOne;
+  w.luxelDisplay = lighting.luxelDisplay;
   return w;
 }
 

@@ -53,6 +53,7 @@ struct GlLighting {
   glm::vec3 ambient{0.0f};      // q3map2's `_ambient` (WorldLighting::ambient)
   float range = 0.5f;           // _range
   float overbrightOne = 128.0f; // WorldLighting::overbrightOne: what the per-pixel view divides by
+  uint32_t luxelDisplay = 0;    // WorldLighting::luxelDisplay: the per-pixel view's luxel table
   float scaledist = 1.0f;       // _dist
   float bouncescale = 1.0f;
   int faithfulBounces = 0; // _bounce

@@ -218,14 +218,26 @@ TEST(GlCpuParity, BakedLuxelsShowTheSameInBothTracers) {
   EXPECT_GT(lit, cpu.beauty.size() / 2) << "a black image proves nothing";
 }
 
+// The default camera, but on hl_basic, whose player start looks at walls its one light leaves
+// black: there the view up at its lit ceiling.
+CameraPose litView(const Scene& scene) {
+  CameraPose pose = defaultCameraPose(scene);
+  if (scene.format != "bsp30") return pose;
+  pose.origin = {-102.4f, 83.2f, 144.0f};
+  pose.pitch = -90.0f, pose.yaw = 0.0f;
+  return pose;
+}
+
 // --lighting compiled: both tracers draw a .bsp's own lightmaps from the same fragments
 // (lighting/compiled_lightmaps.h), through each engine's display scale: a Quake level with a
-// .lit (overbright) and a Quake 2 one (no overbright), every pixel up to float rounding. (Not
+// .lit (overbright), a Quake 2 one (no overbright) and a Half-Life one (GoldSrc's light gamma
+// table, which the GL tracer reads from the lightmap buffer), every pixel up to float rounding. (Not
 // q2_light_sun: without its .wal the compiler saw no sky face, so its sun lit nothing and Quake 2,
 // which draws a face by its texinfo flags, shows that sky as a black wall.)
 TEST(GlCpuParity, CompiledLightmapsShowTheSameInBothTracers) {
   BT_REQUIRE_SHARED(shared);
-  for (const char* file : {"lit/maps_ericw-tools_testmaps_q1_light_hlform.bsp", "lit-games/maps_ericw-tools_testmaps_q2_dirt.bsp"}) {
+  for (const char* file : {"lit/maps_ericw-tools_testmaps_q1_light_hlform.bsp", "lit-games/maps_ericw-tools_testmaps_q2_dirt.bsp",
+                           "lit-games/maps_ericw-tools_testmaps_hl_basic.bsp"}) {
     SCOPED_TRACE(file);
     const Scene scene = importScene((shared / "oracle" / file).string(), ImportOptions{});
     Diagnostics diagnostics;
@@ -233,7 +245,7 @@ TEST(GlCpuParity, CompiledLightmapsShowTheSameInBothTracers) {
     ASSERT_EQ(showCompiledLightmaps(scene, rs, ""), "");
     const RenderSettings settings = beautySettings(LightingMode::Faithful, 1);
     RenderImage cpu;
-    const RenderImage gpu = renderBoth(rs, defaultCameraPose(scene), settings, cpu);
+    const RenderImage gpu = renderBoth(rs, litView(scene), settings, cpu);
     ASSERT_EQ(gpu.beauty.size(), cpu.beauty.size());
     size_t lit = 0;
     for (size_t i = 0; i < cpu.beauty.size(); ++i) {
@@ -256,6 +268,21 @@ TEST(GlCpuParity, Quake2PerPixelLightShowsAsTheCpuShowsIt) {
   ASSERT_TRUE(rs.lightmaps.empty()) << "the light at each pixel, not baked luxels";
   RenderImage cpu;
   const RenderImage gpu = renderBoth(rs, defaultCameraPose(scene), beautySettings(LightingMode::Faithful, 5), cpu);
+  expectBeautyAgrees(gpu, cpu, 0.01);
+}
+
+// Faithful light at each pixel (--luxels off) on a Half-Life level: both tracers take the stored
+// value through GoldSrc's light gamma table (WorldLighting::luxelDisplay in the World block, the
+// table from the lightmap buffer, which holds it even with no luxel baked).
+TEST(GlCpuParity, HalfLifePerPixelLightShowsAsTheCpuShowsIt) {
+  BT_REQUIRE_SHARED(shared);
+  const Scene scene = importScene((shared / "oracle/lit-games/maps_ericw-tools_testmaps_hl_basic.bsp").string(), ImportOptions{});
+  Diagnostics diagnostics;
+  const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+  ASSERT_EQ(rs.world.luxelDisplay, BT_LUXEL_DISPLAY_GOLDSRC);
+  ASSERT_TRUE(rs.lightmaps.empty()) << "the light at each pixel, not baked luxels";
+  RenderImage cpu;
+  const RenderImage gpu = renderBoth(rs, litView(scene), beautySettings(LightingMode::Faithful, 5), cpu);
   expectBeautyAgrees(gpu, cpu, 0.01);
 }
 

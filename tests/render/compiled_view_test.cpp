@@ -5,7 +5,8 @@
 // this test samples itself (lightmap_oracle.h, bilinear over the compiled face's luxels) at the
 // point the pixel sees, through the engine's rule written out here again:
 //   Quake     luxel = min(255, Σ stored × style >> 8), style 'm' = 264; shown = texture × luxel × 2 / 255
-//   Half-Life the same luxel (its light gamma is the identity at its defaults, to a step), × 1 / 255
+//   Half-Life t = min(1023, Σ stored × style × 338 >> 14), luxel = lightgammatable[t] >> 2 (GoldSrc's
+//             light gamma at its defaults, gamma 2.5, lightgamma 2.5, brightness 0); × 1 / 255
 //   Quake 2   luxel = Σ stored × style ('m' = 1), its hue kept below 255; shown = texture × luxel / 255
 // Pixels on sky, unlit liquids, fullbright texels and faces without a compiled lightmap (the
 // world's only: brush entities' faces are not sampled) are left out and counted.
@@ -15,6 +16,7 @@
 #include "scene/color.h"
 #include "lighting/compiled_lightmaps.h"
 #include "renderer/cpu/cpu_renderer.h"
+#include "tests/render/goldsrc_display.h"
 #include "tests/render/lightmap_oracle.h"
 #include "tests/render/oracle_levels.h"
 #include "tests/test_data.h"
@@ -24,6 +26,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <string>
 #include <cstdio>
 #include <functional>
@@ -77,6 +80,7 @@ glm::dvec3 engineLuxel(const StyleTable& styles, const test::LightmapOracle& ora
     if (peak > 255.0) v = glm::floor(v * (255.0 / peak));
     return v;
   }
+  if (styles.engine == Engine::HalfLife) return {test::goldSrcLuxel(sum.x), test::goldSrcLuxel(sum.y), test::goldSrcLuxel(sum.z)};
   return glm::min(glm::floor(sum / 256.0), glm::dvec3(255.0));
 }
 
@@ -153,8 +157,9 @@ Engine engineOf(const Scene& scene) {
   return scene.format == "bsp30" ? Engine::HalfLife : scene.format == "ibsp38" ? Engine::Quake2 : Engine::Quake;
 }
 
-// One level: every camera's every pixel; returns how many views had lit pixels to judge by.
-int checkLevel(const std::filesystem::path& bsp) {
+// One level: every camera's every pixel; returns how many views had lit pixels to judge by, and
+// adds the pixels compared to `compared`.
+int checkLevel(const std::filesystem::path& bsp, size_t* compared = nullptr) {
   SCOPED_TRACE(bsp.filename().string());
   const test::LightmapOracle oracle(bsp, /*styleZeroOnly=*/false);
   const Scene scene = importScene(bsp.string(), ImportOptions{});
@@ -170,6 +175,7 @@ int checkLevel(const std::filesystem::path& bsp) {
     const Camera camera(pose, kWidth, kHeight);
     const RenderImage image = renderView(rs, pose);
     const Comparison r = compare(rs, oracle, styles, camera, image);
+    if (compared) *compared += r.compared;
     std::printf("%s", fmt::format("compiled view {} {}: {}\n", bsp.stem().string(), formatCameraPose(pose), r.describe()).c_str());
     EXPECT_EQ(r.off, 0u) << formatCameraPose(pose) << ": " << r.describe();
     if (r.bright < kMinBrightPixels) continue;
@@ -194,6 +200,29 @@ INSTANTIATE_TEST_SUITE_P(Lit, CompiledView, ::testing::ValuesIn(test::kLitLevels
   std::replace(n.begin(), n.end(), '-', '_');
   return n;
 });
+
+// Half-Life's display: hl_basic's lightmaps peak at 48, which GoldSrc brightens through its
+// light gamma table (about × 1.36 at the defaults). Every pixel against the lightmap this test
+// samples through its own copy of the table.
+TEST(CompiledView, HalfLifeShowsItsLightmapsThroughGoldSrcsLightGamma) {
+  BT_REQUIRE_SHARED(shared);
+  const std::filesystem::path bsp = shared / "oracle" / "lit-games" / "maps_ericw-tools_testmaps_hl_basic.bsp";
+  const test::LightmapOracle oracle(bsp, /*styleZeroOnly=*/false);
+  double peak = 0.0;
+  for (const test::CompiledFace& f : oracle.faces())
+    for (int y = 0; y < f.height; ++y)
+      for (int x = 0; x < f.width; ++x) {
+        const glm::dvec3 v = oracle.luxel(f, x, y, 0);
+        peak = std::max({peak, v.x, v.y, v.z});
+      }
+  std::printf("hl_basic: lightmap peak %.0f stored, %.0f shown\n", peak, test::goldSrcLuxel(peak * 264.0));
+  EXPECT_GT(test::goldSrcLuxel(peak * 264.0), peak * 1.3) << "GoldSrc brightens the lightmaps";
+  // Its light is dim (no pixel above 0.3 of white), so no view is judged by the 2 % brighter
+  // check; a light gamma of 2.2 instead of 2.5 moves its pixels by several steps of 1/255.
+  size_t compared = 0;
+  checkLevel(bsp, &compared);
+  EXPECT_GT(compared, 10000u) << "the views of hl_basic show too little of its lightmaps";
+}
 
 // Half-Life and Quake 2, every lit level of oracle/lit-games/ (their RGB lighting lumps).
 TEST(CompiledView, HalfLifeAndQuake2PixelsShowTheCompiledLightmaps) {

@@ -4,9 +4,11 @@
 // cameras, in colour, and compared pixel by pixel and luxel by luxel with its RGB lightmaps
 // (oracle_view.h, the Quake 1 test's comparison).
 //
-// Both engines draw texture × stored / 255 (no overbright: Quake 2's ref_gl at gl_modulate 1,
-// Half-Life's at its default light gamma, lighting/README.md "The compiled view"), so here
-// stored = 255 × linearToSrgb(beauty) / texture per channel.
+// Both engines draw texture × luxel / 255 (no overbright: Quake 2's ref_gl at gl_modulate 1,
+// Half-Life's GoldSrc, lighting/README.md "The compiled view"), so here the luxel shown is
+// 255 × linearToSrgb(beauty) / texture per channel. Quake 2 shows the stored value; GoldSrc its
+// light gamma table of it (about × 1.36), which oracle_view.h applies to the compiled luxels with
+// its own copy of the table (goldsrc_display.h) before comparing.
 #include "tests/render/oracle_levels.h"
 #include "tests/render/oracle_view.h"
 #include "tests/test_data.h"

@@ -8,7 +8,10 @@
 // What a pixel shows of the light: the engine draws texture × stored × scale in the texture's
 // (gamma) space, the scale each game's engine's (Quake's overbright 1/128, Half-Life's and Quake
 // 2's 1/255), so stored = linearToSrgb(beauty) / (texture × scale) per channel, where texture is
-// the base colour at the hit of the pixel's own (jittered) ray.
+// the base colour at the hit of the pixel's own (jittered) ray. Half-Life's engine first passes
+// each luxel through its light gamma table (goldsrc_display.h): there both sides are compared as
+// the engine shows them, the compiled luxels through the table before the bilinear filter, ours
+// as the renderer shows them (its own table), relative errors as before.
 #pragma once
 
 #include "importers/import.h"
@@ -16,6 +19,7 @@
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/view_lightmaps.h"
 #include "scene/color.h"
+#include "tests/render/goldsrc_display.h"
 #include "tests/render/lightmap_oracle.h"
 
 #include <fmt/format.h>
@@ -90,10 +94,27 @@ inline void writeDebugImage(const std::string& name, const std::vector<glm::vec3
       }
 }
 
+// What the engine makes of a stored luxel before it filters and shows it: itself, or GoldSrc's
+// light gamma (Half-Life).
+struct LuxelShown {
+  bool goldSrc = false;
+  double operator()(double stored) const { return goldSrc ? goldSrcShownStored(stored) : stored; }
+  glm::dvec3 operator()(const glm::dvec3& v) const { return {(*this)(v.x), (*this)(v.y), (*this)(v.z)}; }
+};
+
+// The compiled light at p as the engine shows it: each luxel through `shown`, then bilinear.
+inline std::optional<glm::dvec3> compiledShownAt(const LightmapOracle& oracle, const LuxelShown& shown, const glm::dvec3& p,
+                                                 const glm::dvec3& n) {
+  const auto value = [&](const CompiledFace& f, int x, int y) { return shown(oracle.luxel(f, x, y)); };
+  const std::vector<glm::dvec3> all = oracle.allAt(p, n, value);
+  if (all.empty()) return std::nullopt;
+  return all.front();
+}
+
 // The pixels of `image` (1 spp, seed 0, from `camera`) against the compiled lightmaps; the
-// engine shows texture × stored × displayScale.
+// engine shows texture × shown(stored) × displayScale.
 inline ViewResult compareImage(const RenderScene& rs, const LightmapOracle& oracle, double displayScale, const Camera& camera,
-                               const RenderImage& image, const std::string& name) {
+                               const RenderImage& image, const std::string& name, const LuxelShown& luxelShown = {}) {
   const uint32_t seed = 0;
   ViewResult r;
   std::vector<glm::vec3> oursImage(size_t(kViewWidth) * kViewHeight, glm::vec3(0.0f)), compiledImage = oursImage;
@@ -112,18 +133,20 @@ inline ViewResult compareImage(const RenderScene& rs, const LightmapOracle& orac
         ++r.skyOrUnlit;
         continue;
       }
-      const std::optional<glm::dvec3> compiled = oracle.at(glm::dvec3(hit.position), glm::dvec3(hit.normal));
+      const std::optional<glm::dvec3> stored = oracle.at(glm::dvec3(hit.position), glm::dvec3(hit.normal));
+      const std::optional<glm::dvec3> compiled = compiledShownAt(oracle, luxelShown, glm::dvec3(hit.position), glm::dvec3(hit.normal));
       if (!compiled) {
         ++r.noCompiledFace;
         continue;
       }
+      const double floor = luxelShown(kErrorFloor);
       const glm::vec3 shown = linearToSrgb(image.beauty[size_t(y) * kViewWidth + x]);
       double error = 0.0;
       bool any = false;
       for (int c = 0; c < 3; ++c) {
         if (texture[c] < kMinTexture) continue;
         const double ours = shown[c] / (texture[c] * displayScale);
-        error = std::max(error, std::abs(ours - (*compiled)[c]) / std::max((*compiled)[c], kErrorFloor));
+        error = std::max(error, std::abs(ours - (*compiled)[c]) / std::max((*compiled)[c], floor));
         any = true;
       }
       if (!any) continue;
@@ -131,7 +154,7 @@ inline ViewResult compareImage(const RenderScene& rs, const LightmapOracle& orac
       oursImage[i] = shown / (glm::max(texture, glm::vec3(kMinTexture)) * float(displayScale));
       compiledImage[i] = glm::vec3(*compiled);
       errorImage[i] = float(error);
-      r.add(error, std::max({(*compiled).x, (*compiled).y, (*compiled).z}));
+      r.add(error, std::max({(*stored).x, (*stored).y, (*stored).z}));
     }
   writeDebugImage(name, oursImage, compiledImage, errorImage);
   r.finish();
@@ -147,7 +170,8 @@ inline RenderImage renderOracleView(const RenderScene& rs, const CameraPose& pos
 
 // Every luxel of every lit compiled face against what we show at its centre: our luxel at the
 // same place of the texture's grid (bilinear weights 0 there), from the face the point lies on.
-inline ViewResult compareLuxels(const RenderScene& rs, const LightmapOracle& oracle, float gain = 1.0f) {
+inline ViewResult compareLuxels(const RenderScene& rs, const LightmapOracle& oracle, float gain = 1.0f, const LuxelShown& luxelShown = {}) {
+  const double floor = luxelShown(kErrorFloor);
   ViewResult r;
   for (const CompiledFace& f : oracle.faces())
     for (int y = 0; y < f.height; ++y)
@@ -161,10 +185,10 @@ inline ViewResult compareLuxels(const RenderScene& rs, const LightmapOracle& ora
         }
         const std::optional<glm::vec3> ours =
             lightmapValue(rs.lightmaps, hit.face, textureCoordinates(gpuFace(rs, hit.face), glm::vec3(p)));
-        const glm::dvec3 compiled = oracle.luxel(f, x, y);
+        const glm::dvec3 stored = oracle.luxel(f, x, y), compiled = luxelShown(stored);
         double error = 0.0;
-        for (int c = 0; c < 3; ++c) error = std::max(error, std::abs((*ours)[c] * gain - compiled[c]) / std::max(compiled[c], kErrorFloor));
-        r.add(error, std::max({compiled.x, compiled.y, compiled.z}));
+        for (int c = 0; c < 3; ++c) error = std::max(error, std::abs((*ours)[c] * gain - compiled[c]) / std::max(compiled[c], floor));
+        r.add(error, std::max({stored.x, stored.y, stored.z}));
       }
   r.finish();
   return r;
@@ -227,6 +251,7 @@ inline void bakeForCameras(RenderScene& rs, const std::vector<CameraPose>& camer
 inline void checkOracleLevel(const std::string& name, const std::filesystem::path& map, const std::filesystem::path& bsp,
                              double displayScale, const Bar& bar, bool atGap) {
   const LightmapOracle oracle(bsp);
+  const LuxelShown shown{oracle.file().version == bsp::Version::HalfLife30};
   // The game the compiler lit for, as a user names it (a Valve 220 .map reads as Quake's otherwise).
   ImportOptions importOptions;
   if (oracle.file().version == bsp::Version::HalfLife30) importOptions.textures.game.game = "halflife";
@@ -247,7 +272,7 @@ inline void checkOracleLevel(const std::string& name, const std::filesystem::pat
   }
   ASSERT_FALSE(rs.lightmaps.empty());
 
-  const ViewResult luxels = compareLuxels(rs, oracle);
+  const ViewResult luxels = compareLuxels(rs, oracle, 1.0f, shown);
   std::printf("%s", fmt::format("oracle luxels {}: {}\n", name, describe(luxels)).c_str());
   // Compiled faces that we make no face for (qbsp's z-fighting and region cases) leave nothing
   // to compare; the count is printed ("on no compiled face") and the cameras still judge.
@@ -256,7 +281,7 @@ inline void checkOracleLevel(const std::string& name, const std::filesystem::pat
   }
   // The luxels' comparison can fail too: 5 % brighter misses the bar.
   if (!atGap && luxels.compared >= kMinLitPixels) {
-    const ViewResult off = compareLuxels(rs, oracle, 1.05f);
+    const ViewResult off = compareLuxels(rs, oracle, 1.05f, shown);
     EXPECT_FALSE(meets(off, bar)) << "luxels 5 % too bright still pass: " << describe(off);
   }
 
@@ -265,7 +290,7 @@ inline void checkOracleLevel(const std::string& name, const std::filesystem::pat
     const CameraPose& pose = cameras[c];
     const RenderImage image = renderOracleView(rs, pose);
     const Camera camera(pose, kViewWidth, kViewHeight);
-    const ViewResult r = compareImage(rs, oracle, displayScale, camera, image, fmt::format("{}-{}", name, c));
+    const ViewResult r = compareImage(rs, oracle, displayScale, camera, image, fmt::format("{}-{}", name, c), shown);
     std::printf("%s", fmt::format("oracle view {} {}: {}\n", name, formatCameraPose(pose), describe(r)).c_str());
     // A camera that sees no compiled face (a default camera outside a test box, a face camera
     // behind a wall) has nothing to judge; at least one of the three must have something.
@@ -277,7 +302,7 @@ inline void checkOracleLevel(const std::string& name, const std::filesystem::pat
     if (atGap || r.compared < kMinLitPixels) continue;
     RenderImage brighter = image;
     for (glm::vec3& b : brighter.beauty) b = srgbToLinear(linearToSrgb(b) * 1.05f);
-    const ViewResult off = compareImage(rs, oracle, displayScale, camera, brighter, fmt::format("{}-{}-brighter", name, c));
+    const ViewResult off = compareImage(rs, oracle, displayScale, camera, brighter, fmt::format("{}-{}-brighter", name, c), shown);
     EXPECT_FALSE(meets(off, bar)) << "5 % too bright still passes from " << formatCameraPose(pose) << ": " << describe(off);
     ++judged;
   }
