@@ -37,6 +37,7 @@ struct BenchOptions {
   std::string backend = "gl";
   bool timeToConverged = false;
   int referenceSpp = 4096;
+  bool raysOnly = false;
 };
 
 // The CPU tracer's time to converged (the GL tracer's is part of runGlBench): physical light at
@@ -78,7 +79,8 @@ int runBench(const BenchOptions& options) {
                                *textureMode,
                                options.lighting == "physical",
                                options.timeToConverged,
-                               options.referenceSpp};
+                               options.referenceSpp,
+                               options.raysOnly};
   // The first image is timed with the import inside it, as `render` gets there.
   return gl::runGlBench([&](const gl::EntitiesRead& entitiesRead) { return importScene(options.map, options.import, entitiesRead); },
                         settings);
@@ -105,6 +107,8 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
   bench->add_flag("--time-to-converged", options->timeToConverged,
                   "Measure only the time until the displayed physical image is within rel. MSE 0.01 of a --reference-spp render, "
                   "denoiser off and on");
+  bench->add_flag("--rays-only", options->raysOnly,
+                  "Measure only the ray rates (after the cold first image); a level with Quake 3 curves also without them");
   bench->add_option("--backend", options->backend, "gl: the GL tracer; cpu: the CPU tracer (its time to converged only)")
       ->check(CLI::IsMember({"gl", "cpu"}))
       ->capture_default_str();

@@ -1,4 +1,4 @@
-// gl_bench LEVEL [WxH] [textures] [physical|faithful] [seconds]: the GL tracer's benchmark
+// gl_bench LEVEL [WxH] [textures] [physical|faithful] [seconds] [converge [SPP] | rays]: the GL tracer's benchmark
 // (`brushtrace bench`) in a program that links no OpenImageIO, whose libraries (over 300 MB)
 // cannot travel to the GPU machine (scripts/gpu-check.sh): the level is imported with
 // bt_importers_portable, which loads WAD, WAL, miptex and BSP textures but no loose images.
@@ -14,7 +14,8 @@
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: gl_bench LEVEL [WxH] [auto|bindless|arrays] [physical|faithful] [seconds] [converge [REFERENCE_SPP]]\n");
+    std::fprintf(stderr,
+                 "usage: gl_bench LEVEL [WxH] [auto|bindless|arrays] [physical|faithful] [seconds] [converge [REFERENCE_SPP] | rays]\n");
     return 2;
   }
   bt::gl::GlBenchSettings settings;
@@ -28,7 +29,10 @@ int main(int argc, char** argv) {
   if (argc > 5) settings.seconds = std::atof(argv[5]);
   // Issue 18's time to converged (brushtrace bench --time-to-converged), for the device machine,
   // where brushtrace itself does not travel.
-  if (argc > 6) {
+  // The ray rates alone (brushtrace bench --rays-only): a Quake 3 level's also without its curves.
+  if (argc > 6 && std::string(argv[6]) == "rays") {
+    settings.raysOnly = true;
+  } else if (argc > 6) {
     if (std::string(argv[6]) != "converge") return 2;
     settings.timeToConverged = true;
     if (argc > 7) settings.referenceSpp = std::atoi(argv[7]);

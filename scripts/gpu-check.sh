@@ -12,7 +12,8 @@
 #      the GL tests and the parity tests with bindless textures forced, the GL tests again with
 #      texture arrays, then gl_bench on the level with each texture path (NVIDIA's own shader
 #      cache off, so its cold first image is a real compile). `run-on-device.sh quick` runs the
-#      benchmark alone, `run-on-device.sh first-image [N]` the cold first image N times.
+#      benchmark alone, `run-on-device.sh first-image [N]` the cold first image N times,
+#      `run-on-device.sh curves` an OpenArena level's ray rates with and without its curves.
 # The GL loader packages (libEGL, libGL, libglvnd, ...) travel in .gl/, fetched once as
 # /work/.library/device/README.md describes; the NVIDIA driver supplies the rest there.
 #
@@ -25,6 +26,11 @@ shared=${BRUSHTRACE_SHARED_DIR:-$repo/../shared}
 bundle=$device_repo/.device-bundle
 map_rel=maps/librequake/lq1/maps/src/e4/lq_e4m3.map # the largest shared map (3.9 MB, Quake standard)
 many_lights_rel=maps/librequake/lq1/maps/src/dm/lqdm5.map # 2,598 lights, a sun and a sky dome
+# Issue 16's curve benchmark: an OpenArena level with its curves (Debian's openarena-085-data),
+# carried as a .pk3 of that level and the install's shader scripts (the whole pak1-maps.pk3 is
+# 40 MB; the portable importers read no TGA/JPG textures anyway).
+oa_install=${OPENARENA_BASEOA:-/usr/share/games/openarena/baseoa}
+oa_level=oa_dm3
 
 cmake --build "$build" -j2 --target gl_tests gl_parity_tests_portable gl_bench bench_bvh_generated
 
@@ -40,6 +46,21 @@ for rel in "$map_rel" "$many_lights_rel" oracle/lit oracle/lit-games maps/libreq
   mkdir -p "$tmp/shared/$(dirname "$rel")"
   cp -r "$shared/$rel" "$tmp/shared/$rel"
 done
+python3 - "$oa_install" "$oa_level" "$tmp/shared/openarena/oa_bench.pk3" <<'PY'
+import os, sys, zipfile
+install, level, out = sys.argv[1:]
+if os.path.isdir(install):
+    os.makedirs(os.path.dirname(out), exist_ok=True)
+    files = {}  # a later .pk3's file wins, as Quake 3 searches them
+    for pk3 in sorted(f for f in os.listdir(install) if f.endswith(".pk3")):
+        with zipfile.ZipFile(os.path.join(install, pk3)) as src:
+            for name in src.namelist():
+                if name == f"maps/{level}.bsp" or (name.startswith("scripts/") and name.endswith(".shader")):
+                    files[name] = src.read(name)
+    with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as dst:
+        for name, data in sorted(files.items()):
+            dst.writestr(name, data)
+PY
 
 # Every library ldd resolves except glibc's and GCC's runtime (the GPU machine's are newer,
 # hence compatible, and the NVIDIA driver loads them too) and the GL/EGL/Vulkan loaders, which
@@ -74,6 +95,15 @@ cpu_benchmarks() {
     --benchmark_repetitions=7 --benchmark_report_aggregates_only=true 2>&1 | grep -E 'median|^Run on|CPU Caches' | tee \$out/bench_bvh.log
 }
 if [ "\${1:-}" = cpu ]; then cpu_benchmarks; exit 0; fi
+# "run-on-device.sh curves": issue 16's curve cost per ray: the OpenArena level's primary and
+# bounce ray rates with its curves and without them, and the share.
+curve_rays() {
+  if [ -f shared/openarena/oa_bench.pk3 ]; then
+    echo "== gl_bench $oa_level (OpenArena), bindless, rays with and without its curves"
+    ./gl_bench shared/openarena/oa_bench.pk3:maps/$oa_level.bsp 1280x720 bindless physical 6 rays 2>&1 | tee \$out/bench_curves.log
+  fi
+}
+if [ "\${1:-}" = curves ]; then curve_rays; exit 0; fi
 # "run-on-device.sh quick": the benchmark alone, cold (NVIDIA's shader cache off), in both
 # lighting modes, for quick comparisons of the first image.
 if [ "\${1:-}" = quick ]; then
@@ -118,6 +148,7 @@ for textures in bindless arrays; do
   __GL_SHADER_DISK_CACHE=0 ./gl_bench shared/$map_rel 1280x720 \$textures physical 6 2>&1 | tee \$out/bench_\$textures.log
 done
 cpu_benchmarks
+curve_rays
 # As a user starts it: the driver's own shader cache on (its default), the first image in
 # faithful mode; the second run finds both caches filled.
 for run in first second; do

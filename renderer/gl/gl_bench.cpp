@@ -168,21 +168,52 @@ void firstImage(BenchRun& run, const LevelImport& importLevel, const GlBenchSett
              waitSeconds * 1000.0, build.fromCache ? " (program binary from the cache)" : "", sample, readySeconds);
 }
 
+struct RayRates {
+  double primary = 0.0, bounce = 0.0, shadow = 0.0; // Mrays/s
+};
+
 // Ray rates: enough passes to fill about a third of the time budget each. The first probe
-// also builds the program, so the second one sizes the run.
-void benchRays(gl::GlTracer& tracer, const gl::CameraBasis& camera, const GlBenchSettings& s) {
+// also builds the program, so the second one sizes the run. `label` goes before each line.
+RayRates benchRays(gl::GlTracer& tracer, const gl::CameraBasis& camera, const GlBenchSettings& s, const char* label = "") {
   tracer.benchmarkRays(camera, s.width, s.height, 1);
   gl::RayBenchmark probe = tracer.benchmarkRays(camera, s.width, s.height, 1);
   const double perPass = std::max(probe.primarySeconds + probe.bounceSeconds + probe.shadowSeconds, 1e-4);
   const int passes = std::max(1, static_cast<int>(s.seconds / 3.0 / perPass));
   const gl::RayBenchmark rays = tracer.benchmarkRays(camera, s.width, s.height, passes);
-  fmt::print("primary rays: {:.2f} Mrays/s ({} passes of {})\n", rays.primaryRays * double(rays.passes) / rays.primarySeconds * 1e-6,
-             rays.passes, rays.primaryRays);
-  fmt::print("bounce rays:  {:.2f} Mrays/s ({} passes of {})\n", rays.bounceRays * double(rays.passes) / rays.bounceSeconds * 1e-6,
-             rays.passes, rays.bounceRays);
-  fmt::print("shadow rays:  {:.2f} Mrays/s ({} passes of {}: the bounce rays as any-hit queries of at most {:.0f} units, their median "
-             "length)\n",
-             rays.bounceRays * double(rays.passes) / rays.shadowSeconds * 1e-6, rays.passes, rays.bounceRays, rays.shadowLength);
+  const RayRates rates{rays.primaryRays * double(rays.passes) / rays.primarySeconds * 1e-6,
+                       rays.bounceRays * double(rays.passes) / rays.bounceSeconds * 1e-6,
+                       rays.bounceRays * double(rays.passes) / rays.shadowSeconds * 1e-6};
+  fmt::print("{}primary rays: {:.2f} Mrays/s ({} passes of {})\n", label, rates.primary, rays.passes, rays.primaryRays);
+  fmt::print("{}bounce rays:  {:.2f} Mrays/s ({} passes of {})\n", label, rates.bounce, rays.passes, rays.bounceRays);
+  fmt::print("{}shadow rays:  {:.2f} Mrays/s ({} passes of {}: the bounce rays as any-hit queries of at most {:.0f} units, their "
+             "median length)\n",
+             label, rates.shadow, rays.passes, rays.bounceRays, rays.shadowLength);
+  return rates;
+}
+
+// The level with its Quake 3 patches left out: their faces hidden as the engine hides a nodraw
+// surface, so the tracers' triangle BVH holds the other meshes only (soups, models), if any.
+Scene withoutCurves(Scene scene) {
+  for (const Mesh& mesh : scene.meshes)
+    if (mesh.kind == MeshKind::Curve)
+      for (uint32_t f = mesh.firstFace; f < mesh.firstFace + mesh.faceCount; ++f) scene.faces[f].texture = "common/nodraw";
+  return scene;
+}
+
+// Issue 16's curve cost per ray: the same level without its curves, from the same camera, on
+// the same context; then each rate with the curves as a share of the rate without them.
+void benchRaysWithoutCurves(BenchRun& run, const LevelImport& importLevel, const GlBenchSettings& s, const RayRates& withCurves) {
+  const auto curves = std::count_if(run.level->scene.meshes.begin(), run.level->scene.meshes.end(),
+                                    [](const Mesh& m) { return m.kind == MeshKind::Curve; });
+  if (curves == 0) return;
+  gl::GlLevel flat;
+  auto programs = std::make_shared<gl::TracerPrograms>(*run.context, s.textures);
+  programs->setCache(gl::ProgramCache{});
+  gl::loadGlLevel(flat, *run.context, programs, s.physical, [&](const gl::EntitiesRead& read) { return withoutCurves(importLevel(read)); });
+  const RayRates rates = benchRays(*flat.tracer, gl::cameraFrom(run.pose, s.width, s.height), s, "without its curves: ");
+  fmt::print("with its {} curves, per ray: primary {:.1f} %, bounce {:.1f} %, shadow {:.1f} % of the rate without them\n", curves,
+             100.0 * withCurves.primary / rates.primary, 100.0 * withCurves.bounce / rates.bounce,
+             100.0 * withCurves.shadow / rates.shadow);
 }
 
 // Full samples in one lighting mode with one form of the path tracer. A sample's cost varies
@@ -249,6 +280,14 @@ int runGlBench(const LevelImport& importLevel, const GlBenchSettings& s) {
              info.parallelShaderCompile ? "yes" : "no");
   fmt::print("camera: {} ({}), {} lights, {} emitter triangles\n", formatCameraPose(run.pose), run.pose.source,
              run.level->render.lights.size(), run.level->render.emitters.size());
+  if (s.raysOnly) {
+    run.level->tracer->setProgramCache(gl::ProgramCache{});
+    std::error_code ignored;
+    std::filesystem::remove_all(cacheDir, ignored);
+    const RayRates rates = benchRays(*run.level->tracer, gl::cameraFrom(run.pose, s.width, s.height), s);
+    benchRaysWithoutCurves(run, importLevel, s, rates);
+    return run.context->debugErrorCount() == 0 ? 0 : 1;
+  }
   if (s.timeToConverged) {
     std::error_code ignored;
     std::filesystem::remove_all(cacheDir, ignored);
@@ -263,11 +302,12 @@ int runGlBench(const LevelImport& importLevel, const GlBenchSettings& s) {
   std::error_code ignored;
   std::filesystem::remove_all(cacheDir, ignored);
   const gl::CameraBasis camera = gl::cameraFrom(run.pose, s.width, s.height);
-  benchRays(warm, camera, s);
+  const RayRates rays = benchRays(warm, camera, s);
   for (const bool physical : {s.physical, !s.physical})
     for (const gl::PathTracerForm form : {gl::PathTracerForm::Megakernel, gl::PathTracerForm::Wavefront})
       benchSamples(warm, camera, s, physical, form);
   benchBakedLuxels(warm, run.level->render, run.pose, camera, oneSampleSettings(s), s);
+  benchRaysWithoutCurves(run, importLevel, s, rays); // last: its upload rebinds the context's buffers
   return run.context->debugErrorCount() == 0 ? 0 : 1;
 }
 

@@ -21,9 +21,13 @@ struct GlBenchSettings {
   // this many spp: physical light, denoiser off and on.
   bool timeToConverged = false;
   int referenceSpp = 4096;
+  // Measure only the ray rates after the cold first image (with the level's curves and, where it
+  // has any, without them).
+  bool raysOnly = false;
 };
 
-// Prints the measurements to stdout; returns the exit status (1 if GL reported errors).
+// Prints the measurements to stdout; a level with Quake 3 curves gets its ray rates a second
+// time with the curves left out (issue 16: with its curves at >= 80 % of that rate per ray); returns the exit status (1 if GL reported errors).
 // `importLevel` imports the level: it is timed as part of the first image, which is measured
 // the way `brushtrace render` gets there (gl::LevelPreparation and gl::loadGlLevel: the import
 // started, the context, the path tracer's compile started once the lights are read, the
