@@ -45,4 +45,5 @@ layout(std140, binding = BT_UNIFORM_WORLD) uniform World {
   float overbrightOne;// lighting WorldLighting::overbrightOne: the game's display (Quake 128, Quake 2 and Half-Life 255)
   vec3 ambient;       // lighting WorldLighting::ambient: q3map2's `_ambient`, added to the light sum
   uint skySize;       // the sky texture's face edge in texels (sky.glsl), 0 without sky images
+  float clampIndirect;// physical: --clamp-indirect, units (renderer IntegratorSettings::clampIndirect)
 } world;

@@ -444,7 +444,8 @@ struct Viewer::Impl {
   }
 
   gl::BeautySettings beautySettings() const {
-    return gl::BeautySettings{.physical = lighting == LightingMode::Physical, .bounces = options.bounces};
+    return gl::BeautySettings{
+        .physical = lighting == LightingMode::Physical, .bounces = options.bounces, .clampIndirect = options.clampIndirect};
   }
 
   // One sample: of a half-size preview while the camera moves, else one more full-size sample
@@ -514,6 +515,7 @@ struct Viewer::Impl {
     IntegratorSettings integrator;
     integrator.mode = lighting;
     integrator.bounces = options.bounces;
+    integrator.clampIndirect = options.clampIndirect;
     samplesThisFrame = double(image.refine(level->render, view, integrator, kCpuFrameBudget, moving ? 1 : options.maxSamples));
     showRgba(image.width(), image.height(), rgbToRgba(displayPixels(image.mean(), displayOutput())));
   }

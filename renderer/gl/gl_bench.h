@@ -4,6 +4,7 @@
 
 #include "renderer/gl/gl_level.h"
 #include "renderer/gl/gl_textures.h"
+#include "renderer/render.h"
 #include "scene/scene.h"
 
 #include <functional>
@@ -21,6 +22,8 @@ struct GlBenchSettings {
   // this many spp: physical light, denoiser off and on.
   bool timeToConverged = false;
   int referenceSpp = 4096;
+  // Physical mode's firefly clamp (IntegratorSettings::clampIndirect), the commands' default.
+  float clampIndirect = kClampIndirectDefault;
 };
 
 // Prints the measurements to stdout; returns the exit status (1 if GL reported errors).

@@ -193,8 +193,11 @@ struct GpuWorld {
   float overbrightOne; // WorldLighting::overbrightOne: the per-pixel view shows texture × stored / this
   glm::vec3 ambient;   // WorldLighting::ambient: q3map2's `_ambient`, added to the light sum
   uint32_t skySize;    // lighting/sky.h SkyMap::size: the sky texture's face edge, 0 without sky images
+  float clampIndirect; // IntegratorSettings::clampIndirect: physical mode's firefly clamp, units
+  uint32_t pad[3];
 };
-static_assert(sizeof(GpuWorld) == 96);
+static_assert(sizeof(GpuWorld) == 112);
+static_assert(offsetof(GpuWorld, clampIndirect) == 96);
 static_assert(offsetof(GpuWorld, ambient) == 80);
 static_assert(offsetof(GpuWorld, skySize) == 92);
 static_assert(offsetof(GpuWorld, minlight) == 0 && offsetof(GpuWorld, range) == 12 && offsetof(GpuWorld, scaledist) == 16 &&
