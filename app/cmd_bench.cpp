@@ -31,6 +31,7 @@ struct BenchOptions {
   ImportOptions import;
   ImageSize size{1280, 720};
   int bounces = 4;
+  float clampIndirect = kClampIndirectDefault;
   double seconds = 5.0;
   std::string textures = "auto";
   std::string lighting = "physical";
@@ -53,6 +54,7 @@ int runCpuTimeToConverged(const BenchOptions& options) {
     settings.width = options.size.width, settings.height = options.size.height, settings.spp = spp, settings.seed = seed;
     settings.integrator.mode = LightingMode::Physical;
     settings.integrator.bounces = options.bounces;
+    settings.integrator.clampIndirect = options.clampIndirect;
     return renderCpu(rs, camera, settings);
   };
   fmt::print("cpu, {} threads; camera {} ({})\n", std::thread::hardware_concurrency(), formatCameraPose(pose), pose.source);
@@ -80,7 +82,8 @@ int runBench(const BenchOptions& options) {
                                options.lighting == "physical",
                                options.timeToConverged,
                                options.referenceSpp,
-                               options.raysOnly};
+                               options.raysOnly,
+                               options.clampIndirect};
   // The first image is timed with the import inside it, as `render` gets there.
   return gl::runGlBench([&](const gl::EntitiesRead& entitiesRead) { return importScene(options.map, options.import, entitiesRead); },
                         settings);
@@ -97,6 +100,7 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
   bench->add_option("--bounces", options->bounces, "Bounces of the full samples (physical mode)")
       ->check(CLI::Range(0, 64))
       ->capture_default_str();
+  addClampIndirectOption(*bench, options->clampIndirect);
   bench->add_option("--seconds", options->seconds, "Time budget of the measurements")->check(positive())->capture_default_str();
   bench->add_option("--gl-textures", options->textures, "Texture path: auto|bindless|arrays")
       ->check(CLI::IsMember({"auto", "bindless", "arrays"}))

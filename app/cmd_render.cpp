@@ -103,6 +103,7 @@ RenderSettings renderSettings(const RenderOptions& o) {
   settings.seed = o.seed;
   settings.integrator.mode = o.lighting == "physical" ? LightingMode::Physical : LightingMode::Faithful;
   settings.integrator.bounces = o.bounces;
+  settings.integrator.clampIndirect = o.clampIndirect;
   // AOVs other than beauty need no samples beyond the one through each pixel centre.
   if (o.aov != "beauty") settings.spp = 1, settings.timeLimit = 0.0;
   return settings;
@@ -366,6 +367,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
       ->check(CLI::IsMember({1, 2, 4}))
       ->capture_default_str();
   cmd->add_option("--bounces", options->bounces, "Physical lighting: indirect bounces")->check(CLI::Range(0, 64))->capture_default_str();
+  addClampIndirectOption(*cmd, options->clampIndirect);
   cmd->add_option("--threads", options->threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber)->capture_default_str();
   cmd->add_option("--seed", options->seed, "Random seed: same seed and spp give the same image")->capture_default_str();
   cmd->add_flag("--quiet", options->quiet, "No progress or camera lines");

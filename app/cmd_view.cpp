@@ -76,6 +76,7 @@ void addViewCommand(CLI::App& app, int& exitCode) {
       ->check(CLI::IsMember({1, 2, 4}))
       ->capture_default_str();
   view->add_option("--bounces", cmd->viewer.bounces, "Bounces in physical mode")->check(CLI::Range(0, 64))->capture_default_str();
+  addClampIndirectOption(*view, cmd->viewer.clampIndirect);
   view->add_option("--backend", cmd->backend, "auto|gl|cpu: auto draws with the CPU tracer where the window's GL is software (llvmpipe)")
       ->check(CLI::IsMember({"auto", "gl", "cpu"}))
       ->capture_default_str();

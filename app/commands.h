@@ -37,6 +37,10 @@ struct ImageSize {
 };
 void addSizeOption(CLI::App& command, ImageSize& size, const std::string& help);
 
+// --clamp-indirect UNITS (render, view, bench): physical mode's firefly clamp, the nearest a
+// point light counts as to a surface met after the camera's (IntegratorSettings::clampIndirect).
+void addClampIndirectOption(CLI::App& command, float& clampIndirect);
+
 // The level `render` and `view` open when given none: maps/start.map.
 std::string defaultMapPath();
 

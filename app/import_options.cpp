@@ -79,6 +79,16 @@ void addSizeOption(CLI::App& command, ImageSize& size, const std::string& help) 
       ->default_str(std::to_string(size.width) + "x" + std::to_string(size.height));
 }
 
+void addClampIndirectOption(CLI::App& command, float& clampIndirect) {
+  command
+      .add_option("--clamp-indirect", clampIndirect,
+                  "Physical lighting: after the first surface, point lights count as at least this many units away "
+                  "(removes fireflies; 0 = off)")
+      ->check(CLI::Range(0.0f, 4096.0f))
+      ->type_name("UNITS")
+      ->capture_default_str();
+}
+
 namespace {
 bool hasExtension(const std::string& name, std::initializer_list<std::string_view> extensions) {
   const std::string ext = lowercase(std::filesystem::path(name).extension().string());

@@ -3,6 +3,7 @@
 
 #include "app/commands.h"
 #include "renderer/camera.h"
+#include "renderer/render.h"
 
 #include <optional>
 #include <string>
@@ -27,6 +28,7 @@ struct RenderOptions {
   std::string lighting = "faithful";
   bool lightingGiven = false; // --lighting on the command line (a Quake 3 .bsp defaults to compiled)
   int bounces = 3;
+  float clampIndirect = kClampIndirectDefault; // physical mode's firefly clamp, units (0: off)
   int threads = 0;
   uint32_t seed = 0;
   bool quiet = false;

@@ -4,6 +4,7 @@
 
 #include "lighting/visibility.h" // LightingMode
 #include "renderer/tonemap.h"
+#include "shaders/light_constants.glsl"
 
 #include <glm/vec3.hpp>
 
@@ -24,7 +25,15 @@ struct IntegratorSettings {
   // on the shared levels and kept to measure against (tests, bench_light_selection).
   enum class PhysicalPick { NearList, Tree };
   PhysicalPick physicalPick = PhysicalPick::NearList;
+  // Physical mode's firefly clamp (`--clamp-indirect`, lighting/README.md "Fireflies"): at every
+  // surface a path meets after the camera's, a point light counts as at least this many units
+  // away, so a wall a few units from a light does not light the floor it bounces to hundreds of
+  // times brighter than the light's tuning intends. 0: off, the unbiased estimate (the default
+  // here, for tests against references); the commands default to kClampIndirectDefault.
+  float clampIndirect = 0.0f;
 };
+
+inline constexpr float kClampIndirectDefault = BT_CLAMP_INDIRECT_DEFAULT;
 
 struct RenderSettings {
   int width = 640;

@@ -30,5 +30,6 @@
 #define BT_HORIZON_MARGIN 0.01f          // shading normals: Iray's margin above the face's plane
 #define BT_PHYSICAL_LIGHT_UNIT 128.0f    // Quake light units per physical unit (point: x pi, sun: / pi)
 #define BT_PHYSICAL_REACH_THRESHOLD 1.0f // light units: where an inverse-formula light ends in physical mode
+#define BT_CLAMP_INDIRECT_DEFAULT 32.0f  // units: --clamp-indirect's default (lighting/README.md, "Fireflies")
 
 #endif

@@ -402,7 +402,9 @@ bool physicalSelectedLightRay(inout Path path, inout Rng rng) {
   vec3 f = bsdfEval(path.bsdf, n, path.wo, wi, pdf);
   float cone = spotTerm(light, wi);
   if (pdf == 0.0 || cone == 0.0) return false;
-  vec3 irradiance = light.color * physicalFalloff(light, dist2) * world.range * PHYSICAL_POINT_SCALE * cone;
+  float minDist2 = path.depth > 0 ? world.clampIndirect * world.clampIndirect : 0.0; // the firefly clamp (cpu clampedShare)
+  float share = dist2 < minDist2 ? dist2 / minDist2 : 1.0;
+  vec3 irradiance = light.color * physicalFalloff(light, dist2) * share * world.range * PHYSICAL_POINT_SCALE * cone;
   setRay(path, RAY_SHADOW, origin, wi, dist);
   path.pending = f * irradiance * dot(path.bsdf.n, wi) / chosen.pdf;
   return true;
@@ -475,8 +477,7 @@ bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
   vec3 local = decodeNormalTexel(normalTexel);
   if (lastMap == MAP_NORMAL && local != vec3(0.0))
     ns = keepAboveHorizon(normalMapToWorld(local, f.tangent, f.bitangent, n), n, wo);
-  path.bsdf = Bsdf(baseColor, m.roughness, m.metallic,
-                   (m.flags & MATERIAL_SPECULAR) != 0u, ns);
+  path.bsdf = Bsdf(baseColor, m.roughness, m.metallic, (m.flags & MATERIAL_SPECULAR) != 0u, ns);
   path.position = hit.position;
   path.normal = n;
   path.wo = wo;

@@ -46,4 +46,5 @@ layout(std140, binding = BT_UNIFORM_WORLD) uniform World {
   vec3 ambient;       // lighting WorldLighting::ambient: q3map2's `_ambient`, added to the light sum
   uint skySize;       // the sky texture's face edge in texels (sky.glsl), 0 without sky images
   uint luxelDisplay;  // lighting WorldLighting::luxelDisplay (BT_LUXEL_DISPLAY_*, lightmaps.glsl shownLuxel)
+  float clampIndirect;// physical: --clamp-indirect, units (renderer IntegratorSettings::clampIndirect)
 } world;

@@ -45,6 +45,7 @@ struct ViewerOptions {
   // leaves no light entities in it, so faithful light would be black), with note() saying so.
   bool lightingGiven = false;
   int bounces = 3;
+  float clampIndirect = kClampIndirectDefault; // physical mode's firefly clamp (render's --clamp-indirect)
   std::filesystem::path screenshotDir = ".";
   int maxSamples = 4096;               // refinement stops here; the window stays responsive
   float exposureEv = 0.0f;             // as render's --exposure: on screen, in screenshots and in the EXR

@@ -62,7 +62,8 @@ void Viewer::Impl::renderAovsIfNeeded() {
 }
 
 gl::BeautySettings Viewer::Impl::beautySettings() const {
-  return gl::BeautySettings{.physical = lighting == LightingMode::Physical, .bounces = options.bounces};
+  return gl::BeautySettings{
+      .physical = lighting == LightingMode::Physical, .bounces = options.bounces, .clampIndirect = options.clampIndirect};
 }
 
 void Viewer::Impl::renderSample() {
@@ -166,6 +167,7 @@ void Viewer::Impl::refineOnCpu() {
   IntegratorSettings integrator;
   integrator.mode = lighting;
   integrator.bounces = options.bounces;
+  integrator.clampIndirect = options.clampIndirect;
   samplesThisFrame = double(image.refine(level->render, view, integrator, kCpuFrameBudget, moving ? 1 : options.maxSamples));
   // A pass under way: its rows have one sample more, which the denoiser's strength need not tell.
   const int spp = std::max(image.samples(), 1);

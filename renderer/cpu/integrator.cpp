@@ -256,10 +256,20 @@ glm::vec3 emittedRadiance(const RenderScene& rs, uint32_t face, const glm::vec3&
   return le;
 }
 
+// The firefly clamp (IntegratorSettings::clampIndirect): the share of a point light's falloff
+// kept when it counts as at least sqrt(minDist2) away, d^2 / R^2 nearer than R and exactly 1
+// beyond. Only the inverse square is clamped; the window keeps the true distance, so a light
+// whose reach is shorter than R still lights what it reaches. pathtrace.comp computes the same.
+float clampedShare(float dist2, float minDist2) {
+  return dist2 < minDist2 ? dist2 / minDist2 : 1.0f;
+}
+
 // A point light's unshadowed contribution to the light leaving towards wo (physical units),
-// with wi and the distance of the shadow ray.
+// with wi and the distance of the shadow ray. The falloff is taken at least minDist2 (squared
+// units) from the light: IntegratorSettings::clampIndirect at surfaces after the first, else 0.
 glm::vec3 pointLightUnshadowed(const RenderScene& rs, const Bsdf& bsdf, const GpuLight& light, const glm::vec3& pos,
-                               const glm::vec3& origin, const glm::vec3& ng, const glm::vec3& wo, glm::vec3& wi, float& dist) {
+                               const glm::vec3& origin, const glm::vec3& ng, const glm::vec3& wo, float minDist2, glm::vec3& wi,
+                               float& dist) {
   const glm::vec3 d = pos - origin;
   const float dist2 = glm::dot(d, d);
   dist = std::sqrt(dist2);
@@ -268,7 +278,8 @@ glm::vec3 pointLightUnshadowed(const RenderScene& rs, const Bsdf& bsdf, const Gp
   const glm::vec3 f = bsdfEval(bsdf, ng, wo, wi, pdf);
   const float cone = faithful::spotTerm(light, wi);
   if (pdf == 0.0f || cone == 0.0f) return glm::vec3(0.0f);
-  const glm::vec3 irradiance = light.color * physical::falloff(light, dist2) * rs.world.range * kPhysicalPointScale * cone;
+  const glm::vec3 irradiance =
+      light.color * physical::falloff(light, dist2) * clampedShare(dist2, minDist2) * rs.world.range * kPhysicalPointScale * cone;
   return f * irradiance * glm::dot(bsdf.n, wi);
 }
 
@@ -298,7 +309,7 @@ glm::vec3 sunContribution(const RenderScene& rs, const Bsdf& bsdf, const GpuLigh
 
 // Every point light and sun, each with its own shadow ray: the reference for selection.
 glm::vec3 allLightsExhaustive(const RenderScene& rs, const Bsdf& bsdf, const glm::vec3& origin, const glm::vec3& ng, const glm::vec3& wo,
-                              Rng& rng) {
+                              float minDist2, Rng& rng) {
   glm::vec3 l(0.0f);
   for (const GpuLight& light : rs.lights) {
     if (light.value <= 0.0f) continue; // negative lights have no physical meaning
@@ -308,7 +319,7 @@ glm::vec3 allLightsExhaustive(const RenderScene& rs, const Bsdf& bsdf, const glm
       const glm::vec3 pos = jitteredOrigin(light, rng);
       glm::vec3 wi;
       float dist;
-      const glm::vec3 c = pointLightUnshadowed(rs, bsdf, light, pos, origin, ng, wo, wi, dist);
+      const glm::vec3 c = pointLightUnshadowed(rs, bsdf, light, pos, origin, ng, wo, minDist2, wi, dist);
       if (c == glm::vec3(0.0f) || occluded(rs, Ray{origin, 0.0f, wi, dist}, LightingMode::Physical)) continue;
       l += c;
     } else if (light.type == uint32_t(LightType::Sun)) {
@@ -369,7 +380,7 @@ LightPick pickFromNearList(const RenderScene& rs, const glm::vec3& origin, const
 // suns', the pick's (two for the near lists, one for the tree), the chosen light's jitter (3,
 // when soft); light_select.glsl draws the same as the near lists.
 glm::vec3 allLightsSelected(const RenderScene& rs, const IntegratorSettings& settings, const Bsdf& bsdf, const glm::vec3& origin,
-                            const glm::vec3& ng, const glm::vec3& wo, Rng& rng) {
+                            const glm::vec3& ng, const glm::vec3& wo, float minDist2, Rng& rng) {
   glm::vec3 l(0.0f);
   for (uint32_t i : rs.lightGrid.fixedLights()) {
     const GpuLight& light = rs.lights[i];
@@ -384,19 +395,20 @@ glm::vec3 allLightsSelected(const RenderScene& rs, const IntegratorSettings& set
   const glm::vec3 pos = jitteredOrigin(light, rng);
   glm::vec3 wi;
   float dist;
-  const glm::vec3 c = pointLightUnshadowed(rs, bsdf, light, pos, origin, ng, wo, wi, dist);
+  const glm::vec3 c = pointLightUnshadowed(rs, bsdf, light, pos, origin, ng, wo, minDist2, wi, dist);
   if (c != glm::vec3(0.0f) && !occluded(rs, Ray{origin, 0.0f, wi, dist}, LightingMode::Physical)) l += c / pick.pdf;
   return l;
 }
 
 // Direct light at a surface by next-event estimation: point lights and suns, then one emitter
 // triangle (MIS-weighted against BSDF sampling). Rays leave from the face (ng), not from where
-// a normal map pretends it is.
+// a normal map pretends it is. `indirect`: a surface after the camera's (the firefly clamp's).
 glm::vec3 directLight(const RenderScene& rs, const IntegratorSettings& settings, const Bsdf& bsdf, const glm::vec3& p, const glm::vec3& ng,
-                      const glm::vec3& wo, Rng& rng) {
+                      const glm::vec3& wo, bool indirect, Rng& rng) {
   const glm::vec3 origin = offsetRayOrigin(p, ng);
-  glm::vec3 l = settings.lightSelection ? allLightsSelected(rs, settings, bsdf, origin, ng, wo, rng)
-                                        : allLightsExhaustive(rs, bsdf, origin, ng, wo, rng);
+  const float minDist2 = indirect ? settings.clampIndirect * settings.clampIndirect : 0.0f;
+  glm::vec3 l = settings.lightSelection ? allLightsSelected(rs, settings, bsdf, origin, ng, wo, minDist2, rng)
+                                        : allLightsExhaustive(rs, bsdf, origin, ng, wo, minDist2, rng);
 
   if (!rs.emitters.empty()) {
     const GpuEmitter& e = rs.emitters[pickEmitter(rs, rng.next())];
@@ -465,7 +477,7 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
     const GpuMaterial& m = rs.materials[gpuFace(rs, hit.face).material];
     const Bsdf bsdf{srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position))), m.roughness, m.metallic,
                     (m.flags & kMaterialSpecular) != 0, shadingNormal(rs, hit, wo)};
-    l += throughput * directLight(rs, settings, bsdf, hit.position, n, wo, rng);
+    l += throughput * directLight(rs, settings, bsdf, hit.position, n, wo, depth > 0, rng);
 
     const glm::vec3 wi = bsdfSample(bsdf, wo, rng);
     float pdf;

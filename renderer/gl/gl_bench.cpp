@@ -88,7 +88,7 @@ struct BenchRun {
 };
 
 gl::BeautySettings oneSampleSettings(const GlBenchSettings& s) {
-  return {.width = s.width, .height = s.height, .spp = 1, .physical = s.physical, .bounces = s.bounces};
+  return {.width = s.width, .height = s.height, .spp = 1, .physical = s.physical, .bounces = s.bounces, .clampIndirect = s.clampIndirect};
 }
 
 // The level's import started on a worker thread, the context made meanwhile, the path tracer's

@@ -4,6 +4,7 @@
 
 #include "renderer/gl/gl_level.h"
 #include "renderer/gl/gl_textures.h"
+#include "renderer/render.h"
 #include "scene/scene.h"
 
 #include <functional>
@@ -24,6 +25,8 @@ struct GlBenchSettings {
   // Measure only the ray rates after the cold first image (with the level's curves and, where it
   // has any, without them).
   bool raysOnly = false;
+  // Physical mode's firefly clamp (IntegratorSettings::clampIndirect), the commands' default.
+  float clampIndirect = kClampIndirectDefault;
 };
 
 // Prints the measurements to stdout; a level with Quake 3 curves gets its ray rates a second

@@ -62,6 +62,7 @@ GlRenderResult renderWithGl(GlContext& context, const RenderScene& scene, const 
   beauty.seed = settings.seed;
   beauty.physical = settings.integrator.mode == LightingMode::Physical;
   beauty.bounces = settings.integrator.bounces;
+  beauty.clampIndirect = settings.integrator.clampIndirect;
   const auto start = std::chrono::steady_clock::now();
   const BeautyImage b = tracer.renderBeauty(camera, beauty, [&](int done) {
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

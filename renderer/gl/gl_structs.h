@@ -195,10 +195,12 @@ struct GpuWorld {
   glm::vec3 ambient;     // WorldLighting::ambient: q3map2's `_ambient`, added to the light sum
   uint32_t skySize;      // lighting/sky.h SkyMap::size: the sky texture's face edge, 0 without sky images
   uint32_t luxelDisplay; // WorldLighting::luxelDisplay: the per-pixel view's engine luxel table (BT_LUXEL_DISPLAY_*)
-  uint32_t pad[3];
+  float clampIndirect;   // IntegratorSettings::clampIndirect: physical mode's firefly clamp, units
+  uint32_t pad[2];
 };
 static_assert(sizeof(GpuWorld) == 112);
 static_assert(offsetof(GpuWorld, luxelDisplay) == 96);
+static_assert(offsetof(GpuWorld, clampIndirect) == 100);
 static_assert(offsetof(GpuWorld, ambient) == 80);
 static_assert(offsetof(GpuWorld, skySize) == 92);
 static_assert(offsetof(GpuWorld, minlight) == 0 && offsetof(GpuWorld, range) == 12 && offsetof(GpuWorld, scaledist) == 16 &&

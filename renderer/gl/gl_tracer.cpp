@@ -90,9 +90,10 @@ struct GlTracer::Impl {
     glDeleteBuffers(1, &worldBuffer);
   }
 
-  void setWorld(bool physical, int bounces) {
-    world.physical = physical ? 1u : 0u;
-    world.bounces = bounces;
+  void setWorld(const BeautySettings& settings) {
+    world.physical = settings.physical ? 1u : 0u;
+    world.bounces = settings.bounces;
+    world.clampIndirect = settings.clampIndirect;
     BT_GL(glNamedBufferSubData(worldBuffer, 0, sizeof world, &world));
     BT_GL(glBindBufferBase(GL_UNIFORM_BUFFER, kUniformWorld, worldBuffer));
   }
@@ -122,7 +123,7 @@ struct GlTracer::Impl {
     const auto start = std::chrono::steady_clock::now();
     StorageImage target(GL_RGBA32F, std::max(width, 1), std::max(height, 1));
     target.bindImage(kImageAccumulation, GL_READ_WRITE);
-    setWorld(physical, 0);
+    setWorld(BeautySettings{.physical = physical, .bounces = 0});
     setCamera(CameraBasis{}, 0, 0, 0, 0);
     dispatch();
     BT_GL(glFinish());
@@ -232,7 +233,7 @@ BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettin
   if (settings.width <= 0 || settings.height <= 0) throw GlError(fmt::format("image size {}x{} is empty", settings.width, settings.height));
   StorageImage accumulation(GL_RGBA32F, settings.width, settings.height);
   accumulation.bindImage(kImageAccumulation, GL_READ_WRITE);
-  impl_->setWorld(settings.physical, settings.bounces);
+  impl_->setWorld(settings);
   BeautyImage out;
   out.width = settings.width;
   out.height = settings.height;
@@ -266,7 +267,7 @@ BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettin
 void GlTracer::addSample(const CameraBasis& camera, const BeautySettings& settings, unsigned sum, uint32_t sampleIndex) {
   if (settings.width <= 0 || settings.height <= 0) throw GlError(fmt::format("image size {}x{} is empty", settings.width, settings.height));
   BT_GL(glBindImageTexture(kImageAccumulation, sum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F));
-  impl_->setWorld(settings.physical, settings.bounces);
+  impl_->setWorld(settings);
   if (settings.form == PathTracerForm::Auto) impl_->programs->startPathTracer(settings.physical, impl_->features);
   impl_->drawSample(camera, settings, sampleIndex);
   // The tonemap pass and a read-back see the sum this sample wrote.
@@ -278,7 +279,7 @@ void GlTracer::setLightmaps(const std::vector<uint32_t>& packed) {
 }
 
 void GlTracer::bindLevel() {
-  impl_->setWorld(false, 0);
+  impl_->setWorld(BeautySettings{.physical = false, .bounces = 0});
   impl_->buffers.bind();
   impl_->textures.bind();
 }

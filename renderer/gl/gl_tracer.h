@@ -69,8 +69,9 @@ struct BeautySettings {
   int height = 360;
   int spp = 16;
   uint32_t seed = 0;
-  bool physical = false; // --lighting physical
-  int bounces = 3;       // physical mode
+  bool physical = false;      // --lighting physical
+  int bounces = 3;            // physical mode
+  float clampIndirect = 0.0f; // physical mode's firefly clamp (IntegratorSettings::clampIndirect)
   PathTracerForm form = PathTracerForm::Auto;
 };
 

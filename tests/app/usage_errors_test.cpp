@@ -75,6 +75,7 @@ TEST(UsageErrors, EveryCommandChecksItsOptionsBeforeAnyWork) {
       {"render " + level + out + " --palette " + quoted(dir / "missing.lmp"), "--palette"},
       {"render " + level + out + " --textures " + quoted(dir / "missing"), "--textures"},
       {"render " + level + out + " --bounces -1", "--bounces"},
+      {"render " + level + out + " --clamp-indirect -1", "--clamp-indirect"},
       {"render " + level + out + " --threads -1", "--threads"},
       {"info " + quoted(dir / "missing.map"), "MAP: '"},
       {"dump " + quoted(dir / "missing.map"), "MAP: '"},
@@ -84,10 +85,12 @@ TEST(UsageErrors, EveryCommandChecksItsOptionsBeforeAnyWork) {
       {"view " + level + " --camera 'setpos 1 2'", "--camera: expected"},
       {"view " + level + " --screenshots " + quoted(dir / "missing"), "--screenshots: folder"},
       {"view " + level + " --bounces 65", "--bounces"},
+      {"view " + level + " --clamp-indirect near", "--clamp-indirect"},
       {"view " + level + " --backend vulkan", "--backend"},
       {"view " + quoted(dir / "missing.map"), "map: '"},
       {"bench " + quoted(dir / "missing.map"), "map: '"},
       {"bench " + level + " --seconds 0", "--seconds"},
+      {"bench " + level + " --clamp-indirect 5000", "--clamp-indirect"},
   };
   for (const auto& [args, message] : cases) {
     const CommandResult r = brushtrace(args);

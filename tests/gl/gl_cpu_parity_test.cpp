@@ -313,6 +313,30 @@ TEST(GlCpuParity, PhysicalBeautyAgreesWithTheCpuReference) {
   expectBeautyAgrees(gpu, cpu, 0.03);
 }
 
+// Physical mode's firefly clamp (IntegratorSettings::clampIndirect) on both tracers, in a room
+// whose light is 8 units from a wall. At 512 units (not the default: so that it changes the light
+// of every path that bounces, not of the few that find the spot beside the light) both dim the
+// same lights at the same surfaces; the CPU's clamped image must be darker than its unclamped
+// one by more than the tolerance, so that a GL tracer that ignored the clamp would fail.
+TEST(GlCpuParity, FireflyClampAgreesWithTheCpuReference) {
+  const Scene scene = test::lightNearWallRoom();
+  Diagnostics diagnostics;
+  const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+  const CameraPose pose{{110.0f, 100.0f, 100.0f}, 30.0f, -150.0f, 0.0f, "test"};
+  RenderSettings settings = beautySettings(LightingMode::Physical, 21);
+  settings.integrator.clampIndirect = 512.0f;
+  RenderImage cpu;
+  const RenderImage gpu = renderBoth(rs, pose, settings, cpu);
+  expectBeautyAgrees(gpu, cpu, 0.03);
+
+  RenderSettings unclamped = settings;
+  unclamped.integrator.clampIndirect = 0.0f;
+  const RenderImage bright = renderCpu(rs, Camera(pose, settings.width, settings.height), unclamped);
+  double clampedSum = 0.0, unclampedSum = 0.0;
+  for (size_t i = 0; i < cpu.beauty.size(); ++i) clampedSum += cpu.beauty[i].x, unclampedSum += bright.beauty[i].x;
+  EXPECT_LT(clampedSum, 0.9 * unclampedSum) << "the clamp should take a tenth of the light or more here";
+}
+
 // Physical mode's emitters on both tracers: maps/start.map's glowing lamp is an area emitter,
 // sampled by NEE and met by bounce rays (MIS on both), beside its sun, spots and point lights.
 TEST(GlCpuParity, PhysicalBeautyWithEmittersAgreesWithTheCpuReference) {

@@ -183,14 +183,15 @@ TEST(GlStructLayout, CameraAndWorldBlocksAsTheShadersReadThem) {
                 MEMBER(GpuCamera, right), MEMBER(GpuCamera, pad2), MEMBER(GpuCamera, up), MEMBER(GpuCamera, pad3),
                 MEMBER(GpuCamera, imageSize), MEMBER(GpuCamera, frameIndex), MEMBER(GpuCamera, seed), MEMBER(GpuCamera, firstFrame)},
                0);
-  expectLayout(GL_UNIFORM, "World.", {MEMBER(GpuWorld, minlight),    MEMBER(GpuWorld, range),           MEMBER(GpuWorld, scaledist),
-                                      MEMBER(GpuWorld, bouncescale), MEMBER(GpuWorld, faithfulBounces), MEMBER(GpuWorld, litwater),
-                                      MEMBER(GpuWorld, lightCount),  MEMBER(GpuWorld, emitterCount),    MEMBER(GpuWorld, emitterArea),
-                                      MEMBER(GpuWorld, physical),    MEMBER(GpuWorld, bounces),         MEMBER(GpuWorld, dirtMode),
-                                      MEMBER(GpuWorld, dirtDepth),   MEMBER(GpuWorld, dirtAngle),       MEMBER(GpuWorld, dirtScale),
-                                      MEMBER(GpuWorld, dirtGain),    MEMBER(GpuWorld, minlightDirt),    MEMBER(GpuWorld, overbrightOne),
-                                      MEMBER(GpuWorld, ambient),     MEMBER(GpuWorld, skySize),         MEMBER(GpuWorld, luxelDisplay)},
-               0);
+  expectLayout(
+      GL_UNIFORM, "World.",
+      {MEMBER(GpuWorld, minlight),        MEMBER(GpuWorld, range),         MEMBER(GpuWorld, scaledist),  MEMBER(GpuWorld, bouncescale),
+       MEMBER(GpuWorld, faithfulBounces), MEMBER(GpuWorld, litwater),      MEMBER(GpuWorld, lightCount), MEMBER(GpuWorld, emitterCount),
+       MEMBER(GpuWorld, emitterArea),     MEMBER(GpuWorld, physical),      MEMBER(GpuWorld, bounces),    MEMBER(GpuWorld, dirtMode),
+       MEMBER(GpuWorld, dirtDepth),       MEMBER(GpuWorld, dirtAngle),     MEMBER(GpuWorld, dirtScale),  MEMBER(GpuWorld, dirtGain),
+       MEMBER(GpuWorld, minlightDirt),    MEMBER(GpuWorld, overbrightOne), MEMBER(GpuWorld, ambient),    MEMBER(GpuWorld, skySize),
+       MEMBER(GpuWorld, luxelDisplay),    MEMBER(GpuWorld, clampIndirect)},
+      0);
 }
 
 } // namespace

@@ -109,6 +109,27 @@ TEST(GlWavefront, PhysicalEqualsTheMegakernel) {
                   {.width = kWidth, .height = kHeight, .spp = 2, .seed = 5, .physical = true, .bounces = 3});
 }
 
+// Physical mode's firefly clamp (BeautySettings::clampIndirect) in both forms: at 512 units it
+// dims every point light's light at the surfaces after the camera's, which both must do alike;
+// the clamped image must differ from the unclamped one, or the comparison would prove nothing.
+TEST(GlWavefront, PhysicalWithTheFireflyClampEqualsTheMegakernel) {
+  GlLighting lighting;
+  lighting.lights = {pointLight({-100, 0, 200}, 300.0f), pointLight({150, 100, 60}, 200.0f)};
+  const Scene room = test::makeTestRoom();
+  const BeautySettings clamped{
+      .width = kWidth, .height = kHeight, .spp = 2, .seed = 5, .physical = true, .bounces = 3, .clampIndirect = 512.0f};
+  expectSameImage(room, lighting, clamped);
+
+  GlTracer tracer(test::sharedGlContext(), room, TraceScene::build(room), sharedPrograms(), lighting);
+  const CameraBasis camera = test::testCamera(kWidth, kHeight);
+  BeautySettings unclamped = clamped;
+  unclamped.clampIndirect = 0.0f;
+  const BeautyImage a = tracer.renderBeauty(camera, clamped), b = tracer.renderBeauty(camera, unclamped);
+  size_t changed = 0;
+  for (size_t i = 0; i < a.beauty.size(); ++i) changed += largestOf(glm::abs(a.beauty[i] - b.beauty[i])) > 1e-3f * largestOf(b.beauty[i]);
+  EXPECT_GT(changed, a.beauty.size() / 4) << "the clamp should change the light of most pixels";
+}
+
 TEST(GlWavefront, FaithfulDirtEqualsTheMegakernel) {
   GlLighting lighting;
   lighting.lights = {pointLight({-100, 0, 200}, 300.0f)};

@@ -131,4 +131,14 @@ Scene manyLightsHall(int count, uint32_t seed) {
   return b.build();
 }
 
+Scene lightNearWallRoom() {
+  BoxSceneBuilder b;
+  b.material("white", 200, 200, 200);
+  b.material("grey", 120, 120, 120);
+  b.room({-128, -128, 0}, {128, 128, 128}, "white");
+  b.box({-20, 20, 0}, {20, 60, 96}, "grey");
+  b.entity({{"classname", "light"}, {"origin", "-120 -40 64"}, {"light", "300"}, {"delay", "2"}});
+  return b.build();
+}
+
 } // namespace bt::test

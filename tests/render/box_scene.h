@@ -41,4 +41,10 @@ Scene manyLightsRoom(int count, bool softLights, uint32_t seed);
 // with wait 2 to 8, a few coloured and spots): a level's many lights, of which a point sees few.
 Scene manyLightsHall(int count, uint32_t seed);
 
+// Physical mode's fireflies (lighting/README.md, "Fireflies"): a 256 x 256 x 128 room around
+// (0 0 64), lit by one inverse-square light (delay 2, light 300) 8 units from the wall x = -128,
+// where that wall is 256 times brighter than at the light's match distance (128 units), and a
+// grey pillar; the floor's light from a bounce is mostly that rare bright spot.
+Scene lightNearWallRoom();
+
 } // namespace bt::test

@@ -1,0 +1,110 @@
+// Issue 18's "physical and faithful mean brightness of every shared Quake 1 level agree within a
+// factor of 1.5 with default settings" (lighting/README.md, "Physical mode", gives the measure).
+//
+// The levels: every file under ../shared/maps whose name ends in .map (recursively, sorted),
+// imported as `render` imports it (LibreQuake's with its loose texture folders, as the other
+// tests open it), kept when it is a Quake 1 level: the Standard or Valve 220 dialect read as
+// Quake's (lighting/game_rules.h gameOf; Half-Life's Valve 220 and Hexen II are other games).
+// A file that does not import is not a level and is listed as such.
+//
+// The measure: the mean Rec. 709 luminance of the linear beauty over every pixel of the level's
+// default camera, at exposure 0 (before any tone map), on the CPU tracer, with `render`'s
+// defaults but the size and samples: faithful per pixel (`--luxels off`), physical with 3
+// bounces and the default firefly clamp. Automatic exposure would hide any mismatch, so the
+// radiance itself is compared. A level both modes leave black (no light at all in view) agrees.
+//
+// DISABLED: it fails today, on real causes, and the bar is not to be loosened. Of 214 Quake 1
+// levels (48 s here), 59 are black in both, 74 agree, 45 are brighter in physical mode (the real
+// levels mostly: lq_e4m3 3.3x, e1m1 1.8x, dm3 2.4x) and 36 darker (30 of them black in physical
+// mode while faithful mode shows unlit liquids, sky or minlight). bench/README.md, "Issue 18:
+// faithful against physical brightness", lists the levels and the causes found so far. Run it
+// with --gtest_also_run_disabled_tests.
+#include "importers/import.h"
+#include "lighting/game_rules.h"
+#include "renderer/cpu/cpu_renderer.h"
+#include "renderer/exposure.h"
+#include "tests/test_data.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace bt {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kWidth = 32, kHeight = 18;
+constexpr float kMaxRatio = 1.5f;
+constexpr double kBlack = 1e-4; // mean luminance: a level this dark in both modes shows nothing lit
+
+std::vector<fs::path> sharedMapFiles(const fs::path& shared) {
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::recursive_directory_iterator(shared / "maps"))
+    if (entry.is_regular_file() && entry.path().extension() == ".map") files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+ImportOptions importOptions(const fs::path& shared, const fs::path& map) {
+  ImportOptions options;
+  const fs::path wads = shared / "maps/librequake/texture-wads";
+  if (map.string().find("/librequake/") != std::string::npos)
+    for (const auto& dir : fs::directory_iterator(wads))
+      if (dir.is_directory()) options.textures.textureDirs.push_back(dir.path().string());
+  return options;
+}
+
+bool isQuake1Level(const Scene& scene) {
+  return (scene.format == "standard" || scene.format == "valve220") && gameOf(scene) == Game::Quake;
+}
+
+double meanLuminance(const RenderScene& rs, const CameraPose& pose, LightingMode mode, int spp) {
+  RenderSettings s;
+  s.width = kWidth;
+  s.height = kHeight;
+  s.spp = spp;
+  s.seed = 1;
+  s.integrator.mode = mode;
+  s.integrator.clampIndirect = kClampIndirectDefault; // render's default; its --bounces default is the struct's
+  const RenderImage image = renderCpu(rs, Camera(pose, kWidth, kHeight), s);
+  double sum = 0.0;
+  for (const glm::vec3& p : image.beauty) sum += luminance(p);
+  return sum / double(image.beauty.size());
+}
+
+TEST(PhysicalBrightness, DISABLED_EverySharedQuake1LevelAgreesWithFaithfulWithinOneAndAHalf) {
+  BT_REQUIRE_SHARED(shared);
+  int levels = 0;
+  for (const fs::path& file : sharedMapFiles(shared)) {
+    const std::string name = fs::relative(file, shared / "maps").string();
+    Scene scene;
+    try {
+      scene = importScene(file.string(), importOptions(shared, file));
+    } catch (const std::exception& e) {
+      std::printf("%-70s not a level: %s\n", name.c_str(), e.what());
+      continue;
+    }
+    if (!isQuake1Level(scene)) continue;
+    Diagnostics diagnostics;
+    const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+    const CameraPose pose = defaultCameraPose(scene);
+    const double faithful = meanLuminance(rs, pose, LightingMode::Faithful, 1);
+    const double physical = meanLuminance(rs, pose, LightingMode::Physical, 8);
+    ++levels;
+    const double ratio = physical / std::max(faithful, 1e-12);
+    std::printf("%-70s faithful %.5f physical %.5f ratio %.3f\n", name.c_str(), faithful, physical, ratio);
+    if (faithful < kBlack && physical < kBlack) continue;
+    EXPECT_LE(ratio, kMaxRatio) << name << ": physical is brighter than faithful";
+    EXPECT_GE(ratio, 1.0 / kMaxRatio) << name << ": physical is darker than faithful";
+  }
+  std::printf("%d Quake 1 levels\n", levels);
+  EXPECT_GT(levels, 0);
+}
+
+} // namespace
+} // namespace bt
