@@ -30,6 +30,7 @@ std::unique_ptr<OIIO::ImageInput> openImage(const std::string& name, OIIO::Files
   const std::lock_guard lock(openMutex);
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);
+  if (proxy) config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy); // with a config, 2.4 reads the proxy from it
   return OIIO::ImageInput::open(name, &config, proxy);
 }
 
