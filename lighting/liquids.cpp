@@ -49,6 +49,24 @@ LiquidAlphas liquidAlphas(const Scene& scene) {
   return alphas;
 }
 
+namespace {
+
+// A Quake 3 shader's first-stage blend (ioquake3 tr_shade.c draws that stage over the
+// framebuffer with its GL blend factors): add (GL_ONE GL_ONE), filter (GL_DST_COLOR GL_ZERO),
+// blend (GL_SRC_ALPHA GL_ONE_MINUS_SRC_ALPHA, by the image's mean alpha here). False for an
+// opaque shader, which keeps the liquid defaults.
+bool applyShaderBlend(ShaderBlend blend, GpuMaterial& m) {
+  switch (blend) {
+  case ShaderBlend::Opaque: return false;
+  case ShaderBlend::Add: m.flags |= kMaterialBlendAdd, m.opacity = 1.0f, m.physicalOpacity = 0.0f; break;
+  case ShaderBlend::Filter: m.flags |= kMaterialBlendFilter, m.opacity = 0.0f, m.physicalOpacity = 0.0f; break;
+  case ShaderBlend::Blend: m.opacity = m.physicalOpacity = m.averageAlbedo.a; break;
+  }
+  return true;
+}
+
+} // namespace
+
 void applyLiquidBlends(const Scene& scene, const std::vector<uint32_t>& faceFlags, std::vector<GpuMaterial>& materials) {
   const Game game = gameOf(scene);
   const LiquidAlphas alphas = liquidAlphas(scene);
@@ -65,6 +83,8 @@ void applyLiquidBlends(const Scene& scene, const std::vector<uint32_t>& faceFlag
       m.opacity = (flags & SURF_TRANS33) ? 0.33f : (flags & SURF_TRANS66) ? 0.66f : 1.0f;
     } else if (game == Game::Quake) {
       m.opacity = alphas.of(kind);
+    } else if (game == Game::Quake3 && applyShaderBlend(scene.materials[face.material].blend, m)) {
+      continue;
     }
     const float physicalDefault = kind == LiquidKind::Water ? kPhysicalWaterOpacity
         : kind == LiquidKind::Slime                         ? kPhysicalSlimeOpacity
@@ -75,8 +95,14 @@ void applyLiquidBlends(const Scene& scene, const std::vector<uint32_t>& faceFlag
 
 glm::vec3 liquidTint(const GpuMaterial& m) {
   const glm::vec3 mean(m.averageAlbedo);
+  if (m.flags & kMaterialBlendAdd) return glm::vec3(1.0f);
+  if (m.flags & kMaterialBlendFilter) return mean;
   const float peak = std::max({mean.x, mean.y, mean.z});
   return peak > 0.0f ? mean / peak : glm::vec3(1.0f);
+}
+
+glm::vec3 liquidAddedRadiance(const GpuMaterial& m) {
+  return (m.flags & kMaterialBlendAdd) ? glm::vec3(m.averageAlbedo) : glm::vec3(0.0f);
 }
 
 } // namespace bt

@@ -1,6 +1,7 @@
 // Liquids as the engines draw them: which liquid a face is, and how its surface blends with
-// what lies behind it (lighting/README.md, "Liquids"). Both tracers read the blend from the
-// face's material (GpuMaterial::opacity and kMaterialBlendAdd), only on kFaceLiquid faces.
+// what lies behind it (lighting/README.md, "Liquids"), and Quake 3 shaders' blends, drawn the
+// same way. Both tracers read the blend from the face's material (GpuMaterial::opacity,
+// kMaterialBlendAdd, kMaterialBlendFilter), only on kFaceLiquid faces.
 #pragma once
 
 #include "lighting/game_rules.h"
@@ -31,17 +32,27 @@ struct LiquidAlphas {
 LiquidAlphas liquidAlphas(const Scene& scene);
 
 // What a translucent liquid weighs in the image: the camera sees self x its colour + behind x
-// what lies behind it. Opaque: (1, 0).
+// what lies behind it; with `filter` (Quake 3's blendFunc filter) behind is also multiplied by
+// the liquid's own colour. Opaque: (1, 0).
 struct LiquidBlend {
   float self = 1.0f;
   float behind = 0.0f;
+  bool filter = false;
 };
 inline LiquidBlend liquidBlend(const GpuMaterial& m) {
+  if (m.flags & kMaterialBlendFilter) return {0.0f, 1.0f, true};
   return {m.opacity, (m.flags & kMaterialBlendAdd) ? 1.0f : 1.0f - m.opacity};
 }
-// Physical mode's: the same with GpuMaterial::physicalOpacity.
+// What lies behind weighs, per channel, where the surface shows `surfaceSrgb` (its colour in
+// the framebuffer's gamma space).
+inline glm::vec3 behindWeight(const LiquidBlend& b, const glm::vec3& surfaceSrgb) {
+  return b.filter ? surfaceSrgb : glm::vec3(b.behind);
+}
+// Physical mode's: the same with GpuMaterial::physicalOpacity. Quake 3's additive and filter
+// blends have physicalOpacity 0: the ray always passes, adding liquidAddedRadiance and taking
+// liquidTint.
 inline LiquidBlend physicalLiquidBlend(const GpuMaterial& m) {
-  return {m.physicalOpacity, (m.flags & kMaterialBlendAdd) ? 1.0f : 1.0f - m.physicalOpacity};
+  return {m.physicalOpacity, 1.0f - m.physicalOpacity};
 }
 
 // Physical mode's default opacity of a liquid the level leaves opaque: water lets half the
@@ -50,14 +61,20 @@ inline constexpr float kPhysicalWaterOpacity = 0.5f;
 inline constexpr float kPhysicalSlimeOpacity = 0.8f;
 
 // Physical mode's tint of the light that crosses a liquid: its texture's mean linear colour
-// scaled so that its brightest channel is 1 (the hue, not the darkness, of the texture).
+// scaled so that its brightest channel is 1 (the hue, not the darkness, of the texture); a
+// filter's mean linear colour itself; none (1) for an additive one.
 glm::vec3 liquidTint(const GpuMaterial& m);
+// Physical mode's radiance an additive surface adds to a ray that crosses it: its texture's mean
+// linear colour (an emitter that hides nothing); 0 for every other liquid.
+glm::vec3 liquidAddedRadiance(const GpuMaterial& m);
 
 // Sets the blend of every material that a liquid face (kFaceLiquid in faceFlags) uses, for
 // faithful mode (opacity) and physical mode (physicalOpacity: the level's alpha where it gives
 // one below 1, else kPhysicalWaterOpacity / kPhysicalSlimeOpacity / 1 by kind): Quake's
 // worldspawn alphas (Quake and Hexen II), Quake 2's SURF_TRANS33 / SURF_TRANS66 (0.33 / 0.66,
-// ref_gl R_DrawAlphaSurfaces; a texture's first liquid face decides). Other materials stay opaque.
+// ref_gl R_DrawAlphaSurfaces; a texture's first liquid face decides), Quake 3 shaders' first
+// stage blendFunc (Material::blend: add, filter, blend by the image's mean alpha; physical mode
+// the same, add and filter always crossed). Other materials stay opaque.
 void applyLiquidBlends(const Scene& scene, const std::vector<uint32_t>& faceFlags, std::vector<GpuMaterial>& materials);
 
 } // namespace bt

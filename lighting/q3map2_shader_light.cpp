@@ -173,6 +173,11 @@ uint32_t shaderFaceFlags(const Material& material) {
   uint32_t flags = 0;
   if (material.q3.sky) flags |= kFaceSky;
   if (material.q3.nodraw && !material.q3.sky) flags |= kFaceHidden;
+  // A blended shader is drawn over what lies behind it and unlit (its image alone, as a
+  // one-stage shader without $lightmap is drawn), as the liquids are (lighting/liquids.h), and casts no shadow: q3map2's light_trace.c
+  // PopulateWithBSPModel leaves out `surfaceparm trans` surfaces without alphashadow or
+  // lightfilter (the blended ones without `trans` cast a shadow there; not here).
+  if (material.blend != ShaderBlend::Opaque && !material.q3.sky) flags |= kFaceLiquid;
   return flags;
 }
 

@@ -47,7 +47,8 @@ void addShaderSuns(const Scene& scene, SceneLights& out);
 std::vector<GpuLight> shaderSurfaceLights(const Scene& scene, const std::vector<BrushContents>& contents, const TraceScene& tracer,
                                           Diagnostics& diagnostics);
 
-// The classes a face takes from its shader: surfaceparm sky (and q3map_sun) make it sky, nodraw hidden.
+// The classes a face takes from its shader: surfaceparm sky (and q3map_sun) make it sky, nodraw
+// hidden, a first stage's blendFunc a liquid (drawn blended: lighting/liquids.h).
 uint32_t shaderFaceFlags(const Material& material);
 
 } // namespace bt::q3map2

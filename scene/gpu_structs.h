@@ -297,7 +297,8 @@ struct GpuMaterial {
   float metallic = 0.0f;
   uint32_t flags = 0; // kMaterial*
   // A liquid's blend with what lies behind it (lighting/liquids.h): its own colour's weight
-  // (the engine's alpha); what lies behind weighs 1 - opacity, or 1 with kMaterialBlendAdd.
+  // (the engine's alpha); what lies behind weighs 1 - opacity, or 1 with kMaterialBlendAdd, or
+  // its own colour with kMaterialBlendFilter.
   // Read on kFaceLiquid faces only; 1 = opaque. Faithful mode reads `opacity`, physical mode
   // `physicalOpacity` (the map's alpha, else the liquid's physical default).
   float opacity = 1.0f;
@@ -315,9 +316,10 @@ static_assert(offsetof(GpuMaterial, opacity) == 52);
 static_assert(offsetof(GpuMaterial, physicalOpacity) == 56);
 static_assert(offsetof(GpuMaterial, pad) == 60);
 
-constexpr uint32_t kMaterialSpecular = 1u; // has a PBR set (roughness/metallic map): GGX + diffuse
-constexpr uint32_t kMaterialEmissive = 2u; // has an emissive map with lit texels
-constexpr uint32_t kMaterialBlendAdd = 4u; // a liquid drawn additively (Quake 3 blendFunc add): behind weighs 1
+constexpr uint32_t kMaterialSpecular = 1u;    // has a PBR set (roughness/metallic map): GGX + diffuse
+constexpr uint32_t kMaterialEmissive = 2u;    // has an emissive map with lit texels
+constexpr uint32_t kMaterialBlendAdd = 4u;    // a liquid drawn additively (Quake 3 blendFunc add): behind weighs 1
+constexpr uint32_t kMaterialBlendFilter = 8u; // a liquid that multiplies what lies behind (blendFunc filter): self weighs 0
 
 // One triangle of an emitting face, for next-event estimation by area.
 struct GpuEmitter {

@@ -26,6 +26,12 @@ enum class TextureSource { Missing, Wad2, Wad3, Miptex, Wal, LooseImage };
 // shaders set None or their alphaFunc, since Quake 3 draws an image's alpha only when told.
 enum class AlphaTest : uint8_t { FromImage, None, Gt0, Lt128, Ge128 };
 
+// How a Quake 3 shader's first stage is drawn over what lies behind it (ioquake3 tr_shader.c
+// ParseStage's blendFunc): Opaque (no blendFunc, or GL_ONE GL_ZERO), Add (`add`, GL_ONE GL_ONE:
+// behind + image), Filter (`filter`, GL_DST_COLOR GL_ZERO or GL_ZERO GL_SRC_COLOR: behind x
+// image), Blend (`blend`, GL_SRC_ALPHA GL_ONE_MINUS_SRC_ALPHA: by the image's alpha).
+enum class ShaderBlend : uint8_t { Opaque, Add, Filter, Blend };
+
 // One `q3map_sun` / `q3map_sunExt` line of a Quake 3 shader, as q3map2's ParseShaderFile keeps it.
 struct Q3ShaderSun {
   float color[3] = {1.0f, 1.0f, 1.0f}; // as written (q3map2 normalises it to unit length)
@@ -72,7 +78,8 @@ struct Material {
   Image emissive;  // sRGB; Quake fullbright texels (palette 224..255) land here too
 
   AlphaTest alphaTest = AlphaTest::FromImage;
-  Q3ShaderLight q3; // Quake 3 shaders only
+  ShaderBlend blend = ShaderBlend::Opaque; // Quake 3 shaders only
+  Q3ShaderLight q3;                        // Quake 3 shaders only
   // Quake's scrolling sky only (Sky_LoadTexture in QuakeSpasm's gl_sky.c): the front layer, the
   // left half of baseColor with its palette index 0 clear (alpha 0, black), which the level's
   // Scene::sky takes; baseColor itself stays the texture as the WAD holds it. Empty otherwise.

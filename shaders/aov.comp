@@ -28,7 +28,8 @@ void main() {
   // the ray going on along the camera's line: one call of the traversal for all of it.
   SurfaceHit hit;
   vec3 veil = vec3(0.0), albedo;
-  float keep = 1.0, tMin = 0.0;
+  vec3 keep = vec3(1.0);
+  float tMin = 0.0;
   vec3 rayDir = dir;
   for (bool first = true;; first = false) {
     SurfaceHit s = traceVisibleFrom(camera.origin, rayDir, tMin);
@@ -50,12 +51,12 @@ void main() {
     vec2 blend = s.found && (faceFlags[s.face] & FACE_LIQUID) != 0u ? liquidBlend(s.face) : vec2(1.0, 0.0);
     if (!(blend.y > 0.0)) break;
     veil += keep * blend.x * linearToSrgb(albedo);
-    keep *= blend.y;
+    keep *= behindWeight(s.face, blend, linearToSrgb(albedo));
     vec3 toSurface = s.position - camera.origin;
     tMin = length(toSurface) + SKIP_STEP;
     rayDir = toSurface / length(toSurface);
   }
-  if (veil != vec3(0.0) || keep != 1.0) albedo = srgbToLinear(veil + keep * linearToSrgb(albedo));
+  if (veil != vec3(0.0) || keep != vec3(1.0)) albedo = srgbToLinear(veil + keep * linearToSrgb(albedo));
   imageStore(albedoImage, pixel, vec4(albedo, 1.0));
   imageStore(normalImage, pixel, vec4(faces[hit.face].plane.xyz, hit.t));
   imageStore(faceImage, pixel, uvec4(hit.face + 1u));

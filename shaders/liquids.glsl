@@ -10,8 +10,9 @@ bool faithfulBehindLiquid(inout Path path, bool atFace) {
   vec2 blend = vec2(1.0, 0.0);
   if (atFace && path.face != NO_FACE && (faceFlags[path.face] & FACE_LIQUID) != 0u) blend = liquidBlend(path.face);
   if (blend.y > 0.0) {
-    path.veil.rgb += path.veil.a * blend.x * linearToSrgb(path.radiance);
-    path.veil.a *= blend.y;
+    vec3 surface = linearToSrgb(path.radiance);
+    path.veil += path.veilKeep * blend.x * surface;
+    path.veilKeep *= behindWeight(path.face, blend, surface);
     vec3 toSurface = path.position - camera.origin;
     float t = length(toSurface);
     setRay(path, RAY_SURFACE, camera.origin, toSurface / t, INFINITY);
@@ -19,7 +20,7 @@ bool faithfulBehindLiquid(inout Path path, bool atFace) {
     path.radiance = vec3(0.0);
     return true;
   }
-  if (path.veil != vec4(0.0, 0.0, 0.0, 1.0)) path.radiance = srgbToLinear(path.veil.rgb + path.veil.a * linearToSrgb(path.radiance));
+  if (path.veil != vec3(0.0) || path.veilKeep != vec3(1.0)) path.radiance = srgbToLinear(path.veil + path.veilKeep * linearToSrgb(path.radiance));
   return false;
 }
 
@@ -31,14 +32,16 @@ bool passOn(inout Path path, float t) {
 
 // A surface ray's hit on a translucent liquid (renderer/cpu radiancePhysical): drawn with
 // probability self / (self + behind) of physical mode's opacity, else passed (true) and tinted;
-// weighted by self + behind.
+// weighted by self + behind. An additive one (opacity 0) is always passed and adds its light.
 bool physicalPassesLiquid(inout Path path, uint face, inout Rng rng) {
   GlMaterial m = materials[faces[face].material];
-  vec2 blend = vec2(m.liquid.a, (m.flags & MATERIAL_BLEND_ADD) != 0u ? 1.0 : 1.0 - m.liquid.a); // physicalLiquidBlend
+  vec2 blend = vec2(m.liquid.a, 1.0 - m.liquid.a); // physicalLiquidBlend
   if (!(blend.y > 0.0)) return false;
   float total = blend.x + blend.y;
   path.throughput *= total;
   if (rngNext(rng) * total < blend.x) return false;
-  path.throughput *= m.liquid.rgb; // the light that crosses takes the liquid's tint
+  // liquid.rgb: the tint the light that crosses takes, or an additive surface's light (liquidAddedRadiance)
+  if ((m.flags & MATERIAL_BLEND_ADD) != 0u) path.radiance += path.throughput * m.liquid.rgb;
+  else path.throughput *= m.liquid.rgb;
   return true;
 }

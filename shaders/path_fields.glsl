@@ -74,9 +74,10 @@
   X(vec3, lit, KEPT_NEVER, LOAD_ZERO) /* the light sum with its floors */ \
   X(vec3, texture, KEPT_FAITHFUL, LOAD_UNSET) /* the first surface's texture colour (sRGB-encoded) ... */ \
   X(vec3, fullbright, KEPT_FAITHFUL, LOAD_UNSET) /* ... and its emissive texels */ \
-  /* Faithful: the translucent liquids the camera ray went through, blended (gamma space) in rgb; */ \
-  /* a: what lies behind them weighs (faithfulBehindLiquid). */ \
-  X(vec4, veil, KEPT_FAITHFUL, LOAD_UNSET) \
+  /* Faithful: the translucent liquids the camera ray went through, blended (gamma space), and */ \
+  /* what lies behind them weighs, per channel (faithfulBehindLiquid). */ \
+  X(vec3, veil, KEPT_FAITHFUL, LOAD_UNSET) \
+  X(vec3, veilKeep, KEPT_FAITHFUL, LOAD_UNSET) \
   X(Bsdf, bsdf, KEPT_PHYSICAL, LOAD_UNSET) \
   X(vec3, throughput, KEPT_PHYSICAL, LOAD_UNSET) \
   X(float, prevBsdfPdf, KEPT_PHYSICAL, LOAD_UNSET) /* 0: camera ray (no MIS weight on what it sees) */ \

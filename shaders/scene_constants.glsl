@@ -60,6 +60,7 @@
 #define BT_GL_MATERIAL_HAS_EMISSIVE 4u // an emissive map with lit texels
 #define BT_GL_MATERIAL_GGX 8u          // a PBR set: GGX + diffuse
 #define BT_GL_MATERIAL_BLEND_ADD 16u   // a liquid drawn additively (GlMaterial::opacity)
+#define BT_GL_MATERIAL_BLEND_FILTER 32u // a liquid that multiplies what lies behind by its colour
 
 // renderer/gl/gl_structs.h GlBvhNode child references.
 #define BT_GL_NO_CHILD 0u

@@ -56,6 +56,7 @@ const uint MATERIAL_HAS_NORMAL = BT_GL_MATERIAL_HAS_NORMAL;
 const uint MATERIAL_HAS_EMISSIVE = BT_GL_MATERIAL_HAS_EMISSIVE;
 const uint MATERIAL_SPECULAR = BT_GL_MATERIAL_GGX;
 const uint MATERIAL_BLEND_ADD = BT_GL_MATERIAL_BLEND_ADD;
+const uint MATERIAL_BLEND_FILTER = BT_GL_MATERIAL_BLEND_FILTER;
 
 // Texture references for both paths (bindless handles, or (array, layer) in the texture
 // arrays) and the shading parameters of renderer/cpu's GpuMaterial.
@@ -77,7 +78,7 @@ struct GlMaterial {
   uvec2 baseTexels;     // offset 72: each map's width and height in texels, which its array
   uvec2 normalTexels;   // offset 80  layer may exceed (textures.glsl); 0 where there is no map
   uvec2 emissiveTexels; // offset 88
-  vec4 liquid;          // offset 96: physical mode's liquid, rgb transmission tint, a opacity
+  vec4 liquid;          // offset 96: physical mode's liquid, rgb transmission tint (additive: its light), a opacity
 };                      // 112 bytes
 
 // scene/gpu_structs.h GpuLight, byte for byte (Quake light units, colours 0..1).

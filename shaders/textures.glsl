@@ -144,5 +144,12 @@ vec3 linearToSrgb(vec3 c) {
 // own colour and of what lies behind it; behind is 0 for an opaque one.
 vec2 liquidBlend(uint face) {
   GlMaterial m = materials[faces[face].material];
+  if ((m.flags & MATERIAL_BLEND_FILTER) != 0u) return vec2(0.0, 1.0);
   return vec2(m.opacity, (m.flags & MATERIAL_BLEND_ADD) != 0u ? 1.0 : 1.0 - m.opacity);
+}
+
+// lighting/liquids.h behindWeight: what lies behind weighs, per channel, where the liquid shows
+// `surfaceSrgb`; a filter (Quake 3's blendFunc filter) multiplies it by that colour.
+vec3 behindWeight(uint face, vec2 blend, vec3 surfaceSrgb) {
+  return (materials[faces[face].material].flags & MATERIAL_BLEND_FILTER) != 0u ? surfaceSrgb : vec3(blend.y);
 }

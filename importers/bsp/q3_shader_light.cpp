@@ -60,6 +60,7 @@ void readQuake3ShaderLight(std::vector<Material>& materials, const Quake3Shaders
     if (it == shaders.end()) it = shaders.find("textures/" + lowercase(withoutExtension(m.name)));
     if (it == shaders.end()) continue;
     m.q3 = it->second.light.light;
+    m.blend = it->second.blend;
     // si->color lights surface lights and sky lights only; the images are read for those alone.
     if (m.q3.hasLightRGB || (m.q3.surfaceLight <= 0.0f && m.q3.skyLightValue <= 0.0f)) continue;
     for (const std::string& image : {m.q3.lightImage, it->second.light.editorImage, it->first}) {

@@ -19,8 +19,9 @@ namespace bt::bsp {
 // bytes, ColorNormalize'd (the brightest channel 1; black gives white).
 void setColorFromImage(Q3ShaderLight& light, const Image& image);
 
-// Gives every material its shader's light keys (`shaders`: readQuake3Shaders), with the
-// colour q3map2 takes where the shader has no q3map_lightRGB: the mean of its light image
+// Gives every material its shader's light keys and its first stage's blend (Material::blend;
+// `shaders`: readQuake3Shaders), with the colour q3map2 takes where the shader has no
+// q3map_lightRGB: the mean of its light image
 // (q3map_lightImage, the first stage's map, skyParms' _up), else of its editor image or the
 // image named like the shader, else white (q3map2's 64x64 white default image). `filesRead`,
 // when given, receives the files the images came from.

@@ -28,6 +28,7 @@ public:
     light_.line = line;
     editorImage_.clear();
     stageImage_.clear();
+    stage_ = 0;
     for (int depth = 1; depth > 0;) {
       const std::string_view token = lex_.next();
       if (token.empty()) {
@@ -36,6 +37,7 @@ public:
       }
       if (token == "{" || token == "}") {
         depth += token == "{" ? 1 : -1;
+        if (token == "{" && depth == 2) ++stage_;
         continue;
       }
       const std::string keyword = lowercase(token);
@@ -69,6 +71,11 @@ private:
   // clampMap, animMap). q3map2 takes the first of any kind as its light image, but only while the
   // shader names no editor or light image yet (it fills lightImagePath, which stops the search).
   void readStage(const std::string& keyword) {
+    if (keyword == "blendfunc") {
+      // The first stage is drawn over what lies behind the surface; later stages blend onto it.
+      if (stage_ == 1) shader_.blend = readBlendFunc();
+      return;
+    }
     if (keyword == "alphafunc") {
       const std::string func = lowercase(lex_.next(true));
       if (shader_.alphaTest == AlphaTest::None)
@@ -85,6 +92,19 @@ private:
     if (image.empty() || image[0] == '$' || image[0] == '*') return;
     if (stageImage_.empty() && (keyword == "map" || keyword == "clampmap" || keyword == "animmap")) stageImage_ = std::string(image);
     if (editorImage_.empty() && light_.lightImage.empty()) light_.lightImage = std::string(image);
+  }
+
+  // ParseStage's blendFunc: a name, or the source and destination factors.
+  ShaderBlend readBlendFunc() {
+    const std::string src = lowercase(lex_.next(true));
+    if (src == "add") return ShaderBlend::Add;
+    if (src == "filter") return ShaderBlend::Filter;
+    if (src == "blend") return ShaderBlend::Blend;
+    const std::string dst = lowercase(lex_.next(true));
+    if (dst == "gl_one") return ShaderBlend::Add; // GL_ONE GL_ONE, GL_SRC_ALPHA GL_ONE: behind + image
+    if (src == "gl_dst_color" || dst == "gl_src_color") return ShaderBlend::Filter;
+    if (dst == "gl_one_minus_src_alpha") return ShaderBlend::Blend; // GL_ONE GL_ONE_MINUS_SRC_ALPHA too
+    return ShaderBlend::Opaque;                                     // GL_ONE GL_ZERO, or a blend the preview does not draw
   }
 
   void readSun(bool extended) {
@@ -145,6 +165,7 @@ private:
   Quake3Shader shader_;
   Q3ShaderLight& light_ = shader_.light.light;
   std::string editorImage_, stageImage_;
+  int stage_ = 0; // the stage being read, 1 = the first
 };
 
 } // namespace
@@ -209,6 +230,10 @@ std::map<std::string, std::string> parseShaderImages(std::string_view scriptText
 
 std::map<std::string, AlphaTest> parseShaderAlphaTests(std::string_view scriptText) {
   return project(scriptText, [](const Quake3Shader& s) { return s.alphaTest; });
+}
+
+std::map<std::string, ShaderBlend> parseShaderBlends(std::string_view scriptText) {
+  return project(scriptText, [](const Quake3Shader& s) { return s.blend; });
 }
 
 std::map<std::string, std::string> parseShaderSkyBoxes(std::string_view scriptText) {

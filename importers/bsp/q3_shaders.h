@@ -26,9 +26,10 @@ struct Quake3Shader {
   // The image that shows it best in the engine: the first stage's `map` (not $lightmap), else
   // its qer_editorImage; empty when it names neither.
   std::string image;
-  AlphaTest alphaTest = AlphaTest::None; // the alphaFunc of its first stage that has one
-  std::optional<std::string> skyBox;     // skyParms' far box ("env/space1" for env/space1_rt.tga), "" for "-"
-  ParsedShaderLight light;               // q3map2's keys
+  AlphaTest alphaTest = AlphaTest::None;   // the alphaFunc of its first stage that has one
+  ShaderBlend blend = ShaderBlend::Opaque; // its first stage's blendFunc
+  std::optional<std::string> skyBox;       // skyParms' far box ("env/space1" for env/space1_rt.tga), "" for "-"
+  ParsedShaderLight light;                 // q3map2's keys
 };
 
 // By lowercase name, q3map2's `:q3map` suffix dropped; the first definition of a name wins, as
@@ -47,6 +48,7 @@ Quake3Shaders readQuake3Shaders(const GameFiles& files, Diagnostics& diagnostics
 // One field of every shader of a script, for tests and the fuzz harness.
 std::map<std::string, std::string> parseShaderImages(std::string_view scriptText);
 std::map<std::string, AlphaTest> parseShaderAlphaTests(std::string_view scriptText);
+std::map<std::string, ShaderBlend> parseShaderBlends(std::string_view scriptText);
 std::map<std::string, std::string> parseShaderSkyBoxes(std::string_view scriptText); // shaders with skyParms only
 std::map<std::string, ParsedShaderLight> parseShaderLights(std::string_view text, const std::string& scriptName, Diagnostics& diagnostics);
 

@@ -39,6 +39,7 @@ void resolveQuake3Materials(std::vector<Material>& materials, const Quake3Shader
     // Quake 3 draws an image's alpha only where the shader says how.
     const auto shader = shaders.find(lowercase(m.name));
     m.alphaTest = shader != shaders.end() ? shader->second.alphaTest : AlphaTest::None;
+    m.blend = shader != shaders.end() ? shader->second.blend : ShaderBlend::Opaque;
     std::vector<std::string> candidates;
     if (shader != shaders.end() && !shader->second.image.empty()) candidates.push_back(stripExtension(shader->second.image));
     candidates.push_back(stripExtension(m.name));

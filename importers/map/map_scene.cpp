@@ -394,8 +394,8 @@ namespace {
 // q3map2 lights a Quake 3 level from its shader scripts too (q3map_surfacelight, sky shaders):
 // they lie in scripts/ of the level's game folder (the parent of its maps/) and the install,
 // after the --textures folders, as the engine searches them. Returns one Material (no image)
-// per texture the level's brushes and patches name, with its shader's light keys; nothing for
-// other games. Read before the entities are told (ImportOptions::entitiesRead), so that the
+// per texture the level's brushes and patches name, with its shader's light keys and its first
+// stage's blend; nothing for other games. Read before the entities are told (ImportOptions::entitiesRead), so that the
 // early kinds of light know the sky shaders' suns.
 std::vector<Material> readShaderLight(const MapDocument& doc, const std::string& path, const ImportOptions& options,
                                       std::vector<std::string>& filesRead, Diagnostics& diagnostics) {
@@ -422,7 +422,7 @@ std::vector<Material> readShaderLight(const MapDocument& doc, const std::string&
   return materials;
 }
 
-// The light keys read by readShaderLight, given to the built scene's materials by name.
+// The light keys and blends read by readShaderLight, given to the built scene's materials by name.
 void applyShaderLight(Scene& scene, const std::vector<Material>& shaderLight, const std::vector<std::string>& filesRead,
                       const Diagnostics& diagnostics) {
   if (shaderLight.empty()) return;
@@ -430,6 +430,9 @@ void applyShaderLight(Scene& scene, const std::vector<Material>& shaderLight, co
     for (const Material& s : shaderLight)
       if (equalsIgnoreCase(m.name, s.name)) {
         m.q3 = s.q3;
+        m.blend = s.blend;
+        // The engine draws a blended image's alpha by the blend alone, never as a mask.
+        if (m.blend != ShaderBlend::Opaque) m.alphaTest = AlphaTest::None;
         break;
       }
   for (const Diagnostic& d : diagnostics) scene.diagnostics.push_back(d);

@@ -22,10 +22,16 @@ constexpr int kMaxImageSide = 16384;
 // it, through tables that are not safe to build from two threads at once (OpenImageIO issue
 // 3756): concurrent opens of LibreQuake's PNGs hung or corrupted the heap. Opening only reads
 // headers, so it is serialised; decoding the pixels, the costly part, still runs in parallel.
+// The texels are kept as the file stores them: OpenImageIO's PNG reader would otherwise multiply
+// the colour by the alpha, which the engines never do (Quake 3's blendFunc blend weighs the
+// stored colour by the stored alpha).
 std::unique_ptr<OIIO::ImageInput> openImage(const std::string& name, OIIO::Filesystem::IOProxy* proxy) {
   static std::mutex openMutex;
   const std::lock_guard lock(openMutex);
-  return OIIO::ImageInput::open(name, nullptr, proxy);
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  if (proxy) config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy); // with a config, 2.4 reads the proxy from it
+  return OIIO::ImageInput::open(name, &config, proxy);
 }
 
 // Reads the whole first subimage of an opened file as 8-bit RGBA: grey, grey+alpha, RGB or RGBA

@@ -42,8 +42,7 @@ glm::vec3 surfaceAlbedo(const RenderScene& scene, const Ray& ray, const SurfaceH
 // behind it as the engine blends colours (lighting/liquids.h, in their gamma space), going on
 // along the camera's line as aov.comp does.
 glm::vec3 albedoAlong(const RenderScene& scene, const Ray& ray, SurfaceHit hit) {
-  glm::vec3 veil(0.0f);
-  float keep = 1.0f;
+  glm::vec3 veil(0.0f), keep(1.0f);
   for (bool veiled = false;; veiled = true) {
     const glm::vec3 albedo = surfaceAlbedo(scene, ray, hit);
     const LiquidBlend blend = hit.found && (scene.faceFlags[hit.face] & kFaceLiquid)
@@ -51,7 +50,7 @@ glm::vec3 albedoAlong(const RenderScene& scene, const Ray& ray, SurfaceHit hit) 
         : LiquidBlend{};
     if (!(blend.behind > 0.0f)) return veiled ? srgbToLinear(veil + keep * linearToSrgb(albedo)) : albedo;
     veil += keep * blend.self * linearToSrgb(albedo);
-    keep *= blend.behind;
+    keep *= behindWeight(blend, linearToSrgb(albedo));
     const glm::vec3 toSurface = hit.position - ray.origin;
     const float t = glm::length(toSurface);
     hit = traceVisible(scene, Ray{ray.origin, continueRayAfter(t), toSurface / t, std::numeric_limits<float>::infinity()});

@@ -169,11 +169,10 @@ LiquidBlend physicalSurfaceBlend(const RenderScene& rs, const SurfaceHit& hit) {
 
 // The camera ray's surface as the game draws it, and where it is a translucent liquid, blended
 // over what lies behind as the engine blends it: in the framebuffer's (the textures') gamma
-// space, display = self x liquid + behind x what lies behind. The ray goes on behind the liquid
+// space, display = self x liquid + behind x what lies behind (x the liquid for a filter). The ray goes on behind the liquid
 // along the camera's line through the point it met, as pathtrace.comp restarts it.
 glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, Rng& rng) {
-  glm::vec3 veil(0.0f);
-  float keep = 1.0f;
+  glm::vec3 veil(0.0f), keep(1.0f);
   bool veiled = false;
   Ray r = ray;
   while (true) {
@@ -182,7 +181,7 @@ glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& sett
     const LiquidBlend blend = surfaceBlend(rs, hit);
     if (!(blend.behind > 0.0f)) return veiled ? srgbToLinear(veil + keep * linearToSrgb(l)) : l;
     veil += keep * blend.self * linearToSrgb(l);
-    keep *= blend.behind;
+    keep *= behindWeight(blend, linearToSrgb(l));
     veiled = true;
     const glm::vec3 toSurface = hit.position - ray.origin;
     const float t = glm::length(toSurface);
@@ -433,7 +432,9 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
       const float total = blend.self + blend.behind;
       throughput *= total;
       if (rng.next() * total < blend.self) break;
-      throughput *= liquidTint(rs.materials[gpuFace(rs, hit.face).material]);
+      const GpuMaterial& liquid = rs.materials[gpuFace(rs, hit.face).material];
+      l += throughput * liquidAddedRadiance(liquid); // an additive surface's light, seen through
+      throughput *= liquidTint(liquid);
       ray.tMin = continueRayAfter(hit.t);
       hit = traceVisible(rs, ray);
     }

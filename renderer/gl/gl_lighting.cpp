@@ -13,9 +13,12 @@ GlLighting lightingFor(const RenderScene& rs) {
   for (const bt::GpuMaterial& m : rs.materials) {
     out.materialFlags.push_back(((m.flags & bt::kMaterialSpecular) ? kMaterialGgx : 0u) |
                                 ((m.flags & bt::kMaterialEmissive) ? kMaterialHasEmissive : 0u) |
-                                ((m.flags & bt::kMaterialBlendAdd) ? kMaterialBlendAddGl : 0u));
+                                ((m.flags & bt::kMaterialBlendAdd) ? kMaterialBlendAddGl : 0u) |
+                                ((m.flags & bt::kMaterialBlendFilter) ? kMaterialBlendFilterGl : 0u));
     out.materialOpacity.push_back(m.opacity);
-    out.materialLiquid.push_back(glm::vec4(liquidTint(m), m.physicalOpacity));
+    // Physical mode's crossing: the tint, or an additive surface's light (its tint is 1).
+    const glm::vec3 crossing = (m.flags & bt::kMaterialBlendAdd) ? liquidAddedRadiance(m) : liquidTint(m);
+    out.materialLiquid.push_back(glm::vec4(crossing, m.physicalOpacity));
   }
   // Lights and emitters are uploaded as the CPU reference built them (scene/gpu_structs.h).
   out.lights = rs.lights;

@@ -109,9 +109,10 @@ static_assert(offsetof(GpuFace, plane) == 0);
 enum MaterialFlags : uint32_t {
   kMaterialHasBase = BT_GL_MATERIAL_HAS_BASE,
   kMaterialHasNormal = BT_GL_MATERIAL_HAS_NORMAL,
-  kMaterialHasEmissive = BT_GL_MATERIAL_HAS_EMISSIVE, // scene/gpu_structs.h kMaterialEmissive
-  kMaterialGgx = BT_GL_MATERIAL_GGX,                  // scene/gpu_structs.h kMaterialSpecular
-  kMaterialBlendAddGl = BT_GL_MATERIAL_BLEND_ADD,     // scene/gpu_structs.h kMaterialBlendAdd
+  kMaterialHasEmissive = BT_GL_MATERIAL_HAS_EMISSIVE,   // scene/gpu_structs.h kMaterialEmissive
+  kMaterialGgx = BT_GL_MATERIAL_GGX,                    // scene/gpu_structs.h kMaterialSpecular
+  kMaterialBlendAddGl = BT_GL_MATERIAL_BLEND_ADD,       // scene/gpu_structs.h kMaterialBlendAdd
+  kMaterialBlendFilterGl = BT_GL_MATERIAL_BLEND_FILTER, // scene/gpu_structs.h kMaterialBlendFilter
 };
 
 // A material as the shaders read it (shaders/structs.glsl GlMaterial): its textures on either
@@ -134,7 +135,7 @@ struct GlMaterial {
   glm::uvec2 baseTexels;   // each map's Image width, height: the arrays path may store it in a
   glm::uvec2 normalTexels; // larger layer (gl_textures.h), and the shaders wrap at this size
   glm::uvec2 emissiveTexels;
-  glm::vec4 liquid; // physical mode's liquid: rgb the transmission tint, a GpuMaterial::physicalOpacity
+  glm::vec4 liquid; // physical mode's liquid: rgb the transmission tint (additive: its light), a GpuMaterial::physicalOpacity
 };
 static_assert(sizeof(GlMaterial) == 112);
 static_assert(offsetof(GlMaterial, baseHandle) == 0 && offsetof(GlMaterial, normalHandle) == 8 &&

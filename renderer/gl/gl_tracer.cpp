@@ -25,7 +25,7 @@ std::vector<GlMaterial> withShadingFlags(std::vector<GlMaterial> materials, cons
     materials[i].liquid = i < lighting.materialLiquid.size() ? lighting.materialLiquid[i] : glm::vec4(1.0f);
   }
   if (lighting.materialFlags.empty()) return materials;
-  constexpr uint32_t kShading = kMaterialGgx | kMaterialHasEmissive | kMaterialBlendAddGl;
+  constexpr uint32_t kShading = kMaterialGgx | kMaterialHasEmissive | kMaterialBlendAddGl | kMaterialBlendFilterGl;
   for (size_t i = 0; i < materials.size() && i < lighting.materialFlags.size(); ++i) {
     materials[i].flags &= ~kShading;
     materials[i].flags |= lighting.materialFlags[i] & kShading;

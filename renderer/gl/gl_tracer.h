@@ -41,7 +41,7 @@ struct AovImages {
 struct GlLighting {
   std::vector<uint32_t> faceFlags; // per Scene face: scene/gpu_structs.h gpuFaceWord (kFace* and channels); empty = none
   std::vector<uint32_t>
-      materialFlags; // per material: kMaterialGgx / kMaterialHasEmissive / kMaterialBlendAddGl overrides; empty = from the images
+      materialFlags; // per material: kMaterialGgx / kMaterialHasEmissive / kMaterialBlendAddGl / kMaterialBlendFilterGl overrides; empty = from the images
   std::vector<float> materialOpacity;    // per material: GpuMaterial::opacity (liquids); empty = opaque
   std::vector<glm::vec4> materialLiquid; // per material: GlMaterial::liquid (physical tint, opacity); empty = opaque
   std::vector<GpuLight> lights;          // point lights, suns, domes

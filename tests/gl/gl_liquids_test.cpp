@@ -13,6 +13,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <string>
 
 namespace bt::gl {
 namespace {
@@ -87,6 +89,49 @@ TEST(GlLiquids, PhysicalLiquidsLookLikeThemselves) {
     close += glm::length(pools.gpu.beauty[i] - pools.cpu.beauty[i]) <= 0.01f * glm::length(pools.cpu.beauty[i]) + 1e-3f;
   EXPECT_GE(close, pools.cpu.beauty.size() * 97 / 100) << close << " of " << pools.cpu.beauty.size() << " pixels agree";
   test::expectLiquidsInRange(scene, pools.gpu, "GL");
+}
+
+// maps/q3blend/: Quake 3's additive, filter and alpha-blended panels before a wall
+// (tests/render/q3_blends_test.cpp holds the CPU tracer to the engine's rules). One sample a
+// pixel: every pixel of each panel is the engine's blend over the GL image of the wall without
+// the panels, in beauty and albedo, and equals the CPU's.
+TEST(GlLiquids, Quake3BlendsAreTheEnginesBlend) {
+  const auto load = [](const char* name) { return importScene((test::mapsDir() / "q3blend/maps" / name).string(), ImportOptions{}); };
+  const Scene scene = load("blends.map");
+  const test::CpuAndGl seen = test::renderCpuAndGl(scene, LightingMode::Faithful, kWidth, kHeight, 1);
+  const test::CpuAndGl wall = test::renderCpuAndGl(load("blends_behind.map"), LightingMode::Faithful, kWidth, kHeight, 1);
+  const glm::vec3 add = glm::vec3(40, 30, 60) / 255.0f, filter = glm::vec3(180, 220, 120) / 255.0f, blend = glm::vec3(50, 200, 90) / 255.0f;
+  const auto rule = [&](const std::string& texture, const glm::vec3& b) {
+    if (texture == "blend/add") return srgbToLinear(add + linearToSrgb(b));
+    if (texture == "blend/filter") return srgbToLinear(filter * linearToSrgb(b));
+    return engineBlend(128.0f / 255.0f, blend, b);
+  };
+  std::map<std::string, size_t> compared;
+  for (size_t i : waterPixels(seen.gpu, wall.gpu)) {
+    const std::string& texture = scene.faces[seen.gpu.face[i] - 1].texture;
+    const bool ok = expectNear(seen.gpu.beauty[i], rule(texture, wall.gpu.beauty[i]), 0.01f, i, texture.c_str()) &&
+        expectNear(seen.gpu.albedo[i], rule(texture, wall.gpu.albedo[i]), 0.01f, i, texture.c_str()) &&
+        expectNear(seen.gpu.beauty[i], seen.cpu.beauty[i], 0.01f, i, "GL against CPU beauty") &&
+        expectNear(seen.gpu.albedo[i], seen.cpu.albedo[i], 0.01f, i, "GL against CPU albedo");
+    if (!ok) break; // one pixel tells
+    ++compared[texture];
+  }
+  for (const char* texture : {"blend/add", "blend/filter", "blend/blend"}) EXPECT_GT(compared[texture], size_t(100)) << texture;
+}
+
+// Physical mode: the additive panel's light and the filter's tint draw the same numbers as the CPU.
+TEST(GlLiquids, Quake3BlendsPhysicalAgreeWithTheCpu) {
+  const Scene scene = importScene((test::mapsDir() / "q3blend/maps/blends.map").string(), ImportOptions{});
+  const test::CpuAndGl seen = test::renderCpuAndGl(scene, LightingMode::Physical, kWidth, kHeight, 4);
+  size_t close = 0;
+  glm::dvec3 gpuSum(0.0), cpuSum(0.0);
+  for (size_t i = 0; i < seen.cpu.beauty.size(); ++i) {
+    gpuSum += glm::dvec3(seen.gpu.beauty[i]);
+    cpuSum += glm::dvec3(seen.cpu.beauty[i]);
+    close += glm::length(seen.gpu.beauty[i] - seen.cpu.beauty[i]) <= 0.01f * glm::length(seen.cpu.beauty[i]) + 1e-3f;
+  }
+  EXPECT_GE(close, seen.cpu.beauty.size() * 97 / 100) << close << " of " << seen.cpu.beauty.size() << " pixels agree";
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(gpuSum[c], cpuSum[c], 0.03 * cpuSum[c] + 1e-6) << "channel " << c;
 }
 
 } // namespace

@@ -75,6 +75,16 @@ TEST(GlWavefrontMap, LiquidsPhysical) {
   expectFormsAgree(importScene((test::mapsDir() / "liquids/pools.map").string(), ImportOptions{}), true);
 }
 
+// Quake 3's blends (maps/q3blend/): the filter's per-channel weight and the additive panel's
+// light outlive a dispatch (path_fields.glsl veilKeep, radiance).
+TEST(GlWavefrontMap, Quake3BlendsFaithful) {
+  expectFormsAgree(importScene((test::mapsDir() / "q3blend/maps/blends.map").string(), ImportOptions{}), false);
+}
+
+TEST(GlWavefrontMap, Quake3BlendsPhysical) {
+  expectFormsAgree(importScene((test::mapsDir() / "q3blend/maps/blends.map").string(), ImportOptions{}), true);
+}
+
 // Faithful `_bounce` with more bounce lights in a cell than kBounceShadowRays: the draw among
 // them keeps its place in the path between the wavefront's dispatches (Path's bounce fields).
 TEST(GlWavefrontMap, ManyBounceLightsFaithful) {
