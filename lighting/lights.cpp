@@ -312,6 +312,7 @@ void addLightEntity(const Scene& scene, const Entity& entity, const LightOptions
 
   if (startOff && !options.includeStartOff) return;
   if (options.styleZeroOnly && effectiveStyle != 0) return;
+  light.color *= options.styleScale[effectiveStyle];
   if (const std::string* surface = keys.find("_surface"); surface && !surface->empty()) {
     out.surfaceTemplates.push_back(readSurfaceTemplate(keys, *surface, light, out.world));
     return;

@@ -8,6 +8,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -82,6 +83,13 @@ struct LightOptions {
   // Only lights on lightstyle 0 (what the compiler bakes into the first lightmap), for tests
   // that compare with compiled lightmaps.
   bool styleZeroOnly = false;
+  // The viewer's light-style sliders: each light's colour (its contribution, not its reach) times
+  // its style's scale, as the engine weighs a style's lightmap by the lightstyle's value.
+  std::array<float, 256> styleScale = [] {
+    std::array<float, 256> all;
+    all.fill(1.0f);
+    return all;
+  }();
 };
 
 // Reads every `light*` entity and the worldspawn keys. Unknown or malformed values are reported

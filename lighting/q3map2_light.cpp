@@ -151,6 +151,7 @@ void addLightEntity(const Scene& scene, const Entity& entity, const LightOptions
     light.cosInner = radiusByDist;
   }
   light.flags |= uint32_t(std::clamp(style, 0, 255)) << 8;
+  light.color *= options.styleScale[size_t(std::clamp(style, 0, 255))]; // the viewer's style sliders
   out.lights.push_back(light);
 }
 

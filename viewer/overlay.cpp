@@ -14,7 +14,7 @@ ImVec4 colourOf(OverlayMessage::Kind kind) {
 }
 } // namespace
 
-void drawOverlay(const OverlayContent& content) {
+std::optional<StyleMoved> drawOverlay(const OverlayContent& content) {
   ImGui::SetNextWindowPos(ImVec2(8, 8));
   ImGui::SetNextWindowBgAlpha(0.6f);
   // Wraps long errors (a full path and a parser's message) at most this wide.
@@ -33,8 +33,17 @@ void drawOverlay(const OverlayContent& content) {
     if (ImGui::CollapsingHeader(title.c_str()))
       for (const std::string& w : content.warnings) ImGui::TextUnformatted(w.c_str());
   }
+  std::optional<StyleMoved> moved;
+  if (!content.styles.empty() && ImGui::CollapsingHeader("light styles", ImGuiTreeNodeFlags_DefaultOpen))
+    for (auto [style, scale] : content.styles) {
+      const std::string label = "style " + std::to_string(style);
+      ImGui::SliderFloat(label.c_str(), &scale, 0.0f, 2.0f, "%.2f");
+      // On release only: each change reloads the level and bakes its luxels again.
+      if (ImGui::IsItemDeactivatedAfterEdit()) moved = StyleMoved{style, scale};
+    }
   ImGui::PopTextWrapPos();
   ImGui::End();
+  return moved;
 }
 
 } // namespace bt

@@ -4,7 +4,9 @@
 // whatever it shows.
 #pragma once
 
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace bt {
@@ -16,14 +18,21 @@ struct OverlayMessage {
 };
 
 struct OverlayContent {
-  std::vector<std::string> status;      // one line each, plain
-  std::vector<std::string> hints;       // the keys, dimmed
-  std::vector<OverlayMessage> messages; // coloured by kind
-  std::vector<std::string> warnings;    // the import's diagnostics, formatted
-  std::vector<std::string> picked;      // the face a click picked
+  std::vector<std::string> status;           // one line each, plain
+  std::vector<std::string> hints;            // the keys, dimmed
+  std::vector<OverlayMessage> messages;      // coloured by kind
+  std::vector<std::string> warnings;         // the import's diagnostics, formatted
+  std::vector<std::string> picked;           // the face a click picked
+  std::vector<std::pair<int, float>> styles; // light style, its slider's scale
 };
 
-// Draws the content into the current imgui frame (between NewFrame and Render).
-void drawOverlay(const OverlayContent& content);
+struct StyleMoved {
+  int style = 0;
+  float scale = 1.0f;
+};
+
+// Draws the content into the current imgui frame (between NewFrame and Render). Returns the
+// light-style slider let go this frame, if one was.
+std::optional<StyleMoved> drawOverlay(const OverlayContent& content);
 
 } // namespace bt

@@ -22,13 +22,16 @@ struct PendingLevel {
   std::shared_ptr<std::vector<std::string>> missingFiles = std::make_shared<std::vector<std::string>>();
   std::unique_ptr<gl::LevelPreparation> preparation;
 
-  explicit PendingLevel(const ViewerOptions& options)
+  // `styleScale`: the light-style sliders' values (LightOptions::styleScale).
+  PendingLevel(const ViewerOptions& options, const std::array<float, 256>& styleScale)
       : preparation(gl::prepareGlLevel(
-            *level, [map = options.map, import = options.import, missing = missingFiles](const gl::EntitiesRead& entitiesRead) {
+            *level,
+            [map = options.map, import = options.import, missing = missingFiles](const gl::EntitiesRead& entitiesRead) {
               Scene scene = importScene(map, import, entitiesRead);
               *missing = missingTextureFiles(scene, import.textures);
               return scene;
-            })) {}
+            },
+            RenderSceneOptions{.lights = LightOptions{.styleScale = styleScale}})) {}
 };
 
 // What to watch when a level never loaded: the file named (an archive's for ARCHIVE:maps/x.bsp).

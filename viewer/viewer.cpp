@@ -1,5 +1,7 @@
 #include "viewer/viewer_impl.h"
 
+#include <set>
+
 namespace bt {
 
 namespace fs = std::filesystem;
@@ -22,7 +24,7 @@ Viewer::Impl::Impl(ViewerOptions o)
   if (options.camera) placeCamera(*options.camera);
   // A level that does not load opens the window with the error; the next good save loads it.
   try {
-    PendingLevel first(options);
+    PendingLevel first(options, styleScale);
     installLevel(finishLoading(first), *first.missingFiles);
   } catch (const gl::GlError&) {
     throw; // no window worth keeping
@@ -198,7 +200,8 @@ void Viewer::Impl::watchLevelFiles(const std::vector<std::string>& missingFiles)
 
 void Viewer::Impl::reloadIfSaved() {
   if (!pending) {
-    if (watcher.takeChange()) pending = std::make_unique<PendingLevel>(options);
+    // A slider moved: the level again with its lights scaled, baked again (view_modes.h).
+    if (watcher.takeChange() || restyle) pending = std::make_unique<PendingLevel>(options, styleScale), restyle = false;
     return;
   }
   if (!pending->preparation->ready()) return;
@@ -298,6 +301,29 @@ void Viewer::setDenoise(bool on) {
 }
 bool Viewer::denoising() const {
   return impl_->denoise;
+}
+std::vector<int> Viewer::Impl::lightStyles() const {
+  std::set<int> styles;
+  if (level)
+    for (const GpuLight& light : level->render.lights)
+      if (lightStyle(light) != 0) styles.insert(int(lightStyle(light)));
+  return {styles.begin(), styles.end()};
+}
+
+void Viewer::Impl::setStyleScale(int style, float scale) {
+  if (style <= 0 || style > 255 || styleScale[size_t(style)] == scale) return;
+  styleScale[size_t(style)] = std::clamp(scale, 0.0f, 2.0f);
+  restyle = true;
+}
+
+std::vector<int> Viewer::lightStyles() const {
+  return impl_->lightStyles();
+}
+void Viewer::setStyleScale(int style, float scale) {
+  impl_->setStyleScale(style, scale);
+}
+float Viewer::styleScale(int style) const {
+  return impl_->styleScale[size_t(std::clamp(style, 0, 255))];
 }
 ViewMode Viewer::mode() const {
   return impl_->mode;

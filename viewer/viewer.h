@@ -70,7 +70,14 @@ public:
 
   void setMode(ViewMode mode);
   void setDenoise(bool on); // key N
-  bool denoising() const;   // physical mode's young image is denoised (view_modes.h denoiseShare)
+  // The light-style sliders of the overlay: the styles the level's lights use (styled lights 1-31,
+  // switchable lights 32 on; start-off lights are not drawn and have none), and each one's scale
+  // of its lights' contribution, 0 (off) to 2, 1 by default as faithful mode shows it. Setting one
+  // reloads the level with its lights scaled (the luxels bake again).
+  std::vector<int> lightStyles() const;
+  void setStyleScale(int style, float scale);
+  float styleScale(int style) const;
+  bool denoising() const; // physical mode's young image is denoised (view_modes.h denoiseShare)
   void setLighting(LightingMode mode);
   // The level's compiled lightmaps as its engine shows them (key 6); false when it has none
   // (notice() says why and faithful lighting stays).

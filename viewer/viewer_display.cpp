@@ -193,6 +193,7 @@ OverlayContent Viewer::Impl::overlayContent() const {
       c.status.push_back(fmt::format("baking luxels: pass {} of {}", bake->passesDone(), std::max(bake->passes(), 1)));
     c.status.push_back("camera " + formatCameraPose(pose()));
     c.picked = picked.lines;
+    for (const int style : lightStyles()) c.styles.emplace_back(style, styleScale[size_t(style)]);
     for (const Diagnostic& d : level->scene.diagnostics)
       if (d.severity != Severity::Note) c.warnings.push_back(format(d));
   }
@@ -220,7 +221,8 @@ void Viewer::Impl::drawWindow() {
     ImGui::GetBackgroundDrawList()->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(display->id())), ImVec2(0, 0),
                                              ImVec2(float(fbWidth), float(fbHeight)));
   if (level) markers.draw(Camera(pose(), options.width, options.height), options.width, options.height);
-  if (overlayShown) drawOverlay(overlayContent());
+  if (overlayShown)
+    if (const std::optional<StyleMoved> moved = drawOverlay(overlayContent())) setStyleScale(moved->style, moved->scale);
   ImGui::Render();
   BT_GL(glViewport(0, 0, fbWidth, fbHeight));
   BT_GL(glClearColor(0, 0, 0, 1));

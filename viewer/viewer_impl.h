@@ -76,8 +76,16 @@ struct Viewer::Impl {
   bool moving = false;
   RenderImage aovs; // of the current view, for the albedo/normal modes and screenshots
   bool aovsCurrent = false;
-  RenderImage previewAovs;                  // of the half-size preview, while the camera moves
-  bool denoise = options.denoise;           // key N
+  RenderImage previewAovs;        // of the half-size preview, while the camera moves
+  bool denoise = options.denoise; // key N
+  // The light-style sliders: each style's scale (1: as faithful mode shows it), and a reload of
+  // the level with them wanted (set when one is let go).
+  std::array<float, 256> styleScale = [] {
+    std::array<float, 256> all;
+    all.fill(1.0f);
+    return all;
+  }();
+  bool restyle = false;
   std::unique_ptr<gl::GlTexture2D> display; // RGBA8, what is on screen (scaled to the window)
 
   std::string error;    // why the level on screen is not the files' (or why none is)
@@ -192,6 +200,8 @@ struct Viewer::Impl {
   const RenderImage& aovsOfSize(int width, int height);
   RenderImage shownImage(RenderImage mean, int spp);
   void showImage(const RenderImage& image);
+  std::vector<int> lightStyles() const; // the styles of the level's lights, 0 left out
+  void setStyleScale(int style, float scale);
 
   // Physical mode is exposed as `render` exposes it (renderer/exposure.h), from a read-back of
   // the image a few times a second, smoothed so the picture does not pump.

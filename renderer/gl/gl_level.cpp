@@ -49,8 +49,8 @@ bool LevelPreparation::ready() const {
   return !done_.valid() || done_.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
 }
 
-std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport importLevel) {
-  return std::make_unique<LevelPreparation>(level.scene, level.render, std::move(importLevel));
+std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport importLevel, RenderSceneOptions options) {
+  return std::make_unique<LevelPreparation>(level.scene, level.render, std::move(importLevel), std::move(options));
 }
 
 FaithfulFeatures startPathTracerFor(TracerPrograms& programs, LevelPreparation& preparation, bool physical) {

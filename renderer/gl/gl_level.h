@@ -70,10 +70,10 @@ struct GlLevelTimes {
   Clock::time_point uploadStarted, uploaded;
 };
 
-// Starts a LevelPreparation of `importLevel` into `level` (default RenderSceneOptions, the
-// preparation's diagnostics into the scene's). Start it before the GL context: the import then
+// Starts a LevelPreparation of `importLevel` into `level` (with `options`, the preparation's
+// diagnostics into the scene's). Start it before the GL context: the import then
 // overlaps the context's creation.
-std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport importLevel);
+std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport importLevel, RenderSceneOptions options = {});
 
 // Starts `programs`' path tracer for `physical` lighting (the first images') and the level's
 // kinds of light: the wavefront trace kernel at once (it needs nothing of the level), the rest

@@ -276,3 +276,32 @@ TEST_F(ViewerModesTest, TheGlWindowDenoisesAYoungPhysicalImageAndShowsAConverged
 
 } // namespace
 } // namespace bt
+
+namespace bt {
+namespace {
+
+using namespace viewer_test;
+
+// The light-style sliders: a styled light's slider at 0 takes exactly that light away, every pixel
+// of the room it lights: the CPU window then draws what render --backend cpu draws of the room
+// without it.
+TEST_F(ViewerModesTest, AStyleSliderAtZeroTakesThatLightAway) {
+  const std::string styled = "{\n\"classname\" \"light\"\n\"origin\" \"64 64 -96\"\n\"light\" \"250\"\n\"style\" \"5\"\n}\n";
+  save(roomMap(300) + styled);
+  const ViewerOptions o = optionsFor(ViewerBackend::Cpu, 2);
+  Viewer viewer(o);
+  const Viewer::DisplayImage both = settled(viewer, 2);
+  ASSERT_EQ(viewer.lightStyles(), std::vector<int>{5});
+  EXPECT_EQ(viewer.styleScale(5), 1.0f) << "a style starts as faithful mode shows it";
+
+  viewer.setStyleScale(5, 0.0f);
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.reloads() == 1; })) << "the slider did not relight the level";
+  const Viewer::DisplayImage without = settled(viewer, 2);
+  save(roomMap(300)); // the room without the styled light, for render
+  const Viewer::DisplayImage expected = render(viewer, o, "--backend cpu --spp 2");
+  EXPECT_EQ(worstBetween(without, expected), 0) << "style 5 at 0 is not the room without its light";
+  EXPECT_GT(worstBetween(both, expected), 20) << "the styled light changes nothing: the test cannot tell";
+}
+
+} // namespace
+} // namespace bt
