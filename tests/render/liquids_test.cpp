@@ -8,6 +8,7 @@
 #include "renderer/cpu/cpu_renderer.h"
 #include "scene/color.h"
 #include "tests/render/liquid_ranges.h"
+#include "tests/render/test_level.h"
 #include "tests/test_data.h"
 
 #include <glm/geometric.hpp>
@@ -29,28 +30,14 @@ constexpr int kWidth = 96;
 constexpr int kHeight = 64;
 const glm::vec3 kWaterSrgb = glm::vec3(40, 90, 200) / 255.0f; // generate.py's *water_blue
 
-struct Level {
-  Scene scene;
-  RenderScene render;
-};
+using test::Level;
 
 std::unique_ptr<Level> load(const std::string& name) {
-  auto level = std::make_unique<Level>();
-  level->scene = importScene((test::mapsDir() / "liquids" / name).string(), ImportOptions{});
-  Diagnostics diagnostics;
-  level->render = buildRenderScene(level->scene, {}, diagnostics);
-  return level;
+  return test::loadLevel(test::mapsDir() / "liquids" / name);
 }
 
 RenderImage render(const Level& level, LightingMode mode, int spp) {
-  RenderSettings settings;
-  settings.width = kWidth;
-  settings.height = kHeight;
-  settings.spp = spp;
-  settings.threads = 2;
-  settings.integrator.mode = mode;
-  settings.integrator.bounces = 2;
-  return renderCpu(level.render, Camera(defaultCameraPose(level.scene), kWidth, kHeight), settings);
+  return test::renderFromDefaultCamera(level, mode, spp, kWidth, kHeight);
 }
 
 // Pixels whose own ray and its four neighbours' all meet the water: jitter stays on the water.

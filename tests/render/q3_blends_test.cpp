@@ -8,6 +8,7 @@
 #include "renderer/cpu/cpu_renderer.h"
 #include "scene/color.h"
 #include "tests/render/liquid_ranges.h"
+#include "tests/render/test_level.h"
 #include "tests/test_data.h"
 
 #include <gtest/gtest.h>
@@ -29,28 +30,14 @@ const glm::vec3 kFilterSrgb = glm::vec3(180, 220, 120) / 255.0f;
 const glm::vec3 kBlendSrgb = glm::vec3(50, 200, 90) / 255.0f;
 constexpr float kBlendAlpha = 128.0f / 255.0f;
 
-struct Level {
-  Scene scene;
-  RenderScene render;
-};
+using test::Level;
 
 std::unique_ptr<Level> load(const std::string& name) {
-  auto level = std::make_unique<Level>();
-  level->scene = importScene((test::mapsDir() / "q3blend" / "maps" / name).string(), ImportOptions{});
-  Diagnostics diagnostics;
-  level->render = buildRenderScene(level->scene, {}, diagnostics);
-  return level;
+  return test::loadLevel(test::mapsDir() / "q3blend" / "maps" / name);
 }
 
 RenderImage render(const Level& level, LightingMode mode, int spp) {
-  RenderSettings settings;
-  settings.width = kWidth;
-  settings.height = kHeight;
-  settings.spp = spp;
-  settings.threads = 2;
-  settings.integrator.mode = mode;
-  settings.integrator.bounces = 2;
-  return renderCpu(level.render, Camera(defaultCameraPose(level.scene), kWidth, kHeight), settings);
+  return test::renderFromDefaultCamera(level, mode, spp, kWidth, kHeight);
 }
 
 // Pixels whose ray and its four neighbours' meet faces of `texture`: jitter stays on the panel.

@@ -8,6 +8,7 @@
 #include "renderer/cpu/cpu_renderer.h"
 #include "scene/color.h"
 #include "tests/render/box_scene.h"
+#include "tests/render/test_level.h"
 #include "tests/test_data.h"
 
 #include <glm/geometric.hpp>
@@ -30,10 +31,7 @@ namespace {
 constexpr int kWidth = 96;
 constexpr int kHeight = 64;
 
-struct Level {
-  Scene scene;
-  RenderScene render;
-};
+using test::Level;
 
 std::unique_ptr<Level> loadSkyLevel(bool lights = true) {
   auto level = std::make_unique<Level>();
@@ -87,14 +85,7 @@ bool isSky(const Level& level, uint32_t faceIndexPlusOne) {
 }
 
 RenderImage renderSky(const Level& level, LightingMode mode, int spp) {
-  RenderSettings settings;
-  settings.width = kWidth;
-  settings.height = kHeight;
-  settings.spp = spp;
-  settings.threads = 2;
-  settings.integrator.mode = mode;
-  settings.integrator.bounces = 2;
-  return renderCpu(level.render, Camera(defaultCameraPose(level.scene), kWidth, kHeight), settings);
+  return test::renderFromDefaultCamera(level, mode, spp, kWidth, kHeight);
 }
 
 // The level's sky is the sky texture's two layers, as two materials: the right half (back,
