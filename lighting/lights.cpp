@@ -361,7 +361,7 @@ glm::vec3 directionFromMangle(float yawDegrees, float pitchDegrees) {
   return {std::cos(yaw) * std::cos(pitch), std::sin(yaw) * std::cos(pitch), std::sin(pitch)};
 }
 
-LightKinds lightKinds(const SceneLights& lights, bool bounceLights) {
+LightKinds lightKinds(const Scene& scene, const SceneLights& lights, bool bounceLights) {
   LightKinds kinds;
   for (const GpuLight& l : lights.lights) {
     kinds.sky |= l.type == uint32_t(LightType::Sun) || l.type == uint32_t(LightType::Dome);
@@ -370,6 +370,7 @@ LightKinds lightKinds(const SceneLights& lights, bool bounceLights) {
   for (const SurfaceTemplate& t : lights.surfaceTemplates) kinds.jitter |= t.light.deviance > 0.0f;
   kinds.dirt = lights.world.dirtSettings.enabled;
   kinds.bounce = bounceLights && lights.world.bounces > 0;
+  kinds.filter = gameOf(scene) == Game::Quake3;
   return kinds;
 }
 

@@ -99,15 +99,19 @@ SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagn
 // The kinds of light a level has, as collectLights() finds them: before the `_surface` and
 // `_bounce` lights are made, which take most of a level's preparation and add point lights only.
 // The GL tracer compiles only the code for the kinds a level has, and starts that compile from
-// these as soon as the lights are collected (renderer/gl FaithfulFeatures).
+// these as soon as the lights are collected (renderer/gl FaithfulFeatures); with them goes the one
+// surface kind that program needs to know, known as early from the level's game.
 struct LightKinds {
   bool sky = false;    // suns or sky domes
   bool jitter = false; // point lights with `_deviance`, or `_surface` templates with it (their lights inherit it)
   bool dirt = false;   // dirt's occlusion rays (DirtSettings::enabled)
   bool bounce = false; // `_bounce` lights will be made (worldspawn `_bounce`, and the render wants them)
+  // A Quake 3 level: its shaders (read after the entities) may have blendFunc filter surfaces,
+  // which tint what lies behind them per channel.
+  bool filter = false;
   bool operator==(const LightKinds&) const = default;
 };
-LightKinds lightKinds(const SceneLights& lights, bool bounceLights);
+LightKinds lightKinds(const Scene& scene, const SceneLights& lights, bool bounceLights);
 
 // "yaw pitch roll" in degrees as ericw-tools' mangle: the direction (+pitch looks up).
 glm::vec3 directionFromMangle(float yawDegrees, float pitchDegrees);

@@ -276,7 +276,7 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   RenderScene rs;
   rs.scene = &scene;
   SceneLights lights = collectLights(scene, options.lights, diagnostics);
-  rs.lightKinds = lightKinds(lights, options.bounceLights);
+  rs.lightKinds = lightKinds(scene, lights, options.bounceLights);
   rs.lights = std::move(lights.lights);
   rs.world = lights.world;
   rs.sunTable = std::move(lights.sunTable);

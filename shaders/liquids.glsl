@@ -12,7 +12,11 @@ bool faithfulBehindLiquid(inout Path path, bool atFace) {
   if (blend.y > 0.0) {
     vec3 surface = linearToSrgb(path.radiance);
     path.veil += path.veilKeep * blend.x * surface;
+#ifdef BT_FAITHFUL_FILTER
     path.veilKeep *= behindWeight(path.face, blend, surface);
+#else
+    path.veilKeep *= blend.y;
+#endif
     vec3 toSurface = path.position - camera.origin;
     float t = length(toSurface);
     setRay(path, RAY_SURFACE, camera.origin, toSurface / t, INFINITY);
@@ -20,7 +24,7 @@ bool faithfulBehindLiquid(inout Path path, bool atFace) {
     path.radiance = vec3(0.0);
     return true;
   }
-  if (path.veil != vec3(0.0) || path.veilKeep != vec3(1.0)) path.radiance = srgbToLinear(path.veil + path.veilKeep * linearToSrgb(path.radiance));
+  if (path.veil != vec3(0.0) || path.veilKeep != VeilKeep(1.0)) path.radiance = srgbToLinear(path.veil + path.veilKeep * linearToSrgb(path.radiance));
   return false;
 }
 

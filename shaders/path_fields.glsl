@@ -13,6 +13,16 @@
 // continued with a backslash), so their comments are /* */ ones: a // comment would swallow the
 // continuation.
 
+// What lies behind the camera ray's translucent liquids weighs: one weight for every channel,
+// except in a level whose Quake 3 blendFunc filter surfaces tint it (BT_FAITHFUL_FILTER). Two
+// registers more, live for the whole path, cost a level without filters a fifth of its faithful
+// samples/s in the megakernel (bench/README.md).
+#ifdef BT_FAITHFUL_FILTER
+#define VeilKeep vec3
+#else
+#define VeilKeep float
+#endif
+
 // The ray in flight.
 #define PATH_FIELDS_RAY(X) \
   X(uint, kind, KEPT_ALWAYS, LOAD_UNSET) \
@@ -75,9 +85,9 @@
   X(vec3, texture, KEPT_FAITHFUL, LOAD_UNSET) /* the first surface's texture colour (sRGB-encoded) ... */ \
   X(vec3, fullbright, KEPT_FAITHFUL, LOAD_UNSET) /* ... and its emissive texels */ \
   /* Faithful: the translucent liquids the camera ray went through, blended (gamma space), and */ \
-  /* what lies behind them weighs, per channel (faithfulBehindLiquid). */ \
+  /* what lies behind them weighs (faithfulBehindLiquid; VeilKeep). */ \
   X(vec3, veil, KEPT_FAITHFUL, LOAD_UNSET) \
-  X(vec3, veilKeep, KEPT_FAITHFUL, LOAD_UNSET) \
+  X(VeilKeep, veilKeep, KEPT_FAITHFUL, LOAD_UNSET) \
   X(Bsdf, bsdf, KEPT_PHYSICAL, LOAD_UNSET) \
   X(vec3, throughput, KEPT_PHYSICAL, LOAD_UNSET) \
   X(float, prevBsdfPdf, KEPT_PHYSICAL, LOAD_UNSET) /* 0: camera ray (no MIS weight on what it sees) */ \

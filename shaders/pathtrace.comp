@@ -640,7 +640,7 @@ Path cameraPath(ivec2 pixel, out Rng rng) {
   path.throughput = vec3(1.0);
   path.prevBsdfPdf = 0.0;
   path.radiance = vec3(0.0);
-  path.veil = vec3(0.0), path.veilKeep = vec3(1.0);
+  path.veil = vec3(0.0), path.veilKeep = VeilKeep(1.0);
   return path;
 }
 

@@ -15,7 +15,7 @@ LevelPreparation::LevelPreparation(Scene& scene, RenderScene& render, LevelImpor
                        auto tell = [&](const Scene& read) {
                          if (kindsSet) return;
                          Diagnostics ignored; // the collection below reports them
-                         const LightKinds kinds = bt::lightKinds(collectLights(read, options.lights, ignored), options.bounceLights);
+                         const LightKinds kinds = bt::lightKinds(read, collectLights(read, options.lights, ignored), options.bounceLights);
                          lightsCollected = Clock::now();
                          kindsPromise_.set_value(kinds);
                          kindsSet = true;

@@ -71,8 +71,8 @@ std::vector<std::string> programDefines(TracerProgram program, TextureMode mode,
     defines.emplace_back(switchesOf("Physical").at(0)); // physical mode has no dirt, no bounce lights
   } else if (takes(program, "Faithful")) {
     const std::vector<std::string_view> parts = switchesOf("Faithful");
-    const bool on[] = {features.dirt, features.bounceDraw, features.sky, features.jitter};
-    if (parts.size() != std::size(on)) throw GlError("shader_switches.def: FaithfulFeatures has 4 parts");
+    const bool on[] = {features.dirt, features.bounceDraw, features.sky, features.jitter, features.filter};
+    if (parts.size() != std::size(on)) throw GlError("shader_switches.def: FaithfulFeatures has 5 parts");
     for (size_t i = 0; i < parts.size(); ++i)
       if (on[i]) defines.emplace_back(parts[i]);
   }
@@ -106,7 +106,7 @@ void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* sh
 }
 
 FaithfulFeatures faithfulFeatures(const LightKinds& kinds) {
-  return {.dirt = kinds.dirt, .bounceDraw = kinds.bounce, .sky = kinds.sky, .jitter = kinds.jitter};
+  return {.dirt = kinds.dirt, .bounceDraw = kinds.bounce, .sky = kinds.sky, .jitter = kinds.jitter, .filter = kinds.filter};
 }
 
 FaithfulFeatures faithfulFeatures(const DirtSettings& dirt, const std::vector<GpuLight>& lights) {
@@ -134,7 +134,8 @@ ComputeProgram& TracerPrograms::finished(std::unique_ptr<ComputeProgram>& slot) 
 // Physical mode ignores the faithful features, here and in programDefines().
 size_t TracerPrograms::variantIndex(bool physical, FaithfulFeatures features) {
   if (physical) return 0;
-  return 1 + (features.dirt ? 1 : 0) + (features.bounceDraw ? 2 : 0) + (features.sky ? 4 : 0) + (features.jitter ? 8 : 0);
+  return 1 + (features.dirt ? 1 : 0) + (features.bounceDraw ? 2 : 0) + (features.sky ? 4 : 0) + (features.jitter ? 8 : 0) +
+      (features.filter ? 16 : 0);
 }
 std::unique_ptr<ComputeProgram>& TracerPrograms::pathSlot(bool physical, FaithfulFeatures features) {
   return path_[variantIndex(physical, features)];

@@ -25,10 +25,11 @@ struct FaithfulFeatures {
   bool bounceDraw = false; // BT_FAITHFUL_BOUNCE_DRAW: a cell's many bounce lights drawn among
   bool sky = false;        // BT_FAITHFUL_SKY: suns and sky domes, and their rays to the sky
   bool jitter = false;     // BT_FAITHFUL_JITTER: point lights' _deviance (jittered copies)
+  bool filter = false;     // BT_FAITHFUL_FILTER: Quake 3 blendFunc filter surfaces, which tint what lies behind them
   bool operator==(const FaithfulFeatures&) const = default;
   // Both sets' parts.
   FaithfulFeatures operator|(const FaithfulFeatures& o) const {
-    return {dirt || o.dirt, bounceDraw || o.bounceDraw, sky || o.sky, jitter || o.jitter};
+    return {dirt || o.dirt, bounceDraw || o.bounceDraw, sky || o.sky, jitter || o.jitter, filter || o.filter};
   }
 };
 
@@ -163,9 +164,9 @@ private:
   bool wavefrontFirst_; // startPathTracer starts the wavefront kernels too (driver compiles in parallel, a GPU)
   // One program per lighting mode (BT_LIGHTING_PHYSICAL chosen at build), so each compiles
   // only its own integrator, and per set of faithful features (variantIndex: physical, then
-  // faithful with each of the 16 sets); the same for the wavefront form's shade kernels. Its
+  // faithful with each of the 32 sets); the same for the wavefront form's shade kernels. Its
   // trace kernel serves every mode.
-  static constexpr size_t kPathVariants = 17;
+  static constexpr size_t kPathVariants = 33;
   std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[kPathVariants], bake_[kPathVariants], trace_, aov_, rayBench_;
 };
 

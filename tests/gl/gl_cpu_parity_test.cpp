@@ -563,7 +563,7 @@ TEST(FaithfulFeatures, TheEarlyLightKindsOfEveryMapAreTheFinishedLevelsAndCoverI
     options.entitiesRead = [&](const Scene& read) {
       EXPECT_FALSE(early) << "told twice";
       Diagnostics ignored;
-      early = lightKinds(collectLights(read, {}, ignored), true);
+      early = lightKinds(read, collectLights(read, {}, ignored), true);
     };
     Scene scene;
     try {
