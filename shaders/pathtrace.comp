@@ -54,8 +54,8 @@ const bool SKY_RAYS = false;
 #endif
 
 // Physical-mode scale from Quake light units (renderer/cpu/integrator.h).
-const float PHYSICAL_POINT_SCALE = PI / BT_PHYSICAL_LIGHT_UNIT; // integrator.h kPhysicalPointScale
-const float PHYSICAL_SUN_SCALE = PI / BT_PHYSICAL_LIGHT_UNIT;
+const float PHYSICAL_POINT_SCALE = PI * BT_PHYSICAL_DISPLAY_MATCH / BT_PHYSICAL_LIGHT_UNIT; // integrator.h kPhysicalPointScale
+const float PHYSICAL_SUN_SCALE = PI * BT_PHYSICAL_DISPLAY_MATCH / BT_PHYSICAL_LIGHT_UNIT;
 
 vec2 textureUv(uint face, vec3 p) { return faceUv(faces[face], materials[faces[face].material], p); }
 vec4 baseColorAt(uint face, vec3 p) { return materialBaseColor(materials[faces[face].material], textureUv(face, p)); }

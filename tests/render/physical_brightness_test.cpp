@@ -63,13 +63,15 @@ bool isQuake1Level(const Scene& scene) {
   return (scene.format == "standard" || scene.format == "valve220") && gameOf(scene) == Game::Quake;
 }
 
-double meanLuminance(const RenderScene& rs, const CameraPose& pose, LightingMode mode, int spp) {
+double meanLuminance(const RenderScene& rs, const CameraPose& pose, LightingMode mode, int spp,
+                     int bounces = IntegratorSettings{}.bounces) {
   RenderSettings s;
   s.width = kWidth;
   s.height = kHeight;
   s.spp = spp;
   s.seed = 1;
   s.integrator.mode = mode;
+  s.integrator.bounces = bounces;
   s.integrator.clampIndirect = kClampIndirectDefault; // render's default; its --bounces default is the struct's
   const RenderImage image = renderCpu(rs, Camera(pose, kWidth, kHeight), s);
   double sum = 0.0;
@@ -77,8 +79,8 @@ double meanLuminance(const RenderScene& rs, const CameraPose& pose, LightingMode
   return sum / double(image.beauty.size());
 }
 
-TEST(PhysicalBrightness, DISABLED_EverySharedQuake1LevelAgreesWithFaithfulWithinOneAndAHalf) {
-  BT_REQUIRE_SHARED(shared);
+// Calls fn(name, scene, render scene, pose) for every shared Quake 1 level; returns their count.
+template <class Fn> int forEachQuake1Level(const fs::path& shared, Fn fn) {
   int levels = 0;
   for (const fs::path& file : sharedMapFiles(shared)) {
     const std::string name = fs::relative(file, shared / "maps").string();
@@ -92,18 +94,39 @@ TEST(PhysicalBrightness, DISABLED_EverySharedQuake1LevelAgreesWithFaithfulWithin
     if (!isQuake1Level(scene)) continue;
     Diagnostics diagnostics;
     const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
-    const CameraPose pose = defaultCameraPose(scene);
+    fn(name, rs, defaultCameraPose(scene));
+    ++levels;
+  }
+  return levels;
+}
+
+TEST(PhysicalBrightness, DISABLED_EverySharedQuake1LevelAgreesWithFaithfulWithinOneAndAHalf) {
+  BT_REQUIRE_SHARED(shared);
+  const int levels = forEachQuake1Level(shared, [](const std::string& name, const RenderScene& rs, const CameraPose& pose) {
     const double faithful = meanLuminance(rs, pose, LightingMode::Faithful, 1);
     const double physical = meanLuminance(rs, pose, LightingMode::Physical, 8);
-    ++levels;
     const double ratio = physical / std::max(faithful, 1e-12);
     std::printf("%-70s faithful %.5f physical %.5f ratio %.3f\n", name.c_str(), faithful, physical, ratio);
-    if (faithful < kBlack && physical < kBlack) continue;
+    if (faithful < kBlack && physical < kBlack) return;
     EXPECT_LE(ratio, kMaxRatio) << name << ": physical is brighter than faithful";
     EXPECT_GE(ratio, 1.0 / kMaxRatio) << name << ": physical is darker than faithful";
-  }
+  });
   std::printf("%d Quake 1 levels\n", levels);
   EXPECT_GT(levels, 0);
+}
+
+// Not a test: the figures behind bench/README.md's table, with physical mode's direct light alone
+// (no bounce) beside them, to tell the bounces' share from the lights' own. Run it with
+// --gtest_also_run_disabled_tests --gtest_filter=*Diagnostic*.
+TEST(PhysicalBrightness, DISABLED_DiagnosticPrintsEachLevelsFigures) {
+  BT_REQUIRE_SHARED(shared);
+  forEachQuake1Level(shared, [](const std::string& name, const RenderScene& rs, const CameraPose& pose) {
+    const double faithful = meanLuminance(rs, pose, LightingMode::Faithful, 1);
+    const double physical = meanLuminance(rs, pose, LightingMode::Physical, 8);
+    const double direct = meanLuminance(rs, pose, LightingMode::Physical, 8, 0);
+    std::printf("%-70s faithful %.5f physical %.5f direct %.5f ratio %.3f direct ratio %.3f\n", name.c_str(), faithful, physical, direct,
+                physical / std::max(faithful, 1e-12), direct / std::max(faithful, 1e-12));
+  });
 }
 
 } // namespace
