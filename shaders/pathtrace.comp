@@ -455,8 +455,14 @@ bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
     else normalTexel = texel.rgb;
   }
   vec3 baseColor = srgbToLinear(base.rgb);
+  // The camera sees an unlit liquid as the game draws it, its texture (cpu radiancePhysical).
+  if (path.depth == 0 && (flags & FACE_LIQUID) != 0u && world.litwater == 0u) {
+    path.radiance += path.throughput * baseColor;
+    return false;
+  }
   if ((flags & FACE_SKY) != 0u) {
-    path.radiance += path.throughput * (baseColor + skyDomeRadiance(path.dir));
+    // The camera sees the sky as the game draws it, the dome being its light (cpu radiancePhysical).
+    path.radiance += path.throughput * (path.depth > 0 ? baseColor + skyDomeRadiance(path.dir) : baseColor);
     return false;
   }
   vec3 n = hit.normal;
@@ -615,7 +621,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     // A faithful path is its camera ray alone and keeps no throughput between wavefront dispatches.
     if (skyShown) {
       vec3 sky = skyRadiance(path.dir);
-      path.radiance = PHYSICAL ? path.radiance + path.throughput * (sky + skyDomeRadiance(path.dir)) : sky;
+      path.radiance = PHYSICAL ? path.radiance + path.throughput * (path.depth > 0 ? sky + skyDomeRadiance(path.dir) : sky) : sky;
     }
     ended = skyShown || !(PHYSICAL ? physicalSurface(path, surface, le) : faithfulSurface(path, surface));
     path.lightIndex = 0u;
