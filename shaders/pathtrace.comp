@@ -477,6 +477,8 @@ bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
     path.radiance += path.throughput * le * weight;
   }
   if (!shaded) return false;
+  // Minlight, on what the camera sees only (renderer/cpu radiancePhysical).
+  if (path.depth == 0) path.radiance += path.throughput * baseColor * world.minlight * (world.range * PHYSICAL_SUN_SCALE / PI);
 
   // The shading normal (renderer/cpu shadingNormal); rays still leave from the face (n).
   vec3 ns = n;

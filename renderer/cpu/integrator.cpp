@@ -486,6 +486,10 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
     const GpuMaterial& m = rs.materials[gpuFace(rs, hit.face).material];
     const Bsdf bsdf{srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position))), m.roughness, m.metallic,
                     (m.flags & kMaterialSpecular) != 0, shadingNormal(rs, hit, wo)};
+    // Worldspawn minlight (`light`, `_minlight`): the game's floor under every luxel, here the
+    // light of a white sky of that value on what the camera sees. Not on later hits: the
+    // compiler's bounce does not bounce minlight either (lighting/README.md, "Physical mode").
+    if (depth == 0) l += throughput * bsdf.albedo * rs.world.minlight * (rs.world.range * kPhysicalSunScale / kPi);
     l += throughput * directLight(rs, settings, bsdf, hit.position, n, wo, depth > 0, rng);
 
     const glm::vec3 wi = bsdfSample(bsdf, wo, rng);

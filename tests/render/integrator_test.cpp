@@ -387,6 +387,24 @@ TEST(PhysicalRender, EachFormulaMatchesTheCompiledLightAtItsMatchDistance) {
   }
 }
 
+// Worldspawn minlight in physical mode (lighting/README.md, "Physical mode"): what the camera sees
+// is lit as by a white sky of the minlight's value, unshadowed, so a white floor in a level with
+// no light but `light 150` shows 150 x _range x the display match / 128, the game's floor of 150
+// in linear terms, whatever the bounces (the compiler's bounce leaves minlight out too).
+TEST(PhysicalRender, MinlightLightsWhatTheCameraSees) {
+  test::BoxSceneBuilder b = floorScene();
+  b.worldKey("light", "150");
+  const Scene scene = b.build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  for (int bounces : {0, 3}) {
+    Rng rng = pixelRng(0, 0, 0, 0);
+    const glm::vec3 l = radiance(rs, {LightingMode::Physical, bounces}, downAt(0.0f, 0.0f), rng);
+    const double expected = 150.0 * 0.5 * kDisplayMatch / 128.0;
+    EXPECT_NEAR(l.x, expected, 1e-4 * expected) << bounces << " bounces";
+  }
+}
+
 // `delay 3` never falls off in the compiler: its physical light has no reach, so far beyond its
 // match distance (128) it is the plain inverse square of its matched intensity, unwindowed.
 TEST(PhysicalRender, ALightThatNeverFallsOffHasNoWindow) {
