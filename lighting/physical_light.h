@@ -42,14 +42,17 @@ inline float window(float dist, float reachDistance) {
   return w * w;
 }
 
-// The distance at which the physical light matches the compiled one: half the reach of a linear
-// light (where the compiler gives half its value), the formula's own unit (128 / (wait x
-// `_dist`)) for the others (where inverse and inverse square give exactly `light`); for q3map2's
-// inverse-square lights 128 units, or half their envelope where that is nearer.
+// The distance at which the physical light matches the compiled one: for a linear light 128
+// units (the formulas' unit, a typical distance from a Quake light to the walls it lights), or
+// half its reach (where the compiler gives half its value) where that is nearer: an inverse
+// square matched at half a long reach (low `wait`) is many times the compiler's light on the
+// walls near it; the formula's own unit (128 / (wait x `_dist`)) for the inverse formulas (where
+// inverse and inverse square give exactly `light`); for q3map2's inverse-square lights 128
+// units, or half their envelope where that is nearer; half the envelope of its linear ones.
 inline float matchDistance(const GpuLight& light, float scaledist) {
-  if (light.formula == uint32_t(LightFormula::Linear) || light.formula == uint32_t(LightFormula::Q3Linear))
-    return 0.5f * reach(light, scaledist);
-  if (light.formula == uint32_t(LightFormula::Q3Point) || light.formula == uint32_t(LightFormula::Q3Area))
+  if (light.formula == uint32_t(LightFormula::Q3Linear)) return 0.5f * reach(light, scaledist);
+  if (light.formula == uint32_t(LightFormula::Linear) || light.formula == uint32_t(LightFormula::Q3Point) ||
+      light.formula == uint32_t(LightFormula::Q3Area))
     return std::min(BT_FORMULA_SCALE, 0.5f * reach(light, scaledist));
   return BT_FORMULA_SCALE / std::max(scaledist * light.atten, 1e-6f);
 }

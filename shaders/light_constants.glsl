@@ -29,6 +29,12 @@
 #define BT_SPECULAR_LOBE_PROBABILITY 0.5f
 #define BT_HORIZON_MARGIN 0.01f          // shading normals: Iray's margin above the face's plane
 #define BT_PHYSICAL_LIGHT_UNIT 128.0f    // Quake light units per physical unit (point: x pi, sun: / pi)
+// What the game shows of a light, in linear terms, over the light itself at a typical lightmap
+// value: the engine multiplies texture x lightmap / 128 in the display's gamma space, so lightmap
+// fraction L shows about L^2.2 where linear light gives L. Matched at L0 = 0.65, the lightmap
+// whose display is the mean display of e1m1's and lqdm5's compiled lightmaps (0.60, 0.70):
+// L0^1.2 = 0.60 (lighting/README.md, "Physical mode", the display match).
+#define BT_PHYSICAL_DISPLAY_MATCH 0.6f
 #define BT_PHYSICAL_REACH_THRESHOLD 1.0f // light units: where an inverse-formula light ends in physical mode
 #define BT_CLAMP_INDIRECT_DEFAULT 32.0f  // units: --clamp-indirect's default (lighting/README.md, "Fireflies")
 

@@ -54,8 +54,8 @@ const bool SKY_RAYS = false;
 #endif
 
 // Physical-mode scale from Quake light units (renderer/cpu/integrator.h).
-const float PHYSICAL_POINT_SCALE = PI / BT_PHYSICAL_LIGHT_UNIT; // integrator.h kPhysicalPointScale
-const float PHYSICAL_SUN_SCALE = PI / BT_PHYSICAL_LIGHT_UNIT;
+const float PHYSICAL_POINT_SCALE = PI * BT_PHYSICAL_DISPLAY_MATCH / BT_PHYSICAL_LIGHT_UNIT; // integrator.h kPhysicalPointScale
+const float PHYSICAL_SUN_SCALE = PI * BT_PHYSICAL_DISPLAY_MATCH / BT_PHYSICAL_LIGHT_UNIT;
 
 vec2 textureUv(uint face, vec3 p) { return faceUv(faces[face], materials[faces[face].material], p); }
 vec4 baseColorAt(uint face, vec3 p) { return materialBaseColor(materials[faces[face].material], textureUv(face, p)); }
@@ -455,8 +455,14 @@ bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
     else normalTexel = texel.rgb;
   }
   vec3 baseColor = srgbToLinear(base.rgb);
+  // The camera sees an unlit liquid as the game draws it, its texture (cpu radiancePhysical).
+  if (path.depth == 0 && (flags & FACE_LIQUID) != 0u && world.litwater == 0u) {
+    path.radiance += path.throughput * baseColor;
+    return false;
+  }
   if ((flags & FACE_SKY) != 0u) {
-    path.radiance += path.throughput * (baseColor + skyDomeRadiance(path.dir));
+    // The camera sees the sky as the game draws it, the dome being its light (cpu radiancePhysical).
+    path.radiance += path.throughput * (path.depth > 0 ? baseColor + skyDomeRadiance(path.dir) : baseColor);
     return false;
   }
   vec3 n = hit.normal;
@@ -471,6 +477,8 @@ bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
     path.radiance += path.throughput * le * weight;
   }
   if (!shaded) return false;
+  // Minlight, on what the camera sees only (renderer/cpu radiancePhysical).
+  if (path.depth == 0) path.radiance += path.throughput * baseColor * world.minlight * (world.range * PHYSICAL_SUN_SCALE / PI);
 
   // The shading normal (renderer/cpu shadingNormal); rays still leave from the face (n).
   vec3 ns = n;
@@ -615,7 +623,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     // A faithful path is its camera ray alone and keeps no throughput between wavefront dispatches.
     if (skyShown) {
       vec3 sky = skyRadiance(path.dir);
-      path.radiance = PHYSICAL ? path.radiance + path.throughput * (sky + skyDomeRadiance(path.dir)) : sky;
+      path.radiance = PHYSICAL ? path.radiance + path.throughput * (path.depth > 0 ? sky + skyDomeRadiance(path.dir) : sky) : sky;
     }
     ended = skyShown || !(PHYSICAL ? physicalSurface(path, surface, le) : faithfulSurface(path, surface));
     path.lightIndex = 0u;

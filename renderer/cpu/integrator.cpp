@@ -457,7 +457,16 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
       // The level's sky images by the ray's own direction, camera ray or bounce, else the face's texture.
       const glm::vec3 sky =
           rs.sky.size > 0 ? skyRadiance(rs.sky, ray.direction) : srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position)));
-      l += throughput * (sky + skyDomeRadiance(rs, ray.direction));
+      // The camera sees the sky as the game draws it; the dome is its light, which what the
+      // camera sees receives (lighting/README.md, "Physical mode").
+      l += throughput * (depth > 0 ? sky + skyDomeRadiance(rs, ray.direction) : sky);
+      break;
+    }
+    // Without `_litwater` the game draws liquids unlit, at their texture: the camera sees them
+    // so, neither lit nor lighting (the light they give is in the level's lights and emitters,
+    // lava's glow included); rays after a bounce see them as any surface (lighting/README.md).
+    if (depth == 0 && (flags & kFaceLiquid) && !rs.world.litwater) {
+      l += throughput * srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position)));
       break;
     }
     const glm::vec3 n = hit.normal;
@@ -477,6 +486,10 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
     const GpuMaterial& m = rs.materials[gpuFace(rs, hit.face).material];
     const Bsdf bsdf{srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position))), m.roughness, m.metallic,
                     (m.flags & kMaterialSpecular) != 0, shadingNormal(rs, hit, wo)};
+    // Worldspawn minlight (`light`, `_minlight`): the game's floor under every luxel, here the
+    // light of a white sky of that value on what the camera sees. Not on later hits: the
+    // compiler's bounce does not bounce minlight either (lighting/README.md, "Physical mode").
+    if (depth == 0) l += throughput * bsdf.albedo * rs.world.minlight * (rs.world.range * kPhysicalSunScale / kPi);
     l += throughput * directLight(rs, settings, bsdf, hit.position, n, wo, depth > 0, rng);
 
     const glm::vec3 wi = bsdfSample(bsdf, wo, rng);

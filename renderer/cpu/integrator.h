@@ -29,9 +29,10 @@ glm::vec3 radiance(const RenderScene& rs, const IntegratorSettings& settings, co
 // Physical-mode scale from Quake light units: a point light of intensity I (light units x
 // distance^2, lighting/physical_light.h) has radiant intensity I * kPhysicalPointScale * _range,
 // a sun of value V gives irradiance V * kPhysicalSunScale * _range. Chosen so that a white
-// surface head-on to a point light at its match distance (or a sun, anglescale 0) shows the same
-// brightness in both modes.
-inline constexpr float kPhysicalPointScale = kPi / BT_PHYSICAL_LIGHT_UNIT;
-inline constexpr float kPhysicalSunScale = kPi / BT_PHYSICAL_LIGHT_UNIT;
+// surface head-on to a point light at its match distance (or a sun, anglescale 0) shows in
+// linear light what the game shows there at a typical lightmap value: the light's own fraction
+// times the display match (BT_PHYSICAL_DISPLAY_MATCH; lighting/README.md, "Physical mode").
+inline constexpr float kPhysicalPointScale = kPi * BT_PHYSICAL_DISPLAY_MATCH / BT_PHYSICAL_LIGHT_UNIT;
+inline constexpr float kPhysicalSunScale = kPi * BT_PHYSICAL_DISPLAY_MATCH / BT_PHYSICAL_LIGHT_UNIT;
 
 } // namespace bt

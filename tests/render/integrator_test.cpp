@@ -323,6 +323,10 @@ TEST(FaithfulRender, LitLiquidsTakeLightFromBelowToo) {
 }
 
 // Karis' windowed falloff, written out again here: (1 - (d / reach)^4)^2, clamped.
+// What physical mode's light shows in linear terms over the compiler's light fraction
+// (lighting/README.md, "Physical mode", the display match: 0.65^1.2 rounded).
+constexpr double kDisplayMatch = 0.6;
+
 double karisWindow(double d, double reach) {
   const double x = d / reach;
   const double w = std::clamp(1.0 - x * x * x * x, 0.0, 1.0);
@@ -337,15 +341,15 @@ TEST(PhysicalRender, PointLightInverseSquareWindowedAtItsReach) {
   const RenderScene rs = buildRenderScene(scene, {}, diags);
   Rng rng = pixelRng(0, 0, 0, 0);
   const glm::vec3 l = radiance(rs, {LightingMode::Physical, 0}, downAt(60.0f, 0.0f), rng);
-  // `light 300`, linear: reach 300; it matches the compiler's 150 at 150 units, so
-  // I = 150 * 150^2 / W(150); white Lambertian L = (1 / pi) * I * range * pi / 128 * W(d) * cos / d^2.
-  const double intensity = 150.0 * 150.0 * 150.0 / karisWindow(150.0, 300.0);
-  const double expected = intensity * 0.5 / 128.0 * karisWindow(100.0, 300.0) * 0.8 / (100.0 * 100.0);
+  // `light 300`, linear: reach 300; it matches the compiler's 172 at 128 units, so
+  // I = 172 * 128^2 / W(128); white Lambertian L = (1 / pi) * I * range * pi * 0.6 / 128 * W(d) * cos / d^2.
+  const double intensity = 172.0 * 128.0 * 128.0 / karisWindow(128.0, 300.0);
+  const double expected = intensity * 0.5 * kDisplayMatch / 128.0 * karisWindow(100.0, 300.0) * 0.8 / (100.0 * 100.0);
   EXPECT_NEAR(l.x, expected, 1e-3 * expected);
 }
 
 // Head-on at its match distance, a white floor's physical radiance is the compiler's light there
-// x _range / 128 (the faithful lightmap over 128): per formula, the distance and the light the
+// x _range / 128 (the faithful lightmap over 128) x the display match: per formula, the distance and the light the
 // compiler gives there written out from ltface.cc GetLightValue.
 TEST(PhysicalRender, EachFormulaMatchesTheCompiledLightAtItsMatchDistance) {
   struct Case {
@@ -355,9 +359,10 @@ TEST(PhysicalRender, EachFormulaMatchesTheCompiledLightAtItsMatchDistance) {
     double distance, compiled;
   };
   const Case cases[] = {
-      {"0", "1", "", 150.0, 150.0},                               // linear: half its reach of 300
-      {"0", "2", "", 75.0, 150.0},                                // wait 2 halves the reach
-      {"0", "1", "200", 100.0, 150.0},                            // _falloff 200: 300 * (1 - 100 / 200)
+      {"0", "1", "", 128.0, 172.0},                               // linear: 128 units, nearer than half its reach of 300
+      {"0", "0.3", "", 128.0, 300.0 - 0.3 * 128.0},               // a long reach (1000) is matched at 128 too
+      {"0", "4", "", 37.5, 150.0},                                // wait 4: half its reach of 75 is nearer
+      {"0", "1", "200", 100.0, 150.0},                            // _falloff 200: 300 * (1 - 100 / 200), at half of it
       {"1", "1", "", 128.0, 300.0},                               // inverse: 300 * 128 / d
       {"2", "2", "", 64.0, 300.0},                                // inverse square, wait 2: 300 * (128 / (2 d))^2
       {"5", "1", "", 128.0, 300.0 * 128 * 128 / (256.0 * 256.0)}, // inverse square without the pole
@@ -377,8 +382,26 @@ TEST(PhysicalRender, EachFormulaMatchesTheCompiledLightAtItsMatchDistance) {
     // The shadow ray leaves 0.03 units above the floor: the light is that much nearer (its window
     // opens by as little again, below 5e-4).
     const double nearer = c.distance / (c.distance - 0.03);
-    const double expected = c.compiled * 0.5 / 128.0 * nearer * nearer;
+    const double expected = c.compiled * 0.5 * kDisplayMatch / 128.0 * nearer * nearer;
     EXPECT_NEAR(l.x, expected, 5e-4 * expected) << "delay " << c.delay << " wait " << c.wait << " _falloff " << c.falloff;
+  }
+}
+
+// Worldspawn minlight in physical mode (lighting/README.md, "Physical mode"): what the camera sees
+// is lit as by a white sky of the minlight's value, unshadowed, so a white floor in a level with
+// no light but `light 150` shows 150 x _range x the display match / 128, the game's floor of 150
+// in linear terms, whatever the bounces (the compiler's bounce leaves minlight out too).
+TEST(PhysicalRender, MinlightLightsWhatTheCameraSees) {
+  test::BoxSceneBuilder b = floorScene();
+  b.worldKey("light", "150");
+  const Scene scene = b.build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  for (int bounces : {0, 3}) {
+    Rng rng = pixelRng(0, 0, 0, 0);
+    const glm::vec3 l = radiance(rs, {LightingMode::Physical, bounces}, downAt(0.0f, 0.0f), rng);
+    const double expected = 150.0 * 0.5 * kDisplayMatch / 128.0;
+    EXPECT_NEAR(l.x, expected, 1e-4 * expected) << bounces << " bounces";
   }
 }
 
@@ -393,7 +416,7 @@ TEST(PhysicalRender, ALightThatNeverFallsOffHasNoWindow) {
   Rng rng = pixelRng(0, 0, 0, 0);
   const glm::vec3 l = radiance(rs, {LightingMode::Physical, 0}, downAt(0.0f, 0.0f), rng);
   const double d = 2000.0 - 0.03; // the shadow ray leaves 0.03 units above the floor
-  const double expected = 300.0 * 128.0 * 128.0 / (d * d) * 0.5 / 128.0;
+  const double expected = 300.0 * 128.0 * 128.0 / (d * d) * 0.5 * kDisplayMatch / 128.0;
   EXPECT_NEAR(l.x, expected, 5e-4 * expected);
 }
 
@@ -455,7 +478,7 @@ TEST(PhysicalRender, AreaLightMatchesFormFactorWithinMonteCarloError) {
   const RenderScene rs = buildRenderScene(scene, {}, diags);
   ASSERT_EQ(rs.emitters.size(), 2u);
 
-  const double le = 200.0 * 0.5 * 3.14159265358979 / 128.0;
+  const double le = 200.0 * 0.5 * 3.14159265358979 * kDisplayMatch / 128.0;
   const double formFactor = 4.0 * cornerFormFactor(32, 32, 100);
   const double expected = le * formFactor; // white floor: L = albedo * Le * F
   const int n = 20000;
@@ -481,7 +504,7 @@ TEST(PhysicalRender, FurnaceConvergesToEmissionOverOneMinusAlbedo) {
   Diagnostics diags;
   const RenderScene rs = buildRenderScene(scene, {}, diags);
   const double albedo = srgbToLinear(188.0f / 255.0f);
-  const double le = 100.0 * 0.5 * 3.14159265358979 / 128.0;
+  const double le = 100.0 * 0.5 * 3.14159265358979 * kDisplayMatch / 128.0;
   const double expected = le / (1.0 - albedo);
   const int n = 6000;
   double sum = 0.0, sum2 = 0.0;
