@@ -322,11 +322,11 @@ TEST(FaithfulRender, LitLiquidsTakeLightFromBelowToo) {
   }
 }
 
-// Karis' windowed falloff, written out again here: (1 - (d / reach)^4)^2, clamped.
 // What physical mode's light shows in linear terms over the compiler's light fraction
 // (lighting/README.md, "Physical mode", the display match: 0.65^1.2 rounded).
 constexpr double kDisplayMatch = 0.6;
 
+// Karis' windowed falloff, written out again here: (1 - (d / reach)^4)^2, clamped.
 double karisWindow(double d, double reach) {
   const double x = d / reach;
   const double w = std::clamp(1.0 - x * x * x * x, 0.0, 1.0);
