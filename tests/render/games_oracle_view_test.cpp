@@ -34,8 +34,6 @@ constexpr double kEngineDisplayScale = 1.0 / 255.0;
 //     target's default `_bounce 1`); with bounce off the luxels fall to 70 % / 52 % within 5 %,
 //     with ours to 85 % / 63 %: our bounce lights are not yet the compiler's here.
 //   q2_hdrtest: a coloured inverse-square (`delay 2`) light 15 on a small room; cause not found.
-//   q2_light_cone: luxels all within 5 %, pixels at the edge of the three small spots are not;
-//     arghrad's `_cone` key is not read.
 //   q2_light_negative, q2_light_negative_bounce: the compiler subtracts a negative light after
 //     the minlight floor (its 0.5 × 128 = 64 goes to 0 where the light reaches); we floor the
 //     sum, negative light included.
@@ -50,7 +48,6 @@ const std::map<std::string, Bar>& knownGaps() {
       {"ericw-tools_testmaps_q2_areaportal_with_detail", {0.02, 0.84}},
       {"ericw-tools_testmaps_q2_areaportals", {0.02, 0.63}},
       {"ericw-tools_testmaps_q2_hdrtest", {0.53, 0.0}},
-      {"ericw-tools_testmaps_q2_light_cone", {0.02, 0.59}},
       {"ericw-tools_testmaps_q2_light_negative", {0.02, 0.70}},
       {"ericw-tools_testmaps_q2_light_negative_bounce", {0.02, 0.70}},
       {"ericw-tools_testmaps_q2_light_visapprox", {0.96, 0.04}},
