@@ -380,8 +380,12 @@ LightKinds lightKinds(const SceneLights& lights, bool bounceLights) {
   for (const GpuLight& l : lights.lights) {
     kinds.sky |= l.type == uint32_t(LightType::Sun) || l.type == uint32_t(LightType::Dome);
     kinds.jitter |= l.type == uint32_t(LightType::Point) && l.deviance > 0.0f;
+    kinds.negative |= faithful::subtractedLight(l);
   }
-  for (const SurfaceTemplate& t : lights.surfaceTemplates) kinds.jitter |= t.light.deviance > 0.0f;
+  for (const SurfaceTemplate& t : lights.surfaceTemplates) {
+    kinds.jitter |= t.light.deviance > 0.0f;
+    kinds.negative |= faithful::subtractedLight(t.light);
+  }
   kinds.dirt = lights.world.dirtSettings.enabled;
   kinds.bounce = bounceLights && lights.world.bounces > 0;
   return kinds;

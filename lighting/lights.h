@@ -101,10 +101,11 @@ SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagn
 // The GL tracer compiles only the code for the kinds a level has, and starts that compile from
 // these as soon as the lights are collected (renderer/gl FaithfulFeatures).
 struct LightKinds {
-  bool sky = false;    // suns or sky domes
-  bool jitter = false; // point lights with `_deviance`, or `_surface` templates with it (their lights inherit it)
-  bool dirt = false;   // dirt's occlusion rays (DirtSettings::enabled)
-  bool bounce = false; // `_bounce` lights will be made (worldspawn `_bounce`, and the render wants them)
+  bool sky = false;      // suns or sky domes
+  bool jitter = false;   // point lights with `_deviance`, or `_surface` templates with it (their lights inherit it)
+  bool dirt = false;     // dirt's occlusion rays (DirtSettings::enabled)
+  bool bounce = false;   // `_bounce` lights will be made (worldspawn `_bounce`, and the render wants them)
+  bool negative = false; // negative lights taken off after the floors (faithful::subtractedLight), or templates of them
   bool operator==(const LightKinds&) const = default;
 };
 LightKinds lightKinds(const SceneLights& lights, bool bounceLights);

@@ -33,9 +33,6 @@ constexpr double kEngineDisplayScale = 1.0 / 255.0;
 //   q2_areaportal, q2_areaportal_with_detail, q2_areaportals: the bounced light (the Quake 2
 //     target's default `_bounce 1`); with bounce off the luxels fall to 70 % / 52 % within 5 %,
 //     with ours to 85 % / 63 %: our bounce lights are not yet the compiler's here.
-//   q2_light_negative, q2_light_negative_bounce: the compiler subtracts a negative light after
-//     the minlight floor (its 0.5 × 128 = 64 goes to 0 where the light reaches); we floor the
-//     sum, negative light included.
 //   q2_light_visapprox, q2_light_visapprox2: we light faces that the compiler leaves black
 //     (its light culling by visibility, `visapprox`, is not modelled).
 //   q2_lightmap_custom_scale: `_world_units_per_luxel` (BSPX DECOUPLED_LM luxel grids) is not
@@ -48,8 +45,6 @@ const std::map<std::string, Bar>& knownGaps() {
       {"ericw-tools_testmaps_q2_areaportal", {0.02, 0.84}},
       {"ericw-tools_testmaps_q2_areaportal_with_detail", {0.02, 0.84}},
       {"ericw-tools_testmaps_q2_areaportals", {0.02, 0.63}},
-      {"ericw-tools_testmaps_q2_light_negative", {0.02, 0.70}},
-      {"ericw-tools_testmaps_q2_light_negative_bounce", {0.02, 0.70}},
       {"ericw-tools_testmaps_q2_light_visapprox", {0.96, 0.04}},
       {"ericw-tools_testmaps_q2_light_visapprox2", {0.02, 0.66}},
       {"ericw-tools_testmaps_q2_lightmap_custom_scale", {1.0, 0.0}},
