@@ -138,6 +138,16 @@ inline float emitterTerm(const GpuLight& light, const glm::vec3& toLight) {
   return radiosity ? angleTerm(cosEmit, 0.5f) : cosEmit;
 }
 
+// A negative light that the compiler subtracts after the floors (ltface.cc: "cast all positive
+// lights, fix minlight levels, then cast all negative lights", DirectLightFace then
+// PostProcessLightFace): a point light or sun entity of negative value, not a local minlight.
+// Soft ones (`_deviance`, a penumbra) stay in the sum before the floors (not modelled).
+inline bool subtractedLight(const GpuLight& light) {
+  return light.value < 0.0f && light.deviance <= 0.0f && light.formula <= uint32_t(LightFormula::Inverse2A) &&
+      light.formula != uint32_t(LightFormula::LocalMin) &&
+      (light.type == uint32_t(LightType::Point) || light.type == uint32_t(LightType::Sun));
+}
+
 // The brightest channel a light's value is spread over: what the bounce gate compares.
 inline float maxChannel(const glm::vec3& c) {
   return std::max({c.x, c.y, c.z});

@@ -207,12 +207,15 @@ template <class LightAt> glm::vec3 sampledBounceSum(const RenderScene& rs, size_
 }
 
 // worldspawn minlight, a radiosity template's face minlight and delay-4 lights are floors under
-// the sum, not terms of it; with `_minlight_dirt`, dirt dims both minlights (LightFace_Min).
+// the sum, not terms of it; with `_minlight_dirt`, dirt dims both minlights (LightFace_Min). The
+// negative lights (faithful::subtractedLight, their sum `negative`) come off after the floors, and
+// what goes below 0 is 0 (ltface.cc: positive lights, minlight, negative lights, then the clamp).
 glm::vec3 applyFloors(const RenderScene& rs, const glm::vec3& sum, const glm::vec3& localMin, const glm::vec3& faceMinlight,
-                      float occlusion) {
+                      float occlusion, const glm::vec3& negative = glm::vec3(0.0f)) {
   const DirtSettings& dirt = rs.world.dirtSettings;
   const float minlightDirt = dirt.minlight ? 1.0f - faithful::dirtAmount(occlusion, dirt.gain, dirt.scale) : 1.0f;
-  return glm::max(glm::max(sum + rs.world.ambient, localMin), glm::max(rs.world.minlight, faceMinlight) * minlightDirt);
+  const glm::vec3 floored = glm::max(glm::max(sum + rs.world.ambient, localMin), glm::max(rs.world.minlight, faceMinlight) * minlightDirt);
+  return glm::max(floored + negative, glm::vec3(0.0f));
 }
 
 // Which lights a faithful sum takes: all of them with the floors (what a surface shows), or what
@@ -236,11 +239,11 @@ glm::vec3 faithfulSum(const RenderScene& rs, LightSource source, const Receiver&
                       FaithfulLights which = FaithfulLights::Shown, int* bounceShadowRays = nullptr,
                       std::optional<float> knownOcclusion = std::nullopt) {
   const float occlusion = knownOcclusion ? *knownOcclusion : faithfulOcclusion(rs, r.p, r.n, rng);
-  glm::vec3 sum(0.0f), localMin(0.0f);
+  glm::vec3 sum(0.0f), localMin(0.0f), negative(0.0f);
   auto add = [&](const GpuLight& light) {
     if (which == FaithfulLights::BounceSources && !feedsBounce(light, rs.world)) return;
     if (bounceShadowRays && light.formula == uint32_t(LightFormula::Bounce)) ++*bounceShadowRays; // at most
-    addFaithfulLight(rs, light, r, occlusion, rng, sum, localMin);
+    addFaithfulLight(rs, light, r, occlusion, rng, faithful::subtractedLight(light) ? negative : sum, localMin);
   };
   if (source == LightSource::All) {
     for (const GpuLight& light : rs.lights) add(light);
@@ -260,7 +263,7 @@ glm::vec3 faithfulSum(const RenderScene& rs, LightSource source, const Receiver&
     }
   }
   if (which == FaithfulLights::BounceSources) return sum;
-  return applyFloors(rs, sum, localMin, faceMinlight, occlusion);
+  return applyFloors(rs, sum, localMin, faceMinlight, occlusion, negative);
 }
 
 } // namespace
@@ -307,7 +310,7 @@ LightShares faithfulLightShares(const RenderScene& rs, const FaithfulQuery& q, i
   LightShares shares;
   shares.occlusion = faithfulOcclusion(rs, r.p, r.n, rng);
   shares.perLight.resize(rs.lights.size(), glm::vec3(0.0f));
-  glm::vec3 sum(0.0f), localMin(0.0f);
+  glm::vec3 sum(0.0f), localMin(0.0f), negative(0.0f);
   for (size_t i = 0; i < rs.lights.size(); ++i) {
     const GpuLight& light = rs.lights[i];
     const bool soft = light.type == uint32_t(LightType::Dome) || light.deviance > 0.0f;
@@ -315,12 +318,12 @@ LightShares faithfulLightShares(const RenderScene& rs, const FaithfulQuery& q, i
     glm::vec3 share(0.0f), min(0.0f);
     for (int k = 0; k < draws; ++k) addFaithfulLight(rs, light, r, shares.occlusion, rng, share, min);
     shares.perLight[i] = share / float(draws);
-    sum += shares.perLight[i];
+    (faithful::subtractedLight(light) ? negative : sum) += shares.perLight[i];
     localMin = glm::max(localMin, min);
   }
   shares.ambient = rs.world.ambient;
-  shares.shown = applyFloors(rs, sum, localMin, q.faceMinlight, shares.occlusion);
-  shares.floors = shares.shown - sum - shares.ambient;
+  shares.shown = applyFloors(rs, sum, localMin, q.faceMinlight, shares.occlusion, negative);
+  shares.floors = shares.shown - sum - negative - shares.ambient;
   return shares;
 }
 
@@ -383,14 +386,16 @@ void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec
       if (pass < softSamples)
         addFaithfulLight(rs, light, r, sums.occlusion, rng, sums.soft, sums.localMin, cache, index(light), false, pass);
     } else if (pass == 0) {
-      addFaithfulLight(rs, light, r, sums.occlusion, rng, sums.fixed, sums.localMin, cache, index(light));
+      glm::vec3& to = faithful::subtractedLight(light) ? sums.negative : sums.fixed;
+      addFaithfulLight(rs, light, r, sums.occlusion, rng, to, sums.localMin, cache, index(light));
     }
   };
   if (pass == 0 && cache && cache->grouped) {
     for (uint32_t e : cache->groupLights) {
       const uint32_t i = e & ~kSeenByAll;
       if (e & kSeenByAll)
-        addFaithfulLight(rs, rs.lights[i], r, sums.occlusion, rng, sums.fixed, sums.localMin, cache, i, true);
+        addFaithfulLight(rs, rs.lights[i], r, sums.occlusion, rng, faithful::subtractedLight(rs.lights[i]) ? sums.negative : sums.fixed,
+                         sums.localMin, cache, i, true);
       else
         each(rs.lights[i]);
     }
@@ -405,7 +410,7 @@ glm::vec3 faithfulLuxelLight(const RenderScene& rs, const LuxelSums& sums, int p
   glm::vec3 sum = sums.fixed;
   if (domePasses > 0) sum += sums.dome / float(domePasses);
   if (softPasses > 0) sum += sums.soft / float(softPasses);
-  return applyFloors(rs, sum, sums.localMin, faceMinlight, sums.occlusion);
+  return applyFloors(rs, sum, sums.localMin, faceMinlight, sums.occlusion, sums.negative);
 }
 
 glm::vec3 faithfulLuxelFloor(const RenderScene& rs, const glm::vec3& faceMinlight) {

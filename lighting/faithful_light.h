@@ -136,7 +136,8 @@ glm::vec3 jitteredOrigin(const GpuLight& light, Rng& rng);
 // face as the compiler lifts it: lightmap_bake.h), computed in passes so that both tracers bake
 // it the same way and a bake can show its luxels before the last pass:
 //   pass 0   the dirt occlusion (cast from p itself), then every light of one fixed position
-//            (point lights without `_deviance`, suns without a penumbra, each bounce light);
+//            (point lights without `_deviance`, suns without a penumbra, each bounce light),
+//            negative ones apart (LuxelSums::negative);
 //   pass k   the k-th of the compiler's sky dome directions (faithful::skyDomeDirections) and
 //            the k-th of `softSamples` samples of each soft light (a sun's penumbra or
 //            `_deviance` jitter), for k below those counts.
@@ -147,6 +148,7 @@ struct LuxelSums {
   glm::vec3 fixed{0.0f};
   float occlusion = 0.0f;
   glm::vec3 localMin{0.0f}; // delay-4 lights: a floor, not a term
+  glm::vec3 negative{0.0f}; // faithful::subtractedLight lights: taken off after the floors
   glm::vec3 dome{0.0f};     // sum over the passes so far of each pass's dome direction
   glm::vec3 soft{0.0f};     // sum over the passes so far of each pass's soft samples
 };

@@ -21,6 +21,7 @@ namespace {
 
 constexpr float kDefaultLightValue = 300.0f; // Quake's `light` default
 constexpr float kDefaultSpotAngle = 40.0f;   // ericw-tools' cone when `angle` is absent
+constexpr float kDefaultQuake2Cone = 10.0f;  // ericw-tools' `_cone` (a half-angle) on Quake 2 levels
 constexpr int kMaxFormula = 5;
 
 // `_deviance` / `_samples` (ericw-tools CheckEntityFields + JitterEntity, from q3map2): the
@@ -259,9 +260,22 @@ GpuLight sunFromLight(const Scene& scene, const quake::EntityKeys& keys, GpuLigh
   return light;
 }
 
-// A spotlight's cone: `angle` is its full width in degrees, `_softangle` the unfaded part.
-void applySpotCone(const quake::EntityKeys& keys, glm::vec3 axis, GpuLight& light) {
-  const float angle = keys.number("angle", kDefaultSpotAngle);
+// A spotlight's full width in degrees, as ericw-tools' SetupSpotlights reads it: arghrad's
+// Quake 2 key `_cone` is the cone's half-angle and wins over Quake's `angle` (the full width);
+// with neither (or 0) the width is 2 x 10 degrees on a Quake 2 level, 40 elsewhere.
+float spotConeDegrees(const quake::EntityKeys& keys, Game game) {
+  float angle = 0.0f;
+  if (keys.has("_cone") || keys.has("cone"))
+    angle = 2.0f * keys.number("_cone", keys.number("cone", 0.0f));
+  else
+    angle = keys.number("angle", 0.0f);
+  if (angle != 0.0f) return angle;
+  return game == Game::Quake2 ? 2.0f * kDefaultQuake2Cone : kDefaultSpotAngle;
+}
+
+// A spotlight's cone: spotConeDegrees its full width, `_softangle` the unfaded part.
+void applySpotCone(const quake::EntityKeys& keys, Game game, glm::vec3 axis, GpuLight& light) {
+  const float angle = spotConeDegrees(keys, game);
   float soft = keys.number("_softangle", 0.0f);
   if (soft <= 0.0f || soft > angle) soft = angle;
   light.direction = axis;
@@ -300,7 +314,7 @@ void addLightEntity(const Scene& scene, const Entity& entity, const LightOptions
     if (light.value >= 1.0f) attachSunTable(rand, out.lights.back(), out.sunTable); // SetupSuns: int(light) > 0
     return;
   }
-  if (spotAxis) applySpotCone(keys, *spotAxis, light);
+  if (spotAxis) applySpotCone(keys, gameOf(scene), *spotAxis, light);
 
   const int style = std::clamp(keys.integer("style", 0), 0, 255);
   const bool switchable = !entity.value("targetname").empty();
@@ -366,8 +380,12 @@ LightKinds lightKinds(const Scene& scene, const SceneLights& lights, bool bounce
   for (const GpuLight& l : lights.lights) {
     kinds.sky |= l.type == uint32_t(LightType::Sun) || l.type == uint32_t(LightType::Dome);
     kinds.jitter |= l.type == uint32_t(LightType::Point) && l.deviance > 0.0f;
+    kinds.negative |= faithful::subtractedLight(l);
   }
-  for (const SurfaceTemplate& t : lights.surfaceTemplates) kinds.jitter |= t.light.deviance > 0.0f;
+  for (const SurfaceTemplate& t : lights.surfaceTemplates) {
+    kinds.jitter |= t.light.deviance > 0.0f;
+    kinds.negative |= faithful::subtractedLight(t.light);
+  }
   kinds.dirt = lights.world.dirtSettings.enabled;
   kinds.bounce = bounceLights && lights.world.bounces > 0;
   kinds.filter = gameOf(scene) == Game::Quake3;

@@ -102,10 +102,11 @@ SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagn
 // these as soon as the lights are collected (renderer/gl FaithfulFeatures); with them goes the one
 // surface kind that program needs to know, known as early from the level's game.
 struct LightKinds {
-  bool sky = false;    // suns or sky domes
-  bool jitter = false; // point lights with `_deviance`, or `_surface` templates with it (their lights inherit it)
-  bool dirt = false;   // dirt's occlusion rays (DirtSettings::enabled)
-  bool bounce = false; // `_bounce` lights will be made (worldspawn `_bounce`, and the render wants them)
+  bool sky = false;      // suns or sky domes
+  bool jitter = false;   // point lights with `_deviance`, or `_surface` templates with it (their lights inherit it)
+  bool dirt = false;     // dirt's occlusion rays (DirtSettings::enabled)
+  bool bounce = false;   // `_bounce` lights will be made (worldspawn `_bounce`, and the render wants them)
+  bool negative = false; // negative lights taken off after the floors (faithful::subtractedLight), or templates of them
   // A Quake 3 level: its shaders (read after the entities) may have blendFunc filter surfaces,
   // which tint what lies behind them per channel.
   bool filter = false;

@@ -31,7 +31,9 @@ const uint LUXEL_SAMPLE_TWO_SIDED = BT_LUXEL_SAMPLE_TWO_SIDED;
 
 // Binding numbers: renderer/gl/gl_structs.h kBindingBake*.
 layout(std430, binding = BT_BINDING_BAKE_SAMPLES) readonly buffer LuxelSamples { GpuLuxelSample luxelSamples[]; };
-// Per sample, lighting LuxelSums as 4 vec4: (fixed, occlusion), (localMin, 0), (dome, 0), (soft, 0).
+// Per sample, lighting LuxelSums as 4 vec4: (fixed, occlusion), (localMin, negative.r), (dome, negative.g),
+// (soft, negative.b): the negative lights' sum in the spare fourth components, no fifth vec4 for
+// the few levels that have them.
 layout(std430, binding = BT_BINDING_BAKE_SUMS) buffer LuxelSumBuffer { vec4 luxelSums[]; };
 // faithful.h skyDomeDirections (domeSuns of them), then RenderScene::sunTable.
 layout(std430, binding = BT_BINDING_BAKE_SKY_DOME) readonly buffer SkyDome { vec4 skyDome[]; };
@@ -85,7 +87,7 @@ float query(uint kind, vec3 origin, vec3 dir, float tMax, uint param) {
 }
 
 // Where a light's share goes (lighting LuxelSums).
-const uint TO_FIXED = 0u, TO_LOCAL_MIN = 1u, TO_DOME = 2u, TO_SOFT = 3u, TO_DIRT = 4u;
+const uint TO_FIXED = 0u, TO_LOCAL_MIN = 1u, TO_DOME = 2u, TO_SOFT = 3u, TO_DIRT = 4u, TO_NEGATIVE = 5u;
 
 // One item of a pass: a ray, and what its answer adds where.
 struct Item {
@@ -133,7 +135,7 @@ Item lightItem(GpuLight light, vec3 p, vec3 normal, bool twoSided, uint receiver
     vec3 origin = offsetPoint(p, n);
     vec3 toLightFromOrigin = pos - origin;
     float len = length(toLightFromOrigin);
-    uint target = light.formula == FORMULA_LOCAL_MIN ? TO_LOCAL_MIN : soft ? TO_SOFT : TO_FIXED;
+    uint target = light.formula == FORMULA_LOCAL_MIN ? TO_LOCAL_MIN : soft ? TO_SOFT : subtractedLight(light) ? TO_NEGATIVE : TO_FIXED;
     it = Item(true, QUERY_SHADOW, origin, toLightFromOrigin / len, len, shadowPassFlags(false, light.shadowChannels), value * light.color,
               target);
   }
@@ -145,7 +147,8 @@ Item lightItem(GpuLight light, vec3 p, vec3 normal, bool twoSided, uint receiver
     vec3 n = facingNormal(normal, toSun, twoSided);
     float value = sunValue(light, -toSun, n) * dirtFactorAt(light, occlusion, 0.0);
     if (value == 0.0) return it;
-    it = Item(true, QUERY_SKY, offsetPoint(p, n), toSun, INFINITY, light.skyMaterial, value * light.color, soft ? TO_SOFT : TO_FIXED);
+    it = Item(true, QUERY_SKY, offsetPoint(p, n), toSun, INFINITY, light.skyMaterial, value * light.color,
+              soft ? TO_SOFT : subtractedLight(light) ? TO_NEGATIVE : TO_FIXED);
   }
 #endif
   return it;
@@ -160,9 +163,9 @@ void runPasses(uint index) {
   bool twoSided = (s.flags & LUXEL_SAMPLE_TWO_SIDED) != 0u;
   uint receiver = faceChannels(s.face);
   vec4 fixedSum = firstPass == 0 ? vec4(0.0) : luxelSums[4u * index];
-  vec3 localMin = firstPass == 0 ? vec3(0.0) : luxelSums[4u * index + 1u].xyz;
-  vec3 dome = firstPass == 0 ? vec3(0.0) : luxelSums[4u * index + 2u].xyz;
-  vec3 soft = firstPass == 0 ? vec3(0.0) : luxelSums[4u * index + 3u].xyz;
+  vec4 localMin = firstPass == 0 ? vec4(0.0) : luxelSums[4u * index + 1u];
+  vec4 dome = firstPass == 0 ? vec4(0.0) : luxelSums[4u * index + 2u];
+  vec4 soft = firstPass == 0 ? vec4(0.0) : luxelSums[4u * index + 3u];
   uint cell = lightGridCell(p);
   for (pass = firstPass; pass < firstPass + passCount; ++pass) {
     Rng rng = pixelRng(index, uint(pass), 0u, bakeSeed);
@@ -195,39 +198,41 @@ void runPasses(uint index) {
       if (it.target == TO_DIRT) dirtSum += answer;
       else if (answer > 0.0) {
         if (it.target == TO_FIXED) fixedSum.xyz += it.gain;
-        else if (it.target == TO_LOCAL_MIN) localMin = max(localMin, it.gain);
-        else if (it.target == TO_DOME) dome += it.gain;
-        else soft += it.gain;
+        else if (it.target == TO_LOCAL_MIN) localMin.xyz = max(localMin.xyz, it.gain);
+        else if (it.target == TO_DOME) dome.xyz += it.gain;
+        else if (it.target == TO_NEGATIVE) localMin.w += it.gain.r, dome.w += it.gain.g, soft.w += it.gain.b;
+        else soft.xyz += it.gain;
       }
     }
     if (lightCount == 0u && dirtRays > 0u) fixedSum.w = 1.0 - dirtSum / (float(dirtRays) * world.dirtDepth);
   }
   luxelSums[4u * index] = fixedSum;
-  luxelSums[4u * index + 1u] = vec4(localMin, 0.0);
-  luxelSums[4u * index + 2u] = vec4(dome, 0.0);
-  luxelSums[4u * index + 3u] = vec4(soft, 0.0);
+  luxelSums[4u * index + 1u] = localMin;
+  luxelSums[4u * index + 2u] = dome;
+  luxelSums[4u * index + 3u] = soft;
 }
 
-// lighting applyFloors.
-vec3 applyFloors(vec3 sum, vec3 localMin, vec3 faceMinlight, float occlusion) {
+// lighting applyFloors: the floors, then the negative lights, then nothing below 0.
+vec3 applyFloors(vec3 sum, vec3 localMin, vec3 faceMinlight, float occlusion, vec3 negative) {
   float minlightDirt = 1.0;
 #ifdef BT_FAITHFUL_DIRT
   if (world.minlightDirt != 0u) minlightDirt = 1.0 - dirtAmount(occlusion, world.dirtGain, world.dirtScale);
 #endif
-  return max(max(sum + world.ambient, localMin), max(world.minlight, faceMinlight) * minlightDirt);
+  return max(max(max(sum + world.ambient, localMin), max(world.minlight, faceMinlight) * minlightDirt) + negative, vec3(0.0));
 }
 
 // lighting faithfulLuxelLight of sample `index` after passesDone passes.
 vec3 sampleLight(uint index) {
   GpuLuxelSample s = luxelSamples[index];
-  if ((s.flags & LUXEL_SAMPLE_OCCLUDED) != 0u) return applyFloors(vec3(0.0), vec3(0.0), s.faceMinlight, 0.0);
+  if ((s.flags & LUXEL_SAMPLE_OCCLUDED) != 0u) return applyFloors(vec3(0.0), vec3(0.0), s.faceMinlight, 0.0, vec3(0.0));
   vec4 fixedSum = luxelSums[4u * index];
   vec3 sum = fixedSum.xyz;
   int domePasses = min(passesDone, domeSuns);
   int softPasses = min(passesDone, softSamples);
-  if (domePasses > 0) sum += luxelSums[4u * index + 2u].xyz / float(domePasses);
-  if (softPasses > 0) sum += luxelSums[4u * index + 3u].xyz / float(softPasses);
-  return applyFloors(sum, luxelSums[4u * index + 1u].xyz, s.faceMinlight, fixedSum.w);
+  vec4 localMin = luxelSums[4u * index + 1u], dome = luxelSums[4u * index + 2u], soft = luxelSums[4u * index + 3u];
+  if (domePasses > 0) sum += dome.xyz / float(domePasses);
+  if (softPasses > 0) sum += soft.xyz / float(softPasses);
+  return applyFloors(sum, localMin.xyz, s.faceMinlight, fixedSum.w, vec3(localMin.w, dome.w, soft.w));
 }
 
 // lightmap_bake.cpp storedLuxel and lightmaps.h packLuxel.

@@ -113,6 +113,12 @@ float emitterTerm(GpuLight light, vec3 toLight) {
   return radiosity ? angleTerm(cosEmit, 0.5) : cosEmit;
 }
 
+// lighting/faithful.h subtractedLight: a negative light the compiler takes off after the floors.
+bool subtractedLight(GpuLight light) {
+  return light.value < 0.0 && light.deviance <= 0.0 && light.formula <= FORMULA_INVERSE2A && light.formula != FORMULA_LOCAL_MIN &&
+         (light.type == LIGHT_POINT || light.type == LIGHT_SUN);
+}
+
 float pointLightValue(GpuLight light, vec3 normal, vec3 toLight, float dist, float scaledist) {
   float cosIncidence = dot(toLight, normal);
   if ((light.flags & LIGHT_FLAG_BLEED) != 0u) cosIncidence = abs(cosIncidence);

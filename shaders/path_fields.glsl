@@ -93,7 +93,21 @@
   X(float, prevBsdfPdf, KEPT_PHYSICAL, LOAD_UNSET) /* 0: camera ray (no MIS weight on what it sees) */ \
   X(vec3, radiance, KEPT_PHYSICAL, LOAD_ZERO) /* the sample, once the path has ended (0 until then in faithful mode) */
 
-#define PATH_FIELDS(X) PATH_FIELDS_RAY(X) PATH_FIELDS_SURFACE(X) PATH_FIELDS_BOUNCE_DRAW(X) PATH_FIELDS_DIRT(X) PATH_FIELDS_LIGHT(X)
+// Faithful negative lights (lighting faithful::subtractedLight): their sum, taken off after the
+// floors, and whether the pending share is one of them. NEGATIVE_ONLY(code): code only in the
+// programs of levels that have such lights.
+#ifdef BT_FAITHFUL_NEGATIVE
+#define PATH_FIELDS_NEGATIVE(X) \
+  X(vec3, lightNegative, KEPT_FAITHFUL, LOAD_UNSET) \
+  X(bool, pendingIsNegative, KEPT_FAITHFUL, LOAD_UNSET)
+#define NEGATIVE_ONLY(code) code
+#else
+#define PATH_FIELDS_NEGATIVE(X)
+#define NEGATIVE_ONLY(code)
+#endif
+
+#define PATH_FIELDS(X) \
+  PATH_FIELDS_RAY(X) PATH_FIELDS_SURFACE(X) PATH_FIELDS_BOUNCE_DRAW(X) PATH_FIELDS_DIRT(X) PATH_FIELDS_NEGATIVE(X) PATH_FIELDS_LIGHT(X)
 
 // kept(x): x where this program's lighting mode keeps the field, else nothing.
 #define KEPT_ALWAYS(x) x

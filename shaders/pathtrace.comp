@@ -153,6 +153,7 @@ bool faithfulLightRay(inout Path path, GpuLight light, inout Rng rng) {
   vec3 p = path.position;
   bool twoSided = (faceFlags[path.face] & FACE_LIQUID) != 0u;
   path.pendingIsFloor = false;
+  NEGATIVE_ONLY(path.pendingIsNegative = subtractedLight(light);)
   // The compiler's lighting channels: a point light lights only faces on one of its channels,
   // the sky the default channel's (lighting addFaithfulLight).
   if (((light.type == LIGHT_POINT ? light.lightChannels : DEFAULT_CHANNELS) & faceChannels(path.face)) == 0u) return false;
@@ -287,6 +288,7 @@ bool faithfulBounceRay(inout Path path, uint cell, uint i, uint count, inout Rng
     path.pending = s.rgb * dirtFactor(path, light, s.dist) *
                    (float(picks) * path.bounceTotal / (s.weight * float(BOUNCE_SHADOW_RAYS)));
     path.pendingIsFloor = false;
+    NEGATIVE_ONLY(path.pendingIsNegative = false;)
     path.lightIndex = i + 1u;
     return true;
   }
@@ -346,6 +348,7 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
   path.normal = hit.normal;
   path.lightSum = vec3(0.0);
   path.lightFloor = vec3(0.0);
+  NEGATIVE_ONLY(path.lightNegative = vec3(0.0);)
 #ifdef BT_FAITHFUL_BOUNCE_DRAW
   path.bounceFirst = NO_BOUNCE_DRAW;
 #endif
@@ -363,6 +366,7 @@ bool faithfulPathEnd(inout Path path, inout Rng rng) {
   vec3 light = max(max(path.lightSum + world.ambient, path.lightFloor), world.minlight * minlightDirtFactor(path));
   // The _surface template's own faces: ericw-tools' face minlight (lighting faithfulFaceMinlight).
   path.lit = max(light, surfaceFaceMinlight(surfaceLights[faces[path.face].material]) * minlightDirtFactor(path));
+  NEGATIVE_ONLY(path.lit = max(path.lit + path.lightNegative, vec3(0.0));) // after the floors (lighting applyFloors)
   path.radiance = faithfulDisplay(path);
   return false;
 }
@@ -566,6 +570,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     // The any-hit traversal passed everything that does not block light already.
     if (shadowPassed && !PHYSICAL) {
       if (path.pendingIsFloor) path.lightFloor = max(path.lightFloor, path.pending);
+      NEGATIVE_ONLY(else if (path.pendingIsNegative) path.lightNegative += path.pending;)
       else path.lightSum += path.pending;
     }
     if (shadowPassed && PHYSICAL) {
@@ -598,6 +603,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
       bool reached = !gaveUp && (hit.face == NO_FACE || (flags & FACE_SKY) != 0u);
       if (reached) {
         if (PHYSICAL) path.radiance += path.throughput * path.pending;
+        NEGATIVE_ONLY(else if (path.pendingIsNegative) path.lightNegative += path.pending;)
         else path.lightSum += path.pending;
       }
     } else {

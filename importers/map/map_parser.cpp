@@ -441,8 +441,19 @@ private:
   Scanner in_;
 };
 
-// "// Format: Valve" within the leading comment lines.
+// "// Format: Valve" within the leading comment lines (TrenchBroom's header). A Quake 1 format
+// under "// Game: Quake 2" is its Quake 2 form: ericw-tools' q2_hdrtest.map names "Valve" for
+// Valve 220 face lines without Quake 2's optional surface flags, and qbsp -q2bsp compiles it as a
+// Quake 2 level, so the game's light rules (range 1, no overbright) are Quake 2's.
 std::optional<MapDialect> headerDialect(std::string_view text) {
+  const auto value = [](std::string_view line, std::string_view key) -> std::optional<std::string_view> {
+    if (line.substr(0, key.size()) != key) return std::nullopt;
+    line.remove_prefix(key.size());
+    while (!line.empty() && line.front() == ' ') line.remove_prefix(1);
+    return line;
+  };
+  std::optional<MapDialect> format;
+  bool quake2 = false;
   size_t pos = 0;
   for (int lines = 0; lines < 8 && pos < text.size(); ++lines) {
     size_t end = text.find('\n', pos);
@@ -455,13 +466,15 @@ std::optional<MapDialect> headerDialect(std::string_view text) {
     if (line.substr(0, 2) != "//") break;
     line.remove_prefix(2);
     while (!line.empty() && line.front() == ' ') line.remove_prefix(1);
-    if (line.substr(0, 7) == "Format:") {
-      line.remove_prefix(7);
-      while (!line.empty() && line.front() == ' ') line.remove_prefix(1);
-      return dialectFromFormatName(line);
+    if (auto game = value(line, "Game:")) quake2 = *game == "Quake 2";
+    if (auto name = value(line, "Format:")) {
+      format = dialectFromFormatName(*name);
+      break; // TrenchBroom writes the game first
     }
   }
-  return std::nullopt;
+  if (quake2 && format == MapDialect::Standard) return MapDialect::Quake2;
+  if (quake2 && format == MapDialect::Valve220) return MapDialect::Quake2Valve;
+  return format;
 }
 
 } // namespace

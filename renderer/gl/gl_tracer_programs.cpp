@@ -1,5 +1,6 @@
 #include "renderer/gl/gl_tracer_programs.h"
 
+#include "lighting/faithful.h"
 #include "lighting/faithful_light.h"
 #include "renderer/gl/gl_error.h"
 
@@ -71,8 +72,8 @@ std::vector<std::string> programDefines(TracerProgram program, TextureMode mode,
     defines.emplace_back(switchesOf("Physical").at(0)); // physical mode has no dirt, no bounce lights
   } else if (takes(program, "Faithful")) {
     const std::vector<std::string_view> parts = switchesOf("Faithful");
-    const bool on[] = {features.dirt, features.bounceDraw, features.sky, features.jitter, features.filter};
-    if (parts.size() != std::size(on)) throw GlError("shader_switches.def: FaithfulFeatures has 5 parts");
+    const bool on[] = {features.dirt, features.bounceDraw, features.sky, features.jitter, features.negative, features.filter};
+    if (parts.size() != std::size(on)) throw GlError("shader_switches.def: FaithfulFeatures has 6 parts");
     for (size_t i = 0; i < parts.size(); ++i)
       if (on[i]) defines.emplace_back(parts[i]);
   }
@@ -106,7 +107,12 @@ void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* sh
 }
 
 FaithfulFeatures faithfulFeatures(const LightKinds& kinds) {
-  return {.dirt = kinds.dirt, .bounceDraw = kinds.bounce, .sky = kinds.sky, .jitter = kinds.jitter, .filter = kinds.filter};
+  return {.dirt = kinds.dirt,
+          .bounceDraw = kinds.bounce,
+          .sky = kinds.sky,
+          .jitter = kinds.jitter,
+          .negative = kinds.negative,
+          .filter = kinds.filter};
 }
 
 FaithfulFeatures faithfulFeatures(const DirtSettings& dirt, const std::vector<GpuLight>& lights) {
@@ -116,6 +122,7 @@ FaithfulFeatures faithfulFeatures(const DirtSettings& dirt, const std::vector<Gp
     bounceLights += l.formula == uint32_t(LightFormula::Bounce);
     f.sky |= l.type == uint32_t(LightType::Sun) || l.type == uint32_t(LightType::Dome);
     f.jitter |= l.type == uint32_t(LightType::Point) && l.deviance > 0.0f;
+    f.negative |= faithful::subtractedLight(l);
   }
   f.bounceDraw = bounceLights > kBounceShadowRays;
   return f;
@@ -135,7 +142,7 @@ ComputeProgram& TracerPrograms::finished(std::unique_ptr<ComputeProgram>& slot) 
 size_t TracerPrograms::variantIndex(bool physical, FaithfulFeatures features) {
   if (physical) return 0;
   return 1 + (features.dirt ? 1 : 0) + (features.bounceDraw ? 2 : 0) + (features.sky ? 4 : 0) + (features.jitter ? 8 : 0) +
-      (features.filter ? 16 : 0);
+      (features.negative ? 16 : 0) + (features.filter ? 32 : 0);
 }
 std::unique_ptr<ComputeProgram>& TracerPrograms::pathSlot(bool physical, FaithfulFeatures features) {
   return path_[variantIndex(physical, features)];

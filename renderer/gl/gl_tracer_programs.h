@@ -25,11 +25,12 @@ struct FaithfulFeatures {
   bool bounceDraw = false; // BT_FAITHFUL_BOUNCE_DRAW: a cell's many bounce lights drawn among
   bool sky = false;        // BT_FAITHFUL_SKY: suns and sky domes, and their rays to the sky
   bool jitter = false;     // BT_FAITHFUL_JITTER: point lights' _deviance (jittered copies)
+  bool negative = false;   // BT_FAITHFUL_NEGATIVE: negative lights, taken off after the floors
   bool filter = false;     // BT_FAITHFUL_FILTER: Quake 3 blendFunc filter surfaces, which tint what lies behind them
   bool operator==(const FaithfulFeatures&) const = default;
   // Both sets' parts.
   FaithfulFeatures operator|(const FaithfulFeatures& o) const {
-    return {dirt || o.dirt, bounceDraw || o.bounceDraw, sky || o.sky, jitter || o.jitter, filter || o.filter};
+    return {dirt || o.dirt, bounceDraw || o.bounceDraw, sky || o.sky, jitter || o.jitter, negative || o.negative, filter || o.filter};
   }
 };
 
@@ -41,7 +42,7 @@ FaithfulFeatures faithfulFeatures(const LightKinds& kinds);
 // What lights as uploaded need at least: dirt where it is enabled; the bounce draw where there
 // are more bounce lights than the draw's rays (lighting/faithful_light.h kBounceShadowRays), as no cell can
 // list more bounce lights than the level has; the sky with a sun or dome; jitter with a point
-// light's _deviance. The tracer renders with this and the LightKinds' features together.
+// light's _deviance; negative with a light that faithful::subtractedLight takes off after the floors. The tracer renders with this and the LightKinds' features together.
 FaithfulFeatures faithfulFeatures(const DirtSettings& dirt, const std::vector<GpuLight>& lights);
 
 // The two forms of the path tracer; both draw the same image for the same settings.
@@ -164,9 +165,9 @@ private:
   bool wavefrontFirst_; // startPathTracer starts the wavefront kernels too (driver compiles in parallel, a GPU)
   // One program per lighting mode (BT_LIGHTING_PHYSICAL chosen at build), so each compiles
   // only its own integrator, and per set of faithful features (variantIndex: physical, then
-  // faithful with each of the 32 sets); the same for the wavefront form's shade kernels. Its
+  // faithful with each of the 64 sets); the same for the wavefront form's shade kernels. Its
   // trace kernel serves every mode.
-  static constexpr size_t kPathVariants = 33;
+  static constexpr size_t kPathVariants = 65;
   std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[kPathVariants], bake_[kPathVariants], trace_, aov_, rayBench_;
 };
 

@@ -189,4 +189,27 @@ TEST(GlBake, LightingChannelsGiveTheCpuLuxels) {
   EXPECT_LE(double(far), 0.002 * double(gpu.size())) << far << " of " << gpu.size() << " luxels more than 8 levels apart";
 }
 
+// ericw-tools' q2_light_negative: a light -1000 in a room with minlight 0.5 (64 stored). The
+// compiler takes negative lights off after the floors, so where the light reaches the luxels go
+// to 0, below the minlight; the GPU bake keeps their sum apart as the CPU's does (without it the
+// floor would hold them at 64).
+TEST(GlBake, NegativeLightsComeOffAfterTheFloorsAsOnTheCpu) {
+  BT_REQUIRE_SHARED(shared);
+  const Scene scene = importScene((shared / "maps/ericw-tools/testmaps/q2_light_negative.map").string(), ImportOptions{});
+  Diagnostics diagnostics;
+  RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+  Lightmaps cpu = layoutLightmaps(rs);
+  ASSERT_GT(cpu.luxels.size(), 500u);
+  const std::vector<uint32_t> gpu = bakeOnBoth(scene, rs, cpu);
+  size_t within = 0, black = 0, minlight = 0;
+  for (size_t i = 0; i < gpu.size(); ++i) {
+    within += largestChannelDifference(gpu[i], cpu.luxels[i]) <= 1;
+    black += (gpu[i] & 0xffffffu) == 0u;
+    minlight += (gpu[i] & 255u) == 64u;
+  }
+  EXPECT_GE(double(within), 0.999 * double(gpu.size()));
+  EXPECT_GT(black, gpu.size() / 10) << "the negative light takes the minlight away where it reaches";
+  EXPECT_GT(minlight, 20u) << "and only there";
+}
+
 } // namespace

@@ -449,6 +449,24 @@ TEST(GlCpuParity, LightingChannelsAgreeWithTheCpuReference) {
   EXPECT_GT(green, cpu.beauty.size() / 100) << "the green light lights the func_wall in view";
 }
 
+// ericw-tools' q2_light_negative at each pixel on both tracers: the negative light comes off after
+// the minlight floor (BT_FAITHFUL_NEGATIVE), so the room is black where it reaches, not at minlight.
+TEST(GlCpuParity, NegativeLightsAgreeWithTheCpuReference) {
+  BT_REQUIRE_SHARED(shared);
+  Level level;
+  level.scene = importScene((shared / "maps/ericw-tools/testmaps/q2_light_negative.map").string(), ImportOptions{});
+  Diagnostics diagnostics;
+  level.render = buildRenderScene(level.scene, {}, diagnostics);
+  level.pose = defaultCameraPose(level.scene);
+  const RenderSettings settings = beautySettings(LightingMode::Faithful, 17);
+  RenderImage cpu;
+  const RenderImage gpu = renderBoth(level.render, level.pose, settings, cpu);
+  expectBeautyAgrees(gpu, cpu, 0.01);
+  size_t black = 0;
+  for (const glm::vec3& c : cpu.beauty) black += c == glm::vec3(0.0f);
+  EXPECT_GT(black, cpu.beauty.size() / 10) << "the negative light darkens the view below the minlight";
+}
+
 // Faithful _bounce on both tracers: ericw-tools' deprecated/nobounce.map (worldspawn _bounce 1),
 // whose rooms are lit by a spotlight on a pillar and, everywhere else, by the bounce lights the
 // CPU made (lighting/bounce.h) and the GL tracer sums like its other lights.
@@ -484,8 +502,10 @@ TEST(GlCpuParity, ManyBounceLightsDrawTheSameAsTheCpu) {
     const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
     const CameraPose pose{{400.0f, -400.0f, 200.0f}, 20.0f, 135.0f, 0.0f, "test"};
     ASSERT_GT(trailingBounceLights(rs.lights, rs.lightGrid.cellLights(pose.origin)), kBounceShadowRays);
-    // The GL tracer builds its faithful program with the draw (and dirt) for this level alone.
-    EXPECT_EQ(faithfulFeatures(rs.world.dirtSettings, rs.lights), (FaithfulFeatures{.dirt = dirt, .bounceDraw = true, .sky = true}));
+    // The GL tracer builds its faithful program with the draw (and dirt) for this level alone; the
+    // room's darklight takes the negative lights' part.
+    EXPECT_EQ(faithfulFeatures(rs.world.dirtSettings, rs.lights),
+              (FaithfulFeatures{.dirt = dirt, .bounceDraw = true, .sky = true, .negative = true}));
     RenderSettings settings;
     settings.width = 64;
     settings.height = 40;
@@ -582,7 +602,7 @@ TEST(FaithfulFeatures, TheEarlyLightKindsOfEveryMapAreTheFinishedLevelsAndCoverI
   }
   EXPECT_GT(checked, maps.size() * 9 / 10);
   // Not passed for want of a case: the maps use every part.
-  EXPECT_EQ(seen, (FaithfulFeatures{true, true, true, true}));
+  EXPECT_EQ(seen, (FaithfulFeatures{true, true, true, true, true, true}));
 }
 
 // The level's kinds of light come before its preparation ends, and are those the prepared level

@@ -31,16 +31,20 @@ TEST(GlShaderVariants, EveryVariantTheRuntimeCanRequestWasValidatedAtBuildTime) 
     for (const TextureMode mode : {TextureMode::Bindless, TextureMode::Arrays})
       for (const TraceLayout layout : {TraceLayout::Hardware, TraceLayout::Software})
         for (const bool physical : {false, true})
-          for (unsigned f = 0; f < 32; ++f) {
-            const FaithfulFeatures features{
-                .dirt = (f & 1) != 0, .bounceDraw = (f & 2) != 0, .sky = (f & 4) != 0, .jitter = (f & 8) != 0, .filter = (f & 16) != 0};
+          for (unsigned f = 0; f < 64; ++f) {
+            const FaithfulFeatures features{.dirt = (f & 1) != 0,
+                                            .bounceDraw = (f & 2) != 0,
+                                            .sky = (f & 4) != 0,
+                                            .jitter = (f & 8) != 0,
+                                            .negative = (f & 16) != 0,
+                                            .filter = (f & 32) != 0};
             const std::string key = variantKey(TracerProgram(p), programDefines(TracerProgram(p), mode, layout, physical, features));
             requested.insert(key);
             EXPECT_TRUE(validated.count(key)) << "never validated at build time: " << key;
           }
-  // pathtrace.comp: 2 texture paths x 2 layouts x (32 faithful sets + physical) x 2 forms; bake.comp: 2 x 2 x 32; three
+  // pathtrace.comp: 2 texture paths x 2 layouts x (64 faithful sets + physical) x 2 forms; bake.comp: 2 x 2 x 64; three
   // programs 2 x 2 each.
-  EXPECT_EQ(requested.size(), size_t(264 + 128 + 12));
+  EXPECT_EQ(requested.size(), size_t(520 + 256 + 12));
 }
 
 // The value defines every program gets besides the switches: the traversal's stack size and the

@@ -116,6 +116,10 @@ TEST(MapParser, PutsClipboardBrushesIntoAnImplicitWorldspawn) {
 TEST(MapParser, DetectsDialectFromHeaderKeysAndFaceLines) {
   EXPECT_EQ(parse("// Game: Quake 2\n// Format: Quake2 (Valve)\n{\n}\n").dialect, MapDialect::Quake2Valve);
   EXPECT_TRUE(parse("// Format: Hexen2\n").dialectFromHeader);
+  // A Quake 1 format under a Quake 2 game is its Quake 2 form (ericw-tools' q2_hdrtest.map).
+  EXPECT_EQ(parse("// Game: Quake 2\n// Format: Valve\n{\n}\n").dialect, MapDialect::Quake2Valve);
+  EXPECT_EQ(parse("// Game: Quake 2\n// Format: Standard\n{\n}\n").dialect, MapDialect::Quake2);
+  EXPECT_EQ(parse("// Game: Quake\n// Format: Valve\n{\n}\n").dialect, MapDialect::Valve220);
   EXPECT_EQ(parse("{\n\"mapversion\" \"220\"\n}\n").dialect, MapDialect::Valve220);
   EXPECT_EQ(parse("{\n{\n( 0 0 0 ) ( 0 1 0 ) ( 1 0 0 ) a 0 0 0 1 1 0 0 0\n}\n}\n").dialect, MapDialect::Quake2);
   EXPECT_EQ(parse("{\n{\n( 0 0 0 ) ( 0 1 0 ) ( 1 0 0 ) a [ 1 0 0 0 ] [ 0 1 0 0 ] 0 1 1 0 0 0\n}\n}\n").dialect, MapDialect::Quake2Valve);
