@@ -1,0 +1,150 @@
+#include "lighting/liquid_csg.h"
+
+#include "lighting/liquids.h"
+#include "lighting/qbsp_faces.h"
+#include "lighting/render_scene.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace bt {
+
+namespace {
+
+// The contents qbsp gives a liquid brush: teleporters are water to the compiler (only the
+// engine tells them apart, by name).
+enum class Contents : uint8_t { None, Water, Slime, Lava };
+
+Contents liquidContents(const Face& face) {
+  switch (liquidKind(face.texture, face.surface ? &*face.surface : nullptr)) {
+  case LiquidKind::Slime: return Contents::Slime;
+  case LiquidKind::Lava: return Contents::Lava;
+  default: return Contents::Water;
+  }
+}
+
+// Each world brush's liquid contents (None for solids and brush entities): that of its first face
+// classified as liquid.
+std::vector<Contents> brushLiquids(const Scene& scene) {
+  std::vector<Contents> kinds(scene.brushes.size(), Contents::None);
+  const Game game = gameOf(scene);
+  for (size_t b = 0; b < scene.brushes.size(); ++b) {
+    const Brush& brush = scene.brushes[b];
+    if (brush.entity >= scene.entities.size() || !mergedIntoWorld(scene.entities[brush.entity].classname())) continue;
+    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
+      if (classifyTexture(scene.faces[f].texture, scene.faces[f].surface, game) & kFaceLiquid) {
+        kinds[b] = liquidContents(scene.faces[f]);
+        break;
+      }
+  }
+  return kinds;
+}
+
+// Boxes that overlap or touch, within the on-plane tolerance.
+bool reach(const Bounds& a, const Bounds& b) {
+  for (int i = 0; i < 3; ++i)
+    if (a.min[i] > b.max[i] + kOnPlaneEpsilon || b.min[i] > a.max[i] + kOnPlaneEpsilon) return false;
+  return true;
+}
+
+bool samePlane(const Plane& a, const Plane& b) {
+  constexpr double kNormalEpsilon = 1e-6; // of 1 - cos: qbsp merges planes closer than this
+  return glm::dot(a.normal, b.normal) > 1.0 - kNormalEpsilon && std::abs(a.dist - b.dist) <= kOnPlaneEpsilon;
+}
+
+enum class Holds { No, Touching, Inside };
+
+// Where `p`, on face plane `plane` of another brush, lies against `brush`: inside it (its
+// boundary included, except where the face lies in one of its sides facing the same way: two
+// coplanar outer faces, of which the tracer's tie rule shows the later), against one of its sides
+// that the face looks into (two brushes touching there), or not in it.
+Holds holds(const Scene& scene, const Brush& brush, const Plane& plane, const dvec3& p) {
+  bool touching = false;
+  for (uint32_t k = brush.firstFace; k < brush.firstFace + brush.faceCount; ++k) {
+    const Plane& side = scene.faces[k].plane;
+    if (samePlane(side, plane)) return Holds::No;
+    if (samePlane(side, plane.flipped())) {
+      touching = true;
+      continue;
+    }
+    if (side.distanceTo(p) > kOnPlaneEpsilon) return Holds::No;
+  }
+  return touching ? Holds::Touching : Holds::Inside;
+}
+
+// Whether the level's brushes are the mapper's, whose liquids the compiler would merge: a .map
+// of Quake 1's family or Quake 2, and a Quake 2 .bsp (its brushes lump holds them). A Quake 1 or
+// Half-Life .bsp's brushes are the cells of its tree, merged already; q3map2 has no such rule.
+bool mapperLiquids(const Scene& scene) {
+  if (gameOf(scene) == Game::Quake3) return false;
+  const std::string_view f = scene.format;
+  return f != "bsp29" && f != "bsp2" && f != "2psb" && f != "bsp30";
+}
+
+} // namespace
+
+LiquidCsg::LiquidCsg(const Scene& scene) {
+  if (!mapperLiquids(scene)) return;
+  const std::vector<Contents> kinds = brushLiquids(scene);
+  std::vector<uint32_t> liquids;
+  for (uint32_t b = 0; b < kinds.size(); ++b)
+    if (kinds[b] != Contents::None) liquids.push_back(b);
+  if (liquids.size() < 2) return;
+  // Pairs whose boxes reach each other: a sweep along x.
+  std::sort(liquids.begin(), liquids.end(),
+            [&](uint32_t a, uint32_t b) { return scene.brushes[a].bounds.min.x < scene.brushes[b].bounds.min.x; });
+  std::vector<std::vector<Other>> byBrush(scene.brushes.size());
+  for (size_t i = 0; i < liquids.size(); ++i) {
+    const Bounds& a = scene.brushes[liquids[i]].bounds;
+    for (size_t j = i + 1; j < liquids.size() && scene.brushes[liquids[j]].bounds.min.x <= a.max.x + kOnPlaneEpsilon; ++j) {
+      if (!reach(a, scene.brushes[liquids[j]].bounds)) continue;
+      const bool same = kinds[liquids[i]] == kinds[liquids[j]];
+      byBrush[liquids[i]].push_back({liquids[j], same});
+      byBrush[liquids[j]].push_back({liquids[i], same});
+    }
+  }
+  first_.assign(scene.faces.size() + 1, 0);
+  for (uint32_t f = 0; f < scene.faces.size(); ++f) {
+    first_[f] = uint32_t(others_.size());
+    const uint32_t b = scene.faces[f].brush;
+    if (b < byBrush.size() && kinds[b] != Contents::None) others_.insert(others_.end(), byBrush[b].begin(), byBrush[b].end());
+  }
+  first_.back() = uint32_t(others_.size());
+  if (others_.empty()) first_.clear();
+}
+
+bool LiquidCsg::drawn(const Scene& scene, uint32_t face, const dvec3& p, bool leaving) const {
+  const Plane& plane = scene.faces[face].plane;
+  bool inOtherKind = false;
+  for (uint32_t i = first_[face]; i < first_[face + 1]; ++i) {
+    const Holds h = holds(scene, scene.brushes[others_[i].brush], plane, p);
+    if (h == Holds::No) continue;
+    if (others_[i].sameKind) return false; // merged into one volume: no face here
+    inOtherKind |= h == Holds::Inside;
+  }
+  return !leaving || inOtherKind;
+}
+
+std::optional<uint32_t> LiquidCsg::keptFaceAt(const Scene& scene, const std::vector<uint32_t>& faceFlags, uint32_t face, const dvec3& p,
+                                              const dvec3& dir) const {
+  std::optional<uint32_t> kept;
+  const auto consider = [&](uint32_t b) {
+    const Brush& brush = scene.brushes[b];
+    for (uint32_t k = brush.firstFace; k < brush.firstFace + brush.faceCount; ++k)
+      if (scene.faces[k].plane.distanceTo(p) > kOnPlaneEpsilon) return; // p is not on this brush
+    for (uint32_t k = brush.firstFace; k < brush.firstFace + brush.faceCount; ++k) {
+      const Plane& plane = scene.faces[k].plane;
+      if (k == face || (faceFlags[k] & kFaceHidden) || std::abs(plane.distanceTo(p)) > kOnPlaneEpsilon ||
+          glm::dot(plane.normal, dir) >= 0.0)
+        continue;
+      if ((!kept || k > *kept) && (!reaches(k) || drawn(scene, k, p, false))) kept = k;
+    }
+  };
+  consider(scene.faces[face].brush);
+  for (uint32_t i = first_[face]; i < first_[face + 1]; ++i) consider(others_[i].brush);
+  return kept;
+}
+
+} // namespace bt
