@@ -26,15 +26,24 @@ Contents liquidContents(const Face& face) {
 }
 
 // Each world brush's liquid contents (None for solids and brush entities): that of its first face
-// classified as liquid.
+// classified as liquid. Faces without surface attributes are classified once per material (a
+// texture name says it all), which keeps this to a few hundred names on the largest levels.
 std::vector<Contents> brushLiquids(const Scene& scene) {
   std::vector<Contents> kinds(scene.brushes.size(), Contents::None);
   const Game game = gameOf(scene);
+  std::vector<int8_t> materialLiquid(scene.materials.size(), -1); // unknown, no, yes
+  const auto liquid = [&](const Face& face) {
+    if (face.surface || face.material >= materialLiquid.size())
+      return (classifyTexture(face.texture, face.surface, game) & kFaceLiquid) != 0;
+    int8_t& known = materialLiquid[face.material];
+    if (known < 0) known = (classifyTexture(face.texture, std::nullopt, game) & kFaceLiquid) != 0;
+    return known > 0;
+  };
   for (size_t b = 0; b < scene.brushes.size(); ++b) {
     const Brush& brush = scene.brushes[b];
     if (brush.entity >= scene.entities.size() || !mergedIntoWorld(scene.entities[brush.entity].classname())) continue;
     for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
-      if (classifyTexture(scene.faces[f].texture, scene.faces[f].surface, game) & kFaceLiquid) {
+      if (liquid(scene.faces[f])) {
         kinds[b] = liquidContents(scene.faces[f]);
         break;
       }
