@@ -3,6 +3,7 @@
 #include "lighting/liquids.h"
 #include "lighting/qbsp_faces.h"
 #include "lighting/render_scene.h"
+#include "quake/entity_keys.h"
 
 #include <glm/geometric.hpp>
 
@@ -83,13 +84,19 @@ Holds holds(const Scene& scene, const Brush& brush, const Plane& plane, const dv
   return touching ? Holds::Touching : Holds::Inside;
 }
 
-// Whether the level's brushes are the mapper's, whose liquids the compiler would merge: a .map
-// of Quake 1's family or Quake 2, and a Quake 2 .bsp (its brushes lump holds them). A Quake 1 or
-// Half-Life .bsp's brushes are the cells of its tree, merged already; q3map2 has no such rule.
+// Whether the level's liquids are still to be merged: a .map's. A .bsp's brushes come out of
+// the compiler: a Quake 1 or Half-Life level's are the cells of its tree, merged already, and a
+// Quake 2 level's sides carry what qbsp kept of them (a side it removed is hidden, one it kept is
+// drawn, _noclipfaces included). q3map2 has no such rule.
 bool mapperLiquids(const Scene& scene) {
   if (gameOf(scene) == Game::Quake3) return false;
   const std::string_view f = scene.format;
-  return f != "bsp29" && f != "bsp2" && f != "2psb" && f != "bsp30";
+  return f != "bsp29" && f != "bsp2" && f != "2psb" && f != "bsp30" && f != "ibsp38";
+}
+
+// qbsp's _noclipfaces: a brush entity's brushes with the key clip no brush of their own contents.
+bool clipsSameContents(const Scene& scene, const Brush& brush) {
+  return brush.entity >= scene.entities.size() || quake::EntityKeys(scene.entities[brush.entity]).integer("_noclipfaces", 0) == 0;
 }
 
 } // namespace
@@ -109,9 +116,10 @@ LiquidCsg::LiquidCsg(const Scene& scene) {
     const Bounds& a = scene.brushes[liquids[i]].bounds;
     for (size_t j = i + 1; j < liquids.size() && scene.brushes[liquids[j]].bounds.min.x <= a.max.x + kOnPlaneEpsilon; ++j) {
       if (!reach(a, scene.brushes[liquids[j]].bounds)) continue;
-      const bool same = kinds[liquids[i]] == kinds[liquids[j]];
-      byBrush[liquids[i]].push_back({liquids[j], same});
-      byBrush[liquids[j]].push_back({liquids[i], same});
+      const uint32_t bi = liquids[i], bj = liquids[j];
+      const bool same = kinds[bi] == kinds[bj];
+      if (!same || clipsSameContents(scene, scene.brushes[bj])) byBrush[bi].push_back({bj, same});
+      if (!same || clipsSameContents(scene, scene.brushes[bi])) byBrush[bj].push_back({bi, same});
     }
   }
   first_.assign(scene.faces.size() + 1, 0);

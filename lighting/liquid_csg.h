@@ -13,11 +13,17 @@
 // polygons: a hit on a liquid face whose brush overlaps other liquid brushes (LiquidCsg::reaches)
 //  - entering its brush: is not drawn where the point lies inside, or on the far side of a
 //    touching face of, another liquid brush of the same kind;
+//    Where such a hit lies on an edge of its brush (the tracer's tie went to the removed face),
+//    the face qbsp keeps at that point stands in (keptFaceAt): the top of two touching pools;
 //  - leaving its brush (a hit the tracer otherwise passes): is drawn, facing the ray, where the
 //    ray goes on inside a liquid brush of another kind and no liquid brush of its own kind holds
-//    the point.
-// Only brushes qbsp merges into the world count (each brush entity is a model compiled apart).
-// A level without overlapping liquids has no entries, and its hits take no extra test.
+//    the point. (Elsewhere the tracers draw no liquid face from inside, although qbsp mirrors
+//    them all: a known gap of both tracers, older than this rule.)
+// Only a .map's brushes that qbsp merges into the world count (each brush entity is a model
+// compiled apart; a .bsp's brushes carry the compiler's result already), and a brush entity with
+// `_noclipfaces 1` clips no liquid of its own kind. Quake 3 levels are left alone. A level
+// without overlapping liquids has no entries, and its hits take no extra test. The GL tracer
+// does not apply the rule yet: it draws overlapping liquids as before.
 #pragma once
 
 #include "scene/scene.h"
