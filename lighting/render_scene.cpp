@@ -294,6 +294,7 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
 
   const std::vector<BrushContents> contents = brushContents(scene);
   rs.tracer = buildTracer(rs);
+  rs.liquidCsg = LiquidCsg(scene);
   nudgeLightsOffFaces(rs, contents);
   // Faithful mode's _surface lights: point lights spread over the template faces, after the
   // tracer (the compiler drops template faces that look into the void).

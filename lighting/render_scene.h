@@ -7,6 +7,7 @@
 #include "scene/gpu_structs.h"
 #include "lighting/game_rules.h"
 #include "lighting/light_grid.h"
+#include "lighting/liquid_csg.h"
 #include "lighting/lightmaps.h"
 #include "lighting/lights.h"
 #include "lighting/sky.h"
@@ -44,6 +45,9 @@ struct RenderScene {
   WorldLighting world;
   LightKinds lightKinds; // what collectLights found (before _surface and _bounce lights)
   TraceScene tracer;     // the brushes that are ever visible, in a BVH
+  // Which hits on liquid faces qbsp's CSG of overlapping liquids leaves drawn (liquid_csg.h);
+  // empty for a level without overlapping liquids.
+  LiquidCsg liquidCsg;
   // Faithful mode's luxels (lightmap_bake.h): a face baked here is shown from them, as the game
   // shows its lightmaps; any other face has its light evaluated at the shown point.
   Lightmaps lightmaps;

@@ -43,13 +43,30 @@ SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray) {
   for (int i = 0; i < kMaxSkips; ++i) {
     const std::optional<Hit> hit = rs.tracer.closestHit(r);
     if (!hit) return {};
-    if (!passesThrough(rs, *hit, r) && !(rs.faceFlags[hit->face] & kFaceHidden)) {
+    const uint32_t flags = rs.faceFlags[hit->face];
+    bool shown = !passesThrough(rs, *hit, r) && !(flags & kFaceHidden);
+    uint32_t face = hit->face;
+    const glm::vec3 position = ray.origin + ray.direction * hit->t;
+    // A face of a liquid brush that overlaps others: what qbsp's CSG keeps of it, from either
+    // side (liquid_csg.h). By the brush's contents: a Quake 2 liquid face without SURF_WARP is
+    // drawn as a wall, and merged all the same.
+    if (!(flags & kFaceHidden) && rs.liquidCsg.reaches(face)) {
+      const LiquidCsg& csg = rs.liquidCsg;
+      if (hit->inside)
+        shown = csg.drawn(*rs.scene, face, dvec3(position), true);
+      else if (shown && !csg.drawn(*rs.scene, face, dvec3(position), false)) {
+        const std::optional<uint32_t> kept = csg.keptFaceAt(*rs.scene, rs.faceFlags, face, dvec3(position), dvec3(ray.direction));
+        shown = kept.has_value();
+        face = kept.value_or(face);
+      }
+    }
+    if (shown) {
       SurfaceHit s;
       s.found = true;
       s.t = hit->t;
-      s.face = hit->face;
-      s.position = ray.origin + ray.direction * hit->t;
-      s.normal = faceNormal(rs, hit->face);
+      s.face = face;
+      s.position = position;
+      s.normal = hit->inside ? -faceNormal(rs, face) : faceNormal(rs, face); // the mirrored face, seen from inside
       return s;
     }
     r.tMin = continueRayAfter(hit->t);

@@ -23,7 +23,7 @@ struct SurfaceHit {
   float t = 0.0f;
   uint32_t face = 0;
   glm::vec3 position{0.0f};
-  glm::vec3 normal{0.0f, 0.0f, 1.0f}; // the face plane's normal (faces the ray)
+  glm::vec3 normal{0.0f, 0.0f, 1.0f}; // the face plane's normal, facing the ray (flipped for a liquid face seen from inside)
 };
 
 SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray);

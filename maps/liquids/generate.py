@@ -8,6 +8,10 @@ whose floor has a pool with a coloured floor, seen from above by an info_intermi
 - pools.map: three pools side by side, water, slime and lava (`*water_blue`, `*slime_green`,
   `*lava_glow`), under four lights, and a wall beside the lava for physical mode;
   lava_dark.map: the lava pool and its wall without any light.
+- csg_water.map: pool.map's water made of three `*water_blue` brushes that overlap (two halves
+  sharing a middle, a third inside them): qbsp merges them into pool.map's one volume;
+  csg_lava.map: a `*lava_glow` pool (`_lavaalpha 0.5`) with a `*water_blue` box inside it: qbsp
+  keeps the water's faces, from both sides (lighting/liquid_csg.h).
 Run it again after editing; the output is deterministic. Needs only the standard library.
 """
 import os
@@ -97,6 +101,13 @@ def main():
     brushes.append(box((144, 64, 0), (160, 176, 96), "poolwall"))
     write_map("lava_dark.map", [], brushes, [], ("-96 120 96", "30 0 0"),
               "liquids: lava beside a wall, no light")
+    halves = [box((0, -64, -DEPTH), (96, 64, SURFACE), "*water_blue"), box((32, -64, -DEPTH), (128, 64, SURFACE), "*water_blue"),
+              box((48, -32, -48), (80, 32, -24), "*water_blue")]
+    write_map("csg_water.map", [("_wateralpha", "0.5")], one + pool(*pit, None) + halves, lights, camera,
+              "liquids: pool.map's water in three overlapping brushes")
+    write_map("csg_lava.map", [("_wateralpha", "0.5"), ("_lavaalpha", "0.5")],
+              one + pool(*pit, "*lava_glow") + [box((32, -32, -48), (96, 32, -24), "*water_blue")], lights, camera,
+              "liquids: a water box inside lava")
     os.makedirs(os.path.join(HERE, "textures"), exist_ok=True)
     for name, rgb in COLOURS.items():
         write_png(os.path.join(HERE, "textures", name + ".png"), 16, 16, lambda x, y, c=rgb: c)

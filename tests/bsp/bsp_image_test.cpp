@@ -16,10 +16,11 @@
 //
 // Faces the compiler removed, seen from the .map side. The .bsp importer rebuilds brushes, but
 // the level qbsp drew is its faces lump, and the .map render can show a face qbsp did not keep:
-// the shared side of two water brushes (q2_csg_water_water_current90), water inside lava, the
-// coplanar face of the brush that `_chop_order` ranks lower (q2_chop_order_1). There the two
-// pictures may rightly differ. So a pixel that differs is excluded when the compiled level does
-// not decide it (CompiledFaces): no face with the .map face's texture is drawn on that plane at
+// the coplanar face of the brush that `_chop_order` ranks lower (q2_chop_order_1). (Liquids
+// merged by qbsp's CSG, q1_csg_water_eats_water and q2_csg_water_water_current90, the .map render
+// merges itself: lighting/liquid_csg.h.) There the two pictures may rightly differ. So a pixel
+// that differs is excluded when the compiled level does not decide it (CompiledFaces): no face
+// with the .map face's texture is drawn on that plane at
 // the point the .map render shows, or the .bsp render's face is drawn there too, on the same
 // plane, with the point on the boundary between the two (a ray exactly on the edge of two
 // coplanar faces may see either). A pixel that agrees always counts, so the rule can only take
@@ -257,12 +258,10 @@ RenderImage renderAovs(const Scene& scene, const Camera& camera, bool showHidden
   options.showHidden = showHidden;
   options.bounceLights = false; // AOVs only: lq_e3m1's _bounce 3 would cost minutes of lighting
   Diagnostics diagnostics;
-  RenderScene rs = buildRenderScene(scene, options, diagnostics);
-  // The first surface each pixel sees, liquids included: a translucent liquid's albedo is blended
-  // with what lies behind it, and there the .map import still differs from qbsp, which removes
-  // the faces of liquid brushes inside other liquids (q1_csg_water_eats_water, q2_chop_order_1).
-  // The import paths are compared on what they import.
-  for (GpuMaterial& m : rs.materials) m.opacity = m.physicalOpacity = 1.0f, m.flags &= ~kMaterialBlendAdd;
+  const RenderScene rs = buildRenderScene(scene, options, diagnostics);
+  // Liquids as the level asks (_wateralpha): a translucent liquid's albedo is blended with what
+  // lies behind it, so a face qbsp removed inside other liquids, or a mirrored one it kept
+  // (lighting/liquid_csg.h: q1_csg_water_eats_water, q1_water_slime_zfighting), shows through.
   return renderAovsCpu(rs, camera, kWidth, kHeight);
 }
 

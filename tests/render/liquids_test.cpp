@@ -1,10 +1,12 @@
 // Liquids as the engines draw them, on the maps of maps/liquids/ (generate.py there): the
 // worldspawn alpha keys as QuakeSpasm reads them, and the CPU tracer's water, seen from above,
-// against the engine's blend of the water over the pool without it. tests/gl holds the GL
-// tracer to these same images.
+// against the engine's blend of the water over the pool without it; overlapping liquids as
+// qbsp's CSG leaves them (lighting/liquid_csg.h). tests/gl holds the GL tracer to the pool's
+// images (not yet to the overlapping liquids: the GL tracer does not apply liquid_csg.h).
 #include "importers/import.h"
 #include "lighting/liquids.h"
 #include "lighting/render_scene.h"
+#include "renderer/camera.h"
 #include "renderer/cpu/cpu_renderer.h"
 #include "scene/color.h"
 #include "tests/render/liquid_ranges.h"
@@ -86,6 +88,61 @@ TEST(Liquids, FaithfulWaterIsTheEnginesBlend) {
         expectNear(solid.beauty[i], srgbToLinear(kWaterSrgb), 0.01f, i, "opaque water");
     if (!ok) break; // one pixel tells
   }
+}
+
+RenderImage albedo(const Level& level) {
+  return renderAovsCpu(level.render, Camera(defaultCameraPose(level.scene), kWidth, kHeight), kWidth, kHeight, 2);
+}
+
+// csg_water.map builds pool.map's water of three overlapping brushes (one inside the other two).
+// qbsp merges liquids of one kind into one volume and compiles no face inside it, so through the
+// translucent water every pixel shows what pool.map's single brush shows: a face inside the
+// water would darken the floor behind it.
+TEST(Liquids, OverlappingWaterIsOneVolumeAsQbspMergesIt) {
+  const auto merged = load("csg_water.map"), single = load("pool.map");
+  const RenderImage seen = albedo(*merged), want = albedo(*single);
+  size_t onWater = 0;
+  for (uint32_t f : seen.face) onWater += f && merged->scene.faces[f - 1].texture == "*water_blue";
+  for (size_t i = 0; i < seen.albedo.size(); ++i) {
+    const bool sameNormal = seen.normal[i] == want.normal[i] || glm::dot(seen.normal[i], want.normal[i]) > 0.9999f;
+    EXPECT_TRUE(sameNormal) << "normal at pixel " << i;
+    if (!expectNear(seen.albedo[i], want.albedo[i], 1e-3f, i, "albedo") || !sameNormal) break;
+  }
+  EXPECT_GT(onWater, size_t(kWidth * kHeight / 20)) << "the camera should look at the water";
+}
+
+// csg_lava.map: a water box inside translucent lava. qbsp keeps the faces of liquids of another
+// kind inside a liquid and compiles each from both sides (q1_water_slime_zfighting in the
+// oracle), so a ray through the lava that crosses the box meets the water twice, entering and
+// leaving: lava over water over water over pool_dry.map's floor; beside the box, lava over the
+// floor. Pixels whose ray grazes the box (within half a unit) are left out.
+TEST(Liquids, WaterInsideLavaKeepsItsFacesFromBothSides) {
+  const auto level = load("csg_lava.map"), dry = load("pool_dry.map");
+  const RenderImage seen = albedo(*level), behind = albedo(*dry);
+  const Camera camera(defaultCameraPose(level->scene), kWidth, kHeight);
+  const glm::vec3 lavaSrgb = glm::vec3(230, 90, 20) / 255.0f; // generate.py's *lava_glow
+  // Whether the camera ray meets the water box (generate.py's, grown by `margin`).
+  const auto crosses = [&](const Ray& ray, float margin) {
+    const glm::vec3 lo = glm::vec3(32, -32, -48) - margin, hi = glm::vec3(96, 32, -24) + margin;
+    const glm::vec3 a = (lo - ray.origin) / ray.direction, b = (hi - ray.origin) / ray.direction;
+    const glm::vec3 near = glm::min(a, b), far = glm::max(a, b);
+    return std::max({near.x, near.y, near.z}) <= std::min({far.x, far.y, far.z});
+  };
+  size_t through = 0, beside = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const size_t i = size_t(y) * kWidth + x;
+      if (!seen.face[i] || level->scene.faces[seen.face[i] - 1].texture != "*lava_glow") continue;
+      const Ray ray = camera.ray(float(x) + 0.5f, float(y) + 0.5f);
+      const bool in = crosses(ray, -0.5f);
+      if (in != crosses(ray, 0.5f)) continue;
+      const glm::vec3 floor = behind.albedo[i];
+      const glm::vec3 want = engineBlend(0.5f, lavaSrgb, in ? engineBlend(0.5f, kWaterSrgb, engineBlend(0.5f, kWaterSrgb, floor)) : floor);
+      ++(in ? through : beside);
+      if (!expectNear(seen.albedo[i], want, 0.01f, i, in ? "lava over the water box" : "lava beside the water box")) return;
+    }
+  EXPECT_GT(through, size_t(kWidth * kHeight / 50)) << "the camera should look through the lava at the water box";
+  EXPECT_GT(beside, size_t(kWidth * kHeight / 50));
 }
 
 // Physical mode draws the water with probability 0.5 and what lies behind it otherwise, tinted
