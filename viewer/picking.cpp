@@ -2,6 +2,7 @@
 
 #include "lighting/faithful_light.h"
 #include "lighting/visibility.h"
+#include "renderer/cpu/integrator.h"
 #include "quake/entity_keys.h"
 #include "scene/gpu_structs.h"
 
@@ -14,8 +15,9 @@ namespace bt {
 
 namespace {
 
-constexpr size_t kPickNamedLights = 8; // the largest shares named in the panel
-constexpr int kPickSoftSamples = 64;   // draws of each soft light (penumbra, _deviance, dome)
+constexpr size_t kPickNamedLights = 8;  // the largest shares named in the panel
+constexpr int kPickSoftSamples = 64;    // draws of each soft light (penumbra, _deviance, dome)
+constexpr int kPickPhysicalPaths = 256; // physical mode: paths along the picked pixel's ray
 
 std::string at(const std::string& file, int line) {
   return line > 0 ? fmt::format("{}:{}", file, line) : file + " (no line: a compiled level)";
@@ -54,6 +56,43 @@ std::string lightName(const Scene& scene, const GpuLight& light) {
   return fmt::format("light ({:g} {:g} {:g})", light.origin.x, light.origin.y, light.origin.z);
 }
 
+// The lights' shares as lines: the largest named, the rest summed. `grouped(i)`: a light summed
+// in a line of its own (faithful mode's bounce lights), not named.
+template <typename Grouped> void addNamedShares(const RenderScene& rs, const std::vector<glm::vec3>& perLight, float total,
+                                                const Grouped& grouped, std::vector<std::string>& lines) {
+  const auto percent = [&](const glm::vec3& rgb) { return 100.0f * brightness(rgb) / total; };
+  std::vector<size_t> order;
+  for (size_t i = 0; i < perLight.size(); ++i)
+    if (brightness(perLight[i]) > 0.0f && !grouped(i)) order.push_back(i);
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return brightness(perLight[a]) > brightness(perLight[b]); });
+  glm::vec3 rest(0.0f);
+  for (size_t k = 0; k < order.size(); ++k) {
+    if (k < kPickNamedLights)
+      lines.push_back(fmt::format("  {:5.1f} %  {}", percent(perLight[order[k]]), lightName(*rs.scene, rs.lights[order[k]])));
+    else
+      rest += perLight[order[k]];
+  }
+  if (order.size() > kPickNamedLights)
+    lines.push_back(fmt::format("  {:5.1f} %  {} more lights", percent(rest), order.size() - kPickNamedLights));
+}
+
+// Physical mode: the light leaving the point towards the camera, each light's direct share, and
+// emitters and bounced light as the rest of the paths' mean (physicalLightShares).
+void addPhysicalShares(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, std::vector<std::string>& lines) {
+  Rng rng(0x9e3779b9u);
+  const PhysicalShares shares = physicalLightShares(rs, settings, ray, kPickPhysicalPaths, rng);
+  lines.push_back(fmt::format("physical light here {:.4g} {:.4g} {:.4g} (linear, before exposure; {} paths)", shares.shown.r,
+                              shares.shown.g, shares.shown.b, shares.samples));
+  const float total = brightness(shares.shown);
+  if (!(total > 0.0f)) return;
+  const auto noneGrouped = [](size_t) { return false; };
+  addNamedShares(rs, shares.perLight, total, noneGrouped, lines);
+  if (brightness(shares.minlight) > 0.0f)
+    lines.push_back(fmt::format("  {:5.1f} %  minlight", 100.0f * brightness(shares.minlight) / total));
+  lines.push_back(fmt::format("  {:5.1f} %  sky, emitting surfaces and bounced light ({} bounces)",
+                              100.0f * brightness(shares.rest) / total, settings.bounces));
+}
+
 // The light at the picked point, light by light: the largest shares named, bounce lights and
 // the rest summed, then the floors, so that the percentages add up to the light shown.
 void addLightShares(const RenderScene& rs, const SurfaceHit& hit, std::vector<std::string>& lines) {
@@ -70,28 +109,14 @@ void addLightShares(const RenderScene& rs, const SurfaceHit& hit, std::vector<st
                               shares.shown.b));
   if (!(total > 0.0f)) return;
   const auto percent = [&](const glm::vec3& rgb) { return 100.0f * brightness(rgb) / total; };
-  std::vector<size_t> order;
+  const auto isBounce = [&](size_t i) {
+    return rs.lights[i].formula == uint32_t(LightFormula::Bounce) && rs.lights[i].type == uint32_t(LightType::Point);
+  };
+  addNamedShares(rs, shares.perLight, total, isBounce, lines);
   glm::vec3 bounce(0.0f);
   size_t bounceCount = 0;
-  for (size_t i = 0; i < shares.perLight.size(); ++i) {
-    if (!(brightness(shares.perLight[i]) > 0.0f)) continue;
-    if (rs.lights[i].formula == uint32_t(LightFormula::Bounce) && rs.lights[i].type == uint32_t(LightType::Point)) {
-      bounce += shares.perLight[i], ++bounceCount;
-    } else {
-      order.push_back(i);
-    }
-  }
-  std::sort(order.begin(), order.end(),
-            [&](size_t a, size_t b) { return brightness(shares.perLight[a]) > brightness(shares.perLight[b]); });
-  glm::vec3 rest(0.0f);
-  for (size_t k = 0; k < order.size(); ++k) {
-    if (k < kPickNamedLights)
-      lines.push_back(fmt::format("  {:5.1f} %  {}", percent(shares.perLight[order[k]]), lightName(*rs.scene, rs.lights[order[k]])));
-    else
-      rest += shares.perLight[order[k]];
-  }
-  if (order.size() > kPickNamedLights)
-    lines.push_back(fmt::format("  {:5.1f} %  {} more lights", percent(rest), order.size() - kPickNamedLights));
+  for (size_t i = 0; i < shares.perLight.size(); ++i)
+    if (isBounce(i) && brightness(shares.perLight[i]) > 0.0f) bounce += shares.perLight[i], ++bounceCount;
   if (bounceCount > 0) lines.push_back(fmt::format("  {:5.1f} %  bounce ({} bounce lights)", percent(bounce), bounceCount));
   if (brightness(shares.ambient) > 0.0f) lines.push_back(fmt::format("  {:5.1f} %  _ambient", percent(shares.ambient)));
   if (brightness(shares.floors) > 0.0f) lines.push_back(fmt::format("  {:5.1f} %  minlight floors", percent(shares.floors)));
@@ -100,9 +125,11 @@ void addLightShares(const RenderScene& rs, const SurfaceHit& hit, std::vector<st
 
 } // namespace
 
-PickedFace pickFace(const RenderScene& rs, const CameraPose& pose, int width, int height, float x, float y) {
+PickedFace pickFace(const RenderScene& rs, const CameraPose& pose, int width, int height, float x, float y,
+                    const IntegratorSettings& lighting) {
   PickedFace picked;
-  const SurfaceHit hit = traceVisible(rs, Camera(pose, width, height).ray(x, y));
+  const Ray ray = Camera(pose, width, height).ray(x, y);
+  const SurfaceHit hit = traceVisible(rs, ray);
   if (!hit.found) return picked;
   const Scene& scene = *rs.scene;
   const Face& face = scene.faces[hit.face];
@@ -123,7 +150,10 @@ PickedFace pickFace(const RenderScene& rs, const CameraPose& pose, int width, in
   picked.lines.push_back(kindOf(rs, face, hit.face));
   picked.lines.push_back(fmt::format("point ({:g} {:g} {:g}), normal ({:g} {:g} {:g})", hit.position.x, hit.position.y, hit.position.z,
                                      hit.normal.x, hit.normal.y, hit.normal.z));
-  if (!(rs.faceFlags[hit.face] & kFaceSky)) addLightShares(rs, hit, picked.lines);
+  if (lighting.mode == LightingMode::Physical)
+    addPhysicalShares(rs, lighting, ray, picked.lines);
+  else if (!(rs.faceFlags[hit.face] & kFaceSky))
+    addLightShares(rs, hit, picked.lines);
   return picked;
 }
 

@@ -54,7 +54,12 @@ void Viewer::Impl::pick(double x, double y) {
   int width = 0, height = 0;
   glfwGetWindowSize(window.handle(), &width, &height);
   const float px = float(x * options.width / std::max(width, 1)), py = float(y * options.height / std::max(height, 1));
-  picked = pickFace(level->render, pose(), options.width, options.height, px, py);
+  // The compiled and difference views show baked light: their shares are faithful mode's.
+  IntegratorSettings lightingHere;
+  lightingHere.mode = compiled || difference ? LightingMode::Faithful : lighting;
+  lightingHere.bounces = options.bounces;
+  lightingHere.clampIndirect = options.clampIndirect;
+  picked = pickFace(level->render, pose(), options.width, options.height, px, py, lightingHere);
 }
 
 void Viewer::Impl::showFor(std::chrono::seconds duration, OverlayMessage message) {

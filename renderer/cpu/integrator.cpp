@@ -307,25 +307,27 @@ glm::vec3 sunContribution(const RenderScene& rs, const Bsdf& bsdf, const GpuLigh
   return f * light.color * light.value * rs.world.range * kPhysicalSunScale * glm::dot(bsdf.n, wi);
 }
 
+// One point light or sun with its own shadow ray (a jittered copy where it has _deviance); zero
+// for the lights physical mode draws otherwise or not at all.
+glm::vec3 oneLightShadowed(const RenderScene& rs, const Bsdf& bsdf, const GpuLight& light, const glm::vec3& origin, const glm::vec3& ng,
+                           const glm::vec3& wo, float minDist2, Rng& rng) {
+  if (light.value <= 0.0f) return glm::vec3(0.0f); // negative lights have no physical meaning
+  if (light.type == uint32_t(LightType::Sun)) return sunContribution(rs, bsdf, light, origin, ng, wo, rng);
+  if (light.type != uint32_t(LightType::Point) || light.formula == uint32_t(LightFormula::LocalMin)) return glm::vec3(0.0f);
+  if (light.flags & kLightFlagFromSurface) return glm::vec3(0.0f); // its faces are area emitters here
+  const glm::vec3 pos = jitteredOrigin(light, rng);
+  glm::vec3 wi;
+  float dist;
+  const glm::vec3 c = pointLightUnshadowed(rs, bsdf, light, pos, origin, ng, wo, minDist2, wi, dist);
+  if (c == glm::vec3(0.0f) || occluded(rs, Ray{origin, 0.0f, wi, dist}, LightingMode::Physical)) return glm::vec3(0.0f);
+  return c;
+}
+
 // Every point light and sun, each with its own shadow ray: the reference for selection.
 glm::vec3 allLightsExhaustive(const RenderScene& rs, const Bsdf& bsdf, const glm::vec3& origin, const glm::vec3& ng, const glm::vec3& wo,
                               float minDist2, Rng& rng) {
   glm::vec3 l(0.0f);
-  for (const GpuLight& light : rs.lights) {
-    if (light.value <= 0.0f) continue; // negative lights have no physical meaning
-    if (light.type == uint32_t(LightType::Point)) {
-      if (light.formula == uint32_t(LightFormula::LocalMin)) continue;
-      if (light.flags & kLightFlagFromSurface) continue; // its faces are area emitters here
-      const glm::vec3 pos = jitteredOrigin(light, rng);
-      glm::vec3 wi;
-      float dist;
-      const glm::vec3 c = pointLightUnshadowed(rs, bsdf, light, pos, origin, ng, wo, minDist2, wi, dist);
-      if (c == glm::vec3(0.0f) || occluded(rs, Ray{origin, 0.0f, wi, dist}, LightingMode::Physical)) continue;
-      l += c;
-    } else if (light.type == uint32_t(LightType::Sun)) {
-      l += sunContribution(rs, bsdf, light, origin, ng, wo, rng);
-    }
-  }
+  for (const GpuLight& light : rs.lights) l += oneLightShadowed(rs, bsdf, light, origin, ng, wo, minDist2, rng);
   return l;
 }
 
@@ -433,6 +435,19 @@ glm::vec3 directLight(const RenderScene& rs, const IntegratorSettings& settings,
   return l;
 }
 
+// Worldspawn minlight (`light`, `_minlight`): the game's floor under every luxel, here the light
+// of a white sky of that value on what the camera sees. Not on later hits: the compiler's bounce
+// does not bounce minlight either (lighting/README.md, "Physical mode").
+glm::vec3 minlightRadiance(const RenderScene& rs, const glm::vec3& albedo) {
+  return albedo * rs.world.minlight * (rs.world.range * kPhysicalSunScale / kPi);
+}
+
+Bsdf surfaceBsdf(const RenderScene& rs, const SurfaceHit& hit, const glm::vec3& wo) {
+  const GpuMaterial& m = rs.materials[gpuFace(rs, hit.face).material];
+  return Bsdf{srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position))), m.roughness, m.metallic, (m.flags & kMaterialSpecular) != 0,
+              shadingNormal(rs, hit, wo)};
+}
+
 glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& settings, Ray ray, Rng& rng) {
   glm::vec3 l(0.0f), throughput(1.0f);
   float prevBsdfPdf = 0.0f; // 0: camera ray (no MIS weight on what it sees)
@@ -483,13 +498,8 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
     }
     if (depth >= settings.bounces + 1) break;
 
-    const GpuMaterial& m = rs.materials[gpuFace(rs, hit.face).material];
-    const Bsdf bsdf{srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position))), m.roughness, m.metallic,
-                    (m.flags & kMaterialSpecular) != 0, shadingNormal(rs, hit, wo)};
-    // Worldspawn minlight (`light`, `_minlight`): the game's floor under every luxel, here the
-    // light of a white sky of that value on what the camera sees. Not on later hits: the
-    // compiler's bounce does not bounce minlight either (lighting/README.md, "Physical mode").
-    if (depth == 0) l += throughput * bsdf.albedo * rs.world.minlight * (rs.world.range * kPhysicalSunScale / kPi);
+    const Bsdf bsdf = surfaceBsdf(rs, hit, wo);
+    if (depth == 0) l += throughput * minlightRadiance(rs, bsdf.albedo);
     l += throughput * directLight(rs, settings, bsdf, hit.position, n, wo, depth > 0, rng);
 
     const glm::vec3 wi = bsdfSample(bsdf, wo, rng);
@@ -515,6 +525,32 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
 glm::vec3 radiance(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, Rng& rng) {
   if (settings.mode == LightingMode::Faithful) return radianceFaithful(rs, settings, ray, rng);
   return radiancePhysical(rs, settings, ray, rng);
+}
+
+PhysicalShares physicalLightShares(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, int samples, Rng& rng) {
+  PhysicalShares out;
+  out.perLight.assign(rs.lights.size(), glm::vec3(0.0f));
+  out.samples = std::max(samples, 1);
+  for (int i = 0; i < out.samples; ++i) out.shown += radiancePhysical(rs, settings, ray, rng);
+  out.shown /= float(out.samples);
+  glm::vec3 direct(0.0f);
+  const SurfaceHit hit = traceVisible(rs, ray);
+  if (hit.found && !(rs.faceFlags[hit.face] & (kFaceSky | kFaceLiquid))) {
+    const glm::vec3 wo = -ray.direction;
+    const Bsdf bsdf = surfaceBsdf(rs, hit, wo);
+    const glm::vec3 origin = offsetRayOrigin(hit.position, hit.normal);
+    out.minlight = minlightRadiance(rs, bsdf.albedo);
+    for (size_t i = 0; i < rs.lights.size(); ++i) {
+      const GpuLight& light = rs.lights[i];
+      // A soft light (a sun's penumbra, _deviance) averaged over as many draws as the paths.
+      const int draws = light.deviance > 0.0f ? out.samples : 1;
+      for (int k = 0; k < draws; ++k) out.perLight[i] += oneLightShadowed(rs, bsdf, light, origin, hit.normal, wo, 0.0f, rng);
+      out.perLight[i] /= float(draws);
+      direct += out.perLight[i];
+    }
+  }
+  out.rest = out.shown - direct - out.minlight;
+  return out;
 }
 
 } // namespace bt

@@ -13,6 +13,7 @@
 
 #include <optional>
 #include <span>
+#include <vector>
 
 namespace bt {
 
@@ -25,6 +26,21 @@ glm::vec3 shadingNormal(const RenderScene& rs, const SurfaceHit& hit, const glm:
 
 // Linear radiance along the ray.
 glm::vec3 radiance(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, Rng& rng);
+
+// Physical mode's light leaving the camera ray's surface towards the camera, broken down by light
+// (the viewer's pick says why a spot is lit): each point light's and sun's direct light with its
+// own shadow rays (the exhaustive loop's terms, unclamped, as at the camera's surface), the
+// worldspawn minlight, and the rest, the sky, emitting surfaces and the light bounced off other
+// surfaces, as the mean of `samples` paths along the ray less those terms, so that the shares add
+// up to the light shown. No shares on sky and liquids (only `shown`).
+struct PhysicalShares {
+  std::vector<glm::vec3> perLight; // in rs.lights' order
+  glm::vec3 minlight{0.0f};        // worldspawn minlight on the surface (radiancePhysical)
+  glm::vec3 rest{0.0f};            // sky, emitters and bounced light: noisy, may dip below 0
+  glm::vec3 shown{0.0f};           // the mean radiance along the ray, linear, before exposure
+  int samples = 0;                 // the paths of `shown`
+};
+PhysicalShares physicalLightShares(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, int samples, Rng& rng);
 
 // Physical-mode scale from Quake light units: a point light of intensity I (light units x
 // distance^2, lighting/physical_light.h) has radiant intensity I * kPhysicalPointScale * _range,

@@ -215,6 +215,34 @@ TEST_F(ViewerWindowTest, AClickShowsTheFaceUnderTheCursorWithItsFileLineAndLight
   EXPECT_EQ(std::string(text), map_.string() + ":15");
 }
 
+// Physical mode (key 5, once the level is up): the same click breaks the light down by light too, the room's one light
+// first and the bounced light after, and the percentages add up to the light shown.
+TEST_F(ViewerWindowTest, AClickInPhysicalModeShowsThePhysicalLightsShares) {
+  Viewer viewer(options());
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 1; })); // the level is up
+  tap(viewer, XK_F1);
+  tap(viewer, XK_5);
+  ASSERT_TRUE(viewer.frame());
+  ASSERT_EQ(viewer.lighting(), LightingMode::Physical);
+  click(viewer, 48, 32);
+  ASSERT_TRUE(viewer.frame());
+  const PickedFace& picked = viewer.picked();
+  ASSERT_TRUE(picked.hit) << "the click picked nothing";
+  std::string lines;
+  double percents = 0.0;
+  int shareLines = 0;
+  for (const std::string& line : picked.lines) {
+    lines += line + "\n";
+    if (const size_t at = line.find(" %  "); at != std::string::npos) percents += std::stod(line.substr(0, at)), ++shareLines;
+  }
+  EXPECT_NE(lines.find("physical light here"), std::string::npos) << lines;
+  const size_t light = lines.find(" %  light (0 0 64) " + map_.string() + ":55"), rest = lines.find(" %  sky, emitting surfaces");
+  EXPECT_NE(light, std::string::npos) << lines;
+  EXPECT_NE(rest, std::string::npos) << lines;
+  EXPECT_LT(light, rest) << "the light is not named first";
+  EXPECT_NEAR(percents, 100.0, 0.05 * double(shareLines) + 1e-6) << lines; // each line rounded to 0.1 %
+}
+
 TEST_F(ViewerWindowTest, AScreenshotIntoAFolderThatIsGoneShowsTheErrorAndTheViewerGoesOn) {
   ViewerOptions o = options();
   o.screenshotDir = dir_ / "shots";
