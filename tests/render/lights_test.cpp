@@ -135,6 +135,24 @@ TEST(LightEntities, BadValuesAreReportedWithTheEntityLine) {
   EXPECT_TRUE(sawDelay);
 }
 
+// A key the compiler reads and faithful mode does not model is named in one warning line, at
+// the first entity that uses it (lighting/lights.cpp warnPhong).
+TEST(LightEntities, PhongShadingIsNamedOnceAsNotModelled) {
+  test::BoxSceneBuilder b;
+  b.entity({{"classname", "func_detail"}, {"_phong", "0"}});
+  b.entity({{"classname", "func_detail"}, {"_phong", "1"}});
+  b.scene().entities.back().line = 23;
+  b.entity({{"classname", "func_wall"}, {"_phong_angle", "45"}});
+  Diagnostics diags;
+  collectLights(b.build(), {}, diags);
+  ASSERT_EQ(diags.size(), 1u);
+  EXPECT_EQ(diags[0].severity, Severity::Warning);
+  EXPECT_EQ(diags[0].line, 23);
+  EXPECT_NE(diags[0].message.find("func_detail: _phong: phong shading is not modelled; the faces of the 2 brush entities"),
+            std::string::npos)
+      << diags[0].message;
+}
+
 TEST(LightEntities, SpotlightsFromTargetAndMangle) {
   test::BoxSceneBuilder b;
   b.entity({{"classname", "light"}, {"origin", "0 0 100"}, {"target", "t1"}, {"angle", "60"}, {"_softangle", "30"}});
