@@ -35,8 +35,6 @@ constexpr double kEngineDisplayScale = 1.0 / 255.0;
 //     with ours to 85 % / 63 %: our bounce lights are not yet the compiler's here.
 //   q2_light_visapprox, q2_light_visapprox2: we light faces that the compiler leaves black
 //     (its light culling by visibility, `visapprox`, is not modelled).
-//   q2_lightmap_custom_scale: `_world_units_per_luxel` (BSPX DECOUPLED_LM luxel grids) is not
-//     modelled: our luxels are Quake's 16 texels.
 const std::map<std::string, Bar>& knownGaps() {
   // One level a line, whatever their number.
   // clang-format off
@@ -47,7 +45,6 @@ const std::map<std::string, Bar>& knownGaps() {
       {"ericw-tools_testmaps_q2_areaportals", {0.02, 0.63}},
       {"ericw-tools_testmaps_q2_light_visapprox", {0.96, 0.04}},
       {"ericw-tools_testmaps_q2_light_visapprox2", {0.02, 0.66}},
-      {"ericw-tools_testmaps_q2_lightmap_custom_scale", {1.0, 0.0}},
   };
   // clang-format on
   return gaps;
