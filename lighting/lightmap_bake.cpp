@@ -2,6 +2,7 @@
 
 #include "lighting/faithful.h"
 #include "lighting/faithful_light.h"
+#include "lighting/game_rules.h"
 #include "lighting/qbsp_faces.h"
 #include "lighting/visibility.h"
 #include "lighting/sampling.h"
@@ -303,7 +304,9 @@ std::vector<GpuLuxelSample> luxelSamples(const RenderScene& rs, const Lightmaps&
     const GpuLightmapFragment& g = lm.fragments[fi];
     const LuxelFrame grid(g);
     const glm::vec3 faceMinlight = faithfulFaceMinlight(rs, faceIndex);
-    const uint32_t twoSided = (rs.faceFlags[faceIndex] & kFaceLiquid) ? kLuxelSampleTwoSided : 0u;
+    // Lit liquids and the compiler's glass take light from both sides (game_rules.h compilerGlass).
+    const bool twoSidedFace = (rs.faceFlags[faceIndex] & kFaceLiquid) || compilerGlass(face, gameOf(scene));
+    const uint32_t twoSided = twoSidedFace ? kLuxelSampleTwoSided : 0u;
     const uint32_t channels = objectChannels(rs, faceIndex);
     const SolidTest solid{rs, contents, scene.brushes[face.brush].entity, channels, channels == kDefaultChannels ? &voids : nullptr};
     for (uint32_t y = 0; y < g.height; ++y)
