@@ -38,9 +38,9 @@ constexpr double kEngineDisplayScale = 1.0 / 255.0;
 //     areaportal (x < 16) or in its doorway, and all are brighter than the compiler's, by about
 //     22 of 140-210: too much bounced light reaches the room without the light entity. There the
 //     compiler's bounce adds 98 on average (ours without bounce is that much darker) and ours
-//     106; the light's own room is at 255 in both, bounce or not. A lead, not checked: the light
-//     a face bounces (bounce.cc MakeBounceLightsThread, `lightmap.bounce_color`) may be taken
-//     after a clamp that our mean of the unclamped light does not make.
+//     106; the light's own room is at 255 in both, bounce or not. Not a clamp of the light a
+//     face bounces (bounce.cc MakeBounceLightsThread, `lightmap.bounce_color`): clamping each
+//     bounce sample's light to 255 stored takes these levels to 70 % / 52 %, as bounce off.
 //   q2_light_visapprox, q2_light_visapprox2: we light faces that the compiler leaves black: its
 //     `visapprox` (auto is `rays` without vis data) culls a light from a face whose bounds are
 //     disjoint from the light's, the bounds of 32 x 32 rays from the light grown 25 % (ltface.cc
