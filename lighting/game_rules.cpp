@@ -3,6 +3,7 @@
 #include "lighting/lights.h"
 #include "lighting/luxel_display.h"
 #include "lighting/q3map2_light.h"
+#include "quake/bspfile_q2.h"
 #include "quake/entity_keys.h"
 
 #include <cmath>
@@ -90,6 +91,11 @@ WorldLighting compilerDefaults(Game game) {
 
 float minlightUnit(Game game) {
   return game == Game::Quake2 ? 128.0f : 1.0f;
+}
+
+bool compilerGlass(const Face& face, Game game) {
+  using namespace quake::q2;
+  return game == Game::Quake2 && face.surface && (face.surface->flags & (SURF_TRANS33 | SURF_TRANS66));
 }
 
 bool gameHidesEntity(const Entity& entity, Game game) {

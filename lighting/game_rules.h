@@ -30,4 +30,12 @@ WorldLighting compilerDefaults(Game game);
 // 0.5 -> 64, 0.75 -> 96 at range 1), every other game's in light units.
 float minlightUnit(Game game);
 
+// ericw-tools' glass: a Quake 2 face with SURF_TRANS33 or SURF_TRANS66 (trace_embree.cc
+// CreateGeometry `is_glass`). `light` lets shadow rays through it, tinted by the texel they
+// cross at the face's opacity (Embree_FilterFuncN, raystream getPushedRayColor: mix(c, c x texel,
+// opacity)); the opacity is the texel's alpha where below 255, so a texture it has no pixels for
+// (every lit-games level: `can't find pixel data`) samples 0 and passes the light whole. It lights
+// the face from both sides (ltface.cc Lightsurf_Init: twosided = Face_IsTranslucent).
+bool compilerGlass(const Face& face, Game game);
+
 } // namespace bt

@@ -2,6 +2,7 @@
 
 #include "lighting/faithful.h"
 #include "lighting/faithful_light.h"
+#include "lighting/game_rules.h"
 #include "lighting/qbsp_faces.h"
 #include "lighting/visibility.h"
 #include "lighting/sampling.h"
@@ -10,10 +11,12 @@
 #include "scene/winding.h"
 
 #include <glm/geometric.hpp>
+#include <glm/mat2x2.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -85,6 +88,86 @@ GpuLightmapFragment luxelGrid(const Face& face, const std::vector<dvec3>& polygo
   return g;
 }
 
+// The luxel axes of `_world_units_per_luxel` (ericw-tools common/bsputils.cc, faceextents_t for
+// world_units_per_luxel_t; qvec.hh MakeTangentAndBitangentUnnormalized): the face normal snapped
+// to its largest axis (the first of equal ones), the other two axes crossed with it, swapped
+// unless tangent x bitangent points along the normal, each divided by the luxel size.
+std::array<glm::vec3, 2> decoupledAxes(const dvec3& normal, float worldUnitsPerLuxel) {
+  int axis = 0;
+  for (int i = 1; i < 3; ++i)
+    if (std::abs(normal[i]) > std::abs(normal[axis])) axis = i;
+  dvec3 snapped(0.0), a(0.0), b(0.0);
+  snapped[axis] = normal[axis] > 0.0 ? 1.0 : -1.0;
+  a[(axis + 1) % 3] = 1.0;
+  b[(axis + 2) % 3] = 1.0;
+  dvec3 tangent = glm::cross(snapped, a), bitangent = glm::cross(snapped, b);
+  if (glm::dot(glm::cross(tangent, bitangent), snapped) < 0.0) std::swap(tangent, bitangent);
+  const float scale = 1.0f / worldUnitsPerLuxel;
+  return {glm::vec3(tangent) * scale, glm::vec3(bitangent) * scale};
+}
+
+// The decoupled luxel grid of a polygon on `face`: luxel (x, y) centred where the axes' world
+// projections are x + min, y + min, the extents floored / ceiled in float as the compiler does;
+// written into luxelU / luxelV as functions of the face's texel coordinates, which both tracers
+// already read (scene/gpu_structs.h), so that the display filters over this grid unchanged.
+GpuLightmapFragment decoupledGrid(const Face& face, const std::vector<dvec3>& polygon, float worldUnitsPerLuxel) {
+  const std::array<glm::vec3, 2> axes = decoupledAxes(face.plane.normal, worldUnitsPerLuxel);
+  float lo[2] = {1e30f, 1e30f}, hi[2] = {-1e30f, -1e30f};
+  for (const dvec3& v : polygon)
+    for (int a = 0; a < 2; ++a) {
+      const float lm = glm::dot(axes[size_t(a)], glm::vec3(v));
+      lo[a] = std::min(lo[a], lm), hi[a] = std::max(hi[a], lm);
+    }
+  GpuLightmapFragment g;
+  g.minS = int(std::floor(lo[0]));
+  g.minT = int(std::floor(lo[1]));
+  g.width = uint32_t(int(std::ceil(hi[0])) - g.minS + 1);
+  g.height = uint32_t(int(std::ceil(hi[1])) - g.minT + 1);
+  const FaceFrame frame(face);
+  if (!frame.valid) return luxelGrid(face, polygon); // no texel frame to write the grid in
+  // u + minS = dot(axis, origin + toWorld (s, t, height)): a s + b t + c.
+  const auto write = [&](const glm::vec3& axis, float(&out)[4]) {
+    const dvec3 d(axis);
+    out[0] = float(glm::dot(frame.toWorld[0], d));
+    out[1] = float(glm::dot(frame.toWorld[1], d));
+    out[2] = float(glm::dot(frame.origin + frame.toWorld[2] * frame.height, d));
+    out[3] = 0.0f;
+  };
+  write(axes[0], g.luxelU);
+  write(axes[1], g.luxelV);
+  return g;
+}
+
+bool quakeGrid(const GpuLightmapFragment& g) {
+  const GpuLightmapFragment quake;
+  return std::equal(std::begin(g.luxelU), std::end(g.luxelU), std::begin(quake.luxelU)) &&
+      std::equal(std::begin(g.luxelV), std::end(g.luxelV), std::begin(quake.luxelV));
+}
+
+// A fragment's luxel coordinates <-> the face's texel coordinates: Quake's 16 texels, or the
+// decoupled grid's affine map inverted (in double).
+struct LuxelFrame {
+  glm::dmat2 toTexel{16.0}; // (s, t) = toTexel ((x, y) + min) + texelOffset
+  glm::dvec2 texelOffset{0.0};
+  glm::dmat2 toLuxel{1.0 / 16.0};
+  glm::dvec2 luxelOffset{0.0};
+  glm::dvec2 min{0.0};
+  bool quake = true;
+
+  explicit LuxelFrame(const GpuLightmapFragment& g) : min(g.minS, g.minT), quake(quakeGrid(g)) {
+    if (quake) return;
+    toLuxel = glm::dmat2(glm::dvec2(g.luxelU[0], g.luxelV[0]), glm::dvec2(g.luxelU[1], g.luxelV[1]));
+    luxelOffset = glm::dvec2(g.luxelU[2], g.luxelV[2]);
+    toTexel = glm::inverse(toLuxel);
+    texelOffset = -(toTexel * luxelOffset);
+  }
+  glm::dvec2 texel(double x, double y) const {
+    if (quake) return glm::dvec2((min.x + x) * kLuxelTexels, (min.y + y) * kLuxelTexels);
+    return toTexel * (glm::dvec2(x, y) + min) + texelOffset;
+  }
+  glm::dvec2 luxel(const glm::dvec2& st) const { return toLuxel * st + luxelOffset - min; }
+};
+
 // What counts as solid for a sample point (Light_PointInAnySolid): the brushes of the face's own
 // model, and those of the world and of the models that cast shadows that are on the same
 // lighting channels as the face (the world only for a face on the default channel).
@@ -124,14 +207,17 @@ std::optional<glm::vec3> positionOutOfSolid(const RenderScene& rs, const SolidTe
 // Where the compiler samples the point (x, y) of a fragment's luxel grid (CalcPointNormal,
 // PositionSamplePointOnFace): see lightmap_bake.h.
 std::optional<glm::vec3> samplePoint(const RenderScene& rs, const SolidTest& solid, const Face& face, const FaceFrame& frame,
-                                     const GpuLightmapFragment& g, const std::vector<dvec3>& polygon, double x, double y) {
+                                     const LuxelFrame& grid, const std::vector<dvec3>& polygon, double x, double y) {
   if (!frame.valid) return std::nullopt;
   const dvec3 n = face.plane.normal;
-  const double s = (g.minS + x) * kLuxelTexels, t = (g.minT + y) * kLuxelTexels;
-  dvec3 p = frame.point(s, t);
+  const glm::dvec2 st = grid.texel(x, y);
+  dvec3 p = frame.point(st.x, st.y);
   if (const dvec3 q = nearestOnPolygon(polygon, n, p); q != p) {
-    // Off the face: snapped onto its boundary when that is at most a luxel away.
-    if (glm::length(glm::dvec2(face.frame.s(q) - s, face.frame.t(q) - t)) > double(kLuxelTexels)) return std::nullopt;
+    // Off the face: snapped onto its boundary when that is at most a luxel away (in luxels:
+    // Quake's 16 texels, or the decoupled grid's own).
+    const glm::dvec2 qst(face.frame.s(q), face.frame.t(q));
+    const double away = grid.quake ? glm::length(qst - st) / kLuxelTexels : glm::length(grid.luxel(qst) - glm::dvec2(x, y));
+    if (away > 1.0) return std::nullopt;
     p = q;
   }
   return positionOutOfSolid(rs, solid, p + n * kSampleLift);
@@ -179,7 +265,8 @@ Lightmaps layoutLightmaps(const RenderScene& rs, std::span<const uint32_t> faces
     const Face& f = scene.faces[face];
     lm.faceRanges[face] = glm::uvec2(uint32_t(lm.fragments.size()), uint32_t(pieces[i].size()));
     for (std::vector<dvec3>& polygon : pieces[i]) {
-      GpuLightmapFragment g = luxelGrid(f, polygon);
+      const float luxelSize = rs.world.worldUnitsPerLuxel;
+      GpuLightmapFragment g = luxelSize > 0.0f ? decoupledGrid(f, polygon, luxelSize) : luxelGrid(f, polygon);
       g.firstLuxel = luxels;
       g.firstEdge = uint32_t(lm.edges.size());
       appendEdges(f, polygon, lm.edges);
@@ -215,8 +302,11 @@ std::vector<GpuLuxelSample> luxelSamples(const RenderScene& rs, const Lightmaps&
     const Face& face = scene.faces[faceIndex];
     const FaceFrame frame(face);
     const GpuLightmapFragment& g = lm.fragments[fi];
+    const LuxelFrame grid(g);
     const glm::vec3 faceMinlight = faithfulFaceMinlight(rs, faceIndex);
-    const uint32_t twoSided = (rs.faceFlags[faceIndex] & kFaceLiquid) ? kLuxelSampleTwoSided : 0u;
+    // Lit liquids and the compiler's glass take light from both sides (game_rules.h compilerGlass).
+    const bool twoSidedFace = (rs.faceFlags[faceIndex] & kFaceLiquid) || compilerGlass(face, gameOf(scene));
+    const uint32_t twoSided = twoSidedFace ? kLuxelSampleTwoSided : 0u;
     const uint32_t channels = objectChannels(rs, faceIndex);
     const SolidTest solid{rs, contents, scene.brushes[face.brush].entity, channels, channels == kDefaultChannels ? &voids : nullptr};
     for (uint32_t y = 0; y < g.height; ++y)
@@ -224,7 +314,7 @@ std::vector<GpuLuxelSample> luxelSamples(const RenderScene& rs, const Lightmaps&
         for (int sy = 0; sy < extra; ++sy)
           for (int sx = 0; sx < extra; ++sx) {
             const double ox = -0.5 + (0.5 + sx) / extra, oy = -0.5 + (0.5 + sy) / extra;
-            const std::optional<glm::vec3> p = samplePoint(rs, solid, face, frame, g, lm.polygons[fi], x + ox, y + oy);
+            const std::optional<glm::vec3> p = samplePoint(rs, solid, face, frame, grid, lm.polygons[fi], x + ox, y + oy);
             GpuLuxelSample& s = samples[(g.firstLuxel + y * g.width + x) * perLuxel + uint32_t(sy * extra + sx)];
             const glm::vec3 at = p.value_or(glm::vec3(0.0f));
             for (int a = 0; a < 3; ++a) s.position[a] = at[a], s.faceMinlight[a] = faceMinlight[a];

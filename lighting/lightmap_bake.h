@@ -4,10 +4,12 @@
 //   layout   each lit brush side becomes the faces qbsp compiles of it (surface_lights.h
 //            compiledFacePolygons: CSG, the split of a tree grown on it, the 240-texel
 //            subdivision); each gets Quake's luxel grid: its texture-space extents in float,
-//            floored / ceiled to 16 texels, one luxel every 16 texels (CalcSurfaceExtents).
+//            floored / ceiled to 16 texels, one luxel every 16 texels (CalcSurfaceExtents);
+//            with `_world_units_per_luxel` the compiler's decoupled grid instead (axes of the
+//            face's snapped normal, a luxel every so many world units: lighting/README.md).
 //   samples  CalcPoints: a luxel's point on the plane, lifted 1 unit off it. Inside the face it
 //            stays; outside, it is snapped onto the face's boundary (then lifted) when that is
-//            at most one luxel away, otherwise it is occluded. A point inside a solid brush, or
+//            at most one luxel (of its grid) away, otherwise it is occluded. A point inside a solid brush, or
 //            within 0.1 unit of one (Light_PointInSolid), is tried at the 8 corners of a 1-unit
 //            cube around it, the void outside the level counting as solid; if all are solid it
 //            is occluded. An occluded luxel gets only the floors (minlight). With `extra` N the

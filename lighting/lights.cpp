@@ -86,6 +86,7 @@ WorldLighting readWorld(const Scene& scene, Diagnostics& diagnostics) {
   world.bouncecolorscale = std::clamp(keys.number("_bouncecolorscale", world.bouncecolorscale), 0.0f, 1.0f);
   world.bouncestyled = keys.number("_bouncestyled", world.bouncestyled ? 1.0f : 0.0f) != 0.0f;
   world.litwater = keys.number("_litwater", 0.0f) != 0.0f;
+  world.worldUnitsPerLuxel = std::max(keys.number("_world_units_per_luxel", 0.0f), 0.0f);
   world.surflightRadiosity = keys.number("_surflight_radiosity", world.surflightRadiosity ? 1.0f : 0.0f) != 0.0f;
   world.surflightScale = keys.number("_surflightscale", world.surflightScale);
   world.surflightSkyScale = keys.number("_surflightskyscale", world.surflightSkyScale);

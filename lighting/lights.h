@@ -46,7 +46,10 @@ struct WorldLighting {
   float surflightScale = 1.0f;         // `_surflightscale`: scales radiosity surface lights
   float surflightSkyScale = 1.0f;      // `_surflightskyscale`: scales Quake 2 sky faces that emit (not modelled)
   float surflightMinlightScale = 1.0f; // `_surflight_minlight_scale`: default face minlight of radiosity templates
-  bool dirt = false;                   // `_dirt 1`: every light is dimmed by dirt unless its own `_dirt` is -1
+  // `_world_units_per_luxel` (ericw-tools' `world_units_per_luxel`, BSPX DECOUPLED_LM): a luxel
+  // every so many world units on axes of the face's own, not Quake's 16 texels; 0: unset.
+  float worldUnitsPerLuxel = 0.0f;
+  bool dirt = false; // `_dirt 1`: every light is dimmed by dirt unless its own `_dirt` is -1
   DirtSettings dirtSettings;
 };
 

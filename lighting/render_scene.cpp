@@ -191,6 +191,9 @@ void classifyFaces(RenderScene& rs, const RenderSceneOptions& options) {
     flags = classifyTexture(f.texture, f.surface, game) | materialMasks[f.material];
     if (flags & kFaceSky) flags &= ~kFaceHidden; // a Quake 3 sky shader on a common/ name
     if (game == Game::Quake2 && f.surface) flags = quake2DrawnAs(flags, *f.surface);
+    // Glass passes the light (game_rules.h compilerGlass): whole, as the compiler passes it
+    // through a texture it has no pixels for; its tint by the texels it does have is not modelled.
+    if (compilerGlass(f, game)) flags |= kFaceNoShadow;
     {
       const uint32_t e = scene.faceEntity(uint32_t(i)); // a brush's or a mesh's
       if (e < scene.entities.size()) {

@@ -212,4 +212,26 @@ TEST(GlBake, NegativeLightsComeOffAfterTheFloorsAsOnTheCpu) {
   EXPECT_GT(minlight, 20u) << "and only there";
 }
 
+// Quake 2's glass (lit from both sides, passing the light) and `_world_units_per_luxel`'s
+// decoupled luxel grid are the CPU's sample points and face classes: the GPU bakes the same
+// luxels from them.
+TEST(GlBake, GlassAndDecoupledGridsBakeAsOnTheCpu) {
+  BT_REQUIRE_SHARED(shared);
+  for (const char* map : {"light_q2_translucent_shadow.map", "q2_lightmap_custom_scale.map"}) {
+    const Scene scene = importScene((shared / "maps/ericw-tools/testmaps" / map).string(), ImportOptions{});
+    Diagnostics diagnostics;
+    RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+    Lightmaps cpu = layoutLightmaps(rs);
+    ASSERT_GT(cpu.luxels.size(), 500u) << map;
+    const std::vector<uint32_t> gpu = bakeOnBoth(scene, rs, cpu);
+    size_t within = 0, lit = 0;
+    for (size_t i = 0; i < gpu.size(); ++i) {
+      within += largestChannelDifference(gpu[i], cpu.luxels[i]) <= 1;
+      lit += (cpu.luxels[i] & 0xffffffu) != 0u;
+    }
+    EXPECT_GE(double(within), 0.999 * double(gpu.size())) << map;
+    EXPECT_GT(lit, gpu.size() / 20) << map;
+  }
+}
+
 } // namespace

@@ -27,27 +27,36 @@ constexpr double kEngineDisplayScale = 1.0 / 255.0;
 
 // Levels below the bar today, each held at what it reaches (the worst median and share within
 // 5 % of its luxels and views) so that it cannot get worse unseen:
-//   light_q2_translucent_shadow: Quake 2's translucent faces (SURF_TRANS33/66, CONTENTS_WINDOW)
-//     tint and pass part of the light in ericw-tools, and ref_gl draws them without their
-//     lightmap; neither is modelled.
+//   light_q2_translucent_shadow: the compiler's glass (SURF_TRANS33/66, game_rules.h
+//     compilerGlass) now passes the light and is lit from both sides as `light` does with the
+//     level's textures missing; what is left is dim light (bounce) in the corners, and ref_gl's
+//     drawing of those faces without their lightmap is not modelled.
 //   q2_areaportal, q2_areaportal_with_detail, q2_areaportals: the bounced light (the Quake 2
 //     target's default `_bounce 1`); with bounce off the luxels fall to 70 % / 52 % within 5 %,
-//     with ours to 85 % / 63 %: our bounce lights are not yet the compiler's here.
-//   q2_light_visapprox, q2_light_visapprox2: we light faces that the compiler leaves black
-//     (its light culling by visibility, `visapprox`, is not modelled).
-//   q2_lightmap_custom_scale: `_world_units_per_luxel` (BSPX DECOUPLED_LM luxel grids) is not
-//     modelled: our luxels are Quake's 16 texels.
+//     with ours to 85 % / 63 %: our bounce lights are not yet the compiler's here. In
+//     q2_areaportal every luxel off by more than 5 % (1022) lies beyond the wall that holds the
+//     areaportal (x < 16) or in its doorway, and all are brighter than the compiler's, by about
+//     22 of 140-210: too much bounced light reaches the room without the light entity. There the
+//     compiler's bounce adds 98 on average (ours without bounce is that much darker) and ours
+//     106; the light's own room is at 255 in both, bounce or not. Not a clamp of the light a
+//     face bounces (bounce.cc MakeBounceLightsThread, `lightmap.bounce_color`): clamping each
+//     bounce sample's light to 255 stored takes these levels to 70 % / 52 %, as bounce off.
+//   q2_light_visapprox, q2_light_visapprox2: we light faces that the compiler leaves black: its
+//     `visapprox` (auto is `rays` without vis data) culls a light from a face whose bounds are
+//     disjoint from the light's, the bounds of 32 x 32 rays from the light grown 25 % (ltface.cc
+//     CullLight, entities.cc EstimateVisibleBoundsAtPoint). Not modelled (it needs per-light bounds
+//     in both bakes); a CPU-only trial of it lifted visapprox2's dark luxels within one step from
+//     0 to 75 % and left the areaportal levels where they are.
 const std::map<std::string, Bar>& knownGaps() {
   // One level a line, whatever their number.
   // clang-format off
   static const std::map<std::string, Bar> gaps = {
-      {"ericw-tools_testmaps_light_q2_translucent_shadow", {0.35, 0.0}},
+      {"ericw-tools_testmaps_light_q2_translucent_shadow", {0.02, 0.78}},
       {"ericw-tools_testmaps_q2_areaportal", {0.02, 0.84}},
       {"ericw-tools_testmaps_q2_areaportal_with_detail", {0.02, 0.84}},
       {"ericw-tools_testmaps_q2_areaportals", {0.02, 0.63}},
       {"ericw-tools_testmaps_q2_light_visapprox", {0.96, 0.04}},
       {"ericw-tools_testmaps_q2_light_visapprox2", {0.02, 0.66}},
-      {"ericw-tools_testmaps_q2_lightmap_custom_scale", {1.0, 0.0}},
   };
   // clang-format on
   return gaps;
