@@ -677,7 +677,7 @@ void accumulate(ivec2 pixel, vec3 l) {
 layout(location = 0) uniform uint wavefrontStart; // 1: start the paths at the camera
 
 void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 pixel = dispatchPixel();
   int slot = wavefrontSlot(pixel);
   if (slot < 0) return;
   Rng rng;
@@ -700,7 +700,7 @@ void main() {
 }
 #else
 void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 pixel = dispatchPixel();
   if (any(greaterThanEqual(pixel, camera.imageSize))) return;
   Rng rng;
   Path path = cameraPath(pixel, rng);

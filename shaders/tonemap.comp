@@ -15,6 +15,7 @@ layout(rgba8, binding = BT_IMAGE_DISPLAY) uniform writeonly image2D display;    
 
 layout(location = 0) uniform float scale;    // exp2(exposure EV) / samples
 layout(location = 1) uniform uint tonemap;   // bt::Tonemap: 0 faithful, 1 aces, 2 agx, 3 linear
+layout(location = 2) uniform ivec4 region;   // the pixels to tonemap: x0, y0 (this dispatch's first), x1, y1 (past its last)
 
 const uint kAces = 1u;
 const uint kAgx = 2u;
@@ -55,8 +56,8 @@ float linearToSrgb(float c) {
 }
 
 void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(pixel, imageSize(display)))) return;
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy) + region.xy;
+  if (any(greaterThanEqual(pixel, min(region.zw, imageSize(display))))) return;
   vec3 c = applyTonemap(tonemap, imageLoad(accumulation, pixel).rgb * scale);
   imageStore(display, pixel, vec4(linearToSrgb(c.r), linearToSrgb(c.g), linearToSrgb(c.b), 1.0));
 }

@@ -15,7 +15,7 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 void main() {
-  int slot = wavefrontSlot(ivec2(gl_GlobalInvocationID.xy));
+  int slot = wavefrontSlot(dispatchPixel());
   if (slot < 0) return;
   WavefrontRay ray = wavefrontRays[slot];
   if (ray.live == 0u) return;

@@ -9,6 +9,10 @@ using Clock = ViewerClock;
 
 // GPU time a frame gives faithful mode's bake while it runs.
 constexpr double kBakeMillisecondsPerFrame = 30.0;
+// The GL tracer's share of a frame where the GL is slow (llvmpipe takes seconds for a pass at
+// 640x360): with the overlay, input and reloads are served about ten times a second, as the CPU
+// tracer's window serves them (viewer_display.cpp kCpuFrameBudget).
+constexpr std::chrono::milliseconds kGlPieceBudget(80);
 
 Viewer::Impl::Impl(ViewerOptions o)
     : options(std::move(o)), window(options.width, options.height, "brushtrace — " + options.map), lighting(options.lighting) {
@@ -21,6 +25,7 @@ Viewer::Impl::Impl(ViewerOptions o)
   cpuPreview = std::make_unique<CpuProgressive>(std::max(1, options.width / 2), std::max(1, options.height / 2));
   preview = std::make_unique<gl::ProgressiveImage>(std::max(1, options.width / 2), std::max(1, options.height / 2));
   tonemap = std::make_unique<gl::TonemapPass>();
+  pieces = std::make_unique<gl::PieceSizer>(kGlPieceBudget);
   if (options.camera) placeCamera(*options.camera);
   // A level that does not load opens the window with the error; the next good save loads it.
   try {
@@ -51,6 +56,7 @@ Viewer::Impl::~Impl() {
   display.reset();
   denoiser.reset();
   tonemap.reset();
+  pieces.reset();
   preview.reset();
   full.reset();
   ImGui_ImplOpenGL3_Shutdown();

@@ -83,11 +83,16 @@ void Viewer::Impl::renderSample() {
   if (moving) preview->restart();
   if (image.samples() < options.maxSamples) {
     const int before = image.samples();
-    image.addSample(*level->tracer, basis(image.width(), image.height()), beautySettings());
+    // A piece of the pass, sized to the GL's speed: all of it on a GPU, a part on llvmpipe, so
+    // that the next frame (its keys, a reload) comes within about kGlPieceBudget.
+    const size_t wanted = pieces->nextPixels(size_t(image.width()) * size_t(image.height()));
+    const size_t drawn =
+        pieces->timed([&] { return image.addPiece(*level->tracer, basis(image.width(), image.height()), beautySettings(), wanted); });
     // The first image is up: the other lighting mode compiles in the background, so that
     // switching to it (keys 4/5) does not stall.
-    if (!moving && before == 0) programs->startPathTracer(lighting != LightingMode::Physical, level->tracer->faithfulFeatures());
-    samplesThisFrame = double(image.width()) * image.height();
+    if (!moving && before == 0 && image.samples() == 1)
+      programs->startPathTracer(lighting != LightingMode::Physical, level->tracer->faithfulFeatures());
+    samplesThisFrame = double(drawn);
   }
   if (difference && !moving)
     showDifferenceImage();
@@ -144,7 +149,13 @@ const gl::GlTexture2D& Viewer::Impl::displayOfSize(int width, int height) {
 }
 
 void Viewer::Impl::showSum(const gl::ProgressiveImage& image) {
-  tonemap->run(image.sum(), image.samples(), displayOfSize(image.width(), image.height()), tonemapFor(lighting), exposureOf(image));
+  // Each pixel by its own count: the whole passes, then the part of the pass under way with one
+  // sample more (the pixels it has not reached yet keep what they showed, black after a resize).
+  const gl::GlTexture2D& shown = displayOfSize(image.width(), image.height());
+  const float ev = exposureOf(image);
+  if (image.samples() > 0) tonemap->run(image.sum(), image.samples(), shown, tonemapFor(lighting), ev);
+  for (const gl::PixelRect& done : image.donePieces())
+    tonemap->run(image.sum(), image.samples() + 1, shown, tonemapFor(lighting), ev, done);
 }
 
 float Viewer::Impl::exposureOf(const gl::ProgressiveImage& image) {

@@ -71,6 +71,7 @@ struct Viewer::Impl {
   std::unique_ptr<gl::ProgressiveImage> full;
   std::unique_ptr<gl::ProgressiveImage> preview;
   std::unique_ptr<gl::TonemapPass> tonemap;
+  std::unique_ptr<gl::PieceSizer> pieces;    // how much of a pass the GL tracer draws a frame
   std::unique_ptr<gl::DenoisePass> denoiser; // the GL window's, made at its first use
   ExposureSmoother autoExposure;             // physical mode's exposure, followed from frame to frame
   bool moving = false;

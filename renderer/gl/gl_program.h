@@ -72,6 +72,11 @@ public:
     return buildMilliseconds_;
   }
   bool loadedFromCache() const { return loadedFromCache_; }
+  // The program's local_size_x, _y or _z (axis 0, 1 or 2).
+  int localSize(int axis) {
+    finish();
+    return localSize_[axis];
+  }
   // Dispatches enough local_size_x by local_size_y groups to cover width by height invocations.
   void dispatch2d(int width, int height);
 

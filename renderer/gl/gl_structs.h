@@ -160,13 +160,15 @@ struct GpuCamera {
   uint32_t frameIndex; // the sample index a dispatch takes
   uint32_t seed;
   uint32_t firstFrame; // the first sample index of the accumulation (it clears the sum)
-  uint32_t pad4[3];
+  uint32_t pad4;
+  glm::ivec2 pixelOffset; // the top-left pixel of the piece a dispatch draws (shaders/camera.glsl dispatchPixel)
 };
 static_assert(sizeof(GpuCamera) == 96);
 static_assert(offsetof(GpuCamera, origin) == 0 && offsetof(GpuCamera, pad0) == 12 && offsetof(GpuCamera, forward) == 16 &&
               offsetof(GpuCamera, pad1) == 28 && offsetof(GpuCamera, right) == 32 && offsetof(GpuCamera, pad2) == 44 &&
               offsetof(GpuCamera, up) == 48 && offsetof(GpuCamera, pad3) == 60 && offsetof(GpuCamera, imageSize) == 64 &&
-              offsetof(GpuCamera, frameIndex) == 72 && offsetof(GpuCamera, seed) == 76 && offsetof(GpuCamera, firstFrame) == 80);
+              offsetof(GpuCamera, frameIndex) == 72 && offsetof(GpuCamera, seed) == 76 && offsetof(GpuCamera, firstFrame) == 80 &&
+              offsetof(GpuCamera, pad4) == 84 && offsetof(GpuCamera, pixelOffset) == 88);
 
 // Lights and emitters are scene/gpu_structs.h's GpuLight and GpuEmitter, uploaded unchanged
 // (shaders/structs.glsl mirrors them).

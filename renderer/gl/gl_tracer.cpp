@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <span>
 
 namespace bt::gl {
@@ -57,6 +58,28 @@ GpuWorld worldBlock(const GlLighting& lighting) {
   return w;
 }
 
+// `piece` within a width x height image; throws GlError where its groups would not cover it
+// exactly (kPieceAlignment).
+PixelRect clippedPiece(const PixelRect& piece, int width, int height) {
+  const PixelRect clipped{piece.x, piece.y, std::min(piece.width, width - piece.x), std::min(piece.height, height - piece.y)};
+  const auto aligned = [](int start, int size, int edge) {
+    return start % kPieceAlignment == 0 && (start + size == edge || size % kPieceAlignment == 0);
+  };
+  if (piece.x < 0 || piece.y < 0 || clipped.width <= 0 || clipped.height <= 0 || !aligned(clipped.x, clipped.width, width) ||
+      !aligned(clipped.y, clipped.height, height))
+    throw GlError(fmt::format("the piece {}x{} at ({}, {}) of a {}x{} image is empty or not aligned to {} pixels", piece.width,
+                              piece.height, piece.x, piece.y, width, height, kPieceAlignment));
+  return clipped;
+}
+
+// A piece's dispatch covers whole work groups: those of another size would reach into the
+// next piece's pixels, which would then take the sample twice.
+void checkGroupSide(ComputeProgram& program) {
+  if (program.localSize(0) != kPieceAlignment || program.localSize(1) != kPieceAlignment)
+    throw GlError(fmt::format("a piece of a sample needs {0}x{0} work groups; the program's are {1}x{2}", kPieceAlignment,
+                              program.localSize(0), program.localSize(1)));
+}
+
 void waitAndDelete(GLsync fence) {
   // Flushes on the first call, so the fence cannot wait on commands never sent.
   while (glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 1'000'000'000) == GL_TIMEOUT_EXPIRED) {}
@@ -98,7 +121,8 @@ struct GlTracer::Impl {
     BT_GL(glBindBufferBase(GL_UNIFORM_BUFFER, kUniformWorld, worldBuffer));
   }
 
-  void setCamera(const CameraBasis& basis, int width, int height, uint32_t frameIndex, uint32_t seed, uint32_t firstFrame = 0) {
+  void setCamera(const CameraBasis& basis, int width, int height, uint32_t frameIndex, uint32_t seed, uint32_t firstFrame = 0,
+                 glm::ivec2 pixelOffset = {0, 0}) {
     GpuCamera camera{};
     camera.origin = basis.origin;
     camera.forward = basis.forward;
@@ -108,6 +132,7 @@ struct GlTracer::Impl {
     camera.frameIndex = frameIndex;
     camera.seed = seed;
     camera.firstFrame = firstFrame;
+    camera.pixelOffset = pixelOffset;
     BT_GL(glNamedBufferSubData(cameraBuffer, 0, sizeof camera, &camera));
     BT_GL(glBindBufferBase(GL_UNIFORM_BUFFER, kUniformCamera, cameraBuffer));
     BT_GL(glBindBufferBase(GL_UNIFORM_BUFFER, kUniformWorld, worldBuffer));
@@ -131,19 +156,23 @@ struct GlTracer::Impl {
   }
 
   // Sample `sampleIndex` of `camera` into the image bound at unit 0 (sample 0 overwrites it,
-  // later ones add to it): with the wavefront kernels where settings.form asks for them, or for
-  // Auto while the megakernel still compiles, else with the megakernel. True where the wavefront
-  // kernels drew it.
-  bool drawSample(const CameraBasis& camera, const BeautySettings& settings, uint32_t sampleIndex) {
-    setCamera(camera, settings.width, settings.height, sampleIndex, settings.seed, 0);
+  // later ones add to it), the pixels of `piece` (clipped to the image) or all of them: with the
+  // wavefront kernels where settings.form asks for them, or for Auto while the megakernel still
+  // compiles, else with the megakernel. True where the wavefront kernels drew it.
+  bool drawSample(const CameraBasis& camera, const BeautySettings& settings, uint32_t sampleIndex, std::optional<PixelRect> piece = {}) {
+    const PixelRect rect = piece ? clippedPiece(*piece, settings.width, settings.height) : PixelRect{0, 0, settings.width, settings.height};
+    setCamera(camera, settings.width, settings.height, sampleIndex, settings.seed, 0, {rect.x, rect.y});
     const bool byWavefront = settings.form == PathTracerForm::Wavefront ||
         (settings.form == PathTracerForm::Auto && programs->wavefrontWhileCompiling(settings.physical, features));
     if (byWavefront) {
       auto [shade, trace] = programs->wavefront(settings.physical, features);
-      wavefront.drawSample(shade, trace, settings.width, settings.height);
+      if (piece) checkGroupSide(shade), checkGroupSide(trace);
+      wavefront.drawSample(shade, trace, settings.width, settings.height, rect);
     } else {
       if (settings.form == PathTracerForm::Auto) wavefront.release(); // the switch is for good
-      programs->pathTracer(settings.physical, features).dispatch2d(settings.width, settings.height);
+      ComputeProgram& program = programs->pathTracer(settings.physical, features);
+      if (piece) checkGroupSide(program);
+      program.dispatch2d(rect.width, rect.height);
     }
     // Each sample reads the sum the previous one wrote.
     BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT));
@@ -271,6 +300,16 @@ void GlTracer::addSample(const CameraBasis& camera, const BeautySettings& settin
   if (settings.form == PathTracerForm::Auto) impl_->programs->startPathTracer(settings.physical, impl_->features);
   impl_->drawSample(camera, settings, sampleIndex);
   // The tonemap pass and a read-back see the sum this sample wrote.
+  BT_GL(glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT));
+}
+
+void GlTracer::addSample(const CameraBasis& camera, const BeautySettings& settings, unsigned sum, uint32_t sampleIndex,
+                         const PixelRect& piece) {
+  if (settings.width <= 0 || settings.height <= 0) throw GlError(fmt::format("image size {}x{} is empty", settings.width, settings.height));
+  BT_GL(glBindImageTexture(kImageAccumulation, sum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F));
+  impl_->setWorld(settings);
+  if (settings.form == PathTracerForm::Auto) impl_->programs->startPathTracer(settings.physical, impl_->features);
+  impl_->drawSample(camera, settings, sampleIndex, piece);
   BT_GL(glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT));
 }
 

@@ -14,6 +14,8 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -84,6 +86,20 @@ struct BeautyImage {
   std::vector<glm::vec3> beauty;
 };
 
+// A rectangle of an image's pixels, x to the right and y down from the top-left pixel.
+struct PixelRect {
+  int x = 0;
+  int y = 0;
+  int width = 0;
+  int height = 0;
+  size_t pixels() const { return size_t(std::max(width, 0)) * size_t(std::max(height, 0)); }
+};
+
+// The path tracer's work group side (local_size of pathtrace.comp and wavefront_trace.comp,
+// checked against the programs where a piece is drawn): a piece of a sample starts at a multiple
+// of it, and ends at one or at the image's edge, so that its groups cover it and no pixel beside.
+constexpr int kPieceAlignment = 8;
+
 struct RayBenchmark {
   size_t primaryRays = 0; // per pass
   size_t bounceRays = 0;  // per pass: one for each primary ray that hit something
@@ -145,6 +161,12 @@ public:
   // sum (pathtrace.comp `accumulate`) and later ones add to it. Nothing is read back: the
   // viewer tonemaps the sum on the GPU (gl_progressive.h).
   void addSample(const CameraBasis& camera, const BeautySettings& settings, unsigned sum, uint32_t sampleIndex);
+  // The same for the pixels of `piece` only (kPieceAlignment says where it may start and end; it
+  // is clipped to the image), one dispatch with the megakernel: a slow GL draws a sample in
+  // pieces, the window answering between them (gl_progressive.h). Each pixel draws what the
+  // whole sample would: the pieces of a sample sum to it, bit for bit. Throws GlError for a
+  // piece that is not aligned.
+  void addSample(const CameraBasis& camera, const BeautySettings& settings, unsigned sum, uint32_t sampleIndex, const PixelRect& piece);
 
   // Times closest-hit queries alone (shaders/raybench.comp): `passes` frames of primary rays,
   // then `passes` frames of one cosine bounce ray from each primary hit, then those bounce rays

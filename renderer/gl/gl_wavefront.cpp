@@ -3,6 +3,7 @@
 #include "renderer/gl/gl_error.h"
 #include "renderer/gl/gl_program.h"
 #include "renderer/gl/gl_structs.h"
+#include "renderer/gl/gl_tracer.h"
 
 #include <epoxy/gl.h>
 #include <fmt/format.h>
@@ -58,20 +59,21 @@ void WavefrontBuffers::bind() const {
   for (int i = 0; i < 4; ++i) BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, points[i], buffers_[i].id));
 }
 
-void WavefrontBuffers::drawSample(ComputeProgram& shade, ComputeProgram& trace, int width, int height) {
-  const size_t paths = static_cast<size_t>(width) * static_cast<size_t>(height);
+void WavefrontBuffers::drawSample(ComputeProgram& shade, ComputeProgram& trace, int width, int height, const PixelRect& piece) {
+  // A slot for every pixel of the image (wavefront.glsl), of which the piece's are used.
   prepare(shade, width, height);
+  const size_t paths = piece.pixels();
   bind();
   clearEndedCount();
   const GLuint shadeProgram = shade.id();
   BT_GL(glProgramUniform1ui(shadeProgram, 0, 1u)); // wavefrontStart
-  shade.dispatch2d(width, height);
+  shade.dispatch2d(piece.width, piece.height);
   wavefrontBarrier();
   BT_GL(glProgramUniform1ui(shadeProgram, 0, 0u));
   for (int round = 1;; ++round) {
-    trace.dispatch2d(width, height);
+    trace.dispatch2d(piece.width, piece.height);
     wavefrontBarrier();
-    shade.dispatch2d(width, height);
+    shade.dispatch2d(piece.width, piece.height);
     wavefrontBarrier();
     if (round % kRoundsPerCheck != 0) continue;
     const uint32_t ended = endedCount();

@@ -8,6 +8,7 @@
 namespace bt::gl {
 
 class ComputeProgram;
+struct PixelRect;
 
 // Sized for the largest image drawn so far; the struct strides are the shade kernel's (std430,
 // read from the program).
@@ -23,10 +24,11 @@ public:
   void release();
   void bind() const;
 
-  // One sample (camera, world, scene and the image at unit 0 bound): the shade kernel starts
-  // every pixel's path at the camera, then trace and shade by turns until every path has
-  // ended; each adds its sample to the image as it ends.
-  void drawSample(ComputeProgram& shade, ComputeProgram& trace, int width, int height);
+  // One sample (camera, world, scene and the image at unit 0 bound) of the pixels of `piece`,
+  // a rectangle of the width x height image that starts where the camera block's pixelOffset
+  // says: the shade kernel starts each of its pixels' paths at the camera, then trace and shade
+  // by turns until every path has ended; each adds its sample to the image as it ends.
+  void drawSample(ComputeProgram& shade, ComputeProgram& trace, int width, int height, const PixelRect& piece);
 
 private:
   struct Buffer {

@@ -8,7 +8,9 @@
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <cstdlib>
 
 namespace bt::gl {
@@ -114,6 +116,61 @@ TEST_F(GlProgressiveTest, RestartDropsTheOldSum) {
   progressive.addSample(tracer(), camera, settings(1));
   progressive.addSample(tracer(), camera, settings(1));
   expectClose(progressive.readMean(), tracer().renderBeauty(camera, settings(2)).beauty);
+}
+
+// Where the GL is slow the viewer draws a pass in pieces (ProgressiveImage::addPiece), one a
+// frame. Cut every way the viewer may cut it (parts of a row of groups, whole rows, the rest of a
+// row, single groups), in an image whose sides are not multiples of the groups', n passes sum
+// the image of n whole passes, every pixel bit for bit, with either form of the path tracer.
+// Between pieces, the pixels the pass under way has reached show n + 1 samples and the others
+// n: no pixel is divided by another count than its own, so the window never shows a half-added
+// pass darker or brighter than it is. (One test: each pays llvmpipe's compile of the programs.)
+TEST_F(GlProgressiveTest, PassesDrawnInPiecesSumTheImageOfWholePassesExactly) {
+  constexpr int kOddWidth = 52, kOddHeight = 27, kPasses = 3;
+  const CameraBasis camera = test::testCamera(kOddWidth, kOddHeight);
+  constexpr size_t kGroup = size_t(kPieceAlignment) * kPieceAlignment;
+  const size_t rowOfGroups = kGroup * 7; // 52 pixels: 7 groups across
+  const size_t cuts[] = {kGroup, 200, 2 * rowOfGroups + 100, 1, 5 * kGroup, 3 * rowOfGroups};
+  for (const PathTracerForm form : {PathTracerForm::Megakernel, PathTracerForm::Wavefront}) {
+    SCOPED_TRACE(form == PathTracerForm::Megakernel ? "megakernel" : "wavefront");
+    BeautySettings one = settings(1);
+    one.form = form;
+    ProgressiveImage whole(kOddWidth, kOddHeight), cut(kOddWidth, kOddHeight);
+    std::vector<std::vector<glm::vec3>> wholeMeans; // after 0, 1, ... passes
+    for (int i = 0; i < kPasses; ++i) wholeMeans.push_back(whole.readMean()), whole.addSample(tracer(), camera, one);
+    wholeMeans.push_back(whole.readMean());
+    int pieces = 0, underWayChecked = 0;
+    while (cut.samples() < kPasses) {
+      cut.addPiece(tracer(), camera, one, cuts[pieces++ % std::size(cuts)]);
+      const std::vector<PixelRect> done = cut.donePieces();
+      if (done.empty()) continue;
+      // A pass under way: the pixels it reached against n + 1 whole passes, the others against n.
+      const std::vector<glm::vec3> mean = cut.readMean(), &before = wholeMeans[size_t(cut.samples())],
+                                   &after = wholeMeans[size_t(cut.samples()) + 1];
+      int wrong = 0;
+      size_t reachedPixels = 0;
+      for (int y = 0; y < kOddHeight; ++y)
+        for (int x = 0; x < kOddWidth; ++x) {
+          const bool reached = std::any_of(done.begin(), done.end(), [&](const PixelRect& r) {
+            return x >= r.x && x < r.x + r.width && y >= r.y && y < r.y + r.height;
+          });
+          const size_t i = size_t(y) * kOddWidth + x;
+          wrong += mean[i] != (reached ? after[i] : before[i]);
+          reachedPixels += reached;
+        }
+      EXPECT_EQ(wrong, 0) << "pixels shown with another count than their own, " << reachedPixels << " reached";
+      ++underWayChecked;
+    }
+    EXPECT_GT(pieces, 3 * kPasses) << "the passes were not cut";
+    EXPECT_GT(underWayChecked, 3) << "no pass was seen under way";
+    const std::vector<glm::vec3>& expected = wholeMeans.back();
+    const std::vector<glm::vec3> got = cut.readMean();
+    ASSERT_EQ(got.size(), expected.size());
+    int differ = 0;
+    for (size_t i = 0; i < got.size(); ++i) differ += got[i] != expected[i];
+    EXPECT_EQ(differ, 0) << "pixels that differ from the whole passes' image";
+    expectClose(got, expected); // and the image is not black
+  }
 }
 
 } // namespace

@@ -181,7 +181,8 @@ TEST(GlStructLayout, CameraAndWorldBlocksAsTheShadersReadThem) {
   expectLayout(GL_UNIFORM, "Camera.",
                {MEMBER(GpuCamera, origin), MEMBER(GpuCamera, pad0), MEMBER(GpuCamera, forward), MEMBER(GpuCamera, pad1),
                 MEMBER(GpuCamera, right), MEMBER(GpuCamera, pad2), MEMBER(GpuCamera, up), MEMBER(GpuCamera, pad3),
-                MEMBER(GpuCamera, imageSize), MEMBER(GpuCamera, frameIndex), MEMBER(GpuCamera, seed), MEMBER(GpuCamera, firstFrame)},
+                MEMBER(GpuCamera, imageSize), MEMBER(GpuCamera, frameIndex), MEMBER(GpuCamera, seed), MEMBER(GpuCamera, firstFrame),
+                MEMBER(GpuCamera, pad4), MEMBER(GpuCamera, pixelOffset)},
                0);
   expectLayout(
       GL_UNIFORM, "World.",
