@@ -189,22 +189,23 @@ void TracerPrograms::startAovs(bool liquidCsg) {
 }
 
 // The bake traces no surface rays: one program whatever the level's liquids.
-void TracerPrograms::startBake(FaithfulFeatures features) {
+std::unique_ptr<ComputeProgram>& TracerPrograms::bakeSlot(FaithfulFeatures features) {
   features.liquidCsg = false;
-  start(bake_[variantIndex(false, features)], shaderFile(TracerProgram::Bake),
-        programDefines(TracerProgram::Bake, mode_, layout_, false, features));
+  return bake_[variantIndex(false, features)];
+}
+
+void TracerPrograms::startBake(FaithfulFeatures features) {
+  start(bakeSlot(features), shaderFile(TracerProgram::Bake), programDefines(TracerProgram::Bake, mode_, layout_, false, features));
 }
 
 bool TracerPrograms::bakeReady(FaithfulFeatures features) {
   startBake(features);
-  features.liquidCsg = false;
-  return bake_[variantIndex(false, features)]->ready();
+  return bakeSlot(features)->ready();
 }
 
 ComputeProgram& TracerPrograms::bake(FaithfulFeatures features) {
   startBake(features);
-  features.liquidCsg = false;
-  return finished(bake_[variantIndex(false, features)]);
+  return finished(bakeSlot(features));
 }
 
 ComputeProgram& TracerPrograms::pathTracer(bool physical, FaithfulFeatures features) {

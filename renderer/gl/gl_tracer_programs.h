@@ -163,6 +163,7 @@ private:
   static size_t variantIndex(bool physical, FaithfulFeatures features);
   std::unique_ptr<ComputeProgram>& pathSlot(bool physical, FaithfulFeatures features);
   std::unique_ptr<ComputeProgram>& shadeSlot(bool physical, FaithfulFeatures features);
+  std::unique_ptr<ComputeProgram>& bakeSlot(FaithfulFeatures features);
 
   TextureMode mode_;
   TraceLayout layout_;
