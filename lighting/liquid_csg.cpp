@@ -4,6 +4,7 @@
 #include "lighting/qbsp_faces.h"
 #include "lighting/render_scene.h"
 #include "quake/entity_keys.h"
+#include "shaders/liquid_csg_constants.glsl" // the tolerances, shared with shaders/visible.glsl
 
 #include <glm/geometric.hpp>
 
@@ -13,6 +14,9 @@
 namespace bt {
 
 namespace {
+
+constexpr double kOnPlane = BT_LIQUID_CSG_ON_PLANE;
+static_assert(kOnPlane == kOnPlaneEpsilon, "the rule's tolerance is qbsp_faces.h's");
 
 // The contents qbsp gives a liquid brush: teleporters are water to the compiler (only the
 // engine tells them apart, by name).
@@ -60,8 +64,7 @@ bool reach(const Bounds& a, const Bounds& b) {
 }
 
 bool samePlane(const Plane& a, const Plane& b) {
-  constexpr double kNormalEpsilon = 1e-6; // of 1 - cos: qbsp merges planes closer than this
-  return glm::dot(a.normal, b.normal) > 1.0 - kNormalEpsilon && std::abs(a.dist - b.dist) <= kOnPlaneEpsilon;
+  return glm::dot(a.normal, b.normal) > 1.0 - BT_LIQUID_CSG_NORMAL && std::abs(a.dist - b.dist) <= kOnPlane;
 }
 
 enum class Holds { No, Touching, Inside };
@@ -79,7 +82,7 @@ Holds holds(const Scene& scene, const Brush& brush, const Plane& plane, const dv
       touching = true;
       continue;
     }
-    if (side.distanceTo(p) > kOnPlaneEpsilon) return Holds::No;
+    if (side.distanceTo(p) > kOnPlane) return Holds::No;
   }
   return touching ? Holds::Touching : Holds::Inside;
 }
@@ -150,11 +153,10 @@ std::optional<uint32_t> LiquidCsg::keptFaceAt(const Scene& scene, const std::vec
   const auto consider = [&](uint32_t b) {
     const Brush& brush = scene.brushes[b];
     for (uint32_t k = brush.firstFace; k < brush.firstFace + brush.faceCount; ++k)
-      if (scene.faces[k].plane.distanceTo(p) > kOnPlaneEpsilon) return; // p is not on this brush
+      if (scene.faces[k].plane.distanceTo(p) > kOnPlane) return; // p is not on this brush
     for (uint32_t k = brush.firstFace; k < brush.firstFace + brush.faceCount; ++k) {
       const Plane& plane = scene.faces[k].plane;
-      if (k == face || (faceFlags[k] & kFaceHidden) || std::abs(plane.distanceTo(p)) > kOnPlaneEpsilon ||
-          glm::dot(plane.normal, dir) >= 0.0)
+      if (k == face || (faceFlags[k] & kFaceHidden) || std::abs(plane.distanceTo(p)) > kOnPlane || glm::dot(plane.normal, dir) >= 0.0)
         continue;
       if ((!kept || k > *kept) && (!reaches(k) || drawn(scene, k, p, false))) kept = k;
     }

@@ -23,13 +23,15 @@
 // compiled apart; a .bsp's brushes carry the compiler's result already), and a brush entity with
 // `_noclipfaces 1` clips no liquid of its own kind. Quake 3 levels are left alone. A level
 // without overlapping liquids has no entries, and its hits take no extra test. The GL tracer
-// does not apply the rule yet: it draws overlapping liquids as before.
+// applies the same rule (shaders/visible.glsl, compiled in only for levels with entries), from
+// the table renderer/gl/gl_lighting.cpp packs of others().
 #pragma once
 
 #include "scene/scene.h"
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace bt {
@@ -56,11 +58,19 @@ public:
 
   bool empty() const { return others_.empty(); }
 
-private:
+  // A liquid brush that reaches a face's brush (a Scene::brushes index), and whether it is of
+  // the face's kind (merged with it) or of another (kept apart).
   struct Other {
     uint32_t brush;
     bool sameKind;
   };
+  // The liquid brushes that reach `face`'s brush; empty where reaches() is false.
+  std::span<const Other> others(uint32_t face) const {
+    if (!reaches(face)) return {};
+    return std::span<const Other>(others_).subspan(first_[face], first_[face + 1] - first_[face]);
+  }
+
+private:
   // Per scene face, [first_[f], first_[f + 1]) of others_; empty when no liquid brushes overlap.
   std::vector<uint32_t> first_;
   std::vector<Other> others_;

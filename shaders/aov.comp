@@ -58,6 +58,6 @@ void main() {
   }
   if (veil != vec3(0.0) || keep != vec3(1.0)) albedo = srgbToLinear(veil + keep * linearToSrgb(albedo));
   imageStore(albedoImage, pixel, vec4(albedo, 1.0));
-  imageStore(normalImage, pixel, vec4(faces[hit.face].plane.xyz, hit.t));
+  imageStore(normalImage, pixel, vec4(hit.normal, hit.t)); // facing the ray where a liquid is seen from inside (BT_LIQUID_CSG)
   imageStore(faceImage, pixel, uvec4(hit.face + 1u));
 }

@@ -586,6 +586,15 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
                        (hit.inside || maskedOut(hit.face, path.origin + path.dir * hit.t) ||
                         (path.kind == RAY_SURFACE ? (flags & FACE_HIDDEN) != 0u
                                                                 : (flags & FACE_SKY) == 0u && !blocksLight(flags, PHYSICAL)));
+#ifdef BT_LIQUID_CSG
+    // What qbsp's CSG leaves of overlapping liquids (visible.glsl): the hit may be another face.
+    if (path.kind == RAY_SURFACE && hit.face != NO_FACE && (flags & FACE_HIDDEN) == 0u) {
+      bool shown = !passThrough;
+      liquidCsgHit(hit.face, shown, hit.inside, path.origin + path.dir * hit.t, path.dir);
+      passThrough = !shown;
+      flags = faceFlags[hit.face];
+    }
+#endif
     if (passThrough && ++path.skips < MAX_SKIPS) {
       path.tMin = hit.t + SKIP_STEP;
       return true;
@@ -612,6 +621,9 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
       vec3 position = path.origin + path.dir * hit.t;
       surface = SurfaceHit(found, hit.t, hit.face, position, vec3(0.0));
       if (found) surface.normal = faceNormal(hit.face);
+#ifdef BT_LIQUID_CSG
+      if (found && hit.inside) surface.normal = -surface.normal; // a liquid face seen from inside: its mirror, facing the ray
+#endif
       surfaceReached = true;
       skyShown = found && (flags & FACE_SKY) != 0u && world.skySize != 0u;
       if (PHYSICAL && found && (flags & FACE_EMISSIVE) != 0u) {

@@ -39,7 +39,27 @@ GlLighting lightingFor(const RenderScene& rs) {
   out.dirt = rs.world.dirtSettings;
   out.lightKinds = rs.lightKinds;
   out.lightmaps = packLightmaps(rs.lightmaps);
+  out.liquidCsg = liquidCsgTable(*rs.scene, rs.liquidCsg);
   return out;
+}
+
+std::vector<uint32_t> liquidCsgTable(const Scene& scene, const LiquidCsg& csg) {
+  if (csg.empty()) return {};
+  const size_t faces = scene.faces.size();
+  std::vector<uint32_t> table(faces + 1);
+  const auto entry = [&](uint32_t brush, bool sameKind) {
+    const Brush& b = scene.brushes[brush];
+    table.push_back(b.firstFace);
+    table.push_back(b.faceCount << 1 | (sameKind ? 1u : 0u));
+  };
+  for (uint32_t f = 0; f < faces; ++f) {
+    table[f] = uint32_t(table.size());
+    if (!csg.reaches(f)) continue;
+    entry(scene.faces[f].brush, false);
+    for (const LiquidCsg::Other& o : csg.others(f)) entry(o.brush, o.sameKind);
+  }
+  table[faces] = uint32_t(table.size());
+  return table;
 }
 
 } // namespace bt::gl

@@ -132,6 +132,7 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMat
   makeTexelView(texelViews_[kTexelFaces - kTexelNodes], buffers_[kBindingFaces], GL_RGBA32F, tracer.faces().size_bytes(), 16, "the faces");
   std::vector<uint32_t> faceFlags = lighting.faceFlags;
   faceFlags.resize(tracer.faces().size(), gpuFaceWord(0u, kDefaultChannels));
+  faceFlags.insert(faceFlags.end(), lighting.liquidCsg.begin(), lighting.liquidCsg.end()); // gl_lighting.h liquidCsgTable
   upload(buffers_[kBindingFaceFlags], std::span<const uint32_t>(faceFlags));
   upload(buffers_[kBindingMaterials], std::span<const GlMaterial>(materials));
   // buildRenderScene prepares its lights' physical terms; lights listed by hand (tests, tool

@@ -93,7 +93,7 @@ struct GlTracer::Impl {
   GlTextures textures;
   GlSceneBuffers buffers;
   GpuWorld world;
-  FaithfulFeatures features; // of the level: the faithful program's optional parts
+  FaithfulFeatures features; // of the level: the faithful program's optional parts, and its liquid CSG
   GLuint cameraBuffer = 0;
   GLuint worldBuffer = 0;
   WavefrontBuffers wavefront;
@@ -101,7 +101,8 @@ struct GlTracer::Impl {
   Impl(GlContext& c, const Scene& scene, const TraceScene& tracer, std::shared_ptr<TracerPrograms> p, const GlLighting& lighting)
       : context(c), programs(std::move(p)), textures(scene, programs->textureMode(), c.info()),
         buffers(tracer, withShadingFlags(textures.materials(), lighting), lighting, scene.materials.size()), world(worldBlock(lighting)),
-        features(gl::faithfulFeatures(lighting.lightKinds) | gl::faithfulFeatures(lighting.dirt, lighting.lights)) {
+        features(gl::faithfulFeatures(lighting.lightKinds) | gl::faithfulFeatures(lighting.dirt, lighting.lights) |
+                 FaithfulFeatures{.liquidCsg = !lighting.liquidCsg.empty()}) {
     BT_GL(glCreateBuffers(1, &cameraBuffer));
     BT_GL(glNamedBufferStorage(cameraBuffer, sizeof(GpuCamera), nullptr, GL_DYNAMIC_STORAGE_BIT));
     BT_GL(glCreateBuffers(1, &worldBuffer));
@@ -234,7 +235,7 @@ AovImages GlTracer::renderAovs(const CameraBasis& camera, int width, int height)
   albedo.bindImage(kImageAlbedo, GL_WRITE_ONLY);
   normalDepth.bindImage(kImageNormalDepth, GL_WRITE_ONLY);
   face.bindImage(kImageFace, GL_WRITE_ONLY);
-  impl_->programs->aovs().dispatch2d(width, height);
+  impl_->programs->aovs(impl_->features.liquidCsg).dispatch2d(width, height);
   BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
 
   AovImages out;

@@ -32,7 +32,7 @@ struct AovImages {
   int width = 0;
   int height = 0;
   std::vector<glm::vec4> albedo; // linear rgb, a = 1 where something was hit
-  std::vector<glm::vec3> normal; // world-space geometric normal (the face plane's)
+  std::vector<glm::vec3> normal; // world-space geometric normal (the face plane's; facing the ray for a liquid seen from inside)
   std::vector<float> depth;      // distance along the ray
   std::vector<uint32_t> face;    // index into Scene::faces + 1
 };
@@ -64,6 +64,10 @@ struct GlLighting {
   DirtSettings dirt;               // worldspawn dirt; enabled builds the faithful program with BT_FAITHFUL_DIRT
   LightKinds lightKinds;           // RenderScene::lightKinds: which faithful program the level was started with
   std::vector<uint32_t> lightmaps; // RenderScene::lightmaps packed (lighting/lightmaps.h packLightmaps); empty = none
+  // RenderScene::liquidCsg as shaders/visible.glsl reads it after the face flags (liquidCsgTable
+  // in gl_lighting.h); empty for a level without overlapping liquids, whose programs are built
+  // without the rule (FaithfulFeatures::liquidCsg).
+  std::vector<uint32_t> liquidCsg;
 };
 
 struct BeautySettings {

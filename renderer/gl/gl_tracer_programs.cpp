@@ -78,6 +78,7 @@ std::vector<std::string> programDefines(TracerProgram program, TextureMode mode,
       if (on[i]) defines.emplace_back(parts[i]);
   }
   if (takes(program, "Wavefront")) defines.emplace_back(switchesOf("Wavefront").at(0));
+  if (features.liquidCsg && takes(program, "Csg")) defines.emplace_back(switchesOf("Csg").at(0));
   return defines;
 }
 
@@ -112,7 +113,7 @@ FaithfulFeatures faithfulFeatures(const LightKinds& kinds) {
           .sky = kinds.sky,
           .jitter = kinds.jitter,
           .negative = kinds.negative,
-          .filter = kinds.filter};
+          .filter = kinds.filter}; // liquidCsg: not known this early (FaithfulFeatures)
 }
 
 FaithfulFeatures faithfulFeatures(const DirtSettings& dirt, const std::vector<GpuLight>& lights) {
@@ -138,10 +139,11 @@ ComputeProgram& TracerPrograms::finished(std::unique_ptr<ComputeProgram>& slot) 
   return *slot;
 }
 
-// Physical mode ignores the faithful features, here and in programDefines().
+// Physical mode ignores the faithful features but the liquid CSG, here and in programDefines().
 size_t TracerPrograms::variantIndex(bool physical, FaithfulFeatures features) {
-  if (physical) return 0;
-  return 1 + (features.dirt ? 1 : 0) + (features.bounceDraw ? 2 : 0) + (features.sky ? 4 : 0) + (features.jitter ? 8 : 0) +
+  const size_t csg = features.liquidCsg ? kPathVariants / 2 : 0;
+  if (physical) return csg;
+  return csg + 1 + (features.dirt ? 1 : 0) + (features.bounceDraw ? 2 : 0) + (features.sky ? 4 : 0) + (features.jitter ? 8 : 0) +
       (features.negative ? 16 : 0) + (features.filter ? 32 : 0);
 }
 std::unique_ptr<ComputeProgram>& TracerPrograms::pathSlot(bool physical, FaithfulFeatures features) {
@@ -181,23 +183,29 @@ void TracerPrograms::startWavefrontTrace() {
   start(trace_, shaderFile(TracerProgram::WavefrontTrace), programDefines(TracerProgram::WavefrontTrace, mode_, layout_), false);
 }
 
-void TracerPrograms::startAovs() {
-  start(aov_, shaderFile(TracerProgram::Aovs), programDefines(TracerProgram::Aovs, mode_, layout_));
+void TracerPrograms::startAovs(bool liquidCsg) {
+  start(aov_[liquidCsg], shaderFile(TracerProgram::Aovs),
+        programDefines(TracerProgram::Aovs, mode_, layout_, false, FaithfulFeatures{.liquidCsg = liquidCsg}));
+}
+
+// The bake traces no surface rays: one program whatever the level's liquids.
+std::unique_ptr<ComputeProgram>& TracerPrograms::bakeSlot(FaithfulFeatures features) {
+  features.liquidCsg = false;
+  return bake_[variantIndex(false, features)];
 }
 
 void TracerPrograms::startBake(FaithfulFeatures features) {
-  start(bake_[variantIndex(false, features)], shaderFile(TracerProgram::Bake),
-        programDefines(TracerProgram::Bake, mode_, layout_, false, features));
+  start(bakeSlot(features), shaderFile(TracerProgram::Bake), programDefines(TracerProgram::Bake, mode_, layout_, false, features));
 }
 
 bool TracerPrograms::bakeReady(FaithfulFeatures features) {
   startBake(features);
-  return bake_[variantIndex(false, features)]->ready();
+  return bakeSlot(features)->ready();
 }
 
 ComputeProgram& TracerPrograms::bake(FaithfulFeatures features) {
   startBake(features);
-  return finished(bake_[variantIndex(false, features)]);
+  return finished(bakeSlot(features));
 }
 
 ComputeProgram& TracerPrograms::pathTracer(bool physical, FaithfulFeatures features) {
@@ -217,9 +225,9 @@ TracerPrograms::WavefrontKernels TracerPrograms::wavefront(bool physical, Faithf
   ComputeProgram& trace = wavefrontTrace();
   return {wavefrontShade(physical, features), trace};
 }
-ComputeProgram& TracerPrograms::aovs() {
-  startAovs();
-  return finished(aov_);
+ComputeProgram& TracerPrograms::aovs(bool liquidCsg) {
+  startAovs(liquidCsg);
+  return finished(aov_[liquidCsg]);
 }
 ComputeProgram& TracerPrograms::rayBench() {
   start(rayBench_, shaderFile(TracerProgram::RayBench), programDefines(TracerProgram::RayBench, mode_, layout_));

@@ -27,10 +27,15 @@ struct FaithfulFeatures {
   bool jitter = false;     // BT_FAITHFUL_JITTER: point lights' _deviance (jittered copies)
   bool negative = false;   // BT_FAITHFUL_NEGATIVE: negative lights, taken off after the floors
   bool filter = false;     // BT_FAITHFUL_FILTER: Quake 3 blendFunc filter surfaces, which tint what lies behind them
+  // BT_LIQUID_CSG: qbsp's CSG of overlapping liquids (lighting/liquid_csg.h), in the surface rays
+  // of both lighting modes and the AOVs: the one part physical programs take too. Known once the
+  // level is prepared (GlLighting::liquidCsg), so a level that has it compiles its program then.
+  bool liquidCsg = false;
   bool operator==(const FaithfulFeatures&) const = default;
   // Both sets' parts.
   FaithfulFeatures operator|(const FaithfulFeatures& o) const {
-    return {dirt || o.dirt, bounceDraw || o.bounceDraw, sky || o.sky, jitter || o.jitter, negative || o.negative, filter || o.filter};
+    return {dirt || o.dirt,     bounceDraw || o.bounceDraw, sky || o.sky, jitter || o.jitter, negative || o.negative,
+            filter || o.filter, liquidCsg || o.liquidCsg};
   }
 };
 
@@ -85,7 +90,7 @@ const char* shaderFile(TracerProgram program); // "pathtrace.comp", ...
 
 // The #defines `program` is built with: shaderDefines(), then, from shader_switches.def, the
 // lighting mode and faithful mode's optional parts where the program takes them (a physical
-// program ignores `features`), and the wavefront form's switch.
+// program ignores `features` but liquidCsg), the wavefront form's switch and the liquid CSG's.
 std::vector<std::string> programDefines(TracerProgram program, TextureMode mode, TraceLayout layout, bool physical = false,
                                         FaithfulFeatures features = {});
 
@@ -116,7 +121,7 @@ public:
   // lighting mode and feature set, so it can start before the level says which it needs.
   void startTraceKernel();
   void startWavefront(bool physical, FaithfulFeatures features = {});
-  void startAovs();
+  void startAovs(bool liquidCsg = false);
   // The finished program, built now if it was not started.
   ComputeProgram& pathTracer(bool physical, FaithfulFeatures features = {});
   ComputeProgram& wavefrontShade(bool physical, FaithfulFeatures features = {});
@@ -130,7 +135,7 @@ public:
     ComputeProgram& trace;
   };
   WavefrontKernels wavefront(bool physical, FaithfulFeatures features = {});
-  ComputeProgram& aovs();
+  ComputeProgram& aovs(bool liquidCsg = false);
   ComputeProgram& rayBench();
   // Faithful mode's light compiler (shaders/bake.comp, gl_bake.h), with the level's features:
   // started, whether the driver has finished it, and finished.
@@ -158,6 +163,7 @@ private:
   static size_t variantIndex(bool physical, FaithfulFeatures features);
   std::unique_ptr<ComputeProgram>& pathSlot(bool physical, FaithfulFeatures features);
   std::unique_ptr<ComputeProgram>& shadeSlot(bool physical, FaithfulFeatures features);
+  std::unique_ptr<ComputeProgram>& bakeSlot(FaithfulFeatures features);
 
   TextureMode mode_;
   TraceLayout layout_;
@@ -165,10 +171,10 @@ private:
   bool wavefrontFirst_; // startPathTracer starts the wavefront kernels too (driver compiles in parallel, a GPU)
   // One program per lighting mode (BT_LIGHTING_PHYSICAL chosen at build), so each compiles
   // only its own integrator, and per set of faithful features (variantIndex: physical, then
-  // faithful with each of the 64 sets); the same for the wavefront form's shade kernels. Its
-  // trace kernel serves every mode.
-  static constexpr size_t kPathVariants = 65;
-  std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[kPathVariants], bake_[kPathVariants], trace_, aov_, rayBench_;
+  // faithful with each of the 64 sets, each without and with the liquid CSG); the same for the
+  // wavefront form's shade kernels. Its trace kernel serves every mode; the bake takes no CSG.
+  static constexpr size_t kPathVariants = 130;
+  std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[kPathVariants], bake_[kPathVariants], trace_, aov_[2], rayBench_;
 };
 
 } // namespace bt::gl

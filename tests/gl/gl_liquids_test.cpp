@@ -1,8 +1,10 @@
 // The GL tracer on the liquid maps (maps/liquids/; tests/render/liquids_test.cpp holds the CPU
 // tracer to the engine's blend): `_wateralpha 0.5` water over a yellow floor, in the albedo AOV
-// and the beauty of both lighting modes, against the engine's rule and the CPU reference.
+// and the beauty of both lighting modes, against the engine's rule and the CPU reference; and
+// overlapping liquids as qbsp's CSG leaves them (lighting/liquid_csg.h), against the CPU's.
 #include "importers/import.h"
 #include "lighting/render_scene.h"
+#include "renderer/gl/gl_lighting.h"
 #include "scene/color.h"
 #include "tests/gl/cpu_and_gl.h"
 #include "tests/gl/test_scenes.h"
@@ -13,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <string>
 
@@ -132,6 +135,93 @@ TEST(GlLiquids, Quake3BlendsPhysicalAgreeWithTheCpu) {
   }
   EXPECT_GE(close, seen.cpu.beauty.size() * 97 / 100) << close << " of " << seen.cpu.beauty.size() << " pixels agree";
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(gpuSum[c], cpuSum[c], 0.03 * cpuSum[c] + 1e-6) << "channel " << c;
+}
+
+// csg_water.map (three overlapping water brushes, merged: no face inside the water) and
+// csg_lava.map (a water box inside lava: its faces kept, from both sides), whose CPU images
+// tests/render/liquids_test.cpp holds to qbsp's rule, through the GL tracer's programs with the
+// rule compiled in (BT_LIQUID_CSG).
+struct CsgLevel {
+  Scene scene;
+  RenderScene render;
+};
+std::unique_ptr<CsgLevel> loadCsgLevel(const char* name) {
+  auto level = std::make_unique<CsgLevel>();
+  level->scene = importScene((test::mapsDir() / "liquids" / name).string(), ImportOptions{});
+  Diagnostics diagnostics;
+  level->render = buildRenderScene(level->scene, {}, diagnostics);
+  return level;
+}
+constexpr const char* kCsgMaps[] = {"csg_water.map", "csg_lava.map"};
+
+// Every pixel of the AOVs, one ray through each pixel centre: the same face (the face qbsp
+// keeps in place of a removed one included), the same normal (facing the ray where the water
+// is seen from inside the lava) and the albedo of the same blend of liquids.
+TEST(GlLiquids, OverlappingLiquidsAovsAreTheCpusEveryPixel) {
+  for (const char* name : kCsgMaps) {
+    SCOPED_TRACE(name);
+    const auto level = loadCsgLevel(name);
+    ASSERT_FALSE(level->render.liquidCsg.empty()) << "the liquids should overlap";
+    const CameraPose pose = defaultCameraPose(level->scene);
+    const RenderImage cpu = renderAovsCpu(level->render, Camera(pose, kWidth, kHeight), kWidth, kHeight, 2);
+    GlTracer tracer(test::sharedGlContext(), level->scene, level->render.tracer, test::textureModeUnderTest(), lightingFor(level->render));
+    ASSERT_TRUE(tracer.faithfulFeatures().liquidCsg);
+    const AovImages gpu = tracer.renderAovs(cameraFrom(pose, kWidth, kHeight), kWidth, kHeight);
+    size_t liquid = 0;
+    for (size_t i = 0; i < cpu.albedo.size(); ++i) {
+      liquid += cpu.face[i] != 0 && (level->render.faceFlags[cpu.face[i] - 1] & kFaceLiquid) != 0;
+      EXPECT_EQ(gpu.face[i], cpu.face[i]) << "face at pixel " << i;
+      EXPECT_EQ(gpu.normal[i], cpu.normal[i]) << "normal at pixel " << i;
+      if (gpu.face[i] != cpu.face[i] || gpu.normal[i] != cpu.normal[i] ||
+          !expectNear(glm::vec3(gpu.albedo[i]), cpu.albedo[i], 1e-3f, i, "GL against CPU albedo"))
+        break; // one pixel tells
+    }
+    EXPECT_GT(liquid, size_t(kWidth * kHeight / 20)) << "the camera should look at the liquids";
+  }
+}
+
+// The beauty of both lighting modes in both forms of the path tracer, one sample a pixel (the
+// same rays and random numbers as the CPU's): within 1 % of the CPU's at 99 % of the pixels (the
+// parity tests' tolerance for float differences in the lighting) and at every pixel on a liquid.
+TEST(GlLiquids, OverlappingLiquidsBeautyIsTheCpusInBothModesAndForms) {
+  for (const char* name : kCsgMaps) {
+    const auto level = loadCsgLevel(name);
+    const CameraPose pose = defaultCameraPose(level->scene);
+    GlTracer tracer(test::sharedGlContext(), level->scene, level->render.tracer, test::textureModeUnderTest(), lightingFor(level->render));
+    const RenderImage faces = renderAovsCpu(level->render, Camera(pose, kWidth, kHeight), kWidth, kHeight, 2);
+    for (const LightingMode mode : {LightingMode::Faithful, LightingMode::Physical}) {
+      RenderSettings settings;
+      settings.width = kWidth;
+      settings.height = kHeight;
+      settings.spp = 1;
+      settings.seed = 7;
+      settings.integrator.mode = mode;
+      settings.integrator.bounces = 2;
+      const RenderImage cpu = renderCpu(level->render, Camera(pose, kWidth, kHeight), settings);
+      for (const PathTracerForm form : {PathTracerForm::Megakernel, PathTracerForm::Wavefront}) {
+        SCOPED_TRACE(std::string(name) + (mode == LightingMode::Physical ? " physical" : " faithful") +
+                     (form == PathTracerForm::Wavefront ? " wavefront" : " megakernel"));
+        const BeautySettings beauty{.width = kWidth,
+                                    .height = kHeight,
+                                    .spp = 1,
+                                    .seed = 7,
+                                    .physical = mode == LightingMode::Physical,
+                                    .bounces = 2,
+                                    .clampIndirect = settings.integrator.clampIndirect,
+                                    .form = form};
+        const BeautyImage gpu = tracer.renderBeauty(cameraFrom(pose, kWidth, kHeight), beauty);
+        ASSERT_EQ(gpu.wavefrontSamples, form == PathTracerForm::Wavefront ? 1 : 0);
+        size_t close = 0, liquidFar = 0;
+        for (size_t i = 0; i < cpu.beauty.size(); ++i) {
+          const bool near = glm::length(gpu.beauty[i] - cpu.beauty[i]) <= 0.01f * glm::length(cpu.beauty[i]) + 1e-3f;
+          close += near;
+          liquidFar += !near && faces.face[i] != 0 && (level->render.faceFlags[faces.face[i] - 1] & kFaceLiquid) != 0;
+        }
+        EXPECT_GE(close, cpu.beauty.size() * 99 / 100) << close << " of " << cpu.beauty.size() << " pixels agree";
+        EXPECT_EQ(liquidFar, size_t(0)) << "pixels on a liquid off the CPU's";
+      }
+    }
+  }
 }
 
 } // namespace

@@ -2,7 +2,7 @@
 // worldspawn alpha keys as QuakeSpasm reads them, and the CPU tracer's water, seen from above,
 // against the engine's blend of the water over the pool without it; overlapping liquids as
 // qbsp's CSG leaves them (lighting/liquid_csg.h). tests/gl holds the GL tracer to the pool's
-// images (not yet to the overlapping liquids: the GL tracer does not apply liquid_csg.h).
+// images, and to these of the overlapping liquids (gl_liquids_test.cpp).
 #include "importers/import.h"
 #include "lighting/liquids.h"
 #include "lighting/render_scene.h"
