@@ -245,6 +245,24 @@ void matchOpenImageIoTga(std::span<const uint8_t> header, Image& image) {
     }
 }
 
+// Whether a TGA's pixels end past the file's end: stb_image reads zeros there where OpenImageIO
+// failed, and a cut-off texture is better reported than drawn half black.
+bool tgaTruncated(std::span<const uint8_t> bytes) {
+  if (bytes.size() < 18) return true;
+  const uint8_t type = bytes[2], bits = bytes[16];
+  const size_t paletteBytes = bytes[1] ? size_t(bytes[5] | bytes[6] << 8) * ((bytes[7] + 7u) / 8u) : 0;
+  const size_t pixelBytes = (bits + 7u) / 8u, pixels = size_t(bytes[12] | bytes[13] << 8) * size_t(bytes[14] | bytes[15] << 8);
+  size_t at = 18 + bytes[0] + paletteBytes;
+  if (type < 8) return at + pixels * pixelBytes > bytes.size();
+  for (size_t done = 0; done < pixels;) { // run-length packets: a count byte, then one pixel (a run) or count pixels
+    if (at >= bytes.size()) return true;
+    const size_t count = (bytes[at] & 0x7fu) + 1u;
+    at += 1 + (bytes[at] & 0x80u ? 1u : count) * pixelBytes;
+    done += count;
+  }
+  return at > bytes.size();
+}
+
 bool isTga(const std::string& file) {
   std::string ext = std::filesystem::path(file).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -257,11 +275,13 @@ Image decodeOther(std::span<const uint8_t> bytes, const std::string& file) {
   if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &width, &height, &channels))
     fail(file, fmt::format("cannot read image: {}", stbi_failure_reason()));
   checkSize(width, height, channels, file);
+  const bool tga = isTga(file);
+  if (tga && tgaTruncated(bytes)) fail(file, "cannot decode image: file truncated");
   std::unique_ptr<uint8_t, void (*)(void*)> pixels(stbi_load_from_memory(bytes.data(), int(bytes.size()), &width, &height, &channels, 0),
                                                    stbi_image_free);
   if (!pixels) fail(file, fmt::format("cannot decode image: {}", stbi_failure_reason()));
   Image image = toRgba(width, height, channels, pixels.get());
-  if (isTga(file) && bytes.size() >= 18) matchOpenImageIoTga(bytes.first(18), image);
+  if (tga) matchOpenImageIoTga(bytes.first(18), image);
   return image;
 }
 
