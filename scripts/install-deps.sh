@@ -8,11 +8,11 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config ninja-build
-  libglm-dev libpng-dev libjpeg62-turbo-dev libstb-dev libopenexr-dev # brushtrace's image files
+  libpng-dev libjpeg62-turbo-dev libstb-dev libopenexr-dev # brushtrace's image files
   libopenimageio-dev openimageio-tools # the tests and benchmarks only, which compare images
   libglfw3-dev libegl-dev libgl-dev libegl1 libgl1-mesa-dri libegl-mesa0 libepoxy-dev
   glslang-dev glslang-tools
-  libcli11-dev libfmt-dev nlohmann-json3-dev
+  libglm-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libimgui-dev libzip-dev libssl-dev
   slurm-wlm munge
