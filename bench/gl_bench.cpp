@@ -1,7 +1,7 @@
 // gl_bench LEVEL [WxH] [textures] [physical|faithful] [seconds] [converge [SPP] | rays]: the GL tracer's benchmark
 // (`brushtrace bench`) in a program that links no OpenImageIO, whose libraries (over 300 MB)
 // cannot travel to the GPU machine (scripts/gpu-check.sh): the level is imported with
-// bt_importers_portable, which loads WAD, WAL, miptex and BSP textures but no loose images.
+// bt_importers_portable (bt_importers, which reads loose images without OpenImageIO).
 #include "importers/import.h"
 #include "renderer/gl/gl_bench.h"
 #include "renderer/gl/gl_error.h"

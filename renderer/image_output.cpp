@@ -2,10 +2,19 @@
 
 #include "scene/names.h"
 
-#include <OpenImageIO/imageio.h>
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfOutputFile.h>
+#include <ImfStandardAttributes.h>
+#include <ImfStringAttribute.h>
+#include <fmt/chrono.h>
 #include <fmt/format.h>
+#include <png.h>
 
+#include <array>
 #include <cmath>
+#include <ctime>
 #include <filesystem>
 #include <stdexcept>
 #include <unistd.h>
@@ -14,16 +23,23 @@ namespace bt {
 
 namespace {
 
-// Linear beauty (exposure applied) as R, G, B, the default layer, then the AOVs and, after
-// --denoise, the denoised beauty as denoised.R/G/B. The exposure goes into the header.
-bool writeExr(OIIO::ImageOutput& out, const std::string& temp, const RenderImage& image, const OutputSettings& output) {
+// The EXR's channels, in the order of the interleaved pixels below: the linear beauty as R, G,
+// B (the default layer), then the AOVs and, after --denoise, the denoised beauty. OpenEXR stores
+// them sorted by name; readers find them by name.
+constexpr std::array<const char*, 13> kExrChannels{"R",        "G",        "B",       "albedo.R",   "albedo.G",   "albedo.B",  "normal.X",
+                                                   "normal.Y", "normal.Z", "depth.Z", "denoised.R", "denoised.G", "denoised.B"};
+
+// Linear beauty (exposure applied) and the AOVs as 32-bit float channels, ZIP-compressed (16
+// scanlines a block), the exposure in the header: what OpenImageIO wrote before brushtrace
+// dropped it, so that files written by either read the same.
+void writeExr(const std::string& temp, const RenderImage& image, const OutputSettings& output) {
   const size_t n = size_t(image.width) * size_t(image.height);
   const bool denoised = !image.denoised.empty();
-  const int channels = denoised ? 13 : 10;
-  std::vector<float> pixels(n * size_t(channels));
+  const size_t channels = denoised ? 13 : 10;
+  std::vector<float> pixels(n * channels);
   const float exposure = std::exp2(output.exposureEv);
   for (size_t i = 0; i < n; ++i) {
-    float* p = &pixels[i * size_t(channels)];
+    float* p = &pixels[i * channels];
     const glm::vec3 b = image.beauty[i] * exposure;
     p[0] = b.x, p[1] = b.y, p[2] = b.z;
     p[3] = image.albedo[i].x, p[4] = image.albedo[i].y, p[5] = image.albedo[i].z;
@@ -34,13 +50,31 @@ bool writeExr(OIIO::ImageOutput& out, const std::string& temp, const RenderImage
       p[10] = d.x, p[11] = d.y, p[12] = d.z;
     }
   }
-  OIIO::ImageSpec spec(image.width, image.height, channels, OIIO::TypeDesc::FLOAT);
-  spec.channelnames = {"R", "G", "B", "albedo.R", "albedo.G", "albedo.B", "normal.X", "normal.Y", "normal.Z", "depth.Z"};
-  if (denoised) spec.channelnames.insert(spec.channelnames.end(), {"denoised.R", "denoised.G", "denoised.B"});
-  spec.attribute("compression", "zip");
-  spec.attribute("brushtrace:exposureEV", output.exposureEv);
-  spec.attribute("brushtrace:exposure", output.exposureAuto ? "auto" : "given");
-  return out.open(temp, spec) && out.write_image(OIIO::TypeDesc::FLOAT, pixels.data());
+  Imf::Header header(image.width, image.height);
+  header.compression() = Imf::ZIP_COMPRESSION;
+  header.insert("brushtrace:exposureEV", Imf::FloatAttribute(output.exposureEv));
+  header.insert("brushtrace:exposure", Imf::StringAttribute(output.exposureAuto ? "auto" : "given"));
+  Imf::addCapDate(header, fmt::format("{:%Y:%m:%d %H:%M:%S}", fmt::localtime(std::time(nullptr))));
+  Imf::FrameBuffer frame;
+  const size_t xStride = channels * sizeof(float), yStride = xStride * size_t(image.width);
+  for (size_t c = 0; c < channels; ++c) {
+    header.channels().insert(kExrChannels[c], Imf::Channel(Imf::FLOAT));
+    frame.insert(kExrChannels[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(&pixels[c]), xStride, yStride));
+  }
+  Imf::OutputFile file(temp.c_str(), header);
+  file.setFrameBuffer(frame);
+  file.writePixels(image.height);
+}
+
+// 8-bit RGB through libpng's simplified API (which marks the file sRGB, as the pixels are).
+void writePng(const std::string& temp, const RenderImage& image, const OutputSettings& output) {
+  const std::vector<uint8_t> pixels = displayPixels(image, output);
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  png.width = png_uint_32(image.width);
+  png.height = png_uint_32(image.height);
+  png.format = PNG_FORMAT_RGB;
+  if (!png_image_write_to_file(&png, temp.c_str(), 0, pixels.data(), 0, nullptr)) throw std::runtime_error(png.message);
 }
 
 } // namespace
@@ -50,25 +84,18 @@ void writeImage(const std::string& path, const RenderImage& image, const OutputS
   const fs::path target(path);
   const std::string ext = lowercase(target.extension().string());
   if (ext != ".png" && ext != ".exr") throw std::runtime_error(fmt::format("{}: output must be .png or .exr", path));
-  // Same extension so that OpenImageIO picks the same format; renamed over the target at the end.
+  // Written under a hidden name beside the target, renamed over it at the end: a reader of the
+  // target never sees half an image.
   const fs::path temp = target.parent_path() / fmt::format(".{}.tmp{}{}", target.stem().string(), getpid(), ext);
-
-  auto out = OIIO::ImageOutput::create(temp.string());
-  if (!out) throw std::runtime_error(fmt::format("{}: {}", path, OIIO::geterror()));
-  bool ok = false;
-  if (ext == ".png") {
-    const std::vector<uint8_t> pixels = displayPixels(image, output);
-    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
-    ok = out->open(temp.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, pixels.data());
-  } else {
-    ok = writeExr(*out, temp.string(), image, output);
-  }
-  const std::string error = out->geterror();
-  ok = out->close() && ok;
-  if (!ok) {
+  try {
+    if (ext == ".png")
+      writePng(temp.string(), image, output);
+    else
+      writeExr(temp.string(), image, output);
+  } catch (const std::exception& e) {
     std::error_code ec;
     fs::remove(temp, ec);
-    throw std::runtime_error(fmt::format("{}: cannot write image: {}", path, error.empty() ? "unknown error" : error));
+    throw std::runtime_error(fmt::format("{}: cannot write image: {}", path, e.what()));
   }
   std::error_code ec;
   fs::rename(temp, target, ec);

@@ -1,6 +1,6 @@
-// Writing rendered images (OpenImageIO). Kept apart from the tracer so that what links the
+// Writing rendered images (libpng, OpenEXR). Kept apart from the tracer so that what links the
 // tracer alone (the GL tests and benchmark carried to a GPU machine) does not drag in
-// OpenImageIO and its hundreds of megabytes of dependencies.
+// OpenEXR.
 #pragma once
 
 #include "renderer/render.h"

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # GPU proof of the GL tracer, repeatable by anyone with the `device` tool:
 #   1. builds here the GL test binaries (gl_tests; gl_parity_tests_portable, the CPU-parity
-#      tests) and the GL benchmark (bench/gl_bench). Those that import levels link the importers
-#      without OpenImageIO (bt_importers_portable: loose images are PNGs, through libpng), whose
-#      libraries (over 300 MB) could not travel; everything else is as in `brushtrace`;
+#      tests) and the GL benchmark (bench/gl_bench), linked as `brushtrace` is: without
+#      OpenImageIO, whose libraries (over 300 MB) could not travel (bt_importers_portable is
+#      bt_importers, whose loose images go through libpng, libjpeg-turbo and stb_image);
 #   2. bundles them, stripped of debug info, with their non-system shared libraries (from ldd),
 #      the benchmark level (the largest shared map, as `brushtrace bench` would read it: the .map
 #      and its textures) and the shared test maps the parity tests read, into
@@ -28,7 +28,8 @@ map_rel=maps/librequake/lq1/maps/src/e4/lq_e4m3.map # the largest shared map (3.
 many_lights_rel=maps/librequake/lq1/maps/src/dm/lqdm5.map # 2,598 lights, a sun and a sky dome
 # Issue 16's curve benchmark: an OpenArena level with its curves (Debian's openarena-085-data),
 # carried as a .pk3 of that level and the install's shader scripts (the whole pak1-maps.pk3 is
-# 40 MB; the portable importers read no TGA/JPG textures anyway).
+# 40 MB; without its TGA/JPG textures the level's surfaces are placeholders, which the ray rates
+# do not depend on).
 oa_install=${OPENARENA_BASEOA:-/usr/share/games/openarena/baseoa}
 oa_level=oa_dm3
 

@@ -2,22 +2,24 @@
 # Installs the Debian 12 (bookworm) packages brushtrace builds, tests and renders with.
 # Safe to run repeatedly: it asks apt only for what dpkg says is missing.
 # Usage: scripts/install-deps.sh [--with-test-data]
-#   --with-test-data  also installs openarena-085-data (Quake 3 levels the BSP tests read)
+#   --with-test-data  also installs openarena-085-data (Quake 3 levels the BSP tests read) and
+#                     chromium (the batch contact sheet's screenshot test)
 set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config ninja-build
-  libglm-dev libopenimageio-dev openimageio-tools
+  libpng-dev libjpeg62-turbo-dev libstb-dev libopenexr-dev # brushtrace's image files
+  libopenimageio-dev openimageio-tools # the tests and benchmarks only, which compare images
   libglfw3-dev libegl-dev libgl-dev libegl1 libgl1-mesa-dri libegl-mesa0 libepoxy-dev
   glslang-dev glslang-tools
-  libcli11-dev libfmt-dev nlohmann-json3-dev
+  libglm-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libimgui-dev libzip-dev libpng-dev libssl-dev
+  libimgui-dev libzip-dev libssl-dev
   slurm-wlm munge
   xvfb xauth libx11-dev
 )
 if [[ "${1:-}" == "--with-test-data" ]]; then
-  packages+=(openarena-085-data openarena-data)
+  packages+=(openarena-085-data openarena-data chromium)
 fi
 
 missing=()

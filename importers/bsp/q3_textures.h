@@ -1,4 +1,4 @@
-// Quake 3 materials: shader names → images (TGA/JPEG/PNG via OpenImageIO) in the game files.
+// Quake 3 materials: shader names → images (TGA/JPEG/PNG: textures/image.cpp) in the game files.
 #pragma once
 
 #include "importers/bsp/pk3.h"

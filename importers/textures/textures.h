@@ -4,7 +4,7 @@
 //   - WAD files: Quake's WAD2 (8-bit miptex that index the game's palette.lmp) and Half-Life's
 //     WAD3 (miptex that carry their own 256-colour palette after the smallest mip);
 //   - the miptex lump inside a Quake 1 / Half-Life .bsp (same miptex layout as in the WADs);
-//   - loose images (PNG/TGA/JPG through OpenImageIO), the way modern source ports and
+//   - loose images (PNG/TGA/JPG: image.cpp), the way modern source ports and
 //     LibreQuake's texture folders ship them, plus companion maps (_norm, _gloss, _glow, ...).
 // Quake 2 .wal files index the Quake 2 palette.
 #pragma once
@@ -144,12 +144,13 @@ bool textureNamesEqual(std::string_view a, std::string_view b);
 // and a Quake 3 name without its "textures/" prefix. Folders in names ("e1u1/floor1_3") are kept.
 std::vector<std::string> textureFileStems(std::string_view name);
 
-// Loads a loose image (any format OpenImageIO reads) as 8-bit RGBA. Throws ImportError naming the
-// file when it cannot be read.
+// Loads a loose image (PNG, JPEG, TGA, BMP, GIF, PSD, PNM; the format from the file's first
+// bytes) as 8-bit RGBA, the texels as stored. Throws ImportError naming the file when it cannot
+// be read.
 Image loadImage(const std::filesystem::path& path);
 
 // The same for an image file held in memory (one read from a pak or pk3); `name` is the file's
-// name, whose extension picks the format, and names it in the ImportError.
+// name, which names it in the ImportError.
 Image decodeImage(std::span<const uint8_t> bytes, const std::string& name);
 
 // Quake's palette for a level: `explicitPalette` when given (throws ImportError if unreadable),

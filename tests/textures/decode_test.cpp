@@ -1,4 +1,5 @@
 // Decoding: palettes, Quake/Half-Life miptex, Quake 2 .wal, WAD directories, malformed input.
+#include "importers/game/archive.h"
 #include "importers/textures/textures.h"
 #include "tests/test_data.h"
 #include "tests/textures/texture_fixtures.h"
@@ -6,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <iostream>
 #include <random>
 #include <thread>
 
@@ -249,6 +251,39 @@ TEST(WadFile, WadTexturesMatchLibreQuakesPngsOfTheSameName) {
 // (OpenImageIO issue 3756): concurrent opens hung or corrupted the heap. Many threads open the
 // same files at once here, first thing in the process, and each must read exactly what one
 // thread alone reads afterwards.
+// brushtrace reads loose images without OpenImageIO (issue 21) and must give the texels it gave
+// with it: every fourth PNG of the shared maps and every fourth TGA and JPEG of OpenArena's
+// pak0.pk3 (Debian's openarena-085-data, when installed), read as the importers read them.
+TEST(LooseImage, TexelsAreTheOnesOpenImageIoRead) {
+  BT_REQUIRE_SHARED(shared);
+  std::vector<std::pair<std::string, std::vector<uint8_t>>> files; // name, bytes
+  std::vector<fs::path> pngs;
+  for (const auto& e : fs::recursive_directory_iterator(shared / "maps"))
+    if (e.path().extension() == ".png") pngs.push_back(e.path());
+  std::sort(pngs.begin(), pngs.end());
+  for (size_t i = 0; i < pngs.size(); i += 4) files.emplace_back(pngs[i].string(), readTextureFile(pngs[i]));
+  const size_t fromShared = files.size();
+  if (const auto pk3 = game::openArchive("/usr/share/games/openarena/baseoa/pak0.pk3")) {
+    size_t seen = 0;
+    for (const std::string& name : pk3->names()) {
+      const std::string ext = fs::path(name).extension().string();
+      if ((ext == ".tga" || ext == ".jpg") && seen++ % 4 == 0) files.emplace_back(name, *pk3->read(name));
+    }
+  }
+  ASSERT_GT(fromShared, 300u);
+  size_t differ = 0;
+  for (const auto& [name, bytes] : files) {
+    const Image ours = name.starts_with("/") ? loadImage(name) : decodeImage(bytes, name);
+    const Image reference = test::readWithOpenImageIo(bytes, name);
+    const bool same = ours.width == reference.width && ours.height == reference.height && ours.rgba == reference.rgba;
+    differ += !same;
+    EXPECT_TRUE(same) << name << ": " << ours.width << "x" << ours.height << " against OpenImageIO's " << reference.width << "x"
+                      << reference.height;
+    if (differ > 5) break;
+  }
+  std::cout << files.size() << " images (" << fromShared << " from the shared maps) read as OpenImageIO read them\n";
+}
+
 TEST(LooseImage, ManyThreadsDecodeTheSameImagesAsOne) {
   BT_REQUIRE_SHARED(shared);
   std::vector<fs::path> files;

@@ -1,9 +1,11 @@
 #include "tests/textures/texture_fixtures.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <atomic>
 #include <fstream>
+#include <mutex>
 #include <stdexcept>
 
 #include <unistd.h>
@@ -101,6 +103,42 @@ void writeFile(const fs::path& path, const std::vector<uint8_t>& bytes) {
 
 std::vector<uint8_t> readFile(const fs::path& path) {
   return readTextureFile(path);
+}
+
+Image readWithOpenImageIo(std::span<const uint8_t> bytes, const std::string& name) {
+  // IOMemReader only reads, but 2.4 takes a non-const pointer.
+  OIIO::Filesystem::IOMemReader proxy(const_cast<uint8_t*>(bytes.data()), bytes.size());
+  OIIO::Filesystem::IOProxy* proxyPointer = &proxy;
+  std::unique_ptr<OIIO::ImageInput> input;
+  {
+    // 2.4 reads ICC profiles and Exif blocks through tables not safe to build from two threads.
+    static std::mutex openMutex;
+    const std::lock_guard lock(openMutex);
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxyPointer); // with a config, 2.4 reads the proxy from it
+    input = OIIO::ImageInput::open(name, &config, &proxy);
+  }
+  if (!input) throw std::runtime_error(name + ": " + OIIO::geterror());
+  const OIIO::ImageSpec spec = input->spec();
+  const int channels = spec.nchannels;
+  std::vector<uint8_t> pixels(size_t(spec.width) * size_t(spec.height) * size_t(channels));
+  if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, pixels.data()))
+    throw std::runtime_error(name + ": " + input->geterror());
+  Image image;
+  image.width = spec.width;
+  image.height = spec.height;
+  image.rgba.resize(size_t(image.width) * size_t(image.height) * 4);
+  const int alpha = spec.alpha_channel >= 0 ? spec.alpha_channel : (channels == 2 ? 1 : channels >= 4 ? 3 : -1);
+  for (size_t i = 0, n = size_t(image.width) * size_t(image.height); i < n; ++i) {
+    const uint8_t* src = &pixels[i * size_t(channels)];
+    uint8_t* dst = &image.rgba[i * 4];
+    dst[0] = src[0];
+    dst[1] = src[channels < 3 ? 0 : 1];
+    dst[2] = src[channels < 3 ? 0 : 2];
+    dst[3] = alpha >= 0 && alpha < channels ? src[alpha] : 255;
+  }
+  return image;
 }
 
 void writeImage(const fs::path& path, int width, int height, int channels, const std::vector<uint8_t>& pixels) {

@@ -44,6 +44,12 @@ std::vector<uint8_t> makeWal(const std::string& name, int width, int height, con
 void writeFile(const std::filesystem::path& path, const std::vector<uint8_t>& bytes);
 std::vector<uint8_t> readFile(const std::filesystem::path& path);
 
+// The texels OpenImageIO 2.4 read from an image file in memory (colour as stored, not multiplied
+// by alpha), as 8-bit RGBA: what brushtrace's loose images were before it dropped OpenImageIO
+// (issue 21), the reference its own readers are held to. Throws std::runtime_error when
+// OpenImageIO cannot read it.
+Image readWithOpenImageIo(std::span<const uint8_t> bytes, const std::string& name);
+
 // Writes an 8-bit image (1, 3 or 4 channels) with OpenImageIO, creating folders as needed.
 void writeImage(const std::filesystem::path& path, int width, int height, int channels, const std::vector<uint8_t>& pixels);
 
