@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
+#include <regex>
+#include <set>
 #include <filesystem>
 
 namespace {
@@ -207,6 +209,72 @@ TEST(BatchCommand, BadUsageAndBadManifestsSayWhatIsWrong) {
   r = brushtrace("batch " + q(dir / "bad.json") + " -o " + q(dir / "o"));
   EXPECT_EQ(r.exitCode, 1);
   EXPECT_NE(r.err.find("levels[0]: '" + (dir / "nothing*.map").string() + "' matches no level"), std::string::npos) << r.err;
+  fs::remove_all(dir);
+}
+
+// The value a manifest key takes when absent, for a schema property: its default, else the first
+// of its enum.
+json schemaDefault(const json& property) {
+  if (property.contains("default")) return property.at("default");
+  if (property.contains("enum")) return property.at("enum").at(0);
+  return nullptr;
+}
+
+// Every key of object `schema` (a schema object with properties) at its schema default.
+json everyKeyAtItsDefault(const json& schema) {
+  json object = json::object();
+  for (const auto& [key, property] : schema.at("properties").items()) object[key] = schemaDefault(property);
+  return object;
+}
+
+// app/batch/manifest.schema.json and the parser (app/batch/batch_manifest.cpp) name the same keys:
+// the keys of the parser's requireKnownKeys lists are the schema's properties, a manifest with every
+// key the schema lists (each at its default) runs, and a key the schema does not list is an error
+// in each of its objects, as additionalProperties false says.
+TEST(BatchCommand, TheManifestSchemaNamesTheKeysTheBatchReads) {
+  const fs::path source = bt::test::sourceDir();
+  std::ifstream schemaFile(source / "app/batch/manifest.schema.json");
+  const json schema = json::parse(schemaFile);
+  const json &level = schema.at("$defs").at("level"), &render = schema.at("$defs").at("render");
+  const json &jobs = schema.at("properties").at("jobs"), &limits = schema.at("properties").at("limits");
+  std::set<std::string> schemaKeys;
+  for (const json* object : {&schema, &level, &render, &jobs, &limits}) {
+    EXPECT_EQ(object->at("additionalProperties"), false);
+    for (const auto& [key, property] : object->at("properties").items()) schemaKeys.insert(key);
+  }
+  std::ifstream parserFile(source / "app/batch/batch_manifest.cpp");
+  const std::string parser((std::istreambuf_iterator<char>(parserFile)), std::istreambuf_iterator<char>());
+  std::set<std::string> parserKeys;
+  const std::regex list(R"(requireKnownKeys\([^{]*\{([^}]*)\})"), key("\"([a-z_]+)\"");
+  for (auto m = std::sregex_iterator(parser.begin(), parser.end(), list); m != std::sregex_iterator(); ++m) {
+    const std::string keys = (*m)[1];
+    for (auto k = std::sregex_iterator(keys.begin(), keys.end(), key); k != std::sregex_iterator(); ++k) parserKeys.insert((*k)[1]);
+  }
+  EXPECT_EQ(schemaKeys, parserKeys);
+
+  const fs::path dir = bt::test::freshTempDir("schema");
+  json levelEntry = everyKeyAtItsDefault(level);
+  levelEntry["path"] = (bt::test::mapsDir() / "start.map").string();
+  json renderJob = everyKeyAtItsDefault(render);
+  renderJob["size"] = "16x9", renderJob["spp"] = 1, renderJob["backend"] = "cpu";
+  json manifest = everyKeyAtItsDefault(schema);
+  manifest["levels"] = json::array({levelEntry});
+  manifest["jobs"] = everyKeyAtItsDefault(jobs);
+  manifest["jobs"]["render"] = renderJob;
+  manifest["limits"] = everyKeyAtItsDefault(limits);
+  bt::test::writeText(dir / "m.json", manifest.dump());
+  const CommandResult ok = brushtrace("batch " + q(dir / "m.json") + " -o " + q(dir / "out"));
+  EXPECT_EQ(ok.exitCode, 0) << manifest.dump() << "\n" << ok.err;
+
+  for (const json::json_pointer& at : {json::json_pointer(""), json::json_pointer("/levels/0"), json::json_pointer("/jobs"),
+                                       json::json_pointer("/jobs/render"), json::json_pointer("/limits")}) {
+    json bad = manifest;
+    bad[at]["zzz"] = 1;
+    bt::test::writeText(dir / "bad.json", bad.dump());
+    const CommandResult r = brushtrace("batch " + q(dir / "bad.json") + " -o " + q(dir / "out2"));
+    EXPECT_EQ(r.exitCode, 1) << at;
+    EXPECT_NE(r.err.find("unknown key 'zzz'"), std::string::npos) << at << ": " << r.err;
+  }
   fs::remove_all(dir);
 }
 
