@@ -160,6 +160,19 @@ struct GlTracer::Impl {
   // later ones add to it), the pixels of `piece` (clipped to the image) or all of them: with the
   // wavefront kernels where settings.form asks for them, or for Auto while the megakernel still
   // compiles, else with the megakernel. True where the wavefront kernels drew it.
+  // GlTracer::addSample, of the whole image or of `piece`.
+  void addSample(const CameraBasis& camera, const BeautySettings& settings, unsigned sum, uint32_t sampleIndex,
+                 std::optional<PixelRect> piece) {
+    if (settings.width <= 0 || settings.height <= 0)
+      throw GlError(fmt::format("image size {}x{} is empty", settings.width, settings.height));
+    BT_GL(glBindImageTexture(kImageAccumulation, sum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F));
+    setWorld(settings);
+    if (settings.form == PathTracerForm::Auto) programs->startPathTracer(settings.physical, features);
+    drawSample(camera, settings, sampleIndex, piece);
+    // The tonemap pass and a read-back see the sum this sample wrote.
+    BT_GL(glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT));
+  }
+
   bool drawSample(const CameraBasis& camera, const BeautySettings& settings, uint32_t sampleIndex, std::optional<PixelRect> piece = {}) {
     const PixelRect rect = piece ? clippedPiece(*piece, settings.width, settings.height) : PixelRect{0, 0, settings.width, settings.height};
     setCamera(camera, settings.width, settings.height, sampleIndex, settings.seed, 0, {rect.x, rect.y});
@@ -295,23 +308,12 @@ BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettin
 }
 
 void GlTracer::addSample(const CameraBasis& camera, const BeautySettings& settings, unsigned sum, uint32_t sampleIndex) {
-  if (settings.width <= 0 || settings.height <= 0) throw GlError(fmt::format("image size {}x{} is empty", settings.width, settings.height));
-  BT_GL(glBindImageTexture(kImageAccumulation, sum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F));
-  impl_->setWorld(settings);
-  if (settings.form == PathTracerForm::Auto) impl_->programs->startPathTracer(settings.physical, impl_->features);
-  impl_->drawSample(camera, settings, sampleIndex);
-  // The tonemap pass and a read-back see the sum this sample wrote.
-  BT_GL(glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT));
+  impl_->addSample(camera, settings, sum, sampleIndex, std::nullopt);
 }
 
 void GlTracer::addSample(const CameraBasis& camera, const BeautySettings& settings, unsigned sum, uint32_t sampleIndex,
                          const PixelRect& piece) {
-  if (settings.width <= 0 || settings.height <= 0) throw GlError(fmt::format("image size {}x{} is empty", settings.width, settings.height));
-  BT_GL(glBindImageTexture(kImageAccumulation, sum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F));
-  impl_->setWorld(settings);
-  if (settings.form == PathTracerForm::Auto) impl_->programs->startPathTracer(settings.physical, impl_->features);
-  impl_->drawSample(camera, settings, sampleIndex, piece);
-  BT_GL(glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT));
+  impl_->addSample(camera, settings, sum, sampleIndex, piece);
 }
 
 void GlTracer::setLightmaps(const std::vector<uint32_t>& packed) {
