@@ -69,6 +69,16 @@ bool samePlane(const Plane& a, const Plane& b) {
 
 enum class Holds { No, Touching, Inside };
 
+// How a side of a brush lies against the plane of a face: in it facing the same way, in it
+// facing the other way, or across it (then the point decides). What holds() asks of a side
+// before the point, hence what LiquidCsg::against() answers once per face and brush.
+enum class SideAgainst { Same, Opposite, Across };
+SideAgainst sideAgainst(const Plane& side, const Plane& plane) {
+  if (samePlane(side, plane)) return SideAgainst::Same;
+  if (samePlane(side, plane.flipped())) return SideAgainst::Opposite;
+  return SideAgainst::Across;
+}
+
 // Where `p`, on face plane `plane` of another brush, lies against `brush`: inside it (its
 // boundary included, except where the face lies in one of its sides facing the same way: two
 // coplanar outer faces, of which the tracer's tie rule shows the later), against one of its sides
@@ -76,13 +86,13 @@ enum class Holds { No, Touching, Inside };
 Holds holds(const Scene& scene, const Brush& brush, const Plane& plane, const dvec3& p) {
   bool touching = false;
   for (uint32_t k = brush.firstFace; k < brush.firstFace + brush.faceCount; ++k) {
-    const Plane& side = scene.faces[k].plane;
-    if (samePlane(side, plane)) return Holds::No;
-    if (samePlane(side, plane.flipped())) {
-      touching = true;
-      continue;
+    switch (sideAgainst(scene.faces[k].plane, plane)) {
+    case SideAgainst::Same: return Holds::No;
+    case SideAgainst::Opposite: touching = true; break;
+    case SideAgainst::Across:
+      if (scene.faces[k].plane.distanceTo(p) > kOnPlane) return Holds::No;
+      break;
     }
-    if (side.distanceTo(p) > kOnPlane) return Holds::No;
   }
   return touching ? Holds::Touching : Holds::Inside;
 }
@@ -145,6 +155,20 @@ bool LiquidCsg::drawn(const Scene& scene, uint32_t face, const dvec3& p, bool le
     inOtherKind |= h == Holds::Inside;
   }
   return !leaving || inOtherKind;
+}
+
+LiquidCsg::Against LiquidCsg::against(const Scene& scene, uint32_t face, uint32_t brush) {
+  const Plane& plane = scene.faces[face].plane;
+  const Brush& b = scene.brushes[brush];
+  Against a;
+  for (uint32_t k = b.firstFace; k < b.firstFace + b.faceCount; ++k) {
+    switch (sideAgainst(scene.faces[k].plane, plane)) {
+    case SideAgainst::Same: return Against{.never = true};
+    case SideAgainst::Opposite: a.touching = true; break;
+    case SideAgainst::Across: a.sides.push_back(k); break;
+    }
+  }
+  return a;
 }
 
 std::optional<uint32_t> LiquidCsg::keptFaceAt(const Scene& scene, const std::vector<uint32_t>& faceFlags, uint32_t face, const dvec3& p,

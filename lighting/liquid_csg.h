@@ -58,6 +58,18 @@ public:
 
   bool empty() const { return others_.empty(); }
 
+  // What drawn() asks of `brush` for a point on `face`'s plane, less the point: `never` where a
+  // side lies in that plane facing the same way (the brush holds no point of the face), else
+  // whether a side lies in it facing the other way (the brush can only touch the face), and the
+  // sides whose half-spaces the point must lie in. The GL tracer's table stores these, so that
+  // its rule tests the point alone (renderer/gl/gl_lighting.h liquidCsgTable).
+  struct Against {
+    bool never = false;
+    bool touching = false;
+    std::vector<uint32_t> sides;
+  };
+  static Against against(const Scene& scene, uint32_t face, uint32_t brush);
+
   // A liquid brush that reaches a face's brush (a Scene::brushes index), and whether it is of
   // the face's kind (merged with it) or of another (kept apart).
   struct Other {

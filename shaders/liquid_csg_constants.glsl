@@ -11,7 +11,8 @@
 #define BT_LIQUID_CSG_ON_PLANE 0.01
 
 // Two planes face the same way where 1 - cos of the angle between their normals is under this:
-// qbsp merges planes closer than this.
+// qbsp merges planes closer than this. The GL tracer's table answers these tests on the CPU
+// (renderer/gl/gl_lighting.h liquidCsgTable), so only C++ reads this one.
 #define BT_LIQUID_CSG_NORMAL 1e-6
 
 #endif

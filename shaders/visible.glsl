@@ -20,89 +20,75 @@ vec3 faceNormal(uint face) { return faces[face].plane.xyz; }
 #ifdef BT_LIQUID_CSG
 // qbsp's CSG of overlapping liquids as a rule on hits (lighting/liquid_csg.h, LiquidCsg), for
 // the levels that have them (FaithfulFeatures::liquidCsg). The rule's table follows the F face
-// flags in their buffer (renderer/gl/gl_lighting.h liquidCsgTable), offsets counted from F:
-//   [0, F]:  per face f, where its entries begin; face f's are [table[f], table[f + 1]), none
-//            where no other liquid brush reaches its brush;
-//   entries: uvec2 per brush: its faces' first, then their count << 1 | same kind; a face's
-//            own brush first, then the liquid brushes that reach it.
-// In float on the face planes the tracer hits, where the CPU's is in the Scene's double planes:
-// the same answers but within float rounding of the tolerances.
-#include "liquid_csg_constants.glsl" // one pair of tolerances with the CPU's rule
+// flags in their buffer (renderer/gl/gl_lighting.h liquidCsgTable, which spells out its
+// layout); what does not depend on the hit point is answered there, so only the point's tests
+// are here. The distances are in float on the face planes the tracer hits, where the CPU's are
+// in the Scene's double planes: the same answers but within float rounding of the tolerance.
+#include "liquid_csg_constants.glsl" // one tolerance with the CPU's rule
 const float CSG_ON_PLANE = BT_LIQUID_CSG_ON_PLANE;
-const float CSG_NORMAL = BT_LIQUID_CSG_NORMAL;
-const uint CSG_NO = 0u, CSG_TOUCHING = 1u, CSG_INSIDE = 2u;
 
 uint csgTable(uint i) { return faceFlags[uint(faces.length()) + i]; }
-uvec2 csgEntries(uint face) { return uvec2(csgTable(face), csgTable(face + 1u)); } // [begin, end)
-float csgDistance(uint face, vec3 p) { return dot(faces[face].plane.xyz, p) - faces[face].plane.w; }
-bool csgSamePlane(vec4 a, vec4 b) { return dot(a.xyz, b.xyz) > 1.0 - CSG_NORMAL && abs(a.w - b.w) <= CSG_ON_PLANE; }
-
-// LiquidCsg's holds(): where `p`, on plane `plane` of another brush, lies against the brush of
-// faces [first, first + count).
-uint csgHolds(uint first, uint count, vec4 plane, vec3 p) {
-  bool touching = false;
-  for (uint k = first; k < first + count; ++k) {
-    vec4 side = faces[k].plane;
-    if (csgSamePlane(side, plane)) return CSG_NO;
-    if (csgSamePlane(side, -plane)) {
-      touching = true;
-      continue;
-    }
-    if (csgDistance(k, p) > CSG_ON_PLANE) return CSG_NO;
-  }
-  return touching ? CSG_TOUCHING : CSG_INSIDE;
-}
+bool csgReaches(uint face) { return csgTable(face) != csgTable(face + 1u); }
+bool csgOutside(uint side, vec3 p) { return dot(faces[side].plane.xyz, p) - faces[side].plane.w > CSG_ON_PLANE; }
 
 // LiquidCsg::drawn(): whether a hit on `face` at `p`, entering its brush or `leaving` it, is
-// drawn. Only for faces with entries.
+// drawn. Only for faces that csgReaches().
 bool csgDrawn(uint face, vec3 p, bool leaving) {
-  vec4 plane = faces[face].plane;
-  uvec2 range = csgEntries(face);
+  uint i = csgTable(face), end = csgTable(face + 1u);
+  i += 1u + 2u * csgTable(i); // past the brush ranges
   bool inOtherKind = false;
-  for (uint i = range.x + 2u; i < range.y; i += 2u) { // past the face's own brush
-    uint word = csgTable(i + 1u);
-    uint h = csgHolds(csgTable(i), word >> 1, plane, p);
-    if (h == CSG_NO) continue;
-    if ((word & 1u) != 0u) return false; // merged into one volume: no face here
-    inOtherKind = inOtherKind || h == CSG_INSIDE;
+  while (i < end) {
+    uint head = csgTable(i), stop = i + 1u + (head >> 2);
+    bool held = true;
+    for (++i; i < stop && held; ++i) held = !csgOutside(csgTable(i), p);
+    i = stop;
+    if (!held) continue;
+    if ((head & 1u) != 0u) return false; // merged into one volume: no face here
+    inOtherKind = inOtherKind || (head & 2u) == 0u;
   }
   return !leaving || inOtherKind;
 }
 
-// LiquidCsg::keptFaceAt(): for an entering hit that csgDrawn() removes, the face qbsp keeps at
-// `p` that a ray along `dir` enters there, of the hit's brush or those that reach it (the later
-// in the file, as the tracer's tie rule picks); NO_FACE in the middle of a removed face.
-uint csgKeptFaceAt(uint face, vec3 p, vec3 dir) {
-  uint kept = NO_FACE;
-  uvec2 range = csgEntries(face);
-  for (uint i = range.x; i < range.y; i += 2u) {
-    uint first = csgTable(i), count = csgTable(i + 1u) >> 1;
+// The latest face below `bound`, other than `face`, of the hit's brush or of those that reach
+// it, that holds `p` on its plane, is not hidden, and that a ray along `dir` enters: where
+// LiquidCsg::keptFaceAt() looks for the face qbsp keeps at an edge. NO_FACE if none.
+uint csgKeptCandidate(uint face, vec3 p, vec3 dir, uint bound) {
+  uint base = csgTable(face), brushes = csgTable(base), best = NO_FACE;
+  for (uint b = 0u; b < brushes; ++b) {
+    uint first = csgTable(base + 1u + 2u * b), end = first + csgTable(base + 2u + 2u * b);
     bool onBrush = true;
-    for (uint k = first; k < first + count; ++k) onBrush = onBrush && !(csgDistance(k, p) > CSG_ON_PLANE);
+    for (uint k = first; k < end && onBrush; ++k) onBrush = !csgOutside(k, p);
     if (!onBrush) continue;
-    for (uint k = first; k < first + count; ++k) {
-      if (k == face || (faceFlags[k] & FACE_HIDDEN) != 0u || abs(csgDistance(k, p)) > CSG_ON_PLANE ||
-          dot(faces[k].plane.xyz, dir) >= 0.0)
-        continue;
-      uvec2 own = csgEntries(k);
-      if ((kept == NO_FACE || k > kept) && (own.x == own.y || csgDrawn(k, p, false))) kept = k;
+    for (uint k = first; k < end; ++k) {
+      if (k == face || k >= bound || (best != NO_FACE && k <= best) || (faceFlags[k] & FACE_HIDDEN) != 0u) continue;
+      vec4 plane = faces[k].plane;
+      if (abs(dot(plane.xyz, p) - plane.w) <= CSG_ON_PLANE && dot(plane.xyz, dir) < 0.0) best = k;
     }
   }
-  return kept;
+  return best;
 }
 
 // A surface ray's hit on `face` (not hidden) at `p` under the rule, as the CPU's traceVisible
 // applies it: `shown` as the tracer found it (false for the far side of a brush, `inside`) in,
-// whether it is drawn out; `face` becomes the face drawn in its place, if another.
+// whether it is drawn out; `face` becomes the face drawn in its place, if another. An entering
+// hit that is not drawn tries the faces kept at its point from the latest down (keptFaceAt's
+// choice, the latest that is drawn), so that drawn() has one call site: each copy of it cost
+// the megakernel registers.
 void liquidCsgHit(inout uint face, inout bool shown, bool inside, vec3 p, vec3 dir) {
-  uvec2 range = csgEntries(face);
-  if (range.x == range.y) return;
-  if (inside) {
-    shown = csgDrawn(face, p, true);
-  } else if (shown && !csgDrawn(face, p, false)) {
-    uint kept = csgKeptFaceAt(face, p, dir);
-    shown = kept != NO_FACE;
-    if (shown) face = kept;
+  if (!csgReaches(face) || (!inside && !shown)) return;
+  uint candidate = face;
+  for (;;) { // candidates fall strictly: the loop ends
+    bool drawn = !csgReaches(candidate) || csgDrawn(candidate, p, inside && candidate == face);
+    if (drawn || (inside && candidate == face)) {
+      shown = drawn;
+      face = candidate;
+      return;
+    }
+    candidate = csgKeptCandidate(face, p, dir, candidate == face ? NO_FACE : candidate);
+    if (candidate == NO_FACE) {
+      shown = false;
+      return;
+    }
   }
 }
 #endif

@@ -47,16 +47,23 @@ std::vector<uint32_t> liquidCsgTable(const Scene& scene, const LiquidCsg& csg) {
   if (csg.empty()) return {};
   const size_t faces = scene.faces.size();
   std::vector<uint32_t> table(faces + 1);
-  const auto entry = [&](uint32_t brush, bool sameKind) {
-    const Brush& b = scene.brushes[brush];
-    table.push_back(b.firstFace);
-    table.push_back(b.faceCount << 1 | (sameKind ? 1u : 0u));
-  };
   for (uint32_t f = 0; f < faces; ++f) {
     table[f] = uint32_t(table.size());
     if (!csg.reaches(f)) continue;
-    entry(scene.faces[f].brush, false);
-    for (const LiquidCsg::Other& o : csg.others(f)) entry(o.brush, o.sameKind);
+    const std::span<const LiquidCsg::Other> others = csg.others(f);
+    table.push_back(uint32_t(others.size() + 1));
+    const auto range = [&](uint32_t brush) {
+      table.push_back(scene.brushes[brush].firstFace);
+      table.push_back(scene.brushes[brush].faceCount);
+    };
+    range(scene.faces[f].brush);
+    for (const LiquidCsg::Other& o : others) range(o.brush);
+    for (const LiquidCsg::Other& o : others) {
+      const LiquidCsg::Against a = LiquidCsg::against(scene, f, o.brush);
+      if (a.never) continue;
+      table.push_back(uint32_t(a.sides.size()) << 2 | (a.touching ? 2u : 0u) | (o.sameKind ? 1u : 0u));
+      table.insert(table.end(), a.sides.begin(), a.sides.end());
+    }
   }
   table[faces] = uint32_t(table.size());
   return table;
