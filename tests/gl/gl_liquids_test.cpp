@@ -180,6 +180,48 @@ TEST(GlLiquids, OverlappingLiquidsAovsAreTheCpusEveryPixel) {
   }
 }
 
+// An exact tie on an edge: camera rays through the top edge of the second water brush of
+// csg_water.map, where its side inside the first brush (a face qbsp removes) meets its top. The
+// tracers give a tie to the later face of the brush, so with the top moved before that side
+// the tie goes to the removed side, and the face qbsp keeps at that point is drawn in its place
+// (LiquidCsg::keptFaceAt): the later of the two coplanar tops, this brush's. The default views of
+// the liquid maps never meet such a tie, so without this view the GL tracer's edge search
+// (visible.glsl csgKeptCandidate) would go untested.
+TEST(GlLiquids, AnEdgeTieOnARemovedFaceDrawsTheFaceQbspKeeps) {
+  CsgLevel level;
+  level.scene = importScene((test::mapsDir() / "liquids" / "csg_water.map").string(), ImportOptions{});
+  const auto find = [&](glm::dvec3 normal, double dist) {
+    for (uint32_t f = 0; f < level.scene.faces.size(); ++f) {
+      const Face& face = level.scene.faces[f];
+      if (face.texture == "*water_blue" && glm::length(face.plane.normal - normal) < 1e-9 && std::abs(face.plane.dist - dist) < 1e-9)
+        return f;
+    }
+    ADD_FAILURE() << "no such water face";
+    return uint32_t(0);
+  };
+  const uint32_t side = find({-1, 0, 0}, -32), top = [&] {
+    for (uint32_t f = level.scene.brushes[level.scene.faces[side].brush].firstFace;; ++f)
+      if (level.scene.faces[f].plane.normal.z > 0.5) return f;
+  }();
+  ASSERT_LT(side, top);
+  std::swap(level.scene.faces[side], level.scene.faces[top]); // the top now comes first
+  Diagnostics diagnostics;
+  level.render = buildRenderScene(level.scene, {}, diagnostics);
+  CameraPose pose; // 45 degrees down along +x: the centre ray meets the edge at (32, 0, -8)
+  pose.origin = glm::vec3(16, 0, 8);
+  pose.pitch = 45.0f;
+  constexpr int kSize = 33; // an odd size, so that a pixel's ray is the camera's axis
+  const RenderImage cpu = renderAovsCpu(level.render, Camera(pose, kSize, kSize), kSize, kSize, 2);
+  const size_t centre = kSize / 2 * kSize + kSize / 2;
+  ASSERT_EQ(cpu.face[centre], side + 1) << "the CPU draws the kept top (now at the side's index) at the edge";
+  GlTracer tracer(test::sharedGlContext(), level.scene, level.render.tracer, test::textureModeUnderTest(), lightingFor(level.render));
+  const AovImages gpu = tracer.renderAovs(cameraFrom(pose, kSize, kSize), kSize, kSize);
+  for (size_t i = 0; i < cpu.face.size(); ++i) {
+    EXPECT_EQ(gpu.face[i], cpu.face[i]) << "face at pixel " << i;
+    EXPECT_EQ(gpu.normal[i], cpu.normal[i]) << "normal at pixel " << i;
+  }
+}
+
 // The beauty of both lighting modes in both forms of the path tracer, one sample a pixel (the
 // same rays and random numbers as the CPU's): within 1 % of the CPU's at 99 % of the pixels (the
 // parity tests' tolerance for float differences in the lighting) and at every pixel on a liquid.
