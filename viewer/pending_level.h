@@ -20,11 +20,13 @@ struct PendingLevel {
   // Where the level's missing textures would be: a texture that appears there reloads it. Found
   // on the worker too (the loose folders are indexed again).
   std::shared_ptr<std::vector<std::string>> missingFiles = std::make_shared<std::vector<std::string>>();
+  std::array<float, 256> styleScale; // what its lights are scaled by
   std::unique_ptr<gl::LevelPreparation> preparation;
 
   // `styleScale`: the light-style sliders' values (LightOptions::styleScale).
   PendingLevel(const ViewerOptions& options, const std::array<float, 256>& styleScale)
-      : preparation(gl::prepareGlLevel(
+      : styleScale(styleScale),
+        preparation(gl::prepareGlLevel(
             *level,
             [map = options.map, import = options.import, missing = missingFiles](const gl::EntitiesRead& entitiesRead) {
               Scene scene = importScene(map, import, entitiesRead);

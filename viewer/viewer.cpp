@@ -29,8 +29,8 @@ Viewer::Impl::Impl(ViewerOptions o)
   if (options.camera) placeCamera(*options.camera);
   // A level that does not load opens the window with the error; the next good save loads it.
   try {
-    PendingLevel first(options, styleScale);
-    installLevel(finishLoading(first), *first.missingFiles);
+    const std::unique_ptr<PendingLevel> first = startImport();
+    installLevel(finishLoading(*first), *first->missingFiles);
   } catch (const gl::GlError&) {
     throw; // no window worth keeping
   } catch (const std::exception& e) {
@@ -85,7 +85,13 @@ std::unique_ptr<gl::GlLevel> Viewer::Impl::finishLoading(PendingLevel& loading) 
     loading.preparation->wait();
   else
     gl::loadGlLevel(*loading.level, *loading.preparation, window.context(), programs, lighting == LightingMode::Physical);
+  levelStyleScale = loading.styleScale;
   return std::move(loading.level);
+}
+
+std::unique_ptr<PendingLevel> Viewer::Impl::startImport() {
+  ++imports;
+  return std::make_unique<PendingLevel>(options, styleScale);
 }
 
 void Viewer::Impl::placeCamera(const CameraPose& pose) {
@@ -100,6 +106,7 @@ void Viewer::Impl::installLevel(std::unique_ptr<gl::GlLevel> next, const std::ve
   }
   cpuBake.reset();
   bake.reset();
+  styled = {};
   level = std::move(next);
   markers.setLevel(level->render);
   startBake();
@@ -118,19 +125,28 @@ void Viewer::Impl::installLevel(std::unique_ptr<gl::GlLevel> next, const std::ve
 void Viewer::Impl::startBake() {
   // A CPU bake still running is this level's: its luxels are taken when it is done. (The
   // compiled view replaces only render.lightmaps, which the bake does not read.)
-  if (cpu && cpuBake && !cpuBake->done()) return;
+  if (cpuBake && !cpuBake->done()) return;
   cpuBake.reset();
   bake.reset();
+  styled = {};
   if (!options.luxels) return;
-  if (cpu)
-    cpuBake = std::make_unique<CpuLuxelBake>(level->render, options.bake);
+  ++bakes;
+  // A level with styled lights bakes one luxel set per style on the CPU for either window (the
+  // GPU's bake.comp keeps one); one without keeps the GL window's bake on the GPU, unchanged.
+  const bool styledLevel = !lightStylesOf(level->render).empty();
+  if (cpu || styledLevel)
+    cpuBake = std::make_unique<CpuLuxelBake>(level->render, options.bake, styledLevel);
   else
     bake = std::make_unique<gl::ProgressiveLevelBake>(level->render, options.bake);
 }
 
 void Viewer::Impl::bakeSome() {
   std::erase_if(retiredBakes, [](const std::unique_ptr<CpuLuxelBake>& b) { return b->ready(); });
-  if (cpuBake && lighting == LightingMode::Faithful && !compiled && !difference && cpuBake->takeInto(level->render)) restart();
+  if (cpuBake && lighting == LightingMode::Faithful && !compiled && !difference &&
+      cpuBake->takeInto(level->render, styleWeights(), &styled)) {
+    if (!cpu) level->tracer->setLightmaps(packLightmaps(level->render.lightmaps));
+    restart();
+  }
   if (!level || !bake || bake->done() || lighting != LightingMode::Faithful || compiled || difference || full->samples() == 0) return;
   if (bake->step(*level->tracer, kBakeMillisecondsPerFrame)) restart();
 }
@@ -207,7 +223,7 @@ void Viewer::Impl::watchLevelFiles(const std::vector<std::string>& missingFiles)
 void Viewer::Impl::reloadIfSaved() {
   if (!pending) {
     // A slider moved: the level again with its lights scaled, baked again (view_modes.h).
-    if (watcher.takeChange() || restyle) pending = std::make_unique<PendingLevel>(options, styleScale), restyle = false;
+    if (watcher.takeChange() || restyle) pending = startImport(), restyle = false;
     return;
   }
   if (!pending->preparation->ready()) return;
@@ -281,6 +297,12 @@ const std::string& Viewer::cpuReason() const {
 int Viewer::reloads() const {
   return impl_->reloads;
 }
+int Viewer::imports() const {
+  return impl_->imports;
+}
+int Viewer::bakes() const {
+  return impl_->bakes;
+}
 bool Viewer::luxelsBaked() const {
   return (!impl_->bake || impl_->bake->done()) && (!impl_->cpuBake || impl_->cpuBake->done());
 }
@@ -319,7 +341,26 @@ std::vector<int> Viewer::Impl::lightStyles() const {
 void Viewer::Impl::setStyleScale(int style, float scale) {
   if (style <= 0 || style > 255 || styleScale[size_t(style)] == scale) return;
   styleScale[size_t(style)] = std::clamp(scale, 0.0f, 2.0f);
-  restyle = true;
+  // Faithful luxels baked (or baking) per style take the new weight as they are: no import, no bake.
+  const bool live =
+      level && cpuBake && lighting == LightingMode::Faithful && !compiled && !difference && levelStyleScale[size_t(style)] > 0.0f;
+  if (!live) {
+    restyle = true;
+    return;
+  }
+  if (!styled.styles.empty()) sumStyledLuxels(); // else the bake's sum takes the weights when it is done
+}
+
+std::array<float, 256> Viewer::Impl::styleWeights() const {
+  std::array<float, 256> weights{};
+  for (size_t s = 0; s < weights.size(); ++s) weights[s] = levelStyleScale[s] > 0.0f ? styleScale[s] / levelStyleScale[s] : 0.0f;
+  return weights;
+}
+
+void Viewer::Impl::sumStyledLuxels() {
+  level->render.lightmaps.luxels = sumStyles(styled, styleWeights());
+  if (!cpu) level->tracer->setLightmaps(packLightmaps(level->render.lightmaps));
+  restart();
 }
 
 std::vector<int> Viewer::lightStyles() const {

@@ -72,7 +72,10 @@ public:
   void setDenoise(bool on); // key N
   // The light-style sliders of the overlay: the styles the level's lights use (styled lights 1-31,
   // switchable lights 32 on; start-off lights are not drawn and have none), and each one's scale
-  // of its lights' contribution, 0 (off) to 2, 1 by default as faithful mode shows it. Setting one
+  // of its lights' contribution, 0 (off) to 2, 1 by default as faithful mode shows it. In
+  // faithful mode a level's luxels are baked one set per style and a slider re-sums them, as the
+  // engine weighs each style's lightmap (no import, no bake: lightmap_bake.h sumStyles); in
+  // physical mode, the compiled view, or for a style whose lights were loaded at 0, setting one
   // reloads the level with its lights scaled (the luxels bake again).
   std::vector<int> lightStyles() const;
   void setStyleScale(int style, float scale);
@@ -96,6 +99,8 @@ public:
 
   int samples() const;              // accumulated samples per pixel of the current view
   int reloads() const;              // successful reloads since the window opened
+  int imports() const;              // imports started, the first one's included
+  int bakes() const;                // faithful luxel bakes started, on either tracer
   const PickedFace& picked() const; // the face a left click picked (the overlay's panel shows it)
   bool reloading() const;           // a save's import is running on its worker thread
   bool luxelsBaked() const;         // faithful mode's bake of the current level is done (true without one)

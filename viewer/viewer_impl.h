@@ -80,13 +80,15 @@ struct Viewer::Impl {
   RenderImage previewAovs;        // of the half-size preview, while the camera moves
   bool denoise = options.denoise; // key N
   // The light-style sliders: each style's scale (1: as faithful mode shows it), and a reload of
-  // the level with them wanted (set when one is let go).
-  std::array<float, 256> styleScale = [] {
-    std::array<float, 256> all;
-    all.fill(1.0f);
-    return all;
-  }();
+  // the level with them wanted (physical mode, the compiled view: setStyleScale).
+  std::array<float, 256> styleScale = CpuLuxelBake::kUnitStyleWeights;
   bool restyle = false;
+  // What the level's lights were scaled by when it loaded (the sliders of its import), and its
+  // faithful luxels one set per style once baked (empty for a level whose lights are all style 0):
+  // faithful mode shows their sum weighted by styleScale / levelStyleScale (styleWeights).
+  std::array<float, 256> levelStyleScale = CpuLuxelBake::kUnitStyleWeights;
+  StyledLuxels styled;
+  int imports = 0, bakes = 0;
   std::unique_ptr<gl::GlTexture2D> display; // RGBA8, what is on screen (scaled to the window)
 
   std::string error;    // why the level on screen is not the files' (or why none is)
@@ -203,6 +205,10 @@ struct Viewer::Impl {
   void showImage(const RenderImage& image);
   std::vector<int> lightStyles() const; // the styles of the level's lights, 0 left out
   void setStyleScale(int style, float scale);
+  std::array<float, 256> styleWeights() const;
+  // Faithful mode's luxels again from the styled sets at the sliders' weights, into both tracers.
+  void sumStyledLuxels();
+  std::unique_ptr<PendingLevel> startImport();
 
   // Physical mode is exposed as `render` exposes it (renderer/exposure.h), from a read-back of
   // the image a few times a second, smoothed so the picture does not pump.
