@@ -20,20 +20,18 @@ struct PendingLevel {
   // Where the level's missing textures would be: a texture that appears there reloads it. Found
   // on the worker too (the loose folders are indexed again).
   std::shared_ptr<std::vector<std::string>> missingFiles = std::make_shared<std::vector<std::string>>();
-  std::array<float, 256> styleScale; // what its lights are scaled by
   std::unique_ptr<gl::LevelPreparation> preparation;
 
-  // `styleScale`: the light-style sliders' values (LightOptions::styleScale).
-  PendingLevel(const ViewerOptions& options, const std::array<float, 256>& styleScale)
-      : styleScale(styleScale),
-        preparation(gl::prepareGlLevel(
+  // Its lights as the map gives them: the light-style sliders scale them once it is shown.
+  explicit PendingLevel(const ViewerOptions& options)
+      : preparation(gl::prepareGlLevel(
             *level,
             [map = options.map, import = options.import, missing = missingFiles](const gl::EntitiesRead& entitiesRead) {
               Scene scene = importScene(map, import, entitiesRead);
               *missing = missingTextureFiles(scene, import.textures);
               return scene;
             },
-            RenderSceneOptions{.lights = LightOptions{.styleScale = styleScale}})) {}
+            RenderSceneOptions{})) {}
 };
 
 // What to watch when a level never loaded: the file named (an archive's for ARCHIVE:maps/x.bsp).

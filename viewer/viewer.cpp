@@ -85,13 +85,12 @@ std::unique_ptr<gl::GlLevel> Viewer::Impl::finishLoading(PendingLevel& loading) 
     loading.preparation->wait();
   else
     gl::loadGlLevel(*loading.level, *loading.preparation, window.context(), programs, lighting == LightingMode::Physical);
-  levelStyleScale = loading.styleScale;
   return std::move(loading.level);
 }
 
 std::unique_ptr<PendingLevel> Viewer::Impl::startImport() {
   ++imports;
-  return std::make_unique<PendingLevel>(options, styleScale);
+  return std::make_unique<PendingLevel>(options);
 }
 
 void Viewer::Impl::placeCamera(const CameraPose& pose) {
@@ -108,6 +107,9 @@ void Viewer::Impl::installLevel(std::unique_ptr<gl::GlLevel> next, const std::ve
   bake.reset();
   styled = {};
   level = std::move(next);
+  baseColors.clear();
+  for (const GpuLight& light : level->render.lights) baseColors.push_back(light.color);
+  lightScale = CpuLuxelBake::kUnitStyleWeights;
   markers.setLevel(level->render);
   startBake();
   error.clear();
@@ -134,6 +136,7 @@ void Viewer::Impl::startBake() {
   // A level with styled lights bakes one luxel set per style on the CPU for either window (the
   // GPU's bake.comp keeps one); one without keeps the GL window's bake on the GPU, unchanged.
   const bool styledLevel = !lightStylesOf(level->render).empty();
+  if (styledLevel) scaleLights(CpuLuxelBake::kUnitStyleWeights); // the sets are of the lights as loaded
   if (cpu || styledLevel)
     cpuBake = std::make_unique<CpuLuxelBake>(level->render, options.bake, styledLevel);
   else
@@ -142,8 +145,7 @@ void Viewer::Impl::startBake() {
 
 void Viewer::Impl::bakeSome() {
   std::erase_if(retiredBakes, [](const std::unique_ptr<CpuLuxelBake>& b) { return b->ready(); });
-  if (cpuBake && lighting == LightingMode::Faithful && !compiled && !difference &&
-      cpuBake->takeInto(level->render, styleWeights(), &styled)) {
+  if (cpuBake && lighting == LightingMode::Faithful && !compiled && !difference && cpuBake->takeInto(level->render, styleScale, &styled)) {
     if (!cpu) level->tracer->setLightmaps(packLightmaps(level->render.lightmaps));
     restart();
   }
@@ -223,7 +225,7 @@ void Viewer::Impl::watchLevelFiles(const std::vector<std::string>& missingFiles)
 void Viewer::Impl::reloadIfSaved() {
   if (!pending) {
     // A slider moved: the level again with its lights scaled, baked again (view_modes.h).
-    if (watcher.takeChange() || restyle) pending = startImport(), restyle = false;
+    if (watcher.takeChange()) pending = startImport();
     return;
   }
   if (!pending->preparation->ready()) return;
@@ -253,6 +255,7 @@ bool Viewer::Impl::frame() {
   moving = camera.update(input.flyInput(!ImGui::GetIO().WantCaptureKeyboard, !ImGui::GetIO().WantCaptureMouse), dt);
   if (moving) restart();
   reloadIfSaved();
+  followStyleSliders();
   renderSample();
   drawWindow();
   glfwSwapBuffers(window.handle());
@@ -341,26 +344,34 @@ std::vector<int> Viewer::Impl::lightStyles() const {
 void Viewer::Impl::setStyleScale(int style, float scale) {
   if (style <= 0 || style > 255 || styleScale[size_t(style)] == scale) return;
   styleScale[size_t(style)] = std::clamp(scale, 0.0f, 2.0f);
-  // Faithful luxels baked (or baking) per style take the new weight as they are: no import, no bake.
-  const bool live =
-      level && cpuBake && lighting == LightingMode::Faithful && !compiled && !difference && levelStyleScale[size_t(style)] > 0.0f;
-  if (!live) {
-    restyle = true;
-    return;
-  }
-  if (!styled.styles.empty()) sumStyledLuxels(); // else the bake's sum takes the weights when it is done
-}
-
-std::array<float, 256> Viewer::Impl::styleWeights() const {
-  std::array<float, 256> weights{};
-  for (size_t s = 0; s < weights.size(); ++s) weights[s] = levelStyleScale[s] > 0.0f ? styleScale[s] / levelStyleScale[s] : 0.0f;
-  return weights;
+  // No import, no bake: the luxels re-summed now (else the bake's sum takes the weights when it
+  // is done), the lights scaled at the next frame.
+  if (level && !styled.styles.empty() && !compiled && !difference) sumStyledLuxels();
+  followStyleSliders();
 }
 
 void Viewer::Impl::sumStyledLuxels() {
-  level->render.lightmaps.luxels = sumStyles(styled, styleWeights());
+  level->render.lightmaps.luxels = sumStyles(styled, styleScale);
   if (!cpu) level->tracer->setLightmaps(packLightmaps(level->render.lightmaps));
   restart();
+}
+
+void Viewer::Impl::scaleLights(const std::array<float, 256>& scale) {
+  if (scale == lightScale) return;
+  RenderScene& rs = level->render;
+  // Sliders of styles this level has no light of change nothing (and touch no light a bake reads).
+  const bool changes = std::any_of(rs.lights.begin(), rs.lights.end(),
+                                   [&](const GpuLight& light) { return scale[lightStyle(light)] != lightScale[lightStyle(light)]; });
+  lightScale = scale;
+  if (!changes) return;
+  for (size_t i = 0; i < rs.lights.size(); ++i) rs.lights[i].color = baseColors[i] * scale[lightStyle(rs.lights[i])];
+  rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
+  if (!cpu) level->tracer->setLights(rs.lights, rs.lightGrid, rs.world.scaledist);
+  restart();
+}
+
+void Viewer::Impl::followStyleSliders() {
+  if (level && !(cpuBake && !cpuBake->ready())) scaleLights(styleScale);
 }
 
 std::vector<int> Viewer::lightStyles() const {
@@ -368,6 +379,9 @@ std::vector<int> Viewer::lightStyles() const {
 }
 void Viewer::setStyleScale(int style, float scale) {
   impl_->setStyleScale(style, scale);
+}
+bool Viewer::stylesApplied() const {
+  return impl_->lightScale == impl_->styleScale;
 }
 float Viewer::styleScale(int style) const {
   return impl_->styleScale[size_t(std::clamp(style, 0, 255))];

@@ -79,14 +79,14 @@ struct Viewer::Impl {
   bool aovsCurrent = false;
   RenderImage previewAovs;        // of the half-size preview, while the camera moves
   bool denoise = options.denoise; // key N
-  // The light-style sliders: each style's scale (1: as faithful mode shows it), and a reload of
-  // the level with them wanted (physical mode, the compiled view: setStyleScale).
+  // The light-style sliders: each style's scale (1: as faithful mode shows it). A level loads with
+  // its lights as the map gives them (baseColors); faithful mode's luxels of a styled level are
+  // baked from those, one set per style, and shown summed with styleScale as weights; the lights
+  // themselves (physical mode, the view at each pixel's point) carry lightScale, brought to
+  // styleScale between frames whenever no CPU bake is reading them (followStyleSliders).
   std::array<float, 256> styleScale = CpuLuxelBake::kUnitStyleWeights;
-  bool restyle = false;
-  // What the level's lights were scaled by when it loaded (the sliders of its import), and its
-  // faithful luxels one set per style once baked (empty for a level whose lights are all style 0):
-  // faithful mode shows their sum weighted by styleScale / levelStyleScale (styleWeights).
-  std::array<float, 256> levelStyleScale = CpuLuxelBake::kUnitStyleWeights;
+  std::array<float, 256> lightScale = CpuLuxelBake::kUnitStyleWeights;
+  std::vector<glm::vec3> baseColors; // per level->render.lights
   StyledLuxels styled;
   int imports = 0, bakes = 0;
   std::unique_ptr<gl::GlTexture2D> display; // RGBA8, what is on screen (scaled to the window)
@@ -205,9 +205,12 @@ struct Viewer::Impl {
   void showImage(const RenderImage& image);
   std::vector<int> lightStyles() const; // the styles of the level's lights, 0 left out
   void setStyleScale(int style, float scale);
-  std::array<float, 256> styleWeights() const;
   // Faithful mode's luxels again from the styled sets at the sliders' weights, into both tracers.
   void sumStyledLuxels();
+  // The level's lights at `scale` of their colours as loaded, with their grid (physical mode's
+  // light tree weighs their power), into both tracers; the image restarts.
+  void scaleLights(const std::array<float, 256>& scale);
+  void followStyleSliders();
   std::unique_ptr<PendingLevel> startImport();
 
   // Physical mode is exposed as `render` exposes it (renderer/exposure.h), from a read-back of

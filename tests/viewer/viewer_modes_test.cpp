@@ -349,6 +349,29 @@ TEST_P(ViewerStyleSlidersTest, SlidersReSumTheLuxelsWithoutAReload) {
   EXPECT_GT(worstBetween(render(viewer, o, backend), expected), 20) << "the sliders change nothing: the test cannot tell";
 }
 
+// Physical mode (the CPU window, whose exposure stays at 0): a slider scales its style's lights'
+// emission in place (their colours and the light grid that weighs them): the image, every pixel,
+// is render's of the level with that style scaled, with no import and no bake.
+TEST_F(ViewerModesTest, APhysicalStyleSliderScalesItsLightsWithoutAReload) {
+  save(roomMap(300) + styledLight(5, "64 64 -96", 250) + styledLight(0, "-64 -64 -96", 200));
+  ViewerOptions o = optionsFor(ViewerBackend::Cpu, 2);
+  o.lighting = LightingMode::Physical;
+  o.lightingGiven = true;
+  Viewer viewer(o);
+  viewer.setDenoise(false);
+  settled(viewer, 2);
+  viewer.setStyleScale(5, 0.5f);
+  viewer.setStyleScale(32, 0.0f);
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.stylesApplied() && viewer.samples() >= 2; })) << "the lights never took the sliders";
+  const Viewer::DisplayImage shown = settled(viewer, 2);
+  EXPECT_EQ(viewer.imports(), 1) << "the slider imported the level again";
+  EXPECT_EQ(viewer.bakes(), 1) << "the slider baked the luxels again";
+  const std::string flags = fmt::format("--backend cpu --lighting physical --bounces {} --exposure 0 --spp 2", o.bounces);
+  const Viewer::DisplayImage expected = render(viewer, o, flags + " --style 5=0.5 --style 32=0");
+  EXPECT_EQ(worstBetween(shown, expected), 0) << "the sliders' physical image is not the level's with its styles scaled";
+  EXPECT_GT(worstBetween(render(viewer, o, flags), expected), 20) << "the sliders change nothing: the test cannot tell";
+}
+
 INSTANTIATE_TEST_SUITE_P(Windows, ViewerStyleSlidersTest, ::testing::Values(ViewerBackend::Cpu, ViewerBackend::Gl),
                          [](const auto& info) { return std::string(info.param == ViewerBackend::Cpu ? "Cpu" : "Gl"); });
 
