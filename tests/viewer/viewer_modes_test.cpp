@@ -372,6 +372,26 @@ TEST_F(ViewerModesTest, APhysicalStyleSliderScalesItsLightsWithoutAReload) {
   EXPECT_GT(worstBetween(render(viewer, o, flags), expected), 20) << "the sliders change nothing: the test cannot tell";
 }
 
+// Faithful light at each pixel's point (--luxels off): the sliders scale the lights each window's
+// tracer reads (the GL window's through GlTracer::setLights): every pixel as render's of the level
+// with those styles scaled, with no import.
+TEST_P(ViewerStyleSlidersTest, SlidersScaleTheLightsOfThePerPixelView) {
+  save(roomMap(300) + styledLight(5, "64 64 -96", 250) + styledLight(0, "-64 -64 -96", 200));
+  ViewerOptions o = optionsFor(GetParam(), 2);
+  o.luxels = false;
+  Viewer viewer(o);
+  settled(viewer, 2);
+  viewer.setStyleScale(5, 0.5f);
+  viewer.setStyleScale(32, 1.5f);
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.stylesApplied() && viewer.samples() >= 2; })) << "the lights never took the sliders";
+  const Viewer::DisplayImage shown = settled(viewer, 2);
+  EXPECT_EQ(viewer.imports(), 1) << "the slider imported the level again";
+  const std::string flags = GetParam() == ViewerBackend::Cpu ? "--backend cpu --luxels off --spp 2" : "--backend gl --luxels off --spp 2";
+  const Viewer::DisplayImage expected = render(viewer, o, flags + " --style 5=0.5 --style 32=1.5");
+  EXPECT_LE(worstBetween(shown, expected), 1) << "the sliders' image is not the level's with its styles scaled";
+  EXPECT_GT(worstBetween(render(viewer, o, flags), expected), 20) << "the sliders change nothing: the test cannot tell";
+}
+
 INSTANTIATE_TEST_SUITE_P(Windows, ViewerStyleSlidersTest, ::testing::Values(ViewerBackend::Cpu, ViewerBackend::Gl),
                          [](const auto& info) { return std::string(info.param == ViewerBackend::Cpu ? "Cpu" : "Gl"); });
 
