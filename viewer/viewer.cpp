@@ -224,7 +224,7 @@ void Viewer::Impl::watchLevelFiles(const std::vector<std::string>& missingFiles)
 
 void Viewer::Impl::reloadIfSaved() {
   if (!pending) {
-    // A slider moved: the level again with its lights scaled, baked again (view_modes.h).
+    // A save: the level again, on the worker thread.
     if (watcher.takeChange()) pending = startImport();
     return;
   }
