@@ -34,6 +34,16 @@ namespace bt::app {
 
 namespace {
 
+// "N=SCALE" of --style: a style 1-255 and a scale 0-2, the viewer's slider range.
+std::optional<std::pair<int, float>> parseStyleScale(const std::string& value) {
+  int style = 0;
+  float scale = 0.0f;
+  char end = 0;
+  if (std::sscanf(value.c_str(), "%d=%f%c", &style, &scale, &end) != 2) return std::nullopt;
+  if (style < 1 || style > 255 || !(scale >= 0.0f && scale <= 2.0f)) return std::nullopt;
+  return std::pair{style, scale};
+}
+
 // Quake 3 curves and triangle soups drawn, as `info` counts them, and entity models where any.
 std::string meshLine(const Scene& scene) {
   size_t curves = 0, curveTriangles = 0, soups = 0, soupTriangles = 0, models = 0, modelTriangles = 0;
@@ -259,6 +269,10 @@ int runRender(const RenderOptions& o, RenderOutcome* outcome) {
   const bool physical = o.lighting == "physical";
   RenderSceneOptions sceneOptions;
   sceneOptions.showHidden = o.showHidden;
+  for (const std::string& style : o.styles) {
+    const auto [n, scale] = *parseStyleScale(style); // checked by the option's validator
+    sceneOptions.lights.styleScale[size_t(n)] = scale;
+  }
   sceneOptions.bounceLights = !physical && o.aov == "beauty"; // faithful _bounce only
   Scene scene;
   RenderScene renderScene;
@@ -363,6 +377,10 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
                   "Faithful lighting: on = the compiler's luxels filtered as the engine shows them, off = the light at each pixel")
       ->check(CLI::IsMember({"on", "off"}))
       ->capture_default_str();
+  cmd->add_option("--style", options->styles, "Light style N's lights times SCALE, as the viewer's sliders (N=SCALE, repeatable)")
+      ->check(CLI::Validator(
+          [](std::string& value) { return parseStyleScale(value) ? std::string() : "expected N=SCALE, N 1-255, SCALE 0-2: " + value; },
+          "N=SCALE"));
   cmd->add_option("--extra", options->extra, "Faithful luxels: sample points per luxel along each axis (light -extra: 1, 2 or 4)")
       ->check(CLI::IsMember({1, 2, 4}))
       ->capture_default_str();

@@ -7,6 +7,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace bt::app {
 
@@ -35,6 +36,9 @@ struct RenderOptions {
   bool showHidden = false;
   std::string luxels = "on";
   int extra = 1;
+  // --style N=SCALE: the lights of style N (1-255) times SCALE, as the viewer's style sliders show
+  // them (LightOptions::styleScale); the luxels bake with them.
+  std::vector<std::string> styles;
   ImportOptions import;
 };
 

@@ -374,12 +374,14 @@ int luxelPasses(const RenderScene& rs, int softSamples) {
 }
 
 void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, bool twoSided, int pass, int softSamples, Rng& rng,
-                       LuxelSums& sums, uint32_t channels, ShadowCache* cache) {
+                       LuxelSums& sums, uint32_t channels, ShadowCache* cache, int style) {
+  const auto otherStyle = [&](const GpuLight& light) { return style != kAllStyles && int(lightStyle(light)) != style; };
   const auto index = [&](const GpuLight& light) { return size_t(&light - rs.lights.data()); };
   const Receiver r{p, n, twoSided, channels};
   // Dirt rays start at the compiler's sample point, which p already is.
   if (pass == 0) sums.occlusion = faithfulOcclusion(rs, p - n * faithful::kDirtSampleLift, n, rng);
   const auto each = [&](const GpuLight& light) {
+    if (otherStyle(light)) return;
     if (light.type == uint32_t(LightType::Dome)) {
       if (pass < int(skyDome().size())) sums.dome += domeSunLight(rs, light, r, skyDome()[size_t(pass)], sums.occlusion);
     } else if (softLight(light)) {
@@ -393,6 +395,7 @@ void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec
   if (pass == 0 && cache && cache->grouped) {
     for (uint32_t e : cache->groupLights) {
       const uint32_t i = e & ~kSeenByAll;
+      if (otherStyle(rs.lights[i])) continue;
       if (e & kSeenByAll)
         addFaithfulLight(rs, rs.lights[i], r, sums.occlusion, rng, faithful::subtractedLight(rs.lights[i]) ? sums.negative : sums.fixed,
                          sums.localMin, cache, i, true);
@@ -404,12 +407,14 @@ void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec
   }
 }
 
-glm::vec3 faithfulLuxelLight(const RenderScene& rs, const LuxelSums& sums, int passes, int softSamples, const glm::vec3& faceMinlight) {
+glm::vec3 faithfulLuxelLight(const RenderScene& rs, const LuxelSums& sums, int passes, int softSamples, const glm::vec3& faceMinlight,
+                             bool floors) {
   const int domePasses = std::min(passes, int(skyDome().size()));
   const int softPasses = std::min(passes, softSamples);
   glm::vec3 sum = sums.fixed;
   if (domePasses > 0) sum += sums.dome / float(domePasses);
   if (softPasses > 0) sum += sums.soft / float(softPasses);
+  if (!floors) return glm::max(glm::max(sum, sums.localMin) + sums.negative, glm::vec3(0.0f));
   return applyFloors(rs, sum, sums.localMin, faceMinlight, sums.occlusion, sums.negative);
 }
 

@@ -155,11 +155,16 @@ struct LuxelSums {
 // How many passes a level's luxels take: 1, the dome's directions, or `softSamples`.
 int luxelPasses(const RenderScene& rs, int softSamples);
 
-// `channels`: the receiving face's objectChannels.
+// `channels`: the receiving face's objectChannels. `style`: only the lights of that light style
+// (lightStyle), as the compiler lights each style's lightmap of a face apart; kAllStyles: every light.
+inline constexpr int kAllStyles = -1;
 void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, bool twoSided, int pass, int softSamples, Rng& rng,
-                       LuxelSums& sums, uint32_t channels = kDefaultChannels, ShadowCache* cache = nullptr);
-// The light after `passes` passes.
-glm::vec3 faithfulLuxelLight(const RenderScene& rs, const LuxelSums& sums, int passes, int softSamples, const glm::vec3& faceMinlight);
+                       LuxelSums& sums, uint32_t channels = kDefaultChannels, ShadowCache* cache = nullptr, int style = kAllStyles);
+// The light after `passes` passes. With `floors` off (a lightmap of a style other than 0: the
+// compiler puts minlight, a face's template minlight and `_ambient` into style 0's alone), the sum
+// with its negative lights taken off, at least 0.
+glm::vec3 faithfulLuxelLight(const RenderScene& rs, const LuxelSums& sums, int passes, int softSamples, const glm::vec3& faceMinlight,
+                             bool floors = true);
 // What an occluded luxel (its sample point in solid, or too far off its face) stores: the floors.
 glm::vec3 faithfulLuxelFloor(const RenderScene& rs, const glm::vec3& faceMinlight);
 

@@ -339,15 +339,17 @@ LuxelBakeJob luxelBakeJob(const RenderScene& rs, const Lightmaps& lm, const Ligh
 
 namespace {
 
-// One luxel's stored value: the mean light of its sample points.
-uint32_t bakeLuxel(const RenderScene& rs, const LuxelBakeJob& job, size_t luxel, ShadowCache* cache) {
+// One luxel's mean light over its sample points (before the store), of the lights of `style`
+// (kAllStyles: every light); the floors only in style 0's and in all styles'.
+glm::vec3 luxelLight(const RenderScene& rs, const LuxelBakeJob& job, size_t luxel, ShadowCache* cache, int style) {
+  const bool floors = style == kAllStyles || style == 0;
   glm::vec3 light(0.0f);
   for (uint32_t k = 0; k < job.samplesPerLuxel; ++k) {
     const uint32_t index = uint32_t(luxel) * job.samplesPerLuxel + k;
     const GpuLuxelSample& s = job.samples[index];
     const glm::vec3 faceMinlight(s.faceMinlight[0], s.faceMinlight[1], s.faceMinlight[2]);
     if (s.flags & kLuxelSampleOccluded) {
-      light += faithfulLuxelFloor(rs, faceMinlight);
+      if (floors) light += faithfulLuxelFloor(rs, faceMinlight);
       continue;
     }
     const glm::vec3 p(s.position[0], s.position[1], s.position[2]);
@@ -355,11 +357,12 @@ uint32_t bakeLuxel(const RenderScene& rs, const LuxelBakeJob& job, size_t luxel,
     LuxelSums sums;
     for (int pass = 0; pass < job.passes; ++pass) {
       Rng rng = pixelRng(index, uint32_t(pass), 0, job.seed);
-      faithfulLuxelPass(rs, p, n, s.flags & kLuxelSampleTwoSided, pass, job.softSamples, rng, sums, objectChannels(rs, s.face), cache);
+      faithfulLuxelPass(rs, p, n, s.flags & kLuxelSampleTwoSided, pass, job.softSamples, rng, sums, objectChannels(rs, s.face), cache,
+                        style);
     }
-    light += faithfulLuxelLight(rs, sums, job.passes, job.softSamples, faceMinlight);
+    light += faithfulLuxelLight(rs, sums, job.passes, job.softSamples, faceMinlight, floors);
   }
-  return storedLuxel(light / float(job.samplesPerLuxel), rs.world.range);
+  return light / float(job.samplesPerLuxel);
 }
 
 // The sample points of luxels [begin, end) that cast shadow rays from one side of one face:
@@ -394,8 +397,9 @@ std::vector<float> faceNearest(const RenderScene& rs, const LuxelBakeJob& job) {
 // thread takes which run: with a cache, groups of up to kGroup luxels of one face and one grid cell
 // share the lights hidden from or seen by all of them, and a face's light list is made when the
 // face begins.
-void bakeRun(const RenderScene& rs, const LuxelBakeJob& job, const std::vector<float>& nearest, size_t begin, size_t end,
-             ShadowCache* cache, Lightmaps& lm) {
+// `store(luxel, cache)` computes and keeps one luxel.
+template <class Store> void bakeRun(const RenderScene& rs, const LuxelBakeJob& job, const std::vector<float>& nearest, size_t begin,
+                                    size_t end, ShadowCache* cache, const Store& store) {
   constexpr size_t kGroup = 8;
   const auto faceOf = [&](size_t luxel) { return job.samples[luxel * job.samplesPerLuxel].face; };
   const auto cellOf = [&](size_t luxel) {
@@ -415,23 +419,67 @@ void bakeRun(const RenderScene& rs, const LuxelBakeJob& job, const std::vector<f
       if (faceOf(group) != cacheFace) cacheFace = faceOf(group), prepareLuxelFace(rs, n, nearest[cacheFace], *cache);
       prepareLuxelGroup(rs, shadowGroup(job, group, groupEnd), n, *cache);
     }
-    for (size_t luxel = group; luxel < groupEnd; ++luxel) lm.luxels[luxel] = bakeLuxel(rs, job, luxel, cache);
+    for (size_t luxel = group; luxel < groupEnd; ++luxel) store(luxel, cache);
   }
+}
+
+} // namespace
+
+namespace {
+
+// Every luxel of `job` through `store`, in runs on every core (the same result for any number of threads).
+template <class Store>
+void bakeLuxels(const RenderScene& rs, const LuxelBakeJob& job, size_t luxels, const LightmapBakeOptions& options, const Store& store) {
+  const std::vector<uint8_t> solid = options.shadowCache ? solidBlockers(rs) : std::vector<uint8_t>();
+  const std::vector<float> nearest = options.shadowCache ? faceNearest(rs, job) : std::vector<float>();
+  // Runs of neighbouring luxels (a face's rows) share a shadow cache.
+  constexpr size_t kRun = 256;
+  parallelFor((luxels + kRun - 1) / kRun, options.threads, [&](size_t run) {
+    std::optional<ShadowCache> cache;
+    if (options.shadowCache) cache.emplace(rs, solid);
+    bakeRun(rs, job, nearest, run * kRun, std::min(luxels, (run + 1) * kRun), cache ? &*cache : nullptr, store);
+  });
 }
 
 } // namespace
 
 void bakeLightmaps(const RenderScene& rs, Lightmaps& lm, const LightmapBakeOptions& options) {
   const LuxelBakeJob job = luxelBakeJob(rs, lm, options);
-  const std::vector<uint8_t> solid = options.shadowCache ? solidBlockers(rs) : std::vector<uint8_t>();
-  const std::vector<float> nearest = options.shadowCache ? faceNearest(rs, job) : std::vector<float>();
-  // Runs of neighbouring luxels (a face's rows) share a shadow cache.
-  constexpr size_t kRun = 256;
-  parallelFor((lm.luxels.size() + kRun - 1) / kRun, options.threads, [&](size_t run) {
-    std::optional<ShadowCache> cache;
-    if (options.shadowCache) cache.emplace(rs, solid);
-    bakeRun(rs, job, nearest, run * kRun, std::min(lm.luxels.size(), (run + 1) * kRun), cache ? &*cache : nullptr, lm);
+  bakeLuxels(rs, job, lm.luxels.size(), options, [&](size_t luxel, ShadowCache* cache) {
+    lm.luxels[luxel] = storedLuxel(luxelLight(rs, job, luxel, cache, kAllStyles), rs.world.range);
   });
+}
+
+std::vector<int> lightStylesOf(const RenderScene& rs) {
+  std::vector<int> styles;
+  for (const GpuLight& light : rs.lights)
+    if (lightStyle(light) != 0) styles.push_back(int(lightStyle(light)));
+  std::sort(styles.begin(), styles.end());
+  styles.erase(std::unique(styles.begin(), styles.end()), styles.end());
+  return styles;
+}
+
+StyledLuxels bakeStyledLuxels(const RenderScene& rs, const Lightmaps& lm, const LightmapBakeOptions& options) {
+  const LuxelBakeJob job = luxelBakeJob(rs, lm, options);
+  StyledLuxels styled;
+  styled.styles.push_back(0);
+  for (const int style : lightStylesOf(rs)) styled.styles.push_back(style);
+  for (const int style : styled.styles) {
+    std::vector<glm::vec3>& light = styled.light.emplace_back(lm.luxels.size());
+    bakeLuxels(rs, job, lm.luxels.size(), options,
+               [&](size_t luxel, ShadowCache* cache) { light[luxel] = luxelLight(rs, job, luxel, cache, style) * rs.world.range; });
+  }
+  return styled;
+}
+
+std::vector<uint32_t> sumStyles(const StyledLuxels& styled, std::span<const float, 256> weights) {
+  std::vector<uint32_t> luxels(styled.light.empty() ? 0 : styled.light[0].size());
+  for (size_t i = 0; i < luxels.size(); ++i) {
+    glm::vec3 sum(0.0f);
+    for (size_t s = 0; s < styled.styles.size(); ++s) sum += weights[size_t(styled.styles[s])] * styled.light[s][i];
+    luxels[i] = storedLuxel(sum, 1.0f);
+  }
+  return luxels;
 }
 
 } // namespace bt

@@ -65,4 +65,24 @@ LuxelBakeJob luxelBakeJob(const RenderScene& rs, const Lightmaps& lightmaps, con
 // Every luxel of `lightmaps`, as above. The same result for any number of threads.
 void bakeLightmaps(const RenderScene& rs, Lightmaps& lightmaps, const LightmapBakeOptions& options = {});
 
+// The luxels of `lightmaps` one set per light style, as the compiler keeps a lightmap per style
+// of a face and the engine sums them each frame weighted by the lightstyle's value
+// (R_BuildLightMap; compiled_lightmaps.h engineLuxel): the viewer's style sliders re-sum them
+// (sumStyles) instead of baking again. Each set holds the luxel's light before the store (light x
+// _range, in float): the floors (minlight, a face's template minlight, `_ambient`) in style 0's
+// alone, as the compiler puts them; each other style's lights alone, negative ones taken off.
+// Every set covers every luxel (no 4-style limit per face).
+struct StyledLuxels {
+  std::vector<int> styles;                   // 0, then the level's other styles, increasing
+  std::vector<std::vector<glm::vec3>> light; // per style of `styles`, per luxel
+};
+// The light styles of rs.lights other than 0, increasing.
+std::vector<int> lightStylesOf(const RenderScene& rs);
+StyledLuxels bakeStyledLuxels(const RenderScene& rs, const Lightmaps& lightmaps, const LightmapBakeOptions& options = {});
+// The luxels shown with each style's light times weights[style], stored as bakeLightmaps stores
+// one: with every weight 1 (and no floor beside a light of another style) the luxels bakeLightmaps
+// gives, with weight w for a style those of a level whose lights of that style are w times as
+// bright (LightOptions::styleScale), up to float rounding before the truncation to bytes.
+std::vector<uint32_t> sumStyles(const StyledLuxels& styled, std::span<const float, 256> weights);
+
 } // namespace bt

@@ -76,11 +76,14 @@ RenderImage CpuProgressive::mean() const {
   return image;
 }
 
-CpuLuxelBake::CpuLuxelBake(const RenderScene& scene, LightmapBakeOptions options)
-    : baking_(std::async(std::launch::async, [&scene, options] {
-        Lightmaps lightmaps = layoutFaithfulLightmaps(scene, nullptr, 0, 0, options.threads);
-        bakeLightmaps(scene, lightmaps, options);
-        return lightmaps;
+CpuLuxelBake::CpuLuxelBake(const RenderScene& scene, LightmapBakeOptions options, bool styled)
+    : baking_(std::async(std::launch::async, [&scene, options, styled] {
+        Baked baked{layoutFaithfulLightmaps(scene, nullptr, 0, 0, options.threads), {}};
+        if (styled)
+          baked.styled = bakeStyledLuxels(scene, baked.lightmaps, options);
+        else
+          bakeLightmaps(scene, baked.lightmaps, options);
+        return baked;
       })) {}
 
 CpuLuxelBake::~CpuLuxelBake() {
@@ -91,9 +94,12 @@ bool CpuLuxelBake::ready() const {
   return taken_ || baking_.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
 }
 
-bool CpuLuxelBake::takeInto(RenderScene& scene) {
+bool CpuLuxelBake::takeInto(RenderScene& scene, std::span<const float, 256> styleWeights, StyledLuxels* styled) {
   if (taken_ || !ready()) return false;
-  scene.lightmaps = baking_.get();
+  Baked baked = baking_.get();
+  scene.lightmaps = std::move(baked.lightmaps);
+  if (!baked.styled.styles.empty()) scene.lightmaps.luxels = sumStyles(baked.styled, styleWeights);
+  if (styled) *styled = std::move(baked.styled);
   taken_ = true;
   return true;
 }

@@ -12,9 +12,11 @@
 #include "renderer/camera.h"
 #include "renderer/render.h"
 
+#include <array>
 #include <chrono>
 #include <future>
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace bt {
@@ -49,21 +51,35 @@ private:
 
 // Faithful mode's luxels for the CPU window: every lit face of the level laid out and baked on a
 // worker thread (the level is read only meanwhile), taken into the RenderScene between frames.
+// `styled` (a level with lights of styles other than 0, in either window): one luxel set per
+// style (lightmap_bake.h bakeStyledLuxels), which the style sliders re-sum without a bake.
 class CpuLuxelBake {
 public:
-  CpuLuxelBake(const RenderScene& scene, LightmapBakeOptions options);
+  CpuLuxelBake(const RenderScene& scene, LightmapBakeOptions options, bool styled = false);
   ~CpuLuxelBake(); // waits for the worker
-  // Moves the baked luxels into scene.lightmaps once they are ready; true then (once).
-  bool takeInto(RenderScene& scene);
+  // Moves the baked luxels into scene.lightmaps once they are ready; true then (once). A styled
+  // bake's luxels are its sets summed with `styleWeights`, and its sets move into `styled`.
+  bool takeInto(RenderScene& scene, std::span<const float, 256> styleWeights = kUnitStyleWeights, StyledLuxels* styled = nullptr);
   bool done() const { return taken_; }
   bool ready() const; // the worker has finished
   // Keeps `level` (what the bake reads) alive until this bake is destroyed: a reload replaces a
   // level whose bake still runs without waiting for it (there is no stopping it halfway).
   void holdUntilDone(std::shared_ptr<const void> level) { level_ = std::move(level); }
 
+  // Every style at its compiled weight (1).
+  static constexpr std::array<float, 256> kUnitStyleWeights = [] {
+    std::array<float, 256> all{};
+    for (float& w : all) w = 1.0f;
+    return all;
+  }();
+
 private:
+  struct Baked {
+    Lightmaps lightmaps;
+    StyledLuxels styled; // empty unless styled
+  };
   std::shared_ptr<const void> level_; // destroyed after the destructor has waited for the worker
-  std::future<Lightmaps> baking_;
+  std::future<Baked> baking_;
   bool taken_ = false;
 };
 

@@ -22,8 +22,8 @@ struct PendingLevel {
   std::shared_ptr<std::vector<std::string>> missingFiles = std::make_shared<std::vector<std::string>>();
   std::unique_ptr<gl::LevelPreparation> preparation;
 
-  // `styleScale`: the light-style sliders' values (LightOptions::styleScale).
-  PendingLevel(const ViewerOptions& options, const std::array<float, 256>& styleScale)
+  // Its lights as the map gives them: the light-style sliders scale them once it is shown.
+  explicit PendingLevel(const ViewerOptions& options)
       : preparation(gl::prepareGlLevel(
             *level,
             [map = options.map, import = options.import, missing = missingFiles](const gl::EntitiesRead& entitiesRead) {
@@ -31,7 +31,7 @@ struct PendingLevel {
               *missing = missingTextureFiles(scene, import.textures);
               return scene;
             },
-            RenderSceneOptions{.lights = LightOptions{.styleScale = styleScale}})) {}
+            RenderSceneOptions{})) {}
 };
 
 // What to watch when a level never loaded: the file named (an archive's for ARCHIVE:maps/x.bsp).

@@ -29,8 +29,8 @@ Viewer::Impl::Impl(ViewerOptions o)
   if (options.camera) placeCamera(*options.camera);
   // A level that does not load opens the window with the error; the next good save loads it.
   try {
-    PendingLevel first(options, styleScale);
-    installLevel(finishLoading(first), *first.missingFiles);
+    const std::unique_ptr<PendingLevel> first = startImport();
+    installLevel(finishLoading(*first), *first->missingFiles);
   } catch (const gl::GlError&) {
     throw; // no window worth keeping
   } catch (const std::exception& e) {
@@ -88,6 +88,11 @@ std::unique_ptr<gl::GlLevel> Viewer::Impl::finishLoading(PendingLevel& loading) 
   return std::move(loading.level);
 }
 
+std::unique_ptr<PendingLevel> Viewer::Impl::startImport() {
+  ++imports;
+  return std::make_unique<PendingLevel>(options);
+}
+
 void Viewer::Impl::placeCamera(const CameraPose& pose) {
   camera = FlyCamera(glm::dvec3(pose.origin), pose.pitch, pose.yaw);
   cameraPlaced = true;
@@ -100,7 +105,11 @@ void Viewer::Impl::installLevel(std::unique_ptr<gl::GlLevel> next, const std::ve
   }
   cpuBake.reset();
   bake.reset();
+  styled = {};
   level = std::move(next);
+  baseColors.clear();
+  for (const GpuLight& light : level->render.lights) baseColors.push_back(light.color);
+  lightScale = CpuLuxelBake::kUnitStyleWeights;
   markers.setLevel(level->render);
   startBake();
   error.clear();
@@ -118,19 +127,28 @@ void Viewer::Impl::installLevel(std::unique_ptr<gl::GlLevel> next, const std::ve
 void Viewer::Impl::startBake() {
   // A CPU bake still running is this level's: its luxels are taken when it is done. (The
   // compiled view replaces only render.lightmaps, which the bake does not read.)
-  if (cpu && cpuBake && !cpuBake->done()) return;
+  if (cpuBake && !cpuBake->done()) return;
   cpuBake.reset();
   bake.reset();
+  styled = {};
   if (!options.luxels) return;
-  if (cpu)
-    cpuBake = std::make_unique<CpuLuxelBake>(level->render, options.bake);
+  ++bakes;
+  // A level with styled lights bakes one luxel set per style on the CPU for either window (the
+  // GPU's bake.comp keeps one); one without keeps the GL window's bake on the GPU, unchanged.
+  const bool styledLevel = !lightStylesOf(level->render).empty();
+  if (styledLevel) scaleLights(CpuLuxelBake::kUnitStyleWeights); // the sets are of the lights as loaded
+  if (cpu || styledLevel)
+    cpuBake = std::make_unique<CpuLuxelBake>(level->render, options.bake, styledLevel);
   else
     bake = std::make_unique<gl::ProgressiveLevelBake>(level->render, options.bake);
 }
 
 void Viewer::Impl::bakeSome() {
   std::erase_if(retiredBakes, [](const std::unique_ptr<CpuLuxelBake>& b) { return b->ready(); });
-  if (cpuBake && lighting == LightingMode::Faithful && !compiled && !difference && cpuBake->takeInto(level->render)) restart();
+  if (cpuBake && lighting == LightingMode::Faithful && !compiled && !difference && cpuBake->takeInto(level->render, styleScale, &styled)) {
+    if (!cpu) level->tracer->setLightmaps(packLightmaps(level->render.lightmaps));
+    restart();
+  }
   if (!level || !bake || bake->done() || lighting != LightingMode::Faithful || compiled || difference || full->samples() == 0) return;
   if (bake->step(*level->tracer, kBakeMillisecondsPerFrame)) restart();
 }
@@ -206,8 +224,8 @@ void Viewer::Impl::watchLevelFiles(const std::vector<std::string>& missingFiles)
 
 void Viewer::Impl::reloadIfSaved() {
   if (!pending) {
-    // A slider moved: the level again with its lights scaled, baked again (view_modes.h).
-    if (watcher.takeChange() || restyle) pending = std::make_unique<PendingLevel>(options, styleScale), restyle = false;
+    // A save: the level again, on the worker thread.
+    if (watcher.takeChange()) pending = startImport();
     return;
   }
   if (!pending->preparation->ready()) return;
@@ -237,6 +255,7 @@ bool Viewer::Impl::frame() {
   moving = camera.update(input.flyInput(!ImGui::GetIO().WantCaptureKeyboard, !ImGui::GetIO().WantCaptureMouse), dt);
   if (moving) restart();
   reloadIfSaved();
+  followStyleSliders();
   renderSample();
   drawWindow();
   glfwSwapBuffers(window.handle());
@@ -281,6 +300,12 @@ const std::string& Viewer::cpuReason() const {
 int Viewer::reloads() const {
   return impl_->reloads;
 }
+int Viewer::imports() const {
+  return impl_->imports;
+}
+int Viewer::bakes() const {
+  return impl_->bakes;
+}
 bool Viewer::luxelsBaked() const {
   return (!impl_->bake || impl_->bake->done()) && (!impl_->cpuBake || impl_->cpuBake->done());
 }
@@ -319,7 +344,34 @@ std::vector<int> Viewer::Impl::lightStyles() const {
 void Viewer::Impl::setStyleScale(int style, float scale) {
   if (style <= 0 || style > 255 || styleScale[size_t(style)] == scale) return;
   styleScale[size_t(style)] = std::clamp(scale, 0.0f, 2.0f);
-  restyle = true;
+  // No import, no bake: the luxels re-summed now (else the bake's sum takes the weights when it
+  // is done), the lights scaled at the next frame.
+  if (level && !styled.styles.empty() && !compiled && !difference) sumStyledLuxels();
+  followStyleSliders();
+}
+
+void Viewer::Impl::sumStyledLuxels() {
+  level->render.lightmaps.luxels = sumStyles(styled, styleScale);
+  if (!cpu) level->tracer->setLightmaps(packLightmaps(level->render.lightmaps));
+  restart();
+}
+
+void Viewer::Impl::scaleLights(const std::array<float, 256>& scale) {
+  if (scale == lightScale) return;
+  RenderScene& rs = level->render;
+  // Sliders of styles this level has no light of change nothing (and touch no light a bake reads).
+  const bool changes = std::any_of(rs.lights.begin(), rs.lights.end(),
+                                   [&](const GpuLight& light) { return scale[lightStyle(light)] != lightScale[lightStyle(light)]; });
+  lightScale = scale;
+  if (!changes) return;
+  for (size_t i = 0; i < rs.lights.size(); ++i) rs.lights[i].color = baseColors[i] * scale[lightStyle(rs.lights[i])];
+  rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
+  if (!cpu) level->tracer->setLights(rs.lights, rs.lightGrid, rs.world.scaledist);
+  restart();
+}
+
+void Viewer::Impl::followStyleSliders() {
+  if (level && !(cpuBake && !cpuBake->ready())) scaleLights(styleScale);
 }
 
 std::vector<int> Viewer::lightStyles() const {
@@ -327,6 +379,9 @@ std::vector<int> Viewer::lightStyles() const {
 }
 void Viewer::setStyleScale(int style, float scale) {
   impl_->setStyleScale(style, scale);
+}
+bool Viewer::stylesApplied() const {
+  return impl_->lightScale == impl_->styleScale;
 }
 float Viewer::styleScale(int style) const {
   return impl_->styleScale[size_t(std::clamp(style, 0, 255))];

@@ -72,12 +72,16 @@ public:
   void setDenoise(bool on); // key N
   // The light-style sliders of the overlay: the styles the level's lights use (styled lights 1-31,
   // switchable lights 32 on; start-off lights are not drawn and have none), and each one's scale
-  // of its lights' contribution, 0 (off) to 2, 1 by default as faithful mode shows it. Setting one
-  // reloads the level with its lights scaled (the luxels bake again).
+  // of its lights' contribution, 0 (off) to 2, 1 by default as faithful mode shows it. Setting
+  // one imports and bakes nothing: faithful mode's luxels of a styled level are baked one set per
+  // style and re-summed, as the engine weighs each style's lightmap (lightmap_bake.h sumStyles),
+  // and the lights' colours (physical mode, the light at each pixel's point) are scaled in both
+  // tracers, with their grid, once no CPU bake reads them (stylesApplied() says when).
   std::vector<int> lightStyles() const;
   void setStyleScale(int style, float scale);
   float styleScale(int style) const;
-  bool denoising() const; // physical mode's young image is denoised (view_modes.h denoiseShare)
+  bool stylesApplied() const; // the lights carry the sliders' scales
+  bool denoising() const;     // physical mode's young image is denoised (view_modes.h denoiseShare)
   void setLighting(LightingMode mode);
   // The level's compiled lightmaps as its engine shows them (key 6); false when it has none
   // (notice() says why and faithful lighting stays).
@@ -96,6 +100,8 @@ public:
 
   int samples() const;              // accumulated samples per pixel of the current view
   int reloads() const;              // successful reloads since the window opened
+  int imports() const;              // imports started, the first one's included
+  int bakes() const;                // faithful luxel bakes started, on either tracer
   const PickedFace& picked() const; // the face a left click picked (the overlay's panel shows it)
   bool reloading() const;           // a save's import is running on its worker thread
   bool luxelsBaked() const;         // faithful mode's bake of the current level is done (true without one)

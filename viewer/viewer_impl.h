@@ -79,14 +79,16 @@ struct Viewer::Impl {
   bool aovsCurrent = false;
   RenderImage previewAovs;        // of the half-size preview, while the camera moves
   bool denoise = options.denoise; // key N
-  // The light-style sliders: each style's scale (1: as faithful mode shows it), and a reload of
-  // the level with them wanted (set when one is let go).
-  std::array<float, 256> styleScale = [] {
-    std::array<float, 256> all;
-    all.fill(1.0f);
-    return all;
-  }();
-  bool restyle = false;
+  // The light-style sliders: each style's scale (1: as faithful mode shows it). A level loads with
+  // its lights as the map gives them (baseColors); faithful mode's luxels of a styled level are
+  // baked from those, one set per style, and shown summed with styleScale as weights; the lights
+  // themselves (physical mode, the view at each pixel's point) carry lightScale, brought to
+  // styleScale between frames whenever no CPU bake is reading them (followStyleSliders).
+  std::array<float, 256> styleScale = CpuLuxelBake::kUnitStyleWeights;
+  std::array<float, 256> lightScale = CpuLuxelBake::kUnitStyleWeights;
+  std::vector<glm::vec3> baseColors; // per level->render.lights
+  StyledLuxels styled;
+  int imports = 0, bakes = 0;
   std::unique_ptr<gl::GlTexture2D> display; // RGBA8, what is on screen (scaled to the window)
 
   std::string error;    // why the level on screen is not the files' (or why none is)
@@ -203,6 +205,13 @@ struct Viewer::Impl {
   void showImage(const RenderImage& image);
   std::vector<int> lightStyles() const; // the styles of the level's lights, 0 left out
   void setStyleScale(int style, float scale);
+  // Faithful mode's luxels again from the styled sets at the sliders' weights, into both tracers.
+  void sumStyledLuxels();
+  // The level's lights at `scale` of their colours as loaded, with their grid (physical mode's
+  // light tree weighs their power), into both tracers; the image restarts.
+  void scaleLights(const std::array<float, 256>& scale);
+  void followStyleSliders();
+  std::unique_ptr<PendingLevel> startImport();
 
   // Physical mode is exposed as `render` exposes it (renderer/exposure.h), from a read-back of
   // the image a few times a second, smoothed so the picture does not pump.

@@ -135,30 +135,41 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMat
   faceFlags.insert(faceFlags.end(), lighting.liquidCsg.begin(), lighting.liquidCsg.end()); // gl_lighting.h liquidCsgTable
   upload(buffers_[kBindingFaceFlags], std::span<const uint32_t>(faceFlags));
   upload(buffers_[kBindingMaterials], std::span<const GlMaterial>(materials));
-  // buildRenderScene prepares its lights' physical terms; lights listed by hand (tests, tool
-  // authors) get them here. Preparing twice gives the same bytes.
-  std::vector<GpuLight> lights = lighting.lights;
-  for (GpuLight& l : lights) physical::prepare(l, lighting.scaledist);
-  upload(buffers_[kBindingLights], std::span<const GpuLight>(lights));
   // One template per material, so the shader indexes it by a face's material; value 0 = none.
   std::vector<GpuLight> surfaceLights = lighting.surfaceLights;
   surfaceLights.resize(std::max(surfaceLights.size(), materialCount), GpuLight{.value = 0.0f});
   upload(buffers_[kBindingSurfaceLights], std::span<const GpuLight>(surfaceLights));
   upload(buffers_[kBindingEmitters], std::span<const GpuEmitter>(lighting.emitters));
+  // A lighting without a grid (tests that list lights by hand) gets one built here.
+  uploadLights(lighting.lights,
+               lighting.lightGrid.cells.empty() ? buildLightGrid(lighting.lights, tracer.bounds(), lighting.scaledist) : lighting.lightGrid,
+               lighting.scaledist);
+  setLightmaps(lighting.lightmaps);
+  uploadSky(lighting.sky);
+}
 
-  // Light selection: the grid header and its cells in one buffer, as light_select.glsl reads
-  // them. A lighting without a grid (tests that list lights by hand) gets one built here.
-  const LightGrid grid =
-      lighting.lightGrid.cells.empty() ? buildLightGrid(lighting.lights, tracer.bounds(), lighting.scaledist) : lighting.lightGrid;
+void GlSceneBuffers::uploadLights(const std::vector<GpuLight>& lights, const LightGrid& grid, float scaledist) {
+  // buildRenderScene prepares its lights' physical terms; lights listed by hand (tests, tool
+  // authors) get them here. Preparing twice gives the same bytes.
+  std::vector<GpuLight> prepared = lights;
+  for (GpuLight& l : prepared) physical::prepare(l, scaledist);
+  upload(buffers_[kBindingLights], std::span<const GpuLight>(prepared));
+  // Light selection: the grid header and its cells in one buffer, as light_select.glsl reads them.
   const auto* header = reinterpret_cast<const uint8_t*>(&grid.header);
   const auto* cells = reinterpret_cast<const uint8_t*>(grid.cells.data());
   std::vector<uint8_t> gridBytes(header, header + sizeof(GpuLightGrid));
   gridBytes.insert(gridBytes.end(), cells, cells + grid.cells.size() * sizeof(GpuLightCell));
   upload(buffers_[kBindingLightGrid], std::span<const uint8_t>(gridBytes));
   upload(buffers_[kBindingLightIndices], std::span<const uint32_t>(grid.indices));
+}
 
-  setLightmaps(lighting.lightmaps);
-  uploadSky(lighting.sky);
+void GlSceneBuffers::setLights(const std::vector<GpuLight>& lights, const LightGrid& grid, float scaledist) {
+  // Buffer storage is immutable: new lights get new buffers, which bind() binds.
+  for (const int binding : {kBindingLights, kBindingLightGrid, kBindingLightIndices}) {
+    BT_GL(glDeleteBuffers(1, &buffers_[binding]));
+    BT_GL(glCreateBuffers(1, &buffers_[binding]));
+  }
+  uploadLights(lights, grid, scaledist);
 }
 
 // The sky by direction as the CPU baked it (lighting/sky.h SkyMap): six layers of half floats,

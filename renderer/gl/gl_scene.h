@@ -4,6 +4,7 @@
 #pragma once
 
 #include "bvh/trace_scene.h"
+#include "lighting/light_grid.h"
 #include "lighting/sky.h"
 #include "renderer/gl/gl_structs.h"
 
@@ -32,6 +33,9 @@ public:
   void bind() const;                                      // to the Binding points and TexelUnits of gl_structs.h
   void setLightmaps(const std::vector<uint32_t>& packed); // kBindingLightmaps; empty: none
   unsigned lightmapBuffer() const { return lightmaps_; }  // what a GPU bake writes its luxels into
+  // Replaces the lights and their grid (kBindingLights, kBindingLightGrid, kBindingLightIndices):
+  // the same lights with other colours (the viewer's style sliders), their grid built anew.
+  void setLights(const std::vector<GpuLight>& lights, const LightGrid& grid, float scaledist);
 
 private:
   static constexpr int kBufferCount = 11; // Binding 0..10
@@ -42,6 +46,7 @@ private:
   unsigned sky_ = 0;                          // kTextureSky
 
   void uploadSky(const SkyMap& sky);
+  void uploadLights(const std::vector<GpuLight>& lights, const LightGrid& grid, float scaledist);
 };
 
 } // namespace bt::gl

@@ -320,6 +320,10 @@ void GlTracer::setLightmaps(const std::vector<uint32_t>& packed) {
   impl_->buffers.setLightmaps(packed);
 }
 
+void GlTracer::setLights(const std::vector<GpuLight>& lights, const LightGrid& grid, float scaledist) {
+  impl_->buffers.setLights(lights, grid, scaledist);
+}
+
 void GlTracer::bindLevel() {
   impl_->setWorld(BeautySettings{.physical = false, .bounces = 0});
   impl_->buffers.bind();

@@ -179,6 +179,9 @@ public:
   // Replaces faithful mode's baked luxels (GlLighting::lightmaps, packed; empty for none): a bake
   // made after the upload (gl_bench, a viewer that bakes as the camera moves).
   void setLightmaps(const std::vector<uint32_t>& packed);
+  // Replaces the lights (GlLighting::lights, the same lights with other colours: the viewer's
+  // style sliders) and their grid, built anew over them; `scaledist` as GlLighting's.
+  void setLights(const std::vector<GpuLight>& lights, const LightGrid& grid, float scaledist);
   // For passes of other kernels over the level (gl_bake.h): binds the world block, the scene's
   // buffers and textures as the path tracer sees them; the lightmap buffer's GL name; and its
   // whole packed content, read back (tests).

@@ -111,5 +111,40 @@ TEST_F(ViewerWindowTest, DISABLED_FrameTimesOnALibreQuakeLevel) {
   }
 }
 
+// Not a test: how long a light-style slider takes to show on a LibreQuake level (lqdm8: 96 lights,
+// one of style 11) in each window at 640x360, beside what a reload costs (the import and the
+// bake: the open and the bake). Run by hand as the frame times above.
+TEST_F(ViewerWindowTest, DISABLED_StyleSliderTimesOnALibreQuakeLevel) {
+  BT_REQUIRE_SHARED(shared);
+  using Clock = std::chrono::steady_clock;
+  const auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
+  for (const ViewerBackend backend : {ViewerBackend::Cpu, ViewerBackend::Gl}) {
+    ViewerOptions o = options();
+    o.map = (shared / "maps/librequake/lq1/maps/src/dm/lqdm8.map").string();
+    o.width = 640;
+    o.height = 360;
+    o.backend = backend;
+    const auto opened = Clock::now();
+    Viewer viewer(o);
+    const double openSeconds = since(opened);
+    const auto baking = Clock::now();
+    ASSERT_TRUE(frameUntil(
+        viewer, [&] { return viewer.luxelsBaked() && viewer.samples() >= 1; }, 300.0));
+    const double bakeSeconds = since(baking);
+    ASSERT_EQ(viewer.lightStyles(), std::vector<int>{11});
+    const auto moved = Clock::now();
+    viewer.setStyleScale(11, 0.25f);
+    const double sumSeconds = since(moved);
+    ASSERT_TRUE(viewer.frame());
+    const double frameSeconds = since(moved);
+    ASSERT_TRUE(frameUntil(
+        viewer, [&] { return viewer.samples() >= 1; }, 300.0));
+    std::printf("%s window: open %.2f s, bake and first pass %.2f s; slider: re-sum %.1f ms, first frame %.0f ms, whole pass %.2f s; "
+                "imports %d, bakes %d\n",
+                viewer.cpuTracer() ? "CPU" : "GL", openSeconds, bakeSeconds, 1e3 * sumSeconds, 1e3 * frameSeconds, since(moved),
+                viewer.imports(), viewer.bakes());
+  }
+}
+
 } // namespace
 } // namespace bt

@@ -285,12 +285,17 @@ namespace {
 
 using namespace viewer_test;
 
+// A light of `style` (0: a switchable one, which the compiler gives style 32) at `origin`.
+std::string styledLight(int style, const char* origin, int value) {
+  const std::string key = style ? fmt::format("\"style\" \"{}\"", style) : std::string("\"targetname\" \"lamp\"");
+  return fmt::format("{{\n\"classname\" \"light\"\n\"origin\" \"{}\"\n\"light\" \"{}\"\n{}\n}}\n", origin, value, key);
+}
+
 // The light-style sliders: a styled light's slider at 0 takes exactly that light away, every pixel
 // of the room it lights: the CPU window then draws what render --backend cpu draws of the room
-// without it.
+// without it. The luxels are re-summed (lightmap_bake.h sumStyles): no reload.
 TEST_F(ViewerModesTest, AStyleSliderAtZeroTakesThatLightAway) {
-  const std::string styled = "{\n\"classname\" \"light\"\n\"origin\" \"64 64 -96\"\n\"light\" \"250\"\n\"style\" \"5\"\n}\n";
-  save(roomMap(300) + styled);
+  save(roomMap(300) + styledLight(5, "64 64 -96", 250));
   const ViewerOptions o = optionsFor(ViewerBackend::Cpu, 2);
   Viewer viewer(o);
   const Viewer::DisplayImage both = settled(viewer, 2);
@@ -298,13 +303,97 @@ TEST_F(ViewerModesTest, AStyleSliderAtZeroTakesThatLightAway) {
   EXPECT_EQ(viewer.styleScale(5), 1.0f) << "a style starts as faithful mode shows it";
 
   viewer.setStyleScale(5, 0.0f);
-  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.reloads() == 1; })) << "the slider did not relight the level";
   const Viewer::DisplayImage without = settled(viewer, 2);
+  EXPECT_EQ(viewer.reloads(), 0) << "the slider reloaded the level";
   save(roomMap(300)); // the room without the styled light, for render
   const Viewer::DisplayImage expected = render(viewer, o, "--backend cpu --spp 2");
   EXPECT_EQ(worstBetween(without, expected), 0) << "style 5 at 0 is not the room without its light";
   EXPECT_GT(worstBetween(both, expected), 20) << "the styled light changes nothing: the test cannot tell";
 }
+
+// Two sliders moved (style 5, and a switchable light's style 32) in the CPU window and in the GL
+// window: the image, every pixel, is render's of the level with those styles scaled (--style,
+// today's whole bake of the scaled lights), with no import and no bake, within kRestyleSeconds
+// of the slider (the re-sum and its first two samples per pixel of the 96x64 window).
+constexpr double kRestyleSeconds = 5.0;
+
+class ViewerStyleSlidersTest : public ViewerModesTest, public ::testing::WithParamInterface<ViewerBackend> {};
+
+TEST_P(ViewerStyleSlidersTest, SlidersReSumTheLuxelsWithoutAReload) {
+  const bool cpu = GetParam() == ViewerBackend::Cpu;
+  save(roomMap(300) + styledLight(5, "64 64 -96", 250) + styledLight(0, "-64 -64 -96", 200));
+  const ViewerOptions o = optionsFor(GetParam(), 2);
+  Viewer viewer(o);
+  settled(viewer, 2);
+  ASSERT_EQ(viewer.lightStyles(), (std::vector<int>{5, 32}));
+  const int imports = viewer.imports(), bakes = viewer.bakes();
+  ASSERT_EQ(imports, 1);
+  ASSERT_EQ(bakes, 1);
+
+  const auto start = std::chrono::steady_clock::now();
+  viewer.setStyleScale(5, 0.5f);
+  viewer.setStyleScale(32, 1.5f);
+  const Viewer::DisplayImage shown = settled(viewer, 2);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("%s window: the moved sliders' image at 2 spp in %.3f s\n", cpu ? "CPU" : "GL", seconds);
+  EXPECT_EQ(viewer.imports(), imports) << "the slider imported the level again";
+  EXPECT_EQ(viewer.bakes(), bakes) << "the slider baked the luxels again";
+  EXPECT_EQ(viewer.reloads(), 0);
+  EXPECT_LT(seconds, kRestyleSeconds);
+
+  const std::string backend = cpu ? "--backend cpu --spp 2" : "--backend gl --spp 2";
+  const Viewer::DisplayImage expected = render(viewer, o, backend + " --style 5=0.5 --style 32=1.5");
+  // The sum rounds in float before the luxel's truncation to bytes (a luxel a level off at most),
+  // and the GL render's luxels are bake.comp's, the GL window's the CPU's.
+  EXPECT_LE(worstBetween(shown, expected), 1) << "the sliders' image is not the level's with its styles scaled";
+  EXPECT_GT(worstBetween(render(viewer, o, backend), expected), 20) << "the sliders change nothing: the test cannot tell";
+}
+
+// Physical mode (the CPU window, whose exposure stays at 0): a slider scales its style's lights'
+// emission in place (their colours and the light grid that weighs them): the image, every pixel,
+// is render's of the level with that style scaled, with no import and no bake.
+TEST_F(ViewerModesTest, APhysicalStyleSliderScalesItsLightsWithoutAReload) {
+  save(roomMap(300) + styledLight(5, "64 64 -96", 250) + styledLight(0, "-64 -64 -96", 200));
+  ViewerOptions o = optionsFor(ViewerBackend::Cpu, 2);
+  o.lighting = LightingMode::Physical;
+  o.lightingGiven = true;
+  Viewer viewer(o);
+  viewer.setDenoise(false);
+  settled(viewer, 2);
+  viewer.setStyleScale(5, 0.5f);
+  viewer.setStyleScale(32, 0.0f);
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.stylesApplied() && viewer.samples() >= 2; })) << "the lights never took the sliders";
+  const Viewer::DisplayImage shown = settled(viewer, 2);
+  EXPECT_EQ(viewer.imports(), 1) << "the slider imported the level again";
+  EXPECT_EQ(viewer.bakes(), 1) << "the slider baked the luxels again";
+  const std::string flags = fmt::format("--backend cpu --lighting physical --bounces {} --exposure 0 --spp 2", o.bounces);
+  const Viewer::DisplayImage expected = render(viewer, o, flags + " --style 5=0.5 --style 32=0");
+  EXPECT_EQ(worstBetween(shown, expected), 0) << "the sliders' physical image is not the level's with its styles scaled";
+  EXPECT_GT(worstBetween(render(viewer, o, flags), expected), 20) << "the sliders change nothing: the test cannot tell";
+}
+
+// Faithful light at each pixel's point (--luxels off): the sliders scale the lights each window's
+// tracer reads (the GL window's through GlTracer::setLights): every pixel as render's of the level
+// with those styles scaled, with no import.
+TEST_P(ViewerStyleSlidersTest, SlidersScaleTheLightsOfThePerPixelView) {
+  save(roomMap(300) + styledLight(5, "64 64 -96", 250) + styledLight(0, "-64 -64 -96", 200));
+  ViewerOptions o = optionsFor(GetParam(), 2);
+  o.luxels = false;
+  Viewer viewer(o);
+  settled(viewer, 2);
+  viewer.setStyleScale(5, 0.5f);
+  viewer.setStyleScale(32, 1.5f);
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.stylesApplied() && viewer.samples() >= 2; })) << "the lights never took the sliders";
+  const Viewer::DisplayImage shown = settled(viewer, 2);
+  EXPECT_EQ(viewer.imports(), 1) << "the slider imported the level again";
+  const std::string flags = GetParam() == ViewerBackend::Cpu ? "--backend cpu --luxels off --spp 2" : "--backend gl --luxels off --spp 2";
+  const Viewer::DisplayImage expected = render(viewer, o, flags + " --style 5=0.5 --style 32=1.5");
+  EXPECT_LE(worstBetween(shown, expected), 1) << "the sliders' image is not the level's with its styles scaled";
+  EXPECT_GT(worstBetween(render(viewer, o, flags), expected), 20) << "the sliders change nothing: the test cannot tell";
+}
+
+INSTANTIATE_TEST_SUITE_P(Windows, ViewerStyleSlidersTest, ::testing::Values(ViewerBackend::Cpu, ViewerBackend::Gl),
+                         [](const auto& info) { return std::string(info.param == ViewerBackend::Cpu ? "Cpu" : "Gl"); });
 
 } // namespace
 } // namespace bt
