@@ -102,6 +102,7 @@ public:
   int reloads() const;              // successful reloads since the window opened
   int imports() const;              // imports started, the first one's included
   int bakes() const;                // faithful luxel bakes started, on either tracer
+  int gpuBakes() const;             // ... of them on the GPU (the GL window's first converged picture)
   const PickedFace& picked() const; // the face a left click picked (the overlay's panel shows it)
   bool reloading() const;           // a save's import is running on its worker thread
   bool luxelsBaked() const;         // faithful mode's bake of the current level is done (true without one)

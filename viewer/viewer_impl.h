@@ -88,7 +88,7 @@ struct Viewer::Impl {
   std::array<float, 256> lightScale = CpuLuxelBake::kUnitStyleWeights;
   std::vector<glm::vec3> baseColors; // per level->render.lights
   StyledLuxels styled;
-  int imports = 0, bakes = 0;
+  int imports = 0, bakes = 0, gpuBakes = 0;
   std::unique_ptr<gl::GlTexture2D> display; // RGBA8, what is on screen (scaled to the window)
 
   std::string error;    // why the level on screen is not the files' (or why none is)
@@ -207,6 +207,7 @@ struct Viewer::Impl {
   void setStyleScale(int style, float scale);
   // Faithful mode's luxels again from the styled sets at the sliders' weights, into both tracers.
   void sumStyledLuxels();
+  bool slidersAtOne() const; // every style of the level's lights at its compiled weight
   // The level's lights at `scale` of their colours as loaded, with their grid (physical mode's
   // light tree weighs their power), into both tracers; the image restarts.
   void scaleLights(const std::array<float, 256>& scale);
