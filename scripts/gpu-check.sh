@@ -11,9 +11,7 @@
 #   3. prints the `run` call that executes .device-bundle/run-on-device.sh on the GPU machine:
 #      the GL tests and the parity tests with bindless textures forced, the GL tests again with
 #      texture arrays, then gl_bench on the level with each texture path (NVIDIA's own shader
-#      cache off, so its cold first image is a real compile). `run-on-device.sh walks` times
-#      issue 20's candidate BVH walks against the default one (`walks-tests`: the tests with
-#      each). `run-on-device.sh quick` runs the
+#      cache off, so its cold first image is a real compile). `run-on-device.sh quick` runs the
 #      benchmark alone, `run-on-device.sh first-image [N]` the cold first image N times,
 #      `run-on-device.sh curves` an OpenArena level's ray rates with and without its curves.
 # The GL loader packages (libEGL, libGL, libglvnd, ...) travel in .gl/, fetched once as
@@ -113,36 +111,6 @@ if [ "\${1:-}" = quick ]; then
   for lighting in faithful physical; do
     echo "== gl_bench $map_rel, bindless, \$lighting, cold"
     __GL_SHADER_DISK_CACHE=0 ./gl_bench shared/$map_rel 1280x720 bindless \$lighting 1 2>&1 | tee -a \$out/bench_quick.log
-  done
-  exit 0
-fi
-# "run-on-device.sh walks": issue 20's candidate BVH walks (BT_GL_TRAVERSAL, renderer/gl
-# gl_tracer_programs.h TraversalOptions) against the default walk, one binary, by turns, two
-# rounds: the ray rates, then full samples (megakernel and wavefront, both lighting modes).
-# "run-on-device.sh walks-tests": the GL and parity tests with each candidate walk, bindless.
-walks=(default speculative shared-stack speculative,shared-stack)
-if [ "\${1:-}" = walks ]; then
-  for round in 1 2; do
-    for walk in "\${walks[@]}"; do
-      echo "== round \$round, BT_GL_TRAVERSAL=\$walk, rays"
-      BT_GL_TRAVERSAL=\$walk ./gl_bench shared/$map_rel 1280x720 bindless physical 3 rays 2>&1 | tee -a \$out/bench_walks_rays.log |
-        grep -E 'traversal|rays:'
-    done
-  done
-  for walk in "\${walks[@]}"; do
-    echo "== BT_GL_TRAVERSAL=\$walk, samples"
-    BT_GL_TRAVERSAL=\$walk ./gl_bench shared/$map_rel 1280x720 bindless physical 3 2>&1 | tee -a \$out/bench_walks_samples.log |
-      grep -E 'traversal|samples:'
-  done
-  exit 0
-fi
-if [ "\${1:-}" = walks-tests ]; then
-  for walk in "\${walks[@]:1}"; do
-    echo "== BT_GL_TRAVERSAL=\$walk: GL tests, parity tests, bindless"
-    BT_GL_TRAVERSAL=\$walk BT_GL_DEBUG=1 BT_GL_TEXTURES=bindless ./gl_tests >\$out/gl_tests_\$walk.log 2>&1
-    echo "exit \$?"; grep -E '^\[  (FAILED|PASSED|SKIPPED) ' \$out/gl_tests_\$walk.log | sort -u | head -10
-    BT_GL_TRAVERSAL=\$walk BT_GL_DEBUG=1 BT_GL_TEXTURES=bindless ./gl_parity_tests_portable >\$out/gl_parity_\$walk.log 2>&1
-    echo "exit \$?"; grep -E '^\[  (FAILED|PASSED|SKIPPED) ' \$out/gl_parity_\$walk.log | sort -u | head -10
   done
   exit 0
 fi

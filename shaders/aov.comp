@@ -4,9 +4,6 @@
 #ifdef BT_TEXTURES_BINDLESS
 #extension GL_ARB_bindless_texture : require
 #endif
-#ifdef BT_TRACE_SPECULATIVE
-#extension GL_ARB_shader_group_vote : require // trace.glsl anyInvocationARB
-#endif
 // Primary-ray AOVs: albedo, world normal, depth and face index per pixel, one ray through each
 // pixel centre (deterministic, so the CPU reference gives the same image).
 #include "scene_buffers.glsl"

@@ -4,9 +4,6 @@
 #ifdef BT_TEXTURES_BINDLESS
 #extension GL_ARB_bindless_texture : require
 #endif
-#ifdef BT_TRACE_SPECULATIVE
-#extension GL_ARB_shader_group_vote : require // trace.glsl anyInvocationARB
-#endif
 // Faithful mode's light compiler on the GPU: lighting/lightmap_bake.cpp bakeLightmaps with
 // integrator.cpp faithfulLuxelPass and faithfulLuxelLight, the CPU reference, drawing the same
 // random numbers in the same order. The CPU finds the sample points (lightmap_bake.h

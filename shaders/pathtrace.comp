@@ -4,9 +4,6 @@
 #ifdef BT_TEXTURES_BINDLESS
 #extension GL_ARB_bindless_texture : require
 #endif
-#ifdef BT_TRACE_SPECULATIVE
-#extension GL_ARB_shader_group_vote : require // trace.glsl anyInvocationARB
-#endif
 #ifdef BT_WAVEFRONT_SHADE
 // The wavefront form exists to compile fast: without NVIDIA's loop unrolling its first image
 // comes sooner for a few per cent of its physical samples/s (bench/README.md). The traversal,

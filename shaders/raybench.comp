@@ -4,9 +4,6 @@
 #ifdef BT_TEXTURES_BINDLESS
 #extension GL_ARB_bindless_texture : require
 #endif
-#ifdef BT_TRACE_SPECULATIVE
-#extension GL_ARB_shader_group_vote : require // trace.glsl anyInvocationARB
-#endif
 // Ray throughput for `brushtrace bench`: closest hits only, no shading.
 //   mode 0: one primary ray through each pixel (coherent);
 //   mode 1: from each pixel's primary hit, one cosine-distributed bounce ray (incoherent),

@@ -266,18 +266,6 @@ bool closer(Hit hit, Hit best) {
 //     finds by skipping from one closest hit to the next.
 // Every query of a shader goes through one call of this function: NVIDIA inlines each call
 // site, so each extra one would compile the whole traversal again (see pathtrace.comp).
-// The closest hit does not depend on the order in which leaves are tested: every bound is
-// inclusive at the best t (boxOverlaps, hitBrush, hitTriangle) and closer() is a total order, so
-// any walk that tests every leaf the ray can reach returns the same hit. A shadow ray's answer
-// (blocked or not) does not either; which blocker it returns may (callers read only face != NO_FACE).
-//
-// BT_TRACE_SPECULATIVE (issue 20's candidate, BT_GL_TRAVERSAL=speculative, gl_tracer_programs.h
-// TraversalOptions): Aila and Laine's speculative traversal (2009, "postponed leaves"). An
-// invocation that reaches a leaf keeps it aside and walks on down the tree until every
-// invocation of its group holds one (anyInvocationARB), so that the group spends its node
-// steps together and then tests its leaves together, instead of the ones that found a leaf
-// waiting idle for the others. It may visit nodes that the postponed leaf's hit would have
-// culled; the hit is the same (above).
 //
 // BT_TRACE_SOFTWARE: the stack's top 8 entries live in registers (NodeStack), shifted one place per push or pop:
 // on llvmpipe any memory access at a per-invocation index is a loop over the SIMD lanes, which
@@ -317,20 +305,6 @@ uint popNode(inout NodeStack s) {
   if (s.size >= STACK_REGISTERS) s.hi.w = traversalStack[uint(s.size - STACK_REGISTERS) * TRACE_INVOCATIONS + gl_LocalInvocationIndex];
   return node;
 }
-#elif defined(BT_TRACE_SHARED_STACK)
-// Issue 20's candidate for GPUs (BT_GL_TRAVERSAL=shared-stack, gl_tracer_programs.h
-// TraversalOptions): the whole stack in shared memory, one column per invocation as above
-// (entry d of invocation i at d * 64 + i, so neighbouring invocations use different banks),
-// instead of the private array's local memory, which competes with the node and brush reads
-// for the L1 cache. 16 KiB per workgroup of 64 invocations, which caps residency at 14
-// workgroups per H100 SM.
-const uint TRACE_INVOCATIONS = 64u;
-shared uint traversalStack[BT_BVH_MAX_DEPTH * TRACE_INVOCATIONS];
-struct NodeStack {
-  int size;
-};
-void pushNode(inout NodeStack s, uint node) { traversalStack[uint(s.size++) * TRACE_INVOCATIONS + gl_LocalInvocationIndex] = node; }
-uint popNode(inout NodeStack s) { return traversalStack[uint(--s.size) * TRACE_INVOCATIONS + gl_LocalInvocationIndex]; }
 #else
 // GPUs: a private array (the compiler keeps it in registers and local memory).
 uint traversalStack[BT_BVH_MAX_DEPTH];
@@ -376,11 +350,6 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   // the triangles'.
   uvec4 rootPads = uvec4(nodeRow(0u, 1u).w, nodeRow(0u, 3u).w, 0u, 0u);
   bool inTriangles = false;
-#ifdef BT_TRACE_SPECULATIVE
-  // A leaf kept aside for the group's next round of leaf tests; LEAF_REF (no primitive) for
-  // none. LEAF_REF is also what a pop of the empty stack gives: the walk of this tree is done.
-  uint leaf = LEAF_REF;
-#endif
   while (true) {
     // Down through interior nodes to the next leaf; with nothing left to visit, an empty leaf.
     while ((current & LEAF_REF) == 0u) {
@@ -403,23 +372,8 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
       } else {
         current = stack.size > 0 ? popNode(stack) : LEAF_REF;
       }
-#ifdef BT_TRACE_SPECULATIVE
-      if ((current & LEAF_REF) != 0u && leaf == LEAF_REF) { // the first leaf: aside, walk on
-        leaf = current;
-        current = stack.size > 0 ? popNode(stack) : LEAF_REF;
-      }
-      if (!anyInvocationARB(leaf == LEAF_REF)) break; // every invocation holds a leaf
-#endif
     }
-#ifdef BT_TRACE_SPECULATIVE
-    // The leaf kept aside, then `current` while it is a leaf too (popping the next), at the one
-    // place that tests primitives.
-    while (leaf != LEAF_REF) {
-#else
-    uint leaf = current;
-    {
-#endif
-    uint first = leafFirst(leaf), end = first + leafCount(leaf);
+    uint first = leafFirst(current), end = first + leafCount(current);
     for (uint i = first; i < end; ++i) {
       Hit hit;
       if (!(inTriangles ? hitTriangle(r, rootPads.y, i, best.t, hit) : hitBrush(r, i, best.t, hit))) continue;
@@ -429,25 +383,13 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
         best = hit;
       }
     }
-#ifdef BT_TRACE_SPECULATIVE
-    leaf = (current & LEAF_REF) != 0u ? current : LEAF_REF;
-    if (leaf != LEAF_REF) current = stack.size > 0 ? popNode(stack) : LEAF_REF;
-#endif
-    }
-#ifdef BT_TRACE_SPECULATIVE
-    if (current != LEAF_REF) continue; // an interior node: walk on
-    {
-#else
     if (stack.size == 0) {
-#endif
       if (inTriangles || rootPads.x == NO_CHILD) break;
       inTriangles = true;
       current = rootPads.x;
       continue;
     }
-#ifndef BT_TRACE_SPECULATIVE
     current = popNode(stack);
-#endif
   }
   return best;
 }

@@ -3,9 +3,6 @@
 #ifdef BT_TEXTURES_BINDLESS
 #extension GL_ARB_bindless_texture : require
 #endif
-#ifdef BT_TRACE_SPECULATIVE
-#extension GL_ARB_shader_group_vote : require // trace.glsl anyInvocationARB
-#endif
 // The wavefront path tracer's trace kernel (wavefront.glsl): each live pixel's ray to its hit,
 // the one call of the traversal in this program. No lighting mode: the ray carries its
 // pass flags, so one program serves faithful and physical shade kernels.

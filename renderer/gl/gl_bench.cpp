@@ -274,10 +274,10 @@ int runGlBench(const LevelImport& importLevel, const GlBenchSettings& s) {
   firstImage(run, importLevel, s, cacheDir, "cold, empty program cache");
   const auto& info = run.context->info();
   gl::GlTracer& tracer = *run.level->tracer;
-  fmt::print("device: {} ({}, {}), textures: {}, trace layout: {}, traversal: {} (BT_GL_TRAVERSAL), parallel shader compile: {}\n",
-             info.renderer, info.platform, info.version, gl::toString(tracer.textureMode()),
+  fmt::print("device: {} ({}, {}), textures: {}, trace layout: {}, parallel shader compile: {}\n", info.renderer, info.platform,
+             info.version, gl::toString(tracer.textureMode()),
              tracer.programs().traceLayout() == gl::TraceLayout::Software ? "software" : "hardware",
-             gl::toString(tracer.programs().traversal()), info.parallelShaderCompile ? "yes" : "no");
+             info.parallelShaderCompile ? "yes" : "no");
   fmt::print("camera: {} ({}), {} lights, {} emitter triangles\n", formatCameraPose(run.pose), run.pose.source,
              run.level->render.lights.size(), run.level->render.emitters.size());
   if (s.raysOnly) {

@@ -56,44 +56,18 @@ const char* shaderFile(TracerProgram program) {
   return kPrograms[size_t(program)].shader;
 }
 
-TraversalOptions parseTraversalOptions(const char* text) {
-  TraversalOptions options;
-  std::string_view rest = text ? text : "";
-  while (!rest.empty()) {
-    const size_t comma = rest.find(',');
-    const std::string_view word = rest.substr(0, comma);
-    rest = comma == std::string_view::npos ? std::string_view{} : rest.substr(comma + 1);
-    if (word == "speculative")
-      options.speculative = true;
-    else if (word == "shared-stack")
-      options.sharedStack = true;
-    else if (!word.empty() && word != "default")
-      throw GlError(fmt::format("BT_GL_TRAVERSAL: unknown option '{}' (speculative, shared-stack)", word));
-  }
-  return options;
-}
-
-std::string toString(TraversalOptions options) {
-  if (options == TraversalOptions{}) return "default";
-  if (options.speculative && options.sharedStack) return "speculative,shared-stack";
-  return options.speculative ? "speculative" : "shared-stack";
-}
-
-std::vector<std::string> shaderDefines(TextureMode mode, TraceLayout layout, TraversalOptions traversal) {
+std::vector<std::string> shaderDefines(TextureMode mode, TraceLayout layout) {
   const std::vector<std::string_view> textures = switchesOf("Textures"); // bindless, arrays
   std::vector<std::string> defines{std::string(textures.at(mode == TextureMode::Bindless ? 0 : 1)),
                                    fmt::format("BT_BVH_MAX_DEPTH {}", kBvhMaxDepth),
                                    fmt::format("BT_TRIANGLE_EDGE_EPSILON_INVERSE {}u", kTriangleEdgeEpsilonInverse)};
   if (layout == TraceLayout::Software) defines.emplace_back(switchesOf("Layout").at(0));
-  const std::vector<std::string_view> walks = switchesOf("Traversal"); // speculative, shared stack
-  if (traversal.speculative) defines.emplace_back(walks.at(0));
-  if (traversal.sharedStack && layout != TraceLayout::Software) defines.emplace_back(walks.at(1));
   return defines;
 }
 
 std::vector<std::string> programDefines(TracerProgram program, TextureMode mode, TraceLayout layout, bool physical,
-                                        FaithfulFeatures features, TraversalOptions traversal) {
-  std::vector<std::string> defines = shaderDefines(mode, layout, traversal);
+                                        FaithfulFeatures features) {
+  std::vector<std::string> defines = shaderDefines(mode, layout);
   if (physical && takes(program, "Physical")) {
     defines.emplace_back(switchesOf("Physical").at(0)); // physical mode has no dirt, no bounce lights
   } else if (takes(program, "Faithful")) {
@@ -121,17 +95,12 @@ TraceLayout resolveTraceLayout(TraceLayout layout, const GlContextInfo& context)
 
 } // namespace
 
-TracerPrograms::TracerPrograms(GlContext& context, TextureMode textures, TraceLayout layout, std::optional<TraversalOptions> traversal)
+TracerPrograms::TracerPrograms(GlContext& context, TextureMode textures, TraceLayout layout)
     : mode_(resolveTextureMode(textures, context.info())), layout_(resolveTraceLayout(layout, context.info())),
-      traversal_(traversal ? *traversal : parseTraversalOptions(std::getenv("BT_GL_TRAVERSAL"))),
       cache_(ProgramCache::fromEnvironment(context.info().vendor)),
       wavefrontFirst_(context.info().parallelShaderCompile && !context.info().softwareRenderer) {}
 
 TracerPrograms::~TracerPrograms() = default;
-
-std::vector<std::string> TracerPrograms::definesFor(TracerProgram program, bool physical, FaithfulFeatures features) const {
-  return programDefines(program, mode_, layout_, physical, features, traversal_);
-}
 
 void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines, bool cached) {
   if (slot) return;
@@ -189,7 +158,7 @@ void TracerPrograms::startPathTracer(bool physical, FaithfulFeatures features) {
   if (slot) return;
   // The wavefront kernels are queued first, so that the driver's threads take them first; a
   // megakernel from the program cache needs none.
-  const std::vector<std::string> defines = definesFor(TracerProgram::PathTracer, physical, features);
+  const std::vector<std::string> defines = programDefines(TracerProgram::PathTracer, mode_, layout_, physical, features);
   const char* shader = shaderFile(TracerProgram::PathTracer);
   if (wavefrontFirst_ && !programCached(shader, defines, cache_)) startWavefront(physical, features);
   start(slot, shader, defines);
@@ -197,7 +166,7 @@ void TracerPrograms::startPathTracer(bool physical, FaithfulFeatures features) {
 }
 
 void TracerPrograms::startWavefront(bool physical, FaithfulFeatures features) {
-  std::vector<std::string> defines = definesFor(TracerProgram::WavefrontShade, physical, features);
+  std::vector<std::string> defines = programDefines(TracerProgram::WavefrontShade, mode_, layout_, physical, features);
   // Not cached: a start that finds the megakernel in the cache needs no wavefront kernels, and
   // storing them would put their binaries' retrieval (NVIDIA: tenths of a second) before the
   // first image they are for.
@@ -211,11 +180,12 @@ void TracerPrograms::startTraceKernel() {
 
 // The trace kernel serves every lighting mode; not cached, as the shade kernel.
 void TracerPrograms::startWavefrontTrace() {
-  start(trace_, shaderFile(TracerProgram::WavefrontTrace), definesFor(TracerProgram::WavefrontTrace), false);
+  start(trace_, shaderFile(TracerProgram::WavefrontTrace), programDefines(TracerProgram::WavefrontTrace, mode_, layout_), false);
 }
 
 void TracerPrograms::startAovs(bool liquidCsg) {
-  start(aov_[liquidCsg], shaderFile(TracerProgram::Aovs), definesFor(TracerProgram::Aovs, false, FaithfulFeatures{.liquidCsg = liquidCsg}));
+  start(aov_[liquidCsg], shaderFile(TracerProgram::Aovs),
+        programDefines(TracerProgram::Aovs, mode_, layout_, false, FaithfulFeatures{.liquidCsg = liquidCsg}));
 }
 
 // The bake traces no surface rays: one program whatever the level's liquids.
@@ -225,7 +195,7 @@ std::unique_ptr<ComputeProgram>& TracerPrograms::bakeSlot(FaithfulFeatures featu
 }
 
 void TracerPrograms::startBake(FaithfulFeatures features) {
-  start(bakeSlot(features), shaderFile(TracerProgram::Bake), definesFor(TracerProgram::Bake, false, features));
+  start(bakeSlot(features), shaderFile(TracerProgram::Bake), programDefines(TracerProgram::Bake, mode_, layout_, false, features));
 }
 
 bool TracerPrograms::bakeReady(FaithfulFeatures features) {
@@ -260,7 +230,7 @@ ComputeProgram& TracerPrograms::aovs(bool liquidCsg) {
   return finished(aov_[liquidCsg]);
 }
 ComputeProgram& TracerPrograms::rayBench() {
-  start(rayBench_, shaderFile(TracerProgram::RayBench), definesFor(TracerProgram::RayBench));
+  start(rayBench_, shaderFile(TracerProgram::RayBench), programDefines(TracerProgram::RayBench, mode_, layout_));
   return finished(rayBench_);
 }
 

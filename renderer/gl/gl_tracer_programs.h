@@ -10,7 +10,6 @@
 #include "scene/gpu_structs.h"
 
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -67,24 +66,10 @@ enum class PathTracerForm { Auto, Megakernel, Wavefront };
 // BT_GL_TRACE_LAYOUT=software|hardware in the environment overrides Auto (to compare them).
 enum class TraceLayout { Auto, Software, Hardware };
 
-// Issue 20's candidate walks of the BVH (shaders/trace.glsl), to compare against the default
-// one on a GPU in one process: each returns the same hit for every ray. Off unless
-// BT_GL_TRAVERSAL in the environment lists them (comma-separated `speculative`, `shared-stack`;
-// read once per TracerPrograms, as BT_GL_TRACE_LAYOUT). The shared stack is the hardware
-// layout's alone: the software layout keeps its stack in registers and shared memory already.
-struct TraversalOptions {
-  bool speculative = false; // BT_TRACE_SPECULATIVE: Aila and Laine's postponed leaves
-  bool sharedStack = false; // BT_TRACE_SHARED_STACK: the whole stack in shared memory
-  bool operator==(const TraversalOptions&) const = default;
-};
-// BT_GL_TRAVERSAL's text ("" or null: the default walk); throws GlError on a word it does not know.
-TraversalOptions parseTraversalOptions(const char* text);
-std::string toString(TraversalOptions options); // "default", or the list as BT_GL_TRAVERSAL takes it
-
 // The #defines every program of the tracer is built with: the texture path (Bindless or
-// Arrays), the trace layout (BT_TRACE_SOFTWARE), the traversal options' switches and
-// BT_BVH_MAX_DEPTH, the traversal stack size (scene/gpu_structs.h kBvhMaxDepth).
-std::vector<std::string> shaderDefines(TextureMode mode, TraceLayout layout = TraceLayout::Hardware, TraversalOptions traversal = {});
+// Arrays), the trace layout (BT_TRACE_SOFTWARE) and BT_BVH_MAX_DEPTH, the traversal stack size
+// (scene/gpu_structs.h kBvhMaxDepth).
+std::vector<std::string> shaderDefines(TextureMode mode, TraceLayout layout = TraceLayout::Hardware);
 
 // The programs TracerPrograms builds (shader_switches.def BT_PROGRAM), in the list's order.
 enum class TracerProgram {
@@ -107,7 +92,7 @@ const char* shaderFile(TracerProgram program); // "pathtrace.comp", ...
 // lighting mode and faithful mode's optional parts where the program takes them (a physical
 // program ignores `features` but liquidCsg), the wavefront form's switch and the liquid CSG's.
 std::vector<std::string> programDefines(TracerProgram program, TextureMode mode, TraceLayout layout, bool physical = false,
-                                        FaithfulFeatures features = {}, TraversalOptions traversal = {});
+                                        FaithfulFeatures features = {});
 
 // The tracer's compute programs for one context and texture path. Each is built on first use,
 // or started early: `brushtrace render` starts the path tracer before it imports the level, so
@@ -115,17 +100,14 @@ std::vector<std::string> programDefines(TracerProgram program, TextureMode mode,
 // loads, and the viewer keeps one set across reloads of the map. The context must be current.
 class TracerPrograms {
 public:
-  // Throws GlError for TextureMode::Bindless on a context without bindless textures, and for a
-  // BT_GL_TRAVERSAL it cannot read. `traversal`: the walk, else BT_GL_TRAVERSAL's.
-  TracerPrograms(GlContext& context, TextureMode textures, TraceLayout layout = TraceLayout::Auto,
-                 std::optional<TraversalOptions> traversal = std::nullopt);
+  // Throws GlError for TextureMode::Bindless on a context without bindless textures.
+  TracerPrograms(GlContext& context, TextureMode textures, TraceLayout layout = TraceLayout::Auto);
   ~TracerPrograms();
   TracerPrograms(const TracerPrograms&) = delete;
   TracerPrograms& operator=(const TracerPrograms&) = delete;
 
   TextureMode textureMode() const { return mode_; }   // Bindless or Arrays
   TraceLayout traceLayout() const { return layout_; } // Software or Hardware
-  TraversalOptions traversal() const { return traversal_; }
   // Where programs built from now on are cached; ProgramCache::fromEnvironment(GL_VENDOR) by default.
   void setCache(ProgramCache cache) { cache_ = std::move(cache); }
 
@@ -179,14 +161,12 @@ private:
   void start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines, bool cached = true);
   void startWavefrontTrace();
   static size_t variantIndex(bool physical, FaithfulFeatures features);
-  std::vector<std::string> definesFor(TracerProgram program, bool physical = false, FaithfulFeatures features = {}) const;
   std::unique_ptr<ComputeProgram>& pathSlot(bool physical, FaithfulFeatures features);
   std::unique_ptr<ComputeProgram>& shadeSlot(bool physical, FaithfulFeatures features);
   std::unique_ptr<ComputeProgram>& bakeSlot(FaithfulFeatures features);
 
   TextureMode mode_;
   TraceLayout layout_;
-  TraversalOptions traversal_;
   ProgramCache cache_;
   bool wavefrontFirst_; // startPathTracer starts the wavefront kernels too (driver compiles in parallel, a GPU)
   // One program per lighting mode (BT_LIGHTING_PHYSICAL chosen at build), so each compiles

@@ -6,12 +6,10 @@
 #include "tests/gl/test_scenes.h"
 
 #include <epoxy/gl.h>
-#include <fmt/format.h>
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -319,56 +317,6 @@ TEST(GlAov, OneBrushSceneEqualsTraceSceneClosestHit) {
   const TraceScene traceScene = TraceScene::build(scene);
   ASSERT_EQ(traceScene.nodes().size(), 1u);
   expectFacesEqualClosestHit(scene, traceScene);
-}
-
-// Issue 20's candidate walks (TraversalOptions: postponed leaves, the stack in shared memory)
-// return the default walk's hit for every pixel, bit for bit (face and depth), in each layout
-// they apply to: they are experiments to time on a GPU, and may only change the speed. The scene
-// takes the walk deep (boxes along the central ray, as above) and on into the triangles' tree
-// (a fan of mesh triangles across the view), one brush or triangle per leaf.
-TEST(GlAov, CandidateWalksHitWhatTheDefaultWalkHits) {
-  Scene scene = test::makeTestRoom();
-  const CameraBasis camera = test::testCamera(kWidth, kHeight);
-  for (int i = 0; i < 1024; ++i) {
-    const dvec3 onRay = dvec3(camera.origin) + dvec3(camera.forward) * (60.0 + 0.2 * i);
-    const dvec3 offset{0, 0, i % 2 == 0 ? 2.0 : -2.0};
-    test::addBox(scene, onRay + offset - dvec3(0.5), onRay + offset + dvec3(0.5), i % 3);
-  }
-  scene.meshes.push_back({.kind = MeshKind::TriangleSoup, .firstFace = static_cast<uint32_t>(scene.faces.size())});
-  const Face model = scene.faces.front();
-  const dvec3 centre = dvec3(camera.origin) + dvec3(camera.forward) * 150.0;
-  for (int k = 0; k < 24; ++k) {
-    const double a0 = k * 0.26, a1 = a0 + 0.2;
-    const dvec3 right(camera.right), up(camera.up);
-    ASSERT_TRUE(scene.addMeshTriangle({centre}, {centre + 40.0 * (std::cos(a0) * right + std::sin(a0) * up)},
-                                      {centre + 40.0 * (std::cos(a1) * right + std::sin(a1) * up)}, model));
-  }
-  const TraceScene traceScene = TraceScene::build(scene, {.leafSize = 1});
-  ASSERT_FALSE(traceScene.triangleNodes().empty());
-  GlContext& context = test::sharedGlContext();
-  auto render = [&](TraceLayout layout, TraversalOptions walk) {
-    GlTracer tracer(context, scene, traceScene, std::make_shared<TracerPrograms>(context, TextureMode::Arrays, layout, walk));
-    return tracer.renderAovs(camera, kWidth, kHeight);
-  };
-  const AovImages reference = render(TraceLayout::Hardware, {});
-  const uint32_t firstTriangleFace = scene.meshes.back().firstFace + 1; // AovImages::face is the face + 1
-  EXPECT_GT(std::count_if(reference.face.begin(), reference.face.end(),
-                          [&](uint32_t f) { return f != AovImages::kNothingHit && f >= firstTriangleFace; }),
-            100);
-  EXPECT_GT(std::count_if(reference.face.begin(), reference.face.end(), [&](uint32_t f) { return f < firstTriangleFace; }), 100);
-  const std::pair<TraceLayout, TraversalOptions> walks[] = {{TraceLayout::Hardware, {.speculative = true}},
-                                                            {TraceLayout::Hardware, {.sharedStack = true}},
-                                                            {TraceLayout::Hardware, {.speculative = true, .sharedStack = true}},
-                                                            {TraceLayout::Software, {}},
-                                                            {TraceLayout::Software, {.speculative = true}}};
-  for (const auto& [layout, walk] : walks) {
-    SCOPED_TRACE(fmt::format("{} layout, {} walk", layout == TraceLayout::Software ? "software" : "hardware", toString(walk)));
-    const AovImages gpu = render(layout, walk);
-    size_t differ = 0;
-    for (size_t i = 0; i < reference.face.size(); ++i)
-      differ += gpu.face[i] != reference.face[i] || std::bit_cast<uint32_t>(gpu.depth[i]) != std::bit_cast<uint32_t>(reference.depth[i]);
-    EXPECT_EQ(differ, 0u);
-  }
 }
 
 } // namespace
