@@ -157,14 +157,16 @@ void applySurfaceTemplates(RenderScene& rs, const std::vector<SurfaceTemplate>& 
 // Quake 2 draws a face by its surface flags alone (ref_gl R_RenderBrushPoly): warped without a
 // lightmap with SURF_WARP, sky with SURF_SKY, whatever its name or contents. A liquid brush's
 // face without SURF_WARP is lit and drawn with its lightmap (qbsp and light give it one:
-// q2_csg_water_water_current90); the light passes through it all the same.
+// q2_csg_water_water_current90), and to the compiler it is a wall: ericw-tools' Embree_TraceInit
+// passes only translucent faces (SURF_WARP, SURF_TRANS33/66) and puts the others among its solid
+// faces, which cast shadows. The oracle's logs count them there: q2_light_visapprox2's 8 water
+// faces without SURF_WARP among its "50 solid faces" of 50, and q2_dirt's 10 with SURF_WARP
+// outside its "66 solid faces" of 76. Glass passes (compilerGlass).
 uint32_t quake2DrawnAs(uint32_t flags, const SurfaceAttributes& surface) {
   using namespace quake::q2;
-  const bool liquid = flags & kFaceLiquid;
   flags &= ~(kFaceLiquid | kFaceSky);
   if (surface.flags & SURF_WARP) flags |= kFaceLiquid;
   if (surface.flags & SURF_SKY) flags |= kFaceSky;
-  if (liquid && !(flags & kFaceLiquid)) flags |= kFaceNoShadow;
   return flags;
 }
 
