@@ -90,6 +90,9 @@ struct FaithfulQuery {
   // counts with |cos|, ltface.cc "twosided"); the renderer sets it on kFaceLiquid faces.
   bool twoSided = false;
   uint32_t channels = kDefaultChannels; // the receiving face's objectChannels (render_scene.h)
+  // The bounds of the compiled face p lies on (vis_approx.h polygonBounds): lights whose box
+  // (GpuLight::visBox) lies apart from it give nothing, as the compiler culls them. Null: no cull.
+  const GpuVisBox* receiverBox = nullptr;
   LightSet lights = LightSet::Grid;
   const GivenLights* given = nullptr; // LightSet::Given only
   // A floor under the sum beside worldspawn minlight: faithfulFaceMinlight of the receiver's face
@@ -155,9 +158,10 @@ struct LuxelSums {
 // How many passes a level's luxels take: 1, the dome's directions, or `softSamples`.
 int luxelPasses(const RenderScene& rs, int softSamples);
 
-// `channels`: the receiving face's objectChannels.
+// `channels`: the receiving face's objectChannels; `receiverBox`: FaithfulQuery::receiverBox.
 void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, bool twoSided, int pass, int softSamples, Rng& rng,
-                       LuxelSums& sums, uint32_t channels = kDefaultChannels, ShadowCache* cache = nullptr);
+                       LuxelSums& sums, uint32_t channels = kDefaultChannels, ShadowCache* cache = nullptr,
+                       const GpuVisBox* receiverBox = nullptr);
 // The light after `passes` passes.
 glm::vec3 faithfulLuxelLight(const RenderScene& rs, const LuxelSums& sums, int passes, int softSamples, const glm::vec3& faceMinlight);
 // What an occluded luxel (its sample point in solid, or too far off its face) stores: the floors.

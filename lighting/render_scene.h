@@ -37,7 +37,9 @@ struct RenderScene {
   std::vector<uint32_t> faceChannels;
   std::vector<GpuMaterial> materials; // parallel to scene->materials
   std::vector<GpuLight> lights;
-  std::vector<glm::vec3> sunTable;     // the compiler's directions of each penumbra sun (GpuLight::sunTable)
+  std::vector<glm::vec3> sunTable; // the compiler's directions of each penumbra sun (GpuLight::sunTable)
+  // The boxes of the lights the compiler culls without vis data (vis_approx.h, GpuLight::visBox).
+  std::vector<GpuVisBox> visBoxes;
   LightGrid lightGrid;                 // which lights a point looks at (light_grid.h)
   std::vector<GpuLight> surfaceLights; // per material: the _surface template (value 0 = none)
   std::vector<GpuEmitter> emitters;    // triangles of emitting faces, cdf by area
