@@ -260,6 +260,7 @@ int runRender(const RenderOptions& o, RenderOutcome* outcome) {
   RenderSceneOptions sceneOptions;
   sceneOptions.showHidden = o.showHidden;
   sceneOptions.bounceLights = !physical && o.aov == "beauty"; // faithful _bounce only
+  sceneOptions.visApproxBoxes = !physical;                    // what faithful luxels read
   Scene scene;
   RenderScene renderScene;
   Diagnostics lightDiagnostics;

@@ -309,7 +309,7 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   if (gameOf(scene) == Game::Quake3)
     for (const GpuLight& l : q3map2::shaderSurfaceLights(scene, contents, rs.tracer, diagnostics)) rs.lights.push_back(l);
   for (GpuLight& l : rs.lights) physical::prepare(l, rs.world.scaledist);
-  assignVisBoxes(rs); // where the lights stand for good, before the bounce pass lights with them
+  if (options.visApproxBoxes) assignVisBoxes(rs); // where the lights stand for good, before the bounce pass lights with them
   rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
   if (rs.world.bounces > 0 && options.bounceLights) addBounceLights(rs, contents, diagnostics); // prepared too
   if (scene.sky) rs.sky = bakeSkyMap(scene);
