@@ -274,6 +274,7 @@ int runRender(const RenderOptions& o, RenderOutcome* outcome) {
     sceneOptions.lights.styleScale[size_t(n)] = scale;
   }
   sceneOptions.bounceLights = !physical && o.aov == "beauty"; // faithful _bounce only
+  sceneOptions.visApproxBoxes = !physical;                    // what faithful luxels read
   Scene scene;
   RenderScene renderScene;
   Diagnostics lightDiagnostics;

@@ -1,4 +1,5 @@
 #include "lighting/bounce.h"
+#include "lighting/vis_approx.h"
 
 #include "lighting/faithful_light.h"
 #include "lighting/physical_light.h"
@@ -295,6 +296,9 @@ BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushCont
       const glm::vec3 n(rs.scene->faces[face.face].plane.normal);
       const bool twoSided = rs.faceFlags[face.face] & kFaceLiquid;
       const std::vector<glm::vec3>& points = luxels[i];
+      // The compiler's light cull without vis data dims what a face bounces as it dims its luxels.
+      const GpuVisBox box = polygonBounds(face.polygon);
+      const GpuVisBox* receiverBox = rs.visBoxes.empty() ? nullptr : &box;
       // An evenly spread, fixed subset: the middle luxel of each of `count` equal runs.
       const size_t count = bounceSampleCount(points.size(), out.luxels, passBudget);
       sampled += count;
@@ -309,7 +313,8 @@ BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushCont
           if (std::isnan(known)) known = faithfulDirtOcclusion(rs, points[k], n, rng);
           dirt = known;
         }
-        FaithfulQuery q{.p = points[k], .n = n, .twoSided = twoSided, .lights = LightSet::BounceSources, .occlusion = dirt};
+        FaithfulQuery q{
+            .p = points[k], .n = n, .twoSided = twoSided, .receiverBox = receiverBox, .lights = LightSet::BounceSources, .occlusion = dirt};
         if (pass == 0) {
           sum += faithfulLight(rs, q, rng);
           continue;

@@ -1,6 +1,7 @@
 #include "lighting/faithful_light.h"
 
 #include "lighting/faithful.h"
+#include "lighting/vis_approx.h"
 #include "lighting/visibility.h"
 
 #include <glm/geometric.hpp>
@@ -49,6 +50,9 @@ struct Receiver {
   glm::vec3 n;
   bool twoSided;                        // a lit liquid: ericw-tools lights it from above and below (ltface.cc "twosided")
   uint32_t channels = kDefaultChannels; // its face's `_object_channel_mask`
+  // The bounds of the compiled face it lies on, where the compiler culls lights by their boxes
+  // (vis_approx.h); null: no cull.
+  const GpuVisBox* box = nullptr;
 };
 
 // The normal the receiver turns to light arriving from `toLight`: a two-sided receiver faces
@@ -69,6 +73,8 @@ void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiv
   // its channels; suns and domes are on the default channel.
   const uint32_t channels = light.type == uint32_t(LightType::Point) ? light.lightChannels : kDefaultChannels;
   if (!(channels & r.channels)) return;
+  // ericw-tools' cull without vis data (CullLight): before any of the light's random numbers.
+  if (r.box && light.visBox && visBoxesApart(rs.visBoxes[light.visBox - 1], *r.box)) return;
   if (light.type == uint32_t(LightType::Point)) {
     glm::vec3 pos = jitteredOrigin(light, rng);
     const glm::vec3 d = pos - r.p;
@@ -292,7 +298,7 @@ glm::vec3 givenLightsSum(const RenderScene& rs, const GivenLights& given, const 
 } // namespace
 
 glm::vec3 faithfulLight(const RenderScene& rs, const FaithfulQuery& q, Rng& rng) {
-  const Receiver r{q.p, q.n, q.twoSided, q.channels};
+  const Receiver r{q.p, q.n, q.twoSided, q.channels, q.receiverBox};
   switch (q.lights) {
   case LightSet::All: return faithfulSum(rs, LightSource::All, r, q.faceMinlight, rng);
   case LightSet::Grid: return faithfulSum(rs, LightSource::Grid, r, q.faceMinlight, rng);
@@ -306,7 +312,7 @@ glm::vec3 faithfulLight(const RenderScene& rs, const FaithfulQuery& q, Rng& rng)
 }
 
 LightShares faithfulLightShares(const RenderScene& rs, const FaithfulQuery& q, int samples, Rng& rng) {
-  const Receiver r{q.p, q.n, q.twoSided, q.channels};
+  const Receiver r{q.p, q.n, q.twoSided, q.channels, q.receiverBox};
   LightShares shares;
   shares.occlusion = faithfulOcclusion(rs, r.p, r.n, rng);
   shares.perLight.resize(rs.lights.size(), glm::vec3(0.0f));
@@ -374,10 +380,10 @@ int luxelPasses(const RenderScene& rs, int softSamples) {
 }
 
 void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, bool twoSided, int pass, int softSamples, Rng& rng,
-                       LuxelSums& sums, uint32_t channels, ShadowCache* cache, int style) {
+                       LuxelSums& sums, uint32_t channels, ShadowCache* cache, const GpuVisBox* receiverBox, int style) {
   const auto otherStyle = [&](const GpuLight& light) { return style != kAllStyles && int(lightStyle(light)) != style; };
   const auto index = [&](const GpuLight& light) { return size_t(&light - rs.lights.data()); };
-  const Receiver r{p, n, twoSided, channels};
+  const Receiver r{p, n, twoSided, channels, receiverBox};
   // Dirt rays start at the compiler's sample point, which p already is.
   if (pass == 0) sums.occlusion = faithfulOcclusion(rs, p - n * faithful::kDirtSampleLift, n, rng);
   const auto each = [&](const GpuLight& light) {

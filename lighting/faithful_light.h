@@ -90,6 +90,9 @@ struct FaithfulQuery {
   // counts with |cos|, ltface.cc "twosided"); the renderer sets it on kFaceLiquid faces.
   bool twoSided = false;
   uint32_t channels = kDefaultChannels; // the receiving face's objectChannels (render_scene.h)
+  // The bounds of the compiled face p lies on (vis_approx.h polygonBounds): lights whose box
+  // (GpuLight::visBox) lies apart from it give nothing, as the compiler culls them. Null: no cull.
+  const GpuVisBox* receiverBox = nullptr;
   LightSet lights = LightSet::Grid;
   const GivenLights* given = nullptr; // LightSet::Given only
   // A floor under the sum beside worldspawn minlight: faithfulFaceMinlight of the receiver's face
@@ -155,11 +158,13 @@ struct LuxelSums {
 // How many passes a level's luxels take: 1, the dome's directions, or `softSamples`.
 int luxelPasses(const RenderScene& rs, int softSamples);
 
-// `channels`: the receiving face's objectChannels. `style`: only the lights of that light style
-// (lightStyle), as the compiler lights each style's lightmap of a face apart; kAllStyles: every light.
+// `channels`: the receiving face's objectChannels; `receiverBox`: FaithfulQuery::receiverBox.
+// `style`: only the lights of that light style (lightStyle), as the compiler lights each style's
+// lightmap of a face apart; kAllStyles: every light.
 inline constexpr int kAllStyles = -1;
 void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, bool twoSided, int pass, int softSamples, Rng& rng,
-                       LuxelSums& sums, uint32_t channels = kDefaultChannels, ShadowCache* cache = nullptr, int style = kAllStyles);
+                       LuxelSums& sums, uint32_t channels = kDefaultChannels, ShadowCache* cache = nullptr,
+                       const GpuVisBox* receiverBox = nullptr, int style = kAllStyles);
 // The light after `passes` passes. With `floors` off (a lightmap of a style other than 0: the
 // compiler puts minlight, a face's template minlight and `_ambient` into style 0's alone), the sum
 // with its negative lights taken off, at least 0.

@@ -7,6 +7,7 @@
 #include "lighting/visibility.h"
 #include "lighting/sampling.h"
 #include "lighting/surface_lights.h"
+#include "lighting/vis_approx.h"
 #include "scene/parallel_for.h"
 #include "scene/winding.h"
 
@@ -309,6 +310,8 @@ std::vector<GpuLuxelSample> luxelSamples(const RenderScene& rs, const Lightmaps&
     const uint32_t twoSided = twoSidedFace ? kLuxelSampleTwoSided : 0u;
     const uint32_t channels = objectChannels(rs, faceIndex);
     const SolidTest solid{rs, contents, scene.brushes[face.brush].entity, channels, channels == kDefaultChannels ? &voids : nullptr};
+    // The fragment is the compiled face whose bounds the compiler's light cull compares with.
+    const uint32_t box = rs.visBoxes.empty() ? 0u : (uint32_t(fi) + 1u) << kLuxelSampleBoxShift;
     for (uint32_t y = 0; y < g.height; ++y)
       for (uint32_t x = 0; x < g.width; ++x)
         for (int sy = 0; sy < extra; ++sy)
@@ -319,7 +322,7 @@ std::vector<GpuLuxelSample> luxelSamples(const RenderScene& rs, const Lightmaps&
             const glm::vec3 at = p.value_or(glm::vec3(0.0f));
             for (int a = 0; a < 3; ++a) s.position[a] = at[a], s.faceMinlight[a] = faceMinlight[a];
             s.face = faceIndex;
-            s.flags = twoSided | (p ? 0u : kLuxelSampleOccluded);
+            s.flags = twoSided | (p ? 0u : kLuxelSampleOccluded) | box;
           }
   });
   return samples;
@@ -334,6 +337,11 @@ LuxelBakeJob luxelBakeJob(const RenderScene& rs, const Lightmaps& lm, const Ligh
   job.passes = luxelPasses(rs, job.softSamples);
   job.seed = kBakeSeed;
   job.sunTable = rs.sunTable;
+  if (!rs.visBoxes.empty()) {
+    job.lightBoxes = rs.visBoxes;
+    job.receiverBoxes.reserve(lm.polygons.size());
+    for (const Winding& polygon : lm.polygons) job.receiverBoxes.push_back(polygonBounds(polygon));
+  }
   return job;
 }
 
@@ -358,7 +366,7 @@ glm::vec3 luxelLight(const RenderScene& rs, const LuxelBakeJob& job, size_t luxe
     for (int pass = 0; pass < job.passes; ++pass) {
       Rng rng = pixelRng(index, uint32_t(pass), 0, job.seed);
       faithfulLuxelPass(rs, p, n, s.flags & kLuxelSampleTwoSided, pass, job.softSamples, rng, sums, objectChannels(rs, s.face), cache,
-                        style);
+                        job.receiverBox(s), style);
     }
     light += faithfulLuxelLight(rs, sums, job.passes, job.softSamples, faceMinlight, floors);
   }

@@ -59,6 +59,15 @@ struct LuxelBakeJob {
   int passes = 1;
   uint32_t seed = 0;
   std::vector<glm::vec3> sunTable; // RenderScene::sunTable, which the GPU bake uploads
+  // The compiler's light cull without vis data (vis_approx.h), where the level has it: the lights'
+  // boxes (RenderScene::visBoxes, by GpuLight::visBox) and each compiled face's (by fragment, a
+  // sample's flags >> kLuxelSampleBoxShift), which the GPU bake uploads after the sun table.
+  std::vector<GpuVisBox> lightBoxes;
+  std::vector<GpuVisBox> receiverBoxes;
+  const GpuVisBox* receiverBox(const GpuLuxelSample& s) const {
+    const uint32_t box = s.flags >> kLuxelSampleBoxShift;
+    return box && box <= receiverBoxes.size() ? &receiverBoxes[box - 1] : nullptr;
+  }
 };
 LuxelBakeJob luxelBakeJob(const RenderScene& rs, const Lightmaps& lightmaps, const LightmapBakeOptions& options = {});
 

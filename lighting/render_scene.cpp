@@ -5,6 +5,7 @@
 #include "lighting/physical_light.h"
 #include "lighting/q3map2_shader_light.h"
 #include "lighting/surface_lights.h"
+#include "lighting/vis_approx.h"
 #include "quake/bspfile_q2.h"
 #include "quake/entity_keys.h"
 #include "scene/names.h"
@@ -157,14 +158,16 @@ void applySurfaceTemplates(RenderScene& rs, const std::vector<SurfaceTemplate>& 
 // Quake 2 draws a face by its surface flags alone (ref_gl R_RenderBrushPoly): warped without a
 // lightmap with SURF_WARP, sky with SURF_SKY, whatever its name or contents. A liquid brush's
 // face without SURF_WARP is lit and drawn with its lightmap (qbsp and light give it one:
-// q2_csg_water_water_current90); the light passes through it all the same.
+// q2_csg_water_water_current90), and to the compiler it is a wall: ericw-tools' Embree_TraceInit
+// passes only translucent faces (SURF_WARP, SURF_TRANS33/66) and puts the others among its solid
+// faces, which cast shadows and stop the visapprox rays. The oracle's logs count them there:
+// q2_light_visapprox2's 8 water faces without SURF_WARP among its "50 solid faces" of 50, and
+// q2_dirt's 10 with SURF_WARP outside its "66 solid faces" of 76. Glass passes (compilerGlass).
 uint32_t quake2DrawnAs(uint32_t flags, const SurfaceAttributes& surface) {
   using namespace quake::q2;
-  const bool liquid = flags & kFaceLiquid;
   flags &= ~(kFaceLiquid | kFaceSky);
   if (surface.flags & SURF_WARP) flags |= kFaceLiquid;
   if (surface.flags & SURF_SKY) flags |= kFaceSky;
-  if (liquid && !(flags & kFaceLiquid)) flags |= kFaceNoShadow;
   return flags;
 }
 
@@ -306,6 +309,7 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   if (gameOf(scene) == Game::Quake3)
     for (const GpuLight& l : q3map2::shaderSurfaceLights(scene, contents, rs.tracer, diagnostics)) rs.lights.push_back(l);
   for (GpuLight& l : rs.lights) physical::prepare(l, rs.world.scaledist);
+  if (options.visApproxBoxes) assignVisBoxes(rs); // where the lights stand for good, before the bounce pass lights with them
   rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
   if (rs.world.bounces > 0 && options.bounceLights) addBounceLights(rs, contents, diagnostics); // prepared too
   if (scene.sky) rs.sky = bakeSkyMap(scene);

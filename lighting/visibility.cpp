@@ -143,7 +143,11 @@ glm::vec3 emissiveAt(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
   return glm::vec3(sampleBilinearRepeat(rs.scene->materials[m].emissive, uv.x, uv.y));
 }
 
-float blockedDistance(const RenderScene& rs, const glm::vec3& origin, const glm::vec3& dir, float depth) {
+namespace {
+
+// The first face a ray stops at within `depth`: one that blocks faithful light, or with
+// `skyStops` a sky face (else sky ends the ray at `depth`, as for dirt).
+float stopDistance(const RenderScene& rs, const glm::vec3& origin, const glm::vec3& dir, float depth, bool skyStops) {
   Ray r{origin, 0.0f, dir, depth};
   float lastT = depth;
   for (int i = 0; i < kMaxSkips; ++i) {
@@ -151,12 +155,22 @@ float blockedDistance(const RenderScene& rs, const glm::vec3& origin, const glm:
     if (!hit) return depth;
     const uint32_t flags = rs.faceFlags[hit->face];
     const bool through = passesThrough(rs, *hit, r);
-    if (!through && (flags & kFaceSky)) return depth;
+    if (!through && (flags & kFaceSky)) return skyStops ? std::min(hit->t, depth) : depth;
     if (!through && blocksLight(rs, hit->face, LightingMode::Faithful)) return std::min(hit->t, depth);
     lastT = hit->t;
     r.tMin = continueRayAfter(hit->t);
   }
   return lastT; // too many faces to pass: blocked where the search stopped
+}
+
+} // namespace
+
+float blockedDistance(const RenderScene& rs, const glm::vec3& origin, const glm::vec3& dir, float depth) {
+  return stopDistance(rs, origin, dir, depth, false);
+}
+
+float faceDistance(const RenderScene& rs, const glm::vec3& origin, const glm::vec3& dir, float depth) {
+  return stopDistance(rs, origin, dir, depth, true);
 }
 
 } // namespace bt

@@ -49,6 +49,11 @@ bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32
 // `depth` when it meets none (or the sky: ericw-tools' dirt counts only solid hits) within it.
 float blockedDistance(const RenderScene& rs, const glm::vec3& origin, const glm::vec3& dir, float depth);
 
+// How far a ray from `origin` along `dir` gets before a face that blocks faithful light or a sky
+// face, or `depth` when it meets neither within it: where the compiler's rays stop (Embree's
+// closest hit among its solid and sky faces), for the visapprox cull (vis_approx.h).
+float faceDistance(const RenderScene& rs, const glm::vec3& origin, const glm::vec3& dir, float depth);
+
 // Per TraceScene brush slot, 1 where every face of the brush blocks faithful light and none has
 // alpha-tested holes: a ray that enters such a brush from outside is blocked, whichever face it
 // enters by.

@@ -226,7 +226,11 @@ struct GpuLight {
   // intensity in light units x distance^2, and 1 / the light's reach (0: it never ends).
   float physicalIntensity = 0.0f;
   float physicalInvReach = 0.0f;
-  uint32_t pad[2] = {0, 0}; // zero: 128 bytes, so that no light straddles a 128-byte cache line
+  // ericw-tools' light culling without vis data (lighting/vis_approx.h): 1 + the light's box in
+  // RenderScene::visBoxes, which a face whose compiled bounds lie apart from it gets no light
+  // from; 0: never culled.
+  uint32_t visBox = 0;
+  uint32_t pad = 0; // zero: 128 bytes, so that no light straddles a 128-byte cache line
 };
 static_assert(sizeof(GpuLight) == 128);
 static_assert(offsetof(GpuLight, origin) == 0);
@@ -253,6 +257,7 @@ static_assert(offsetof(GpuLight, shadowChannels) == 104);
 static_assert(offsetof(GpuLight, sunTable) == 108);
 static_assert(offsetof(GpuLight, physicalIntensity) == 112);
 static_assert(offsetof(GpuLight, physicalInvReach) == 116);
+static_assert(offsetof(GpuLight, visBox) == 120);
 
 constexpr uint32_t kLightFlagStartOff = BT_LIGHT_FLAG_START_OFF; // spawnflags & 1 on a styled light: dark by default
 constexpr uint32_t kLightFlagBleed = BT_LIGHT_FLAG_BLEED;        // `_bleed`: lights surfaces behind it too
@@ -435,6 +440,14 @@ static_assert(offsetof(GpuLightmapFragment, luxelV) == 48);
 // samples a luxel, found on the CPU, lit by either tracer (shaders/bake.comp). Sample
 // luxel * extra^2 + k is the k-th of luxel's extra x extra points (luxel: its index in the
 // luxels array).
+// An axis-aligned box as the GPU reads it: two vec4 rows (w unused). The bounds of what a light's
+// rays reach, or of a compiled face, for ericw-tools' visapprox cull (lighting/vis_approx.h).
+struct GpuVisBox {
+  glm::vec4 mins{0.0f};
+  glm::vec4 maxs{0.0f};
+};
+static_assert(sizeof(GpuVisBox) == 32);
+
 struct GpuLuxelSample {
   float position[3]{};
   uint32_t face = 0;       // scene face: its plane's normal faces the light
@@ -443,6 +456,9 @@ struct GpuLuxelSample {
 };
 inline constexpr uint32_t kLuxelSampleOccluded = BT_LUXEL_SAMPLE_OCCLUDED;  // in solid or off the face: the floors only
 inline constexpr uint32_t kLuxelSampleTwoSided = BT_LUXEL_SAMPLE_TWO_SIDED; // a lit liquid, lit from both sides
+// flags >> this: 1 + the sample's compiled face in LuxelBakeJob::receiverBoxes (its bounds, which
+// the visapprox cull compares with a light's), 0 none.
+inline constexpr uint32_t kLuxelSampleBoxShift = BT_LUXEL_SAMPLE_BOX_SHIFT;
 static_assert(sizeof(GpuLuxelSample) == 32);
 static_assert(offsetof(GpuLuxelSample, face) == 12);
 static_assert(offsetof(GpuLuxelSample, faceMinlight) == 16);

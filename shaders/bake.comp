@@ -35,7 +35,8 @@ layout(std430, binding = BT_BINDING_BAKE_SAMPLES) readonly buffer LuxelSamples {
 // (soft, negative.b): the negative lights' sum in the spare fourth components, no fifth vec4 for
 // the few levels that have them.
 layout(std430, binding = BT_BINDING_BAKE_SUMS) buffer LuxelSumBuffer { vec4 luxelSums[]; };
-// faithful.h skyDomeDirections (domeSuns of them), then RenderScene::sunTable.
+// faithful.h skyDomeDirections (domeSuns of them), then RenderScene::sunTable, then the visapprox
+// boxes as (mins, maxs) rows: the lights' from lightBoxes, the compiled faces' from receiverBoxes.
 layout(std430, binding = BT_BINDING_BAKE_SKY_DOME) readonly buffer SkyDome { vec4 skyDome[]; };
 layout(std430, binding = BT_BINDING_LIGHTMAPS) buffer Lightmaps { uint lightmapData[]; };   // scene/gpu_structs.h layout
 
@@ -49,6 +50,9 @@ layout(location = 4) uniform int softSamples;
 layout(location = 5) uniform uint samplesPerLuxel;
 layout(location = 6) uniform uint bakeSeed;    // lightmap_bake.cpp kBakeSeed
 layout(location = 8) uniform int domeSuns;     // the dome's directions at the start of skyDome
+layout(location = 9) uniform int lightBoxes;   // GpuLight::visBox k is at skyDome[lightBoxes + 2 (k - 1)]
+layout(location = 10) uniform int receiverBoxes; // a sample's box k (flags >> BOX_SHIFT) likewise; -1: no cull
+const uint LUXEL_SAMPLE_BOX_SHIFT = BT_LUXEL_SAMPLE_BOX_SHIFT;
 const uint SUN_SAMPLES = uint(BT_SUN_SAMPLES); // lighting/faithful.h kSunSamples: each penumbra sun's directions
 
 float dirtFactorAt(GpuLight light, float occlusion, float dist) {
@@ -57,6 +61,16 @@ float dirtFactorAt(GpuLight light, float occlusion, float dist) {
 #else
   return 1.0;
 #endif
+}
+
+// lighting/vis_approx.cpp visBoxesApart: ericw-tools' CullLight without vis data, light box
+// `light` (GpuLight::visBox) against compiled-face box `face` (a sample's), both 1-based.
+bool visCulled(uint light, uint face) {
+  if (light == 0u || face == 0u || receiverBoxes < 0) return false;
+  uint l = uint(lightBoxes) + 2u * (light - 1u), f = uint(receiverBoxes) + 2u * (face - 1u);
+  bvec3 apart = bvec3(uvec3(lessThan(skyDome[l + 1u].xyz, skyDome[f].xyz - VIS_BOX_EPSILON)) |
+                      uvec3(greaterThan(skyDome[l].xyz, skyDome[f + 1u].xyz + VIS_BOX_EPSILON)));
+  return any(apart);
 }
 
 bool softLight(GpuLight light) { return (light.type == LIGHT_POINT || light.type == LIGHT_SUN) && light.deviance > 0.0; }
@@ -104,7 +118,8 @@ struct Item {
 // lights as faithfulLuxelPass does).
 // `receiver`: the face's channels; a point light lights only faces on one of its channels, suns
 // the default channel's (the dome's suns every face, as faithfulLuxelPass).
-Item lightItem(GpuLight light, vec3 p, vec3 normal, bool twoSided, uint receiver, float occlusion, inout Rng rng) {
+// `box`: the sample's compiled face's visapprox box (0: none).
+Item lightItem(GpuLight light, vec3 p, vec3 normal, bool twoSided, uint receiver, uint box, float occlusion, inout Rng rng) {
   Item it = Item(false, QUERY_SHADOW, vec3(0.0), vec3(0.0), 0.0, 0u, vec3(0.0), TO_FIXED);
   bool soft = softLight(light);
   if (light.type == LIGHT_DOME) {
@@ -120,6 +135,7 @@ Item lightItem(GpuLight light, vec3 p, vec3 normal, bool twoSided, uint receiver
   }
   if (soft ? pass >= softSamples : pass != 0) return it;
   if (((light.type == LIGHT_POINT ? light.lightChannels : DEFAULT_CHANNELS) & receiver) == 0u) return it;
+  if (visCulled(light.visBox, box)) return it; // before any of the light's random numbers, as the CPU
   if (light.type == LIGHT_POINT) {
     vec3 pos = jitteredOrigin(light, rng);
     vec3 d = pos - p;
@@ -162,6 +178,7 @@ void runPasses(uint index) {
   vec3 p = s.position, n = faces[s.face].plane.xyz;
   bool twoSided = (s.flags & LUXEL_SAMPLE_TWO_SIDED) != 0u;
   uint receiver = faceChannels(s.face);
+  uint box = s.flags >> LUXEL_SAMPLE_BOX_SHIFT;
   vec4 fixedSum = firstPass == 0 ? vec4(0.0) : luxelSums[4u * index];
   vec4 localMin = firstPass == 0 ? vec4(0.0) : luxelSums[4u * index + 1u];
   vec4 dome = firstPass == 0 ? vec4(0.0) : luxelSums[4u * index + 2u];
@@ -191,7 +208,7 @@ void runPasses(uint index) {
 #endif
       } else {
         if (k == dirtRays && dirtRays > 0u) fixedSum.w = 1.0 - dirtSum / (float(dirtRays) * world.dirtDepth);
-        it = lightItem(lights[faithfulLight(cell, k - dirtRays)], p, n, twoSided, receiver, fixedSum.w, rng);
+        it = lightItem(lights[faithfulLight(cell, k - dirtRays)], p, n, twoSided, receiver, box, fixedSum.w, rng);
       }
       if (!it.needed) continue;
       float answer = query(it.kind, it.origin, it.dir, it.tMax, it.param);

@@ -11,6 +11,7 @@ const float LIGHT_ANGLE_EPSILON = BT_LIGHT_ANGLE_EPSILON;
 const float Q3_HOTSPOT_CLAMP = BT_Q3_HOTSPOT_CLAMP;
 const float Q3_SPOT_EDGE = BT_Q3_SPOT_EDGE;
 const float NEAREST_LIGHT = BT_NEAREST_LIGHT; // lighting/faithful.h kNearestLight
+const float VIS_BOX_EPSILON = BT_VIS_BOX_EPSILON; // lighting/vis_approx.cpp visBoxesApart
 const uint BOUNCE_SHADOW_RAYS = BT_BOUNCE_SHADOW_RAYS;
 
 // Programs for a level without _deviance (renderer/gl FaithfulFeatures) compile without it.

@@ -19,6 +19,7 @@
 #define BT_LIGHT_ANGLE_EPSILON 0.01f      // GetSurfaceLighting: a radiosity point this little (in cosine) behind still lights
 #define BT_SUN_SAMPLES 64               // `-sunsamples`: the suns a sky dome or a sun's penumbra becomes
 #define BT_NEAREST_LIGHT 0.1f            // GetLightContrib: a nearer light is this far, straight up (+z)
+#define BT_VIS_BOX_EPSILON 0.001f        // CullLight: a light's and a face's boxes this near still touch
 
 // q3map2 (faithful mode of Quake 3 levels, lighting/q3map2_light.h).
 #define BT_Q3_HOTSPOT_CLAMP 16.0f        // LightContributionToSample: a point or spot light is never nearer than this

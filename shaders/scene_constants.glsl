@@ -53,6 +53,7 @@
 // GpuLuxelSample::flags.
 #define BT_LUXEL_SAMPLE_OCCLUDED 1u
 #define BT_LUXEL_SAMPLE_TWO_SIDED 2u
+#define BT_LUXEL_SAMPLE_BOX_SHIFT 8u // the bits above: 1 + the sample's compiled face's box, 0 none
 
 // renderer/gl/gl_structs.h GlMaterial::flags.
 #define BT_GL_MATERIAL_HAS_BASE 1u

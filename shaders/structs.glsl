@@ -129,6 +129,7 @@ struct GpuLight {
   uint sunTable;       // offset 108: with LIGHT_FLAG_SUN_TABLE, the first of its directions in the bake's sun table
   float physicalIntensity; // offset 112: lighting/physical_light.h prepare
   float physicalInvReach;  // offset 116: 0 = never ends
+  uint visBox;             // offset 120: 1 + its box among the bake's vis boxes (lighting/vis_approx.h), 0 none
 };                 // 128 bytes: std430 rounds the array stride up to the vec3s' 16-byte alignment
 
 // scene/gpu_structs.h GpuEmitter: one triangle of an emitting face, cdf by area.

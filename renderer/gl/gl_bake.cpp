@@ -43,6 +43,11 @@ GlLightmapBake::GlLightmapBake(GlTracer& tracer, const LuxelBakeJob& job)
   for (const glm::vec3& d : faithful::skyDomeDirections()) dome.emplace_back(d, 0.0f);
   domeSuns_ = int(dome.size());
   for (const glm::vec3& d : job.sunTable) dome.emplace_back(d, 0.0f);
+  // Then the visapprox boxes (lighting/vis_approx.h), two rows each: the lights', the compiled faces'.
+  lightBoxes_ = int(dome.size());
+  for (const GpuVisBox& b : job.lightBoxes) dome.push_back(b.mins), dome.push_back(b.maxs);
+  receiverBoxes_ = job.receiverBoxes.empty() ? -1 : int(dome.size());
+  for (const GpuVisBox& b : job.receiverBoxes) dome.push_back(b.mins), dome.push_back(b.maxs);
   dome_ = storage(dome.data(), dome.size() * sizeof(glm::vec4));
   tracer_.programs().bake(features_); // built now, not in the middle of the first pass
 }
@@ -62,6 +67,8 @@ void GlLightmapBake::dispatch(int firstPass, int passCount, uint32_t items) {
   BT_GL(glProgramUniform1ui(id, 5, samplesPerLuxel_));
   BT_GL(glProgramUniform1ui(id, 6, seed_));
   BT_GL(glProgramUniform1i(id, 8, domeSuns_));
+  BT_GL(glProgramUniform1i(id, 9, lightBoxes_));
+  BT_GL(glProgramUniform1i(id, 10, receiverBoxes_));
   for (uint32_t first = 0; first < items; first += kItemsPerDispatch) {
     const uint32_t count = std::min(kItemsPerDispatch, items - first);
     BT_GL(glProgramUniform1ui(id, 0, first));

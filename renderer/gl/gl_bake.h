@@ -36,7 +36,9 @@ private:
   unsigned samples_ = 0, sums_ = 0, dome_ = 0;
   uint32_t sampleCount_ = 0, luxelCount_ = 0, samplesPerLuxel_ = 1;
   int softSamples_ = 1, passes_ = 1, done_ = 0;
-  int domeSuns_ = 0; // the dome's directions, before the penumbra suns' in the same buffer
+  int domeSuns_ = 0;       // the dome's directions, before the penumbra suns' in the same buffer
+  int lightBoxes_ = 0;     // where the lights' visapprox boxes begin in that buffer (vec4 rows)
+  int receiverBoxes_ = -1; // where the compiled faces' begin; -1: the level culls no light
   uint32_t seed_ = 0;
 };
 

@@ -212,6 +212,32 @@ TEST(GlBake, NegativeLightsComeOffAfterTheFloorsAsOnTheCpu) {
   EXPECT_GT(minlight, 20u) << "and only there";
 }
 
+// ericw-tools' q2_light_visapprox levels, compiled without vis data: the compiler culls a light
+// from the faces that lie apart from its rays' box (lighting/vis_approx.h), which stay black. The
+// GPU bake reads the lights' and the compiled faces' boxes as the CPU does: without them it lights
+// those faces where the CPU leaves them black.
+TEST(GlBake, VisapproxCullsTheLightsTheCpuCulls) {
+  BT_REQUIRE_SHARED(shared);
+  for (const char* map : {"q2_light_visapprox.map", "q2_light_visapprox2.map"}) {
+    const Scene scene = importScene((shared / "maps/ericw-tools/testmaps" / map).string(), ImportOptions{});
+    Diagnostics diagnostics;
+    RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+    ASSERT_FALSE(rs.visBoxes.empty()) << map;
+    Lightmaps cpu = layoutLightmaps(rs);
+    ASSERT_GT(cpu.luxels.size(), 500u) << map;
+    const std::vector<uint32_t> gpu = bakeOnBoth(scene, rs, cpu);
+    size_t within = 0, lit = 0, black = 0;
+    for (size_t i = 0; i < gpu.size(); ++i) {
+      within += largestChannelDifference(gpu[i], cpu.luxels[i]) <= 1;
+      lit += (cpu.luxels[i] & 0xffffffu) != 0u;
+      black += (cpu.luxels[i] & 0xffffffu) == 0u;
+    }
+    EXPECT_GE(double(within), 0.999 * double(gpu.size())) << map;
+    EXPECT_GT(lit, gpu.size() / 50) << map; // q2_light_visapprox: 472 of 12,100, the light's own water
+    EXPECT_GT(black, gpu.size() / 20) << map << ": the faces the compiler culls the light from";
+  }
+}
+
 // Quake 2's glass (lit from both sides, passing the light) and `_world_units_per_luxel`'s
 // decoupled luxel grid are the CPU's sample points and face classes: the GPU bakes the same
 // luxels from them.

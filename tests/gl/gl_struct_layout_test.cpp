@@ -149,7 +149,8 @@ std::vector<Member> lightMembers() {
           MEMBER(GpuLight, shadowChannels),
           MEMBER(GpuLight, sunTable),
           MEMBER(GpuLight, physicalIntensity),
-          MEMBER(GpuLight, physicalInvReach)};
+          MEMBER(GpuLight, physicalInvReach),
+          MEMBER(GpuLight, visBox)};
 }
 
 TEST(GlStructLayout, LightsAndSurfaceLightsAsTheShadersReadThem) {

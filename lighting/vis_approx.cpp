@@ -1,0 +1,85 @@
+#include "lighting/vis_approx.h"
+
+#include "lighting/game_rules.h"
+#include "lighting/render_scene.h"
+#include "lighting/visibility.h"
+#include "scene/parallel_for.h"
+#include "shaders/light_constants.glsl" // BT_VIS_BOX_EPSILON, shared with bake.comp
+
+#include <glm/common.hpp>
+
+#include <cmath>
+#include <string_view>
+
+namespace bt {
+
+namespace {
+
+constexpr int kRaysPerAxis = 32;       // EstimateVisibleBoundsAtPoint's N
+constexpr double kRayLength = 65536.0; // its rays' reach
+constexpr float kGrowth = 0.25f;       // the bounds grow by this share of their size on each side
+constexpr double kPi = 3.14159265358979323846;
+
+// UniformPointOnSphere (entities.cc, after mathworld's sphere point picking): u1, u2 in [0, 1].
+glm::dvec3 uniformPointOnSphere(double u1, double u2) {
+  const double theta = u1 * 2.0 * kPi;
+  const double u = 2.0 * u2 - 1.0;
+  const double s = std::sqrt(1.0 - u * u);
+  return {s * std::cos(theta), s * std::sin(theta), u};
+}
+
+bool compiledFormat(std::string_view format) {
+  for (std::string_view f : {"bsp29", "bsp2", "2psb", "bsp30", "ibsp38", "ibsp46"})
+    if (format == f) return true;
+  return false;
+}
+
+} // namespace
+
+bool compilerCullsByRays(const Scene& scene) {
+  return gameOf(scene) != Game::Quake3 && !compiledFormat(scene.format);
+}
+
+GpuVisBox visibleBounds(const RenderScene& rs, const glm::vec3& point) {
+  glm::vec3 lo = point, hi = point;
+  for (int x = 0; x < kRaysPerAxis; ++x)
+    for (int y = 0; y < kRaysPerAxis; ++y) {
+      const glm::dvec3 dir = uniformPointOnSphere(double(x) / (kRaysPerAxis - 1), double(y) / (kRaysPerAxis - 1));
+      const float t = faceDistance(rs, point, glm::vec3(dir), float(kRayLength));
+      const glm::vec3 stop(glm::dvec3(point) + dir * double(t));
+      lo = glm::min(lo, stop), hi = glm::max(hi, stop);
+    }
+  const glm::vec3 grow = (hi - lo) * kGrowth;
+  return {glm::vec4(lo - grow, 0.0f), glm::vec4(hi + grow, 0.0f)};
+}
+
+GpuVisBox polygonBounds(const Winding& polygon) {
+  glm::dvec3 lo(INFINITY), hi(-INFINITY);
+  for (const dvec3& v : polygon) lo = glm::min(lo, v), hi = glm::max(hi, v);
+  return {glm::vec4(glm::vec3(lo), 0.0f), glm::vec4(glm::vec3(hi), 0.0f)};
+}
+
+bool visBoxesApart(const GpuVisBox& light, const GpuVisBox& face) {
+  constexpr float e = BT_VIS_BOX_EPSILON;
+  for (int a = 0; a < 3; ++a)
+    if (light.maxs[a] < face.mins[a] - e || light.mins[a] > face.maxs[a] + e) return true;
+  return false;
+}
+
+void assignVisBoxes(RenderScene& rs, unsigned threads) {
+  rs.visBoxes.clear();
+  if (!compilerCullsByRays(*rs.scene)) return;
+  std::vector<uint32_t> culled;
+  for (uint32_t i = 0; i < rs.lights.size(); ++i) {
+    GpuLight& l = rs.lights[i];
+    l.visBox = 0;
+    if (l.type != uint32_t(LightType::Point) || l.formula == uint32_t(LightFormula::Bounce)) continue;
+    if (l.lightChannels != kDefaultChannels || l.shadowChannels != kDefaultChannels) continue;
+    culled.push_back(i);
+  }
+  rs.visBoxes.resize(culled.size());
+  parallelFor(culled.size(), threads, [&](size_t k) { rs.visBoxes[k] = visibleBounds(rs, rs.lights[culled[k]].origin); });
+  for (size_t k = 0; k < culled.size(); ++k) rs.lights[culled[k]].visBox = uint32_t(k) + 1;
+}
+
+} // namespace bt
