@@ -10,6 +10,7 @@
 #include "renderer/denoise.h"
 #include "renderer/gl/gl_bench.h"
 #include "renderer/gl/gl_error.h"
+#include "renderer/image_output.h"
 #include "renderer/time_to_converged.h"
 
 #include <fmt/format.h>
@@ -20,6 +21,8 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
+#include <stdexcept>
 #include <thread>
 
 namespace bt::app {
@@ -38,6 +41,8 @@ struct BenchOptions {
   std::string backend = "gl";
   bool timeToConverged = false;
   int referenceSpp = 4096;
+  int maxSpp = 0;        // --max-spp
+  std::string reference; // --reference: a stored reference EXR (the CPU tracer's time to converged)
   bool raysOnly = false;
 };
 
@@ -58,16 +63,23 @@ int runCpuTimeToConverged(const BenchOptions& options) {
     return renderCpu(rs, camera, settings);
   };
   fmt::print("cpu, {} threads; camera {} ({})\n", std::thread::hardware_concurrency(), formatCameraPose(pose), pose.source);
+  // A stored reference (rendered once, for as long as it took: bench/README.md) instead of
+  // --reference-spp samples rendered here, which the CPU would take hours over.
+  std::optional<RenderImage> stored;
+  if (!options.reference.empty()) stored = readExrImage(options.reference);
   printTimeToConverged({.tracer = "cpu",
-                        .referenceSpp = options.referenceSpp,
+                        .referenceSpp = stored && stored->samples > 0 ? stored->samples : options.referenceSpp,
                         .bounces = options.bounces,
                         .render = render,
-                        .denoiser = [](const RenderImage& image) { return denoise(image); }});
+                        .denoiser = [](const RenderImage& image) { return denoise(image); },
+                        .storedReference = stored ? &*stored : nullptr,
+                        .maxSpp = options.maxSpp});
   return 0;
 }
 
 int runBench(const BenchOptions& options) {
   if (options.backend == "cpu") return runCpuTimeToConverged(options); // the CPU tracer has only this measure
+  if (!options.reference.empty()) throw std::runtime_error("--reference is the CPU tracer's (--backend cpu); the GL one renders its own");
   const int width = options.size.width, height = options.size.height;
   const auto textureMode = gl::parseTextureMode(options.textures); // --gl-textures admits only the names it parses
   const auto start = std::chrono::steady_clock::now();
@@ -116,14 +128,28 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
   bench->add_option("--backend", options->backend, "gl: the GL tracer; cpu: the CPU tracer (its time to converged only)")
       ->check(CLI::IsMember({"gl", "cpu"}))
       ->capture_default_str();
-  bench->add_option("--reference-spp", options->referenceSpp, "Samples per pixel of the time-to-converged reference")
+  bench
+      ->add_option("--reference-spp", options->referenceSpp,
+                   "Samples per pixel of the time-to-converged reference (of a --reference that does not record them)")
       ->check(positive())
       ->capture_default_str();
+  bench
+      ->add_option("--max-spp", options->maxSpp,
+                   "With --backend cpu: the time-to-converged sweep's last step at most (default: a quarter of the reference's spp)")
+      ->check(positive());
+  bench
+      ->add_option("--reference", options->reference,
+                   "With --backend cpu: a stored reference EXR (`render --backend cpu --lighting physical --exposure 0 --seed 24301 "
+                   "... -o ref.exr`, same level, camera, size and bounces) instead of rendering one")
+      ->check(CLI::ExistingFile);
   bench->callback([options, &exitCode] {
     try {
       exitCode = runBench(*options);
     } catch (const gl::GlError& e) {
       fmt::print(stderr, "brushtrace: {}\n", e.what());
+      exitCode = 1;
+    } catch (const std::runtime_error& e) { // a stored reference unreadable or of another view
+      fmt::print(stderr, "brushtrace: bench: {}\n", e.what());
       exitCode = 1;
     }
   });

@@ -5,6 +5,7 @@
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/vec4.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -15,6 +16,11 @@ namespace bt {
 namespace {
 
 constexpr float kKernel[3] = {BT_DENOISE_KERNEL0, BT_DENOISE_KERNEL1, BT_DENOISE_KERNEL2};
+constexpr float kVarianceKernel[3] = {BT_DENOISE_VARIANCE_KERNEL0, BT_DENOISE_VARIANCE_KERNEL1, BT_DENOISE_VARIANCE_KERNEL2};
+
+// What each pass filters: rgb the irradiance (the beauty divided by the albedo), a the variance
+// of its luminance (shaders/denoise.comp's images hold the same).
+using Pixels = std::vector<glm::vec4>;
 
 struct Guide {
   int width, height;
@@ -22,66 +28,136 @@ struct Guide {
   const std::vector<glm::vec3>& normal;
   const std::vector<float>& depth;
 
-  bool hit(int x, int y) const { return std::isfinite(depth[size_t(y) * size_t(width) + size_t(x)]); }
+  size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }
+  bool inside(int x, int y) const { return x >= 0 && y >= 0 && x < width && y < height; }
+  bool hit(int x, int y) const { return std::isfinite(depth[index(x, y)]); }
   glm::vec3 albedoFloor(size_t i) const { return glm::max(albedo[i], glm::vec3(BT_DENOISE_ALBEDO_FLOOR)); }
 
   // |dz| to the nearer neighbour along each axis, the larger of the two axes: a surface's slope
   // in depth per pixel, not the jump to whatever lies beyond a silhouette.
   float depthGradient(int x, int y) const {
-    const float z = depth[size_t(y) * size_t(width) + size_t(x)];
-    const auto step = [&](int nx, int ny) {
-      if (nx < 0 || ny < 0 || nx >= width || ny >= height || !hit(nx, ny)) return INFINITY;
-      return std::abs(depth[size_t(ny) * size_t(width) + size_t(nx)] - z);
-    };
+    const float z = depth[index(x, y)];
+    const auto step = [&](int nx, int ny) { return !inside(nx, ny) || !hit(nx, ny) ? INFINITY : std::abs(depth[index(nx, ny)] - z); };
     const float gx = std::min(step(x - 1, y), step(x + 1, y));
     const float gy = std::min(step(x, y - 1), step(x, y + 1));
-    const float g = std::max(std::isfinite(gx) ? gx : 0.0f, std::isfinite(gy) ? gy : 0.0f);
-    return g;
+    return std::max(std::isfinite(gx) ? gx : 0.0f, std::isfinite(gy) ? gy : 0.0f);
+  }
+
+  // SVGF's normal and depth stops between p (at x, y) and q, `offset` pixels apart (|dx| + |dy|).
+  float geometryWeight(size_t p, size_t q, float gradient, float offset) const {
+    const float wNormal = std::pow(std::max(0.0f, glm::dot(normal[p], normal[q])), BT_DENOISE_SIGMA_NORMAL);
+    const float wDepth =
+        std::exp(-std::abs(depth[p] - depth[q]) / (BT_DENOISE_SIGMA_DEPTH * gradient * offset + BT_DENOISE_DEPTH_FLOOR * depth[p]));
+    return wNormal * wDepth;
   }
 };
 
-// One a-trous pass over rows [y0, y1): taps `spacing` pixels apart, luminance sigma `sigma`.
-void filterRows(const Guide& g, const std::vector<glm::vec3>& in, std::vector<glm::vec3>& out, int spacing, float sigma, int y0, int y1) {
+template <class RowFn> void forRows(int height, int threads, const RowFn& rows) {
+  std::vector<std::thread> workers;
+  const int rowsEach = (height + threads - 1) / threads;
+  for (int t = 0; t < threads; ++t) {
+    const int y0 = t * rowsEach, y1 = std::min(height, y0 + rowsEach);
+    if (y0 < y1) workers.emplace_back([&rows, y0, y1] { rows(y0, y1); });
+  }
+  for (std::thread& w : workers) w.join();
+}
+
+// The variance of pixel (x, y)'s demodulated mean luminance from its neighbours (a young image,
+// or none of its own second moment): the spread of the means over the window, the samples of
+// one surface weighed by the normal and depth stops.
+float spatialVariance(const Guide& g, const Pixels& in, int x, int y) {
+  const size_t p = g.index(x, y);
+  const float gradient = g.depthGradient(x, y);
+  float weights = 0.0f, m1 = 0.0f, m2 = 0.0f;
+  for (int dy = -BT_DENOISE_SPATIAL_VARIANCE_RADIUS; dy <= BT_DENOISE_SPATIAL_VARIANCE_RADIUS; ++dy)
+    for (int dx = -BT_DENOISE_SPATIAL_VARIANCE_RADIUS; dx <= BT_DENOISE_SPATIAL_VARIANCE_RADIUS; ++dx) {
+      const int qx = x + dx, qy = y + dy;
+      if (!g.inside(qx, qy) || !g.hit(qx, qy)) continue;
+      const size_t q = g.index(qx, qy);
+      const float w = g.geometryWeight(p, q, gradient, float(std::abs(dx) + std::abs(dy)));
+      const float l = luminance(glm::vec3(in[q]));
+      weights += w, m1 += w * l, m2 += w * l * l;
+    }
+  m1 /= weights, m2 /= weights; // the centre's own weight is 1
+  return std::max(0.0f, m2 - m1 * m1);
+}
+
+// The first step: the irradiance, and the variance of its luminance from the pixel's second
+// moment (the beauty's luminance squared, scaled by the demodulation's ratio of luminances,
+// exact where the noise has the mean's colour) or from its neighbours.
+Pixels prepare(const Guide& g, const RenderImage& image, int threads) {
+  const size_t n = image.beauty.size();
+  Pixels out(n);
+  for (size_t i = 0; i < n; ++i) {
+    const glm::vec3 b = image.beauty[i];
+    const bool finite = std::isfinite(b.x) && std::isfinite(b.y) && std::isfinite(b.z);
+    out[i] = glm::vec4(!std::isfinite(image.depth[i]) ? b : finite ? b / g.albedoFloor(i) : glm::vec3(0.0f), 0.0f);
+  }
+  const int samples = std::max(image.samples, 1);
+  const bool temporal = image.luminanceMoment2.size() == n && samples >= BT_DENOISE_TEMPORAL_VARIANCE_FROM;
+  forRows(g.height, threads, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < g.width; ++x) {
+        if (!g.hit(x, y)) continue;
+        const size_t i = g.index(x, y);
+        if (!temporal) {
+          out[i].a = spatialVariance(g, out, x, y);
+          continue;
+        }
+        const float beautyLuminance = luminance(image.beauty[i]), l = luminance(glm::vec3(out[i]));
+        const float ratio = beautyLuminance > 0.0f ? l / beautyLuminance : 0.0f;
+        const float variance =
+            std::max(0.0f, image.luminanceMoment2[i] - beautyLuminance * beautyLuminance) * ratio * ratio / float(samples - 1);
+        out[i].a = std::isfinite(variance) ? variance : 0.0f;
+      }
+  });
+  return out;
+}
+
+// The variance at (x, y) through a 3x3 Gaussian (its surface's pixels alone): the luminance
+// stop's scale, steadier than one pixel's estimate.
+float filteredVariance(const Guide& g, const Pixels& in, int x, int y) {
+  float sum = 0.0f, weights = 0.0f;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int qx = x + dx, qy = y + dy;
+      if (!g.inside(qx, qy) || !g.hit(qx, qy)) continue;
+      const float w = kVarianceKernel[std::abs(dx)] * kVarianceKernel[std::abs(dy)];
+      sum += w * in[g.index(qx, qy)].a, weights += w;
+    }
+  return sum / weights;
+}
+
+// One a-trous pass over rows [y0, y1): taps `spacing` pixels apart.
+void filterRows(const Guide& g, const Pixels& in, Pixels& out, int spacing, int y0, int y1) {
+  const float sigma = BT_DENOISE_SIGMA_LUMINANCE / float(spacing); // halved each pass
   for (int y = y0; y < y1; ++y) {
     for (int x = 0; x < g.width; ++x) {
-      const size_t p = size_t(y) * size_t(g.width) + size_t(x);
+      const size_t p = g.index(x, y);
       if (!g.hit(x, y)) {
         out[p] = in[p];
         continue;
       }
-      const glm::vec3 np = g.normal[p];
-      const float zp = g.depth[p], lp = luminance(in[p]), gradient = g.depthGradient(x, y);
+      const float lp = luminance(glm::vec3(in[p])), gradient = g.depthGradient(x, y);
+      const float lumScale = sigma * std::sqrt(filteredVariance(g, in, x, y)) + BT_DENOISE_LUMINANCE_FLOOR;
       glm::vec3 sum(0.0f);
-      float weights = 0.0f;
+      float weights = 0.0f, variance = 0.0f;
       for (int dy = -2; dy <= 2; ++dy) {
         for (int dx = -2; dx <= 2; ++dx) {
           const int qx = x + dx * spacing, qy = y + dy * spacing;
-          if (qx < 0 || qy < 0 || qx >= g.width || qy >= g.height || !g.hit(qx, qy)) continue;
-          const size_t q = size_t(qy) * size_t(g.width) + size_t(qx);
-          const float lq = luminance(in[q]);
-          const float wNormal = std::pow(std::max(0.0f, glm::dot(np, g.normal[q])), BT_DENOISE_SIGMA_NORMAL);
-          const float offset = float(spacing * (std::abs(dx) + std::abs(dy)));
-          const float wDepth =
-              std::exp(-std::abs(zp - g.depth[q]) / (BT_DENOISE_SIGMA_DEPTH * gradient * offset + BT_DENOISE_DEPTH_FLOOR * zp));
-          const float wLum = std::exp(-std::abs(lp - lq) / (sigma * std::sqrt(std::max(lp * lq, 0.0f)) + BT_DENOISE_LUMINANCE_FLOOR));
-          const float w = kKernel[std::abs(dx)] * kKernel[std::abs(dy)] * wNormal * wDepth * wLum;
-          sum += w * in[q];
+          if (!g.inside(qx, qy) || !g.hit(qx, qy)) continue;
+          const size_t q = g.index(qx, qy);
+          const float wLum = std::exp(-std::abs(lp - luminance(glm::vec3(in[q]))) / lumScale);
+          const float w = kKernel[std::abs(dx)] * kKernel[std::abs(dy)] *
+              g.geometryWeight(p, q, gradient, float(spacing * (std::abs(dx) + std::abs(dy)))) * wLum;
+          sum += w * glm::vec3(in[q]);
+          variance += w * w * in[q].a;
           weights += w;
         }
       }
-      out[p] = sum / weights; // the centre tap's weight is kKernel[0]^2 > 0
+      out[p] = glm::vec4(sum / weights, variance / (weights * weights)); // the centre tap's weight is kKernel[0]^2 > 0
     }
   }
-}
-
-void filterPass(const Guide& g, const std::vector<glm::vec3>& in, std::vector<glm::vec3>& out, int spacing, float sigma, int threads) {
-  std::vector<std::thread> workers;
-  const int rowsEach = (g.height + threads - 1) / threads;
-  for (int t = 0; t < threads; ++t) {
-    const int y0 = t * rowsEach, y1 = std::min(g.height, y0 + rowsEach);
-    if (y0 < y1) workers.emplace_back([&, spacing, sigma, y0, y1] { filterRows(g, in, out, spacing, sigma, y0, y1); });
-  }
-  for (std::thread& w : workers) w.join();
 }
 
 } // namespace
@@ -89,21 +165,15 @@ void filterPass(const Guide& g, const std::vector<glm::vec3>& in, std::vector<gl
 std::vector<glm::vec3> denoise(const RenderImage& image, int threads) {
   if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
   const Guide g{image.width, image.height, image.albedo, image.normal, image.depth};
-  const size_t n = image.beauty.size();
-  std::vector<glm::vec3> irradiance(n), next(n);
-  for (size_t i = 0; i < n; ++i) {
-    const glm::vec3 b = image.beauty[i];
-    const bool finite = std::isfinite(b.x) && std::isfinite(b.y) && std::isfinite(b.z);
-    irradiance[i] = !std::isfinite(image.depth[i]) ? b : finite ? b / g.albedoFloor(i) : glm::vec3(0.0f);
-  }
-  float sigma = BT_DENOISE_SIGMA_LUMINANCE / std::sqrt(float(std::max(image.samples, 1)));
-  for (int pass = 0; pass < BT_DENOISE_PASSES; ++pass, sigma *= 0.5f) {
-    filterPass(g, irradiance, next, 1 << pass, sigma, threads);
+  Pixels irradiance = prepare(g, image, threads), next(irradiance.size());
+  for (int pass = 0; pass < BT_DENOISE_PASSES; ++pass) {
+    forRows(g.height, threads, [&, pass](int y0, int y1) { filterRows(g, irradiance, next, 1 << pass, y0, y1); });
     std::swap(irradiance, next);
   }
-  for (size_t i = 0; i < n; ++i)
-    if (std::isfinite(image.depth[i])) irradiance[i] *= g.albedoFloor(i);
-  return irradiance;
+  std::vector<glm::vec3> out(irradiance.size());
+  for (size_t i = 0; i < out.size(); ++i)
+    out[i] = std::isfinite(image.depth[i]) ? glm::vec3(irradiance[i]) * g.albedoFloor(i) : glm::vec3(irradiance[i]);
+  return out;
 }
 
 } // namespace bt

@@ -1,7 +1,9 @@
 // The preview denoiser: an edge-avoiding a-trous wavelet filter (Dammertz et al. 2010, "Edge-
 // Avoiding A-Trous Wavelet Transform for fast Global Illumination Filtering") guided by the
-// albedo, normal and depth AOVs, with SVGF's edge stops (Schied et al. 2017). The beauty is
-// divided by the albedo (so textures stay sharp), the irradiance filtered, and multiplied back.
+// albedo, normal and depth AOVs, with SVGF's edge stops (Schied et al. 2017), its luminance stop
+// scaled by each pixel's own noise (the variance of its mean, from the tracer's second moment).
+// The beauty is divided by the albedo (so textures stay sharp), the irradiance filtered, and
+// multiplied back.
 // shaders/denoise.comp does the same arithmetic on the GPU (gl::DenoisePass), with the
 // constants of shaders/denoise_constants.glsl.
 #pragma once
@@ -14,8 +16,10 @@
 
 namespace bt {
 
-// The denoised beauty of `image` (its AOVs guide the filter; image.samples sets how strongly it
-// smooths). Pixels where nothing was hit (depth not finite) are neither changed nor read.
+// The denoised beauty of `image` (its AOVs guide the filter; image.luminanceMoment2 and
+// image.samples give each pixel's noise, and so how strongly it is smoothed; without the moment,
+// its neighbours' spread does). Pixels where nothing was hit (depth not finite) are neither
+// changed nor read.
 // `threads`: 0 = every hardware thread.
 std::vector<glm::vec3> denoise(const RenderImage& image, int threads = 0);
 

@@ -5,6 +5,8 @@
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfIntAttribute.h>
 #include <ImfOutputFile.h>
 #include <ImfStandardAttributes.h>
 #include <ImfStringAttribute.h>
@@ -54,6 +56,7 @@ void writeExr(const std::string& temp, const RenderImage& image, const OutputSet
   header.compression() = Imf::ZIP_COMPRESSION;
   header.insert("brushtrace:exposureEV", Imf::FloatAttribute(output.exposureEv));
   header.insert("brushtrace:exposure", Imf::StringAttribute(output.exposureAuto ? "auto" : "given"));
+  header.insert("brushtrace:samples", Imf::IntAttribute(image.samples));
   Imf::addCapDate(header, fmt::format("{:%Y:%m:%d %H:%M:%S}", fmt::localtime(std::time(nullptr))));
   Imf::FrameBuffer frame;
   const size_t xStride = channels * sizeof(float), yStride = xStride * size_t(image.width);
@@ -78,6 +81,44 @@ void writePng(const std::string& temp, const RenderImage& image, const OutputSet
 }
 
 } // namespace
+
+RenderImage readExrImage(const std::string& path) {
+  try {
+    Imf::InputFile file(path.c_str());
+    const Imath::Box2i window = file.header().dataWindow();
+    RenderImage image;
+    image.width = window.max.x - window.min.x + 1;
+    image.height = window.max.y - window.min.y + 1;
+    const size_t n = size_t(image.width) * size_t(image.height);
+    constexpr size_t kChannels = 10; // kExrChannels without the denoised layer
+    for (size_t c = 0; c < kChannels; ++c)
+      if (!file.header().channels().findChannel(kExrChannels[c]))
+        throw std::runtime_error(fmt::format("no channel {} (not an EXR brushtrace wrote)", kExrChannels[c]));
+    std::vector<float> pixels(n * kChannels);
+    Imf::FrameBuffer frame;
+    const size_t xStride = kChannels * sizeof(float), yStride = xStride * size_t(image.width);
+    char* origin = reinterpret_cast<char*>(pixels.data()) -
+        (ptrdiff_t(window.min.x) * ptrdiff_t(xStride) + ptrdiff_t(window.min.y) * ptrdiff_t(yStride));
+    for (size_t c = 0; c < kChannels; ++c)
+      frame.insert(kExrChannels[c], Imf::Slice(Imf::FLOAT, origin + c * sizeof(float), xStride, yStride));
+    file.setFrameBuffer(frame);
+    file.readPixels(window.min.y, window.max.y);
+    const auto* ev = file.header().findTypedAttribute<Imf::FloatAttribute>("brushtrace:exposureEV");
+    const auto* samples = file.header().findTypedAttribute<Imf::IntAttribute>("brushtrace:samples");
+    image.samples = samples ? samples->value() : 0;
+    const float unexpose = std::exp2(-(ev ? ev->value() : 0.0f));
+    for (size_t i = 0; i < n; ++i) {
+      const float* p = &pixels[i * kChannels];
+      image.beauty.emplace_back(p[0] * unexpose, p[1] * unexpose, p[2] * unexpose);
+      image.albedo.emplace_back(p[3], p[4], p[5]);
+      image.normal.emplace_back(p[6], p[7], p[8]);
+      image.depth.push_back(p[9]);
+    }
+    return image;
+  } catch (const std::exception& e) {
+    throw std::runtime_error(fmt::format("{}: cannot read image: {}", path, e.what()));
+  }
+}
 
 void writeImage(const std::string& path, const RenderImage& image, const OutputSettings& output) {
   namespace fs = std::filesystem;

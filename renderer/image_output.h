@@ -16,4 +16,10 @@ namespace bt {
 // Throws std::runtime_error with the reason when the file cannot be written.
 void writeImage(const std::string& path, const RenderImage& image, const OutputSettings& output);
 
+// An EXR that writeImage wrote, read back: the linear beauty with the exposure taken out again
+// (so the image the tracer gave), the albedo, normal and depth AOVs, and `samples` from the
+// header's brushtrace:samples (0 in files written before it was stored). A stored reference for
+// `brushtrace bench --time-to-converged --reference`. Throws std::runtime_error with the reason.
+RenderImage readExrImage(const std::string& path);
+
 } // namespace bt

@@ -52,6 +52,9 @@ struct RenderImage {
   int height = 0;
   int samples = 0;
   std::vector<glm::vec3> beauty;
+  // The mean of the samples' squared Rec. 709 luminance per pixel (the second moment beside the
+  // beauty's first), so that the denoiser knows each pixel's noise; empty where none was kept.
+  std::vector<float> luminanceMoment2;
   std::vector<glm::vec3> albedo;   // linear base colour of the visible face
   std::vector<glm::vec3> normal;   // world-space face normal, 0 where nothing is hit
   std::vector<float> depth;        // distance along the ray, +inf where nothing is hit

@@ -6,7 +6,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <stdexcept>
 #include <cstdio>
 #include <string>
 
@@ -32,48 +35,93 @@ std::vector<glm::vec3> displayedImage(const std::vector<glm::vec3>& linear, floa
 std::vector<ConvergeStep> timeToConverged(const std::function<RenderImage(int spp)>& render, const std::vector<glm::vec3>& referenceDisplay,
                                           const ConvergeSettings& settings) {
   using Clock = std::chrono::steady_clock;
+  const auto secondsSince = [](Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); };
   std::vector<ConvergeStep> steps;
   for (int spp = 1; spp <= settings.maxSpp; spp *= 2) {
-    const auto start = Clock::now();
-    RenderImage image = render(spp);
-    if (settings.denoise) image.denoised = settings.denoiser(image);
     ConvergeStep step;
     step.spp = spp;
-    step.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    auto start = Clock::now();
+    const RenderImage image = render(spp);
+    step.seconds = secondsSince(start);
     const float ev = autoExposureEv(image.beauty, image.width, image.height);
-    step.relativeMse = relativeMse(displayedImage(settings.denoise ? image.denoised : image.beauty, ev), referenceDisplay);
+    step.relativeMse = relativeMse(displayedImage(image.beauty, ev), referenceDisplay);
+    if (settings.denoiser) {
+      start = Clock::now();
+      const std::vector<glm::vec3> denoised = settings.denoiser(image);
+      step.denoiseSeconds = secondsSince(start);
+      step.relativeMseDenoised = relativeMse(displayedImage(denoised, ev), referenceDisplay);
+    }
     steps.push_back(step);
     if (settings.onStep) settings.onStep(step);
-    if (step.relativeMse <= kConvergedRelativeMse) break;
+    const bool denoisedThere = !settings.denoiser || step.relativeMseDenoised <= kConvergedRelativeMse;
+    if (step.relativeMse <= kConvergedRelativeMse && denoisedThere) break;
   }
   return steps;
 }
 
+namespace {
+
+// A stored reference drawn from another camera, level or size would make the figure meaningless.
+void checkStoredReference(const RenderImage& reference, const RenderImage& rendered) {
+  if (reference.width != rendered.width || reference.height != rendered.height)
+    throw std::runtime_error(
+        fmt::format("the reference is {}x{}, the bench renders {}x{}", reference.width, reference.height, rendered.width, rendered.height));
+  size_t differ = 0;
+  for (size_t i = 0; i < rendered.depth.size(); ++i) {
+    const float a = reference.depth[i], b = rendered.depth[i];
+    const bool same = std::isfinite(a) == std::isfinite(b) && (!std::isfinite(a) || std::abs(a - b) <= 1e-3f * std::max(1.0f, std::abs(b)));
+    differ += !same;
+  }
+  // A few silhouette pixels may differ between the tracers' primary rays; a camera does not.
+  if (differ > rendered.depth.size() / 100)
+    throw std::runtime_error(fmt::format("the reference's depth differs from the bench's view at {} of {} pixels: another level, "
+                                         "camera or size",
+                                         differ, rendered.depth.size()));
+}
+
+} // namespace
+
 void printTimeToConverged(const ConvergeRun& run) {
   const auto start = std::chrono::steady_clock::now();
-  const RenderImage reference = run.render(run.referenceSpp, 0x5eed);
+  const RenderImage reference = run.storedReference ? *run.storedReference : run.render(run.referenceSpp, 0x5eed);
   const float ev = autoExposureEv(reference.beauty, reference.width, reference.height);
-  fmt::print("reference: {} spp in {:.2f} s, exposure {:+.2f} EV\n", run.referenceSpp,
-             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), ev);
+  if (run.storedReference)
+    fmt::print("reference: stored, {} spp, exposure {:+.2f} EV\n", run.referenceSpp, ev);
+  else
+    fmt::print("reference: {} spp in {:.2f} s, exposure {:+.2f} EV\n", run.referenceSpp,
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), ev);
   std::fflush(stdout);
   const std::vector<glm::vec3> referenceDisplay = displayedImage(reference.beauty, ev);
-  for (bool denoiseOn : {false, true}) {
-    ConvergeSettings settings;
-    settings.maxSpp = run.referenceSpp / 4;
-    settings.denoise = denoiseOn;
-    settings.denoiser = run.denoiser;
-    settings.onStep = [](const ConvergeStep& s) {
-      fmt::print("  {} spp: {:.2f} s, rel MSE {:.4f}\n", s.spp, s.seconds, s.relativeMse);
-      std::fflush(stdout);
-    };
-    fmt::print("denoiser {}:\n", denoiseOn ? "on" : "off");
-    const ConvergeStep last = timeToConverged([&](int spp) { return run.render(spp, 0); }, referenceDisplay, settings).back();
-    const bool reached = last.relativeMse <= kConvergedRelativeMse;
-    fmt::print("time to converged, {}, denoiser {}: {} ({} spp, rel MSE {:.4f}, threshold {}) at {}x{}, {} bounces\n", run.tracer,
-               denoiseOn ? "on" : "off", reached ? fmt::format("{:.3f} s", last.seconds) : std::string("not reached"), last.spp,
-               last.relativeMse, kConvergedRelativeMse, reference.width, reference.height, run.bounces);
+  ConvergeSettings settings;
+  settings.maxSpp = std::max(1, run.referenceSpp / 4);
+  if (run.maxSpp > 0) settings.maxSpp = std::min(settings.maxSpp, run.maxSpp);
+  settings.denoiser = run.denoiser;
+  settings.onStep = [](const ConvergeStep& s) {
+    fmt::print("  {} spp: {:.2f} s, rel MSE {:.4f}; denoised +{:.2f} s, rel MSE {:.4f}\n", s.spp, s.seconds, s.relativeMse,
+               s.denoiseSeconds, s.relativeMseDenoised);
     std::fflush(stdout);
+  };
+  bool checked = !run.storedReference;
+  const std::vector<ConvergeStep> steps = timeToConverged(
+      [&](int spp) {
+        RenderImage image = run.render(spp, 0);
+        if (!checked) checkStoredReference(reference, image), checked = true;
+        return image;
+      },
+      referenceDisplay, settings);
+  for (bool denoiseOn : {false, true}) {
+    if (denoiseOn && !run.denoiser) continue;
+    // The first step within the threshold, else the last one.
+    const auto there = [&](const ConvergeStep& s) { return (denoiseOn ? s.relativeMseDenoised : s.relativeMse) <= kConvergedRelativeMse; };
+    const auto found = std::find_if(steps.begin(), steps.end(), there);
+    const ConvergeStep& last = found != steps.end() ? *found : steps.back();
+    const double seconds = last.seconds + (denoiseOn ? last.denoiseSeconds : 0.0);
+    fmt::print("time to converged, {}, denoiser {}: {} ({} spp, rel MSE {:.4f}, threshold {}) at {}x{}, {} bounces\n", run.tracer,
+               denoiseOn ? "on" : "off", found != steps.end() ? fmt::format("{:.3f} s", seconds) : std::string("not reached"), last.spp,
+               denoiseOn ? last.relativeMseDenoised : last.relativeMse, kConvergedRelativeMse, reference.width, reference.height,
+               run.bounces);
   }
+  std::fflush(stdout);
 }
 
 } // namespace bt

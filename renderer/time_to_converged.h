@@ -20,35 +20,38 @@ std::vector<glm::vec3> displayedImage(const std::vector<glm::vec3>& linear, floa
 
 struct ConvergeStep {
   int spp = 0;
-  double seconds = 0.0; // the render of `spp` samples (a progressive render has spent this much
-                        // by then), plus the denoiser's time when it is on
-  double relativeMse = 0.0;
+  double seconds = 0.0;             // the render of `spp` samples (a progressive render has spent this much by then)
+  double denoiseSeconds = 0.0;      // the denoiser's on that render, when it is on
+  double relativeMse = 0.0;         // the raw image's
+  double relativeMseDenoised = 0.0; // the denoised image's, when the denoiser is on
 };
 
 struct ConvergeSettings {
   int maxSpp = 4096;
-  bool denoise = false;
-  // The denoiser of the tracer under test (the CPU's or the GL one); used when `denoise`.
+  // The denoiser of the tracer under test (the CPU's or the GL one); empty: measured without.
   std::function<std::vector<glm::vec3>(const RenderImage&)> denoiser;
   std::function<void(const ConvergeStep&)> onStep; // each measured step, for a progress line
 };
 
-// Renders at 1, 2, 4, ... spp (each auto-exposed on its own raw beauty, as `render` does) until
-// the displayed image is within kConvergedRelativeMse of `referenceDisplay`; returns the steps,
-// the last one the first to get there (or maxSpp, not converged).
+// Renders at 1, 2, 4, ... spp (each auto-exposed on its own raw beauty, as `render` does), each
+// image measured raw and denoised, until both displayed images are within kConvergedRelativeMse
+// of `referenceDisplay` (or maxSpp); returns the steps.
 std::vector<ConvergeStep> timeToConverged(const std::function<RenderImage(int spp)>& render, const std::vector<glm::vec3>& referenceDisplay,
                                           const ConvergeSettings& settings);
 
 // The whole measure as `brushtrace bench` and gl_bench print it: a reference of `referenceSpp`
-// (seed 0x5eed), then the sweep of seed 0 with the denoiser off and on, up to a quarter of the
-// reference's spp (beyond that its own noise counts); each step and each result on stdout.
-// `tracer` names the tracer in the lines ("cpu", "gl").
+// (seed 0x5eed), or the stored one given, then the sweep of seed 0, denoiser off and on, up to a
+// quarter of the reference's spp (beyond that its own noise counts); each step and each result on
+// stdout. `tracer` names the tracer in the lines ("cpu", "gl"). A stored reference must show what
+// the sweep renders: its size and its depth AOV the same (else std::runtime_error).
 struct ConvergeRun {
   const char* tracer = "cpu";
   int referenceSpp = 4096;
   int bounces = 4;
   std::function<RenderImage(int spp, uint32_t seed)> render;
   std::function<std::vector<glm::vec3>(const RenderImage&)> denoiser;
+  const RenderImage* storedReference = nullptr; // renderer/image_output.h readExrImage; referenceSpp its spp
+  int maxSpp = 0;                               // the sweep's last step at most; 0: a quarter of referenceSpp
 };
 void printTimeToConverged(const ConvergeRun& run);
 

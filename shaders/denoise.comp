@@ -1,9 +1,11 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// One pass of the preview denoiser: renderer/denoise.cpp's filterRows line for line (the
-// edge-avoiding a-trous filter, Dammertz et al. 2010, with SVGF's edge stops), with the
-// constants of denoise_constants.glsl. The first pass divides its input (the beauty, a sum of
-// `inputScale`^-1 samples) by the albedo; the last multiplies its output by it again.
+// One step of the preview denoiser: renderer/denoise.cpp line for line (the edge-avoiding a-trous
+// filter, Dammertz et al. 2010, with SVGF's edge stops and its variance-scaled luminance stop),
+// with the constants of denoise_constants.glsl. The first step (`prepare`) turns the beauty (rgb
+// a sum of `inputScale`^-1 samples, a the sum of their luminance squared) into the irradiance
+// (divided by the albedo) and the variance of its luminance (in a); each pass after it filters
+// both, the last multiplying its output by the albedo again.
 // tests/gl/gl_denoise_test.cpp holds it to the CPU's.
 #include "denoise_constants.glsl"
 #include "gl_bindings.glsl"
@@ -16,15 +18,21 @@ layout(rgba32f, binding = BT_IMAGE_DENOISE_ALBEDO) uniform readonly image2D albe
 layout(rgba32f, binding = BT_IMAGE_DENOISE_NORMAL_DEPTH) uniform readonly image2D normalDepthImage; // xyz normal, w depth (inf: nothing hit)
 
 layout(location = 0) uniform int spacing;      // 2^pass
-layout(location = 1) uniform float sigma;      // BT_DENOISE_SIGMA_LUMINANCE / sqrt(spp) / 2^pass
-layout(location = 2) uniform float inputScale; // 1 / samples on the first pass (a sum), else 1
-layout(location = 3) uniform bool firstPass;   // demodulate the input
+layout(location = 1) uniform int samples;      // of the beauty's mean
+layout(location = 2) uniform float inputScale; // 1 / samples when preparing a sum, else 1
+layout(location = 3) uniform bool prepare;     // the first step: demodulate, estimate the variance
 layout(location = 4) uniform bool lastPass;    // remodulate the output
+layout(location = 5) uniform bool temporal;    // the variance from the beauty's own second moment
 
 const float kKernel[3] = float[3](BT_DENOISE_KERNEL0, BT_DENOISE_KERNEL1, BT_DENOISE_KERNEL2);
+const float kVarianceKernel[3] = float[3](BT_DENOISE_VARIANCE_KERNEL0, BT_DENOISE_VARIANCE_KERNEL1, BT_DENOISE_VARIANCE_KERNEL2);
 
 float luminance(vec3 c) {
   return BT_LUMINANCE_R * c.r + BT_LUMINANCE_G * c.g + BT_LUMINANCE_B * c.b;
+}
+
+bool inside(ivec2 q, ivec2 size) {
+  return all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size));
 }
 
 bool hit(ivec2 p) {
@@ -35,17 +43,15 @@ vec3 albedoFloor(ivec2 p) {
   return max(imageLoad(albedoImage, p).rgb, vec3(BT_DENOISE_ALBEDO_FLOOR));
 }
 
-// The pass's input at p: on the first pass the mean beauty divided by the albedo (0 where it is
-// not finite), as denoise() prepares it.
+// The mean beauty at p divided by the albedo (0 where it is not finite), as prepare() makes it.
 vec3 irradiance(ivec2 p) {
   vec3 c = imageLoad(inputImage, p).rgb * inputScale;
-  if (!firstPass) return c;
   if (any(isinf(c)) || any(isnan(c))) return vec3(0.0);
   return c / albedoFloor(p);
 }
 
 float depthStep(ivec2 q, float z, ivec2 size) {
-  if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)) || !hit(q)) return uintBitsToFloat(0x7f800000u); // +inf
+  if (!inside(q, size) || !hit(q)) return uintBitsToFloat(0x7f800000u); // +inf
   return abs(imageLoad(normalDepthImage, q).w - z);
 }
 
@@ -56,36 +62,84 @@ float depthGradient(ivec2 p, float z, ivec2 size) {
   return max(isinf(gx) ? 0.0 : gx, isinf(gy) ? 0.0 : gy);
 }
 
+// denoise.cpp Guide::geometryWeight.
+float geometryWeight(vec4 nzp, vec4 nzq, float gradient, float offset) {
+  float wNormal = pow(max(0.0, dot(nzp.xyz, nzq.xyz)), BT_DENOISE_SIGMA_NORMAL);
+  float wDepth = exp(-abs(nzp.w - nzq.w) / (BT_DENOISE_SIGMA_DEPTH * gradient * offset + BT_DENOISE_DEPTH_FLOOR * nzp.w));
+  return wNormal * wDepth;
+}
+
+// denoise.cpp spatialVariance.
+float spatialVariance(ivec2 p, vec4 nzp, ivec2 size) {
+  float gradient = depthGradient(p, nzp.w, size);
+  float weights = 0.0, m1 = 0.0, m2 = 0.0;
+  for (int dy = -BT_DENOISE_SPATIAL_VARIANCE_RADIUS; dy <= BT_DENOISE_SPATIAL_VARIANCE_RADIUS; ++dy)
+    for (int dx = -BT_DENOISE_SPATIAL_VARIANCE_RADIUS; dx <= BT_DENOISE_SPATIAL_VARIANCE_RADIUS; ++dx) {
+      ivec2 q = p + ivec2(dx, dy);
+      if (!inside(q, size) || !hit(q)) continue;
+      float w = geometryWeight(nzp, imageLoad(normalDepthImage, q), gradient, float(abs(dx) + abs(dy)));
+      float l = luminance(irradiance(q));
+      weights += w, m1 += w * l, m2 += w * l * l;
+    }
+  m1 /= weights, m2 /= weights;
+  return max(0.0, m2 - m1 * m1);
+}
+
+// denoise.cpp prepare, for one pixel.
+vec4 prepared(ivec2 p, vec4 nzp, ivec2 size) {
+  vec3 c = irradiance(p);
+  if (!temporal) return vec4(c, spatialVariance(p, nzp, size));
+  vec4 mean = imageLoad(inputImage, p) * inputScale;
+  float beautyLuminance = luminance(mean.rgb), l = luminance(c);
+  float ratio = beautyLuminance > 0.0 ? l / beautyLuminance : 0.0;
+  float variance = max(0.0, mean.a - beautyLuminance * beautyLuminance) * ratio * ratio / float(samples - 1);
+  return vec4(c, isinf(variance) || isnan(variance) ? 0.0 : variance);
+}
+
+// denoise.cpp filteredVariance.
+float filteredVariance(ivec2 p, ivec2 size) {
+  float sum = 0.0, weights = 0.0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      ivec2 q = p + ivec2(dx, dy);
+      if (!inside(q, size) || !hit(q)) continue;
+      float w = kVarianceKernel[abs(dx)] * kVarianceKernel[abs(dy)];
+      sum += w * imageLoad(inputImage, q).a, weights += w;
+    }
+  return sum / weights;
+}
+
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   ivec2 size = imageSize(outputImage);
   if (any(greaterThanEqual(p, size))) return;
   if (!hit(p)) { // nothing to filter: the beauty as it is
-    imageStore(outputImage, p, vec4(imageLoad(inputImage, p).rgb * inputScale, 1.0));
+    imageStore(outputImage, p, vec4(imageLoad(inputImage, p).rgb * inputScale, 0.0));
     return;
   }
   vec4 nzp = imageLoad(normalDepthImage, p);
-  vec3 cp = irradiance(p);
-  float lp = luminance(cp), gradient = depthGradient(p, nzp.w, size);
+  if (prepare) {
+    imageStore(outputImage, p, prepared(p, nzp, size));
+    return;
+  }
+  float lp = luminance(imageLoad(inputImage, p).rgb), gradient = depthGradient(p, nzp.w, size);
+  float sigma = BT_DENOISE_SIGMA_LUMINANCE / float(spacing); // halved each pass
+  float lumScale = sigma * sqrt(filteredVariance(p, size)) + BT_DENOISE_LUMINANCE_FLOOR;
   vec3 sum = vec3(0.0);
-  float weights = 0.0;
+  float weights = 0.0, variance = 0.0;
   for (int dy = -2; dy <= 2; ++dy) {
     for (int dx = -2; dx <= 2; ++dx) {
       ivec2 q = p + ivec2(dx, dy) * spacing;
-      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)) || !hit(q)) continue;
-      vec4 nzq = imageLoad(normalDepthImage, q);
-      vec3 cq = irradiance(q);
-      float lq = luminance(cq);
-      float wNormal = pow(max(0.0, dot(nzp.xyz, nzq.xyz)), BT_DENOISE_SIGMA_NORMAL);
-      float offset = float(spacing * (abs(dx) + abs(dy)));
-      float wDepth = exp(-abs(nzp.w - nzq.w) / (BT_DENOISE_SIGMA_DEPTH * gradient * offset + BT_DENOISE_DEPTH_FLOOR * nzp.w));
-      float wLum = exp(-abs(lp - lq) / (sigma * sqrt(max(lp * lq, 0.0)) + BT_DENOISE_LUMINANCE_FLOOR));
-      float w = kKernel[abs(dx)] * kKernel[abs(dy)] * wNormal * wDepth * wLum;
-      sum += w * cq;
+      if (!inside(q, size) || !hit(q)) continue;
+      vec4 cq = imageLoad(inputImage, q);
+      float wLum = exp(-abs(lp - luminance(cq.rgb)) / lumScale);
+      float w = kKernel[abs(dx)] * kKernel[abs(dy)] * geometryWeight(nzp, imageLoad(normalDepthImage, q), gradient, float(spacing * (abs(dx) + abs(dy)))) * wLum;
+      sum += w * cq.rgb;
+      variance += w * w * cq.a;
       weights += w;
     }
   }
   vec3 result = sum / weights;
   if (lastPass) result *= albedoFloor(p);
-  imageStore(outputImage, p, vec4(result, 1.0));
+  imageStore(outputImage, p, vec4(result, variance / (weights * weights)));
 }

@@ -18,19 +18,31 @@
 #define BT_DENOISE_KERNEL2 0.0625f
 // Edge stops, as SVGF (Schied et al. 2017) writes them: normals max(0, n.n')^SIGMA_NORMAL;
 // depth exp(-|z - z'| / (SIGMA_DEPTH |grad z| |offset| + DEPTH_FLOOR z)), the gradient so that
-// a sloped floor is one surface; irradiance luminance exp(-|l - l'| / (sigma sqrt(l l') +
-// LUMINANCE_FLOOR)), sigma = SIGMA_LUMINANCE / sqrt(spp) / 2^pass: relative to the geometric
-// mean of the two, so the brighter a firefly the less it weighs (relative to their arithmetic
-// mean the weight would tend to exp(-2 / sigma) however bright, and spread fireflies into blobs;
-// relative to the darker one it smooths noise too little). SVGF divides by the pixel's
-// measured standard deviation; brushtrace's tracers keep no second moment, so the expected
-// relative noise of a path-traced mean (1 / sqrt(spp)) stands in for it: a young image is
-// smoothed, a converged one is left nearly as it is. Dammertz halves the colour sigma each pass.
+// a sloped floor is one surface; irradiance luminance exp(-|l - l'| / (sigma sqrt(g(var l)) +
+// LUMINANCE_FLOOR)), var l the variance of the pixel's demodulated mean luminance and g a 3x3
+// Gaussian of it (VARIANCE_KERNEL0..2, the centre tap first): each pixel is smoothed as much as
+// its own noise asks, so a firefly (far outside its neighbours' spread) stays where it is
+// instead of being spread into a blob, and a converged pixel is left alone. Each pass filters
+// the variance with its weights squared (sum w^2 var / (sum w)^2), so the next pass sees the
+// smaller noise the last one left. sigma = SIGMA_LUMINANCE / 2^pass: Dammertz's halving kept
+// beside SVGF's propagation, since without it a converged image (the lit test room at 1024 spp)
+// changed by 3 times its own noise; 3.5 rather than SVGF's 4 for the same reason (4: 1.05e-3,
+// over tests/render/denoise_exposure_test.cpp's bar of 1e-3; bench/README.md, conv18).
 #define BT_DENOISE_SIGMA_NORMAL 128.0f
 #define BT_DENOISE_SIGMA_DEPTH 1.0f
 #define BT_DENOISE_DEPTH_FLOOR 0.001f
-#define BT_DENOISE_SIGMA_LUMINANCE 4.0f
+#define BT_DENOISE_SIGMA_LUMINANCE 3.5f
 #define BT_DENOISE_LUMINANCE_FLOOR 1e-6f
+#define BT_DENOISE_VARIANCE_KERNEL0 0.25f
+#define BT_DENOISE_VARIANCE_KERNEL1 0.125f
+#define BT_DENOISE_VARIANCE_KERNEL2 0.0625f
+// The variance: from the pixel's own samples (the tracers sum each sample's squared luminance
+// beside the sample: the second moment m2, so var = (m2 - mean^2) / (n - 1) for the mean of n)
+// from this many samples on; below it, or where a caller has no second moment, as SVGF does for
+// a young history: the spread of the pixel means over a (2 RADIUS + 1)^2 window weighed by the
+// normal and depth stops (one or two samples say nothing of their own spread).
+#define BT_DENOISE_TEMPORAL_VARIANCE_FROM 4
+#define BT_DENOISE_SPATIAL_VARIANCE_RADIUS 3
 // Demodulation divides the beauty by the albedo, each channel at least this much, so black
 // texels do not blow up; remodulation multiplies by the same value.
 #define BT_DENOISE_ALBEDO_FLOOR 0.01f

@@ -1,6 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "gl_bindings.glsl"
+#include "denoise_constants.glsl" // BT_LUMINANCE_*: accumulate()'s second moment
 #ifdef BT_TEXTURES_BINDLESS
 #extension GL_ARB_bindless_texture : require
 #endif
@@ -35,7 +36,7 @@
 #include "lightmaps.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(rgba32f, binding = BT_IMAGE_ACCUMULATION) uniform image2D accumulation; // rgb: sum of samples
+layout(rgba32f, binding = BT_IMAGE_ACCUMULATION) uniform image2D accumulation; // rgb: sum of samples, a: of their luminance squared
 
 // The lighting mode is fixed when the program is built (renderer/gl/gl_tracer.cpp builds one
 // program per mode): each program then compiles only its own integrator, and the driver's
@@ -670,11 +671,15 @@ Path cameraPath(ivec2 pixel, out Rng rng) {
   return path;
 }
 
-// Adds an ended path's sample to the pixel's running sum.
+// Adds an ended path's sample to the pixel's running sum, and its luminance squared to the sum's
+// alpha (the second moment the denoiser takes each pixel's noise from: RenderImage::luminanceMoment2).
 void accumulate(ivec2 pixel, vec3 l) {
   vec4 sum = camera.frameIndex == camera.firstFrame ? vec4(0.0) : imageLoad(accumulation, pixel);
   // A NaN or infinite sample would poison the pixel for good; drop it, as the CPU does.
-  if (!any(isnan(l)) && !any(isinf(l))) sum.rgb += l;
+  if (!any(isnan(l)) && !any(isinf(l))) {
+    float luminance = dot(l, vec3(BT_LUMINANCE_R, BT_LUMINANCE_G, BT_LUMINANCE_B));
+    sum += vec4(l, luminance * luminance);
+  }
   imageStore(accumulation, pixel, sum);
 }
 

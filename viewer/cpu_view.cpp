@@ -2,6 +2,7 @@
 
 #include "lighting/sampling.h"
 #include "renderer/cpu/integrator.h"
+#include "renderer/exposure.h" // luminance
 #include "renderer/view_lightmaps.h"
 #include "scene/parallel_for.h"
 
@@ -17,10 +18,11 @@ constexpr int kMaxBandRows = 64;
 } // namespace
 
 CpuProgressive::CpuProgressive(int width, int height)
-    : width_(width), height_(height), sum_(size_t(width) * size_t(height)), rowSamples_(size_t(height), 0) {}
+    : width_(width), height_(height), sum_(size_t(width) * size_t(height)), moment2_(sum_.size(), 0.0), rowSamples_(size_t(height), 0) {}
 
 void CpuProgressive::restart() {
   std::fill(sum_.begin(), sum_.end(), glm::dvec3(0.0));
+  std::fill(moment2_.begin(), moment2_.end(), 0.0);
   std::fill(rowSamples_.begin(), rowSamples_.end(), 0);
   passes_ = 0;
   nextRow_ = 0;
@@ -45,7 +47,9 @@ size_t CpuProgressive::refine(const RenderScene& scene, const Camera& camera, co
       const glm::vec2 jitter = rng.next2();
       const glm::vec3 l = radiance(scene, integrator, camera.ray(float(x) + jitter.x, float(y) + jitter.y), rng);
       // A NaN or infinite sample would poison the pixel for good; drop it (as renderCpu does).
-      if (std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z)) sum_[size_t(y) * width_ + x] += glm::dvec3(l);
+      if (!(std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z))) return;
+      sum_[size_t(y) * width_ + x] += glm::dvec3(l);
+      moment2_[size_t(y) * width_ + x] += double(luminance(l)) * double(luminance(l));
     });
     secondsPerRow_ = std::chrono::duration<double>(Clock::now() - bandStart).count() / rows;
     for (int y = first; y < first + rows; ++y) ++rowSamples_[size_t(y)];
@@ -65,12 +69,14 @@ RenderImage CpuProgressive::mean() const {
   image.height = height_;
   image.samples = passes_;
   image.beauty.assign(sum_.size(), glm::vec3(0.0f));
+  image.luminanceMoment2.assign(sum_.size(), 0.0f);
   for (int y = 0; y < height_; ++y) {
     const int n = rowSamples_[size_t(y)];
     if (n == 0) continue;
     for (int x = 0; x < width_; ++x) {
       const size_t i = size_t(y) * width_ + x;
       image.beauty[i] = glm::vec3(sum_[i] / double(n));
+      image.luminanceMoment2[i] = float(moment2_[i] / double(n));
     }
   }
   return image;

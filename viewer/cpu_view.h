@@ -36,13 +36,14 @@ public:
   int samples() const { return passes_; } // full passes
   int width() const { return width_; }
   int height() const { return height_; }
-  // The mean of each pixel's samples (its row's count: rows of the current pass have one more),
-  // black where none yet.
+  // The mean of each pixel's samples and of their squared luminance (its row's count: rows of the
+  // current pass have one more), black where none yet.
   RenderImage mean() const;
 
 private:
   int width_, height_;
   std::vector<glm::dvec3> sum_;
+  std::vector<double> moment2_; // each sample's luminance squared: the denoiser's variance
   std::vector<int> rowSamples_;
   int passes_ = 0;
   int nextRow_ = 0;            // of the current pass

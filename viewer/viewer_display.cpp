@@ -33,7 +33,7 @@ RenderImage Viewer::Impl::meanImage(const gl::ProgressiveImage& image) const {
   RenderImage out;
   out.width = image.width();
   out.height = image.height();
-  out.beauty = image.readMean();
+  out.beauty = image.readMean(&out.luminanceMoment2);
   return out;
 }
 
@@ -125,9 +125,11 @@ const RenderImage& Viewer::Impl::aovsOfSize(int width, int height) {
 RenderImage Viewer::Impl::shownImage(RenderImage mean, int spp) {
   const RenderImage& guide = aovsOfSize(mean.width, mean.height);
   std::vector<glm::vec3> raw = std::move(mean.beauty);
+  std::vector<float> moment2 = std::move(mean.luminanceMoment2); // the denoiser's variance
   mean = guide;
   mean.samples = std::max(spp, 1);
   mean.beauty = std::move(raw);
+  mean.luminanceMoment2 = std::move(moment2);
   if (mode == ViewMode::LightOnly) {
     mean.beauty = lightAlone(mean, lighting != LightingMode::Physical);
   } else if (const float share = denoiserShare(spp); mode == ViewMode::Beauty && share > 0.0f) {

@@ -90,7 +90,12 @@ fs::path Viewer::Impl::takeScreenshot() {
   renderAovsIfNeeded();
   RenderImage image = aovs;
   image.samples = std::max(samples(), 1);
-  image.beauty = cpu ? cpuFull->mean().beauty : full->readMean(); // black before the first sample
+  if (cpu) { // black before the first sample
+    RenderImage mean = cpuFull->mean();
+    image.beauty = std::move(mean.beauty), image.luminanceMoment2 = std::move(mean.luminanceMoment2);
+  } else {
+    image.beauty = full->readMean(&image.luminanceMoment2);
+  }
   // What is on screen: the light alone, or the young physical image denoised (the EXR too).
   if (shownOnCpu(samples())) image = shownImage(std::move(image), samples());
   OutputSettings output = displayOutput();

@@ -1,6 +1,7 @@
 #include "renderer/cpu/cpu_renderer.h"
 
 #include "lighting/liquids.h"
+#include "renderer/exposure.h" // luminance
 #include "lighting/sky.h"
 
 #include "scene/color.h"
@@ -90,6 +91,8 @@ RenderImage renderCpu(const RenderScene& scene, const Camera& camera, const Rend
 
   // Sums in double: many samples of bright lights would lose the dim ones in float.
   std::vector<glm::dvec3> sum(n, glm::dvec3(0.0));
+  std::vector<double> moment2(n, 0.0); // each sample's luminance squared: the denoiser's variance
+
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   const int maxSamples = settings.spp > 0 ? settings.spp : std::numeric_limits<int>::max();
@@ -104,7 +107,10 @@ RenderImage renderCpu(const RenderScene& scene, const Camera& camera, const Rend
         const Ray ray = camera.ray(float(x) + jitter.x, float(y) + jitter.y);
         const glm::vec3 l = radiance(scene, settings.integrator, ray, rng);
         // A NaN or infinite sample would poison the pixel for good; drop it.
-        if (std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z)) sum[size_t(y) * image.width + x] += glm::dvec3(l);
+        if (!(std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z))) continue;
+        const size_t i = size_t(y) * image.width + x;
+        sum[i] += glm::dvec3(l);
+        moment2[i] += double(luminance(l)) * double(luminance(l));
       }
     });
     ++pass;
@@ -123,7 +129,11 @@ RenderImage renderCpu(const RenderScene& scene, const Camera& camera, const Rend
     if (settings.timeLimit > 0.0 && t >= settings.timeLimit) break;
   }
   image.samples = pass;
-  for (size_t i = 0; i < n; ++i) image.beauty[i] = glm::vec3(sum[i] / double(std::max(pass, 1)));
+  image.luminanceMoment2.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    image.beauty[i] = glm::vec3(sum[i] / double(std::max(pass, 1)));
+    image.luminanceMoment2[i] = float(moment2[i] / double(std::max(pass, 1)));
+  }
   return image;
 }
 

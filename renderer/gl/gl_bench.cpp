@@ -253,6 +253,7 @@ void benchTimeToConverged(gl::GlTracer& tracer, const gl::CameraBasis& camera, c
     const BeautyImage beauty = tracer.renderBeauty(camera, settings);
     RenderImage image;
     image.width = s.width, image.height = s.height, image.samples = beauty.samples, image.beauty = beauty.beauty;
+    image.luminanceMoment2 = beauty.luminanceMoment2;
     image.normal = aov.normal, image.depth = aov.depth, image.face = aov.face;
     for (const glm::vec4& a : aov.albedo) image.albedo.emplace_back(a);
     return image;

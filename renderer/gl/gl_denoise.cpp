@@ -22,24 +22,26 @@ void upload(const GlTexture2D& texture, const std::vector<float>& rgba) {
 
 DenoisePass::DenoisePass() : program_("denoise.comp", {}) {}
 
-void DenoisePass::run(const GlTexture2D& beauty, float scale, int samples, const GlTexture2D& albedo, const GlTexture2D& normalDepth,
-                      const GlTexture2D& out, const GlTexture2D& scratch) {
+void DenoisePass::run(const GlTexture2D& beauty, float scale, int samples, bool hasMoment2, const GlTexture2D& albedo,
+                      const GlTexture2D& normalDepth, const GlTexture2D& out, const GlTexture2D& scratch) {
   for (const GlTexture2D* t : {&albedo, &normalDepth, &out, &scratch})
     if (t->width() != beauty.width() || t->height() != beauty.height())
       throw GlError(fmt::format("denoise: a {}x{} image beside a {}x{} beauty", t->width(), t->height(), beauty.width(), beauty.height()));
   const GLuint program = program_.id();
   BT_GL(glBindImageTexture(BT_IMAGE_DENOISE_ALBEDO, albedo.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F));
   BT_GL(glBindImageTexture(BT_IMAGE_DENOISE_NORMAL_DEPTH, normalDepth.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F));
-  float sigma = BT_DENOISE_SIGMA_LUMINANCE / std::sqrt(float(std::max(samples, 1)));
-  for (int pass = 0; pass < BT_DENOISE_PASSES; ++pass, sigma *= 0.5f) {
-    // The passes alternate between the two images so that the last one writes `out`.
-    const bool intoOut = (BT_DENOISE_PASSES - 1 - pass) % 2 == 0;
-    const GlTexture2D& input = pass == 0 ? beauty : intoOut ? scratch : out;
-    BT_GL(glProgramUniform1i(program, 0, 1 << pass));
-    BT_GL(glProgramUniform1f(program, 1, sigma));
-    BT_GL(glProgramUniform1f(program, 2, pass == 0 ? scale : 1.0f));
-    BT_GL(glProgramUniform1i(program, 3, pass == 0));
-    BT_GL(glProgramUniform1i(program, 4, pass == BT_DENOISE_PASSES - 1));
+  samples = std::max(samples, 1);
+  BT_GL(glProgramUniform1i(program, 1, samples));
+  BT_GL(glProgramUniform1i(program, 5, hasMoment2 && samples >= BT_DENOISE_TEMPORAL_VARIANCE_FROM));
+  // Step 0 prepares, steps 1.. filter (pass = step - 1); they alternate between the two images
+  // so that the last one writes `out`.
+  for (int step = 0; step <= BT_DENOISE_PASSES; ++step) {
+    const bool intoOut = (BT_DENOISE_PASSES - step) % 2 == 0;
+    const GlTexture2D& input = step == 0 ? beauty : intoOut ? scratch : out;
+    BT_GL(glProgramUniform1i(program, 0, step == 0 ? 1 : 1 << (step - 1)));
+    BT_GL(glProgramUniform1f(program, 2, step == 0 ? scale : 1.0f));
+    BT_GL(glProgramUniform1i(program, 3, step == 0));
+    BT_GL(glProgramUniform1i(program, 4, step == BT_DENOISE_PASSES));
     BT_GL(glBindImageTexture(BT_IMAGE_DENOISE_IN, input.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F));
     BT_GL(glBindImageTexture(BT_IMAGE_DENOISE_OUT, (intoOut ? out : scratch).id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F));
     program_.dispatch2d(beauty.width(), beauty.height());
@@ -56,6 +58,7 @@ std::vector<glm::vec3> denoiseWithGl(const RenderImage& image, DenoisePass& pass
   const int width = image.width, height = image.height;
   const size_t n = size_t(width) * size_t(height);
   std::vector<float> beauty(n * 4), albedo(n * 4), normalDepth(n * 4);
+  const bool hasMoment2 = image.luminanceMoment2.size() == n;
   for (size_t i = 0; i < n; ++i) {
     for (int c = 0; c < 3; ++c) {
       beauty[i * 4 + c] = image.beauty[i][c];
@@ -63,13 +66,14 @@ std::vector<glm::vec3> denoiseWithGl(const RenderImage& image, DenoisePass& pass
       normalDepth[i * 4 + c] = image.normal[i][c];
     }
     normalDepth[i * 4 + 3] = image.depth[i];
+    if (hasMoment2) beauty[i * 4 + 3] = image.luminanceMoment2[i];
   }
   GlTexture2D sum(GL_RGBA32F, width, height), albedoTexture(GL_RGBA32F, width, height), normalDepthTexture(GL_RGBA32F, width, height);
   GlTexture2D out(GL_RGBA32F, width, height), scratch(GL_RGBA32F, width, height);
   upload(sum, beauty);
   upload(albedoTexture, albedo);
   upload(normalDepthTexture, normalDepth);
-  pass.run(sum, 1.0f, image.samples, albedoTexture, normalDepthTexture, out, scratch);
+  pass.run(sum, 1.0f, image.samples, hasMoment2, albedoTexture, normalDepthTexture, out, scratch);
   std::vector<float> rgba(n * 4);
   BT_GL(glPixelStorei(GL_PACK_ALIGNMENT, 4));
   BT_GL(glGetTextureImage(out.id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(rgba.size() * sizeof(float)), rgba.data()));

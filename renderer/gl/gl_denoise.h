@@ -16,10 +16,11 @@ class DenoisePass {
 public:
   DenoisePass(); // builds the program; the context must be current
   // out = the denoised beauty, from `beauty` (RGBA32F) times `scale`, the mean of `samples`
-  // samples (a progressive sum with scale 1 / samples, or a mean with 1), guided by `albedo` and
-  // `normalDepth` (RGBA32F: aov.comp's normal and depth, depth +inf where nothing is hit).
-  // `scratch` holds every other pass. All five textures are the beauty's size.
-  void run(const GlTexture2D& beauty, float scale, int samples, const GlTexture2D& albedo, const GlTexture2D& normalDepth,
+  // samples (a progressive sum with scale 1 / samples, or a mean with 1; with `hasMoment2`, its
+  // alpha holds the samples' squared luminance likewise), guided by `albedo` and `normalDepth`
+  // (RGBA32F: aov.comp's normal and depth, depth +inf where nothing is hit). `scratch` holds
+  // every other step. All five textures are the beauty's size.
+  void run(const GlTexture2D& beauty, float scale, int samples, bool hasMoment2, const GlTexture2D& albedo, const GlTexture2D& normalDepth,
            const GlTexture2D& out, const GlTexture2D& scratch);
 
 private:

@@ -75,9 +75,10 @@ std::vector<PixelRect> ProgressiveImage::donePieces() const {
   return done;
 }
 
-std::vector<glm::vec3> ProgressiveImage::readMean() const {
+std::vector<glm::vec3> ProgressiveImage::readMean(std::vector<float>* moment2) const {
   const size_t n = static_cast<size_t>(width()) * static_cast<size_t>(height());
   std::vector<glm::vec3> mean(n, glm::vec3(0.0f));
+  if (moment2) moment2->assign(n, 0.0f);
   if (samples_ == 0 && nextGroup_ == 0) return mean;
   std::vector<float> rgba(n * 4);
   BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
@@ -90,6 +91,7 @@ std::vector<glm::vec3> ProgressiveImage::readMean() const {
       if (count == 0) continue; // not drawn since the restart: what is there is another view's
       const size_t i = size_t(y) * size_t(width()) + size_t(x);
       mean[i] = glm::vec3(rgba[4 * i], rgba[4 * i + 1], rgba[4 * i + 2]) / static_cast<float>(count);
+      if (moment2) (*moment2)[i] = rgba[4 * i + 3] / static_cast<float>(count);
     }
   return mean;
 }

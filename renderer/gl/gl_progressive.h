@@ -1,5 +1,5 @@
 // Progressive rendering kept on the GPU, for the viewer: one RGBA32F sum that takes one more
-// sample per frame, and a tonemap pass (shaders/tonemap.comp) that turns sum / samples into
+// sample per frame (rgb the radiance, a its luminance squared), and a tonemap pass (shaders/tonemap.comp) that turns sum / samples into
 // the RGBA8 image on screen. Nothing is read back per frame; readMean() and readRgba8() are
 // for screenshots and tests.
 #pragma once
@@ -67,8 +67,10 @@ public:
   // groups from the top and then part of the next row, from its left; at most two rectangles.
   std::vector<PixelRect> donePieces() const;
 
-  // Mean linear radiance per pixel, top row first (each pixel's own count: black before its first sample).
-  std::vector<glm::vec3> readMean() const;
+  // Mean linear radiance per pixel, top row first (each pixel's own count: black before its first
+  // sample); with `moment2`, the mean of the samples' squared luminance too (the sum's alpha:
+  // pathtrace.comp's accumulate, RenderImage::luminanceMoment2).
+  std::vector<glm::vec3> readMean(std::vector<float>* moment2 = nullptr) const;
 
 private:
   int groupsX() const { return (width() + kPieceAlignment - 1) / kPieceAlignment; }

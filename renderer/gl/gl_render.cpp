@@ -79,6 +79,7 @@ GlRenderResult renderWithGl(GlContext& context, const RenderScene& scene, const 
   });
   image.samples = b.samples;
   image.beauty = b.beauty;
+  image.luminanceMoment2 = b.luminanceMoment2;
   return result;
 }
 

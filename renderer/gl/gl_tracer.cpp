@@ -302,7 +302,11 @@ BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettin
   const float scale = 1.0f / static_cast<float>(std::max(out.samples, 1));
   accumulation.readMapped<float>(settings.width, settings.height, GL_RGBA, GL_FLOAT, 4, [&](std::span<const float> sum) {
     out.beauty.resize(sum.size() / 4);
-    for (size_t i = 0; i < out.beauty.size(); ++i) out.beauty[i] = glm::vec3(sum[4 * i], sum[4 * i + 1], sum[4 * i + 2]) * scale;
+    out.luminanceMoment2.resize(out.beauty.size());
+    for (size_t i = 0; i < out.beauty.size(); ++i) {
+      out.beauty[i] = glm::vec3(sum[4 * i], sum[4 * i + 1], sum[4 * i + 2]) * scale;
+      out.luminanceMoment2[i] = sum[4 * i + 3] * scale;
+    }
   });
   return out;
 }

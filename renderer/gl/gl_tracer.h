@@ -88,6 +88,7 @@ struct BeautyImage {
   int samples = 0;
   int wavefrontSamples = 0; // of `samples`, those the wavefront kernels drew
   std::vector<glm::vec3> beauty;
+  std::vector<float> luminanceMoment2; // RenderImage::luminanceMoment2 (the sum's alpha / samples)
 };
 
 // A rectangle of an image's pixels, x to the right and y down from the top-left pixel.

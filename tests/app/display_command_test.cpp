@@ -151,4 +151,32 @@ TEST(RenderDenoise, PngShowsTheDenoisedImageAndExrKeepsTheRawBeauty) {
   EXPECT_NE(png, readPng(dir.path / "raw.png"));
 }
 
+// `bench --time-to-converged --backend cpu --reference`: the stored reference (a render's EXR) is
+// read instead of rendered, its sample count from the EXR, the sweep stopping at a quarter of it;
+// a reference of another size or view is refused with a message and exit code 1.
+TEST(BenchCommand, TimeToConvergedReadsAStoredReference) {
+  TempDir dir("bench_reference");
+  const std::string start = quoted(bt::test::mapsDir() / "start.map");
+  const std::string view = " --backend cpu --bounces 1 --size 32x18";
+  const CommandResult ref = brushtrace("render " + start + " -o " + quoted(dir.path / "ref.exr") + view +
+                                       " --lighting physical --exposure 0 --seed 24301 --spp 16 --quiet");
+  ASSERT_EQ(ref.exitCode, 0) << ref.err;
+  const std::string bench = "bench --time-to-converged " + view + " --reference " + quoted(dir.path / "ref.exr") + " ";
+  const CommandResult run = brushtrace(bench + start);
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  EXPECT_NE(run.out.find("reference: stored, 16 spp"), npos) << run.out;
+  EXPECT_EQ(run.out.find("reference: 16 spp in"), npos) << "rendered instead of read: " << run.out;
+  EXPECT_NE(run.out.find("time to converged, cpu, denoiser off:"), npos) << run.out;
+  EXPECT_NE(run.out.find("time to converged, cpu, denoiser on:"), npos) << run.out;
+  EXPECT_EQ(run.out.find("  8 spp:"), npos) << "past a quarter of the reference's 16 spp: " << run.out;
+
+  const CommandResult otherSize = brushtrace("bench --time-to-converged --backend cpu --bounces 1 --size 34x18 --reference " +
+                                             quoted(dir.path / "ref.exr") + " " + start);
+  EXPECT_EQ(otherSize.exitCode, 1);
+  EXPECT_NE(otherSize.err.find("the reference is 32x18, the bench renders 34x18"), npos) << otherSize.err;
+  const CommandResult otherLevel = brushtrace(bench + quoted(bt::test::mapsDir() / "curves.map"));
+  EXPECT_EQ(otherLevel.exitCode, 1);
+  EXPECT_NE(otherLevel.err.find("another level, camera or size"), npos) << otherLevel.err;
+}
+
 } // namespace

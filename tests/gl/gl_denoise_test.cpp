@@ -17,7 +17,8 @@ namespace {
 constexpr int kWidth = 80, kHeight = 60;
 
 // The room's AOVs, and a beauty of albedo x a light falling off across the image x noise in
-// 0..2 (as a few samples per pixel give), with a hole of sky (nothing hit) and a NaN sample.
+// 0..2 (as a few samples per pixel give), with a hole of sky (nothing hit) and a NaN sample; its
+// second moment (the samples' squared luminance) noisier on the right half.
 RenderImage noisyRoom(int samples) {
   const Scene scene = test::makeTestRoom();
   GlTracer tracer(test::sharedGlContext(), scene, test::textureModeUnderTest(), GlLighting{});
@@ -31,6 +32,9 @@ RenderImage noisyRoom(int samples) {
     const float noise = float((uint32_t(i) * 2654435761u >> 8) % 1000) / 500.0f;
     const float light = 4.0f / (1.0f + 0.002f * float((x - 20) * (x - 20) + (y - 15) * (y - 15)));
     image.beauty.push_back(image.albedo.back() * light * noise);
+    // The samples' squared luminance: the mean's square and a spread that varies over the room.
+    const float l = 0.2126f * image.beauty.back().x + 0.7152f * image.beauty.back().y + 0.0722f * image.beauty.back().z;
+    image.luminanceMoment2.push_back(l * l * (1.0f + 0.5f * noise + 4.0f * float(x > 40)));
   }
   for (int y = 0; y < 6; ++y)
     for (int x = 0; x < 8; ++x) image.depth[size_t(y) * kWidth + size_t(x)] = INFINITY, image.beauty[size_t(y) * kWidth + size_t(x)] = {};
@@ -40,7 +44,8 @@ RenderImage noisyRoom(int samples) {
 
 TEST(GlDenoise, TheShaderGivesTheCpuFiltersImage) {
   GlContext& context = test::sharedGlContext();
-  for (int samples : {4, 256}) {
+  // 2 spp: the variance from the neighbours' spread; 16 and 256: from each pixel's own moment.
+  for (int samples : {2, 16, 256}) {
     SCOPED_TRACE(testing::Message() << samples << " spp");
     const RenderImage image = noisyRoom(samples);
     const int errorsBefore = context.debugErrorCount();

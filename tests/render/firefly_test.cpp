@@ -3,10 +3,13 @@
 // removes (the per-pixel variance), what it costs (the mean, against the unclamped estimate) and
 // what it leaves alone (the light the camera's surfaces receive directly). Every pixel in colour.
 #include "renderer/cpu/cpu_renderer.h"
+#include "renderer/denoise.h"
+#include "renderer/exposure.h"
 #include "tests/render/box_scene.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
@@ -93,6 +96,33 @@ TEST(Fireflies, ClampIndirectLeavesDirectLightAlone) {
   ASSERT_EQ(off.beauty.size(), on.beauty.size());
   for (size_t i = 0; i < off.beauty.size(); ++i) ASSERT_EQ(off.beauty[i], on.beauty[i]) << "pixel " << i;
   EXPECT_GT(imageMean(off).x, 0.0) << "a black image proves nothing";
+}
+
+// The denoiser on what the clamp leaves (the light beside the wall is still the noisiest of any
+// test room): the variance-guided filter against the one it replaced (noise assumed 1 / sqrt(spp)
+// everywhere, which spread the bright pixels into blobs), the mean relative MSE of three 4-spp
+// renders (seeds 1-3), denoised, against a 1024-spp reference, every channel of every pixel.
+TEST(Fireflies, VarianceGuidedDenoiserIsCloserThanTheOldFilter) {
+  const RenderImage reference = renderRoom(room(), kClampIndirectDefault, 1, 1024, 99);
+  const float scale = std::exp2(autoExposureEv(reference.beauty, kWidth, kHeight));
+  const auto relativeMse = [&](const std::vector<glm::vec3>& image) {
+    double sum = 0.0;
+    for (size_t i = 0; i < image.size(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        const double x = image[i][c] * scale, r = reference.beauty[i][c] * scale;
+        sum += (x - r) * (x - r) / (r * r + 0.01);
+      }
+    return sum / double(image.size() * 3);
+  };
+  double raw = 0.0, denoised = 0.0;
+  for (uint32_t seed = 1; seed <= 3; ++seed) {
+    const RenderImage noisy = renderRoom(room(), kClampIndirectDefault, 1, 4, seed);
+    raw += relativeMse(noisy.beauty) / 3.0;
+    denoised += relativeMse(denoise(noisy)) / 3.0;
+  }
+  std::printf("light-near-wall room, 4 spp: raw %.4f, denoised %.4f\n", raw, denoised);
+  // Stated: below the old filter's 0.0336 (measured on these renders at fd4f78d; here 0.026).
+  EXPECT_LT(denoised, 0.0336) << "raw " << raw;
 }
 
 } // namespace
