@@ -172,7 +172,13 @@ LightmapChoice chooseLightmaps(const RenderOptions& o, const Scene& scene, Rende
     fmt::print(stderr, "{}: note: a compiled Quake 3 level keeps no lights; showing its lightmaps (--lighting compiled)\n", mapPath);
   LightmapChoice choice;
   if (!beauty || !(o.lighting == "compiled" || o.lighting == "difference" || quake3Default)) return choice;
-  const std::string why = showCompiledLightmaps(scene, rs, o.import.textures.game.game);
+  std::array<float, 256> styleScale; // --style, on the compiled styles as on the lights
+  styleScale.fill(1.0f);
+  for (const std::string& style : o.styles) {
+    const auto [n, scale] = *parseStyleScale(style);
+    styleScale[size_t(n)] = scale;
+  }
+  const std::string why = showCompiledLightmaps(scene, rs, o.import.textures.game.game, &styleScale);
   if (!why.empty()) {
     fmt::print(stderr, "{}: warning: {}; showing faithful lighting\n", mapPath, why);
     return choice;
@@ -378,7 +384,9 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
                   "Faithful lighting: on = the compiler's luxels filtered as the engine shows them, off = the light at each pixel")
       ->check(CLI::IsMember({"on", "off"}))
       ->capture_default_str();
-  cmd->add_option("--style", options->styles, "Light style N's lights times SCALE, as the viewer's sliders (N=SCALE, repeatable)")
+  cmd->add_option("--style", options->styles,
+                  "Light style N's lights (and, with --lighting compiled, its compiled lightmaps) times SCALE, as the viewer's sliders "
+                  "(N=SCALE, repeatable)")
       ->check(CLI::Validator(
           [](std::string& value) { return parseStyleScale(value) ? std::string() : "expected N=SCALE, N 1-255, SCALE 0-2: " + value; },
           "N=SCALE"));

@@ -239,14 +239,17 @@ float engineDisplayScale(LightmapEngine engine) {
   return engine == LightmapEngine::Quake || engine == LightmapEngine::Quake3 ? 2.0f / 255.0f : 1.0f / 255.0f;
 }
 
-CompiledLightmaps buildCompiledLightmaps(const Scene& scene, const RenderScene& rs, LightmapEngine engine) {
+CompiledLightmaps buildCompiledLightmaps(const Scene& scene, const RenderScene& rs, LightmapEngine engine,
+                                         const std::array<float, 256>* styleScale) {
   CompiledLightmaps out;
   const CompiledLighting* cl = scene.compiledLighting.get();
   if (!cl) return out;
   out.compiledFaces = size_t(std::count_if(cl->faces.begin(), cl->faces.end(), [](const LightmappedFace& f) { return f.width > 0; }));
   if (out.compiledFaces == 0) return out;
   const CompiledFaceIndex index(*cl);
-  const LuxelRule rule{engine, styleValuesAtLoad(engine, scene)};
+  LuxelRule rule{engine, styleValuesAtLoad(engine, scene)};
+  if (styleScale)
+    for (size_t s = 0; s < rule.styleValues.size(); ++s) rule.styleValues[s] *= (*styleScale)[s];
   Lightmaps& lm = out.lightmaps;
   lm.displayScale = engineDisplayScale(engine);
   if (engine == LightmapEngine::HalfLife) lm.luxelDisplay = BT_LUXEL_DISPLAY_GOLDSRC;
@@ -273,12 +276,12 @@ CompiledLightmaps buildCompiledLightmaps(const Scene& scene, const RenderScene& 
   return out;
 }
 
-std::string showCompiledLightmaps(const Scene& scene, RenderScene& rs, const std::string& game) {
+std::string showCompiledLightmaps(const Scene& scene, RenderScene& rs, const std::string& game, const std::array<float, 256>* styleScale) {
   const CompiledLighting* cl = scene.compiledLighting.get();
   if (!cl) return "the level is not a compiled .bsp, so it has no lightmaps";
   const std::optional<LightmapEngine> engine = lightmapEngineNamed(game.empty() || !lightmapEngineNamed(game) ? cl->engine : game);
   if (!engine) return "no display rule for the engine '" + cl->engine + "'";
-  CompiledLightmaps compiled = buildCompiledLightmaps(scene, rs, *engine);
+  CompiledLightmaps compiled = buildCompiledLightmaps(scene, rs, *engine, styleScale);
   if (compiled.compiledFaces == 0) return "the level has no lightmaps (compiled without light)";
   rs.lightmaps = std::move(compiled.lightmaps);
   return {};

@@ -64,12 +64,16 @@ struct CompiledLightmaps {
 };
 
 // The compiled lightmaps of `scene` laid out on the faces of `rs` (built from it). Empty when
-// the level has none (compiled without light, a .map source, Quake 3's pages).
-CompiledLightmaps buildCompiledLightmaps(const Scene& scene, const RenderScene& rs, LightmapEngine engine);
+// the level has none (compiled without light, a .map source, Quake 3's pages). `styleScale`:
+// each style's weight times this (the viewer's light-style sliders, render --style; nullptr: 1),
+// as the game's lightstyle strings would weigh it.
+CompiledLightmaps buildCompiledLightmaps(const Scene& scene, const RenderScene& rs, LightmapEngine engine,
+                                         const std::array<float, 256>* styleScale = nullptr);
 
 // `--lighting compiled`: sets rs.lightmaps to the level's compiled ones, drawn by the engine of
 // `game` (a --game name; empty: the file's own, CompiledLighting::engine). Returns why it
 // cannot (the caller warns and shows faithful lighting instead), empty when it did.
-std::string showCompiledLightmaps(const Scene& scene, RenderScene& rs, const std::string& game);
+std::string showCompiledLightmaps(const Scene& scene, RenderScene& rs, const std::string& game,
+                                  const std::array<float, 256>* styleScale = nullptr);
 
 } // namespace bt

@@ -198,7 +198,7 @@ void Viewer::Impl::setLighting(LightingMode m) {
 
 bool Viewer::Impl::showCompiled() {
   if (!level) return false;
-  const std::string why = showCompiledLightmaps(level->scene, level->render, options.import.textures.game.game);
+  const std::string why = showCompiledLightmaps(level->scene, level->render, options.import.textures.game.game, &styleScale);
   notice = why.empty() ? std::string() : why + "; showing faithful lighting";
   if (!why.empty()) return false;
   if (!cpu) {
@@ -360,6 +360,7 @@ void Viewer::Impl::setStyleScale(int style, float scale) {
   // No import, no bake: the luxels re-summed now (else the bake's sum takes the weights when it
   // is done), the lights scaled at the next frame.
   if (level && !styled.styles.empty() && !compiled && !difference) sumStyledLuxels();
+  if (level && compiled) showCompiled(); // the compiled styles weighed again: a pass over the luxels, no import
   followStyleSliders();
 }
 

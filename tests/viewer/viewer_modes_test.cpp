@@ -6,6 +6,7 @@
 #include "renderer/denoise.h"
 #include "renderer/image_output.h"
 #include "tests/app/run_command.h"
+#include "tests/test_data.h"
 #include "tests/viewer/viewer_test_fixture.h"
 #include "tests/viewer/x_keys.h"
 
@@ -393,6 +394,33 @@ TEST_P(ViewerStyleSlidersTest, SlidersScaleTheLightsOfThePerPixelView) {
   const Viewer::DisplayImage expected = render(viewer, o, flags + " --style 5=0.5 --style 32=1.5");
   EXPECT_LE(worstBetween(shown, expected), 1) << "the sliders' image is not the level's with its styles scaled";
   EXPECT_GT(worstBetween(render(viewer, o, flags), expected), 20) << "the sliders change nothing: the test cannot tell";
+}
+
+// The compiled view (key 6) of a Quake 2 level with a style 1 light: that style's slider weighs
+// its compiled lightmaps as the game's lightstyle string would, with no import: every pixel as
+// render --lighting compiled --style's, in both windows.
+TEST_P(ViewerStyleSlidersTest, ASliderWeighsTheCompiledLightmapsOfItsStyle) {
+  BT_REQUIRE_SHARED(shared);
+  ViewerOptions o = optionsFor(GetParam(), 1);
+  o.map = (shared / "oracle/lit-games/maps_ericw-tools_testmaps_q2_lightmap_custom_scale.bsp").string();
+  o.compiled = true;
+  Viewer viewer(o);
+  // The compiled view bakes nothing: a sample per pixel is the picture.
+  const auto shownOnce = [&] {
+    EXPECT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 1; }));
+    EXPECT_TRUE(viewer.frame());
+    return viewer.displayed();
+  };
+  shownOnce();
+  ASSERT_EQ(viewer.lightStyles(), std::vector<int>{1});
+  viewer.setStyleScale(1, 0.25f);
+  const Viewer::DisplayImage shown = shownOnce();
+  EXPECT_EQ(viewer.imports(), 1) << "the slider imported the level again";
+  const std::string flags =
+      GetParam() == ViewerBackend::Cpu ? "--backend cpu --lighting compiled --spp 1" : "--backend gl --lighting compiled --spp 1";
+  const Viewer::DisplayImage expected = render(viewer, o, flags + " --style 1=0.25");
+  EXPECT_LE(worstBetween(shown, expected), 1) << "the slider's compiled image is not the level's with its style weighed";
+  EXPECT_GT(worstBetween(render(viewer, o, flags), expected), 20) << "the slider changes nothing: the test cannot tell";
 }
 
 INSTANTIATE_TEST_SUITE_P(Windows, ViewerStyleSlidersTest, ::testing::Values(ViewerBackend::Cpu, ViewerBackend::Gl),
