@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh --with-test-data
 
 jobs=$(nproc)
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBRUSHTRACE_TESTS=ON -DBRUSHTRACE_BENCH=ON
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBRUSHTRACE_TESTS=ON -DBRUSHTRACE_BENCH=ON -DBRUSHTRACE_UNITY_APP=OFF
 cmake --build build -j "$jobs"
 (cd build && ctest --output-on-failure -j "$jobs")
 
