@@ -26,6 +26,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <array>
 #include <optional>
 #include <utility>
 #include <unistd.h>
@@ -42,6 +43,18 @@ std::optional<std::pair<int, float>> parseStyleScale(const std::string& value) {
   if (std::sscanf(value.c_str(), "%d=%f%c", &style, &scale, &end) != 2) return std::nullopt;
   if (style < 1 || style > 255 || !(scale >= 0.0f && scale <= 2.0f)) return std::nullopt;
   return std::pair{style, scale};
+}
+
+// --style's values as a scale per style (1 where none is given), for the lights
+// (LightOptions::styleScale) and the compiled lightmaps alike.
+std::array<float, 256> styleScales(const std::vector<std::string>& styles) {
+  std::array<float, 256> scale;
+  scale.fill(1.0f);
+  for (const std::string& style : styles) {
+    const auto [n, s] = *parseStyleScale(style); // checked by the option's validator
+    scale[size_t(n)] = s;
+  }
+  return scale;
 }
 
 // Quake 3 curves and triangle soups drawn, as `info` counts them, and entity models where any.
@@ -172,12 +185,7 @@ LightmapChoice chooseLightmaps(const RenderOptions& o, const Scene& scene, Rende
     fmt::print(stderr, "{}: note: a compiled Quake 3 level keeps no lights; showing its lightmaps (--lighting compiled)\n", mapPath);
   LightmapChoice choice;
   if (!beauty || !(o.lighting == "compiled" || o.lighting == "difference" || quake3Default)) return choice;
-  std::array<float, 256> styleScale; // --style, on the compiled styles as on the lights
-  styleScale.fill(1.0f);
-  for (const std::string& style : o.styles) {
-    const auto [n, scale] = *parseStyleScale(style);
-    styleScale[size_t(n)] = scale;
-  }
+  const std::array<float, 256> styleScale = styleScales(o.styles); // on the compiled styles as on the lights
   const std::string why = showCompiledLightmaps(scene, rs, o.import.textures.game.game, &styleScale);
   if (!why.empty()) {
     fmt::print(stderr, "{}: warning: {}; showing faithful lighting\n", mapPath, why);
@@ -275,10 +283,7 @@ int runRender(const RenderOptions& o, RenderOutcome* outcome) {
   const bool physical = o.lighting == "physical";
   RenderSceneOptions sceneOptions;
   sceneOptions.showHidden = o.showHidden;
-  for (const std::string& style : o.styles) {
-    const auto [n, scale] = *parseStyleScale(style); // checked by the option's validator
-    sceneOptions.lights.styleScale[size_t(n)] = scale;
-  }
+  sceneOptions.lights.styleScale = styleScales(o.styles);
   sceneOptions.bounceLights = !physical && o.aov == "beauty"; // faithful _bounce only
   sceneOptions.visApproxBoxes = !physical;                    // what faithful luxels read
   Scene scene;
