@@ -125,7 +125,7 @@ void addBatchCommand(CLI::App& app, int& exitCode) {
   // A plain path must exist; ARCHIVE:maps/x.bsp, a bare level name and a glob are the importer's and the manifest's to check.
   const CLI::Validator plainPathExists(
       [](std::string& p) {
-        return p.find_first_of(":*?[") != std::string::npos || p.find('/') == std::string::npos && p.find('.') == std::string::npos
+        return p.find_first_of(":*?[") != std::string::npos || (p.find('/') == std::string::npos && p.find('.') == std::string::npos)
             ? std::string()
             : CLI::ExistingPath(p);
       },
