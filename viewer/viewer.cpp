@@ -150,7 +150,7 @@ bool Viewer::Impl::slidersAtOne() const {
 
 void Viewer::Impl::bakeSome() {
   std::erase_if(retiredBakes, [](const std::unique_ptr<CpuLuxelBake>& b) { return b->ready(); });
-  if (cpuBake && lighting == LightingMode::Faithful && !compiled && !difference && cpuBake->takeInto(level->render, styleScale, &styled)) {
+  if (cpuBake && lighting == LightingMode::Faithful && !compiled && cpuBake->takeInto(level->render, styleScale, &styled)) {
     // The GL window's GPU bake, done, already shows the luxels of the sliders at 1; the CPU's
     // sets replace it where a slider moved, or where they came first.
     if (cpu || !bake || !bake->done() || !slidersAtOne()) {
@@ -159,7 +159,7 @@ void Viewer::Impl::bakeSome() {
       restart();
     }
   }
-  if (!level || !bake || bake->done() || lighting != LightingMode::Faithful || compiled || difference || full->samples() == 0) return;
+  if (!level || !bake || bake->done() || lighting != LightingMode::Faithful || compiled || full->samples() == 0) return;
   if (bake->step(*level->tracer, kBakeMillisecondsPerFrame)) restart();
 }
 
@@ -184,7 +184,7 @@ void Viewer::Impl::setLighting(LightingMode m) {
     return;
   }
   if (lighting == m && !compiled && !difference) return;
-  const bool leftCompiledView = compiled || difference; // which replaced the baked luxels
+  const bool leftCompiledView = compiled; // which replaced the baked luxels (the difference view keeps them)
   if (compiled) {
     level->render.lightmaps = {};
     if (!cpu) level->tracer->setLightmaps({});
@@ -218,12 +218,23 @@ bool Viewer::Impl::showDifference() {
     return false;
   }
   if (!compiled && !showCompiled()) return false;
+  // The compiled picture against what the faithful view shows, baked luxels and all (as render
+  // --lighting difference compares them): the faithful luxels come back, the compiled ones are
+  // kept packed for drawCompiledPicture.
   level->render.lightmaps = {};
   level->tracer->setLightmaps({});
   compiled = false;
   difference = true;
+  startBake();
   restart();
   return true;
+}
+
+void Viewer::Impl::weighCompiledAgain() {
+  Lightmaps faithful = std::exchange(level->render.lightmaps, Lightmaps{});
+  showCompiledLightmaps(level->scene, level->render, options.import.textures.game.game, &styleScale);
+  compiledPacked = packLightmaps(level->render.lightmaps);
+  level->render.lightmaps = std::move(faithful);
 }
 
 void Viewer::Impl::watchLevelFiles(const std::vector<std::string>& missingFiles) {
@@ -359,8 +370,9 @@ void Viewer::Impl::setStyleScale(int style, float scale) {
   styleScale[size_t(style)] = std::clamp(scale, 0.0f, 2.0f);
   // No import, no bake: the luxels re-summed now (else the bake's sum takes the weights when it
   // is done), the lights scaled at the next frame.
-  if (level && !styled.styles.empty() && !compiled && !difference) sumStyledLuxels();
+  if (level && !styled.styles.empty() && !compiled) sumStyledLuxels();
   if (level && compiled) showCompiled(); // the compiled styles weighed again: a pass over the luxels, no import
+  if (level && difference) weighCompiledAgain(), restart();
   followStyleSliders();
 }
 

@@ -23,9 +23,11 @@ Tonemap tonemapFor(LightingMode lighting) {
 
 void Viewer::Impl::drawCompiledPicture() {
   gl::ProgressiveImage image(options.width, options.height);
+  // The tracer holds the faithful luxels (the GPU bake's live only there): they go back after.
+  const std::vector<uint32_t> faithful = level->tracer->readLightmaps();
   level->tracer->setLightmaps(compiledPacked);
   for (int i = 0; i < 4; ++i) image.addSample(*level->tracer, basis(image.width(), image.height()), beautySettings());
-  level->tracer->setLightmaps({});
+  level->tracer->setLightmaps(faithful);
   compiledPixels = displayPixels(meanImage(image), displayOutput());
 }
 

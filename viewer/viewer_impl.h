@@ -165,6 +165,8 @@ struct Viewer::Impl {
 
   // The compiled view against faithful light, as render --lighting difference shows it.
   bool showDifference();
+  // The difference view's compiled side weighed by the sliders again (compiledPacked).
+  void weighCompiledAgain();
 
   // The compiled picture of the current view: a few samples with the compiled luxels uploaded.
   void drawCompiledPicture();

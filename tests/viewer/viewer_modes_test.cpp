@@ -45,6 +45,15 @@ int worstBetween(const Viewer::DisplayImage& a, const Viewer::DisplayImage& b) {
   return worst;
 }
 
+// How many pixels differ in any channel.
+size_t pixelsApart(const Viewer::DisplayImage& a, const Viewer::DisplayImage& b) {
+  if (a.width != b.width || a.height != b.height || a.rgba.empty()) return size_t(-1);
+  size_t n = 0;
+  for (size_t i = 0; i + 3 < a.rgba.size(); i += 4)
+    n += a.rgba[i] != b.rgba[i] || a.rgba[i + 1] != b.rgba[i + 1] || a.rgba[i + 2] != b.rgba[i + 2];
+  return n;
+}
+
 // ... between every pixel and one colour.
 int worstAgainst(const Viewer::DisplayImage& shown, Rgb rgb) {
   if (shown.rgba.empty()) return 256;
@@ -421,6 +430,35 @@ TEST_P(ViewerStyleSlidersTest, ASliderWeighsTheCompiledLightmapsOfItsStyle) {
   const Viewer::DisplayImage expected = render(viewer, o, flags + " --style 1=0.25");
   EXPECT_LE(worstBetween(shown, expected), 1) << "the slider's compiled image is not the level's with its style weighed";
   EXPECT_GT(worstBetween(render(viewer, o, flags), expected), 20) << "the slider changes nothing: the test cannot tell";
+}
+
+// Key 7 on the same level: a slider weighs both sides of the heat map, the compiled lightmaps of
+// its style and the faithful luxels, as render --lighting difference --style does, with no import.
+// (The difference view needs the GL tracer.)
+constexpr size_t kHeatStepsApart = 6; // a tenth of a percent of the 96x64 window
+
+TEST_F(ViewerModesTest, TheDifferenceViewWeighsBothOfItsSidesByTheSliders) {
+  BT_REQUIRE_SHARED(shared);
+  ViewerOptions o = optionsFor(ViewerBackend::Gl, 4);
+  o.map = (shared / "oracle/lit-games/maps_ericw-tools_testmaps_q2_lightmap_custom_scale.bsp").string();
+  Viewer viewer(o);
+  ASSERT_TRUE(viewer.showDifference()) << viewer.notice();
+  const Viewer::DisplayImage atOne = settled(viewer, 4);
+  ASSERT_EQ(viewer.lightStyles(), std::vector<int>{1});
+  viewer.setStyleScale(1, 0.25f);
+  const Viewer::DisplayImage shown = settled(viewer, 4);
+  EXPECT_EQ(viewer.imports(), 1) << "the slider imported the level again";
+  const std::string flags = "--backend gl --lighting difference --spp 4";
+  const Viewer::DisplayImage expected = render(viewer, o, flags + " --style 1=0.25");
+  const Viewer::DisplayImage unweighed = render(viewer, o, flags);
+  std::printf("heat-map pixels apart: window and render %zu, render at 1 and at 0.25 %zu\n", pixelsApart(shown, expected),
+              pixelsApart(unweighed, expected));
+  // A heat colour is a step of 8 levels of the larger difference: a luxel that rounds the other
+  // way on the GPU moves a pixel into the next colour, as the level at 1 on both sides shows.
+  EXPECT_LE(pixelsApart(atOne, render(viewer, o, flags)), kHeatStepsApart);
+  EXPECT_LE(pixelsApart(shown, expected), kHeatStepsApart)
+      << "the slider's heat map is not the level's with its style weighed on both sides";
+  EXPECT_GT(pixelsApart(unweighed, expected), 10 * kHeatStepsApart) << "the slider changes nothing: the test cannot tell";
 }
 
 INSTANTIATE_TEST_SUITE_P(Windows, ViewerStyleSlidersTest, ::testing::Values(ViewerBackend::Cpu, ViewerBackend::Gl),
