@@ -41,8 +41,9 @@ struct BenchOptions {
   std::string backend = "gl";
   bool timeToConverged = false;
   int referenceSpp = 4096;
-  int maxSpp = 0;        // --max-spp
-  std::string reference; // --reference: a stored reference EXR (the CPU tracer's time to converged)
+  int maxSpp = 0;              // --max-spp
+  bool referenceFloor = false; // --reference-floor
+  std::string reference;       // --reference: a stored reference EXR (the CPU tracer's time to converged)
   bool raysOnly = false;
 };
 
@@ -73,7 +74,8 @@ int runCpuTimeToConverged(const BenchOptions& options) {
                         .render = render,
                         .denoiser = [](const RenderImage& image) { return denoise(image); },
                         .storedReference = stored ? &*stored : nullptr,
-                        .maxSpp = options.maxSpp});
+                        .maxSpp = options.maxSpp,
+                        .referenceFloor = options.referenceFloor});
   return 0;
 }
 
@@ -95,7 +97,8 @@ int runBench(const BenchOptions& options) {
                                options.timeToConverged,
                                options.referenceSpp,
                                options.raysOnly,
-                               options.clampIndirect};
+                               options.clampIndirect,
+                               options.referenceFloor};
   // The first image is timed with the import inside it, as `render` gets there.
   return gl::runGlBench([&](const gl::EntitiesRead& entitiesRead) { return importScene(options.map, options.import, entitiesRead); },
                         settings);
@@ -123,6 +126,9 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
   bench->add_flag("--time-to-converged", options->timeToConverged,
                   "Measure only the time until the displayed physical image is within rel. MSE 0.01 of a --reference-spp render, "
                   "denoiser off and on");
+  bench->add_flag("--reference-floor", options->referenceFloor,
+                  "With --time-to-converged: also render a second reference of another seed and print how far apart the two are "
+                  "(the measure's floor)");
   bench->add_flag("--rays-only", options->raysOnly,
                   "Measure only the ray rates (after the cold first image); a level with Quake 3 curves also without them");
   bench->add_option("--backend", options->backend, "gl: the GL tracer; cpu: the CPU tracer (its time to converged only)")

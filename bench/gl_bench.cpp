@@ -1,4 +1,4 @@
-// gl_bench LEVEL [WxH] [textures] [physical|faithful] [seconds] [converge [SPP] | rays]: the GL tracer's benchmark
+// gl_bench LEVEL [WxH] [textures] [physical|faithful] [seconds] [converge [SPP [floor]] | rays]: the GL tracer's benchmark
 // (`brushtrace bench`) in a program that links no OpenImageIO, whose libraries (over 300 MB)
 // cannot travel to the GPU machine (scripts/gpu-check.sh): the level is imported with
 // bt_importers_portable (bt_importers, which reads loose images without OpenImageIO).
@@ -14,8 +14,9 @@
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr,
-                 "usage: gl_bench LEVEL [WxH] [auto|bindless|arrays] [physical|faithful] [seconds] [converge [REFERENCE_SPP] | rays]\n");
+    std::fprintf(
+        stderr,
+        "usage: gl_bench LEVEL [WxH] [auto|bindless|arrays] [physical|faithful] [seconds] [converge [REFERENCE_SPP [floor]] | rays]\n");
     return 2;
   }
   bt::gl::GlBenchSettings settings;
@@ -37,6 +38,7 @@ int main(int argc, char** argv) {
     settings.timeToConverged = true;
     if (argc > 7) settings.referenceSpp = std::atoi(argv[7]);
     if (settings.referenceSpp < 4) return 2;
+    if (argc > 8) settings.referenceFloor = std::string(argv[8]) == "floor";
   }
   try {
     const std::string level = argv[1];

@@ -25,6 +25,24 @@ double relativeMse(const std::vector<glm::vec3>& image, const std::vector<glm::v
   return reference.empty() ? 0.0 : sum / double(reference.size() * 3);
 }
 
+double worstPercentShare(const std::vector<glm::vec3>& image, const std::vector<glm::vec3>& reference) {
+  std::vector<double> perPixel(reference.size());
+  double total = 0.0;
+  for (size_t i = 0; i < reference.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      const double x = image[i][c], r = reference[i][c];
+      perPixel[i] += (x - r) * (x - r) / (r * r + 0.01);
+    }
+    total += perPixel[i];
+  }
+  const size_t worst = std::max<size_t>(1, perPixel.size() / 100);
+  if (perPixel.size() < worst || total <= 0.0) return 0.0;
+  std::nth_element(perPixel.begin(), perPixel.begin() + std::ptrdiff_t(worst), perPixel.end(), std::greater<>());
+  double share = 0.0;
+  for (size_t i = 0; i < worst; ++i) share += perPixel[i];
+  return share / total;
+}
+
 std::vector<glm::vec3> displayedImage(const std::vector<glm::vec3>& linear, float exposureEv) {
   const float scale = std::exp2(exposureEv);
   std::vector<glm::vec3> out(linear.size());
@@ -44,12 +62,16 @@ std::vector<ConvergeStep> timeToConverged(const std::function<RenderImage(int sp
     const RenderImage image = render(spp);
     step.seconds = secondsSince(start);
     const float ev = autoExposureEv(image.beauty, image.width, image.height);
-    step.relativeMse = relativeMse(displayedImage(image.beauty, ev), referenceDisplay);
+    const std::vector<glm::vec3> shown = displayedImage(image.beauty, ev);
+    step.relativeMse = relativeMse(shown, referenceDisplay);
+    step.worstShare = worstPercentShare(shown, referenceDisplay);
     if (settings.denoiser) {
       start = Clock::now();
       const std::vector<glm::vec3> denoised = settings.denoiser(image);
       step.denoiseSeconds = secondsSince(start);
-      step.relativeMseDenoised = relativeMse(displayedImage(denoised, ev), referenceDisplay);
+      const std::vector<glm::vec3> shownDenoised = displayedImage(denoised, ev);
+      step.relativeMseDenoised = relativeMse(shownDenoised, referenceDisplay);
+      step.worstShareDenoised = worstPercentShare(shownDenoised, referenceDisplay);
     }
     steps.push_back(step);
     if (settings.onStep) settings.onStep(step);
@@ -92,13 +114,20 @@ void printTimeToConverged(const ConvergeRun& run) {
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), ev);
   std::fflush(stdout);
   const std::vector<glm::vec3> referenceDisplay = displayedImage(reference.beauty, ev);
+  if (run.referenceFloor && !run.storedReference) {
+    const RenderImage second = run.render(run.referenceSpp, 0x5eed + 1);
+    const std::vector<glm::vec3> secondDisplay = displayedImage(second.beauty, autoExposureEv(second.beauty, second.width, second.height));
+    fmt::print("reference floor: two references of {} spp differ by rel MSE {:.4f} (worst 1 % of pixels: {:.0f} % of it)\n",
+               run.referenceSpp, relativeMse(secondDisplay, referenceDisplay), 100.0 * worstPercentShare(secondDisplay, referenceDisplay));
+    std::fflush(stdout);
+  }
   ConvergeSettings settings;
   settings.maxSpp = std::max(1, run.referenceSpp / 4);
   if (run.maxSpp > 0) settings.maxSpp = std::min(settings.maxSpp, run.maxSpp);
   settings.denoiser = run.denoiser;
   settings.onStep = [](const ConvergeStep& s) {
-    fmt::print("  {} spp: {:.2f} s, rel MSE {:.4f}; denoised +{:.2f} s, rel MSE {:.4f}\n", s.spp, s.seconds, s.relativeMse,
-               s.denoiseSeconds, s.relativeMseDenoised);
+    fmt::print("  {} spp: {:.2f} s, rel MSE {:.4f} (worst 1 %: {:.0f} %); denoised +{:.2f} s, rel MSE {:.4f} ({:.0f} %)\n", s.spp,
+               s.seconds, s.relativeMse, 100.0 * s.worstShare, s.denoiseSeconds, s.relativeMseDenoised, 100.0 * s.worstShareDenoised);
     std::fflush(stdout);
   };
   bool checked = !run.storedReference;

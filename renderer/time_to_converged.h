@@ -14,16 +14,20 @@ namespace bt {
 // (x - r)^2 / (r^2 + 0.01) (Rousselle et al. 2011's epsilon), on displayed values 0..1.
 inline constexpr double kConvergedRelativeMse = 0.01;
 double relativeMse(const std::vector<glm::vec3>& image, const std::vector<glm::vec3>& reference);
+// The share of that error (0..1) that the worst 1 % of pixels hold: near 0.01 for noise spread
+// evenly, near 1 where a few fireflies or one wrong region rule the figure.
+double worstPercentShare(const std::vector<glm::vec3>& image, const std::vector<glm::vec3>& reference);
 
 // What a PNG of `linear` shows, as floats 0..1 before rounding: 2^exposureEv, ACES, sRGB.
 std::vector<glm::vec3> displayedImage(const std::vector<glm::vec3>& linear, float exposureEv);
 
 struct ConvergeStep {
   int spp = 0;
-  double seconds = 0.0;             // the render of `spp` samples (a progressive render has spent this much by then)
-  double denoiseSeconds = 0.0;      // the denoiser's on that render, when it is on
-  double relativeMse = 0.0;         // the raw image's
-  double relativeMseDenoised = 0.0; // the denoised image's, when the denoiser is on
+  double seconds = 0.0;                              // the render of `spp` samples (a progressive render has spent this much by then)
+  double denoiseSeconds = 0.0;                       // the denoiser's on that render, when it is on
+  double relativeMse = 0.0;                          // the raw image's
+  double relativeMseDenoised = 0.0;                  // the denoised image's, when the denoiser is on
+  double worstShare = 0.0, worstShareDenoised = 0.0; // worstPercentShare of each
 };
 
 struct ConvergeSettings {
@@ -52,6 +56,10 @@ struct ConvergeRun {
   std::function<std::vector<glm::vec3>(const RenderImage&)> denoiser;
   const RenderImage* storedReference = nullptr; // renderer/image_output.h readExrImage; referenceSpp its spp
   int maxSpp = 0;                               // the sweep's last step at most; 0: a quarter of referenceSpp
+  // Also render a second reference of another seed and print the two's relative MSE: the floor
+  // of the measure (half of it is in every step's figure), which says whether the reference's
+  // own noise or the sweep's keeps a step above the threshold.
+  bool referenceFloor = false;
 };
 void printTimeToConverged(const ConvergeRun& run);
 

@@ -27,6 +27,8 @@ struct GlBenchSettings {
   bool raysOnly = false;
   // Physical mode's firefly clamp (IntegratorSettings::clampIndirect), the commands' default.
   float clampIndirect = kClampIndirectDefault;
+  // With timeToConverged: also the measure's floor, two references' difference (ConvergeRun).
+  bool referenceFloor = false;
 };
 
 // Prints the measurements to stdout; a level with Quake 3 curves gets its ray rates a second

@@ -3,6 +3,7 @@
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/denoise.h"
 #include "renderer/exposure.h"
+#include "renderer/time_to_converged.h"
 #include "tests/render/box_scene.h"
 
 #include <gtest/gtest.h>
@@ -197,6 +198,18 @@ TEST(Denoise, NoBleedingAcrossADepthDiscontinuity) {
       outVar += (out[i].x - 1.0) * (out[i].x - 1.0);
     }
   EXPECT_LT(outVar * 4.0, rawVar);
+}
+
+// The time-to-converged bench's diagnostic: error spread evenly gives the worst 1 % of pixels
+// about 1 % of it; one firefly on an otherwise exact image gives them all of it.
+TEST(TimeToConverged, WorstPercentShareTellsEvenNoiseFromAFirefly) {
+  const std::vector<glm::vec3> reference(10000, glm::vec3(0.5f));
+  std::vector<glm::vec3> even = reference, firefly = reference;
+  for (size_t i = 0; i < even.size(); ++i) even[i] += glm::vec3(i % 2 ? 0.01f : -0.01f);
+  firefly[1234] = glm::vec3(1.0f);
+  EXPECT_NEAR(worstPercentShare(even, reference), 0.01, 1e-6);
+  EXPECT_NEAR(worstPercentShare(firefly, reference), 1.0, 1e-9);
+  EXPECT_EQ(worstPercentShare(reference, reference), 0.0);
 }
 
 } // namespace
