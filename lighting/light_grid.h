@@ -35,12 +35,17 @@ struct LightGrid {
   // Physical mode: the lights of the physical list likely to matter most at p (see
   // kPhysicalNearLights); the rest stay reachable through the whole physical list.
   std::span<const uint32_t> physicalNearLights(const glm::vec3& p) const;
+  // Physical mode: every other light of the physical list whose windowed reach (physical_light.h)
+  // touches p's cell, in index order; the pick's uniform draw. A light in neither list gives p
+  // exactly 0.
+  std::span<const uint32_t> physicalRestLights(const glm::vec3& p) const;
 };
 
 // Physical point lights reach everywhere (1/d^2), so a cell cannot list all that light it.
 // Each cell lists at most this many, ranked by an upper bound of their irradiance in the cell
 // (power / squared distance to the cell); selection samples them by their actual unshadowed
-// irradiance at the hit and, with a small probability, any light of the level uniformly.
+// irradiance at the hit and, with a small probability, one of the cell's other lights in reach
+// uniformly (physicalRestLights).
 inline constexpr uint32_t kPhysicalNearLights = 32;
 
 // Beyond this distance from its origin a faithful point light gives exactly 0 (for any _deviance

@@ -352,11 +352,13 @@ static_assert(offsetof(GpuEmitter, cdf) == 44);
 //   [globalFirst, globalFirst + globalCount) faithful point lights with infinite reach
 //                                            (inverse, inverse-square, infinite formulas);
 //   [physicalFirst, ... + physicalCount)     physical mode's candidates (every positive point
-//                                            light: 1/d^2 reaches everywhere);
+//                                            light);
 //   cells[i].first .. + count                faithful point lights of finite reach near cell i;
 //   cells[cellCount + i].first .. + count    physical mode's most important lights for cell i
 //                                            (at most kPhysicalNearLights, a subset of the
-//                                            physical list), cellCount = dims.x * dims.y * dims.z.
+//                                            physical list), cellCount = dims.x * dims.y * dims.z;
+//   cells[2 * cellCount + i].first .. + count the other physical candidates whose windowed reach
+//                                            touches cell i (the pick's uniform draw).
 // Cell (x, y, z) is i = x + dims.x * (y + dims.y * z); a point outside the grid uses the
 // nearest cell, whose list covers everything beyond the grid's side (see light_grid.cpp).
 //

@@ -76,8 +76,9 @@ float selectionWeight(GpuLight light, vec3 origin, vec3 n) {
 
 const float NEAR_LIST_PROBABILITY = BT_NEAR_LIST_PROBABILITY;
 
-// Physical mode (integrator.cpp allLightsSelected): one point light, from the cell's near list
-// by weight with probability NEAR_LIST_PROBABILITY, else uniformly from the physical list.
+// Physical mode (integrator.cpp allLightsSelected, pickFromNearList): one point light, from the
+// cell's near list by weight with probability NEAR_LIST_PROBABILITY, else uniformly from the
+// cell's other lights in reach (the two lists are disjoint).
 // The caller then draws the light's _deviance jitter (jitteredOrigin), as the CPU does.
 struct SelectedLight {
   bool found;
@@ -88,7 +89,9 @@ struct SelectedLight {
 SelectedLight selectPhysicalLight(vec3 origin, vec3 n, inout Rng rng) {
   SelectedLight s = SelectedLight(false, 0u, 0.0);
   uvec3 d = lightGrid.dims;
-  GpuLightCell near = lightCells[d.x * d.y * d.z + lightGridCell(origin)];
+  uint cellCount = d.x * d.y * d.z, cell = lightGridCell(origin);
+  GpuLightCell near = lightCells[cellCount + cell];
+  GpuLightCell rest = lightCells[2u * cellCount + cell];
   float nearTotal = 0.0;
   for (uint k = 0u; k < near.count; ++k) {
     GpuLight light = lights[lightIndices[near.first + k]];
@@ -96,9 +99,8 @@ SelectedLight selectPhysicalLight(vec3 origin, vec3 n, inout Rng rng) {
   }
   float uStrategy = rngNext(rng);
   float uPick = rngNext(rng);
-  uint count = lightGrid.physicalCount;
-  if (count == 0u) return s;
-  float nearProbability = nearTotal > 0.0 ? NEAR_LIST_PROBABILITY : 0.0;
+  float nearProbability = nearTotal > 0.0 ? (rest.count == 0u ? 1.0 : NEAR_LIST_PROBABILITY) : 0.0;
+  if (nearProbability == 0.0 && rest.count == 0u) return s;
 
   uint chosen = 0u;
   float chosenWeight = 0.0; // its near-list weight, 0 when not listed
@@ -116,11 +118,9 @@ SelectedLight selectPhysicalLight(vec3 origin, vec3 n, inout Rng rng) {
       if (cumulative > target) break;
     }
   } else {
-    chosen = lightIndices[lightGrid.physicalFirst + min(uint(uPick * float(count)), count - 1u)];
-    for (uint k = 0u; k < near.count; ++k)
-      if (lightIndices[near.first + k] == chosen) chosenWeight = selectionWeight(lights[chosen], origin, n);
+    chosen = lightIndices[rest.first + min(uint(uPick * float(rest.count)), rest.count - 1u)];
   }
-  s.pdf = (nearProbability > 0.0 ? nearProbability * chosenWeight / nearTotal : 0.0) + (1.0 - nearProbability) / float(count);
+  s.pdf = uStrategy < nearProbability ? nearProbability * chosenWeight / nearTotal : (1.0 - nearProbability) / float(rest.count);
   s.light = chosen;
   s.found = s.pdf > 0.0;
   return s;

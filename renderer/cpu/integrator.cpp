@@ -331,24 +331,27 @@ glm::vec3 allLightsExhaustive(const RenderScene& rs, const Bsdf& bsdf, const glm
   return l;
 }
 
-// Light selection's probability of the near list (the rest goes to a uniform pick over every
-// physical light, so that a light missing from the near list can still be picked: unbiased).
+// Light selection's probability of the near list (the rest goes to a uniform pick among the
+// cell's other lights in reach, so that a light missing from the near list can still be picked:
+// unbiased).
 constexpr float kNearListProbability = BT_NEAR_LIST_PROBABILITY;
 
 // Physical mode's pick (IntegratorSettings::PhysicalPick::NearList), a one-sample mixture of two
 // strategies (Veach's "balance" pdf):
 //   near:    the cell's near list (light_grid.h), by selectionWeight at the hit's origin;
-//   uniform: any light of the physical list, 1 / count.
-// pdf(light) = P(near) * weight / nearTotal [if listed] + (1 - P(near)) / count.
+//   uniform: one of the cell's other lights in reach (physicalRestLights), 1 / count.
+// The two lists are disjoint: pdf(light) = P(near) * weight / nearTotal for a near light,
+// (1 - P(near)) / count for another; P(near) is 1 where no other light is in reach, 0 where no
+// near light lights the point.
 // Random numbers: the strategy, then the pick.
 LightPick pickFromNearList(const RenderScene& rs, const glm::vec3& origin, const glm::vec3& n, Rng& rng) {
-  const std::span<const uint32_t> all = rs.lightGrid.physicalLights();
+  const std::span<const uint32_t> rest = rs.lightGrid.physicalRestLights(origin);
   const std::span<const uint32_t> near = rs.lightGrid.physicalNearLights(origin);
   float nearTotal = 0.0f;
   for (uint32_t i : near) nearTotal += selectionWeight(rs.lights[i], origin, n);
   const float uStrategy = rng.next(), uPick = rng.next();
-  if (all.empty()) return {};
-  const float nearProbability = nearTotal > 0.0f ? kNearListProbability : 0.0f;
+  const float nearProbability = nearTotal > 0.0f ? (rest.empty() ? 1.0f : kNearListProbability) : 0.0f;
+  if (nearProbability == 0.0f && rest.empty()) return {};
 
   uint32_t chosen = 0;
   float chosenWeight = 0.0f; // its near-list weight, 0 when not listed
@@ -365,12 +368,10 @@ LightPick pickFromNearList(const RenderScene& rs, const glm::vec3& origin, const
       if (cumulative > target) break;
     }
   } else {
-    chosen = all[std::min(uint32_t(uPick * float(all.size())), uint32_t(all.size()) - 1)];
-    for (uint32_t i : near)
-      if (i == chosen) chosenWeight = selectionWeight(rs.lights[i], origin, n);
+    chosen = rest[std::min(uint32_t(uPick * float(rest.size())), uint32_t(rest.size()) - 1)];
   }
   const float pdf =
-      (nearProbability > 0.0f ? nearProbability * chosenWeight / nearTotal : 0.0f) + (1.0f - nearProbability) / float(all.size());
+      uStrategy < nearProbability ? nearProbability * chosenWeight / nearTotal : (1.0f - nearProbability) / float(rest.size());
   return {pdf > 0.0f, chosen, pdf};
 }
 

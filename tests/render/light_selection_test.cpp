@@ -88,7 +88,7 @@ TEST(LightGrid, EveryLightIsInTheListsOfItsKind) {
   std::vector<int> seen(rs.lights.size(), 0);
   for (uint32_t i : grid.fixedLights()) ++seen[i];
   for (uint32_t i : grid.globalLights()) ++seen[i];
-  const size_t cellCount = grid.cells.size() / 2; // faithful cells, then physical near lists
+  const size_t cellCount = grid.cells.size() / 3; // faithful cells, physical near lists, physical rest lists
   for (size_t cell = 0; cell < cellCount; ++cell)
     for (uint32_t k = grid.cells[cell].first; k < grid.cells[cell].first + grid.cells[cell].count; ++k)
       seen[grid.indices[k]] = std::max(seen[grid.indices[k]], 1);
@@ -103,7 +103,7 @@ TEST(LightGrid, EveryLightIsInTheListsOfItsKind) {
   // Near lists: kPhysicalNearLights distinct lights of the physical list, the strongest bound
   // first; a light right next to a point is in that point's list.
   const std::vector<uint32_t> physicalList(grid.physicalLights().begin(), grid.physicalLights().end());
-  for (size_t cell = cellCount; cell < grid.cells.size(); ++cell) {
+  for (size_t cell = cellCount; cell < 2 * cellCount; ++cell) {
     const GpuLightCell& c = grid.cells[cell];
     ASSERT_EQ(c.count, std::min<uint32_t>(kPhysicalNearLights, uint32_t(physicalList.size())));
     std::vector<uint32_t> listed(grid.indices.begin() + c.first, grid.indices.begin() + c.first + c.count);
@@ -123,11 +123,41 @@ TEST(LightGrid, EmptyLevelHasOneCellWithEveryFiniteLight) {
   lights[1].formula = uint32_t(LightFormula::Inverse);
   lights[2].value = 0.0f; // lights nothing: in no list
   const LightGrid grid = buildLightGrid(lights, Bounds{}, 1.0f);
-  ASSERT_EQ(grid.cells.size(), 2u); // one faithful cell, one physical near list
+  ASSERT_EQ(grid.cells.size(), 3u); // one faithful cell, one physical near list, one rest list
   EXPECT_EQ(grid.cellLights({0, 0, 0}).size(), 1u);
   EXPECT_EQ(grid.globalLights().size(), 1u);
   EXPECT_EQ(grid.cellLights({NAN, 0, 0}).size(), 1u);
   EXPECT_EQ(grid.physicalNearLights({0, 0, 0}).size(), 2u);
+  EXPECT_EQ(grid.physicalRestLights({0, 0, 0}).size(), 0u);
+}
+
+// Physical mode's pick draws from a point's near list or, uniformly, from its rest list: a light
+// that can light the point (its windowed falloff above 0 there, for any jitter of its position)
+// is in one of the two, never in both; the rest lists are in index order, and hold fewer lights
+// than the level has (else the uniform draw would be the old one among every light).
+TEST(LightGrid, PhysicalRestListsHoldEveryOtherLightThatReachesThePoint) {
+  const Scene scene = test::manyLightsRoom(300, true, 5);
+  const RenderScene rs = buildRs(scene);
+  const LightGrid& grid = rs.lightGrid;
+  const auto holds = [](std::span<const uint32_t> list, uint32_t i) { return std::find(list.begin(), list.end(), i) != list.end(); };
+  size_t restListed = 0, points = 0, missing = 0;
+  for (const SurfacePoint& s : randomSurfacePoints(rs, 1000, 11)) {
+    const std::span<const uint32_t> near = grid.physicalNearLights(s.p), rest = grid.physicalRestLights(s.p);
+    EXPECT_TRUE(std::is_sorted(rest.begin(), rest.end()));
+    restListed += rest.size(), ++points;
+    for (uint32_t i : grid.physicalLights()) {
+      const GpuLight& l = rs.lights[i];
+      const bool inNear = holds(near, i), inRest = holds(rest, i);
+      EXPECT_FALSE(inNear && inRest) << "light " << i << " is in both lists";
+      const float d = std::max(glm::distance(l.origin, s.p) - std::sqrt(3.0f) * std::max(l.deviance, 0.0f), 1e-3f);
+      missing += physical::falloff(l, d * d) > 0.0f && !inNear && !inRest;
+    }
+  }
+  EXPECT_EQ(missing, 0u) << "lights that light a point but that its pick can never draw";
+  const double meanRest = double(restListed) / double(points);
+  std::printf("rest lists: %.1f lights a point on average, of %zu physical lights\n", meanRest, grid.physicalLights().size());
+  EXPECT_GT(meanRest, 0.0) << "no point has a light beyond its near list: the test cannot tell";
+  EXPECT_LT(meanRest + kPhysicalNearLights, double(grid.physicalLights().size()));
 }
 
 // The near lists against the plain ranking they stand for: every physical light of positive

@@ -168,13 +168,14 @@ TEST(LightTree, PictureConvergesToTheExhaustiveLoopInEveryPixel) {
 
 // Where the tree wins: in a hall of 600 short-reach lights cut into rooms, a point's cell lists
 // 32 lights ranked by power / distance, blind to the surface's orientation and to the reach, and
-// the 10 % uniform pick over 600 lights mostly finds none that lights it; the tree's walk follows
-// the reach and the orientation. Summed over the pixels of a view down the hall, the variance of
-// a sample is at least kNoiseFactor times lower with the tree (2.2x measured). The means are not
+// the 10 % uniform pick among the cell's other lights in reach often finds one the wall hides or
+// faces away from; the tree's walk follows the reach and the orientation. Summed over the pixels
+// of a view down the hall, the variance of a sample is at least kNoiseFactor times lower with the
+// tree (1.67x measured; 2.2x while the uniform pick drew among all 600 lights). The means are not
 // compared: both estimators have long tails here (a pixel whose jitter lands next to a light),
 // and PictureConvergesToTheExhaustiveLoopInEveryPixel holds the tree's.
 TEST(LightTree, LessNoisyThanTheNearListsInAHallOfManyLights) {
-  constexpr double kNoiseFactor = 1.7;
+  constexpr double kNoiseFactor = 1.5;
   const Scene scene = test::manyLightsHall(600, 7); // rs points at it
   const RenderScene rs = buildRs(scene);
   ASSERT_GT(rs.lightGrid.physicalTree.size(), 1000u);
