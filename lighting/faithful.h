@@ -173,12 +173,22 @@ inline glm::vec3 surfaceFaceMinlight(const GpuLight& surfaceTemplate) {
   return surfaceTemplate.value * surfaceTemplate.faithfulScale * surfaceTemplate.color;
 }
 
+// ericw-tools' LightFace_Sky skips a face only when a sun lies more than ANGLE_EPSILON (in cosine)
+// behind its plane, then takes (1 - a) + a max(0, cos): a sun along the face's plane (a dome's
+// zenith on a wall, its ring suns square to the wall, a sun straight down) still gives the wall
+// (1 - a) of its value, where the ray reaches the sky. The same for every sun and dome sun.
+inline constexpr float kSunAngleEpsilon = BT_SUN_ANGLE_EPSILON;
+// The angle term of a sun (or dome sun) towards which the face turns by cosIncidence; 0 when it
+// is behind the face.
+inline float sunAngleTerm(float cosIncidence, float anglescale) {
+  if (cosIncidence < -kSunAngleEpsilon) return 0.0f;
+  return angleTerm(std::max(cosIncidence, 0.0f), anglescale);
+}
+
 // A sun's contribution: no distance falloff, the angle term only (sky visibility is the
 // caller's shadow test).
 inline float sunValue(const GpuLight& sun, const glm::vec3& normal) {
-  const float cosIncidence = glm::dot(-sun.direction, normal);
-  if (cosIncidence < 0.0f) return 0.0f;
-  return sun.value * angleTerm(cosIncidence, sun.anglescale);
+  return sun.value * sunAngleTerm(glm::dot(-sun.direction, normal), sun.anglescale);
 }
 
 // --- Dirt (ericw-tools' dirtmapping, from q3map2: a fake ambient occlusion) ---------------

@@ -359,13 +359,13 @@ template <class F> void forLuxelLights(const RenderScene& rs, const glm::vec3& p
 glm::vec3 domeSunLight(const RenderScene& rs, const GpuLight& light, const Receiver& r, glm::vec3 toSky, float occlusion) {
   if (light.direction.z < 0.0f) toSky.z = -toSky.z;
   const glm::vec3 facing = facingNormal(r, toSky);
-  const float cosIncidence = glm::dot(toSky, facing);
-  if (cosIncidence <= 0.0f) return glm::vec3(0.0f);
+  // Along the face's plane too (faithful::sunAngleTerm): a wall takes the zenith sun at (1 - a).
+  const float angle = faithful::sunAngleTerm(glm::dot(toSky, facing), light.anglescale);
+  if (angle <= 0.0f) return glm::vec3(0.0f);
   if (!reachesSky(rs, Ray{offsetRayOrigin(r.p, facing), 0.0f, toSky, std::numeric_limits<float>::infinity()}, LightingMode::Faithful,
                   light.skyMaterial))
     return glm::vec3(0.0f);
-  return light.value * faithful::angleTerm(cosIncidence, light.anglescale) * faithful::lightDirtFactor(light, occlusion, 0.0f) *
-      light.color;
+  return light.value * angle * faithful::lightDirtFactor(light, occlusion, 0.0f) * light.color;
 }
 
 } // namespace

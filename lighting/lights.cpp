@@ -13,7 +13,9 @@
 #include <glm/trigonometric.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <string_view>
 
 namespace bt {
 
@@ -393,23 +395,65 @@ LightKinds lightKinds(const Scene& scene, const SceneLights& lights, bool bounce
   return kinds;
 }
 
-// ericw-tools' phong shading (`_phong`, `_phong_angle` on a brush entity) is not modelled: its
-// faces are lit flat. One warning for the level, at the first entity that asks for it. (The oracle
-// compile of LibreQuake's lqdm5, whose 24 func_detail entities ask for it, lit them flat too: a
-// first model of it moved those faces' luxels from 93 % to 79 % within 5 % of the compiler's.)
-void warnPhong(const Scene& scene, Diagnostics& diagnostics) {
-  const Entity* first = nullptr;
-  size_t count = 0;
-  for (const Entity& entity : scene.entities) {
-    const quake::EntityKeys keys(entity);
-    if (keys.number("_phong", 0.0f) == 0.0f && keys.number("_phong_angle", 0.0f) == 0.0f) continue;
-    first = first ? first : &entity;
-    ++count;
+// Keys ericw-tools reads that faithful mode does not model (issue 14: named, never silently
+// ignored): one warning a key for the level, at the first entity that asks for it, with how many
+// do. A key asks for it when its value is a non-zero number or, for a key that names something,
+// any text ("0" and "" are the compiler's defaults). In `what`, {0} is the count, {1} and {2}
+// the plural endings of "entit-" and "light".
+struct UnmodelledKey {
+  std::array<std::string_view, 2> names; // the key and its alias, if any ("" none)
+  bool namesEntity;                      // its value names entities (any text asks for it)
+  std::string_view what;
+};
+// Phong: the oracle compile of LibreQuake's lqdm5, whose 24 func_detail entities ask for it, lit
+// them flat too: a first model of it moved those faces' luxels from 93 % to 79 % within 5 % of
+// the compiler's. The rest: keys of the lit oracle levels' sources (q1_lightignore, q1_litwater,
+// q1_light_switchableshadow_*) and their neighbours in the compiler's shadow keys.
+constexpr std::array kUnmodelledKeys{
+    UnmodelledKey{
+        {"_phong", "_phong_angle"}, false, "phong shading is not modelled; the faces of the {0} brush entit{1} asking for it are lit flat"},
+    UnmodelledKey{{"_lightignore", ""},
+                  false,
+                  "ignoring the lights is not modelled ({0} brush entit{1}); their faces take every light, where the compiler "
+                  "gives them minlight only"},
+    UnmodelledKey{{"_switchableshadow", ""},
+                  false,
+                  "switchable shadows are not modelled ({0} brush entit{1}); without `_shadow 1` they cast none, where the "
+                  "compiler's style 0 has their shadow and a style of their own the light they block"},
+    UnmodelledKey{{"_switchableshadow_target", ""},
+                  true,
+                  "the shadow a light's style switches is not modelled ({0} light{2}); they light as any other, where the "
+                  "compiler's give no light of their own (`_nostaticlight`)"},
+    UnmodelledKey{{"_nostaticlight", ""},
+                  false,
+                  "lights without static light are not modelled ({0} light{2}); they light the level, where the compiler's do not"},
+    UnmodelledKey{{"_shadowself", "_selfshadow"},
+                  false,
+                  "self-shadowing brush entities are not modelled ({0} brush entit{1}); they cast no shadow on themselves"},
+    UnmodelledKey{{"_shadowworldonly", ""}, false, "shadows on the world alone are not modelled ({0} brush entit{1}); they cast none"},
+};
+
+void warnUnmodelledKeys(const Scene& scene, Diagnostics& diagnostics) {
+  for (const UnmodelledKey& key : kUnmodelledKeys) {
+    const Entity* first = nullptr;
+    std::string_view firstName;
+    size_t count = 0;
+    for (const Entity& entity : scene.entities) {
+      const quake::EntityKeys keys(entity);
+      std::string_view asked;
+      for (std::string_view name : key.names) {
+        if (name.empty() || !asked.empty()) continue;
+        const std::string* value = keys.find(name);
+        if (value && (key.namesEntity ? !value->empty() : keys.number(name, 0.0f) != 0.0f)) asked = name;
+      }
+      if (asked.empty()) continue;
+      if (!first) first = &entity, firstName = asked;
+      ++count;
+    }
+    if (!first) continue;
+    const std::string what = fmt::format(fmt::runtime(key.what), count, count == 1 ? "y" : "ies", count == 1 ? "" : "s");
+    quake::EntityKeys(*first, scene.sourcePath, &diagnostics).warn(fmt::format("{}: {}", firstName, what));
   }
-  if (first)
-    quake::EntityKeys(*first, scene.sourcePath, &diagnostics)
-        .warn(fmt::format("_phong: phong shading is not modelled; the faces of the {} brush entit{} asking for it are lit flat", count,
-                          count == 1 ? "y" : "ies"));
 }
 
 SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagnostics& diagnostics) {
@@ -433,7 +477,7 @@ SceneLights collectLights(const Scene& scene, const LightOptions& options, Diagn
   for (uint64_t n = randDrawsOfSunCopies(scene); n > 0; --n) rand.next();
   for (size_t i = 0; i < worldLights; ++i) attachSunTable(rand, out.lights[i], out.sunTable);
   if (gameOf(scene) == Game::Quake2) addQuake2SurfaceLights(scene, out, diagnostics);
-  warnPhong(scene, diagnostics);
+  warnUnmodelledKeys(scene, diagnostics);
 
   // ericw-tools traces the occlusion rays only where something uses dirt (SetupDirt).
   DirtSettings& dirt = out.world.dirtSettings;

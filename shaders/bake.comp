@@ -127,10 +127,10 @@ Item lightItem(GpuLight light, vec3 p, vec3 normal, bool twoSided, uint receiver
     vec3 toSky = skyDome[pass].xyz;
     if (light.direction.z < 0.0) toSky.z = -toSky.z;
     vec3 facing = facingNormal(normal, toSky, twoSided);
-    float cosIncidence = dot(toSky, facing);
-    if (cosIncidence <= 0.0) return it;
+    float angle = sunAngleTerm(dot(toSky, facing), light.anglescale);
+    if (angle <= 0.0) return it;
     it = Item(true, QUERY_SKY, offsetPoint(p, facing), toSky, INFINITY, light.skyMaterial,
-              light.value * angleTerm(cosIncidence, light.anglescale) * dirtFactorAt(light, occlusion, 0.0) * light.color, TO_DOME);
+              light.value * angle * dirtFactorAt(light, occlusion, 0.0) * light.color, TO_DOME);
     return it;
   }
   if (soft ? pass >= softSamples : pass != 0) return it;

@@ -8,6 +8,7 @@ const float SURFACE_HOTSPOT_CLAMP = BT_SURFACE_HOTSPOT_CLAMP;
 const float BOUNCE_HOTSPOT_CLAMP = BT_BOUNCE_HOTSPOT_CLAMP;
 const float BOUNCE_GATE = BT_BOUNCE_GATE;
 const float LIGHT_ANGLE_EPSILON = BT_LIGHT_ANGLE_EPSILON;
+const float SUN_ANGLE_EPSILON = BT_SUN_ANGLE_EPSILON;
 const float Q3_HOTSPOT_CLAMP = BT_Q3_HOTSPOT_CLAMP;
 const float Q3_SPOT_EDGE = BT_Q3_SPOT_EDGE;
 const float NEAREST_LIGHT = BT_NEAREST_LIGHT; // lighting/faithful.h kNearestLight
@@ -137,10 +138,14 @@ vec3 surfaceFaceMinlight(GpuLight surfaceTemplate) {
   return surfaceTemplate.value * surfaceTemplate.faithfulScale * surfaceTemplate.color;
 }
 
+// lighting/faithful.h sunAngleTerm: a sun along the face's plane still gives it (1 - a).
+float sunAngleTerm(float cosIncidence, float anglescale) {
+  if (cosIncidence < -SUN_ANGLE_EPSILON) return 0.0;
+  return angleTerm(max(cosIncidence, 0.0), anglescale);
+}
+
 float sunValue(GpuLight sun, vec3 direction, vec3 normal) {
-  float cosIncidence = dot(-direction, normal);
-  if (cosIncidence < 0.0) return 0.0;
-  return sun.value * angleTerm(cosIncidence, sun.anglescale);
+  return sun.value * sunAngleTerm(dot(-direction, normal), sun.anglescale);
 }
 
 #ifdef BT_FAITHFUL_DIRT

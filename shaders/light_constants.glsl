@@ -17,6 +17,7 @@
 #define BT_DIRT_ELEVATION_STEPS 3
 #define BT_DIRT_SAMPLE_LIFT 1.0f         // the compiler's sample points sit 1 unit off the face
 #define BT_LIGHT_ANGLE_EPSILON 0.01f      // GetSurfaceLighting: a radiosity point this little (in cosine) behind still lights
+#define BT_SUN_ANGLE_EPSILON 0.001f       // LightFace_Sky (ANGLE_EPSILON): a sun this little (in cosine) behind a face still lights it
 #define BT_SUN_SAMPLES 64               // `-sunsamples`: the suns a sky dome or a sun's penumbra becomes
 #define BT_NEAREST_LIGHT 0.1f            // GetLightContrib: a nearer light is this far, straight up (+z)
 #define BT_VIS_BOX_EPSILON 0.001f        // CullLight: a light's and a face's boxes this near still touch

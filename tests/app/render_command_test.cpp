@@ -6,6 +6,7 @@
 #include "tests/test_data.h"
 
 #include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -17,6 +18,7 @@
 #include <fstream>
 #include <optional>
 #include <regex>
+#include <sstream>
 #include <string>
 #include <unistd.h>
 #include <vector>
@@ -175,6 +177,57 @@ TEST(RenderCommand, ALevelWithNoDrawnFaceWarnsAndExitsOne) {
   const CommandResult shown =
       brushtrace("render " + quoted(clip) + " -o " + quoted(dir.path / "out.png") + kSmall + " --backend cpu --show-hidden");
   EXPECT_EQ(shown.exitCode, 0) << shown.err;
+}
+
+// A brush of `texture` from (x0, y0, z0) to (x1, y1, z1), as a .map writes it.
+std::string boxBrush(int x0, int y0, int z0, int x1, int y1, int z1, const std::string& texture) {
+  const auto side = [&](int ax, int ay, int az, int bx, int by, int bz, int cx, int cy, int cz) {
+    return fmt::format("( {} {} {} ) ( {} {} {} ) ( {} {} {} ) {} 0 0 0 1 1\n", ax, ay, az, bx, by, bz, cx, cy, cz, texture);
+  };
+  return "{\n" + side(x0, y0, z0, x0, y1, z0, x0, y0, z1) + side(x0, y0, z0, x0, y0, z1, x1, y0, z0) +
+      side(x0, y0, z0, x1, y0, z0, x0, y1, z0) + side(x1, y1, z1, x1, y0, z1, x0, y1, z1) + side(x1, y1, z1, x0, y1, z1, x1, y1, z0) +
+      side(x1, y1, z1, x1, y1, z0, x1, y0, z1) + "}\n";
+}
+
+// A key the compiler reads and faithful mode does not model is named in one warning line each
+// (issue 14), at the first entity asking for it, with how many do; a key at its default ("0")
+// asks for nothing. The shadow keys of the oracle's q1_light_switchableshadow_* and
+// q1_lightignore levels, as a user renders such a level.
+TEST(RenderCommand, EachKeyFaithfulModeDoesNotModelIsNamedInOneWarning) {
+  TempDir dir("keys");
+  const fs::path level = dir.path / "keys.map";
+  std::ofstream(level) << "{\n\"classname\" \"worldspawn\"\n"
+                       << boxBrush(-256, -256, -16, 256, 256, 0, "floor") << "}\n"
+                       << "{\n\"classname\" \"light\"\n\"origin\" \"0 0 128\"\n}\n"
+                       << "{\n\"classname\" \"light\"\n\"origin\" \"64 0 128\"\n\"targetname\" \"bars\"\n\"spawnflags\" \"1\"\n"
+                          "\"_switchableshadow_target\" \"door1\"\n}\n"
+                       << "{\n\"classname\" \"func_door\"\n\"targetname\" \"door1\"\n\"_switchableshadow\" \"1\"\n"
+                       << boxBrush(-32, -32, 0, 32, 32, 64, "door") << "}\n"
+                       << "{\n\"classname\" \"func_wall\"\n\"_lightignore\" \"1\"\n"
+                       << boxBrush(96, -32, 0, 128, 32, 64, "wall") << "}\n"
+                       << "{\n\"classname\" \"func_detail\"\n\"_lightignore\" \"1\"\n\"_phong\" \"0\"\n"
+                       << boxBrush(-128, -32, 0, -96, 32, 64, "wall") << "}\n";
+  const CommandResult r = brushtrace("render " + quoted(level) + " -o " + quoted(dir.path / "out.png") + kSmall + " --backend cpu");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  std::vector<std::string> named;
+  std::istringstream lines(r.err);
+  for (std::string line; std::getline(lines, line);)
+    if (line.find(": warning: ") != npos && line.find("not modelled") != npos) named.push_back(line);
+  const std::string at = level.string() + ":";
+  EXPECT_EQ(named,
+            (std::vector<std::string>{
+                at +
+                    "36: warning: func_wall: _lightignore: ignoring the lights is not modelled (2 brush entities); their faces "
+                    "take every light, where the compiler gives them minlight only",
+                at +
+                    "23: warning: func_door: _switchableshadow: switchable shadows are not modelled (1 brush entity); without "
+                    "`_shadow 1` they cast none, where the compiler's style 0 has their shadow and a style of their own the "
+                    "light they block",
+                at +
+                    "16: warning: light: _switchableshadow_target: the shadow a light's style switches is not modelled (1 "
+                    "light); they light as any other, where the compiler's give no light of their own (`_nostaticlight`)",
+            }))
+      << r.err;
 }
 
 // --lighting compiled draws a .bsp's own lightmaps (tests/render/compiled_view_test.cpp checks

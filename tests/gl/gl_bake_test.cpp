@@ -238,6 +238,36 @@ TEST(GlBake, VisapproxCullsTheLightsTheCpuCulls) {
   }
 }
 
+// A shaft open to a sky brush, lit by a strong sky dome alone: its walls take the dome's suns
+// that lie along them (the zenith and the ring suns square to them) at (1 - anglescale), as
+// ericw-tools' LightFace_Sky does (lighting/faithful.h sunAngleTerm), about 3 levels of a wall's
+// 60 here. The GPU bake must take them too.
+TEST(GlBake, DomeSunsAlongAWallLightItAsOnTheCpu) {
+  test::BoxSceneBuilder b;
+  b.material("wall", 150, 140, 120);
+  b.material("sky1", 40, 60, 200);
+  b.box({-64, -64, -16}, {64, 64, 0}, "wall");
+  b.box({-80, -64, 0}, {-64, 64, 256}, "wall");
+  b.box({64, -64, 0}, {80, 64, 256}, "wall");
+  b.box({-64, -80, 0}, {64, -64, 256}, "wall");
+  b.box({-64, 64, 0}, {64, 80, 256}, "wall");
+  b.box({-80, -80, 256}, {80, 80, 272}, "sky1");
+  b.worldKey("_sunlight2", "300");
+  const Scene scene = b.build();
+  Diagnostics diagnostics;
+  RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+  Lightmaps cpu = layoutLightmaps(rs);
+  ASSERT_GT(cpu.luxels.size(), 300u);
+  const std::vector<uint32_t> gpu = bakeOnBoth(scene, rs, cpu);
+  size_t within = 0, lit = 0;
+  for (size_t i = 0; i < gpu.size(); ++i) {
+    within += largestChannelDifference(gpu[i], cpu.luxels[i]) <= 1;
+    lit += (cpu.luxels[i] & 0xffffffu) != 0u;
+  }
+  EXPECT_GE(double(within), 0.999 * double(gpu.size()));
+  EXPECT_GT(lit, gpu.size() / 2);
+}
+
 // Quake 2's glass (lit from both sides, passing the light) and `_world_units_per_luxel`'s
 // decoupled luxel grid are the CPU's sample points and face classes: the GPU bakes the same
 // luxels from them.

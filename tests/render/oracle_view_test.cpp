@@ -28,14 +28,9 @@ using test::Bar;
 //     alone would split them, not on the compiler's own faces (lighting/README.md): qbsp's tree
 //     is grown over the whole level, so planes of brushes far from a surface cut it too
 //     (surface_light_points_test.cpp holds how many of the points stand where the .bsp's do).
-//   lqdm5: its sun's penumbra is now the compiler's own 64 directions in both tracers
-//     (lighting/penumbra_suns.h: glibc rand() from its default seed, as SetupSun draws them),
-//     which took luxels from 84.8 to 90.1 % within 5 % and the views from 82.3 / 85.9 / 94.9 to
-//     89.6 / 87.0 / 97.9 %; held at the lowest of those. The rest of the gap is unexplained.
 const std::map<std::string, Bar>& knownGaps() {
   static const std::map<std::string, Bar> gaps = {
       {"ericw-tools_testmaps_deprecated_testsurfacelight", {0.13, 0.16}},
-      {"librequake_lq1_maps_src_dm_lqdm5", {0.02, 0.87}},
   };
   return gaps;
 }
