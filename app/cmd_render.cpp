@@ -285,7 +285,10 @@ int runRender(const RenderOptions& o, RenderOutcome* outcome) {
   sceneOptions.showHidden = o.showHidden;
   sceneOptions.lights.styleScale = styleScales(o.styles);
   sceneOptions.bounceLights = !physical && o.aov == "beauty"; // faithful _bounce only
-  sceneOptions.visApproxBoxes = !physical;                    // what faithful luxels read
+  // What faithful luxels read: computed by the GL bake where the GL tracer renders (a CPU bake
+  // after a failed context computes them as it starts).
+  using VisBoxes = RenderSceneOptions::VisBoxes;
+  sceneOptions.visApproxBoxes = physical ? VisBoxes::Off : o.backend == "cpu" ? VisBoxes::Cpu : VisBoxes::Gpu;
   Scene scene;
   RenderScene renderScene;
   Diagnostics lightDiagnostics;

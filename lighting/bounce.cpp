@@ -298,7 +298,7 @@ BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushCont
       const std::vector<glm::vec3>& points = luxels[i];
       // The compiler's light cull without vis data dims what a face bounces as it dims its luxels.
       const GpuVisBox box = polygonBounds(face.polygon);
-      const GpuVisBox* receiverBox = rs.visBoxes.empty() ? nullptr : &box;
+      const VisCull cull{rs.visBoxes.empty() ? nullptr : &box, rs.visBoxes.data()}; // buildRenderScene computed them first
       // An evenly spread, fixed subset: the middle luxel of each of `count` equal runs.
       const size_t count = bounceSampleCount(points.size(), out.luxels, passBudget);
       sampled += count;
@@ -313,8 +313,7 @@ BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushCont
           if (std::isnan(known)) known = faithfulDirtOcclusion(rs, points[k], n, rng);
           dirt = known;
         }
-        FaithfulQuery q{
-            .p = points[k], .n = n, .twoSided = twoSided, .receiverBox = receiverBox, .lights = LightSet::BounceSources, .occlusion = dirt};
+        FaithfulQuery q{.p = points[k], .n = n, .twoSided = twoSided, .cull = cull, .lights = LightSet::BounceSources, .occlusion = dirt};
         if (pass == 0) {
           sum += faithfulLight(rs, q, rng);
           continue;

@@ -50,9 +50,7 @@ struct Receiver {
   glm::vec3 n;
   bool twoSided;                        // a lit liquid: ericw-tools lights it from above and below (ltface.cc "twosided")
   uint32_t channels = kDefaultChannels; // its face's `_object_channel_mask`
-  // The bounds of the compiled face it lies on, where the compiler culls lights by their boxes
-  // (vis_approx.h); null: no cull.
-  const GpuVisBox* box = nullptr;
+  VisCull cull;                         // where the compiler culls lights by their boxes (vis_approx.h)
 };
 
 // The normal the receiver turns to light arriving from `toLight`: a two-sided receiver faces
@@ -74,7 +72,7 @@ void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiv
   const uint32_t channels = light.type == uint32_t(LightType::Point) ? light.lightChannels : kDefaultChannels;
   if (!(channels & r.channels)) return;
   // ericw-tools' cull without vis data (CullLight): before any of the light's random numbers.
-  if (r.box && light.visBox && visBoxesApart(rs.visBoxes[light.visBox - 1], *r.box)) return;
+  if (r.cull.receiver && light.visBox && visBoxesApart(r.cull.lights[light.visBox - 1], *r.cull.receiver)) return;
   if (light.type == uint32_t(LightType::Point)) {
     glm::vec3 pos = jitteredOrigin(light, rng);
     const glm::vec3 d = pos - r.p;
@@ -298,7 +296,7 @@ glm::vec3 givenLightsSum(const RenderScene& rs, const GivenLights& given, const 
 } // namespace
 
 glm::vec3 faithfulLight(const RenderScene& rs, const FaithfulQuery& q, Rng& rng) {
-  const Receiver r{q.p, q.n, q.twoSided, q.channels, q.receiverBox};
+  const Receiver r{q.p, q.n, q.twoSided, q.channels, q.cull};
   switch (q.lights) {
   case LightSet::All: return faithfulSum(rs, LightSource::All, r, q.faceMinlight, rng);
   case LightSet::Grid: return faithfulSum(rs, LightSource::Grid, r, q.faceMinlight, rng);
@@ -312,7 +310,7 @@ glm::vec3 faithfulLight(const RenderScene& rs, const FaithfulQuery& q, Rng& rng)
 }
 
 LightShares faithfulLightShares(const RenderScene& rs, const FaithfulQuery& q, int samples, Rng& rng) {
-  const Receiver r{q.p, q.n, q.twoSided, q.channels, q.receiverBox};
+  const Receiver r{q.p, q.n, q.twoSided, q.channels, q.cull};
   LightShares shares;
   shares.occlusion = faithfulOcclusion(rs, r.p, r.n, rng);
   shares.perLight.resize(rs.lights.size(), glm::vec3(0.0f));
@@ -380,10 +378,10 @@ int luxelPasses(const RenderScene& rs, int softSamples) {
 }
 
 void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, bool twoSided, int pass, int softSamples, Rng& rng,
-                       LuxelSums& sums, uint32_t channels, ShadowCache* cache, const GpuVisBox* receiverBox, int style) {
+                       LuxelSums& sums, uint32_t channels, ShadowCache* cache, VisCull cull, int style) {
   const auto otherStyle = [&](const GpuLight& light) { return style != kAllStyles && int(lightStyle(light)) != style; };
   const auto index = [&](const GpuLight& light) { return size_t(&light - rs.lights.data()); };
-  const Receiver r{p, n, twoSided, channels, receiverBox};
+  const Receiver r{p, n, twoSided, channels, cull};
   // Dirt rays start at the compiler's sample point, which p already is.
   if (pass == 0) sums.occlusion = faithfulOcclusion(rs, p - n * faithful::kDirtSampleLift, n, rng);
   const auto each = [&](const GpuLight& light) {

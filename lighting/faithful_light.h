@@ -80,6 +80,15 @@ struct GivenLights {
   size_t maxShadowRays = SIZE_MAX;
 };
 
+// ericw-tools' light cull without vis data at a receiver (vis_approx.h): the bounds of the
+// compiled face it lies on (polygonBounds) and the lights' boxes (by GpuLight::visBox - 1: the
+// RenderScene's, or a bake's own, LuxelBakeJob::lightBoxes). A light whose box lies apart from the
+// face's gives nothing, as the compiler culls it. No receiver: no cull.
+struct VisCull {
+  const GpuVisBox* receiver = nullptr;
+  const GpuVisBox* lights = nullptr;
+};
+
 // One question to the faithful light model: the light sum at surface point p with normal n (light
 // units, per colour channel; before _range). Stochastic only for soft lights (deviance, penumbra,
 // domes) and drawn bounce lights, exact otherwise; `_surface` lights are point lights here.
@@ -90,9 +99,7 @@ struct FaithfulQuery {
   // counts with |cos|, ltface.cc "twosided"); the renderer sets it on kFaceLiquid faces.
   bool twoSided = false;
   uint32_t channels = kDefaultChannels; // the receiving face's objectChannels (render_scene.h)
-  // The bounds of the compiled face p lies on (vis_approx.h polygonBounds): lights whose box
-  // (GpuLight::visBox) lies apart from it give nothing, as the compiler culls them. Null: no cull.
-  const GpuVisBox* receiverBox = nullptr;
+  VisCull cull;                         // the compiler's light cull without vis data at p
   LightSet lights = LightSet::Grid;
   const GivenLights* given = nullptr; // LightSet::Given only
   // A floor under the sum beside worldspawn minlight: faithfulFaceMinlight of the receiver's face
@@ -158,13 +165,13 @@ struct LuxelSums {
 // How many passes a level's luxels take: 1, the dome's directions, or `softSamples`.
 int luxelPasses(const RenderScene& rs, int softSamples);
 
-// `channels`: the receiving face's objectChannels; `receiverBox`: FaithfulQuery::receiverBox.
+// `channels`: the receiving face's objectChannels; `cull`: FaithfulQuery::cull.
 // `style`: only the lights of that light style (lightStyle), as the compiler lights each style's
 // lightmap of a face apart; kAllStyles: every light.
 inline constexpr int kAllStyles = -1;
 void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec3& n, bool twoSided, int pass, int softSamples, Rng& rng,
-                       LuxelSums& sums, uint32_t channels = kDefaultChannels, ShadowCache* cache = nullptr,
-                       const GpuVisBox* receiverBox = nullptr, int style = kAllStyles);
+                       LuxelSums& sums, uint32_t channels = kDefaultChannels, ShadowCache* cache = nullptr, VisCull cull = {},
+                       int style = kAllStyles);
 // The light after `passes` passes. With `floors` off (a lightmap of a style other than 0: the
 // compiler puts minlight, a face's template minlight and `_ambient` into style 0's alone), the sum
 // with its negative lights taken off, at least 0.

@@ -311,7 +311,7 @@ std::vector<GpuLuxelSample> luxelSamples(const RenderScene& rs, const Lightmaps&
     const uint32_t channels = objectChannels(rs, faceIndex);
     const SolidTest solid{rs, contents, scene.brushes[face.brush].entity, channels, channels == kDefaultChannels ? &voids : nullptr};
     // The fragment is the compiled face whose bounds the compiler's light cull compares with.
-    const uint32_t box = rs.visBoxes.empty() ? 0u : (uint32_t(fi) + 1u) << kLuxelSampleBoxShift;
+    const uint32_t box = rs.visBoxLights.empty() ? 0u : (uint32_t(fi) + 1u) << kLuxelSampleBoxShift;
     for (uint32_t y = 0; y < g.height; ++y)
       for (uint32_t x = 0; x < g.width; ++x)
         for (int sy = 0; sy < extra; ++sy)
@@ -337,7 +337,8 @@ LuxelBakeJob luxelBakeJob(const RenderScene& rs, const Lightmaps& lm, const Ligh
   job.passes = luxelPasses(rs, job.softSamples);
   job.seed = kBakeSeed;
   job.sunTable = rs.sunTable;
-  if (!rs.visBoxes.empty()) {
+  if (!rs.visBoxLights.empty()) {
+    for (uint32_t i : rs.visBoxLights) job.boxedLights.push_back(rs.lights[i].origin);
     job.lightBoxes = rs.visBoxes;
     job.receiverBoxes.reserve(lm.polygons.size());
     for (const Winding& polygon : lm.polygons) job.receiverBoxes.push_back(polygonBounds(polygon));
@@ -366,7 +367,7 @@ glm::vec3 luxelLight(const RenderScene& rs, const LuxelBakeJob& job, size_t luxe
     for (int pass = 0; pass < job.passes; ++pass) {
       Rng rng = pixelRng(index, uint32_t(pass), 0, job.seed);
       faithfulLuxelPass(rs, p, n, s.flags & kLuxelSampleTwoSided, pass, job.softSamples, rng, sums, objectChannels(rs, s.face), cache,
-                        job.receiverBox(s), style);
+                        job.cull(s), style);
     }
     light += faithfulLuxelLight(rs, sums, job.passes, job.softSamples, faceMinlight, floors);
   }
@@ -451,8 +452,18 @@ void bakeLuxels(const RenderScene& rs, const LuxelBakeJob& job, size_t luxels, c
 
 } // namespace
 
+namespace {
+
+// The job of a bake on the CPU, with the lights' boxes where the RenderScene left them to the GPU.
+LuxelBakeJob withLightBoxes(const RenderScene& rs, LuxelBakeJob job, unsigned threads) {
+  if (job.lightBoxes.size() != job.boxedLights.size()) job.lightBoxes = computeVisBoxes(rs, threads);
+  return job;
+}
+
+} // namespace
+
 void bakeLightmaps(const RenderScene& rs, Lightmaps& lm, const LightmapBakeOptions& options) {
-  const LuxelBakeJob job = luxelBakeJob(rs, lm, options);
+  const LuxelBakeJob job = withLightBoxes(rs, luxelBakeJob(rs, lm, options), options.threads);
   bakeLuxels(rs, job, lm.luxels.size(), options, [&](size_t luxel, ShadowCache* cache) {
     lm.luxels[luxel] = storedLuxel(luxelLight(rs, job, luxel, cache, kAllStyles), rs.world.range);
   });
@@ -468,7 +479,7 @@ std::vector<int> lightStylesOf(const RenderScene& rs) {
 }
 
 StyledLuxels bakeStyledLuxels(const RenderScene& rs, const Lightmaps& lm, const LightmapBakeOptions& options) {
-  const LuxelBakeJob job = luxelBakeJob(rs, lm, options);
+  const LuxelBakeJob job = withLightBoxes(rs, luxelBakeJob(rs, lm, options), options.threads);
   StyledLuxels styled;
   styled.styles.push_back(0);
   for (const int style : lightStylesOf(rs)) styled.styles.push_back(style);

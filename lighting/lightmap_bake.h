@@ -22,6 +22,7 @@
 //            truncated to whole bytes as the compiler writes them.
 #pragma once
 
+#include "lighting/faithful_light.h"
 #include "lighting/lightmaps.h"
 #include "lighting/render_scene.h"
 
@@ -59,14 +60,19 @@ struct LuxelBakeJob {
   int passes = 1;
   uint32_t seed = 0;
   std::vector<glm::vec3> sunTable; // RenderScene::sunTable, which the GPU bake uploads
-  // The compiler's light cull without vis data (vis_approx.h), where the level has it: the lights'
-  // boxes (RenderScene::visBoxes, by GpuLight::visBox) and each compiled face's (by fragment, a
-  // sample's flags >> kLuxelSampleBoxShift), which the GPU bake uploads after the sun table.
+  // The compiler's light cull without vis data (vis_approx.h), where the level has it: where each
+  // culled light stands and its box (by GpuLight::visBox - 1; RenderScene::visBoxLights and
+  // visBoxes), and each compiled face's box (by fragment, a sample's flags >>
+  // kLuxelSampleBoxShift), which the GPU bake uploads after the sun table. lightBoxes is empty
+  // where the RenderScene left them to the GPU (RenderSceneOptions::VisBoxes::Gpu): the GL bake
+  // computes them, the CPU's bakes compute them as they start (withLightBoxes).
+  std::vector<glm::vec3> boxedLights;
   std::vector<GpuVisBox> lightBoxes;
   std::vector<GpuVisBox> receiverBoxes;
-  const GpuVisBox* receiverBox(const GpuLuxelSample& s) const {
+  VisCull cull(const GpuLuxelSample& s) const {
     const uint32_t box = s.flags >> kLuxelSampleBoxShift;
-    return box && box <= receiverBoxes.size() ? &receiverBoxes[box - 1] : nullptr;
+    if (!box || box > receiverBoxes.size() || lightBoxes.size() != boxedLights.size()) return {};
+    return {&receiverBoxes[box - 1], lightBoxes.data()};
   }
 };
 LuxelBakeJob luxelBakeJob(const RenderScene& rs, const Lightmaps& lightmaps, const LightmapBakeOptions& options = {});

@@ -309,9 +309,15 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   if (gameOf(scene) == Game::Quake3)
     for (const GpuLight& l : q3map2::shaderSurfaceLights(scene, contents, rs.tracer, diagnostics)) rs.lights.push_back(l);
   for (GpuLight& l : rs.lights) physical::prepare(l, rs.world.scaledist);
-  if (options.visApproxBoxes) assignVisBoxes(rs); // where the lights stand for good, before the bounce pass lights with them
+  // Where the lights stand for good, before the bounce pass lights with them.
+  const bool bounces = rs.world.bounces > 0 && options.bounceLights;
+  using VisBoxes = RenderSceneOptions::VisBoxes;
+  if (options.visApproxBoxes == VisBoxes::Cpu || (options.visApproxBoxes == VisBoxes::Gpu && bounces))
+    assignVisBoxes(rs);
+  else if (options.visApproxBoxes == VisBoxes::Gpu)
+    numberVisBoxLights(rs);
   rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
-  if (rs.world.bounces > 0 && options.bounceLights) addBounceLights(rs, contents, diagnostics); // prepared too
+  if (bounces) addBounceLights(rs, contents, diagnostics); // prepared too
   if (scene.sky) rs.sky = bakeSkyMap(scene);
   return rs;
 }

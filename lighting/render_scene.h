@@ -28,9 +28,15 @@ struct RenderSceneOptions {
   // that never lights faithfully (physical mode, AOVs only) leaves them out.
   bool bounceLights = true;
   // The boxes of ericw-tools' light culling without vis data (vis_approx.h), which faithful
-  // mode's bakes read: 1,024 rays a light (lqdm5: 2.6 s on two cores). A render that never lights
-  // faithfully leaves them out.
-  bool visApproxBoxes = true;
+  // mode's bakes read: 1,024 rays a light (lqdm5: 2.6 s on two cores).
+  //   Cpu  computed here, on all cores, for the CPU's bakes;
+  //   Gpu  only the lights numbered (RenderScene::visBoxLights): the GL bake computes their
+  //        boxes before its first pass (renderer/gl/gl_bake.h), off the preparation; a CPU bake
+  //        of such a scene computes them as it starts. A level that bounces gets them here all
+  //        the same: its bounce pass, here, culls with them;
+  //   Off  a render that never lights faithfully.
+  enum class VisBoxes { Off, Cpu, Gpu };
+  VisBoxes visApproxBoxes = VisBoxes::Cpu;
 };
 
 struct RenderScene {
@@ -42,7 +48,10 @@ struct RenderScene {
   std::vector<GpuMaterial> materials; // parallel to scene->materials
   std::vector<GpuLight> lights;
   std::vector<glm::vec3> sunTable; // the compiler's directions of each penumbra sun (GpuLight::sunTable)
-  // The boxes of the lights the compiler culls without vis data (vis_approx.h, GpuLight::visBox).
+  // The lights the compiler culls without vis data (vis_approx.h): their indices in `lights`
+  // (GpuLight::visBox = 1 + the place here), and their boxes in the same order, empty where
+  // RenderSceneOptions::VisBoxes::Gpu leaves them to the GL bake.
+  std::vector<uint32_t> visBoxLights;
   std::vector<GpuVisBox> visBoxes;
   LightGrid lightGrid;                 // which lights a point looks at (light_grid.h)
   std::vector<GpuLight> surfaceLights; // per material: the _surface template (value 0 = none)

@@ -15,9 +15,8 @@ namespace bt {
 
 namespace {
 
-constexpr int kRaysPerAxis = 32;       // EstimateVisibleBoundsAtPoint's N
-constexpr double kRayLength = 65536.0; // its rays' reach
-constexpr float kGrowth = 0.25f;       // the bounds grow by this share of their size on each side
+constexpr int kRaysPerAxis = 32; // EstimateVisibleBoundsAtPoint's N
+static_assert(kRaysPerAxis * kRaysPerAxis == kVisRays);
 constexpr double kPi = 3.14159265358979323846;
 
 // UniformPointOnSphere (entities.cc, after mathworld's sphere point picking): u1, u2 in [0, 1].
@@ -40,16 +39,29 @@ bool compilerCullsByRays(const Scene& scene) {
   return gameOf(scene) != Game::Quake3 && !compiledFormat(scene.format);
 }
 
+const std::vector<glm::vec3>& visRayDirections() {
+  static const std::vector<glm::vec3> directions = [] {
+    std::vector<glm::vec3> out;
+    out.reserve(kVisRays);
+    for (int x = 0; x < kRaysPerAxis; ++x)
+      for (int y = 0; y < kRaysPerAxis; ++y)
+        out.emplace_back(uniformPointOnSphere(double(x) / (kRaysPerAxis - 1), double(y) / (kRaysPerAxis - 1)));
+    return out;
+  }();
+  return directions;
+}
+
+// The stop points and the growth in float, one rounding per product and per sum (no fused
+// multiply-add: the build targets x86-64 without FMA, and bake.comp marks them precise), so that
+// the GPU, given the same t, gets the same box bit for bit.
 GpuVisBox visibleBounds(const RenderScene& rs, const glm::vec3& point) {
   glm::vec3 lo = point, hi = point;
-  for (int x = 0; x < kRaysPerAxis; ++x)
-    for (int y = 0; y < kRaysPerAxis; ++y) {
-      const glm::dvec3 dir = uniformPointOnSphere(double(x) / (kRaysPerAxis - 1), double(y) / (kRaysPerAxis - 1));
-      const float t = faceDistance(rs, point, glm::vec3(dir), float(kRayLength));
-      const glm::vec3 stop(glm::dvec3(point) + dir * double(t));
-      lo = glm::min(lo, stop), hi = glm::max(hi, stop);
-    }
-  const glm::vec3 grow = (hi - lo) * kGrowth;
+  for (const glm::vec3& dir : visRayDirections()) {
+    const float t = faceDistance(rs, point, dir, kVisRayLength);
+    const glm::vec3 stop = point + dir * t;
+    lo = glm::min(lo, stop), hi = glm::max(hi, stop);
+  }
+  const glm::vec3 grow = (hi - lo) * kVisBoxGrowth;
   return {glm::vec4(lo - grow, 0.0f), glm::vec4(hi + grow, 0.0f)};
 }
 
@@ -66,20 +78,29 @@ bool visBoxesApart(const GpuVisBox& light, const GpuVisBox& face) {
   return false;
 }
 
-void assignVisBoxes(RenderScene& rs, unsigned threads) {
+void numberVisBoxLights(RenderScene& rs) {
   rs.visBoxes.clear();
-  if (!compilerCullsByRays(*rs.scene)) return;
-  std::vector<uint32_t> culled;
+  rs.visBoxLights.clear();
+  const bool culls = compilerCullsByRays(*rs.scene);
   for (uint32_t i = 0; i < rs.lights.size(); ++i) {
     GpuLight& l = rs.lights[i];
     l.visBox = 0;
-    if (l.type != uint32_t(LightType::Point) || l.formula == uint32_t(LightFormula::Bounce)) continue;
+    if (!culls || l.type != uint32_t(LightType::Point) || l.formula == uint32_t(LightFormula::Bounce)) continue;
     if (l.lightChannels != kDefaultChannels || l.shadowChannels != kDefaultChannels) continue;
-    culled.push_back(i);
+    rs.visBoxLights.push_back(i);
+    l.visBox = uint32_t(rs.visBoxLights.size());
   }
-  rs.visBoxes.resize(culled.size());
-  parallelFor(culled.size(), threads, [&](size_t k) { rs.visBoxes[k] = visibleBounds(rs, rs.lights[culled[k]].origin); });
-  for (size_t k = 0; k < culled.size(); ++k) rs.lights[culled[k]].visBox = uint32_t(k) + 1;
+}
+
+std::vector<GpuVisBox> computeVisBoxes(const RenderScene& rs, unsigned threads) {
+  std::vector<GpuVisBox> boxes(rs.visBoxLights.size());
+  parallelFor(boxes.size(), threads, [&](size_t k) { boxes[k] = visibleBounds(rs, rs.lights[rs.visBoxLights[k]].origin); });
+  return boxes;
+}
+
+void assignVisBoxes(RenderScene& rs, unsigned threads) {
+  numberVisBoxLights(rs);
+  rs.visBoxes = computeVisBoxes(rs, threads);
 }
 
 } // namespace bt

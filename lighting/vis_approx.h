@@ -5,12 +5,14 @@
 // entities.cc EstimateVisibleBoundsAtPoint, ltface.cc CullLight). It is a shortcut that the
 // compiled lightmaps show: a face lit through a gap that few of the rays find stays black.
 // Faithful mode's bakes (lightmap_bake.h on the CPU, shaders/bake.comp on the GPU) apply it,
-// each light's box computed once here (RenderScene::visBoxes, GpuLight::visBox).
+// each light's box computed once: here, on the CPU (RenderScene::visBoxes, GpuLight::visBox), or
+// by the GL bake before its first pass (renderer/gl/gl_bake.h), whose rays walk the same BVH.
 #pragma once
 
 #include "scene/gpu_structs.h"
 #include "scene/scene.h"
 #include "scene/winding.h"
+#include "shaders/light_constants.glsl" // the rays and the growth, shared with bake.comp
 
 #include <glm/vec3.hpp>
 
@@ -26,10 +28,17 @@ struct RenderScene;
 // Quake 3 level (q3map2 has no such cull).
 bool compilerCullsByRays(const Scene& scene);
 
-// The box a light at `point` is culled by (EstimateVisibleBoundsAtPoint): rays along the
-// compiler's 32 x 32 directions (UniformPointOnSphere(x / 31, y / 31)), each stopping at the first
-// face that blocks faithful light or at sky, else after 65,536 units; the bounds of the point and
-// where they stop, grown by a quarter of their size on each side.
+// The compiler's 32 x 32 ray directions (UniformPointOnSphere(x / 31, y / 31), in double, then
+// rounded to float), x-major: what both tracers cast, the GPU reading this table.
+inline constexpr int kVisRays = BT_VIS_RAYS;
+const std::vector<glm::vec3>& visRayDirections();
+inline constexpr float kVisRayLength = BT_VIS_RAY_LENGTH; // EstimateVisibleBoundsAtPoint's reach
+inline constexpr float kVisBoxGrowth = BT_VIS_BOX_GROWTH; // the bounds grow by this share of their size on each side
+
+// The box a light at `point` is culled by (EstimateVisibleBoundsAtPoint): rays along
+// visRayDirections, each stopping at the first face that blocks faithful light or at sky, else
+// after kVisRayLength; the bounds of the point and where they stop (point + dir * t, in float,
+// each product and sum rounded apart, as shaders/bake.comp computes them), grown by kVisBoxGrowth.
 GpuVisBox visibleBounds(const RenderScene& rs, const glm::vec3& point);
 
 // The bounds of a compiled face's polygon (faceextents_t::bounds).
@@ -38,10 +47,15 @@ GpuVisBox polygonBounds(const Winding& polygon);
 // CullLight's test: the boxes lie apart by more than BT_VIS_BOX_EPSILON on some axis.
 bool visBoxesApart(const GpuVisBox& light, const GpuVisBox& face);
 
-// Gives every light the compiler culls its box (RenderScene::visBoxes, GpuLight::visBox), where
-// compilerCullsByRays: point lights (entities, `_surface` points) on the default lighting and
-// shadow channels (CullLight skips the others: its rays see the default channel only). Not bounce
-// lights: the compiler culls them by their own boxes, which is not modelled. All cores.
+// Numbers the lights the compiler culls (GpuLight::visBox = 1 + their place in
+// RenderScene::visBoxLights), where compilerCullsByRays: point lights (entities, `_surface`
+// points) on the default lighting and shadow channels (CullLight skips the others: its rays see
+// the default channel only). Not bounce lights: the compiler culls them by their own boxes, which
+// is not modelled. Their boxes are left to computeVisBoxes (RenderScene::visBoxes stays empty).
+void numberVisBoxLights(RenderScene& rs);
+// The boxes of rs.visBoxLights, in that order, on `threads` cores (0: all).
+std::vector<GpuVisBox> computeVisBoxes(const RenderScene& rs, unsigned threads = 0);
+// Both: every culled light numbered and its box in RenderScene::visBoxes.
 void assignVisBoxes(RenderScene& rs, unsigned threads = 0);
 
 } // namespace bt

@@ -36,8 +36,10 @@ layout(std430, binding = BT_BINDING_BAKE_SAMPLES) readonly buffer LuxelSamples {
 // the few levels that have them.
 layout(std430, binding = BT_BINDING_BAKE_SUMS) buffer LuxelSumBuffer { vec4 luxelSums[]; };
 // faithful.h skyDomeDirections (domeSuns of them), then RenderScene::sunTable, then the visapprox
-// boxes as (mins, maxs) rows: the lights' from lightBoxes, the compiled faces' from receiverBoxes.
-layout(std430, binding = BT_BINDING_BAKE_SKY_DOME) readonly buffer SkyDome { vec4 skyDome[]; };
+// boxes as (mins, maxs) rows: the lights' from lightBoxes, the compiled faces' from receiverBoxes;
+// where the GPU computes the lights' (visBoxPass, which writes them), their rows hold the light's
+// origin twice until then, and vis_approx.h's ray directions follow from visRays.
+layout(std430, binding = BT_BINDING_BAKE_SKY_DOME) buffer SkyDome { vec4 skyDome[]; };
 layout(std430, binding = BT_BINDING_LIGHTMAPS) buffer Lightmaps { uint lightmapData[]; };   // scene/gpu_structs.h layout
 
 layout(location = 0) uniform uint firstItem;   // first sample (a pass) or luxel (the resolve)
@@ -52,6 +54,8 @@ layout(location = 6) uniform uint bakeSeed;    // lightmap_bake.cpp kBakeSeed
 layout(location = 8) uniform int domeSuns;     // the dome's directions at the start of skyDome
 layout(location = 9) uniform int lightBoxes;   // GpuLight::visBox k is at skyDome[lightBoxes + 2 (k - 1)]
 layout(location = 10) uniform int receiverBoxes; // a sample's box k (flags >> BOX_SHIFT) likewise; -1: no cull
+layout(location = 11) uniform int visRays;       // the visapprox rays' directions in skyDome (VIS_BOX_PASS only)
+const int VIS_BOX_PASS = BT_BAKE_VIS_BOX_PASS;   // firstPass of the dispatch that computes the lights' boxes
 const uint LUXEL_SAMPLE_BOX_SHIFT = BT_LUXEL_SAMPLE_BOX_SHIFT;
 const uint SUN_SAMPLES = uint(BT_SUN_SAMPLES); // lighting/faithful.h kSunSamples: each penumbra sun's directions
 
@@ -80,6 +84,7 @@ bool softLight(GpuLight light) { return (light.type == LIGHT_POINT || light.type
 const uint QUERY_SHADOW = 0u; // occluded(): 1 when no face that blocks light lies before tMax, else 0
 const uint QUERY_SKY = 1u;    // reachesSky() with a sun's _suntexture (skyMaterial: material + 1, 0 any): 1 or 0
 const uint QUERY_DIRT = 2u;   // blockedDistance(): how far the ray gets, at most tMax
+const uint QUERY_FACE = 3u;   // faceDistance(): the same, sky stopping it too (the visapprox rays)
 
 // `param`: a shadow ray's pass word (visible.glsl shadowPassFlags), a sky ray's skyMaterial.
 float query(uint kind, vec3 origin, vec3 dir, float tMax, uint param) {
@@ -92,7 +97,9 @@ float query(uint kind, vec3 origin, vec3 dir, float tMax, uint param) {
     uint flags = faceFlags[hit.face];
     bool through = hit.inside || maskedOut(hit.face, origin + dir * hit.t);
     if (!through && (flags & FACE_SKY) != 0u)
-      return kind == QUERY_SKY ? float(skyMaterial == 0u || faces[hit.face].material + 1u == skyMaterial) : tMax;
+      return kind == QUERY_SKY ? float(skyMaterial == 0u || faces[hit.face].material + 1u == skyMaterial)
+           : kind == QUERY_FACE ? min(hit.t, tMax)
+                                : tMax;
     if (!through && blocksLight(flags, false)) return kind == QUERY_SKY ? 0.0 : min(hit.t, tMax);
     lastT = hit.t;
     tMin = hit.t + SKIP_STEP;
@@ -261,7 +268,43 @@ uint storedLuxel(vec3 light, float range) {
   return b.x | (b.y << 8) | (b.z << 16) | (255u << 24);
 }
 
+// lighting/vis_approx.cpp visibleBounds on the GPU, one workgroup per light box (firstItem +
+// its place in the row): each invocation casts every 64th of the compiler's rays from the origin
+// in the box's rows, the first then takes the bounds of all and writes the grown box over them.
+// `precise`: one rounding per product and sum, as the CPU computes them, so that the same t
+// give the same box bit for bit.
+const uint VIS_RAYS = uint(BT_VIS_RAYS);
+const float VIS_RAY_LENGTH = BT_VIS_RAY_LENGTH;
+const float VIS_BOX_GROWTH = BT_VIS_BOX_GROWTH;
+shared vec3 visLo[64], visHi[64];
+
+void visBoxRays(uint row) {
+  vec3 origin = skyDome[row].xyz, lo = origin, hi = origin;
+  for (uint i = gl_LocalInvocationIndex; i < VIS_RAYS; i += 64u) {
+    vec3 dir = skyDome[uint(visRays) + i].xyz;
+    precise vec3 stop = origin + dir * query(QUERY_FACE, origin, dir, VIS_RAY_LENGTH, 0u);
+    lo = min(lo, stop), hi = max(hi, stop);
+  }
+  visLo[gl_LocalInvocationIndex] = lo, visHi[gl_LocalInvocationIndex] = hi;
+}
+
+void visBoxBounds(uint row) {
+  vec3 lo = visLo[0], hi = visHi[0];
+  for (uint k = 1u; k < 64u; ++k) lo = min(lo, visLo[k]), hi = max(hi, visHi[k]);
+  precise vec3 grow = (hi - lo) * VIS_BOX_GROWTH;
+  precise vec3 mins = lo - grow, maxs = hi + grow;
+  skyDome[row] = vec4(mins, 0.0), skyDome[row + 1u] = vec4(maxs, 0.0);
+}
+
 void main() {
+  if (firstPass == VIS_BOX_PASS) { // uniform: the whole workgroup comes here, for its barrier
+    bool inRange = gl_WorkGroupID.x < itemCount;
+    uint row = uint(lightBoxes) + 2u * (firstItem + gl_WorkGroupID.x);
+    if (inRange) visBoxRays(row);
+    barrier();
+    if (inRange && gl_LocalInvocationIndex == 0u) visBoxBounds(row);
+    return;
+  }
   uint offset = gl_WorkGroupID.x * 64u + gl_LocalInvocationIndex;
   if (offset >= itemCount) return;
   uint item = firstItem + offset;

@@ -21,6 +21,9 @@
 #define BT_SUN_SAMPLES 64               // `-sunsamples`: the suns a sky dome or a sun's penumbra becomes
 #define BT_NEAREST_LIGHT 0.1f            // GetLightContrib: a nearer light is this far, straight up (+z)
 #define BT_VIS_BOX_EPSILON 0.001f        // CullLight: a light's and a face's boxes this near still touch
+#define BT_VIS_RAYS 1024                 // EstimateVisibleBoundsAtPoint: 32 x 32 rays from each light
+#define BT_VIS_RAY_LENGTH 65536.0f       // ... each this long at most
+#define BT_VIS_BOX_GROWTH 0.25f          // ... whose bounds grow by this share of their size on each side
 
 // q3map2 (faithful mode of Quake 3 levels, lighting/q3map2_light.h).
 #define BT_Q3_HOTSPOT_CLAMP 16.0f        // LightContributionToSample: a point or spot light is never nearer than this

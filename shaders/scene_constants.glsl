@@ -54,6 +54,9 @@
 #define BT_LUXEL_SAMPLE_OCCLUDED 1u
 #define BT_LUXEL_SAMPLE_TWO_SIDED 2u
 #define BT_LUXEL_SAMPLE_BOX_SHIFT 8u // the bits above: 1 + the sample's compiled face's box, 0 none
+// shaders/bake.comp's firstPass of the dispatch that computes the lights' visapprox boxes
+// (renderer/gl/gl_bake.cpp); -1 is the resolve, 0 and up the passes.
+#define BT_BAKE_VIS_BOX_PASS -2
 
 // renderer/gl/gl_structs.h GlMaterial::flags.
 #define BT_GL_MATERIAL_HAS_BASE 1u

@@ -31,7 +31,7 @@ struct PendingLevel {
               *missing = missingTextureFiles(scene, import.textures);
               return scene;
             },
-            RenderSceneOptions{})) {}
+            gl::glSceneOptions())) {} // a CPU window's bake computes the visapprox boxes as it starts
 };
 
 // What to watch when a level never loaded: the file named (an archive's for ARCHIVE:maps/x.bsp).

@@ -22,7 +22,11 @@ public:
   GlLightmapBake& operator=(const GlLightmapBake&) = delete;
 
   // Runs up to `passes` more passes over every sample, then stores the luxels they give so far.
+  // The first run computes the lights' visapprox boxes first where the job leaves them to the GPU.
   void run(int passes);
+  // The lights' visapprox boxes as the bake reads them (LuxelBakeJob::lightBoxes' order), computed
+  // now where they were not yet; waits for the GPU. For tests and benchmarks.
+  std::vector<GpuVisBox> lightBoxes();
   // Every pass at once, then waits for the GPU.
   void finish();
   int passesDone() const { return done_; }
@@ -30,15 +34,21 @@ public:
 
 private:
   void dispatch(int firstPass, int passCount, uint32_t items);
+  void bind();
+  // shaders/bake.comp visBoxPass over the boxes still to compute, one workgroup each.
+  void computeLightBoxes();
 
   GlTracer& tracer_;
   FaithfulFeatures features_;
   unsigned samples_ = 0, sums_ = 0, dome_ = 0;
   uint32_t sampleCount_ = 0, luxelCount_ = 0, samplesPerLuxel_ = 1;
   int softSamples_ = 1, passes_ = 1, done_ = 0;
-  int domeSuns_ = 0;       // the dome's directions, before the penumbra suns' in the same buffer
-  int lightBoxes_ = 0;     // where the lights' visapprox boxes begin in that buffer (vec4 rows)
-  int receiverBoxes_ = -1; // where the compiled faces' begin; -1: the level culls no light
+  int domeSuns_ = 0;            // the dome's directions, before the penumbra suns' in the same buffer
+  int lightBoxes_ = 0;          // where the lights' visapprox boxes begin in that buffer (vec4 rows)
+  int receiverBoxes_ = -1;      // where the compiled faces' begin; -1: the level culls no light
+  int visRays_ = 0;             // where the visapprox rays' directions begin, where the GPU computes the lights' boxes
+  uint32_t boxesToCompute_ = 0; // the lights' boxes the GPU has yet to compute (their rows hold the lights' origins)
+  uint32_t lightBoxCount_ = 0;
   uint32_t seed_ = 0;
 };
 

@@ -49,6 +49,12 @@ bool LevelPreparation::ready() const {
   return !done_.valid() || done_.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
 }
 
+RenderSceneOptions glSceneOptions() {
+  RenderSceneOptions options;
+  options.visApproxBoxes = RenderSceneOptions::VisBoxes::Gpu;
+  return options;
+}
+
 std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport importLevel, RenderSceneOptions options) {
   return std::make_unique<LevelPreparation>(level.scene, level.render, std::move(importLevel), std::move(options));
 }

@@ -70,10 +70,14 @@ struct GlLevelTimes {
   Clock::time_point uploadStarted, uploaded;
 };
 
+// The preparation of a level for the GL tracer: RenderSceneOptions' defaults, but the visapprox
+// boxes left to the GL bake (VisBoxes::Gpu), off the first image's path.
+RenderSceneOptions glSceneOptions();
+
 // Starts a LevelPreparation of `importLevel` into `level` (with `options`, the preparation's
 // diagnostics into the scene's). Start it before the GL context: the import then
 // overlaps the context's creation.
-std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport importLevel, RenderSceneOptions options = {});
+std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport importLevel, RenderSceneOptions options = glSceneOptions());
 
 // Starts `programs`' path tracer for `physical` lighting (the first images') and the level's
 // kinds of light: the wavefront trace kernel at once (it needs nothing of the level), the rest

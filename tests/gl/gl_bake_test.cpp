@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 
 namespace {
@@ -214,15 +215,19 @@ TEST(GlBake, NegativeLightsComeOffAfterTheFloorsAsOnTheCpu) {
 
 // ericw-tools' q2_light_visapprox levels, compiled without vis data: the compiler culls a light
 // from the faces that lie apart from its rays' box (lighting/vis_approx.h), which stay black. The
-// GPU bake reads the lights' and the compiled faces' boxes as the CPU does: without them it lights
-// those faces where the CPU leaves them black.
+// GPU bake computes the lights' boxes itself, as a level prepared for the GL tracer leaves them
+// (VisBoxes::Gpu; the CPU bake computes its own), and compares them with the compiled faces' as
+// the CPU does: without them it lights those faces where the CPU leaves them black.
 TEST(GlBake, VisapproxCullsTheLightsTheCpuCulls) {
   BT_REQUIRE_SHARED(shared);
   for (const char* map : {"q2_light_visapprox.map", "q2_light_visapprox2.map"}) {
     const Scene scene = importScene((shared / "maps/ericw-tools/testmaps" / map).string(), ImportOptions{});
     Diagnostics diagnostics;
-    RenderScene rs = buildRenderScene(scene, {}, diagnostics);
-    ASSERT_FALSE(rs.visBoxes.empty()) << map;
+    RenderSceneOptions options;
+    options.visApproxBoxes = RenderSceneOptions::VisBoxes::Gpu;
+    RenderScene rs = buildRenderScene(scene, options, diagnostics);
+    ASSERT_FALSE(rs.visBoxLights.empty()) << map;
+    ASSERT_TRUE(rs.visBoxes.empty()) << map << ": left to the GPU";
     Lightmaps cpu = layoutLightmaps(rs);
     ASSERT_GT(cpu.luxels.size(), 500u) << map;
     const std::vector<uint32_t> gpu = bakeOnBoth(scene, rs, cpu);
@@ -266,6 +271,46 @@ TEST(GlBake, DomeSunsAlongAWallLightItAsOnTheCpu) {
   }
   EXPECT_GE(double(within), 0.999 * double(gpu.size()));
   EXPECT_GT(lit, gpu.size() / 2);
+}
+
+// The lights' visapprox boxes the GPU computes (bake.comp's box pass) are the CPU's, bit for bit
+// where both tracers' rays stop at the same t: on llvmpipe (IEEE float throughout), as the stop
+// points and the growth are computed with the same roundings on both. A GPU whose division is not
+// correctly rounded may put a t an ulp off, and a box's side with it: there, 4 ulps of the box's
+// largest coordinate on that axis. The levels: the visapprox levels (a light beside a water wall
+// that stops its rays), Quake 2's alpha-tested fence and window, a sky window (the rays stop at
+// sky), Quake 1's `{` fences, ericw-tools' light_general (44 lights) and id's e1m1 (a whole level).
+TEST(GlBake, GpuVisapproxBoxesAreTheCpus) {
+  BT_REQUIRE_SHARED(shared);
+  const int ulps = test::sharedGlContext().info().softwareRenderer ? 0 : 4;
+  const auto near = [ulps](const GpuVisBox& gpu, const GpuVisBox& cpu, int axis) {
+    const float reach = std::max(std::abs(cpu.mins[axis]), std::abs(cpu.maxs[axis]));
+    const float tolerance = float(ulps) * (std::nextafter(reach, INFINITY) - reach);
+    return std::abs(gpu.mins[axis] - cpu.mins[axis]) <= tolerance && std::abs(gpu.maxs[axis] - cpu.maxs[axis]) <= tolerance;
+  };
+  size_t boxes = 0;
+  for (const char* map : {"ericw-tools/testmaps/q2_light_visapprox.map", "ericw-tools/testmaps/q2_light_visapprox2.map",
+                          "ericw-tools/testmaps/q2_light_translucency.map", "ericw-tools/testmaps/q2_alphatest_window.map",
+                          "ericw-tools/testmaps/q1_sky_window.map", "ericw-tools/testmaps/q1_detail_fence.map",
+                          "ericw-tools/testmaps/light_general.map", "quake_map_source/e1m1.map"}) {
+    const Scene scene = importScene((shared / "maps" / map).string(), ImportOptions{});
+    Diagnostics diagnostics;
+    RenderScene rs = buildRenderScene(scene, {}, diagnostics); // the CPU's boxes
+    ASSERT_EQ(rs.visBoxes.size(), rs.visBoxLights.size()) << map;
+    LuxelBakeJob job; // no luxels: the boxes alone, the GPU's to compute
+    for (uint32_t i : rs.visBoxLights) job.boxedLights.push_back(rs.lights[i].origin);
+    GlTracer tracer(test::sharedGlContext(), scene, rs.tracer, TextureMode::Arrays, lightingFor(rs));
+    GlLightmapBake bake(tracer, job);
+    const std::vector<GpuVisBox> gpu = bake.lightBoxes();
+    ASSERT_EQ(gpu.size(), rs.visBoxes.size()) << map;
+    for (size_t k = 0; k < gpu.size(); ++k)
+      for (int a = 0; a < 3; ++a)
+        EXPECT_TRUE(near(gpu[k], rs.visBoxes[k], a))
+            << map << ": light box " << k << " axis " << a << ": GPU " << gpu[k].mins[a] << " .. " << gpu[k].maxs[a] << ", CPU "
+            << rs.visBoxes[k].mins[a] << " .. " << rs.visBoxes[k].maxs[a];
+    boxes += gpu.size();
+  }
+  EXPECT_GT(boxes, 100u) << "lights to compare";
 }
 
 // Quake 2's glass (lit from both sides, passing the light) and `_world_units_per_luxel`'s

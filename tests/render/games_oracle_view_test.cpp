@@ -46,7 +46,12 @@ constexpr double kEngineDisplayScale = 1.0 / 255.0;
 //     took the luxels it leaves black from 0 to 75 % within one step and its views' dark pixels
 //     from 0 to 77 %, 25 % and 100 %; the rest lie behind the water, which shadows them in the
 //     compiler from inside too (Embree's faces block both ways; a ray leaving a brush here passes).
-//     What holds it is a lit view (from the side, 66 % within 5 %) that neither changed.
+//     What holds it is a lit view (66 % within 5 %) that neither changed, of the same cause: its
+//     camera (633.6 1363.2 1088, looking up) stands inside the water brush (x 544..1056) and sees
+//     the ceiling above the water, which we light from the light at x = 516 (its shadow rays
+//     leave the water brush through its x = 544 side, an exit that passes) and the compiler leaves
+//     black (that side is a double-sided Embree triangle among its solid faces). The GPU's boxes
+//     change nothing here (they are the CPU's, gl_bake_test.cpp GpuVisapproxBoxesAreTheCpus).
 //     (q2_light_visapprox, a light under the same water, left this list once the water casts
 //     shadows: 4 % -> 95 % of its lit pixels within 5 %.)
 const std::map<std::string, Bar>& knownGaps() {

@@ -33,9 +33,9 @@ Scene holedWallHall(const std::string& format) {
 }
 
 // The stored luxels of the far wall's face (x = 1024, facing -x): their largest value.
-float farWallLight(const Scene& scene) {
+float farWallLight(const Scene& scene, RenderSceneOptions options = {}) {
   Diagnostics diagnostics;
-  const RenderScene rs = buildRenderScene(scene, RenderSceneOptions{}, diagnostics);
+  const RenderScene rs = buildRenderScene(scene, options, diagnostics);
   std::vector<uint32_t> faces;
   for (uint32_t f = 0; f < scene.faces.size(); ++f) {
     const Face& face = scene.faces[f];
@@ -71,6 +71,21 @@ TEST(VisApprox, TheLightsBoxEndsBeforeTheHole) {
 TEST(VisApprox, ALightBehindAWallDoesNotLightTheFaceTheCompilerCullsItFrom) {
   EXPECT_EQ(farWallLight(holedWallHall("valve220")), 0.0f);
   EXPECT_GT(farWallLight(holedWallHall("bsp29")), 20.0f) << "the light reaches the far wall through the hole";
+}
+
+// A level prepared for the GL tracer leaves the boxes to the GPU bake (VisBoxes::Gpu: `render`
+// on a GL backend, the viewer). Where it is baked on the CPU after all (no GL context, the
+// viewer's CPU window or its style sets), the CPU bake computes them as it starts: the far wall
+// stays black.
+TEST(VisApprox, ACpuBakeOfALevelPreparedForTheGpuCullsAsWell) {
+  RenderSceneOptions options;
+  options.visApproxBoxes = RenderSceneOptions::VisBoxes::Gpu;
+  Diagnostics diagnostics;
+  const Scene scene = holedWallHall("valve220");
+  const RenderScene rs = buildRenderScene(scene, options, diagnostics);
+  EXPECT_EQ(rs.visBoxLights.size(), 1u);
+  EXPECT_TRUE(rs.visBoxes.empty()) << "left to the GPU";
+  EXPECT_EQ(farWallLight(scene, options), 0.0f);
 }
 
 } // namespace
