@@ -5,7 +5,8 @@
 // entities.cc EstimateVisibleBoundsAtPoint, ltface.cc CullLight). It is a shortcut that the
 // compiled lightmaps show: a face lit through a gap that few of the rays find stays black.
 // Faithful mode's bakes (lightmap_bake.h on the CPU, shaders/bake.comp on the GPU) apply it,
-// each light's box computed once here (RenderScene::visBoxes, GpuLight::visBox).
+// each light's box computed once here (RenderScene::visBoxes, GpuLight::visBox), bounce lights'
+// too.
 #pragma once
 
 #include "scene/gpu_structs.h"
@@ -40,8 +41,17 @@ bool visBoxesApart(const GpuVisBox& light, const GpuVisBox& face);
 
 // Gives every light the compiler culls its box (RenderScene::visBoxes, GpuLight::visBox), where
 // compilerCullsByRays: point lights (entities, `_surface` points) on the default lighting and
-// shadow channels (CullLight skips the others: its rays see the default channel only). Not bounce
-// lights: the compiler culls them by their own boxes, which is not modelled. All cores.
+// shadow channels (CullLight skips the others: its rays see the default channel only). Bounce
+// lights come later (assignBounceVisBoxes). All cores.
 void assignVisBoxes(RenderScene& rs, unsigned threads = 0);
+
+// Gives the bounce lights rs.lights[firstBounce..] their boxes, appended to rs.visBoxes, where
+// compilerCullsByRays: the compiler culls a bounce light as it culls an entity light
+// (ltface.cc SurfaceLight_SphereCull: the face is skipped when its bounds lie apart from the
+// light's box, EstimateVisibleBoundsAtPoint at the light's one point, `-emissivequality low`), on
+// every channel (its rays see the default one). A light that stands for several merged ones
+// (bounce.h clusterBounceLights, large levels only) gets the box of its own point. The gather of
+// a later `_bounce` pass does not cull (the compiler's does). All cores.
+void assignBounceVisBoxes(RenderScene& rs, uint32_t firstBounce, unsigned threads = 0);
 
 } // namespace bt
