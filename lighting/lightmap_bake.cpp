@@ -241,6 +241,14 @@ int lightSamples(const RenderScene& rs, const LightmapBakeOptions& options) {
 
 } // namespace
 
+std::optional<glm::vec3> compilerSamplePoint(const RenderScene& rs, const std::vector<BrushContents>& contents, const VoidTest& voids,
+                                             uint32_t face, const dvec3& point) {
+  const uint32_t channels = objectChannels(rs, face);
+  const SolidTest solid{rs, contents, rs.scene->brushes[rs.scene->faces[face].brush].entity, channels,
+                        channels == kDefaultChannels ? &voids : nullptr};
+  return positionOutOfSolid(rs, solid, point);
+}
+
 bool faceHasLightmap(const RenderScene& rs, uint32_t face) {
   const uint32_t flags = rs.faceFlags[face];
   if (flags & (kFaceHidden | kFaceSky)) return false;

@@ -24,8 +24,10 @@
 
 #include "lighting/faithful_light.h"
 #include "lighting/lightmaps.h"
+#include "lighting/qbsp_faces.h"
 #include "lighting/render_scene.h"
 
+#include <optional>
 #include <span>
 
 namespace bt {
@@ -50,6 +52,14 @@ Lightmaps layoutLightmaps(const RenderScene& rs, unsigned threads = 0);
 // Where the compiler samples each luxel of `lightmaps` (extra x extra points each, luxel-major:
 // scene/gpu_structs.h GpuLuxelSample), what both tracers' bakes light.
 std::vector<GpuLuxelSample> luxelSamples(const RenderScene& rs, const Lightmaps& lightmaps, int extra, unsigned threads = 0);
+
+// Where the compiler samples a point 1 unit off scene face `face` (`point`, on its compiled face
+// or pulled onto it): itself, unless it lies in a solid (or within 0.1 unit of one), in which case
+// the first of the 8 corners of a 1-unit cube around it that lies outside them
+// (PositionSamplePointOnFace); nullopt (occluded, no light) when all are solid. `voids`: the
+// level's void test (the world's void counts as solid for a face on the default channel).
+std::optional<glm::vec3> compilerSamplePoint(const RenderScene& rs, const std::vector<BrushContents>& contents, const VoidTest& voids,
+                                             uint32_t face, const dvec3& point);
 
 // A bake as both tracers run it: the sample points, and the passes of faithful_light.h
 // faithfulLuxelPass over them, pass k of sample i drawing from pixelRng(i, k, 0, seed).

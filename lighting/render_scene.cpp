@@ -261,12 +261,14 @@ TraceScene buildTracer(const RenderScene& rs) {
   return TraceScene::build(scene, bvh);
 }
 
-// `_bounce`: the compiler's bounce lights, made from the direct light the grid gives, and the
-// grid of every light extended from that of the direct lights (physical mode's lists stay).
-void addBounceLights(RenderScene& rs, const std::vector<BrushContents>& contents, Diagnostics& diagnostics) {
+// `_bounce`: the compiler's bounce lights, made from the direct light the grid gives, with their
+// boxes where the bakes cull lights (`visBoxes`), and the grid of every light extended from that
+// of the direct lights (physical mode's lists stay).
+void addBounceLights(RenderScene& rs, const std::vector<BrushContents>& contents, bool visBoxes, Diagnostics& diagnostics) {
   const BounceLights bounced = makeBounceLights(rs, contents);
   const uint32_t direct = uint32_t(rs.lights.size());
   rs.lights.insert(rs.lights.end(), bounced.lights.begin(), bounced.lights.end());
+  if (visBoxes) assignBounceVisBoxes(rs, direct);
   if (!bounced.exact())
     diagnostics.push_back({Severity::Note, rs.scene->sourcePath, 0, 0,
                            "_bounce estimated from " + std::to_string(bounced.sampledLuxels) + " of " + std::to_string(bounced.luxels) +
@@ -317,7 +319,7 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   else if (options.visApproxBoxes == VisBoxes::Gpu)
     numberVisBoxLights(rs);
   rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
-  if (bounces) addBounceLights(rs, contents, diagnostics); // prepared too
+  if (bounces) addBounceLights(rs, contents, options.visApproxBoxes != VisBoxes::Off, diagnostics); // prepared too
   if (scene.sky) rs.sky = bakeSkyMap(scene);
   return rs;
 }

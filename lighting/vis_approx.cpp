@@ -103,4 +103,16 @@ void assignVisBoxes(RenderScene& rs, unsigned threads) {
   rs.visBoxes = computeVisBoxes(rs, threads);
 }
 
+void assignBounceVisBoxes(RenderScene& rs, uint32_t firstBounce, unsigned threads) {
+  if (!compilerCullsByRays(*rs.scene)) return;
+  std::vector<uint32_t> bounce;
+  for (uint32_t i = firstBounce; i < rs.lights.size(); ++i)
+    if (rs.lights[i].formula == uint32_t(LightFormula::Bounce)) bounce.push_back(i);
+  const size_t first = rs.visBoxes.size();
+  rs.visBoxes.resize(first + bounce.size());
+  parallelFor(bounce.size(), threads, [&](size_t k) { rs.visBoxes[first + k] = visibleBounds(rs, rs.lights[bounce[k]].origin); });
+  for (size_t k = 0; k < bounce.size(); ++k) rs.lights[bounce[k]].visBox = uint32_t(first + k) + 1;
+  rs.visBoxLights.insert(rs.visBoxLights.end(), bounce.begin(), bounce.end()); // the bakes' lightBoxes pair them up
+}
+
 } // namespace bt

@@ -5,8 +5,9 @@
 // entities.cc EstimateVisibleBoundsAtPoint, ltface.cc CullLight). It is a shortcut that the
 // compiled lightmaps show: a face lit through a gap that few of the rays find stays black.
 // Faithful mode's bakes (lightmap_bake.h on the CPU, shaders/bake.comp on the GPU) apply it,
-// each light's box computed once: here, on the CPU (RenderScene::visBoxes, GpuLight::visBox), or
-// by the GL bake before its first pass (renderer/gl/gl_bake.h), whose rays walk the same BVH.
+// each light's box computed once: here, on the CPU (RenderScene::visBoxes, GpuLight::visBox),
+// bounce lights' too, or by the GL bake before its first pass (renderer/gl/gl_bake.h), whose
+// rays walk the same BVH.
 #pragma once
 
 #include "scene/gpu_structs.h"
@@ -50,12 +51,21 @@ bool visBoxesApart(const GpuVisBox& light, const GpuVisBox& face);
 // Numbers the lights the compiler culls (GpuLight::visBox = 1 + their place in
 // RenderScene::visBoxLights), where compilerCullsByRays: point lights (entities, `_surface`
 // points) on the default lighting and shadow channels (CullLight skips the others: its rays see
-// the default channel only). Not bounce lights: the compiler culls them by their own boxes, which
-// is not modelled. Their boxes are left to computeVisBoxes (RenderScene::visBoxes stays empty).
+// the default channel only). Not bounce lights: they come later (assignBounceVisBoxes). Their boxes are left to computeVisBoxes (RenderScene::visBoxes stays empty).
 void numberVisBoxLights(RenderScene& rs);
 // The boxes of rs.visBoxLights, in that order, on `threads` cores (0: all).
 std::vector<GpuVisBox> computeVisBoxes(const RenderScene& rs, unsigned threads = 0);
 // Both: every culled light numbered and its box in RenderScene::visBoxes.
 void assignVisBoxes(RenderScene& rs, unsigned threads = 0);
+
+// Gives the bounce lights rs.lights[firstBounce..] their boxes, appended to rs.visBoxLights and
+// rs.visBoxes, where
+// compilerCullsByRays: the compiler culls a bounce light as it culls an entity light
+// (ltface.cc SurfaceLight_SphereCull: the face is skipped when its bounds lie apart from the
+// light's box, EstimateVisibleBoundsAtPoint at the light's one point, `-emissivequality low`), on
+// every channel (its rays see the default one). A light that stands for several merged ones
+// (bounce.h clusterBounceLights, large levels only) gets the box of its own point. The gather of
+// a later `_bounce` pass does not cull (the compiler's does). All cores.
+void assignBounceVisBoxes(RenderScene& rs, uint32_t firstBounce, unsigned threads = 0);
 
 } // namespace bt

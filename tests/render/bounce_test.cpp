@@ -5,6 +5,7 @@
 #include "lighting/faithful.h"
 #include "renderer/cpu/integrator.h"
 #include "lighting/light_grid.h"
+#include "lighting/lightmap_bake.h"
 #include "lighting/render_scene.h"
 #include "tests/render/box_scene.h"
 
@@ -71,6 +72,46 @@ TEST(FaithfulBounce, OneFaceLightsAReceiverAsWorkedOutByHand) {
   EXPECT_EQ(faithfulLight(rs, {.p = {64.0f, 64.0f, 317.0f}, .n = -down, .lights = LightSet::Given, .given = &given}, rng), glm::vec3(0.0f));
   // Nearer than 128 units the distance is clamped: 815 987.5 / 128^2 = 49.80.
   EXPECT_NEAR(faithful::pointLightValue(l, down, down, 50.0f), 815987.5f / (128.0f * 128.0f), 1e-2f);
+}
+
+// Two rooms split by a wall 16 thick (x = 0..16), the light in the first, 32 units from the wall.
+// The luxels along the second room's edges lie on the wall's back plane (x = 16), 1 unit off
+// their faces; the compiler moves such a point out of the wall (PositionSamplePointOnFace), and
+// from there the wall shades it: nothing in the second room is lit, so nothing there bounces, and
+// its lightmaps stay black. A bounce that sampled the edge luxels where they lie saw the light
+// through the wall and lit the second room (its floor's edge luxels took a tenth of the room's
+// light from the first room's side).
+TEST(FaithfulBounce, EdgeLuxelsBesideAWallDoNotSeeThroughIt) {
+  test::BoxSceneBuilder b;
+  const std::string grey = b.material("grey", 128, 128, 128);
+  b.worldKey("_bounce", "1");
+  b.room({-512, -256, -128}, {528, 256, 128}, grey);
+  b.box({0, -256, -128}, {16, 256, 128}, grey);
+  b.entity({{"classname", "light"}, {"origin", "-32 0 0"}, {"light", "600"}});
+  const Scene scene = b.build();
+  Diagnostics diags;
+  RenderScene rs = buildRenderScene(scene, {}, diags);
+  ASSERT_FALSE(bounceLightsOf(rs).empty()) << "the first room bounces";
+  rs.lightmaps = layoutLightmaps(rs);
+  bakeLightmaps(rs, rs.lightmaps);
+  // The compiled faces wholly in the second room (x >= 16), and the first room's floor.
+  float secondRoom = 0.0f, firstRoom = 0.0f;
+  size_t secondRoomFaces = 0;
+  for (size_t fi = 0; fi < rs.lightmaps.fragments.size(); ++fi) {
+    const std::vector<dvec3>& polygon = rs.lightmaps.polygons[fi];
+    const bool second = std::all_of(polygon.begin(), polygon.end(), [](const dvec3& v) { return v.x >= 16.0; });
+    const bool firstFloor = std::all_of(polygon.begin(), polygon.end(), [](const dvec3& v) { return v.x <= 0.0 && v.z == -128.0; });
+    const GpuLightmapFragment& g = rs.lightmaps.fragments[fi];
+    for (uint32_t l = g.firstLuxel; l < g.firstLuxel + g.width * g.height; ++l) {
+      const float c = glm::length(unpackLuxel(rs.lightmaps.luxels[l]));
+      if (second) secondRoom = std::max(secondRoom, c);
+      if (firstFloor) firstRoom = std::max(firstRoom, c);
+    }
+    secondRoomFaces += second;
+  }
+  ASSERT_GE(secondRoomFaces, 5u);
+  EXPECT_GT(firstRoom, 100.0f) << "the first room is lit";
+  EXPECT_EQ(secondRoom, 0.0f) << "light from the first room got through the wall";
 }
 
 TEST(FaithfulBounce, ScaleAndTextureColourKeys) {

@@ -29,18 +29,21 @@ constexpr double kEngineDisplayScale = 1.0 / 255.0;
 // 5 % of its luxels and views) so that it cannot get worse unseen:
 //   light_q2_translucent_shadow: the compiler's glass (SURF_TRANS33/66, game_rules.h
 //     compilerGlass) now passes the light and is lit from both sides as `light` does with the
-//     level's textures missing; what is left is dim light (bounce) in the corners, and ref_gl's
-//     drawing of those faces without their lightmap is not modelled.
-//   q2_areaportal, q2_areaportal_with_detail, q2_areaportals: the bounced light (the Quake 2
-//     target's default `_bounce 1`); with bounce off the luxels fall to 70 % / 52 % within 5 %,
-//     with ours to 85 % / 63 %: our bounce lights are not yet the compiler's here. In
-//     q2_areaportal every luxel off by more than 5 % (1022) lies beyond the wall that holds the
-//     areaportal (x < 16) or in its doorway, and all are brighter than the compiler's, by about
-//     22 of 140-210: too much bounced light reaches the room without the light entity. There the
-//     compiler's bounce adds 98 on average (ours without bounce is that much darker) and ours
-//     106; the light's own room is at 255 in both, bounce or not. Not a clamp of the light a
-//     face bounces (bounce.cc MakeBounceLightsThread, `lightmap.bounce_color`): clamping each
-//     bounce sample's light to 255 stored takes these levels to 70 % / 52 %, as bounce off.
+//     level's textures missing; what holds it is the view from (-168 -666.667 192) (560 lit
+//     pixels, 78 % within 5 %: ref_gl draws those glass faces without their lightmap, not
+//     modelled); its luxels are at 85 % (82 % before the bounce's sample points left the walls).
+//   q2_areaportals: the bounced light (the Quake 2 target's default `_bounce 1`). Since the
+//     bounce samples a face's light where the compiler does (bounce.cpp: an edge luxel beside a
+//     wall moved out of it, as PositionSamplePointOnFace moves it, instead of seeing the light
+//     behind that wall), its luxels went from 63 % to 71 % within 5 % (q2_areaportal and
+//     q2_areaportal_with_detail, the same level without its third room, from 85 % to 98 % and
+//     96 %: off this list). The rest lies in the third room (x > 320), lit by bounce alone and
+//     dimly (30-180): per face the mean bounce is the compiler's within 10 %, but for the low wall
+//     strips (z < 128 or 192), 12-30 % too dark, where our faces are cut where the compiler's are
+//     not (qbsp_faces.h: the compiler's walls are merged across the doorway's planes and cut by
+//     the 240-texel subdivision at z = 128, ours at the doorway's top, z = 192), which moves the
+//     bounce lights. Not the areaportal: the compiler's bounce crosses it as ours does (stopping
+//     our bounce light there takes q2_areaportal from 98 % to 93 %).
 //   q2_light_visapprox2: the compiler's `visapprox` cull (lighting/vis_approx.h), its rays stopped
 //     by the water wall beside the light (solid to the compiler: render_scene.cpp quake2DrawnAs),
 //     took the luxels it leaves black from 0 to 75 % within one step and its views' dark pixels
@@ -59,9 +62,7 @@ const std::map<std::string, Bar>& knownGaps() {
   // clang-format off
   static const std::map<std::string, Bar> gaps = {
       {"ericw-tools_testmaps_light_q2_translucent_shadow", {0.02, 0.78}},
-      {"ericw-tools_testmaps_q2_areaportal", {0.02, 0.84}},
-      {"ericw-tools_testmaps_q2_areaportal_with_detail", {0.02, 0.84}},
-      {"ericw-tools_testmaps_q2_areaportals", {0.02, 0.63}},
+      {"ericw-tools_testmaps_q2_areaportals", {0.02, 0.70}},
       {"ericw-tools_testmaps_q2_light_visapprox2", {0.02, 0.66}},
   };
   // clang-format on

@@ -18,15 +18,18 @@ namespace {
 // units before the hole shines through it onto the hall's far wall (x = 1024). The hole takes
 // 2e-4 of the light's sphere, and the compiler's rays pass beside it (their z steps of 2/31 miss
 // the hole's +-0.027), so the light's box ends in its own half, well before the far wall.
-Scene holedWallHall(const std::string& format) {
+// `bounce`: the level bounces light (BounceLightsAreCulledByTheirOwnBoxes).
+Scene holedWallHall(const std::string& format, const std::string& lightOrigin = "0 0 0", bool bounce = false) {
   test::BoxSceneBuilder b;
+  if (bounce) b.worldKey("_bounce", "1"), b.worldKey("_bouncescale", "4");
   const std::string wall = b.material("wall", 128, 128, 128);
   b.room({-512, -512, -128}, {1024, 512, 128}, wall);
   b.box({300, -512, -128}, {316, -8, 128}, wall);
   b.box({300, 8, -128}, {316, 512, 128}, wall);
   b.box({300, -8, -128}, {316, 8, -8}, wall);
   b.box({300, -8, 8}, {316, 8, 128}, wall);
-  b.entity({{"classname", "light"}, {"origin", "0 0 0"}, {"light", "1500"}});
+  if (bounce) b.box({140, 130, 30}, {160, 170, 70}, wall); // shades the hole from a light at (0 300 100)
+  b.entity({{"classname", "light"}, {"origin", lightOrigin}, {"light", "1500"}});
   Scene scene = b.build();
   scene.format = format;
   return scene;
@@ -86,6 +89,20 @@ TEST(VisApprox, ACpuBakeOfALevelPreparedForTheGpuCullsAsWell) {
   EXPECT_EQ(rs.visBoxLights.size(), 1u);
   EXPECT_TRUE(rs.visBoxes.empty()) << "left to the GPU";
   EXPECT_EQ(farWallLight(scene, options), 0.0f);
+}
+
+// The compiler culls bounce lights by their boxes too (ltface.cc SurfaceLight_SphereCull). With
+// `_bounce 1` (`_bouncescale 4`), the light at (0 300 100) and a block at x = 140..160 between it
+// and the hole, no direct light gets through the hole: only bounce light reaches the far wall,
+// from the first half's faces (the end wall behind the light faces the hole). None of their
+// lights' rays finds the hole, so the compiler culls them all from the far wall, which stays
+// black; a compiled .bsp (no cull) shows what they would give it.
+TEST(VisApprox, BounceLightsAreCulledByTheirOwnBoxes) {
+  const std::string light = "0 300 100";
+  EXPECT_EQ(farWallLight(holedWallHall("bsp29", light, false)), 0.0f) << "no direct light reaches the far wall";
+  EXPECT_GT(farWallLight(holedWallHall("bsp29", light, true)), 4.0f)
+      << "bounce light reaches the far wall through the hole where nothing is culled";
+  EXPECT_EQ(farWallLight(holedWallHall("valve220", light, true)), 0.0f) << "the compiler culls it from the far wall";
 }
 
 } // namespace
