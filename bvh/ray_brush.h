@@ -11,6 +11,14 @@
 #include <limits>
 #include <span>
 
+// SSE2 (every x86-64) takes a node's three slabs in one register; elsewhere the scalar code.
+#if defined(__SSE2__)
+#define BT_SSE_NODE_TEST 1
+#include <emmintrin.h>
+#else
+#define BT_SSE_NODE_TEST 0
+#endif
+
 namespace bt::trace_detail {
 
 inline constexpr float kInfinity = std::numeric_limits<float>::infinity();
@@ -25,6 +33,9 @@ struct RayContext {
   std::array<int, 3> negative; // 1 where the direction component is < 0
   bool hasZeroComponent = false;
   float tMin, tMax;
+#if BT_SSE_NODE_TEST
+  __m128 origin4, invDirection4; // (x, y, z, 0): nodeOverlaps' lanes
+#endif
 
   RayContext() = default; // a packet's slot (ray_packet.cpp), filled before use
   explicit RayContext(const Ray& ray) : origin(ray.origin), direction(ray.direction), tMin(ray.tMin), tMax(ray.tMax) {
@@ -34,6 +45,10 @@ struct RayContext {
       invDirection[a] = direction[a] != 0.0f ? 1.0f / direction[a] : 0.0f;
       negative[a] = direction[a] < 0.0f ? 1 : 0;
     }
+#if BT_SSE_NODE_TEST
+    origin4 = _mm_setr_ps(origin.x, origin.y, origin.z, 0.0f);
+    invDirection4 = _mm_setr_ps(invDirection.x, invDirection.y, invDirection.z, 0.0f);
+#endif
   }
 };
 
@@ -73,6 +88,17 @@ template <bool ZeroSafe>
     const Slab s = intersectBox<true>(r, node.boundsMin, node.boundsMax);
     near = s.near, far = s.far;
   } else {
+#if BT_SSE_NODE_TEST
+    // The three axes at once, lane by lane the scalar expressions below; the node's fourth
+    // words (leftFirst, count: denormals as floats, slow to compute with) are masked to 0 first.
+    const __m128 keep = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0));
+    const __m128 lo = _mm_and_ps(_mm_loadu_ps(node.boundsMin), keep), hi = _mm_and_ps(_mm_loadu_ps(node.boundsMax), keep);
+    const __m128 t0 = _mm_mul_ps(_mm_sub_ps(lo, r.origin4), r.invDirection4);
+    const __m128 t1 = _mm_mul_ps(_mm_sub_ps(hi, r.origin4), r.invDirection4);
+    const __m128 lower = _mm_min_ps(t0, t1), upper = _mm_max_ps(t0, t1);
+    near = _mm_cvtss_f32(_mm_max_ss(_mm_max_ss(lower, _mm_shuffle_ps(lower, lower, 1)), _mm_shuffle_ps(lower, lower, 2)));
+    far = _mm_cvtss_f32(_mm_min_ss(_mm_min_ss(upper, _mm_shuffle_ps(upper, upper, 1)), _mm_shuffle_ps(upper, upper, 2)));
+#else
     // The same per-axis values as intersectBox (min/max of the two slab planes picks the one
     // intersectBox picks by the direction's sign), without the bookkeeping of which axis won.
     const float x0 = (node.boundsMin[0] - r.origin.x) * r.invDirection.x, x1 = (node.boundsMax[0] - r.origin.x) * r.invDirection.x;
@@ -80,6 +106,7 @@ template <bool ZeroSafe>
     const float z0 = (node.boundsMin[2] - r.origin.z) * r.invDirection.z, z1 = (node.boundsMax[2] - r.origin.z) * r.invDirection.z;
     near = std::max({std::min(x0, x1), std::min(y0, y1), std::min(z0, z1)});
     far = std::min({std::max(x0, x1), std::max(y0, y1), std::max(z0, z1)});
+#endif
   }
   return std::max(near, r.tMin) <= std::min(far, tLimit) && near <= far;
 }
