@@ -343,11 +343,12 @@ template <bool AnyHit, bool ZeroSafe, class HitItem>
         continue;
       }
     }
-    // Pop, skipping nodes that a closer hit found since has made irrelevant.
+    // Pop, skipping nodes that a closer hit found since has made irrelevant. An any-hit walk
+    // returns at its first hit, so its limit has not moved since the node was pushed.
     for (;;) {
       if (top == 0) return found;
       current = stack[--top];
-      if (nodeOverlaps<ZeroSafe>(r, nodes[current], best.t, near)) break;
+      if (AnyHit || nodeOverlaps<ZeroSafe>(r, nodes[current], best.t, near)) break;
     }
   }
 }
