@@ -39,18 +39,25 @@ struct Lanes {
 // near t of the first of them (what orders two children).
 uint64_t overlapping(const Lanes& l, const GpuBvhNode& node, uint64_t mask, float& firstNear) {
   uint64_t out = 0;
-  for (int b = 0; b < kBlocks; ++b) {
-    const uint32_t active = uint32_t(mask >> (b * kLanes)) & ((1u << kLanes) - 1u);
-    if (active == 0) continue;
+  constexpr uint32_t kBlockBits = (1u << kLanes) - 1u;
+  for (uint64_t left = mask; left != 0;) {
+    const int b = std::countr_zero(left) / kLanes;
+    const uint32_t active = uint32_t(left >> (b * kLanes)) & kBlockBits;
+    left &= ~(uint64_t(kBlockBits) << (b * kLanes));
     const Floats x0 = (node.boundsMin[0] - l.ox[b]) * l.ix[b], x1 = (node.boundsMax[0] - l.ox[b]) * l.ix[b];
     const Floats y0 = (node.boundsMin[1] - l.oy[b]) * l.iy[b], y1 = (node.boundsMax[1] - l.oy[b]) * l.iy[b];
     const Floats z0 = (node.boundsMin[2] - l.oz[b]) * l.iz[b], z1 = (node.boundsMax[2] - l.oz[b]) * l.iz[b];
     const Floats near = lanesMax(lanesMax(lanesMin(x0, x1), lanesMin(y0, y1)), lanesMin(z0, z1));
     const Floats far = lanesMin(lanesMin(lanesMax(x0, x1), lanesMax(y0, y1)), lanesMax(z0, z1));
     const auto hit = (lanesMax(near, l.tMin[b]) <= lanesMin(far, l.best[b])) & (near <= far);
+#if defined(__SSE2__)
+    static_assert(kLanes == 4);
+    uint32_t bits = uint32_t(_mm_movemask_ps(__m128(hit))) & active;
+#else
     uint32_t bits = 0;
     for (int k = 0; k < kLanes; ++k) bits |= uint32_t(hit[k] != 0) << k;
     bits &= active;
+#endif
     if (bits != 0 && out == 0) firstNear = near[std::countr_zero(bits)];
     out |= uint64_t(bits) << (b * kLanes);
   }
@@ -58,6 +65,8 @@ uint64_t overlapping(const Lanes& l, const GpuBvhNode& node, uint64_t mask, floa
 }
 
 struct Walk {
+  // No value-initialisation of the arrays (kilobytes per packet): load() fills what is read.
+  explicit Walk(const TraceScene& scene) : ts(scene) {}
   const TraceScene& ts;
   Lanes lanes;
   RayContext rays[TraceScene::kPacketRays];
@@ -124,19 +133,17 @@ struct Walk {
   }
 };
 
-} // namespace
-
-void TraceScene::closestHits(std::span<const Ray> rays, std::span<std::optional<Hit>> hits) const {
-  if (rays.size() > kPacketRays || hits.size() != rays.size())
-    throw std::invalid_argument("TraceScene::closestHits: up to kPacketRays rays, one hit each");
-  Walk walk{*this};
+// The rays of a packet into `walk`; returns the mask of those it takes (`single(k)` is called
+// for each of the others).
+template <class Single> uint64_t load(Walk& walk, std::span<const Ray> rays, const Single& single) {
+  const TraceScene& ts = walk.ts;
   Lanes& l = walk.lanes;
   for (int b = 0; b < kBlocks; ++b) l.tMin[b] = Floats{} + kInfinity, l.best[b] = Floats{} - kInfinity;
   uint64_t mask = 0;
   for (size_t k = 0; k < rays.size(); ++k) {
     const RayContext& r = walk.rays[k] = RayContext(rays[k]);
-    if (r.hasZeroComponent || !triangleNodes_.empty() || nodes_.empty()) {
-      hits[k] = closestHit(rays[k]);
+    if (r.hasZeroComponent || !ts.triangleNodes().empty() || ts.nodes().empty()) {
+      single(k);
       continue;
     }
     walk.best[k].t = r.tMax; // traceBoth's start
@@ -147,6 +154,16 @@ void TraceScene::closestHits(std::span<const Ray> rays, std::span<std::optional<
     l.tMin[b][lane] = r.tMin, l.best[b][lane] = r.tMax;
     mask |= uint64_t(1) << k;
   }
+  return mask;
+}
+
+} // namespace
+
+void TraceScene::closestHits(std::span<const Ray> rays, std::span<std::optional<Hit>> hits) const {
+  if (rays.size() > kPacketRays || hits.size() != rays.size())
+    throw std::invalid_argument("TraceScene::closestHits: up to kPacketRays rays, one hit each");
+  Walk walk(*this);
+  const uint64_t mask = load(walk, rays, [&](size_t k) { hits[k] = closestHit(rays[k]); });
   if (mask != 0) walk.run(mask);
   for (uint64_t m = mask; m != 0; m &= m - 1) {
     const int k = std::countr_zero(m);
