@@ -114,6 +114,17 @@ public:
   // what a shadow ray needs when that hit is a blocker.
   std::optional<Hit> anyHit(const Ray& ray) const;
 
+  // closestHit() of each of up to kPacketRays rays (hits[i] answers rays[i], bit for bit), the
+  // brushes in one walk of the BVH whose node tests take the rays kPacketLanes at a time: for
+  // rays that go nearly the same way from nearly the same place (a penumbra's suns from one
+  // point), whose single walks mostly visit the same nodes. Every brush a ray's own walk would
+  // test it tests (its leaf's box passes the same test), and the closest-hit order does not
+  // depend on the order of the tests; a brush is tested only against the rays that reach its
+  // leaf. Rays with a zero direction component, and every ray of a level with meshes, take
+  // closestHit() itself.
+  static constexpr size_t kPacketRays = 64, kPacketLanes = 4;
+  void closestHits(std::span<const Ray> rays, std::span<std::optional<Hit>> hits) const;
+
   // Whether p lies inside some brush for which `counts(scene brush index)` is true: strictly, or
   // with `onSurface` also on its boundary. ericw-tools' "point in solid" tests, which move a
   // luxel's sample point out of walls and a light off the face it lies on.

@@ -51,12 +51,37 @@ struct Receiver {
   bool twoSided;                        // a lit liquid: ericw-tools lights it from above and below (ltface.cc "twosided")
   uint32_t channels = kDefaultChannels; // its face's `_object_channel_mask`
   VisCull cull;                         // where the compiler culls lights by their boxes (vis_approx.h)
+  // A luxel's sky rays cast ahead (faithfulLuxelPass; null elsewhere), and how many penumbra
+  // passes it takes.
+  LuxelSky* penumbra = nullptr;
+  LuxelSky* dome = nullptr;
+  int penumbraPasses = 0;
 };
 
 // The normal the receiver turns to light arriving from `toLight`: a two-sided receiver faces
 // every light, so the angle term takes |cos| and the shadow ray leaves from the light's side.
 glm::vec3 facingNormal(const Receiver& r, const glm::vec3& toLight) {
   return r.twoSided && glm::dot(r.n, toLight) < 0.0f ? -r.n : r.n;
+}
+
+// reachesSky for `ray`, pass `pass`'s ray of the light's penumbra sun from r, answered from the
+// luxel's penumbra packet: the first pass to ask casts every pass's ray, each as the sun branch
+// of addFaithfulLight builds it.
+bool penumbraReachesSky(const RenderScene& rs, const GpuLight& light, const Receiver& r, int pass, const Ray& ray) {
+  LuxelSky& sky = *r.penumbra;
+  if (sky.light == nullptr) {
+    sky.light = &light;
+    std::array<Ray, faithful::kSunSamples> rays;
+    const int count = std::min(r.penumbraPasses, faithful::kSunSamples);
+    static_assert(faithful::kSunSamples <= int(TraceScene::kPacketRays));
+    for (int k = 0; k < count; ++k) {
+      const glm::vec3 toSun = -rs.sunTable[light.sunTable + uint32_t(k)];
+      rays[size_t(k)] = Ray{offsetRayOrigin(r.p, facingNormal(r, toSun)), 0.0f, toSun, std::numeric_limits<float>::infinity()};
+    }
+    sky.reaches[0] = reachSky(rs, std::span(rays).first(size_t(count)), LightingMode::Faithful, light.skyMaterial);
+  }
+  if (sky.light != &light) return reachesSky(rs, ray, LightingMode::Faithful, light.skyMaterial);
+  return (sky.reaches[0] >> (pass % faithful::kSunSamples)) & 1u;
 }
 
 // Faithful mode: one light's share of the light sum at the receiver, dimmed by the dirt
@@ -108,9 +133,9 @@ void addFaithfulLight(const RenderScene& rs, const GpuLight& light, const Receiv
     const glm::vec3 n = facingNormal(r, toSun);
     const float value = faithful::sunValue(jittered, n) * faithful::lightDirtFactor(light, occlusion, 0.0f);
     if (value == 0.0f) return;
-    if (!reachesSky(rs, Ray{offsetRayOrigin(r.p, n), 0.0f, toSun, std::numeric_limits<float>::infinity()}, LightingMode::Faithful,
-                    light.skyMaterial))
-      return;
+    const Ray ray{offsetRayOrigin(r.p, n), 0.0f, toSun, std::numeric_limits<float>::infinity()};
+    const bool packet = r.penumbra && pass >= 0 && (light.flags & kLightFlagSunTable);
+    if (!(packet ? penumbraReachesSky(rs, light, r, pass, ray) : reachesSky(rs, ray, LightingMode::Faithful, light.skyMaterial))) return;
     sum += value * light.color;
   } else if (light.type == uint32_t(LightType::Dome)) {
     // One direction of the dome per sample, uniform over its hemisphere: the mean over the
@@ -353,15 +378,50 @@ template <class F> void forLuxelLights(const RenderScene& rs, const glm::vec3& p
   for (uint32_t i : grid.cellLights(p)) f(rs.lights[i]);
 }
 
-// One of the compiler's dome suns, not a random direction: the same luxels, not noise.
-glm::vec3 domeSunLight(const RenderScene& rs, const GpuLight& light, const Receiver& r, glm::vec3 toSky, float occlusion) {
+// The dome's ray of `pass` from r and its angle term, or none where the direction gives the
+// receiver nothing.
+std::optional<Ray> domeRay(const GpuLight& light, const Receiver& r, int pass, float& angle) {
+  glm::vec3 toSky = skyDome()[size_t(pass)];
   if (light.direction.z < 0.0f) toSky.z = -toSky.z;
   const glm::vec3 facing = facingNormal(r, toSky);
   // Along the face's plane too (faithful::sunAngleTerm): a wall takes the zenith sun at (1 - a).
-  const float angle = faithful::sunAngleTerm(glm::dot(toSky, facing), light.anglescale);
-  if (angle <= 0.0f) return glm::vec3(0.0f);
-  if (!reachesSky(rs, Ray{offsetRayOrigin(r.p, facing), 0.0f, toSky, std::numeric_limits<float>::infinity()}, LightingMode::Faithful,
-                  light.skyMaterial))
+  angle = faithful::sunAngleTerm(glm::dot(toSky, facing), light.anglescale);
+  if (angle <= 0.0f) return std::nullopt;
+  return Ray{offsetRayOrigin(r.p, facing), 0.0f, toSky, std::numeric_limits<float>::infinity()};
+}
+
+// reachesSky for the dome's ray of `pass`, answered from the luxel's dome packets (the first pass
+// to ask casts every pass's ray in front of the receiver).
+bool domeReachesSky(const RenderScene& rs, const GpuLight& light, const Receiver& r, int pass, const Ray& ray) {
+  LuxelSky& sky = *r.dome;
+  if (sky.light == nullptr) {
+    sky.light = &light;
+    const int directions = int(skyDome().size());
+    constexpr int kPacket = int(TraceScene::kPacketRays);
+    static_assert(faithful::kSunSamples + 1 <= 2 * kPacket, "LuxelSky::reaches holds the dome's directions");
+    for (int first = 0; first < directions; first += kPacket) {
+      std::array<Ray, TraceScene::kPacketRays> rays;
+      std::array<int, TraceScene::kPacketRays> passOf;
+      size_t count = 0;
+      for (int k = first; k < std::min(directions, first + kPacket); ++k) {
+        float angle = 0.0f;
+        if (const std::optional<Ray> kth = domeRay(light, r, k, angle)) rays[count] = *kth, passOf[count++] = k;
+      }
+      const uint64_t reached = reachSky(rs, std::span(rays).first(count), LightingMode::Faithful, light.skyMaterial);
+      for (size_t i = 0; i < count; ++i)
+        if ((reached >> i) & 1u) sky.reaches[size_t(passOf[i] / kPacket)] |= uint64_t(1) << (passOf[i] % kPacket);
+    }
+  }
+  if (sky.light != &light) return reachesSky(rs, ray, LightingMode::Faithful, light.skyMaterial);
+  return (sky.reaches[size_t(pass / int(TraceScene::kPacketRays))] >> (pass % int(TraceScene::kPacketRays))) & 1u;
+}
+
+// One of the compiler's dome suns, not a random direction: the same luxels, not noise.
+glm::vec3 domeSunLight(const RenderScene& rs, const GpuLight& light, const Receiver& r, int pass, float occlusion) {
+  float angle = 0.0f;
+  const std::optional<Ray> ray = domeRay(light, r, pass, angle);
+  if (!ray) return glm::vec3(0.0f);
+  if (!(r.dome ? domeReachesSky(rs, light, r, pass, *ray) : reachesSky(rs, *ray, LightingMode::Faithful, light.skyMaterial)))
     return glm::vec3(0.0f);
   return light.value * angle * faithful::lightDirtFactor(light, occlusion, 0.0f) * light.color;
 }
@@ -381,13 +441,13 @@ void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec
                        LuxelSums& sums, uint32_t channels, ShadowCache* cache, VisCull cull, int style) {
   const auto otherStyle = [&](const GpuLight& light) { return style != kAllStyles && int(lightStyle(light)) != style; };
   const auto index = [&](const GpuLight& light) { return size_t(&light - rs.lights.data()); };
-  const Receiver r{p, n, twoSided, channels, cull};
+  const Receiver r{p, n, twoSided, channels, cull, &sums.penumbraSky, &sums.domeSky, softSamples};
   // Dirt rays start at the compiler's sample point, which p already is.
   if (pass == 0) sums.occlusion = faithfulOcclusion(rs, p - n * faithful::kDirtSampleLift, n, rng);
   const auto each = [&](const GpuLight& light) {
     if (otherStyle(light)) return;
     if (light.type == uint32_t(LightType::Dome)) {
-      if (pass < int(skyDome().size())) sums.dome += domeSunLight(rs, light, r, skyDome()[size_t(pass)], sums.occlusion);
+      if (pass < int(skyDome().size())) sums.dome += domeSunLight(rs, light, r, pass, sums.occlusion);
     } else if (softLight(light)) {
       if (pass < softSamples)
         addFaithfulLight(rs, light, r, sums.occlusion, rng, sums.soft, sums.localMin, cache, index(light), false, pass);

@@ -13,6 +13,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -154,13 +155,22 @@ glm::vec3 jitteredOrigin(const GpuLight& light, Rng& rng);
 // Pass k draws only from its own stream (the caller's pixelRng(sample, k)). The light is then
 // the fixed part plus the mean of the dome and soft samples so far, under the floors (minlight,
 // `faceMinlight`): faithfulLuxelLight.
+// A luxel's sky rays of one penumbra sun or one dome for all its passes, cast as packets
+// (visibility.h reachSky) when pass 0 first asks, since they leave one point in nearby
+// directions: bit k of `reaches` answers pass k's ray of `light`. Another such light of the
+// same luxel casts ray by ray.
+struct LuxelSky {
+  const GpuLight* light = nullptr;
+  std::array<uint64_t, 2> reaches{};
+};
 struct LuxelSums {
   glm::vec3 fixed{0.0f};
   float occlusion = 0.0f;
-  glm::vec3 localMin{0.0f}; // delay-4 lights: a floor, not a term
-  glm::vec3 negative{0.0f}; // faithful::subtractedLight lights: taken off after the floors
-  glm::vec3 dome{0.0f};     // sum over the passes so far of each pass's dome direction
-  glm::vec3 soft{0.0f};     // sum over the passes so far of each pass's soft samples
+  glm::vec3 localMin{0.0f};      // delay-4 lights: a floor, not a term
+  glm::vec3 negative{0.0f};      // faithful::subtractedLight lights: taken off after the floors
+  glm::vec3 dome{0.0f};          // sum over the passes so far of each pass's dome direction
+  glm::vec3 soft{0.0f};          // sum over the passes so far of each pass's soft samples
+  LuxelSky penumbraSky, domeSky; // their sky rays, cast ahead
 };
 // How many passes a level's luxels take: 1, the dome's directions, or `softSamples`.
 int luxelPasses(const RenderScene& rs, int softSamples);

@@ -45,10 +45,15 @@ bool segmentStretch(const TraceScene& ts, uint32_t slot, const glm::vec3& c, con
 }
 
 // A group's ray origins: a box in the frame of their face (u, v in its plane, n off it), 8 corners.
+// The corners and the pyramids' base (pyramidTo) are worked out once per group, not per light.
 struct OriginBox {
   glm::vec3 u, v, n;
   glm::vec3 lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
   Bounds world;
+  std::array<glm::vec3, 8> corners;
+  float baseHeight = 0.0f;       // the base's height along n, between lo.z and hi.z
+  std::array<glm::vec3, 4> base; // its corners, around
+  glm::vec3 baseCentre{0.0f};
   glm::vec3 corner(int k) const { return u * (k & 1 ? hi.x : lo.x) + v * (k & 2 ? hi.y : lo.y) + n * (k & 4 ? hi.z : lo.z); }
 };
 
@@ -62,7 +67,8 @@ bool brushHidesBox(const RenderScene& rs, uint32_t slot, const OriginBox& box, c
   if (!apart) return false;
   for (int k = 0; k < 8; ++k) {
     float enter = 0.0f, exit = 0.0f;
-    if (!segmentStretch(rs.tracer, slot, box.corner(k), light, enter, exit) || !(enter > 0.0f && enter + kMargin < exit)) return false;
+    if (!segmentStretch(rs.tracer, slot, box.corners[size_t(k)], light, enter, exit) || !(enter > 0.0f && enter + kMargin < exit))
+      return false;
   }
   return true;
 }
@@ -76,10 +82,9 @@ struct Pyramid {
 };
 
 Pyramid pyramidTo(const OriginBox& box, const glm::vec3& light) {
-  const float z = 0.5f * (box.lo.z + box.hi.z);
-  const std::array<glm::vec3, 4> base = {box.u * box.lo.x + box.v * box.lo.y + box.n * z, box.u * box.hi.x + box.v * box.lo.y + box.n * z,
-                                         box.u * box.hi.x + box.v * box.hi.y + box.n * z, box.u * box.lo.x + box.v * box.hi.y + box.n * z};
-  const glm::vec3 centre = 0.25f * (base[0] + base[1] + base[2] + base[3]);
+  const float z = box.baseHeight;
+  const std::array<glm::vec3, 4>& base = box.base;
+  const glm::vec3& centre = box.baseCentre;
   Pyramid p;
   for (int k = 0; k < 4; ++k) {
     const glm::vec3& a = base[size_t(k)];
@@ -141,7 +146,11 @@ OriginBox originBox(std::span<const glm::vec3> points, const glm::vec3& n) {
     box.hi = glm::max(box.hi, glm::vec3(glm::dot(box.u, o), glm::dot(box.v, o), glm::dot(n, o)));
   }
   box.lo -= glm::vec3(1e-3f), box.hi += glm::vec3(1e-3f); // the frame's own rounding
-  for (int k = 0; k < 8; ++k) box.world.grow(dvec3(box.corner(k)));
+  for (int k = 0; k < 8; ++k) box.corners[size_t(k)] = box.corner(k), box.world.grow(dvec3(box.corners[size_t(k)]));
+  const float z = box.baseHeight = 0.5f * (box.lo.z + box.hi.z);
+  box.base = {box.u * box.lo.x + box.v * box.lo.y + box.n * z, box.u * box.hi.x + box.v * box.lo.y + box.n * z,
+              box.u * box.hi.x + box.v * box.hi.y + box.n * z, box.u * box.lo.x + box.v * box.hi.y + box.n * z};
+  box.baseCentre = 0.25f * (box.base[0] + box.base[1] + box.base[2] + box.base[3]);
   return box;
 }
 

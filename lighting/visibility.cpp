@@ -1,5 +1,6 @@
 #include "lighting/visibility.h"
 
+#include <array>
 #include <optional>
 #include <span>
 
@@ -100,10 +101,13 @@ bool blockedByBrush(const RenderScene& rs, const Ray& ray, LightingMode mode, ui
   return hit && !hit->inside && blocksLight(rs, hit->face, mode, channels) && !passesThrough(rs, *hit, ray);
 }
 
-bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t skyMaterial) {
+namespace {
+
+// reachesSky, the ray's first closest hit given.
+bool reachesSkyFrom(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t skyMaterial, std::optional<Hit> hit) {
   Ray r = ray;
   for (int i = 0; i < kMaxSkips; ++i) {
-    const std::optional<Hit> hit = rs.tracer.closestHit(r);
+    if (i > 0) hit = rs.tracer.closestHit(r);
     if (!hit) return skyMaterial == 0; // left the level: nothing to stop the sun, unless it needs a texture
     const uint32_t flags = rs.faceFlags[hit->face];
     const bool through = passesThrough(rs, *hit, r);
@@ -112,6 +116,21 @@ bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32
     r.tMin = continueRayAfter(hit->t);
   }
   return false;
+}
+
+} // namespace
+
+bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t skyMaterial) {
+  return reachesSkyFrom(rs, ray, mode, skyMaterial, rs.tracer.closestHit(ray));
+}
+
+uint64_t reachSky(const RenderScene& rs, std::span<const Ray> rays, LightingMode mode, uint32_t skyMaterial) {
+  std::array<std::optional<Hit>, TraceScene::kPacketRays> hits;
+  rs.tracer.closestHits(rays, std::span(hits).first(rays.size()));
+  uint64_t reached = 0;
+  for (size_t i = 0; i < rays.size(); ++i)
+    if (reachesSkyFrom(rs, rays[i], mode, skyMaterial, hits[i])) reached |= uint64_t(1) << i;
+  return reached;
 }
 
 std::vector<uint8_t> solidBlockers(const RenderScene& rs) {

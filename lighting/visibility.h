@@ -11,6 +11,7 @@
 #include <glm/vec4.hpp>
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace bt {
@@ -44,6 +45,9 @@ bool blockedByBrush(const RenderScene& rs, const Ray& ray, LightingMode mode, ui
 // True when the ray reaches a sky face (or leaves the level) before anything else: sunlight.
 // `skyMaterial`: 1 + the only sky material that counts (a sun's `_suntexture`), 0 any sky.
 bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t skyMaterial = 0);
+// reachesSky for up to TraceScene::kPacketRays rays at once, their first hits in one packet walk
+// (TraceScene::closestHits): bit i answers rays[i], as reachesSky(rays[i]) would.
+uint64_t reachSky(const RenderScene& rs, std::span<const Ray> rays, LightingMode mode, uint32_t skyMaterial = 0);
 
 // How far a ray from `origin` along `dir` gets before a face that blocks faithful light, or
 // `depth` when it meets none (or the sky: ericw-tools' dirt counts only solid hits) within it.
