@@ -43,7 +43,7 @@ cp "$build/tests/gl/gl_tests" "$build/tests/gl/gl_parity_tests_portable" "$build
   "$build/bench/bench_bvh_generated" "$tmp/"
 for binary in "${binaries[@]}"; do strip --strip-debug "$tmp/$binary"; done
 # The shared data the benchmark and the parity tests read, at the same paths under shared/.
-for rel in "$map_rel" "$many_lights_rel" oracle/lit oracle/lit-games maps/librequake/lq1/maps/src/misc/slope.map maps/librequake/texture-wads maps/ericw-tools/testmaps; do
+for rel in "$map_rel" "$many_lights_rel" oracle/lit oracle/lit-games maps/quake_map_source/e1m1.map maps/librequake/lq1/maps/src/misc/slope.map maps/librequake/texture-wads maps/ericw-tools/testmaps; do
   mkdir -p "$tmp/shared/$(dirname "$rel")"
   cp -r "$shared/$rel" "$tmp/shared/$rel"
 done
