@@ -109,6 +109,8 @@ void Viewer::Impl::installLevel(std::unique_ptr<gl::GlLevel> next, const std::ve
   level = std::move(next);
   baseColors.clear();
   for (const GpuLight& light : level->render.lights) baseColors.push_back(light.color);
+  baseSurfaceColors.clear();
+  for (const GpuLight& tmpl : level->render.surfaceLights) baseSurfaceColors.push_back(tmpl.color);
   lightScale = CpuLuxelBake::kUnitStyleWeights;
   markers.setLevel(level->render);
   startBake();
@@ -386,13 +388,24 @@ void Viewer::Impl::scaleLights(const std::array<float, 256>& scale) {
   if (scale == lightScale) return;
   RenderScene& rs = level->render;
   // Sliders of styles this level has no light of change nothing (and touch no light a bake reads).
-  const bool changes = std::any_of(rs.lights.begin(), rs.lights.end(),
-                                   [&](const GpuLight& light) { return scale[lightStyle(light)] != lightScale[lightStyle(light)]; });
+  const auto moved = [&](const GpuLight& light) { return scale[lightStyle(light)] != lightScale[lightStyle(light)]; };
+  const bool lightsMove = std::any_of(rs.lights.begin(), rs.lights.end(), moved);
+  // A styled `_surface` template's faces are physical mode's area emitters: its slider scales
+  // them as it scales the template's points (render --style scales the light before either).
+  const bool emittersMove =
+      std::any_of(rs.surfaceLights.begin(), rs.surfaceLights.end(), [&](const GpuLight& t) { return t.value > 0.0f && moved(t); });
   lightScale = scale;
-  if (!changes) return;
-  for (size_t i = 0; i < rs.lights.size(); ++i) rs.lights[i].color = baseColors[i] * scale[lightStyle(rs.lights[i])];
-  rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
-  if (!cpu) level->tracer->setLights(rs.lights, rs.lightGrid, rs.world.scaledist);
+  if (!lightsMove && !emittersMove) return;
+  if (lightsMove) {
+    for (size_t i = 0; i < rs.lights.size(); ++i) rs.lights[i].color = baseColors[i] * scale[lightStyle(rs.lights[i])];
+    rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
+    if (!cpu) level->tracer->setLights(rs.lights, rs.lightGrid, rs.world.scaledist);
+  }
+  if (emittersMove) {
+    for (size_t m = 0; m < rs.surfaceLights.size(); ++m)
+      rs.surfaceLights[m].color = baseSurfaceColors[m] * scale[lightStyle(rs.surfaceLights[m])];
+    if (!cpu) level->tracer->setSurfaceLights(rs.surfaceLights);
+  }
   restart();
 }
 

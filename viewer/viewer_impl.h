@@ -86,7 +86,8 @@ struct Viewer::Impl {
   // styleScale between frames whenever no CPU bake is reading them (followStyleSliders).
   std::array<float, 256> styleScale = CpuLuxelBake::kUnitStyleWeights;
   std::array<float, 256> lightScale = CpuLuxelBake::kUnitStyleWeights;
-  std::vector<glm::vec3> baseColors; // per level->render.lights
+  std::vector<glm::vec3> baseColors;        // per level->render.lights
+  std::vector<glm::vec3> baseSurfaceColors; // per level->render.surfaceLights (physical mode's emitters)
   StyledLuxels styled;
   int imports = 0, bakes = 0, gpuBakes = 0;
   std::unique_ptr<gl::GlTexture2D> display; // RGBA8, what is on screen (scaled to the window)

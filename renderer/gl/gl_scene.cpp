@@ -135,10 +135,8 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMat
   faceFlags.insert(faceFlags.end(), lighting.liquidCsg.begin(), lighting.liquidCsg.end()); // gl_lighting.h liquidCsgTable
   upload(buffers_[kBindingFaceFlags], std::span<const uint32_t>(faceFlags));
   upload(buffers_[kBindingMaterials], std::span<const GlMaterial>(materials));
-  // One template per material, so the shader indexes it by a face's material; value 0 = none.
-  std::vector<GpuLight> surfaceLights = lighting.surfaceLights;
-  surfaceLights.resize(std::max(surfaceLights.size(), materialCount), GpuLight{.value = 0.0f});
-  upload(buffers_[kBindingSurfaceLights], std::span<const GpuLight>(surfaceLights));
+  materialCount_ = materialCount;
+  uploadSurfaceLights(lighting.surfaceLights);
   upload(buffers_[kBindingEmitters], std::span<const GpuEmitter>(lighting.emitters));
   // A lighting without a grid (tests that list lights by hand) gets one built here.
   uploadLights(lighting.lights,
@@ -161,6 +159,19 @@ void GlSceneBuffers::uploadLights(const std::vector<GpuLight>& lights, const Lig
   gridBytes.insert(gridBytes.end(), cells, cells + grid.cells.size() * sizeof(GpuLightCell));
   upload(buffers_[kBindingLightGrid], std::span<const uint8_t>(gridBytes));
   upload(buffers_[kBindingLightIndices], std::span<const uint32_t>(grid.indices));
+}
+
+void GlSceneBuffers::uploadSurfaceLights(const std::vector<GpuLight>& templates) {
+  // One template per material, so the shader indexes it by a face's material; value 0 = none.
+  std::vector<GpuLight> surfaceLights = templates;
+  surfaceLights.resize(std::max(surfaceLights.size(), materialCount_), GpuLight{.value = 0.0f});
+  upload(buffers_[kBindingSurfaceLights], std::span<const GpuLight>(surfaceLights));
+}
+
+void GlSceneBuffers::setSurfaceLights(const std::vector<GpuLight>& surfaceLights) {
+  BT_GL(glDeleteBuffers(1, &buffers_[kBindingSurfaceLights]));
+  BT_GL(glCreateBuffers(1, &buffers_[kBindingSurfaceLights]));
+  uploadSurfaceLights(surfaceLights);
 }
 
 void GlSceneBuffers::setLights(const std::vector<GpuLight>& lights, const LightGrid& grid, float scaledist) {

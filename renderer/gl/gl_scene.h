@@ -36,6 +36,9 @@ public:
   // Replaces the lights and their grid (kBindingLights, kBindingLightGrid, kBindingLightIndices):
   // the same lights with other colours (the viewer's style sliders), their grid built anew.
   void setLights(const std::vector<GpuLight>& lights, const LightGrid& grid, float scaledist);
+  // Replaces the `_surface` templates (kBindingSurfaceLights), one per material: the same with
+  // other colours (the viewer's style sliders on physical mode's emitters).
+  void setSurfaceLights(const std::vector<GpuLight>& surfaceLights);
 
 private:
   static constexpr int kBufferCount = 11; // Binding 0..10
@@ -44,9 +47,11 @@ private:
   unsigned texelViews_[kTexelViewCount] = {}; // buffer textures, by TexelUnit - kTexelNodes
   unsigned lightmaps_ = 0;                    // kBindingLightmaps
   unsigned sky_ = 0;                          // kTextureSky
+  size_t materialCount_ = 0;                  // the surface templates' count at least
 
   void uploadSky(const SkyMap& sky);
   void uploadLights(const std::vector<GpuLight>& lights, const LightGrid& grid, float scaledist);
+  void uploadSurfaceLights(const std::vector<GpuLight>& surfaceLights);
 };
 
 } // namespace bt::gl

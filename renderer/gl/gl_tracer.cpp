@@ -328,6 +328,10 @@ void GlTracer::setLights(const std::vector<GpuLight>& lights, const LightGrid& g
   impl_->buffers.setLights(lights, grid, scaledist);
 }
 
+void GlTracer::setSurfaceLights(const std::vector<GpuLight>& surfaceLights) {
+  impl_->buffers.setSurfaceLights(surfaceLights);
+}
+
 void GlTracer::bindLevel() {
   impl_->setWorld(BeautySettings{.physical = false, .bounces = 0});
   impl_->buffers.bind();

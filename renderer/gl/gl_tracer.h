@@ -183,6 +183,8 @@ public:
   // Replaces the lights (GlLighting::lights, the same lights with other colours: the viewer's
   // style sliders) and their grid, built anew over them; `scaledist` as GlLighting's.
   void setLights(const std::vector<GpuLight>& lights, const LightGrid& grid, float scaledist);
+  // Replaces the `_surface` templates (GlLighting::surfaceLights, the same with other colours).
+  void setSurfaceLights(const std::vector<GpuLight>& surfaceLights);
   // For passes of other kernels over the level (gl_bake.h): binds the world block, the scene's
   // buffers and textures as the path tracer sees them; the lightmap buffer's GL name; and its
   // whole packed content, read back (tests).

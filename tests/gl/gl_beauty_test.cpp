@@ -1,6 +1,8 @@
 // The GL integrator against closed-form values: faithful mode's ericw-tools formulas and
 // physical mode's direct lighting, on the hand-built room.
+#include "lighting/render_scene.h"
 #include "renderer/gl/gl_context.h"
+#include "renderer/gl/gl_lighting.h"
 #include "renderer/gl/gl_tracer.h"
 #include "tests/gl/test_scenes.h"
 #include "scene/color.h"
@@ -85,6 +87,42 @@ TEST(GlBeauty, FaithfulInfiniteLightGivesTheOverbrightFormula) {
       ADD_FAILURE() << "pixel " << i << " = (" << c.x << ", " << c.y << ", " << c.z << "), expected " << expected << " or 0";
   }
   EXPECT_GT(lit, pixels.size() / 2) << "the wall should be mostly lit (" << dark << " in shadow)";
+}
+
+// The viewer's style sliders scale a `_surface` template's colour in place (viewer.cpp
+// scaleLights, GlTracer::setSurfaceLights): physical mode's area emitters then give, every pixel,
+// what the room gives when built with a template a quarter as bright.
+TEST(GlBeauty, ReplacedSurfaceTemplatesLightAsTheLevelBuiltWithThem) {
+  GlContext* context = &test::sharedGlContext();
+  const auto room = [](const char* value) {
+    Scene scene = test::makeTestRoom();
+    Entity light;
+    light.keys = {{"classname", "light"}, {"origin", "0 0 128"}, {"light", value}, {"_surface", "stripes"}};
+    scene.entities.push_back(light);
+    return scene;
+  };
+  const Scene bright = room("40"), dim = room("10");
+  Diagnostics diagnostics;
+  RenderScene brightRs = buildRenderScene(bright, {}, diagnostics);
+  const RenderScene dimRs = buildRenderScene(dim, {}, diagnostics);
+  ASSERT_FALSE(brightRs.emitters.empty()) << "the stripes faces emit";
+  const CameraBasis camera = test::testCamera(kWidth, kHeight);
+  const BeautySettings settings{.width = kWidth, .height = kHeight, .spp = 4, .physical = true, .bounces = 1};
+  GlTracer dimTracer(*context, dim, test::textureModeUnderTest(), lightingFor(dimRs));
+  const BeautyImage expected = dimTracer.renderBeauty(camera, settings);
+  GlTracer tracer(*context, bright, test::textureModeUnderTest(), lightingFor(brightRs));
+  const BeautyImage before = tracer.renderBeauty(camera, settings);
+  for (GpuLight& t : brightRs.surfaceLights) t.color *= 0.25f;
+  tracer.setSurfaceLights(brightRs.surfaceLights);
+  const BeautyImage after = tracer.renderBeauty(camera, settings);
+  float worst = 0.0f, changed = 0.0f;
+  for (size_t i = 0; i < expected.beauty.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      worst = std::max(worst, std::abs(after.beauty[i][c] - expected.beauty[i][c]) / std::max(expected.beauty[i][c], 1e-3f));
+      changed = std::max(changed, std::abs(before.beauty[i][c] - expected.beauty[i][c]) / std::max(expected.beauty[i][c], 1e-3f));
+    }
+  EXPECT_LE(worst, 1e-5f) << "the replaced templates do not light as the level built with them";
+  EXPECT_GT(changed, 0.5f) << "the template's brightness changes nothing: the test cannot tell";
 }
 
 TEST(GlBeauty, PhysicalPointLightGivesInverseSquareLambert) {

@@ -385,6 +385,32 @@ TEST_F(ViewerModesTest, APhysicalStyleSliderScalesItsLightsWithoutAReload) {
   EXPECT_GT(worstBetween(render(viewer, o, flags), expected), 20) << "the sliders change nothing: the test cannot tell";
 }
 
+// A `_surface` light with a style: physical mode draws its template's faces as area emitters, and
+// its slider scales them as `render --style` does (it scales the light before the template is
+// made): the CPU window (exposure 0) against render, every pixel, with no import. (The GL
+// window's exposure follows its image in time, so its upload, GlTracer::setSurfaceLights, is held
+// by GlBeauty.ReplacedSurfaceTemplatesLightAsTheLevelBuiltWithThem.)
+TEST_F(ViewerModesTest, APhysicalSliderScalesTheSurfaceEmittersOfItsStyle) {
+  const std::string surfaceLight =
+      "{\n\"classname\" \"light\"\n\"origin\" \"0 0 -100\"\n\"light\" \"40\"\n\"_surface\" \"wall\"\n\"style\" \"5\"\n}\n";
+  save(roomMap(300) + surfaceLight);
+  ViewerOptions o = optionsFor(ViewerBackend::Cpu, 2);
+  o.lighting = LightingMode::Physical;
+  o.lightingGiven = true;
+  Viewer viewer(o);
+  viewer.setDenoise(false);
+  const Viewer::DisplayImage before = settled(viewer, 2);
+  ASSERT_EQ(viewer.lightStyles(), std::vector<int>{5});
+  viewer.setStyleScale(5, 0.25f);
+  ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.stylesApplied() && viewer.samples() >= 2; })) << "the lights never took the sliders";
+  const Viewer::DisplayImage shown = settled(viewer, 2);
+  EXPECT_EQ(viewer.imports(), 1) << "the slider imported the level again";
+  const std::string flags = fmt::format("--backend cpu --lighting physical --bounces {} --exposure 0 --spp 2", o.bounces);
+  const Viewer::DisplayImage expected = render(viewer, o, flags + " --style 5=0.25");
+  EXPECT_EQ(worstBetween(shown, expected), 0) << "the slider's emitters are not the template's scaled";
+  EXPECT_GT(worstBetween(before, expected), 20) << "the slider changes nothing: the test cannot tell";
+}
+
 // Faithful light at each pixel's point (--luxels off): the sliders scale the lights each window's
 // tracer reads (the GL window's through GlTracer::setLights): every pixel as render's of the level
 // with those styles scaled, with no import.
