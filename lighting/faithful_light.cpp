@@ -64,24 +64,37 @@ glm::vec3 facingNormal(const Receiver& r, const glm::vec3& toLight) {
   return r.twoSided && glm::dot(r.n, toLight) < 0.0f ? -r.n : r.n;
 }
 
-// reachesSky for `ray`, pass `pass`'s ray of the light's penumbra sun from r, answered from the
-// luxel's penumbra packet: the first pass to ask casts every pass's ray, each as the sun branch
-// of addFaithfulLight builds it.
-bool penumbraReachesSky(const RenderScene& rs, const GpuLight& light, const Receiver& r, int pass, const Ray& ray) {
-  LuxelSky& sky = *r.penumbra;
+// reachesSky for `ray`, the ray of `light`'s pass `pass` (of `passes`), answered from the luxel's
+// packets in `sky`: the first pass to ask casts every pass's ray, rayOf(k) (none where pass k
+// casts none), kPacketRays at a time. Another such light of the same luxel casts ray by ray.
+template <class RayOf> bool packetReachesSky(const RenderScene& rs, const GpuLight& light, LuxelSky& sky, int passes, int pass,
+                                             const Ray& ray, const RayOf& rayOf) {
+  constexpr int kPacket = int(TraceScene::kPacketRays);
   if (sky.light == nullptr) {
     sky.light = &light;
-    std::array<Ray, faithful::kSunSamples> rays;
-    const int count = std::min(r.penumbraPasses, faithful::kSunSamples);
-    static_assert(faithful::kSunSamples <= int(TraceScene::kPacketRays));
-    for (int k = 0; k < count; ++k) {
-      const glm::vec3 toSun = -rs.sunTable[light.sunTable + uint32_t(k)];
-      rays[size_t(k)] = Ray{offsetRayOrigin(r.p, facingNormal(r, toSun)), 0.0f, toSun, std::numeric_limits<float>::infinity()};
+    for (int first = 0; first < passes; first += kPacket) {
+      std::array<Ray, TraceScene::kPacketRays> rays;
+      std::array<int, TraceScene::kPacketRays> passOf;
+      size_t count = 0;
+      for (int k = first; k < std::min(passes, first + kPacket); ++k)
+        if (const std::optional<Ray> kth = rayOf(k)) rays[count] = *kth, passOf[count++] = k;
+      const uint64_t reached = reachSky(rs, std::span(rays).first(count), LightingMode::Faithful, light.skyMaterial);
+      for (size_t i = 0; i < count; ++i)
+        if ((reached >> i) & 1u) sky.reaches[size_t(passOf[i] / kPacket)] |= uint64_t(1) << (passOf[i] % kPacket);
     }
-    sky.reaches[0] = reachSky(rs, std::span(rays).first(size_t(count)), LightingMode::Faithful, light.skyMaterial);
   }
   if (sky.light != &light) return reachesSky(rs, ray, LightingMode::Faithful, light.skyMaterial);
-  return (sky.reaches[0] >> (pass % faithful::kSunSamples)) & 1u;
+  return (sky.reaches[size_t(pass / kPacket)] >> (pass % kPacket)) & 1u;
+}
+
+// The penumbra sun's rays, each as the sun branch of addFaithfulLight builds it.
+bool penumbraReachesSky(const RenderScene& rs, const GpuLight& light, const Receiver& r, int pass, const Ray& ray) {
+  static_assert(faithful::kSunSamples <= int(TraceScene::kPacketRays));
+  return packetReachesSky(
+      rs, light, *r.penumbra, std::min(r.penumbraPasses, faithful::kSunSamples), pass % faithful::kSunSamples, ray, [&](int k) {
+        const glm::vec3 toSun = -rs.sunTable[light.sunTable + uint32_t(k)];
+        return std::optional<Ray>(Ray{offsetRayOrigin(r.p, facingNormal(r, toSun)), 0.0f, toSun, std::numeric_limits<float>::infinity()});
+      });
 }
 
 // Faithful mode: one light's share of the light sum at the receiver, dimmed by the dirt
@@ -390,30 +403,13 @@ std::optional<Ray> domeRay(const GpuLight& light, const Receiver& r, int pass, f
   return Ray{offsetRayOrigin(r.p, facing), 0.0f, toSky, std::numeric_limits<float>::infinity()};
 }
 
-// reachesSky for the dome's ray of `pass`, answered from the luxel's dome packets (the first pass
-// to ask casts every pass's ray in front of the receiver).
+// The dome's rays in front of the receiver.
 bool domeReachesSky(const RenderScene& rs, const GpuLight& light, const Receiver& r, int pass, const Ray& ray) {
-  LuxelSky& sky = *r.dome;
-  if (sky.light == nullptr) {
-    sky.light = &light;
-    const int directions = int(skyDome().size());
-    constexpr int kPacket = int(TraceScene::kPacketRays);
-    static_assert(faithful::kSunSamples + 1 <= 2 * kPacket, "LuxelSky::reaches holds the dome's directions");
-    for (int first = 0; first < directions; first += kPacket) {
-      std::array<Ray, TraceScene::kPacketRays> rays;
-      std::array<int, TraceScene::kPacketRays> passOf;
-      size_t count = 0;
-      for (int k = first; k < std::min(directions, first + kPacket); ++k) {
-        float angle = 0.0f;
-        if (const std::optional<Ray> kth = domeRay(light, r, k, angle)) rays[count] = *kth, passOf[count++] = k;
-      }
-      const uint64_t reached = reachSky(rs, std::span(rays).first(count), LightingMode::Faithful, light.skyMaterial);
-      for (size_t i = 0; i < count; ++i)
-        if ((reached >> i) & 1u) sky.reaches[size_t(passOf[i] / kPacket)] |= uint64_t(1) << (passOf[i] % kPacket);
-    }
-  }
-  if (sky.light != &light) return reachesSky(rs, ray, LightingMode::Faithful, light.skyMaterial);
-  return (sky.reaches[size_t(pass / int(TraceScene::kPacketRays))] >> (pass % int(TraceScene::kPacketRays))) & 1u;
+  static_assert(faithful::kSunSamples + 1 <= 2 * int(TraceScene::kPacketRays), "LuxelSky::reaches holds the dome's directions");
+  return packetReachesSky(rs, light, *r.dome, int(skyDome().size()), pass, ray, [&](int k) {
+    float angle = 0.0f;
+    return domeRay(light, r, k, angle);
+  });
 }
 
 // One of the compiler's dome suns, not a random direction: the same luxels, not noise.

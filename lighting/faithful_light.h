@@ -143,6 +143,15 @@ glm::vec3 faithfulFaceMinlight(const RenderScene& rs, uint32_t face);
 // in the cube of half-size `_deviance` around the light. Physical mode jitters the same way.
 glm::vec3 jitteredOrigin(const GpuLight& light, Rng& rng);
 
+// A luxel's sky rays of one penumbra sun or one dome for all its passes, cast as packets
+// (visibility.h reachSky) when pass 0 first asks, since they leave one point in nearby
+// directions: bit k of `reaches` answers pass k's ray of `light`. Another such light of the
+// same luxel casts ray by ray.
+struct LuxelSky {
+  const GpuLight* light = nullptr;
+  std::array<uint64_t, 2> reaches{};
+};
+
 // The light ericw-tools `light` stores at a luxel whose sample point is p (already lifted off the
 // face as the compiler lifts it: lightmap_bake.h), computed in passes so that both tracers bake
 // it the same way and a bake can show its luxels before the last pass:
@@ -155,14 +164,6 @@ glm::vec3 jitteredOrigin(const GpuLight& light, Rng& rng);
 // Pass k draws only from its own stream (the caller's pixelRng(sample, k)). The light is then
 // the fixed part plus the mean of the dome and soft samples so far, under the floors (minlight,
 // `faceMinlight`): faithfulLuxelLight.
-// A luxel's sky rays of one penumbra sun or one dome for all its passes, cast as packets
-// (visibility.h reachSky) when pass 0 first asks, since they leave one point in nearby
-// directions: bit k of `reaches` answers pass k's ray of `light`. Another such light of the
-// same luxel casts ray by ray.
-struct LuxelSky {
-  const GpuLight* light = nullptr;
-  std::array<uint64_t, 2> reaches{};
-};
 struct LuxelSums {
   glm::vec3 fixed{0.0f};
   float occlusion = 0.0f;

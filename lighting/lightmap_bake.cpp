@@ -193,6 +193,14 @@ struct SolidTest {
 };
 
 // The point itself lies in front of a face the compiler kept, never in the void; its moved copies may.
+// What counts as solid around a sample point of scene face `face`: the world's void only for a face
+// on the default channel.
+SolidTest solidTestFor(const RenderScene& rs, const std::vector<BrushContents>& contents, const VoidTest& voids, uint32_t face) {
+  const uint32_t channels = objectChannels(rs, face);
+  return SolidTest{rs, contents, rs.scene->brushes[rs.scene->faces[face].brush].entity, channels,
+                   channels == kDefaultChannels ? &voids : nullptr};
+}
+
 std::optional<glm::vec3> positionOutOfSolid(const RenderScene& rs, const SolidTest& solid, const dvec3& point) {
   const glm::vec3 p(point);
   if (!rs.tracer.nearInside(p, kSolidMargin, solid)) return p;
@@ -243,10 +251,7 @@ int lightSamples(const RenderScene& rs, const LightmapBakeOptions& options) {
 
 std::optional<glm::vec3> compilerSamplePoint(const RenderScene& rs, const std::vector<BrushContents>& contents, const VoidTest& voids,
                                              uint32_t face, const dvec3& point) {
-  const uint32_t channels = objectChannels(rs, face);
-  const SolidTest solid{rs, contents, rs.scene->brushes[rs.scene->faces[face].brush].entity, channels,
-                        channels == kDefaultChannels ? &voids : nullptr};
-  return positionOutOfSolid(rs, solid, point);
+  return positionOutOfSolid(rs, solidTestFor(rs, contents, voids, face), point);
 }
 
 bool faceHasLightmap(const RenderScene& rs, uint32_t face) {
@@ -316,8 +321,7 @@ std::vector<GpuLuxelSample> luxelSamples(const RenderScene& rs, const Lightmaps&
     // Lit liquids and the compiler's glass take light from both sides (game_rules.h compilerGlass).
     const bool twoSidedFace = (rs.faceFlags[faceIndex] & kFaceLiquid) || compilerGlass(face, gameOf(scene));
     const uint32_t twoSided = twoSidedFace ? kLuxelSampleTwoSided : 0u;
-    const uint32_t channels = objectChannels(rs, faceIndex);
-    const SolidTest solid{rs, contents, scene.brushes[face.brush].entity, channels, channels == kDefaultChannels ? &voids : nullptr};
+    const SolidTest solid = solidTestFor(rs, contents, voids, faceIndex);
     // The fragment is the compiled face whose bounds the compiler's light cull compares with.
     const uint32_t box = rs.visBoxLights.empty() ? 0u : (uint32_t(fi) + 1u) << kLuxelSampleBoxShift;
     for (uint32_t y = 0; y < g.height; ++y)

@@ -92,9 +92,9 @@ void numberVisBoxLights(RenderScene& rs) {
   }
 }
 
-std::vector<GpuVisBox> computeVisBoxes(const RenderScene& rs, unsigned threads) {
-  std::vector<GpuVisBox> boxes(rs.visBoxLights.size());
-  parallelFor(boxes.size(), threads, [&](size_t k) { boxes[k] = visibleBounds(rs, rs.lights[rs.visBoxLights[k]].origin); });
+std::vector<GpuVisBox> computeVisBoxes(const RenderScene& rs, unsigned threads, size_t first) {
+  std::vector<GpuVisBox> boxes(rs.visBoxLights.size() - std::min(first, rs.visBoxLights.size()));
+  parallelFor(boxes.size(), threads, [&](size_t k) { boxes[k] = visibleBounds(rs, rs.lights[rs.visBoxLights[first + k]].origin); });
   return boxes;
 }
 
@@ -105,14 +105,16 @@ void assignVisBoxes(RenderScene& rs, unsigned threads) {
 
 void assignBounceVisBoxes(RenderScene& rs, uint32_t firstBounce, unsigned threads) {
   if (!compilerCullsByRays(*rs.scene)) return;
-  std::vector<uint32_t> bounce;
+  // Numbered after the entity lights, whose boxes are all there, so that visBoxLights and visBoxes
+  // stay pairs (the bakes' boxedLights and lightBoxes).
+  const size_t first = rs.visBoxLights.size();
   for (uint32_t i = firstBounce; i < rs.lights.size(); ++i)
-    if (rs.lights[i].formula == uint32_t(LightFormula::Bounce)) bounce.push_back(i);
-  const size_t first = rs.visBoxes.size();
-  rs.visBoxes.resize(first + bounce.size());
-  parallelFor(bounce.size(), threads, [&](size_t k) { rs.visBoxes[first + k] = visibleBounds(rs, rs.lights[bounce[k]].origin); });
-  for (size_t k = 0; k < bounce.size(); ++k) rs.lights[bounce[k]].visBox = uint32_t(first + k) + 1;
-  rs.visBoxLights.insert(rs.visBoxLights.end(), bounce.begin(), bounce.end()); // the bakes' lightBoxes pair them up
+    if (rs.lights[i].formula == uint32_t(LightFormula::Bounce)) {
+      rs.visBoxLights.push_back(i);
+      rs.lights[i].visBox = uint32_t(rs.visBoxLights.size());
+    }
+  const std::vector<GpuVisBox> boxes = computeVisBoxes(rs, threads, first);
+  rs.visBoxes.insert(rs.visBoxes.end(), boxes.begin(), boxes.end());
 }
 
 } // namespace bt

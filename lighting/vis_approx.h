@@ -53,8 +53,8 @@ bool visBoxesApart(const GpuVisBox& light, const GpuVisBox& face);
 // points) on the default lighting and shadow channels (CullLight skips the others: its rays see
 // the default channel only). Not bounce lights: they come later (assignBounceVisBoxes). Their boxes are left to computeVisBoxes (RenderScene::visBoxes stays empty).
 void numberVisBoxLights(RenderScene& rs);
-// The boxes of rs.visBoxLights, in that order, on `threads` cores (0: all).
-std::vector<GpuVisBox> computeVisBoxes(const RenderScene& rs, unsigned threads = 0);
+// The boxes of rs.visBoxLights from `first` on, in that order, on `threads` cores (0: all).
+std::vector<GpuVisBox> computeVisBoxes(const RenderScene& rs, unsigned threads = 0, size_t first = 0);
 // Both: every culled light numbered and its box in RenderScene::visBoxes.
 void assignVisBoxes(RenderScene& rs, unsigned threads = 0);
 

@@ -15,26 +15,30 @@
 
 namespace bt {
 
+namespace {
+
+// One pixel's share of the relative MSE, summed over its channels.
+double pixelError(const glm::vec3& image, const glm::vec3& reference) {
+  double sum = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    const double x = image[c], r = reference[c];
+    sum += (x - r) * (x - r) / (r * r + 0.01);
+  }
+  return sum;
+}
+
+} // namespace
+
 double relativeMse(const std::vector<glm::vec3>& image, const std::vector<glm::vec3>& reference) {
   double sum = 0.0;
-  for (size_t i = 0; i < reference.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      const double x = image[i][c], r = reference[i][c];
-      sum += (x - r) * (x - r) / (r * r + 0.01);
-    }
+  for (size_t i = 0; i < reference.size(); ++i) sum += pixelError(image[i], reference[i]);
   return reference.empty() ? 0.0 : sum / double(reference.size() * 3);
 }
 
 double worstPercentShare(const std::vector<glm::vec3>& image, const std::vector<glm::vec3>& reference) {
   std::vector<double> perPixel(reference.size());
   double total = 0.0;
-  for (size_t i = 0; i < reference.size(); ++i) {
-    for (int c = 0; c < 3; ++c) {
-      const double x = image[i][c], r = reference[i][c];
-      perPixel[i] += (x - r) * (x - r) / (r * r + 0.01);
-    }
-    total += perPixel[i];
-  }
+  for (size_t i = 0; i < reference.size(); ++i) total += perPixel[i] = pixelError(image[i], reference[i]);
   const size_t worst = std::max<size_t>(1, perPixel.size() / 100);
   if (perPixel.size() < worst || total <= 0.0) return 0.0;
   std::nth_element(perPixel.begin(), perPixel.begin() + std::ptrdiff_t(worst), perPixel.end(), std::greater<>());

@@ -21,19 +21,25 @@ namespace {
 using namespace bt;
 using namespace bt::gl;
 
+// A floor and four walls 16 units thick around a square of half-width `half`, `height` tall,
+// under a sky brush (materials "wall" and "sky1").
+void skyWell(test::BoxSceneBuilder& b, double half, double height) {
+  b.material("wall", 150, 140, 120);
+  b.material("sky1", 40, 60, 200);
+  b.box({-half, -half, -16}, {half, half, 0}, "wall");
+  b.box({-half - 16, -half, 0}, {-half, half, height}, "wall");
+  b.box({half, -half, 0}, {half + 16, half, height}, "wall");
+  b.box({-half, -half - 16, 0}, {half, -half, height}, "wall");
+  b.box({-half, half, 0}, {half, half + 16, height}, "wall");
+  b.box({-half - 16, -half - 16, height}, {half + 16, half + 16, height + 16}, "sky1");
+}
+
 // A courtyard open to a sky brush, a pillar in it: every kind of light the bake passes treat
 // differently (a plain point light, a `_deviance` light, a sun with a penumbra, the sky dome),
 // with dirt, so every branch of bake.comp runs.
 Scene courtyard() {
   test::BoxSceneBuilder b;
-  b.material("wall", 150, 140, 120);
-  b.material("sky1", 40, 60, 200);
-  b.box({-128, -128, -16}, {128, 128, 0}, "wall");
-  b.box({-144, -128, 0}, {-128, 128, 192}, "wall");
-  b.box({128, -128, 0}, {144, 128, 192}, "wall");
-  b.box({-128, -144, 0}, {128, -128, 192}, "wall");
-  b.box({-128, 128, 0}, {128, 144, 192}, "wall");
-  b.box({-144, -144, 192}, {144, 144, 208}, "sky1");
+  skyWell(b, 128, 192);
   b.box({-16, -16, 0}, {16, 16, 96}, "wall");
   b.worldKey("_sunlight", "150");
   b.worldKey("_sun_mangle", "30 -60 0");
@@ -249,14 +255,7 @@ TEST(GlBake, VisapproxCullsTheLightsTheCpuCulls) {
 // 60 here. The GPU bake must take them too.
 TEST(GlBake, DomeSunsAlongAWallLightItAsOnTheCpu) {
   test::BoxSceneBuilder b;
-  b.material("wall", 150, 140, 120);
-  b.material("sky1", 40, 60, 200);
-  b.box({-64, -64, -16}, {64, 64, 0}, "wall");
-  b.box({-80, -64, 0}, {-64, 64, 256}, "wall");
-  b.box({64, -64, 0}, {80, 64, 256}, "wall");
-  b.box({-64, -80, 0}, {64, -64, 256}, "wall");
-  b.box({-64, 64, 0}, {64, 80, 256}, "wall");
-  b.box({-80, -80, 256}, {80, 80, 272}, "sky1");
+  skyWell(b, 64, 256);
   b.worldKey("_sunlight2", "300");
   const Scene scene = b.build();
   Diagnostics diagnostics;
