@@ -63,6 +63,20 @@ int largestChannelDifference(uint32_t a, uint32_t b) {
   return largest;
 }
 
+// The GPU's luxels against the CPU's: how many lie within one level of them in every channel, and
+// how many of the CPU's are lit (a dark bake proves nothing).
+struct LuxelAgreement {
+  size_t within = 0, lit = 0;
+};
+LuxelAgreement agreement(const std::vector<uint32_t>& gpu, const std::vector<uint32_t>& cpu) {
+  LuxelAgreement a;
+  for (size_t i = 0; i < gpu.size(); ++i) {
+    a.within += largestChannelDifference(gpu[i], cpu[i]) <= 1;
+    a.lit += (cpu[i] & 0xffffffu) != 0u;
+  }
+  return a;
+}
+
 // Bakes `cpu`'s luxels on the CPU (left in `cpu`) and the same job on the GPU into an empty
 // atlas, with default options; returns the GPU's luxels.
 std::vector<uint32_t> bakeOnBoth(const Scene& scene, RenderScene& rs, Lightmaps& cpu) {
@@ -128,11 +142,7 @@ TEST(GlBake, GpuBakeStoresTheCpuLuxelsOfQ3map2Lights) {
   Lightmaps cpu = layoutLightmaps(rs);
   ASSERT_GT(cpu.luxels.size(), 1000u);
   const std::vector<uint32_t> gpu = bakeOnBoth(scene, rs, cpu);
-  size_t within = 0, lit = 0;
-  for (size_t i = 0; i < gpu.size(); ++i) {
-    within += largestChannelDifference(gpu[i], cpu.luxels[i]) <= 1;
-    lit += (cpu.luxels[i] & 0xffffffu) != 0;
-  }
+  const auto [within, lit] = agreement(gpu, cpu.luxels);
   EXPECT_GE(double(within), 0.999 * double(gpu.size()));
   EXPECT_GT(double(lit), 0.4 * double(gpu.size())) << "a dark bake proves nothing (the floor's sides and bottom are dark)";
 }
@@ -150,11 +160,7 @@ TEST(GlBake, GpuBakeStoresTheCpuLuxelsOfQ3map2ShaderLight) {
     Lightmaps cpu = layoutLightmaps(rs);
     ASSERT_GT(cpu.luxels.size(), 500u);
     const std::vector<uint32_t> gpu = bakeOnBoth(scene, rs, cpu);
-    size_t within = 0, lit = 0;
-    for (size_t i = 0; i < gpu.size(); ++i) {
-      within += largestChannelDifference(gpu[i], cpu.luxels[i]) <= 1;
-      lit += (cpu.luxels[i] & 0xffffffu) != 0;
-    }
+    const auto [within, lit] = agreement(gpu, cpu.luxels);
     EXPECT_GE(double(within), 0.999 * double(gpu.size()));
     EXPECT_GT(double(lit), 0.2 * double(gpu.size())) << "a dark bake proves nothing";
   }
@@ -237,12 +243,8 @@ TEST(GlBake, VisapproxCullsTheLightsTheCpuCulls) {
     Lightmaps cpu = layoutLightmaps(rs);
     ASSERT_GT(cpu.luxels.size(), 500u) << map;
     const std::vector<uint32_t> gpu = bakeOnBoth(scene, rs, cpu);
-    size_t within = 0, lit = 0, black = 0;
-    for (size_t i = 0; i < gpu.size(); ++i) {
-      within += largestChannelDifference(gpu[i], cpu.luxels[i]) <= 1;
-      lit += (cpu.luxels[i] & 0xffffffu) != 0u;
-      black += (cpu.luxels[i] & 0xffffffu) == 0u;
-    }
+    const auto [within, lit] = agreement(gpu, cpu.luxels);
+    const size_t black = gpu.size() - lit;
     EXPECT_GE(double(within), 0.999 * double(gpu.size())) << map;
     EXPECT_GT(lit, gpu.size() / 50) << map; // q2_light_visapprox: 472 of 12,100, the light's own water
     EXPECT_GT(black, gpu.size() / 20) << map << ": the faces the compiler culls the light from";
@@ -263,11 +265,7 @@ TEST(GlBake, DomeSunsAlongAWallLightItAsOnTheCpu) {
   Lightmaps cpu = layoutLightmaps(rs);
   ASSERT_GT(cpu.luxels.size(), 300u);
   const std::vector<uint32_t> gpu = bakeOnBoth(scene, rs, cpu);
-  size_t within = 0, lit = 0;
-  for (size_t i = 0; i < gpu.size(); ++i) {
-    within += largestChannelDifference(gpu[i], cpu.luxels[i]) <= 1;
-    lit += (cpu.luxels[i] & 0xffffffu) != 0u;
-  }
+  const auto [within, lit] = agreement(gpu, cpu.luxels);
   EXPECT_GE(double(within), 0.999 * double(gpu.size()));
   EXPECT_GT(lit, gpu.size() / 2);
 }
@@ -324,11 +322,7 @@ TEST(GlBake, GlassAndDecoupledGridsBakeAsOnTheCpu) {
     Lightmaps cpu = layoutLightmaps(rs);
     ASSERT_GT(cpu.luxels.size(), 500u) << map;
     const std::vector<uint32_t> gpu = bakeOnBoth(scene, rs, cpu);
-    size_t within = 0, lit = 0;
-    for (size_t i = 0; i < gpu.size(); ++i) {
-      within += largestChannelDifference(gpu[i], cpu.luxels[i]) <= 1;
-      lit += (cpu.luxels[i] & 0xffffffu) != 0u;
-    }
+    const auto [within, lit] = agreement(gpu, cpu.luxels);
     EXPECT_GE(double(within), 0.999 * double(gpu.size())) << map;
     EXPECT_GT(lit, gpu.size() / 20) << map;
   }
