@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <span>
 #include <stdexcept>
 
 namespace bt {
@@ -261,6 +262,25 @@ TraceScene buildTracer(const RenderScene& rs) {
   return TraceScene::build(scene, bvh);
 }
 
+// RenderScene::blocksFromInside: Quake 2's liquid brushes (by contents, before quake2DrawnAs)
+// with a face that blocks faithful light, whose faces the compiler has on both sides.
+std::vector<uint8_t> brushesBlockingFromInside(const RenderScene& rs, const std::vector<BrushContents>& contents) {
+  if (gameOf(*rs.scene) != Game::Quake2) return {};
+  const std::span<const GpuBrush> brushes = rs.tracer.brushes();
+  std::vector<uint8_t> blocks(brushes.size(), 0);
+  bool any = false;
+  for (size_t slot = 0; slot < brushes.size(); ++slot) {
+    const uint32_t b = brushes[slot].sceneBrush;
+    if (b >= contents.size() || contents[b] != BrushContents::Liquid) continue;
+    const Brush& brush = rs.scene->brushes[b];
+    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
+      blocks[slot] |= !(rs.faceFlags[f] & (kFaceHidden | kFaceLiquid | kFaceNoShadow));
+    any |= blocks[slot] != 0;
+  }
+  if (!any) blocks.clear();
+  return blocks;
+}
+
 // `_bounce`: the compiler's bounce lights, made from the direct light the grid gives, with their
 // boxes where the bakes cull lights (`visBoxes`), and the grid of every light extended from that
 // of the direct lights (physical mode's lists stay).
@@ -303,6 +323,7 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   const std::vector<BrushContents> contents = brushContents(scene);
   rs.tracer = buildTracer(rs);
   rs.liquidCsg = LiquidCsg(scene);
+  rs.blocksFromInside = brushesBlockingFromInside(rs, contents);
   nudgeLightsOffFaces(rs, contents);
   // Faithful mode's _surface lights: point lights spread over the template faces, after the
   // tracer (the compiler drops template faces that look into the void).

@@ -63,6 +63,12 @@ struct RenderScene {
   // Which hits on liquid faces qbsp's CSG of overlapping liquids leaves drawn (liquid_csg.h);
   // empty for a level without overlapping liquids.
   LiquidCsg liquidCsg;
+  // Per TraceScene brush slot, 1 where faithful shadow rays that leave the brush are blocked as
+  // those that enter it: a Quake 2 liquid brush with a face that blocks light (drawn as a wall:
+  // no SURF_WARP). qbsp gives a liquid brush's faces on both sides (its inside is open space) and
+  // ericw-tools' Embree hits its solid faces from either side, so a light's ray from inside the
+  // water leaves through a wall (q2_light_visapprox2). Empty where no brush is such.
+  std::vector<uint8_t> blocksFromInside;
   // Faithful mode's luxels (lightmap_bake.h): a face baked here is shown from them, as the game
   // shows its lightmaps; any other face has its light evaluated at the shown point.
   Lightmaps lightmaps;

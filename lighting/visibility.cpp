@@ -18,16 +18,29 @@ bool blocksLight(const RenderScene& rs, uint32_t face, LightingMode mode, uint32
   return true;
 }
 
-// Where a ray goes on past a hit: the far side of a brush it started in, and the holes of
-// alpha-tested faces (kFaceMasked), which are holes to every ray as `{` brushes are to the compiler.
-bool passesThrough(const RenderScene& rs, const Hit& hit, const Ray& ray) {
-  if (hit.inside) return true;
+// The holes of alpha-tested faces (kFaceMasked), which are holes to every ray as `{` brushes are
+// to the compiler.
+bool maskedOut(const RenderScene& rs, const Hit& hit, const Ray& ray) {
   const uint32_t flags = rs.faceFlags[hit.face];
   if (!(flags & kFaceMasked)) return false;
   const float a = baseColorAt(rs, hit.face, ray.origin + ray.direction * hit.t).a;
   if (flags & kFaceMaskGt0) return !(a > 0.0f);
   if (flags & kFaceMaskLt128) return !(a < 0.5f);
   return !(a >= 0.5f);
+}
+
+// Where a ray goes on past a hit: the far side of a brush it started in, and the holes.
+bool passesThrough(const RenderScene& rs, const Hit& hit, const Ray& ray) {
+  return hit.inside || maskedOut(rs, hit, ray);
+}
+
+// Whether a shadow ray stops at `hit`: a face that blocks it, entered from outside where it has no
+// hole; in faithful mode also left, where the brush blocks from inside (RenderScene::blocksFromInside).
+bool stopsShadowRay(const RenderScene& rs, const Hit& hit, const Ray& ray, LightingMode mode, uint32_t channels) {
+  if (!blocksLight(rs, hit.face, mode, channels)) return false;
+  const bool fromInside = mode == LightingMode::Faithful && hit.slot < rs.blocksFromInside.size() && rs.blocksFromInside[hit.slot];
+  if (hit.inside && !fromInside) return false; // (a triangle hit is never inside)
+  return !maskedOut(rs, hit, ray);
 }
 
 } // namespace
@@ -85,12 +98,12 @@ bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t
   // no shadow) needs the walk from hit to hit below, which gives the same answer.
   const std::optional<Hit> any = rs.tracer.anyHit(ray);
   if (!any) return false;
-  if (blocksLight(rs, any->face, mode, channels) && !passesThrough(rs, *any, ray)) return blockedBy(*any);
+  if (stopsShadowRay(rs, *any, ray, mode, channels)) return blockedBy(*any);
   Ray r = ray;
   for (int i = 0; i < kMaxSkips; ++i) {
     const std::optional<Hit> hit = rs.tracer.closestHit(r);
     if (!hit) return false;
-    if (blocksLight(rs, hit->face, mode, channels) && !passesThrough(rs, *hit, r)) return blockedBy(*hit);
+    if (stopsShadowRay(rs, *hit, r, mode, channels)) return blockedBy(*hit);
     r.tMin = continueRayAfter(hit->t);
   }
   return true;

@@ -30,7 +30,8 @@ struct SurfaceHit {
 SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray);
 
 // True when something that casts shadows in `mode` lies between the ray's tmin and tmax; in
-// faithful mode only faces on one of `channels` (a light's `_shadow_channel_mask`) do. With
+// faithful mode only faces on one of `channels` (a light's `_shadow_channel_mask`) do, and a ray
+// leaving a brush of RenderScene::blocksFromInside is blocked as one entering it. With
 // `blocker`, a brush that blocked it is stored there (its TraceScene slot; unchanged when nothing,
 // or a mesh triangle, did): what the next shadow ray toward the same light tries first.
 bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t channels = kDefaultChannels, uint32_t* blocker = nullptr);

@@ -262,7 +262,7 @@ bool closer(Hit hit, Hit best) {
 //   anyHit = false: the closest hit in (tMin, tMax).
 //   anyHit = true: a shadow ray. The first brush entered from outside through a face that blocks
 //     it (blocksRay: none of the classes `passFlags` passes, on one of its channels) ends the search; hits on faces with them, and exits from a
-//     brush the ray starts in, are passed through. This is what the CPU integrator's occluded()
+//     brush the ray starts in (but where blocksFromInside), are passed through. This is what the CPU integrator's occluded()
 //     finds by skipping from one closest hit to the next.
 // Every query of a shader goes through one call of this function: NVIDIA inlines each call
 // site, so each extra one would compile the whole traversal again (see pathtrace.comp).
@@ -337,6 +337,20 @@ bool blocksRay(uint flags, uint passFlags) {
   return (flags & passFlags & FACE_CLASS_BITS) == 0u && (flags & passFlags & ~FACE_CLASS_BITS) != 0u;
 }
 
+// Whether a shadow ray that leaves brush b (a hit `inside`) is blocked there, as one entering it
+// through a face that blocks it (lighting/visibility.cpp stopsShadowRay): where the brush's pad
+// word (RenderScene::blocksFromInside, renderer/gl/gl_scene.cpp) shares bits with the pass word,
+// the channel bits, which only a faithful ray's has. Compiled into the faithful programs of the
+// levels that have such brushes (FaithfulFeatures::blocksFromInside) and the wavefront trace
+// kernel; every other program passes every exit, as before.
+bool blocksFromInside(bool inTriangles, uint b, uint passFlags) {
+#ifdef BT_BLOCKS_FROM_INSIDE
+  return !inTriangles && (brushRow(b, 3u).w & passFlags) != 0u;
+#else
+  return false;
+#endif
+}
+
 Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   Hit best = Hit(r.tMax, NO_FACE, false);
 #ifdef BT_TRACE_SOFTWARE
@@ -378,7 +392,9 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
       Hit hit;
       if (!(inTriangles ? hitTriangle(r, rootPads.y, i, best.t, hit) : hitBrush(r, i, best.t, hit))) continue;
       if (anyHit) {
-        if (!hit.inside && blocksRay(faceFlags[hit.face], passFlags) && !maskedOut(hit.face, r.origin + r.dir * hit.t)) return hit;
+        if ((!hit.inside || blocksFromInside(inTriangles, i, passFlags)) && blocksRay(faceFlags[hit.face], passFlags) &&
+            !maskedOut(hit.face, r.origin + r.dir * hit.t))
+          return hit;
       } else if (closer(hit, best)) {
         best = hit;
       }

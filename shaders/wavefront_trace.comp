@@ -5,7 +5,10 @@
 #endif
 // The wavefront path tracer's trace kernel (wavefront.glsl): each live pixel's ray to its hit,
 // the one call of the traversal in this program. No lighting mode: the ray carries its
-// pass flags, so one program serves faithful and physical shade kernels.
+// pass flags, so one program serves faithful and physical shade kernels, and every level: it has
+// the rule from inside (trace.glsl blocksFromInside), which the pass word keeps to faithful rays
+// and the brushes' pad words to the levels that have it.
+#define BT_BLOCKS_FROM_INSIDE
 #include "scene_buffers.glsl"
 #include "textures.glsl" // the alpha test of trace.glsl
 #include "trace.glsl"

@@ -40,6 +40,7 @@ GlLighting lightingFor(const RenderScene& rs) {
   out.lightKinds = rs.lightKinds;
   out.lightmaps = packLightmaps(rs.lightmaps);
   out.liquidCsg = liquidCsgTable(*rs.scene, rs.liquidCsg);
+  out.blocksFromInside = rs.blocksFromInside;
   return out;
 }
 

@@ -85,10 +85,16 @@ std::vector<GlBvhNode> sceneBvhForGl(const TraceScene& tracer) {
 
 namespace {
 
-// The brushes' rows, then the triangles' (gl_structs.h GlBvhNode).
-std::vector<uint32_t> brushAndTriangleRows(const TraceScene& tracer) {
+// The brushes' rows, then the triangles' (gl_structs.h GlBvhNode). A brush of
+// RenderScene::blocksFromInside gets the channel bits in its pad word (GpuBrush::pad, zero in the
+// TraceScene): shaders/trace.glsl blocksFromInside ANDs it with a shadow ray's pass word, which
+// has channel bits in faithful mode only.
+std::vector<uint32_t> brushAndTriangleRows(const TraceScene& tracer, const std::vector<uint8_t>& blocksFromInside) {
   std::vector<uint32_t> words(tracer.brushes().size_bytes() / 4 + tracer.triangles().size_bytes() / 4);
   std::memcpy(words.data(), tracer.brushes().data(), tracer.brushes().size_bytes());
+  constexpr size_t kPadWord = offsetof(GpuBrush, pad) / 4, kBrushWords = sizeof(GpuBrush) / 4;
+  for (size_t slot = 0; slot < blocksFromInside.size() && slot < tracer.brushes().size(); ++slot)
+    if (blocksFromInside[slot]) words[slot * kBrushWords + kPadWord] = BT_FACE_CHANNEL_BITS;
   if (!tracer.triangles().empty())
     std::memcpy(words.data() + tracer.brushes().size_bytes() / 4, tracer.triangles().data(), tracer.triangles().size_bytes());
   return words;
@@ -115,7 +121,7 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMat
   BT_GL(glCreateBuffers(kBufferCount, buffers_));
   const std::vector<GlBvhNode> bvh = sceneBvhForGl(tracer);
   upload(buffers_[kBindingNodes], std::span<const GlBvhNode>(bvh));
-  const std::vector<uint32_t> brushRows = brushAndTriangleRows(tracer);
+  const std::vector<uint32_t> brushRows = brushAndTriangleRows(tracer, lighting.blocksFromInside);
   upload(buffers_[kBindingBrushes], std::span<const uint32_t>(brushRows));
   upload(buffers_[kBindingSides], tracer.sides());
   upload(buffers_[kBindingFaces], tracer.faces());

@@ -68,6 +68,10 @@ struct GlLighting {
   // in gl_lighting.h); empty for a level without overlapping liquids, whose programs are built
   // without the rule (FaithfulFeatures::liquidCsg).
   std::vector<uint32_t> liquidCsg;
+  // RenderScene::blocksFromInside, per TraceScene brush slot: written into the brushes' pad words
+  // (gl_scene.cpp) for shaders/trace.glsl; empty for a level without such brushes, whose
+  // programs are built without the rule (FaithfulFeatures::blocksFromInside).
+  std::vector<uint8_t> blocksFromInside;
 };
 
 struct BeautySettings {

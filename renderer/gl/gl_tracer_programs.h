@@ -31,11 +31,21 @@ struct FaithfulFeatures {
   // of both lighting modes and the AOVs: the one part physical programs take too. Known once the
   // level is prepared (GlLighting::liquidCsg), so a level that has it compiles its program then.
   bool liquidCsg = false;
+  // BT_BLOCKS_FROM_INSIDE: faithful shadow rays leaving a brush of RenderScene::blocksFromInside
+  // are blocked (shaders/trace.glsl), in the faithful path tracer and the bake; known, as the
+  // liquid CSG, once the level is prepared (GlLighting::blocksFromInside).
+  bool blocksFromInside = false;
   bool operator==(const FaithfulFeatures&) const = default;
   // Both sets' parts.
   FaithfulFeatures operator|(const FaithfulFeatures& o) const {
-    return {dirt || o.dirt,     bounceDraw || o.bounceDraw, sky || o.sky, jitter || o.jitter, negative || o.negative,
-            filter || o.filter, liquidCsg || o.liquidCsg};
+    return {dirt || o.dirt,
+            bounceDraw || o.bounceDraw,
+            sky || o.sky,
+            jitter || o.jitter,
+            negative || o.negative,
+            filter || o.filter,
+            liquidCsg || o.liquidCsg,
+            blocksFromInside || o.blocksFromInside};
   }
 };
 
@@ -90,7 +100,8 @@ const char* shaderFile(TracerProgram program); // "pathtrace.comp", ...
 
 // The #defines `program` is built with: shaderDefines(), then, from shader_switches.def, the
 // lighting mode and faithful mode's optional parts where the program takes them (a physical
-// program ignores `features` but liquidCsg), the wavefront form's switch and the liquid CSG's.
+// program ignores `features` but liquidCsg), the wavefront form's switch, the liquid CSG's and,
+// in faithful programs, the rule from inside.
 std::vector<std::string> programDefines(TracerProgram program, TextureMode mode, TraceLayout layout, bool physical = false,
                                         FaithfulFeatures features = {});
 
@@ -171,9 +182,11 @@ private:
   bool wavefrontFirst_; // startPathTracer starts the wavefront kernels too (driver compiles in parallel, a GPU)
   // One program per lighting mode (BT_LIGHTING_PHYSICAL chosen at build), so each compiles
   // only its own integrator, and per set of faithful features (variantIndex: physical, then
-  // faithful with each of the 64 sets, each without and with the liquid CSG); the same for the
-  // wavefront form's shade kernels. Its trace kernel serves every mode; the bake takes no CSG.
-  static constexpr size_t kPathVariants = 130;
+  // faithful with each of the 64 sets without and with the rule from inside, each without and
+  // with the liquid CSG); the same for the wavefront form's shade kernels, which trace nothing
+  // (the rule from inside is the trace kernel's). Its trace kernel serves every mode and level;
+  // the bake takes no CSG.
+  static constexpr size_t kPathVariants = 258;
   std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[kPathVariants], bake_[kPathVariants], trace_, aov_[2], rayBench_;
 };
 

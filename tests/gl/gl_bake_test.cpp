@@ -328,4 +328,21 @@ TEST(GlBake, GlassAndDecoupledGridsBakeAsOnTheCpu) {
   }
 }
 
+// Quake 2 water drawn as a wall shadows from inside (RenderScene::blocksFromInside): the GPU bake,
+// built with the rule (BT_BLOCKS_FROM_INSIDE), stores the CPU's luxels of q2_light_visapprox2,
+// where a sixth of them lie in the water's shadow seen from inside.
+TEST(GlBake, WaterDrawnAsAWallShadowsFromInsideAsOnTheCpu) {
+  BT_REQUIRE_SHARED(shared);
+  const Scene scene = importScene((shared / "maps/ericw-tools/testmaps/q2_light_visapprox2.map").string(), ImportOptions{});
+  Diagnostics diagnostics;
+  RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+  ASSERT_FALSE(rs.blocksFromInside.empty());
+  Lightmaps cpu = layoutLightmaps(rs);
+  ASSERT_GT(cpu.luxels.size(), 1000u);
+  const std::vector<uint32_t> gpu = bakeOnBoth(scene, rs, cpu);
+  const auto [within, lit] = agreement(gpu, cpu.luxels);
+  EXPECT_GE(double(within), 0.999 * double(gpu.size()));
+  EXPECT_GT(lit, gpu.size() / 20);
+}
+
 } // namespace

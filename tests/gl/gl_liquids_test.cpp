@@ -4,10 +4,12 @@
 // overlapping liquids as qbsp's CSG leaves them (lighting/liquid_csg.h), against the CPU's.
 #include "importers/import.h"
 #include "lighting/render_scene.h"
+#include "quake/bspfile_q2.h"
 #include "renderer/gl/gl_lighting.h"
 #include "scene/color.h"
 #include "tests/gl/cpu_and_gl.h"
 #include "tests/gl/test_scenes.h"
+#include "tests/render/box_scene.h"
 #include "tests/render/liquid_ranges.h"
 #include "tests/test_data.h"
 
@@ -263,6 +265,44 @@ TEST(GlLiquids, OverlappingLiquidsBeautyIsTheCpusInBothModesAndForms) {
         EXPECT_EQ(liquidFar, size_t(0)) << "pixels on a liquid off the CPU's";
       }
     }
+  }
+}
+
+// A Quake 2 water drawn as a wall shadows from inside (RenderScene::blocksFromInside): from a
+// camera inside the water, the floor under it is black and the floor beyond its side, by the
+// light, lit; the faithful beauty in both forms of the path tracer, whose programs have the rule
+// (BT_BLOCKS_FROM_INSIDE), is the CPU's, one sample a pixel.
+TEST(GlLiquids, AQuake2WaterDrawnAsAWallShadowsFromInsideAsOnTheCpu) {
+  const Scene scene = test::waterBesideALight("quake2", "e1u1/water", SurfaceAttributes{quake::q2::CONTENTS_WATER, 0, 0.0});
+  Diagnostics diagnostics;
+  const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+  GlTracer tracer(test::sharedGlContext(), scene, rs.tracer, test::textureModeUnderTest(), lightingFor(rs));
+  ASSERT_TRUE(tracer.faithfulFeatures().blocksFromInside);
+  CameraPose pose; // straight down from inside the water, 40 units from its side: x -60 .. 140 in view
+  pose.origin = glm::vec3(40, 0, 100);
+  pose.pitch = 90.0f;
+  RenderSettings settings;
+  settings.width = kWidth;
+  settings.height = kHeight;
+  settings.spp = 1;
+  settings.seed = 7;
+  settings.integrator.mode = LightingMode::Faithful;
+  const RenderImage cpu = renderCpu(rs, Camera(pose, kWidth, kHeight), settings);
+  size_t lit = 0, black = 0;
+  for (const glm::vec3& c : cpu.beauty) {
+    lit += c.x > 1e-3f; // linear: the floor beside the water shows 0.06 .. 0.2 on screen
+    black += c == glm::vec3(0.0f);
+  }
+  ASSERT_GT(lit, cpu.beauty.size() / 10) << "the floor beyond the water's side is lit";
+  ASSERT_GT(black, cpu.beauty.size() / 2) << "the floor under the water is black";
+  for (const PathTracerForm form : {PathTracerForm::Megakernel, PathTracerForm::Wavefront}) {
+    SCOPED_TRACE(form == PathTracerForm::Wavefront ? "wavefront" : "megakernel");
+    const BeautySettings beauty{.width = kWidth, .height = kHeight, .spp = 1, .seed = 7, .physical = false, .form = form};
+    const BeautyImage gpu = tracer.renderBeauty(cameraFrom(pose, kWidth, kHeight), beauty);
+    size_t close = 0;
+    for (size_t i = 0; i < cpu.beauty.size(); ++i)
+      close += glm::length(gpu.beauty[i] - cpu.beauty[i]) <= 0.01f * glm::length(cpu.beauty[i]) + 1e-3f;
+    EXPECT_GE(close, cpu.beauty.size() * 99 / 100) << close << " of " << cpu.beauty.size() << " pixels agree";
   }
 }
 

@@ -141,4 +141,19 @@ Scene lightNearWallRoom() {
   return b.build();
 }
 
+Scene waterBesideALight(const char* game, const char* water, std::optional<SurfaceAttributes> surface) {
+  BoxSceneBuilder b;
+  b.material("floor", 100, 100, 100);
+  b.material(water, 100, 100, 100);
+  b.box({-512, -512, -16}, {512, 512, 0}, "floor");
+  b.box({0, -256, 0}, {256, 256, 128}, water);
+  b.worldKey("_bounce", "0");
+  b.entity({{"classname", "light"}, {"origin", "-64 0 64"}, {"light", "200"}});
+  Scene scene = b.build();
+  scene.game = game;
+  const Brush& brush = scene.brushes[1];
+  for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f) scene.faces[f].surface = surface;
+  return scene;
+}
+
 } // namespace bt::test

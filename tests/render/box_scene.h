@@ -5,6 +5,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -46,5 +47,11 @@ Scene manyLightsHall(int count, uint32_t seed);
 // where that wall is 256 times brighter than at the light's match distance (128 units), and a
 // grey pillar; the floor's light from a bounce is mostly that rare bright spot.
 Scene lightNearWallRoom();
+
+// A floor (top z = 0, texture "floor") with a water brush on it (x 0 .. 256, y -256 .. 256, z 0 ..
+// 128, texture `water`, every face with `surface`) and a light at (-64 0 64) beside it, without
+// bounce, in `game` (Scene::game): a Quake 2 water drawn as a wall shadows the floor under it from
+// inside (lighting/render_scene.h RenderScene::blocksFromInside).
+Scene waterBesideALight(const char* game, const char* water, std::optional<SurfaceAttributes> surface);
 
 } // namespace bt::test

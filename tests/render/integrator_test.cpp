@@ -1,6 +1,7 @@
 // Analytic scenes: a lit floor per light type and formula, against the value worked out by
 // hand (faithful mode) or the radiometric integral (physical mode), and a furnace.
 #include "scene/color.h"
+#include "quake/bspfile_q2.h"
 #include "renderer/camera.h"
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/cpu/integrator.h"
@@ -322,6 +323,31 @@ TEST(FaithfulRender, LitLiquidsTakeLightFromBelowToo) {
     const float texel = 100.0f / 255.0f;
     EXPECT_NEAR(display, liquid ? texel * 50.0f * 0.5f / 128.0f : 0.0f, 1e-3f) << texture;
   }
+}
+
+// A Quake 2 liquid brush drawn as a wall (contents water, no SURF_WARP) has its faces on both
+// sides in the compiled level, and ericw-tools' Embree hits them from either side: the light of a
+// lamp beside the water does not reach the floor under it, whose shadow rays leave the water
+// through its wall (q2_light_visapprox2). With SURF_WARP the water passes light both ways, as a
+// Quake 1 `*water` does; the floor beside the water, on the lamp's side, is lit in every case.
+TEST(FaithfulRender, AQuake2WaterDrawnAsAWallShadowsFromInside) {
+  // Display of the floor seen straight down from (x, 0, 100), inside the water for x > 0.
+  auto floorSeen = [](const char* game, const char* water, std::optional<SurfaceAttributes> surface, float x) {
+    const Scene scene = test::waterBesideALight(game, water, surface);
+    Diagnostics diags;
+    const RenderScene rs = buildRenderScene(scene, {}, diags);
+    Rng rng = pixelRng(0, 0, 0, 0);
+    return linearToSrgb(radiance(rs, {LightingMode::Faithful, 0}, Ray{{x, 0.0f, 100.0f}, 0.0f, {0.0f, 0.0f, -1.0f}, 1e9f}, rng).x);
+  };
+  using namespace quake::q2;
+  const SurfaceAttributes wall{CONTENTS_WATER, 0, 0.0}, warped{CONTENTS_WATER, SURF_WARP, 0.0};
+  const float beside = floorSeen("quake2", "e1u1/water", wall, -32.0f);
+  EXPECT_GT(beside, 0.1f);
+  EXPECT_EQ(floorSeen("quake2", "e1u1/water", warped, -32.0f), beside);
+  // Under the water, 64 units from its side: lit where the water passes light, black behind the wall.
+  EXPECT_EQ(floorSeen("quake2", "e1u1/water", wall, 64.0f), 0.0f);
+  EXPECT_GT(floorSeen("quake2", "e1u1/water", warped, 64.0f), 0.03f); // (0.063: farther, more grazing)
+  EXPECT_GT(floorSeen("quake", "*water", std::nullopt, 64.0f), 0.03f);
 }
 
 // What physical mode's light shows in linear terms over the compiler's light fraction
