@@ -2,7 +2,7 @@
 // computes for the faces qbsp makes, in the layout of lightmaps.h.
 //
 //   layout   each lit brush side becomes the faces qbsp compiles of it (surface_lights.h
-//            compiledFacePolygons: CSG, the split of a tree grown on it, the 240-texel
+//            compiledFacePolygons: CSG, the split and merge of qbsp's tree, the 240-texel
 //            subdivision); each gets Quake's luxel grid: its texture-space extents in float,
 //            floored / ceiled to 16 texels, one luxel every 16 texels (CalcSurfaceExtents);
 //            with `_world_units_per_luxel` the compiler's decoupled grid instead (axes of the

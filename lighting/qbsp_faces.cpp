@@ -1,5 +1,7 @@
 #include "lighting/qbsp_faces.h"
 
+#include "lighting/game_rules.h"
+#include "quake/bspfile_q2.h"
 #include "quake/entity_keys.h"
 #include "scene/winding.h"
 
@@ -178,13 +180,13 @@ bool overlaps(const Bounds& a, const Bounds& b) {
   return true;
 }
 
-// --- the compiler's faces on a template surface ---------------------------------------------
+// --- the compiler's faces of a brush model's surface -----------------------------------------
 //
 // qbsp builds its faces from the portals of a BSP tree and merges, on each node, the pieces
 // that make a convex polygon again, so where the tree's split planes fall decides the faces'
-// shapes (and with them where the surface lights go). We do not rebuild the compiler's tree of
-// the whole level; we grow a small one on each template surface alone, the way qbsp3 grows its
-// tree: the brushes that reach the surface's plane leave their cross-sections ("footprints")
+// shapes (and with them where the surface lights go). The world's sides go down the world's
+// tree (below); a brush model's we split with a small tree grown on the surface alone, the way
+// qbsp3 grows its tree: the brushes that reach the surface's plane leave their cross-sections ("footprints")
 // on it, and the surface is split by the planes of the footprints' edges, the best first by
 // SelectSplitSide's rule, until what is left of the surface in a cell is one convex polygon.
 
@@ -302,10 +304,88 @@ void splitIntoFaces(const std::vector<Winding>& fragments, const std::vector<Win
   splitIntoFaces(backFragments, backFootprints, candidates, normal, faces);
 }
 
+// --- the compiler's faces of a world side: its pieces on the nodes of the world's tree ---------
+
+// qbsp's MergeFaceList (merge.cc MergeFaceToList): each face in turn is merged into the first face
+// of the list it merges with, the result tried against the list from its start again, and what
+// merges with none joins the list's end.
+std::vector<Winding> mergeFaceList(const std::vector<Winding>& faces, const dvec3& normal) {
+  std::vector<Winding> list;
+  for (Winding face : faces) {
+    for (size_t i = 0; i < list.size();) {
+      std::optional<Winding> merged = apartForMerge(boundsOf(face), boundsOf(list[i])) ? std::nullopt : tryMerge(face, list[i], normal);
+      if (!merged) {
+        ++i;
+        continue;
+      }
+      list.erase(list.begin() + std::ptrdiff_t(i));
+      face = std::move(*merged);
+      i = 0;
+    }
+    list.push_back(std::move(face));
+  }
+  return list;
+}
+
+// `fragments` cut by the planes of the tree under `node`, one list per leaf, the front child's
+// leaves first (the order qbsp's MakeFaces_r visits them).
+void leafPieces(const QbspTree& tree, int32_t node, std::vector<Winding> fragments, std::vector<std::vector<Winding>>& leaves) {
+  if (fragments.empty()) return;
+  if (node < 0) {
+    leaves.push_back(std::move(fragments));
+    return;
+  }
+  const QbspTree::Node& n = tree.nodes()[size_t(node)];
+  std::vector<Winding> front, back;
+  splitAll(fragments, n.plane, front, back);
+  leafPieces(tree, n.children[0], std::move(front), leaves);
+  leafPieces(tree, n.children[1], std::move(back), leaves);
+}
+
+// Hands `fragments` of a side on plane `surface` down the tree from `node`: each node's plane
+// cuts them, until the node whose plane is the side's own. There qbsp makes the side's faces of
+// the portals between the leaves on its two sides (cut by the planes of both subtrees), visiting
+// the leaves the side looks into, and merges them on the node (faces.cc MakeFaces_r,
+// MergeNodeFaces): the planes below the node cut no face, those above do.
+void nodeFaces(const QbspTree& tree, int32_t node, std::vector<Winding> fragments, const Plane& surface, std::vector<Winding>& faces) {
+  if (fragments.empty()) return;
+  if (node < 0) {
+    for (Winding& w : mergeFaceList(fragments, surface.normal)) faces.push_back(std::move(w));
+    return;
+  }
+  const QbspTree::Node& n = tree.nodes()[size_t(node)];
+  if (sameQbspPlane(n.plane, surface)) {
+    const int seen = glm::dot(n.plane.normal, surface.normal) > 0.0 ? 0 : 1;
+    std::vector<std::vector<Winding>> outer, portals;
+    leafPieces(tree, n.children[seen], std::move(fragments), outer);
+    for (std::vector<Winding>& leaf : outer) leafPieces(tree, n.children[1 - seen], std::move(leaf), portals);
+    std::vector<Winding> pieces;
+    for (std::vector<Winding>& portal : portals)
+      for (Winding& w : portal) pieces.push_back(std::move(w));
+    for (Winding& w : mergeFaceList(pieces, surface.normal)) faces.push_back(std::move(w));
+    return;
+  }
+  std::vector<Winding> front, back;
+  splitAll(fragments, n.plane, front, back);
+  nodeFaces(tree, n.children[0], std::move(front), surface, faces);
+  nodeFaces(tree, n.children[1], std::move(back), surface, faces);
+}
+
 } // namespace
 
 std::vector<Winding> compilerFaces(const Scene& scene, const std::vector<uint32_t>& sides, const std::vector<Winding>& fragments,
-                                   const std::vector<BrushContents>& contents) {
+                                   const std::vector<BrushContents>& contents, const QbspTree& world) {
+  const Face& surface = scene.faces[sides.front()];
+  if (surface.brush < contents.size() && contents[surface.brush] != BrushContents::Empty && !world.nodes().empty()) {
+    std::vector<Winding> faces;
+    nodeFaces(world, 0, fragments, surface.plane, faces);
+    return faces;
+  }
+  return surfaceTreeFaces(scene, sides, fragments, contents);
+}
+
+std::vector<Winding> surfaceTreeFaces(const Scene& scene, const std::vector<uint32_t>& sides, const std::vector<Winding>& fragments,
+                                      const std::vector<BrushContents>& contents) {
   const Face& surface = scene.faces[sides.front()];
   Bounds bounds;
   for (const Winding& w : fragments)
@@ -374,11 +454,40 @@ std::vector<Winding> visibleFragments(const Scene& scene, uint32_t faceIndex, co
   return fragments;
 }
 
-std::vector<Winding> compiledFacePolygons(const Scene& scene, uint32_t faceIndex, const std::vector<BrushContents>& contents) {
+QbspTree worldTree(const Scene& scene, const std::vector<BrushContents>& contents) {
+  // Only Quake 2's worlds go down the tree: there its planes and their order are the compiler's
+  // (q2_areaportals, light_q2_translucent_shadow: the .bsp's nodes). On the Quake 1 oracle
+  // levels the same tree put falloff's and testsurfacelight's faces further from the
+  // compiler's than the surface trees do (their views and luxels fell), so Quake 1 and
+  // Half-Life keep those for now.
+  if (gameOf(scene) != Game::Quake2) return QbspTree(scene, {});
+  // Quake 2's qbsp grows the world's tree over its area portals too (CONTENTS_AREAPORTAL):
+  // hidden, they still stand on the planes the tree values.
+  std::vector<QbspTree::Input> brushes;
+  for (uint32_t b = 0; b < scene.brushes.size(); ++b) {
+    const Brush& brush = scene.brushes[b];
+    const std::string_view classname = brush.entity < scene.entities.size() ? scene.entities[brush.entity].classname() : "";
+    bool detail = classname.starts_with("func_detail");
+    // Quake 2's qbsp makes translucent brushes detail too (SURF_TRANS33/66: qbsp3 ParseBrush).
+    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
+      if (const std::optional<SurfaceAttributes>& surface = scene.faces[f].surface; surface)
+        detail = detail || (surface->contents & quake::q2::CONTENTS_DETAIL) ||
+            (surface->flags & (quake::q2::SURF_TRANS33 | quake::q2::SURF_TRANS66));
+    if (contents[b] != BrushContents::Empty)
+      brushes.push_back({b, true, detail});
+    else if (classname == "func_areaportal")
+      brushes.push_back({b, false, detail});
+  }
+  return QbspTree(scene, brushes);
+}
+
+std::vector<Winding> compiledFacePolygons(const Scene& scene, uint32_t faceIndex, const std::vector<BrushContents>& contents,
+                                          const QbspTree& world) {
   const std::vector<Winding> fragments = visibleFragments(scene, faceIndex, contents);
   if (fragments.empty()) return {};
   std::vector<Winding> pieces;
-  for (const Winding& w : compilerFaces(scene, {faceIndex}, fragments, contents)) subdivideForQbsp(w, scene.faces[faceIndex].frame, pieces);
+  for (const Winding& w : compilerFaces(scene, {faceIndex}, fragments, contents, world))
+    subdivideForQbsp(w, scene.faces[faceIndex].frame, pieces);
   return pieces;
 }
 

@@ -3,16 +3,22 @@
 // ericw-tools `light` spreads surface lights (surface_lights.h) and bounces light (bounce.h) over
 // these faces, so the light models need them without a compile.
 //
-// We rebuild what qbsp's CSG leaves of each
-// source brush side (visibleFragments), split it as a BSP tree grown on that surface alone
-// would (qbsp3's choice of split planes among the edges of the brushes that reach the surface),
-// merge what is left in each cell and apply the 240-texel subdivision. The compiler's tree is
-// grown over the whole level, so its planes also cut a surface where nothing near it does: our
-// faces are close to, not the same as, the compiler's (compilerFaces).
-// Faces that look into the void outside a sealed level are dropped, as qbsp drops them.
+// We rebuild what qbsp's CSG leaves of each source brush side (visibleFragments). A side of the
+// world is then handed down qbsp's tree of the whole world (qbsp_tree.h): the planes of the
+// nodes above the node of its own plane cut it, and on that node qbsp makes its faces of the
+// portals there and merges them (MergeFaceList), whatever planes below cut those portals: so a
+// wall is whole across a doorway whose planes come below the wall's own in the tree, and cut
+// where they come above it. What is left gets the 240-texel subdivision. A side of a brush
+// entity (its own model, its own tree) is split as a tree grown on that surface alone would
+// split it (surfaceTreeFaces). Not modelled: qbsp's T-junction fixing, which re-cuts some faces
+// into others (a wall with a neighbour's vertex on its edge can come out as a quad and a
+// triangle), and the merge of faces of different sides (each side is made on its own here,
+// except a surface light's surface). Faces that look into the void outside a sealed level are
+// dropped, as qbsp drops them.
 #pragma once
 
 #include "bvh/trace_scene.h"
+#include "lighting/qbsp_tree.h"
 #include "scene/scene.h"
 
 #include <cstddef>
@@ -53,10 +59,14 @@ private:
 // for a liquid's side, outside the other liquid brushes), as convex fragments.
 std::vector<std::vector<dvec3>> visibleFragments(const Scene& scene, uint32_t face, const std::vector<BrushContents>& contents);
 
-// The faces qbsp makes of brush side `face` (a Quake 1 level): what its CSG keeps, split as a
-// tree grown on that side alone would split it, then cut every 224 texels once wider than 240
-// (qbsp's SubdivideFace). The faces ericw-tools `light` bounces light from (bounce.h).
-std::vector<std::vector<dvec3>> compiledFacePolygons(const Scene& scene, uint32_t face, const std::vector<BrushContents>& contents);
+// The faces qbsp makes of brush side `face` (a Quake 1 level): what its CSG keeps, split and
+// merged as compilerFaces makes them, then cut every 224 texels once wider than 240 (qbsp's
+// SubdivideFace). The faces ericw-tools `light` bounces light from (bounce.h).
+std::vector<std::vector<dvec3>> compiledFacePolygons(const Scene& scene, uint32_t face, const std::vector<BrushContents>& contents,
+                                                     const QbspTree& world);
+
+// The world's tree: qbsp's BSP of the brushes that carve (contents not Empty).
+QbspTree worldTree(const Scene& scene, const std::vector<BrushContents>& contents);
 
 // GLQuake's SubdividePolygon: cut `winding` at multiples of `size` on each axis, the cut
 // nearest the middle first, unless it would leave a piece thinner than 8 units. Stops cutting
@@ -65,9 +75,17 @@ std::vector<std::vector<dvec3>> compiledFacePolygons(const Scene& scene, uint32_
 std::vector<std::vector<dvec3>> subdivideOnGrid(const std::vector<dvec3>& winding, double size);
 
 // What qbsp makes of one surface (coplanar sides `sides` with one texture projection, of which
-// `fragments` survived its CSG): a tree grown on that surface alone, its cells' pieces merged.
+// `fragments` survived its CSG), before subdivision: for the world's sides their pieces on the
+// nodes of `world` (worldTree), merged on each node; otherwise surfaceTreeFaces.
 std::vector<std::vector<dvec3>> compilerFaces(const Scene& scene, const std::vector<uint32_t>& sides,
-                                              const std::vector<std::vector<dvec3>>& fragments, const std::vector<BrushContents>& contents);
+                                              const std::vector<std::vector<dvec3>>& fragments, const std::vector<BrushContents>& contents,
+                                              const QbspTree& world);
+
+// A brush model's surface: a tree grown on that surface alone (qbsp3's choice of split planes
+// among the edges of the brushes that reach it), its cells' pieces merged.
+std::vector<std::vector<dvec3>> surfaceTreeFaces(const Scene& scene, const std::vector<uint32_t>& sides,
+                                                 const std::vector<std::vector<dvec3>>& fragments,
+                                                 const std::vector<BrushContents>& contents);
 
 // qbsp's SubdivideFace: Quake 1 faces wider than 240 texels are cut every 224 texels (the
 // subdivide size less 16) along each texture axis, from the smallest texel coordinate up, so

@@ -160,8 +160,9 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
     }
   }
   // Each surface's faces depend on nothing else: the surfaces are shared among threads.
+  const QbspTree worldBsp = worldTree(scene, contents);
   parallelFor(surfaces.size(), 0,
-              [&](size_t i) { surfaces[i].polygons = compilerFaces(scene, surfaces[i].sides, surfaces[i].polygons, contents); });
+              [&](size_t i) { surfaces[i].polygons = compilerFaces(scene, surfaces[i].sides, surfaces[i].polygons, contents, worldBsp); });
   const VoidTest inVoid = voidTest.get();
 
   std::vector<GpuLight> lights;
