@@ -265,8 +265,11 @@ TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options)
 }
 
 std::optional<Hit> TraceScene::intersectBrush(const Ray& ray, uint32_t brushIndex) const {
+  return intersectBrush(RayContext(ray), brushIndex);
+}
+
+std::optional<Hit> TraceScene::intersectBrush(const RayContext& r, uint32_t brushIndex) const {
   Hit hit;
-  const RayContext r(ray);
   const GpuBrush& brush = brushes_.at(brushIndex);
   hit.slot = brushIndex;
   const bool found =
@@ -398,8 +401,11 @@ bool TraceScene::occluded(const Ray& ray) const {
 }
 
 std::optional<Hit> TraceScene::anyHit(const Ray& ray) const {
+  return anyHit(RayContext(ray));
+}
+
+std::optional<Hit> TraceScene::anyHit(const RayContext& r) const {
   Hit any;
-  const RayContext r(ray);
   const bool found = r.hasZeroComponent ? traceBoth<true, true>(r, *this, any) : traceBoth<true, false>(r, *this, any);
   if (!found) return std::nullopt;
   return any;

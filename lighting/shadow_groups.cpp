@@ -226,14 +226,15 @@ void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points,
 bool cachedShadowed(const RenderScene& rs, ShadowCache& cache, uint32_t index, const Ray& ray) {
   const uint32_t channels = rs.lights[index].shadowChannels;
   uint32_t* recent = &cache.recent[size_t(index) * ShadowCache::kRecent];
+  const RayContext prepared(ray); // once for up to kRecent brush tests and the walk
   bool blocked = false;
   for (int j = 0; j < ShadowCache::kRecent && recent[j] != kNoFace && !blocked; ++j)
-    if (blockedByBrush(rs, ray, LightingMode::Faithful, recent[j], channels)) {
+    if (blockedByBrush(rs, ray, prepared, LightingMode::Faithful, recent[j], channels)) {
       std::rotate(recent, recent + j, recent + j + 1);
       blocked = true;
     }
   uint32_t found = kNoFace;
-  if (!blocked && occluded(rs, ray, LightingMode::Faithful, channels, &found)) {
+  if (!blocked && occluded(rs, ray, prepared, LightingMode::Faithful, channels, &found)) {
     blocked = true;
     if (found != kNoFace) {
       std::copy_backward(recent, recent + ShadowCache::kRecent - 1, recent + ShadowCache::kRecent);
