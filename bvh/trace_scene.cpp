@@ -278,6 +278,23 @@ std::optional<Hit> TraceScene::intersectBrush(const RayContext& r, uint32_t brus
   return std::nullopt;
 }
 
+std::optional<bool> TraceScene::entersBox(const RayContext& r, uint32_t brushIndex) const {
+  const GpuBrush& brush = brushes_[brushIndex];
+  if (r.hasZeroComponent || brush.sideCount != 0) return std::nullopt;
+  for (uint32_t face : brush.axialFace)
+    if (face == kNoFace) return std::nullopt;
+  // hitBrush<false> on a box: brushBox's near and far (the same values as these), no planes, and
+  // the entry's face is the axial face of the side that set near, which exists.
+  float near, far;
+#if BT_SSE_NODE_TEST
+  boxInterval(r, brush.boundsMin, brush.boundsMax, near, far);
+#else
+  const Slab box = intersectBox<false>(r, brush.boundsMin, brush.boundsMax);
+  near = box.near, far = box.far;
+#endif
+  return near <= far && near > r.tMin && near < r.tMax;
+}
+
 namespace {
 
 // Moller-Trumbore against one mesh triangle (gpu_structs.h GpuTriangle has the rules), double-sided.

@@ -138,6 +138,11 @@ public:
   // The hit of one brush (index into brushes()), by the rules above; what the BVH calls per leaf.
   std::optional<Hit> intersectBrush(const Ray& ray, uint32_t brushIndex) const;
   std::optional<Hit> intersectBrush(const RayContext& ray, uint32_t brushIndex) const;
+  // Whether intersectBrush(ray, brushIndex) is a hit from outside (not `inside`), for a brush
+  // that is a box (no slanted sides, an axial face on each of its six): its box interval alone
+  // answers, without the face. nullopt for other brushes and for rays with a zero direction
+  // component. What a shadow ray's test against a solid recent blocker needs.
+  std::optional<bool> entersBox(const RayContext& ray, uint32_t brushIndex) const;
   // The same for one triangle (index into triangles()).
   std::optional<Hit> intersectTriangle(const Ray& ray, uint32_t triangleIndex) const;
 

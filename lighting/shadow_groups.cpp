@@ -361,8 +361,15 @@ bool cachedShadowed(const RenderScene& rs, ShadowCache& cache, uint32_t index, c
   uint32_t* recent = &cache.recent[size_t(index) * ShadowCache::kRecent];
   const RayContext prepared(ray); // once for up to kRecent brush tests and the walk
   bool blocked = false;
+  // A solid box on the default channel blocks the ray where the ray enters it (solidBlockers:
+  // every face blocks, none has holes): blockedByBrush's answer from the box alone.
+  const auto blockedBy = [&](uint32_t slot) {
+    if (channels == kDefaultChannels && (*cache.solid)[slot])
+      if (const std::optional<bool> enters = rs.tracer.entersBox(prepared, slot)) return *enters;
+    return blockedByBrush(rs, ray, prepared, LightingMode::Faithful, slot, channels);
+  };
   for (int j = 0; j < ShadowCache::kRecent && recent[j] != kNoFace && !blocked; ++j)
-    if (blockedByBrush(rs, ray, prepared, LightingMode::Faithful, recent[j], channels)) {
+    if (blockedBy(recent[j])) {
       std::rotate(recent, recent + j, recent + j + 1);
       blocked = true;
     }
