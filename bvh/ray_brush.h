@@ -11,46 +11,9 @@
 #include <limits>
 #include <span>
 
-// SSE2 (every x86-64) takes a node's three slabs in one register; elsewhere the scalar code.
-#if defined(__SSE2__)
-#define BT_SSE_NODE_TEST 1
-#include <emmintrin.h>
-#else
-#define BT_SSE_NODE_TEST 0
-#endif
-
 namespace bt::trace_detail {
 
 inline constexpr float kInfinity = std::numeric_limits<float>::infinity();
-
-// A ray prepared for traversal. Direction components below 2^-100 are flushed to zero, so that
-// 1 / d stays finite for the rest; zero components are handled by their own branch (the ray
-// lies in the slab or misses it), never through 0 * inf.
-struct RayContext {
-  glm::vec3 origin;
-  glm::vec3 direction;
-  glm::vec3 invDirection;
-  std::array<int, 3> negative; // 1 where the direction component is < 0
-  bool hasZeroComponent = false;
-  float tMin, tMax;
-#if BT_SSE_NODE_TEST
-  __m128 origin4, invDirection4; // (x, y, z, 0): nodeOverlaps' lanes
-#endif
-
-  RayContext() = default; // a packet's slot (ray_packet.cpp), filled before use
-  explicit RayContext(const Ray& ray) : origin(ray.origin), direction(ray.direction), tMin(ray.tMin), tMax(ray.tMax) {
-    for (int a = 0; a < 3; ++a) {
-      if (std::abs(direction[a]) < 0x1p-100f) direction[a] = 0.0f;
-      hasZeroComponent |= direction[a] == 0.0f;
-      invDirection[a] = direction[a] != 0.0f ? 1.0f / direction[a] : 0.0f;
-      negative[a] = direction[a] < 0.0f ? 1 : 0;
-    }
-#if BT_SSE_NODE_TEST
-    origin4 = _mm_setr_ps(origin.x, origin.y, origin.z, 0.0f);
-    invDirection4 = _mm_setr_ps(invDirection.x, invDirection.y, invDirection.z, 0.0f);
-#endif
-  }
-};
 
 // The ray's parameter interval inside a box, [near, far]; near > far when it misses. The same
 // float expressions serve nodes and brush boxes, so a node's interval always contains those
@@ -79,6 +42,23 @@ template <bool ZeroSafe> [[gnu::always_inline]] inline Slab intersectBox(const R
   return s;
 }
 
+#if BT_SSE_NODE_TEST
+// A box's interval [near, far] as intersectBox<false> gives its values, the three axes at once,
+// lane by lane the scalar expressions (min/max of the two slab planes picks the value
+// intersectBox picks by the direction's sign). `boxMin` and `boxMax` are each followed by a
+// fourth word (GpuBvhNode, GpuBrush: an index or count, a denormal as a float, slow to compute
+// with), masked to 0 first.
+[[gnu::always_inline]] inline void boxInterval(const RayContext& r, const float* boxMin, const float* boxMax, float& near, float& far) {
+  const __m128 keep = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0));
+  const __m128 lo = _mm_and_ps(_mm_loadu_ps(boxMin), keep), hi = _mm_and_ps(_mm_loadu_ps(boxMax), keep);
+  const __m128 t0 = _mm_mul_ps(_mm_sub_ps(lo, r.origin4), r.invDirection4);
+  const __m128 t1 = _mm_mul_ps(_mm_sub_ps(hi, r.origin4), r.invDirection4);
+  const __m128 lower = _mm_min_ps(t0, t1), upper = _mm_max_ps(t0, t1);
+  near = _mm_cvtss_f32(_mm_max_ss(_mm_max_ss(lower, _mm_shuffle_ps(lower, lower, 1)), _mm_shuffle_ps(lower, lower, 2)));
+  far = _mm_cvtss_f32(_mm_min_ss(_mm_min_ss(upper, _mm_shuffle_ps(upper, upper, 1)), _mm_shuffle_ps(upper, upper, 2)));
+}
+#endif
+
 // Whether a node can hold a hit with t in (tMin, tLimit]. Inclusive at tLimit so that a brush
 // hit at exactly the best t so far is still found and the tie-break (closer) applies.
 template <bool ZeroSafe>
@@ -89,15 +69,7 @@ template <bool ZeroSafe>
     near = s.near, far = s.far;
   } else {
 #if BT_SSE_NODE_TEST
-    // The three axes at once, lane by lane the scalar expressions below; the node's fourth
-    // words (leftFirst, count: denormals as floats, slow to compute with) are masked to 0 first.
-    const __m128 keep = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0));
-    const __m128 lo = _mm_and_ps(_mm_loadu_ps(node.boundsMin), keep), hi = _mm_and_ps(_mm_loadu_ps(node.boundsMax), keep);
-    const __m128 t0 = _mm_mul_ps(_mm_sub_ps(lo, r.origin4), r.invDirection4);
-    const __m128 t1 = _mm_mul_ps(_mm_sub_ps(hi, r.origin4), r.invDirection4);
-    const __m128 lower = _mm_min_ps(t0, t1), upper = _mm_max_ps(t0, t1);
-    near = _mm_cvtss_f32(_mm_max_ss(_mm_max_ss(lower, _mm_shuffle_ps(lower, lower, 1)), _mm_shuffle_ps(lower, lower, 2)));
-    far = _mm_cvtss_f32(_mm_min_ss(_mm_min_ss(upper, _mm_shuffle_ps(upper, upper, 1)), _mm_shuffle_ps(upper, upper, 2)));
+    boxInterval(r, node.boundsMin, node.boundsMax, near, far);
 #else
     // The same per-axis values as intersectBox (min/max of the two slab planes picks the one
     // intersectBox picks by the direction's sign), without the bookkeeping of which axis won.
@@ -156,6 +128,15 @@ struct Crossing {
 // its hit could only be farther (a hit at exactly tLimit still competes in the tie-break).
 template <bool ZeroSafe> inline bool hitBrush(const RayContext& r, const GpuBrush& brush, std::span<const uint32_t> sides,
                                               std::span<const GpuFace> faces, float tLimit, Hit& hit) {
+#if BT_SSE_NODE_TEST
+  if constexpr (!ZeroSafe) {
+    // Most brushes of a leaf the ray reaches miss it: the rejection below on the box's interval
+    // in one register first (the same near and far values; brushBox adds which axis set them).
+    float near, far;
+    boxInterval(r, brush.boundsMin, brush.boundsMax, near, far);
+    if (near > far || far <= r.tMin || near >= r.tMax || near > tLimit) return false;
+  }
+#endif
   const Slab box = brushBox<ZeroSafe>(r, brush);
   if (box.near > box.far || box.far <= r.tMin || box.near >= r.tMax || box.near > tLimit) return false;
 

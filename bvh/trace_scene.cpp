@@ -265,14 +265,34 @@ TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options)
 }
 
 std::optional<Hit> TraceScene::intersectBrush(const Ray& ray, uint32_t brushIndex) const {
+  return intersectBrush(RayContext(ray), brushIndex);
+}
+
+std::optional<Hit> TraceScene::intersectBrush(const RayContext& r, uint32_t brushIndex) const {
   Hit hit;
-  const RayContext r(ray);
   const GpuBrush& brush = brushes_.at(brushIndex);
   hit.slot = brushIndex;
   const bool found =
       r.hasZeroComponent ? hitBrush<true>(r, brush, sides_, faces_, r.tMax, hit) : hitBrush<false>(r, brush, sides_, faces_, r.tMax, hit);
   if (found) return hit;
   return std::nullopt;
+}
+
+std::optional<bool> TraceScene::entersBox(const RayContext& r, uint32_t brushIndex) const {
+  const GpuBrush& brush = brushes_[brushIndex];
+  if (r.hasZeroComponent || brush.sideCount != 0) return std::nullopt;
+  for (uint32_t face : brush.axialFace)
+    if (face == kNoFace) return std::nullopt;
+  // hitBrush<false> on a box: brushBox's near and far (the same values as these), no planes, and
+  // the entry's face is the axial face of the side that set near, which exists.
+  float near, far;
+#if BT_SSE_NODE_TEST
+  boxInterval(r, brush.boundsMin, brush.boundsMax, near, far);
+#else
+  const Slab box = intersectBox<false>(r, brush.boundsMin, brush.boundsMax);
+  near = box.near, far = box.far;
+#endif
+  return near <= far && near > r.tMin && near < r.tMax;
 }
 
 namespace {
@@ -398,8 +418,11 @@ bool TraceScene::occluded(const Ray& ray) const {
 }
 
 std::optional<Hit> TraceScene::anyHit(const Ray& ray) const {
+  return anyHit(RayContext(ray));
+}
+
+std::optional<Hit> TraceScene::anyHit(const RayContext& r) const {
   Hit any;
-  const RayContext r(ray);
   const bool found = r.hasZeroComponent ? traceBoth<true, true>(r, *this, any) : traceBoth<true, false>(r, *this, any);
   if (!found) return std::nullopt;
   return any;

@@ -56,6 +56,7 @@
 // (shaders/ray_offsets.glsl holds its numbers for both).
 #pragma once
 
+#include "bvh/ray.h"         // Ray, RayContext
 #include "bvh/sah_builder.h" // Aabb, sahCost() and the SAH cost model
 #include "scene/gpu_structs.h"
 #include "scene/scene.h"
@@ -72,13 +73,6 @@
 #include <vector>
 
 namespace bt {
-
-struct Ray {
-  glm::vec3 origin{0.0f};
-  float tMin = 0.0f;
-  glm::vec3 direction{0.0f, 0.0f, 1.0f}; // need not be unit length; t is in its units
-  float tMax = std::numeric_limits<float>::infinity();
-};
 
 struct Hit {
   float t = 0.0f;
@@ -113,6 +107,8 @@ public:
   // Some hit with t in (ray.tMin, ray.tMax), the first the traversal meets (not the closest):
   // what a shadow ray needs when that hit is a blocker.
   std::optional<Hit> anyHit(const Ray& ray) const;
+  // The same for a ray prepared once for several queries (bvh/ray.h).
+  std::optional<Hit> anyHit(const RayContext& ray) const;
 
   // closestHit() of each of up to kPacketRays rays (hits[i] answers rays[i], bit for bit), the
   // brushes in one walk of the BVH whose node tests take the rays kPacketLanes at a time: for
@@ -141,6 +137,12 @@ public:
 
   // The hit of one brush (index into brushes()), by the rules above; what the BVH calls per leaf.
   std::optional<Hit> intersectBrush(const Ray& ray, uint32_t brushIndex) const;
+  std::optional<Hit> intersectBrush(const RayContext& ray, uint32_t brushIndex) const;
+  // Whether intersectBrush(ray, brushIndex) is a hit from outside (not `inside`), for a brush
+  // that is a box (no slanted sides, an axial face on each of its six): its box interval alone
+  // answers, without the face. nullopt for other brushes and for rays with a zero direction
+  // component. What a shadow ray's test against a solid recent blocker needs.
+  std::optional<bool> entersBox(const RayContext& ray, uint32_t brushIndex) const;
   // The same for one triangle (index into triangles()).
   std::optional<Hit> intersectTriangle(const Ray& ray, uint32_t triangleIndex) const;
 

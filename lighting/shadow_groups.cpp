@@ -7,7 +7,18 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
+
+// SSE2 (every x86-64) takes the group pass's proofs four lanes at a time: the corners of a
+// group's box, the planes of a pyramid. Lane by lane the scalar expressions, so every proof
+// answers as the scalar code (kept below for other machines) does, bit for bit.
+#if defined(__SSE2__)
+#define BT_SSE_GROUP_PROOFS 1
+#include <emmintrin.h>
+#else
+#define BT_SSE_GROUP_PROOFS 0
+#endif
 
 namespace bt {
 
@@ -18,7 +29,8 @@ namespace {
 
 // The stretch [enter, exit] of the segment c + s (l - c), s in [0, 1], that lies inside brush
 // `slot`: Haines' clip in plain arithmetic, no tie rules (trace_scene.h has them for rays).
-bool segmentStretch(const TraceScene& ts, uint32_t slot, const glm::vec3& c, const glm::vec3& l, float& enter, float& exit) {
+[[maybe_unused]] bool segmentStretch(const TraceScene& ts, uint32_t slot, const glm::vec3& c, const glm::vec3& l, float& enter,
+                                     float& exit) {
   const GpuBrush& b = ts.brushes()[slot];
   const glm::vec3 d = l - c;
   enter = 0.0f, exit = 1.0f;
@@ -54,8 +66,53 @@ struct OriginBox {
   float baseHeight = 0.0f;       // the base's height along n, between lo.z and hi.z
   std::array<glm::vec3, 4> base; // its corners, around
   glm::vec3 baseCentre{0.0f};
-  glm::vec3 corner(int k) const { return u * (k & 1 ? hi.x : lo.x) + v * (k & 2 ? hi.y : lo.y) + n * (k & 4 ? hi.z : lo.z); }
+#if BT_SSE_GROUP_PROOFS
+  __m128 cornerLanes[2][3]; // corners 0-3 and 4-7, x, y and z four lanes each
+#endif
+  glm::vec3 corner(int k) const {
+    return u * (k & 1 ? hi.x : lo.x) + v * (k & 2 ? hi.y : lo.y) + n * (k & 4 ? hi.z : lo.z);
+  }
 };
+
+#if BT_SSE_GROUP_PROOFS
+// a ? x : y, lane by lane (a: all ones or all zeros).
+inline __m128 select(__m128 a, __m128 x, __m128 y) {
+  return _mm_or_ps(_mm_and_ps(a, x), _mm_andnot_ps(a, y));
+}
+
+// brushHidesBox's test of four corners c (x, y, z lanes): segmentStretch for each, the same float
+// expressions lane by lane (std::max(e, x) is _mm_max_ps(x, e), std::min(e, x) _mm_min_ps(x, e)),
+// and the stretch kMargin long at least. The scalar code stops once a segment misses the brush;
+// here a lane that misses keeps enter >= exit (enter only grows, exit only shrinks) and fails.
+bool stretchesHold(const TraceScene& ts, uint32_t slot, const __m128 (&c)[3], const glm::vec3& l, float margin) {
+  const GpuBrush& b = ts.brushes()[slot];
+  const __m128 zero = _mm_setzero_ps();
+  __m128 d[3], enter = zero, exit = _mm_set1_ps(1.0f), fail = zero;
+  for (int a = 0; a < 3; ++a) {
+    d[a] = _mm_sub_ps(_mm_set1_ps(l[a]), c[a]);
+    const __m128 lo = _mm_set1_ps(b.boundsMin[a]), hi = _mm_set1_ps(b.boundsMax[a]);
+    const __m128 flat = _mm_cmpeq_ps(d[a], zero); // the segment lies in the slab or misses it
+    fail = _mm_or_ps(fail, _mm_and_ps(flat, _mm_or_ps(_mm_cmplt_ps(c[a], lo), _mm_cmpgt_ps(c[a], hi))));
+    const __m128 t0 = _mm_div_ps(_mm_sub_ps(lo, c[a]), d[a]), t1 = _mm_div_ps(_mm_sub_ps(hi, c[a]), d[a]);
+    enter = select(flat, enter, _mm_max_ps(_mm_min_ps(t1, t0), enter));
+    exit = select(flat, exit, _mm_min_ps(_mm_max_ps(t1, t0), exit));
+  }
+  for (uint32_t k = b.firstSide; k < b.firstSide + b.sideCount; ++k) {
+    if (_mm_movemask_ps(_mm_or_ps(fail, _mm_cmpge_ps(enter, exit))) != 0) return false;
+    const GpuFace& f = ts.faces()[ts.sides()[k]];
+    const __m128 nx = _mm_set1_ps(f.plane[0]), ny = _mm_set1_ps(f.plane[1]), nz = _mm_set1_ps(f.plane[2]);
+    const __m128 denom = _mm_add_ps(_mm_add_ps(_mm_mul_ps(nx, d[0]), _mm_mul_ps(ny, d[1])), _mm_mul_ps(nz, d[2]));
+    const __m128 nc = _mm_add_ps(_mm_add_ps(_mm_mul_ps(nx, c[0]), _mm_mul_ps(ny, c[1])), _mm_mul_ps(nz, c[2]));
+    const __m128 num = _mm_sub_ps(_mm_set1_ps(f.plane[3]), nc), t = _mm_div_ps(num, denom);
+    const __m128 entering = _mm_cmplt_ps(denom, zero), leaving = _mm_cmpgt_ps(denom, zero);
+    enter = select(entering, _mm_max_ps(t, enter), enter);
+    exit = select(leaving, _mm_min_ps(t, exit), exit);
+    fail = _mm_or_ps(fail, _mm_and_ps(_mm_cmpeq_ps(denom, zero), _mm_cmplt_ps(num, zero))); // parallel, in front
+  }
+  const __m128 held = _mm_and_ps(_mm_cmpgt_ps(enter, zero), _mm_cmplt_ps(_mm_add_ps(enter, _mm_set1_ps(margin)), exit));
+  return _mm_movemask_ps(_mm_andnot_ps(fail, held)) == 0xf; // enter + margin < exit implies enter < exit
+}
+#endif
 
 // Whether solid brush `slot` lies clear of the box and holds a stretch of every segment from a
 // corner of it to the light (kMargin of the segment at least, far above float rounding).
@@ -65,12 +122,17 @@ bool brushHidesBox(const RenderScene& rs, uint32_t slot, const OriginBox& box, c
   bool apart = false;
   for (int a = 0; a < 3; ++a) apart = apart || box.world.max[a] < b.boundsMin[a] || box.world.min[a] > b.boundsMax[a];
   if (!apart) return false;
+#if BT_SSE_GROUP_PROOFS
+  return stretchesHold(rs.tracer, slot, box.cornerLanes[0], light, kMargin) &&
+      stretchesHold(rs.tracer, slot, box.cornerLanes[1], light, kMargin);
+#else
   for (int k = 0; k < 8; ++k) {
     float enter = 0.0f, exit = 0.0f;
     if (!segmentStretch(rs.tracer, slot, box.corners[size_t(k)], light, enter, exit) || !(enter > 0.0f && enter + kMargin < exit))
       return false;
   }
   return true;
+#endif
 }
 
 // The pyramid from the box's face (flat: its ray origins on one plane) to a light, as five planes
@@ -101,7 +163,7 @@ Pyramid pyramidTo(const OriginBox& box, const glm::vec3& light) {
 }
 
 // Whether a box lies outside the pyramid by more than `margin` (some plane has it wholly in front).
-bool outside(const Pyramid& p, const float* lo, const float* hi, float margin) {
+[[maybe_unused]] bool outside(const Pyramid& p, const float* lo, const float* hi, float margin) {
   for (int a = 0; a < 3; ++a)
     if (lo[a] > p.bounds.max[a] + margin || hi[a] < p.bounds.min[a] - margin) return true;
   for (const glm::vec4& q : p.planes) {
@@ -110,6 +172,69 @@ bool outside(const Pyramid& p, const float* lo, const float* hi, float margin) {
   }
   return false;
 }
+
+// outside(p, lo, hi, margin) for one pyramid and margin, the bounds and planes a register each.
+class OutsideTest {
+public:
+  OutsideTest(const Pyramid& p, float margin) : pyramid_(p), margin_(margin) {
+#if BT_SSE_GROUP_PROOFS
+    // lo > bounds.max + margin in double holds where lo is above that sum rounded down to float
+    // (and hi < bounds.min - margin where hi is below it rounded up): the same comparisons.
+    const auto down = [](double x) {
+      const float f = float(x);
+      return double(f) > x ? std::nextafter(f, -INFINITY) : f;
+    };
+    const auto up = [](double x) {
+      const float f = float(x);
+      return double(f) < x ? std::nextafter(f, INFINITY) : f;
+    };
+    const glm::dvec3 above = p.bounds.max + double(margin), below = p.bounds.min - double(margin);
+    boundsMax_ = _mm_setr_ps(down(above.x), down(above.y), down(above.z), INFINITY);
+    boundsMin_ = _mm_setr_ps(up(below.x), up(below.y), up(below.z), -INFINITY);
+    for (int g = 0; g < 2; ++g) {
+      alignas(16) float q[4][4]; // x, y, z, w + margin of up to four planes; a lane without one is never in front
+      for (int k = 0; k < 4; ++k) {
+        const size_t i = size_t(4 * g + k);
+        const glm::vec4 plane = i < p.planes.size() ? p.planes[i] : glm::vec4(0.0f, 0.0f, 0.0f, INFINITY);
+        for (int a = 0; a < 3; ++a) q[a][k] = plane[a];
+        q[3][k] = i < p.planes.size() ? plane.w + margin : INFINITY;
+      }
+      for (int a = 0; a < 3; ++a) {
+        normal_[g][a] = _mm_load_ps(q[a]);
+        positive_[g][a] = _mm_cmpgt_ps(normal_[g][a], _mm_setzero_ps());
+      }
+      offset_[g] = _mm_load_ps(q[3]);
+    }
+#endif
+  }
+
+  bool operator()(const float* lo, const float* hi) const {
+#if BT_SSE_GROUP_PROOFS
+    // Each box is a GpuBvhNode's or a GpuBrush's: a fourth word follows lo and hi, masked to 0.
+    const __m128 keep = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0));
+    const __m128 l = _mm_and_ps(_mm_loadu_ps(lo), keep), h = _mm_and_ps(_mm_loadu_ps(hi), keep);
+    if (_mm_movemask_ps(_mm_or_ps(_mm_cmpgt_ps(l, boundsMax_), _mm_cmplt_ps(h, boundsMin_))) != 0) return true;
+    const __m128 lx = _mm_shuffle_ps(l, l, 0x00), ly = _mm_shuffle_ps(l, l, 0x55), lz = _mm_shuffle_ps(l, l, 0xaa);
+    const __m128 hx = _mm_shuffle_ps(h, h, 0x00), hy = _mm_shuffle_ps(h, h, 0x55), hz = _mm_shuffle_ps(h, h, 0xaa);
+    for (int g = 0; g < 2; ++g) {
+      const __m128 x = select(positive_[g][0], lx, hx), y = select(positive_[g][1], ly, hy), z = select(positive_[g][2], lz, hz);
+      const __m128 dot = _mm_add_ps(_mm_add_ps(_mm_mul_ps(normal_[g][0], x), _mm_mul_ps(normal_[g][1], y)), _mm_mul_ps(normal_[g][2], z));
+      if (_mm_movemask_ps(_mm_cmpgt_ps(dot, offset_[g])) != 0) return true;
+    }
+    return false;
+#else
+    return outside(pyramid_, lo, hi, margin_);
+#endif
+  }
+
+private:
+  [[maybe_unused]] const Pyramid& pyramid_;
+  [[maybe_unused]] float margin_;
+#if BT_SSE_GROUP_PROOFS
+  __m128 boundsMin_, boundsMax_;
+  __m128 normal_[2][3], positive_[2][3], offset_[2]; // planes 0-3, then 4
+#endif
+};
 
 // Whether the pyramid lies wholly in front of one of brush `slot`'s slanted planes (by more than
 // `margin`): the box test above cannot tell a slanted brush's empty corners from the brush.
@@ -127,7 +252,8 @@ bool apartFromSlantedPlanes(const TraceScene& ts, uint32_t slot, const Pyramid& 
 
 // Whether some brush meets the pyramid (or comes within `margin` of it).
 bool anyBrushNear(const TraceScene& ts, const Pyramid& p, float margin) {
-  const auto near = [&](const float* lo, const float* hi) { return !outside(p, lo, hi, margin); };
+  const OutsideTest out(p, margin);
+  const auto near = [&](const float* lo, const float* hi) { return !out(lo, hi); };
   return ts.walkBrushes(near, [&](uint32_t slot) {
     const GpuBrush& b = ts.brushes()[slot];
     return near(b.boundsMin, b.boundsMax) && !apartFromSlantedPlanes(ts, slot, p, margin);
@@ -147,6 +273,13 @@ OriginBox originBox(std::span<const glm::vec3> points, const glm::vec3& n) {
   }
   box.lo -= glm::vec3(1e-3f), box.hi += glm::vec3(1e-3f); // the frame's own rounding
   for (int k = 0; k < 8; ++k) box.corners[size_t(k)] = box.corner(k), box.world.grow(dvec3(box.corners[size_t(k)]));
+#if BT_SSE_GROUP_PROOFS
+  for (int h = 0; h < 2; ++h)
+    for (int a = 0; a < 3; ++a) {
+      const auto& k = box.corners;
+      box.cornerLanes[h][a] = _mm_setr_ps(k[size_t(4 * h)][a], k[size_t(4 * h + 1)][a], k[size_t(4 * h + 2)][a], k[size_t(4 * h + 3)][a]);
+    }
+#endif
   const float z = box.baseHeight = 0.5f * (box.lo.z + box.hi.z);
   box.base = {box.u * box.lo.x + box.v * box.lo.y + box.n * z, box.u * box.hi.x + box.v * box.lo.y + box.n * z,
               box.u * box.hi.x + box.v * box.hi.y + box.n * z, box.u * box.lo.x + box.v * box.hi.y + box.n * z};
@@ -226,14 +359,22 @@ void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points,
 bool cachedShadowed(const RenderScene& rs, ShadowCache& cache, uint32_t index, const Ray& ray) {
   const uint32_t channels = rs.lights[index].shadowChannels;
   uint32_t* recent = &cache.recent[size_t(index) * ShadowCache::kRecent];
+  const RayContext prepared(ray); // once for up to kRecent brush tests and the walk
   bool blocked = false;
+  // A solid box on the default channel blocks the ray where the ray enters it (solidBlockers:
+  // every face blocks, none has holes): blockedByBrush's answer from the box alone.
+  const auto blockedBy = [&](uint32_t slot) {
+    if (channels == kDefaultChannels && (*cache.solid)[slot])
+      if (const std::optional<bool> enters = rs.tracer.entersBox(prepared, slot)) return *enters;
+    return blockedByBrush(rs, ray, prepared, LightingMode::Faithful, slot, channels);
+  };
   for (int j = 0; j < ShadowCache::kRecent && recent[j] != kNoFace && !blocked; ++j)
-    if (blockedByBrush(rs, ray, LightingMode::Faithful, recent[j], channels)) {
+    if (blockedBy(recent[j])) {
       std::rotate(recent, recent + j, recent + j + 1);
       blocked = true;
     }
   uint32_t found = kNoFace;
-  if (!blocked && occluded(rs, ray, LightingMode::Faithful, channels, &found)) {
+  if (!blocked && occluded(rs, ray, prepared, LightingMode::Faithful, channels, &found)) {
     blocked = true;
     if (found != kNoFace) {
       std::copy_backward(recent, recent + ShadowCache::kRecent - 1, recent + ShadowCache::kRecent);

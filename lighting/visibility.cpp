@@ -89,6 +89,10 @@ SurfaceHit traceVisible(const RenderScene& rs, const Ray& ray) {
 }
 
 bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t channels, uint32_t* blocker) {
+  return occluded(rs, ray, RayContext(ray), mode, channels, blocker);
+}
+
+bool occluded(const RenderScene& rs, const Ray& ray, const RayContext& prepared, LightingMode mode, uint32_t channels, uint32_t* blocker) {
   const auto blockedBy = [&](const Hit& hit) {
     if (blocker && hit.brush != kNoBrush) *blocker = hit.slot;
     return true;
@@ -96,7 +100,7 @@ bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t
   // Most shadow rays that are blocked are blocked by any wall on the way: the first hit the
   // traversal meets settles it. Only a hit the ray may pass (a liquid, a hole, a face that casts
   // no shadow) needs the walk from hit to hit below, which gives the same answer.
-  const std::optional<Hit> any = rs.tracer.anyHit(ray);
+  const std::optional<Hit> any = rs.tracer.anyHit(prepared);
   if (!any) return false;
   if (stopsShadowRay(rs, *any, ray, mode, channels)) return blockedBy(*any);
   Ray r = ray;
@@ -110,7 +114,12 @@ bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t
 }
 
 bool blockedByBrush(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t slot, uint32_t channels) {
-  const std::optional<Hit> hit = rs.tracer.intersectBrush(ray, slot);
+  return blockedByBrush(rs, ray, RayContext(ray), mode, slot, channels);
+}
+
+bool blockedByBrush(const RenderScene& rs, const Ray& ray, const RayContext& prepared, LightingMode mode, uint32_t slot,
+                    uint32_t channels) {
+  const std::optional<Hit> hit = rs.tracer.intersectBrush(prepared, slot);
   return hit && !hit->inside && blocksLight(rs, hit->face, mode, channels) && !passesThrough(rs, *hit, ray);
 }
 

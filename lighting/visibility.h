@@ -43,6 +43,11 @@ bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t
 // that hit.
 bool blockedByBrush(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t slot, uint32_t channels = kDefaultChannels);
 
+// occluded() and blockedByBrush() for `ray` prepared once as `prepared` (RayContext(ray)): a
+// shadow ray tried against a light's recent blockers, then walked, divides once, not per test.
+bool occluded(const RenderScene& rs, const Ray& ray, const RayContext& prepared, LightingMode mode, uint32_t channels, uint32_t* blocker);
+bool blockedByBrush(const RenderScene& rs, const Ray& ray, const RayContext& prepared, LightingMode mode, uint32_t slot, uint32_t channels);
+
 // True when the ray reaches a sky face (or leaves the level) before anything else: sunlight.
 // `skyMaterial`: 1 + the only sky material that counts (a sun's `_suntexture`), 0 any sky.
 bool reachesSky(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t skyMaterial = 0);
