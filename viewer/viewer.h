@@ -52,7 +52,7 @@ struct ViewerOptions {
   bool luxels = true;                  // faithful mode: the compiler's luxels, baked on the GPU (render's --luxels)
   LightmapBakeOptions bake;            // their --extra
   std::filesystem::path bookmarksFile; // camera bookmarks (viewer/bookmarks.h); empty: this session only
-  bool denoise = true;                 // physical mode shows the denoised image while it is young (key N; view_modes.h)
+  bool denoise = true;                 // physical mode shows the denoised image while it is young (key N; renderer/denoise_fade.h)
 };
 
 class Viewer {
@@ -81,7 +81,7 @@ public:
   void setStyleScale(int style, float scale);
   float styleScale(int style) const;
   bool stylesApplied() const; // the lights carry the sliders' scales
-  bool denoising() const;     // physical mode's young image is denoised (view_modes.h denoiseShare)
+  bool denoising() const;     // physical mode's young image is denoised (renderer/denoise_fade.h denoiseShare)
   void setLighting(LightingMode mode);
   // The level's compiled lightmaps as its engine shows them (key 6); false when it has none
   // (notice() says why and faithful lighting stays).

@@ -1,6 +1,7 @@
 #include "viewer/viewer_impl.h"
 
 #include "renderer/denoise.h"
+#include "renderer/denoise_fade.h"
 
 namespace bt {
 
@@ -134,10 +135,10 @@ RenderImage Viewer::Impl::shownImage(RenderImage mean, int spp) {
   mean.luminanceMoment2 = std::move(moment2);
   if (mode == ViewMode::LightOnly) {
     mean.beauty = lightAlone(mean, lighting != LightingMode::Physical);
-  } else if (const float share = denoiserShare(spp); mode == ViewMode::Beauty && share > 0.0f) {
+  } else if (mode == ViewMode::Beauty && denoiserShare(spp) > 0.0f) {
     if (!cpu && !denoiser) denoiser = std::make_unique<gl::DenoisePass>();
     const std::vector<glm::vec3> denoised = cpu ? bt::denoise(mean) : gl::denoiseWithGl(mean, *denoiser);
-    mean.beauty = fadeDenoised(mean.beauty, denoised, share);
+    mean.beauty = displayedBeauty(mean.beauty, denoised, mean.samples); // what the bench measures too
   }
   return mean;
 }

@@ -2,6 +2,7 @@
 // (renderer/denoise.h), on a small lit room rendered by the CPU tracer, every pixel in colour.
 #include "renderer/cpu/cpu_renderer.h"
 #include "renderer/denoise.h"
+#include "renderer/denoise_fade.h"
 #include "renderer/exposure.h"
 #include "renderer/time_to_converged.h"
 #include "tests/render/box_scene.h"
@@ -164,6 +165,23 @@ TEST(Denoise, ConvergedImageIsNearlyUnchanged) {
   EXPECT_LT(change, 1e-3) << change;
 }
 
+// Issue 18: past the young image's few samples the denoiser must not add error of its own. At
+// 256 spp (a quarter of the reference's), the mean of three seeds, the denoised room is no
+// farther from the reference than the raw one.
+TEST(Denoise, AtHighSppTheDenoisedImageIsNoFartherFromTheReferenceThanRaw) {
+  const float ev = autoExposureEv(reference().beauty, kWidth, kHeight);
+  double raw = 0.0, denoised = 0.0;
+  for (uint32_t seed = 11; seed <= 13; ++seed) {
+    const RenderImage noisy = renderRoom("0.5", 256, seed);
+    raw += relativeMse(noisy.beauty, reference().beauty, ev) / 3.0;
+    denoised += relativeMse(denoise(noisy), reference().beauty, ev) / 3.0;
+  }
+  RecordProperty("raw_rel_mse", std::to_string(raw));
+  RecordProperty("denoised_rel_mse", std::to_string(denoised));
+  std::printf("lit room, 256 spp: raw %.5f, denoised %.5f\n", raw, denoised);
+  EXPECT_LE(denoised, raw);
+}
+
 // Two planes side by side, a bright one in front (depth 100) and a dark one behind (depth 400),
 // both noisy, the same normal: only depth tells them apart, as at a pillar's silhouette.
 TEST(Denoise, NoBleedingAcrossADepthDiscontinuity) {
@@ -198,6 +216,37 @@ TEST(Denoise, NoBleedingAcrossADepthDiscontinuity) {
       outVar += (out[i].x - 1.0) * (out[i].x - 1.0);
     }
   EXPECT_LT(outVar * 4.0, rawVar);
+}
+
+// The bench's "denoiser on" figure is the image the viewer displays (displayedBeauty: the
+// denoised image while young, faded to the raw one as samples accumulate), not the denoiser's
+// output at full strength: each step's figure against the displayed image made here.
+TEST(TimeToConverged, MeasuresTheDisplayedImage) {
+  const float refEv = autoExposureEv(reference().beauty, kWidth, kHeight);
+  const std::vector<glm::vec3> referenceDisplay = displayedImage(reference().beauty, refEv);
+  ConvergeSettings settings;
+  settings.maxSpp = kDenoiseGoneAt;
+  settings.denoiser = [](const RenderImage& image) { return denoise(image); };
+  const auto render = [](int spp) { return renderRoom("0.5", spp, 21); };
+  const std::vector<ConvergeStep> steps = timeToConverged(render, referenceDisplay, settings);
+  bool fadeSeen = false;
+  for (const ConvergeStep& step : steps) {
+    const RenderImage image = render(step.spp); // the same seed and spp: the same image
+    const float ev = autoExposureEv(image.beauty, kWidth, kHeight);
+    const std::vector<glm::vec3> denoised = denoise(image);
+    std::vector<glm::vec3> shown(image.beauty.size());
+    const float share = step.spp <= kDenoiseFullUntil ? 1.0f
+        : step.spp >= kDenoiseGoneAt                  ? 0.0f
+                                                      : float(kDenoiseGoneAt - step.spp) / float(kDenoiseGoneAt - kDenoiseFullUntil);
+    for (size_t i = 0; i < shown.size(); ++i) shown[i] = share * denoised[i] + (1.0f - share) * image.beauty[i];
+    const double expected = bt::relativeMse(displayedImage(shown, ev), referenceDisplay);
+    EXPECT_NEAR(step.relativeMseDisplayed, expected, 1e-9 + 1e-6 * expected) << step.spp << " spp";
+    if (step.spp >= kDenoiseGoneAt) {
+      EXPECT_NEAR(step.relativeMseDisplayed, step.relativeMse, 1e-12) << step.spp << " spp: not the raw image";
+    }
+    if (share < 1.0f) fadeSeen |= std::abs(step.relativeMseDenoised - expected) > 0.05 * expected;
+  }
+  EXPECT_TRUE(fadeSeen) << "the denoised image at full strength scores as the displayed one: the test cannot tell them apart";
 }
 
 // The time-to-converged bench's diagnostic: error spread evenly gives the worst 1 % of pixels

@@ -252,10 +252,11 @@ TEST_F(ViewerModesTest, TheGlWindowDenoisesAYoungPhysicalImageAndShowsAConverged
     fs::path exr = viewer.screenshot();
     exr.replace_extension(".exr");
     auto in = OIIO::ImageInput::open(exr.string()); // past the image cache, as render() reads
-    ASSERT_TRUE(in && in->spec().nchannels == 10) << exr;
+    // The beauty, its AOVs and the second moment of its luminance (moment2.Y).
+    ASSERT_TRUE(in && in->spec().nchannels == 11) << exr;
     const int n = o.width * o.height;
-    std::vector<float> px(size_t(n) * 10);
-    ASSERT_TRUE(in->read_image(0, 0, 0, 10, OIIO::TypeDesc::FLOAT, px.data()));
+    std::vector<float> px(size_t(n) * 11);
+    ASSERT_TRUE(in->read_image(0, 0, 0, 11, OIIO::TypeDesc::FLOAT, px.data()));
     // OpenEXR keeps the layers' channels in its own order: each is found by name.
     const auto channel = [&](const char* name) { return in->spec().channelindex(name); };
     const int r = channel("R"), g = channel("G"), b = channel("B"), ar = channel("albedo.R"), ag = channel("albedo.G"),
@@ -265,7 +266,7 @@ TEST_F(ViewerModesTest, TheGlWindowDenoisesAYoungPhysicalImageAndShowsAConverged
     RenderImage image; // beauty with the window's exposure applied: the ACES display of it at 0 EV
     image.width = o.width, image.height = o.height, image.samples = 1;
     for (int i = 0; i < n; ++i) {
-      const float* p = &px[size_t(i) * 10];
+      const float* p = &px[size_t(i) * 11];
       image.beauty.emplace_back(p[r], p[g], p[b]);
       image.albedo.emplace_back(p[ar], p[ag], p[ab]);
       image.normal.emplace_back(p[nx], p[ny], p[nz]);
