@@ -13,8 +13,8 @@ namespace bt {
 // The share of the denoised picture at `samples` samples per pixel: 1 up to kDenoiseFullUntil,
 // falling linearly to 0 at kDenoiseGoneAt and after (README "Viewer"; bench/README.md, issue 18
 // session 20, for the measurements they were chosen from).
-inline constexpr int kDenoiseFullUntil = 16;
-inline constexpr int kDenoiseGoneAt = 64;
+inline constexpr int kDenoiseFullUntil = 64;
+inline constexpr int kDenoiseGoneAt = 512;
 float denoiseShare(int samples);
 
 // The beauty displayed at `samples` spp: denoiseShare(samples) x denoised + the rest x raw,

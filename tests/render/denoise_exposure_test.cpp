@@ -20,7 +20,7 @@ namespace {
 // A room lit by one inverse-square light (delay 2), a pillar in front of the far wall, a ceiling
 // lamp texture-less; worldspawn `_range` scales every light and nothing else (lighting/README.md,
 // "Physical mode"), so `range` makes a dark or a bright version of the same room.
-Scene litRoom(const std::string& range) {
+Scene litRoom(const std::string& range, bool bricks = false) {
   test::BoxSceneBuilder b;
   b.worldKey("_range", range);
   b.material("white", 220, 220, 220);
@@ -30,14 +30,25 @@ Scene litRoom(const std::string& range) {
   b.box({10, -30, 0}, {50, 10, 96}, "red");
   b.box({-128, 40, 0}, {-60, 128, 48}, "blue");
   b.entity({{"classname", "light"}, {"origin", "-40 -60 110"}, {"light", "300"}, {"delay", "2"}});
-  return b.build();
+  Scene scene = b.build();
+  // `bricks`: every texture a brick wall, its dark mortar lines 2 units wide every 8 units (about
+  // half a pixel here), so that a pixel's samples cover several texels of unlike colour where its
+  // albedo AOV (the pixel's centre) sees one: texture detail at the image's own scale.
+  for (Material& m : scene.materials) {
+    if (!bricks) break;
+    m.width = m.height = 32;
+    for (int t = 0; t < 16 * 16; ++t)
+      if (t % 4 == 0 || (t / 16) % 4 == 0)
+        for (int c = 0; c < 3; ++c) m.baseColor.rgba[size_t(t) * 4 + size_t(c)] /= 6;
+  }
+  return scene;
 }
 
 constexpr int kWidth = 48, kHeight = 36;
 
-RenderImage renderRoom(const std::string& range, int spp, uint32_t seed = 1) {
+RenderImage renderRoom(const std::string& range, int spp, uint32_t seed = 1, bool bricks = false) {
   Diagnostics diagnostics;
-  const Scene scene = litRoom(range);
+  const Scene scene = litRoom(range, bricks);
   const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
   CameraPose pose;
   pose.origin = {-115, -110, 64};
@@ -166,20 +177,25 @@ TEST(Denoise, ConvergedImageIsNearlyUnchanged) {
 }
 
 // Issue 18: past the young image's few samples the denoiser must not add error of its own. At
-// 256 spp (a quarter of the reference's), the mean of three seeds, the denoised room is no
-// farther from the reference than the raw one.
+// 256 spp (a quarter of the reference's), the mean of three seeds: the lit room denoised is no
+// farther from its reference than raw; with brick textures finer than a pixel on every wall (where
+// the centre's albedo misleads the demodulation most) at most 1.25 times as far (measured: 1.15;
+// 13 times before the shrink toward the raw mean, BT_DENOISE_SHRINK_FROM).
 TEST(Denoise, AtHighSppTheDenoisedImageIsNoFartherFromTheReferenceThanRaw) {
-  const float ev = autoExposureEv(reference().beauty, kWidth, kHeight);
-  double raw = 0.0, denoised = 0.0;
-  for (uint32_t seed = 11; seed <= 13; ++seed) {
-    const RenderImage noisy = renderRoom("0.5", 256, seed);
-    raw += relativeMse(noisy.beauty, reference().beauty, ev) / 3.0;
-    denoised += relativeMse(denoise(noisy), reference().beauty, ev) / 3.0;
+  for (const bool bricks : {false, true}) {
+    const RenderImage reference = bricks ? renderRoom("0.5", 1024, 99, true) : bt::reference();
+    const float ev = autoExposureEv(reference.beauty, kWidth, kHeight);
+    double raw = 0.0, denoised = 0.0;
+    for (uint32_t seed = 11; seed <= 13; ++seed) {
+      const RenderImage noisy = renderRoom("0.5", 256, seed, bricks);
+      raw += relativeMse(noisy.beauty, reference.beauty, ev) / 3.0;
+      denoised += relativeMse(denoise(noisy), reference.beauty, ev) / 3.0;
+    }
+    RecordProperty(bricks ? "bricks_raw_rel_mse" : "raw_rel_mse", std::to_string(raw));
+    RecordProperty(bricks ? "bricks_denoised_rel_mse" : "denoised_rel_mse", std::to_string(denoised));
+    std::printf("lit room%s, 256 spp: raw %.5f, denoised %.5f\n", bricks ? " of bricks" : "", raw, denoised);
+    EXPECT_LE(denoised, (bricks ? 1.25 : 1.0) * raw) << (bricks ? "bricks" : "plain walls");
   }
-  RecordProperty("raw_rel_mse", std::to_string(raw));
-  RecordProperty("denoised_rel_mse", std::to_string(denoised));
-  std::printf("lit room, 256 spp: raw %.5f, denoised %.5f\n", raw, denoised);
-  EXPECT_LE(denoised, raw);
 }
 
 // Two planes side by side, a bright one in front (depth 100) and a dark one behind (depth 400),
@@ -222,13 +238,14 @@ TEST(Denoise, NoBleedingAcrossADepthDiscontinuity) {
 // denoised image while young, faded to the raw one as samples accumulate), not the denoiser's
 // output at full strength: each step's figure against the displayed image made here.
 TEST(TimeToConverged, MeasuresTheDisplayedImage) {
-  const float refEv = autoExposureEv(reference().beauty, kWidth, kHeight);
-  const std::vector<glm::vec3> referenceDisplay = displayedImage(reference().beauty, refEv);
+  // Any reference does for the arithmetic; a grey one, never reached, keeps every step measured.
+  const std::vector<glm::vec3> referenceDisplay(size_t(kWidth) * kHeight, glm::vec3(0.5f));
   ConvergeSettings settings;
-  settings.maxSpp = kDenoiseGoneAt;
+  settings.maxSpp = 2 * kDenoiseFullUntil; // into the fade, where the two images differ
   settings.denoiser = [](const RenderImage& image) { return denoise(image); };
   const auto render = [](int spp) { return renderRoom("0.5", spp, 21); };
   const std::vector<ConvergeStep> steps = timeToConverged(render, referenceDisplay, settings);
+  ASSERT_EQ(steps.back().spp, settings.maxSpp);
   bool fadeSeen = false;
   for (const ConvergeStep& step : steps) {
     const RenderImage image = render(step.spp); // the same seed and spp: the same image
@@ -244,7 +261,7 @@ TEST(TimeToConverged, MeasuresTheDisplayedImage) {
     if (step.spp >= kDenoiseGoneAt) {
       EXPECT_NEAR(step.relativeMseDisplayed, step.relativeMse, 1e-12) << step.spp << " spp: not the raw image";
     }
-    if (share < 1.0f) fadeSeen |= std::abs(step.relativeMseDenoised - expected) > 0.05 * expected;
+    if (share < 1.0f) fadeSeen |= std::abs(step.relativeMseDenoised - expected) > 1e-3 * expected;
   }
   EXPECT_TRUE(fadeSeen) << "the denoised image at full strength scores as the displayed one: the test cannot tell them apart";
 }
