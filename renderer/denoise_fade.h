@@ -14,7 +14,7 @@ namespace bt {
 // falling linearly to 0 at kDenoiseGoneAt and after (README "Viewer"; bench/README.md, issue 18
 // session 20, for the measurements they were chosen from).
 inline constexpr int kDenoiseFullUntil = 64;
-inline constexpr int kDenoiseGoneAt = 512;
+inline constexpr int kDenoiseGoneAt = 1024;
 float denoiseShare(int samples);
 
 // The beauty displayed at `samples` spp: denoiseShare(samples) x denoised + the rest x raw,
