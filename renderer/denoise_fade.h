@@ -10,15 +10,20 @@
 
 namespace bt {
 
-// The share of the denoised picture at `samples` samples per pixel: 1 up to kDenoiseFullUntil,
-// falling linearly to 0 at kDenoiseGoneAt and after (README "Viewer"; bench/README.md, issue 18
-// session 20, for the measurements they were chosen from).
-inline constexpr int kDenoiseFullUntil = 64;
-inline constexpr int kDenoiseGoneAt = 1024;
-float denoiseShare(int samples);
+// The fade: the denoised picture's share is 1 up to `fullUntil` samples per pixel, falling
+// linearly to 0 at `goneAt` and after. kDenoiseFade is what the viewer and the bench use (README
+// "Viewer"; bench/README.md, issue 18 session 20, for the measurements it was chosen from);
+// another is for tests that cannot wait for 1024 spp (ViewerOptions::denoiseFade).
+struct DenoiseFade {
+  int fullUntil = 64;
+  int goneAt = 1024;
+};
+inline constexpr DenoiseFade kDenoiseFade{};
+float denoiseShare(int samples, const DenoiseFade& fade = kDenoiseFade);
 
 // The beauty displayed at `samples` spp: denoiseShare(samples) x denoised + the rest x raw,
 // pixel by pixel. `denoised` is read only where the share is above 0 (it may be empty there).
-std::vector<glm::vec3> displayedBeauty(const std::vector<glm::vec3>& raw, const std::vector<glm::vec3>& denoised, int samples);
+std::vector<glm::vec3> displayedBeauty(const std::vector<glm::vec3>& raw, const std::vector<glm::vec3>& denoised, int samples,
+                                       const DenoiseFade& fade = kDenoiseFade);
 
 } // namespace bt

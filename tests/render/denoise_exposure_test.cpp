@@ -238,10 +238,14 @@ TEST(Denoise, NoBleedingAcrossADepthDiscontinuity) {
 // denoised image while young, faded to the raw one as samples accumulate), not the denoiser's
 // output at full strength: each step's figure against the displayed image made here.
 TEST(TimeToConverged, MeasuresTheDisplayedImage) {
-  // Any reference does for the arithmetic; a grey one, never reached, keeps every step measured.
-  const std::vector<glm::vec3> referenceDisplay(size_t(kWidth) * kHeight, glm::vec3(0.5f));
+  // Any reference does for the arithmetic: a 16-spp one of another seed, whose own noise keeps
+  // every step above the threshold (so every step is measured) while raw and denoised images
+  // still score apart.
+  const RenderImage noisyReference = renderRoom("0.5", 16, 77);
+  const std::vector<glm::vec3> referenceDisplay =
+      displayedImage(noisyReference.beauty, autoExposureEv(noisyReference.beauty, kWidth, kHeight));
   ConvergeSettings settings;
-  settings.maxSpp = 2 * kDenoiseFullUntil; // into the fade, where the two images differ
+  settings.maxSpp = 2 * kDenoiseFade.fullUntil; // into the fade, where the two images differ
   settings.denoiser = [](const RenderImage& image) { return denoise(image); };
   const auto render = [](int spp) { return renderRoom("0.5", spp, 21); };
   const std::vector<ConvergeStep> steps = timeToConverged(render, referenceDisplay, settings);
@@ -252,13 +256,13 @@ TEST(TimeToConverged, MeasuresTheDisplayedImage) {
     const float ev = autoExposureEv(image.beauty, kWidth, kHeight);
     const std::vector<glm::vec3> denoised = denoise(image);
     std::vector<glm::vec3> shown(image.beauty.size());
-    const float share = step.spp <= kDenoiseFullUntil ? 1.0f
-        : step.spp >= kDenoiseGoneAt                  ? 0.0f
-                                                      : float(kDenoiseGoneAt - step.spp) / float(kDenoiseGoneAt - kDenoiseFullUntil);
+    const float share = step.spp <= kDenoiseFade.fullUntil ? 1.0f
+        : step.spp >= kDenoiseFade.goneAt                  ? 0.0f
+                                          : float(kDenoiseFade.goneAt - step.spp) / float(kDenoiseFade.goneAt - kDenoiseFade.fullUntil);
     for (size_t i = 0; i < shown.size(); ++i) shown[i] = share * denoised[i] + (1.0f - share) * image.beauty[i];
     const double expected = bt::relativeMse(displayedImage(shown, ev), referenceDisplay);
     EXPECT_NEAR(step.relativeMseDisplayed, expected, 1e-9 + 1e-6 * expected) << step.spp << " spp";
-    if (step.spp >= kDenoiseGoneAt) {
+    if (step.spp >= kDenoiseFade.goneAt) {
       EXPECT_NEAR(step.relativeMseDisplayed, step.relativeMse, 1e-12) << step.spp << " spp: not the raw image";
     }
     if (share < 1.0f) fadeSeen |= std::abs(step.relativeMseDenoised - expected) > 1e-3 * expected;
