@@ -20,6 +20,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -44,8 +46,18 @@ struct BenchOptions {
   int maxSpp = 0;              // --max-spp
   bool referenceFloor = false; // --reference-floor
   std::string reference;       // --reference: a stored reference EXR (the CPU tracer's time to converged)
+  std::string dump;            // --dump: a folder for the time to converged's images
   bool raysOnly = false;
 };
+
+// --dump DIR: each image of the time to converged as DIR/NAME.exr (ConvergeRun::keep), or none.
+std::function<void(const RenderImage&, const std::string&)> keepIn(const std::string& dump) {
+  if (dump.empty()) return {};
+  std::filesystem::create_directories(dump);
+  return [dir = std::filesystem::path(dump)](const RenderImage& image, const std::string& name) {
+    writeImage((dir / (name + ".exr")).string(), image, {});
+  };
+}
 
 // The CPU tracer's time to converged (the GL tracer's is part of runGlBench): physical light at
 // --size with --bounces, denoiser off and on, against a --reference-spp render of another seed.
@@ -75,7 +87,8 @@ int runCpuTimeToConverged(const BenchOptions& options) {
                         .denoiser = [](const RenderImage& image) { return denoise(image); },
                         .storedReference = stored ? &*stored : nullptr,
                         .maxSpp = options.maxSpp,
-                        .referenceFloor = options.referenceFloor});
+                        .referenceFloor = options.referenceFloor,
+                        .keep = keepIn(options.dump)});
   return 0;
 }
 
@@ -98,7 +111,8 @@ int runBench(const BenchOptions& options) {
                                options.referenceSpp,
                                options.raysOnly,
                                options.clampIndirect,
-                               options.referenceFloor};
+                               options.referenceFloor,
+                               keepIn(options.dump)};
   // The first image is timed with the import inside it, as `render` gets there.
   return gl::runGlBench([&](const gl::EntitiesRead& entitiesRead) { return importScene(options.map, options.import, entitiesRead); },
                         settings);
@@ -148,6 +162,9 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
                    "With --backend cpu: a stored reference EXR (`render --backend cpu --lighting physical --exposure 0 --seed 24301 "
                    "... -o ref.exr`, same level, camera, size and bounces) instead of rendering one")
       ->check(CLI::ExistingFile);
+  bench->add_option("--dump", options->dump,
+                    "With --time-to-converged: write the reference and each step's raw image (AOVs, second moment) as DIR/NAME.exr, "
+                    "to denoise again");
   bench->callback([options, &exitCode] {
     try {
       exitCode = runBench(*options);

@@ -1,22 +1,26 @@
-// gl_bench LEVEL [WxH] [textures] [physical|faithful] [seconds] [converge [SPP [floor]] | rays]: the GL tracer's benchmark
+// gl_bench LEVEL [WxH] [textures] [physical|faithful] [seconds] [converge [SPP [floor] [dump DIR]] | rays]: the GL tracer's
+// benchmark
 // (`brushtrace bench`) in a program that links no OpenImageIO, whose libraries (over 300 MB)
 // cannot travel to the GPU machine (scripts/gpu-check.sh): the level is imported with
 // bt_importers_portable (bt_importers, which reads loose images without OpenImageIO).
 #include "importers/import.h"
 #include "renderer/gl/gl_bench.h"
 #include "renderer/gl/gl_error.h"
+#include "renderer/image_output.h"
 
 #include <fmt/format.h>
 
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 
 int main(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(
         stderr,
-        "usage: gl_bench LEVEL [WxH] [auto|bindless|arrays] [physical|faithful] [seconds] [converge [REFERENCE_SPP [floor]] | rays]\n");
+        "usage: gl_bench LEVEL [WxH] [auto|bindless|arrays] [physical|faithful] [seconds] [converge [REFERENCE_SPP [floor] [dump DIR]] "
+        "| rays]\n");
     return 2;
   }
   bt::gl::GlBenchSettings settings;
@@ -38,7 +42,18 @@ int main(int argc, char** argv) {
     settings.timeToConverged = true;
     if (argc > 7) settings.referenceSpp = std::atoi(argv[7]);
     if (settings.referenceSpp < 4) return 2;
-    if (argc > 8) settings.referenceFloor = std::string(argv[8]) == "floor";
+    int next = 8;
+    if (argc > next && std::string(argv[next]) == "floor") settings.referenceFloor = true, ++next;
+    // The reference and each step's raw image (AOVs and second moment with it) as EXRs in DIR:
+    // the denoiser lab's input (issue 18), from the GPU where the CPU would take hours.
+    if (argc > next) {
+      if (std::string(argv[next]) != "dump" || argc <= next + 1) return 2;
+      const std::filesystem::path dir = argv[next + 1];
+      std::filesystem::create_directories(dir);
+      settings.keep = [dir](const bt::RenderImage& image, const std::string& name) {
+        bt::writeImage((dir / (name + ".exr")).string(), image, {});
+      };
+    }
   }
   try {
     const std::string level = argv[1];

@@ -82,6 +82,12 @@ float spatialVariance(const Guide& g, const Pixels& in, int x, int y) {
   return std::max(0.0f, m2 - m1 * m1);
 }
 
+// The variance of the mean luminance of `samples` samples from their second moment.
+float meanVariance(float moment2, float meanLuminance, int samples) {
+  const float variance = std::max(0.0f, moment2 - meanLuminance * meanLuminance) / float(samples - 1);
+  return std::isfinite(variance) ? variance : 0.0f;
+}
+
 // The first step: the irradiance, and the variance of its luminance from the pixel's second
 // moment (the beauty's luminance squared, scaled by the demodulation's ratio of luminances,
 // exact where the noise has the mean's colour) or from its neighbours.
@@ -106,8 +112,7 @@ Pixels prepare(const Guide& g, const RenderImage& image, int threads) {
         }
         const float beautyLuminance = luminance(image.beauty[i]), l = luminance(glm::vec3(out[i]));
         const float ratio = beautyLuminance > 0.0f ? l / beautyLuminance : 0.0f;
-        const float variance =
-            std::max(0.0f, image.luminanceMoment2[i] - beautyLuminance * beautyLuminance) * ratio * ratio / float(samples - 1);
+        const float variance = meanVariance(image.luminanceMoment2[i], beautyLuminance, samples) * ratio * ratio;
         out[i].a = std::isfinite(variance) ? variance : 0.0f;
       }
   });
@@ -160,6 +165,14 @@ void filterRows(const Guide& g, const Pixels& in, Pixels& out, int spacing, int 
   }
 }
 
+// The filtered pixel drawn back toward the raw mean where it moved by more than the pixel's own
+// noise explains (BT_DENOISE_SHRINK_FROM).
+glm::vec3 shrinkTowardRaw(const glm::vec3& raw, const glm::vec3& filtered, float variance) {
+  const float d = luminance(filtered) - luminance(raw);
+  const float keep = d * d > variance ? variance / (d * d) : 1.0f;
+  return raw + (filtered - raw) * keep;
+}
+
 } // namespace
 
 std::vector<glm::vec3> denoise(const RenderImage& image, int threads) {
@@ -171,8 +184,17 @@ std::vector<glm::vec3> denoise(const RenderImage& image, int threads) {
     std::swap(irradiance, next);
   }
   std::vector<glm::vec3> out(irradiance.size());
-  for (size_t i = 0; i < out.size(); ++i)
-    out[i] = std::isfinite(image.depth[i]) ? glm::vec3(irradiance[i]) * g.albedoFloor(i) : glm::vec3(irradiance[i]);
+  const bool shrink = image.luminanceMoment2.size() == out.size() && image.samples >= BT_DENOISE_SHRINK_FROM;
+  for (size_t i = 0; i < out.size(); ++i) {
+    if (!std::isfinite(image.depth[i])) {
+      out[i] = glm::vec3(irradiance[i]);
+      continue;
+    }
+    out[i] = glm::vec3(irradiance[i]) * g.albedoFloor(i);
+    const glm::vec3 raw = image.beauty[i];
+    if (shrink && std::isfinite(raw.x + raw.y + raw.z))
+      out[i] = shrinkTowardRaw(raw, out[i], meanVariance(image.luminanceMoment2[i], luminance(raw), image.samples));
+  }
   return out;
 }
 

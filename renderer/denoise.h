@@ -3,7 +3,9 @@
 // albedo, normal and depth AOVs, with SVGF's edge stops (Schied et al. 2017), its luminance stop
 // scaled by each pixel's own noise (the variance of its mean, from the tracer's second moment).
 // The beauty is divided by the albedo (so textures stay sharp), the irradiance filtered, and
-// multiplied back.
+// multiplied back; from BT_DENOISE_SHRINK_FROM spp each pixel is drawn back toward its raw mean
+// where it moved by more than its own noise explains (the demodulation's bias at texel edges).
+// What the viewer shows of it: renderer/denoise_fade.h.
 // shaders/denoise.comp does the same arithmetic on the GPU (gl::DenoisePass), with the
 // constants of shaders/denoise_constants.glsl.
 #pragma once

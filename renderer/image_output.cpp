@@ -27,17 +27,20 @@ namespace {
 
 // The EXR's channels, in the order of the interleaved pixels below: the linear beauty as R, G,
 // B (the default layer), then the AOVs and, after --denoise, the denoised beauty. OpenEXR stores
-// them sorted by name; readers find them by name.
+// them sorted by name; readers find them by name. The second moment of the samples' luminance
+// (moment2.Y, exposure applied squared) is written where the tracer kept it, so that a stored
+// image can be denoised again as the tracer's own (the denoiser lab, issue 18).
 constexpr std::array<const char*, 13> kExrChannels{"R",        "G",        "B",       "albedo.R",   "albedo.G",   "albedo.B",  "normal.X",
                                                    "normal.Y", "normal.Z", "depth.Z", "denoised.R", "denoised.G", "denoised.B"};
+constexpr const char* kExrMoment2 = "moment2.Y";
 
 // Linear beauty (exposure applied) and the AOVs as 32-bit float channels, ZIP-compressed (16
 // scanlines a block), the exposure in the header: what OpenImageIO wrote before brushtrace
 // dropped it, so that files written by either read the same.
 void writeExr(const std::string& temp, const RenderImage& image, const OutputSettings& output) {
   const size_t n = size_t(image.width) * size_t(image.height);
-  const bool denoised = !image.denoised.empty();
-  const size_t channels = denoised ? 13 : 10;
+  const bool denoised = !image.denoised.empty(), moment = image.luminanceMoment2.size() == n;
+  const size_t channels = (denoised ? 13 : 10) + (moment ? 1 : 0);
   std::vector<float> pixels(n * channels);
   const float exposure = std::exp2(output.exposureEv);
   for (size_t i = 0; i < n; ++i) {
@@ -51,6 +54,7 @@ void writeExr(const std::string& temp, const RenderImage& image, const OutputSet
       const glm::vec3 d = image.denoised[i] * exposure;
       p[10] = d.x, p[11] = d.y, p[12] = d.z;
     }
+    if (moment) p[channels - 1] = image.luminanceMoment2[i] * exposure * exposure;
   }
   Imf::Header header(image.width, image.height);
   header.compression() = Imf::ZIP_COMPRESSION;
@@ -61,8 +65,9 @@ void writeExr(const std::string& temp, const RenderImage& image, const OutputSet
   Imf::FrameBuffer frame;
   const size_t xStride = channels * sizeof(float), yStride = xStride * size_t(image.width);
   for (size_t c = 0; c < channels; ++c) {
-    header.channels().insert(kExrChannels[c], Imf::Channel(Imf::FLOAT));
-    frame.insert(kExrChannels[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(&pixels[c]), xStride, yStride));
+    const char* name = moment && c == channels - 1 ? kExrMoment2 : kExrChannels[c];
+    header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    frame.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(&pixels[c]), xStride, yStride));
   }
   Imf::OutputFile file(temp.c_str(), header);
   file.setFrameBuffer(frame);
@@ -90,17 +95,19 @@ RenderImage readExrImage(const std::string& path) {
     image.width = window.max.x - window.min.x + 1;
     image.height = window.max.y - window.min.y + 1;
     const size_t n = size_t(image.width) * size_t(image.height);
-    constexpr size_t kChannels = 10; // kExrChannels without the denoised layer
-    for (size_t c = 0; c < kChannels; ++c)
+    constexpr size_t kAovChannels = 10; // kExrChannels without the denoised layer
+    for (size_t c = 0; c < kAovChannels; ++c)
       if (!file.header().channels().findChannel(kExrChannels[c]))
         throw std::runtime_error(fmt::format("no channel {} (not an EXR brushtrace wrote)", kExrChannels[c]));
-    std::vector<float> pixels(n * kChannels);
+    const bool moment = file.header().channels().findChannel(kExrMoment2) != nullptr;
+    const size_t channels = kAovChannels + (moment ? 1 : 0);
+    std::vector<float> pixels(n * channels);
     Imf::FrameBuffer frame;
-    const size_t xStride = kChannels * sizeof(float), yStride = xStride * size_t(image.width);
+    const size_t xStride = channels * sizeof(float), yStride = xStride * size_t(image.width);
     char* origin = reinterpret_cast<char*>(pixels.data()) -
         (ptrdiff_t(window.min.x) * ptrdiff_t(xStride) + ptrdiff_t(window.min.y) * ptrdiff_t(yStride));
-    for (size_t c = 0; c < kChannels; ++c)
-      frame.insert(kExrChannels[c], Imf::Slice(Imf::FLOAT, origin + c * sizeof(float), xStride, yStride));
+    for (size_t c = 0; c < channels; ++c)
+      frame.insert(c < kAovChannels ? kExrChannels[c] : kExrMoment2, Imf::Slice(Imf::FLOAT, origin + c * sizeof(float), xStride, yStride));
     file.setFrameBuffer(frame);
     file.readPixels(window.min.y, window.max.y);
     const auto* ev = file.header().findTypedAttribute<Imf::FloatAttribute>("brushtrace:exposureEV");
@@ -108,11 +115,12 @@ RenderImage readExrImage(const std::string& path) {
     image.samples = samples ? samples->value() : 0;
     const float unexpose = std::exp2(-(ev ? ev->value() : 0.0f));
     for (size_t i = 0; i < n; ++i) {
-      const float* p = &pixels[i * kChannels];
+      const float* p = &pixels[i * channels];
       image.beauty.emplace_back(p[0] * unexpose, p[1] * unexpose, p[2] * unexpose);
       image.albedo.emplace_back(p[3], p[4], p[5]);
       image.normal.emplace_back(p[6], p[7], p[8]);
       image.depth.push_back(p[9]);
+      if (moment) image.luminanceMoment2.push_back(p[10] * unexpose * unexpose);
     }
     return image;
   } catch (const std::exception& e) {

@@ -1,5 +1,6 @@
 #include "renderer/time_to_converged.h"
 
+#include "renderer/denoise_fade.h"
 #include "renderer/exposure.h"
 #include "renderer/tonemap.h"
 #include "scene/color.h"
@@ -72,15 +73,17 @@ std::vector<ConvergeStep> timeToConverged(const std::function<RenderImage(int sp
     if (settings.denoiser) {
       start = Clock::now();
       const std::vector<glm::vec3> denoised = settings.denoiser(image);
-      step.denoiseSeconds = secondsSince(start);
+      // The viewer skips the denoiser once its share is 0; so does the time.
+      step.denoiseSeconds = denoiseShare(image.samples) > 0.0f ? secondsSince(start) : 0.0;
       const std::vector<glm::vec3> shownDenoised = displayedImage(denoised, ev);
       step.relativeMseDenoised = relativeMse(shownDenoised, referenceDisplay);
       step.worstShareDenoised = worstPercentShare(shownDenoised, referenceDisplay);
+      step.relativeMseDisplayed = relativeMse(displayedImage(displayedBeauty(image.beauty, denoised, image.samples), ev), referenceDisplay);
     }
     steps.push_back(step);
     if (settings.onStep) settings.onStep(step);
-    const bool denoisedThere = !settings.denoiser || step.relativeMseDenoised <= kConvergedRelativeMse;
-    if (step.relativeMse <= kConvergedRelativeMse && denoisedThere) break;
+    const bool displayedThere = !settings.denoiser || step.relativeMseDisplayed <= kConvergedRelativeMse;
+    if (step.relativeMse <= kConvergedRelativeMse && displayedThere) break;
   }
   return steps;
 }
@@ -118,6 +121,7 @@ void printTimeToConverged(const ConvergeRun& run) {
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), ev);
   std::fflush(stdout);
   const std::vector<glm::vec3> referenceDisplay = displayedImage(reference.beauty, ev);
+  if (run.keep) run.keep(reference, "reference");
   if (run.referenceFloor && !run.storedReference) {
     const RenderImage second = run.render(run.referenceSpp, 0x5eed + 1);
     const std::vector<glm::vec3> secondDisplay = displayedImage(second.beauty, autoExposureEv(second.beauty, second.width, second.height));
@@ -130,8 +134,10 @@ void printTimeToConverged(const ConvergeRun& run) {
   if (run.maxSpp > 0) settings.maxSpp = std::min(settings.maxSpp, run.maxSpp);
   settings.denoiser = run.denoiser;
   settings.onStep = [](const ConvergeStep& s) {
-    fmt::print("  {} spp: {:.2f} s, rel MSE {:.4f} (worst 1 %: {:.0f} %); denoised +{:.2f} s, rel MSE {:.4f} ({:.0f} %)\n", s.spp,
-               s.seconds, s.relativeMse, 100.0 * s.worstShare, s.denoiseSeconds, s.relativeMseDenoised, 100.0 * s.worstShareDenoised);
+    fmt::print("  {} spp: {:.2f} s, rel MSE {:.4f} (worst 1 %: {:.0f} %); denoised +{:.2f} s, rel MSE {:.4f} ({:.0f} %); displayed "
+               "({:.0f} % denoised) rel MSE {:.4f}\n",
+               s.spp, s.seconds, s.relativeMse, 100.0 * s.worstShare, s.denoiseSeconds, s.relativeMseDenoised, 100.0 * s.worstShareDenoised,
+               100.0f * denoiseShare(s.spp), s.relativeMseDisplayed);
     std::fflush(stdout);
   };
   bool checked = !run.storedReference;
@@ -139,19 +145,20 @@ void printTimeToConverged(const ConvergeRun& run) {
       [&](int spp) {
         RenderImage image = run.render(spp, 0);
         if (!checked) checkStoredReference(reference, image), checked = true;
+        if (run.keep) run.keep(image, fmt::format("{:04}spp", spp));
         return image;
       },
       referenceDisplay, settings);
   for (bool denoiseOn : {false, true}) {
     if (denoiseOn && !run.denoiser) continue;
     // The first step within the threshold, else the last one.
-    const auto there = [&](const ConvergeStep& s) { return (denoiseOn ? s.relativeMseDenoised : s.relativeMse) <= kConvergedRelativeMse; };
+    const auto there = [&](const ConvergeStep& s) { return (denoiseOn ? s.relativeMseDisplayed : s.relativeMse) <= kConvergedRelativeMse; };
     const auto found = std::find_if(steps.begin(), steps.end(), there);
     const ConvergeStep& last = found != steps.end() ? *found : steps.back();
     const double seconds = last.seconds + (denoiseOn ? last.denoiseSeconds : 0.0);
     fmt::print("time to converged, {}, denoiser {}: {} ({} spp, rel MSE {:.4f}, threshold {}) at {}x{}, {} bounces\n", run.tracer,
                denoiseOn ? "on" : "off", found != steps.end() ? fmt::format("{:.3f} s", seconds) : std::string("not reached"), last.spp,
-               denoiseOn ? last.relativeMseDenoised : last.relativeMse, kConvergedRelativeMse, reference.width, reference.height,
+               denoiseOn ? last.relativeMseDisplayed : last.relativeMse, kConvergedRelativeMse, reference.width, reference.height,
                run.bounces);
   }
   std::fflush(stdout);

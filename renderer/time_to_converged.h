@@ -1,11 +1,13 @@
 // `brushtrace bench`'s time to converged (issue 18): how long a tracer takes until the image a
 // user sees (automatic exposure, ACES, sRGB) is within a relative MSE of a high-spp reference,
-// with the denoiser on or off. The same measure for both tracers: each gives `render(spp)`.
+// with the denoiser on (the viewer's fade from the denoised to the raw image,
+// renderer/denoise_fade.h) or off. The same measure for both tracers: each gives `render(spp)`.
 #pragma once
 
 #include "renderer/render.h"
 
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace bt {
@@ -24,10 +26,11 @@ std::vector<glm::vec3> displayedImage(const std::vector<glm::vec3>& linear, floa
 struct ConvergeStep {
   int spp = 0;
   double seconds = 0.0;                              // the render of `spp` samples (a progressive render has spent this much by then)
-  double denoiseSeconds = 0.0;                       // the denoiser's on that render, when it is on
+  double denoiseSeconds = 0.0;                       // the denoiser's on that render, when the display asks for it
   double relativeMse = 0.0;                          // the raw image's
-  double relativeMseDenoised = 0.0;                  // the denoised image's, when the denoiser is on
-  double worstShare = 0.0, worstShareDenoised = 0.0; // worstPercentShare of each
+  double relativeMseDenoised = 0.0;                  // the denoised image's at full strength, when the denoiser is on
+  double relativeMseDisplayed = 0.0;                 // what the viewer shows with the denoiser on (displayedBeauty)
+  double worstShare = 0.0, worstShareDenoised = 0.0; // worstPercentShare of the first two
 };
 
 struct ConvergeSettings {
@@ -38,8 +41,10 @@ struct ConvergeSettings {
 };
 
 // Renders at 1, 2, 4, ... spp (each auto-exposed on its own raw beauty, as `render` does), each
-// image measured raw and denoised, until both displayed images are within kConvergedRelativeMse
-// of `referenceDisplay` (or maxSpp); returns the steps.
+// image measured raw, denoised and as displayed with the denoiser on (displayedBeauty of the two
+// at its spp), until the raw and the displayed image are within kConvergedRelativeMse of
+// `referenceDisplay` (or maxSpp); returns the steps. The denoiser's time counts where the display
+// shows some of it.
 std::vector<ConvergeStep> timeToConverged(const std::function<RenderImage(int spp)>& render, const std::vector<glm::vec3>& referenceDisplay,
                                           const ConvergeSettings& settings);
 
@@ -60,6 +65,9 @@ struct ConvergeRun {
   // of the measure (half of it is in every step's figure), which says whether the reference's
   // own noise or the sweep's keeps a step above the threshold.
   bool referenceFloor = false;
+  // Given: called with the reference ("reference") and each step's raw image ("NNNNspp"), with
+  // their AOVs and second moment, for a denoiser lab to filter again (gl_bench's `dump DIR`).
+  std::function<void(const RenderImage&, const std::string& name)> keep;
 };
 void printTimeToConverged(const ConvergeRun& run);
 

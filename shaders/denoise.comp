@@ -16,6 +16,7 @@ layout(rgba32f, binding = BT_IMAGE_DENOISE_IN) uniform readonly image2D inputIma
 layout(rgba32f, binding = BT_IMAGE_DENOISE_OUT) uniform writeonly image2D outputImage;
 layout(rgba32f, binding = BT_IMAGE_DENOISE_ALBEDO) uniform readonly image2D albedoImage;
 layout(rgba32f, binding = BT_IMAGE_DENOISE_NORMAL_DEPTH) uniform readonly image2D normalDepthImage; // xyz normal, w depth (inf: nothing hit)
+layout(rgba32f, binding = BT_IMAGE_DENOISE_RAW) uniform readonly image2D rawImage; // the last pass: the beauty as the first step read it
 
 layout(location = 0) uniform int spacing;      // 2^pass
 layout(location = 1) uniform int samples;      // of the beauty's mean
@@ -23,6 +24,8 @@ layout(location = 2) uniform float inputScale; // 1 / samples when preparing a s
 layout(location = 3) uniform bool prepare;     // the first step: demodulate, estimate the variance
 layout(location = 4) uniform bool lastPass;    // remodulate the output
 layout(location = 5) uniform bool temporal;    // the variance from the beauty's own second moment
+layout(location = 6) uniform float rawScale;   // the last pass: rawImage's inputScale
+layout(location = 7) uniform bool shrink;      // the last pass: draw the result back toward the raw mean (BT_DENOISE_SHRINK_FROM)
 
 const float kKernel[3] = float[3](BT_DENOISE_KERNEL0, BT_DENOISE_KERNEL1, BT_DENOISE_KERNEL2);
 const float kVarianceKernel[3] = float[3](BT_DENOISE_VARIANCE_KERNEL0, BT_DENOISE_VARIANCE_KERNEL1, BT_DENOISE_VARIANCE_KERNEL2);
@@ -85,6 +88,19 @@ float spatialVariance(ivec2 p, vec4 nzp, ivec2 size) {
   return max(0.0, m2 - m1 * m1);
 }
 
+// denoise.cpp meanVariance.
+float meanVariance(float moment2, float meanLuminance) {
+  float variance = max(0.0, moment2 - meanLuminance * meanLuminance) / float(samples - 1);
+  return isinf(variance) || isnan(variance) ? 0.0 : variance;
+}
+
+// denoise.cpp shrinkTowardRaw.
+vec3 shrinkTowardRaw(vec3 raw, vec3 filtered, float variance) {
+  float d = luminance(filtered) - luminance(raw);
+  float keep = d * d > variance ? variance / (d * d) : 1.0;
+  return raw + (filtered - raw) * keep;
+}
+
 // denoise.cpp prepare, for one pixel.
 vec4 prepared(ivec2 p, vec4 nzp, ivec2 size) {
   vec3 c = irradiance(p);
@@ -92,7 +108,7 @@ vec4 prepared(ivec2 p, vec4 nzp, ivec2 size) {
   vec4 mean = imageLoad(inputImage, p) * inputScale;
   float beautyLuminance = luminance(mean.rgb), l = luminance(c);
   float ratio = beautyLuminance > 0.0 ? l / beautyLuminance : 0.0;
-  float variance = max(0.0, mean.a - beautyLuminance * beautyLuminance) * ratio * ratio / float(samples - 1);
+  float variance = meanVariance(mean.a, beautyLuminance) * ratio * ratio;
   return vec4(c, isinf(variance) || isnan(variance) ? 0.0 : variance);
 }
 
@@ -140,6 +156,10 @@ void main() {
     }
   }
   vec3 result = sum / weights;
-  if (lastPass) result *= albedoFloor(p);
+  if (lastPass) {
+    result *= albedoFloor(p);
+    vec4 raw = imageLoad(rawImage, p) * rawScale;
+    if (shrink && !any(isinf(raw.rgb)) && !any(isnan(raw.rgb))) result = shrinkTowardRaw(raw.rgb, result, meanVariance(raw.a, luminance(raw.rgb)));
+  }
   imageStore(outputImage, p, vec4(result, variance / (weights * weights)));
 }

@@ -43,6 +43,19 @@
 // normal and depth stops (one or two samples say nothing of their own spread).
 #define BT_DENOISE_TEMPORAL_VARIANCE_FROM 4
 #define BT_DENOISE_SPATIAL_VARIANCE_RADIUS 3
+// The denoiser's bias (issue 18): the albedo AOV is the pixel centre's, the beauty the mean over
+// the pixel's area, so where texels or surfaces of unlike colour share a pixel the demodulated
+// irradiance is off by their ratio, and the filter trades that for its neighbours' (bricks finer
+// than a pixel: 13 times the raw image's error at 256 spp). From SHRINK_FROM samples on, where
+// the second moment gives each pixel's own noise, the last step keeps of the filtered value's
+// difference d from the raw mean (luminance) the share min(1, var / d^2), var the variance of
+// the pixel's mean: the Wiener weight of a smooth estimate biased by b, var / (var + b^2), with
+// d^2 estimating var + b^2: noise-sized changes stay, a change many times the pixel's own noise
+// (a bias) falls back to the raw mean. Below SHRINK_FROM the few samples' variance is too rough
+// (at 4 spp it cost lq_e4m3 a third of the filter's gain); measurements: bench/README.md, issue
+// 18 session 20.
+#define BT_DENOISE_SHRINK_FROM 16
+
 // Demodulation divides the beauty by the albedo, each channel at least this much, so black
 // texels do not blow up; remodulation multiplies by the same value.
 #define BT_DENOISE_ALBEDO_FLOOR 0.01f

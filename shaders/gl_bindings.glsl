@@ -56,5 +56,6 @@
 #define BT_IMAGE_DENOISE_OUT 1           // denoise.comp: its output
 #define BT_IMAGE_DENOISE_ALBEDO 2        // denoise.comp
 #define BT_IMAGE_DENOISE_NORMAL_DEPTH 3  // denoise.comp
+#define BT_IMAGE_DENOISE_RAW 4           // denoise.comp: the beauty, read again by the last pass
 
 #endif

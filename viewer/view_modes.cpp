@@ -44,16 +44,4 @@ std::vector<glm::vec3> lightAlone(const RenderImage& image, bool engineSpace) {
   return light;
 }
 
-float denoiseShare(int samples) {
-  if (samples <= kDenoiseFullUntil) return 1.0f;
-  if (samples >= kDenoiseGoneAt) return 0.0f;
-  return float(kDenoiseGoneAt - samples) / float(kDenoiseGoneAt - kDenoiseFullUntil);
-}
-
-std::vector<glm::vec3> fadeDenoised(const std::vector<glm::vec3>& raw, const std::vector<glm::vec3>& denoised, float weight) {
-  std::vector<glm::vec3> out(raw.size());
-  for (size_t i = 0; i < raw.size(); ++i) out[i] = weight * denoised[i] + (1.0f - weight) * raw[i];
-  return out;
-}
-
 } // namespace bt

@@ -1,5 +1,5 @@
-// The viewer's view modes, as ericw-tools' lightpreview and QuakeSpasm's r_ cvars show a level,
-// and the preview denoiser's schedule. Pure image arithmetic, the same for both tracers' windows.
+// The viewer's view modes, as ericw-tools' lightpreview and QuakeSpasm's r_ cvars show a level
+// (the preview denoiser's schedule is renderer/denoise_fade.h). Pure image arithmetic, the same for both tracers' windows.
 //
 //   1 lit         the lighting mode's picture (faithful, physical, compiled: keys 4-7)
 //   2 fullbright  the textures without light (r_fullbright 1): the albedo AOV, as render --aov albedo
@@ -13,6 +13,7 @@
 //                 random colour per surface)
 #pragma once
 
+#include "renderer/denoise_fade.h" // denoiseShare: physical mode's denoised share, which the viewer shows
 #include "renderer/render.h"
 
 #include <glm/vec3.hpp>
@@ -28,14 +29,5 @@ const char* toString(ViewMode mode); // "lit", "fullbright", "normals", "light o
 // compiled light, else linear. A pixel of a black texel (a channel under 1/255) has no light to
 // show and is black in that channel; nothing hit stays as it is.
 std::vector<glm::vec3> lightAlone(const RenderImage& image, bool engineSpace);
-
-// The share of the denoised picture in what physical mode shows at `samples` samples per pixel:
-// 1 up to kDenoiseFullUntil, falling linearly to 0 at kDenoiseGoneAt and after (README "Viewer").
-inline constexpr int kDenoiseFullUntil = 16;
-inline constexpr int kDenoiseGoneAt = 64;
-float denoiseShare(int samples);
-
-// weight x denoised + (1 - weight) x raw, pixel by pixel.
-std::vector<glm::vec3> fadeDenoised(const std::vector<glm::vec3>& raw, const std::vector<glm::vec3>& denoised, float weight);
 
 } // namespace bt

@@ -47,12 +47,13 @@ struct ViewerOptions {
   int bounces = 3;
   float clampIndirect = kClampIndirectDefault; // physical mode's firefly clamp (render's --clamp-indirect)
   std::filesystem::path screenshotDir = ".";
-  int maxSamples = 4096;               // refinement stops here; the window stays responsive
-  float exposureEv = 0.0f;             // as render's --exposure: on screen, in screenshots and in the EXR
-  bool luxels = true;                  // faithful mode: the compiler's luxels, baked on the GPU (render's --luxels)
-  LightmapBakeOptions bake;            // their --extra
-  std::filesystem::path bookmarksFile; // camera bookmarks (viewer/bookmarks.h); empty: this session only
-  bool denoise = true;                 // physical mode shows the denoised image while it is young (key N; view_modes.h)
+  int maxSamples = 4096;                  // refinement stops here; the window stays responsive
+  float exposureEv = 0.0f;                // as render's --exposure: on screen, in screenshots and in the EXR
+  bool luxels = true;                     // faithful mode: the compiler's luxels, baked on the GPU (render's --luxels)
+  LightmapBakeOptions bake;               // their --extra
+  std::filesystem::path bookmarksFile;    // camera bookmarks (viewer/bookmarks.h); empty: this session only
+  bool denoise = true;                    // physical mode shows the denoised image while it is young (key N; renderer/denoise_fade.h)
+  DenoiseFade denoiseFade = kDenoiseFade; // its fade to the raw image; tests shorten it
 };
 
 class Viewer {
@@ -81,7 +82,7 @@ public:
   void setStyleScale(int style, float scale);
   float styleScale(int style) const;
   bool stylesApplied() const; // the lights carry the sliders' scales
-  bool denoising() const;     // physical mode's young image is denoised (view_modes.h denoiseShare)
+  bool denoising() const;     // physical mode's young image is denoised (renderer/denoise_fade.h denoiseShare)
   void setLighting(LightingMode mode);
   // The level's compiled lightmaps as its engine shows them (key 6); false when it has none
   // (notice() says why and faithful lighting stays).

@@ -1,6 +1,7 @@
 #include "viewer/viewer_impl.h"
 
 #include "renderer/denoise.h"
+#include "renderer/denoise_fade.h"
 
 namespace bt {
 
@@ -110,7 +111,8 @@ bool Viewer::Impl::shownOnCpu(int spp) const {
 }
 
 float Viewer::Impl::denoiserShare(int spp) const {
-  return denoise && lighting == LightingMode::Physical && !compiled && !difference ? denoiseShare(std::max(spp, 1)) : 0.0f;
+  return denoise && lighting == LightingMode::Physical && !compiled && !difference ? denoiseShare(std::max(spp, 1), options.denoiseFade)
+                                                                                   : 0.0f;
 }
 
 const RenderImage& Viewer::Impl::aovsOfSize(int width, int height) {
@@ -134,10 +136,10 @@ RenderImage Viewer::Impl::shownImage(RenderImage mean, int spp) {
   mean.luminanceMoment2 = std::move(moment2);
   if (mode == ViewMode::LightOnly) {
     mean.beauty = lightAlone(mean, lighting != LightingMode::Physical);
-  } else if (const float share = denoiserShare(spp); mode == ViewMode::Beauty && share > 0.0f) {
+  } else if (mode == ViewMode::Beauty && denoiserShare(spp) > 0.0f) {
     if (!cpu && !denoiser) denoiser = std::make_unique<gl::DenoisePass>();
     const std::vector<glm::vec3> denoised = cpu ? bt::denoise(mean) : gl::denoiseWithGl(mean, *denoiser);
-    mean.beauty = fadeDenoised(mean.beauty, denoised, share);
+    mean.beauty = displayedBeauty(mean.beauty, denoised, mean.samples, options.denoiseFade); // what the bench measures too
   }
   return mean;
 }
@@ -201,7 +203,7 @@ OverlayContent Viewer::Impl::overlayContent() const {
     c.status.push_back(fmt::format("spp {} | {:.2f} Msamples/s", samples(), samplesPerSecond * 1e-6));
     if (lighting == LightingMode::Physical && !compiled && !difference)
       c.status.push_back(denoise ? fmt::format("denoiser on: {:.0f} % denoised (full to {} spp, none from {})",
-                                               100.0f * denoiserShare(samples()), kDenoiseFullUntil, kDenoiseGoneAt)
+                                               100.0f * denoiserShare(samples()), options.denoiseFade.fullUntil, options.denoiseFade.goneAt)
                                  : std::string("denoiser off (N)"));
     if (cpuBake && lighting == LightingMode::Faithful && !cpuBake->done()) c.status.push_back("baking luxels on the CPU");
     if (bake && lighting == LightingMode::Faithful && !bake->done())

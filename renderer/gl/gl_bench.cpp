@@ -267,7 +267,8 @@ void benchTimeToConverged(gl::GlTracer& tracer, const gl::CameraBasis& camera, c
                         .bounces = s.bounces,
                         .render = render,
                         .denoiser = [](const RenderImage& image) { return denoiseWithGl(image); },
-                        .referenceFloor = s.referenceFloor});
+                        .referenceFloor = s.referenceFloor,
+                        .keep = s.keep});
 }
 
 } // namespace

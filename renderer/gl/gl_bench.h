@@ -8,6 +8,7 @@
 #include "scene/scene.h"
 
 #include <functional>
+#include <string>
 
 namespace bt::gl {
 
@@ -29,6 +30,9 @@ struct GlBenchSettings {
   float clampIndirect = kClampIndirectDefault;
   // With timeToConverged: also the measure's floor, two references' difference (ConvergeRun).
   bool referenceFloor = false;
+  // With timeToConverged: given each image the measure renders (ConvergeRun::keep), e.g. to write
+  // it as an EXR (gl_bench's `dump DIR`), which this library does not link.
+  std::function<void(const RenderImage&, const std::string& name)> keep;
 };
 
 // Prints the measurements to stdout; a level with Quake 3 curves gets its ray rates a second

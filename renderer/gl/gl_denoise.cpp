@@ -33,6 +33,9 @@ void DenoisePass::run(const GlTexture2D& beauty, float scale, int samples, bool 
   samples = std::max(samples, 1);
   BT_GL(glProgramUniform1i(program, 1, samples));
   BT_GL(glProgramUniform1i(program, 5, hasMoment2 && samples >= BT_DENOISE_TEMPORAL_VARIANCE_FROM));
+  BT_GL(glProgramUniform1f(program, 6, scale));
+  BT_GL(glProgramUniform1i(program, 7, hasMoment2 && samples >= BT_DENOISE_SHRINK_FROM));
+  BT_GL(glBindImageTexture(BT_IMAGE_DENOISE_RAW, beauty.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F));
   // Step 0 prepares, steps 1.. filter (pass = step - 1); they alternate between the two images
   // so that the last one writes `out`.
   for (int step = 0; step <= BT_DENOISE_PASSES; ++step) {

@@ -100,11 +100,13 @@ TEST(RenderCommand, RendersTheDefaultMapToPngAndExrOnTheCpu) {
   ASSERT_EQ(exr.exitCode, 0) << exr.err;
   const std::optional<ReadImage> linear = readImage(dir.path / "start.exr");
   ASSERT_TRUE(linear);
-  // Beauty and the AOV layers (OpenEXR stores a file's channels sorted, so compared as a set).
+  // Beauty, the AOV layers and the second moment of the samples' luminance, which lets a stored
+  // image be denoised again (OpenEXR stores a file's channels sorted, so compared as a set).
   std::vector<std::string> channels = linear->channels;
   std::sort(channels.begin(), channels.end());
   EXPECT_EQ(channels,
-            (std::vector<std::string>{"B", "G", "R", "albedo.B", "albedo.G", "albedo.R", "depth.Z", "normal.X", "normal.Y", "normal.Z"}));
+            (std::vector<std::string>{"B", "G", "R", "albedo.B", "albedo.G", "albedo.R", "depth.Z", "moment2.Y", "normal.X", "normal.Y",
+                                      "normal.Z"}));
   // Written under a temporary name and renamed: nothing else is left beside the outputs.
   EXPECT_EQ(dir.files(), (std::vector<std::string>{"start.exr", "start.png"}));
 }

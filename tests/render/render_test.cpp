@@ -1,6 +1,7 @@
 // Whole-frame rendering: camera conventions, determinism across threads and runs, exact AOVs,
 // and the image files.
 #include "renderer/cpu/cpu_renderer.h"
+#include "renderer/denoise.h"
 #include "renderer/image_output.h"
 #include "tests/render/box_scene.h"
 #include "scene/color.h"
@@ -190,6 +191,26 @@ TEST(ImageOutput, PngRoundTripAndExrLayers) {
   EXPECT_THROW(writeImage((dir / "out.bmp").string(), img, {}), std::runtime_error);
   EXPECT_THROW(writeImage((dir / "missing" / "out.png").string(), img, {}), std::runtime_error);
   std::filesystem::remove_all(dir);
+}
+
+// A physical image written as an EXR and read back denoises to the same picture as the image the
+// tracer gave: the second moment and the sample count travel with the beauty and its AOVs, so
+// the denoiser lab (issue 18) can filter stored images again. The exposure written is taken out.
+TEST(ImageOutput, AnExrReadBackDenoisesAsTheTracersImage) {
+  const RenderImage img = renderRoom(LightingMode::Physical, 2, 0, 8);
+  const auto dir = std::filesystem::temp_directory_path() / ("bt_render_test_moment_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string exr = (dir / "physical.exr").string();
+  writeImage(exr, img, {.exposureEv = 1.5f});
+  const RenderImage back = readExrImage(exr);
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(back.samples, 8);
+  ASSERT_EQ(back.luminanceMoment2.size(), img.luminanceMoment2.size());
+  const std::vector<glm::vec3> expected = denoise(img), got = denoise(back);
+  float worst = 0.0f;
+  for (size_t i = 0; i < expected.size(); ++i)
+    worst = std::max(worst, glm::length(got[i] - expected[i]) / (glm::length(expected[i]) + 1e-3f));
+  EXPECT_LT(worst, 1e-4f) << "the denoised image read back differs from the tracer's";
 }
 
 TEST(ImageOutput, TonemapsAndExposure) {
