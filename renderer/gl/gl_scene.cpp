@@ -4,6 +4,7 @@
 #include "lighting/physical_light.h"
 #include "renderer/gl/gl_error.h"
 #include "renderer/gl/gl_tracer.h"
+#include "renderer/gl/gl_wide_bvh.h"
 
 #include <epoxy/gl.h>
 #include <fmt/format.h>
@@ -111,11 +112,20 @@ void makeTexelView(GLuint& view, GLuint buffer, GLenum format, size_t bytes, siz
 } // namespace
 
 GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMaterial>& materials, const GlLighting& lighting,
-                               size_t materialCount) {
+                               size_t materialCount, TraceLayout layout) {
   BT_GL(glCreateBuffers(kBufferCount, buffers_));
-  const std::vector<GlBvhNode> bvh = sceneBvhForGl(tracer);
-  upload(buffers_[kBindingNodes], std::span<const GlBvhNode>(bvh));
-  const std::vector<uint32_t> brushRows = brushAndTriangleRows(tracer);
+  std::vector<uint32_t> nodeWords, brushRows;
+  if (layout == TraceLayout::Wide) {
+    WideScene wide = wideSceneForGl(tracer);
+    nodeWords = std::move(wide.nodeWords);
+    brushRows = std::move(wide.primitiveWords);
+  } else {
+    const std::vector<GlBvhNode> bvh = sceneBvhForGl(tracer);
+    nodeWords.resize(bvh.size() * sizeof(GlBvhNode) / 4);
+    std::memcpy(nodeWords.data(), bvh.data(), bvh.size() * sizeof(GlBvhNode));
+    brushRows = brushAndTriangleRows(tracer);
+  }
+  upload(buffers_[kBindingNodes], std::span<const uint32_t>(nodeWords));
   upload(buffers_[kBindingBrushes], std::span<const uint32_t>(brushRows));
   upload(buffers_[kBindingSides], tracer.sides());
   upload(buffers_[kBindingFaces], tracer.faces());
@@ -123,8 +133,7 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMat
   BT_GL(glGetIntegerv(GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS, &units));
   if (units < static_cast<GLint>(kTextureUnitCount))
     throw GlError(fmt::format("the GL context offers {} compute texture units; the tracer needs {}", units, int(kTextureUnitCount)));
-  makeTexelView(texelViews_[kTexelNodes - kTexelNodes], buffers_[kBindingNodes], GL_RGBA32UI, bvh.size() * sizeof(GlBvhNode), 16,
-                "the BVH nodes");
+  makeTexelView(texelViews_[kTexelNodes - kTexelNodes], buffers_[kBindingNodes], GL_RGBA32UI, nodeWords.size() * 4, 16, "the BVH nodes");
   makeTexelView(texelViews_[kTexelBrushes - kTexelNodes], buffers_[kBindingBrushes], GL_RGBA32UI, brushRows.size() * 4, 16,
                 "the brushes and triangles");
   makeTexelView(texelViews_[kTexelSides - kTexelNodes], buffers_[kBindingSides], GL_R32UI, tracer.sides().size_bytes(), 4,

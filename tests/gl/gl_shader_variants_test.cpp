@@ -43,7 +43,7 @@ TEST(GlShaderVariants, EveryVariantTheRuntimeCanRequestWasValidatedAtBuildTime) 
   size_t withCsg = 0;
   for (int p = 0; p < kTracerProgramCount; ++p)
     for (const TextureMode mode : {TextureMode::Bindless, TextureMode::Arrays})
-      for (const TraceLayout layout : {TraceLayout::Hardware, TraceLayout::Software})
+      for (const TraceLayout layout : {TraceLayout::Hardware, TraceLayout::Software, TraceLayout::Wide})
         for (const bool physical : {false, true})
           for (const bool csg : {false, true})
             for (unsigned f = 0; f < 64; ++f) {
@@ -59,14 +59,14 @@ TEST(GlShaderVariants, EveryVariantTheRuntimeCanRequestWasValidatedAtBuildTime) 
               else
                 EXPECT_TRUE(validated.count(k)) << "never validated at build time: " << k;
             }
-  // pathtrace.comp: 2 texture paths x 2 layouts x (64 faithful sets + physical) x 2 forms; bake.comp: 2 x 2 x 64; three
-  // programs 2 x 2 each. With the CSG: pathtrace.comp's again, and aov.comp's 2 x 2.
-  EXPECT_EQ(requested.size() - withCsg, size_t(520 + 256 + 12));
-  EXPECT_EQ(withCsg, size_t(520 + 4));
+  // pathtrace.comp: 2 texture paths x 3 layouts x (64 faithful sets + physical) x 2 forms; bake.comp: 2 x 3 x 64; three
+  // programs 2 x 3 each. With the CSG: pathtrace.comp's again, and aov.comp's 2 x 3.
+  EXPECT_EQ(requested.size() - withCsg, size_t(780 + 384 + 18));
+  EXPECT_EQ(withCsg, size_t(780 + 6));
   // Validated: the above, the programs without switches (denoise.comp, tonemap.comp), and the CSG
-  // with pathtrace.comp's 2 x 2 x (physical, no faithful part, every part) x 2 forms and
-  // aov.comp's 2 x 2: 28 runs where every CSG variant would be 524.
-  EXPECT_EQ(std::size(kValidatedShaderVariants), size_t(520 + 256 + 12 + 2 + 24 + 4));
+  // with pathtrace.comp's 2 x 3 x (physical, no faithful part, every part) x 2 forms and
+  // aov.comp's 2 x 3: 42 runs where every CSG variant would be 786.
+  EXPECT_EQ(std::size(kValidatedShaderVariants), size_t(780 + 384 + 18 + 2 + 36 + 6));
 }
 
 // The value defines every program gets besides the switches: the traversal's stack size and the

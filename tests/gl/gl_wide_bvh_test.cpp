@@ -1,0 +1,134 @@
+// renderer/gl/gl_wide_bvh.h: TraceScene's binary tree collapsed into gl_structs.h GlWideNodes,
+// the GPU walk's wide layout. Every brush reachable exactly once, every child box (as the shader
+// computes it) holding its subtree's exact box, the depth within the walk's stack. Needs no GL
+// context.
+#include "importers/import.h"
+#include "renderer/gl/gl_wide_bvh.h"
+#include "tests/bvh/generated_scenes.h"
+#include "tests/test_data.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+#include <vector>
+
+namespace bt::gl {
+namespace {
+
+struct Box {
+  float lo[3] = {std::numeric_limits<float>::max(), std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
+  float hi[3] = {std::numeric_limits<float>::lowest(), std::numeric_limits<float>::lowest(), std::numeric_limits<float>::lowest()};
+  void grow(const Box& b) {
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], b.lo[a]), hi[a] = std::max(hi[a], b.hi[a]);
+  }
+  bool holds(const Box& b) const {
+    for (int a = 0; a < 3; ++a)
+      if (b.lo[a] < lo[a] || b.hi[a] > hi[a]) return false;
+    return true;
+  }
+};
+
+// Walks the wide tree from its root, counting what it reaches.
+struct WideWalk {
+  const WideBvh& wide;
+  std::span<const GpuBrush> brushes; // by binary leaf index
+  uint32_t firstRow;
+  std::vector<int> nodeReached, primitiveReached;
+  uint32_t depth = 0;
+  int badBoxes = 0;
+
+  // The exact box of everything under node `n`.
+  Box node(uint32_t n, uint32_t level) {
+    ++nodeReached.at(n);
+    depth = std::max(depth, level);
+    const GlWideNode& node = wide.nodes[n];
+    Box all;
+    uint32_t interior = 0;
+    for (int slot = 0; slot < 8; ++slot) {
+      const uint8_t meta = node.meta[slot];
+      EXPECT_EQ((node.imask >> slot & 1) != 0, meta == kGlWideInner) << "node " << n << " slot " << slot;
+      if (meta == 0) continue;
+      Box exact;
+      if (meta == kGlWideInner) {
+        const uint32_t row = node.childBase + kGlWideNodeRows * interior++;
+        EXPECT_EQ((row - firstRow) % kGlWideNodeRows, 0u);
+        exact = this->node((row - firstRow) / kGlWideNodeRows, level + 1);
+      } else {
+        const uint32_t first = node.leafBase + (meta & 31u), count = meta >> 5;
+        EXPECT_LE((meta & 31u) + count, 32u);
+        EXPECT_GE(count, 1u);
+        for (uint32_t i = first; i < first + count; ++i) {
+          ++primitiveReached.at(i);
+          const GpuBrush& b = brushes[wide.order.at(i)];
+          Box box;
+          std::copy(b.boundsMin, b.boundsMin + 3, box.lo);
+          std::copy(b.boundsMax, b.boundsMax + 3, box.hi);
+          exact.grow(box);
+        }
+      }
+      Box quantised;
+      wideChildBox(node, slot, quantised.lo, quantised.hi);
+      badBoxes += !quantised.holds(exact);
+      all.grow(exact);
+    }
+    return all;
+  }
+};
+
+void expectWideTree(const TraceScene& scene) {
+  constexpr uint32_t kFirstRow = 1; // after the header, as wideSceneForGl places the brushes' tree
+  const WideBvh wide = collapseBvh(scene.nodes(), kFirstRow);
+  WideWalk walk{wide, scene.brushes(), kFirstRow, std::vector<int>(wide.nodes.size()), std::vector<int>(wide.order.size())};
+  walk.node(0, 1);
+  EXPECT_EQ(walk.badBoxes, 0) << "child boxes that do not hold their subtree";
+  EXPECT_EQ(wide.order.size(), scene.brushes().size());
+  std::vector<int> brushReached(scene.brushes().size());
+  for (uint32_t b : wide.order) ++brushReached.at(b);
+  EXPECT_EQ(std::count(brushReached.begin(), brushReached.end(), 1), std::ptrdiff_t(brushReached.size()))
+      << "brushes not in the order once";
+  EXPECT_EQ(std::count(walk.primitiveReached.begin(), walk.primitiveReached.end(), 1), std::ptrdiff_t(wide.order.size()))
+      << "brushes not reached exactly once";
+  EXPECT_EQ(std::count(walk.nodeReached.begin(), walk.nodeReached.end(), 1), std::ptrdiff_t(wide.nodes.size()))
+      << "nodes not reached exactly once";
+  EXPECT_EQ(walk.depth, wide.depth);
+  EXPECT_LE(wide.depth, kGlWideMaxDepth);
+}
+
+TEST(GlWideBvh, GeneratedLevelCollapsesWithEveryBrushOnceInsideItsBoxes) {
+  const test::GeneratedLevel level = test::generateLevel(20000, 7);
+  const TraceScene scene = TraceScene::build(level.scene);
+  ASSERT_GT(scene.brushes().size(), 10000u);
+  expectWideTree(scene);
+}
+
+// Also the build time against the binary tree's (printed: the collapse must stay a small part).
+TEST(GlWideBvh, SharedLevelCollapsesWithEveryBrushOnceInsideItsBoxes) {
+  BT_REQUIRE_SHARED(shared);
+  const Scene level = importScene((shared / "maps/librequake/lq1/maps/src/e4/lq_e4m3.map").string(), ImportOptions{});
+  const auto start = std::chrono::steady_clock::now();
+  const TraceScene scene = TraceScene::build(level);
+  const auto built = std::chrono::steady_clock::now();
+  const WideBvh wide = collapseBvh(scene.nodes(), 1);
+  const auto collapsed = std::chrono::steady_clock::now();
+  using Ms = std::chrono::duration<double, std::milli>;
+  std::printf("lq_e4m3: %zu brushes, binary build %.2f ms, collapse %.2f ms, %zu wide nodes, depth %u\n", scene.brushes().size(),
+              Ms(built - start).count(), Ms(collapsed - built).count(), wide.nodes.size(), wide.depth);
+  expectWideTree(scene);
+}
+
+// A one-leaf tree and an empty one: a root holding the leaf, a root holding nothing.
+TEST(GlWideBvh, SmallTrees) {
+  const WideBvh empty = collapseBvh({}, 1);
+  ASSERT_EQ(empty.nodes.size(), 1u);
+  EXPECT_EQ(std::count(std::begin(empty.nodes[0].meta), std::end(empty.nodes[0].meta), 0), 8);
+  const GpuBvhNode leaf{{0, 0, 0}, 0, {1, 2, 3}, 3};
+  const WideBvh one = collapseBvh(std::span<const GpuBvhNode>(&leaf, 1), 1);
+  ASSERT_EQ(one.nodes.size(), 1u);
+  EXPECT_EQ(one.order, (std::vector<uint32_t>{0, 1, 2}));
+  EXPECT_EQ(std::count(std::begin(one.nodes[0].meta), std::end(one.nodes[0].meta), uint8_t(3u << 5)), 1);
+}
+
+} // namespace
+} // namespace bt::gl
