@@ -52,24 +52,23 @@ std::vector<uint32_t> collapsedChildren(std::span<const GpuBvhNode> nodes, uint3
 // whose centre lies furthest back along s's diagonal, so that a ray of octant s meets it first;
 // greedily, cheapest (child, slot) pair first. Returns the child of each slot, -1 for none.
 std::array<int, kWidth> slotsByOctant(std::span<const GpuBvhNode> nodes, const std::vector<uint32_t>& children, const Box& box) {
+  float cost[kWidth][kWidth]; // [child][slot]
+  for (size_t c = 0; c < children.size(); ++c) {
+    const GpuBvhNode& n = nodes[children[c]];
+    float offset[3];
+    for (int a = 0; a < 3; ++a) offset[a] = (n.boundsMin[a] + n.boundsMax[a]) - (box.lo[a] + box.hi[a]);
+    for (int s = 0; s < kWidth; ++s)
+      cost[c][s] = (s & 1 ? -offset[0] : offset[0]) + (s & 2 ? -offset[1] : offset[1]) + (s & 4 ? -offset[2] : offset[2]);
+  }
   std::array<int, kWidth> slotChild;
   slotChild.fill(-1);
   std::array<bool, kWidth> placed{};
   for (size_t round = 0; round < children.size(); ++round) {
-    float best = std::numeric_limits<float>::max();
     int bestChild = -1, bestSlot = -1;
     for (size_t c = 0; c < children.size(); ++c) {
       if (placed[c]) continue;
-      const GpuBvhNode& n = nodes[children[c]];
-      for (int s = 0; s < kWidth; ++s) {
-        if (slotChild[s] >= 0) continue;
-        float cost = 0.0f;
-        for (int a = 0; a < 3; ++a) {
-          const float offset = (n.boundsMin[a] + n.boundsMax[a]) - (box.lo[a] + box.hi[a]);
-          cost += (s >> a & 1) ? -offset : offset;
-        }
-        if (cost < best) best = cost, bestChild = int(c), bestSlot = s;
-      }
+      for (int s = 0; s < kWidth; ++s)
+        if (slotChild[s] < 0 && (bestChild < 0 || cost[c][s] < cost[bestChild][bestSlot])) bestChild = int(c), bestSlot = s;
     }
     slotChild[bestSlot] = bestChild;
     placed[bestChild] = true;
@@ -115,10 +114,84 @@ void quantise(GlWideNode& node, int a, const std::array<const GpuBvhNode*, kWidt
   }
 }
 
+// A wide node to make: from binary interior node `binary` (or the root leaf of a one-leaf tree),
+// or, with count > 0, for primitives first .. + count of binary leaf `binary`, too many for one
+// leaf child: a node of leaf children (or of such nodes) that all take the leaf's box.
 struct Pending {
-  uint32_t binary; // the binary node (interior, or the root leaf of a one-leaf tree)
+  uint32_t binary;
   uint32_t wide;
   uint32_t depth;
+  uint32_t first = 0, count = 0;
+};
+
+// Makes the wide nodes, numbering interior children as they are placed.
+class Collapse {
+public:
+  Collapse(std::span<const GpuBvhNode> nodes, uint32_t firstRow, WideBvh& out) : nodes_(nodes), firstRow_(firstRow), out_(out) {}
+
+  void make(const Pending& p) {
+    GlWideNode node{};
+    node.childBase = firstRow_ + kGlWideNodeRows * uint32_t(out_.nodes.size());
+    node.leafBase = uint32_t(out_.order.size());
+    std::array<const GpuBvhNode*, kWidth> boxes{};
+    inner_.clear();
+    if (p.count > 0) {
+      makeRange(node, boxes, p);
+    } else {
+      const std::vector<uint32_t> children =
+          nodes_[p.binary].count > 0 ? std::vector<uint32_t>{p.binary} : collapsedChildren(nodes_, p.binary);
+      Box box;
+      for (uint32_t c : children) box.grow(nodes_[c]);
+      std::copy(std::begin(box.lo), std::end(box.lo), node.origin);
+      const std::array<int, kWidth> slotChild = slotsByOctant(nodes_, children, box);
+      for (int s = 0; s < kWidth; ++s) {
+        if (slotChild[s] < 0) continue;
+        const uint32_t b = children[slotChild[s]];
+        boxes[s] = &nodes_[b];
+        if (nodes_[b].count == 0)
+          placeInner(node, s, {b, 0, p.depth + 1});
+        else
+          placeLeaf(node, s, b, nodes_[b].leftFirst, nodes_[b].count, p.depth);
+      }
+    }
+    for (int a = 0; a < 3; ++a) quantise(node, a, boxes);
+    out_.nodes[p.wide] = node;
+    out_.nodes.resize(out_.nodes.size() + inner_.size());
+  }
+  const std::vector<Pending>& inner() const { return inner_; } // the last node's interior children, in slot order
+
+private:
+  std::span<const GpuBvhNode> nodes_;
+  uint32_t firstRow_;
+  WideBvh& out_;
+  std::vector<Pending> inner_;
+
+  void placeInner(GlWideNode& node, int slot, Pending child) {
+    node.imask |= uint8_t(1u << slot);
+    node.meta[slot] = kGlWideInner;
+    child.wide = uint32_t(out_.nodes.size() + inner_.size());
+    inner_.push_back(child);
+  }
+
+  // A leaf child where it fits the meta byte and the node's 32 leaf bits, else a node of its own.
+  void placeLeaf(GlWideNode& node, int slot, uint32_t binary, uint32_t first, uint32_t count, uint32_t depth) {
+    const uint32_t offset = uint32_t(out_.order.size()) - node.leafBase;
+    if (count > kGlWideLeafMaxCount || offset + count > kLeafBits) return placeInner(node, slot, {binary, 0, depth + 1, first, count});
+    node.meta[slot] = uint8_t(count << 5 | offset);
+    for (uint32_t i = first; i < first + count; ++i) out_.order.push_back(i);
+  }
+
+  // Part of a binary leaf: up to 32 primitives as leaf children of kGlWideLeafMaxCount at most,
+  // more as up to 8 parts, each again such a node or a leaf child.
+  void makeRange(GlWideNode& node, std::array<const GpuBvhNode*, kWidth>& boxes, const Pending& p) {
+    const GpuBvhNode& leaf = nodes_[p.binary];
+    std::copy(std::begin(leaf.boundsMin), std::end(leaf.boundsMin), node.origin);
+    const uint32_t part = p.count <= kLeafBits ? kGlWideLeafMaxCount : (p.count + kWidth - 1) / kWidth;
+    for (uint32_t s = 0, first = p.first; first < p.first + p.count; ++s, first += part) {
+      boxes[s] = &leaf;
+      placeLeaf(node, int(s), p.binary, first, std::min(part, p.first + p.count - first), p.depth);
+    }
+  }
 };
 
 } // namespace
@@ -138,6 +211,7 @@ WideBvh collapseBvh(std::span<const GpuBvhNode> nodes, uint32_t firstRow) {
   out.nodes.push_back(GlWideNode{});
   out.depth = 1;
   if (nodes.empty()) return out; // a root without children
+  Collapse collapse(nodes, firstRow, out);
   std::vector<Pending> todo{{0, 0, 1}};
   while (!todo.empty()) {
     const Pending p = todo.back();
@@ -145,39 +219,8 @@ WideBvh collapseBvh(std::span<const GpuBvhNode> nodes, uint32_t firstRow) {
     out.depth = std::max(out.depth, p.depth);
     if (p.depth > kGlWideMaxDepth)
       throw GlError(fmt::format("the wide BVH is deeper than {} levels (BT_GL_BVH=binary traces it)", kGlWideMaxDepth));
-    const std::vector<uint32_t> children = nodes[p.binary].count > 0 ? std::vector<uint32_t>{p.binary} : collapsedChildren(nodes, p.binary);
-    Box box;
-    for (uint32_t c : children) box.grow(nodes[c]);
-    const std::array<int, kWidth> slotChild = slotsByOctant(nodes, children, box);
-    GlWideNode node{};
-    std::copy(std::begin(box.lo), std::end(box.lo), node.origin);
-    node.childBase = firstRow + kGlWideNodeRows * uint32_t(out.nodes.size());
-    node.leafBase = uint32_t(out.order.size());
-    std::array<const GpuBvhNode*, kWidth> slots{};
-    std::vector<Pending> inner;
-    for (int s = 0; s < kWidth; ++s) {
-      if (slotChild[s] < 0) continue;
-      const uint32_t b = children[slotChild[s]];
-      const GpuBvhNode& n = nodes[b];
-      slots[s] = &n;
-      if (n.count == 0) {
-        node.imask |= uint8_t(1u << s);
-        node.meta[s] = kGlWideInner;
-        inner.push_back({b, uint32_t(out.nodes.size() + inner.size()), p.depth + 1});
-        continue;
-      }
-      const uint32_t offset = uint32_t(out.order.size()) - node.leafBase;
-      if (n.count > kGlWideLeafMaxCount || offset + n.count > kLeafBits)
-        throw GlError(fmt::format("a BVH leaf of {} primitives is too large for the wide layout (at most {}, {} a node; BT_GL_BVH=binary "
-                                  "traces it)",
-                                  n.count, kGlWideLeafMaxCount, kLeafBits));
-      node.meta[s] = uint8_t(n.count << 5 | offset);
-      for (uint32_t i = n.leftFirst; i < n.leftFirst + n.count; ++i) out.order.push_back(i);
-    }
-    for (int a = 0; a < 3; ++a) quantise(node, a, slots);
-    out.nodes[p.wide] = node;
-    out.nodes.resize(out.nodes.size() + inner.size());
-    todo.insert(todo.end(), inner.rbegin(), inner.rend());
+    collapse.make(p);
+    todo.insert(todo.end(), collapse.inner().rbegin(), collapse.inner().rend());
   }
   return out;
 }

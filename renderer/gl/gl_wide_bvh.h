@@ -23,9 +23,10 @@ struct WideBvh {
 // node's two children and opens the interior one with the largest surface area until it holds 8
 // (or only leaves), as the greedy collapse of Ylitie et al. (their SAH collapse is the better
 // tree, the greedy one builds in a fraction of the binary build). Children go to the slots by
-// the paper's octant rule, boxes quantised outwards. Throws GlError for a leaf of more than
-// kGlWideLeafMaxCount primitives, a node whose leaves hold more than 32, or a tree deeper than
-// kGlWideMaxDepth (none of which the binned builder's default leaf size makes).
+// the paper's octant rule, boxes quantised outwards. A leaf child holds at most
+// kGlWideLeafMaxCount primitives and a node's leaf children 32 (the walk's leaf mask): a binary
+// leaf that does not fit becomes a node of its own, of leaf children that all take its box.
+// Throws GlError for a tree deeper than kGlWideMaxDepth.
 WideBvh collapseBvh(std::span<const GpuBvhNode> nodes, uint32_t firstRow);
 
 // Child slot `slot`'s box of `node` as the shader computes it (trace_wide.glsl).

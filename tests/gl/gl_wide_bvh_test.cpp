@@ -77,14 +77,14 @@ struct WideWalk {
   }
 };
 
-void expectWideTree(const TraceScene& scene) {
+void expectWideTree(std::span<const GpuBvhNode> nodes, std::span<const GpuBrush> brushes) {
   constexpr uint32_t kFirstRow = 1; // after the header, as wideSceneForGl places the brushes' tree
-  const WideBvh wide = collapseBvh(scene.nodes(), kFirstRow);
-  WideWalk walk{wide, scene.brushes(), kFirstRow, std::vector<int>(wide.nodes.size()), std::vector<int>(wide.order.size())};
+  const WideBvh wide = collapseBvh(nodes, kFirstRow);
+  WideWalk walk{wide, brushes, kFirstRow, std::vector<int>(wide.nodes.size()), std::vector<int>(wide.order.size())};
   walk.node(0, 1);
   EXPECT_EQ(walk.badBoxes, 0) << "child boxes that do not hold their subtree";
-  EXPECT_EQ(wide.order.size(), scene.brushes().size());
-  std::vector<int> brushReached(scene.brushes().size());
+  EXPECT_EQ(wide.order.size(), brushes.size());
+  std::vector<int> brushReached(brushes.size());
   for (uint32_t b : wide.order) ++brushReached.at(b);
   EXPECT_EQ(std::count(brushReached.begin(), brushReached.end(), 1), std::ptrdiff_t(brushReached.size()))
       << "brushes not in the order once";
@@ -95,12 +95,30 @@ void expectWideTree(const TraceScene& scene) {
   EXPECT_EQ(walk.depth, wide.depth);
   EXPECT_LE(wide.depth, kGlWideMaxDepth);
 }
+void expectWideTree(const TraceScene& scene) {
+  expectWideTree(scene.nodes(), scene.brushes());
+}
 
 TEST(GlWideBvh, GeneratedLevelCollapsesWithEveryBrushOnceInsideItsBoxes) {
   const test::GeneratedLevel level = test::generateLevel(20000, 7);
   const TraceScene scene = TraceScene::build(level.scene);
   ASSERT_GT(scene.brushes().size(), 10000u);
   expectWideTree(scene);
+}
+
+// Leaves too large for a leaf child (more than kGlWideLeafMaxCount brushes, or more than 32 under
+// one node) become nodes of their own: larger leaf sizes, and one leaf of 100 brushes.
+TEST(GlWideBvh, LargeLeavesCollapseWithEveryBrushOnceInsideItsBoxes) {
+  const test::GeneratedLevel level = test::generateLevel(3000, 3);
+  for (const int leafSize : {8, 16}) {
+    SCOPED_TRACE(leafSize);
+    expectWideTree(TraceScene::build(level.scene, {.leafSize = leafSize}));
+  }
+  std::vector<GpuBrush> brushes(100);
+  for (size_t i = 0; i < brushes.size(); ++i)
+    for (int a = 0; a < 3; ++a) brushes[i].boundsMin[a] = float(i), brushes[i].boundsMax[a] = float(i) + 1.0f;
+  const GpuBvhNode leaf{{0, 0, 0}, 0, {100, 100, 100}, 100};
+  expectWideTree(std::span<const GpuBvhNode>(&leaf, 1), brushes);
 }
 
 // Also the build time against the binary tree's (printed: the collapse must stay a small part).
