@@ -31,19 +31,27 @@ float halfArea(const GpuBvhNode& n) {
   return dx * dy + dy * dz + dz * dx;
 }
 
+// Up to 8 binary nodes.
+struct Children {
+  std::array<uint32_t, kWidth> node;
+  size_t size = 0;
+};
+
 // The binary nodes a wide node built from interior node `b` holds: b's children, the interior
 // one with the largest surface area opened until 8 are held or none is interior.
-std::vector<uint32_t> collapsedChildren(std::span<const GpuBvhNode> nodes, uint32_t b) {
-  std::vector<uint32_t> children{nodes[b].leftFirst, nodes[b].leftFirst + 1};
-  while (children.size() < kWidth) {
-    int open = -1;
-    float openArea = -1.0f;
-    for (size_t i = 0; i < children.size(); ++i)
-      if (nodes[children[i]].count == 0 && halfArea(nodes[children[i]]) > openArea) open = int(i), openArea = halfArea(nodes[children[i]]);
-    if (open < 0) break;
-    const uint32_t opened = children[open];
-    children[open] = nodes[opened].leftFirst;
-    children.push_back(nodes[opened].leftFirst + 1);
+Children collapsedChildren(std::span<const GpuBvhNode> nodes, uint32_t b) {
+  Children children{{nodes[b].leftFirst, nodes[b].leftFirst + 1}, 2};
+  std::array<float, kWidth> area; // an interior child's, -1 for a leaf
+  const auto areaOf = [&](uint32_t n) { return nodes[n].count == 0 ? halfArea(nodes[n]) : -1.0f; };
+  area[0] = areaOf(children.node[0]), area[1] = areaOf(children.node[1]);
+  while (children.size < kWidth) {
+    const size_t open = size_t(std::max_element(area.begin(), area.begin() + children.size) - area.begin());
+    if (area[open] < 0.0f) break;
+    const uint32_t opened = children.node[open];
+    children.node[open] = nodes[opened].leftFirst;
+    area[open] = areaOf(children.node[open]);
+    children.node[children.size] = nodes[opened].leftFirst + 1;
+    area[children.size++] = areaOf(nodes[opened].leftFirst + 1);
   }
   return children;
 }
@@ -51,27 +59,35 @@ std::vector<uint32_t> collapsedChildren(std::span<const GpuBvhNode> nodes, uint3
 // The paper's octant rule: slot s (bit a set: rays going negative along axis a) takes the child
 // whose centre lies furthest back along s's diagonal, so that a ray of octant s meets it first;
 // greedily, cheapest (child, slot) pair first. Returns the child of each slot, -1 for none.
-std::array<int, kWidth> slotsByOctant(std::span<const GpuBvhNode> nodes, const std::vector<uint32_t>& children, const Box& box) {
-  float cost[kWidth][kWidth]; // [child][slot]
-  for (size_t c = 0; c < children.size(); ++c) {
-    const GpuBvhNode& n = nodes[children[c]];
+std::array<int, kWidth> slotsByOctant(std::span<const GpuBvhNode> nodes, const Children& children, const Box& box) {
+  float cost[kWidth][kWidth];         // [child][slot]
+  std::array<int, kWidth> bestSlot{}; // each unplaced child's cheapest free slot
+  for (size_t c = 0; c < children.size; ++c) {
+    const GpuBvhNode& n = nodes[children.node[c]];
     float offset[3];
     for (int a = 0; a < 3; ++a) offset[a] = (n.boundsMin[a] + n.boundsMax[a]) - (box.lo[a] + box.hi[a]);
-    for (int s = 0; s < kWidth; ++s)
+    for (int s = 0; s < kWidth; ++s) {
       cost[c][s] = (s & 1 ? -offset[0] : offset[0]) + (s & 2 ? -offset[1] : offset[1]) + (s & 4 ? -offset[2] : offset[2]);
+      if (cost[c][s] < cost[c][bestSlot[c]]) bestSlot[c] = s;
+    }
   }
   std::array<int, kWidth> slotChild;
   slotChild.fill(-1);
   std::array<bool, kWidth> placed{};
-  for (size_t round = 0; round < children.size(); ++round) {
-    int bestChild = -1, bestSlot = -1;
-    for (size_t c = 0; c < children.size(); ++c) {
-      if (placed[c]) continue;
+  for (size_t round = 0; round < children.size; ++round) {
+    int child = -1;
+    for (size_t c = 0; c < children.size; ++c)
+      if (!placed[c] && (child < 0 || cost[c][bestSlot[c]] < cost[child][bestSlot[child]])) child = int(c);
+    const int slot = bestSlot[child];
+    slotChild[slot] = child;
+    placed[child] = true;
+    for (size_t c = 0; c < children.size; ++c) { // those that wanted the slot take their next best
+      if (placed[c] || bestSlot[c] != slot) continue;
+      int best = -1;
       for (int s = 0; s < kWidth; ++s)
-        if (slotChild[s] < 0 && (bestChild < 0 || cost[c][s] < cost[bestChild][bestSlot])) bestChild = int(c), bestSlot = s;
+        if (slotChild[s] < 0 && (best < 0 || cost[c][s] < cost[c][best])) best = s;
+      bestSlot[c] = best;
     }
-    slotChild[bestSlot] = bestChild;
-    placed[bestChild] = true;
   }
   return slotChild;
 }
@@ -87,20 +103,25 @@ void quantise(GlWideNode& node, int a, const std::array<const GpuBvhNode*, kWidt
   float extent = 0.0f;
   for (const GpuBvhNode* n : slots)
     if (n) extent = std::max(extent, n->boundsMax[a] - origin);
-  // The smallest power of two with 255 steps over the extent, at least 2^-100 (so that no q *
-  // scale is subnormal, which GPUs flush to zero).
+  // The smallest power of two with 255 steps over the extent (255 * 2^(ilogb - 8) is below it),
+  // at least 2^-100 (so that no q * scale is subnormal, which GPUs flush to zero).
   int e = -100;
-  if (extent > 0.0f) e = std::max(e, int(std::ceil(std::log2(double(extent) / 255.0))));
+  if (extent > 0.0f) {
+    e = std::max(e, std::ilogb(extent) - 8);
+    while (std::ldexp(255.0f, e) < extent) ++e;
+  }
   for (;; ++e) {
     if (e + 127 > 254) throw GlError("a BVH node's box is too large for the wide layout");
     const uint8_t exponent = uint8_t(e + 127);
-    const float scale = scaleOf(exponent);
+    const float scale = scaleOf(exponent), inverse = 1.0f / scale; // exact: powers of two
     bool fits = true;
     for (int s = 0; s < kWidth && fits; ++s) {
       const GpuBvhNode* n = slots[s];
       if (!n) continue;
-      double qlo = std::clamp(std::floor(double(n->boundsMin[a] - origin) / scale), 0.0, 255.0);
-      double qhi = std::clamp(std::ceil(double(n->boundsMax[a] - origin) / scale), 0.0, 255.0);
+      // A first guess (truncation is floor for these non-negative values), then the exact rule.
+      const float lo = std::max((n->boundsMin[a] - origin) * inverse, 0.0f), hi = std::max((n->boundsMax[a] - origin) * inverse, 0.0f);
+      int qlo = int(std::min(lo, 255.0f)), qhi = int(std::min(hi, 255.0f));
+      qhi += qhi < 255 && float(qhi) < hi;
       while (qlo > 0 && origin + float(qlo) * scale > n->boundsMin[a]) --qlo;
       while (qhi < 255 && origin + float(qhi) * scale < n->boundsMax[a]) ++qhi;
       fits = origin + float(qlo) * scale <= n->boundsMin[a] && origin + float(qhi) * scale >= n->boundsMax[a];
@@ -138,15 +159,14 @@ public:
     if (p.count > 0) {
       makeRange(node, boxes, p);
     } else {
-      const std::vector<uint32_t> children =
-          nodes_[p.binary].count > 0 ? std::vector<uint32_t>{p.binary} : collapsedChildren(nodes_, p.binary);
+      const Children children = nodes_[p.binary].count > 0 ? Children{{p.binary}, 1} : collapsedChildren(nodes_, p.binary);
       Box box;
-      for (uint32_t c : children) box.grow(nodes_[c]);
+      for (size_t c = 0; c < children.size; ++c) box.grow(nodes_[children.node[c]]);
       std::copy(std::begin(box.lo), std::end(box.lo), node.origin);
       const std::array<int, kWidth> slotChild = slotsByOctant(nodes_, children, box);
       for (int s = 0; s < kWidth; ++s) {
         if (slotChild[s] < 0) continue;
-        const uint32_t b = children[slotChild[s]];
+        const uint32_t b = children.node[slotChild[s]];
         boxes[s] = &nodes_[b];
         if (nodes_[b].count == 0)
           placeInner(node, s, {b, 0, p.depth + 1});

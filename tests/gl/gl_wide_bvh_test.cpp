@@ -121,18 +121,26 @@ TEST(GlWideBvh, LargeLeavesCollapseWithEveryBrushOnceInsideItsBoxes) {
   expectWideTree(std::span<const GpuBvhNode>(&leaf, 1), brushes);
 }
 
-// Also the build time against the binary tree's (printed: the collapse must stay a small part).
+// Also the build times, the fastest of 5 (printed: the collapse must stay a small part of the
+// binary build).
 TEST(GlWideBvh, SharedLevelCollapsesWithEveryBrushOnceInsideItsBoxes) {
   BT_REQUIRE_SHARED(shared);
   const Scene level = importScene((shared / "maps/librequake/lq1/maps/src/e4/lq_e4m3.map").string(), ImportOptions{});
-  const auto start = std::chrono::steady_clock::now();
-  const TraceScene scene = TraceScene::build(level);
-  const auto built = std::chrono::steady_clock::now();
-  const WideBvh wide = collapseBvh(scene.nodes(), 1);
-  const auto collapsed = std::chrono::steady_clock::now();
+  using Clock = std::chrono::steady_clock;
   using Ms = std::chrono::duration<double, std::milli>;
-  std::printf("lq_e4m3: %zu brushes, binary build %.2f ms, collapse %.2f ms, %zu wide nodes, depth %u\n", scene.brushes().size(),
-              Ms(built - start).count(), Ms(collapsed - built).count(), wide.nodes.size(), wide.depth);
+  double build = 1e9, collapse = 1e9;
+  for (int i = 0; i < 5; ++i) {
+    const auto start = Clock::now();
+    const TraceScene scene = TraceScene::build(level);
+    const auto built = Clock::now();
+    const WideBvh wide = collapseBvh(scene.nodes(), 1);
+    build = std::min(build, Ms(built - start).count());
+    collapse = std::min(collapse, Ms(Clock::now() - built).count());
+  }
+  const TraceScene scene = TraceScene::build(level);
+  const WideBvh wide = collapseBvh(scene.nodes(), 1);
+  std::printf("lq_e4m3: %zu brushes, binary build %.2f ms, collapse %.2f ms, %zu wide nodes (%zu binary), depth %u\n",
+              scene.brushes().size(), build, collapse, wide.nodes.size(), scene.nodes().size(), wide.depth);
   expectWideTree(scene);
 }
 
