@@ -1,9 +1,13 @@
 // renderer/gl/gl_wide_bvh.h: TraceScene's binary tree collapsed into gl_structs.h GlWideNodes,
 // the GPU walk's wide layout. Every brush reachable exactly once, every child box (as the shader
-// computes it) holding its subtree's exact box, the depth within the walk's stack. Needs no GL
-// context.
+// computes it) holding its subtree's exact box, the depth within the walk's stack (no GL
+// context); and the wide walk's hits on a shared level, the binary walk's bit for bit.
 #include "importers/import.h"
+#include "renderer/camera.h"
+#include "renderer/gl/gl_render.h"
+#include "renderer/gl/gl_tracer.h"
 #include "renderer/gl/gl_wide_bvh.h"
+#include "tests/gl/test_scenes.h"
 #include "tests/bvh/generated_scenes.h"
 #include "tests/test_data.h"
 
@@ -142,6 +146,29 @@ TEST(GlWideBvh, SharedLevelCollapsesWithEveryBrushOnceInsideItsBoxes) {
   std::printf("lq_e4m3: %zu brushes, binary build %.2f ms, collapse %.2f ms, %zu wide nodes (%zu binary), depth %u\n",
               scene.brushes().size(), build, collapse, wide.nodes.size(), scene.nodes().size(), wide.depth);
   expectWideTree(scene);
+}
+
+// lq_e4m3 from its camera, both GPU trees on one device (the hardware layout, forced on
+// llvmpipe): every pixel's face and depth the same, slanted brushes and ties included.
+TEST(GlWideBvh, WideWalkHitsWhatTheBinaryWalkHitsOnASharedLevel) {
+  BT_REQUIRE_SHARED(shared);
+  const Scene level = importScene((shared / "maps/librequake/lq1/maps/src/e4/lq_e4m3.map").string(), ImportOptions{});
+  const TraceScene traceScene = TraceScene::build(level);
+  constexpr int kWidth = 160, kHeight = 90;
+  const CameraBasis camera = cameraFrom(defaultCameraPose(level), kWidth, kHeight);
+  GlContext& context = test::sharedGlContext();
+  const auto render = [&](TraceLayout layout) {
+    GlTracer tracer(context, level, traceScene, std::make_shared<TracerPrograms>(context, TextureMode::Arrays, layout));
+    return tracer.renderAovs(camera, kWidth, kHeight);
+  };
+  const AovImages binary = render(TraceLayout::Hardware), wide = render(TraceLayout::Wide);
+  size_t differ = 0, hits = 0;
+  for (size_t i = 0; i < binary.face.size(); ++i) {
+    differ += binary.face[i] != wide.face[i] || binary.depth[i] != wide.depth[i];
+    hits += binary.face[i] != AovImages::kNothingHit;
+  }
+  EXPECT_EQ(differ, 0u);
+  EXPECT_GT(hits, binary.face.size() / 2);
 }
 
 // A one-leaf tree and an empty one: a root holding the leaf, a root holding nothing.
