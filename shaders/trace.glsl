@@ -111,7 +111,9 @@ uint leafCount(uint ref) { return (ref >> 24) & 0x7fu; }
 //     which llvmpipe runs far faster than storage-buffer loads and private arrays at per-lane
 //     addresses (see scene_buffers.glsl and NodeStack below);
 //   otherwise (GPUs): storage-buffer rows and a private stack array, which trace several times
-//     faster there than the software layout (bench/README.md).
+//     faster there than the software layout (bench/README.md); over the binary tree below, or
+//     with BT_TRACE_WIDE (TraceLayout::Wide) over the compressed 8-wide tree (trace_wide.glsl,
+//     which replaces traceRay and the stack).
 #if defined(BT_TRACE_SOFTWARE) && defined(BT_TRACE_WIDE)
 #error "the wide BVH's walk is for the hardware layout's reads (trace_wide.glsl)"
 #endif
