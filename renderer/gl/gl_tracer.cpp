@@ -100,8 +100,7 @@ struct GlTracer::Impl {
 
   Impl(GlContext& c, const Scene& scene, const TraceScene& tracer, std::shared_ptr<TracerPrograms> p, const GlLighting& lighting)
       : context(c), programs(std::move(p)), textures(scene, programs->textureMode(), c.info()),
-        buffers(tracer, withShadingFlags(textures.materials(), lighting), lighting, scene.materials.size(), programs->traceLayout()),
-        world(worldBlock(lighting)),
+        buffers(tracer, withShadingFlags(textures.materials(), lighting), lighting, scene.materials.size()), world(worldBlock(lighting)),
         features(gl::faithfulFeatures(lighting.lightKinds) | gl::faithfulFeatures(lighting.dirt, lighting.lights) |
                  FaithfulFeatures{.liquidCsg = !lighting.liquidCsg.empty(), .blocksFromInside = !lighting.blocksFromInside.empty()}) {
     BT_GL(glCreateBuffers(1, &cameraBuffer));
