@@ -3,10 +3,14 @@
 // (`brushtrace bench`) in a program that links no OpenImageIO, whose libraries (over 300 MB)
 // cannot travel to the GPU machine (scripts/gpu-check.sh): the level is imported with
 // bt_importers_portable (bt_importers, which reads loose images without OpenImageIO).
+// LEVEL `generated:N` is tests/bvh's generated level of about N brushes (bench_bvh's, seed 1)
+// with the camera in its first room, for the ray rates of a level larger than the GPU's L2
+// (issue 20: 500,000 brushes); it has no lights.
 #include "importers/import.h"
 #include "renderer/gl/gl_bench.h"
 #include "renderer/gl/gl_error.h"
 #include "renderer/image_output.h"
+#include "tests/bvh/generated_scenes.h"
 
 #include <fmt/format.h>
 
@@ -57,6 +61,14 @@ int main(int argc, char** argv) {
   }
   try {
     const std::string level = argv[1];
+    if (level.starts_with("generated:")) {
+      bt::test::GeneratedLevel generated = bt::test::generateLevel(std::stoi(level.substr(10)), 1);
+      const auto eye = generated.openPoints.at(0);
+      generated.scene.entities.push_back(
+          {.keys = {{"classname", "info_player_start"}, {"origin", fmt::format("{} {} {}", eye.x, eye.y, eye.z)}}});
+      fmt::print("scene: {} ({} brushes, {} faces)\n", level, generated.scene.brushes.size(), generated.scene.faces.size());
+      return bt::gl::runGlBench([&](const bt::gl::EntitiesRead&) { return generated.scene; }, settings);
+    }
     const bt::Scene scene = bt::importScene(level, {});
     size_t placeholders = 0;
     for (const bt::Material& m : scene.materials) placeholders += m.sourcePath.empty();
