@@ -6,7 +6,6 @@
 #pragma once
 
 #include "lighting/faithful.h"
-#include "scene/color.h"
 #include "scene/gpu_structs.h"
 #include "shaders/light_constants.glsl"
 
@@ -69,19 +68,6 @@ inline float intensity(const GpuLight& light, float scaledist, float r) {
 }
 inline float intensity(const GpuLight& light, float scaledist) {
   return intensity(light, scaledist, reach(light, scaledist));
-}
-
-// A light's colour as physical mode emits it. The compiler's colour (`_color`, the Half-Life
-// form's, `_sunlight_color`, a `_surface` template's) is the one the game shows: its lightmap
-// multiplies the texture in gamma space, so a channel at a fraction c of the brightest one
-// shows sRGB-to-linear(c) of the brightest one's linear light (faithful mode's display, the
-// same curve). Physical light is linear, so each channel's share is linearised and the brightest
-// channel kept, on which the intensity is matched: white lights are unchanged, and an orange
-// "255 127 0" keeps the game's hue instead of turning yellow. shaders/pathtrace.comp
-// physicalColour computes the same.
-inline glm::vec3 colour(const glm::vec3& c) {
-  const float m = std::max({c.x, c.y, c.z});
-  return m > 0.0f ? m * srgbToLinear(c / m) : glm::vec3(0.0f);
 }
 
 // Stores the light's intensity and 1 / reach in it (GpuLight::physical*): the tracers' light
