@@ -73,7 +73,7 @@ struct GpuBrush {
   uint32_t sideCount;
   uint32_t axialFace[6];
   uint32_t sceneBrush; // index into Scene::brushes
-  uint32_t pad;        // zero; keeps the struct a whole number of 16-byte rows
+  uint32_t pad;        // zero in the TraceScene; the GL upload puts the rule-from-inside channel bits here (gl_scene.cpp)
 };
 static_assert(sizeof(GpuBrush) == 64);
 static_assert(offsetof(GpuBrush, boundsMin) == 0);

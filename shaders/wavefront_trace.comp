@@ -7,7 +7,9 @@
 // the one call of the traversal in this program. No lighting mode: the ray carries its
 // pass flags, so one program serves faithful and physical shade kernels, and every level: it has
 // the rule from inside (trace.glsl blocksFromInside), which the pass word keeps to faithful rays
-// and the brushes' pad words to the levels that have it.
+// and the brushes' pad words to the levels that have it. Not a switch: the kernel is started
+// before the level is known (TracerPrograms::startTraceKernel) and draws only while the
+// megakernel compiles, where a pad-word read per exit hit costs nothing one can see.
 #define BT_BLOCKS_FROM_INSIDE
 #include "scene_buffers.glsl"
 #include "textures.glsl" // the alpha test of trace.glsl
