@@ -74,20 +74,26 @@ void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& conte
   using Clock = GlLevelTimes::Clock;
   GlLevelTimes local;
   GlLevelTimes& t = times ? *times : local;
-  const FaithfulFeatures features = startPathTracerFor(*programs, preparation, physical);
+  const FaithfulFeatures early = startPathTracerFor(*programs, preparation, physical);
   t.programsStarted = Clock::now();
-  const bool wavefront = programs->wavefrontState(physical, features).started;
-  if (wavefront) {
+  if (programs->wavefrontState(physical, early).started) {
     programs->wavefrontTrace();
     t.traceLinked = Clock::now();
   }
   preparation.wait();
   t.lightsCollected = preparation.lightsCollected;
   t.prepared = preparation.prepared;
+  t.uploadStarted = Clock::now();
+  const GlLighting lighting = lightingFor(level.render);
+  // The prepared level may need parts its lights did not tell (a liquid CSG, the rule from
+  // inside, bounce lights drawn): its own program starts now, before the upload, so that the
+  // first image does not wait for it to start after the upload (then the early one goes unused).
+  const FaithfulFeatures features = faithfulFeatures(lighting);
+  programs->startPathTracer(physical, features);
+  const bool wavefront = programs->wavefrontState(physical, features).started;
   // The upload goes between the two waits: the trace kernel links well before the shade kernel,
   // and the preparation is done by then, so the upload costs the first image nothing.
-  t.uploadStarted = Clock::now();
-  level.tracer = std::make_unique<GlTracer>(context, level.scene, level.render.tracer, programs, lightingFor(level.render));
+  level.tracer = std::make_unique<GlTracer>(context, level.scene, level.render.tracer, programs, lighting);
   t.uploaded = Clock::now();
   if (wavefront) programs->wavefront(physical, features);
   t.shadeLinked = Clock::now();

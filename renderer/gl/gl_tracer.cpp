@@ -101,8 +101,7 @@ struct GlTracer::Impl {
   Impl(GlContext& c, const Scene& scene, const TraceScene& tracer, std::shared_ptr<TracerPrograms> p, const GlLighting& lighting)
       : context(c), programs(std::move(p)), textures(scene, programs->textureMode(), c.info()),
         buffers(tracer, withShadingFlags(textures.materials(), lighting), lighting, scene.materials.size()), world(worldBlock(lighting)),
-        features(gl::faithfulFeatures(lighting.lightKinds) | gl::faithfulFeatures(lighting.dirt, lighting.lights) |
-                 FaithfulFeatures{.liquidCsg = !lighting.liquidCsg.empty(), .blocksFromInside = !lighting.blocksFromInside.empty()}) {
+        features(gl::faithfulFeatures(lighting)) {
     BT_GL(glCreateBuffers(1, &cameraBuffer));
     BT_GL(glNamedBufferStorage(cameraBuffer, sizeof(GpuCamera), nullptr, GL_DYNAMIC_STORAGE_BIT));
     BT_GL(glCreateBuffers(1, &worldBuffer));
@@ -209,6 +208,11 @@ GlTracer::~GlTracer() = default;
 TextureMode GlTracer::textureMode() const {
   return impl_->textures.mode();
 }
+FaithfulFeatures faithfulFeatures(const GlLighting& lighting) {
+  return faithfulFeatures(lighting.lightKinds) | faithfulFeatures(lighting.dirt, lighting.lights) |
+      FaithfulFeatures{.liquidCsg = !lighting.liquidCsg.empty(), .blocksFromInside = !lighting.blocksFromInside.empty()};
+}
+
 FaithfulFeatures GlTracer::faithfulFeatures() const {
   return impl_->features;
 }

@@ -74,6 +74,10 @@ struct GlLighting {
   std::vector<uint8_t> blocksFromInside;
 };
 
+// The parts of a level's faithful programs (and the liquid CSG, which physical ones take too):
+// its LightKinds', what its lights need, and its liquid CSG and rule from inside.
+FaithfulFeatures faithfulFeatures(const GlLighting& lighting);
+
 struct BeautySettings {
   int width = 640;
   int height = 360;
