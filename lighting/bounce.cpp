@@ -134,7 +134,6 @@ std::vector<BounceFace> bounceFaces(const RenderScene& rs, const std::vector<Bru
   const Scene& scene = *rs.scene;
   // Each side on its own (the qbsp face emulation is most of the cost), then in side order.
   std::vector<std::vector<BounceFace>> perSide(scene.faces.size());
-  const QbspTree world = worldTree(scene, contents);
   parallelFor(scene.faces.size(), threads, [&](size_t i) {
     const uint32_t f = uint32_t(i);
     if (!sideBounces(rs, f)) return;
@@ -143,7 +142,7 @@ std::vector<BounceFace> bounceFaces(const RenderScene& rs, const std::vector<Bru
     // (the same area and luxels, more and smaller bounce lights).
     std::vector<std::vector<dvec3>> fragments = visibleFragments(scene, f, contents);
     std::vector<std::vector<dvec3>> polygons =
-        fragments.size() > kMaxFragmentsToSplit ? std::move(fragments) : compiledFacePolygons(scene, f, contents, world);
+        fragments.size() > kMaxFragmentsToSplit ? std::move(fragments) : compiledFacePolygons(scene, f, contents, rs.worldTree);
     for (std::vector<dvec3>& polygon : polygons)
       if (area(polygon) >= kMinBounceArea) perSide[i].push_back({f, std::move(polygon)});
   });
