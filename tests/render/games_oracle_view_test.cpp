@@ -31,9 +31,10 @@ constexpr double kEngineDisplayScale = 1.0 / 255.0;
 //     compilerGlass) now passes the light and is lit from both sides as `light` does with the
 //     level's textures missing; its luxels are at 87 % (82 % before the bounce's sample points
 //     left the walls, 85 % before the faces were cut by qbsp's tree of the whole world,
-//     qbsp_tree.h, 86.7 % before qbsp's T-junction fix, qbsp_tjunc.h). Its view from
-//     (-168 -666.667 192) (560 lit pixels, where ref_gl draws the glass faces without their
-//     lightmap) went from 85 % to 100 % within 5 % with the T-junction fix.
+//     qbsp_tree.h, 86.7 % before qbsp's T-junction fix, qbsp_tjunc.h, 87.5 % before the tree
+//     valued a brush's axial sides first). Its view from (-168 -666.667 192) (560 lit pixels,
+//     where ref_gl draws the glass faces without their lightmap) went from 85 % to 100 % within
+//     5 % with the T-junction fix, and to 95.7 % with the axial sides first.
 //   q2_areaportals: the bounced light (the Quake 2 target's default `_bounce 1`). Since the
 //     bounce samples a face's light where the compiler does (bounce.cpp: an edge luxel beside a
 //     wall moved out of it, as PositionSamplePointOnFace moves it, instead of seeing the light
@@ -62,7 +63,7 @@ const std::map<std::string, Bar>& knownGaps() {
   // One level a line, whatever their number.
   // clang-format off
   static const std::map<std::string, Bar> gaps = {
-      {"ericw-tools_testmaps_light_q2_translucent_shadow", {0.02, 0.87}},
+      {"ericw-tools_testmaps_light_q2_translucent_shadow", {0.02, 0.88}},
       {"ericw-tools_testmaps_q2_areaportals", {0.02, 0.88}},
   };
   // clang-format on
