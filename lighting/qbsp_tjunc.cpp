@@ -3,9 +3,8 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -15,10 +14,14 @@ namespace bt {
 
 namespace {
 
-constexpr double kOnEdgeEpsilon = 0.1;       // qbsp's DEFAULT_ON_EPSILON: a vertex this near an edge's line is on it
-constexpr double kEdgeBoxMargin = 1.0;       // FindEdgeVerts_FaceBounds grows the edge's box by this
-constexpr double kMinAngleDegrees = 0.01;    // TriangleIsValid: a thinner angle makes a degenerate triangle
-constexpr double kWeldDistance = 1e-3;       // one vertex of the .bsp (qbsp welds its vertices)
+constexpr double kOnEdgeEpsilon = 0.1;    // qbsp's DEFAULT_ON_EPSILON: a vertex this near an edge's line is on it
+constexpr double kEdgeBoxMargin = 1.0;    // FindEdgeVerts_FaceBounds grows the edge's box by this
+constexpr double kMinAngleDegrees = 0.01; // TriangleIsValid: a thinner angle makes a degenerate triangle
+constexpr double kWeldDistance = 1e-3;    // one vertex of the .bsp (qbsp welds its vertices)
+// The triangulation takes n^3 steps and its fans n^4 at worst: a face with more points on its
+// edges than this (a long floor under a row of hundreds of pillars) keeps its shape whole, as the
+// compiler's fallback (a rotated superface) keeps it.
+constexpr size_t kMaxTriangulatedPoints = 64;
 constexpr double kColinearSine = 1e-5;       // a corner turning less than this goes straight on
 constexpr double kCellSize = 64.0;           // the grid the vertices are looked up in
 constexpr int64_t kMaxCellsPerLookup = 4096; // a longer box scans every vertex instead
@@ -219,7 +222,7 @@ std::vector<Winding> fixTJunctions(const Winding& face, uint32_t weldGroup, cons
   }
   if (superface.size() < 3) return {}; // the face collapsed
   if (superface.size() == 3) return {face};
-  std::vector<Winding> fans = minimumWeightFans(superface);
+  std::vector<Winding> fans = superface.size() <= kMaxTriangulatedPoints ? minimumWeightFans(superface) : std::vector<Winding>{};
   // Without a triangulation the compiler tries rotating the superface's first point, which keeps
   // its shape.
   if (fans.empty()) fans.push_back(std::move(superface));

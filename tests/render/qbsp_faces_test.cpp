@@ -104,6 +104,22 @@ std::vector<Points> asBounced(const std::vector<Winding>& compiled) {
   return faces;
 }
 
+// The lightest triangulation of q2_areaportals' north wall above z 128 (qbsp's superface: the
+// rectangle with the doorway walls' vertices at z 192 on both sides, from its first point on):
+// of the rectangle's equally light diagonals the compiler's, gathered into its two faces (the
+// .bsp's faces 13 and 14, a pentagon and a triangle), the larger fan first.
+TEST(QbspFaces, LightestTriangulationGathersIntoTheCompilersFans) {
+  const Winding superface{{320, 176, 128}, {320, 176, 192}, {320, 176, 352}, {496, 176, 352}, {496, 176, 192}, {496, 176, 128}};
+  std::vector<Points> fans;
+  for (const Winding& w : minimumWeightFans(superface)) {
+    fans.emplace_back();
+    for (const dvec3& v : w) fans.back().push_back({v.x, v.y, v.z});
+  }
+  EXPECT_EQ(fans,
+            (std::vector<Points>{{{320, 176, 192}, {320, 176, 352}, {496, 176, 352}, {496, 176, 192}, {496, 176, 128}},
+                                 {{320, 176, 128}, {320, 176, 192}, {496, 176, 128}}}));
+}
+
 // qbsp's T-junction fix (lighting/qbsp_tjunc.h) as the oracle .bsp has it: each face with the
 // vertices of its neighbours on its edges, cut by the lightest triangulation into fans.
 TEST(QbspFaces, TJunctionFixCutsTheWallsAndTheFloorAsTheCompilerDoes) {
