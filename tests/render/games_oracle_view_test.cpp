@@ -29,7 +29,7 @@ constexpr double kEngineDisplayScale = 1.0 / 255.0;
 // 5 % of its luxels and views) so that it cannot get worse unseen:
 //   light_q2_translucent_shadow: the compiler's glass (SURF_TRANS33/66, game_rules.h
 //     compilerGlass) now passes the light and is lit from both sides as `light` does with the
-//     level's textures missing; its luxels are at 87 % (82 % before the bounce's sample points
+//     level's textures missing; its luxels are at 88 % (82 % before the bounce's sample points
 //     left the walls, 85 % before the faces were cut by qbsp's tree of the whole world,
 //     qbsp_tree.h, 86.7 % before qbsp's T-junction fix, qbsp_tjunc.h, 87.5 % before the tree
 //     valued a brush's axial sides first). Its view from (-168 -666.667 192) (560 lit pixels,
@@ -49,8 +49,9 @@ constexpr double kEngineDisplayScale = 1.0 / 255.0;
 //     to 82 % within 5 % (median 0.39 % -> 0.00 %); since qbsp's T-junction fix re-cuts them
 //     (qbsp_tjunc.h: the north wall's upper face a pentagon and a triangle, the floor between
 //     the doorways too, each its own bounce light, as in the .bsp) to 88.6 % (its dark luxels
-//     79 % -> 100 % within 5 %). What is left is not found yet: the third room's faces are now
-//     the compiler's (qbsp_faces_test.cpp). Not the areaportal: the compiler's bounce crosses it
+//     79 % -> 100 % within 5 %). What is left is not found yet: the third room's north wall and
+//     floor are now the compiler's faces (qbsp_faces_test.cpp); the luxel layout and the
+//     surface lights still take the faces before the T-junction fix. Not the areaportal: the compiler's bounce crosses it
 //     as ours does (stopping our bounce light there takes q2_areaportal from 98 % to 93 %).
 // Off this list: q2_light_visapprox (a light under the same water as q2_light_visapprox2) once
 // the water casts shadows (4 % -> 95 % of its lit pixels within 5 %); q2_light_visapprox2 once a
