@@ -4,6 +4,7 @@
 #include "lighting/faithful_light.h"
 #include "lighting/lightmap_bake.h"
 #include "lighting/physical_light.h"
+#include "lighting/qbsp_tjunc.h"
 #include "quake/entity_keys.h"
 #include "scene/parallel_for.h"
 #include "scene/winding.h"
@@ -128,28 +129,61 @@ std::span<const uint32_t> candidatesAt(const std::vector<GpuLight>& lights, cons
   return scratch;
 }
 
+// qbsp's T-junction fix of the world's faces (qbsp_tjunc.h), on the bouncing sides' compiled
+// faces `perSide`: every drawn face of the world lends its vertices, those that bounce no light
+// (sky, liquids, surface lights) too, but not those that look into the void, which qbsp has
+// removed by then. A world with a tree of its own (Quake 2) only, whose faces are the compiler's.
+void fixWorldTJunctions(const RenderScene& rs, const std::vector<BrushContents>& contents, std::vector<std::vector<Winding>>& perSide,
+                        unsigned threads) {
+  const Scene& scene = *rs.scene;
+  auto inWorld = [&](uint32_t f) {
+    const uint32_t brush = scene.faces[f].brush;
+    return brush < contents.size() && contents[brush] != BrushContents::Empty && !(rs.faceFlags[f] & kFaceHidden);
+  };
+  std::vector<std::vector<Winding>> others(scene.faces.size());
+  parallelFor(scene.faces.size(), threads, [&](size_t i) {
+    if (inWorld(uint32_t(i)) && perSide[i].empty() && !sideBounces(rs, uint32_t(i)))
+      others[i] = compiledFacePolygons(scene, uint32_t(i), contents, rs.worldTree);
+  });
+  const VoidTest voidTest(scene, rs.tracer);
+  TJunctionVertices vertices;
+  std::vector<uint32_t> groups(scene.faces.size(), 0);
+  for (uint32_t f = 0; f < scene.faces.size(); ++f) {
+    if (!inWorld(f)) continue;
+    groups[f] = weldGroup(scene, contents, scene.faces[f].brush);
+    for (const std::vector<Winding>* faces : {&perSide[f], &others[f]})
+      for (const Winding& w : *faces)
+        if (!voidTest.inVoid(vertexMean(w) + scene.faces[f].plane.normal * kVoidProbeDistance)) vertices.add(w, groups[f]);
+  }
+  parallelFor(scene.faces.size(), threads, [&](size_t i) {
+    if (!inWorld(uint32_t(i)) || perSide[i].empty()) return;
+    std::vector<Winding> fixed;
+    for (const Winding& w : perSide[i])
+      for (const Winding& piece : fixTJunctions(w, groups[i], vertices)) fixed.push_back(withoutColinearPoints(piece));
+    perSide[i] = std::move(fixed);
+  });
+}
+
 } // namespace
 
 std::vector<BounceFace> bounceFaces(const RenderScene& rs, const std::vector<BrushContents>& contents, unsigned threads) {
   const Scene& scene = *rs.scene;
   // Each side on its own (the qbsp face emulation is most of the cost), then in side order.
-  std::vector<std::vector<BounceFace>> perSide(scene.faces.size());
-  const QbspTree world = worldTree(scene, contents);
+  std::vector<std::vector<Winding>> perSide(scene.faces.size());
   parallelFor(scene.faces.size(), threads, [&](size_t i) {
     const uint32_t f = uint32_t(i);
     if (!sideBounces(rs, f)) return;
     // A side cut by thousands of brushes (lq_e4m3's floors: 2 208 fragments) would take a minute
     // to split as qbsp's tree splits it; its CSG fragments stand in for its compiled faces there
     // (the same area and luxels, more and smaller bounce lights).
-    std::vector<std::vector<dvec3>> fragments = visibleFragments(scene, f, contents);
-    std::vector<std::vector<dvec3>> polygons =
-        fragments.size() > kMaxFragmentsToSplit ? std::move(fragments) : compiledFacePolygons(scene, f, contents, world);
-    for (std::vector<dvec3>& polygon : polygons)
-      if (area(polygon) >= kMinBounceArea) perSide[i].push_back({f, std::move(polygon)});
+    std::vector<Winding> fragments = visibleFragments(scene, f, contents);
+    perSide[i] = fragments.size() > kMaxFragmentsToSplit ? std::move(fragments) : compiledFacePolygons(scene, f, contents, rs.worldTree);
   });
+  if (!rs.worldTree.nodes().empty()) fixWorldTJunctions(rs, contents, perSide, threads);
   std::vector<BounceFace> faces;
-  for (std::vector<BounceFace>& side : perSide)
-    for (BounceFace& face : side) faces.push_back(std::move(face));
+  for (uint32_t f = 0; f < perSide.size(); ++f)
+    for (Winding& polygon : perSide[f])
+      if (area(polygon) >= kMinBounceArea) faces.push_back({f, std::move(polygon)});
   return faces;
 }
 

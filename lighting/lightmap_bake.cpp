@@ -265,10 +265,10 @@ bool faceHasLightmap(const RenderScene& rs, uint32_t face) {
 Lightmaps layoutLightmaps(const RenderScene& rs, std::span<const uint32_t> faces, unsigned threads) {
   const Scene& scene = *rs.scene;
   const std::vector<BrushContents> contents = brushContents(scene);
-  const QbspTree world = worldTree(scene, contents);
   std::vector<std::vector<std::vector<dvec3>>> pieces(faces.size());
   parallelFor(faces.size(), threads, [&](size_t i) {
-    if (faces[i] < scene.faces.size() && faceHasLightmap(rs, faces[i])) pieces[i] = compiledFacePolygons(scene, faces[i], contents, world);
+    if (faces[i] < scene.faces.size() && faceHasLightmap(rs, faces[i]))
+      pieces[i] = compiledFacePolygons(scene, faces[i], contents, rs.worldTree);
   });
 
   Lightmaps lm;

@@ -454,6 +454,20 @@ std::vector<Winding> visibleFragments(const Scene& scene, uint32_t faceIndex, co
   return fragments;
 }
 
+bool qbspDetail(const Scene& scene, uint32_t b) {
+  const Brush& brush = scene.brushes[b];
+  bool detail = brush.entity < scene.entities.size() && scene.entities[brush.entity].classname().starts_with("func_detail");
+  for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
+    if (const std::optional<SurfaceAttributes>& surface = scene.faces[f].surface; surface)
+      detail = detail || (surface->contents & quake::q2::CONTENTS_DETAIL) ||
+          (surface->flags & (quake::q2::SURF_TRANS33 | quake::q2::SURF_TRANS66));
+  return detail;
+}
+
+uint32_t weldGroup(const Scene& scene, const std::vector<BrushContents>& contents, uint32_t brush) {
+  return uint32_t(contents[brush]) * 2 + (qbspDetail(scene, brush) ? 1 : 0);
+}
+
 QbspTree worldTree(const Scene& scene, const std::vector<BrushContents>& contents) {
   // Only Quake 2's worlds go down the tree: there its planes and their order are the compiler's
   // (q2_areaportals, light_q2_translucent_shadow: the .bsp's nodes). On the Quake 1 oracle
@@ -467,12 +481,7 @@ QbspTree worldTree(const Scene& scene, const std::vector<BrushContents>& content
   for (uint32_t b = 0; b < scene.brushes.size(); ++b) {
     const Brush& brush = scene.brushes[b];
     const std::string_view classname = brush.entity < scene.entities.size() ? scene.entities[brush.entity].classname() : "";
-    bool detail = classname.starts_with("func_detail");
-    // Quake 2's qbsp makes translucent brushes detail too (SURF_TRANS33/66: qbsp3 ParseBrush).
-    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
-      if (const std::optional<SurfaceAttributes>& surface = scene.faces[f].surface; surface)
-        detail = detail || (surface->contents & quake::q2::CONTENTS_DETAIL) ||
-            (surface->flags & (quake::q2::SURF_TRANS33 | quake::q2::SURF_TRANS66));
+    const bool detail = qbspDetail(scene, b);
     if (contents[b] != BrushContents::Empty)
       brushes.push_back({b, true, detail});
     else if (classname == "func_areaportal")

@@ -10,10 +10,10 @@
 // wall is whole across a doorway whose planes come below the wall's own in the tree, and cut
 // where they come above it. What is left gets the 240-texel subdivision. A side of a brush
 // entity (its own model, its own tree) is split as a tree grown on that surface alone would
-// split it (surfaceTreeFaces). Not modelled: qbsp's T-junction fixing, which re-cuts some faces
-// into others (a wall with a neighbour's vertex on its edge can come out as a quad and a
-// triangle), and the merge of faces of different sides (each side is made on its own here,
-// except a surface light's surface). Faces that look into the void outside a sealed level are
+// split it (surfaceTreeFaces). qbsp's T-junction fix, which re-cuts a face with its neighbours'
+// vertices on its edges (a quad and a triangle of a rectangle), needs every face of the world:
+// qbsp_tjunc.h, run on them by the bounce (bounce.cpp). Not modelled: the merge of faces of
+// different sides (each side is made on its own here, except a surface light's surface). Faces that look into the void outside a sealed level are
 // dropped, as qbsp drops them.
 #pragma once
 
@@ -67,6 +67,14 @@ std::vector<std::vector<dvec3>> compiledFacePolygons(const Scene& scene, uint32_
 
 // The world's tree: qbsp's BSP of the brushes that carve (contents not Empty).
 QbspTree worldTree(const Scene& scene, const std::vector<BrushContents>& contents);
+
+// Quake 2's qbsp makes brush `brush` detail: func_detail, CONTENTS_DETAIL, or translucent
+// (SURF_TRANS33/66: qbsp3 ParseBrush).
+bool qbspDetail(const Scene& scene, uint32_t brush);
+
+// Which faces brush `brush`'s faces weld with in qbsp's T-junction fix (qbsp_tjunc.h; Welds):
+// those of brushes of the same contents, detail only with detail.
+uint32_t weldGroup(const Scene& scene, const std::vector<BrushContents>& contents, uint32_t brush);
 
 // GLQuake's SubdividePolygon: cut `winding` at multiples of `size` on each axis, the cut
 // nearest the middle first, unless it would leave a piece thinner than 8 units. Stops cutting

@@ -168,6 +168,21 @@ void splitBrush(TreeBrush&& brush, const Plane& plane, std::vector<TreeBrush>& f
   }
 }
 
+// qbsp's AddBrushBevels puts a brush's axial sides first, -x +x -y +y -z +z, each swapped into
+// its place: SelectSplitPlane then values them in that order, and the first of equal value wins
+// (q2_light_low_luxel_res2's boxes in its east wall: y 1064 before z -696, as in the .bsp).
+void axialSidesFirst(std::vector<TreeSide>& sides) {
+  size_t order = 0;
+  for (int axis = 0; axis < 3; ++axis)
+    for (const double dir : {-1.0, 1.0}) {
+      const auto it =
+          std::find_if(sides.begin() + std::ptrdiff_t(order), sides.end(), [&](const TreeSide& s) { return s.plane.normal[axis] == dir; });
+      if (it == sides.end()) continue;
+      std::iter_swap(sides.begin() + std::ptrdiff_t(order), it);
+      ++order;
+    }
+}
+
 int32_t build(std::vector<QbspTree::Node>& nodes, std::vector<TreeBrush> brushes) {
   const TreeSide* chosen = selectSplit(brushes);
   if (!chosen) return -1;
@@ -225,6 +240,7 @@ QbspTree::QbspTree(const Scene& scene, std::span<const Input> brushes) {
       if (face.winding.size() < 3) continue;
       t.sides.push_back({face.plane, face.winding, in.visible});
     }
+    axialSidesFirst(t.sides);
     updateBounds(t);
     if (t.sides.size() < 4 || t.bounds.empty()) continue;
     list.push_back(std::move(t));

@@ -29,6 +29,7 @@ public:
                   // nodraw) only where no drawn one is left, but counts their brushes everywhere
     bool detail;  // func_detail (Quake 2: CONTENTS_DETAIL): split with once no structural side is left
   };
+  QbspTree() = default; // no split: no world tree
   // The tree of brushes `brushes` of `scene`.
   QbspTree(const Scene& scene, std::span<const Input> brushes);
 

@@ -324,10 +324,11 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   rs.tracer = buildTracer(rs);
   rs.liquidCsg = LiquidCsg(scene);
   rs.blocksFromInside = brushesBlockingFromInside(rs, contents);
+  rs.worldTree = worldTree(scene, contents);
   nudgeLightsOffFaces(rs, contents);
   // Faithful mode's _surface lights: point lights spread over the template faces, after the
   // tracer (the compiler drops template faces that look into the void).
-  for (const GpuLight& l : spreadSurfaceLights(scene, lights.surfaceTemplates, contents, rs.world, rs.tracer, diagnostics))
+  for (const GpuLight& l : spreadSurfaceLights(scene, lights.surfaceTemplates, contents, rs.worldTree, rs.world, rs.tracer, diagnostics))
     rs.lights.push_back(l);
   if (gameOf(scene) == Game::Quake3)
     for (const GpuLight& l : q3map2::shaderSurfaceLights(scene, contents, rs.tracer, diagnostics)) rs.lights.push_back(l);

@@ -10,6 +10,7 @@
 #include "lighting/liquid_csg.h"
 #include "lighting/lightmaps.h"
 #include "lighting/lights.h"
+#include "lighting/qbsp_tree.h"
 #include "lighting/sky.h"
 #include "lighting/surface_lights.h"
 #include "scene/scene.h"
@@ -69,6 +70,10 @@ struct RenderScene {
   // ericw-tools' Embree hits its solid faces from either side, so a light's ray from inside the
   // water leaves through a wall (q2_light_visapprox2). Empty where no brush is such.
   std::vector<uint8_t> blocksFromInside;
+  // qbsp's tree of the whole world (qbsp_faces.h worldTree), which cuts a Quake 2 world's sides
+  // into the compiler's faces for the bounce lights, the surface lights and the luxel layout:
+  // grown once here; empty for every other game (their sides are cut by per-surface trees).
+  QbspTree worldTree;
   // Faithful mode's luxels (lightmap_bake.h): a face baked here is shown from them, as the game
   // shows its lightmaps; any other face has its light evaluated at the shown point.
   Lightmaps lightmaps;

@@ -120,8 +120,8 @@ static int surfaceLightGroup(const Scene& scene, uint32_t face) {
 }
 
 std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
-                                          const std::vector<BrushContents>& contents, const WorldLighting& world, const TraceScene& tracer,
-                                          Diagnostics& diagnostics) {
+                                          const std::vector<BrushContents>& contents, const QbspTree& worldTree, const WorldLighting& world,
+                                          const TraceScene& tracer, Diagnostics& diagnostics) {
   if (templates.empty()) return {};
   // The void test traces rays from every point entity (thousands on a large level); the
   // surfaces' CSG below does not need it, so it runs beside them.
@@ -160,9 +160,8 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
     }
   }
   // Each surface's faces depend on nothing else: the surfaces are shared among threads.
-  const QbspTree worldBsp = worldTree(scene, contents);
   parallelFor(surfaces.size(), 0,
-              [&](size_t i) { surfaces[i].polygons = compilerFaces(scene, surfaces[i].sides, surfaces[i].polygons, contents, worldBsp); });
+              [&](size_t i) { surfaces[i].polygons = compilerFaces(scene, surfaces[i].sides, surfaces[i].polygons, contents, worldTree); });
   const VoidTest inVoid = voidTest.get();
 
   std::vector<GpuLight> lights;

@@ -25,13 +25,13 @@
 
 namespace bt {
 
-// `contents[b]` for every brush of `scene`. A radiosity template without `_color` takes the
+// `contents[b]` for every brush of `scene`; `worldTree` qbsp's tree of its world (RenderScene::worldTree). A radiosity template without `_color` takes the
 // texture's colour (scene materials). A template that would make more than kMaxSurfaceLights
 // points (a huge face) stops there, with a warning in `diagnostics`. `tracer` (the level's
 // brushes) tells which faces look into the void, which qbsp removes (looksIntoVoid).
 inline constexpr size_t kMaxSurfaceLights = kMaxPiecesPerFace - 1;
 std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
-                                          const std::vector<BrushContents>& contents, const WorldLighting& world, const TraceScene& tracer,
-                                          Diagnostics& diagnostics);
+                                          const std::vector<BrushContents>& contents, const QbspTree& worldTree, const WorldLighting& world,
+                                          const TraceScene& tracer, Diagnostics& diagnostics);
 
 } // namespace bt

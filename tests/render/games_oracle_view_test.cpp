@@ -29,11 +29,12 @@ constexpr double kEngineDisplayScale = 1.0 / 255.0;
 // 5 % of its luxels and views) so that it cannot get worse unseen:
 //   light_q2_translucent_shadow: the compiler's glass (SURF_TRANS33/66, game_rules.h
 //     compilerGlass) now passes the light and is lit from both sides as `light` does with the
-//     level's textures missing; what holds it is the view from (-168 -666.667 192) (560 lit
-//     pixels, 85 % within 5 %: ref_gl draws those glass faces without their lightmap, not
-//     modelled); its luxels are at 87 % (82 % before the bounce's sample points left the walls,
-//     85 % before the faces were cut by qbsp's tree of the whole world, qbsp_tree.h; that view
-//     was at 78 %).
+//     level's textures missing; its luxels are at 88 % (82 % before the bounce's sample points
+//     left the walls, 85 % before the faces were cut by qbsp's tree of the whole world,
+//     qbsp_tree.h, 86.7 % before qbsp's T-junction fix, qbsp_tjunc.h, 87.5 % before the tree
+//     valued a brush's axial sides first). Its view from (-168 -666.667 192) (560 lit pixels,
+//     where ref_gl draws the glass faces without their lightmap) went from 85 % to 100 % within
+//     5 % with the T-junction fix, and to 95.7 % with the axial sides first.
 //   q2_areaportals: the bounced light (the Quake 2 target's default `_bounce 1`). Since the
 //     bounce samples a face's light where the compiler does (bounce.cpp: an edge luxel beside a
 //     wall moved out of it, as PositionSamplePointOnFace moves it, instead of seeing the light
@@ -45,12 +46,13 @@ constexpr double kEngineDisplayScale = 1.0 / 255.0;
 //     z = 128; the east wall the other way round), which moved the bounce lights: since the
 //     world's faces are cut by qbsp's tree of the whole world above their node and merged on it
 //     (qbsp_faces.h, qbsp_tree.h; qbsp_faces_test.cpp holds those walls) its luxels went from 71 %
-//     to 82 % within 5 % (median 0.39 % -> 0.00 %). What is left is not modelled: qbsp's
-//     T-junction fix re-cuts faces (the north wall's upper face is a quad and a triangle in
-//     the .bsp, each its own bounce light), and the floor's faces between the doorways come
-//     out of qbsp's merge in other shapes than ours. Not the areaportal: the compiler's bounce
-//     crosses it as ours does (stopping our bounce light there takes q2_areaportal from 98 % to
-//     93 %).
+//     to 82 % within 5 % (median 0.39 % -> 0.00 %); since qbsp's T-junction fix re-cuts them
+//     (qbsp_tjunc.h: the north wall's upper face a pentagon and a triangle, the floor between
+//     the doorways too, each its own bounce light, as in the .bsp) to 88.6 % (its dark luxels
+//     79 % -> 100 % within 5 %). What is left is not found yet: the third room's north wall and
+//     floor are now the compiler's faces (qbsp_faces_test.cpp); the luxel layout and the
+//     surface lights still take the faces before the T-junction fix. Not the areaportal: the compiler's bounce crosses it
+//     as ours does (stopping our bounce light there takes q2_areaportal from 98 % to 93 %).
 // Off this list: q2_light_visapprox (a light under the same water as q2_light_visapprox2) once
 // the water casts shadows (4 % -> 95 % of its lit pixels within 5 %); q2_light_visapprox2 once a
 // faithful shadow ray leaving a Quake 2 liquid brush through a face drawn as a wall is blocked as
@@ -62,8 +64,8 @@ const std::map<std::string, Bar>& knownGaps() {
   // One level a line, whatever their number.
   // clang-format off
   static const std::map<std::string, Bar> gaps = {
-      {"ericw-tools_testmaps_light_q2_translucent_shadow", {0.02, 0.84}},
-      {"ericw-tools_testmaps_q2_areaportals", {0.02, 0.82}},
+      {"ericw-tools_testmaps_light_q2_translucent_shadow", {0.02, 0.88}},
+      {"ericw-tools_testmaps_q2_areaportals", {0.02, 0.88}},
   };
   // clang-format on
   return gaps;

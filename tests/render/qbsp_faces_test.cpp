@@ -3,8 +3,11 @@
 // faces. qbsp's tree puts the north wall's plane (y 176) above the doorway's top (z 192), so the
 // wall's pieces either side of that plane merge on the wall's node and the 240-texel subdivision
 // cuts the whole wall at z 128; the east wall's plane (x 496) comes below z 192, which cuts it.
+// Then qbsp's T-junction fix re-cuts the faces with their neighbours' vertices on their edges.
 #include "importers/import.h"
+#include "lighting/bounce.h"
 #include "lighting/qbsp_faces.h"
+#include "lighting/qbsp_tjunc.h"
 #include "lighting/render_scene.h"
 #include "tests/render/oracle_levels.h"
 #include "tests/test_data.h"
@@ -47,8 +50,8 @@ TEST(QbspFaces, WallsMergeAcrossTheDoorwayPlanesBelowThemAndAreCutByThoseAbove) 
   const std::vector<BrushContents> contents = brushContents(scene);
   const QbspTree world = worldTree(scene, contents);
 
-  // The compiler's faces 15 (z 96..128) and 13 + 14 (z 128..352; its T-junction fix cuts that
-  // one into a quad and a triangle, not modelled) of the .bsp.
+  // The compiler's faces 15 (z 96..128) and 13 + 14 (z 128..352) of the .bsp, before its
+  // T-junction fix cuts that one into a quad and a triangle (below).
   const std::vector<Box> north = piecesOf(scene, contents, world, Plane{dvec3(0, -1, 0), -176.0});
   EXPECT_EQ(north, (std::vector<Box>{{320, 176, 96, 496, 176, 128}, {320, 176, 128, 496, 176, 352}}));
   // The south wall, its mirror: faces 24 and 22 + 23.
@@ -64,6 +67,85 @@ TEST(QbspFaces, WallsMergeAcrossTheDoorwayPlanesBelowThemAndAreCutByThoseAbove) 
                               {496, -208, 192, 496, 16, 352},
                               {496, 16, 96, 496, 176, 192},
                               {496, 16, 192, 496, 176, 352}}));
+}
+
+// A face as a set of points (rounded to 1/1000 unit), whatever its first vertex.
+using Points = std::vector<std::array<double, 3>>;
+
+// The compiler's faces that bounce light on the side on `plane` within x 320..496 (the third
+// room), each as its points, in order.
+std::vector<Points> bouncingFacesOf(const RenderScene& rs, const std::vector<BrushContents>& contents, const Plane& plane) {
+  std::vector<Points> faces;
+  for (const BounceFace& face : bounceFaces(rs, contents)) {
+    const Plane& p = rs.scene->faces[face.face].plane;
+    if (glm::length(p.normal - plane.normal) > 1e-6 || std::abs(p.dist - plane.dist) > 1e-3) continue;
+    if (boxOf(face.polygon)[0] < 320.0 - 1e-3 || boxOf(face.polygon)[3] > 496.0 + 1e-3) continue;
+    Points points;
+    for (const dvec3& v : face.polygon)
+      points.push_back({std::round(v.x * 1e3) / 1e3, std::round(v.y * 1e3) / 1e3, std::round(v.z * 1e3) / 1e3});
+    std::sort(points.begin(), points.end());
+    faces.push_back(std::move(points));
+  }
+  std::sort(faces.begin(), faces.end());
+  return faces;
+}
+
+// Faces of the .bsp (their points in its order) as the bounce sees them: without the points
+// where they go straight on, which `light` drops first (qbsp_tjunc.h withoutColinearPoints).
+std::vector<Points> asBounced(const std::vector<Winding>& compiled) {
+  std::vector<Points> faces;
+  for (const Winding& w : compiled) {
+    Points points;
+    for (const dvec3& v : withoutColinearPoints(w)) points.push_back({v.x, v.y, v.z});
+    std::sort(points.begin(), points.end());
+    faces.push_back(std::move(points));
+  }
+  std::sort(faces.begin(), faces.end());
+  return faces;
+}
+
+// The lightest triangulation of q2_areaportals' north wall above z 128 (qbsp's superface: the
+// rectangle with the doorway walls' vertices at z 192 on both sides, from its first point on):
+// of the rectangle's equally light diagonals the compiler's, gathered into its two faces (the
+// .bsp's faces 13 and 14, a pentagon and a triangle), the larger fan first.
+TEST(QbspFaces, LightestTriangulationGathersIntoTheCompilersFans) {
+  const Winding superface{{320, 176, 128}, {320, 176, 192}, {320, 176, 352}, {496, 176, 352}, {496, 176, 192}, {496, 176, 128}};
+  std::vector<Points> fans;
+  for (const Winding& w : minimumWeightFans(superface)) {
+    fans.emplace_back();
+    for (const dvec3& v : w) fans.back().push_back({v.x, v.y, v.z});
+  }
+  EXPECT_EQ(fans,
+            (std::vector<Points>{{{320, 176, 192}, {320, 176, 352}, {496, 176, 352}, {496, 176, 192}, {496, 176, 128}},
+                                 {{320, 176, 128}, {320, 176, 192}, {496, 176, 128}}}));
+}
+
+// qbsp's T-junction fix (lighting/qbsp_tjunc.h) as the oracle .bsp has it: each face with the
+// vertices of its neighbours on its edges, cut by the lightest triangulation into fans.
+TEST(QbspFaces, TJunctionFixCutsTheWallsAndTheFloorAsTheCompilerDoes) {
+  BT_REQUIRE_SHARED(shared);
+  const Scene scene = importScene((shared / "maps/ericw-tools/testmaps/q2_areaportals.map").string(), ImportOptions{});
+  Diagnostics diagnostics;
+  RenderSceneOptions options;
+  options.bounceLights = false;
+  options.visApproxBoxes = RenderSceneOptions::VisBoxes::Off;
+  const RenderScene rs = buildRenderScene(scene, options, diagnostics);
+  const std::vector<BrushContents> contents = brushContents(scene);
+
+  // The north wall: faces 13-15 of the .bsp. Above z 128 the doorway walls' vertices at z 192 on
+  // both sides make a hexagon, cut along its lightest diagonals into a pentagon (a quad with the
+  // east side's z 192 on an edge) and a triangle.
+  EXPECT_EQ(bouncingFacesOf(rs, contents, Plane{dvec3(0, -1, 0), -176.0}),
+            asBounced({{{496, 176, 192}, {496, 176, 128}, {320, 176, 192}, {320, 176, 352}, {496, 176, 352}},
+                       {{320, 176, 128}, {320, 176, 192}, {496, 176, 128}},
+                       {{496, 176, 128}, {496, 176, 96}, {320, 176, 96}, {320, 176, 128}}}));
+  // The floor: faces 0-3. The doorway's corners (x 320, y -208 and -48) and the east wall's
+  // subdivision (x 496, y -208 and 16) on its edges.
+  EXPECT_EQ(bouncingFacesOf(rs, contents, Plane{dvec3(0, 0, 1), 96.0}),
+            asBounced({{{320, -208, 96}, {320, -48, 96}, {496, -208, 96}, {496, -272, 96}, {320, -272, 96}},
+                       {{496, -48, 96}, {496, -208, 96}, {320, -48, 96}},
+                       {{496, 16, 96}, {496, -48, 96}, {320, -48, 96}, {320, 176, 96}, {496, 176, 96}},
+                       {{320, -272, 96}, {496, -272, 96}, {496, -432, 96}, {320, -432, 96}}}));
 }
 
 } // namespace
