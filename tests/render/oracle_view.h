@@ -126,10 +126,11 @@ inline ViewResult compareImage(const RenderScene& rs, const LightmapOracle& orac
       const glm::vec2 jitter = rng.next2();
       const SurfaceHit hit = traceVisible(rs, camera.ray(float(x) + jitter.x, float(y) + jitter.y));
       if (!hit.found) continue;
-      const uint32_t flags = rs.faceFlags[hit.face];
       const glm::vec3 texture = glm::vec3(baseColorAt(rs, hit.face, hit.position));
       const glm::vec3 emissive = emissiveAt(rs, hit.face, hit.position);
-      if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater) || emissive != glm::vec3(0.0f)) {
+      // What the engine draws without its lightmap (sky, unlit liquids, Quake 2's glass) or
+      // fullbright shows no compiled light.
+      if (engineDrawsUnlit(rs, hit.face) || emissive != glm::vec3(0.0f)) {
         ++r.skyOrUnlit;
         continue;
       }
@@ -224,9 +225,7 @@ inline void expectLitPixelsBlack(const RenderScene& rs, const CameraPose& pose) 
       const glm::vec2 jitter = rng.next2();
       const SurfaceHit hit = traceVisible(rs, camera.ray(float(x) + jitter.x, float(y) + jitter.y));
       if (!hit.found) continue;
-      const uint32_t flags = rs.faceFlags[hit.face];
-      if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater) || emissiveAt(rs, hit.face, hit.position) != glm::vec3(0.0f))
-        continue;
+      if (engineDrawsUnlit(rs, hit.face) || emissiveAt(rs, hit.face, hit.position) != glm::vec3(0.0f)) continue;
       EXPECT_EQ(image.beauty[size_t(y) * kViewWidth + x], glm::vec3(0.0f)) << "pixel " << x << " " << y;
     }
 }
