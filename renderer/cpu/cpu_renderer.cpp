@@ -39,14 +39,16 @@ glm::vec3 surfaceAlbedo(const RenderScene& scene, const Ray& ray, const SurfaceH
   return sky ? skyRadiance(scene.sky, ray.direction) : srgbToLinear(glm::vec3(baseColorAt(scene, hit.face, hit.position)));
 }
 
-// The albedo at the camera ray's surface `hit`; a translucent liquid's (or Quake 2 glass's) blended over what lies
+// The albedo at the camera ray's surface `hit`; a translucent liquid's blended over what lies
 // behind it as the engine blends colours (lighting/liquids.h, in their gamma space), going on
 // along the camera's line as aov.comp does.
 glm::vec3 albedoAlong(const RenderScene& scene, const Ray& ray, SurfaceHit hit) {
   glm::vec3 veil(0.0f), keep(1.0f);
   for (bool veiled = false;; veiled = true) {
     const glm::vec3 albedo = surfaceAlbedo(scene, ray, hit);
-    const LiquidBlend blend = hit.found ? engineBlend(scene, hit.face) : LiquidBlend{};
+    const LiquidBlend blend = hit.found && (scene.faceFlags[hit.face] & kFaceLiquid)
+        ? liquidBlend(scene.materials[gpuFace(scene, hit.face).material])
+        : LiquidBlend{};
     if (!(blend.behind > 0.0f)) return veiled ? srgbToLinear(veil + keep * linearToSrgb(albedo)) : albedo;
     veil += keep * blend.self * linearToSrgb(albedo);
     keep *= behindWeight(blend, linearToSrgb(albedo));
