@@ -32,12 +32,16 @@ constexpr double kEngineDisplayScale = 1.0 / 255.0;
 //     level's textures missing; what holds it is the view from (-168 -666.667 192) (560 lit
 //     pixels, 85 % within 5 %) and its luxels (87 %; 82 % before the bounce's sample points left
 //     the walls, 85 % before the faces were cut by qbsp's tree of the whole world, qbsp_tree.h;
-//     that view was at 78 %). That view sees no glass: its misses are dim luxels (8 to 10 stored,
-//     metal4_2) one unit brighter than the compiler's. The glass is drawn as ref_gl draws it
-//     (game_rules.h engineGlassAlpha: its texture, unlit, blended at 0.33 / 0.66) and its pixels
-//     are left out here with sky and unlit liquids, as the engine shows no lightmap there: the
-//     view from (-448 -16 87) leaves out 207 of them, 95.6 % -> 95.4 % within 5 % (the glass's
-//     luxels are 255, where the spotlight aims, so lit glass showed its texture too).
+//     that view was at 78 %). That view sees no glass: its misses are dim luxels (8 to 19 stored,
+//     where one unit is more than 5 %) one unit brighter than the compiler's, on two metal4_2
+//     faces lit by bounce alone (the ceiling at z = 464, the wall at y = -752): on the ceiling
+//     25-35 % of the luxels of each value from 1 to 19 are one unit above the compiler's and
+//     the rest equal (none below), a bias of a fraction of a unit, not an offset; not found.
+//     The glass is drawn as ref_gl draws it (game_rules.h engineGlassAlpha: its texture, unlit,
+//     blended at 0.33 / 0.66) and its pixels are left out here with sky and unlit liquids, as
+//     the engine shows no lightmap there: the view from (-448 -16 87) leaves out 207 of them,
+//     95.6 % -> 95.4 % within 5 % (the glass's luxels are 255, where the spotlight aims, so lit
+//     glass showed its texture too).
 //   q2_areaportals: the bounced light (the Quake 2 target's default `_bounce 1`). Since the
 //     bounce samples a face's light where the compiler does (bounce.cpp: an edge luxel beside a
 //     wall moved out of it, as PositionSamplePointOnFace moves it, instead of seeing the light
