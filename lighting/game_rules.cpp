@@ -98,6 +98,16 @@ bool compilerGlass(const Face& face, Game game) {
   return game == Game::Quake2 && face.surface && (face.surface->flags & (SURF_TRANS33 | SURF_TRANS66));
 }
 
+float quake2SurfaceAlpha(int32_t surfaceFlags) {
+  using namespace quake::q2;
+  return (surfaceFlags & SURF_TRANS33) ? 0.33f : (surfaceFlags & SURF_TRANS66) ? 0.66f : 1.0f;
+}
+
+float engineGlassAlpha(const Face& face, Game game) {
+  if (game != Game::Quake2 || !face.surface || (face.surface->flags & quake::q2::SURF_WARP)) return 1.0f;
+  return quake2SurfaceAlpha(face.surface->flags);
+}
+
 bool gameHidesEntity(const Entity& entity, Game game) {
   const std::string_view classname = entity.classname();
   // Quake triggers.qc InitTrigger (modelindex 0), Quake 2 g_trigger.c InitTrigger and Quake 3

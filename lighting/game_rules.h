@@ -5,6 +5,7 @@
 #include "lighting/lights.h"
 #include "scene/scene.h"
 
+#include <cstdint>
 #include <string_view>
 
 namespace bt {
@@ -37,5 +38,22 @@ float minlightUnit(Game game);
 // (every lit-games level: `can't find pixel data`) samples 0 and passes the light whole. It lights
 // the face from both sides (ltface.cc Lightsurf_Init: twosided = Face_IsTranslucent).
 bool compilerGlass(const Face& face, Game game);
+
+// Quake 2's alpha of a face by its surface flags (ref_gl gl_rsurf.c R_DrawAlphaSurfaces:
+// qglColor4f(intens, intens, intens, 0.33) for SURF_TRANS33, 0.66 for SURF_TRANS66, 1 for the
+// others), for its liquids (lighting/liquids.h) and its glass alike.
+float quake2SurfaceAlpha(int32_t surfaceFlags);
+
+// Quake 2's glass as its engine draws it: a SURF_TRANS33/66 face that is not a liquid (no
+// SURF_WARP, which lighting/liquids.h draws) goes to R_DrawAlphaSurfaces, which binds its texture
+// alone, without the lightmap the compiler gave it (compilerGlass lights it), modulated by
+// gl_state.inverse_intensity and blended at quake2SurfaceAlpha over what lies behind. The
+// texture was scaled by the `intensity` cvar as it was loaded (gl_image.c GL_LightScaleTexture),
+// so 1 / intensity gives the texture's own colour back, as the liquids' warp draws it
+// (EmitWaterPolys, same colour): the unlit texture, as faithful mode shows Quake's liquids.
+// (At `intensity 2`, ref_gl's default, a channel above 127 saturates to 127 on the glass: not
+// modelled, as faithful mode draws every Quake 2 face at intensity 1's scale, texture × luxel /
+// 255.) The alpha; 1 where the engine draws the face as any other.
+float engineGlassAlpha(const Face& face, Game game);
 
 } // namespace bt

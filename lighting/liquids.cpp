@@ -78,9 +78,7 @@ void applyLiquidBlends(const Scene& scene, const std::vector<uint32_t>& faceFlag
     GpuMaterial& m = materials[face.material];
     const LiquidKind kind = liquidKind(face.texture, face.surface ? &*face.surface : nullptr);
     if (game == Game::Quake2) {
-      using namespace quake::q2;
-      const int32_t flags = face.surface ? face.surface->flags : 0;
-      m.opacity = (flags & SURF_TRANS33) ? 0.33f : (flags & SURF_TRANS66) ? 0.66f : 1.0f;
+      m.opacity = quake2SurfaceAlpha(face.surface ? face.surface->flags : 0);
     } else if (game == Game::Quake) {
       m.opacity = alphas.of(kind);
     } else if (game == Game::Quake3 && applyShaderBlend(scene.materials[face.material].blend, m)) {

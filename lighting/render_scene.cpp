@@ -188,6 +188,7 @@ void classifyFaces(RenderScene& rs, const RenderSceneOptions& options) {
   for (const Material& m : scene.materials) materialMasks.push_back(alphaTestFlags(m) | q3map2::shaderFaceFlags(m));
   rs.faceFlags.resize(scene.faces.size());
   rs.faceChannels.clear();
+  rs.glassAlpha.clear();
   const Game game = gameOf(scene);
   for (size_t i = 0; i < scene.faces.size(); ++i) {
     const Face& f = scene.faces[i];
@@ -198,6 +199,10 @@ void classifyFaces(RenderScene& rs, const RenderSceneOptions& options) {
     // Glass passes the light (game_rules.h compilerGlass): whole, as the compiler passes it
     // through a texture it has no pixels for; its tint by the texels it does have is not modelled.
     if (compilerGlass(f, game)) flags |= kFaceNoShadow;
+    if (const float alpha = engineGlassAlpha(f, game); alpha < 1.0f) {
+      if (rs.glassAlpha.empty()) rs.glassAlpha.assign(scene.faces.size(), 1.0f);
+      rs.glassAlpha[i] = alpha;
+    }
     {
       const uint32_t e = scene.faceEntity(uint32_t(i)); // a brush's or a mesh's
       if (e < scene.entities.size()) {

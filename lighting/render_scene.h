@@ -8,6 +8,7 @@
 #include "lighting/game_rules.h"
 #include "lighting/light_grid.h"
 #include "lighting/liquid_csg.h"
+#include "lighting/liquids.h"
 #include "lighting/lightmaps.h"
 #include "lighting/lights.h"
 #include "lighting/qbsp_tree.h"
@@ -74,6 +75,9 @@ struct RenderScene {
   // into the compiler's faces for the bounce lights, the surface lights and the luxel layout:
   // grown once here; empty for every other game (their sides are cut by per-surface trees).
   QbspTree worldTree;
+  // Quake 2's glass as the engine draws it (game_rules.h engineGlassAlpha): per scene face, its
+  // alpha, 1 for every other face; empty for a level without glass.
+  std::vector<float> glassAlpha;
   // Faithful mode's luxels (lightmap_bake.h): a face baked here is shown from them, as the game
   // shows its lightmaps; any other face has its light evaluated at the shown point.
   Lightmaps lightmaps;
@@ -92,6 +96,25 @@ inline uint32_t objectChannels(const RenderScene& rs, uint32_t face) {
 inline glm::vec3 faceNormal(const RenderScene& rs, uint32_t face) {
   const float* p = gpuFace(rs, face).plane;
   return {p[0], p[1], p[2]};
+}
+
+// Quake 2's glass alpha of a face (RenderScene::glassAlpha), 1 for any other face.
+inline float glassAlpha(const RenderScene& rs, uint32_t face) {
+  return face < rs.glassAlpha.size() ? rs.glassAlpha[face] : 1.0f;
+}
+// Whether the engine draws the face without its lightmap, at its texture's own colour: sky, a
+// liquid without `_litwater`, Quake 2's glass (which the compiler lights all the same).
+inline bool engineDrawsUnlit(const RenderScene& rs, uint32_t face) {
+  const uint32_t flags = rs.faceFlags[face];
+  return (flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater) || glassAlpha(rs, face) < 1.0f;
+}
+// How the engine blends the face over what lies behind it, in faithful mode and the compiled
+// view: a translucent liquid's material blend (lighting/liquids.h), Quake 2's glass at its alpha;
+// opaque for every other face.
+inline LiquidBlend engineBlend(const RenderScene& rs, uint32_t face) {
+  if (rs.faceFlags[face] & kFaceLiquid) return liquidBlend(rs.materials[gpuFace(rs, face).material]);
+  const float alpha = glassAlpha(rs, face);
+  return {alpha, 1.0f - alpha};
 }
 
 // Classifies faces by texture name (Quake conventions, see README), reads the lights, and

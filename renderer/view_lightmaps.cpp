@@ -15,11 +15,11 @@ std::vector<uint32_t> facesSeen(const RenderScene& rs, const Camera& camera, int
     std::vector<uint8_t>& seen = seenByRow[row];
     seen.assign(faceCount, 0);
     for (int column = 0; column <= 2 * width; ++column) {
-      // What lies behind a translucent liquid shows too (lighting/liquids.h).
+      // What lies behind a translucent liquid or Quake 2's glass shows too (render_scene.h engineBlend).
       Ray ray = camera.ray(0.5f * float(column), 0.5f * float(row));
       for (SurfaceHit hit = traceVisible(rs, ray); hit.found; hit = traceVisible(rs, ray)) {
         seen[hit.face] = 1;
-        if (!(rs.faceFlags[hit.face] & kFaceLiquid) || !(liquidBlend(rs.materials[gpuFace(rs, hit.face).material]).behind > 0.0f)) break;
+        if (!(engineBlend(rs, hit.face).behind > 0.0f)) break;
         ray.tMin = continueRayAfter(hit.t);
       }
     }

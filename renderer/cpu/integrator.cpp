@@ -134,8 +134,9 @@ glm::vec3 faithfulSurfaceRadiance(const RenderScene& rs, const IntegratorSetting
   // A sky face of a level with sky images shows them by the ray's direction, as a miss would.
   if ((flags & kFaceSky) && rs.sky.size > 0) return skyRadiance(rs.sky, ray.direction);
   const glm::vec3 texture = glm::vec3(baseColorAt(rs, hit.face, hit.position));
-  // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
-  if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater)) return srgbToLinear(texture);
+  // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit; Quake 2
+  // its glass too.
+  if (engineDrawsUnlit(rs, hit.face)) return srgbToLinear(texture);
 
   glm::vec3 stored;
   if (const auto baked = lightmapValue(rs.lightmaps, hit.face, textureCoordinates(gpuFace(rs, hit.face), hit.position))) {
@@ -157,10 +158,9 @@ glm::vec3 faithfulSurfaceRadiance(const RenderScene& rs, const IntegratorSetting
   return srgbToLinear(display);
 }
 
-// A translucent liquid's blend (lighting/liquids.h); opaque for every other face.
+// A translucent liquid's blend (lighting/liquids.h) or Quake 2 glass's; opaque for every other face.
 LiquidBlend surfaceBlend(const RenderScene& rs, const SurfaceHit& hit) {
-  if (!hit.found || !(rs.faceFlags[hit.face] & kFaceLiquid)) return {};
-  return liquidBlend(rs.materials[gpuFace(rs, hit.face).material]);
+  return hit.found ? engineBlend(rs, hit.face) : LiquidBlend{};
 }
 
 LiquidBlend physicalSurfaceBlend(const RenderScene& rs, const SurfaceHit& hit) {
@@ -168,7 +168,8 @@ LiquidBlend physicalSurfaceBlend(const RenderScene& rs, const SurfaceHit& hit) {
   return physicalLiquidBlend(rs.materials[gpuFace(rs, hit.face).material]);
 }
 
-// The camera ray's surface as the game draws it, and where it is a translucent liquid, blended
+// The camera ray's surface as the game draws it, and where it is a translucent liquid or Quake 2's
+// glass, blended
 // over what lies behind as the engine blends it: in the framebuffer's (the textures') gamma
 // space, display = self x liquid + behind x what lies behind (x the liquid for a filter). The ray goes on behind the liquid
 // along the camera's line through the point it met, as pathtrace.comp restarts it.

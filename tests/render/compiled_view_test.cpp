@@ -8,7 +8,8 @@
 //   Half-Life t = min(1023, Σ stored × style × 338 >> 14), luxel = lightgammatable[t] >> 2 (GoldSrc's
 //             light gamma at its defaults, gamma 2.5, lightgamma 2.5, brightness 0); × 1 / 255
 //   Quake 2   luxel = Σ stored × style ('m' = 1), its hue kept below 255; shown = texture × luxel / 255
-// Pixels on sky, unlit liquids, fullbright texels and faces without a compiled lightmap (the
+// Pixels on sky, unlit liquids, Quake 2's glass (SURF_TRANS33/66 without SURF_WARP: ref_gl draws it
+// without its lightmap, game_rules.h engineGlassAlpha), fullbright texels and faces without a compiled lightmap (the
 // world's only: brush entities' faces are not sampled) are left out and counted.
 #include "importers/bsp/bsp_file.h"
 #include "importers/bsp/pk3.h"
@@ -30,6 +31,7 @@
 #include <string>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <string_view>
 
 namespace bt {
@@ -40,6 +42,8 @@ constexpr double kTolerance = 1.0 / 255.0 + 1e-4; // one step of the 8-bit displ
 // Pixels at least this bright (display 0..1) show a 2 % error as more than a step of 1/255.
 constexpr double kBright = 0.3;
 constexpr size_t kMinBrightPixels = 50;
+// Pixels that see a wall through Quake 2's glass, at least, for its test to judge by.
+constexpr size_t kMinGlassPixels = 200;
 
 enum class Engine { Quake, HalfLife, Quake2 };
 
@@ -112,10 +116,9 @@ Comparison compareWith(const RenderScene& rs, const ExpectedAt& expectedAt, doub
       const glm::vec2 jitter = rng.next2();
       const SurfaceHit hit = traceVisible(rs, camera.ray(float(x) + jitter.x, float(y) + jitter.y));
       if (!hit.found) continue;
-      const uint32_t flags = rs.faceFlags[hit.face];
       const glm::dvec3 texture(baseColorAt(rs, hit.face, hit.position));
       // Mesh triangles (Quake 3 curves) have no compiled lightmap in the view yet: lit at each point.
-      if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater) || rs.scene->faces[hit.face].brush == kNoBrush ||
+      if (engineDrawsUnlit(rs, hit.face) || rs.scene->faces[hit.face].brush == kNoBrush ||
           emissiveAt(rs, hit.face, hit.position) != glm::vec3(0.0f)) {
         ++r.excluded;
         continue;
@@ -238,6 +241,87 @@ TEST(CompiledView, HalfLifeAndQuake2PixelsShowTheCompiledLightmaps) {
   }
   std::printf("%s", fmt::format("{} Half-Life and Quake 2 levels, {} views with lit pixels judged\n", levels, judged).c_str());
   EXPECT_GT(judged, 0);
+}
+
+// Quake 2's glass as ref_gl draws it (gl_rsurf.c R_DrawAlphaSurfaces): its texture alone, without
+// the lightmap the compiler gave it, blended in the framebuffer at alpha 0.33 (SURF_TRANS33) or
+// 0.66 (SURF_TRANS66) over what was drawn behind it, here a wall shown with its compiled lightmap:
+//   shown = alpha × glass texture + (1 - alpha) × min(1, wall texture × luxel / 255).
+// Every pixel whose ray crosses one glass face (its flags read here from its own texinfo) and then
+// meets a world face with a compiled lightmap, from the level's cameras.
+TEST(CompiledView, Quake2GlassShowsItsTextureBlendedOverTheLightmapBehind) {
+  BT_REQUIRE_SHARED(shared);
+  const std::filesystem::path bsp = shared / "oracle" / "lit-games" / "maps_ericw-tools_testmaps_light_q2_translucent_shadow.bsp";
+  const test::LightmapOracle oracle(bsp, /*styleZeroOnly=*/false);
+  const Scene scene = importScene(bsp.string(), ImportOptions{});
+  Diagnostics diags;
+  RenderScene rs = buildRenderScene(scene, RenderSceneOptions{}, diags);
+  ASSERT_EQ(showCompiledLightmaps(scene, rs, ""), "");
+  const StyleTable styles(Engine::Quake2, scene);
+  const auto value = [&](const test::CompiledFace& f, int x, int y) { return engineLuxel(styles, oracle, f, x, y); };
+  const auto alphaOf = [&](uint32_t face) {
+    using namespace quake::q2;
+    const Face& f = scene.faces[face];
+    if (!f.surface || (f.surface->flags & SURF_WARP)) return 1.0;
+    return (f.surface->flags & SURF_TRANS33) ? 0.33 : (f.surface->flags & SURF_TRANS66) ? 0.66 : 1.0;
+  };
+  // The glass's own compiled lightmap (255 here: the spotlight aims at it) is halved: the engine
+  // never shows it, so no pixel may change, where glass drawn lit would show half its texture.
+  for (size_t fi = 0; fi < rs.lightmaps.fragments.size(); ++fi) {
+    if (alphaOf(rs.lightmaps.fragmentFace[fi]) == 1.0) continue;
+    const GpuLightmapFragment& g = rs.lightmaps.fragments[fi];
+    for (uint32_t i = 0; i < g.width * g.height; ++i) {
+      uint32_t& luxel = rs.lightmaps.luxels[g.firstLuxel + i];
+      luxel = packLuxel(unpackLuxel(luxel) * 0.5f);
+    }
+  }
+  size_t compared33 = 0, compared66 = 0, off = 0;
+  double worst = 0.0;
+  // The level's cameras, and two that look through both panes (x = -40 .. -7, SURF_TRANS33 at
+  // y = -512 .. -447, SURF_TRANS66 at y = -576 .. -511): one beside the light, one from beyond.
+  std::vector<CameraPose> cameras = test::oracleCameras(scene, rs, oracle);
+  cameras.push_back(CameraPose{.origin = {-200.0f, -500.0f, 80.0f}, .pitch = 10.0f, .yaw = 0.0f, .source = "through the glass"});
+  cameras.push_back(CameraPose{.origin = {150.0f, -500.0f, 80.0f}, .pitch = 10.0f, .yaw = 180.0f, .source = "through the glass"});
+  for (const CameraPose& pose : cameras) {
+    const Camera camera(pose, kWidth, kHeight);
+    const RenderImage image = renderView(rs, pose);
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x) {
+        // The pixel's one sample: the renderer's own jittered ray (cpu_renderer.cpp).
+        Rng rng = pixelRng(uint32_t(x), uint32_t(y), 0, 0);
+        const glm::vec2 jitter = rng.next2();
+        const Ray ray = camera.ray(float(x) + jitter.x, float(y) + jitter.y);
+        const SurfaceHit glass = traceVisible(rs, ray);
+        if (!glass.found || alphaOf(glass.face) == 1.0) continue;
+        const double alpha = alphaOf(glass.face);
+        const glm::vec3 toGlass = glass.position - ray.origin;
+        const float t = glm::length(toGlass);
+        const SurfaceHit wall = traceVisible(rs, Ray{ray.origin, continueRayAfter(t), toGlass / t, std::numeric_limits<float>::infinity()});
+        if (!wall.found || alphaOf(wall.face) != 1.0 || (rs.faceFlags[wall.face] & (kFaceSky | kFaceLiquid)) ||
+            scene.faces[wall.face].brush == kNoBrush || emissiveAt(rs, wall.face, wall.position) != glm::vec3(0.0f))
+          continue;
+        const std::vector<glm::dvec3> luxels = oracle.allAt(glm::dvec3(wall.position), glm::dvec3(wall.normal), value);
+        if (luxels.empty()) continue;
+        const glm::dvec3 glassTexture(baseColorAt(rs, glass.face, glass.position));
+        const glm::dvec3 wallTexture(baseColorAt(rs, wall.face, wall.position));
+        const glm::dvec3 shown = glm::clamp(glm::dvec3(linearToSrgb(image.beauty[size_t(y) * kWidth + x])), 0.0, 1.0);
+        double error = 1e30;
+        for (const glm::dvec3& luxel : luxels) { // a seam between two compiled faces: either
+          const glm::dvec3 behind = glm::clamp(wallTexture * luxel / 255.0, 0.0, 1.0);
+          const glm::dvec3 d = glm::abs(shown - (alpha * glassTexture + (1.0 - alpha) * behind));
+          error = std::min(error, std::max({d.x, d.y, d.z}));
+        }
+        (alpha < 0.5 ? compared33 : compared66) += 1;
+        off += error > kTolerance;
+        worst = std::max(worst, error);
+      }
+  }
+  std::printf("%s",
+              fmt::format("glass: {} pixels through SURF_TRANS33, {} through SURF_TRANS66, {} off by more than 1/255 (worst {:.4f})\n",
+                          compared33, compared66, off, worst)
+                  .c_str());
+  EXPECT_GT(compared33 + compared66, kMinGlassPixels) << "the cameras see too little through the glass";
+  EXPECT_EQ(off, 0u) << "worst " << worst;
 }
 
 // --- Quake 3 ---------------------------------------------------------------------------------

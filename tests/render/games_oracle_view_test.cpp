@@ -33,8 +33,15 @@ constexpr double kEngineDisplayScale = 1.0 / 255.0;
 //     left the walls, 85 % before the faces were cut by qbsp's tree of the whole world,
 //     qbsp_tree.h, 86.7 % before qbsp's T-junction fix, qbsp_tjunc.h, 87.5 % before the tree
 //     valued a brush's axial sides first). Its view from (-168 -666.667 192) (560 lit pixels,
-//     where ref_gl draws the glass faces without their lightmap) went from 85 % to 100 % within
-//     5 % with the T-junction fix, and to 95.7 % with the axial sides first.
+//     no glass in it) went from 85 % to 100 % within 5 % with the T-junction fix, and to 95.7 %
+//     with the axial sides first. What misses are dim luxels (8 to 19 stored, where one unit is
+//     more than 5 %) one unit brighter than the compiler's, on two metal4_2 faces lit by bounce
+//     alone (the ceiling at z = 464, the wall at y = -752): before the T-junction fix, on the
+//     ceiling 25-35 % of the luxels of each value from 1 to 19 were one unit above the
+//     compiler's and the rest equal (none below), a bias of a fraction of a unit, not an offset.
+//     The glass is drawn as ref_gl draws it (game_rules.h engineGlassAlpha: its texture, unlit,
+//     blended at 0.33 / 0.66) and its pixels are left out here with sky and unlit liquids, as
+//     the engine shows no lightmap there: the view from (-448 -16 87) leaves out 207 of them.
 //   q2_areaportals: the bounced light (the Quake 2 target's default `_bounce 1`). Since the
 //     bounce samples a face's light where the compiler does (bounce.cpp: an edge luxel beside a
 //     wall moved out of it, as PositionSamplePointOnFace moves it, instead of seeing the light

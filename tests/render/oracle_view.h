@@ -126,10 +126,11 @@ inline ViewResult compareImage(const RenderScene& rs, const LightmapOracle& orac
       const glm::vec2 jitter = rng.next2();
       const SurfaceHit hit = traceVisible(rs, camera.ray(float(x) + jitter.x, float(y) + jitter.y));
       if (!hit.found) continue;
-      const uint32_t flags = rs.faceFlags[hit.face];
       const glm::vec3 texture = glm::vec3(baseColorAt(rs, hit.face, hit.position));
       const glm::vec3 emissive = emissiveAt(rs, hit.face, hit.position);
-      if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater) || emissive != glm::vec3(0.0f)) {
+      // What the engine draws without its lightmap (sky, unlit liquids, Quake 2's glass) or
+      // fullbright shows no compiled light.
+      if (engineDrawsUnlit(rs, hit.face) || emissive != glm::vec3(0.0f)) {
         ++r.skyOrUnlit;
         continue;
       }
@@ -224,9 +225,7 @@ inline void expectLitPixelsBlack(const RenderScene& rs, const CameraPose& pose) 
       const glm::vec2 jitter = rng.next2();
       const SurfaceHit hit = traceVisible(rs, camera.ray(float(x) + jitter.x, float(y) + jitter.y));
       if (!hit.found) continue;
-      const uint32_t flags = rs.faceFlags[hit.face];
-      if ((flags & kFaceSky) || ((flags & kFaceLiquid) && !rs.world.litwater) || emissiveAt(rs, hit.face, hit.position) != glm::vec3(0.0f))
-        continue;
+      if (engineDrawsUnlit(rs, hit.face) || emissiveAt(rs, hit.face, hit.position) != glm::vec3(0.0f)) continue;
       EXPECT_EQ(image.beauty[size_t(y) * kViewWidth + x], glm::vec3(0.0f)) << "pixel " << x << " " << y;
     }
 }
@@ -285,7 +284,7 @@ inline void checkOracleLevel(const std::string& name, const std::filesystem::pat
     EXPECT_FALSE(meets(off, bar)) << "luxels 5 % too bright still pass: " << describe(off);
   }
 
-  int judged = 0, seen = 0;
+  int judged = 0, seen = 0, unlitOnly = 0;
   for (size_t c = 0; c < cameras.size(); ++c) {
     const CameraPose& pose = cameras[c];
     const RenderImage image = renderOracleView(rs, pose);
@@ -293,8 +292,13 @@ inline void checkOracleLevel(const std::string& name, const std::filesystem::pat
     const ViewResult r = compareImage(rs, oracle, displayScale, camera, image, fmt::format("{}-{}", name, c), shown);
     std::printf("%s", fmt::format("oracle view {} {}: {}\n", name, formatCameraPose(pose), describe(r)).c_str());
     // A camera that sees no compiled face (a default camera outside a test box, a face camera
-    // behind a wall) has nothing to judge; at least one of the three must have something.
-    if (r.compared == 0 && r.dark == 0) continue;
+    // behind a wall) has nothing to judge; at least one of the three must have something, unless
+    // what they see the engine draws without a lightmap (q2_trans33_solid, q2_trans33_window: a
+    // box of Quake 2 glass in the dark), whose luxels are judged above.
+    if (r.compared == 0 && r.dark == 0) {
+      unlitOnly += r.skyOrUnlit > 0 && r.noCompiledFace == 0;
+      continue;
+    }
     ++seen;
     EXPECT_TRUE(meets(r, bar)) << formatCameraPose(pose) << ": " << describe(r);
     // The test can fail: the same pixels with our light 5 % brighter miss the bar wherever the
@@ -306,7 +310,7 @@ inline void checkOracleLevel(const std::string& name, const std::filesystem::pat
     EXPECT_FALSE(meets(off, bar)) << "5 % too bright still passes from " << formatCameraPose(pose) << ": " << describe(off);
     ++judged;
   }
-  EXPECT_GT(seen, 0) << "no camera sees a compiled face";
+  EXPECT_TRUE(seen > 0 || (unlitOnly == int(cameras.size()) && luxels.compared + luxels.dark > 0)) << "no camera sees a compiled face";
   // A level whose compiled light is all dark, or lit only in a spot that no camera shows large
   // (fewer lit luxels than kMinLitPixels), has no view to judge a 5 % error by: its luxels are.
   if (!atGap && luxels.compared >= kMinLitPixels) {
