@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -116,6 +117,45 @@ template <bool ZeroSafe> [[gnu::always_inline]] inline Slab brushBox(const RayCo
   return s;
 }
 
+#if BT_SSE_NODE_TEST
+// The axis of `axes` (a bit per axis) that brushBox's tie rule keeps: the one the ray meets most
+// head-on, the earliest of equals.
+[[gnu::always_inline]] inline int headOnAxis(const RayContext& r, int axes) {
+  int best = std::countr_zero(unsigned(axes));
+  for (int a = best + 1; a < 3; ++a)
+    if ((axes >> a) & 1 && std::abs(r.direction[a]) > std::abs(r.direction[best])) best = a;
+  return best;
+}
+
+// brushBox<false>, bit for bit, from the box's slabs in one register each, or false where
+// hitBrush rejects the box on its interval (it misses, or lies outside (tMin, tMax) or beyond
+// tLimit): most brushes of a leaf the ray reaches do. A slab's lane min(t0, t1) is brushBox's
+// tNear of that axis (the sign of d picks the smaller; a brush box has thickness, so the two are
+// never zeros of both signs), max(t0, t1) its tFar; near is the largest lane and nearAxis the
+// lane brushBox's tie rule keeps among those equal to it (far and farAxis alike). brushBox keeps
+// no axis for a value it never passes: near at -inf, far at +inf.
+[[gnu::always_inline]] inline bool brushBoxLanes(const RayContext& r, const GpuBrush& brush, float tLimit, Slab& box) {
+  const __m128 keep = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0));
+  const __m128 lo = _mm_and_ps(_mm_loadu_ps(brush.boundsMin), keep), hi = _mm_and_ps(_mm_loadu_ps(brush.boundsMax), keep);
+  const __m128 t0 = _mm_mul_ps(_mm_sub_ps(lo, r.origin4), r.invDirection4);
+  const __m128 t1 = _mm_mul_ps(_mm_sub_ps(hi, r.origin4), r.invDirection4);
+  const __m128 lower = _mm_min_ps(t0, t1), upper = _mm_max_ps(t0, t1);
+  const float near = _mm_cvtss_f32(_mm_max_ss(_mm_max_ss(lower, _mm_shuffle_ps(lower, lower, 1)), _mm_shuffle_ps(lower, lower, 2)));
+  const float far = _mm_cvtss_f32(_mm_min_ss(_mm_min_ss(upper, _mm_shuffle_ps(upper, upper, 1)), _mm_shuffle_ps(upper, upper, 2)));
+  if (near > far || far <= r.tMin || near >= r.tMax || near > tLimit) return false;
+  alignas(16) float nears[4], fars[4];
+  _mm_store_ps(nears, lower);
+  _mm_store_ps(fars, upper);
+  const int nearAxes = _mm_movemask_ps(_mm_cmpeq_ps(lower, _mm_set1_ps(near))) & 7;
+  const int farAxes = _mm_movemask_ps(_mm_cmpeq_ps(upper, _mm_set1_ps(far))) & 7;
+  box.nearAxis = near == -kInfinity ? -1 : headOnAxis(r, nearAxes);
+  box.farAxis = far == kInfinity ? -1 : headOnAxis(r, farAxes);
+  box.near = box.nearAxis >= 0 ? nears[box.nearAxis] : -kInfinity;
+  box.far = box.farAxis >= 0 ? fars[box.farAxis] : kInfinity;
+  return true;
+}
+#endif
+
 // A plane crossing candidate: t, the face, and how head-on the ray meets it (|dot(n, d)|).
 struct Crossing {
   float t;
@@ -128,17 +168,16 @@ struct Crossing {
 // its hit could only be farther (a hit at exactly tLimit still competes in the tie-break).
 template <bool ZeroSafe> inline bool hitBrush(const RayContext& r, const GpuBrush& brush, std::span<const uint32_t> sides,
                                               std::span<const GpuFace> faces, float tLimit, Hit& hit) {
+  Slab box;
 #if BT_SSE_NODE_TEST
   if constexpr (!ZeroSafe) {
-    // Most brushes of a leaf the ray reaches miss it: the rejection below on the box's interval
-    // in one register first (the same near and far values; brushBox adds which axis set them).
-    float near, far;
-    boxInterval(r, brush.boundsMin, brush.boundsMax, near, far);
-    if (near > far || far <= r.tMin || near >= r.tMax || near > tLimit) return false;
-  }
+    if (!brushBoxLanes(r, brush, tLimit, box)) return false;
+  } else
 #endif
-  const Slab box = brushBox<ZeroSafe>(r, brush);
-  if (box.near > box.far || box.far <= r.tMin || box.near >= r.tMax || box.near > tLimit) return false;
+  {
+    box = brushBox<ZeroSafe>(r, brush);
+    if (box.near > box.far || box.far <= r.tMin || box.near >= r.tMax || box.near > tLimit) return false;
+  }
 
   Crossing enter{-kInfinity}, exit{kInfinity};
   const float near0 = std::max(box.near, r.tMin);

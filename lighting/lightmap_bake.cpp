@@ -388,14 +388,19 @@ glm::vec3 luxelLight(const RenderScene& rs, const LuxelBakeJob& job, size_t luxe
 }
 
 // The sample points of luxels [begin, end) that cast shadow rays from one side of one face:
-// what prepareLuxelGroup takes as a group. Empty when they are not all such.
-std::vector<glm::vec3> shadowGroup(const LuxelBakeJob& job, size_t begin, size_t end) {
+// what prepareLuxelGroup takes as a group. Empty when they are not all such. `cull`: the light
+// cull of those points where they all share one (job.cull), else none.
+std::vector<glm::vec3> shadowGroup(const LuxelBakeJob& job, size_t begin, size_t end, GroupCull& cull) {
   std::vector<glm::vec3> points;
-  const uint32_t face = job.samples[begin * job.samplesPerLuxel].face;
+  const GpuLuxelSample& first = job.samples[begin * job.samplesPerLuxel];
+  const VisCull shared = job.cull(first);
+  cull = {shared.receiver, shared.lights};
   for (size_t i = begin * job.samplesPerLuxel; i < end * job.samplesPerLuxel; ++i) {
     const GpuLuxelSample& s = job.samples[i];
-    if (s.face != face || (s.flags & kLuxelSampleTwoSided)) return {};
+    if (s.face != first.face || (s.flags & kLuxelSampleTwoSided)) return {};
     if (!(s.flags & kLuxelSampleOccluded)) points.emplace_back(s.position[0], s.position[1], s.position[2]);
+    const VisCull own = job.cull(s);
+    if (own.receiver != shared.receiver || own.lights != shared.lights) cull = {};
   }
   return points;
 }
@@ -439,7 +444,9 @@ template <class Store> void bakeRun(const RenderScene& rs, const LuxelBakeJob& j
     if (cache) {
       const glm::vec3 n(rs.scene->faces[faceOf(group)].plane.normal);
       if (faceOf(group) != cacheFace) cacheFace = faceOf(group), prepareLuxelFace(rs, n, nearest[cacheFace], *cache);
-      prepareLuxelGroup(rs, shadowGroup(job, group, groupEnd), n, *cache);
+      GroupCull cull;
+      const std::vector<glm::vec3> points = shadowGroup(job, group, groupEnd, cull);
+      prepareLuxelGroup(rs, points, n, *cache, cull);
     }
     for (size_t luxel = group; luxel < groupEnd; ++luxel) store(luxel, cache);
   }

@@ -1,6 +1,7 @@
 #include "lighting/shadow_groups.h"
 
 #include "lighting/faithful.h"
+#include "lighting/vis_approx.h"
 #include "lighting/visibility.h"
 
 #include <glm/geometric.hpp>
@@ -313,7 +314,8 @@ void prepareLuxelFace(const RenderScene& rs, const glm::vec3& n, float nearest, 
   cache.faceReady = true;
 }
 
-void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points, const glm::vec3& n, ShadowCache& cache) {
+void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points, const glm::vec3& n, ShadowCache& cache,
+                       const GroupCull& cull) {
   cache.groupLights.clear();
   cache.grouped = false;
   if (points.empty()) return;
@@ -332,6 +334,10 @@ void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points,
   constexpr uint32_t kDropped = ~0u;
   const auto entry = [&](uint32_t i) -> uint32_t {
     const GpuLight& light = rs.lights[i];
+    // addFaithfulLight's cull, before the light's random numbers and its shadow rays: a light it
+    // culls leaves no trace in the luxel or the cache, so it need not be swept luxel by luxel,
+    // nor proved hidden or seen here.
+    if (cull.receiver && light.visBox && visBoxesApart(cull.lights[light.visBox - 1], *cull.receiver)) return kDropped;
     if (light.type != uint32_t(LightType::Point) || light.deviance > 0.0f) return i;
     if (behindAll(light, n, nearest) || hiddenByRecentBlocker(rs, cache, i, box)) return kDropped;
     // Tried only where the last ray toward the light was not blocked: a proof that fails costs a

@@ -57,9 +57,18 @@ bool cachedShadowed(const RenderScene& rs, ShadowCache& cache, uint32_t index, c
 // height along n is `nearest`, for the groups of that face that follow.
 void prepareLuxelFace(const RenderScene& rs, const glm::vec3& n, float nearest, ShadowCache& cache);
 
+// The compiler's light cull (vis_approx.h) shared by every point of a group: the receiver box
+// they all compare the lights' boxes with (faithful_light.h VisCull), or none.
+struct GroupCull {
+  const GpuVisBox* receiver = nullptr;
+  const GpuVisBox* lights = nullptr;
+};
+
 // Prepares cache.groupLights for sample `points` of one face (normal n, one-sided). Leaves the
 // cache ungrouped where the points do not share one light list (two grid cells). Sweeps
 // cache.faceLights where faceReady (prepared for the points' face), else the grid's lists.
-void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points, const glm::vec3& n, ShadowCache& cache);
+// Leaves out the lights that `cull` culls (faithful light gives them nothing at these points).
+void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points, const glm::vec3& n, ShadowCache& cache,
+                       const GroupCull& cull = {});
 
 } // namespace bt
