@@ -1,9 +1,11 @@
-// denoise_lab DIR [SPP...]: the denoiser lab (issue 18). Reads what `gl_bench ... converge 4096
+// denoise_lab DIR [SPP...] [analyze] [shares] [worst N]: the denoiser lab (issue 18). Reads what `gl_bench ... converge 4096
 // dump DIR` or `brushtrace bench --time-to-converged --dump DIR` wrote (reference.exr and
 // NNNNspp.exr, each with its AOVs and second moment), denoises each step again with today's
 // renderer/denoise.h and prints the step's relative MSE raw, denoised and displayed (the viewer's
 // fade, renderer/denoise_fade.h) against the reference, as the bench does, and where the worst 1 %
-// of the displayed image's error lies: sky, dark pixels, silhouettes, texel edges, fireflies.
+// of the displayed image's error lies: sky, dark pixels, silhouettes, texel edges, fireflies
+// (`analyze`; `worst N` lists the N worst pixels of the denoised image), and `shares`: the error
+// of blends w x denoised + (1 - w) x raw, from which the fade was chosen.
 // So the filter can be tuned on the GPU's images without the GPU.
 #include "renderer/denoise.h"
 #include "renderer/denoise_fade.h"
@@ -93,19 +95,41 @@ void breakdown(const RenderImage& image, const std::vector<glm::vec3>& shown, co
   fmt::print("{}\n", line);
 }
 
+// The n worst pixels of the denoised image, with what the filter saw there.
+void listWorst(const RenderImage& image, const RenderImage& reference, const std::vector<glm::vec3>& raw,
+               const std::vector<glm::vec3>& filtered, const std::vector<glm::vec3>& referenceDisplay, int n) {
+  std::vector<std::pair<double, size_t>> e(referenceDisplay.size());
+  for (size_t i = 0; i < e.size(); ++i) e[i] = {pixelError(filtered[i], referenceDisplay[i]), i};
+  std::sort(e.begin(), e.end(), std::greater<>());
+  for (int k = 0; k < n && k < int(e.size()); ++k) {
+    const size_t i = e[size_t(k)].second;
+    const float moment2 = image.luminanceMoment2.size() > i ? image.luminanceMoment2[i] : NAN;
+    fmt::print("      ({},{}) err {:.2f} ref {:.3f} raw {:.3f} den {:.3f} albedo {:.3f} {:.3f} {:.3f} depth {:.0f} lin raw {:.4f} "
+               "ref {:.4f} m2 {:.4g}\n",
+               i % size_t(image.width), i / size_t(image.width), e[size_t(k)].first, displayLuminance(referenceDisplay[i]),
+               displayLuminance(raw[i]), displayLuminance(filtered[i]), image.albedo[i].x, image.albedo[i].y, image.albedo[i].z,
+               image.depth[i], displayLuminance(image.beauty[i]), displayLuminance(reference.beauty[i]), moment2);
+  }
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    fmt::print(stderr, "usage: denoise_lab DIR [SPP...] [analyze]\n");
+    fmt::print(stderr, "usage: denoise_lab DIR [SPP...] [analyze] [shares] [worst N]\n");
     return 2;
   }
   const std::filesystem::path dir = argv[1];
   std::vector<int> spps;
-  bool analyze = false;
+  bool analyze = false, shares = false;
+  int worstPixels = 0;
   for (int a = 2; a < argc; ++a) {
     if (std::string(argv[a]) == "analyze")
       analyze = true;
+    else if (std::string(argv[a]) == "shares")
+      shares = true;
+    else if (std::string(argv[a]) == "worst" && a + 1 < argc)
+      analyze = true, worstPixels = std::atoi(argv[++a]);
     else
       spps.push_back(std::atoi(argv[a]));
   }
@@ -131,7 +155,7 @@ int main(int argc, char** argv) {
                bt::relativeMse(filtered, referenceDisplay), 100.0 * bt::worstPercentShare(filtered, referenceDisplay),
                100.0 * bt::denoiseShare(image.samples), bt::relativeMse(shown, referenceDisplay),
                100.0 * bt::worstPercentShare(shown, referenceDisplay), ev, seconds);
-    if (std::getenv("LAB_SHARES")) {
+    if (shares) {
       std::string line = "      shares:";
       for (float share : {1.0f, 0.9f, 0.8f, 0.7f, 0.6f, 0.5f, 0.4f, 0.3f}) {
         std::vector<glm::vec3> mix(denoised.size());
@@ -145,19 +169,7 @@ int main(int argc, char** argv) {
       breakdown(image, raw, referenceDisplay);
       fmt::print("    denoised, the worst 1 %:\n");
       breakdown(image, filtered, referenceDisplay);
-      if (std::getenv("LAB_WORST")) {
-        std::vector<std::pair<double, size_t>> e(referenceDisplay.size());
-        for (size_t i = 0; i < e.size(); ++i) e[i] = {pixelError(filtered[i], referenceDisplay[i]), i};
-        std::sort(e.begin(), e.end(), std::greater<>());
-        for (int k = 0; k < std::atoi(std::getenv("LAB_WORST")); ++k) {
-          const size_t i = e[k].second;
-          fmt::print("      ({},{}) err {:.2f} ref {:.3f} raw {:.3f} den {:.3f} albedo {:.3f} {:.3f} {:.3f} depth {:.0f} lin raw {:.4f} "
-                     "ref {:.4f} m2 {:.4g}\n",
-                     i % image.width, i / image.width, e[k].first, displayLuminance(referenceDisplay[i]), displayLuminance(raw[i]),
-                     displayLuminance(filtered[i]), image.albedo[i].x, image.albedo[i].y, image.albedo[i].z, image.depth[i],
-                     displayLuminance(image.beauty[i]), displayLuminance(reference.beauty[i]), image.luminanceMoment2[i]);
-        }
-      }
+      listWorst(image, reference, raw, filtered, referenceDisplay, worstPixels);
     }
   }
   return 0;
