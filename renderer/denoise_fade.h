@@ -12,11 +12,12 @@ namespace bt {
 
 // The fade: the denoised picture's share is 1 up to `fullUntil` samples per pixel, falling
 // linearly to 0 at `goneAt` and after. kDenoiseFade is what the viewer and the bench use (README
-// "Viewer"; bench/README.md, issue 18 session 20, for the measurements it was chosen from);
-// another is for tests that cannot wait for 1024 spp (ViewerOptions::denoiseFade).
+// "Viewer"; bench/README.md, issue 18 session 21, for the measurements it was chosen from: with
+// the per-channel shrink the denoised image at full strength beat every blend with the raw one
+// up to 512 spp on lq_e4m3); another is for tests that cannot wait (ViewerOptions::denoiseFade).
 struct DenoiseFade {
-  int fullUntil = 64;
-  int goneAt = 1024;
+  int fullUntil = 256;
+  int goneAt = 4096;
 };
 inline constexpr DenoiseFade kDenoiseFade{};
 float denoiseShare(int samples, const DenoiseFade& fade = kDenoiseFade);

@@ -74,11 +74,12 @@ std::vector<ConvergeStep> timeToConverged(const std::function<RenderImage(int sp
       start = Clock::now();
       const std::vector<glm::vec3> denoised = settings.denoiser(image);
       // The viewer skips the denoiser once its share is 0; so does the time.
-      step.denoiseSeconds = denoiseShare(image.samples) > 0.0f ? secondsSince(start) : 0.0;
+      step.denoiseSeconds = denoiseShare(image.samples, settings.fade) > 0.0f ? secondsSince(start) : 0.0;
       const std::vector<glm::vec3> shownDenoised = displayedImage(denoised, ev);
       step.relativeMseDenoised = relativeMse(shownDenoised, referenceDisplay);
       step.worstShareDenoised = worstPercentShare(shownDenoised, referenceDisplay);
-      step.relativeMseDisplayed = relativeMse(displayedImage(displayedBeauty(image.beauty, denoised, image.samples), ev), referenceDisplay);
+      step.relativeMseDisplayed =
+          relativeMse(displayedImage(displayedBeauty(image.beauty, denoised, image.samples, settings.fade), ev), referenceDisplay);
     }
     steps.push_back(step);
     if (settings.onStep) settings.onStep(step);

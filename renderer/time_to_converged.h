@@ -4,6 +4,7 @@
 // renderer/denoise_fade.h) or off. The same measure for both tracers: each gives `render(spp)`.
 #pragma once
 
+#include "renderer/denoise_fade.h"
 #include "renderer/render.h"
 
 #include <functional>
@@ -38,6 +39,7 @@ struct ConvergeSettings {
   // The denoiser of the tracer under test (the CPU's or the GL one); empty: measured without.
   std::function<std::vector<glm::vec3>(const RenderImage&)> denoiser;
   std::function<void(const ConvergeStep&)> onStep; // each measured step, for a progress line
+  DenoiseFade fade = kDenoiseFade;                 // the display's; tests shorten it
 };
 
 // Renders at 1, 2, 4, ... spp (each auto-exposed on its own raw beauty, as `render` does), each

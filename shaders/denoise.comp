@@ -94,11 +94,15 @@ float meanVariance(float moment2, float meanLuminance) {
   return isinf(variance) || isnan(variance) ? 0.0 : variance;
 }
 
-// denoise.cpp shrinkTowardRaw.
+// denoise.cpp shrinkTowardRaw: each channel on its own.
 vec3 shrinkTowardRaw(vec3 raw, vec3 filtered, float variance) {
-  float d = luminance(filtered) - luminance(raw);
-  float keep = d * d > variance ? variance / (d * d) : 1.0;
-  return raw + (filtered - raw) * keep;
+  float rawLuminance = luminance(raw);
+  vec3 share = rawLuminance > 0.0 ? raw / rawLuminance : vec3(1.0);
+  vec3 channelVariance = variance * share * share, d = filtered - raw;
+  vec3 keep = vec3(1.0);
+  for (int c = 0; c < 3; ++c)
+    if (d[c] * d[c] > channelVariance[c]) keep[c] = channelVariance[c] / (d[c] * d[c]);
+  return raw + d * keep;
 }
 
 // denoise.cpp prepare, for one pixel.

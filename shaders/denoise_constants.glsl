@@ -48,10 +48,11 @@
 // irradiance is off by their ratio, and the filter trades that for its neighbours' (bricks finer
 // than a pixel: 13 times the raw image's error at 256 spp). From SHRINK_FROM samples on, where
 // the second moment gives each pixel's own noise, the last step keeps of the filtered value's
-// difference d from the raw mean (luminance) the share min(1, var / d^2), var the variance of
-// the pixel's mean: the Wiener weight of a smooth estimate biased by b, var / (var + b^2), with
-// d^2 estimating var + b^2: noise-sized changes stay, a change many times the pixel's own noise
-// (a bias) falls back to the raw mean. Below SHRINK_FROM the few samples' variance is too rough
+// difference d from the raw mean, in each channel, the share min(1, var / d^2), var the variance
+// of that channel's mean (the luminance's, scaled by the square of the channel's share of it):
+// the Wiener weight of a smooth estimate biased by b, var / (var + b^2), with d^2 estimating
+// var + b^2: noise-sized changes stay, a change many times the pixel's own noise (a bias, a hue
+// shift included) falls back to the raw mean. Below SHRINK_FROM the few samples' variance is too rough
 // (at 4 spp it cost lq_e4m3 a third of the filter's gain); measurements: bench/README.md, issue
 // 18 session 20.
 #define BT_DENOISE_SHRINK_FROM 16
