@@ -197,13 +197,14 @@ private:
 
 class NearRanking {
 public:
-  // power: the light's physical intensity (physical_light.h), channels summed; its window only
+  // power: the light's physical intensity times its emitted colour's channels summed
+  // (physical_light.h colourSum, as the pick's selectionWeight has it); its window only
   // lowers the light further out, so power / d^2 stays a bound.
   NearRanking(const GpuLightGrid& g, const std::vector<GpuLight>& lights, std::span<const uint32_t> physical, float scaledist)
       : grid_(g), nearest2_(0.25f * g.cellSize * g.cellSize) {
     for (uint32_t i : physical) {
       const GpuLight& l = lights[i];
-      const float power = (l.color.x + l.color.y + l.color.z) * physical::intensity(l, scaledist);
+      const float power = physical::colourSum(l.color) * physical::intensity(l, scaledist);
       if (power > 0.0f) candidates_.push_back({l.origin, maxJitter(l), power, i});
     }
     if (!candidates_.empty()) buildCandidateTree(candidates_, 0, uint32_t(candidates_.size()), nodes_);

@@ -114,7 +114,7 @@ std::vector<LightTreeNode> buildLightTree(const std::vector<GpuLight>& lights, s
   for (uint32_t i : candidates) {
     const GpuLight& l = lights[i];
     const float reach = physical::reach(l, scaledist);
-    const float power = (l.color.x + l.color.y + l.color.z) * physical::intensity(l, scaledist, reach);
+    const float power = physical::colourSum(l.color) * physical::intensity(l, scaledist, reach);
     if (!(power > 0.0f)) continue;
     const glm::vec3 jitter(std::max(l.deviance, 0.0f) * (1.0f + kReachRelativeSlack));
     const float padded = std::isfinite(reach) ? reach * (1.0f + kReachRelativeSlack) + kReachSlack : reach;

@@ -30,7 +30,7 @@ namespace bt {
 // jitter), their summed power, and the largest reach among them bound what they can light.
 struct LightTreeNode {
   glm::vec3 lo{0.0f};
-  float power = 0.0f; // sum over members of (r + g + b) x physicalIntensity
+  float power = 0.0f; // sum over members of physical::colourSum x physicalIntensity
   glm::vec3 hi{0.0f};
   float invReach = 0.0f; // 1 / (the largest member reach, padded); 0: a member never ends
   uint32_t second = 0;   // inner: the second child; 0 for a leaf
@@ -38,7 +38,7 @@ struct LightTreeNode {
 };
 
 // The tree over lights[i] for i in `candidates` (physical mode's point lights; light_grid.h's
-// physical list), each weighed by its physical intensity (physical_light.h) and colour. Lights
+// physical list), each weighed by its physical intensity and emitted colour (physical_light.h). Lights
 // of no power are left out. Empty when no light has power.
 std::vector<LightTreeNode> buildLightTree(const std::vector<GpuLight>& lights, std::span<const uint32_t> candidates, float scaledist);
 

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "lighting/faithful.h"
+#include "scene/color.h"
 #include "scene/gpu_structs.h"
 #include "shaders/light_constants.glsl"
 
@@ -70,12 +71,52 @@ inline float intensity(const GpuLight& light, float scaledist) {
   return intensity(light, scaledist, reach(light, scaledist));
 }
 
-// Stores the light's intensity and 1 / reach in it (GpuLight::physical*): the tracers' light
-// loops read them instead of deriving both per sample. buildRenderScene prepares every light.
+// A light's colour as physical mode emits it, per unit of its brightest channel. The compiler's
+// colour (`_color`, the Half-Life form's, `_sunlight_color`, a `_surface` template's,
+// `_minlight_color`) is the one the game shows: its lightmap multiplies the texture in gamma
+// space, so a channel at a fraction c of the brightest one shows sRGB-to-linear(c) of the
+// brightest one's linear light (faithful mode's display, the same curve). Physical light is
+// linear, so each channel's share is linearised; the brightest channel is 1, on which the
+// intensity is matched. White is (1, 1, 1); "255 127 0" is (1, 0.21, 0), the game's orange,
+// where the colour used as linear, (1, 0.5, 0), shows a yellow.
+inline glm::vec3 hue(const glm::vec3& c) {
+  const float m = faithful::maxChannel(c);
+  return m > 0.0f ? srgbToLinear(c / m) : glm::vec3(0.0f);
+}
+
+// The colour physical mode emits: the brightest channel kept, the others as hue() has them.
+// Scaling c scales it alike (the viewer's style sliders scale GpuLight::color). GLSL
+// physicalColour (shaders/pathtrace.comp) computes the same.
+inline glm::vec3 colour(const glm::vec3& c) {
+  return faithful::maxChannel(c) * hue(c);
+}
+
+// The emitted colour's channels summed: what light selection weighs a light's colour by (the
+// light tree, the near lists' ranking and their pick), so that each light is picked in
+// proportion to the light it gives, in both tracers. From a prepared light it costs no pow:
+// selectionColour below.
+inline float hueSum(const glm::vec3& c) {
+  const glm::vec3 h = hue(c);
+  return h.x + h.y + h.z;
+}
+inline float colourSum(const glm::vec3& c) {
+  return faithful::maxChannel(c) * hueSum(c);
+}
+
+// Stores what the tracers' light loops read instead of deriving it per sample
+// (GpuLight::physical*): the intensity, 1 / reach, and the hue's channel sum. buildRenderScene
+// prepares every light; the hue sum does not change when the style sliders scale the colour.
 inline void prepare(GpuLight& light, float scaledist) {
   const float r = reach(light, scaledist);
   light.physicalIntensity = intensity(light, scaledist, r);
   light.physicalInvReach = std::isfinite(r) && r > 0.0f ? 1.0f / r : 0.0f;
+  light.physicalHueSum = hueSum(light.color);
+}
+
+// A prepared light's colourSum, the style sliders' scale included: its brightest channel times
+// the prepared hue sum, no pow. GLSL selectionWeight (shaders/light_select.glsl) computes the same.
+inline float selectionColour(const GpuLight& light) {
+  return faithful::maxChannel(light.color) * light.physicalHueSum;
 }
 
 // The prepared light's windowed irradiance factor at squared distance dist2: intensity x

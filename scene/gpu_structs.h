@@ -230,7 +230,11 @@ struct GpuLight {
   // RenderScene::visBoxes, which a face whose compiled bounds lie apart from it gets no light
   // from; 0: never culled.
   uint32_t visBox = 0;
-  uint32_t pad = 0; // zero: 128 bytes, so that no light straddles a 128-byte cache line
+  // Physical mode's light selection weighs a light by the colour it emits (physical::colour):
+  // the sum of its hue's channels (physical::hueSum, 1 to 3), set by physical::prepare, so that
+  // the tracers' near lists need no pow per light. The last 4 bytes of 128, so that no light
+  // straddles a 128-byte cache line.
+  float physicalHueSum = 0.0f;
 };
 static_assert(sizeof(GpuLight) == 128);
 static_assert(offsetof(GpuLight, origin) == 0);
@@ -258,6 +262,7 @@ static_assert(offsetof(GpuLight, sunTable) == 108);
 static_assert(offsetof(GpuLight, physicalIntensity) == 112);
 static_assert(offsetof(GpuLight, physicalInvReach) == 116);
 static_assert(offsetof(GpuLight, visBox) == 120);
+static_assert(offsetof(GpuLight, physicalHueSum) == 124);
 
 constexpr uint32_t kLightFlagStartOff = BT_LIGHT_FLAG_START_OFF; // spawnflags & 1 on a styled light: dark by default
 constexpr uint32_t kLightFlagBleed = BT_LIGHT_FLAG_BLEED;        // `_bleed`: lights surfaces behind it too

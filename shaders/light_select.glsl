@@ -63,7 +63,8 @@ float physicalFalloff(GpuLight light, float dist2) {
   return light.physicalIntensity * (w * w) / dist2;
 }
 
-// integrator.cpp selectionWeight: unshadowed irradiance on the surface plane, channels summed.
+// integrator.cpp selectionWeight: unshadowed irradiance on the surface plane, the emitted
+// colour's channels summed (lighting/physical_light.h selectionColour: no pow per light).
 float selectionWeight(GpuLight light, vec3 origin, vec3 n) {
   vec3 d = light.origin - origin;
   float dist2 = dot(d, d);
@@ -71,7 +72,8 @@ float selectionWeight(GpuLight light, vec3 origin, vec3 n) {
   vec3 wi = d / sqrt(dist2);
   float cosSurface = dot(n, wi);
   if (cosSurface <= 0.0) return 0.0;
-  return (light.color.x + light.color.y + light.color.z) * physicalFalloff(light, dist2) * spotTerm(light, wi) * cosSurface;
+  float colourSum = max(light.color.x, max(light.color.y, light.color.z)) * light.physicalHueSum;
+  return colourSum * physicalFalloff(light, dist2) * spotTerm(light, wi) * cosSurface;
 }
 
 const float NEAR_LIST_PROBABILITY = BT_NEAR_LIST_PROBABILITY;

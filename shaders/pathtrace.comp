@@ -68,10 +68,18 @@ vec3 emissiveAt(uint face, vec3 p) {
 
 #include "bsdf.glsl"
 
+// lighting/physical_light.h colour: the compiler's colour as the game shows it, made linear
+// (each channel's share of the brightest one through the sRGB curve, the brightest one kept).
+// Only for the light a sample shades; selection reads the prepared GpuLight::physicalHueSum.
+vec3 physicalColour(vec3 c) {
+  float m = max(c.x, max(c.y, c.z));
+  return m > 0.0 ? m * srgbToLinear(c / m) : vec3(0.0);
+}
+
 vec3 emittedRadiance(uint face, vec3 p) {
   vec3 le = srgbToLinear(emissiveAt(face, p));
   GpuLight tmpl = surfaceLights[faces[face].material];
-  if (tmpl.value > 0.0) le += tmpl.color * tmpl.value * world.range * PHYSICAL_SUN_SCALE;
+  if (tmpl.value > 0.0) le += physicalColour(tmpl.color) * tmpl.value * world.range * PHYSICAL_SUN_SCALE;
   return le;
 }
 
@@ -82,7 +90,7 @@ vec3 skyDomeRadiance(vec3 dir) {
   for (uint k = 0u; k < lightGrid.fixedCount; ++k) {
     GpuLight light = lights[lightIndices[k]];
     if (light.type == LIGHT_DOME && dir.z * light.direction.z > 0.0)
-      l += light.color * light.value * world.range * PHYSICAL_SUN_SCALE / PI;
+      l += physicalColour(light.color) * light.value * world.range * PHYSICAL_SUN_SCALE / PI;
   }
   return l;
 }
@@ -387,7 +395,7 @@ bool physicalSunRay(inout Path path, GpuLight light, inout Rng rng) {
   vec3 f = bsdfEval(path.bsdf, n, path.wo, wi, pdf);
   if (pdf == 0.0) return false;
   setRay(path, RAY_SKY, origin, wi, INFINITY);
-  path.pending = f * light.color * light.value * world.range * PHYSICAL_SUN_SCALE * dot(path.bsdf.n, wi);
+  path.pending = f * physicalColour(light.color) * light.value * world.range * PHYSICAL_SUN_SCALE * dot(path.bsdf.n, wi);
   return true;
 }
 
@@ -409,7 +417,7 @@ bool physicalSelectedLightRay(inout Path path, inout Rng rng) {
   if (pdf == 0.0 || cone == 0.0) return false;
   float minDist2 = path.depth > 0 ? world.clampIndirect * world.clampIndirect : 0.0; // the firefly clamp (cpu clampedShare)
   float share = dist2 < minDist2 ? dist2 / minDist2 : 1.0;
-  vec3 irradiance = light.color * physicalFalloff(light, dist2) * share * world.range * PHYSICAL_POINT_SCALE * cone;
+  vec3 irradiance = physicalColour(light.color) * physicalFalloff(light, dist2) * share * world.range * PHYSICAL_POINT_SCALE * cone;
   setRay(path, RAY_SHADOW, origin, wi, dist);
   path.pending = f * irradiance * dot(path.bsdf.n, wi) / chosen.pdf;
   return true;
@@ -483,7 +491,7 @@ bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
   }
   if (!shaded) return false;
   // Minlight, on what the camera sees only (renderer/cpu radiancePhysical).
-  if (path.depth == 0) path.radiance += path.throughput * baseColor * world.minlight * (world.range * PHYSICAL_SUN_SCALE / PI);
+  if (path.depth == 0) path.radiance += path.throughput * baseColor * physicalColour(world.minlight) * (world.range * PHYSICAL_SUN_SCALE / PI);
 
   // The shading normal (renderer/cpu shadingNormal); rays still leave from the face (n).
   vec3 ns = n;

@@ -130,6 +130,7 @@ struct GpuLight {
   float physicalIntensity; // offset 112: lighting/physical_light.h prepare
   float physicalInvReach;  // offset 116: 0 = never ends
   uint visBox;             // offset 120: 1 + its box among the bake's vis boxes (lighting/vis_approx.h), 0 none
+  float physicalHueSum;    // offset 124: lighting/physical_light.h prepare, the emitted hue's channels summed
 };                 // 128 bytes: std430 rounds the array stride up to the vec3s' 16-byte alignment
 
 // scene/gpu_structs.h GpuEmitter: one triangle of an emitting face, cdf by area.

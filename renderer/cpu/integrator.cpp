@@ -42,7 +42,7 @@ glm::vec3 skyDomeRadiance(const RenderScene& rs, const glm::vec3& dir) {
   for (uint32_t index : rs.lightGrid.fixedLights()) {
     const GpuLight& light = rs.lights[index];
     if (light.type == uint32_t(LightType::Dome) && dir.z * light.direction.z > 0.0f)
-      l += light.color * light.value * rs.world.range * kPhysicalSunScale / kPi;
+      l += physical::colour(light.color) * light.value * rs.world.range * kPhysicalSunScale / kPi;
   }
   return l;
 }
@@ -253,7 +253,7 @@ glm::vec3 bsdfSample(const Bsdf& b, const glm::vec3& wo, Rng& rng) {
 glm::vec3 emittedRadiance(const RenderScene& rs, uint32_t face, const glm::vec3& p) {
   glm::vec3 le = srgbToLinear(emissiveAt(rs, face, p));
   const GpuLight& tmpl = rs.surfaceLights[gpuFace(rs, face).material];
-  if (tmpl.value > 0.0f) le += tmpl.color * tmpl.value * rs.world.range * kPhysicalSunScale;
+  if (tmpl.value > 0.0f) le += physical::colour(tmpl.color) * tmpl.value * rs.world.range * kPhysicalSunScale;
   return le;
 }
 
@@ -279,14 +279,15 @@ glm::vec3 pointLightUnshadowed(const RenderScene& rs, const Bsdf& bsdf, const Gp
   const glm::vec3 f = bsdfEval(bsdf, ng, wo, wi, pdf);
   const float cone = faithful::spotTerm(light, wi);
   if (pdf == 0.0f || cone == 0.0f) return glm::vec3(0.0f);
-  const glm::vec3 irradiance =
-      light.color * physical::falloff(light, dist2) * clampedShare(dist2, minDist2) * rs.world.range * kPhysicalPointScale * cone;
+  const glm::vec3 irradiance = physical::colour(light.color) * physical::falloff(light, dist2) * clampedShare(dist2, minDist2) *
+      rs.world.range * kPhysicalPointScale * cone;
   return f * irradiance * glm::dot(bsdf.n, wi);
 }
 
 // How likely light selection picks a point light from the near list: its unshadowed
-// irradiance at `origin` on the plane of shading normal n, summed over colour channels (at the
-// light's own origin: the pick does not depend on the _deviance jitter).
+// irradiance at `origin` on the plane of shading normal n, summed over the channels of the colour
+// it emits (physical::selectionColour; at the light's own origin: the pick does not depend on the
+// _deviance jitter).
 float selectionWeight(const GpuLight& light, const glm::vec3& origin, const glm::vec3& n) {
   const glm::vec3 d = light.origin - origin;
   const float dist2 = glm::dot(d, d);
@@ -294,7 +295,7 @@ float selectionWeight(const GpuLight& light, const glm::vec3& origin, const glm:
   const glm::vec3 wi = d / std::sqrt(dist2);
   const float cosSurface = glm::dot(n, wi);
   if (cosSurface <= 0.0f) return 0.0f;
-  return (light.color.x + light.color.y + light.color.z) * physical::falloff(light, dist2) * faithful::spotTerm(light, wi) * cosSurface;
+  return physical::selectionColour(light) * physical::falloff(light, dist2) * faithful::spotTerm(light, wi) * cosSurface;
 }
 
 glm::vec3 sunContribution(const RenderScene& rs, const Bsdf& bsdf, const GpuLight& light, const glm::vec3& origin, const glm::vec3& ng,
@@ -305,7 +306,7 @@ glm::vec3 sunContribution(const RenderScene& rs, const Bsdf& bsdf, const GpuLigh
   const glm::vec3 f = bsdfEval(bsdf, ng, wo, wi, pdf);
   if (pdf == 0.0f) return glm::vec3(0.0f);
   if (!reachesSky(rs, Ray{origin, 0.0f, wi, std::numeric_limits<float>::infinity()}, LightingMode::Physical)) return glm::vec3(0.0f);
-  return f * light.color * light.value * rs.world.range * kPhysicalSunScale * glm::dot(bsdf.n, wi);
+  return f * physical::colour(light.color) * light.value * rs.world.range * kPhysicalSunScale * glm::dot(bsdf.n, wi);
 }
 
 // One point light or sun with its own shadow ray (a jittered copy where it has _deviance); zero
@@ -441,7 +442,7 @@ glm::vec3 directLight(const RenderScene& rs, const IntegratorSettings& settings,
 // of a white sky of that value on what the camera sees. Not on later hits: the compiler's bounce
 // does not bounce minlight either (lighting/README.md, "Physical mode").
 glm::vec3 minlightRadiance(const RenderScene& rs, const glm::vec3& albedo) {
-  return albedo * rs.world.minlight * (rs.world.range * kPhysicalSunScale / kPi);
+  return albedo * physical::colour(rs.world.minlight) * (rs.world.range * kPhysicalSunScale / kPi);
 }
 
 Bsdf surfaceBsdf(const RenderScene& rs, const SurfaceHit& hit, const glm::vec3& wo) {

@@ -150,7 +150,8 @@ std::vector<Member> lightMembers() {
           MEMBER(GpuLight, sunTable),
           MEMBER(GpuLight, physicalIntensity),
           MEMBER(GpuLight, physicalInvReach),
-          MEMBER(GpuLight, visBox)};
+          MEMBER(GpuLight, visBox),
+          MEMBER(GpuLight, physicalHueSum)};
 }
 
 TEST(GlStructLayout, LightsAndSurfaceLightsAsTheShadersReadThem) {

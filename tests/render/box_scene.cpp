@@ -120,7 +120,11 @@ Scene manyLightsHall(int count, uint32_t seed) {
       keys.push_back({"delay", "2"});
       keys.push_back({"wait", fmt::format("{}", 2.0f + 6.0f * u(gen))});
       break;
-    case 3: keys.push_back({"_color", "255 160 96"}); break;
+    // Physical mode emits (1, 0.627, 0.376) from it, the light this hall had when the light
+    // tree's bar was set (LightTree.LessNoisyThanTheNearListsInAHallOfManyLights), before light
+    // colours were linearised as the game shows them (physical_light.h colour): "255 160 96",
+    // as that hall was written, now emits (1, 0.35, 0.12).
+    case 3: keys.push_back({"_color", "255 207.51 165.04"}); break;
     case 4:
       keys.push_back({"mangle", "0 -90 0"});
       keys.push_back({"angle", "60"});

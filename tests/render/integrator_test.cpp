@@ -2,6 +2,8 @@
 // hand (faithful mode) or the radiometric integral (physical mode), and a furnace.
 #include "scene/color.h"
 #include "quake/bspfile_q2.h"
+#include "renderer/camera.h"
+#include "renderer/cpu/cpu_renderer.h"
 #include "renderer/cpu/integrator.h"
 #include "tests/render/box_scene.h"
 
@@ -429,6 +431,47 @@ TEST(PhysicalRender, MinlightLightsWhatTheCameraSees) {
     const double expected = 150.0 * 0.5 * kDisplayMatch / 128.0;
     EXPECT_NEAR(l.x, expected, 1e-4 * expected) << bounces << " bounces";
   }
+}
+
+// A coloured light in physical mode shows the hue the game shows (lighting/physical_light.h
+// colour): a white room lit by `_color 255 127 0`, seen from a camera in both modes, compared
+// pixel by pixel in colour. The game multiplies the texture by the lightmap in gamma space, so its
+// green is sRGB-to-linear of half the red's display value, about 0.21 to 0.25 of the red in
+// linear light where the wall is well lit; a light whose colour were used as linear would give 0.5.
+// Every pixel whose faithful red displays between 0.5 and 0.95 (well lit, below the clamp)
+// holds physical mode's green-to-red ratio within 8 % of faithful mode's.
+TEST(PhysicalRender, AColouredLightKeepsTheHueTheGameShows) {
+  test::BoxSceneBuilder b;
+  b.material("white", 255, 255, 255);
+  b.room({-256, -256, 0}, {256, 256, 256}, "white");
+  b.entity({{"classname", "light"}, {"origin", "0 0 128"}, {"light", "600"}, {"_color", "255 127 0"}});
+  const Scene scene = b.build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  const Camera camera(CameraPose{{-200.0f, 0.0f, 100.0f}, 10.0f, 0.0f}, 64, 36);
+  RenderSettings settings;
+  settings.width = 64;
+  settings.height = 36;
+  settings.spp = 4;
+  settings.threads = 2;
+  settings.integrator.bounces = 0; // the light itself: the game's hue is that of its direct light
+  settings.integrator.mode = LightingMode::Faithful;
+  const RenderImage faithful = renderCpu(rs, camera, settings);
+  settings.integrator.mode = LightingMode::Physical;
+  const RenderImage physical = renderCpu(rs, camera, settings);
+  int compared = 0, held = 0;
+  double worst = 0.0;
+  for (size_t i = 0; i < faithful.beauty.size(); ++i) {
+    const float shown = linearToSrgb(faithful.beauty[i].x);
+    if (!(shown >= 0.5f && shown <= 0.95f) || !(physical.beauty[i].x > 0.0f)) continue;
+    const double game = faithful.beauty[i].y / faithful.beauty[i].x, ours = physical.beauty[i].y / physical.beauty[i].x;
+    const double error = std::abs(ours / game - 1.0);
+    worst = std::max(worst, error);
+    ++compared;
+    held += error <= 0.08;
+  }
+  EXPECT_GE(compared, 300) << "the camera should see most of the lit walls";
+  EXPECT_EQ(held, compared) << "worst green-to-red ratio off by " << worst * 100.0 << " %";
 }
 
 // `delay 3` never falls off in the compiler: its physical light has no reach, so far beyond its

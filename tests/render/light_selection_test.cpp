@@ -161,7 +161,8 @@ TEST(LightGrid, PhysicalRestListsHoldEveryOtherLightThatReachesThePoint) {
 }
 
 // The near lists against the plain ranking they stand for: every physical light of positive
-// power (physical intensity, channels summed; the grids here have _dist 1) ranked in every cell by power / d^2 (d from the jittered light to the cell, whose border
+// power (physical intensity times the channels of the colour physical mode emits, summed; the
+// grids here have _dist 1) ranked in every cell by power / d^2 (d from the jittered light to the cell, whose border
 // sides reach to infinity, at least half a cell), largest first, ties to the lower index.
 // Lights in clusters and in exact duplicates (ties), far outside the grid, jittered, and of kinds
 // that physical mode leaves out.
@@ -170,7 +171,8 @@ std::vector<uint32_t> referenceNearList(const std::vector<GpuLight>& lights, con
   std::vector<std::pair<float, uint32_t>> ranked;
   for (uint32_t i : grid.physicalLights()) {
     const GpuLight& l = lights[i];
-    const float power = (l.color.x + l.color.y + l.color.z) * physical::intensity(l, 1.0f);
+    const glm::vec3 emitted = physical::colour(l.color);
+    const float power = (emitted.x + emitted.y + emitted.z) * physical::intensity(l, 1.0f);
     if (!(power > 0.0f)) continue;
     float d2 = 0.0f;
     for (int a = 0; a < 3; ++a) {
