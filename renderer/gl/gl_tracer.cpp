@@ -102,7 +102,9 @@ struct GlTracer::Impl {
       : context(c), programs(std::move(p)), textures(scene, programs->textureMode(), c.info()),
         buffers(tracer, withShadingFlags(textures.materials(), lighting), lighting, scene.materials.size()), world(worldBlock(lighting)),
         features(gl::faithfulFeatures(lighting.lightKinds) | gl::faithfulFeatures(lighting.dirt, lighting.lights) |
-                 FaithfulFeatures{.liquidCsg = !lighting.liquidCsg.empty(), .blocksFromInside = !lighting.blocksFromInside.empty()}) {
+                 FaithfulFeatures{.liquidCsg = !lighting.liquidCsg.empty(),
+                                  .blocksFromInside = !lighting.blocksFromInside.empty(),
+                                  .glass = !lighting.glassAlpha.empty()}) {
     BT_GL(glCreateBuffers(1, &cameraBuffer));
     BT_GL(glNamedBufferStorage(cameraBuffer, sizeof(GpuCamera), nullptr, GL_DYNAMIC_STORAGE_BIT));
     BT_GL(glCreateBuffers(1, &worldBuffer));
