@@ -311,7 +311,8 @@ TEST(GlLiquids, AQuake2WaterDrawnAsAWallShadowsFromInsideAsOnTheCpu) {
 // blended at 0.33 or 0.66 (per face: light_q2_translucent_shadow gives one texture both flags)
 // over what lies behind. From two cameras that look through both panes (compiled_view_test.cpp's),
 // the faithful beauty in both forms of the path tracer, whose programs have the glass
-// (BT_QUAKE2_GLASS), is the CPU's, one sample a pixel: every pixel on glass, and 99 % of all.
+// (BT_QUAKE2_GLASS), is the CPU's, one sample a pixel: every pixel on glass within 0.1 %, and 99 %
+// of all within the parity tests' 1 %.
 TEST(GlLiquids, Quake2GlassIsTheCpusUnlitBlendInBothForms) {
   BT_REQUIRE_SHARED(shared);
   const Scene scene =
@@ -343,7 +344,9 @@ TEST(GlLiquids, Quake2GlassIsTheCpusUnlitBlendInBothForms) {
         close += near;
         const float alpha = faces.face[i] != 0 ? glassAlpha(rs, faces.face[i] - 1) : 1.0f;
         if (alpha == 1.0f) continue;
-        glassFar += !near;
+        // On the glass, nothing is lit here: only the colour conversions' rounding may differ
+        // (llvmpipe: 9.4e-5 of the CPU's at worst), far below alpha 0.33 -> 0.34's 1e-2.
+        glassFar += glm::length(gpu.beauty[i] - cpu.beauty[i]) > 1e-3f * glm::length(cpu.beauty[i]) + 1e-4f;
         if (form == PathTracerForm::Megakernel) ++glassPixels[alpha];
       }
       EXPECT_GE(close, cpu.beauty.size() * 99 / 100) << close << " of " << cpu.beauty.size() << " pixels agree";
