@@ -102,7 +102,9 @@ struct GpuFace {
   float tangent[3];
   uint32_t brush;
   float bitangent[3];
-  uint32_t pad; // zero
+  // zero here; the GL upload writes a Quake 2 glass face's alpha there, as a float's bits
+  // (RenderScene::glassAlpha, renderer/gl/gl_scene.cpp), for the faithful path tracer
+  uint32_t pad;
 };
 static_assert(sizeof(GpuFace) == 64);
 static_assert(offsetof(GpuFace, plane) == 0);

@@ -2,13 +2,19 @@
 // surface over what lies behind it. Part of pathtrace.comp, after its Path and setRay.
 
 // The faithful path's surface (path.face, NO_FACE for none; `atFace` false where the sky was
-// shown instead) has been drawn, path.radiance. Where it is a translucent liquid, the engine blends it over what lies behind it in the
+// shown instead) has been drawn, path.radiance. Where it is a translucent liquid or Quake 2's
+// glass (render_scene.h engineBlend), the engine blends it over what lies behind it in the
 // framebuffer's (the textures') gamma space: it goes into the veil and the camera ray goes on
 // behind it, along the camera's line through the point it met (renderer/cpu radianceFaithful).
 // False when the path has ended, its sample (the veil over the surface) in path.radiance.
 bool faithfulBehindLiquid(inout Path path, bool atFace) {
   vec2 blend = vec2(1.0, 0.0);
-  if (atFace && path.face != NO_FACE && (faceFlags[path.face] & FACE_LIQUID) != 0u) blend = liquidBlend(path.face);
+  if (atFace && path.face != NO_FACE) {
+    if ((faceFlags[path.face] & FACE_LIQUID) != 0u) blend = liquidBlend(path.face);
+#ifdef BT_QUAKE2_GLASS
+    else if (glassAlpha(path.face) > 0.0) blend = vec2(glassAlpha(path.face), 1.0 - glassAlpha(path.face));
+#endif
+  }
   if (blend.y > 0.0) {
     vec3 surface = linearToSrgb(path.radiance);
     path.veil += path.veilKeep * blend.x * surface;

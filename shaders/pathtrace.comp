@@ -339,8 +339,13 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
   if (!hit.found) return false;
   uint flags = faceFlags[hit.face];
   path.texture = baseColorAt(hit.face, hit.position).rgb;
-  // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit.
-  if ((flags & FACE_SKY) != 0u || ((flags & FACE_LIQUID) != 0u && world.litwater == 0u)) {
+  // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit; Quake 2
+  // its glass too (render_scene.h engineDrawsUnlit).
+  bool unlit = (flags & FACE_SKY) != 0u || ((flags & FACE_LIQUID) != 0u && world.litwater == 0u);
+#ifdef BT_QUAKE2_GLASS
+  unlit = unlit || glassAlpha(hit.face) > 0.0;
+#endif
+  if (unlit) {
     path.radiance = srgbToLinear(path.texture);
     return false;
   }

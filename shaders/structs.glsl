@@ -33,7 +33,7 @@ struct GpuFace {
   vec3 tangent;     // offset 32
   uint brush;       // offset 44
   vec3 bitangent;   // offset 48
-  uint pad;         // offset 60
+  uint pad;         // offset 60: a Quake 2 glass face's alpha as a float's bits, else 0 (textures.glsl glassAlpha)
 };                  // 64 bytes
 
 // faceFlags[] (RenderScene::faceFlags): the face classes of scene/gpu_structs.h kFace*.

@@ -148,6 +148,12 @@ vec2 liquidBlend(uint face) {
   return vec2(m.opacity, (m.flags & MATERIAL_BLEND_ADD) != 0u ? 1.0 : 1.0 - m.opacity);
 }
 
+#ifdef BT_QUAKE2_GLASS
+// RenderScene::glassAlpha of a face: Quake 2's glass alpha (0.33, 0.66) from its pad word
+// (renderer/gl/gl_scene.cpp), 0 for a face that is not glass.
+float glassAlpha(uint face) { return uintBitsToFloat(faces[face].pad); }
+#endif
+
 // lighting/liquids.h behindWeight: what lies behind weighs, per channel, where the liquid shows
 // `surfaceSrgb`; a filter (Quake 3's blendFunc filter) multiplies it by that colour.
 vec3 behindWeight(uint face, vec2 blend, vec3 surfaceSrgb) {

@@ -62,8 +62,9 @@ std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport imp
 FaithfulFeatures startPathTracerFor(TracerPrograms& programs, LevelPreparation& preparation, bool physical) {
   programs.startTraceKernel();
   // Physical programs have every part; a faithful one waits for the lights to know its parts.
-  // Neither knows the liquid CSG yet: a level with overlapping liquids builds its own program
-  // once prepared (FaithfulFeatures::liquidCsg), the one started here going unused.
+  // Neither knows the liquid CSG yet (nor Quake 2's glass): a level with overlapping liquids (or
+  // glass) builds its own program once prepared (FaithfulFeatures::liquidCsg, glass), the one
+  // started here going unused.
   const FaithfulFeatures features = physical ? FaithfulFeatures{} : faithfulFeatures(preparation.lightKinds());
   programs.startPathTracer(physical, features);
   return features;
@@ -86,7 +87,7 @@ void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& conte
   t.uploadStarted = Clock::now();
   const GlLighting lighting = lightingFor(level.render);
   // The prepared level may need parts its lights did not tell (a liquid CSG, the rule from
-  // inside, bounce lights drawn): its own program starts now, before the upload, so that the
+  // inside, Quake 2 glass, bounce lights drawn): its own program starts now, before the upload, so that the
   // first image does not wait for it to start after the upload (then the early one goes unused).
   const FaithfulFeatures features = faithfulFeatures(lighting);
   programs->startPathTracer(physical, features);

@@ -41,6 +41,7 @@ GlLighting lightingFor(const RenderScene& rs) {
   out.lightmaps = packLightmaps(rs.lightmaps);
   out.liquidCsg = liquidCsgTable(*rs.scene, rs.liquidCsg);
   out.blocksFromInside = rs.blocksFromInside;
+  out.glassAlpha = rs.glassAlpha;
   return out;
 }
 

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <cfloat>
 #include <cstring>
 #include <span>
@@ -100,6 +101,16 @@ std::vector<uint32_t> brushAndTriangleRows(const TraceScene& tracer, const std::
   return words;
 }
 
+// The faces as TraceScene built them, a Quake 2 glass face's alpha (RenderScene::glassAlpha) in
+// its pad word (GpuFace::pad), as a float's bits; zero, as TraceScene leaves it, on every other
+// face, which shaders/textures.glsl glassAlpha reads as no glass.
+std::vector<GpuFace> facesWithGlass(const TraceScene& tracer, const std::vector<float>& glassAlpha) {
+  std::vector<GpuFace> faces(tracer.faces().begin(), tracer.faces().end());
+  for (size_t f = 0; f < glassAlpha.size() && f < faces.size(); ++f)
+    if (glassAlpha[f] < 1.0f) faces[f].pad = std::bit_cast<uint32_t>(glassAlpha[f]);
+  return faces;
+}
+
 // A buffer texture over `buffer` (of `bytes` bytes) with texels of `format` (`texelBytes` each),
 // on unit `unit`'s slot in `views`. The texel count must fit the context's buffer-texture limit
 // (at least 65536 texels by the GL spec, 2^27 on NVIDIA and llvmpipe).
@@ -124,7 +135,8 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMat
   const std::vector<uint32_t> brushRows = brushAndTriangleRows(tracer, lighting.blocksFromInside);
   upload(buffers_[kBindingBrushes], std::span<const uint32_t>(brushRows));
   upload(buffers_[kBindingSides], tracer.sides());
-  upload(buffers_[kBindingFaces], tracer.faces());
+  const std::vector<GpuFace> faces = facesWithGlass(tracer, lighting.glassAlpha);
+  upload(buffers_[kBindingFaces], std::span<const GpuFace>(faces));
   GLint units = 0;
   BT_GL(glGetIntegerv(GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS, &units));
   if (units < static_cast<GLint>(kTextureUnitCount))

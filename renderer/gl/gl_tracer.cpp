@@ -210,7 +210,9 @@ TextureMode GlTracer::textureMode() const {
 }
 FaithfulFeatures faithfulFeatures(const GlLighting& lighting) {
   return faithfulFeatures(lighting.lightKinds) | faithfulFeatures(lighting.dirt, lighting.lights) |
-      FaithfulFeatures{.liquidCsg = !lighting.liquidCsg.empty(), .blocksFromInside = !lighting.blocksFromInside.empty()};
+      FaithfulFeatures{.liquidCsg = !lighting.liquidCsg.empty(),
+                       .blocksFromInside = !lighting.blocksFromInside.empty(),
+                       .glass = !lighting.glassAlpha.empty()};
 }
 
 FaithfulFeatures GlTracer::faithfulFeatures() const {

@@ -72,6 +72,10 @@ struct GlLighting {
   // (gl_scene.cpp) for shaders/trace.glsl; empty for a level without such brushes, whose
   // programs are built without the rule (FaithfulFeatures::blocksFromInside).
   std::vector<uint8_t> blocksFromInside;
+  // RenderScene::glassAlpha, per scene face: written into the faces' pad words (gl_scene.cpp) for
+  // the faithful path tracer; empty for a level without Quake 2 glass, whose programs are built
+  // without it (FaithfulFeatures::glass).
+  std::vector<float> glassAlpha;
 };
 
 // The parts of a level's faithful programs (and the liquid CSG, which physical ones take too):

@@ -80,6 +80,7 @@ std::vector<std::string> programDefines(TracerProgram program, TextureMode mode,
   if (takes(program, "Wavefront")) defines.emplace_back(switchesOf("Wavefront").at(0));
   if (features.liquidCsg && takes(program, "Csg")) defines.emplace_back(switchesOf("Csg").at(0));
   if (features.blocksFromInside && !physical && takes(program, "Inside")) defines.emplace_back(switchesOf("Inside").at(0));
+  if (features.glass && !physical && takes(program, "Glass")) defines.emplace_back(switchesOf("Glass").at(0));
   return defines;
 }
 
@@ -145,7 +146,7 @@ size_t TracerPrograms::variantIndex(bool physical, FaithfulFeatures features) {
   const size_t csg = features.liquidCsg ? kPathVariants / 2 : 0;
   if (physical) return csg;
   return csg + 1 + (features.dirt ? 1 : 0) + (features.bounceDraw ? 2 : 0) + (features.sky ? 4 : 0) + (features.jitter ? 8 : 0) +
-      (features.negative ? 16 : 0) + (features.filter ? 32 : 0) + (features.blocksFromInside ? 64 : 0);
+      (features.negative ? 16 : 0) + (features.filter ? 32 : 0) + (features.blocksFromInside ? 64 : 0) + (features.glass ? 128 : 0);
 }
 std::unique_ptr<ComputeProgram>& TracerPrograms::pathSlot(bool physical, FaithfulFeatures features) {
   return path_[variantIndex(physical, features)];
@@ -193,6 +194,7 @@ void TracerPrograms::startAovs(bool liquidCsg) {
 // The bake traces no surface rays: one program whatever the level's liquids.
 std::unique_ptr<ComputeProgram>& TracerPrograms::bakeSlot(FaithfulFeatures features) {
   features.liquidCsg = false;
+  features.glass = false; // the bake stores luxels; glass is the view's
   return bake_[variantIndex(false, features)];
 }
 

@@ -35,6 +35,11 @@ struct FaithfulFeatures {
   // are blocked (shaders/trace.glsl), in the faithful path tracer and the bake; known, as the
   // liquid CSG, once the level is prepared (GlLighting::blocksFromInside).
   bool blocksFromInside = false;
+  // BT_QUAKE2_GLASS: Quake 2's glass drawn as ref_gl draws it (lighting/game_rules.h
+  // engineGlassAlpha): unlit, blended at its alpha (GpuFace::pad) over what lies behind, in the
+  // faithful path tracer and its shade kernel; known, as the liquid CSG, once the level is
+  // prepared (GlLighting::glassAlpha).
+  bool glass = false;
   bool operator==(const FaithfulFeatures&) const = default;
   // Both sets' parts.
   FaithfulFeatures operator|(const FaithfulFeatures& o) const {
@@ -45,7 +50,8 @@ struct FaithfulFeatures {
             negative || o.negative,
             filter || o.filter,
             liquidCsg || o.liquidCsg,
-            blocksFromInside || o.blocksFromInside};
+            blocksFromInside || o.blocksFromInside,
+            glass || o.glass};
   }
 };
 
@@ -182,11 +188,11 @@ private:
   bool wavefrontFirst_; // startPathTracer starts the wavefront kernels too (driver compiles in parallel, a GPU)
   // One program per lighting mode (BT_LIGHTING_PHYSICAL chosen at build), so each compiles
   // only its own integrator, and per set of faithful features (variantIndex: physical, then
-  // faithful with each of the 64 sets without and with the rule from inside, each without and
-  // with the liquid CSG); the same for the wavefront form's shade kernels, which trace nothing
-  // (the rule from inside is the trace kernel's). Its trace kernel serves every mode and level;
-  // the bake takes no CSG.
-  static constexpr size_t kPathVariants = 258;
+  // faithful with each of the 64 sets without and with the rule from inside and Quake 2's glass,
+  // each without and with the liquid CSG); the same for the wavefront form's shade kernels,
+  // which trace nothing (the rule from inside is the trace kernel's). Its trace kernel serves
+  // every mode and level; the bake takes no CSG and no glass (it stores luxels, not the view).
+  static constexpr size_t kPathVariants = 514;
   std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[kPathVariants], bake_[kPathVariants], trace_, aov_[2], rayBench_;
 };
 
