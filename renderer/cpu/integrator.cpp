@@ -169,10 +169,10 @@ LiquidBlend physicalSurfaceBlend(const RenderScene& rs, const SurfaceHit& hit) {
 }
 
 // The camera ray's surface as the game draws it, and where it is a translucent liquid or Quake 2's
-// glass, blended
-// over what lies behind as the engine blends it: in the framebuffer's (the textures') gamma
-// space, display = self x liquid + behind x what lies behind (x the liquid for a filter). The ray goes on behind the liquid
-// along the camera's line through the point it met, as pathtrace.comp restarts it.
+// glass, blended over what lies behind as the engine blends it: in the framebuffer's (the
+// textures') gamma space, display = self x liquid + behind x what lies behind (x the liquid for a
+// filter). The ray goes on behind the liquid along the camera's line through the point it met,
+// as pathtrace.comp restarts it.
 glm::vec3 radianceFaithful(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, Rng& rng) {
   glm::vec3 veil(0.0f), keep(1.0f);
   bool veiled = false;

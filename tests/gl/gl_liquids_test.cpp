@@ -37,6 +37,24 @@ test::CpuAndGl renderLiquids(const std::string& name, LightingMode mode, int spp
   return test::renderCpuAndGl(scene, mode, kWidth, kHeight, spp);
 }
 
+// The CPU's settings for one sample a pixel (seed 7): the same rays and random numbers as the GL
+// beauty drawn with BeautySettings{.spp = 1, .seed = 7}.
+RenderSettings oneSampleSettings(LightingMode mode) {
+  RenderSettings settings;
+  settings.width = kWidth;
+  settings.height = kHeight;
+  settings.spp = 1;
+  settings.seed = 7;
+  settings.integrator.mode = mode;
+  return settings;
+}
+
+// The parity tests' tolerance for a GL pixel against the CPU's: within 1 % (float differences
+// in the lighting).
+bool nearCpu(const glm::vec3& gpu, const glm::vec3& cpu) {
+  return glm::length(gpu - cpu) <= 0.01f * glm::length(cpu) + 1e-3f;
+}
+
 // Pixels whose ray and its four neighbours' meet the same face as the centre's, a face that
 // `dry` does not have at that pixel (the water): jitter stays on the water.
 std::vector<size_t> waterPixels(const RenderImage& pool, const RenderImage& dry) {
@@ -78,7 +96,7 @@ TEST(GlLiquids, PhysicalWaterAgreesWithTheCpu) {
   for (size_t i = 0; i < pool.cpu.beauty.size(); ++i) {
     gpuSum += glm::dvec3(pool.gpu.beauty[i]);
     cpuSum += glm::dvec3(pool.cpu.beauty[i]);
-    close += glm::length(pool.gpu.beauty[i] - pool.cpu.beauty[i]) <= 0.01f * glm::length(pool.cpu.beauty[i]) + 1e-3f;
+    close += nearCpu(pool.gpu.beauty[i], pool.cpu.beauty[i]);
   }
   EXPECT_GE(close, pool.cpu.beauty.size() * 97 / 100) << close << " of " << pool.cpu.beauty.size() << " pixels agree";
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(gpuSum[c], cpuSum[c], 0.03 * cpuSum[c] + 1e-6) << "channel " << c;
@@ -91,8 +109,7 @@ TEST(GlLiquids, PhysicalLiquidsLookLikeThemselves) {
   const Scene scene = importScene((test::mapsDir() / "liquids" / "pools.map").string(), ImportOptions{});
   const test::CpuAndGl pools = test::renderCpuAndGl(scene, LightingMode::Physical, kWidth, kHeight, 16);
   size_t close = 0;
-  for (size_t i = 0; i < pools.cpu.beauty.size(); ++i)
-    close += glm::length(pools.gpu.beauty[i] - pools.cpu.beauty[i]) <= 0.01f * glm::length(pools.cpu.beauty[i]) + 1e-3f;
+  for (size_t i = 0; i < pools.cpu.beauty.size(); ++i) close += nearCpu(pools.gpu.beauty[i], pools.cpu.beauty[i]);
   EXPECT_GE(close, pools.cpu.beauty.size() * 97 / 100) << close << " of " << pools.cpu.beauty.size() << " pixels agree";
   test::expectLiquidsInRange(scene, pools.gpu, "GL");
 }
@@ -134,7 +151,7 @@ TEST(GlLiquids, Quake3BlendsPhysicalAgreeWithTheCpu) {
   for (size_t i = 0; i < seen.cpu.beauty.size(); ++i) {
     gpuSum += glm::dvec3(seen.gpu.beauty[i]);
     cpuSum += glm::dvec3(seen.cpu.beauty[i]);
-    close += glm::length(seen.gpu.beauty[i] - seen.cpu.beauty[i]) <= 0.01f * glm::length(seen.cpu.beauty[i]) + 1e-3f;
+    close += nearCpu(seen.gpu.beauty[i], seen.cpu.beauty[i]);
   }
   EXPECT_GE(close, seen.cpu.beauty.size() * 97 / 100) << close << " of " << seen.cpu.beauty.size() << " pixels agree";
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(gpuSum[c], cpuSum[c], 0.03 * cpuSum[c] + 1e-6) << "channel " << c;
@@ -235,12 +252,7 @@ TEST(GlLiquids, OverlappingLiquidsBeautyIsTheCpusInBothModesAndForms) {
     GlTracer tracer(test::sharedGlContext(), level->scene, level->render.tracer, test::textureModeUnderTest(), lightingFor(level->render));
     const RenderImage faces = renderAovsCpu(level->render, Camera(pose, kWidth, kHeight), kWidth, kHeight, 2);
     for (const LightingMode mode : {LightingMode::Faithful, LightingMode::Physical}) {
-      RenderSettings settings;
-      settings.width = kWidth;
-      settings.height = kHeight;
-      settings.spp = 1;
-      settings.seed = 7;
-      settings.integrator.mode = mode;
+      RenderSettings settings = oneSampleSettings(mode);
       settings.integrator.bounces = 2;
       const RenderImage cpu = renderCpu(level->render, Camera(pose, kWidth, kHeight), settings);
       for (const PathTracerForm form : {PathTracerForm::Megakernel, PathTracerForm::Wavefront}) {
@@ -258,7 +270,7 @@ TEST(GlLiquids, OverlappingLiquidsBeautyIsTheCpusInBothModesAndForms) {
         ASSERT_EQ(gpu.wavefrontSamples, form == PathTracerForm::Wavefront ? 1 : 0);
         size_t close = 0, liquidFar = 0;
         for (size_t i = 0; i < cpu.beauty.size(); ++i) {
-          const bool near = glm::length(gpu.beauty[i] - cpu.beauty[i]) <= 0.01f * glm::length(cpu.beauty[i]) + 1e-3f;
+          const bool near = nearCpu(gpu.beauty[i], cpu.beauty[i]);
           close += near;
           liquidFar += !near && faces.face[i] != 0 && (level->render.faceFlags[faces.face[i] - 1] & kFaceLiquid) != 0;
         }
@@ -282,12 +294,7 @@ TEST(GlLiquids, AQuake2WaterDrawnAsAWallShadowsFromInsideAsOnTheCpu) {
   CameraPose pose; // straight down from inside the water, 40 units from its side: x -60 .. 140 in view
   pose.origin = glm::vec3(40, 0, 100);
   pose.pitch = 90.0f;
-  RenderSettings settings;
-  settings.width = kWidth;
-  settings.height = kHeight;
-  settings.spp = 1;
-  settings.seed = 7;
-  settings.integrator.mode = LightingMode::Faithful;
+  const RenderSettings settings = oneSampleSettings(LightingMode::Faithful);
   const RenderImage cpu = renderCpu(rs, Camera(pose, kWidth, kHeight), settings);
   size_t lit = 0, black = 0;
   for (const glm::vec3& c : cpu.beauty) {
@@ -301,8 +308,7 @@ TEST(GlLiquids, AQuake2WaterDrawnAsAWallShadowsFromInsideAsOnTheCpu) {
     const BeautySettings beauty{.width = kWidth, .height = kHeight, .spp = 1, .seed = 7, .physical = false, .form = form};
     const BeautyImage gpu = tracer.renderBeauty(cameraFrom(pose, kWidth, kHeight), beauty);
     size_t close = 0;
-    for (size_t i = 0; i < cpu.beauty.size(); ++i)
-      close += glm::length(gpu.beauty[i] - cpu.beauty[i]) <= 0.01f * glm::length(cpu.beauty[i]) + 1e-3f;
+    for (size_t i = 0; i < cpu.beauty.size(); ++i) close += nearCpu(gpu.beauty[i], cpu.beauty[i]);
     EXPECT_GE(close, cpu.beauty.size() * 99 / 100) << close << " of " << cpu.beauty.size() << " pixels agree";
   }
 }
@@ -325,12 +331,7 @@ TEST(GlLiquids, Quake2GlassIsTheCpusUnlitBlendInBothForms) {
   std::map<float, size_t> glassPixels; // by alpha
   for (const float yaw : {0.0f, 180.0f}) {
     const CameraPose pose{.origin = {yaw == 0.0f ? -200.0f : 150.0f, -500.0f, 80.0f}, .pitch = 10.0f, .yaw = yaw};
-    RenderSettings settings;
-    settings.width = kWidth;
-    settings.height = kHeight;
-    settings.spp = 1;
-    settings.seed = 7;
-    settings.integrator.mode = LightingMode::Faithful;
+    const RenderSettings settings = oneSampleSettings(LightingMode::Faithful);
     const RenderImage cpu = renderCpu(rs, Camera(pose, kWidth, kHeight), settings);
     const RenderImage faces = renderAovsCpu(rs, Camera(pose, kWidth, kHeight), kWidth, kHeight, 2);
     for (const PathTracerForm form : {PathTracerForm::Megakernel, PathTracerForm::Wavefront}) {
@@ -340,7 +341,7 @@ TEST(GlLiquids, Quake2GlassIsTheCpusUnlitBlendInBothForms) {
       ASSERT_EQ(gpu.wavefrontSamples, form == PathTracerForm::Wavefront ? 1 : 0);
       size_t close = 0, glassFar = 0;
       for (size_t i = 0; i < cpu.beauty.size(); ++i) {
-        const bool near = glm::length(gpu.beauty[i] - cpu.beauty[i]) <= 0.01f * glm::length(cpu.beauty[i]) + 1e-3f;
+        const bool near = nearCpu(gpu.beauty[i], cpu.beauty[i]);
         close += near;
         const float alpha = faces.face[i] != 0 ? glassAlpha(rs, faces.face[i] - 1) : 1.0f;
         if (alpha == 1.0f) continue;
