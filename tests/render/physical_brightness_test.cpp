@@ -35,6 +35,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -86,10 +87,24 @@ double meanLuminance(const RenderScene& rs, const CameraPose& pose, LightingMode
 }
 
 // Calls fn(name, scene, render scene, pose) for every shared Quake 1 level; returns their count.
+// BT_BRIGHTNESS_LEVELS (environment), when set: only the levels whose name holds one of its
+// comma-separated parts, to iterate on a few levels in seconds rather than the whole set.
 template <class Fn> int forEachQuake1Level(const fs::path& shared, Fn fn) {
+  const char* only = std::getenv("BT_BRIGHTNESS_LEVELS");
+  const auto wanted = [only](const std::string& name) {
+    if (!only || !*only) return true;
+    for (std::string rest = only; !rest.empty();) {
+      const size_t comma = rest.find(',');
+      const std::string part = rest.substr(0, comma);
+      if (!part.empty() && name.find(part) != std::string::npos) return true;
+      rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+    }
+    return false;
+  };
   int levels = 0;
   for (const fs::path& file : sharedMapFiles(shared)) {
     const std::string name = fs::relative(file, shared / "maps").string();
+    if (!wanted(name)) continue;
     Scene scene;
     try {
       scene = importScene(file.string(), importOptions(shared, file));
