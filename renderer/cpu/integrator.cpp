@@ -305,7 +305,9 @@ glm::vec3 sunContribution(const RenderScene& rs, const Bsdf& bsdf, const GpuLigh
   float pdf;
   const glm::vec3 f = bsdfEval(bsdf, ng, wo, wi, pdf);
   if (pdf == 0.0f) return glm::vec3(0.0f);
-  if (!reachesSky(rs, Ray{origin, 0.0f, wi, std::numeric_limits<float>::infinity()}, LightingMode::Physical)) return glm::vec3(0.0f);
+  // A sun with `_suntexture` shines only through sky faces of that texture, as in faithful mode.
+  if (!reachesSky(rs, Ray{origin, 0.0f, wi, std::numeric_limits<float>::infinity()}, LightingMode::Physical, light.skyMaterial))
+    return glm::vec3(0.0f);
   return f * physical::colour(light.color) * light.value * rs.world.range * kPhysicalSunScale * glm::dot(bsdf.n, wi);
 }
 

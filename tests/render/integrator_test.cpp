@@ -474,6 +474,35 @@ TEST(PhysicalRender, AColouredLightKeepsTheHueTheGameShows) {
   EXPECT_EQ(held, compared) << "worst green-to-red ratio off by " << worst * 100.0 << " %";
 }
 
+// A sun with `_suntexture` shines only through sky faces of that texture, in physical mode as in
+// the compiler (lighting/README.md, light keys): a room roofed by two skies, `sky_a` over its west
+// half and `sky_b` over its east, under a sun straight down through `sky_b` alone. The floor under
+// `sky_b` shows the sun's light (value x _range x the display match / 128 on white), the floor
+// under `sky_a` nothing (no bounce; the sky itself lights nothing without a dome).
+TEST(PhysicalRender, ASunWithASkyTextureShinesOnlyThroughThatSky) {
+  test::BoxSceneBuilder b;
+  b.material("white", 255, 255, 255);
+  b.material("sky_a", 40, 60, 200);
+  b.material("sky_b", 200, 60, 40);
+  b.box({-272, -144, -16}, {272, 144, 0}, "white");  // floor
+  b.box({-272, -144, 0}, {-256, 144, 256}, "white"); // walls
+  b.box({256, -144, 0}, {272, 144, 256}, "white");
+  b.box({-256, -144, 0}, {256, -128, 256}, "white");
+  b.box({-256, 128, 0}, {256, 144, 256}, "white");
+  b.box({-272, -144, 256}, {0, 144, 272}, "sky_a"); // the roof
+  b.box({0, -144, 256}, {272, 144, 272}, "sky_b");
+  b.entity({{"classname", "light"}, {"origin", "0 0 128"}, {"_sun", "1"}, {"mangle", "0 -90 0"}, {"_suntexture", "sky_b"}});
+  const Scene scene = b.build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  Rng rng = pixelRng(0, 0, 0, 0);
+  const glm::vec3 underB = radiance(rs, {LightingMode::Physical, 0}, downAt(128.0f, 0.0f), rng);
+  const glm::vec3 underA = radiance(rs, {LightingMode::Physical, 0}, downAt(-128.0f, 0.0f), rng);
+  const double expected = 300.0 * 0.5 * kDisplayMatch / 128.0;
+  EXPECT_NEAR(underB.x, expected, 1e-4 * expected) << "the sun through its own sky";
+  EXPECT_EQ(underA, glm::vec3(0.0f)) << "the sun through another sky";
+}
+
 // `delay 3` never falls off in the compiler: its physical light has no reach, so far beyond its
 // match distance (128) it is the plain inverse square of its matched intensity, unwindowed.
 TEST(PhysicalRender, ALightThatNeverFallsOffHasNoWindow) {
