@@ -479,8 +479,9 @@ bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
     return false;
   }
   if ((flags & FACE_SKY) != 0u) {
-    // The camera sees the sky as the game draws it, the dome being its light (cpu radiancePhysical).
-    path.radiance += path.throughput * (path.depth > 0 ? baseColor + skyDomeRadiance(path.dir) : baseColor);
+    // The camera sees the sky as the game draws it; after a bounce it is the dome's light alone
+    // (cpu radiancePhysical).
+    path.radiance += path.throughput * (path.depth > 0 ? skyDomeRadiance(path.dir) : baseColor);
     return false;
   }
   vec3 n = hit.normal;
@@ -652,10 +653,11 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     path.radiance += path.throughput * path.pending * (path.emitterFace != NO_FACE ? le : vec3(1.0));
   if (surfaceReached) {
     // The level's sky images by the ray's direction, as a miss: not the surface shading (sky.glsl).
+    // After a bounce, physical mode's sky is the dome's light alone (cpu radiancePhysical).
     // A faithful path is its camera ray alone and keeps no throughput between wavefront dispatches.
     if (skyShown) {
       vec3 sky = skyRadiance(path.dir);
-      path.radiance = PHYSICAL ? path.radiance + path.throughput * (path.depth > 0 ? sky + skyDomeRadiance(path.dir) : sky) : sky;
+      path.radiance = PHYSICAL ? path.radiance + path.throughput * (path.depth > 0 ? skyDomeRadiance(path.dir) : sky) : sky;
     }
     ended = skyShown || !(PHYSICAL ? physicalSurface(path, surface, le) : faithfulSurface(path, surface));
     path.lightIndex = 0u;
