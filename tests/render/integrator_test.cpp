@@ -475,24 +475,11 @@ TEST(PhysicalRender, AColouredLightKeepsTheHueTheGameShows) {
 }
 
 // A sun with `_suntexture` shines only through sky faces of that texture, in physical mode as in
-// the compiler (lighting/README.md, light keys): a room roofed by two skies, `sky_a` over its west
-// half and `sky_b` over its east, under a sun straight down through `sky_b` alone. The floor under
-// `sky_b` shows the sun's light (value x _range x the display match / 128 on white), the floor
-// under `sky_a` nothing (no bounce; the sky itself lights nothing without a dome).
+// the compiler (lighting/README.md, light keys): in test::twoSkiesRoom the floor under `sky_b`
+// shows the sun's light (value x _range x the display match / 128 on white), the floor under
+// `sky_a` nothing (no bounce; the sky itself lights nothing without a dome).
 TEST(PhysicalRender, ASunWithASkyTextureShinesOnlyThroughThatSky) {
-  test::BoxSceneBuilder b;
-  b.material("white", 255, 255, 255);
-  b.material("sky_a", 40, 60, 200);
-  b.material("sky_b", 200, 60, 40);
-  b.box({-272, -144, -16}, {272, 144, 0}, "white");  // floor
-  b.box({-272, -144, 0}, {-256, 144, 256}, "white"); // walls
-  b.box({256, -144, 0}, {272, 144, 256}, "white");
-  b.box({-256, -144, 0}, {256, -128, 256}, "white");
-  b.box({-256, 128, 0}, {256, 144, 256}, "white");
-  b.box({-272, -144, 256}, {0, 144, 272}, "sky_a"); // the roof
-  b.box({0, -144, 256}, {272, 144, 272}, "sky_b");
-  b.entity({{"classname", "light"}, {"origin", "0 0 128"}, {"_sun", "1"}, {"mangle", "0 -90 0"}, {"_suntexture", "sky_b"}});
-  const Scene scene = b.build();
+  const Scene scene = test::twoSkiesRoom();
   Diagnostics diags;
   const RenderScene rs = buildRenderScene(scene, {}, diags);
   Rng rng = pixelRng(0, 0, 0, 0);
