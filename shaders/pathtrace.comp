@@ -404,6 +404,15 @@ bool physicalSunRay(inout Path path, GpuLight light, inout Rng rng) {
   return true;
 }
 
+// Whether the sky a physical sun's ray reached is one the sun shines through: with `_suntexture`
+// only sky faces of that texture, not the level's outside (renderer/cpu sunContribution,
+// lighting reachesSky). The ray's sun is the fixed list's entry before `lightIndex` (nextLightRay); read
+// here, once the ray is back, so that the path carries nothing more across the trace.
+bool physicalSunSeesItsSky(uint lightIndex, uint face) {
+  uint skyMaterial = lights[lightIndices[lightIndex - 1u]].skyMaterial;
+  return skyMaterial == 0u || (face != NO_FACE && faces[face].material + 1u == skyMaterial);
+}
+
 // One point light picked by light selection (light_select.glsl), divided by the probability
 // of the pick; its _deviance jitter is drawn after the pick, as on the CPU.
 bool physicalSelectedLightRay(inout Path path, inout Rng rng) {
@@ -625,6 +634,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
 #endif
     if (SKY_RAYS && path.kind == RAY_SKY) {
       bool reached = !gaveUp && (hit.face == NO_FACE || (flags & FACE_SKY) != 0u);
+      if (PHYSICAL && reached) reached = physicalSunSeesItsSky(path.lightIndex, hit.face);
       if (reached) {
         if (PHYSICAL) path.radiance += path.throughput * path.pending;
         NEGATIVE_ONLY(else if (path.pendingIsNegative) path.lightNegative += path.pending;)
