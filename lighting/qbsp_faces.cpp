@@ -342,23 +342,9 @@ void leafPieces(const QbspTree& tree, int32_t node, std::vector<Winding> fragmen
   leafPieces(tree, n.children[1], std::move(back), leaves);
 }
 
-// The brushes of a Quake 2 world that fill space without carving its faces (an area portal, a
-// liquid), each with its contents as the leaves it lies in take them (qbsp3's brush contents;
-// a func_areaportal's brush is CONTENTS_AREAPORTAL whatever its sides say).
+// What a Quake 2 world's faces look into: its fillers (QbspTree::Filler).
 struct LeafContents {
-  std::vector<std::pair<uint32_t, int32_t>> brushes; // brush, its contents
-
-  LeafContents(const Scene& scene, const std::vector<BrushContents>& contents) {
-    for (uint32_t b = 0; b < scene.brushes.size(); ++b) {
-      const Brush& brush = scene.brushes[b];
-      const bool areaportal = brush.entity < scene.entities.size() && scene.entities[brush.entity].classname() == "func_areaportal";
-      if (!areaportal && contents[b] != BrushContents::Liquid) continue;
-      int32_t bits = 0;
-      for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
-        if (scene.faces[f].surface) bits |= scene.faces[f].surface->contents;
-      brushes.emplace_back(b, areaportal ? quake::q2::CONTENTS_AREAPORTAL : bits);
-    }
-  }
+  const std::vector<QbspTree::Filler>& brushes;
 
   // The contents that the face `piece` (facing `normal`) looks into: those of the brushes here
   // around the point 1 unit in front of its vertices' mean, or'd together (0: empty space).
@@ -446,7 +432,7 @@ std::vector<Winding> compilerFaces(const Scene& scene, const std::vector<uint32_
   const Face& surface = scene.faces[sides.front()];
   if (surface.brush < contents.size() && contents[surface.brush] != BrushContents::Empty && !world.nodes().empty()) {
     std::vector<Winding> faces;
-    const LeafContents leaves(scene, contents);
+    const LeafContents leaves{world.fillers()};
     nodeFaces({scene, leaves, world, surface.plane}, 0, fragments, faces);
     return faces;
   }
@@ -547,6 +533,7 @@ QbspTree worldTree(const Scene& scene, const std::vector<BrushContents>& content
   // Quake 2's qbsp grows the world's tree over its area portals too (CONTENTS_AREAPORTAL):
   // hidden, they still stand on the planes the tree values.
   std::vector<QbspTree::Input> brushes;
+  std::vector<QbspTree::Filler> fillers;
   for (uint32_t b = 0; b < scene.brushes.size(); ++b) {
     const Brush& brush = scene.brushes[b];
     const std::string_view classname = brush.entity < scene.entities.size() ? scene.entities[brush.entity].classname() : "";
@@ -555,8 +542,16 @@ QbspTree worldTree(const Scene& scene, const std::vector<BrushContents>& content
       brushes.push_back({b, true, detail});
     else if (classname == "func_areaportal")
       brushes.push_back({b, false, detail});
+    if (classname == "func_areaportal") {
+      fillers.push_back({b, quake::q2::CONTENTS_AREAPORTAL});
+    } else if (contents[b] == BrushContents::Liquid) {
+      int32_t bits = 0;
+      for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
+        if (scene.faces[f].surface) bits |= scene.faces[f].surface->contents;
+      fillers.push_back({b, bits});
+    }
   }
-  return QbspTree(scene, brushes);
+  return QbspTree(scene, brushes, std::move(fillers));
 }
 
 std::vector<Winding> compiledFacePolygons(const Scene& scene, uint32_t faceIndex, const std::vector<BrushContents>& contents,

@@ -229,7 +229,7 @@ Plane positivePlane(const Plane& p) {
   return p.normal[major] < 0.0 ? p.flipped() : p;
 }
 
-QbspTree::QbspTree(const Scene& scene, std::span<const Input> brushes) {
+QbspTree::QbspTree(const Scene& scene, std::span<const Input> brushes, std::vector<Filler> fillers) : fillers_(std::move(fillers)) {
   std::vector<TreeBrush> list;
   for (const Input& in : brushes) {
     const Brush& brush = scene.brushes[in.brush];

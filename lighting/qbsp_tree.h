@@ -29,18 +29,27 @@ public:
                   // nodraw) only where no drawn one is left, but counts their brushes everywhere
     bool detail;  // func_detail (Quake 2: CONTENTS_DETAIL): split with once no structural side is left
   };
+  // A brush that fills the leaves it lies in without carving faces (Quake 2: an area portal, a
+  // liquid), with the contents those leaves take (qbsp3's brush contents; a func_areaportal's
+  // brush is CONTENTS_AREAPORTAL whatever its sides say): what a face looks into.
+  struct Filler {
+    uint32_t brush;
+    int32_t contents;
+  };
   QbspTree() = default; // no split: no world tree
-  // The tree of brushes `brushes` of `scene`.
-  QbspTree(const Scene& scene, std::span<const Input> brushes);
+  // The tree of brushes `brushes` of `scene`, the leaves filled by `fillers`.
+  QbspTree(const Scene& scene, std::span<const Input> brushes, std::vector<Filler> fillers = {});
 
   struct Node {
     Plane plane;                 // qbsp's positive plane: its largest normal component is positive
     int32_t children[2]{-1, -1}; // front, back; -1 a leaf
   };
   const std::vector<Node>& nodes() const { return nodes_; } // nodes_[0] the root; empty: no split
+  const std::vector<Filler>& fillers() const { return fillers_; }
 
 private:
   std::vector<Node> nodes_;
+  std::vector<Filler> fillers_;
 };
 
 // The same plane either way round (qbsp's plane hash: 1e-5 on the normal, 0.01 on the distance).
