@@ -31,7 +31,8 @@ struct Guide {
   size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }
   bool inside(int x, int y) const { return x >= 0 && y >= 0 && x < width && y < height; }
   bool hit(int x, int y) const { return std::isfinite(depth[index(x, y)]); }
-  glm::vec3 albedoFloor(size_t i) const { return glm::max(albedo[i], glm::vec3(BT_DENOISE_ALBEDO_FLOOR)); }
+  // What demodulation divides by (BT_DENOISE_ALBEDO_OFFSET).
+  glm::vec3 demodulator(size_t i) const { return albedo[i] + BT_DENOISE_ALBEDO_OFFSET; }
 
   // |dz| to the nearer neighbour along each axis, the larger of the two axes: a surface's slope
   // in depth per pixel, not the jump to whatever lies beyond a silhouette.
@@ -97,7 +98,7 @@ Pixels prepare(const Guide& g, const RenderImage& image, int threads) {
   for (size_t i = 0; i < n; ++i) {
     const glm::vec3 b = image.beauty[i];
     const bool finite = std::isfinite(b.x) && std::isfinite(b.y) && std::isfinite(b.z);
-    out[i] = glm::vec4(!std::isfinite(image.depth[i]) ? b : finite ? b / g.albedoFloor(i) : glm::vec3(0.0f), 0.0f);
+    out[i] = glm::vec4(!std::isfinite(image.depth[i]) ? b : finite ? b / g.demodulator(i) : glm::vec3(0.0f), 0.0f);
   }
   const int samples = std::max(image.samples, 1);
   const bool temporal = image.luminanceMoment2.size() == n && samples >= BT_DENOISE_TEMPORAL_VARIANCE_FROM;
@@ -200,7 +201,7 @@ std::vector<glm::vec3> denoise(const RenderImage& image, int threads) {
       out[i] = glm::vec3(irradiance[i]);
       continue;
     }
-    out[i] = glm::vec3(irradiance[i]) * g.albedoFloor(i);
+    out[i] = glm::vec3(irradiance[i]) * g.demodulator(i);
     const glm::vec3 raw = image.beauty[i];
     if (shrink && std::isfinite(raw.x + raw.y + raw.z))
       out[i] = shrinkTowardRaw(raw, out[i], meanVariance(image.luminanceMoment2[i], luminance(raw), image.samples));

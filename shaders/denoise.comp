@@ -42,15 +42,16 @@ bool hit(ivec2 p) {
   return !isinf(imageLoad(normalDepthImage, p).w);
 }
 
-vec3 albedoFloor(ivec2 p) {
-  return max(imageLoad(albedoImage, p).rgb, vec3(BT_DENOISE_ALBEDO_FLOOR));
+// denoise.cpp Guide::demodulator.
+vec3 demodulator(ivec2 p) {
+  return imageLoad(albedoImage, p).rgb + BT_DENOISE_ALBEDO_OFFSET;
 }
 
 // The mean beauty at p divided by the albedo (0 where it is not finite), as prepare() makes it.
 vec3 irradiance(ivec2 p) {
   vec3 c = imageLoad(inputImage, p).rgb * inputScale;
   if (any(isinf(c)) || any(isnan(c))) return vec3(0.0);
-  return c / albedoFloor(p);
+  return c / demodulator(p);
 }
 
 float depthStep(ivec2 q, float z, ivec2 size) {
@@ -161,7 +162,7 @@ void main() {
   }
   vec3 result = sum / weights;
   if (lastPass) {
-    result *= albedoFloor(p);
+    result *= demodulator(p);
     vec4 raw = imageLoad(rawImage, p) * rawScale;
     if (shrink && !any(isinf(raw.rgb)) && !any(isnan(raw.rgb))) result = shrinkTowardRaw(raw.rgb, result, meanVariance(raw.a, luminance(raw.rgb)));
   }

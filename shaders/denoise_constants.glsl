@@ -54,11 +54,18 @@
 // var + b^2: noise-sized changes stay, a change many times the pixel's own noise (a bias, a hue
 // shift included) falls back to the raw mean. Below SHRINK_FROM the few samples' variance is too rough
 // (at 4 spp it cost lq_e4m3 a third of the filter's gain); measurements: bench/README.md, issue
-// 18 session 20.
+// 18 session 20. A clamp of the filtered value to the raw mean +- 1.25 standard errors instead
+// (session 22) left lq_e4m3 at 64 / 128 spp 10 % closer still, but moved a pixel 1.25 sigma
+// whatever its bias: the bricks below a pixel at 256 spp 1.47 times raw, over the tests' 1.25.
 #define BT_DENOISE_SHRINK_FROM 16
 
-// Demodulation divides the beauty by the albedo, each channel at least this much, so black
-// texels do not blow up; remodulation multiplies by the same value.
-#define BT_DENOISE_ALBEDO_FLOOR 0.01f
+// Demodulation divides the beauty by the albedo plus this much, and remodulation multiplies by
+// the same: black texels do not blow up, and a dark texel's light that its albedo does not scale
+// (a dielectric's specular reflection, 4 % whatever its colour; an emitter's own light) is not
+// turned into a spike of irradiance ten or a hundred times its neighbours', which the filter
+// spread and the shrink could only partly take back. The albedo floored at 0.01 instead (session
+// 21) left lq_e4m3 at 8 / 16 / 64 / 128 spp 0.0846 / 0.0575 / 0.0218 / 0.0138 against 0.0695 /
+// 0.0546 / 0.0201 / 0.0126 (bench/README.md, issue 18 session 22).
+#define BT_DENOISE_ALBEDO_OFFSET 0.01f
 
 #endif

@@ -228,6 +228,33 @@ TEST(Denoise, DisplayedImageOfTintedBricksIsCloserThanSession20s) {
   }
 }
 
+// Issue 18, session 22: the image displayed at 8 spp on the room of bricks whose mortar is nearly
+// black (albedo about 0.02 in each channel), as its PNG shows it, the mean relative MSE of three
+// seeds. Demodulation divided by the albedo floored at 0.01 (session 21), so the mortar's light
+// that its albedo does not scale (a dielectric's 4 % specular reflection) became irradiance many
+// times its neighbours', which the filter spread; dividing by the albedo plus 0.01 it does less.
+// At 8 spp the last step has no second moment to draw a pixel back toward its raw mean
+// (BT_DENOISE_SHRINK_FROM), so the filter's own bias shows in full: on these bricks the denoised
+// image is farther from the reference than raw (0.17 against 0.059), as lq_e4m3's is not (0.070
+// against 0.161; bench/README.md, issue 18 session 22).
+TEST(Denoise, DisplayedImageOfDarkMortarIsCloserThanSession21s) {
+  const RenderImage reference = renderRoom("0.5", 1024, 99, true);
+  const std::vector<glm::vec3> referenceDisplay = displayedImage(reference.beauty, autoExposureEv(reference.beauty, kWidth, kHeight));
+  double raw = 0.0, displayed = 0.0;
+  for (uint32_t seed = 41; seed <= 43; ++seed) {
+    const RenderImage noisy = renderRoom("0.5", 8, seed, true);
+    const float ev = autoExposureEv(noisy.beauty, kWidth, kHeight);
+    raw += bt::relativeMse(displayedImage(noisy.beauty, ev), referenceDisplay) / 3.0;
+    displayed += bt::relativeMse(displayedImage(displayedBeauty(noisy.beauty, denoise(noisy), 8), ev), referenceDisplay) / 3.0;
+  }
+  RecordProperty("raw_rel_mse", std::to_string(raw));
+  RecordProperty("displayed_rel_mse", std::to_string(displayed));
+  std::printf("dark mortar, 8 spp: raw %.5f, displayed %.5f\n", raw, displayed);
+  // Stated: below 0.19 (measured: 0.174; session 21's floor 0.210, and at 64 spp 0.01446 against
+  // its 0.01483, raw 0.01449).
+  EXPECT_LT(displayed, 0.19) << "raw " << raw;
+}
+
 // Two planes side by side, a bright one in front (depth 100) and a dark one behind (depth 400),
 // both noisy, the same normal: only depth tells them apart, as at a pillar's silhouette.
 TEST(Denoise, NoBleedingAcrossADepthDiscontinuity) {
