@@ -47,6 +47,16 @@ TEST_P(OracleView, FaithfulPixelsMatchTheCompiledLightmaps) {
   test::checkOracleLevel(GetParam(), map, shared / "oracle" / "lit" / bspName, 1.0 / 128.0, bar, gap != knownGaps().end());
 }
 
+// The compiled level itself, opened as a user opens a .bsp: its `_surface` points are the
+// compiler's, spread over the .bsp's own faces as `light` spreads them (the Q1 kind on the faces
+// a leaf lists, a liquid's only from outside it), so its render meets the bar that the .map's
+// misses (knownGaps).
+TEST(OracleView, TestsurfacelightBspImportMatchesItsCompiledLightmaps) {
+  BT_REQUIRE_SHARED(shared);
+  const std::filesystem::path bsp = shared / "oracle" / "lit" / "maps_ericw-tools_testmaps_deprecated_testsurfacelight.bsp";
+  test::checkOracleLevel("testsurfacelight.bsp", bsp, bsp, 1.0 / 128.0, Bar{}, false);
+}
+
 // No level under oracle/lit/ is left out of kLitLevels unseen.
 TEST(OracleView, EveryLitOracleLevelIsListed) {
   BT_REQUIRE_SHARED(shared);
