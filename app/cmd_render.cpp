@@ -220,13 +220,15 @@ std::shared_ptr<gl::TracerPrograms> startGlPrograms(const RenderOptions& o, gl::
                                                     gl::LevelPreparation& preparation) {
   const bool physical = o.lighting == "physical";
   auto programs = std::make_shared<gl::TracerPrograms>(context, textures);
-  programs->startAovs();
+  programs->startTraceKernel();
+  const bool liquidCsg = preparation.levelParts().liquidCsg;
+  programs->startAovs(liquidCsg);
   if (o.aov == "beauty") {
     const gl::FaithfulFeatures features = gl::startPathTracerFor(*programs, preparation, physical);
-    programs->aovs();
+    programs->aovs(liquidCsg);
     if (programs->wavefrontState(physical, features).started) programs->wavefront(physical, features);
   } else {
-    programs->aovs();
+    programs->aovs(liquidCsg);
   }
   return programs;
 }

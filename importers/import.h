@@ -42,12 +42,10 @@ struct TextureSearch {
 struct ImportOptions {
   std::optional<MapDialect> dialect; // --dialect forces one; otherwise detected
   TextureSearch textures;
-  // Called once, as soon as the importer has the level's entities: with a scene that holds them
-  // with their keys as the file gives them, and maybe more. A .map's comes right after the
-  // parse, before its brushes are built and its textures loaded (entities only; qbsp's keys for
-  // brush entities, such as an origin brush's, not added yet); a .bsp's before its textures.
-  // A front end acts on the level's lights meanwhile (renderer/gl LevelPreparation starts the
-  // GL programs they need: lq_e4m3's parse is about half of its import).
+  // Called once, as soon as the importer has the level's entities, brushes and faces, before it
+  // loads the textures: with a scene that holds them (its materials named, not loaded). A front
+  // end acts on the level's lights and parts meanwhile (renderer/gl LevelPreparation starts the
+  // GL program they need: on lq_e4m3 the textures are about half of the import).
   std::function<void(const Scene&)> entitiesRead;
   // Quake 3 curves: the most a tessellated chord may lie off the curve (scene/curves.h; the
   // engine's r_subdivisions). Tests pass less for a finer reference.

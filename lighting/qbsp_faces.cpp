@@ -342,15 +342,83 @@ void leafPieces(const QbspTree& tree, int32_t node, std::vector<Winding> fragmen
   leafPieces(tree, n.children[1], std::move(back), leaves);
 }
 
+// The brushes of a Quake 2 world that fill space without carving its faces (an area portal, a
+// liquid), each with its contents as the leaves it lies in take them (qbsp3's brush contents;
+// a func_areaportal's brush is CONTENTS_AREAPORTAL whatever its sides say).
+struct LeafContents {
+  std::vector<std::pair<uint32_t, int32_t>> brushes; // brush, its contents
+
+  LeafContents(const Scene& scene, const std::vector<BrushContents>& contents) {
+    for (uint32_t b = 0; b < scene.brushes.size(); ++b) {
+      const Brush& brush = scene.brushes[b];
+      const bool areaportal = brush.entity < scene.entities.size() && scene.entities[brush.entity].classname() == "func_areaportal";
+      if (!areaportal && contents[b] != BrushContents::Liquid) continue;
+      int32_t bits = 0;
+      for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
+        if (scene.faces[f].surface) bits |= scene.faces[f].surface->contents;
+      brushes.emplace_back(b, areaportal ? quake::q2::CONTENTS_AREAPORTAL : bits);
+    }
+  }
+
+  // The contents that the face `piece` (facing `normal`) looks into: those of the brushes here
+  // around the point 1 unit in front of its vertices' mean, or'd together (0: empty space).
+  int32_t inFrontOf(const Scene& scene, const Winding& piece, const dvec3& normal) const {
+    if (brushes.empty()) return 0;
+    dvec3 c(0.0);
+    for (const dvec3& p : piece) c += p;
+    c = c / double(piece.size()) + normal * kVoidProbeDistance;
+    int32_t front = 0;
+    for (const auto& [b, bits] : brushes) {
+      const Brush& brush = scene.brushes[b];
+      if (glm::any(glm::lessThan(c, brush.bounds.min)) || glm::any(glm::greaterThan(c, brush.bounds.max))) continue;
+      bool inside = true;
+      for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount && inside; ++f)
+        inside = scene.faces[f].plane.distanceTo(c) < 0.0;
+      if (inside) front |= bits;
+    }
+    return front;
+  }
+};
+
+// qbsp's faces on one node: TryMerge merges only faces that look into the same contents (the
+// floor under q2_areaportals' doorways looks into their area portals and stays a face of its
+// own), so mergeFaceList runs on each such group of `pieces`, the groups in the order of their
+// first pieces.
+std::vector<Winding> mergeNodeFaces(const Scene& scene, const LeafContents& leaves, const std::vector<Winding>& pieces,
+                                    const dvec3& normal) {
+  std::vector<int32_t> keys;
+  std::vector<std::vector<Winding>> groups;
+  for (const Winding& w : pieces) {
+    const int32_t key = leaves.inFrontOf(scene, w, normal);
+    const size_t g = size_t(std::find(keys.begin(), keys.end(), key) - keys.begin());
+    if (g == keys.size()) keys.push_back(key), groups.emplace_back();
+    groups[g].push_back(w);
+  }
+  std::vector<Winding> merged;
+  for (const std::vector<Winding>& group : groups)
+    for (Winding& w : mergeFaceList(group, normal)) merged.push_back(std::move(w));
+  return merged;
+}
+
+struct NodeFaceContext {
+  const Scene& scene;
+  const LeafContents& leaves;
+  const QbspTree& tree;
+  const Plane& surface;
+};
+
 // Hands `fragments` of a side on plane `surface` down the tree from `node`: each node's plane
 // cuts them, until the node whose plane is the side's own. There qbsp makes the side's faces of
 // the portals between the leaves on its two sides (cut by the planes of both subtrees), visiting
 // the leaves the side looks into, and merges them on the node (faces.cc MakeFaces_r,
-// MergeNodeFaces): the planes below the node cut no face, those above do.
-void nodeFaces(const QbspTree& tree, int32_t node, std::vector<Winding> fragments, const Plane& surface, std::vector<Winding>& faces) {
+// MergeNodeFaces): the planes below the node cut no face, those above do, and neither does the
+// merge join faces that look into different contents (mergeNodeFaces).
+void nodeFaces(const NodeFaceContext& ctx, int32_t node, std::vector<Winding> fragments, std::vector<Winding>& faces) {
+  const QbspTree& tree = ctx.tree;
+  const Plane& surface = ctx.surface;
   if (fragments.empty()) return;
   if (node < 0) {
-    for (Winding& w : mergeFaceList(fragments, surface.normal)) faces.push_back(std::move(w));
+    for (Winding& w : mergeNodeFaces(ctx.scene, ctx.leaves, fragments, surface.normal)) faces.push_back(std::move(w));
     return;
   }
   const QbspTree::Node& n = tree.nodes()[size_t(node)];
@@ -362,13 +430,13 @@ void nodeFaces(const QbspTree& tree, int32_t node, std::vector<Winding> fragment
     std::vector<Winding> pieces;
     for (std::vector<Winding>& portal : portals)
       for (Winding& w : portal) pieces.push_back(std::move(w));
-    for (Winding& w : mergeFaceList(pieces, surface.normal)) faces.push_back(std::move(w));
+    for (Winding& w : mergeNodeFaces(ctx.scene, ctx.leaves, pieces, surface.normal)) faces.push_back(std::move(w));
     return;
   }
   std::vector<Winding> front, back;
   splitAll(fragments, n.plane, front, back);
-  nodeFaces(tree, n.children[0], std::move(front), surface, faces);
-  nodeFaces(tree, n.children[1], std::move(back), surface, faces);
+  nodeFaces(ctx, n.children[0], std::move(front), faces);
+  nodeFaces(ctx, n.children[1], std::move(back), faces);
 }
 
 } // namespace
@@ -378,7 +446,8 @@ std::vector<Winding> compilerFaces(const Scene& scene, const std::vector<uint32_
   const Face& surface = scene.faces[sides.front()];
   if (surface.brush < contents.size() && contents[surface.brush] != BrushContents::Empty && !world.nodes().empty()) {
     std::vector<Winding> faces;
-    nodeFaces(world, 0, fragments, surface.plane, faces);
+    const LeafContents leaves(scene, contents);
+    nodeFaces({scene, leaves, world, surface.plane}, 0, fragments, faces);
     return faces;
   }
   return surfaceTreeFaces(scene, sides, fragments, contents);

@@ -267,19 +267,25 @@ TraceScene buildTracer(const RenderScene& rs) {
   return TraceScene::build(scene, bvh);
 }
 
-// RenderScene::blocksFromInside: Quake 2's liquid brushes (by contents, before quake2DrawnAs)
-// with a face that blocks faithful light, whose faces the compiler has on both sides.
+// Whether faithful shadow rays leaving brush `b` are blocked (RenderScene::blocksFromInside): a
+// Quake 2 liquid brush (by contents, before quake2DrawnAs) with a face that blocks faithful
+// light, whose faces the compiler has on both sides.
+bool blocksFromInside(const RenderScene& rs, const std::vector<BrushContents>& contents, uint32_t b) {
+  if (b >= contents.size() || contents[b] != BrushContents::Liquid) return false;
+  const Brush& brush = rs.scene->brushes[b];
+  for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
+    if (!(rs.faceFlags[f] & (kFaceHidden | kFaceLiquid | kFaceNoShadow))) return true;
+  return false;
+}
+
+// RenderScene::blocksFromInside, per tracer slot.
 std::vector<uint8_t> brushesBlockingFromInside(const RenderScene& rs, const std::vector<BrushContents>& contents) {
   if (gameOf(*rs.scene) != Game::Quake2) return {};
   const std::span<const GpuBrush> brushes = rs.tracer.brushes();
   std::vector<uint8_t> blocks(brushes.size(), 0);
   bool any = false;
   for (size_t slot = 0; slot < brushes.size(); ++slot) {
-    const uint32_t b = brushes[slot].sceneBrush;
-    if (b >= contents.size() || contents[b] != BrushContents::Liquid) continue;
-    const Brush& brush = rs.scene->brushes[b];
-    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
-      blocks[slot] |= !(rs.faceFlags[f] & (kFaceHidden | kFaceLiquid | kFaceNoShadow));
+    blocks[slot] = blocksFromInside(rs, contents, brushes[slot].sceneBrush);
     any |= blocks[slot] != 0;
   }
   if (!any) blocks.clear();
@@ -349,6 +355,22 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   if (bounces) addBounceLights(rs, contents, options.visApproxBoxes != VisBoxes::Off, diagnostics); // prepared too
   if (scene.sky) rs.sky = bakeSkyMap(scene);
   return rs;
+}
+
+LevelParts levelParts(const Scene& scene, const RenderSceneOptions& options) {
+  RenderScene rs;
+  rs.scene = &scene;
+  classifyFaces(rs, options); // without materials: no face is classed emissive, which no part reads
+  const std::vector<BrushContents> contents = brushContents(scene);
+  // A brush with a face that blocks light has a face the game draws, so it is in the tracer.
+  bool blocks = false;
+  if (gameOf(scene) == Game::Quake2)
+    for (uint32_t b = 0; b < scene.brushes.size() && !blocks; ++b) blocks = blocksFromInside(rs, contents, b);
+  return {.liquidCsg = !LiquidCsg(scene).empty(), .blocksFromInside = blocks, .glass = !rs.glassAlpha.empty()};
+}
+
+LevelParts levelParts(const RenderScene& rs) {
+  return {.liquidCsg = !rs.liquidCsg.empty(), .blocksFromInside = !rs.blocksFromInside.empty(), .glass = !rs.glassAlpha.empty()};
 }
 
 } // namespace bt

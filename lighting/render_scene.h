@@ -121,6 +121,20 @@ inline LiquidBlend engineBlend(const RenderScene& rs, uint32_t face) {
 // builds the tracer. `scene` must outlive the result.
 RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& options, Diagnostics& diagnostics);
 
+// The parts of a level that decide, beside its LightKinds, which GL program it needs: known
+// from its brushes and faces alone, long before it is prepared, so that the front ends start
+// compiling the one program the level needs (renderer/gl/gl_level.h).
+struct LevelParts {
+  bool liquidCsg = false;        // RenderScene::liquidCsg is not empty
+  bool blocksFromInside = false; // RenderScene::blocksFromInside is not empty
+  bool glass = false;            // RenderScene::glassAlpha is not empty
+  bool operator==(const LevelParts&) const = default;
+};
+// Those buildRenderScene(scene, options) will find; the scene's textures need not be loaded.
+LevelParts levelParts(const Scene& scene, const RenderSceneOptions& options);
+// Those a prepared level has.
+LevelParts levelParts(const RenderScene& rs);
+
 // What each brush of `scene` is to qbsp's CSG (surface_lights.h BrushContents): world brushes
 // are solid, or liquid where a face is a liquid; brushes with a hidden face, and brush entities
 // that keep their own model, carve nothing.

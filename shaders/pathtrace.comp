@@ -404,6 +404,15 @@ bool physicalSunRay(inout Path path, GpuLight light, inout Rng rng) {
   return true;
 }
 
+// Whether the sky a physical sun's ray reached is one the sun shines through: with `_suntexture`
+// only sky faces of that texture, not the level's outside (renderer/cpu sunContribution,
+// lighting reachesSky). The ray's sun is the fixed list's entry before `lightIndex` (nextLightRay); read
+// here, once the ray is back, so that the path carries nothing more across the trace.
+bool physicalSunSeesItsSky(uint lightIndex, uint face) {
+  uint skyMaterial = lights[lightIndices[lightIndex - 1u]].skyMaterial;
+  return skyMaterial == 0u || (face != NO_FACE && faces[face].material + 1u == skyMaterial);
+}
+
 // One point light picked by light selection (light_select.glsl), divided by the probability
 // of the pick; its _deviance jitter is drawn after the pick, as on the CPU.
 bool physicalSelectedLightRay(inout Path path, inout Rng rng) {
@@ -479,8 +488,9 @@ bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
     return false;
   }
   if ((flags & FACE_SKY) != 0u) {
-    // The camera sees the sky as the game draws it, the dome being its light (cpu radiancePhysical).
-    path.radiance += path.throughput * (path.depth > 0 ? baseColor + skyDomeRadiance(path.dir) : baseColor);
+    // The camera sees the sky as the game draws it; after a bounce it is the dome's light alone
+    // (cpu radiancePhysical).
+    path.radiance += path.throughput * (path.depth > 0 ? skyDomeRadiance(path.dir) : baseColor);
     return false;
   }
   vec3 n = hit.normal;
@@ -624,6 +634,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
 #endif
     if (SKY_RAYS && path.kind == RAY_SKY) {
       bool reached = !gaveUp && (hit.face == NO_FACE || (flags & FACE_SKY) != 0u);
+      if (PHYSICAL && reached) reached = physicalSunSeesItsSky(path.lightIndex, hit.face);
       if (reached) {
         if (PHYSICAL) path.radiance += path.throughput * path.pending;
         NEGATIVE_ONLY(else if (path.pendingIsNegative) path.lightNegative += path.pending;)
@@ -652,10 +663,11 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     path.radiance += path.throughput * path.pending * (path.emitterFace != NO_FACE ? le : vec3(1.0));
   if (surfaceReached) {
     // The level's sky images by the ray's direction, as a miss: not the surface shading (sky.glsl).
+    // After a bounce, physical mode's sky is the dome's light alone (cpu radiancePhysical).
     // A faithful path is its camera ray alone and keeps no throughput between wavefront dispatches.
     if (skyShown) {
       vec3 sky = skyRadiance(path.dir);
-      path.radiance = PHYSICAL ? path.radiance + path.throughput * (path.depth > 0 ? sky + skyDomeRadiance(path.dir) : sky) : sky;
+      path.radiance = PHYSICAL ? path.radiance + path.throughput * (path.depth > 0 ? skyDomeRadiance(path.dir) : sky) : sky;
     }
     ended = skyShown || !(PHYSICAL ? physicalSurface(path, surface, le) : faithfulSurface(path, surface));
     path.lightIndex = 0u;

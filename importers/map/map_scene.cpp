@@ -422,19 +422,24 @@ std::vector<Material> readShaderLight(const MapDocument& doc, const std::string&
   return materials;
 }
 
+// The material of readShaderLight's named `name`, or null.
+const Material* shaderLightOf(const std::vector<Material>& shaderLight, const std::string& name) {
+  for (const Material& s : shaderLight)
+    if (equalsIgnoreCase(name, s.name)) return &s;
+  return nullptr;
+}
+
 // The light keys and blends read by readShaderLight, given to the built scene's materials by name.
 void applyShaderLight(Scene& scene, const std::vector<Material>& shaderLight, const std::vector<std::string>& filesRead,
                       const Diagnostics& diagnostics) {
   if (shaderLight.empty()) return;
   for (Material& m : scene.materials)
-    for (const Material& s : shaderLight)
-      if (equalsIgnoreCase(m.name, s.name)) {
-        m.q3 = s.q3;
-        m.blend = s.blend;
-        // The engine draws a blended image's alpha by the blend alone, never as a mask.
-        if (m.blend != ShaderBlend::Opaque) m.alphaTest = AlphaTest::None;
-        break;
-      }
+    if (const Material* s = shaderLightOf(shaderLight, m.name)) {
+      m.q3 = s->q3;
+      m.blend = s->blend;
+      // The engine draws a blended image's alpha by the blend alone, never as a mask.
+      if (m.blend != ShaderBlend::Opaque) m.alphaTest = AlphaTest::None;
+    }
   for (const Diagnostic& d : diagnostics) scene.diagnostics.push_back(d);
   for (const std::string& file : filesRead) scene.addInputFile(file);
 }
@@ -446,20 +451,15 @@ Scene importMap(const std::string& path, const ImportOptions& options) {
   std::vector<std::string> shaderFiles;
   Diagnostics shaderDiagnostics;
   const std::vector<Material> shaderLight = readShaderLight(doc, path, options, shaderFiles, shaderDiagnostics);
-  if (options.entitiesRead) {
-    Scene entities;
-    entities.sourcePath = doc.path;
-    entities.format = toString(doc.dialect);
-    entities.materials = shaderLight; // Quake 3: what the sky shaders' suns need
-    for (const MapEntity& me : doc.entities) {
-      Entity e;
-      e.line = me.line;
-      e.keys = me.keys;
-      entities.entities.push_back(std::move(e));
-    }
-    options.entitiesRead(entities);
-  }
   Scene scene = buildScene(doc, nullptr, options.curveMaxError);
+  if (options.entitiesRead) {
+    // Told with the brushes and faces, before the textures: the early program start needs the
+    // level's parts (lighting/render_scene.h LevelParts) beside its lights, and Quake 3's sky
+    // shaders' suns need their light keys (applied again, with the blends, at the end).
+    for (Material& m : scene.materials)
+      if (const Material* s = shaderLightOf(shaderLight, m.name)) m.q3 = s->q3;
+    options.entitiesRead(scene);
+  }
   loadMaterials(scene, options.textures);
   loadSky(scene, options.textures);
   const bool inTextureUnits = std::any_of(doc.entities.begin(), doc.entities.end(), [](const MapEntity& e) {

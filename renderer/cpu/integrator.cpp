@@ -305,7 +305,9 @@ glm::vec3 sunContribution(const RenderScene& rs, const Bsdf& bsdf, const GpuLigh
   float pdf;
   const glm::vec3 f = bsdfEval(bsdf, ng, wo, wi, pdf);
   if (pdf == 0.0f) return glm::vec3(0.0f);
-  if (!reachesSky(rs, Ray{origin, 0.0f, wi, std::numeric_limits<float>::infinity()}, LightingMode::Physical)) return glm::vec3(0.0f);
+  // A sun with `_suntexture` shines only through sky faces of that texture, as in faithful mode.
+  if (!reachesSky(rs, Ray{origin, 0.0f, wi, std::numeric_limits<float>::infinity()}, LightingMode::Physical, light.skyMaterial))
+    return glm::vec3(0.0f);
   return f * physical::colour(light.color) * light.value * rs.world.range * kPhysicalSunScale * glm::dot(bsdf.n, wi);
 }
 
@@ -472,12 +474,17 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
     if (!hit.found) break; // the void outside a level is black
     const uint32_t flags = rs.faceFlags[hit.face];
     if (flags & kFaceSky) {
-      // The level's sky images by the ray's own direction, camera ray or bounce, else the face's texture.
-      const glm::vec3 sky =
-          rs.sky.size > 0 ? skyRadiance(rs.sky, ray.direction) : srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position)));
-      // The camera sees the sky as the game draws it; the dome is its light, which what the
-      // camera sees receives (lighting/README.md, "Physical mode").
-      l += throughput * (depth > 0 ? sky + skyDomeRadiance(rs, ray.direction) : sky);
+      // The camera sees the sky as the game draws it: the level's sky images by the ray's
+      // direction, else the face's texture. After a bounce the sky is the light the compiler
+      // gives it, the dome (`_sunlight2`, `_sunlight3`) and nothing else: its picture lights
+      // nothing in the game, and a sky window of a level without a dome stays dark
+      // (lighting/README.md, "Physical mode").
+      if (depth > 0) {
+        l += throughput * skyDomeRadiance(rs, ray.direction);
+      } else {
+        l += throughput *
+            (rs.sky.size > 0 ? skyRadiance(rs.sky, ray.direction) : srgbToLinear(glm::vec3(baseColorAt(rs, hit.face, hit.position))));
+      }
       break;
     }
     // Without `_litwater` the game draws liquids unlit, at their texture: the camera sees them

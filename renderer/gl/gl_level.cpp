@@ -6,18 +6,19 @@ namespace bt::gl {
 
 LevelPreparation::LevelPreparation(Scene& scene, RenderScene& render, LevelImport importLevel, RenderSceneOptions options,
                                    Diagnostics* lightDiagnostics)
-    : kinds_(kindsPromise_.get_future().share()) {
+    : told_(toldPromise_.get_future().share()) {
   done_ = std::async(std::launch::async,
                      [this, &scene, &render, importLevel = std::move(importLevel), options = std::move(options), lightDiagnostics] {
                        bool kindsSet = false;
-                       // The kinds need the entities only, so they are told as soon as the importer has them. The
-                       // lights are collected again from the finished scene, which may have more keys.
+                       // The kinds need the entities, the parts the faces, so they are told before the textures are
+                       // loaded. The lights are collected again from the finished scene, which may have more keys.
                        auto tell = [&](const Scene& read) {
                          if (kindsSet) return;
                          Diagnostics ignored; // the collection below reports them
                          const LightKinds kinds = bt::lightKinds(read, collectLights(read, options.lights, ignored), options.bounceLights);
+                         const LevelParts parts = bt::levelParts(read, options);
                          lightsCollected = Clock::now();
-                         kindsPromise_.set_value(kinds);
+                         toldPromise_.set_value({kinds, parts});
                          kindsSet = true;
                        };
                        try {
@@ -28,7 +29,7 @@ LevelPreparation::LevelPreparation(Scene& scene, RenderScene& render, LevelImpor
                          render = buildRenderScene(scene, options, diagnostics);
                          prepared = Clock::now();
                        } catch (...) {
-                         if (!kindsSet) kindsPromise_.set_exception(std::current_exception());
+                         if (!kindsSet) toldPromise_.set_exception(std::current_exception());
                          throw;
                        }
                      });
@@ -38,7 +39,11 @@ LevelPreparation::LevelPreparation(Scene& scene, RenderScene& render, LevelImpor
 LevelPreparation::~LevelPreparation() = default;
 
 LightKinds LevelPreparation::lightKinds() {
-  return kinds_.get();
+  return told_.get().kinds;
+}
+
+LevelParts LevelPreparation::levelParts() {
+  return told_.get().parts;
 }
 
 void LevelPreparation::wait() {
@@ -61,11 +66,11 @@ std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport imp
 
 FaithfulFeatures startPathTracerFor(TracerPrograms& programs, LevelPreparation& preparation, bool physical) {
   programs.startTraceKernel();
-  // Physical programs have every part; a faithful one waits for the lights to know its parts.
-  // Neither knows the liquid CSG yet (nor Quake 2's glass): a level with overlapping liquids (or
-  // glass) builds its own program once prepared (FaithfulFeatures::liquidCsg, glass), the one
-  // started here going unused.
-  const FaithfulFeatures features = physical ? FaithfulFeatures{} : faithfulFeatures(preparation.lightKinds());
+  // Only a level whose finished lights need a part their early kinds did not tell builds its own
+  // program once prepared (loadGlLevel), the one started here going unused.
+  const LevelParts parts = preparation.levelParts();
+  const FaithfulFeatures features =
+      physical ? FaithfulFeatures{.liquidCsg = parts.liquidCsg} : faithfulFeatures(preparation.lightKinds(), parts);
   programs.startPathTracer(physical, features);
   return features;
 }
@@ -86,9 +91,9 @@ void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& conte
   t.prepared = preparation.prepared;
   t.uploadStarted = Clock::now();
   const GlLighting lighting = lightingFor(level.render);
-  // The prepared level may need parts its lights did not tell (a liquid CSG, the rule from
-  // inside, Quake 2 glass, bounce lights drawn): its own program starts now, before the upload, so that the
-  // first image does not wait for it to start after the upload (then the early one goes unused).
+  // Should the prepared level need a part its early kinds and parts did not tell, its own program
+  // starts now, before the upload, so that the first image does not wait for it to start after
+  // the upload (then the early one goes unused).
   const FaithfulFeatures features = faithfulFeatures(lighting);
   programs->startPathTracer(physical, features);
   const bool wavefront = programs->wavefrontState(physical, features).started;

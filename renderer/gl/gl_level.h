@@ -1,7 +1,7 @@
 // A level loaded for the GL tracer the way every front end gets to its first image: the level
 // imported and prepared on a worker thread, started before the GL context exists; the path
-// tracer's compile started as soon as the level's lights say which program it needs; then the
-// upload.
+// tracer's compile started as soon as the level's lights and parts say which program it needs;
+// then the upload.
 #pragma once
 
 #include "lighting/render_scene.h"
@@ -16,7 +16,8 @@
 namespace bt::gl {
 
 // A level's import: importScene() with ImportOptions::entitiesRead set to the given callback,
-// which the importer calls once its entities are read, before it loads the textures. (A
+// which the importer calls once its entities, brushes and faces are read, before it loads the
+// textures. (A
 // function, so that this library needs no importer: the GPU check links the portable one.)
 using EntitiesRead = std::function<void(const Scene&)>;
 using LevelImport = std::function<Scene(const EntitiesRead&)>;
@@ -24,10 +25,11 @@ using LevelImport = std::function<Scene(const EntitiesRead&)>;
 // A level's import and preparation on a worker thread: importLevel(), lighting/render_scene.h's
 // collectLights() and buildRenderScene(), into `scene` and `render` (render.scene points at
 // scene), with the preparation's diagnostics into `lightDiagnostics` (null: scene.diagnostics).
-// Those three belong to the worker until wait() returns. The level's lights are collected as
-// soon as its entities are read, so its LightKinds are known well before the rest (a fraction
-// of the textured import and the preparation; seconds before them on a `_bounce` level): a
-// front end starts the GL programs for them meanwhile. Exceptions of the import or the preparation reach lightKinds() and wait().
+// Those three belong to the worker until wait() returns. The level's lights are collected and
+// its parts found as soon as its entities and faces are read, so its LightKinds and LevelParts
+// are known well before the rest (a fraction of the textured import and the preparation;
+// seconds before them on a `_bounce` level): a front end starts the GL program for them
+// meanwhile. Exceptions of the import or the preparation reach lightKinds(), levelParts() and wait().
 class LevelPreparation {
 public:
   using Clock = std::chrono::steady_clock;
@@ -37,8 +39,9 @@ public:
   LevelPreparation(const LevelPreparation&) = delete;
   LevelPreparation& operator=(const LevelPreparation&) = delete;
 
-  // Blocks until the lights are collected.
+  // Block until the lights are collected and the parts found.
   LightKinds lightKinds();
+  LevelParts levelParts();
   // Blocks until the preparation is done; then scene and render are the caller's again.
   void wait();
   // Whether wait() would return at once (the viewer's reload polls it between frames).
@@ -47,8 +50,12 @@ public:
   Clock::time_point started, lightsCollected, prepared; // the worker's steps, for timelines
 
 private:
-  std::promise<LightKinds> kindsPromise_;
-  std::shared_future<LightKinds> kinds_;
+  struct Told {
+    LightKinds kinds;
+    LevelParts parts;
+  };
+  std::promise<Told> toldPromise_;
+  std::shared_future<Told> told_;
   std::future<void> done_;
 };
 
@@ -65,7 +72,7 @@ struct GlLevelTimes {
   using Clock = std::chrono::steady_clock;
   Clock::time_point contextMade;               // the caller's, where it wants it in the timeline
   Clock::time_point lightsCollected, prepared; // the preparation's (LevelPreparation)
-  Clock::time_point programsStarted;           // the path tracer's programs queued for the level's lights
+  Clock::time_point programsStarted;           // the path tracer's programs queued for the level's lights and parts
   Clock::time_point traceLinked, shadeLinked;  // both at the upload's end where none was started
   Clock::time_point uploadStarted, uploaded;
 };
@@ -80,9 +87,9 @@ RenderSceneOptions glSceneOptions();
 std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport importLevel, RenderSceneOptions options = glSceneOptions());
 
 // Starts `programs`' path tracer for `physical` lighting (the first images') and the level's
-// kinds of light: the wavefront trace kernel at once (it needs nothing of the level), the rest
-// once the preparation knows the kinds (a physical program has every part and waits for
-// nothing). The faithful features it was started with.
+// kinds of light and parts: the wavefront trace kernel at once (it needs nothing of the level),
+// the rest once the preparation knows them (a physical program has every part but the liquid
+// CSG). The faithful features it was started with.
 FaithfulFeatures startPathTracerFor(TracerPrograms& programs, LevelPreparation& preparation, bool physical);
 
 // Finishes loading `level`, whose preparation is `preparation`: starts the path tracer

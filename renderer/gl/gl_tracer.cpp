@@ -209,10 +209,10 @@ TextureMode GlTracer::textureMode() const {
   return impl_->textures.mode();
 }
 FaithfulFeatures faithfulFeatures(const GlLighting& lighting) {
-  return faithfulFeatures(lighting.lightKinds) | faithfulFeatures(lighting.dirt, lighting.lights) |
-      FaithfulFeatures{.liquidCsg = !lighting.liquidCsg.empty(),
-                       .blocksFromInside = !lighting.blocksFromInside.empty(),
-                       .glass = !lighting.glassAlpha.empty()};
+  const LevelParts parts{.liquidCsg = !lighting.liquidCsg.empty(),
+                         .blocksFromInside = !lighting.blocksFromInside.empty(),
+                         .glass = !lighting.glassAlpha.empty()};
+  return faithfulFeatures(lighting.lightKinds, parts) | faithfulFeatures(lighting.dirt, lighting.lights);
 }
 
 FaithfulFeatures GlTracer::faithfulFeatures() const {

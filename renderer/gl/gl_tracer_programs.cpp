@@ -109,13 +109,16 @@ void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* sh
   slot = std::make_unique<ComputeProgram>(ComputeProgram::Deferred{}, shader, defines, cached ? cache_ : ProgramCache{});
 }
 
-FaithfulFeatures faithfulFeatures(const LightKinds& kinds) {
+FaithfulFeatures faithfulFeatures(const LightKinds& kinds, const LevelParts& parts) {
   return {.dirt = kinds.dirt,
           .bounceDraw = kinds.bounce,
           .sky = kinds.sky,
           .jitter = kinds.jitter,
           .negative = kinds.negative,
-          .filter = kinds.filter}; // liquidCsg: not known this early (FaithfulFeatures)
+          .filter = kinds.filter,
+          .liquidCsg = parts.liquidCsg,
+          .blocksFromInside = parts.blocksFromInside,
+          .glass = parts.glass};
 }
 
 FaithfulFeatures faithfulFeatures(const DirtSettings& dirt, const std::vector<GpuLight>& lights) {

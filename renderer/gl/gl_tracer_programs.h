@@ -3,6 +3,7 @@
 #pragma once
 
 #include "lighting/lights.h"
+#include "lighting/render_scene.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_program.h"
 #include "renderer/gl/gl_program_cache.h"
@@ -28,17 +29,16 @@ struct FaithfulFeatures {
   bool negative = false;   // BT_FAITHFUL_NEGATIVE: negative lights, taken off after the floors
   bool filter = false;     // BT_FAITHFUL_FILTER: Quake 3 blendFunc filter surfaces, which tint what lies behind them
   // BT_LIQUID_CSG: qbsp's CSG of overlapping liquids (lighting/liquid_csg.h), in the surface rays
-  // of both lighting modes and the AOVs: the one part physical programs take too. Known once the
-  // level is prepared (GlLighting::liquidCsg), so a level that has it compiles its program then.
+  // of both lighting modes and the AOVs: the one part physical programs take too. Known from the
+  // level's brushes (LevelParts), before it is prepared.
   bool liquidCsg = false;
   // BT_BLOCKS_FROM_INSIDE: faithful shadow rays leaving a brush of RenderScene::blocksFromInside
   // are blocked (shaders/trace.glsl), in the faithful path tracer and the bake; known, as the
-  // liquid CSG, once the level is prepared (GlLighting::blocksFromInside).
+  // liquid CSG, from the level's brushes.
   bool blocksFromInside = false;
   // BT_QUAKE2_GLASS: Quake 2's glass drawn as ref_gl draws it (lighting/game_rules.h
   // engineGlassAlpha): unlit, blended at its alpha (GpuFace::pad) over what lies behind, in the
-  // faithful path tracer and its shade kernel; known, as the liquid CSG, once the level is
-  // prepared (GlLighting::glassAlpha).
+  // faithful path tracer and its shade kernel; known, as the liquid CSG, from the level's faces.
   bool glass = false;
   bool operator==(const FaithfulFeatures&) const = default;
   // Both sets' parts.
@@ -55,11 +55,12 @@ struct FaithfulFeatures {
   }
 };
 
-// What a level needs, known as soon as its lights are collected (lighting/lights.h LightKinds), long
-// before its preparation ends: the front ends start the compile with this. A level that bounces
+// What a level needs, known as soon as its lights are collected and its parts found
+// (lighting/lights.h LightKinds, lighting/render_scene.h LevelParts), long before its
+// preparation ends: the front ends start the compile with this. A level that bounces
 // gets the bounce draw whatever its count of bounce lights, which is known only at the end (the
 // draw is used only in cells that list more bounce lights than its rays, so the image is the same).
-FaithfulFeatures faithfulFeatures(const LightKinds& kinds);
+FaithfulFeatures faithfulFeatures(const LightKinds& kinds, const LevelParts& parts);
 // What lights as uploaded need at least: dirt where it is enabled; the bounce draw where there
 // are more bounce lights than the draw's rays (lighting/faithful_light.h kBounceShadowRays), as no cell can
 // list more bounce lights than the level has; the sky with a sun or dome; jitter with a point

@@ -559,14 +559,15 @@ TEST(FaithfulFeatures, TheSkyAndTheJitterOnlyWhereALightNeedsThem) {
   }
 }
 
-// The front ends start a level's faithful program from its LightKinds, told as soon as the
-// importer has its entities (ImportOptions::entitiesRead), before its brushes, textures, _surface
-// and _bounce lights exist (gl::LevelPreparation); the tracer renders with those features and
-// what the finished light list needs together. If the early kinds differed from the finished
-// level's, or missed something its lights need, the level would compile a second program before
-// its first image. Every map of ours and every shared .map (ericw-tools' test maps use every
-// light key: suns, domes, _deviance, dirt, _bounce, _surface) must agree.
-TEST(FaithfulFeatures, TheEarlyLightKindsOfEveryMapAreTheFinishedLevelsAndCoverItsLights) {
+// The front ends start a level's program from its LightKinds and LevelParts, told as soon as the
+// importer has its entities and faces (ImportOptions::entitiesRead), before its textures,
+// _surface and _bounce lights exist (gl::LevelPreparation); the tracer renders with those
+// features and what the finished level needs together. If the early ones differed from the
+// finished level's, or missed something it needs, the level would compile a second program
+// before its first image. Every map of ours and every shared .map (ericw-tools' test maps use
+// every light key: suns, domes, _deviance, dirt, _bounce, _surface; and Quake 2's glass and
+// water drawn as walls, overlapping liquids) must agree.
+TEST(FaithfulFeatures, TheEarlyKindsAndPartsOfEveryMapAreTheFinishedLevelsAndCoverWhatItNeeds) {
   BT_REQUIRE_SHARED(shared);
   std::vector<std::filesystem::path> maps;
   for (const auto& dir : {test::mapsDir(), shared / "maps"})
@@ -578,12 +579,14 @@ TEST(FaithfulFeatures, TheEarlyLightKindsOfEveryMapAreTheFinishedLevelsAndCoverI
   for (const auto& path : maps) {
     SCOPED_TRACE(path.string());
     std::optional<LightKinds> early;
+    std::optional<LevelParts> earlyParts;
     ImportOptions options;
     options.textures.load = false; // the kinds of light do not depend on the textures
     options.entitiesRead = [&](const Scene& read) {
       EXPECT_FALSE(early) << "told twice";
       Diagnostics ignored;
       early = lightKinds(read, collectLights(read, {}, ignored), true);
+      earlyParts = levelParts(read, {});
     };
     Scene scene;
     try {
@@ -593,16 +596,17 @@ TEST(FaithfulFeatures, TheEarlyLightKindsOfEveryMapAreTheFinishedLevelsAndCoverI
     }
     Diagnostics diagnostics;
     const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
-    ASSERT_TRUE(early);
+    ASSERT_TRUE(early && earlyParts);
     EXPECT_EQ(*early, rs.lightKinds);
-    const FaithfulFeatures started = faithfulFeatures(rs.lightKinds);
+    EXPECT_EQ(*earlyParts, levelParts(rs));
+    const FaithfulFeatures started = faithfulFeatures(*early, *earlyParts);
     EXPECT_EQ(started | faithfulFeatures(rs.world.dirtSettings, rs.lights), started);
     seen = seen | started;
     ++checked;
   }
   EXPECT_GT(checked, maps.size() * 9 / 10);
   // Not passed for want of a case: the maps use every part.
-  EXPECT_EQ(seen, (FaithfulFeatures{true, true, true, true, true, true}));
+  EXPECT_EQ(seen, (FaithfulFeatures{true, true, true, true, true, true, true, true, true}));
 }
 
 // The level's kinds of light come before its preparation ends, and are those the prepared level

@@ -7,6 +7,7 @@
 #include "renderer/gl/gl_tracer.h"
 #include "tests/gl/cpu_and_gl.h"
 #include "tests/gl/test_scenes.h"
+#include "tests/render/box_scene.h"
 #include "tests/test_data.h"
 
 #include <glm/geometric.hpp>
@@ -54,6 +55,22 @@ TEST(GlSky, TwoLayerSkyMatchesTheCpuInFaithfulMode) {
 
 TEST(GlSky, TwoLayerSkyMatchesTheCpuInPhysicalMode) {
   expectSkyAgrees(renderSkyLevel(LightingMode::Physical), 0.03);
+}
+
+// A physical sun with `_suntexture` shines only through sky faces of that texture on the GPU as
+// on the CPU (test::twoSkiesRoom: the floor under the other sky is dark but for the bounces). The
+// CPU's floor under `sky_a` must be far darker than under `sky_b`, so that a GL tracer that let
+// the sun through every sky would fail the comparison.
+TEST(GlSky, PhysicalSunShinesOnlyThroughItsSkyTexture) {
+  const test::CpuAndGl r = test::renderCpuAndGl(test::twoSkiesRoom(), LightingMode::Physical, kWidth, kHeight);
+  expectSkyAgrees(r, 0.03);
+  double west = 0.0, east = 0.0; // the image's left and right thirds: the camera looks north
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth / 3; ++x) {
+      west += r.cpu.beauty[size_t(y) * kWidth + x].x;
+      east += r.cpu.beauty[size_t(y) * kWidth + kWidth - 1 - x].x;
+    }
+  EXPECT_LT(west, 0.2 * east);
 }
 
 // The sky box's six images reach the GPU as materials no face uses (on either texture path).

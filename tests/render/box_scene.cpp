@@ -145,6 +145,23 @@ Scene lightNearWallRoom() {
   return b.build();
 }
 
+Scene twoSkiesRoom() {
+  BoxSceneBuilder b;
+  b.material("white", 255, 255, 255);
+  b.material("sky_a", 40, 60, 200);
+  b.material("sky_b", 200, 60, 40);
+  b.box({-272, -144, -16}, {272, 144, 0}, "white");  // floor
+  b.box({-272, -144, 0}, {-256, 144, 256}, "white"); // walls
+  b.box({256, -144, 0}, {272, 144, 256}, "white");
+  b.box({-256, -144, 0}, {256, -128, 256}, "white");
+  b.box({-256, 128, 0}, {256, 144, 256}, "white");
+  b.box({-272, -144, 256}, {0, 144, 272}, "sky_a"); // the roof
+  b.box({0, -144, 256}, {272, 144, 272}, "sky_b");
+  b.entity({{"classname", "light"}, {"origin", "0 0 128"}, {"_sun", "1"}, {"mangle", "0 -90 0"}, {"_suntexture", "sky_b"}});
+  b.entity({{"classname", "info_intermission"}, {"origin", "0 -100 200"}, {"mangle", "50 90 0"}}); // down onto both halves
+  return b.build();
+}
+
 Scene waterBesideALight(const char* game, const char* water, std::optional<SurfaceAttributes> surface) {
   BoxSceneBuilder b;
   b.material("floor", 100, 100, 100);

@@ -48,6 +48,12 @@ Scene manyLightsHall(int count, uint32_t seed);
 // grey pillar; the floor's light from a bounce is mostly that rare bright spot.
 Scene lightNearWallRoom();
 
+// A white room (x -256 .. 256, y -128 .. 128, z 0 .. 256) roofed by two skies, `sky_a` over its
+// west half (x < 0) and `sky_b` over its east, under a sun (light 300) shining straight down
+// with `_suntexture sky_b`: the compiler lights the east half of the floor alone. Its camera
+// (info_intermission) looks down onto both halves.
+Scene twoSkiesRoom();
+
 // A floor (top z = 0, texture "floor") with a water brush on it (x 0 .. 256, y -256 .. 256, z 0 ..
 // 128, texture `water`, every face with `surface`) and a light at (-64 0 64) beside it, without
 // bounce, in `game` (Scene::game): a Quake 2 water drawn as a wall shadows the floor under it from

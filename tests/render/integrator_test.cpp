@@ -474,6 +474,22 @@ TEST(PhysicalRender, AColouredLightKeepsTheHueTheGameShows) {
   EXPECT_EQ(held, compared) << "worst green-to-red ratio off by " << worst * 100.0 << " %";
 }
 
+// A sun with `_suntexture` shines only through sky faces of that texture, in physical mode as in
+// the compiler (lighting/README.md, light keys): in test::twoSkiesRoom the floor under `sky_b`
+// shows the sun's light (value x _range x the display match / 128 on white), the floor under
+// `sky_a` nothing (no bounce; the sky itself lights nothing without a dome).
+TEST(PhysicalRender, ASunWithASkyTextureShinesOnlyThroughThatSky) {
+  const Scene scene = test::twoSkiesRoom();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  Rng rng = pixelRng(0, 0, 0, 0);
+  const glm::vec3 underB = radiance(rs, {LightingMode::Physical, 0}, downAt(128.0f, 0.0f), rng);
+  const glm::vec3 underA = radiance(rs, {LightingMode::Physical, 0}, downAt(-128.0f, 0.0f), rng);
+  const double expected = 300.0 * 0.5 * kDisplayMatch / 128.0;
+  EXPECT_NEAR(underB.x, expected, 1e-4 * expected) << "the sun through its own sky";
+  EXPECT_EQ(underA, glm::vec3(0.0f)) << "the sun through another sky";
+}
+
 // `delay 3` never falls off in the compiler: its physical light has no reach, so far beyond its
 // match distance (128) it is the plain inverse square of its matched intensity, unwindowed.
 TEST(PhysicalRender, ALightThatNeverFallsOffHasNoWindow) {

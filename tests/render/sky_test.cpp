@@ -7,6 +7,7 @@
 #include "lighting/sky.h"
 #include "renderer/cpu/cpu_renderer.h"
 #include "scene/color.h"
+#include "shaders/light_constants.glsl"
 #include "tests/render/box_scene.h"
 #include "tests/render/test_level.h"
 #include "tests/test_data.h"
@@ -33,11 +34,13 @@ constexpr int kHeight = 64;
 
 using test::Level;
 
-std::unique_ptr<Level> loadSkyLevel(bool lights = true) {
+// `dome`: the worldspawn's `_sunlight2` when above 0 (the level has none).
+std::unique_ptr<Level> loadSkyLevel(bool lights = true, double dome = 0.0) {
   auto level = std::make_unique<Level>();
   level->scene = importScene((test::mapsDir() / "sky" / "sky_layers.map").string(), ImportOptions{});
   // The light is a point entity after every brush entity: dropping it renumbers no brush's entity.
   if (!lights) std::erase_if(level->scene.entities, [](const Entity& e) { return e.classname() == "light"; });
+  if (dome > 0.0) level->scene.entities.at(0).keys.emplace_back("_sunlight2", std::to_string(dome));
   Diagnostics diagnostics;
   level->render = buildRenderScene(level->scene, {}, diagnostics);
   return level;
@@ -173,14 +176,13 @@ TEST(Sky, BeautyOfSkyPixelsIsTheSameImageInBothModes) {
   }
 }
 
-// Physical mode, the level's light off: the floor is lit by the sky alone, through bounce rays
-// that meet the sky at their own directions. Each floor pixel against the test's own estimate
-// of albedo x the mean sky radiance over cosine-distributed directions from its point (those that
-// leave the room through the ceiling; the walls are black without light, and --bounces 0 stops
-// a path at the first of them).
-TEST(Sky, BounceRaysSeeTheSkyByTheirOwnDirection) {
-  const auto level = loadSkyLevel(/*lights=*/false);
-  const Image& texture = skyMaterial(level->scene).baseColor;
+// Physical mode, the level's light off: the sky lights the floor with the light the compiler
+// gives it, the dome (`_sunlight2`), and not with its picture, which lights nothing in the game
+// (lighting/README.md, "Physical mode"). Without a dome the floor under the open ceiling is black;
+// with `_sunlight2 100` each floor pixel is albedo x the dome's radiance x the cosine-weighted
+// share of its directions that leave the room through the ceiling (the walls are black without
+// light, and --bounces 0 stops a path at the first of them).
+TEST(Sky, BounceRaysSeeTheDomeNotTheSkyImage) {
   constexpr int kSide = 16;
   const CameraPose pose{glm::vec3(0.0f, 0.0f, 128.0f), 90.0f, 0.0f, 0.0f, "test"}; // straight down
   const Camera camera(pose, kSide, kSide);
@@ -190,27 +192,41 @@ TEST(Sky, BounceRaysSeeTheSkyByTheirOwnDirection) {
   settings.threads = 2;
   settings.integrator.mode = LightingMode::Physical;
   settings.integrator.bounces = 0;
-  const RenderImage image = renderCpu(level->render, camera, settings);
+  const auto floorSum = [&](const Level& level) {
+    const RenderImage image = renderCpu(level.render, camera, settings);
+    glm::dvec3 sum(0.0);
+    for (int y = 4; y < 12; ++y)
+      for (int x = 4; x < 12; ++x) sum += glm::dvec3(image.beauty[size_t(y) * kSide + x]);
+    return sum;
+  };
+
+  const glm::dvec3 dark = floorSum(*loadSkyLevel(/*lights=*/false));
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(dark[c], 0.0) << "channel " << c << ": no dome, yet the sky lit the floor";
+
+  constexpr double kDome = 100.0;
+  const std::unique_ptr<Level> domed = loadSkyLevel(/*lights=*/false, kDome);
   const double albedo = srgbToLinear(128.0f / 255.0f); // the floor's grey (generate.py)
-  glm::dvec3 rendered(0.0), expected(0.0);
+  // The dome's radiance (lighting/README.md, "Physical mode"): value x _range x k / 128.
+  const double dome = kDome * domed->render.world.range * BT_PHYSICAL_DISPLAY_MATCH / BT_PHYSICAL_LIGHT_UNIT;
+  double expected = 0.0;
   constexpr int kStrata = 64;
   for (int y = 4; y < 12; ++y)
     for (int x = 4; x < 12; ++x) {
       const Ray ray = camera.ray(x + 0.5f, y + 0.5f);
       const glm::dvec3 p = glm::dvec3(ray.origin) - glm::dvec3(ray.direction) * (double(ray.origin.z) / ray.direction.z);
-      glm::dvec3 sum(0.0);
+      int through = 0;
       for (int i = 0; i < kStrata; ++i)
         for (int j = 0; j < kStrata; ++j) { // Malley's method: a stratified disc lifted onto the hemisphere
           const double r = std::sqrt((i + 0.5) / kStrata), phi = 2.0 * 3.14159265358979 * (j + 0.5) / kStrata;
           const glm::dvec3 w(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0, 1.0 - r * r)));
           const glm::dvec3 q = p + w * (256.0 / w.z); // where it meets the ceiling's plane
-          if (std::abs(q.x) < 256.0 && std::abs(q.y) < 256.0) sum += engineSky(texture, w);
+          through += std::abs(q.x) < 256.0 && std::abs(q.y) < 256.0;
         }
-      expected += albedo * sum / double(kStrata * kStrata);
-      rendered += glm::dvec3(image.beauty[size_t(y) * kSide + x]);
+      expected += albedo * dome * through / double(kStrata * kStrata);
     }
-  for (int c = 0; c < 3; ++c) EXPECT_NEAR(rendered[c], expected[c], 0.02 * expected[c]) << "channel " << c;
-  EXPECT_GT(expected.z, 0.0);
+  const glm::dvec3 lit = floorSum(*domed);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(lit[c], expected, 0.02 * expected) << "channel " << c;
+  EXPECT_GT(expected, 0.0);
 }
 
 // The baked sky's addressing (lighting/sky.h, the same arithmetic as shaders/sky.glsl): the
