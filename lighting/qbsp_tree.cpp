@@ -145,6 +145,7 @@ void splitBrush(TreeBrush&& brush, const Plane& plane, std::vector<TreeBrush>& f
     if (!mid.empty()) mid = clipBehind(mid, s.plane, 0.0);
   if (mid.size() < 3 || area(mid) < 1e-3) return (dFront > -dBack ? front : back).push_back(std::move(brush));
   TreeBrush parts[2];
+  parts[0].detail = parts[1].detail = brush.detail; // qbsp's pieces keep the brush's contents
   for (TreeSide& s : brush.sides) {
     SplitWinding split = splitWinding(s.winding, plane, 0.0);
     for (int i = 0; i < 2; ++i) {

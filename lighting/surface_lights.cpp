@@ -1,8 +1,10 @@
 #include "lighting/surface_lights.h"
 
+#include "lighting/qbsp_tjunc.h"
 #include "lighting/render_scene.h"
 #include "quake/bspfile_q2.h"
 
+#include "scene/compiled_lighting.h"
 #include "scene/names.h"
 #include "scene/parallel_for.h"
 #include "scene/winding.h"
@@ -55,18 +57,24 @@ dvec3 centroid(const Winding& w) {
   return totalArea > 0.0 ? sum / totalArea : vertexMean(w);
 }
 
-// The Q1 kind: a full copy of the template on every grid piece of the face.
+// The Q1 kind on one compiled face (light's GL_SubdivideSurface): a full copy of the template on
+// every grid piece of it.
+void addGridPoints(const Winding& compiledFace, const dvec3& normal, const SurfaceTemplate& t, std::vector<GpuLight>& out) {
+  for (const Winding& piece : subdivideOnGrid(compiledFace, kQ1SurfaceGrid)) {
+    GpuLight light = t.light;
+    light.origin = glm::vec3(centroid(piece) + normal * double(t.offset));
+    light.flags |= kLightFlagFromSurface;
+    if (t.spotlight) light.direction = glm::vec3(normal);
+    out.push_back(light);
+  }
+}
+
+// The Q1 kind on a polygon rebuilt from the .map: qbsp's 240-texel subdivision first.
 void addGridLights(const Face& face, const Winding& fragment, const SurfaceTemplate& t, std::vector<GpuLight>& out) {
   std::vector<Winding> qbspPieces;
   subdivideForQbsp(fragment, face.frame, qbspPieces);
   for (const Winding& qbspPiece : qbspPieces) {
-    for (const Winding& piece : subdivideOnGrid(qbspPiece, kQ1SurfaceGrid)) {
-      GpuLight light = t.light;
-      light.origin = glm::vec3(centroid(piece) + face.plane.normal * double(t.offset));
-      light.flags |= kLightFlagFromSurface;
-      if (t.spotlight) light.direction = glm::vec3(face.plane.normal);
-      out.push_back(light);
-    }
+    addGridPoints(qbspPiece, face.plane.normal, t, out);
     if (out.size() > kMaxSurfaceLights) return; // the caller cuts the list and says so
   }
 }
@@ -107,22 +115,64 @@ void addRadiosityLight(const Scene& scene, const Face& face, const Winding& frag
 
 } // namespace
 
-// The `_surflight_group` of the model a face belongs to (0 when unset): a template lights only the
-// faces of its own group (ericw-tools' surface light groups). func_detail and func_group are
-// merged into the world by qbsp, and their keys with them: the world's group, 0
-// (q1_light_surflight_group: a func_detail with group 1 glows with the group-0 template).
-static int surfaceLightGroup(const Scene& scene, uint32_t face) {
-  const uint32_t brush = scene.faces[face].brush;
-  if (brush >= scene.brushes.size() || scene.brushes[brush].entity >= scene.entities.size()) return 0;
-  const Entity& entity = scene.entities[scene.brushes[brush].entity];
+// The `_surflight_group` of entity `e`'s model (0 when unset): a template lights only the faces of
+// its own group (ericw-tools' surface light groups). func_detail and func_group are merged into
+// the world by qbsp, and their keys with them: the world's group, 0 (q1_light_surflight_group: a
+// func_detail with group 1 glows with the group-0 template).
+static int entityLightGroup(const Scene& scene, uint32_t e) {
+  if (e >= scene.entities.size()) return 0;
+  const Entity& entity = scene.entities[e];
   if (mergedIntoWorld(entity.classname())) return 0;
   return std::atoi(std::string(entity.value("_surflight_group", "0")).c_str());
+}
+
+static int surfaceLightGroup(const Scene& scene, uint32_t face) {
+  const uint32_t brush = scene.faces[face].brush;
+  return brush >= scene.brushes.size() ? 0 : entityLightGroup(scene, scene.brushes[brush].entity);
+}
+
+// A compiled Quake 1 / Half-Life level's own faces, as `light` reads them, where the .bsp import
+// has them (Scene::compiledLighting): the scene's brushes of such a level are its leaves' cells,
+// not the mapper's brushes, so rebuilding qbsp's faces from them would guess at what the file says.
+static bool hasCompiledFaces(const Scene& scene) {
+  const CompiledLighting* cl = scene.compiledLighting.get();
+  return cl && (cl->engine == "quake" || cl->engine == "hexen2" || cl->engine == "halflife");
+}
+
+// The points `light` makes of the compiled faces: the Q1 kind on the faces its MakeSurfaceLights
+// takes (LightmappedFace::takesSurfaceLights), each on the 128-unit grid as it stands (qbsp has
+// cut it already); the radiosity kind on every face with the texture (MakeRadiositySurfaceLights
+// walks all faces), from its points without those where it goes straight on (remove_colinear).
+static std::vector<GpuLight> compiledFaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
+                                                const WorldLighting& world, Diagnostics& diagnostics) {
+  std::vector<GpuLight> lights;
+  for (const SurfaceTemplate& t : templates)
+    for (const LightmappedFace& lf : scene.compiledLighting->faces) {
+      if (lf.polygon.size() < 3 || !equalsIgnoreCase(lf.texture, t.texture) || entityLightGroup(scene, lf.entity) != t.group) continue;
+      if (!t.radiosity) {
+        if (lf.takesSurfaceLights) addGridPoints(lf.polygon, lf.normal, t, lights);
+      } else {
+        Face face;
+        face.plane = Plane{lf.normal, glm::dot(lf.normal, lf.polygon.front())};
+        face.material = scene.findMaterial(lf.texture).value_or(uint32_t(scene.materials.size()));
+        addRadiosityLight(scene, face, withoutColinearPoints(lf.polygon), t, world, lights);
+      }
+      if (lights.size() > kMaxSurfaceLights) {
+        lights.resize(kMaxSurfaceLights);
+        diagnostics.push_back(
+            {Severity::Warning, scene.sourcePath, 0, 0,
+             fmt::format("_surface \"{}\": more than {} surface light points; the rest are left out", t.texture, kMaxSurfaceLights)});
+        return lights;
+      }
+    }
+  return lights;
 }
 
 std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
                                           const std::vector<BrushContents>& contents, const QbspTree& worldTree, const WorldLighting& world,
                                           const TraceScene& tracer, Diagnostics& diagnostics) {
   if (templates.empty()) return {};
+  if (hasCompiledFaces(scene)) return compiledFaceLights(scene, templates, world, diagnostics);
   // The void test traces rays from every point entity (thousands on a large level); the
   // surfaces' CSG below does not need it, so it runs beside them.
   std::future<VoidTest> voidTest = std::async(std::launch::async, [&] { return VoidTest(scene, tracer); });

@@ -11,8 +11,11 @@
 //   - radiosity kind: one point per face (`-emissivequality low`, the default) at the mean of
 //     its vertices lifted 1 unit, carrying value x face area (LightFormula::SurfaceRadiosity).
 //
-// The compiler works on the faces of the compiled BSP: qbsp_faces.h rebuilds them from the brush
-// sides; faces that look into the void outside a sealed level are dropped, as qbsp drops them.
+// The compiler works on the faces of the compiled BSP. A Quake 1 / Half-Life .bsp import has
+// them (Scene::compiledLighting): the points go on those faces, as `light` puts them (the Q1 kind
+// only on faces a leaf lists, a liquid's face only from outside the liquid). From a .map,
+// qbsp_faces.h rebuilds them from the brush sides; faces that look into the void outside a sealed
+// level are dropped, as qbsp drops them.
 #pragma once
 
 #include "bvh/trace_scene.h"

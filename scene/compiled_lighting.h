@@ -39,6 +39,11 @@ struct LightmappedFace {
   // Quake 3: the draw surface's triangles, three indices into `polygon` each (q3map2's planar
   // surfaces need not be convex); empty for Q1/HL/Q2, whose polygon is convex.
   std::vector<uint32_t> triangles;
+  // Quake 1 / Hexen II / Half-Life: ericw-tools `light` spreads a `_surface` template's points
+  // (the Q1 kind) over this face. Its MakeSurfaceLights walks the leaves' face lists and skips a
+  // liquid's face in a leaf that is not empty (the liquid's underwater side), so a face no leaf
+  // lists, or a liquid's face that only leaves in liquid list, gets none. False for Quake 2 / 3.
+  bool takesSurfaceLights = false;
   std::array<uint8_t, 4> styles{255, 255, 255, 255}; // light styles in order, 255 = unused
   // For each used style in order, width * height RGB triples, rows top (t min) to bottom.
   // Values as stored: the light sum x 0.5 (_range), clamped to 255; grey levels are repeated

@@ -1,6 +1,7 @@
 #include "importers/bsp/lightmaps.h"
 
 #include "quake/binary_reader.h"
+#include "quake/bspfile_q1.h"
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
@@ -329,6 +330,27 @@ bool copyLuxels(const Face& face, const LuxelGrid& grid, int64_t offset, const L
   return true;
 }
 
+// Quake 1 / Half-Life: which faces ericw-tools `light` spreads `_surface` points over
+// (LightmappedFace::takesSurfaceLights; light's MakeSurfaceLights): those some leaf lists, a
+// liquid's face ('*', Half-Life's '!') only where a leaf not in liquid (nor solid) lists it.
+std::vector<bool> surfaceLightFaces(const BspFile& bsp) {
+  std::vector<bool> takes(bsp.faces.size(), false);
+  for (const Leaf& leaf : bsp.leafs) {
+    const bool underwater = leaf.contents != quake::q1::CONTENTS_EMPTY;
+    for (int32_t k = 0; k < leaf.leafFaceCount; ++k) {
+      const int64_t listed = int64_t(leaf.firstLeafFace) + k;
+      if (listed < 0 || size_t(listed) >= bsp.leafFaces.size()) break;
+      const int32_t f = bsp.leafFaces[size_t(listed)];
+      if (f < 0 || size_t(f) >= bsp.faces.size()) continue;
+      const std::string& texture = bsp.texinfo[size_t(bsp.faces[size_t(f)].texinfo)].texture;
+      const bool liquid = !texture.empty() && (texture[0] == '*' || texture[0] == '!');
+      if (underwater && liquid) continue;
+      takes[size_t(f)] = true;
+    }
+  }
+  return takes;
+}
+
 // Quake 1/2 and Half-Life: each face's luxel grid and its bytes in the chosen light data.
 void readFaceLighting(const BspFile& bsp, const std::vector<ModelPlacement>& placements, const std::optional<std::vector<uint8_t>>& litFile,
                       CompiledLighting& out, Diagnostics& diagnostics) {
@@ -338,11 +360,13 @@ void readFaceLighting(const BspFile& bsp, const std::vector<ModelPlacement>& pla
   out.layout = layout.name();
   out.luxelSize = kLuxel;
   size_t outOfBounds = 0, badRecords = 0;
+  const std::vector<bool> takesSurfaceLights = bsp.version == Version::Quake2_38 ? std::vector<bool>() : surfaceLightFaces(bsp);
   for (const ModelPlacement& placement : placements) {
     const Model& model = bsp.models[placement.model];
     for (int32_t i = 0; i < model.faceCount; ++i) {
       const size_t f = static_cast<size_t>(model.firstFace + i);
       LightmappedFace lf = placedFace(bsp, f, placement);
+      lf.takesSurfaceLights = f < takesSurfaceLights.size() && takesSurfaceLights[f];
       int64_t offset = -1;
       const LuxelGrid grid = layout.grid(f, offset);
       badRecords += grid.badRecord;

@@ -155,9 +155,12 @@ TEST_F(ViewerWindowTest, ShowsTheCompiledLightmapsAndTheirDifference) {
   }
   BT_REQUIRE_SHARED(shared);
   ViewerOptions o = options();
-  // A level whose faithful light is still far from the compiler's (issue 14's known gaps), so
-  // that switching views shows: on the levels faithful mode matches, the two agree within 5/255.
+  // Faithful light per pixel (--luxels off: the light itself, not the compiler's 16-texel luxels
+  // filtered), so that switching views shows: baked into luxels, faithful mode now gives this
+  // level's .bsp the compiler's own light (its `_surface` points are the compiler's: issue 14),
+  // and the two agree within 8/255.
   o.map = (shared / "oracle/lit/maps_ericw-tools_testmaps_deprecated_testsurfacelight.bsp").string();
+  o.luxels = false;
   Viewer viewer(o);
   ASSERT_TRUE(frameUntil(viewer, [&] { return viewer.samples() >= 2; }));
   const fs::path faithful = viewer.screenshot();
