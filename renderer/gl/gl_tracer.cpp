@@ -100,7 +100,8 @@ struct GlTracer::Impl {
 
   Impl(GlContext& c, const Scene& scene, const TraceScene& tracer, std::shared_ptr<TracerPrograms> p, const GlLighting& lighting)
       : context(c), programs(std::move(p)), textures(scene, programs->textureMode(), c.info()),
-        buffers(tracer, withShadingFlags(textures.materials(), lighting), lighting, scene.materials.size()), world(worldBlock(lighting)),
+        buffers(tracer, withShadingFlags(textures.materials(), lighting), lighting, scene.materials.size(), programs->traceLayout()),
+        world(worldBlock(lighting)),
         features(gl::faithfulFeatures(lighting)) {
     BT_GL(glCreateBuffers(1, &cameraBuffer));
     BT_GL(glNamedBufferStorage(cameraBuffer, sizeof(GpuCamera), nullptr, GL_DYNAMIC_STORAGE_BIT));
