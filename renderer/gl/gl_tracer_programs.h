@@ -81,7 +81,7 @@ enum class PathTracerForm { Auto, Megakernel, Wavefront };
 // (shaders/trace.glsl): Software for GL emulated on the CPU (Mesa's llvmpipe), the binary tree;
 // for GPUs, Hardware (the binary tree, GlBvhNode) or Wide (the compressed 8-wide tree,
 // gl_structs.h GlWideNode, shaders/trace_wide.glsl). Auto picks from GL_RENDERER: Software on
-// llvmpipe, else Wide; in the environment BT_GL_TRACE_LAYOUT=software|hardware overrides the
+// llvmpipe, else Hardware; in the environment BT_GL_TRACE_LAYOUT=software|hardware overrides the
 // machine's choice and BT_GL_BVH=wide|binary the hardware layout's tree (to compare them).
 enum class TraceLayout { Auto, Software, Hardware, Wide };
 const char* toString(TraceLayout layout); // "software", "hardware", "wide"

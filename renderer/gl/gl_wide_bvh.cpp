@@ -16,7 +16,7 @@ namespace bt::gl {
 namespace {
 
 constexpr int kWidth = 8;
-constexpr uint32_t kLeafBits = 32; // the walk's leaf mask: a node's leaf children hold at most this many primitives
+constexpr uint32_t kLeafBits = kGlWideInnerBit; // the walk's hit mask: a node's leaf children hold at most this many primitives
 
 struct Box {
   float lo[3] = {std::numeric_limits<float>::max(), std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
@@ -188,7 +188,7 @@ private:
 
   void placeInner(GlWideNode& node, int slot, Pending child) {
     node.imask |= uint8_t(1u << slot);
-    node.meta[slot] = kGlWideInner;
+    node.meta[slot] = wideInnerMeta(slot);
     child.wide = uint32_t(out_.nodes.size() + inner_.size());
     inner_.push_back(child);
   }
@@ -197,11 +197,11 @@ private:
   void placeLeaf(GlWideNode& node, int slot, uint32_t binary, uint32_t first, uint32_t count, uint32_t depth) {
     const uint32_t offset = uint32_t(out_.order.size()) - node.leafBase;
     if (count > kGlWideLeafMaxCount || offset + count > kLeafBits) return placeInner(node, slot, {binary, 0, depth + 1, first, count});
-    node.meta[slot] = uint8_t(count << 5 | offset);
+    node.meta[slot] = wideLeafMeta(count, offset);
     for (uint32_t i = first; i < first + count; ++i) out_.order.push_back(i);
   }
 
-  // Part of a binary leaf: up to 32 primitives as leaf children of kGlWideLeafMaxCount at most,
+  // Part of a binary leaf: up to 24 primitives as leaf children of kGlWideLeafMaxCount at most,
   // more as up to 8 parts, each again such a node or a leaf child.
   void makeRange(GlWideNode& node, std::array<const GpuBvhNode*, kWidth>& boxes, const Pending& p) {
     const GpuBvhNode& leaf = nodes_[p.binary];

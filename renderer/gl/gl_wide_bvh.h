@@ -24,7 +24,7 @@ struct WideBvh {
 // (or only leaves), as the greedy collapse of Ylitie et al. (their SAH collapse is the better
 // tree, the greedy one builds in a fraction of the binary build). Children go to the slots by
 // the paper's octant rule, boxes quantised outwards. A leaf child holds at most
-// kGlWideLeafMaxCount primitives and a node's leaf children 32 (the walk's leaf mask): a binary
+// kGlWideLeafMaxCount primitives and a node's leaf children 24 (the walk's hit mask): a binary
 // leaf that does not fit becomes a node of its own, of leaf children that all take its box.
 // Throws GlError for a tree deeper than kGlWideMaxDepth.
 WideBvh collapseBvh(std::span<const GpuBvhNode> nodes, uint32_t firstRow);

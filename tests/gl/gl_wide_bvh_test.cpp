@@ -52,16 +52,18 @@ struct WideWalk {
     uint32_t interior = 0;
     for (int slot = 0; slot < 8; ++slot) {
       const uint8_t meta = node.meta[slot];
-      EXPECT_EQ((node.imask >> slot & 1) != 0, meta == kGlWideInner) << "node " << n << " slot " << slot;
+      EXPECT_EQ((node.imask >> slot & 1) != 0, meta != 0 && wideMetaIsInner(meta)) << "node " << n << " slot " << slot;
       if (meta == 0) continue;
       Box exact;
-      if (meta == kGlWideInner) {
+      if (wideMetaIsInner(meta)) {
+        EXPECT_EQ(meta, wideInnerMeta(slot));
         const uint32_t row = node.childBase + kGlWideNodeRows * interior++;
         EXPECT_EQ((row - firstRow) % kGlWideNodeRows, 0u);
         exact = this->node((row - firstRow) / kGlWideNodeRows, level + 1);
       } else {
-        const uint32_t first = node.leafBase + (meta & 31u), count = meta >> 5;
-        EXPECT_LE((meta & 31u) + count, 32u);
+        const uint32_t first = node.leafBase + wideLeafOffset(meta), count = wideLeafCount(meta);
+        EXPECT_EQ(meta, wideLeafMeta(count, wideLeafOffset(meta))); // the count in unary
+        EXPECT_LE(wideLeafOffset(meta) + count, kGlWideInnerBit);
         EXPECT_GE(count, 1u);
         for (uint32_t i = first; i < first + count; ++i) {
           ++primitiveReached.at(i);
@@ -110,7 +112,7 @@ TEST(GlWideBvh, GeneratedLevelCollapsesWithEveryBrushOnceInsideItsBoxes) {
   expectWideTree(scene);
 }
 
-// Leaves too large for a leaf child (more than kGlWideLeafMaxCount brushes, or more than 32 under
+// Leaves too large for a leaf child (more than kGlWideLeafMaxCount brushes, or more than 24 under
 // one node) become nodes of their own: larger leaf sizes, and one leaf of 100 brushes.
 TEST(GlWideBvh, LargeLeavesCollapseWithEveryBrushOnceInsideItsBoxes) {
   const test::GeneratedLevel level = test::generateLevel(3000, 3);
@@ -180,7 +182,7 @@ TEST(GlWideBvh, SmallTrees) {
   const WideBvh one = collapseBvh(std::span<const GpuBvhNode>(&leaf, 1), 1);
   ASSERT_EQ(one.nodes.size(), 1u);
   EXPECT_EQ(one.order, (std::vector<uint32_t>{0, 1, 2}));
-  EXPECT_EQ(std::count(std::begin(one.nodes[0].meta), std::end(one.nodes[0].meta), uint8_t(3u << 5)), 1);
+  EXPECT_EQ(std::count(std::begin(one.nodes[0].meta), std::end(one.nodes[0].meta), wideLeafMeta(3, 0)), 1);
 }
 
 } // namespace
