@@ -124,11 +124,21 @@ static_assert(offsetof(GlWideNode, qhi) == 56);
 inline constexpr uint32_t kGlWideNodeRows = BT_GL_WIDE_NODE_ROWS;
 inline constexpr uint32_t kGlWideInnerBit = BT_GL_WIDE_INNER_BIT; // leaf primitives take the bits below
 inline constexpr uint32_t kGlWideLeafMaxCount = BT_GL_WIDE_LEAF_MAX_COUNT;
-constexpr uint8_t wideInnerMeta(int slot) { return uint8_t(1u << 5 | (kGlWideInnerBit + uint32_t(slot))); }
-constexpr uint8_t wideLeafMeta(uint32_t count, uint32_t offset) { return uint8_t(((1u << count) - 1u) << 5 | offset); }
-constexpr bool wideMetaIsInner(uint8_t meta) { return (meta & 31u) >= kGlWideInnerBit; }
-constexpr uint32_t wideLeafCount(uint8_t meta) { return uint32_t(std::popcount(uint32_t(meta >> 5))); }
-constexpr uint32_t wideLeafOffset(uint8_t meta) { return meta & 31u; }
+constexpr uint8_t wideInnerMeta(int slot) {
+  return uint8_t(1u << 5 | (kGlWideInnerBit + uint32_t(slot)));
+}
+constexpr uint8_t wideLeafMeta(uint32_t count, uint32_t offset) {
+  return uint8_t(((1u << count) - 1u) << 5 | offset);
+}
+constexpr bool wideMetaIsInner(uint8_t meta) {
+  return (meta & 31u) >= kGlWideInnerBit;
+}
+constexpr uint32_t wideLeafCount(uint8_t meta) {
+  return uint32_t(std::popcount(uint32_t(meta >> 5)));
+}
+constexpr uint32_t wideLeafOffset(uint8_t meta) {
+  return meta & 31u;
+}
 inline constexpr uint32_t kGlWideMaxDepth = BT_GL_WIDE_MAX_DEPTH;
 // Row 0 of the wide node buffer: where the brushes' tree and the triangles' start (node rows;
 // triangleRoot kGlNoChild without triangles), and the brush-buffer row of the first triangle.

@@ -173,6 +173,42 @@ TEST(GlWideBvh, WideWalkHitsWhatTheBinaryWalkHitsOnASharedLevel) {
   EXPECT_GT(hits, binary.face.size() / 2);
 }
 
+// The benchmark's rays on lq_e4m3 (gl_bench ... rays), both GPU trees on one device: every
+// primary ray's face, every bounce ray's t (cosine-distributed from the primary hits: all
+// octants, slanted brushes met at every angle), every shadow ray's verdict (any hit within the
+// bounce rays' median length, leaves met in another order by each walk) the same.
+TEST(GlWideBvh, WideWalkTracesTheBenchmarkRaysAsTheBinaryWalkOnASharedLevel) {
+  BT_REQUIRE_SHARED(shared);
+  const Scene level = importScene((shared / "maps/librequake/lq1/maps/src/e4/lq_e4m3.map").string(), ImportOptions{});
+  const TraceScene traceScene = TraceScene::build(level);
+  constexpr int kWidth = 320, kHeight = 180;
+  const CameraBasis camera = cameraFrom(defaultCameraPose(level), kWidth, kHeight);
+  GlContext& context = test::sharedGlContext();
+  const auto trace = [&](TraceLayout layout) {
+    GlTracer tracer(context, level, traceScene, std::make_shared<TracerPrograms>(context, TextureMode::Arrays, layout));
+    return tracer.benchmarkRays(camera, kWidth, kHeight, 1);
+  };
+  const RayBenchmark binary = trace(TraceLayout::Hardware), wide = trace(TraceLayout::Wide);
+  ASSERT_EQ(binary.primaryFace.size(), size_t(kWidth * kHeight));
+  ASSERT_EQ(wide.primaryFace.size(), binary.primaryFace.size());
+  EXPECT_EQ(wide.shadowLength, binary.shadowLength);
+  size_t primaryDiffer = 0, bounceDiffer = 0, shadowDiffer = 0, bounces = 0, blocked = 0;
+  for (size_t i = 0; i < binary.primaryFace.size(); ++i) {
+    primaryDiffer += binary.primaryFace[i] != wide.primaryFace[i];
+    if (binary.primaryFace[i] == 0) continue; // no bounce ray
+    ++bounces;
+    bounceDiffer += binary.bounceT[i] != wide.bounceT[i];
+    shadowDiffer += binary.shadowBlocked[i] != wide.shadowBlocked[i];
+    blocked += binary.shadowBlocked[i];
+  }
+  EXPECT_EQ(primaryDiffer, 0u);
+  EXPECT_EQ(bounceDiffer, 0u);
+  EXPECT_EQ(shadowDiffer, 0u);
+  EXPECT_GT(bounces, binary.primaryFace.size() / 2);
+  EXPECT_GT(blocked, bounces / 4); // about half, the median length
+  EXPECT_LT(blocked, bounces * 3 / 4);
+}
+
 // A one-leaf tree and an empty one: a root holding the leaf, a root holding nothing.
 TEST(GlWideBvh, SmallTrees) {
   const WideBvh empty = collapseBvh({}, 1);
