@@ -8,6 +8,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 
@@ -37,12 +38,27 @@ struct Children {
   size_t size = 0;
 };
 
+// Primitives under each binary node.
+std::vector<uint32_t> subtreeCounts(std::span<const GpuBvhNode> nodes) {
+  std::vector<uint32_t> counts(nodes.size());
+  const auto count = [&](auto& self, uint32_t n) -> uint32_t {
+    if (nodes[n].count > 0) return counts[n] = nodes[n].count;
+    return counts[n] = self(self, nodes[n].leftFirst) + self(self, nodes[n].leftFirst + 1);
+  };
+  if (!nodes.empty()) count(count, 0);
+  return counts;
+}
+
 // The binary nodes a wide node built from interior node `b` holds: b's children, the interior
-// one with the largest surface area opened until 8 are held or none is interior.
-Children collapsedChildren(std::span<const GpuBvhNode> nodes, uint32_t b) {
+// one with the largest surface area opened until 8 are held or none is interior. An interior
+// node of at most mergeUpTo primitives is not opened: it becomes one leaf child (one slot test
+// where a node of its own would cost a whole wide node's, but every ray that enters it tests
+// each brush's box: on lq_e4m3 with 3, 10.0 nodes and 8.7 brush boxes per primary ray where
+// there are 11.7 and 3.2 without, so off by default).
+Children collapsedChildren(std::span<const GpuBvhNode> nodes, const std::vector<uint32_t>& subtree, uint32_t mergeUpTo, uint32_t b) {
   Children children{{nodes[b].leftFirst, nodes[b].leftFirst + 1}, 2};
   std::array<float, kWidth> area; // an interior child's, -1 for a leaf
-  const auto areaOf = [&](uint32_t n) { return nodes[n].count == 0 ? halfArea(nodes[n]) : -1.0f; };
+  const auto areaOf = [&](uint32_t n) { return subtree[n] > mergeUpTo && nodes[n].count == 0 ? halfArea(nodes[n]) : -1.0f; };
   area[0] = areaOf(children.node[0]), area[1] = areaOf(children.node[1]);
   while (children.size < kWidth) {
     const size_t open = size_t(std::max_element(area.begin(), area.begin() + children.size) - area.begin());
@@ -58,15 +74,18 @@ Children collapsedChildren(std::span<const GpuBvhNode> nodes, uint32_t b) {
 
 // The paper's octant rule: slot s (bit a set: rays going negative along axis a) takes the child
 // whose centre lies furthest back along s's diagonal, so that a ray of octant s meets it first;
-// greedily, cheapest (child, slot) pair first. Returns the child of each slot, -1 for none.
+// greedily, cheapest (child, slot) pair first. Returns the child of each slot, -1 for none. Up
+// to 4 children take slots 0-3 (by the signs along x and y alone), so that the walk tests one
+// word of slots instead of two (trace_wide.glsl intersectWideNode).
 std::array<int, kWidth> slotsByOctant(std::span<const GpuBvhNode> nodes, const Children& children, const Box& box) {
+  const int slots = children.size <= kWidth / 2 ? kWidth / 2 : kWidth;
   float cost[kWidth][kWidth];         // [child][slot]
   std::array<int, kWidth> bestSlot{}; // each unplaced child's cheapest free slot
   for (size_t c = 0; c < children.size; ++c) {
     const GpuBvhNode& n = nodes[children.node[c]];
     float offset[3];
     for (int a = 0; a < 3; ++a) offset[a] = (n.boundsMin[a] + n.boundsMax[a]) - (box.lo[a] + box.hi[a]);
-    for (int s = 0; s < kWidth; ++s) {
+    for (int s = 0; s < slots; ++s) {
       cost[c][s] = (s & 1 ? -offset[0] : offset[0]) + (s & 2 ? -offset[1] : offset[1]) + (s & 4 ? -offset[2] : offset[2]);
       if (cost[c][s] < cost[c][bestSlot[c]]) bestSlot[c] = s;
     }
@@ -84,7 +103,7 @@ std::array<int, kWidth> slotsByOctant(std::span<const GpuBvhNode> nodes, const C
     for (size_t c = 0; c < children.size; ++c) { // those that wanted the slot take their next best
       if (placed[c] || bestSlot[c] != slot) continue;
       int best = -1;
-      for (int s = 0; s < kWidth; ++s)
+      for (int s = 0; s < slots; ++s)
         if (slotChild[s] < 0 && (best < 0 || cost[c][s] < cost[c][best])) best = s;
       bestSlot[c] = best;
     }
@@ -148,7 +167,9 @@ struct Pending {
 // Makes the wide nodes, numbering interior children as they are placed.
 class Collapse {
 public:
-  Collapse(std::span<const GpuBvhNode> nodes, uint32_t firstRow, WideBvh& out) : nodes_(nodes), firstRow_(firstRow), out_(out) {}
+  Collapse(std::span<const GpuBvhNode> nodes, uint32_t firstRow, uint32_t mergeUpTo, WideBvh& out)
+      : nodes_(nodes), subtree_(subtreeCounts(nodes)), mergeUpTo_(std::min(mergeUpTo, kGlWideLeafMaxCount)), firstRow_(firstRow),
+        out_(out) {}
 
   void make(const Pending& p) {
     GlWideNode node{};
@@ -159,7 +180,8 @@ public:
     if (p.count > 0) {
       makeRange(node, boxes, p);
     } else {
-      const Children children = nodes_[p.binary].count > 0 ? Children{{p.binary}, 1} : collapsedChildren(nodes_, p.binary);
+      const Children children =
+          nodes_[p.binary].count > 0 ? Children{{p.binary}, 1} : collapsedChildren(nodes_, subtree_, mergeUpTo_, p.binary);
       Box box;
       for (size_t c = 0; c < children.size; ++c) box.grow(nodes_[children.node[c]]);
       std::copy(std::begin(box.lo), std::end(box.lo), node.origin);
@@ -168,10 +190,10 @@ public:
         if (slotChild[s] < 0) continue;
         const uint32_t b = children.node[slotChild[s]];
         boxes[s] = &nodes_[b];
-        if (nodes_[b].count == 0)
-          placeInner(node, s, {b, 0, p.depth + 1});
-        else
+        if (nodes_[b].count > 0)
           placeLeaf(node, s, b, nodes_[b].leftFirst, nodes_[b].count, p.depth);
+        else if (subtree_[b] > mergeUpTo_ || !placeSubtree(node, s, b))
+          placeInner(node, s, {b, 0, p.depth + 1});
       }
     }
     for (int a = 0; a < 3; ++a) quantise(node, a, boxes);
@@ -182,6 +204,8 @@ public:
 
 private:
   std::span<const GpuBvhNode> nodes_;
+  std::vector<uint32_t> subtree_; // primitives under each binary node
+  uint32_t mergeUpTo_;
   uint32_t firstRow_;
   WideBvh& out_;
   std::vector<Pending> inner_;
@@ -199,6 +223,22 @@ private:
     if (count > kGlWideLeafMaxCount || offset + count > kLeafBits) return placeInner(node, slot, {binary, 0, depth + 1, first, count});
     node.meta[slot] = wideLeafMeta(count, offset);
     for (uint32_t i = first; i < first + count; ++i) out_.order.push_back(i);
+  }
+
+  // The primitives of binary interior node `b`'s leaves as one leaf child, where they fit the
+  // node's 24 leaf bits (the caller has checked their count).
+  bool placeSubtree(GlWideNode& node, int slot, uint32_t b) {
+    const uint32_t offset = uint32_t(out_.order.size()) - node.leafBase;
+    if (offset + subtree_[b] > kLeafBits) return false;
+    node.meta[slot] = wideLeafMeta(subtree_[b], offset);
+    std::vector<uint32_t> todo{b};
+    while (!todo.empty()) {
+      const GpuBvhNode& n = nodes_[todo.back()];
+      todo.pop_back();
+      if (n.count == 0) todo.insert(todo.end(), {n.leftFirst + 1, n.leftFirst});
+      for (uint32_t i = n.leftFirst; i < n.leftFirst + n.count; ++i) out_.order.push_back(i);
+    }
+    return true;
   }
 
   // Part of a binary leaf: up to 24 primitives as leaf children of kGlWideLeafMaxCount at most,
@@ -226,12 +266,12 @@ void wideChildBox(const GlWideNode& node, int slot, float lo[3], float hi[3]) {
 
 // Depth first, each node's interior children given consecutive numbers as the node is made, so
 // that siblings are neighbours and a subtree lies together.
-WideBvh collapseBvh(std::span<const GpuBvhNode> nodes, uint32_t firstRow) {
+WideBvh collapseBvh(std::span<const GpuBvhNode> nodes, uint32_t firstRow, uint32_t mergeUpTo) {
   WideBvh out;
   out.nodes.push_back(GlWideNode{});
   out.depth = 1;
   if (nodes.empty()) return out; // a root without children
-  Collapse collapse(nodes, firstRow, out);
+  Collapse collapse(nodes, firstRow, mergeUpTo, out);
   std::vector<Pending> todo{{0, 0, 1}};
   while (!todo.empty()) {
     const Pending p = todo.back();
@@ -264,12 +304,16 @@ void appendNodes(std::vector<uint32_t>& words, const std::vector<GlWideNode>& no
 } // namespace
 
 WideScene wideSceneForGl(const TraceScene& tracer, std::span<const GpuBrush> brushRecords) {
-  const WideBvh brushes = collapseBvh(tracer.nodes(), 1);
+  // BT_GL_WIDE_MERGE=N: subtrees of up to N primitives as one leaf child (0: none), to measure
+  // the choice on the GPU.
+  const char* merge = std::getenv("BT_GL_WIDE_MERGE");
+  const uint32_t mergeUpTo = merge ? uint32_t(std::atoi(merge)) : 0;
+  const WideBvh brushes = collapseBvh(tracer.nodes(), 1, mergeUpTo);
   GlWideHeader header{1, kGlNoChild, uint32_t(tracer.brushes().size_bytes() / 16), 0};
   WideBvh triangles;
   if (!tracer.triangleNodes().empty()) {
     header.triangleRoot = 1 + kGlWideNodeRows * uint32_t(brushes.nodes.size());
-    triangles = collapseBvh(tracer.triangleNodes(), header.triangleRoot);
+    triangles = collapseBvh(tracer.triangleNodes(), header.triangleRoot, mergeUpTo);
   }
   WideScene out;
   out.brushDepth = brushes.depth;
