@@ -41,18 +41,8 @@ uvec2 wideStack[BT_GL_WIDE_MAX_DEPTH];
 
 // The 4 bytes of a word as floats, exactly: the byte in the mantissa of 2^23, less 2^23 (a logic
 // operation and an add each, where a conversion instruction runs at a quarter of the rate).
-// BT_GL_WIDE_FOLD (BT_GL_WIDE_DECODE=fold, a measurement): without the subtraction, 2^23 + q,
-// the 2^23 folded into the node's offsets, which costs their precision half a quantum (the slack
-// takes 2 quanta more, the zero rule 2 units of margin and a slope of 2^100 so that 2^24 * the
-// slope stays finite: no bound for t below 2^100, which direction vectors of length 2^-83 and
-// more never reach).
 vec4 wideBytes(uint word) {
-  vec4 biased = uintBitsToFloat(((uvec4(word) >> uvec4(0u, 8u, 16u, 24u)) & 0xffu) | 0x4b000000u);
-#ifdef BT_GL_WIDE_FOLD
-  return biased;
-#else
-  return biased - 8388608.0;
-#endif
+  return uintBitsToFloat(((uvec4(word) >> uvec4(0u, 8u, 16u, 24u)) & 0xffu) | 0x4b000000u) - 8388608.0;
 }
 
 // The node test, the paper's: the ray is taken into the node's quantised frame once per node
@@ -80,14 +70,8 @@ vec4 wideBytes(uint word) {
 // the child's slab (no bound for any t a ray can reach: a hit beyond 2^116 would need
 // direction components below the 2^-100 that makeTraceRay flushes, on coordinates below 2^16),
 // and a miss only when the origin is a unit or more outside.
-const float WIDE_SLACK = 1.0 / 524288.0; // 2^-19
-#ifdef BT_GL_WIDE_FOLD
-const float WIDE_BIG = 1.2676506002282294e30; // 2^100
-const float WIDE_ZERO_MARGIN = 2.0;
-#else
+const float WIDE_SLACK = 1.0 / 524288.0;      // 2^-19
 const float WIDE_BIG = 1.6615349947311448e35; // 2^117: (255 + 260) * 2^117 is below FLT_MAX
-const float WIDE_ZERO_MARGIN = 1.0;
-#endif
 
 // The ray in a node's frame (intersectWideNode): per axis the slope and the near and far offsets.
 struct WideFrame {
@@ -119,16 +103,9 @@ uint intersectWideNode(TraceRay r, uint octant4, uvec4 r0, uvec4 r1, uvec4 r2, u
   vec3 rel = origin - r.origin;
   vec3 b = rel * r.invDir;
   vec3 slack = WIDE_SLACK * (abs(rel) + abs(origin) + 256.0 * scale) * abs(r.invDir);
-#ifdef BT_GL_WIDE_FOLD
-  slack += 2.0 * scale * abs(r.invDir);
-#endif
   vec3 x = clamp(-rel * inverseScale, -4.0, 259.0);
-  WideFrame f = WideFrame(mix(scale * r.invDir, vec3(WIDE_BIG), zero), mix(b - slack, -(x + WIDE_ZERO_MARGIN) * WIDE_BIG, zero),
-                          mix(b + slack, (WIDE_ZERO_MARGIN - x) * WIDE_BIG, zero));
-#ifdef BT_GL_WIDE_FOLD
-  f.nearOffset -= 8388608.0 * f.slope;
-  f.farOffset -= 8388608.0 * f.slope;
-#endif
+  WideFrame f = WideFrame(mix(scale * r.invDir, vec3(WIDE_BIG), zero), mix(b - slack, -(x + 1.0) * WIDE_BIG, zero),
+                          mix(b + slack, (1.0 - x) * WIDE_BIG, zero));
   // The near bound per axis is the low one for a ray going up that axis (or not moving), the
   // high one going down; the words of slots 0-3 (x of each pair) then 4-7 (y).
   bvec3 down = lessThan(r.dir, vec3(0.0));

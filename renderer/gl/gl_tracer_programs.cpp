@@ -76,8 +76,6 @@ std::vector<std::string> shaderDefines(TextureMode mode, TraceLayout layout) {
   // A measurement of the wide walk's leaf order (shaders/trace_wide.glsl), not validated at build.
   const char* leaves = std::getenv("BT_GL_WIDE_LEAVES");
   if (layout == TraceLayout::Wide && leaves && std::string_view(leaves) == "after") defines.emplace_back("BT_GL_WIDE_LEAVES_AFTER");
-  const char* decode = std::getenv("BT_GL_WIDE_DECODE");
-  if (layout == TraceLayout::Wide && decode && std::string_view(decode) == "fold") defines.emplace_back("BT_GL_WIDE_FOLD");
   return defines;
 }
 
