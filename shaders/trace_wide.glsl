@@ -28,16 +28,7 @@ const uint WIDE_NODE_ROWS = BT_GL_WIDE_NODE_ROWS;
 const uint WIDE_FIRST_CHILD = 1u << BT_GL_WIDE_INNER_BIT; // a group's hit bit for the first child in visiting order
 const uint WIDE_LEAF_BITS = WIDE_FIRST_CHILD - 1u;
 
-#ifdef BT_GL_WIDE_LEAVES_AFTER
-// BT_GL_WIDE_LEAVES_AFTER (BT_GL_WIDE_LEAVES=after, a measurement): a node's leaf children are
-// tested after its interior children's subtrees, as a leaf group (uvec2(leafBase, leaf bits),
-// told from a node group by its empty high byte) on the stack under them: in near-first order
-// the interior children are mostly nearer (on lq_e4m3, a CPU count: 17 % fewer brushes tested
-// past their box). Two entries per level.
-uvec2 wideStack[2 * BT_GL_WIDE_MAX_DEPTH];
-#else
 uvec2 wideStack[BT_GL_WIDE_MAX_DEPTH];
-#endif
 
 // The 4 bytes of a word as floats, exactly: the byte in the mantissa of 2^23, less 2^23 (a logic
 // operation and an add each, where a conversion instruction runs at a quarter of the rate).
@@ -129,35 +120,18 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   int size = 0;
   bool inTriangles = false;
   while (true) {
-    uint leaves, leafBase;
-#ifdef BT_GL_WIDE_LEAVES_AFTER
-    if (group.y <= WIDE_LEAF_BITS) { // a leaf group from the stack
-      leaves = group.y;
-      leafBase = group.x;
-      group.y = 0u;
-    } else
-#endif
-    {
-      // The group's next child in visiting order; the rest of the group waits on the stack.
-      uint k = uint(findLSB(group.y >> 24));
-      uint slot = k ^ octant;
-      uint row = group.x + WIDE_NODE_ROWS * uint(bitCount(group.y & ((1u << slot) - 1u) & 0xffu));
-      group.y &= ~(WIDE_FIRST_CHILD << k);
-      if (group.y > WIDE_LEAF_BITS) wideStack[size++] = group;
-      uvec4 r0 = nodeRows[row], r1 = nodeRows[row + 1u];
-      uint hits = intersectWideNode(r, octant4, r0, r1, nodeRows[row + 2u], nodeRows[row + 3u], nodeRows[row + 4u], best.t);
-      group = uvec2(r1.x, (hits & ~WIDE_LEAF_BITS) | (r0.w >> 24));
-      leaves = hits & WIDE_LEAF_BITS;
-      leafBase = r1.y;
-#ifdef BT_GL_WIDE_LEAVES_AFTER
-      if (leaves != 0u && group.y > WIDE_LEAF_BITS) {
-        wideStack[size++] = uvec2(leafBase, leaves);
-        leaves = 0u;
-      }
-#endif
-    }
+    // The group's next child in visiting order; the rest of the group waits on the stack.
+    uint k = uint(findLSB(group.y >> 24));
+    uint slot = k ^ octant;
+    uint row = group.x + WIDE_NODE_ROWS * uint(bitCount(group.y & ((1u << slot) - 1u) & 0xffu));
+    group.y &= ~(WIDE_FIRST_CHILD << k);
+    if (group.y > WIDE_LEAF_BITS) wideStack[size++] = group;
+    uvec4 r0 = nodeRows[row], r1 = nodeRows[row + 1u];
+    uint hits = intersectWideNode(r, octant4, r0, r1, nodeRows[row + 2u], nodeRows[row + 3u], nodeRows[row + 4u], best.t);
+    group = uvec2(r1.x, (hits & ~WIDE_LEAF_BITS) | (r0.w >> 24));
+    uint leaves = hits & WIDE_LEAF_BITS;
     while (leaves != 0u) {
-      uint i = leafBase + uint(findLSB(leaves));
+      uint i = r1.y + uint(findLSB(leaves));
       leaves &= leaves - 1u;
       Hit hit;
       if (!(inTriangles ? hitTriangle(r, header.z, i, best.t, hit) : hitBrush(r, i, best.t, hit))) continue;

@@ -73,9 +73,6 @@ std::vector<std::string> shaderDefines(TextureMode mode, TraceLayout layout) {
                                    fmt::format("BT_TRIANGLE_EDGE_EPSILON_INVERSE {}u", kTriangleEdgeEpsilonInverse)};
   if (layout == TraceLayout::Software) defines.emplace_back(switchesOf("Layout").at(0));
   if (layout == TraceLayout::Wide) defines.emplace_back(switchesOf("Layout").at(1));
-  // A measurement of the wide walk's leaf order (shaders/trace_wide.glsl), not validated at build.
-  const char* leaves = std::getenv("BT_GL_WIDE_LEAVES");
-  if (layout == TraceLayout::Wide && leaves && std::string_view(leaves) == "after") defines.emplace_back("BT_GL_WIDE_LEAVES_AFTER");
   return defines;
 }
 
