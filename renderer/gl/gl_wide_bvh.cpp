@@ -8,7 +8,6 @@
 #include <array>
 #include <bit>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <limits>
 
@@ -38,27 +37,12 @@ struct Children {
   size_t size = 0;
 };
 
-// Primitives under each binary node.
-std::vector<uint32_t> subtreeCounts(std::span<const GpuBvhNode> nodes) {
-  std::vector<uint32_t> counts(nodes.size());
-  const auto count = [&](auto& self, uint32_t n) -> uint32_t {
-    if (nodes[n].count > 0) return counts[n] = nodes[n].count;
-    return counts[n] = self(self, nodes[n].leftFirst) + self(self, nodes[n].leftFirst + 1);
-  };
-  if (!nodes.empty()) count(count, 0);
-  return counts;
-}
-
 // The binary nodes a wide node built from interior node `b` holds: b's children, the interior
-// one with the largest surface area opened until 8 are held or none is interior. An interior
-// node of at most mergeUpTo primitives is not opened: it becomes one leaf child (one slot test
-// where a node of its own would cost a whole wide node's, but every ray that enters it tests
-// each brush's box: on lq_e4m3 with 3, 10.0 nodes and 8.7 brush boxes per primary ray where
-// there are 11.7 and 3.2 without, so off by default).
-Children collapsedChildren(std::span<const GpuBvhNode> nodes, const std::vector<uint32_t>& subtree, uint32_t mergeUpTo, uint32_t b) {
+// one with the largest surface area opened until 8 are held or none is interior.
+Children collapsedChildren(std::span<const GpuBvhNode> nodes, uint32_t b) {
   Children children{{nodes[b].leftFirst, nodes[b].leftFirst + 1}, 2};
   std::array<float, kWidth> area; // an interior child's, -1 for a leaf
-  const auto areaOf = [&](uint32_t n) { return subtree[n] > mergeUpTo && nodes[n].count == 0 ? halfArea(nodes[n]) : -1.0f; };
+  const auto areaOf = [&](uint32_t n) { return nodes[n].count == 0 ? halfArea(nodes[n]) : -1.0f; };
   area[0] = areaOf(children.node[0]), area[1] = areaOf(children.node[1]);
   while (children.size < kWidth) {
     const size_t open = size_t(std::max_element(area.begin(), area.begin() + children.size) - area.begin());
@@ -167,9 +151,7 @@ struct Pending {
 // Makes the wide nodes, numbering interior children as they are placed.
 class Collapse {
 public:
-  Collapse(std::span<const GpuBvhNode> nodes, uint32_t firstRow, uint32_t mergeUpTo, WideBvh& out)
-      : nodes_(nodes), subtree_(subtreeCounts(nodes)), mergeUpTo_(std::min(mergeUpTo, kGlWideLeafMaxCount)), firstRow_(firstRow),
-        out_(out) {}
+  Collapse(std::span<const GpuBvhNode> nodes, uint32_t firstRow, WideBvh& out) : nodes_(nodes), firstRow_(firstRow), out_(out) {}
 
   void make(const Pending& p) {
     GlWideNode node{};
@@ -180,8 +162,7 @@ public:
     if (p.count > 0) {
       makeRange(node, boxes, p);
     } else {
-      const Children children =
-          nodes_[p.binary].count > 0 ? Children{{p.binary}, 1} : collapsedChildren(nodes_, subtree_, mergeUpTo_, p.binary);
+      const Children children = nodes_[p.binary].count > 0 ? Children{{p.binary}, 1} : collapsedChildren(nodes_, p.binary);
       Box box;
       for (size_t c = 0; c < children.size; ++c) box.grow(nodes_[children.node[c]]);
       std::copy(std::begin(box.lo), std::end(box.lo), node.origin);
@@ -192,7 +173,7 @@ public:
         boxes[s] = &nodes_[b];
         if (nodes_[b].count > 0)
           placeLeaf(node, s, b, nodes_[b].leftFirst, nodes_[b].count, p.depth);
-        else if (subtree_[b] > mergeUpTo_ || !placeSubtree(node, s, b))
+        else
           placeInner(node, s, {b, 0, p.depth + 1});
       }
     }
@@ -204,8 +185,6 @@ public:
 
 private:
   std::span<const GpuBvhNode> nodes_;
-  std::vector<uint32_t> subtree_; // primitives under each binary node
-  uint32_t mergeUpTo_;
   uint32_t firstRow_;
   WideBvh& out_;
   std::vector<Pending> inner_;
@@ -223,22 +202,6 @@ private:
     if (count > kGlWideLeafMaxCount || offset + count > kLeafBits) return placeInner(node, slot, {binary, 0, depth + 1, first, count});
     node.meta[slot] = wideLeafMeta(count, offset);
     for (uint32_t i = first; i < first + count; ++i) out_.order.push_back(i);
-  }
-
-  // The primitives of binary interior node `b`'s leaves as one leaf child, where they fit the
-  // node's 24 leaf bits (the caller has checked their count).
-  bool placeSubtree(GlWideNode& node, int slot, uint32_t b) {
-    const uint32_t offset = uint32_t(out_.order.size()) - node.leafBase;
-    if (offset + subtree_[b] > kLeafBits) return false;
-    node.meta[slot] = wideLeafMeta(subtree_[b], offset);
-    std::vector<uint32_t> todo{b};
-    while (!todo.empty()) {
-      const GpuBvhNode& n = nodes_[todo.back()];
-      todo.pop_back();
-      if (n.count == 0) todo.insert(todo.end(), {n.leftFirst + 1, n.leftFirst});
-      for (uint32_t i = n.leftFirst; i < n.leftFirst + n.count; ++i) out_.order.push_back(i);
-    }
-    return true;
   }
 
   // Part of a binary leaf: up to 24 primitives as leaf children of kGlWideLeafMaxCount at most,
@@ -266,12 +229,12 @@ void wideChildBox(const GlWideNode& node, int slot, float lo[3], float hi[3]) {
 
 // Depth first, each node's interior children given consecutive numbers as the node is made, so
 // that siblings are neighbours and a subtree lies together.
-WideBvh collapseBvh(std::span<const GpuBvhNode> nodes, uint32_t firstRow, uint32_t mergeUpTo) {
+WideBvh collapseBvh(std::span<const GpuBvhNode> nodes, uint32_t firstRow) {
   WideBvh out;
   out.nodes.push_back(GlWideNode{});
   out.depth = 1;
   if (nodes.empty()) return out; // a root without children
-  Collapse collapse(nodes, firstRow, mergeUpTo, out);
+  Collapse collapse(nodes, firstRow, out);
   std::vector<Pending> todo{{0, 0, 1}};
   while (!todo.empty()) {
     const Pending p = todo.back();
@@ -304,16 +267,12 @@ void appendNodes(std::vector<uint32_t>& words, const std::vector<GlWideNode>& no
 } // namespace
 
 WideScene wideSceneForGl(const TraceScene& tracer, std::span<const GpuBrush> brushRecords) {
-  // BT_GL_WIDE_MERGE=N: subtrees of up to N primitives as one leaf child (0: none), to measure
-  // the choice on the GPU.
-  const char* merge = std::getenv("BT_GL_WIDE_MERGE");
-  const uint32_t mergeUpTo = merge ? uint32_t(std::atoi(merge)) : 0;
-  const WideBvh brushes = collapseBvh(tracer.nodes(), 1, mergeUpTo);
+  const WideBvh brushes = collapseBvh(tracer.nodes(), 1);
   GlWideHeader header{1, kGlNoChild, uint32_t(tracer.brushes().size_bytes() / 16), 0};
   WideBvh triangles;
   if (!tracer.triangleNodes().empty()) {
     header.triangleRoot = 1 + kGlWideNodeRows * uint32_t(brushes.nodes.size());
-    triangles = collapseBvh(tracer.triangleNodes(), header.triangleRoot, mergeUpTo);
+    triangles = collapseBvh(tracer.triangleNodes(), header.triangleRoot);
   }
   WideScene out;
   out.brushDepth = brushes.depth;

@@ -27,9 +27,7 @@ struct WideBvh {
 // kGlWideLeafMaxCount primitives and a node's leaf children 24 (the walk's hit mask): a binary
 // leaf that does not fit becomes a node of its own, of leaf children that all take its box.
 // Throws GlError for a tree deeper than kGlWideMaxDepth.
-// Binary subtrees of up to mergeUpTo (at most kGlWideLeafMaxCount) primitives become one leaf
-// child each.
-WideBvh collapseBvh(std::span<const GpuBvhNode> nodes, uint32_t firstRow, uint32_t mergeUpTo = 0);
+WideBvh collapseBvh(std::span<const GpuBvhNode> nodes, uint32_t firstRow);
 
 // Child slot `slot`'s box of `node` as the shader computes it (trace_wide.glsl).
 void wideChildBox(const GlWideNode& node, int slot, float lo[3], float hi[3]);

@@ -83,9 +83,9 @@ struct WideWalk {
   }
 };
 
-void expectWideTree(std::span<const GpuBvhNode> nodes, std::span<const GpuBrush> brushes, uint32_t mergeUpTo = 0) {
+void expectWideTree(std::span<const GpuBvhNode> nodes, std::span<const GpuBrush> brushes) {
   constexpr uint32_t kFirstRow = 1; // after the header, as wideSceneForGl places the brushes' tree
-  const WideBvh wide = collapseBvh(nodes, kFirstRow, mergeUpTo);
+  const WideBvh wide = collapseBvh(nodes, kFirstRow);
   WideWalk walk{wide, brushes, kFirstRow, std::vector<int>(wide.nodes.size()), std::vector<int>(wide.order.size())};
   walk.node(0, 1);
   EXPECT_EQ(walk.badBoxes, 0) << "child boxes that do not hold their subtree";
@@ -101,19 +101,15 @@ void expectWideTree(std::span<const GpuBvhNode> nodes, std::span<const GpuBrush>
   EXPECT_EQ(walk.depth, wide.depth);
   EXPECT_LE(wide.depth, kGlWideMaxDepth);
 }
-void expectWideTree(const TraceScene& scene, uint32_t mergeUpTo = 0) {
-  expectWideTree(scene.nodes(), scene.brushes(), mergeUpTo);
+void expectWideTree(const TraceScene& scene) {
+  expectWideTree(scene.nodes(), scene.brushes());
 }
 
-// Also with small subtrees merged into leaf children (BT_GL_WIDE_MERGE).
 TEST(GlWideBvh, GeneratedLevelCollapsesWithEveryBrushOnceInsideItsBoxes) {
   const test::GeneratedLevel level = test::generateLevel(20000, 7);
   const TraceScene scene = TraceScene::build(level.scene);
   ASSERT_GT(scene.brushes().size(), 10000u);
-  for (const uint32_t mergeUpTo : {0u, 2u, 3u}) {
-    SCOPED_TRACE(mergeUpTo);
-    expectWideTree(scene, mergeUpTo);
-  }
+  expectWideTree(scene);
 }
 
 // Leaves too large for a leaf child (more than kGlWideLeafMaxCount brushes, or more than 24 under
