@@ -7,6 +7,7 @@
 #include "lighting/light_grid.h"
 #include "lighting/sky.h"
 #include "renderer/gl/gl_structs.h"
+#include "renderer/gl/gl_tracer_programs.h"
 
 #include <span>
 #include <vector>
@@ -25,7 +26,10 @@ std::vector<GlBvhNode> sceneBvhForGl(const TraceScene& tracer);
 class GlSceneBuffers {
 public:
   // faceFlags in GlLighting: one per TraceScene face (= Scene face), or empty for none.
-  GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMaterial>& materials, const GlLighting& lighting, size_t materialCount);
+  // `layout`: the programs' (TracerPrograms::traceLayout): TraceLayout::Wide uploads the wide
+  // tree and the brushes and triangles in its order (gl_wide_bvh.h), the others the binary tree.
+  GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMaterial>& materials, const GlLighting& lighting, size_t materialCount,
+                 TraceLayout layout);
   ~GlSceneBuffers();
   GlSceneBuffers(const GlSceneBuffers&) = delete;
   GlSceneBuffers& operator=(const GlSceneBuffers&) = delete;
