@@ -70,17 +70,6 @@
 #define BT_GL_NO_CHILD 0u
 #define BT_GL_LEAF_REF 0x80000000u
 
-// renderer/gl/gl_structs.h GlWideNode (shaders/trace_wide.glsl): rows (16 bytes) per node; the
-// hit-mask bit of an interior child's first slot in visiting order (its meta byte is
-// 1 << 5 | (BT_GL_WIDE_INNER_BIT + slot); below it the bits of the leaf children's primitives, a
-// leaf's meta being its count in unary << 5 | offset, an empty slot's 0); the most primitives a
-// leaf child may hold (its 3 unary bits); the traversal stack's entries, the most levels the wide
-// tree may have (the collapse checks it).
-#define BT_GL_WIDE_NODE_ROWS 5u
-#define BT_GL_WIDE_INNER_BIT 24u
-#define BT_GL_WIDE_LEAF_MAX_COUNT 3u
-#define BT_GL_WIDE_MAX_DEPTH 32
-
 // A face index that names no face.
 #define BT_NO_FACE 0xffffffffu
 

@@ -111,12 +111,7 @@ uint leafCount(uint ref) { return (ref >> 24) & 0x7fu; }
 //     which llvmpipe runs far faster than storage-buffer loads and private arrays at per-lane
 //     addresses (see scene_buffers.glsl and NodeStack below);
 //   otherwise (GPUs): storage-buffer rows and a private stack array, which trace several times
-//     faster there than the software layout (bench/README.md); over the binary tree below, or
-//     with BT_TRACE_WIDE (TraceLayout::Wide) over the compressed 8-wide tree (trace_wide.glsl,
-//     which replaces traceRay and the stack).
-#if defined(BT_TRACE_SOFTWARE) && defined(BT_TRACE_WIDE)
-#error "the wide BVH's walk is for the hardware layout's reads (trace_wide.glsl)"
-#endif
+//     faster there than the software layout (bench/README.md).
 #ifdef BT_TRACE_SOFTWARE
 uvec4 nodeRow(uint n, uint row) { return texelFetch(nodeTexels, int(4u * n + row)); }
 uvec4 brushRow(uint b, uint row) { return texelFetch(brushTexels, int(4u * b + row)); }
@@ -143,7 +138,8 @@ vec4 facePlane(uint f) { return faces[f].plane; }
 // origin is outside that slab. One formula for all rays: llvmpipe runs the code on both sides
 // of a branch, masked, even when all its SIMD lanes take the same side (a branch on hasZero here
 // cost a fifth of the bounce rays' time, which almost never have a zero component).
-bool boxOverlaps(TraceRay r, vec3 boundsMin, vec3 boundsMax, float tLimit, out float entry) {
+bool boxOverlaps(TraceRay r, uvec4 minRow, uvec4 maxRow, float tLimit, out float entry) {
+  vec3 boundsMin = uintBitsToFloat(minRow.xyz), boundsMax = uintBitsToFloat(maxRow.xyz);
   vec3 t0 = (boundsMin - r.origin) * r.invDir, t1 = (boundsMax - r.origin) * r.invDir;
   bvec3 zero = equal(r.invDir, vec3(0.0));
   vec3 tNear = mix(min(t0, t1), vec3(-INFINITY), zero), tFar = mix(max(t0, t1), vec3(INFINITY), zero);
@@ -151,9 +147,6 @@ bool boxOverlaps(TraceRay r, vec3 boundsMin, vec3 boundsMax, float tLimit, out f
   bool outsideSlab = any(bvec3(uvec3(zero) & (uvec3(lessThan(r.origin, boundsMin)) | uvec3(greaterThan(r.origin, boundsMax)))));
   entry = max(near, r.tMin);
   return !outsideSlab && entry <= min(far, tLimit) && near <= far;
-}
-bool boxOverlaps(TraceRay r, uvec4 minRow, uvec4 maxRow, float tLimit, out float entry) {
-  return boxOverlaps(r, uintBitsToFloat(minRow.xyz), uintBitsToFloat(maxRow.xyz), tLimit, entry);
 }
 
 // A plane crossing candidate: t, the face, and how head-on the ray meets it (|dot(n, d)|).
@@ -312,7 +305,7 @@ uint popNode(inout NodeStack s) {
   if (s.size >= STACK_REGISTERS) s.hi.w = traversalStack[uint(s.size - STACK_REGISTERS) * TRACE_INVOCATIONS + gl_LocalInvocationIndex];
   return node;
 }
-#elif !defined(BT_TRACE_WIDE)
+#else
 // GPUs: a private array (the compiler keeps it in registers and local memory).
 uint traversalStack[BT_BVH_MAX_DEPTH];
 struct NodeStack {
@@ -358,9 +351,6 @@ bool blocksFromInside(bool inTriangles, uint b, uint passFlags) {
 #endif
 }
 
-#ifdef BT_TRACE_WIDE
-#include "trace_wide.glsl"
-#else
 Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   Hit best = Hit(r.tMax, NO_FACE, false);
 #ifdef BT_TRACE_SOFTWARE
@@ -419,4 +409,3 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   }
   return best;
 }
-#endif

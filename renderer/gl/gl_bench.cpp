@@ -283,7 +283,8 @@ int runGlBench(const LevelImport& importLevel, const GlBenchSettings& s) {
   const auto& info = run.context->info();
   gl::GlTracer& tracer = *run.level->tracer;
   fmt::print("device: {} ({}, {}), textures: {}, trace layout: {}, parallel shader compile: {}\n", info.renderer, info.platform,
-             info.version, gl::toString(tracer.textureMode()), gl::toString(tracer.programs().traceLayout()),
+             info.version, gl::toString(tracer.textureMode()),
+             tracer.programs().traceLayout() == gl::TraceLayout::Software ? "software" : "hardware",
              info.parallelShaderCompile ? "yes" : "no");
   fmt::print("camera: {} ({}), {} lights, {} emitter triangles\n", formatCameraPose(run.pose), run.pose.source,
              run.level->render.lights.size(), run.level->render.emitters.size());

@@ -4,7 +4,6 @@
 #include "lighting/physical_light.h"
 #include "renderer/gl/gl_error.h"
 #include "renderer/gl/gl_tracer.h"
-#include "renderer/gl/gl_wide_bvh.h"
 
 #include <epoxy/gl.h>
 #include <fmt/format.h>
@@ -87,22 +86,18 @@ std::vector<GlBvhNode> sceneBvhForGl(const TraceScene& tracer) {
 
 namespace {
 
-// The brushes as uploaded: a brush of RenderScene::blocksFromInside gets the channel bits in its
-// pad word (GpuBrush::pad, zero in the TraceScene): shaders/trace.glsl blocksFromInside ANDs it
-// with a shadow ray's pass word, which has channel bits in faithful mode only.
-std::vector<GpuBrush> brushesForGl(const TraceScene& tracer, const std::vector<uint8_t>& blocksFromInside) {
-  std::vector<GpuBrush> brushes(tracer.brushes().begin(), tracer.brushes().end());
-  for (size_t slot = 0; slot < blocksFromInside.size() && slot < brushes.size(); ++slot)
-    if (blocksFromInside[slot]) brushes[slot].pad = BT_FACE_CHANNEL_BITS;
-  return brushes;
-}
-
-// The binary layout's brush buffer: the brushes' rows, then the triangles' (gl_structs.h GlBvhNode).
-std::vector<uint32_t> brushAndTriangleRows(const TraceScene& tracer, std::span<const GpuBrush> brushes) {
-  std::vector<uint32_t> words(brushes.size_bytes() / 4 + tracer.triangles().size_bytes() / 4);
-  std::memcpy(words.data(), brushes.data(), brushes.size_bytes());
+// The brushes' rows, then the triangles' (gl_structs.h GlBvhNode). A brush of
+// RenderScene::blocksFromInside gets the channel bits in its pad word (GpuBrush::pad, zero in the
+// TraceScene): shaders/trace.glsl blocksFromInside ANDs it with a shadow ray's pass word, which
+// has channel bits in faithful mode only.
+std::vector<uint32_t> brushAndTriangleRows(const TraceScene& tracer, const std::vector<uint8_t>& blocksFromInside) {
+  std::vector<uint32_t> words(tracer.brushes().size_bytes() / 4 + tracer.triangles().size_bytes() / 4);
+  std::memcpy(words.data(), tracer.brushes().data(), tracer.brushes().size_bytes());
+  constexpr size_t kPadWord = offsetof(GpuBrush, pad) / 4, kBrushWords = sizeof(GpuBrush) / 4;
+  for (size_t slot = 0; slot < blocksFromInside.size() && slot < tracer.brushes().size(); ++slot)
+    if (blocksFromInside[slot]) words[slot * kBrushWords + kPadWord] = BT_FACE_CHANNEL_BITS;
   if (!tracer.triangles().empty())
-    std::memcpy(words.data() + brushes.size_bytes() / 4, tracer.triangles().data(), tracer.triangles().size_bytes());
+    std::memcpy(words.data() + tracer.brushes().size_bytes() / 4, tracer.triangles().data(), tracer.triangles().size_bytes());
   return words;
 }
 
@@ -133,21 +128,11 @@ void makeTexelView(GLuint& view, GLuint buffer, GLenum format, size_t bytes, siz
 } // namespace
 
 GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMaterial>& materials, const GlLighting& lighting,
-                               size_t materialCount, TraceLayout layout) {
+                               size_t materialCount) {
   BT_GL(glCreateBuffers(kBufferCount, buffers_));
-  const std::vector<GpuBrush> brushes = brushesForGl(tracer, lighting.blocksFromInside);
-  std::vector<uint32_t> nodeWords, brushRows;
-  if (layout == TraceLayout::Wide) {
-    WideScene wide = wideSceneForGl(tracer, brushes);
-    nodeWords = std::move(wide.nodeWords);
-    brushRows = std::move(wide.primitiveWords);
-  } else {
-    const std::vector<GlBvhNode> bvh = sceneBvhForGl(tracer);
-    nodeWords.resize(bvh.size() * sizeof(GlBvhNode) / 4);
-    std::memcpy(nodeWords.data(), bvh.data(), bvh.size() * sizeof(GlBvhNode));
-    brushRows = brushAndTriangleRows(tracer, brushes);
-  }
-  upload(buffers_[kBindingNodes], std::span<const uint32_t>(nodeWords));
+  const std::vector<GlBvhNode> bvh = sceneBvhForGl(tracer);
+  upload(buffers_[kBindingNodes], std::span<const GlBvhNode>(bvh));
+  const std::vector<uint32_t> brushRows = brushAndTriangleRows(tracer, lighting.blocksFromInside);
   upload(buffers_[kBindingBrushes], std::span<const uint32_t>(brushRows));
   upload(buffers_[kBindingSides], tracer.sides());
   const std::vector<GpuFace> faces = facesWithGlass(tracer, lighting.glassAlpha);
@@ -156,7 +141,8 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMat
   BT_GL(glGetIntegerv(GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS, &units));
   if (units < static_cast<GLint>(kTextureUnitCount))
     throw GlError(fmt::format("the GL context offers {} compute texture units; the tracer needs {}", units, int(kTextureUnitCount)));
-  makeTexelView(texelViews_[kTexelNodes - kTexelNodes], buffers_[kBindingNodes], GL_RGBA32UI, nodeWords.size() * 4, 16, "the BVH nodes");
+  makeTexelView(texelViews_[kTexelNodes - kTexelNodes], buffers_[kBindingNodes], GL_RGBA32UI, bvh.size() * sizeof(GlBvhNode), 16,
+                "the BVH nodes");
   makeTexelView(texelViews_[kTexelBrushes - kTexelNodes], buffers_[kBindingBrushes], GL_RGBA32UI, brushRows.size() * 4, 16,
                 "the brushes and triangles");
   makeTexelView(texelViews_[kTexelSides - kTexelNodes], buffers_[kBindingSides], GL_R32UI, tracer.sides().size_bytes(), 4,

@@ -7,7 +7,6 @@
 #include "lighting/light_grid.h"
 #include "lighting/sky.h"
 #include "renderer/gl/gl_structs.h"
-#include "renderer/gl/gl_tracer_programs.h"
 
 #include <span>
 #include <vector>
@@ -26,10 +25,7 @@ std::vector<GlBvhNode> sceneBvhForGl(const TraceScene& tracer);
 class GlSceneBuffers {
 public:
   // faceFlags in GlLighting: one per TraceScene face (= Scene face), or empty for none.
-  // `layout`: the programs' (TracerPrograms::traceLayout): TraceLayout::Wide uploads the wide
-  // tree and the brushes and triangles in its order (gl_wide_bvh.h), the others the binary tree.
-  GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMaterial>& materials, const GlLighting& lighting, size_t materialCount,
-                 TraceLayout layout);
+  GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMaterial>& materials, const GlLighting& lighting, size_t materialCount);
   ~GlSceneBuffers();
   GlSceneBuffers(const GlSceneBuffers&) = delete;
   GlSceneBuffers& operator=(const GlSceneBuffers&) = delete;

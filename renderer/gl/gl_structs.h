@@ -10,7 +10,6 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
-#include <bit>
 #include <cstddef>
 #include <cstdint>
 
@@ -87,68 +86,6 @@ static_assert(sizeof(GlBvhNode) == 64);
 static_assert(offsetof(GlBvhNode, left) == 12 && offsetof(GlBvhNode, leftMax) == 16);
 static_assert(offsetof(GlBvhNode, rightMin) == 32 && offsetof(GlBvhNode, right) == 44);
 static_assert(offsetof(GlBvhNode, rightMax) == 48 && offsetof(GlBvhNode, pad1) == 60);
-
-// The GPU walk's other BVH (TraceLayout::Wide, shaders/trace_wide.glsl): TraceScene's binary
-// tree collapsed into 8-wide nodes with 8-bit child boxes, the compressed wide BVH of Ylitie,
-// Karras and Laine, "Efficient Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs"
-// (HPG 2017), made at upload by gl_wide_bvh.h wideSceneForGl. 80 bytes, 5 rows:
-//   row 0: origin (the node box's low corner), exponent[3] and imask in one word
-//   row 1: childBase, leafBase, meta[0..3], meta[4..7]
-//   rows 2-4: qlo[x], qlo[y], qlo[z], qhi[x], qhi[y], qhi[z], 8 bytes (one per slot) each
-// Child slot i's box is origin + q * 2^(exponent - 127) per axis (scale = the float whose
-// exponent bits are `exponent`, as the shader builds it), rounded outwards at build so that it
-// holds the child's exact box: the walk may enter more, never miss a hit. Interior children
-// (imask bit i) are GlWideNodes at consecutive rows from childBase in slot order; leaf children
-// (meta = count in unary << 5 | offset, offset + count <= 24) hold primitives leafBase + offset
-// .. + count of the wide order; an interior child's meta is 1 << 5 | (24 + slot), so that the
-// walk builds a node's hit mask (leaf primitives in bits 0-23, interior children in 24-31) from
-// the metas alone, as the paper's walk does
-// (the brushes and triangles are uploaded in that order for this layout). Slots are filled so
-// that slot s holds the child met first by rays whose direction has the signs of s (bit a set:
-// negative along axis a), which the walk visits in the order slot ^ octant without a sort.
-// The node buffer's row 0 is a header (GlWideHeader), node rows follow.
-struct GlWideNode {
-  float origin[3];
-  uint8_t exponent[3];
-  uint8_t imask;
-  uint32_t childBase; // node buffer row of the first interior child
-  uint32_t leafBase;  // first primitive of the leaf children
-  uint8_t meta[8];    // wideInnerMeta(slot), wideLeafMeta(count, offset), 0 for an empty slot
-  uint8_t qlo[3][8];  // [axis][slot]
-  uint8_t qhi[3][8];
-};
-static_assert(sizeof(GlWideNode) == 16 * BT_GL_WIDE_NODE_ROWS);
-static_assert(offsetof(GlWideNode, exponent) == 12 && offsetof(GlWideNode, imask) == 15 && offsetof(GlWideNode, childBase) == 16);
-static_assert(offsetof(GlWideNode, leafBase) == 20 && offsetof(GlWideNode, meta) == 24 && offsetof(GlWideNode, qlo) == 32);
-static_assert(offsetof(GlWideNode, qhi) == 56);
-inline constexpr uint32_t kGlWideNodeRows = BT_GL_WIDE_NODE_ROWS;
-inline constexpr uint32_t kGlWideInnerBit = BT_GL_WIDE_INNER_BIT; // leaf primitives take the bits below
-inline constexpr uint32_t kGlWideLeafMaxCount = BT_GL_WIDE_LEAF_MAX_COUNT;
-constexpr uint8_t wideInnerMeta(int slot) {
-  return uint8_t(1u << 5 | (kGlWideInnerBit + uint32_t(slot)));
-}
-constexpr uint8_t wideLeafMeta(uint32_t count, uint32_t offset) {
-  return uint8_t(((1u << count) - 1u) << 5 | offset);
-}
-constexpr bool wideMetaIsInner(uint8_t meta) {
-  return (meta & 31u) >= kGlWideInnerBit;
-}
-constexpr uint32_t wideLeafCount(uint8_t meta) {
-  return uint32_t(std::popcount(uint32_t(meta >> 5)));
-}
-constexpr uint32_t wideLeafOffset(uint8_t meta) {
-  return meta & 31u;
-}
-inline constexpr uint32_t kGlWideMaxDepth = BT_GL_WIDE_MAX_DEPTH;
-// Row 0 of the wide node buffer: where the brushes' tree and the triangles' start (node rows;
-// triangleRoot kGlNoChild without triangles), and the brush-buffer row of the first triangle.
-struct GlWideHeader {
-  uint32_t brushRoot;
-  uint32_t triangleRoot;
-  uint32_t firstTriangleRow;
-  uint32_t pad;
-};
-static_assert(sizeof(GlWideHeader) == 16);
 
 // Texture units of the buffer textures through which the traversal reads those arrays
 // (shaders/scene_buffers.glsl says why), after the material texture arrays' units

@@ -100,8 +100,8 @@ struct GlTracer::Impl {
 
   Impl(GlContext& c, const Scene& scene, const TraceScene& tracer, std::shared_ptr<TracerPrograms> p, const GlLighting& lighting)
       : context(c), programs(std::move(p)), textures(scene, programs->textureMode(), c.info()),
-        buffers(tracer, withShadingFlags(textures.materials(), lighting), lighting, scene.materials.size(), programs->traceLayout()),
-        world(worldBlock(lighting)), features(gl::faithfulFeatures(lighting)) {
+        buffers(tracer, withShadingFlags(textures.materials(), lighting), lighting, scene.materials.size()), world(worldBlock(lighting)),
+        features(gl::faithfulFeatures(lighting)) {
     BT_GL(glCreateBuffers(1, &cameraBuffer));
     BT_GL(glNamedBufferStorage(cameraBuffer, sizeof(GpuCamera), nullptr, GL_DYNAMIC_STORAGE_BIT));
     BT_GL(glCreateBuffers(1, &worldBuffer));
@@ -387,9 +387,6 @@ RayBenchmark GlTracer::benchmarkRays(const CameraBasis& camera, int width, int h
   result.bounceSeconds = run(1);
   BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
   std::vector<float> lengths = bounceT.read<float>(width, height, GL_RED, GL_FLOAT, 1);
-  result.bounceT = lengths;
-  result.primaryFace.resize(result.primaryRays);
-  for (size_t i = 0; i < result.primaryRays; ++i) result.primaryFace[i] = uint32_t(primary[4 * i + 3]);
   std::erase_if(lengths, [](float t) { return !(t > 0.0f && t < 1e30f); }); // misses and pixels without a bounce ray
   if (!lengths.empty()) {
     std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
@@ -397,10 +394,6 @@ RayBenchmark GlTracer::benchmarkRays(const CameraBasis& camera, int width, int h
   }
   BT_GL(glProgramUniform1f(program, 1, result.shadowLength));
   result.shadowSeconds = run(2);
-  BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
-  const std::vector<float> shadows = bounceT.read<float>(width, height, GL_RED, GL_FLOAT, 1); // -t where blocked
-  result.shadowBlocked.resize(shadows.size());
-  for (size_t i = 0; i < shadows.size(); ++i) result.shadowBlocked[i] = shadows[i] < 0.0f;
   return result;
 }
 

@@ -127,12 +127,6 @@ struct RayBenchmark {
   // to the bounce rays' hits, so that about half of them are blocked.
   float shadowLength = 0.0f;
   double shadowSeconds = 0.0;
-  // What the last pass found, per pixel (row-major), read back after the timing: the primary
-  // ray's face + 1 (0: a miss), the bounce ray's t (0: no bounce ray), whether the shadow ray was
-  // blocked. For tests that hold two walks to the same hits.
-  std::vector<uint32_t> primaryFace;
-  std::vector<float> bounceT;
-  std::vector<uint8_t> shadowBlocked;
 };
 
 struct ProgramBuild {

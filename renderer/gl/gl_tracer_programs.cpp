@@ -52,16 +52,6 @@ bool takes(TracerProgram program, std::string_view axis) {
 
 } // namespace
 
-const char* toString(TraceLayout layout) {
-  switch (layout) {
-  case TraceLayout::Auto: return "auto";
-  case TraceLayout::Software: return "software";
-  case TraceLayout::Hardware: return "hardware";
-  case TraceLayout::Wide: return "wide";
-  }
-  return "?";
-}
-
 const char* shaderFile(TracerProgram program) {
   return kPrograms[size_t(program)].shader;
 }
@@ -72,7 +62,6 @@ std::vector<std::string> shaderDefines(TextureMode mode, TraceLayout layout) {
                                    fmt::format("BT_BVH_MAX_DEPTH {}", kBvhMaxDepth),
                                    fmt::format("BT_TRIANGLE_EDGE_EPSILON_INVERSE {}u", kTriangleEdgeEpsilonInverse)};
   if (layout == TraceLayout::Software) defines.emplace_back(switchesOf("Layout").at(0));
-  if (layout == TraceLayout::Wide) defines.emplace_back(switchesOf("Layout").at(1));
   return defines;
 }
 
@@ -97,20 +86,13 @@ std::vector<std::string> programDefines(TracerProgram program, TextureMode mode,
 
 namespace {
 
-// The hardware layouts' tree: BT_GL_BVH=wide, else the binary one (the wide walk is a candidate
-// being measured, bench/README.md "Issue 20").
-TraceLayout hardwareLayout() {
-  const char* env = std::getenv("BT_GL_BVH");
-  return env && std::string_view(env) == "wide" ? TraceLayout::Wide : TraceLayout::Hardware;
-}
-
 TraceLayout resolveTraceLayout(TraceLayout layout, const GlContextInfo& context) {
   if (layout != TraceLayout::Auto) return layout;
   if (const char* env = std::getenv("BT_GL_TRACE_LAYOUT")) {
     if (std::string_view(env) == "software") return TraceLayout::Software;
-    if (std::string_view(env) == "hardware") return hardwareLayout();
+    if (std::string_view(env) == "hardware") return TraceLayout::Hardware;
   }
-  return context.softwareRenderer ? TraceLayout::Software : hardwareLayout();
+  return context.softwareRenderer ? TraceLayout::Software : TraceLayout::Hardware;
 }
 
 } // namespace

@@ -78,17 +78,13 @@ FaithfulFeatures faithfulFeatures(const DirtSettings& dirt, const std::vector<Gp
 //               kernels where TracerPrograms started them for this (never waits for the megakernel).
 enum class PathTracerForm { Auto, Megakernel, Wavefront };
 
-// Where the traversal reads the scene and keeps its stack, and which tree it walks
-// (shaders/trace.glsl): Software for GL emulated on the CPU (Mesa's llvmpipe), the binary tree;
-// for GPUs, Hardware (the binary tree, GlBvhNode) or Wide (the compressed 8-wide tree,
-// gl_structs.h GlWideNode, shaders/trace_wide.glsl). Auto picks from GL_RENDERER: Software on
-// llvmpipe, else Hardware; in the environment BT_GL_TRACE_LAYOUT=software|hardware overrides the
-// machine's choice and BT_GL_BVH=wide|binary the hardware layout's tree (to compare them).
-enum class TraceLayout { Auto, Software, Hardware, Wide };
-const char* toString(TraceLayout layout); // "software", "hardware", "wide"
+// Where the traversal reads the scene and keeps its stack (shaders/trace.glsl): Software for GL
+// emulated on the CPU (Mesa's llvmpipe), Hardware for GPUs; Auto picks from GL_RENDERER, and
+// BT_GL_TRACE_LAYOUT=software|hardware in the environment overrides Auto (to compare them).
+enum class TraceLayout { Auto, Software, Hardware };
 
 // The #defines every program of the tracer is built with: the texture path (Bindless or
-// Arrays), the trace layout (BT_TRACE_SOFTWARE, BT_TRACE_WIDE) and BT_BVH_MAX_DEPTH, the traversal stack size
+// Arrays), the trace layout (BT_TRACE_SOFTWARE) and BT_BVH_MAX_DEPTH, the traversal stack size
 // (scene/gpu_structs.h kBvhMaxDepth).
 std::vector<std::string> shaderDefines(TextureMode mode, TraceLayout layout = TraceLayout::Hardware);
 
@@ -129,7 +125,7 @@ public:
   TracerPrograms& operator=(const TracerPrograms&) = delete;
 
   TextureMode textureMode() const { return mode_; }   // Bindless or Arrays
-  TraceLayout traceLayout() const { return layout_; } // Software, Hardware or Wide
+  TraceLayout traceLayout() const { return layout_; } // Software or Hardware
   // Where programs built from now on are cached; ProgramCache::fromEnvironment(GL_VENDOR) by default.
   void setCache(ProgramCache cache) { cache_ = std::move(cache); }
 

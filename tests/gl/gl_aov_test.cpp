@@ -198,45 +198,22 @@ void expectLayoutFacesEqualClosestHit(const Scene& scene, const TraceScene& trac
 
 // Every pixel's face is the one TraceScene::closestHit finds for the same ray, ties between
 // neighbouring brushes included: the shaders traverse a layout made from TraceScene's tree
-// (renderer/gl/gl_structs.h GlBvhNode, or GlWideNode collapsed from it) by trace_scene.cpp's
-// rules. Every trace layout is held to it on whatever runs the tests: llvmpipe's
-// (BT_TRACE_SOFTWARE) and the GPUs' two (the binary tree and the wide one).
+// (renderer/gl/gl_structs.h GlBvhNode) by trace_scene.cpp's rules. Both trace layouts are held
+// to it on whatever runs the tests: llvmpipe's (BT_TRACE_SOFTWARE) and the GPUs'.
 void expectFacesEqualClosestHit(const Scene& scene, const TraceScene& traceScene,
                                 const CameraBasis& camera = test::testCamera(kWidth, kHeight), int width = kWidth, int height = kHeight) {
-  for (const TraceLayout layout : {TraceLayout::Software, TraceLayout::Hardware, TraceLayout::Wide}) {
-    SCOPED_TRACE(toString(layout));
+  for (const TraceLayout layout : {TraceLayout::Software, TraceLayout::Hardware}) {
+    SCOPED_TRACE(layout == TraceLayout::Software ? "software trace layout" : "hardware trace layout");
     expectLayoutFacesEqualClosestHit(scene, traceScene, camera, width, height, layout);
   }
-}
-
-// The GPUs' two trees on one device: the wide walk's faces and depths are the binary walk's, bit
-// for bit (the closest hit does not depend on the order the brushes are met in).
-void expectWideEqualsBinary(const Scene& scene, const TraceScene& traceScene) {
-  GlContext& context = test::sharedGlContext();
-  const CameraBasis camera = test::testCamera(kWidth, kHeight);
-  const auto render = [&](TraceLayout layout) {
-    GlTracer tracer(context, scene, traceScene, std::make_shared<TracerPrograms>(context, TextureMode::Arrays, layout));
-    return tracer.renderAovs(camera, kWidth, kHeight);
-  };
-  const AovImages binary = render(TraceLayout::Hardware), wide = render(TraceLayout::Wide);
-  size_t differ = 0, hits = 0;
-  for (size_t i = 0; i < binary.face.size(); ++i) {
-    differ += binary.face[i] != wide.face[i] || binary.depth[i] != wide.depth[i];
-    hits += binary.face[i] != AovImages::kNothingHit;
-  }
-  EXPECT_EQ(differ, 0u);
-  EXPECT_GT(hits, 0u);
 }
 
 // A row of 40 boxes makes the tree deep enough to exercise the stack; one brush per leaf.
 TEST(GlAov, FacesEqualTraceSceneClosestHit) {
   Scene scene = test::makeTestRoom();
   for (int i = 0; i < 40; ++i) test::addBox(scene, {-250.0 + i * 12.0, 100, 0}, {-242.0 + i * 12.0, 108, 8.0 + i}, i % 3);
-  for (const int leafSize : {1, 8}) {
-    const TraceScene traceScene = TraceScene::build(scene, {.leafSize = leafSize});
-    expectFacesEqualClosestHit(scene, traceScene);
-    expectWideEqualsBinary(scene, traceScene);
-  }
+  expectFacesEqualClosestHit(scene, TraceScene::build(scene, {.leafSize = 1}));
+  expectFacesEqualClosestHit(scene, TraceScene::build(scene, {.leafSize = 8}));
 }
 
 // How deep trace.glsl's stack gets for `ray`: its walk over the GlBvhNodes (nearer child first,
@@ -310,7 +287,6 @@ TEST(GlAov, DeepStackEqualsTraceSceneClosestHit) {
     }
   ASSERT_GT(deepest, 10u);
   expectFacesEqualClosestHit(scene, traceScene);
-  expectWideEqualsBinary(scene, traceScene);
 }
 
 // A camera looking down +X with an odd image size: the middle row's and column's rays have

@@ -46,7 +46,7 @@ TEST(GlShaderVariants, EveryVariantTheRuntimeCanRequestWasValidatedAtBuildTime) 
   size_t plain = 0, withCsg = 0, withInside = 0, withGlass = 0;
   for (int p = 0; p < kTracerProgramCount; ++p)
     for (const TextureMode mode : {TextureMode::Bindless, TextureMode::Arrays})
-      for (const TraceLayout layout : {TraceLayout::Hardware, TraceLayout::Software, TraceLayout::Wide})
+      for (const TraceLayout layout : {TraceLayout::Hardware, TraceLayout::Software})
         for (const bool physical : {false, true})
           for (const bool csg : {false, true})
             for (const bool inside : {false, true})
@@ -70,23 +70,23 @@ TEST(GlShaderVariants, EveryVariantTheRuntimeCanRequestWasValidatedAtBuildTime) 
                   else
                     EXPECT_TRUE(validated.count(k)) << "never validated at build time: " << k;
                 }
-  // pathtrace.comp: 2 texture paths x 3 layouts x (64 faithful sets + physical) x 2 forms; bake.comp: 2 x 3 x 64; three
-  // programs 2 x 3 each. With the CSG: pathtrace.comp's again, and aov.comp's 2 x 3. With the rule
-  // from inside: pathtrace.comp's megakernel 2 x 3 x 64 without and with the CSG, bake.comp's 2 x 3 x 64.
-  EXPECT_EQ(plain, size_t(780 + 384 + 18));
-  EXPECT_EQ(withCsg, size_t(780 + 6 + 384));
-  EXPECT_EQ(withInside, size_t(384 + 384 + 384));
-  // With Quake 2's glass (counted apart from the above): pathtrace.comp's megakernel 2 x 3 x 64
-  // with each set of the CSG and the rule from inside, its shade kernel 2 x 3 x 64 without and
+  // pathtrace.comp: 2 texture paths x 2 layouts x (64 faithful sets + physical) x 2 forms; bake.comp: 2 x 2 x 64; three
+  // programs 2 x 2 each. With the CSG: pathtrace.comp's again, and aov.comp's 2 x 2. With the rule
+  // from inside: pathtrace.comp's megakernel 2 x 2 x 64 without and with the CSG, bake.comp's 2 x 2 x 64.
+  EXPECT_EQ(plain, size_t(520 + 256 + 12));
+  EXPECT_EQ(withCsg, size_t(520 + 4 + 256));
+  EXPECT_EQ(withInside, size_t(256 + 256 + 256));
+  // With Quake 2's glass (counted apart from the above): pathtrace.comp's megakernel 2 x 2 x 64
+  // with each set of the CSG and the rule from inside, its shade kernel 2 x 2 x 64 without and
   // with the CSG.
-  EXPECT_EQ(withGlass, size_t(4 * 384 + 2 * 384));
+  EXPECT_EQ(withGlass, size_t(4 * 256 + 2 * 256));
   // Validated: the above, the programs without switches (denoise.comp, tonemap.comp), the CSG
-  // with pathtrace.comp's 2 x 3 x (physical, no faithful part, every part) x 2 forms and
-  // aov.comp's 2 x 3: 42 runs where every CSG variant would be 786; the rule from inside with
-  // pathtrace.comp's megakernel 2 x 3 x (no faithful part, every part) without and with the CSG,
-  // and bake.comp's 2 x 3 x 2: 36 runs; the glass with pathtrace.comp's 2 x 3 x (no faithful
-  // part, every part) x (4 sets for the megakernel, 2 for the shade kernel): 72 runs.
-  EXPECT_EQ(std::size(kValidatedShaderVariants), size_t(780 + 384 + 18 + 2 + 36 + 6 + 36 + 72));
+  // with pathtrace.comp's 2 x 2 x (physical, no faithful part, every part) x 2 forms and
+  // aov.comp's 2 x 2: 28 runs where every CSG variant would be 524; the rule from inside with
+  // pathtrace.comp's megakernel 2 x 2 x (no faithful part, every part) without and with the CSG,
+  // and bake.comp's 2 x 2 x 2: 24 runs; the glass with pathtrace.comp's 2 x 2 x (no faithful
+  // part, every part) x (4 sets for the megakernel, 2 for the shade kernel): 48 runs.
+  EXPECT_EQ(std::size(kValidatedShaderVariants), size_t(520 + 256 + 12 + 2 + 24 + 4 + 24 + 48));
 }
 
 // The value defines every program gets besides the switches: the traversal's stack size and the
