@@ -342,40 +342,35 @@ void leafPieces(const QbspTree& tree, int32_t node, std::vector<Winding> fragmen
   leafPieces(tree, n.children[1], std::move(back), leaves);
 }
 
-// What a Quake 2 world's faces look into: its fillers (QbspTree::Filler).
-struct LeafContents {
-  const std::vector<QbspTree::Filler>& brushes;
-
-  // The contents that the face `piece` (facing `normal`) looks into: those of the brushes here
-  // around the point 1 unit in front of its vertices' mean, or'd together (0: empty space).
-  int32_t inFrontOf(const Scene& scene, const Winding& piece, const dvec3& normal) const {
-    if (brushes.empty()) return 0;
-    dvec3 c(0.0);
-    for (const dvec3& p : piece) c += p;
-    c = c / double(piece.size()) + normal * kVoidProbeDistance;
-    int32_t front = 0;
-    for (const auto& [b, bits] : brushes) {
-      const Brush& brush = scene.brushes[b];
-      if (glm::any(glm::lessThan(c, brush.bounds.min)) || glm::any(glm::greaterThan(c, brush.bounds.max))) continue;
-      bool inside = true;
-      for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount && inside; ++f)
-        inside = scene.faces[f].plane.distanceTo(c) < 0.0;
-      if (inside) front |= bits;
-    }
-    return front;
+// The contents that the face `piece` (facing `normal`) looks into: those of the world's fillers
+// (QbspTree::Filler) around the point 1 unit in front of its vertices' mean, or'd together (0:
+// empty space).
+int32_t contentsInFrontOf(const Scene& scene, const QbspTree& world, const Winding& piece, const dvec3& normal) {
+  if (world.fillers().empty()) return 0;
+  dvec3 c(0.0);
+  for (const dvec3& p : piece) c += p;
+  c = c / double(piece.size()) + normal * kVoidProbeDistance;
+  int32_t front = 0;
+  for (const auto& [b, bits] : world.fillers()) {
+    const Brush& brush = scene.brushes[b];
+    if (glm::any(glm::lessThan(c, brush.bounds.min)) || glm::any(glm::greaterThan(c, brush.bounds.max))) continue;
+    bool inside = true;
+    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount && inside; ++f)
+      inside = scene.faces[f].plane.distanceTo(c) < 0.0;
+    if (inside) front |= bits;
   }
-};
+  return front;
+}
 
 // qbsp's faces on one node: TryMerge merges only faces that look into the same contents (the
 // floor under q2_areaportals' doorways looks into their area portals and stays a face of its
 // own), so mergeFaceList runs on each such group of `pieces`, the groups in the order of their
 // first pieces.
-std::vector<Winding> mergeNodeFaces(const Scene& scene, const LeafContents& leaves, const std::vector<Winding>& pieces,
-                                    const dvec3& normal) {
+std::vector<Winding> mergeNodeFaces(const Scene& scene, const QbspTree& world, const std::vector<Winding>& pieces, const dvec3& normal) {
   std::vector<int32_t> keys;
   std::vector<std::vector<Winding>> groups;
   for (const Winding& w : pieces) {
-    const int32_t key = leaves.inFrontOf(scene, w, normal);
+    const int32_t key = contentsInFrontOf(scene, world, w, normal);
     const size_t g = size_t(std::find(keys.begin(), keys.end(), key) - keys.begin());
     if (g == keys.size()) keys.push_back(key), groups.emplace_back();
     groups[g].push_back(w);
@@ -388,7 +383,6 @@ std::vector<Winding> mergeNodeFaces(const Scene& scene, const LeafContents& leav
 
 struct NodeFaceContext {
   const Scene& scene;
-  const LeafContents& leaves;
   const QbspTree& tree;
   const Plane& surface;
 };
@@ -404,7 +398,7 @@ void nodeFaces(const NodeFaceContext& ctx, int32_t node, std::vector<Winding> fr
   const Plane& surface = ctx.surface;
   if (fragments.empty()) return;
   if (node < 0) {
-    for (Winding& w : mergeNodeFaces(ctx.scene, ctx.leaves, fragments, surface.normal)) faces.push_back(std::move(w));
+    for (Winding& w : mergeNodeFaces(ctx.scene, tree, fragments, surface.normal)) faces.push_back(std::move(w));
     return;
   }
   const QbspTree::Node& n = tree.nodes()[size_t(node)];
@@ -416,7 +410,7 @@ void nodeFaces(const NodeFaceContext& ctx, int32_t node, std::vector<Winding> fr
     std::vector<Winding> pieces;
     for (std::vector<Winding>& portal : portals)
       for (Winding& w : portal) pieces.push_back(std::move(w));
-    for (Winding& w : mergeNodeFaces(ctx.scene, ctx.leaves, pieces, surface.normal)) faces.push_back(std::move(w));
+    for (Winding& w : mergeNodeFaces(ctx.scene, tree, pieces, surface.normal)) faces.push_back(std::move(w));
     return;
   }
   std::vector<Winding> front, back;
@@ -432,8 +426,7 @@ std::vector<Winding> compilerFaces(const Scene& scene, const std::vector<uint32_
   const Face& surface = scene.faces[sides.front()];
   if (surface.brush < contents.size() && contents[surface.brush] != BrushContents::Empty && !world.nodes().empty()) {
     std::vector<Winding> faces;
-    const LeafContents leaves{world.fillers()};
-    nodeFaces({scene, leaves, world, surface.plane}, 0, fragments, faces);
+    nodeFaces({scene, world, surface.plane}, 0, fragments, faces);
     return faces;
   }
   return surfaceTreeFaces(scene, sides, fragments, contents);
