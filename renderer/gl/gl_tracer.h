@@ -79,7 +79,8 @@ struct GlLighting {
 };
 
 // The parts of a level's faithful programs (and the liquid CSG, which physical ones take too):
-// its LightKinds', what its lights need, and its liquid CSG and rule from inside.
+// its LightKinds', what its lights need, and its LevelParts (the liquid CSG, the rule from
+// inside, Quake 2's glass).
 FaithfulFeatures faithfulFeatures(const GlLighting& lighting);
 
 struct BeautySettings {
