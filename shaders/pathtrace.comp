@@ -385,6 +385,13 @@ bool faithfulPathEnd(inout Path path, inout Rng rng) {
   return false;
 }
 
+// Whether a sun's ray that reached the sky reached one the sun shines through: with
+// `_suntexture` (skyMaterial 1 + its material) only sky faces of that texture, not the level's
+// outside (lighting reachesSky); 0 is any sky.
+bool sunSeesItsSky(uint skyMaterial, uint face) {
+  return skyMaterial == 0u || (face != NO_FACE && faces[face].material + 1u == skyMaterial);
+}
+
 #include "liquids.glsl" // faithfulBehindLiquid, physicalPassesLiquid
 // ---- physical mode ---------------------------------------------------------------------
 
@@ -409,8 +416,7 @@ bool physicalSunRay(inout Path path, GpuLight light, inout Rng rng) {
 // lighting reachesSky). The ray's sun is the fixed list's entry before `lightIndex` (nextLightRay); read
 // here, once the ray is back, so that the path carries nothing more across the trace.
 bool physicalSunSeesItsSky(uint lightIndex, uint face) {
-  uint skyMaterial = lights[lightIndices[lightIndex - 1u]].skyMaterial;
-  return skyMaterial == 0u || (face != NO_FACE && faces[face].material + 1u == skyMaterial);
+  return sunSeesItsSky(lights[lightIndices[lightIndex - 1u]].skyMaterial, face);
 }
 
 // One point light picked by light selection (light_select.glsl), divided by the probability
@@ -635,6 +641,12 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     if (SKY_RAYS && path.kind == RAY_SKY) {
       bool reached = !gaveUp && (hit.face == NO_FACE || (flags & FACE_SKY) != 0u);
       if (PHYSICAL && reached) reached = physicalSunSeesItsSky(path.lightIndex, hit.face);
+#ifdef BT_FAITHFUL_SKY
+      // The ray's light is the list entry before lightIndex (nextLightRay), in the cell of the
+      // point it left, read once the ray is back so that the path carries nothing more.
+      if (!PHYSICAL && reached)
+        reached = sunSeesItsSky(lights[faithfulLight(lightGridCell(path.position), path.lightIndex - 1u)].skyMaterial, hit.face);
+#endif
       if (reached) {
         if (PHYSICAL) path.radiance += path.throughput * path.pending;
         NEGATIVE_ONLY(else if (path.pendingIsNegative) path.lightNegative += path.pending;)

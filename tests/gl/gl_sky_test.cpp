@@ -73,6 +73,21 @@ TEST(GlSky, PhysicalSunShinesOnlyThroughItsSkyTexture) {
   EXPECT_LT(west, 0.2 * east);
 }
 
+// The same room in faithful mode's per-pixel light (`--luxels off`): the compiler's sun with
+// `_suntexture` lights only the floor under `sky_b`, on the GPU as on the CPU (faithful mode has
+// no bounce here, so the floor under `sky_a` gets nothing but the sky's own texture around it).
+TEST(GlSky, FaithfulSunShinesOnlyThroughItsSkyTexture) {
+  const test::CpuAndGl r = test::renderCpuAndGl(test::twoSkiesRoom(), LightingMode::Faithful, kWidth, kHeight);
+  expectSkyAgrees(r, 0.01);
+  double west = 0.0, east = 0.0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth / 3; ++x) {
+      west += r.cpu.beauty[size_t(y) * kWidth + x].x;
+      east += r.cpu.beauty[size_t(y) * kWidth + kWidth - 1 - x].x;
+    }
+  EXPECT_LT(west, 0.2 * east);
+}
+
 // The sky box's six images reach the GPU as materials no face uses (on either texture path).
 TEST(GlSky, SkyBoxMatchesTheCpu) {
   const Scene scene = importScene((test::mapsDir() / "sky" / "id1/maps/sky_box.map").string(), ImportOptions{});
