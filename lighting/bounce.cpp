@@ -14,11 +14,13 @@
 #include <glm/matrix.hpp>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <span>
 #include <string>
 
@@ -33,6 +35,8 @@ constexpr double kMinBounceArea = 1.0;                               // bounce.c
 constexpr size_t kMaxFragmentsToSplit = 256;                         // see bounceFaces
 constexpr uint32_t kBounceSeed = 0x626f756eu;                        // the sampling's own random stream
 constexpr float kOccluded = std::numeric_limits<float>::quiet_NaN(); // a luxel the compiler leaves unlit
+constexpr double kPointEqualEpsilon = 0.05; // mathlib.hh POINT_EQUAL_EPSILON: on an edge counts as inside, and as behind it
+constexpr int kMaxNeighbourSteps = 3;       // CalcPointNormal's recursion depth
 
 dvec3 vertexMean(const std::vector<dvec3>& w) {
   dvec3 sum(0.0);
@@ -40,10 +44,90 @@ dvec3 vertexMean(const std::vector<dvec3>& w) {
   return sum / double(w.size());
 }
 
-// The compiler's luxel centres of one face, pulled onto it and lifted 1 unit off it (where the
-// compiler samples: a spotlight's cone edge falls on other luxels there): its texture-space extents (in float,
-// as the compiler computes them) floored/ceiled to 16 texels, one luxel every 16 texels.
-std::vector<glm::vec3> luxelPoints(const Face& face, const std::vector<dvec3>& polygon) {
+// Face_EdgeIndexSmoothed without phong shading: across each edge of each bounce face, the bounce
+// face of the same plane and side that has the same edge the other way round (qbsp's T-junction
+// fix and subdivision leave neighbours sharing their edges exactly), or -1. Edges are matched on
+// their end points rounded to 1/256 unit.
+std::vector<std::vector<int32_t>> coplanarNeighbours(const Scene& scene, const std::vector<BounceFace>& faces) {
+  using Key = std::array<int64_t, 10>;
+  auto q = [](double v, double scale) { return int64_t(std::llround(v * scale)); };
+  auto keyOf = [&](const Plane& plane, const dvec3& a, const dvec3& b) {
+    return Key{q(plane.normal.x, 1e4), q(plane.normal.y, 1e4), q(plane.normal.z, 1e4), q(plane.dist, 256.0), q(a.x, 256.0),
+               q(a.y, 256.0),          q(a.z, 256.0),          q(b.x, 256.0),          q(b.y, 256.0),        q(b.z, 256.0)};
+  };
+  std::map<Key, int32_t> edges;
+  for (size_t i = 0; i < faces.size(); ++i) {
+    const Winding& w = faces[i].polygon;
+    for (size_t k = 0; k < w.size(); ++k) edges.emplace(keyOf(scene.faces[faces[i].face].plane, w[k], w[(k + 1) % w.size()]), int32_t(i));
+  }
+  std::vector<std::vector<int32_t>> out(faces.size());
+  for (size_t i = 0; i < faces.size(); ++i) {
+    const Winding& w = faces[i].polygon;
+    out[i].assign(w.size(), -1);
+    for (size_t k = 0; k < w.size(); ++k)
+      if (const auto it = edges.find(keyOf(scene.faces[faces[i].face].plane, w[(k + 1) % w.size()], w[k]));
+          it != edges.end() && it->second != int32_t(i))
+        out[i][k] = it->second;
+  }
+  return out;
+}
+
+// A luxel's sample point (lifted off its face) and the bounce face it lies on; NaN: occluded.
+struct LuxelPoint {
+  glm::vec3 p{kOccluded};
+  uint32_t face = 0;
+};
+
+// Where the compiler samples grid point p (on the plane of bounce face `start`), ltface.cc
+// CalcPointNormal without phong shading: p itself inside the face; outside it, on the coplanar
+// neighbour across the edge p lies behind (the one p is least past the end points of), up to 3
+// faces on; else snapped onto the last face's boundary when that is at most a luxel of the first
+// face's grid away, else occluded (no light, but one of the face's luxels). A T-junction fan's
+// luxels so take their light where they lie, on the fan's other pieces.
+LuxelPoint compilerLuxelPoint(const Scene& scene, const std::vector<BounceFace>& faces, const std::vector<std::vector<int32_t>>& neighbours,
+                              uint32_t start, dvec3 p) {
+  uint32_t at = start;
+  for (int depth = 0;; ++depth) {
+    const Winding& w = faces[at].polygon;
+    const dvec3 n = scene.faces[faces[at].face].plane.normal;
+    dvec3 area(0.0);
+    for (size_t k = 0; k < w.size(); ++k) area += glm::cross(w[k], w[(k + 1) % w.size()]);
+    const double wound = glm::dot(area, n) < 0.0 ? -1.0 : 1.0;
+    double inside = std::numeric_limits<double>::infinity(), bestPast = std::numeric_limits<double>::infinity();
+    int best = -1;
+    for (size_t k = 0; k < w.size(); ++k) {
+      const dvec3 a = w[k], edge = w[(k + 1) % w.size()] - a;
+      const double length = glm::length(edge);
+      if (!(length > 0.0)) continue;
+      const double above = glm::dot(p - a, wound * glm::cross(n, edge) / length);
+      inside = std::min(inside, above);
+      if (above >= kPointEqualEpsilon) continue;
+      // FractionOfLine, and how far p lies past the edge's end points along it (t x length past
+      // the far end, as the compiler measures it).
+      const double t = glm::dot(p - a, edge) / (length * length);
+      const double past = t < 0.0 ? -t * length : t > 1.0 ? t * length : 0.0;
+      if (past < bestPast) bestPast = past, best = int(k);
+    }
+    if (inside >= -kPointEqualEpsilon) return {glm::vec3(p + n * kSampleLift), at};
+    if (best >= 0 && depth < kMaxNeighbourSteps && neighbours[at][size_t(best)] >= 0) {
+      at = uint32_t(neighbours[at][size_t(best)]);
+      continue;
+    }
+    const dvec3 q = nearestOnPolygon(w, n, p);
+    const TextureFrame& frame = scene.faces[faces[start].face].frame;
+    const double away = glm::length(glm::dvec2(frame.s(q) - frame.s(p), frame.t(q) - frame.t(p))) / kLuxelTexels;
+    if (away > 1.0) return {};
+    return {glm::vec3(q + n * kSampleLift), at};
+  }
+}
+
+// The compiler's luxel grid of bounce face i: its texture-space extents (in float, as the
+// compiler computes them) floored/ceiled to 16 texels, one luxel every 16 texels, each placed as
+// compilerLuxelPoint places it.
+std::vector<LuxelPoint> luxelPoints(const Scene& scene, const std::vector<BounceFace>& faces,
+                                    const std::vector<std::vector<int32_t>>& neighbours, uint32_t i) {
+  const Face& face = scene.faces[faces[i].face];
+  const std::vector<dvec3>& polygon = faces[i].polygon;
   const TextureFrame& frame = face.frame;
   float lo[2] = {1e30f, 1e30f}, hi[2] = {-1e30f, -1e30f};
   for (const dvec3& v : polygon) {
@@ -59,17 +143,17 @@ std::vector<glm::vec3> luxelPoints(const Face& face, const std::vector<dvec3>& p
   const dvec3 n = face.plane.normal;
   const glm::dmat3 toTexture = glm::transpose(glm::dmat3(frame.tangent, frame.bitangent, n));
   const double det = glm::determinant(toTexture);
-  if (!(std::abs(det) > 1e-12)) return {glm::vec3(vertexMean(polygon))};
+  if (!(std::abs(det) > 1e-12)) return {LuxelPoint{glm::vec3(vertexMean(polygon)), i}};
   const glm::dmat3 toWorld = glm::inverse(toTexture);
   const double height = face.plane.dist - glm::dot(n, frame.origin);
   // Every luxel: a subset misses a spotlight's bright patch (deprecated/nobounce's pillars), and
   // qbsp's subdivision keeps a face within 17 x 17 luxels.
-  std::vector<glm::vec3> points;
+  std::vector<LuxelPoint> points;
   points.reserve(size_t(count[0]) * size_t(count[1]));
   for (int t = 0; t < count[1]; ++t)
     for (int s = 0; s < count[0]; ++s) {
       const dvec3 st((first[0] + s) * double(kLuxelTexels), (first[1] + t) * double(kLuxelTexels), height);
-      points.push_back(glm::vec3(nearestOnPolygon(polygon, n, frame.origin + toWorld * st) + n * kSampleLift));
+      points.push_back(compilerLuxelPoint(scene, faces, neighbours, i, frame.origin + toWorld * st));
     }
   return points;
 }
@@ -286,7 +370,7 @@ namespace {
 // `_dirtmode 0`'s occlusion at a luxel is a fixed function of the point (its 48 rays draw no
 // random numbers): once cast, its rays serve every later pass that samples the luxel (NaN: not
 // cast yet). `_dirtmode 1` draws them from the pass's own numbers: cast again (none kept).
-std::vector<std::vector<float>> reusableDirtOcclusion(const RenderScene& rs, const std::vector<std::vector<glm::vec3>>& luxels,
+std::vector<std::vector<float>> reusableDirtOcclusion(const RenderScene& rs, const std::vector<std::vector<LuxelPoint>>& luxels,
                                                       const BounceBudget& budget) {
   const DirtSettings& dirt = rs.world.dirtSettings;
   std::vector<std::vector<float>> occlusion;
@@ -302,8 +386,9 @@ BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushCont
   BounceLights out;
   if (rs.world.bounces <= 0) return out;
   const std::vector<BounceFace> faces = bounceFaces(rs, contents, budget.threads);
-  std::vector<std::vector<glm::vec3>> luxels(faces.size());
-  parallelFor(faces.size(), budget.threads, [&](size_t i) { luxels[i] = luxelPoints(rs.scene->faces[faces[i].face], faces[i].polygon); });
+  const std::vector<std::vector<int32_t>> neighbours = coplanarNeighbours(*rs.scene, faces);
+  std::vector<std::vector<LuxelPoint>> luxels(faces.size());
+  parallelFor(faces.size(), budget.threads, [&](size_t i) { luxels[i] = luxelPoints(*rs.scene, faces, neighbours, uint32_t(i)); });
   // Where the compiler samples a luxel: a point in (or at) a solid moves out of it as the compiler
   // moves it, or is occluded (PositionSamplePointOnFace). Without this the luxels along a face's
   // edge, which lie on the plane of the wall beside it, see the lights behind that wall (the
@@ -313,12 +398,13 @@ BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushCont
   std::vector<std::vector<uint8_t>> placed(faces.size());
   for (size_t i = 0; i < faces.size(); ++i) placed[i].assign(luxels[i].size(), 0);
   auto samplePoint = [&](size_t i, size_t k) -> const glm::vec3& {
-    glm::vec3& p = luxels[i][k];
-    if (!placed[i][k])
-      p = compilerSamplePoint(rs, contents, voids, faces[i].face, dvec3(p)).value_or(glm::vec3(kOccluded)), placed[i][k] = 1;
-    return p;
+    LuxelPoint& l = luxels[i][k];
+    if (!placed[i][k] && !std::isnan(l.p.x))
+      l.p = compilerSamplePoint(rs, contents, voids, faces[l.face].face, dvec3(l.p)).value_or(glm::vec3(kOccluded));
+    placed[i][k] = 1;
+    return l.p;
   };
-  for (const std::vector<glm::vec3>& points : luxels) out.luxels += points.size();
+  for (const std::vector<LuxelPoint>& points : luxels) out.luxels += points.size();
   out.sampledLuxels = out.luxels;
   // Each material's mean colour once, not once per face and pass.
   const Scene& scene = *rs.scene;
@@ -346,7 +432,7 @@ BounceLights makeBounceLights(const RenderScene& rs, const std::vector<BrushCont
       const BounceFace& face = faces[i];
       const glm::vec3 n(rs.scene->faces[face.face].plane.normal);
       const bool twoSided = rs.faceFlags[face.face] & kFaceLiquid;
-      const std::vector<glm::vec3>& points = luxels[i];
+      const std::vector<LuxelPoint>& points = luxels[i];
       // The compiler's light cull without vis data dims what a face bounces as it dims its luxels.
       const GpuVisBox box = polygonBounds(face.polygon);
       const VisCull cull{rs.visBoxes.empty() ? nullptr : &box, rs.visBoxes.data()}; // buildRenderScene computed them first

@@ -19,8 +19,10 @@
 // except `_surface` template faces and the brush entities with `_bounce -1`. The faces are the
 // compiler's (surface_lights.h compiledFacePolygons; a side cut into more than 256 fragments keeps
 // its fragments, see bounceFaces); the mean direct light is sampled on their luxel grid (16
-// texels), each luxel pulled onto the face as the compiler pulls its edge luxels, and moved out
-// of a solid it lies in (or counted dark) as the compiler moves it. A large level
+// texels), each luxel placed as the compiler places it (CalcPointNormal: a luxel off the face
+// lies on the coplanar bounce face across the edge it is behind, up to 3 faces on, else is
+// snapped onto the face within a luxel or counted dark), and moved out of a solid it lies in (or
+// counted dark) as the compiler moves it. A large level
 // samples a subset of the luxels and merges the lights it makes (BounceBudget).
 #pragma once
 
