@@ -69,10 +69,18 @@ void addGridPoints(const Winding& compiledFace, const dvec3& normal, const Surfa
   }
 }
 
-// The Q1 kind on a polygon rebuilt from the .map: qbsp's 240-texel subdivision first.
-void addGridLights(const Face& face, const Winding& fragment, const SurfaceTemplate& t, std::vector<GpuLight>& out) {
+// The Q1 kind on a polygon rebuilt from the .map: points on the 128-unit grid of each face qbsp makes of `fragment` (its 240-texel
+// subdivision, then, where `tjunc` is given, its T-junction fix against the world's vertices).
+void addGridLights(const Face& face, const Winding& fragment, const SurfaceTemplate& t, const TJunctionVertices* tjunc, uint32_t group,
+                   std::vector<GpuLight>& out) {
   std::vector<Winding> qbspPieces;
   subdivideForQbsp(fragment, face.frame, qbspPieces);
+  if (tjunc) {
+    std::vector<Winding> fixed;
+    for (const Winding& w : qbspPieces)
+      for (const Winding& piece : fixTJunctions(w, group, *tjunc)) fixed.push_back(withoutColinearPoints(piece));
+    qbspPieces = std::move(fixed);
+  }
   for (const Winding& qbspPiece : qbspPieces) {
     addGridPoints(qbspPiece, face.plane.normal, t, out);
     if (out.size() > kMaxSurfaceLights) return; // the caller cuts the list and says so
@@ -168,6 +176,24 @@ static std::vector<GpuLight> compiledFaceLights(const Scene& scene, const std::v
   return lights;
 }
 
+namespace {
+
+// The vertices of every world face qbsp writes with `tree` (the ones that look into the void
+// removed), for its T-junction fix.
+TJunctionVertices worldVertices(const Scene& scene, const std::vector<BrushContents>& contents, const QbspTree& tree,
+                                const VoidTest& voids) {
+  TJunctionVertices vertices;
+  for (uint32_t f = 0; f < scene.faces.size(); ++f) {
+    const uint32_t b = scene.faces[f].brush;
+    if (b >= contents.size() || contents[b] == BrushContents::Empty) continue;
+    for (const Winding& w : compiledFacePolygons(scene, f, contents, tree))
+      if (!voids.inVoid(vertexMean(w) + scene.faces[f].plane.normal * kVoidProbeDistance)) vertices.add(w, weldGroup(scene, contents, b));
+  }
+  return vertices;
+}
+
+} // namespace
+
 std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
                                           const std::vector<BrushContents>& contents, const QbspTree& worldTree, const WorldLighting& world,
                                           const TraceScene& tracer, Diagnostics& diagnostics) {
@@ -209,10 +235,16 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
       for (Winding& w : fragments) it->polygons.push_back(std::move(w));
     }
   }
+  const VoidTest inVoid = voidTest.get();
+  // A Quake 1 template's faces are cut by the compiler's tree of the whole world
+  // (quake1WorldTree), then at their T-junctions; Quake 2's tree is the one the caller gives.
+  const QbspTree quake1Tree = gameOf(scene) == Game::Quake ? quake1WorldTree(scene, contents, inVoid) : QbspTree();
+  const QbspTree& tree = quake1Tree.nodes().empty() ? worldTree : quake1Tree;
   // Each surface's faces depend on nothing else: the surfaces are shared among threads.
   parallelFor(surfaces.size(), 0,
-              [&](size_t i) { surfaces[i].polygons = compilerFaces(scene, surfaces[i].sides, surfaces[i].polygons, contents, worldTree); });
-  const VoidTest inVoid = voidTest.get();
+              [&](size_t i) { surfaces[i].polygons = compilerFaces(scene, surfaces[i].sides, surfaces[i].polygons, contents, tree); });
+  const std::optional<TJunctionVertices> tjunctions =
+      quake1Tree.nodes().empty() ? std::nullopt : std::optional(worldVertices(scene, contents, quake1Tree, inVoid));
 
   std::vector<GpuLight> lights;
   for (const Surface& surface : surfaces) {
@@ -222,7 +254,7 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
     for (const Winding& polygon : surface.polygons) {
       if (inVoid.inVoid(centroid(polygon) + face.plane.normal * kVoidProbeDistance)) continue;
       if (!t.radiosity) {
-        addGridLights(face, polygon, t, lights);
+        addGridLights(face, polygon, t, tjunctions ? &*tjunctions : nullptr, weldGroup(scene, contents, face.brush), lights);
       } else {
         addRadiosityLight(scene, face, polygon, t, world, lights);
         // qbsp gives a liquid surface a second face looking into the liquid; the Q1 kind skips
