@@ -69,8 +69,9 @@ void addGridPoints(const Winding& compiledFace, const dvec3& normal, const Surfa
   }
 }
 
-// The Q1 kind on a polygon rebuilt from the .map: points on the 128-unit grid of each face qbsp makes of `fragment` (its 240-texel
-// subdivision, then, where `tjunc` is given, its T-junction fix against the world's vertices).
+// The Q1 kind on a polygon rebuilt from the .map: points on the 128-unit grid of each face qbsp
+// makes of `fragment` (its 240-texel subdivision, then, where `tjunc` is given, its T-junction
+// fix against the world's vertices, `group` the polygon's weld group).
 void addGridLights(const Face& face, const Winding& fragment, const SurfaceTemplate& t, const TJunctionVertices* tjunc, uint32_t group,
                    std::vector<GpuLight>& out) {
   std::vector<Winding> qbspPieces;
