@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -179,14 +180,21 @@ static std::vector<GpuLight> compiledFaceLights(const Scene& scene, const std::v
 
 namespace {
 
-// The vertices of every world face qbsp writes with `tree` (the ones that look into the void
-// removed), for its T-junction fix.
-TJunctionVertices worldVertices(const Scene& scene, const std::vector<BrushContents>& contents, const QbspTree& tree,
-                                const VoidTest& voids) {
+// The vertices of the world faces qbsp writes with `tree` that reach some box of `near` (the
+// ones that look into the void removed), for its T-junction fix of the faces in those boxes: a
+// face far from them puts no vertex on their edges.
+TJunctionVertices worldVertices(const Scene& scene, const std::vector<BrushContents>& contents, const QbspTree& tree, const VoidTest& voids,
+                                const std::vector<Bounds>& near) {
   TJunctionVertices vertices;
   for (uint32_t f = 0; f < scene.faces.size(); ++f) {
     const uint32_t b = scene.faces[f].brush;
     if (b >= contents.size() || contents[b] == BrushContents::Empty) continue;
+    Bounds bounds;
+    for (const dvec3& p : scene.faces[f].winding) bounds.grow(p);
+    auto touches = [&](const Bounds& n) {
+      return glm::all(glm::lessThanEqual(n.min, bounds.max)) && glm::all(glm::lessThanEqual(bounds.min, n.max));
+    };
+    if (std::none_of(near.begin(), near.end(), touches)) continue;
     for (const Winding& w : compiledFacePolygons(scene, f, contents, tree))
       if (!voids.inVoid(vertexMean(w) + scene.faces[f].plane.normal * kVoidProbeDistance)) vertices.add(w, weldGroup(scene, contents, b));
   }
@@ -244,8 +252,17 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
   // Each surface's faces depend on nothing else: the surfaces are shared among threads.
   parallelFor(surfaces.size(), 0,
               [&](size_t i) { surfaces[i].polygons = compilerFaces(scene, surfaces[i].sides, surfaces[i].polygons, contents, tree); });
-  const std::optional<TJunctionVertices> tjunctions =
-      quake1Tree.nodes().empty() ? std::nullopt : std::optional(worldVertices(scene, contents, quake1Tree, inVoid));
+  std::optional<TJunctionVertices> tjunctions;
+  if (!quake1Tree.nodes().empty()) {
+    std::vector<Bounds> near;
+    for (const Surface& surface : surfaces)
+      for (const Winding& w : surface.polygons) {
+        Bounds b;
+        for (const dvec3& p : w) b.grow(p);
+        near.push_back(Bounds{b.min - dvec3(kOnPlaneEpsilon), b.max + dvec3(kOnPlaneEpsilon)});
+      }
+    tjunctions = worldVertices(scene, contents, quake1Tree, inVoid, near);
+  }
 
   std::vector<GpuLight> lights;
   for (const Surface& surface : surfaces) {
