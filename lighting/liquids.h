@@ -51,15 +51,8 @@ inline glm::vec3 behindWeight(const LiquidBlend& b, const glm::vec3& surfaceSrgb
 // Physical mode's: the same with GpuMaterial::physicalOpacity. Quake 3's additive and filter
 // blends have physicalOpacity 0: the ray always passes, adding liquidAddedRadiance and taking
 // liquidTint.
-// `camera`: the camera's own ray (before any bounce), which sees a liquid at the opacity the game
-// draws it with (`opacity`: r_wateralpha's default 1 is opaque; the level's alpha where it sets
-// one), as faithful mode shows it; light that crosses it after a bounce keeps physicalOpacity.
-// Additive and filter blends keep theirs (crossed) for the camera too. GLSL
-// physicalPassesLiquid (shaders/liquids.glsl) takes the same.
-inline LiquidBlend physicalLiquidBlend(const GpuMaterial& m, bool camera = false) {
-  const bool engineOpacity = camera && !(m.flags & (kMaterialBlendAdd | kMaterialBlendFilter));
-  const float opacity = engineOpacity ? m.opacity : m.physicalOpacity;
-  return {opacity, 1.0f - opacity};
+inline LiquidBlend physicalLiquidBlend(const GpuMaterial& m) {
+  return {m.physicalOpacity, 1.0f - m.physicalOpacity};
 }
 
 // Physical mode's default opacity of a liquid the level leaves opaque: water lets half the

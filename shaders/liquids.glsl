@@ -41,14 +41,11 @@ bool passOn(inout Path path, float t) {
 }
 
 // A surface ray's hit on a translucent liquid (renderer/cpu radiancePhysical): drawn with
-// probability self / (self + behind) of physical mode's opacity (the camera's ray: the game's,
-// m.opacity, but for additive and filter blends), else passed (true) and tinted; weighted by
-// self + behind. An additive one (opacity 0) is always passed and adds its light.
+// probability self / (self + behind) of physical mode's opacity, else passed (true) and tinted;
+// weighted by self + behind. An additive one (opacity 0) is always passed and adds its light.
 bool physicalPassesLiquid(inout Path path, uint face, inout Rng rng) {
   GlMaterial m = materials[faces[face].material];
-  bool engineOpacity = path.depth == 0 && (m.flags & (MATERIAL_BLEND_ADD | MATERIAL_BLEND_FILTER)) == 0u;
-  float opacity = engineOpacity ? m.opacity : m.liquid.a;
-  vec2 blend = vec2(opacity, 1.0 - opacity); // physicalLiquidBlend
+  vec2 blend = vec2(m.liquid.a, 1.0 - m.liquid.a); // physicalLiquidBlend
   if (!(blend.y > 0.0)) return false;
   float total = blend.x + blend.y;
   path.throughput *= total;

@@ -163,10 +163,9 @@ LiquidBlend surfaceBlend(const RenderScene& rs, const SurfaceHit& hit) {
   return hit.found ? engineBlend(rs, hit.face) : LiquidBlend{};
 }
 
-// `camera`: the camera's own ray, which sees liquids at the game's opacity (liquids.h).
-LiquidBlend physicalSurfaceBlend(const RenderScene& rs, const SurfaceHit& hit, bool camera) {
+LiquidBlend physicalSurfaceBlend(const RenderScene& rs, const SurfaceHit& hit) {
   if (!hit.found || !(rs.faceFlags[hit.face] & kFaceLiquid)) return {};
-  return physicalLiquidBlend(rs.materials[gpuFace(rs, hit.face).material], camera);
+  return physicalLiquidBlend(rs.materials[gpuFace(rs, hit.face).material]);
 }
 
 // The camera ray's surface as the game draws it, and where it is a translucent liquid or Quake 2's
@@ -460,11 +459,9 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
   for (int depth = 0;; ++depth) {
     SurfaceHit hit = traceVisible(rs, ray);
     // A translucent liquid is drawn with probability self / (self + behind), else the ray goes
-    // on behind it; weighted by self + behind, the mean is the engine's blend (physical opacity;
-    // the game's own for the camera's ray).
+    // on behind it; weighted by self + behind, the mean is the engine's blend (physical opacity).
     // Light that crosses it takes the liquid's tint (lighting/liquids.h liquidTint).
-    for (LiquidBlend blend = physicalSurfaceBlend(rs, hit, depth == 0); blend.behind > 0.0f;
-         blend = physicalSurfaceBlend(rs, hit, depth == 0)) {
+    for (LiquidBlend blend = physicalSurfaceBlend(rs, hit); blend.behind > 0.0f; blend = physicalSurfaceBlend(rs, hit)) {
       const float total = blend.self + blend.behind;
       throughput *= total;
       if (rng.next() * total < blend.self) break;
