@@ -20,6 +20,30 @@ glm::vec3 fibonacciDirection(int i, int n) {
   return {r * std::cos(phi), r * std::sin(phi), z};
 }
 
+// The rays' directions: the spiral's kLandingRays directions that fall in the wedge 0 <= y < x,
+// z > 0 (a sixteenth of the sphere), each copied by the sixteen mirrorings and x <-> y swaps,
+// so that a level mirrored along an axis or turned by 90 degrees about z matches its lights
+// alike (the spiral itself has no such symmetry: a light's intensity moved by 3 % between the
+// mirrored halves of a symmetric room).
+const std::vector<glm::vec3>& landingDirections() {
+  static const std::vector<glm::vec3> directions = [] {
+    std::vector<glm::vec3> out;
+    for (int i = 0; i < kLandingRays; ++i) {
+      const glm::vec3 d = fibonacciDirection(i, kLandingRays);
+      if (!(d.z > 0.0f && d.y >= 0.0f && d.y < d.x)) continue;
+      for (int m = 0; m < 16; ++m) {
+        glm::vec3 e = (m & 8) ? glm::vec3(d.y, d.x, d.z) : d;
+        if (m & 1) e.x = -e.x;
+        if (m & 2) e.y = -e.y;
+        if (m & 4) e.z = -e.z;
+        out.push_back(e);
+      }
+    }
+    return out;
+  }();
+  return directions;
+}
+
 // Faces a light's ray goes on through: liquids and faces that cast no shadow (the compiler lights
 // what lies beyond them), and faces never drawn.
 bool passesThrough(const RenderScene& rs, uint32_t face) {
@@ -56,9 +80,8 @@ bool matchedWhereItLands(const GpuLight& light) {
 std::vector<Landing> landings(const RenderScene& rs, const GpuLight& light) {
   const float r = reach(light, rs.world.scaledist);
   std::vector<Landing> out;
-  out.reserve(kLandingRays);
-  for (int i = 0; i < kLandingRays; ++i) {
-    const glm::vec3 dir = fibonacciDirection(i, kLandingRays);
+  out.reserve(landingDirections().size());
+  for (const glm::vec3& dir : landingDirections()) {
     if (faithful::spotTerm(light, -dir) == 0.0f) continue; // outside a spotlight's cone
     if (const std::optional<Landing> l = land(rs, light.origin, dir, r)) out.push_back(*l);
   }

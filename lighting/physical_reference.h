@@ -19,8 +19,9 @@ struct RenderScene;
 
 namespace bt::physical {
 
-// Rays cast from each light to find where its light lands: directions of a Fibonacci sphere (the
-// same for every light, no randomness), those outside a spotlight's cone left out.
+// Rays cast from each light to find where its light lands: the directions of a Fibonacci sphere
+// of this many that lie in a sixteenth of the sphere, copied by its mirrorings and x <-> y swaps
+// (256 rays; the same for every light, no randomness), those outside a spotlight's cone left out.
 inline constexpr int kLandingRays = 256;
 // The nearest a landing counts as (the inverse formulas' hot spots; a light nudged off a face is
 // a unit or two from it).
@@ -40,7 +41,7 @@ struct Landing {
 // lights).
 bool matchedWhereItLands(const GpuLight& light);
 
-// Where each of the kLandingRays rays from the light meets its first surface within the light's
+// Where each of the rays from the light meets its first surface within the light's
 // reach; sky and the void do not count, liquids and faces that cast no shadow are passed through
 // (the compiler lights what lies beyond them).
 std::vector<Landing> landings(const RenderScene& rs, const GpuLight& light);

@@ -427,10 +427,11 @@ TEST(PhysicalRender, EachFormulaMatchesTheCompiledLightAtItsMatchDistance) {
 
 // A level's Quake light is matched over the surfaces its light lands on (lighting/README.md,
 // "Physical mode"; lighting/physical_reference.h), written out again here for `light 300` 80
-// units over the floor: of 256 directions of a Fibonacci sphere, those that reach the floor
+// units over the floor: of the 256 directions of a Fibonacci sphere, the 16 in the wedge
+// 0 <= y < x, z > 0, each mirrored and swapped into 16, 8 of them down; those that reach the floor
 // within the light's reach of 300 land at d = 80 / cos; each counts the compiler's (300 - d) x
 // (0.5 + 0.5 cos) x d^2 / cos (d at least 16, cos at least 0.2) against physical light's W(d),
-// and the intensity is the ratio of the sums: 1.57 times the fixed rule's here.
+// and the intensity is the ratio of the sums: 1.50 times the fixed rule's here.
 TEST(PhysicalRender, AQuakeLightIsMatchedOverTheSurfacesItsLightLandsOn) {
   test::BoxSceneBuilder b = floorScene();
   b.entity({{"classname", "light"}, {"origin", "0 0 80"}});
@@ -438,14 +439,19 @@ TEST(PhysicalRender, AQuakeLightIsMatchedOverTheSurfacesItsLightLandsOn) {
   Diagnostics diags;
   const RenderScene rs = buildRenderScene(scene, {}, diags);
   double compiled = 0.0, windowed = 0.0;
-  constexpr int kRays = 256;
-  for (int i = 0; i < kRays; ++i) {
-    const double z = 1.0 - (2.0 * i + 1.0) / kRays; // the spiral's height; its angle does not matter over a floor
-    if (z >= 0.0 || !(80.0 / -z < 300.0)) continue;
-    const double d = std::max(80.0 / -z, 16.0), cosine = std::max(-z, 0.2);
-    compiled += (300.0 - d) * (0.5 + 0.5 * cosine) / cosine * d * d;
-    windowed += karisWindow(d, 300.0);
+  constexpr int kSpiral = 256;
+  int wedge = 0;
+  for (int i = 0; i < kSpiral; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / kSpiral, r = std::sqrt(1.0 - z * z), phi = 2.39996322972865332 * i;
+    const double x = r * std::cos(phi), y = r * std::sin(phi);
+    if (!(z > 0.0 && y >= 0.0 && y < x)) continue;
+    ++wedge;
+    if (!(80.0 / z < 300.0)) continue;
+    const double d = std::max(80.0 / z, 16.0), cosine = std::max(z, 0.2);
+    compiled += 8.0 * (300.0 - d) * (0.5 + 0.5 * cosine) / cosine * d * d;
+    windowed += 8.0 * karisWindow(d, 300.0);
   }
+  ASSERT_EQ(wedge, 16);
   const double intensity = compiled / windowed;
   Rng rng = pixelRng(0, 0, 0, 0);
   const glm::vec3 l = radiance(rs, {LightingMode::Physical, 0}, downAt(60.0f, 0.0f), rng);
