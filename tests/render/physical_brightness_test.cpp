@@ -142,7 +142,7 @@ const std::map<std::string, const char*> kHeld = {
     {"ericw-tools/testmaps/deprecated/offgrid_before.map", kNearWall},                                      // 1.82
     {"ericw-tools/testmaps/deprecated/shadowself_shadow.map", "not analysed"},                              // 0.61
     {"ericw-tools/testmaps/deprecated/stairsteptest.map", "not analysed"},                                  // 0.60
-    {"ericw-tools/testmaps/deprecated/testrotators_bmodel.map", "nearly black in faithful mode (about 1e-4): not analysed"}, // 2.00
+    {"ericw-tools/testmaps/deprecated/testrotators_bmodel.map", "nearly black in faithful mode (about 1e-4): not analysed"}, // 2.12
     {"ericw-tools/testmaps/deprecated/testslime.map", "not analysed"},                                                       // 0.55
     {"ericw-tools/testmaps/deprecated/testsurfacelight.map", kSurface},                                                      // 0.17
     {"ericw-tools/testmaps/q1_extract_textures.map", kOpaqueWater},                                                          // 0.51
