@@ -2,7 +2,9 @@
 // mode", key by key): an inverse-square source whose light is windowed to zero where the
 // compiler's formula reaches zero (linear lights: `_falloff`, or `light` / (`wait` x `_dist`)) or
 // falls below kPhysicalReachThreshold (the inverse formulas), and whose intensity matches the
-// compiler's light at a reference distance. shaders/light_select.glsl computes the same.
+// compiler's light: over the surfaces its light lands on for Quake's point lights in a level
+// (lighting/physical_reference.h, which overwrites what prepare() below gives), else at the
+// reference distance matchDistance() gives. shaders/light_select.glsl computes the same.
 #pragma once
 
 #include "lighting/faithful.h"
@@ -43,8 +45,9 @@ inline float window(float dist, float reachDistance) {
   return w * w;
 }
 
-// The distance at which the physical light matches the compiled one: for a linear light 128
-// units (the formulas' unit, a typical distance from a Quake light to the walls it lights), or
+// The distance at which the physical light matches the compiled one where its landings are not
+// measured (physical_reference.h: q3map2's lights, lights listed by hand, none landing): for a
+// linear light 128 units (the formulas' unit, a typical distance from a Quake light to the walls it lights), or
 // half its reach (where the compiler gives half its value) where that is nearer: an inverse
 // square matched at half a long reach (low `wait`) is many times the compiler's light on the
 // walls near it; the formula's own unit (128 / (wait x `_dist`)) for the inverse formulas (where

@@ -3,6 +3,7 @@
 #include "lighting/game_rules.h"
 #include "lighting/liquids.h"
 #include "lighting/physical_light.h"
+#include "lighting/physical_reference.h"
 #include "lighting/q3map2_shader_light.h"
 #include "lighting/surface_lights.h"
 #include "lighting/vis_approx.h"
@@ -343,7 +344,9 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
     rs.lights.push_back(l);
   if (gameOf(scene) == Game::Quake3)
     for (const GpuLight& l : q3map2::shaderSurfaceLights(scene, contents, rs.tracer, diagnostics)) rs.lights.push_back(l);
-  for (GpuLight& l : rs.lights) physical::prepare(l, rs.world.scaledist);
+  // Physical mode's intensities, each Quake light matched over the surfaces its light lands on
+  // (after the tracer and the nudge off faces: the rays start where the light stands).
+  physical::prepareWhereTheyLand(rs, rs.lights);
   // Where the lights stand for good, before the bounce pass lights with them.
   const bool bounces = rs.world.bounces > 0 && options.bounceLights;
   using VisBoxes = RenderSceneOptions::VisBoxes;

@@ -165,10 +165,14 @@ GlSceneBuffers::GlSceneBuffers(const TraceScene& tracer, const std::vector<GlMat
 }
 
 void GlSceneBuffers::uploadLights(const std::vector<GpuLight>& lights, const LightGrid& grid, float scaledist) {
-  // buildRenderScene prepares its lights' physical terms; lights listed by hand (tests, tool
-  // authors) get them here. Preparing twice gives the same bytes.
+  // buildRenderScene prepares its lights' physical terms, each Quake light matched where its
+  // light lands (lighting/physical_reference.h), which only the level's rays can say: those are kept.
+  // Lights listed by hand (tests, tool authors) get matchDistance()'s rule here; a light is
+  // unprepared while its hue sum is 0 (prepare gives 1 to 3 to any colour; a black light emits
+  // nothing whatever its intensity).
   std::vector<GpuLight> prepared = lights;
-  for (GpuLight& l : prepared) physical::prepare(l, scaledist);
+  for (GpuLight& l : prepared)
+    if (l.physicalHueSum == 0.0f) physical::prepare(l, scaledist);
   upload(buffers_[kBindingLights], std::span<const GpuLight>(prepared));
   // Light selection: the grid header and its cells in one buffer, as light_select.glsl reads them.
   const auto* header = reinterpret_cast<const uint8_t*>(&grid.header);

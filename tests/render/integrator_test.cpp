@@ -1,6 +1,7 @@
 // Analytic scenes: a lit floor per light type and formula, against the value worked out by
 // hand (faithful mode) or the radiometric integral (physical mode), and a furnace.
 #include "scene/color.h"
+#include "lighting/physical_light.h"
 #include "quake/bspfile_q2.h"
 #include "renderer/camera.h"
 #include "renderer/cpu/cpu_renderer.h"
@@ -361,12 +362,20 @@ double karisWindow(double d, double reach) {
   return w * w;
 }
 
+// The fixed rule (physical::matchDistance): what a light listed by hand, or one whose light
+// lands nowhere, is matched by. buildRenderScene matches a level's Quake lights where their light
+// lands (the test after these two), so these prepare the level's light again by the fixed rule.
+void prepareByTheFixedRule(RenderScene& rs) {
+  for (GpuLight& l : rs.lights) physical::prepare(l, rs.world.scaledist);
+}
+
 TEST(PhysicalRender, PointLightInverseSquareWindowedAtItsReach) {
   test::BoxSceneBuilder b = floorScene();
   b.entity({{"classname", "light"}, {"origin", "0 0 80"}});
   const Scene scene = b.build();
   Diagnostics diags;
-  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  RenderScene rs = buildRenderScene(scene, {}, diags);
+  prepareByTheFixedRule(rs);
   Rng rng = pixelRng(0, 0, 0, 0);
   const glm::vec3 l = radiance(rs, {LightingMode::Physical, 0}, downAt(60.0f, 0.0f), rng);
   // `light 300`, linear: reach 300; it matches the compiler's 172 at 128 units, so
@@ -404,7 +413,8 @@ TEST(PhysicalRender, EachFormulaMatchesTheCompiledLightAtItsMatchDistance) {
     b.entity(keys);
     const Scene scene = b.build();
     Diagnostics diags;
-    const RenderScene rs = buildRenderScene(scene, {}, diags);
+    RenderScene rs = buildRenderScene(scene, {}, diags);
+    prepareByTheFixedRule(rs);
     Rng rng = pixelRng(0, 0, 0, 0);
     const glm::vec3 l = radiance(rs, {LightingMode::Physical, 0}, downAt(0.0f, 0.0f), rng);
     // The shadow ray leaves 0.03 units above the floor: the light is that much nearer (its window
@@ -413,6 +423,40 @@ TEST(PhysicalRender, EachFormulaMatchesTheCompiledLightAtItsMatchDistance) {
     const double expected = c.compiled * 0.5 * kDisplayMatch / 128.0 * nearer * nearer;
     EXPECT_NEAR(l.x, expected, 5e-4 * expected) << "delay " << c.delay << " wait " << c.wait << " _falloff " << c.falloff;
   }
+}
+
+// A level's Quake light is matched over the surfaces its light lands on (lighting/README.md,
+// "Physical mode"; lighting/physical_reference.h), written out again here for `light 300` 80
+// units over the floor: of the 256 directions of a Fibonacci sphere, the 16 in the wedge
+// 0 <= y < x, z > 0, each mirrored and swapped into 16, 8 of them down; those that reach the floor
+// within the light's reach of 300 land at d = 80 / cos; each counts the compiler's (300 - d) x
+// (0.5 + 0.5 cos) x d^2 / cos (d at least 16, cos at least 0.2) against physical light's W(d),
+// and the intensity is the ratio of the sums: 1.50 times the fixed rule's here.
+TEST(PhysicalRender, AQuakeLightIsMatchedOverTheSurfacesItsLightLandsOn) {
+  test::BoxSceneBuilder b = floorScene();
+  b.entity({{"classname", "light"}, {"origin", "0 0 80"}});
+  const Scene scene = b.build();
+  Diagnostics diags;
+  const RenderScene rs = buildRenderScene(scene, {}, diags);
+  double compiled = 0.0, windowed = 0.0;
+  constexpr int kSpiral = 256;
+  int wedge = 0;
+  for (int i = 0; i < kSpiral; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / kSpiral, r = std::sqrt(1.0 - z * z), phi = 2.39996322972865332 * i;
+    const double x = r * std::cos(phi), y = r * std::sin(phi);
+    if (!(z > 0.0 && y >= 0.0 && y < x)) continue;
+    ++wedge;
+    if (!(80.0 / z < 300.0)) continue;
+    const double d = std::max(80.0 / z, 16.0), cosine = std::max(z, 0.2);
+    compiled += 8.0 * (300.0 - d) * (0.5 + 0.5 * cosine) / cosine * d * d;
+    windowed += 8.0 * karisWindow(d, 300.0);
+  }
+  ASSERT_EQ(wedge, 16);
+  const double intensity = compiled / windowed;
+  Rng rng = pixelRng(0, 0, 0, 0);
+  const glm::vec3 l = radiance(rs, {LightingMode::Physical, 0}, downAt(60.0f, 0.0f), rng);
+  const double expected = intensity * 0.5 * kDisplayMatch / 128.0 * karisWindow(100.0, 300.0) * 0.8 / (100.0 * 100.0);
+  EXPECT_NEAR(l.x, expected, 1e-3 * expected);
 }
 
 // Worldspawn minlight in physical mode (lighting/README.md, "Physical mode"): what the camera sees

@@ -174,10 +174,17 @@ TEST(LightTree, PictureConvergesToTheExhaustiveLoopInEveryPixel) {
 // tree (1.67x measured; 2.2x while the uniform pick drew among all 600 lights). The means are not
 // compared: both estimators have long tails here (a pixel whose jitter lands next to a light),
 // and PictureConvergesToTheExhaustiveLoopInEveryPixel holds the tree's.
+//
+// The hall keeps the light its bar was set on: its lights matched by the fixed rule
+// (physical::matchDistance), not where their light lands (bright18d), which changes every
+// light's intensity and so the variance of both picks (the tree's 0.44x of the lists' there, at
+// these seeds; bench/README.md, issue 18's colour step, shows the ratio is the seeds' too).
 TEST(LightTree, LessNoisyThanTheNearListsInAHallOfManyLights) {
   constexpr double kNoiseFactor = 1.5;
   const Scene scene = test::manyLightsHall(600, 7); // rs points at it
-  const RenderScene rs = buildRs(scene);
+  RenderScene rs = buildRs(scene);
+  for (GpuLight& l : rs.lights) physical::prepare(l, rs.world.scaledist);
+  rs.lightGrid = buildLightGrid(rs.lights, rs.tracer.bounds(), rs.world.scaledist);
   ASSERT_GT(rs.lightGrid.physicalTree.size(), 1000u);
   const int width = 32, height = 16, spp = 48;
   const Camera camera(CameraPose{{-1950.0f, -150.0f, 150.0f}, 8.0f, 8.0f, 0.0f, "test"}, width, height);

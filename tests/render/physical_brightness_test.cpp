@@ -13,20 +13,14 @@
 // bounces and the default firefly clamp. Automatic exposure would hide any mismatch, so the
 // radiance itself is compared. A level both modes leave black (no light at all in view) agrees.
 //
-// DISABLED: it still fails, on real causes, and the bar is not to be loosened. Of the 149 Quake 1
-// levels this ../shared holds (under a minute here), 60 are black in both, 54 agree, 14 are
-// brighter in physical mode and 21 darker, none black in physical mode only (bench/README.md,
-// "Issue 18: faithful against physical brightness", after the display match, the 128-unit match
-// of linear lights, the camera's sky and unlit liquids, physical minlight, light colours
-// linearised, suns kept to their `_suntexture` and the sky lighting by its dome alone): 10 of the
-// 16 levels people play agree (e1m1 0.97, dm3 1.19), lq_e4m3 1.76, e4m8 2.34, dev 2.23, lq_e3m1
-// 0.38, lqdm13 0.40, lqdm5 0.60 do not. What is left is mostly the game's display: light
-// multiplied in gamma space is a power of the lightmap, which one linear scale matches at one
-// lightmap value only (bright, overbright levels are darker in physical mode, dim ones brighter;
-// the inverse square against linear lights far from and near to them), and liquids blended in
-// gamma space. Run it with
-// --gtest_also_run_disabled_tests; DISABLED_DiagnosticPrintsEachLevelsFigures prints each level's
-// figures with physical mode's direct light beside them.
+// Enabled with a held list (kHeld below): the levels that still fail, each with why, as far as
+// analysed; the bar is not loosened for them, and a held level that comes to agree fails the test
+// until it is taken off the list. Of the 149 Quake 1 levels this ../shared holds (about 25 s
+// here), 60 are black in both, 53 agree and 36 are held (bench/README.md, "Issue 18: faithful
+// against physical brightness", bright18d: each Quake light matched over the surfaces its light
+// lands on). Run
+// --gtest_also_run_disabled_tests --gtest_filter=*Diagnostic* for each level's figures with
+// physical mode's direct light beside them; BT_BRIGHTNESS_LEVELS=a,b runs a few levels.
 #include "importers/import.h"
 #include "lighting/game_rules.h"
 #include "renderer/cpu/cpu_renderer.h"
@@ -39,6 +33,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -123,18 +118,79 @@ template <class Fn> int forEachQuake1Level(const fs::path& shared, Fn fn) {
   return levels;
 }
 
-TEST(PhysicalBrightness, DISABLED_EverySharedQuake1LevelAgreesWithFaithfulWithinOneAndAHalf) {
+// Why each held level is left outside 1.5x (its ratio, physical / faithful, when it was held).
+const char* const kGammaBlend = "translucent water (_wateralpha 0.5) over an unlit void: the game blends in gamma space, "
+                                "srgbToLinear(0.5 t) = 0.22 t, physical light linearly, 0.5 t; one path cannot blend in gamma space";
+const char* const kDisplayPower = "the game's display is about L^2.2 of the lightmap, physical light linear, matched at one "
+                                  "lightmap value (k): a mostly overbright view is darker, a dim one brighter";
+const char* const kHotSpot = "strong lights near what they light: the compiler's luxels stop at 255, the inverse square does not";
+const char* const kSurface = "_surface templates: an area emitter in physical mode, the compiler's point lights in faithful mode";
+const char* const kUnmodelled = "a key neither mode models (_lightignore; _switchableshadow), so faithful is no reference here";
+const char* const kNearWall = "a light a few units from a face: the landing match counts its wall at 16 units and at grazing "
+                              "incidence; agreed under the fixed 128-unit match (0.79-0.94), not analysed further";
+const char* const kOpaqueWater = "water the game draws opaque (r_wateralpha 1) in view, physical mode at kPhysicalWaterOpacity "
+                                 "0.5 (issue 16); the camera at the game's opacity brought it in, but took pools.map's water "
+                                 "out of its documented colour range (bench/README.md, bright18d)";
+const std::map<std::string, const char*> kHeld = {
+    {"ericw-tools/testmaps/deprecated/bouncecolorscaletest.map", kHotSpot},                                 // 3.34: light 10000 delay 2
+    {"ericw-tools/testmaps/deprecated/calcpointstest.map", kHotSpot},                                       // 2.44: one delay 2 light
+    {"ericw-tools/testmaps/deprecated/dirttest2.map", "wait 0.3 linear light of long reach; not analysed"}, // 2.14 (1.67 before)
+    {"ericw-tools/testmaps/deprecated/falloff.map", kNearWall},                                             // 0.57
+    {"ericw-tools/testmaps/deprecated/glasstest.map", "not analysed"},                                      // 0.52
+    {"ericw-tools/testmaps/deprecated/light_near_wall.map", kNearWall},                                     // 0.63
+    {"ericw-tools/testmaps/deprecated/offgrid_after.map", kNearWall},                                       // 1.82
+    {"ericw-tools/testmaps/deprecated/offgrid_before.map", kNearWall},                                      // 1.82
+    {"ericw-tools/testmaps/deprecated/shadowself_shadow.map", "not analysed"},                              // 0.61
+    {"ericw-tools/testmaps/deprecated/stairsteptest.map", "not analysed"},                                  // 0.60
+    {"ericw-tools/testmaps/deprecated/testrotators_bmodel.map", "nearly black in faithful mode (about 1e-4): not analysed"}, // 2.12
+    {"ericw-tools/testmaps/deprecated/testslime.map", "not analysed"},                                                       // 0.55
+    {"ericw-tools/testmaps/deprecated/testsurfacelight.map", kSurface},                                                      // 0.17
+    {"ericw-tools/testmaps/q1_extract_textures.map", kOpaqueWater},                                                          // 0.51
+    {"ericw-tools/testmaps/q1_func_illusionary_visblocker.map", kOpaqueWater},                                               // 0.47
+    {"ericw-tools/testmaps/q1_func_illusionary_visblocker_interactions.map", kOpaqueWater},                                  // 0.47
+    {"ericw-tools/testmaps/q1_light_bounce_litwater.map", kOpaqueWater},                                                     // 0.56
+    {"ericw-tools/testmaps/q1_liquid_software.map", kOpaqueWater},                                                           // 0.53
+    {"ericw-tools/testmaps/q1_tjunc_matrix.map", kOpaqueWater},                                                              // 0.51
+    {"ericw-tools/testmaps/light_general.map",
+     "linear lights of 300-600 lighting walls 200-400 units away; not analysed further"},          // 0.37 (0.21 before)
+    {"ericw-tools/testmaps/phongtest2.map", "not analysed"},                                       // 0.54
+    {"ericw-tools/testmaps/q1_bmodel_liquid.map", kGammaBlend},                                    // 2.13
+    {"ericw-tools/testmaps/q1_csg_water_eats_water.map", kGammaBlend},                             // 2.03
+    {"ericw-tools/testmaps/q1_light_switchableshadow_selfshadows.map", kUnmodelled},               // 0.61 (0.23 before)
+    {"ericw-tools/testmaps/q1_light_switchableshadow_target.map", kUnmodelled},                    // 0.61 (0.41 before)
+    {"ericw-tools/testmaps/q1_lightignore.map", kUnmodelled},                                      // 1.99
+    {"ericw-tools/testmaps/q1_litwater.map", "_litwater with _minlight 100; not analysed"},        // 0.58 (0.84 before)
+    {"ericw-tools/testmaps/q1_loose_textures_ignored/q1_loose_textures_ignored.map", kGammaBlend}, // 1.71
+    {"ericw-tools/testmaps/q1_minlight_nobounce.map", kDisplayPower},                              // 1.51: _minlight 100 alone
+    {"ericw-tools/testmaps/q1_surflight_minlight.map", kSurface},                                  // 1.67
+    {"ericw-tools/testmaps/q1_water_subdivision.map", kGammaBlend},                                // 2.00
+    {"ericw-tools/testmaps/q1_water_water_zfighting.map", kGammaBlend},                            // 2.04
+    {"librequake/lq1/maps/src/dm/lqdm13.map", kDisplayPower},                                      // 0.42
+    {"librequake/lq1/maps/src/e3/lq_e3m1.map", kDisplayPower},                                     // 0.48: _sunlight 400 walls
+    {"quake_map_source/dm3.map", "not analysed (1.19 under the fixed 128-unit match)"},            // 1.58
+    {"quake_map_source/e4m8.map", kHotSpot},                                                       // 2.55 (2.34 before)
+};
+
+TEST(PhysicalBrightness, EverySharedQuake1LevelButTheHeldAgreesWithFaithfulWithinOneAndAHalf) {
   BT_REQUIRE_SHARED(shared);
-  const int levels = forEachQuake1Level(shared, [](const std::string& name, const RenderScene& rs, const CameraPose& pose) {
+  int held = 0;
+  const int levels = forEachQuake1Level(shared, [&held](const std::string& name, const RenderScene& rs, const CameraPose& pose) {
     const double faithful = meanLuminance(rs, pose, LightingMode::Faithful, 1);
     const double physical = meanLuminance(rs, pose, LightingMode::Physical, 8);
     const double ratio = physical / std::max(faithful, 1e-12);
     std::printf("%-70s faithful %.5f physical %.5f ratio %.3f\n", name.c_str(), faithful, physical, ratio);
-    if (faithful < kBlack && physical < kBlack) return;
+    const bool black = faithful < kBlack && physical < kBlack;
+    const bool agrees = black || (ratio <= kMaxRatio && ratio >= 1.0 / kMaxRatio);
+    if (const auto h = kHeld.find(name); h != kHeld.end()) {
+      ++held;
+      EXPECT_FALSE(agrees) << name << " now agrees (ratio " << ratio << "): take it off kHeld (" << h->second << ")";
+      return;
+    }
+    if (black) return;
     EXPECT_LE(ratio, kMaxRatio) << name << ": physical is brighter than faithful";
     EXPECT_GE(ratio, 1.0 / kMaxRatio) << name << ": physical is darker than faithful";
   });
-  std::printf("%d Quake 1 levels\n", levels);
+  std::printf("%d Quake 1 levels, %d held\n", levels, held);
   EXPECT_GT(levels, 0);
 }
 
