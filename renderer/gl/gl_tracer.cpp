@@ -1,5 +1,7 @@
 #include "renderer/gl/gl_tracer.h"
 
+#include "renderer/render.h" // evenSamples
+
 #include "renderer/gl/gl_error.h"
 #include "renderer/gl/gl_program.h"
 #include "renderer/gl/gl_scene.h"
