@@ -1,4 +1,4 @@
-// denoise_lab DIR [SPP...] [analyze] [shares] [halves] [worst N]: the denoiser lab (issue 18). Reads what `gl_bench ... converge 4096
+// denoise_lab DIR [SPP...] [analyze] [shares] [worst N]: the denoiser lab (issue 18). Reads what `gl_bench ... converge 4096
 // dump DIR` or `brushtrace bench --time-to-converged --dump DIR` wrote (reference.exr and
 // NNNNspp.exr, each with its AOVs and second moment), denoises each step again with today's
 // renderer/denoise.h and prints the step's relative MSE raw, denoised and displayed (the viewer's
@@ -6,8 +6,6 @@
 // of the displayed image's error lies: sky, dark pixels, silhouettes, texel edges, fireflies
 // (`analyze`; `worst N` lists the N worst pixels of the denoised image), and `shares`: the error
 // of blends w x denoised + (1 - w) x raw, from which the fade was chosen.
-// `halves`: each step is given the step of half its samples as its even half, so that the
-// denoiser measures its error from the halves (BT_DENOISE_HALVES_FROM; the dumps are nested).
 // So the filter can be tuned on the GPU's images without the GPU.
 #include "renderer/denoise.h"
 #include "renderer/denoise_fade.h"
@@ -118,20 +116,18 @@ void listWorst(const RenderImage& image, const RenderImage& reference, const std
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    fmt::print(stderr, "usage: denoise_lab DIR [SPP...] [analyze] [shares] [halves] [worst N]\n");
+    fmt::print(stderr, "usage: denoise_lab DIR [SPP...] [analyze] [shares] [worst N]\n");
     return 2;
   }
   const std::filesystem::path dir = argv[1];
   std::vector<int> spps;
-  bool analyze = false, shares = false, halves = false;
+  bool analyze = false, shares = false;
   int worstPixels = 0;
   for (int a = 2; a < argc; ++a) {
     if (std::string(argv[a]) == "analyze")
       analyze = true;
     else if (std::string(argv[a]) == "shares")
       shares = true;
-    else if (std::string(argv[a]) == "halves")
-      halves = true;
     else if (std::string(argv[a]) == "worst" && a + 1 < argc)
       analyze = true, worstPixels = std::atoi(argv[++a]);
     else
@@ -147,12 +143,6 @@ int main(int argc, char** argv) {
   for (int spp : spps) {
     RenderImage image = bt::readExrImage((dir / fmt::format("{:04}spp.exr", spp)).string());
     if (image.samples == 0) image.samples = spp;
-    // The dumps of one run are nested: the step of half the samples is the first half of this
-    // one, an independent half as the tracer's even samples are (RenderImage::evenBeauty).
-    if (const auto halfPath = dir / fmt::format("{:04}spp.exr", spp / 2); halves && spp % 2 == 0 && std::filesystem::exists(halfPath)) {
-      const RenderImage half = bt::readExrImage(halfPath.string());
-      image.evenBeauty = half.beauty, image.evenMoment2 = half.luminanceMoment2;
-    }
     const float ev = bt::autoExposureEv(image.beauty, image.width, image.height);
     const auto start = std::chrono::steady_clock::now();
     const std::vector<glm::vec3> denoised = bt::denoise(image);

@@ -1,4 +1,4 @@
-// gl_bench LEVEL [WxH] [textures] [physical|faithful] [seconds] [converge [SPP [floor] [shrink] [dump DIR]] | rays]: the GL tracer's
+// gl_bench LEVEL [WxH] [textures] [physical|faithful] [seconds] [converge [SPP [floor] [dump DIR]] | rays]: the GL tracer's
 // benchmark
 // (`brushtrace bench`) in a program that links no OpenImageIO, whose libraries (over 300 MB)
 // cannot travel to the GPU machine (scripts/gpu-check.sh): the level is imported with
@@ -21,10 +21,10 @@
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr,
-                 "usage: gl_bench LEVEL [WxH] [auto|bindless|arrays] [physical|faithful] [seconds] [converge [REFERENCE_SPP [floor] "
-                 "[shrink] [dump DIR]] "
-                 "| rays]\n");
+    std::fprintf(
+        stderr,
+        "usage: gl_bench LEVEL [WxH] [auto|bindless|arrays] [physical|faithful] [seconds] [converge [REFERENCE_SPP [floor] [dump DIR]] "
+        "| rays]\n");
     return 2;
   }
   bt::gl::GlBenchSettings settings;
@@ -48,9 +48,6 @@ int main(int argc, char** argv) {
     if (settings.referenceSpp < 4) return 2;
     int next = 8;
     if (argc > next && std::string(argv[next]) == "floor") settings.referenceFloor = true, ++next;
-    // The denoiser without the halves (session 22's, which draws the filtered image back toward
-    // the raw mean by each pixel's own noise), to measure the halves against in one call.
-    if (argc > next && std::string(argv[next]) == "shrink") settings.denoiseByHalves = false, ++next;
     // The reference and each step's raw image (AOVs and second moment with it) as EXRs in DIR:
     // the denoiser lab's input (issue 18), from the GPU where the CPU would take hours.
     if (argc > next) {

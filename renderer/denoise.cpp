@@ -83,14 +83,6 @@ float spatialVariance(const Guide& g, const Pixels& in, int x, int y) {
   return std::max(0.0f, m2 - m1 * m1);
 }
 
-// A mean of samples, the whole image's or one half's (the beauty, its samples' second moment,
-// their number).
-struct Mean {
-  const std::vector<glm::vec3>& beauty;
-  const std::vector<float>& moment2;
-  int samples;
-};
-
 // The variance of the mean luminance of `samples` samples from their second moment.
 float meanVariance(float moment2, float meanLuminance, int samples) {
   const float variance = std::max(0.0f, moment2 - meanLuminance * meanLuminance) / float(samples - 1);
@@ -100,16 +92,16 @@ float meanVariance(float moment2, float meanLuminance, int samples) {
 // The first step: the irradiance, and the variance of its luminance from the pixel's second
 // moment (the beauty's luminance squared, scaled by the demodulation's ratio of luminances,
 // exact where the noise has the mean's colour) or from its neighbours.
-Pixels prepare(const Guide& g, const Mean& image, int threads) {
+Pixels prepare(const Guide& g, const RenderImage& image, int threads) {
   const size_t n = image.beauty.size();
   Pixels out(n);
   for (size_t i = 0; i < n; ++i) {
     const glm::vec3 b = image.beauty[i];
     const bool finite = std::isfinite(b.x) && std::isfinite(b.y) && std::isfinite(b.z);
-    out[i] = glm::vec4(!std::isfinite(g.depth[i]) ? b : finite ? b / g.demodulator(i) : glm::vec3(0.0f), 0.0f);
+    out[i] = glm::vec4(!std::isfinite(image.depth[i]) ? b : finite ? b / g.demodulator(i) : glm::vec3(0.0f), 0.0f);
   }
   const int samples = std::max(image.samples, 1);
-  const bool temporal = image.moment2.size() == n && samples >= BT_DENOISE_TEMPORAL_VARIANCE_FROM;
+  const bool temporal = image.luminanceMoment2.size() == n && samples >= BT_DENOISE_TEMPORAL_VARIANCE_FROM;
   forRows(g.height, threads, [&](int y0, int y1) {
     for (int y = y0; y < y1; ++y)
       for (int x = 0; x < g.width; ++x) {
@@ -121,7 +113,7 @@ Pixels prepare(const Guide& g, const Mean& image, int threads) {
         }
         const float beautyLuminance = luminance(image.beauty[i]), l = luminance(glm::vec3(out[i]));
         const float ratio = beautyLuminance > 0.0f ? l / beautyLuminance : 0.0f;
-        const float variance = meanVariance(image.moment2[i], beautyLuminance, samples) * ratio * ratio;
+        const float variance = meanVariance(image.luminanceMoment2[i], beautyLuminance, samples) * ratio * ratio;
         out[i].a = std::isfinite(variance) ? variance : 0.0f;
       }
   });
@@ -192,119 +184,28 @@ glm::vec3 shrinkTowardRaw(const glm::vec3& raw, const glm::vec3& filtered, float
   return out;
 }
 
-// The prepared and filtered irradiance of `mean`, multiplied by the albedo again; drawn back
-// toward the raw mean (shrinkTowardRaw) where `shrink`.
-std::vector<glm::vec3> filtered(const Guide& g, const Mean& mean, int threads, bool shrink) {
-  Pixels irradiance = prepare(g, mean, threads), next(irradiance.size());
+} // namespace
+
+std::vector<glm::vec3> denoise(const RenderImage& image, int threads) {
+  if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+  const Guide g{image.width, image.height, image.albedo, image.normal, image.depth};
+  Pixels irradiance = prepare(g, image, threads), next(irradiance.size());
   for (int pass = 0; pass < BT_DENOISE_PASSES; ++pass) {
     forRows(g.height, threads, [&, pass](int y0, int y1) { filterRows(g, irradiance, next, 1 << pass, y0, y1); });
     std::swap(irradiance, next);
   }
   std::vector<glm::vec3> out(irradiance.size());
+  const bool shrink = image.luminanceMoment2.size() == out.size() && image.samples >= BT_DENOISE_SHRINK_FROM;
   for (size_t i = 0; i < out.size(); ++i) {
-    if (!std::isfinite(g.depth[i])) {
+    if (!std::isfinite(image.depth[i])) {
       out[i] = glm::vec3(irradiance[i]);
       continue;
     }
     out[i] = glm::vec3(irradiance[i]) * g.demodulator(i);
-    const glm::vec3 raw = mean.beauty[i];
+    const glm::vec3 raw = image.beauty[i];
     if (shrink && std::isfinite(raw.x + raw.y + raw.z))
-      out[i] = shrinkTowardRaw(raw, out[i], meanVariance(mean.moment2[i], luminance(raw), mean.samples));
+      out[i] = shrinkTowardRaw(raw, out[i], meanVariance(image.luminanceMoment2[i], luminance(raw), image.samples));
   }
-  return out;
-}
-
-// The variance of each channel of a mean: its luminance's scaled by the square of the channel's
-// share of the luminance (as shrinkTowardRaw takes it).
-glm::vec3 channelVariances(const glm::vec3& mean, float moment2, int samples) {
-  const float l = luminance(mean), variance = meanVariance(moment2, l, samples);
-  if (!(l > 0.0f)) return glm::vec3(variance);
-  const glm::vec3 share = mean / l;
-  return variance * share * share;
-}
-
-// The filtered image's squared error at pixel i, each channel's, from the two halves (the
-// cross-filtering of Rousselle et al. 2012, "Adaptive rendering with non-local means filtering"):
-// each half filtered, against the other half's raw mean, whose noise it does not hold, less that
-// mean's own variance: E[(fa - b)^2] - var b = bias^2 + var fa. The mean of both ways.
-glm::vec3 halvesError(const glm::vec3& fa, const glm::vec3& fb, const Mean& a, const Mean& b, size_t i) {
-  const glm::vec3 da = fa - b.beauty[i], db = fb - a.beauty[i];
-  const glm::vec3 e = 0.5f *
-      (da * da - channelVariances(b.beauty[i], b.moment2[i], b.samples) + db * db - channelVariances(a.beauty[i], a.moment2[i], a.samples));
-  return std::isfinite(e.x + e.y + e.z) ? e : glm::vec3(0.0f);
-}
-
-// The pixel shown: the raw mean and the filtered one blended by their estimated errors, the
-// weight var / (var + e) of the filtered value (the Wiener weight of an estimate whose error is
-// e beside one whose error is the raw mean's variance var). e is the halves' estimate over a
-// window of the pixel's neighbours (one pixel's is as noisy as the raw mean itself), scaled by
-// BT_DENOISE_HALVES_ERROR_SCALE (the filter of the whole image is steadier than a half's).
-glm::vec3 blendByHalves(const Guide& g, const Mean& whole, const std::vector<glm::vec3>& f, const std::vector<glm::vec3>& error, int x,
-                        int y) {
-  const size_t p = g.index(x, y);
-  const glm::vec3 raw = whole.beauty[p];
-  if (!g.hit(x, y) || !std::isfinite(raw.x + raw.y + raw.z)) return f[p];
-  glm::vec3 sum(0.0f);
-  float count = 0.0f;
-  for (int dy = -BT_DENOISE_HALVES_RADIUS; dy <= BT_DENOISE_HALVES_RADIUS; ++dy)
-    for (int dx = -BT_DENOISE_HALVES_RADIUS; dx <= BT_DENOISE_HALVES_RADIUS; ++dx) {
-      const int qx = x + dx, qy = y + dy;
-      if (!g.inside(qx, qy) || !g.hit(qx, qy)) continue;
-      sum += error[g.index(qx, qy)], count += 1.0f;
-    }
-  // Each channel's estimate floored at 0 before they are summed, so that one channel's negative
-  // estimate (noise) does not hide another's error.
-  const glm::vec3 estimate = glm::max(BT_DENOISE_HALVES_ERROR_SCALE * sum / count, BT_DENOISE_HALVES_PIXEL_SCALE * error[p]);
-  const glm::vec3 filterErrors = glm::max(glm::vec3(0.0f), estimate);
-  const float filterError = filterErrors.x + filterErrors.y + filterErrors.z;
-  const glm::vec3 variances = channelVariances(raw, whole.moment2[p], whole.samples);
-  const float variance = variances.x + variances.y + variances.z;
-  const float keep = variance + filterError > 0.0f ? variance / (variance + filterError) : 1.0f;
-  return raw + keep * (f[p] - raw);
-}
-
-} // namespace
-
-HalfMeans oddHalf(const RenderImage& image) {
-  HalfMeans odd;
-  const int even = evenSamples(image.samples);
-  odd.samples = image.samples - even;
-  const size_t n = image.beauty.size();
-  odd.beauty.resize(n);
-  odd.moment2.resize(n);
-  const float whole = float(image.samples), evenShare = float(even), inverse = 1.0f / float(std::max(odd.samples, 1));
-  for (size_t i = 0; i < n; ++i) {
-    odd.beauty[i] = (whole * image.beauty[i] - evenShare * image.evenBeauty[i]) * inverse;
-    odd.moment2[i] = (whole * image.luminanceMoment2[i] - evenShare * image.evenMoment2[i]) * inverse;
-  }
-  return odd;
-}
-
-bool denoisesByHalves(const RenderImage& image) {
-  const size_t n = image.beauty.size();
-  return image.samples >= BT_DENOISE_HALVES_FROM && image.luminanceMoment2.size() == n && image.evenBeauty.size() == n &&
-      image.evenMoment2.size() == n;
-}
-
-std::vector<glm::vec3> denoise(const RenderImage& image, int threads) {
-  if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
-  const Guide g{image.width, image.height, image.albedo, image.normal, image.depth};
-  const Mean whole{image.beauty, image.luminanceMoment2, image.samples};
-  if (!denoisesByHalves(image))
-    return filtered(g, whole, threads, image.luminanceMoment2.size() == image.beauty.size() && image.samples >= BT_DENOISE_SHRINK_FROM);
-  const HalfMeans odd = oddHalf(image);
-  const Mean a{image.evenBeauty, image.evenMoment2, evenSamples(image.samples)}, b{odd.beauty, odd.moment2, odd.samples};
-  const std::vector<glm::vec3> f = filtered(g, whole, threads, false), fa = filtered(g, a, threads, false),
-                               fb = filtered(g, b, threads, false);
-  // Each pixel's error estimate (shaders/denoise.comp's error step).
-  std::vector<glm::vec3> error(f.size(), glm::vec3(0.0f));
-  for (size_t i = 0; i < f.size(); ++i)
-    if (std::isfinite(image.depth[i])) error[i] = halvesError(fa[i], fb[i], a, b, i);
-  std::vector<glm::vec3> out(f.size());
-  forRows(g.height, threads, [&](int y0, int y1) {
-    for (int y = y0; y < y1; ++y)
-      for (int x = 0; x < g.width; ++x) out[g.index(x, y)] = blendByHalves(g, whole, f, error, x, y);
-  });
   return out;
 }
 

@@ -23,23 +23,6 @@ namespace bt {
 // its neighbours' spread does). Pixels where nothing was hit (depth not finite) are neither
 // changed nor read.
 // `threads`: 0 = every hardware thread.
-// From BT_DENOISE_HALVES_FROM samples on, where the image holds the mean of its even samples
-// (RenderImage::evenBeauty), the whole image and each half are filtered, and each pixel shows
-// the raw and the filtered mean blended by their errors, the filter's measured against the
-// other half (shaders/denoise_constants.glsl); else the filtered mean drawn back toward the raw
-// one by the pixel's own noise.
 std::vector<glm::vec3> denoise(const RenderImage& image, int threads = 0);
-
-// Whether denoise(image) takes its halves (enough samples, the even ones' mean and moments).
-bool denoisesByHalves(const RenderImage& image);
-
-// The mean of the odd samples of `image` (from the whole mean and the even one), and their
-// second moment: the other half. Both denoisers take it from here, so that they read alike.
-struct HalfMeans {
-  std::vector<glm::vec3> beauty;
-  std::vector<float> moment2;
-  int samples = 0;
-};
-HalfMeans oddHalf(const RenderImage& image);
 
 } // namespace bt

@@ -55,23 +55,12 @@ struct RenderImage {
   // The mean of the samples' squared Rec. 709 luminance per pixel (the second moment beside the
   // beauty's first), so that the denoiser knows each pixel's noise; empty where none was kept.
   std::vector<float> luminanceMoment2;
-  // The mean of the even samples alone (samples 0, 2, 4, ...: evenSamples(samples) of them) and
-  // of their squared luminance: with the whole mean, two independent halves of the samples, from
-  // which the denoiser measures its own error pixel by pixel (renderer/denoise.h). Empty where
-  // none was kept.
-  std::vector<glm::vec3> evenBeauty;
-  std::vector<float> evenMoment2;
   std::vector<glm::vec3> albedo;   // linear base colour of the visible face
   std::vector<glm::vec3> normal;   // world-space face normal, 0 where nothing is hit
   std::vector<float> depth;        // distance along the ray, +inf where nothing is hit
   std::vector<uint32_t> face;      // scene face index + 1, 0 where nothing is hit
   std::vector<glm::vec3> denoised; // the beauty denoised (renderer/denoise.h), empty if not asked for
 };
-
-// How many of `samples` samples are even (0, 2, 4, ...).
-inline int evenSamples(int samples) {
-  return (samples + 1) / 2;
-}
 
 struct RenderProgress {
   int samplesDone = 0;

@@ -17,8 +17,6 @@ layout(rgba32f, binding = BT_IMAGE_DENOISE_OUT) uniform writeonly image2D output
 layout(rgba32f, binding = BT_IMAGE_DENOISE_ALBEDO) uniform readonly image2D albedoImage;
 layout(rgba32f, binding = BT_IMAGE_DENOISE_NORMAL_DEPTH) uniform readonly image2D normalDepthImage; // xyz normal, w depth (inf: nothing hit)
 layout(rgba32f, binding = BT_IMAGE_DENOISE_RAW) uniform readonly image2D rawImage; // the last pass: the beauty as the first step read it
-layout(rgba32f, binding = BT_IMAGE_DENOISE_OTHER) uniform readonly image2D otherImage;
-layout(rgba32f, binding = BT_IMAGE_DENOISE_RAW_OTHER) uniform readonly image2D rawOtherImage;
 
 layout(location = 0) uniform int spacing;      // 2^pass
 layout(location = 1) uniform int samples;      // of the beauty's mean
@@ -28,15 +26,6 @@ layout(location = 4) uniform bool lastPass;    // remodulate the output
 layout(location = 5) uniform bool temporal;    // the variance from the beauty's own second moment
 layout(location = 6) uniform float rawScale;   // the last pass: rawImage's inputScale
 layout(location = 7) uniform bool shrink;      // the last pass: draw the result back toward the raw mean (BT_DENOISE_SHRINK_FROM)
-// The halves' steps (BT_DENOISE_HALVES_FROM; denoise.cpp's denoise with evenBeauty), after each
-// half and the whole were filtered: 1, the error step (inputImage and otherImage the two halves
-// filtered, rawImage and rawOtherImage their raw sums; `samples` and `otherSamples` their counts,
-// `rawScale` and `otherScale` their scales), writing each pixel's error estimate per channel in rgb; 2, the
-// blend (inputImage the error estimates, otherImage the whole filtered, rawImage the whole's raw
-// sum of `samples`, times `rawScale`). 0: neither.
-layout(location = 8) uniform int halvesStep;
-layout(location = 9) uniform int otherSamples;
-layout(location = 10) uniform float otherScale;
 
 const float kKernel[3] = float[3](BT_DENOISE_KERNEL0, BT_DENOISE_KERNEL1, BT_DENOISE_KERNEL2);
 const float kVarianceKernel[3] = float[3](BT_DENOISE_VARIANCE_KERNEL0, BT_DENOISE_VARIANCE_KERNEL1, BT_DENOISE_VARIANCE_KERNEL2);
@@ -100,14 +89,10 @@ float spatialVariance(ivec2 p, vec4 nzp, ivec2 size) {
   return max(0.0, m2 - m1 * m1);
 }
 
-// denoise.cpp meanVariance, of a mean of `count` samples.
-float meanVarianceOf(float moment2, float meanLuminance, int count) {
-  float variance = max(0.0, moment2 - meanLuminance * meanLuminance) / float(count - 1);
-  return isinf(variance) || isnan(variance) ? 0.0 : variance;
-}
-
+// denoise.cpp meanVariance.
 float meanVariance(float moment2, float meanLuminance) {
-  return meanVarianceOf(moment2, meanLuminance, samples);
+  float variance = max(0.0, moment2 - meanLuminance * meanLuminance) / float(samples - 1);
+  return isinf(variance) || isnan(variance) ? 0.0 : variance;
 }
 
 // denoise.cpp shrinkTowardRaw: each channel on its own.
@@ -145,53 +130,10 @@ float filteredVariance(ivec2 p, ivec2 size) {
   return sum / weights;
 }
 
-// denoise.cpp channelVariances.
-vec3 channelVariances(vec3 mean, float moment2, int count) {
-  float l = luminance(mean), variance = meanVarianceOf(moment2, l, count);
-  if (!(l > 0.0)) return vec3(variance);
-  vec3 share = mean / l;
-  return variance * share * share;
-}
-
-// denoise.cpp halvesError: the filter's squared error at p from the two halves, each channel's.
-vec3 halvesError(ivec2 p) {
-  if (!hit(p)) return vec3(0.0);
-  vec4 a = imageLoad(rawImage, p) * rawScale, b = imageLoad(rawOtherImage, p) * otherScale;
-  vec3 da = imageLoad(inputImage, p).rgb - b.rgb, db = imageLoad(otherImage, p).rgb - a.rgb;
-  vec3 e = 0.5 * (da * da - channelVariances(b.rgb, b.a, otherSamples) + db * db - channelVariances(a.rgb, a.a, samples));
-  return any(isinf(e)) || any(isnan(e)) ? vec3(0.0) : e;
-}
-
-// denoise.cpp blendByHalves: the raw and the filtered mean blended by their estimated errors.
-vec3 blendByHalves(ivec2 p, ivec2 size) {
-  vec3 f = imageLoad(otherImage, p).rgb;
-  vec4 raw = imageLoad(rawImage, p) * rawScale;
-  if (!hit(p) || any(isinf(raw.rgb)) || any(isnan(raw.rgb))) return f;
-  vec3 sum = vec3(0.0);
-  float count = 0.0;
-  for (int dy = -BT_DENOISE_HALVES_RADIUS; dy <= BT_DENOISE_HALVES_RADIUS; ++dy)
-    for (int dx = -BT_DENOISE_HALVES_RADIUS; dx <= BT_DENOISE_HALVES_RADIUS; ++dx) {
-      ivec2 q = p + ivec2(dx, dy);
-      if (!inside(q, size) || !hit(q)) continue;
-      sum += imageLoad(inputImage, q).rgb, count += 1.0;
-    }
-  vec3 estimate = max(BT_DENOISE_HALVES_ERROR_SCALE * sum / count, BT_DENOISE_HALVES_PIXEL_SCALE * imageLoad(inputImage, p).rgb);
-  vec3 filterErrors = max(vec3(0.0), estimate);
-  float filterError = filterErrors.x + filterErrors.y + filterErrors.z;
-  vec3 variances = channelVariances(raw.rgb, raw.a, samples);
-  float variance = variances.x + variances.y + variances.z;
-  float keep = variance + filterError > 0.0 ? variance / (variance + filterError) : 1.0;
-  return raw.rgb + keep * (f - raw.rgb);
-}
-
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   ivec2 size = imageSize(outputImage);
   if (any(greaterThanEqual(p, size))) return;
-  if (halvesStep != 0) {
-    imageStore(outputImage, p, halvesStep == 1 ? vec4(halvesError(p), 0.0) : vec4(blendByHalves(p, size), 0.0));
-    return;
-  }
   if (!hit(p)) { // nothing to filter: the beauty as it is
     imageStore(outputImage, p, vec4(imageLoad(inputImage, p).rgb * inputScale, 0.0));
     return;

@@ -59,27 +59,6 @@
 // whatever its bias: the bricks below a pixel at 256 spp 1.47 times raw, over the tests' 1.25.
 #define BT_DENOISE_SHRINK_FROM 16
 
-// The halves (issue 18, session 23): from HALVES_FROM samples on, where the tracer kept the mean
-// of its even samples beside the whole one, the filter's own error is measured rather than
-// guessed from one noisy difference (the shrink above). Each half (even samples, odd samples) is
-// filtered too; a half's filtered value against the other half's raw mean, less that mean's
-// variance, estimates the filter's squared error (bias^2 + variance) with no noise of its own in
-// common (Rousselle et al. 2012's cross-filtering). The pixel then shows the raw and the filtered
-// mean blended by their errors, share var / (var + e) of the filtered one. e, per channel, is the
-// larger of the estimate averaged over the (2 RADIUS + 1)^2 pixels around, times ERROR_SCALE
-// (one pixel's is as noisy as its raw mean; the whole image's filter is steadier than a half's),
-// and the pixel's own, times PIXEL_SCALE: where the bias changes from pixel to pixel (texels
-// finer than a pixel, whose centre's albedo misleads the demodulation) the window's mean hides
-// the pixels it hits hardest. lq_e4m3 640x360 on the H200's images, 64 / 128 spp: 0.0200 /
-// 0.0127 against the shrink's 0.0207 / 0.0133; the window alone 0.0177 / 0.0116, but the tinted
-// bricks at 256 spp 0.00518 against raw 0.00368 (tests/render/denoise_exposure_test.cpp asks
-// for less than raw; with the pixel's own term 0.00366). With the filter's true error (from the
-// reference) the same blend would reach 0.0160 / 0.0099 (bench/README.md, issue 18 session 23).
-#define BT_DENOISE_HALVES_FROM 16
-#define BT_DENOISE_HALVES_RADIUS 2
-#define BT_DENOISE_HALVES_ERROR_SCALE 0.25f
-#define BT_DENOISE_HALVES_PIXEL_SCALE 0.5f
-
 // Demodulation divides the beauty by the albedo plus this much, and remodulation multiplies by
 // the same: black texels do not blow up, and a dark texel's light that its albedo does not scale
 // (a dielectric's specular reflection, 4 % whatever its colour; an emitter's own light) is not

@@ -56,8 +56,6 @@
 #define BT_IMAGE_DENOISE_OUT 1           // denoise.comp: its output
 #define BT_IMAGE_DENOISE_ALBEDO 2        // denoise.comp
 #define BT_IMAGE_DENOISE_NORMAL_DEPTH 3  // denoise.comp
-#define BT_IMAGE_DENOISE_RAW 4           // denoise.comp: the beauty, read again by the last pass (the halves' steps: a half's or the whole)
-#define BT_IMAGE_DENOISE_OTHER 5         // denoise.comp, the halves' steps: the other half's filtered image, or the whole's
-#define BT_IMAGE_DENOISE_RAW_OTHER 6     // denoise.comp, the halves' error step: the other half's raw mean
+#define BT_IMAGE_DENOISE_RAW 4           // denoise.comp: the beauty, read again by the last pass
 
 #endif

@@ -92,9 +92,6 @@ RenderImage renderCpu(const RenderScene& scene, const Camera& camera, const Rend
   // Sums in double: many samples of bright lights would lose the dim ones in float.
   std::vector<glm::dvec3> sum(n, glm::dvec3(0.0));
   std::vector<double> moment2(n, 0.0); // each sample's luminance squared: the denoiser's variance
-  // The same of the even samples alone: the denoiser's halves (RenderImage::evenBeauty).
-  std::vector<glm::dvec3> evenSum(n, glm::dvec3(0.0));
-  std::vector<double> evenMoment2(n, 0.0);
 
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
@@ -112,10 +109,8 @@ RenderImage renderCpu(const RenderScene& scene, const Camera& camera, const Rend
         // A NaN or infinite sample would poison the pixel for good; drop it.
         if (!(std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z))) continue;
         const size_t i = size_t(y) * image.width + x;
-        const double l2 = double(luminance(l)) * double(luminance(l));
         sum[i] += glm::dvec3(l);
-        moment2[i] += l2;
-        if (pass % 2 == 0) evenSum[i] += glm::dvec3(l), evenMoment2[i] += l2;
+        moment2[i] += double(luminance(l)) * double(luminance(l));
       }
     });
     ++pass;
@@ -135,14 +130,9 @@ RenderImage renderCpu(const RenderScene& scene, const Camera& camera, const Rend
   }
   image.samples = pass;
   image.luminanceMoment2.resize(n);
-  image.evenBeauty.resize(n);
-  image.evenMoment2.resize(n);
-  const double even = double(std::max(evenSamples(pass), 1));
   for (size_t i = 0; i < n; ++i) {
     image.beauty[i] = glm::vec3(sum[i] / double(std::max(pass, 1)));
     image.luminanceMoment2[i] = float(moment2[i] / double(std::max(pass, 1)));
-    image.evenBeauty[i] = glm::vec3(evenSum[i] / even);
-    image.evenMoment2[i] = float(evenMoment2[i] / even);
   }
   return image;
 }

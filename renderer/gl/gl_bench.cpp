@@ -258,7 +258,6 @@ void benchTimeToConverged(gl::GlTracer& tracer, const gl::CameraBasis& camera, c
     RenderImage image;
     image.width = s.width, image.height = s.height, image.samples = beauty.samples, image.beauty = beauty.beauty;
     image.luminanceMoment2 = beauty.luminanceMoment2;
-    if (s.denoiseByHalves) image.evenBeauty = beauty.evenBeauty, image.evenMoment2 = beauty.evenMoment2;
     image.normal = aov.normal, image.depth = aov.depth, image.face = aov.face;
     for (const glm::vec4& a : aov.albedo) image.albedo.emplace_back(a);
     return image;

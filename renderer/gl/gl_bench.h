@@ -30,9 +30,6 @@ struct GlBenchSettings {
   float clampIndirect = kClampIndirectDefault;
   // With timeToConverged: also the measure's floor, two references' difference (ConvergeRun).
   bool referenceFloor = false;
-  // With timeToConverged: the denoiser given the tracer's halves (RenderImage::evenBeauty); false,
-  // without them (renderer/denoise.h's shrink toward the raw mean).
-  bool denoiseByHalves = true;
   // With timeToConverged: given each image the measure renders (ConvergeRun::keep), e.g. to write
   // it as an EXR (gl_bench's `dump DIR`), which this library does not link.
   std::function<void(const RenderImage&, const std::string& name)> keep;

@@ -8,7 +8,6 @@
 
 #include <glm/vec3.hpp>
 
-#include <initializer_list>
 #include <vector>
 
 namespace bt::gl {
@@ -24,29 +23,7 @@ public:
   void run(const GlTexture2D& beauty, float scale, int samples, bool hasMoment2, const GlTexture2D& albedo, const GlTexture2D& normalDepth,
            const GlTexture2D& out, const GlTexture2D& scratch);
 
-  // A sum (or mean) of samples with its second moment in alpha: times `scale` the mean of `samples`.
-  struct Sum {
-    const GlTexture2D& image;
-    float scale;
-    int samples;
-  };
-  // What runHalves writes: each mean filtered, every other step, and the result.
-  struct Halves {
-    const GlTexture2D &whole, &even, &odd, &scratch, &out;
-  };
-  // out = renderer/denoise.h's denoise of an image with its halves (BT_DENOISE_HALVES_FROM):
-  // `whole` the mean of all the samples, `even` and `odd` of each half, all with their second moment.
-  void runHalves(const Sum& whole, const Sum& even, const Sum& odd, const GlTexture2D& albedo, const GlTexture2D& normalDepth,
-                 const Halves& images);
-
 private:
-  void checkSizes(const GlTexture2D& beauty, std::initializer_list<const GlTexture2D*> others) const;
-  void bindGuide(const GlTexture2D& albedo, const GlTexture2D& normalDepth);
-  void bindImages(const GlTexture2D& input, const GlTexture2D& output, const GlTexture2D& raw, const GlTexture2D& other,
-                  const GlTexture2D& rawOther);
-  // The prepare step and the filter's passes of `beauty` into `out`.
-  void filter(const Sum& beauty, bool hasMoment2, bool shrink, const GlTexture2D& out, const GlTexture2D& scratch);
-
   ComputeProgram program_;
 };
 

@@ -80,7 +80,6 @@ GlRenderResult renderWithGl(GlContext& context, const RenderScene& scene, const 
   image.samples = b.samples;
   image.beauty = b.beauty;
   image.luminanceMoment2 = b.luminanceMoment2;
-  image.evenBeauty = b.evenBeauty, image.evenMoment2 = b.evenMoment2;
   return result;
 }
 

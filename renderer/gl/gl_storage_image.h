@@ -23,8 +23,6 @@ public:
   StorageImage& operator=(const StorageImage&) = delete;
 
   void bindImage(GLuint unit, GLenum access) const { BT_GL(glBindImageTexture(unit, texture_, 0, GL_FALSE, 0, access, format_)); }
-  // Every texel 0.
-  void clear() const { BT_GL(glClearTexImage(texture_, 0, GL_RGBA, GL_FLOAT, nullptr)); }
 
   // Hands `use` the image's pixels (width * height * components values of T, top row first as
   // the shaders write them), valid during the call. They come through a pixel-pack buffer that

@@ -1,7 +1,5 @@
 #include "renderer/gl/gl_tracer.h"
 
-#include "renderer/render.h" // evenSamples
-
 #include "renderer/gl/gl_error.h"
 #include "renderer/gl/gl_program.h"
 #include "renderer/gl/gl_scene.h"
@@ -282,11 +280,8 @@ AovImages GlTracer::renderAovs(const CameraBasis& camera, int width, int height)
 
 BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettings& settings, const std::function<bool(int)>& progress) {
   if (settings.width <= 0 || settings.height <= 0) throw GlError(fmt::format("image size {}x{} is empty", settings.width, settings.height));
-  // Two sums, of the even samples and of the odd ones (sample 0 overwrites the first; the
-  // second starts cleared): the denoiser's halves (RenderImage::evenBeauty), the image their sum.
-  // The path tracer writes whichever is bound, so it pays nothing for them.
-  StorageImage accumulation(GL_RGBA32F, settings.width, settings.height), oddAccumulation(GL_RGBA32F, settings.width, settings.height);
-  oddAccumulation.clear();
+  StorageImage accumulation(GL_RGBA32F, settings.width, settings.height);
+  accumulation.bindImage(kImageAccumulation, GL_READ_WRITE);
   impl_->setWorld(settings);
   BeautyImage out;
   out.width = settings.width;
@@ -298,7 +293,6 @@ BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettin
   constexpr int kSamplesPerFence = 16;
   GLsync previousBatch = nullptr;
   for (int sample = 0; sample < settings.spp; ++sample) {
-    (sample % 2 == 0 ? accumulation : oddAccumulation).bindImage(kImageAccumulation, GL_READ_WRITE);
     if (impl_->drawSample(camera, settings, static_cast<uint32_t>(sample))) ++out.wavefrontSamples;
     out.samples = sample + 1;
     if (progress) {
@@ -312,19 +306,12 @@ BeautyImage GlTracer::renderBeauty(const CameraBasis& camera, const BeautySettin
   if (previousBatch) waitAndDelete(previousBatch);
   BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
   const float scale = 1.0f / static_cast<float>(std::max(out.samples, 1));
-  const float evenScale = 1.0f / static_cast<float>(std::max(evenSamples(out.samples), 1));
-  std::vector<float> oddSum;
-  oddAccumulation.readMapped<float>(settings.width, settings.height, GL_RGBA, GL_FLOAT, 4,
-                                    [&](std::span<const float> sum) { oddSum.assign(sum.begin(), sum.end()); });
   accumulation.readMapped<float>(settings.width, settings.height, GL_RGBA, GL_FLOAT, 4, [&](std::span<const float> sum) {
-    const size_t n = sum.size() / 4;
-    out.beauty.resize(n), out.luminanceMoment2.resize(n), out.evenBeauty.resize(n), out.evenMoment2.resize(n);
-    for (size_t i = 0; i < n; ++i) {
-      const glm::vec3 even(sum[4 * i], sum[4 * i + 1], sum[4 * i + 2]), odd(oddSum[4 * i], oddSum[4 * i + 1], oddSum[4 * i + 2]);
-      out.beauty[i] = (even + odd) * scale;
-      out.luminanceMoment2[i] = (sum[4 * i + 3] + oddSum[4 * i + 3]) * scale;
-      out.evenBeauty[i] = even * evenScale;
-      out.evenMoment2[i] = sum[4 * i + 3] * evenScale;
+    out.beauty.resize(sum.size() / 4);
+    out.luminanceMoment2.resize(out.beauty.size());
+    for (size_t i = 0; i < out.beauty.size(); ++i) {
+      out.beauty[i] = glm::vec3(sum[4 * i], sum[4 * i + 1], sum[4 * i + 2]) * scale;
+      out.luminanceMoment2[i] = sum[4 * i + 3] * scale;
     }
   });
   return out;

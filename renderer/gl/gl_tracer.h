@@ -102,8 +102,6 @@ struct BeautyImage {
   int wavefrontSamples = 0; // of `samples`, those the wavefront kernels drew
   std::vector<glm::vec3> beauty;
   std::vector<float> luminanceMoment2; // RenderImage::luminanceMoment2 (the sum's alpha / samples)
-  std::vector<glm::vec3> evenBeauty;   // RenderImage::evenBeauty and evenMoment2: the even samples' mean
-  std::vector<float> evenMoment2;
 };
 
 // A rectangle of an image's pixels, x to the right and y down from the top-left pixel.

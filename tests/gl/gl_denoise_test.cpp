@@ -68,39 +68,5 @@ TEST(GlDenoise, TheShaderGivesTheCpuFiltersImage) {
   }
 }
 
-// The halves' steps (BT_DENOISE_HALVES_FROM): the same room with a mean of its even samples
-// beside the whole one, of another noise, so that the two halves disagree as a few samples' do.
-TEST(GlDenoise, TheShaderGivesTheCpuFiltersImageWithHalves) {
-  GlContext& context = test::sharedGlContext();
-  for (int samples : {16, 255}) {
-    SCOPED_TRACE(testing::Message() << samples << " spp");
-    RenderImage image = noisyRoom(samples);
-    for (size_t i = 0; i < image.beauty.size(); ++i) {
-      const float noise = 0.5f + float((uint32_t(i) * 2246822519u >> 8) % 1000) / 1000.0f;
-      image.evenBeauty.push_back(image.beauty[i] * noise);
-      image.evenMoment2.push_back(image.luminanceMoment2[i] * noise * noise);
-    }
-    ASSERT_TRUE(denoisesByHalves(image));
-    const int errorsBefore = context.debugErrorCount();
-    const std::vector<glm::vec3> gpu = denoiseWithGl(image);
-    EXPECT_EQ(context.debugErrorCount(), errorsBefore);
-    const std::vector<glm::vec3> cpu = denoise(image);
-    image.evenBeauty.clear();
-    const std::vector<glm::vec3> withoutHalves = denoise(image);
-    ASSERT_EQ(gpu.size(), cpu.size());
-    // The same tolerance as above.
-    size_t off = 0, apart = 0;
-    for (size_t i = 0; i < cpu.size(); ++i) {
-      for (int c = 0; c < 3; ++c) {
-        const bool close = std::abs(gpu[i][c] - cpu[i][c]) <= 1e-4f * std::max(1.0f, std::abs(cpu[i][c]));
-        if (!close && off++ < 5) ADD_FAILURE() << "pixel " << i << " channel " << c << ": gl " << gpu[i][c] << ", cpu " << cpu[i][c];
-      }
-      apart += std::abs(cpu[i].x - withoutHalves[i].x) > 1e-3f;
-    }
-    EXPECT_EQ(off, 0u);
-    EXPECT_GT(apart, cpu.size() / 10) << "the halves changed the image";
-  }
-}
-
 } // namespace
 } // namespace bt::gl

@@ -341,33 +341,5 @@ TEST(TimeToConverged, WorstPercentShareTellsEvenNoiseFromAFirefly) {
   EXPECT_EQ(worstPercentShare(reference, reference), 0.0);
 }
 
-// Issue 18, session 23: with the mean of its even samples beside the whole one (the tracer's
-// halves), the denoiser measures its own error per pixel, one half filtered against the other's
-// raw mean, and blends the raw and the filtered image by it (BT_DENOISE_HALVES_FROM). On the room
-// of bricks finer than a pixel at 32 spp, the image displayed (the denoised one in full), the
-// mean relative MSE of three seeds as its PNG shows it.
-TEST(Denoise, TheHalvesTakeTheBricksCloserThanTheShrinkDoes) {
-  const RenderImage reference = renderRoom("0.5", 1024, 99, true);
-  const std::vector<glm::vec3> referenceDisplay = displayedImage(reference.beauty, autoExposureEv(reference.beauty, kWidth, kHeight));
-  double raw = 0.0, halves = 0.0, shrink = 0.0;
-  for (uint32_t seed = 51; seed <= 53; ++seed) {
-    RenderImage noisy = renderRoom("0.5", 32, seed, true);
-    ASSERT_TRUE(denoisesByHalves(noisy)) << "the tracer keeps its even samples' mean";
-    const float ev = autoExposureEv(noisy.beauty, kWidth, kHeight);
-    raw += bt::relativeMse(displayedImage(noisy.beauty, ev), referenceDisplay) / 3.0;
-    halves += bt::relativeMse(displayedImage(displayedBeauty(noisy.beauty, denoise(noisy), 32), ev), referenceDisplay) / 3.0;
-    noisy.evenBeauty.clear(); // session 22's denoiser: the shrink toward the raw mean
-    shrink += bt::relativeMse(displayedImage(displayedBeauty(noisy.beauty, denoise(noisy), 32), ev), referenceDisplay) / 3.0;
-  }
-  RecordProperty("raw_rel_mse", std::to_string(raw));
-  RecordProperty("halves_rel_mse", std::to_string(halves));
-  RecordProperty("shrink_rel_mse", std::to_string(shrink));
-  std::printf("bricks, 32 spp: raw %.5f, with the halves %.5f, the shrink %.5f\n", raw, halves, shrink);
-  // Stated: below 0.0198 (measured: 0.01877 with the halves, 0.02088 with the shrink, raw 0.02104).
-  // The plain room at 32 spp goes the other way (0.00764 against the shrink's 0.00696;
-  // bench/README.md, issue 18 session 23), still below raw (0.01405).
-  EXPECT_LT(halves, 0.0198) << "the shrink's " << shrink;
-}
-
 } // namespace
 } // namespace bt
