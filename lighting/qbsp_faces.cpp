@@ -3,7 +3,6 @@
 #include "lighting/game_rules.h"
 #include "quake/bspfile_q2.h"
 #include "quake/entity_keys.h"
-#include "scene/parallel_for.h"
 #include "scene/winding.h"
 
 #include <glm/geometric.hpp>
@@ -544,13 +543,6 @@ bool quake1SideVisible(const Scene& scene, uint32_t faceIndex, const std::vector
 } // namespace
 
 QbspTree quake1WorldTree(const Scene& scene, const std::vector<BrushContents>& contents, const VoidTest& voidTest) {
-  // Each side's visibility is a question of its own (a carve and the void's rays, most of the
-  // tree's cost on a large level: lq_e4m3's 20,744 sides), asked on all cores.
-  std::vector<char> visible(scene.faces.size(), 0);
-  parallelFor(scene.faces.size(), 0, [&](size_t f) {
-    const uint32_t b = scene.faces[f].brush;
-    if (b < contents.size() && contents[b] != BrushContents::Empty) visible[f] = quake1SideVisible(scene, uint32_t(f), contents, voidTest);
-  });
   std::vector<QbspTree::Input> brushes;
   for (uint32_t b = 0; b < scene.brushes.size(); ++b) {
     if (contents[b] == BrushContents::Empty) continue;
@@ -559,7 +551,8 @@ QbspTree quake1WorldTree(const Scene& scene, const std::vector<BrushContents>& c
     // func_detail's, after the structural ones (testsurfacelight's lava top, z 64, comes below
     // the func_detail bars' y 48 and z 80 in the .bsp's tree).
     QbspTree::Input in{b, true, qbspDetail(scene, b) || contents[b] == BrushContents::Liquid};
-    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f) in.hiddenSides.push_back(!visible[f]);
+    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
+      in.hiddenSides.push_back(!quake1SideVisible(scene, f, contents, voidTest));
     brushes.push_back(std::move(in));
   }
   return QbspTree(scene, brushes);

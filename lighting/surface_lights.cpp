@@ -185,23 +185,19 @@ namespace {
 // face far from them puts no vertex on their edges.
 TJunctionVertices worldVertices(const Scene& scene, const std::vector<BrushContents>& contents, const QbspTree& tree, const VoidTest& voids,
                                 const std::vector<Bounds>& near) {
-  // Each face's polygons and their void rays on all cores; the vertices added in face order.
-  std::vector<std::vector<Winding>> kept(scene.faces.size());
-  parallelFor(scene.faces.size(), 0, [&](size_t f) {
+  TJunctionVertices vertices;
+  for (uint32_t f = 0; f < scene.faces.size(); ++f) {
     const uint32_t b = scene.faces[f].brush;
-    if (b >= contents.size() || contents[b] == BrushContents::Empty) return;
+    if (b >= contents.size() || contents[b] == BrushContents::Empty) continue;
     Bounds bounds;
     for (const dvec3& p : scene.faces[f].winding) bounds.grow(p);
     auto touches = [&](const Bounds& n) {
       return glm::all(glm::lessThanEqual(n.min, bounds.max)) && glm::all(glm::lessThanEqual(bounds.min, n.max));
     };
-    if (std::none_of(near.begin(), near.end(), touches)) return;
-    for (Winding& w : compiledFacePolygons(scene, uint32_t(f), contents, tree))
-      if (!voids.inVoid(vertexMean(w) + scene.faces[f].plane.normal * kVoidProbeDistance)) kept[f].push_back(std::move(w));
-  });
-  TJunctionVertices vertices;
-  for (uint32_t f = 0; f < scene.faces.size(); ++f)
-    for (const Winding& w : kept[f]) vertices.add(w, weldGroup(scene, contents, scene.faces[f].brush));
+    if (std::none_of(near.begin(), near.end(), touches)) continue;
+    for (const Winding& w : compiledFacePolygons(scene, f, contents, tree))
+      if (!voids.inVoid(vertexMean(w) + scene.faces[f].plane.normal * kVoidProbeDistance)) vertices.add(w, weldGroup(scene, contents, b));
+  }
   return vertices;
 }
 
