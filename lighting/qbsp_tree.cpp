@@ -239,8 +239,7 @@ QbspTree::QbspTree(const Scene& scene, std::span<const Input> brushes, std::vect
     for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f) {
       const Face& face = scene.faces[f];
       if (face.winding.size() < 3) continue;
-      const bool hidden = f - brush.firstFace < in.hiddenSides.size() && in.hiddenSides[f - brush.firstFace];
-      t.sides.push_back({face.plane, face.winding, in.visible && !hidden});
+      t.sides.push_back({face.plane, face.winding, in.visible});
     }
     axialSidesFirst(t.sides);
     updateBounds(t);
