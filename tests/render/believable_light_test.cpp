@@ -148,9 +148,10 @@ TEST(BelievableLight, HalfLifeAndQuake3LevelsInBothModes) {
                 fmt::format("believable {} physical: exposure {:+.2f} EV, {}\n", level.path, output.exposureEv, p.describe()).c_str());
     if (!level.physicalGap) {
       expectBelievable(p, "physical");
-    } else { // its spot at least, and no darker than today
+    } else { // its spot at least, no darker than today, and not a white picture either
       EXPECT_GT(p.p90, 0.3) << p.describe();
       EXPECT_LT(p.black, 0.85) << p.describe();
+      EXPECT_LT(p.white, 0.5) << "physical: mostly white: " << p.describe();
     }
   }
 }
