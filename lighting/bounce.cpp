@@ -90,9 +90,7 @@ LuxelPoint compilerLuxelPoint(const Scene& scene, const std::vector<BounceFace>&
   for (int depth = 0;; ++depth) {
     const Winding& w = faces[at].polygon;
     const dvec3 n = scene.faces[faces[at].face].plane.normal;
-    dvec3 area(0.0);
-    for (size_t k = 0; k < w.size(); ++k) area += glm::cross(w[k], w[(k + 1) % w.size()]);
-    const double wound = glm::dot(area, n) < 0.0 ? -1.0 : 1.0;
+    const double wound = glm::dot(areaVector(w), n) < 0.0 ? -1.0 : 1.0;
     double inside = std::numeric_limits<double>::infinity(), bestPast = std::numeric_limits<double>::infinity();
     int best = -1;
     for (size_t k = 0; k < w.size(); ++k) {
