@@ -49,6 +49,19 @@ void expectSkyAgrees(const test::CpuAndGl& r, double meanTolerance) {
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(gpuSum[c], cpuSum[c], meanTolerance * cpuSum[c] + 1e-6) << "channel " << c;
 }
 
+// test::twoSkiesRoom's sun shines through `sky_b` alone: the CPU's floor under `sky_a` (the
+// image's left third; the camera looks north) must be far darker than under `sky_b` (its right
+// third), so that a GL tracer that let the sun through every sky would fail the comparison.
+void expectFloorLitUnderSkyBOnly(const test::CpuAndGl& r) {
+  double west = 0.0, east = 0.0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth / 3; ++x) {
+      west += r.cpu.beauty[size_t(y) * kWidth + x].x;
+      east += r.cpu.beauty[size_t(y) * kWidth + kWidth - 1 - x].x;
+    }
+  EXPECT_LT(west, 0.2 * east);
+}
+
 TEST(GlSky, TwoLayerSkyMatchesTheCpuInFaithfulMode) {
   expectSkyAgrees(renderSkyLevel(LightingMode::Faithful), 0.01);
 }
@@ -58,19 +71,11 @@ TEST(GlSky, TwoLayerSkyMatchesTheCpuInPhysicalMode) {
 }
 
 // A physical sun with `_suntexture` shines only through sky faces of that texture on the GPU as
-// on the CPU (test::twoSkiesRoom: the floor under the other sky is dark but for the bounces). The
-// CPU's floor under `sky_a` must be far darker than under `sky_b`, so that a GL tracer that let
-// the sun through every sky would fail the comparison.
+// on the CPU (test::twoSkiesRoom: the floor under the other sky is dark but for the bounces).
 TEST(GlSky, PhysicalSunShinesOnlyThroughItsSkyTexture) {
   const test::CpuAndGl r = test::renderCpuAndGl(test::twoSkiesRoom(), LightingMode::Physical, kWidth, kHeight);
   expectSkyAgrees(r, 0.03);
-  double west = 0.0, east = 0.0; // the image's left and right thirds: the camera looks north
-  for (int y = 0; y < kHeight; ++y)
-    for (int x = 0; x < kWidth / 3; ++x) {
-      west += r.cpu.beauty[size_t(y) * kWidth + x].x;
-      east += r.cpu.beauty[size_t(y) * kWidth + kWidth - 1 - x].x;
-    }
-  EXPECT_LT(west, 0.2 * east);
+  expectFloorLitUnderSkyBOnly(r);
 }
 
 // The same room in faithful mode's per-pixel light (`--luxels off`): the compiler's sun with
@@ -79,13 +84,7 @@ TEST(GlSky, PhysicalSunShinesOnlyThroughItsSkyTexture) {
 TEST(GlSky, FaithfulSunShinesOnlyThroughItsSkyTexture) {
   const test::CpuAndGl r = test::renderCpuAndGl(test::twoSkiesRoom(), LightingMode::Faithful, kWidth, kHeight);
   expectSkyAgrees(r, 0.01);
-  double west = 0.0, east = 0.0;
-  for (int y = 0; y < kHeight; ++y)
-    for (int x = 0; x < kWidth / 3; ++x) {
-      west += r.cpu.beauty[size_t(y) * kWidth + x].x;
-      east += r.cpu.beauty[size_t(y) * kWidth + kWidth - 1 - x].x;
-    }
-  EXPECT_LT(west, 0.2 * east);
+  expectFloorLitUnderSkyBOnly(r);
 }
 
 // The sky box's six images reach the GPU as materials no face uses (on either texture path).
