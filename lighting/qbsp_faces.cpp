@@ -516,12 +516,54 @@ uint32_t weldGroup(const Scene& scene, const std::vector<BrushContents>& content
   return uint32_t(contents[brush]) * 2 + (qbspDetail(scene, brush) ? 1 : 0);
 }
 
+namespace {
+
+// After its first tree, qbsp fills the void outside and marks a brush side visible only where a
+// portal on its plane joins a leaf inside the brush to a leaf neither solid nor void (outside.cc
+// MarkVisibleBrushSides): some of the side lies outside every solid brush (func_detail
+// included) and out of the void. Liquids do not hide it: a liquid side against another liquid
+// (testsurfacelight's lava brushes, side by side) stays visible, although CSG makes no face
+// there (visibleFragments).
+bool quake1SideVisible(const Scene& scene, uint32_t faceIndex, const std::vector<BrushContents>& contents, const VoidTest& voidTest) {
+  const Face& face = scene.faces[faceIndex];
+  if (face.winding.size() < 3) return false;
+  std::vector<Winding> fragments{face.winding};
+  Bounds bounds;
+  for (const dvec3& p : face.winding) bounds.grow(p);
+  for (size_t b = 0; b < scene.brushes.size() && !fragments.empty(); ++b)
+    if (b != face.brush && contents[b] == BrushContents::Solid && overlaps(bounds, scene.brushes[b].bounds))
+      carve(scene, scene.brushes[b], face.plane.normal, fragments);
+  return std::any_of(fragments.begin(), fragments.end(), [&](const Winding& w) {
+    dvec3 mean(0.0);
+    for (const dvec3& p : w) mean += p;
+    return !voidTest.inVoid(mean / double(w.size()) + face.plane.normal * kVoidProbeDistance);
+  });
+}
+
+} // namespace
+
+QbspTree quake1WorldTree(const Scene& scene, const std::vector<BrushContents>& contents, const VoidTest& voidTest) {
+  std::vector<QbspTree::Input> brushes;
+  for (uint32_t b = 0; b < scene.brushes.size(); ++b) {
+    if (contents[b] == BrushContents::Empty) continue;
+    const Brush& brush = scene.brushes[b];
+    // ericw-tools 2.0 gives a Quake 1 liquid the detail bit: its sides are valued with
+    // func_detail's, after the structural ones (testsurfacelight's lava top, z 64, comes below
+    // the func_detail bars' y 48 and z 80 in the .bsp's tree).
+    QbspTree::Input in{b, true, qbspDetail(scene, b) || contents[b] == BrushContents::Liquid};
+    for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f)
+      in.hiddenSides.push_back(!quake1SideVisible(scene, f, contents, voidTest));
+    brushes.push_back(std::move(in));
+  }
+  return QbspTree(scene, brushes);
+}
+
 QbspTree worldTree(const Scene& scene, const std::vector<BrushContents>& contents) {
   // Only Quake 2's worlds go down the tree: there its planes and their order are the compiler's
-  // (q2_areaportals, light_q2_translucent_shadow: the .bsp's nodes). On the Quake 1 oracle
-  // levels the same tree put falloff's and testsurfacelight's faces further from the
-  // compiler's than the surface trees do (their views and luxels fell), so Quake 1 and
-  // Half-Life keep those for now.
+  // (q2_areaportals, light_q2_translucent_shadow: the .bsp's nodes). A Quake 1 world's own tree
+  // (quake1WorldTree) is the .bsp's on falloff, node for node, yet the faces made from it moved
+  // falloff's floor off the compiler's (a view 98.6 -> 88.1 %), so only the _surface templates
+  // take it; Quake 1 and Half-Life keep the surface trees here for now.
   if (gameOf(scene) != Game::Quake2) return QbspTree(scene, {});
   // Quake 2's qbsp grows the world's tree over its area portals too (CONTENTS_AREAPORTAL):
   // hidden, they still stand on the planes the tree values.

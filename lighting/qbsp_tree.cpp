@@ -239,7 +239,8 @@ QbspTree::QbspTree(const Scene& scene, std::span<const Input> brushes, std::vect
     for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f) {
       const Face& face = scene.faces[f];
       if (face.winding.size() < 3) continue;
-      t.sides.push_back({face.plane, face.winding, in.visible});
+      const bool hidden = f - brush.firstFace < in.hiddenSides.size() && in.hiddenSides[f - brush.firstFace];
+      t.sides.push_back({face.plane, face.winding, in.visible && !hidden});
     }
     axialSidesFirst(t.sides);
     updateBounds(t);

@@ -28,6 +28,9 @@ public:
     bool visible; // its sides are drawn; qbsp splits with hidden sides (a Quake 2 area portal's
                   // nodraw) only where no drawn one is left, but counts their brushes everywhere
     bool detail;  // func_detail (Quake 2: CONTENTS_DETAIL): split with once no structural side is left
+    // Per face of the brush, those hidden although the brush is `visible` (empty: none): a Quake
+    // 1 side seen only from the void or from inside solid (quake1WorldTree).
+    std::vector<bool> hiddenSides{};
   };
   // A brush that fills the leaves it lies in without carving faces (Quake 2: an area portal, a
   // liquid), with the contents those leaves take (qbsp3's brush contents; a func_areaportal's
