@@ -542,7 +542,8 @@ bool quake1SideVisible(const Scene& scene, uint32_t faceIndex, const std::vector
 
 } // namespace
 
-QbspTree quake1WorldTree(const Scene& scene, const std::vector<BrushContents>& contents, const VoidTest& voidTest) {
+QbspTree quake1WorldTree(const Scene& scene, const std::vector<BrushContents>& contents, const VoidTest& voidTest,
+                         std::vector<Winding> around) {
   std::vector<QbspTree::Input> brushes;
   for (uint32_t b = 0; b < scene.brushes.size(); ++b) {
     if (contents[b] == BrushContents::Empty) continue;
@@ -555,7 +556,7 @@ QbspTree quake1WorldTree(const Scene& scene, const std::vector<BrushContents>& c
       in.hiddenSides.push_back(!quake1SideVisible(scene, f, contents, voidTest));
     brushes.push_back(std::move(in));
   }
-  return QbspTree(scene, brushes);
+  return QbspTree(scene, brushes, {}, std::move(around));
 }
 
 QbspTree worldTree(const Scene& scene, const std::vector<BrushContents>& contents) {

@@ -75,7 +75,8 @@ QbspTree worldTree(const Scene& scene, const std::vector<BrushContents>& content
 // slanted brushes near the lava's west end). Its faces are the ones `light` spreads a Quake 1
 // `_surface` template's points over (surface_lights.h); the other Quake 1 faces keep their
 // surface trees (worldTree), as this tree moved falloff's floor faces off the compiler's.
-QbspTree quake1WorldTree(const Scene& scene, const std::vector<BrushContents>& contents, const VoidTest& voidTest);
+QbspTree quake1WorldTree(const Scene& scene, const std::vector<BrushContents>& contents, const VoidTest& voidTest,
+                         std::vector<std::vector<dvec3>> around);
 
 // Quake 2's qbsp makes brush `brush` detail: func_detail, CONTENTS_DETAIL, or translucent
 // (SURF_TRANS33/66: qbsp3 ParseBrush).

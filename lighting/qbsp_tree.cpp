@@ -2,6 +2,7 @@
 
 #include "scene/winding.h"
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -16,6 +17,7 @@ constexpr double kPlaneSideEpsilon = 0.001; // qbsp3's PLANESIDE_EPSILON: a box 
 constexpr double kSplitEpsilon = 0.1;       // a side winding crosses a plane by more than this to count as cut
 constexpr double kWorldHalfSize = 65536.0;  // the midwinding's starting square
 constexpr double kMinBrushExtent = 1e-3;    // a piece thinner than this on an axis is no brush (microvolume)
+constexpr double kPlaneTouchEpsilon = 0.1;  // a polygon this close to a node's plane is on both its sides
 
 enum PlaneSide { kFront = 1, kBack = 2, kBoth = 3, kFacing = 4 }; // qbsp3's PSIDE_*
 
@@ -69,10 +71,29 @@ int boxOnPlaneSide(const Bounds& box, const Plane& plane) {
   return side;
 }
 
+// kFront or kBack when all of `box` lies further than a side on `plane` could (sameQbspPlane:
+// 0.01 on the distance, 1e-5 on each normal component, at the box's largest coordinate), else 0.
+int clearSide(const Bounds& box, const Plane& plane) {
+  const double largest = glm::length(glm::max(glm::abs(box.min), glm::abs(box.max))); // the farthest corner from the origin
+  const double slack = 0.02 + 3e-5 * largest;
+  double nearest = 0.0, farthest = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const double a = plane.normal[i] * box.min[i], b = plane.normal[i] * box.max[i];
+    nearest += std::min(a, b), farthest += std::max(a, b);
+  }
+  if (nearest - plane.dist > slack) return kFront;
+  if (farthest - plane.dist < -slack) return kBack;
+  return 0;
+}
+
 // qbsp3's TestBrushToPlanenum: the brush's side of `plane` (a positive plane), the visible sides
 // it would cut and whether it lies within a unit of the plane without touching it.
 int testBrushToPlane(const TreeBrush& brush, const Plane& plane, int& splits, int& epsilonBrush) {
   splits = 0;
+  // Most brushes lie well clear of the plane: their box says so before their sides are read (a
+  // side on the plane, by sameQbspPlane's tolerances, lies within clearSide's slack). The whole
+  // world's tree values each plane against every brush, so this is most of its time.
+  if (const int side = clearSide(brush.bounds, plane); side != 0) return side;
   for (const TreeSide& s : brush.sides)
     if (sameQbspPlane(s.plane, plane)) return glm::dot(s.plane.normal, plane.normal) > 0.0 ? (kBack | kFacing) : (kFront | kFacing);
   const int side = boxOnPlaneSide(brush.bounds, plane);
@@ -184,7 +205,9 @@ void axialSidesFirst(std::vector<TreeSide>& sides) {
     }
 }
 
-int32_t build(std::vector<QbspTree::Node>& nodes, std::vector<TreeBrush> brushes) {
+// `around`: where the tree is wanted (the polygons whose cuts the caller needs), or everywhere.
+int32_t build(std::vector<QbspTree::Node>& nodes, std::vector<TreeBrush> brushes, const std::optional<std::vector<Winding>>& around) {
+  if (around && around->empty()) return -1; // no polygon of interest here: what lies below cuts none
   const TreeSide* chosen = selectSplit(brushes);
   if (!chosen) return -1;
   const Plane plane = positivePlane(chosen->plane);
@@ -206,8 +229,18 @@ int32_t build(std::vector<QbspTree::Node>& nodes, std::vector<TreeBrush> brushes
   }
   const int32_t index = int32_t(nodes.size());
   nodes.push_back({plane, {-1, -1}});
+  // A polygon on the plane, or touching it, is wanted on both sides: its own node's faces are
+  // cut by the subtrees of both (qbsp_faces.cpp nodeFaces), and a neighbour's cuts reach it there.
+  std::optional<std::vector<Winding>> childAround[2];
+  if (around) {
+    childAround[0].emplace(), childAround[1].emplace();
+    for (const Winding& w : *around)
+      for (int i = 0; i < 2; ++i)
+        if (Winding part = clipBehind(w, i == 0 ? plane.flipped() : plane, kPlaneTouchEpsilon); part.size() >= 3)
+          childAround[i]->push_back(std::move(part));
+  }
   for (int i = 0; i < 2; ++i) {
-    const int32_t child = build(nodes, std::move(children[i]));
+    const int32_t child = build(nodes, std::move(children[i]), childAround[i]);
     nodes[size_t(index)].children[i] = child;
   }
   return index;
@@ -230,7 +263,9 @@ Plane positivePlane(const Plane& p) {
   return p.normal[major] < 0.0 ? p.flipped() : p;
 }
 
-QbspTree::QbspTree(const Scene& scene, std::span<const Input> brushes, std::vector<Filler> fillers) : fillers_(std::move(fillers)) {
+QbspTree::QbspTree(const Scene& scene, std::span<const Input> brushes, std::vector<Filler> fillers,
+                   std::optional<std::vector<Winding>> around)
+    : fillers_(std::move(fillers)) {
   std::vector<TreeBrush> list;
   for (const Input& in : brushes) {
     const Brush& brush = scene.brushes[in.brush];
@@ -247,7 +282,7 @@ QbspTree::QbspTree(const Scene& scene, std::span<const Input> brushes, std::vect
     if (t.sides.size() < 4 || t.bounds.empty()) continue;
     list.push_back(std::move(t));
   }
-  build(nodes_, std::move(list));
+  build(nodes_, std::move(list), around);
 }
 
 } // namespace bt

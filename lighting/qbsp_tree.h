@@ -14,8 +14,10 @@
 #pragma once
 
 #include "scene/scene.h"
+#include "scene/winding.h"
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -40,8 +42,12 @@ public:
     int32_t contents;
   };
   QbspTree() = default; // no split: no world tree
-  // The tree of brushes `brushes` of `scene`, the leaves filled by `fillers`.
-  QbspTree(const Scene& scene, std::span<const Input> brushes, std::vector<Filler> fillers = {});
+  // The tree of brushes `brushes` of `scene`, the leaves filled by `fillers`. With `around`, a
+  // node that none of those polygons reaches is left a leaf: the nodes above a polygon, and so
+  // the cuts qbsp makes in it, are the whole tree's, and the subtrees elsewhere (most of a
+  // large level's tree) are not grown.
+  QbspTree(const Scene& scene, std::span<const Input> brushes, std::vector<Filler> fillers = {},
+           std::optional<std::vector<Winding>> around = std::nullopt);
 
   struct Node {
     Plane plane;                 // qbsp's positive plane: its largest normal component is positive

@@ -247,7 +247,10 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
   const VoidTest inVoid = voidTest.get();
   // A Quake 1 template's faces are cut by the compiler's tree of the whole world
   // (quake1WorldTree), then at their T-junctions; Quake 2's tree is the one the caller gives.
-  const QbspTree quake1Tree = gameOf(scene) == Game::Quake ? quake1WorldTree(scene, contents, inVoid) : QbspTree();
+  std::vector<Winding> templateFaces;
+  for (const Surface& surface : surfaces) templateFaces.insert(templateFaces.end(), surface.polygons.begin(), surface.polygons.end());
+  const QbspTree quake1Tree =
+      gameOf(scene) == Game::Quake ? quake1WorldTree(scene, contents, inVoid, std::move(templateFaces)) : QbspTree();
   const QbspTree& tree = quake1Tree.nodes().empty() ? worldTree : quake1Tree;
   // Each surface's faces depend on nothing else: the surfaces are shared among threads.
   parallelFor(surfaces.size(), 0,
