@@ -71,18 +71,32 @@ int boxOnPlaneSide(const Bounds& box, const Plane& plane) {
   return side;
 }
 
-// kFront or kBack when all of `box` lies further than a side on `plane` could (sameQbspPlane:
-// 0.01 on the distance, 1e-5 on each normal component, at the box's largest coordinate), else 0.
-int clearSide(const Bounds& box, const Plane& plane) {
-  const double largest = glm::length(glm::max(glm::abs(box.min), glm::abs(box.max))); // the farthest corner from the origin
-  const double slack = 0.02 + 3e-5 * largest;
+// A brush's box and how near a side on some plane could lie to that plane and still count as on
+// it (sameQbspPlane: 0.01 on the distance, 1e-5 on each normal component, at the box's farthest
+// corner from the origin).
+struct Clearance {
+  dvec3 min, max;
+  double slack;
+};
+
+Clearance clearanceOf(const Bounds& box) {
+  return {box.min, box.max, 0.02 + 3e-5 * glm::length(glm::max(glm::abs(box.min), glm::abs(box.max)))};
+}
+
+// kFront or kBack when all of the box lies further from `plane` (a positive plane) than a side on
+// it could, else 0.
+int clearSide(const Clearance& box, const Plane& plane, int axis) {
   double nearest = 0.0, farthest = 0.0;
-  for (int i = 0; i < 3; ++i) {
-    const double a = plane.normal[i] * box.min[i], b = plane.normal[i] * box.max[i];
-    nearest += std::min(a, b), farthest += std::max(a, b);
+  if (axis >= 0) {
+    nearest = box.min[axis], farthest = box.max[axis]; // the positive plane's normal is +1 on its axis
+  } else {
+    for (int i = 0; i < 3; ++i) {
+      const double a = plane.normal[i] * box.min[i], b = plane.normal[i] * box.max[i];
+      nearest += std::min(a, b), farthest += std::max(a, b);
+    }
   }
-  if (nearest - plane.dist > slack) return kFront;
-  if (farthest - plane.dist < -slack) return kBack;
+  if (nearest - plane.dist > box.slack) return kFront;
+  if (farthest - plane.dist < -box.slack) return kBack;
   return 0;
 }
 
@@ -93,7 +107,7 @@ int testBrushToPlane(const TreeBrush& brush, const Plane& plane, int& splits, in
   // Most brushes lie well clear of the plane: their box says so before their sides are read (a
   // side on the plane, by sameQbspPlane's tolerances, lies within clearSide's slack). The whole
   // world's tree values each plane against every brush, so this is most of its time.
-  if (const int side = clearSide(brush.bounds, plane); side != 0) return side;
+  if (const int side = clearSide(clearanceOf(brush.bounds), plane, axisOf(plane)); side != 0) return side;
   for (const TreeSide& s : brush.sides)
     if (sameQbspPlane(s.plane, plane)) return glm::dot(s.plane.normal, plane.normal) > 0.0 ? (kBack | kFacing) : (kFront | kFacing);
   const int side = boxOnPlaneSide(brush.bounds, plane);
@@ -120,6 +134,9 @@ const TreeSide* selectSplit(std::vector<TreeBrush>& brushes) {
   if (brushes.empty()) return nullptr;
   const TreeSide* best = nullptr;
   int bestValue = -99999;
+  // The brushes' boxes side by side: a plane is valued against every brush, and most are clear.
+  std::vector<Clearance> boxes;
+  for (const TreeBrush& brush : brushes) boxes.push_back(clearanceOf(brush.bounds));
   // Passes: visible structural, hidden structural, visible detail, hidden detail.
   for (int pass = 0; pass < 4 && !best; ++pass) {
     for (TreeBrush& brush : brushes) {
@@ -127,10 +144,13 @@ const TreeSide* selectSplit(std::vector<TreeBrush>& brushes) {
       for (TreeSide& side : brush.sides) {
         if (side.winding.empty() || side.onNode || side.tested || side.visible != (pass % 2 == 0)) continue;
         const Plane plane = positivePlane(side.plane);
+        const int axis = axisOf(plane);
         int front = 0, back = 0, facing = 0, splits = 0, epsilonBrush = 0;
-        for (TreeBrush& test : brushes) {
+        for (size_t k = 0; k < brushes.size(); ++k) {
+          TreeBrush& test = brushes[k];
           int brushSplits = 0;
-          const int s = testBrushToPlane(test, plane, brushSplits, epsilonBrush);
+          int s = clearSide(boxes[k], plane, axis);
+          if (s == 0) s = testBrushToPlane(test, plane, brushSplits, epsilonBrush);
           splits += brushSplits;
           if (s & kFacing) {
             ++facing;

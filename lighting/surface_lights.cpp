@@ -182,22 +182,35 @@ namespace {
 
 // The vertices of the world faces qbsp writes with `tree` that reach some box of `near` (the
 // ones that look into the void removed), for its T-junction fix of the faces in those boxes: a
-// face far from them puts no vertex on their edges.
+// face far from them puts no vertex on their edges. `near` comes in groups (a surface's faces),
+// each with the box around all of its own, so that most faces are turned away by a few boxes.
+struct NearGroup {
+  Bounds all;
+  std::vector<Bounds> boxes;
+};
+
 TJunctionVertices worldVertices(const Scene& scene, const std::vector<BrushContents>& contents, const QbspTree& tree, const VoidTest& voids,
-                                const std::vector<Bounds>& near) {
-  TJunctionVertices vertices;
-  for (uint32_t f = 0; f < scene.faces.size(); ++f) {
+                                const std::vector<NearGroup>& near) {
+  auto touches = [](const Bounds& a, const Bounds& b) {
+    return glm::all(glm::lessThanEqual(a.min, b.max)) && glm::all(glm::lessThanEqual(b.min, a.max));
+  };
+  // Each face's polygons and their void rays on all cores; the vertices added in face order.
+  std::vector<std::vector<Winding>> kept(scene.faces.size());
+  parallelFor(scene.faces.size(), 0, [&](size_t f) {
     const uint32_t b = scene.faces[f].brush;
-    if (b >= contents.size() || contents[b] == BrushContents::Empty) continue;
+    if (b >= contents.size() || contents[b] == BrushContents::Empty) return;
     Bounds bounds;
     for (const dvec3& p : scene.faces[f].winding) bounds.grow(p);
-    auto touches = [&](const Bounds& n) {
-      return glm::all(glm::lessThanEqual(n.min, bounds.max)) && glm::all(glm::lessThanEqual(bounds.min, n.max));
-    };
-    if (std::none_of(near.begin(), near.end(), touches)) continue;
-    for (const Winding& w : compiledFacePolygons(scene, f, contents, tree))
-      if (!voids.inVoid(vertexMean(w) + scene.faces[f].plane.normal * kVoidProbeDistance)) vertices.add(w, weldGroup(scene, contents, b));
-  }
+    const bool reaches = std::any_of(near.begin(), near.end(), [&](const NearGroup& g) {
+      return touches(g.all, bounds) && std::any_of(g.boxes.begin(), g.boxes.end(), [&](const Bounds& n) { return touches(n, bounds); });
+    });
+    if (!reaches) return;
+    for (Winding& w : compiledFacePolygons(scene, uint32_t(f), contents, tree))
+      if (!voids.inVoid(vertexMean(w) + scene.faces[f].plane.normal * kVoidProbeDistance)) kept[f].push_back(std::move(w));
+  });
+  TJunctionVertices vertices;
+  for (uint32_t f = 0; f < scene.faces.size(); ++f)
+    for (const Winding& w : kept[f]) vertices.add(w, weldGroup(scene, contents, scene.faces[f].brush));
   return vertices;
 }
 
@@ -257,13 +270,16 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
               [&](size_t i) { surfaces[i].polygons = compilerFaces(scene, surfaces[i].sides, surfaces[i].polygons, contents, tree); });
   std::optional<TJunctionVertices> tjunctions;
   if (!quake1Tree.nodes().empty()) {
-    std::vector<Bounds> near;
-    for (const Surface& surface : surfaces)
+    std::vector<NearGroup> near;
+    for (const Surface& surface : surfaces) {
+      NearGroup& group = near.emplace_back();
       for (const Winding& w : surface.polygons) {
         Bounds b;
         for (const dvec3& p : w) b.grow(p);
-        near.push_back(Bounds{b.min - dvec3(kOnPlaneEpsilon), b.max + dvec3(kOnPlaneEpsilon)});
+        group.boxes.push_back(Bounds{b.min - dvec3(kOnPlaneEpsilon), b.max + dvec3(kOnPlaneEpsilon)});
+        group.all.grow(group.boxes.back());
       }
+    }
     tjunctions = worldVertices(scene, contents, quake1Tree, inVoid, near);
   }
 
