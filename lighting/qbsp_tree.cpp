@@ -128,6 +128,54 @@ int testBrushToPlane(const TreeBrush& brush, const Plane& plane, int& splits, in
   return side;
 }
 
+// A node's brushes sorted along each axis, so that an axial plane (most of them) is valued
+// against the brushes near it alone: the others lie clear of it (clearSide), and two binary
+// searches count those in front and behind. The answer is the same as clearSide's on every brush.
+class AxisIndex {
+public:
+  explicit AxisIndex(const std::vector<Clearance>& boxes) {
+    for (const Clearance& c : boxes) slack_ = std::max(slack_, c.slack);
+    for (int a = 0; a < 3; ++a) {
+      Axis& axis = axes_[a];
+      for (uint32_t k = 0; k < boxes.size(); ++k) {
+        axis.mins.push_back(boxes[k].min[a]), axis.maxs.push_back(boxes[k].max[a]);
+        (boxes[k].max[a] - boxes[k].min[a] > kLongBrush ? axis.longOnes : axis.byMin).push_back(k);
+      }
+      std::sort(axis.mins.begin(), axis.mins.end());
+      std::sort(axis.maxs.begin(), axis.maxs.end());
+      std::sort(axis.byMin.begin(), axis.byMin.end(), [&](uint32_t x, uint32_t y) { return boxes[x].min[a] < boxes[y].min[a]; });
+      for (const uint32_t k : axis.byMin) axis.byMinValue.push_back(boxes[k].min[a]);
+    }
+  }
+
+  // For the plane at `dist` on axis `a` (normal +1 there): the brushes surely in front and surely
+  // behind it, counted; `near(k)` called for each other one.
+  template <class Near> void visit(const std::vector<Clearance>& boxes, int a, double dist, int& front, int& back, const Near& near) const {
+    const Axis& axis = axes_[a];
+    const double lo = dist - slack_, hi = dist + slack_;
+    front += int(axis.mins.end() - std::upper_bound(axis.mins.begin(), axis.mins.end(), hi));
+    back += int(std::lower_bound(axis.maxs.begin(), axis.maxs.end(), lo) - axis.maxs.begin());
+    // A short brush that reaches `lo` starts at most kLongBrush before it.
+    const auto first = std::lower_bound(axis.byMinValue.begin(), axis.byMinValue.end(), lo - kLongBrush);
+    const auto last = std::upper_bound(axis.byMinValue.begin(), axis.byMinValue.end(), hi);
+    for (auto it = first; it != last; ++it)
+      if (const uint32_t k = axis.byMin[size_t(it - axis.byMinValue.begin())]; boxes[k].max[a] >= lo) near(k);
+    for (const uint32_t k : axis.longOnes)
+      if (boxes[k].min[a] <= hi && boxes[k].max[a] >= lo) near(k);
+  }
+
+private:
+  static constexpr double kLongBrush = 512.0; // longer brushes on an axis are looked at for every plane on it
+  struct Axis {
+    std::vector<double> mins, maxs; // every brush's, sorted
+    std::vector<uint32_t> byMin;    // the brushes no longer than kLongBrush, by their box's minimum
+    std::vector<double> byMinValue; // that minimum, in that order
+    std::vector<uint32_t> longOnes; // the others
+  };
+  Axis axes_[3];
+  double slack_ = 0.0; // the largest of the brushes' slacks
+};
+
 // SelectSplitPlane's qbsp3 value: 5 facing - 5 sides cut - |front - back|, +5 when axial,
 // -1000 a brush within a unit; visible sides first, then hidden ones.
 const TreeSide* selectSplit(std::vector<TreeBrush>& brushes) {
@@ -137,6 +185,7 @@ const TreeSide* selectSplit(std::vector<TreeBrush>& brushes) {
   // The brushes' boxes side by side: a plane is valued against every brush, and most are clear.
   std::vector<Clearance> boxes;
   for (const TreeBrush& brush : brushes) boxes.push_back(clearanceOf(brush.bounds));
+  const AxisIndex index(boxes);
   // Passes: visible structural, hidden structural, visible detail, hidden detail.
   for (int pass = 0; pass < 4 && !best; ++pass) {
     for (TreeBrush& brush : brushes) {
@@ -146,7 +195,7 @@ const TreeSide* selectSplit(std::vector<TreeBrush>& brushes) {
         const Plane plane = positivePlane(side.plane);
         const int axis = axisOf(plane);
         int front = 0, back = 0, facing = 0, splits = 0, epsilonBrush = 0;
-        for (size_t k = 0; k < brushes.size(); ++k) {
+        auto count = [&](size_t k) {
           TreeBrush& test = brushes[k];
           int brushSplits = 0;
           int s = clearSide(boxes[k], plane, axis);
@@ -159,7 +208,11 @@ const TreeSide* selectSplit(std::vector<TreeBrush>& brushes) {
           }
           front += (s & kFront) != 0;
           back += (s & kBack) != 0;
-        }
+        };
+        if (axis >= 0)
+          index.visit(boxes, axis, plane.dist, front, back, count);
+        else
+          for (size_t k = 0; k < brushes.size(); ++k) count(k);
         const int value = 5 * facing - 5 * splits - std::abs(front - back) + (isAxial(plane) ? 5 : 0) - 1000 * epsilonBrush;
         if (value > bestValue) bestValue = value, best = &side;
       }
