@@ -74,7 +74,8 @@ QbspTree worldTree(const Scene& scene, const std::vector<BrushContents>& content
 // testsurfacelight it has 341 of the .bsp's 349 nodes at their places (the 8 others under the
 // slanted brushes near the lava's west end). Its faces are the ones `light` spreads a Quake 1
 // `_surface` template's points over (surface_lights.h); the other Quake 1 faces keep their
-// surface trees (worldTree), as this tree moved falloff's floor faces off the compiler's.
+// surface trees (worldTree), as this tree moved falloff's floor faces off the compiler's. Grown
+// only where the polygons `around` (the templates' faces) are: QbspTree's `around`.
 QbspTree quake1WorldTree(const Scene& scene, const std::vector<BrushContents>& contents, const VoidTest& voidTest,
                          std::vector<std::vector<dvec3>> around);
 
