@@ -77,16 +77,33 @@ namespace {
 // faces the same way (it is that brush's neighbour, not buried in it).
 void carve(const Scene& scene, const Brush& brush, const dvec3& faceNormal, std::vector<Winding>& fragments) {
   std::vector<Winding> kept;
-  for (Winding inside : fragments) {
+  for (Winding& fragment : fragments) {
+    Winding inside = std::move(fragment);
     for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount && !inside.empty(); ++f) {
       const Plane& plane = scene.faces[f].plane;
-      SplitWinding split = splitWinding(inside, plane, kOnPlaneEpsilon);
-      const bool onPlane = !split.front.empty() && split.front.size() == split.back.size() && split.front == split.back;
-      if (onPlane) {
-        if (glm::dot(plane.normal, faceNormal) > 0.0) kept.push_back(std::move(inside));
-        if (glm::dot(plane.normal, faceNormal) > 0.0) inside.clear();
+      // splitWinding's answer where the fragment lies on one side, or on the plane, found without
+      // copying it: most brushes a side's box reaches only touch it (each side's visibility in
+      // quake1WorldTree carves every side of the level).
+      bool anyFront = false, anyBack = false;
+      for (const dvec3& p : inside) {
+        const double d = plane.distanceTo(p);
+        anyFront = anyFront || d > kOnPlaneEpsilon;
+        anyBack = anyBack || d < -kOnPlaneEpsilon;
+      }
+      if (!anyFront && !anyBack) { // on the plane
+        if (glm::dot(plane.normal, faceNormal) > 0.0) {
+          kept.push_back(std::move(inside));
+          inside.clear();
+        }
         continue;
       }
+      if (!anyBack) { // in front: outside the brush, all of it
+        kept.push_back(std::move(inside));
+        inside.clear();
+        break;
+      }
+      if (!anyFront) continue; // behind: the next plane decides
+      SplitWinding split = splitWinding(inside, plane, kOnPlaneEpsilon);
       if (split.front.size() >= 3) kept.push_back(std::move(split.front));
       inside = split.back.size() >= 3 ? std::move(split.back) : Winding{};
     }
