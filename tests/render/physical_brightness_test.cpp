@@ -16,7 +16,7 @@
 // Enabled with a held list (kHeld below): the levels that still fail, each with why, as far as
 // analysed; the bar is not loosened for them, and a held level that comes to agree fails the test
 // until it is taken off the list. Of the 149 Quake 1 levels this ../shared holds (about 25 s
-// here), 60 are black in both, 53 agree and 36 are held (bench/README.md, "Issue 18: faithful
+// here), 60 are black in both, 54 agree and 35 are held (bench/README.md, "Issue 18: faithful
 // against physical brightness", bright18d: each Quake light matched over the surfaces its light
 // lands on). Run
 // --gtest_also_run_disabled_tests --gtest_filter=*Diagnostic* for each level's figures with
@@ -159,7 +159,6 @@ const std::map<std::string, const char*> kHeld = {
     {"ericw-tools/testmaps/q1_light_switchableshadow_selfshadows.map", kUnmodelled},               // 0.61 (0.23 before)
     {"ericw-tools/testmaps/q1_light_switchableshadow_target.map", kUnmodelled},                    // 0.61 (0.41 before)
     {"ericw-tools/testmaps/q1_lightignore.map", kUnmodelled},                                      // 1.99
-    {"ericw-tools/testmaps/q1_litwater.map", "_litwater with _minlight 100; not analysed"},        // 0.58 (0.84 before)
     {"ericw-tools/testmaps/q1_loose_textures_ignored/q1_loose_textures_ignored.map", kGammaBlend}, // 1.71
     {"ericw-tools/testmaps/q1_minlight_nobounce.map", kDisplayPower},                              // 1.51: _minlight 100 alone
     {"ericw-tools/testmaps/q1_surflight_minlight.map", kSurface},                                  // 1.67
