@@ -148,7 +148,7 @@ const std::map<std::string, const char*> kHeld = {
     {"ericw-tools/testmaps/deprecated/light_near_wall.map", kNearWall},                     // 0.63, lin. 0.56
     {"ericw-tools/testmaps/deprecated/offgrid_after.map", kDisplayPower},                   // 1.82, lin. 1.23 (held as kNearWall before)
     {"ericw-tools/testmaps/deprecated/offgrid_before.map", kDisplayPower},                  // 1.82, lin. 1.24 (held as kNearWall before)
-    {"ericw-tools/testmaps/deprecated/shadowself_shadow.map", kDisplayPower},               // 0.61, lin. 1.38: delay 2 light 500
+    {"ericw-tools/testmaps/deprecated/shadowself_shadow.map", kDisplayPower},               // 0.62, lin. 1.41: delay 2 light 500
     {"ericw-tools/testmaps/deprecated/stairsteptest.map", kDisplayPower},                   // 0.60, lin. 1.15: three delay 2 lights
     {"ericw-tools/testmaps/deprecated/testrotators_bmodel.map", kDisplayPower},             // 2.12, lin. 0.87: faithful about 1e-4
     {"ericw-tools/testmaps/deprecated/testslime.map", kDisplayPower},                       // 0.55, lin. 1.20: one delay 2 light
