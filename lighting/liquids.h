@@ -78,8 +78,9 @@ glm::vec3 liquidTint(const GpuMaterial& m);
 glm::vec3 liquidAddedRadiance(const GpuMaterial& m);
 
 // Sets the blend of every material that a liquid face (kFaceLiquid in faceFlags) uses, for
-// faithful mode (opacity) and physical mode (physicalOpacity: the level's alpha where it gives
-// one below 1, else kPhysicalWaterOpacity / kPhysicalSlimeOpacity / 1 by kind): Quake's
+// faithful mode (opacity) and physical mode (physicalOpacity: physicalOpacityOfAlpha of the
+// level's alpha where it gives one below 1, else kPhysicalWaterOpacity / kPhysicalSlimeOpacity /
+// 1 by kind): Quake's
 // worldspawn alphas (Quake and Hexen II), Quake 2's SURF_TRANS33 / SURF_TRANS66 (0.33 / 0.66,
 // ref_gl R_DrawAlphaSurfaces; a texture's first liquid face decides), Quake 3 shaders' first
 // stage blendFunc (Material::blend: add, filter, blend by the image's mean alpha; physical mode
