@@ -2,6 +2,7 @@
 
 #include "quake/bspfile_q2.h"
 #include "quake/entity_keys.h"
+#include "scene/color.h"
 #include "scene/names.h"
 
 #include <algorithm>
@@ -60,7 +61,7 @@ bool applyShaderBlend(ShaderBlend blend, GpuMaterial& m) {
   case ShaderBlend::Opaque: return false;
   case ShaderBlend::Add: m.flags |= kMaterialBlendAdd, m.opacity = 1.0f, m.physicalOpacity = 0.0f; break;
   case ShaderBlend::Filter: m.flags |= kMaterialBlendFilter, m.opacity = 0.0f, m.physicalOpacity = 0.0f; break;
-  case ShaderBlend::Blend: m.opacity = m.physicalOpacity = m.averageAlbedo.a; break;
+  case ShaderBlend::Blend: m.opacity = m.averageAlbedo.a, m.physicalOpacity = physicalOpacityOfAlpha(m.opacity); break;
   }
   return true;
 }
@@ -87,8 +88,12 @@ void applyLiquidBlends(const Scene& scene, const std::vector<uint32_t>& faceFlag
     const float physicalDefault = kind == LiquidKind::Water ? kPhysicalWaterOpacity
         : kind == LiquidKind::Slime                         ? kPhysicalSlimeOpacity
                                                             : 1.0f;
-    m.physicalOpacity = m.opacity < 1.0f ? m.opacity : physicalDefault;
+    m.physicalOpacity = m.opacity < 1.0f ? physicalOpacityOfAlpha(m.opacity) : physicalDefault;
   }
+}
+
+float physicalOpacityOfAlpha(float a) {
+  return srgbToLinear(std::clamp(a, 0.0f, 1.0f));
 }
 
 glm::vec3 liquidTint(const GpuMaterial& m) {

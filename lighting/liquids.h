@@ -55,6 +55,15 @@ inline LiquidBlend physicalLiquidBlend(const GpuMaterial& m) {
   return {m.physicalOpacity, 1.0f - m.physicalOpacity};
 }
 
+// Physical mode's opacity for an alpha the engine blends with (a level's `wateralpha`, Quake 2's
+// SURF_TRANS33 / SURF_TRANS66, a Quake 3 `blendFunc blend`): the engine blends in the
+// framebuffer's gamma space, so over darkness it shows srgbToLinear(a x srgb(t)), about
+// srgbToLinear(a) of the liquid's linear colour t (0.21 at a = 0.5, where a linear blend at a
+// shows 0.5), and over something as bright as the liquid all of it. A linear blend whose liquid
+// share is srgbToLinear(a) gives both; between them (what lies behind darker than the liquid,
+// or brighter) it shows more of what lies behind than the game does.
+float physicalOpacityOfAlpha(float a);
+
 // Physical mode's default opacity of a liquid the level leaves opaque: water lets half the
 // light through, slime a fifth; lava and teleporters stay opaque (they glow instead).
 inline constexpr float kPhysicalWaterOpacity = 0.5f;
@@ -69,8 +78,9 @@ glm::vec3 liquidTint(const GpuMaterial& m);
 glm::vec3 liquidAddedRadiance(const GpuMaterial& m);
 
 // Sets the blend of every material that a liquid face (kFaceLiquid in faceFlags) uses, for
-// faithful mode (opacity) and physical mode (physicalOpacity: the level's alpha where it gives
-// one below 1, else kPhysicalWaterOpacity / kPhysicalSlimeOpacity / 1 by kind): Quake's
+// faithful mode (opacity) and physical mode (physicalOpacity: physicalOpacityOfAlpha of the
+// level's alpha where it gives one below 1, else kPhysicalWaterOpacity / kPhysicalSlimeOpacity /
+// 1 by kind): Quake's
 // worldspawn alphas (Quake and Hexen II), Quake 2's SURF_TRANS33 / SURF_TRANS66 (0.33 / 0.66,
 // ref_gl R_DrawAlphaSurfaces; a texture's first liquid face decides), Quake 3 shaders' first
 // stage blendFunc (Material::blend: add, filter, blend by the image's mean alpha; physical mode

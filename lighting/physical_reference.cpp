@@ -57,9 +57,15 @@ std::optional<Landing> land(const RenderScene& rs, const glm::vec3& origin, cons
   Ray ray{origin, 0.0f, dir, reach};
   for (int pass = 0; pass < kMaxPasses; ++pass) {
     const std::optional<Hit> hit = rs.tracer.closestHit(ray);
-    if (!hit || hit->inside || (rs.faceFlags[hit->face] & kFaceSky)) return std::nullopt;
-    if (!passesThrough(rs, hit->face)) return Landing{hit->t, std::abs(glm::dot(faceNormal(rs, hit->face), dir))};
-    ray.tMin = continueRayAfter(hit->t);
+    if (!hit || (rs.faceFlags[hit->face] & kFaceSky)) return std::nullopt;
+    // Checked before `inside`: a light in a liquid (q1_litwater's green one) leaves through the
+    // liquid's own faces from within, and the compiler lights what lies beyond them.
+    if (passesThrough(rs, hit->face)) {
+      ray.tMin = continueRayAfter(hit->t);
+      continue;
+    }
+    if (hit->inside) return std::nullopt; // a light inside a wall lights nothing through it
+    return Landing{hit->t, std::abs(glm::dot(faceNormal(rs, hit->face), dir))};
   }
   return std::nullopt;
 }

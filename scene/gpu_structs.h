@@ -312,7 +312,7 @@ struct GpuMaterial {
   // (the engine's alpha); what lies behind weighs 1 - opacity, or 1 with kMaterialBlendAdd, or
   // its own colour with kMaterialBlendFilter.
   // Read on kFaceLiquid faces only; 1 = opaque. Faithful mode reads `opacity`, physical mode
-  // `physicalOpacity` (the map's alpha, else the liquid's physical default).
+  // `physicalOpacity` (physicalOpacityOfAlpha of the map's alpha, else the liquid's physical default).
   float opacity = 1.0f;
   float physicalOpacity = 1.0f;
   uint32_t pad = 0;

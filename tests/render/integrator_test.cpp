@@ -459,6 +459,31 @@ TEST(PhysicalRender, AQuakeLightIsMatchedOverTheSurfacesItsLightLandsOn) {
   EXPECT_NEAR(l.x, expected, 1e-3 * expected);
 }
 
+// A light inside water is matched as the same light in the open (lighting/physical_reference.h):
+// the compiler lights what lies beyond a liquid, so the rays that find where its light lands go
+// on through the liquid's faces, also when they leave it from within (q1_litwater's green light
+// sits in a water box; its rays were all dropped at the box's faces and the light kept the fixed
+// 128-unit rule, 0.58 of the level's faithful brightness). Shadow rays cross water untinted, so
+// the floor beside the box shows the same light either way.
+TEST(PhysicalRender, ALightInsideWaterIsMatchedOverWhatItLightsBeyondTheWater) {
+  auto floorBeside = [](bool water) {
+    test::BoxSceneBuilder b = floorScene();
+    if (water) {
+      b.material("*water", 100, 100, 100);
+      b.box({-24, -24, 56}, {24, 24, 104}, "*water");
+    }
+    b.entity({{"classname", "light"}, {"origin", "0 0 80"}});
+    const Scene scene = b.build();
+    Diagnostics diags;
+    const RenderScene rs = buildRenderScene(scene, {}, diags);
+    Rng rng = pixelRng(0, 0, 0, 0);
+    return radiance(rs, {LightingMode::Physical, 0}, downAt(60.0f, 0.0f), rng).x;
+  };
+  const float open = floorBeside(false);
+  ASSERT_GT(open, 0.0f);
+  EXPECT_NEAR(floorBeside(true), open, 1e-3f * open);
+}
+
 // Worldspawn minlight in physical mode (lighting/README.md, "Physical mode"): what the camera sees
 // is lit as by a white sky of the minlight's value, unshadowed, so a white floor in a level with
 // no light but `light 150` shows 150 x _range x the display match / 128, the game's floor of 150

@@ -145,15 +145,19 @@ TEST(Liquids, WaterInsideLavaKeepsItsFacesFromBothSides) {
   EXPECT_GT(beside, size_t(kWidth * kHeight / 50));
 }
 
-// Physical mode draws the water with probability 0.5 and what lies behind it otherwise, tinted
-// by the water's colour: the mean over the water is 0.5 x the opaque water's + 0.5 x tint x the
-// dry pool's, within the noise of 32 samples and the light that now also crosses the surface (5 %).
+// Physical mode draws the water of pool.map (`wateralpha 0.5`) with probability
+// srgbToLinear(0.5) = 0.214 (the share of its own colour the engine's gamma-space blend shows
+// over darkness: physicalOpacityOfAlpha) and what lies behind it otherwise, tinted by the
+// water's colour: the mean over the water is 0.214 x the opaque water's + 0.786 x tint x the dry
+// pool's, within the noise of 32 samples and the light that now also crosses the surface (5 %).
 TEST(Liquids, PhysicalWaterIsTheTintedBlendOnAverage) {
   const auto pool = load("pool.map"), dry = load("pool_dry.map"), opaque = load("pool_opaque.map");
   const uint32_t waterMaterial = *opaque->scene.findMaterial("*water_blue");
   EXPECT_FLOAT_EQ(opaque->render.materials[waterMaterial].physicalOpacity, kPhysicalWaterOpacity); // no key: physical default
-  EXPECT_FLOAT_EQ(pool->render.materials[waterMaterial].physicalOpacity, 0.5f);                    // the level's alpha
-  opaque->render.materials[waterMaterial].physicalOpacity = 1.0f;                                  // the water's own shading
+  const double share = srgbToLinear(0.5f);
+  EXPECT_NEAR(share, 0.214, 1e-3);
+  EXPECT_FLOAT_EQ(pool->render.materials[waterMaterial].physicalOpacity, float(share)); // the level's alpha, linearised
+  opaque->render.materials[waterMaterial].physicalOpacity = 1.0f;                       // the water's own shading
   const glm::dvec3 tint(liquidTint(pool->render.materials[waterMaterial]));
   EXPECT_NEAR(tint.z, 1.0, 1e-6);
   EXPECT_LT(tint.x, 0.1);
@@ -165,7 +169,7 @@ TEST(Liquids, PhysicalWaterIsTheTintedBlendOnAverage) {
   glm::dvec3 got(0.0), want(0.0);
   for (size_t i : water) {
     got += glm::dvec3(seen.beauty[i]);
-    want += 0.5 * glm::dvec3(solid.beauty[i]) + 0.5 * tint * glm::dvec3(behind.beauty[i]);
+    want += share * glm::dvec3(solid.beauty[i]) + (1.0 - share) * tint * glm::dvec3(behind.beauty[i]);
   }
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], 0.05 * want[c]) << "channel " << c;
   EXPECT_GT(want.x + want.y + want.z, 0.0) << "a black pool proves nothing";
