@@ -4,8 +4,7 @@
 // experiment a process, so that nothing was compiled before.
 //
 // Programs (KIND): shade, trace, mega (the level's own wavefront shade kernel, trace kernel and
-// megakernel), surfaces and lights (the faithful shade kernel's two halves, BT_WAVEFRONT_SURFACES and
-// _LIGHTS), shade-bare (the shade kernel with no faithful parts), shade-lights and
+// megakernel), shade-bare (the shade kernel with no faithful parts), shade-lights and
 // shade-surface (the shade kernel cut by hand in two: what a shadow ray's return and the next
 // light need, and what a surface ray's return needs; measurement only, they draw nothing right).
 // EXPERIMENT:
@@ -55,12 +54,7 @@ std::string sourceFor(const std::string& kind, bool physical, bt::gl::FaithfulFe
   const TextureMode mode = info.bindlessTextures ? TextureMode::Bindless : TextureMode::Arrays;
   const TraceLayout layout = info.softwareRenderer ? TraceLayout::Software : TraceLayout::Hardware;
   std::string text;
-  if (kind == "trace")
-    text = assembleShader("wavefront_trace.comp", programDefines(TracerProgram::WavefrontTrace, mode, layout));
-  else if (kind == "surfaces")
-    text = assembleShader("pathtrace.comp", programDefines(TracerProgram::WavefrontSurfaces, mode, layout, physical, features));
-  else if (kind == "lights")
-    text = assembleShader("pathtrace.comp", programDefines(TracerProgram::WavefrontLights, mode, layout, physical, features));
+  if (kind == "trace") text = assembleShader("wavefront_trace.comp", programDefines(TracerProgram::WavefrontTrace, mode, layout));
   else if (kind == "mega")
     text = assembleShader("pathtrace.comp", programDefines(TracerProgram::PathTracer, mode, layout, physical, features));
   else {
@@ -180,9 +174,8 @@ int main(int argc, char** argv) {
       std::vector<std::thread> threads;
       for (Probe& p : probes)
         threads.emplace_back([&, display, shared] {
-          const EGLint attribs[] = {
-              EGL_CONTEXT_MAJOR_VERSION,           4,       EGL_CONTEXT_MINOR_VERSION, 5, EGL_CONTEXT_OPENGL_PROFILE_MASK,
-              EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+          const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                    EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
           eglBindAPI(EGL_OPENGL_API);
           const EGLContext own = eglCreateContext(display, EGL_NO_CONFIG_KHR, shared, attribs);
           if (own == EGL_NO_CONTEXT || !eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, own)) {

@@ -94,12 +94,9 @@ FaithfulFeatures startPathTracerFor(TracerPrograms& programs, LevelPreparation& 
 
 // Finishes loading `level`, whose preparation is `preparation`: starts the path tracer
 // (startPathTracerFor), then waits for the wavefront kernels where they were started. NVIDIA's
-// driver does most of a compile on the thread that waits for it, so the first image comes
-// sooner with the import on another thread than before the wait, and sooner again with each
-// wavefront kernel finished on a thread of its own (TracerPrograms::finishWavefrontAside, where
-// `context` can share) while this one uploads the level (bench/README.md). Without those threads
-// the upload runs between the trace kernel's link and the shade kernel's. Exceptions of the
-// preparation or the compile reach the caller.
+// driver does part of a compile on the thread that waits for it, so the first image comes
+// sooner with the import on another thread than before the wait (bench/README.md). The upload needs this thread's GL context; it runs between the trace kernel's link
+// and the shade kernel's. Exceptions of the preparation or the compile reach the caller.
 void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& context, const std::shared_ptr<TracerPrograms>& programs,
                  bool physical, GlLevelTimes* times = nullptr);
 // Both, for a caller that has its context already (the viewer's reloads).

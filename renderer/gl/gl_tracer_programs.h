@@ -10,7 +10,6 @@
 #include "renderer/gl/gl_textures.h"
 #include "scene/gpu_structs.h"
 
-#include <future>
 #include <memory>
 #include <string>
 #include <vector>
@@ -129,10 +128,6 @@ public:
   TraceLayout traceLayout() const { return layout_; } // Software or Hardware
   // Where programs built from now on are cached; ProgramCache::fromEnvironment(GL_VENDOR) by default.
   void setCache(ProgramCache cache) { cache_ = std::move(cache); }
-  // Faithful wavefront kernels started from now on shade with the shade kernel's two halves
-  // (true, the default: shaders/pathtrace.comp BT_WAVEFRONT_SURFACES and _LIGHTS), which the
-  // driver compiles at once, each sooner than the whole, or with the whole (for comparisons).
-  void setFaithfulHalves(bool halves) { faithfulHalves_ = halves; }
 
   // Start building, without waiting (a no-op when started already). `features`: the faithful
   // program's optional parts the level uses (FaithfulFeatures); physical programs ignore them.
@@ -147,16 +142,15 @@ public:
   void startAovs(bool liquidCsg = false);
   // The finished program, built now if it was not started.
   ComputeProgram& pathTracer(bool physical, FaithfulFeatures features = {});
+  ComputeProgram& wavefrontShade(bool physical, FaithfulFeatures features = {});
   ComputeProgram& wavefrontTrace();
-  // The wavefront kernels finished, the trace kernel first. NVIDIA finishes each program on
+  // Both wavefront kernels finished, the trace kernel first. NVIDIA finishes each program on
   // the thread that waits for it, after its own threads report the compile complete, one
   // program at a time. The trace kernel's compile ends first, so waiting for it first does its
-  // part while the shade kernel still compiles instead of after it. `shade` is the whole shade
-  // kernel, or its surfaces' half with `lights` the lights' half (null with the whole).
+  // part while the shade kernel still compiles instead of after it.
   struct WavefrontKernels {
     ComputeProgram& shade;
     ComputeProgram& trace;
-    ComputeProgram* lights;
   };
   WavefrontKernels wavefront(bool physical, FaithfulFeatures features = {});
   ComputeProgram& aovs(bool liquidCsg = false);
@@ -179,33 +173,20 @@ public:
     bool traceReady = false;
   };
   WavefrontState wavefrontState(bool physical, FaithfulFeatures features = {});
-  // Whether the wavefront kernels were started, without asking the driver anything.
-  bool wavefrontStarted(bool physical, FaithfulFeatures features = {});
-  // Finishes the started wavefront kernels each on a thread of its own, in a context of
-  // `context`'s share group, and returns at once; wavefront() and wavefrontState() wait for them.
-  // NVIDIA does most of a compile (the shade kernel: 0.25-0.4 s of 0.6 s on the H200) on the
-  // thread that asks for its result, one program at a time on a thread, so finished on three
-  // threads the three kernels are done about when the largest is (bench/README.md). False (nothing
-  // done) where the context cannot share (one adopted from a window) or nothing is left to finish.
-  bool finishWavefrontAside(const GlContext& context, bool physical, FaithfulFeatures features = {});
 
 private:
   ComputeProgram& finished(std::unique_ptr<ComputeProgram>& slot);
-  void joinAside(); // rethrows the first of their errors once all have ended
   void start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines, bool cached = true);
   void startWavefrontTrace();
   static size_t variantIndex(bool physical, FaithfulFeatures features);
   std::unique_ptr<ComputeProgram>& pathSlot(bool physical, FaithfulFeatures features);
-  // The shade kernel, or its surfaces' half where its lights' half is in lightsSlot().
   std::unique_ptr<ComputeProgram>& shadeSlot(bool physical, FaithfulFeatures features);
-  std::unique_ptr<ComputeProgram>& lightsSlot(bool physical, FaithfulFeatures features);
   std::unique_ptr<ComputeProgram>& bakeSlot(FaithfulFeatures features);
 
   TextureMode mode_;
   TraceLayout layout_;
   ProgramCache cache_;
   bool wavefrontFirst_; // startPathTracer starts the wavefront kernels too (driver compiles in parallel, a GPU)
-  bool faithfulHalves_ = true;
   // One program per lighting mode (BT_LIGHTING_PHYSICAL chosen at build), so each compiles
   // only its own integrator, and per set of faithful features (variantIndex: physical, then
   // faithful with each of the 64 sets without and with the rule from inside and Quake 2's glass,
@@ -213,9 +194,7 @@ private:
   // which trace nothing (the rule from inside is the trace kernel's). Its trace kernel serves
   // every mode and level; the bake takes no CSG and no glass (it stores luxels, not the view).
   static constexpr size_t kPathVariants = 514;
-  std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[kPathVariants], lights_[kPathVariants], bake_[kPathVariants], trace_,
-      aov_[2], rayBench_;
-  std::vector<std::future<void>> aside_; // finishWavefrontAside's threads; they alone touch their programs
+  std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[kPathVariants], bake_[kPathVariants], trace_, aov_[2], rayBench_;
 };
 
 } // namespace bt::gl
