@@ -54,7 +54,8 @@ std::string sourceFor(const std::string& kind, bool physical, bt::gl::FaithfulFe
   const TextureMode mode = info.bindlessTextures ? TextureMode::Bindless : TextureMode::Arrays;
   const TraceLayout layout = info.softwareRenderer ? TraceLayout::Software : TraceLayout::Hardware;
   std::string text;
-  if (kind == "trace") text = assembleShader("wavefront_trace.comp", programDefines(TracerProgram::WavefrontTrace, mode, layout));
+  if (kind == "trace")
+    text = assembleShader("wavefront_trace.comp", programDefines(TracerProgram::WavefrontTrace, mode, layout));
   else if (kind == "mega")
     text = assembleShader("pathtrace.comp", programDefines(TracerProgram::PathTracer, mode, layout, physical, features));
   else {
@@ -174,8 +175,9 @@ int main(int argc, char** argv) {
       std::vector<std::thread> threads;
       for (Probe& p : probes)
         threads.emplace_back([&, display, shared] {
-          const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5, EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                    EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+          const EGLint attribs[] = {
+              EGL_CONTEXT_MAJOR_VERSION,           4,       EGL_CONTEXT_MINOR_VERSION, 5, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+              EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
           eglBindAPI(EGL_OPENGL_API);
           const EGLContext own = eglCreateContext(display, EGL_NO_CONFIG_KHR, shared, attribs);
           if (own == EGL_NO_CONTEXT || !eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, own)) {
