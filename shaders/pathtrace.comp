@@ -14,7 +14,7 @@
 // One sample per pixel of the integrator in renderer/cpu/integrator.cpp (faithful and
 // physical modes), added to a running sum: progressive accumulation, the mean read back as
 // sum / samples. Sample n of pixel (x, y) draws from pixelRng(x, y, n, seed) like the CPU's,
-// in the same order.
+// in the same order (physical mode: pixelSampler, its draws placed at the same dimensions).
 //
 // Shape: one ray per loop iteration. GPU compilers (NVIDIA's above all) inline every call, so
 // each place that calls the BVH traversal gets its own full copy of it; written as nested
