@@ -101,7 +101,7 @@ TEST(Sampler, PixelRngAndDrawsOutsideTheGroupsArePcg) {
 
 // A room lit by one light, a box and a low block in it, seen from a corner; physical mode, one
 // bounce, `spp` samples of `seed` with the Sobol sequence or without (PCG).
-RenderImage renderRoom(int spp, uint32_t seed, bool lowDiscrepancy) {
+Scene roomScene() {
   test::BoxSceneBuilder b;
   b.material("white", 220, 220, 220);
   b.material("red", 200, 40, 30);
@@ -110,8 +110,13 @@ RenderImage renderRoom(int spp, uint32_t seed, bool lowDiscrepancy) {
   b.box({10, -30, 0}, {50, 10, 96}, "red");
   b.box({-128, 40, 0}, {-60, 128, 48}, "blue");
   b.entity({{"classname", "light"}, {"origin", "-40 -60 110"}, {"light", "300"}, {"delay", "2"}, {"_deviance", "8"}});
+  return b.build();
+}
+
+RenderImage renderRoom(int spp, uint32_t seed, bool lowDiscrepancy) {
+  static const Scene scene = roomScene(); // the RenderScene refers to it
   Diagnostics diagnostics;
-  const RenderScene rs = buildRenderScene(b.build(), {}, diagnostics);
+  static const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
   CameraPose pose;
   pose.origin = {-115, -110, 64};
   pose.yaw = 40;
