@@ -134,7 +134,7 @@ int main(int argc, char** argv) {
       spps.push_back(std::atoi(argv[a]));
   }
   if (spps.empty())
-    for (int spp = 1; spp <= 4096; spp *= 2)
+    for (const int spp : bt::convergeSteps(4096))
       if (std::filesystem::exists(dir / fmt::format("{:04}spp.exr", spp))) spps.push_back(spp);
   const RenderImage reference = bt::readExrImage((dir / "reference.exr").string());
   const float referenceEv = bt::autoExposureEv(reference.beauty, reference.width, reference.height);

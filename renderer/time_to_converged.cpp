@@ -12,6 +12,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <cstdio>
+#include <numbers>
 #include <string>
 
 namespace bt {
@@ -55,12 +56,22 @@ std::vector<glm::vec3> displayedImage(const std::vector<glm::vec3>& linear, floa
   return out;
 }
 
+std::vector<int> convergeSteps(int maxSpp) {
+  std::vector<int> spps;
+  for (int power = 1; power <= maxSpp; power *= 2) {
+    spps.push_back(power);
+    const int between = int(std::lround(double(power) * std::numbers::sqrt2));
+    if (between > power && between < 2 * power && between <= maxSpp) spps.push_back(between);
+  }
+  return spps;
+}
+
 std::vector<ConvergeStep> timeToConverged(const std::function<RenderImage(int spp)>& render, const std::vector<glm::vec3>& referenceDisplay,
                                           const ConvergeSettings& settings) {
   using Clock = std::chrono::steady_clock;
   const auto secondsSince = [](Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); };
   std::vector<ConvergeStep> steps;
-  for (int spp = 1; spp <= settings.maxSpp; spp *= 2) {
+  for (const int spp : convergeSteps(settings.maxSpp)) {
     ConvergeStep step;
     step.spp = spp;
     auto start = Clock::now();

@@ -42,7 +42,13 @@ struct ConvergeSettings {
   DenoiseFade fade = kDenoiseFade;                 // the display's; tests shorten it
 };
 
-// Renders at 1, 2, 4, ... spp (each auto-exposed on its own raw beauty, as `render` does), each
+// The sample counts the sweep renders, up to maxSpp: every power of two and, between two, the
+// rounded geometric mean (1, 2, 3, 4, 6, 8, 11, 16, 23, 32, 45, 64, 91, 128, 181, 256, ...). The
+// viewer shows every sample count on its way, so a sweep by doubling alone would report up to
+// twice the time the display needs; half-octaves keep that over-report within a factor of 1.41.
+std::vector<int> convergeSteps(int maxSpp);
+
+// Renders at each of convergeSteps(maxSpp) (each auto-exposed on its own raw beauty, as `render` does), each
 // image measured raw, denoised and as displayed with the denoiser on (displayedBeauty of the two
 // at its spp), until the raw and the displayed image are within kConvergedRelativeMse of
 // `referenceDisplay` (or maxSpp); returns the steps. The denoiser's time counts where the display

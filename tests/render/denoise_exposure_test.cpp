@@ -329,6 +329,18 @@ TEST(TimeToConverged, MeasuresTheDisplayedImage) {
   EXPECT_TRUE(fadeSeen) << "the denoised image at full strength scores as the displayed one: the test cannot tell them apart";
 }
 
+// The sweep's sample counts: every power of two and the half-octave between, so that the time it
+// reports is at most 1.41 times the time at which the display first passes the threshold.
+TEST(TimeToConverged, StepsByHalfOctaves) {
+  EXPECT_EQ(convergeSteps(256), (std::vector<int>{1, 2, 3, 4, 6, 8, 11, 16, 23, 32, 45, 64, 91, 128, 181, 256}));
+  EXPECT_EQ(convergeSteps(100), (std::vector<int>{1, 2, 3, 4, 6, 8, 11, 16, 23, 32, 45, 64, 91}));
+  EXPECT_EQ(convergeSteps(1), (std::vector<int>{1}));
+  for (const int spp : {4, 16, 4096}) {
+    const std::vector<int> steps = convergeSteps(spp);
+    for (size_t i = 2; i < steps.size(); ++i) EXPECT_LE(double(steps[i]), 1.5 * double(steps[i - 1])) << steps[i];
+  }
+}
+
 // The time-to-converged bench's diagnostic: error spread evenly gives the worst 1 % of pixels
 // about 1 % of it; one firefly on an otherwise exact image gives them all of it.
 TEST(TimeToConverged, WorstPercentShareTellsEvenNoiseFromAFirefly) {
