@@ -62,41 +62,63 @@ inline uint32_t sobolSecond(uint32_t index) {
 // with the pixel's own shuffle of the sample order (an Owen scramble of the index: the first
 // 2^k samples stay a 2^k-point net, so every power-of-two count is stratified) and its own
 // scramble of the values, so that pairs and pixels are uncorrelated. In [0, 1), 24 bits.
+// sobolPair: both of an even dimension's pair at once (the same numbers, half the hashing).
+inline uint32_t sobolPairSeed(uint32_t pixelSeed, uint32_t dim) {
+  return pcgHash(pixelSeed ^ pcgHash(dim >> 1u));
+}
+inline float sobolValue(uint32_t sobol, uint32_t pairSeed, uint32_t component) {
+  return float(owenScramble(sobol, pcgHash(pairSeed + 1u + component)) >> 8) * (1.0f / 16777216.0f);
+}
 inline float sobolDraw(uint32_t pixelSeed, uint32_t index, uint32_t dim) {
-  const uint32_t seed = pcgHash(pixelSeed ^ pcgHash(dim >> 1u));
+  const uint32_t seed = sobolPairSeed(pixelSeed, dim);
   const uint32_t shuffled = owenScramble(index, seed);
-  const uint32_t sobol = (dim & 1u) == 0u ? reverseBits(shuffled) : sobolSecond(shuffled);
-  return float(owenScramble(sobol, pcgHash(seed + 1u + (dim & 1u))) >> 8) * (1.0f / 16777216.0f);
+  return (dim & 1u) == 0u ? sobolValue(reverseBits(shuffled), seed, 0u) : sobolValue(sobolSecond(shuffled), seed, 1u);
+}
+inline glm::vec2 sobolPair(uint32_t pixelSeed, uint32_t index, uint32_t dim) {
+  const uint32_t seed = sobolPairSeed(pixelSeed, dim);
+  const uint32_t shuffled = owenScramble(index, seed);
+  return {sobolValue(reverseBits(shuffled), seed, 0u), sobolValue(sobolSecond(shuffled), seed, 1u)};
 }
 
 struct Rng {
   uint32_t state = 0;
-  // A pixelSampler's: the next draw takes dimension `dim` of the pixel's scrambled Sobol
-  // sequence (sobolDraw) unless dim is BT_DIM_PCG; then it takes the PCG stream. A pixelRng
-  // draws from PCG only.
+  // A pixelSampler's: the pixel's scramble (the top 22 bits) and, in the low BT_DIM_BITS, the
+  // dimension of the pixel's scrambled Sobol sequence (sobolDraw) the next draw takes, or
+  // BT_DIM_PCG: then it takes the PCG stream. One word because the GL tracer carries it in a
+  // register along the whole path (its sample index is the dispatch's). A pixelRng draws from
+  // PCG only.
+  uint32_t seedDim = BT_DIM_PCG;
+  uint32_t sampleIndex = 0;
   bool lowDiscrepancy = false;
-  uint32_t dim = BT_DIM_PCG;
-  uint32_t pixelSeed = 0, sampleIndex = 0;
 
+  uint32_t dim() const { return seedDim & BT_DIM_PCG; }
   // Uniform in [0, 1): 24 random bits, exactly representable as a float.
   float next() {
-    if (dim != BT_DIM_PCG) return sobolDraw(pixelSeed, sampleIndex, dim++);
+    if (const uint32_t d = dim(); d != BT_DIM_PCG) {
+      ++seedDim;
+      return sobolDraw(seedDim >> BT_DIM_BITS, sampleIndex, d);
+    }
     state = state * 747796405u + 2891336453u;
     const uint32_t word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
     return float(((word >> 22u) ^ word) >> 8) * (1.0f / 16777216.0f);
   }
   glm::vec2 next2() {
-    if (dim != BT_DIM_PCG) dim += dim & 1u; // a Sobol pair, stratified in 2D
+    if (dim() != BT_DIM_PCG) {
+      seedDim += dim() & 1u; // a Sobol pair, stratified in 2D
+      const glm::vec2 u = sobolPair(seedDim >> BT_DIM_BITS, sampleIndex, dim());
+      seedDim += 2u;
+      return u;
+    }
     const float a = next();
     return {a, next()};
   }
   // The draws that follow take dimensions offset, offset + 1, ... of the block of the path's
   // surface `depth` (BT_DIM_*); no-op for a pixelRng.
   void at(int depth, uint32_t offset) {
-    if (lowDiscrepancy) dim = BT_DIM_FIRST_SURFACE + uint32_t(depth) * BT_DIMS_PER_SURFACE + offset;
+    if (lowDiscrepancy) seedDim = (seedDim & ~BT_DIM_PCG) | (BT_DIM_FIRST_SURFACE + uint32_t(depth) * BT_DIMS_PER_SURFACE + offset);
   }
   // The draws that follow take the PCG stream.
-  void atPcg() { dim = BT_DIM_PCG; }
+  void atPcg() { seedDim |= BT_DIM_PCG; }
 };
 
 inline Rng pixelRng(uint32_t x, uint32_t y, uint32_t sample, uint32_t seed) {
@@ -108,8 +130,7 @@ inline Rng pixelRng(uint32_t x, uint32_t y, uint32_t sample, uint32_t seed) {
 inline Rng pixelSampler(uint32_t x, uint32_t y, uint32_t sample, uint32_t seed) {
   Rng rng = pixelRng(x, y, sample, seed);
   rng.lowDiscrepancy = true;
-  rng.dim = BT_DIM_CAMERA;
-  rng.pixelSeed = pcgHash(x ^ pcgHash(y ^ pcgHash(pcgHash(seed) + 1u)));
+  rng.seedDim = (pcgHash(x ^ pcgHash(y ^ pcgHash(pcgHash(seed) + 1u))) & ~BT_DIM_PCG) | BT_DIM_CAMERA;
   rng.sampleIndex = sample;
   return rng;
 }

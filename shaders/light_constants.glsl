@@ -56,6 +56,7 @@
 #define BT_DIM_EMITTER 5u                // 5: which emitter triangle, 6-7: the point on it
 #define BT_DIM_BSDF 8u                   // 8: the lobe (specular materials), 8-9 or 10-11: the direction
 #define BT_DIM_ROULETTE 12u              // 12: Russian roulette
-#define BT_DIM_PCG 0xffffffffu           // not a dimension: the draw takes the PCG stream
+#define BT_DIM_PCG 0x3ffu                // not a dimension: the draw takes the PCG stream
+#define BT_DIM_BITS 10u                  // Rng keeps the dimension in its low 10 bits (at most 65 surfaces)
 
 #endif

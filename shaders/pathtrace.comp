@@ -32,6 +32,7 @@
 #include "camera.glsl"
 #ifdef BT_LIGHTING_PHYSICAL
 #define BT_LOW_DISCREPANCY // sampling.glsl: the Sobol dimensions of renderer/cpu's physical paths
+#define BT_SAMPLE_INDEX camera.frameIndex
 #endif
 #include "sampling.glsl"
 #include "faithful.glsl"

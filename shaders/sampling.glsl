@@ -11,14 +11,15 @@ uint pcgHash(uint v) {
 
 // Physical mode's programs (BT_LOW_DISCREPANCY) draw their main decisions from the pixel's
 // scrambled Sobol sequence (lighting/sampling.h pixelSampler, Rng::at): the path carries the
-// dimension it is at (BT_DIM_PCG: the PCG stream), the pixel's scramble and the sample index.
+// pixel's scramble and the dimension it is at in one word (seedDim); the sample index is the
+// dispatch's (BT_SAMPLE_INDEX, the program's uniform), not a register along the path.
 #ifdef BT_LOW_DISCREPANCY
-struct Rng { uint state; uint dim; uint pixelSeed; uint sampleIndex; };
+struct Rng { uint state; uint seedDim; };
 #else
 struct Rng { uint state; };
 #endif
 
-// lighting/sampling.h owenScramble, sobolSecond, sobolDraw.
+// lighting/sampling.h owenScramble, sobolSecond, sobolPairSeed, sobolValue, sobolDraw, sobolPair.
 uint owenScramble(uint v, uint seed) {
   v = bitfieldReverse(v);
   v += seed;
@@ -38,16 +39,31 @@ uint sobolSecond(uint index) {
   return bitfieldReverse(index);
 }
 
+uint sobolPairSeed(uint pixelSeed, uint dim) { return pcgHash(pixelSeed ^ pcgHash(dim >> 1u)); }
+
+float sobolValue(uint sobol, uint pairSeed, uint component) {
+  return float(owenScramble(sobol, pcgHash(pairSeed + 1u + component)) >> 8) * (1.0 / 16777216.0);
+}
+
 float sobolDraw(uint pixelSeed, uint index, uint dim) {
-  uint seed = pcgHash(pixelSeed ^ pcgHash(dim >> 1u));
+  uint seed = sobolPairSeed(pixelSeed, dim);
   uint shuffled = owenScramble(index, seed);
-  uint sobol = (dim & 1u) == 0u ? bitfieldReverse(shuffled) : sobolSecond(shuffled);
-  return float(owenScramble(sobol, pcgHash(seed + 1u + (dim & 1u))) >> 8) * (1.0 / 16777216.0);
+  return (dim & 1u) == 0u ? sobolValue(bitfieldReverse(shuffled), seed, 0u) : sobolValue(sobolSecond(shuffled), seed, 1u);
+}
+
+vec2 sobolPair(uint pixelSeed, uint index, uint dim) {
+  uint seed = sobolPairSeed(pixelSeed, dim);
+  uint shuffled = owenScramble(index, seed);
+  return vec2(sobolValue(bitfieldReverse(shuffled), seed, 0u), sobolValue(sobolSecond(shuffled), seed, 1u));
 }
 
 float rngNext(inout Rng rng) {
 #ifdef BT_LOW_DISCREPANCY
-  if (rng.dim != BT_DIM_PCG) return sobolDraw(rng.pixelSeed, rng.sampleIndex, rng.dim++);
+  uint dim = rng.seedDim & BT_DIM_PCG;
+  if (dim != BT_DIM_PCG) {
+    rng.seedDim++;
+    return sobolDraw(rng.seedDim >> BT_DIM_BITS, BT_SAMPLE_INDEX, dim);
+  }
 #endif
   rng.state = rng.state * 747796405u + 2891336453u;
   uint word = ((rng.state >> ((rng.state >> 28u) + 4u)) ^ rng.state) * 277803737u;
@@ -56,7 +72,12 @@ float rngNext(inout Rng rng) {
 
 vec2 rngNext2(inout Rng rng) {
 #ifdef BT_LOW_DISCREPANCY
-  if (rng.dim != BT_DIM_PCG) rng.dim += rng.dim & 1u; // a Sobol pair, stratified in 2D
+  if ((rng.seedDim & BT_DIM_PCG) != BT_DIM_PCG) {
+    rng.seedDim += rng.seedDim & 1u; // a Sobol pair, stratified in 2D
+    vec2 u = sobolPair(rng.seedDim >> BT_DIM_BITS, BT_SAMPLE_INDEX, rng.seedDim & BT_DIM_PCG);
+    rng.seedDim += 2u;
+    return u;
+  }
 #endif
   float a = rngNext(rng);
   return vec2(a, rngNext(rng));
@@ -65,20 +86,20 @@ vec2 rngNext2(inout Rng rng) {
 // lighting/sampling.h Rng::at and Rng::atPcg; no-ops without BT_LOW_DISCREPANCY.
 void rngAt(inout Rng rng, int depth, uint offset) {
 #ifdef BT_LOW_DISCREPANCY
-  rng.dim = BT_DIM_FIRST_SURFACE + uint(depth) * BT_DIMS_PER_SURFACE + offset;
+  rng.seedDim = (rng.seedDim & ~BT_DIM_PCG) | (BT_DIM_FIRST_SURFACE + uint(depth) * BT_DIMS_PER_SURFACE + offset);
 #endif
 }
 
 void rngAtPcg(inout Rng rng) {
 #ifdef BT_LOW_DISCREPANCY
-  rng.dim = BT_DIM_PCG;
+  rng.seedDim |= BT_DIM_PCG;
 #endif
 }
 
 Rng pixelRng(uint x, uint y, uint sampleIndex, uint seed) {
   uint state = pcgHash(x ^ pcgHash(y ^ pcgHash(sampleIndex ^ pcgHash(seed))));
 #ifdef BT_LOW_DISCREPANCY
-  return Rng(state, BT_DIM_PCG, 0u, 0u);
+  return Rng(state, BT_DIM_PCG);
 #else
   return Rng(state);
 #endif
@@ -87,9 +108,7 @@ Rng pixelRng(uint x, uint y, uint sampleIndex, uint seed) {
 #ifdef BT_LOW_DISCREPANCY
 Rng pixelSampler(uint x, uint y, uint sampleIndex, uint seed) {
   Rng rng = pixelRng(x, y, sampleIndex, seed);
-  rng.dim = BT_DIM_CAMERA;
-  rng.pixelSeed = pcgHash(x ^ pcgHash(y ^ pcgHash(pcgHash(seed) + 1u)));
-  rng.sampleIndex = sampleIndex;
+  rng.seedDim = (pcgHash(x ^ pcgHash(y ^ pcgHash(pcgHash(seed) + 1u))) & ~BT_DIM_PCG) | BT_DIM_CAMERA;
   return rng;
 }
 #endif
