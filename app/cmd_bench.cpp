@@ -43,10 +43,11 @@ struct BenchOptions {
   std::string backend = "gl";
   bool timeToConverged = false;
   int referenceSpp = 4096;
-  int maxSpp = 0;              // --max-spp
-  bool referenceFloor = false; // --reference-floor
-  std::string reference;       // --reference: a stored reference EXR (the CPU tracer's time to converged)
-  std::string dump;            // --dump: a folder for the time to converged's images
+  int maxSpp = 0;                // --max-spp
+  bool referenceFloor = false;   // --reference-floor
+  std::string reference;         // --reference: a stored reference EXR (the CPU tracer's time to converged)
+  std::string dump;              // --dump: a folder for the time to converged's images
+  std::string sampler = "sobol"; // --sampler: the CPU tracer's physical random numbers
   bool raysOnly = false;
 };
 
@@ -73,6 +74,7 @@ int runCpuTimeToConverged(const BenchOptions& options) {
     settings.integrator.mode = LightingMode::Physical;
     settings.integrator.bounces = options.bounces;
     settings.integrator.clampIndirect = options.clampIndirect;
+    settings.integrator.lowDiscrepancy = options.sampler == "sobol";
     return renderCpu(rs, camera, settings);
   };
   fmt::print("cpu, {} threads; camera {} ({})\n", std::thread::hardware_concurrency(), formatCameraPose(pose), pose.source);
@@ -95,6 +97,7 @@ int runCpuTimeToConverged(const BenchOptions& options) {
 int runBench(const BenchOptions& options) {
   if (options.backend == "cpu") return runCpuTimeToConverged(options); // the CPU tracer has only this measure
   if (!options.reference.empty()) throw std::runtime_error("--reference is the CPU tracer's (--backend cpu); the GL one renders its own");
+  if (options.sampler != "sobol") throw std::runtime_error("--sampler is the CPU tracer's (--backend cpu); the GL one has only sobol");
   const int width = options.size.width, height = options.size.height;
   const auto textureMode = gl::parseTextureMode(options.textures); // --gl-textures admits only the names it parses
   const auto start = std::chrono::steady_clock::now();
@@ -162,6 +165,12 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
                    "With --backend cpu: a stored reference EXR (`render --backend cpu --lighting physical --exposure 0 --seed 24301 "
                    "... -o ref.exr`, same level, camera, size and bounces) instead of rendering one")
       ->check(CLI::ExistingFile);
+  bench
+      ->add_option("--sampler", options->sampler,
+                   "With --backend cpu: physical mode's random numbers, sobol (the pixel's scrambled Sobol sequence for the main "
+                   "decisions) or pcg (all from the PCG stream, as before session 24), to measure the two against each other")
+      ->check(CLI::IsMember({"sobol", "pcg"}))
+      ->capture_default_str();
   bench->add_option("--dump", options->dump,
                     "With --time-to-converged: write the reference and each step's raw image (AOVs, second moment) as DIR/NAME.exr, "
                     "to denoise again");

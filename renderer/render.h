@@ -31,6 +31,12 @@ struct IntegratorSettings {
   // times brighter than the light's tuning intends. 0: off, the unbiased estimate (the default
   // here, for tests against references); the commands default to kClampIndirectDefault.
   float clampIndirect = 0.0f;
+  // Physical mode's random numbers for its main decisions (the camera's subpixel, the light pick
+  // and point, the emitter point, the BSDF's direction, roulette): the pixel's scrambled Sobol
+  // sequence (lighting/sampling.h pixelSampler), fewer samples' noise than the PCG stream
+  // (bench/README.md, issue 18 session 24); false: PCG for all, as before, to measure against.
+  // The GL tracer has the Sobol sequence only.
+  bool lowDiscrepancy = true;
 };
 
 inline constexpr float kClampIndirectDefault = BT_CLAMP_INDIRECT_DEFAULT;

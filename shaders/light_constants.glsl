@@ -43,4 +43,20 @@
 #define BT_PHYSICAL_REACH_THRESHOLD 1.0f // light units: where an inverse-formula light ends in physical mode
 #define BT_CLAMP_INDIRECT_DEFAULT 32.0f  // units: --clamp-indirect's default (lighting/README.md, "Fireflies")
 
+// Physical mode's low-discrepancy dimensions (lighting/sampling.h Rng::at): where each draw of a
+// path's sample sits in the pixel's scrambled Sobol sequence. The camera's subpixel first, then
+// a block per surface, each group at a fixed place in it so that a pixel's samples stratify the
+// same decision together whatever the draws before it; a 2D draw starts at an even dimension
+// (a Sobol pair). Draws outside the groups (liquids, suns' cones) take the PCG stream.
+#define BT_DIM_CAMERA 0u                 // 0-1: subpixel
+#define BT_DIM_FIRST_SURFACE 2u
+#define BT_DIMS_PER_SURFACE 14u
+#define BT_DIM_LIGHT_PICK 0u             // 0-1: near list or not, which light (the tree: 0)
+#define BT_DIM_LIGHT_POINT 2u            // 2-4: the picked light's _deviance jitter
+#define BT_DIM_EMITTER 5u                // 5: which emitter triangle, 6-7: the point on it
+#define BT_DIM_BSDF 8u                   // 8: the lobe (specular materials), 8-9 or 10-11: the direction
+#define BT_DIM_ROULETTE 12u              // 12: Russian roulette
+#define BT_DIM_PCG 0x3ffu                // not a dimension: the draw takes the PCG stream
+#define BT_DIM_BITS 10u                  // Rng keeps the dimension in its low 10 bits (at most 65 surfaces)
+
 #endif

@@ -14,7 +14,7 @@
 // One sample per pixel of the integrator in renderer/cpu/integrator.cpp (faithful and
 // physical modes), added to a running sum: progressive accumulation, the mean read back as
 // sum / samples. Sample n of pixel (x, y) draws from pixelRng(x, y, n, seed) like the CPU's,
-// in the same order.
+// in the same order (physical mode: pixelSampler, its draws placed at the same dimensions).
 //
 // Shape: one ray per loop iteration. GPU compilers (NVIDIA's above all) inline every call, so
 // each place that calls the BVH traversal gets its own full copy of it; written as nested
@@ -30,6 +30,10 @@
 #include "trace.glsl"
 #include "visible.glsl"
 #include "camera.glsl"
+#ifdef BT_LIGHTING_PHYSICAL
+#define BT_LOW_DISCREPANCY // sampling.glsl: the Sobol dimensions of renderer/cpu's physical paths
+#define BT_SAMPLE_INDEX camera.frameIndex
+#endif
 #include "sampling.glsl"
 #include "faithful.glsl"
 #include "light_select.glsl"
@@ -424,10 +428,14 @@ bool physicalSunSeesItsSky(uint lightIndex, uint face) {
 bool physicalSelectedLightRay(inout Path path, inout Rng rng) {
   vec3 n = path.normal;
   vec3 origin = offsetPoint(path.position, n);
+  rngAt(rng, path.depth, BT_DIM_LIGHT_PICK);
   SelectedLight chosen = selectPhysicalLight(origin, path.bsdf.n, rng);
+  rngAtPcg(rng);
   if (!chosen.found) return false;
   GpuLight light = lights[chosen.light];
+  rngAt(rng, path.depth, BT_DIM_LIGHT_POINT);
   vec3 d = jitteredOrigin(light, rng) - origin;
+  rngAtPcg(rng);
   float dist2 = dot(d, d);
   float dist = sqrt(dist2);
   vec3 wi = d / dist;
@@ -447,8 +455,10 @@ bool physicalSelectedLightRay(inout Path path, inout Rng rng) {
 bool physicalEmitterRay(inout Path path, inout Rng rng) {
   vec3 n = path.normal;
   vec3 origin = offsetPoint(path.position, n);
+  rngAt(rng, path.depth, BT_DIM_EMITTER);
   GpuEmitter e = emitters[pickEmitter(rngNext(rng))];
   vec3 q = sampleTriangle(e.v0, e.v1, e.v2, rngNext2(rng));
+  rngAtPcg(rng);
   vec3 d = q - origin;
   float dist2 = dot(d, d);
   float dist = sqrt(dist2);
@@ -529,7 +539,9 @@ bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
 // Direct light is done: sample the BSDF for the next bounce, or false at the path's end.
 bool physicalBounce(inout Path path, inout Rng rng) {
   vec3 n = path.normal;
+  rngAt(rng, path.depth, BT_DIM_BSDF);
   vec3 wi = bsdfSample(path.bsdf, path.wo, rng);
+  rngAtPcg(rng);
   float pdf;
   vec3 f = bsdfEval(path.bsdf, n, path.wo, wi, pdf);
   if (pdf <= 0.0) return false;
@@ -538,7 +550,10 @@ bool physicalBounce(inout Path path, inout Rng rng) {
   // Russian roulette after three bounces, survival by throughput.
   if (path.depth >= 3) {
     float survive = min(0.95, max(path.throughput.x, max(path.throughput.y, path.throughput.z)));
-    if (rngNext(rng) >= survive) return false;
+    rngAt(rng, path.depth, BT_DIM_ROULETTE);
+    float u = rngNext(rng);
+    rngAtPcg(rng);
+    if (u >= survive) return false;
     path.throughput /= survive;
   }
   setRay(path, RAY_SURFACE, offsetPoint(path.position, n), wi, INFINITY);
@@ -693,8 +708,13 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
 
 // Sample camera.frameIndex of `pixel`: its random stream, and the path waiting for its camera ray.
 Path cameraPath(ivec2 pixel, out Rng rng) {
+#ifdef BT_LOW_DISCREPANCY
+  rng = pixelSampler(uint(pixel.x), uint(pixel.y), camera.frameIndex, camera.seed);
+#else
   rng = pixelRng(uint(pixel.x), uint(pixel.y), camera.frameIndex, camera.seed);
+#endif
   vec2 jitter = rngNext2(rng);
+  rngAtPcg(rng);
   Path path;
   setRay(path, RAY_SURFACE, camera.origin, cameraRayDirection(vec2(pixel) + jitter), INFINITY);
   path.depth = 0;

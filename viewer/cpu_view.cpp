@@ -43,8 +43,9 @@ size_t CpuProgressive::refine(const RenderScene& scene, const Camera& camera, co
     const auto bandStart = Clock::now();
     parallelFor(size_t(rows) * size_t(width_), 0, [&](size_t i) {
       const int x = int(i % size_t(width_)), y = first + int(i / size_t(width_));
-      Rng rng = pixelRng(uint32_t(x), uint32_t(y), uint32_t(passes_), 0);
+      Rng rng = pathRng(integrator, uint32_t(x), uint32_t(y), uint32_t(passes_), 0);
       const glm::vec2 jitter = rng.next2();
+      rng.atPcg();
       const glm::vec3 l = radiance(scene, integrator, camera.ray(float(x) + jitter.x, float(y) + jitter.y), rng);
       // A NaN or infinite sample would poison the pixel for good; drop it (as renderCpu does).
       if (!(std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z))) return;

@@ -102,8 +102,9 @@ RenderImage renderCpu(const RenderScene& scene, const Camera& camera, const Rend
   while (pass < maxSamples) {
     forEachRow(image.height, threads, [&](int y) {
       for (int x = 0; x < image.width; ++x) {
-        Rng rng = pixelRng(uint32_t(x), uint32_t(y), uint32_t(pass), settings.seed);
+        Rng rng = pathRng(settings.integrator, uint32_t(x), uint32_t(y), uint32_t(pass), settings.seed);
         const glm::vec2 jitter = rng.next2();
+        rng.atPcg();
         const Ray ray = camera.ray(float(x) + jitter.x, float(y) + jitter.y);
         const glm::vec3 l = radiance(scene, settings.integrator, ray, rng);
         // A NaN or infinite sample would poison the pixel for good; drop it.

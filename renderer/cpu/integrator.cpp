@@ -387,19 +387,23 @@ LightPick pickFromNearList(const RenderScene& rs, const glm::vec3& origin, const
 // suns', the pick's (two for the near lists, one for the tree), the chosen light's jitter (3,
 // when soft); light_select.glsl draws the same as the near lists.
 glm::vec3 allLightsSelected(const RenderScene& rs, const IntegratorSettings& settings, const Bsdf& bsdf, const glm::vec3& origin,
-                            const glm::vec3& ng, const glm::vec3& wo, float minDist2, Rng& rng) {
+                            const glm::vec3& ng, const glm::vec3& wo, float minDist2, int depth, Rng& rng) {
   glm::vec3 l(0.0f);
   for (uint32_t i : rs.lightGrid.fixedLights()) {
     const GpuLight& light = rs.lights[i];
     if (light.type == uint32_t(LightType::Sun) && light.value > 0.0f) l += sunContribution(rs, bsdf, light, origin, ng, wo, rng);
   }
+  rng.at(depth, BT_DIM_LIGHT_PICK);
   const LightPick pick = settings.physicalPick == IntegratorSettings::PhysicalPick::Tree
       ? pickLightFromTree(rs.lightGrid.physicalTree, origin, bsdf.n, rng.next())
       : pickFromNearList(rs, origin, bsdf.n, rng);
+  rng.atPcg();
   if (!pick.found) return l;
 
   const GpuLight& light = rs.lights[pick.light];
+  rng.at(depth, BT_DIM_LIGHT_POINT);
   const glm::vec3 pos = jitteredOrigin(light, rng);
+  rng.atPcg();
   glm::vec3 wi;
   float dist;
   const glm::vec3 c = pointLightUnshadowed(rs, bsdf, light, pos, origin, ng, wo, minDist2, wi, dist);
@@ -409,17 +413,20 @@ glm::vec3 allLightsSelected(const RenderScene& rs, const IntegratorSettings& set
 
 // Direct light at a surface by next-event estimation: point lights and suns, then one emitter
 // triangle (MIS-weighted against BSDF sampling). Rays leave from the face (ng), not from where
-// a normal map pretends it is. `indirect`: a surface after the camera's (the firefly clamp's).
+// a normal map pretends it is. `depth`: the path's surface, 0 the camera's (the firefly clamp spares
+// it; Rng::at places its draws by it).
 glm::vec3 directLight(const RenderScene& rs, const IntegratorSettings& settings, const Bsdf& bsdf, const glm::vec3& p, const glm::vec3& ng,
-                      const glm::vec3& wo, bool indirect, Rng& rng) {
+                      const glm::vec3& wo, int depth, Rng& rng) {
   const glm::vec3 origin = offsetRayOrigin(p, ng);
-  const float minDist2 = indirect ? settings.clampIndirect * settings.clampIndirect : 0.0f;
-  glm::vec3 l = settings.lightSelection ? allLightsSelected(rs, settings, bsdf, origin, ng, wo, minDist2, rng)
+  const float minDist2 = depth > 0 ? settings.clampIndirect * settings.clampIndirect : 0.0f;
+  glm::vec3 l = settings.lightSelection ? allLightsSelected(rs, settings, bsdf, origin, ng, wo, minDist2, depth, rng)
                                         : allLightsExhaustive(rs, bsdf, origin, ng, wo, minDist2, rng);
 
   if (!rs.emitters.empty()) {
+    rng.at(depth, BT_DIM_EMITTER);
     const GpuEmitter& e = rs.emitters[pickEmitter(rs, rng.next())];
     const glm::vec3 q = sampleTriangle(e.v0, e.v1, e.v2, rng.next2());
+    rng.atPcg();
     const glm::vec3 d = q - origin;
     const float dist2 = glm::dot(d, d);
     const float dist = std::sqrt(dist2);
@@ -510,9 +517,11 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
 
     const Bsdf bsdf = surfaceBsdf(rs, hit, wo);
     if (depth == 0) l += throughput * minlightRadiance(rs, bsdf.albedo);
-    l += throughput * directLight(rs, settings, bsdf, hit.position, n, wo, depth > 0, rng);
+    l += throughput * directLight(rs, settings, bsdf, hit.position, n, wo, depth, rng);
 
+    rng.at(depth, BT_DIM_BSDF);
     const glm::vec3 wi = bsdfSample(bsdf, wo, rng);
+    rng.atPcg();
     float pdf;
     const glm::vec3 f = bsdfEval(bsdf, n, wo, wi, pdf);
     if (pdf <= 0.0f) break;
@@ -522,7 +531,10 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
     // Russian roulette after three bounces, survival by throughput.
     if (depth >= 3) {
       const float survive = std::min(0.95f, std::max({throughput.x, throughput.y, throughput.z}));
-      if (rng.next() >= survive) break;
+      rng.at(depth, BT_DIM_ROULETTE);
+      const float u = rng.next();
+      rng.atPcg();
+      if (u >= survive) break;
       throughput /= survive;
     }
     ray = Ray{offsetRayOrigin(hit.position, n), 0.0f, wi, std::numeric_limits<float>::infinity()};

@@ -24,6 +24,14 @@ namespace bt {
 // keep the face normal: ericw-tools' `light` has no normal maps.
 glm::vec3 shadingNormal(const RenderScene& rs, const SurfaceHit& hit, const glm::vec3& wo);
 
+// The random numbers of sample `sample` of pixel (x, y): physical mode's pixelSampler (with
+// IntegratorSettings::lowDiscrepancy), else pixelRng. Its first two draws are the camera's
+// subpixel; then atPcg() before radiance().
+inline Rng pathRng(const IntegratorSettings& settings, uint32_t x, uint32_t y, uint32_t sample, uint32_t seed) {
+  return settings.mode == LightingMode::Physical && settings.lowDiscrepancy ? pixelSampler(x, y, sample, seed)
+                                                                            : pixelRng(x, y, sample, seed);
+}
+
 // Linear radiance along the ray.
 glm::vec3 radiance(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, Rng& rng);
 

@@ -1,6 +1,7 @@
 // The GL integrator against closed-form values: faithful mode's ericw-tools formulas and
 // physical mode's direct lighting, on the hand-built room.
 #include "lighting/render_scene.h"
+#include "lighting/sampling.h"
 #include "renderer/gl/gl_context.h"
 #include "renderer/gl/gl_lighting.h"
 #include "renderer/gl/gl_tracer.h"
@@ -18,21 +19,11 @@ namespace {
 constexpr int kWidth = 64;
 constexpr int kHeight = 48;
 
-// lighting/sampling.h's streams: the test recomputes the tracer's pixel jitter.
-uint32_t pcgHash(uint32_t v) {
-  const uint32_t state = v * 747796405u + 2891336453u;
-  const uint32_t word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-  return (word >> 22u) ^ word;
-}
-float rngNext(uint32_t& state) {
-  state = state * 747796405u + 2891336453u;
-  const uint32_t word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-  return float(((word >> 22u) ^ word) >> 8) * (1.0f / 16777216.0f);
-}
+// The tracer's pixel jitter in physical mode: the first pair of the pixel's Sobol sequence
+// (lighting/sampling.h pixelSampler).
 glm::vec2 pixelJitter(uint32_t x, uint32_t y, uint32_t sample, uint32_t seed) {
-  uint32_t state = pcgHash(x ^ pcgHash(y ^ pcgHash(sample ^ pcgHash(seed))));
-  const float a = rngNext(state);
-  return {a, rngNext(state)};
+  Rng rng = pixelSampler(x, y, sample, seed);
+  return rng.next2();
 }
 
 float srgbToLinear(float c) {

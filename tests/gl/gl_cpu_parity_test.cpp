@@ -2,7 +2,7 @@
 // lights and camera through renderCpu and renderWithGl.
 //   AOVs: equal up to float tolerance (a few silhouette pixels may see the other face).
 //   Beauty: both tracers draw the same random numbers per pixel and sample (sampling.h's PCG
-//   streams), so most pixels agree to float precision; paths that float rounding sends another
+//   streams, and physical mode's Sobol sequences), so most pixels agree to float precision; paths that float rounding sends another
 //   way (a shadow ray grazing an edge) make the rest differ. Stated tolerance, at equal spp:
 //   the image means within 1 % (faithful) / 3 % (physical), and at least 97 % of pixels
 //   within 1 % (+ 1e-3 absolute) of the CPU's value.
