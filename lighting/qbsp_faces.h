@@ -71,8 +71,8 @@ QbspTree worldTree(const Scene& scene, const std::vector<BrushContents>& content
 // A Quake 1 world's tree as ericw-tools qbsp grows it the second time (qbsp.cc ProcessEntity):
 // after the void is filled, with the sides seen only from the void or from inside solid hidden
 // (valued last), liquids and func_detail valued after the structural brushes. On
-// testsurfacelight it has 341 of the .bsp's 349 nodes at their places (the 8 others under the
-// slanted brushes near the lava's west end). Its faces are the ones `light` spreads a Quake 1
+// testsurfacelight it has all 349 of the .bsp's nodes at their places (qbsp_tree.cpp
+// axialSidesFirst decides the ties under its slanted brushes). Its faces are the ones `light` spreads a Quake 1
 // `_surface` template's points over (surface_lights.h); the other Quake 1 faces keep their
 // surface trees (worldTree), as this tree moved falloff's floor faces off the compiler's. Grown
 // only where the polygons `around` (the templates' faces) are: QbspTree's `around`.

@@ -264,18 +264,26 @@ void splitBrush(TreeBrush&& brush, const Plane& plane, std::vector<TreeBrush>& f
 }
 
 // qbsp's AddBrushBevels puts a brush's axial sides first, -x +x -y +y -z +z, each swapped into
-// its place: SelectSplitPlane then values them in that order, and the first of equal value wins
-// (q2_light_low_luxel_res2's boxes in its east wall: y 1064 before z -696, as in the .bsp).
+// its place; where a brush has no side on one of them it appends an axial bevel there and swaps
+// that in, so a slanted side swapped out goes to the end. SelectSplitPlane values the sides in
+// that order, and the first of equal value wins (q2_light_low_luxel_res2's boxes in its east
+// wall: y 1064 before z -696; testsurfacelight's slanted brushes at the lava's west end). The
+// bevels themselves never split: dropped here.
 void axialSidesFirst(std::vector<TreeSide>& sides) {
-  size_t order = 0;
+  std::vector<int> order(sides.size()); // indices into `sides`; -1 a bevel
+  for (size_t i = 0; i < sides.size(); ++i) order[i] = int(i);
+  size_t place = 0;
   for (int axis = 0; axis < 3; ++axis)
     for (const double dir : {-1.0, 1.0}) {
-      const auto it =
-          std::find_if(sides.begin() + std::ptrdiff_t(order), sides.end(), [&](const TreeSide& s) { return s.plane.normal[axis] == dir; });
-      if (it == sides.end()) continue;
-      std::iter_swap(sides.begin() + std::ptrdiff_t(order), it);
-      ++order;
+      auto it = std::find_if(order.begin(), order.end(), [&](int i) { return i >= 0 && sides[size_t(i)].plane.normal[axis] == dir; });
+      if (it == order.end()) it = order.insert(order.end(), -1);
+      std::iter_swap(order.begin() + std::ptrdiff_t(place), it);
+      ++place;
     }
+  std::vector<TreeSide> sorted;
+  for (const int i : order)
+    if (i >= 0) sorted.push_back(std::move(sides[size_t(i)]));
+  sides = std::move(sorted);
 }
 
 // `around`: where the tree is wanted (the polygons whose cuts the caller needs), or everywhere.
