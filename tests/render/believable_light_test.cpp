@@ -12,8 +12,8 @@
 // level (../shared/oracle/lit-games/) shows through GoldSrc's display from the same camera, dark
 // as it is. In physical mode hl_light_black's room is lit by what its one spot's disc on the far
 // wall bounces: paths find that small disc rarely, so its picture needs many samples before the
-// walls come out of black (black share 81 / 44 / 24 / 9 / 0 % at 32 / 128 / 256 / 512 / 2048 spp;
-// mean 0.42 converged), so it is measured at 512 spp (about 3 s of this test).
+// walls come out of black (black share 80 / 44 / 20 / 6 / 0 % at 32 / 128 / 256 / 512 / 2048 spp;
+// mean 0.43 converged), so it is measured at 512 spp (about 3 s of this test).
 #include "importers/import.h"
 #include "lighting/compiled_lightmaps.h"
 #include "renderer/camera.h"
