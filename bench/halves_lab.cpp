@@ -13,7 +13,10 @@
 #include <cmath>
 
 int main(int argc, char** argv) {
-  if (argc < 4) return 2;
+  if (argc < 4) {
+    fmt::print(stderr, "usage: halves_lab REF.exr A.exr B.exr\n");
+    return 2;
+  }
   const bt::RenderImage reference = bt::readExrImage(argv[1]);
   const auto referenceDisplay =
       bt::displayedImage(reference.beauty, bt::autoExposureEv(reference.beauty, reference.width, reference.height));
@@ -40,9 +43,9 @@ int main(int argc, char** argv) {
   int counted = 0;
   for (size_t i = 0; i < whole.beauty.size(); ++i) {
     const float mean = bt::luminance(whole.beauty[i]), d = 0.5f * (bt::luminance(a.beauty[i]) - bt::luminance(b.beauty[i]));
-    const float momentVariance = std::max(0.0f, whole.luminanceMoment2[i] - mean * mean) / float(n - 1);
+    const float momentVariance = bt::meanVariance(whole.luminanceMoment2[i], mean, n);
     halves.luminanceMoment2[i] = mean * mean + d * d * float(n - 1);
-    if (momentVariance > 0.0f && std::isfinite(momentVariance)) ratio += double(d * d / momentVariance), ++counted;
+    if (momentVariance > 0.0f) ratio += double(d * d / momentVariance), ++counted;
   }
   fmt::print("            mean of halves' variance / moment's variance: {:.3f}\n", ratio / std::max(counted, 1));
   report("halves", halves);
@@ -61,15 +64,13 @@ int main(int argc, char** argv) {
           const size_t q = size_t(qy) * size_t(w) + size_t(qx);
           if (!std::isfinite(whole.depth[q])) continue;
           const float mean = bt::luminance(whole.beauty[q]), d = 0.5f * (bt::luminance(a.beauty[q]) - bt::luminance(b.beauty[q]));
-          const float mv = std::max(0.0f, whole.luminanceMoment2[q] - mean * mean) / float(n - 1);
-          if (!std::isfinite(mv) || !std::isfinite(d)) continue;
-          sh += double(d) * double(d), sm += double(mv);
+          if (!std::isfinite(whole.luminanceMoment2[q]) || !std::isfinite(d)) continue;
+          sh += double(d) * double(d), sm += double(bt::meanVariance(whole.luminanceMoment2[q], mean, n));
         }
       const size_t i = size_t(y) * size_t(w) + size_t(x);
       const float mean = bt::luminance(whole.beauty[i]);
-      const float mv = std::max(0.0f, whole.luminanceMoment2[i] - mean * mean) / float(n - 1);
       const float k = sm > 0.0 ? float(sh / sm) : 1.0f;
-      calibrated.luminanceMoment2[i] = mean * mean + mv * k * float(n - 1);
+      calibrated.luminanceMoment2[i] = mean * mean + bt::meanVariance(whole.luminanceMoment2[i], mean, n) * k * float(n - 1);
     }
   report("calib", calibrated);
   return 0;

@@ -83,12 +83,6 @@ float spatialVariance(const Guide& g, const Pixels& in, int x, int y) {
   return std::max(0.0f, m2 - m1 * m1);
 }
 
-// The variance of the mean luminance of `samples` samples from their second moment.
-float meanVariance(float moment2, float meanLuminance, int samples) {
-  const float variance = std::max(0.0f, moment2 - meanLuminance * meanLuminance) / float(samples - 1);
-  return std::isfinite(variance) ? variance : 0.0f;
-}
-
 // The first step: the irradiance, and the variance of its luminance from the pixel's second
 // moment (the beauty's luminance squared, scaled by the demodulation's ratio of luminances,
 // exact where the noise has the mean's colour) or from its neighbours.
@@ -185,6 +179,11 @@ glm::vec3 shrinkTowardRaw(const glm::vec3& raw, const glm::vec3& filtered, float
 }
 
 } // namespace
+
+float meanVariance(float moment2, float meanLuminance, int samples) {
+  const float variance = std::max(0.0f, moment2 - meanLuminance * meanLuminance) / float(samples - 1);
+  return std::isfinite(variance) ? variance : 0.0f;
+}
 
 std::vector<glm::vec3> denoise(const RenderImage& image, int threads) {
   if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));

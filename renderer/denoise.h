@@ -25,4 +25,8 @@ namespace bt {
 // `threads`: 0 = every hardware thread.
 std::vector<glm::vec3> denoise(const RenderImage& image, int threads = 0);
 
+// The variance of the mean luminance of `samples` samples from their second moment (0 where
+// that is not finite): each pixel's noise as the denoiser reads it.
+float meanVariance(float moment2, float meanLuminance, int samples);
+
 } // namespace bt
