@@ -6,6 +6,7 @@
 #include "shaders/light_constants.glsl" // BT_PI, shared with the shaders
 
 #include <glm/geometric.hpp>
+#include <glm/integer.hpp> // bitfieldReverse, as GLSL's
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
@@ -23,28 +24,20 @@ inline uint32_t pcgHash(uint32_t v) {
   return (word >> 22u) ^ word;
 }
 
-inline uint32_t reverseBits(uint32_t v) {
-  v = ((v >> 1u) & 0x55555555u) | ((v & 0x55555555u) << 1u);
-  v = ((v >> 2u) & 0x33333333u) | ((v & 0x33333333u) << 2u);
-  v = ((v >> 4u) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4u);
-  v = ((v >> 8u) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8u);
-  return (v >> 16u) | (v << 16u);
-}
-
 // A random base-2 nested permutation (Owen scrambling) of the bits of v, from the most
 // significant down, by `seed`: Burley 2020, "Practical Hash-based Owen Scrambling", its
 // improved Laine-Karras hash on the reversed bits.
 inline uint32_t owenScramble(uint32_t v, uint32_t seed) {
-  v = reverseBits(v);
+  v = glm::bitfieldReverse(v);
   v += seed;
   v ^= v * 0x6c50b47cu;
   v ^= v * 0xb82f1e52u;
   v ^= v * 0xc7afe638u;
   v ^= v * 0x8d22f6e6u;
-  return reverseBits(v);
+  return glm::bitfieldReverse(v);
 }
 
-// Sobol's second dimension at `index` (the first is reverseBits(index)). Its direction numbers
+// Sobol's second dimension at `index` (the first is bitfieldReverse(index)). Its direction numbers
 // v(k+1) = v(k) ^ v(k) >> 1 from the top bit make its matrix Pascal's triangle mod 2, so bit
 // 31 - j of the result is the XOR of the index bits k whose bits hold all of j's (Lucas): a
 // superset sum over the bit positions, five shifts instead of a loop over the index's bits.
@@ -54,7 +47,7 @@ inline uint32_t sobolSecond(uint32_t index) {
   index ^= (index >> 4u) & 0x0f0f0f0fu;
   index ^= (index >> 8u) & 0x00ff00ffu;
   index ^= (index >> 16u) & 0x0000ffffu;
-  return reverseBits(index);
+  return glm::bitfieldReverse(index);
 }
 
 // Dimension `dim` of sample `index` of a pixel's sequence (pbrt-v4's PaddedSobolSampler, with
@@ -72,12 +65,12 @@ inline float sobolValue(uint32_t sobol, uint32_t pairSeed, uint32_t component) {
 inline float sobolDraw(uint32_t pixelSeed, uint32_t index, uint32_t dim) {
   const uint32_t seed = sobolPairSeed(pixelSeed, dim);
   const uint32_t shuffled = owenScramble(index, seed);
-  return (dim & 1u) == 0u ? sobolValue(reverseBits(shuffled), seed, 0u) : sobolValue(sobolSecond(shuffled), seed, 1u);
+  return (dim & 1u) == 0u ? sobolValue(glm::bitfieldReverse(shuffled), seed, 0u) : sobolValue(sobolSecond(shuffled), seed, 1u);
 }
 inline glm::vec2 sobolPair(uint32_t pixelSeed, uint32_t index, uint32_t dim) {
   const uint32_t seed = sobolPairSeed(pixelSeed, dim);
   const uint32_t shuffled = owenScramble(index, seed);
-  return {sobolValue(reverseBits(shuffled), seed, 0u), sobolValue(sobolSecond(shuffled), seed, 1u)};
+  return {sobolValue(glm::bitfieldReverse(shuffled), seed, 0u), sobolValue(sobolSecond(shuffled), seed, 1u)};
 }
 
 struct Rng {
