@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <future>
 
 namespace bt {
 
@@ -18,6 +19,7 @@ constexpr double kSplitEpsilon = 0.1;       // a side winding crosses a plane by
 constexpr double kWorldHalfSize = 65536.0;  // the midwinding's starting square
 constexpr double kMinBrushExtent = 1e-3;    // a piece thinner than this on an axis is no brush (microvolume)
 constexpr double kPlaneTouchEpsilon = 0.1;  // a polygon this close to a node's plane is on both its sides
+constexpr int kParallelDepth = 4;           // the top levels whose front subtrees grow on threads of their own (up to 15)
 
 enum PlaneSide { kFront = 1, kBack = 2, kBoth = 3, kFacing = 4 }; // qbsp3's PSIDE_*
 
@@ -286,11 +288,15 @@ void axialSidesFirst(std::vector<TreeSide>& sides) {
   sides = std::move(sorted);
 }
 
-// `around`: where the tree is wanted (the polygons whose cuts the caller needs), or everywhere.
-int32_t build(std::vector<QbspTree::Node>& nodes, std::vector<TreeBrush> brushes, const std::optional<std::vector<Winding>>& around) {
-  if (around && around->empty()) return -1; // no polygon of interest here: what lies below cuts none
+// The subtree of `brushes`, its nodes in qbsp's order (a node, then its front subtree, then its
+// back one), children numbered within it; empty: a leaf. `around`: where the tree is wanted (the
+// polygons whose cuts the caller needs), or everywhere. The front subtrees of the top
+// `parallelDepth` levels grow on threads of their own: the subtrees share nothing, and a large
+// level's tree is otherwise grown on one core while the level waits.
+std::vector<QbspTree::Node> build(std::vector<TreeBrush> brushes, const std::optional<std::vector<Winding>>& around, int parallelDepth) {
+  if (around && around->empty()) return {}; // no polygon of interest here: what lies below cuts none
   const TreeSide* chosen = selectSplit(brushes);
-  if (!chosen) return -1;
+  if (!chosen) return {};
   const Plane plane = positivePlane(chosen->plane);
   std::vector<TreeBrush> children[2];
   for (TreeBrush& b : brushes) {
@@ -308,8 +314,6 @@ int32_t build(std::vector<QbspTree::Node>& nodes, std::vector<TreeBrush> brushes
     else if (side & kBack)
       children[1].push_back(std::move(b));
   }
-  const int32_t index = int32_t(nodes.size());
-  nodes.push_back({plane, {-1, -1}});
   // A polygon on the plane, or touching it, is wanted on both sides: its own node's faces are
   // cut by the subtrees of both (qbsp_faces.cpp nodeFaces), and a neighbour's cuts reach it there.
   std::optional<std::vector<Winding>> childAround[2];
@@ -320,11 +324,28 @@ int32_t build(std::vector<QbspTree::Node>& nodes, std::vector<TreeBrush> brushes
         if (Winding part = clipBehind(w, i == 0 ? plane.flipped() : plane, kPlaneTouchEpsilon); part.size() >= 3)
           childAround[i]->push_back(std::move(part));
   }
-  for (int i = 0; i < 2; ++i) {
-    const int32_t child = build(nodes, std::move(children[i]), childAround[i]);
-    nodes[size_t(index)].children[i] = child;
+  auto grow = [&](int i) { return build(std::move(children[i]), childAround[i], parallelDepth - 1); };
+  std::vector<QbspTree::Node> subtrees[2];
+  if (parallelDepth > 0) {
+    std::future<std::vector<QbspTree::Node>> front = std::async(std::launch::async, grow, 0);
+    subtrees[1] = grow(1);
+    subtrees[0] = front.get();
+  } else {
+    subtrees[0] = grow(0), subtrees[1] = grow(1);
   }
-  return index;
+  std::vector<QbspTree::Node> nodes{{plane, {-1, -1}}};
+  nodes.reserve(1 + subtrees[0].size() + subtrees[1].size());
+  for (int i = 0; i < 2; ++i) {
+    if (subtrees[i].empty()) continue;
+    const int32_t offset = int32_t(nodes.size());
+    nodes.front().children[i] = offset;
+    for (QbspTree::Node node : subtrees[i]) {
+      for (int32_t& child : node.children)
+        if (child >= 0) child += offset;
+      nodes.push_back(node);
+    }
+  }
+  return nodes;
 }
 
 } // namespace
@@ -363,7 +384,7 @@ QbspTree::QbspTree(const Scene& scene, std::span<const Input> brushes, std::vect
     if (t.sides.size() < 4 || t.bounds.empty()) continue;
     list.push_back(std::move(t));
   }
-  build(nodes_, std::move(list), around);
+  nodes_ = build(std::move(list), around, kParallelDepth);
 }
 
 } // namespace bt
