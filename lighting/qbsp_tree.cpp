@@ -102,14 +102,9 @@ int clearSide(const Clearance& box, const Plane& plane, int axis) {
   return 0;
 }
 
-// qbsp3's TestBrushToPlanenum: the brush's side of `plane` (a positive plane), the visible sides
-// it would cut and whether it lies within a unit of the plane without touching it.
-int testBrushToPlane(const TreeBrush& brush, const Plane& plane, int& splits, int& epsilonBrush) {
+// testBrushToPlane below for a brush whose box is not clear of the plane (clearSide 0).
+int testNearBrushToPlane(const TreeBrush& brush, const Plane& plane, int& splits, int& epsilonBrush) {
   splits = 0;
-  // Most brushes lie well clear of the plane: their box says so before their sides are read (a
-  // side on the plane, by sameQbspPlane's tolerances, lies within clearSide's slack). The whole
-  // world's tree values each plane against every brush, so this is most of its time.
-  if (const int side = clearSide(clearanceOf(brush.bounds), plane, axisOf(plane)); side != 0) return side;
   for (const TreeSide& s : brush.sides)
     if (sameQbspPlane(s.plane, plane)) return glm::dot(s.plane.normal, plane.normal) > 0.0 ? (kBack | kFacing) : (kFront | kFacing);
   const int side = boxOnPlaneSide(brush.bounds, plane);
@@ -128,6 +123,17 @@ int testBrushToPlane(const TreeBrush& brush, const Plane& plane, int& splits, in
   }
   if ((dFront > 0.0 && dFront < 1.0) || (dBack < 0.0 && dBack > -1.0)) ++epsilonBrush;
   return side;
+}
+
+// qbsp3's TestBrushToPlanenum: the brush's side of `plane` (a positive plane), the visible sides
+// it would cut and whether it lies within a unit of the plane without touching it.
+int testBrushToPlane(const TreeBrush& brush, const Plane& plane, int& splits, int& epsilonBrush) {
+  splits = 0;
+  // Most brushes lie well clear of the plane: their box says so before their sides are read (a
+  // side on the plane, by sameQbspPlane's tolerances, lies within clearSide's slack). The whole
+  // world's tree values each plane against every brush, so this is most of its time.
+  if (const int side = clearSide(clearanceOf(brush.bounds), plane, axisOf(plane)); side != 0) return side;
+  return testNearBrushToPlane(brush, plane, splits, epsilonBrush);
 }
 
 // A node's brushes sorted along each axis, so that an axial plane (most of them) is valued
@@ -201,7 +207,7 @@ const TreeSide* selectSplit(std::vector<TreeBrush>& brushes) {
           TreeBrush& test = brushes[k];
           int brushSplits = 0;
           int s = clearSide(boxes[k], plane, axis);
-          if (s == 0) s = testBrushToPlane(test, plane, brushSplits, epsilonBrush);
+          if (s == 0) s = testNearBrushToPlane(test, plane, brushSplits, epsilonBrush);
           splits += brushSplits;
           if (s & kFacing) {
             ++facing;
