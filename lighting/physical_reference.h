@@ -37,8 +37,8 @@ struct Landing {
 };
 
 // Whether a light's intensity is matched where its light lands (Quake's point formulas: linear,
-// inverse, inverse square); the rest keep matchDistance()'s rule (q3map2's, surface and bounce
-// lights).
+// inverse, inverse square) that physical mode draws; the rest keep matchDistance()'s rule
+// (q3map2's lights; _surface points and bounce lights, which physical mode does not draw).
 bool matchedWhereItLands(const GpuLight& light);
 
 // Where each of the rays from the light meets its first surface within the light's

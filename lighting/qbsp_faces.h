@@ -68,6 +68,17 @@ std::vector<std::vector<dvec3>> compiledFacePolygons(const Scene& scene, uint32_
 // The world's tree: qbsp's BSP of the brushes that carve (contents not Empty).
 QbspTree worldTree(const Scene& scene, const std::vector<BrushContents>& contents);
 
+// A Quake 1 world's tree as ericw-tools qbsp grows it the second time (qbsp.cc ProcessEntity):
+// after the void is filled, with the sides seen only from the void or from inside solid hidden
+// (valued last), liquids and func_detail valued after the structural brushes. On
+// testsurfacelight it has all 349 of the .bsp's nodes at their places (qbsp_tree.cpp
+// axialSidesFirst decides the ties under its slanted brushes). Its faces are the ones `light` spreads a Quake 1
+// `_surface` template's points over (surface_lights.h); the other Quake 1 faces keep their
+// surface trees (worldTree), as this tree moved falloff's floor faces off the compiler's. Grown
+// only where the polygons `around` (the templates' faces) are: QbspTree's `around`.
+QbspTree quake1WorldTree(const Scene& scene, const std::vector<BrushContents>& contents, const VoidTest& voidTest,
+                         std::vector<std::vector<dvec3>> around);
+
 // Quake 2's qbsp makes brush `brush` detail: func_detail, CONTENTS_DETAIL, or translucent
 // (SURF_TRANS33/66: qbsp3 ParseBrush).
 bool qbspDetail(const Scene& scene, uint32_t brush);

@@ -14,8 +14,10 @@
 #pragma once
 
 #include "scene/scene.h"
+#include "scene/winding.h"
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -28,6 +30,9 @@ public:
     bool visible; // its sides are drawn; qbsp splits with hidden sides (a Quake 2 area portal's
                   // nodraw) only where no drawn one is left, but counts their brushes everywhere
     bool detail;  // func_detail (Quake 2: CONTENTS_DETAIL): split with once no structural side is left
+    // Per face of the brush, those hidden although the brush is `visible` (empty: none): a Quake
+    // 1 side seen only from the void or from inside solid (quake1WorldTree).
+    std::vector<bool> hiddenSides{};
   };
   // A brush that fills the leaves it lies in without carving faces (Quake 2: an area portal, a
   // liquid), with the contents those leaves take (qbsp3's brush contents; a func_areaportal's
@@ -37,8 +42,12 @@ public:
     int32_t contents;
   };
   QbspTree() = default; // no split: no world tree
-  // The tree of brushes `brushes` of `scene`, the leaves filled by `fillers`.
-  QbspTree(const Scene& scene, std::span<const Input> brushes, std::vector<Filler> fillers = {});
+  // The tree of brushes `brushes` of `scene`, the leaves filled by `fillers`. With `around`, a
+  // node that none of those polygons reaches is left a leaf: the nodes above a polygon, and so
+  // the cuts qbsp makes in it, are the whole tree's, and the subtrees elsewhere (most of a
+  // large level's tree) are not grown.
+  QbspTree(const Scene& scene, std::span<const Input> brushes, std::vector<Filler> fillers = {},
+           std::optional<std::vector<Winding>> around = std::nullopt);
 
   struct Node {
     Plane plane;                 // qbsp's positive plane: its largest normal component is positive

@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <future>
 #include <span>
 #include <stdexcept>
 
@@ -339,14 +340,21 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
   rs.worldTree = worldTree(scene, contents);
   nudgeLightsOffFaces(rs, contents);
   // Faithful mode's _surface lights: point lights spread over the template faces, after the
-  // tracer (the compiler drops template faces that look into the void).
-  for (const GpuLight& l : spreadSurfaceLights(scene, lights.surfaceTemplates, contents, rs.worldTree, rs.world, rs.tracer, diagnostics))
-    rs.lights.push_back(l);
+  // tracer (the compiler drops template faces that look into the void). A Quake 1 level's spread
+  // grows the compiler's world tree, mostly on one core, so it runs beside the other lights'
+  // landings below; it reads neither those lights nor what the landings write.
+  std::future<std::vector<GpuLight>> surfaceLights = std::async(std::launch::async, [&] {
+    return spreadSurfaceLights(scene, lights.surfaceTemplates, contents, rs.worldTree, rs.world, rs.tracer, diagnostics);
+  });
+  // Physical mode's intensities, each Quake light matched over the surfaces its light lands on
+  // (after the tracer and the nudge off faces: the rays start where the light stands); each
+  // light's on its own, so the spread lights' come after the others'.
+  physical::prepareWhereTheyLand(rs, rs.lights);
+  const size_t spreadFirst = rs.lights.size();
+  for (const GpuLight& l : surfaceLights.get()) rs.lights.push_back(l);
   if (gameOf(scene) == Game::Quake3)
     for (const GpuLight& l : q3map2::shaderSurfaceLights(scene, contents, rs.tracer, diagnostics)) rs.lights.push_back(l);
-  // Physical mode's intensities, each Quake light matched over the surfaces its light lands on
-  // (after the tracer and the nudge off faces: the rays start where the light stands).
-  physical::prepareWhereTheyLand(rs, rs.lights);
+  physical::prepareWhereTheyLand(rs, std::span(rs.lights).subspan(spreadFirst));
   // Where the lights stand for good, before the bounce pass lights with them.
   const bool bounces = rs.world.bounces > 0 && options.bounceLights;
   using VisBoxes = RenderSceneOptions::VisBoxes;

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -69,10 +70,19 @@ void addGridPoints(const Winding& compiledFace, const dvec3& normal, const Surfa
   }
 }
 
-// The Q1 kind on a polygon rebuilt from the .map: qbsp's 240-texel subdivision first.
-void addGridLights(const Face& face, const Winding& fragment, const SurfaceTemplate& t, std::vector<GpuLight>& out) {
+// The Q1 kind on a polygon rebuilt from the .map: points on the 128-unit grid of each face qbsp
+// makes of `fragment` (its 240-texel subdivision, then, where `tjunc` is given, its T-junction
+// fix against the world's vertices, `group` the polygon's weld group).
+void addGridLights(const Face& face, const Winding& fragment, const SurfaceTemplate& t, const TJunctionVertices* tjunc, uint32_t group,
+                   std::vector<GpuLight>& out) {
   std::vector<Winding> qbspPieces;
   subdivideForQbsp(fragment, face.frame, qbspPieces);
+  if (tjunc) {
+    std::vector<Winding> fixed;
+    for (const Winding& w : qbspPieces)
+      for (const Winding& piece : fixTJunctions(w, group, *tjunc)) fixed.push_back(withoutColinearPoints(piece));
+    qbspPieces = std::move(fixed);
+  }
   for (const Winding& qbspPiece : qbspPieces) {
     addGridPoints(qbspPiece, face.plane.normal, t, out);
     if (out.size() > kMaxSurfaceLights) return; // the caller cuts the list and says so
@@ -168,6 +178,44 @@ static std::vector<GpuLight> compiledFaceLights(const Scene& scene, const std::v
   return lights;
 }
 
+namespace {
+
+// The vertices of the world faces qbsp writes with `tree` that reach some box of `near` (the
+// ones that look into the void removed), for its T-junction fix of the faces in those boxes: a
+// face far from them puts no vertex on their edges. `near` comes in groups (a surface's faces),
+// each with the box around all of its own, so that most faces are turned away by a few boxes.
+struct NearGroup {
+  Bounds all;
+  std::vector<Bounds> boxes;
+};
+
+TJunctionVertices worldVertices(const Scene& scene, const std::vector<BrushContents>& contents, const QbspTree& tree, const VoidTest& voids,
+                                const std::vector<NearGroup>& near) {
+  auto touches = [](const Bounds& a, const Bounds& b) {
+    return glm::all(glm::lessThanEqual(a.min, b.max)) && glm::all(glm::lessThanEqual(b.min, a.max));
+  };
+  // Each face's polygons and their void rays on all cores; the vertices added in face order.
+  std::vector<std::vector<Winding>> kept(scene.faces.size());
+  parallelFor(scene.faces.size(), 0, [&](size_t f) {
+    const uint32_t b = scene.faces[f].brush;
+    if (b >= contents.size() || contents[b] == BrushContents::Empty) return;
+    Bounds bounds;
+    for (const dvec3& p : scene.faces[f].winding) bounds.grow(p);
+    const bool reaches = std::any_of(near.begin(), near.end(), [&](const NearGroup& g) {
+      return touches(g.all, bounds) && std::any_of(g.boxes.begin(), g.boxes.end(), [&](const Bounds& n) { return touches(n, bounds); });
+    });
+    if (!reaches) return;
+    for (Winding& w : compiledFacePolygons(scene, uint32_t(f), contents, tree))
+      if (!voids.inVoid(vertexMean(w) + scene.faces[f].plane.normal * kVoidProbeDistance)) kept[f].push_back(std::move(w));
+  });
+  TJunctionVertices vertices;
+  for (uint32_t f = 0; f < scene.faces.size(); ++f)
+    for (const Winding& w : kept[f]) vertices.add(w, weldGroup(scene, contents, scene.faces[f].brush));
+  return vertices;
+}
+
+} // namespace
+
 std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<SurfaceTemplate>& templates,
                                           const std::vector<BrushContents>& contents, const QbspTree& worldTree, const WorldLighting& world,
                                           const TraceScene& tracer, Diagnostics& diagnostics) {
@@ -209,10 +257,31 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
       for (Winding& w : fragments) it->polygons.push_back(std::move(w));
     }
   }
+  const VoidTest inVoid = voidTest.get();
+  // A Quake 1 template's faces are cut by the compiler's tree of the whole world
+  // (quake1WorldTree), then at their T-junctions; Quake 2's tree is the one the caller gives.
+  std::vector<Winding> templateFaces;
+  for (const Surface& surface : surfaces) templateFaces.insert(templateFaces.end(), surface.polygons.begin(), surface.polygons.end());
+  const QbspTree quake1Tree =
+      gameOf(scene) == Game::Quake ? quake1WorldTree(scene, contents, inVoid, std::move(templateFaces)) : QbspTree();
+  const QbspTree& tree = quake1Tree.nodes().empty() ? worldTree : quake1Tree;
   // Each surface's faces depend on nothing else: the surfaces are shared among threads.
   parallelFor(surfaces.size(), 0,
-              [&](size_t i) { surfaces[i].polygons = compilerFaces(scene, surfaces[i].sides, surfaces[i].polygons, contents, worldTree); });
-  const VoidTest inVoid = voidTest.get();
+              [&](size_t i) { surfaces[i].polygons = compilerFaces(scene, surfaces[i].sides, surfaces[i].polygons, contents, tree); });
+  std::optional<TJunctionVertices> tjunctions;
+  if (!quake1Tree.nodes().empty()) {
+    std::vector<NearGroup> near;
+    for (const Surface& surface : surfaces) {
+      NearGroup& group = near.emplace_back();
+      for (const Winding& w : surface.polygons) {
+        Bounds b;
+        for (const dvec3& p : w) b.grow(p);
+        group.boxes.push_back(Bounds{b.min - dvec3(kOnPlaneEpsilon), b.max + dvec3(kOnPlaneEpsilon)});
+        group.all.grow(group.boxes.back());
+      }
+    }
+    tjunctions = worldVertices(scene, contents, quake1Tree, inVoid, near);
+  }
 
   std::vector<GpuLight> lights;
   for (const Surface& surface : surfaces) {
@@ -222,7 +291,7 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
     for (const Winding& polygon : surface.polygons) {
       if (inVoid.inVoid(centroid(polygon) + face.plane.normal * kVoidProbeDistance)) continue;
       if (!t.radiosity) {
-        addGridLights(face, polygon, t, lights);
+        addGridLights(face, polygon, t, tjunctions ? &*tjunctions : nullptr, weldGroup(scene, contents, face.brush), lights);
       } else {
         addRadiosityLight(scene, face, polygon, t, world, lights);
         // qbsp gives a liquid surface a second face looking into the liquid; the Q1 kind skips

@@ -24,14 +24,14 @@ using test::Bar;
 
 // Levels below the bar today, each held at what it reaches so that it cannot get worse unseen;
 // the faithful-mode issue (14) stays open until this table is empty.
-//   testsurfacelight: its _surface points stand on faces split as a tree grown on that surface
-//     alone would split them, not on the compiler's own faces (lighting/README.md): qbsp's tree
-//     is grown over the whole level, so planes of brushes far from a surface cut it too
-//     (surface_light_points_test.cpp holds how many of the points stand where the .bsp's do).
+//   testsurfacelight: 96 of its 111 _surface points stand where the compiler's do, on faces cut
+//     by qbsp's tree of the whole level (the .bsp's, node for node) and its T-junction fix
+//     (lighting/README.md); the others stand on T-junction fans that differ
+//     (surface_light_points_test.cpp), and its views reach median 6.0 % and 5.3 %.
 //     The .bsp itself, whose points are the compiler's, meets the bar (below).
 const std::map<std::string, Bar>& knownGaps() {
   static const std::map<std::string, Bar> gaps = {
-      {"ericw-tools_testmaps_deprecated_testsurfacelight", {0.13, 0.16}},
+      {"ericw-tools_testmaps_deprecated_testsurfacelight", {0.06, 0.45}},
   };
   return gaps;
 }

@@ -4,6 +4,7 @@
 // wall's pieces either side of that plane merge on the wall's node and the 240-texel subdivision
 // cuts the whole wall at z 128; the east wall's plane (x 496) comes below z 192, which cuts it.
 // Then qbsp's T-junction fix re-cuts the faces with their neighbours' vertices on their edges.
+#include "importers/bsp/bsp_file.h"
 #include "importers/import.h"
 #include "lighting/bounce.h"
 #include "lighting/qbsp_faces.h"
@@ -169,6 +170,44 @@ TEST(QbspFaces, TJunctionFixCutsTheWallsAndTheFloorAsTheCompilerDoes) {
                        {{496, -48, 96}, {496, -208, 96}, {320, -48, 96}},
                        {{496, 16, 96}, {496, -48, 96}, {320, -48, 96}, {320, 176, 96}, {496, 176, 96}},
                        {{320, -272, 96}, {496, -272, 96}, {496, -432, 96}, {320, -432, 96}}}));
+}
+
+// testsurfacelight's world tree grown from the .map (quake1WorldTree, everywhere) against the
+// compiled .bsp's: walked side by side from the root, every .bsp node has our plane at its
+// place. Below a .bsp leaf ours may go on (qbsp prunes the nodes whose leaves are all solid).
+// The slanted brushes at the lava's west end have two slanted sides of equal value at some
+// nodes; qbsp takes the one its side order (AddBrushBevels' swaps) puts first.
+int nodesInPlace(const QbspTree& ours, int32_t a, const bsp::BspFile& file, int32_t b) {
+  if (b < 0) return 0;
+  if (a < 0) return 0;
+  const QbspTree::Node& n = ours.nodes()[size_t(a)];
+  const bsp::Node& node = file.nodes[size_t(b)];
+  const bsp::BspPlane& p = file.planes[size_t(node.plane)];
+  if (glm::length(dvec3(p.normal) - n.plane.normal) > 1e-4 || std::abs(double(p.dist) - n.plane.dist) > 0.02) return 0;
+  return 1 + nodesInPlace(ours, n.children[0], file, node.children[0]) + nodesInPlace(ours, n.children[1], file, node.children[1]);
+}
+
+int nodesUnder(const bsp::BspFile& file, int32_t b) {
+  return b < 0 ? 0 : 1 + nodesUnder(file, file.nodes[size_t(b)].children[0]) + nodesUnder(file, file.nodes[size_t(b)].children[1]);
+}
+
+TEST(QbspFaces, TestsurfacelightWorldTreeIsTheCompilersNodeForNode) {
+  BT_REQUIRE_SHARED(shared);
+  const std::string name = "maps_ericw-tools_testmaps_deprecated_testsurfacelight.bsp";
+  const Scene scene = importScene(test::oracleSourceMap(shared, name).string(), ImportOptions{});
+  Diagnostics diagnostics;
+  RenderSceneOptions options;
+  options.bounceLights = false;
+  const RenderScene rs = buildRenderScene(scene, options, diagnostics);
+  const VoidTest voids(scene, rs.tracer);
+  std::vector<Winding> everywhere;
+  for (const Face& f : scene.faces)
+    if (f.winding.size() >= 3) everywhere.push_back(f.winding);
+  const QbspTree tree = quake1WorldTree(scene, brushContents(scene), voids, everywhere);
+  const bsp::BspFile file = bsp::readBspFile(shared / "oracle" / "lit" / name);
+  const int32_t root = file.models[0].headNode[0];
+  EXPECT_EQ(nodesUnder(file, root), 349);
+  EXPECT_EQ(nodesInPlace(tree, 0, file, root), 349);
 }
 
 } // namespace

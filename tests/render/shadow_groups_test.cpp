@@ -74,8 +74,10 @@ TEST(ShadowGroups, OnlyStopLightLeaksOfTheLitOracleLevels) {
   // a group moves these leaks (falloff.map 3, e1m1 68, q1_surflight_minlight 15, testsurfacelight
   // 91 at session 14). A change that stops more leaks on purpose updates it. 178 since the
   // compiler's visapprox cull (lighting/vis_approx.h), which both bakes apply alike: one more
-  // luxel of testsurfacelight (92) now shows its leak, not how many leaks there are.
-  EXPECT_EQ(all.darker, 178u);
+  // luxel of testsurfacelight (92) now shows its leak, not how many leaks there are. 167 since
+  // testsurfacelight's _surface points stand on the faces of qbsp's whole-level tree and its
+  // T-junction cuts (quake1WorldTree): other lights, other luxels that leak (81).
+  EXPECT_EQ(all.darker, 167u);
 }
 
 } // namespace
