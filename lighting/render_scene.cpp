@@ -347,14 +347,13 @@ RenderScene buildRenderScene(const Scene& scene, const RenderSceneOptions& optio
     return spreadSurfaceLights(scene, lights.surfaceTemplates, contents, rs.worldTree, rs.world, rs.tracer, diagnostics);
   });
   // Physical mode's intensities, each Quake light matched over the surfaces its light lands on
-  // (after the tracer and the nudge off faces: the rays start where the light stands); each
-  // light's on its own, so the spread lights' come after the others'.
+  // (after the tracer and the nudge off faces: the rays start where the light stands). The lights
+  // added below are never matched so (physical::matchedWhereItLands: _surface points are
+  // faithful-only, q3map2's keep the fixed rule), so their landings need not wait for them.
   physical::prepareWhereTheyLand(rs, rs.lights);
-  const size_t spreadFirst = rs.lights.size();
   for (const GpuLight& l : surfaceLights.get()) rs.lights.push_back(l);
   if (gameOf(scene) == Game::Quake3)
     for (const GpuLight& l : q3map2::shaderSurfaceLights(scene, contents, rs.tracer, diagnostics)) rs.lights.push_back(l);
-  physical::prepareWhereTheyLand(rs, std::span(rs.lights).subspan(spreadFirst));
   // Where the lights stand for good, before the bounce pass lights with them.
   const bool bounces = rs.world.bounces > 0 && options.bounceLights;
   using VisBoxes = RenderSceneOptions::VisBoxes;
