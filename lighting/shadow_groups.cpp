@@ -318,6 +318,7 @@ void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points,
                        const GroupCull& cull) {
   cache.groupLights.clear();
   cache.grouped = false;
+  cache.culledReceiver = cache.culledLights = nullptr;
   if (points.empty()) return;
   const LightGrid& grid = rs.lightGrid;
   const std::span<const uint32_t> cell = grid.cellLights(points.front());
@@ -360,6 +361,7 @@ void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points,
   }
   add(cell);
   cache.grouped = true;
+  cache.culledReceiver = cull.receiver, cache.culledLights = cull.lights;
 }
 
 bool cachedShadowed(const RenderScene& rs, ShadowCache& cache, uint32_t index, const Ray& ray) {

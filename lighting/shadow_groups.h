@@ -47,6 +47,10 @@ struct ShadowCache {
   bool faceReady = false;            // faceLights holds the current face's list
   std::vector<uint32_t> groupLights; // indices into rs.lights, with kSeenByAll
   bool grouped = false;              // groupLights holds the current group's list
+  // The light cull (GroupCull) that groupLights has applied already: a luxel of the group with
+  // this cull need not test its lights again. Null receiver: none.
+  const GpuVisBox* culledReceiver = nullptr;
+  const GpuVisBox* culledLights = nullptr;
 };
 
 // occluded(rs, ray, Faithful, the light's shadow channels) for a shadow ray toward light `index`,
