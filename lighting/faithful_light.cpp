@@ -440,7 +440,7 @@ void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec
   const Receiver r{p, n, twoSided, channels, cull, &sums.penumbraSky, &sums.domeSky, softSamples};
   // Dirt rays start at the compiler's sample point, which p already is.
   if (pass == 0) sums.occlusion = faithfulOcclusion(rs, p - n * faithful::kDirtSampleLift, n, rng);
-  const auto each = [&](const GpuLight& light) {
+  const auto each = [&](const GpuLight& light, const Receiver& r) {
     if (otherStyle(light)) return;
     if (light.type == uint32_t(LightType::Dome)) {
       if (pass < int(skyDome().size())) sums.dome += domeSunLight(rs, light, r, pass, sums.occlusion);
@@ -453,17 +453,20 @@ void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec
     }
   };
   if (pass == 0 && cache && cache->grouped) {
+    // The group's list left out the lights that this luxel's cull culls: no need to test them again.
+    Receiver grouped = r;
+    if (cull.receiver && cull.receiver == cache->culledReceiver && cull.lights == cache->culledLights) grouped.cull = {};
     for (uint32_t e : cache->groupLights) {
       const uint32_t i = e & ~kSeenByAll;
       if (otherStyle(rs.lights[i])) continue;
       if (e & kSeenByAll)
-        addFaithfulLight(rs, rs.lights[i], r, sums.occlusion, rng, faithful::subtractedLight(rs.lights[i]) ? sums.negative : sums.fixed,
-                         sums.localMin, cache, i, true);
+        addFaithfulLight(rs, rs.lights[i], grouped, sums.occlusion, rng,
+                         faithful::subtractedLight(rs.lights[i]) ? sums.negative : sums.fixed, sums.localMin, cache, i, true);
       else
-        each(rs.lights[i]);
+        each(rs.lights[i], grouped);
     }
   } else {
-    forLuxelLights(rs, p, pass, each);
+    forLuxelLights(rs, p, pass, [&](const GpuLight& light) { each(light, r); });
   }
 }
 

@@ -312,12 +312,14 @@ void prepareLuxelFace(const RenderScene& rs, const glm::vec3& n, float nearest, 
     for (uint32_t i : list)
       if (!behindAll(rs.lights[i], n, nearest)) cache.faceLights.push_back(i);
   cache.faceReady = true;
+  cache.faceCulledFor = nullptr;
 }
 
 void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points, const glm::vec3& n, ShadowCache& cache,
                        const GroupCull& cull) {
   cache.groupLights.clear();
   cache.grouped = false;
+  cache.culledReceiver = cache.culledLights = nullptr;
   if (points.empty()) return;
   const LightGrid& grid = rs.lightGrid;
   const std::span<const uint32_t> cell = grid.cellLights(points.front());
@@ -332,12 +334,15 @@ void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points,
   // not in the brush BVH: no pyramid proves their absence.
   const bool flat = box.hi.z - box.lo.z <= 4e-3f && rs.tracer.triangleNodes().empty();
   constexpr uint32_t kDropped = ~0u;
-  const auto entry = [&](uint32_t i) -> uint32_t {
+  // addFaithfulLight's cull, before the light's random numbers and its shadow rays: a light it
+  // culls leaves no trace in the luxel or the cache, so it need not be swept luxel by luxel,
+  // nor proved hidden or seen here.
+  const auto culled = [&](const GpuLight& light) {
+    return cull.receiver && light.visBox && visBoxesApart(cull.lights[light.visBox - 1], *cull.receiver);
+  };
+  const auto entry = [&](uint32_t i, bool cullTested) -> uint32_t {
     const GpuLight& light = rs.lights[i];
-    // addFaithfulLight's cull, before the light's random numbers and its shadow rays: a light it
-    // culls leaves no trace in the luxel or the cache, so it need not be swept luxel by luxel,
-    // nor proved hidden or seen here.
-    if (cull.receiver && light.visBox && visBoxesApart(cull.lights[light.visBox - 1], *cull.receiver)) return kDropped;
+    if (!cullTested && culled(light)) return kDropped;
     if (light.type != uint32_t(LightType::Point) || light.deviance > 0.0f) return i;
     if (behindAll(light, n, nearest) || hiddenByRecentBlocker(rs, cache, i, box)) return kDropped;
     // Tried only where the last ray toward the light was not blocked: a proof that fails costs a
@@ -348,11 +353,20 @@ void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points,
       return i | kSeenByAll;
     return i;
   };
-  const auto add = [&](std::span<const uint32_t> lights) {
+  const auto add = [&](std::span<const uint32_t> lights, bool cullTested = false) {
     for (uint32_t i : lights)
-      if (const uint32_t e = entry(i); e != kDropped) cache.groupLights.push_back(e);
+      if (const uint32_t e = entry(i, cullTested); e != kDropped) cache.groupLights.push_back(e);
   };
-  if (cache.faceReady) {
+  if (cache.faceReady && cull.receiver) {
+    // The face's list culled once for all the groups of one compiled face (one receiver box).
+    if (cache.faceCulledFor != cull.receiver || cull.lights != cache.culledLightsFor) {
+      cache.faceCulled.clear();
+      for (uint32_t i : cache.faceLights)
+        if (!culled(rs.lights[i])) cache.faceCulled.push_back(i);
+      cache.faceCulledFor = cull.receiver, cache.culledLightsFor = cull.lights;
+    }
+    add(cache.faceCulled, true);
+  } else if (cache.faceReady) {
     add(cache.faceLights);
   } else {
     add(grid.fixedLights());
@@ -360,6 +374,7 @@ void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points,
   }
   add(cell);
   cache.grouped = true;
+  cache.culledReceiver = cull.receiver, cache.culledLights = cull.lights;
 }
 
 bool cachedShadowed(const RenderScene& rs, ShadowCache& cache, uint32_t index, const Ray& ray) {

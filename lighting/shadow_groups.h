@@ -45,8 +45,17 @@ struct ShadowCache {
   std::vector<uint8_t> lastSeen;     // per light: the last shadow ray toward it was not blocked
   std::vector<uint32_t> faceLights;  // indices into rs.lights
   bool faceReady = false;            // faceLights holds the current face's list
-  std::vector<uint32_t> groupLights; // indices into rs.lights, with kSeenByAll
-  bool grouped = false;              // groupLights holds the current group's list
+  // faceLights less the lights that the cull of `faceCulledFor` (a receiver box) culls: the
+  // groups of one compiled face share it. Null: not made for this face yet.
+  std::vector<uint32_t> faceCulled;
+  const GpuVisBox* faceCulledFor = nullptr;
+  const GpuVisBox* culledLightsFor = nullptr; // the lights' boxes it was culled with
+  std::vector<uint32_t> groupLights;          // indices into rs.lights, with kSeenByAll
+  bool grouped = false;                       // groupLights holds the current group's list
+  // The light cull (GroupCull) that groupLights has applied already: a luxel of the group with
+  // this cull need not test its lights again. Null receiver: none.
+  const GpuVisBox* culledReceiver = nullptr;
+  const GpuVisBox* culledLights = nullptr;
 };
 
 // occluded(rs, ray, Faithful, the light's shadow channels) for a shadow ray toward light `index`,
