@@ -132,10 +132,11 @@ const char* const kStackedWater = "two layers of translucent water (_wateralpha 
 const char* const kDisplayPower = "the game's display is about L^2.2 of the lightmap, physical light linear: suns and minlight "
                                   "matched at one lightmap value (k), each point light over the lightmap where it lands, not "
                                   "within it: a mostly overbright view is darker, a dim one brighter";
-const char* const kDimEdges = "many short overlapping lights whose landings are mostly overbright (the median lightmap "
-                              "there about 1.2, a third at 255), each matched at that (k about 1, the global 0.6); the "
-                              "default view's walls are dim (faithful 0.013, a quarter of e1m1's), where the display's curve "
-                              "gives less than the light's one k: agreed under the global k (1.32)";
+const char* const kDimEdges = "a dark hall of small lamps on its pillars (392 lights of wait 5, light 300: 60 units of reach), their "
+                              "landings mostly overbright (the median lightmap there about 1.2, a third at 255), each "
+                              "matched at that (k about 1, the global 0.6); the view sees the lamps' dim halos (faithful "
+                              "0.013, a quarter of e1m1's), which physical mode draws wider and brighter: agreed under "
+                              "the global k (1.32)";
 const char* const kHotSpot = "strong lights near what they light: the compiler's luxels stop at 255, the inverse square does not";
 const char* const kSurface = "_surface templates: an area emitter in physical mode, the compiler's point lights in faithful mode";
 const char* const kUnmodelled = "a key neither mode models (_lightignore; _switchableshadow), so faithful is no reference here";
