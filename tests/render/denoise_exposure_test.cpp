@@ -18,15 +18,13 @@ namespace bt {
 namespace {
 
 // A room lit by one inverse-square light (delay 2), a pillar in front of the far wall, a ceiling
-// lamp texture-less. renderRoom's `lightScale` scales the prepared light's colour, as the viewer's
-// style sliders do, and so every physical light and nothing else: a dark or a bright version of
-// the same room. (Worldspawn `_range` no longer does: it moves the lightmap, which the game's
-// display shows through a curve, and with it each light's display match, lighting/README.md
-// "Physical mode".)
+// lamp texture-less; worldspawn `_range` scales every light and nothing else (lighting/README.md,
+// "Physical mode"), so `range` makes a dark or a bright version of the same room.
 // `tinted`: the bricks' mortar a blue-grey instead of a darker red-brown, so that a pixel's
 // samples mix hues its centre's albedo does not have.
-Scene litRoom(bool bricks = false, bool tinted = false) {
+Scene litRoom(const std::string& range, bool bricks = false, bool tinted = false) {
   test::BoxSceneBuilder b;
+  b.worldKey("_range", range);
   b.material("white", 220, 220, 220);
   b.material("red", 200, 40, 30);
   b.material("blue", 40, 60, 190);
@@ -51,11 +49,10 @@ Scene litRoom(bool bricks = false, bool tinted = false) {
 constexpr int kWidth = 48, kHeight = 36;
 
 // `sobol`: physical mode's Sobol sequence (IntegratorSettings::lowDiscrepancy), else PCG alone.
-RenderImage renderRoom(float lightScale, int spp, uint32_t seed = 1, bool bricks = false, bool tinted = false, bool sobol = true) {
+RenderImage renderRoom(const std::string& range, int spp, uint32_t seed = 1, bool bricks = false, bool tinted = false, bool sobol = true) {
   Diagnostics diagnostics;
-  const Scene scene = litRoom(bricks, tinted);
-  RenderScene rs = buildRenderScene(scene, {}, diagnostics);
-  for (GpuLight& light : rs.lights) light.color *= lightScale;
+  const Scene scene = litRoom(range, bricks, tinted);
+  const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
   CameraPose pose;
   pose.origin = {-115, -110, 64};
   pose.yaw = 40;
@@ -71,9 +68,9 @@ RenderImage renderRoom(float lightScale, int spp, uint32_t seed = 1, bool bricks
   return renderCpu(rs, Camera(pose, kWidth, kHeight), s);
 }
 
-// The 1024-spp reference of the room, rendered once for the whole program.
+// The 1024-spp reference of the room at _range 0.5, rendered once for the whole program.
 const RenderImage& reference() {
-  static const RenderImage image = renderRoom(1.0f, 1024, 99);
+  static const RenderImage image = renderRoom("0.5", 1024, 99);
   return image;
 }
 
@@ -98,8 +95,8 @@ double displayedMean(const RenderImage& image, float exposureEv) {
 }
 
 TEST(AutoExposure, DarkAndBrightRoomsEndAtTheSameDisplayedMean) {
-  // The light at 1/16 and 16: the bright room's radiance is 256 times the dark one's (8 EV).
-  const RenderImage dark = renderRoom(1.0f / 16.0f, 16), bright = renderRoom(16.0f, 16);
+  // _range 1/16 and 16: the bright room's radiance is 256 times the dark one's (8 EV).
+  const RenderImage dark = renderRoom("0.03125", 16), bright = renderRoom("8", 16);
   const float darkEv = autoExposureEv(dark.beauty, kWidth, kHeight), brightEv = autoExposureEv(bright.beauty, kWidth, kHeight);
   EXPECT_NEAR(darkEv - brightEv, 8.0f, 0.01f);
   // Unexposed, one is nearly black and the other blown out: the test can tell them apart.
@@ -139,7 +136,7 @@ TEST(AutoExposure, SmootherFollowsWithoutJumping) {
 }
 
 TEST(Denoise, FourSppDenoisedIsCloserToTheReferenceThanRaw) {
-  const RenderImage noisy = renderRoom(1.0f, 4);
+  const RenderImage noisy = renderRoom("0.5", 4);
   const float ev = autoExposureEv(reference().beauty, kWidth, kHeight);
   const double raw = relativeMse(noisy.beauty, reference().beauty, ev);
   const double denoised = relativeMse(denoise(noisy), reference().beauty, ev);
@@ -157,7 +154,7 @@ TEST(Denoise, VarianceGuidedIsCloserThanTheOldFilter) {
   const float ev = autoExposureEv(reference().beauty, kWidth, kHeight);
   double raw = 0.0, denoised = 0.0;
   for (uint32_t seed = 1; seed <= 3; ++seed) {
-    const RenderImage noisy = renderRoom(1.0f, 4, seed);
+    const RenderImage noisy = renderRoom("0.5", 4, seed);
     ASSERT_EQ(noisy.luminanceMoment2.size(), noisy.beauty.size()) << "the tracer keeps the second moment";
     raw += relativeMse(noisy.beauty, reference().beauty, ev) / 3.0;
     denoised += relativeMse(denoise(noisy), reference().beauty, ev) / 3.0;
@@ -173,7 +170,7 @@ TEST(Denoise, ConvergedImageIsNearlyUnchanged) {
   const float ev = autoExposureEv(reference().beauty, kWidth, kHeight);
   const double change = relativeMse(denoise(reference()), reference().beauty, ev);
   // The reference's own noise: two 1024-spp renders of other seeds differ by twice its variance.
-  const double ownNoise = relativeMse(renderRoom(1.0f, 1024, 5).beauty, reference().beauty, ev) / 2.0;
+  const double ownNoise = relativeMse(renderRoom("0.5", 1024, 5).beauty, reference().beauty, ev) / 2.0;
   // Stated: the filter changes a converged image by less than the noise it still has, and by
   // less than a relative MSE of 1e-3 (measured here: 0.00093 against a noise of 0.0012; 0.0006
   // with the filter before the variance-guided one).
@@ -191,11 +188,11 @@ TEST(Denoise, ConvergedImageIsNearlyUnchanged) {
 // the raw mean, BT_DENOISE_SHRINK_FROM).
 TEST(Denoise, AtHighSppTheDenoisedImageIsNoFartherFromTheReferenceThanRaw) {
   for (const bool bricks : {false, true}) {
-    const RenderImage reference = bricks ? renderRoom(1.0f, 1024, 99, true) : bt::reference();
+    const RenderImage reference = bricks ? renderRoom("0.5", 1024, 99, true) : bt::reference();
     const float ev = autoExposureEv(reference.beauty, kWidth, kHeight);
     double raw = 0.0, denoised = 0.0;
     for (uint32_t seed = 11; seed <= 13; ++seed) {
-      const RenderImage noisy = renderRoom(1.0f, 256, seed, bricks);
+      const RenderImage noisy = renderRoom("0.5", 256, seed, bricks);
       raw += relativeMse(noisy.beauty, reference.beauty, ev) / 3.0;
       denoised += relativeMse(denoise(noisy), reference.beauty, ev) / 3.0;
     }
@@ -215,12 +212,12 @@ TEST(Denoise, AtHighSppTheDenoisedImageIsNoFartherFromTheReferenceThanRaw) {
 // 256 spp, PCG's 0.00368) that the denoised one is the farther (0.00242; 0.00645 against 0.00637
 // at 64 spp), though closer than PCG's (bench/README.md, issue 18 session 24).
 TEST(Denoise, DisplayedImageOfTintedBricksIsCloserThanSession20s) {
-  const RenderImage reference = renderRoom(1.0f, 1024, 99, true, true, false);
+  const RenderImage reference = renderRoom("0.5", 1024, 99, true, true, false);
   const std::vector<glm::vec3> referenceDisplay = displayedImage(reference.beauty, autoExposureEv(reference.beauty, kWidth, kHeight));
   for (const int spp : {64, 256}) {
     double raw = 0.0, displayed = 0.0;
     for (uint32_t seed = 31; seed <= 33; ++seed) {
-      const RenderImage noisy = renderRoom(1.0f, spp, seed, true, true, false);
+      const RenderImage noisy = renderRoom("0.5", spp, seed, true, true, false);
       const float ev = autoExposureEv(noisy.beauty, kWidth, kHeight);
       raw += bt::relativeMse(displayedImage(noisy.beauty, ev), referenceDisplay) / 3.0;
       const std::vector<glm::vec3> shown = displayedBeauty(noisy.beauty, denoise(noisy), spp);
@@ -246,11 +243,11 @@ TEST(Denoise, DisplayedImageOfTintedBricksIsCloserThanSession20s) {
 // image is farther from the reference than raw (0.17 against 0.059), as lq_e4m3's is not (0.070
 // against 0.161; bench/README.md, issue 18 session 22).
 TEST(Denoise, DisplayedImageOfDarkMortarIsCloserThanSession21s) {
-  const RenderImage reference = renderRoom(1.0f, 1024, 99, true);
+  const RenderImage reference = renderRoom("0.5", 1024, 99, true);
   const std::vector<glm::vec3> referenceDisplay = displayedImage(reference.beauty, autoExposureEv(reference.beauty, kWidth, kHeight));
   double raw = 0.0, displayed = 0.0;
   for (uint32_t seed = 41; seed <= 43; ++seed) {
-    const RenderImage noisy = renderRoom(1.0f, 8, seed, true);
+    const RenderImage noisy = renderRoom("0.5", 8, seed, true);
     const float ev = autoExposureEv(noisy.beauty, kWidth, kHeight);
     raw += bt::relativeMse(displayedImage(noisy.beauty, ev), referenceDisplay) / 3.0;
     displayed += bt::relativeMse(displayedImage(displayedBeauty(noisy.beauty, denoise(noisy), 8), ev), referenceDisplay) / 3.0;
@@ -306,14 +303,14 @@ TEST(TimeToConverged, MeasuresTheDisplayedImage) {
   // Any reference does for the arithmetic: a 16-spp one of another seed, whose own noise keeps
   // every step above the threshold (so every step is measured) while raw and denoised images
   // still score apart.
-  const RenderImage noisyReference = renderRoom(1.0f, 16, 77);
+  const RenderImage noisyReference = renderRoom("0.5", 16, 77);
   const std::vector<glm::vec3> referenceDisplay =
       displayedImage(noisyReference.beauty, autoExposureEv(noisyReference.beauty, kWidth, kHeight));
   ConvergeSettings settings;
   settings.fade = {16, 64};                      // the viewer tests' short fade: the test renders to 32 spp, not 512
   settings.maxSpp = 2 * settings.fade.fullUntil; // into the fade, where the two images differ
   settings.denoiser = [](const RenderImage& image) { return denoise(image); };
-  const auto render = [](int spp) { return renderRoom(1.0f, spp, 21); };
+  const auto render = [](int spp) { return renderRoom("0.5", spp, 21); };
   const std::vector<ConvergeStep> steps = timeToConverged(render, referenceDisplay, settings);
   ASSERT_EQ(steps.back().spp, settings.maxSpp);
   bool fadeSeen = false;

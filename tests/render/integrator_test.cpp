@@ -431,18 +431,14 @@ TEST(PhysicalRender, EachFormulaMatchesTheCompiledLightAtItsMatchDistance) {
 // 0 <= y < x, z > 0, each mirrored and swapped into 16, 8 of them down; those that reach the floor
 // within the light's reach of 300 land at d = 80 / cos; each counts the compiler's (300 - d) x
 // (0.5 + 0.5 cos) x d^2 / cos (d at least 16, cos at least 0.2) against physical light's W(d),
-// and the intensity is the ratio of the sums: 1.50 times the fixed rule's here. Its display match
-// (physical_reference.h landedDisplayMatch), in place of the global k: on the white floor, the
-// light alone, each landing's lightmap fraction S = that light x 0.5 / 128 (below 1: nothing
-// clipped) shows as srgbToLinear(S) where physical light gives k S, so k = sum of
-// srgbToLinear(S) d^2 / cos over the sum of S d^2 / cos.
+// and the intensity is the ratio of the sums: 1.50 times the fixed rule's here.
 TEST(PhysicalRender, AQuakeLightIsMatchedOverTheSurfacesItsLightLandsOn) {
   test::BoxSceneBuilder b = floorScene();
   b.entity({{"classname", "light"}, {"origin", "0 0 80"}});
   const Scene scene = b.build();
   Diagnostics diags;
   const RenderScene rs = buildRenderScene(scene, {}, diags);
-  double compiled = 0.0, windowed = 0.0, shown = 0.0;
+  double compiled = 0.0, windowed = 0.0;
   constexpr int kSpiral = 256;
   int wedge = 0;
   for (int i = 0; i < kSpiral; ++i) {
@@ -452,16 +448,14 @@ TEST(PhysicalRender, AQuakeLightIsMatchedOverTheSurfacesItsLightLandsOn) {
     ++wedge;
     if (!(80.0 / z < 300.0)) continue;
     const double d = std::max(80.0 / z, 16.0), cosine = std::max(z, 0.2);
-    const double light = (300.0 - d) * (0.5 + 0.5 * cosine);
-    compiled += 8.0 * light / cosine * d * d;
+    compiled += 8.0 * (300.0 - d) * (0.5 + 0.5 * cosine) / cosine * d * d;
     windowed += 8.0 * karisWindow(d, 300.0);
-    shown += 8.0 * srgbToLinear(float(light * 0.5 / 128.0)) / cosine * d * d;
   }
   ASSERT_EQ(wedge, 16);
-  const double intensity = compiled / windowed, k = shown / (compiled * 0.5 / 128.0);
+  const double intensity = compiled / windowed;
   Rng rng = pixelRng(0, 0, 0, 0);
   const glm::vec3 l = radiance(rs, {LightingMode::Physical, 0}, downAt(60.0f, 0.0f), rng);
-  const double expected = intensity * 0.5 * k / 128.0 * karisWindow(100.0, 300.0) * 0.8 / (100.0 * 100.0);
+  const double expected = intensity * 0.5 * kDisplayMatch / 128.0 * karisWindow(100.0, 300.0) * 0.8 / (100.0 * 100.0);
   EXPECT_NEAR(l.x, expected, 1e-3 * expected);
 }
 
