@@ -12,6 +12,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <cstdio>
+#include <iterator>
 #include <numbers>
 #include <string>
 
@@ -70,8 +71,7 @@ std::vector<ConvergeStep> timeToConverged(const std::function<RenderImage(int sp
                                           const ConvergeSettings& settings) {
   using Clock = std::chrono::steady_clock;
   const auto secondsSince = [](Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); };
-  std::vector<ConvergeStep> steps;
-  for (const int spp : convergeSteps(settings.maxSpp)) {
+  const auto measure = [&](int spp) {
     ConvergeStep step;
     step.spp = spp;
     auto start = Clock::now();
@@ -92,11 +92,33 @@ std::vector<ConvergeStep> timeToConverged(const std::function<RenderImage(int sp
       step.relativeMseDisplayed =
           relativeMse(displayedImage(displayedBeauty(image.beauty, denoised, image.samples, settings.fade), ev), referenceDisplay);
     }
-    steps.push_back(step);
     if (settings.onStep) settings.onStep(step);
-    const bool displayedThere = !settings.denoiser || step.relativeMseDisplayed <= kConvergedRelativeMse;
-    if (step.relativeMse <= kConvergedRelativeMse && displayedThere) break;
+    return step;
+  };
+  const auto rawThere = [](const ConvergeStep& s) { return s.relativeMse <= kConvergedRelativeMse; };
+  const auto displayedThere = [&](const ConvergeStep& s) { return !settings.denoiser || s.relativeMseDisplayed <= kConvergedRelativeMse; };
+  std::vector<ConvergeStep> steps;
+  for (const int spp : convergeSteps(settings.maxSpp)) {
+    steps.push_back(measure(spp));
+    if (rawThere(steps.back()) && displayedThere(steps.back())) break;
   }
+  if (!settings.refine) return steps;
+  // The viewer shows every count between two steps, so each measure's first step within the
+  // threshold is bisected down against the step before it: the figure is the first count the
+  // display shows within it (to one sample, as far as the error falls with the count).
+  const auto refine = [&](const auto& there) {
+    const auto first = std::find_if(steps.begin(), steps.end(), there);
+    if (first == steps.begin() || first == steps.end()) return;
+    int below = std::prev(first)->spp, within = first->spp;
+    while (within - below > 1) {
+      const int mid = below + (within - below) / 2;
+      const ConvergeStep step = measure(mid);
+      steps.insert(std::lower_bound(steps.begin(), steps.end(), mid, [](const ConvergeStep& s, int spp) { return s.spp < spp; }), step);
+      (there(step) ? within : below) = mid;
+    }
+  };
+  refine(rawThere);
+  if (settings.denoiser) refine(displayedThere);
   return steps;
 }
 

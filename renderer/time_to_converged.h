@@ -40,19 +40,24 @@ struct ConvergeSettings {
   std::function<std::vector<glm::vec3>(const RenderImage&)> denoiser;
   std::function<void(const ConvergeStep&)> onStep; // each measured step, for a progress line
   DenoiseFade fade = kDenoiseFade;                 // the display's; tests shorten it
+  // Bisect the counts between the last step above the threshold and the first within it (raw,
+  // and displayed with the denoiser on), as the viewer shows them all; off: the half-octaves alone.
+  bool refine = true;
 };
 
 // The sample counts the sweep renders, up to maxSpp: every power of two and, between two, the
 // rounded geometric mean (1, 2, 3, 4, 6, 8, 11, 16, 23, 32, 45, 64, 91, 128, 181, 256, ...). The
 // viewer shows every sample count on its way, so a sweep by doubling alone would report up to
-// twice the time the display needs; half-octaves keep that over-report within a factor of 1.41.
+// twice the time the display needs; half-octaves keep that over-report within a factor of 1.41,
+// and timeToConverged's bisection between them takes it to one sample.
 std::vector<int> convergeSteps(int maxSpp);
 
 // Renders at each of convergeSteps(maxSpp) (each auto-exposed on its own raw beauty, as `render` does), each
 // image measured raw, denoised and as displayed with the denoiser on (displayedBeauty of the two
 // at its spp), until the raw and the displayed image are within kConvergedRelativeMse of
-// `referenceDisplay` (or maxSpp); returns the steps. The denoiser's time counts where the display
-// shows some of it.
+// `referenceDisplay` (or maxSpp), then (settings.refine) the counts between each measure's last
+// step above and first step within the threshold, by bisection; returns the steps in order of
+// spp. The denoiser's time counts where the display shows some of it.
 std::vector<ConvergeStep> timeToConverged(const std::function<RenderImage(int spp)>& render, const std::vector<glm::vec3>& referenceDisplay,
                                           const ConvergeSettings& settings);
 

@@ -9,8 +9,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <map>
 #include <string>
 
@@ -344,6 +346,48 @@ TEST(TimeToConverged, StepsByHalfOctaves) {
     const std::vector<int> steps = convergeSteps(spp);
     for (size_t i = 2; i < steps.size(); ++i) EXPECT_LE(double(steps[i]), 1.5 * double(steps[i - 1])) << steps[i];
   }
+}
+
+// The viewer shows every sample count, so the bench reports the first count within the
+// threshold, not the next half-octave: an image whose error falls with the count as a known
+// function, every count measured by hand, against what the sweep finds by bisection.
+TEST(TimeToConverged, FindsTheFirstCountWithinTheThresholdBetweenHalfOctaves) {
+  constexpr int kSide = 16;
+  std::vector<glm::vec3> reference(size_t(kSide) * kSide);
+  for (size_t i = 0; i < reference.size(); ++i) reference[i] = glm::vec3(0.05f + 0.9f * float(i) / float(reference.size()));
+  const std::vector<glm::vec3> referenceDisplay = displayedImage(reference, autoExposureEv(reference, kSide, kSide));
+  int renders = 0;
+  const auto render = [&](int spp) {
+    ++renders;
+    RenderImage image;
+    image.width = image.height = kSide, image.samples = spp;
+    image.beauty = reference;
+    const float amplitude = 7.0f / float(spp); // the error falls as 1 / spp^2
+    for (size_t i = 0; i < image.beauty.size(); ++i) image.beauty[i] *= 1.0f + ((i + i / kSide) % 2 ? amplitude : -0.5f * amplitude);
+    return image;
+  };
+  const auto error = [&](int spp) {
+    const RenderImage image = render(spp);
+    return bt::relativeMse(displayedImage(image.beauty, autoExposureEv(image.beauty, kSide, kSide)), referenceDisplay);
+  };
+  int first = 1;
+  while (error(first) > kConvergedRelativeMse) ++first;
+  const std::vector<int> halfOctaves = convergeSteps(256);
+  ASSERT_EQ(std::find(halfOctaves.begin(), halfOctaves.end(), first), halfOctaves.end())
+      << first << " spp is a half-octave: the test cannot tell a bisection from the sweep";
+  ConvergeSettings settings;
+  settings.maxSpp = 256;
+  renders = 0;
+  const std::vector<ConvergeStep> steps = timeToConverged(render, referenceDisplay, settings);
+  const auto within =
+      std::find_if(steps.begin(), steps.end(), [](const ConvergeStep& s) { return s.relativeMse <= kConvergedRelativeMse; });
+  ASSERT_NE(within, steps.end());
+  EXPECT_EQ(within->spp, first) << "the first count within the threshold";
+  ASSERT_NE(within, steps.begin());
+  EXPECT_EQ(std::prev(within)->spp, first - 1) << "the count before it, measured above the threshold";
+  for (size_t i = 1; i < steps.size(); ++i) EXPECT_LT(steps[i - 1].spp, steps[i].spp) << "steps in order of spp";
+  EXPECT_EQ(renders, int(steps.size()));
+  std::printf("first count within the threshold: %d spp, found in %d renders\n", first, renders);
 }
 
 // The time-to-converged bench's diagnostic: error spread evenly gives the worst 1 % of pixels
