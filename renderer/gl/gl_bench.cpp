@@ -262,11 +262,14 @@ void benchTimeToConverged(gl::GlTracer& tracer, const gl::CameraBasis& camera, c
     for (const glm::vec4& a : aov.albedo) image.albedo.emplace_back(a);
     return image;
   };
+  // One denoiser program for the sweep, as the viewer keeps one (viewer_display.cpp): each step's
+  // time is then the filter's, not its program's build.
+  gl::DenoisePass pass;
   printTimeToConverged({.tracer = "gl",
                         .referenceSpp = s.referenceSpp,
                         .bounces = s.bounces,
                         .render = render,
-                        .denoiser = [](const RenderImage& image) { return denoiseWithGl(image); },
+                        .denoiser = [&pass](const RenderImage& image) { return denoiseWithGl(image, pass); },
                         .referenceFloor = s.referenceFloor,
                         .keep = s.keep});
 }
