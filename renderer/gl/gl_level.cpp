@@ -64,14 +64,14 @@ std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport imp
   return std::make_unique<LevelPreparation>(level.scene, level.render, std::move(importLevel), std::move(options));
 }
 
-FaithfulFeatures startPathTracerFor(TracerPrograms& programs, LevelPreparation& preparation, bool physical) {
+FaithfulFeatures startFirstImageFor(TracerPrograms& programs, LevelPreparation& preparation, bool physical) {
   programs.startTraceKernel();
   // Only a level whose finished lights need a part their early kinds did not tell builds its own
   // program once prepared (loadGlLevel), the one started here going unused.
   const LevelParts parts = preparation.levelParts();
   const FaithfulFeatures features =
       physical ? FaithfulFeatures{.liquidCsg = parts.liquidCsg} : faithfulFeatures(preparation.lightKinds(), parts);
-  programs.startPathTracer(physical, features);
+  programs.startFirstImage(physical, features);
   return features;
 }
 
@@ -80,7 +80,7 @@ void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& conte
   using Clock = GlLevelTimes::Clock;
   GlLevelTimes local;
   GlLevelTimes& t = times ? *times : local;
-  const FaithfulFeatures early = startPathTracerFor(*programs, preparation, physical);
+  const FaithfulFeatures early = startFirstImageFor(*programs, preparation, physical);
   t.programsStarted = Clock::now();
   if (programs->wavefrontState(physical, early).started) {
     programs->wavefrontTrace();
@@ -95,7 +95,7 @@ void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& conte
   // starts now, before the upload, so that the first image does not wait for it to start after
   // the upload (then the early one goes unused).
   const FaithfulFeatures features = faithfulFeatures(lighting);
-  programs->startPathTracer(physical, features);
+  programs->startFirstImage(physical, features);
   const bool wavefront = programs->wavefrontState(physical, features).started;
   // The upload goes between the two waits: the trace kernel links well before the shade kernel,
   // and the preparation is done by then, so the upload costs the first image nothing.
@@ -104,6 +104,9 @@ void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& conte
   if (wavefront) programs->wavefront(physical, features);
   t.shadeLinked = Clock::now();
   if (!wavefront) t.traceLinked = t.shadeLinked;
+  // The front ends switch to the megakernel once the driver has it (PathTracerForm::Auto).
+  programs->startPathTracer(physical, features);
+  t.megakernelStarted = Clock::now();
 }
 
 void loadGlLevel(GlLevel& level, GlContext& context, const std::shared_ptr<TracerPrograms>& programs, bool physical,

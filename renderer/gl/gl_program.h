@@ -72,6 +72,8 @@ public:
     return buildMilliseconds_;
   }
   bool loadedFromCache() const { return loadedFromCache_; }
+  // When the build was started (the constructor).
+  std::chrono::steady_clock::time_point startedAt() const { return start_; }
   // The program's local_size_x, _y or _z (axis 0, 1 or 2).
   int localSize(int axis) {
     finish();

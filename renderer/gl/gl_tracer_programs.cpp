@@ -160,13 +160,18 @@ std::unique_ptr<ComputeProgram>& TracerPrograms::shadeSlot(bool physical, Faithf
 }
 
 void TracerPrograms::startPathTracer(bool physical, FaithfulFeatures features) {
+  startFirstImage(physical, features); // the wavefront kernels, where they go first, are queued first
+  start(pathSlot(physical, features), shaderFile(TracerProgram::PathTracer),
+        programDefines(TracerProgram::PathTracer, mode_, layout_, physical, features));
+}
+
+void TracerPrograms::startFirstImage(bool physical, FaithfulFeatures features) {
   std::unique_ptr<ComputeProgram>& slot = pathSlot(physical, features);
   if (slot) return;
-  // The wavefront kernels are queued first, so that the driver's threads take them first; a
-  // megakernel from the program cache needs none.
+  // A megakernel from the program cache needs no wavefront kernels.
   const std::vector<std::string> defines = programDefines(TracerProgram::PathTracer, mode_, layout_, physical, features);
   const char* shader = shaderFile(TracerProgram::PathTracer);
-  if (wavefrontFirst_ && !programCached(shader, defines, cache_)) startWavefront(physical, features);
+  if (wavefrontFirst_ && !programCached(shader, defines, cache_)) return startWavefront(physical, features);
   start(slot, shader, defines);
   if (wavefrontFirst_ && !slot->loadedFromCache()) startWavefront(physical, features); // the driver refused the cached binary
 }

@@ -135,6 +135,15 @@ public:
   // can draw sooner: when the driver compiles on its own threads (a GPU; llvmpipe compiles at
   // the first dispatch whatever the form) and the megakernel is not in the program cache.
   void startPathTracer(bool physical, FaithfulFeatures features = {});
+  // What the first images need of startPathTracer(): the wavefront kernels alone where it would
+  // start them, else the megakernel. On NVIDIA a megakernel compiling beside the wavefront
+  // kernels holds their link back to its own end (bench/README.md, issue 14, session 24), so a
+  // front end starts the megakernel (startPathTracer) once they are linked (loadGlLevel).
+  void startFirstImage(bool physical, FaithfulFeatures features = {});
+  // Whether startPathTracer() starts the wavefront kernels: by default where the driver compiles
+  // on its own threads and is no software renderer. Tests turn it on to follow a GPU's order on
+  // llvmpipe.
+  void setWavefrontFirst(bool on) { wavefrontFirst_ = on; }
   // The wavefront trace kernel, where startPathTracer() would start it: it serves every
   // lighting mode and feature set, so it can start before the level says which it needs.
   void startTraceKernel();

@@ -6,6 +6,7 @@
 #include "renderer/cpu/integrator.h"
 #include "lighting/light_grid.h"
 #include "renderer/gl/gl_context.h"
+#include "renderer/gl/gl_level.h"
 #include "renderer/gl/gl_tracer.h"
 #include "tests/gl/test_scenes.h"
 
@@ -151,6 +152,40 @@ TEST(GlWavefront, AutoDrawsWithTheMegakernelOnceItIsBuilt) {
   const BeautyImage image = tracer.renderBeauty(test::testCamera(kWidth, kHeight), {.width = kWidth, .height = kHeight, .spp = 2});
   EXPECT_EQ(image.samples, 2);
   EXPECT_EQ(image.wavefrontSamples, 0);
+}
+
+// A front end's load (loadGlLevel, as the viewer and gl_bench load) compiles the first image's
+// wavefront kernels alone and starts the megakernel only once they are linked: on NVIDIA a
+// megakernel compiling beside them held their link back to its own end (bench/README.md, issue
+// 14). llvmpipe draws its first images with the megakernel, so the GPU's order is asked for here.
+TEST(GlWavefront, LoadStartsTheMegakernelOnceTheWavefrontKernelsAreLinked) {
+  using Clock = GlLevelTimes::Clock;
+  auto programs = std::make_shared<TracerPrograms>(test::sharedGlContext(), test::textureModeUnderTest());
+  programs->setCache(ProgramCache{}); // a megakernel in the cache would need no wavefront kernels
+  programs->setWavefrontFirst(true);
+  GlLevel level;
+  GlLevelTimes times;
+  loadGlLevel(
+      level, test::sharedGlContext(), programs, false,
+      [](const EntitiesRead&) {
+        Scene room = test::makeTestRoom();
+        Entity light;
+        light.keys = {{"classname", "light"}, {"origin", "-100 0 200"}, {"light", "300"}};
+        room.entities.push_back(light);
+        return room;
+      },
+      &times);
+  const Clock::time_point returned = Clock::now();
+  const FaithfulFeatures features = level.tracer->faithfulFeatures();
+  ASSERT_TRUE(programs->wavefrontState(false, features).started);
+  ASSERT_EQ(level.render.lights.size(), 1u);
+  const auto ms = [&](Clock::time_point t) { return std::chrono::duration<double, std::milli>(t - times.programsStarted).count(); };
+  const double megakernelStarted = ms(programs->pathTracer(false, features).startedAt());
+  EXPECT_GE(megakernelStarted, ms(times.shadeLinked)) << "the megakernel was started before the shade kernel was linked";
+  EXPECT_GE(megakernelStarted, ms(times.traceLinked));
+  EXPECT_LE(megakernelStarted, ms(returned)) << "loadGlLevel did not start the megakernel";
+  std::printf("after the compiles' start: trace kernel linked %.1f ms, shade kernel %.1f ms, megakernel started %.1f ms\n",
+              ms(times.traceLinked), ms(times.shadeLinked), megakernelStarted);
 }
 
 } // namespace
