@@ -78,6 +78,8 @@ std::vector<std::string> programDefines(TracerProgram program, TextureMode mode,
       if (on[i]) defines.emplace_back(parts[i]);
   }
   if (takes(program, "Wavefront")) defines.emplace_back(switchesOf("Wavefront").at(0));
+  for (const std::string_view half : {"Surfaces", "Lights"})
+    if (takes(program, half)) defines.emplace_back(switchesOf(half).at(0));
   if (features.liquidCsg && takes(program, "Csg")) defines.emplace_back(switchesOf("Csg").at(0));
   if (features.blocksFromInside && !physical && takes(program, "Inside")) defines.emplace_back(switchesOf("Inside").at(0));
   if (features.glass && !physical && takes(program, "Glass")) defines.emplace_back(switchesOf("Glass").at(0));
@@ -158,6 +160,10 @@ std::unique_ptr<ComputeProgram>& TracerPrograms::shadeSlot(bool physical, Faithf
   features.blocksFromInside = false; // the shade kernel traces nothing
   return shade_[variantIndex(physical, features)];
 }
+std::unique_ptr<ComputeProgram>& TracerPrograms::lightsSlot(bool physical, FaithfulFeatures features) {
+  features.blocksFromInside = false;
+  return lights_[variantIndex(physical, features)];
+}
 
 void TracerPrograms::startPathTracer(bool physical, FaithfulFeatures features) {
   startFirstImage(physical, features); // the wavefront kernels, where they go first, are queued first
@@ -177,11 +183,18 @@ void TracerPrograms::startFirstImage(bool physical, FaithfulFeatures features) {
 }
 
 void TracerPrograms::startWavefront(bool physical, FaithfulFeatures features) {
-  std::vector<std::string> defines = programDefines(TracerProgram::WavefrontShade, mode_, layout_, physical, features);
   // Not cached: a start that finds the megakernel in the cache needs no wavefront kernels, and
   // storing them would put their binaries' retrieval (NVIDIA: tenths of a second) before the
   // first image they are for.
-  start(shadeSlot(physical, features), shaderFile(TracerProgram::WavefrontShade), std::move(defines), false);
+  std::unique_ptr<ComputeProgram>& shade = shadeSlot(physical, features);
+  if (!shade && !physical && faithfulHalves_) {
+    start(shade, shaderFile(TracerProgram::WavefrontSurfaces),
+          programDefines(TracerProgram::WavefrontSurfaces, mode_, layout_, physical, features), false);
+    start(lightsSlot(physical, features), shaderFile(TracerProgram::WavefrontLights),
+          programDefines(TracerProgram::WavefrontLights, mode_, layout_, physical, features), false);
+  }
+  start(shade, shaderFile(TracerProgram::WavefrontShade), programDefines(TracerProgram::WavefrontShade, mode_, layout_, physical, features),
+        false);
   startWavefrontTrace();
 }
 
@@ -224,10 +237,6 @@ ComputeProgram& TracerPrograms::pathTracer(bool physical, FaithfulFeatures featu
   startPathTracer(physical, features);
   return finished(pathSlot(physical, features));
 }
-ComputeProgram& TracerPrograms::wavefrontShade(bool physical, FaithfulFeatures features) {
-  startWavefront(physical, features);
-  return finished(shadeSlot(physical, features));
-}
 ComputeProgram& TracerPrograms::wavefrontTrace() {
   startWavefrontTrace();
   return finished(trace_);
@@ -235,7 +244,9 @@ ComputeProgram& TracerPrograms::wavefrontTrace() {
 TracerPrograms::WavefrontKernels TracerPrograms::wavefront(bool physical, FaithfulFeatures features) {
   startWavefront(physical, features);
   ComputeProgram& trace = wavefrontTrace();
-  return {wavefrontShade(physical, features), trace};
+  ComputeProgram& shade = finished(shadeSlot(physical, features));
+  std::unique_ptr<ComputeProgram>& lights = lightsSlot(physical, features);
+  return {shade, trace, lights ? &finished(lights) : nullptr};
 }
 ComputeProgram& TracerPrograms::aovs(bool liquidCsg) {
   startAovs(liquidCsg);
@@ -249,7 +260,8 @@ ComputeProgram& TracerPrograms::rayBench() {
 TracerPrograms::WavefrontState TracerPrograms::wavefrontState(bool physical, FaithfulFeatures features) {
   std::unique_ptr<ComputeProgram>& shade = shadeSlot(physical, features);
   if (!shade || !trace_) return {};
-  return {true, shade->ready(), trace_->ready()};
+  const std::unique_ptr<ComputeProgram>& lights = lightsSlot(physical, features);
+  return {true, shade->ready() && (!lights || lights->ready()), trace_->ready()};
 }
 
 bool TracerPrograms::wavefrontWhileCompiling(bool physical, FaithfulFeatures features) {

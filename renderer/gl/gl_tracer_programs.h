@@ -144,6 +144,10 @@ public:
   // on its own threads and is no software renderer. Tests turn it on to follow a GPU's order on
   // llvmpipe.
   void setWavefrontFirst(bool on) { wavefrontFirst_ = on; }
+  // Faithful wavefront kernels started from now on shade with the shade kernel's two halves
+  // (true, the default: shaders/pathtrace.comp BT_WAVEFRONT_SURFACES and _LIGHTS), which the
+  // driver compiles at once, each sooner than the whole, or with the whole (for comparisons).
+  void setFaithfulHalves(bool halves) { faithfulHalves_ = halves; }
   // The wavefront trace kernel, where startPathTracer() would start it: it serves every
   // lighting mode and feature set, so it can start before the level says which it needs.
   void startTraceKernel();
@@ -151,15 +155,16 @@ public:
   void startAovs(bool liquidCsg = false);
   // The finished program, built now if it was not started.
   ComputeProgram& pathTracer(bool physical, FaithfulFeatures features = {});
-  ComputeProgram& wavefrontShade(bool physical, FaithfulFeatures features = {});
   ComputeProgram& wavefrontTrace();
-  // Both wavefront kernels finished, the trace kernel first. NVIDIA finishes each program on
+  // The wavefront kernels finished, the trace kernel first. NVIDIA finishes each program on
   // the thread that waits for it, after its own threads report the compile complete, one
   // program at a time. The trace kernel's compile ends first, so waiting for it first does its
-  // part while the shade kernel still compiles instead of after it.
+  // part while the shade kernel still compiles instead of after it. `shade` is the whole shade
+  // kernel, or its surfaces' half with `lights` the lights' half (null with the whole).
   struct WavefrontKernels {
     ComputeProgram& shade;
     ComputeProgram& trace;
+    ComputeProgram* lights;
   };
   WavefrontKernels wavefront(bool physical, FaithfulFeatures features = {});
   ComputeProgram& aovs(bool liquidCsg = false);
@@ -189,13 +194,16 @@ private:
   void startWavefrontTrace();
   static size_t variantIndex(bool physical, FaithfulFeatures features);
   std::unique_ptr<ComputeProgram>& pathSlot(bool physical, FaithfulFeatures features);
+  // The shade kernel, or its surfaces' half where its lights' half is in lightsSlot().
   std::unique_ptr<ComputeProgram>& shadeSlot(bool physical, FaithfulFeatures features);
+  std::unique_ptr<ComputeProgram>& lightsSlot(bool physical, FaithfulFeatures features);
   std::unique_ptr<ComputeProgram>& bakeSlot(FaithfulFeatures features);
 
   TextureMode mode_;
   TraceLayout layout_;
   ProgramCache cache_;
   bool wavefrontFirst_; // startPathTracer starts the wavefront kernels too (driver compiles in parallel, a GPU)
+  bool faithfulHalves_ = true;
   // One program per lighting mode (BT_LIGHTING_PHYSICAL chosen at build), so each compiles
   // only its own integrator, and per set of faithful features (variantIndex: physical, then
   // faithful with each of the 64 sets without and with the rule from inside and Quake 2's glass,
@@ -203,7 +211,8 @@ private:
   // which trace nothing (the rule from inside is the trace kernel's). Its trace kernel serves
   // every mode and level; the bake takes no CSG and no glass (it stores luxels, not the view).
   static constexpr size_t kPathVariants = 514;
-  std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[kPathVariants], bake_[kPathVariants], trace_, aov_[2], rayBench_;
+  std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[kPathVariants], lights_[kPathVariants], bake_[kPathVariants], trace_,
+      aov_[2], rayBench_;
 };
 
 } // namespace bt::gl

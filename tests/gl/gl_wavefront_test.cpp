@@ -71,6 +71,39 @@ GpuLight pointLight(glm::vec3 origin, float value) {
   return light;
 }
 
+// The faithful shade kernel's two halves (the first image's, each compiled beside the other) draw
+// the whole kernel's image bit for bit.
+TEST(GlWavefront, FaithfulHalvesDrawTheWholeKernelsImage) {
+  GlLighting lighting;
+  lighting.lights = {pointLight({-100, 0, 200}, 300.0f), pointLight({150, 100, 60}, 200.0f)};
+  lighting.lights[1].deviance = 8.0f;
+  lighting.faithfulBounces = 1;
+  lighting.minlight = glm::vec3(5.0f);
+  const Scene scene = test::makeTestRoom();
+  const TraceScene traced = TraceScene::build(scene);
+  auto whole = std::make_shared<TracerPrograms>(test::sharedGlContext(), test::textureModeUnderTest());
+  whole->setFaithfulHalves(false);
+  auto halves = std::make_shared<TracerPrograms>(test::sharedGlContext(), test::textureModeUnderTest());
+  const BeautySettings settings{.width = kWidth, .height = kHeight, .spp = 1, .seed = 5, .form = PathTracerForm::Wavefront};
+  const CameraBasis camera = test::testCamera(kWidth, kHeight);
+  GlTracer wholeTracer(test::sharedGlContext(), scene, traced, whole, lighting);
+  GlTracer halvesTracer(test::sharedGlContext(), scene, traced, halves, lighting);
+  const BeautyImage a = wholeTracer.renderBeauty(camera, settings);
+  const BeautyImage b = halvesTracer.renderBeauty(camera, settings);
+  ASSERT_NE(halves->wavefront(false, halvesTracer.faithfulFeatures()).lights, nullptr);
+  EXPECT_EQ(whole->wavefront(false, wholeTracer.faithfulFeatures()).lights, nullptr);
+  ASSERT_EQ(a.wavefrontSamples, 1);
+  ASSERT_EQ(b.wavefrontSamples, 1);
+  ASSERT_EQ(a.beauty.size(), b.beauty.size());
+  size_t lit = 0, differing = 0;
+  for (size_t i = 0; i < a.beauty.size(); ++i) {
+    lit += a.beauty[i] != glm::vec3(0.0f);
+    differing += a.beauty[i] != b.beauty[i] || a.luminanceMoment2[i] != b.luminanceMoment2[i];
+  }
+  EXPECT_GT(lit, a.beauty.size() / 2) << "the test should see a lit room";
+  EXPECT_EQ(differing, 0u) << "of " << a.beauty.size() << " pixels";
+}
+
 TEST(GlWavefront, FaithfulWithBounceEqualsTheMegakernel) {
   GlLighting lighting;
   lighting.lights = {pointLight({-100, 0, 200}, 300.0f), pointLight({150, 100, 60}, 200.0f)};
