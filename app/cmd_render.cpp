@@ -225,6 +225,7 @@ std::shared_ptr<gl::TracerPrograms> startGlPrograms(const RenderOptions& o, gl::
   programs->startAovs(liquidCsg);
   if (o.aov == "beauty") {
     const gl::FaithfulFeatures features = gl::startFirstImageFor(*programs, preparation, physical);
+    programs->finishWavefrontAside(context, physical, features); // while this thread finishes the AOVs' program
     programs->aovs(liquidCsg);
     if (programs->wavefrontState(physical, features).started) programs->wavefront(physical, features);
     programs->startPathTracer(physical, features); // after the wavefront kernels' link, as gl::loadGlLevel

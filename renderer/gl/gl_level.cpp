@@ -2,6 +2,8 @@
 
 #include "renderer/gl/gl_lighting.h"
 
+#include <algorithm>
+
 namespace bt::gl {
 
 LevelPreparation::LevelPreparation(Scene& scene, RenderScene& render, LevelImport importLevel, RenderSceneOptions options,
@@ -82,7 +84,10 @@ void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& conte
   GlLevelTimes& t = times ? *times : local;
   const FaithfulFeatures early = startFirstImageFor(*programs, preparation, physical);
   t.programsStarted = Clock::now();
-  if (programs->wavefrontState(physical, early).started) {
+  // The wavefront kernels are finished on threads of their own where the context can share,
+  // while this thread uploads the level; else the trace kernel here first, as it is done first.
+  const bool aside = programs->finishWavefrontAside(context, physical, early);
+  if (!aside && programs->wavefrontStarted(physical, early)) {
     programs->wavefrontTrace();
     t.traceLinked = Clock::now();
   }
@@ -96,14 +101,19 @@ void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& conte
   // the upload (then the early one goes unused).
   const FaithfulFeatures features = faithfulFeatures(lighting);
   programs->startFirstImage(physical, features);
-  const bool wavefront = programs->wavefrontState(physical, features).started;
+  const bool wavefront = programs->wavefrontStarted(physical, features);
   // The upload goes between the two waits: the trace kernel links well before the shade kernel,
   // and the preparation is done by then, so the upload costs the first image nothing.
   level.tracer = std::make_unique<GlTracer>(context, level.scene, level.render.tracer, programs, lighting);
   t.uploaded = Clock::now();
-  if (wavefront) programs->wavefront(physical, features);
-  t.shadeLinked = Clock::now();
-  if (!wavefront) t.traceLinked = t.shadeLinked;
+  if (wavefront) {
+    TracerPrograms::WavefrontKernels kernels = programs->wavefront(physical, features);
+    t.shadeLinked = std::max(kernels.shade.finishedAt(), kernels.lights ? kernels.lights->finishedAt() : Clock::time_point{});
+    if (aside) t.traceLinked = kernels.trace.finishedAt();
+  } else {
+    programs->wavefrontState(physical, features); // whatever was finished aside is done
+    t.shadeLinked = t.traceLinked = Clock::now();
+  }
   // The front ends switch to the megakernel once the driver has it (PathTracerForm::Auto).
   programs->startPathTracer(physical, features);
   t.megakernelStarted = Clock::now();

@@ -215,6 +215,7 @@ void ComputeProgram::finish() {
     cache_.store(name_, cacheKey_, binary);
   }
   BT_GL(glGetProgramiv(program_, GL_COMPUTE_WORK_GROUP_SIZE, localSize_));
+  finishedAt_ = std::chrono::steady_clock::now();
 }
 
 bool ComputeProgram::ready() {

@@ -4,6 +4,7 @@
 #include "lighting/faithful_light.h"
 #include "renderer/gl/gl_error.h"
 
+#include <epoxy/gl.h>
 #include <fmt/format.h>
 
 #include <cstdlib>
@@ -104,7 +105,12 @@ TracerPrograms::TracerPrograms(GlContext& context, TextureMode textures, TraceLa
       cache_(ProgramCache::fromEnvironment(context.info().vendor)),
       wavefrontFirst_(context.info().parallelShaderCompile && !context.info().softwareRenderer) {}
 
-TracerPrograms::~TracerPrograms() = default;
+TracerPrograms::~TracerPrograms() {
+  try {
+    joinAside();
+  } catch (const GlError&) { // reported to whoever asks for the program; nobody will
+  }
+}
 
 void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines, bool cached) {
   if (slot) return;
@@ -238,10 +244,12 @@ ComputeProgram& TracerPrograms::pathTracer(bool physical, FaithfulFeatures featu
   return finished(pathSlot(physical, features));
 }
 ComputeProgram& TracerPrograms::wavefrontTrace() {
+  joinAside();
   startWavefrontTrace();
   return finished(trace_);
 }
 TracerPrograms::WavefrontKernels TracerPrograms::wavefront(bool physical, FaithfulFeatures features) {
+  joinAside();
   startWavefront(physical, features);
   ComputeProgram& trace = wavefrontTrace();
   ComputeProgram& shade = finished(shadeSlot(physical, features));
@@ -257,7 +265,46 @@ ComputeProgram& TracerPrograms::rayBench() {
   return finished(rayBench_);
 }
 
+bool TracerPrograms::wavefrontStarted(bool physical, FaithfulFeatures features) {
+  return shadeSlot(physical, features) && trace_;
+}
+
+bool TracerPrograms::finishWavefrontAside(const GlContext& context, bool physical, FaithfulFeatures features) {
+  joinAside();
+  std::vector<ComputeProgram*> programs;
+  for (std::unique_ptr<ComputeProgram>* slot : {&trace_, &shadeSlot(physical, features), &lightsSlot(physical, features)})
+    if (*slot && !(*slot)->finished()) programs.push_back(slot->get());
+  if (programs.empty() || !context.canShare()) return false;
+  glFlush(); // the compiles this context queued reach the driver before other contexts ask for them
+  for (ComputeProgram* program : programs)
+    aside_.push_back(std::async(std::launch::async, [program, &context] {
+      try {
+        const std::unique_ptr<GlContext> own = context.createShared();
+        own->makeCurrent();
+        program->finish();
+      } catch (const GlError&) {
+        // A program that failed keeps its error for whoever asks for it; one left unfinished
+        // (no context here) is finished by its first use.
+      }
+    }));
+  return true;
+}
+
+void TracerPrograms::joinAside() {
+  std::exception_ptr first;
+  for (std::future<void>& f : aside_) {
+    try {
+      f.get();
+    } catch (...) {
+      if (!first) first = std::current_exception();
+    }
+  }
+  aside_.clear();
+  if (first) std::rethrow_exception(first);
+}
+
 TracerPrograms::WavefrontState TracerPrograms::wavefrontState(bool physical, FaithfulFeatures features) {
+  joinAside();
   std::unique_ptr<ComputeProgram>& shade = shadeSlot(physical, features);
   if (!shade || !trace_) return {};
   const std::unique_ptr<ComputeProgram>& lights = lightsSlot(physical, features);

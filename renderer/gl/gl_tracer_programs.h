@@ -10,6 +10,7 @@
 #include "renderer/gl/gl_textures.h"
 #include "scene/gpu_structs.h"
 
+#include <future>
 #include <memory>
 #include <string>
 #include <vector>
@@ -187,9 +188,19 @@ public:
     bool traceReady = false;
   };
   WavefrontState wavefrontState(bool physical, FaithfulFeatures features = {});
+  // Whether the wavefront kernels were started, without asking the driver anything.
+  bool wavefrontStarted(bool physical, FaithfulFeatures features = {});
+  // Finishes the started wavefront kernels each on a thread of its own, in a context of
+  // `context`'s share group, and returns at once; wavefront() and wavefrontState() wait for them.
+  // NVIDIA does most of a compile on the thread that asks for its result, one program at a time
+  // on a thread, so finished on three threads the three kernels are done about when the largest
+  // is (bench/README.md). False (nothing done) where the context cannot share (one adopted from a
+  // window) or nothing is left to finish.
+  bool finishWavefrontAside(const GlContext& context, bool physical, FaithfulFeatures features = {});
 
 private:
   ComputeProgram& finished(std::unique_ptr<ComputeProgram>& slot);
+  void joinAside(); // rethrows the first of their errors once all have ended
   void start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines, bool cached = true);
   void startWavefrontTrace();
   static size_t variantIndex(bool physical, FaithfulFeatures features);
@@ -213,6 +224,7 @@ private:
   static constexpr size_t kPathVariants = 514;
   std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[kPathVariants], lights_[kPathVariants], bake_[kPathVariants], trace_,
       aov_[2], rayBench_;
+  std::vector<std::future<void>> aside_; // finishWavefrontAside's threads
 };
 
 } // namespace bt::gl
