@@ -224,11 +224,9 @@ std::shared_ptr<gl::TracerPrograms> startGlPrograms(const RenderOptions& o, gl::
   const bool liquidCsg = preparation.levelParts().liquidCsg;
   programs->startAovs(liquidCsg);
   if (o.aov == "beauty") {
-    const gl::FaithfulFeatures features = gl::startFirstImageFor(*programs, preparation, physical);
-    programs->finishWavefrontAside(context, physical, features); // while this thread finishes the AOVs' program
+    const gl::FaithfulFeatures features = gl::startPathTracerFor(*programs, preparation, physical);
     programs->aovs(liquidCsg);
     if (programs->wavefrontState(physical, features).started) programs->wavefront(physical, features);
-    programs->startPathTracer(physical, features); // after the wavefront kernels' link, as gl::loadGlLevel
   } else {
     programs->aovs(liquidCsg);
   }

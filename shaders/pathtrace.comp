@@ -105,22 +105,6 @@ const uint RAY_SURFACE = 0u; // camera or bounce ray: the next surface drawn (li
 const uint RAY_SHADOW = 1u;  // to a light: is the segment blocked (occluded), any hit
 const uint RAY_SKY = 2u;     // to the sun or the sky dome: does it reach a sky face (reachesSky)
 const uint RAY_DIRT = 3u;    // faithful dirt: how far it gets before a face that blocks light (blockedDistance)
-const uint RAY_LIGHTS = 4u;  // no ray: the surface's lights are next (the wavefront halves' hand-over, below)
-
-// The faithful wavefront shade kernel may be built as two programs, which the driver compiles at
-// once on two of its threads, each in less time than the whole (issue 14's very first start):
-//   BT_WAVEFRONT_SURFACES: the paths' start and surface rays' hits, up to the surface's lights;
-//   BT_WAVEFRONT_LIGHTS:   the other rays' hits, each surface's next light and the path's end.
-// A surface to be lit goes from the first to the second as a path of kind RAY_LIGHTS, in the same
-// round (gl_wavefront.cpp dispatches the surfaces' half, then the lights'), so each path runs the
-// same code in the same order as in the one kernel, and draws the same sample.
-#if defined(BT_WAVEFRONT_SURFACES)
-const bool SURFACE_HITS = true, LIGHT_HITS = false;
-#elif defined(BT_WAVEFRONT_LIGHTS)
-const bool SURFACE_HITS = false, LIGHT_HITS = true;
-#else
-const bool SURFACE_HITS = true, LIGHT_HITS = true;
-#endif
 
 // What the CPU's recursion keeps on its stack; path_fields.glsl lists the fields.
 #include "path_fields.glsl"
@@ -626,13 +610,8 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
   vec3 emissionPoint = vec3(0.0);
   bool surfaceReached = false, skyShown = false;
   SurfaceHit surface;
-  bool shadowPassed = LIGHT_HITS && path.kind == RAY_SHADOW && hit.face == NO_FACE;
-#ifdef BT_WAVEFRONT_LIGHTS
-  if (path.kind == RAY_LIGHTS) {
-    // handed over by the surfaces' half: no ray came back
-  } else
-#endif
-  if (LIGHT_HITS && path.kind == RAY_SHADOW) {
+  bool shadowPassed = path.kind == RAY_SHADOW && hit.face == NO_FACE;
+  if (path.kind == RAY_SHADOW) {
     // The any-hit traversal passed everything that does not block light already.
     if (shadowPassed && !PHYSICAL) {
       if (path.pendingIsFloor) path.lightFloor = max(path.lightFloor, path.pending);
@@ -654,7 +633,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
                                                                 : (flags & FACE_SKY) == 0u && !blocksLight(flags, PHYSICAL)));
 #ifdef BT_LIQUID_CSG
     // What qbsp's CSG leaves of overlapping liquids (visible.glsl): the hit may be another face.
-    if (SURFACE_HITS && path.kind == RAY_SURFACE && hit.face != NO_FACE && (flags & FACE_HIDDEN) == 0u) {
+    if (path.kind == RAY_SURFACE && hit.face != NO_FACE && (flags & FACE_HIDDEN) == 0u) {
       bool shown = !passThrough;
       liquidCsgHit(hit.face, shown, hit.inside, path.origin + path.dir * hit.t, path.dir);
       passThrough = !shown;
@@ -688,7 +667,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
         NEGATIVE_ONLY(else if (path.pendingIsNegative) path.lightNegative += path.pending;)
         else path.lightSum += path.pending;
       }
-    } else if (SURFACE_HITS) {
+    } else {
       bool found = !gaveUp && hit.face != NO_FACE;
       if (PHYSICAL && found && (flags & FACE_LIQUID) != 0u && physicalPassesLiquid(path, hit.face, rng)) return passOn(path, hit.t);
       vec3 position = path.origin + path.dir * hit.t;
@@ -721,13 +700,8 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     path.lightIndex = 0u;
   }
   if (ended) return !PHYSICAL && faithfulBehindLiquid(path, !skyShown);
-#ifdef BT_WAVEFRONT_SURFACES
-  path.kind = RAY_LIGHTS; // the lights' half goes on from here
-  return true;
-#else
   if (nextLightRay(path, rng)) return true;
   return PHYSICAL ? physicalBounce(path, rng) : faithfulPathEnd(path, rng) || faithfulBehindLiquid(path, true);
-#endif
 }
 
 // ---- the two forms of the loop ------------------------------------------------------------
@@ -783,18 +757,10 @@ void main() {
   Rng rng;
   Path path;
   if (wavefrontStart != 0u) {
-    if (!SURFACE_HITS) return; // the surfaces' half starts the paths
     path = cameraPath(pixel, rng);
   } else {
     if (wavefrontRays[slot].live == 0u) return;
-#if defined(BT_WAVEFRONT_SURFACES) || defined(BT_WAVEFRONT_LIGHTS)
-    // Each half takes its own paths: those whose surface ray came back, or all the others.
-    if ((wavefrontPaths[slot].path.kind == RAY_SURFACE) != SURFACE_HITS) return;
-#endif
     path = loadPath(slot, rng);
-#ifdef BT_WAVEFRONT_SURFACES
-    path.kind = RAY_SURFACE; // known: the compiler leaves the other rays' code out
-#endif
     if (!advance(path, wavefrontHits[slot], rng)) {
       wavefrontRays[slot].live = 0u;
       accumulate(pixel, path.radiance);

@@ -137,10 +137,9 @@ void wavefrontFirstImage(gl::GlTracer& tracer, const gl::CameraBasis& camera, co
   // Each step's end, in seconds from the start, to see which one the first image waits for.
   fmt::print("  timeline: context {:.3f}, lights collected {:.3f} (worker thread), compiles started {:.3f} (the main "
              "thread's share of starting them), trace kernel linked {:.3f}, level prepared {:.3f} (worker thread), "
-             "uploaded {:.3f}, shade kernel linked {:.3f}, megakernel started {:.3f}, first dispatches done {:.3f}, first sample "
-             "read back {:.3f}\n",
+             "uploaded {:.3f}, shade kernel linked {:.3f}, first dispatches done {:.3f}, first sample read back {:.3f}\n",
              at(times.contextMade), at(times.lightsCollected), at(times.programsStarted), at(times.traceLinked), at(times.prepared),
-             at(times.uploaded), at(times.shadeLinked), at(times.megakernelStarted), readySeconds, total);
+             at(times.uploaded), at(times.shadeLinked), readySeconds, total);
 }
 
 // Time to first image: the level loaded (loadLevel), then the wait for the compile and one

@@ -17,7 +17,6 @@ namespace bt::gl {
 
 struct GlContext::Egl {
   EGLDisplay display = EGL_NO_DISPLAY;
-  EGLConfig config = EGL_NO_CONFIG_KHR;
   EGLContext context = EGL_NO_CONTEXT;
 
   // The display is left initialised: eglGetPlatformDisplay hands every caller the same
@@ -55,23 +54,8 @@ std::string eglErrorText() {
   return fmt::format("EGL error 0x{:04x}", eglGetError());
 }
 
-// A GL 4.5 core context on `display`, of `shared`'s share group unless EGL_NO_CONTEXT.
-EGLContext createContext(EGLDisplay display, EGLConfig config, EGLContext shared) {
-  const EGLint flags = debugOutputWanted() ? EGL_CONTEXT_OPENGL_DEBUG_BIT_KHR : 0;
-  const EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION,
-                                   4,
-                                   EGL_CONTEXT_MINOR_VERSION,
-                                   5,
-                                   EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                   EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                                   EGL_CONTEXT_FLAGS_KHR,
-                                   flags,
-                                   EGL_NONE};
-  return eglCreateContext(display, config, shared, contextAttribs);
-}
-
 // Initialises `display` and makes a GL 4.5 core context current on it; on failure returns why.
-std::optional<std::string> makeCurrentContext(EGLDisplay display, EGLConfig& config, EGLContext& context) {
+std::optional<std::string> makeCurrentContext(EGLDisplay display, EGLContext& context) {
   EGLint major = 0, minor = 0;
   if (!eglInitialize(display, &major, &minor)) return "eglInitialize: " + eglErrorText();
   if (!hasExtension(eglQueryString(display, EGL_EXTENSIONS), "EGL_KHR_surfaceless_context"))
@@ -82,7 +66,7 @@ std::optional<std::string> makeCurrentContext(EGLDisplay display, EGLConfig& con
   // allows that. Otherwise any GL config will do; EGL_SURFACE_TYPE must be said to not matter,
   // as its default (EGL_WINDOW_BIT) matches nothing on NVIDIA's device platform, which has no
   // window system.
-  config = EGL_NO_CONFIG_KHR;
+  EGLConfig config = EGL_NO_CONFIG_KHR;
   if (!hasExtension(eglQueryString(display, EGL_EXTENSIONS), "EGL_KHR_no_config_context")) {
     const EGLint configAttribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, EGL_DONT_CARE, EGL_NONE};
     EGLint configCount = 0;
@@ -90,7 +74,17 @@ std::optional<std::string> makeCurrentContext(EGLDisplay display, EGLConfig& con
       return "no EGL config with EGL_OPENGL_BIT, and no EGL_KHR_no_config_context";
   }
 
-  context = createContext(display, config, EGL_NO_CONTEXT);
+  const EGLint flags = debugOutputWanted() ? EGL_CONTEXT_OPENGL_DEBUG_BIT_KHR : 0;
+  const EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                   4,
+                                   EGL_CONTEXT_MINOR_VERSION,
+                                   5,
+                                   EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                   EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                   EGL_CONTEXT_FLAGS_KHR,
+                                   flags,
+                                   EGL_NONE};
+  context = eglCreateContext(display, config, EGL_NO_CONTEXT, contextAttribs);
   if (context == EGL_NO_CONTEXT) return "no GL 4.5 core context: " + eglErrorText();
   if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context)) return "eglMakeCurrent: " + eglErrorText();
   if (epoxy_gl_version() < 45) return fmt::format("GL version {} < 4.5", epoxy_gl_version() / 10.0);
@@ -123,7 +117,7 @@ std::unique_ptr<GlContext> GlContext::createHeadless() {
       reasons.push_back(name + ": no display (" + eglErrorText() + ")");
       return nullptr;
     }
-    if (auto why = makeCurrentContext(display, egl->config, egl->context)) {
+    if (auto why = makeCurrentContext(display, egl->context)) {
       reasons.push_back(name + ": " + *why);
       return nullptr;
     }
@@ -175,19 +169,6 @@ GlContext::GlContext(std::unique_ptr<Egl> egl, std::string platform) : egl_(std:
   if (debugOutputWanted()) enableDebugOutput();
 }
 
-GlContext::GlContext(std::unique_ptr<Egl> egl, GlContextInfo info) : egl_(std::move(egl)), info_(std::move(info)) {}
-
-std::unique_ptr<GlContext> GlContext::createShared() const {
-  if (!egl_) return nullptr;
-  auto egl = std::make_unique<Egl>();
-  egl->display = egl_->display;
-  egl->config = egl_->config;
-  eglBindAPI(EGL_OPENGL_API); // per thread, and eglCreateContext makes one of the thread's
-  egl->context = createContext(egl_->display, egl_->config, egl_->context);
-  if (egl->context == EGL_NO_CONTEXT) throw GlError("a shared GL context: " + eglErrorText());
-  return std::unique_ptr<GlContext>(new GlContext(std::move(egl), info_));
-}
-
 std::unique_ptr<GlContext> GlContext::adoptCurrent(std::string platform) {
   return std::unique_ptr<GlContext>(new GlContext(nullptr, std::move(platform)));
 }
@@ -196,7 +177,6 @@ GlContext::~GlContext() = default;
 
 void GlContext::makeCurrent() const {
   if (eglGetCurrentContext() == egl_->context) return;
-  eglBindAPI(EGL_OPENGL_API); // per thread: a new thread's is OpenGL ES
   if (!eglMakeCurrent(egl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, egl_->context)) throw GlError("eglMakeCurrent: " + eglErrorText());
 }
 

@@ -39,11 +39,6 @@ public:
   const GlContextInfo& info() const { return info_; }
   // createHeadless leaves the new context current; with several, switch back with this.
   void makeCurrent() const;
-  // A context of this one's share group for another thread (programs, buffers and textures are
-  // the same objects in both), current nowhere until that thread calls makeCurrent(). Null where
-  // this context was adopted (its window's library made it, and knows how to share it).
-  std::unique_ptr<GlContext> createShared() const;
-  bool canShare() const { return egl_ != nullptr; }
   // Debug builds (or BT_GL_DEBUG=1) turn on KHR_debug output; messages of type error are
   // counted here (and printed) so tests can assert that a render raised none.
   int debugErrorCount() const { return debugErrors_; }
@@ -51,7 +46,6 @@ public:
 private:
   struct Egl;
   GlContext(std::unique_ptr<Egl> egl, std::string platform);
-  GlContext(std::unique_ptr<Egl> egl, GlContextInfo info); // a shared one: nothing to query yet
   void queryInfo();
   void enableDebugOutput();
   static void debugCallback(unsigned source, unsigned type, unsigned id, unsigned severity, int length, const char* message,

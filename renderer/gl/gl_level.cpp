@@ -2,8 +2,6 @@
 
 #include "renderer/gl/gl_lighting.h"
 
-#include <algorithm>
-
 namespace bt::gl {
 
 LevelPreparation::LevelPreparation(Scene& scene, RenderScene& render, LevelImport importLevel, RenderSceneOptions options,
@@ -66,14 +64,14 @@ std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport imp
   return std::make_unique<LevelPreparation>(level.scene, level.render, std::move(importLevel), std::move(options));
 }
 
-FaithfulFeatures startFirstImageFor(TracerPrograms& programs, LevelPreparation& preparation, bool physical) {
+FaithfulFeatures startPathTracerFor(TracerPrograms& programs, LevelPreparation& preparation, bool physical) {
   programs.startTraceKernel();
   // Only a level whose finished lights need a part their early kinds did not tell builds its own
   // program once prepared (loadGlLevel), the one started here going unused.
   const LevelParts parts = preparation.levelParts();
   const FaithfulFeatures features =
       physical ? FaithfulFeatures{.liquidCsg = parts.liquidCsg} : faithfulFeatures(preparation.lightKinds(), parts);
-  programs.startFirstImage(physical, features);
+  programs.startPathTracer(physical, features);
   return features;
 }
 
@@ -82,12 +80,9 @@ void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& conte
   using Clock = GlLevelTimes::Clock;
   GlLevelTimes local;
   GlLevelTimes& t = times ? *times : local;
-  const FaithfulFeatures early = startFirstImageFor(*programs, preparation, physical);
+  const FaithfulFeatures early = startPathTracerFor(*programs, preparation, physical);
   t.programsStarted = Clock::now();
-  // The wavefront kernels are finished on threads of their own where the context can share,
-  // while this thread uploads the level; else the trace kernel here first, as it is done first.
-  const bool aside = programs->finishWavefrontAside(context, physical, early);
-  if (!aside && programs->wavefrontStarted(physical, early)) {
+  if (programs->wavefrontState(physical, early).started) {
     programs->wavefrontTrace();
     t.traceLinked = Clock::now();
   }
@@ -100,23 +95,15 @@ void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& conte
   // starts now, before the upload, so that the first image does not wait for it to start after
   // the upload (then the early one goes unused).
   const FaithfulFeatures features = faithfulFeatures(lighting);
-  programs->startFirstImage(physical, features);
-  const bool wavefront = programs->wavefrontStarted(physical, features);
+  programs->startPathTracer(physical, features);
+  const bool wavefront = programs->wavefrontState(physical, features).started;
   // The upload goes between the two waits: the trace kernel links well before the shade kernel,
   // and the preparation is done by then, so the upload costs the first image nothing.
   level.tracer = std::make_unique<GlTracer>(context, level.scene, level.render.tracer, programs, lighting);
   t.uploaded = Clock::now();
-  if (wavefront) {
-    TracerPrograms::WavefrontKernels kernels = programs->wavefront(physical, features);
-    t.shadeLinked = std::max(kernels.shade.finishedAt(), kernels.lights ? kernels.lights->finishedAt() : Clock::time_point{});
-    if (aside) t.traceLinked = kernels.trace.finishedAt();
-  } else {
-    programs->wavefrontState(physical, features); // whatever was finished aside is done
-    t.shadeLinked = t.traceLinked = Clock::now();
-  }
-  // The front ends switch to the megakernel once the driver has it (PathTracerForm::Auto).
-  programs->startPathTracer(physical, features);
-  t.megakernelStarted = Clock::now();
+  if (wavefront) programs->wavefront(physical, features);
+  t.shadeLinked = Clock::now();
+  if (!wavefront) t.traceLinked = t.shadeLinked;
 }
 
 void loadGlLevel(GlLevel& level, GlContext& context, const std::shared_ptr<TracerPrograms>& programs, bool physical,

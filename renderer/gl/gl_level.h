@@ -74,7 +74,6 @@ struct GlLevelTimes {
   Clock::time_point lightsCollected, prepared; // the preparation's (LevelPreparation)
   Clock::time_point programsStarted;           // the path tracer's programs queued for the level's lights and parts
   Clock::time_point traceLinked, shadeLinked;  // both at the upload's end where none was started
-  Clock::time_point megakernelStarted;         // by then (with the first image's programs where it needs no wavefront kernels)
   Clock::time_point uploadStarted, uploaded;
 };
 
@@ -87,20 +86,17 @@ RenderSceneOptions glSceneOptions();
 // overlaps the context's creation.
 std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport importLevel, RenderSceneOptions options = glSceneOptions());
 
-// Starts the programs of `programs`' first images (TracerPrograms::startFirstImage) for
-// `physical` lighting and the level's kinds of light and parts: the wavefront trace kernel at
-// once (it needs nothing of the level), the rest once the preparation knows them (a physical
-// program has every part but the liquid CSG). The faithful features they were started with.
-// Where these are the wavefront kernels, the caller starts the megakernel once they are linked.
-FaithfulFeatures startFirstImageFor(TracerPrograms& programs, LevelPreparation& preparation, bool physical);
+// Starts `programs`' path tracer for `physical` lighting (the first images') and the level's
+// kinds of light and parts: the wavefront trace kernel at once (it needs nothing of the level),
+// the rest once the preparation knows them (a physical program has every part but the liquid
+// CSG). The faithful features it was started with.
+FaithfulFeatures startPathTracerFor(TracerPrograms& programs, LevelPreparation& preparation, bool physical);
 
-// Finishes loading `level`, whose preparation is `preparation`: starts the first image's
-// programs (startFirstImageFor), waits for the wavefront kernels where they were started, then
-// starts the megakernel: on NVIDIA it holds their link back to its own end when it compiles
-// beside them. NVIDIA's driver does part of a compile on the thread that waits for it, so the
-// first image comes sooner with the import on another thread than before the wait
-// (bench/README.md). The upload needs this thread's GL context; it runs between the trace
-// kernel's link and the shade kernel's. Exceptions of the preparation or the compile reach the caller.
+// Finishes loading `level`, whose preparation is `preparation`: starts the path tracer
+// (startPathTracerFor), then waits for the wavefront kernels where they were started. NVIDIA's
+// driver does part of a compile on the thread that waits for it, so the first image comes
+// sooner with the import on another thread than before the wait (bench/README.md). The upload needs this thread's GL context; it runs between the trace kernel's link
+// and the shade kernel's. Exceptions of the preparation or the compile reach the caller.
 void loadGlLevel(GlLevel& level, LevelPreparation& preparation, GlContext& context, const std::shared_ptr<TracerPrograms>& programs,
                  bool physical, GlLevelTimes* times = nullptr);
 // Both, for a caller that has its context already (the viewer's reloads).

@@ -215,7 +215,6 @@ void ComputeProgram::finish() {
     cache_.store(name_, cacheKey_, binary);
   }
   BT_GL(glGetProgramiv(program_, GL_COMPUTE_WORK_GROUP_SIZE, localSize_));
-  finishedAt_ = std::chrono::steady_clock::now();
 }
 
 bool ComputeProgram::ready() {

@@ -58,8 +58,6 @@ public:
   // did the work in the constructor then). NVIDIA's finish() may still take a few tenths of a
   // second on the calling thread after this says done.
   bool ready();
-  // Whether finish() has run (or the build failed): nothing is left to wait for.
-  bool finished() const { return finished_ || !error_.empty(); }
 
   unsigned id() {
     finish();
@@ -74,13 +72,6 @@ public:
     return buildMilliseconds_;
   }
   bool loadedFromCache() const { return loadedFromCache_; }
-  // When the build was started (the constructor).
-  std::chrono::steady_clock::time_point startedAt() const { return start_; }
-  // When finish() ended (for timelines).
-  std::chrono::steady_clock::time_point finishedAt() {
-    finish();
-    return finishedAt_;
-  }
   // The program's local_size_x, _y or _z (axis 0, 1 or 2).
   int localSize(int axis) {
     finish();
@@ -102,7 +93,7 @@ private:
   bool finished_ = false;
   std::string error_; // why the build failed, rethrown by every later finish()
   int localSize_[3] = {1, 1, 1};
-  std::chrono::steady_clock::time_point start_, finishedAt_;
+  std::chrono::steady_clock::time_point start_;
   unsigned program_ = 0;
   double buildMilliseconds_ = 0.0;
   bool loadedFromCache_ = false;

@@ -178,10 +178,9 @@ struct GlTracer::Impl {
     const bool byWavefront = settings.form == PathTracerForm::Wavefront ||
         (settings.form == PathTracerForm::Auto && programs->wavefrontWhileCompiling(settings.physical, features));
     if (byWavefront) {
-      auto [shade, trace, lights] = programs->wavefront(settings.physical, features);
+      auto [shade, trace] = programs->wavefront(settings.physical, features);
       if (piece) checkGroupSide(shade), checkGroupSide(trace);
-      if (piece && lights) checkGroupSide(*lights);
-      wavefront.drawSample(shade, lights, trace, settings.width, settings.height, rect);
+      wavefront.drawSample(shade, trace, settings.width, settings.height, rect);
     } else {
       if (settings.form == PathTracerForm::Auto) wavefront.release(); // the switch is for good
       ComputeProgram& program = programs->pathTracer(settings.physical, features);
@@ -235,17 +234,15 @@ ProgramBuild GlTracer::buildPathTracer(int width, int height, bool physical) {
 }
 
 ProgramBuild GlTracer::buildWavefront(int width, int height, bool physical) {
-  auto [shade, trace, lights] = impl_->programs->wavefront(physical, impl_->features);
+  auto [shade, trace] = impl_->programs->wavefront(physical, impl_->features);
   // The per-pixel buffers are made here too.
   const double dispatchMs = impl_->finishWithEmptyDispatch(width, height, physical, [&] {
     impl_->wavefront.prepare(shade, width, height);
     impl_->wavefront.bind();
     shade.dispatch2d(1, 1);
-    if (lights) lights->dispatch2d(1, 1);
     trace.dispatch2d(1, 1);
   });
-  const double compile = std::max({shade.buildMilliseconds(), trace.buildMilliseconds(), lights ? lights->buildMilliseconds() : 0.0});
-  return {compile + dispatchMs, shade.loadedFromCache() && trace.loadedFromCache()};
+  return {std::max(shade.buildMilliseconds(), trace.buildMilliseconds()) + dispatchMs, shade.loadedFromCache() && trace.loadedFromCache()};
 }
 
 AovImages GlTracer::renderAovs(const CameraBasis& camera, int width, int height) {

@@ -4,7 +4,6 @@
 #include "lighting/faithful_light.h"
 #include "renderer/gl/gl_error.h"
 
-#include <epoxy/gl.h>
 #include <fmt/format.h>
 
 #include <cstdlib>
@@ -79,8 +78,6 @@ std::vector<std::string> programDefines(TracerProgram program, TextureMode mode,
       if (on[i]) defines.emplace_back(parts[i]);
   }
   if (takes(program, "Wavefront")) defines.emplace_back(switchesOf("Wavefront").at(0));
-  for (const std::string_view half : {"Surfaces", "Lights"})
-    if (takes(program, half)) defines.emplace_back(switchesOf(half).at(0));
   if (features.liquidCsg && takes(program, "Csg")) defines.emplace_back(switchesOf("Csg").at(0));
   if (features.blocksFromInside && !physical && takes(program, "Inside")) defines.emplace_back(switchesOf("Inside").at(0));
   if (features.glass && !physical && takes(program, "Glass")) defines.emplace_back(switchesOf("Glass").at(0));
@@ -105,12 +102,7 @@ TracerPrograms::TracerPrograms(GlContext& context, TextureMode textures, TraceLa
       cache_(ProgramCache::fromEnvironment(context.info().vendor)),
       wavefrontFirst_(context.info().parallelShaderCompile && !context.info().softwareRenderer) {}
 
-TracerPrograms::~TracerPrograms() {
-  try {
-    joinAside();
-  } catch (const GlError&) { // reported to whoever asks for the program; nobody will
-  }
-}
+TracerPrograms::~TracerPrograms() = default;
 
 void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines, bool cached) {
   if (slot) return;
@@ -166,41 +158,25 @@ std::unique_ptr<ComputeProgram>& TracerPrograms::shadeSlot(bool physical, Faithf
   features.blocksFromInside = false; // the shade kernel traces nothing
   return shade_[variantIndex(physical, features)];
 }
-std::unique_ptr<ComputeProgram>& TracerPrograms::lightsSlot(bool physical, FaithfulFeatures features) {
-  features.blocksFromInside = false;
-  return lights_[variantIndex(physical, features)];
-}
 
 void TracerPrograms::startPathTracer(bool physical, FaithfulFeatures features) {
-  startFirstImage(physical, features); // the wavefront kernels, where they go first, are queued first
-  start(pathSlot(physical, features), shaderFile(TracerProgram::PathTracer),
-        programDefines(TracerProgram::PathTracer, mode_, layout_, physical, features));
-}
-
-void TracerPrograms::startFirstImage(bool physical, FaithfulFeatures features) {
   std::unique_ptr<ComputeProgram>& slot = pathSlot(physical, features);
   if (slot) return;
-  // A megakernel from the program cache needs no wavefront kernels.
+  // The wavefront kernels are queued first, so that the driver's threads take them first; a
+  // megakernel from the program cache needs none.
   const std::vector<std::string> defines = programDefines(TracerProgram::PathTracer, mode_, layout_, physical, features);
   const char* shader = shaderFile(TracerProgram::PathTracer);
-  if (wavefrontFirst_ && !programCached(shader, defines, cache_)) return startWavefront(physical, features);
+  if (wavefrontFirst_ && !programCached(shader, defines, cache_)) startWavefront(physical, features);
   start(slot, shader, defines);
   if (wavefrontFirst_ && !slot->loadedFromCache()) startWavefront(physical, features); // the driver refused the cached binary
 }
 
 void TracerPrograms::startWavefront(bool physical, FaithfulFeatures features) {
+  std::vector<std::string> defines = programDefines(TracerProgram::WavefrontShade, mode_, layout_, physical, features);
   // Not cached: a start that finds the megakernel in the cache needs no wavefront kernels, and
   // storing them would put their binaries' retrieval (NVIDIA: tenths of a second) before the
   // first image they are for.
-  std::unique_ptr<ComputeProgram>& shade = shadeSlot(physical, features);
-  if (!shade && !physical && faithfulHalves_) {
-    start(shade, shaderFile(TracerProgram::WavefrontSurfaces),
-          programDefines(TracerProgram::WavefrontSurfaces, mode_, layout_, physical, features), false);
-    start(lightsSlot(physical, features), shaderFile(TracerProgram::WavefrontLights),
-          programDefines(TracerProgram::WavefrontLights, mode_, layout_, physical, features), false);
-  }
-  start(shade, shaderFile(TracerProgram::WavefrontShade), programDefines(TracerProgram::WavefrontShade, mode_, layout_, physical, features),
-        false);
+  start(shadeSlot(physical, features), shaderFile(TracerProgram::WavefrontShade), std::move(defines), false);
   startWavefrontTrace();
 }
 
@@ -243,18 +219,18 @@ ComputeProgram& TracerPrograms::pathTracer(bool physical, FaithfulFeatures featu
   startPathTracer(physical, features);
   return finished(pathSlot(physical, features));
 }
+ComputeProgram& TracerPrograms::wavefrontShade(bool physical, FaithfulFeatures features) {
+  startWavefront(physical, features);
+  return finished(shadeSlot(physical, features));
+}
 ComputeProgram& TracerPrograms::wavefrontTrace() {
-  joinAside();
   startWavefrontTrace();
   return finished(trace_);
 }
 TracerPrograms::WavefrontKernels TracerPrograms::wavefront(bool physical, FaithfulFeatures features) {
-  joinAside();
   startWavefront(physical, features);
   ComputeProgram& trace = wavefrontTrace();
-  ComputeProgram& shade = finished(shadeSlot(physical, features));
-  std::unique_ptr<ComputeProgram>& lights = lightsSlot(physical, features);
-  return {shade, trace, lights ? &finished(lights) : nullptr};
+  return {wavefrontShade(physical, features), trace};
 }
 ComputeProgram& TracerPrograms::aovs(bool liquidCsg) {
   startAovs(liquidCsg);
@@ -265,50 +241,10 @@ ComputeProgram& TracerPrograms::rayBench() {
   return finished(rayBench_);
 }
 
-bool TracerPrograms::wavefrontStarted(bool physical, FaithfulFeatures features) {
-  return shadeSlot(physical, features) && trace_;
-}
-
-bool TracerPrograms::finishWavefrontAside(const GlContext& context, bool physical, FaithfulFeatures features) {
-  joinAside();
-  std::vector<ComputeProgram*> programs;
-  for (std::unique_ptr<ComputeProgram>* slot : {&trace_, &shadeSlot(physical, features), &lightsSlot(physical, features)})
-    if (*slot && !(*slot)->finished()) programs.push_back(slot->get());
-  if (programs.empty() || !context.canShare()) return false;
-  glFlush(); // the compiles this context queued reach the driver before other contexts ask for them
-  for (ComputeProgram* program : programs)
-    aside_.push_back(std::async(std::launch::async, [program, &context] {
-      try {
-        const std::unique_ptr<GlContext> own = context.createShared();
-        own->makeCurrent();
-        program->finish();
-      } catch (const GlError&) {
-        // A program that failed keeps its error for whoever asks for it; one left unfinished
-        // (no context here) is finished by its first use.
-      }
-    }));
-  return true;
-}
-
-void TracerPrograms::joinAside() {
-  std::exception_ptr first;
-  for (std::future<void>& f : aside_) {
-    try {
-      f.get();
-    } catch (...) {
-      if (!first) first = std::current_exception();
-    }
-  }
-  aside_.clear();
-  if (first) std::rethrow_exception(first);
-}
-
 TracerPrograms::WavefrontState TracerPrograms::wavefrontState(bool physical, FaithfulFeatures features) {
-  joinAside();
   std::unique_ptr<ComputeProgram>& shade = shadeSlot(physical, features);
   if (!shade || !trace_) return {};
-  const std::unique_ptr<ComputeProgram>& lights = lightsSlot(physical, features);
-  return {true, shade->ready() && (!lights || lights->ready()), trace_->ready()};
+  return {true, shade->ready(), trace_->ready()};
 }
 
 bool TracerPrograms::wavefrontWhileCompiling(bool physical, FaithfulFeatures features) {

@@ -10,7 +10,6 @@
 #include "renderer/gl/gl_textures.h"
 #include "scene/gpu_structs.h"
 
-#include <future>
 #include <memory>
 #include <string>
 #include <vector>
@@ -136,19 +135,6 @@ public:
   // can draw sooner: when the driver compiles on its own threads (a GPU; llvmpipe compiles at
   // the first dispatch whatever the form) and the megakernel is not in the program cache.
   void startPathTracer(bool physical, FaithfulFeatures features = {});
-  // What the first images need of startPathTracer(): the wavefront kernels alone where it would
-  // start them, else the megakernel. On NVIDIA a megakernel compiling beside the wavefront
-  // kernels holds their link back to its own end (bench/README.md, issue 14, session 24), so a
-  // front end starts the megakernel (startPathTracer) once they are linked (loadGlLevel).
-  void startFirstImage(bool physical, FaithfulFeatures features = {});
-  // Whether startPathTracer() starts the wavefront kernels: by default where the driver compiles
-  // on its own threads and is no software renderer. Tests turn it on to follow a GPU's order on
-  // llvmpipe.
-  void setWavefrontFirst(bool on) { wavefrontFirst_ = on; }
-  // Faithful wavefront kernels started from now on shade with the shade kernel's two halves
-  // (true, the default: shaders/pathtrace.comp BT_WAVEFRONT_SURFACES and _LIGHTS), which the
-  // driver compiles at once, each sooner than the whole, or with the whole (for comparisons).
-  void setFaithfulHalves(bool halves) { faithfulHalves_ = halves; }
   // The wavefront trace kernel, where startPathTracer() would start it: it serves every
   // lighting mode and feature set, so it can start before the level says which it needs.
   void startTraceKernel();
@@ -156,16 +142,15 @@ public:
   void startAovs(bool liquidCsg = false);
   // The finished program, built now if it was not started.
   ComputeProgram& pathTracer(bool physical, FaithfulFeatures features = {});
+  ComputeProgram& wavefrontShade(bool physical, FaithfulFeatures features = {});
   ComputeProgram& wavefrontTrace();
-  // The wavefront kernels finished, the trace kernel first. NVIDIA finishes each program on
+  // Both wavefront kernels finished, the trace kernel first. NVIDIA finishes each program on
   // the thread that waits for it, after its own threads report the compile complete, one
   // program at a time. The trace kernel's compile ends first, so waiting for it first does its
-  // part while the shade kernel still compiles instead of after it. `shade` is the whole shade
-  // kernel, or its surfaces' half with `lights` the lights' half (null with the whole).
+  // part while the shade kernel still compiles instead of after it.
   struct WavefrontKernels {
     ComputeProgram& shade;
     ComputeProgram& trace;
-    ComputeProgram* lights;
   };
   WavefrontKernels wavefront(bool physical, FaithfulFeatures features = {});
   ComputeProgram& aovs(bool liquidCsg = false);
@@ -188,33 +173,20 @@ public:
     bool traceReady = false;
   };
   WavefrontState wavefrontState(bool physical, FaithfulFeatures features = {});
-  // Whether the wavefront kernels were started, without asking the driver anything.
-  bool wavefrontStarted(bool physical, FaithfulFeatures features = {});
-  // Finishes the started wavefront kernels each on a thread of its own, in a context of
-  // `context`'s share group, and returns at once; wavefront() and wavefrontState() wait for them.
-  // NVIDIA does most of a compile on the thread that asks for its result, one program at a time
-  // on a thread, so finished on three threads the three kernels are done about when the largest
-  // is (bench/README.md). False (nothing done) where the context cannot share (one adopted from a
-  // window) or nothing is left to finish.
-  bool finishWavefrontAside(const GlContext& context, bool physical, FaithfulFeatures features = {});
 
 private:
   ComputeProgram& finished(std::unique_ptr<ComputeProgram>& slot);
-  void joinAside(); // rethrows the first of their errors once all have ended
   void start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines, bool cached = true);
   void startWavefrontTrace();
   static size_t variantIndex(bool physical, FaithfulFeatures features);
   std::unique_ptr<ComputeProgram>& pathSlot(bool physical, FaithfulFeatures features);
-  // The shade kernel, or its surfaces' half where its lights' half is in lightsSlot().
   std::unique_ptr<ComputeProgram>& shadeSlot(bool physical, FaithfulFeatures features);
-  std::unique_ptr<ComputeProgram>& lightsSlot(bool physical, FaithfulFeatures features);
   std::unique_ptr<ComputeProgram>& bakeSlot(FaithfulFeatures features);
 
   TextureMode mode_;
   TraceLayout layout_;
   ProgramCache cache_;
   bool wavefrontFirst_; // startPathTracer starts the wavefront kernels too (driver compiles in parallel, a GPU)
-  bool faithfulHalves_ = true;
   // One program per lighting mode (BT_LIGHTING_PHYSICAL chosen at build), so each compiles
   // only its own integrator, and per set of faithful features (variantIndex: physical, then
   // faithful with each of the 64 sets without and with the rule from inside and Quake 2's glass,
@@ -222,9 +194,7 @@ private:
   // which trace nothing (the rule from inside is the trace kernel's). Its trace kernel serves
   // every mode and level; the bake takes no CSG and no glass (it stores luxels, not the view).
   static constexpr size_t kPathVariants = 514;
-  std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[kPathVariants], lights_[kPathVariants], bake_[kPathVariants], trace_,
-      aov_[2], rayBench_;
-  std::vector<std::future<void>> aside_; // finishWavefrontAside's threads
+  std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[kPathVariants], bake_[kPathVariants], trace_, aov_[2], rayBench_;
 };
 
 } // namespace bt::gl

@@ -59,8 +59,7 @@ void WavefrontBuffers::bind() const {
   for (int i = 0; i < 4; ++i) BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, points[i], buffers_[i].id));
 }
 
-void WavefrontBuffers::drawSample(ComputeProgram& shade, ComputeProgram* lights, ComputeProgram& trace, int width, int height,
-                                  const PixelRect& piece) {
+void WavefrontBuffers::drawSample(ComputeProgram& shade, ComputeProgram& trace, int width, int height, const PixelRect& piece) {
   // A slot for every pixel of the image (wavefront.glsl), of which the piece's are used.
   prepare(shade, width, height);
   const size_t paths = piece.pixels();
@@ -76,10 +75,6 @@ void WavefrontBuffers::drawSample(ComputeProgram& shade, ComputeProgram* lights,
     wavefrontBarrier();
     shade.dispatch2d(piece.width, piece.height);
     wavefrontBarrier();
-    if (lights) {
-      lights->dispatch2d(piece.width, piece.height);
-      wavefrontBarrier();
-    }
     if (round % kRoundsPerCheck != 0) continue;
     const uint32_t ended = endedCount();
     if (ended >= paths) return;

@@ -27,10 +27,8 @@ public:
   // One sample (camera, world, scene and the image at unit 0 bound) of the pixels of `piece`,
   // a rectangle of the width x height image that starts where the camera block's pixelOffset
   // says: the shade kernel starts each of its pixels' paths at the camera, then trace and shade
-  // by turns until every path has ended; each adds its sample to the image as it ends. With the
-  // shade kernel's halves, `shade` is the surfaces' and `lights` the lights' (else null), which
-  // shades after it in each round.
-  void drawSample(ComputeProgram& shade, ComputeProgram* lights, ComputeProgram& trace, int width, int height, const PixelRect& piece);
+  // by turns until every path has ended; each adds its sample to the image as it ends.
+  void drawSample(ComputeProgram& shade, ComputeProgram& trace, int width, int height, const PixelRect& piece);
 
 private:
   struct Buffer {

@@ -43,7 +43,7 @@ FaithfulFeatures featureSet(unsigned f, bool liquidCsg, bool blocksFromInside, b
 TEST(GlShaderVariants, EveryVariantTheRuntimeCanRequestWasValidatedAtBuildTime) {
   const std::set<std::string> validated(std::begin(kValidatedShaderVariants), std::end(kValidatedShaderVariants));
   std::set<std::string> requested;
-  size_t plain = 0, withCsg = 0, withInside = 0, withGlass = 0, halves = 0;
+  size_t plain = 0, withCsg = 0, withInside = 0, withGlass = 0;
   for (int p = 0; p < kTracerProgramCount; ++p)
     for (const TextureMode mode : {TextureMode::Bindless, TextureMode::Arrays})
       for (const TraceLayout layout : {TraceLayout::Hardware, TraceLayout::Software})
@@ -58,12 +58,6 @@ TEST(GlShaderVariants, EveryVariantTheRuntimeCanRequestWasValidatedAtBuildTime) 
                   };
                   const std::string k = key(f);
                   if (!requested.insert(k).second) continue;
-                  // The shade kernel's halves are validated as the switches are.
-                  if (k.find("BT_WAVEFRONT_SURFACES") != std::string::npos || k.find("BT_WAVEFRONT_LIGHTS") != std::string::npos) {
-                    ++halves;
-                    EXPECT_TRUE(validated.count(key(0)) && validated.count(key(63))) << "half never validated at build time: " << k;
-                    continue;
-                  }
                   const bool hasCsg = k.find("BT_LIQUID_CSG") != std::string::npos;
                   const bool hasInside = k.find("BT_BLOCKS_FROM_INSIDE") != std::string::npos;
                   const bool hasGlass = k.find("BT_QUAKE2_GLASS") != std::string::npos;
@@ -86,16 +80,13 @@ TEST(GlShaderVariants, EveryVariantTheRuntimeCanRequestWasValidatedAtBuildTime) 
   // with each set of the CSG and the rule from inside, its shade kernel 2 x 2 x 64 without and
   // with the CSG.
   EXPECT_EQ(withGlass, size_t(4 * 256 + 2 * 256));
-  // The shade kernel's two halves: faithful only, 2 x 2 x 64 with each set of the CSG and the glass.
-  EXPECT_EQ(halves, size_t(2 * 4 * 256));
   // Validated: the above, the programs without switches (denoise.comp, tonemap.comp), the CSG
   // with pathtrace.comp's 2 x 2 x (physical, no faithful part, every part) x 2 forms and
   // aov.comp's 2 x 2: 28 runs where every CSG variant would be 524; the rule from inside with
   // pathtrace.comp's megakernel 2 x 2 x (no faithful part, every part) without and with the CSG,
   // and bake.comp's 2 x 2 x 2: 24 runs; the glass with pathtrace.comp's 2 x 2 x (no faithful
-  // part, every part) x (4 sets for the megakernel, 2 for the shade kernel): 48 runs; the shade
-  // kernel's halves 2 x 2 x (no faithful part, every part) x (4 sets of the CSG and the glass) each: 64.
-  EXPECT_EQ(std::size(kValidatedShaderVariants), size_t(520 + 256 + 12 + 2 + 24 + 4 + 24 + 48 + 64));
+  // part, every part) x (4 sets for the megakernel, 2 for the shade kernel): 48 runs.
+  EXPECT_EQ(std::size(kValidatedShaderVariants), size_t(520 + 256 + 12 + 2 + 24 + 4 + 24 + 48));
 }
 
 // The value defines every program gets besides the switches: the traversal's stack size and the

@@ -6,7 +6,6 @@
 #include "renderer/cpu/integrator.h"
 #include "lighting/light_grid.h"
 #include "renderer/gl/gl_context.h"
-#include "renderer/gl/gl_level.h"
 #include "renderer/gl/gl_tracer.h"
 #include "tests/gl/test_scenes.h"
 
@@ -69,39 +68,6 @@ GpuLight pointLight(glm::vec3 origin, float value) {
   light.origin = origin;
   light.value = value;
   return light;
-}
-
-// The faithful shade kernel's two halves (the first image's, each compiled beside the other) draw
-// the whole kernel's image bit for bit.
-TEST(GlWavefront, FaithfulHalvesDrawTheWholeKernelsImage) {
-  GlLighting lighting;
-  lighting.lights = {pointLight({-100, 0, 200}, 300.0f), pointLight({150, 100, 60}, 200.0f)};
-  lighting.lights[1].deviance = 8.0f;
-  lighting.faithfulBounces = 1;
-  lighting.minlight = glm::vec3(5.0f);
-  const Scene scene = test::makeTestRoom();
-  const TraceScene traced = TraceScene::build(scene);
-  auto whole = std::make_shared<TracerPrograms>(test::sharedGlContext(), test::textureModeUnderTest());
-  whole->setFaithfulHalves(false);
-  auto halves = std::make_shared<TracerPrograms>(test::sharedGlContext(), test::textureModeUnderTest());
-  const BeautySettings settings{.width = kWidth, .height = kHeight, .spp = 1, .seed = 5, .form = PathTracerForm::Wavefront};
-  const CameraBasis camera = test::testCamera(kWidth, kHeight);
-  GlTracer wholeTracer(test::sharedGlContext(), scene, traced, whole, lighting);
-  GlTracer halvesTracer(test::sharedGlContext(), scene, traced, halves, lighting);
-  const BeautyImage a = wholeTracer.renderBeauty(camera, settings);
-  const BeautyImage b = halvesTracer.renderBeauty(camera, settings);
-  ASSERT_NE(halves->wavefront(false, halvesTracer.faithfulFeatures()).lights, nullptr);
-  EXPECT_EQ(whole->wavefront(false, wholeTracer.faithfulFeatures()).lights, nullptr);
-  ASSERT_EQ(a.wavefrontSamples, 1);
-  ASSERT_EQ(b.wavefrontSamples, 1);
-  ASSERT_EQ(a.beauty.size(), b.beauty.size());
-  size_t lit = 0, differing = 0;
-  for (size_t i = 0; i < a.beauty.size(); ++i) {
-    lit += a.beauty[i] != glm::vec3(0.0f);
-    differing += a.beauty[i] != b.beauty[i] || a.luminanceMoment2[i] != b.luminanceMoment2[i];
-  }
-  EXPECT_GT(lit, a.beauty.size() / 2) << "the test should see a lit room";
-  EXPECT_EQ(differing, 0u) << "of " << a.beauty.size() << " pixels";
 }
 
 TEST(GlWavefront, FaithfulWithBounceEqualsTheMegakernel) {
@@ -185,40 +151,6 @@ TEST(GlWavefront, AutoDrawsWithTheMegakernelOnceItIsBuilt) {
   const BeautyImage image = tracer.renderBeauty(test::testCamera(kWidth, kHeight), {.width = kWidth, .height = kHeight, .spp = 2});
   EXPECT_EQ(image.samples, 2);
   EXPECT_EQ(image.wavefrontSamples, 0);
-}
-
-// A front end's load (loadGlLevel, as the viewer and gl_bench load) compiles the first image's
-// wavefront kernels alone and starts the megakernel only once they are linked: on NVIDIA a
-// megakernel compiling beside them held their link back to its own end (bench/README.md, issue
-// 14). llvmpipe draws its first images with the megakernel, so the GPU's order is asked for here.
-TEST(GlWavefront, LoadStartsTheMegakernelOnceTheWavefrontKernelsAreLinked) {
-  using Clock = GlLevelTimes::Clock;
-  auto programs = std::make_shared<TracerPrograms>(test::sharedGlContext(), test::textureModeUnderTest());
-  programs->setCache(ProgramCache{}); // a megakernel in the cache would need no wavefront kernels
-  programs->setWavefrontFirst(true);
-  GlLevel level;
-  GlLevelTimes times;
-  loadGlLevel(
-      level, test::sharedGlContext(), programs, false,
-      [](const EntitiesRead&) {
-        Scene room = test::makeTestRoom();
-        Entity light;
-        light.keys = {{"classname", "light"}, {"origin", "-100 0 200"}, {"light", "300"}};
-        room.entities.push_back(light);
-        return room;
-      },
-      &times);
-  const Clock::time_point returned = Clock::now();
-  const FaithfulFeatures features = level.tracer->faithfulFeatures();
-  ASSERT_TRUE(programs->wavefrontState(false, features).started);
-  ASSERT_EQ(level.render.lights.size(), 1u);
-  const auto ms = [&](Clock::time_point t) { return std::chrono::duration<double, std::milli>(t - times.programsStarted).count(); };
-  const double megakernelStarted = ms(programs->pathTracer(false, features).startedAt());
-  EXPECT_GE(megakernelStarted, ms(times.shadeLinked)) << "the megakernel was started before the shade kernel was linked";
-  EXPECT_GE(megakernelStarted, ms(times.traceLinked));
-  EXPECT_LE(megakernelStarted, ms(returned)) << "loadGlLevel did not start the megakernel";
-  std::printf("after the compiles' start: trace kernel linked %.1f ms, shade kernel %.1f ms, megakernel started %.1f ms\n",
-              ms(times.traceLinked), ms(times.shadeLinked), megakernelStarted);
 }
 
 } // namespace
