@@ -22,6 +22,18 @@ void upload(const GlTexture2D& texture, const std::vector<float>& rgba) {
 
 DenoisePass::DenoisePass() : program_("denoise.comp", {}) {}
 
+DenoisePass::Images::Images(int width, int height)
+    : sum(GL_RGBA32F, width, height), albedo(GL_RGBA32F, width, height), normalDepth(GL_RGBA32F, width, height),
+      out(GL_RGBA32F, width, height), scratch(GL_RGBA32F, width, height) {}
+
+const DenoisePass::Images& DenoisePass::imagesOfSize(int width, int height) {
+  if (!images_ || images_->sum.width() != width || images_->sum.height() != height) {
+    images_.reset(); // the old five freed before the new five are made
+    images_ = std::make_unique<Images>(width, height);
+  }
+  return *images_;
+}
+
 void DenoisePass::run(const GlTexture2D& beauty, float scale, int samples, bool hasMoment2, const GlTexture2D& albedo,
                       const GlTexture2D& normalDepth, const GlTexture2D& out, const GlTexture2D& scratch) {
   for (const GlTexture2D* t : {&albedo, &normalDepth, &out, &scratch})
@@ -71,15 +83,14 @@ std::vector<glm::vec3> denoiseWithGl(const RenderImage& image, DenoisePass& pass
     normalDepth[i * 4 + 3] = image.depth[i];
     if (hasMoment2) beauty[i * 4 + 3] = image.luminanceMoment2[i];
   }
-  GlTexture2D sum(GL_RGBA32F, width, height), albedoTexture(GL_RGBA32F, width, height), normalDepthTexture(GL_RGBA32F, width, height);
-  GlTexture2D out(GL_RGBA32F, width, height), scratch(GL_RGBA32F, width, height);
-  upload(sum, beauty);
-  upload(albedoTexture, albedo);
-  upload(normalDepthTexture, normalDepth);
-  pass.run(sum, 1.0f, image.samples, hasMoment2, albedoTexture, normalDepthTexture, out, scratch);
+  const DenoisePass::Images& images = pass.imagesOfSize(width, height);
+  upload(images.sum, beauty);
+  upload(images.albedo, albedo);
+  upload(images.normalDepth, normalDepth);
+  pass.run(images.sum, 1.0f, image.samples, hasMoment2, images.albedo, images.normalDepth, images.out, images.scratch);
   std::vector<float> rgba(n * 4);
   BT_GL(glPixelStorei(GL_PACK_ALIGNMENT, 4));
-  BT_GL(glGetTextureImage(out.id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(rgba.size() * sizeof(float)), rgba.data()));
+  BT_GL(glGetTextureImage(images.out.id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(rgba.size() * sizeof(float)), rgba.data()));
   std::vector<glm::vec3> result(n);
   for (size_t i = 0; i < n; ++i) result[i] = {rgba[i * 4], rgba[i * 4 + 1], rgba[i * 4 + 2]};
   return result;

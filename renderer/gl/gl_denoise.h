@@ -8,6 +8,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <memory>
 #include <vector>
 
 namespace bt::gl {
@@ -23,8 +24,17 @@ public:
   void run(const GlTexture2D& beauty, float scale, int samples, bool hasMoment2, const GlTexture2D& albedo, const GlTexture2D& normalDepth,
            const GlTexture2D& out, const GlTexture2D& scratch);
 
+  // The five images denoiseWithGl fills, filters and reads back, kept from one call to the next
+  // while the size stays: the viewer denoises every frame it shows.
+  struct Images {
+    Images(int width, int height);
+    GlTexture2D sum, albedo, normalDepth, out, scratch;
+  };
+  const Images& imagesOfSize(int width, int height);
+
 private:
   ComputeProgram program_;
+  std::unique_ptr<Images> images_;
 };
 
 // renderer/denoise.h's denoise(image), on the current GL context: the image and its AOVs

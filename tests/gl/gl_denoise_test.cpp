@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <tuple>
 
 namespace bt::gl {
 namespace {
@@ -65,6 +66,36 @@ TEST(GlDenoise, TheShaderGivesTheCpuFiltersImage) {
     }
     EXPECT_EQ(off, 0u);
     EXPECT_GT(changed, cpu.size() / 2) << "the filter changed the image";
+  }
+}
+
+// The top-left w x h of `image`, every per-pixel array cut alike.
+RenderImage cropped(const RenderImage& image, int w, int h) {
+  RenderImage out;
+  out.width = w, out.height = h, out.samples = image.samples;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * size_t(image.width) + size_t(x);
+      out.beauty.push_back(image.beauty[i]), out.albedo.push_back(image.albedo[i]), out.normal.push_back(image.normal[i]);
+      out.depth.push_back(image.depth[i]), out.face.push_back(image.face[i]), out.luminanceMoment2.push_back(image.luminanceMoment2[i]);
+    }
+  return out;
+}
+
+// The viewer denoises every frame with one pass, whose images live from one frame to the next:
+// each frame must come out as from a pass of its own, after frames of other counts and sizes.
+TEST(GlDenoise, AKeptPassGivesEachFrameWhatAFreshOneGives) {
+  DenoisePass kept;
+  for (const auto& [samples, width, height] :
+       {std::tuple{16, kWidth, kHeight}, {2, kWidth, kHeight}, {256, 40, 30}, {16, kWidth, kHeight}}) {
+    SCOPED_TRACE(testing::Message() << samples << " spp at " << width << "x" << height);
+    const RenderImage image = cropped(noisyRoom(samples), width, height);
+    const std::vector<glm::vec3> fresh = denoiseWithGl(image);
+    const std::vector<glm::vec3> reused = denoiseWithGl(image, kept);
+    ASSERT_EQ(reused.size(), size_t(width) * size_t(height));
+    size_t differ = 0;
+    for (size_t i = 0; i < fresh.size(); ++i) differ += fresh[i] != reused[i];
+    EXPECT_EQ(differ, 0u) << "of " << fresh.size() << " pixels";
   }
 }
 
