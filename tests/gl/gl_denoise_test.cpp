@@ -85,6 +85,7 @@ RenderImage cropped(const RenderImage& image, int w, int h) {
 // The viewer denoises every frame with one pass, whose images live from one frame to the next:
 // each frame must come out as from a pass of its own, after frames of other counts and sizes.
 TEST(GlDenoise, AKeptPassGivesEachFrameWhatAFreshOneGives) {
+  test::sharedGlContext(); // made current before the pass builds its program
   DenoisePass kept;
   for (const auto& [samples, width, height] :
        {std::tuple{16, kWidth, kHeight}, {2, kWidth, kHeight}, {256, 40, 30}, {16, kWidth, kHeight}}) {
