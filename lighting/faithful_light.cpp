@@ -455,7 +455,7 @@ void faithfulLuxelPass(const RenderScene& rs, const glm::vec3& p, const glm::vec
   if (pass == 0 && cache && cache->grouped) {
     // The group's list left out the lights that this luxel's cull culls: no need to test them again.
     Receiver grouped = r;
-    if (cull.receiver && cull.receiver == cache->culledReceiver && cull.lights == cache->culledLights) grouped.cull = {};
+    if (cull.receiver && cull == cache->groupCulledWith) grouped.cull = {};
     for (uint32_t e : cache->groupLights) {
       const uint32_t i = e & ~kSeenByAll;
       if (otherStyle(rs.lights[i])) continue;

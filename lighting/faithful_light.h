@@ -81,14 +81,9 @@ struct GivenLights {
   size_t maxShadowRays = SIZE_MAX;
 };
 
-// ericw-tools' light cull without vis data at a receiver (vis_approx.h): the bounds of the
-// compiled face it lies on (polygonBounds) and the lights' boxes (by GpuLight::visBox - 1: the
-// RenderScene's, or a bake's own, LuxelBakeJob::lightBoxes). A light whose box lies apart from the
-// face's gives nothing, as the compiler culls it. No receiver: no cull.
-struct VisCull {
-  const GpuVisBox* receiver = nullptr;
-  const GpuVisBox* lights = nullptr;
-};
+// ericw-tools' light cull without vis data at a receiver (shadow_groups.h GroupCull, one type for
+// a luxel and its group).
+using VisCull = GroupCull;
 
 // One question to the faithful light model: the light sum at surface point p with normal n (light
 // units, per colour channel; before _range). Stochastic only for soft lights (deviance, penumbra,

@@ -312,14 +312,14 @@ void prepareLuxelFace(const RenderScene& rs, const glm::vec3& n, float nearest, 
     for (uint32_t i : list)
       if (!behindAll(rs.lights[i], n, nearest)) cache.faceLights.push_back(i);
   cache.faceReady = true;
-  cache.faceCulledFor = nullptr;
+  cache.faceCulledWith = {};
 }
 
 void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points, const glm::vec3& n, ShadowCache& cache,
                        const GroupCull& cull) {
   cache.groupLights.clear();
   cache.grouped = false;
-  cache.culledReceiver = cache.culledLights = nullptr;
+  cache.groupCulledWith = {};
   if (points.empty()) return;
   const LightGrid& grid = rs.lightGrid;
   const std::span<const uint32_t> cell = grid.cellLights(points.front());
@@ -359,11 +359,11 @@ void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points,
   };
   if (cache.faceReady && cull.receiver) {
     // The face's list culled once for all the groups of one compiled face (one receiver box).
-    if (cache.faceCulledFor != cull.receiver || cull.lights != cache.culledLightsFor) {
+    if (cache.faceCulledWith != cull) {
       cache.faceCulled.clear();
       for (uint32_t i : cache.faceLights)
         if (!culled(rs.lights[i])) cache.faceCulled.push_back(i);
-      cache.faceCulledFor = cull.receiver, cache.culledLightsFor = cull.lights;
+      cache.faceCulledWith = cull;
     }
     add(cache.faceCulled, true);
   } else if (cache.faceReady) {
@@ -374,7 +374,7 @@ void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points,
   }
   add(cell);
   cache.grouped = true;
-  cache.culledReceiver = cull.receiver, cache.culledLights = cull.lights;
+  cache.groupCulledWith = cull;
 }
 
 bool cachedShadowed(const RenderScene& rs, ShadowCache& cache, uint32_t index, const Ray& ray) {

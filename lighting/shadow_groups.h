@@ -37,6 +37,17 @@ namespace bt {
 
 inline constexpr uint32_t kSeenByAll = 0x80000000u; // a groupLights entry: light index | this bit
 
+// ericw-tools' light cull without vis data at a receiver (vis_approx.h): the bounds of the
+// compiled face it lies on (polygonBounds) and the lights' boxes (by GpuLight::visBox - 1: the
+// RenderScene's, or a bake's own, LuxelBakeJob::lightBoxes). A light whose box lies apart from the
+// face's gives nothing, as the compiler culls it. No receiver: no cull. A group of luxels shares
+// one (faithful_light.h VisCull is this type).
+struct GroupCull {
+  const GpuVisBox* receiver = nullptr;
+  const GpuVisBox* lights = nullptr;
+  bool operator==(const GroupCull&) const = default;
+};
+
 struct ShadowCache {
   static constexpr int kRecent = 4;
   ShadowCache(const RenderScene& rs, const std::vector<uint8_t>& solid);
@@ -45,17 +56,15 @@ struct ShadowCache {
   std::vector<uint8_t> lastSeen;     // per light: the last shadow ray toward it was not blocked
   std::vector<uint32_t> faceLights;  // indices into rs.lights
   bool faceReady = false;            // faceLights holds the current face's list
-  // faceLights less the lights that the cull of `faceCulledFor` (a receiver box) culls: the
-  // groups of one compiled face share it. Null: not made for this face yet.
+  // faceLights less the lights that the cull `faceCulledWith` culls: the groups of one compiled
+  // face share it. No receiver: not made for this face yet.
   std::vector<uint32_t> faceCulled;
-  const GpuVisBox* faceCulledFor = nullptr;
-  const GpuVisBox* culledLightsFor = nullptr; // the lights' boxes it was culled with
-  std::vector<uint32_t> groupLights;          // indices into rs.lights, with kSeenByAll
-  bool grouped = false;                       // groupLights holds the current group's list
-  // The light cull (GroupCull) that groupLights has applied already: a luxel of the group with
-  // this cull need not test its lights again. Null receiver: none.
-  const GpuVisBox* culledReceiver = nullptr;
-  const GpuVisBox* culledLights = nullptr;
+  GroupCull faceCulledWith;
+  std::vector<uint32_t> groupLights; // indices into rs.lights, with kSeenByAll
+  bool grouped = false;              // groupLights holds the current group's list
+  // The light cull that groupLights has applied already: a luxel of the group with this cull
+  // need not test its lights again. No receiver: none.
+  GroupCull groupCulledWith;
 };
 
 // occluded(rs, ray, Faithful, the light's shadow channels) for a shadow ray toward light `index`,
@@ -65,13 +74,6 @@ bool cachedShadowed(const RenderScene& rs, ShadowCache& cache, uint32_t index, c
 // Prepares cache.faceLights for the sample points of one face (normal n, one-sided) whose lowest
 // height along n is `nearest`, for the groups of that face that follow.
 void prepareLuxelFace(const RenderScene& rs, const glm::vec3& n, float nearest, ShadowCache& cache);
-
-// The compiler's light cull (vis_approx.h) shared by every point of a group: the receiver box
-// they all compare the lights' boxes with (faithful_light.h VisCull), or none.
-struct GroupCull {
-  const GpuVisBox* receiver = nullptr;
-  const GpuVisBox* lights = nullptr;
-};
 
 // Prepares cache.groupLights for sample `points` of one face (normal n, one-sided). Leaves the
 // cache ungrouped where the points do not share one light list (two grid cells). Sweeps
