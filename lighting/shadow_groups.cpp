@@ -24,7 +24,7 @@
 namespace bt {
 
 ShadowCache::ShadowCache(const RenderScene& rs, const std::vector<uint8_t>& solidBrushes)
-    : solid(&solidBrushes), recent(rs.lights.size() * kRecent, kNoFace), lastSeen(rs.lights.size(), 0) {}
+    : solid(&solidBrushes), recent(rs.lights.size() * kRecent, kNoFace), lastSeen(rs.lights.size(), 0), nearLists(rs.lights.size()) {}
 
 namespace {
 
@@ -251,14 +251,20 @@ bool apartFromSlantedPlanes(const TraceScene& ts, uint32_t slot, const Pyramid& 
   return false;
 }
 
-// Whether some brush meets the pyramid (or comes within `margin` of it).
-bool anyBrushNear(const TraceScene& ts, const Pyramid& p, float margin) {
-  const OutsideTest out(p, margin);
-  const auto near = [&](const float* lo, const float* hi) { return !out(lo, hi); };
-  return ts.walkBrushes(near, [&](uint32_t slot) {
+// The brushes that meet the pyramid (or come within `margin` of it), appended to `out`; false
+// (and `out` as it was) where there are more than `most`.
+bool brushesNear(const TraceScene& ts, const Pyramid& p, float margin, size_t most, std::vector<uint32_t>& out) {
+  const OutsideTest outsideOf(p, margin);
+  const size_t first = out.size();
+  const auto near = [&](const float* lo, const float* hi) { return !outsideOf(lo, hi); };
+  const bool tooMany = ts.walkBrushes(near, [&](uint32_t slot) {
     const GpuBrush& b = ts.brushes()[slot];
-    return near(b.boundsMin, b.boundsMax) && !apartFromSlantedPlanes(ts, slot, p, margin);
+    if (!near(b.boundsMin, b.boundsMax) || apartFromSlantedPlanes(ts, slot, p, margin)) return false;
+    out.push_back(slot);
+    return out.size() - first > most;
   });
+  if (tooMany) out.resize(first);
+  return !tooMany;
 }
 
 // The box around the ray origins of sample `points` (offsetRayOrigin, off a face of normal n).
@@ -320,6 +326,8 @@ void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points,
   cache.groupLights.clear();
   cache.grouped = false;
   cache.groupCulledWith = {};
+  cache.nearBrushes.clear();
+  ++cache.group; // the previous group's near lists lapse
   if (points.empty()) return;
   const LightGrid& grid = rs.lightGrid;
   const std::span<const uint32_t> cell = grid.cellLights(points.front());
@@ -330,9 +338,14 @@ void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points,
   const OriginBox box = originBox(points, n);
   float nearest = std::numeric_limits<float>::infinity();
   for (const glm::vec3& p : points) nearest = std::min(nearest, glm::dot(n, p));
-  // Flat: the ray origins lie on one plane (to float rounding), the pyramid's base. Meshes are
-  // not in the brush BVH: no pyramid proves their absence.
-  const bool flat = box.hi.z - box.lo.z <= 4e-3f && rs.tracer.triangleNodes().empty();
+  // The pyramid's base lies at the middle of the box's height. Flat (the ray origins on one plane
+  // to float rounding): the margin covers the rest. Not flat (points moved out of a wall): each
+  // segment from the box lies within half the height of one from the base, which the margin adds.
+  // Meshes are not in the brush BVH: no pyramid proves their absence.
+  const bool provable = rs.tracer.triangleNodes().empty();
+  const float height = box.hi.z - box.lo.z;
+  constexpr float kNearMargin = 1e-2f;
+  const float nearMargin = height <= 4e-3f ? kNearMargin : kNearMargin + 0.5f * height;
   constexpr uint32_t kDropped = ~0u;
   // addFaithfulLight's cull, before the light's random numbers and its shadow rays: a light it
   // culls leaves no trace in the luxel or the cache, so it need not be swept luxel by luxel,
@@ -346,11 +359,16 @@ void prepareLuxelGroup(const RenderScene& rs, std::span<const glm::vec3> points,
     if (light.type != uint32_t(LightType::Point) || light.deviance > 0.0f) return i;
     if (behindAll(light, n, nearest) || hiddenByRecentBlocker(rs, cache, i, box)) return kDropped;
     // Tried only where the last ray toward the light was not blocked: a proof that fails costs a
-    // traversal, and lights that were blocked a luxel ago mostly are again.
-    constexpr float kNearMargin = 1e-2f;
-    if (flat && cache.lastSeen[i] && glm::dot(n, light.origin) > box.hi.z + 1.0f &&
-        !anyBrushNear(rs.tracer, pyramidTo(box, light.origin), kNearMargin))
-      return i | kSeenByAll;
+    // traversal, and lights that were blocked a luxel ago mostly are again. More than kMostNear
+    // brushes near: the rays cost less walked than tested against each.
+    constexpr size_t kMostNear = 16;
+    if (provable && cache.lastSeen[i] && glm::dot(n, light.origin) > box.hi.z + 1.0f) {
+      const uint32_t first = uint32_t(cache.nearBrushes.size());
+      if (!brushesNear(rs.tracer, pyramidTo(box, light.origin), nearMargin, kMostNear, cache.nearBrushes)) return i;
+      const uint32_t count = uint32_t(cache.nearBrushes.size()) - first;
+      if (count == 0) return i | kSeenByAll;
+      cache.nearLists[i] = {cache.group, first, count};
+    }
     return i;
   };
   const auto add = [&](std::span<const uint32_t> lights, bool cullTested = false) {
@@ -394,13 +412,23 @@ bool cachedShadowed(const RenderScene& rs, ShadowCache& cache, uint32_t index, c
       std::rotate(recent, recent + j, recent + j + 1);
       blocked = true;
     }
+  // A ray of the group meets no brush but those near it: where none of them is hit, the walk would
+  // find nothing; where one is, that hit is the one the walk would find first.
+  const ShadowCache::NearList& near = cache.nearLists[index];
   uint32_t found = kNoFace;
-  if (!blocked && occluded(rs, ray, prepared, LightingMode::Faithful, channels, &found)) {
-    blocked = true;
-    if (found != kNoFace) {
-      std::copy_backward(recent, recent + ShadowCache::kRecent - 1, recent + ShadowCache::kRecent);
-      recent[0] = found;
-    }
+  if (!blocked && near.group == cache.group) {
+    std::optional<Hit> only;
+    int hits = 0;
+    for (uint32_t k = near.first; k < near.first + near.count && hits < 2; ++k)
+      if (const std::optional<Hit> hit = rs.tracer.intersectBrush(prepared, cache.nearBrushes[k])) only = hit, ++hits;
+    blocked = hits < 2 ? occludedAfter(rs, ray, only, LightingMode::Faithful, channels, &found)
+                       : occluded(rs, ray, prepared, LightingMode::Faithful, channels, &found);
+  } else if (!blocked) {
+    blocked = occluded(rs, ray, prepared, LightingMode::Faithful, channels, &found);
+  }
+  if (found != kNoFace) {
+    std::copy_backward(recent, recent + ShadowCache::kRecent - 1, recent + ShadowCache::kRecent);
+    recent[0] = found;
   }
   cache.lastSeen[index] = !blocked;
   return blocked;

@@ -19,6 +19,17 @@
 //                light none of the points (behind all of them, or hidden from all of them by one
 //                solid brush), each marked kSeenByAll where no brush comes near any segment from
 //                the points to it (no shadow ray needed).
+//   nearLists    set with groupLights, for each of its point lights that the last ray toward it
+//                reached (as kSeenByAll is tried) and that a few brushes come near (16 at most):
+//                those brushes. No other brush comes near a segment from the group to the light,
+//                so a shadow ray of the group that none of them intersects is one the walk finds
+//                nothing on, and one that exactly one of them intersects is one whose walk meets
+//                that hit first: either way occluded()'s answer and blocker without the walk
+//                (lqdm5: 25.2 million walks become 10.8 million). Two hits or more take the walk,
+//                whose order picks the blocker that the recent list keeps.
+// A group whose ray origins are not flat (sample points moved out of a wall) takes the pyramid
+// from the middle of its box's height, every test's margin widened by half that height: each
+// segment lies within that distance of the pyramid's.
 // By convexity: a segment from any point of the box around the ray origins to a light passes
 // through the hull of the points that the box corners' segments have inside a convex brush, and
 // lies inside the pyramid from the box's face to the light. The luxels are occluded()'s but for
@@ -65,6 +76,16 @@ struct ShadowCache {
   // The light cull that groupLights has applied already: a luxel of the group with this cull
   // need not test its lights again. No receiver: none.
   GroupCull groupCulledWith;
+  // Per light, the brushes near the pyramid from the current group to it (nearBrushes[first,
+  // first + count)), valid where `group` is the current group's number.
+  struct NearList {
+    uint32_t group = 0;
+    uint32_t first = 0;
+    uint32_t count = 0;
+  };
+  std::vector<NearList> nearLists;
+  std::vector<uint32_t> nearBrushes; // TraceScene brush slots
+  uint32_t group = 1;                // raised by each prepareLuxelGroup; no list holds it yet
 };
 
 // occluded(rs, ray, Faithful, the light's shadow channels) for a shadow ray toward light `index`,

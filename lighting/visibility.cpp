@@ -93,14 +93,18 @@ bool occluded(const RenderScene& rs, const Ray& ray, LightingMode mode, uint32_t
 }
 
 bool occluded(const RenderScene& rs, const Ray& ray, const RayContext& prepared, LightingMode mode, uint32_t channels, uint32_t* blocker) {
+  // Most shadow rays that are blocked are blocked by any wall on the way: the first hit the
+  // traversal meets settles it. Only a hit the ray may pass (a liquid, a hole, a face that casts
+  // no shadow) needs the walk from hit to hit in occludedAfter, which gives the same answer.
+  return occludedAfter(rs, ray, rs.tracer.anyHit(prepared), mode, channels, blocker);
+}
+
+bool occludedAfter(const RenderScene& rs, const Ray& ray, const std::optional<Hit>& any, LightingMode mode, uint32_t channels,
+                   uint32_t* blocker) {
   const auto blockedBy = [&](const Hit& hit) {
     if (blocker && hit.brush != kNoBrush) *blocker = hit.slot;
     return true;
   };
-  // Most shadow rays that are blocked are blocked by any wall on the way: the first hit the
-  // traversal meets settles it. Only a hit the ray may pass (a liquid, a hole, a face that casts
-  // no shadow) needs the walk from hit to hit below, which gives the same answer.
-  const std::optional<Hit> any = rs.tracer.anyHit(prepared);
   if (!any) return false;
   if (stopsShadowRay(rs, *any, ray, mode, channels)) return blockedBy(*any);
   Ray r = ray;

@@ -11,6 +11,7 @@
 #include <glm/vec4.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -47,6 +48,10 @@ bool blockedByBrush(const RenderScene& rs, const Ray& ray, LightingMode mode, ui
 // shadow ray tried against a light's recent blockers, then walked, divides once, not per test.
 bool occluded(const RenderScene& rs, const Ray& ray, const RayContext& prepared, LightingMode mode, uint32_t channels, uint32_t* blocker);
 bool blockedByBrush(const RenderScene& rs, const Ray& ray, const RayContext& prepared, LightingMode mode, uint32_t slot, uint32_t channels);
+// occluded() given what its first walk (rs.tracer.anyHit(prepared)) returns: a caller that knows
+// the only brush the ray can hit skips that walk.
+bool occludedAfter(const RenderScene& rs, const Ray& ray, const std::optional<Hit>& anyHit, LightingMode mode, uint32_t channels,
+                   uint32_t* blocker);
 
 // True when the ray reaches a sky face (or leaves the level) before anything else: sunlight.
 // `skyMaterial`: 1 + the only sky material that counts (a sun's `_suntexture`), 0 any sky.

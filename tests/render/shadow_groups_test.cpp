@@ -18,6 +18,8 @@
 #include <glm/vector_relational.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 namespace bt {
 namespace {
 
@@ -25,14 +27,16 @@ struct Difference {
   size_t luxels = 0, darker = 0, brighter = 0;
 };
 
-// Every `stride`-th face that has a lightmap (a whole level where 1), baked both ways.
-Difference bakeBothWays(const std::filesystem::path& map, uint32_t stride) {
+// Every `stride`-th face that has a lightmap (a whole level where 1), or the faces `only`, baked
+// both ways.
+Difference bakeBothWays(const std::filesystem::path& map, uint32_t stride, const std::vector<uint32_t>& only = {}) {
   const Scene scene = importScene(map.string(), ImportOptions{});
   Diagnostics diags;
   const RenderScene rs = buildRenderScene(scene, RenderSceneOptions{}, diags);
   std::vector<uint32_t> faces;
   for (uint32_t f = 0; f < scene.faces.size(); ++f)
-    if (faceHasLightmap(rs, f) && f % stride == 0) faces.push_back(f);
+    if (faceHasLightmap(rs, f) && (only.empty() ? f % stride == 0 : std::find(only.begin(), only.end(), f) != only.end()))
+      faces.push_back(f);
   Lightmaps with = layoutLightmaps(rs, faces), without = with;
   bakeLightmaps(rs, with);
   LightmapBakeOptions plain;
@@ -55,6 +59,17 @@ TEST(ShadowGroups, ChangeNoLuxelOfALargeLevel) {
   BT_REQUIRE_SHARED(shared);
   const Difference d = bakeBothWays(shared / "maps/librequake/lq1/maps/src/dm/lqdm5.map", 60);
   EXPECT_GT(d.luxels, 3000u);
+  EXPECT_EQ(d.darker + d.brighter, 0u);
+}
+
+// Faces of lqdm5 with luxels whose sample points the bake moved out of a wall, so that a group's
+// ray origins are not on one plane: its pyramid proofs take a wider margin. With the flat margin
+// 16 of their 2,916 luxels came out brighter with the cache than without (light let through).
+TEST(ShadowGroups, ChangeNoLuxelWhereSamplePointsLeaveTheirPlane) {
+  BT_REQUIRE_SHARED(shared);
+  const Difference d = bakeBothWays(shared / "maps/librequake/lq1/maps/src/dm/lqdm5.map", 1,
+                                    {677, 980, 1052, 1197, 2243, 2483, 7241, 9448, 9639, 9669, 10868, 10916});
+  EXPECT_GT(d.luxels, 1000u);
   EXPECT_EQ(d.darker + d.brighter, 0u);
 }
 
