@@ -305,14 +305,32 @@ uint popNode(inout NodeStack s) {
   if (s.size >= STACK_REGISTERS) s.hi.w = traversalStack[uint(s.size - STACK_REGISTERS) * TRACE_INVOCATIONS + gl_LocalInvocationIndex];
   return node;
 }
+void pushNode(inout NodeStack s, uint node, float entry) { pushNode(s, node); }
+void dropBeyond(inout NodeStack s, float tLimit) {}
+#elif defined(BT_TRACE_ENTRY_STACK)
+// GPUs: a private array (the compiler keeps it in registers and local memory) of (node, where the
+// ray enters its box). A node whose entry lies beyond the best hit found since it was pushed is
+// dropped unread (dropBeyond): its children's boxes, and a leaf's brush boxes, lie inside its box,
+// so each of their slab t is at least its own and every test in it would fail (trace_scene.cpp
+// traverse re-tests a popped node's box for the same reason).
+uvec2 traversalStack[BT_BVH_MAX_DEPTH];
+struct NodeStack {
+  int size;
+};
+void pushNode(inout NodeStack s, uint node, float entry) { traversalStack[s.size++] = uvec2(node, floatBitsToUint(entry)); }
+uint popNode(inout NodeStack s) { return traversalStack[--s.size].x; }
+void dropBeyond(inout NodeStack s, float tLimit) {
+  while (s.size > 0 && uintBitsToFloat(traversalStack[s.size - 1].y) > tLimit) --s.size;
+}
 #else
 // GPUs: a private array (the compiler keeps it in registers and local memory).
 uint traversalStack[BT_BVH_MAX_DEPTH];
 struct NodeStack {
   int size;
 };
-void pushNode(inout NodeStack s, uint node) { traversalStack[s.size++] = node; }
+void pushNode(inout NodeStack s, uint node, float entry) { traversalStack[s.size++] = node; }
 uint popNode(inout NodeStack s) { return traversalStack[--s.size]; }
+void dropBeyond(inout NodeStack s, float tLimit) {}
 #endif
 
 // Alpha-tested faces (lighting passesThrough): a hole for every ray where the base colour's
@@ -379,11 +397,12 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
           a = b;
           b = swap;
         }
-        pushNode(stack, b);
+        pushNode(stack, b, max(entryA, entryB));
         current = a;
       } else if (hitA || hitB) {
         current = hitA ? a : b;
       } else {
+        dropBeyond(stack, best.t);
         current = stack.size > 0 ? popNode(stack) : LEAF_REF;
       }
     }
@@ -399,6 +418,7 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
         best = hit;
       }
     }
+    dropBeyond(stack, best.t);
     if (stack.size == 0) {
       if (inTriangles || rootPads.x == NO_CHILD) break;
       inTriangles = true;

@@ -57,11 +57,27 @@ std::vector<GlBvhNode> bvhForGl(std::span<const GpuBvhNode> nodes) {
   }
   std::vector<uint32_t> glIndex(nodes.size(), 0);
   uint32_t interior = 0;
+#ifdef TRAV_PREORDER
+  // Depth first, left child next to its parent.
+  std::vector<uint32_t> pending{0};
+  while (!pending.empty()) {
+    const uint32_t i = pending.back();
+    pending.pop_back();
+    if (nodes[i].count != 0) continue;
+    glIndex[i] = interior++;
+    pending.push_back(nodes[i].leftFirst + 1);
+    pending.push_back(nodes[i].leftFirst);
+  }
+#else
   for (size_t i = 0; i < nodes.size(); ++i)
     if (nodes[i].count == 0) glIndex[i] = interior++;
+#endif
   gl.resize(interior);
   for (size_t i = 0; i < nodes.size(); ++i) {
     if (nodes[i].count != 0) continue;
+#ifdef TRAV_PREORDER
+    if (glIndex[i] == 0 && i != 0) continue; // not reached from the root
+#endif
     GlBvhNode& g = gl[glIndex[i]];
     const uint32_t l = nodes[i].leftFirst, r = l + 1;
     setChild(g.leftMin, g.leftMax, g.left, nodes[l], glIndex[l]);
