@@ -59,7 +59,7 @@ const char* shaderFile(TracerProgram program) {
 #ifndef TRAV_VARIANTS
 #define TRAV_VARIANTS ""
 #endif
-// Issue 20, session 26: the traversal variants a benchmark binary is built with (hardware layout).
+// Issue 20, session 26: the traversal variants a benchmark binary is built with.
 constexpr std::string_view kTraversalVariants[] = {TRAV_VARIANTS};
 
 std::vector<std::string> shaderDefines(TextureMode mode, TraceLayout layout) {
@@ -67,11 +67,9 @@ std::vector<std::string> shaderDefines(TextureMode mode, TraceLayout layout) {
   std::vector<std::string> defines{std::string(textures.at(mode == TextureMode::Bindless ? 0 : 1)),
                                    fmt::format("BT_BVH_MAX_DEPTH {}", kBvhMaxDepth),
                                    fmt::format("BT_TRIANGLE_EDGE_EPSILON_INVERSE {}u", kTriangleEdgeEpsilonInverse)};
-  if (layout == TraceLayout::Software)
-    defines.emplace_back(switchesOf("Layout").at(0));
-  else
-    for (std::string_view variant : kTraversalVariants)
-      if (!variant.empty()) defines.emplace_back(variant);
+  if (layout == TraceLayout::Software) defines.emplace_back(switchesOf("Layout").at(0));
+  for (std::string_view variant : kTraversalVariants)
+    if (!variant.empty() && (layout == TraceLayout::Hardware || variant != "BT_RAYBENCH_PERSISTENT")) defines.emplace_back(variant);
   return defines;
 }
 
