@@ -334,6 +334,39 @@ uint popNode(inout NodeStack s) {
 }
 void pushNode(inout NodeStack s, uint node, float entry) { pushNode(s, node); }
 uint popNode(inout NodeStack s, float tLimit) { return popNode(s); }
+#elif defined(BT_TRACE_STACK_REGISTERS)
+// GPUs, measured: the top BT_TRACE_STACK_REGISTERS (4 or 8) entries in registers, shifted one
+// place per push or pop as in the software layout, the older ones in a private array.
+uint traversalStack[BT_BVH_MAX_DEPTH];
+struct NodeStack {
+  uvec4 lo, hi;
+  int size;
+};
+void pushNode(inout NodeStack s, uint node) {
+#if BT_TRACE_STACK_REGISTERS == 8
+  if (s.size >= 8) traversalStack[s.size - 8] = s.hi.w;
+  s.hi = uvec4(s.lo.w, s.hi.xyz);
+#else
+  if (s.size >= 4) traversalStack[s.size - 4] = s.lo.w;
+#endif
+  s.lo = uvec4(node, s.lo.xyz);
+  ++s.size;
+}
+uint popNode(inout NodeStack s) {
+  uint node = s.lo.x;
+  --s.size;
+#if BT_TRACE_STACK_REGISTERS == 8
+  s.lo = uvec4(s.lo.yzw, s.hi.x);
+  s.hi = uvec4(s.hi.yzw, 0u);
+  if (s.size >= 8) s.hi.w = traversalStack[s.size - 8];
+#else
+  s.lo = uvec4(s.lo.yzw, 0u);
+  if (s.size >= 4) s.lo.w = traversalStack[s.size - 4];
+#endif
+  return node;
+}
+void pushNode(inout NodeStack s, uint node, float entry) { pushNode(s, node); }
+uint popNode(inout NodeStack s, float tLimit) { return popNode(s); }
 #elif defined(BT_TRACE_ENTRY_STACK)
 // GPUs: private arrays (the compiler keeps them in registers and local memory) of nodes and of
 // where the ray enters each one's box. A node whose entry lies beyond the best hit found since it
@@ -410,7 +443,7 @@ bool blocksFromInside(bool inTriangles, uint b, uint passFlags) {
 
 Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   Hit best = Hit(r.tMax, NO_FACE, false);
-#ifdef BT_TRACE_SOFTWARE
+#if defined(BT_TRACE_SOFTWARE) || defined(BT_TRACE_STACK_REGISTERS)
   NodeStack stack = NodeStack(uvec4(0u), uvec4(0u), 0);
 #else
   NodeStack stack = NodeStack(0);
