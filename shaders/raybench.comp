@@ -1,10 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "gl_bindings.glsl"
-#ifdef BT_RAYBENCH_PERSISTENT
-#extension GL_ARB_shader_ballot : require
-#extension GL_ARB_gpu_shader_int64 : require
-#endif
 #ifdef BT_TEXTURES_BINDLESS
 #extension GL_ARB_bindless_texture : require
 #endif
@@ -28,7 +24,8 @@ layout(r32f, binding = BT_IMAGE_BOUNCE_T) uniform writeonly image2D bounceT;
 layout(location = 0) uniform uint mode;
 layout(location = 1) uniform float shadowLength;
 
-void traceOne(ivec2 pixel) {
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(pixel, camera.imageSize))) return;
   vec3 origin = camera.origin;
   vec3 dir = cameraRayDirection(vec2(pixel) + 0.5);
@@ -48,28 +45,3 @@ void traceOne(ivec2 pixel) {
   else if (!shadow) imageStore(bounceT, pixel, vec4(hit.t));
   else if (hit.face != NO_FACE) imageStore(bounceT, pixel, vec4(-hit.t)); // kept, so the query is not optimised away
 }
-
-#ifdef BT_RAYBENCH_PERSISTENT
-// Persistent threads with dynamic fetch (Aila and Laine 2009): the grid fills the GPU once, and
-// the invocations of a subgroup take their next rays together from a counter when their rays are
-// done, so that none waits for a slow ray of its workgroup or of its wave. Ray i is pixel
-// i % 32 of 8 x 4 patch i / 32 (a warp's patch of the plain grid); the active invocations take
-// consecutive rays by their rank among them, which holds however the subgroup has diverged.
-layout(std430, binding = 16) buffer RayCounter { uint nextRay; }; // gl_tracer.cpp benchmarkRays binds it
-void main() {
-  uint patchesX = (uint(camera.imageSize.x) + 7u) / 8u;
-  uint rays = 32u * patchesX * ((uint(camera.imageSize.y) + 3u) / 4u);
-  while (true) {
-    uvec2 running = unpackUint2x32(ballotARB(true)), below = unpackUint2x32(gl_SubGroupLtMaskARB);
-    uint rank = bitCount(running.x & below.x) + bitCount(running.y & below.y);
-    uint taken = 0u;
-    if (rank == 0u) taken = atomicAdd(nextRay, uint(bitCount(running.x) + bitCount(running.y)));
-    uint ray = readFirstInvocationARB(taken) + rank;
-    if (ray >= rays) break;
-    uint patch32 = ray / 32u, lane = ray % 32u;
-    traceOne(ivec2((patch32 % patchesX) * 8u + lane % 8u, (patch32 / patchesX) * 4u + lane / 8u));
-  }
-}
-#else
-void main() { traceOne(ivec2(gl_GlobalInvocationID.xy)); }
-#endif

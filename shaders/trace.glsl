@@ -114,11 +114,7 @@ uint leafCount(uint ref) { return (ref >> 24) & 0x7fu; }
 //     faster there than the software layout (bench/README.md).
 #ifdef BT_TRACE_SOFTWARE
 uvec4 nodeRow(uint n, uint row) { return texelFetch(nodeTexels, int(4u * n + row)); }
-#ifdef BT_TRACE_INLINE_PLANES
-uvec4 brushRow(uint b, uint row) { return texelFetch(brushTexels, int(b + row)); }
-#else
 uvec4 brushRow(uint b, uint row) { return texelFetch(brushTexels, int(4u * b + row)); }
-#endif
 uvec4 primitiveRow(uint row) { return texelFetch(brushTexels, int(row)); } // brushes', then triangles' rows
 uint sideFace(uint i) { return texelFetch(sideTexels, int(i)).x; }
 vec4 facePlane(uint f) { return texelFetch(faceTexels, int(4u * f)); }
@@ -128,11 +124,7 @@ layout(std430, binding = BT_BINDING_NODES) readonly buffer NodeRows { uvec4 node
 layout(std430, binding = BT_BINDING_BRUSHES) readonly buffer BrushRows { uvec4 brushRows[]; };
 layout(std430, binding = BT_BINDING_SIDES) readonly buffer SideFaces { uint sideFaces[]; };
 uvec4 nodeRow(uint n, uint row) { return nodeRows[4u * n + row]; }
-#ifdef BT_TRACE_INLINE_PLANES
-uvec4 brushRow(uint b, uint row) { return brushRows[b + row]; }
-#else
 uvec4 brushRow(uint b, uint row) { return brushRows[4u * b + row]; }
-#endif
 uvec4 primitiveRow(uint row) { return brushRows[row]; } // brushes', then triangles' rows
 uint sideFace(uint i) { return sideFaces[i]; }
 vec4 facePlane(uint f) { return faces[f].plane; }
@@ -175,10 +167,6 @@ uint axialFace(uint b, int slot) {
   return c == 0 ? row.x : c == 1 ? row.y : c == 2 ? row.z : row.w;
 }
 
-#ifdef BT_TRACE_INLINE_PLANES
-const uint SLANTED_SIDE = 0x80000000u; // a Crossing's face that is a slanted side's index (below 2^31 - 1)
-#endif
-
 // Haines' clip against brush b (trace_scene.cpp hitBrush). A brush whose box starts beyond
 // tLimit is rejected before its planes are read.
 bool hitBrush(TraceRay r, uint b, float tLimit, out Hit hit) {
@@ -189,21 +177,10 @@ bool hitBrush(TraceRay r, uint b, float tLimit, out Hit hit) {
 
   Crossing enter = Crossing(-INFINITY, NO_FACE, 0.0), exit = Crossing(INFINITY, NO_FACE, 0.0);
   float near0 = max(box.near, r.tMin);
-#ifdef BT_TRACE_INLINE_PLANES
-  // b is the brush's first row; its slanted sides' planes follow its 4 rows, read with them (the
-  // first one always: the buffer ends with a spare row). A crossing keeps SLANTED_SIDE | side
-  // index; the face is read once, for the side that wins.
-  uvec4 firstPlane = brushRow(b, 4u);
-  uint firstSide = row0.w, endSide = firstSide + row1.w;
-  for (uint i = firstSide; i < endSide; ++i) {
-    uint f = SLANTED_SIDE | i;
-    vec4 plane = uintBitsToFloat(i == firstSide ? firstPlane : brushRow(b, 4u + i - firstSide));
-#else
   uint firstSide = row0.w, endSide = firstSide + row1.w;
   for (uint i = firstSide; i < endSide; ++i) {
     uint f = sideFace(i);
     vec4 plane = facePlane(f);
-#endif
     float denom = plane.x * r.dir.x + plane.y * r.dir.y + plane.z * r.dir.z;
     float dist = plane.x * r.origin.x + plane.y * r.origin.y + plane.z * r.origin.z - plane.w;
     if (denom < 0.0) { // crossing from front to back: entering
@@ -231,10 +208,6 @@ bool hitBrush(TraceRay r, uint b, float tLimit, out Hit hit) {
       exit = Crossing(box.far, face != NO_FACE ? face : exit.face, box.farFacing);
   }
   if (enter.t > exit.t) return false;
-#ifdef BT_TRACE_INLINE_PLANES
-  if (enter.face != NO_FACE && (enter.face & SLANTED_SIDE) != 0u) enter.face = sideFace(enter.face & ~SLANTED_SIDE);
-  if (exit.face != NO_FACE && (exit.face & SLANTED_SIDE) != 0u) exit.face = sideFace(exit.face & ~SLANTED_SIDE);
-#endif
   if (enter.t > r.tMin) {
     if (!(enter.t < r.tMax)) return false;
     hit = Hit(enter.t, enter.face, false);
@@ -332,77 +305,14 @@ uint popNode(inout NodeStack s) {
   if (s.size >= STACK_REGISTERS) s.hi.w = traversalStack[uint(s.size - STACK_REGISTERS) * TRACE_INVOCATIONS + gl_LocalInvocationIndex];
   return node;
 }
-void pushNode(inout NodeStack s, uint node, float entry) { pushNode(s, node); }
-uint popNode(inout NodeStack s, float tLimit) { return popNode(s); }
-#elif defined(BT_TRACE_STACK_REGISTERS)
-// GPUs, measured: the top BT_TRACE_STACK_REGISTERS (4 or 8) entries in registers, shifted one
-// place per push or pop as in the software layout, the older ones in a private array.
-uint traversalStack[BT_BVH_MAX_DEPTH];
-struct NodeStack {
-  uvec4 lo, hi;
-  int size;
-};
-void pushNode(inout NodeStack s, uint node) {
-#if BT_TRACE_STACK_REGISTERS == 8
-  if (s.size >= 8) traversalStack[s.size - 8] = s.hi.w;
-  s.hi = uvec4(s.lo.w, s.hi.xyz);
-#else
-  if (s.size >= 4) traversalStack[s.size - 4] = s.lo.w;
-#endif
-  s.lo = uvec4(node, s.lo.xyz);
-  ++s.size;
-}
-uint popNode(inout NodeStack s) {
-  uint node = s.lo.x;
-  --s.size;
-#if BT_TRACE_STACK_REGISTERS == 8
-  s.lo = uvec4(s.lo.yzw, s.hi.x);
-  s.hi = uvec4(s.hi.yzw, 0u);
-  if (s.size >= 8) s.hi.w = traversalStack[s.size - 8];
-#else
-  s.lo = uvec4(s.lo.yzw, 0u);
-  if (s.size >= 4) s.lo.w = traversalStack[s.size - 4];
-#endif
-  return node;
-}
-void pushNode(inout NodeStack s, uint node, float entry) { pushNode(s, node); }
-uint popNode(inout NodeStack s, float tLimit) { return popNode(s); }
-#elif defined(BT_TRACE_ENTRY_STACK)
-// GPUs: private arrays (the compiler keeps them in registers and local memory) of nodes and of
-// where the ray enters each one's box. A node whose entry lies beyond the best hit found since it
-// was pushed comes off the stack as an empty leaf, unread: its children's boxes, and a leaf's
-// brush boxes, lie inside its box, so each of their slab t is at least its own and every test
-// in it would fail (trace_scene.cpp traverse re-tests a popped node's box for the same reason).
-struct NodeStack {
-  int size;
-};
-#ifdef BT_TRACE_ENTRY_PACKED
-uvec2 traversalStack[BT_BVH_MAX_DEPTH];
-void pushNode(inout NodeStack s, uint node, float entry) { traversalStack[s.size++] = uvec2(node, floatBitsToUint(entry)); }
-uint popNode(inout NodeStack s, float tLimit) {
-  uvec2 e = traversalStack[--s.size];
-  return uintBitsToFloat(e.y) > tLimit ? LEAF_REF : e.x;
-}
-#else
-uint traversalStack[BT_BVH_MAX_DEPTH];
-float traversalEntry[BT_BVH_MAX_DEPTH];
-void pushNode(inout NodeStack s, uint node, float entry) {
-  traversalEntry[s.size] = entry;
-  traversalStack[s.size++] = node;
-}
-uint popNode(inout NodeStack s, float tLimit) {
-  --s.size;
-  return traversalEntry[s.size] > tLimit ? LEAF_REF : traversalStack[s.size];
-}
-#endif
 #else
 // GPUs: a private array (the compiler keeps it in registers and local memory).
 uint traversalStack[BT_BVH_MAX_DEPTH];
 struct NodeStack {
   int size;
 };
-void pushNode(inout NodeStack s, uint node, float entry) { traversalStack[s.size++] = node; }
-uint popNode(inout NodeStack s, float tLimit) { return traversalStack[--s.size]; }
+void pushNode(inout NodeStack s, uint node) { traversalStack[s.size++] = node; }
+uint popNode(inout NodeStack s) { return traversalStack[--s.size]; }
 #endif
 
 // Alpha-tested faces (lighting passesThrough): a hole for every ray where the base colour's
@@ -443,7 +353,7 @@ bool blocksFromInside(bool inTriangles, uint b, uint passFlags) {
 
 Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   Hit best = Hit(r.tMax, NO_FACE, false);
-#if defined(BT_TRACE_SOFTWARE) || defined(BT_TRACE_STACK_REGISTERS)
+#ifdef BT_TRACE_SOFTWARE
   NodeStack stack = NodeStack(uvec4(0u), uvec4(0u), 0);
 #else
   NodeStack stack = NodeStack(0);
@@ -469,22 +379,16 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
           a = b;
           b = swap;
         }
-        pushNode(stack, b, max(entryA, entryB));
+        pushNode(stack, b);
         current = a;
       } else if (hitA || hitB) {
         current = hitA ? a : b;
       } else {
-        current = stack.size > 0 ? popNode(stack, best.t) : LEAF_REF;
+        current = stack.size > 0 ? popNode(stack) : LEAF_REF;
       }
     }
-#ifdef BT_TRACE_INLINE_PLANES
-    // A brush leaf's first is its first brush's row; each brush takes 4 rows and one per slanted side.
-    uint i = leafFirst(current);
-    for (uint k = leafCount(current); k > 0u; --k, i += inTriangles ? 1u : 4u + brushRow(i, 1u).w) {
-#else
     uint first = leafFirst(current), end = first + leafCount(current);
     for (uint i = first; i < end; ++i) {
-#endif
       Hit hit;
       if (!(inTriangles ? hitTriangle(r, rootPads.y, i, best.t, hit) : hitBrush(r, i, best.t, hit))) continue;
       if (anyHit) {
@@ -501,7 +405,7 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
       current = rootPads.x;
       continue;
     }
-    current = popNode(stack, best.t);
+    current = popNode(stack);
   }
   return best;
 }

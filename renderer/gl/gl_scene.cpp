@@ -57,27 +57,11 @@ std::vector<GlBvhNode> bvhForGl(std::span<const GpuBvhNode> nodes) {
   }
   std::vector<uint32_t> glIndex(nodes.size(), 0);
   uint32_t interior = 0;
-#ifdef TRAV_PREORDER
-  // Depth first, left child next to its parent.
-  std::vector<uint32_t> pending{0};
-  while (!pending.empty()) {
-    const uint32_t i = pending.back();
-    pending.pop_back();
-    if (nodes[i].count != 0) continue;
-    glIndex[i] = interior++;
-    pending.push_back(nodes[i].leftFirst + 1);
-    pending.push_back(nodes[i].leftFirst);
-  }
-#else
   for (size_t i = 0; i < nodes.size(); ++i)
     if (nodes[i].count == 0) glIndex[i] = interior++;
-#endif
   gl.resize(interior);
   for (size_t i = 0; i < nodes.size(); ++i) {
     if (nodes[i].count != 0) continue;
-#ifdef TRAV_PREORDER
-    if (glIndex[i] == 0 && i != 0) continue; // not reached from the root
-#endif
     GlBvhNode& g = gl[glIndex[i]];
     const uint32_t l = nodes[i].leftFirst, r = l + 1;
     setChild(g.leftMin, g.leftMax, g.left, nodes[l], glIndex[l]);
@@ -86,35 +70,8 @@ std::vector<GlBvhNode> bvhForGl(std::span<const GpuBvhNode> nodes) {
   return gl;
 }
 
-#ifdef TRAV_INLINE_PLANES
-// Each brush's first row in the brush buffer: its 4 rows, then one plane row per slanted side
-// (shaders/trace.glsl BT_TRACE_INLINE_PLANES); the last entry is where the triangles' rows start,
-// after a spare row that the last brush's first-plane read may touch.
-std::vector<uint32_t> brushRecordRows(const TraceScene& tracer) {
-  std::vector<uint32_t> rows;
-  rows.reserve(tracer.brushes().size() + 1);
-  uint32_t row = 0;
-  for (const GpuBrush& b : tracer.brushes()) {
-    rows.push_back(row);
-    row += 4 + b.sideCount;
-  }
-  rows.push_back(row + 1);
-  return rows;
-}
-#endif
-
 std::vector<GlBvhNode> sceneBvhForGl(const TraceScene& tracer) {
   std::vector<GlBvhNode> nodes = bvhForGl(tracer.nodes());
-#ifdef TRAV_INLINE_PLANES
-  const std::vector<uint32_t> records = brushRecordRows(tracer);
-  for (GlBvhNode& node : nodes)
-    for (uint32_t* ref : {&node.left, &node.right})
-      if (*ref != kGlNoChild && (*ref & kGlLeafRef)) {
-        const uint32_t row = records[*ref & kGlLeafMaxFirst];
-        if (row > kGlLeafMaxFirst) throw GlError(fmt::format("scene too large for the GL tracer: a BVH leaf at brush row {}", row));
-        *ref = (*ref & ~kGlLeafMaxFirst) | row;
-      }
-#endif
   if (tracer.triangleNodes().empty()) return nodes;
   const auto base = static_cast<uint32_t>(nodes.size());
   for (GlBvhNode node : bvhForGl(tracer.triangleNodes())) {
@@ -123,11 +80,7 @@ std::vector<GlBvhNode> sceneBvhForGl(const TraceScene& tracer) {
     nodes.push_back(node);
   }
   nodes[0].pad0 = base;
-#ifdef TRAV_INLINE_PLANES
-  nodes[0].pad1 = records.back();
-#else
   nodes[0].pad1 = static_cast<uint32_t>(tracer.brushes().size_bytes() / 16);
-#endif
   return nodes;
 }
 
@@ -138,20 +91,6 @@ namespace {
 // TraceScene): shaders/trace.glsl blocksFromInside ANDs it with a shadow ray's pass word, which
 // has channel bits in faithful mode only.
 std::vector<uint32_t> brushAndTriangleRows(const TraceScene& tracer, const std::vector<uint8_t>& blocksFromInside) {
-#ifdef TRAV_INLINE_PLANES
-  const std::vector<uint32_t> records = brushRecordRows(tracer);
-  std::vector<uint32_t> out(size_t(records.back()) * 4 + tracer.triangles().size_bytes() / 4, 0u);
-  for (size_t slot = 0; slot < tracer.brushes().size(); ++slot) {
-    GpuBrush b = tracer.brushes()[slot];
-    if (slot < blocksFromInside.size() && blocksFromInside[slot]) b.pad = BT_FACE_CHANNEL_BITS;
-    uint32_t* at = out.data() + size_t(records[slot]) * 4;
-    std::memcpy(at, &b, sizeof b);
-    for (uint32_t k = 0; k < b.sideCount; ++k) std::memcpy(at + 16 + 4 * k, tracer.faces()[tracer.sides()[b.firstSide + k]].plane, 16);
-  }
-  if (!tracer.triangles().empty())
-    std::memcpy(out.data() + size_t(records.back()) * 4, tracer.triangles().data(), tracer.triangles().size_bytes());
-  return out;
-#endif
   std::vector<uint32_t> words(tracer.brushes().size_bytes() / 4 + tracer.triangles().size_bytes() / 4);
   std::memcpy(words.data(), tracer.brushes().data(), tracer.brushes().size_bytes());
   constexpr size_t kPadWord = offsetof(GpuBrush, pad) / 4, kBrushWords = sizeof(GpuBrush) / 4;

@@ -369,36 +369,19 @@ RayBenchmark GlTracer::benchmarkRays(const CameraBasis& camera, int width, int h
   result.passes = passes;
   result.primaryRays = static_cast<size_t>(width) * height;
 
-  // A program built with persistent threads (raybench.comp BT_RAYBENCH_PERSISTENT) takes its
-  // pixels from a counter at binding 16, zeroed before each pass, and runs a grid that fills an
-  // H200 once at full occupancy (132 SMs x 32 workgroups of 64 invocations).
-  const bool persistent = glGetProgramResourceIndex(program, GL_SHADER_STORAGE_BLOCK, "RayCounter") != GL_INVALID_INDEX;
-  GLuint counter = 0;
-  if (persistent) {
-    BT_GL(glCreateBuffers(1, &counter));
-    BT_GL(glNamedBufferStorage(counter, sizeof(uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT));
-    BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 16, counter));
-  }
-  constexpr int kPersistentGroups = 132 * 32;
   auto run = [&](GLuint mode) {
     BT_GL(glProgramUniform1ui(program, 0, mode));
     BT_GL(glFinish());
     const auto start = Clock::now();
     for (int pass = 0; pass < passes; ++pass) {
       impl_->setCamera(camera, width, height, static_cast<uint32_t>(pass), 0);
-      if (persistent) {
-        const uint32_t zero = 0;
-        BT_GL(glClearNamedBufferData(counter, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero));
-        bench.dispatch2d(kPersistentGroups * bench.localSize(0), bench.localSize(1));
-        BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT));
-        continue;
-      }
       bench.dispatch2d(width, height);
       BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT));
     }
     BT_GL(glFinish());
     return std::chrono::duration<double>(Clock::now() - start).count();
   };
+  // FNV-1a over the results' bytes (RayBenchmark::primaryHash).
   const auto fnv = [](std::span<const float> values) {
     uint64_t h = 1469598103934665603ull;
     for (float v : values) {
@@ -426,7 +409,6 @@ RayBenchmark GlTracer::benchmarkRays(const CameraBasis& camera, int width, int h
   result.shadowSeconds = run(2);
   BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
   result.shadowHash = fnv(bounceT.read<float>(width, height, GL_RED, GL_FLOAT, 1));
-  if (counter != 0) BT_GL(glDeleteBuffers(1, &counter));
   return result;
 }
 

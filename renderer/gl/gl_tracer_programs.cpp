@@ -56,20 +56,12 @@ const char* shaderFile(TracerProgram program) {
   return kPrograms[size_t(program)].shader;
 }
 
-#ifndef TRAV_VARIANTS
-#define TRAV_VARIANTS ""
-#endif
-// Issue 20, session 26: the traversal variants a benchmark binary is built with.
-constexpr std::string_view kTraversalVariants[] = {TRAV_VARIANTS};
-
 std::vector<std::string> shaderDefines(TextureMode mode, TraceLayout layout) {
   const std::vector<std::string_view> textures = switchesOf("Textures"); // bindless, arrays
   std::vector<std::string> defines{std::string(textures.at(mode == TextureMode::Bindless ? 0 : 1)),
                                    fmt::format("BT_BVH_MAX_DEPTH {}", kBvhMaxDepth),
                                    fmt::format("BT_TRIANGLE_EDGE_EPSILON_INVERSE {}u", kTriangleEdgeEpsilonInverse)};
   if (layout == TraceLayout::Software) defines.emplace_back(switchesOf("Layout").at(0));
-  for (std::string_view variant : kTraversalVariants)
-    if (!variant.empty() && (layout == TraceLayout::Hardware || variant != "BT_RAYBENCH_PERSISTENT")) defines.emplace_back(variant);
   return defines;
 }
 
