@@ -181,6 +181,8 @@ struct RayRates {
 RayRates benchRays(gl::GlTracer& tracer, const gl::CameraBasis& camera, const GlBenchSettings& s, const char* label = "") {
   tracer.benchmarkRays(camera, s.width, s.height, 1);
   gl::RayBenchmark probe = tracer.benchmarkRays(camera, s.width, s.height, 1);
+  fmt::print("{}ray results of one pass: primary {:016x}, bounce {:016x}, shadow {:016x}\n", label, probe.primaryHash, probe.bounceHash,
+             probe.shadowHash);
   const double perPass = std::max(probe.primarySeconds + probe.bounceSeconds + probe.shadowSeconds, 1e-4);
   const int passes = std::max(1, static_cast<int>(s.seconds / 3.0 / perPass));
   const gl::RayBenchmark rays = tracer.benchmarkRays(camera, s.width, s.height, passes);

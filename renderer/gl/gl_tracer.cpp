@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <optional>
 #include <span>
 
@@ -380,13 +381,25 @@ RayBenchmark GlTracer::benchmarkRays(const CameraBasis& camera, int width, int h
     BT_GL(glFinish());
     return std::chrono::duration<double>(Clock::now() - start).count();
   };
+  // FNV-1a over the results' bytes (RayBenchmark::primaryHash).
+  const auto fnv = [](std::span<const float> values) {
+    uint64_t h = 1469598103934665603ull;
+    for (float v : values) {
+      uint32_t bits = 0;
+      std::memcpy(&bits, &v, 4);
+      for (int i = 0; i < 4; ++i) h = (h ^ ((bits >> (8 * i)) & 0xffu)) * 1099511628211ull;
+    }
+    return h;
+  };
   result.primarySeconds = run(0);
   BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
   const auto primary = hits.read<float>(width, height, GL_RGBA, GL_FLOAT, 4);
   for (size_t i = 0; i < result.primaryRays; ++i) result.bounceRays += primary[4 * i + 3] != 0.0f;
+  result.primaryHash = fnv(primary);
   result.bounceSeconds = run(1);
   BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
   std::vector<float> lengths = bounceT.read<float>(width, height, GL_RED, GL_FLOAT, 1);
+  result.bounceHash = fnv(lengths);
   std::erase_if(lengths, [](float t) { return !(t > 0.0f && t < 1e30f); }); // misses and pixels without a bounce ray
   if (!lengths.empty()) {
     std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
@@ -394,6 +407,8 @@ RayBenchmark GlTracer::benchmarkRays(const CameraBasis& camera, int width, int h
   }
   BT_GL(glProgramUniform1f(program, 1, result.shadowLength));
   result.shadowSeconds = run(2);
+  BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
+  result.shadowHash = fnv(bounceT.read<float>(width, height, GL_RED, GL_FLOAT, 1));
   return result;
 }
 

@@ -128,6 +128,9 @@ struct RayBenchmark {
   // to the bounce rays' hits, so that about half of them are blocked.
   float shadowLength = 0.0f;
   double shadowSeconds = 0.0;
+  // FNV-1a of the last pass's results: the primary hits, the bounce rays' t, and that image
+  // after the shadow rays (blocked ones negated), so that two traversals can be compared.
+  uint64_t primaryHash = 0, bounceHash = 0, shadowHash = 0;
 };
 
 struct ProgramBuild {
