@@ -177,4 +177,44 @@ Scene waterBesideALight(const char* game, const char* water, std::optional<Surfa
   return scene;
 }
 
+Scene furnishedRoom(const FurnishedRoom& options) {
+  BoxSceneBuilder b;
+  if (options.range) b.worldKey("_range", *options.range);
+  b.material("white", 220, 220, 220);
+  b.material("red", 200, 40, 30);
+  b.material("blue", 40, 60, 190);
+  b.room({-128, -128, 0}, {128, 128, 128}, "white");
+  b.box({10, -30, 0}, {50, 10, 96}, "red");
+  b.box({-128, 40, 0}, {-60, 128, 48}, "blue");
+  std::vector<std::pair<std::string, std::string>> light = {
+      {"classname", "light"}, {"origin", "-40 -60 110"}, {"light", "300"}, {"delay", "2"}};
+  if (options.softLight) light.emplace_back("_deviance", "8");
+  b.entity(std::move(light));
+  Scene scene = b.build();
+  if (options.bricks)
+    for (Material& m : scene.materials) {
+      m.width = m.height = 32;
+      for (int t = 0; t < 16 * 16; ++t)
+        if (t % 4 == 0 || (t / 16) % 4 == 0)
+          for (int c = 0; c < 3; ++c) m.baseColor.rgba[size_t(t) * 4 + size_t(c)] /= options.tinted ? (c == 2 ? 1 : 3 * (2 - c)) : 6;
+    }
+  return scene;
+}
+
+RenderImage renderFurnishedRoom(const RenderScene& rs, int spp, uint32_t seed, bool lowDiscrepancy) {
+  CameraPose pose;
+  pose.origin = {-115, -110, 64};
+  pose.yaw = 40;
+  pose.pitch = 8;
+  RenderSettings s;
+  s.width = 48;
+  s.height = 36;
+  s.spp = spp;
+  s.seed = seed;
+  s.integrator.mode = LightingMode::Physical;
+  s.integrator.bounces = 1;
+  s.integrator.lowDiscrepancy = lowDiscrepancy;
+  return renderCpu(rs, Camera(pose, s.width, s.height), s);
+}
+
 } // namespace bt::test

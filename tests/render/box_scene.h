@@ -1,6 +1,7 @@
 // Builds small scenes of axis-aligned box brushes in code, for analytic lighting tests.
 #pragma once
 
+#include "renderer/cpu/cpu_renderer.h"
 #include "scene/scene.h"
 
 #include <glm/vec3.hpp>
@@ -31,6 +32,25 @@ public:
 private:
   Scene scene_;
 };
+
+// The furnished room the sampler's and the denoiser's tests measure noise in: a white 256 x 256 x
+// 128 room around (0 0 64), a red pillar before the far wall and a low blue block in a corner,
+// lit by one inverse-square light (delay 2, light 300) near the ceiling. `range`: worldspawn
+// `_range`, which scales every light and nothing else (a dark or a bright version of the same
+// room); `softLight`: the light's `_deviance 8`; `bricks`: every texture a brick wall, its dark
+// mortar lines 2 units wide every 8 units (about half a pixel in the render below), so that a
+// pixel's samples cover texels of unlike colour where its albedo AOV (the centre) sees one;
+// `tinted`: that mortar blue-grey rather than a darker red-brown, so that they mix hues too.
+struct FurnishedRoom {
+  std::optional<std::string> range;
+  bool softLight = false;
+  bool bricks = false;
+  bool tinted = false;
+};
+Scene furnishedRoom(const FurnishedRoom& options);
+// The room seen from a corner at 48 x 36, physical mode with one bounce, `spp` samples of `seed`,
+// with the Sobol sequence (IntegratorSettings::lowDiscrepancy) or PCG alone.
+RenderImage renderFurnishedRoom(const RenderScene& rs, int spp, uint32_t seed, bool lowDiscrepancy);
 
 // A 1024 x 1024 x 256 room around (0 0 128) with pillars, a half wall and a skylight, lit by
 // `count` point lights of every kind (formulas, wait, _falloff, spots, colours, _deviance when

@@ -19,55 +19,15 @@
 namespace bt {
 namespace {
 
-// A room lit by one inverse-square light (delay 2), a pillar in front of the far wall, a ceiling
-// lamp texture-less; worldspawn `_range` scales every light and nothing else (lighting/README.md,
-// "Physical mode"), so `range` makes a dark or a bright version of the same room.
-// `tinted`: the bricks' mortar a blue-grey instead of a darker red-brown, so that a pixel's
-// samples mix hues its centre's albedo does not have.
-Scene litRoom(const std::string& range, bool bricks = false, bool tinted = false) {
-  test::BoxSceneBuilder b;
-  b.worldKey("_range", range);
-  b.material("white", 220, 220, 220);
-  b.material("red", 200, 40, 30);
-  b.material("blue", 40, 60, 190);
-  b.room({-128, -128, 0}, {128, 128, 128}, "white");
-  b.box({10, -30, 0}, {50, 10, 96}, "red");
-  b.box({-128, 40, 0}, {-60, 128, 48}, "blue");
-  b.entity({{"classname", "light"}, {"origin", "-40 -60 110"}, {"light", "300"}, {"delay", "2"}});
-  Scene scene = b.build();
-  // `bricks`: every texture a brick wall, its dark mortar lines 2 units wide every 8 units (about
-  // half a pixel here), so that a pixel's samples cover several texels of unlike colour where its
-  // albedo AOV (the pixel's centre) sees one: texture detail at the image's own scale.
-  for (Material& m : scene.materials) {
-    if (!bricks) break;
-    m.width = m.height = 32;
-    for (int t = 0; t < 16 * 16; ++t)
-      if (t % 4 == 0 || (t / 16) % 4 == 0)
-        for (int c = 0; c < 3; ++c) m.baseColor.rgba[size_t(t) * 4 + size_t(c)] /= tinted ? (c == 2 ? 1 : 3 * (2 - c)) : 6;
-  }
-  return scene;
-}
+constexpr int kWidth = 48, kHeight = 36; // renderFurnishedRoom's
 
-constexpr int kWidth = 48, kHeight = 36;
-
-// `sobol`: physical mode's Sobol sequence (IntegratorSettings::lowDiscrepancy), else PCG alone.
+// The furnished room (tests/render/box_scene.h) at worldspawn `_range` `range`. `sobol`: physical
+// mode's Sobol sequence, else PCG alone.
 RenderImage renderRoom(const std::string& range, int spp, uint32_t seed = 1, bool bricks = false, bool tinted = false, bool sobol = true) {
   Diagnostics diagnostics;
-  const Scene scene = litRoom(range, bricks, tinted);
+  const Scene scene = test::furnishedRoom({.range = range, .bricks = bricks, .tinted = tinted});
   const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
-  CameraPose pose;
-  pose.origin = {-115, -110, 64};
-  pose.yaw = 40;
-  pose.pitch = 8;
-  RenderSettings s;
-  s.width = kWidth;
-  s.height = kHeight;
-  s.spp = spp;
-  s.seed = seed;
-  s.integrator.mode = LightingMode::Physical;
-  s.integrator.bounces = 1;
-  s.integrator.lowDiscrepancy = sobol;
-  return renderCpu(rs, Camera(pose, kWidth, kHeight), s);
+  return test::renderFurnishedRoom(rs, spp, seed, sobol);
 }
 
 // The 1024-spp reference of the room at _range 0.5, rendered once for the whole program.

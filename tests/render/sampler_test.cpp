@@ -113,37 +113,13 @@ TEST(Sampler, PixelRngAndDrawsOutsideTheGroupsArePcg) {
   for (int k = 0; k < 4; ++k) EXPECT_EQ(placed.next(), plain.next());
 }
 
-// A room lit by one light, a box and a low block in it, seen from a corner; physical mode, one
-// bounce, `spp` samples of `seed` with the Sobol sequence or without (PCG).
-Scene roomScene() {
-  test::BoxSceneBuilder b;
-  b.material("white", 220, 220, 220);
-  b.material("red", 200, 40, 30);
-  b.material("blue", 40, 60, 190);
-  b.room({-128, -128, 0}, {128, 128, 128}, "white");
-  b.box({10, -30, 0}, {50, 10, 96}, "red");
-  b.box({-128, 40, 0}, {-60, 128, 48}, "blue");
-  b.entity({{"classname", "light"}, {"origin", "-40 -60 110"}, {"light", "300"}, {"delay", "2"}, {"_deviance", "8"}});
-  return b.build();
-}
-
+// The furnished room (tests/render/box_scene.h) with a soft light, `spp` samples of `seed` with
+// the Sobol sequence or without (PCG).
 RenderImage renderRoom(int spp, uint32_t seed, bool lowDiscrepancy) {
-  static const Scene scene = roomScene(); // the RenderScene refers to it
+  static const Scene scene = test::furnishedRoom({.softLight = true}); // the RenderScene refers to it
   Diagnostics diagnostics;
   static const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
-  CameraPose pose;
-  pose.origin = {-115, -110, 64};
-  pose.yaw = 40;
-  pose.pitch = 8;
-  RenderSettings s;
-  s.width = 48;
-  s.height = 36;
-  s.spp = spp;
-  s.seed = seed;
-  s.integrator.mode = LightingMode::Physical;
-  s.integrator.bounces = 1;
-  s.integrator.lowDiscrepancy = lowDiscrepancy;
-  return renderCpu(rs, Camera(pose, s.width, s.height), s);
+  return test::renderFurnishedRoom(rs, spp, seed, lowDiscrepancy);
 }
 
 TEST(Sampler, DisplayedRoomIsCloserToItsReferenceThanWithPcgAtEqualSamples) {
