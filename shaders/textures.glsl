@@ -78,17 +78,19 @@ vec4 sampleBilinearRepeat(MAP_REF map, uint layer, uvec2 mapTexels, vec2 uv) {
 vec4 sampleBase(GlMaterial m, vec2 uv) { return sampleBilinearRepeat(BASE_REF(m), m.baseTexels, uv); }
 vec4 sampleEmissive(GlMaterial m, vec2 uv) { return sampleBilinearRepeat(EMISSIVE_REF(m), m.emissiveTexels, uv); }
 
-// The base colour or the normal map, chosen at run time: a loop over both then reads them at one
-// call site (physical mode's surfaces, pathtrace.comp physicalSurface).
+// One of a material's maps, chosen at run time: a loop over those a surface needs then reads them
+// at one call site (pathtrace.comp physicalSurface: base and normal; faithfulSurface: base and
+// emissive).
 const uint MAP_BASE = 0u;
 const uint MAP_NORMAL = 1u;
-vec4 sampleBaseOrNormal(GlMaterial m, uint map, vec2 uv) {
-  uvec2 texels = map == MAP_BASE ? m.baseTexels : m.normalTexels;
+const uint MAP_EMISSIVE = 2u;
+vec4 sampleMap(GlMaterial m, uint map, vec2 uv) {
+  uvec2 texels = map == MAP_BASE ? m.baseTexels : map == MAP_NORMAL ? m.normalTexels : m.emissiveTexels;
 #if defined(BT_TEXTURES_BINDLESS)
-  return sampleBilinearRepeat(map == MAP_BASE ? m.baseHandle : m.normalHandle, 0u, texels, uv);
+  return sampleBilinearRepeat(map == MAP_BASE ? m.baseHandle : map == MAP_NORMAL ? m.normalHandle : m.emissiveHandle, 0u, texels, uv);
 #else
-  return sampleBilinearRepeat(map == MAP_BASE ? m.baseArray : m.normalArray, map == MAP_BASE ? m.baseLayer : m.normalLayer,
-                              texels, uv);
+  return sampleBilinearRepeat(map == MAP_BASE ? m.baseArray : map == MAP_NORMAL ? m.normalArray : m.emissiveArray,
+                              map == MAP_BASE ? m.baseLayer : map == MAP_NORMAL ? m.normalLayer : m.emissiveLayer, texels, uv);
 #endif
 }
 
