@@ -609,8 +609,9 @@ bool nextLightRay(inout Path path, inout Rng rng) {
 }
 
 // Takes the hit of the ray the path waited for and sets up the next one; false when the path
-// has ended (path.radiance is then the sample).
-bool advance(inout Path path, Hit hit, inout Rng rng) {
+// has ended (path.radiance is then the sample). `masked`: the hit fails its alpha test
+// (trace.glsl closestHitMasked).
+bool advance(inout Path path, Hit hit, bool masked, inout Rng rng) {
   bool ended = false;
   // Physical mode reads emission (an emissive texture) at one place below, for an emitter
   // sample's shadow ray that got through and for a surface ray that hit an emitter: each place
@@ -637,7 +638,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     uint flags = 0u;
     if (hit.face != NO_FACE) flags = faceFlags[hit.face]; // a branch: never a read at NO_FACE
     bool passThrough = hit.face != NO_FACE &&
-                       (hit.inside || maskedOut(hit.face, path.origin + path.dir * hit.t) ||
+                       (hit.inside || masked ||
                         (path.kind == RAY_SURFACE ? (flags & FACE_HIDDEN) != 0u
                                                                 : (flags & FACE_SKY) == 0u && !blocksLight(flags, PHYSICAL)));
 #ifdef BT_LIQUID_CSG
@@ -775,7 +776,8 @@ void main() {
   } else {
     if (wavefrontRays[slot].live == 0u) return;
     path = loadPath(slot, rng);
-    if (!advance(path, wavefrontHits[slot], rng)) {
+    WavefrontHit hit = wavefrontHits[slot];
+    if (!advance(path, Hit(hit.t, hit.face, hit.inside), hit.masked, rng)) {
       wavefrontRays[slot].live = 0u;
       accumulate(pixel, path.radiance);
       atomicAdd(wavefrontEnded, 1u);
@@ -795,7 +797,7 @@ void main() {
   while (true) {
     // The one call of the traversal in this program.
     Hit hit = traceRay(makeTraceRay(path.origin, path.dir, path.tMin, path.tMax), path.kind == RAY_SHADOW, path.passFlags);
-    if (!advance(path, hit, rng)) break;
+    if (!advance(path, hit, closestHitMasked(hit, path.kind == RAY_SHADOW, path.origin, path.dir), rng)) break;
   }
   accumulate(pixel, path.radiance);
 }
