@@ -348,7 +348,7 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
   vec3 base = vec3(0.5), emissive = vec3(0.0); // a material without a texture is mid grey (materialBaseColor)
   bool hasBase = (m.flags & MATERIAL_HAS_BASE) != 0u, hasEmissive = (m.flags & MATERIAL_HAS_EMISSIVE) != 0u;
   for (int k = hasBase ? 0 : 1; k <= (hasEmissive ? 1 : 0); ++k) {
-    vec3 texel = sampleMap(m, k == 0 ? MAP_BASE : MAP_EMISSIVE, uv).rgb;
+    vec3 texel = sampleBaseOrEmissive(m, k == 1, uv).rgb;
     if (k == 0) base = texel;
     else emissive = texel;
   }
@@ -502,7 +502,7 @@ bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
   uint lastMap = shaded && (m.flags & MATERIAL_HAS_NORMAL) != 0u ? MAP_NORMAL : MAP_BASE;
   vec2 uv = faceUv(f, m, hit.position);
   for (uint map = firstMap; map <= lastMap; ++map) {
-    vec4 texel = sampleMap(m, map, uv);
+    vec4 texel = sampleBaseOrNormal(m, map, uv);
     if (map == MAP_BASE) base = texel;
     else normalTexel = texel.rgb;
   }
@@ -608,10 +608,22 @@ bool nextLightRay(inout Path path, inout Rng rng) {
   return false;
 }
 
+// Whether the hit of a ray that is not a shadow ray fails its alpha test: the wavefront form's
+// trace kernel tested it (`traced`, trace.glsl closestHitMasked), so that the shade kernel holds no
+// copy of the texture sampling for it; the megakernel tests it here, only where it is needed, so
+// that it compiles to the code it had before.
+bool hitMasked(Path path, Hit hit, bool traced) {
+#ifdef BT_WAVEFRONT_SHADE
+  return traced;
+#else
+  return maskedOut(hit.face, path.origin + path.dir * hit.t);
+#endif
+}
+
 // Takes the hit of the ray the path waited for and sets up the next one; false when the path
-// has ended (path.radiance is then the sample). `masked`: the hit fails its alpha test
-// (trace.glsl closestHitMasked).
-bool advance(inout Path path, Hit hit, bool masked, inout Rng rng) {
+// has ended (path.radiance is then the sample). `tracedMask`: the wavefront trace kernel's alpha
+// test of the hit (hitMasked).
+bool advance(inout Path path, Hit hit, bool tracedMask, inout Rng rng) {
   bool ended = false;
   // Physical mode reads emission (an emissive texture) at one place below, for an emitter
   // sample's shadow ray that got through and for a surface ray that hit an emitter: each place
@@ -638,7 +650,7 @@ bool advance(inout Path path, Hit hit, bool masked, inout Rng rng) {
     uint flags = 0u;
     if (hit.face != NO_FACE) flags = faceFlags[hit.face]; // a branch: never a read at NO_FACE
     bool passThrough = hit.face != NO_FACE &&
-                       (hit.inside || masked ||
+                       (hit.inside || hitMasked(path, hit, tracedMask) ||
                         (path.kind == RAY_SURFACE ? (flags & FACE_HIDDEN) != 0u
                                                                 : (flags & FACE_SKY) == 0u && !blocksLight(flags, PHYSICAL)));
 #ifdef BT_LIQUID_CSG
@@ -797,7 +809,7 @@ void main() {
   while (true) {
     // The one call of the traversal in this program.
     Hit hit = traceRay(makeTraceRay(path.origin, path.dir, path.tMin, path.tMax), path.kind == RAY_SHADOW, path.passFlags);
-    if (!advance(path, hit, closestHitMasked(hit, path.kind == RAY_SHADOW, path.origin, path.dir), rng)) break;
+    if (!advance(path, hit, false, rng)) break; // the megakernel does its alpha tests in advance()
   }
   accumulate(pixel, path.radiance);
 }

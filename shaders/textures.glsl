@@ -78,19 +78,28 @@ vec4 sampleBilinearRepeat(MAP_REF map, uint layer, uvec2 mapTexels, vec2 uv) {
 vec4 sampleBase(GlMaterial m, vec2 uv) { return sampleBilinearRepeat(BASE_REF(m), m.baseTexels, uv); }
 vec4 sampleEmissive(GlMaterial m, vec2 uv) { return sampleBilinearRepeat(EMISSIVE_REF(m), m.emissiveTexels, uv); }
 
-// One of a material's maps, chosen at run time: a loop over those a surface needs then reads them
-// at one call site (pathtrace.comp physicalSurface: base and normal; faithfulSurface: base and
-// emissive).
+// The base colour or the normal map, chosen at run time: a loop over both then reads them at one
+// call site (physical mode's surfaces, pathtrace.comp physicalSurface).
 const uint MAP_BASE = 0u;
 const uint MAP_NORMAL = 1u;
-const uint MAP_EMISSIVE = 2u;
-vec4 sampleMap(GlMaterial m, uint map, vec2 uv) {
-  uvec2 texels = map == MAP_BASE ? m.baseTexels : map == MAP_NORMAL ? m.normalTexels : m.emissiveTexels;
+vec4 sampleBaseOrNormal(GlMaterial m, uint map, vec2 uv) {
+  uvec2 texels = map == MAP_BASE ? m.baseTexels : m.normalTexels;
 #if defined(BT_TEXTURES_BINDLESS)
-  return sampleBilinearRepeat(map == MAP_BASE ? m.baseHandle : map == MAP_NORMAL ? m.normalHandle : m.emissiveHandle, 0u, texels, uv);
+  return sampleBilinearRepeat(map == MAP_BASE ? m.baseHandle : m.normalHandle, 0u, texels, uv);
 #else
-  return sampleBilinearRepeat(map == MAP_BASE ? m.baseArray : map == MAP_NORMAL ? m.normalArray : m.emissiveArray,
-                              map == MAP_BASE ? m.baseLayer : map == MAP_NORMAL ? m.normalLayer : m.emissiveLayer, texels, uv);
+  return sampleBilinearRepeat(map == MAP_BASE ? m.baseArray : m.normalArray, map == MAP_BASE ? m.baseLayer : m.normalLayer,
+                              texels, uv);
+#endif
+}
+// ... the base colour or the emissive texels, the same way for faithful surfaces (faithfulSurface).
+// Its own function, not a third choice in the one above: with that choice in its surface loop the
+// physical megakernel lost 6 % of its samples/s (bench/README.md, session 26).
+vec4 sampleBaseOrEmissive(GlMaterial m, bool emissive, vec2 uv) {
+#if defined(BT_TEXTURES_BINDLESS)
+  return sampleBilinearRepeat(emissive ? m.emissiveHandle : m.baseHandle, 0u, emissive ? m.emissiveTexels : m.baseTexels, uv);
+#else
+  return sampleBilinearRepeat(emissive ? m.emissiveArray : m.baseArray, emissive ? m.emissiveLayer : m.baseLayer,
+                              emissive ? m.emissiveTexels : m.baseTexels, uv);
 #endif
 }
 

@@ -77,7 +77,7 @@ TEST(GlWavefrontMap, LiquidsPhysical) {
 
 // A PNG fence's holes (maps/engine_rules/fence.map): the wavefront form's trace kernel does the
 // alpha test of a closest hit for its shade kernel (trace.glsl closestHitMasked), the megakernel
-// after its traversal: both pass the same holes.
+// in advance() (pathtrace.comp hitMasked): both pass the same holes.
 TEST(GlWavefrontMap, AlphaTestedFenceFaithful) {
   expectFormsAgree(importScene((test::mapsDir() / "engine_rules/fence.map").string(), ImportOptions{}), false);
 }
