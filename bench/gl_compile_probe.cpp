@@ -13,6 +13,10 @@
 //                       (GL_LINK_STATUS) in that order on this thread.
 //   threads:K1,K2,...   started the same way, then each finished on its own thread with its own
 //                       context of this context's share group, as soon as its compile is done.
+//   dump:K              K's text as a GPU with bindless textures gets it, to stdout, no context:
+//                       to edit by hand and compile as file=PATH (the text's variants need no
+//                       build of the probe).
+// A KIND file=PATH is the text in PATH (a dump, edited).
 // Times in ms from the start of the compiles.
 #include "importers/import.h"
 #include "lighting/render_scene.h"
@@ -27,6 +31,8 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <fstream>
+#include <iterator>
 #include <cstdio>
 #include <random>
 #include <sstream>
@@ -54,7 +60,11 @@ std::string sourceFor(const std::string& kind, bool physical, bt::gl::FaithfulFe
   const TextureMode mode = info.bindlessTextures ? TextureMode::Bindless : TextureMode::Arrays;
   const TraceLayout layout = info.softwareRenderer ? TraceLayout::Software : TraceLayout::Hardware;
   std::string text;
-  if (kind == "trace")
+  if (kind.starts_with("file=")) {
+    std::ifstream in(kind.substr(5), std::ios::binary);
+    if (!in) throw std::runtime_error("probe: cannot read " + kind.substr(5));
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  } else if (kind == "trace")
     text = assembleShader("wavefront_trace.comp", programDefines(TracerProgram::WavefrontTrace, mode, layout));
   else if (kind == "mega")
     text = assembleShader("pathtrace.comp", programDefines(TracerProgram::PathTracer, mode, layout, physical, features));
@@ -74,7 +84,8 @@ std::string sourceFor(const std::string& kind, bool physical, bt::gl::FaithfulFe
       throw std::runtime_error("probe: no program " + kind);
     }
   }
-  // A text no driver has seen, whatever it keeps in memory.
+  // A text no driver has seen, whatever it keeps in memory (none in a dump).
+  if (nonce == 0) return text;
   return replaced(text, "\n", fmt::format("\n#define BT_PROBE_NONCE {}u\n", nonce));
 }
 
@@ -151,6 +162,12 @@ int main(int argc, char** argv) {
     bt::Scene scene = bt::importScene(argv[1], {});
     bt::RenderScene render = bt::buildRenderScene(scene, bt::gl::glSceneOptions(), scene.diagnostics);
     const bt::gl::FaithfulFeatures features = bt::gl::faithfulFeatures(bt::gl::lightingFor(render));
+    if (how == "dump") {
+      bt::gl::GlContextInfo gpu;
+      gpu.bindlessTextures = true;
+      fmt::print("{}", sourceFor(kinds.at(0), physical, features, 0, gpu));
+      return 0;
+    }
     fmt::print("features: dirt {} bounceDraw {} sky {} jitter {} negative {} filter {} liquidCsg {} inside {} glass {}\n", features.dirt,
                features.bounceDraw, features.sky, features.jitter, features.negative, features.filter, features.liquidCsg,
                features.blocksFromInside, features.glass);
@@ -158,7 +175,7 @@ int main(int argc, char** argv) {
     auto contextStart = Clock::now();
     auto context = bt::gl::GlContext::createHeadless();
     fmt::print("context: {:.1f} ms, {}\n", msSince(contextStart), context->info().renderer);
-    const uint32_t nonce = std::random_device{}();
+    const uint32_t nonce = std::random_device{}() | 1u;
     std::vector<std::string> sources;
     for (const std::string& k : kinds) sources.push_back(sourceFor(k, physical, features, nonce, context->info()));
 

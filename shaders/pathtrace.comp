@@ -63,7 +63,6 @@ const float PHYSICAL_POINT_SCALE = PI * BT_PHYSICAL_DISPLAY_MATCH / BT_PHYSICAL_
 const float PHYSICAL_SUN_SCALE = PI * BT_PHYSICAL_DISPLAY_MATCH / BT_PHYSICAL_LIGHT_UNIT;
 
 vec2 textureUv(uint face, vec3 p) { return faceUv(faces[face], materials[faces[face].material], p); }
-vec4 baseColorAt(uint face, vec3 p) { return materialBaseColor(materials[faces[face].material], textureUv(face, p)); }
 vec3 emissiveAt(uint face, vec3 p) {
   GlMaterial m = materials[faces[face].material];
   if ((m.flags & MATERIAL_HAS_EMISSIVE) == 0u) return vec3(0.0);
@@ -342,7 +341,18 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
   path.face = hit.found ? hit.face : NO_FACE, path.position = hit.position; // faithfulBehindLiquid's too
   if (!hit.found) return false;
   uint flags = faceFlags[hit.face];
-  path.texture = baseColorAt(hit.face, hit.position).rgb;
+  // The base colour and the emissive texels, read in one loop as in physicalSurface: each place
+  // that reads a texture is a copy of the sampling code for the driver to compile.
+  GlMaterial m = materials[faces[hit.face].material];
+  vec2 uv = textureUv(hit.face, hit.position);
+  vec3 base = vec3(0.5), emissive = vec3(0.0); // a material without a texture is mid grey (materialBaseColor)
+  bool hasBase = (m.flags & MATERIAL_HAS_BASE) != 0u, hasEmissive = (m.flags & MATERIAL_HAS_EMISSIVE) != 0u;
+  for (int k = hasBase ? 0 : 1; k <= (hasEmissive ? 1 : 0); ++k) {
+    vec3 texel = sampleBaseOrEmissive(m, k == 1, uv).rgb;
+    if (k == 0) base = texel;
+    else emissive = texel;
+  }
+  path.texture = base;
   // Quake draws sky and (without _litwater) liquids at the texture's own colour, unlit; Quake 2
   // its glass too (render_scene.h engineDrawsUnlit).
   bool unlit = (flags & FACE_SKY) != 0u || ((flags & FACE_LIQUID) != 0u && world.litwater == 0u);
@@ -353,7 +363,7 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
     path.radiance = srgbToLinear(path.texture);
     return false;
   }
-  path.fullbright = emissiveAt(hit.face, hit.position);
+  path.fullbright = emissive;
   // A baked face shows its luxels as the game shows its lightmap; the path ends here.
   uvec2 baked = lightmapRange(hit.face);
   if (baked.y > 0u) {
@@ -379,14 +389,13 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
 }
 
 // The surface's lights are all done: the floors, then what the game would draw. The path ends
-// (main() calls this where physical mode samples its next bounce).
-bool faithfulPathEnd(inout Path path, inout Rng rng) {
+// (advance() calls this where physical mode samples its next bounce).
+void faithfulPathEnd(inout Path path) {
   vec3 light = max(max(path.lightSum + world.ambient, path.lightFloor), world.minlight * minlightDirtFactor(path));
   // The _surface template's own faces: ericw-tools' face minlight (lighting faithfulFaceMinlight).
   path.lit = max(light, surfaceFaceMinlight(surfaceLights[faces[path.face].material]) * minlightDirtFactor(path));
   NEGATIVE_ONLY(path.lit = max(path.lit + path.lightNegative, vec3(0.0));) // after the floors (lighting applyFloors)
   path.radiance = faithfulDisplay(path);
-  return false;
 }
 
 // Whether a sun's ray that reached the sky reached one the sun shines through: with
@@ -599,9 +608,22 @@ bool nextLightRay(inout Path path, inout Rng rng) {
   return false;
 }
 
+// Whether the hit of a ray that is not a shadow ray fails its alpha test: the wavefront form's
+// trace kernel tested it (`traced`, trace.glsl closestHitMasked), so that the shade kernel holds no
+// copy of the texture sampling for it; the megakernel tests it here, only where it is needed, so
+// that it compiles to the code it had before.
+bool hitMasked(Path path, Hit hit, bool traced) {
+#ifdef BT_WAVEFRONT_SHADE
+  return traced;
+#else
+  return maskedOut(hit.face, path.origin + path.dir * hit.t);
+#endif
+}
+
 // Takes the hit of the ray the path waited for and sets up the next one; false when the path
-// has ended (path.radiance is then the sample).
-bool advance(inout Path path, Hit hit, inout Rng rng) {
+// has ended (path.radiance is then the sample). `tracedMask`: the wavefront trace kernel's alpha
+// test of the hit (hitMasked).
+bool advance(inout Path path, Hit hit, bool tracedMask, inout Rng rng) {
   bool ended = false;
   // Physical mode reads emission (an emissive texture) at one place below, for an emitter
   // sample's shadow ray that got through and for a surface ray that hit an emitter: each place
@@ -628,7 +650,7 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     uint flags = 0u;
     if (hit.face != NO_FACE) flags = faceFlags[hit.face]; // a branch: never a read at NO_FACE
     bool passThrough = hit.face != NO_FACE &&
-                       (hit.inside || maskedOut(hit.face, path.origin + path.dir * hit.t) ||
+                       (hit.inside || hitMasked(path, hit, tracedMask) ||
                         (path.kind == RAY_SURFACE ? (flags & FACE_HIDDEN) != 0u
                                                                 : (flags & FACE_SKY) == 0u && !blocksLight(flags, PHYSICAL)));
 #ifdef BT_LIQUID_CSG
@@ -699,9 +721,14 @@ bool advance(inout Path path, Hit hit, inout Rng rng) {
     ended = skyShown || !(PHYSICAL ? physicalSurface(path, surface, le) : faithfulSurface(path, surface));
     path.lightIndex = 0u;
   }
-  if (ended) return !PHYSICAL && faithfulBehindLiquid(path, !skyShown);
-  if (nextLightRay(path, rng)) return true;
-  return PHYSICAL ? physicalBounce(path, rng) : faithfulPathEnd(path, rng) || faithfulBehindLiquid(path, true);
+  if (!ended) {
+    if (nextLightRay(path, rng)) return true;
+    if (PHYSICAL) return physicalBounce(path, rng);
+    faithfulPathEnd(path);
+  }
+  // One call for both ends of a faithful surface (shown, or its lights done): each call is a copy
+  // of the liquid blend for the driver to compile.
+  return !PHYSICAL && faithfulBehindLiquid(path, !ended || !skyShown);
 }
 
 // ---- the two forms of the loop ------------------------------------------------------------
@@ -761,7 +788,8 @@ void main() {
   } else {
     if (wavefrontRays[slot].live == 0u) return;
     path = loadPath(slot, rng);
-    if (!advance(path, wavefrontHits[slot], rng)) {
+    WavefrontHit hit = wavefrontHits[slot];
+    if (!advance(path, Hit(hit.t, hit.face, hit.inside), hit.masked, rng)) {
       wavefrontRays[slot].live = 0u;
       accumulate(pixel, path.radiance);
       atomicAdd(wavefrontEnded, 1u);
@@ -781,7 +809,7 @@ void main() {
   while (true) {
     // The one call of the traversal in this program.
     Hit hit = traceRay(makeTraceRay(path.origin, path.dir, path.tMin, path.tMax), path.kind == RAY_SHADOW, path.passFlags);
-    if (!advance(path, hit, rng)) break;
+    if (!advance(path, hit, false, rng)) break; // the megakernel does its alpha tests in advance()
   }
   accumulate(pixel, path.radiance);
 }

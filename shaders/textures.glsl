@@ -91,6 +91,17 @@ vec4 sampleBaseOrNormal(GlMaterial m, uint map, vec2 uv) {
                               texels, uv);
 #endif
 }
+// ... the base colour or the emissive texels, the same way for faithful surfaces (faithfulSurface).
+// Its own function, not a third choice in the one above: with that choice in its surface loop the
+// physical megakernel lost 6 % of its samples/s (bench/README.md, session 26).
+vec4 sampleBaseOrEmissive(GlMaterial m, bool emissive, vec2 uv) {
+#if defined(BT_TEXTURES_BINDLESS)
+  return sampleBilinearRepeat(emissive ? m.emissiveHandle : m.baseHandle, 0u, emissive ? m.emissiveTexels : m.baseTexels, uv);
+#else
+  return sampleBilinearRepeat(emissive ? m.emissiveArray : m.baseArray, emissive ? m.emissiveLayer : m.baseLayer,
+                              emissive ? m.emissiveTexels : m.baseTexels, uv);
+#endif
+}
 
 // Texture coordinates of p on face f, in texture repeats: Quake's s/t in texels over the size.
 vec2 faceUv(GpuFace f, GlMaterial m, vec3 p) {

@@ -331,6 +331,15 @@ bool maskedOut(uint face, vec3 p) {
 #endif
 }
 
+// The alpha test of a closest hit (a ray that is not any-hit), at the hit of a ray from `origin`
+// along `dir`: pathtrace.comp's advance() passes what it fails. The wavefront form's trace kernel
+// tests it for its shade kernel (wavefront.glsl, pathtrace.comp hitMasked), which then holds no
+// copy of the texture sampling for it: each copy is code for the driver's back end to compile, and
+// the shade kernel's compile is what the very first image waits for.
+bool closestHitMasked(Hit hit, bool anyHit, vec3 origin, vec3 dir) {
+  return !anyHit && hit.face != NO_FACE && !hit.inside && maskedOut(hit.face, origin + dir * hit.t);
+}
+
 // Whether a face (its word in faceFlags) blocks a ray of pass word `passFlags`: none of the classes
 // the ray passes, and one of the channels it is blocked on (scene_constants.glsl).
 bool blocksRay(uint flags, uint passFlags) {

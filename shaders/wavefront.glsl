@@ -20,7 +20,14 @@ struct WavefrontRay {
 };
 
 layout(std430, binding = BT_BINDING_WAVEFRONT_RAYS) buffer WavefrontRays { WavefrontRay wavefrontRays[]; };
-layout(std430, binding = BT_BINDING_WAVEFRONT_HITS) buffer WavefrontHits { Hit wavefrontHits[]; };
+// The trace kernel's Hit, and its alpha test (trace.glsl closestHitMasked) done there.
+struct WavefrontHit {
+  float t;
+  uint face;
+  bool inside;
+  bool masked;
+};
+layout(std430, binding = BT_BINDING_WAVEFRONT_HITS) buffer WavefrontHits { WavefrontHit wavefrontHits[]; };
 // Paths ended in this sample: the host clears it at the start and stops when all have ended.
 // (One atomic per path, not one per live path and round.)
 layout(std430, binding = BT_BINDING_WAVEFRONT_ENDED_COUNT) buffer WavefrontEndedCount { uint wavefrontEnded; };

@@ -24,5 +24,6 @@ void main() {
   if (slot < 0) return;
   WavefrontRay ray = wavefrontRays[slot];
   if (ray.live == 0u) return;
-  wavefrontHits[slot] = traceRay(makeTraceRay(ray.origin, ray.dir, ray.tMin, ray.tMax), ray.anyHit != 0u, ray.passFlags);
+  Hit hit = traceRay(makeTraceRay(ray.origin, ray.dir, ray.tMin, ray.tMax), ray.anyHit != 0u, ray.passFlags);
+  wavefrontHits[slot] = WavefrontHit(hit.t, hit.face, hit.inside, closestHitMasked(hit, ray.anyHit != 0u, ray.origin, ray.dir));
 }

@@ -75,6 +75,17 @@ TEST(GlWavefrontMap, LiquidsPhysical) {
   expectFormsAgree(importScene((test::mapsDir() / "liquids/pools.map").string(), ImportOptions{}), true);
 }
 
+// A PNG fence's holes (maps/engine_rules/fence.map): the wavefront form's trace kernel does the
+// alpha test of a closest hit for its shade kernel (trace.glsl closestHitMasked), the megakernel
+// in advance() (pathtrace.comp hitMasked): both pass the same holes.
+TEST(GlWavefrontMap, AlphaTestedFenceFaithful) {
+  expectFormsAgree(importScene((test::mapsDir() / "engine_rules/fence.map").string(), ImportOptions{}), false);
+}
+
+TEST(GlWavefrontMap, AlphaTestedFencePhysical) {
+  expectFormsAgree(importScene((test::mapsDir() / "engine_rules/fence.map").string(), ImportOptions{}), true);
+}
+
 // Quake 3's blends (maps/q3blend/): the filter's per-channel weight and the additive panel's
 // light outlive a dispatch (path_fields.glsl veilKeep, radiance).
 TEST(GlWavefrontMap, Quake3BlendsFaithful) {
