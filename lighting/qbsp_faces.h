@@ -18,6 +18,7 @@
 #pragma once
 
 #include "bvh/trace_scene.h"
+#include "lighting/game_rules.h"
 #include "lighting/qbsp_tree.h"
 #include "scene/scene.h"
 
@@ -83,9 +84,10 @@ QbspTree quake1WorldTree(const Scene& scene, const std::vector<BrushContents>& c
 // (SURF_TRANS33/66: qbsp3 ParseBrush).
 bool qbspDetail(const Scene& scene, uint32_t brush);
 
-// Which faces brush `brush`'s faces weld with in qbsp's T-junction fix (qbsp_tjunc.h; Welds):
-// those of brushes of the same contents, detail only with detail.
-uint32_t weldGroup(const Scene& scene, const std::vector<BrushContents>& contents, uint32_t brush);
+// Which faces brush `brush`'s faces weld with in qbsp's T-junction fix (qbsp_tjunc.h; Welds) for
+// game `game`: detail only with detail; in Quake 2 only those of brushes of the same contents, in
+// Quake 1 a liquid is detail whatever it meets.
+uint32_t weldGroup(const Scene& scene, const std::vector<BrushContents>& contents, uint32_t brush, Game game);
 
 // GLQuake's SubdividePolygon: cut `winding` at multiples of `size` on each axis, the cut
 // nearest the middle first, unless it would leave a piece thinner than 8 units. Stops cutting

@@ -210,7 +210,7 @@ TJunctionVertices worldVertices(const Scene& scene, const std::vector<BrushConte
   });
   TJunctionVertices vertices;
   for (uint32_t f = 0; f < scene.faces.size(); ++f)
-    for (const Winding& w : kept[f]) vertices.add(w, weldGroup(scene, contents, scene.faces[f].brush));
+    for (const Winding& w : kept[f]) vertices.add(w, weldGroup(scene, contents, scene.faces[f].brush, Game::Quake));
   return vertices;
 }
 
@@ -291,7 +291,7 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
     for (const Winding& polygon : surface.polygons) {
       if (inVoid.inVoid(centroid(polygon) + face.plane.normal * kVoidProbeDistance)) continue;
       if (!t.radiosity) {
-        addGridLights(face, polygon, t, tjunctions ? &*tjunctions : nullptr, weldGroup(scene, contents, face.brush), lights);
+        addGridLights(face, polygon, t, tjunctions ? &*tjunctions : nullptr, weldGroup(scene, contents, face.brush, Game::Quake), lights);
       } else {
         addRadiosityLight(scene, face, polygon, t, world, lights);
         // qbsp gives a liquid surface a second face looking into the liquid; the Q1 kind skips
