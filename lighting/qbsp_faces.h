@@ -8,7 +8,9 @@
 // nodes above the node of its own plane cut it, and on that node qbsp makes its faces of the
 // portals there and merges them (MergeFaceList), whatever planes below cut those portals: so a
 // wall is whole across a doorway whose planes come below the wall's own in the tree, and cut
-// where they come above it. What is left gets the 240-texel subdivision. A side of a brush
+// where they come above it. What is left gets the 240-texel subdivision. Each face starts where
+// the compiler's does (its portal's clips, its merges, its subdivision's clips), as the
+// T-junction fix's fans break their ties by it. A side of a brush
 // entity (its own model, its own tree) is split as a tree grown on that surface alone would
 // split it (surfaceTreeFaces). qbsp's T-junction fix, which re-cuts a face with its neighbours'
 // vertices on its edges (a quad and a triangle of a rectangle), needs every face of the world:
