@@ -76,8 +76,10 @@ namespace {
 
 // Carves brush `b` out of `fragments` (qbsp's CSG): the parts in front of any of its planes
 // stay, the part behind all of them goes. A fragment lying on one of its planes stays when it
-// faces the same way (it is that brush's neighbour, not buried in it).
-void carve(const Scene& scene, const Brush& brush, const dvec3& faceNormal, std::vector<Winding>& fragments) {
+// faces the same way (it is that brush's neighbour, not buried in it), unless `ownsCoplanar`:
+// qbsp makes one face of a portal, from the side of the brush that comes later in the map
+// (FindPortalSide), so a later brush's coplanar side takes the overlap.
+void carve(const Scene& scene, const Brush& brush, const dvec3& faceNormal, std::vector<Winding>& fragments, bool ownsCoplanar) {
   std::vector<Winding> kept;
   for (Winding& fragment : fragments) {
     Winding inside = std::move(fragment);
@@ -93,7 +95,7 @@ void carve(const Scene& scene, const Brush& brush, const dvec3& faceNormal, std:
         anyBack = anyBack || d < -kOnPlaneEpsilon;
       }
       if (!anyFront && !anyBack) { // on the plane
-        if (glm::dot(plane.normal, faceNormal) > 0.0) {
+        if (glm::dot(plane.normal, faceNormal) > 0.0 && !ownsCoplanar) {
           kept.push_back(std::move(inside));
           inside.clear();
         }
@@ -632,7 +634,7 @@ std::vector<Winding> visibleFragments(const Scene& scene, uint32_t faceIndex, co
   for (size_t b = 0; b < scene.brushes.size() && !fragments.empty(); ++b) {
     const bool carves = contents[b] == BrushContents::Solid || (liquid && contents[b] == BrushContents::Liquid);
     if (b == face.brush || !carves || !overlaps(bounds, scene.brushes[b].bounds)) continue;
-    carve(scene, scene.brushes[b], face.plane.normal, fragments);
+    carve(scene, scene.brushes[b], face.plane.normal, fragments, b > face.brush);
   }
   return fragments;
 }
@@ -675,7 +677,7 @@ bool quake1SideVisible(const Scene& scene, uint32_t faceIndex, const std::vector
   for (const uint32_t b : neighbours) {
     if (fragments.empty()) break;
     if (contents[b] == BrushContents::Solid && overlaps(bounds, scene.brushes[b].bounds))
-      carve(scene, scene.brushes[b], face.plane.normal, fragments);
+      carve(scene, scene.brushes[b], face.plane.normal, fragments, false);
   }
   return std::any_of(fragments.begin(), fragments.end(), [&](const Winding& w) {
     dvec3 mean(0.0);

@@ -59,7 +59,9 @@ private:
 };
 
 // The parts of brush side `face` that qbsp's CSG keeps: outside every other solid brush (and,
-// for a liquid's side, outside the other liquid brushes), as convex fragments.
+// for a liquid's side, outside the other liquid brushes), and not under a coplanar side of a
+// brush that comes later in the map and faces the same way (that one makes the face there), as
+// convex fragments.
 std::vector<std::vector<dvec3>> visibleFragments(const Scene& scene, uint32_t face, const std::vector<BrushContents>& contents);
 
 // The faces qbsp makes of brush side `face` (a Quake 1 level): what its CSG keeps, split and
