@@ -15,8 +15,9 @@
 // split it (surfaceTreeFaces). qbsp's T-junction fix, which re-cuts a face with its neighbours'
 // vertices on its edges (a quad and a triangle of a rectangle), needs every face of the world:
 // qbsp_tjunc.h, run on them by the bounce (bounce.cpp). Not modelled: the merge of faces of
-// different sides (each side is made on its own here, except a surface light's surface). Faces that look into the void outside a sealed level are
-// dropped, as qbsp drops them.
+// different sides (each side is made on its own here, except a surface light's surface and,
+// for its T-junction fix, the Quake 1 world's sides near it: surface_lights.cpp). Faces that
+// look into the void outside a sealed level are dropped, as qbsp drops them.
 #pragma once
 
 #include "bvh/trace_scene.h"
