@@ -24,19 +24,19 @@ namespace {
 
 // What the .map import reaches today, of the compiler's 111 points (its log: "112 after surface
 // lights", one of them the template): all 111 within 0.01 unit. Session 26 (surf14f) took it from
-// 96 and 101: each face starts where qbsp's portal, merge and subdivision start it (a portal's face
-// whole, as qbsp makes it, however CSG cut the side: without it 98 and 103; without the portal's
-// start at all 94 and 100; with the subdivision cut in our winding 96 and 104; with the merge's old
-// start q2_areaportals' north wall fans fail in qbsp_faces_test.cpp), faces that look into the lava
-// merge with none that look into air (without: 103 and 106) and Quake 1's liquids weld with detail
-// (without: 103 and 106). The last 4, on the lava's edge at x -64, came when a later brush's
-// coplanar side takes the overlap from an earlier one's (visibleFragments) and the world's sides
-// with one texinfo are laid out together, their faces merged across brushes (without the first 107
-// and 110, without the second 107 and 110). Earlier: with each lava face cut only by planes of a
-// tree grown on that surface alone, 72 and 84; with the whole level's tree but without the
-// T-junction cuts, 85 and 93. The .bsp import's points are the compiler's: `light` takes only faces
-// that some leaf lists, a liquid's face only from a leaf outside the liquid (MakeSurfaceLights),
-// and so does the .bsp import (LightmappedFace::takesSurfaceLights); before it did, it spread 123.
+// 96 and 101 (within 0.01 and 8 units); each rule taken out alone: each face starts where qbsp's
+// portal starts it (without any portal start 98 and 101; without the portal's face whole, as qbsp
+// makes it however CSG cut the side, 102 and 104), where TryMerge starts it (without:
+// q2_areaportals' north wall fans fail in qbsp_faces_test.cpp) and where the subdivision's clip
+// does (in our winding: 101 and 107); faces that look into the lava merge with none that look into
+// air (without: 103 and 106); Quake 1's liquids weld with detail (without: 103 and 106); a later
+// brush's coplanar side takes the overlap from an earlier one's (visibleFragments; without: 107 and
+// 110); the world's sides with one texinfo are laid out together, their faces merged across brushes
+// (without: 107 and 110). Earlier: with each lava face cut only by planes of a tree grown on that
+// surface alone, 72 and 84; with the whole level's tree but without the T-junction cuts, 85 and 93.
+// The .bsp import's points are the compiler's: `light` takes only faces that some leaf lists, a
+// liquid's face only from a leaf outside the liquid (MakeSurfaceLights), and so does the .bsp
+// import (LightmappedFace::takesSurfaceLights); before it did, it spread 123.
 constexpr size_t kCompilerPoints = 111;
 constexpr size_t kHeldExact = 111, kHeldNear = 111;
 
