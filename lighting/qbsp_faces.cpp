@@ -47,7 +47,9 @@ void subdivide(const Winding& w, double size, std::vector<Winding>& pieces) {
 
 void subdivideForQbsp(const Winding& w, const TextureFrame& frame, std::vector<Winding>& pieces) {
   constexpr double kSubdivideTexels = 240.0, kCutMargin = 16.0;
-  std::vector<Winding> current{w}, next;
+  // Cut in qbsp's winding (ours the other way round): where each piece starts is where its clip
+  // starts it, and that decides its T-junction fans.
+  std::vector<Winding> current{Winding(w.rbegin(), w.rend())}, next;
   for (const dvec3& axis : {frame.tangent, frame.bitangent}) {
     const double scale = glm::length(axis);
     if (scale <= 0.0) continue;
@@ -67,15 +69,17 @@ void subdivideForQbsp(const Winding& w, const TextureFrame& frame, std::vector<W
     current.swap(next);
     next.clear();
   }
-  for (Winding& piece : current) pieces.push_back(std::move(piece));
+  for (Winding& piece : current) pieces.emplace_back(piece.rbegin(), piece.rend());
 }
 
 namespace {
 
 // Carves brush `b` out of `fragments` (qbsp's CSG): the parts in front of any of its planes
 // stay, the part behind all of them goes. A fragment lying on one of its planes stays when it
-// faces the same way (it is that brush's neighbour, not buried in it).
-void carve(const Scene& scene, const Brush& brush, const dvec3& faceNormal, std::vector<Winding>& fragments) {
+// faces the same way (it is that brush's neighbour, not buried in it), unless `ownsCoplanar`:
+// qbsp makes one face of a portal, from the side of the brush that comes later in the map
+// (FindPortalSide), so a later brush's coplanar side takes the overlap.
+void carve(const Scene& scene, const Brush& brush, const dvec3& faceNormal, std::vector<Winding>& fragments, bool ownsCoplanar) {
   std::vector<Winding> kept;
   for (Winding& fragment : fragments) {
     Winding inside = std::move(fragment);
@@ -91,7 +95,7 @@ void carve(const Scene& scene, const Brush& brush, const dvec3& faceNormal, std:
         anyBack = anyBack || d < -kOnPlaneEpsilon;
       }
       if (!anyFront && !anyBack) { // on the plane
-        if (glm::dot(plane.normal, faceNormal) > 0.0) {
+        if (glm::dot(plane.normal, faceNormal) > 0.0 && !ownsCoplanar) {
           kept.push_back(std::move(inside));
           inside.clear();
         }
@@ -136,10 +140,12 @@ std::optional<Winding> tryMerge(const Winding& a, const Winding& b, const dvec3&
     for (size_t j = 0; j < b.size(); ++j) {
       const size_t i1 = i + 1 == a.size() ? 0 : i + 1, j1 = j + 1 == b.size() ? 0 : j + 1;
       if (!same(a[i], b[j1]) || !same(a[i1], b[j])) continue;
-      // a from a[i1] round to a[i], then b past the shared edge.
+      // b past the shared edge, then a from a[i1] round to a[i]: qbsp's merged winding (its f1
+      // from the shared edge's second point on, then f2's) the other way round, so that it starts
+      // where qbsp's does (our last point is its first).
       Winding merged;
-      for (size_t k = 0; k < a.size(); ++k) merged.push_back(a[(i1 + k) % a.size()]);
       for (size_t k = 2; k < b.size(); ++k) merged.push_back(b[(j + k) % b.size()]);
+      for (size_t k = 0; k < a.size(); ++k) merged.push_back(a[(i1 + k) % a.size()]);
       if (makeConvex(merged, normal)) return merged;
       return std::nullopt;
     }
@@ -345,19 +351,60 @@ std::vector<Winding> mergeFaceList(const std::vector<Winding>& faces, const dvec
   return list;
 }
 
+// A plane of the tree and the side of it a polygon lies on (0 front, 1 back).
+struct PathStep {
+  const Plane* plane;
+  int side;
+};
+
+// The pieces of `fragments` in one leaf under a node, with the planes from that node down to the
+// leaf (the cuts qbsp makes in the node's portal on the way there).
+struct LeafPieces {
+  std::vector<Winding> pieces;
+  std::vector<PathStep> path;
+};
+
 // `fragments` cut by the planes of the tree under `node`, one list per leaf, the front child's
 // leaves first (the order qbsp's MakeFaces_r visits them).
-void leafPieces(const QbspTree& tree, int32_t node, std::vector<Winding> fragments, std::vector<std::vector<Winding>>& leaves) {
+void leafPieces(const QbspTree& tree, int32_t node, std::vector<Winding> fragments, std::vector<PathStep>& path,
+                std::vector<LeafPieces>& leaves) {
   if (fragments.empty()) return;
   if (node < 0) {
-    leaves.push_back(std::move(fragments));
+    leaves.push_back({std::move(fragments), path});
     return;
   }
   const QbspTree::Node& n = tree.nodes()[size_t(node)];
   std::vector<Winding> front, back;
   splitAll(fragments, n.plane, front, back);
-  leafPieces(tree, n.children[0], std::move(front), leaves);
-  leafPieces(tree, n.children[1], std::move(back), leaves);
+  path.push_back({&n.plane, 0});
+  leafPieces(tree, n.children[0], std::move(front), path, leaves);
+  path.back().side = 1;
+  leafPieces(tree, n.children[1], std::move(back), path, leaves);
+  path.pop_back();
+}
+
+// ericw-tools' BaseWindingForPlane: a square of half-size `extent` on `plane`, its points in the
+// compiler's order (clockwise seen from the front, the reverse of ours). Where each of qbsp's
+// faces starts comes from here through every clip.
+Winding qbspBaseWinding(const Plane& plane, double extent) {
+  int major = 0;
+  for (int i = 1; i < 3; ++i)
+    if (std::abs(plane.normal[i]) > std::abs(plane.normal[major])) major = i;
+  dvec3 up(0.0);
+  up[major == 2 ? 0 : 2] = 1.0;
+  up = glm::normalize(up - plane.normal * glm::dot(up, plane.normal));
+  const dvec3 org = plane.normal * plane.dist;
+  const dvec3 right = glm::cross(up, plane.normal) * extent;
+  up *= extent;
+  return {org - right + up, org + right + up, org + right - up, org - right - up};
+}
+
+// ericw-tools' winding clip, the part on `side` of `plane`: the points kept in their order from the
+// first, each crossing where an edge crosses (its start stays the first point kept).
+Winding qbspClip(const Winding& w, const Plane& plane, int side, double epsilon) {
+  const Plane facing = side == 0 ? plane : plane.flipped();
+  SplitWinding split = splitWinding(w, facing, epsilon);
+  return std::move(split.front);
 }
 
 // The contents that the face `piece` (facing `normal`) looks into: those of the world's fillers
@@ -399,6 +446,47 @@ std::vector<Winding> mergeNodeFaces(const Scene& scene, const QbspTree& world, c
   return merged;
 }
 
+// Rotates `piece` to end at `start` when it has that point: our windings run the other way round
+// from qbsp's, so qbsp's first point is our last.
+void endAt(Winding& piece, const dvec3& start) {
+  for (size_t k = 0; k < piece.size(); ++k)
+    if (glm::length(piece[k] - start) < kOnPlaneEpsilon) {
+      std::rotate(piece.begin(), piece.begin() + std::ptrdiff_t(k + 1), piece.end());
+      return;
+    }
+}
+
+constexpr double kPortalEpsilon = 0.001; // BASE_WINDING_EPSILON, SPLIT_WINDING_EPSILON
+constexpr double kBoundaryEpsilon = 0.1; // MakeNodePortal's clip by the node's boundary portals
+// The box of the headnode portals: qbsp's is the world's bounds and 24 units more; any box that
+// holds the level and lies inside the base windings cuts the same corners in the same order.
+constexpr double kHeadnodeBox = 32768.0;
+
+// The face qbsp makes of one portal from our pieces of the side in that portal's cell (`portal`
+// in our winding; empty if clipped away). qbsp's face is the portal itself, whole, however CSG
+// cut the side around it (a side carved by a neighbour is split along that neighbour's planes
+// even where it does not touch it): when the pieces join into the portal's polygon, they are the
+// portal, starting where it starts; otherwise each piece keeps its shape and ends where qbsp's
+// starts, where it has that point.
+std::vector<Winding> cellFaces(std::vector<Winding> pieces, Winding portal, const dvec3& normal) {
+  if (portal.size() < 3) return pieces;
+  std::vector<Winding> joined = mergeFaceList(pieces, normal);
+  if (joined.size() == 1 && std::abs(area(joined.front()) - area(portal)) < kOnPlaneEpsilon) {
+    auto onBoundary = [&](const dvec3& p) {
+      const Winding& w = joined.front();
+      for (size_t i = 0; i < w.size(); ++i) {
+        const dvec3 a = w[i], b = w[(i + 1) % w.size()];
+        const double t = glm::clamp(glm::dot(p - a, b - a) / glm::dot(b - a, b - a), 0.0, 1.0);
+        if (glm::length(a + (b - a) * t - p) < kOnPlaneEpsilon) return true;
+      }
+      return false;
+    };
+    if (std::all_of(portal.begin(), portal.end(), onBoundary)) return {std::move(portal)};
+  }
+  for (Winding& piece : pieces) endAt(piece, portal.back());
+  return pieces;
+}
+
 struct NodeFaceContext {
   const Scene& scene;
   const QbspTree& tree;
@@ -410,8 +498,10 @@ struct NodeFaceContext {
 // the portals between the leaves on its two sides (cut by the planes of both subtrees), visiting
 // the leaves the side looks into, and merges them on the node (faces.cc MakeFaces_r,
 // MergeNodeFaces): the planes below the node cut no face, those above do, and neither does the
-// merge join faces that look into different contents (mergeNodeFaces).
-void nodeFaces(const NodeFaceContext& ctx, int32_t node, std::vector<Winding> fragments, std::vector<Winding>& faces) {
+// merge join faces that look into different contents (mergeNodeFaces). `above` holds the planes
+// from the root down to `node`.
+void nodeFaces(const NodeFaceContext& ctx, int32_t node, std::vector<Winding> fragments, std::vector<PathStep>& above,
+               std::vector<Winding>& faces) {
   const QbspTree& tree = ctx.tree;
   const Plane& surface = ctx.surface;
   if (fragments.empty()) return;
@@ -422,19 +512,47 @@ void nodeFaces(const NodeFaceContext& ctx, int32_t node, std::vector<Winding> fr
   const QbspTree::Node& n = tree.nodes()[size_t(node)];
   if (sameQbspPlane(n.plane, surface)) {
     const int seen = glm::dot(n.plane.normal, surface.normal) > 0.0 ? 0 : 1;
-    std::vector<std::vector<Winding>> outer, portals;
-    leafPieces(tree, n.children[seen], std::move(fragments), outer);
-    for (std::vector<Winding>& leaf : outer) leafPieces(tree, n.children[1 - seen], std::move(leaf), portals);
+    std::vector<PathStep> path;
+    std::vector<LeafPieces> outer;
+    leafPieces(tree, n.children[seen], std::move(fragments), path, outer);
+    // Each face is a portal of the node: the plane's base winding cut by the planes above, the
+    // nearest first (portals.cc BaseWindingForNode), then by those of the front subtree down to
+    // its leaf and of the back subtree down to its own (ClipNodePortalsToTree_r); a face on the
+    // back side is the portal turned round (FaceFromPortal). Where it starts decides how the
+    // merge, the subdivision and the T-junction fans cut it.
+    Winding portal = qbspBaseWinding(n.plane, kWorldHalfSize);
+    for (auto it = above.rbegin(); it != above.rend() && !portal.empty(); ++it)
+      portal = qbspClip(portal, *it->plane, it->side, kPortalEpsilon);
+    // Then by the portals around the whole tree (MakeHeadnodePortals: -x -y -z, then +x +y +z),
+    // where the planes above leave it open.
+    for (int k = 0; k < 6 && !portal.empty(); ++k) {
+      Plane bound{dvec3(0.0), -kHeadnodeBox};
+      bound.normal[k % 3] = k < 3 ? 1.0 : -1.0;
+      portal = qbspClip(portal, bound, 0, kBoundaryEpsilon);
+    }
     std::vector<Winding> pieces;
-    for (std::vector<Winding>& portal : portals)
-      for (Winding& w : portal) pieces.push_back(std::move(w));
+    for (LeafPieces& leaf : outer) {
+      std::vector<LeafPieces> across;
+      leafPieces(tree, n.children[1 - seen], std::move(leaf.pieces), path, across);
+      for (auto cell = across.begin(); cell != across.end(); ++cell) {
+        Winding w = portal;
+        for (const std::vector<PathStep>* steps : {seen == 0 ? &leaf.path : &cell->path, seen == 0 ? &cell->path : &leaf.path})
+          for (const PathStep& step : *steps)
+            if (w.size() >= 3) w = qbspClip(w, *step.plane, step.side, kPortalEpsilon);
+        if (w.size() >= 3 && seen == 0) std::reverse(w.begin(), w.end()); // our winding: qbsp's turned round
+        for (Winding& piece : cellFaces(std::move(cell->pieces), std::move(w), surface.normal)) pieces.push_back(std::move(piece));
+      }
+    }
     for (Winding& w : mergeNodeFaces(ctx.scene, tree, pieces, surface.normal)) faces.push_back(std::move(w));
     return;
   }
   std::vector<Winding> front, back;
   splitAll(fragments, n.plane, front, back);
-  nodeFaces(ctx, n.children[0], std::move(front), faces);
-  nodeFaces(ctx, n.children[1], std::move(back), faces);
+  above.push_back({&n.plane, 0});
+  nodeFaces(ctx, n.children[0], std::move(front), above, faces);
+  above.back().side = 1;
+  nodeFaces(ctx, n.children[1], std::move(back), above, faces);
+  above.pop_back();
 }
 
 } // namespace
@@ -444,7 +562,8 @@ std::vector<Winding> compilerFaces(const Scene& scene, const std::vector<uint32_
   const Face& surface = scene.faces[sides.front()];
   if (surface.brush < contents.size() && contents[surface.brush] != BrushContents::Empty && !world.nodes().empty()) {
     std::vector<Winding> faces;
-    nodeFaces({scene, world, surface.plane}, 0, fragments, faces);
+    std::vector<PathStep> above;
+    nodeFaces({scene, world, surface.plane}, 0, fragments, above, faces);
     return faces;
   }
   return surfaceTreeFaces(scene, sides, fragments, contents);
@@ -515,7 +634,7 @@ std::vector<Winding> visibleFragments(const Scene& scene, uint32_t faceIndex, co
   for (size_t b = 0; b < scene.brushes.size() && !fragments.empty(); ++b) {
     const bool carves = contents[b] == BrushContents::Solid || (liquid && contents[b] == BrushContents::Liquid);
     if (b == face.brush || !carves || !overlaps(bounds, scene.brushes[b].bounds)) continue;
-    carve(scene, scene.brushes[b], face.plane.normal, fragments);
+    carve(scene, scene.brushes[b], face.plane.normal, fragments, b > face.brush);
   }
   return fragments;
 }
@@ -530,11 +649,17 @@ bool qbspDetail(const Scene& scene, uint32_t b) {
   return detail;
 }
 
-uint32_t weldGroup(const Scene& scene, const std::vector<BrushContents>& contents, uint32_t brush) {
+uint32_t weldGroup(const Scene& scene, const std::vector<BrushContents>& contents, uint32_t brush, Game game) {
+  // ericw-tools 2.0 gives a Quake 1 liquid the detail bit, and there detail welds with detail
+  // whatever the contents: testsurfacelight's lava top carries the vertices of the func_detail
+  // walls that meet it on x -64 (the .bsp's faces 801-804), not those of the structural walls.
+  if (game == Game::Quake) return qbspDetail(scene, brush) || contents[brush] == BrushContents::Liquid ? 1 : 0;
   return uint32_t(contents[brush]) * 2 + (qbspDetail(scene, brush) ? 1 : 0);
 }
 
 namespace {
+
+constexpr int32_t kQuake1Liquid = 1; // what a Quake 1 face looking into a liquid looks into (QbspTree::Filler)
 
 // After its first tree, qbsp fills the void outside and marks a brush side visible only where a
 // portal on its plane joins a leaf inside the brush to a leaf neither solid nor void (outside.cc
@@ -552,7 +677,7 @@ bool quake1SideVisible(const Scene& scene, uint32_t faceIndex, const std::vector
   for (const uint32_t b : neighbours) {
     if (fragments.empty()) break;
     if (contents[b] == BrushContents::Solid && overlaps(bounds, scene.brushes[b].bounds))
-      carve(scene, scene.brushes[b], face.plane.normal, fragments);
+      carve(scene, scene.brushes[b], face.plane.normal, fragments, false);
   }
   return std::any_of(fragments.begin(), fragments.end(), [&](const Winding& w) {
     dvec3 mean(0.0);
@@ -598,8 +723,12 @@ QbspTree quake1WorldTree(const Scene& scene, const std::vector<BrushContents>& c
       visible[f] = quake1SideVisible(scene, uint32_t(f), contents, neighbours[b], voidTest);
   });
   std::vector<QbspTree::Input> brushes;
+  std::vector<QbspTree::Filler> fillers;
   for (uint32_t b = 0; b < scene.brushes.size(); ++b) {
     if (contents[b] == BrushContents::Empty) continue;
+    // qbsp merges no face that looks into a liquid with one that looks into air (TryMerge's
+    // water boundary): a wall going down into the lava is two faces, cut where the lava's top is.
+    if (contents[b] == BrushContents::Liquid) fillers.push_back({b, kQuake1Liquid});
     const Brush& brush = scene.brushes[b];
     // ericw-tools 2.0 gives a Quake 1 liquid the detail bit: its sides are valued with
     // func_detail's, after the structural ones (testsurfacelight's lava top, z 64, comes below
@@ -608,7 +737,7 @@ QbspTree quake1WorldTree(const Scene& scene, const std::vector<BrushContents>& c
     for (uint32_t f = brush.firstFace; f < brush.firstFace + brush.faceCount; ++f) in.hiddenSides.push_back(!visible[f]);
     brushes.push_back(std::move(in));
   }
-  return QbspTree(scene, brushes, {}, std::move(around));
+  return QbspTree(scene, brushes, std::move(fillers), std::move(around));
 }
 
 QbspTree worldTree(const Scene& scene, const std::vector<BrushContents>& contents) {

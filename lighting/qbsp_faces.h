@@ -8,16 +8,20 @@
 // nodes above the node of its own plane cut it, and on that node qbsp makes its faces of the
 // portals there and merges them (MergeFaceList), whatever planes below cut those portals: so a
 // wall is whole across a doorway whose planes come below the wall's own in the tree, and cut
-// where they come above it. What is left gets the 240-texel subdivision. A side of a brush
+// where they come above it. What is left gets the 240-texel subdivision. Each face starts where
+// the compiler's does (its portal's clips, its merges, its subdivision's clips), as the
+// T-junction fix's fans break their ties by it. A side of a brush
 // entity (its own model, its own tree) is split as a tree grown on that surface alone would
 // split it (surfaceTreeFaces). qbsp's T-junction fix, which re-cuts a face with its neighbours'
 // vertices on its edges (a quad and a triangle of a rectangle), needs every face of the world:
 // qbsp_tjunc.h, run on them by the bounce (bounce.cpp). Not modelled: the merge of faces of
-// different sides (each side is made on its own here, except a surface light's surface). Faces that look into the void outside a sealed level are
-// dropped, as qbsp drops them.
+// different sides (each side is made on its own here, except a surface light's surface and,
+// for its T-junction fix, the Quake 1 world's sides near it: surface_lights.cpp). Faces that
+// look into the void outside a sealed level are dropped, as qbsp drops them.
 #pragma once
 
 #include "bvh/trace_scene.h"
+#include "lighting/game_rules.h"
 #include "lighting/qbsp_tree.h"
 #include "scene/scene.h"
 
@@ -56,7 +60,9 @@ private:
 };
 
 // The parts of brush side `face` that qbsp's CSG keeps: outside every other solid brush (and,
-// for a liquid's side, outside the other liquid brushes), as convex fragments.
+// for a liquid's side, outside the other liquid brushes), and not under a coplanar side of a
+// brush that comes later in the map and faces the same way (that one makes the face there), as
+// convex fragments.
 std::vector<std::vector<dvec3>> visibleFragments(const Scene& scene, uint32_t face, const std::vector<BrushContents>& contents);
 
 // The faces qbsp makes of brush side `face` (a Quake 1 level): what its CSG keeps, split and
@@ -83,9 +89,10 @@ QbspTree quake1WorldTree(const Scene& scene, const std::vector<BrushContents>& c
 // (SURF_TRANS33/66: qbsp3 ParseBrush).
 bool qbspDetail(const Scene& scene, uint32_t brush);
 
-// Which faces brush `brush`'s faces weld with in qbsp's T-junction fix (qbsp_tjunc.h; Welds):
-// those of brushes of the same contents, detail only with detail.
-uint32_t weldGroup(const Scene& scene, const std::vector<BrushContents>& contents, uint32_t brush);
+// Which faces brush `brush`'s faces weld with in qbsp's T-junction fix (qbsp_tjunc.h; Welds) for
+// game `game`: detail only with detail; in Quake 2 only those of brushes of the same contents, in
+// Quake 1 a liquid is detail whatever it meets.
+uint32_t weldGroup(const Scene& scene, const std::vector<BrushContents>& contents, uint32_t brush, Game game);
 
 // GLQuake's SubdividePolygon: cut `winding` at multiples of `size` on each axis, the cut
 // nearest the middle first, unless it would leave a piece thinner than 8 units. Stops cutting

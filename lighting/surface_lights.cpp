@@ -18,6 +18,7 @@
 #include <cmath>
 #include <limits>
 #include <future>
+#include <map>
 #include <optional>
 
 namespace bt {
@@ -180,6 +181,16 @@ static std::vector<GpuLight> compiledFaceLights(const Scene& scene, const std::v
 
 namespace {
 
+// Coplanar sides with one texture projection: qbsp merges the faces of its portals on a node
+// only within one texinfo (TryMerge), and across the sides of different brushes within one.
+bool sameSurface(const Face& a, const Face& b) {
+  auto near = [](const dvec3& p, const dvec3& q) { return glm::length(p - q) < 1e-4; };
+  return near(a.plane.normal, b.plane.normal) && std::abs(a.plane.dist - b.plane.dist) < kOnPlaneEpsilon &&
+      near(a.frame.tangent, b.frame.tangent) && near(a.frame.bitangent, b.frame.bitangent) &&
+      std::abs(a.frame.s(a.frame.origin) - a.frame.s(b.frame.origin)) < 1e-3 &&
+      std::abs(a.frame.t(a.frame.origin) - a.frame.t(b.frame.origin)) < 1e-3;
+}
+
 // The vertices of the world faces qbsp writes with `tree` that reach some box of `near` (the
 // ones that look into the void removed), for its T-junction fix of the faces in those boxes: a
 // face far from them puts no vertex on their edges. `near` comes in groups (a surface's faces),
@@ -194,8 +205,8 @@ TJunctionVertices worldVertices(const Scene& scene, const std::vector<BrushConte
   auto touches = [](const Bounds& a, const Bounds& b) {
     return glm::all(glm::lessThanEqual(a.min, b.max)) && glm::all(glm::lessThanEqual(b.min, a.max));
   };
-  // Each face's polygons and their void rays on all cores; the vertices added in face order.
-  std::vector<std::vector<Winding>> kept(scene.faces.size());
+  // What CSG keeps of each side near the templates, on all cores.
+  std::vector<std::vector<Winding>> fragments(scene.faces.size());
   parallelFor(scene.faces.size(), 0, [&](size_t f) {
     const uint32_t b = scene.faces[f].brush;
     if (b >= contents.size() || contents[b] == BrushContents::Empty) return;
@@ -204,13 +215,46 @@ TJunctionVertices worldVertices(const Scene& scene, const std::vector<BrushConte
     const bool reaches = std::any_of(near.begin(), near.end(), [&](const NearGroup& g) {
       return touches(g.all, bounds) && std::any_of(g.boxes.begin(), g.boxes.end(), [&](const Bounds& n) { return touches(n, bounds); });
     });
-    if (!reaches) return;
-    for (Winding& w : compiledFacePolygons(scene, uint32_t(f), contents, tree))
-      if (!voids.inVoid(vertexMean(w) + scene.faces[f].plane.normal * kVoidProbeDistance)) kept[f].push_back(std::move(w));
+    if (reaches) fragments[f] = visibleFragments(scene, uint32_t(f), contents);
+  });
+  // The sides gathered into surfaces (one texture, projection and weld group), whose faces
+  // merge across brushes as qbsp's do: a wall of several brushes is one face where their sides
+  // share a texinfo (testsurfacelight's func_detail wall on x -64, y -80..0), so its
+  // subdivision and its vertices are the compiler's. Buckets by plane keep the search short.
+  std::map<std::pair<int64_t, int64_t>, std::vector<size_t>> buckets; // rounded distance, normal's largest axis
+  std::vector<std::vector<uint32_t>> surfaces;
+  for (uint32_t f = 0; f < scene.faces.size(); ++f) {
+    if (fragments[f].empty()) continue;
+    const Face& face = scene.faces[f];
+    const dvec3 a = glm::abs(face.plane.normal);
+    const int64_t axis = a.x >= a.y && a.x >= a.z ? 0 : a.y >= a.z ? 1 : 2;
+    std::vector<size_t>& bucket = buckets[{std::llround(face.plane.dist), axis * 2 + (face.plane.normal[axis] > 0.0)}];
+    const uint32_t group = weldGroup(scene, contents, face.brush, Game::Quake);
+    const auto it = std::find_if(bucket.begin(), bucket.end(), [&](size_t s) {
+      const Face& other = scene.faces[surfaces[s].front()];
+      return sameSurface(other, face) && equalsIgnoreCase(other.texture, face.texture) &&
+          weldGroup(scene, contents, other.brush, Game::Quake) == group;
+    });
+    if (it != bucket.end()) {
+      surfaces[*it].push_back(f);
+    } else {
+      bucket.push_back(surfaces.size());
+      surfaces.push_back({f});
+    }
+  }
+  std::vector<std::vector<Winding>> kept(surfaces.size());
+  parallelFor(surfaces.size(), 0, [&](size_t s) {
+    std::vector<Winding> surfaceFragments;
+    for (uint32_t f : surfaces[s]) surfaceFragments.insert(surfaceFragments.end(), fragments[f].begin(), fragments[f].end());
+    const Face& face = scene.faces[surfaces[s].front()];
+    std::vector<Winding> pieces;
+    for (const Winding& w : compilerFaces(scene, surfaces[s], surfaceFragments, contents, tree)) subdivideForQbsp(w, face.frame, pieces);
+    for (Winding& w : pieces)
+      if (!voids.inVoid(vertexMean(w) + face.plane.normal * kVoidProbeDistance)) kept[s].push_back(std::move(w));
   });
   TJunctionVertices vertices;
-  for (uint32_t f = 0; f < scene.faces.size(); ++f)
-    for (const Winding& w : kept[f]) vertices.add(w, weldGroup(scene, contents, scene.faces[f].brush));
+  for (size_t s = 0; s < surfaces.size(); ++s)
+    for (const Winding& w : kept[s]) vertices.add(w, weldGroup(scene, contents, scene.faces[surfaces[s].front()].brush, Game::Quake));
   return vertices;
 }
 
@@ -230,13 +274,6 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
     const SurfaceTemplate* light;
     std::vector<uint32_t> sides; // the first gives plane, frame, material
     std::vector<Winding> polygons;
-  };
-  auto sameSurface = [&](const Face& a, const Face& b) {
-    auto near = [](const dvec3& p, const dvec3& q) { return glm::length(p - q) < 1e-4; };
-    return near(a.plane.normal, b.plane.normal) && std::abs(a.plane.dist - b.plane.dist) < kOnPlaneEpsilon &&
-        near(a.frame.tangent, b.frame.tangent) && near(a.frame.bitangent, b.frame.bitangent) &&
-        std::abs(a.frame.s(a.frame.origin) - a.frame.s(b.frame.origin)) < 1e-3 &&
-        std::abs(a.frame.t(a.frame.origin) - a.frame.t(b.frame.origin)) < 1e-3;
   };
   std::vector<Surface> surfaces; // template by template
   for (const SurfaceTemplate& t : templates) {
@@ -291,7 +328,7 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
     for (const Winding& polygon : surface.polygons) {
       if (inVoid.inVoid(centroid(polygon) + face.plane.normal * kVoidProbeDistance)) continue;
       if (!t.radiosity) {
-        addGridLights(face, polygon, t, tjunctions ? &*tjunctions : nullptr, weldGroup(scene, contents, face.brush), lights);
+        addGridLights(face, polygon, t, tjunctions ? &*tjunctions : nullptr, weldGroup(scene, contents, face.brush, Game::Quake), lights);
       } else {
         addRadiosityLight(scene, face, polygon, t, world, lights);
         // qbsp gives a liquid surface a second face looking into the liquid; the Q1 kind skips

@@ -91,8 +91,12 @@ TEST(ShadowGroups, OnlyStopLightLeaksOfTheLitOracleLevels) {
   // compiler's visapprox cull (lighting/vis_approx.h), which both bakes apply alike: one more
   // luxel of testsurfacelight (92) now shows its leak, not how many leaks there are. 167 since
   // testsurfacelight's _surface points stand on the faces of qbsp's whole-level tree and its
-  // T-junction cuts (quake1WorldTree): other lights, other luxels that leak (81).
-  EXPECT_EQ(all.darker, 167u);
+  // T-junction cuts (quake1WorldTree): other lights, other luxels that leak (81). 169 since its
+  // faces start where qbsp's portals and merges start them and its lava welds with detail (83).
+  // 163 since a later brush's coplanar side takes the overlap from an earlier one's
+  // (visibleFragments): e1m1 loses such doubled faces (256,994 luxels from 260,075) and 6 of its
+  // leaks (62).
+  EXPECT_EQ(all.darker, 163u);
 }
 
 } // namespace
