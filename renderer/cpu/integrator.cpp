@@ -12,6 +12,7 @@
 #include <glm/trigonometric.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -350,9 +351,16 @@ constexpr float kNearListProbability = BT_NEAR_LIST_PROBABILITY;
 // Random numbers: the strategy, then the pick.
 LightPick pickFromNearList(const RenderScene& rs, const glm::vec3& origin, const glm::vec3& n, Rng& rng) {
   const std::span<const uint32_t> rest = rs.lightGrid.physicalRestLights(origin);
-  const std::span<const uint32_t> near = rs.lightGrid.physicalNearLights(origin);
+  const std::span<const uint32_t> listed = rs.lightGrid.physicalNearLights(origin);
+  const std::span<const uint32_t> near = listed.first(std::min<size_t>(listed.size(), kPhysicalNearLights)); // all: the grid lists no more
+  // Each weight once: the pick's walk below reads them again (a fifth of a path's time went to
+  // computing them twice, bench/README.md issue 18 session 26).
+  std::array<float, kPhysicalNearLights> weights;
   float nearTotal = 0.0f;
-  for (uint32_t i : near) nearTotal += selectionWeight(rs.lights[i], origin, n);
+  for (size_t k = 0; k < near.size(); ++k) {
+    weights[k] = selectionWeight(rs.lights[near[k]], origin, n);
+    nearTotal += weights[k];
+  }
   const float uStrategy = rng.next(), uPick = rng.next();
   const float nearProbability = nearTotal > 0.0f ? (rest.empty() ? 1.0f : kNearListProbability) : 0.0f;
   if (nearProbability == 0.0f && rest.empty()) return {};
@@ -364,10 +372,10 @@ LightPick pickFromNearList(const RenderScene& rs, const glm::vec3& origin, const
     // rounding leaves the target past the end).
     const float target = uPick * nearTotal;
     float cumulative = 0.0f;
-    for (uint32_t i : near) {
-      const float w = selectionWeight(rs.lights[i], origin, n);
+    for (size_t k = 0; k < near.size(); ++k) {
+      const float w = weights[k];
       if (w <= 0.0f) continue;
-      chosen = i, chosenWeight = w;
+      chosen = near[k], chosenWeight = w;
       cumulative += w;
       if (cumulative > target) break;
     }
