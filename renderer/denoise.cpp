@@ -44,9 +44,14 @@ struct Guide {
     return std::max(std::isfinite(gx) ? gx : 0.0f, std::isfinite(gy) ? gy : 0.0f);
   }
 
+  // SVGF's normal stop between p and q.
+  float normalWeight(size_t p, size_t q) const { return std::pow(std::max(0.0f, glm::dot(normal[p], normal[q])), BT_DENOISE_SIGMA_NORMAL); }
+
   // SVGF's normal and depth stops between p (at x, y) and q, `offset` pixels apart (|dx| + |dy|).
-  float geometryWeight(size_t p, size_t q, float gradient, float offset) const {
-    const float wNormal = std::pow(std::max(0.0f, glm::dot(normal[p], normal[q])), BT_DENOISE_SIGMA_NORMAL);
+  // `own`: normalWeight(p, p), what every q of p's normal gets (the normals are the faces', so
+  // most taps lie on p's plane): one pow a pixel instead of one a tap, the same floats.
+  float geometryWeight(size_t p, size_t q, float gradient, float offset, float own) const {
+    const float wNormal = normal[q] == normal[p] ? own : normalWeight(p, q);
     const float wDepth =
         std::exp(-std::abs(depth[p] - depth[q]) / (BT_DENOISE_SIGMA_DEPTH * gradient * offset + BT_DENOISE_DEPTH_FLOOR * depth[p]));
     return wNormal * wDepth;
@@ -68,14 +73,14 @@ template <class RowFn> void forRows(int height, int threads, const RowFn& rows) 
 // one surface weighed by the normal and depth stops.
 float spatialVariance(const Guide& g, const Pixels& in, int x, int y) {
   const size_t p = g.index(x, y);
-  const float gradient = g.depthGradient(x, y);
+  const float gradient = g.depthGradient(x, y), own = g.normalWeight(p, p);
   float weights = 0.0f, m1 = 0.0f, m2 = 0.0f;
   for (int dy = -BT_DENOISE_SPATIAL_VARIANCE_RADIUS; dy <= BT_DENOISE_SPATIAL_VARIANCE_RADIUS; ++dy)
     for (int dx = -BT_DENOISE_SPATIAL_VARIANCE_RADIUS; dx <= BT_DENOISE_SPATIAL_VARIANCE_RADIUS; ++dx) {
       const int qx = x + dx, qy = y + dy;
       if (!g.inside(qx, qy) || !g.hit(qx, qy)) continue;
       const size_t q = g.index(qx, qy);
-      const float w = g.geometryWeight(p, q, gradient, float(std::abs(dx) + std::abs(dy)));
+      const float w = g.geometryWeight(p, q, gradient, float(std::abs(dx) + std::abs(dy)), own);
       const float l = luminance(glm::vec3(in[q]));
       weights += w, m1 += w * l, m2 += w * l * l;
     }
@@ -138,7 +143,7 @@ void filterRows(const Guide& g, const Pixels& in, Pixels& out, int spacing, int 
         out[p] = in[p];
         continue;
       }
-      const float lp = luminance(glm::vec3(in[p])), gradient = g.depthGradient(x, y);
+      const float lp = luminance(glm::vec3(in[p])), gradient = g.depthGradient(x, y), own = g.normalWeight(p, p);
       const float lumScale = sigma * std::sqrt(filteredVariance(g, in, x, y)) + BT_DENOISE_LUMINANCE_FLOOR;
       glm::vec3 sum(0.0f);
       float weights = 0.0f, variance = 0.0f;
@@ -149,7 +154,7 @@ void filterRows(const Guide& g, const Pixels& in, Pixels& out, int spacing, int 
           const size_t q = g.index(qx, qy);
           const float wLum = std::exp(-std::abs(lp - luminance(glm::vec3(in[q]))) / lumScale);
           const float w = kKernel[std::abs(dx)] * kKernel[std::abs(dy)] *
-              g.geometryWeight(p, q, gradient, float(spacing * (std::abs(dx) + std::abs(dy)))) * wLum;
+              g.geometryWeight(p, q, gradient, float(spacing * (std::abs(dx) + std::abs(dy))), own) * wLum;
           sum += w * glm::vec3(in[q]);
           variance += w * w * in[q].a;
           weights += w;

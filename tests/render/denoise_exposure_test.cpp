@@ -222,32 +222,33 @@ TEST(Denoise, DisplayedImageOfDarkMortarIsCloserThanSession21s) {
   EXPECT_LT(displayed, 0.19) << "raw " << raw;
 }
 
-// Two planes side by side, a bright one in front (depth 100) and a dark one behind (depth 400),
-// both noisy, the same normal: only depth tells them apart, as at a pillar's silhouette.
-TEST(Denoise, NoBleedingAcrossADepthDiscontinuity) {
+// Two planes side by side, a bright one (x < 24, depth 100, facing the camera) and a dark one
+// (`darkDepth`, `darkNormal`), both noisy, denoised. Stated for the dark plane: no pixel, the
+// one beside the edge included (0 pixels of bleeding), gets more than 0.1 % of the bright
+// plane's light; and the bright plane is smoothed (the filter does something): its noise
+// drops at least 4x.
+void expectNoBleeding(float darkDepth, const glm::vec3& darkNormal) {
   RenderImage image;
   image.width = 48, image.height = 32, image.samples = 4;
   const size_t n = size_t(image.width) * size_t(image.height);
-  image.beauty.resize(n), image.albedo.assign(n, glm::vec3(0.5f)), image.normal.assign(n, glm::vec3(0, 0, -1));
+  image.beauty.resize(n), image.albedo.assign(n, glm::vec3(0.5f)), image.normal.resize(n);
   image.depth.resize(n), image.face.resize(n);
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x) {
       const size_t i = size_t(y) * size_t(image.width) + size_t(x);
-      const bool front = x < 24;
+      const bool bright = x < 24;
       const float noise = float((i * 2654435761u >> 8) % 1000) / 500.0f; // 0..2, mean 1
-      image.beauty[i] = glm::vec3(front ? 1.0f : 0.01f) * noise;
-      image.depth[i] = front ? 100.0f : 400.0f;
-      image.face[i] = front ? 1 : 2;
+      image.beauty[i] = glm::vec3(bright ? 1.0f : 0.01f) * noise;
+      image.depth[i] = bright ? 100.0f : darkDepth;
+      image.normal[i] = bright ? glm::vec3(0, 0, -1) : darkNormal;
+      image.face[i] = bright ? 1 : 2;
     }
   const std::vector<glm::vec3> out = denoise(image);
-  // Stated: no pixel of the dark plane, the one beside the edge included (0 pixels of
-  // bleeding), gets more than 0.1 % of the bright plane's light.
   for (int y = 0; y < image.height; ++y)
     for (int x = 24; x < image.width; ++x) {
       const size_t i = size_t(y) * size_t(image.width) + size_t(x);
       EXPECT_LT(out[i].x, 0.02f + 0.001f) << "pixel " << x << "," << y;
     }
-  // The front plane is smoothed (the filter does something): its noise drops at least 4x.
   double rawVar = 0.0, outVar = 0.0;
   for (int y = 4; y < image.height - 4; ++y)
     for (int x = 4; x < 20; ++x) {
@@ -256,6 +257,18 @@ TEST(Denoise, NoBleedingAcrossADepthDiscontinuity) {
       outVar += (out[i].x - 1.0) * (out[i].x - 1.0);
     }
   EXPECT_LT(outVar * 4.0, rawVar);
+}
+
+// The dark plane behind (depth 400), the same normal: only depth tells them apart, as at a
+// pillar's silhouette.
+TEST(Denoise, NoBleedingAcrossADepthDiscontinuity) {
+  expectNoBleeding(400.0f, glm::vec3(0, 0, -1));
+}
+
+// The dark plane at the same depth, square to the bright one: only the normal tells them
+// apart, as where a wall meets the floor.
+TEST(Denoise, NoBleedingAcrossACrease) {
+  expectNoBleeding(100.0f, glm::vec3(1, 0, 0));
 }
 
 // The bench's "denoiser on" figure is the image the viewer displays (displayedBeauty: the
