@@ -622,7 +622,7 @@ bool hitMasked(Path path, Hit hit, bool traced) {
 
 // Takes the hit of the ray the path waited for and sets up the next one; false when the path
 // has ended (path.radiance is then the sample). `tracedMask`: the wavefront trace kernel's alpha
-// test of the hit (hitMasked).
+// test of the hit (hitMasked), or for a surface ray under the liquid CSG its pass (WavefrontHit).
 bool advance(inout Path path, Hit hit, bool tracedMask, inout Rng rng) {
   bool ended = false;
   // Physical mode reads emission (an emissive texture) at one place below, for an emitter
@@ -656,10 +656,16 @@ bool advance(inout Path path, Hit hit, bool tracedMask, inout Rng rng) {
 #ifdef BT_LIQUID_CSG
     // What qbsp's CSG leaves of overlapping liquids (visible.glsl): the hit may be another face.
     if (path.kind == RAY_SURFACE && hit.face != NO_FACE && (flags & FACE_HIDDEN) == 0u) {
+#ifdef BT_WAVEFRONT_SHADE
+      // The trace kernel applied it (WAVEFRONT_SURFACE_CSG): hit.face is the face drawn, never a
+      // hidden one where the face it replaced was not, and tracedMask whether the ray passes it.
+      passThrough = tracedMask;
+#else
       bool shown = !passThrough;
       liquidCsgHit(hit.face, shown, hit.inside, path.origin + path.dir * hit.t, path.dir);
       passThrough = !shown;
       flags = faceFlags[hit.face];
+#endif
     }
 #endif
     if (passThrough && ++path.skips < MAX_SKIPS) {
@@ -797,8 +803,11 @@ void main() {
     }
   }
   storePath(slot, rng, path);
-  wavefrontRays[slot] = WavefrontRay(path.origin, path.tMin, path.dir, path.tMax, path.kind == RAY_SHADOW ? 1u : 0u,
-                                     path.passFlags, 1u);
+  uint query = path.kind == RAY_SHADOW ? WAVEFRONT_ANY_HIT : WAVEFRONT_CLOSEST;
+#ifdef BT_LIQUID_CSG
+  if (path.kind == RAY_SURFACE) query = WAVEFRONT_SURFACE_CSG;
+#endif
+  wavefrontRays[slot] = WavefrontRay(path.origin, path.tMin, path.dir, path.tMax, query, path.passFlags, 1u);
 }
 #else
 void main() {

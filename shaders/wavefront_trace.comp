@@ -14,6 +14,7 @@
 #include "scene_buffers.glsl"
 #include "textures.glsl" // the alpha test of trace.glsl
 #include "trace.glsl"
+#include "liquid_csg.glsl" // liquidCsgHit, for WAVEFRONT_SURFACE_CSG rays
 #include "camera.glsl"
 #include "wavefront.glsl"
 
@@ -24,6 +25,17 @@ void main() {
   if (slot < 0) return;
   WavefrontRay ray = wavefrontRays[slot];
   if (ray.live == 0u) return;
-  Hit hit = traceRay(makeTraceRay(ray.origin, ray.dir, ray.tMin, ray.tMax), ray.anyHit != 0u, ray.passFlags);
-  wavefrontHits[slot] = WavefrontHit(hit.t, hit.face, hit.inside, closestHitMasked(hit, ray.anyHit != 0u, ray.origin, ray.dir));
+  bool anyHit = ray.query == WAVEFRONT_ANY_HIT;
+  Hit hit = traceRay(makeTraceRay(ray.origin, ray.dir, ray.tMin, ray.tMax), anyHit, ray.passFlags);
+  bool masked = closestHitMasked(hit, anyHit, ray.origin, ray.dir);
+  // The megakernel's rule on a surface ray's hit (pathtrace.comp advance()), here so that the
+  // shade kernel, whose compile the first image waits for, holds none of it: this kernel is
+  // linked well before it.
+  uint face = hit.face;
+  if (ray.query == WAVEFRONT_SURFACE_CSG && face != NO_FACE && (faceFlags[face] & FACE_HIDDEN) == 0u) {
+    bool shown = !hit.inside && !masked;
+    liquidCsgHit(face, shown, hit.inside, ray.origin + ray.dir * hit.t, ray.dir);
+    masked = !shown;
+  }
+  wavefrontHits[slot] = WavefrontHit(hit.t, face, hit.inside, masked);
 }
