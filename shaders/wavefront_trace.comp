@@ -14,7 +14,8 @@
 #include "scene_buffers.glsl"
 #include "textures.glsl" // the alpha test of trace.glsl
 #include "trace.glsl"
-#include "liquid_csg.glsl" // liquidCsgHit, for WAVEFRONT_SURFACE_CSG rays
+#include "liquid_csg.glsl" // liquidCsgHit, for WAVEFRONT_CSG rays
+#include "lightmaps.glsl"  // lightmapValue, for WAVEFRONT_LUXELS rays
 #include "camera.glsl"
 #include "wavefront.glsl"
 
@@ -25,17 +26,28 @@ void main() {
   if (slot < 0) return;
   WavefrontRay ray = wavefrontRays[slot];
   if (ray.live == 0u) return;
-  bool anyHit = ray.query == WAVEFRONT_ANY_HIT;
+  bool anyHit = (ray.query & WAVEFRONT_ANY_HIT) != 0u;
   Hit hit = traceRay(makeTraceRay(ray.origin, ray.dir, ray.tMin, ray.tMax), anyHit, ray.passFlags);
   bool masked = closestHitMasked(hit, anyHit, ray.origin, ray.dir);
-  // The megakernel's rule on a surface ray's hit (pathtrace.comp advance()), here so that the
-  // shade kernel, whose compile the first image waits for, holds none of it: this kernel is
-  // linked well before it.
+  // What the megakernel does with a surface ray's hit in advance() and faithfulSurface(), here
+  // for the shade kernel (wavefront.glsl WAVEFRONT_*): this kernel is linked well before it.
+  vec3 position = ray.origin + ray.dir * hit.t;
   uint face = hit.face;
-  if (ray.query == WAVEFRONT_SURFACE_CSG && face != NO_FACE && (faceFlags[face] & FACE_HIDDEN) == 0u) {
+  if ((ray.query & WAVEFRONT_CSG) != 0u && face != NO_FACE && (faceFlags[face] & FACE_HIDDEN) == 0u) {
     bool shown = !hit.inside && !masked;
-    liquidCsgHit(face, shown, hit.inside, ray.origin + ray.dir * hit.t, ray.dir);
+    liquidCsgHit(face, shown, hit.inside, position, ray.dir);
     masked = !shown;
   }
-  wavefrontHits[slot] = WavefrontHit(hit.t, face, hit.inside, masked);
+  vec3 luxels = vec3(0.0);
+  bool baked = false;
+  if ((ray.query & WAVEFRONT_LUXELS) != 0u && face != NO_FACE && !masked) {
+    uvec2 range = lightmapRange(face);
+    if (range.y > 0u) {
+      GpuFace f = faces[face];
+      vec3 d = position - f.origin;
+      luxels = lightmapValue(range, vec2(dot(d, f.tangent), dot(d, f.bitangent)));
+      baked = true;
+    }
+  }
+  wavefrontHits[slot] = WavefrontHit(hit.t, face, hit.inside, masked, luxels, baked);
 }
