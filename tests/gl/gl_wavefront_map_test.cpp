@@ -2,6 +2,7 @@
 // the hand-built room): a LibreQuake map with its textures, and maps/start.map, whose sun, sky,
 // spotlights and emitting lamp exercise every kind of ray in both lighting modes.
 #include "importers/import.h"
+#include "lighting/compiled_lightmaps.h"
 #include "lighting/render_scene.h"
 #include "renderer/gl/gl_lighting.h"
 #include "renderer/gl/gl_render.h"
@@ -22,12 +23,11 @@ namespace {
 constexpr int kWidth = 72;
 constexpr int kHeight = 40;
 
-// The same image from both forms, pixel for pixel, at 2 spp.
-void expectFormsAgree(const Scene& scene, bool physical) {
-  Diagnostics diagnostics;
-  const RenderScene render = buildRenderScene(scene, {}, diagnostics);
+// The same image from both forms, pixel for pixel, at 2 spp, from `pose` (the level's start by
+// default), with more than 1 / litShare of its pixels lit.
+void expectFormsAgree(const Scene& scene, const RenderScene& render, bool physical, const CameraPose& pose, size_t litShare = 2) {
   GlTracer tracer(test::sharedGlContext(), scene, render.tracer, test::textureModeUnderTest(), lightingFor(render));
-  const CameraBasis camera = cameraFrom(defaultCameraPose(scene), kWidth, kHeight);
+  const CameraBasis camera = cameraFrom(pose, kWidth, kHeight);
   BeautySettings settings{.width = kWidth, .height = kHeight, .spp = 2, .seed = 11, .physical = physical, .bounces = 2};
   settings.form = PathTracerForm::Megakernel;
   const BeautyImage mega = tracer.renderBeauty(camera, settings);
@@ -45,9 +45,14 @@ void expectFormsAgree(const Scene& scene, bool physical) {
     const glm::vec3 d = glm::abs(a - b);
     if (std::max(d.x, std::max(d.y, d.z)) > 1e-4f * std::max(1.0f, std::max(a.x, std::max(a.y, a.z)))) ++differing;
   }
-  EXPECT_GT(lit, mega.beauty.size() / 2) << "a black image proves nothing";
+  EXPECT_GT(lit, mega.beauty.size() / litShare) << "a black image proves nothing";
   EXPECT_LE(differing, mega.beauty.size() / 200) << differing << " of " << mega.beauty.size() << " pixels differ";
   std::printf("wavefront vs megakernel: %zu of %zu pixels bit-exact\n", exact, mega.beauty.size());
+}
+
+void expectFormsAgree(const Scene& scene, bool physical) {
+  Diagnostics diagnostics;
+  expectFormsAgree(scene, buildRenderScene(scene, {}, diagnostics), physical, defaultCameraPose(scene));
 }
 
 TEST(GlWavefrontMap, TexturedLibreQuakeMapFaithful) {
@@ -116,6 +121,27 @@ TEST(GlWavefrontMap, NormalMappedWallPhysical) {
   start.keys = {{"classname", "info_player_start"}, {"origin", "-8 0 106"}, {"angle", "0"}};
   scene.entities.push_back(start);
   expectFormsAgree(scene, true);
+}
+
+// A .bsp's own lightmaps (--lighting compiled), a Quake one and a Half-Life one (GoldSrc's luxel
+// display table): the wavefront form's trace kernel reads the luxels a faithful surface ray's
+// hit shows (wavefront.glsl WAVEFRONT_LUXELS), the megakernel in faithfulSurface(). The views
+// are gl_cpu_parity_test.cpp's (litView): the Half-Life level's start looks at a dark wall.
+TEST(GlWavefrontMap, CompiledLightmapsFaithful) {
+  BT_REQUIRE_SHARED(shared);
+  for (const char* file : {"lit/maps_ericw-tools_testmaps_q1_light_hlform.bsp", "lit-games/maps_ericw-tools_testmaps_hl_basic.bsp"}) {
+    SCOPED_TRACE(file);
+    const Scene scene = importScene((shared / "oracle" / file).string(), ImportOptions{});
+    Diagnostics diagnostics;
+    RenderScene render = buildRenderScene(scene, {}, diagnostics);
+    ASSERT_EQ(showCompiledLightmaps(scene, render, ""), "");
+    CameraPose pose = defaultCameraPose(scene);
+    if (scene.format == "bsp30") {
+      pose.origin = {-102.4f, 83.2f, 144.0f};
+      pose.pitch = -90.0f, pose.yaw = 0.0f;
+    }
+    expectFormsAgree(scene, render, false, pose, 4);
+  }
 }
 
 } // namespace
