@@ -335,19 +335,9 @@ vec3 faithfulDisplay(Path path) {
   return srgbToLinear(display);
 }
 
-// What the wavefront trace kernel found with a hit besides the hit (WavefrontHit), so that the
-// shade kernel, whose compile the first image waits for, holds no code for it: the alpha test
-// (or, for a surface ray under the liquid CSG, whether the ray passes), and the luxels a baked
-// face shows there. The megakernel finds both itself (hitMasked, faithfulSurface).
-struct Traced {
-  bool masked;
-  bool baked;
-  vec3 luxels;
-};
-
 // A surface ray's result. False when the path ends here. A faithful path is the camera ray's
 // surface only: the level's _bounce arrives there through its bounce lights (lighting/bounce.h).
-bool faithfulSurface(inout Path path, SurfaceHit hit, Traced traced) {
+bool faithfulSurface(inout Path path, SurfaceHit hit) {
   path.face = hit.found ? hit.face : NO_FACE, path.position = hit.position; // faithfulBehindLiquid's too
   if (!hit.found) return false;
   uint flags = faceFlags[hit.face];
@@ -375,12 +365,6 @@ bool faithfulSurface(inout Path path, SurfaceHit hit, Traced traced) {
   }
   path.fullbright = emissive;
   // A baked face shows its luxels as the game shows its lightmap; the path ends here.
-#ifdef BT_WAVEFRONT_SHADE
-  if (traced.baked) {
-    path.radiance = srgbToLinear(max(path.texture * traced.luxels * lightmapDisplayScale(), path.fullbright));
-    return false;
-  }
-#else
   uvec2 baked = lightmapRange(hit.face);
   if (baked.y > 0u) {
     GpuFace f = faces[hit.face];
@@ -389,7 +373,6 @@ bool faithfulSurface(inout Path path, SurfaceHit hit, Traced traced) {
     path.radiance = srgbToLinear(max(path.texture * stored * lightmapDisplayScale(), path.fullbright));
     return false;
   }
-#endif
   path.normal = hit.normal;
   path.lightSum = vec3(0.0);
   path.lightFloor = vec3(0.0);
@@ -638,9 +621,9 @@ bool hitMasked(Path path, Hit hit, bool traced) {
 }
 
 // Takes the hit of the ray the path waited for and sets up the next one; false when the path
-// has ended (path.radiance is then the sample). `traced`: what the wavefront trace kernel found
-// with the hit (unused by the megakernel).
-bool advance(inout Path path, Hit hit, Traced traced, inout Rng rng) {
+// has ended (path.radiance is then the sample). `tracedMask`: the wavefront trace kernel's alpha
+// test of the hit (hitMasked).
+bool advance(inout Path path, Hit hit, bool tracedMask, inout Rng rng) {
   bool ended = false;
   // Physical mode reads emission (an emissive texture) at one place below, for an emitter
   // sample's shadow ray that got through and for a surface ray that hit an emitter: each place
@@ -667,22 +650,16 @@ bool advance(inout Path path, Hit hit, Traced traced, inout Rng rng) {
     uint flags = 0u;
     if (hit.face != NO_FACE) flags = faceFlags[hit.face]; // a branch: never a read at NO_FACE
     bool passThrough = hit.face != NO_FACE &&
-                       (hit.inside || hitMasked(path, hit, traced.masked) ||
+                       (hit.inside || hitMasked(path, hit, tracedMask) ||
                         (path.kind == RAY_SURFACE ? (flags & FACE_HIDDEN) != 0u
                                                                 : (flags & FACE_SKY) == 0u && !blocksLight(flags, PHYSICAL)));
 #ifdef BT_LIQUID_CSG
     // What qbsp's CSG leaves of overlapping liquids (visible.glsl): the hit may be another face.
     if (path.kind == RAY_SURFACE && hit.face != NO_FACE && (flags & FACE_HIDDEN) == 0u) {
-#ifdef BT_WAVEFRONT_SHADE
-      // The trace kernel applied it (WAVEFRONT_SURFACE_CSG): hit.face is the face drawn, never a
-      // hidden one where the face it replaced was not, and traced.masked whether the ray passes it.
-      passThrough = traced.masked;
-#else
       bool shown = !passThrough;
       liquidCsgHit(hit.face, shown, hit.inside, path.origin + path.dir * hit.t, path.dir);
       passThrough = !shown;
       flags = faceFlags[hit.face];
-#endif
     }
 #endif
     if (passThrough && ++path.skips < MAX_SKIPS) {
@@ -741,7 +718,7 @@ bool advance(inout Path path, Hit hit, Traced traced, inout Rng rng) {
       vec3 sky = skyRadiance(path.dir);
       path.radiance = PHYSICAL ? path.radiance + path.throughput * (path.depth > 0 ? skyDomeRadiance(path.dir) : sky) : sky;
     }
-    ended = skyShown || !(PHYSICAL ? physicalSurface(path, surface, le) : faithfulSurface(path, surface, traced));
+    ended = skyShown || !(PHYSICAL ? physicalSurface(path, surface, le) : faithfulSurface(path, surface));
     path.lightIndex = 0u;
   }
   if (!ended) {
@@ -812,7 +789,7 @@ void main() {
     if (wavefrontRays[slot].live == 0u) return;
     path = loadPath(slot, rng);
     WavefrontHit hit = wavefrontHits[slot];
-    if (!advance(path, Hit(hit.t, hit.face, hit.inside), Traced(hit.masked, hit.baked, hit.luxels), rng)) {
+    if (!advance(path, Hit(hit.t, hit.face, hit.inside), hit.masked, rng)) {
       wavefrontRays[slot].live = 0u;
       accumulate(pixel, path.radiance);
       atomicAdd(wavefrontEnded, 1u);
@@ -820,12 +797,8 @@ void main() {
     }
   }
   storePath(slot, rng, path);
-  uint query = path.kind == RAY_SHADOW ? WAVEFRONT_ANY_HIT : WAVEFRONT_CLOSEST;
-#ifdef BT_LIQUID_CSG
-  if (path.kind == RAY_SURFACE) query |= WAVEFRONT_CSG;
-#endif
-  if (!PHYSICAL && path.kind == RAY_SURFACE) query |= WAVEFRONT_LUXELS;
-  wavefrontRays[slot] = WavefrontRay(path.origin, path.tMin, path.dir, path.tMax, query, path.passFlags, 1u);
+  wavefrontRays[slot] = WavefrontRay(path.origin, path.tMin, path.dir, path.tMax, path.kind == RAY_SHADOW ? 1u : 0u,
+                                     path.passFlags, 1u);
 }
 #else
 void main() {
@@ -836,7 +809,7 @@ void main() {
   while (true) {
     // The one call of the traversal in this program.
     Hit hit = traceRay(makeTraceRay(path.origin, path.dir, path.tMin, path.tMax), path.kind == RAY_SHADOW, path.passFlags);
-    if (!advance(path, hit, Traced(false, false, vec3(0.0)), rng)) break; // the megakernel finds what Traced holds itself
+    if (!advance(path, hit, false, rng)) break; // the megakernel does its alpha tests in advance()
   }
   accumulate(pixel, path.radiance);
 }

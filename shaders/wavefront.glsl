@@ -9,40 +9,23 @@
 
 // The ray a pixel's path waits for, as the megakernel passes it to traceRay.
 #include "gl_bindings.glsl"
-// WavefrontRay::query, bits: what the trace kernel does for the shade kernel besides the
-// traversal, so that the shade kernel, whose compile the first image waits for, holds no code
-// for it. None: the closest hit (sky and dirt rays, physical surface rays without the CSG).
-const uint WAVEFRONT_CLOSEST = 0u;
-const uint WAVEFRONT_ANY_HIT = 1u; // a shadow ray
-// A surface ray of a level with the liquid CSG (BT_LIQUID_CSG): the rule applied to its closest
-// hit. Only shade kernels compiled with the CSG ask for it, which only levels with the rule's
-// table get: the trace kernel, built for every level, reads the table for no other.
-const uint WAVEFRONT_CSG = 2u;
-// A faithful surface ray: the luxels a baked face shows at its hit (pathtrace.comp
-// faithfulSurface). A level without lightmaps has an empty header there (lightmapRange 0).
-const uint WAVEFRONT_LUXELS = 4u;
 struct WavefrontRay {
   vec3 origin;
   float tMin;
   vec3 dir;
   float tMax;
-  uint query;     // WAVEFRONT_* bits
+  uint anyHit;    // 1: a shadow ray (any hit)
   uint passFlags; // the traversal's pass word (visible.glsl shadowPassFlags)
   uint live;      // 0: the path has ended (or the pixel has none): nothing to trace or shade
 };
 
 layout(std430, binding = BT_BINDING_WAVEFRONT_RAYS) buffer WavefrontRays { WavefrontRay wavefrontRays[]; };
-// The trace kernel's Hit, and its alpha test (trace.glsl closestHitMasked) done there; for a
-// WAVEFRONT_CSG ray, `face` is the face the CSG draws in the hit's place and `masked` whether
-// the ray passes it (the rule's !shown, liquid_csg.glsl liquidCsgHit); for a WAVEFRONT_LUXELS
-// ray, whether the face is baked and the luxels it shows there (lightmaps.glsl lightmapValue).
+// The trace kernel's Hit, and its alpha test (trace.glsl closestHitMasked) done there.
 struct WavefrontHit {
   float t;
   uint face;
   bool inside;
   bool masked;
-  vec3 luxels;
-  bool baked;
 };
 layout(std430, binding = BT_BINDING_WAVEFRONT_HITS) buffer WavefrontHits { WavefrontHit wavefrontHits[]; };
 // Paths ended in this sample: the host clears it at the start and stops when all have ended.

@@ -14,8 +14,6 @@
 #include "scene_buffers.glsl"
 #include "textures.glsl" // the alpha test of trace.glsl
 #include "trace.glsl"
-#include "liquid_csg.glsl" // liquidCsgHit, for WAVEFRONT_CSG rays
-#include "lightmaps.glsl"  // lightmapValue, for WAVEFRONT_LUXELS rays
 #include "camera.glsl"
 #include "wavefront.glsl"
 
@@ -26,28 +24,6 @@ void main() {
   if (slot < 0) return;
   WavefrontRay ray = wavefrontRays[slot];
   if (ray.live == 0u) return;
-  bool anyHit = (ray.query & WAVEFRONT_ANY_HIT) != 0u;
-  Hit hit = traceRay(makeTraceRay(ray.origin, ray.dir, ray.tMin, ray.tMax), anyHit, ray.passFlags);
-  bool masked = closestHitMasked(hit, anyHit, ray.origin, ray.dir);
-  // What the megakernel does with a surface ray's hit in advance() and faithfulSurface(), here
-  // for the shade kernel (wavefront.glsl WAVEFRONT_*): this kernel is linked well before it.
-  vec3 position = ray.origin + ray.dir * hit.t;
-  uint face = hit.face;
-  if ((ray.query & WAVEFRONT_CSG) != 0u && face != NO_FACE && (faceFlags[face] & FACE_HIDDEN) == 0u) {
-    bool shown = !hit.inside && !masked;
-    liquidCsgHit(face, shown, hit.inside, position, ray.dir);
-    masked = !shown;
-  }
-  vec3 luxels = vec3(0.0);
-  bool baked = false;
-  if ((ray.query & WAVEFRONT_LUXELS) != 0u && face != NO_FACE && !masked) {
-    uvec2 range = lightmapRange(face);
-    if (range.y > 0u) {
-      GpuFace f = faces[face];
-      vec3 d = position - f.origin;
-      luxels = lightmapValue(range, vec2(dot(d, f.tangent), dot(d, f.bitangent)));
-      baked = true;
-    }
-  }
-  wavefrontHits[slot] = WavefrontHit(hit.t, face, hit.inside, masked, luxels, baked);
+  Hit hit = traceRay(makeTraceRay(ray.origin, ray.dir, ray.tMin, ray.tMax), ray.anyHit != 0u, ray.passFlags);
+  wavefrontHits[slot] = WavefrontHit(hit.t, hit.face, hit.inside, closestHitMasked(hit, ray.anyHit != 0u, ray.origin, ray.dir));
 }

@@ -124,9 +124,8 @@ TEST(GlWavefrontMap, NormalMappedWallPhysical) {
 }
 
 // A .bsp's own lightmaps (--lighting compiled), a Quake one and a Half-Life one (GoldSrc's luxel
-// display table): the wavefront form's trace kernel reads the luxels a faithful surface ray's
-// hit shows (wavefront.glsl WAVEFRONT_LUXELS), the megakernel in faithfulSurface(). The views
-// are gl_cpu_parity_test.cpp's (litView): the Half-Life level's start looks at a dark wall.
+// display table), which both forms read in faithfulSurface(). The views are
+// gl_cpu_parity_test.cpp's (litView): the Half-Life level's start looks at a dark wall.
 TEST(GlWavefrontMap, CompiledLightmapsFaithful) {
   BT_REQUIRE_SHARED(shared);
   for (const char* file : {"lit/maps_ericw-tools_testmaps_q1_light_hlform.bsp", "lit-games/maps_ericw-tools_testmaps_hl_basic.bsp"}) {
