@@ -232,7 +232,7 @@ void fixWorldTJunctions(const RenderScene& rs, const std::vector<BrushContents>&
   std::vector<uint32_t> groups(scene.faces.size(), 0);
   for (uint32_t f = 0; f < scene.faces.size(); ++f) {
     if (!inWorld(f)) continue;
-    groups[f] = weldGroup(scene, contents, scene.faces[f].brush, Game::Quake2);
+    groups[f] = weldGroup(scene, contents, scene.faces[f].brush);
     for (const std::vector<Winding>* faces : {&perSide[f], &others[f]})
       for (const Winding& w : *faces)
         if (!voidTest.inVoid(vertexMean(w) + scene.faces[f].plane.normal * kVoidProbeDistance)) vertices.add(w, groups[f]);

@@ -649,12 +649,14 @@ bool qbspDetail(const Scene& scene, uint32_t b) {
   return detail;
 }
 
-uint32_t weldGroup(const Scene& scene, const std::vector<BrushContents>& contents, uint32_t brush, Game game) {
-  // ericw-tools 2.0 gives a Quake 1 liquid the detail bit, and there detail welds with detail
-  // whatever the contents: testsurfacelight's lava top carries the vertices of the func_detail
-  // walls that meet it on x -64 (the .bsp's faces 801-804), not those of the structural walls.
-  if (game == Game::Quake) return qbspDetail(scene, brush) || contents[brush] == BrushContents::Liquid ? 1 : 0;
+uint32_t weldGroup(const Scene& scene, const std::vector<BrushContents>& contents, uint32_t brush) {
   return uint32_t(contents[brush]) * 2 + (qbspDetail(scene, brush) ? 1 : 0);
+}
+
+uint32_t quake1WeldGroup(const Scene& scene, const std::vector<BrushContents>& contents, uint32_t brush) {
+  // testsurfacelight's lava top carries the vertices of the func_detail walls that meet it on
+  // x -64 (the .bsp's faces 801-804), not those of the structural walls.
+  return qbspDetail(scene, brush) || contents[brush] == BrushContents::Liquid ? 1 : 0;
 }
 
 namespace {

@@ -21,7 +21,6 @@
 #pragma once
 
 #include "bvh/trace_scene.h"
-#include "lighting/game_rules.h"
 #include "lighting/qbsp_tree.h"
 #include "scene/scene.h"
 
@@ -89,10 +88,13 @@ QbspTree quake1WorldTree(const Scene& scene, const std::vector<BrushContents>& c
 // (SURF_TRANS33/66: qbsp3 ParseBrush).
 bool qbspDetail(const Scene& scene, uint32_t brush);
 
-// Which faces brush `brush`'s faces weld with in qbsp's T-junction fix (qbsp_tjunc.h; Welds) for
-// game `game`: detail only with detail; in Quake 2 only those of brushes of the same contents, in
-// Quake 1 a liquid is detail whatever it meets.
-uint32_t weldGroup(const Scene& scene, const std::vector<BrushContents>& contents, uint32_t brush, Game game);
+// Which faces brush `brush`'s faces weld with in qbsp's T-junction fix (qbsp_tjunc.h; Welds):
+// those of brushes of the same contents, detail only with detail (qbsp3's rule; the bounce's world
+// faces take it in every game).
+uint32_t weldGroup(const Scene& scene, const std::vector<BrushContents>& contents, uint32_t brush);
+// The same in ericw-tools 2.0's Quake 1 qbsp, which gives a liquid the detail bit: detail welds
+// with detail whatever the contents (the `_surface` spread's T-junction fix, surface_lights.cpp).
+uint32_t quake1WeldGroup(const Scene& scene, const std::vector<BrushContents>& contents, uint32_t brush);
 
 // GLQuake's SubdividePolygon: cut `winding` at multiples of `size` on each axis, the cut
 // nearest the middle first, unless it would leave a piece thinner than 8 units. Stops cutting

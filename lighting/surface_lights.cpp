@@ -222,39 +222,43 @@ TJunctionVertices worldVertices(const Scene& scene, const std::vector<BrushConte
   // share a texinfo (testsurfacelight's func_detail wall on x -64, y -80..0), so its
   // subdivision and its vertices are the compiler's. Buckets by plane keep the search short.
   std::map<std::pair<int64_t, int64_t>, std::vector<size_t>> buckets; // rounded distance, normal's largest axis
-  std::vector<std::vector<uint32_t>> surfaces;
+  struct WorldSurface {
+    std::vector<uint32_t> sides; // the first gives plane, frame and texture
+    uint32_t weldGroup;
+  };
+  std::vector<WorldSurface> surfaces;
   for (uint32_t f = 0; f < scene.faces.size(); ++f) {
     if (fragments[f].empty()) continue;
     const Face& face = scene.faces[f];
     const dvec3 a = glm::abs(face.plane.normal);
     const int64_t axis = a.x >= a.y && a.x >= a.z ? 0 : a.y >= a.z ? 1 : 2;
     std::vector<size_t>& bucket = buckets[{std::llround(face.plane.dist), axis * 2 + (face.plane.normal[axis] > 0.0)}];
-    const uint32_t group = weldGroup(scene, contents, face.brush, Game::Quake);
+    const uint32_t group = quake1WeldGroup(scene, contents, face.brush);
     const auto it = std::find_if(bucket.begin(), bucket.end(), [&](size_t s) {
-      const Face& other = scene.faces[surfaces[s].front()];
-      return sameSurface(other, face) && equalsIgnoreCase(other.texture, face.texture) &&
-          weldGroup(scene, contents, other.brush, Game::Quake) == group;
+      const Face& other = scene.faces[surfaces[s].sides.front()];
+      return surfaces[s].weldGroup == group && sameSurface(other, face) && equalsIgnoreCase(other.texture, face.texture);
     });
     if (it != bucket.end()) {
-      surfaces[*it].push_back(f);
+      surfaces[*it].sides.push_back(f);
     } else {
       bucket.push_back(surfaces.size());
-      surfaces.push_back({f});
+      surfaces.push_back({{f}, group});
     }
   }
   std::vector<std::vector<Winding>> kept(surfaces.size());
   parallelFor(surfaces.size(), 0, [&](size_t s) {
+    const std::vector<uint32_t>& sides = surfaces[s].sides;
     std::vector<Winding> surfaceFragments;
-    for (uint32_t f : surfaces[s]) surfaceFragments.insert(surfaceFragments.end(), fragments[f].begin(), fragments[f].end());
-    const Face& face = scene.faces[surfaces[s].front()];
+    for (uint32_t f : sides) surfaceFragments.insert(surfaceFragments.end(), fragments[f].begin(), fragments[f].end());
+    const Face& face = scene.faces[sides.front()];
     std::vector<Winding> pieces;
-    for (const Winding& w : compilerFaces(scene, surfaces[s], surfaceFragments, contents, tree)) subdivideForQbsp(w, face.frame, pieces);
+    for (const Winding& w : compilerFaces(scene, sides, surfaceFragments, contents, tree)) subdivideForQbsp(w, face.frame, pieces);
     for (Winding& w : pieces)
       if (!voids.inVoid(vertexMean(w) + face.plane.normal * kVoidProbeDistance)) kept[s].push_back(std::move(w));
   });
   TJunctionVertices vertices;
   for (size_t s = 0; s < surfaces.size(); ++s)
-    for (const Winding& w : kept[s]) vertices.add(w, weldGroup(scene, contents, scene.faces[surfaces[s].front()].brush, Game::Quake));
+    for (const Winding& w : kept[s]) vertices.add(w, surfaces[s].weldGroup);
   return vertices;
 }
 
@@ -328,7 +332,7 @@ std::vector<GpuLight> spreadSurfaceLights(const Scene& scene, const std::vector<
     for (const Winding& polygon : surface.polygons) {
       if (inVoid.inVoid(centroid(polygon) + face.plane.normal * kVoidProbeDistance)) continue;
       if (!t.radiosity) {
-        addGridLights(face, polygon, t, tjunctions ? &*tjunctions : nullptr, weldGroup(scene, contents, face.brush, Game::Quake), lights);
+        addGridLights(face, polygon, t, tjunctions ? &*tjunctions : nullptr, quake1WeldGroup(scene, contents, face.brush), lights);
       } else {
         addRadiosityLight(scene, face, polygon, t, world, lights);
         // qbsp gives a liquid surface a second face looking into the liquid; the Q1 kind skips
