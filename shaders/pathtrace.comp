@@ -537,7 +537,8 @@ bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
   if (!shaded) return false;
   // Minlight, on what the camera sees only, as the game's display shows it (renderer/cpu
   // minlightRadiance).
-  if (path.depth == 0) path.radiance += path.throughput * srgbToLinear(base.rgb * storedLuxel(world.minlight) / world.overbrightOne);
+  if (path.depth == 0 && world.minlight != vec3(0.0))
+    path.radiance += path.throughput * srgbToLinear(base.rgb * storedLuxel(world.minlight) / world.overbrightOne);
 
   // The shading normal (renderer/cpu shadingNormal); rays still leave from the face (n).
   vec3 ns = n;

@@ -589,7 +589,8 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
     if (depth >= settings.bounces + 1) break;
 
     const Bsdf bsdf = surfaceBsdf(rs, hit, wo);
-    if (depth == 0) l += throughput * minlightRadiance(rs, glm::vec3(baseColorAt(rs, hit.face, hit.position)));
+    if (depth == 0 && rs.world.minlight != glm::vec3(0.0f))
+      l += throughput * minlightRadiance(rs, glm::vec3(baseColorAt(rs, hit.face, hit.position)));
     l += throughput * directLight(rs, settings, bsdf, hit.position, n, wo, depth, rng);
 
     rng.at(depth, BT_DIM_BSDF);
