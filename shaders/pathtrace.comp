@@ -322,13 +322,18 @@ bool faithfulListedLightRay(inout Path path, uint cell, uint i, uint count, inou
 }
 #endif
 
-// The pixel's value once a faithful path has ended: what the game would draw.
-vec3 faithfulDisplay(Path path) {
-  // The compiler scales a coloured sum so its brightest channel fits in 255, keeping the hue.
-  vec3 stored = path.lit * world.range;
+// What the compiler stores for `light` light units: light x _range, scaled so that its brightest
+// channel fits in 255, keeping the hue (renderer/cpu storedLuxel).
+vec3 storedLuxel(vec3 light) {
+  vec3 stored = light * world.range;
   float peak = max(stored.x, max(stored.y, stored.z));
   if (peak > 255.0) stored *= 255.0 / peak;
-  stored = max(stored, vec3(0.0));
+  return max(stored, vec3(0.0));
+}
+
+// The pixel's value once a faithful path has ended: what the game would draw.
+vec3 faithfulDisplay(Path path) {
+  vec3 stored = storedLuxel(path.lit);
   // Engine: texture x lightmap / its overbright one (Quake 128, Quake 2 and Half-Life 255) in the
   // texture's (gamma) space; fullbright texels unlit.
   vec3 display = max(path.texture * shownLuxel(world.luxelDisplay, stored) / world.overbrightOne, path.fullbright);
@@ -530,8 +535,10 @@ bool physicalSurface(inout Path path, SurfaceHit hit, vec3 le) {
     path.radiance += path.throughput * le * weight;
   }
   if (!shaded) return false;
-  // Minlight, on what the camera sees only (renderer/cpu radiancePhysical).
-  if (path.depth == 0) path.radiance += path.throughput * baseColor * physicalColour(world.minlight) * (world.range * PHYSICAL_SUN_SCALE / PI);
+  // Minlight, on what the camera sees only, as the game's display shows it (renderer/cpu
+  // minlightRadiance).
+  if (path.depth == 0 && world.minlight != vec3(0.0))
+    path.radiance += path.throughput * srgbToLinear(base.rgb * storedLuxel(world.minlight) / world.overbrightOne);
 
   // The shading normal (renderer/cpu shadingNormal); rays still leave from the face (n).
   vec3 ns = n;

@@ -134,6 +134,15 @@ glm::vec3 faithfulLightAtHit(const RenderScene& rs, const IntegratorSettings& se
   return faithfulLight(rs, q, rng);
 }
 
+// What the compiler stores for `light` light units: light x _range, scaled so that its brightest
+// channel fits in 255, keeping the hue.
+glm::vec3 storedLuxel(const RenderScene& rs, const glm::vec3& light) {
+  glm::vec3 stored = light * rs.world.range;
+  const float peak = std::max({stored.x, stored.y, stored.z});
+  if (peak > 255.0f) stored *= 255.0f / peak;
+  return glm::max(stored, glm::vec3(0.0f));
+}
+
 // What the game draws at the camera ray's surface `hit`, linear.
 glm::vec3 faithfulSurfaceRadiance(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, const SurfaceHit& hit,
                                   Rng& rng) {
@@ -152,12 +161,7 @@ glm::vec3 faithfulSurfaceRadiance(const RenderScene& rs, const IntegratorSetting
     const glm::vec3 shown = texture * *baked * rs.lightmaps.displayScale;
     return srgbToLinear(glm::max(shown, emissiveAt(rs, hit.face, hit.position)));
   } else {
-    const glm::vec3 light = faithfulLightAtHit(rs, settings, hit, rng);
-    // The compiler scales a coloured sum so its brightest channel fits in 255, keeping the hue.
-    stored = light * rs.world.range;
-    const float peak = std::max({stored.x, stored.y, stored.z});
-    if (peak > 255.0f) stored *= 255.0f / peak;
-    stored = glm::max(stored, glm::vec3(0.0f));
+    stored = storedLuxel(rs, faithfulLightAtHit(rs, settings, hit, rng));
   }
   // Engine: texture x lightmap / 128 (Quake's overbright; 255 in Quake 2 and Half-Life), in the
   // texture's (gamma) space; fullbright texels unlit.
@@ -512,11 +516,15 @@ glm::vec3 directLight(const RenderScene& rs, const IntegratorSettings& settings,
   return l;
 }
 
-// Worldspawn minlight (`light`, `_minlight`): the game's floor under every luxel, here the light
-// of a white sky of that value on what the camera sees. Not on later hits: the compiler's bounce
-// does not bounce minlight either (lighting/README.md, "Physical mode").
-glm::vec3 minlightRadiance(const RenderScene& rs, const glm::vec3& albedo) {
-  return albedo * physical::colour(rs.world.minlight) * (rs.world.range * kPhysicalSunScale / kPi);
+// Worldspawn minlight (`light`, `_minlight`): the game's floor under every luxel, the same value
+// on every face, so what the game's display shows of it is known exactly: `texture` (the sRGB
+// texel) times the stored floor over the display's one, in the texture's gamma space, as faithful
+// mode shows a face lit by it alone. No one display match fits a floor: at `_minlight 100` (0.39
+// of the one) the game shows 0.15 of a mid-grey texture's linear colour, k x 0.39 gave 0.23.
+// On what the camera sees only: the compiler's bounce does not bounce minlight either
+// (lighting/README.md, "Physical mode").
+glm::vec3 minlightRadiance(const RenderScene& rs, const glm::vec3& texture) {
+  return srgbToLinear(texture * storedLuxel(rs, rs.world.minlight) / rs.world.overbrightOne);
 }
 
 Bsdf surfaceBsdf(const RenderScene& rs, const SurfaceHit& hit, const glm::vec3& wo) {
@@ -581,7 +589,8 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
     if (depth >= settings.bounces + 1) break;
 
     const Bsdf bsdf = surfaceBsdf(rs, hit, wo);
-    if (depth == 0) l += throughput * minlightRadiance(rs, bsdf.albedo);
+    if (depth == 0 && rs.world.minlight != glm::vec3(0.0f))
+      l += throughput * minlightRadiance(rs, glm::vec3(baseColorAt(rs, hit.face, hit.position)));
     l += throughput * directLight(rs, settings, bsdf, hit.position, n, wo, depth, rng);
 
     rng.at(depth, BT_DIM_BSDF);
@@ -626,7 +635,7 @@ PhysicalShares physicalLightShares(const RenderScene& rs, const IntegratorSettin
     const glm::vec3 wo = -ray.direction;
     const Bsdf bsdf = surfaceBsdf(rs, hit, wo);
     const glm::vec3 origin = offsetRayOrigin(hit.position, hit.normal);
-    out.minlight = minlightRadiance(rs, bsdf.albedo);
+    out.minlight = minlightRadiance(rs, glm::vec3(baseColorAt(rs, hit.face, hit.position)));
     for (size_t i = 0; i < rs.lights.size(); ++i) {
       const GpuLight& light = rs.lights[i];
       // A soft light (a sun's penumbra, _deviance) averaged over as many draws as the paths.

@@ -377,6 +377,35 @@ TEST(GlCpuParity, LitWaterLitFromBelowAgreesWithTheCpu) {
   expectBeautyAgrees(gpu, cpu, 0.01);
 }
 
+// Physical mode's minlight on both tracers: a room lit by nothing but `light 100` and an orange
+// `_minlight_color`, whose walls show the floor as the game's display shows it, channel by
+// channel in the texture's gamma space (lighting/README.md, "Physical mode"). Nothing else
+// lights it, so no path differs: every pixel agrees in colour.
+TEST(GlCpuParity, PhysicalMinlightShowsTheSameFloorAsTheCpu) {
+  test::BoxSceneBuilder b;
+  b.material("brown", 200, 140, 80);
+  b.material("grey", 90, 90, 90);
+  b.room({-256, -256, 0}, {256, 256, 256}, "brown");
+  b.box({-64, -64, 0}, {64, 64, 96}, "grey");
+  b.worldKey("light", "100");
+  b.worldKey("_minlight_color", "255 160 64");
+  const Scene scene = b.build();
+  Diagnostics diagnostics;
+  const RenderScene rs = buildRenderScene(scene, {}, diagnostics);
+  const CameraPose pose{{-200.0f, -200.0f, 200.0f}, 35.0f, 45.0f, 0.0f, "test"};
+  const RenderSettings settings = beautySettings(LightingMode::Physical, 3);
+  RenderImage cpu;
+  const RenderImage gpu = renderBoth(rs, pose, settings, cpu);
+  ASSERT_EQ(gpu.beauty.size(), cpu.beauty.size());
+  size_t lit = 0;
+  for (size_t i = 0; i < cpu.beauty.size(); ++i) {
+    lit += cpu.beauty[i].z > 0.0f;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(gpu.beauty[i][c], cpu.beauty[i][c], 1e-3f * cpu.beauty[i][c] + 1e-6f) << "pixel " << i << " channel " << c;
+  }
+  EXPECT_EQ(lit, cpu.beauty.size()) << "every pixel sees a wall at the minlight";
+}
+
 // Light selection on both tracers, in a room with 120 lights of every kind: faithful mode
 // reads the light grid's lists, physical mode shadow-tests one point light picked per hit.
 // Both draw the same random numbers, so they pick the same lights and most pixels agree to

@@ -484,21 +484,28 @@ TEST(PhysicalRender, ALightInsideWaterIsMatchedOverWhatItLightsBeyondTheWater) {
   EXPECT_NEAR(floorBeside(true), open, 1e-3f * open);
 }
 
-// Worldspawn minlight in physical mode (lighting/README.md, "Physical mode"): what the camera sees
-// is lit as by a white sky of the minlight's value, unshadowed, so a white floor in a level with
-// no light but `light 150` shows 150 x _range x the display match / 128, the game's floor of 150
-// in linear terms, whatever the bounces (the compiler's bounce leaves minlight out too).
-TEST(PhysicalRender, MinlightLightsWhatTheCameraSees) {
-  test::BoxSceneBuilder b = floorScene();
-  b.worldKey("light", "150");
+// Worldspawn minlight in physical mode (lighting/README.md, "Physical mode"): the same floor on
+// every face, so the camera sees it as the game's display shows it, whatever the bounces (the
+// compiler's bounce leaves minlight out too): a brown floor in a level with no light but `light
+// 100` and an orange `_minlight_color` shows, channel by channel, what faithful mode draws there
+// (srgbToLinear(texture x 50 / 128) in the texture's gamma space, 0.15 of a mid grey's linear
+// colour), not the display match's linear k x 0.39 (0.23).
+TEST(PhysicalRender, MinlightShowsTheFloorTheGameShows) {
+  test::BoxSceneBuilder b;
+  b.material("brown", 200, 140, 80);
+  b.box({-2048, -2048, -16}, {2048, 2048, 0}, "brown");
+  b.worldKey("light", "100");
+  b.worldKey("_minlight_color", "255 160 64");
   const Scene scene = b.build();
   Diagnostics diags;
   const RenderScene rs = buildRenderScene(scene, {}, diags);
+  Rng faithfulRng = pixelRng(0, 0, 0, 0);
+  const glm::vec3 game = radiance(rs, {LightingMode::Faithful, 0}, downAt(0.0f, 0.0f), faithfulRng);
+  ASSERT_GT(game.z, 0.0f);
   for (int bounces : {0, 3}) {
     Rng rng = pixelRng(0, 0, 0, 0);
     const glm::vec3 l = radiance(rs, {LightingMode::Physical, bounces}, downAt(0.0f, 0.0f), rng);
-    const double expected = 150.0 * 0.5 * kDisplayMatch / 128.0;
-    EXPECT_NEAR(l.x, expected, 1e-4 * expected) << bounces << " bounces";
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(l[c], game[c], 1e-4f * game[c]) << bounces << " bounces, channel " << c;
   }
 }
 
