@@ -114,6 +114,17 @@ struct GlTracer::Impl {
     glDeleteBuffers(1, &worldBuffer);
   }
 
+  // Baked faces came or went (setLightmaps): the faithful shade kernel with or without their
+  // read from now on. Where the one without it stands in for a megakernel still compiling (a
+  // bake that lands before the megakernel), the one with it starts now, so that Auto's samples
+  // wait for that one rather than for the megakernel.
+  void setLuxels(bool luxels) {
+    if (features.luxels == luxels) return;
+    const bool standingIn = programs->wavefrontWhileCompiling(false, features);
+    features.luxels = luxels;
+    if (standingIn) programs->startWavefront(false, features);
+  }
+
   void setWorld(const BeautySettings& settings) {
     world.physical = settings.physical ? 1u : 0u;
     world.bounces = settings.bounces;
@@ -209,11 +220,20 @@ GlTracer::~GlTracer() = default;
 TextureMode GlTracer::textureMode() const {
   return impl_->textures.mode();
 }
+bool showsLuxels(const std::vector<uint32_t>& packed) {
+  const size_t faces = packed.size() > 3 ? packed[3] : 0; // packLightmaps' header: [3] the face count
+  for (size_t f = 0; f < faces && 9 + 2 * f < packed.size(); ++f)
+    if (packed[9 + 2 * f] > 0) return true; // the face's fragment count
+  return false;
+}
+
 FaithfulFeatures faithfulFeatures(const GlLighting& lighting) {
   const LevelParts parts{.liquidCsg = !lighting.liquidCsg.empty(),
                          .blocksFromInside = !lighting.blocksFromInside.empty(),
                          .glass = !lighting.glassAlpha.empty()};
-  return faithfulFeatures(lighting.lightKinds, parts) | faithfulFeatures(lighting.dirt, lighting.lights);
+  FaithfulFeatures features = faithfulFeatures(lighting.lightKinds, parts) | faithfulFeatures(lighting.dirt, lighting.lights);
+  features.luxels = showsLuxels(lighting.lightmaps);
+  return features;
 }
 
 FaithfulFeatures GlTracer::faithfulFeatures() const {
@@ -329,6 +349,7 @@ void GlTracer::addSample(const CameraBasis& camera, const BeautySettings& settin
 
 void GlTracer::setLightmaps(const std::vector<uint32_t>& packed) {
   impl_->buffers.setLightmaps(packed);
+  impl_->setLuxels(showsLuxels(packed));
 }
 
 void GlTracer::setLights(const std::vector<GpuLight>& lights, const LightGrid& grid, float scaledist) {
