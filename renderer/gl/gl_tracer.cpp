@@ -114,15 +114,24 @@ struct GlTracer::Impl {
     glDeleteBuffers(1, &worldBuffer);
   }
 
+  // The faithful shade kernel with the luxels' read, where the first images' has none: started
+  // once they are drawn (behind them on the driver's threads), so that a bake that lands while
+  // the megakernel still compiles (the viewer's) finds it compiled, or nearly, and Auto's
+  // samples do not wait for the megakernel. A no-op once started.
+  void startLuxelsKernel() {
+    if (features.luxels) return;
+    FaithfulFeatures withLuxels = features;
+    withLuxels.luxels = true;
+    programs->startWavefront(false, withLuxels);
+  }
+
   // Baked faces came or went (setLightmaps): the faithful shade kernel with or without their
-  // read from now on. Where the one without it stands in for a megakernel still compiling (a
-  // bake that lands before the megakernel), the one with it starts now, so that Auto's samples
-  // wait for that one rather than for the megakernel.
+  // read from now on; started here too where the one without it stands in for the megakernel
+  // before any sample was drawn.
   void setLuxels(bool luxels) {
     if (features.luxels == luxels) return;
-    const bool standingIn = programs->wavefrontWhileCompiling(false, features);
+    if (luxels && programs->wavefrontWhileCompiling(false, features)) startLuxelsKernel();
     features.luxels = luxels;
-    if (standingIn) programs->startWavefront(false, features);
   }
 
   void setWorld(const BeautySettings& settings) {
@@ -193,6 +202,7 @@ struct GlTracer::Impl {
       auto [shade, trace] = programs->wavefront(settings.physical, features);
       if (piece) checkGroupSide(shade), checkGroupSide(trace);
       wavefront.drawSample(shade, trace, settings.width, settings.height, rect);
+      if (settings.form == PathTracerForm::Auto && !settings.physical) startLuxelsKernel();
     } else {
       if (settings.form == PathTracerForm::Auto) wavefront.release(); // the switch is for good
       ComputeProgram& program = programs->pathTracer(settings.physical, features);
