@@ -42,9 +42,10 @@ struct FaithfulFeatures {
   bool glass = false;
   // A baked face's luxels read (shaders/lightmaps.glsl), in the faithful wavefront shade kernel:
   // a level with no baked face (a .map before its bake) has its first image drawn by a kernel
-  // without it (BT_NO_LUXELS), a tenth of the code its compile takes. Known from the luxels
-  // uploaded (GlLighting::lightmaps, GlTracer::setLightmaps), not from the level's parts; the
-  // megakernel always reads them.
+  // without it (BT_NO_LUXELS), whose loops took a quarter to a half of NVIDIA's part of that
+  // kernel's compile (bench/README.md, session 27). Known from the luxels uploaded
+  // (GlLighting::lightmaps, GlTracer::setLightmaps), not from the level's parts; the megakernel
+  // always reads them.
   bool luxels = false;
   bool operator==(const FaithfulFeatures&) const = default;
   // Both sets' parts.
