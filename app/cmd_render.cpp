@@ -224,7 +224,9 @@ std::shared_ptr<gl::TracerPrograms> startGlPrograms(const RenderOptions& o, gl::
   const bool liquidCsg = preparation.levelParts().liquidCsg;
   programs->startAovs(liquidCsg);
   if (o.aov == "beauty") {
-    const gl::FaithfulFeatures features = gl::startPathTracerFor(*programs, preparation, physical);
+    // A faithful beauty shows luxels (baked before it, or the compiled ones) but with --luxels off.
+    const bool luxels = !physical && (o.luxels == "on" || o.lighting != "faithful");
+    const gl::FaithfulFeatures features = gl::startPathTracerFor(*programs, preparation, physical, luxels);
     programs->aovs(liquidCsg);
     if (programs->wavefrontState(physical, features).started) programs->wavefront(physical, features);
   } else {

@@ -16,7 +16,11 @@
 //   dump:K              K's text as a GPU with bindless textures gets it, to stdout, no context:
 //                       to edit by hand and compile as file=PATH (the text's variants need no
 //                       build of the probe).
-// A KIND file=PATH is the text in PATH (a dump, edited).
+// A KIND file=PATH is the text in PATH (a dump, edited); spirv=PATH is a SPIR-V module for
+// OpenGL (glslangValidator -G, maybe spirv-opt) given with glShaderBinary and glSpecializeShader
+// (GL_ARB_gl_spirv): is the driver's compile of the same kernel shorter from SPIR-V? glslang
+// compiles no bindless textures to SPIR-V, so its kernels are the arrays form (compare them
+// with that form's text as file=PATH).
 // Times in ms from the start of the compiles.
 #include "importers/import.h"
 #include "lighting/render_scene.h"
@@ -54,6 +58,16 @@ std::string replaced(std::string text, const std::string& from, const std::strin
   return text.replace(at, from.size(), to);
 }
 
+bool isSpirv(const std::string& kind) {
+  return kind.starts_with("spirv=");
+}
+
+std::string fileText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("probe: cannot read " + path);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
 std::string sourceFor(const std::string& kind, bool physical, bt::gl::FaithfulFeatures features, uint32_t nonce,
                       const bt::gl::GlContextInfo& info) {
   using namespace bt::gl;
@@ -61,9 +75,9 @@ std::string sourceFor(const std::string& kind, bool physical, bt::gl::FaithfulFe
   const TraceLayout layout = info.softwareRenderer ? TraceLayout::Software : TraceLayout::Hardware;
   std::string text;
   if (kind.starts_with("file=")) {
-    std::ifstream in(kind.substr(5), std::ios::binary);
-    if (!in) throw std::runtime_error("probe: cannot read " + kind.substr(5));
-    text.assign(std::istreambuf_iterator<char>(in), {});
+    text = fileText(kind.substr(5));
+  } else if (isSpirv(kind)) {
+    return fileText(kind.substr(6)); // a binary no driver has seen in this process; no nonce
   } else if (kind == "trace")
     text = assembleShader("wavefront_trace.comp", programDefines(TracerProgram::WavefrontTrace, mode, layout));
   else if (kind == "mega")
@@ -92,16 +106,23 @@ std::string sourceFor(const std::string& kind, bool physical, bt::gl::FaithfulFe
 struct Probe {
   std::string kind;
   GLuint shader = 0, program = 0;
-  double started = 0, compiled = -1, finishStart = 0, finished = 0;
+  double started = 0, specialized = -1, compiled = -1, finishStart = 0, finished = 0;
   int ok = 0;
 };
 
 void start(Probe& p, const std::string& source, Clock::time_point t0) {
   p.started = msSince(t0);
   p.shader = glCreateShader(GL_COMPUTE_SHADER);
-  const char* text = source.c_str();
-  glShaderSource(p.shader, 1, &text, nullptr);
-  glCompileShader(p.shader);
+  if (isSpirv(p.kind)) {
+    // The driver compiles a SPIR-V module at glSpecializeShader, before the link.
+    glShaderBinary(1, &p.shader, GL_SHADER_BINARY_FORMAT_SPIR_V_ARB, source.data(), GLsizei(source.size()));
+    glSpecializeShaderARB(p.shader, "main", 0, nullptr, nullptr);
+    p.specialized = msSince(t0);
+  } else {
+    const char* text = source.c_str();
+    glShaderSource(p.shader, 1, &text, nullptr);
+    glCompileShader(p.shader);
+  }
   p.program = glCreateProgram();
   glAttachShader(p.program, p.shader);
   glLinkProgram(p.program);
@@ -174,7 +195,8 @@ int main(int argc, char** argv) {
 
     auto contextStart = Clock::now();
     auto context = bt::gl::GlContext::createHeadless();
-    fmt::print("context: {:.1f} ms, {}\n", msSince(contextStart), context->info().renderer);
+    fmt::print("context: {:.1f} ms, {}, GL_ARB_gl_spirv {}\n", msSince(contextStart), context->info().renderer,
+               epoxy_has_gl_extension("GL_ARB_gl_spirv"));
     const uint32_t nonce = std::random_device{}() | 1u;
     std::vector<std::string> sources;
     for (const std::string& k : kinds) sources.push_back(sourceFor(k, physical, features, nonce, context->info()));
@@ -215,6 +237,8 @@ int main(int argc, char** argv) {
       fmt::print("{:<14} {:>7} chars: started {:6.1f}, compiled {:6.1f}, finish {:6.1f} -> {:6.1f} ({:5.1f} ms){}\n", p.kind,
                  sources[size_t(&p - probes.data())].size(), p.started, p.compiled, p.finishStart, p.finished, p.finished - p.finishStart,
                  p.ok ? "" : " FAILED");
+    for (const Probe& p : probes)
+      if (p.specialized >= 0) fmt::print("{}: glSpecializeShader returned at {:.1f} ms\n", p.kind, p.specialized);
     return 0;
   } catch (const std::exception& e) {
     fmt::print(stderr, "gl_compile_probe: {}\n", e.what());

@@ -369,7 +369,10 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
     return false;
   }
   path.fullbright = emissive;
-  // A baked face shows its luxels as the game shows its lightmap; the path ends here.
+#ifndef BT_NO_LUXELS
+  // A baked face shows its luxels as the game shows its lightmap; the path ends here. The shade
+  // kernel of a level with no baked face (renderer/gl FaithfulFeatures::luxels; a .map before its
+  // bake) is built without this read: a tenth of its code, which the first image waits to compile.
   uvec2 baked = lightmapRange(hit.face);
   if (baked.y > 0u) {
     GpuFace f = faces[hit.face];
@@ -378,6 +381,7 @@ bool faithfulSurface(inout Path path, SurfaceHit hit) {
     path.radiance = srgbToLinear(max(path.texture * stored * lightmapDisplayScale(), path.fullbright));
     return false;
   }
+#endif
   path.normal = hit.normal;
   path.lightSum = vec3(0.0);
   path.lightFloor = vec3(0.0);

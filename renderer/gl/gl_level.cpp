@@ -64,13 +64,13 @@ std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport imp
   return std::make_unique<LevelPreparation>(level.scene, level.render, std::move(importLevel), std::move(options));
 }
 
-FaithfulFeatures startPathTracerFor(TracerPrograms& programs, LevelPreparation& preparation, bool physical) {
+FaithfulFeatures startPathTracerFor(TracerPrograms& programs, LevelPreparation& preparation, bool physical, bool luxels) {
   programs.startTraceKernel();
   // Only a level whose finished lights need a part their early kinds did not tell builds its own
   // program once prepared (loadGlLevel), the one started here going unused.
   const LevelParts parts = preparation.levelParts();
-  const FaithfulFeatures features =
-      physical ? FaithfulFeatures{.liquidCsg = parts.liquidCsg} : faithfulFeatures(preparation.lightKinds(), parts);
+  FaithfulFeatures features = physical ? FaithfulFeatures{.liquidCsg = parts.liquidCsg} : faithfulFeatures(preparation.lightKinds(), parts);
+  features.luxels = luxels && !physical;
   programs.startPathTracer(physical, features);
   return features;
 }

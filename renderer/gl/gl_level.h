@@ -89,8 +89,10 @@ std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport imp
 // Starts `programs`' path tracer for `physical` lighting (the first images') and the level's
 // kinds of light and parts: the wavefront trace kernel at once (it needs nothing of the level),
 // the rest once the preparation knows them (a physical program has every part but the liquid
-// CSG). The faithful features it was started with.
-FaithfulFeatures startPathTracerFor(TracerPrograms& programs, LevelPreparation& preparation, bool physical);
+// CSG). `luxels`: whether the first images will show baked faces (FaithfulFeatures::luxels; a
+// front end that bakes before them); loadGlLevel() tells it from the prepared level's lightmaps.
+// The faithful features it was started with.
+FaithfulFeatures startPathTracerFor(TracerPrograms& programs, LevelPreparation& preparation, bool physical, bool luxels = false);
 
 // Finishes loading `level`, whose preparation is `preparation`: starts the path tracer
 // (startPathTracerFor), then waits for the wavefront kernels where they were started. NVIDIA's

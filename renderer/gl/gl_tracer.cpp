@@ -114,6 +114,26 @@ struct GlTracer::Impl {
     glDeleteBuffers(1, &worldBuffer);
   }
 
+  // The faithful shade kernel with the luxels' read, where the first images' has none: started
+  // once they are drawn (behind them on the driver's threads), so that a bake that lands while
+  // the megakernel still compiles (the viewer's) finds it compiled, or nearly, and Auto's
+  // samples do not wait for the megakernel. A no-op once started.
+  void startLuxelsKernel() {
+    if (features.luxels) return;
+    FaithfulFeatures withLuxels = features;
+    withLuxels.luxels = true;
+    programs->startWavefront(false, withLuxels);
+  }
+
+  // Baked faces came or went (setLightmaps): the faithful shade kernel with or without their
+  // read from now on; started here too where the one without it stands in for the megakernel
+  // before any sample was drawn.
+  void setLuxels(bool luxels) {
+    if (features.luxels == luxels) return;
+    if (luxels && programs->wavefrontWhileCompiling(false, features)) startLuxelsKernel();
+    features.luxels = luxels;
+  }
+
   void setWorld(const BeautySettings& settings) {
     world.physical = settings.physical ? 1u : 0u;
     world.bounces = settings.bounces;
@@ -182,6 +202,7 @@ struct GlTracer::Impl {
       auto [shade, trace] = programs->wavefront(settings.physical, features);
       if (piece) checkGroupSide(shade), checkGroupSide(trace);
       wavefront.drawSample(shade, trace, settings.width, settings.height, rect);
+      if (settings.form == PathTracerForm::Auto && !settings.physical) startLuxelsKernel();
     } else {
       if (settings.form == PathTracerForm::Auto) wavefront.release(); // the switch is for good
       ComputeProgram& program = programs->pathTracer(settings.physical, features);
@@ -209,11 +230,20 @@ GlTracer::~GlTracer() = default;
 TextureMode GlTracer::textureMode() const {
   return impl_->textures.mode();
 }
+bool showsLuxels(const std::vector<uint32_t>& packed) {
+  const size_t faces = packed.size() > 3 ? packed[3] : 0; // packLightmaps' header: [3] the face count
+  for (size_t f = 0; f < faces && 9 + 2 * f < packed.size(); ++f)
+    if (packed[9 + 2 * f] > 0) return true; // the face's fragment count
+  return false;
+}
+
 FaithfulFeatures faithfulFeatures(const GlLighting& lighting) {
   const LevelParts parts{.liquidCsg = !lighting.liquidCsg.empty(),
                          .blocksFromInside = !lighting.blocksFromInside.empty(),
                          .glass = !lighting.glassAlpha.empty()};
-  return faithfulFeatures(lighting.lightKinds, parts) | faithfulFeatures(lighting.dirt, lighting.lights);
+  FaithfulFeatures features = faithfulFeatures(lighting.lightKinds, parts) | faithfulFeatures(lighting.dirt, lighting.lights);
+  features.luxels = showsLuxels(lighting.lightmaps);
+  return features;
 }
 
 FaithfulFeatures GlTracer::faithfulFeatures() const {
@@ -329,6 +359,7 @@ void GlTracer::addSample(const CameraBasis& camera, const BeautySettings& settin
 
 void GlTracer::setLightmaps(const std::vector<uint32_t>& packed) {
   impl_->buffers.setLightmaps(packed);
+  impl_->setLuxels(showsLuxels(packed));
 }
 
 void GlTracer::setLights(const std::vector<GpuLight>& lights, const LightGrid& grid, float scaledist) {

@@ -80,8 +80,11 @@ struct GlLighting {
 
 // The parts of a level's faithful programs (and the liquid CSG, which physical ones take too):
 // its LightKinds', what its lights need, and its LevelParts (the liquid CSG, the rule from
-// inside, Quake 2's glass).
+// inside, Quake 2's glass), and whether its lightmaps show a baked face (FaithfulFeatures::luxels).
 FaithfulFeatures faithfulFeatures(const GlLighting& lighting);
+// Whether luxels packed by packLightmaps (GlLighting::lightmaps) show any face: not for the
+// header alone (none), nor for a layout of faces none of which is baked.
+bool showsLuxels(const std::vector<uint32_t>& packed);
 
 struct BeautySettings {
   int width = 640;

@@ -81,6 +81,7 @@ std::vector<std::string> programDefines(TracerProgram program, TextureMode mode,
   if (features.liquidCsg && takes(program, "Csg")) defines.emplace_back(switchesOf("Csg").at(0));
   if (features.blocksFromInside && !physical && takes(program, "Inside")) defines.emplace_back(switchesOf("Inside").at(0));
   if (features.glass && !physical && takes(program, "Glass")) defines.emplace_back(switchesOf("Glass").at(0));
+  if (!features.luxels && !physical && takes(program, "NoLuxels")) defines.emplace_back(switchesOf("NoLuxels").at(0));
   return defines;
 }
 
@@ -155,8 +156,8 @@ std::unique_ptr<ComputeProgram>& TracerPrograms::pathSlot(bool physical, Faithfu
   return path_[variantIndex(physical, features)];
 }
 std::unique_ptr<ComputeProgram>& TracerPrograms::shadeSlot(bool physical, FaithfulFeatures features) {
-  features.blocksFromInside = false; // the shade kernel traces nothing
-  return shade_[variantIndex(physical, features)];
+  features.blocksFromInside = false;                                             // the shade kernel traces nothing
+  return shade_[!physical && features.luxels][variantIndex(physical, features)]; // physical reads no luxels
 }
 
 void TracerPrograms::startPathTracer(bool physical, FaithfulFeatures features) {

@@ -40,6 +40,13 @@ struct FaithfulFeatures {
   // engineGlassAlpha): unlit, blended at its alpha (GpuFace::pad) over what lies behind, in the
   // faithful path tracer and its shade kernel; known, as the liquid CSG, from the level's faces.
   bool glass = false;
+  // A baked face's luxels read (shaders/lightmaps.glsl), in the faithful wavefront shade kernel:
+  // a level with no baked face (a .map before its bake) has its first image drawn by a kernel
+  // without it (BT_NO_LUXELS), whose loops took a quarter to a half of NVIDIA's part of that
+  // kernel's compile (bench/README.md, session 27). Known from the luxels uploaded
+  // (GlLighting::lightmaps, GlTracer::setLightmaps), not from the level's parts; the megakernel
+  // always reads them.
+  bool luxels = false;
   bool operator==(const FaithfulFeatures&) const = default;
   // Both sets' parts.
   FaithfulFeatures operator|(const FaithfulFeatures& o) const {
@@ -51,7 +58,8 @@ struct FaithfulFeatures {
             filter || o.filter,
             liquidCsg || o.liquidCsg,
             blocksFromInside || o.blocksFromInside,
-            glass || o.glass};
+            glass || o.glass,
+            luxels || o.luxels};
   }
 };
 
@@ -108,7 +116,8 @@ const char* shaderFile(TracerProgram program); // "pathtrace.comp", ...
 // The #defines `program` is built with: shaderDefines(), then, from shader_switches.def, the
 // lighting mode and faithful mode's optional parts where the program takes them (a physical
 // program ignores `features` but liquidCsg), the wavefront form's switch, the liquid CSG's and,
-// in faithful programs, the rule from inside.
+// in faithful programs, the rule from inside, the glass and, in the faithful shade kernel, the
+// luxels' read left out (BT_NO_LUXELS) where `features` has no luxels.
 std::vector<std::string> programDefines(TracerProgram program, TextureMode mode, TraceLayout layout, bool physical = false,
                                         FaithfulFeatures features = {});
 
@@ -193,8 +202,9 @@ private:
   // each without and with the liquid CSG); the same for the wavefront form's shade kernels,
   // which trace nothing (the rule from inside is the trace kernel's). Its trace kernel serves
   // every mode and level; the bake takes no CSG and no glass (it stores luxels, not the view).
+  // Faithful shade kernels come without and with the luxels' read (shade_[luxels]).
   static constexpr size_t kPathVariants = 514;
-  std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[kPathVariants], bake_[kPathVariants], trace_, aov_[2], rayBench_;
+  std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[2][kPathVariants], bake_[kPathVariants], trace_, aov_[2], rayBench_;
 };
 
 } // namespace bt::gl

@@ -24,7 +24,7 @@ std::string variantKey(TracerProgram program, const std::vector<std::string>& de
   return key;
 }
 
-FaithfulFeatures featureSet(unsigned f, bool liquidCsg, bool blocksFromInside, bool glass) {
+FaithfulFeatures featureSet(unsigned f, bool liquidCsg, bool blocksFromInside, bool glass, bool luxels) {
   return {.dirt = (f & 1) != 0,
           .bounceDraw = (f & 2) != 0,
           .sky = (f & 4) != 0,
@@ -33,17 +33,18 @@ FaithfulFeatures featureSet(unsigned f, bool liquidCsg, bool blocksFromInside, b
           .filter = (f & 32) != 0,
           .liquidCsg = liquidCsg,
           .blocksFromInside = blocksFromInside,
-          .glass = glass};
+          .glass = glass,
+          .luxels = luxels};
 }
 
-// A variant with the liquid CSG, the rule from inside or Quake 2's glass counts as validated where
+// A variant with the liquid CSG, the rule from inside, Quake 2's glass or no luxels' read counts as validated where
 // the build validated the same program, texture path, layout, lighting mode and those switches
 // with none of the faithful parts and with all of them (renderer/gl/CMakeLists.txt: their code
 // reads none of them).
 TEST(GlShaderVariants, EveryVariantTheRuntimeCanRequestWasValidatedAtBuildTime) {
   const std::set<std::string> validated(std::begin(kValidatedShaderVariants), std::end(kValidatedShaderVariants));
   std::set<std::string> requested;
-  size_t plain = 0, withCsg = 0, withInside = 0, withGlass = 0;
+  size_t plain = 0, withCsg = 0, withInside = 0, withGlass = 0, withoutLuxels = 0;
   for (int p = 0; p < kTracerProgramCount; ++p)
     for (const TextureMode mode : {TextureMode::Bindless, TextureMode::Arrays})
       for (const TraceLayout layout : {TraceLayout::Hardware, TraceLayout::Software})
@@ -51,25 +52,29 @@ TEST(GlShaderVariants, EveryVariantTheRuntimeCanRequestWasValidatedAtBuildTime) 
           for (const bool csg : {false, true})
             for (const bool inside : {false, true})
               for (const bool glass : {false, true})
-                for (unsigned f = 0; f < 64; ++f) {
-                  const auto key = [&](unsigned parts) {
-                    return variantKey(TracerProgram(p),
-                                      programDefines(TracerProgram(p), mode, layout, physical, featureSet(parts, csg, inside, glass)));
-                  };
-                  const std::string k = key(f);
-                  if (!requested.insert(k).second) continue;
-                  const bool hasCsg = k.find("BT_LIQUID_CSG") != std::string::npos;
-                  const bool hasInside = k.find("BT_BLOCKS_FROM_INSIDE") != std::string::npos;
-                  const bool hasGlass = k.find("BT_QUAKE2_GLASS") != std::string::npos;
-                  withGlass += hasGlass;
-                  withCsg += hasCsg && !hasGlass;
-                  withInside += hasInside && !hasGlass;
-                  plain += !hasCsg && !hasInside && !hasGlass;
-                  if (hasCsg || hasInside || hasGlass)
-                    EXPECT_TRUE(validated.count(key(0)) && validated.count(key(63))) << "switch never validated at build time: " << k;
-                  else
-                    EXPECT_TRUE(validated.count(k)) << "never validated at build time: " << k;
-                }
+                for (const bool luxels : {false, true})
+                  for (unsigned f = 0; f < 64; ++f) {
+                    const auto key = [&](unsigned parts) {
+                      return variantKey(
+                          TracerProgram(p),
+                          programDefines(TracerProgram(p), mode, layout, physical, featureSet(parts, csg, inside, glass, luxels)));
+                    };
+                    const std::string k = key(f);
+                    if (!requested.insert(k).second) continue;
+                    const bool hasCsg = k.find("BT_LIQUID_CSG") != std::string::npos;
+                    const bool hasInside = k.find("BT_BLOCKS_FROM_INSIDE") != std::string::npos;
+                    const bool hasGlass = k.find("BT_QUAKE2_GLASS") != std::string::npos;
+                    const bool noLuxels = k.find("BT_NO_LUXELS") != std::string::npos;
+                    withoutLuxels += noLuxels;
+                    withGlass += hasGlass && !noLuxels;
+                    withCsg += hasCsg && !hasGlass && !noLuxels;
+                    withInside += hasInside && !hasGlass;
+                    plain += !hasCsg && !hasInside && !hasGlass && !noLuxels;
+                    if (hasCsg || hasInside || hasGlass || noLuxels)
+                      EXPECT_TRUE(validated.count(key(0)) && validated.count(key(63))) << "switch never validated at build time: " << k;
+                    else
+                      EXPECT_TRUE(validated.count(k)) << "never validated at build time: " << k;
+                  }
   // pathtrace.comp: 2 texture paths x 2 layouts x (64 faithful sets + physical) x 2 forms; bake.comp: 2 x 2 x 64; three
   // programs 2 x 2 each. With the CSG: pathtrace.comp's again, and aov.comp's 2 x 2. With the rule
   // from inside: pathtrace.comp's megakernel 2 x 2 x 64 without and with the CSG, bake.comp's 2 x 2 x 64.
@@ -80,13 +85,17 @@ TEST(GlShaderVariants, EveryVariantTheRuntimeCanRequestWasValidatedAtBuildTime) 
   // with each set of the CSG and the rule from inside, its shade kernel 2 x 2 x 64 without and
   // with the CSG.
   EXPECT_EQ(withGlass, size_t(4 * 256 + 2 * 256));
+  // Without the luxels' read (counted apart from all the above): the faithful shade kernel 2 x 2 x 64
+  // with each set of the CSG and the glass.
+  EXPECT_EQ(withoutLuxels, size_t(4 * 256));
   // Validated: the above, the programs without switches (denoise.comp, tonemap.comp), the CSG
   // with pathtrace.comp's 2 x 2 x (physical, no faithful part, every part) x 2 forms and
   // aov.comp's 2 x 2: 28 runs where every CSG variant would be 524; the rule from inside with
   // pathtrace.comp's megakernel 2 x 2 x (no faithful part, every part) without and with the CSG,
   // and bake.comp's 2 x 2 x 2: 24 runs; the glass with pathtrace.comp's 2 x 2 x (no faithful
-  // part, every part) x (4 sets for the megakernel, 2 for the shade kernel): 48 runs.
-  EXPECT_EQ(std::size(kValidatedShaderVariants), size_t(520 + 256 + 12 + 2 + 24 + 4 + 24 + 48));
+  // part, every part) x (4 sets for the megakernel, 2 for the shade kernel): 48 runs; no luxels'
+  // read with the shade kernel's 2 x 2 x (no faithful part, every part) x 4 sets: 32 runs.
+  EXPECT_EQ(std::size(kValidatedShaderVariants), size_t(520 + 256 + 12 + 2 + 24 + 4 + 24 + 48 + 32));
 }
 
 // The value defines every program gets besides the switches: the traversal's stack size and the

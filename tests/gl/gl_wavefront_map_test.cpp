@@ -3,6 +3,7 @@
 // spotlights and emitting lamp exercise every kind of ray in both lighting modes.
 #include "importers/import.h"
 #include "lighting/compiled_lightmaps.h"
+#include "lighting/lightmaps.h"
 #include "lighting/render_scene.h"
 #include "renderer/gl/gl_lighting.h"
 #include "renderer/gl/gl_render.h"
@@ -141,6 +142,44 @@ TEST(GlWavefrontMap, CompiledLightmapsFaithful) {
     }
     expectFormsAgree(scene, render, false, pose, 4);
   }
+}
+
+// Luxels that come after the first images (a bake that lands, the viewer's compiled view): the
+// wavefront form draws a level with no baked face with a shade kernel that has no luxels' read
+// (FaithfulFeatures::luxels), and once they are set it draws them as the megakernel does.
+TEST(GlWavefrontMap, LuxelsSetAfterTheFirstImagesFaithful) {
+  BT_REQUIRE_SHARED(shared);
+  const Scene scene = importScene((shared / "oracle" / "lit/maps_ericw-tools_testmaps_q1_light_hlform.bsp").string(), ImportOptions{});
+  Diagnostics diagnostics;
+  RenderScene render = buildRenderScene(scene, {}, diagnostics);
+  ASSERT_EQ(showCompiledLightmaps(scene, render, ""), "");
+  const std::vector<uint32_t> packed = packLightmaps(render.lightmaps);
+  render.lightmaps = {};
+  GlTracer tracer(test::sharedGlContext(), scene, render.tracer, test::textureModeUnderTest(), lightingFor(render));
+  ASSERT_FALSE(tracer.faithfulFeatures().luxels);
+  const CameraBasis camera = cameraFrom(defaultCameraPose(scene), kWidth, kHeight);
+  BeautySettings settings{.width = kWidth, .height = kHeight, .spp = 2, .seed = 11};
+  settings.form = PathTracerForm::Wavefront;
+  const BeautyImage unbaked = tracer.renderBeauty(camera, settings);
+  tracer.setLightmaps(packed);
+  ASSERT_TRUE(tracer.faithfulFeatures().luxels);
+  const BeautyImage wave = tracer.renderBeauty(camera, settings);
+  settings.form = PathTracerForm::Megakernel;
+  const BeautyImage mega = tracer.renderBeauty(camera, settings);
+  ASSERT_EQ(wave.wavefrontSamples, 2);
+  ASSERT_EQ(mega.beauty.size(), wave.beauty.size());
+  size_t exact = 0, differing = 0, shown = 0;
+  for (size_t i = 0; i < mega.beauty.size(); ++i) {
+    const glm::vec3 a = mega.beauty[i], b = wave.beauty[i];
+    exact += a == b;
+    shown += b != unbaked.beauty[i];
+    const glm::vec3 d = glm::abs(a - b); // expectFormsAgree's tolerance
+    if (std::max(d.x, std::max(d.y, d.z)) > 1e-4f * std::max(1.0f, std::max(a.x, std::max(a.y, a.z)))) ++differing;
+  }
+  EXPECT_GT(shown, mega.beauty.size() / 4) << "the luxels change too few pixels to tell";
+  EXPECT_LE(differing, mega.beauty.size() / 200) << differing << " of " << mega.beauty.size() << " pixels differ";
+  std::printf("wavefront vs megakernel once the luxels are set: %zu of %zu pixels bit-exact, %zu changed by the luxels\n", exact,
+              mega.beauty.size(), shown);
 }
 
 } // namespace
