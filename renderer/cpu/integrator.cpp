@@ -415,12 +415,11 @@ LightPick pickFromNearList(const RenderScene& rs, const glm::vec3& origin, const
   std::array<float, kPhysicalNearLights> weights;
   float nearTotal = 0.0f;
 #if defined(__SSE2__)
+  static_assert(kPhysicalNearLights % 4 == 0, "the weights are stored four at a time");
   for (size_t k = 0; k < near.size(); k += 4) {
     std::array<const GpuLight*, 4> four;
     for (size_t j = 0; j < 4; ++j) four[j] = &rs.lights[near[std::min(k + j, near.size() - 1)]];
-    alignas(16) float w[4];
-    _mm_store_ps(w, selectionWeights(four, origin, n));
-    std::copy_n(w, std::min<size_t>(4, near.size() - k), weights.begin() + std::ptrdiff_t(k));
+    _mm_storeu_ps(weights.data() + k, selectionWeights(four, origin, n)); // lanes past the list are never read
   }
 #else
   for (size_t k = 0; k < near.size(); ++k) weights[k] = selectionWeight(rs.lights[near[k]], origin, n);
