@@ -122,6 +122,7 @@ template <bool ZeroSafe> [[gnu::always_inline]] inline Slab brushBox(const RayCo
 // head-on, the earliest of equals.
 [[gnu::always_inline]] inline int headOnAxis(const RayContext& r, int axes) {
   int best = std::countr_zero(unsigned(axes));
+  if ((axes & (axes - 1)) == 0) return best; // one axis: no tie (nearly every ray)
   for (int a = best + 1; a < 3; ++a)
     if ((axes >> a) & 1 && std::abs(r.direction[a]) > std::abs(r.direction[best])) best = a;
   return best;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <stdexcept>
 #include <thread>
@@ -258,6 +259,7 @@ TraceScene TraceScene::build(const Scene& scene, const BvhBuildOptions& options)
     for (size_t i = begin; i < end; ++i) ts.brushes_[i] = candidates[boxBrush[bvh.order[i]]];
   });
   ts.sides_ = sidesInLeafOrder(scene, roles, ts.brushes_, threads);
+  ts.wideNodes_ = collapseToWide(ts.nodes_, ts.brushes_);
   ts.sahCost_ = bt::sahCost(ts.nodes_);
   buildTriangles(scene, options, ts.triangleNodes_, ts.triangles_);
   growByRoot(ts.bounds_, ts.triangleNodes_);
@@ -373,6 +375,89 @@ template <bool AnyHit, bool ZeroSafe, class HitItem>
   }
 }
 
+#if BT_SSE_NODE_TEST
+// traverse<false, false>() over the brushes on the wide tree (bvh/wide_bvh.h): the closest hit
+// of a ray without a zero direction component. A node's four boxes in one pass, each lane the
+// floats of nodeOverlaps on that box, so a lane is visited exactly when the binary walk would
+// visit its node (given the same best t), and every brush that can be the closest hit is tested.
+// The closest hit does not depend on the order (trace_scene.h), so the walk takes the lanes
+// nearest first, as the binary walk takes the nearer child. The any-hit walks stay on the binary
+// tree: the hit they return is the first of their order, and the bake's shadow cache keeps it
+// (with this walk's order lqdm5's luxels changed, bench/README.md issue 18 session 27).
+bool traverseWide(const RayContext& r, const TraceScene& ts, Hit& best) {
+  const std::span<const WideBvhNode> nodes = ts.wideNodes();
+  if (nodes.empty()) return false;
+  const std::span<const GpuBrush> brushes = ts.brushes();
+  const std::span<const uint32_t> sides = ts.sides();
+  const std::span<const GpuFace> faces = ts.faces();
+  const __m128 ox = _mm_set1_ps(r.origin.x), oy = _mm_set1_ps(r.origin.y), oz = _mm_set1_ps(r.origin.z);
+  const __m128 ix = _mm_set1_ps(r.invDirection.x), iy = _mm_set1_ps(r.invDirection.y), iz = _mm_set1_ps(r.invDirection.z);
+  const __m128 tMin = _mm_set1_ps(r.tMin);
+
+  struct Entry {
+    uint32_t child, count; // a lane's (WideBvhNode)
+    float near;            // its box's near t: once the best t is below it, nothing there can win
+  };
+  Entry stack[kWideBvhStackSize];
+  int top = 0;
+  bool found = false;
+  const auto leaf = [&](uint32_t first, uint32_t count) {
+    for (uint32_t i = first; i < first + count; ++i) {
+      Hit hit;
+      if (hitBrush<false>(r, brushes[i], sides, faces, best.t, hit) && closer(hit, best)) {
+        best = hit;
+        best.slot = i;
+        found = true;
+      }
+    }
+  };
+  uint32_t current = 0; // an inner node
+  for (;;) {
+    const WideBvhNode& node = nodes[current];
+    const __m128 x0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.lo[0]), ox), ix), x1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.hi[0]), ox), ix);
+    const __m128 y0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.lo[1]), oy), iy), y1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.hi[1]), oy), iy);
+    const __m128 z0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.lo[2]), oz), iz), z1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.hi[2]), oz), iz);
+    const __m128 near = _mm_max_ps(_mm_max_ps(_mm_min_ps(x0, x1), _mm_min_ps(y0, y1)), _mm_min_ps(z0, z1));
+    const __m128 far = _mm_min_ps(_mm_min_ps(_mm_max_ps(x0, x1), _mm_max_ps(y0, y1)), _mm_max_ps(z0, z1));
+    const __m128 overlaps = _mm_and_ps(_mm_cmple_ps(_mm_max_ps(near, tMin), _mm_min_ps(far, _mm_set1_ps(best.t))), _mm_cmple_ps(near, far));
+    int visit = _mm_movemask_ps(overlaps);
+    Entry next{0, 0, 0.0f};
+    bool descend = false;
+    if (visit != 0) {
+      alignas(16) float nears[4];
+      _mm_store_ps(nears, near);
+      int lane = std::countr_zero(unsigned(visit));
+      visit &= visit - 1;
+      next = {node.child[lane], node.count[lane], nears[lane]};
+      descend = true;
+      // More than one: the others onto the stack farthest first (an insertion sort of at most
+      // three), the nearest of all taken next.
+      Entry* first = stack + top;
+      for (; visit != 0; visit &= visit - 1) {
+        lane = std::countr_zero(unsigned(visit));
+        Entry in{node.child[lane], node.count[lane], nears[lane]};
+        if (in.near < next.near) std::swap(in, next);
+        Entry* at = stack + top++;
+        for (; at > first && at[-1].near < in.near; --at) *at = at[-1];
+        *at = in;
+      }
+    }
+    // The next inner node: the nearest lane's, else the nearest on the stack, leaves tested on
+    // the way.
+    for (;;) {
+      if (descend) {
+        if (next.count == 0) break;
+        leaf(next.child, next.count);
+      }
+      if (top == 0) return found;
+      next = stack[--top];
+      descend = next.near <= best.t;
+    }
+    current = next.child;
+  }
+}
+#endif
+
 // Brushes, then (only when the level has meshes) triangles up to the closest brush hit.
 template <bool AnyHit, bool ZeroSafe> bool traceBoth(const RayContext& r, const TraceScene& ts, Hit& best) {
   best.t = r.tMax;
@@ -380,12 +465,18 @@ template <bool AnyHit, bool ZeroSafe> bool traceBoth(const RayContext& r, const 
   const std::span<const GpuBrush> brushes = ts.brushes();
   const std::span<const uint32_t> sides = ts.sides();
   const std::span<const GpuFace> faces = ts.faces();
-  bool found = traverse<AnyHit, ZeroSafe>(
-      r, ts.nodes(),
-      [&r, brushes, sides, faces](uint32_t i, float tLimit, Hit& hit) {
-        return hitBrush<ZeroSafe>(r, brushes[i], sides, faces, tLimit, hit);
-      },
-      best);
+  bool found;
+#if BT_SSE_NODE_TEST
+  if constexpr (!ZeroSafe && !AnyHit)
+    found = traverseWide(r, ts, best);
+  else
+#endif
+    found = traverse<AnyHit, ZeroSafe>(
+        r, ts.nodes(),
+        [&r, brushes, sides, faces](uint32_t i, float tLimit, Hit& hit) {
+          return hitBrush<ZeroSafe>(r, brushes[i], sides, faces, tLimit, hit);
+        },
+        best);
   if (ts.triangleNodes().empty() || (AnyHit && found)) return found;
   const std::span<const GpuTriangle> triangles = ts.triangles();
   found |= traverse<AnyHit, ZeroSafe>(

@@ -58,6 +58,7 @@
 
 #include "bvh/ray.h"         // Ray, RayContext
 #include "bvh/sah_builder.h" // Aabb, sahCost() and the SAH cost model
+#include "bvh/wide_bvh.h"
 #include "scene/gpu_structs.h"
 #include "scene/scene.h"
 #include "shaders/ray_offsets.glsl" // shared with shaders/visible.glsl
@@ -147,6 +148,7 @@ public:
   std::optional<Hit> intersectTriangle(const Ray& ray, uint32_t triangleIndex) const;
 
   std::span<const GpuBvhNode> nodes() const { return nodes_; }
+  std::span<const WideBvhNode> wideNodes() const { return wideNodes_; } // nodes() collapsed (bvh/wide_bvh.h)
   std::span<const GpuBrush> brushes() const { return brushes_; }
   std::span<const uint32_t> sides() const { return sides_; } // see GpuBrush
   std::span<const GpuFace> faces() const { return faces_; }
@@ -158,6 +160,7 @@ public:
 
 private:
   std::vector<GpuBvhNode> nodes_;
+  std::vector<WideBvhNode> wideNodes_;
   std::vector<GpuBrush> brushes_;
   std::vector<uint32_t> sides_;
   std::vector<GpuFace> faces_;

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cctype>
 #include <future>
 #include <span>
@@ -250,7 +251,27 @@ void addEmitters(RenderScene& rs) {
   }
   for (GpuEmitter& e : rs.emitters) e.cdf /= rs.emitterArea;
   if (!rs.emitters.empty()) rs.emitters.back().cdf = 1.0f;
+  rs.emitterGuide = makeEmitterGuide(rs.emitters);
 }
+
+} // namespace
+
+std::vector<uint32_t> makeEmitterGuide(std::span<const GpuEmitter> emitters) {
+  if (emitters.empty()) return {};
+  // About one emitter a bucket; k / K and u K are exact in float for a power of two.
+  const uint32_t buckets = std::min<uint32_t>(std::bit_ceil(uint32_t(emitters.size())), 1u << 16);
+  std::vector<uint32_t> guide(buckets + 1);
+  const uint32_t last = uint32_t(emitters.size()) - 1;
+  uint32_t i = 0;
+  for (uint32_t k = 0; k <= buckets; ++k) {
+    const float threshold = float(k) / float(buckets);
+    while (i < last && emitters[i].cdf < threshold) ++i;
+    guide[k] = i;
+  }
+  return guide;
+}
+
+namespace {
 
 // The BVH over what can block a ray: brushes whose every face is hidden (clip, trigger, ...) and
 // hidden meshes are left out.

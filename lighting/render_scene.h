@@ -18,6 +18,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <span>
 #include <vector>
 
 namespace bt {
@@ -59,6 +60,12 @@ struct RenderScene {
   std::vector<GpuLight> surfaceLights; // per material: the _surface template (value 0 = none)
   std::vector<GpuEmitter> emitters;    // triangles of emitting faces, cdf by area
   float emitterArea = 0.0f;
+  // The CPU's emitter pick (integrator.cpp pickEmitter) starts from here: for K + 1 entries (K a
+  // power of two), entry k is the first emitter whose cdf reaches k / K (the last emitter where
+  // none does), so the one for u lies between entries floor(u K) and the next, a few emitters
+  // apart instead of a search of the whole array (its cache misses: a twentieth of a physical
+  // path's time). Empty: search it all. Made with the emitters (makeEmitterGuide).
+  std::vector<uint32_t> emitterGuide;
   WorldLighting world;
   LightKinds lightKinds; // what collectLights found (before _surface and _bounce lights)
   TraceScene tracer;     // the brushes that are ever visible, in a BVH
@@ -116,6 +123,9 @@ inline LiquidBlend engineBlend(const RenderScene& rs, uint32_t face) {
   const float alpha = glassAlpha(rs, face);
   return {alpha, 1.0f - alpha};
 }
+
+// RenderScene::emitterGuide of `emitters`.
+std::vector<uint32_t> makeEmitterGuide(std::span<const GpuEmitter> emitters);
 
 // Classifies faces by texture name (Quake conventions, see README), reads the lights, and
 // builds the tracer. `scene` must outlive the result.

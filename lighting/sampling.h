@@ -27,27 +27,34 @@ inline uint32_t pcgHash(uint32_t v) {
 // A random base-2 nested permutation (Owen scrambling) of the bits of v, from the most
 // significant down, by `seed`: Burley 2020, "Practical Hash-based Owen Scrambling", its
 // improved Laine-Karras hash on the reversed bits.
-inline uint32_t owenScramble(uint32_t v, uint32_t seed) {
-  v = glm::bitfieldReverse(v);
-  v += seed;
+// owenScrambleReversed: the same given bitfieldReverse(v), the reversal that the caller's own
+// cancels left out.
+inline uint32_t owenScrambleReversed(uint32_t reversed, uint32_t seed) {
+  uint32_t v = reversed + seed;
   v ^= v * 0x6c50b47cu;
   v ^= v * 0xb82f1e52u;
   v ^= v * 0xc7afe638u;
   v ^= v * 0x8d22f6e6u;
   return glm::bitfieldReverse(v);
 }
+inline uint32_t owenScramble(uint32_t v, uint32_t seed) {
+  return owenScrambleReversed(glm::bitfieldReverse(v), seed);
+}
 
 // Sobol's second dimension at `index` (the first is bitfieldReverse(index)). Its direction numbers
 // v(k+1) = v(k) ^ v(k) >> 1 from the top bit make its matrix Pascal's triangle mod 2, so bit
 // 31 - j of the result is the XOR of the index bits k whose bits hold all of j's (Lucas): a
 // superset sum over the bit positions, five shifts instead of a loop over the index's bits.
-inline uint32_t sobolSecond(uint32_t index) {
+inline uint32_t sobolSecondReversed(uint32_t index) { // sobolSecond before its final reversal
   index ^= (index >> 1u) & 0x55555555u;
   index ^= (index >> 2u) & 0x33333333u;
   index ^= (index >> 4u) & 0x0f0f0f0fu;
   index ^= (index >> 8u) & 0x00ff00ffu;
   index ^= (index >> 16u) & 0x0000ffffu;
-  return glm::bitfieldReverse(index);
+  return index;
+}
+inline uint32_t sobolSecond(uint32_t index) {
+  return glm::bitfieldReverse(sobolSecondReversed(index));
 }
 
 // Dimension `dim` of sample `index` of a pixel's sequence (pbrt-v4's PaddedSobolSampler, with
@@ -62,15 +69,20 @@ inline uint32_t sobolPairSeed(uint32_t pixelSeed, uint32_t dim) {
 inline float sobolValue(uint32_t sobol, uint32_t pairSeed, uint32_t component) {
   return float(owenScramble(sobol, pcgHash(pairSeed + 1u + component)) >> 8) * (1.0f / 16777216.0f);
 }
+// sobolValue(bitfieldReverse(reversed), ...) without the two reversals that cancel, the same bits
+// (shaders/sampling.glsl keeps the long form): the reversals were a third of a draw's work.
+inline float sobolValueReversed(uint32_t reversed, uint32_t pairSeed, uint32_t component) {
+  return float(owenScrambleReversed(reversed, pcgHash(pairSeed + 1u + component)) >> 8) * (1.0f / 16777216.0f);
+}
 inline float sobolDraw(uint32_t pixelSeed, uint32_t index, uint32_t dim) {
   const uint32_t seed = sobolPairSeed(pixelSeed, dim);
   const uint32_t shuffled = owenScramble(index, seed);
-  return (dim & 1u) == 0u ? sobolValue(glm::bitfieldReverse(shuffled), seed, 0u) : sobolValue(sobolSecond(shuffled), seed, 1u);
+  return (dim & 1u) == 0u ? sobolValueReversed(shuffled, seed, 0u) : sobolValueReversed(sobolSecondReversed(shuffled), seed, 1u);
 }
 inline glm::vec2 sobolPair(uint32_t pixelSeed, uint32_t index, uint32_t dim) {
   const uint32_t seed = sobolPairSeed(pixelSeed, dim);
   const uint32_t shuffled = owenScramble(index, seed);
-  return {sobolValue(glm::bitfieldReverse(shuffled), seed, 0u), sobolValue(sobolSecond(shuffled), seed, 1u)};
+  return {sobolValueReversed(shuffled, seed, 0u), sobolValueReversed(sobolSecondReversed(shuffled), seed, 1u)};
 }
 
 struct Rng {

@@ -31,10 +31,18 @@ namespace {
 // none does (light_select.glsl's bisection gives the same). A bisection without branches (Khuong
 // and Morin, "Array Layouts for Comparison-Based Searching", 2017): the branchy one's
 // mispredictions and misses were a tenth of radiancePhysical's own time.
+// The guide (RenderScene::emitterGuide) narrows the search to the emitters between its entries
+// for floor(u K) and the next: every emitter before the first has a cdf below k / K <= u, and the
+// second's reaches (k + 1) / K > u (or it is the last), so the answer lies between them.
 uint32_t pickEmitter(const RenderScene& rs, float u) {
   const GpuEmitter* e = rs.emitters.data();
   uint32_t base = 0, count = uint32_t(rs.emitters.size()) - 1; // the last ends every search untested
-  if (count == 0) return 0;
+  if (const size_t buckets = rs.emitterGuide.size() - 1; !rs.emitterGuide.empty()) {
+    const size_t k = std::min(size_t(u * float(buckets)), buckets - 1);
+    base = rs.emitterGuide[k];
+    count = rs.emitterGuide[k + 1] - base;
+  }
+  if (count == 0) return base;
   while (count > 1) {
     const uint32_t half = count / 2;
     base = e[base + half].cdf < u ? base + half : base;
@@ -411,12 +419,11 @@ LightPick pickFromNearList(const RenderScene& rs, const glm::vec3& origin, const
   std::array<float, kPhysicalNearLights> weights;
   float nearTotal = 0.0f;
 #if defined(__SSE2__)
+  static_assert(kPhysicalNearLights % 4 == 0, "the weights are stored four at a time");
   for (size_t k = 0; k < near.size(); k += 4) {
     std::array<const GpuLight*, 4> four;
     for (size_t j = 0; j < 4; ++j) four[j] = &rs.lights[near[std::min(k + j, near.size() - 1)]];
-    alignas(16) float w[4];
-    _mm_store_ps(w, selectionWeights(four, origin, n));
-    std::copy_n(w, std::min<size_t>(4, near.size() - k), weights.begin() + std::ptrdiff_t(k));
+    _mm_storeu_ps(weights.data() + k, selectionWeights(four, origin, n)); // lanes past the list are never read
   }
 #else
   for (size_t k = 0; k < near.size(); ++k) weights[k] = selectionWeight(rs.lights[near[k]], origin, n);

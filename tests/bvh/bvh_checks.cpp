@@ -3,7 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
 #include <cstdio>
+#include <limits>
+#include <set>
 
 namespace bt::test {
 namespace {
@@ -57,6 +61,64 @@ void expectWellFormed(const TraceScene& ts) {
   }
   for (size_t b = 0; b < brushes.size(); ++b) EXPECT_EQ(brushSeen[b], 1) << "brush " << b << " reached that often";
   for (size_t n = 0; n < nodes.size(); ++n) EXPECT_EQ(nodeSeen[n], 1) << "node " << n << " reached that often";
+  expectWideWellFormed(ts);
+}
+
+// The wide tree (bvh/wide_bvh.h): every wide node and brush reached once, each lane's box one of
+// the binary tree's node boxes or its one brush's (so its floats are the binary walk's), holding
+// the boxes below it, unused lanes NaN, and no deeper than the walk's stack allows.
+void expectWideWellFormed(const TraceScene& ts) {
+  const auto wide = ts.wideNodes();
+  const auto nodes = ts.nodes();
+  const auto brushes = ts.brushes();
+  ASSERT_EQ(wide.empty(), nodes.empty());
+  if (wide.empty()) return;
+  std::set<std::array<float, 6>> binaryBoxes;
+  for (const GpuBvhNode& n : nodes)
+    binaryBoxes.insert({n.boundsMin[0], n.boundsMin[1], n.boundsMin[2], n.boundsMax[0], n.boundsMax[1], n.boundsMax[2]});
+  std::vector<int> brushSeen(brushes.size(), 0), wideSeen(wide.size(), 0);
+  struct Visit {
+    uint32_t node, depth;
+    std::array<float, 6> box; // the lane's that leads here; the root's holds everything
+  };
+  const float inf = std::numeric_limits<float>::infinity();
+  std::vector<Visit> stack{{0, 0, {-inf, -inf, -inf, inf, inf, inf}}};
+  while (!stack.empty()) {
+    const Visit v = stack.back();
+    stack.pop_back();
+    ASSERT_LT(v.node, wide.size());
+    ++wideSeen[v.node];
+    ASSERT_LE(v.depth, kBvhMaxDepth);
+    const WideBvhNode& n = wide[v.node];
+    int used = 0;
+    for (int lane = 0; lane < 4; ++lane) {
+      const std::array<float, 6> box{n.lo[0][lane], n.lo[1][lane], n.lo[2][lane], n.hi[0][lane], n.hi[1][lane], n.hi[2][lane]};
+      if (std::isnan(box[0])) {
+        for (float f : box) EXPECT_TRUE(std::isnan(f)) << "wide node " << v.node << " lane " << lane;
+        continue;
+      }
+      ++used;
+      const bool ownBrush = n.count[lane] == 1 && n.child[lane] < brushes.size() &&
+          box == std::array<float, 6>{brushes[n.child[lane]].boundsMin[0], brushes[n.child[lane]].boundsMin[1],
+                                      brushes[n.child[lane]].boundsMin[2], brushes[n.child[lane]].boundsMax[0],
+                                      brushes[n.child[lane]].boundsMax[1], brushes[n.child[lane]].boundsMax[2]};
+      EXPECT_TRUE(binaryBoxes.count(box) || ownBrush)
+          << "wide node " << v.node << " lane " << lane << ": neither a node's nor its brush's box";
+      EXPECT_TRUE(contains(v.box.data(), v.box.data() + 3, box.data(), box.data() + 3)) << "wide node " << v.node << " lane " << lane;
+      if (n.count[lane] == 0) {
+        stack.push_back({n.child[lane], v.depth + 1, box});
+        continue;
+      }
+      ASSERT_LE(n.child[lane] + n.count[lane], brushes.size());
+      for (uint32_t b = n.child[lane]; b < n.child[lane] + n.count[lane]; ++b) {
+        ++brushSeen[b];
+        EXPECT_TRUE(contains(box.data(), box.data() + 3, brushes[b].boundsMin, brushes[b].boundsMax)) << "brush " << b;
+      }
+    }
+    EXPECT_GE(used, v.node == 0 && nodes.size() == 1 ? 1 : 2) << "wide node " << v.node;
+  }
+  for (size_t b = 0; b < brushes.size(); ++b) EXPECT_EQ(brushSeen[b], 1) << "brush " << b << " reached that often in the wide tree";
+  for (size_t n = 0; n < wide.size(); ++n) EXPECT_EQ(wideSeen[n], 1) << "wide node " << n << " reached that often";
 }
 
 // Every scene brush with a winding is in brushes() exactly once, with its faces split into

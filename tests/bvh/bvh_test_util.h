@@ -30,6 +30,8 @@ inline std::optional<Hit> bruteForceClosestHit(const TraceScene& ts, const Ray& 
 // Walks the tree from the root and checks everything a traversal relies on: every node and
 // brush reached exactly once, bounds nested, depth within kBvhMaxDepth.
 void expectWellFormed(const TraceScene& ts);
+// The same of wideNodes() (expectWellFormed checks it too).
+void expectWideWellFormed(const TraceScene& ts);
 // Every scene brush with a winding is in brushes() exactly once, its sides from its own faces.
 void expectAllBrushesPresent(const Scene& scene, const TraceScene& ts);
 // The binned SAH cost is within 3 % of the full-sweep reference on the same brush boxes.

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <string>
 #include <utility>
 #include <vector>
@@ -660,6 +661,41 @@ TEST(PhysicalRender, AreaLightMatchesFormFactorWithinMonteCarloError) {
     const double stderr_ = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
     EXPECT_NEAR(mean, expected, std::max(4.0 * stderr_, 1e-4 * expected)) << "x " << p.x << ", standard error " << stderr_;
     EXPECT_LT(stderr_, 0.02 * expected) << "x " << p.x; // and the estimate is actually tight
+  }
+}
+
+// The emitter pick searches only between two entries of RenderScene::emitterGuide: for every u
+// (the Sobol draws' 24-bit floats, the guide's bucket edges and the cdfs themselves among them),
+// the emitter whose cdf interval holds u, the first whose cdf reaches u (the last where none
+// does), lies between the entries for floor(u K) and the next.
+TEST(PhysicalRender, EmitterGuideBracketsEveryPick) {
+  std::mt19937 random(7);
+  for (const size_t count : {size_t(1), size_t(2), size_t(3), size_t(37), size_t(1000)}) {
+    std::vector<GpuEmitter> emitters(count);
+    float total = 0.0f;
+    for (size_t i = 0; i < count; ++i) {
+      // Some zero and some tiny areas: equal cdfs, several in one bucket, buckets with none.
+      const uint32_t kind = random() % 4;
+      total += kind == 0 ? 0.0f : kind == 1 ? 1e-4f : float(random() % 1000 + 1);
+      emitters[i].cdf = total;
+    }
+    for (GpuEmitter& e : emitters) e.cdf = total > 0.0f ? e.cdf / total : 1.0f;
+    emitters.back().cdf = 1.0f;
+    const std::vector<uint32_t> guide = makeEmitterGuide(emitters);
+    const size_t buckets = guide.size() - 1;
+    ASSERT_GE(buckets, count < 65536 ? count : 65536) << count;
+    std::vector<float> us;
+    for (int i = 0; i < 20000; ++i) us.push_back(float(random() >> 8) * (1.0f / 16777216.0f));
+    for (size_t k = 0; k < buckets; ++k) us.push_back(float(k) / float(buckets));
+    for (const GpuEmitter& e : emitters)
+      if (e.cdf < 1.0f) us.push_back(e.cdf), us.push_back(std::nextafter(e.cdf, 1.0f));
+    for (const float u : us) {
+      size_t first = 0;
+      while (first + 1 < count && emitters[first].cdf < u) ++first;
+      const size_t k = std::min(size_t(u * float(buckets)), buckets - 1);
+      EXPECT_LE(guide[k], first) << count << " emitters, u " << u;
+      EXPECT_GE(guide[k + 1], first) << count << " emitters, u " << u;
+    }
   }
 }
 
