@@ -1,4 +1,4 @@
-// gl_bench LEVEL [WxH] [textures] [physical|faithful] [seconds] [converge [SPP [floor] [dump DIR]] | rays]: the GL tracer's
+// gl_bench LEVEL [WxH] [textures] [physical|faithful] [seconds] [converge [SPP [floor] [dump DIR]] | rays [binary PATH] [BT_RB_...]]: the GL tracer's
 // benchmark
 // (`brushtrace bench`) in a program that links no OpenImageIO, whose libraries (over 300 MB)
 // cannot travel to the GPU machine (scripts/gpu-check.sh): the level is imported with
@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
     std::fprintf(
         stderr,
         "usage: gl_bench LEVEL [WxH] [auto|bindless|arrays] [physical|faithful] [seconds] [converge [REFERENCE_SPP [floor] [dump DIR]] "
-        "| rays]\n");
+        "| rays [binary PATH] [BT_RB_SWITCH[=VALUE] ...]]\n");
     return 2;
   }
   bt::gl::GlBenchSettings settings;
@@ -41,6 +41,19 @@ int main(int argc, char** argv) {
   // The ray rates alone (brushtrace bench --rays-only): a Quake 3 level's also without its curves.
   if (argc > 6 && std::string(argv[6]) == "rays") {
     settings.raysOnly = true;
+    // `rays [binary PATH] [DEFINE[=VALUE] ...]`: timed with raybench.comp's measurement switches
+    // (shaders/trace.glsl BT_RB_*), the program's driver binary written to PATH.
+    int next = 7;
+    if (argc > next + 1 && std::string(argv[next]) == "binary") settings.rayBenchBinary = argv[next + 1], next += 2;
+    for (; next < argc; ++next) {
+      std::string define = argv[next];
+      if (!define.starts_with("BT_RB_")) {
+        std::fprintf(stderr, "gl_bench: '%s' is not a ray benchmark switch (BT_RB_..., see shaders/trace.glsl)\n", argv[next]);
+        return 2;
+      }
+      if (const size_t equals = define.find('='); equals != std::string::npos) define[equals] = ' ';
+      settings.rayBenchDefines.push_back(define);
+    }
   } else if (argc > 6) {
     if (std::string(argv[6]) != "converge") return 2;
     settings.timeToConverged = true;

@@ -25,6 +25,22 @@
 #endif
 
 const uint NO_FACE = BT_NO_FACE;
+
+// Measurement switches of raybench.comp's variants (gl_bench's `variant`, bench/README.md issue
+// 20 session 27); no program of the renderer defines them:
+//   BT_RB_COUNT       counts per ray, in walkCounts: interior nodes visited, brushes whose box is
+//                     tested, brushes whose box holds the interval (their planes are read), planes
+//                     tested; and the deepest stack (walkDeepest);
+//   BT_RB_NODES_ONLY  every leaf answers "no hit" unread (the node walk alone);
+//   BT_RB_BOXES_ONLY  each leaf's brush boxes tested, no plane read, never a hit;
+//   BT_RB_STACK_DEPTH N  a traversal stack of N entries, not kBvhMaxDepth (exact only while no walk
+//                     goes deeper: the count's deepest stack says);
+//   BT_RB_FAST_BOX    the node test without the zero-direction rules (exact only for rays with no
+//                     zero component).
+#ifdef BT_RB_COUNT
+uvec4 walkCounts = uvec4(0u);
+uint walkDeepest = 0u;
+#endif
 // FLT_MAX stands in for the CPU's infinity: every t of a real ray is far below it (directions
 // are flushed below 2^-100, coordinates are Quake's), and GPU compilers may assume that no
 // value is infinite (NVIDIA's does).
@@ -141,6 +157,14 @@ vec4 facePlane(uint f) { return faces[f].plane; }
 bool boxOverlaps(TraceRay r, uvec4 minRow, uvec4 maxRow, float tLimit, out float entry) {
   vec3 boundsMin = uintBitsToFloat(minRow.xyz), boundsMax = uintBitsToFloat(maxRow.xyz);
   vec3 t0 = (boundsMin - r.origin) * r.invDir, t1 = (boundsMax - r.origin) * r.invDir;
+#ifdef BT_RB_FAST_BOX
+  {
+    vec3 lo = min(t0, t1), hi = max(t0, t1);
+    float nearFast = max(max(lo.x, lo.y), lo.z), farFast = min(min(hi.x, hi.y), hi.z);
+    entry = max(nearFast, r.tMin);
+    return entry <= min(farFast, tLimit) && nearFast <= farFast;
+  }
+#endif
   bvec3 zero = equal(r.invDir, vec3(0.0));
   vec3 tNear = mix(min(t0, t1), vec3(-INFINITY), zero), tFar = mix(max(t0, t1), vec3(INFINITY), zero);
   float near = max(max(tNear.x, tNear.y), tNear.z), far = min(min(tFar.x, tFar.y), tFar.z);
@@ -174,11 +198,21 @@ bool hitBrush(TraceRay r, uint b, float tLimit, out Hit hit) {
   uvec4 row0 = brushRow(b, 0u), row1 = brushRow(b, 1u);
   Slab box = intersectBox(r, uintBitsToFloat(row0.xyz), uintBitsToFloat(row1.xyz));
   if (box.near > box.far || box.far <= r.tMin || box.near >= r.tMax || box.near > tLimit) return false;
+#ifdef BT_RB_BOXES_ONLY
+  hit.face = floatBitsToUint(box.near); // keeps the box test's result live
+  return false;
+#endif
+#ifdef BT_RB_COUNT
+  ++walkCounts.z;
+#endif
 
   Crossing enter = Crossing(-INFINITY, NO_FACE, 0.0), exit = Crossing(INFINITY, NO_FACE, 0.0);
   float near0 = max(box.near, r.tMin);
   uint firstSide = row0.w, endSide = firstSide + row1.w;
   for (uint i = firstSide; i < endSide; ++i) {
+#ifdef BT_RB_COUNT
+    ++walkCounts.w;
+#endif
     uint f = sideFace(i);
     vec4 plane = facePlane(f);
     float denom = plane.x * r.dir.x + plane.y * r.dir.y + plane.z * r.dir.z;
@@ -276,7 +310,11 @@ bool closer(Hit hit, Hit best) {
 // layout keeps neighbouring invocations in different banks. Every program that traces
 // therefore runs 8 x 8 invocations per workgroup, declared here so that a program with another
 // size fails to compile.
+#if defined(BT_RB_GROUP_X) && !defined(BT_TRACE_SOFTWARE)
+layout(local_size_x = BT_RB_GROUP_X, local_size_y = BT_RB_GROUP_Y) in; // raybench.comp's shapes
+#else
 layout(local_size_x = 8, local_size_y = 8) in;
+#endif
 #ifdef BT_TRACE_SOFTWARE
 const uint TRACE_INVOCATIONS = 64u;
 const int STACK_REGISTERS = 8;
@@ -307,11 +345,22 @@ uint popNode(inout NodeStack s) {
 }
 #else
 // GPUs: a private array (the compiler keeps it in registers and local memory).
+#ifdef BT_RB_STACK_DEPTH
+uint traversalStack[BT_RB_STACK_DEPTH];
+#else
 uint traversalStack[BT_BVH_MAX_DEPTH];
+#endif
 struct NodeStack {
   int size;
 };
+#ifdef BT_RB_COUNT
+void pushNode(inout NodeStack s, uint node) {
+  traversalStack[s.size++] = node;
+  walkDeepest = max(walkDeepest, uint(s.size));
+}
+#else
 void pushNode(inout NodeStack s, uint node) { traversalStack[s.size++] = node; }
+#endif
 uint popNode(inout NodeStack s) { return traversalStack[--s.size]; }
 #endif
 
@@ -373,9 +422,15 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   // the triangles'.
   uvec4 rootPads = uvec4(nodeRow(0u, 1u).w, nodeRow(0u, 3u).w, 0u, 0u);
   bool inTriangles = false;
+#if defined(BT_RB_NODES_ONLY) || defined(BT_RB_BOXES_ONLY)
+  uint leafSum = 0u;
+#endif
   while (true) {
     // Down through interior nodes to the next leaf; with nothing left to visit, an empty leaf.
     while ((current & LEAF_REF) == 0u) {
+#ifdef BT_RB_COUNT
+      ++walkCounts.x;
+#endif
       uvec4 leftMin = nodeRow(current, 0u), leftMax = nodeRow(current, 1u);
       uvec4 rightMin = nodeRow(current, 2u), rightMax = nodeRow(current, 3u);
       uint a = leftMin.w, b = rightMin.w;
@@ -397,9 +452,22 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
       }
     }
     uint first = leafFirst(current), end = first + leafCount(current);
+#ifdef BT_RB_NODES_ONLY
+    leafSum ^= current; // keeps the walk live
+    end = first;
+#endif
     for (uint i = first; i < end; ++i) {
       Hit hit;
+#ifdef BT_RB_COUNT
+      walkCounts.y += inTriangles ? 0u : 1u;
+#endif
+#ifdef BT_RB_BOXES_ONLY
+      bool found = inTriangles ? hitTriangle(r, rootPads.y, i, best.t, hit) : hitBrush(r, i, best.t, hit);
+      leafSum ^= hit.face;
+      if (!found) continue;
+#else
       if (!(inTriangles ? hitTriangle(r, rootPads.y, i, best.t, hit) : hitBrush(r, i, best.t, hit))) continue;
+#endif
       if (anyHit) {
         if ((!hit.inside || blocksFromInside(inTriangles, i, passFlags)) && blocksRay(faceFlags[hit.face], passFlags) &&
             !maskedOut(hit.face, r.origin + r.dir * hit.t))
@@ -416,5 +484,8 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
     }
     current = popNode(stack);
   }
+#if defined(BT_RB_NODES_ONLY) || defined(BT_RB_BOXES_ONLY)
+  best.face = leafSum;
+#endif
   return best;
 }

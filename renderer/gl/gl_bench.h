@@ -9,6 +9,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace bt::gl {
 
@@ -26,6 +27,10 @@ struct GlBenchSettings {
   // Measure only the ray rates after the cold first image (with the level's curves and, where it
   // has any, without them).
   bool raysOnly = false;
+  // With raysOnly: the rays timed with a variant of the benchmark's program (issue 20's
+  // measurements of parts of the walk; gl_tracer.h RayBenchVariant).
+  std::vector<std::string> rayBenchDefines;
+  std::string rayBenchBinary;
   // Physical mode's firefly clamp (IntegratorSettings::clampIndirect), the commands' default.
   float clampIndirect = kClampIndirectDefault;
   // With timeToConverged: also the measure's floor, two references' difference (ConvergeRun).
