@@ -35,8 +35,8 @@ const uint NO_FACE = BT_NO_FACE;
 //   BT_RB_BOXES_ONLY  each leaf's brush boxes tested, no plane read, never a hit;
 //   BT_RB_STACK_DEPTH N  a traversal stack of N entries, not kBvhMaxDepth (exact only while no walk
 //                     goes deeper: the count's deepest stack says);
-//   BT_RB_FAST_BOX    the node test without the zero-direction rules (exact only for rays with no
-//                     zero component).
+//   BT_RB_PLAIN_TEST  every node test plain (boxOverlaps careful = false), whatever the ray: what
+//                     the walk costs with no zero-direction rules (exact only for rays without).
 #ifdef BT_RB_COUNT
 uvec4 walkCounts = uvec4(0u);
 uint walkDeepest = 0u;
@@ -149,22 +149,25 @@ vec4 facePlane(uint f) { return faces[f].plane; }
 // Whether a child box can hold a hit with t in (tMin, tLimit]; inclusive at tLimit so that a
 // hit at exactly the best t still reaches the tie-break (closer). `entry` is where the ray's
 // interval in it starts, max(near, tMin): the box stays worth visiting while entry <= best t.
-// intersectBox's near and far without its branches (trace_scene.cpp nodeOverlaps): a zero
-// direction component (invDir 0) sets no bound on the interval, and misses the box when the
-// origin is outside that slab. One formula for all rays: llvmpipe runs the code on both sides
-// of a branch, masked, even when all its SIMD lanes take the same side (a branch on hasZero here
-// cost a fifth of the bounce rays' time, which almost never have a zero component).
-bool boxOverlaps(TraceRay r, uvec4 minRow, uvec4 maxRow, float tLimit, out float entry) {
+// intersectBox's near and far without its branches (trace_scene.cpp nodeOverlaps).
+//   careful = false, for a ray with no zero direction component: the slabs' near and far, min and
+//     max of the two planes' t;
+//   careful = true, for any ray: a zero component (invDir 0) sets no bound on the interval, and
+//     misses the box when the origin is outside that slab. For a ray with no zero component it
+//     computes what the plain test does, bit for bit, at about twice the instructions: the node
+//     tests are most of the walk's time, and on an H200 the plain test makes every ray kind half
+//     as fast again (bench/README.md, issue 20 session 27). One formula for all rays on llvmpipe,
+//     which runs the code on both sides of a branch, masked, even when all its SIMD lanes take the
+//     same side (a branch on hasZero here cost a fifth of the bounce rays' time there).
+bool boxOverlaps(TraceRay r, uvec4 minRow, uvec4 maxRow, float tLimit, bool careful, out float entry) {
   vec3 boundsMin = uintBitsToFloat(minRow.xyz), boundsMax = uintBitsToFloat(maxRow.xyz);
   vec3 t0 = (boundsMin - r.origin) * r.invDir, t1 = (boundsMax - r.origin) * r.invDir;
-#ifdef BT_RB_FAST_BOX
-  {
-    vec3 lo = min(t0, t1), hi = max(t0, t1);
-    float nearFast = max(max(lo.x, lo.y), lo.z), farFast = min(min(hi.x, hi.y), hi.z);
-    entry = max(nearFast, r.tMin);
-    return entry <= min(farFast, tLimit) && nearFast <= farFast;
+  if (!careful) {
+    vec3 tNear = min(t0, t1), tFar = max(t0, t1);
+    float near = max(max(tNear.x, tNear.y), tNear.z), far = min(min(tFar.x, tFar.y), tFar.z);
+    entry = max(near, r.tMin);
+    return entry <= min(far, tLimit) && near <= far;
   }
-#endif
   bvec3 zero = equal(r.invDir, vec3(0.0));
   vec3 tNear = mix(min(t0, t1), vec3(-INFINITY), zero), tFar = mix(max(t0, t1), vec3(INFINITY), zero);
   float near = max(max(tNear.x, tNear.y), tNear.z), far = min(min(tFar.x, tFar.y), tFar.z);
@@ -409,6 +412,32 @@ bool blocksFromInside(bool inTriangles, uint b, uint passFlags) {
 #endif
 }
 
+// One step down from interior node `current` (boxOverlaps says what `careful` is): the nearer
+// child whose box the ray meets, the farther one pushed when it meets both; with neither, the
+// stack's top, or an empty leaf when the stack is empty.
+uint descend(TraceRay r, uint current, inout NodeStack stack, float tLimit, bool careful) {
+#ifdef BT_RB_COUNT
+  ++walkCounts.x;
+#endif
+  uvec4 leftMin = nodeRow(current, 0u), leftMax = nodeRow(current, 1u);
+  uvec4 rightMin = nodeRow(current, 2u), rightMax = nodeRow(current, 3u);
+  uint a = leftMin.w, b = rightMin.w;
+  float entryA, entryB;
+  bool hitA = a != NO_CHILD && boxOverlaps(r, leftMin, leftMax, tLimit, careful, entryA);
+  bool hitB = b != NO_CHILD && boxOverlaps(r, rightMin, rightMax, tLimit, careful, entryB);
+  if (hitA && hitB) {
+    if (entryB < entryA) {
+      uint swap = a;
+      a = b;
+      b = swap;
+    }
+    pushNode(stack, b);
+    return a;
+  }
+  if (hitA || hitB) return hitA ? a : b;
+  return stack.size > 0 ? popNode(stack) : LEAF_REF;
+}
+
 Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   Hit best = Hit(r.tMax, NO_FACE, false);
 #ifdef BT_TRACE_SOFTWARE
@@ -427,30 +456,21 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
 #endif
   while (true) {
     // Down through interior nodes to the next leaf; with nothing left to visit, an empty leaf.
-    while ((current & LEAF_REF) == 0u) {
-#ifdef BT_RB_COUNT
-      ++walkCounts.x;
+#ifdef BT_TRACE_SOFTWARE
+    while ((current & LEAF_REF) == 0u) current = descend(r, current, stack, best.t, true);
+#else
+    // Two loops, so that a GPU branches once per leaf on the ray's kind (one kind for a whole
+    // subgroup but in the rare groups that hold a zero component) rather than per node test.
+#ifdef BT_RB_PLAIN_TEST
+    if (false) {
+#else
+    if (r.hasZero) {
 #endif
-      uvec4 leftMin = nodeRow(current, 0u), leftMax = nodeRow(current, 1u);
-      uvec4 rightMin = nodeRow(current, 2u), rightMax = nodeRow(current, 3u);
-      uint a = leftMin.w, b = rightMin.w;
-      float entryA, entryB;
-      bool hitA = a != NO_CHILD && boxOverlaps(r, leftMin, leftMax, best.t, entryA);
-      bool hitB = b != NO_CHILD && boxOverlaps(r, rightMin, rightMax, best.t, entryB);
-      if (hitA && hitB) {
-        if (entryB < entryA) {
-          uint swap = a;
-          a = b;
-          b = swap;
-        }
-        pushNode(stack, b);
-        current = a;
-      } else if (hitA || hitB) {
-        current = hitA ? a : b;
-      } else {
-        current = stack.size > 0 ? popNode(stack) : LEAF_REF;
-      }
+      while ((current & LEAF_REF) == 0u) current = descend(r, current, stack, best.t, true);
+    } else {
+      while ((current & LEAF_REF) == 0u) current = descend(r, current, stack, best.t, false);
     }
+#endif
     uint first = leafFirst(current), end = first + leafCount(current);
 #ifdef BT_RB_NODES_ONLY
     leafSum ^= current; // keeps the walk live
