@@ -24,10 +24,11 @@
 #ifndef BT_RB_GROUP_X
 layout(local_size_x = 8, local_size_y = 8) in;
 #endif
+// A point of its own (gl_buffer_bindings_test.cpp), named here only: GlTracer asks the program.
+#define BT_BINDING_RAYBENCH_COUNTS 16
 #ifdef BT_RB_COUNT
 // Per mode 16 words: for each of trace.glsl's walkCounts and walkDeepest, the sum and the maximum.
-// In the wavefront rays' slot, which no other buffer of this program takes.
-layout(std430, binding = BT_BINDING_WAVEFRONT_RAYS) buffer RayBenchCounts { uint rayBenchCounts[]; };
+layout(std430, binding = BT_BINDING_RAYBENCH_COUNTS) buffer RayBenchCounts { uint rayBenchCounts[]; };
 #endif
 layout(rgba32f, binding = BT_IMAGE_PRIMARY_HITS) uniform image2D hits; // xyz: primary hit point, w: face + 1 (0 = miss)
 layout(r32f, binding = BT_IMAGE_BOUNCE_T) uniform writeonly image2D bounceT;

@@ -396,7 +396,13 @@ RayBenchmark GlTracer::benchmarkRays(const CameraBasis& camera, int width, int h
   if (counting) {
     BT_GL(glCreateBuffers(1, &counts));
     BT_GL(glNamedBufferStorage(counts, sizeof(result.walkCounts), nullptr, GL_DYNAMIC_STORAGE_BIT));
-    BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingWavefrontRays, counts));
+    // Where raybench.comp binds it, from the program: the point is named in that shader only.
+    const GLuint block = glGetProgramResourceIndex(timed->id(), GL_SHADER_STORAGE_BLOCK, "RayBenchCounts");
+    if (block == GL_INVALID_INDEX) throw GlError("raybench.comp with BT_RB_COUNT has no RayBenchCounts buffer");
+    const GLenum property = GL_BUFFER_BINDING;
+    GLint binding = 0;
+    BT_GL(glGetProgramResourceiv(timed->id(), GL_SHADER_STORAGE_BLOCK, block, 1, &property, 1, nullptr, &binding));
+    BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GLuint(binding), counts));
     result.counted = true;
   }
 
