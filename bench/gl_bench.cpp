@@ -9,15 +9,36 @@
 #include "importers/import.h"
 #include "renderer/gl/gl_bench.h"
 #include "renderer/gl/gl_error.h"
+#include "renderer/gl/gl_program.h"
 #include "renderer/image_output.h"
 #include "tests/bvh/generated_scenes.h"
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <regex>
 #include <string>
+
+namespace {
+
+// Whether the shaders name a ray benchmark switch (they are its only list): a misspelt one would
+// otherwise time the plain walk under its name.
+bool switchInShaders(const std::string& name) {
+  if (!std::ranges::all_of(name, [](char c) {
+        return std::isupper(static_cast<unsigned char>(c)) || std::isdigit(static_cast<unsigned char>(c)) || c == '_';
+      }))
+    return false;
+  const std::regex word("\\b" + name + "\\b");
+  for (const bt::gl::ShaderFile& file : bt::gl::embeddedShaders())
+    if (std::regex_search(file.source, word)) return true;
+  return false;
+}
+
+} // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) {
@@ -47,7 +68,8 @@ int main(int argc, char** argv) {
     if (argc > next + 1 && std::string(argv[next]) == "binary") settings.rayBenchBinary = argv[next + 1], next += 2;
     for (; next < argc; ++next) {
       std::string define = argv[next];
-      if (!define.starts_with("BT_RB_")) {
+      const std::string name = define.substr(0, define.find('='));
+      if (!name.starts_with("BT_RB_") || !switchInShaders(name)) {
         std::fprintf(stderr, "gl_bench: '%s' is not a ray benchmark switch (BT_RB_..., see shaders/trace.glsl)\n", argv[next]);
         return 2;
       }

@@ -27,10 +27,6 @@ struct GlBenchSettings {
   // Measure only the ray rates after the cold first image (with the level's curves and, where it
   // has any, without them).
   bool raysOnly = false;
-  // With raysOnly: the rays timed with a variant of the benchmark's program (issue 20's
-  // measurements of parts of the walk; gl_tracer.h RayBenchVariant).
-  std::vector<std::string> rayBenchDefines;
-  std::string rayBenchBinary;
   // Physical mode's firefly clamp (IntegratorSettings::clampIndirect), the commands' default.
   float clampIndirect = kClampIndirectDefault;
   // With timeToConverged: also the measure's floor, two references' difference (ConvergeRun).
@@ -38,6 +34,11 @@ struct GlBenchSettings {
   // With timeToConverged: given each image the measure renders (ConvergeRun::keep), e.g. to write
   // it as an EXR (gl_bench's `dump DIR`), which this library does not link.
   std::function<void(const RenderImage&, const std::string& name)> keep;
+  // With raysOnly: the rays timed with a variant of the benchmark's program (issue 20's
+  // measurements of parts of the walk; gl_tracer.h RayBenchVariant). Last, as `brushtrace bench`
+  // fills the fields above in order.
+  std::vector<std::string> rayBenchDefines;
+  std::string rayBenchBinary;
 };
 
 // Prints the measurements to stdout; a level with Quake 3 curves gets its ray rates a second
