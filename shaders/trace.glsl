@@ -336,6 +336,9 @@ void pushNode(inout NodeStack s, uint node) {
   s.hi = uvec4(s.lo.w, s.hi.xyz);
   s.lo = uvec4(node, s.lo.xyz);
   ++s.size;
+#ifdef BT_RB_COUNT
+  walkDeepest = max(walkDeepest, uint(s.size));
+#endif
 }
 
 uint popNode(inout NodeStack s) {

@@ -244,6 +244,8 @@ ComputeProgram& TracerPrograms::rayBenchVariant(const std::vector<std::string>& 
   std::vector<std::string> all = programDefines(TracerProgram::RayBench, mode_, layout_);
   all.emplace_back("BT_RB_VARIANT");
   all.insert(all.end(), defines.begin(), defines.end());
+  if (all != rayBenchVariantDefines_) rayBenchVariant_.reset(); // one variant at a time
+  rayBenchVariantDefines_ = all;
   start(rayBenchVariant_, shaderFile(TracerProgram::RayBench), all, false);
   return finished(rayBenchVariant_);
 }

@@ -198,6 +198,7 @@ private:
   static constexpr size_t kPathVariants = 514;
   std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[kPathVariants], bake_[kPathVariants], trace_, aov_[2], rayBench_,
       rayBenchVariant_;
+  std::vector<std::string> rayBenchVariantDefines_; // rayBenchVariant_'s
 };
 
 } // namespace bt::gl
