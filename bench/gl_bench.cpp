@@ -1,4 +1,4 @@
-// gl_bench LEVEL [WxH] [textures] [physical|faithful] [seconds] [converge [SPP [floor] [dump DIR]] | rays]: the GL tracer's
+// gl_bench LEVEL [WxH] [textures] [physical|faithful] [seconds] [converge [SPP [floor] [dump DIR]] | rays [binary PATH] [BT_RB_...]]: the GL tracer's
 // benchmark
 // (`brushtrace bench`) in a program that links no OpenImageIO, whose libraries (over 300 MB)
 // cannot travel to the GPU machine (scripts/gpu-check.sh): the level is imported with
@@ -9,22 +9,43 @@
 #include "importers/import.h"
 #include "renderer/gl/gl_bench.h"
 #include "renderer/gl/gl_error.h"
+#include "renderer/gl/gl_program.h"
 #include "renderer/image_output.h"
 #include "tests/bvh/generated_scenes.h"
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <regex>
 #include <string>
+
+namespace {
+
+// Whether the shaders name a ray benchmark switch (they are its only list): a misspelt one would
+// otherwise time the plain walk under its name.
+bool switchInShaders(const std::string& name) {
+  if (!std::ranges::all_of(name, [](char c) {
+        return std::isupper(static_cast<unsigned char>(c)) || std::isdigit(static_cast<unsigned char>(c)) || c == '_';
+      }))
+    return false;
+  const std::regex word("\\b" + name + "\\b");
+  for (const bt::gl::ShaderFile& file : bt::gl::embeddedShaders())
+    if (std::regex_search(file.source, word)) return true;
+  return false;
+}
+
+} // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(
         stderr,
         "usage: gl_bench LEVEL [WxH] [auto|bindless|arrays] [physical|faithful] [seconds] [converge [REFERENCE_SPP [floor] [dump DIR]] "
-        "| rays]\n");
+        "| rays [binary PATH] [BT_RB_SWITCH[=VALUE] ...]]\n");
     return 2;
   }
   bt::gl::GlBenchSettings settings;
@@ -41,6 +62,20 @@ int main(int argc, char** argv) {
   // The ray rates alone (brushtrace bench --rays-only): a Quake 3 level's also without its curves.
   if (argc > 6 && std::string(argv[6]) == "rays") {
     settings.raysOnly = true;
+    // `rays [binary PATH] [DEFINE[=VALUE] ...]`: timed with raybench.comp's measurement switches
+    // (shaders/trace.glsl BT_RB_*), the program's driver binary written to PATH.
+    int next = 7;
+    if (argc > next + 1 && std::string(argv[next]) == "binary") settings.rayBenchBinary = argv[next + 1], next += 2;
+    for (; next < argc; ++next) {
+      std::string define = argv[next];
+      const std::string name = define.substr(0, define.find('='));
+      if (!name.starts_with("BT_RB_") || !switchInShaders(name)) {
+        std::fprintf(stderr, "gl_bench: '%s' is not a ray benchmark switch (BT_RB_..., see shaders/trace.glsl)\n", argv[next]);
+        return 2;
+      }
+      if (const size_t equals = define.find('='); equals != std::string::npos) define[equals] = ' ';
+      settings.rayBenchDefines.push_back(define);
+    }
   } else if (argc > 6) {
     if (std::string(argv[6]) != "converge") return 2;
     settings.timeToConverged = true;

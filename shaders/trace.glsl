@@ -25,6 +25,22 @@
 #endif
 
 const uint NO_FACE = BT_NO_FACE;
+
+// Measurement switches of raybench.comp's variants (gl_bench's `variant`, bench/README.md issue
+// 20 session 27); no program of the renderer defines them:
+//   BT_RB_COUNT       counts per ray, in walkCounts: interior nodes visited, brushes whose box is
+//                     tested, brushes whose box holds the interval (their planes are read), planes
+//                     tested; and the deepest stack (walkDeepest);
+//   BT_RB_NODES_ONLY  every leaf answers "no hit" unread (the node walk alone);
+//   BT_RB_BOXES_ONLY  each leaf's brush boxes tested, no plane read, never a hit;
+//   BT_RB_STACK_DEPTH N  a traversal stack of N entries, not kBvhMaxDepth (exact only while no walk
+//                     goes deeper: the count's deepest stack says);
+//   BT_RB_PLAIN_TEST  every node test plain (boxOverlaps careful = false), whatever the ray: what
+//                     the walk costs with no zero-direction rules (exact only for rays without).
+#ifdef BT_RB_COUNT
+uvec4 walkCounts = uvec4(0u);
+uint walkDeepest = 0u;
+#endif
 // FLT_MAX stands in for the CPU's infinity: every t of a real ray is far below it (directions
 // are flushed below 2^-100, coordinates are Quake's), and GPU compilers may assume that no
 // value is infinite (NVIDIA's does).
@@ -133,14 +149,25 @@ vec4 facePlane(uint f) { return faces[f].plane; }
 // Whether a child box can hold a hit with t in (tMin, tLimit]; inclusive at tLimit so that a
 // hit at exactly the best t still reaches the tie-break (closer). `entry` is where the ray's
 // interval in it starts, max(near, tMin): the box stays worth visiting while entry <= best t.
-// intersectBox's near and far without its branches (trace_scene.cpp nodeOverlaps): a zero
-// direction component (invDir 0) sets no bound on the interval, and misses the box when the
-// origin is outside that slab. One formula for all rays: llvmpipe runs the code on both sides
-// of a branch, masked, even when all its SIMD lanes take the same side (a branch on hasZero here
-// cost a fifth of the bounce rays' time, which almost never have a zero component).
-bool boxOverlaps(TraceRay r, uvec4 minRow, uvec4 maxRow, float tLimit, out float entry) {
+// intersectBox's near and far without its branches (trace_scene.cpp nodeOverlaps).
+//   careful = false, for a ray with no zero direction component: the slabs' near and far, min and
+//     max of the two planes' t;
+//   careful = true, for any ray: a zero component (invDir 0) sets no bound on the interval, and
+//     misses the box when the origin is outside that slab. For a ray with no zero component it
+//     computes what the plain test does, bit for bit, at about twice the instructions: the node
+//     tests are most of the walk's time, and on an H200 the plain test makes every ray kind half
+//     as fast again (bench/README.md, issue 20 session 27). One formula for all rays on llvmpipe,
+//     which runs the code on both sides of a branch, masked, even when all its SIMD lanes take the
+//     same side (a branch on hasZero here cost a fifth of the bounce rays' time there).
+bool boxOverlaps(TraceRay r, uvec4 minRow, uvec4 maxRow, float tLimit, bool careful, out float entry) {
   vec3 boundsMin = uintBitsToFloat(minRow.xyz), boundsMax = uintBitsToFloat(maxRow.xyz);
   vec3 t0 = (boundsMin - r.origin) * r.invDir, t1 = (boundsMax - r.origin) * r.invDir;
+  if (!careful) {
+    vec3 tNear = min(t0, t1), tFar = max(t0, t1);
+    float near = max(max(tNear.x, tNear.y), tNear.z), far = min(min(tFar.x, tFar.y), tFar.z);
+    entry = max(near, r.tMin);
+    return entry <= min(far, tLimit) && near <= far;
+  }
   bvec3 zero = equal(r.invDir, vec3(0.0));
   vec3 tNear = mix(min(t0, t1), vec3(-INFINITY), zero), tFar = mix(max(t0, t1), vec3(INFINITY), zero);
   float near = max(max(tNear.x, tNear.y), tNear.z), far = min(min(tFar.x, tFar.y), tFar.z);
@@ -174,11 +201,21 @@ bool hitBrush(TraceRay r, uint b, float tLimit, out Hit hit) {
   uvec4 row0 = brushRow(b, 0u), row1 = brushRow(b, 1u);
   Slab box = intersectBox(r, uintBitsToFloat(row0.xyz), uintBitsToFloat(row1.xyz));
   if (box.near > box.far || box.far <= r.tMin || box.near >= r.tMax || box.near > tLimit) return false;
+#ifdef BT_RB_BOXES_ONLY
+  hit.face = floatBitsToUint(box.near); // keeps the box test's result live
+  return false;
+#endif
+#ifdef BT_RB_COUNT
+  ++walkCounts.z;
+#endif
 
   Crossing enter = Crossing(-INFINITY, NO_FACE, 0.0), exit = Crossing(INFINITY, NO_FACE, 0.0);
   float near0 = max(box.near, r.tMin);
   uint firstSide = row0.w, endSide = firstSide + row1.w;
   for (uint i = firstSide; i < endSide; ++i) {
+#ifdef BT_RB_COUNT
+    ++walkCounts.w;
+#endif
     uint f = sideFace(i);
     vec4 plane = facePlane(f);
     float denom = plane.x * r.dir.x + plane.y * r.dir.y + plane.z * r.dir.z;
@@ -276,7 +313,11 @@ bool closer(Hit hit, Hit best) {
 // layout keeps neighbouring invocations in different banks. Every program that traces
 // therefore runs 8 x 8 invocations per workgroup, declared here so that a program with another
 // size fails to compile.
+#if defined(BT_RB_GROUP_X) && !defined(BT_TRACE_SOFTWARE)
+layout(local_size_x = BT_RB_GROUP_X, local_size_y = BT_RB_GROUP_Y) in; // raybench.comp's shapes
+#else
 layout(local_size_x = 8, local_size_y = 8) in;
+#endif
 #ifdef BT_TRACE_SOFTWARE
 const uint TRACE_INVOCATIONS = 64u;
 const int STACK_REGISTERS = 8;
@@ -295,6 +336,9 @@ void pushNode(inout NodeStack s, uint node) {
   s.hi = uvec4(s.lo.w, s.hi.xyz);
   s.lo = uvec4(node, s.lo.xyz);
   ++s.size;
+#ifdef BT_RB_COUNT
+  walkDeepest = max(walkDeepest, uint(s.size));
+#endif
 }
 
 uint popNode(inout NodeStack s) {
@@ -307,11 +351,22 @@ uint popNode(inout NodeStack s) {
 }
 #else
 // GPUs: a private array (the compiler keeps it in registers and local memory).
+#ifdef BT_RB_STACK_DEPTH
+uint traversalStack[BT_RB_STACK_DEPTH];
+#else
 uint traversalStack[BT_BVH_MAX_DEPTH];
+#endif
 struct NodeStack {
   int size;
 };
+#ifdef BT_RB_COUNT
+void pushNode(inout NodeStack s, uint node) {
+  traversalStack[s.size++] = node;
+  walkDeepest = max(walkDeepest, uint(s.size));
+}
+#else
 void pushNode(inout NodeStack s, uint node) { traversalStack[s.size++] = node; }
+#endif
 uint popNode(inout NodeStack s) { return traversalStack[--s.size]; }
 #endif
 
@@ -360,6 +415,32 @@ bool blocksFromInside(bool inTriangles, uint b, uint passFlags) {
 #endif
 }
 
+// One step down from interior node `current` (boxOverlaps says what `careful` is): the nearer
+// child whose box the ray meets, the farther one pushed when it meets both; with neither, the
+// stack's top, or an empty leaf when the stack is empty.
+uint descend(TraceRay r, uint current, inout NodeStack stack, float tLimit, bool careful) {
+#ifdef BT_RB_COUNT
+  ++walkCounts.x;
+#endif
+  uvec4 leftMin = nodeRow(current, 0u), leftMax = nodeRow(current, 1u);
+  uvec4 rightMin = nodeRow(current, 2u), rightMax = nodeRow(current, 3u);
+  uint a = leftMin.w, b = rightMin.w;
+  float entryA, entryB;
+  bool hitA = a != NO_CHILD && boxOverlaps(r, leftMin, leftMax, tLimit, careful, entryA);
+  bool hitB = b != NO_CHILD && boxOverlaps(r, rightMin, rightMax, tLimit, careful, entryB);
+  if (hitA && hitB) {
+    if (entryB < entryA) {
+      uint swap = a;
+      a = b;
+      b = swap;
+    }
+    pushNode(stack, b);
+    return a;
+  }
+  if (hitA || hitB) return hitA ? a : b;
+  return stack.size > 0 ? popNode(stack) : LEAF_REF;
+}
+
 Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   Hit best = Hit(r.tMax, NO_FACE, false);
 #ifdef BT_TRACE_SOFTWARE
@@ -373,33 +454,43 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
   // the triangles'.
   uvec4 rootPads = uvec4(nodeRow(0u, 1u).w, nodeRow(0u, 3u).w, 0u, 0u);
   bool inTriangles = false;
+#if defined(BT_RB_NODES_ONLY) || defined(BT_RB_BOXES_ONLY)
+  uint leafSum = 0u;
+#endif
   while (true) {
     // Down through interior nodes to the next leaf; with nothing left to visit, an empty leaf.
-    while ((current & LEAF_REF) == 0u) {
-      uvec4 leftMin = nodeRow(current, 0u), leftMax = nodeRow(current, 1u);
-      uvec4 rightMin = nodeRow(current, 2u), rightMax = nodeRow(current, 3u);
-      uint a = leftMin.w, b = rightMin.w;
-      float entryA, entryB;
-      bool hitA = a != NO_CHILD && boxOverlaps(r, leftMin, leftMax, best.t, entryA);
-      bool hitB = b != NO_CHILD && boxOverlaps(r, rightMin, rightMax, best.t, entryB);
-      if (hitA && hitB) {
-        if (entryB < entryA) {
-          uint swap = a;
-          a = b;
-          b = swap;
-        }
-        pushNode(stack, b);
-        current = a;
-      } else if (hitA || hitB) {
-        current = hitA ? a : b;
-      } else {
-        current = stack.size > 0 ? popNode(stack) : LEAF_REF;
-      }
+#ifdef BT_TRACE_SOFTWARE
+    while ((current & LEAF_REF) == 0u) current = descend(r, current, stack, best.t, true);
+#else
+    // Two loops, so that a GPU branches once per leaf on the ray's kind (one kind for a whole
+    // subgroup but in the rare groups that hold a zero component) rather than per node test.
+#ifdef BT_RB_PLAIN_TEST
+    if (false) {
+#else
+    if (r.hasZero) {
+#endif
+      while ((current & LEAF_REF) == 0u) current = descend(r, current, stack, best.t, true);
+    } else {
+      while ((current & LEAF_REF) == 0u) current = descend(r, current, stack, best.t, false);
     }
+#endif
     uint first = leafFirst(current), end = first + leafCount(current);
+#ifdef BT_RB_NODES_ONLY
+    leafSum ^= current; // keeps the walk live
+    end = first;
+#endif
     for (uint i = first; i < end; ++i) {
       Hit hit;
+#ifdef BT_RB_COUNT
+      walkCounts.y += inTriangles ? 0u : 1u;
+#endif
+#ifdef BT_RB_BOXES_ONLY
+      bool found = inTriangles ? hitTriangle(r, rootPads.y, i, best.t, hit) : hitBrush(r, i, best.t, hit);
+      leafSum ^= hit.face;
+      if (!found) continue;
+#else
       if (!(inTriangles ? hitTriangle(r, rootPads.y, i, best.t, hit) : hitBrush(r, i, best.t, hit))) continue;
+#endif
       if (anyHit) {
         if ((!hit.inside || blocksFromInside(inTriangles, i, passFlags)) && blocksRay(faceFlags[hit.face], passFlags) &&
             !maskedOut(hit.face, r.origin + r.dir * hit.t))
@@ -416,5 +507,8 @@ Hit traceRay(TraceRay r, bool anyHit, uint passFlags) {
     }
     current = popNode(stack);
   }
+#if defined(BT_RB_NODES_ONLY) || defined(BT_RB_BOXES_ONLY)
+  best.face = leafSum;
+#endif
   return best;
 }

@@ -13,6 +13,7 @@
 #include "renderer/gl/gl_tracer.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <chrono>
@@ -179,13 +180,29 @@ struct RayRates {
 // Ray rates: enough passes to fill about a third of the time budget each. The first probe
 // also builds the program, so the second one sizes the run. `label` goes before each line.
 RayRates benchRays(gl::GlTracer& tracer, const gl::CameraBasis& camera, const GlBenchSettings& s, const char* label = "") {
-  tracer.benchmarkRays(camera, s.width, s.height, 1);
-  gl::RayBenchmark probe = tracer.benchmarkRays(camera, s.width, s.height, 1);
+  const gl::RayBenchVariant variant{.defines = s.rayBenchDefines, .binaryPath = s.rayBenchBinary};
+  tracer.benchmarkRays(camera, s.width, s.height, 1, variant);
+  gl::RayBenchmark probe = tracer.benchmarkRays(camera, s.width, s.height, 1, variant);
   fmt::print("{}ray results of one pass: primary {:016x}, bounce {:016x}, shadow {:016x}\n", label, probe.primaryHash, probe.bounceHash,
              probe.shadowHash);
+  if (!variant.defines.empty())
+    fmt::print("{}timed: raybench.comp with {}; its results of one pass: primary {:016x}, bounce {:016x}, shadow {:016x}\n", label,
+               fmt::join(variant.defines, " "), probe.variantHashes[0], probe.variantHashes[1], probe.variantHashes[2]);
+  if (probe.counted) {
+    const char* kinds[] = {"primary", "bounce", "shadow"};
+    const char* counts[] = {"nodes", "brush boxes", "brushes past their box", "planes", "deepest stack"};
+    for (int mode = 0; mode < 3; ++mode) {
+      const double rays = double(mode == 0 ? probe.primaryRays : probe.bounceRays);
+      std::string line = fmt::format("{}per {} ray (one pass):", label, kinds[mode]);
+      for (int i = 0; i < 5; ++i)
+        line += fmt::format(" {} {:.2f} (max {})", counts[i], probe.walkCounts[16 * mode + 2 * i] / std::max(rays, 1.0),
+                            probe.walkCounts[16 * mode + 2 * i + 1]);
+      fmt::print("{}\n", line);
+    }
+  }
   const double perPass = std::max(probe.primarySeconds + probe.bounceSeconds + probe.shadowSeconds, 1e-4);
   const int passes = std::max(1, static_cast<int>(s.seconds / 3.0 / perPass));
-  const gl::RayBenchmark rays = tracer.benchmarkRays(camera, s.width, s.height, passes);
+  const gl::RayBenchmark rays = tracer.benchmarkRays(camera, s.width, s.height, passes, {.defines = s.rayBenchDefines});
   const RayRates rates{rays.primaryRays * double(rays.passes) / rays.primarySeconds * 1e-6,
                        rays.bounceRays * double(rays.passes) / rays.bounceSeconds * 1e-6,
                        rays.bounceRays * double(rays.passes) / rays.shadowSeconds * 1e-6};

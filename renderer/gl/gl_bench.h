@@ -9,6 +9,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace bt::gl {
 
@@ -33,6 +34,11 @@ struct GlBenchSettings {
   // With timeToConverged: given each image the measure renders (ConvergeRun::keep), e.g. to write
   // it as an EXR (gl_bench's `dump DIR`), which this library does not link.
   std::function<void(const RenderImage&, const std::string& name)> keep;
+  // With raysOnly: the rays timed with a variant of the benchmark's program (issue 20's
+  // measurements of parts of the walk; gl_tracer.h RayBenchVariant). Last, as `brushtrace bench`
+  // fills the fields above in order.
+  std::vector<std::string> rayBenchDefines;
+  std::string rayBenchBinary;
 };
 
 // Prints the measurements to stdout; a level with Quake 3 curves gets its ray rates a second

@@ -13,6 +13,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <cstring>
 #include <optional>
 #include <span>
@@ -86,6 +88,25 @@ void waitAndDelete(GLsync fence) {
   while (glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 1'000'000'000) == GL_TIMEOUT_EXPIRED) {}
   glDeleteSync(fence);
 }
+// The driver's binary of a program, as glGetProgramBinary gives it (NVIDIA's holds the machine
+// code), written to a temporary name and renamed.
+void writeProgramBinary(GLuint program, const std::string& path) {
+  GLint length = 0;
+  BT_GL(glGetProgramiv(program, GL_PROGRAM_BINARY_LENGTH, &length));
+  std::vector<char> data(static_cast<size_t>(std::max(length, 0)));
+  GLenum format = 0;
+  GLsizei written = 0;
+  if (length > 0) BT_GL(glGetProgramBinary(program, length, &written, &format, data.data()));
+  if (written <= 0) throw GlError(fmt::format("the driver gave no binary of the ray benchmark for {}", path));
+  const std::string temporary = path + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary);
+    out.write(data.data(), written);
+    if (!out) throw GlError(fmt::format("cannot write {}", temporary));
+  }
+  std::filesystem::rename(temporary, path);
+}
+
 } // namespace
 
 struct GlTracer::Impl {
@@ -388,30 +409,34 @@ std::vector<uint32_t> GlTracer::readLightmaps() const {
   return data;
 }
 
-RayBenchmark GlTracer::benchmarkRays(const CameraBasis& camera, int width, int height, int passes) {
+RayBenchmark GlTracer::benchmarkRays(const CameraBasis& camera, int width, int height, int passes, const RayBenchVariant& variant) {
   using Clock = std::chrono::steady_clock;
   StorageImage hits(GL_RGBA32F, width, height);
   StorageImage bounceT(GL_R32F, width, height);
   hits.bindImage(kImagePrimaryHits, GL_READ_WRITE);
   bounceT.bindImage(kImageBounceT, GL_WRITE_ONLY);
   ComputeProgram& bench = impl_->programs->rayBench();
-  const GLuint program = bench.id();
+  // A variant is timed; the plain program makes what the variant's modes start from.
+  ComputeProgram* timed = &bench;
+  if (!variant.defines.empty()) timed = &impl_->programs->rayBenchVariant(variant.defines);
+  const bool counting = std::ranges::find(variant.defines, "BT_RB_COUNT") != variant.defines.end();
   RayBenchmark result;
   result.passes = passes;
   result.primaryRays = static_cast<size_t>(width) * height;
+  GLuint counts = 0;
+  if (counting) {
+    BT_GL(glCreateBuffers(1, &counts));
+    BT_GL(glNamedBufferStorage(counts, sizeof(result.walkCounts), nullptr, GL_DYNAMIC_STORAGE_BIT));
+    // Where raybench.comp binds it, from the program: the point is named in that shader only.
+    const GLuint block = glGetProgramResourceIndex(timed->id(), GL_SHADER_STORAGE_BLOCK, "RayBenchCounts");
+    if (block == GL_INVALID_INDEX) throw GlError("raybench.comp with BT_RB_COUNT has no RayBenchCounts buffer");
+    const GLenum property = GL_BUFFER_BINDING;
+    GLint binding = 0;
+    BT_GL(glGetProgramResourceiv(timed->id(), GL_SHADER_STORAGE_BLOCK, block, 1, &property, 1, nullptr, &binding));
+    BT_GL(glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GLuint(binding), counts));
+    result.counted = true;
+  }
 
-  auto run = [&](GLuint mode) {
-    BT_GL(glProgramUniform1ui(program, 0, mode));
-    BT_GL(glFinish());
-    const auto start = Clock::now();
-    for (int pass = 0; pass < passes; ++pass) {
-      impl_->setCamera(camera, width, height, static_cast<uint32_t>(pass), 0);
-      bench.dispatch2d(width, height);
-      BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT));
-    }
-    BT_GL(glFinish());
-    return std::chrono::duration<double>(Clock::now() - start).count();
-  };
   // FNV-1a over the results' bytes (RayBenchmark::primaryHash).
   const auto fnv = [](std::span<const float> values) {
     uint64_t h = 1469598103934665603ull;
@@ -421,6 +446,41 @@ RayBenchmark GlTracer::benchmarkRays(const CameraBasis& camera, int width, int h
       for (int i = 0; i < 4; ++i) h = (h ^ ((bits >> (8 * i)) & 0xffu)) * 1099511628211ull;
     }
     return h;
+  };
+  auto dispatch = [&](ComputeProgram& program, int count) {
+    for (int pass = 0; pass < count; ++pass) {
+      impl_->setCamera(camera, width, height, static_cast<uint32_t>(pass), 0);
+      program.dispatch2d(width, height);
+      BT_GL(glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT));
+    }
+  };
+  // The plain program's results of one pass (modes 0 .. last), after a variant's: the hits and
+  // the bounce rays' t the next mode and the hashes read.
+  auto plainResults = [&](GLuint last) {
+    for (GLuint mode = 0; mode <= last; ++mode) {
+      BT_GL(glProgramUniform1ui(bench.id(), 0, mode));
+      BT_GL(glProgramUniform1f(bench.id(), 1, result.shadowLength));
+      dispatch(bench, 1);
+    }
+  };
+  auto run = [&](GLuint mode) {
+    BT_GL(glProgramUniform1ui(timed->id(), 0, mode));
+    BT_GL(glProgramUniform1f(timed->id(), 1, result.shadowLength));
+    if (counting) {
+      const std::array<uint32_t, 16> zero{};
+      BT_GL(glNamedBufferSubData(counts, GLintptr(mode * sizeof(zero)), sizeof(zero), zero.data()));
+    }
+    BT_GL(glFinish());
+    const auto start = Clock::now();
+    dispatch(*timed, passes);
+    BT_GL(glFinish());
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    if (timed != &bench) {
+      BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
+      result.variantHashes[mode] = fnv(bounceT.read<float>(width, height, GL_RED, GL_FLOAT, 1));
+      plainResults(mode);
+    }
+    return seconds;
   };
   result.primarySeconds = run(0);
   BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
@@ -436,10 +496,15 @@ RayBenchmark GlTracer::benchmarkRays(const CameraBasis& camera, int width, int h
     std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
     result.shadowLength = lengths[lengths.size() / 2];
   }
-  BT_GL(glProgramUniform1f(program, 1, result.shadowLength));
   result.shadowSeconds = run(2);
   BT_GL(glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT));
   result.shadowHash = fnv(bounceT.read<float>(width, height, GL_RED, GL_FLOAT, 1));
+  if (counting) {
+    BT_GL(glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT));
+    BT_GL(glGetNamedBufferSubData(counts, 0, sizeof(result.walkCounts), result.walkCounts.data()));
+    BT_GL(glDeleteBuffers(1, &counts));
+  }
+  if (!variant.binaryPath.empty()) writeProgramBinary(timed->id(), variant.binaryPath);
   return result;
 }
 

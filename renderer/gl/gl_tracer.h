@@ -15,6 +15,7 @@
 #include <glm/vec4.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -134,6 +135,22 @@ struct RayBenchmark {
   // FNV-1a of the last pass's results: the primary hits, the bounce rays' t, and that image
   // after the shadow rays (blocked ones negated), so that two traversals can be compared.
   uint64_t primaryHash = 0, bounceHash = 0, shadowHash = 0;
+  // With RayBenchVariant's BT_RB_COUNT: per mode (primary, bounce, shadow), for each of
+  // interior nodes visited, brush boxes tested, brushes whose planes were read, planes tested and
+  // the deepest stack, the sum over the passes' rays and the largest (shaders/trace.glsl).
+  std::array<uint32_t, 48> walkCounts{};
+  bool counted = false;
+  // With a variant: FNV-1a of bounceT after its last pass of each mode (the variant's own results).
+  std::array<uint64_t, 3> variantHashes{};
+};
+
+// A measurement of part of the walk (issue 20): raybench.comp built with these #defines as well
+// (its BT_RB_* switches) and timed in place of the plain program, which still makes the hits
+// the bounce rays start from, the shadow rays' length and the hashes. Its program binary is
+// written to `binaryPath` when that is set (the driver's code, to read its registers).
+struct RayBenchVariant {
+  std::vector<std::string> defines;
+  std::string binaryPath;
 };
 
 struct ProgramBuild {
@@ -195,7 +212,7 @@ public:
   // Times closest-hit queries alone (shaders/raybench.comp): `passes` frames of primary rays,
   // then `passes` frames of one cosine bounce ray from each primary hit, then those bounce rays
   // as shadow rays (RayBenchmark::shadowLength says how long).
-  RayBenchmark benchmarkRays(const CameraBasis& camera, int width, int height, int passes);
+  RayBenchmark benchmarkRays(const CameraBasis& camera, int width, int height, int passes, const RayBenchVariant& variant = {});
   // Replaces faithful mode's baked luxels (GlLighting::lightmaps, packed; empty for none): a bake
   // made after the upload (gl_bench, a viewer that bakes as the camera moves).
   void setLightmaps(const std::vector<uint32_t>& packed);

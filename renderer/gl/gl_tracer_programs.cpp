@@ -241,6 +241,15 @@ ComputeProgram& TracerPrograms::rayBench() {
   start(rayBench_, shaderFile(TracerProgram::RayBench), programDefines(TracerProgram::RayBench, mode_, layout_));
   return finished(rayBench_);
 }
+ComputeProgram& TracerPrograms::rayBenchVariant(const std::vector<std::string>& defines) {
+  std::vector<std::string> all = programDefines(TracerProgram::RayBench, mode_, layout_);
+  all.emplace_back("BT_RB_VARIANT");
+  all.insert(all.end(), defines.begin(), defines.end());
+  if (all != rayBenchVariantDefines_) rayBenchVariant_.reset(); // one variant at a time
+  rayBenchVariantDefines_ = all;
+  start(rayBenchVariant_, shaderFile(TracerProgram::RayBench), all, false);
+  return finished(rayBenchVariant_);
+}
 
 TracerPrograms::WavefrontState TracerPrograms::wavefrontState(bool physical, FaithfulFeatures features) {
   std::unique_ptr<ComputeProgram>& shade = shadeSlot(physical, features);

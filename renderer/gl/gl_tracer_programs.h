@@ -164,6 +164,8 @@ public:
   WavefrontKernels wavefront(bool physical, FaithfulFeatures features = {});
   ComputeProgram& aovs(bool liquidCsg = false);
   ComputeProgram& rayBench();
+  // raybench.comp with measurement switches added (RayBenchVariant), built on the first call.
+  ComputeProgram& rayBenchVariant(const std::vector<std::string>& defines);
   // Faithful mode's light compiler (shaders/bake.comp, gl_bake.h), with the level's features:
   // started, whether the driver has finished it, and finished.
   void startBake(FaithfulFeatures features);
@@ -204,7 +206,9 @@ private:
   // every mode and level; the bake takes no CSG and no glass (it stores luxels, not the view).
   // Faithful shade kernels come without and with the luxels' read (shade_[luxels]).
   static constexpr size_t kPathVariants = 514;
-  std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[2][kPathVariants], bake_[kPathVariants], trace_, aov_[2], rayBench_;
+  std::unique_ptr<ComputeProgram> path_[kPathVariants], shade_[2][kPathVariants], bake_[kPathVariants], trace_, aov_[2], rayBench_,
+      rayBenchVariant_;
+  std::vector<std::string> rayBenchVariantDefines_; // rayBenchVariant_'s
 };
 
 } // namespace bt::gl
