@@ -322,7 +322,8 @@ glm::vec3 pointLightUnshadowed(const RenderScene& rs, const Bsdf& bsdf, const Gp
 // selectionWeight of four lights at once, lane by lane its float expressions in its order (SSE's
 // add, mul, div and sqrt round as the scalar ones do), so each weight is the same float: a hit
 // weighs its cell's 32 near lights, and one at a time they took a fifth of a path's time.
-__m128 selectionWeights(const std::array<const GpuLight*, 4>& l, const glm::vec3& origin, const glm::vec3& n) {
+[[gnu::always_inline]] inline __m128 selectionWeights(const std::array<const GpuLight*, 4>& l, const glm::vec3& origin,
+                                                      const glm::vec3& n) {
   const auto lanes = [&l](auto field) { return _mm_setr_ps(field(*l[0]), field(*l[1]), field(*l[2]), field(*l[3])); };
   const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
   const __m128 dx = _mm_sub_ps(lanes([](const GpuLight& g) { return g.origin.x; }), _mm_set1_ps(origin.x));
@@ -402,9 +403,10 @@ glm::vec3 allLightsExhaustive(const RenderScene& rs, const Bsdf& bsdf, const glm
 }
 
 // selectionWeight of each near light, into weights[0, near.size()); past that the SSE stores
-// leave copies of the last weight, which are never read.
-void nearWeights(const RenderScene& rs, std::span<const uint32_t> near, const glm::vec3& origin, const glm::vec3& n,
-                 std::array<float, kPhysicalNearLights>& weights) {
+// leave copies of the last weight, which are never read. Inlined into the pick, as the loop was
+// before tests needed it on its own.
+[[gnu::always_inline]] inline void nearWeights(const RenderScene& rs, std::span<const uint32_t> near, const glm::vec3& origin,
+                                               const glm::vec3& n, std::array<float, kPhysicalNearLights>& weights) {
 #if defined(__SSE2__)
   static_assert(kPhysicalNearLights % 4 == 0, "the weights are stored four at a time");
   for (size_t k = 0; k < near.size(); k += 4) {
