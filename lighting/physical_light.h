@@ -82,9 +82,17 @@ inline float intensity(const GpuLight& light, float scaledist) {
 // linear, so each channel's share is linearised; the brightest channel is 1, on which the
 // intensity is matched. White is (1, 1, 1); "255 127 0" is (1, 0.21, 0), the game's orange,
 // where the colour used as linear, (1, 0.5, 0), shows a yellow.
+// The brightest channel (and every channel of a white light, most of a level's) is exactly 1,
+// whose sRGB decode is exactly 1 ((1 + 0.055) / 1.055 rounds to 1, and pow(1, y) is 1): no pow
+// for it. The CPU tracer calls this for every light it samples.
+inline float hueChannel(float share) {
+  return share == 1.0f ? 1.0f : srgbToLinear(share);
+}
 inline glm::vec3 hue(const glm::vec3& c) {
   const float m = faithful::maxChannel(c);
-  return m > 0.0f ? srgbToLinear(c / m) : glm::vec3(0.0f);
+  if (!(m > 0.0f)) return glm::vec3(0.0f);
+  const glm::vec3 share = c / m;
+  return {hueChannel(share.x), hueChannel(share.y), hueChannel(share.z)};
 }
 
 // The colour physical mode emits: the brightest channel kept, the others as hue() has them.

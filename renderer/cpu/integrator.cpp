@@ -322,7 +322,8 @@ glm::vec3 pointLightUnshadowed(const RenderScene& rs, const Bsdf& bsdf, const Gp
 // selectionWeight of four lights at once, lane by lane its float expressions in its order (SSE's
 // add, mul, div and sqrt round as the scalar ones do), so each weight is the same float: a hit
 // weighs its cell's 32 near lights, and one at a time they took a fifth of a path's time.
-__m128 selectionWeights(const std::array<const GpuLight*, 4>& l, const glm::vec3& origin, const glm::vec3& n) {
+[[gnu::always_inline]] inline __m128 selectionWeights(const std::array<const GpuLight*, 4>& l, const glm::vec3& origin,
+                                                      const glm::vec3& n) {
   const auto lanes = [&l](auto field) { return _mm_setr_ps(field(*l[0]), field(*l[1]), field(*l[2]), field(*l[3])); };
   const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
   const __m128 dx = _mm_sub_ps(lanes([](const GpuLight& g) { return g.origin.x; }), _mm_set1_ps(origin.x));
@@ -340,18 +341,22 @@ __m128 selectionWeights(const std::array<const GpuLight*, 4>& l, const glm::vec3
   const __m128 x2 = _mm_mul_ps(_mm_mul_ps(dist2, invReach), invReach);
   const __m128 w = _mm_min_ps(one, _mm_max_ps(zero, _mm_sub_ps(one, _mm_mul_ps(x2, x2))));
   const __m128 falloff = _mm_div_ps(_mm_mul_ps(lanes([](const GpuLight& g) { return g.physicalIntensity; }), _mm_mul_ps(w, w)), dist2);
-  // faithful::spotTerm's branches as masks.
+  // faithful::spotTerm's branches as masks. Four lights without a cone (nearly every Quake
+  // light) skip the cone's gathers and its division: spotTerm is 1 for each of them.
   const __m128 cosOuter = lanes([](const GpuLight& g) { return g.cosOuter; });
-  const __m128 cosInner = lanes([](const GpuLight& g) { return g.cosInner; });
-  const __m128 cosAxis =
-      _mm_sub_ps(zero,
-                 dot(lanes([](const GpuLight& g) { return g.direction.x; }), lanes([](const GpuLight& g) { return g.direction.y; }),
-                     lanes([](const GpuLight& g) { return g.direction.z; })));
-  const __m128 fade = _mm_div_ps(_mm_sub_ps(cosAxis, cosOuter), _mm_sub_ps(cosInner, cosOuter));
-  const __m128 inCone = _mm_or_ps(_mm_and_ps(_mm_cmpge_ps(cosAxis, cosInner), one), _mm_andnot_ps(_mm_cmpge_ps(cosAxis, cosInner), fade));
-  const __m128 cone = _mm_andnot_ps(_mm_cmplt_ps(cosAxis, cosOuter), inCone);
   const __m128 noCone = _mm_cmplt_ps(cosOuter, _mm_set1_ps(-1.0f));
-  const __m128 spot = _mm_or_ps(_mm_and_ps(noCone, one), _mm_andnot_ps(noCone, cone));
+  __m128 spot = one;
+  if (_mm_movemask_ps(noCone) != 0xf) {
+    const __m128 cosInner = lanes([](const GpuLight& g) { return g.cosInner; });
+    const __m128 cosAxis =
+        _mm_sub_ps(zero,
+                   dot(lanes([](const GpuLight& g) { return g.direction.x; }), lanes([](const GpuLight& g) { return g.direction.y; }),
+                       lanes([](const GpuLight& g) { return g.direction.z; })));
+    const __m128 fade = _mm_div_ps(_mm_sub_ps(cosAxis, cosOuter), _mm_sub_ps(cosInner, cosOuter));
+    const __m128 inCone = _mm_or_ps(_mm_and_ps(_mm_cmpge_ps(cosAxis, cosInner), one), _mm_andnot_ps(_mm_cmpge_ps(cosAxis, cosInner), fade));
+    const __m128 cone = _mm_andnot_ps(_mm_cmplt_ps(cosAxis, cosOuter), inCone);
+    spot = _mm_or_ps(_mm_and_ps(noCone, one), _mm_andnot_ps(noCone, cone));
+  }
   const __m128 weight =
       _mm_mul_ps(_mm_mul_ps(_mm_mul_ps(lanes([](const GpuLight& g) { return physical::selectionColour(g); }), falloff), spot), cosSurface);
   // selectionWeight's early zeros: no distance, or the light behind the surface's plane.
@@ -397,6 +402,23 @@ glm::vec3 allLightsExhaustive(const RenderScene& rs, const Bsdf& bsdf, const glm
   return l;
 }
 
+// selectionWeight of each near light, into weights[0, near.size()); past that the SSE stores
+// leave copies of the last weight, which are never read. Inlined into the pick, as the loop was
+// before tests needed it on its own.
+[[gnu::always_inline]] inline void nearWeights(const RenderScene& rs, std::span<const uint32_t> near, const glm::vec3& origin,
+                                               const glm::vec3& n, std::array<float, kPhysicalNearLights>& weights) {
+#if defined(__SSE2__)
+  static_assert(kPhysicalNearLights % 4 == 0, "the weights are stored four at a time");
+  for (size_t k = 0; k < near.size(); k += 4) {
+    std::array<const GpuLight*, 4> four;
+    for (size_t j = 0; j < 4; ++j) four[j] = &rs.lights[near[std::min(k + j, near.size() - 1)]];
+    _mm_storeu_ps(weights.data() + k, selectionWeights(four, origin, n));
+  }
+#else
+  for (size_t k = 0; k < near.size(); ++k) weights[k] = selectionWeight(rs.lights[near[k]], origin, n);
+#endif
+}
+
 // Light selection's probability of the near list (the rest goes to a uniform pick among the
 // cell's other lights in reach, so that a light missing from the near list can still be picked:
 // unbiased).
@@ -417,17 +439,8 @@ LightPick pickFromNearList(const RenderScene& rs, const glm::vec3& origin, const
   // Each weight once: the pick's walk below reads them again (a fifth of a path's time went to
   // computing them twice, bench/README.md issue 18 session 26).
   std::array<float, kPhysicalNearLights> weights;
+  nearWeights(rs, near, origin, n, weights);
   float nearTotal = 0.0f;
-#if defined(__SSE2__)
-  static_assert(kPhysicalNearLights % 4 == 0, "the weights are stored four at a time");
-  for (size_t k = 0; k < near.size(); k += 4) {
-    std::array<const GpuLight*, 4> four;
-    for (size_t j = 0; j < 4; ++j) four[j] = &rs.lights[near[std::min(k + j, near.size() - 1)]];
-    _mm_storeu_ps(weights.data() + k, selectionWeights(four, origin, n)); // lanes past the list are never read
-  }
-#else
-  for (size_t k = 0; k < near.size(); ++k) weights[k] = selectionWeight(rs.lights[near[k]], origin, n);
-#endif
   for (size_t k = 0; k < near.size(); ++k) nearTotal += weights[k];
   const float uStrategy = rng.next(), uPick = rng.next();
   const float nearProbability = nearTotal > 0.0f ? (rest.empty() ? 1.0f : kNearListProbability) : 0.0f;
@@ -628,6 +641,14 @@ glm::vec3 radiancePhysical(const RenderScene& rs, const IntegratorSettings& sett
 glm::vec3 radiance(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, Rng& rng) {
   if (settings.mode == LightingMode::Faithful) return radianceFaithful(rs, settings, ray, rng);
   return radiancePhysical(rs, settings, ray, rng);
+}
+
+std::vector<float> nearListWeights(const RenderScene& rs, const glm::vec3& origin, const glm::vec3& n) {
+  const std::span<const uint32_t> listed = rs.lightGrid.physicalNearLights(origin);
+  const std::span<const uint32_t> near = listed.first(std::min<size_t>(listed.size(), kPhysicalNearLights));
+  std::array<float, kPhysicalNearLights> weights;
+  nearWeights(rs, near, origin, n, weights);
+  return {weights.begin(), weights.begin() + std::ptrdiff_t(near.size())};
 }
 
 PhysicalShares physicalLightShares(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, int samples, Rng& rng) {

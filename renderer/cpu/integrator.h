@@ -35,6 +35,11 @@ inline Rng pathRng(const IntegratorSettings& settings, uint32_t x, uint32_t y, u
 // Linear radiance along the ray.
 glm::vec3 radiance(const RenderScene& rs, const IntegratorSettings& settings, const Ray& ray, Rng& rng);
 
+// The near-list pick's weight of each light of origin's near list (LightGrid::physicalNearLights)
+// for a surface of shading normal n, as the pick computes them: for tests, which hold them to
+// the scalar selectionWeight's floats.
+std::vector<float> nearListWeights(const RenderScene& rs, const glm::vec3& origin, const glm::vec3& n);
+
 // Physical mode's light leaving the camera ray's surface towards the camera, broken down by light
 // (the viewer's pick says why a spot is lit): each point light's and sun's direct light with its
 // own shadow rays (the exhaustive loop's terms, unclamped, as at the camera's surface), the

@@ -3,6 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <cmath>
+#include <random>
+#include <utility>
+
 namespace bt {
 namespace {
 
@@ -52,6 +57,49 @@ TEST(TextureSampling, RepeatsAcrossTheEdges) {
   // Whole periods, negative ones too, change nothing.
   for (float shift : {-3.0f, -1.0f, 1.0f, 17.0f}) {
     EXPECT_NEAR(red(sampleBilinearRepeat(image, 0.3f + shift, 0.7f + shift)), red(sampleBilinearRepeat(image, 0.3f, 0.7f)), 1e-3f);
+  }
+}
+
+// The GL rule written out in scalars, as sampleBilinearRepeat computed it before it took the four
+// channels in one SSE register: the repeat in double, the texels over 255, then x, then y.
+glm::vec4 scalarBilinearRepeat(const Image& image, float u, float v) {
+  const auto taps = [](float coordinate, int size, int& first, int& second) {
+    double c = static_cast<double>(coordinate);
+    c -= std::floor(c);
+    const double x = c * size - 0.5;
+    const double base = std::floor(x);
+    first = static_cast<int>(base), second = first + 1;
+    if (first < 0) first += size;
+    if (second >= size) second -= size;
+    return static_cast<float>(x - base);
+  };
+  int x0, x1, y0, y1;
+  const float wx = taps(u, image.width, x0, x1), wy = taps(v, image.height, y0, y1);
+  const auto texel = [&](int x, int y) {
+    const uint8_t* t = image.texel(x, y);
+    return glm::vec4(t[0], t[1], t[2], t[3]) * (1.0f / 255.0f);
+  };
+  const glm::vec4 top = texel(x0, y0) * (1.0f - wx) + texel(x1, y0) * wx;
+  const glm::vec4 bottom = texel(x0, y1) * (1.0f - wx) + texel(x1, y1) * wx;
+  return top * (1.0f - wy) + bottom * wy;
+}
+
+// Every channel the scalar rule's float, bit for bit, on random texels and coordinates (the
+// images the tracers show and the bake's alpha tests depend on it).
+TEST(TextureSampling, EveryChannelIsTheScalarRulesFloat) {
+  std::mt19937 gen(3);
+  std::uniform_int_distribution<int> byte(0, 255);
+  std::uniform_real_distribution<float> coordinate(-40.0f, 40.0f);
+  for (const auto& [w, h] : {std::pair{64, 64}, std::pair{16, 128}, std::pair{1, 1}, std::pair{3, 5}}) {
+    Image image{w, h, {}};
+    for (int i = 0; i < 4 * w * h; ++i) image.rgba.push_back(static_cast<uint8_t>(byte(gen)));
+    for (int i = 0; i < 20000; ++i) {
+      const float u = coordinate(gen), v = coordinate(gen);
+      const glm::vec4 got = sampleBilinearRepeat(image, u, v), expected = scalarBilinearRepeat(image, u, v);
+      for (int c = 0; c < 4; ++c)
+        ASSERT_EQ(std::bit_cast<uint32_t>(got[c]), std::bit_cast<uint32_t>(expected[c]))
+            << w << "x" << h << " at " << u << " " << v << " channel " << c << ": " << got[c] << " against " << expected[c];
+    }
   }
 }
 

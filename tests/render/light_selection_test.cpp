@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <random>
 
@@ -240,6 +241,53 @@ TEST(LightGrid, PhysicalNearListsOfFewLightsHoldThemAll) {
   const LightGrid grid = buildLightGrid(lights, bounds, 1.0f);
   const std::span<const uint32_t> near = grid.physicalNearLights({950.0f, 10.0f, 10.0f});
   EXPECT_EQ(std::vector<uint32_t>(near.begin(), near.end()), (std::vector<uint32_t>{4, 3, 1, 0})); // nearest first
+}
+
+// selectionWeight (integrator.cpp) written out: the near-list pick's weight of a light at origin.
+float referenceSelectionWeight(const GpuLight& light, const glm::vec3& origin, const glm::vec3& n) {
+  const glm::vec3 d = light.origin - origin;
+  const float dist2 = glm::dot(d, d);
+  if (!(dist2 > 0.0f)) return 0.0f;
+  const glm::vec3 wi = d / std::sqrt(dist2);
+  const float cosSurface = glm::dot(n, wi);
+  if (cosSurface <= 0.0f) return 0.0f;
+  return physical::selectionColour(light) * physical::falloff(light, dist2) * faithful::spotTerm(light, wi) * cosSurface;
+}
+
+// The pick weighs its near lights four at a time (SSE2), and four lights without a cone skip the
+// cone's terms: every weight is still the scalar expression's float, bit for bit, so the pick and
+// the image do not change. A room where every eighth light is a spot, so that some fours hold
+// one and most hold none, and points inside, outside and on the edge of the spots' cones.
+TEST(LightSelection, NearListWeightsAreTheScalarWeightsBitForBit) {
+  const Scene scene = test::manyLightsRoom(120, false, 7);
+  RenderScene rs = buildRs(scene);
+  for (GpuLight& l : rs.lights) // the room's spots have no _softangle: give them a fade, whose division the weights take
+    if (l.cosOuter >= -1.0f) l.cosInner = 0.5f * (1.0f + l.cosOuter);
+  int foursWithSpot = 0, foursWithout = 0, litByFade = 0, lit = 0;
+  for (const SurfacePoint& s : randomSurfacePoints(rs, 400, 5)) {
+    const std::span<const uint32_t> listed = rs.lightGrid.physicalNearLights(s.p);
+    const std::span<const uint32_t> near = listed.first(std::min<size_t>(listed.size(), kPhysicalNearLights));
+    const std::vector<float> weights = nearListWeights(rs, s.p, s.n);
+    ASSERT_EQ(weights.size(), near.size());
+    for (size_t k = 0; k < near.size(); ++k) {
+      const GpuLight& light = rs.lights[near[k]];
+      const float expected = referenceSelectionWeight(light, s.p, s.n);
+      ASSERT_EQ(std::bit_cast<uint32_t>(weights[k]), std::bit_cast<uint32_t>(expected))
+          << "light " << near[k] << " at " << s.p.x << " " << s.p.y << " " << s.p.z << ": " << weights[k] << " against " << expected;
+      const float spot = faithful::spotTerm(light, glm::normalize(light.origin - s.p));
+      litByFade += expected > 0.0f && spot > 0.0f && spot < 1.0f;
+      lit += expected > 0.0f;
+    }
+    for (size_t k = 0; k < near.size(); k += 4) {
+      bool spot = false;
+      for (size_t j = k; j < std::min(k + 4, near.size()); ++j) spot = spot || rs.lights[near[j]].cosOuter >= -1.0f;
+      ++(spot ? foursWithSpot : foursWithout);
+    }
+  }
+  EXPECT_GT(foursWithSpot, 100);
+  EXPECT_GT(foursWithout, 100);
+  EXPECT_GT(litByFade, 10); // points in the spots' fade, where the cone's division counts
+  EXPECT_GT(lit, 1000);
 }
 
 // Hard lights: the grid's sum is the exhaustive sum, point by point (float summation order

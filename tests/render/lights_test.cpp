@@ -2,12 +2,15 @@
 // ericw-tools' definitions.
 #include "lighting/faithful.h"
 #include "lighting/lights.h"
+#include "lighting/physical_light.h"
 #include "quake/bspfile_q2.h"
 #include "tests/render/box_scene.h"
 
 #include <gtest/gtest.h>
 #include <glm/trigonometric.hpp>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 
 namespace bt {
@@ -74,6 +77,24 @@ TEST(FaithfulFormula, SpotlightCone) {
   EXPECT_LT(expected, 0.9f);
   const glm::vec3 at30 = glm::normalize(glm::vec3(std::sin(glm::radians(30.0f)), 0.0f, std::cos(glm::radians(30.0f))));
   EXPECT_FLOAT_EQ(faithful::spotTerm(l, at30), 0.0f);
+}
+
+// Physical mode's hue skips the pow where a channel's share is exactly 1 (the brightest channel,
+// every channel of a white light): the decode of every channel must stay srgbToLinear's float.
+TEST(PhysicalColour, HueIsTheSrgbDecodeOfEachChannelsShare) {
+  const glm::vec3 colours[] = {{1.0f, 1.0f, 1.0f},    {300.0f, 300.0f, 300.0f}, {1.0f, 0.5f, 0.25f},      {255.0f, 127.0f, 0.0f},
+                               {0.2f, 1.0f, 0.2f},    {0.3f, 0.3f, 0.9f},       {1e-30f, 1e-30f, 5e-31f}, {7.0f, 7.0f, 6.9999995f},
+                               {0.04f, 1.0f, 0.041f}, {0.0f, 0.0f, 0.0f}};
+  for (const glm::vec3& c : colours) {
+    const float m = std::max({c.x, c.y, c.z});
+    const glm::vec3 h = physical::hue(c);
+    for (int i = 0; i < 3; ++i) {
+      const float expected = m > 0.0f ? srgbToLinear(c[i] / m) : 0.0f;
+      EXPECT_EQ(std::bit_cast<uint32_t>(h[i]), std::bit_cast<uint32_t>(expected))
+          << "colour " << c.x << " " << c.y << " " << c.z << " channel " << i << ": " << h[i] << " against " << expected;
+    }
+    if (m > 0.0f) EXPECT_EQ(std::max({h.x, h.y, h.z}), 1.0f); // the brightest channel decodes to exactly 1
+  }
 }
 
 TEST(FaithfulFormula, LightmapRangeAndClamp) {
