@@ -141,6 +141,16 @@ void wavefrontFirstImage(gl::GlTracer& tracer, const gl::CameraBasis& camera, co
              "uploaded {:.3f}, shade kernel linked {:.3f}, first dispatches done {:.3f}, first sample read back {:.3f}\n",
              at(times.contextMade), at(times.lightsCollected), at(times.programsStarted), at(times.traceLinked), at(times.prepared),
              at(times.uploaded), at(times.shadeLinked), readySeconds, total);
+  // What the main thread's share of the starts is made of, and the first dispatches'.
+  const gl::TracerPrograms::Started started = tracer.programs().started(s.physical, tracer.faithfulFeatures());
+  auto queued = [&](const gl::ComputeProgram* p) {
+    return p ? fmt::format("queued {:.3f} ({:.1f} ms, the driver's calls {:.1f}, glLinkProgram {:.1f})", at(p->queuedAt()),
+                           p->startMilliseconds(), p->startDriverMilliseconds(), p->startLinkMilliseconds())
+             : std::string("not started");
+  };
+  fmt::print("  starts: shade kernel {}, trace kernel {}, megakernel {}; first dispatches {:.1f} ms (calls {:.1f}, glFinish {:.1f})\n",
+             queued(started.shade), queued(started.trace), queued(started.megakernel), build.dispatchMilliseconds,
+             build.dispatchCallsMilliseconds, build.dispatchMilliseconds - build.dispatchCallsMilliseconds);
 }
 
 // Time to first image: the level loaded (loadLevel), then the wait for the compile and one

@@ -54,6 +54,10 @@ bool LevelPreparation::ready() const {
   return !done_.valid() || done_.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
 }
 
+bool LevelPreparation::kindsKnown() const {
+  return told_.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+}
+
 RenderSceneOptions glSceneOptions() {
   RenderSceneOptions options;
   options.visApproxBoxes = RenderSceneOptions::VisBoxes::Gpu;
@@ -65,7 +69,9 @@ std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport imp
 }
 
 FaithfulFeatures startPathTracerFor(TracerPrograms& programs, LevelPreparation& preparation, bool physical, bool luxels) {
-  programs.startTraceKernel();
+  // A compile's start costs this thread the driver's calls (bench/README.md, first14h): the trace
+  // kernel's fills a wait for the lights, or else follows the shade kernel's (startPathTracer).
+  if (!preparation.kindsKnown()) programs.startTraceKernel();
   // Only a level whose finished lights need a part their early kinds did not tell builds its own
   // program once prepared (loadGlLevel), the one started here going unused.
   const LevelParts parts = preparation.levelParts();

@@ -46,6 +46,8 @@ public:
   void wait();
   // Whether wait() would return at once (the viewer's reload polls it between frames).
   bool ready() const;
+  // Whether lightKinds() and levelParts() would return at once.
+  bool kindsKnown() const;
 
   Clock::time_point started, lightsCollected, prepared; // the worker's steps, for timelines
 
@@ -87,11 +89,12 @@ RenderSceneOptions glSceneOptions();
 std::unique_ptr<LevelPreparation> prepareGlLevel(GlLevel& level, LevelImport importLevel, RenderSceneOptions options = glSceneOptions());
 
 // Starts `programs`' path tracer for `physical` lighting (the first images') and the level's
-// kinds of light and parts: the wavefront trace kernel at once (it needs nothing of the level),
-// the rest once the preparation knows them (a physical program has every part but the liquid
-// CSG). `luxels`: whether the first images will show baked faces (FaithfulFeatures::luxels; a
-// front end that bakes before them); loadGlLevel() tells it from the prepared level's lightmaps.
-// The faithful features it was started with.
+// kinds of light and parts, once the preparation knows them (a physical program has every part
+// but the liquid CSG). The wavefront trace kernel needs nothing of the level: it is started while
+// the preparation is still collecting the lights, else after the shade kernel, whose compile the
+// first image waits for. `luxels`: whether the first images will show baked faces
+// (FaithfulFeatures::luxels; a front end that bakes before them); loadGlLevel() tells it from the
+// prepared level's lightmaps. The faithful features it was started with.
 FaithfulFeatures startPathTracerFor(TracerPrograms& programs, LevelPreparation& preparation, bool physical, bool luxels = false);
 
 // Finishes loading `level`, whose preparation is `preparation`: starts the path tracer

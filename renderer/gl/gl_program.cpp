@@ -58,22 +58,43 @@ std::string sourceLegend() {
 
 } // namespace
 
-std::string assembleShader(std::string_view name, std::span<const std::string> defines) {
+namespace {
+
+// shaders/<name>'s #version line, and the rest with its includes in place (assembleShader).
+std::pair<std::string, std::string> assembleFile(std::string_view name) {
   const size_t root = shaderIndex(name);
-  std::string source = embeddedShaders()[root].source;
+  const std::string_view source = embeddedShaders()[root].source;
   const size_t versionEnd = source.find('\n');
   if (!source.starts_with("#version") || versionEnd == std::string::npos)
     throw GlError(fmt::format("shader '{}' does not start with #version", name));
-
-  std::string out = source.substr(0, versionEnd + 1);
-  for (const auto& d : defines) out += "#define " + d + "\n";
-  out += fmt::format("#line 2 {}\n", root);
-  std::string body;
+  std::string text;
   std::set<size_t> included{root};
-  // appendFile re-reads the root from the top; drop its #version line afterwards.
-  appendFile(body, root, included);
-  out += body.substr(body.find('\n') + 1);
+  // appendFile reads the root from the top; its #version line is dropped afterwards.
+  appendFile(text, root, included);
+  return {std::string(source.substr(0, versionEnd + 1)), fmt::format("#line 2 {}\n", root) + text.substr(text.find('\n') + 1)};
+}
+
+std::string withDefines(const std::string& version, const std::string& body, std::span<const std::string> defines) {
+  std::string out = version;
+  for (const auto& d : defines) out += "#define " + d + "\n";
+  out += body;
   return out;
+}
+
+} // namespace
+
+std::string assembleShader(std::string_view name, std::span<const std::string> defines) {
+  const auto [version, body] = assembleFile(name);
+  return withDefines(version, body, defines);
+}
+
+std::string ShaderSources::assemble(std::string_view name, std::span<const std::string> defines) {
+  auto it = files_.find(name);
+  if (it == files_.end()) {
+    auto [version, body] = assembleFile(name);
+    it = files_.emplace(std::string(name), File{std::move(version), std::move(body)}).first;
+  }
+  return withDefines(it->second.version, it->second.body, defines);
 }
 
 namespace {
@@ -164,7 +185,12 @@ void applyBindings(GLuint program, const std::vector<ProgramBindingPoint>& bindi
 
 bool programCached(std::string_view name, std::span<const std::string> defines, const ProgramCache& cache) {
   if (!cache.enabled() || programBinaryFormats().empty()) return false;
-  const std::string key = programCacheKey(assembleShader(name, defines), glString(GL_VENDOR), glString(GL_RENDERER), glString(GL_VERSION));
+  return programCachedSource(name, assembleShader(name, defines), cache);
+}
+
+bool programCachedSource(std::string_view name, const std::string& source, const ProgramCache& cache) {
+  if (!cache.enabled() || programBinaryFormats().empty()) return false;
+  const std::string key = programCacheKey(source, glString(GL_VENDOR), glString(GL_RENDERER), glString(GL_VERSION));
   std::error_code ignored;
   return std::filesystem::exists(cache.fileFor(name, key), ignored);
 }
@@ -175,19 +201,26 @@ ComputeProgram::ComputeProgram(std::string_view name, std::span<const std::strin
 }
 
 ComputeProgram::ComputeProgram(Deferred, std::string_view name, std::span<const std::string> defines, const ProgramCache& cache)
-    : name_(name) {
-  const std::string source = assembleShader(name, defines);
+    : ComputeProgram(Deferred{}, name, assembleShader(name, defines), cache) {}
+
+ComputeProgram::ComputeProgram(Deferred, std::string_view name, const std::string& source, const ProgramCache& cache) : name_(name) {
+  using Clock = std::chrono::steady_clock;
+  const auto entered = Clock::now();
   const bool useCache = cache.enabled() && !programBinaryFormats().empty();
   if (useCache) {
     cache_ = cache;
     cacheKey_ = programCacheKey(source, glString(GL_VENDOR), glString(GL_RENDERER), glString(GL_VERSION));
   }
   parallelCompile_ = epoxy_has_gl_extension("GL_KHR_parallel_shader_compile") || epoxy_has_gl_extension("GL_ARB_parallel_shader_compile");
-  start_ = std::chrono::steady_clock::now();
+  start_ = Clock::now();
   if (useCache) {
     if (const std::optional<ProgramBinary> binary = cache.load(name, cacheKey_)) loadedFromCache_ = loadFrom(*binary);
   }
+  const auto compileCalled = Clock::now();
   if (!loadedFromCache_) startCompile(source, useCache);
+  queued_ = Clock::now();
+  startMilliseconds_ = std::chrono::duration<double, std::milli>(queued_ - entered).count();
+  startDriverMilliseconds_ = std::chrono::duration<double, std::milli>(queued_ - compileCalled).count();
 }
 
 void ComputeProgram::finish() {
@@ -252,7 +285,9 @@ void ComputeProgram::startCompile(const std::string& source, bool retrievable) {
   program_ = glCreateProgram();
   if (retrievable) glProgramParameteri(program_, GL_PROGRAM_BINARY_RETRIEVABLE_HINT, GL_TRUE);
   glAttachShader(program_, shader_);
+  const auto linkCalled = std::chrono::steady_clock::now();
   glLinkProgram(program_);
+  startLinkMilliseconds_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - linkCalled).count();
   checkGlError("starting a program's compile", __FILE__, __LINE__);
 }
 

@@ -6,6 +6,7 @@
 #include "renderer/gl/gl_program_cache.h"
 
 #include <chrono>
+#include <map>
 #include <span>
 #include <string>
 #include <string_view>
@@ -26,10 +27,26 @@ const std::vector<ShaderFile>& embeddedShaders();
 // number is x's index in embeddedShaders(), so a driver's "N:line" message names the file.
 std::string assembleShader(std::string_view name, std::span<const std::string> defines);
 
+// assembleShader's texts, each file's includes resolved once: the path tracer's kernels are one
+// file under several define sets, and their starts are on the very first image's path.
+class ShaderSources {
+public:
+  std::string assemble(std::string_view name, std::span<const std::string> defines);
+
+private:
+  struct File {
+    std::string version; // the #version line
+    std::string body;    // what follows the defines: the text after #version, its includes in place
+  };
+  std::map<std::string, File, std::less<>> files_;
+};
+
 // Whether `cache` has an entry for shaders/<name> built with `defines` on the current context's
 // driver, which ComputeProgram would load rather than compile (a file the driver then rejects
 // is compiled after all). Reads no binary.
 bool programCached(std::string_view name, std::span<const std::string> defines, const ProgramCache& cache);
+// The same for `source`, shaders/<name> as assembleShader gave it.
+bool programCachedSource(std::string_view name, const std::string& source, const ProgramCache& cache);
 
 // A linked compute program, loaded from `cache` when it holds a binary the driver accepts, else
 // compiled (and stored there). Throws GlError with the driver's log, the source numbers
@@ -47,6 +64,8 @@ public:
   ComputeProgram(std::string_view name, std::span<const std::string> defines, const ProgramCache& cache = {});
   // Starts building it; finish() (or the first use) completes it.
   ComputeProgram(Deferred, std::string_view name, std::span<const std::string> defines, const ProgramCache& cache = {});
+  // Starts building `source`, shaders/<name> as assembleShader (or ShaderSources) gave it.
+  ComputeProgram(Deferred, std::string_view name, const std::string& source, const ProgramCache& cache = {});
   ~ComputeProgram();
   ComputeProgram(const ComputeProgram&) = delete;
   ComputeProgram& operator=(const ComputeProgram&) = delete;
@@ -72,6 +91,14 @@ public:
     return buildMilliseconds_;
   }
   bool loadedFromCache() const { return loadedFromCache_; }
+  // What the start cost its thread, in ms: all of it (the cache's key and look-up, the driver's
+  // calls) and the driver's glShaderSource, glCompileShader and glLinkProgram alone. Under
+  // GL_KHR_parallel_shader_compile these only queue the compile, yet NVIDIA's take a while.
+  double startMilliseconds() const { return startMilliseconds_; }
+  double startDriverMilliseconds() const { return startDriverMilliseconds_; }
+  double startLinkMilliseconds() const { return startLinkMilliseconds_; } // of those, glLinkProgram
+  // When the start returned: the compile queued.
+  std::chrono::steady_clock::time_point queuedAt() const { return queued_; }
   // The program's local_size_x, _y or _z (axis 0, 1 or 2).
   int localSize(int axis) {
     finish();
@@ -93,9 +120,10 @@ private:
   bool finished_ = false;
   std::string error_; // why the build failed, rethrown by every later finish()
   int localSize_[3] = {1, 1, 1};
-  std::chrono::steady_clock::time_point start_;
+  std::chrono::steady_clock::time_point start_, queued_;
   unsigned program_ = 0;
   double buildMilliseconds_ = 0.0;
+  double startMilliseconds_ = 0.0, startDriverMilliseconds_ = 0.0, startLinkMilliseconds_ = 0.0;
   bool loadedFromCache_ = false;
 };
 

@@ -186,15 +186,19 @@ struct GlTracer::Impl {
   // the programs once with nothing to do (image size 0 in the camera block), which makes them
   // finish it now; returns the milliseconds it took. llvmpipe compiles a variant per bound image
   // shape (power-of-two sizes or not), so the image is the size the renders will use.
-  double finishWithEmptyDispatch(int width, int height, bool physical, const std::function<void()>& dispatch) {
-    const auto start = std::chrono::steady_clock::now();
+  // The time to glFinish's return, and the calls' before it (ms).
+  std::pair<double, double> finishWithEmptyDispatch(int width, int height, bool physical, const std::function<void()>& dispatch) {
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
     StorageImage target(GL_RGBA32F, std::max(width, 1), std::max(height, 1));
     target.bindImage(kImageAccumulation, GL_READ_WRITE);
     setWorld(BeautySettings{.physical = physical, .bounces = 0});
     setCamera(CameraBasis{}, 0, 0, 0, 0);
     dispatch();
+    const auto called = Clock::now();
     BT_GL(glFinish());
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const auto ms = [&](Clock::time_point t) { return std::chrono::duration<double, std::milli>(t - start).count(); };
+    return {ms(Clock::now()), ms(called)};
   }
 
   // Sample `sampleIndex` of `camera` into the image bound at unit 0 (sample 0 overwrites it,
@@ -281,20 +285,21 @@ TracerPrograms& GlTracer::programs() {
 
 ProgramBuild GlTracer::buildPathTracer(int width, int height, bool physical) {
   ComputeProgram& program = impl_->programs->pathTracer(physical, impl_->features);
-  const double dispatchMs = impl_->finishWithEmptyDispatch(width, height, physical, [&] { program.dispatch2d(1, 1); });
-  return {program.buildMilliseconds() + dispatchMs, program.loadedFromCache()};
+  const auto [dispatchMs, callsMs] = impl_->finishWithEmptyDispatch(width, height, physical, [&] { program.dispatch2d(1, 1); });
+  return {program.buildMilliseconds() + dispatchMs, program.loadedFromCache(), dispatchMs, callsMs};
 }
 
 ProgramBuild GlTracer::buildWavefront(int width, int height, bool physical) {
   auto [shade, trace] = impl_->programs->wavefront(physical, impl_->features);
   // The per-pixel buffers are made here too.
-  const double dispatchMs = impl_->finishWithEmptyDispatch(width, height, physical, [&] {
+  const auto [dispatchMs, callsMs] = impl_->finishWithEmptyDispatch(width, height, physical, [&] {
     impl_->wavefront.prepare(shade, width, height);
     impl_->wavefront.bind();
     shade.dispatch2d(1, 1);
     trace.dispatch2d(1, 1);
   });
-  return {std::max(shade.buildMilliseconds(), trace.buildMilliseconds()) + dispatchMs, shade.loadedFromCache() && trace.loadedFromCache()};
+  return {std::max(shade.buildMilliseconds(), trace.buildMilliseconds()) + dispatchMs, shade.loadedFromCache() && trace.loadedFromCache(),
+          dispatchMs, callsMs};
 }
 
 AovImages GlTracer::renderAovs(const CameraBasis& camera, int width, int height) {

@@ -156,6 +156,9 @@ struct RayBenchVariant {
 struct ProgramBuild {
   double milliseconds = 0.0; // compile and link (or load) from the start of the build, and the driver's work at the first dispatch
   bool fromCache = false;
+  // Of those, the empty dispatch after the link (buffers made, one group dispatched, glFinish),
+  // and its calls before the glFinish.
+  double dispatchMilliseconds = 0.0, dispatchCallsMilliseconds = 0.0;
 };
 
 class GlTracer {

@@ -105,9 +105,15 @@ TracerPrograms::TracerPrograms(GlContext& context, TextureMode textures, TraceLa
 
 TracerPrograms::~TracerPrograms() = default;
 
-void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines, bool cached) {
+void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* shader, const std::vector<std::string>& defines,
+                           bool cached) {
   if (slot) return;
-  slot = std::make_unique<ComputeProgram>(ComputeProgram::Deferred{}, shader, defines, cached ? cache_ : ProgramCache{});
+  start(slot, shader, sources_.assemble(shader, defines), cached);
+}
+
+void TracerPrograms::start(std::unique_ptr<ComputeProgram>& slot, const char* shader, const std::string& source, bool cached) {
+  if (slot) return;
+  slot = std::make_unique<ComputeProgram>(ComputeProgram::Deferred{}, shader, source, cached ? cache_ : ProgramCache{});
 }
 
 FaithfulFeatures faithfulFeatures(const LightKinds& kinds, const LevelParts& parts) {
@@ -165,19 +171,19 @@ void TracerPrograms::startPathTracer(bool physical, FaithfulFeatures features) {
   if (slot) return;
   // The wavefront kernels are queued first, so that the driver's threads take them first; a
   // megakernel from the program cache needs none.
-  const std::vector<std::string> defines = programDefines(TracerProgram::PathTracer, mode_, layout_, physical, features);
   const char* shader = shaderFile(TracerProgram::PathTracer);
-  if (wavefrontFirst_ && !programCached(shader, defines, cache_)) startWavefront(physical, features);
-  start(slot, shader, defines);
+  const std::string source = sources_.assemble(shader, programDefines(TracerProgram::PathTracer, mode_, layout_, physical, features));
+  if (wavefrontFirst_ && !programCachedSource(shader, source, cache_)) startWavefront(physical, features);
+  start(slot, shader, source);
   if (wavefrontFirst_ && !slot->loadedFromCache()) startWavefront(physical, features); // the driver refused the cached binary
 }
 
 void TracerPrograms::startWavefront(bool physical, FaithfulFeatures features) {
-  std::vector<std::string> defines = programDefines(TracerProgram::WavefrontShade, mode_, layout_, physical, features);
+  const std::vector<std::string> defines = programDefines(TracerProgram::WavefrontShade, mode_, layout_, physical, features);
   // Not cached: a start that finds the megakernel in the cache needs no wavefront kernels, and
   // storing them would put their binaries' retrieval (NVIDIA: tenths of a second) before the
   // first image they are for.
-  start(shadeSlot(physical, features), shaderFile(TracerProgram::WavefrontShade), std::move(defines), false);
+  start(shadeSlot(physical, features), shaderFile(TracerProgram::WavefrontShade), defines, false);
   startWavefrontTrace();
 }
 
@@ -255,6 +261,10 @@ TracerPrograms::WavefrontState TracerPrograms::wavefrontState(bool physical, Fai
   std::unique_ptr<ComputeProgram>& shade = shadeSlot(physical, features);
   if (!shade || !trace_) return {};
   return {true, shade->ready(), trace_->ready()};
+}
+
+TracerPrograms::Started TracerPrograms::started(bool physical, FaithfulFeatures features) {
+  return {shadeSlot(physical, features).get(), trace_.get(), pathSlot(physical, features).get()};
 }
 
 bool TracerPrograms::wavefrontWhileCompiling(bool physical, FaithfulFeatures features) {

@@ -184,10 +184,18 @@ public:
     bool traceReady = false;
   };
   WavefrontState wavefrontState(bool physical, FaithfulFeatures features = {});
+  // The programs of the first images as started (nullptr where not), for a timeline; no wait.
+  struct Started {
+    const ComputeProgram* shade = nullptr;
+    const ComputeProgram* trace = nullptr;
+    const ComputeProgram* megakernel = nullptr;
+  };
+  Started started(bool physical, FaithfulFeatures features = {});
 
 private:
   ComputeProgram& finished(std::unique_ptr<ComputeProgram>& slot);
-  void start(std::unique_ptr<ComputeProgram>& slot, const char* shader, std::vector<std::string> defines, bool cached = true);
+  void start(std::unique_ptr<ComputeProgram>& slot, const char* shader, const std::vector<std::string>& defines, bool cached = true);
+  void start(std::unique_ptr<ComputeProgram>& slot, const char* shader, const std::string& source, bool cached = true);
   void startWavefrontTrace();
   static size_t variantIndex(bool physical, FaithfulFeatures features);
   std::unique_ptr<ComputeProgram>& pathSlot(bool physical, FaithfulFeatures features);
@@ -197,6 +205,7 @@ private:
   TextureMode mode_;
   TraceLayout layout_;
   ProgramCache cache_;
+  ShaderSources sources_;
   bool wavefrontFirst_; // startPathTracer starts the wavefront kernels too (driver compiles in parallel, a GPU)
   // One program per lighting mode (BT_LIGHTING_PHYSICAL chosen at build), so each compiles
   // only its own integrator, and per set of faithful features (variantIndex: physical, then

@@ -7,6 +7,7 @@
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <string>
 #include <string_view>
@@ -76,6 +77,23 @@ TEST(ShaderAssembly, IncludesAreInlinedWithLineDirectives) {
   EXPECT_NE(source.find("struct GpuFace"), std::string::npos);
   // structs.glsl comes in through scene_buffers.glsl only once.
   EXPECT_EQ(source.find("struct GpuFace"), source.rfind("struct GpuFace"));
+}
+
+// TracerPrograms assembles each file once for all its define sets; the program cache's key is
+// the text, so it must be assembleShader's to the byte.
+TEST(ShaderAssembly, KeptSourcesAreAssembleShadersText) {
+  ShaderSources sources;
+  const std::vector<std::vector<std::string>> defineSets{
+      {"BT_TEXTURES_BINDLESS", "BT_WAVEFRONT_SHADE"}, {"BT_TEXTURES_ARRAYS", "BT_LIGHTING_PHYSICAL"}, {}};
+  for (const char* name : {"pathtrace.comp", "wavefront_trace.comp"})
+    for (const auto& defines : defineSets) {
+      const std::string kept = sources.assemble(name, defines), direct = assembleShader(name, defines);
+      // Not EXPECT_EQ: the texts are 50-150 KB.
+      EXPECT_TRUE(kept == direct) << name << " with " << defines.size() << " defines: " << kept.size() << " chars against " << direct.size()
+                                  << ", first difference at "
+                                  << std::mismatch(kept.begin(), kept.end(), direct.begin(), direct.end()).first - kept.begin();
+    }
+  EXPECT_THROW(sources.assemble("missing.comp", {}), GlError);
 }
 
 TEST(ShaderAssembly, CompileErrorNamesTheSourceFiles) {
