@@ -12,6 +12,8 @@
 #include "scene/gpu_structs.h"
 #include "shaders/light_constants.glsl"
 
+#include <glm/geometric.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -136,6 +138,21 @@ inline float falloff(const GpuLight& light, float dist2) {
   const float x2 = dist2 * light.physicalInvReach * light.physicalInvReach;
   const float w = std::clamp(1.0f - x2 * x2, 0.0f, 1.0f);
   return light.physicalIntensity * (w * w) / dist2;
+}
+
+// How likely light selection picks a point light from the near list: its unshadowed
+// irradiance at `origin` on the plane of shading normal n, summed over the channels of the colour
+// it emits (selectionColour; at the light's own origin: the pick does not depend on the
+// _deviance jitter). The CPU's pick computes it four lights at a time, lane by lane these float
+// operations in their order (renderer/cpu/integrator.cpp nearListWeights).
+inline float selectionWeight(const GpuLight& light, const glm::vec3& origin, const glm::vec3& n) {
+  const glm::vec3 d = light.origin - origin;
+  const float dist2 = glm::dot(d, d);
+  if (!(dist2 > 0.0f)) return 0.0f;
+  const glm::vec3 wi = d / std::sqrt(dist2);
+  const float cosSurface = glm::dot(n, wi);
+  if (cosSurface <= 0.0f) return 0.0f;
+  return selectionColour(light) * falloff(light, dist2) * faithful::spotTerm(light, wi) * cosSurface;
 }
 
 } // namespace bt::physical

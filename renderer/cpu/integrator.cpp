@@ -304,22 +304,8 @@ glm::vec3 pointLightUnshadowed(const RenderScene& rs, const Bsdf& bsdf, const Gp
   return f * irradiance * glm::dot(bsdf.n, wi);
 }
 
-// How likely light selection picks a point light from the near list: its unshadowed
-// irradiance at `origin` on the plane of shading normal n, summed over the channels of the colour
-// it emits (physical::selectionColour; at the light's own origin: the pick does not depend on the
-// _deviance jitter).
-[[maybe_unused]] float selectionWeight(const GpuLight& light, const glm::vec3& origin, const glm::vec3& n) {
-  const glm::vec3 d = light.origin - origin;
-  const float dist2 = glm::dot(d, d);
-  if (!(dist2 > 0.0f)) return 0.0f;
-  const glm::vec3 wi = d / std::sqrt(dist2);
-  const float cosSurface = glm::dot(n, wi);
-  if (cosSurface <= 0.0f) return 0.0f;
-  return physical::selectionColour(light) * physical::falloff(light, dist2) * faithful::spotTerm(light, wi) * cosSurface;
-}
-
 #if defined(__SSE2__)
-// selectionWeight of four lights at once, lane by lane its float expressions in its order (SSE's
+// physical::selectionWeight of four lights at once, lane by lane its float expressions in its order (SSE's
 // add, mul, div and sqrt round as the scalar ones do), so each weight is the same float: a hit
 // weighs its cell's 32 near lights, and one at a time they took a fifth of a path's time.
 [[gnu::always_inline]] inline __m128 selectionWeights(const std::array<const GpuLight*, 4>& l, const glm::vec3& origin,
@@ -415,7 +401,7 @@ glm::vec3 allLightsExhaustive(const RenderScene& rs, const Bsdf& bsdf, const glm
     _mm_storeu_ps(weights.data() + k, selectionWeights(four, origin, n));
   }
 #else
-  for (size_t k = 0; k < near.size(); ++k) weights[k] = selectionWeight(rs.lights[near[k]], origin, n);
+  for (size_t k = 0; k < near.size(); ++k) weights[k] = physical::selectionWeight(rs.lights[near[k]], origin, n);
 #endif
 }
 

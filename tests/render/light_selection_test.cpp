@@ -243,17 +243,6 @@ TEST(LightGrid, PhysicalNearListsOfFewLightsHoldThemAll) {
   EXPECT_EQ(std::vector<uint32_t>(near.begin(), near.end()), (std::vector<uint32_t>{4, 3, 1, 0})); // nearest first
 }
 
-// selectionWeight (integrator.cpp) written out: the near-list pick's weight of a light at origin.
-float referenceSelectionWeight(const GpuLight& light, const glm::vec3& origin, const glm::vec3& n) {
-  const glm::vec3 d = light.origin - origin;
-  const float dist2 = glm::dot(d, d);
-  if (!(dist2 > 0.0f)) return 0.0f;
-  const glm::vec3 wi = d / std::sqrt(dist2);
-  const float cosSurface = glm::dot(n, wi);
-  if (cosSurface <= 0.0f) return 0.0f;
-  return physical::selectionColour(light) * physical::falloff(light, dist2) * faithful::spotTerm(light, wi) * cosSurface;
-}
-
 // The pick weighs its near lights four at a time (SSE2), and four lights without a cone skip the
 // cone's terms: every weight is still the scalar expression's float, bit for bit, so the pick and
 // the image do not change. A room where every eighth light is a spot, so that some fours hold
@@ -271,7 +260,7 @@ TEST(LightSelection, NearListWeightsAreTheScalarWeightsBitForBit) {
     ASSERT_EQ(weights.size(), near.size());
     for (size_t k = 0; k < near.size(); ++k) {
       const GpuLight& light = rs.lights[near[k]];
-      const float expected = referenceSelectionWeight(light, s.p, s.n);
+      const float expected = physical::selectionWeight(light, s.p, s.n);
       ASSERT_EQ(std::bit_cast<uint32_t>(weights[k]), std::bit_cast<uint32_t>(expected))
           << "light " << near[k] << " at " << s.p.x << " " << s.p.y << " " << s.p.z << ": " << weights[k] << " against " << expected;
       const float spot = faithful::spotTerm(light, glm::normalize(light.origin - s.p));
