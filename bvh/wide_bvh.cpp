@@ -30,6 +30,20 @@ struct Collapse {
     return {n.boundsMin, n.boundsMax, n.leftFirst, expand ? 0u : n.count, expand ? binary : kNoNode};
   }
 
+  // A node of `count` lanes; the unused ones NaN.
+  static WideBvhNode node(const Lane* lanes, uint32_t count) {
+    WideBvhNode out{};
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    for (uint32_t k = 0; k < 4; ++k)
+      for (int a = 0; a < 3; ++a) out.lo[a][k] = out.hi[a][k] = nan;
+    for (uint32_t k = 0; k < count; ++k) {
+      for (int a = 0; a < 3; ++a) out.lo[a][k] = lanes[k].lo[a], out.hi[a][k] = lanes[k].hi[a];
+      out.child[k] = lanes[k].child;
+      out.count[k] = lanes[k].count;
+    }
+    return out;
+  }
+
   // The lanes of wide node `at` from binary node `binary`: an inner node's children, an inner
   // child replaced by its own two (a leaf child to be split stays one lane); a leaf's brushes.
   void fill(uint32_t at, uint32_t binary) {
@@ -49,16 +63,7 @@ struct Collapse {
         }
       }
     }
-    WideBvhNode node{};
-    const float nan = std::numeric_limits<float>::quiet_NaN();
-    for (uint32_t k = 0; k < 4; ++k)
-      for (int a = 0; a < 3; ++a) node.lo[a][k] = node.hi[a][k] = nan;
-    for (uint32_t k = 0; k < count; ++k) {
-      for (int a = 0; a < 3; ++a) node.lo[a][k] = lanes[k].lo[a], node.hi[a][k] = lanes[k].hi[a];
-      node.child[k] = lanes[k].child;
-      node.count[k] = lanes[k].count;
-    }
-    wide[at] = node;
+    wide[at] = node(lanes, count);
     // Lanes to expand get their wide nodes after this one, depth first.
     for (uint32_t k = 0; k < count; ++k) {
       if (lanes[k].binary == kNoNode) continue;
@@ -79,13 +84,8 @@ std::vector<WideBvhNode> collapseToWide(std::span<const GpuBvhNode> nodes, std::
   c.wide.emplace_back();
   if (nodes[0].count > 0 && !Collapse::split(nodes[0])) {
     // A root leaf too large to split: its one lane.
-    WideBvhNode& node = c.wide[0];
-    const float nan = std::numeric_limits<float>::quiet_NaN();
-    for (uint32_t k = 0; k < 4; ++k)
-      for (int a = 0; a < 3; ++a) node.lo[a][k] = node.hi[a][k] = nan;
-    for (int a = 0; a < 3; ++a) node.lo[a][0] = nodes[0].boundsMin[a], node.hi[a][0] = nodes[0].boundsMax[a];
-    node.child[0] = nodes[0].leftFirst;
-    node.count[0] = nodes[0].count;
+    const Lane root = c.lane(0);
+    c.wide[0] = Collapse::node(&root, 1);
   } else {
     c.fill(0, 0);
   }

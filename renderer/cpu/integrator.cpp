@@ -388,6 +388,13 @@ glm::vec3 allLightsExhaustive(const RenderScene& rs, const Bsdf& bsdf, const glm
   return l;
 }
 
+// origin's near list, at most kPhysicalNearLights long (all of it: the grid lists no more), so
+// that its weights fit the pick's array.
+std::span<const uint32_t> nearLights(const RenderScene& rs, const glm::vec3& origin) {
+  const std::span<const uint32_t> listed = rs.lightGrid.physicalNearLights(origin);
+  return listed.first(std::min<size_t>(listed.size(), kPhysicalNearLights));
+}
+
 // selectionWeight of each near light, into weights[0, near.size()); past that the SSE stores
 // leave copies of the last weight, which are never read. Inlined into the pick, as the loop was
 // before tests needed it on its own.
@@ -420,8 +427,7 @@ constexpr float kNearListProbability = BT_NEAR_LIST_PROBABILITY;
 // Random numbers: the strategy, then the pick.
 LightPick pickFromNearList(const RenderScene& rs, const glm::vec3& origin, const glm::vec3& n, Rng& rng) {
   const std::span<const uint32_t> rest = rs.lightGrid.physicalRestLights(origin);
-  const std::span<const uint32_t> listed = rs.lightGrid.physicalNearLights(origin);
-  const std::span<const uint32_t> near = listed.first(std::min<size_t>(listed.size(), kPhysicalNearLights)); // all: the grid lists no more
+  const std::span<const uint32_t> near = nearLights(rs, origin);
   // Each weight once: the pick's walk below reads them again (a fifth of a path's time went to
   // computing them twice, bench/README.md issue 18 session 26).
   std::array<float, kPhysicalNearLights> weights;
@@ -630,8 +636,7 @@ glm::vec3 radiance(const RenderScene& rs, const IntegratorSettings& settings, co
 }
 
 std::vector<float> nearListWeights(const RenderScene& rs, const glm::vec3& origin, const glm::vec3& n) {
-  const std::span<const uint32_t> listed = rs.lightGrid.physicalNearLights(origin);
-  const std::span<const uint32_t> near = listed.first(std::min<size_t>(listed.size(), kPhysicalNearLights));
+  const std::span<const uint32_t> near = nearLights(rs, origin);
   std::array<float, kPhysicalNearLights> weights;
   nearWeights(rs, near, origin, n, weights);
   return {weights.begin(), weights.begin() + std::ptrdiff_t(near.size())};
