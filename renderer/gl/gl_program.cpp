@@ -183,11 +183,6 @@ void applyBindings(GLuint program, const std::vector<ProgramBindingPoint>& bindi
 
 } // namespace
 
-bool programCached(std::string_view name, std::span<const std::string> defines, const ProgramCache& cache) {
-  if (!cache.enabled() || programBinaryFormats().empty()) return false;
-  return programCachedSource(name, assembleShader(name, defines), cache);
-}
-
 bool programCachedSource(std::string_view name, const std::string& source, const ProgramCache& cache) {
   if (!cache.enabled() || programBinaryFormats().empty()) return false;
   const std::string key = programCacheKey(source, glString(GL_VENDOR), glString(GL_RENDERER), glString(GL_VERSION));
@@ -234,20 +229,27 @@ void ComputeProgram::finish() {
     throw;
   }
   buildMilliseconds_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
-  if (!cacheKey_.empty() && !loadedFromCache_) {
-    GLint length = 0;
-    BT_GL(glGetProgramiv(program_, GL_PROGRAM_BINARY_LENGTH, &length));
-    ProgramBinary binary;
-    binary.data.resize(static_cast<size_t>(std::max(length, 0)));
-    GLenum format = 0;
-    GLsizei written = 0;
-    if (length > 0) BT_GL(glGetProgramBinary(program_, length, &written, &format, binary.data.data()));
-    binary.data.resize(static_cast<size_t>(std::max(written, 0)));
-    binary.format = format;
-    binary.bindings = readBindings(program_);
-    cache_.store(name_, cacheKey_, binary);
-  }
+  if (!cacheKey_.empty() && !loadedFromCache_) cache_.store(name_, cacheKey_, readBinary());
   BT_GL(glGetProgramiv(program_, GL_COMPUTE_WORK_GROUP_SIZE, localSize_));
+}
+
+ProgramBinary ComputeProgram::binary() {
+  finish();
+  return readBinary();
+}
+
+ProgramBinary ComputeProgram::readBinary() const {
+  GLint length = 0;
+  BT_GL(glGetProgramiv(program_, GL_PROGRAM_BINARY_LENGTH, &length));
+  ProgramBinary binary;
+  binary.data.resize(static_cast<size_t>(std::max(length, 0)));
+  GLenum format = 0;
+  GLsizei written = 0;
+  if (length > 0) BT_GL(glGetProgramBinary(program_, length, &written, &format, binary.data.data()));
+  binary.data.resize(static_cast<size_t>(std::max(written, 0)));
+  binary.format = format;
+  binary.bindings = readBindings(program_);
+  return binary;
 }
 
 bool ComputeProgram::ready() {

@@ -41,11 +41,9 @@ private:
   std::map<std::string, File, std::less<>> files_;
 };
 
-// Whether `cache` has an entry for shaders/<name> built with `defines` on the current context's
-// driver, which ComputeProgram would load rather than compile (a file the driver then rejects
-// is compiled after all). Reads no binary.
-bool programCached(std::string_view name, std::span<const std::string> defines, const ProgramCache& cache);
-// The same for `source`, shaders/<name> as assembleShader gave it.
+// Whether `cache` has an entry for `source` (shaders/<name> as assembleShader or ShaderSources
+// gave it) on the current context's driver, which ComputeProgram would load rather than compile
+// (a file the driver then rejects is compiled after all). Reads no binary.
 bool programCachedSource(std::string_view name, const std::string& source, const ProgramCache& cache);
 
 // A linked compute program, loaded from `cache` when it holds a binary the driver accepts, else
@@ -91,6 +89,9 @@ public:
     return buildMilliseconds_;
   }
   bool loadedFromCache() const { return loadedFromCache_; }
+  // The driver's binary of the finished program (glGetProgramBinary), as the cache stores it;
+  // empty data where the driver gives none.
+  ProgramBinary binary();
   // What the start cost its thread, in ms: all of it (the cache's key and look-up, the driver's
   // calls) and the driver's glShaderSource, glCompileShader and glLinkProgram alone. Under
   // GL_KHR_parallel_shader_compile these only queue the compile, yet NVIDIA's take a while.
@@ -111,6 +112,7 @@ private:
   bool loadFrom(const ProgramBinary& binary);
   void startCompile(const std::string& source, bool retrievable);
   void finishCompile();
+  ProgramBinary readBinary() const; // binary() once finished
 
   std::string name_;
   ProgramCache cache_;

@@ -88,20 +88,15 @@ void waitAndDelete(GLsync fence) {
   while (glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 1'000'000'000) == GL_TIMEOUT_EXPIRED) {}
   glDeleteSync(fence);
 }
-// The driver's binary of a program, as glGetProgramBinary gives it (NVIDIA's holds the machine
-// code), written to a temporary name and renamed.
-void writeProgramBinary(GLuint program, const std::string& path) {
-  GLint length = 0;
-  BT_GL(glGetProgramiv(program, GL_PROGRAM_BINARY_LENGTH, &length));
-  std::vector<char> data(static_cast<size_t>(std::max(length, 0)));
-  GLenum format = 0;
-  GLsizei written = 0;
-  if (length > 0) BT_GL(glGetProgramBinary(program, length, &written, &format, data.data()));
-  if (written <= 0) throw GlError(fmt::format("the driver gave no binary of the ray benchmark for {}", path));
+// The driver's binary of a program (NVIDIA's holds the machine code), written to a temporary
+// name and renamed.
+void writeProgramBinary(ComputeProgram& program, const std::string& path) {
+  const std::vector<uint8_t> data = program.binary().data;
+  if (data.empty()) throw GlError(fmt::format("the driver gave no binary of the ray benchmark for {}", path));
   const std::string temporary = path + ".tmp";
   {
     std::ofstream out(temporary, std::ios::binary);
-    out.write(data.data(), written);
+    out.write(reinterpret_cast<const char*>(data.data()), std::streamsize(data.size()));
     if (!out) throw GlError(fmt::format("cannot write {}", temporary));
   }
   std::filesystem::rename(temporary, path);
@@ -509,7 +504,7 @@ RayBenchmark GlTracer::benchmarkRays(const CameraBasis& camera, int width, int h
     BT_GL(glGetNamedBufferSubData(counts, 0, sizeof(result.walkCounts), result.walkCounts.data()));
     BT_GL(glDeleteBuffers(1, &counts));
   }
-  if (!variant.binaryPath.empty()) writeProgramBinary(timed->id(), variant.binaryPath);
+  if (!variant.binaryPath.empty()) writeProgramBinary(*timed, variant.binaryPath);
   return result;
 }
 
