@@ -24,6 +24,23 @@ namespace {
 constexpr int kWidth = 72;
 constexpr int kHeight = 40;
 
+// The two forms' images compared pixel by pixel: how many are bit-exact, and how many differ
+// beyond a float tolerance (the two forms are separate programs for the driver's optimiser; on
+// llvmpipe and the H100 they were bit-identical).
+struct FormsCompared {
+  size_t exact = 0, differing = 0;
+};
+FormsCompared compareForms(const BeautyImage& mega, const BeautyImage& wave) {
+  FormsCompared out;
+  for (size_t i = 0; i < mega.beauty.size(); ++i) {
+    const glm::vec3 a = mega.beauty[i], b = wave.beauty[i];
+    out.exact += a == b;
+    const glm::vec3 d = glm::abs(a - b);
+    if (std::max(d.x, std::max(d.y, d.z)) > 1e-4f * std::max(1.0f, std::max(a.x, std::max(a.y, a.z)))) ++out.differing;
+  }
+  return out;
+}
+
 // The same image from both forms, pixel for pixel, at 2 spp, from `pose` (the level's start by
 // default), with more than 1 / litShare of its pixels lit.
 void expectFormsAgree(const Scene& scene, const RenderScene& render, bool physical, const CameraPose& pose, size_t litShare = 2) {
@@ -36,19 +53,12 @@ void expectFormsAgree(const Scene& scene, const RenderScene& render, bool physic
   const BeautyImage wave = tracer.renderBeauty(camera, settings);
   ASSERT_EQ(wave.wavefrontSamples, 2);
   ASSERT_EQ(mega.beauty.size(), wave.beauty.size());
-  size_t differing = 0, lit = 0, exact = 0;
-  for (size_t i = 0; i < mega.beauty.size(); ++i) {
-    const glm::vec3 a = mega.beauty[i], b = wave.beauty[i];
-    lit += a != glm::vec3(0.0f);
-    exact += a == b;
-    // Float tolerance (the two forms are separate programs for the driver's optimiser); on
-    // llvmpipe and the H100 they were bit-identical.
-    const glm::vec3 d = glm::abs(a - b);
-    if (std::max(d.x, std::max(d.y, d.z)) > 1e-4f * std::max(1.0f, std::max(a.x, std::max(a.y, a.z)))) ++differing;
-  }
+  size_t lit = 0;
+  for (const glm::vec3& a : mega.beauty) lit += a != glm::vec3(0.0f);
+  const FormsCompared c = compareForms(mega, wave);
   EXPECT_GT(lit, mega.beauty.size() / litShare) << "a black image proves nothing";
-  EXPECT_LE(differing, mega.beauty.size() / 200) << differing << " of " << mega.beauty.size() << " pixels differ";
-  std::printf("wavefront vs megakernel: %zu of %zu pixels bit-exact\n", exact, mega.beauty.size());
+  EXPECT_LE(c.differing, mega.beauty.size() / 200) << c.differing << " of " << mega.beauty.size() << " pixels differ";
+  std::printf("wavefront vs megakernel: %zu of %zu pixels bit-exact\n", c.exact, mega.beauty.size());
 }
 
 void expectFormsAgree(const Scene& scene, bool physical) {
@@ -168,17 +178,12 @@ TEST(GlWavefrontMap, LuxelsSetAfterTheFirstImagesFaithful) {
   const BeautyImage mega = tracer.renderBeauty(camera, settings);
   ASSERT_EQ(wave.wavefrontSamples, 2);
   ASSERT_EQ(mega.beauty.size(), wave.beauty.size());
-  size_t exact = 0, differing = 0, shown = 0;
-  for (size_t i = 0; i < mega.beauty.size(); ++i) {
-    const glm::vec3 a = mega.beauty[i], b = wave.beauty[i];
-    exact += a == b;
-    shown += b != unbaked.beauty[i];
-    const glm::vec3 d = glm::abs(a - b); // expectFormsAgree's tolerance
-    if (std::max(d.x, std::max(d.y, d.z)) > 1e-4f * std::max(1.0f, std::max(a.x, std::max(a.y, a.z)))) ++differing;
-  }
+  size_t shown = 0;
+  for (size_t i = 0; i < wave.beauty.size(); ++i) shown += wave.beauty[i] != unbaked.beauty[i];
+  const FormsCompared c = compareForms(mega, wave);
   EXPECT_GT(shown, mega.beauty.size() / 4) << "the luxels change too few pixels to tell";
-  EXPECT_LE(differing, mega.beauty.size() / 200) << differing << " of " << mega.beauty.size() << " pixels differ";
-  std::printf("wavefront vs megakernel once the luxels are set: %zu of %zu pixels bit-exact, %zu changed by the luxels\n", exact,
+  EXPECT_LE(c.differing, mega.beauty.size() / 200) << c.differing << " of " << mega.beauty.size() << " pixels differ";
+  std::printf("wavefront vs megakernel once the luxels are set: %zu of %zu pixels bit-exact, %zu changed by the luxels\n", c.exact,
               mega.beauty.size(), shown);
 }
 
